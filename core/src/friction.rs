@@ -1,0 +1,97 @@
+//! Joint friction: Coulomb with a smooth sign, Stribeck break-away, viscous.
+//!
+//! `docs/spec/physics.md` section 4 (seed 001 Eq. 4, seed 000 Eq. 13):
+//!
+//! ```text
+//! τ_f = −[ √(2e) (T_brk − T_C) exp(−(ω/ω_st)²) (ω/ω_st) + T_C tanh(ω/ω_coul) + f ω ]
+//! ```
+//!
+//! The papers' equivalent friction torque (EFT) is `T_brk = T_C`, `f = 0`.
+
+use crate::real::Real;
+
+/// Default `ω_coul` [rad/s] of the smooth Coulomb sign.
+pub const COULOMB_THRESHOLD_RAD_S: f64 = 0.01;
+
+/// The friction law of one joint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Friction<T> {
+    /// Coulomb torque `T_C` [N·m].
+    pub coulomb_nm: T,
+    /// Break-away torque `T_brk` [N·m]; equal to `T_C` for no Stribeck peak.
+    pub breakaway_nm: T,
+    /// Viscous coefficient `f` [N·m·s/rad].
+    pub viscous_nms: T,
+    /// Stribeck velocity `ω_st` [rad/s] (unused when `T_brk = T_C`).
+    pub stribeck_rad_s: T,
+    /// `ω_coul` [rad/s] of `tanh(ω/ω_coul)`.
+    pub coulomb_threshold_rad_s: T,
+}
+
+impl<T: Real> Default for Friction<T> {
+    fn default() -> Self {
+        Self::coulomb(T::ZERO)
+    }
+}
+
+impl<T: Real> Friction<T> {
+    /// Pure Coulomb (EFT) friction of `T_C` [N·m], `ω_coul` = 0.01 rad/s.
+    pub fn coulomb(coulomb_nm: T) -> Self {
+        Friction {
+            coulomb_nm,
+            breakaway_nm: coulomb_nm,
+            viscous_nms: T::ZERO,
+            stribeck_rad_s: T::ONE,
+            coulomb_threshold_rad_s: T::of(COULOMB_THRESHOLD_RAD_S),
+        }
+    }
+
+    /// True when the law exerts no torque at any rate.
+    pub fn is_zero(&self) -> bool {
+        self.coulomb_nm == T::ZERO && self.breakaway_nm == T::ZERO && self.viscous_nms == T::ZERO
+    }
+
+    /// The friction torque [N·m] at relative rate `omega` [rad/s].
+    #[inline]
+    pub fn torque(&self, omega: T) -> T {
+        let mut t = T::ZERO;
+        if self.coulomb_nm != T::ZERO {
+            t += self.coulomb_nm * (omega / self.coulomb_threshold_rad_s).tanh();
+        }
+        let peak = self.breakaway_nm - self.coulomb_nm;
+        if peak != T::ZERO && self.stribeck_rad_s > T::ZERO {
+            // √(2e) = 2.331643981597124
+            let r = omega / self.stribeck_rad_s;
+            t += T::of(2.331_643_981_597_124) * peak * (-(r * r)).exp() * r;
+        }
+        t += self.viscous_nms * omega;
+        -t
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eft_is_a_smooth_sign() {
+        let f = Friction::coulomb(2.0f64);
+        assert!((f.torque(1.0) + 2.0).abs() < 1e-12);
+        assert!((f.torque(-1.0) - 2.0).abs() < 1e-12);
+        assert_eq!(f.torque(0.0), 0.0);
+    }
+
+    #[test]
+    fn stribeck_peak_is_breakaway_at_omega_st() {
+        // d/dr of √(2e) r exp(−r²) peaks at r = 1/√2 with value 1 · (T_brk − T_C).
+        let f = Friction {
+            coulomb_nm: 0.0f64,
+            breakaway_nm: 1.0,
+            viscous_nms: 0.0,
+            stribeck_rad_s: 0.1,
+            coulomb_threshold_rad_s: 0.01,
+        };
+        let peak = -f.torque(0.1 / 2f64.sqrt());
+        assert!((peak - 1.0).abs() < 1e-9, "{peak}");
+    }
+}

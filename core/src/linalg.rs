@@ -1,0 +1,119 @@
+//! Fixed-size dense linear algebra for the joint-space equations (N ≤ 4).
+//!
+//! Joints that are locked (latched) are removed from the coordinates by
+//! replacing their rows and columns with the identity and their right-hand
+//! side with zero: the free block is then solved exactly as if the locked
+//! coordinates were not there (`physics.md` section 5).
+
+use crate::real::Real;
+
+/// Why a solve failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum SolveError {
+    /// The matrix is not symmetric positive definite (a zero-mass panel, or
+    /// NaN in the state).
+    NotPositiveDefinite,
+}
+
+impl core::fmt::Display for SolveError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("mass matrix is not positive definite")
+    }
+}
+
+impl core::error::Error for SolveError {}
+
+/// Solves `M x = b` on the free coordinates (`locked[i] == false`) by
+/// Cholesky factorisation; locked entries of `x` are zero.
+pub fn solve_spd_masked<T: Real, const N: usize>(
+    m: &[[T; N]; N],
+    b: &[T; N],
+    locked: &[bool; N],
+) -> Result<[T; N], SolveError> {
+    let mut l = [[T::ZERO; N]; N];
+    for i in 0..N {
+        if locked[i] {
+            l[i][i] = T::ONE;
+            continue;
+        }
+        for j in 0..=i {
+            if locked[j] {
+                continue;
+            }
+            let mut s = m[i][j];
+            for k in 0..j {
+                s -= l[i][k] * l[j][k];
+            }
+            if i == j {
+                // `!(s > 0)` also catches NaN.
+                if !(s > T::ZERO) {
+                    return Err(SolveError::NotPositiveDefinite);
+                }
+                l[i][i] = s.sqrt();
+            } else {
+                l[i][j] = s / l[j][j];
+            }
+        }
+    }
+    let mut y = [T::ZERO; N];
+    for i in 0..N {
+        if locked[i] {
+            continue;
+        }
+        let mut s = b[i];
+        for k in 0..i {
+            s -= l[i][k] * y[k];
+        }
+        y[i] = s / l[i][i];
+    }
+    let mut x = [T::ZERO; N];
+    for i in (0..N).rev() {
+        if locked[i] {
+            continue;
+        }
+        let mut s = y[i];
+        for k in i + 1..N {
+            s -= l[k][i] * x[k];
+        }
+        x[i] = s / l[i][i];
+    }
+    Ok(x)
+}
+
+/// `y = M x`.
+pub fn mat_vec<T: Real, const N: usize>(m: &[[T; N]; N], x: &[T; N]) -> [T; N] {
+    let mut y = [T::ZERO; N];
+    for i in 0..N {
+        for j in 0..N {
+            y[i] += m[i][j] * x[j];
+        }
+    }
+    y
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solves_and_masks() {
+        let m = [[4.0, 1.0, 0.5], [1.0, 3.0, 0.2], [0.5, 0.2, 2.0]];
+        let b = [1.0, 2.0, 3.0];
+        let x = solve_spd_masked(&m, &b, &[false; 3]).unwrap();
+        let r = mat_vec(&m, &x);
+        for i in 0..3 {
+            assert!((r[i] - b[i]).abs() < 1e-12);
+        }
+        let x = solve_spd_masked(&m, &b, &[false, true, false]).unwrap();
+        assert_eq!(x[1], 0.0);
+        // Free block [[4, .5], [.5, 2]] x = [1, 3].
+        assert!((4.0 * x[0] + 0.5 * x[2] - 1.0).abs() < 1e-12);
+        assert!((0.5 * x[0] + 2.0 * x[2] - 3.0).abs() < 1e-12);
+        let bad = [[0.0, 0.0], [0.0, 1.0]];
+        assert_eq!(
+            solve_spd_masked(&bad, &[1.0, 1.0], &[false; 2]),
+            Err(SolveError::NotPositiveDefinite)
+        );
+    }
+}

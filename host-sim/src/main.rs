@@ -1,0 +1,4 @@
+//! `deploywatch`: the command line.
+fn main() {
+    println!("deploywatch");
+}

@@ -1,0 +1,180 @@
+//! A mechanism as the host sees it: what a mechanism TOML file
+//! (`docs/spec/formats.md`) describes, sized at run time (1 to 4 joints),
+//! and its conversion into the core's fixed-size [`Chain`].
+//!
+//! Reading and validating the TOML lives in [`crate::mechanism_toml`].
+
+use deploywatch_core::spring::{CurveError, Fold, Interp, TapePoints};
+use deploywatch_core::{Chain, Curve, Friction, GlobalEffects, Joint, JointEffects, Panel, Spring};
+
+/// Most joints a mechanism may have (`physics.md` section 1: n = 1..4).
+pub const MAX_JOINTS: usize = 4;
+
+/// One hinge spring as written in the file.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SpringSpec {
+    /// `kind = "linear"`: `T = T0 + k|φ|` per hinge.
+    Linear {
+        /// `preload_nm` [N·m].
+        preload_nm: f64,
+        /// `stiffness_nm_per_rad` [N·m/rad].
+        stiffness_nm_per_rad: f64,
+        /// `count` of identical hinges.
+        count: u32,
+    },
+    /// `kind = "tape"`: a tape-spring hinge of a type in `[tape."NAME"]`.
+    Tape {
+        /// The type's name, e.g. `"TS-1"`.
+        type_name: String,
+        /// The type's points (seed 001 Table 1).
+        points: TapePoints<f64>,
+        /// `count` of identical hinges.
+        count: u32,
+    },
+    /// `kind = "curve"`: branches given point by point.
+    Curve {
+        /// `unfold = [[deg, N·m], ...]`.
+        unfold: Vec<(f64, f64)>,
+        /// `fold = [[deg, N·m], ...]`, `None` for no hysteresis.
+        fold: Option<Vec<(f64, f64)>>,
+        /// `interp`, Akima by default.
+        interp: Interp,
+        /// `count` of identical hinges.
+        count: u32,
+    },
+}
+
+impl SpringSpec {
+    /// The core spring this describes.
+    pub fn to_spring(&self) -> Result<Spring<f64>, CurveError> {
+        Ok(match self {
+            SpringSpec::Linear {
+                preload_nm,
+                stiffness_nm_per_rad,
+                count,
+            } => Spring::Linear {
+                preload_nm: *preload_nm,
+                stiffness_nm_per_rad: *stiffness_nm_per_rad,
+                count: *count as f64,
+            },
+            SpringSpec::Tape { points, count, .. } => Spring::tape(points, *count as f64)?,
+            SpringSpec::Curve {
+                unfold,
+                fold,
+                interp,
+                count,
+            } => Spring::Curve {
+                unfold: Curve::new(unfold, *interp)?,
+                fold: match fold {
+                    None => Fold::SameAsUnfold,
+                    Some(f) => Fold::Curve(Curve::new(f, *interp)?),
+                },
+                count: *count as f64,
+            },
+        })
+    }
+}
+
+/// The friction law of a joint as written in the file (`friction = {...}`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionSpec {
+    /// `coulomb_nm` [N·m], default 0.
+    pub coulomb_nm: f64,
+    /// `viscous_nms` [N·m·s/rad], default 0.
+    pub viscous_nms: f64,
+    /// `coulomb_threshold_rad_s` [rad/s], default 0.01.
+    pub coulomb_threshold_rad_s: f64,
+    /// `breakaway_nm` and `stribeck_rad_s`, both or neither.
+    pub stribeck: Option<(f64, f64)>,
+}
+
+impl Default for FrictionSpec {
+    fn default() -> Self {
+        FrictionSpec {
+            coulomb_nm: 0.0,
+            viscous_nms: 0.0,
+            coulomb_threshold_rad_s: deploywatch_core::friction::COULOMB_THRESHOLD_RAD_S,
+            stribeck: None,
+        }
+    }
+}
+
+impl FrictionSpec {
+    /// The core friction law.
+    pub fn to_friction(&self) -> Friction<f64> {
+        let (breakaway_nm, stribeck_rad_s) = self.stribeck.unwrap_or((self.coulomb_nm, 1.0));
+        Friction {
+            coulomb_nm: self.coulomb_nm,
+            breakaway_nm,
+            viscous_nms: self.viscous_nms,
+            stribeck_rad_s,
+            coulomb_threshold_rad_s: self.coulomb_threshold_rad_s,
+        }
+    }
+}
+
+/// One joint as written in the file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointSpec {
+    /// `stowed_deg`: the initial angle [deg]; the latch angle is 0.
+    pub stowed_deg: f64,
+    /// The hinge spring(s).
+    pub spring: SpringSpec,
+    /// The joint's friction.
+    pub friction: FrictionSpec,
+}
+
+/// A mechanism: panels, joints and the run settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mechanism {
+    /// `name`, which runs refer to in their `mechanism` metadata.
+    pub name: String,
+    /// `description`, free text.
+    pub description: String,
+    /// `[[panel]]` tables, bus outwards.
+    pub panels: Vec<Panel<f64>>,
+    /// `[[joint]]` tables; joint j drives panel j.
+    pub joints: Vec<JointSpec>,
+    /// `[run] duration_s`: simulate until every joint latched or this time [s].
+    pub duration_s: f64,
+    /// `[run] sample_hz` [Hz].
+    pub sample_hz: f64,
+}
+
+impl Mechanism {
+    /// Number of joints (= panels).
+    pub fn joint_count(&self) -> usize {
+        self.joints.len()
+    }
+
+    /// The core chain with `N = self.joint_count()` joints and the given
+    /// per-joint and global effects (`effects.len()` must be `N`).
+    ///
+    /// Returns `None` if `N` does not match; the panel and spring data were
+    /// validated when the file was read.
+    pub fn chain<const N: usize>(
+        &self,
+        effects: &[JointEffects<f64>],
+        global: GlobalEffects<f64>,
+    ) -> Option<Chain<f64, N>> {
+        if self.joints.len() != N || self.panels.len() != N || effects.len() != N {
+            return None;
+        }
+        let panels: [Panel<f64>; N] = core::array::from_fn(|i| self.panels[i]);
+        let mut joints = [Joint {
+            stowed_rad: 0.0,
+            spring: Spring::None,
+            friction: Friction::default(),
+            effects: JointEffects::default(),
+        }; N];
+        for (i, j) in self.joints.iter().enumerate() {
+            joints[i] = Joint {
+                stowed_rad: j.stowed_deg.to_radians(),
+                spring: j.spring.to_spring().ok()?,
+                friction: j.friction.to_friction(),
+                effects: effects[i],
+            };
+        }
+        Chain::new(panels, joints, global).ok()
+    }
+}
