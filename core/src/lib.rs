@@ -3,13 +3,28 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+#[macro_use]
+mod fmt;
+
 pub mod chain;
+pub mod faults;
 pub mod friction;
+#[cfg(feature = "hal")]
+pub mod hal;
+pub mod latch;
 pub mod linalg;
+pub mod margin;
+pub mod monitor;
+pub mod observer;
 pub mod real;
 pub mod spring;
+pub mod telemetry;
 
 pub use chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel};
 pub use friction::Friction;
 pub use real::Real;
 pub use spring::{Branch, Curve, Fold, Interp, Spring, TapePoints};
+
+pub use faults::{Fault, FaultFlags};
+pub use latch::LatchState;
+pub use monitor::{JointConfig, JointStatus, Monitor, MonitorConfig, Prediction, Sample, Status};

@@ -361,6 +361,23 @@ impl<T: Real> Spring<T> {
         )
     }
 
+    /// The angle [rad] below which folding and unfolding differ: `None`
+    /// without hysteresis, θ_B' for a tape spring, `T::MAX` for a curve with
+    /// a fold branch of its own. Above it a branch switch is smooth.
+    pub fn hysteresis_below_rad(&self) -> Option<T> {
+        match self {
+            Spring::Curve {
+                fold: Fold::Knee { above_deg, .. },
+                ..
+            } => Some(above_deg.to_radians()),
+            Spring::Curve {
+                fold: Fold::Curve(_),
+                ..
+            } => Some(T::MAX),
+            _ => None,
+        }
+    }
+
     /// The magnitude `count · T(|φ|)` [N·m] at `|φ| = abs_rad` on `branch`.
     #[inline]
     pub fn magnitude(&self, abs_rad: T, branch: Branch) -> T {

@@ -7,4 +7,16 @@
 
 pub mod effect;
 pub mod mechanism;
+pub mod ode;
+pub mod plot;
 pub mod run;
+pub mod sensor;
+pub mod sim;
+pub mod cli;
+pub mod mechanism_toml;
+pub mod kinematics;
+pub mod margin;
+pub mod metrics;
+pub mod monitor_config;
+pub mod rsm;
+pub mod truss;

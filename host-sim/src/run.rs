@@ -1,5 +1,10 @@
 //! A measured or simulated run: the run CSV of `docs/spec/formats.md`.
 
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::mechanism::{Mechanism, MAX_JOINTS};
+
 /// One run: time stamps, joint angles and latch switches, with metadata.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Run {
@@ -49,4 +54,733 @@ impl Run {
     pub fn mechanism(&self) -> Option<&str> {
         self.meta("mechanism")
     }
+}
+
+// ---------------------------------------------------------------------------
+// Reading and writing the run CSV.
+
+/// Why a run file was rejected, or a run could not be paired or written.
+///
+/// Every variant names the file (`file`: the `source` given to [`Run::parse`]
+/// or the path given to [`Run::load`]). `line` is 1-based and counts every
+/// line of the file, metadata lines included.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RunError {
+    /// The file could not be read or written.
+    #[error("{path}: {action} the run file: {source}")]
+    Io {
+        /// The path as given.
+        path: String,
+        /// `"cannot read"` or `"cannot write"`.
+        action: &'static str,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file ends before the header line.
+    #[error("{file}:{line}: expected a header line `t_s,phi1_deg,...,latch1,...`, found the end of the file")]
+    NoHeader {
+        /// The file.
+        file: String,
+        /// The line where the header was expected.
+        line: usize,
+    },
+    /// The file has a header but no data row.
+    #[error(
+        "{file}:{line}: expected at least one data row after the header, found the end of the file"
+    )]
+    NoSamples {
+        /// The file.
+        file: String,
+        /// The line where the first row was expected.
+        line: usize,
+    },
+    /// A `#` line that is not `# key = "json string"`.
+    #[error("{file}:{line}: bad metadata line: expected {expected}, found `{found}`")]
+    BadMetadata {
+        /// The file.
+        file: String,
+        /// The line.
+        line: usize,
+        /// What the line should look like.
+        expected: String,
+        /// The line (shortened).
+        found: String,
+    },
+    /// The same metadata key twice.
+    #[error("{file}:{line}: metadata key `{key}` given twice (first on line {first}); expected each key once")]
+    DuplicateMetadata {
+        /// The file.
+        file: String,
+        /// The line of the repeat.
+        line: usize,
+        /// The key.
+        key: String,
+        /// The line where it was first given.
+        first: usize,
+    },
+    /// A line that belongs nowhere: an empty line, or metadata after the header.
+    #[error("{file}:{line}: expected {expected}, found `{found}`")]
+    BadLine {
+        /// The file.
+        file: String,
+        /// The line.
+        line: usize,
+        /// What was expected there.
+        expected: String,
+        /// The line (shortened).
+        found: String,
+    },
+    /// A column the header must have is absent.
+    #[error("{file}:{line}: missing column `{column}`; expected the header `{expected_header}`")]
+    MissingColumn {
+        /// The file.
+        file: String,
+        /// The header's line.
+        line: usize,
+        /// The missing column's name.
+        column: String,
+        /// The complete header expected for this number of joints.
+        expected_header: String,
+    },
+    /// A column the header must not have (unknown name, or a latch column
+    /// beyond the number of angle columns).
+    #[error("{file}:{line}: extra column `{column}` (column {position}); expected the header `{expected_header}`")]
+    ExtraColumn {
+        /// The file.
+        file: String,
+        /// The header's line.
+        line: usize,
+        /// The extra column's name.
+        column: String,
+        /// Its 1-based position in the header.
+        position: usize,
+        /// The complete header expected.
+        expected_header: String,
+    },
+    /// The same column twice.
+    #[error("{file}:{line}: column `{column}` appears twice (columns {first} and {position}); expected each column once")]
+    DuplicateColumn {
+        /// The file.
+        file: String,
+        /// The header's line.
+        line: usize,
+        /// The column's name.
+        column: String,
+        /// 1-based position of its first occurrence.
+        first: usize,
+        /// 1-based position of the repeat.
+        position: usize,
+    },
+    /// All columns are there but not in the required order.
+    #[error("{file}:{line}: wrong column order: column {position} is `{found}`, expected `{expected}` (header `{expected_header}`)")]
+    ColumnOrder {
+        /// The file.
+        file: String,
+        /// The header's line.
+        line: usize,
+        /// 1-based position of the first misplaced column.
+        position: usize,
+        /// The column found there.
+        found: String,
+        /// The column expected there.
+        expected: String,
+        /// The complete header expected.
+        expected_header: String,
+    },
+    /// More than [`MAX_JOINTS`] joints.
+    #[error("{file}:{line}: {found} joints in the header; expected 1 to {MAX_JOINTS}")]
+    TooManyJoints {
+        /// The file.
+        file: String,
+        /// The header's line.
+        line: usize,
+        /// Number of `phi<j>_deg` (or `latch<j>`) columns.
+        found: usize,
+    },
+    /// A data row with the wrong number of fields.
+    #[error("{file}:{line}: expected {expected} comma-separated fields (as in the header), found {found}")]
+    FieldCount {
+        /// The file.
+        file: String,
+        /// The line.
+        line: usize,
+        /// Number of header columns.
+        expected: usize,
+        /// Number of fields in the row.
+        found: usize,
+    },
+    /// A field that is not a finite number (unparsable, NaN or infinite).
+    #[error("{file}:{line}: column `{column}`: expected a finite number, found `{found}`")]
+    BadNumber {
+        /// The file.
+        file: String,
+        /// The line.
+        line: usize,
+        /// The column's name.
+        column: String,
+        /// The field (shortened).
+        found: String,
+    },
+    /// `t_s` not strictly increasing.
+    #[error("{file}:{line}: column `t_s`: expected a time after {previous} s (strictly increasing), found {found} s")]
+    NonMonotonicTime {
+        /// The file.
+        file: String,
+        /// The line.
+        line: usize,
+        /// The time of the row, as written.
+        found: String,
+        /// The time of the previous row, as written.
+        previous: String,
+    },
+    /// A latch field other than `0` or `1`.
+    #[error("{file}:{line}: column `{column}`: expected 0 or 1, found `{found}`")]
+    BadLatch {
+        /// The file.
+        file: String,
+        /// The line.
+        line: usize,
+        /// The column's name.
+        column: String,
+        /// The field (shortened).
+        found: String,
+    },
+    /// An in-memory run that the format cannot hold (on writing).
+    #[error("{file}: cannot write the run: {reason}")]
+    Invalid {
+        /// The file it was to be written to.
+        file: String,
+        /// What is wrong, for a person.
+        reason: String,
+    },
+    /// Pairing: the run has no `mechanism` metadata.
+    #[error("{file}: no `# mechanism = \"NAME\"` metadata line; expected the name of the run's mechanism")]
+    NoMechanism {
+        /// The run file.
+        file: String,
+    },
+    /// Pairing: no mechanism of the run's `mechanism` name was given.
+    #[error(
+        "{file}: mechanism \"{name}\" (from the run's metadata) was not given; expected one of: {}",
+        names_or_none(given)
+    )]
+    UnknownMechanism {
+        /// The run file.
+        file: String,
+        /// The run's `mechanism` metadata.
+        name: String,
+        /// The names of the mechanisms given.
+        given: Vec<String>,
+    },
+    /// Pairing: two different mechanisms of that name were given.
+    #[error("{file}: {count} different mechanisms named \"{name}\" were given; expected one")]
+    AmbiguousMechanism {
+        /// The run file.
+        file: String,
+        /// The name.
+        name: String,
+        /// How many mechanisms carry it.
+        count: usize,
+    },
+    /// Pairing: the run and its mechanism have different joint counts.
+    #[error("{file}: the run has {run_joints} joints but mechanism \"{mechanism}\" has {mechanism_joints}; expected equal joint counts")]
+    JointCountMismatch {
+        /// The run file.
+        file: String,
+        /// The mechanism's name.
+        mechanism: String,
+        /// Joints in the run.
+        run_joints: usize,
+        /// Joints in the mechanism.
+        mechanism_joints: usize,
+    },
+}
+
+impl RunError {
+    /// The 1-based line the error points at, when there is one.
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            RunError::NoHeader { line, .. }
+            | RunError::NoSamples { line, .. }
+            | RunError::BadMetadata { line, .. }
+            | RunError::DuplicateMetadata { line, .. }
+            | RunError::BadLine { line, .. }
+            | RunError::MissingColumn { line, .. }
+            | RunError::ExtraColumn { line, .. }
+            | RunError::DuplicateColumn { line, .. }
+            | RunError::ColumnOrder { line, .. }
+            | RunError::TooManyJoints { line, .. }
+            | RunError::FieldCount { line, .. }
+            | RunError::BadNumber { line, .. }
+            | RunError::NonMonotonicTime { line, .. }
+            | RunError::BadLatch { line, .. } => Some(*line),
+            _ => None,
+        }
+    }
+}
+
+fn names_or_none(names: &[String]) -> String {
+    if names.is_empty() {
+        "none".to_string()
+    } else {
+        names
+            .iter()
+            .map(|n| format!("\"{n}\""))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// A line or field for a message: at most 60 characters.
+fn shorten(s: &str) -> String {
+    if s.chars().count() > 60 {
+        let mut t: String = s.chars().take(57).collect();
+        t.push_str("...");
+        t
+    } else {
+        s.to_string()
+    }
+}
+
+/// The header for `n` joints: `t_s,phi1_deg..phiN_deg,latch1..latchN`.
+pub fn run_header(n: usize) -> String {
+    run_columns(n).join(",")
+}
+
+fn run_columns(n: usize) -> Vec<String> {
+    let mut cols = Vec::with_capacity(1 + 2 * n);
+    cols.push("t_s".to_string());
+    cols.extend((1..=n).map(|j| format!("phi{j}_deg")));
+    cols.extend((1..=n).map(|j| format!("latch{j}")));
+    cols
+}
+
+/// A header column.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Col {
+    T,
+    Phi(usize),
+    Latch(usize),
+    Other,
+}
+
+fn classify(name: &str) -> Col {
+    let index = |s: &str| -> Option<usize> {
+        if s.is_empty() || s.starts_with('0') || !s.bytes().all(|b| b.is_ascii_digit()) {
+            return None;
+        }
+        s.parse().ok()
+    };
+    if name == "t_s" {
+        Col::T
+    } else if let Some(j) = name
+        .strip_prefix("phi")
+        .and_then(|r| r.strip_suffix("_deg"))
+        .and_then(index)
+    {
+        Col::Phi(j)
+    } else if let Some(j) = name.strip_prefix("latch").and_then(index) {
+        Col::Latch(j)
+    } else {
+        Col::Other
+    }
+}
+
+/// A metadata key: non-empty, without whitespace or `=`.
+fn valid_meta_key(k: &str) -> bool {
+    !k.is_empty() && !k.chars().any(|c| c.is_whitespace() || c == '=')
+}
+
+/// `t_s` as written: 6 decimals with trailing zeros trimmed down to 3.
+fn format_time(t: f64) -> String {
+    let mut s = format!("{t:.6}");
+    if s.contains('.') && t.is_finite() {
+        while s.ends_with('0') && s.len() - s.find('.').unwrap_or(0) > 4 {
+            s.pop();
+        }
+    }
+    s
+}
+
+impl Run {
+    /// Reads and validates a run CSV file.
+    pub fn load(path: &Path) -> Result<Run, RunError> {
+        let text = std::fs::read_to_string(path).map_err(|source| RunError::Io {
+            path: path.display().to_string(),
+            action: "cannot read",
+            source,
+        })?;
+        Run::parse(&text, &path.display().to_string())
+    }
+
+    /// Parses and validates run CSV text (`docs/spec/formats.md`, "Run:
+    /// CSV"); `source` names it in errors (usually the file's path).
+    ///
+    /// Accepted: `\n` or `\r\n` line ends, a final line with or without a
+    /// line end, a UTF-8 byte-order mark, spaces around fields. Rejected with
+    /// the line number: anything else, including empty lines.
+    pub fn parse(text: &str, source: &str) -> Result<Run, RunError> {
+        let file = source.to_string();
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
+        let mut run = Run::default();
+        let mut meta_lines: Vec<usize> = Vec::new();
+
+        // Metadata, then the header.
+        let (header_line, header) = loop {
+            let Some((n, line)) = lines.next() else {
+                return Err(RunError::NoHeader {
+                    file,
+                    line: text.lines().count() + 1,
+                });
+            };
+            let Some(rest) = line.strip_prefix('#') else {
+                break (n, line);
+            };
+            let expected = "`# key = \"json string\"`";
+            let bad = |expected: &str| RunError::BadMetadata {
+                file: file.clone(),
+                line: n,
+                expected: expected.to_string(),
+                found: shorten(line),
+            };
+            let Some((key, value)) = rest.split_once('=') else {
+                return Err(bad(expected));
+            };
+            let key = key.trim();
+            if !valid_meta_key(key) {
+                return Err(bad("`# key = \"json string\"` with a key without spaces"));
+            }
+            let value: String = serde_json::from_str(value.trim())
+                .map_err(|_| bad("`# key = \"json string\"` with the value a JSON string"))?;
+            if let Some(i) = run.metadata.iter().position(|(k, _)| k == key) {
+                return Err(RunError::DuplicateMetadata {
+                    file,
+                    line: n,
+                    key: key.to_string(),
+                    first: meta_lines[i],
+                });
+            }
+            run.metadata.push((key.to_string(), value));
+            meta_lines.push(n);
+        };
+
+        let names: Vec<&str> = header.split(',').map(str::trim).collect();
+        let n = Self::check_header(&names, &file, header_line)?;
+        let columns = run_columns(n);
+        run.phi_deg = vec![Vec::new(); n];
+        run.latch = vec![Vec::new(); n];
+
+        let mut prev_t: Option<(f64, &str)> = None;
+        for (ln, line) in lines {
+            if line.trim().is_empty() || line.starts_with('#') {
+                return Err(RunError::BadLine {
+                    file,
+                    line: ln,
+                    expected: format!(
+                        "a data row of {} comma-separated fields (empty lines and metadata after the header are not allowed)",
+                        columns.len()
+                    ),
+                    found: shorten(line),
+                });
+            }
+            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+            if fields.len() != columns.len() {
+                return Err(RunError::FieldCount {
+                    file,
+                    line: ln,
+                    expected: columns.len(),
+                    found: fields.len(),
+                });
+            }
+            let number = |k: usize| -> Result<f64, RunError> {
+                match fields[k].parse::<f64>() {
+                    Ok(x) if x.is_finite() => Ok(x),
+                    _ => Err(RunError::BadNumber {
+                        file: file.clone(),
+                        line: ln,
+                        column: columns[k].clone(),
+                        found: shorten(fields[k]),
+                    }),
+                }
+            };
+            let t = number(0)?;
+            if let Some((p, ptext)) = prev_t {
+                if t <= p {
+                    return Err(RunError::NonMonotonicTime {
+                        file,
+                        line: ln,
+                        found: shorten(fields[0]),
+                        previous: shorten(ptext),
+                    });
+                }
+            }
+            prev_t = Some((t, fields[0]));
+            run.t_s.push(t);
+            for j in 0..n {
+                let phi = number(1 + j)?;
+                run.phi_deg[j].push(phi);
+            }
+            for j in 0..n {
+                let k = 1 + n + j;
+                let latched = match fields[k] {
+                    "0" => false,
+                    "1" => true,
+                    other => {
+                        return Err(RunError::BadLatch {
+                            file,
+                            line: ln,
+                            column: columns[k].clone(),
+                            found: shorten(other),
+                        })
+                    }
+                };
+                run.latch[j].push(latched);
+            }
+        }
+        if run.t_s.is_empty() {
+            return Err(RunError::NoSamples {
+                file,
+                line: header_line + 1,
+            });
+        }
+        Ok(run)
+    }
+
+    /// Checks the header and returns the number of joints.
+    fn check_header(names: &[&str], file: &str, line: usize) -> Result<usize, RunError> {
+        let cols: Vec<Col> = names.iter().map(|s| classify(s)).collect();
+        let n_phi = cols.iter().filter(|c| matches!(c, Col::Phi(_))).count();
+        let n_latch = cols.iter().filter(|c| matches!(c, Col::Latch(_))).count();
+        if n_phi.max(n_latch) > MAX_JOINTS {
+            return Err(RunError::TooManyJoints {
+                file: file.to_string(),
+                line,
+                found: n_phi.max(n_latch),
+            });
+        }
+        let n = n_phi.max(1);
+        let expected_header = run_header(n);
+        for (i, c) in cols.iter().enumerate() {
+            if let Some(first) = cols[..i].iter().position(|d| d == c && *c != Col::Other) {
+                return Err(RunError::DuplicateColumn {
+                    file: file.to_string(),
+                    line,
+                    column: names[i].to_string(),
+                    first: first + 1,
+                    position: i + 1,
+                });
+            }
+        }
+        let extra = |i: usize| RunError::ExtraColumn {
+            file: file.to_string(),
+            line,
+            column: shorten(names[i]),
+            position: i + 1,
+            expected_header: expected_header.clone(),
+        };
+        for (i, c) in cols.iter().enumerate() {
+            match *c {
+                Col::Other => return Err(extra(i)),
+                Col::Latch(j) if j > n => return Err(extra(i)),
+                _ => {}
+            }
+        }
+        let expected = run_columns(n);
+        for want in &expected {
+            if !names.contains(&want.as_str()) {
+                return Err(RunError::MissingColumn {
+                    file: file.to_string(),
+                    line,
+                    column: want.clone(),
+                    expected_header,
+                });
+            }
+        }
+        // Now the columns are exactly the expected ones (no duplicates, none
+        // missing, none extra), so only their order can be wrong.
+        for (i, (name, want)) in names.iter().zip(&expected).enumerate() {
+            if name != want {
+                return Err(RunError::ColumnOrder {
+                    file: file.to_string(),
+                    line,
+                    position: i + 1,
+                    found: name.to_string(),
+                    expected: want.clone(),
+                    expected_header,
+                });
+            }
+        }
+        Ok(n)
+    }
+
+    /// Checks that the run can be written and read back: 1 to 4 joints, as
+    /// many latch series as angle series, every series as long as `t_s`, at
+    /// least one sample, finite strictly increasing times that stay distinct
+    /// when written with 6 decimals, finite angles, metadata keys without
+    /// spaces or `=`. `file` names the run in the error.
+    pub fn validate(&self, file: &str) -> Result<(), RunError> {
+        let invalid = |reason: String| RunError::Invalid {
+            file: file.to_string(),
+            reason,
+        };
+        let n = self.joints();
+        if n == 0 || n > MAX_JOINTS {
+            return Err(invalid(format!("{n} joints; expected 1 to {MAX_JOINTS}")));
+        }
+        if self.latch.len() != n {
+            return Err(invalid(format!(
+                "{n} angle series but {} latch series; expected as many",
+                self.latch.len()
+            )));
+        }
+        if self.t_s.is_empty() {
+            return Err(invalid("no samples; expected at least one".to_string()));
+        }
+        for j in 0..n {
+            if self.phi_deg[j].len() != self.len() || self.latch[j].len() != self.len() {
+                return Err(invalid(format!(
+                    "joint {} has {} angles and {} latch samples; expected {} (as many as t_s)",
+                    j + 1,
+                    self.phi_deg[j].len(),
+                    self.latch[j].len(),
+                    self.len()
+                )));
+            }
+        }
+        for (k, _) in &self.metadata {
+            if !valid_meta_key(k) {
+                return Err(invalid(format!(
+                    "metadata key {k:?}; expected a non-empty key without spaces or `=`"
+                )));
+            }
+        }
+        let mut prev: Option<String> = None;
+        for (i, &t) in self.t_s.iter().enumerate() {
+            if !t.is_finite() {
+                return Err(invalid(format!(
+                    "sample {}: t_s = {t}; expected a finite time",
+                    i + 1
+                )));
+            }
+            let text = format_time(t);
+            if let Some(p) = &prev {
+                let written = |s: &str| s.parse::<f64>().unwrap_or(f64::NAN);
+                if t <= self.t_s[i - 1] || written(&text) <= written(p) {
+                    return Err(invalid(format!(
+                        "sample {}: t_s = {text} after {p}; expected strictly increasing times at least 1 µs apart",
+                        i + 1
+                    )));
+                }
+            }
+            for j in 0..n {
+                let phi = self.phi_deg[j][i];
+                if !phi.is_finite() {
+                    return Err(invalid(format!(
+                        "sample {}: phi{}_deg = {phi}; expected a finite angle",
+                        i + 1,
+                        j + 1
+                    )));
+                }
+            }
+            prev = Some(text);
+        }
+        Ok(())
+    }
+
+    /// The run as CSV text: metadata lines `# key = "json string"` in order,
+    /// the header, one row per sample; `\n` line ends, one after every line.
+    ///
+    /// `t_s` is written with 6 decimals and trailing zeros trimmed down to
+    /// 3 (`0.010`, `0.0125`, `1.000001`): exact for sample rates that divide
+    /// 1 kHz, and to 1 µs for any other. Angles are written with 6 decimals,
+    /// as `shared/reference` does; latches as `0` or `1`.
+    ///
+    /// Deterministic byte for byte. Reading the output with [`Run::parse`]
+    /// gives the run back, times rounded to 1 µs and angles to 1e-6 deg.
+    /// It does not check the run (see [`Run::validate`], which
+    /// [`Run::write`] calls): missing samples are written as `NaN`, which
+    /// [`Run::parse`] would reject.
+    pub fn to_csv_string(&self) -> String {
+        let n = self.joints();
+        let mut out = String::with_capacity(64 + self.len() * (12 + 14 * n));
+        for (k, v) in &self.metadata {
+            let json = serde_json::to_string(v).unwrap_or_else(|_| "\"\"".to_string());
+            let _ = writeln!(out, "# {k} = {json}");
+        }
+        out.push_str(&run_header(n));
+        out.push('\n');
+        for (i, &t) in self.t_s.iter().enumerate() {
+            out.push_str(&format_time(t));
+            for series in &self.phi_deg {
+                let phi = series.get(i).copied().unwrap_or(f64::NAN);
+                let _ = write!(out, ",{phi:.6}");
+            }
+            for j in 0..n {
+                let l = self.latch.get(j).and_then(|s| s.get(i));
+                out.push_str(match l {
+                    Some(true) => ",1",
+                    Some(false) => ",0",
+                    None => ",NaN",
+                });
+            }
+            out.push('\n');
+        }
+        out
+    }
+
+    /// Checks the run ([`Run::validate`]) and writes
+    /// [`Run::to_csv_string`] to `path`.
+    pub fn write(&self, path: &Path) -> Result<(), RunError> {
+        self.validate(&path.display().to_string())?;
+        std::fs::write(path, self.to_csv_string()).map_err(|source| RunError::Io {
+            path: path.display().to_string(),
+            action: "cannot write",
+            source,
+        })
+    }
+}
+
+/// The mechanism a run belongs to: the one whose `name` equals the run's
+/// `mechanism` metadata. `run_source` names the run in errors.
+///
+/// Errors: the run has no `mechanism` metadata; no mechanism of that name is
+/// given (the message lists the names given); different mechanisms of that
+/// name are given; the joint counts differ.
+pub fn pair_runs<'a>(
+    mechanisms: &'a [Mechanism],
+    run: &Run,
+    run_source: &str,
+) -> Result<&'a Mechanism, RunError> {
+    let file = run_source.to_string();
+    let Some(name) = run.mechanism() else {
+        return Err(RunError::NoMechanism { file });
+    };
+    let mut same = mechanisms.iter().filter(|m| m.name == name);
+    let Some(m) = same.next() else {
+        return Err(RunError::UnknownMechanism {
+            file,
+            name: name.to_string(),
+            given: mechanisms.iter().map(|m| m.name.clone()).collect(),
+        });
+    };
+    let others: Vec<&Mechanism> = same.collect();
+    if others.iter().any(|o| *o != m) {
+        return Err(RunError::AmbiguousMechanism {
+            file,
+            name: name.to_string(),
+            count: 1 + others.len(),
+        });
+    }
+    if m.joint_count() != run.joints() {
+        return Err(RunError::JointCountMismatch {
+            file,
+            mechanism: m.name.clone(),
+            run_joints: run.joints(),
+            mechanism_joints: m.joint_count(),
+        });
+    }
+    Ok(m)
 }

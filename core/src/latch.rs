@@ -1,0 +1,317 @@
+//! Latch-state estimator of one joint: fuses the debounced latch switch with
+//! the encoder.
+//!
+//! ```text
+//!  Stowed ──moved > start_deg──▶ Deploying ──|φ| < latching_deg──▶ Latching
+//!                                  ▲   │                              │
+//!                    |ω| > 2 v_s   │   ▼ |ω| < v_s for stall_s        │ switch closed in 2 of the
+//!                                  Stalled                            ▼ last 3 samples and
+//!                                                                   Latched   |φ| < window_deg
+//!  Fault: shown instead of the motion state while a sensor disagrees
+//!  (switch closed far from the latch, encoder at the latch with the switch
+//!  open, encoder missing for several samples). Latched is final.
+//! ```
+//!
+//! A latch is declared only when the switch says so (so never before the
+//! true latch instant: the switch closes at the latch) *and* the encoder
+//! agrees: a switch that closes far from the latch angle, or an encoder at
+//! the latch angle with the switch open, raises a fault flag instead. One
+//! closed sample is never enough (two of the last three are needed), so a
+//! single bad switch sample can neither declare nor — once confirmed — undo
+//! a latch.
+
+use crate::faults::{Fault, FaultFlags};
+use serde::{Deserialize, Serialize};
+
+/// The latch state of a joint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum LatchState {
+    /// Not yet moved from the stowed angle.
+    #[default]
+    Stowed,
+    /// Moving towards the latch.
+    Deploying,
+    /// Within the latching zone or the switch is closing.
+    Latching,
+    /// The latch is confirmed by switch and encoder (final).
+    Latched,
+    /// Stopped short of the latch.
+    Stalled,
+    /// A sensor disagrees; see the joint's fault flags.
+    Fault,
+}
+
+impl LatchState {
+    /// Every state.
+    pub const ALL: [LatchState; 6] = [
+        LatchState::Stowed,
+        LatchState::Deploying,
+        LatchState::Latching,
+        LatchState::Latched,
+        LatchState::Stalled,
+        LatchState::Fault,
+    ];
+
+    /// The name used in telemetry CSV and reports.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            LatchState::Stowed => "stowed",
+            LatchState::Deploying => "deploying",
+            LatchState::Latching => "latching",
+            LatchState::Latched => "latched",
+            LatchState::Stalled => "stalled",
+            LatchState::Fault => "fault",
+        }
+    }
+
+    /// The state of a name written by [`LatchState::as_str`].
+    pub fn from_name(name: &str) -> Option<Self> {
+        LatchState::ALL.iter().copied().find(|s| s.as_str() == name)
+    }
+}
+
+impl core::fmt::Display for LatchState {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// Thresholds of the latch-state estimator.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LatchConfig {
+    /// The encoder must read within this of the latch angle for a closed
+    /// switch to be a latch [deg].
+    pub window_deg: f32,
+    /// Closed switch samples needed among the last three (2 or 3).
+    pub closed_votes: u8,
+    /// Movement from the stowed angle that starts `Deploying` [deg].
+    pub start_deg: f32,
+    /// `|φ|` below which a deploying joint is `Latching` [deg].
+    pub latching_deg: f32,
+    /// Rate below which a deploying joint counts as stopped [deg/s].
+    pub stall_rate_deg_s: f32,
+    /// How long it must stay stopped to be `Stalled` [s].
+    pub stall_time_s: f32,
+    /// Encoder reading that counts as "at the latch" for the switch-open
+    /// check [deg].
+    pub at_latch_deg: f32,
+    /// How long the encoder may sit at the latch with the switch open
+    /// before that is a fault [s].
+    pub switch_timeout_s: f32,
+    /// Consecutive missing encoder samples that make the joint `Fault`.
+    pub missing_samples: u8,
+}
+
+impl Default for LatchConfig {
+    fn default() -> Self {
+        LatchConfig {
+            window_deg: 2.0,
+            closed_votes: 2,
+            start_deg: 1.0,
+            latching_deg: 3.0,
+            stall_rate_deg_s: 1.0,
+            stall_time_s: 1.0,
+            at_latch_deg: 0.3,
+            switch_timeout_s: 0.1,
+            missing_samples: 5,
+        }
+    }
+}
+
+impl LatchConfig {
+    /// True when every threshold is finite and in range.
+    pub fn is_valid(&self) -> bool {
+        let pos = [
+            self.window_deg,
+            self.start_deg,
+            self.latching_deg,
+            self.stall_rate_deg_s,
+            self.at_latch_deg,
+        ];
+        pos.iter().all(|v| v.is_finite() && *v > 0.0)
+            && self.stall_time_s.is_finite()
+            && self.stall_time_s >= 0.0
+            && self.switch_timeout_s.is_finite()
+            && self.switch_timeout_s >= 0.0
+            && (2..=3).contains(&self.closed_votes)
+            && self.missing_samples > 0
+    }
+}
+
+/// What the estimator sees of a joint at one sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LatchInput {
+    /// Time stamp [s].
+    pub t_s: f32,
+    /// The latch switch (true = closed).
+    pub switch: bool,
+    /// The encoder reading [deg], `None` when missing or rejected.
+    pub measured_deg: Option<f32>,
+    /// The filtered angle [deg].
+    pub angle_deg: f32,
+    /// The filtered rate [deg/s].
+    pub rate_deg_s: f32,
+    /// The stowed angle [deg].
+    pub stowed_deg: f32,
+}
+
+/// The estimator's answer for one sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LatchOutput {
+    /// The state to report.
+    pub state: LatchState,
+    /// True on the one sample at which the latch is declared.
+    pub newly_latched: bool,
+    /// Faults found at this sample.
+    pub faults: FaultFlags,
+}
+
+/// Latch-state estimator of one joint.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct LatchTracker {
+    motion: LatchState,
+    latched: bool,
+    /// Switch readings, newest in bit 0.
+    history: u8,
+    samples: u8,
+    /// Start of the current slow stretch [s] (valid when `slow`).
+    slow_since: f32,
+    slow: bool,
+    /// Start of the current at-latch-with-switch-open stretch [s].
+    open_since: f32,
+    at_latch_run: bool,
+    open_at_latch: bool,
+    missing_run: u8,
+    switch_early: bool,
+}
+
+impl LatchTracker {
+    /// A joint in its stowed state.
+    pub const fn new() -> Self {
+        LatchTracker {
+            motion: LatchState::Stowed,
+            latched: false,
+            history: 0,
+            samples: 0,
+            slow_since: 0.0,
+            slow: false,
+            open_since: 0.0,
+            at_latch_run: false,
+            open_at_latch: false,
+            missing_run: 0,
+            switch_early: false,
+        }
+    }
+
+    /// True once the latch is confirmed.
+    pub fn is_latched(&self) -> bool {
+        self.latched
+    }
+
+    /// True while the encoder sits at the latch angle with the switch open
+    /// (the joint is then held fixed by the dynamics model, but not latched).
+    pub fn held_at_latch(&self) -> bool {
+        self.open_at_latch
+    }
+
+    /// One sample.
+    pub fn step(&mut self, x: &LatchInput, cfg: &LatchConfig) -> LatchOutput {
+        let mut faults = FaultFlags::EMPTY;
+        self.history = (self.history << 1) | u8::from(x.switch);
+        self.samples = self.samples.saturating_add(1);
+        let last3 = self.history & 0b111;
+        let votes = last3.count_ones() as u8;
+        if self.samples >= 3 && (last3 == 0b101 || last3 == 0b010) {
+            faults.insert(Fault::SwitchChatter);
+        }
+        if x.measured_deg.is_some() {
+            self.missing_run = 0;
+        } else {
+            self.missing_run = self.missing_run.saturating_add(1);
+        }
+        let angle = x.measured_deg.unwrap_or(x.angle_deg);
+        let in_window = libm::fabsf(angle) <= cfg.window_deg;
+
+        if self.latched {
+            let away = x
+                .measured_deg
+                .is_some_and(|m| libm::fabsf(m) > cfg.window_deg);
+            if !x.switch || away {
+                faults.insert(Fault::LatchDisagree);
+            }
+            return LatchOutput {
+                state: LatchState::Latched,
+                newly_latched: false,
+                faults,
+            };
+        }
+
+        // Switch closed (debounced): a latch if the encoder agrees.
+        let closed = x.switch && votes >= cfg.closed_votes;
+        if closed && in_window {
+            self.latched = true;
+            self.motion = LatchState::Latched;
+            self.switch_early = false;
+            self.open_at_latch = false;
+            return LatchOutput {
+                state: LatchState::Latched,
+                newly_latched: true,
+                faults,
+            };
+        }
+        self.switch_early = closed && !in_window;
+        if self.switch_early {
+            faults.insert(Fault::SwitchEarly);
+        }
+
+        // Encoder at the latch while the switch stays open.
+        let at_latch = !x.switch
+            && x
+                .measured_deg
+                .is_some_and(|m| libm::fabsf(m) <= cfg.at_latch_deg);
+        if at_latch {
+            if !self.at_latch_run {
+                self.at_latch_run = true;
+                self.open_since = x.t_s;
+            }
+            self.open_at_latch = x.t_s - self.open_since >= cfg.switch_timeout_s;
+        } else {
+            self.at_latch_run = false;
+            self.open_at_latch = false;
+        }
+        if self.open_at_latch {
+            faults.insert(Fault::SwitchOpenAtLatch);
+        }
+
+        // Motion state from the filtered angle and rate.
+        let moved = libm::fabsf(x.angle_deg - x.stowed_deg) > cfg.start_deg;
+        let speed = libm::fabsf(x.rate_deg_s);
+        if speed < cfg.stall_rate_deg_s {
+            if !self.slow {
+                self.slow = true;
+                self.slow_since = x.t_s;
+            }
+        } else if speed > 2.0 * cfg.stall_rate_deg_s {
+            self.slow = false;
+        }
+        let stopped = self.slow && x.t_s - self.slow_since >= cfg.stall_time_s;
+        self.motion = match self.motion {
+            LatchState::Stowed if moved => LatchState::Deploying,
+            LatchState::Stowed => LatchState::Stowed,
+            _ if libm::fabsf(x.angle_deg) < cfg.latching_deg || (x.switch && in_window) => {
+                LatchState::Latching
+            }
+            _ if stopped => LatchState::Stalled,
+            LatchState::Stalled if self.slow => LatchState::Stalled,
+            _ => LatchState::Deploying,
+        };
+        let fault = self.switch_early || self.open_at_latch || self.missing_run >= cfg.missing_samples;
+        LatchOutput {
+            state: if fault { LatchState::Fault } else { self.motion },
+            newly_latched: false,
+            faults,
+        }
+    }
+}

@@ -1,0 +1,331 @@
+//! On-board torque margin of the remaining stroke and the latch / stall
+//! prediction (`physics.md` §9, energy form of seed 000 Eqs. 17–21).
+//!
+//! # Energy balance of the remaining stroke
+//! For a joint at `x₀ = |φ|` [rad] moving with kinetic energy `K` [J], the
+//! energy left when it reaches `x < x₀` is, in a one-joint model,
+//!
+//! ```text
+//! E(x) = K_eff + ∫ₓ^{x₀} T_s(θ) dθ − T_C (x₀ − x) − f ∫ₓ^{x₀} ω dθ          [J]
+//! ```
+//! `T_s` the unfolding spring magnitude (all hinges), `T_C`, `f` the friction
+//! estimate. The joint latches when `E(x) > 0` all the way to the capture
+//! angle `x_c` (below it a tape spring's snap-through torque, tens of N·m,
+//! completes the latch whatever the friction; `x_c = 0` for a linear spring).
+//! `K_eff = K` when the joint moves towards the latch; when it moves away it
+//! first travels `Δ = K/(T_s + T_C)` further out and comes back, which leaves
+//! `K_eff = K (T_s − T_C)/(T_s + T_C)`.
+//!
+//! `E` is marched over [`NODES`] equal steps from `x₀` to `x_c`, with the
+//! viscous loss of a step taken at the speed of its start,
+//! `ω = √(2E/I)`, `I` the joint's articulated inertia. Its variance follows
+//! from the friction covariance and a relative spread of the spring energy:
+//!
+//! ```text
+//! σ²_E = W_C² σ²_TC + W_v² σ²_f + 2 W_C W_v σ_TC,f + (s_rel E_s)² + σ²_K,
+//! W_C = x₀ − x,  W_v = ∫ ω dθ
+//! ```
+//! and `P(latch) = Φ(min_x E(x)/σ_E(x))`. The time to latch sums
+//! `Δx / ½(ω_i + ω_{i+1})` over the steps.
+//!
+//! # Margin with uncertainty factors
+//! ```text
+//! TM = (E_s / FS_spring + max(K_eff, 0) / FS_kinetic)
+//!      / (FS_coulomb T_C W_C + FS_viscous f W_v + max(−K_eff, 0)) − 1     [×100 %]
+//! ```
+//! over the whole remaining stroke `[x_c, x₀]`. The factors default to 1
+//! (a best estimate); `docs/monitor.md` lists the NASA-STD-5017 and
+//! ECSS-E-ST-33-01C categories they stand for.
+
+use crate::spring::{Branch, Spring};
+
+/// Steps of the energy march over the remaining stroke.
+pub const NODES: usize = 6;
+
+/// Largest margin reported [%]: a joint with no resistance left has an
+/// unbounded margin, reported as this value.
+pub const MARGIN_CAP_PCT: f32 = 10_000.0;
+
+/// Uncertainty factors applied to each energy before the margin ratio
+/// (NASA-STD-5017 §4.2.2 / ECSS-E-ST-33-01C §4.7.4.3 style).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct UncertaintyFactors {
+    /// Divides the spring (driving) energy [1].
+    pub spring: f32,
+    /// Divides the kinetic energy already in the joint [1].
+    pub kinetic: f32,
+    /// Multiplies the Coulomb friction energy [1].
+    pub coulomb: f32,
+    /// Multiplies the viscous friction energy [1].
+    pub viscous: f32,
+}
+
+impl UncertaintyFactors {
+    /// All factors 1: the best-estimate margin.
+    pub const UNITY: Self = UncertaintyFactors {
+        spring: 1.0,
+        kinetic: 1.0,
+        coulomb: 1.0,
+        viscous: 1.0,
+    };
+
+    /// The factors commonly quoted for ECSS-E-ST-33-01C (Table 4-1, at the
+    /// design stage): spring 1.2, inertia 1.1, friction 3, viscous
+    /// (others) 3. Check against the issue of the standard that applies.
+    pub const ECSS_E_ST_33_01C: Self = UncertaintyFactors {
+        spring: 1.2,
+        kinetic: 1.1,
+        coulomb: 3.0,
+        viscous: 3.0,
+    };
+
+    /// The factors commonly quoted for NASA-STD-5017 (torque margin with
+    /// friction and other variable resistances at 1.5 once measured by
+    /// test, inertia 1.1). Check against the issue of the standard that applies.
+    pub const NASA_STD_5017: Self = UncertaintyFactors {
+        spring: 1.0,
+        kinetic: 1.1,
+        coulomb: 1.5,
+        viscous: 1.5,
+    };
+
+    /// True when every factor is finite and ≥ 1 is not required, only > 0.
+    pub fn is_valid(&self) -> bool {
+        [self.spring, self.kinetic, self.coulomb, self.viscous]
+            .iter()
+            .all(|f| f.is_finite() && *f > 0.0)
+    }
+}
+
+impl Default for UncertaintyFactors {
+    fn default() -> Self {
+        Self::UNITY
+    }
+}
+
+/// The state of one joint the margin is computed from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MarginInput {
+    /// `x₀ = |φ|` [rad].
+    pub angle_abs_rad: f32,
+    /// `|ω|` [rad/s].
+    pub rate_abs_rad_s: f32,
+    /// True when the joint moves towards the latch (`φ ω < 0`).
+    pub towards_latch: bool,
+    /// Articulated inertia `I` [kg·m²] (> 0).
+    pub inertia_kgm2: f32,
+    /// Variance of the rate [rad²/s²].
+    pub rate_var: f32,
+    /// Capture angle `x_c` [rad].
+    pub capture_rad: f32,
+    /// Friction estimate `T_C` [N·m].
+    pub coulomb_nm: f32,
+    /// Friction estimate `f` [N·m·s/rad].
+    pub viscous_nms: f32,
+    /// Variance of `T_C`.
+    pub coulomb_var: f32,
+    /// Variance of `f`.
+    pub viscous_var: f32,
+    /// Covariance of `T_C` and `f`.
+    pub cov: f32,
+}
+
+/// Settings of the prediction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MarginSettings {
+    /// Uncertainty factors of the reported margin.
+    pub factors: UncertaintyFactors,
+    /// Relative standard deviation of the spring energy [1].
+    pub spring_sd_rel: f32,
+    /// Floor of the energy standard deviation [J].
+    pub energy_sd_floor_j: f32,
+}
+
+/// The margin and the prediction of one joint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MarginResult {
+    /// Torque margin of the remaining stroke, energy form, with the
+    /// configured factors [%], capped at [`MARGIN_CAP_PCT`].
+    pub margin_pct: f32,
+    /// Probability that the joint reaches its capture angle [0, 1].
+    pub latch_probability: f32,
+    /// Predicted time to the capture angle [s], `None` when the best
+    /// estimate stalls.
+    pub time_to_latch_s: Option<f32>,
+}
+
+/// Standard normal distribution function `Φ(z) = ½ erfc(−z/√2)`.
+pub fn normal_cdf(z: f32) -> f32 {
+    0.5 * libm::erfcf(-z * core::f32::consts::FRAC_1_SQRT_2)
+}
+
+/// Evaluates the energy balance of the remaining stroke of one joint with
+/// spring `spring` (the joint's nominal spring, all hinges).
+pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> MarginResult {
+    let x0 = x.angle_abs_rad;
+    let xc = x.capture_rad.max(0.0);
+    let tc = x.coulomb_nm.max(0.0);
+    let fv = x.viscous_nms.max(0.0);
+    let inertia = x.inertia_kgm2.max(1e-6);
+    if !(x0 > xc) {
+        // Inside the capture zone: the spring completes the latch.
+        return MarginResult {
+            margin_pct: MARGIN_CAP_PCT,
+            latch_probability: 1.0,
+            time_to_latch_s: Some(0.0),
+        };
+    }
+    let w = x.rate_abs_rad_s;
+    let k = 0.5 * inertia * w * w;
+    // σ_K from the rate variance: dK = I ω dω.
+    let var_k = inertia * inertia * w * w * x.rate_var.max(0.0);
+    let k_eff = if x.towards_latch {
+        k
+    } else {
+        let ts = spring.magnitude(x0, Branch::Unfold);
+        let den = ts + tc;
+        if den > 1e-6 {
+            k * (ts - tc) / den
+        } else {
+            0.0
+        }
+    };
+
+    let step = (x0 - xc) / NODES as f32;
+    let mut e = k_eff;
+    let mut e_s = 0.0f32;
+    let mut w_c = 0.0f32;
+    let mut w_v = 0.0f32;
+    let mut z_min = f32::INFINITY;
+    let mut t_total = 0.0f32;
+    let mut stalled = false;
+    let mut omega = libm::sqrtf(2.0 * e.max(0.0) / inertia);
+    let mut hi = x0;
+    for i in 0..NODES {
+        let lo = if i + 1 == NODES { xc } else { x0 - (i + 1) as f32 * step };
+        let dx = hi - lo;
+        let gain = spring.release(lo, hi);
+        e_s += gain;
+        w_c += dx;
+        w_v += omega * dx;
+        e += gain - tc * dx - fv * omega * dx;
+        let var = w_c * w_c * x.coulomb_var.max(0.0)
+            + w_v * w_v * x.viscous_var.max(0.0)
+            + 2.0 * w_c * w_v * x.cov
+            + (s.spring_sd_rel * e_s) * (s.spring_sd_rel * e_s)
+            + var_k;
+        let sd = libm::sqrtf(var.max(0.0)).max(s.energy_sd_floor_j);
+        let z = e / sd;
+        if z < z_min {
+            z_min = z;
+        }
+        let omega_next = libm::sqrtf(2.0 * e.max(0.0) / inertia);
+        if e <= 0.0 {
+            stalled = true;
+        } else {
+            let mean = 0.5 * (omega + omega_next);
+            t_total += if mean > 1e-9 { dx / mean } else { f32::INFINITY };
+        }
+        omega = omega_next;
+        hi = lo;
+    }
+    let drive = e_s / s.factors.spring + k_eff.max(0.0) / s.factors.kinetic;
+    let resist = s.factors.coulomb * tc * w_c + s.factors.viscous * fv * w_v + (-k_eff).max(0.0);
+    let margin_pct = if resist > 1e-9 {
+        ((drive / resist - 1.0) * 100.0).clamp(-100.0, MARGIN_CAP_PCT)
+    } else {
+        MARGIN_CAP_PCT
+    };
+    let p = normal_cdf(z_min);
+    MarginResult {
+        margin_pct: if margin_pct.is_finite() { margin_pct } else { 0.0 },
+        latch_probability: if p.is_finite() { p.clamp(0.0, 1.0) } else { 0.5 },
+        time_to_latch_s: if stalled || !t_total.is_finite() {
+            None
+        } else {
+            Some(t_total)
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn linear() -> Spring<f32> {
+        Spring::Linear {
+            preload_nm: 1.0,
+            stiffness_nm_per_rad: 0.5,
+            count: 1.0,
+        }
+    }
+
+    fn input(tc: f32) -> MarginInput {
+        MarginInput {
+            angle_abs_rad: core::f32::consts::FRAC_PI_2,
+            rate_abs_rad_s: 0.0,
+            towards_latch: true,
+            inertia_kgm2: 1.0,
+            rate_var: 0.0,
+            capture_rad: 0.0,
+            coulomb_nm: tc,
+            viscous_nms: 0.0,
+            coulomb_var: 0.01,
+            viscous_var: 1e-6,
+            cov: 0.0,
+        }
+    }
+
+    const SET: MarginSettings = MarginSettings {
+        factors: UncertaintyFactors::UNITY,
+        spring_sd_rel: 0.0,
+        energy_sd_floor_j: 1e-3,
+    };
+
+    #[test]
+    fn margin_is_the_energy_ratio() {
+        // E_D = 1·π/2 + ½·0.5·(π/2)² = 2.1875 J; T_C = 1 → E_R = π/2.
+        let r = evaluate(&linear(), &input(1.0), &SET);
+        let ed = core::f32::consts::FRAC_PI_2 + 0.25 * core::f32::consts::FRAC_PI_2.powi(2);
+        let want = (ed / core::f32::consts::FRAC_PI_2 - 1.0) * 100.0;
+        assert!((r.margin_pct - want).abs() < 0.01, "{} vs {want}", r.margin_pct);
+        assert!(r.latch_probability > 0.99);
+        assert!(r.time_to_latch_s.is_some());
+        // Friction beyond the spring: stall.
+        let r = evaluate(&linear(), &input(2.0), &SET);
+        assert!(r.margin_pct < 0.0);
+        assert!(r.latch_probability < 0.01);
+        assert!(r.time_to_latch_s.is_none());
+        // Factors scale the ratio.
+        let mut s = SET;
+        s.factors.coulomb = 2.0;
+        let r2 = evaluate(&linear(), &input(1.0), &s);
+        assert!((r2.margin_pct - ((ed / (2.0 * core::f32::consts::FRAC_PI_2) - 1.0) * 100.0)).abs() < 0.01);
+    }
+
+    #[test]
+    fn time_to_latch_of_a_constant_net_torque() {
+        // Spring 1 N·m constant, no friction, I = 1: x = ½ t² → t = √(2 x₀).
+        let s = Spring::Linear {
+            preload_nm: 1.0,
+            stiffness_nm_per_rad: 0.0,
+            count: 1.0,
+        };
+        let r = evaluate(&s, &input(0.0), &SET);
+        let want = libm::sqrtf(2.0 * core::f32::consts::FRAC_PI_2);
+        let got = r.time_to_latch_s.unwrap();
+        assert!((got - want).abs() < 0.08 * want, "{got} vs {want}");
+    }
+
+    #[test]
+    fn moving_away_costs_energy() {
+        let mut a = input(1.2);
+        a.rate_abs_rad_s = 1.0;
+        a.towards_latch = true;
+        let towards = evaluate(&linear(), &a, &SET);
+        a.towards_latch = false;
+        let away = evaluate(&linear(), &a, &SET);
+        assert!(away.margin_pct < towards.margin_pct);
+    }
+}

@@ -1,0 +1,844 @@
+//! The on-board deployment monitor: one entry point,
+//! [`Monitor::update`]`(&Sample) -> Status`.
+//!
+//! Each sample (time stamp, encoder angles, latch switches) goes through
+//!
+//! 1. the time checks (NaN, backwards, gaps: [`Fault`] flags, never a panic);
+//! 2. a kinematic Kalman filter per joint: angle and rate from the 14-bit
+//!    encoder, spikes gated out ([`crate::observer::RateFilter`]);
+//! 3. the latch-state estimator per joint, switch fused with encoder
+//!    ([`crate::latch`]);
+//! 4. the generalised-momentum disturbance observer and RLS friction
+//!    estimate per free joint ([`crate::observer::FrictionObserver`]);
+//! 5. the energy margin of the remaining stroke and the latch / stall
+//!    prediction, one joint per update in turn ([`crate::margin`]).
+//!
+//! Everything is `f32`, fixed-size and heap-free; `size_of::<Monitor<3>>()`
+//! is under 4 KiB. `docs/monitor.md` has the equations and the tuning.
+
+use crate::chain::{Chain, ChainError, GlobalEffects, Joint, JointEffects, Panel};
+use crate::faults::{Fault, FaultFlags};
+use crate::friction::Friction;
+use crate::latch::{LatchConfig, LatchInput, LatchState, LatchTracker};
+use crate::linalg::solve_spd_masked;
+use crate::margin::{self, MarginInput, MarginResult, MarginSettings, UncertaintyFactors};
+use crate::observer::{
+    inverse_spd_masked, momentum_terms, FrictionObserver, FrictionPrior, Fusion, ObserverInput, ObserverTuning,
+    RateFilter,
+};
+use crate::spring::{Branch, Spring};
+use serde::{Deserialize, Serialize};
+
+const DEG: f32 = core::f32::consts::PI / 180.0;
+
+/// Largest encoder reading accepted [deg]; beyond it a reading is a fault.
+pub const ENCODER_RANGE_DEG: f32 = 720.0;
+
+/// One sample of the sensors.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Sample<const N: usize> {
+    /// Time stamp [s].
+    pub t_s: f32,
+    /// Encoder angle of each joint [deg]; NaN for a missing reading.
+    #[serde(with = "crate::telemetry::array")]
+    pub phi_deg: [f32; N],
+    /// Latch switch of each joint (true = closed).
+    #[serde(with = "crate::telemetry::array")]
+    pub latch: [bool; N],
+}
+
+impl<const N: usize> Sample<N> {
+    /// A sample.
+    pub const fn new(t_s: f32, phi_deg: [f32; N], latch: [bool; N]) -> Self {
+        Sample { t_s, phi_deg, latch }
+    }
+}
+
+/// The latch / stall prediction of a joint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Prediction {
+    /// Not decided at the configured confidence.
+    #[default]
+    Unknown,
+    /// Will latch (or has latched).
+    Latch,
+    /// Will stall short of the latch.
+    Stall,
+}
+
+impl Prediction {
+    /// Every prediction.
+    pub const ALL: [Prediction; 3] = [Prediction::Unknown, Prediction::Latch, Prediction::Stall];
+
+    /// The name used in telemetry CSV and reports.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Prediction::Unknown => "unknown",
+            Prediction::Latch => "latch",
+            Prediction::Stall => "stall",
+        }
+    }
+
+    /// The prediction of a name written by [`Prediction::as_str`].
+    pub fn from_name(name: &str) -> Option<Self> {
+        Prediction::ALL.iter().copied().find(|p| p.as_str() == name)
+    }
+}
+
+impl core::fmt::Display for Prediction {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// What the monitor knows about one joint.
+#[derive(Clone, Copy, Debug, PartialEq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct JointStatus {
+    /// Estimated angle [deg].
+    pub phi_deg: f32,
+    /// Estimated rate [deg/s].
+    pub rate_deg_s: f32,
+    /// Estimated Coulomb friction torque `T_C` [N·m].
+    pub coulomb_nm: f32,
+    /// Standard deviation of `T_C` [N·m].
+    pub coulomb_sd_nm: f32,
+    /// Estimated viscous coefficient `f` [N·m·s/rad].
+    pub viscous_nms: f32,
+    /// Standard deviation of `f` [N·m·s/rad].
+    pub viscous_sd_nms: f32,
+    /// Disturbance-observer friction torque now (filtered) [N·m].
+    pub friction_torque_nm: f32,
+    /// Latch state.
+    pub latch: LatchState,
+    /// Torque margin of the remaining stroke, energy form, with the
+    /// configured uncertainty factors [%]; `None` once latched or before
+    /// the first evaluation.
+    pub margin_pct: Option<f32>,
+    /// Latch / stall prediction at the configured confidence.
+    pub prediction: Prediction,
+    /// Probability that the joint latches [0, 1].
+    pub latch_probability: f32,
+    /// Predicted time until the latch [s]; `None` when a stall is the best
+    /// estimate, once latched, or before the first evaluation.
+    pub time_to_latch_s: Option<f32>,
+    /// Faults raised at this sample.
+    pub faults: FaultFlags,
+}
+
+/// The monitor's answer to one sample.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Status<const N: usize> {
+    /// Time stamp of the last sample used [s].
+    pub t_s: f32,
+    /// Samples used so far.
+    pub samples: u32,
+    /// Per joint.
+    #[serde(with = "crate::telemetry::array")]
+    pub joints: [JointStatus; N],
+}
+
+impl<const N: usize> Default for Status<N> {
+    fn default() -> Self {
+        Status {
+            t_s: 0.0,
+            samples: 0,
+            joints: [JointStatus::default(); N],
+        }
+    }
+}
+
+impl<const N: usize> Status<N> {
+    /// True when no joint has a fault flag.
+    pub fn is_clean(&self) -> bool {
+        self.joints.iter().all(|j| j.faults.is_empty())
+    }
+}
+
+/// One joint of the monitored mechanism.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointConfig {
+    /// Stowed angle [deg]; the latch angle is 0.
+    pub stowed_deg: f32,
+    /// The hinge spring (all hinges of the joint), as in the mechanism.
+    pub spring: Spring<f32>,
+    /// Capture angle `x_c` [deg]: below it the spring completes the latch
+    /// whatever the friction (a tape spring's θ_B; 0 for a linear spring).
+    pub capture_deg: f32,
+    /// Prior of the friction parameters.
+    pub prior: FrictionPrior,
+}
+
+/// The encoder.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SensorConfig {
+    /// White noise before quantisation, σ [deg].
+    pub encoder_sd_deg: f32,
+    /// Quantisation step [deg] (360/16384 for 14 bits).
+    pub encoder_step_deg: f32,
+}
+
+impl Default for SensorConfig {
+    fn default() -> Self {
+        SensorConfig {
+            encoder_sd_deg: 0.02,
+            encoder_step_deg: 360.0 / 16384.0,
+        }
+    }
+}
+
+/// Tuning of the rate filter and the friction observer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObserverConfig {
+    /// Jerk spectral density of the rate filter [rad²/s⁵].
+    pub jerk_psd: f32,
+    /// The same inside the snap zone of a tape spring [rad²/s⁵].
+    pub zone_jerk_psd: f32,
+    /// `|φ|` below which a free joint is in its snap zone [deg]: the spring
+    /// torque is too steep there for the model, so friction learning pauses.
+    pub snap_zone_deg: f32,
+    /// Innovation gate of the encoder [σ].
+    pub gate_sigma: f32,
+    /// Uncertainty of the joint torques the model predicts the
+    /// accelerations from (spring, disturbance estimate) [N·m].
+    pub torque_sd_nm: f32,
+    /// Floor of the model acceleration's standard deviation [rad/s²].
+    pub acc_sd_floor: f32,
+    /// Disturbance observer and RLS.
+    pub tuning: ObserverTuning,
+    /// Pause of the friction learning after a snap, latch or gap [s].
+    pub settle_s: f32,
+    /// Time step above which the samples around it are a gap [s].
+    pub max_gap_s: f32,
+    /// Smallest time step accepted [s].
+    pub min_dt_s: f32,
+}
+
+impl Default for ObserverConfig {
+    fn default() -> Self {
+        ObserverConfig {
+            jerk_psd: 20.0,
+            zone_jerk_psd: 1.0e7,
+            snap_zone_deg: 3.0,
+            gate_sigma: 6.0,
+            torque_sd_nm: 0.2,
+            acc_sd_floor: 0.01,
+            tuning: ObserverTuning {
+                bandwidth_per_s: 10.0,
+                coulomb_threshold_rad_s: crate::friction::COULOMB_THRESHOLD_RAD_S as f32,
+                coulomb_walk: 0.05,
+                viscous_walk: 1e-4,
+                residual_var_floor: 1e-4,
+                residual_var_weight: 0.02,
+            },
+            settle_s: 0.1,
+            max_gap_s: 0.1,
+            min_dt_s: 1e-4,
+        }
+    }
+}
+
+/// Settings of the margin and the prediction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MarginConfig {
+    /// Uncertainty factors of the reported margin.
+    pub factors: UncertaintyFactors,
+    /// Probability needed to predict `Latch` (and `1 −` it for `Stall`).
+    pub confidence: f32,
+    /// Relative standard deviation of the spring energy [1].
+    pub spring_sd_rel: f32,
+    /// Floor of the energy standard deviation [J].
+    pub energy_sd_floor_j: f32,
+}
+
+impl Default for MarginConfig {
+    fn default() -> Self {
+        MarginConfig {
+            factors: UncertaintyFactors::UNITY,
+            confidence: 0.9,
+            spring_sd_rel: 0.05,
+            energy_sd_floor_j: 0.02,
+        }
+    }
+}
+
+/// Everything the monitor is configured with: the mechanism as fixed-size
+/// tables (the host converts it from the mechanism TOML) and the tuning.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MonitorConfig<const N: usize> {
+    /// Panels, bus outwards.
+    pub panels: [Panel<f32>; N],
+    /// Joints; joint j drives panel j.
+    pub joints: [JointConfig; N],
+    /// The encoder.
+    pub sensor: SensorConfig,
+    /// Rate filter and friction observer.
+    pub observer: ObserverConfig,
+    /// Latch-state estimator.
+    pub latch: LatchConfig,
+    /// Margin and prediction.
+    pub margin: MarginConfig,
+}
+
+impl<const N: usize> MonitorConfig<N> {
+    /// A configuration with the default tuning.
+    pub fn new(panels: [Panel<f32>; N], joints: [JointConfig; N]) -> Self {
+        MonitorConfig {
+            panels,
+            joints,
+            sensor: SensorConfig::default(),
+            observer: ObserverConfig::default(),
+            latch: LatchConfig::default(),
+            margin: MarginConfig::default(),
+        }
+    }
+}
+
+/// Why a configuration was rejected.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum ConfigError {
+    /// The panels do not make a chain.
+    Chain(ChainError),
+    /// Joint `index` (0-based) has a bad parameter.
+    Joint {
+        /// 0-based joint index.
+        index: usize,
+        /// Which parameter.
+        what: &'static str,
+    },
+    /// A tuning parameter is out of range.
+    Parameter(&'static str),
+}
+
+impl core::fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ConfigError::Chain(e) => write!(f, "monitor mechanism: {e}"),
+            ConfigError::Joint { index, what } => {
+                write!(f, "monitor joint {}: {what} must be a finite number in range", index + 1)
+            }
+            ConfigError::Parameter(what) => write!(f, "monitor tuning: {what} is out of range"),
+        }
+    }
+}
+
+impl core::error::Error for ConfigError {}
+
+fn positive(v: f32) -> bool {
+    v.is_finite() && v > 0.0
+}
+
+fn non_negative(v: f32) -> bool {
+    v.is_finite() && v >= 0.0
+}
+
+impl<const N: usize> MonitorConfig<N> {
+    /// Checks every parameter.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        for (index, j) in self.joints.iter().enumerate() {
+            let checks: [(bool, &'static str); 6] = [
+                (j.stowed_deg.is_finite() && libm::fabsf(j.stowed_deg) <= ENCODER_RANGE_DEG, "stowed_deg"),
+                (non_negative(j.capture_deg), "capture_deg"),
+                (j.prior.coulomb_nm.is_finite(), "coulomb prior"),
+                (positive(j.prior.coulomb_sd_nm), "coulomb prior sd"),
+                (j.prior.viscous_nms.is_finite(), "viscous prior"),
+                (positive(j.prior.viscous_sd_nms), "viscous prior sd"),
+            ];
+            if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
+                return Err(ConfigError::Joint { index, what });
+            }
+        }
+        let o = &self.observer;
+        let t = &o.tuning;
+        let checks: [(bool, &'static str); 17] = [
+            (positive(self.sensor.encoder_sd_deg), "encoder_sd_deg"),
+            (non_negative(self.sensor.encoder_step_deg), "encoder_step_deg"),
+            (positive(o.jerk_psd), "jerk_psd"),
+            (positive(o.zone_jerk_psd), "zone_jerk_psd"),
+            (non_negative(o.snap_zone_deg), "snap_zone_deg"),
+            (positive(o.gate_sigma), "gate_sigma"),
+            (positive(o.torque_sd_nm) && positive(o.acc_sd_floor), "model acceleration spread"),
+            (positive(t.bandwidth_per_s), "bandwidth_per_s"),
+            (positive(t.coulomb_threshold_rad_s), "coulomb_threshold_rad_s"),
+            (non_negative(t.coulomb_walk) && non_negative(t.viscous_walk), "friction walk"),
+            (positive(t.residual_var_floor), "residual_var_floor"),
+            (t.residual_var_weight > 0.0 && t.residual_var_weight <= 1.0, "residual_var_weight"),
+            (non_negative(o.settle_s), "settle_s"),
+            (positive(o.min_dt_s) && positive(o.max_gap_s) && o.max_gap_s > o.min_dt_s, "time step limits"),
+            (self.margin.factors.is_valid(), "uncertainty factors"),
+            (self.margin.confidence > 0.5 && self.margin.confidence < 1.0, "confidence"),
+            (
+                non_negative(self.margin.spring_sd_rel) && positive(self.margin.energy_sd_floor_j),
+                "margin spread",
+            ),
+        ];
+        if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
+            return Err(ConfigError::Parameter(what));
+        }
+        if !self.latch.is_valid() {
+            return Err(ConfigError::Parameter("latch thresholds"));
+        }
+        Ok(())
+    }
+}
+
+/// The on-board monitor of an `N`-joint deployment.
+#[derive(Clone, Debug)]
+pub struct Monitor<const N: usize> {
+    chain: Chain<f32, N>,
+    stowed_deg: [f32; N],
+    capture_rad: [f32; N],
+    sensor: SensorConfig,
+    observer: ObserverConfig,
+    latch_cfg: LatchConfig,
+    margin_cfg: MarginConfig,
+    kf: [RateFilter; N],
+    fo: [FrictionObserver; N],
+    lt: [LatchTracker; N],
+    margin: [Option<MarginResult>; N],
+    rejects: [u8; N],
+    started: bool,
+    t_prev: f32,
+    back_run: u8,
+    t_back: f32,
+    blank_until: f32,
+    restart_pending: bool,
+    next_margin: u8,
+    status: Status<N>,
+}
+
+/// Variance added to a rate after a latch impulse or a gap [rad²/s²].
+const RATE_SHOCK_VAR: f32 = 0.04;
+/// Variance added to an acceleration after a latch impulse or a gap [rad²/s⁴].
+const ACC_SHOCK_VAR: f32 = 100.0;
+/// Consecutive gate rejections after which the rate filter restarts at the
+/// measurement.
+const MAX_REJECTS: u8 = 3;
+/// Consecutive non-increasing time stamps after which the monitor adopts them.
+const RESYNC_SAMPLES: u8 = 3;
+
+impl<const N: usize> Monitor<N> {
+    /// A monitor for the configured mechanism, waiting for its first sample.
+    pub fn new(config: &MonitorConfig<N>) -> Result<Self, ConfigError> {
+        config.validate()?;
+        let joints: [Joint<f32>; N] = core::array::from_fn(|j| Joint {
+            stowed_rad: config.joints[j].stowed_deg * DEG,
+            spring: config.joints[j].spring,
+            friction: Friction::default(),
+            effects: JointEffects::default(),
+        });
+        let chain = Chain::new(config.panels, joints, GlobalEffects::default()).map_err(ConfigError::Chain)?;
+        let sd = config.sensor.encoder_sd_deg * DEG;
+        Ok(Monitor {
+            chain,
+            stowed_deg: core::array::from_fn(|j| config.joints[j].stowed_deg),
+            capture_rad: core::array::from_fn(|j| config.joints[j].capture_deg * DEG),
+            sensor: config.sensor,
+            observer: config.observer,
+            latch_cfg: config.latch,
+            margin_cfg: config.margin,
+            kf: core::array::from_fn(|j| RateFilter::new(config.joints[j].stowed_deg * DEG, sd, 0.1, 1.0)),
+            fo: core::array::from_fn(|j| FrictionObserver::new(config.joints[j].prior)),
+            lt: [LatchTracker::new(); N],
+            margin: [None; N],
+            rejects: [0; N],
+            started: false,
+            t_prev: 0.0,
+            back_run: 0,
+            t_back: 0.0,
+            blank_until: f32::NEG_INFINITY,
+            restart_pending: false,
+            next_margin: 0,
+            status: Status::default(),
+        })
+    }
+
+    /// The status after the last sample.
+    pub fn status(&self) -> &Status<N> {
+        &self.status
+    }
+
+    /// The chain model the monitor uses (f32).
+    pub fn chain(&self) -> &Chain<f32, N> {
+        &self.chain
+    }
+
+    /// Measurement variance of one encoder reading [rad²].
+    fn meas_var(&self) -> f32 {
+        let sd = self.sensor.encoder_sd_deg * DEG;
+        let q = self.sensor.encoder_step_deg * DEG;
+        sd * sd + q * q / 12.0
+    }
+
+    /// The previous status with this sample's faults (a sample not used).
+    fn hold(&mut self, faults: FaultFlags) -> Status<N> {
+        for js in self.status.joints.iter_mut() {
+            js.faults = faults;
+        }
+        self.status
+    }
+
+    /// Processes one sample and returns the monitor's status.
+    ///
+    /// Never panics: a NaN or infinite reading is a missing measurement, a
+    /// time stamp that does not increase or is not finite makes the sample
+    /// unused, and each raises a [`Fault`] flag in the status.
+    pub fn update(&mut self, sample: &Sample<N>) -> Status<N> {
+        let mut global = FaultFlags::EMPTY;
+        let t = sample.t_s;
+        if !t.is_finite() {
+            global.insert(Fault::TimeInvalid);
+            return self.hold(global);
+        }
+        let mut gap = false;
+        let mut dt = 0.0f32;
+        if self.started {
+            let d = t - self.t_prev;
+            if !(d >= self.observer.min_dt_s) {
+                global.insert(Fault::TimeBackwards);
+                let chained = self.back_run > 0 && t - self.t_back >= self.observer.min_dt_s;
+                self.back_run = if chained { self.back_run.saturating_add(1) } else { 1 };
+                self.t_back = t;
+                if self.back_run < RESYNC_SAMPLES {
+                    return self.hold(global);
+                }
+                // Adopt the new time base, as after a gap.
+                gap = true;
+                dt = self.observer.max_gap_s;
+            } else if !(d <= self.observer.max_gap_s) {
+                gap = true;
+                dt = d.min(1.0);
+            } else {
+                dt = d;
+            }
+        }
+        self.back_run = 0;
+        if gap {
+            global.insert(Fault::TimeGap);
+        }
+
+        // Encoders.
+        let mut faults = [global; N];
+        let mut meas = [None::<f32>; N];
+        for j in 0..N {
+            let z = sample.phi_deg[j];
+            if !z.is_finite() {
+                faults[j].insert(Fault::EncoderMissing);
+            } else if libm::fabsf(z) > ENCODER_RANGE_DEG {
+                faults[j].insert(Fault::EncoderRange);
+            } else {
+                meas[j] = Some(z * DEG);
+            }
+        }
+        let r_meas = self.meas_var();
+        let sd = libm::sqrtf(r_meas);
+        if !self.started {
+            for j in 0..N {
+                let phi0 = meas[j].unwrap_or(self.stowed_deg[j] * DEG);
+                self.kf[j] = RateFilter::new(phi0, sd, 0.1, 1.0);
+            }
+            self.started = true;
+        } else {
+            let gate2 = self.observer.gate_sigma * self.observer.gate_sigma;
+            let zone = self.observer.snap_zone_deg * DEG;
+            for j in 0..N {
+                let kf = &mut self.kf[j];
+                let q = if !self.lt[j].is_latched() && libm::fabsf(kf.angle()) < zone {
+                    self.observer.zone_jerk_psd
+                } else {
+                    self.observer.jerk_psd
+                };
+                kf.predict(dt, q);
+                if gap {
+                    kf.inflate(1.0, ACC_SHOCK_VAR);
+                }
+                if let Some(z) = meas[j] {
+                    match kf.update(z, if gap { r_meas + 1.0 } else { r_meas }, gate2) {
+                        Fusion::Accepted => self.rejects[j] = 0,
+                        Fusion::Rejected => {
+                            faults[j].insert(Fault::EncoderOutlier);
+                            self.rejects[j] = self.rejects[j].saturating_add(1);
+                            if self.rejects[j] >= MAX_REJECTS {
+                                *kf = RateFilter::new(z, sd, 1.0, 10.0);
+                                faults[j].insert(Fault::EstimatorReset);
+                                self.rejects[j] = 0;
+                                self.restart_pending = true;
+                                self.blank_until = t + self.observer.settle_s;
+                            } else {
+                                meas[j] = None;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        self.t_prev = t;
+
+        // Latch states.
+        let mut states = [LatchState::Stowed; N];
+        let mut newly = [false; N];
+        for j in 0..N {
+            let out = self.lt[j].step(
+                &LatchInput {
+                    t_s: t,
+                    switch: sample.latch[j],
+                    measured_deg: meas[j].map(|z| z / DEG),
+                    angle_deg: self.kf[j].angle() / DEG,
+                    rate_deg_s: self.kf[j].rate() / DEG,
+                    stowed_deg: self.stowed_deg[j],
+                },
+                &self.latch_cfg,
+            );
+            states[j] = out.state;
+            newly[j] = out.newly_latched;
+            faults[j] = faults[j].union(out.faults);
+        }
+        let locked: [bool; N] = core::array::from_fn(|j| self.lt[j].is_latched() || self.lt[j].held_at_latch());
+        if newly.iter().any(|n| *n) {
+            self.apply_latch_impulse(&newly, &locked);
+            self.restart_pending = true;
+            self.blank_until = t + self.observer.settle_s;
+        }
+
+        // Model quantities: latched joints sit at 0.
+        let phi_m: [f32; N] = core::array::from_fn(|j| if locked[j] { 0.0 } else { self.kf[j].angle() });
+        let om_m: [f32; N] = core::array::from_fn(|j| if locked[j] { 0.0 } else { self.kf[j].rate() });
+        let terms = momentum_terms(&self.chain, &phi_m, &om_m);
+        let m = &terms.mass;
+        let minv = inverse_spd_masked(m, &locked);
+        let zone = self.observer.snap_zone_deg * DEG;
+        let in_zone = (0..N).any(|j| !locked[j] && libm::fabsf(phi_m[j]) < zone);
+        if in_zone || gap {
+            self.restart_pending = true;
+            self.blank_until = t + self.observer.settle_s;
+        }
+        let quiet = t >= self.blank_until;
+        if quiet && self.restart_pending {
+            for fo in self.fo.iter_mut() {
+                fo.restart();
+            }
+            self.restart_pending = false;
+        }
+        let mut tau_s = [0.0f32; N];
+        for j in 0..N {
+            if !locked[j] {
+                let branch = Branch::select(phi_m[j], om_m[j]);
+                tau_s[j] = self.chain.joints()[j].spring.torque(phi_m[j], branch);
+            }
+        }
+        if quiet {
+            let all_measured = (0..N).all(|j| locked[j] || meas[j].is_some());
+            for j in 0..N {
+                if locked[j] {
+                    continue;
+                }
+                let mut p = 0.0f32;
+                for k in 0..N {
+                    p += m[j][k] * om_m[k];
+                }
+                self.fo[j].step(
+                    &ObserverInput {
+                        momentum: p,
+                        known_torque_nm: tau_s[j] + terms.beta[j],
+                        rate_rad_s: om_m[j],
+                        rate_var: self.kf[j].rate_var(),
+                        dt_s: dt,
+                        learn: all_measured && dt > 0.0,
+                    },
+                    &self.observer.tuning,
+                );
+            }
+            // Model-aided rates: the chain's acceleration with the
+            // disturbance estimate, fused as a pseudo-measurement,
+            // φ̈ = M⁻¹ (τ_s − SᵀC + r), var = σ_τ² Σ_k (M⁻¹)_jk².
+            if let Some(minv) = &minv {
+                let rhs: [f32; N] = core::array::from_fn(|k| {
+                    if locked[k] {
+                        0.0
+                    } else {
+                        tau_s[k] + terms.coriolis[k] + self.fo[k].disturbance_nm()
+                    }
+                });
+                let sd_tau = self.observer.torque_sd_nm;
+                let floor = self.observer.acc_sd_floor;
+                for j in 0..N {
+                    if locked[j] {
+                        continue;
+                    }
+                    let mut a = 0.0f32;
+                    let mut g = 0.0f32;
+                    for k in 0..N {
+                        a += minv[j][k] * rhs[k];
+                        g += minv[j][k] * minv[j][k];
+                    }
+                    self.kf[j].fuse_acceleration(a, sd_tau * sd_tau * g + floor * floor);
+                }
+            }
+        }
+        let inertia: [f32; N] = core::array::from_fn(|j| match &minv {
+            Some(mi) if mi[j][j] > 0.0 => 1.0 / mi[j][j],
+            _ => m[j][j].max(1e-6),
+        });
+
+        // Health: nothing non-finite survives an update.
+        for j in 0..N {
+            if !self.kf[j].is_healthy() {
+                let phi0 = meas[j].unwrap_or(self.stowed_deg[j] * DEG);
+                self.kf[j] = RateFilter::new(phi0, sd, 1.0, 10.0);
+                faults[j].insert(Fault::EstimatorReset);
+            }
+            if !self.fo[j].is_healthy() {
+                self.fo[j].reset_parameters();
+                faults[j].insert(Fault::EstimatorReset);
+            }
+        }
+
+        // Margin and prediction: one joint per update, in turn.
+        let jm = usize::from(self.next_margin) % N.max(1);
+        self.next_margin = ((jm + 1) % N.max(1)) as u8;
+        if let Some(false) = locked.get(jm) {
+            if let Some(slot) = self.margin.get_mut(jm) {
+                *slot = Some(Self::joint_margin(
+                    &self.chain,
+                    inertia.get(jm).copied().unwrap_or(1.0),
+                    jm,
+                    &self.kf,
+                    &self.fo,
+                    self.capture_rad.get(jm).copied().unwrap_or(0.0),
+                    &self.margin_cfg,
+                ));
+            }
+        }
+
+        // Status.
+        let conf = self.margin_cfg.confidence;
+        for j in 0..N {
+            let est = self.fo[j].estimate();
+            let latched = self.lt[j].is_latched();
+            let (margin_pct, prediction, p_latch, ttl) = if latched {
+                (None, Prediction::Latch, 1.0, None)
+            } else {
+                match self.margin[j] {
+                    None => (None, Prediction::Unknown, 0.5, None),
+                    Some(r) => {
+                        let pred = if r.latch_probability >= conf {
+                            Prediction::Latch
+                        } else if r.latch_probability <= 1.0 - conf {
+                            Prediction::Stall
+                        } else {
+                            Prediction::Unknown
+                        };
+                        (Some(r.margin_pct), pred, r.latch_probability, r.time_to_latch_s)
+                    }
+                }
+            };
+            if newly[j] {
+                info!("joint {} latched at t = {} s", j + 1, t);
+            }
+            if !faults[j].is_empty() {
+                debug!("joint {} faults {}", j + 1, faults[j].0);
+            }
+            self.status.joints[j] = JointStatus {
+                phi_deg: finite(self.kf[j].angle() / DEG),
+                rate_deg_s: finite(self.kf[j].rate() / DEG),
+                coulomb_nm: finite(est.coulomb_nm),
+                coulomb_sd_nm: finite(libm::sqrtf(est.coulomb_var.max(0.0))),
+                viscous_nms: finite(est.viscous_nms),
+                viscous_sd_nms: finite(libm::sqrtf(est.viscous_var.max(0.0))),
+                friction_torque_nm: finite(self.fo[j].disturbance_nm()),
+                latch: states[j],
+                margin_pct: margin_pct.map(finite),
+                prediction,
+                latch_probability: finite(p_latch),
+                time_to_latch_s: ttl.filter(|v| v.is_finite()),
+                faults: faults[j],
+            };
+        }
+        self.status.t_s = t;
+        self.status.samples = self.status.samples.saturating_add(1);
+        self.status
+    }
+
+    /// The plastic latch impulse of `physics.md` §5 applied to the rate
+    /// estimates: the momentum of every joint that stays free is kept and
+    /// the newly latched joints stop.
+    fn apply_latch_impulse(&mut self, newly: &[bool; N], locked_after: &[bool; N]) {
+        let locked_before: [bool; N] = core::array::from_fn(|j| locked_after[j] && !newly[j]);
+        let phi: [f32; N] = core::array::from_fn(|j| if locked_before[j] { 0.0 } else { self.kf[j].angle() });
+        let om: [f32; N] = core::array::from_fn(|j| if locked_before[j] { 0.0 } else { self.kf[j].rate() });
+        let m = momentum_terms(&self.chain, &phi, &om).mass;
+        let mut p = [0.0f32; N];
+        for (pj, row) in p.iter_mut().zip(m.iter()) {
+            *pj = row.iter().zip(om.iter()).map(|(a, b)| a * b).sum();
+        }
+        if let Ok(after) = solve_spd_masked(&m, &p, locked_after) {
+            for j in 0..N {
+                if newly[j] {
+                    let a = self.kf[j].angle();
+                    self.kf[j].pin(a);
+                } else if !locked_after[j] && after[j].is_finite() {
+                    self.kf[j].set_rate(after[j], RATE_SHOCK_VAR);
+                    self.kf[j].inflate(0.0, ACC_SHOCK_VAR);
+                }
+            }
+        }
+    }
+
+    /// Margin and prediction of joint `j`, `inertia` its articulated
+    /// inertia `1/(M⁻¹)_jj` over the free joints [kg·m²].
+    #[allow(clippy::too_many_arguments)]
+    fn joint_margin(
+        chain: &Chain<f32, N>,
+        inertia: f32,
+        j: usize,
+        kf: &[RateFilter; N],
+        fo: &[FrictionObserver; N],
+        capture_rad: f32,
+        cfg: &MarginConfig,
+    ) -> MarginResult {
+        let (Some(f), Some(o), Some(joint)) = (kf.get(j), fo.get(j), chain.joints().get(j)) else {
+            return MarginResult {
+                margin_pct: 0.0,
+                latch_probability: 0.5,
+                time_to_latch_s: None,
+            };
+        };
+        let est = o.estimate();
+        let phi = f.angle();
+        let rate = f.rate();
+        margin::evaluate(
+            &joint.spring,
+            &MarginInput {
+                angle_abs_rad: libm::fabsf(phi),
+                rate_abs_rad_s: libm::fabsf(rate),
+                towards_latch: phi * rate < 0.0,
+                inertia_kgm2: inertia,
+                rate_var: f.rate_var(),
+                capture_rad,
+                coulomb_nm: est.coulomb_nm,
+                viscous_nms: est.viscous_nms,
+                coulomb_var: est.coulomb_var,
+                viscous_var: est.viscous_var,
+                cov: est.cov,
+            },
+            &MarginSettings {
+                factors: cfg.factors,
+                spring_sd_rel: cfg.spring_sd_rel,
+                energy_sd_floor_j: cfg.energy_sd_floor_j,
+            },
+        )
+    }
+}
+
+/// `v` if finite, else 0 (the status never carries a NaN or an infinity).
+fn finite(v: f32) -> f32 {
+    if v.is_finite() {
+        v
+    } else {
+        0.0
+    }
+}

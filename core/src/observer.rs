@@ -1,0 +1,789 @@
+//! The friction observer: joint rates from encoder angles, a generalised-
+//! momentum disturbance observer, and recursive least squares on the
+//! Coulomb and viscous regressors. `docs/monitor.md` derives and justifies it.
+//!
+//! # 1. Rates: a kinematic Kalman filter per joint
+//! State `x = [φ, ω, α]` (rad, rad/s, rad/s²), white-jerk ("Wiener-process
+//! acceleration") model, Bar-Shalom, Li & Kirubarajan (2001) §6.3.3:
+//!
+//! ```text
+//! F = [1 T T²/2; 0 1 T; 0 0 1],  Q = q [T⁵/20 T⁴/8 T³/6; T⁴/8 T³/3 T²/2; T³/6 T²/2 T]
+//! z = φ + v,  v ~ N(0, σ² + Δ²/12)      (σ encoder noise, Δ = 360°/2¹⁴ its step)
+//! ```
+//! It needs no model of the chain, so an error in the model (or in the
+//! friction estimate) can never bias the rates the friction is fitted on.
+//!
+//! # 2. Disturbance observer on the generalised momentum
+//! For the chain of `physics.md` §2 with `p = M(φ) φ̇`, Lagrange's equations
+//! read, per joint (De Luca & Mattone, ICRA 2005; Haddadin, De Luca &
+//! Albu-Schäffer, IEEE T-RO 33(6) 2017, §IV):
+//!
+//! ```text
+//! ṗ_j = τ_s,j(φ_j) + β_j(φ, φ̇) + d_j,     β = ∂T/∂φ = Sᵀ b,
+//! b_k = −θ̇_k Σ_l A_kl sin(θ_k − θ_l) θ̇_l                         [N·m]
+//! ```
+//! `d_j` is everything the model does not know: the friction. The observer
+//! `ṙ = K (d − r)`, i.e. `r = K (p − ∫(τ_s + β + r) dt)`, needs rates but no
+//! accelerations, and the latch impulse of another joint does not enter
+//! joint j's equation (the constraint torque acts on the latching joint's
+//! own coordinate only).
+//!
+//! # 3. Recursive least squares on the filtered regressors
+//! With `d = −T_C tanh(ω/ω_c) − f ω` and the same first-order filter
+//! `F(s) = K/(s + K)` applied to the regressors, `r = θᵀ y` holds exactly
+//! for constant `θ = [T_C, f]`, `y = F[−tanh(ω/ω_c), −ω]`. θ is estimated by
+//! RLS in its Kalman-filter form (Ljung & Söderström 1983, §2.6), with a
+//! Gaussian prior, a random-walk drift and a measurement variance estimated
+//! on line and inflated by the correlation of the filtered residual.
+
+use crate::chain::Chain;
+
+/// Number of unique entries of a symmetric 3×3 matrix.
+const SYM3: usize = 6;
+
+/// Outcome of a Kalman measurement update.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fusion {
+    /// The measurement was used.
+    Accepted,
+    /// The measurement failed the innovation gate and was not used.
+    Rejected,
+}
+
+/// Kinematic Kalman filter of one joint angle: `[φ, ω, α]` in rad, rad/s,
+/// rad/s², white-jerk process noise.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RateFilter {
+    x: [f32; 3],
+    /// Upper triangle of the covariance: P00 P01 P02 P11 P12 P22.
+    p: [f32; SYM3],
+}
+
+impl RateFilter {
+    /// Starts at angle `phi_rad` [rad] at rest, with standard deviations
+    /// `sd_phi_rad` [rad], `sd_rate` [rad/s] and `sd_acc` [rad/s²].
+    pub fn new(phi_rad: f32, sd_phi_rad: f32, sd_rate: f32, sd_acc: f32) -> Self {
+        RateFilter {
+            x: [phi_rad, 0.0, 0.0],
+            p: [
+                sd_phi_rad * sd_phi_rad,
+                0.0,
+                0.0,
+                sd_rate * sd_rate,
+                0.0,
+                sd_acc * sd_acc,
+            ],
+        }
+    }
+
+    /// The angle estimate [rad].
+    pub fn angle(&self) -> f32 {
+        self.x[0]
+    }
+
+    /// The rate estimate [rad/s].
+    pub fn rate(&self) -> f32 {
+        self.x[1]
+    }
+
+    /// The acceleration estimate [rad/s²].
+    pub fn acceleration(&self) -> f32 {
+        self.x[2]
+    }
+
+    /// Variance of the rate estimate [rad²/s²].
+    pub fn rate_var(&self) -> f32 {
+        self.p[3]
+    }
+
+    /// Fuses a model acceleration `a` [rad/s²] of variance `var` [rad²/s⁴]
+    /// as a pseudo-measurement of the acceleration state.
+    pub fn fuse_acceleration(&mut self, a: f32, var: f32) {
+        let s = self.p[5] + var;
+        if !(s > 0.0) || !a.is_finite() {
+            return;
+        }
+        let nu = a - self.x[2];
+        let k = [self.p[2] / s, self.p[4] / s, self.p[5] / s];
+        self.x[0] += k[0] * nu;
+        self.x[1] += k[1] * nu;
+        self.x[2] += k[2] * nu;
+        let [a0, b, c, d, e, f] = self.p;
+        // P − K H P with H = [0 0 1]: P_ij − P_i2 P_2j / s.
+        self.p = [
+            a0 - k[0] * c,
+            b - k[0] * e,
+            c - k[0] * f,
+            d - k[1] * e,
+            e - k[1] * f,
+            f - k[2] * f,
+        ];
+    }
+
+    /// Sets the rate [rad/s] (after a latch impulse) and adds `var`
+    /// [rad²/s²] to its variance.
+    pub fn set_rate(&mut self, rate: f32, var: f32) {
+        self.x[1] = rate;
+        self.p[3] += var;
+    }
+
+    /// Pins the joint: angle `phi_rad`, rate and acceleration zero (a
+    /// latched joint).
+    pub fn pin(&mut self, phi_rad: f32) {
+        self.x = [phi_rad, 0.0, 0.0];
+    }
+
+    /// Adds `var_rate` [rad²/s²] and `var_acc` [rad²/s⁴] to the rate and
+    /// acceleration variances (a manoeuvre or a gap the model cannot see).
+    pub fn inflate(&mut self, var_rate: f32, var_acc: f32) {
+        self.p[3] += var_rate;
+        self.p[5] += var_acc;
+    }
+
+    /// True when every state and covariance entry is finite and the
+    /// variances are positive.
+    pub fn is_healthy(&self) -> bool {
+        self.x.iter().chain(self.p.iter()).all(|v| v.is_finite())
+            && self.p[0] > 0.0
+            && self.p[3] > 0.0
+            && self.p[5] > 0.0
+    }
+
+    /// Time update over `dt` [s] with jerk spectral density `q` [rad²/s⁵].
+    pub fn predict(&mut self, dt: f32, q: f32) {
+        let t = dt;
+        let h = 0.5 * t * t;
+        let [x0, x1, x2] = self.x;
+        self.x = [x0 + t * x1 + h * x2, x1 + t * x2, x2];
+        let [a, b, c, d, e, f] = self.p;
+        // F P, row by row (P symmetric).
+        let r0 = [a + t * b + h * c, b + t * d + h * e, c + t * e + h * f];
+        let r1 = [b + t * c, d + t * e, e + t * f];
+        // (F P) Fᵀ plus the white-jerk Q.
+        let t2 = t * t;
+        let t3 = t2 * t;
+        let t4 = t3 * t;
+        let t5 = t4 * t;
+        self.p = [
+            r0[0] + t * r0[1] + h * r0[2] + q * t5 / 20.0,
+            r0[1] + t * r0[2] + q * t4 / 8.0,
+            r0[2] + q * t3 / 6.0,
+            r1[1] + t * r1[2] + q * t3 / 3.0,
+            r1[2] + q * t2 / 2.0,
+            f + q * t,
+        ];
+    }
+
+    /// Measurement update with angle `z` [rad] of variance `r` [rad²].
+    /// Rejected when the normalised innovation squared exceeds `gate2`.
+    pub fn update(&mut self, z: f32, r: f32, gate2: f32) -> Fusion {
+        let nu = z - self.x[0];
+        let s = self.p[0] + r;
+        if !(s > 0.0) || !(nu * nu <= gate2 * s) {
+            return Fusion::Rejected;
+        }
+        let k = [self.p[0] / s, self.p[1] / s, self.p[2] / s];
+        self.x[0] += k[0] * nu;
+        self.x[1] += k[1] * nu;
+        self.x[2] += k[2] * nu;
+        let [a, b, c, d, e, f] = self.p;
+        // P − K H P with H = [1 0 0]: P_ij − P_i0 P_0j / s.
+        self.p = [
+            a - k[0] * a,
+            b - k[0] * b,
+            c - k[0] * c,
+            d - k[1] * b,
+            e - k[1] * c,
+            f - k[2] * c,
+        ];
+        Fusion::Accepted
+    }
+}
+
+/// The velocity-dependent terms of the chain's equations at one state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MomentumTerms<const N: usize> {
+    /// Mass matrix `M(φ)` [kg·m²].
+    pub mass: [[f32; N]; N],
+    /// `β = ∂T/∂φ` [N·m]: `ṗ = τ + β`.
+    pub beta: [f32; N],
+    /// `−Sᵀ C` [N·m]: `M φ̈ = τ − Sᵀ C` (`chain.rs`).
+    pub coriolis: [f32; N],
+}
+
+/// Mass matrix `M(φ)` [kg·m²], `β = ∂T/∂φ` and the Coriolis/centrifugal
+/// torques `−Sᵀ C` [N·m] of the chain at angles `phi` [rad] and rates
+/// `omega` [rad/s], from one evaluation of the panel angles' sines and
+/// cosines.
+///
+/// ```text
+/// θ = S φ,  D_kl = A_kl cos(θ_k − θ_l),  M = Sᵀ D S
+/// b_k = −θ̇_k Σ_l A_kl sin(θ_k − θ_l) θ̇_l,  β_j = Σ_{k ≥ j} b_k
+/// C_k = Σ_l A_kl sin(θ_k − θ_l) θ̇_l²
+/// ```
+pub fn momentum_terms<const N: usize>(
+    chain: &Chain<f32, N>,
+    phi: &[f32; N],
+    omega: &[f32; N],
+) -> MomentumTerms<N> {
+    let a = chain.inertia_coefficients();
+    let mut c = [0.0f32; N];
+    let mut s = [0.0f32; N];
+    let mut thd = [0.0f32; N];
+    let (mut th_acc, mut thd_acc) = (0.0f32, 0.0f32);
+    for k in 0..N {
+        th_acc += phi[k];
+        thd_acc += omega[k];
+        c[k] = libm::cosf(th_acc);
+        s[k] = libm::sinf(th_acc);
+        thd[k] = thd_acc;
+    }
+    let mut d = [[0.0f32; N]; N];
+    let mut b = [0.0f32; N];
+    let mut cor = [0.0f32; N];
+    for k in 0..N {
+        let mut acc = 0.0f32;
+        let mut acc2 = 0.0f32;
+        for l in 0..N {
+            let cos_kl = c[k] * c[l] + s[k] * s[l];
+            let sin_kl = s[k] * c[l] - c[k] * s[l];
+            d[k][l] = a[k][l] * cos_kl;
+            acc += a[k][l] * sin_kl * thd[l];
+            acc2 += a[k][l] * sin_kl * thd[l] * thd[l];
+        }
+        b[k] = -thd[k] * acc;
+        cor[k] = acc2;
+    }
+    // M = Sᵀ D S: suffix sums along columns, then along rows.
+    let mut r = [[0.0f32; N]; N];
+    for (ra, da) in r.iter_mut().zip(d.iter()) {
+        let mut acc = 0.0f32;
+        for k in (0..N).rev() {
+            acc += da[k];
+            ra[k] = acc;
+        }
+    }
+    let mut m = [[0.0f32; N]; N];
+    for k in 0..N {
+        let mut acc = 0.0f32;
+        for j in (0..N).rev() {
+            acc += r[j][k];
+            m[j][k] = acc;
+        }
+    }
+    let mut beta = [0.0f32; N];
+    let mut coriolis = [0.0f32; N];
+    let (mut acc, mut acc2) = (0.0f32, 0.0f32);
+    for k in (0..N).rev() {
+        acc += b[k];
+        acc2 -= cor[k];
+        beta[k] = acc;
+        coriolis[k] = acc2;
+    }
+    MomentumTerms {
+        mass: m,
+        beta,
+        coriolis,
+    }
+}
+
+/// Inverse of the free block of a symmetric positive definite `m`
+/// (rows and columns of `locked` joints are zero), by one Cholesky
+/// factorisation; `None` when the block is not positive definite.
+pub fn inverse_spd_masked<const N: usize>(m: &[[f32; N]; N], locked: &[bool; N]) -> Option<[[f32; N]; N]> {
+    let mut l = [[0.0f32; N]; N];
+    for i in 0..N {
+        if locked[i] {
+            continue;
+        }
+        for j in 0..=i {
+            if locked[j] {
+                continue;
+            }
+            let mut s = m[i][j];
+            for k in 0..j {
+                s -= l[i][k] * l[j][k];
+            }
+            if i == j {
+                if !(s > 0.0) {
+                    return None;
+                }
+                l[i][i] = libm::sqrtf(s);
+            } else {
+                l[i][j] = s / l[j][j];
+            }
+        }
+    }
+    let mut inv = [[0.0f32; N]; N];
+    for c in 0..N {
+        if locked[c] {
+            continue;
+        }
+        // L y = e_c, then Lᵀ x = y.
+        let mut y = [0.0f32; N];
+        for i in 0..N {
+            if locked[i] {
+                continue;
+            }
+            let mut s = if i == c { 1.0 } else { 0.0 };
+            for k in 0..i {
+                s -= l[i][k] * y[k];
+            }
+            y[i] = s / l[i][i];
+        }
+        for i in (0..N).rev() {
+            if locked[i] {
+                continue;
+            }
+            let mut s = y[i];
+            for k in i + 1..N {
+                s -= l[k][i] * inv[k][c];
+            }
+            inv[i][c] = s / l[i][i];
+        }
+    }
+    Some(inv)
+}
+
+/// Tuning of one joint's friction observer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObserverTuning {
+    /// Disturbance-observer bandwidth `K` [1/s].
+    pub bandwidth_per_s: f32,
+    /// `ω_c` of the Coulomb regressor `tanh(ω/ω_c)` [rad/s].
+    pub coulomb_threshold_rad_s: f32,
+    /// Random-walk intensity of `T_C` [N·m/√s].
+    pub coulomb_walk: f32,
+    /// Random-walk intensity of `f` [N·m·s/rad/√s].
+    pub viscous_walk: f32,
+    /// Floor of the residual variance [N²·m²].
+    pub residual_var_floor: f32,
+    /// Forgetting weight of the residual-variance estimate per update [1].
+    pub residual_var_weight: f32,
+}
+
+/// Prior of one joint's friction parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionPrior {
+    /// Mean Coulomb torque [N·m].
+    pub coulomb_nm: f32,
+    /// Its standard deviation [N·m].
+    pub coulomb_sd_nm: f32,
+    /// Mean viscous coefficient [N·m·s/rad].
+    pub viscous_nms: f32,
+    /// Its standard deviation [N·m·s/rad].
+    pub viscous_sd_nms: f32,
+}
+
+/// The friction estimate of one joint.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct FrictionEstimate {
+    /// Coulomb torque `T_C` [N·m] (≥ 0).
+    pub coulomb_nm: f32,
+    /// Viscous coefficient `f` [N·m·s/rad] (≥ 0).
+    pub viscous_nms: f32,
+    /// Variance of `T_C` [N²·m²].
+    pub coulomb_var: f32,
+    /// Variance of `f` [(N·m·s/rad)²].
+    pub viscous_var: f32,
+    /// Covariance of `T_C` and `f`.
+    pub cov: f32,
+}
+
+/// Largest friction parameter the estimator will report (projection bound):
+/// 1000 N·m or N·m·s/rad.
+const PARAM_MAX: f32 = 1000.0;
+
+/// Momentum disturbance observer and RLS friction estimator of one joint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionObserver {
+    /// Disturbance estimate `r` [N·m] (first-order filtered friction torque).
+    r: f32,
+    /// Filtered regressors `y = F[−tanh(ω/ω_c), −ω]`.
+    y: [f32; 2],
+    /// Previous momentum [N·m·s], known torque [N·m], regressors.
+    p_prev: f32,
+    u_prev: f32,
+    h_prev: [f32; 2],
+    primed: bool,
+    /// θ = [T_C, f].
+    theta: [f32; 2],
+    /// Covariance of θ: Σ00, Σ01, Σ11.
+    sigma: [f32; 3],
+    /// Residual variance estimate [N²·m²].
+    resid_var: f32,
+    prior: FrictionPrior,
+}
+
+/// What one observer step needs about the joint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObserverInput {
+    /// Generalised momentum `p_j` [N·m·s].
+    pub momentum: f32,
+    /// Known torque `τ_s,j + β_j` [N·m].
+    pub known_torque_nm: f32,
+    /// Joint rate estimate [rad/s].
+    pub rate_rad_s: f32,
+    /// Variance of the rate estimate [rad²/s²].
+    pub rate_var: f32,
+    /// Time step [s] (> 0).
+    pub dt_s: f32,
+    /// Whether the parameters may be updated with this step.
+    pub learn: bool,
+}
+
+impl FrictionObserver {
+    /// A fresh observer at the prior.
+    pub fn new(prior: FrictionPrior) -> Self {
+        FrictionObserver {
+            r: 0.0,
+            y: [0.0; 2],
+            p_prev: 0.0,
+            u_prev: 0.0,
+            h_prev: [0.0; 2],
+            primed: false,
+            theta: [prior.coulomb_nm, prior.viscous_nms],
+            sigma: [
+                prior.coulomb_sd_nm * prior.coulomb_sd_nm,
+                0.0,
+                prior.viscous_sd_nms * prior.viscous_sd_nms,
+            ],
+            resid_var: 0.0,
+            prior,
+        }
+    }
+
+    /// Restarts the disturbance observer and its regressor filters from zero
+    /// at the next step (both sides of `r = θᵀy` restart together, so the
+    /// identity still holds); the parameter estimate is kept.
+    pub fn restart(&mut self) {
+        self.r = 0.0;
+        self.y = [0.0; 2];
+        self.primed = false;
+    }
+
+    /// Resets the parameters to the prior (after a numerical failure).
+    pub fn reset_parameters(&mut self) {
+        *self = FrictionObserver::new(self.prior);
+    }
+
+    /// The disturbance (friction torque) estimate `r` [N·m].
+    pub fn disturbance_nm(&self) -> f32 {
+        self.r
+    }
+
+    /// The current parameter estimate.
+    pub fn estimate(&self) -> FrictionEstimate {
+        FrictionEstimate {
+            coulomb_nm: self.theta[0],
+            viscous_nms: self.theta[1],
+            coulomb_var: self.sigma[0],
+            viscous_var: self.sigma[2],
+            cov: self.sigma[1],
+        }
+    }
+
+    /// True when every state is finite and the covariance is positive definite.
+    pub fn is_healthy(&self) -> bool {
+        let finite = [self.r, self.p_prev, self.u_prev, self.resid_var]
+            .iter()
+            .chain(self.y.iter())
+            .chain(self.h_prev.iter())
+            .chain(self.theta.iter())
+            .chain(self.sigma.iter())
+            .all(|v| v.is_finite());
+        finite
+            && self.sigma[0] > 0.0
+            && self.sigma[2] > 0.0
+            && self.sigma[0] * self.sigma[2] > self.sigma[1] * self.sigma[1]
+    }
+
+    /// One step: advances the observer and, if `input.learn`, the RLS.
+    pub fn step(&mut self, input: &ObserverInput, tuning: &ObserverTuning) {
+        let wc = tuning.coulomb_threshold_rad_s;
+        let h = [
+            -libm::tanhf(input.rate_rad_s / wc),
+            -input.rate_rad_s,
+        ];
+        if !self.primed {
+            self.p_prev = input.momentum;
+            self.u_prev = input.known_torque_nm;
+            self.h_prev = h;
+            self.primed = true;
+            return;
+        }
+        let dt = input.dt_s;
+        // Forward-Euler first-order filter, K·dt kept ≤ 1 (stable, monotone).
+        let kdt = (tuning.bandwidth_per_s * dt).clamp(0.0, 1.0);
+        if !(kdt > 0.0) {
+            return;
+        }
+        let u_bar = 0.5 * (self.u_prev + input.known_torque_nm);
+        // r⁺ = (1 − K dt) r + K dt · d̄,  d̄ dt = Δp − ū dt.
+        self.r = (1.0 - kdt) * self.r + (kdt / dt) * (input.momentum - self.p_prev - u_bar * dt);
+        for ((yi, hi), hp) in self.y.iter_mut().zip(h.iter()).zip(self.h_prev.iter()) {
+            *yi = (1.0 - kdt) * *yi + kdt * 0.5 * (*hi + *hp);
+        }
+        self.p_prev = input.momentum;
+        self.u_prev = input.known_torque_nm;
+        self.h_prev = h;
+
+        // Random walk of the parameters.
+        self.sigma[0] += tuning.coulomb_walk * tuning.coulomb_walk * dt;
+        self.sigma[2] += tuning.viscous_walk * tuning.viscous_walk * dt;
+        if input.learn {
+            // Errors in variables ("effective variance"): a rate error δω
+            // moves the Coulomb regressor by sech²(ω/ω_c) δω/ω_c, i.e. the
+            // torque by T_C sech²(ω/ω_c) δω/ω_c; |r| bounds T_C from below.
+            let sech = 1.0 / libm::coshf(input.rate_rad_s / wc);
+            let tc = self.theta[0].max(libm::fabsf(self.r));
+            let g = tc * sech * sech / wc;
+            let eiv = g * g * input.rate_var.max(0.0);
+            self.learn(kdt, eiv, tuning);
+        }
+    }
+
+    /// The RLS (Kalman) update of θ with `z = r`, `H = y`; `eiv` [N²·m²] is
+    /// the variance the rate error adds to the measurement.
+    fn learn(&mut self, kdt: f32, eiv: f32, tuning: &ObserverTuning) {
+        let [y0, y1] = self.y;
+        let [s00, s01, s11] = self.sigma;
+        // Σ H
+        let sh0 = s00 * y0 + s01 * y1;
+        let sh1 = s01 * y0 + s11 * y1;
+        let hsh = y0 * sh0 + y1 * sh1;
+        // The filtered residual is an AR(1) sequence with ρ = 1 − K dt: n
+        // samples of it carry the information of n (1 − ρ)/(1 + ρ)
+        // independent ones.
+        let rho = 1.0 - kdt;
+        let inflation = ((1.0 + rho) / (1.0 - rho).max(1e-3)).max(1.0);
+        let noise = (self.resid_var.max(tuning.residual_var_floor) + eiv) * inflation;
+        let s = hsh + noise;
+        if !(s > 0.0) || !s.is_finite() {
+            return;
+        }
+        let g0 = sh0 / s;
+        let g1 = sh1 / s;
+        let e = self.r - (self.theta[0] * y0 + self.theta[1] * y1);
+        self.theta[0] += g0 * e;
+        self.theta[1] += g1 * e;
+        self.sigma = [s00 - g0 * sh0, s01 - g0 * sh1, s11 - g1 * sh1];
+        // Parameter projection onto the physical set 0 ≤ θ ≤ PARAM_MAX.
+        for t in self.theta.iter_mut() {
+            *t = t.clamp(0.0, PARAM_MAX);
+        }
+        // Residual variance, from the a-posteriori residual.
+        let post = self.r - (self.theta[0] * y0 + self.theta[1] * y1);
+        let w = tuning.residual_var_weight;
+        self.resid_var += w * (post * post - self.resid_var);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{ChainState, Friction, GlobalEffects, Joint, JointEffects, Panel, Spring};
+
+    fn chain() -> Chain<f32, 3> {
+        let p = Panel {
+            length_m: 0.8,
+            mass_kg: 3.5,
+            com_m: 0.4,
+            inertia_kgm2: 0.27,
+        };
+        let j = Joint {
+            stowed_rad: 1.0,
+            spring: Spring::None,
+            friction: Friction::default(),
+            effects: JointEffects::default(),
+        };
+        Chain::new([p; 3], [j; 3], GlobalEffects::default()).unwrap()
+    }
+
+    #[test]
+    fn momentum_terms_match_the_chain() {
+        let c = chain();
+        let phi = [0.3f32, -1.1, 0.7];
+        let om = [0.5f32, -0.2, 1.3];
+        let t = momentum_terms(&c, &phi, &om);
+        let (m, beta) = (t.mass, t.beta);
+        let m_ref = c.mass_matrix(&phi);
+        // M φ̈ = rhs of chain.rs with no joint torques: rhs = −SᵀC.
+        let x = ChainState {
+            phi: phi.map(f64::from),
+            phi_dot: om.map(f64::from),
+        };
+        let _ = x;
+        let (_, rhs) = c.equations(
+            &ChainState {
+                phi,
+                phi_dot: om,
+            },
+            &crate::Mode::default(),
+        );
+        for j in 0..3 {
+            assert!((rhs[j] - t.coriolis[j]).abs() < 1e-4, "{j}: {} vs {}", rhs[j], t.coriolis[j]);
+        }
+        let inv = inverse_spd_masked(&m, &[false, true, false]).unwrap();
+        let x = crate::linalg::solve_spd_masked(&m, &[1.0, 0.0, 0.0], &[false, true, false]).unwrap();
+        for i in 0..3 {
+            assert!((inv[i][0] - x[i]).abs() < 1e-5);
+        }
+        for j in 0..3 {
+            for k in 0..3 {
+                assert!((m[j][k] - m_ref[j][k]).abs() < 1e-5, "{j}{k}");
+            }
+        }
+        // β_j = ∂T/∂φ_j by central differences of the kinetic energy (f64).
+        let c64 = {
+            let p = Panel {
+                length_m: 0.8,
+                mass_kg: 3.5,
+                com_m: 0.4,
+                inertia_kgm2: 0.27,
+            };
+            let j = Joint {
+                stowed_rad: 1.0,
+                spring: Spring::None,
+                friction: Friction::default(),
+                effects: JointEffects::default(),
+            };
+            Chain::<f64, 3>::new([p; 3], [j; 3], GlobalEffects::default()).unwrap()
+        };
+        for j in 0..3 {
+            let mut a = phi.map(f64::from);
+            let mut b = a;
+            a[j] += 1e-6;
+            b[j] -= 1e-6;
+            let w = om.map(f64::from);
+            let ta = c64.kinetic_energy(&ChainState { phi: a, phi_dot: w });
+            let tb = c64.kinetic_energy(&ChainState { phi: b, phi_dot: w });
+            let fd = (ta - tb) / 2e-6;
+            assert!((f64::from(beta[j]) - fd).abs() < 1e-4, "β_{j}: {} vs {fd}", beta[j]);
+        }
+        // A rigid rotation of the whole chain does not change T.
+        assert!(beta[0].abs() < 1e-5);
+    }
+
+    #[test]
+    fn momentum_rate_is_joint_torque_plus_beta() {
+        // ṗ = Ṁ φ̇ + M φ̈ with φ̈ from the chain's own equations must equal
+        // τ + β (Lagrange): checks β's sign against chain.rs's Coriolis terms.
+        let p = Panel {
+            length_m: 0.8,
+            mass_kg: 3.5,
+            com_m: 0.4,
+            inertia_kgm2: 0.27,
+        };
+        let j = Joint {
+            stowed_rad: 1.0,
+            spring: Spring::Linear {
+                preload_nm: 1.0,
+                stiffness_nm_per_rad: 0.4,
+                count: 2.0,
+            },
+            friction: Friction::coulomb(0.3),
+            effects: JointEffects::default(),
+        };
+        let c64 = Chain::<f64, 3>::new([p; 3], [j; 3], GlobalEffects::default()).unwrap();
+        let c32 = Chain::<f32, 3>::new(
+            [Panel {
+                length_m: 0.8f32,
+                mass_kg: 3.5,
+                com_m: 0.4,
+                inertia_kgm2: 0.27,
+            }; 3],
+            [Joint {
+                stowed_rad: 1.0f32,
+                spring: Spring::None,
+                friction: Friction::default(),
+                effects: JointEffects::default(),
+            }; 3],
+            GlobalEffects::default(),
+        )
+        .unwrap();
+        let phi = [-0.9f64, 2.1, -1.3];
+        let w = [0.7f64, -1.9, 3.1];
+        let x = ChainState { phi, phi_dot: w };
+        let mode = crate::Mode::default();
+        let acc = c64.acceleration(&x, &mode).unwrap();
+        let eps = 1e-6;
+        let mp = c64.mass_matrix(&core::array::from_fn(|k| phi[k] + eps * w[k]));
+        let mm = c64.mass_matrix(&core::array::from_fn(|k| phi[k] - eps * w[k]));
+        let m = c64.mass_matrix(&phi);
+        let beta = momentum_terms(&c32, &phi.map(|v| v as f32), &w.map(|v| v as f32)).beta;
+        for jj in 0..3 {
+            let mut pdot = 0.0;
+            for k in 0..3 {
+                pdot += (mp[jj][k] - mm[jj][k]) / (2.0 * eps) * w[k] + m[jj][k] * acc[k];
+            }
+            let tau = c64.joint_torque(jj, phi[jj], w[jj], crate::Branch::Unfold);
+            let want = tau + f64::from(beta[jj]);
+            assert!((pdot - want).abs() < 1e-3, "joint {jj}: ṗ = {pdot}, τ + β = {want}");
+        }
+    }
+
+    #[test]
+    fn rate_filter_tracks_a_ramp() {
+        let mut f = RateFilter::new(1.0, 1e-3, 1.0, 10.0);
+        let mut noise = 0x1234_5678u32;
+        for i in 1..=400 {
+            let t = i as f32 * 0.01;
+            f.predict(0.01, 1.0);
+            noise = noise.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let n = ((noise >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 6e-4;
+            assert_eq!(f.update(1.0 - 0.2 * t + n, 1e-7, 36.0), Fusion::Accepted);
+        }
+        assert!((f.rate() + 0.2).abs() < 5e-3, "{}", f.rate());
+        assert!(f.is_healthy());
+        // A spike is gated out.
+        f.predict(0.01, 1.0);
+        assert_eq!(f.update(f.angle() + 0.1, 1e-7, 36.0), Fusion::Rejected);
+    }
+
+    #[test]
+    fn observer_recovers_coulomb_friction_of_a_single_body() {
+        // I ω̇ = τ_s + d with d = −T_C tanh(ω/ω_c), τ_s = 3 N·m: exact data.
+        let inertia = 2.0f32;
+        let tc = 1.2f32;
+        let tuning = ObserverTuning {
+            bandwidth_per_s: 10.0,
+            coulomb_threshold_rad_s: 0.01,
+            coulomb_walk: 0.0,
+            viscous_walk: 0.0,
+            residual_var_floor: 1e-4,
+            residual_var_weight: 0.05,
+        };
+        let mut o = FrictionObserver::new(FrictionPrior {
+            coulomb_nm: 0.0,
+            coulomb_sd_nm: 2.0,
+            viscous_nms: 0.0,
+            viscous_sd_nms: 0.05,
+        });
+        let (mut w, dt) = (0.0f32, 0.01f32);
+        for _ in 0..300 {
+            let tau = 3.0 - 0.5 * w;
+            let d = -tc * libm::tanhf(w / 0.01);
+            // Fine sub-steps of the true motion.
+            for _ in 0..100 {
+                let d = -tc * libm::tanhf(w / 0.01);
+                w += (dt / 100.0) * (3.0 - 0.5 * w + d) / inertia;
+            }
+            let _ = (tau, d);
+            o.step(
+                &ObserverInput {
+                    momentum: inertia * w,
+                    known_torque_nm: 3.0 - 0.5 * w,
+                    rate_rad_s: w,
+                    rate_var: 0.0,
+                    dt_s: dt,
+                    learn: true,
+                },
+                &tuning,
+            );
+        }
+        let e = o.estimate();
+        assert!((e.coulomb_nm - tc).abs() < 0.05 * tc, "{e:?}");
+        assert!(o.is_healthy());
+    }
+}

@@ -1,0 +1,167 @@
+//! Telemetry framing of the monitor's [`Sample`](crate::monitor::Sample) and
+//! [`Status`](crate::monitor::Status): postcard, then a CRC-32, then COBS.
+//!
+//! # Frame
+//! ```text
+//! frame = COBS( postcard(value) ‖ CRC-32C(postcard(value)) as 4 bytes LE ) ‖ 0x00
+//! ```
+//! postcard writes `f32` as 4 bytes little-endian, `bool` as 1 byte, enums
+//! and `u16` flags as varints (1 byte for the discriminants used here, up to
+//! 3 for the flags), `Option` as a 1-byte tag then the value. The CRC is
+//! CRC-32C (Castagnoli, `crc::CRC_32_ISCSI`), computed by postcard's CRC
+//! flavor over the postcard bytes. COBS (Cheshire & Baker 1999) removes
+//! every zero byte so that `0x00` ends a frame: a receiver that loses sync
+//! resynchronises at the next zero.
+//!
+//! Everything here is `no_std` and heap-free: frames are written into a
+//! caller's buffer, at most [`sample_frame_max`] / [`status_frame_max`]
+//! bytes long.
+
+use postcard::ser_flavors::crc::CrcModifier;
+use postcard::ser_flavors::{Cobs, Slice};
+use serde::{Deserialize, Serialize};
+
+/// The CRC of a frame: CRC-32C (Castagnoli), as postcard's `use-crc` flavor
+/// computes it.
+pub const CRC: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
+
+/// Why a frame could not be written or read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum TelemetryError {
+    /// The output buffer is too small for the frame.
+    BufferTooSmall,
+    /// The frame is not valid COBS (or is empty).
+    BadFraming,
+    /// The CRC does not match the payload.
+    BadCrc,
+    /// The payload does not decode as the expected type.
+    BadPayload,
+}
+
+impl core::fmt::Display for TelemetryError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            TelemetryError::BufferTooSmall => "telemetry buffer too small for the frame",
+            TelemetryError::BadFraming => "telemetry frame is not valid COBS",
+            TelemetryError::BadCrc => "telemetry frame CRC mismatch",
+            TelemetryError::BadPayload => "telemetry payload does not decode",
+        })
+    }
+}
+
+impl core::error::Error for TelemetryError {}
+
+/// Result of a telemetry operation.
+pub type Result<T> = core::result::Result<T, TelemetryError>;
+
+/// Writes `value` as one frame (postcard ‖ CRC-32C, COBS-encoded, `0x00`
+/// terminated) into `buf` and returns the frame.
+pub fn encode<'a, T: Serialize + ?Sized>(value: &T, buf: &'a mut [u8]) -> Result<&'a mut [u8]> {
+    let cobs = Cobs::try_new(Slice::new(buf)).map_err(|_| TelemetryError::BufferTooSmall)?;
+    let flavor = CrcModifier::new(cobs, CRC.digest());
+    postcard::serialize_with_flavor(value, flavor).map_err(|e| match e {
+        postcard::Error::SerializeBufferFull => TelemetryError::BufferTooSmall,
+        _ => TelemetryError::BadPayload,
+    })
+}
+
+/// Reads one frame written by [`encode`]. `frame` is decoded in place (its
+/// contents are overwritten); a trailing `0x00` and anything after it are
+/// ignored.
+pub fn decode<'a, T: Deserialize<'a>>(frame: &'a mut [u8]) -> Result<T> {
+    let n = cobs::decode_in_place(frame).map_err(|_| TelemetryError::BadFraming)?;
+    let payload = frame.get(..n).ok_or(TelemetryError::BadFraming)?;
+    postcard::from_bytes_crc32(payload, CRC.digest()).map_err(|e| match e {
+        postcard::Error::DeserializeBadCrc => TelemetryError::BadCrc,
+        _ => TelemetryError::BadPayload,
+    })
+}
+
+/// Framing overhead: COBS adds one byte per 254 (rounded up, at least one),
+/// plus the terminating zero.
+const fn framed(payload: usize) -> usize {
+    let with_crc = payload + 4;
+    with_crc + with_crc.div_ceil(254) + 1
+}
+
+/// Largest postcard payload of a `Sample<n>`: time (4), `n` angles (4 each),
+/// `n` switches (1 each).
+pub const fn sample_payload_max(n: usize) -> usize {
+    4 + 5 * n
+}
+
+/// Largest frame of a `Sample<n>` [bytes].
+pub const fn sample_frame_max(n: usize) -> usize {
+    framed(sample_payload_max(n))
+}
+
+/// Largest postcard payload of one `JointStatus`: seven `f32` (28), the
+/// latch state and prediction (1 each), the probability (4), two
+/// `Option<f32>` (5 each) and the fault flags (varint `u16`, ≤ 3).
+pub const JOINT_STATUS_PAYLOAD_MAX: usize = 7 * 4 + 1 + 1 + 4 + 2 * 5 + 3;
+
+/// Largest postcard payload of a `Status<n>`: time (4), sample count
+/// (varint `u32`, ≤ 5), then `n` joints.
+pub const fn status_payload_max(n: usize) -> usize {
+    4 + 5 + n * JOINT_STATUS_PAYLOAD_MAX
+}
+
+/// Largest frame of a `Status<n>` [bytes].
+pub const fn status_frame_max(n: usize) -> usize {
+    framed(status_payload_max(n))
+}
+
+/// serde for `[T; N]` with a const `N` (serde itself only has impls for
+/// N ≤ 32 written out, not for a generic `N`): a tuple of `N` elements,
+/// which postcard writes with no length prefix.
+pub(crate) mod array {
+    use core::marker::PhantomData;
+    use serde::de::{Deserializer, Error, SeqAccess, Visitor};
+    use serde::ser::{SerializeTuple, Serializer};
+    use serde::{Deserialize, Serialize};
+
+    pub(crate) fn serialize<S, T, const N: usize>(a: &[T; N], s: S) -> Result<S::Ok, S::Error>
+    where
+        S: Serializer,
+        T: Serialize,
+    {
+        let mut t = s.serialize_tuple(N)?;
+        for x in a {
+            t.serialize_element(x)?;
+        }
+        t.end()
+    }
+
+    struct ArrayVisitor<T, const N: usize>(PhantomData<T>);
+
+    impl<'de, T, const N: usize> Visitor<'de> for ArrayVisitor<T, N>
+    where
+        T: Deserialize<'de> + Default + Copy,
+    {
+        type Value = [T; N];
+
+        fn expecting(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+            write!(f, "an array of {N} elements")
+        }
+
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<[T; N], A::Error> {
+            let mut out = [T::default(); N];
+            for (i, slot) in out.iter_mut().enumerate() {
+                *slot = seq
+                    .next_element()?
+                    .ok_or_else(|| A::Error::invalid_length(i, &self))?;
+            }
+            Ok(out)
+        }
+    }
+
+    pub(crate) fn deserialize<'de, D, T, const N: usize>(d: D) -> Result<[T; N], D::Error>
+    where
+        D: Deserializer<'de>,
+        T: Deserialize<'de> + Default + Copy,
+    {
+        d.deserialize_tuple(N, ArrayVisitor::<T, N>(PhantomData))
+    }
+}

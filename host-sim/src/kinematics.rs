@@ -1,0 +1,75 @@
+//! Mobility (degrees of freedom) of a mechanism, to check before simulating it
+//! that it is neither over-constrained (DOF < 0 cannot deploy) nor a different
+//! mechanism than intended.
+//!
+//! - Planar Gruebler equation, seed 000 Eq. 1 / Table 1:
+//!   `DOF = 3 (L − 1) − 2 J1 − J2`, `L` bodies including the fixed one (the
+//!   bus), `J1` one-DOF joints (revolute), `J2` two-DOF joints.
+//! - Spatial count, seed 001 Eq. 3 / Table 4:
+//!   `DOF = 6 · bodies − Σ constraints`, every body counted with 6 DOF and
+//!   every joint removing its number of constraints (fixed 6, revolute 5,
+//!   translational 5, spherical 3).
+
+/// Constraints a fixed joint removes in space (seed 001 Table 4).
+pub const FIXED_CONSTRAINTS: u32 = 6;
+/// Constraints a revolute joint removes in space (seed 001 Table 4).
+pub const REVOLUTE_CONSTRAINTS: u32 = 5;
+/// Constraints a translational (prismatic) joint removes in space (seed 001 Table 4).
+pub const TRANSLATIONAL_CONSTRAINTS: u32 = 5;
+/// Constraints a spherical joint removes in space (seed 001 Table 4).
+pub const SPHERICAL_CONSTRAINTS: u32 = 3;
+
+/// Planar Gruebler mobility `3 (L − 1) − 2 J1 − J2` (seed 000 Eq. 1).
+///
+/// `bodies` is `L`, the fixed body included; `j1` one-DOF joints, `j2` two-DOF
+/// joints. Negative means over-constrained. Returns 0 for `bodies = 0`.
+pub fn planar_mobility(bodies: u32, j1: u32, j2: u32) -> i64 {
+    3 * (i64::from(bodies.max(1)) - 1) - 2 * i64::from(j1) - i64::from(j2)
+}
+
+/// Spatial mobility `6 · bodies − Σ constraints` (seed 001 Eq. 3): `bodies`
+/// counts every body (the ground too, held by a fixed joint), `constraints`
+/// lists the constraints of each joint (e.g. [`FIXED_CONSTRAINTS`],
+/// [`REVOLUTE_CONSTRAINTS`]).
+pub fn spatial_mobility(bodies: u32, constraints: &[u32]) -> i64 {
+    6 * i64::from(bodies) - constraints.iter().map(|&c| i64::from(c)).sum::<i64>()
+}
+
+/// Mobility of the project's planar open chain of `n` panels hinged in series
+/// to a fixed bus: `n` bodies + bus, `n` revolute joints, so `n` DOF (one per
+/// joint angle `φ_j`, `physics.md` 1).
+pub fn open_chain_mobility(n: u32) -> i64 {
+    planar_mobility(n + 1, n, 0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn open_chain_has_one_dof_per_joint() {
+        for n in 1..=4 {
+            assert_eq!(open_chain_mobility(n), i64::from(n));
+        }
+    }
+
+    #[test]
+    fn over_constrained_is_negative() {
+        // A triangle of three bars pinned together is a structure (0);
+        // adding a fourth pin-jointed bar across it over-constrains it.
+        assert_eq!(planar_mobility(3, 3, 0), 0);
+        assert_eq!(planar_mobility(3, 4, 0), -2);
+        assert_eq!(planar_mobility(0, 0, 0), 0);
+    }
+
+    #[test]
+    fn spatial_pendulum_has_one_dof() {
+        // Ground (fixed) + one link on a revolute joint.
+        assert_eq!(
+            spatial_mobility(2, &[FIXED_CONSTRAINTS, REVOLUTE_CONSTRAINTS]),
+            1
+        );
+        assert_eq!(spatial_mobility(2, &[FIXED_CONSTRAINTS, SPHERICAL_CONSTRAINTS]), 3);
+        assert_eq!(spatial_mobility(2, &[FIXED_CONSTRAINTS, TRANSLATIONAL_CONSTRAINTS]), 1);
+    }
+}

@@ -1,0 +1,450 @@
+//! Torque margins of a spring-driven deployment: the papers' two forms and
+//! the uncertainty-factor form of the flight standards (`physics.md` 9,
+//! `docs/margin.md`).
+//!
+//! # The papers' forms
+//!
+//! - **Torque form**, seed 001 Eq. 7: `TM = (T_D / T_R − 1) · 100 %`, `T_D` the
+//!   spring torque at the stowed angle [N·m], `T_R` the resistance (the
+//!   equivalent friction torque, EFT) [N·m].
+//! - **Energy form**, seed 000 Eqs. 17–21: `TM = (E_D / E_R − 1) · 100 %` with
+//!   `E_D = ∫_0^stroke T_D dθ` the energy the spring releases over the joint's
+//!   stroke and `E_R = ∫_0^stroke T_R dθ = T_R · stroke` for a constant
+//!   friction [J].
+//!
+//! A joint passes when its margin is ≥ 0 (the papers: "if the torque margin
+//! value was negative, then the deployment … would not be achieved").
+//!
+//! # The standards' form
+//!
+//! NASA-STD-5017 (Rev B, Eq. 4-1) and ECSS-E-ST-33-01C (motorisation,
+//! clause 4.7.5) both multiply each kind of resistance by its own uncertainty
+//! factor before the ratio:
+//!
+//! ```text
+//! MoS = D_min / Σ_i (FoS_i · R_i) − 1 ≥ MoS_required
+//! ```
+//!
+//! with `D` and `R_i` torques [N·m] or energies [J]. [`Standard`] gives each
+//! standard's default [`Factors`] and required minimum; both are plain data
+//! and can be changed (`deploywatch margin --factor friction=2.5`). Which
+//! numbers are confirmed and which are assumed is recorded on
+//! [`Standard::factors`] and in `docs/margin.md`: treat the defaults as
+//! configuration, not as a quotation of the standards.
+
+use deploywatch_core::spring::{Branch, Spring};
+use std::fmt;
+use std::str::FromStr;
+
+/// A kind of resistance, each with its own uncertainty factor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Resistance {
+    /// Inertia: the torque to reach a required acceleration (NASA "acceleration").
+    Inertia,
+    /// A spring that resists the motion (NASA "fixed/known").
+    Spring,
+    /// Friction: joint Coulomb/viscous friction, the papers' EFT.
+    Friction,
+    /// Hysteresis losses (e.g. of a tape-spring hinge).
+    Hysteresis,
+    /// Harness (cable) stiffness and drag.
+    Harness,
+    /// Adhesion / stiction after a long dwell (cold welding).
+    Adhesion,
+    /// Any other resistance (ECSS "other forces").
+    Other,
+}
+
+impl Resistance {
+    /// Every kind, in the order of [`Factors`].
+    pub const ALL: [Resistance; 7] = [
+        Resistance::Inertia,
+        Resistance::Spring,
+        Resistance::Friction,
+        Resistance::Hysteresis,
+        Resistance::Harness,
+        Resistance::Adhesion,
+        Resistance::Other,
+    ];
+
+    /// The name used on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Resistance::Inertia => "inertia",
+            Resistance::Spring => "spring",
+            Resistance::Friction => "friction",
+            Resistance::Hysteresis => "hysteresis",
+            Resistance::Harness => "harness",
+            Resistance::Adhesion => "adhesion",
+            Resistance::Other => "other",
+        }
+    }
+}
+
+impl fmt::Display for Resistance {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Resistance {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Resistance::ALL
+            .into_iter()
+            .find(|r| r.name().eq_ignore_ascii_case(s.trim()))
+            .ok_or_else(|| {
+                format!(
+                    "unknown resistance `{s}`: expected one of {}",
+                    Resistance::ALL.map(|r| r.name()).join(", ")
+                )
+            })
+    }
+}
+
+/// Uncertainty factors `FoS_i` [1] per kind of resistance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Factors {
+    /// On inertia (acceleration) torques.
+    pub inertia: f64,
+    /// On resisting springs.
+    pub spring: f64,
+    /// On friction.
+    pub friction: f64,
+    /// On hysteresis.
+    pub hysteresis: f64,
+    /// On harness resistance.
+    pub harness: f64,
+    /// On adhesion / stiction.
+    pub adhesion: f64,
+    /// On other resistances.
+    pub other: f64,
+}
+
+impl Factors {
+    /// All factors 1: the papers' unfactored margin.
+    pub const UNITY: Factors = Factors {
+        inertia: 1.0,
+        spring: 1.0,
+        friction: 1.0,
+        hysteresis: 1.0,
+        harness: 1.0,
+        adhesion: 1.0,
+        other: 1.0,
+    };
+
+    /// The factor of one kind.
+    pub fn get(&self, kind: Resistance) -> f64 {
+        match kind {
+            Resistance::Inertia => self.inertia,
+            Resistance::Spring => self.spring,
+            Resistance::Friction => self.friction,
+            Resistance::Hysteresis => self.hysteresis,
+            Resistance::Harness => self.harness,
+            Resistance::Adhesion => self.adhesion,
+            Resistance::Other => self.other,
+        }
+    }
+
+    /// Sets the factor of one kind.
+    pub fn set(&mut self, kind: Resistance, value: f64) {
+        match kind {
+            Resistance::Inertia => self.inertia = value,
+            Resistance::Spring => self.spring = value,
+            Resistance::Friction => self.friction = value,
+            Resistance::Hysteresis => self.hysteresis = value,
+            Resistance::Harness => self.harness = value,
+            Resistance::Adhesion => self.adhesion = value,
+            Resistance::Other => self.other = value,
+        }
+    }
+}
+
+/// Which flight standard's factors and required minimum margin apply.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Standard {
+    /// No standard: the papers' unfactored margins, pass at ≥ 0.
+    #[default]
+    None,
+    /// NASA-STD-5017B (2022), Design and Development Requirements for
+    /// Mechanisms, torque/force margin (Eq. 4-1, Table 1).
+    NasaStd5017,
+    /// ECSS-E-ST-33-01C, Space engineering — Mechanisms, motorisation
+    /// margin (clause 4.7.5).
+    EcssEST3301C,
+}
+
+impl Standard {
+    /// Every standard.
+    pub const ALL: [Standard; 3] = [Standard::None, Standard::NasaStd5017, Standard::EcssEST3301C];
+
+    /// The name on the command line: `none`, `nasa-std-5017`, `ecss-e-st-33-01c`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Standard::None => "none",
+            Standard::NasaStd5017 => "nasa-std-5017",
+            Standard::EcssEST3301C => "ecss-e-st-33-01c",
+        }
+    }
+
+    /// The document and clause the factors come from.
+    pub fn reference(self) -> &'static str {
+        match self {
+            Standard::None => "seed 001 Eq. 7 / seed 000 Eq. 21, no uncertainty factors",
+            Standard::NasaStd5017 => {
+                "NASA-STD-5017B, torque/force margin Eq. 4-1, Table 1 (row: theory or analysis)"
+            }
+            Standard::EcssEST3301C => {
+                "ECSS-E-ST-33-01C, clause 4.7.5 motorisation, table of minimum uncertainty factors"
+            }
+        }
+    }
+
+    /// The default uncertainty factors.
+    ///
+    /// - `None`: all 1.
+    /// - `NasaStd5017`: Rev B Table 1, initial sizing by theory or analysis:
+    ///   variable torques (friction, harness, hysteresis, adhesion, other)
+    ///   3.0, fixed/known torques (springs) 1.5, acceleration (inertia) 1.25.
+    ///   Taken from a secondary source that quotes Table 1 (values after
+    ///   development/qualification test 2.5 / 1.35 / 1.15, after acceptance
+    ///   test at environmental extremes 2.0 / 1.25 / 1.10), not checked
+    ///   against the standard's text here. Mapping hysteresis, adhesion and
+    ///   "other" to "variable" is this project's choice.
+    /// - `EcssEST3301C`: inertia 1.1, spring 1.2, friction 3, hysteresis 3,
+    ///   harness 3, adhesion 3, other forces 3, recalled from the standard's
+    ///   table of minimum uncertainty factors and **not confirmed** from its
+    ///   text (some summaries give 1.5 for hysteresis).
+    pub fn factors(self) -> Factors {
+        match self {
+            Standard::None => Factors::UNITY,
+            Standard::NasaStd5017 => Factors {
+                inertia: 1.25,
+                spring: 1.5,
+                friction: 3.0,
+                hysteresis: 3.0,
+                harness: 3.0,
+                adhesion: 3.0,
+                other: 3.0,
+            },
+            Standard::EcssEST3301C => Factors {
+                inertia: 1.1,
+                spring: 1.2,
+                friction: 3.0,
+                hysteresis: 3.0,
+                harness: 3.0,
+                adhesion: 3.0,
+                other: 3.0,
+            },
+        }
+    }
+
+    /// The required minimum margin of safety `MoS_required` [1] (0: the
+    /// reserve lies in the factors). The same for every standard here.
+    pub fn required_margin(self) -> f64 {
+        0.0
+    }
+}
+
+impl fmt::Display for Standard {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Standard {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let t = s.trim().to_ascii_lowercase().replace('_', "-");
+        match t.as_str() {
+            "none" => Ok(Standard::None),
+            "nasa-std-5017" | "nasa-std-5017b" | "nasa" => Ok(Standard::NasaStd5017),
+            "ecss-e-st-33-01c" | "ecss" => Ok(Standard::EcssEST3301C),
+            _ => Err(format!(
+                "unknown standard `{s}`: expected none, nasa-std-5017 or ecss-e-st-33-01c"
+            )),
+        }
+    }
+}
+
+/// One resistance of a joint: its kind and its value (a torque [N·m] or an
+/// energy [J], the same unit as the driving term it is compared with).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Term {
+    /// The kind, which selects the factor.
+    pub kind: Resistance,
+    /// The value [N·m] or [J], ≥ 0.
+    pub value: f64,
+}
+
+/// `(driving / resisting − 1) · 100` [%]: seed 001 Eq. 7 with torques, seed
+/// 000 Eq. 21 with energies. `+∞` when `resisting = 0 < driving`.
+pub fn margin_pct(driving: f64, resisting: f64) -> f64 {
+    (driving / resisting - 1.0) * 100.0
+}
+
+/// `Σ_i FoS_i · R_i`: the factored resistance, in the unit of the terms.
+pub fn factored_resistance(terms: &[Term], factors: &Factors) -> f64 {
+    terms.iter().map(|t| factors.get(t.kind) * t.value).sum()
+}
+
+/// The standards' margin of safety `D / Σ_i (FoS_i · R_i) − 1` [1] (a
+/// fraction, not %): `driving` and the terms both torques [N·m] or both
+/// energies [J]. `+∞` when there is no resistance.
+pub fn factored_margin(driving: f64, terms: &[Term], factors: &Factors) -> f64 {
+    driving / factored_resistance(terms, factors) - 1.0
+}
+
+/// Both margins of one spring-driven joint against a constant friction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointMargin {
+    /// The stroke `|φ_stowed|` [rad].
+    pub stroke_rad: f64,
+    /// `T_D`: the spring torque at the stowed angle, unfolding branch [N·m].
+    pub driving_torque_nm: f64,
+    /// `T_R`: the friction (EFT) [N·m].
+    pub resisting_torque_nm: f64,
+    /// `E_D = ∫_0^stroke T dθ` on the unfolding branch [J].
+    pub driving_energy_j: f64,
+    /// `E_R = T_R · stroke` [J].
+    pub resisting_energy_j: f64,
+    /// The factors applied to the friction.
+    pub friction_factor: f64,
+    /// Required minimum margin [%] (`MoS_required · 100`).
+    pub required_pct: f64,
+}
+
+impl JointMargin {
+    /// The torque-form margin with the friction factor,
+    /// `(T_D / (FoS · T_R) − 1) · 100` [%] (seed 001 Eq. 7 when the factor is 1).
+    pub fn torque_margin_pct(&self) -> f64 {
+        margin_pct(self.driving_torque_nm, self.friction_factor * self.resisting_torque_nm)
+    }
+
+    /// The energy-form margin with the friction factor,
+    /// `(E_D / (FoS · E_R) − 1) · 100` [%] (seed 000 Eq. 21 when the factor is 1).
+    pub fn energy_margin_pct(&self) -> f64 {
+        margin_pct(self.driving_energy_j, self.friction_factor * self.resisting_energy_j)
+    }
+
+    /// True when the torque-form margin is at least the required minimum.
+    pub fn torque_pass(&self) -> bool {
+        self.torque_margin_pct() >= self.required_pct
+    }
+
+    /// True when the energy-form margin is at least the required minimum.
+    pub fn energy_pass(&self) -> bool {
+        self.energy_margin_pct() >= self.required_pct
+    }
+}
+
+/// The margins of a joint driven by `spring` from `|φ| = stroke_rad` to the
+/// latch against a constant friction torque `friction_nm` (its only
+/// resistance, kind [`Resistance::Friction`]), with `standard`'s friction
+/// factor (or `factors` if given) and required minimum.
+///
+/// `T_D = spring.magnitude(stroke, Unfold)`, `E_D = spring.release(0, stroke)`.
+pub fn joint_margin(
+    spring: &Spring<f64>,
+    stroke_rad: f64,
+    friction_nm: f64,
+    standard: Standard,
+    factors: Option<&Factors>,
+) -> JointMargin {
+    let stroke = stroke_rad.abs();
+    let f = factors.copied().unwrap_or_else(|| standard.factors());
+    JointMargin {
+        stroke_rad: stroke,
+        driving_torque_nm: spring.magnitude(stroke, Branch::Unfold),
+        resisting_torque_nm: friction_nm,
+        driving_energy_j: spring.release(0.0, stroke),
+        resisting_energy_j: friction_nm * stroke,
+        friction_factor: f.get(Resistance::Friction),
+        required_pct: standard.required_margin() * 100.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core::f64::consts::{FRAC_PI_2, PI};
+
+    #[test]
+    fn margin_formula() {
+        assert!((margin_pct(3.0, 1.5) - 100.0).abs() < 1e-12);
+        assert!((margin_pct(1.0, 2.0) + 50.0).abs() < 1e-12);
+        assert_eq!(margin_pct(1.0, 0.0), f64::INFINITY);
+    }
+
+    #[test]
+    fn factored_margin_weighs_each_kind() {
+        let terms = [
+            Term {
+                kind: Resistance::Friction,
+                value: 1.0,
+            },
+            Term {
+                kind: Resistance::Inertia,
+                value: 2.0,
+            },
+        ];
+        let f = Standard::EcssEST3301C.factors();
+        // 3·1 + 1.1·2 = 5.2
+        assert!((factored_resistance(&terms, &f) - 5.2).abs() < 1e-12);
+        assert!((factored_margin(10.4, &terms, &f) - 1.0).abs() < 1e-12);
+        assert!((factored_margin(3.0, &terms, &Factors::UNITY)).abs() < 1e-12);
+        assert_eq!(factored_margin(1.0, &[], &f), f64::INFINITY);
+    }
+
+    #[test]
+    fn standards_parse_and_have_documented_defaults() {
+        for s in Standard::ALL {
+            assert_eq!(s.name().parse::<Standard>().unwrap(), s);
+            assert_eq!(s.required_margin(), 0.0);
+            assert!(!s.reference().is_empty());
+        }
+        assert!("iso".parse::<Standard>().is_err());
+        assert_eq!(Standard::None.factors(), Factors::UNITY);
+        assert_eq!(Standard::NasaStd5017.factors().friction, 3.0);
+        assert_eq!(Standard::NasaStd5017.factors().spring, 1.5);
+        assert_eq!(Standard::NasaStd5017.factors().inertia, 1.25);
+        assert_eq!(Standard::EcssEST3301C.factors().friction, 3.0);
+        assert_eq!(Standard::EcssEST3301C.factors().inertia, 1.1);
+        assert_eq!(Standard::EcssEST3301C.factors().spring, 1.2);
+        for r in Resistance::ALL {
+            assert_eq!(r.name().parse::<Resistance>().unwrap(), r);
+            let mut f = Factors::UNITY;
+            f.set(r, 7.0);
+            assert_eq!(f.get(r), 7.0);
+        }
+        assert!("glue".parse::<Resistance>().is_err());
+    }
+
+    #[test]
+    fn joint_margin_of_a_linear_spring() {
+        // Seed 000 joint O: 2.17 N·m at 90°, E_D = 2.818 J, EFT 0.54 N·m.
+        let s = Spring::Linear {
+            preload_nm: 1.41799,
+            stiffness_nm_per_rad: 0.478740,
+            count: 1.0,
+        };
+        let m = joint_margin(&s, -FRAC_PI_2, 0.54, Standard::None, None);
+        assert!((m.driving_torque_nm - 2.17).abs() < 1e-4);
+        assert!((m.driving_energy_j - 2.818).abs() < 1e-3);
+        assert!((m.resisting_energy_j - 0.54 * FRAC_PI_2).abs() < 1e-12);
+        assert!((m.torque_margin_pct() - (2.17 / 0.54 - 1.0) * 100.0).abs() < 0.1);
+        assert!(m.torque_pass() && m.energy_pass());
+        // With ECSS factor 3 on friction the torque form still passes
+        // (2.17 / 1.62 − 1 = 34 %), and a weaker spring fails.
+        let e = joint_margin(&s, FRAC_PI_2, 0.54, Standard::EcssEST3301C, None);
+        assert!((e.torque_margin_pct() - (2.17 / 1.62 - 1.0) * 100.0).abs() < 0.1);
+        assert!(e.torque_pass());
+        let weak = joint_margin(&s, FRAC_PI_2, 0.8, Standard::EcssEST3301C, None);
+        assert!(!weak.torque_pass() && !weak.energy_pass());
+        // Explicit factors override the standard's.
+        let mut f = Factors::UNITY;
+        f.friction = 2.0;
+        let o = joint_margin(&s, PI / 2.0, 0.54, Standard::EcssEST3301C, Some(&f));
+        assert_eq!(o.friction_factor, 2.0);
+    }
+}

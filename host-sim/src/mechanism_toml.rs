@@ -1,0 +1,1233 @@
+//! Reading and writing mechanism TOML files (`docs/spec/formats.md`,
+//! "Mechanism: TOML").
+//!
+//! [`Mechanism::load`] and [`Mechanism::from_toml_str`] parse the file and
+//! validate every key; anything the format does not define is rejected with
+//! a [`MechanismError`] that names the file, the line (when the TOML parser
+//! knows it), the key path and what was expected.
+//!
+//! Key paths count `[[panel]]` and `[[joint]]` tables from 1, as joints are
+//! numbered everywhere else (`phi1_deg` is joint 1): `joint[2].spring.kind` is
+//! the `kind` of the spring of the second `[[joint]]` table.
+//!
+//! Defaults, where the format leaves a key optional:
+//! - `description`: empty;
+//! - `friction`: all zero with `coulomb_threshold_rad_s = 0.01`
+//!   ([`FrictionSpec::default`]);
+//! - `interp` of a curve spring: `"akima"`;
+//! - `[run] duration_s`: [`DEFAULT_DURATION_S`] (6 s) and `[run] sample_hz`:
+//!   [`DEFAULT_SAMPLE_HZ`] (100 Hz), each on its own, whether `[run]` is
+//!   absent or only lacks that key.
+//!
+//! `count` is required (a silently defaulted hinge count would change the
+//! spring torque by a factor), and must be a TOML integer ≥ 1.
+//!
+//! [`Mechanism::to_toml_string`] writes a mechanism back, deterministically,
+//! with every number in Rust's shortest round-trip form, so that reading the
+//! output gives back an equal [`Mechanism`].
+
+use std::fmt::Write as _;
+use std::ops::Range;
+use std::path::Path;
+
+use deploywatch_core::spring::{CurveError, Interp, TapePoints};
+use deploywatch_core::{Curve, Panel, Spring};
+use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
+
+use crate::mechanism::{FrictionSpec, JointSpec, Mechanism, SpringSpec, MAX_JOINTS};
+
+/// `[run] duration_s` when the file does not give it [s].
+pub const DEFAULT_DURATION_S: f64 = 6.0;
+
+/// `[run] sample_hz` when the file does not give it [Hz].
+pub const DEFAULT_SAMPLE_HZ: f64 = 100.0;
+
+/// Highest accepted `[run] sample_hz` [Hz]: run CSV files write `t_s` with 6
+/// decimals (see [`crate::run::Run::to_csv_string`]), so samples closer than
+/// 1 µs could not be told apart.
+pub const MAX_SAMPLE_HZ: f64 = 1.0e6;
+
+/// Why a mechanism file was rejected.
+///
+/// Every variant names the file (`file`, the `source` given to
+/// [`Mechanism::from_toml_str`] or the path given to [`Mechanism::load`]);
+/// `line` is the 1-based line of the offending value when the TOML parser
+/// reports a position for it, and `key` the key path such as
+/// `joint[2].spring.kind`.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MechanismError {
+    /// The file could not be read.
+    #[error("{path}: cannot read the mechanism file: {source}")]
+    Io {
+        /// The path as given.
+        path: String,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file could not be written.
+    #[error("{path}: cannot write the mechanism file: {source}")]
+    Write {
+        /// The path as given.
+        path: String,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The text is not valid TOML (or repeats a key).
+    #[error("{}: invalid TOML{}: {message}", loc(file, *line), at_column(*column))]
+    Syntax {
+        /// The file.
+        file: String,
+        /// 1-based line of the error, if known.
+        line: Option<usize>,
+        /// 1-based column (in characters) of the error, if known.
+        column: Option<usize>,
+        /// The TOML parser's message, on one line.
+        message: String,
+    },
+    /// A key the format does not define.
+    #[error("{}: unknown key `{key}`; expected one of: {expected}", loc(file, *line))]
+    UnknownKey {
+        /// The file.
+        file: String,
+        /// 1-based line of the key's value, if known.
+        line: Option<usize>,
+        /// Key path of the unknown key.
+        key: String,
+        /// The keys allowed at that place, comma separated.
+        expected: String,
+    },
+    /// A required key is absent.
+    #[error("{}: missing key `{key}`: expected {expected}", loc(file, *line))]
+    MissingKey {
+        /// The file.
+        file: String,
+        /// 1-based line of the table that lacks the key, if known.
+        line: Option<usize>,
+        /// Key path of the missing key.
+        key: String,
+        /// What the key should hold.
+        expected: String,
+    },
+    /// A value has the wrong TOML type (a string where a number belongs...).
+    #[error("{}: `{key}`: expected {expected}, found {found}", loc(file, *line))]
+    WrongType {
+        /// The file.
+        file: String,
+        /// 1-based line of the value, if known.
+        line: Option<usize>,
+        /// Key path of the value.
+        key: String,
+        /// What the key should hold.
+        expected: String,
+        /// The TOML type found.
+        found: String,
+    },
+    /// A value of the right type is out of range or otherwise invalid.
+    #[error("{}: `{key}`: expected {expected}, found {found}", loc(file, *line))]
+    InvalidValue {
+        /// The file.
+        file: String,
+        /// 1-based line of the value, if known.
+        line: Option<usize>,
+        /// Key path of the value.
+        key: String,
+        /// What the key should hold.
+        expected: String,
+        /// The value found, as written back in TOML.
+        found: String,
+    },
+    /// `spring.kind` is not one of the known kinds.
+    #[error(
+        "{}: `{key}`: unknown spring kind \"{found}\" for joint {joint}; expected one of \"linear\", \"tape\", \"curve\"",
+        loc(file, *line)
+    )]
+    UnknownSpringKind {
+        /// The file.
+        file: String,
+        /// 1-based line of the value, if known.
+        line: Option<usize>,
+        /// Key path, `joint[j].spring.kind`.
+        key: String,
+        /// The joint, 1-based.
+        joint: usize,
+        /// The kind found.
+        found: String,
+    },
+    /// A tape spring's `type` has no `[tape."NAME"]` table.
+    #[error(
+        "{}: `{key}`: tape type \"{found}\" is not defined; expected a [tape.\"{found}\"] table (defined: {})",
+        loc(file, *line),
+        list_or_none(defined)
+    )]
+    UnknownTapeType {
+        /// The file.
+        file: String,
+        /// 1-based line of the value, if known.
+        line: Option<usize>,
+        /// Key path, `joint[j].spring.type`.
+        key: String,
+        /// The type name found.
+        found: String,
+        /// The tape types the file defines.
+        defined: Vec<String>,
+    },
+    /// Not 1 to 4 `[[panel]]` tables.
+    #[error(
+        "{}: expected 1 to {MAX_JOINTS} [[panel]] tables, found {found}",
+        loc(file, *line)
+    )]
+    PanelCount {
+        /// The file.
+        file: String,
+        /// 1-based line of the first panel past the limit, if known.
+        line: Option<usize>,
+        /// Number of `[[panel]]` tables.
+        found: usize,
+    },
+    /// The number of `[[joint]]` tables differs from the number of panels.
+    #[error(
+        "{}: expected one [[joint]] table per [[panel]] table ({panels}), found {joints} [[joint]] tables",
+        loc(file, *line)
+    )]
+    JointCount {
+        /// The file.
+        file: String,
+        /// 1-based line of the first surplus joint, if known.
+        line: Option<usize>,
+        /// Number of `[[panel]]` tables.
+        panels: usize,
+        /// Number of `[[joint]]` tables.
+        joints: usize,
+    },
+    /// A tabulated curve (a curve spring's branch or a tape type's points)
+    /// rejected by the core.
+    #[error(
+        "{}: `{key}`: expected 2 to 16 points [deg, N·m] with finite values and strictly increasing angles: {source}",
+        loc(file, *line)
+    )]
+    BadCurve {
+        /// The file.
+        file: String,
+        /// 1-based line of the value, if known.
+        line: Option<usize>,
+        /// Key path of the curve.
+        key: String,
+        /// The core's reason.
+        #[source]
+        source: CurveError,
+    },
+}
+
+impl MechanismError {
+    /// The 1-based line the error points at, when known.
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            MechanismError::Io { .. } | MechanismError::Write { .. } => None,
+            MechanismError::Syntax { line, .. }
+            | MechanismError::UnknownKey { line, .. }
+            | MechanismError::MissingKey { line, .. }
+            | MechanismError::WrongType { line, .. }
+            | MechanismError::InvalidValue { line, .. }
+            | MechanismError::UnknownSpringKind { line, .. }
+            | MechanismError::UnknownTapeType { line, .. }
+            | MechanismError::PanelCount { line, .. }
+            | MechanismError::JointCount { line, .. }
+            | MechanismError::BadCurve { line, .. } => *line,
+        }
+    }
+
+    /// The key path the error is about, when there is one.
+    pub fn key(&self) -> Option<&str> {
+        match self {
+            MechanismError::UnknownKey { key, .. }
+            | MechanismError::MissingKey { key, .. }
+            | MechanismError::WrongType { key, .. }
+            | MechanismError::InvalidValue { key, .. }
+            | MechanismError::UnknownSpringKind { key, .. }
+            | MechanismError::UnknownTapeType { key, .. }
+            | MechanismError::BadCurve { key, .. } => Some(key),
+            _ => None,
+        }
+    }
+}
+
+/// `file:line` or `file`.
+fn loc(file: &str, line: Option<usize>) -> String {
+    match line {
+        Some(l) => format!("{file}:{l}"),
+        None => file.to_string(),
+    }
+}
+
+fn at_column(column: Option<usize>) -> String {
+    column
+        .map(|c| format!(" at column {c}"))
+        .unwrap_or_default()
+}
+
+fn list_or_none(names: &[String]) -> String {
+    if names.is_empty() {
+        "none".to_string()
+    } else {
+        names
+            .iter()
+            .map(|n| format!("\"{n}\""))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+impl Mechanism {
+    /// Reads and validates a mechanism TOML file.
+    pub fn load(path: &Path) -> Result<Mechanism, MechanismError> {
+        let text = std::fs::read_to_string(path).map_err(|source| MechanismError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Mechanism::from_toml_str(&text, &path.display().to_string())
+    }
+
+    /// Parses and validates mechanism TOML text; `source` names it in errors
+    /// (usually the file's path).
+    pub fn from_toml_str(text: &str, source: &str) -> Result<Mechanism, MechanismError> {
+        let cx = Cx { file: source, text };
+        let root: Sp = toml::from_str(text).map_err(|e| {
+            let message: Vec<&str> = e
+                .message()
+                .lines()
+                .map(str::trim)
+                .filter(|l| !l.is_empty())
+                .collect();
+            MechanismError::Syntax {
+                file: source.to_string(),
+                line: e.span().map(|s| cx.line_of(s.start)),
+                column: e.span().map(|s| cx.column_of(s.start)),
+                message: if message.is_empty() {
+                    "expected a value or a key here".to_string()
+                } else {
+                    message.join("; ")
+                },
+            }
+        })?;
+        cx.mechanism(&root)
+    }
+
+    /// Writes the mechanism as TOML, in the layout of `formats.md`.
+    ///
+    /// Deterministic byte for byte; numbers are written in Rust's shortest
+    /// round-trip form, so [`Mechanism::from_toml_str`] of the output equals
+    /// `self` (for a mechanism that passes validation). Tape types are written
+    /// once each, in order of first use; should two joints use the same type
+    /// name with different points, the later ones are renamed `"NAME (2)"`,
+    /// `"NAME (3)"`, ... so that the file stays unambiguous.
+    pub fn to_toml_string(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(out, "name = {}", toml_str(&self.name));
+        let _ = writeln!(out, "description = {}", toml_str(&self.description));
+        for p in &self.panels {
+            let _ = write!(
+                out,
+                "\n[[panel]]\nlength_m = {}\nmass_kg = {}\ncom_m = {}\ninertia_kgm2 = {}\n",
+                num(p.length_m),
+                num(p.mass_kg),
+                num(p.com_m),
+                num(p.inertia_kgm2)
+            );
+        }
+        let mut tapes: Vec<(String, TapePoints<f64>)> = Vec::new();
+        for j in &self.joints {
+            let _ = write!(
+                out,
+                "\n[[joint]]\nstowed_deg = {}\nspring = {}\n",
+                num(j.stowed_deg),
+                spring_toml(&j.spring, &mut tapes)
+            );
+            if j.friction != FrictionSpec::default() {
+                let f = &j.friction;
+                let mut s = format!(
+                    "friction = {{ coulomb_nm = {}, viscous_nms = {}, coulomb_threshold_rad_s = {}",
+                    num(f.coulomb_nm),
+                    num(f.viscous_nms),
+                    num(f.coulomb_threshold_rad_s)
+                );
+                if let Some((brk, st)) = f.stribeck {
+                    let _ = write!(
+                        s,
+                        ", breakaway_nm = {}, stribeck_rad_s = {}",
+                        num(brk),
+                        num(st)
+                    );
+                }
+                let _ = writeln!(out, "{s} }}");
+            }
+        }
+        for (name, p) in &tapes {
+            let _ = write!(
+                out,
+                "\n[tape.{}]\na = [{}, {}]\nb = [{}, {}]\nd = [{}, {}]\nm_90 = {}\nc_180 = {}\n",
+                toml_str(name),
+                num(p.a.0),
+                num(p.a.1),
+                num(p.b.0),
+                num(p.b.1),
+                num(p.d.0),
+                num(p.d.1),
+                num(p.m_90),
+                num(p.c_180)
+            );
+        }
+        let _ = write!(
+            out,
+            "\n[run]\nduration_s = {}\nsample_hz = {}\n",
+            num(self.duration_s),
+            num(self.sample_hz)
+        );
+        out
+    }
+
+    /// Writes [`Mechanism::to_toml_string`] to `path`.
+    pub fn write(&self, path: &Path) -> Result<(), MechanismError> {
+        std::fs::write(path, self.to_toml_string()).map_err(|source| MechanismError::Write {
+            path: path.display().to_string(),
+            source,
+        })
+    }
+}
+
+/// A TOML basic string, quoted and escaped by the `toml` crate.
+fn toml_str(s: &str) -> String {
+    toml::Value::String(s.to_string()).to_string()
+}
+
+/// A float in Rust's shortest round-trip form, valid TOML.
+fn num(x: f64) -> String {
+    if x.is_nan() {
+        "nan".to_string()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf" } else { "-inf" }.to_string()
+    } else {
+        format!("{x:?}")
+    }
+}
+
+fn points_toml(points: &[(f64, f64)]) -> String {
+    let inner: Vec<String> = points
+        .iter()
+        .map(|(x, y)| format!("[{}, {}]", num(*x), num(*y)))
+        .collect();
+    format!("[{}]", inner.join(", "))
+}
+
+fn spring_toml(s: &SpringSpec, tapes: &mut Vec<(String, TapePoints<f64>)>) -> String {
+    match s {
+        SpringSpec::Linear {
+            preload_nm,
+            stiffness_nm_per_rad,
+            count,
+        } => format!(
+            "{{ kind = \"linear\", preload_nm = {}, stiffness_nm_per_rad = {}, count = {count} }}",
+            num(*preload_nm),
+            num(*stiffness_nm_per_rad)
+        ),
+        SpringSpec::Tape {
+            type_name,
+            points,
+            count,
+        } => {
+            let mut name = type_name.clone();
+            let mut k = 1;
+            loop {
+                match tapes.iter().find(|(n, _)| *n == name) {
+                    Some((_, p)) if p == points => break,
+                    Some(_) => {
+                        k += 1;
+                        name = format!("{type_name} ({k})");
+                    }
+                    None => {
+                        tapes.push((name.clone(), *points));
+                        break;
+                    }
+                }
+            }
+            format!(
+                "{{ kind = \"tape\", type = {}, count = {count} }}",
+                toml_str(&name)
+            )
+        }
+        SpringSpec::Curve {
+            unfold,
+            fold,
+            interp,
+            count,
+        } => {
+            let mut s = format!("{{ kind = \"curve\", unfold = {}", points_toml(unfold));
+            if let Some(f) = fold {
+                let _ = write!(s, ", fold = {}", points_toml(f));
+            }
+            let interp = match interp {
+                Interp::Akima => "akima",
+                Interp::Linear => "linear",
+            };
+            let _ = write!(s, ", interp = \"{interp}\", count = {count} }}");
+            s
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------
+// A TOML tree with the byte spans of its values.
+//
+// `toml::Spanned<T>` fails on values the parser has no span for (the implicit
+// `tape` table of `[tape."TS-1"]`, for one), so `Sp` speaks the same private
+// protocol (serde_spanned 0.6, used by toml 0.8) but falls back to an unspanned
+// value. The tests of `tests/formats.rs` check that lines are reported, so a
+// change of that protocol would show there.
+
+const SPANNED_NAME: &str = "$__serde_spanned_private_Spanned";
+const SPANNED_START: &str = "$__serde_spanned_private_start";
+const SPANNED_END: &str = "$__serde_spanned_private_end";
+const SPANNED_VALUE: &str = "$__serde_spanned_private_value";
+const SPANNED_FIELDS: [&str; 3] = [SPANNED_START, SPANNED_END, SPANNED_VALUE];
+const DATETIME_FIELD: &str = "$__toml_private_datetime";
+
+/// A TOML value and, when known, its byte span in the text.
+#[derive(Debug)]
+struct Sp {
+    span: Option<Range<usize>>,
+    node: Node,
+}
+
+#[derive(Debug)]
+enum Node {
+    Str(String),
+    Int(i64),
+    Float(f64),
+    Bool(bool),
+    Datetime(String),
+    Array(Vec<Sp>),
+    Table(Vec<(String, Sp)>),
+}
+
+impl Node {
+    fn type_name(&self) -> &'static str {
+        match self {
+            Node::Str(_) => "a string",
+            Node::Int(_) => "an integer",
+            Node::Float(_) => "a float",
+            Node::Bool(_) => "a boolean",
+            Node::Datetime(_) => "a date-time",
+            Node::Array(_) => "an array",
+            Node::Table(_) => "a table",
+        }
+    }
+
+    /// The value as TOML, shortened, for messages.
+    fn show(&self) -> String {
+        let s = match self {
+            Node::Str(s) => toml_str(s),
+            Node::Int(i) => i.to_string(),
+            Node::Float(x) => num(*x),
+            Node::Bool(b) => b.to_string(),
+            Node::Datetime(d) => d.clone(),
+            Node::Array(a) => format!(
+                "[{}]",
+                a.iter()
+                    .map(|v| v.node.show())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            Node::Table(_) => "a table".to_string(),
+        };
+        if s.chars().count() > 60 {
+            let mut t: String = s.chars().take(57).collect();
+            t.push_str("...");
+            t
+        } else {
+            s
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Sp {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Sp, D::Error> {
+        d.deserialize_struct(SPANNED_NAME, &SPANNED_FIELDS, SpVisitor)
+    }
+}
+
+impl<'de> Deserialize<'de> for Node {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Node, D::Error> {
+        d.deserialize_any(SpVisitor).map(|sp| sp.node)
+    }
+}
+
+struct SpVisitor;
+
+fn bare(node: Node) -> Sp {
+    Sp { span: None, node }
+}
+
+impl<'de> Visitor<'de> for SpVisitor {
+    type Value = Sp;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("a TOML value")
+    }
+
+    fn visit_bool<E>(self, v: bool) -> Result<Sp, E> {
+        Ok(bare(Node::Bool(v)))
+    }
+
+    fn visit_i64<E>(self, v: i64) -> Result<Sp, E> {
+        Ok(bare(Node::Int(v)))
+    }
+
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Sp, E> {
+        i64::try_from(v)
+            .map(|v| bare(Node::Int(v)))
+            .map_err(|_| E::custom("integer out of range"))
+    }
+
+    fn visit_f64<E>(self, v: f64) -> Result<Sp, E> {
+        Ok(bare(Node::Float(v)))
+    }
+
+    fn visit_str<E>(self, v: &str) -> Result<Sp, E> {
+        Ok(bare(Node::Str(v.to_string())))
+    }
+
+    fn visit_string<E>(self, v: String) -> Result<Sp, E> {
+        Ok(bare(Node::Str(v)))
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Sp, A::Error> {
+        let mut items = Vec::new();
+        while let Some(x) = seq.next_element::<Sp>()? {
+            items.push(x);
+        }
+        Ok(bare(Node::Array(items)))
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Sp, A::Error> {
+        let mut entries = Vec::new();
+        let (mut start, mut end, mut value) = (None, None, None);
+        while let Some(key) = map.next_key::<String>()? {
+            match key.as_str() {
+                SPANNED_START => start = Some(map.next_value::<usize>()?),
+                SPANNED_END => end = Some(map.next_value::<usize>()?),
+                // Unspanned here: asking for a span again would recurse.
+                SPANNED_VALUE => value = Some(map.next_value::<Node>()?),
+                DATETIME_FIELD => return Ok(bare(Node::Datetime(map.next_value::<String>()?))),
+                _ => {
+                    let v = map.next_value::<Sp>()?;
+                    entries.push((key, v));
+                }
+            }
+        }
+        match value {
+            Some(node) => Ok(Sp {
+                span: start.zip(end).map(|(s, e)| s..e),
+                node,
+            }),
+            None => Ok(bare(Node::Table(entries))),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Validation.
+
+type Res<T> = Result<T, MechanismError>;
+
+const TOP_KEYS: &[&str] = &["name", "description", "panel", "joint", "tape", "run"];
+const PANEL_KEYS: &[&str] = &["length_m", "mass_kg", "com_m", "inertia_kgm2"];
+const JOINT_KEYS: &[&str] = &["stowed_deg", "spring", "friction"];
+const LINEAR_KEYS: &[&str] = &["kind", "preload_nm", "stiffness_nm_per_rad", "count"];
+const TAPE_SPRING_KEYS: &[&str] = &["kind", "type", "count"];
+const CURVE_KEYS: &[&str] = &["kind", "unfold", "fold", "interp", "count"];
+const FRICTION_KEYS: &[&str] = &[
+    "coulomb_nm",
+    "viscous_nms",
+    "coulomb_threshold_rad_s",
+    "breakaway_nm",
+    "stribeck_rad_s",
+];
+const TAPE_KEYS: &[&str] = &["a", "b", "d", "m_90", "c_180"];
+const RUN_KEYS: &[&str] = &["duration_s", "sample_hz"];
+
+/// What a number must be.
+#[derive(Clone, Copy)]
+enum Bound {
+    Finite,
+    NonZero,
+    NonNegative,
+    Positive,
+}
+
+impl Bound {
+    fn ok(self, x: f64) -> bool {
+        x.is_finite()
+            && match self {
+                Bound::Finite => true,
+                Bound::NonZero => x != 0.0,
+                Bound::NonNegative => x >= 0.0,
+                Bound::Positive => x > 0.0,
+            }
+    }
+
+    fn describe(self, unit: &str) -> String {
+        let what = match self {
+            Bound::Finite => "a finite number",
+            Bound::NonZero => "a finite non-zero number",
+            Bound::NonNegative => "a finite number ≥ 0",
+            Bound::Positive => "a finite number > 0",
+        };
+        if unit.is_empty() {
+            what.to_string()
+        } else {
+            format!("{what} [{unit}]")
+        }
+    }
+}
+
+/// The file being read.
+struct Cx<'a> {
+    file: &'a str,
+    text: &'a str,
+}
+
+/// The keys of one table, checked against the allowed ones.
+struct Table<'a> {
+    entries: &'a [(String, Sp)],
+    path: String,
+    line: Option<usize>,
+}
+
+impl<'a> Table<'a> {
+    fn get(&self, key: &str) -> Option<&'a Sp> {
+        self.entries.iter().find(|(k, _)| k == key).map(|(_, v)| v)
+    }
+
+    fn key(&self, key: &str) -> String {
+        join(&self.path, key)
+    }
+}
+
+fn join(path: &str, key: &str) -> String {
+    let key = if !key.is_empty()
+        && key
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    {
+        key.to_string()
+    } else {
+        toml_str(key)
+    };
+    if path.is_empty() {
+        key
+    } else {
+        format!("{path}.{key}")
+    }
+}
+
+impl Cx<'_> {
+    fn line_of(&self, byte: usize) -> usize {
+        let end = byte.min(self.text.len());
+        self.text.as_bytes()[..end]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+            + 1
+    }
+
+    /// 1-based column, in characters, of byte `byte`.
+    fn column_of(&self, byte: usize) -> usize {
+        let mut end = byte.min(self.text.len());
+        while !self.text.is_char_boundary(end) {
+            end -= 1;
+        }
+        let start = self.text[..end].rfind('\n').map_or(0, |i| i + 1);
+        self.text[start..end].chars().count() + 1
+    }
+
+    fn line(&self, sp: &Sp) -> Option<usize> {
+        sp.span.as_ref().map(|s| self.line_of(s.start))
+    }
+
+    fn wrong_type(&self, sp: &Sp, key: &str, expected: &str) -> MechanismError {
+        MechanismError::WrongType {
+            file: self.file.to_string(),
+            line: self.line(sp),
+            key: key.to_string(),
+            expected: expected.to_string(),
+            found: sp.node.type_name().to_string(),
+        }
+    }
+
+    fn invalid(&self, sp: &Sp, key: &str, expected: &str) -> MechanismError {
+        MechanismError::InvalidValue {
+            file: self.file.to_string(),
+            line: self.line(sp),
+            key: key.to_string(),
+            expected: expected.to_string(),
+            found: sp.node.show(),
+        }
+    }
+
+    fn missing(&self, t: &Table<'_>, key: &str, expected: &str) -> MechanismError {
+        MechanismError::MissingKey {
+            file: self.file.to_string(),
+            line: t.line,
+            key: t.key(key),
+            expected: expected.to_string(),
+        }
+    }
+
+    /// `sp` as a table whose keys are all in `allowed`.
+    fn table<'s>(&self, sp: &'s Sp, path: &str, allowed: &[&str]) -> Res<Table<'s>> {
+        let Node::Table(entries) = &sp.node else {
+            return Err(self.wrong_type(sp, path, "a table"));
+        };
+        for (k, v) in entries {
+            if !allowed.contains(&k.as_str()) {
+                return Err(MechanismError::UnknownKey {
+                    file: self.file.to_string(),
+                    line: self.line(v).or_else(|| self.line(sp)),
+                    key: join(path, k),
+                    expected: allowed.join(", "),
+                });
+            }
+        }
+        Ok(Table {
+            entries,
+            path: path.to_string(),
+            line: self.line(sp),
+        })
+    }
+
+    fn number(&self, sp: &Sp, key: &str, range: Bound, unit: &str) -> Res<f64> {
+        let x = match sp.node {
+            Node::Float(x) => x,
+            Node::Int(i) => i as f64,
+            _ => return Err(self.wrong_type(sp, key, &range.describe(unit))),
+        };
+        if range.ok(x) {
+            Ok(x)
+        } else {
+            Err(self.invalid(sp, key, &range.describe(unit)))
+        }
+    }
+
+    fn req_number(&self, t: &Table<'_>, key: &str, range: Bound, unit: &str) -> Res<f64> {
+        match t.get(key) {
+            Some(sp) => self.number(sp, &t.key(key), range, unit),
+            None => Err(self.missing(t, key, &range.describe(unit))),
+        }
+    }
+
+    fn opt_number(&self, t: &Table<'_>, key: &str, range: Bound, unit: &str) -> Res<Option<f64>> {
+        t.get(key)
+            .map(|sp| self.number(sp, &t.key(key), range, unit))
+            .transpose()
+    }
+
+    fn string<'s>(&self, sp: &'s Sp, key: &str) -> Res<&'s str> {
+        match &sp.node {
+            Node::Str(s) => Ok(s),
+            _ => Err(self.wrong_type(sp, key, "a string")),
+        }
+    }
+
+    /// `[x, y]`: two numbers.
+    fn pair(&self, sp: &Sp, key: &str, what: &str) -> Res<(f64, f64)> {
+        let expected = format!("a pair of finite numbers {what}");
+        let Node::Array(items) = &sp.node else {
+            return Err(self.wrong_type(sp, key, &expected));
+        };
+        if items.len() != 2 {
+            return Err(self.invalid(sp, key, &expected));
+        }
+        let x = self.number(&items[0], &format!("{key}[1]"), Bound::Finite, "")?;
+        let y = self.number(&items[1], &format!("{key}[2]"), Bound::Finite, "")?;
+        Ok((x, y))
+    }
+
+    fn count(&self, t: &Table<'_>) -> Res<u32> {
+        let expected = "an integer ≥ 1 (number of identical hinges)";
+        let Some(sp) = t.get("count") else {
+            return Err(self.missing(t, "count", expected));
+        };
+        let key = t.key("count");
+        match sp.node {
+            Node::Int(i) if i >= 1 => u32::try_from(i)
+                .map_err(|_| self.invalid(sp, &key, "an integer ≥ 1 that fits 32 bits")),
+            Node::Int(_) => Err(self.invalid(sp, &key, expected)),
+            _ => Err(self.wrong_type(sp, &key, expected)),
+        }
+    }
+
+    // -----------------------------------------------------------------------
+
+    fn mechanism(&self, root: &Sp) -> Res<Mechanism> {
+        let top = self.table(root, "", TOP_KEYS)?;
+
+        let name = match top.get("name") {
+            Some(sp) => {
+                let s = self.string(sp, "name")?;
+                if s.trim().is_empty() {
+                    return Err(self.invalid(sp, "name", "a non-empty string"));
+                }
+                s.to_string()
+            }
+            None => return Err(self.missing(&top, "name", "a string (runs refer to it)")),
+        };
+        let description = match top.get("description") {
+            Some(sp) => self.string(sp, "description")?.to_string(),
+            None => String::new(),
+        };
+
+        let tapes = match top.get("tape") {
+            Some(sp) => self.tapes(sp)?,
+            None => Vec::new(),
+        };
+
+        let panel_items = self.array_of_tables(&top, "panel")?;
+        let mut panels = Vec::with_capacity(panel_items.len());
+        for (i, sp) in panel_items.iter().enumerate() {
+            panels.push(self.panel(sp, &format!("panel[{}]", i + 1))?);
+        }
+        if panels.is_empty() || panels.len() > MAX_JOINTS {
+            return Err(MechanismError::PanelCount {
+                file: self.file.to_string(),
+                line: panel_items.get(MAX_JOINTS).and_then(|sp| self.line(sp)),
+                found: panels.len(),
+            });
+        }
+
+        let joint_items = self.array_of_tables(&top, "joint")?;
+        let mut joints = Vec::with_capacity(joint_items.len());
+        for (i, sp) in joint_items.iter().enumerate() {
+            joints.push(self.joint(sp, i + 1, &tapes)?);
+        }
+        if joints.len() != panels.len() {
+            return Err(MechanismError::JointCount {
+                file: self.file.to_string(),
+                line: joint_items.get(panels.len()).and_then(|sp| self.line(sp)),
+                panels: panels.len(),
+                joints: joints.len(),
+            });
+        }
+
+        let (mut duration_s, mut sample_hz) = (DEFAULT_DURATION_S, DEFAULT_SAMPLE_HZ);
+        if let Some(sp) = top.get("run") {
+            let run = self.table(sp, "run", RUN_KEYS)?;
+            if let Some(d) = self.opt_number(&run, "duration_s", Bound::Positive, "s")? {
+                duration_s = d;
+            }
+            if let Some(sp) = run.get("sample_hz") {
+                let key = run.key("sample_hz");
+                let hz = self.number(sp, &key, Bound::Positive, "Hz")?;
+                if hz > MAX_SAMPLE_HZ {
+                    return Err(self.invalid(sp, &key, "a finite number > 0 and ≤ 1e6 [Hz]"));
+                }
+                sample_hz = hz;
+            }
+        }
+
+        Ok(Mechanism {
+            name,
+            description,
+            panels,
+            joints,
+            duration_s,
+            sample_hz,
+        })
+    }
+
+    /// `[[key]]`: an array of tables (`key = [{...}, ...]` is the same in TOML).
+    fn array_of_tables<'s>(&self, top: &Table<'s>, key: &str) -> Res<&'s [Sp]> {
+        let expected = format!("1 to {MAX_JOINTS} [[{key}]] tables");
+        let Some(sp) = top.get(key) else {
+            return Err(self.missing(top, key, &expected));
+        };
+        match &sp.node {
+            Node::Array(items) => Ok(items),
+            _ => Err(self.wrong_type(sp, key, &expected)),
+        }
+    }
+
+    fn panel(&self, sp: &Sp, path: &str) -> Res<Panel<f64>> {
+        let t = self.table(sp, path, PANEL_KEYS)?;
+        Ok(Panel {
+            length_m: self.req_number(&t, "length_m", Bound::Positive, "m")?,
+            mass_kg: self.req_number(&t, "mass_kg", Bound::Positive, "kg")?,
+            com_m: self.req_number(&t, "com_m", Bound::Finite, "m")?,
+            inertia_kgm2: self.req_number(&t, "inertia_kgm2", Bound::Positive, "kg·m²")?,
+        })
+    }
+
+    fn joint(&self, sp: &Sp, j: usize, tapes: &[(String, TapePoints<f64>)]) -> Res<JointSpec> {
+        let path = format!("joint[{j}]");
+        let t = self.table(sp, &path, JOINT_KEYS)?;
+        let stowed_deg = self.req_number(&t, "stowed_deg", Bound::NonZero, "deg")?;
+        let spring = match t.get("spring") {
+            Some(s) => self.spring(s, &t.key("spring"), j, tapes)?,
+            None => {
+                return Err(self.missing(
+                    &t,
+                    "spring",
+                    "a table { kind = \"linear\" | \"tape\" | \"curve\", ... }",
+                ))
+            }
+        };
+        let friction = match t.get("friction") {
+            Some(f) => self.friction(f, &t.key("friction"))?,
+            None => FrictionSpec::default(),
+        };
+        Ok(JointSpec {
+            stowed_deg,
+            spring,
+            friction,
+        })
+    }
+
+    fn spring(
+        &self,
+        sp: &Sp,
+        path: &str,
+        j: usize,
+        tapes: &[(String, TapePoints<f64>)],
+    ) -> Res<SpringSpec> {
+        let Node::Table(entries) = &sp.node else {
+            return Err(self.wrong_type(sp, path, "a table { kind = ..., ... }"));
+        };
+        let kind_key = join(path, "kind");
+        let kind = match entries.iter().find(|(k, _)| k == "kind") {
+            Some((_, k)) => (k, self.string(k, &kind_key)?),
+            None => {
+                return Err(MechanismError::MissingKey {
+                    file: self.file.to_string(),
+                    line: self.line(sp),
+                    key: kind_key,
+                    expected: "one of \"linear\", \"tape\", \"curve\"".to_string(),
+                })
+            }
+        };
+        let spec = match kind.1 {
+            "linear" => {
+                let t = self.table(sp, path, LINEAR_KEYS)?;
+                SpringSpec::Linear {
+                    preload_nm: self.req_number(&t, "preload_nm", Bound::NonNegative, "N·m")?,
+                    stiffness_nm_per_rad: self.req_number(
+                        &t,
+                        "stiffness_nm_per_rad",
+                        Bound::NonNegative,
+                        "N·m/rad",
+                    )?,
+                    count: self.count(&t)?,
+                }
+            }
+            "tape" => {
+                let t = self.table(sp, path, TAPE_SPRING_KEYS)?;
+                let Some(ty) = t.get("type") else {
+                    return Err(self.missing(&t, "type", "the name of a [tape.\"NAME\"] table"));
+                };
+                let type_key = t.key("type");
+                let type_name = self.string(ty, &type_key)?;
+                let Some((_, points)) = tapes.iter().find(|(n, _)| n == type_name) else {
+                    return Err(MechanismError::UnknownTapeType {
+                        file: self.file.to_string(),
+                        line: self.line(ty),
+                        key: type_key,
+                        found: type_name.to_string(),
+                        defined: tapes.iter().map(|(n, _)| n.clone()).collect(),
+                    });
+                };
+                SpringSpec::Tape {
+                    type_name: type_name.to_string(),
+                    points: *points,
+                    count: self.count(&t)?,
+                }
+            }
+            "curve" => {
+                let t = self.table(sp, path, CURVE_KEYS)?;
+                let interp = match t.get("interp") {
+                    None => Interp::Akima,
+                    Some(i) => match self.string(i, &t.key("interp"))? {
+                        "akima" => Interp::Akima,
+                        "linear" => Interp::Linear,
+                        _ => {
+                            return Err(self.invalid(
+                                i,
+                                &t.key("interp"),
+                                "\"akima\" or \"linear\"",
+                            ))
+                        }
+                    },
+                };
+                let unfold = match t.get("unfold") {
+                    Some(u) => self.curve(u, &t.key("unfold"), interp)?,
+                    None => {
+                        return Err(self.missing(&t, "unfold", "an array of [deg, N·m] points"))
+                    }
+                };
+                let fold = t
+                    .get("fold")
+                    .map(|f| self.curve(f, &t.key("fold"), interp))
+                    .transpose()?;
+                SpringSpec::Curve {
+                    unfold,
+                    fold,
+                    interp,
+                    count: self.count(&t)?,
+                }
+            }
+            other => {
+                return Err(MechanismError::UnknownSpringKind {
+                    file: self.file.to_string(),
+                    line: self.line(kind.0),
+                    key: kind_key,
+                    joint: j,
+                    found: other.to_string(),
+                })
+            }
+        };
+        // The core's own check (the pieces were checked above; this cannot
+        // fail unless the core's rules grow).
+        spec.to_spring()
+            .map_err(|source| MechanismError::BadCurve {
+                file: self.file.to_string(),
+                line: self.line(sp),
+                key: path.to_string(),
+                source,
+            })?;
+        Ok(spec)
+    }
+
+    /// `[[deg, N·m], ...]`, checked by the core.
+    fn curve(&self, sp: &Sp, key: &str, interp: Interp) -> Res<Vec<(f64, f64)>> {
+        let Node::Array(items) = &sp.node else {
+            return Err(self.wrong_type(sp, key, "an array of [deg, N·m] points"));
+        };
+        let mut points = Vec::with_capacity(items.len());
+        for (i, p) in items.iter().enumerate() {
+            points.push(self.pair(p, &format!("{key}[{}]", i + 1), "[deg, N·m]")?);
+        }
+        Curve::new(&points, interp).map_err(|source| MechanismError::BadCurve {
+            file: self.file.to_string(),
+            line: self.line(sp),
+            key: key.to_string(),
+            source,
+        })?;
+        Ok(points)
+    }
+
+    fn friction(&self, sp: &Sp, path: &str) -> Res<FrictionSpec> {
+        let t = self.table(sp, path, FRICTION_KEYS)?;
+        let mut f = FrictionSpec::default();
+        if let Some(x) = self.opt_number(&t, "coulomb_nm", Bound::NonNegative, "N·m")? {
+            f.coulomb_nm = x;
+        }
+        if let Some(x) = self.opt_number(&t, "viscous_nms", Bound::NonNegative, "N·m·s/rad")? {
+            f.viscous_nms = x;
+        }
+        if let Some(x) = self.opt_number(&t, "coulomb_threshold_rad_s", Bound::Positive, "rad/s")? {
+            f.coulomb_threshold_rad_s = x;
+        }
+        let brk = self.opt_number(&t, "breakaway_nm", Bound::NonNegative, "N·m")?;
+        let st = self.opt_number(&t, "stribeck_rad_s", Bound::Positive, "rad/s")?;
+        f.stribeck = match (brk, st) {
+            (Some(b), Some(s)) => Some((b, s)),
+            (None, None) => None,
+            (Some(_), None) => {
+                return Err(self.missing(
+                    &t,
+                    "stribeck_rad_s",
+                    "a finite number > 0 [rad/s] with breakaway_nm (both or neither)",
+                ))
+            }
+            (None, Some(_)) => {
+                return Err(self.missing(
+                    &t,
+                    "breakaway_nm",
+                    "a finite number ≥ 0 [N·m] with stribeck_rad_s (both or neither)",
+                ))
+            }
+        };
+        Ok(f)
+    }
+
+    /// `[tape."NAME"]` tables, in file order.
+    fn tapes(&self, sp: &Sp) -> Res<Vec<(String, TapePoints<f64>)>> {
+        let Node::Table(entries) = &sp.node else {
+            return Err(self.wrong_type(sp, "tape", "tables [tape.\"NAME\"]"));
+        };
+        let mut out = Vec::with_capacity(entries.len());
+        for (name, v) in entries {
+            let path = join("tape", name);
+            let t = self.table(v, &path, TAPE_KEYS)?;
+            let get_pair = |k: &str| match t.get(k) {
+                Some(p) => self.pair(p, &t.key(k), "[deg, N·m per hinge]"),
+                None => Err(self.missing(&t, k, "a pair of finite numbers [deg, N·m per hinge]")),
+            };
+            let a = get_pair("a")?;
+            let b = get_pair("b")?;
+            let d = get_pair("d")?;
+            let m_90 = self.req_number(&t, "m_90", Bound::NonNegative, "N·m per hinge")?;
+            let c_180 = self.req_number(&t, "c_180", Bound::NonNegative, "N·m per hinge")?;
+            // Angles: the unfolding branch runs through 0, D, B, 90°, 180°
+            // and the folding knee through 0, A; moments are magnitudes.
+            let check = |k: &str, ok: bool, expected: &str| -> Res<()> {
+                if ok {
+                    Ok(())
+                } else {
+                    let sp = t.get(k).unwrap_or(v);
+                    Err(self.invalid(sp, &t.key(k), expected))
+                }
+            };
+            check(
+                "a",
+                a.0 > 0.0 && a.0 < 90.0,
+                "[deg, N·m] with 0 < deg < 90 and N·m ≥ 0",
+            )?;
+            check("a", a.1 >= 0.0, "[deg, N·m] with 0 < deg < 90 and N·m ≥ 0")?;
+            check(
+                "d",
+                d.0 > 0.0,
+                "[deg, N·m] with 0 < deg < b's deg and N·m ≥ 0",
+            )?;
+            check(
+                "d",
+                d.1 >= 0.0,
+                "[deg, N·m] with 0 < deg < b's deg and N·m ≥ 0",
+            )?;
+            check(
+                "b",
+                b.0 > d.0 && b.0 < 90.0,
+                "[deg, N·m] with d's deg < deg < 90 and N·m ≥ 0",
+            )?;
+            check(
+                "b",
+                b.1 >= 0.0,
+                "[deg, N·m] with d's deg < deg < 90 and N·m ≥ 0",
+            )?;
+            let points = TapePoints {
+                a,
+                b,
+                d,
+                m_90,
+                c_180,
+            };
+            Spring::tape(&points, 1.0).map_err(|source| MechanismError::BadCurve {
+                file: self.file.to_string(),
+                line: self.line(v),
+                key: path.clone(),
+                source,
+            })?;
+            out.push((name.clone(), points));
+        }
+        Ok(out)
+    }
+}

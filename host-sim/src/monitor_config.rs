@@ -1,0 +1,234 @@
+//! The host side of the on-board monitor: a [`Mechanism`] (as read from its
+//! TOML file) converted into the fixed-size, `f32` [`MonitorConfig`] the
+//! core's [`Monitor`] is built from, and a replay of a [`Run`] through it.
+//!
+//! The conversion keeps the mechanism's panels and springs and takes the
+//! friction written in the file as the prior mean of the friction estimate
+//! (zero for the nominal mechanisms), with the spread of [`PriorSpread`].
+
+use deploywatch_core::monitor::{JointConfig, Monitor, MonitorConfig, Sample, Status};
+use deploywatch_core::observer::FrictionPrior;
+use deploywatch_core::spring::{CurveError, Fold, Interp, TapePoints};
+use deploywatch_core::{Curve, Panel, Spring};
+
+use crate::mechanism::{Mechanism, SpringSpec};
+use crate::run::Run;
+
+/// Standard deviations of the friction prior.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PriorSpread {
+    /// Of the Coulomb torque [N·m].
+    pub coulomb_sd_nm: f64,
+    /// Of the viscous coefficient [N·m·s/rad].
+    pub viscous_sd_nms: f64,
+}
+
+impl Default for PriorSpread {
+    /// 2 N·m (the papers' identified values are 0.001–2.63 N·m) and
+    /// 0.05 N·m·s/rad (the papers identify no viscous term).
+    fn default() -> Self {
+        PriorSpread {
+            coulomb_sd_nm: 2.0,
+            viscous_sd_nms: 0.05,
+        }
+    }
+}
+
+/// Why a mechanism cannot be monitored.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MonitorConfigError {
+    /// The monitor was instantiated for a different number of joints.
+    #[error("the mechanism has {found} joints but the monitor was built for {expected}")]
+    JointCount {
+        /// `N` of the monitor.
+        expected: usize,
+        /// Joints in the mechanism.
+        found: usize,
+    },
+    /// A spring curve is not valid in `f32`.
+    #[error("joint {joint}: spring curve: {source}")]
+    Curve {
+        /// 1-based joint.
+        joint: usize,
+        /// What is wrong.
+        source: CurveError,
+    },
+    /// The core rejected the configuration.
+    #[error("{0}")]
+    Config(deploywatch_core::monitor::ConfigError),
+}
+
+fn f32_points(points: &[(f64, f64)]) -> Vec<(f32, f32)> {
+    points.iter().map(|&(x, y)| (x as f32, y as f32)).collect()
+}
+
+/// The spring of a joint in `f32`, and its capture angle [deg].
+///
+/// The capture angle is where a tape spring's snap-through takes over:
+/// θ_B of its points (seed 001 Table 1), below which the unfolding moment
+/// rises to its peak D. For a curve spring it is the first knot after the
+/// highest moment within 5° of the latch, if that peak is more than three
+/// times the moment there; a linear spring has none (0).
+pub fn spring_f32(spec: &SpringSpec) -> Result<(Spring<f32>, f64), CurveError> {
+    Ok(match spec {
+        SpringSpec::Linear {
+            preload_nm,
+            stiffness_nm_per_rad,
+            count,
+        } => (
+            Spring::Linear {
+                preload_nm: *preload_nm as f32,
+                stiffness_nm_per_rad: *stiffness_nm_per_rad as f32,
+                count: *count as f32,
+            },
+            0.0,
+        ),
+        SpringSpec::Tape { points, count, .. } => {
+            let p = TapePoints {
+                a: (points.a.0 as f32, points.a.1 as f32),
+                b: (points.b.0 as f32, points.b.1 as f32),
+                d: (points.d.0 as f32, points.d.1 as f32),
+                m_90: points.m_90 as f32,
+                c_180: points.c_180 as f32,
+            };
+            (Spring::tape(&p, *count as f32)?, points.b.0)
+        }
+        SpringSpec::Curve {
+            unfold,
+            fold,
+            interp,
+            count,
+        } => {
+            let u = Curve::new(&f32_points(unfold), *interp)?;
+            let f = match fold {
+                None => Fold::SameAsUnfold,
+                Some(f) => Fold::Curve(Curve::new(&f32_points(f), *interp)?),
+            };
+            (
+                Spring::Curve {
+                    unfold: u,
+                    fold: f,
+                    count: *count as f32,
+                },
+                curve_capture_deg(unfold, *interp),
+            )
+        }
+    })
+}
+
+fn curve_capture_deg(unfold: &[(f64, f64)], _interp: Interp) -> f64 {
+    let near: Vec<(usize, &(f64, f64))> = unfold.iter().enumerate().filter(|(_, p)| p.0 <= 5.0).collect();
+    let Some(&(ipk, peak)) = near
+        .iter()
+        .max_by(|a, b| a.1 .1.partial_cmp(&b.1 .1).unwrap_or(std::cmp::Ordering::Equal))
+    else {
+        return 0.0;
+    };
+    match unfold.get(ipk + 1) {
+        Some(after) if peak.1 > 3.0 * after.1.abs() => after.0,
+        _ => 0.0,
+    }
+}
+
+/// The monitor configuration of a mechanism with `N` joints and the default
+/// tuning (`docs/monitor.md`).
+pub fn monitor_config<const N: usize>(mech: &Mechanism) -> Result<MonitorConfig<N>, MonitorConfigError> {
+    monitor_config_with::<N>(mech, &PriorSpread::default())
+}
+
+/// [`monitor_config`] with a chosen spread of the friction prior.
+pub fn monitor_config_with<const N: usize>(
+    mech: &Mechanism,
+    spread: &PriorSpread,
+) -> Result<MonitorConfig<N>, MonitorConfigError> {
+    if mech.joints.len() != N || mech.panels.len() != N {
+        return Err(MonitorConfigError::JointCount {
+            expected: N,
+            found: mech.joints.len(),
+        });
+    }
+    let panels: [Panel<f32>; N] = std::array::from_fn(|i| {
+        let p = &mech.panels[i];
+        Panel {
+            length_m: p.length_m as f32,
+            mass_kg: p.mass_kg as f32,
+            com_m: p.com_m as f32,
+            inertia_kgm2: p.inertia_kgm2 as f32,
+        }
+    });
+    let mut joints = Vec::with_capacity(N);
+    for (i, j) in mech.joints.iter().enumerate() {
+        let (spring, capture_deg) =
+            spring_f32(&j.spring).map_err(|source| MonitorConfigError::Curve { joint: i + 1, source })?;
+        joints.push(JointConfig {
+            stowed_deg: j.stowed_deg as f32,
+            spring,
+            capture_deg: capture_deg as f32,
+            prior: FrictionPrior {
+                coulomb_nm: j.friction.coulomb_nm as f32,
+                coulomb_sd_nm: spread.coulomb_sd_nm as f32,
+                viscous_nms: j.friction.viscous_nms as f32,
+                viscous_sd_nms: spread.viscous_sd_nms as f32,
+            },
+        });
+    }
+    let joints: [JointConfig; N] = joints.try_into().map_err(|_| MonitorConfigError::JointCount {
+        expected: N,
+        found: mech.joints.len(),
+    })?;
+    let cfg = MonitorConfig::new(panels, joints);
+    cfg.validate().map_err(MonitorConfigError::Config)?;
+    Ok(cfg)
+}
+
+/// The samples of a run as the monitor receives them (`f32`).
+///
+/// Returns `None` if the run does not have `N` joints.
+pub fn samples<const N: usize>(run: &Run) -> Option<Vec<Sample<N>>> {
+    if run.joints() != N || run.latch.len() != N {
+        return None;
+    }
+    Some(
+        (0..run.len())
+            .map(|i| Sample {
+                t_s: run.t_s[i] as f32,
+                phi_deg: std::array::from_fn(|j| run.phi_deg[j][i] as f32),
+                latch: std::array::from_fn(|j| run.latch[j].get(i).copied().unwrap_or(false)),
+            })
+            .collect(),
+    )
+}
+
+/// Feeds every sample of `run` to `monitor` and returns the statuses.
+pub fn replay<const N: usize>(monitor: &mut Monitor<N>, run: &Run) -> Option<Vec<Status<N>>> {
+    Some(samples::<N>(run)?.iter().map(|s| monitor.update(s)).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn seed001_converts_with_the_tape_capture_angle() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms/seed001_T01.toml");
+        let mech = Mechanism::load(&root).unwrap();
+        let cfg = monitor_config::<3>(&mech).unwrap();
+        assert_eq!(cfg.joints[0].capture_deg, 1.10);
+        assert_eq!(cfg.joints[1].capture_deg, 1.28);
+        assert_eq!(cfg.joints[2].stowed_deg, -180.0);
+        assert!(Monitor::new(&cfg).is_ok());
+        assert!(matches!(
+            monitor_config::<2>(&mech),
+            Err(MonitorConfigError::JointCount { expected: 2, found: 3 })
+        ));
+    }
+
+    #[test]
+    fn curve_capture_is_after_a_snap_peak() {
+        let pts = [(0.0, 0.0), (0.5, 30.0), (1.2, 1.0), (90.0, 1.2)];
+        assert_eq!(curve_capture_deg(&pts, Interp::Linear), 1.2);
+        let flat = [(0.0, 1.0), (90.0, 2.0)];
+        assert_eq!(curve_capture_deg(&flat, Interp::Linear), 0.0);
+    }
+}

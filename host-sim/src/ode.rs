@@ -1,0 +1,241 @@
+//! Dormand–Prince 5(4) with its 4th-order continuous extension, for the
+//! chain's second-order state `(φ, φ̇)`.
+//!
+//! Coefficients: Dormand & Prince (1980); dense output and step-size control
+//! as in Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.4–II.6 (DOPRI5).
+//! Why a stepper of our own rather than a crate: see `docs/simulator.md`.
+
+use deploywatch_core::ChainState;
+
+/// `ChainState` arithmetic the stepper needs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct State<const N: usize> {
+    /// `φ` [rad].
+    pub q: [f64; N],
+    /// `φ̇` [rad/s].
+    pub v: [f64; N],
+}
+
+impl<const N: usize> State<N> {
+    /// The zero state.
+    pub const ZERO: Self = State {
+        q: [0.0; N],
+        v: [0.0; N],
+    };
+
+    /// As the core's state type.
+    pub fn chain(&self) -> ChainState<f64, N> {
+        ChainState {
+            phi: self.q,
+            phi_dot: self.v,
+        }
+    }
+
+    /// `self + Σ c_i k_i`.
+    #[inline]
+    fn axpy(&self, h: f64, terms: &[(f64, &State<N>)]) -> State<N> {
+        let mut out = *self;
+        for &(c, k) in terms {
+            if c == 0.0 {
+                continue;
+            }
+            let hc = h * c;
+            for i in 0..N {
+                out.q[i] += hc * k.q[i];
+                out.v[i] += hc * k.v[i];
+            }
+        }
+        out
+    }
+}
+
+/// The step a stepper took, with what it needs to interpolate inside it.
+#[derive(Clone, Copy, Debug)]
+pub struct Dense<const N: usize> {
+    /// Start of the step [s].
+    pub t0: f64,
+    /// Step size [s].
+    pub h: f64,
+    r: [State<N>; 5],
+}
+
+impl<const N: usize> Dense<N> {
+    /// The state at `t` ∈ [t0, t0 + h] (4th-order accurate).
+    #[inline]
+    pub fn at(&self, t: f64) -> State<N> {
+        let s = ((t - self.t0) / self.h).clamp(0.0, 1.0);
+        let s1 = 1.0 - s;
+        let mut out = State::ZERO;
+        for i in 0..N {
+            let [r1, r2, r3, r4, r5] = &self.r;
+            out.q[i] = r1.q[i] + s * (r2.q[i] + s1 * (r3.q[i] + s * (r4.q[i] + s1 * r5.q[i])));
+            out.v[i] = r1.v[i] + s * (r2.v[i] + s1 * (r3.v[i] + s * (r4.v[i] + s1 * r5.v[i])));
+        }
+        out
+    }
+}
+
+// Butcher tableau of Dormand–Prince 5(4).
+const C2: f64 = 1.0 / 5.0;
+const C3: f64 = 3.0 / 10.0;
+const C4: f64 = 4.0 / 5.0;
+const C5: f64 = 8.0 / 9.0;
+const A21: f64 = 1.0 / 5.0;
+const A31: f64 = 3.0 / 40.0;
+const A32: f64 = 9.0 / 40.0;
+const A41: f64 = 44.0 / 45.0;
+const A42: f64 = -56.0 / 15.0;
+const A43: f64 = 32.0 / 9.0;
+const A51: f64 = 19372.0 / 6561.0;
+const A52: f64 = -25360.0 / 2187.0;
+const A53: f64 = 64448.0 / 6561.0;
+const A54: f64 = -212.0 / 729.0;
+const A61: f64 = 9017.0 / 3168.0;
+const A62: f64 = -355.0 / 33.0;
+const A63: f64 = 46732.0 / 5247.0;
+const A64: f64 = 49.0 / 176.0;
+const A65: f64 = -5103.0 / 18656.0;
+const A71: f64 = 35.0 / 384.0;
+const A73: f64 = 500.0 / 1113.0;
+const A74: f64 = 125.0 / 192.0;
+const A75: f64 = -2187.0 / 6784.0;
+const A76: f64 = 11.0 / 84.0;
+// Error coefficients b5 − b4.
+const E1: f64 = 71.0 / 57600.0;
+const E3: f64 = -71.0 / 16695.0;
+const E4: f64 = 71.0 / 1920.0;
+const E5: f64 = -17253.0 / 339200.0;
+const E6: f64 = 22.0 / 525.0;
+const E7: f64 = -1.0 / 40.0;
+// Dense output (Hairer's DOPRI5 contd5).
+const D1: f64 = -12715105075.0 / 11282082432.0;
+const D3: f64 = 87487479700.0 / 32700410799.0;
+const D4: f64 = -10690763975.0 / 1880347072.0;
+const D5: f64 = 701980252875.0 / 199316789632.0;
+const D6: f64 = -1453857185.0 / 822651844.0;
+const D7: f64 = 69997945.0 / 29380423.0;
+
+/// Outcome of one attempted step.
+pub struct Attempt<const N: usize> {
+    /// The state at `t + h` (5th order).
+    pub y1: State<N>,
+    /// The derivative at `t + h` (first stage of the next step, FSAL).
+    pub k7: State<N>,
+    /// Scaled error norm; the step is accepted when ≤ 1.
+    pub err: f64,
+    /// Interpolant over the step.
+    pub dense: Dense<N>,
+}
+
+/// One Dormand–Prince step from `(t, y)` with derivative `k1 = f(t, y)`.
+///
+/// `f` returns `None` when the derivative cannot be evaluated (singular mass
+/// matrix, NaN): the step then fails with `None`.
+#[inline]
+pub fn step<const N: usize, F>(
+    f: &mut F,
+    t: f64,
+    y: &State<N>,
+    k1: &State<N>,
+    h: f64,
+    rtol: f64,
+    atol: f64,
+) -> Option<Attempt<N>>
+where
+    F: FnMut(f64, &State<N>) -> Option<State<N>>,
+{
+    let k2 = f(t + C2 * h, &y.axpy(h, &[(A21, k1)]))?;
+    let k3 = f(t + C3 * h, &y.axpy(h, &[(A31, k1), (A32, &k2)]))?;
+    let k4 = f(t + C4 * h, &y.axpy(h, &[(A41, k1), (A42, &k2), (A43, &k3)]))?;
+    let k5 = f(
+        t + C5 * h,
+        &y.axpy(h, &[(A51, k1), (A52, &k2), (A53, &k3), (A54, &k4)]),
+    )?;
+    let k6 = f(
+        t + h,
+        &y.axpy(h, &[(A61, k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)]),
+    )?;
+    let y1 = y.axpy(h, &[(A71, k1), (A73, &k3), (A74, &k4), (A75, &k5), (A76, &k6)]);
+    let k7 = f(t + h, &y1)?;
+    let e = State::ZERO.axpy(
+        h,
+        &[(E1, k1), (E3, &k3), (E4, &k4), (E5, &k5), (E6, &k6), (E7, &k7)],
+    );
+    let mut acc = 0.0;
+    for i in 0..N {
+        let sq = atol + rtol * y.q[i].abs().max(y1.q[i].abs());
+        let sv = atol + rtol * y.v[i].abs().max(y1.v[i].abs());
+        acc += (e.q[i] / sq).powi(2) + (e.v[i] / sv).powi(2);
+    }
+    let err = (acc / (2 * N) as f64).sqrt();
+    let mut r = [State::ZERO; 5];
+    r[0] = *y;
+    for i in 0..N {
+        let dq = y1.q[i] - y.q[i];
+        let dv = y1.v[i] - y.v[i];
+        let bq = h * k1.q[i] - dq;
+        let bv = h * k1.v[i] - dv;
+        r[1].q[i] = dq;
+        r[1].v[i] = dv;
+        r[2].q[i] = bq;
+        r[2].v[i] = bv;
+        r[3].q[i] = dq - h * k7.q[i] - bq;
+        r[3].v[i] = dv - h * k7.v[i] - bv;
+        r[4].q[i] = h
+            * (D1 * k1.q[i] + D3 * k3.q[i] + D4 * k4.q[i] + D5 * k5.q[i] + D6 * k6.q[i] + D7 * k7.q[i]);
+        r[4].v[i] = h
+            * (D1 * k1.v[i] + D3 * k3.v[i] + D4 * k4.v[i] + D5 * k5.v[i] + D6 * k6.v[i] + D7 * k7.v[i]);
+    }
+    Some(Attempt {
+        y1,
+        k7,
+        err: if err.is_finite() { err } else { f64::INFINITY },
+        dense: Dense { t0: t, h, r },
+    })
+}
+
+/// The next step size after an attempt with error norm `err` (order 5,
+/// safety 0.9, growth limited to [0.2, 5]).
+#[inline]
+pub fn next_h(h: f64, err: f64) -> f64 {
+    let fac = if err == 0.0 {
+        5.0
+    } else {
+        (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
+    };
+    h * fac
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn harmonic_oscillator_is_accurate_and_dense_output_interpolates() {
+        // q'' = −q, q(0) = 1: q = cos t.
+        let mut f = |_t: f64, y: &State<1>| {
+            Some(State {
+                q: y.v,
+                v: [-y.q[0]],
+            })
+        };
+        let mut y = State { q: [1.0], v: [0.0] };
+        let mut k1 = f(0.0, &y).unwrap();
+        let (mut t, mut h) = (0.0, 1e-3);
+        let mut worst: f64 = 0.0;
+        while t < 10.0 {
+            h = h.min(10.0 - t);
+            let a = step(&mut f, t, &y, &k1, h, 1e-10, 1e-12).unwrap();
+            if a.err <= 1.0 {
+                let tm = t + 0.37 * h;
+                worst = worst.max((a.dense.at(tm).q[0] - tm.cos()).abs());
+                t += h;
+                y = a.y1;
+                k1 = a.k7;
+            }
+            h = next_h(h, a.err);
+        }
+        assert!((y.q[0] - 10f64.cos()).abs() < 1e-8);
+        assert!(worst < 1e-8, "{worst}");
+    }
+}

@@ -1,0 +1,1148 @@
+//! Response-surface method (RSM) with central composite designs (CCD), as
+//! seed 000 uses it to identify the equivalent friction torques (section 4.3,
+//! Eqs. 15–16, Table 9).
+//!
+//! Three parts:
+//!
+//! 1. **Designs** ([`Ccd`]): `2^k` factorial runs, `2k` axial runs and `n0`
+//!    centre runs of `k` factors, in coded units, mapped to natural units by a
+//!    [`Coding`] (`x = centre + half_range · x_coded`). Three kinds:
+//!    circumscribed (rotatable, axial distance `α = (2^k)^(1/4)`, 1.682 for
+//!    k = 3, the design of seed 000 Table 9), face-centred (`α = 1`) and
+//!    inscribed (the circumscribed design shrunk by `1/α` so that the axial
+//!    runs lie on the box faces and the factorial runs at `±1/α`).
+//! 2. **The full quadratic model** ([`Quadratic`], seed 000 Eq. 15):
+//!
+//!    ```text
+//!    y = β0 + Σ_i βi xi + Σ_{i<j} βij xi xj + Σ_i βii xi²
+//!    ```
+//!
+//!    with `1 + k + k(k−1)/2 + k` coefficients stored in exactly that order
+//!    (for k = 3: β0, β1, β2, β3, β12, β13, β23, β11, β22, β33, the order of
+//!    seed 000 Eq. 16), fitted by least squares ([`fit_quadratic`], an SVD of
+//!    the regression matrix) with R² and adjusted R².
+//!    The model is in whatever units its inputs were in; [`Quadratic::to_natural`]
+//!    and [`Quadratic::to_coded`] convert exactly between coded and natural
+//!    units (the same surface, so R² does not depend on the coding).
+//! 3. **The constrained minimum** of a surface, or of a weighted sum of
+//!    surfaces ([`Quadratic::weighted_sum`]), inside a box ([`minimize_in_box`]).
+//!    A quadratic's minimum over a box lies in the relative interior of one of
+//!    the box's `3^k` faces (vertices, edges, …, the interior), where the
+//!    gradient restricted to the face vanishes: a linear system. Solving it on
+//!    every face and keeping the lowest feasible point is exact, whether the
+//!    surface is convex or not (see [`minimize_in_box`] for why singular faces
+//!    can be skipped). For many factors (k > [`EXACT_MAX_FACTORS`]) a
+//!    multi-start projected-gradient method with an active-set polish is used
+//!    instead ([`minimize_in_box_projected`]).
+
+use nalgebra::{DMatrix, DVector};
+use std::fmt;
+
+/// Up to this many factors [`minimize_in_box`] enumerates all `3^k` faces
+/// (59 049 for k = 10); above, it uses [`minimize_in_box_projected`].
+pub const EXACT_MAX_FACTORS: usize = 10;
+
+/// Singular values below this fraction of the largest make the regression
+/// matrix rank-deficient.
+pub const RANK_TOLERANCE: f64 = 1e-10;
+
+/// What went wrong in a design, a fit or a minimisation.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum RsmError {
+    /// A design needs at least one factor.
+    NoFactors,
+    /// A vector has the wrong length.
+    DimensionMismatch {
+        /// What was being checked.
+        what: &'static str,
+        /// The length expected.
+        expected: usize,
+        /// The length found.
+        found: usize,
+    },
+    /// Fewer runs than model terms: the coefficients are not determined.
+    TooFewRuns {
+        /// Runs given.
+        runs: usize,
+        /// Terms of the model.
+        terms: usize,
+    },
+    /// The runs do not determine every coefficient (e.g. a factor that never varies).
+    RankDeficient,
+    /// A half-range is not positive, or a box bound is not below its upper bound.
+    BadBox,
+    /// An input is NaN or infinite.
+    NotFinite,
+}
+
+impl fmt::Display for RsmError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RsmError::NoFactors => f.write_str("a design needs at least one factor"),
+            RsmError::DimensionMismatch {
+                what,
+                expected,
+                found,
+            } => write!(f, "{what}: length {found}, expected {expected}"),
+            RsmError::TooFewRuns { runs, terms } => write!(
+                f,
+                "{runs} runs cannot determine a model of {terms} terms"
+            ),
+            RsmError::RankDeficient => {
+                f.write_str("the runs do not determine every coefficient of the model")
+            }
+            RsmError::BadBox => {
+                f.write_str("every half-range must be positive and every lower bound below its upper bound")
+            }
+            RsmError::NotFinite => f.write_str("inputs must be finite numbers"),
+        }
+    }
+}
+
+impl std::error::Error for RsmError {}
+
+fn check_dim(what: &'static str, expected: usize, found: usize) -> Result<(), RsmError> {
+    if expected == found {
+        Ok(())
+    } else {
+        Err(RsmError::DimensionMismatch {
+            what,
+            expected,
+            found,
+        })
+    }
+}
+
+// ---------------------------------------------------------------- designs
+
+/// The kind of central composite design.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CcdKind {
+    /// Circumscribed (CCC), rotatable: factorial runs at ±1, axial runs at
+    /// ±α with `α = (2^k)^(1/4)`, outside the factorial box.
+    Circumscribed,
+    /// Face-centred (CCF): axial runs on the faces, `α = 1`.
+    FaceCentred,
+    /// Inscribed (CCI): the rotatable design scaled by `1/α`, so that every
+    /// run lies in the box `[−1, 1]^k` (axial at ±1, factorial at ±1/α).
+    Inscribed,
+}
+
+/// A central composite design of `k` factors with `n0` centre runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Ccd {
+    factors: usize,
+    kind: CcdKind,
+    centre_runs: usize,
+}
+
+/// The rotatable axial distance `α = (2^k)^(1/4)` of a full `2^k` factorial
+/// core (1.6818 for k = 3).
+pub fn rotatable_alpha(factors: usize) -> f64 {
+    2f64.powf(factors as f64 / 4.0)
+}
+
+impl Ccd {
+    /// A design of `factors ≥ 1` factors with `centre_runs` centre runs.
+    pub fn new(factors: usize, kind: CcdKind, centre_runs: usize) -> Result<Self, RsmError> {
+        if factors == 0 {
+            return Err(RsmError::NoFactors);
+        }
+        Ok(Ccd {
+            factors,
+            kind,
+            centre_runs,
+        })
+    }
+
+    /// Number of factors `k`.
+    pub fn factors(&self) -> usize {
+        self.factors
+    }
+
+    /// The kind of design.
+    pub fn kind(&self) -> CcdKind {
+        self.kind
+    }
+
+    /// Number of runs `2^k + 2k + n0`.
+    pub fn runs(&self) -> usize {
+        (1usize << self.factors) + 2 * self.factors + self.centre_runs
+    }
+
+    /// The axial distance in coded units: `(2^k)^(1/4)` (circumscribed),
+    /// 1 (face-centred, inscribed).
+    pub fn alpha(&self) -> f64 {
+        match self.kind {
+            CcdKind::Circumscribed => rotatable_alpha(self.factors),
+            CcdKind::FaceCentred | CcdKind::Inscribed => 1.0,
+        }
+    }
+
+    /// The level of the factorial runs in coded units: 1, or `1/α` inscribed.
+    pub fn factorial_level(&self) -> f64 {
+        match self.kind {
+            CcdKind::Inscribed => 1.0 / rotatable_alpha(self.factors),
+            CcdKind::Circumscribed | CcdKind::FaceCentred => 1.0,
+        }
+    }
+
+    /// The runs in coded units, in this order: the `2^k` factorial runs in
+    /// standard (Yates) order (factor 1 alternating fastest, `−` first), then
+    /// the axial runs `−α e_1, +α e_1, −α e_2, …`, then the centre runs.
+    pub fn coded_points(&self) -> Vec<Vec<f64>> {
+        let k = self.factors;
+        let f = self.factorial_level();
+        let a = self.alpha();
+        let mut pts = Vec::with_capacity(self.runs());
+        for r in 0..(1usize << k) {
+            pts.push(
+                (0..k)
+                    .map(|i| if (r >> i) & 1 == 1 { f } else { -f })
+                    .collect(),
+            );
+        }
+        for i in 0..k {
+            for s in [-a, a] {
+                let mut p = vec![0.0; k];
+                p[i] = s;
+                pts.push(p);
+            }
+        }
+        for _ in 0..self.centre_runs {
+            pts.push(vec![0.0; k]);
+        }
+        pts
+    }
+
+    /// The runs in natural units, `centre + half_range · coded`.
+    pub fn natural_points(&self, coding: &Coding) -> Result<Vec<Vec<f64>>, RsmError> {
+        check_dim("coding", self.factors, coding.factors())?;
+        Ok(self
+            .coded_points()
+            .iter()
+            .map(|p| coding.to_natural(p))
+            .collect())
+    }
+}
+
+/// Coded ↔ natural units: `x = centre + half_range · x_coded`, so that the
+/// coded box `[−1, 1]^k` is `[centre − half_range, centre + half_range]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coding {
+    centre: Vec<f64>,
+    half_range: Vec<f64>,
+}
+
+impl Coding {
+    /// A coding from the centre and the (positive) half-ranges, natural units.
+    pub fn new(centre: Vec<f64>, half_range: Vec<f64>) -> Result<Self, RsmError> {
+        check_dim("half_range", centre.len(), half_range.len())?;
+        if centre.is_empty() {
+            return Err(RsmError::NoFactors);
+        }
+        if centre.iter().chain(&half_range).any(|v| !v.is_finite()) {
+            return Err(RsmError::NotFinite);
+        }
+        if half_range.iter().any(|&h| h <= 0.0) {
+            return Err(RsmError::BadBox);
+        }
+        Ok(Coding { centre, half_range })
+    }
+
+    /// Number of factors.
+    pub fn factors(&self) -> usize {
+        self.centre.len()
+    }
+
+    /// The centre (natural units).
+    pub fn centre(&self) -> &[f64] {
+        &self.centre
+    }
+
+    /// The half-ranges (natural units).
+    pub fn half_range(&self) -> &[f64] {
+        &self.half_range
+    }
+
+    /// `(x − centre) / half_range`.
+    pub fn to_coded(&self, natural: &[f64]) -> Vec<f64> {
+        natural
+            .iter()
+            .zip(self.centre.iter().zip(&self.half_range))
+            .map(|(x, (c, h))| (x - c) / h)
+            .collect()
+    }
+
+    /// `centre + half_range · coded`.
+    pub fn to_natural(&self, coded: &[f64]) -> Vec<f64> {
+        coded
+            .iter()
+            .zip(self.centre.iter().zip(&self.half_range))
+            .map(|(u, (c, h))| c + h * u)
+            .collect()
+    }
+
+    /// The natural-unit box of the coded box `[−s, s]^k`: `(lower, upper)`.
+    /// `s = 1` is the factorial box; `s = α` reaches the axial runs.
+    pub fn natural_box(&self, s: f64) -> (Vec<f64>, Vec<f64>) {
+        let lo = self.to_natural(&vec![-s; self.factors()]);
+        let hi = self.to_natural(&vec![s; self.factors()]);
+        (lo, hi)
+    }
+}
+
+// ---------------------------------------------------------------- the model
+
+/// A full quadratic in `k` variables (seed 000 Eq. 15), coefficients in the
+/// order `β0; β1..βk; β12, β13, .., β1k, β23, .., β(k−1)k; β11..βkk`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Quadratic {
+    factors: usize,
+    coefficients: Vec<f64>,
+}
+
+/// Index of `βij` (i < j, 0-based) among the interaction terms.
+fn pair_index(k: usize, i: usize, j: usize) -> usize {
+    // Pairs (0,1), (0,2), .., (0,k−1), (1,2), ..: rows before i hold
+    // Σ_{r<i} (k−1−r) pairs.
+    i * (2 * k - i - 1) / 2 + (j - i - 1)
+}
+
+impl Quadratic {
+    /// Number of terms `1 + k + k(k−1)/2 + k` of a full quadratic in `k` variables.
+    pub fn term_count(factors: usize) -> usize {
+        1 + 2 * factors + factors * factors.saturating_sub(1) / 2
+    }
+
+    /// A model from its coefficients in the documented order.
+    pub fn new(factors: usize, coefficients: Vec<f64>) -> Result<Self, RsmError> {
+        if factors == 0 {
+            return Err(RsmError::NoFactors);
+        }
+        check_dim("coefficients", Self::term_count(factors), coefficients.len())?;
+        Ok(Quadratic {
+            factors,
+            coefficients,
+        })
+    }
+
+    /// Number of variables `k`.
+    pub fn factors(&self) -> usize {
+        self.factors
+    }
+
+    /// The coefficients in the documented order.
+    pub fn coefficients(&self) -> &[f64] {
+        &self.coefficients
+    }
+
+    /// Names of the terms for `k` variables, `x1..xk` (1-based): `"1"`, `"x1"`,
+    /// …, `"x1*x2"`, …, `"x1^2"`, … (the coefficient names `β0, β1, .., β12,
+    /// .., β11, ..` follow the same order).
+    pub fn term_names(factors: usize) -> Vec<String> {
+        let mut v = vec!["1".to_string()];
+        v.extend((1..=factors).map(|i| format!("x{i}")));
+        for i in 1..=factors {
+            for j in i + 1..=factors {
+                v.push(format!("x{i}*x{j}"));
+            }
+        }
+        v.extend((1..=factors).map(|i| format!("x{i}^2")));
+        v
+    }
+
+    /// Names of the coefficients: `"b0"`, `"b1"`, …, `"b12"`, …, `"b11"`, …
+    /// (indices separated by `_` when k ≥ 10, e.g. `"b3_12"`).
+    pub fn coefficient_names(factors: usize) -> Vec<String> {
+        let sep = if factors >= 10 { "_" } else { "" };
+        let mut v = vec!["b0".to_string()];
+        v.extend((1..=factors).map(|i| format!("b{i}")));
+        for i in 1..=factors {
+            for j in i + 1..=factors {
+                v.push(format!("b{i}{sep}{j}"));
+            }
+        }
+        v.extend((1..=factors).map(|i| format!("b{i}{sep}{i}")));
+        v
+    }
+
+    /// The regressors `[1, x1, .., xk, x1x2, .., x1², ..]` of a point.
+    pub fn terms(x: &[f64]) -> Vec<f64> {
+        let k = x.len();
+        let mut t = Vec::with_capacity(Self::term_count(k));
+        t.push(1.0);
+        t.extend_from_slice(x);
+        for i in 0..k {
+            for j in i + 1..k {
+                t.push(x[i] * x[j]);
+            }
+        }
+        t.extend(x.iter().map(|v| v * v));
+        t
+    }
+
+    /// `β0`.
+    pub fn intercept(&self) -> f64 {
+        self.coefficients[0]
+    }
+
+    /// `βi` of variable `i` (0-based).
+    pub fn linear(&self, i: usize) -> f64 {
+        self.coefficients[1 + i]
+    }
+
+    /// `βij` (0-based, order irrelevant; `i == j` gives `βii`).
+    pub fn interaction(&self, i: usize, j: usize) -> f64 {
+        let k = self.factors;
+        if i == j {
+            return self.pure(i);
+        }
+        let (a, b) = if i < j { (i, j) } else { (j, i) };
+        self.coefficients[1 + k + pair_index(k, a, b)]
+    }
+
+    /// `βii` of variable `i` (0-based).
+    pub fn pure(&self, i: usize) -> f64 {
+        let k = self.factors;
+        self.coefficients[1 + k + k * (k - 1) / 2 + i]
+    }
+
+    /// The value at `x` (length `k`, the model's units).
+    pub fn eval(&self, x: &[f64]) -> f64 {
+        Self::terms(x)
+            .iter()
+            .zip(&self.coefficients)
+            .map(|(t, b)| t * b)
+            .sum()
+    }
+
+    /// The gradient `b + H x` at `x`.
+    pub fn gradient(&self, x: &[f64]) -> Vec<f64> {
+        let (_, b, h) = self.parts();
+        let g = b + &h * DVector::from_column_slice(x);
+        g.iter().copied().collect()
+    }
+
+    /// The model as `c + bᵀx + ½ xᵀ H x`: `(c, b, H)`, with `H` symmetric,
+    /// `H_ii = 2 βii`, `H_ij = βij`.
+    pub fn parts(&self) -> (f64, DVector<f64>, DMatrix<f64>) {
+        let k = self.factors;
+        let b = DVector::from_fn(k, |i, _| self.linear(i));
+        let h = DMatrix::from_fn(k, k, |i, j| {
+            if i == j {
+                2.0 * self.pure(i)
+            } else {
+                self.interaction(i, j)
+            }
+        });
+        (self.intercept(), b, h)
+    }
+
+    /// The model `c + bᵀx + ½ xᵀ H x` (`H` symmetrised).
+    pub fn from_parts(c: f64, b: &DVector<f64>, h: &DMatrix<f64>) -> Result<Self, RsmError> {
+        let k = b.len();
+        if k == 0 {
+            return Err(RsmError::NoFactors);
+        }
+        check_dim("Hessian rows", k, h.nrows())?;
+        check_dim("Hessian columns", k, h.ncols())?;
+        let mut coef = Vec::with_capacity(Self::term_count(k));
+        coef.push(c);
+        coef.extend(b.iter());
+        for i in 0..k {
+            for j in i + 1..k {
+                coef.push(0.5 * (h[(i, j)] + h[(j, i)]));
+            }
+        }
+        coef.extend((0..k).map(|i| 0.5 * h[(i, i)]));
+        Self::new(k, coef)
+    }
+
+    /// This model, fitted in coded units, expressed in natural units: the same
+    /// surface, `f_nat(x) = f_coded(coding.to_coded(x))`.
+    pub fn to_natural(&self, coding: &Coding) -> Result<Self, RsmError> {
+        check_dim("coding", self.factors, coding.factors())?;
+        // x_c = D (x − m), D = diag(1/h): H' = D H D, b' = D b − H' m,
+        // c' = c − bᵀ D m + ½ mᵀ H' m.
+        let (c, b, h) = self.parts();
+        let d = DVector::from_iterator(self.factors, coding.half_range.iter().map(|h| 1.0 / h));
+        let m = DVector::from_column_slice(&coding.centre);
+        let hn = DMatrix::from_fn(self.factors, self.factors, |i, j| d[i] * h[(i, j)] * d[j]);
+        let db = b.component_mul(&d);
+        let bn = &db - &hn * &m;
+        let cn = c - db.dot(&m) + 0.5 * m.dot(&(&hn * &m));
+        Self::from_parts(cn, &bn, &hn)
+    }
+
+    /// This model, in natural units, expressed in coded units:
+    /// `f_coded(u) = f_nat(coding.to_natural(u))`.
+    pub fn to_coded(&self, coding: &Coding) -> Result<Self, RsmError> {
+        check_dim("coding", self.factors, coding.factors())?;
+        // x = m + S u, S = diag(h): H' = S H S, b' = S (b + H m), c' = f(m).
+        let (_, b, h) = self.parts();
+        let s = DVector::from_column_slice(&coding.half_range);
+        let m = DVector::from_column_slice(&coding.centre);
+        let hc = DMatrix::from_fn(self.factors, self.factors, |i, j| s[i] * h[(i, j)] * s[j]);
+        let bc = (b + &h * &m).component_mul(&s);
+        let cc = self.eval(&coding.centre);
+        Self::from_parts(cc, &bc, &hc)
+    }
+
+    /// `Σ w_i · f_i`: the combined objective of several responses fitted in the
+    /// same units (e.g. TE1 + TE2 of seed 000 with weights 1, 1).
+    pub fn weighted_sum(parts: &[(f64, &Quadratic)]) -> Result<Self, RsmError> {
+        let first = parts.first().ok_or(RsmError::NoFactors)?;
+        let k = first.1.factors;
+        let mut coef = vec![0.0; Self::term_count(k)];
+        for (w, q) in parts {
+            check_dim("surfaces of a weighted sum", k, q.factors)?;
+            if !w.is_finite() {
+                return Err(RsmError::NotFinite);
+            }
+            for (c, b) in coef.iter_mut().zip(&q.coefficients) {
+                *c += w * b;
+            }
+        }
+        Self::new(k, coef)
+    }
+}
+
+/// A least-squares fit of a full quadratic.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fit {
+    /// The fitted model (in the units of the points given).
+    pub model: Quadratic,
+    /// Coefficient of determination `1 − SSE/SST` (NaN if the responses are all equal).
+    pub r2: f64,
+    /// Adjusted `R² = 1 − (1 − R²)(n − 1)/(n − p)` (NaN if `n = p`).
+    pub adj_r2: f64,
+    /// Residuals `y_i − f(x_i)`, in the order of the runs.
+    pub residuals: Vec<f64>,
+    /// Residual sum of squares `SSE = Σ r_i²`.
+    pub sse: f64,
+    /// Total sum of squares `SST = Σ (y_i − ȳ)²`.
+    pub sst: f64,
+    /// Number of runs `n`.
+    pub runs: usize,
+}
+
+impl Fit {
+    /// Root-mean-square residual `sqrt(SSE / n)`, in the response's unit.
+    pub fn rms_residual(&self) -> f64 {
+        (self.sse / self.runs as f64).sqrt()
+    }
+}
+
+/// Fits the full quadratic of seed 000 Eq. 15 to the runs `points` (each of
+/// length `k`) and responses `y` by least squares (an SVD of the `n × p`
+/// regression matrix).
+///
+/// Errors: fewer runs than terms, a rank-deficient design (singular values
+/// below [`RANK_TOLERANCE`] of the largest), mismatched lengths, NaN inputs.
+pub fn fit_quadratic(points: &[Vec<f64>], y: &[f64]) -> Result<Fit, RsmError> {
+    let n = points.len();
+    check_dim("responses", n, y.len())?;
+    let k = points.first().map(|p| p.len()).ok_or(RsmError::TooFewRuns {
+        runs: 0,
+        terms: 1,
+    })?;
+    if k == 0 {
+        return Err(RsmError::NoFactors);
+    }
+    let p = Quadratic::term_count(k);
+    if n < p {
+        return Err(RsmError::TooFewRuns { runs: n, terms: p });
+    }
+    let mut x = DMatrix::zeros(n, p);
+    for (r, pt) in points.iter().enumerate() {
+        check_dim("a run", k, pt.len())?;
+        if pt.iter().any(|v| !v.is_finite()) || !y[r].is_finite() {
+            return Err(RsmError::NotFinite);
+        }
+        for (c, t) in Quadratic::terms(pt).into_iter().enumerate() {
+            x[(r, c)] = t;
+        }
+    }
+    let yv = DVector::from_column_slice(y);
+    let svd = x.clone().svd(true, true);
+    let smax = svd.singular_values.max();
+    if !(smax > 0.0) || svd.singular_values.min() <= RANK_TOLERANCE * smax {
+        return Err(RsmError::RankDeficient);
+    }
+    let beta = svd
+        .solve(&yv, RANK_TOLERANCE * smax)
+        .map_err(|_| RsmError::RankDeficient)?;
+    let fitted = &x * &beta;
+    let residuals: Vec<f64> = (0..n).map(|i| y[i] - fitted[i]).collect();
+    let sse: f64 = residuals.iter().map(|r| r * r).sum();
+    let mean = y.iter().sum::<f64>() / n as f64;
+    let sst: f64 = y.iter().map(|v| (v - mean) * (v - mean)).sum();
+    let r2 = if sst > 0.0 { 1.0 - sse / sst } else { f64::NAN };
+    let adj_r2 = if n > p {
+        1.0 - (1.0 - r2) * (n as f64 - 1.0) / (n - p) as f64
+    } else {
+        f64::NAN
+    };
+    Ok(Fit {
+        model: Quadratic::new(k, beta.iter().copied().collect())?,
+        r2,
+        adj_r2,
+        residuals,
+        sse,
+        sst,
+        runs: n,
+    })
+}
+
+// ---------------------------------------------------------------- minimum in a box
+
+/// The minimum of a surface in a box.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoxMinimum {
+    /// The minimiser (the model's units).
+    pub x: Vec<f64>,
+    /// The surface's value there.
+    pub value: f64,
+    /// Per variable: `-1` at its lower bound, `+1` at its upper bound, `0` inside.
+    pub active: Vec<i8>,
+}
+
+fn check_box(k: usize, lo: &[f64], hi: &[f64]) -> Result<(), RsmError> {
+    check_dim("lower bounds", k, lo.len())?;
+    check_dim("upper bounds", k, hi.len())?;
+    if lo.iter().chain(hi).any(|v| !v.is_finite()) {
+        return Err(RsmError::NotFinite);
+    }
+    if lo.iter().zip(hi).any(|(l, h)| !(l < h)) {
+        return Err(RsmError::BadBox);
+    }
+    Ok(())
+}
+
+fn active_set(x: &[f64], lo: &[f64], hi: &[f64]) -> Vec<i8> {
+    x.iter()
+        .zip(lo.iter().zip(hi))
+        .map(|(&v, (&l, &h))| {
+            let tol = 1e-12 * (h - l);
+            if v <= l + tol {
+                -1
+            } else if v >= h - tol {
+                1
+            } else {
+                0
+            }
+        })
+        .collect()
+}
+
+/// The stationary point of `q` on the face where the variables with
+/// `state[i] = -1/+1` sit at their lower/upper bound and the others are free,
+/// if the reduced system is regular and its solution lies in the box
+/// (clamped to it).
+fn face_point(
+    b: &DVector<f64>,
+    h: &DMatrix<f64>,
+    state: &[i8],
+    lo: &[f64],
+    hi: &[f64],
+) -> Option<Vec<f64>> {
+    let k = state.len();
+    let mut x: Vec<f64> = (0..k)
+        .map(|i| match state[i] {
+            -1 => lo[i],
+            1 => hi[i],
+            _ => 0.5 * (lo[i] + hi[i]),
+        })
+        .collect();
+    let free: Vec<usize> = (0..k).filter(|&i| state[i] == 0).collect();
+    if free.is_empty() {
+        return Some(x);
+    }
+    let m = free.len();
+    // H_FF x_F = −(b_F + H_FB x_B)
+    let hff = DMatrix::from_fn(m, m, |r, c| h[(free[r], free[c])]);
+    let rhs = DVector::from_fn(m, |r, _| {
+        let i = free[r];
+        let mut v = -b[i];
+        for j in 0..k {
+            if state[j] != 0 {
+                v -= h[(i, j)] * x[j];
+            }
+        }
+        v
+    });
+    let sol = hff.lu().solve(&rhs)?;
+    for (r, &i) in free.iter().enumerate() {
+        let v = sol[r];
+        let tol = 1e-9 * (hi[i] - lo[i]);
+        if !v.is_finite() || v < lo[i] - tol || v > hi[i] + tol {
+            return None;
+        }
+        x[i] = v.clamp(lo[i], hi[i]);
+    }
+    Some(x)
+}
+
+/// The minimum of the quadratic `q` over the box `lo ≤ x ≤ hi` (the model's
+/// units; to minimise a coded-unit model over a natural-unit box, convert it
+/// first with [`Quadratic::to_natural`]).
+///
+/// For `k ≤` [`EXACT_MAX_FACTORS`] the result is exact: the minimiser lies in
+/// the relative interior of some face of the box (all `3^k` of them: each
+/// variable at its lower bound, its upper bound, or free), where the gradient
+/// with respect to the free variables vanishes, `H_FF x_F = −(b_F + H_FB x_B)`.
+/// Every face with a regular `H_FF` whose solution is in the box is a
+/// candidate and the lowest candidate wins. A face whose `H_FF` is singular
+/// can be skipped: if the minimiser lay only there, `f` would be constant
+/// along a null direction of `H_FF` (gradient zero, curvature zero), and
+/// following it to the face's boundary gives an equally low point on a
+/// smaller face. Vertices have no free variable and are always candidates.
+///
+/// For more factors, [`minimize_in_box_projected`] from the centre, the
+/// centres of the faces and the vertex the gradient points away from.
+pub fn minimize_in_box(q: &Quadratic, lo: &[f64], hi: &[f64]) -> Result<BoxMinimum, RsmError> {
+    let k = q.factors();
+    check_box(k, lo, hi)?;
+    if k > EXACT_MAX_FACTORS {
+        let centre: Vec<f64> = lo.iter().zip(hi).map(|(l, h)| 0.5 * (l + h)).collect();
+        let mut starts = vec![centre.clone()];
+        for i in 0..k {
+            for bound in [lo[i], hi[i]] {
+                let mut s = centre.clone();
+                s[i] = bound;
+                starts.push(s);
+            }
+        }
+        let g = q.gradient(&centre);
+        starts.push((0..k).map(|i| if g[i] > 0.0 { lo[i] } else { hi[i] }).collect());
+        return minimize_in_box_projected(q, lo, hi, &starts);
+    }
+    let (_, b, h) = q.parts();
+    let mut state = vec![-1i8; k];
+    let mut best: Option<(f64, Vec<f64>)> = None;
+    loop {
+        if let Some(x) = face_point(&b, &h, &state, lo, hi) {
+            let v = q.eval(&x);
+            if best.as_ref().is_none_or(|(bv, _)| v < *bv) {
+                best = Some((v, x));
+            }
+        }
+        // Next state in {−1, 0, +1}^k.
+        let mut i = 0;
+        while i < k {
+            if state[i] < 1 {
+                state[i] += 1;
+                break;
+            }
+            state[i] = -1;
+            i += 1;
+        }
+        if i == k {
+            break;
+        }
+    }
+    // Vertices are always feasible, so there is a candidate.
+    let (value, x) = best.ok_or(RsmError::BadBox)?;
+    Ok(BoxMinimum {
+        active: active_set(&x, lo, hi),
+        x,
+        value,
+    })
+}
+
+/// The minimum of `q` over the box by projected gradient descent (Armijo
+/// backtracking, in box-normalised variables so that the factors' scales do
+/// not matter) from each of `starts` (projected into the box), each result
+/// polished by solving the face system of its active set; the lowest wins.
+///
+/// A local method: for a convex surface any start gives the global minimum;
+/// otherwise the result is the best local minimum found from the starts
+/// (e.g. the design runs and the box's vertices). With no starts, the centre
+/// of the box is used.
+pub fn minimize_in_box_projected(
+    q: &Quadratic,
+    lo: &[f64],
+    hi: &[f64],
+    starts: &[Vec<f64>],
+) -> Result<BoxMinimum, RsmError> {
+    let k = q.factors();
+    check_box(k, lo, hi)?;
+    for s in starts {
+        check_dim("a start point", k, s.len())?;
+    }
+    // u ∈ [0,1]^k, x = lo + w u, w = hi − lo: the scaled model.
+    let w: Vec<f64> = lo.iter().zip(hi).map(|(l, h)| h - l).collect();
+    let scaled = q.to_coded(&Coding::new(lo.to_vec(), w.clone())?)?;
+    let (_, b, h) = scaled.parts();
+    let zeros = vec![0.0; k];
+    let ones = vec![1.0; k];
+    let lipschitz = h.norm().max(1e-300);
+    let project = |u: &mut [f64]| u.iter_mut().for_each(|v| *v = v.clamp(0.0, 1.0));
+    let mut centre_only = Vec::new();
+    let starts: &[Vec<f64>] = if starts.is_empty() {
+        centre_only.push(lo.iter().zip(hi).map(|(l, h)| 0.5 * (l + h)).collect());
+        &centre_only
+    } else {
+        starts
+    };
+    let mut best: Option<(f64, Vec<f64>)> = None;
+    for s in starts {
+        let mut u: Vec<f64> = s
+            .iter()
+            .zip(lo.iter().zip(&w))
+            .map(|(x, (l, w))| ((x - l) / w).clamp(0.0, 1.0))
+            .collect();
+        if u.iter().any(|v| !v.is_finite()) {
+            return Err(RsmError::NotFinite);
+        }
+        let mut fu = scaled.eval(&u);
+        let mut step = 1.0 / lipschitz;
+        for _ in 0..20_000 {
+            let g = scaled.gradient(&u);
+            let mut moved = false;
+            let mut t = step * 4.0;
+            for _ in 0..60 {
+                let mut un: Vec<f64> = u.iter().zip(&g).map(|(x, g)| x - t * g).collect();
+                project(&mut un);
+                let d: f64 = un.iter().zip(&u).zip(&g).map(|((a, b), g)| g * (a - b)).sum();
+                let fn_ = scaled.eval(&un);
+                if fn_ <= fu + 1e-4 * d {
+                    let dx: f64 = un.iter().zip(&u).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+                    moved = dx > 1e-15;
+                    u = un;
+                    fu = fn_;
+                    step = t;
+                    break;
+                }
+                t *= 0.5;
+            }
+            if !moved {
+                break;
+            }
+        }
+        // Polish: solve the face system of the final active set.
+        let state = active_set(&u, &zeros, &ones);
+        if let Some(up) = face_point(&b, &h, &state, &zeros, &ones) {
+            let fp = scaled.eval(&up);
+            if fp <= fu {
+                u = up;
+                fu = fp;
+            }
+        }
+        if best.as_ref().is_none_or(|(bv, _)| fu < *bv) {
+            best = Some((fu, u));
+        }
+    }
+    let (_, u) = best.ok_or(RsmError::BadBox)?;
+    let x: Vec<f64> = u
+        .iter()
+        .zip(lo.iter().zip(&w))
+        .map(|(u, (l, w))| (l + w * u).clamp(*l, l + w))
+        .collect();
+    Ok(BoxMinimum {
+        value: q.eval(&x),
+        active: active_set(&x, lo, hi),
+        x,
+    })
+}
+
+/// The minimum of `Σ w_i f_i` over the box: [`Quadratic::weighted_sum`] then
+/// [`minimize_in_box`].
+pub fn minimize_weighted_in_box(
+    surfaces: &[(f64, &Quadratic)],
+    lo: &[f64],
+    hi: &[f64],
+) -> Result<BoxMinimum, RsmError> {
+    minimize_in_box(&Quadratic::weighted_sum(surfaces)?, lo, hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn approx(a: f64, b: f64, tol: f64) -> bool {
+        (a - b).abs() <= tol
+    }
+
+    #[test]
+    fn ccd_sizes_and_levels() {
+        let d = Ccd::new(3, CcdKind::Circumscribed, 1).unwrap();
+        assert_eq!(d.runs(), 15);
+        assert!(approx(d.alpha(), 1.681_792_830_507_429, 1e-12));
+        let pts = d.coded_points();
+        assert_eq!(pts.len(), 15);
+        assert_eq!(pts[0], vec![-1.0, -1.0, -1.0]);
+        assert_eq!(pts[1], vec![1.0, -1.0, -1.0]);
+        assert_eq!(pts[7], vec![1.0, 1.0, 1.0]);
+        assert!(approx(pts[8][0], -d.alpha(), 0.0));
+        assert_eq!(pts[14], vec![0.0; 3]);
+        // For k = 4 the axial runs are as far out as the factorial ones: α = 2 = √4.
+        let d4 = Ccd::new(4, CcdKind::Circumscribed, 0).unwrap();
+        assert!(approx(d4.alpha(), 2.0, 1e-12));
+        let f = Ccd::new(2, CcdKind::FaceCentred, 3).unwrap();
+        assert_eq!(f.runs(), 4 + 4 + 3);
+        assert!(f
+            .coded_points()
+            .iter()
+            .all(|p| p.iter().all(|v| v.abs() <= 1.0)));
+        let i = Ccd::new(3, CcdKind::Inscribed, 1).unwrap();
+        let pts = i.coded_points();
+        assert!(pts.iter().all(|p| p.iter().all(|v| v.abs() <= 1.0 + 1e-15)));
+        assert!(approx(pts[0][0], -1.0 / rotatable_alpha(3), 1e-15));
+        assert_eq!(pts[8], vec![-1.0, 0.0, 0.0]);
+        assert_eq!(Ccd::new(0, CcdKind::Inscribed, 1), Err(RsmError::NoFactors));
+        // One factor: 2 factorial + 2 axial + n0.
+        assert_eq!(Ccd::new(1, CcdKind::Circumscribed, 2).unwrap().coded_points().len(), 6);
+    }
+
+    #[test]
+    fn rotatable_design_has_equal_prediction_variance_at_equal_radius() {
+        // Rotatability: xᵀ(XᵀX)⁻¹x depends only on |x|. Check two directions.
+        let d = Ccd::new(3, CcdKind::Circumscribed, 3).unwrap();
+        let pts = d.coded_points();
+        let p = Quadratic::term_count(3);
+        let mut x = DMatrix::zeros(pts.len(), p);
+        for (r, pt) in pts.iter().enumerate() {
+            for (c, t) in Quadratic::terms(pt).into_iter().enumerate() {
+                x[(r, c)] = t;
+            }
+        }
+        let inv = (x.transpose() * &x).try_inverse().unwrap();
+        let var = |pt: &[f64]| {
+            let t = DVector::from_vec(Quadratic::terms(pt));
+            (t.transpose() * &inv * &t)[(0, 0)]
+        };
+        let r = 0.7;
+        let a = var(&[r, 0.0, 0.0]);
+        let b = var(&[r / 3f64.sqrt(), r / 3f64.sqrt(), r / 3f64.sqrt()]);
+        let c = var(&[0.0, r / 2f64.sqrt(), -r / 2f64.sqrt()]);
+        assert!(approx(a, b, 1e-9) && approx(a, c, 1e-9), "{a} {b} {c}");
+    }
+
+    #[test]
+    fn coding_round_trips() {
+        let c = Coding::new(vec![0.75, 0.6, 0.1], vec![0.25, 0.3, 0.05]).unwrap();
+        let x = vec![0.33, 1.1, 0.016];
+        let back = c.to_natural(&c.to_coded(&x));
+        assert!(x.iter().zip(&back).all(|(a, b)| approx(*a, *b, 1e-15)));
+        let (lo, hi) = c.natural_box(1.0);
+        assert!(approx(lo[0], 0.5, 1e-15) && approx(hi[2], 0.15, 1e-15));
+        assert_eq!(Coding::new(vec![0.0], vec![0.0]), Err(RsmError::BadBox));
+    }
+
+    #[test]
+    fn coefficient_order_matches_eq_15() {
+        assert_eq!(Quadratic::term_count(3), 10);
+        assert_eq!(
+            Quadratic::coefficient_names(3),
+            ["b0", "b1", "b2", "b3", "b12", "b13", "b23", "b11", "b22", "b33"]
+        );
+        assert_eq!(Quadratic::term_names(2), ["1", "x1", "x2", "x1*x2", "x1^2", "x2^2"]);
+        let q = Quadratic::new(3, (0..10).map(f64::from).collect()).unwrap();
+        assert_eq!(q.interaction(0, 1), 4.0);
+        assert_eq!(q.interaction(2, 0), 5.0);
+        assert_eq!(q.interaction(1, 2), 6.0);
+        assert_eq!(q.pure(2), 9.0);
+        assert_eq!(q.interaction(1, 1), 8.0);
+        // Index of pairs for k = 4: (0,1)=0 .. (0,3)=2, (1,2)=3, (1,3)=4, (2,3)=5.
+        assert_eq!(pair_index(4, 1, 3), 4);
+        assert_eq!(pair_index(4, 2, 3), 5);
+    }
+
+    /// A known quadratic in 3 variables.
+    fn truth() -> Quadratic {
+        Quadratic::new(3, vec![2.0, -1.0, 0.5, 3.0, 0.4, -0.7, 0.2, 1.5, 2.0, 0.8]).unwrap()
+    }
+
+    #[test]
+    fn fit_recovers_an_exact_quadratic_on_a_ccd() {
+        let q = truth();
+        let pts = Ccd::new(3, CcdKind::Circumscribed, 2).unwrap().coded_points();
+        let y: Vec<f64> = pts.iter().map(|p| q.eval(p)).collect();
+        let fit = fit_quadratic(&pts, &y).unwrap();
+        for (a, b) in fit.model.coefficients().iter().zip(q.coefficients()) {
+            assert!(approx(*a, *b, 1e-10), "{a} vs {b}");
+        }
+        assert!(approx(fit.r2, 1.0, 1e-12));
+        assert!(fit.sse < 1e-18);
+    }
+
+    #[test]
+    fn fit_errors() {
+        let pts = vec![vec![0.0, 0.0]; 6];
+        assert_eq!(
+            fit_quadratic(&pts, &[1.0; 6]).unwrap_err(),
+            RsmError::RankDeficient
+        );
+        assert!(matches!(
+            fit_quadratic(&pts[..3], &[1.0; 3]),
+            Err(RsmError::TooFewRuns { runs: 3, terms: 6 })
+        ));
+        assert!(matches!(
+            fit_quadratic(&pts, &[1.0; 5]),
+            Err(RsmError::DimensionMismatch { .. })
+        ));
+        let mut bad = Ccd::new(2, CcdKind::FaceCentred, 1).unwrap().coded_points();
+        bad[0][0] = f64::NAN;
+        assert_eq!(fit_quadratic(&bad, &[1.0; 9]).unwrap_err(), RsmError::NotFinite);
+    }
+
+    #[test]
+    fn r2_is_the_same_coded_or_natural_and_conversions_agree() {
+        let coding = Coding::new(vec![0.75, 0.6, 0.1], vec![0.25, 0.3, 0.05]).unwrap();
+        let design = Ccd::new(3, CcdKind::Circumscribed, 1).unwrap();
+        let coded = design.coded_points();
+        let natural = design.natural_points(&coding).unwrap();
+        // A non-quadratic response, so that R² < 1.
+        let y: Vec<f64> = coded
+            .iter()
+            .map(|p| (p[0] + 0.3 * p[1]).exp() + p[2].powi(3) + 0.1 * p[0] * p[1] * p[2])
+            .collect();
+        let fc = fit_quadratic(&coded, &y).unwrap();
+        let fnat = fit_quadratic(&natural, &y).unwrap();
+        assert!(fc.r2 < 0.9999);
+        assert!(approx(fc.r2, fnat.r2, 1e-9), "{} {}", fc.r2, fnat.r2);
+        assert!(approx(fc.adj_r2, fnat.adj_r2, 1e-9));
+        let conv = fc.model.to_natural(&coding).unwrap();
+        for (a, b) in conv.coefficients().iter().zip(fnat.model.coefficients()) {
+            assert!(approx(*a, *b, 1e-7 * b.abs().max(1.0)), "{a} vs {b}");
+        }
+        let back = conv.to_coded(&coding).unwrap();
+        for (a, b) in back.coefficients().iter().zip(fc.model.coefficients()) {
+            assert!(approx(*a, *b, 1e-9 * b.abs().max(1.0)), "{a} vs {b}");
+        }
+        let x = [0.6, 0.4, 0.07];
+        assert!(approx(conv.eval(&x), fc.model.eval(&coding.to_coded(&x)), 1e-10));
+    }
+
+    #[test]
+    fn parts_round_trip_and_gradient() {
+        let q = truth();
+        let (c, b, h) = q.parts();
+        assert_eq!(Quadratic::from_parts(c, &b, &h).unwrap(), q);
+        let x = [0.3, -0.2, 0.9];
+        let g = q.gradient(&x);
+        for i in 0..3 {
+            let e = 1e-6;
+            let mut xp = x;
+            let mut xm = x;
+            xp[i] += e;
+            xm[i] -= e;
+            let fd = (q.eval(&xp) - q.eval(&xm)) / (2.0 * e);
+            assert!(approx(g[i], fd, 1e-6), "{} {}", g[i], fd);
+        }
+    }
+
+    /// Brute force over a grid, for comparison.
+    fn grid_min(q: &Quadratic, lo: &[f64], hi: &[f64], n: usize) -> f64 {
+        let k = q.factors();
+        let mut best = f64::INFINITY;
+        let mut idx = vec![0usize; k];
+        loop {
+            let x: Vec<f64> = (0..k)
+                .map(|i| lo[i] + (hi[i] - lo[i]) * idx[i] as f64 / (n - 1) as f64)
+                .collect();
+            best = best.min(q.eval(&x));
+            let mut i = 0;
+            while i < k {
+                idx[i] += 1;
+                if idx[i] < n {
+                    break;
+                }
+                idx[i] = 0;
+                i += 1;
+            }
+            if i == k {
+                return best;
+            }
+        }
+    }
+
+    #[test]
+    fn box_minimum_interior_face_and_vertex() {
+        // Convex with its unconstrained minimum inside the box.
+        let q = Quadratic::new(2, vec![0.0, -2.0, -4.0, 0.0, 1.0, 1.0]).unwrap(); // (x−1)²+(y−2)²−5
+        let m = minimize_in_box(&q, &[-5.0, -5.0], &[5.0, 5.0]).unwrap();
+        assert!(approx(m.x[0], 1.0, 1e-12) && approx(m.x[1], 2.0, 1e-12));
+        assert_eq!(m.active, vec![0, 0]);
+        // Same surface, box excludes the minimum: lands on the face y = 1.
+        let m = minimize_in_box(&q, &[-5.0, -1.0], &[5.0, 1.0]).unwrap();
+        assert!(approx(m.x[0], 1.0, 1e-12) && approx(m.x[1], 1.0, 1e-12));
+        assert_eq!(m.active, vec![0, 1]);
+        // Concave: the minimum is at a vertex.
+        let q = Quadratic::new(2, vec![0.0, 0.1, 0.0, 0.0, -1.0, -1.0]).unwrap();
+        let m = minimize_in_box(&q, &[-1.0, -1.0], &[1.0, 1.0]).unwrap();
+        assert!(approx(m.x[0], -1.0, 1e-12) && m.x[1].abs() == 1.0);
+        assert!(approx(m.value, -2.1, 1e-12));
+        assert_eq!(
+            minimize_in_box(&q, &[1.0, -1.0], &[1.0, 1.0]),
+            Err(RsmError::BadBox)
+        );
+    }
+
+    #[test]
+    fn box_minimum_matches_brute_force_on_indefinite_surfaces() {
+        // Saddles in 3 variables, several boxes.
+        let surfaces = [
+            truth(),
+            Quadratic::new(3, vec![1.0, 0.3, -0.2, 0.5, 2.0, -1.0, 0.5, -0.5, 1.0, -0.2]).unwrap(),
+            Quadratic::new(3, vec![0.0, 1.0, 1.0, 1.0, 3.0, 3.0, 3.0, 1.0, 1.0, 1.0]).unwrap(),
+        ];
+        let boxes = [
+            (vec![-1.0, -1.0, -1.0], vec![1.0, 1.0, 1.0]),
+            (vec![-2.0, 0.5, -0.3], vec![0.1, 3.0, 0.4]),
+        ];
+        for q in &surfaces {
+            for (lo, hi) in &boxes {
+                let m = minimize_in_box(q, lo, hi).unwrap();
+                let g = grid_min(q, lo, hi, 61);
+                assert!(m.value <= g + 1e-12, "exact {} vs grid {}", m.value, g);
+                assert!(m.value >= g - 0.05 * (1.0 + g.abs()), "{} {}", m.value, g);
+                assert!(m.x.iter().zip(lo.iter().zip(hi)).all(|(x, (l, h))| x >= l && x <= h));
+                // The projected method from the vertices finds the same minimum.
+                let mut starts = Vec::new();
+                for v in 0..8 {
+                    starts.push((0..3).map(|i| if (v >> i) & 1 == 1 { hi[i] } else { lo[i] }).collect());
+                }
+                let p = minimize_in_box_projected(q, lo, hi, &starts).unwrap();
+                assert!(approx(p.value, m.value, 1e-9 * (1.0 + m.value.abs())), "{} {}", p.value, m.value);
+            }
+        }
+    }
+
+    #[test]
+    fn many_factors_use_the_projected_method() {
+        // k = 12 convex separable: minimum at clamp(target).
+        let k = 12;
+        let target: Vec<f64> = (0..k).map(|i| -1.5 + 0.25 * i as f64).collect();
+        let mut b = DVector::zeros(k);
+        let mut h = DMatrix::zeros(k, k);
+        for i in 0..k {
+            h[(i, i)] = 2.0;
+            b[i] = -2.0 * target[i];
+        }
+        let q = Quadratic::from_parts(0.0, &b, &h).unwrap();
+        let m = minimize_in_box(&q, &vec![-1.0; k], &vec![1.0; k]).unwrap();
+        for i in 0..k {
+            assert!(approx(m.x[i], target[i].clamp(-1.0, 1.0), 1e-9), "{i}: {}", m.x[i]);
+        }
+    }
+
+    #[test]
+    fn weighted_sum_is_the_sum_of_values() {
+        let a = truth();
+        let b = Quadratic::new(3, vec![1.0; 10]).unwrap();
+        let s = Quadratic::weighted_sum(&[(1.0, &a), (2.0, &b)]).unwrap();
+        let x = [0.2, -0.4, 0.9];
+        assert!(approx(s.eval(&x), a.eval(&x) + 2.0 * b.eval(&x), 1e-12));
+        let m = minimize_weighted_in_box(&[(1.0, &a), (2.0, &b)], &[-1.0; 3], &[1.0; 3]).unwrap();
+        assert!(approx(m.value, minimize_in_box(&s, &[-1.0; 3], &[1.0; 3]).unwrap().value, 0.0));
+        let c = Quadratic::new(2, vec![0.0; 6]).unwrap();
+        assert!(matches!(
+            Quadratic::weighted_sum(&[(1.0, &a), (1.0, &c)]),
+            Err(RsmError::DimensionMismatch { .. })
+        ));
+    }
+}

@@ -1,0 +1,512 @@
+//! The full deployment simulator: the core's chain equations in `f64`,
+//! integrated by Dormand–Prince 5(4) ([`crate::ode`]) with event location on
+//! the dense output for
+//! - latches: `φ_j` reaching 0 from the stowed side, located to 1e-12 s,
+//!   followed by the plastic impulse of `physics.md` section 5;
+//! - tape-spring branch switches: `φ_j·φ̇_j` changing sign where folding and
+//!   unfolding differ (seed 001 Eq. 1).
+//!
+//! Between events the right-hand side is smooth, so the error control sees
+//! no discontinuity; every restart re-evaluates the derivative.
+
+use crate::effect::{self, Effect};
+use crate::mechanism::Mechanism;
+use crate::ode::{self, Dense, State};
+use deploywatch_core::{Branch, Chain, Mode};
+
+/// Integration and output settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimOptions {
+    /// Relative tolerance of the error control.
+    pub rtol: f64,
+    /// Absolute tolerance [rad, rad/s].
+    pub atol: f64,
+    /// Largest step [s].
+    pub max_step_s: f64,
+    /// Simulated time limit [s]; the mechanism's `duration_s` when `None`.
+    pub duration_s: Option<f64>,
+    /// Output rate [Hz]; the mechanism's `sample_hz` when `None`.
+    pub sample_hz: Option<f64>,
+    /// Latch joints at `φ = 0` (the reference). When false, joints swing
+    /// through and the simulation runs the whole duration (energy checks).
+    pub latching: bool,
+    /// End at the first sample at or after the last latch (formats.md).
+    pub stop_when_deployed: bool,
+}
+
+impl Default for SimOptions {
+    fn default() -> Self {
+        SimOptions {
+            rtol: 1e-8,
+            atol: 1e-10,
+            max_step_s: 0.05,
+            duration_s: None,
+            sample_hz: None,
+            latching: true,
+            stop_when_deployed: true,
+        }
+    }
+}
+
+/// Counters of one simulation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SimStats {
+    /// Accepted steps.
+    pub steps: usize,
+    /// Rejected steps.
+    pub rejected: usize,
+    /// Evaluations of the equations of motion.
+    pub evaluations: usize,
+    /// Latch and branch events.
+    pub events: usize,
+}
+
+/// A simulated deployment, sampled at the output rate.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Trajectory {
+    /// Sample times [s].
+    pub t_s: Vec<f64>,
+    /// `phi_deg[j][i]`: joint j+1 at sample i [deg] (true angle, no sensor).
+    pub phi_deg: Vec<Vec<f64>>,
+    /// `rate_deg_s[j][i]`: joint j+1's rate [deg/s].
+    pub rate_deg_s: Vec<Vec<f64>>,
+    /// `latched[j][i]`: joint j+1 latched at sample i.
+    pub latched: Vec<Vec<bool>>,
+    /// Latch instant of each joint [s], `None` if it never latched.
+    pub latch_s: Vec<Option<f64>>,
+    /// Where the simulation stopped [s].
+    pub end_s: f64,
+    /// Work done.
+    pub stats: SimStats,
+}
+
+impl Trajectory {
+    /// Number of joints.
+    pub fn joints(&self) -> usize {
+        self.phi_deg.len()
+    }
+
+    /// True when every joint latched.
+    pub fn deployed(&self) -> bool {
+        self.latch_s.iter().all(Option::is_some)
+    }
+}
+
+/// Why a simulation failed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SimError {
+    /// The mechanism or an effect is not valid for simulation.
+    #[error("{0}")]
+    Invalid(String),
+    /// The equations could not be evaluated (singular mass matrix or a state
+    /// that is not finite).
+    #[error("the equations of motion failed at t = {t_s:.6} s (singular mass matrix or non-finite state)")]
+    Singular {
+        /// Simulated time [s].
+        t_s: f64,
+    },
+    /// The step size fell below 1e-13 s: the model is too stiff or discontinuous.
+    #[error("step size underflow at t = {t_s:.6} s: the model is too stiff here")]
+    StepUnderflow {
+        /// Simulated time [s].
+        t_s: f64,
+    },
+    /// A tape-spring joint sticks at `φ̇ = 0` where neither branch is
+    /// consistent (the reference reports this as an error too).
+    #[error("joint {joint} slides on φ̇ = 0 at t = {t_s:.6} s: neither spring branch is consistent")]
+    Sliding {
+        /// 1-based joint.
+        joint: usize,
+        /// Simulated time [s].
+        t_s: f64,
+    },
+}
+
+/// Simulates a mechanism with extra effects (sensor effects are ignored
+/// here: see [`crate::sensor`]).
+pub fn simulate(mech: &Mechanism, effects: &[Effect], opts: &SimOptions) -> Result<Trajectory, SimError> {
+    let n = mech.joint_count();
+    for e in effects {
+        e.validate(n).map_err(SimError::Invalid)?;
+    }
+    let (je, g) = effect::to_core(effects, n);
+    let duration = opts.duration_s.unwrap_or(mech.duration_s);
+    let rate = opts.sample_hz.unwrap_or(mech.sample_hz);
+    if !(duration > 0.0 && duration.is_finite()) || !(rate > 0.0 && rate.is_finite()) {
+        return Err(SimError::Invalid(format!(
+            "duration ({duration} s) and sample rate ({rate} Hz) must be positive"
+        )));
+    }
+    let bad = || SimError::Invalid(format!("mechanism `{}` cannot be built", mech.name));
+    match n {
+        1 => run_chain(&mech.chain::<1>(&je, g).ok_or_else(bad)?, duration, rate, opts),
+        2 => run_chain(&mech.chain::<2>(&je, g).ok_or_else(bad)?, duration, rate, opts),
+        3 => run_chain(&mech.chain::<3>(&je, g).ok_or_else(bad)?, duration, rate, opts),
+        4 => run_chain(&mech.chain::<4>(&je, g).ok_or_else(bad)?, duration, rate, opts),
+        _ => Err(SimError::Invalid(format!(
+            "mechanism `{}` has {n} joints; 1 to 4 are supported",
+            mech.name
+        ))),
+    }
+}
+
+/// What the event search found in a step.
+#[derive(Clone, Copy, Debug)]
+enum Event {
+    Latch(usize),
+    Branch(usize),
+}
+
+/// The integrator's discrete bookkeeping.
+struct Integrator<'a, const N: usize> {
+    chain: &'a Chain<f64, N>,
+    mode: Mode<N>,
+    /// `sign(φ_stowed)`: the side a latch is reached from.
+    side: [f64; N],
+    /// Where each joint's branch matters [rad] (`None`: no hysteresis).
+    hyst: [Option<f64>; N],
+    evaluations: usize,
+}
+
+impl<const N: usize> Integrator<'_, N> {
+    fn deriv(&mut self, y: &State<N>) -> Option<State<N>> {
+        self.evaluations += 1;
+        let a = self.chain.acceleration(&y.chain(), &self.mode).ok()?;
+        let mut v = y.v;
+        for (j, vj) in v.iter_mut().enumerate() {
+            if self.mode.latched[j] {
+                *vj = 0.0;
+            }
+        }
+        Some(State { q: v, v: a })
+    }
+
+    /// The branch rule of seed 001 Eq. 1 at a state, with the reference's
+    /// convention at rest: F, unless F starts the joint unfolding.
+    fn choose_branch(&mut self, y: &State<N>, j: usize) -> Branch {
+        let g = y.q[j] * y.v[j];
+        if g < 0.0 {
+            return Branch::Unfold;
+        }
+        if g > 0.0 {
+            return Branch::Fold;
+        }
+        let saved = self.mode.branch[j];
+        self.mode.branch[j] = Branch::Fold;
+        let acc = self.chain.acceleration(&y.chain(), &self.mode);
+        self.mode.branch[j] = saved;
+        match acc {
+            Ok(a) if y.q[j] * a[j] < 0.0 => Branch::Unfold,
+            _ => Branch::Fold,
+        }
+    }
+
+    /// Event function of a candidate, positive while no event happened.
+    ///
+    /// Between latch events `φ_j` keeps its sign (`side`), so the branch rule
+    /// `φ·φ̇ < 0` reduces to the sign of `φ̇`: a branch event is a turning
+    /// point of the joint, never its passage through `φ = 0`.
+    fn g(&self, ev: Event, y: &State<N>) -> f64 {
+        match ev {
+            Event::Latch(j) => self.side[j] * y.q[j],
+            Event::Branch(j) => {
+                let opening = -self.side[j] * y.v[j];
+                match self.mode.branch[j] {
+                    Branch::Unfold => opening,
+                    Branch::Fold => {
+                        if opening > 0.0 {
+                            -opening
+                        } else {
+                            f64::MIN_POSITIVE - opening
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The candidates that fire by the end of a step.
+    fn fired(&mut self, y0: &State<N>, y1: &State<N>) -> small_list::List<Event, 8> {
+        let mut out = small_list::List::new();
+        for j in 0..N {
+            if self.mode.latched[j] {
+                continue;
+            }
+            if self.side[j] * y0.q[j] > 0.0 && self.side[j] * y1.q[j] <= 0.0 {
+                // A swing through φ = 0: a latch, or with latching off a kink
+                // of the spring's preload to restart at.
+                out.push(Event::Latch(j));
+            }
+            if let Some(below) = self.hyst[j] {
+                let want = if -self.side[j] * y1.v[j] > 0.0 {
+                    Branch::Unfold
+                } else {
+                    Branch::Fold
+                };
+                if want != self.mode.branch[j] {
+                    let near = y0.q[j].abs() < below || y1.q[j].abs() < below;
+                    if near {
+                        out.push(Event::Branch(j));
+                    } else {
+                        // F = U out there: switch without a restart.
+                        self.mode.branch[j] = want;
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+/// A tiny fixed-capacity list (events per step).
+mod small_list {
+    pub struct List<T: Copy, const C: usize> {
+        items: [Option<T>; C],
+        len: usize,
+    }
+    impl<T: Copy, const C: usize> List<T, C> {
+        pub fn new() -> Self {
+            List {
+                items: [None; C],
+                len: 0,
+            }
+        }
+        pub fn push(&mut self, t: T) {
+            if self.len < C {
+                self.items[self.len] = Some(t);
+                self.len += 1;
+            }
+        }
+        pub fn iter(&self) -> impl Iterator<Item = T> + '_ {
+            self.items[..self.len].iter().flatten().copied()
+        }
+        pub fn is_empty(&self) -> bool {
+            self.len == 0
+        }
+    }
+}
+
+/// Locates the root of `g` on the interpolant in `[t0, t1]` where
+/// `g(t0) > 0 ≥ g(t1)` (Illinois method), returning a time just past it
+/// (where `g ≤ 0`).
+fn locate<const N: usize>(g: impl Fn(&State<N>) -> f64, dense: &Dense<N>, t0: f64, t1: f64) -> f64 {
+    let (mut a, mut b) = (t0, t1);
+    let (mut fa, mut fb) = (g(&dense.at(a)), g(&dense.at(b)));
+    if fa <= 0.0 {
+        return a;
+    }
+    let mut side = 0;
+    for _ in 0..200 {
+        if b - a <= 1e-13 * (1.0 + b.abs()) {
+            break;
+        }
+        let mut c = (a * fb - b * fa) / (fb - fa);
+        if !(c > a && c < b) {
+            c = 0.5 * (a + b);
+        }
+        let fc = g(&dense.at(c));
+        if fc > 0.0 {
+            a = c;
+            fa = fc;
+            if side == -1 {
+                fb *= 0.5;
+            }
+            side = -1;
+        } else {
+            b = c;
+            fb = fc;
+            if side == 1 {
+                fa *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    b
+}
+
+/// Integrates a chain from its stowed state at rest.
+pub fn run_chain<const N: usize>(
+    chain: &Chain<f64, N>,
+    duration: f64,
+    rate: f64,
+    opts: &SimOptions,
+) -> Result<Trajectory, SimError> {
+    let mut it = Integrator {
+        chain,
+        mode: Mode::default(),
+        side: [0.0; N],
+        hyst: [None; N],
+        evaluations: 0,
+    };
+    let mut y = State::<N>::ZERO;
+    for (j, jt) in chain.joints().iter().enumerate() {
+        y.q[j] = jt.stowed_rad;
+        it.side[j] = if jt.stowed_rad >= 0.0 { 1.0 } else { -1.0 };
+        it.hyst[j] = jt.spring.hysteresis_below_rad();
+    }
+    for j in 0..N {
+        it.mode.branch[j] = it.choose_branch(&y, j);
+    }
+
+    let mut out = Trajectory {
+        t_s: Vec::new(),
+        phi_deg: vec![Vec::new(); N],
+        rate_deg_s: vec![Vec::new(); N],
+        latched: vec![Vec::new(); N],
+        latch_s: vec![None; N],
+        end_s: 0.0,
+        stats: SimStats::default(),
+    };
+    let last_k = (duration * rate + 1e-9).floor() as usize;
+    let mut k = 0usize;
+    let push = |out: &mut Trajectory, t: f64, s: &State<N>, latched: &[bool; N]| {
+        out.t_s.push(t);
+        for j in 0..N {
+            let (q, v) = if latched[j] { (0.0, 0.0) } else { (s.q[j], s.v[j]) };
+            out.phi_deg[j].push(q.to_degrees());
+            out.rate_deg_s[j].push(v.to_degrees());
+            out.latched[j].push(latched[j]);
+        }
+    };
+    push(&mut out, 0.0, &y, &it.mode.latched);
+    k += 1;
+
+    let mut t = 0.0;
+    let mut k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
+    let mut h = 1e-4f64.min(opts.max_step_s);
+    let mut same_instant_events = 0usize;
+    let mut done = false;
+    while !done && t < duration {
+        h = h.min(opts.max_step_s).min(duration - t);
+        if h < 1e-13 {
+            if duration - t < 1e-12 {
+                break;
+            }
+            return Err(SimError::StepUnderflow { t_s: t });
+        }
+        let mut f = |_t: f64, s: &State<N>| it.deriv(s);
+        let Some(att) = ode::step(&mut f, t, &y, &k1, h, opts.rtol, opts.atol) else {
+            // The trial state left the domain (e.g. NaN): shrink.
+            h *= 0.25;
+            out.stats.rejected += 1;
+            continue;
+        };
+        if att.err > 1.0 {
+            h = ode::next_h(h, att.err);
+            out.stats.rejected += 1;
+            continue;
+        }
+        out.stats.steps += 1;
+        let t1 = t + h;
+        let fired = it.fired(&y, &att.y1);
+        let mut t_end = t1;
+        let mut first: Option<Event> = None;
+        if !fired.is_empty() {
+            for ev in fired.iter() {
+                let te = locate(|s| it.g(ev, s), &att.dense, t, t1);
+                // A latch wins a tie: at φ = 0 the joint latches, whatever
+                // its rate does there.
+                let earlier = match ev {
+                    Event::Latch(_) => te <= t_end,
+                    Event::Branch(_) => te < t_end - 1e-12,
+                };
+                if first.is_none() || earlier {
+                    t_end = te;
+                    first = Some(ev);
+                }
+            }
+        }
+        // Samples up to the end of this (possibly cut) step. A sample at the
+        // event instant itself is taken after the event is applied.
+        while k <= last_k {
+            let tk = k as f64 / rate;
+            let inside = if first.is_some() { tk < t_end } else { tk <= t_end };
+            if !inside {
+                break;
+            }
+            push(&mut out, tk, &att.dense.at(tk), &it.mode.latched);
+            k += 1;
+        }
+        match first {
+            None => {
+                t = t1;
+                y = att.y1;
+                k1 = att.k7;
+                h = ode::next_h(h, att.err);
+                same_instant_events = 0;
+            }
+            Some(ev) => {
+                out.stats.events += 1;
+                same_instant_events = if (t_end - t).abs() < 1e-12 {
+                    same_instant_events + 1
+                } else {
+                    0
+                };
+                let mut ye = att.dense.at(t_end);
+                match ev {
+                    Event::Latch(_) if opts.latching => {
+                        // Every free joint at (or numerically past) the latch
+                        // angle now latches in the same impulse.
+                        let mut after = it.mode.latched;
+                        for j in 0..N {
+                            if !after[j] && it.side[j] * ye.q[j] <= 1e-12 {
+                                after[j] = true;
+                            }
+                        }
+                        let v = chain
+                            .latch_impulse(&ye.chain(), &after)
+                            .map_err(|_| SimError::Singular { t_s: t_end })?;
+                        ye.v = v;
+                        for j in 0..N {
+                            if after[j] && !it.mode.latched[j] {
+                                out.latch_s[j] = Some(t_end);
+                                ye.q[j] = 0.0;
+                                ye.v[j] = 0.0;
+                            }
+                        }
+                        it.mode.latched = after;
+                        if it.mode.latched.iter().all(|&l| l) && opts.stop_when_deployed {
+                            done = true;
+                        }
+                    }
+                    Event::Latch(j) => {
+                        // Latching off: restart on the other side of the kink.
+                        it.side[j] = -it.side[j];
+                        it.mode.branch[j] = it.choose_branch(&ye, j);
+                    }
+                    Event::Branch(j) => {
+                        if same_instant_events > 20 {
+                            return Err(SimError::Sliding {
+                                joint: j + 1,
+                                t_s: t_end,
+                            });
+                        }
+                        it.mode.branch[j] = it.choose_branch(&ye, j);
+                    }
+                }
+                t = t_end;
+                y = ye;
+                k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
+                // Restart with a modest step after a discontinuity.
+                h = h.min(1e-3);
+            }
+        }
+    }
+    out.end_s = t.min(duration);
+    // Close the run: the first sample at or after the last latch, or the
+    // samples left up to the duration.
+    while k <= last_k {
+        let tk = k as f64 / rate;
+        if tk > t + 1e-9 && !done {
+            break;
+        }
+        push(&mut out, tk, &y, &it.mode.latched);
+        k += 1;
+        if done {
+            break;
+        }
+    }
+    out.stats.evaluations = it.evaluations;
+    Ok(out)
+}
