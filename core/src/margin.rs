@@ -25,7 +25,16 @@
 //! σ²_E = W_C² σ²_TC + W_v² σ²_f + 2 W_C W_v σ_TC,f + (s_rel E_s)² + σ²_K,
 //! W_C = x₀ − x,  W_v = ∫ ω dθ
 //! ```
-//! and `P(latch) = Φ(min_x E(x)/σ_E(x))`. The time to latch sums
+//! The joint latches when `T_C < T*`, `T* = min_x A(x)/W_C(x)` with `A`
+//! the energy at `x` without the Coulomb loss; with `T_C ~ N(T̂_C, σ²)`
+//! truncated below at `L` (friction is never negative, nor smaller than the
+//! friction torque the observer sees now, [`MarginInput::coulomb_lower_nm`]):
+//!
+//! ```text
+//! P(latch) = [Φ((T* − T̂_C)/σ) − Φ((L − T̂_C)/σ)] / [1 − Φ((L − T̂_C)/σ)]
+//! σ² = σ²_TC + σ²_A / W_C²
+//! ```
+//! The time to latch sums
 //! `Δx / ½(ω_i + ω_{i+1})` over the steps.
 //!
 //! # Margin with uncertainty factors
@@ -125,6 +134,9 @@ pub struct MarginInput {
     pub viscous_nms: f32,
     /// Variance of `T_C`.
     pub coulomb_var: f32,
+    /// A lower bound of `T_C` from the friction torque seen now [N·m]
+    /// (0 for none): the estimate's distribution is truncated there.
+    pub coulomb_lower_nm: f32,
     /// Variance of `f`.
     pub viscous_var: f32,
     /// Covariance of `T_C` and `f`.
@@ -158,6 +170,22 @@ pub struct MarginResult {
 /// Standard normal distribution function `Φ(z) = ½ erfc(−z/√2)`.
 pub fn normal_cdf(z: f32) -> f32 {
     0.5 * libm::erfcf(-z * core::f32::consts::FRAC_1_SQRT_2)
+}
+
+/// `P(X < x | X ≥ lower)` for `X ~ N(mean, sd²)`.
+pub fn truncated_below_cdf(x: f32, mean: f32, sd: f32, lower: f32) -> f32 {
+    if !(x > lower) {
+        return 0.0;
+    }
+    let fl = normal_cdf((lower - mean) / sd);
+    let fx = normal_cdf((x - mean) / sd);
+    let tail = 1.0 - fl;
+    if tail > 1e-9 {
+        ((fx - fl) / tail).clamp(0.0, 1.0)
+    } else {
+        // The bound sits far above the estimate: the bound decides.
+        0.0
+    }
 }
 
 /// Evaluates the energy balance of the remaining stroke of one joint with
@@ -197,7 +225,11 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
     let mut e_s = 0.0f32;
     let mut w_c = 0.0f32;
     let mut w_v = 0.0f32;
-    let mut z_min = f32::INFINITY;
+    // The joint latches when T_C stays below T*_i = A_i / W_C,i at every
+    // node, A_i the energy there without the Coulomb loss; the most
+    // demanding node sets the threshold and its spread.
+    let mut t_star = f32::INFINITY;
+    let mut t_star_var = 0.0f32;
     let mut t_total = 0.0f32;
     let mut stalled = false;
     let mut omega = libm::sqrtf(2.0 * e.max(0.0) / inertia);
@@ -210,15 +242,18 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
         w_c += dx;
         w_v += omega * dx;
         e += gain - tc * dx - fv * omega * dx;
-        let var = w_c * w_c * x.coulomb_var.max(0.0)
-            + w_v * w_v * x.viscous_var.max(0.0)
-            + 2.0 * w_c * w_v * x.cov
-            + (s.spring_sd_rel * e_s) * (s.spring_sd_rel * e_s)
-            + var_k;
-        let sd = libm::sqrtf(var.max(0.0)).max(s.energy_sd_floor_j);
-        let z = e / sd;
-        if z < z_min {
-            z_min = z;
+        if w_c > 0.0 {
+            let a = e + tc * w_c;
+            let threshold = a / w_c;
+            if threshold < t_star {
+                t_star = threshold;
+                // Spread of A (viscous, spring, kinetic) in Coulomb units.
+                let var_a = w_v * w_v * x.viscous_var.max(0.0)
+                    + (s.spring_sd_rel * e_s) * (s.spring_sd_rel * e_s)
+                    + var_k
+                    + s.energy_sd_floor_j * s.energy_sd_floor_j;
+                t_star_var = var_a / (w_c * w_c);
+            }
         }
         let omega_next = libm::sqrtf(2.0 * e.max(0.0) / inertia);
         if e <= 0.0 {
@@ -237,7 +272,11 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
     } else {
         MARGIN_CAP_PCT
     };
-    let p = normal_cdf(z_min);
+    // P(T_C < T*) for T_C ~ N(T̂_C, σ²) truncated to T_C ≥ L (friction is
+    // never negative, and never below the torque it exerts now).
+    let sd = libm::sqrtf((x.coulomb_var.max(0.0) + t_star_var).max(1e-12));
+    let lower = x.coulomb_lower_nm.max(0.0);
+    let p = truncated_below_cdf(t_star, tc, sd, lower);
     MarginResult {
         margin_pct: if margin_pct.is_finite() { margin_pct } else { 0.0 },
         latch_probability: if p.is_finite() { p.clamp(0.0, 1.0) } else { 0.5 },
@@ -272,6 +311,7 @@ mod tests {
             coulomb_nm: tc,
             viscous_nms: 0.0,
             coulomb_var: 0.01,
+            coulomb_lower_nm: 0.0,
             viscous_var: 1e-6,
             cov: 0.0,
         }
@@ -302,6 +342,23 @@ mod tests {
         s.factors.coulomb = 2.0;
         let r2 = evaluate(&linear(), &input(1.0), &s);
         assert!((r2.margin_pct - ((ed / (2.0 * core::f32::consts::FRAC_PI_2) - 1.0) * 100.0)).abs() < 0.01);
+        // Uncertain friction near the threshold T* = 1.39 N·m: undecided,
+        // until the friction torque seen bounds T_C above T*.
+        let mut u = input(1.2);
+        u.coulomb_var = 0.5 * 0.5;
+        let r = evaluate(&linear(), &u, &SET);
+        assert!(r.latch_probability > 0.5 && r.latch_probability < 0.9, "{}", r.latch_probability);
+        u.coulomb_lower_nm = 1.45;
+        assert_eq!(evaluate(&linear(), &u, &SET).latch_probability, 0.0);
+    }
+
+    #[test]
+    fn truncated_normal() {
+        assert!((truncated_below_cdf(0.0, 0.0, 1.0, -100.0) - 0.5).abs() < 1e-6);
+        assert_eq!(truncated_below_cdf(1.0, 0.0, 1.0, 2.0), 0.0);
+        // Half the mass below the mean removed: P(X < mean | X ≥ mean − 1σ).
+        let p = truncated_below_cdf(0.0, 0.0, 1.0, -1.0);
+        assert!((p - (0.5 - 0.158_655_25) / (1.0 - 0.158_655_25)).abs() < 1e-5, "{p}");
     }
 
     #[test]

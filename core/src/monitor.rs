@@ -23,8 +23,8 @@ use crate::latch::{LatchConfig, LatchInput, LatchState, LatchTracker};
 use crate::linalg::solve_spd_masked;
 use crate::margin::{self, MarginInput, MarginResult, MarginSettings, UncertaintyFactors};
 use crate::observer::{
-    inverse_spd_masked, momentum_terms, FrictionObserver, FrictionPrior, Fusion, ObserverInput, ObserverTuning,
-    RateFilter,
+    inverse_spd_masked, momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation, ObserverInput,
+    ObserverTuning, RateFilter,
 };
 use crate::spring::{Branch, Spring};
 use serde::{Deserialize, Serialize};
@@ -193,8 +193,10 @@ impl Default for SensorConfig {
 /// Tuning of the rate filter and the friction observer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ObserverConfig {
-    /// Jerk spectral density of the rate filter [rad²/s⁵].
+    /// Jerk spectral density of the rate filter at the start [rad²/s⁵].
     pub jerk_psd: f32,
+    /// Its adaptation to the innovations.
+    pub jerk_adaptation: JerkAdaptation,
     /// The same inside the snap zone of a tape spring [rad²/s⁵].
     pub zone_jerk_psd: f32,
     /// `|φ|` below which a free joint is in its snap zone [deg]: the spring
@@ -220,7 +222,14 @@ pub struct ObserverConfig {
 impl Default for ObserverConfig {
     fn default() -> Self {
         ObserverConfig {
-            jerk_psd: 20.0,
+            jerk_psd: 1e-3,
+            jerk_adaptation: JerkAdaptation {
+                q_min: 1e-3,
+                q_max: 1e4,
+                high: 2.0,
+                low: 1.2,
+                weight: 0.05,
+            },
             zone_jerk_psd: 1.0e7,
             snap_zone_deg: 3.0,
             gate_sigma: 6.0,
@@ -354,10 +363,21 @@ impl<const N: usize> MonitorConfig<N> {
         }
         let o = &self.observer;
         let t = &o.tuning;
-        let checks: [(bool, &'static str); 17] = [
+        let checks: [(bool, &'static str); 18] = [
             (positive(self.sensor.encoder_sd_deg), "encoder_sd_deg"),
             (non_negative(self.sensor.encoder_step_deg), "encoder_step_deg"),
             (positive(o.jerk_psd), "jerk_psd"),
+            (
+                positive(o.jerk_adaptation.q_min)
+                    && o.jerk_adaptation.q_max >= o.jerk_adaptation.q_min
+                    && o.jerk_adaptation.q_max.is_finite()
+                    && positive(o.jerk_adaptation.low)
+                    && o.jerk_adaptation.high > o.jerk_adaptation.low
+                    && o.jerk_adaptation.high.is_finite()
+                    && o.jerk_adaptation.weight > 0.0
+                    && o.jerk_adaptation.weight <= 1.0,
+                "jerk_adaptation",
+            ),
             (positive(o.zone_jerk_psd), "zone_jerk_psd"),
             (non_negative(o.snap_zone_deg), "snap_zone_deg"),
             (positive(o.gate_sigma), "gate_sigma"),
@@ -441,7 +461,11 @@ impl<const N: usize> Monitor<N> {
             observer: config.observer,
             latch_cfg: config.latch,
             margin_cfg: config.margin,
-            kf: core::array::from_fn(|j| RateFilter::new(config.joints[j].stowed_deg * DEG, sd, 0.1, 1.0)),
+            kf: core::array::from_fn(|j| {
+                let mut f = RateFilter::new(config.joints[j].stowed_deg * DEG, sd, 0.1, 1.0);
+                f.set_jerk_psd(config.observer.jerk_psd);
+                f
+            }),
             fo: core::array::from_fn(|j| FrictionObserver::new(config.joints[j].prior)),
             lt: [LatchTracker::new(); N],
             margin: [None; N],
@@ -460,6 +484,16 @@ impl<const N: usize> Monitor<N> {
     /// The status after the last sample.
     pub fn status(&self) -> &Status<N> {
         &self.status
+    }
+
+    /// The friction observer of joint `j` (0-based), for diagnostics.
+    pub fn observer(&self, j: usize) -> Option<&FrictionObserver> {
+        self.fo.get(j)
+    }
+
+    /// The rate filter of joint `j` (0-based), for diagnostics.
+    pub fn rate_filter(&self, j: usize) -> Option<&RateFilter> {
+        self.kf.get(j)
     }
 
     /// The chain model the monitor uses (f32).
@@ -540,6 +574,7 @@ impl<const N: usize> Monitor<N> {
             for j in 0..N {
                 let phi0 = meas[j].unwrap_or(self.stowed_deg[j] * DEG);
                 self.kf[j] = RateFilter::new(phi0, sd, 0.1, 1.0);
+                self.kf[j].set_jerk_psd(self.observer.jerk_psd);
             }
             self.started = true;
         } else {
@@ -547,23 +582,25 @@ impl<const N: usize> Monitor<N> {
             let zone = self.observer.snap_zone_deg * DEG;
             for j in 0..N {
                 let kf = &mut self.kf[j];
-                let q = if !self.lt[j].is_latched() && libm::fabsf(kf.angle()) < zone {
+                let q_floor = if !self.lt[j].is_latched() && libm::fabsf(kf.angle()) < zone {
                     self.observer.zone_jerk_psd
                 } else {
-                    self.observer.jerk_psd
+                    0.0
                 };
-                kf.predict(dt, q);
+                kf.predict(dt, q_floor);
                 if gap {
                     kf.inflate(1.0, ACC_SHOCK_VAR);
                 }
                 if let Some(z) = meas[j] {
-                    match kf.update(z, if gap { r_meas + 1.0 } else { r_meas }, gate2) {
+                    let r = if gap { r_meas + 1.0 } else { r_meas };
+                    match kf.update(z, r, gate2, &self.observer.jerk_adaptation) {
                         Fusion::Accepted => self.rejects[j] = 0,
                         Fusion::Rejected => {
                             faults[j].insert(Fault::EncoderOutlier);
                             self.rejects[j] = self.rejects[j].saturating_add(1);
                             if self.rejects[j] >= MAX_REJECTS {
                                 *kf = RateFilter::new(z, sd, 1.0, 10.0);
+                                kf.set_jerk_psd(self.observer.jerk_psd);
                                 faults[j].insert(Fault::EstimatorReset);
                                 self.rejects[j] = 0;
                                 self.restart_pending = true;
@@ -631,7 +668,10 @@ impl<const N: usize> Monitor<N> {
             }
         }
         if quiet {
-            let all_measured = (0..N).all(|j| locked[j] || meas[j].is_some());
+            // Learn only from samples where every free joint was measured
+            // and no rate filter lags a manoeuvre (its innovations are white).
+            let high = self.observer.jerk_adaptation.high;
+            let all_measured = (0..N).all(|j| locked[j] || (meas[j].is_some() && self.kf[j].nis() <= high));
             for j in 0..N {
                 if locked[j] {
                     continue;
@@ -654,7 +694,7 @@ impl<const N: usize> Monitor<N> {
             }
             // Model-aided rates: the chain's acceleration with the
             // disturbance estimate, fused as a pseudo-measurement,
-            // φ̈ = M⁻¹ (τ_s − SᵀC + r), var = σ_τ² Σ_k (M⁻¹)_jk².
+            // φ̈ = M⁻¹ (τ_s − SᵀC + r), var = Σ_k (M⁻¹)_jk² (σ_τ² + E[(d − r)²]).
             if let Some(minv) = &minv {
                 let rhs: [f32; N] = core::array::from_fn(|k| {
                     if locked[k] {
@@ -670,12 +710,13 @@ impl<const N: usize> Monitor<N> {
                         continue;
                     }
                     let mut a = 0.0f32;
-                    let mut g = 0.0f32;
+                    let mut var = floor * floor;
                     for k in 0..N {
                         a += minv[j][k] * rhs[k];
-                        g += minv[j][k] * minv[j][k];
+                        let var_d = sd_tau * sd_tau + self.fo[k].lag_var();
+                        var += minv[j][k] * minv[j][k] * var_d;
                     }
-                    self.kf[j].fuse_acceleration(a, sd_tau * sd_tau * g + floor * floor);
+                    self.kf[j].fuse_acceleration(a, var);
                 }
             }
         }
@@ -689,6 +730,7 @@ impl<const N: usize> Monitor<N> {
             if !self.kf[j].is_healthy() {
                 let phi0 = meas[j].unwrap_or(self.stowed_deg[j] * DEG);
                 self.kf[j] = RateFilter::new(phi0, sd, 1.0, 10.0);
+                self.kf[j].set_jerk_psd(self.observer.jerk_psd);
                 faults[j].insert(Fault::EstimatorReset);
             }
             if !self.fo[j].is_healthy() {
@@ -705,6 +747,7 @@ impl<const N: usize> Monitor<N> {
                 *slot = Some(Self::joint_margin(
                     &self.chain,
                     inertia.get(jm).copied().unwrap_or(1.0),
+                    quiet,
                     jm,
                     &self.kf,
                     &self.fo,
@@ -794,6 +837,7 @@ impl<const N: usize> Monitor<N> {
     fn joint_margin(
         chain: &Chain<f32, N>,
         inertia: f32,
+        quiet: bool,
         j: usize,
         kf: &[RateFilter; N],
         fo: &[FrictionObserver; N],
@@ -810,6 +854,15 @@ impl<const N: usize> Monitor<N> {
         let est = o.estimate();
         let phi = f.angle();
         let rate = f.rate();
+        // The friction torque seen now bounds T_C from below, when the
+        // observer runs undisturbed and the bound agrees with the estimate
+        // (a bound beyond T̂_C + 2σ is a transient of r, not evidence).
+        let bound = if quiet { o.coulomb_lower_bound(rate) } else { 0.0 };
+        let bound = if bound <= est.coulomb_nm + 2.0 * libm::sqrtf(est.coulomb_var.max(0.0)) {
+            bound
+        } else {
+            0.0
+        };
         margin::evaluate(
             &joint.spring,
             &MarginInput {
@@ -822,6 +875,7 @@ impl<const N: usize> Monitor<N> {
                 coulomb_nm: est.coulomb_nm,
                 viscous_nms: est.viscous_nms,
                 coulomb_var: est.coulomb_var,
+                coulomb_lower_nm: bound,
                 viscous_var: est.viscous_var,
                 cov: est.cov,
             },

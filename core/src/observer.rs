@@ -57,6 +57,30 @@ pub struct RateFilter {
     x: [f32; 3],
     /// Upper triangle of the covariance: P00 P01 P02 P11 P12 P22.
     p: [f32; SYM3],
+    /// Jerk spectral density now [rad²/s⁵] (adapted, see [`JerkAdaptation`]).
+    q: f32,
+    /// Running mean of the normalised innovation squared.
+    nis: f32,
+}
+
+/// Adaptation of the rate filter's jerk spectral density to its own
+/// innovations (an "adjustable process noise" filter, Bar-Shalom, Li &
+/// Kirubarajan 2001 §11.2): `q` doubles while the running mean of the
+/// normalised innovation squared exceeds `high` (×4 per sample), and shrinks by 10 % per
+/// sample while it is below `low`, within `[q_min, q_max]`. A creeping joint
+/// thus gets a long averaging window, a manoeuvring one a short one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JerkAdaptation {
+    /// Smallest jerk spectral density [rad²/s⁵].
+    pub q_min: f32,
+    /// Largest [rad²/s⁵].
+    pub q_max: f32,
+    /// NIS mean above which `q` grows.
+    pub high: f32,
+    /// NIS mean below which `q` shrinks.
+    pub low: f32,
+    /// Weight of one sample in the NIS running mean.
+    pub weight: f32,
 }
 
 impl RateFilter {
@@ -64,6 +88,8 @@ impl RateFilter {
     /// `sd_phi_rad` [rad], `sd_rate` [rad/s] and `sd_acc` [rad/s²].
     pub fn new(phi_rad: f32, sd_phi_rad: f32, sd_rate: f32, sd_acc: f32) -> Self {
         RateFilter {
+            q: 1.0,
+            nis: 1.0,
             x: [phi_rad, 0.0, 0.0],
             p: [
                 sd_phi_rad * sd_phi_rad,
@@ -94,6 +120,22 @@ impl RateFilter {
     /// Variance of the rate estimate [rad²/s²].
     pub fn rate_var(&self) -> f32 {
         self.p[3]
+    }
+
+    /// The jerk spectral density in use [rad²/s⁵].
+    pub fn jerk_psd(&self) -> f32 {
+        self.q
+    }
+
+    /// Running mean of the normalised innovation squared (≈ 1 when the
+    /// filter follows the joint; larger while it lags a manoeuvre).
+    pub fn nis(&self) -> f32 {
+        self.nis
+    }
+
+    /// Sets the jerk spectral density [rad²/s⁵].
+    pub fn set_jerk_psd(&mut self, q: f32) {
+        self.q = q;
     }
 
     /// Fuses a model acceleration `a` [rad/s²] of variance `var` [rad²/s⁴]
@@ -144,13 +186,17 @@ impl RateFilter {
     /// variances are positive.
     pub fn is_healthy(&self) -> bool {
         self.x.iter().chain(self.p.iter()).all(|v| v.is_finite())
+            && self.q.is_finite()
+            && self.nis.is_finite()
             && self.p[0] > 0.0
             && self.p[3] > 0.0
             && self.p[5] > 0.0
     }
 
-    /// Time update over `dt` [s] with jerk spectral density `q` [rad²/s⁵].
-    pub fn predict(&mut self, dt: f32, q: f32) {
+    /// Time update over `dt` [s] with the adapted jerk spectral density, or
+    /// `q_floor` [rad²/s⁵] if that is larger.
+    pub fn predict(&mut self, dt: f32, q_floor: f32) {
+        let q = self.q.max(q_floor);
         let t = dt;
         let h = 0.5 * t * t;
         let [x0, x1, x2] = self.x;
@@ -176,11 +222,17 @@ impl RateFilter {
 
     /// Measurement update with angle `z` [rad] of variance `r` [rad²].
     /// Rejected when the normalised innovation squared exceeds `gate2`.
-    pub fn update(&mut self, z: f32, r: f32, gate2: f32) -> Fusion {
+    pub fn update(&mut self, z: f32, r: f32, gate2: f32, adapt: &JerkAdaptation) -> Fusion {
         let nu = z - self.x[0];
         let s = self.p[0] + r;
         if !(s > 0.0) || !(nu * nu <= gate2 * s) {
             return Fusion::Rejected;
+        }
+        self.nis += adapt.weight * (nu * nu / s - self.nis);
+        if self.nis > adapt.high {
+            self.q = (4.0 * self.q).min(adapt.q_max);
+        } else if self.nis < adapt.low {
+            self.q = (0.9 * self.q).max(adapt.q_min);
         }
         let k = [self.p[0] / s, self.p[1] / s, self.p[2] / s];
         self.x[0] += k[0] * nu;
@@ -390,6 +442,13 @@ pub struct FrictionEstimate {
     pub cov: f32,
 }
 
+/// The observer's lag variance at a (re)start, in prior variances of `T_C`:
+/// until `r` has converged it may be off by several prior deviations.
+const LAG_VAR_START: f32 = 4.0;
+
+/// Weight of one step in the running mean square of the observer lag.
+const LAG_WEIGHT: f32 = 0.1;
+
 /// Largest friction parameter the estimator will report (projection bound):
 /// 1000 N·m or N·m·s/rad.
 const PARAM_MAX: f32 = 1000.0;
@@ -412,6 +471,10 @@ pub struct FrictionObserver {
     sigma: [f32; 3],
     /// Residual variance estimate [N²·m²].
     resid_var: f32,
+    /// Mean square of the observer's lag `d − r = ṙ/K` [N²·m²].
+    lag_var: f32,
+    /// `K dt` of the last step.
+    kdt: f32,
     prior: FrictionPrior,
 }
 
@@ -449,6 +512,8 @@ impl FrictionObserver {
                 prior.viscous_sd_nms * prior.viscous_sd_nms,
             ],
             resid_var: 0.0,
+            lag_var: LAG_VAR_START * prior.coulomb_sd_nm * prior.coulomb_sd_nm,
+            kdt: 0.0,
             prior,
         }
     }
@@ -460,6 +525,16 @@ impl FrictionObserver {
         self.r = 0.0;
         self.y = [0.0; 2];
         self.primed = false;
+        self.kdt = 0.0;
+        self.lag_var = self
+            .lag_var
+            .max(LAG_VAR_START * self.prior.coulomb_sd_nm * self.prior.coulomb_sd_nm);
+    }
+
+    /// Mean square of the disturbance estimate's lag `d − r = ṙ/K`
+    /// [N²·m²]: how far `r` may be from the torque now.
+    pub fn lag_var(&self) -> f32 {
+        self.lag_var
     }
 
     /// Resets the parameters to the prior (after a numerical failure).
@@ -470,6 +545,33 @@ impl FrictionObserver {
     /// The disturbance (friction torque) estimate `r` [N·m].
     pub fn disturbance_nm(&self) -> f32 {
         self.r
+    }
+
+    /// A lower bound of the Coulomb torque [N·m] from the friction torque
+    /// acting now: `|d| = |T_C tanh(ω/ω_c) + f ω| ≤ T_C + f|ω|`, so
+    /// `T_C ≥ |r| − f|ω| − 2σ_r`, with `σ_r² = E[(d̄ − r)²] K dt/(2 − K dt)`
+    /// the noise of `r`. 0 until the observer has run.
+    pub fn coulomb_lower_bound(&self, rate_rad_s: f32) -> f32 {
+        if !self.primed || !(self.kdt > 0.0) {
+            return 0.0;
+        }
+        let sd = libm::sqrtf(self.lag_var.max(0.0) * self.kdt / (2.0 - self.kdt));
+        let bound = libm::fabsf(self.r) - self.theta[1].max(0.0) * libm::fabsf(rate_rad_s) - 2.0 * sd;
+        if bound.is_finite() {
+            bound.max(0.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// The filtered regressors `y = F[−tanh(ω/ω_c), −ω]`.
+    pub fn regressors(&self) -> [f32; 2] {
+        self.y
+    }
+
+    /// The residual-variance estimate [N²·m²].
+    pub fn residual_var(&self) -> f32 {
+        self.resid_var
     }
 
     /// The current parameter estimate.
@@ -493,6 +595,8 @@ impl FrictionObserver {
             .chain(self.sigma.iter())
             .all(|v| v.is_finite());
         finite
+            && self.lag_var.is_finite()
+            && self.kdt.is_finite()
             && self.sigma[0] > 0.0
             && self.sigma[2] > 0.0
             && self.sigma[0] * self.sigma[2] > self.sigma[1] * self.sigma[1]
@@ -520,7 +624,11 @@ impl FrictionObserver {
         }
         let u_bar = 0.5 * (self.u_prev + input.known_torque_nm);
         // r⁺ = (1 − K dt) r + K dt · d̄,  d̄ dt = Δp − ū dt.
-        self.r = (1.0 - kdt) * self.r + (kdt / dt) * (input.momentum - self.p_prev - u_bar * dt);
+        let r_new = (1.0 - kdt) * self.r + (kdt / dt) * (input.momentum - self.p_prev - u_bar * dt);
+        let lag = (r_new - self.r) / kdt;
+        self.kdt = kdt;
+        self.lag_var += LAG_WEIGHT * (lag * lag - self.lag_var);
+        self.r = r_new;
         for ((yi, hi), hp) in self.y.iter_mut().zip(h.iter()).zip(self.h_prev.iter()) {
             *yi = (1.0 - kdt) * *yi + kdt * 0.5 * (*hi + *hp);
         }
@@ -554,10 +662,13 @@ impl FrictionObserver {
         let hsh = y0 * sh0 + y1 * sh1;
         // The filtered residual is an AR(1) sequence with ρ = 1 − K dt: n
         // samples of it carry the information of n (1 − ρ)/(1 + ρ)
-        // independent ones.
+        // independent ones. The white part of its noise has the variance
+        // E[(d̄ − r)²]·(1 − ρ)/(1 + ρ), so after the inflation it counts as
+        // E[(d̄ − r)²] = `lag_var` (which also grows while r lags d); the
+        // rate error (`eiv`) varies slowly and is inflated as it stands.
         let rho = 1.0 - kdt;
         let inflation = ((1.0 + rho) / (1.0 - rho).max(1e-3)).max(1.0);
-        let noise = (self.resid_var.max(tuning.residual_var_floor) + eiv) * inflation;
+        let noise = self.lag_var.max(tuning.residual_var_floor) + eiv * inflation;
         let s = hsh + noise;
         if !(s > 0.0) || !s.is_finite() {
             return;
@@ -725,20 +836,28 @@ mod tests {
 
     #[test]
     fn rate_filter_tracks_a_ramp() {
+        let adapt = JerkAdaptation {
+            q_min: 1e-3,
+            q_max: 1e4,
+            high: 2.0,
+            low: 1.2,
+            weight: 0.05,
+        };
         let mut f = RateFilter::new(1.0, 1e-3, 1.0, 10.0);
         let mut noise = 0x1234_5678u32;
         for i in 1..=400 {
             let t = i as f32 * 0.01;
-            f.predict(0.01, 1.0);
+            f.predict(0.01, 0.0);
             noise = noise.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
             let n = ((noise >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 6e-4;
-            assert_eq!(f.update(1.0 - 0.2 * t + n, 1e-7, 36.0), Fusion::Accepted);
+            assert_eq!(f.update(1.0 - 0.2 * t + n, 3e-8, 36.0, &adapt), Fusion::Accepted);
         }
-        assert!((f.rate() + 0.2).abs() < 5e-3, "{}", f.rate());
+        assert!((f.rate() + 0.2).abs() < 2e-3, "{}", f.rate());
+        assert!(f.jerk_psd() < 0.1, "a steady ramp needs little process noise: {}", f.jerk_psd());
         assert!(f.is_healthy());
         // A spike is gated out.
-        f.predict(0.01, 1.0);
-        assert_eq!(f.update(f.angle() + 0.1, 1e-7, 36.0), Fusion::Rejected);
+        f.predict(0.01, 0.0);
+        assert_eq!(f.update(f.angle() + 0.1, 3e-8, 36.0, &adapt), Fusion::Rejected);
     }
 
     #[test]

@@ -69,7 +69,13 @@ mod tests {
             spatial_mobility(2, &[FIXED_CONSTRAINTS, REVOLUTE_CONSTRAINTS]),
             1
         );
-        assert_eq!(spatial_mobility(2, &[FIXED_CONSTRAINTS, SPHERICAL_CONSTRAINTS]), 3);
-        assert_eq!(spatial_mobility(2, &[FIXED_CONSTRAINTS, TRANSLATIONAL_CONSTRAINTS]), 1);
+        assert_eq!(
+            spatial_mobility(2, &[FIXED_CONSTRAINTS, SPHERICAL_CONSTRAINTS]),
+            3
+        );
+        assert_eq!(
+            spatial_mobility(2, &[FIXED_CONSTRAINTS, TRANSLATIONAL_CONSTRAINTS]),
+            1
+        );
     }
 }

@@ -5,7 +5,12 @@
 //! [`deploywatch_core::chain`], evaluated in `f64`.
 #![deny(missing_docs)]
 
+pub mod campaign;
+pub mod diagnose;
 pub mod effect;
+pub mod evidence;
+pub mod fit;
+pub mod identify;
 pub mod mechanism;
 pub mod ode;
 pub mod plot;

@@ -176,7 +176,11 @@ pub enum Standard {
 
 impl Standard {
     /// Every standard.
-    pub const ALL: [Standard; 3] = [Standard::None, Standard::NasaStd5017, Standard::EcssEST3301C];
+    pub const ALL: [Standard; 3] = [
+        Standard::None,
+        Standard::NasaStd5017,
+        Standard::EcssEST3301C,
+    ];
 
     /// The name on the command line: `none`, `nasa-std-5017`, `ecss-e-st-33-01c`.
     pub fn name(self) -> &'static str {
@@ -280,7 +284,17 @@ pub struct Term {
 /// `(driving / resisting − 1) · 100` [%]: seed 001 Eq. 7 with torques, seed
 /// 000 Eq. 21 with energies. `+∞` when `resisting = 0 < driving`.
 pub fn margin_pct(driving: f64, resisting: f64) -> f64 {
-    (driving / resisting - 1.0) * 100.0
+    (ratio(driving, resisting) - 1.0) * 100.0
+}
+
+/// `driving / resisting`, with a zero resistance of either sign giving `+∞`
+/// for a positive driving term (an empty `f64` sum is `−0.0`).
+fn ratio(driving: f64, resisting: f64) -> f64 {
+    if resisting == 0.0 && driving > 0.0 {
+        f64::INFINITY
+    } else {
+        driving / resisting
+    }
 }
 
 /// `Σ_i FoS_i · R_i`: the factored resistance, in the unit of the terms.
@@ -292,7 +306,7 @@ pub fn factored_resistance(terms: &[Term], factors: &Factors) -> f64 {
 /// fraction, not %): `driving` and the terms both torques [N·m] or both
 /// energies [J]. `+∞` when there is no resistance.
 pub fn factored_margin(driving: f64, terms: &[Term], factors: &Factors) -> f64 {
-    driving / factored_resistance(terms, factors) - 1.0
+    ratio(driving, factored_resistance(terms, factors)) - 1.0
 }
 
 /// Both margins of one spring-driven joint against a constant friction.
@@ -318,13 +332,19 @@ impl JointMargin {
     /// The torque-form margin with the friction factor,
     /// `(T_D / (FoS · T_R) − 1) · 100` [%] (seed 001 Eq. 7 when the factor is 1).
     pub fn torque_margin_pct(&self) -> f64 {
-        margin_pct(self.driving_torque_nm, self.friction_factor * self.resisting_torque_nm)
+        margin_pct(
+            self.driving_torque_nm,
+            self.friction_factor * self.resisting_torque_nm,
+        )
     }
 
     /// The energy-form margin with the friction factor,
     /// `(E_D / (FoS · E_R) − 1) · 100` [%] (seed 000 Eq. 21 when the factor is 1).
     pub fn energy_margin_pct(&self) -> f64 {
-        margin_pct(self.driving_energy_j, self.friction_factor * self.resisting_energy_j)
+        margin_pct(
+            self.driving_energy_j,
+            self.friction_factor * self.resisting_energy_j,
+        )
     }
 
     /// True when the torque-form margin is at least the required minimum.

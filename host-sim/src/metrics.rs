@@ -106,7 +106,11 @@ impl TimeWindow {
     }
 }
 
-fn check_len(what: impl FnOnce() -> String, expected: usize, found: usize) -> Result<(), MetricError> {
+fn check_len(
+    what: impl FnOnce() -> String,
+    expected: usize,
+    found: usize,
+) -> Result<(), MetricError> {
     if expected == found {
         Ok(())
     } else {
@@ -192,7 +196,13 @@ pub fn trajectory_errors_pct(
     }
     let mut out = Vec::with_capacity(model_deg.len());
     for j in 0..model_deg.len() {
-        match trajectory_error_pct(t_s, &model_deg[j], &measured_deg[j], &measured_latch[j], window) {
+        match trajectory_error_pct(
+            t_s,
+            &model_deg[j],
+            &measured_deg[j],
+            &measured_latch[j],
+            window,
+        ) {
             Ok(te) => out.push(Some(te)),
             Err(MetricError::NoSamples) => out.push(None),
             Err(MetricError::LengthMismatch {
@@ -252,8 +262,16 @@ pub fn sse_deg2(
     }
     let n = t_s.len();
     for j in 0..model_deg.len() {
-        check_len(|| format!("joint {} model angles", j + 1), n, model_deg[j].len())?;
-        check_len(|| format!("joint {} measured angles", j + 1), n, measured_deg[j].len())?;
+        check_len(
+            || format!("joint {} model angles", j + 1),
+            n,
+            model_deg[j].len(),
+        )?;
+        check_len(
+            || format!("joint {} measured angles", j + 1),
+            n,
+            measured_deg[j].len(),
+        )?;
     }
     let mut sse = 0.0;
     let mut samples = 0usize;

@@ -221,7 +221,7 @@ mod tests {
         };
         let mut y = State { q: [1.0], v: [0.0] };
         let mut k1 = f(0.0, &y).unwrap();
-        let (mut t, mut h) = (0.0, 1e-3);
+        let (mut t, mut h) = (0.0f64, 1e-3f64);
         let mut worst: f64 = 0.0;
         while t < 10.0 {
             h = h.min(10.0 - t);

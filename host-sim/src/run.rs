@@ -10,9 +10,9 @@ use crate::mechanism::{Mechanism, MAX_JOINTS};
 pub struct Run {
     /// `# key = "value"` lines before the header, in file order (values decoded).
     pub metadata: Vec<(String, String)>,
-    /// `t_s` [s], strictly increasing.
+    /// `t_s` (s), strictly increasing.
     pub t_s: Vec<f64>,
-    /// `phi<j>_deg`: `phi_deg[j][i]` is joint j+1 at sample i [deg].
+    /// `phi<j>_deg`: `phi_deg[j][i]` is joint j+1 at sample i (deg).
     pub phi_deg: Vec<Vec<f64>>,
     /// `latch<j>`: `latch[j][i]` is joint j+1's switch at sample i.
     pub latch: Vec<Vec<bool>>,

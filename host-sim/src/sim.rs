@@ -126,11 +126,6 @@ pub enum SimError {
 /// Simulates a mechanism with extra effects (sensor effects are ignored
 /// here: see [`crate::sensor`]).
 pub fn simulate(mech: &Mechanism, effects: &[Effect], opts: &SimOptions) -> Result<Trajectory, SimError> {
-    let n = mech.joint_count();
-    for e in effects {
-        e.validate(n).map_err(SimError::Invalid)?;
-    }
-    let (je, g) = effect::to_core(effects, n);
     let duration = opts.duration_s.unwrap_or(mech.duration_s);
     let rate = opts.sample_hz.unwrap_or(mech.sample_hz);
     if !(duration > 0.0 && duration.is_finite()) || !(rate > 0.0 && rate.is_finite()) {
@@ -138,12 +133,37 @@ pub fn simulate(mech: &Mechanism, effects: &[Effect], opts: &SimOptions) -> Resu
             "duration ({duration} s) and sample rate ({rate} Hz) must be positive"
         )));
     }
+    let last_k = (duration * rate + 1e-9).floor() as usize;
+    let times: Vec<f64> = (0..=last_k).map(|k| k as f64 / rate).collect();
+    simulate_at(mech, effects, opts, &times)
+}
+
+/// Simulates a mechanism and samples it at the given times (sorted, from 0):
+/// the time stamps of a measured run, so that model and run compare sample by
+/// sample. With `opts.stop_when_deployed` the output ends at the first time
+/// at or after the last latch; otherwise it covers every time given.
+pub fn simulate_at(
+    mech: &Mechanism,
+    effects: &[Effect],
+    opts: &SimOptions,
+    times: &[f64],
+) -> Result<Trajectory, SimError> {
+    let n = mech.joint_count();
+    for e in effects {
+        e.validate(n).map_err(SimError::Invalid)?;
+    }
+    if times.first().is_some_and(|&t| t < 0.0) || times.windows(2).any(|w| !(w[1] > w[0])) {
+        return Err(SimError::Invalid(
+            "sample times must start at or after 0 and increase strictly".into(),
+        ));
+    }
+    let (je, g) = effect::to_core(effects, n);
     let bad = || SimError::Invalid(format!("mechanism `{}` cannot be built", mech.name));
     match n {
-        1 => run_chain(&mech.chain::<1>(&je, g).ok_or_else(bad)?, duration, rate, opts),
-        2 => run_chain(&mech.chain::<2>(&je, g).ok_or_else(bad)?, duration, rate, opts),
-        3 => run_chain(&mech.chain::<3>(&je, g).ok_or_else(bad)?, duration, rate, opts),
-        4 => run_chain(&mech.chain::<4>(&je, g).ok_or_else(bad)?, duration, rate, opts),
+        1 => run_chain(&mech.chain::<1>(&je, g).ok_or_else(bad)?, times, opts),
+        2 => run_chain(&mech.chain::<2>(&je, g).ok_or_else(bad)?, times, opts),
+        3 => run_chain(&mech.chain::<3>(&je, g).ok_or_else(bad)?, times, opts),
+        4 => run_chain(&mech.chain::<4>(&je, g).ok_or_else(bad)?, times, opts),
         _ => Err(SimError::Invalid(format!(
             "mechanism `{}` has {n} joints; 1 to 4 are supported",
             mech.name
@@ -325,13 +345,14 @@ fn locate<const N: usize>(g: impl Fn(&State<N>) -> f64, dense: &Dense<N>, t0: f6
     b
 }
 
-/// Integrates a chain from its stowed state at rest.
+/// Integrates a chain from its stowed state at rest up to the last of
+/// `times` (sorted), sampling it there.
 pub fn run_chain<const N: usize>(
     chain: &Chain<f64, N>,
-    duration: f64,
-    rate: f64,
+    times: &[f64],
     opts: &SimOptions,
 ) -> Result<Trajectory, SimError> {
+    let duration = times.last().copied().unwrap_or(0.0);
     let mut it = Integrator {
         chain,
         mode: Mode::default(),
@@ -358,7 +379,6 @@ pub fn run_chain<const N: usize>(
         end_s: 0.0,
         stats: SimStats::default(),
     };
-    let last_k = (duration * rate + 1e-9).floor() as usize;
     let mut k = 0usize;
     let push = |out: &mut Trajectory, t: f64, s: &State<N>, latched: &[bool; N]| {
         out.t_s.push(t);
@@ -369,14 +389,17 @@ pub fn run_chain<const N: usize>(
             out.latched[j].push(latched[j]);
         }
     };
-    push(&mut out, 0.0, &y, &it.mode.latched);
-    k += 1;
+    while k < times.len() && times[k] <= 0.0 {
+        push(&mut out, times[k], &y, &it.mode.latched);
+        k += 1;
+    }
 
     let mut t = 0.0;
     let mut k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
     let mut h = 1e-4f64.min(opts.max_step_s);
     let mut same_instant_events = 0usize;
     let mut done = false;
+    let mut hold = false;
     while !done && t < duration {
         h = h.min(opts.max_step_s).min(duration - t);
         if h < 1e-13 {
@@ -419,8 +442,8 @@ pub fn run_chain<const N: usize>(
         }
         // Samples up to the end of this (possibly cut) step. A sample at the
         // event instant itself is taken after the event is applied.
-        while k <= last_k {
-            let tk = k as f64 / rate;
+        while k < times.len() {
+            let tk = times[k];
             let inside = if first.is_some() { tk < t_end } else { tk <= t_end };
             if !inside {
                 break;
@@ -466,8 +489,11 @@ pub fn run_chain<const N: usize>(
                             }
                         }
                         it.mode.latched = after;
-                        if it.mode.latched.iter().all(|&l| l) && opts.stop_when_deployed {
+                        if it.mode.latched.iter().all(|&l| l) {
+                            // Nothing moves any more: end here, or hold the
+                            // deployed state over the remaining samples.
                             done = true;
+                            hold = !opts.stop_when_deployed;
                         }
                     }
                     Event::Latch(j) => {
@@ -496,14 +522,14 @@ pub fn run_chain<const N: usize>(
     out.end_s = t.min(duration);
     // Close the run: the first sample at or after the last latch, or the
     // samples left up to the duration.
-    while k <= last_k {
-        let tk = k as f64 / rate;
+    while k < times.len() {
+        let tk = times[k];
         if tk > t + 1e-9 && !done {
             break;
         }
         push(&mut out, tk, &y, &it.mode.latched);
         k += 1;
-        if done {
+        if done && !hold {
             break;
         }
     }

@@ -120,7 +120,11 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         rows.push((j + 1, joint.stowed_deg, m));
     }
 
-    println!("torque margins of `{}` ({})", mech.name, args.mechanism.display());
+    println!(
+        "torque margins of `{}` ({})",
+        mech.name,
+        args.mechanism.display()
+    );
     println!(
         "standard: {}{}",
         args.standard.reference(),
@@ -143,8 +147,8 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     }
     println!();
     println!(
-        "{:>5} {:>10} {:>9} {:>9} {:>11} {:>9} {:>9} {:>11}  {}",
-        "joint", "stowed_deg", "T_D_Nm", "T_R_Nm", "TM_torque_%", "E_D_J", "E_R_J", "TM_energy_%", "result"
+        "{:>5} {:>10} {:>9} {:>9} {:>11} {:>9} {:>9} {:>11}  result",
+        "joint", "stowed_deg", "T_D_Nm", "T_R_Nm", "TM_torque_%", "E_D_J", "E_R_J", "TM_energy_%",
     );
     for (j, stowed, m) in &rows {
         println!(
@@ -170,12 +174,21 @@ mod tests {
 
     #[test]
     fn factor_arguments_parse() {
-        assert_eq!(parse_factor("friction=2.5").unwrap(), (Resistance::Friction, 2.5));
-        assert_eq!(parse_factor("Harness = 3").unwrap(), (Resistance::Harness, 3.0));
+        assert_eq!(
+            parse_factor("friction=2.5").unwrap(),
+            (Resistance::Friction, 2.5)
+        );
+        assert_eq!(
+            parse_factor("Harness = 3").unwrap(),
+            (Resistance::Harness, 3.0)
+        );
         assert!(parse_factor("friction").is_err());
         assert!(parse_factor("friction=-1").is_err());
         assert!(parse_factor("glue=2").is_err());
-        assert_eq!(parse_standard("ECSS-E-ST-33-01C").unwrap(), Standard::EcssEST3301C);
+        assert_eq!(
+            parse_standard("ECSS-E-ST-33-01C").unwrap(),
+            Standard::EcssEST3301C
+        );
         assert!(parse_standard("mil-std").is_err());
     }
 
@@ -183,6 +196,31 @@ mod tests {
     fn infinite_margins_print_as_inf() {
         assert_eq!(pct(f64::INFINITY), "inf");
         assert_eq!(pct(12.345), "12.35");
+    }
+
+    fn args(file: &str, friction: Option<Vec<f64>>) -> MarginArgs {
+        MarginArgs {
+            mechanism: PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                .join("../data/mechanisms")
+                .join(file),
+            friction,
+            standard: Standard::EcssEST3301C,
+            factors: vec![(Resistance::Friction, 2.5)],
+        }
+    }
+
+    #[test]
+    fn runs_on_the_bundled_mechanisms_and_rejects_bad_input() {
+        run(&args("seed000_case1.toml", Some(vec![0.54, 0.472]))).unwrap();
+        run(&args("seed001_T02.toml", None)).unwrap();
+        let e = run(&args("seed000_case1.toml", Some(vec![0.54]))).unwrap_err();
+        assert_eq!(e.code, 2);
+        assert!(e.message.contains("2 joints"), "{}", e.message);
+        let e = run(&args("seed000_case1.toml", Some(vec![0.54, f64::NAN]))).unwrap_err();
+        assert_eq!(e.code, 2);
+        let e = run(&args("no_such_file.toml", None)).unwrap_err();
+        assert_eq!(e.code, 2);
+        assert!(e.message.contains("no_such_file"), "{}", e.message);
     }
 
     #[test]

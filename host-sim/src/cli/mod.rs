@@ -1,6 +1,7 @@
 //! The `deploywatch` command line: one module per subcommand, each with its
 //! `clap` arguments and a `run` function. `main.rs` only dispatches.
 
+pub mod diagnose;
 pub mod margin;
 pub mod simulate;
 
@@ -20,6 +21,9 @@ pub struct Cli {
 pub enum Command {
     /// Simulate one deployment of a mechanism and write it as a run CSV.
     Simulate(simulate::SimulateArgs),
+    /// Diagnose measured runs: what the simulation gets wrong, the named
+    /// cause, the extended model and its gain (JSON + Markdown report).
+    Diagnose(diagnose::DiagnoseArgs),
     /// Torque margins of every joint (torque and energy forms, optional
     /// NASA-STD-5017 / ECSS-E-ST-33-01C uncertainty factors).
     Margin(margin::MarginArgs),
@@ -63,6 +67,7 @@ impl std::error::Error for CliError {}
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Simulate(a) => simulate::run(&a),
+        Command::Diagnose(a) => diagnose::run(&a),
         Command::Margin(a) => margin::run(&a),
     }
 }

@@ -1,0 +1,425 @@
+//! `deploywatch diagnose`: what the simulation gets wrong on measured runs,
+//! the named cause, the extended model and its gain — as the diagnosis JSON
+//! of `docs/spec/formats.md` and a Markdown report with plots beside it.
+
+use super::CliError;
+use crate::campaign::Campaign;
+use crate::diagnose::{self, Candidate, DiagnoseOptions, Outcome, MIN_DELTA_BIC};
+use crate::effect::{Effect, EffectKind};
+use crate::evidence::{self, JointEvidence, CORRELATES};
+use crate::metrics::{self, TimeWindow};
+use crate::plot::{self, Mark, Panel, Series};
+use serde_json::{json, Value};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Arguments of `deploywatch diagnose`.
+#[derive(Debug, clap::Args)]
+pub struct DiagnoseArgs {
+    /// A mechanism (TOML); repeat for campaigns on several mechanisms. Each
+    /// run is paired with the mechanism its `mechanism` metadata names.
+    #[arg(long = "mechanism", required = true)]
+    pub mechanisms: Vec<PathBuf>,
+    /// Where to write the diagnosis JSON; the report (`.md`) and its plots
+    /// (`.png`) go beside it.
+    #[arg(long)]
+    pub json: PathBuf,
+    /// Most effects to report.
+    #[arg(long, default_value_t = 3)]
+    pub max_effects: usize,
+    /// No progress on the terminal.
+    #[arg(long)]
+    pub quiet: bool,
+    /// The measured runs (CSV), one test campaign: the effects found are
+    /// common to all of them.
+    #[arg(required = true)]
+    pub runs: Vec<PathBuf>,
+}
+
+/// Runs `deploywatch diagnose`.
+pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
+    if args.max_effects == 0 || args.max_effects > 3 {
+        return Err(CliError::input("--max-effects: expected 1, 2 or 3"));
+    }
+    let campaign = Campaign::load(&args.mechanisms, &args.runs).map_err(|e| CliError::input(e.to_string()))?;
+    for cr in &campaign.runs {
+        if cr.run.len() < 20 {
+            return Err(CliError::input(format!(
+                "{}: {} samples is too short to diagnose (expected at least 20)",
+                cr.source.display(),
+                cr.run.len()
+            )));
+        }
+    }
+    if !args.quiet {
+        eprintln!(
+            "diagnosing {} run(s) on {} worker threads",
+            campaign.runs.len(),
+            rayon::current_num_threads()
+        );
+    }
+    let opts = DiagnoseOptions {
+        max_effects: args.max_effects,
+        progress: !args.quiet,
+        ..DiagnoseOptions::default()
+    };
+    let outcome = diagnose::diagnose(&campaign, &opts);
+    if !outcome.baseline.sse.is_finite() {
+        return Err(CliError::failed(
+            "the mechanisms as given cannot be simulated against these runs",
+        ));
+    }
+    let before = evidence::analyse(&campaign, &[], outcome.noise_sigma_deg);
+    let ext_effects = outcome.extended.effects();
+    let after = evidence::analyse(&campaign, &ext_effects, outcome.noise_sigma_deg);
+    let doc = to_json(&campaign, &outcome, &before);
+    let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::failed(e.to_string()))?;
+    std::fs::write(&args.json, text + "\n")
+        .map_err(|e| CliError::input(format!("{}: cannot write: {e}", args.json.display())))?;
+    let report = args.json.with_extension("md");
+    write_report(&report, &campaign, &outcome, &before, &after)?;
+
+    println!(
+        "baseline RMS {:.4} deg -> extended {:.4} deg (x{:.1}); noise floor {:.4} deg",
+        outcome.baseline.rms(),
+        outcome.extended.rms(),
+        outcome.baseline.rms() / outcome.extended.rms().max(1e-12),
+        outcome.noise_sigma_deg
+    );
+    for (k, e) in ext_effects.iter().enumerate() {
+        println!("  {}", effect_line(e, &outcome, k));
+    }
+    if ext_effects.is_empty() && outcome.unexplained.is_none() {
+        println!("  no effect: the mechanisms as given explain the runs to the noise");
+    }
+    if let Some(u) = &outcome.unexplained {
+        println!("  unexplained: {u}");
+    }
+    println!(
+        "{} simulations in {:.2} s; JSON {}; report {}",
+        outcome.simulations,
+        outcome.wall_s,
+        args.json.display(),
+        report.display()
+    );
+    Ok(())
+}
+
+fn effect_line(e: &Effect, o: &Outcome, k: usize) -> String {
+    let (lo, hi) = ci_of(o, k);
+    let mut s = format!(
+        "{}{} = {:.5} {} (95 % CI {:.5} .. {:.5})",
+        e.kind,
+        e.joint.map(|j| format!(" at joint {j}")).unwrap_or_default(),
+        e.value,
+        e.kind.unit(),
+        lo,
+        hi
+    );
+    if e.kind == EffectKind::RigTilt {
+        s += &format!(", alpha {:.1} deg", e.alpha_deg);
+    }
+    s
+}
+
+/// The 95 % interval of the k-th selected effect's value.
+fn ci_of(o: &Outcome, k: usize) -> (f64, f64) {
+    let off: usize = o.extended.set[..k].iter().map(|c| c.params()).sum();
+    o.extended
+        .ci95
+        .get(off)
+        .map(|c| (c[0], c[1]))
+        .unwrap_or((f64::NAN, f64::NAN))
+}
+
+/// Other candidates that explained the data as well (ΔBIC within
+/// [`MIN_DELTA_BIC`] of the chosen one) in the round that chose `c`.
+fn alternatives(o: &Outcome, c: Candidate) -> Vec<(Candidate, f64)> {
+    for r in &o.rounds {
+        if let Some(win) = r.scores.iter().find(|s| s.accepted && s.candidate == c) {
+            return r
+                .scores
+                .iter()
+                .filter(|s| s.candidate != c && win.delta_bic - s.delta_bic < MIN_DELTA_BIC)
+                .map(|s| (s.candidate, win.delta_bic - s.delta_bic))
+                .collect();
+        }
+    }
+    Vec::new()
+}
+
+fn evidence_of(o: &Outcome, k: usize, c: Candidate) -> String {
+    let mut s = String::new();
+    for r in &o.rounds {
+        if let Some(win) = r.scores.iter().find(|s| s.accepted && s.candidate == c) {
+            let _ = write!(
+                s,
+                "{}: RMS {:.4} -> {:.4} deg, BIC gain {:.1}",
+                r.what,
+                r.start_rms_deg,
+                win.fitted.rms(),
+                win.delta_bic
+            );
+            if let Some(h) = win.held_out_rms_deg {
+                let _ = write!(s, ", held-out RMS {h:.4} deg");
+            }
+        }
+    }
+    let _ = write!(
+        s,
+        "; without it the extended model's RMS is {:.4} deg",
+        o.strength_rms_deg.get(k).copied().unwrap_or(f64::NAN)
+    );
+    let alt = alternatives(o, c);
+    if !alt.is_empty() {
+        let names: Vec<String> = alt
+            .iter()
+            .map(|(a, d)| format!("{} (BIC {d:.1} worse)", a.label()))
+            .collect();
+        let _ = write!(s, "; nearly as good: {}", names.join(", "));
+    }
+    s
+}
+
+/// Trajectory error per joint (seed 000 Eq. 14), averaged over the runs.
+fn te_per_joint(c: &Campaign, effects: &[Effect]) -> Vec<Option<f64>> {
+    let n = c.max_joints();
+    let mut acc = vec![(0.0, 0usize); n];
+    for i in 0..c.runs.len() {
+        let Ok(traj) = c.simulate(i, effects) else { continue };
+        let r = &c.runs[i].run;
+        if let Ok(te) = metrics::trajectory_errors_pct(&r.t_s, &traj.phi_deg, &r.phi_deg, &r.latch, TimeWindow::ALL) {
+            for (j, v) in te.iter().enumerate() {
+                if let Some(v) = v {
+                    acc[j].0 += v;
+                    acc[j].1 += 1;
+                }
+            }
+        }
+    }
+    acc.iter()
+        .map(|(s, k)| (*k > 0).then(|| s / *k as f64))
+        .collect()
+}
+
+fn round4(x: f64) -> Value {
+    if x.is_finite() {
+        json!((x * 1e6).round() / 1e6)
+    } else {
+        Value::Null
+    }
+}
+
+/// The diagnosis JSON (`docs/spec/formats.md`), with the extra fields the
+/// project adds (noise floor, candidates, evidence).
+pub fn to_json(c: &Campaign, o: &Outcome, before: &[JointEvidence]) -> Value {
+    let effects_ext = o.extended.effects();
+    let mut effects: Vec<Value> = effects_ext
+        .iter()
+        .enumerate()
+        .map(|(k, e)| {
+            let (lo, hi) = ci_of(o, k);
+            let mut v = json!({
+                "name": e.kind.name(),
+                "joint": e.joint,
+                "value": round4(e.value),
+                "unit": e.kind.unit(),
+                "ci95": [round4(lo), round4(hi)],
+                "evidence": evidence_of(o, k, o.extended.set[k]),
+            });
+            if e.kind == EffectKind::RigTilt {
+                let off: usize = o.extended.set[..k].iter().map(|c| c.params()).sum();
+                v["alpha_deg"] = round4(e.alpha_deg);
+                if let Some(ci) = o.extended.ci95.get(off + 1) {
+                    v["alpha_ci95_deg"] = json!([round4(ci[0]), round4(ci[1])]);
+                }
+            }
+            v
+        })
+        .collect();
+    if let Some(u) = &o.unexplained {
+        effects.push(json!({
+            "name": "unexplained",
+            "joint": Value::Null,
+            "value": Value::Null,
+            "unit": Value::Null,
+            "description": u,
+            "evidence": before.iter().filter(|e| e.rms_deg > 3.0 * o.noise_sigma_deg).map(|e| format!("{}: {}", e.run, e.summary)).collect::<Vec<_>>().join("; "),
+        }));
+    }
+    let te = |effects: &[Effect]| -> Value {
+        te_per_joint(c, effects).into_iter().map(|v| v.map(round4).unwrap_or(Value::Null)).collect()
+    };
+    let mut mechs: Vec<String> = c.runs.iter().map(|r| r.mechanism.name.clone()).collect();
+    mechs.dedup();
+    json!({
+        "mechanism": mechs.first().cloned().unwrap_or_default(),
+        "mechanisms": mechs,
+        "runs": c.runs.iter().map(|r| r.name()).collect::<Vec<_>>(),
+        "noise_sigma_deg": round4(o.noise_sigma_deg),
+        "baseline": { "rms_deg": round4(o.baseline.rms()), "trajectory_error_pct": te(&[]) },
+        "effects": effects,
+        "extended": { "rms_deg": round4(o.extended.rms()), "trajectory_error_pct": te(&effects_ext) },
+        "gain": {
+            "rms_ratio": round4(o.baseline.rms() / o.extended.rms().max(1e-12)),
+            "held_out_rms_deg": o.held_out_rms_deg.map(round4).unwrap_or(Value::Null),
+        },
+        "candidates": o.rounds.iter().map(|r| json!({
+            "round": r.what,
+            "start_rms_deg": round4(r.start_rms_deg),
+            "scores": r.scores.iter().map(|s| json!({
+                "candidate": s.candidate.label(),
+                "rms_deg": round4(s.fitted.rms()),
+                "delta_bic": round4(s.delta_bic),
+                "held_out_rms_deg": s.held_out_rms_deg.map(round4).unwrap_or(Value::Null),
+                "verdict": s.verdict,
+            })).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+        "evidence": before.iter().map(|e| json!({
+            "run": e.run, "joint": e.joint, "rms_deg": round4(e.rms_deg),
+            "stroke_thirds_rms_deg": e.stroke_thirds_rms_deg.iter().map(|v| round4(*v)).collect::<Vec<_>>(),
+            "near_latch_rms_deg": round4(e.near_latch_rms_deg),
+            "at_release_mean_deg": round4(e.at_release_mean_deg),
+            "after_latch_mean_deg": round4(e.after_latch_mean_deg),
+            "latch_lead_s": e.latch_lead_s.map(round4).unwrap_or(Value::Null),
+            "correlation": CORRELATES.iter().zip(e.correlation).map(|(n, r)| (n.to_string(), round4(r))).collect::<serde_json::Map<_, _>>(),
+            "summary": e.summary,
+        })).collect::<Vec<_>>(),
+        "simulations": o.simulations,
+        "wall_s": round4(o.wall_s),
+    })
+}
+
+fn write_report(
+    path: &Path,
+    c: &Campaign,
+    o: &Outcome,
+    before: &[JointEvidence],
+    after: &[JointEvidence],
+) -> Result<(), CliError> {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "diagnosis".into());
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let ext = o.extended.effects();
+    let mut md = String::new();
+    let _ = writeln!(md, "# Diagnosis: {}\n", c.runs.iter().map(|r| r.name()).collect::<Vec<_>>().join(", "));
+    let _ = writeln!(
+        md,
+        "Baseline RMS **{:.4}°** → extended **{:.4}°** (×{:.1}); noise floor estimated from the runs {:.4}°{}.\n",
+        o.baseline.rms(),
+        o.extended.rms(),
+        o.baseline.rms() / o.extended.rms().max(1e-12),
+        o.noise_sigma_deg,
+        o.held_out_rms_deg
+            .map(|h| format!("; held-out RMS (fit on the other runs) {h:.4}°"))
+            .unwrap_or_default()
+    );
+    let _ = writeln!(md, "## Causes found\n");
+    if ext.is_empty() {
+        let _ = writeln!(md, "None: the mechanisms as given explain the runs down to the sensor noise.\n");
+    } else {
+        let _ = writeln!(md, "| effect | joint | value | 95 % CI | evidence |\n|---|---|---|---|---|");
+        for (k, e) in ext.iter().enumerate() {
+            let (lo, hi) = ci_of(o, k);
+            let alpha = if e.kind == EffectKind::RigTilt {
+                format!(" (α = {:.1}°)", e.alpha_deg)
+            } else {
+                String::new()
+            };
+            let _ = writeln!(
+                md,
+                "| `{}` | {} | {:.5} {}{} | {:.5} … {:.5} | {} |",
+                e.kind,
+                e.joint.map(|j| j.to_string()).unwrap_or_else(|| "—".into()),
+                e.value,
+                e.kind.unit(),
+                alpha,
+                lo,
+                hi,
+                evidence_of(o, k, o.extended.set[k])
+            );
+        }
+        md.push('\n');
+    }
+    if let Some(u) = &o.unexplained {
+        let _ = writeln!(md, "**Unexplained:** {u}.\n");
+    }
+    let _ = writeln!(md, "## What the baseline gets wrong\n");
+    for e in before {
+        let _ = writeln!(md, "- {}: {}", e.run, e.summary);
+    }
+    let _ = writeln!(md, "\nAfter the extension:\n");
+    for e in after {
+        let _ = writeln!(md, "- {}: {}", e.run, e.summary);
+    }
+    let _ = writeln!(md, "\n## Plots\n");
+    for (i, cr) in c.runs.iter().enumerate() {
+        let base = c.simulate(i, &[]);
+        let extd = c.simulate(i, &ext);
+        let (Ok(base), Ok(extd)) = (base, extd) else { continue };
+        let run = &cr.run;
+        let name = cr.name().trim_end_matches(".csv").to_string();
+        let angles = dir.join(format!("{stem}_{name}_angles.png"));
+        let resid = dir.join(format!("{stem}_{name}_residuals.png"));
+        let mut pa = Vec::new();
+        let mut pr = Vec::new();
+        let rb: Vec<Vec<f64>> = (0..run.joints())
+            .map(|j| base.phi_deg[j].iter().zip(&run.phi_deg[j]).map(|(m, y)| m - y).collect())
+            .collect();
+        let re: Vec<Vec<f64>> = (0..run.joints())
+            .map(|j| extd.phi_deg[j].iter().zip(&run.phi_deg[j]).map(|(m, y)| m - y).collect())
+            .collect();
+        for j in 0..run.joints() {
+            pa.push(Panel {
+                title: format!("joint {}", j + 1),
+                y_label: "angle [deg]".into(),
+                series: vec![
+                    Series { label: "measured".into(), x: &run.t_s, y: &run.phi_deg[j], mark: Mark::Dots, color: 6 },
+                    Series { label: "baseline".into(), x: &base.t_s, y: &base.phi_deg[j], mark: Mark::Line, color: 1 },
+                    Series { label: "extended".into(), x: &extd.t_s, y: &extd.phi_deg[j], mark: Mark::Line, color: 0 },
+                ],
+                markers: Vec::new(),
+            });
+            pr.push(Panel {
+                title: format!("joint {}: model − measured", j + 1),
+                y_label: "residual [deg]".into(),
+                series: vec![
+                    Series { label: "baseline".into(), x: &run.t_s, y: &rb[j], mark: Mark::Line, color: 1 },
+                    Series { label: "extended".into(), x: &run.t_s, y: &re[j], mark: Mark::Line, color: 0 },
+                ],
+                markers: Vec::new(),
+            });
+        }
+        plot::draw(&angles, &format!("{name}: measured vs baseline vs extended"), "time [s]", &pa)
+            .map_err(|e| CliError::failed(e.to_string()))?;
+        plot::draw(&resid, &format!("{name}: residuals before and after"), "time [s]", &pr)
+            .map_err(|e| CliError::failed(e.to_string()))?;
+        let fname = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let _ = writeln!(md, "### {name}\n\n![angles]({})\n\n![residuals]({})\n", fname(&angles), fname(&resid));
+    }
+    let _ = writeln!(md, "## Why the winner won: every candidate, every round\n");
+    let _ = writeln!(
+        md,
+        "An effect is kept only if it improves the BIC by more than {MIN_DELTA_BIC}, its 95 % interval excludes zero, and (with two or more runs) it predicts held-out runs at least 5 % better.\n"
+    );
+    for r in &o.rounds {
+        let _ = writeln!(md, "### {} (start RMS {:.4}°)\n", r.what, r.start_rms_deg);
+        let _ = writeln!(md, "| candidate | RMS [°] | ΔBIC | held-out RMS [°] | verdict |\n|---|---|---|---|---|");
+        for s in &r.scores {
+            let _ = writeln!(
+                md,
+                "| {} | {:.4} | {:.1} | {} | {} |",
+                s.candidate.label(),
+                s.fitted.rms(),
+                s.delta_bic,
+                s.held_out_rms_deg.map(|h| format!("{h:.4}")).unwrap_or_else(|| "—".into()),
+                s.verdict
+            );
+        }
+        md.push('\n');
+    }
+    let _ = writeln!(md, "{} simulations in {:.2} s.", o.simulations, o.wall_s);
+    std::fs::write(path, md).map_err(|e| CliError::input(format!("{}: cannot write: {e}", path.display())))
+}

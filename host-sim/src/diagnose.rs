@@ -1,0 +1,755 @@
+//! Diagnosis: what the simulation gets wrong, and which named effect of
+//! `docs/spec/physics.md` section 6 explains it.
+//!
+//! Method (details and rationale in `docs/diagnosis.md`):
+//! 1. Baseline: the mechanisms as given, residuals per run and joint.
+//! 2. Noise floor σ̂ estimated from the data alone (third differences).
+//! 3. Candidates: every effect, per joint where it has one. Each is fitted to
+//!    all runs at once: a coarse scan for a start, then Levenberg–Marquardt
+//!    ([`crate::fit`]); candidates are fitted in parallel.
+//! 4. Stepwise selection: the candidate with the best BIC is added if it
+//!    earns its keep — BIC better by more than [`MIN_DELTA_BIC`], its 95 %
+//!    interval excludes zero, and (with two or more runs) the held-out RMS
+//!    (fit on all runs but one, predict that one) improves; effects that no
+//!    longer earn their keep are dropped again. At most three effects; stop
+//!    at the noise floor.
+//! 5. A clear residual that no candidate explains is reported as
+//!    `unexplained`, never forced onto a name.
+
+use crate::campaign::{Campaign, CampaignRun};
+use crate::effect::{Effect, EffectKind};
+use crate::fit::{self, FitOptions};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// ΔBIC an effect must gain to be kept ("very strong" evidence on the
+/// Kass & Raftery 1995 scale).
+pub const MIN_DELTA_BIC: f64 = 10.0;
+
+/// The residual is "down to the sensor noise" below this multiple of σ̂.
+pub const NOISE_FLOOR_FACTOR: f64 = 1.2;
+
+/// How many of the last forward round's best candidates a swap tries.
+pub const SWAP_CANDIDATES: usize = 8;
+
+/// One candidate cause: an effect kind and, for per-joint effects, a joint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Candidate {
+    /// The effect.
+    pub kind: EffectKind,
+    /// 1-based joint for per-joint effects.
+    pub joint: Option<usize>,
+}
+
+impl Candidate {
+    /// Every candidate for a campaign of `joints` joints.
+    pub fn all(joints: usize) -> Vec<Candidate> {
+        let mut out = Vec::new();
+        for kind in EffectKind::ALL {
+            if kind.per_joint() {
+                for j in 1..=joints {
+                    out.push(Candidate {
+                        kind,
+                        joint: Some(j),
+                    });
+                }
+            } else {
+                out.push(Candidate { kind, joint: None });
+            }
+        }
+        out
+    }
+
+    /// Number of parameters (rig tilt: magnitude and direction).
+    pub fn params(&self) -> usize {
+        if self.kind == EffectKind::RigTilt {
+            2
+        } else {
+            1
+        }
+    }
+
+    /// `(lower, upper, smallest finite-difference step)` per parameter.
+    fn bounds(&self) -> Vec<(f64, f64, f64)> {
+        match self.kind {
+            EffectKind::CoulombFriction => vec![(0.0, 20.0, 1e-4)],
+            EffectKind::ViscousDamping => vec![(0.0, 50.0, 1e-4)],
+            EffectKind::SpringSoftening => vec![(-1.0, 0.99, 1e-5)],
+            EffectKind::HarnessStiffness => vec![(0.0, 20.0, 1e-4)],
+            EffectKind::LatchDetent => vec![(0.0, 50.0, 1e-3)],
+            EffectKind::AirDrag => vec![(0.0, 20.0, 1e-4)],
+            EffectKind::RigTilt => vec![(0.0, 5.0, 1e-4), (-720.0, 720.0, 0.05)],
+            EffectKind::EncoderOffset => vec![(-30.0, 30.0, 1e-4)],
+        }
+    }
+
+    /// Starting points of the coarse scan.
+    fn scan(&self) -> Vec<Vec<f64>> {
+        let one = |v: &[f64]| v.iter().map(|&x| vec![x]).collect();
+        match self.kind {
+            EffectKind::CoulombFriction => one(&[0.03, 0.1, 0.3, 1.0, 3.0]),
+            EffectKind::ViscousDamping => one(&[0.03, 0.1, 0.3, 1.0, 3.0]),
+            EffectKind::SpringSoftening => one(&[-0.2, 0.05, 0.2, 0.45]),
+            EffectKind::HarnessStiffness => one(&[0.03, 0.1, 0.3, 1.0]),
+            EffectKind::LatchDetent => one(&[0.3, 1.0, 3.0]),
+            EffectKind::AirDrag => one(&[0.05, 0.2, 0.8, 3.0]),
+            EffectKind::RigTilt => {
+                let mut v = Vec::new();
+                for g in [0.03, 0.2] {
+                    for a in [0.0, 90.0, 180.0, 270.0] {
+                        v.push(vec![g, a]);
+                    }
+                }
+                v
+            }
+            EffectKind::EncoderOffset => one(&[0.0]),
+        }
+    }
+
+    /// The effect with parameters `p`.
+    pub fn effect(&self, p: &[f64]) -> Effect {
+        Effect {
+            kind: self.kind,
+            joint: self.joint,
+            value: p.first().copied().unwrap_or(0.0),
+            alpha_deg: if self.kind == EffectKind::RigTilt {
+                p.get(1).copied().unwrap_or(0.0).rem_euclid(360.0)
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// `name` or `name@joint`, for progress lines and reports.
+    pub fn label(&self) -> String {
+        match self.joint {
+            Some(j) => format!("{} j{j}", self.kind),
+            None => self.kind.to_string(),
+        }
+    }
+}
+
+/// A set of candidates with their parameters, as effects.
+fn effects_of(set: &[Candidate], p: &[f64]) -> Vec<Effect> {
+    let mut out = Vec::with_capacity(set.len());
+    let mut k = 0;
+    for c in set {
+        out.push(c.effect(&p[k..k + c.params()]));
+        k += c.params();
+    }
+    out
+}
+
+/// A fitted set of effects.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FittedSet {
+    /// The candidates, in selection order.
+    pub set: Vec<Candidate>,
+    /// Their parameters, concatenated.
+    pub params: Vec<f64>,
+    /// 95 % intervals of the parameters.
+    pub ci95: Vec<[f64; 2]>,
+    /// Sum of squared residuals over all runs [deg²].
+    pub sse: f64,
+    /// Number of residuals.
+    pub m: usize,
+    /// Simulations used to fit it (per run).
+    pub evaluations: usize,
+}
+
+impl FittedSet {
+    /// The effects.
+    pub fn effects(&self) -> Vec<Effect> {
+        effects_of(&self.set, &self.params)
+    }
+
+    /// RMS of the residuals [deg].
+    pub fn rms(&self) -> f64 {
+        (self.sse / self.m.max(1) as f64).sqrt()
+    }
+
+    /// The set without its `k`-th effect, the others' parameters kept (not
+    /// refitted).
+    pub fn without(&self, k: usize) -> FittedSet {
+        let mut set = Vec::new();
+        let mut params = Vec::new();
+        let mut ci95 = Vec::new();
+        let mut off = 0;
+        for (i, c) in self.set.iter().enumerate() {
+            if i != k {
+                set.push(*c);
+                params.extend_from_slice(&self.params[off..off + c.params()]);
+                ci95.extend_from_slice(&self.ci95[off..(off + c.params()).min(self.ci95.len())]);
+            }
+            off += c.params();
+        }
+        FittedSet {
+            set,
+            params,
+            ci95,
+            sse: f64::NAN,
+            m: self.m,
+            evaluations: 0,
+        }
+    }
+
+    /// Bayesian information criterion of the Gaussian likelihood,
+    /// `m ln(SSE/m) + k ln m`.
+    pub fn bic(&self) -> f64 {
+        let m = self.m.max(1) as f64;
+        m * (self.sse.max(1e-300) / m).ln() + self.params.len() as f64 * m.ln()
+    }
+}
+
+/// How one candidate fared in one round.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CandidateScore {
+    /// The candidate.
+    pub candidate: Candidate,
+    /// The set it was fitted in (the current set plus it).
+    pub fitted: FittedSet,
+    /// BIC gain over the current set (positive is better).
+    pub delta_bic: f64,
+    /// Held-out RMS with it [deg], when computed.
+    pub held_out_rms_deg: Option<f64>,
+    /// Whether it was added.
+    pub accepted: bool,
+    /// Why it was or was not added.
+    pub verdict: String,
+}
+
+/// One round of the stepwise search.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Round {
+    /// What the round tried (add a candidate, or swap one).
+    pub what: String,
+    /// The set the round started from.
+    pub start: Vec<Candidate>,
+    /// RMS of that set [deg].
+    pub start_rms_deg: f64,
+    /// Every candidate, best BIC first.
+    pub scores: Vec<CandidateScore>,
+}
+
+/// Settings of a diagnosis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DiagnoseOptions {
+    /// Most effects to add.
+    pub max_effects: usize,
+    /// The candidates considered (all by default).
+    pub kinds: Vec<EffectKind>,
+    /// Print progress on stderr.
+    pub progress: bool,
+}
+
+impl Default for DiagnoseOptions {
+    fn default() -> Self {
+        DiagnoseOptions {
+            max_effects: 3,
+            kinds: EffectKind::ALL.to_vec(),
+            progress: false,
+        }
+    }
+}
+
+/// What a diagnosis concluded.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outcome {
+    /// The noise floor σ̂ estimated from the runs [deg].
+    pub noise_sigma_deg: f64,
+    /// The baseline (no effect).
+    pub baseline: FittedSet,
+    /// The selected effects, fitted together.
+    pub extended: FittedSet,
+    /// Each selected effect's strength: the RMS [deg] of the extended model
+    /// without it (values of the others kept).
+    pub strength_rms_deg: Vec<f64>,
+    /// Held-out RMS of the extended model [deg] (two or more runs).
+    pub held_out_rms_deg: Option<f64>,
+    /// Held-out RMS of the baseline [deg] (the baseline fits nothing, so this
+    /// is its plain RMS).
+    pub rounds: Vec<Round>,
+    /// A description of a clear residual no candidate explains.
+    pub unexplained: Option<String>,
+    /// Simulations used in all (each over all runs).
+    pub simulations: usize,
+    /// Wall time [s].
+    pub wall_s: f64,
+}
+
+/// Estimates the sensor noise σ [deg] from the runs alone: the median
+/// absolute third difference of each angle series, scaled for white noise
+/// (`Var Δ³e = 20 σ²`, MAD → σ by 1.4826); smooth motion contributes only
+/// `φ⃛·Δt³`, and latch instants are outliers the median ignores.
+pub fn noise_sigma_deg(campaign: &Campaign) -> f64 {
+    let mut est = Vec::new();
+    for r in &campaign.runs {
+        for phi in &r.run.phi_deg {
+            let mut d3: Vec<f64> = phi
+                .windows(4)
+                .map(|w| (w[3] - 3.0 * w[2] + 3.0 * w[1] - w[0]).abs())
+                .filter(|x| x.is_finite())
+                .collect();
+            if d3.len() < 10 {
+                continue;
+            }
+            d3.sort_by(f64::total_cmp);
+            let mad = d3[d3.len() / 2];
+            est.push(1.4826 * mad / 20f64.sqrt());
+        }
+    }
+    if est.is_empty() {
+        return 0.0;
+    }
+    est.sort_by(f64::total_cmp);
+    est[est.len() / 2]
+}
+
+struct Engine<'a> {
+    campaign: &'a Campaign,
+    opts: &'a DiagnoseOptions,
+    sims: std::sync::atomic::AtomicUsize,
+}
+
+impl Engine<'_> {
+    fn say(&self, msg: impl AsRef<str>) {
+        if self.opts.progress {
+            eprintln!("{}", msg.as_ref());
+        }
+    }
+
+    fn residuals(&self, c: &Campaign, set: &[Candidate], p: &[f64]) -> Option<Vec<f64>> {
+        self.sims
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        c.residual_vector(&effects_of(set, p))
+    }
+
+    fn sse(&self, c: &Campaign, set: &[Candidate], p: &[f64]) -> Option<(f64, usize)> {
+        let r = self.residuals(c, set, p)?;
+        Some((r.iter().map(|x| x * x).sum(), r.len()))
+    }
+
+    /// Fits `set` on campaign `c`, starting from `p0`.
+    fn fit(&self, c: &Campaign, set: &[Candidate], p0: &[f64]) -> Option<FittedSet> {
+        if set.is_empty() {
+            let (sse, m) = self.sse(c, set, &[])?;
+            return Some(FittedSet {
+                set: Vec::new(),
+                params: Vec::new(),
+                ci95: Vec::new(),
+                sse,
+                m,
+                evaluations: 1,
+            });
+        }
+        let b: Vec<(f64, f64, f64)> = set.iter().flat_map(|c| c.bounds()).collect();
+        let opts = FitOptions {
+            lower: b.iter().map(|x| x.0).collect(),
+            upper: b.iter().map(|x| x.1).collect(),
+            min_step: b.iter().map(|x| x.2).collect(),
+            patience: 12,
+        };
+        let model = |p: &[f64]| self.residuals(c, set, p);
+        let r = fit::least_squares(&model, p0, &opts).ok()?;
+        Some(FittedSet {
+            set: set.to_vec(),
+            params: r.params,
+            ci95: r.ci95,
+            sse: r.sse,
+            m: r.residuals,
+            evaluations: r.evaluations,
+        })
+    }
+
+    /// Fits `base ∪ {cand}`: scans the candidate's value with the base's
+    /// parameters held, then refits everything.
+    fn fit_with(&self, c: &Campaign, base: &FittedSet, cand: Candidate) -> Option<FittedSet> {
+        let mut set = base.set.clone();
+        set.push(cand);
+        let mut best: Option<(f64, Vec<f64>)> = None;
+        for start in cand.scan() {
+            let mut p = base.params.clone();
+            p.extend(start);
+            if let Some((sse, _)) = self.sse(c, &set, &p) {
+                if best.as_ref().is_none_or(|(b, _)| sse < *b) {
+                    best = Some((sse, p));
+                }
+            }
+        }
+        let (_, p0) = best?;
+        self.fit(c, &set, &p0)
+    }
+
+    /// Held-out RMS [deg] of a set: fit on all runs but one (from the
+    /// all-run parameters), predict the one left out; pooled over folds.
+    fn held_out(&self, fitted: &FittedSet) -> Option<f64> {
+        let n = self.campaign.runs.len();
+        if n < 2 {
+            return None;
+        }
+        let folds: Vec<Option<(f64, usize)>> = (0..n)
+            .into_par_iter()
+            .map(|k| {
+                let train = sub_campaign(self.campaign, |i| i != k);
+                let test = sub_campaign(self.campaign, |i| i == k);
+                let p = if fitted.set.is_empty() {
+                    Vec::new()
+                } else {
+                    self.fit(&train, &fitted.set, &fitted.params)?.params
+                };
+                self.sse(&test, &fitted.set, &p)
+            })
+            .collect();
+        let (mut sse, mut m) = (0.0, 0usize);
+        for f in folds {
+            let (s, k) = f?;
+            sse += s;
+            m += k;
+        }
+        Some((sse / m.max(1) as f64).sqrt())
+    }
+}
+
+impl Engine<'_> {
+    /// Scores fitted candidates against `current` and picks the best by BIC
+    /// that earns its keep: BIC gain > [`MIN_DELTA_BIC`], a 95 % interval
+    /// clear of zero, and a held-out RMS at least 5 % better than the
+    /// current set's (with two or more runs).
+    fn judge(
+        &self,
+        current: &FittedSet,
+        current_held: Option<f64>,
+        fits: impl Iterator<Item = (Candidate, Option<FittedSet>)>,
+        what: String,
+    ) -> (Round, Option<(FittedSet, Option<f64>)>) {
+        let mut scores: Vec<CandidateScore> = fits
+            .filter_map(|(cand, f)| {
+                let f = f?;
+                Some(CandidateScore {
+                    candidate: cand,
+                    delta_bic: current.bic() - f.bic(),
+                    fitted: f,
+                    held_out_rms_deg: None,
+                    accepted: false,
+                    verdict: String::new(),
+                })
+            })
+            .collect();
+        scores.sort_by(|a, b| b.delta_bic.total_cmp(&a.delta_bic));
+        let show = if std::env::var_os("DEPLOYWATCH_TRACE").is_some() { usize::MAX } else { 5 };
+        for s in scores.iter().take(show) {
+            self.say(format!(
+                "  {:<40} RMS {:.4} deg  dBIC {:>10.1}",
+                labels(&s.fitted.set),
+                s.fitted.rms(),
+                s.delta_bic
+            ));
+        }
+        let mut chosen = None;
+        for (i, s) in scores.iter_mut().enumerate() {
+            if chosen.is_some() || i >= 3 {
+                if s.verdict.is_empty() {
+                    s.verdict = format!("dBIC {:.1}, not the best", s.delta_bic);
+                }
+                continue;
+            }
+            let at = s
+                .fitted
+                .set
+                .iter()
+                .position(|c| *c == s.candidate)
+                .map(|k| s.fitted.set[..k].iter().map(|c| c.params()).sum::<usize>())
+                .unwrap_or(0);
+            s.verdict = if s.delta_bic <= MIN_DELTA_BIC {
+                format!("BIC gain {:.1} ≤ {MIN_DELTA_BIC}", s.delta_bic)
+            } else if !clear_of_zero(&s.fitted, at) {
+                "its 95 % interval contains zero".into()
+            } else {
+                s.held_out_rms_deg = self.held_out(&s.fitted);
+                match (s.held_out_rms_deg, current_held) {
+                    (Some(h), Some(c)) if h >= 0.95 * c => {
+                        format!("held-out RMS {h:.4} deg does not beat {c:.4} deg")
+                    }
+                    _ => {
+                        chosen = Some(i);
+                        s.accepted = true;
+                        "earns its keep: added".into()
+                    }
+                }
+            };
+        }
+        let next = chosen.map(|i| (scores[i].fitted.clone(), scores[i].held_out_rms_deg));
+        (
+            Round {
+                start: current.set.clone(),
+                start_rms_deg: current.rms(),
+                what,
+                scores,
+            },
+            next,
+        )
+    }
+
+    /// Drops effects that no longer earn their keep beside the others.
+    fn backward(&self, mut f: FittedSet, mut held: Option<f64>) -> (FittedSet, Option<f64>) {
+        while f.set.len() > 1 {
+            let reduced: Vec<Option<FittedSet>> = (0..f.set.len())
+                .into_par_iter()
+                .map(|k| {
+                    let r = f.without(k);
+                    self.fit(self.campaign, &r.set, &r.params)
+                })
+                .collect();
+            let best = reduced
+                .into_iter()
+                .flatten()
+                .min_by(|a, b| a.bic().total_cmp(&b.bic()));
+            match best {
+                Some(r) if r.bic() - f.bic() < MIN_DELTA_BIC => {
+                    let gone: Vec<String> = f
+                        .set
+                        .iter()
+                        .filter(|c| !r.set.contains(c))
+                        .map(|c| c.label())
+                        .collect();
+                    self.say(format!("  dropped {}: no longer earns its keep", gone.join(", ")));
+                    held = self.held_out(&r);
+                    f = r;
+                }
+                _ => break,
+            }
+        }
+        (f, held)
+    }
+}
+
+/// `a, b, c` of a set's labels.
+fn labels(set: &[Candidate]) -> String {
+    set.iter().map(|c| c.label()).collect::<Vec<_>>().join(", ")
+}
+
+fn sub_campaign(c: &Campaign, keep: impl Fn(usize) -> bool) -> Campaign {
+    Campaign {
+        sim: c.sim,
+        runs: c
+            .runs
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| keep(*i))
+            .map(|(_, r)| r.clone())
+            .collect::<Vec<CampaignRun>>(),
+    }
+}
+
+/// True when the 95 % interval of the candidate's first parameter (its
+/// value; a rig tilt's angle has no zero) excludes zero.
+fn clear_of_zero(f: &FittedSet, cand_offset: usize) -> bool {
+    f.ci95
+        .get(cand_offset)
+        .is_some_and(|ci| ci[0] > 0.0 || ci[1] < 0.0)
+}
+
+/// Diagnoses a campaign.
+pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions) -> Outcome {
+    let t0 = Instant::now();
+    let eng = Engine {
+        campaign,
+        opts,
+        sims: std::sync::atomic::AtomicUsize::new(0),
+    };
+    let sigma = noise_sigma_deg(campaign);
+    let floor = NOISE_FLOOR_FACTOR * sigma;
+    let baseline = eng.fit(campaign, &[], &[]).unwrap_or(FittedSet {
+        set: Vec::new(),
+        params: Vec::new(),
+        ci95: Vec::new(),
+        sse: f64::INFINITY,
+        m: campaign.samples(),
+        evaluations: 0,
+    });
+    eng.say(format!(
+        "baseline: RMS {:.4} deg over {} runs; noise floor sigma {:.4} deg",
+        baseline.rms(),
+        campaign.runs.len(),
+        sigma
+    ));
+    let candidates: Vec<Candidate> = Candidate::all(campaign.max_joints())
+        .into_iter()
+        .filter(|c| opts.kinds.contains(&c.kind))
+        .collect();
+
+    let mut current = baseline.clone();
+    let mut current_held = eng.held_out(&current);
+    let mut rounds = Vec::new();
+    let mut seen: Vec<Vec<Candidate>> = vec![Vec::new()];
+    let mut swaps = 0;
+    for _ in 0..10 {
+        if current.rms() <= floor {
+            eng.say(format!(
+                "residual {:.4} deg is down to the noise floor: stop",
+                current.rms()
+            ));
+            break;
+        }
+        // Forward: add the best candidate that earns its keep.
+        if current.set.len() < opts.max_effects {
+            let todo: Vec<Candidate> = candidates
+                .iter()
+                .copied()
+                .filter(|c| !current.set.contains(c))
+                .collect();
+            eng.say(format!(
+                "round {}: fitting {} candidates beside {{{}}} (RMS {:.4} deg)",
+                rounds.len() + 1,
+                todo.len(),
+                labels(&current.set),
+                current.rms()
+            ));
+            let fits: Vec<Option<FittedSet>> = todo
+                .par_iter()
+                .map(|&cand| eng.fit_with(campaign, &current, cand))
+                .collect();
+            let (round, next) = eng.judge(
+                &current,
+                current_held,
+                todo.into_iter().zip(fits),
+                format!("add to {{{}}}", labels(&current.set)),
+            );
+            rounds.push(round);
+            if let Some((f, held)) = next {
+                if !seen.contains(&f.set) {
+                    eng.say(format!("  added {} (RMS {:.4} deg)", labels(&f.set), f.rms()));
+                    let (f, held) = eng.backward(f, held);
+                    seen.push(f.set.clone());
+                    current = f;
+                    current_held = held;
+                    continue;
+                }
+            }
+        }
+        // Swap: replace one effect by another candidate when the residual is
+        // still above the noise floor (greedy steps can take a wrong turn
+        // when two effects act together).
+        if current.set.is_empty() || swaps >= 2 {
+            break;
+        }
+        swaps += 1;
+        // Swap in only the strongest alternatives of the last forward round.
+        let strongest: Vec<Candidate> = rounds
+            .iter()
+            .rev()
+            .find(|r: &&Round| r.what.starts_with("add"))
+            .map(|r| {
+                r.scores
+                    .iter()
+                    .filter(|s| !current.set.contains(&s.candidate))
+                    .take(SWAP_CANDIDATES)
+                    .map(|s| s.candidate)
+                    .collect()
+            })
+            .unwrap_or_default();
+        let mut moves = Vec::new();
+        for k in 0..current.set.len() {
+            let reduced = current.without(k);
+            for c in &strongest {
+                moves.push((reduced.clone(), *c));
+            }
+        }
+        eng.say(format!(
+            "swap {swaps}: trying {} replacements in {{{}}}",
+            moves.len(),
+            labels(&current.set)
+        ));
+        let fits: Vec<Option<FittedSet>> = moves
+            .par_iter()
+            .map(|(base, c)| eng.fit_with(campaign, base, *c))
+            .collect();
+        let (round, next) = eng.judge(
+            &current,
+            current_held,
+            moves.iter().map(|(_, c)| *c).zip(fits),
+            format!("swap one of {{{}}}", labels(&current.set)),
+        );
+        rounds.push(round);
+        match next {
+            Some((f, held)) if !seen.contains(&f.set) => {
+                eng.say(format!("  swapped to {{{}}} (RMS {:.4} deg)", labels(&f.set), f.rms()));
+                let (f, held) = eng.backward(f, held);
+                seen.push(f.set.clone());
+                current = f;
+                current_held = held;
+            }
+            _ => {
+                eng.say("  no swap earns its keep: stop");
+                break;
+            }
+        }
+    }
+
+    // Strength of each effect: RMS without it.
+    let strength: Vec<f64> = (0..current.set.len())
+        .map(|k| {
+            let mut reduced = Vec::new();
+            let mut p = Vec::new();
+            let mut off = 0;
+            for (i, c) in current.set.iter().enumerate() {
+                if i != k {
+                    reduced.push(*c);
+                    p.extend_from_slice(&current.params[off..off + c.params()]);
+                }
+                off += c.params();
+            }
+            eng.sse(campaign, &reduced, &p)
+                .map(|(s, m)| (s / m.max(1) as f64).sqrt())
+                .unwrap_or(f64::INFINITY)
+        })
+        .collect();
+    // Strongest first.
+    let mut order: Vec<usize> = (0..current.set.len()).collect();
+    order.sort_by(|&a, &b| strength[b].total_cmp(&strength[a]));
+    let mut extended = current.clone();
+    extended.set = order.iter().map(|&i| current.set[i]).collect();
+    let mut offs = Vec::new();
+    let mut off = 0;
+    for c in &current.set {
+        offs.push(off);
+        off += c.params();
+    }
+    extended.params = order
+        .iter()
+        .flat_map(|&i| current.params[offs[i]..offs[i] + current.set[i].params()].to_vec())
+        .collect();
+    extended.ci95 = order
+        .iter()
+        .flat_map(|&i| current.ci95[offs[i]..offs[i] + current.set[i].params()].to_vec())
+        .collect();
+    let strength_rms_deg = order.iter().map(|&i| strength[i]).collect();
+    let held_out_rms_deg = if extended.set.is_empty() {
+        current_held
+    } else {
+        current_held.or_else(|| eng.held_out(&extended))
+    };
+
+    let unexplained = if extended.rms() > 1.5 * sigma.max(1e-6) && extended.rms() > sigma + 0.01 {
+        Some(format!(
+            "the residual stays at {:.4} deg RMS, {:.1} times the noise floor ({:.4} deg), and no further candidate earns its keep",
+            extended.rms(),
+            extended.rms() / sigma.max(1e-9),
+            sigma
+        ))
+    } else {
+        None
+    };
+
+    Outcome {
+        noise_sigma_deg: sigma,
+        baseline,
+        extended,
+        strength_rms_deg,
+        held_out_rms_deg,
+        rounds,
+        unexplained,
+        simulations: eng.sims.load(std::sync::atomic::Ordering::Relaxed),
+        wall_s: t0.elapsed().as_secs_f64(),
+    }
+}

@@ -1,0 +1,203 @@
+//! What the residuals of a model look like, in numbers and words: which
+//! joints, when (phase of the stroke), how they correlate with rate, rate²,
+//! angle, distance from the stowed angle and proximity to the latch, and
+//! whether they look like a sensor effect (present at rest and after the
+//! latch) or a dynamic one (zero at release, growing with the motion).
+
+use crate::campaign::Campaign;
+use crate::effect::Effect;
+
+/// Residual statistics of one joint in one run (model − measured, deg).
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointEvidence {
+    /// Run file name.
+    pub run: String,
+    /// 1-based joint.
+    pub joint: usize,
+    /// RMS over the whole run [deg].
+    pub rms_deg: f64,
+    /// RMS over the first, middle and last third of the stroke, by the
+    /// measured angle's distance to the latch (`|φ| > ⅔|φ_s|`, between,
+    /// `< ⅓|φ_s|`) [deg]; NaN where no sample falls.
+    pub stroke_thirds_rms_deg: [f64; 3],
+    /// RMS within 5° of the latch angle, before the latch [deg].
+    pub near_latch_rms_deg: f64,
+    /// Mean residual after the joint latched in both model and run [deg].
+    pub after_latch_mean_deg: f64,
+    /// Mean residual over the first 50 ms (the panel has hardly moved) [deg].
+    pub at_release_mean_deg: f64,
+    /// Model latch time minus measured latch time [s] (None if either never latched).
+    pub latch_lead_s: Option<f64>,
+    /// Pearson correlation of the residual, before the measured latch, with
+    /// rate, rate², angle, distance from stowed, latch proximity.
+    pub correlation: [f64; 5],
+    /// The reading in words.
+    pub summary: String,
+}
+
+/// Names of the correlates, in the order of [`JointEvidence::correlation`].
+pub const CORRELATES: [&str; 5] = ["rate", "rate²", "angle", "stowed distance", "latch proximity"];
+
+fn rms(x: impl Iterator<Item = f64>) -> f64 {
+    let (mut s, mut n) = (0.0, 0usize);
+    for v in x {
+        s += v * v;
+        n += 1;
+    }
+    if n == 0 {
+        f64::NAN
+    } else {
+        (s / n as f64).sqrt()
+    }
+}
+
+fn mean(x: impl Iterator<Item = f64>) -> f64 {
+    let (mut s, mut n) = (0.0, 0usize);
+    for v in x {
+        s += v;
+        n += 1;
+    }
+    if n == 0 {
+        f64::NAN
+    } else {
+        s / n as f64
+    }
+}
+
+fn pearson(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    if n < 3 {
+        return 0.0;
+    }
+    let ma = a.iter().take(n).sum::<f64>() / n as f64;
+    let mb = b.iter().take(n).sum::<f64>() / n as f64;
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for i in 0..n {
+        let (x, y) = (a[i] - ma, b[i] - mb);
+        sab += x * y;
+        saa += x * x;
+        sbb += y * y;
+    }
+    if saa <= 0.0 || sbb <= 0.0 {
+        0.0
+    } else {
+        sab / (saa * sbb).sqrt()
+    }
+}
+
+/// The residual evidence of a model (`effects` on the campaign's
+/// mechanisms) against every run and joint. `sigma` is the noise floor [deg].
+pub fn analyse(campaign: &Campaign, effects: &[Effect], sigma: f64) -> Vec<JointEvidence> {
+    let mut out = Vec::new();
+    for (i, cr) in campaign.runs.iter().enumerate() {
+        let Ok(traj) = campaign.simulate(i, effects) else {
+            continue;
+        };
+        let run = &cr.run;
+        for j in 0..run.joints() {
+            let meas = &run.phi_deg[j];
+            let model = &traj.phi_deg[j];
+            let r: Vec<f64> = model.iter().zip(meas).map(|(m, y)| m - y).collect();
+            let stowed = cr.mechanism.joints[j].stowed_deg.abs();
+            let latched_meas = &run.latch[j];
+            let end = latched_meas.iter().position(|&l| l).unwrap_or(run.len());
+            let frac = |k: usize| meas[k].abs() / stowed.max(1e-9);
+            let third = |lo: f64, hi: f64| rms((0..end).filter(|&k| frac(k) > lo && frac(k) <= hi).map(|k| r[k]));
+            let thirds = [third(2.0 / 3.0, f64::INFINITY), third(1.0 / 3.0, 2.0 / 3.0), third(-1.0, 1.0 / 3.0)];
+            let near = rms((0..end).filter(|&k| meas[k].abs() < 5.0).map(|k| r[k]));
+            let after = mean((0..run.len()).filter(|&k| latched_meas[k] && traj.latched[j][k]).map(|k| r[k]));
+            let release = mean((0..run.len()).filter(|&k| run.t_s[k] <= 0.05).map(|k| r[k]));
+            let latch_meas = latched_meas.iter().position(|&l| l).map(|k| run.t_s[k]);
+            let latch_model = traj.latched[j].iter().position(|&l| l).map(|k| traj.t_s[k]);
+            let lead = match (latch_model, latch_meas) {
+                (Some(a), Some(b)) => Some(a - b),
+                _ => None,
+            };
+            // Regressors before the measured latch (rate by central differences).
+            let mut regs: [Vec<f64>; 5] = Default::default();
+            let mut rr = Vec::new();
+            for k in 1..end.saturating_sub(1) {
+                let dt = run.t_s[k + 1] - run.t_s[k - 1];
+                let rate = (meas[k + 1] - meas[k - 1]) / dt;
+                regs[0].push(rate);
+                regs[1].push(rate * rate.abs());
+                regs[2].push(meas[k]);
+                regs[3].push((meas[k] - cr.mechanism.joints[j].stowed_deg).abs());
+                regs[4].push((-meas[k].abs() / 5.0).exp());
+                rr.push(r[k]);
+            }
+            let correlation = [0, 1, 2, 3, 4].map(|q| pearson(&rr, &regs[q]));
+            let total = rms(r.iter().copied());
+            let summary = describe(j + 1, total, &thirds, near, after, release, lead, &correlation, sigma);
+            out.push(JointEvidence {
+                run: cr.name(),
+                joint: j + 1,
+                rms_deg: total,
+                stroke_thirds_rms_deg: thirds,
+                near_latch_rms_deg: near,
+                after_latch_mean_deg: after,
+                at_release_mean_deg: release,
+                latch_lead_s: lead,
+                correlation,
+                summary,
+            });
+        }
+    }
+    out
+}
+
+#[allow(clippy::too_many_arguments)]
+fn describe(
+    joint: usize,
+    total: f64,
+    thirds: &[f64; 3],
+    near: f64,
+    after: f64,
+    release: f64,
+    lead: Option<f64>,
+    corr: &[f64; 5],
+    sigma: f64,
+) -> String {
+    let clear = 3.0 * sigma.max(1e-6);
+    if !(total > clear) {
+        return format!("joint {joint}: residual {total:.3} deg RMS, at the noise ({sigma:.3} deg)");
+    }
+    let mut s = format!("joint {joint}: residual {total:.3} deg RMS");
+    let sensor = release.abs() > clear && after.is_finite() && (after - release).abs() < 0.25 * release.abs();
+    if sensor {
+        s += &format!(
+            "; already {release:+.3} deg at release and {after:+.3} deg after the latch: a sensor effect (offset), not dynamics"
+        );
+        return s;
+    }
+    let names = ["early", "mid", "late"];
+    if let Some((k, v)) = thirds
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.is_finite())
+        .max_by(|a, b| a.1.total_cmp(b.1))
+    {
+        s += &format!("; largest {} in the stroke ({v:.3} deg)", names[k]);
+    }
+    if near.is_finite() && near > clear {
+        s += &format!(", {near:.3} deg within 5 deg of the latch");
+    }
+    if release.abs() < clear {
+        s += "; zero at release, grows with the motion: dynamic";
+    }
+    match lead {
+        Some(l) if l < -0.005 => s += &format!("; the model latches {:.3} s early (runs ahead)", -l),
+        Some(l) if l > 0.005 => s += &format!("; the model latches {l:.3} s late (lags)"),
+        _ => {}
+    }
+    if let Some((k, c)) = corr
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+    {
+        if c.abs() > 0.3 {
+            s += &format!("; correlates most with {} (r = {c:+.2})", CORRELATES[k]);
+        }
+    }
+    s
+}

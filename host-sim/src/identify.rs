@@ -1,0 +1,955 @@
+//! Identification of the equivalent friction torque (EFT) of each joint from
+//! measured deployments: the papers' quantity (`physics.md` 4, the Coulomb
+//! torque `T_C` with `T_brk = T_C`, `f = 0`), common to every run of a
+//! campaign (same hinges, same rig), each run keeping its own mechanism.
+//!
+//! Two methods, both over simulations of every run of the campaign:
+//!
+//! - **direct** ([`identify_direct`]): minimise the sum of squared angle
+//!   residuals of all runs at once (seed 001 Eq. 6 over the whole runs,
+//!   model minus measurement at every sample) over the EFTs with a
+//!   derivative-based least-squares solver ([`crate::fit::least_squares`],
+//!   Levenberg–Marquardt, finite-difference Jacobian with one parallel
+//!   simulation per column), lower bound 0, 95 % confidence intervals from
+//!   the Jacobian at the solution.
+//! - **rsm** ([`identify_rsm`]): the method of seed 000 (section 4.3,
+//!   Eqs. 14–16, Table 9): a central composite design (CCD) of EFTs around a
+//!   centre, every design point simulated (in parallel), a full quadratic
+//!   (Eq. 15) fitted to each response with its R², and the fitted surface
+//!   minimised inside the box the design explored ([`crate::rsm`]).
+//!
+//! A *simulation* in the counts below is one evaluation of the model on the
+//! whole campaign, i.e. one deployment of every run; `deployments` counts
+//! the single deployments (`simulations × runs`).
+
+use crate::campaign::Campaign;
+use crate::effect::{Effect, EffectKind};
+use crate::fit::{self, FitOptions};
+use crate::metrics::{self, TimeWindow};
+use crate::rsm::{self, CcdKind, Coding, Quadratic};
+use crate::sim::Trajectory;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// The uniform EFTs tried by the start scan [N·m]: a geometric grid with
+/// ratio √2 from 0.025 to 3.2 N·m (15 values), plus 0.
+pub const SCAN_GRID_NM: [f64; 16] = [
+    0.0, 0.025, 0.035355, 0.05, 0.070711, 0.1, 0.141421, 0.2, 0.282843, 0.4, 0.565685, 0.8, 1.131371,
+    1.6, 2.262742, 3.2,
+];
+
+/// Which identification method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// Least squares over the trajectories (seed 001 Eq. 6 as the objective).
+    Direct,
+    /// Response surface on a central composite design (seed 000 Eqs. 14–16).
+    Rsm,
+}
+
+impl Method {
+    /// The name used on the command line and in the JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Direct => "direct",
+            Method::Rsm => "rsm",
+        }
+    }
+}
+
+impl std::str::FromStr for Method {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "direct" => Ok(Method::Direct),
+            "rsm" => Ok(Method::Rsm),
+            _ => Err(format!("unknown method `{s}`: expected `direct` or `rsm`")),
+        }
+    }
+}
+
+/// The EFT identified at one joint.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct JointEft {
+    /// 1-based joint.
+    pub joint: usize,
+    /// Equivalent friction torque `T_C` [N·m] (`physics.md` 4).
+    pub coulomb_nm: f64,
+    /// 95 % confidence interval [N·m] (direct method only: from the
+    /// Jacobian, `p ± t₀.₉₇₅ · sd`, see [`crate::fit`]); `null` for rsm.
+    pub ci95: Option<[f64; 2]>,
+    /// Standard deviation of the estimate [N·m] (direct method only).
+    pub sd_nm: Option<f64>,
+}
+
+/// How well one run is reproduced by a model.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RunScore {
+    /// The run's file name.
+    pub run: String,
+    /// The mechanism it was paired with.
+    pub mechanism: String,
+    /// RMS of model minus measurement over every sample and joint [deg]
+    /// (`physics.md` 8).
+    pub rms_deg: f64,
+    /// Trajectory error of each joint [%] (seed 000 Eq. 14, `physics.md` 8,
+    /// whole run); `null` where no sample qualifies.
+    pub trajectory_error_pct: Vec<Option<f64>>,
+    /// Sum of squared residuals of each joint over the run [deg²].
+    #[serde(skip)]
+    pub joint_sse_deg2: Vec<f64>,
+    /// Samples of the run.
+    #[serde(skip)]
+    pub samples: usize,
+}
+
+/// A model's fit to the whole campaign.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CampaignScore {
+    /// RMS over every sample, joint and run [deg].
+    pub rms_deg: f64,
+    /// Per run.
+    pub runs: Vec<RunScore>,
+}
+
+impl CampaignScore {
+    /// Trajectory error of joint `joint` (1-based) averaged over the runs
+    /// where it is defined [%]; `None` if it is defined in none.
+    pub fn mean_te_pct(&self, joint: usize) -> Option<f64> {
+        let v: Vec<f64> = self
+            .runs
+            .iter()
+            .filter_map(|r| r.trajectory_error_pct.get(joint - 1).copied().flatten())
+            .collect();
+        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+    }
+}
+
+/// Details of a direct (least-squares) identification.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DirectDetails {
+    /// Where the solver started [N·m], one value per identified joint.
+    pub start_nm: Vec<f64>,
+    /// How the start was chosen.
+    pub start_rule: String,
+    /// Sum of squared residuals at the solution [deg²] (seed 001 Eq. 6 over
+    /// the whole runs).
+    pub sse_deg2: f64,
+    /// Number of residuals (samples × joints, all runs).
+    pub residuals: usize,
+    /// The solver's verdict.
+    pub termination: String,
+    /// Joints whose EFT ended below 0 and were fixed at the bound 0.
+    pub fixed_at_zero: Vec<usize>,
+}
+
+/// One response of the design and its fitted quadratic.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ResponseSurface {
+    /// `te<j>_pct` (trajectory error of joint j, seed 000 Eq. 14, mean over
+    /// the runs) or `mse_deg2` (mean squared angle residual, all runs).
+    pub name: String,
+    /// The response at each design point, in design order.
+    pub values: Vec<f64>,
+    /// R² of the full quadratic (seed 000 Eq. 15) fitted to it.
+    pub r2: f64,
+    /// Adjusted R².
+    pub adj_r2: f64,
+    /// The quadratic's coefficients in coded units, seed 000 Eq. 16 order
+    /// (`b0, b1..bk, b12.., b11..bkk`).
+    pub coded_coefficients: Vec<f64>,
+}
+
+/// Details of a response-surface identification.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RsmDetails {
+    /// Design centre [N·m].
+    pub centre_nm: Vec<f64>,
+    /// Half-ranges [N·m]: coded ±1.
+    pub half_range_nm: Vec<f64>,
+    /// How the centre and half-ranges were chosen.
+    pub design_rule: String,
+    /// Axial distance α in coded units (1.682 for a rotatable 3-factor CCD).
+    pub alpha: f64,
+    /// The design points [N·m], in design order (factorial, axial, centre).
+    pub points_nm: Vec<Vec<f64>>,
+    /// Every response with its fitted surface.
+    pub responses: Vec<ResponseSurface>,
+    /// The response minimised.
+    pub minimised: String,
+    /// The box the surface was minimised in [N·m]: `[lower, upper]` per joint.
+    pub box_nm: Vec<[f64; 2]>,
+    /// The fitted surface's value at its minimum (prediction).
+    pub predicted: f64,
+    /// The same response simulated at the minimum (check).
+    pub simulated: f64,
+}
+
+/// The outcome of an identification, serialisable to the JSON of
+/// `deploywatch identify --json`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Identification {
+    /// `direct` or `rsm`.
+    pub method: Method,
+    /// The EFT per identified joint.
+    pub joints: Vec<JointEft>,
+    /// RMS of the mechanisms as given (no extra friction) against the runs [deg].
+    pub rms_deg_before: f64,
+    /// RMS with the identified EFTs [deg].
+    pub rms_deg_after: f64,
+    /// Model evaluations on the whole campaign (each one deployment of every
+    /// run), everything included: start scan, solver or design, checks.
+    pub simulations: usize,
+    /// Single deployments simulated (`simulations × runs`).
+    pub deployments: usize,
+    /// Wall-clock time of the identification [s].
+    pub wall_s: f64,
+    /// Before: the mechanisms as given, per run.
+    pub before: CampaignScore,
+    /// After: with the identified EFTs, per run.
+    pub after: CampaignScore,
+    /// Direct method details.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub direct: Option<DirectDetails>,
+    /// Response-surface details.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rsm: Option<RsmDetails>,
+}
+
+impl Identification {
+    /// The identified EFTs as `coulomb_friction` effects.
+    pub fn effects(&self) -> Vec<Effect> {
+        self.joints
+            .iter()
+            .map(|j| Effect::joint(EffectKind::CoulombFriction, j.joint, j.coulomb_nm))
+            .collect()
+    }
+
+    /// The EFT identified at joint `joint` (1-based) [N·m].
+    pub fn eft(&self, joint: usize) -> Option<f64> {
+        self.joints.iter().find(|j| j.joint == joint).map(|j| j.coulomb_nm)
+    }
+
+    /// Pretty-printed JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+    }
+}
+
+/// Why an identification failed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum IdentifyError {
+    /// No joint selected.
+    #[error("no joint to identify")]
+    NoJoints,
+    /// A joint that some run's mechanism does not have.
+    #[error("joint {joint} does not exist in every run (the campaign's mechanisms have joints 1 to {joints})")]
+    BadJoint {
+        /// The joint asked for (1-based).
+        joint: usize,
+        /// Joints every mechanism has.
+        joints: usize,
+    },
+    /// A joint selected twice.
+    #[error("joint {0} is selected twice")]
+    DuplicateJoint(usize),
+    /// A vector option of the wrong length or with bad values.
+    #[error("{0}")]
+    BadOption(String),
+    /// The model cannot be simulated (e.g. at the start or at a design point).
+    #[error("the model cannot be simulated {0}")]
+    Simulation(String),
+    /// The least-squares solver failed.
+    #[error(transparent)]
+    Fit(#[from] fit::FitError),
+    /// The response surface could not be fitted or minimised.
+    #[error("response surface: {0}")]
+    Rsm(#[from] rsm::RsmError),
+}
+
+/// Progress messages while simulating (e.g. printed on stderr by the CLI).
+pub type Progress<'a> = &'a (dyn Fn(&str) + Sync);
+
+/// A progress sink that drops everything.
+pub fn quiet(_: &str) {}
+
+/// Settings of [`identify_direct`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct DirectOptions {
+    /// Start [N·m], one value per identified joint; `None`: the per-joint
+    /// best of the start scan ([`scan`]).
+    pub start_nm: Option<Vec<f64>>,
+    /// Smallest finite-difference step [N·m] (the step is
+    /// `max(min_step, 1e-4·|T_C|)`).
+    pub min_step_nm: f64,
+    /// Upper bound of every EFT [N·m].
+    pub upper_nm: f64,
+    /// Residual evaluations per parameter the solver may use.
+    pub patience: usize,
+}
+
+impl Default for DirectOptions {
+    fn default() -> Self {
+        DirectOptions {
+            start_nm: None,
+            min_step_nm: 1e-4,
+            upper_nm: 100.0,
+            patience: 40,
+        }
+    }
+}
+
+/// The response a response-surface identification minimises.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RsmResponse {
+    /// The sum over the identified joints of their trajectory errors
+    /// (seed 000 Eq. 14, each the mean over the runs): the paper's responses
+    /// with equal weights (the paper does not say how it combined them).
+    TeSum,
+    /// The mean squared angle residual over every sample, joint and run
+    /// [deg²] (seed 001 Eq. 6 divided by the number of residuals).
+    Mse,
+}
+
+impl RsmResponse {
+    /// The name used on the command line and in the JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            RsmResponse::TeSum => "te",
+            RsmResponse::Mse => "mse",
+        }
+    }
+}
+
+impl std::str::FromStr for RsmResponse {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "te" => Ok(RsmResponse::TeSum),
+            "mse" => Ok(RsmResponse::Mse),
+            _ => Err(format!("unknown response `{s}`: expected `te` or `mse`")),
+        }
+    }
+}
+
+/// Settings of [`identify_rsm`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct RsmOptions {
+    /// Design centre [N·m] per identified joint; `None`: the per-joint best
+    /// of the start scan ([`scan`]), at least 0.025 N·m.
+    pub centre_nm: Option<Vec<f64>>,
+    /// Half-ranges [N·m] per identified joint (coded ±1); `None`:
+    /// `half_range_fraction × centre`.
+    pub half_range_nm: Option<Vec<f64>>,
+    /// Half-range as a fraction of the centre when `half_range_nm` is
+    /// `None` [1]. Default 0.5, the relative half-ranges of seed 000
+    /// Table 9 for EFT2 and EFT3 (0.3 of 0.6, 0.05 of 0.1): with α = 1.682
+    /// the design spans `centre × (1 ± 0.84)`.
+    pub half_range_fraction: f64,
+    /// The kind of CCD (seed 000 Table 9: circumscribed, rotatable).
+    pub kind: CcdKind,
+    /// Centre runs (1 in seed 000 Table 9; more add nothing for a
+    /// deterministic simulation).
+    pub centre_runs: usize,
+    /// The response minimised.
+    pub response: RsmResponse,
+}
+
+impl Default for RsmOptions {
+    fn default() -> Self {
+        RsmOptions {
+            centre_nm: None,
+            half_range_nm: None,
+            half_range_fraction: 0.5,
+            kind: CcdKind::Circumscribed,
+            centre_runs: 1,
+            response: RsmResponse::TeSum,
+        }
+    }
+}
+
+/// The model on a campaign with the EFTs of some joints as parameters,
+/// counting its evaluations.
+struct Model<'a> {
+    campaign: &'a Campaign,
+    joints: &'a [usize],
+    evaluations: AtomicUsize,
+}
+
+impl<'a> Model<'a> {
+    fn new(campaign: &'a Campaign, joints: &'a [usize]) -> Self {
+        Model {
+            campaign,
+            joints,
+            evaluations: AtomicUsize::new(0),
+        }
+    }
+
+    fn effects(&self, p: &[f64]) -> Vec<Effect> {
+        self.joints
+            .iter()
+            .zip(p)
+            .map(|(&j, &v)| Effect::joint(EffectKind::CoulombFriction, j, v))
+            .collect()
+    }
+
+    fn residuals(&self, p: &[f64]) -> Option<Vec<f64>> {
+        self.evaluations.fetch_add(1, Ordering::Relaxed);
+        self.campaign.residual_vector(&self.effects(p))
+    }
+
+    /// Every run simulated (in parallel), scored.
+    fn score(&self, p: &[f64]) -> Option<(CampaignScore, Vec<Trajectory>)> {
+        self.evaluations.fetch_add(1, Ordering::Relaxed);
+        score(self.campaign, &self.effects(p))
+    }
+
+    fn count(&self) -> usize {
+        self.evaluations.load(Ordering::Relaxed)
+    }
+}
+
+/// Simulates every run of `campaign` with `effects` (in parallel) and scores
+/// them: RMS [deg] (`physics.md` 8) and the trajectory error of every joint
+/// (seed 000 Eq. 14, whole run). `None` if a simulation fails.
+pub fn score(campaign: &Campaign, effects: &[Effect]) -> Option<(CampaignScore, Vec<Trajectory>)> {
+    let trajs: Vec<Option<Trajectory>> = (0..campaign.runs.len())
+        .into_par_iter()
+        .map(|i| campaign.simulate(i, effects).ok())
+        .collect();
+    let trajs: Vec<Trajectory> = trajs.into_iter().collect::<Option<_>>()?;
+    let mut runs = Vec::with_capacity(trajs.len());
+    let (mut sse, mut count) = (0.0, 0usize);
+    for (cr, traj) in campaign.runs.iter().zip(&trajs) {
+        let run = &cr.run;
+        if traj.t_s.len() != run.len() || traj.joints() != run.joints() {
+            return None;
+        }
+        let s = metrics::sse_deg2(&run.t_s, &traj.phi_deg, &run.phi_deg, TimeWindow::ALL).ok()?;
+        sse += s.sse_deg2;
+        count += s.samples * s.joints;
+        let te = metrics::trajectory_errors_pct(&run.t_s, &traj.phi_deg, &run.phi_deg, &run.latch, TimeWindow::ALL)
+            .ok()?;
+        let joint_sse_deg2 = (0..run.joints())
+            .map(|j| {
+                traj.phi_deg[j]
+                    .iter()
+                    .zip(&run.phi_deg[j])
+                    .map(|(a, e)| (a - e) * (a - e))
+                    .sum()
+            })
+            .collect();
+        runs.push(RunScore {
+            run: cr.name(),
+            mechanism: cr.mechanism.name.clone(),
+            rms_deg: s.rms_deg(),
+            trajectory_error_pct: te,
+            joint_sse_deg2,
+            samples: run.len(),
+        });
+    }
+    Some((
+        CampaignScore {
+            rms_deg: metrics::rms_deg(sse, count, 1),
+            runs,
+        },
+        trajs,
+    ))
+}
+
+/// Checks a joint selection against a campaign: not empty, no duplicates,
+/// every joint present in every run.
+pub fn check_joints(campaign: &Campaign, joints: &[usize]) -> Result<(), IdentifyError> {
+    if joints.is_empty() {
+        return Err(IdentifyError::NoJoints);
+    }
+    let n = campaign.runs.iter().map(|r| r.run.joints()).min().unwrap_or(0);
+    for (i, &j) in joints.iter().enumerate() {
+        if j == 0 || j > n {
+            return Err(IdentifyError::BadJoint { joint: j, joints: n });
+        }
+        if joints[..i].contains(&j) {
+            return Err(IdentifyError::DuplicateJoint(j));
+        }
+    }
+    Ok(())
+}
+
+/// The joints every run of the campaign has: `1..=n`.
+pub fn all_joints(campaign: &Campaign) -> Vec<usize> {
+    let n = campaign.runs.iter().map(|r| r.run.joints()).min().unwrap_or(0);
+    (1..=n).collect()
+}
+
+fn check_vector(what: &str, v: &[f64], n: usize, nonnegative: bool) -> Result<(), IdentifyError> {
+    if v.len() != n {
+        return Err(IdentifyError::BadOption(format!(
+            "{what}: {} values given, expected one per identified joint ({n})",
+            v.len()
+        )));
+    }
+    if v.iter().any(|x| !x.is_finite() || (nonnegative && *x < 0.0)) {
+        return Err(IdentifyError::BadOption(format!(
+            "{what}: expected finite{} values in N·m, got {v:?}",
+            if nonnegative { " non-negative" } else { "" }
+        )));
+    }
+    Ok(())
+}
+
+/// The result of the start scan ([`SCAN_GRID_NM`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Scan {
+    /// The uniform EFT (the same at every identified joint) with the lowest
+    /// campaign RMS [N·m].
+    pub uniform_best_nm: f64,
+    /// Its campaign RMS [deg].
+    pub uniform_best_rms_deg: f64,
+    /// Per identified joint, the grid value whose uniform EFT gives that
+    /// joint's lowest RMS (over the runs) [N·m]: a separable first guess.
+    pub per_joint_best_nm: Vec<f64>,
+}
+
+/// The start scan: the same EFT at every identified joint, for each value
+/// of [`SCAN_GRID_NM`] (simulated in parallel); keeps the best value for the
+/// whole campaign and, per joint, the value that fits that joint best.
+pub fn scan(campaign: &Campaign, joints: &[usize], progress: Progress) -> Result<Scan, IdentifyError> {
+    check_joints(campaign, joints)?;
+    let model = Model::new(campaign, joints);
+    scan_with(&model, progress)
+}
+
+fn scan_with(model: &Model, progress: Progress) -> Result<Scan, IdentifyError> {
+    progress(&format!(
+        "scan: the same EFT at joints {:?}, {} values from 0 to {} N·m",
+        model.joints,
+        SCAN_GRID_NM.len(),
+        SCAN_GRID_NM[SCAN_GRID_NM.len() - 1]
+    ));
+    let k = model.joints.len();
+    // Per grid value: SSE and count of each identified joint, then of all joints.
+    let rows: Vec<Option<(Vec<f64>, f64)>> = SCAN_GRID_NM
+        .par_iter()
+        .map(|&c| {
+            let (score, _) = model.score(&vec![c; k])?;
+            let per_joint = model
+                .joints
+                .iter()
+                .map(|&j| {
+                    let (sse, n) = score.runs.iter().fold((0.0, 0usize), |(s, n), r| {
+                        let v = r.joint_sse_deg2.get(j - 1).copied().unwrap_or(0.0);
+                        (s + v, n + r.samples)
+                    });
+                    (sse / n.max(1) as f64).sqrt()
+                })
+                .collect();
+            Some((per_joint, score.rms_deg))
+        })
+        .collect();
+    let ok: Vec<(f64, &(Vec<f64>, f64))> = SCAN_GRID_NM
+        .iter()
+        .zip(&rows)
+        .filter_map(|(c, r)| r.as_ref().map(|r| (*c, r)))
+        .collect();
+    let best = ok
+        .iter()
+        .min_by(|a, b| a.1 .1.total_cmp(&b.1 .1))
+        .ok_or_else(|| IdentifyError::Simulation("at any EFT of the start scan".into()))?;
+    let per_joint: Vec<f64> = (0..k)
+        .map(|i| {
+            ok.iter()
+                .min_by(|a, b| a.1 .0[i].total_cmp(&b.1 .0[i]))
+                .map(|r| r.0)
+                .unwrap_or(best.0)
+        })
+        .collect();
+    progress(&format!(
+        "scan: best uniform EFT {} N·m (RMS {:.4} deg); best per joint {:?} N·m",
+        best.0, best.1 .1, per_joint
+    ));
+    Ok(Scan {
+        uniform_best_nm: best.0,
+        uniform_best_rms_deg: best.1 .1,
+        per_joint_best_nm: per_joint,
+    })
+}
+
+/// Identifies the EFT of `joints` (1-based) by least squares over every run
+/// of `campaign` at once (the direct method, see the module docs).
+///
+/// The parameters are the Coulomb EFT `T_C` [N·m] of each joint
+/// (`physics.md` 4), common to all runs, with the bound `T_C ≥ 0` enforced
+/// by an active set: the solver works unbounded (a negative `T_C` is
+/// simulated as it is, a driving torque), and a joint that ends below 0 is
+/// fixed at 0 and the others refitted, until none is negative. (The
+/// projection of the bounds inside [`crate::fit::least_squares`] can stall a
+/// parameter at its bound, so it is not used here.) The start is
+/// `opts.start_nm`, or the per-joint best of the start scan ([`scan`]). The
+/// 95 % intervals come from the Jacobian at the solution ([`crate::fit`]);
+/// a joint fixed at 0 gets `[0, upper end of its interval when last free]`.
+pub fn identify_direct(
+    campaign: &Campaign,
+    joints: &[usize],
+    opts: &DirectOptions,
+    progress: Progress,
+) -> Result<Identification, IdentifyError> {
+    let t0 = Instant::now();
+    check_joints(campaign, joints)?;
+    let k = joints.len();
+    let model = Model::new(campaign, joints);
+    let (before, _) = model
+        .score(&vec![0.0; k])
+        .ok_or_else(|| IdentifyError::Simulation("as given (no extra friction)".into()))?;
+    progress(&format!("before: RMS {:.4} deg over {} runs", before.rms_deg, campaign.runs.len()));
+    let (start, start_rule) = match &opts.start_nm {
+        Some(s) => {
+            check_vector("start", s, k, true)?;
+            (s.clone(), "given".to_string())
+        }
+        None => {
+            let sc = scan_with(&model, progress)?;
+            (
+                sc.per_joint_best_nm,
+                "per-joint best of the uniform-EFT scan (SCAN_GRID_NM)".to_string(),
+            )
+        }
+    };
+    // Active set: `free[i]` false when joint i is fixed at 0.
+    let mut free = vec![true; k];
+    let mut p = start.clone();
+    let mut ci: Vec<[f64; 2]> = vec![[f64::NEG_INFINITY, f64::INFINITY]; k];
+    let mut sd = vec![f64::INFINITY; k];
+    let best = Mutex::new(f64::INFINITY);
+    let (sse, residuals, termination) = loop {
+        let idx: Vec<usize> = (0..k).filter(|&i| free[i]).collect();
+        let full = |q: &[f64]| -> Vec<f64> {
+            let mut x = vec![0.0; k];
+            for (&i, &v) in idx.iter().zip(q) {
+                x[i] = v;
+            }
+            x
+        };
+        if idx.is_empty() {
+            let r = model
+                .residuals(&p)
+                .ok_or_else(|| IdentifyError::Simulation("with every EFT at 0".into()))?;
+            break (r.iter().map(|x| x * x).sum::<f64>(), r.len(), "every EFT at 0".to_string());
+        }
+        let q0: Vec<f64> = idx.iter().map(|&i| p[i]).collect();
+        progress(&format!(
+            "direct: Levenberg–Marquardt over joints {:?} from {q0:?} N·m",
+            idx.iter().map(|&i| joints[i]).collect::<Vec<_>>()
+        ));
+        let f = |q: &[f64]| -> Option<Vec<f64>> {
+            let x = full(q);
+            let r = model.residuals(&x)?;
+            let rms = (r.iter().map(|v| v * v).sum::<f64>() / r.len().max(1) as f64).sqrt();
+            if let Ok(mut b) = best.lock() {
+                if rms < *b {
+                    *b = rms;
+                    let ps: Vec<String> = x.iter().map(|v| format!("{v:.5}")).collect();
+                    progress(&format!(
+                        "direct: {} simulations, best RMS {rms:.5} deg at [{}] N·m",
+                        model.count(),
+                        ps.join(", ")
+                    ));
+                }
+            }
+            Some(r)
+        };
+        let m = idx.len();
+        let mut fo = FitOptions::new(vec![f64::NEG_INFINITY; m], vec![opts.min_step_nm; m]);
+        fo.upper = vec![opts.upper_nm; m];
+        fo.patience = opts.patience;
+        let fit = fit::least_squares(&f, &q0, &fo)?;
+        p = full(&fit.params);
+        for (r, &i) in idx.iter().enumerate() {
+            ci[i] = fit.ci95[r];
+            sd[i] = fit.sd[r];
+        }
+        let negative: Vec<usize> = idx.iter().copied().filter(|&i| p[i] < 0.0).collect();
+        if negative.is_empty() {
+            break (fit.sse, fit.residuals, fit.termination);
+        }
+        for i in negative {
+            progress(&format!(
+                "direct: joint {} ends at {:.5} N·m < 0: fixed at 0, refitting the others",
+                joints[i], p[i]
+            ));
+            free[i] = false;
+            p[i] = 0.0;
+        }
+    };
+    let (after, _) = model
+        .score(&p)
+        .ok_or_else(|| IdentifyError::Simulation(format!("at the solution {p:?}")))?;
+    let out = Identification {
+        method: Method::Direct,
+        joints: joints
+            .iter()
+            .enumerate()
+            .map(|(i, &j)| JointEft {
+                joint: j,
+                coulomb_nm: p[i],
+                ci95: Some(if free[i] {
+                    ci[i]
+                } else {
+                    [0.0, ci[i][1].max(0.0)]
+                }),
+                sd_nm: Some(sd[i]),
+            })
+            .collect(),
+        rms_deg_before: before.rms_deg,
+        rms_deg_after: after.rms_deg,
+        simulations: model.count(),
+        deployments: model.count() * campaign.runs.len(),
+        wall_s: t0.elapsed().as_secs_f64(),
+        before,
+        after,
+        direct: Some(DirectDetails {
+            start_nm: start,
+            start_rule,
+            sse_deg2: sse,
+            residuals,
+            termination,
+            fixed_at_zero: joints
+                .iter()
+                .zip(&free)
+                .filter(|(_, f)| !**f)
+                .map(|(j, _)| *j)
+                .collect(),
+        }),
+        rsm: None,
+    };
+    Ok(out)
+}
+
+/// The response of a scored design point.
+fn responses(score: &CampaignScore, mse: f64, joints: &[usize]) -> Vec<f64> {
+    let mut v: Vec<f64> = joints
+        .iter()
+        .map(|&j| score.mean_te_pct(j).unwrap_or(f64::NAN))
+        .collect();
+    v.push(mse);
+    v
+}
+
+/// Identifies the EFT of `joints` (1-based) by the response-surface method
+/// of seed 000 (section 4.3): a CCD ([`crate::rsm::Ccd`]) around
+/// `opts.centre_nm` with `opts.half_range_nm`, each design point simulated on
+/// every run (design points in parallel), a full quadratic (Eq. 15) fitted
+/// to each response (trajectory error of each joint, Eq. 14, mean over the
+/// runs; and the mean squared residual), and the chosen response's surface
+/// minimised in the box the design spans (`centre ± α·half_range`, clipped
+/// at 0). The result is checked by one more simulation.
+///
+/// Default design: the centre is the per-joint best of the start scan
+/// ([`scan`], at least 0.025 N·m), the half-ranges half the centre (the
+/// relative ranges of seed 000 Table 9), so that a rotatable design spans
+/// `centre × (1 ± 0.84)`. A design point below 0 N·m is an error.
+pub fn identify_rsm(
+    campaign: &Campaign,
+    joints: &[usize],
+    opts: &RsmOptions,
+    progress: Progress,
+) -> Result<Identification, IdentifyError> {
+    let t0 = Instant::now();
+    check_joints(campaign, joints)?;
+    let k = joints.len();
+    let model = Model::new(campaign, joints);
+    let (before, _) = model
+        .score(&vec![0.0; k])
+        .ok_or_else(|| IdentifyError::Simulation("as given (no extra friction)".into()))?;
+    progress(&format!("before: RMS {:.4} deg over {} runs", before.rms_deg, campaign.runs.len()));
+    let design = rsm::Ccd::new(k, opts.kind, opts.centre_runs)?;
+    // The coded extent of the design: α (circumscribed) or 1.
+    let reach = design
+        .coded_points()
+        .iter()
+        .flat_map(|p| p.iter().map(|v| v.abs()))
+        .fold(0.0, f64::max);
+    let mut rule = Vec::new();
+    let centre = match &opts.centre_nm {
+        Some(c) => {
+            check_vector("centre", c, k, true)?;
+            rule.push("centre given".to_string());
+            c.clone()
+        }
+        None => {
+            let sc = scan_with(&model, progress)?;
+            rule.push(format!(
+                "centre = per-joint best of the uniform-EFT scan {:?} N·m (at least {} N·m)",
+                sc.per_joint_best_nm, SCAN_GRID_NM[1]
+            ));
+            sc.per_joint_best_nm.iter().map(|c| c.max(SCAN_GRID_NM[1])).collect()
+        }
+    };
+    let half = match &opts.half_range_nm {
+        Some(h) => {
+            check_vector("range", h, k, true)?;
+            rule.push("half-ranges given".to_string());
+            h.clone()
+        }
+        None => {
+            if !(opts.half_range_fraction > 0.0 && opts.half_range_fraction.is_finite()) {
+                return Err(IdentifyError::BadOption(format!(
+                    "half-range fraction {}: expected a positive number",
+                    opts.half_range_fraction
+                )));
+            }
+            rule.push(format!(
+                "half-range = {} × centre (design spans centre × (1 ± {:.3}))",
+                opts.half_range_fraction,
+                opts.half_range_fraction * reach
+            ));
+            centre.iter().map(|c| c * opts.half_range_fraction).collect()
+        }
+    };
+    let coding = Coding::new(centre.clone(), half.clone())?;
+    let mut points = design.natural_points(&coding)?;
+    for p in points.iter_mut() {
+        for (i, v) in p.iter_mut().enumerate() {
+            if *v < 0.0 {
+                if *v > -1e-9 * half[i] {
+                    *v = 0.0;
+                } else {
+                    return Err(IdentifyError::BadOption(format!(
+                        "the design reaches EFT {v:.4} N·m < 0 at joint {}: centre {} − {reach:.3} × half-range {} is negative; \
+                         raise the centre or narrow the range",
+                        joints[i], centre[i], half[i]
+                    )));
+                }
+            }
+        }
+    }
+    progress(&format!(
+        "rsm: {} design points ({:?} CCD, α = {reach:.3}) around {centre:?} ± {half:?} N·m",
+        points.len(),
+        opts.kind
+    ));
+    let done = AtomicUsize::new(0);
+    let results: Vec<Option<Vec<f64>>> = points
+        .par_iter()
+        .map(|p| {
+            let (s, _) = model.score(p)?;
+            let mse = s.rms_deg * s.rms_deg;
+            let r = responses(&s, mse, joints);
+            let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+            progress(&format!("rsm: design point {n}/{} simulated", points.len()));
+            Some(r)
+        })
+        .collect();
+    let mut table = Vec::with_capacity(points.len());
+    for (p, r) in points.iter().zip(results) {
+        let r = r.ok_or_else(|| IdentifyError::Simulation(format!("at the design point {p:?} N·m")))?;
+        table.push(r);
+    }
+    let names: Vec<String> = joints
+        .iter()
+        .map(|j| format!("te{j}_pct"))
+        .chain(std::iter::once("mse_deg2".to_string()))
+        .collect();
+    let coded = design.coded_points();
+    let mut surfaces = Vec::with_capacity(names.len());
+    let mut fits = Vec::with_capacity(names.len());
+    for (c, name) in names.iter().enumerate() {
+        let y: Vec<f64> = table.iter().map(|r| r[c]).collect();
+        if y.iter().any(|v| !v.is_finite()) {
+            return Err(IdentifyError::Simulation(format!(
+                "with a defined {name} at every design point (a joint without samples for Eq. 14?)"
+            )));
+        }
+        let f = rsm::fit_quadratic(&coded, &y)?;
+        surfaces.push(ResponseSurface {
+            name: name.clone(),
+            values: y,
+            r2: f.r2,
+            adj_r2: f.adj_r2,
+            coded_coefficients: f.model.coefficients().to_vec(),
+        });
+        fits.push(f);
+    }
+    // The surface to minimise, in coded units.
+    let target: Quadratic = match opts.response {
+        RsmResponse::TeSum => {
+            let parts: Vec<(f64, &Quadratic)> = fits[..k].iter().map(|f| (1.0, &f.model)).collect();
+            Quadratic::weighted_sum(&parts)?
+        }
+        RsmResponse::Mse => fits[k].model.clone(),
+    };
+    let natural = target.to_natural(&coding)?;
+    let (lo, hi) = coding.natural_box(reach);
+    let lo: Vec<f64> = lo.iter().map(|v| v.max(0.0)).collect();
+    let min = rsm::minimize_in_box(&natural, &lo, &hi)?;
+    progress(&format!(
+        "rsm: surface minimum {:.4} at {:?} N·m; checking by simulation",
+        min.value, min.x
+    ));
+    let (after, _) = model
+        .score(&min.x)
+        .ok_or_else(|| IdentifyError::Simulation(format!("at the surface's minimum {:?}", min.x)))?;
+    let simulated = match opts.response {
+        RsmResponse::TeSum => joints.iter().map(|&j| after.mean_te_pct(j).unwrap_or(f64::NAN)).sum(),
+        RsmResponse::Mse => after.rms_deg * after.rms_deg,
+    };
+    Ok(Identification {
+        method: Method::Rsm,
+        joints: joints
+            .iter()
+            .zip(&min.x)
+            .map(|(&j, &v)| JointEft {
+                joint: j,
+                coulomb_nm: v,
+                ci95: None,
+                sd_nm: None,
+            })
+            .collect(),
+        rms_deg_before: before.rms_deg,
+        rms_deg_after: after.rms_deg,
+        simulations: model.count(),
+        deployments: model.count() * campaign.runs.len(),
+        wall_s: t0.elapsed().as_secs_f64(),
+        before,
+        after,
+        direct: None,
+        rsm: Some(RsmDetails {
+            centre_nm: centre,
+            half_range_nm: half,
+            design_rule: rule.join("; "),
+            alpha: reach,
+            points_nm: points,
+            responses: surfaces,
+            minimised: match opts.response {
+                RsmResponse::TeSum => names[..k].join(" + "),
+                RsmResponse::Mse => names[k].clone(),
+            },
+            box_nm: lo.iter().zip(&hi).map(|(l, h)| [*l, *h]).collect(),
+            predicted: min.value,
+            simulated,
+        }),
+    })
+}
+
+/// A synthetic measured run: `mech` simulated with `effects` (default
+/// [`crate::sim::SimOptions`]: the run ends at the first sample at or after
+/// the last latch, formats.md) and read by the reference sensor
+/// ([`crate::sensor::SensorModel::REFERENCE`], N(0, 0.02°) then 14 bits)
+/// with noise seed `seed`; its `mechanism` metadata names `mech`.
+pub fn synthetic_run(
+    mech: &crate::mechanism::Mechanism,
+    effects: &[Effect],
+    seed: u64,
+) -> Result<crate::run::Run, crate::sim::SimError> {
+    use crate::sensor::{self, SensorModel};
+    let traj = crate::sim::simulate(mech, effects, &crate::sim::SimOptions::default())?;
+    let offsets = crate::effect::encoder_offsets_deg(effects, mech.joint_count());
+    let mut run = sensor::measure(&traj, &offsets, &SensorModel::REFERENCE, seed);
+    run.set_meta("mechanism", &mech.name);
+    run.set_meta("source", &format!("synthetic: reference sensor, seed {seed}"));
+    Ok(run)
+}
