@@ -35,7 +35,7 @@ for feature in "" $features; do
     [ -n "$feature" ] && args+=(--features "$feature")
     echo "--- $label"
     # shellcheck disable=SC2086 # DW_BUILD_STD is a list of arguments
-    if ! "$DW_CARGO" build --quiet -p deploywatch-core --lib --target "$DW_TARGET" \
+    if ! dw_cargo build --quiet -p deploywatch-core --lib --target "$DW_TARGET" \
         --target-dir "$target_dir" $DW_BUILD_STD "${args[@]}"; then
         failed+=("$label")
     fi

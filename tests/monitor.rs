@@ -154,7 +154,7 @@ fn diag() {
                 js.friction_torque_nm,
                 &js.latch.as_str()[..4],
                 js.prediction,
-                js.latch_probability,
+                js.confidence,
                 js.margin_pct.unwrap_or(f32::NAN),
                 js.time_to_latch_s.unwrap_or(f32::NAN)
             );
@@ -172,7 +172,8 @@ fn diag_obs() {
     let which = std::env::var("DIAG").unwrap_or_else(|_| "seed001_T01_eft".into());
     let jj: usize = std::env::var("J").ok().and_then(|v| v.parse().ok()).unwrap_or(1);
     let mech = mechanism(which.trim_end_matches("_eft").trim_end_matches("_nominal"));
-    let (_, run) = reference_run(&which, 0.2, 1);
+    let seed: u64 = std::env::var("SEED").ok().and_then(|v| v.parse().ok()).unwrap_or(1);
+    let (_, run) = simulate_run(&mech, &coulomb(&SEED001_FRICTION), seed);
     let cfg = monitor_config::<3>(&mech).unwrap();
     let mut m = Monitor::new(&cfg).unwrap();
     for (i, s) in samples::<3>(&run).unwrap().iter().enumerate() {
@@ -182,7 +183,7 @@ fn diag_obs() {
         if i % std::env::var("EVERY").ok().and_then(|v| v.parse().ok()).unwrap_or(1usize) != 0 { continue; }
         let o = m.observer(jj).unwrap();
         let k = m.rate_filter(jj).unwrap();
-        println!("{:5.2} q{:8.3} w{:8.4}±{:7.4} a{:7.3} r{:6.3} y{:?} rv{:.2e} C{:.3}±{:.3}", st.t_s, k.jerk_psd(), k.rate(), k.rate_var().sqrt(), k.acceleration(), o.disturbance_nm(), o.regressors(), o.residual_var(), st.joints[jj].coulomb_nm, st.joints[jj].coulomb_sd_nm);
+        println!("{:5.2} q{:8.3} nis{:5.2} w{:8.4}±{:7.4} a{:7.3} r{:6.3} y{:?} lag{:.2e} L{:.2} C{:.3}±{:.3}", st.t_s, k.jerk_psd(), k.nis(), k.rate(), k.rate_var().sqrt(), k.acceleration(), o.disturbance_nm(), o.regressors(), o.lag_var(), o.coulomb_lower_bound(k.rate()), st.joints[jj].coulomb_nm, st.joints[jj].coulomb_sd_nm);
     }
 }
 
@@ -237,15 +238,168 @@ fn diag_seeds() {
         }
         let stalls: Vec<String> = st
             .iter()
-            .flat_map(|s| s.joints.iter().enumerate().filter(|(_, j)| j.prediction == Prediction::Stall).map(move |(j, js)| format!("{:.2}:j{} {:.2} m{:.0}", s.t_s, j + 1, js.latch_probability, js.margin_pct.unwrap_or(0.0))))
+            .flat_map(|s| s.joints.iter().enumerate().filter(|(_, j)| j.prediction == Prediction::Stall).map(move |(j, js)| format!("{:.2}:j{} {:.2} m{:.0}", s.t_s, j + 1, js.confidence, js.margin_pct.unwrap_or(0.0))))
             .collect();
         line += &format!(" stall-preds {stalls:?}");
         let (_, run2) = simulate_run(&mech2, &coulomb(&SEED001_FRICTION), seed);
         let cfg2 = monitor_config::<3>(&mech2).unwrap();
         let st2 = replay(&cfg2, &run2);
         let first = st2.iter().position(|s| s.joints[0].prediction == Prediction::Stall).map(|i| st2[i].t_s);
-        let at05 = st2.iter().find(|s| s.t_s >= 0.5).map(|s| (s.joints[0].coulomb_nm, s.joints[0].coulomb_sd_nm, s.joints[0].latch_probability));
+        let at05 = st2.iter().find(|s| s.t_s >= 0.5).map(|s| (s.joints[0].coulomb_nm, s.joints[0].coulomb_sd_nm, s.joints[0].confidence));
         line += &format!(" | T02 first stall {first:?} at0.5 {at05:?}");
         println!("{line}");
+    }
+}
+
+/// The outcome of one Monte-Carlo joint: what the monitor predicted at half
+/// stroke (or at the end of the run if the joint never got there) and
+/// whether it latched.
+#[derive(Clone, Copy, Debug)]
+struct Outcome {
+    predicted: Prediction,
+    latched: bool,
+}
+
+/// One Monte-Carlo run of seed001_T01: the paper's friction scaled by
+/// U(0.5, 1.5) and each spring by U(0.9, 1.1) (as `spring_softening`
+/// s ∈ [−0.1, 0.1]), joint by joint, measured with sensor seed `seed`.
+fn monte_carlo_run(mech: &Mechanism, cfg: &MonitorConfig<3>, rng: &mut SplitMix, seed: u64) -> [Outcome; 3] {
+    let mut effects = Vec::new();
+    for (j, base) in SEED001_FRICTION.iter().enumerate() {
+        effects.push(Effect::joint(EffectKind::CoulombFriction, j + 1, base * rng.uniform(0.5, 1.5)));
+        let soft = rng.uniform(-0.1, 0.1) * std::env::var("MC_SPRING").ok().and_then(|v| v.parse::<f64>().ok()).unwrap_or(1.0);
+        effects.push(Effect::joint(EffectKind::SpringSoftening, j + 1, soft));
+    }
+    let (traj, run) = simulate_run(mech, &effects, seed);
+    let st = replay(cfg, &run);
+    if std::env::var("MC_VERBOSE").is_ok() {
+        for j in 0..3 {
+            let i = half_stroke_index(&traj, mech.joints[j].stowed_deg, j).unwrap_or(st.len() - 1).min(st.len() - 1);
+            let js = &st[i].joints[j];
+            let latched = traj.latch_s[j].is_some();
+            let right = matches!((js.prediction, latched), (Prediction::Latch, true) | (Prediction::Stall, false));
+            if !right {
+                use deploywatch_core::rollout::{Rollout, RolloutStart};
+                let chain = Monitor::new(cfg).unwrap().chain().clone();
+                let oracle = |dt: f32| {
+                    let mut rc = cfg.margin.rollout;
+                    rc.dt_s = dt;
+                    rc.steps_per_update = 255;
+                    let mut r = Rollout::new(RolloutStart {
+                        state: deploywatch_core::ChainState {
+                            phi: std::array::from_fn(|k| (traj.phi_deg[k][i] as f32).to_radians()),
+                            phi_dot: std::array::from_fn(|k| (traj.rate_deg_s[k][i] as f32).to_radians()),
+                        },
+                        latched: std::array::from_fn(|k| traj.latched[k][i]),
+                        coulomb_nm: std::array::from_fn(|k| effects[2 * k].value as f32),
+                        viscous_nms: [0.0; 3],
+                        spring_scale: [1.0; 3],
+                        capture_rad: std::array::from_fn(|k| cfg.joints[k].capture_deg.to_radians()),
+                    });
+                    for _ in 0..100 { r.advance(&chain, &rc); }
+                    r.outcome().map(|o| o.latches)
+                };
+                println!("   oracle rollout dt 20ms {:?} dt 5ms {:?} dt 1ms {:?}", oracle(0.02), oracle(0.005), oracle(0.001));
+                println!(
+                    "seed {seed} j{} fric {:.3} soft {:+.3} latched {latched} final {:.1}° t_half {:.2} pred {:?} p {:.2} m {:?} C {:.2}±{:.2} rate {:.1} | finals {:?}",
+                    j + 1, effects[2 * j].value, effects[2 * j + 1].value, traj.phi_deg[j].last().unwrap(), st[i].t_s, js.prediction, js.confidence, js.margin_pct, js.coulomb_nm, js.coulomb_sd_nm, js.rate_deg_s,
+                    (0..3).map(|k| (traj.phi_deg[k].last().unwrap().round(), traj.latch_s[k].map(|t| (t * 100.0).round() / 100.0))).collect::<Vec<_>>()
+                );
+            }
+        }
+    }
+    std::array::from_fn(|j| {
+        let i = half_stroke_index(&traj, mech.joints[j].stowed_deg, j).unwrap_or(st.len() - 1);
+        Outcome {
+            predicted: st[i.min(st.len() - 1)].joints[j].prediction,
+            latched: traj.latch_s[j].is_some(),
+        }
+    })
+}
+
+/// 200-run Monte-Carlo of friction and spring scatter on seed001_T01:
+/// the latch / stall prediction made at half stroke against the outcome.
+/// Rerun with `cargo test -p deploywatch-tests --test monitor
+/// monte_carlo_prediction -- --nocapture` (the table is in docs/monitor.md).
+#[test]
+fn monte_carlo_prediction_at_half_stroke() {
+    let mech = mechanism("seed001_T01");
+    let cfg = monitor_config::<3>(&mech).unwrap();
+    let mut rng = SplitMix(2024);
+    let runs = 200;
+    // table[joint][latched as usize][prediction: latch, stall, unknown]
+    let mut table = [[[0usize; 3]; 2]; 3];
+    let mut runs_right = 0;
+    for k in 0..runs {
+        let out = monte_carlo_run(&mech, &cfg, &mut rng, 1000 + k as u64);
+        let mut all = true;
+        for (j, o) in out.iter().enumerate() {
+            let col = match o.predicted {
+                Prediction::Latch => 0,
+                Prediction::Stall => 1,
+                Prediction::Unknown => 2,
+            };
+            table[j][usize::from(o.latched)][col] += 1;
+            let right = matches!((o.predicted, o.latched), (Prediction::Latch, true) | (Prediction::Stall, false));
+            all &= right;
+        }
+        runs_right += usize::from(all);
+    }
+    println!("| joint | outcome | predicted latch | predicted stall | unknown |");
+    println!("|---|---|---|---|---|");
+    let mut right = 0;
+    for (j, t) in table.iter().enumerate() {
+        for (latched, name) in [(1, "latched"), (0, "stalled")] {
+            let r = t[latched];
+            println!("| {} | {name} | {} | {} | {} |", j + 1, r[0], r[1], r[2]);
+        }
+        right += t[1][0] + t[0][1];
+    }
+    let total = runs * 3;
+    println!(
+        "runs with every joint right: {runs_right}/{runs}; joint predictions right: {right}/{total} ({:.1} %)",
+        100.0 * right as f64 / total as f64
+    );
+    let stalled: usize = table.iter().map(|t| t[0].iter().sum::<usize>()).sum();
+    assert!(stalled > 0 && stalled < total, "the scatter must give both outcomes ({stalled} stalls)");
+    assert!(runs_right * 100 >= 95 * runs, "only {runs_right}/{runs} runs predicted right at half stroke");
+}
+
+#[test]
+#[ignore]
+fn diag_rollout_vs_sim() {
+    use deploywatch_core::rollout::{Rollout, RolloutStart};
+    let mech = mechanism("seed001_T01");
+    let cfg = monitor_config::<3>(&mech).unwrap();
+    let chain = Monitor::new(&cfg).unwrap().chain().clone();
+    for f1 in [2.63, 3.0, 3.3, 3.5, 3.8] {
+        let fr = [f1, 1.7, 0.001];
+        let (traj, _) = simulate_run(&mech, &coulomb(&fr), 1);
+        for dt in [0.01f32, 0.005, 0.002] {
+            for cap in [1.0f32] {
+                let mut rc = cfg.margin.rollout;
+                rc.dt_s = dt;
+                rc.steps_per_update = 255;
+                let mut r = Rollout::new(RolloutStart {
+                    state: deploywatch_core::ChainState {
+                        phi: std::array::from_fn(|k| (mech.joints[k].stowed_deg as f32).to_radians()),
+                        phi_dot: [0.0; 3],
+                    },
+                    latched: [false; 3],
+                    coulomb_nm: fr.map(|v| v as f32),
+                    viscous_nms: [0.0; 3],
+                    spring_scale: [1.0; 3],
+                    capture_rad: std::array::from_fn(|k| cap * cfg.joints[k].capture_deg.to_radians()),
+                });
+                for _ in 0..1000 {
+                    r.advance(&chain, &rc);
+                }
+                println!(
+                    "f1 {f1} dt {dt} cap {cap}: sim {:?} rollout {:?}",
+                    traj.latch_s.iter().map(|t| t.map(|v| (v * 100.0).round() / 100.0)).collect::<Vec<_>>(),
+                    r.outcome().map(|o| if o.latches { Some((o.latch_after_s * 100.0).round() / 100.0) } else { None })
+                );
+            }
+        }
     }
 }

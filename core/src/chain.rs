@@ -155,7 +155,9 @@ pub struct Chain<T, const N: usize> {
     mass_moment: [T; N],
 }
 
-/// 8-point Gauss–Legendre nodes and weights on [−1, 1].
+/// 8-point Gauss–Legendre nodes and weights on [−1, 1] (Abramowitz &
+/// Stegun Table 25.4, as tabulated).
+#[allow(clippy::excessive_precision)]
 const GAUSS8: [(f64, f64); 8] = [
     (-0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
     (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),

@@ -2,6 +2,13 @@
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
+// `!(x > 0.0)` is deliberate throughout the core: unlike `x <= 0.0` it is
+// true for NaN, which is how a NaN input becomes "missing" instead of
+// slipping through a comparison.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+// Fixed-size matrix code indexes several arrays in lockstep; index loops
+// read like the equations they implement.
+#![allow(clippy::needless_range_loop)]
 
 #[macro_use]
 mod fmt;
@@ -17,6 +24,7 @@ pub mod margin;
 pub mod monitor;
 pub mod observer;
 pub mod real;
+pub mod rollout;
 pub mod spring;
 pub mod telemetry;
 

@@ -17,12 +17,18 @@
 //! `K_eff = K (T_s − T_C)/(T_s + T_C)`.
 //!
 //! `E` is marched over [`NODES`] equal steps from `x₀` to `x_c`, with the
-//! viscous loss of a step taken at the speed of its start,
-//! `ω = √(2E/I)`, `I` the joint's articulated inertia. Its variance follows
+//! viscous loss of a step taken at the speed of its start, `ω = √(2E/I)`.
+//! The monitor passes the articulated inertia `I = 1/(M⁻¹)_jj` over the
+//! free joints and `K = ½ I ω²`: all the kinetic energy of the joint's
+//! motion, the outer panels' share included. The latch impacts of the other
+//! joints destroy part of it (`physics.md` §5), and their reactions can hold
+//! the joint back, so the balance errs towards a latch: a stall it predicts
+//! is a safe verdict, a latch is checked by the rollouts
+//! ([`crate::rollout`]). Its variance follows
 //! from the friction covariance and a relative spread of the spring energy:
 //!
 //! ```text
-//! σ²_E = W_C² σ²_TC + W_v² σ²_f + 2 W_C W_v σ_TC,f + (s_rel E_s)² + σ²_K,
+//! σ²_E = W_C² σ²_TC + W_v² σ²_f + 2 W_C W_v σ_TC,f + (σ_κ E_s)² + σ²_K,
 //! W_C = x₀ − x,  W_v = ∫ ω dθ
 //! ```
 //! The joint latches when `T_C < T*`, `T* = min_x A(x)/W_C(x)` with `A`
@@ -122,7 +128,7 @@ pub struct MarginInput {
     pub rate_abs_rad_s: f32,
     /// True when the joint moves towards the latch (`φ ω < 0`).
     pub towards_latch: bool,
-    /// Articulated inertia `I` [kg·m²] (> 0).
+    /// Inertia `I` [kg·m²] (> 0): the articulated inertia `1/(M⁻¹)_jj`.
     pub inertia_kgm2: f32,
     /// Variance of the rate [rad²/s²].
     pub rate_var: f32,
@@ -137,6 +143,10 @@ pub struct MarginInput {
     /// A lower bound of `T_C` from the friction torque seen now [N·m]
     /// (0 for none): the estimate's distribution is truncated there.
     pub coulomb_lower_nm: f32,
+    /// Factor on the nominal spring curve, `1 + κ̂` [1].
+    pub spring_scale: f32,
+    /// Standard deviation of that factor [1].
+    pub spring_sd_rel: f32,
     /// Variance of `f`.
     pub viscous_var: f32,
     /// Covariance of `T_C` and `f`.
@@ -148,8 +158,6 @@ pub struct MarginInput {
 pub struct MarginSettings {
     /// Uncertainty factors of the reported margin.
     pub factors: UncertaintyFactors,
-    /// Relative standard deviation of the spring energy [1].
-    pub spring_sd_rel: f32,
     /// Floor of the energy standard deviation [J].
     pub energy_sd_floor_j: f32,
 }
@@ -211,7 +219,7 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
     let k_eff = if x.towards_latch {
         k
     } else {
-        let ts = spring.magnitude(x0, Branch::Unfold);
+        let ts = x.spring_scale.max(0.0) * spring.magnitude(x0, Branch::Unfold);
         let den = ts + tc;
         if den > 1e-6 {
             k * (ts - tc) / den
@@ -237,7 +245,7 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
     for i in 0..NODES {
         let lo = if i + 1 == NODES { xc } else { x0 - (i + 1) as f32 * step };
         let dx = hi - lo;
-        let gain = spring.release(lo, hi);
+        let gain = x.spring_scale.max(0.0) * spring.release(lo, hi);
         e_s += gain;
         w_c += dx;
         w_v += omega * dx;
@@ -249,7 +257,7 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
                 t_star = threshold;
                 // Spread of A (viscous, spring, kinetic) in Coulomb units.
                 let var_a = w_v * w_v * x.viscous_var.max(0.0)
-                    + (s.spring_sd_rel * e_s) * (s.spring_sd_rel * e_s)
+                    + (x.spring_sd_rel * e_s) * (x.spring_sd_rel * e_s)
                     + var_k
                     + s.energy_sd_floor_j * s.energy_sd_floor_j;
                 t_star_var = var_a / (w_c * w_c);
@@ -312,6 +320,8 @@ mod tests {
             viscous_nms: 0.0,
             coulomb_var: 0.01,
             coulomb_lower_nm: 0.0,
+            spring_scale: 1.0,
+            spring_sd_rel: 0.0,
             viscous_var: 1e-6,
             cov: 0.0,
         }
@@ -319,7 +329,6 @@ mod tests {
 
     const SET: MarginSettings = MarginSettings {
         factors: UncertaintyFactors::UNITY,
-        spring_sd_rel: 0.0,
         energy_sd_floor_j: 1e-3,
     };
 

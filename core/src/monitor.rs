@@ -16,12 +16,13 @@
 //! Everything is `f32`, fixed-size and heap-free; `size_of::<Monitor<3>>()`
 //! is under 4 KiB. `docs/monitor.md` has the equations and the tuning.
 
-use crate::chain::{Chain, ChainError, GlobalEffects, Joint, JointEffects, Panel};
+use crate::chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, Panel};
 use crate::faults::{Fault, FaultFlags};
 use crate::friction::Friction;
 use crate::latch::{LatchConfig, LatchInput, LatchState, LatchTracker};
 use crate::linalg::solve_spd_masked;
 use crate::margin::{self, MarginInput, MarginResult, MarginSettings, UncertaintyFactors};
+use crate::rollout::{normal_quantile, Bracket, JointOutcome, Rollout, RolloutConfig, RolloutStart};
 use crate::observer::{
     inverse_spd_masked, momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation, ObserverInput,
     ObserverTuning, RateFilter,
@@ -117,12 +118,15 @@ pub struct JointStatus {
     /// configured uncertainty factors [%]; `None` once latched or before
     /// the first evaluation.
     pub margin_pct: Option<f32>,
-    /// Latch / stall prediction at the configured confidence.
+    /// Latch / stall prediction: the outcome of the nominal rollout
+    /// (`Unknown` until the first one has finished).
     pub prediction: Prediction,
-    /// Probability that the joint latches [0, 1].
-    pub latch_probability: f32,
-    /// Predicted time until the latch [s]; `None` when a stall is the best
-    /// estimate, once latched, or before the first evaluation.
+    /// Confidence level of `prediction` [0, 1]: the configured level when
+    /// the bracketing rollout confirms it, 0.5 when it does not (the best
+    /// estimate only), 1 once latched, 0 when unknown.
+    pub confidence: f32,
+    /// Predicted time until the latch [s], from the nominal rollout; `None`
+    /// for a stall, once latched, or before the first rollout.
     pub time_to_latch_s: Option<f32>,
     /// Faults raised at this sample.
     pub faults: FaultFlags,
@@ -204,11 +208,6 @@ pub struct ObserverConfig {
     pub snap_zone_deg: f32,
     /// Innovation gate of the encoder [σ].
     pub gate_sigma: f32,
-    /// Uncertainty of the joint torques the model predicts the
-    /// accelerations from (spring, disturbance estimate) [N·m].
-    pub torque_sd_nm: f32,
-    /// Floor of the model acceleration's standard deviation [rad/s²].
-    pub acc_sd_floor: f32,
     /// Disturbance observer and RLS.
     pub tuning: ObserverTuning,
     /// Pause of the friction learning after a snap, latch or gap [s].
@@ -233,15 +232,13 @@ impl Default for ObserverConfig {
             zone_jerk_psd: 1.0e7,
             snap_zone_deg: 3.0,
             gate_sigma: 6.0,
-            torque_sd_nm: 0.2,
-            acc_sd_floor: 0.01,
             tuning: ObserverTuning {
                 bandwidth_per_s: 10.0,
                 coulomb_threshold_rad_s: crate::friction::COULOMB_THRESHOLD_RAD_S as f32,
                 coulomb_walk: 0.05,
                 viscous_walk: 1e-4,
+                spring_walk: 1e-3,
                 residual_var_floor: 1e-4,
-                residual_var_weight: 0.02,
             },
             settle_s: 0.1,
             max_gap_s: 0.1,
@@ -255,10 +252,14 @@ impl Default for ObserverConfig {
 pub struct MarginConfig {
     /// Uncertainty factors of the reported margin.
     pub factors: UncertaintyFactors,
-    /// Probability needed to predict `Latch` (and `1 −` it for `Stall`).
+    /// Confidence level of the latch / stall prediction: the rollouts bracket
+    /// the friction at `T̂_C ± zσ`, `Φ(z)` = this.
     pub confidence: f32,
-    /// Relative standard deviation of the spring energy [1].
-    pub spring_sd_rel: f32,
+    /// The forward simulations of the prediction.
+    pub rollout: RolloutConfig,
+    /// The deployment's deadline, from the first sample [s]: a joint that
+    /// latches later counts as stalled (the mechanism file's `duration_s`).
+    pub deadline_s: f32,
     /// Floor of the energy standard deviation [J].
     pub energy_sd_floor_j: f32,
 }
@@ -268,7 +269,13 @@ impl Default for MarginConfig {
         MarginConfig {
             factors: UncertaintyFactors::UNITY,
             confidence: 0.9,
-            spring_sd_rel: 0.05,
+            rollout: RolloutConfig {
+                dt_s: 0.01,
+                steps_per_update: 12,
+                horizon_s: 10.0,
+                coulomb_threshold_rad_s: crate::friction::COULOMB_THRESHOLD_RAD_S as f32,
+            },
+            deadline_s: 6.0,
             energy_sd_floor_j: 0.02,
         }
     }
@@ -349,13 +356,14 @@ impl<const N: usize> MonitorConfig<N> {
     /// Checks every parameter.
     pub fn validate(&self) -> Result<(), ConfigError> {
         for (index, j) in self.joints.iter().enumerate() {
-            let checks: [(bool, &'static str); 6] = [
+            let checks: [(bool, &'static str); 7] = [
                 (j.stowed_deg.is_finite() && libm::fabsf(j.stowed_deg) <= ENCODER_RANGE_DEG, "stowed_deg"),
                 (non_negative(j.capture_deg), "capture_deg"),
                 (j.prior.coulomb_nm.is_finite(), "coulomb prior"),
                 (positive(j.prior.coulomb_sd_nm), "coulomb prior sd"),
                 (j.prior.viscous_nms.is_finite(), "viscous prior"),
                 (positive(j.prior.viscous_sd_nms), "viscous prior sd"),
+                (positive(j.prior.spring_sd_rel) && j.prior.spring_sd_rel < 0.5, "spring prior sd"),
             ];
             if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
                 return Err(ConfigError::Joint { index, what });
@@ -381,20 +389,26 @@ impl<const N: usize> MonitorConfig<N> {
             (positive(o.zone_jerk_psd), "zone_jerk_psd"),
             (non_negative(o.snap_zone_deg), "snap_zone_deg"),
             (positive(o.gate_sigma), "gate_sigma"),
-            (positive(o.torque_sd_nm) && positive(o.acc_sd_floor), "model acceleration spread"),
             (positive(t.bandwidth_per_s), "bandwidth_per_s"),
             (positive(t.coulomb_threshold_rad_s), "coulomb_threshold_rad_s"),
-            (non_negative(t.coulomb_walk) && non_negative(t.viscous_walk), "friction walk"),
+            (
+                non_negative(t.coulomb_walk) && non_negative(t.viscous_walk) && non_negative(t.spring_walk),
+                "parameter walk",
+            ),
             (positive(t.residual_var_floor), "residual_var_floor"),
-            (t.residual_var_weight > 0.0 && t.residual_var_weight <= 1.0, "residual_var_weight"),
             (non_negative(o.settle_s), "settle_s"),
             (positive(o.min_dt_s) && positive(o.max_gap_s) && o.max_gap_s > o.min_dt_s, "time step limits"),
             (self.margin.factors.is_valid(), "uncertainty factors"),
             (self.margin.confidence > 0.5 && self.margin.confidence < 1.0, "confidence"),
             (
-                non_negative(self.margin.spring_sd_rel) && positive(self.margin.energy_sd_floor_j),
-                "margin spread",
+                positive(self.margin.rollout.dt_s)
+                    && self.margin.rollout.steps_per_update > 0
+                    && positive(self.margin.rollout.horizon_s)
+                    && positive(self.margin.rollout.coulomb_threshold_rad_s),
+                "rollout",
             ),
+            (positive(self.margin.deadline_s), "deadline_s"),
+            (positive(self.margin.energy_sd_floor_j), "energy_sd_floor_j"),
         ];
         if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
             return Err(ConfigError::Parameter(what));
@@ -420,8 +434,19 @@ pub struct Monitor<const N: usize> {
     fo: [FrictionObserver; N],
     lt: [LatchTracker; N],
     margin: [Option<MarginResult>; N],
+    /// The rollout in progress, its bracket and start time [s].
+    rollout: Option<(Rollout<N>, Bracket, f32)>,
+    /// Last finished nominal, pessimistic and optimistic outcomes, with
+    /// their start times [s].
+    nominal: Option<([JointOutcome; N], f32)>,
+    pessimistic: Option<([JointOutcome; N], f32)>,
+    optimistic: Option<([JointOutcome; N], f32)>,
+    /// `z = Φ⁻¹(confidence)`.
+    z: f32,
     rejects: [u8; N],
     started: bool,
+    /// Time stamp of the first sample [s].
+    t_start: f32,
     t_prev: f32,
     back_run: u8,
     t_back: f32,
@@ -431,6 +456,11 @@ pub struct Monitor<const N: usize> {
     status: Status<N>,
 }
 
+/// Rate uncertainty at the first sample [rad/s]: a deployment starts from
+/// rest (a monitor started mid-motion is caught by the jerk adaptation).
+const START_RATE_SD: f32 = 0.01;
+/// Acceleration uncertainty at the first sample [rad/s²].
+const START_ACC_SD: f32 = 1.0;
 /// Variance added to a rate after a latch impulse or a gap [rad²/s²].
 const RATE_SHOCK_VAR: f32 = 0.04;
 /// Variance added to an acceleration after a latch impulse or a gap [rad²/s⁴].
@@ -462,15 +492,21 @@ impl<const N: usize> Monitor<N> {
             latch_cfg: config.latch,
             margin_cfg: config.margin,
             kf: core::array::from_fn(|j| {
-                let mut f = RateFilter::new(config.joints[j].stowed_deg * DEG, sd, 0.1, 1.0);
+                let mut f = RateFilter::new(config.joints[j].stowed_deg * DEG, sd, START_RATE_SD, START_ACC_SD);
                 f.set_jerk_psd(config.observer.jerk_psd);
                 f
             }),
             fo: core::array::from_fn(|j| FrictionObserver::new(config.joints[j].prior)),
             lt: [LatchTracker::new(); N],
             margin: [None; N],
+            rollout: None,
+            nominal: None,
+            pessimistic: None,
+            optimistic: None,
+            z: normal_quantile(config.margin.confidence),
             rejects: [0; N],
             started: false,
+            t_start: 0.0,
             t_prev: 0.0,
             back_run: 0,
             t_back: 0.0,
@@ -573,10 +609,11 @@ impl<const N: usize> Monitor<N> {
         if !self.started {
             for j in 0..N {
                 let phi0 = meas[j].unwrap_or(self.stowed_deg[j] * DEG);
-                self.kf[j] = RateFilter::new(phi0, sd, 0.1, 1.0);
+                self.kf[j] = RateFilter::new(phi0, sd, START_RATE_SD, START_ACC_SD);
                 self.kf[j].set_jerk_psd(self.observer.jerk_psd);
             }
             self.started = true;
+            self.t_start = t;
         } else {
             let gate2 = self.observer.gate_sigma * self.observer.gate_sigma;
             let zone = self.observer.snap_zone_deg * DEG;
@@ -646,7 +683,6 @@ impl<const N: usize> Monitor<N> {
         let om_m: [f32; N] = core::array::from_fn(|j| if locked[j] { 0.0 } else { self.kf[j].rate() });
         let terms = momentum_terms(&self.chain, &phi_m, &om_m);
         let m = &terms.mass;
-        let minv = inverse_spd_masked(m, &locked);
         let zone = self.observer.snap_zone_deg * DEG;
         let in_zone = (0..N).any(|j| !locked[j] && libm::fabsf(phi_m[j]) < zone);
         if in_zone || gap {
@@ -683,7 +719,8 @@ impl<const N: usize> Monitor<N> {
                 self.fo[j].step(
                     &ObserverInput {
                         momentum: p,
-                        known_torque_nm: tau_s[j] + terms.beta[j],
+                        spring_torque_nm: tau_s[j],
+                        beta_nm: terms.beta[j],
                         rate_rad_s: om_m[j],
                         rate_var: self.kf[j].rate_var(),
                         dt_s: dt,
@@ -692,36 +729,14 @@ impl<const N: usize> Monitor<N> {
                     &self.observer.tuning,
                 );
             }
-            // Model-aided rates: the chain's acceleration with the
-            // disturbance estimate, fused as a pseudo-measurement,
-            // φ̈ = M⁻¹ (τ_s − SᵀC + r), var = Σ_k (M⁻¹)_jk² (σ_τ² + E[(d − r)²]).
-            if let Some(minv) = &minv {
-                let rhs: [f32; N] = core::array::from_fn(|k| {
-                    if locked[k] {
-                        0.0
-                    } else {
-                        tau_s[k] + terms.coriolis[k] + self.fo[k].disturbance_nm()
-                    }
-                });
-                let sd_tau = self.observer.torque_sd_nm;
-                let floor = self.observer.acc_sd_floor;
-                for j in 0..N {
-                    if locked[j] {
-                        continue;
-                    }
-                    let mut a = 0.0f32;
-                    let mut var = floor * floor;
-                    for k in 0..N {
-                        a += minv[j][k] * rhs[k];
-                        let var_d = sd_tau * sd_tau + self.fo[k].lag_var();
-                        var += minv[j][k] * minv[j][k] * var_d;
-                    }
-                    self.kf[j].fuse_acceleration(a, var);
-                }
-            }
         }
+        // Articulated inertia 1/(M⁻¹)_jj over the free joints: the one-joint
+        // energy balance counts all of the joint's kinetic energy, the share
+        // the outer panels carry included, so it errs on the side of a latch
+        // and its stall verdicts are safe ones.
+        let minv = inverse_spd_masked(m, &locked);
         let inertia: [f32; N] = core::array::from_fn(|j| match &minv {
-            Some(mi) if mi[j][j] > 0.0 => 1.0 / mi[j][j],
+            Some(mi) if mi[j][j] > 0.0 && mi[j][j].is_finite() => 1.0 / mi[j][j],
             _ => m[j][j].max(1e-6),
         });
 
@@ -742,7 +757,11 @@ impl<const N: usize> Monitor<N> {
         // Margin and prediction: one joint per update, in turn.
         let jm = usize::from(self.next_margin) % N.max(1);
         self.next_margin = ((jm + 1) % N.max(1)) as u8;
-        if let Some(false) = locked.get(jm) {
+        // Not inside a snap zone or the settling time after a snap, latch or
+        // gap: the rates there are the rate filter's wide-open transient,
+        // and the prediction made on entry stands.
+        let settled = quiet && libm::fabsf(phi_m.get(jm).copied().unwrap_or(0.0)) >= zone;
+        if let (Some(false), true) = (locked.get(jm), settled) {
             if let Some(slot) = self.margin.get_mut(jm) {
                 *slot = Some(Self::joint_margin(
                     &self.chain,
@@ -757,26 +776,43 @@ impl<const N: usize> Monitor<N> {
             }
         }
 
+        self.advance_rollouts(t, quiet, &locked, &phi_m, &om_m);
+
         // Status.
         let conf = self.margin_cfg.confidence;
         for j in 0..N {
             let est = self.fo[j].estimate();
             let latched = self.lt[j].is_latched();
-            let (margin_pct, prediction, p_latch, ttl) = if latched {
-                (None, Prediction::Latch, 1.0, None)
-            } else {
-                match self.margin[j] {
-                    None => (None, Prediction::Unknown, 0.5, None),
-                    Some(r) => {
-                        let pred = if r.latch_probability >= conf {
-                            Prediction::Latch
-                        } else if r.latch_probability <= 1.0 - conf {
-                            Prediction::Stall
-                        } else {
-                            Prediction::Unknown
-                        };
-                        (Some(r.margin_pct), pred, r.latch_probability, r.time_to_latch_s)
-                    }
+            let margin_pct = if latched { None } else { self.margin[j].map(|r| r.margin_pct) };
+            // A latch after the deadline is a stall.
+            let deadline = self.t_start + self.margin_cfg.deadline_s;
+            let pick = |o: Option<([JointOutcome; N], f32)>| {
+                o.and_then(|(x, t0)| {
+                    x.get(j).map(|x| {
+                        let mut x = *x;
+                        x.latches &= t0 + x.latch_after_s <= deadline;
+                        (x, t0)
+                    })
+                })
+            };
+            let (nom, pess, opt) = (pick(self.nominal), pick(self.pessimistic), pick(self.optimistic));
+            let ttl = |o: Option<(JointOutcome, f32)>| {
+                o.filter(|(x, _)| x.latches).map(|(x, t0)| (t0 + x.latch_after_s - t).max(0.0))
+            };
+            let energy_stall = self.margin[j].is_some_and(|r| r.latch_probability <= 1.0 - conf);
+            let (prediction, confidence, time_to_latch) = match nom {
+                _ if latched => (Prediction::Latch, 1.0, None),
+                // Not even the one-joint balance, which counts all the
+                // kinetic energy in the joint, gets it to the latch.
+                _ if energy_stall => (Prediction::Stall, conf, None),
+                None => (Prediction::Unknown, 0.0, None),
+                Some((x, _)) if x.latches => {
+                    let sure = pess.is_some_and(|(p, _)| p.latches);
+                    (Prediction::Latch, if sure { conf } else { 0.5 }, ttl(nom))
+                }
+                Some(_) => {
+                    let sure = opt.is_some_and(|(o, _)| !o.latches);
+                    (Prediction::Stall, if sure { conf } else { 0.5 }, None)
                 }
             };
             if newly[j] {
@@ -796,14 +832,83 @@ impl<const N: usize> Monitor<N> {
                 latch: states[j],
                 margin_pct: margin_pct.map(finite),
                 prediction,
-                latch_probability: finite(p_latch),
-                time_to_latch_s: ttl.filter(|v| v.is_finite()),
+                confidence,
+                time_to_latch_s: time_to_latch.filter(|v| v.is_finite()),
                 faults: faults[j],
             };
         }
         self.status.t_s = t;
         self.status.samples = self.status.samples.saturating_add(1);
         self.status
+    }
+
+    /// Advances the rollout in progress; when it ends, stores its outcome
+    /// and starts the other bracket from the current estimates (only while
+    /// the observers are settled: a rollout from a snap or a latch transient
+    /// would start from the rate filter's wide-open state).
+    fn advance_rollouts(&mut self, t: f32, quiet: bool, locked: &[bool; N], phi: &[f32; N], omega: &[f32; N]) {
+        let mut cfg = self.margin_cfg.rollout;
+        if let Some((r, bracket, t0)) = self.rollout.as_mut() {
+            // Only the time left to the deadline matters.
+            cfg.horizon_s = cfg.horizon_s.min(self.t_start + self.margin_cfg.deadline_s - *t0).max(cfg.dt_s);
+            r.advance(&self.chain, &cfg);
+            if r.is_done() {
+                let out = (r.outcome(), *t0);
+                match bracket {
+                    Bracket::Nominal => self.nominal = Some(out),
+                    Bracket::Pessimistic => self.pessimistic = Some(out),
+                    Bracket::Optimistic => self.optimistic = Some(out),
+                }
+            } else {
+                return;
+            }
+        }
+        let next = match self.rollout {
+            None | Some((_, Bracket::Optimistic, _)) => Bracket::Nominal,
+            Some((_, Bracket::Nominal, _)) => Bracket::Pessimistic,
+            Some((_, Bracket::Pessimistic, _)) => Bracket::Optimistic,
+        };
+        if !quiet {
+            // Keep the finished rollout until the estimates have settled.
+            return;
+        }
+        let z = self.z;
+        let sign = match next {
+            Bracket::Nominal => 0.0,
+            Bracket::Pessimistic => 1.0,
+            Bracket::Optimistic => -1.0,
+        };
+        let mut coulomb = [0.0f32; N];
+        let mut viscous = [0.0f32; N];
+        let mut spring = [1.0f32; N];
+        for j in 0..N {
+            let e = self.fo[j].estimate();
+            // More friction goes with weaker springs, and less with stronger.
+            spring[j] = (1.0 + e.spring_err - sign * z * libm::sqrtf(e.spring_var.max(0.0))).max(0.0);
+            let sd_c = libm::sqrtf(e.coulomb_var.max(0.0));
+            let sd_f = libm::sqrtf(e.viscous_var.max(0.0));
+            coulomb[j] = (e.coulomb_nm + sign * z * sd_c).max(0.0);
+            viscous[j] = (e.viscous_nms + sign * z * sd_f).max(0.0);
+            if next == Bracket::Optimistic && !locked[j] {
+                // Friction is never below the torque it exerts now.
+                let bound = self.fo[j].coulomb_lower_bound(self.kf[j].rate());
+                if bound <= e.coulomb_nm + 2.0 * sd_c {
+                    coulomb[j] = coulomb[j].max(bound);
+                }
+            }
+        }
+        let start = RolloutStart {
+            state: ChainState {
+                phi: *phi,
+                phi_dot: *omega,
+            },
+            latched: *locked,
+            coulomb_nm: coulomb,
+            viscous_nms: viscous,
+            spring_scale: spring,
+            capture_rad: self.capture_rad,
+        };
+        self.rollout = Some((Rollout::new(start), next, t));
     }
 
     /// The plastic latch impulse of `physics.md` §5 applied to the rate
@@ -831,8 +936,8 @@ impl<const N: usize> Monitor<N> {
         }
     }
 
-    /// Margin and prediction of joint `j`, `inertia` its articulated
-    /// inertia `1/(M⁻¹)_jj` over the free joints [kg·m²].
+    /// Energy margin and one-joint latch probability of joint `j`, with
+    /// `inertia` its articulated inertia `1/(M⁻¹)_jj` [kg·m²].
     #[allow(clippy::too_many_arguments)]
     fn joint_margin(
         chain: &Chain<f32, N>,
@@ -876,12 +981,13 @@ impl<const N: usize> Monitor<N> {
                 viscous_nms: est.viscous_nms,
                 coulomb_var: est.coulomb_var,
                 coulomb_lower_nm: bound,
+                spring_scale: 1.0 + est.spring_err,
+                spring_sd_rel: libm::sqrtf(est.spring_var.max(0.0)),
                 viscous_var: est.viscous_var,
                 cov: est.cov,
             },
             &MarginSettings {
                 factors: cfg.factors,
-                spring_sd_rel: cfg.spring_sd_rel,
                 energy_sd_floor_j: cfg.energy_sd_floor_j,
             },
         )

@@ -138,30 +138,6 @@ impl RateFilter {
         self.q = q;
     }
 
-    /// Fuses a model acceleration `a` [rad/s²] of variance `var` [rad²/s⁴]
-    /// as a pseudo-measurement of the acceleration state.
-    pub fn fuse_acceleration(&mut self, a: f32, var: f32) {
-        let s = self.p[5] + var;
-        if !(s > 0.0) || !a.is_finite() {
-            return;
-        }
-        let nu = a - self.x[2];
-        let k = [self.p[2] / s, self.p[4] / s, self.p[5] / s];
-        self.x[0] += k[0] * nu;
-        self.x[1] += k[1] * nu;
-        self.x[2] += k[2] * nu;
-        let [a0, b, c, d, e, f] = self.p;
-        // P − K H P with H = [0 0 1]: P_ij − P_i2 P_2j / s.
-        self.p = [
-            a0 - k[0] * c,
-            b - k[0] * e,
-            c - k[0] * f,
-            d - k[1] * e,
-            e - k[1] * f,
-            f - k[2] * f,
-        ];
-    }
-
     /// Sets the rate [rad/s] (after a latch impulse) and adds `var`
     /// [rad²/s²] to its variance.
     pub fn set_rate(&mut self, rate: f32, var: f32) {
@@ -408,10 +384,10 @@ pub struct ObserverTuning {
     pub coulomb_walk: f32,
     /// Random-walk intensity of `f` [N·m·s/rad/√s].
     pub viscous_walk: f32,
-    /// Floor of the residual variance [N²·m²].
+    /// Random-walk intensity of the spring-scale error `κ` [1/√s].
+    pub spring_walk: f32,
+    /// Floor of the measurement variance [N²·m²].
     pub residual_var_floor: f32,
-    /// Forgetting weight of the residual-variance estimate per update [1].
-    pub residual_var_weight: f32,
 }
 
 /// Prior of one joint's friction parameters.
@@ -425,6 +401,9 @@ pub struct FrictionPrior {
     pub viscous_nms: f32,
     /// Its standard deviation [N·m·s/rad].
     pub viscous_sd_nms: f32,
+    /// Standard deviation of the spring's scale about its nominal curve
+    /// [1] (the mean is the nominal curve: `κ = 0`).
+    pub spring_sd_rel: f32,
 }
 
 /// The friction estimate of one joint.
@@ -434,43 +413,57 @@ pub struct FrictionEstimate {
     pub coulomb_nm: f32,
     /// Viscous coefficient `f` [N·m·s/rad] (≥ 0).
     pub viscous_nms: f32,
+    /// Spring-scale error `κ` [1]: the spring gives `(1 + κ)` times its curve.
+    pub spring_err: f32,
     /// Variance of `T_C` [N²·m²].
     pub coulomb_var: f32,
     /// Variance of `f` [(N·m·s/rad)²].
     pub viscous_var: f32,
     /// Covariance of `T_C` and `f`.
     pub cov: f32,
+    /// Variance of `κ` [1].
+    pub spring_var: f32,
 }
 
-/// The observer's lag variance at a (re)start, in prior variances of `T_C`:
-/// until `r` has converged it may be off by several prior deviations.
+/// The observer's lag variance at a restart mid-motion, in prior variances
+/// of `T_C` (until `r` has converged it may be off by several prior
+/// deviations); a fresh observer starts at rest with this many times less.
 const LAG_VAR_START: f32 = 4.0;
 
 /// Weight of one step in the running mean square of the observer lag.
 const LAG_WEIGHT: f32 = 0.1;
 
-/// Largest friction parameter the estimator will report (projection bound):
-/// 1000 N·m or N·m·s/rad.
-const PARAM_MAX: f32 = 1000.0;
+/// Number of estimated parameters: `θ = [T_C, f, κ]`.
+const P: usize = 3;
 
-/// Momentum disturbance observer and RLS friction estimator of one joint.
+/// Bounds of the parameter projection: `0 ≤ T_C, f ≤ 1000`, `|κ| ≤ 0.5`.
+const THETA_MIN: [f32; P] = [0.0, 0.0, -0.5];
+const THETA_MAX: [f32; P] = [1000.0, 1000.0, 0.5];
+
+/// Momentum disturbance observer and RLS estimator of one joint's friction
+/// (and of the scale of its spring, which the friction would otherwise
+/// absorb).
+///
+/// ```text
+/// d = −T_C tanh(ω/ω_c) − f ω + κ τ_s,   h = [−tanh(ω/ω_c), −ω, τ_s]
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrictionObserver {
-    /// Disturbance estimate `r` [N·m] (first-order filtered friction torque).
+    /// Disturbance estimate `r` [N·m] (first-order filtered `d`).
     r: f32,
-    /// Filtered regressors `y = F[−tanh(ω/ω_c), −ω]`.
-    y: [f32; 2],
+    /// Filtered regressors `y = F[h]`.
+    y: [f32; P],
     /// Previous momentum [N·m·s], known torque [N·m], regressors.
     p_prev: f32,
     u_prev: f32,
-    h_prev: [f32; 2],
+    h_prev: [f32; P],
+    /// The spring torque at the last step [N·m].
+    spring_nm: f32,
     primed: bool,
-    /// θ = [T_C, f].
-    theta: [f32; 2],
-    /// Covariance of θ: Σ00, Σ01, Σ11.
-    sigma: [f32; 3],
-    /// Residual variance estimate [N²·m²].
-    resid_var: f32,
+    /// θ = [T_C, f, κ].
+    theta: [f32; P],
+    /// Covariance of θ.
+    sigma: [[f32; P]; P],
     /// Mean square of the observer's lag `d − r = ṙ/K` [N²·m²].
     lag_var: f32,
     /// `K dt` of the last step.
@@ -483,8 +476,10 @@ pub struct FrictionObserver {
 pub struct ObserverInput {
     /// Generalised momentum `p_j` [N·m·s].
     pub momentum: f32,
-    /// Known torque `τ_s,j + β_j` [N·m].
-    pub known_torque_nm: f32,
+    /// Spring torque `τ_s,j` [N·m] (nominal curve).
+    pub spring_torque_nm: f32,
+    /// `β_j = ∂T/∂φ_j` [N·m].
+    pub beta_nm: f32,
     /// Joint rate estimate [rad/s].
     pub rate_rad_s: f32,
     /// Variance of the rate estimate [rad²/s²].
@@ -498,21 +493,22 @@ pub struct ObserverInput {
 impl FrictionObserver {
     /// A fresh observer at the prior.
     pub fn new(prior: FrictionPrior) -> Self {
+        let mut sigma = [[0.0f32; P]; P];
+        sigma[0][0] = prior.coulomb_sd_nm * prior.coulomb_sd_nm;
+        sigma[1][1] = prior.viscous_sd_nms * prior.viscous_sd_nms;
+        sigma[2][2] = prior.spring_sd_rel * prior.spring_sd_rel;
         FrictionObserver {
             r: 0.0,
-            y: [0.0; 2],
+            y: [0.0; P],
             p_prev: 0.0,
             u_prev: 0.0,
-            h_prev: [0.0; 2],
+            h_prev: [0.0; P],
+            spring_nm: 0.0,
             primed: false,
-            theta: [prior.coulomb_nm, prior.viscous_nms],
-            sigma: [
-                prior.coulomb_sd_nm * prior.coulomb_sd_nm,
-                0.0,
-                prior.viscous_sd_nms * prior.viscous_sd_nms,
-            ],
-            resid_var: 0.0,
-            lag_var: LAG_VAR_START * prior.coulomb_sd_nm * prior.coulomb_sd_nm,
+            theta: [prior.coulomb_nm, prior.viscous_nms, 0.0],
+            sigma,
+            // At the start the joints rest (r = d = 0): no lag yet.
+            lag_var: prior.coulomb_sd_nm * prior.coulomb_sd_nm / LAG_VAR_START,
             kdt: 0.0,
             prior,
         }
@@ -523,7 +519,7 @@ impl FrictionObserver {
     /// identity still holds); the parameter estimate is kept.
     pub fn restart(&mut self) {
         self.r = 0.0;
-        self.y = [0.0; 2];
+        self.y = [0.0; P];
         self.primed = false;
         self.kdt = 0.0;
         self.lag_var = self
@@ -537,26 +533,18 @@ impl FrictionObserver {
         self.lag_var
     }
 
-    /// Resets the parameters to the prior (after a numerical failure).
-    pub fn reset_parameters(&mut self) {
-        *self = FrictionObserver::new(self.prior);
-    }
-
-    /// The disturbance (friction torque) estimate `r` [N·m].
-    pub fn disturbance_nm(&self) -> f32 {
-        self.r
-    }
-
     /// A lower bound of the Coulomb torque [N·m] from the friction torque
-    /// acting now: `|d| = |T_C tanh(ω/ω_c) + f ω| ≤ T_C + f|ω|`, so
-    /// `T_C ≥ |r| − f|ω| − 2σ_r`, with `σ_r² = E[(d̄ − r)²] K dt/(2 − K dt)`
-    /// the noise of `r`. 0 until the observer has run.
+    /// acting now: `|T_C tanh(ω/ω_c) + f ω| = |d − κ τ_s| ≤ T_C + f|ω|`, so
+    /// `T_C ≥ |r − κ̂ τ_s| − f̂|ω| − 2σ_r`, with
+    /// `σ_r² = E[(d̄ − r)²] K dt/(2 − K dt)` the noise of `r`. 0 until the
+    /// observer has run.
     pub fn coulomb_lower_bound(&self, rate_rad_s: f32) -> f32 {
         if !self.primed || !(self.kdt > 0.0) {
             return 0.0;
         }
         let sd = libm::sqrtf(self.lag_var.max(0.0) * self.kdt / (2.0 - self.kdt));
-        let bound = libm::fabsf(self.r) - self.theta[1].max(0.0) * libm::fabsf(rate_rad_s) - 2.0 * sd;
+        let friction = self.r - self.theta[2] * self.spring_nm;
+        let bound = libm::fabsf(friction) - self.theta[1].max(0.0) * libm::fabsf(rate_rad_s) - 2.0 * sd;
         if bound.is_finite() {
             bound.max(0.0)
         } else {
@@ -564,14 +552,20 @@ impl FrictionObserver {
         }
     }
 
-    /// The filtered regressors `y = F[−tanh(ω/ω_c), −ω]`.
-    pub fn regressors(&self) -> [f32; 2] {
+    /// The filtered regressors `y = F[−tanh(ω/ω_c), −ω, τ_s]`.
+    pub fn regressors(&self) -> [f32; P] {
         self.y
     }
 
-    /// The residual-variance estimate [N²·m²].
-    pub fn residual_var(&self) -> f32 {
-        self.resid_var
+    /// Resets the parameters to the prior (after a numerical failure).
+    pub fn reset_parameters(&mut self) {
+        *self = FrictionObserver::new(self.prior);
+    }
+
+    /// The disturbance estimate `r` [N·m]: the friction torque, filtered
+    /// (plus `κ τ_s`, the part of the spring torque the curve misses).
+    pub fn disturbance_nm(&self) -> f32 {
+        self.r
     }
 
     /// The current parameter estimate.
@@ -579,27 +573,24 @@ impl FrictionObserver {
         FrictionEstimate {
             coulomb_nm: self.theta[0],
             viscous_nms: self.theta[1],
-            coulomb_var: self.sigma[0],
-            viscous_var: self.sigma[2],
-            cov: self.sigma[1],
+            spring_err: self.theta[2],
+            coulomb_var: self.sigma[0][0],
+            viscous_var: self.sigma[1][1],
+            cov: self.sigma[0][1],
+            spring_var: self.sigma[2][2],
         }
     }
 
-    /// True when every state is finite and the covariance is positive definite.
+    /// True when every state is finite and the variances are positive.
     pub fn is_healthy(&self) -> bool {
-        let finite = [self.r, self.p_prev, self.u_prev, self.resid_var]
+        let finite = [self.r, self.p_prev, self.u_prev, self.spring_nm, self.lag_var, self.kdt]
             .iter()
             .chain(self.y.iter())
             .chain(self.h_prev.iter())
             .chain(self.theta.iter())
-            .chain(self.sigma.iter())
+            .chain(self.sigma.iter().flatten())
             .all(|v| v.is_finite());
-        finite
-            && self.lag_var.is_finite()
-            && self.kdt.is_finite()
-            && self.sigma[0] > 0.0
-            && self.sigma[2] > 0.0
-            && self.sigma[0] * self.sigma[2] > self.sigma[1] * self.sigma[1]
+        finite && (0..P).all(|i| self.sigma[i][i] > 0.0)
     }
 
     /// One step: advances the observer and, if `input.learn`, the RLS.
@@ -608,10 +599,13 @@ impl FrictionObserver {
         let h = [
             -libm::tanhf(input.rate_rad_s / wc),
             -input.rate_rad_s,
+            input.spring_torque_nm,
         ];
+        let u = input.spring_torque_nm + input.beta_nm;
+        self.spring_nm = input.spring_torque_nm;
         if !self.primed {
             self.p_prev = input.momentum;
-            self.u_prev = input.known_torque_nm;
+            self.u_prev = u;
             self.h_prev = h;
             self.primed = true;
             return;
@@ -622,7 +616,7 @@ impl FrictionObserver {
         if !(kdt > 0.0) {
             return;
         }
-        let u_bar = 0.5 * (self.u_prev + input.known_torque_nm);
+        let u_bar = 0.5 * (self.u_prev + u);
         // r⁺ = (1 − K dt) r + K dt · d̄,  d̄ dt = Δp − ū dt.
         let r_new = (1.0 - kdt) * self.r + (kdt / dt) * (input.momentum - self.p_prev - u_bar * dt);
         let lag = (r_new - self.r) / kdt;
@@ -633,12 +627,13 @@ impl FrictionObserver {
             *yi = (1.0 - kdt) * *yi + kdt * 0.5 * (*hi + *hp);
         }
         self.p_prev = input.momentum;
-        self.u_prev = input.known_torque_nm;
+        self.u_prev = u;
         self.h_prev = h;
 
         // Random walk of the parameters.
-        self.sigma[0] += tuning.coulomb_walk * tuning.coulomb_walk * dt;
-        self.sigma[2] += tuning.viscous_walk * tuning.viscous_walk * dt;
+        self.sigma[0][0] += tuning.coulomb_walk * tuning.coulomb_walk * dt;
+        self.sigma[1][1] += tuning.viscous_walk * tuning.viscous_walk * dt;
+        self.sigma[2][2] += tuning.spring_walk * tuning.spring_walk * dt;
         if input.learn {
             // Errors in variables ("effective variance"): a rate error δω
             // moves the Coulomb regressor by sech²(ω/ω_c) δω/ω_c, i.e. the
@@ -654,12 +649,13 @@ impl FrictionObserver {
     /// The RLS (Kalman) update of θ with `z = r`, `H = y`; `eiv` [N²·m²] is
     /// the variance the rate error adds to the measurement.
     fn learn(&mut self, kdt: f32, eiv: f32, tuning: &ObserverTuning) {
-        let [y0, y1] = self.y;
-        let [s00, s01, s11] = self.sigma;
-        // Σ H
-        let sh0 = s00 * y0 + s01 * y1;
-        let sh1 = s01 * y0 + s11 * y1;
-        let hsh = y0 * sh0 + y1 * sh1;
+        let y = self.y;
+        // Σ H and Hᵀ Σ H.
+        let mut sh = [0.0f32; P];
+        for (shi, row) in sh.iter_mut().zip(self.sigma.iter()) {
+            *shi = row.iter().zip(y.iter()).map(|(a, b)| a * b).sum();
+        }
+        let hsh: f32 = y.iter().zip(sh.iter()).map(|(a, b)| a * b).sum();
         // The filtered residual is an AR(1) sequence with ρ = 1 − K dt: n
         // samples of it carry the information of n (1 − ρ)/(1 + ρ)
         // independent ones. The white part of its noise has the variance
@@ -673,20 +669,20 @@ impl FrictionObserver {
         if !(s > 0.0) || !s.is_finite() {
             return;
         }
-        let g0 = sh0 / s;
-        let g1 = sh1 / s;
-        let e = self.r - (self.theta[0] * y0 + self.theta[1] * y1);
-        self.theta[0] += g0 * e;
-        self.theta[1] += g1 * e;
-        self.sigma = [s00 - g0 * sh0, s01 - g0 * sh1, s11 - g1 * sh1];
-        // Parameter projection onto the physical set 0 ≤ θ ≤ PARAM_MAX.
-        for t in self.theta.iter_mut() {
-            *t = t.clamp(0.0, PARAM_MAX);
+        let pred: f32 = self.theta.iter().zip(y.iter()).map(|(a, b)| a * b).sum();
+        let e = self.r - pred;
+        for i in 0..P {
+            self.theta[i] += sh[i] / s * e;
         }
-        // Residual variance, from the a-posteriori residual.
-        let post = self.r - (self.theta[0] * y0 + self.theta[1] * y1);
-        let w = tuning.residual_var_weight;
-        self.resid_var += w * (post * post - self.resid_var);
+        for i in 0..P {
+            for j in 0..P {
+                self.sigma[i][j] -= sh[i] * sh[j] / s;
+            }
+        }
+        // Parameter projection onto the physical set.
+        for ((t, lo), hi) in self.theta.iter_mut().zip(THETA_MIN.iter()).zip(THETA_MAX.iter()) {
+            *t = t.clamp(*lo, *hi);
+        }
     }
 }
 
@@ -870,14 +866,15 @@ mod tests {
             coulomb_threshold_rad_s: 0.01,
             coulomb_walk: 0.0,
             viscous_walk: 0.0,
+            spring_walk: 0.0,
             residual_var_floor: 1e-4,
-            residual_var_weight: 0.05,
         };
         let mut o = FrictionObserver::new(FrictionPrior {
             coulomb_nm: 0.0,
             coulomb_sd_nm: 2.0,
             viscous_nms: 0.0,
             viscous_sd_nms: 0.05,
+            spring_sd_rel: 0.05,
         });
         let (mut w, dt) = (0.0f32, 0.01f32);
         for _ in 0..300 {
@@ -892,7 +889,8 @@ mod tests {
             o.step(
                 &ObserverInput {
                     momentum: inertia * w,
-                    known_torque_nm: 3.0 - 0.5 * w,
+                    spring_torque_nm: 3.0,
+                    beta_nm: -0.5 * w,
                     rate_rad_s: w,
                     rate_var: 0.0,
                     dt_s: dt,

@@ -54,6 +54,8 @@ pub trait Real:
     fn abs(self) -> Self;
     /// True unless NaN or ±∞.
     fn is_finite(self) -> bool;
+    /// True for NaN.
+    fn is_nan(self) -> bool;
 
     /// `-1`, `0` or `1` (0 for 0 and NaN).
     #[inline]
@@ -69,7 +71,7 @@ pub trait Real:
     /// The larger of two values (NaN-ignoring on the left).
     #[inline]
     fn max(self, other: Self) -> Self {
-        if self > other || other != other {
+        if self > other || other.is_nan() {
             self
         } else {
             other
@@ -78,7 +80,7 @@ pub trait Real:
     /// The smaller of two values (NaN-ignoring on the left).
     #[inline]
     fn min(self, other: Self) -> Self {
-        if self < other || other != other {
+        if self < other || other.is_nan() {
             self
         } else {
             other
@@ -138,6 +140,10 @@ impl Real for f32 {
     fn is_finite(self) -> bool {
         f32::is_finite(self)
     }
+    #[inline]
+    fn is_nan(self) -> bool {
+        f32::is_nan(self)
+    }
 }
 
 impl Real for f64 {
@@ -181,5 +187,9 @@ impl Real for f64 {
     #[inline]
     fn is_finite(self) -> bool {
         f64::is_finite(self)
+    }
+    #[inline]
+    fn is_nan(self) -> bool {
+        f64::is_nan(self)
     }
 }

@@ -82,7 +82,9 @@ impl Error {
 impl core::fmt::Display for Error {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
-            Error::Frame { index } => write!(f, "input frame {index} does not decode as a 3-joint sample"),
+            Error::Frame { index } => {
+                write!(f, "input frame {index} does not decode as a 3-joint sample")
+            }
             other => f.write_str(other.as_str()),
         }
     }
@@ -151,14 +153,34 @@ impl<const MAX: usize> Framer<MAX> {
     }
 }
 
+/// Brackets every [`Monitor::update`] call of [`run`]: the firmware counts
+/// the instructions it takes; `()` does nothing.
+pub trait Meter {
+    /// Just before the call.
+    fn start(&mut self);
+    /// Just after it.
+    fn stop(&mut self);
+}
+
+impl Meter for () {
+    fn start(&mut self) {}
+    fn stop(&mut self) {}
+}
+
 /// Replays a whole input stream through a monitor: reads the input with
 /// `read` (like `std::io::Read::read`: `Ok(0)` at the end), runs
-/// [`Monitor::update`] on every sample and hands each status frame to
-/// `write`. Returns the number of samples.
-pub fn run<R, W>(config: &MonitorConfig<JOINTS>, mut read: R, mut write: W) -> Result<u32, Error>
+/// [`Monitor::update`] on every sample (inside `meter`'s brackets) and hands
+/// each status frame to `write`. Returns the number of samples.
+pub fn run<R, W, M>(
+    config: &MonitorConfig<JOINTS>,
+    mut read: R,
+    mut write: W,
+    meter: &mut M,
+) -> Result<u32, Error>
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
     W: FnMut(&[u8]) -> Result<(), ()>,
+    M: Meter,
 {
     let mut monitor = Monitor::new(config).map_err(|_| Error::Config)?;
     let mut framer = Framer::<SAMPLE_FRAME_MAX>::new();
@@ -175,7 +197,9 @@ where
             let sample: Sample<JOINTS> = frame
                 .and_then(|f| telemetry::decode(f).ok())
                 .ok_or(Error::Frame { index })?;
+            meter.start();
             let status: Status<JOINTS> = monitor.update(&sample);
+            meter.stop();
             let bytes = telemetry::encode(&status, &mut out).map_err(|_| Error::Encode)?;
             write(bytes).map_err(|_| Error::Write)?;
             index += 1;

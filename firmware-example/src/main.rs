@@ -10,7 +10,7 @@
 //! panic, 134 on a fault.
 //!
 //! ```text
-//! qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic \
+//! qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic -icount shift=0 \
 //!   -semihosting-config enable=on,target=native,arg=fw,arg=IN.bin,arg=OUT.bin,arg=seed001-T01 \
 //!   -kernel ELF | defmt-print -e ELF
 //! ```
@@ -21,10 +21,12 @@ use core::ffi::CStr;
 
 // The critical-section implementation (single core) that defmt-semihosting uses.
 use cortex_m as _;
+use cortex_m::peripheral::syst::SystClkSource;
+use cortex_m::peripheral::SYST;
 use cortex_m_rt::{entry, exception, ExceptionFrame};
 use defmt_semihosting as _;
 use deploywatch_core::monitor::MonitorConfig;
-use deploywatch_firmware_example::{mechanism, run, Error, JOINTS};
+use deploywatch_firmware_example::{mechanism, run, Error, Meter, JOINTS};
 use semihosting::experimental::env;
 use semihosting::fs::File;
 use semihosting::io::{Read, Write};
@@ -35,8 +37,15 @@ const MAX_PATH: usize = 127;
 
 #[entry]
 fn main() -> ! {
+    stack::paint();
     defmt::info!("deploywatch firmware example: replay");
-    let code = match replay() {
+    let result = replay();
+    defmt::info!(
+        "stack: peak {=usize} B of {=usize} B",
+        stack::peak(),
+        stack::size()
+    );
+    let code = match result {
         Ok(samples) => {
             defmt::info!("replayed {=u32} samples", samples);
             0
@@ -84,11 +93,101 @@ fn replay() -> Result<u32, Error> {
             return Err(Error::Write);
         }
     };
-    run(
+    let Some(peripherals) = cortex_m::Peripherals::take() else {
+        defmt::error!("the core peripherals are already taken");
+        return Err(Error::Config);
+    };
+    let mut meter = UpdateMeter::new(peripherals.SYST);
+    let result = run(
         &config,
         |buf| input.read(buf).map_err(|_| ()),
         |frame| output.write_all(frame).map_err(|_| ()),
-    )
+        &mut meter,
+    );
+    meter.report();
+    result
+}
+
+/// Counts the instructions of every `Monitor::update` with SysTick on the
+/// core clock. QEMU's mps2-an386 clocks the core at 25 MHz of virtual time,
+/// and `-icount shift=0` makes every instruction 1 ns of it, so one tick is
+/// 40 instructions: each call is measured to ±40, the mean far better.
+/// Without `-icount` the figures follow the host's speed and mean nothing.
+struct UpdateMeter {
+    t0: u32,
+    calls: u32,
+    sum: u64,
+    max: u32,
+    /// Ticks of an empty start/stop.
+    overhead: u32,
+    /// Instructions per tick, from a loop of known length.
+    per_tick: u32,
+}
+
+impl UpdateMeter {
+    /// SysTick's 24-bit counter.
+    const MASK: u32 = 0x00FF_FFFF;
+
+    fn new(mut syst: SYST) -> Self {
+        syst.set_clock_source(SystClkSource::Core);
+        syst.set_reload(Self::MASK);
+        syst.clear_current();
+        syst.enable_counter();
+        let mut m = UpdateMeter {
+            t0: 0,
+            calls: 0,
+            sum: 0,
+            max: 0,
+            overhead: 0,
+            per_tick: 0,
+        };
+        m.start();
+        m.stop();
+        m.overhead = m.max;
+        // `asm::delay(n)` runs n + 1 turns of a two-instruction loop
+        // (subs, bne; cortex-m 0.7.10).
+        const TURNS: u32 = 100_000;
+        m.start();
+        cortex_m::asm::delay(TURNS - 1);
+        m.stop();
+        let ticks = m.max.max(1);
+        m.per_tick = (2 * TURNS + ticks / 2) / ticks;
+        m.calls = 0;
+        m.sum = 0;
+        m.max = 0;
+        m
+    }
+
+    fn report(&self) {
+        if self.calls == 0 {
+            return;
+        }
+        let mean = (self.sum / u64::from(self.calls)) as u32;
+        defmt::info!(
+            "Monitor::update: {=u32} calls, mean {=u32} max {=u32} instructions ({=u32} per SysTick tick; QEMU -icount shift=0)",
+            self.calls,
+            mean * self.per_tick,
+            self.max * self.per_tick,
+            self.per_tick
+        );
+    }
+}
+
+impl Meter for UpdateMeter {
+    #[inline(always)]
+    fn start(&mut self) {
+        self.t0 = SYST::get_current();
+    }
+
+    #[inline(always)]
+    fn stop(&mut self) {
+        let t1 = SYST::get_current();
+        // SysTick counts down.
+        let ticks = (self.t0.wrapping_sub(t1) & Self::MASK).saturating_sub(self.overhead);
+        self.calls += 1;
+        self.sum += u64::from(ticks);
+        self.max = self.max.max(ticks);
+    }
 }
 
 /// Opens the input, creates the output and configures the monitor, as the
@@ -118,6 +217,61 @@ fn c_path<'b, E>(
     dst.copy_from_slice(path);
     let end = path.len() + 1;
     CStr::from_bytes_with_nul(buf.get(..end).ok_or(Setup::Usage)?).map_err(|_| Setup::Usage)
+}
+
+/// The stack's high-water mark, by painting: everything below the stack
+/// pointer is filled with a pattern at start-up, and the lowest word that no
+/// longer holds it at the end is the deepest the stack went. A measurement
+/// of this run, not a bound (a path the run did not take is not counted).
+mod stack {
+    const PAINT: u32 = 0xCAFE_F00D;
+    /// Bytes left unpainted below the stack pointer, for `paint`'s own frame.
+    const MARGIN: usize = 64;
+
+    extern "C" {
+        /// Top of the stack (cortex-m-rt's link.x: the end of RAM).
+        static _stack_start: u32;
+        /// Lowest address the stack may reach (end of .bss/.uninit).
+        static _stack_end: u32;
+    }
+
+    fn bounds() -> (usize, usize) {
+        // Only the addresses of the linker symbols are taken (safe).
+        (
+            core::ptr::addr_of!(_stack_end) as usize,
+            core::ptr::addr_of!(_stack_start) as usize,
+        )
+    }
+
+    /// Size of the stack region [bytes].
+    pub fn size() -> usize {
+        let (bottom, top) = bounds();
+        top - bottom
+    }
+
+    /// Fills the unused stack below the current stack pointer.
+    pub fn paint() {
+        let (bottom, _) = bounds();
+        let sp = cortex_m::register::msp::read() as usize;
+        let mut p = bottom;
+        while p + 4 <= sp.saturating_sub(MARGIN) {
+            // SAFETY: [bottom, sp − MARGIN) is stack memory that no frame
+            // uses yet; word-aligned (link.x asserts _stack_end % 4 == 0).
+            unsafe { (p as *mut u32).write_volatile(PAINT) };
+            p += 4;
+        }
+    }
+
+    /// Deepest stack use since [`paint`] [bytes].
+    pub fn peak() -> usize {
+        let (bottom, top) = bounds();
+        let mut p = bottom;
+        // SAFETY: reads of word-aligned RAM inside the stack region.
+        while p < top && unsafe { (p as *const u32).read_volatile() } == PAINT {
+            p += 4;
+        }
+        top - p
+    }
 }
 
 #[panic_handler]

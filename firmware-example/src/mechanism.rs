@@ -5,7 +5,8 @@
 //! converts it (`deploywatch_sim::monitor_config::monitor_config`): panels
 //! and springs in `f32`, the tape spring's θ_B as capture angle, the
 //! friction in the file as prior mean (none here) with the default spread
-//! (2 N·m Coulomb, 0.05 N·m·s/rad viscous), and the default tuning.
+//! (2 N·m Coulomb, 0.05 N·m·s/rad viscous), the file's `[run] duration_s`
+//! as the deployment's deadline, and the default tuning.
 //! `deploywatch-replay` checks the two conversions equal before every
 //! replay, so a drift between this table and the files is an error, not a
 //! silent difference.
@@ -73,12 +74,19 @@ fn tape_joint(stowed_deg: f32, points: &TapePoints<f32>, count: f32) -> Option<J
 /// name not in [`NAMES`].
 pub fn config(name: &str) -> Option<MonitorConfig<JOINTS>> {
     // Seed 001: T01 is the normal case (3 × TS-1 at joint 1), T02 the worst
-    // case (2 × TS-3 at joint 1); joints 2 and 3 are the same in both.
-    let joint1 = match name {
-        "seed001-T01" => tape_joint(-90.0, &TS1, 3.0)?,
-        "seed001-T02" => tape_joint(-90.0, &TS3, 2.0)?,
+    // case (2 × TS-3 at joint 1); joints 2 and 3 are the same in both. The
+    // deadline is the file's `[run] duration_s` [s].
+    let (joint1, deadline_s) = match name {
+        "seed001-T01" => (tape_joint(-90.0, &TS1, 3.0)?, 6.0),
+        "seed001-T02" => (tape_joint(-90.0, &TS3, 2.0)?, 12.0),
         _ => return None,
     };
-    let joints = [joint1, tape_joint(180.0, &TS2, 2.0)?, tape_joint(-180.0, &TS3, 2.0)?];
-    Some(MonitorConfig::new([PANEL; JOINTS], joints))
+    let joints = [
+        joint1,
+        tape_joint(180.0, &TS2, 2.0)?,
+        tape_joint(-180.0, &TS3, 2.0)?,
+    ];
+    let mut config = MonitorConfig::new([PANEL; JOINTS], joints);
+    config.margin.deadline_s = deadline_s;
+    Some(config)
 }

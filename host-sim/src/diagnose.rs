@@ -29,6 +29,10 @@ pub const MIN_DELTA_BIC: f64 = 10.0;
 /// The residual is "down to the sensor noise" below this multiple of σ̂.
 pub const NOISE_FLOOR_FACTOR: f64 = 1.2;
 
+/// How many candidates of a round, best by their coarse scan, are fitted
+/// fully (the others keep their scan score).
+pub const SCREEN_KEEP: usize = 8;
+
 /// How many of the last forward round's best candidates a swap tries.
 pub const SWAP_CANDIDATES: usize = 8;
 
@@ -78,7 +82,9 @@ impl Candidate {
             EffectKind::HarnessStiffness => vec![(0.0, 20.0, 1e-4)],
             EffectKind::LatchDetent => vec![(0.0, 50.0, 1e-3)],
             EffectKind::AirDrag => vec![(0.0, 20.0, 1e-4)],
-            EffectKind::RigTilt => vec![(0.0, 5.0, 1e-4), (-720.0, 720.0, 0.05)],
+            // Cartesian components (g cos α, g sin α): nearly linear in
+            // the motion, no wrap-around, no singular direction at g = 0.
+            EffectKind::RigTilt => vec![(-5.0, 5.0, 1e-5), (-5.0, 5.0, 1e-5)],
             EffectKind::EncoderOffset => vec![(-30.0, 30.0, 1e-4)],
         }
     }
@@ -95,9 +101,10 @@ impl Candidate {
             EffectKind::AirDrag => one(&[0.05, 0.2, 0.8, 3.0]),
             EffectKind::RigTilt => {
                 let mut v = Vec::new();
-                for g in [0.03, 0.2] {
-                    for a in [0.0, 90.0, 180.0, 270.0] {
-                        v.push(vec![g, a]);
+                for g in [0.01, 0.08] {
+                    for k in 0..8 {
+                        let a = k as f64 * std::f64::consts::FRAC_PI_4;
+                        v.push(vec![g * a.cos(), g * a.sin()]);
                     }
                 }
                 v
@@ -108,16 +115,39 @@ impl Candidate {
 
     /// The effect with parameters `p`.
     pub fn effect(&self, p: &[f64]) -> Effect {
+        let x = p.first().copied().unwrap_or(0.0);
+        if self.kind == EffectKind::RigTilt {
+            let y = p.get(1).copied().unwrap_or(0.0);
+            return Effect {
+                kind: self.kind,
+                joint: None,
+                value: x.hypot(y),
+                alpha_deg: y.atan2(x).to_degrees().rem_euclid(360.0),
+            };
+        }
         Effect {
             kind: self.kind,
             joint: self.joint,
-            value: p.first().copied().unwrap_or(0.0),
-            alpha_deg: if self.kind == EffectKind::RigTilt {
-                p.get(1).copied().unwrap_or(0.0).rem_euclid(360.0)
-            } else {
-                0.0
-            },
+            value: x,
+            alpha_deg: 0.0,
         }
+    }
+
+    /// The 95 % interval of the effect's value, and for a rig tilt of its
+    /// direction [deg], from the intervals of its parameters (first-order
+    /// propagation for the tilt's magnitude and angle).
+    pub fn value_ci(&self, p: &[f64], ci: &[[f64; 2]]) -> ([f64; 2], Option<[f64; 2]>) {
+        let half = |k: usize| ci.get(k).map_or(f64::INFINITY, |c| 0.5 * (c[1] - c[0]));
+        if self.kind == EffectKind::RigTilt {
+            let (x, y) = (p.first().copied().unwrap_or(0.0), p.get(1).copied().unwrap_or(0.0));
+            let g = x.hypot(y).max(1e-300);
+            let (hx, hy) = (half(0), half(1));
+            let hg = ((x * hx).powi(2) + (y * hy).powi(2)).sqrt() / g;
+            let ha = (((y * hx).powi(2) + (x * hy).powi(2)).sqrt() / (g * g)).to_degrees();
+            let a = y.atan2(x).to_degrees().rem_euclid(360.0);
+            return ([g - hg, g + hg], Some([a - ha, a + ha]));
+        }
+        (ci.first().copied().unwrap_or([f64::NEG_INFINITY, f64::INFINITY]), None)
     }
 
     /// `name` or `name@joint`, for progress lines and reports.
@@ -190,6 +220,17 @@ impl FittedSet {
             sse: f64::NAN,
             m: self.m,
             evaluations: 0,
+        }
+    }
+
+    /// The value interval (and a tilt's direction interval) of the `k`-th
+    /// effect.
+    pub fn effect_ci(&self, k: usize) -> ([f64; 2], Option<[f64; 2]>) {
+        let off: usize = self.set[..k].iter().map(|c| c.params()).sum();
+        let n = self.set[k].params();
+        match (self.params.get(off..off + n), self.ci95.get(off..off + n)) {
+            (Some(p), Some(ci)) => self.set[k].value_ci(p, ci),
+            _ => ([f64::NEG_INFINITY, f64::INFINITY], None),
         }
     }
 
@@ -363,21 +404,62 @@ impl Engine<'_> {
 
     /// Fits `base ∪ {cand}`: scans the candidate's value with the base's
     /// parameters held, then refits everything.
-    fn fit_with(&self, c: &Campaign, base: &FittedSet, cand: Candidate) -> Option<FittedSet> {
+    fn screen(&self, c: &Campaign, base: &FittedSet, cand: Candidate) -> Option<FittedSet> {
         let mut set = base.set.clone();
         set.push(cand);
-        let mut best: Option<(f64, Vec<f64>)> = None;
+        let mut best: Option<(f64, usize, Vec<f64>)> = None;
         for start in cand.scan() {
             let mut p = base.params.clone();
             p.extend(start);
-            if let Some((sse, _)) = self.sse(c, &set, &p) {
-                if best.as_ref().is_none_or(|(b, _)| sse < *b) {
-                    best = Some((sse, p));
+            if let Some((sse, m)) = self.sse(c, &set, &p) {
+                if best.as_ref().is_none_or(|(b, _, _)| sse < *b) {
+                    best = Some((sse, m, p));
                 }
             }
         }
-        let (_, p0) = best?;
-        self.fit(c, &set, &p0)
+        let (sse, m, params) = best?;
+        Some(FittedSet {
+            ci95: params.iter().map(|_| [f64::NEG_INFINITY, f64::INFINITY]).collect(),
+            set,
+            params,
+            sse,
+            m,
+            evaluations: 0,
+        })
+    }
+
+    /// Screens every move (a base set plus a candidate) by its coarse scan
+    /// and fits the [`SCREEN_KEEP`] most promising ones fully; the others
+    /// keep their scan result and are marked as screened out.
+    fn fit_moves(&self, c: &Campaign, moves: &[(FittedSet, Candidate)]) -> Vec<(Candidate, Option<FittedSet>, bool)> {
+        let screened: Vec<Option<FittedSet>> = moves
+            .par_iter()
+            .map(|(base, cand)| self.screen(c, base, *cand))
+            .collect();
+        let mut order: Vec<usize> = (0..moves.len()).filter(|&i| screened[i].is_some()).collect();
+        order.sort_by(|&a, &b| {
+            let sa = screened[a].as_ref().map_or(f64::INFINITY, |f| f.sse);
+            let sb = screened[b].as_ref().map_or(f64::INFINITY, |f| f.sse);
+            sa.total_cmp(&sb)
+        });
+        let keep: Vec<usize> = order.iter().copied().take(SCREEN_KEEP).collect();
+        let fitted: Vec<(usize, Option<FittedSet>)> = keep
+            .par_iter()
+            .map(|&i| {
+                let s = screened[i].as_ref()?;
+                Some((i, self.fit(c, &s.set, &s.params)))
+            })
+            .flatten()
+            .collect();
+        let mut out: Vec<(Candidate, Option<FittedSet>, bool)> = moves
+            .iter()
+            .zip(screened)
+            .map(|((_, cand), s)| (*cand, s, true))
+            .collect();
+        for (i, f) in fitted {
+            out[i] = (moves[i].1, f, false);
+        }
+        out
     }
 
     /// Held-out RMS [deg] of a set: fit on all runs but one (from the
@@ -419,11 +501,11 @@ impl Engine<'_> {
         &self,
         current: &FittedSet,
         current_held: Option<f64>,
-        fits: impl Iterator<Item = (Candidate, Option<FittedSet>)>,
+        fits: impl Iterator<Item = (Candidate, Option<FittedSet>, bool)>,
         what: String,
     ) -> (Round, Option<(FittedSet, Option<f64>)>) {
         let mut scores: Vec<CandidateScore> = fits
-            .filter_map(|(cand, f)| {
+            .filter_map(|(cand, f, screened_out)| {
                 let f = f?;
                 Some(CandidateScore {
                     candidate: cand,
@@ -431,7 +513,11 @@ impl Engine<'_> {
                     fitted: f,
                     held_out_rms_deg: None,
                     accepted: false,
-                    verdict: String::new(),
+                    verdict: if screened_out {
+                        "screened out by the coarse scan".into()
+                    } else {
+                        String::new()
+                    },
                 })
             })
             .collect();
@@ -446,8 +532,13 @@ impl Engine<'_> {
             ));
         }
         let mut chosen = None;
-        for (i, s) in scores.iter_mut().enumerate() {
-            if chosen.is_some() || i >= 3 {
+        let mut tried = 0;
+        for s in scores.iter_mut() {
+            if !s.verdict.is_empty() {
+                continue;
+            }
+            tried += 1;
+            if chosen.is_some() || tried > 3 {
                 if s.verdict.is_empty() {
                     s.verdict = format!("dBIC {:.1}, not the best", s.delta_bic);
                 }
@@ -462,7 +553,7 @@ impl Engine<'_> {
                 .unwrap_or(0);
             s.verdict = if s.delta_bic <= MIN_DELTA_BIC {
                 format!("BIC gain {:.1} ≤ {MIN_DELTA_BIC}", s.delta_bic)
-            } else if !clear_of_zero(&s.fitted, at) {
+            } else if !clear_of_zero(&s.fitted, s.candidate, at) {
                 "its 95 % interval contains zero".into()
             } else {
                 s.held_out_rms_deg = self.held_out(&s.fitted);
@@ -471,14 +562,19 @@ impl Engine<'_> {
                         format!("held-out RMS {h:.4} deg does not beat {c:.4} deg")
                     }
                     _ => {
-                        chosen = Some(i);
+                        chosen = Some(s.candidate);
                         s.accepted = true;
                         "earns its keep: added".into()
                     }
                 }
             };
         }
-        let next = chosen.map(|i| (scores[i].fitted.clone(), scores[i].held_out_rms_deg));
+        let next = chosen.and_then(|c| {
+            scores
+                .iter()
+                .find(|s| s.accepted && s.candidate == c)
+                .map(|s| (s.fitted.clone(), s.held_out_rms_deg))
+        });
         (
             Round {
                 start: current.set.clone(),
@@ -541,12 +637,17 @@ fn sub_campaign(c: &Campaign, keep: impl Fn(usize) -> bool) -> Campaign {
     }
 }
 
-/// True when the 95 % interval of the candidate's first parameter (its
-/// value; a rig tilt's angle has no zero) excludes zero.
-fn clear_of_zero(f: &FittedSet, cand_offset: usize) -> bool {
-    f.ci95
-        .get(cand_offset)
-        .is_some_and(|ci| ci[0] > 0.0 || ci[1] < 0.0)
+/// True when the 95 % interval of the candidate's value excludes zero.
+fn clear_of_zero(f: &FittedSet, cand: Candidate, cand_offset: usize) -> bool {
+    let n = cand.params();
+    let (Some(p), Some(ci)) = (
+        f.params.get(cand_offset..cand_offset + n),
+        f.ci95.get(cand_offset..cand_offset + n),
+    ) else {
+        return false;
+    };
+    let (v, _) = cand.value_ci(p, ci);
+    v[0] > 0.0 || v[1] < 0.0
 }
 
 /// Diagnoses a campaign.
@@ -605,14 +706,12 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions) -> Outcome {
                 labels(&current.set),
                 current.rms()
             ));
-            let fits: Vec<Option<FittedSet>> = todo
-                .par_iter()
-                .map(|&cand| eng.fit_with(campaign, &current, cand))
-                .collect();
+            let moves: Vec<(FittedSet, Candidate)> =
+                todo.iter().map(|&c| (current.clone(), c)).collect();
             let (round, next) = eng.judge(
                 &current,
                 current_held,
-                todo.into_iter().zip(fits),
+                eng.fit_moves(campaign, &moves).into_iter(),
                 format!("add to {{{}}}", labels(&current.set)),
             );
             rounds.push(round);
@@ -660,14 +759,10 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions) -> Outcome {
             moves.len(),
             labels(&current.set)
         ));
-        let fits: Vec<Option<FittedSet>> = moves
-            .par_iter()
-            .map(|(base, c)| eng.fit_with(campaign, base, *c))
-            .collect();
         let (round, next) = eng.judge(
             &current,
             current_held,
-            moves.iter().map(|(_, c)| *c).zip(fits),
+            eng.fit_moves(campaign, &moves).into_iter(),
             format!("swap one of {{{}}}", labels(&current.set)),
         );
         rounds.push(round);

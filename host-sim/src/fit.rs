@@ -100,10 +100,72 @@ pub enum FitError {
     },
 }
 
+/// MINUIT's bound transformations (James, *MINUIT Tutorial*, CERN 2004,
+/// §1.3): the solver works on an unbounded `u`, the model sees `p(u)`
+/// inside its bounds. (Projecting `p` instead stalls: the LM iterate leaves
+/// the box and the projected model stops responding.)
+#[derive(Clone, Copy, Debug)]
+enum Bound {
+    Free,
+    Lower(f64),
+    Upper(f64),
+    Both(f64, f64),
+}
+
+impl Bound {
+    fn new(lo: f64, hi: f64) -> Self {
+        match (lo.is_finite(), hi.is_finite()) {
+            (true, true) => Bound::Both(lo, hi),
+            (true, false) => Bound::Lower(lo),
+            (false, true) => Bound::Upper(hi),
+            (false, false) => Bound::Free,
+        }
+    }
+    /// `p(u)`.
+    fn p(self, u: f64) -> f64 {
+        match self {
+            Bound::Free => u,
+            Bound::Lower(lo) => lo - 1.0 + (u * u + 1.0).sqrt(),
+            Bound::Upper(hi) => hi + 1.0 - (u * u + 1.0).sqrt(),
+            Bound::Both(lo, hi) => lo + 0.5 * (hi - lo) * (u.sin() + 1.0),
+        }
+    }
+    /// `dp/du`.
+    fn dp(self, u: f64) -> f64 {
+        match self {
+            Bound::Free => 1.0,
+            Bound::Lower(_) => u / (u * u + 1.0).sqrt(),
+            Bound::Upper(_) => -u / (u * u + 1.0).sqrt(),
+            Bound::Both(lo, hi) => 0.5 * (hi - lo) * u.cos(),
+        }
+    }
+    /// `u(p)` for a `p` inside the bounds (clamped, and nudged off a bound
+    /// where `dp/du` would vanish).
+    fn u(self, p: f64) -> f64 {
+        match self {
+            Bound::Free => p,
+            Bound::Lower(lo) => {
+                let d = (p - lo).max(1e-9) + 1.0;
+                (d * d - 1.0).sqrt()
+            }
+            Bound::Upper(hi) => {
+                let d = (hi - p).max(1e-9) + 1.0;
+                -(d * d - 1.0).sqrt()
+            }
+            Bound::Both(lo, hi) => {
+                let x = (2.0 * (p - lo) / (hi - lo) - 1.0).clamp(-1.0 + 1e-9, 1.0 - 1e-9);
+                x.asin()
+            }
+        }
+    }
+}
+
 struct Problem<'a> {
     model: &'a dyn Residuals,
     opts: &'a FitOptions,
-    p: DVector<f64>,
+    bounds: Vec<Bound>,
+    /// The solver's unbounded variables `u`.
+    u: DVector<f64>,
     m: usize,
     /// The residuals at `p`, computed once per point.
     cache: Mutex<Option<(Vec<f64>, Vec<f64>)>>,
@@ -116,6 +178,11 @@ impl Problem<'_> {
             .enumerate()
             .map(|(i, &x)| x.max(self.opts.lower[i]).min(self.opts.upper[i]))
             .collect()
+    }
+
+    /// The model's parameters at the solver's variables.
+    fn p_of(&self, u: &[f64]) -> Vec<f64> {
+        u.iter().zip(&self.bounds).map(|(&u, b)| b.p(u)).collect()
     }
 
     fn eval(&self, p: &[f64]) -> Option<Vec<f64>> {
@@ -176,19 +243,29 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
     type ParameterStorage = Owned<f64, Dyn>;
 
     fn set_params(&mut self, x: &DVector<f64>) {
-        self.p = DVector::from_vec(self.clamp(x.as_slice()));
+        self.u = x.clone();
     }
 
     fn params(&self) -> DVector<f64> {
-        self.p.clone()
+        self.u.clone()
     }
 
     fn residuals(&self) -> Option<DVector<f64>> {
-        self.residuals_at(self.p.as_slice()).map(DVector::from_vec)
+        let p = self.clamp(&self.p_of(self.u.as_slice()));
+        self.residuals_at(&p).map(DVector::from_vec)
     }
 
     fn jacobian(&self) -> Option<DMatrix<f64>> {
-        self.jacobian_at(self.p.as_slice())
+        // Chain rule: ∂r/∂u = ∂r/∂p · diag(dp/du).
+        let p = self.clamp(&self.p_of(self.u.as_slice()));
+        let mut j = self.jacobian_at(&p)?;
+        for (c, (b, &u)) in self.bounds.iter().zip(self.u.iter()).enumerate() {
+            let d = b.dp(u);
+            for r in 0..j.nrows() {
+                j[(r, c)] *= d;
+            }
+        }
+        Some(j)
     }
 }
 
@@ -208,10 +285,14 @@ pub fn t975(dof: usize) -> f64 {
 /// Minimises `Σ r(p)²` from `p0` within the bounds of `opts`.
 pub fn least_squares(model: &dyn Residuals, p0: &[f64], opts: &FitOptions) -> Result<FitResult, FitError> {
     let n = p0.len();
+    let bounds: Vec<Bound> = (0..n)
+        .map(|i| Bound::new(opts.lower[i], opts.upper[i]))
+        .collect();
     let mut problem = Problem {
         model,
         opts,
-        p: DVector::zeros(n),
+        bounds: bounds.clone(),
+        u: DVector::zeros(n),
         m: 0,
         cache: Mutex::new(None),
         evaluations: Mutex::new(0),
@@ -225,13 +306,13 @@ pub fn least_squares(model: &dyn Residuals, p0: &[f64], opts: &FitOptions) -> Re
             residuals: problem.m,
         });
     }
-    problem.p = DVector::from_vec(start);
+    problem.u = DVector::from_iterator(n, start.iter().zip(&bounds).map(|(&p, b)| b.u(p)));
     let (problem, report) = LevenbergMarquardt::new()
         .with_patience(opts.patience)
         .with_xtol(1e-8)
         .with_ftol(1e-10)
         .minimize(problem);
-    let p = problem.p.as_slice().to_vec();
+    let p = problem.clamp(&problem.p_of(problem.u.as_slice()));
     let r = problem
         .residuals_at(&p)
         .ok_or_else(|| FitError::BadStart(p.clone()))?;

@@ -37,8 +37,8 @@ use std::time::Instant;
 /// The uniform EFTs tried by the start scan [N·m]: a geometric grid with
 /// ratio √2 from 0.025 to 3.2 N·m (15 values), plus 0.
 pub const SCAN_GRID_NM: [f64; 16] = [
-    0.0, 0.025, 0.035355, 0.05, 0.070711, 0.1, 0.141421, 0.2, 0.282843, 0.4, 0.565685, 0.8, 1.131371,
-    1.6, 2.262742, 3.2,
+    0.0, 0.025, 0.035355, 0.05, 0.070711, 0.1, 0.141421, 0.2, 0.282843, 0.4, 0.565685, 0.8,
+    1.131371, 1.6, 2.262742, 3.2,
 ];
 
 /// Which identification method.
@@ -231,7 +231,10 @@ impl Identification {
 
     /// The EFT identified at joint `joint` (1-based) [N·m].
     pub fn eft(&self, joint: usize) -> Option<f64> {
-        self.joints.iter().find(|j| j.joint == joint).map(|j| j.coulomb_nm)
+        self.joints
+            .iter()
+            .find(|j| j.joint == joint)
+            .map(|j| j.coulomb_nm)
     }
 
     /// Pretty-printed JSON.
@@ -433,8 +436,14 @@ pub fn score(campaign: &Campaign, effects: &[Effect]) -> Option<(CampaignScore, 
         let s = metrics::sse_deg2(&run.t_s, &traj.phi_deg, &run.phi_deg, TimeWindow::ALL).ok()?;
         sse += s.sse_deg2;
         count += s.samples * s.joints;
-        let te = metrics::trajectory_errors_pct(&run.t_s, &traj.phi_deg, &run.phi_deg, &run.latch, TimeWindow::ALL)
-            .ok()?;
+        let te = metrics::trajectory_errors_pct(
+            &run.t_s,
+            &traj.phi_deg,
+            &run.phi_deg,
+            &run.latch,
+            TimeWindow::ALL,
+        )
+        .ok()?;
         let joint_sse_deg2 = (0..run.joints())
             .map(|j| {
                 traj.phi_deg[j]
@@ -468,10 +477,18 @@ pub fn check_joints(campaign: &Campaign, joints: &[usize]) -> Result<(), Identif
     if joints.is_empty() {
         return Err(IdentifyError::NoJoints);
     }
-    let n = campaign.runs.iter().map(|r| r.run.joints()).min().unwrap_or(0);
+    let n = campaign
+        .runs
+        .iter()
+        .map(|r| r.run.joints())
+        .min()
+        .unwrap_or(0);
     for (i, &j) in joints.iter().enumerate() {
         if j == 0 || j > n {
-            return Err(IdentifyError::BadJoint { joint: j, joints: n });
+            return Err(IdentifyError::BadJoint {
+                joint: j,
+                joints: n,
+            });
         }
         if joints[..i].contains(&j) {
             return Err(IdentifyError::DuplicateJoint(j));
@@ -482,7 +499,12 @@ pub fn check_joints(campaign: &Campaign, joints: &[usize]) -> Result<(), Identif
 
 /// The joints every run of the campaign has: `1..=n`.
 pub fn all_joints(campaign: &Campaign) -> Vec<usize> {
-    let n = campaign.runs.iter().map(|r| r.run.joints()).min().unwrap_or(0);
+    let n = campaign
+        .runs
+        .iter()
+        .map(|r| r.run.joints())
+        .min()
+        .unwrap_or(0);
     (1..=n).collect()
 }
 
@@ -493,7 +515,9 @@ fn check_vector(what: &str, v: &[f64], n: usize, nonnegative: bool) -> Result<()
             v.len()
         )));
     }
-    if v.iter().any(|x| !x.is_finite() || (nonnegative && *x < 0.0)) {
+    if v.iter()
+        .any(|x| !x.is_finite() || (nonnegative && *x < 0.0))
+    {
         return Err(IdentifyError::BadOption(format!(
             "{what}: expected finite{} values in N·m, got {v:?}",
             if nonnegative { " non-negative" } else { "" }
@@ -518,7 +542,11 @@ pub struct Scan {
 /// The start scan: the same EFT at every identified joint, for each value
 /// of [`SCAN_GRID_NM`] (simulated in parallel); keeps the best value for the
 /// whole campaign and, per joint, the value that fits that joint best.
-pub fn scan(campaign: &Campaign, joints: &[usize], progress: Progress) -> Result<Scan, IdentifyError> {
+pub fn scan(
+    campaign: &Campaign,
+    joints: &[usize],
+    progress: Progress,
+) -> Result<Scan, IdentifyError> {
     check_joints(campaign, joints)?;
     let model = Model::new(campaign, joints);
     scan_with(&model, progress)
@@ -605,7 +633,11 @@ pub fn identify_direct(
     let (before, _) = model
         .score(&vec![0.0; k])
         .ok_or_else(|| IdentifyError::Simulation("as given (no extra friction)".into()))?;
-    progress(&format!("before: RMS {:.4} deg over {} runs", before.rms_deg, campaign.runs.len()));
+    progress(&format!(
+        "before: RMS {:.4} deg over {} runs",
+        before.rms_deg,
+        campaign.runs.len()
+    ));
     let (start, start_rule) = match &opts.start_nm {
         Some(s) => {
             check_vector("start", s, k, true)?;
@@ -638,7 +670,11 @@ pub fn identify_direct(
             let r = model
                 .residuals(&p)
                 .ok_or_else(|| IdentifyError::Simulation("with every EFT at 0".into()))?;
-            break (r.iter().map(|x| x * x).sum::<f64>(), r.len(), "every EFT at 0".to_string());
+            break (
+                r.iter().map(|x| x * x).sum::<f64>(),
+                r.len(),
+                "every EFT at 0".to_string(),
+            );
         }
         let q0: Vec<f64> = idx.iter().map(|&i| p[i]).collect();
         progress(&format!(
@@ -765,7 +801,11 @@ pub fn identify_rsm(
     let (before, _) = model
         .score(&vec![0.0; k])
         .ok_or_else(|| IdentifyError::Simulation("as given (no extra friction)".into()))?;
-    progress(&format!("before: RMS {:.4} deg over {} runs", before.rms_deg, campaign.runs.len()));
+    progress(&format!(
+        "before: RMS {:.4} deg over {} runs",
+        before.rms_deg,
+        campaign.runs.len()
+    ));
     let design = rsm::Ccd::new(k, opts.kind, opts.centre_runs)?;
     // The coded extent of the design: α (circumscribed) or 1.
     let reach = design
@@ -786,7 +826,10 @@ pub fn identify_rsm(
                 "centre = per-joint best of the uniform-EFT scan {:?} N·m (at least {} N·m)",
                 sc.per_joint_best_nm, SCAN_GRID_NM[1]
             ));
-            sc.per_joint_best_nm.iter().map(|c| c.max(SCAN_GRID_NM[1])).collect()
+            sc.per_joint_best_nm
+                .iter()
+                .map(|c| c.max(SCAN_GRID_NM[1]))
+                .collect()
         }
     };
     let half = match &opts.half_range_nm {
@@ -807,7 +850,10 @@ pub fn identify_rsm(
                 opts.half_range_fraction,
                 opts.half_range_fraction * reach
             ));
-            centre.iter().map(|c| c * opts.half_range_fraction).collect()
+            centre
+                .iter()
+                .map(|c| c * opts.half_range_fraction)
+                .collect()
         }
     };
     let coding = Coding::new(centre.clone(), half.clone())?;
@@ -846,7 +892,8 @@ pub fn identify_rsm(
         .collect();
     let mut table = Vec::with_capacity(points.len());
     for (p, r) in points.iter().zip(results) {
-        let r = r.ok_or_else(|| IdentifyError::Simulation(format!("at the design point {p:?} N·m")))?;
+        let r =
+            r.ok_or_else(|| IdentifyError::Simulation(format!("at the design point {p:?} N·m")))?;
         table.push(r);
     }
     let names: Vec<String> = joints
@@ -890,11 +937,14 @@ pub fn identify_rsm(
         "rsm: surface minimum {:.4} at {:?} N·m; checking by simulation",
         min.value, min.x
     ));
-    let (after, _) = model
-        .score(&min.x)
-        .ok_or_else(|| IdentifyError::Simulation(format!("at the surface's minimum {:?}", min.x)))?;
+    let (after, _) = model.score(&min.x).ok_or_else(|| {
+        IdentifyError::Simulation(format!("at the surface's minimum {:?}", min.x))
+    })?;
     let simulated = match opts.response {
-        RsmResponse::TeSum => joints.iter().map(|&j| after.mean_te_pct(j).unwrap_or(f64::NAN)).sum(),
+        RsmResponse::TeSum => joints
+            .iter()
+            .map(|&j| after.mean_te_pct(j).unwrap_or(f64::NAN))
+            .sum(),
         RsmResponse::Mse => after.rms_deg * after.rms_deg,
     };
     Ok(Identification {
@@ -950,6 +1000,47 @@ pub fn synthetic_run(
     let offsets = crate::effect::encoder_offsets_deg(effects, mech.joint_count());
     let mut run = sensor::measure(&traj, &offsets, &SensorModel::REFERENCE, seed);
     run.set_meta("mechanism", &mech.name);
-    run.set_meta("source", &format!("synthetic: reference sensor, seed {seed}"));
+    run.set_meta(
+        "source",
+        &format!("synthetic: reference sensor, seed {seed}"),
+    );
     Ok(run)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_parse_and_print() {
+        for m in [Method::Direct, Method::Rsm] {
+            assert_eq!(m.name().parse::<Method>(), Ok(m));
+        }
+        for r in [RsmResponse::TeSum, RsmResponse::Mse] {
+            assert_eq!(r.name().parse::<RsmResponse>(), Ok(r));
+        }
+        assert!("lm".parse::<Method>().unwrap_err().contains("direct"));
+        assert_eq!(serde_json::to_string(&Method::Rsm).unwrap(), "\"rsm\"");
+    }
+
+    #[test]
+    fn option_vectors_are_checked() {
+        assert!(check_vector("start", &[1.0, 2.0], 2, true).is_ok());
+        let e = check_vector("centre", &[1.0], 2, true)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("centre") && e.contains("(2)"), "{e}");
+        assert!(check_vector("range", &[-1.0, 1.0], 2, true).is_err());
+        assert!(check_vector("range", &[f64::NAN, 1.0], 2, false).is_err());
+    }
+
+    #[test]
+    fn the_scan_grid_is_geometric() {
+        for w in SCAN_GRID_NM[1..].windows(2) {
+            assert!(
+                (w[1] / w[0] - std::f64::consts::SQRT_2).abs() < 1e-4,
+                "{w:?}"
+            );
+        }
+    }
 }

@@ -9,6 +9,7 @@ pub mod campaign;
 pub mod diagnose;
 pub mod effect;
 pub mod evidence;
+pub mod faults;
 pub mod fit;
 pub mod identify;
 pub mod mechanism;

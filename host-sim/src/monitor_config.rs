@@ -2,9 +2,11 @@
 //! TOML file) converted into the fixed-size, `f32` [`MonitorConfig`] the
 //! core's [`Monitor`] is built from, and a replay of a [`Run`] through it.
 //!
-//! The conversion keeps the mechanism's panels and springs and takes the
+//! The conversion keeps the mechanism's panels and springs, takes the
 //! friction written in the file as the prior mean of the friction estimate
-//! (zero for the nominal mechanisms), with the spread of [`PriorSpread`].
+//! (zero for the nominal mechanisms), with the spread of [`PriorSpread`],
+//! and the file's `[run] duration_s` as the deadline of the deployment: a
+//! joint predicted to latch later is predicted to stall.
 
 use deploywatch_core::monitor::{JointConfig, Monitor, MonitorConfig, Sample, Status};
 use deploywatch_core::observer::FrictionPrior;
@@ -21,15 +23,19 @@ pub struct PriorSpread {
     pub coulomb_sd_nm: f64,
     /// Of the viscous coefficient [N·m·s/rad].
     pub viscous_sd_nms: f64,
+    /// Of the spring's scale about its nominal curve [1].
+    pub spring_sd_rel: f64,
 }
 
 impl Default for PriorSpread {
-    /// 2 N·m (the papers' identified values are 0.001–2.63 N·m) and
-    /// 0.05 N·m·s/rad (the papers identify no viscous term).
+    /// 2 N·m (the papers' identified values are 0.001–2.63 N·m),
+    /// 0.05 N·m·s/rad (the papers identify no viscous term) and 5 % of the
+    /// spring (hinge-to-hinge scatter of tape springs).
     fn default() -> Self {
         PriorSpread {
             coulomb_sd_nm: 2.0,
             viscous_sd_nms: 0.05,
+            spring_sd_rel: 0.05,
         }
     }
 }
@@ -170,6 +176,7 @@ pub fn monitor_config_with<const N: usize>(
                 coulomb_sd_nm: spread.coulomb_sd_nm as f32,
                 viscous_nms: j.friction.viscous_nms as f32,
                 viscous_sd_nms: spread.viscous_sd_nms as f32,
+                spring_sd_rel: spread.spring_sd_rel as f32,
             },
         });
     }
@@ -177,7 +184,8 @@ pub fn monitor_config_with<const N: usize>(
         expected: N,
         found: mech.joints.len(),
     })?;
-    let cfg = MonitorConfig::new(panels, joints);
+    let mut cfg = MonitorConfig::new(panels, joints);
+    cfg.margin.deadline_s = mech.duration_s as f32;
     cfg.validate().map_err(MonitorConfigError::Config)?;
     Ok(cfg)
 }

@@ -5,6 +5,36 @@ use std::path::Path;
 
 use crate::mechanism::{Mechanism, MAX_JOINTS};
 
+/// Largest joint angle a run file may hold [deg], either sign: a hinge
+/// angle beyond two turns is no reading of a deploying joint (the monitor's
+/// `ENCODER_RANGE_DEG` flags the same bound on board).
+pub const MAX_ANGLE_DEG: f64 = 720.0;
+
+/// The metadata key that declares missing encoder readings: a run with
+/// `# missing_samples = "NaN"` may have `NaN` in its `phi<j>_deg` fields,
+/// each a reading the sensor did not deliver (a dropout, a parity error).
+/// See [`ReadOptions::allow_missing`] and `docs/reliability.md`.
+pub const MISSING_SAMPLES_KEY: &str = "missing_samples";
+
+/// The one value of [`MISSING_SAMPLES_KEY`]: the field text of a missing
+/// reading.
+pub const MISSING_SAMPLES_VALUE: &str = "NaN";
+
+/// Smallest change of a joint angle over a run that counts as motion [deg]:
+/// fifty times the reference encoder noise, a hundredth of the shortest
+/// stroke of the bundled mechanisms.
+pub const MIN_MOTION_DEG: f64 = 1.0;
+
+/// How strictly [`Run::parse_with`] reads a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ReadOptions {
+    /// Accept `NaN` in the angle columns of a run that declares
+    /// `# missing_samples = "NaN"` (a run with injected sensor faults, for
+    /// the monitor). Off by default: the analyses need every angle, and a
+    /// file that does not declare missing samples never has them.
+    pub allow_missing: bool,
+}
+
 /// One run: time stamps, joint angles and latch switches, with metadata.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Run {
@@ -235,6 +265,37 @@ pub enum RunError {
         /// The time of the previous row, as written.
         previous: String,
     },
+    /// An angle beyond ±[`MAX_ANGLE_DEG`].
+    #[error("{file}:{line}: column `{column}`: expected an angle within ±720 deg, found {found}")]
+    AngleRange {
+        /// The file.
+        file: String,
+        /// The line.
+        line: usize,
+        /// The column's name.
+        column: String,
+        /// The field (shortened).
+        found: String,
+    },
+    /// A missing reading (`NaN`, which the file declares with
+    /// `# missing_samples = "NaN"`) given to a reader that needs every angle.
+    #[error("{file}:{line}: column `{column}`: a missing sample (`NaN`, declared by the file's `# missing_samples` metadata), but this command needs every angle: expected a finite number")]
+    MissingSample {
+        /// The file.
+        file: String,
+        /// The line.
+        line: usize,
+        /// The column's name.
+        column: String,
+    },
+    /// A file that is not UTF-8 text.
+    #[error("{file}: not a text file (invalid UTF-8 at byte {offset}); expected a run CSV")]
+    NotText {
+        /// The file.
+        file: String,
+        /// Offset of the first invalid byte.
+        offset: usize,
+    },
     /// A latch field other than `0` or `1`.
     #[error("{file}:{line}: column `{column}`: expected 0 or 1, found `{found}`")]
     BadLatch {
@@ -284,6 +345,30 @@ pub enum RunError {
         /// How many mechanisms carry it.
         count: usize,
     },
+    /// Analysis: no joint moves by [`MIN_MOTION_DEG`] or more over the run.
+    #[error("{file}: the run never moves (no joint's angle changes by more than {motion_deg:.3} deg over {duration_s:.3} s): nothing to analyse; expected a deployment, at least one joint moving by 1 deg or more (did the release fire, do the encoders read?)")]
+    NeverMoves {
+        /// The run file.
+        file: String,
+        /// The largest change of any joint's angle [deg].
+        motion_deg: f64,
+        /// The run's length [s].
+        duration_s: f64,
+    },
+    /// Analysis: the run stops before every joint latched and before its
+    /// mechanism's `duration_s` (a truncated file, or a recording stopped
+    /// early).
+    #[error("{file}: the run ends at {end_s} s with joint(s) {} not latched, before the mechanism's duration_s = {duration_s} s: truncated? expected a run to go on until every joint latched or to duration_s (docs/spec/formats.md)", joint_list(unlatched))]
+    EndsEarly {
+        /// The run file.
+        file: String,
+        /// Time of the last sample [s].
+        end_s: f64,
+        /// The mechanism's `duration_s` [s].
+        duration_s: f64,
+        /// Joints (1-based) whose switch is open at the last sample.
+        unlatched: Vec<usize>,
+    },
     /// Pairing: the run and its mechanism have different joint counts.
     #[error("{file}: the run has {run_joints} joints but mechanism \"{mechanism}\" has {mechanism_joints}; expected equal joint counts")]
     JointCountMismatch {
@@ -315,10 +400,16 @@ impl RunError {
             | RunError::FieldCount { line, .. }
             | RunError::BadNumber { line, .. }
             | RunError::NonMonotonicTime { line, .. }
+            | RunError::AngleRange { line, .. }
+            | RunError::MissingSample { line, .. }
             | RunError::BadLatch { line, .. } => Some(*line),
             _ => None,
         }
     }
+}
+
+fn joint_list(joints: &[usize]) -> String {
+    joints.iter().map(|j| j.to_string()).collect::<Vec<_>>().join(", ")
 }
 
 fn names_or_none(names: &[String]) -> String {
@@ -407,12 +498,22 @@ fn format_time(t: f64) -> String {
 impl Run {
     /// Reads and validates a run CSV file.
     pub fn load(path: &Path) -> Result<Run, RunError> {
-        let text = std::fs::read_to_string(path).map_err(|source| RunError::Io {
-            path: path.display().to_string(),
+        Run::load_with(path, ReadOptions::default())
+    }
+
+    /// Reads and validates a run CSV file with the given options.
+    pub fn load_with(path: &Path, options: ReadOptions) -> Result<Run, RunError> {
+        let file = path.display().to_string();
+        let bytes = std::fs::read(path).map_err(|source| RunError::Io {
+            path: file.clone(),
             action: "cannot read",
             source,
         })?;
-        Run::parse(&text, &path.display().to_string())
+        let text = String::from_utf8(bytes).map_err(|e| RunError::NotText {
+            file: file.clone(),
+            offset: e.utf8_error().valid_up_to(),
+        })?;
+        Run::parse_with(&text, &file, options)
     }
 
     /// Parses and validates run CSV text (`docs/spec/formats.md`, "Run:
@@ -420,8 +521,18 @@ impl Run {
     ///
     /// Accepted: `\n` or `\r\n` line ends, a final line with or without a
     /// line end, a UTF-8 byte-order mark, spaces around fields. Rejected with
-    /// the line number: anything else, including empty lines.
+    /// the line number: anything else, including empty lines, angles
+    /// beyond ±[`MAX_ANGLE_DEG`], and `NaN` (see [`Run::parse_with`]).
     pub fn parse(text: &str, source: &str) -> Result<Run, RunError> {
+        Run::parse_with(text, source, ReadOptions::default())
+    }
+
+    /// [`Run::parse`] with options: with [`ReadOptions::allow_missing`], an
+    /// angle field `NaN` is a missing reading in a run that declares
+    /// `# missing_samples = "NaN"`. Without the option such a field is a
+    /// [`RunError::MissingSample`]; without the declaration, a
+    /// [`RunError::BadNumber`] whatever the option.
+    pub fn parse_with(text: &str, source: &str, options: ReadOptions) -> Result<Run, RunError> {
         let file = source.to_string();
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
@@ -467,6 +578,19 @@ impl Run {
             meta_lines.push(n);
         };
 
+        let declares_missing = match run.meta(MISSING_SAMPLES_KEY) {
+            None => false,
+            Some(MISSING_SAMPLES_VALUE) => true,
+            Some(other) => {
+                let i = run.metadata.iter().position(|(k, _)| k == MISSING_SAMPLES_KEY).unwrap_or(0);
+                return Err(RunError::BadMetadata {
+                    file,
+                    line: meta_lines.get(i).copied().unwrap_or(1),
+                    expected: format!("`# {MISSING_SAMPLES_KEY} = \"{MISSING_SAMPLES_VALUE}\"` (the only value)"),
+                    found: shorten(&format!("# {MISSING_SAMPLES_KEY} = {other:?}")),
+                });
+            }
+        };
         let names: Vec<&str> = header.split(',').map(str::trim).collect();
         let n = Self::check_header(&names, &file, header_line)?;
         let columns = run_columns(n);
@@ -520,7 +644,28 @@ impl Run {
             prev_t = Some((t, fields[0]));
             run.t_s.push(t);
             for j in 0..n {
-                let phi = number(1 + j)?;
+                let k = 1 + j;
+                let phi = if declares_missing && fields[k] == MISSING_SAMPLES_VALUE {
+                    if !options.allow_missing {
+                        return Err(RunError::MissingSample {
+                            file,
+                            line: ln,
+                            column: columns[k].clone(),
+                        });
+                    }
+                    f64::NAN
+                } else {
+                    let phi = number(k)?;
+                    if phi.abs() > MAX_ANGLE_DEG {
+                        return Err(RunError::AngleRange {
+                            file,
+                            line: ln,
+                            column: columns[k].clone(),
+                            found: shorten(fields[k]),
+                        });
+                    }
+                    phi
+                };
                 run.phi_deg[j].push(phi);
             }
             for j in 0..n {
@@ -619,8 +764,10 @@ impl Run {
     /// Checks that the run can be written and read back: 1 to 4 joints, as
     /// many latch series as angle series, every series as long as `t_s`, at
     /// least one sample, finite strictly increasing times that stay distinct
-    /// when written with 6 decimals, finite angles, metadata keys without
-    /// spaces or `=`. `file` names the run in the error.
+    /// when written with 6 decimals, angles finite and within
+    /// ±[`MAX_ANGLE_DEG`] (or `NaN`, a missing reading, when the run declares
+    /// `# missing_samples = "NaN"`), metadata keys without spaces or `=`.
+    /// `file` names the run in the error.
     pub fn validate(&self, file: &str) -> Result<(), RunError> {
         let invalid = |reason: String| RunError::Invalid {
             file: file.to_string(),
@@ -657,6 +804,15 @@ impl Run {
                 )));
             }
         }
+        let declares_missing = match self.meta(MISSING_SAMPLES_KEY) {
+            None => false,
+            Some(MISSING_SAMPLES_VALUE) => true,
+            Some(other) => {
+                return Err(invalid(format!(
+                    "metadata {MISSING_SAMPLES_KEY} = {other:?}; expected \"{MISSING_SAMPLES_VALUE}\""
+                )))
+            }
+        };
         let mut prev: Option<String> = None;
         for (i, &t) in self.t_s.iter().enumerate() {
             if !t.is_finite() {
@@ -677,9 +833,19 @@ impl Run {
             }
             for j in 0..n {
                 let phi = self.phi_deg[j][i];
+                if phi.is_nan() && declares_missing {
+                    continue;
+                }
                 if !phi.is_finite() {
                     return Err(invalid(format!(
                         "sample {}: phi{}_deg = {phi}; expected a finite angle",
+                        i + 1,
+                        j + 1
+                    )));
+                }
+                if phi.abs() > MAX_ANGLE_DEG {
+                    return Err(invalid(format!(
+                        "sample {}: phi{}_deg = {phi}; expected an angle within ±{MAX_ANGLE_DEG} deg",
                         i + 1,
                         j + 1
                     )));
@@ -702,7 +868,8 @@ impl Run {
     /// gives the run back, times rounded to 1 µs and angles to 1e-6 deg.
     /// It does not check the run (see [`Run::validate`], which
     /// [`Run::write`] calls): missing samples are written as `NaN`, which
-    /// [`Run::parse`] would reject.
+    /// only [`Run::parse_with`] accepts, and only in a run that declares
+    /// them (`# missing_samples = "NaN"`).
     pub fn to_csv_string(&self) -> String {
         let n = self.joints();
         let mut out = String::with_capacity(64 + self.len() * (12 + 14 * n));
@@ -783,4 +950,74 @@ pub fn pair_runs<'a>(
         });
     }
     Ok(m)
+}
+
+impl Run {
+    /// The largest change of any joint's angle over the run [deg]: max − min
+    /// of its readings, missing ones (`NaN`) left out; 0 for no reading.
+    pub fn motion_deg(&self) -> f64 {
+        self.phi_deg
+            .iter()
+            .map(|s| {
+                let (lo, hi) = s
+                    .iter()
+                    .filter(|x| x.is_finite())
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+                if hi >= lo {
+                    hi - lo
+                } else {
+                    0.0
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+}
+
+/// Checks that a run, paired with its mechanism, holds something to analyse
+/// (identification, diagnosis), beyond what the format requires:
+/// - some joint moves by [`MIN_MOTION_DEG`] or more
+///   ([`RunError::NeverMoves`]);
+/// - the run goes on until every latch switch reads closed, or to the
+///   mechanism's `duration_s` within one and a half sample intervals
+///   ([`RunError::EndsEarly`]: a file truncated at a line end, which the
+///   reader cannot tell from a short run).
+///
+/// `file` names the run in the error. The monitor does not need this: a
+/// run that never moves (a failed release) is one it must call a stall.
+pub fn check_analysable(run: &Run, mechanism: &Mechanism, file: &str) -> Result<(), RunError> {
+    let (Some(&first), Some(&end_s)) = (run.t_s.first(), run.t_s.last()) else {
+        return Err(RunError::Invalid {
+            file: file.to_string(),
+            reason: "no samples; expected at least one".to_string(),
+        });
+    };
+    let motion_deg = run.motion_deg();
+    if motion_deg < MIN_MOTION_DEG {
+        return Err(RunError::NeverMoves {
+            file: file.to_string(),
+            motion_deg,
+            duration_s: end_s - first,
+        });
+    }
+    let unlatched: Vec<usize> = run
+        .latch
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| !l.last().copied().unwrap_or(false))
+        .map(|(j, _)| j + 1)
+        .collect();
+    let dt = if run.len() > 1 {
+        (end_s - first) / (run.len() - 1) as f64
+    } else {
+        0.0
+    };
+    if !unlatched.is_empty() && end_s < mechanism.duration_s - 1.5 * dt {
+        return Err(RunError::EndsEarly {
+            file: file.to_string(),
+            end_s,
+            duration_s: mechanism.duration_s,
+            unlatched,
+        });
+    }
+    Ok(())
 }

@@ -112,6 +112,12 @@ pub enum SimError {
         /// Simulated time [s].
         t_s: f64,
     },
+    /// The integration took more than [`MAX_STEPS`] steps.
+    #[error("more than {MAX_STEPS} steps by t = {t_s:.6} s: the model is too stiff")]
+    TooManySteps {
+        /// Simulated time [s].
+        t_s: f64,
+    },
     /// A tape-spring joint sticks at `φ̇ = 0` where neither branch is
     /// consistent (the reference reports this as an error too).
     #[error("joint {joint} slides on φ̇ = 0 at t = {t_s:.6} s: neither spring branch is consistent")]
@@ -122,6 +128,14 @@ pub enum SimError {
         t_s: f64,
     },
 }
+
+/// Most accepted plus rejected steps of one simulation (a 12 s deployment
+/// takes under 2,000).
+pub const MAX_STEPS: usize = 1_000_000;
+
+/// Most branch events one joint may have within 1 ms before the simulation
+/// is declared to slide on `φ̇ = 0`.
+pub const MAX_BRANCH_BURST: usize = 10;
 
 /// Simulates a mechanism with extra effects (sensor effects are ignored
 /// here: see [`crate::sensor`]).
@@ -398,6 +412,9 @@ pub fn run_chain<const N: usize>(
     let mut k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
     let mut h = 1e-4f64.min(opts.max_step_s);
     let mut same_instant_events = 0usize;
+    // Branch events per joint within the last millisecond: a burst is a joint
+    // sliding on φ̇ = 0 (Zeno chattering between the branches).
+    let mut burst = [(f64::NEG_INFINITY, 0usize); N];
     let mut done = false;
     let mut hold = false;
     while !done && t < duration {
@@ -421,6 +438,9 @@ pub fn run_chain<const N: usize>(
             continue;
         }
         out.stats.steps += 1;
+        if out.stats.steps + out.stats.rejected > MAX_STEPS {
+            return Err(SimError::TooManySteps { t_s: t });
+        }
         let t1 = t + h;
         let fired = it.fired(&y, &att.y1);
         let mut t_end = t1;
@@ -502,7 +522,9 @@ pub fn run_chain<const N: usize>(
                         it.mode.branch[j] = it.choose_branch(&ye, j);
                     }
                     Event::Branch(j) => {
-                        if same_instant_events > 20 {
+                        let (last, count) = burst[j];
+                        burst[j] = if t_end - last < 1e-3 { (last, count + 1) } else { (t_end, 1) };
+                        if same_instant_events > 20 || burst[j].1 > MAX_BRANCH_BURST {
                             return Err(SimError::Sliding {
                                 joint: j + 1,
                                 t_s: t_end,

@@ -3,7 +3,8 @@
 //! ```text
 //! deploywatch-replay encode RUN.csv FRAMES.bin            run CSV -> sample frames
 //! deploywatch-replay host MECH.toml RUN.csv STATUS.bin    the host's f32 monitor run
-//! deploywatch-replay decode STATUS.bin                    status frames -> CSV on stdout
+//! deploywatch-replay decode STATUS.bin                    status frames -> JSON lines on stdout
+//! deploywatch-replay run FRAMES.bin MECHANISM STATUS.bin  the firmware's loop, on the host
 //! deploywatch-replay compare A.bin B.bin                  exit 0 iff byte-identical
 //! deploywatch-replay mechanism RUN.csv                    the run's mechanism name
 //! ```
@@ -29,7 +30,8 @@ use deploywatch_sim::run::Run;
 const USAGE: &str = "usage:
   deploywatch-replay encode RUN.csv FRAMES.bin           run CSV -> sample frames for the firmware
   deploywatch-replay host MECH.toml RUN.csv STATUS.bin   the host's f32 monitor run, as status frames
-  deploywatch-replay decode STATUS.bin                   status frames -> CSV on stdout
+  deploywatch-replay decode STATUS.bin                   status frames -> JSON lines on stdout
+  deploywatch-replay run FRAMES.bin MECHANISM STATUS.bin the firmware's replay loop, on the host
   deploywatch-replay compare A.bin B.bin                 exit 0 iff the files are byte-identical
   deploywatch-replay mechanism RUN.csv                   print the run's mechanism name";
 
@@ -40,6 +42,7 @@ fn main() -> ExitCode {
         ["encode", csv, out] => encode(Path::new(csv), Path::new(out)),
         ["host", mech, csv, out] => host(Path::new(mech), Path::new(csv), Path::new(out)),
         ["decode", input] => decode(Path::new(input)),
+        ["run", input, name, out] => run_lib(Path::new(input), name, Path::new(out)),
         ["compare", a, b] => compare(Path::new(a), Path::new(b)),
         ["mechanism", csv] => load_run(Path::new(csv)).and_then(|run| {
             let name = run
@@ -92,13 +95,50 @@ fn encode(csv: &Path, out: &Path) -> Result<(), String> {
         bytes.extend_from_slice(frame);
     }
     write_file(out, &bytes)?;
-    eprintln!("{}: {} sample frames, {} bytes", out.display(), samples.len(), bytes.len());
+    eprintln!(
+        "{}: {} sample frames, {} bytes",
+        out.display(),
+        samples.len(),
+        bytes.len()
+    );
+    Ok(())
+}
+
+/// The firmware's own replay loop, run on the host: tells a difference of
+/// target (QEMU vs. this) from a difference of code path (this vs. `host`).
+fn run_lib(input: &Path, name: &str, out: &Path) -> Result<(), String> {
+    let config = mechanism::config(name)
+        .ok_or_else(|| format!("`{name}` is not built into the firmware"))?;
+    let bytes = fs::read(input).map_err(|e| format!("{}: {e}", input.display()))?;
+    let mut rest: &[u8] = &bytes;
+    let mut output = Vec::new();
+    let n = deploywatch_firmware_example::run(
+        &config,
+        |buf| {
+            let k = buf.len().min(rest.len());
+            buf[..k].copy_from_slice(&rest[..k]);
+            rest = &rest[k..];
+            Ok(k)
+        },
+        |frame| {
+            output.extend_from_slice(frame);
+            Ok(())
+        },
+        &mut (),
+    )
+    .map_err(|e| format!("{}: {e}", input.display()))?;
+    write_file(out, &output)?;
+    eprintln!(
+        "{}: {n} status frames (firmware replay loop on the host)",
+        out.display()
+    );
     Ok(())
 }
 
 fn host(mech_path: &Path, csv: &Path, out: &Path) -> Result<(), String> {
     let mech = Mechanism::load(mech_path).map_err(|e| e.to_string())?;
-    let config = monitor_config::<JOINTS>(&mech).map_err(|e| format!("{}: {e}", mech_path.display()))?;
+    let config =
+        monitor_config::<JOINTS>(&mech).map_err(|e| format!("{}: {e}", mech_path.display()))?;
     // The firmware has no file system: its configuration is compiled in.
     // Replaying against a different one would compare two different monitors.
     match mechanism::config(&mech.name) {
@@ -139,7 +179,11 @@ fn host(mech_path: &Path, csv: &Path, out: &Path) -> Result<(), String> {
         bytes.extend_from_slice(frame);
     }
     write_file(out, &bytes)?;
-    eprintln!("{}: {} status frames (host f32 run)", out.display(), samples.len());
+    eprintln!(
+        "{}: {} status frames (host f32 run)",
+        out.display(),
+        samples.len()
+    );
     Ok(())
 }
 
@@ -148,61 +192,18 @@ fn frames(bytes: &[u8]) -> impl Iterator<Item = &[u8]> {
     bytes.split_inclusive(|&b| b == 0)
 }
 
-fn opt(v: Option<f32>) -> String {
-    v.map(|x| format!("{x:e}")).unwrap_or_default()
-}
-
 fn decode(input: &Path) -> Result<(), String> {
     let bytes = fs::read(input).map_err(|e| format!("{}: {e}", input.display()))?;
     let stdout = std::io::stdout();
     let mut w = std::io::BufWriter::new(stdout.lock());
-    let mut head = vec!["t_s".to_string(), "samples".to_string()];
-    for j in 1..=JOINTS {
-        for f in [
-            "phi_deg",
-            "rate_deg_s",
-            "coulomb_nm",
-            "coulomb_sd_nm",
-            "viscous_nms",
-            "viscous_sd_nms",
-            "friction_torque_nm",
-            "latch",
-            "margin_pct",
-            "prediction",
-            "latch_probability",
-            "time_to_latch_s",
-            "faults",
-        ] {
-            head.push(format!("{f}{j}"));
-        }
-    }
-    let io = |e: std::io::Error| e.to_string();
-    writeln!(w, "{}", head.join(",")).map_err(io)?;
     for (i, f) in frames(&bytes).enumerate() {
         let mut frame = f.to_vec();
-        let s: Status<JOINTS> =
-            telemetry::decode(&mut frame).map_err(|e| format!("{}: frame {i}: {e}", input.display()))?;
-        let mut row = vec![format!("{:e}", s.t_s), s.samples.to_string()];
-        for js in &s.joints {
-            row.extend([
-                format!("{:e}", js.phi_deg),
-                format!("{:e}", js.rate_deg_s),
-                format!("{:e}", js.coulomb_nm),
-                format!("{:e}", js.coulomb_sd_nm),
-                format!("{:e}", js.viscous_nms),
-                format!("{:e}", js.viscous_sd_nms),
-                format!("{:e}", js.friction_torque_nm),
-                format!("{:?}", js.latch),
-                opt(js.margin_pct),
-                js.prediction.as_str().to_string(),
-                format!("{:e}", js.latch_probability),
-                opt(js.time_to_latch_s),
-                format!("{:#06x}", js.faults.0),
-            ]);
-        }
-        writeln!(w, "{}", row.join(",")).map_err(io)?;
+        let s: Status<JOINTS> = telemetry::decode(&mut frame)
+            .map_err(|e| format!("{}: frame {i}: {e}", input.display()))?;
+        serde_json::to_writer(&mut w, &s).map_err(|e| e.to_string())?;
+        writeln!(w).map_err(|e| e.to_string())?;
     }
-    w.flush().map_err(io)
+    w.flush().map_err(|e| e.to_string())
 }
 
 fn compare(a: &Path, b: &Path) -> Result<(), String> {
@@ -228,5 +229,136 @@ fn compare(a: &Path, b: &Path) -> Result<(), String> {
             b.display(),
             fy.len()
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use deploywatch_firmware_example::{run, Error, Framer};
+
+    fn config() -> deploywatch_core::MonitorConfig<JOINTS> {
+        mechanism::config("seed001-T01").expect("built in")
+    }
+
+    /// The frames of `n` samples of a deployment starting at the stowed angles.
+    fn input(n: usize) -> Vec<u8> {
+        let mut bytes = Vec::new();
+        let mut buf = [0u8; SAMPLE_FRAME_MAX];
+        for i in 0..n {
+            let t = i as f32 * 0.01;
+            let s = Sample::new(
+                t,
+                [-90.0 + 10.0 * t, 180.0 - 5.0 * t, -180.0 + 5.0 * t],
+                [false; 3],
+            );
+            bytes.extend_from_slice(telemetry::encode(&s, &mut buf).expect("fits"));
+        }
+        bytes
+    }
+
+    /// Runs the firmware's loop over `bytes`, read `chunk` bytes at a time.
+    fn replay(bytes: &[u8], chunk: usize) -> Result<(u32, Vec<u8>), Error> {
+        let mut rest = bytes;
+        let mut out = Vec::new();
+        let n = run(
+            &config(),
+            |buf| {
+                let k = buf.len().min(rest.len()).min(chunk);
+                buf[..k].copy_from_slice(&rest[..k]);
+                rest = &rest[k..];
+                Ok(k)
+            },
+            |f| {
+                out.extend_from_slice(f);
+                Ok(())
+            },
+            &mut (),
+        )?;
+        Ok((n, out))
+    }
+
+    #[test]
+    fn loop_matches_the_monitor_whatever_the_read_size() {
+        let bytes = input(50);
+        let mut monitor = Monitor::new(&config()).unwrap();
+        let mut want = Vec::new();
+        let mut buf = [0u8; STATUS_FRAME_MAX];
+        let mut inb = bytes.clone();
+        for f in inb.split_inclusive_mut(|&b| b == 0) {
+            let s: Sample<JOINTS> = telemetry::decode(f).unwrap();
+            want.extend_from_slice(telemetry::encode(&monitor.update(&s), &mut buf).unwrap());
+        }
+        for chunk in [1, 7, 256] {
+            let (n, out) = replay(&bytes, chunk).unwrap();
+            assert_eq!(n, 50);
+            assert!(out == want, "chunk {chunk}");
+        }
+    }
+
+    #[test]
+    fn truncated_input_is_an_error() {
+        let bytes = input(3);
+        assert_eq!(
+            replay(&bytes[..bytes.len() - 2], 256),
+            Err(Error::Truncated)
+        );
+    }
+
+    #[test]
+    fn corrupted_frame_is_an_error_with_its_index() {
+        let mut bytes = input(3);
+        // Flip a payload bit of the second frame: its CRC no longer matches.
+        let second = bytes.iter().position(|&b| b == 0).unwrap() + 3;
+        bytes[second] ^= 0x10;
+        assert_eq!(replay(&bytes, 256), Err(Error::Frame { index: 1 }));
+        // A frame longer than any sample.
+        let long = [1u8; SAMPLE_FRAME_MAX + 5]
+            .iter()
+            .copied()
+            .chain([0])
+            .collect::<Vec<_>>();
+        assert_eq!(replay(&long, 256), Err(Error::Frame { index: 0 }));
+    }
+
+    #[test]
+    fn empty_input_is_no_samples() {
+        assert_eq!(replay(&[], 256), Ok((0, Vec::new())));
+    }
+
+    #[test]
+    fn framer_splits_on_zero() {
+        let mut framer = Framer::<4>::new();
+        let mut seen = Vec::new();
+        framer
+            .feed(&[1, 2, 0, 3], |f| {
+                seen.push(f.map(|f| f.to_vec()));
+                Ok::<(), ()>(())
+            })
+            .unwrap();
+        assert!(framer.is_pending());
+        framer
+            .feed(&[0, 9, 9, 9, 9, 9, 0], |f| {
+                seen.push(f.map(|f| f.to_vec()));
+                Ok::<(), ()>(())
+            })
+            .unwrap();
+        assert_eq!(seen, vec![Some(vec![1, 2, 0]), Some(vec![3, 0]), None]);
+        assert!(!framer.is_pending());
+    }
+
+    #[test]
+    fn builtin_mechanisms_match_the_files() {
+        let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/mechanisms");
+        for name in mechanism::NAMES {
+            let file = data.join(format!("{}.toml", name.replace('-', "_")));
+            let mech = Mechanism::load(&file).unwrap();
+            assert_eq!(mech.name, name);
+            assert!(
+                mechanism::config(name) == Some(monitor_config::<JOINTS>(&mech).unwrap()),
+                "{name}"
+            );
+        }
+        assert!(mechanism::config("seed000-case1").is_none());
     }
 }

@@ -124,12 +124,8 @@ fn effect_line(e: &Effect, o: &Outcome, k: usize) -> String {
 
 /// The 95 % interval of the k-th selected effect's value.
 fn ci_of(o: &Outcome, k: usize) -> (f64, f64) {
-    let off: usize = o.extended.set[..k].iter().map(|c| c.params()).sum();
-    o.extended
-        .ci95
-        .get(off)
-        .map(|c| (c[0], c[1]))
-        .unwrap_or((f64::NAN, f64::NAN))
+    let ([lo, hi], _) = o.extended.effect_ci(k);
+    (lo, hi)
 }
 
 /// Other candidates that explained the data as well (ΔBIC within
@@ -228,9 +224,8 @@ pub fn to_json(c: &Campaign, o: &Outcome, before: &[JointEvidence]) -> Value {
                 "evidence": evidence_of(o, k, o.extended.set[k]),
             });
             if e.kind == EffectKind::RigTilt {
-                let off: usize = o.extended.set[..k].iter().map(|c| c.params()).sum();
                 v["alpha_deg"] = round4(e.alpha_deg);
-                if let Some(ci) = o.extended.ci95.get(off + 1) {
+                if let (_, Some(ci)) = o.extended.effect_ci(k) {
                     v["alpha_ci95_deg"] = json!([round4(ci[0]), round4(ci[1])]);
                 }
             }

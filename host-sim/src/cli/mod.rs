@@ -2,6 +2,7 @@
 //! `clap` arguments and a `run` function. `main.rs` only dispatches.
 
 pub mod diagnose;
+pub mod identify;
 pub mod margin;
 pub mod simulate;
 
@@ -24,6 +25,10 @@ pub enum Command {
     /// Diagnose measured runs: what the simulation gets wrong, the named
     /// cause, the extended model and its gain (JSON + Markdown report).
     Diagnose(diagnose::DiagnoseArgs),
+    /// Identify the equivalent friction torque (EFT) of each joint from
+    /// measured runs: direct least squares (with 95 % intervals) or the
+    /// response surface of seed 000 (JSON + PNG of measured vs simulated).
+    Identify(identify::IdentifyArgs),
     /// Torque margins of every joint (torque and energy forms, optional
     /// NASA-STD-5017 / ECSS-E-ST-33-01C uncertainty factors).
     Margin(margin::MarginArgs),
@@ -68,6 +73,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Simulate(a) => simulate::run(&a),
         Command::Diagnose(a) => diagnose::run(&a),
+        Command::Identify(a) => identify::run(&a),
         Command::Margin(a) => margin::run(&a),
     }
 }

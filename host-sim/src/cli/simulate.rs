@@ -2,6 +2,7 @@
 
 use super::CliError;
 use crate::effect::{self, Effect};
+use crate::faults::{self, SensorFault};
 use crate::mechanism::Mechanism;
 use crate::plot::{self, Mark, Panel, Series};
 use crate::run::Run;
@@ -21,6 +22,12 @@ pub struct SimulateArgs {
     /// NAME from docs/spec/physics.md section 6, e.g. `coulomb_friction:joint=1:value=2.63`.
     #[arg(long = "effect", value_name = "EFFECT")]
     pub effects: Vec<Effect>,
+    /// A sensor fault, `KIND:key=value:...`, repeatable (docs/reliability.md),
+    /// e.g. `dropout:joint=1:start=0.5:duration=0.1:mode=stale`. Drawn from
+    /// `--seed`. With a fault the run goes on to the mechanism's
+    /// `duration_s`, so that what the sensors do after the latch is recorded.
+    #[arg(long = "fault", value_name = "FAULT")]
+    pub faults: Vec<SensorFault>,
     /// Seed of the sensor noise (the same seed gives the same file).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -42,6 +49,10 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         e.validate(mech.joint_count())
             .map_err(|m| CliError::input(format!("--effect {e}: {m}")))?;
     }
+    for f in &args.faults {
+        f.validate(mech.joint_count())
+            .map_err(|m| CliError::input(format!("--fault {f}: {m}")))?;
+    }
     if let Some(r) = args.rate {
         if !(r > 0.0 && r.is_finite()) {
             return Err(CliError::input(format!(
@@ -51,6 +62,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     }
     let opts = SimOptions {
         sample_hz: args.rate,
+        stop_when_deployed: args.faults.is_empty(),
         ..SimOptions::default()
     };
     let traj = sim::simulate(&mech, &args.effects, &opts).map_err(|e| CliError::failed(e.to_string()))?;
@@ -83,6 +95,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
             )
         },
     );
+    let reports = faults::apply(&mut run, &args.faults, args.seed).map_err(|m| CliError::input(format!("--fault: {m}")))?;
     run.write(&args.out).map_err(|e| CliError::input(e.to_string()))?;
 
     println!(
@@ -104,6 +117,9 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
                 traj.phi_deg[j].last().copied().unwrap_or(f64::NAN)
             ),
         }
+    }
+    for r in &reports {
+        println!("  fault {r}");
     }
     if let Some(png) = &args.plot {
         plot_run(png, &mech.name, &run, &traj.latch_s).map_err(|e| CliError::failed(e.to_string()))?;

@@ -1,0 +1,329 @@
+//! Latch / stall prediction by forward simulation of the reduced-order
+//! chain: the whole remaining deployment, all joints together, with the
+//! friction estimate.
+//!
+//! A one-joint energy balance ([`crate::margin`]) misses what the other
+//! joints do to a joint: the reaction of the outer panels holds the inner
+//! ones back, and the plastic latch impacts of the other joints destroy
+//! kinetic energy. The rollout integrates `physics.md` §2 with the monitor's
+//! chain model (its springs), the friction estimate of each joint, and the
+//! latch impulse of §5:
+//!
+//! ```text
+//! (M + h C) a = τ_s + τ_f − SᵀC_cor,   τ_f = −T_C tanh(ω/ω_c) − f ω,
+//! C = diag(T_C sech²(ω/ω_c)/ω_c + f)
+//! ```
+//! stepped by the midpoint rule (second order: two evaluations a step),
+//! each stage linearly implicit in the stiff friction (`h` = its length),
+//! so a joint can come to rest in the creep regime without the step going
+//! unstable.
+//! A joint latches in the rollout when it reaches its capture angle moving
+//! inwards; the rollout ends when every joint has latched, when every free
+//! joint has crept (|ω| < 2 ω_c) for [`STALL_HOLD_S`], or at the horizon.
+//!
+//! It runs three times per cycle, a few steps per monitor update: with the
+//! estimates `T̂_C`, `f̂`, `κ̂` (nominal: the prediction), with `T̂_C + zσ`,
+//! `f̂ + zσ` and the springs at `1 + κ̂ − zσ_κ` (pessimistic), and with
+//! `max(T̂_C − zσ, L)`, `f̂ − zσ` and `1 + κ̂ + zσ_κ` (optimistic, `L` the
+//! friction torque the observer sees now); `z = Φ⁻¹(confidence)`. A latch of the
+//! nominal rollout that the pessimistic one confirms, or a stall that the
+//! optimistic one confirms, holds at that confidence for the friction
+//! estimate; one that the bracket does not confirm is the best estimate only.
+
+use crate::chain::{Chain, ChainState, Mode};
+use crate::linalg::solve_spd_masked;
+use crate::spring::Branch;
+
+/// Predicted time a free joint must creep before the rollout calls it
+/// stalled [s].
+pub const STALL_HOLD_S: f32 = 0.2;
+
+/// Which friction a rollout assumes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Bracket {
+    /// The estimate itself: the prediction.
+    #[default]
+    Nominal,
+    /// High friction, derated springs: a latch here is a confident latch.
+    Pessimistic,
+    /// Low friction, uprated springs: a stall here is a confident stall.
+    Optimistic,
+}
+
+/// Where a rollout starts from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RolloutStart<const N: usize> {
+    /// Joint angles [rad] and rates [rad/s].
+    pub state: ChainState<f32, N>,
+    /// Joints latched already.
+    pub latched: [bool; N],
+    /// Coulomb torque of each joint [N·m].
+    pub coulomb_nm: [f32; N],
+    /// Viscous coefficient of each joint [N·m·s/rad].
+    pub viscous_nms: [f32; N],
+    /// Factor on each joint's spring torque [1].
+    pub spring_scale: [f32; N],
+    /// Capture angle of each joint [rad].
+    pub capture_rad: [f32; N],
+}
+
+/// Settings of the rollouts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RolloutConfig {
+    /// Integration step [s].
+    pub dt_s: f32,
+    /// Steps advanced per monitor update.
+    pub steps_per_update: u8,
+    /// Predicted time after which the joints not latched count as stalled
+    /// [s] (the monitor shortens it to the deployment's deadline).
+    pub horizon_s: f32,
+    /// `ω_c` of the friction law [rad/s].
+    pub coulomb_threshold_rad_s: f32,
+}
+
+/// What a finished rollout says about one joint.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct JointOutcome {
+    /// True when the joint latched in the rollout (or had latched).
+    pub latches: bool,
+    /// Predicted time from the rollout's start to the latch [s].
+    pub latch_after_s: f32,
+}
+
+/// One forward simulation in progress.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rollout<const N: usize> {
+    start: RolloutStart<N>,
+    x: ChainState<f32, N>,
+    latched: [bool; N],
+    latch_after_s: [f32; N],
+    t_s: f32,
+    creeping_s: f32,
+    done: bool,
+}
+
+impl<const N: usize> Rollout<N> {
+    /// A rollout from `start`, not yet advanced.
+    pub fn new(start: RolloutStart<N>) -> Self {
+        Rollout {
+            x: start.state,
+            latched: start.latched,
+            latch_after_s: [0.0; N],
+            t_s: 0.0,
+            creeping_s: 0.0,
+            done: false,
+            start,
+        }
+    }
+
+    /// True once the rollout has ended.
+    pub fn is_done(&self) -> bool {
+        self.done
+    }
+
+    /// The outcome of each joint (meaningful once done).
+    pub fn outcome(&self) -> [JointOutcome; N] {
+        core::array::from_fn(|j| JointOutcome {
+            latches: self.latched[j],
+            latch_after_s: self.latch_after_s[j],
+        })
+    }
+
+    /// Advances up to `cfg.steps_per_update` steps.
+    pub fn advance(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
+        for _ in 0..cfg.steps_per_update {
+            if self.done {
+                return;
+            }
+            self.step(chain, cfg);
+        }
+    }
+
+    /// Accelerations at `x`, linearly implicit in the friction over `h`:
+    /// `(M + h C) a = τ_s + τ_f − SᵀC_cor`.
+    fn acceleration(&self, chain: &Chain<f32, N>, x: &ChainState<f32, N>, h: f32, wc: f32) -> Option<[f32; N]> {
+        let mut mode = Mode::<N> {
+            latched: self.latched,
+            ..Mode::default()
+        };
+        for j in 0..N {
+            mode.branch[j] = Branch::select(x.phi[j], x.phi_dot[j]);
+        }
+        let (mut m, mut rhs) = chain.equations(x, &mode);
+        for j in 0..N {
+            if self.latched[j] {
+                continue;
+            }
+            let w = x.phi_dot[j];
+            let spring = chain.joints()[j].spring.torque(x.phi[j], mode.branch[j]);
+            let tc = self.start.coulomb_nm[j];
+            let f = self.start.viscous_nms[j];
+            let th = libm::tanhf(w / wc);
+            rhs[j] += (self.start.spring_scale[j] - 1.0) * spring - tc * th - f * w;
+            m[j][j] += h * (tc * (1.0 - th * th) / wc + f);
+        }
+        solve_spd_masked(&m, &rhs, &self.latched).ok()
+    }
+
+    /// One step: the midpoint rule (second order), each stage linearly
+    /// implicit in the stiff friction.
+    fn step(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
+        let dt = cfg.dt_s;
+        let wc = cfg.coulomb_threshold_rad_s;
+        let Some(a1) = self.acceleration(chain, &self.x, 0.5 * dt, wc) else {
+            self.finish();
+            return;
+        };
+        let mut mid = self.x;
+        for j in 0..N {
+            if !self.latched[j] {
+                mid.phi_dot[j] += 0.5 * dt * a1[j];
+                mid.phi[j] += 0.5 * dt * self.x.phi_dot[j];
+            }
+        }
+        let Some(a) = self.acceleration(chain, &mid, dt, wc) else {
+            self.finish();
+            return;
+        };
+        let mut crossed = [false; N];
+        for j in 0..N {
+            if self.latched[j] {
+                self.x.phi_dot[j] = 0.0;
+                continue;
+            }
+            let before = self.x.phi[j];
+            self.x.phi[j] += dt * mid.phi_dot[j];
+            self.x.phi_dot[j] += dt * a[j];
+            let after = self.x.phi[j];
+            let inward = before * mid.phi_dot[j] < 0.0;
+            let reached = libm::fabsf(after) <= self.start.capture_rad[j] || before * after <= 0.0;
+            crossed[j] = inward && reached;
+        }
+        self.t_s += dt;
+        if crossed.iter().any(|c| *c) {
+            let mut after = self.latched;
+            for j in 0..N {
+                if crossed[j] {
+                    after[j] = true;
+                    self.latch_after_s[j] = self.t_s;
+                    self.x.phi[j] = 0.0;
+                }
+            }
+            match chain.latch_impulse(&self.x, &after) {
+                Ok(w) if w.iter().all(|v| v.is_finite()) => self.x.phi_dot = w,
+                _ => {
+                    for j in 0..N {
+                        if after[j] {
+                            self.x.phi_dot[j] = 0.0;
+                        }
+                    }
+                }
+            }
+            self.latched = after;
+        }
+        if self.latched.iter().all(|l| *l) {
+            self.done = true;
+            return;
+        }
+        let creeping = (0..N).all(|j| self.latched[j] || libm::fabsf(self.x.phi_dot[j]) < 2.0 * wc);
+        self.creeping_s = if creeping { self.creeping_s + dt } else { 0.0 };
+        let finite = self.x.phi.iter().chain(self.x.phi_dot.iter()).all(|v| v.is_finite());
+        if self.creeping_s >= STALL_HOLD_S || self.t_s >= cfg.horizon_s || !finite {
+            self.finish();
+        }
+    }
+
+    fn finish(&mut self) {
+        self.done = true;
+    }
+}
+
+/// `z` with `Φ(z) = p` for `p` in (0.5, 1), by Newton's method on the
+/// normal distribution function (a handful of `erfc`/`exp` calls, run only
+/// when a rollout starts).
+pub fn normal_quantile(p: f32) -> f32 {
+    let p = p.clamp(0.5, 0.999_999);
+    let mut z = 0.0f32;
+    for _ in 0..8 {
+        let f = crate::margin::normal_cdf(z) - p;
+        let pdf = 0.398_942_3 * libm::expf(-0.5 * z * z);
+        if !(pdf > 1e-12) {
+            break;
+        }
+        z -= f / pdf;
+    }
+    if z.is_finite() {
+        z.clamp(0.0, 6.0)
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Friction, GlobalEffects, Joint, JointEffects, Panel, Spring};
+
+    fn chain() -> Chain<f32, 1> {
+        let p = Panel {
+            length_m: 0.8,
+            mass_kg: 4.0,
+            com_m: 0.4,
+            inertia_kgm2: 0.3,
+        };
+        let j = Joint {
+            stowed_rad: 1.5,
+            spring: Spring::Linear {
+                preload_nm: 1.0,
+                stiffness_nm_per_rad: 0.5,
+                count: 1.0,
+            },
+            friction: Friction::default(),
+            effects: JointEffects::default(),
+        };
+        Chain::new([p], [j], GlobalEffects::default()).unwrap()
+    }
+
+    fn run(tc: f32) -> Rollout<1> {
+        let cfg = RolloutConfig {
+            dt_s: 0.02,
+            steps_per_update: 255,
+            horizon_s: 20.0,
+            coulomb_threshold_rad_s: 0.01,
+        };
+        let mut r = Rollout::new(RolloutStart {
+            state: ChainState {
+                phi: [1.5],
+                phi_dot: [0.0],
+            },
+            latched: [false],
+            coulomb_nm: [tc],
+            viscous_nms: [0.0],
+            spring_scale: [1.0],
+            capture_rad: [0.0],
+        });
+        for _ in 0..100 {
+            r.advance(&chain(), &cfg);
+        }
+        assert!(r.is_done());
+        r
+    }
+
+    #[test]
+    fn latches_below_and_stalls_above_the_spring_torque() {
+        // The spring gives 1 to 1.75 N·m: E_D = 2.06 J over 1.5 rad.
+        let r = run(0.5);
+        assert!(r.outcome()[0].latches);
+        // I = 4·0.4² + 0.3 = 0.94; t ≈ √(2·1.5·I/(1.4 − 0.5)) ≈ 1.8 s.
+        let t = r.outcome()[0].latch_after_s;
+        assert!(t > 1.2 && t < 2.4, "{t}");
+        // Friction above the preload: the joint stops short (creeps at rest).
+        assert!(!run(1.6).outcome()[0].latches);
+    }
+
+    #[test]
+    fn quantile_inverts_the_cdf() {
+        assert!((normal_quantile(0.9) - 1.281_551_6).abs() < 1e-4);
+        assert_eq!(normal_quantile(0.5), 0.0);
+    }
+}

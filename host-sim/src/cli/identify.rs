@@ -1,0 +1,348 @@
+//! `deploywatch identify`: the equivalent friction torque (EFT, `physics.md`
+//! 4) of each joint from measured runs, by the direct least-squares method or
+//! by the response surface of seed 000 ([`crate::identify`]).
+//!
+//! Prints a table of EFTs per joint (with 95 % intervals for `direct`), the
+//! fit quality (RMS before/after, seed 000 Eq. 14 trajectory errors), the
+//! number of simulations and the wall time; writes the same as JSON with
+//! `--json` and a PNG of measured vs simulated angles before and after
+//! (like seed 001 Figs. 10/11) with `--plot`, by default beside the JSON.
+
+use super::CliError;
+use crate::campaign::Campaign;
+use crate::identify::{
+    self, identify_direct, identify_rsm, DirectOptions, Identification, Method, RsmOptions,
+    RsmResponse,
+};
+use crate::plot::{self, Mark, Panel, Series};
+use std::path::{Path, PathBuf};
+
+/// Arguments of `deploywatch identify`.
+#[derive(Debug, clap::Args)]
+pub struct IdentifyArgs {
+    /// A mechanism file (TOML, docs/spec/formats.md); repeat for runs of
+    /// several mechanisms. Each run is paired with the mechanism its
+    /// `mechanism` metadata names.
+    #[arg(long = "mechanism", value_name = "M.toml", required = true)]
+    pub mechanisms: Vec<PathBuf>,
+
+    /// Measured runs (CSV, docs/spec/formats.md). The EFTs are common to all.
+    #[arg(value_name = "RUN.csv", required = true)]
+    pub runs: Vec<PathBuf>,
+
+    /// `direct` (least squares over the trajectories, with 95 % intervals)
+    /// or `rsm` (seed 000's response surface on a central composite design).
+    #[arg(long, default_value = "direct", value_parser = parse_method)]
+    pub method: Method,
+
+    /// Joints to identify (1-based, comma-separated); default: all.
+    #[arg(long, value_name = "J,J,..", value_delimiter = ',')]
+    pub joints: Option<Vec<usize>>,
+
+    /// Write the result as JSON here.
+    #[arg(long, value_name = "OUT.json")]
+    pub json: Option<PathBuf>,
+
+    /// Draw measured vs simulated (before/after) angles into this PNG;
+    /// default: beside the JSON (OUT.png), none without --json.
+    #[arg(long, value_name = "OUT.png")]
+    pub plot: Option<PathBuf>,
+
+    /// direct: start [N·m], one value per identified joint; default: the
+    /// per-joint best of a scan of uniform EFTs (0 to 3.2 N·m).
+    #[arg(long, value_name = "NM,NM,..", value_delimiter = ',')]
+    pub start: Option<Vec<f64>>,
+
+    /// rsm: design centre [N·m], one value per identified joint; default:
+    /// the per-joint best of a scan of uniform EFTs (at least 0.025 N·m).
+    #[arg(long, alias = "centre", value_name = "NM,NM,..", value_delimiter = ',')]
+    pub center: Option<Vec<f64>>,
+
+    /// rsm: half-ranges [N·m] (coded ±1), one value per identified joint;
+    /// default: half the centre (seed 000 Table 9's relative ranges).
+    #[arg(long, value_name = "NM,NM,..", value_delimiter = ',')]
+    pub range: Option<Vec<f64>>,
+
+    /// rsm: the response minimised: `te` (sum of the joints' trajectory
+    /// errors, seed 000 Eq. 14) or `mse` (mean squared angle residual).
+    #[arg(long, default_value = "te", value_parser = parse_response)]
+    pub response: RsmResponse,
+
+    /// No progress messages on stderr.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+fn parse_method(s: &str) -> Result<Method, String> {
+    s.parse()
+}
+
+fn parse_response(s: &str) -> Result<RsmResponse, String> {
+    s.parse()
+}
+
+/// Runs `deploywatch identify`.
+pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
+    // The loaders' errors name the file, the line or key, and what was expected.
+    let campaign =
+        Campaign::load(&args.mechanisms, &args.runs).map_err(|e| CliError::input(e.to_string()))?;
+    let joints = args
+        .joints
+        .clone()
+        .unwrap_or_else(|| identify::all_joints(&campaign));
+    identify::check_joints(&campaign, &joints)
+        .map_err(|e| CliError::input(format!("--joints: {e}")))?;
+    let direct_only = [("--start", args.start.is_some())];
+    let rsm_only = [
+        ("--center", args.center.is_some()),
+        ("--range", args.range.is_some()),
+    ];
+    let misplaced = match args.method {
+        Method::Direct => rsm_only.iter().find(|(_, given)| *given),
+        Method::Rsm => direct_only.iter().find(|(_, given)| *given),
+    };
+    if let Some((flag, _)) = misplaced {
+        return Err(CliError::input(format!(
+            "{flag} does not apply to --method {}",
+            args.method.name()
+        )));
+    }
+    let quiet = args.quiet;
+    let progress = move |m: &str| {
+        if !quiet {
+            eprintln!("identify: {m}");
+        }
+    };
+    let result = match args.method {
+        Method::Direct => identify_direct(
+            &campaign,
+            &joints,
+            &DirectOptions {
+                start_nm: args.start.clone(),
+                ..DirectOptions::default()
+            },
+            &progress,
+        ),
+        Method::Rsm => identify_rsm(
+            &campaign,
+            &joints,
+            &RsmOptions {
+                centre_nm: args.center.clone(),
+                half_range_nm: args.range.clone(),
+                response: args.response,
+                ..RsmOptions::default()
+            },
+            &progress,
+        ),
+    };
+    let id = result.map_err(|e| match e {
+        identify::IdentifyError::BadOption(m) => CliError::input(m),
+        other => CliError::failed(other.to_string()),
+    })?;
+
+    print!("{}", report(&campaign, &id));
+
+    if let Some(path) = &args.json {
+        std::fs::write(path, id.to_json() + "\n")
+            .map_err(|e| CliError::input(format!("cannot write {}: {e}", path.display())))?;
+        println!("json: {}", path.display());
+    }
+    let png = args
+        .plot
+        .clone()
+        .or_else(|| args.json.as_ref().map(|j| j.with_extension("png")));
+    match png {
+        Some(png) => {
+            plot_fit(&png, &campaign, &id).map_err(CliError::failed)?;
+            println!("plot: {}", png.display());
+        }
+        None => println!(
+            "plot: none (give --plot OUT.png, or --json OUT.json to draw OUT.png beside it)"
+        ),
+    }
+    Ok(())
+}
+
+/// The human report: EFT table, fit quality, cost.
+pub fn report(campaign: &Campaign, id: &Identification) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let runs: Vec<String> = campaign
+        .runs
+        .iter()
+        .map(|r| format!("{} ({})", r.name(), r.mechanism.name))
+        .collect();
+    let _ = writeln!(
+        s,
+        "EFT identification, method {}, {} run(s): {}",
+        id.method.name(),
+        runs.len(),
+        runs.join(", ")
+    );
+    let _ = writeln!(s);
+    match id.method {
+        Method::Direct => {
+            let _ = writeln!(
+                s,
+                "joint   EFT [N·m]     95 % CI [N·m]              sd [N·m]"
+            );
+            for j in &id.joints {
+                let ci = j
+                    .ci95
+                    .map_or("-".to_string(), |[a, b]| format!("[{a:.6}, {b:.6}]"));
+                let sd = j.sd_nm.map_or("-".to_string(), |v| format!("{v:.2e}"));
+                let _ = writeln!(s, "{:>5}   {:<12.6}  {ci:<26} {sd}", j.joint, j.coulomb_nm);
+            }
+        }
+        Method::Rsm => {
+            let _ = writeln!(s, "joint   EFT [N·m]     design box [N·m]");
+            let boxes = id
+                .rsm
+                .as_ref()
+                .map(|r| r.box_nm.clone())
+                .unwrap_or_default();
+            for (i, j) in id.joints.iter().enumerate() {
+                let b = boxes
+                    .get(i)
+                    .map_or("-".to_string(), |[a, b]| format!("[{a:.4}, {b:.4}]"));
+                let _ = writeln!(s, "{:>5}   {:<12.6}  {b}", j.joint, j.coulomb_nm);
+            }
+        }
+    }
+    let _ = writeln!(s);
+    let ratio = id.rms_deg_before / id.rms_deg_after;
+    let _ = writeln!(
+        s,
+        "fit: RMS {:.4} deg before (mechanisms as given) -> {:.4} deg after (ratio {ratio:.1})",
+        id.rms_deg_before, id.rms_deg_after
+    );
+    for (b, a) in id.before.runs.iter().zip(&id.after.runs) {
+        let te = |v: &[Option<f64>]| -> String {
+            v.iter()
+                .map(|t| t.map_or("-".into(), |t| format!("{t:.2}")))
+                .collect::<Vec<_>>()
+                .join("/")
+        };
+        let _ = writeln!(
+            s,
+            "  {}: RMS {:.4} -> {:.4} deg; trajectory error per joint [%] {} -> {}",
+            a.run,
+            b.rms_deg,
+            a.rms_deg,
+            te(&b.trajectory_error_pct),
+            te(&a.trajectory_error_pct)
+        );
+    }
+    if let Some(d) = &id.direct {
+        let _ = writeln!(
+            s,
+            "  least squares: SSE {:.4} deg² over {} residuals, {}; start {:?} N·m ({}){}",
+            d.sse_deg2,
+            d.residuals,
+            d.termination,
+            d.start_nm,
+            d.start_rule,
+            if d.fixed_at_zero.is_empty() {
+                String::new()
+            } else {
+                format!("; fixed at the bound 0: joints {:?}", d.fixed_at_zero)
+            }
+        );
+    }
+    if let Some(r) = &id.rsm {
+        let _ = writeln!(
+            s,
+            "  design: {} points, α = {:.3}, centre {:?} ± {:?} N·m ({})",
+            r.points_nm.len(),
+            r.alpha,
+            r.centre_nm,
+            r.half_range_nm,
+            r.design_rule
+        );
+        let r2: Vec<String> = r
+            .responses
+            .iter()
+            .map(|x| format!("{} {:.4}", x.name, x.r2))
+            .collect();
+        let _ = writeln!(
+            s,
+            "  R² of the quadratic (seed 000 Eq. 15): {}",
+            r2.join(", ")
+        );
+        let _ = writeln!(
+            s,
+            "  minimised {}: surface {:.4} at the minimum, simulated {:.4}",
+            r.minimised, r.predicted, r.simulated
+        );
+    }
+    let _ = writeln!(
+        s,
+        "cost: {} simulations of the campaign ({} deployments), {:.2} s wall",
+        id.simulations, id.deployments, id.wall_s
+    );
+    s
+}
+
+/// Draws, per run and joint, the measured angles (dots) with the model
+/// before (the mechanism as given) and after (with the identified EFTs):
+/// the layout of seed 001 Figs. 10/11.
+pub fn plot_fit(png: &Path, campaign: &Campaign, id: &Identification) -> Result<(), String> {
+    let mut before = Vec::new();
+    let mut after = Vec::new();
+    for i in 0..campaign.runs.len() {
+        before.push(campaign.simulate(i, &[]).map_err(|e| e.to_string())?);
+        after.push(
+            campaign
+                .simulate(i, &id.effects())
+                .map_err(|e| e.to_string())?,
+        );
+    }
+    let mut panels = Vec::new();
+    for (i, cr) in campaign.runs.iter().enumerate() {
+        for j in 0..cr.run.joints() {
+            let eft = id
+                .eft(j + 1)
+                .map_or("not identified".to_string(), |v| format!("EFT {v:.4} N·m"));
+            panels.push(Panel {
+                title: format!("{} joint {} ({eft})", cr.name(), j + 1),
+                y_label: "angle [deg]".into(),
+                series: vec![
+                    Series {
+                        label: "measured".into(),
+                        x: &cr.run.t_s,
+                        y: &cr.run.phi_deg[j],
+                        mark: Mark::Dots,
+                        color: 6,
+                    },
+                    Series {
+                        label: "before (as given)".into(),
+                        x: &before[i].t_s,
+                        y: &before[i].phi_deg[j],
+                        mark: Mark::Line,
+                        color: 1,
+                    },
+                    Series {
+                        label: format!("after ({})", id.method.name()),
+                        x: &after[i].t_s,
+                        y: &after[i].phi_deg[j],
+                        mark: Mark::Line,
+                        color: 0,
+                    },
+                ],
+                markers: Vec::new(),
+            });
+        }
+    }
+    plot::draw(
+        png,
+        &format!(
+            "EFT identification ({}): RMS {:.3} -> {:.4} deg",
+            id.method.name(),
+            id.rms_deg_before,
+            id.rms_deg_after
+        ),
+        "time [s]",
+        &panels,
+    )
+    .map_err(|e| e.to_string())
+}

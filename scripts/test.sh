@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Every test of deploywatch, as CI runs it (.ci/run calls exactly this).
+#
+#   scripts/test.sh          everything
+#   scripts/test.sh --host   host checks only (fmt, clippy, cargo test): no
+#                            embedded toolchain, no QEMU, no fuzzing
+#
+# Steps (each prints a header; the first failure stops the run):
+#  1. cargo fmt --check, clippy -D warnings on every target of the workspace
+#  2. cargo test --workspace (the test profile is optimised, see Cargo.toml):
+#     unit tests, golden trajectories, paper vectors, monitor, identification,
+#     the hidden-effect diagnosis suite, black-box CLI tests
+#  3. the embedded toolchain (installed by scripts/embedded-toolchain.sh from
+#     Debian packages or an installed rustup target; never downloaded), the
+#     no_std proof of the core for thumbv7em-none-eabihf with each feature
+#  4. the firmware under QEMU replaying every reference mechanism, checked
+#     bit-identical with the host's f32 run of the same core code
+#  5. a short run of every fuzz target on its kept corpus
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$root"
+host_only=false
+[ "${1:-}" = "--host" ] && host_only=true
+
+step() { printf '\n=== %s\n' "$*"; }
+
+step "format"
+cargo fmt --all -- --check
+
+step "clippy (all targets, -D warnings)"
+cargo clippy --workspace --all-targets --locked -- -D warnings
+
+step "cargo test --workspace"
+cargo test --workspace --locked
+
+if $host_only; then
+    echo "host checks passed (--host: embedded, QEMU and fuzz steps skipped)"
+    exit 0
+fi
+
+step "embedded toolchain"
+bash scripts/embedded-toolchain.sh
+
+step "no_std: deploywatch-core for thumbv7em-none-eabihf, each feature"
+bash scripts/check-no-std.sh
+
+step "firmware on QEMU: replay and bit-exact comparison"
+bash scripts/firmware.sh test
+
+if [ -x scripts/fuzz.sh ] || [ -f scripts/fuzz.sh ]; then
+    step "fuzzing (short run of every target)"
+    bash scripts/fuzz.sh "${FUZZ_SECONDS:-20}"
+fi
+
+echo
+echo "all checks passed"

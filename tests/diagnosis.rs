@@ -1,0 +1,261 @@
+//! Hidden-effect tests of `diagnose` (issue 6).
+//!
+//! A seeded generator draws each case: a mechanism pair (seed001 T01+T02 or
+//! seed000 case1+case3), zero, one or two effects of the vocabulary (joint and
+//! value drawn too, the value raised until the effect moves the runs by at
+//! least 0.3° RMS), and simulates both runs with the reference sensor noise.
+//! The diagnosis receives only the two runs and the nominal mechanisms: the
+//! runs carry no metadata but the mechanism name, and the truth stays in
+//! this file until the diagnosis has been made.
+//!
+//! `latch_detent` is not drawn: it does no net work and moves a run by under
+//! 0.01°, below the sensor noise (`physics.md` section 6).
+
+use deploywatch_sim::campaign::Campaign;
+use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions};
+use deploywatch_sim::effect::{self, Effect, EffectKind};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::run::Run;
+use deploywatch_sim::sensor::{self, SensorModel};
+use deploywatch_sim::sim::{self, SimOptions};
+use deploywatch_tests::data_dir;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+const PAIRS: [[&str; 2]; 2] = [["seed001_T01", "seed001_T02"], ["seed000_case1", "seed000_case3"]];
+
+/// The kinds drawn (all but latch_detent).
+const KINDS: [EffectKind; 7] = [
+    EffectKind::CoulombFriction,
+    EffectKind::ViscousDamping,
+    EffectKind::SpringSoftening,
+    EffectKind::HarnessStiffness,
+    EffectKind::AirDrag,
+    EffectKind::RigTilt,
+    EffectKind::EncoderOffset,
+];
+
+struct Case {
+    pair: usize,
+    truth: Vec<Effect>,
+    runs: Vec<Run>,
+}
+
+fn mechanisms(pair: usize) -> Vec<Mechanism> {
+    PAIRS[pair]
+        .iter()
+        .map(|m| Mechanism::load(&data_dir().join(format!("mechanisms/{m}.toml"))).unwrap())
+        .collect()
+}
+
+fn draw_effect(rng: &mut ChaCha8Rng, kind: EffectKind, joints: usize) -> Effect {
+    let u = |rng: &mut ChaCha8Rng, lo: f64, hi: f64| lo * (hi / lo).powf(rng.gen::<f64>());
+    let j = rng.gen_range(1..=joints);
+    match kind {
+        EffectKind::CoulombFriction => Effect::joint(kind, j, u(rng, 0.05, 1.0)),
+        EffectKind::ViscousDamping => Effect::joint(kind, j, u(rng, 0.05, 1.5)),
+        EffectKind::SpringSoftening => Effect::joint(kind, j, u(rng, 0.05, 0.35)),
+        EffectKind::HarnessStiffness => Effect::joint(kind, j, u(rng, 0.03, 0.5)),
+        EffectKind::AirDrag => Effect::global(kind, u(rng, 0.05, 1.0)),
+        EffectKind::RigTilt => Effect {
+            alpha_deg: rng.gen_range(0.0..360.0),
+            ..Effect::global(kind, u(rng, 0.01, 0.2))
+        },
+        EffectKind::EncoderOffset => {
+            let s = if rng.gen::<bool>() { 1.0 } else { -1.0 };
+            Effect::joint(kind, j, s * u(rng, 0.3, 2.0))
+        }
+        EffectKind::LatchDetent => Effect::joint(kind, j, u(rng, 0.5, 2.0)),
+    }
+}
+
+/// How far an effect moves the pair of runs [deg RMS], noise-free.
+fn effect_size(mechs: &[Mechanism], effects: &[Effect]) -> f64 {
+    let (mut sse, mut n) = (0.0, 0usize);
+    for m in mechs {
+        let opts = SimOptions {
+            stop_when_deployed: false,
+            ..SimOptions::default()
+        };
+        let a = sim::simulate(m, &[], &opts).unwrap();
+        let b = sim::simulate(m, effects, &opts).unwrap();
+        let off = effect::encoder_offsets_deg(effects, m.joint_count());
+        for j in 0..m.joint_count() {
+            for i in 0..a.t_s.len() {
+                let d = b.phi_deg[j][i] + off[j] - a.phi_deg[j][i];
+                sse += d * d;
+                n += 1;
+            }
+        }
+    }
+    (sse / n as f64).sqrt()
+}
+
+fn generate(seed: u64, kinds: &[EffectKind], pair: usize) -> Case {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mechs = mechanisms(pair);
+    let joints = mechs[0].joint_count();
+    let mut truth: Vec<Effect> = Vec::new();
+    for &k in kinds {
+        let mut e = draw_effect(&mut rng, k, joints);
+        // Two effects of one kind go to different joints.
+        while truth.iter().any(|t| t.kind == e.kind && t.joint == e.joint) {
+            e = draw_effect(&mut rng, k, joints);
+        }
+        truth.push(e);
+    }
+    // Each effect on its own must move the runs by ≥ 0.3° RMS.
+    for i in 0..truth.len() {
+        for _ in 0..12 {
+            if effect_size(&mechs, &truth[i..=i]) >= 0.3 {
+                break;
+            }
+            truth[i].value *= 1.5;
+        }
+    }
+    let runs = mechs
+        .iter()
+        .enumerate()
+        .map(|(r, m)| {
+            let traj = sim::simulate(m, &truth, &SimOptions::default()).unwrap();
+            let offsets = effect::encoder_offsets_deg(&truth, m.joint_count());
+            let mut run = sensor::measure(&traj, &offsets, &SensorModel::REFERENCE, seed * 10 + r as u64);
+            run.set_meta("mechanism", &m.name);
+            run
+        })
+        .collect();
+    Case { pair, truth, runs }
+}
+
+/// The cases: every kind alone four times, then pairs, then nulls.
+fn cases() -> Vec<(u64, Vec<EffectKind>, usize)> {
+    let mut out = Vec::new();
+    let mut rng = ChaCha8Rng::seed_from_u64(2026);
+    let mut seed = 1000;
+    for rep in 0..4 {
+        for (k, kind) in KINDS.iter().enumerate() {
+            seed += 1;
+            out.push((seed, vec![*kind], (rep + k) % 2));
+        }
+    }
+    for p in 0..12 {
+        seed += 1;
+        let a = KINDS[rng.gen_range(0..KINDS.len())];
+        let b = KINDS[rng.gen_range(0..KINDS.len())];
+        out.push((seed, vec![a, b], p % 2));
+    }
+    for p in 0..5 {
+        seed += 1;
+        out.push((seed, vec![], p % 2));
+    }
+    out
+}
+
+fn key(e: &Effect) -> (EffectKind, Option<usize>) {
+    (e.kind, e.joint)
+}
+
+#[test]
+fn hidden_effects_are_named_and_measured() {
+    let specs = cases();
+    assert!(specs.len() >= 45);
+    let (mut correct, mut total) = (0usize, 0usize);
+    let mut failures = Vec::new();
+    let mut confusion: BTreeMap<(String, String), usize> = BTreeMap::new();
+    let mut value_errors = Vec::new();
+    let mut gains = Vec::new();
+    let mut false_claims_in_null = 0;
+    for (seed, kinds, pair) in specs {
+        let case = generate(seed, &kinds, pair);
+        // What the diagnosis sees: the nominal mechanisms and the runs.
+        let mut campaign = Campaign::default();
+        let mechs = mechanisms(case.pair);
+        for (r, run) in case.runs.iter().enumerate() {
+            campaign
+                .push(&mechs, run.clone(), Path::new(&format!("run{r}.csv")))
+                .unwrap();
+        }
+        let outcome = diagnose(&campaign, &DiagnoseOptions::default());
+        let found = outcome.extended.effects();
+
+        // Only now compare with the truth.
+        total += 1;
+        let mut want: Vec<_> = case.truth.iter().map(key).collect();
+        let mut got: Vec<_> = found.iter().map(key).collect();
+        want.sort();
+        got.sort();
+        let ok = want == got && outcome.unexplained.is_none();
+        eprintln!(
+            "case {total:>2} seed {seed}: {} truth [{}] found [{}] RMS {:.3} -> {:.4} ({} sims, {:.1} s)",
+            if ok { "ok  " } else { "MISS" },
+            case.truth.iter().map(|e| e.to_string()).collect::<Vec<_>>().join("; "),
+            found.iter().map(|e| e.to_string()).collect::<Vec<_>>().join("; "),
+            outcome.baseline.rms(),
+            outcome.extended.rms(),
+            outcome.simulations,
+            outcome.wall_s
+        );
+        if ok {
+            correct += 1;
+        } else {
+            failures.push(format!(
+                "seed {seed}: truth {:?} found {:?} (RMS {:.4} -> {:.4}){}",
+                case.truth.iter().map(|e| e.to_string()).collect::<Vec<_>>(),
+                found.iter().map(|e| e.to_string()).collect::<Vec<_>>(),
+                outcome.baseline.rms(),
+                outcome.extended.rms(),
+                outcome.unexplained.as_deref().map(|u| format!(", unexplained: {u}")).unwrap_or_default()
+            ));
+        }
+        let truth_name = if case.truth.is_empty() {
+            "(none)".to_string()
+        } else {
+            case.truth.iter().map(|e| e.kind.name()).collect::<Vec<_>>().join("+")
+        };
+        let found_name = if found.is_empty() {
+            "(none)".to_string()
+        } else {
+            let mut f: Vec<_> = found.iter().map(|e| e.kind.name()).collect();
+            f.sort();
+            f.join("+")
+        };
+        *confusion.entry((truth_name, found_name)).or_default() += 1;
+        if case.truth.is_empty() {
+            if !found.is_empty() || outcome.unexplained.is_some() {
+                false_claims_in_null += 1;
+            }
+            continue;
+        }
+        let gain = outcome.baseline.rms() / outcome.extended.rms().max(1e-12);
+        gains.push((seed, gain));
+        if case.truth.len() == 1 && ok {
+            let (t, f) = (&case.truth[0], &found[0]);
+            let err = (f.value - t.value).abs() / t.value.abs();
+            value_errors.push((seed, t.to_string(), f.value, err));
+        }
+    }
+
+    println!("\nconfusion (truth -> found):");
+    for ((t, f), n) in &confusion {
+        println!("  {t:<40} -> {f:<40} {n}");
+    }
+    println!("\ncorrect set of names and joints: {correct}/{total}");
+    for f in &failures {
+        println!("  MISS {f}");
+    }
+    let worst_value = value_errors.iter().map(|v| v.3).fold(0.0, f64::max);
+    println!("single-effect value error: worst {:.2} %", 100.0 * worst_value);
+    let min_gain = gains.iter().map(|g| g.1).fold(f64::INFINITY, f64::min);
+    println!("RMS gain: smallest x{min_gain:.1}");
+
+    assert!(correct * 10 >= total * 9, "only {correct}/{total} correct");
+    for (seed, t, v, err) in &value_errors {
+        assert!(*err <= 0.10, "seed {seed}: {t} estimated {v} ({:.1} % off)", 100.0 * err);
+    }
+    for (seed, g) in &gains {
+        assert!(*g >= 5.0, "seed {seed}: RMS gain only x{g:.2}");
+    }
+    assert_eq!(false_claims_in_null, 0, "effects claimed in null cases");
+}
