@@ -237,7 +237,6 @@ impl Default for ObserverConfig {
                 coulomb_threshold_rad_s: crate::friction::COULOMB_THRESHOLD_RAD_S as f32,
                 coulomb_walk: 0.05,
                 viscous_walk: 1e-4,
-                spring_walk: 1e-3,
                 residual_var_floor: 1e-4,
             },
             settle_s: 0.1,
@@ -260,6 +259,9 @@ pub struct MarginConfig {
     /// The deployment's deadline, from the first sample [s]: a joint that
     /// latches later counts as stalled (the mechanism file's `duration_s`).
     pub deadline_s: f32,
+    /// Relative standard deviation of the spring torques [1]: how far the
+    /// hinges may be from their curves.
+    pub spring_sd_rel: f32,
     /// Floor of the energy standard deviation [J].
     pub energy_sd_floor_j: f32,
 }
@@ -276,6 +278,7 @@ impl Default for MarginConfig {
                 coulomb_threshold_rad_s: crate::friction::COULOMB_THRESHOLD_RAD_S as f32,
             },
             deadline_s: 6.0,
+            spring_sd_rel: 0.05,
             energy_sd_floor_j: 0.02,
         }
     }
@@ -356,14 +359,13 @@ impl<const N: usize> MonitorConfig<N> {
     /// Checks every parameter.
     pub fn validate(&self) -> Result<(), ConfigError> {
         for (index, j) in self.joints.iter().enumerate() {
-            let checks: [(bool, &'static str); 7] = [
+            let checks: [(bool, &'static str); 6] = [
                 (j.stowed_deg.is_finite() && libm::fabsf(j.stowed_deg) <= ENCODER_RANGE_DEG, "stowed_deg"),
                 (non_negative(j.capture_deg), "capture_deg"),
                 (j.prior.coulomb_nm.is_finite(), "coulomb prior"),
                 (positive(j.prior.coulomb_sd_nm), "coulomb prior sd"),
                 (j.prior.viscous_nms.is_finite(), "viscous prior"),
                 (positive(j.prior.viscous_sd_nms), "viscous prior sd"),
-                (positive(j.prior.spring_sd_rel) && j.prior.spring_sd_rel < 0.5, "spring prior sd"),
             ];
             if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
                 return Err(ConfigError::Joint { index, what });
@@ -391,10 +393,7 @@ impl<const N: usize> MonitorConfig<N> {
             (positive(o.gate_sigma), "gate_sigma"),
             (positive(t.bandwidth_per_s), "bandwidth_per_s"),
             (positive(t.coulomb_threshold_rad_s), "coulomb_threshold_rad_s"),
-            (
-                non_negative(t.coulomb_walk) && non_negative(t.viscous_walk) && non_negative(t.spring_walk),
-                "parameter walk",
-            ),
+            (non_negative(t.coulomb_walk) && non_negative(t.viscous_walk), "friction walk"),
             (positive(t.residual_var_floor), "residual_var_floor"),
             (non_negative(o.settle_s), "settle_s"),
             (positive(o.min_dt_s) && positive(o.max_gap_s) && o.max_gap_s > o.min_dt_s, "time step limits"),
@@ -408,7 +407,10 @@ impl<const N: usize> MonitorConfig<N> {
                 "rollout",
             ),
             (positive(self.margin.deadline_s), "deadline_s"),
-            (positive(self.margin.energy_sd_floor_j), "energy_sd_floor_j"),
+            (
+                non_negative(self.margin.spring_sd_rel) && positive(self.margin.energy_sd_floor_j),
+                "margin spread",
+            ),
         ];
         if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
             return Err(ConfigError::Parameter(what));
@@ -884,7 +886,7 @@ impl<const N: usize> Monitor<N> {
         for j in 0..N {
             let e = self.fo[j].estimate();
             // More friction goes with weaker springs, and less with stronger.
-            spring[j] = (1.0 + e.spring_err - sign * z * libm::sqrtf(e.spring_var.max(0.0))).max(0.0);
+            spring[j] = (1.0 - sign * z * self.margin_cfg.spring_sd_rel).max(0.0);
             let sd_c = libm::sqrtf(e.coulomb_var.max(0.0));
             let sd_f = libm::sqrtf(e.viscous_var.max(0.0));
             coulomb[j] = (e.coulomb_nm + sign * z * sd_c).max(0.0);
@@ -981,8 +983,8 @@ impl<const N: usize> Monitor<N> {
                 viscous_nms: est.viscous_nms,
                 coulomb_var: est.coulomb_var,
                 coulomb_lower_nm: bound,
-                spring_scale: 1.0 + est.spring_err,
-                spring_sd_rel: libm::sqrtf(est.spring_var.max(0.0)),
+                spring_scale: 1.0,
+                spring_sd_rel: cfg.spring_sd_rel,
                 viscous_var: est.viscous_var,
                 cov: est.cov,
             },

@@ -384,8 +384,6 @@ pub struct ObserverTuning {
     pub coulomb_walk: f32,
     /// Random-walk intensity of `f` [N·m·s/rad/√s].
     pub viscous_walk: f32,
-    /// Random-walk intensity of the spring-scale error `κ` [1/√s].
-    pub spring_walk: f32,
     /// Floor of the measurement variance [N²·m²].
     pub residual_var_floor: f32,
 }
@@ -401,9 +399,6 @@ pub struct FrictionPrior {
     pub viscous_nms: f32,
     /// Its standard deviation [N·m·s/rad].
     pub viscous_sd_nms: f32,
-    /// Standard deviation of the spring's scale about its nominal curve
-    /// [1] (the mean is the nominal curve: `κ = 0`).
-    pub spring_sd_rel: f32,
 }
 
 /// The friction estimate of one joint.
@@ -413,16 +408,12 @@ pub struct FrictionEstimate {
     pub coulomb_nm: f32,
     /// Viscous coefficient `f` [N·m·s/rad] (≥ 0).
     pub viscous_nms: f32,
-    /// Spring-scale error `κ` [1]: the spring gives `(1 + κ)` times its curve.
-    pub spring_err: f32,
     /// Variance of `T_C` [N²·m²].
     pub coulomb_var: f32,
     /// Variance of `f` [(N·m·s/rad)²].
     pub viscous_var: f32,
     /// Covariance of `T_C` and `f`.
     pub cov: f32,
-    /// Variance of `κ` [1].
-    pub spring_var: f32,
 }
 
 /// The observer's lag variance at a restart mid-motion, in prior variances
@@ -433,20 +424,21 @@ const LAG_VAR_START: f32 = 4.0;
 /// Weight of one step in the running mean square of the observer lag.
 const LAG_WEIGHT: f32 = 0.1;
 
-/// Number of estimated parameters: `θ = [T_C, f, κ]`.
-const P: usize = 3;
+/// Number of estimated parameters: `θ = [T_C, f]`.
+const P: usize = 2;
 
-/// Bounds of the parameter projection: `0 ≤ T_C, f ≤ 1000`, `|κ| ≤ 0.5`.
-const THETA_MIN: [f32; P] = [0.0, 0.0, -0.5];
-const THETA_MAX: [f32; P] = [1000.0, 1000.0, 0.5];
+/// Bounds of the parameter projection: `0 ≤ T_C, f ≤ 1000`.
+const THETA_MIN: [f32; P] = [0.0, 0.0];
+const THETA_MAX: [f32; P] = [1000.0, 1000.0];
 
-/// Momentum disturbance observer and RLS estimator of one joint's friction
-/// (and of the scale of its spring, which the friction would otherwise
-/// absorb).
+/// Momentum disturbance observer and RLS estimator of one joint's friction.
 ///
 /// ```text
-/// d = −T_C tanh(ω/ω_c) − f ω + κ τ_s,   h = [−tanh(ω/ω_c), −ω, τ_s]
+/// d = −T_C tanh(ω/ω_c) − f ω,   h = [−tanh(ω/ω_c), −ω]
 /// ```
+/// (An error of the spring curve lands in `d` too; a third regressor `τ_s`
+/// for it was tried and dropped: over the part of the stroke seen by half
+/// stroke it is too collinear with the Coulomb one to separate.)
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrictionObserver {
     /// Disturbance estimate `r` [N·m] (first-order filtered `d`).
@@ -457,10 +449,8 @@ pub struct FrictionObserver {
     p_prev: f32,
     u_prev: f32,
     h_prev: [f32; P],
-    /// The spring torque at the last step [N·m].
-    spring_nm: f32,
     primed: bool,
-    /// θ = [T_C, f, κ].
+    /// θ = [T_C, f].
     theta: [f32; P],
     /// Covariance of θ.
     sigma: [[f32; P]; P],
@@ -496,16 +486,14 @@ impl FrictionObserver {
         let mut sigma = [[0.0f32; P]; P];
         sigma[0][0] = prior.coulomb_sd_nm * prior.coulomb_sd_nm;
         sigma[1][1] = prior.viscous_sd_nms * prior.viscous_sd_nms;
-        sigma[2][2] = prior.spring_sd_rel * prior.spring_sd_rel;
         FrictionObserver {
             r: 0.0,
             y: [0.0; P],
             p_prev: 0.0,
             u_prev: 0.0,
             h_prev: [0.0; P],
-            spring_nm: 0.0,
             primed: false,
-            theta: [prior.coulomb_nm, prior.viscous_nms, 0.0],
+            theta: [prior.coulomb_nm, prior.viscous_nms],
             sigma,
             // At the start the joints rest (r = d = 0): no lag yet.
             lag_var: prior.coulomb_sd_nm * prior.coulomb_sd_nm / LAG_VAR_START,
@@ -534,8 +522,8 @@ impl FrictionObserver {
     }
 
     /// A lower bound of the Coulomb torque [N·m] from the friction torque
-    /// acting now: `|T_C tanh(ω/ω_c) + f ω| = |d − κ τ_s| ≤ T_C + f|ω|`, so
-    /// `T_C ≥ |r − κ̂ τ_s| − f̂|ω| − 2σ_r`, with
+    /// acting now: `|d| = |T_C tanh(ω/ω_c) + f ω| ≤ T_C + f|ω|`, so
+    /// `T_C ≥ |r| − f̂|ω| − 2σ_r`, with
     /// `σ_r² = E[(d̄ − r)²] K dt/(2 − K dt)` the noise of `r`. 0 until the
     /// observer has run.
     pub fn coulomb_lower_bound(&self, rate_rad_s: f32) -> f32 {
@@ -543,8 +531,7 @@ impl FrictionObserver {
             return 0.0;
         }
         let sd = libm::sqrtf(self.lag_var.max(0.0) * self.kdt / (2.0 - self.kdt));
-        let friction = self.r - self.theta[2] * self.spring_nm;
-        let bound = libm::fabsf(friction) - self.theta[1].max(0.0) * libm::fabsf(rate_rad_s) - 2.0 * sd;
+        let bound = libm::fabsf(self.r) - self.theta[1].max(0.0) * libm::fabsf(rate_rad_s) - 2.0 * sd;
         if bound.is_finite() {
             bound.max(0.0)
         } else {
@@ -552,7 +539,7 @@ impl FrictionObserver {
         }
     }
 
-    /// The filtered regressors `y = F[−tanh(ω/ω_c), −ω, τ_s]`.
+    /// The filtered regressors `y = F[−tanh(ω/ω_c), −ω]`.
     pub fn regressors(&self) -> [f32; P] {
         self.y
     }
@@ -562,8 +549,7 @@ impl FrictionObserver {
         *self = FrictionObserver::new(self.prior);
     }
 
-    /// The disturbance estimate `r` [N·m]: the friction torque, filtered
-    /// (plus `κ τ_s`, the part of the spring torque the curve misses).
+    /// The disturbance estimate `r` [N·m]: the friction torque, filtered.
     pub fn disturbance_nm(&self) -> f32 {
         self.r
     }
@@ -573,17 +559,15 @@ impl FrictionObserver {
         FrictionEstimate {
             coulomb_nm: self.theta[0],
             viscous_nms: self.theta[1],
-            spring_err: self.theta[2],
             coulomb_var: self.sigma[0][0],
             viscous_var: self.sigma[1][1],
             cov: self.sigma[0][1],
-            spring_var: self.sigma[2][2],
         }
     }
 
     /// True when every state is finite and the variances are positive.
     pub fn is_healthy(&self) -> bool {
-        let finite = [self.r, self.p_prev, self.u_prev, self.spring_nm, self.lag_var, self.kdt]
+        let finite = [self.r, self.p_prev, self.u_prev, self.lag_var, self.kdt]
             .iter()
             .chain(self.y.iter())
             .chain(self.h_prev.iter())
@@ -596,13 +580,8 @@ impl FrictionObserver {
     /// One step: advances the observer and, if `input.learn`, the RLS.
     pub fn step(&mut self, input: &ObserverInput, tuning: &ObserverTuning) {
         let wc = tuning.coulomb_threshold_rad_s;
-        let h = [
-            -libm::tanhf(input.rate_rad_s / wc),
-            -input.rate_rad_s,
-            input.spring_torque_nm,
-        ];
+        let h = [-libm::tanhf(input.rate_rad_s / wc), -input.rate_rad_s];
         let u = input.spring_torque_nm + input.beta_nm;
-        self.spring_nm = input.spring_torque_nm;
         if !self.primed {
             self.p_prev = input.momentum;
             self.u_prev = u;
@@ -633,7 +612,6 @@ impl FrictionObserver {
         // Random walk of the parameters.
         self.sigma[0][0] += tuning.coulomb_walk * tuning.coulomb_walk * dt;
         self.sigma[1][1] += tuning.viscous_walk * tuning.viscous_walk * dt;
-        self.sigma[2][2] += tuning.spring_walk * tuning.spring_walk * dt;
         if input.learn {
             // Errors in variables ("effective variance"): a rate error δω
             // moves the Coulomb regressor by sech²(ω/ω_c) δω/ω_c, i.e. the
@@ -866,7 +844,6 @@ mod tests {
             coulomb_threshold_rad_s: 0.01,
             coulomb_walk: 0.0,
             viscous_walk: 0.0,
-            spring_walk: 0.0,
             residual_var_floor: 1e-4,
         };
         let mut o = FrictionObserver::new(FrictionPrior {
@@ -874,7 +851,6 @@ mod tests {
             coulomb_sd_nm: 2.0,
             viscous_nms: 0.0,
             viscous_sd_nms: 0.05,
-            spring_sd_rel: 0.05,
         });
         let (mut w, dt) = (0.0f32, 0.01f32);
         for _ in 0..300 {

@@ -19,7 +19,9 @@
 //! unstable.
 //! A joint latches in the rollout when it reaches its capture angle moving
 //! inwards; the rollout ends when every joint has latched, when every free
-//! joint has crept (|ω| < 2 ω_c) for [`STALL_HOLD_S`], or at the horizon.
+//! joint has crept (|ω| < 2 ω_c) for [`STALL_HOLD_S`] at a rate that would
+//! not cover the rest of its stroke before the horizon, or at the horizon
+//! (the deployment's deadline).
 //!
 //! It runs three times per cycle, a few steps per monitor update: with the
 //! estimates `T̂_C`, `f̂`, `κ̂` (nominal: the prediction), with `T̂_C + zσ`,
@@ -227,8 +229,16 @@ impl<const N: usize> Rollout<N> {
         }
         let creeping = (0..N).all(|j| self.latched[j] || libm::fabsf(self.x.phi_dot[j]) < 2.0 * wc);
         self.creeping_s = if creeping { self.creeping_s + dt } else { 0.0 };
+        // A creeping joint still gets there if its creep covers the rest of
+        // the stroke before the horizon: only stop when none can.
+        let time_left = cfg.horizon_s - self.t_s;
+        let hopeless = (0..N).all(|j| {
+            let inward = -self.x.phi[j] * self.x.phi_dot[j];
+            let rest = libm::fabsf(self.x.phi[j]) - self.start.capture_rad[j];
+            self.latched[j] || !(inward > 0.0) || rest * libm::fabsf(self.x.phi[j]) > inward * time_left
+        });
         let finite = self.x.phi.iter().chain(self.x.phi_dot.iter()).all(|v| v.is_finite());
-        if self.creeping_s >= STALL_HOLD_S || self.t_s >= cfg.horizon_s || !finite {
+        if (self.creeping_s >= STALL_HOLD_S && hopeless) || self.t_s >= cfg.horizon_s || !finite {
             self.finish();
         }
     }

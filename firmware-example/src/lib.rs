@@ -2,25 +2,24 @@
 //! recorded run, sample by sample, through the on-board
 //! [`Monitor`](deploywatch_core::Monitor), with the statuses written back.
 //!
-//! This crate is `no_std` and also builds on the host, where `host/` (the
-//! `deploywatch-replay` tool) uses its mechanism table to check it against
-//! the host's own conversion of the mechanism files.
+//! This crate is `no_std` and also builds on the host, where
+//! `deploywatch replay` (`host-sim/src/replay.rs`) writes the configuration
+//! frames with its types and checks them against the host's own conversion
+//! of the mechanism file.
 //!
 //! # Files
-//! - Input: one frame per sample, a [`Sample<3>`](deploywatch_core::Sample)
-//!   each, in time order.
+//! - Input: the monitor configuration ([`config`]: a [`ConfigHeader`] frame,
+//!   then one [`JointFrame`] per joint), then one frame per sample, a
+//!   [`Sample<N>`](deploywatch_core::Sample) each, in time order, `N` the
+//!   header's joint count (1 to [`MAX_JOINTS`]).
 //! - Output: one frame per input sample, the
-//!   [`Status<3>`](deploywatch_core::Status) that
+//!   [`Status<N>`](deploywatch_core::Status) that
 //!   [`Monitor::update`](deploywatch_core::Monitor::update) returned.
 //!
 //! Every frame is the core's telemetry frame
 //! ([`deploywatch_core::telemetry`]): postcard, CRC-32C, COBS, then `0x00`.
 //! A frame that does not decode stops the replay with its index: a replay
 //! input comes from a file, so a bad frame is a bad file, not line noise.
-//!
-//! # Mechanism
-//! The monitor's configuration is compiled in ([`mechanism`]): the firmware
-//! is told which one by name, as a run names its mechanism.
 #![no_std]
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
@@ -29,16 +28,16 @@ use deploywatch_core::monitor::MonitorConfig;
 use deploywatch_core::telemetry::{self, sample_frame_max, status_frame_max};
 use deploywatch_core::{Monitor, Sample, Status};
 
-pub mod mechanism;
+pub mod config;
 
-/// Joints of the mechanisms this firmware monitors.
-pub const JOINTS: usize = 3;
+pub use config::{ConfigHeader, JointFrame, MAX_JOINTS};
+use config::{CONFIG_HEADER_FRAME_MAX, CONFIG_VERSION, JOINT_FRAME_MAX};
 
-/// Largest input frame, `0x00` included [bytes].
-pub const SAMPLE_FRAME_MAX: usize = sample_frame_max(JOINTS);
+/// Largest input sample frame of any joint count the firmware takes [bytes].
+pub const SAMPLE_FRAME_MAX: usize = sample_frame_max(MAX_JOINTS);
 
-/// Largest output frame, `0x00` included [bytes].
-pub const STATUS_FRAME_MAX: usize = status_frame_max(JOINTS);
+/// Largest output frame of any joint count, `0x00` included [bytes].
+pub const STATUS_FRAME_MAX: usize = status_frame_max(MAX_JOINTS);
 
 /// Bytes read from the input at a time.
 pub const READ_CHUNK: usize = 256;
@@ -47,16 +46,21 @@ pub const READ_CHUNK: usize = 256;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Error {
-    /// The monitor rejects the configuration.
+    /// The configuration frames are missing, do not decode, are of another
+    /// [`CONFIG_VERSION`](config::CONFIG_VERSION) or give a joint count out of
+    /// 1 to [`MAX_JOINTS`].
+    ConfigFrame,
+    /// The monitor (or the core's spring constructor) rejects the
+    /// configuration.
     Config,
     /// Reading the input failed.
     Read,
     /// Writing the output failed.
     Write,
-    /// Input frame `index` (0-based) does not decode as a `Sample<3>`, or is
-    /// longer than [`SAMPLE_FRAME_MAX`].
+    /// Sample frame `index` (0-based, after the configuration frames) does
+    /// not decode as a sample of the configured joint count, or is too long.
     Frame {
-        /// 0-based index of the frame in the input.
+        /// 0-based index of the sample frame.
         index: u32,
     },
     /// The input ends inside a frame (no `0x00` after its last bytes).
@@ -69,10 +73,11 @@ impl Error {
     /// A short description, for logs that cannot format (defmt).
     pub fn as_str(&self) -> &'static str {
         match self {
+            Error::ConfigFrame => "the configuration frames are missing or do not decode",
             Error::Config => "the monitor rejects the configuration",
             Error::Read => "cannot read the input",
             Error::Write => "cannot write the output",
-            Error::Frame { .. } => "an input frame does not decode as a 3-joint sample",
+            Error::Frame { .. } => "a sample frame does not decode",
             Error::Truncated => "the input ends inside a frame",
             Error::Encode => "a status does not fit its frame",
         }
@@ -83,7 +88,7 @@ impl core::fmt::Display for Error {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             Error::Frame { index } => {
-                write!(f, "input frame {index} does not decode as a 3-joint sample")
+                write!(f, "sample frame {index} does not decode")
             }
             other => f.write_str(other.as_str()),
         }
@@ -92,64 +97,121 @@ impl core::fmt::Display for Error {
 
 impl core::error::Error for Error {}
 
-/// Splits a byte stream into `0x00`-terminated frames of at most `MAX`
-/// bytes, without allocating.
-pub struct Framer<const MAX: usize> {
-    buf: [u8; MAX],
+/// Why [`Source::next_frame`] gave no frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrameError {
+    /// Reading failed.
+    Read,
+    /// The frame was longer than the buffer (it was skipped up to its `0x00`).
+    TooLong,
+    /// The input ended inside a frame.
+    Truncated,
+}
+
+/// A byte stream read in chunks and split into `0x00`-terminated frames,
+/// without allocating.
+pub struct Source<R> {
+    read: R,
+    chunk: [u8; READ_CHUNK],
+    pos: usize,
     len: usize,
-    overflow: bool,
 }
 
-impl<const MAX: usize> Default for Framer<MAX> {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-impl<const MAX: usize> Framer<MAX> {
-    /// An empty framer.
-    pub const fn new() -> Self {
-        Framer {
-            buf: [0; MAX],
+impl<R: FnMut(&mut [u8]) -> Result<usize, ()>> Source<R> {
+    /// A source over `read` (like `std::io::Read::read`: `Ok(0)` at the end).
+    pub const fn new(read: R) -> Self {
+        Source {
+            read,
+            chunk: [0; READ_CHUNK],
+            pos: 0,
             len: 0,
-            overflow: false,
         }
     }
 
-    /// True when bytes of an unfinished frame are held.
-    pub fn is_pending(&self) -> bool {
-        self.len > 0 || self.overflow
+    fn byte(&mut self) -> Result<Option<u8>, FrameError> {
+        if self.pos == self.len {
+            let n = (self.read)(&mut self.chunk).map_err(|_| FrameError::Read)?;
+            self.pos = 0;
+            self.len = n.min(READ_CHUNK);
+            if self.len == 0 {
+                return Ok(None);
+            }
+        }
+        let b = self.chunk.get(self.pos).copied();
+        self.pos += 1;
+        Ok(b)
     }
 
-    /// Feeds `input`; calls `frame` with each complete frame (its `0x00`
-    /// included), or with `None` for a frame longer than `MAX`. Stops at the
-    /// first error `frame` returns.
-    pub fn feed<E>(
-        &mut self,
-        input: &[u8],
-        mut frame: impl FnMut(Option<&mut [u8]>) -> Result<(), E>,
-    ) -> Result<(), E> {
-        for &b in input {
-            if !self.overflow {
-                match self.buf.get_mut(self.len) {
-                    Some(slot) => {
-                        *slot = b;
-                        self.len += 1;
-                    }
-                    None => self.overflow = true,
+    /// The next frame (its `0x00` included) in `buf`, `Ok(None)` at the end
+    /// of the input.
+    pub fn next_frame<'b>(&mut self, buf: &'b mut [u8]) -> Result<Option<&'b mut [u8]>, FrameError> {
+        let mut len = 0usize;
+        let mut too_long = false;
+        loop {
+            let Some(b) = self.byte()? else {
+                return if len == 0 && !too_long {
+                    Ok(None)
+                } else {
+                    Err(FrameError::Truncated)
+                };
+            };
+            match buf.get_mut(len) {
+                Some(slot) if !too_long => {
+                    *slot = b;
+                    len += 1;
                 }
+                _ => too_long = true,
             }
             if b == 0 {
-                let overflow = core::mem::replace(&mut self.overflow, false);
-                let len = core::mem::replace(&mut self.len, 0);
-                if overflow {
-                    frame(None)?;
-                } else if let Some(f) = self.buf.get_mut(..len) {
-                    frame(Some(f))?;
+                if too_long {
+                    return Err(FrameError::TooLong);
                 }
+                return Ok(buf.get_mut(..len));
             }
         }
-        Ok(())
+    }
+}
+
+/// Reads the configuration header (the input's first frame).
+pub fn read_header<R>(src: &mut Source<R>) -> Result<ConfigHeader, Error>
+where
+    R: FnMut(&mut [u8]) -> Result<usize, ()>,
+{
+    let mut buf = [0u8; CONFIG_HEADER_FRAME_MAX];
+    let header: ConfigHeader = match src.next_frame(&mut buf) {
+        Ok(Some(f)) => telemetry::decode(f).map_err(|_| Error::ConfigFrame)?,
+        Err(FrameError::Read) => return Err(Error::Read),
+        _ => return Err(Error::ConfigFrame),
+    };
+    let n = usize::from(header.joints);
+    if header.version != CONFIG_VERSION || n == 0 || n > MAX_JOINTS {
+        return Err(Error::ConfigFrame);
+    }
+    Ok(header)
+}
+
+/// Reads the `N` joint frames that follow the header and builds the
+/// monitor configuration.
+pub fn read_config<const N: usize, R>(
+    header: &ConfigHeader,
+    src: &mut Source<R>,
+) -> Result<MonitorConfig<N>, Error>
+where
+    R: FnMut(&mut [u8]) -> Result<usize, ()>,
+{
+    let mut joints = [JointFrame::default(); N];
+    let mut buf = [0u8; JOINT_FRAME_MAX];
+    for j in joints.iter_mut() {
+        *j = match src.next_frame(&mut buf) {
+            Ok(Some(f)) => telemetry::decode(f).map_err(|_| Error::ConfigFrame)?,
+            Err(FrameError::Read) => return Err(Error::Read),
+            _ => return Err(Error::ConfigFrame),
+        };
+    }
+    match header.config(&joints) {
+        Some(Ok(config)) => Ok(config),
+        Some(Err(_)) => Err(Error::Config),
+        None => Err(Error::ConfigFrame),
     }
 }
 
@@ -167,13 +229,12 @@ impl Meter for () {
     fn stop(&mut self) {}
 }
 
-/// Replays a whole input stream through a monitor: reads the input with
-/// `read` (like `std::io::Read::read`: `Ok(0)` at the end), runs
-/// [`Monitor::update`] on every sample (inside `meter`'s brackets) and hands
-/// each status frame to `write`. Returns the number of samples.
-pub fn run<R, W, M>(
-    config: &MonitorConfig<JOINTS>,
-    mut read: R,
+/// Replays the sample frames left in `src` through a monitor of `config`:
+/// runs [`Monitor::update`] on every sample (inside `meter`'s brackets) and
+/// hands each status frame to `write`. Returns the number of samples.
+pub fn run<const N: usize, R, W, M>(
+    config: &MonitorConfig<N>,
+    src: &mut Source<R>,
     mut write: W,
     meter: &mut M,
 ) -> Result<u32, Error>
@@ -183,31 +244,69 @@ where
     M: Meter,
 {
     let mut monitor = Monitor::new(config).map_err(|_| Error::Config)?;
-    let mut framer = Framer::<SAMPLE_FRAME_MAX>::new();
-    let mut chunk = [0u8; READ_CHUNK];
+    let mut frame = [0u8; SAMPLE_FRAME_MAX];
     let mut out = [0u8; STATUS_FRAME_MAX];
     let mut index: u32 = 0;
     loop {
-        let n = read(&mut chunk).map_err(|_| Error::Read)?;
-        if n == 0 {
-            break;
-        }
-        let input = chunk.get(..n).ok_or(Error::Read)?;
-        framer.feed(input, |frame| {
-            let sample: Sample<JOINTS> = frame
-                .and_then(|f| telemetry::decode(f).ok())
-                .ok_or(Error::Frame { index })?;
-            meter.start();
-            let status: Status<JOINTS> = monitor.update(&sample);
-            meter.stop();
-            let bytes = telemetry::encode(&status, &mut out).map_err(|_| Error::Encode)?;
-            write(bytes).map_err(|_| Error::Write)?;
-            index += 1;
-            Ok::<(), Error>(())
-        })?;
-    }
-    if framer.is_pending() {
-        return Err(Error::Truncated);
+        let buf = frame.get_mut(..sample_frame_max(N)).ok_or(Error::Encode)?;
+        let f = match src.next_frame(buf) {
+            Ok(Some(f)) => f,
+            Ok(None) => break,
+            Err(FrameError::Read) => return Err(Error::Read),
+            Err(FrameError::Truncated) => return Err(Error::Truncated),
+            Err(FrameError::TooLong) => return Err(Error::Frame { index }),
+        };
+        let sample: Sample<N> = telemetry::decode(f).map_err(|_| Error::Frame { index })?;
+        meter.start();
+        let status: Status<N> = monitor.update(&sample);
+        meter.stop();
+        let bytes = telemetry::encode(&status, &mut out).map_err(|_| Error::Encode)?;
+        write(bytes).map_err(|_| Error::Write)?;
+        index += 1;
     }
     Ok(index)
+}
+
+/// The whole replay of an input stream: the configuration frames, then the
+/// samples through a monitor of the header's joint count. Returns the joint
+/// count and the number of samples. `on_config` is called with the header
+/// once it is read (the firmware logs it).
+pub fn replay<R, W, M>(
+    read: R,
+    write: W,
+    meter: &mut M,
+    on_config: impl FnOnce(&ConfigHeader),
+) -> Result<(u8, u32), Error>
+where
+    R: FnMut(&mut [u8]) -> Result<usize, ()>,
+    W: FnMut(&[u8]) -> Result<(), ()>,
+    M: Meter,
+{
+    let mut src = Source::new(read);
+    let header = read_header(&mut src)?;
+    on_config(&header);
+    let n = match header.joints {
+        2 => replay_n::<2, _, _, _>(&header, &mut src, write, meter),
+        3 => replay_n::<3, _, _, _>(&header, &mut src, write, meter),
+        _ => Err(Error::ConfigFrame),
+    }?;
+    Ok((header.joints, n))
+}
+
+/// One monitor size: kept out of line so that only one size's frame is on
+/// the stack at a time.
+#[inline(never)]
+fn replay_n<const N: usize, R, W, M>(
+    header: &ConfigHeader,
+    src: &mut Source<R>,
+    write: W,
+    meter: &mut M,
+) -> Result<u32, Error>
+where
+    R: FnMut(&mut [u8]) -> Result<usize, ()>,
+    W: FnMut(&[u8]) -> Result<(), ()>,
+    M: Meter,
+{
+    let config = read_config::<N, R>(header, src)?;
+    run(&config, src, write, meter)
 }

@@ -1,17 +1,18 @@
 //! deploywatch example firmware for a Cortex-M4F (thumbv7em-none-eabihf),
 //! run on QEMU's mps2-an386 board.
 //!
-//! It replays a recorded run: it reads the sample frames from the file named
-//! by the first semihosting argument, runs them through the on-board monitor
-//! configured for the built-in mechanism named by the third, and writes the
-//! status frames to the file named by the second (see `src/lib.rs`).
+//! It replays a recorded run: it reads the file named by the first
+//! semihosting argument (the monitor configuration frames, then the sample
+//! frames), runs the samples through the on-board monitor of that
+//! configuration, and writes the status frames to the file named by the
+//! second (see `src/lib.rs`).
 //! It logs with defmt over semihosting stdout (decode with `defmt-print`) and
 //! ends QEMU with a semihosting exit: 0 on success, 1 on an error, 101 on a
 //! panic, 134 on a fault.
 //!
 //! ```text
 //! qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic -icount shift=0 \
-//!   -semihosting-config enable=on,target=native,arg=fw,arg=IN.bin,arg=OUT.bin,arg=seed001-T01 \
+//!   -semihosting-config enable=on,target=native,arg=fw,arg=IN.bin,arg=OUT.bin \
 //!   -kernel ELF | defmt-print -e ELF
 //! ```
 #![no_std]
@@ -25,8 +26,7 @@ use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::SYST;
 use cortex_m_rt::{entry, exception, ExceptionFrame};
 use defmt_semihosting as _;
-use deploywatch_core::monitor::MonitorConfig;
-use deploywatch_firmware_example::{mechanism, run, Error, Meter, JOINTS};
+use deploywatch_firmware_example::{replay as replay_input, ConfigHeader, Error, Meter};
 use semihosting::experimental::env;
 use semihosting::fs::File;
 use semihosting::io::{Read, Write};
@@ -65,8 +65,6 @@ fn main() -> ! {
 enum Setup {
     /// Wrong or missing semihosting arguments.
     Usage,
-    /// The mechanism is not built in.
-    Mechanism,
     /// The input file could not be opened.
     Open,
     /// The output file could not be created.
@@ -74,15 +72,11 @@ enum Setup {
 }
 
 fn replay() -> Result<u32, Error> {
-    let (mut input, mut output, config) = match setup() {
+    let (mut input, mut output) = match setup() {
         Ok(setup) => setup,
         Err(Setup::Usage) => {
-            defmt::error!("usage: semihosting arguments PROGRAM INPUT OUTPUT MECHANISM (paths up to 127 bytes)");
+            defmt::error!("usage: semihosting arguments PROGRAM INPUT OUTPUT (paths up to 127 bytes)");
             return Err(Error::Read);
-        }
-        Err(Setup::Mechanism) => {
-            defmt::error!("unknown mechanism; built in: {}", mechanism::NAMES);
-            return Err(Error::Config);
         }
         Err(Setup::Open) => {
             defmt::error!("cannot open the input file");
@@ -98,14 +92,20 @@ fn replay() -> Result<u32, Error> {
         return Err(Error::Config);
     };
     let mut meter = UpdateMeter::new(peripherals.SYST);
-    let result = run(
-        &config,
+    let result = replay_input(
         |buf| input.read(buf).map_err(|_| ()),
         |frame| output.write_all(frame).map_err(|_| ()),
         &mut meter,
+        |h: &ConfigHeader| {
+            defmt::info!(
+                "monitor of {=u8} joints, deadline {=f32} s",
+                h.joints,
+                h.deadline_s
+            )
+        },
     );
     meter.report();
-    result
+    result.map(|(_, samples)| samples)
 }
 
 /// Counts the instructions of every `Monitor::update` with SysTick on the
@@ -190,21 +190,18 @@ impl Meter for UpdateMeter {
     }
 }
 
-/// Opens the input, creates the output and configures the monitor, as the
-/// semihosting command line `PROGRAM INPUT OUTPUT MECHANISM` says.
-fn setup() -> Result<(File, File, MonitorConfig<JOINTS>), Setup> {
+/// Opens the input and creates the output, as the semihosting command line
+/// `PROGRAM INPUT OUTPUT` says.
+fn setup() -> Result<(File, File), Setup> {
     let args = env::args::<512>().map_err(|_| Setup::Usage)?;
     let mut it = (&args).into_iter().skip(1);
     let mut in_path = [0u8; MAX_PATH + 1];
     let mut out_path = [0u8; MAX_PATH + 1];
     let input = c_path(it.next(), &mut in_path)?;
     let output = c_path(it.next(), &mut out_path)?;
-    let name = it.next().and_then(|a| a.ok()).ok_or(Setup::Usage)?;
-    let config = mechanism::config(name).ok_or(Setup::Mechanism)?;
-    defmt::info!("mechanism {=str}", name);
     let input = File::open(input).map_err(|_| Setup::Open)?;
     let output = File::create(output).map_err(|_| Setup::Create)?;
-    Ok((input, output, config))
+    Ok((input, output))
 }
 
 /// Copies a path argument into `buf` with a terminating NUL.

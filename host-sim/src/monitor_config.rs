@@ -23,19 +23,15 @@ pub struct PriorSpread {
     pub coulomb_sd_nm: f64,
     /// Of the viscous coefficient [N·m·s/rad].
     pub viscous_sd_nms: f64,
-    /// Of the spring's scale about its nominal curve [1].
-    pub spring_sd_rel: f64,
 }
 
 impl Default for PriorSpread {
-    /// 2 N·m (the papers' identified values are 0.001–2.63 N·m),
-    /// 0.05 N·m·s/rad (the papers identify no viscous term) and 5 % of the
-    /// spring (hinge-to-hinge scatter of tape springs).
+    /// 2 N·m (the papers' identified values are 0.001–2.63 N·m) and
+    /// 0.05 N·m·s/rad (the papers identify no viscous term).
     fn default() -> Self {
         PriorSpread {
             coulomb_sd_nm: 2.0,
             viscous_sd_nms: 0.05,
-            spring_sd_rel: 0.05,
         }
     }
 }
@@ -176,7 +172,6 @@ pub fn monitor_config_with<const N: usize>(
                 coulomb_sd_nm: spread.coulomb_sd_nm as f32,
                 viscous_nms: j.friction.viscous_nms as f32,
                 viscous_sd_nms: spread.viscous_sd_nms as f32,
-                spring_sd_rel: spread.spring_sd_rel as f32,
             },
         });
     }
