@@ -1,19 +1,19 @@
 #!/usr/bin/env bash
 # Builds the example firmware (firmware-example/) and replays recorded runs
-# through it on QEMU's Cortex-M4 board, checking that the MCU's output is
-# byte-identical with the host simulator's f32 run of the same monitor.
+# through it on QEMU's Cortex-M4 board with `deploywatch replay --target qemu`,
+# which checks that the MCU's statuses are bit-identical with the host
+# simulator's f32 run of the same monitor.
 #
 # Usage:
-#   scripts/firmware.sh build                 firmware ELF + host tool, prints the sizes
+#   scripts/firmware.sh build                 firmware ELF + deploywatch, prints the sizes
 #   scripts/firmware.sh size                  flash / RAM of the ELF against the budget
-#   scripts/firmware.sh run IN.bin OUT.bin MECHANISM
-#                                             run the firmware on QEMU: sample frames
-#                                             IN.bin -> status frames OUT.bin
+#   scripts/firmware.sh run IN.bin OUT.bin    run the firmware on QEMU: configuration and
+#                                             sample frames IN.bin -> status frames OUT.bin
+#                                             (IN.bin: input.bin of `deploywatch replay --keep`)
 #   scripts/firmware.sh replay RUN.csv MECH.toml [DIR]
-#                                             encode the run, the host's f32 monitor
-#                                             run, the QEMU run, byte comparison (files
-#                                             in DIR, default target/replay/<run>)
-#   scripts/firmware.sh test                  replay bundled runs (CI)
+#                                             deploywatch replay --target qemu, frames kept
+#                                             in DIR (default target/replay/<set>-<run>)
+#   scripts/firmware.sh test                  replay every reference mechanism (CI)
 #
 # The toolchain comes from scripts/embedded-toolchain.sh (run it first);
 # scripts/embedded-env.sh picks the rustup or the Debian route.
@@ -23,7 +23,7 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 fw="$root/firmware-example"
 elf="$fw/target/thumbv7em-none-eabihf/release/deploywatch-firmware-example"
-host_tool=  # set by build_host_tool
+deploywatch=  # set by build_host_tool
 # The on-board budget (memory.x declares the same regions, so the link fails
 # beyond them; this check reports the margin).
 FLASH_BUDGET=$((64 * 1024))
@@ -41,12 +41,13 @@ build_firmware() {
 }
 
 build_host_tool() {
-    # A host program, built by the host's cargo.
-    (cd "$fw/host" && cargo build --quiet)
-    # With build.target = "host-tuple" the binary lands under the host triple.
-    local triple
-    triple=$(rustc -vV | sed -n 's/^host: //p')
-    host_tool="$fw/target/host/$triple/debug/deploywatch-replay"
+    # The host CLI, built by the host's cargo in the root workspace.
+    (cd "$root" && cargo build --quiet --release -p deploywatch-sim --bin deploywatch)
+    local dir
+    dir=$(cd "$root" && cargo metadata --format-version 1 --no-deps \
+        | sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
+    deploywatch="${dir:-$root/target}/release/deploywatch"
+    [ -x "$deploywatch" ] || die "no $deploywatch after the build"
 }
 
 size_report() {
@@ -63,19 +64,19 @@ size_report() {
     [ "$flash" -le "$FLASH_BUDGET" ] && [ "$ram" -le "$RAM_BUDGET" ] || die "over the budget"
 }
 
-# qemu_exec IN OUT MECHANISM: runs the firmware on IN, writes OUT and returns
+# qemu_exec IN OUT: runs the firmware on IN, writes OUT and returns
 # QEMU's exit status (the firmware's); the defmt log goes to stdout, decoded
 # by defmt-print when it is installed.
 qemu_exec() {
-    local in out mech=$3
+    local in out
     in=$(realpath "$1")
     out=$(realpath -m "$2")
     [ -f "$in" ] || die "no input file $1"
-    case "$in$out$mech" in
-        *[[:space:]]*) die "arguments with spaces cannot be semihosting arguments: $in $out $mech" ;;
+    case "$in$out" in
+        *[[:space:]]*) die "paths with spaces cannot be semihosting arguments: $in $out" ;;
     esac
     # -semihosting-config takes commas doubled inside a value.
-    local args="arg=deploywatch-firmware-example,arg=${in//,/,,},arg=${out//,/,,},arg=${mech//,/,,}"
+    local args="arg=deploywatch-firmware-example,arg=${in//,/,,},arg=${out//,/,,}"
     # -icount shift=0: one instruction is 1 ns of virtual time, which the
     # firmware's instruction count of Monitor::update relies on.
     local qemu=(qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic -icount shift=0
@@ -101,22 +102,19 @@ qemu_run() {
     [ "$status" -eq 0 ] || die "the firmware failed on $1 (QEMU exit $status; 124 is the timeout)"
 }
 
-# replay RUN.csv MECH.toml [DIR]
+# replay RUN.csv MECH.toml [DIR]: deploywatch replay --target qemu (exit 1
+# unless bit-identical with the host), frames and status CSV kept in DIR.
 replay() {
-    local csv=$1 mech=$2 dir=${3:-} name
+    local csv=$1 mech=$2 dir=${3:-}
     [ -f "$csv" ] || die "no run file $csv"
     [ -f "$mech" ] || die "no mechanism file $mech"
     if [ -z "$dir" ]; then
         dir="$root/target/replay/$(basename "$(dirname "$csv")")-$(basename "${csv%.*}")"
     fi
     mkdir -p "$dir"
-    name=$("$host_tool" mechanism "$csv")
-    "$host_tool" encode "$csv" "$dir/input.bin"
-    "$host_tool" host "$mech" "$csv" "$dir/host.bin"
-    qemu_run "$dir/input.bin" "$dir/qemu.bin" "$name"
-    "$host_tool" compare "$dir/host.bin" "$dir/qemu.bin"
-    "$host_tool" decode "$dir/qemu.bin" >"$dir/qemu.jsonl"
-    echo "replay of $csv: the QEMU output is byte-identical with the host's f32 run ($dir)"
+    "$deploywatch" replay "$csv" --mechanism "$mech" --target qemu --elf "$elf" \
+        --keep "$dir" --out "$dir/status.csv" --timeout "${QEMU_TIMEOUT:-300}" \
+        || die "replay of $csv failed"
 }
 
 cmd=${1:-}
@@ -130,9 +128,9 @@ case "$cmd" in
         size_report
         ;;
     run)
-        [ $# -eq 4 ] || die "usage: scripts/firmware.sh run IN.bin OUT.bin MECHANISM"
+        [ $# -eq 3 ] || die "usage: scripts/firmware.sh run IN.bin OUT.bin"
         build_firmware
-        qemu_run "$2" "$3" "$4"
+        qemu_run "$2" "$3"
         ;;
     replay)
         [ $# -ge 3 ] && [ $# -le 4 ] || die "usage: scripts/firmware.sh replay RUN.csv MECH.toml [DIR]"
@@ -144,11 +142,16 @@ case "$cmd" in
         build_firmware
         build_host_tool
         size_report
-        # The replay loop and the built-in mechanisms, on the host.
-        (cd "$fw/host" && cargo test --quiet)
-        # A nominal run, and measured-like runs (noise, quantisation,
-        # friction) of both seed 001 mechanisms.
-        replay "$root/data/reference/seed001_T01_nominal.csv" "$root/data/mechanisms/seed001_T01.toml"
+        # The replay protocol and the firmware's loop, on the host.
+        (cd "$root" && cargo test --quiet --release -p deploywatch-sim --test replay)
+        # Every reference mechanism (data/mechanisms/: seed 000 cases 1 and 3,
+        # 2 joints; seed 001 T01 and T02, 3 joints), nominal and with friction
+        # (data/reference/), then measured-like runs (noise, quantisation,
+        # friction) of the seed 001 mechanisms.
+        for ref in "$root"/data/reference/*.csv; do
+            name=$(basename "$ref" .csv)        # e.g. seed001_T01_eft
+            replay "$ref" "$root/data/mechanisms/${name%_*}.toml"
+        done
         for set in a_seed001_eft c_seed001_friction_harness; do
             for t in T01 T02; do
                 replay "$root/data/examples/$set/seed001_$t.csv" "$root/data/mechanisms/seed001_$t.toml"
@@ -161,7 +164,7 @@ case "$cmd" in
         input="$root/target/replay/reference-seed001_T01_nominal/input.bin"
         head -c "$(($(stat -c %s "$input") - 2))" "$input" >"$bad/input.bin"
         status=0
-        qemu_exec "$bad/input.bin" "$bad/qemu.bin" seed001-T01 || status=$?
+        qemu_exec "$bad/input.bin" "$bad/qemu.bin" || status=$?
         [ "$status" -eq 1 ] || die "a truncated input gave QEMU exit $status, expected 1"
         echo "truncated input: the firmware reports it and exits 1, as it should"
         ;;

@@ -16,8 +16,7 @@ use deploywatch_tests::data_dir;
 /// The golden case `name_variant` (`seed001_T01`, `nominal`|`eft`).
 fn check_case(name: &str, variant: &str) {
     let mech = Mechanism::load(&data_dir().join(format!("mechanisms/{name}.toml"))).unwrap();
-    let golden =
-        Run::load(&data_dir().join(format!("reference/{name}_{variant}.csv"))).unwrap();
+    let golden = Run::load(&data_dir().join(format!("reference/{name}_{variant}.csv"))).unwrap();
     let meta: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(data_dir().join(format!("reference/{name}_{variant}.json")))
             .unwrap(),
@@ -46,7 +45,11 @@ fn check_case(name: &str, variant: &str) {
     };
     let traj = sim::simulate(&mech, &effects, &opts).unwrap();
 
-    assert_eq!(traj.t_s.len(), golden.len(), "{name} {variant}: sample count");
+    assert_eq!(
+        traj.t_s.len(),
+        golden.len(),
+        "{name} {variant}: sample count"
+    );
     let mut sse = 0.0;
     let mut count = 0usize;
     for j in 0..mech.joint_count() {
@@ -56,7 +59,8 @@ fn check_case(name: &str, variant: &str) {
             sse += d * d;
             count += 1;
             assert_eq!(
-                traj.latched[j][i], golden.latch[j][i],
+                traj.latched[j][i],
+                golden.latch[j][i],
                 "{name} {variant}: latch switch of joint {} at t = {}",
                 j + 1,
                 golden.t_s[i]
@@ -64,7 +68,10 @@ fn check_case(name: &str, variant: &str) {
         }
     }
     let rms = (sse / count as f64).sqrt();
-    println!("{name} {variant}: RMS {rms:.3e} deg, latches {:?}", traj.latch_s);
+    println!(
+        "{name} {variant}: RMS {rms:.3e} deg, latches {:?}",
+        traj.latch_s
+    );
     assert!(rms <= 0.01, "{name} {variant}: RMS {rms} deg > 0.01 deg");
 
     let want = meta["latch_s"].as_array().unwrap();
@@ -76,7 +83,10 @@ fn check_case(name: &str, variant: &str) {
                 j + 1
             ),
             (None, None) => {}
-            (w, got) => panic!("{name} {variant}: joint {}: golden {w:?}, ours {got:?}", j + 1),
+            (w, got) => panic!(
+                "{name} {variant}: joint {}: golden {w:?}, ours {got:?}",
+                j + 1
+            ),
         }
     }
     assert_eq!(traj.deployed(), meta["deployed"].as_bool().unwrap());
@@ -157,7 +167,10 @@ fn energy_is_conserved_without_friction_and_latches() {
             crossings += 1;
         }
     }
-    println!("energy drift {worst:.2e} over {} s, {crossings} crossings of joint 2", traj.end_s);
+    println!(
+        "energy drift {worst:.2e} over {} s, {crossings} crossings of joint 2",
+        traj.end_s
+    );
     assert!(crossings >= 2, "the run must swing through φ = 0");
     assert!(worst < 1e-6, "relative energy drift {worst:.3e}");
 }

@@ -102,7 +102,9 @@ impl core::fmt::Display for ChainError {
                 "panel {} needs a positive finite length, mass and inertia",
                 index + 1
             ),
-            ChainError::Singular => f.write_str("mass matrix is singular or the state is not finite"),
+            ChainError::Singular => {
+                f.write_str("mass matrix is singular or the state is not finite")
+            }
         }
     }
 }
@@ -214,7 +216,9 @@ impl<T: Real, const N: usize> Chain<T, N> {
             for l in 0..N {
                 let mut s = T::ZERO;
                 for i in 0..N {
-                    s += self.panels[i].mass_kg * a_of(&self.panels, i, k) * a_of(&self.panels, i, l);
+                    s += self.panels[i].mass_kg
+                        * a_of(&self.panels, i, k)
+                        * a_of(&self.panels, i, l);
                 }
                 if k == l {
                     s += self.panels[k].inertia_kgm2;
@@ -515,7 +519,12 @@ mod tests {
     }
 
     fn chain3() -> Chain<f64, 3> {
-        Chain::new([panel(); 3], [joint(-1.0), joint(2.0), joint(-2.0)], GlobalEffects::default()).unwrap()
+        Chain::new(
+            [panel(); 3],
+            [joint(-1.0), joint(2.0), joint(-2.0)],
+            GlobalEffects::default(),
+        )
+        .unwrap()
     }
 
     #[test]

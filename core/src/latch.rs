@@ -268,8 +268,7 @@ impl LatchTracker {
 
         // Encoder at the latch while the switch stays open.
         let at_latch = !x.switch
-            && x
-                .measured_deg
+            && x.measured_deg
                 .is_some_and(|m| libm::fabsf(m) <= cfg.at_latch_deg);
         if at_latch {
             if !self.at_latch_run {
@@ -307,11 +306,109 @@ impl LatchTracker {
             LatchState::Stalled if self.slow => LatchState::Stalled,
             _ => LatchState::Deploying,
         };
-        let fault = self.switch_early || self.open_at_latch || self.missing_run >= cfg.missing_samples;
+        let fault =
+            self.switch_early || self.open_at_latch || self.missing_run >= cfg.missing_samples;
         LatchOutput {
-            state: if fault { LatchState::Fault } else { self.motion },
+            state: if fault {
+                LatchState::Fault
+            } else {
+                self.motion
+            },
             newly_latched: false,
             faults,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn input(t: f32, switch: bool, deg: f32) -> LatchInput {
+        LatchInput {
+            t_s: t,
+            switch,
+            measured_deg: Some(deg),
+            angle_deg: deg,
+            rate_deg_s: -50.0,
+            stowed_deg: 90.0,
+        }
+    }
+
+    fn run(tr: &mut LatchTracker, samples: &[(bool, f32)]) -> LatchOutput {
+        let cfg = LatchConfig::default();
+        let mut out = None;
+        for (i, &(sw, deg)) in samples.iter().enumerate() {
+            out = Some(tr.step(&input(i as f32 * 0.01, sw, deg), &cfg));
+        }
+        out.unwrap()
+    }
+
+    #[test]
+    fn given_switch_and_encoder_agree_when_closed_twice_then_latched() {
+        let mut tr = LatchTracker::new();
+        let out = run(&mut tr, &[(false, 80.0), (false, 1.0), (true, 0.0)]);
+        assert_eq!(
+            out.state,
+            LatchState::Latching,
+            "one closed sample is not a latch"
+        );
+        let out = tr.step(&input(0.03, true, 0.01), &LatchConfig::default());
+        assert!(out.newly_latched);
+        assert_eq!(out.state, LatchState::Latched);
+    }
+
+    #[test]
+    fn given_switch_closed_far_from_latch_then_fault_not_latch() {
+        let mut tr = LatchTracker::new();
+        let out = run(
+            &mut tr,
+            &[(false, 60.0), (true, 59.0), (true, 58.0), (true, 57.0)],
+        );
+        assert_eq!(out.state, LatchState::Fault);
+        assert!(out.faults.contains(Fault::SwitchEarly));
+        assert!(!tr.is_latched());
+    }
+
+    #[test]
+    fn given_encoder_at_latch_with_switch_open_then_fault_not_latch() {
+        let mut tr = LatchTracker::new();
+        let samples: [(bool, f32); 20] = [(false, 0.01); 20];
+        let out = run(&mut tr, &samples);
+        assert_eq!(out.state, LatchState::Fault);
+        assert!(out.faults.contains(Fault::SwitchOpenAtLatch));
+        assert!(!tr.is_latched());
+    }
+
+    #[test]
+    fn given_confirmed_latch_when_switch_opens_then_latch_kept_and_flagged() {
+        let mut tr = LatchTracker::new();
+        run(&mut tr, &[(true, 0.0), (true, 0.0)]);
+        assert!(tr.is_latched());
+        let out = tr.step(&input(1.0, false, 0.0), &LatchConfig::default());
+        assert_eq!(out.state, LatchState::Latched);
+        assert!(out.faults.contains(Fault::LatchDisagree));
+        let out = tr.step(
+            &LatchInput {
+                measured_deg: None,
+                ..input(1.01, true, 0.0)
+            },
+            &LatchConfig::default(),
+        );
+        assert_eq!(out.state, LatchState::Latched);
+    }
+
+    #[test]
+    fn given_chatter_then_flagged() {
+        let mut tr = LatchTracker::new();
+        let out = run(&mut tr, &[(false, 50.0), (true, 49.0), (false, 48.0)]);
+        assert!(out.faults.contains(Fault::SwitchChatter));
+    }
+
+    #[test]
+    fn names_round_trip() {
+        for s in LatchState::ALL {
+            assert_eq!(LatchState::from_name(s.as_str()), Some(s));
         }
     }
 }

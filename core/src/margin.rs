@@ -243,7 +243,11 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
     let mut omega = libm::sqrtf(2.0 * e.max(0.0) / inertia);
     let mut hi = x0;
     for i in 0..NODES {
-        let lo = if i + 1 == NODES { xc } else { x0 - (i + 1) as f32 * step };
+        let lo = if i + 1 == NODES {
+            xc
+        } else {
+            x0 - (i + 1) as f32 * step
+        };
         let dx = hi - lo;
         let gain = x.spring_scale.max(0.0) * spring.release(lo, hi);
         e_s += gain;
@@ -268,7 +272,11 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
             stalled = true;
         } else {
             let mean = 0.5 * (omega + omega_next);
-            t_total += if mean > 1e-9 { dx / mean } else { f32::INFINITY };
+            t_total += if mean > 1e-9 {
+                dx / mean
+            } else {
+                f32::INFINITY
+            };
         }
         omega = omega_next;
         hi = lo;
@@ -286,8 +294,16 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
     let lower = x.coulomb_lower_nm.max(0.0);
     let p = truncated_below_cdf(t_star, tc, sd, lower);
     MarginResult {
-        margin_pct: if margin_pct.is_finite() { margin_pct } else { 0.0 },
-        latch_probability: if p.is_finite() { p.clamp(0.0, 1.0) } else { 0.5 },
+        margin_pct: if margin_pct.is_finite() {
+            margin_pct
+        } else {
+            0.0
+        },
+        latch_probability: if p.is_finite() {
+            p.clamp(0.0, 1.0)
+        } else {
+            0.5
+        },
         time_to_latch_s: if stalled || !t_total.is_finite() {
             None
         } else {
@@ -338,7 +354,11 @@ mod tests {
         let r = evaluate(&linear(), &input(1.0), &SET);
         let ed = core::f32::consts::FRAC_PI_2 + 0.25 * core::f32::consts::FRAC_PI_2.powi(2);
         let want = (ed / core::f32::consts::FRAC_PI_2 - 1.0) * 100.0;
-        assert!((r.margin_pct - want).abs() < 0.01, "{} vs {want}", r.margin_pct);
+        assert!(
+            (r.margin_pct - want).abs() < 0.01,
+            "{} vs {want}",
+            r.margin_pct
+        );
         assert!(r.latch_probability > 0.99);
         assert!(r.time_to_latch_s.is_some());
         // Friction beyond the spring: stall.
@@ -350,13 +370,20 @@ mod tests {
         let mut s = SET;
         s.factors.coulomb = 2.0;
         let r2 = evaluate(&linear(), &input(1.0), &s);
-        assert!((r2.margin_pct - ((ed / (2.0 * core::f32::consts::FRAC_PI_2) - 1.0) * 100.0)).abs() < 0.01);
+        assert!(
+            (r2.margin_pct - ((ed / (2.0 * core::f32::consts::FRAC_PI_2) - 1.0) * 100.0)).abs()
+                < 0.01
+        );
         // Uncertain friction near the threshold T* = 1.39 N·m: undecided,
         // until the friction torque seen bounds T_C above T*.
         let mut u = input(1.2);
         u.coulomb_var = 0.5 * 0.5;
         let r = evaluate(&linear(), &u, &SET);
-        assert!(r.latch_probability > 0.5 && r.latch_probability < 0.9, "{}", r.latch_probability);
+        assert!(
+            r.latch_probability > 0.5 && r.latch_probability < 0.9,
+            "{}",
+            r.latch_probability
+        );
         u.coulomb_lower_nm = 1.45;
         assert_eq!(evaluate(&linear(), &u, &SET).latch_probability, 0.0);
     }
@@ -367,7 +394,10 @@ mod tests {
         assert_eq!(truncated_below_cdf(1.0, 0.0, 1.0, 2.0), 0.0);
         // Half the mass below the mean removed: P(X < mean | X ≥ mean − 1σ).
         let p = truncated_below_cdf(0.0, 0.0, 1.0, -1.0);
-        assert!((p - (0.5 - 0.158_655_25) / (1.0 - 0.158_655_25)).abs() < 1e-5, "{p}");
+        assert!(
+            (p - (0.5 - 0.158_655_25) / (1.0 - 0.158_655_25)).abs() < 1e-5,
+            "{p}"
+        );
     }
 
     #[test]

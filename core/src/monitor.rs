@@ -22,10 +22,12 @@ use crate::friction::Friction;
 use crate::latch::{LatchConfig, LatchInput, LatchState, LatchTracker};
 use crate::linalg::solve_spd_masked;
 use crate::margin::{self, MarginInput, MarginResult, MarginSettings, UncertaintyFactors};
-use crate::rollout::{normal_quantile, Bracket, JointOutcome, Rollout, RolloutConfig, RolloutStart};
 use crate::observer::{
-    inverse_spd_masked, momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation, ObserverInput,
-    ObserverTuning, RateFilter,
+    inverse_spd_masked, momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation,
+    ObserverInput, ObserverTuning, RateFilter,
+};
+use crate::rollout::{
+    normal_quantile, Bracket, JointOutcome, Rollout, RolloutConfig, RolloutStart,
 };
 use crate::spring::{Branch, Spring};
 use serde::{Deserialize, Serialize};
@@ -52,7 +54,11 @@ pub struct Sample<const N: usize> {
 impl<const N: usize> Sample<N> {
     /// A sample.
     pub const fn new(t_s: f32, phi_deg: [f32; N], latch: [bool; N]) -> Self {
-        Sample { t_s, phi_deg, latch }
+        Sample {
+            t_s,
+            phi_deg,
+            latch,
+        }
     }
 }
 
@@ -338,7 +344,11 @@ impl core::fmt::Display for ConfigError {
         match self {
             ConfigError::Chain(e) => write!(f, "monitor mechanism: {e}"),
             ConfigError::Joint { index, what } => {
-                write!(f, "monitor joint {}: {what} must be a finite number in range", index + 1)
+                write!(
+                    f,
+                    "monitor joint {}: {what} must be a finite number in range",
+                    index + 1
+                )
             }
             ConfigError::Parameter(what) => write!(f, "monitor tuning: {what} is out of range"),
         }
@@ -360,7 +370,10 @@ impl<const N: usize> MonitorConfig<N> {
     pub fn validate(&self) -> Result<(), ConfigError> {
         for (index, j) in self.joints.iter().enumerate() {
             let checks: [(bool, &'static str); 6] = [
-                (j.stowed_deg.is_finite() && libm::fabsf(j.stowed_deg) <= ENCODER_RANGE_DEG, "stowed_deg"),
+                (
+                    j.stowed_deg.is_finite() && libm::fabsf(j.stowed_deg) <= ENCODER_RANGE_DEG,
+                    "stowed_deg",
+                ),
                 (non_negative(j.capture_deg), "capture_deg"),
                 (j.prior.coulomb_nm.is_finite(), "coulomb prior"),
                 (positive(j.prior.coulomb_sd_nm), "coulomb prior sd"),
@@ -375,7 +388,10 @@ impl<const N: usize> MonitorConfig<N> {
         let t = &o.tuning;
         let checks: [(bool, &'static str); 18] = [
             (positive(self.sensor.encoder_sd_deg), "encoder_sd_deg"),
-            (non_negative(self.sensor.encoder_step_deg), "encoder_step_deg"),
+            (
+                non_negative(self.sensor.encoder_step_deg),
+                "encoder_step_deg",
+            ),
             (positive(o.jerk_psd), "jerk_psd"),
             (
                 positive(o.jerk_adaptation.q_min)
@@ -392,16 +408,27 @@ impl<const N: usize> MonitorConfig<N> {
             (non_negative(o.snap_zone_deg), "snap_zone_deg"),
             (positive(o.gate_sigma), "gate_sigma"),
             (positive(t.bandwidth_per_s), "bandwidth_per_s"),
-            (positive(t.coulomb_threshold_rad_s), "coulomb_threshold_rad_s"),
-            (non_negative(t.coulomb_walk) && non_negative(t.viscous_walk), "friction walk"),
+            (
+                positive(t.coulomb_threshold_rad_s),
+                "coulomb_threshold_rad_s",
+            ),
+            (
+                non_negative(t.coulomb_walk) && non_negative(t.viscous_walk),
+                "friction walk",
+            ),
             (positive(t.residual_var_floor), "residual_var_floor"),
             (non_negative(o.settle_s), "settle_s"),
-            (positive(o.min_dt_s) && positive(o.max_gap_s) && o.max_gap_s > o.min_dt_s, "time step limits"),
+            (
+                positive(o.min_dt_s) && positive(o.max_gap_s) && o.max_gap_s > o.min_dt_s,
+                "time step limits",
+            ),
             (self.margin.factors.is_valid(), "uncertainty factors"),
-            (self.margin.confidence > 0.5 && self.margin.confidence < 1.0, "confidence"),
+            (
+                self.margin.confidence > 0.5 && self.margin.confidence < 1.0,
+                "confidence",
+            ),
             (
                 positive(self.margin.rollout.dt_s)
-                    && self.margin.rollout.steps_per_update > 0
                     && positive(self.margin.rollout.horizon_s)
                     && positive(self.margin.rollout.coulomb_threshold_rad_s),
                 "rollout",
@@ -483,7 +510,8 @@ impl<const N: usize> Monitor<N> {
             friction: Friction::default(),
             effects: JointEffects::default(),
         });
-        let chain = Chain::new(config.panels, joints, GlobalEffects::default()).map_err(ConfigError::Chain)?;
+        let chain = Chain::new(config.panels, joints, GlobalEffects::default())
+            .map_err(ConfigError::Chain)?;
         let sd = config.sensor.encoder_sd_deg * DEG;
         Ok(Monitor {
             chain,
@@ -494,7 +522,12 @@ impl<const N: usize> Monitor<N> {
             latch_cfg: config.latch,
             margin_cfg: config.margin,
             kf: core::array::from_fn(|j| {
-                let mut f = RateFilter::new(config.joints[j].stowed_deg * DEG, sd, START_RATE_SD, START_ACC_SD);
+                let mut f = RateFilter::new(
+                    config.joints[j].stowed_deg * DEG,
+                    sd,
+                    START_RATE_SD,
+                    START_ACC_SD,
+                );
                 f.set_jerk_psd(config.observer.jerk_psd);
                 f
             }),
@@ -573,7 +606,11 @@ impl<const N: usize> Monitor<N> {
             if !(d >= self.observer.min_dt_s) {
                 global.insert(Fault::TimeBackwards);
                 let chained = self.back_run > 0 && t - self.t_back >= self.observer.min_dt_s;
-                self.back_run = if chained { self.back_run.saturating_add(1) } else { 1 };
+                self.back_run = if chained {
+                    self.back_run.saturating_add(1)
+                } else {
+                    1
+                };
                 self.t_back = t;
                 if self.back_run < RESYNC_SAMPLES {
                     return self.hold(global);
@@ -673,7 +710,8 @@ impl<const N: usize> Monitor<N> {
             newly[j] = out.newly_latched;
             faults[j] = faults[j].union(out.faults);
         }
-        let locked: [bool; N] = core::array::from_fn(|j| self.lt[j].is_latched() || self.lt[j].held_at_latch());
+        let locked: [bool; N] =
+            core::array::from_fn(|j| self.lt[j].is_latched() || self.lt[j].held_at_latch());
         if newly.iter().any(|n| *n) {
             self.apply_latch_impulse(&newly, &locked);
             self.restart_pending = true;
@@ -681,8 +719,10 @@ impl<const N: usize> Monitor<N> {
         }
 
         // Model quantities: latched joints sit at 0.
-        let phi_m: [f32; N] = core::array::from_fn(|j| if locked[j] { 0.0 } else { self.kf[j].angle() });
-        let om_m: [f32; N] = core::array::from_fn(|j| if locked[j] { 0.0 } else { self.kf[j].rate() });
+        let phi_m: [f32; N] =
+            core::array::from_fn(|j| if locked[j] { 0.0 } else { self.kf[j].angle() });
+        let om_m: [f32; N] =
+            core::array::from_fn(|j| if locked[j] { 0.0 } else { self.kf[j].rate() });
         let terms = momentum_terms(&self.chain, &phi_m, &om_m);
         let m = &terms.mass;
         let zone = self.observer.snap_zone_deg * DEG;
@@ -709,7 +749,8 @@ impl<const N: usize> Monitor<N> {
             // Learn only from samples where every free joint was measured
             // and no rate filter lags a manoeuvre (its innovations are white).
             let high = self.observer.jerk_adaptation.high;
-            let all_measured = (0..N).all(|j| locked[j] || (meas[j].is_some() && self.kf[j].nis() <= high));
+            let all_measured =
+                (0..N).all(|j| locked[j] || (meas[j].is_some() && self.kf[j].nis() <= high));
             for j in 0..N {
                 if locked[j] {
                     continue;
@@ -778,14 +819,20 @@ impl<const N: usize> Monitor<N> {
             }
         }
 
-        self.advance_rollouts(t, quiet, &locked, &phi_m, &om_m);
+        if self.margin_cfg.rollout.steps_per_update > 0 {
+            self.advance_rollouts(t, quiet, &locked, &phi_m, &om_m);
+        }
 
         // Status.
         let conf = self.margin_cfg.confidence;
         for j in 0..N {
             let est = self.fo[j].estimate();
             let latched = self.lt[j].is_latched();
-            let margin_pct = if latched { None } else { self.margin[j].map(|r| r.margin_pct) };
+            let margin_pct = if latched {
+                None
+            } else {
+                self.margin[j].map(|r| r.margin_pct)
+            };
             // A latch after the deadline is a stall.
             let deadline = self.t_start + self.margin_cfg.deadline_s;
             let pick = |o: Option<([JointOutcome; N], f32)>| {
@@ -797,16 +844,35 @@ impl<const N: usize> Monitor<N> {
                     })
                 })
             };
-            let (nom, pess, opt) = (pick(self.nominal), pick(self.pessimistic), pick(self.optimistic));
+            let (nom, pess, opt) = (
+                pick(self.nominal),
+                pick(self.pessimistic),
+                pick(self.optimistic),
+            );
             let ttl = |o: Option<(JointOutcome, f32)>| {
-                o.filter(|(x, _)| x.latches).map(|(x, t0)| (t0 + x.latch_after_s - t).max(0.0))
+                o.filter(|(x, _)| x.latches)
+                    .map(|(x, t0)| (t0 + x.latch_after_s - t).max(0.0))
             };
             let energy_stall = self.margin[j].is_some_and(|r| r.latch_probability <= 1.0 - conf);
+            let energy = self.margin[j];
+            let energy_stall = energy.is_some_and(|r| r.latch_probability <= 1.0 - conf);
+            let rollouts = self.margin_cfg.rollout.steps_per_update > 0;
             let (prediction, confidence, time_to_latch) = match nom {
                 _ if latched => (Prediction::Latch, 1.0, None),
                 // Not even the one-joint balance, which counts all the
                 // kinetic energy in the joint, gets it to the latch.
                 _ if energy_stall => (Prediction::Stall, conf, None),
+                // Rollouts switched off: the one-joint balance alone.
+                _ if !rollouts => match energy {
+                    Some(r) if r.latch_probability >= conf => {
+                        (Prediction::Latch, conf, r.time_to_latch_s)
+                    }
+                    _ => (
+                        Prediction::Unknown,
+                        0.0,
+                        energy.and_then(|r| r.time_to_latch_s),
+                    ),
+                },
                 None => (Prediction::Unknown, 0.0, None),
                 Some((x, _)) if x.latches => {
                     let sure = pess.is_some_and(|(p, _)| p.latches);
@@ -848,11 +914,21 @@ impl<const N: usize> Monitor<N> {
     /// and starts the other bracket from the current estimates (only while
     /// the observers are settled: a rollout from a snap or a latch transient
     /// would start from the rate filter's wide-open state).
-    fn advance_rollouts(&mut self, t: f32, quiet: bool, locked: &[bool; N], phi: &[f32; N], omega: &[f32; N]) {
+    fn advance_rollouts(
+        &mut self,
+        t: f32,
+        quiet: bool,
+        locked: &[bool; N],
+        phi: &[f32; N],
+        omega: &[f32; N],
+    ) {
         let mut cfg = self.margin_cfg.rollout;
         if let Some((r, bracket, t0)) = self.rollout.as_mut() {
             // Only the time left to the deadline matters.
-            cfg.horizon_s = cfg.horizon_s.min(self.t_start + self.margin_cfg.deadline_s - *t0).max(cfg.dt_s);
+            cfg.horizon_s = cfg
+                .horizon_s
+                .min(self.t_start + self.margin_cfg.deadline_s - *t0)
+                .max(cfg.dt_s);
             r.advance(&self.chain, &cfg);
             if r.is_done() {
                 let out = (r.outcome(), *t0);
@@ -918,8 +994,20 @@ impl<const N: usize> Monitor<N> {
     /// the newly latched joints stop.
     fn apply_latch_impulse(&mut self, newly: &[bool; N], locked_after: &[bool; N]) {
         let locked_before: [bool; N] = core::array::from_fn(|j| locked_after[j] && !newly[j]);
-        let phi: [f32; N] = core::array::from_fn(|j| if locked_before[j] { 0.0 } else { self.kf[j].angle() });
-        let om: [f32; N] = core::array::from_fn(|j| if locked_before[j] { 0.0 } else { self.kf[j].rate() });
+        let phi: [f32; N] = core::array::from_fn(|j| {
+            if locked_before[j] {
+                0.0
+            } else {
+                self.kf[j].angle()
+            }
+        });
+        let om: [f32; N] = core::array::from_fn(|j| {
+            if locked_before[j] {
+                0.0
+            } else {
+                self.kf[j].rate()
+            }
+        });
         let m = momentum_terms(&self.chain, &phi, &om).mass;
         let mut p = [0.0f32; N];
         for (pj, row) in p.iter_mut().zip(m.iter()) {
@@ -964,7 +1052,11 @@ impl<const N: usize> Monitor<N> {
         // The friction torque seen now bounds T_C from below, when the
         // observer runs undisturbed and the bound agrees with the estimate
         // (a bound beyond T̂_C + 2σ is a transient of r, not evidence).
-        let bound = if quiet { o.coulomb_lower_bound(rate) } else { 0.0 };
+        let bound = if quiet {
+            o.coulomb_lower_bound(rate)
+        } else {
+            0.0
+        };
         let bound = if bound <= est.coulomb_nm + 2.0 * libm::sqrtf(est.coulomb_var.max(0.0)) {
             bound
         } else {
@@ -1002,5 +1094,103 @@ fn finite(v: f32) -> f32 {
         v
     } else {
         0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn config() -> MonitorConfig<1> {
+        MonitorConfig::new(
+            [Panel {
+                length_m: 0.8,
+                mass_kg: 4.0,
+                com_m: 0.4,
+                inertia_kgm2: 0.3,
+            }],
+            [JointConfig {
+                stowed_deg: 90.0,
+                spring: Spring::Linear {
+                    preload_nm: 1.0,
+                    stiffness_nm_per_rad: 0.5,
+                    count: 1.0,
+                },
+                capture_deg: 0.0,
+                prior: FrictionPrior {
+                    coulomb_nm: 0.0,
+                    coulomb_sd_nm: 2.0,
+                    viscous_nms: 0.0,
+                    viscous_sd_nms: 0.05,
+                },
+            }],
+        )
+    }
+
+    #[test]
+    fn bad_time_stamps_are_flagged_and_resynchronised() {
+        let mut m = Monitor::new(&config()).unwrap();
+        m.update(&Sample::new(0.0, [90.0], [false]));
+        m.update(&Sample::new(0.01, [90.0], [false]));
+        let st = m.update(&Sample::new(f32::NAN, [90.0], [false]));
+        assert!(st.joints[0].faults.contains(Fault::TimeInvalid));
+        assert_eq!(st.samples, 2, "a sample with a bad time stamp is not used");
+        // A clock that jumps ahead (a gap), then back to where it was: the
+        // samples behind the jump are flagged and not used, until three in a
+        // row are adopted as the new time base.
+        let st = m.update(&Sample::new(5.0, [90.0], [false]));
+        assert!(st.joints[0].faults.contains(Fault::TimeGap));
+        assert_eq!(st.samples, 3);
+        for (k, t) in [0.02f32, 0.03].iter().enumerate() {
+            let st = m.update(&Sample::new(*t, [90.0], [false]));
+            assert!(st.joints[0].faults.contains(Fault::TimeBackwards), "{k}");
+            assert_eq!(st.samples, 3);
+        }
+        let st = m.update(&Sample::new(0.04, [90.0], [false]));
+        assert!(st.joints[0].faults.contains(Fault::TimeBackwards));
+        assert!(st.joints[0].faults.contains(Fault::TimeGap));
+        assert_eq!(st.samples, 4, "adopted");
+        let st = m.update(&Sample::new(0.05, [90.0], [false]));
+        assert!(st.joints[0].faults.is_empty(), "{}", st.joints[0].faults);
+    }
+
+    #[test]
+    fn missing_reading_is_flagged_and_estimates_stay_finite() {
+        let mut m = Monitor::new(&config()).unwrap();
+        m.update(&Sample::new(0.0, [90.0], [false]));
+        let st = m.update(&Sample::new(0.01, [f32::NAN], [false]));
+        assert!(st.joints[0].faults.contains(Fault::EncoderMissing));
+        let st = m.update(&Sample::new(0.02, [1e30], [false]));
+        assert!(st.joints[0].faults.contains(Fault::EncoderRange));
+        assert!(st.joints[0].phi_deg.is_finite() && (st.joints[0].phi_deg - 90.0).abs() < 1.0);
+    }
+
+    #[test]
+    fn config_errors_name_the_parameter() {
+        let mut c = config();
+        c.joints[0].prior.coulomb_sd_nm = f32::NAN;
+        assert_eq!(
+            Monitor::new(&c).err(),
+            Some(ConfigError::Joint {
+                index: 0,
+                what: "coulomb prior sd"
+            })
+        );
+        let mut c = config();
+        c.margin.confidence = 1.5;
+        assert_eq!(
+            Monitor::new(&c).err(),
+            Some(ConfigError::Parameter("confidence"))
+        );
+        let mut c = config();
+        c.panels[0].mass_kg = 0.0;
+        assert!(matches!(Monitor::new(&c), Err(ConfigError::Chain(_))));
+    }
+
+    #[test]
+    fn prediction_names_round_trip() {
+        for p in Prediction::ALL {
+            assert_eq!(Prediction::from_name(p.as_str()), Some(p));
+        }
     }
 }

@@ -318,7 +318,10 @@ pub fn momentum_terms<const N: usize>(
 /// Inverse of the free block of a symmetric positive definite `m`
 /// (rows and columns of `locked` joints are zero), by one Cholesky
 /// factorisation; `None` when the block is not positive definite.
-pub fn inverse_spd_masked<const N: usize>(m: &[[f32; N]; N], locked: &[bool; N]) -> Option<[[f32; N]; N]> {
+pub fn inverse_spd_masked<const N: usize>(
+    m: &[[f32; N]; N],
+    locked: &[bool; N],
+) -> Option<[[f32; N]; N]> {
     let mut l = [[0.0f32; N]; N];
     for i in 0..N {
         if locked[i] {
@@ -531,7 +534,8 @@ impl FrictionObserver {
             return 0.0;
         }
         let sd = libm::sqrtf(self.lag_var.max(0.0) * self.kdt / (2.0 - self.kdt));
-        let bound = libm::fabsf(self.r) - self.theta[1].max(0.0) * libm::fabsf(rate_rad_s) - 2.0 * sd;
+        let bound =
+            libm::fabsf(self.r) - self.theta[1].max(0.0) * libm::fabsf(rate_rad_s) - 2.0 * sd;
         if bound.is_finite() {
             bound.max(0.0)
         } else {
@@ -658,7 +662,12 @@ impl FrictionObserver {
             }
         }
         // Parameter projection onto the physical set.
-        for ((t, lo), hi) in self.theta.iter_mut().zip(THETA_MIN.iter()).zip(THETA_MAX.iter()) {
+        for ((t, lo), hi) in self
+            .theta
+            .iter_mut()
+            .zip(THETA_MIN.iter())
+            .zip(THETA_MAX.iter())
+        {
             *t = t.clamp(*lo, *hi);
         }
     }
@@ -699,18 +708,18 @@ mod tests {
             phi_dot: om.map(f64::from),
         };
         let _ = x;
-        let (_, rhs) = c.equations(
-            &ChainState {
-                phi,
-                phi_dot: om,
-            },
-            &crate::Mode::default(),
-        );
+        let (_, rhs) = c.equations(&ChainState { phi, phi_dot: om }, &crate::Mode::default());
         for j in 0..3 {
-            assert!((rhs[j] - t.coriolis[j]).abs() < 1e-4, "{j}: {} vs {}", rhs[j], t.coriolis[j]);
+            assert!(
+                (rhs[j] - t.coriolis[j]).abs() < 1e-4,
+                "{j}: {} vs {}",
+                rhs[j],
+                t.coriolis[j]
+            );
         }
         let inv = inverse_spd_masked(&m, &[false, true, false]).unwrap();
-        let x = crate::linalg::solve_spd_masked(&m, &[1.0, 0.0, 0.0], &[false, true, false]).unwrap();
+        let x =
+            crate::linalg::solve_spd_masked(&m, &[1.0, 0.0, 0.0], &[false, true, false]).unwrap();
         for i in 0..3 {
             assert!((inv[i][0] - x[i]).abs() < 1e-5);
         }
@@ -744,7 +753,11 @@ mod tests {
             let ta = c64.kinetic_energy(&ChainState { phi: a, phi_dot: w });
             let tb = c64.kinetic_energy(&ChainState { phi: b, phi_dot: w });
             let fd = (ta - tb) / 2e-6;
-            assert!((f64::from(beta[j]) - fd).abs() < 1e-4, "β_{j}: {} vs {fd}", beta[j]);
+            assert!(
+                (f64::from(beta[j]) - fd).abs() < 1e-4,
+                "β_{j}: {} vs {fd}",
+                beta[j]
+            );
         }
         // A rigid rotation of the whole chain does not change T.
         assert!(beta[0].abs() < 1e-5);
@@ -804,7 +817,10 @@ mod tests {
             }
             let tau = c64.joint_torque(jj, phi[jj], w[jj], crate::Branch::Unfold);
             let want = tau + f64::from(beta[jj]);
-            assert!((pdot - want).abs() < 1e-3, "joint {jj}: ṗ = {pdot}, τ + β = {want}");
+            assert!(
+                (pdot - want).abs() < 1e-3,
+                "joint {jj}: ṗ = {pdot}, τ + β = {want}"
+            );
         }
     }
 
@@ -824,14 +840,24 @@ mod tests {
             f.predict(0.01, 0.0);
             noise = noise.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
             let n = ((noise >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 6e-4;
-            assert_eq!(f.update(1.0 - 0.2 * t + n, 3e-8, 36.0, &adapt), Fusion::Accepted);
+            assert_eq!(
+                f.update(1.0 - 0.2 * t + n, 3e-8, 36.0, &adapt),
+                Fusion::Accepted
+            );
         }
         assert!((f.rate() + 0.2).abs() < 2e-3, "{}", f.rate());
-        assert!(f.jerk_psd() < 0.1, "a steady ramp needs little process noise: {}", f.jerk_psd());
+        assert!(
+            f.jerk_psd() < 0.1,
+            "a steady ramp needs little process noise: {}",
+            f.jerk_psd()
+        );
         assert!(f.is_healthy());
         // A spike is gated out.
         f.predict(0.01, 0.0);
-        assert_eq!(f.update(f.angle() + 0.1, 3e-8, 36.0, &adapt), Fusion::Rejected);
+        assert_eq!(
+            f.update(f.angle() + 0.1, 3e-8, 36.0, &adapt),
+            Fusion::Rejected
+        );
     }
 
     #[test]

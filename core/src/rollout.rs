@@ -74,7 +74,9 @@ pub struct RolloutStart<const N: usize> {
 pub struct RolloutConfig {
     /// Integration step [s].
     pub dt_s: f32,
-    /// Steps advanced per monitor update.
+    /// Steps advanced per monitor update (two chain evaluations each); 0
+    /// switches the rollouts off (the prediction then rests on the one-joint
+    /// energy balance of [`crate::margin`] alone).
     pub steps_per_update: u8,
     /// Predicted time after which the joints not latched count as stalled
     /// [s] (the monitor shortens it to the deployment's deadline).
@@ -143,7 +145,13 @@ impl<const N: usize> Rollout<N> {
 
     /// Accelerations at `x`, linearly implicit in the friction over `h`:
     /// `(M + h C) a = τ_s + τ_f − SᵀC_cor`.
-    fn acceleration(&self, chain: &Chain<f32, N>, x: &ChainState<f32, N>, h: f32, wc: f32) -> Option<[f32; N]> {
+    fn acceleration(
+        &self,
+        chain: &Chain<f32, N>,
+        x: &ChainState<f32, N>,
+        h: f32,
+        wc: f32,
+    ) -> Option<[f32; N]> {
         let mut mode = Mode::<N> {
             latched: self.latched,
             ..Mode::default()
@@ -235,9 +243,16 @@ impl<const N: usize> Rollout<N> {
         let hopeless = (0..N).all(|j| {
             let inward = -self.x.phi[j] * self.x.phi_dot[j];
             let rest = libm::fabsf(self.x.phi[j]) - self.start.capture_rad[j];
-            self.latched[j] || !(inward > 0.0) || rest * libm::fabsf(self.x.phi[j]) > inward * time_left
+            self.latched[j]
+                || !(inward > 0.0)
+                || rest * libm::fabsf(self.x.phi[j]) > inward * time_left
         });
-        let finite = self.x.phi.iter().chain(self.x.phi_dot.iter()).all(|v| v.is_finite());
+        let finite = self
+            .x
+            .phi
+            .iter()
+            .chain(self.x.phi_dot.iter())
+            .all(|v| v.is_finite());
         if (self.creeping_s >= STALL_HOLD_S && hopeless) || self.t_s >= cfg.horizon_s || !finite {
             self.finish();
         }

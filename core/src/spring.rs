@@ -207,7 +207,10 @@ impl<T: Real> Curve<T> {
         let h10 = s3 - two * s2 + s;
         let h01 = three * s2 - two * s3;
         let h11 = s3 - s2;
-        h00 * self.y[i] + h10 * h * self.slope[i] + h01 * self.y[i + 1] + h11 * h * self.slope[i + 1]
+        h00 * self.y[i]
+            + h10 * h * self.slope[i]
+            + h01 * self.y[i + 1]
+            + h11 * h * self.slope[i + 1]
     }
 
     /// `∫ T(θ) dθ` from `a` to `b` degrees (a ≤ b), in N·m·deg, with the
@@ -511,7 +514,8 @@ mod tests {
         let mut acc = 0.0;
         for i in 0..n {
             let x0 = a + i as f64 * h;
-            acc += 0.5 * h * (s.magnitude(x0, Branch::Unfold) + s.magnitude(x0 + h, Branch::Unfold));
+            acc +=
+                0.5 * h * (s.magnitude(x0, Branch::Unfold) + s.magnitude(x0 + h, Branch::Unfold));
         }
         assert!((s.release(a, b) - acc).abs() < 1e-6 * acc.abs());
         let lin = Spring::Linear {

@@ -1,6 +1,6 @@
 //! The monitor configuration as telemetry frames: the host sends the
 //! mechanism first, so the firmware needs no table of mechanisms compiled in
-//! and replays any mechanism of 1 to [`MAX_JOINTS`] joints.
+//! and replays any mechanism whose joint count is in [`JOINT_COUNTS`].
 //!
 //! ```text
 //! input = ConfigHeader ‖ JointFrame × joints ‖ Sample<joints> × samples
@@ -21,9 +21,13 @@ use deploywatch_core::spring::{CurveError, Fold, Interp, MAX_KNOTS};
 use deploywatch_core::{Curve, Panel, Spring, TapePoints};
 use serde::{Deserialize, Serialize};
 
-/// Most joints a configuration may have (the firmware has a monitor of each
-/// size from 1 to this).
-pub const MAX_JOINTS: usize = 4;
+/// The joint counts the firmware has a monitor for (`Monitor<N>` is
+/// monomorphised per `N`, and each size costs about 17 KiB of flash: 2 and 3,
+/// the bundled mechanisms, fill the 64 KiB budget).
+pub const JOINT_COUNTS: [u8; 2] = [2, 3];
+
+/// The largest of [`JOINT_COUNTS`].
+pub const MAX_JOINTS: usize = 3;
 
 /// Version of the configuration frames; the firmware refuses another.
 pub const CONFIG_VERSION: u8 = 1;
@@ -33,8 +37,8 @@ pub const CONFIG_VERSION: u8 = 1;
 pub struct ConfigHeader {
     /// [`CONFIG_VERSION`].
     pub version: u8,
-    /// Joints of the mechanism (1 to [`MAX_JOINTS`]); as many
-    /// [`JointFrame`]s follow.
+    /// Joints of the mechanism (the firmware takes those in
+    /// [`JOINT_COUNTS`]); as many [`JointFrame`]s follow.
     pub joints: u8,
     /// The deployment's deadline (`MarginConfig::deadline_s`) [s].
     pub deadline_s: f32,

@@ -11,7 +11,7 @@
 //! - Input: the monitor configuration ([`config`]: a [`ConfigHeader`] frame,
 //!   then one [`JointFrame`] per joint), then one frame per sample, a
 //!   [`Sample<N>`](deploywatch_core::Sample) each, in time order, `N` the
-//!   header's joint count (1 to [`MAX_JOINTS`]).
+//!   header's joint count (one of [`JOINT_COUNTS`]).
 //! - Output: one frame per input sample, the
 //!   [`Status<N>`](deploywatch_core::Status) that
 //!   [`Monitor::update`](deploywatch_core::Monitor::update) returned.
@@ -30,10 +30,11 @@ use deploywatch_core::{Monitor, Sample, Status};
 
 pub mod config;
 
-pub use config::{ConfigHeader, JointFrame, MAX_JOINTS};
+pub use config::{ConfigHeader, JointFrame, JOINT_COUNTS, MAX_JOINTS};
 use config::{CONFIG_HEADER_FRAME_MAX, CONFIG_VERSION, JOINT_FRAME_MAX};
 
-/// Largest input sample frame of any joint count the firmware takes [bytes].
+/// Largest input sample frame of any joint count the firmware takes, `0x00`
+/// included [bytes].
 pub const SAMPLE_FRAME_MAX: usize = sample_frame_max(MAX_JOINTS);
 
 /// Largest output frame of any joint count, `0x00` included [bytes].
@@ -47,8 +48,8 @@ pub const READ_CHUNK: usize = 256;
 #[non_exhaustive]
 pub enum Error {
     /// The configuration frames are missing, do not decode, are of another
-    /// [`CONFIG_VERSION`](config::CONFIG_VERSION) or give a joint count out of
-    /// 1 to [`MAX_JOINTS`].
+    /// [`CONFIG_VERSION`](config::CONFIG_VERSION) or give a joint count not in
+    /// [`JOINT_COUNTS`].
     ConfigFrame,
     /// The monitor (or the core's spring constructor) rejects the
     /// configuration.
@@ -183,15 +184,16 @@ where
         Err(FrameError::Read) => return Err(Error::Read),
         _ => return Err(Error::ConfigFrame),
     };
-    let n = usize::from(header.joints);
-    if header.version != CONFIG_VERSION || n == 0 || n > MAX_JOINTS {
+    if header.version != CONFIG_VERSION || !JOINT_COUNTS.contains(&header.joints) {
         return Err(Error::ConfigFrame);
     }
     Ok(header)
 }
 
 /// Reads the `N` joint frames that follow the header and builds the
-/// monitor configuration.
+/// monitor configuration, one joint frame at a time (the configuration is
+/// built on the MCU's stack, just before the monitor's own frame).
+#[inline(never)]
 pub fn read_config<const N: usize, R>(
     header: &ConfigHeader,
     src: &mut Source<R>,
@@ -199,20 +201,27 @@ pub fn read_config<const N: usize, R>(
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
 {
-    let mut joints = [JointFrame::default(); N];
+    if usize::from(header.joints) != N {
+        return Err(Error::ConfigFrame);
+    }
+    // Placeholders, all overwritten (a spring of `None` always builds).
+    let (panel, joint) = JointFrame::default().to_config().map_err(|_| Error::Config)?;
+    let mut config = MonitorConfig::new([panel; N], [joint; N]);
+    config.margin.deadline_s = header.deadline_s;
     let mut buf = [0u8; JOINT_FRAME_MAX];
-    for j in joints.iter_mut() {
-        *j = match src.next_frame(&mut buf) {
+    for j in 0..N {
+        let frame: JointFrame = match src.next_frame(&mut buf) {
             Ok(Some(f)) => telemetry::decode(f).map_err(|_| Error::ConfigFrame)?,
             Err(FrameError::Read) => return Err(Error::Read),
             _ => return Err(Error::ConfigFrame),
         };
+        let (p, c) = frame.to_config().map_err(|_| Error::Config)?;
+        if let (Some(ps), Some(cs)) = (config.panels.get_mut(j), config.joints.get_mut(j)) {
+            *ps = p;
+            *cs = c;
+        }
     }
-    match header.config(&joints) {
-        Some(Ok(config)) => Ok(config),
-        Some(Err(_)) => Err(Error::Config),
-        None => Err(Error::ConfigFrame),
-    }
+    Ok(config)
 }
 
 /// Brackets every [`Monitor::update`] call of [`run`]: the firmware counts
@@ -229,11 +238,12 @@ impl Meter for () {
     fn stop(&mut self) {}
 }
 
-/// Replays the sample frames left in `src` through a monitor of `config`:
-/// runs [`Monitor::update`] on every sample (inside `meter`'s brackets) and
-/// hands each status frame to `write`. Returns the number of samples.
+/// Replays the sample frames left in `src` through `monitor`: runs
+/// [`Monitor::update`] on every sample (inside `meter`'s brackets) and hands
+/// each status frame to `write`. Returns the number of samples.
+#[inline(never)]
 pub fn run<const N: usize, R, W, M>(
-    config: &MonitorConfig<N>,
+    monitor: &mut Monitor<N>,
     src: &mut Source<R>,
     mut write: W,
     meter: &mut M,
@@ -243,7 +253,6 @@ where
     W: FnMut(&[u8]) -> Result<(), ()>,
     M: Meter,
 {
-    let mut monitor = Monitor::new(config).map_err(|_| Error::Config)?;
     let mut frame = [0u8; SAMPLE_FRAME_MAX];
     let mut out = [0u8; STATUS_FRAME_MAX];
     let mut index: u32 = 0;
@@ -286,18 +295,26 @@ where
     let header = read_header(&mut src)?;
     on_config(&header);
     let n = match header.joints {
-        2 => replay_n::<2, _, _, _>(&header, &mut src, write, meter),
-        3 => replay_n::<3, _, _, _>(&header, &mut src, write, meter),
+        2 => {
+            let config = read_config::<2, R>(&header, &mut src)?;
+            replay_n(&config, &mut src, write, meter)
+        }
+        3 => {
+            let config = read_config::<3, R>(&header, &mut src)?;
+            replay_n(&config, &mut src, write, meter)
+        }
         _ => Err(Error::ConfigFrame),
     }?;
     Ok((header.joints, n))
 }
 
-/// One monitor size: kept out of line so that only one size's frame is on
-/// the stack at a time.
+/// One monitor size: out of line, so that only one size's frame is on the
+/// stack at a time, and called after [`read_config`] has returned, so that
+/// the configuration's construction is not on the stack under the
+/// monitor's.
 #[inline(never)]
 fn replay_n<const N: usize, R, W, M>(
-    header: &ConfigHeader,
+    config: &MonitorConfig<N>,
     src: &mut Source<R>,
     write: W,
     meter: &mut M,
@@ -307,6 +324,6 @@ where
     W: FnMut(&[u8]) -> Result<(), ()>,
     M: Meter,
 {
-    let config = read_config::<N, R>(header, src)?;
-    run(&config, src, write, meter)
+    let mut monitor = Monitor::new(config).map_err(|_| Error::Config)?;
+    run(&mut monitor, src, write, meter)
 }

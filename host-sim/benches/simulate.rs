@@ -11,7 +11,9 @@ use std::hint::black_box;
 use std::path::PathBuf;
 
 fn data(p: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data").join(p)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../data")
+        .join(p)
 }
 
 fn bench(c: &mut Criterion) {
@@ -19,7 +21,15 @@ fn bench(c: &mut Criterion) {
     let golden = Run::load(&data("reference/seed001_T01_nominal.csv")).expect("bundled golden run");
     let opts = SimOptions::default();
     // Accuracy at the benchmarked settings, on the golden 1 kHz grid.
-    let fine = simulate(&mech, &[], &SimOptions { sample_hz: Some(1000.0), ..opts }).expect("simulation");
+    let fine = simulate(
+        &mech,
+        &[],
+        &SimOptions {
+            sample_hz: Some(1000.0),
+            ..opts
+        },
+    )
+    .expect("simulation");
     let mut sse = 0.0;
     let mut n = 0;
     for j in 0..3 {
@@ -30,7 +40,10 @@ fn bench(c: &mut Criterion) {
         }
     }
     let rms = (sse / n as f64).sqrt();
-    println!("seed001_T01 nominal: RMS {rms:.2e} deg from golden, {:?}", fine.stats);
+    println!(
+        "seed001_T01 nominal: RMS {rms:.2e} deg from golden, {:?}",
+        fine.stats
+    );
     assert!(rms <= 1e-3, "accuracy {rms} deg > 0.001 deg");
 
     c.bench_function("simulate seed001_T01 nominal (100 Hz output)", |b| {

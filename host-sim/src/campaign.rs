@@ -98,7 +98,12 @@ impl Campaign {
     }
 
     /// Adds a run already in memory, pairing it with one of `mechanisms`.
-    pub fn push(&mut self, mechanisms: &[Mechanism], run: Run, source: &Path) -> Result<(), CampaignError> {
+    pub fn push(
+        &mut self,
+        mechanisms: &[Mechanism],
+        run: Run,
+        source: &Path,
+    ) -> Result<(), CampaignError> {
         let file = source.display().to_string();
         let mechanism = pair_runs(mechanisms, &run, &file)?.clone();
         let t0 = run.t_s.first().copied().unwrap_or(0.0);

@@ -33,9 +33,6 @@ pub const NOISE_FLOOR_FACTOR: f64 = 1.2;
 /// fully (the others keep their scan score).
 pub const SCREEN_KEEP: usize = 8;
 
-/// How many of the last forward round's best candidates a swap tries.
-pub const SWAP_CANDIDATES: usize = 8;
-
 /// One candidate cause: an effect kind and, for per-joint effects, a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Candidate {
@@ -139,7 +136,10 @@ impl Candidate {
     pub fn value_ci(&self, p: &[f64], ci: &[[f64; 2]]) -> ([f64; 2], Option<[f64; 2]>) {
         let half = |k: usize| ci.get(k).map_or(f64::INFINITY, |c| 0.5 * (c[1] - c[0]));
         if self.kind == EffectKind::RigTilt {
-            let (x, y) = (p.first().copied().unwrap_or(0.0), p.get(1).copied().unwrap_or(0.0));
+            let (x, y) = (
+                p.first().copied().unwrap_or(0.0),
+                p.get(1).copied().unwrap_or(0.0),
+            );
             let g = x.hypot(y).max(1e-300);
             let (hx, hy) = (half(0), half(1));
             let hg = ((x * hx).powi(2) + (y * hy).powi(2)).sqrt() / g;
@@ -147,7 +147,12 @@ impl Candidate {
             let a = y.atan2(x).to_degrees().rem_euclid(360.0);
             return ([g - hg, g + hg], Some([a - ha, a + ha]));
         }
-        (ci.first().copied().unwrap_or([f64::NEG_INFINITY, f64::INFINITY]), None)
+        (
+            ci.first()
+                .copied()
+                .unwrap_or([f64::NEG_INFINITY, f64::INFINITY]),
+            None,
+        )
     }
 
     /// `name` or `name@joint`, for progress lines and reports.
@@ -360,8 +365,7 @@ impl Engine<'_> {
     }
 
     fn residuals(&self, c: &Campaign, set: &[Candidate], p: &[f64]) -> Option<Vec<f64>> {
-        self.sims
-            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        self.sims.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         c.residual_vector(&effects_of(set, p))
     }
 
@@ -419,7 +423,10 @@ impl Engine<'_> {
         }
         let (sse, m, params) = best?;
         Some(FittedSet {
-            ci95: params.iter().map(|_| [f64::NEG_INFINITY, f64::INFINITY]).collect(),
+            ci95: params
+                .iter()
+                .map(|_| [f64::NEG_INFINITY, f64::INFINITY])
+                .collect(),
             set,
             params,
             sse,
@@ -431,12 +438,18 @@ impl Engine<'_> {
     /// Screens every move (a base set plus a candidate) by its coarse scan
     /// and fits the [`SCREEN_KEEP`] most promising ones fully; the others
     /// keep their scan result and are marked as screened out.
-    fn fit_moves(&self, c: &Campaign, moves: &[(FittedSet, Candidate)]) -> Vec<(Candidate, Option<FittedSet>, bool)> {
+    fn fit_moves(
+        &self,
+        c: &Campaign,
+        moves: &[(FittedSet, Candidate)],
+    ) -> Vec<(Candidate, Option<FittedSet>, bool)> {
         let screened: Vec<Option<FittedSet>> = moves
             .par_iter()
             .map(|(base, cand)| self.screen(c, base, *cand))
             .collect();
-        let mut order: Vec<usize> = (0..moves.len()).filter(|&i| screened[i].is_some()).collect();
+        let mut order: Vec<usize> = (0..moves.len())
+            .filter(|&i| screened[i].is_some())
+            .collect();
         order.sort_by(|&a, &b| {
             let sa = screened[a].as_ref().map_or(f64::INFINITY, |f| f.sse);
             let sb = screened[b].as_ref().map_or(f64::INFINITY, |f| f.sse);
@@ -522,7 +535,11 @@ impl Engine<'_> {
             })
             .collect();
         scores.sort_by(|a, b| b.delta_bic.total_cmp(&a.delta_bic));
-        let show = if std::env::var_os("DEPLOYWATCH_TRACE").is_some() { usize::MAX } else { 5 };
+        let show = if std::env::var_os("DEPLOYWATCH_TRACE").is_some() {
+            usize::MAX
+        } else {
+            5
+        };
         for s in scores.iter().take(show) {
             self.say(format!(
                 "  {:<40} RMS {:.4} deg  dBIC {:>10.1}",
@@ -608,7 +625,10 @@ impl Engine<'_> {
                         .filter(|c| !r.set.contains(c))
                         .map(|c| c.label())
                         .collect();
-                    self.say(format!("  dropped {}: no longer earns its keep", gone.join(", ")));
+                    self.say(format!(
+                        "  dropped {}: no longer earns its keep",
+                        gone.join(", ")
+                    ));
                     held = self.held_out(&r);
                     f = r;
                 }
@@ -717,7 +737,11 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions) -> Outcome {
             rounds.push(round);
             if let Some((f, held)) = next {
                 if !seen.contains(&f.set) {
-                    eng.say(format!("  added {} (RMS {:.4} deg)", labels(&f.set), f.rms()));
+                    eng.say(format!(
+                        "  added {} (RMS {:.4} deg)",
+                        labels(&f.set),
+                        f.rms()
+                    ));
                     let (f, held) = eng.backward(f, held);
                     seen.push(f.set.clone());
                     current = f;
@@ -733,20 +757,13 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions) -> Outcome {
             break;
         }
         swaps += 1;
-        // Swap in only the strongest alternatives of the last forward round.
-        let strongest: Vec<Candidate> = rounds
+        // Every candidate may swap in: the moves are prescreened by their
+        // coarse scan, so this costs a few simulations per move.
+        let strongest: Vec<Candidate> = candidates
             .iter()
-            .rev()
-            .find(|r: &&Round| r.what.starts_with("add"))
-            .map(|r| {
-                r.scores
-                    .iter()
-                    .filter(|s| !current.set.contains(&s.candidate))
-                    .take(SWAP_CANDIDATES)
-                    .map(|s| s.candidate)
-                    .collect()
-            })
-            .unwrap_or_default();
+            .copied()
+            .filter(|c| !current.set.contains(c))
+            .collect();
         let mut moves = Vec::new();
         for k in 0..current.set.len() {
             let reduced = current.without(k);
@@ -768,7 +785,11 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions) -> Outcome {
         rounds.push(round);
         match next {
             Some((f, held)) if !seen.contains(&f.set) => {
-                eng.say(format!("  swapped to {{{}}} (RMS {:.4} deg)", labels(&f.set), f.rms()));
+                eng.say(format!(
+                    "  swapped to {{{}}} (RMS {:.4} deg)",
+                    labels(&f.set),
+                    f.rms()
+                ));
                 let (f, held) = eng.backward(f, held);
                 seen.push(f.set.clone());
                 current = f;

@@ -211,7 +211,10 @@ pub fn to_core(effects: &[Effect], joints: usize) -> (Vec<JointEffects<f64>>, Gl
     let mut je = vec![JointEffects::default(); joints];
     let mut g = GlobalEffects::default();
     for e in effects {
-        let j = e.joint.and_then(|j| j.checked_sub(1)).filter(|&j| j < joints);
+        let j = e
+            .joint
+            .and_then(|j| j.checked_sub(1))
+            .filter(|&j| j < joints);
         match (e.kind, j) {
             (EffectKind::CoulombFriction, Some(j)) => je[j].coulomb_nm += e.value,
             (EffectKind::ViscousDamping, Some(j)) => je[j].viscous_nms += e.value,

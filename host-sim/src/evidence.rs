@@ -36,7 +36,13 @@ pub struct JointEvidence {
 }
 
 /// Names of the correlates, in the order of [`JointEvidence::correlation`].
-pub const CORRELATES: [&str; 5] = ["rate", "rate²", "angle", "stowed distance", "latch proximity"];
+pub const CORRELATES: [&str; 5] = [
+    "rate",
+    "rate²",
+    "angle",
+    "stowed distance",
+    "latch proximity",
+];
 
 fn rms(x: impl Iterator<Item = f64>) -> f64 {
     let (mut s, mut n) = (0.0, 0usize);
@@ -102,10 +108,22 @@ pub fn analyse(campaign: &Campaign, effects: &[Effect], sigma: f64) -> Vec<Joint
             let latched_meas = &run.latch[j];
             let end = latched_meas.iter().position(|&l| l).unwrap_or(run.len());
             let frac = |k: usize| meas[k].abs() / stowed.max(1e-9);
-            let third = |lo: f64, hi: f64| rms((0..end).filter(|&k| frac(k) > lo && frac(k) <= hi).map(|k| r[k]));
-            let thirds = [third(2.0 / 3.0, f64::INFINITY), third(1.0 / 3.0, 2.0 / 3.0), third(-1.0, 1.0 / 3.0)];
+            let third = |lo: f64, hi: f64| {
+                rms((0..end)
+                    .filter(|&k| frac(k) > lo && frac(k) <= hi)
+                    .map(|k| r[k]))
+            };
+            let thirds = [
+                third(2.0 / 3.0, f64::INFINITY),
+                third(1.0 / 3.0, 2.0 / 3.0),
+                third(-1.0, 1.0 / 3.0),
+            ];
             let near = rms((0..end).filter(|&k| meas[k].abs() < 5.0).map(|k| r[k]));
-            let after = mean((0..run.len()).filter(|&k| latched_meas[k] && traj.latched[j][k]).map(|k| r[k]));
+            let after = mean(
+                (0..run.len())
+                    .filter(|&k| latched_meas[k] && traj.latched[j][k])
+                    .map(|k| r[k]),
+            );
             let release = mean((0..run.len()).filter(|&k| run.t_s[k] <= 0.05).map(|k| r[k]));
             let latch_meas = latched_meas.iter().position(|&l| l).map(|k| run.t_s[k]);
             let latch_model = traj.latched[j].iter().position(|&l| l).map(|k| traj.t_s[k]);
@@ -128,7 +146,17 @@ pub fn analyse(campaign: &Campaign, effects: &[Effect], sigma: f64) -> Vec<Joint
             }
             let correlation = [0, 1, 2, 3, 4].map(|q| pearson(&rr, &regs[q]));
             let total = rms(r.iter().copied());
-            let summary = describe(j + 1, total, &thirds, near, after, release, lead, &correlation, sigma);
+            let summary = describe(
+                j + 1,
+                total,
+                &thirds,
+                near,
+                after,
+                release,
+                lead,
+                &correlation,
+                sigma,
+            );
             out.push(JointEvidence {
                 run: cr.name(),
                 joint: j + 1,
@@ -160,10 +188,14 @@ fn describe(
 ) -> String {
     let clear = 3.0 * sigma.max(1e-6);
     if !(total > clear) {
-        return format!("joint {joint}: residual {total:.3} deg RMS, at the noise ({sigma:.3} deg)");
+        return format!(
+            "joint {joint}: residual {total:.3} deg RMS, at the noise ({sigma:.3} deg)"
+        );
     }
     let mut s = format!("joint {joint}: residual {total:.3} deg RMS");
-    let sensor = release.abs() > clear && after.is_finite() && (after - release).abs() < 0.25 * release.abs();
+    let sensor = release.abs() > clear
+        && after.is_finite()
+        && (after - release).abs() < 0.25 * release.abs();
     if sensor {
         s += &format!(
             "; already {release:+.3} deg at release and {after:+.3} deg after the latch: a sensor effect (offset), not dynamics"
@@ -186,7 +218,9 @@ fn describe(
         s += "; zero at release, grows with the motion: dynamic";
     }
     match lead {
-        Some(l) if l < -0.005 => s += &format!("; the model latches {:.3} s early (runs ahead)", -l),
+        Some(l) if l < -0.005 => {
+            s += &format!("; the model latches {:.3} s early (runs ahead)", -l)
+        }
         Some(l) if l > 0.005 => s += &format!("; the model latches {l:.3} s late (lags)"),
         _ => {}
     }

@@ -218,14 +218,20 @@ impl SensorFault {
             if v.is_finite() && v >= 0.0 {
                 Ok(())
             } else {
-                Err(format!("{}: {name}={v}: expected a time in seconds, 0 or more", self.kind()))
+                Err(format!(
+                    "{}: {name}={v}: expected a time in seconds, 0 or more",
+                    self.kind()
+                ))
             }
         };
         let length = |name: &str, v: f64| -> Result<(), String> {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(format!("{}: {name}={v}: expected a positive duration in seconds", self.kind()))
+                Err(format!(
+                    "{}: {name}={v}: expected a positive duration in seconds",
+                    self.kind()
+                ))
             }
         };
         if let Some(j) = self.joint() {
@@ -237,11 +243,24 @@ impl SensorFault {
             }
         }
         match *self {
-            SensorFault::Dropout { start_s, duration_s, .. } | SensorFault::TimeGap { start_s, duration_s } => {
+            SensorFault::Dropout {
+                start_s,
+                duration_s,
+                ..
+            }
+            | SensorFault::TimeGap {
+                start_s,
+                duration_s,
+            } => {
                 time("start", start_s)?;
                 length("duration", duration_s)
             }
-            SensorFault::Spike { t_s, magnitude_deg, samples, .. } => {
+            SensorFault::Spike {
+                t_s,
+                magnitude_deg,
+                samples,
+                ..
+            } => {
                 time("t", t_s)?;
                 if !(magnitude_deg.is_finite() && magnitude_deg.abs() <= 2.0 * MAX_ANGLE_DEG) {
                     return Err(format!(
@@ -254,7 +273,9 @@ impl SensorFault {
                 }
                 Ok(())
             }
-            SensorFault::StuckAt { start_s, value_deg, .. } => {
+            SensorFault::StuckAt {
+                start_s, value_deg, ..
+            } => {
                 time("start", start_s)?;
                 match value_deg {
                     Some(v) if !(v.is_finite() && v.abs() <= MAX_ANGLE_DEG) => Err(format!(
@@ -265,10 +286,14 @@ impl SensorFault {
             }
             SensorFault::ParityError { rate, bits, .. } => {
                 if !(0.0..=1.0).contains(&rate) {
-                    return Err(format!("parity: rate={rate}: expected a fraction of the samples from 0 to 1"));
+                    return Err(format!(
+                        "parity: rate={rate}: expected a fraction of the samples from 0 to 1"
+                    ));
                 }
                 if !(1..=4).contains(&bits) {
-                    return Err(format!("parity: bits={bits}: expected 1 to 4 flipped bits per corrupted word"));
+                    return Err(format!(
+                        "parity: bits={bits}: expected 1 to 4 flipped bits per corrupted word"
+                    ));
                 }
                 Ok(())
             }
@@ -297,19 +322,33 @@ impl fmt::Display for SensorFault {
     /// The CLI syntax, which [`SensorFault::from_str`] reads back.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            SensorFault::Dropout { joint, start_s, duration_s, mode } => write!(
+            SensorFault::Dropout {
+                joint,
+                start_s,
+                duration_s,
+                mode,
+            } => write!(
                 f,
                 "dropout:joint={joint}:start={start_s}:duration={duration_s}:mode={}",
                 mode.name()
             ),
-            SensorFault::Spike { joint, t_s, magnitude_deg, samples } => {
+            SensorFault::Spike {
+                joint,
+                t_s,
+                magnitude_deg,
+                samples,
+            } => {
                 write!(f, "spike:joint={joint}:t={t_s}:magnitude={magnitude_deg}")?;
                 if samples != 1 {
                     write!(f, ":samples={samples}")?;
                 }
                 Ok(())
             }
-            SensorFault::StuckAt { joint, start_s, value_deg } => {
+            SensorFault::StuckAt {
+                joint,
+                start_s,
+                value_deg,
+            } => {
                 write!(f, "stuck:joint={joint}:start={start_s}")?;
                 if let Some(v) = value_deg {
                     write!(f, ":value={v}")?;
@@ -323,14 +362,19 @@ impl fmt::Display for SensorFault {
                 }
                 Ok(())
             }
-            SensorFault::SwitchChatter { joint, bounce_s } => write!(f, "chatter:joint={joint}:bounce={bounce_s}"),
+            SensorFault::SwitchChatter { joint, bounce_s } => {
+                write!(f, "chatter:joint={joint}:bounce={bounce_s}")
+            }
             SensorFault::SwitchStuck { joint, closed } => write!(
                 f,
                 "switch_stuck:joint={joint}:state={}",
                 if closed { "closed" } else { "open" }
             ),
             SensorFault::TimeJitter { sigma_s } => write!(f, "jitter:sigma={sigma_s}"),
-            SensorFault::TimeGap { start_s, duration_s } => write!(f, "gap:start={start_s}:duration={duration_s}"),
+            SensorFault::TimeGap {
+                start_s,
+                duration_s,
+            } => write!(f, "gap:start={start_s}:duration={duration_s}"),
         }
     }
 }
@@ -360,7 +404,10 @@ impl FromStr for SensorFault {
         let mut parts = s.split(':');
         let kind = parts.next().unwrap_or("").trim();
         if !KINDS.contains(&kind) {
-            return Err(format!("unknown fault `{kind}` in `{s}`: expected one of {}", KINDS.join(", ")));
+            return Err(format!(
+                "unknown fault `{kind}` in `{s}`: expected one of {}",
+                KINDS.join(", ")
+            ));
         }
         let (required, optional) = keys_of(kind);
         let mut given: Vec<(&str, &str)> = Vec::new();
@@ -371,7 +418,10 @@ impl FromStr for SensorFault {
             let (k, v) = (k.trim(), v.trim());
             if !required.contains(&k) && !optional.contains(&k) {
                 let all: Vec<&str> = required.iter().chain(optional).copied().collect();
-                return Err(format!("unknown key `{k}` in `{s}`: {kind} takes {}", all.join(", ")));
+                return Err(format!(
+                    "unknown key `{k}` in `{s}`: {kind} takes {}",
+                    all.join(", ")
+                ));
             }
             if given.iter().any(|(g, _)| *g == k) {
                 return Err(format!("key `{k}` given twice in `{s}`"));
@@ -380,7 +430,10 @@ impl FromStr for SensorFault {
         }
         for r in required {
             if !given.iter().any(|(g, _)| g == r) {
-                return Err(format!("`{s}`: missing {r}=...; {kind} needs {}", required.join(", ")));
+                return Err(format!(
+                    "`{s}`: missing {r}=...; {kind} needs {}",
+                    required.join(", ")
+                ));
             }
         }
         let get = |k: &str| given.iter().find(|(g, _)| *g == k).map(|(_, v)| *v);
@@ -405,7 +458,11 @@ impl FromStr for SensorFault {
                 mode: match get("mode").unwrap_or("missing") {
                     "stale" => DropoutMode::Stale,
                     "missing" => DropoutMode::Missing,
-                    other => return Err(format!("`mode={other}` in `{s}`: expected stale or missing")),
+                    other => {
+                        return Err(format!(
+                            "`mode={other}` in `{s}`: expected stale or missing"
+                        ))
+                    }
                 },
             },
             "spike" => SensorFault::Spike {
@@ -442,17 +499,23 @@ impl FromStr for SensorFault {
                 closed: match get("state").unwrap_or("") {
                     "closed" => true,
                     "open" => false,
-                    other => return Err(format!("`state={other}` in `{s}`: expected open or closed")),
+                    other => {
+                        return Err(format!("`state={other}` in `{s}`: expected open or closed"))
+                    }
                 },
             },
-            "jitter" => SensorFault::TimeJitter { sigma_s: num("sigma")? },
+            "jitter" => SensorFault::TimeJitter {
+                sigma_s: num("sigma")?,
+            },
             _ => SensorFault::TimeGap {
                 start_s: num("start")?,
                 duration_s: num("duration")?,
             },
         };
         // Parameters only: any joint from 1 passes here.
-        fault.validate(usize::MAX).map_err(|m| format!("`{s}`: {m}"))?;
+        fault
+            .validate(usize::MAX)
+            .map_err(|m| format!("`{s}`: {m}"))?;
         Ok(fault)
     }
 }
@@ -479,7 +542,11 @@ pub fn describe(faults: &[SensorFault]) -> String {
     if faults.is_empty() {
         return "none".to_string();
     }
-    faults.iter().map(|f| f.to_string()).collect::<Vec<_>>().join("; ")
+    faults
+        .iter()
+        .map(|f| f.to_string())
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 /// Applies `faults` to `run` (a run measured by [`crate::sensor::measure`]),
@@ -509,13 +576,18 @@ pub fn apply(run: &mut Run, faults: &[SensorFault], seed: u64) -> Result<Vec<Fau
         .iter()
         .map(|&t| {
             !faults.iter().any(|f| match *f {
-                SensorFault::TimeGap { start_s, duration_s } => in_window(t, start_s, duration_s),
+                SensorFault::TimeGap {
+                    start_s,
+                    duration_s,
+                } => in_window(t, start_s, duration_s),
                 _ => false,
             })
         })
         .collect();
     if !keep.iter().any(|k| *k) {
-        return Err("the gaps remove every sample of the run: expected at least one left".to_string());
+        return Err(
+            "the gaps remove every sample of the run: expected at least one left".to_string(),
+        );
     }
 
     let mut counts = vec![0usize; faults.len()];
@@ -528,7 +600,12 @@ pub fn apply(run: &mut Run, faults: &[SensorFault], seed: u64) -> Result<Vec<Fau
     for (k, f) in faults.iter().enumerate() {
         let mut rng = rng_for(k);
         counts[k] = match *f {
-            SensorFault::Dropout { joint, start_s, duration_s, mode } => {
+            SensorFault::Dropout {
+                joint,
+                start_s,
+                duration_s,
+                mode,
+            } => {
                 let phi = &mut run.phi_deg[joint - 1];
                 let mut c = 0;
                 let mut held: Option<f64> = None;
@@ -556,18 +633,33 @@ pub fn apply(run: &mut Run, faults: &[SensorFault], seed: u64) -> Result<Vec<Fau
                 }
                 c
             }
-            SensorFault::Spike { joint, t_s, magnitude_deg, samples } => {
+            SensorFault::Spike {
+                joint,
+                t_s,
+                magnitude_deg,
+                samples,
+            } => {
                 let phi = &mut run.phi_deg[joint - 1];
-                let first = t0.iter().position(|&t| t >= t_s - TIME_EPS_S).unwrap_or(t0.len());
+                let first = t0
+                    .iter()
+                    .position(|&t| t >= t_s - TIME_EPS_S)
+                    .unwrap_or(t0.len());
                 let last = (first + samples).min(t0.len());
                 for x in &mut phi[first..last] {
                     *x += magnitude_deg;
                 }
                 last - first
             }
-            SensorFault::StuckAt { joint, start_s, value_deg } => {
+            SensorFault::StuckAt {
+                joint,
+                start_s,
+                value_deg,
+            } => {
                 let phi = &mut run.phi_deg[joint - 1];
-                let first = t0.iter().position(|&t| t >= start_s - TIME_EPS_S).unwrap_or(t0.len());
+                let first = t0
+                    .iter()
+                    .position(|&t| t >= start_s - TIME_EPS_S)
+                    .unwrap_or(t0.len());
                 let value = value_deg.unwrap_or_else(|| {
                     let i = first.saturating_sub(1).min(phi.len() - 1);
                     phi[i]
@@ -635,8 +727,15 @@ pub fn apply(run: &mut Run, faults: &[SensorFault], seed: u64) -> Result<Vec<Fau
     for (k, f) in faults.iter().enumerate() {
         if let SensorFault::TimeJitter { sigma_s } = *f {
             let mut rng = rng_for(k);
-            let dt_min = t0.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
-            let limit = if dt_min.is_finite() { MAX_JITTER_FRACTION * dt_min } else { 0.0 };
+            let dt_min = t0
+                .windows(2)
+                .map(|w| w[1] - w[0])
+                .fold(f64::INFINITY, f64::min);
+            let limit = if dt_min.is_finite() {
+                MAX_JITTER_FRACTION * dt_min
+            } else {
+                0.0
+            };
             let normal = Normal::new(0.0, sigma_s).map_err(|e| format!("jitter: {e}"))?;
             for t in run.t_s.iter_mut().skip(1) {
                 let e = normal.sample(&mut rng).clamp(-limit, limit);
@@ -650,8 +749,15 @@ pub fn apply(run: &mut Run, faults: &[SensorFault], seed: u64) -> Result<Vec<Fau
     // Gaps: drop the rows.
     if keep.iter().any(|k| !k) {
         for (k, f) in faults.iter().enumerate() {
-            if let SensorFault::TimeGap { start_s, duration_s } = *f {
-                counts[k] = t0.iter().filter(|&&t| in_window(t, start_s, duration_s)).count();
+            if let SensorFault::TimeGap {
+                start_s,
+                duration_s,
+            } = *f
+            {
+                counts[k] = t0
+                    .iter()
+                    .filter(|&&t| in_window(t, start_s, duration_s))
+                    .count();
             }
         }
         let filter = |v: &mut Vec<f64>| {
@@ -704,7 +810,11 @@ const DATA_MASK: u16 = 0x3FFF;
 pub fn corrupt_word(deg: f64, flips: u16) -> f64 {
     let count = ((deg / RESOLUTION_DEG).round() as i64).rem_euclid(1 << 14) as u16;
     let data = count & DATA_MASK;
-    let word = if data.count_ones() % 2 == 1 { data | PARITY_BIT } else { data };
+    let word = if data.count_ones() % 2 == 1 {
+        data | PARITY_BIT
+    } else {
+        data
+    };
     let bad = word ^ flips;
     if bad.count_ones() % 2 == 1 || bad & ERROR_FLAG_BIT != 0 {
         return f64::NAN;
@@ -760,14 +870,26 @@ mod tests {
             assert_eq!(f.to_string(), s);
         }
         let d: SensorFault = "dropout:joint=1:start=0.5:duration=0.1".parse().unwrap();
-        assert!(matches!(d, SensorFault::Dropout { mode: DropoutMode::Missing, .. }));
+        assert!(matches!(
+            d,
+            SensorFault::Dropout {
+                mode: DropoutMode::Missing,
+                ..
+            }
+        ));
         for (bad, says) in [
             ("stall:joint=1", "expected one of dropout, spike"),
             ("dropout:joint=1:start=0.5", "missing duration=..."),
-            ("dropout:joint=1:start=0.5:duration=0.1:mode=frozen", "expected stale or missing"),
+            (
+                "dropout:joint=1:start=0.5:duration=0.1:mode=frozen",
+                "expected stale or missing",
+            ),
             ("spike:joint=0:t=1:magnitude=3", "joint 0 does not exist"),
             ("spike:joint=x:t=1:magnitude=3", "expected a joint number"),
-            ("spike:joint=1:t=1:magnitude=nan", "expected a finite number"),
+            (
+                "spike:joint=1:t=1:magnitude=nan",
+                "expected a finite number",
+            ),
             ("chatter:joint=1:bounce=0.05", "at most 0.02"),
             ("parity:joint=1:rate=1.5", "from 0 to 1"),
             ("parity:joint=1:rate=0.1:bits=0", "1 to 4"),
@@ -783,7 +905,10 @@ mod tests {
             assert!(e.contains(says), "{bad}: {e}");
         }
         let f: SensorFault = "spike:joint=3:t=1:magnitude=3".parse().unwrap();
-        assert!(f.validate(2).unwrap_err().contains("joint 3 does not exist (expected a joint from 1 to 2)"));
+        assert!(f
+            .validate(2)
+            .unwrap_err()
+            .contains("joint 3 does not exist (expected a joint from 1 to 2)"));
     }
 
     #[test]
@@ -799,7 +924,10 @@ mod tests {
         assert_eq!(r.phi_deg[0][30], run().phi_deg[0][30]);
         assert_eq!(r.phi_deg[1], run().phi_deg[1]);
         assert!(r.meta(MISSING_SAMPLES_KEY).is_none());
-        assert_eq!(r.meta("faults"), Some("dropout:joint=1:start=0.2:duration=0.1:mode=stale"));
+        assert_eq!(
+            r.meta("faults"),
+            Some("dropout:joint=1:start=0.2:duration=0.1:mode=stale")
+        );
     }
 
     #[test]
@@ -851,10 +979,16 @@ mod tests {
         }
         // WHEN two data bits flip, THEN the parity passes and the angle is wrong
         let x = corrupt_word(deg, 0b1_0000_0001);
-        assert!((x - f64::from(1234 ^ 0b1_0000_0001) * RESOLUTION_DEG).abs() < 1e-9, "{x}");
+        assert!(
+            (x - f64::from(1234 ^ 0b1_0000_0001) * RESOLUTION_DEG).abs() < 1e-9,
+            "{x}"
+        );
         // WHEN a data bit and the parity bit flip, THEN a wrong angle passes too
         let x = corrupt_word(deg, PARITY_BIT | 2);
-        assert!((x - f64::from(1234 ^ 2) * RESOLUTION_DEG).abs() < 1e-9, "{x}");
+        assert!(
+            (x - f64::from(1234 ^ 2) * RESOLUTION_DEG).abs() < 1e-9,
+            "{x}"
+        );
         // WHEN the error flag is one of two flips, THEN the driver rejects it
         assert!(corrupt_word(deg, ERROR_FLAG_BIT | 1).is_nan());
         // Negative and multi-turn readings keep their turn.
@@ -875,17 +1009,29 @@ mod tests {
         assert_eq!(a.meta(MISSING_SAMPLES_KEY), Some(MISSING_SAMPLES_VALUE));
         let mut b = run();
         apply(&mut b, &[f], 1).unwrap();
-        assert!(a.phi_deg[0].iter().zip(&b.phi_deg[0]).all(|(x, y)| same(*x, *y)));
+        assert!(a.phi_deg[0]
+            .iter()
+            .zip(&b.phi_deg[0])
+            .all(|(x, y)| same(*x, *y)));
         let mut c = run();
         apply(&mut c, &[f], 2).unwrap();
-        assert!(!a.phi_deg[0].iter().zip(&c.phi_deg[0]).all(|(x, y)| same(*x, *y)));
+        assert!(!a.phi_deg[0]
+            .iter()
+            .zip(&c.phi_deg[0])
+            .all(|(x, y)| same(*x, *y)));
         // Two bits: no missing sample, but wrong readings (or EF rejections).
         let mut d = run();
         let f2: SensorFault = "parity:joint=1:rate=0.2:bits=2".parse().unwrap();
         let rd = apply(&mut d, &[f2], 1).unwrap();
-        let wrong = d.phi_deg[0].iter().zip(&run().phi_deg[0]).filter(|(x, y)| !same(**x, **y)).count();
+        let wrong = d.phi_deg[0]
+            .iter()
+            .zip(&run().phi_deg[0])
+            .filter(|(x, y)| !same(**x, **y))
+            .count();
         assert!(wrong > 0 && wrong <= rd[0].samples);
-        assert!(d.phi_deg[0].iter().any(|x| x.is_finite() && !run().phi_deg[0].contains(x)));
+        assert!(d.phi_deg[0]
+            .iter()
+            .any(|x| x.is_finite() && !run().phi_deg[0].contains(x)));
     }
 
     #[test]
@@ -921,7 +1067,12 @@ mod tests {
             assert!(w[1] - w[0] >= 0.1 * 0.01 - 1e-12, "{w:?}");
         }
         let (r, _) = applied("jitter:sigma=0.0005");
-        let err: f64 = r.t_s.iter().zip(&run().t_s).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let err: f64 = r
+            .t_s
+            .iter()
+            .zip(&run().t_s)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
         assert!(err > 0.0 && err <= 0.0045 + 1e-12);
         assert_eq!(r.phi_deg, run().phi_deg);
     }
@@ -931,7 +1082,10 @@ mod tests {
         let (r, n) = applied("gap:start=0.45:duration=0.1");
         assert_eq!(n, 10);
         assert_eq!(r.len(), 91);
-        assert!(r.t_s.iter().all(|&t| !(0.45 - 1e-9..0.55 - 1e-9).contains(&t)));
+        assert!(r
+            .t_s
+            .iter()
+            .all(|&t| !(0.45 - 1e-9..0.55 - 1e-9).contains(&t)));
         // The latch happened in the gap: the next row already reads latched.
         let i = r.t_s.iter().position(|&t| t > 0.5).unwrap();
         assert!(r.latch[0][i] && !r.latch[0][i - 1]);
@@ -954,7 +1108,10 @@ mod tests {
         .collect();
         let mut a = run();
         let rep = apply(&mut a, &faults, 11).unwrap();
-        assert_eq!(rep.iter().map(|r| r.samples).collect::<Vec<_>>()[1..3], [5, 3]);
+        assert_eq!(
+            rep.iter().map(|r| r.samples).collect::<Vec<_>>()[1..3],
+            [5, 3]
+        );
         assert_eq!(a.len(), 96);
         assert_eq!(a.phi_deg[0].iter().filter(|x| x.is_nan()).count(), 3);
         let mut b = run();
@@ -969,7 +1126,10 @@ mod tests {
         assert_eq!(a.latch, c.latch);
         // The faulted run is writable and declares what was done to it.
         a.validate("a").unwrap();
-        assert!(a.meta("faults").unwrap().starts_with("jitter:sigma=0.002; gap:"));
+        assert!(a
+            .meta("faults")
+            .unwrap()
+            .starts_with("jitter:sigma=0.002; gap:"));
     }
 
     #[test]

@@ -283,7 +283,11 @@ pub fn t975(dof: usize) -> f64 {
 }
 
 /// Minimises `Σ r(p)²` from `p0` within the bounds of `opts`.
-pub fn least_squares(model: &dyn Residuals, p0: &[f64], opts: &FitOptions) -> Result<FitResult, FitError> {
+pub fn least_squares(
+    model: &dyn Residuals,
+    p0: &[f64],
+    opts: &FitOptions,
+) -> Result<FitResult, FitError> {
     let n = p0.len();
     let bounds: Vec<Bound> = (0..n)
         .map(|i| Bound::new(opts.lower[i], opts.upper[i]))
@@ -298,7 +302,9 @@ pub fn least_squares(model: &dyn Residuals, p0: &[f64], opts: &FitOptions) -> Re
         evaluations: Mutex::new(0),
     };
     let start = problem.clamp(p0);
-    let r0 = model.residuals(&start).ok_or_else(|| FitError::BadStart(start.clone()))?;
+    let r0 = model
+        .residuals(&start)
+        .ok_or_else(|| FitError::BadStart(start.clone()))?;
     problem.m = r0.len();
     if problem.m <= n {
         return Err(FitError::TooFewResiduals {
@@ -347,7 +353,9 @@ pub fn least_squares(model: &dyn Residuals, p0: &[f64], opts: &FitOptions) -> Re
         }
         None => (
             vec![f64::INFINITY; n],
-            p.iter().map(|_| [f64::NEG_INFINITY, f64::INFINITY]).collect(),
+            p.iter()
+                .map(|_| [f64::NEG_INFINITY, f64::INFINITY])
+                .collect(),
         ),
     };
     let evaluations = problem.evaluations.lock().map(|e| *e).unwrap_or(0) + 1;
@@ -379,9 +387,19 @@ mod tests {
             .map(|(t, e)| 2.0 * (-0.7 * t).exp() + e)
             .collect();
         let model = |p: &[f64]| -> Option<Vec<f64>> {
-            Some(t.iter().zip(&y).map(|(t, y)| p[0] * (-p[1] * t).exp() - y).collect())
+            Some(
+                t.iter()
+                    .zip(&y)
+                    .map(|(t, y)| p[0] * (-p[1] * t).exp() - y)
+                    .collect(),
+            )
         };
-        let fit = least_squares(&model, &[1.0, 0.1], &FitOptions::new(vec![0.0, 0.0], vec![1e-6; 2])).unwrap();
+        let fit = least_squares(
+            &model,
+            &[1.0, 0.1],
+            &FitOptions::new(vec![0.0, 0.0], vec![1e-6; 2]),
+        )
+        .unwrap();
         assert!((fit.params[0] - 2.0).abs() < 0.02, "{:?}", fit);
         assert!((fit.params[1] - 0.7).abs() < 0.01, "{:?}", fit);
         for (i, truth) in [2.0, 0.7].iter().enumerate() {
@@ -395,7 +413,11 @@ mod tests {
     fn bounds_hold() {
         let model = |p: &[f64]| -> Option<Vec<f64>> { Some(vec![p[0] + 1.0, 2.0 * (p[0] + 1.0)]) };
         let fit = least_squares(&model, &[0.5], &FitOptions::new(vec![0.0], vec![1e-6])).unwrap();
-        assert!(fit.params[0] >= 0.0 && fit.params[0] < 1e-6, "{:?}", fit.params);
+        assert!(
+            fit.params[0] >= 0.0 && fit.params[0] < 1e-6,
+            "{:?}",
+            fit.params
+        );
     }
 
     #[test]

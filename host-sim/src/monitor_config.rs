@@ -120,11 +120,16 @@ pub fn spring_f32(spec: &SpringSpec) -> Result<(Spring<f32>, f64), CurveError> {
 }
 
 fn curve_capture_deg(unfold: &[(f64, f64)], _interp: Interp) -> f64 {
-    let near: Vec<(usize, &(f64, f64))> = unfold.iter().enumerate().filter(|(_, p)| p.0 <= 5.0).collect();
-    let Some(&(ipk, peak)) = near
+    let near: Vec<(usize, &(f64, f64))> = unfold
         .iter()
-        .max_by(|a, b| a.1 .1.partial_cmp(&b.1 .1).unwrap_or(std::cmp::Ordering::Equal))
-    else {
+        .enumerate()
+        .filter(|(_, p)| p.0 <= 5.0)
+        .collect();
+    let Some(&(ipk, peak)) = near.iter().max_by(|a, b| {
+        a.1 .1
+            .partial_cmp(&b.1 .1)
+            .unwrap_or(std::cmp::Ordering::Equal)
+    }) else {
         return 0.0;
     };
     match unfold.get(ipk + 1) {
@@ -135,7 +140,9 @@ fn curve_capture_deg(unfold: &[(f64, f64)], _interp: Interp) -> f64 {
 
 /// The monitor configuration of a mechanism with `N` joints and the default
 /// tuning (`docs/monitor.md`).
-pub fn monitor_config<const N: usize>(mech: &Mechanism) -> Result<MonitorConfig<N>, MonitorConfigError> {
+pub fn monitor_config<const N: usize>(
+    mech: &Mechanism,
+) -> Result<MonitorConfig<N>, MonitorConfigError> {
     monitor_config_with::<N>(mech, &PriorSpread::default())
 }
 
@@ -162,7 +169,10 @@ pub fn monitor_config_with<const N: usize>(
     let mut joints = Vec::with_capacity(N);
     for (i, j) in mech.joints.iter().enumerate() {
         let (spring, capture_deg) =
-            spring_f32(&j.spring).map_err(|source| MonitorConfigError::Curve { joint: i + 1, source })?;
+            spring_f32(&j.spring).map_err(|source| MonitorConfigError::Curve {
+                joint: i + 1,
+                source,
+            })?;
         joints.push(JointConfig {
             stowed_deg: j.stowed_deg as f32,
             spring,
@@ -175,10 +185,13 @@ pub fn monitor_config_with<const N: usize>(
             },
         });
     }
-    let joints: [JointConfig; N] = joints.try_into().map_err(|_| MonitorConfigError::JointCount {
-        expected: N,
-        found: mech.joints.len(),
-    })?;
+    let joints: [JointConfig; N] =
+        joints
+            .try_into()
+            .map_err(|_| MonitorConfigError::JointCount {
+                expected: N,
+                found: mech.joints.len(),
+            })?;
     let mut cfg = MonitorConfig::new(panels, joints);
     cfg.margin.deadline_s = mech.duration_s as f32;
     cfg.validate().map_err(MonitorConfigError::Config)?;
@@ -205,7 +218,12 @@ pub fn samples<const N: usize>(run: &Run) -> Option<Vec<Sample<N>>> {
 
 /// Feeds every sample of `run` to `monitor` and returns the statuses.
 pub fn replay<const N: usize>(monitor: &mut Monitor<N>, run: &Run) -> Option<Vec<Status<N>>> {
-    Some(samples::<N>(run)?.iter().map(|s| monitor.update(s)).collect())
+    Some(
+        samples::<N>(run)?
+            .iter()
+            .map(|s| monitor.update(s))
+            .collect(),
+    )
 }
 
 #[cfg(test)]
@@ -214,7 +232,8 @@ mod tests {
 
     #[test]
     fn seed001_converts_with_the_tape_capture_angle() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms/seed001_T01.toml");
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../data/mechanisms/seed001_T01.toml");
         let mech = Mechanism::load(&root).unwrap();
         let cfg = monitor_config::<3>(&mech).unwrap();
         assert_eq!(cfg.joints[0].capture_deg, 1.10);
@@ -223,7 +242,10 @@ mod tests {
         assert!(Monitor::new(&cfg).is_ok());
         assert!(matches!(
             monitor_config::<2>(&mech),
-            Err(MonitorConfigError::JointCount { expected: 2, found: 3 })
+            Err(MonitorConfigError::JointCount {
+                expected: 2,
+                found: 3
+            })
         ));
     }
 

@@ -153,13 +153,26 @@ where
     )?;
     let k6 = f(
         t + h,
-        &y.axpy(h, &[(A61, k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)]),
+        &y.axpy(
+            h,
+            &[(A61, k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)],
+        ),
     )?;
-    let y1 = y.axpy(h, &[(A71, k1), (A73, &k3), (A74, &k4), (A75, &k5), (A76, &k6)]);
+    let y1 = y.axpy(
+        h,
+        &[(A71, k1), (A73, &k3), (A74, &k4), (A75, &k5), (A76, &k6)],
+    );
     let k7 = f(t + h, &y1)?;
     let e = State::ZERO.axpy(
         h,
-        &[(E1, k1), (E3, &k3), (E4, &k4), (E5, &k5), (E6, &k6), (E7, &k7)],
+        &[
+            (E1, k1),
+            (E3, &k3),
+            (E4, &k4),
+            (E5, &k5),
+            (E6, &k6),
+            (E7, &k7),
+        ],
     );
     let mut acc = 0.0;
     for i in 0..N {
@@ -182,9 +195,19 @@ where
         r[3].q[i] = dq - h * k7.q[i] - bq;
         r[3].v[i] = dv - h * k7.v[i] - bv;
         r[4].q[i] = h
-            * (D1 * k1.q[i] + D3 * k3.q[i] + D4 * k4.q[i] + D5 * k5.q[i] + D6 * k6.q[i] + D7 * k7.q[i]);
+            * (D1 * k1.q[i]
+                + D3 * k3.q[i]
+                + D4 * k4.q[i]
+                + D5 * k5.q[i]
+                + D6 * k6.q[i]
+                + D7 * k7.q[i]);
         r[4].v[i] = h
-            * (D1 * k1.v[i] + D3 * k3.v[i] + D4 * k4.v[i] + D5 * k5.v[i] + D6 * k6.v[i] + D7 * k7.v[i]);
+            * (D1 * k1.v[i]
+                + D3 * k3.v[i]
+                + D4 * k4.v[i]
+                + D5 * k5.v[i]
+                + D6 * k6.v[i]
+                + D7 * k7.v[i]);
     }
     Some(Attempt {
         y1,

@@ -130,12 +130,11 @@ pub fn draw(path: &Path, title: &str, x_label: &str, panels: &[Panel]) -> Result
             .map_err(|e| err(&e))?;
         for s in &panel.series {
             let c = color(s.color);
-            let pts = s
-                .x
-                .iter()
-                .zip(s.y.iter())
-                .filter(|(x, y)| x.is_finite() && y.is_finite())
-                .map(|(x, y)| (*x, *y));
+            let pts =
+                s.x.iter()
+                    .zip(s.y.iter())
+                    .filter(|(x, y)| x.is_finite() && y.is_finite())
+                    .map(|(x, y)| (*x, *y));
             let drawn = match s.mark {
                 Mark::Line => chart
                     .draw_series(LineSeries::new(pts, c.stroke_width(2)))

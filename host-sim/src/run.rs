@@ -409,7 +409,11 @@ impl RunError {
 }
 
 fn joint_list(joints: &[usize]) -> String {
-    joints.iter().map(|j| j.to_string()).collect::<Vec<_>>().join(", ")
+    joints
+        .iter()
+        .map(|j| j.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn names_or_none(names: &[String]) -> String {
@@ -582,11 +586,17 @@ impl Run {
             None => false,
             Some(MISSING_SAMPLES_VALUE) => true,
             Some(other) => {
-                let i = run.metadata.iter().position(|(k, _)| k == MISSING_SAMPLES_KEY).unwrap_or(0);
+                let i = run
+                    .metadata
+                    .iter()
+                    .position(|(k, _)| k == MISSING_SAMPLES_KEY)
+                    .unwrap_or(0);
                 return Err(RunError::BadMetadata {
                     file,
                     line: meta_lines.get(i).copied().unwrap_or(1),
-                    expected: format!("`# {MISSING_SAMPLES_KEY} = \"{MISSING_SAMPLES_VALUE}\"` (the only value)"),
+                    expected: format!(
+                        "`# {MISSING_SAMPLES_KEY} = \"{MISSING_SAMPLES_VALUE}\"` (the only value)"
+                    ),
                     found: shorten(&format!("# {MISSING_SAMPLES_KEY} = {other:?}")),
                 });
             }
@@ -807,11 +817,9 @@ impl Run {
         let declares_missing = match self.meta(MISSING_SAMPLES_KEY) {
             None => false,
             Some(MISSING_SAMPLES_VALUE) => true,
-            Some(other) => {
-                return Err(invalid(format!(
-                    "metadata {MISSING_SAMPLES_KEY} = {other:?}; expected \"{MISSING_SAMPLES_VALUE}\""
-                )))
-            }
+            Some(other) => return Err(invalid(format!(
+                "metadata {MISSING_SAMPLES_KEY} = {other:?}; expected \"{MISSING_SAMPLES_VALUE}\""
+            ))),
         };
         let mut prev: Option<String> = None;
         for (i, &t) in self.t_s.iter().enumerate() {
@@ -962,7 +970,9 @@ impl Run {
                 let (lo, hi) = s
                     .iter()
                     .filter(|x| x.is_finite())
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+                        (lo.min(x), hi.max(x))
+                    });
                 if hi >= lo {
                     hi - lo
                 } else {

@@ -87,7 +87,10 @@ mod tests {
     #[test]
     fn quantises_to_the_nearest_step_without_wrapping() {
         let s = SensorModel::REFERENCE;
-        assert_eq!(s.read(180.0 + 0.6 * RESOLUTION_DEG, 0.0), 180.0 + RESOLUTION_DEG);
+        assert_eq!(
+            s.read(180.0 + 0.6 * RESOLUTION_DEG, 0.0),
+            180.0 + RESOLUTION_DEG
+        );
         assert_eq!(s.read(-0.4 * RESOLUTION_DEG, 0.0), 0.0);
         assert_eq!(SensorModel::IDEAL.read(1.234, 0.0), 1.234);
     }

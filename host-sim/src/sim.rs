@@ -120,7 +120,9 @@ pub enum SimError {
     },
     /// A tape-spring joint sticks at `φ̇ = 0` where neither branch is
     /// consistent (the reference reports this as an error too).
-    #[error("joint {joint} slides on φ̇ = 0 at t = {t_s:.6} s: neither spring branch is consistent")]
+    #[error(
+        "joint {joint} slides on φ̇ = 0 at t = {t_s:.6} s: neither spring branch is consistent"
+    )]
     Sliding {
         /// 1-based joint.
         joint: usize,
@@ -139,10 +141,15 @@ pub const MAX_BRANCH_BURST: usize = 10;
 
 /// Simulates a mechanism with extra effects (sensor effects are ignored
 /// here: see [`crate::sensor`]).
-pub fn simulate(mech: &Mechanism, effects: &[Effect], opts: &SimOptions) -> Result<Trajectory, SimError> {
+pub fn simulate(
+    mech: &Mechanism,
+    effects: &[Effect],
+    opts: &SimOptions,
+) -> Result<Trajectory, SimError> {
     let duration = opts.duration_s.unwrap_or(mech.duration_s);
     let rate = opts.sample_hz.unwrap_or(mech.sample_hz);
-    if !(duration > 0.0 && duration.is_finite()) || !(rate > 0.0 && rate.is_finite()) {
+    let positive = |x: f64| x > 0.0 && x.is_finite();
+    if !positive(duration) || !positive(rate) {
         return Err(SimError::Invalid(format!(
             "duration ({duration} s) and sample rate ({rate} Hz) must be positive"
         )));
@@ -397,7 +404,11 @@ pub fn run_chain<const N: usize>(
     let push = |out: &mut Trajectory, t: f64, s: &State<N>, latched: &[bool; N]| {
         out.t_s.push(t);
         for j in 0..N {
-            let (q, v) = if latched[j] { (0.0, 0.0) } else { (s.q[j], s.v[j]) };
+            let (q, v) = if latched[j] {
+                (0.0, 0.0)
+            } else {
+                (s.q[j], s.v[j])
+            };
             out.phi_deg[j].push(q.to_degrees());
             out.rate_deg_s[j].push(v.to_degrees());
             out.latched[j].push(latched[j]);
@@ -464,7 +475,11 @@ pub fn run_chain<const N: usize>(
         // event instant itself is taken after the event is applied.
         while k < times.len() {
             let tk = times[k];
-            let inside = if first.is_some() { tk < t_end } else { tk <= t_end };
+            let inside = if first.is_some() {
+                tk < t_end
+            } else {
+                tk <= t_end
+            };
             if !inside {
                 break;
             }
@@ -523,7 +538,11 @@ pub fn run_chain<const N: usize>(
                     }
                     Event::Branch(j) => {
                         let (last, count) = burst[j];
-                        burst[j] = if t_end - last < 1e-3 { (last, count + 1) } else { (t_end, 1) };
+                        burst[j] = if t_end - last < 1e-3 {
+                            (last, count + 1)
+                        } else {
+                            (t_end, 1)
+                        };
                         if same_instant_events > 20 || burst[j].1 > MAX_BRANCH_BURST {
                             return Err(SimError::Sliding {
                                 joint: j + 1,

@@ -41,7 +41,8 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     if args.max_effects == 0 || args.max_effects > 3 {
         return Err(CliError::input("--max-effects: expected 1, 2 or 3"));
     }
-    let campaign = Campaign::load(&args.mechanisms, &args.runs).map_err(|e| CliError::input(e.to_string()))?;
+    let campaign =
+        Campaign::load(&args.mechanisms, &args.runs).map_err(|e| CliError::input(e.to_string()))?;
     for cr in &campaign.runs {
         if cr.run.len() < 20 {
             return Err(CliError::input(format!(
@@ -63,6 +64,10 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
         progress: !args.quiet,
         ..DiagnoseOptions::default()
     };
+    if let Some(dir) = args.json.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| CliError::input(format!("{}: cannot create the folder: {e}", dir.display())))?;
+    }
     let outcome = diagnose::diagnose(&campaign, &opts);
     if !outcome.baseline.sse.is_finite() {
         return Err(CliError::failed(
@@ -110,7 +115,9 @@ fn effect_line(e: &Effect, o: &Outcome, k: usize) -> String {
     let mut s = format!(
         "{}{} = {:.5} {} (95 % CI {:.5} .. {:.5})",
         e.kind,
-        e.joint.map(|j| format!(" at joint {j}")).unwrap_or_default(),
+        e.joint
+            .map(|j| format!(" at joint {j}"))
+            .unwrap_or_default(),
         e.value,
         e.kind.unit(),
         lo,
@@ -182,9 +189,17 @@ fn te_per_joint(c: &Campaign, effects: &[Effect]) -> Vec<Option<f64>> {
     let n = c.max_joints();
     let mut acc = vec![(0.0, 0usize); n];
     for i in 0..c.runs.len() {
-        let Ok(traj) = c.simulate(i, effects) else { continue };
+        let Ok(traj) = c.simulate(i, effects) else {
+            continue;
+        };
         let r = &c.runs[i].run;
-        if let Ok(te) = metrics::trajectory_errors_pct(&r.t_s, &traj.phi_deg, &r.phi_deg, &r.latch, TimeWindow::ALL) {
+        if let Ok(te) = metrics::trajectory_errors_pct(
+            &r.t_s,
+            &traj.phi_deg,
+            &r.phi_deg,
+            &r.latch,
+            TimeWindow::ALL,
+        ) {
             for (j, v) in te.iter().enumerate() {
                 if let Some(v) = v {
                     acc[j].0 += v;
@@ -243,7 +258,10 @@ pub fn to_json(c: &Campaign, o: &Outcome, before: &[JointEvidence]) -> Value {
         }));
     }
     let te = |effects: &[Effect]| -> Value {
-        te_per_joint(c, effects).into_iter().map(|v| v.map(round4).unwrap_or(Value::Null)).collect()
+        te_per_joint(c, effects)
+            .into_iter()
+            .map(|v| v.map(round4).unwrap_or(Value::Null))
+            .collect()
     };
     let mut mechs: Vec<String> = c.runs.iter().map(|r| r.mechanism.name.clone()).collect();
     mechs.dedup();
@@ -299,7 +317,15 @@ fn write_report(
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let ext = o.extended.effects();
     let mut md = String::new();
-    let _ = writeln!(md, "# Diagnosis: {}\n", c.runs.iter().map(|r| r.name()).collect::<Vec<_>>().join(", "));
+    let _ = writeln!(
+        md,
+        "# Diagnosis: {}\n",
+        c.runs
+            .iter()
+            .map(|r| r.name())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
     let _ = writeln!(
         md,
         "Baseline RMS **{:.4}°** → extended **{:.4}°** (×{:.1}); noise floor estimated from the runs {:.4}°{}.\n",
@@ -313,9 +339,15 @@ fn write_report(
     );
     let _ = writeln!(md, "## Causes found\n");
     if ext.is_empty() {
-        let _ = writeln!(md, "None: the mechanisms as given explain the runs down to the sensor noise.\n");
+        let _ = writeln!(
+            md,
+            "None: the mechanisms as given explain the runs down to the sensor noise.\n"
+        );
     } else {
-        let _ = writeln!(md, "| effect | joint | value | 95 % CI | evidence |\n|---|---|---|---|---|");
+        let _ = writeln!(
+            md,
+            "| effect | joint | value | 95 % CI | evidence |\n|---|---|---|---|---|"
+        );
         for (k, e) in ext.iter().enumerate() {
             let (lo, hi) = ci_of(o, k);
             let alpha = if e.kind == EffectKind::RigTilt {
@@ -353,7 +385,9 @@ fn write_report(
     for (i, cr) in c.runs.iter().enumerate() {
         let base = c.simulate(i, &[]);
         let extd = c.simulate(i, &ext);
-        let (Ok(base), Ok(extd)) = (base, extd) else { continue };
+        let (Ok(base), Ok(extd)) = (base, extd) else {
+            continue;
+        };
         let run = &cr.run;
         let name = cr.name().trim_end_matches(".csv").to_string();
         let angles = dir.join(format!("{stem}_{name}_angles.png"));
@@ -361,19 +395,49 @@ fn write_report(
         let mut pa = Vec::new();
         let mut pr = Vec::new();
         let rb: Vec<Vec<f64>> = (0..run.joints())
-            .map(|j| base.phi_deg[j].iter().zip(&run.phi_deg[j]).map(|(m, y)| m - y).collect())
+            .map(|j| {
+                base.phi_deg[j]
+                    .iter()
+                    .zip(&run.phi_deg[j])
+                    .map(|(m, y)| m - y)
+                    .collect()
+            })
             .collect();
         let re: Vec<Vec<f64>> = (0..run.joints())
-            .map(|j| extd.phi_deg[j].iter().zip(&run.phi_deg[j]).map(|(m, y)| m - y).collect())
+            .map(|j| {
+                extd.phi_deg[j]
+                    .iter()
+                    .zip(&run.phi_deg[j])
+                    .map(|(m, y)| m - y)
+                    .collect()
+            })
             .collect();
         for j in 0..run.joints() {
             pa.push(Panel {
                 title: format!("joint {}", j + 1),
                 y_label: "angle [deg]".into(),
                 series: vec![
-                    Series { label: "measured".into(), x: &run.t_s, y: &run.phi_deg[j], mark: Mark::Dots, color: 6 },
-                    Series { label: "baseline".into(), x: &base.t_s, y: &base.phi_deg[j], mark: Mark::Line, color: 1 },
-                    Series { label: "extended".into(), x: &extd.t_s, y: &extd.phi_deg[j], mark: Mark::Line, color: 0 },
+                    Series {
+                        label: "measured".into(),
+                        x: &run.t_s,
+                        y: &run.phi_deg[j],
+                        mark: Mark::Dots,
+                        color: 6,
+                    },
+                    Series {
+                        label: "baseline".into(),
+                        x: &base.t_s,
+                        y: &base.phi_deg[j],
+                        mark: Mark::Line,
+                        color: 1,
+                    },
+                    Series {
+                        label: "extended".into(),
+                        x: &extd.t_s,
+                        y: &extd.phi_deg[j],
+                        mark: Mark::Line,
+                        color: 0,
+                    },
                 ],
                 markers: Vec::new(),
             });
@@ -381,18 +445,49 @@ fn write_report(
                 title: format!("joint {}: model − measured", j + 1),
                 y_label: "residual [deg]".into(),
                 series: vec![
-                    Series { label: "baseline".into(), x: &run.t_s, y: &rb[j], mark: Mark::Line, color: 1 },
-                    Series { label: "extended".into(), x: &run.t_s, y: &re[j], mark: Mark::Line, color: 0 },
+                    Series {
+                        label: "baseline".into(),
+                        x: &run.t_s,
+                        y: &rb[j],
+                        mark: Mark::Line,
+                        color: 1,
+                    },
+                    Series {
+                        label: "extended".into(),
+                        x: &run.t_s,
+                        y: &re[j],
+                        mark: Mark::Line,
+                        color: 0,
+                    },
                 ],
                 markers: Vec::new(),
             });
         }
-        plot::draw(&angles, &format!("{name}: measured vs baseline vs extended"), "time [s]", &pa)
-            .map_err(|e| CliError::failed(e.to_string()))?;
-        plot::draw(&resid, &format!("{name}: residuals before and after"), "time [s]", &pr)
-            .map_err(|e| CliError::failed(e.to_string()))?;
-        let fname = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let _ = writeln!(md, "### {name}\n\n![angles]({})\n\n![residuals]({})\n", fname(&angles), fname(&resid));
+        plot::draw(
+            &angles,
+            &format!("{name}: measured vs baseline vs extended"),
+            "time [s]",
+            &pa,
+        )
+        .map_err(|e| CliError::failed(e.to_string()))?;
+        plot::draw(
+            &resid,
+            &format!("{name}: residuals before and after"),
+            "time [s]",
+            &pr,
+        )
+        .map_err(|e| CliError::failed(e.to_string()))?;
+        let fname = |p: &Path| {
+            p.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        };
+        let _ = writeln!(
+            md,
+            "### {name}\n\n![angles]({})\n\n![residuals]({})\n",
+            fname(&angles),
+            fname(&resid)
+        );
     }
     let _ = writeln!(md, "## Why the winner won: every candidate, every round\n");
     let _ = writeln!(
@@ -401,7 +496,10 @@ fn write_report(
     );
     for r in &o.rounds {
         let _ = writeln!(md, "### {} (start RMS {:.4}°)\n", r.what, r.start_rms_deg);
-        let _ = writeln!(md, "| candidate | RMS [°] | ΔBIC | held-out RMS [°] | verdict |\n|---|---|---|---|---|");
+        let _ = writeln!(
+            md,
+            "| candidate | RMS [°] | ΔBIC | held-out RMS [°] | verdict |\n|---|---|---|---|---|"
+        );
         for s in &r.scores {
             let _ = writeln!(
                 md,
@@ -409,12 +507,15 @@ fn write_report(
                 s.candidate.label(),
                 s.fitted.rms(),
                 s.delta_bic,
-                s.held_out_rms_deg.map(|h| format!("{h:.4}")).unwrap_or_else(|| "—".into()),
+                s.held_out_rms_deg
+                    .map(|h| format!("{h:.4}"))
+                    .unwrap_or_else(|| "—".into()),
                 s.verdict
             );
         }
         md.push('\n');
     }
     let _ = writeln!(md, "{} simulations in {:.2} s.", o.simulations, o.wall_s);
-    std::fs::write(path, md).map_err(|e| CliError::input(format!("{}: cannot write: {e}", path.display())))
+    std::fs::write(path, md)
+        .map_err(|e| CliError::input(format!("{}: cannot write: {e}", path.display())))
 }

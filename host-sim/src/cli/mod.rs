@@ -4,6 +4,7 @@
 pub mod diagnose;
 pub mod identify;
 pub mod margin;
+pub mod replay;
 pub mod simulate;
 
 use clap::{Parser, Subcommand};
@@ -32,6 +33,10 @@ pub enum Command {
     /// Torque margins of every joint (torque and energy forms, optional
     /// NASA-STD-5017 / ECSS-E-ST-33-01C uncertainty factors).
     Margin(margin::MarginArgs),
+    /// Replay a run through the on-board monitor on the host or on the
+    /// example firmware under QEMU (bit-identical with the host): per-joint
+    /// summary, status CSV, PNG.
+    Replay(replay::ReplayArgs),
 }
 
 /// An error a subcommand reports to the user (printed, exit code 1 or 2).
@@ -75,5 +80,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Diagnose(a) => diagnose::run(&a),
         Command::Identify(a) => identify::run(&a),
         Command::Margin(a) => margin::run(&a),
+        Command::Replay(a) => replay::run(&a),
     }
 }

@@ -65,7 +65,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         stop_when_deployed: args.faults.is_empty(),
         ..SimOptions::default()
     };
-    let traj = sim::simulate(&mech, &args.effects, &opts).map_err(|e| CliError::failed(e.to_string()))?;
+    let traj =
+        sim::simulate(&mech, &args.effects, &opts).map_err(|e| CliError::failed(e.to_string()))?;
     let sensor = if args.no_noise {
         SensorModel::IDEAL
     } else {
@@ -95,8 +96,10 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
             )
         },
     );
-    let reports = faults::apply(&mut run, &args.faults, args.seed).map_err(|m| CliError::input(format!("--fault: {m}")))?;
-    run.write(&args.out).map_err(|e| CliError::input(e.to_string()))?;
+    let reports = faults::apply(&mut run, &args.faults, args.seed)
+        .map_err(|m| CliError::input(format!("--fault: {m}")))?;
+    run.write(&args.out)
+        .map_err(|e| CliError::input(e.to_string()))?;
 
     println!(
         "{}: {} samples at {} Hz to {} ({} steps, {} evaluations)",
@@ -122,14 +125,20 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         println!("  fault {r}");
     }
     if let Some(png) = &args.plot {
-        plot_run(png, &mech.name, &run, &traj.latch_s).map_err(|e| CliError::failed(e.to_string()))?;
+        plot_run(png, &mech.name, &run, &traj.latch_s)
+            .map_err(|e| CliError::failed(e.to_string()))?;
         println!("  plot: {}", png.display());
     }
     Ok(())
 }
 
 /// Draws a run's joint angles with its latch events.
-pub fn plot_run(png: &Path, title: &str, run: &Run, latch_s: &[Option<f64>]) -> Result<(), plot::PlotError> {
+pub fn plot_run(
+    png: &Path,
+    title: &str,
+    run: &Run,
+    latch_s: &[Option<f64>],
+) -> Result<(), plot::PlotError> {
     let series: Vec<Series> = (0..run.joints())
         .map(|j| Series {
             label: format!("joint {}", j + 1),

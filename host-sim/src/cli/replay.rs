@@ -1,0 +1,194 @@
+//! `deploywatch replay`: a recorded run through the on-board monitor, on the
+//! host (`f32`) or on the example firmware under QEMU, with the check that
+//! QEMU's statuses are bit-identical with the host's.
+
+use super::CliError;
+use crate::mechanism::Mechanism;
+use crate::replay::{self, Prepared, ReplayError};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
+
+/// Where the monitor runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Target {
+    /// The host's `f32` run of the core's monitor.
+    Host,
+    /// The example firmware (Cortex-M4F) on QEMU's mps2-an386, compared
+    /// with the host's run.
+    Qemu,
+}
+
+/// Arguments of `deploywatch replay`.
+#[derive(Debug, clap::Args)]
+pub struct ReplayArgs {
+    /// The run (CSV, docs/spec/formats.md); missing samples (`NaN`) allowed.
+    pub run: PathBuf,
+    /// The run's mechanism (TOML).
+    #[arg(long)]
+    pub mechanism: PathBuf,
+    /// Where the monitor runs. `qemu` also runs the host and fails (exit 1)
+    /// unless the status frames are bit-identical.
+    #[arg(long, value_enum, default_value_t = Target::Host)]
+    pub target: Target,
+    /// Write the whole status stream as CSV (the target's; equal for both).
+    #[arg(long, value_name = "STATUS.csv")]
+    pub out: Option<PathBuf>,
+    /// Draw angles, friction estimates and margins into this PNG.
+    #[arg(long, value_name = "PNG")]
+    pub plot: Option<PathBuf>,
+    /// With `--target host`: also run the firmware's own replay loop on the
+    /// host over the same frames and require bit-identity (with `qemu` the
+    /// comparison with the host is always made).
+    #[arg(long)]
+    pub compare: bool,
+    /// The firmware ELF (`scripts/firmware.sh build`); by default
+    /// firmware-example/target/thumbv7em-none-eabihf/release/deploywatch-firmware-example.
+    #[arg(long, value_name = "ELF")]
+    pub elf: Option<PathBuf>,
+    /// Keep the frames in this directory: input.bin (configuration + sample
+    /// frames), host.bin, and qemu.bin / qemu.defmt or firmware-loop.bin.
+    /// Without it they go to a temporary directory, removed afterwards.
+    #[arg(long, value_name = "DIR")]
+    pub keep: Option<PathBuf>,
+    /// Longest QEMU run [s].
+    #[arg(long, default_value_t = 300)]
+    pub timeout: u64,
+}
+
+/// A temporary directory removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new() -> Self {
+        let nanos = SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .map_or(0, |d| d.subsec_nanos());
+        TempDir(std::env::temp_dir().join(format!(
+            "deploywatch-replay-{}-{nanos}",
+            std::process::id()
+        )))
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn cli_error(e: ReplayError) -> CliError {
+    match e {
+        ReplayError::Input(_) | ReplayError::Setup(_) => CliError::input(e.to_string()),
+        _ => CliError::failed(e.to_string()),
+    }
+}
+
+fn write(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
+    std::fs::write(path, bytes).map_err(|e| CliError::input(format!("{}: {e}", path.display())))
+}
+
+/// Runs `deploywatch replay`.
+pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
+    let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
+    let run = replay::load_run(&args.run).map_err(cli_error)?;
+    // Everything the QEMU target needs is checked before any work.
+    let elf = match args.target {
+        Target::Host => None,
+        Target::Qemu => {
+            if !replay::firmware_supports(mech.joint_count()) {
+                return Err(CliError::input(format!(
+                    "{}: {} joints; the example firmware has monitors of {} joints only \
+                     (firmware-example/src/config.rs, JOINT_COUNTS: the 64 KiB flash budget); \
+                     --target host replays 1 to 4",
+                    mech.name,
+                    mech.joint_count(),
+                    replay::firmware_joint_counts()
+                )));
+            }
+            Some(replay::find_elf(args.elf.as_deref()).map_err(cli_error)?)
+        }
+    };
+    let prepared = replay::prepare(&mech, &run).map_err(cli_error)?;
+    let temp;
+    let dir = match &args.keep {
+        Some(d) => {
+            std::fs::create_dir_all(d).map_err(|e| CliError::input(format!("{}: {e}", d.display())))?;
+            d.clone()
+        }
+        None => {
+            temp = TempDir::new();
+            temp.0.clone()
+        }
+    };
+    let keep = args.keep.is_some();
+    if keep {
+        write(&dir.join("input.bin"), &prepared.input)?;
+        write(&dir.join("host.bin"), &prepared.host_frames)?;
+    }
+    println!(
+        "{}: {} samples of {} joints, {} ({} input bytes)",
+        args.run.display(),
+        prepared.samples,
+        prepared.joints,
+        mech.name,
+        prepared.input.len()
+    );
+    // The statuses reported: the target's.
+    let (statuses, mismatch) = match (args.target, elf) {
+        (Target::Qemu, Some(elf)) => {
+            let q = replay::run_qemu(&elf, &prepared.input, &dir, Duration::from_secs(args.timeout))
+                .map_err(cli_error)?;
+            eprint!("{}", q.log);
+            let statuses = replay::decode_statuses(&q.frames, prepared.joints).map_err(cli_error)?;
+            let m = check(&prepared, &q.frames, "QEMU (Cortex-M4F firmware)");
+            (statuses, m)
+        }
+        _ if args.compare => {
+            let fw = replay::firmware_loop_on_host(&prepared.input).map_err(cli_error)?;
+            if keep {
+                write(&dir.join("firmware-loop.bin"), &fw)?;
+            }
+            let m = check(&prepared, &fw, "the firmware's replay loop on the host");
+            (prepared.host.clone(), m)
+        }
+        _ => {
+            println!("host f32 run: {} status frames", prepared.host.len());
+            (prepared.host.clone(), None)
+        }
+    };
+    for s in replay::summary(&statuses) {
+        println!("  {s}");
+    }
+    if let Some(out) = &args.out {
+        let file = std::fs::File::create(out).map_err(|e| CliError::input(format!("{}: {e}", out.display())))?;
+        replay::write_status_csv(std::io::BufWriter::new(file), &statuses)
+            .map_err(|e| CliError::input(format!("{}: {e}", out.display())))?;
+        println!("  status CSV: {}", out.display());
+    }
+    if let Some(png) = &args.plot {
+        replay::plot(png, &mech.name, &statuses).map_err(|e| CliError::failed(e.to_string()))?;
+        println!("  plot: {}", png.display());
+    }
+    if keep {
+        println!("  frames: {}", dir.display());
+    }
+    match mismatch {
+        Some(m) => Err(CliError::failed(m)),
+        None => Ok(()),
+    }
+}
+
+/// Compares `target` with the host's frames: prints the verdict, returns
+/// the error message of a mismatch.
+fn check(prepared: &Prepared, target: &[u8], name: &str) -> Option<String> {
+    match replay::compare(&prepared.host_frames, target, prepared.joints) {
+        Ok(n) => {
+            println!(
+                "{name}: {n} status frames, bit-identical with the host's f32 run ({} bytes)",
+                target.len()
+            );
+            None
+        }
+        Err(m) => Some(format!("{name} differs from the host's f32 run: first at {m}")),
+    }
+}

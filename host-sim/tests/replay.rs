@@ -1,0 +1,206 @@
+//! `deploywatch replay`: the host target's status CSV and summary, the clear
+//! error of a missing firmware, and the replay protocol (configuration
+//! frames, the firmware's loop run on the host, the comparison). The QEMU
+//! run itself is exercised by `scripts/firmware.sh test`.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use deploywatch_core::telemetry;
+use deploywatch_core::{LatchState, Status};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::replay::{self, ReplayError};
+
+fn data(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../data").join(rel)
+}
+
+fn deploywatch(args: &[&std::ffi::OsStr]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_deploywatch"))
+        .arg("replay")
+        .args(args)
+        .output()
+        .expect("runs")
+}
+
+fn prepared(run: &str, mech: &str) -> replay::Prepared {
+    let mech = Mechanism::load(&data(mech)).unwrap();
+    let run = replay::load_run(&data(run)).unwrap();
+    replay::prepare(&mech, &run).unwrap()
+}
+
+#[test]
+fn host_replay_writes_the_status_csv_and_a_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("status.csv");
+    let png = dir.path().join("status.png");
+    let run = data("examples/a_seed001_eft/seed001_T01.csv");
+    let mech = data("mechanisms/seed001_T01.toml");
+    let out = deploywatch(&[
+        run.as_os_str(),
+        "--mechanism".as_ref(),
+        mech.as_os_str(),
+        "--target".as_ref(),
+        "host".as_ref(),
+        "--out".as_ref(),
+        csv.as_os_str(),
+        "--plot".as_ref(),
+        png.as_os_str(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    for j in 1..=3 {
+        assert!(stdout.contains(&format!("joint {j}: ")), "{stdout}");
+    }
+    assert!(stdout.contains("Coulomb") && stdout.contains("margin"), "{stdout}");
+    assert!(std::fs::metadata(&png).unwrap().len() > 1000);
+
+    let mut want = vec!["t_s".to_string()];
+    for j in 1..=3 {
+        for c in [
+            "phi{j}_deg",
+            "rate{j}_deg_s",
+            "coulomb{j}_nm",
+            "coulomb{j}_sd_nm",
+            "latch{j}",
+            "margin{j}_pct",
+            "prediction{j}",
+            "faults{j}",
+        ] {
+            want.push(c.replace("{j}", &j.to_string()));
+        }
+    }
+    let mut reader = csv::Reader::from_path(&csv).unwrap();
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    assert_eq!(header, want);
+    let states = ["stowed", "deploying", "latching", "latched", "stalled", "fault"];
+    let predictions = ["latch", "stall", "unknown"];
+    let fault_names: Vec<&str> = deploywatch_core::Fault::ALL.iter().map(|f| f.as_str()).collect();
+    let run_len = replay::load_run(&run).unwrap().len();
+    let mut rows = 0;
+    let mut latched = [false; 3];
+    for rec in reader.records() {
+        let rec = rec.unwrap();
+        rows += 1;
+        let _: f32 = rec[0].parse().unwrap();
+        for j in 0..3 {
+            let col = |k: usize| &rec[1 + 8 * j + k];
+            for k in [0, 1, 2, 3] {
+                assert!(col(k).parse::<f32>().is_ok(), "{}", col(k));
+            }
+            assert!(states.contains(&col(4)), "state {}", col(4));
+            latched[j] |= col(4) == "latched";
+            assert!(col(5).is_empty() || col(5).parse::<f32>().is_ok(), "{}", col(5));
+            assert!(predictions.contains(&col(6)), "prediction {}", col(6));
+            assert!(
+                col(7).is_empty() || col(7).split('|').all(|f| fault_names.contains(&f)),
+                "faults {}",
+                col(7)
+            );
+        }
+    }
+    assert_eq!(rows, run_len);
+    assert!(latched.iter().any(|&l| l), "some joint latches in this run");
+}
+
+#[test]
+fn qemu_without_firmware_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let elf = dir.path().join("no-such-firmware.elf");
+    let run = data("reference/seed001_T01_nominal.csv");
+    let mech = data("mechanisms/seed001_T01.toml");
+    let out = deploywatch(&[
+        run.as_os_str(),
+        "--mechanism".as_ref(),
+        mech.as_os_str(),
+        "--target".as_ref(),
+        "qemu".as_ref(),
+        "--elf".as_ref(),
+        elf.as_os_str(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stderr.contains("no firmware ELF"), "{stderr}");
+    assert!(stderr.contains("scripts/embedded-toolchain.sh"), "{stderr}");
+    assert!(stderr.contains("scripts/firmware.sh build"), "{stderr}");
+}
+
+#[test]
+fn the_firmware_loop_on_the_host_is_bit_identical_for_every_reference_mechanism() {
+    for (run, mech) in [
+        ("reference/seed000_case1_eft.csv", "mechanisms/seed000_case1.toml"),
+        ("reference/seed000_case3_nominal.csv", "mechanisms/seed000_case3.toml"),
+        ("reference/seed001_T01_eft.csv", "mechanisms/seed001_T01.toml"),
+        ("reference/seed001_T02_nominal.csv", "mechanisms/seed001_T02.toml"),
+    ] {
+        let p = prepared(run, mech);
+        assert!(replay::firmware_supports(p.joints), "{run}");
+        let fw = replay::firmware_loop_on_host(&p.input).unwrap();
+        assert_eq!(replay::compare(&p.host_frames, &fw, p.joints), Ok(p.samples), "{run}");
+        let decoded = replay::decode_statuses(&fw, p.joints).unwrap();
+        assert!(decoded == p.host, "{run}");
+    }
+}
+
+#[test]
+fn compare_names_the_first_differing_frame_joint_and_field() {
+    let p = prepared("reference/seed001_T01_nominal.csv", "mechanisms/seed001_T01.toml");
+    let mut frames: Vec<Vec<u8>> = replay::frames(&p.host_frames).map(<[u8]>::to_vec).collect();
+    let mut copy = frames[100].clone();
+    let mut status: Status<3> = telemetry::decode(&mut copy).unwrap();
+    status.joints[1].coulomb_nm = f32::from_bits(status.joints[1].coulomb_nm.to_bits() ^ 1);
+    let mut buf = [0u8; 512];
+    frames[100] = telemetry::encode(&status, &mut buf).unwrap().to_vec();
+    let target: Vec<u8> = frames.concat();
+    let m = replay::compare(&p.host_frames, &target, 3).unwrap_err();
+    assert_eq!((m.frame, m.joint, m.field.as_str()), (100, Some(2), "coulomb_nm"));
+    // A missing frame at the end.
+    let short = &p.host_frames[..p.host_frames.len() - replay::frames(&p.host_frames).last().unwrap().len()];
+    let m = replay::compare(&p.host_frames, short, 3).unwrap_err();
+    assert_eq!(m.field, "number of frames");
+}
+
+#[test]
+fn damaged_inputs_stop_the_firmware_loop() {
+    let p = prepared("reference/seed000_case1_nominal.csv", "mechanisms/seed000_case1.toml");
+    // Truncated inside the last frame.
+    let err = replay::firmware_loop_on_host(&p.input[..p.input.len() - 2]).unwrap_err();
+    assert!(err.to_string().contains("ends inside a frame"), "{err}");
+    // A flipped bit in a late sample frame: its CRC fails, with its index.
+    let mut bad = p.input.clone();
+    let at = bad.len() - 10;
+    bad[at] ^= 0x10;
+    let err = replay::firmware_loop_on_host(&bad).unwrap_err();
+    assert!(err.to_string().contains(&format!("sample frame {}", p.samples - 1)), "{err}");
+    // No configuration: the samples alone.
+    let config_len: usize = replay::frames(&p.input).take(3).map(<[u8]>::len).sum();
+    let err = replay::firmware_loop_on_host(&p.input[config_len..]).unwrap_err();
+    assert!(err.to_string().contains("configuration"), "{err}");
+    // An empty input has no configuration either.
+    assert!(matches!(replay::firmware_loop_on_host(&[]), Err(ReplayError::Target(_))));
+}
+
+#[test]
+fn summary_reports_the_latch_times() {
+    let p = prepared("reference/seed001_T01_nominal.csv", "mechanisms/seed001_T01.toml");
+    let s = replay::summary(&p.host);
+    assert_eq!(s.len(), 3);
+    for js in &s {
+        if let Some(t) = js.latched_s {
+            let first = p
+                .host
+                .iter()
+                .find(|r| r.joints[js.joint - 1].latch == LatchState::Latched)
+                .unwrap();
+            assert_eq!(first.t_s, t);
+        }
+    }
+}
+
+#[test]
+fn a_run_of_another_mechanism_is_refused() {
+    let mech = Mechanism::load(&data("mechanisms/seed001_T02.toml")).unwrap();
+    let run = replay::load_run(&data("reference/seed001_T01_nominal.csv")).unwrap();
+    assert!(matches!(replay::prepare(&mech, &run), Err(ReplayError::Input(_))));
+}
