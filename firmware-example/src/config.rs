@@ -295,4 +295,3 @@ const fn framed(payload: usize) -> usize {
     let with_crc = payload + 4;
     with_crc + with_crc.div_ceil(254) + 1
 }
-

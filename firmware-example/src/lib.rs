@@ -145,7 +145,10 @@ impl<R: FnMut(&mut [u8]) -> Result<usize, ()>> Source<R> {
 
     /// The next frame (its `0x00` included) in `buf`, `Ok(None)` at the end
     /// of the input.
-    pub fn next_frame<'b>(&mut self, buf: &'b mut [u8]) -> Result<Option<&'b mut [u8]>, FrameError> {
+    pub fn next_frame<'b>(
+        &mut self,
+        buf: &'b mut [u8],
+    ) -> Result<Option<&'b mut [u8]>, FrameError> {
         let mut len = 0usize;
         let mut too_long = false;
         loop {
@@ -205,7 +208,9 @@ where
         return Err(Error::ConfigFrame);
     }
     // Placeholders, all overwritten (a spring of `None` always builds).
-    let (panel, joint) = JointFrame::default().to_config().map_err(|_| Error::Config)?;
+    let (panel, joint) = JointFrame::default()
+        .to_config()
+        .map_err(|_| Error::Config)?;
     let mut config = MonitorConfig::new([panel; N], [joint; N]);
     config.margin.deadline_s = header.deadline_s;
     let mut buf = [0u8; JOINT_FRAME_MAX];

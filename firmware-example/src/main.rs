@@ -75,7 +75,9 @@ fn replay() -> Result<u32, Error> {
     let (mut input, mut output) = match setup() {
         Ok(setup) => setup,
         Err(Setup::Usage) => {
-            defmt::error!("usage: semihosting arguments PROGRAM INPUT OUTPUT (paths up to 127 bytes)");
+            defmt::error!(
+                "usage: semihosting arguments PROGRAM INPUT OUTPUT (paths up to 127 bytes)"
+            );
             return Err(Error::Read);
         }
         Err(Setup::Open) => {

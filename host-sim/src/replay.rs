@@ -28,11 +28,11 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use deploywatch_core::monitor::{JointStatus, Monitor, MonitorConfig, Sample, Status};
+use deploywatch_core::spring::Interp;
 use deploywatch_core::telemetry;
 use deploywatch_firmware_example::config::{
     ConfigHeader, JointFrame, Knots, SpringFrame, TapeFrame, CONFIG_VERSION, JOINT_COUNTS,
 };
-use deploywatch_core::spring::Interp;
 
 use crate::mechanism::{Mechanism, SpringSpec};
 use crate::monitor_config::{monitor_config, samples, spring_f32};
@@ -93,7 +93,11 @@ impl std::fmt::Display for Mismatch {
         if let Some(j) = self.joint {
             write!(f, ", joint {j}")?;
         }
-        write!(f, ", {}: host {}, target {}", self.field, self.host, self.target)
+        write!(
+            f,
+            ", {}: host {}, target {}",
+            self.field, self.host, self.target
+        )
     }
 }
 
@@ -171,15 +175,26 @@ macro_rules! with_joints {
 pub fn joint_frame(mech: &Mechanism, j: usize) -> Result<JointFrame, ReplayError> {
     let (p, joint) = match (mech.panels.get(j), mech.joints.get(j)) {
         (Some(p), Some(joint)) => (p, joint),
-        _ => return Err(ReplayError::Input(format!("{}: no joint {}", mech.name, j + 1))),
+        _ => {
+            return Err(ReplayError::Input(format!(
+                "{}: no joint {}",
+                mech.name,
+                j + 1
+            )))
+        }
     };
-    let curve_err = |e| ReplayError::Input(format!("{}: joint {}: spring curve: {e}", mech.name, j + 1));
+    let curve_err =
+        |e| ReplayError::Input(format!("{}: joint {}: spring curve: {e}", mech.name, j + 1));
     // The capture angle is derived by the host's conversion; take it from there.
     let (_, capture_deg) = spring_f32(&joint.spring).map_err(curve_err)?;
     let knots = |pts: &[(f64, f64)]| {
         let p: Vec<(f32, f32)> = pts.iter().map(|&(x, y)| (x as f32, y as f32)).collect();
         Knots::new(&p).ok_or_else(|| {
-            ReplayError::Input(format!("{}: joint {}: too many spring knots", mech.name, j + 1))
+            ReplayError::Input(format!(
+                "{}: joint {}: too many spring knots",
+                mech.name,
+                j + 1
+            ))
         })
     };
     let spring = match &joint.spring {
@@ -235,9 +250,14 @@ pub fn joint_frame(mech: &Mechanism, j: usize) -> Result<JointFrame, ReplayError
     })
 }
 
-fn encode_into<T: serde::Serialize>(value: &T, out: &mut Vec<u8>, what: &str) -> Result<(), ReplayError> {
+fn encode_into<T: serde::Serialize>(
+    value: &T,
+    out: &mut Vec<u8>,
+    what: &str,
+) -> Result<(), ReplayError> {
     let mut buf = [0u8; 2048];
-    let frame = telemetry::encode(value, &mut buf).map_err(|e| ReplayError::Input(format!("{what}: {e}")))?;
+    let frame = telemetry::encode(value, &mut buf)
+        .map_err(|e| ReplayError::Input(format!("{what}: {e}")))?;
     out.extend_from_slice(frame);
     Ok(())
 }
@@ -281,7 +301,8 @@ pub fn config_frames<const N: usize>(
 }
 
 fn prepare_n<const N: usize>(mech: &Mechanism, run: &Run) -> Result<Prepared, ReplayError> {
-    let config = monitor_config::<N>(mech).map_err(|e| ReplayError::Input(format!("{}: {e}", mech.name)))?;
+    let config =
+        monitor_config::<N>(mech).map_err(|e| ReplayError::Input(format!("{}: {e}", mech.name)))?;
     let samples: Vec<Sample<N>> = samples::<N>(run).ok_or_else(|| {
         ReplayError::Input(format!(
             "the run has {} joints, the mechanism {N}",
@@ -445,13 +466,19 @@ pub const JOINT_COLUMNS: [Column; 8] = [
     ("coulomb", "_nm", |s| num(s.coulomb_nm)),
     ("coulomb", "_sd_nm", |s| num(s.coulomb_sd_nm)),
     ("latch", "", |s| s.latch.as_str().into()),
-    ("margin", "_pct", |s| s.margin_pct.map(num).unwrap_or_default()),
+    ("margin", "_pct", |s| {
+        s.margin_pct.map(num).unwrap_or_default()
+    }),
     ("prediction", "", |s| s.prediction.as_str().into()),
     ("faults", "", |s| fault_names(s)),
 ];
 
 fn fault_names(s: &JointStatus) -> String {
-    s.faults.iter().map(|f| f.as_str()).collect::<Vec<_>>().join("|")
+    s.faults
+        .iter()
+        .map(|f| f.as_str())
+        .collect::<Vec<_>>()
+        .join("|")
 }
 
 /// The header of the status CSV for `joints` joints.
@@ -510,7 +537,8 @@ impl std::fmt::Display for JointSummary {
              margin min {} last {}, prediction {}, faults {}",
             self.joint,
             self.final_state,
-            self.latched_s.map_or("not latched".into(), |t| format!("latched at {t:.3} s")),
+            self.latched_s
+                .map_or("not latched".into(), |t| format!("latched at {t:.3} s")),
             self.coulomb_nm.0,
             self.coulomb_nm.1,
             self.viscous_nms.0,
@@ -518,7 +546,11 @@ impl std::fmt::Display for JointSummary {
             opt(self.margin_pct.0, " %"),
             opt(self.margin_pct.1, " %"),
             self.prediction,
-            if self.faults.is_empty() { "none" } else { &self.faults },
+            if self.faults.is_empty() {
+                "none"
+            } else {
+                &self.faults
+            },
         )
     }
 }
@@ -550,7 +582,11 @@ pub fn summary(statuses: &[StatusRow]) -> Vec<JointSummary> {
                 viscous_nms: (last.viscous_nms, last.viscous_sd_nms),
                 margin_pct: (min_margin, last.margin_pct),
                 prediction: last.prediction.as_str(),
-                faults: faults.iter().map(|f| f.as_str()).collect::<Vec<_>>().join("|"),
+                faults: faults
+                    .iter()
+                    .map(|f| f.as_str())
+                    .collect::<Vec<_>>()
+                    .join("|"),
             }
         })
         .collect()
@@ -571,15 +607,30 @@ pub fn plot(png: &Path, title: &str, statuses: &[StatusRow]) -> Result<(), plot:
     let margin = col(|s| s.margin_pct.map_or(f64::NAN, f64::from));
     let markers: Vec<(f64, String)> = summary(statuses)
         .iter()
-        .filter_map(|s| s.latched_s.map(|t| (f64::from(t), format!("latch {}", s.joint))))
+        .filter_map(|s| {
+            s.latched_s
+                .map(|t| (f64::from(t), format!("latch {}", s.joint)))
+        })
         .collect();
     plot::draw(
         png,
         &format!("{title}: on-board monitor"),
         "time [s]",
         &[
-            panel("joint angle φ_j (filtered)", "angle [deg]", &t, &phi, &markers),
-            panel("Coulomb friction estimate", "T_C [N·m]", &t, &coulomb, &markers),
+            panel(
+                "joint angle φ_j (filtered)",
+                "angle [deg]",
+                &t,
+                &phi,
+                &markers,
+            ),
+            panel(
+                "Coulomb friction estimate",
+                "T_C [N·m]",
+                &t,
+                &coulomb,
+                &markers,
+            ),
             panel("torque margin", "margin [%]", &t, &margin, &markers),
         ],
     )
@@ -641,7 +692,11 @@ pub fn firmware_supports(joints: usize) -> bool {
 
 /// The firmware's joint counts, for messages.
 pub fn firmware_joint_counts() -> String {
-    JOINT_COUNTS.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(" and ")
+    JOINT_COUNTS
+        .iter()
+        .map(|n| n.to_string())
+        .collect::<Vec<_>>()
+        .join(" and ")
 }
 
 /// The firmware ELF: `elf` when given, else [`DEFAULT_ELF`] under the
@@ -651,19 +706,25 @@ pub fn find_elf(elf: Option<&Path>) -> Result<PathBuf, ReplayError> {
         Some(e) => vec![e.to_path_buf()],
         None => vec![
             PathBuf::from(DEFAULT_ELF),
-            Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(DEFAULT_ELF),
+            Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("..")
+                .join(DEFAULT_ELF),
         ],
     };
-    candidates.iter().find(|p| p.is_file()).cloned().ok_or_else(|| {
-        ReplayError::Setup(format!(
-            "no firmware ELF at {}: {SETUP_HINT}",
-            candidates
-                .iter()
-                .map(|p| p.display().to_string())
-                .collect::<Vec<_>>()
-                .join(" or ")
-        ))
-    })
+    candidates
+        .iter()
+        .find(|p| p.is_file())
+        .cloned()
+        .ok_or_else(|| {
+            ReplayError::Setup(format!(
+                "no firmware ELF at {}: {SETUP_HINT}",
+                candidates
+                    .iter()
+                    .map(|p| p.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(" or ")
+            ))
+        })
 }
 
 /// What a QEMU run of the firmware gave.
@@ -678,7 +739,12 @@ pub struct QemuRun {
 
 /// Runs the firmware `elf` under QEMU on `input` (the files go to `dir`:
 /// `input.bin`, `qemu.bin`, `qemu.defmt`), waiting at most `timeout`.
-pub fn run_qemu(elf: &Path, input: &[u8], dir: &Path, timeout: Duration) -> Result<QemuRun, ReplayError> {
+pub fn run_qemu(
+    elf: &Path,
+    input: &[u8],
+    dir: &Path,
+    timeout: Duration,
+) -> Result<QemuRun, ReplayError> {
     let io_err = |p: &Path, e: io::Error| ReplayError::Input(format!("{}: {e}", p.display()));
     std::fs::create_dir_all(dir).map_err(|e| io_err(dir, e))?;
     let abs = |p: PathBuf| std::path::absolute(&p).unwrap_or(p);
@@ -689,7 +755,9 @@ pub fn run_qemu(elf: &Path, input: &[u8], dir: &Path, timeout: Duration) -> Resu
     let _ = std::fs::remove_file(&out_path);
     let mut args = "enable=on,target=native,arg=deploywatch-firmware-example".to_string();
     for p in [&in_path, &out_path] {
-        let s = p.to_str().ok_or_else(|| ReplayError::Input(format!("{}: not UTF-8", p.display())))?;
+        let s = p
+            .to_str()
+            .ok_or_else(|| ReplayError::Input(format!("{}: not UTF-8", p.display())))?;
         if s.chars().any(char::is_whitespace) || s.len() > 127 {
             return Err(ReplayError::Input(format!(
                 "{s}: a semihosting argument may not contain spaces nor exceed 127 bytes \
@@ -704,14 +772,22 @@ pub fn run_qemu(elf: &Path, input: &[u8], dir: &Path, timeout: Duration) -> Resu
         .args(["-cpu", "cortex-m4", "-machine", "mps2-an386", "-nographic"])
         // One instruction per ns of virtual time: the firmware's instruction
         // count of Monitor::update relies on it.
-        .args(["-icount", "shift=0", "-semihosting-config", &args, "-kernel"])
+        .args([
+            "-icount",
+            "shift=0",
+            "-semihosting-config",
+            &args,
+            "-kernel",
+        ])
         .arg(elf)
         .stdin(Stdio::null())
         .stdout(log)
         .stderr(Stdio::piped())
         .spawn()
         .map_err(|e| match e.kind() {
-            io::ErrorKind::NotFound => ReplayError::Setup(format!("{QEMU} is not installed: {SETUP_HINT}")),
+            io::ErrorKind::NotFound => {
+                ReplayError::Setup(format!("{QEMU} is not installed: {SETUP_HINT}"))
+            }
             _ => ReplayError::Setup(format!("cannot start {QEMU}: {e}")),
         })?;
     let start = Instant::now();

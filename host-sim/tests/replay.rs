@@ -12,7 +12,9 @@ use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::replay::{self, ReplayError};
 
 fn data(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../data").join(rel)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../data")
+        .join(rel)
 }
 
 fn deploywatch(args: &[&std::ffi::OsStr]) -> std::process::Output {
@@ -48,11 +50,18 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
         png.as_os_str(),
     ]);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     for j in 1..=3 {
         assert!(stdout.contains(&format!("joint {j}: ")), "{stdout}");
     }
-    assert!(stdout.contains("Coulomb") && stdout.contains("margin"), "{stdout}");
+    assert!(
+        stdout.contains("Coulomb") && stdout.contains("margin"),
+        "{stdout}"
+    );
     assert!(std::fs::metadata(&png).unwrap().len() > 1000);
 
     let mut want = vec!["t_s".to_string()];
@@ -73,9 +82,19 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
     let mut reader = csv::Reader::from_path(&csv).unwrap();
     let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
     assert_eq!(header, want);
-    let states = ["stowed", "deploying", "latching", "latched", "stalled", "fault"];
+    let states = [
+        "stowed",
+        "deploying",
+        "latching",
+        "latched",
+        "stalled",
+        "fault",
+    ];
     let predictions = ["latch", "stall", "unknown"];
-    let fault_names: Vec<&str> = deploywatch_core::Fault::ALL.iter().map(|f| f.as_str()).collect();
+    let fault_names: Vec<&str> = deploywatch_core::Fault::ALL
+        .iter()
+        .map(|f| f.as_str())
+        .collect();
     let run_len = replay::load_run(&run).unwrap().len();
     let mut rows = 0;
     let mut latched = [false; 3];
@@ -90,7 +109,11 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
             }
             assert!(states.contains(&col(4)), "state {}", col(4));
             latched[j] |= col(4) == "latched";
-            assert!(col(5).is_empty() || col(5).parse::<f32>().is_ok(), "{}", col(5));
+            assert!(
+                col(5).is_empty() || col(5).parse::<f32>().is_ok(),
+                "{}",
+                col(5)
+            );
             assert!(predictions.contains(&col(6)), "prediction {}", col(6));
             assert!(
                 col(7).is_empty() || col(7).split('|').all(|f| fault_names.contains(&f)),
@@ -129,15 +152,31 @@ fn qemu_without_firmware_is_a_clear_error() {
 #[test]
 fn the_firmware_loop_on_the_host_is_bit_identical_for_every_reference_mechanism() {
     for (run, mech) in [
-        ("reference/seed000_case1_eft.csv", "mechanisms/seed000_case1.toml"),
-        ("reference/seed000_case3_nominal.csv", "mechanisms/seed000_case3.toml"),
-        ("reference/seed001_T01_eft.csv", "mechanisms/seed001_T01.toml"),
-        ("reference/seed001_T02_nominal.csv", "mechanisms/seed001_T02.toml"),
+        (
+            "reference/seed000_case1_eft.csv",
+            "mechanisms/seed000_case1.toml",
+        ),
+        (
+            "reference/seed000_case3_nominal.csv",
+            "mechanisms/seed000_case3.toml",
+        ),
+        (
+            "reference/seed001_T01_eft.csv",
+            "mechanisms/seed001_T01.toml",
+        ),
+        (
+            "reference/seed001_T02_nominal.csv",
+            "mechanisms/seed001_T02.toml",
+        ),
     ] {
         let p = prepared(run, mech);
         assert!(replay::firmware_supports(p.joints), "{run}");
         let fw = replay::firmware_loop_on_host(&p.input).unwrap();
-        assert_eq!(replay::compare(&p.host_frames, &fw, p.joints), Ok(p.samples), "{run}");
+        assert_eq!(
+            replay::compare(&p.host_frames, &fw, p.joints),
+            Ok(p.samples),
+            "{run}"
+        );
         let decoded = replay::decode_statuses(&fw, p.joints).unwrap();
         assert!(decoded == p.host, "{run}");
     }
@@ -145,7 +184,10 @@ fn the_firmware_loop_on_the_host_is_bit_identical_for_every_reference_mechanism(
 
 #[test]
 fn compare_names_the_first_differing_frame_joint_and_field() {
-    let p = prepared("reference/seed001_T01_nominal.csv", "mechanisms/seed001_T01.toml");
+    let p = prepared(
+        "reference/seed001_T01_nominal.csv",
+        "mechanisms/seed001_T01.toml",
+    );
     let mut frames: Vec<Vec<u8>> = replay::frames(&p.host_frames).map(<[u8]>::to_vec).collect();
     let mut copy = frames[100].clone();
     let mut status: Status<3> = telemetry::decode(&mut copy).unwrap();
@@ -154,16 +196,23 @@ fn compare_names_the_first_differing_frame_joint_and_field() {
     frames[100] = telemetry::encode(&status, &mut buf).unwrap().to_vec();
     let target: Vec<u8> = frames.concat();
     let m = replay::compare(&p.host_frames, &target, 3).unwrap_err();
-    assert_eq!((m.frame, m.joint, m.field.as_str()), (100, Some(2), "coulomb_nm"));
+    assert_eq!(
+        (m.frame, m.joint, m.field.as_str()),
+        (100, Some(2), "coulomb_nm")
+    );
     // A missing frame at the end.
-    let short = &p.host_frames[..p.host_frames.len() - replay::frames(&p.host_frames).last().unwrap().len()];
+    let short = &p.host_frames
+        [..p.host_frames.len() - replay::frames(&p.host_frames).last().unwrap().len()];
     let m = replay::compare(&p.host_frames, short, 3).unwrap_err();
     assert_eq!(m.field, "number of frames");
 }
 
 #[test]
 fn damaged_inputs_stop_the_firmware_loop() {
-    let p = prepared("reference/seed000_case1_nominal.csv", "mechanisms/seed000_case1.toml");
+    let p = prepared(
+        "reference/seed000_case1_nominal.csv",
+        "mechanisms/seed000_case1.toml",
+    );
     // Truncated inside the last frame.
     let err = replay::firmware_loop_on_host(&p.input[..p.input.len() - 2]).unwrap_err();
     assert!(err.to_string().contains("ends inside a frame"), "{err}");
@@ -172,18 +221,28 @@ fn damaged_inputs_stop_the_firmware_loop() {
     let at = bad.len() - 10;
     bad[at] ^= 0x10;
     let err = replay::firmware_loop_on_host(&bad).unwrap_err();
-    assert!(err.to_string().contains(&format!("sample frame {}", p.samples - 1)), "{err}");
+    assert!(
+        err.to_string()
+            .contains(&format!("sample frame {}", p.samples - 1)),
+        "{err}"
+    );
     // No configuration: the samples alone.
     let config_len: usize = replay::frames(&p.input).take(3).map(<[u8]>::len).sum();
     let err = replay::firmware_loop_on_host(&p.input[config_len..]).unwrap_err();
     assert!(err.to_string().contains("configuration"), "{err}");
     // An empty input has no configuration either.
-    assert!(matches!(replay::firmware_loop_on_host(&[]), Err(ReplayError::Target(_))));
+    assert!(matches!(
+        replay::firmware_loop_on_host(&[]),
+        Err(ReplayError::Target(_))
+    ));
 }
 
 #[test]
 fn summary_reports_the_latch_times() {
-    let p = prepared("reference/seed001_T01_nominal.csv", "mechanisms/seed001_T01.toml");
+    let p = prepared(
+        "reference/seed001_T01_nominal.csv",
+        "mechanisms/seed001_T01.toml",
+    );
     let s = replay::summary(&p.host);
     assert_eq!(s.len(), 3);
     for js in &s {
@@ -202,5 +261,8 @@ fn summary_reports_the_latch_times() {
 fn a_run_of_another_mechanism_is_refused() {
     let mech = Mechanism::load(&data("mechanisms/seed001_T02.toml")).unwrap();
     let run = replay::load_run(&data("reference/seed001_T01_nominal.csv")).unwrap();
-    assert!(matches!(replay::prepare(&mech, &run), Err(ReplayError::Input(_))));
+    assert!(matches!(
+        replay::prepare(&mech, &run),
+        Err(ReplayError::Input(_))
+    ));
 }

@@ -63,10 +63,9 @@ impl TempDir {
         let nanos = SystemTime::now()
             .duration_since(UNIX_EPOCH)
             .map_or(0, |d| d.subsec_nanos());
-        TempDir(std::env::temp_dir().join(format!(
-            "deploywatch-replay-{}-{nanos}",
-            std::process::id()
-        )))
+        TempDir(
+            std::env::temp_dir().join(format!("deploywatch-replay-{}-{nanos}", std::process::id())),
+        )
     }
 }
 
@@ -112,7 +111,8 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let temp;
     let dir = match &args.keep {
         Some(d) => {
-            std::fs::create_dir_all(d).map_err(|e| CliError::input(format!("{}: {e}", d.display())))?;
+            std::fs::create_dir_all(d)
+                .map_err(|e| CliError::input(format!("{}: {e}", d.display())))?;
             d.clone()
         }
         None => {
@@ -136,10 +136,16 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     // The statuses reported: the target's.
     let (statuses, mismatch) = match (args.target, elf) {
         (Target::Qemu, Some(elf)) => {
-            let q = replay::run_qemu(&elf, &prepared.input, &dir, Duration::from_secs(args.timeout))
-                .map_err(cli_error)?;
+            let q = replay::run_qemu(
+                &elf,
+                &prepared.input,
+                &dir,
+                Duration::from_secs(args.timeout),
+            )
+            .map_err(cli_error)?;
             eprint!("{}", q.log);
-            let statuses = replay::decode_statuses(&q.frames, prepared.joints).map_err(cli_error)?;
+            let statuses =
+                replay::decode_statuses(&q.frames, prepared.joints).map_err(cli_error)?;
             let m = check(&prepared, &q.frames, "QEMU (Cortex-M4F firmware)");
             (statuses, m)
         }
@@ -160,7 +166,8 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
         println!("  {s}");
     }
     if let Some(out) = &args.out {
-        let file = std::fs::File::create(out).map_err(|e| CliError::input(format!("{}: {e}", out.display())))?;
+        let file = std::fs::File::create(out)
+            .map_err(|e| CliError::input(format!("{}: {e}", out.display())))?;
         replay::write_status_csv(std::io::BufWriter::new(file), &statuses)
             .map_err(|e| CliError::input(format!("{}: {e}", out.display())))?;
         println!("  status CSV: {}", out.display());
@@ -189,6 +196,8 @@ fn check(prepared: &Prepared, target: &[u8], name: &str) -> Option<String> {
             );
             None
         }
-        Err(m) => Some(format!("{name} differs from the host's f32 run: first at {m}")),
+        Err(m) => Some(format!(
+            "{name} differs from the host's f32 run: first at {m}"
+        )),
     }
 }
