@@ -464,7 +464,11 @@ mod properties {
     }
 
     proptest! {
-        #![proptest_config(ProptestConfig::with_cases(64))]
+        #![proptest_config(ProptestConfig {
+            cases: 64,
+            failure_persistence: None,
+            ..ProptestConfig::default()
+        })]
 
         /// Arbitrary sample streams never panic the monitor and never put a
         /// NaN or an infinity in its status; a bad reading or time stamp

@@ -643,6 +643,11 @@ impl<const N: usize> Monitor<N> {
                 meas[j] = Some(z * DEG);
             }
         }
+        // The readings as they came (range-checked): the latch estimator
+        // compares them with the switch even when the rate filter gated one
+        // out (a joint stopping dead at its latch looks like a spike to it;
+        // the switch must agree anyway).
+        let raw = meas;
         let r_meas = self.meas_var();
         let sd = libm::sqrtf(r_meas);
         if !self.started {
@@ -699,7 +704,7 @@ impl<const N: usize> Monitor<N> {
                 &LatchInput {
                     t_s: t,
                     switch: sample.latch[j],
-                    measured_deg: meas[j].map(|z| z / DEG),
+                    measured_deg: raw[j].map(|z| z / DEG),
                     angle_deg: self.kf[j].angle() / DEG,
                     rate_deg_s: self.kf[j].rate() / DEG,
                     stowed_deg: self.stowed_deg[j],
@@ -853,7 +858,6 @@ impl<const N: usize> Monitor<N> {
                 o.filter(|(x, _)| x.latches)
                     .map(|(x, t0)| (t0 + x.latch_after_s - t).max(0.0))
             };
-            let energy_stall = self.margin[j].is_some_and(|r| r.latch_probability <= 1.0 - conf);
             let energy = self.margin[j];
             let energy_stall = energy.is_some_and(|r| r.latch_probability <= 1.0 - conf);
             let rollouts = self.margin_cfg.rollout.steps_per_update > 0;

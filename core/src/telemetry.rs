@@ -98,7 +98,7 @@ pub const fn sample_frame_max(n: usize) -> usize {
 }
 
 /// Largest postcard payload of one `JointStatus`: seven `f32` (28), the
-/// latch state and prediction (1 each), the probability (4), two
+/// latch state and prediction (1 each), the confidence (4), two
 /// `Option<f32>` (5 each) and the fault flags (varint `u16`, ≤ 3).
 pub const JOINT_STATUS_PAYLOAD_MAX: usize = 7 * 4 + 1 + 1 + 4 + 2 * 5 + 3;
 
