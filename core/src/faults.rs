@@ -37,11 +37,15 @@ pub enum Fault {
     LatchDisagree = 9,
     /// An estimate went non-finite or lost track and was re-initialised.
     EstimatorReset = 10,
+    /// The encoder has repeated the exact same reading for longer than its
+    /// noise allows (a frozen or stuck sensor): its readings are not used
+    /// until they change.
+    EncoderStuck = 11,
 }
 
 impl Fault {
     /// Every fault, in bit order.
-    pub const ALL: [Fault; 11] = [
+    pub const ALL: [Fault; 12] = [
         Fault::EncoderMissing,
         Fault::EncoderRange,
         Fault::EncoderOutlier,
@@ -53,6 +57,7 @@ impl Fault {
         Fault::SwitchChatter,
         Fault::LatchDisagree,
         Fault::EstimatorReset,
+        Fault::EncoderStuck,
     ];
 
     /// The name used in telemetry CSV and reports.
@@ -69,6 +74,7 @@ impl Fault {
             Fault::SwitchChatter => "switch_chatter",
             Fault::LatchDisagree => "latch_disagree",
             Fault::EstimatorReset => "estimator_reset",
+            Fault::EncoderStuck => "encoder_stuck",
         }
     }
 

@@ -102,6 +102,17 @@ pub struct LatchConfig {
     pub switch_timeout_s: f32,
     /// Consecutive missing encoder samples that make the joint `Fault`.
     pub missing_samples: u8,
+    /// How long the switch must stay closed without a break to count on its
+    /// own [s]: for a latch while the encoder is unavailable (missing or
+    /// stuck), and for a switch closed far from the latch angle to be
+    /// distrusted. Longer than the longest bounce (20 ms).
+    pub debounce_s: f32,
+    /// How long a healthy encoder must read within `at_latch_deg` of the
+    /// latch angle, while the switch stays open or is distrusted, for the
+    /// latch to be confirmed by the encoder alone [s] (flagged). Longer
+    /// than the stuck-encoder detection, so a reading frozen at the latch
+    /// angle is caught first.
+    pub encoder_confirm_s: f32,
 }
 
 impl Default for LatchConfig {
@@ -116,6 +127,8 @@ impl Default for LatchConfig {
             at_latch_deg: 0.3,
             switch_timeout_s: 0.1,
             missing_samples: 5,
+            debounce_s: 0.03,
+            encoder_confirm_s: 0.3,
         }
     }
 }
@@ -137,6 +150,10 @@ impl LatchConfig {
             && self.switch_timeout_s >= 0.0
             && (2..=3).contains(&self.closed_votes)
             && self.missing_samples > 0
+            && self.debounce_s.is_finite()
+            && self.debounce_s >= 0.0
+            && self.encoder_confirm_s.is_finite()
+            && self.encoder_confirm_s > 0.0
     }
 }
 
@@ -155,6 +172,10 @@ pub struct LatchInput {
     pub rate_deg_s: f32,
     /// The stowed angle [deg].
     pub stowed_deg: f32,
+    /// True while the encoder is known to be stuck (its readings are then
+    /// `None` in `measured_deg`): a switch that disagreed with it is
+    /// trusted again.
+    pub encoder_stuck: bool,
 }
 
 /// The estimator's answer for one sample.
@@ -185,6 +206,20 @@ pub struct LatchTracker {
     open_at_latch: bool,
     missing_run: u8,
     switch_early: bool,
+    /// Start of the current unbroken closed stretch of the switch [s].
+    closed_since: f32,
+    closed_run: bool,
+    /// Start of the current stretch of a debounced switch closed with the
+    /// encoder far from the latch [s].
+    early_since: f32,
+    early_run: bool,
+    /// The switch closed far from the latch for `debounce_s`: it is not
+    /// trusted (stuck closed) until the encoder is found stuck.
+    switch_suspect: bool,
+    /// Start of the current stretch of the encoder at the latch angle with
+    /// the switch open or distrusted [s].
+    confirm_since: f32,
+    confirm_run: bool,
 }
 
 impl LatchTracker {
@@ -202,7 +237,20 @@ impl LatchTracker {
             open_at_latch: false,
             missing_run: 0,
             switch_early: false,
+            closed_since: 0.0,
+            closed_run: false,
+            early_since: 0.0,
+            early_run: false,
+            switch_suspect: false,
+            confirm_since: 0.0,
+            confirm_run: false,
         }
+    }
+
+    /// True once the switch has been closed far from the latch angle for
+    /// the debounce time: it is then not used for the latch decision.
+    pub fn switch_suspect(&self) -> bool {
+        self.switch_suspect
     }
 
     /// True once the latch is confirmed.
@@ -214,6 +262,19 @@ impl LatchTracker {
     /// (the joint is then held fixed by the dynamics model, but not latched).
     pub fn held_at_latch(&self) -> bool {
         self.open_at_latch
+    }
+
+    /// Declares the latch (final).
+    fn declare(&mut self, faults: FaultFlags) -> LatchOutput {
+        self.latched = true;
+        self.motion = LatchState::Latched;
+        self.switch_early = false;
+        self.open_at_latch = false;
+        LatchOutput {
+            state: LatchState::Latched,
+            newly_latched: true,
+            faults,
+        }
     }
 
     /// One sample.
@@ -248,22 +309,70 @@ impl LatchTracker {
             };
         }
 
-        // Switch closed (debounced): a latch if the encoder agrees.
-        let closed = x.switch && votes >= cfg.closed_votes;
-        if closed && in_window {
-            self.latched = true;
-            self.motion = LatchState::Latched;
-            self.switch_early = false;
-            self.open_at_latch = false;
-            return LatchOutput {
-                state: LatchState::Latched,
-                newly_latched: true,
-                faults,
-            };
+        // Unbroken closed stretch of the switch.
+        if x.switch {
+            if !self.closed_run {
+                self.closed_run = true;
+                self.closed_since = x.t_s;
+            }
+        } else {
+            self.closed_run = false;
         }
-        self.switch_early = closed && !in_window;
+        let closed_long = self.closed_run && x.t_s - self.closed_since >= cfg.debounce_s;
+        if x.encoder_stuck {
+            // The disagreement was the encoder's.
+            self.switch_suspect = false;
+            self.early_run = false;
+        }
+
+        // Switch closed (debounced): a latch if the encoder agrees, or, with
+        // the encoder unavailable, if the switch has stayed closed for the
+        // debounce time. A distrusted switch declares nothing.
+        let closed = x.switch && votes >= cfg.closed_votes;
+        let agrees = match x.measured_deg {
+            Some(_) => in_window,
+            None => in_window || closed_long,
+        };
+        if closed && agrees && !self.switch_suspect {
+            return self.declare(faults);
+        }
+        self.switch_early = closed && !agrees;
         if self.switch_early {
             faults.insert(Fault::SwitchEarly);
+            if x.measured_deg.is_some() {
+                if !self.early_run {
+                    self.early_run = true;
+                    self.early_since = x.t_s;
+                }
+                if x.t_s - self.early_since >= cfg.debounce_s {
+                    self.switch_suspect = true;
+                }
+            }
+        } else {
+            self.early_run = false;
+        }
+        if self.switch_suspect {
+            faults.insert(Fault::SwitchEarly);
+        }
+
+        // Encoder alone: at the latch angle for the confirmation time while
+        // the switch stays open or is distrusted.
+        let encoder_at_latch = (!x.switch || self.switch_suspect)
+            && x.measured_deg
+                .is_some_and(|m| libm::fabsf(m) <= cfg.at_latch_deg);
+        if encoder_at_latch {
+            if !self.confirm_run {
+                self.confirm_run = true;
+                self.confirm_since = x.t_s;
+            }
+            if x.t_s - self.confirm_since >= cfg.encoder_confirm_s {
+                if !x.switch {
+                    faults.insert(Fault::SwitchOpenAtLatch);
+                }
+                return self.declare(faults);
+            }
+        } else {
+            self.confirm_run = false;
         }
 
         // Encoder at the latch while the switch stays open.
@@ -306,8 +415,10 @@ impl LatchTracker {
             LatchState::Stalled if self.slow => LatchState::Stalled,
             _ => LatchState::Deploying,
         };
-        let fault =
-            self.switch_early || self.open_at_latch || self.missing_run >= cfg.missing_samples;
+        let fault = self.switch_early
+            || self.switch_suspect
+            || self.open_at_latch
+            || self.missing_run >= cfg.missing_samples;
         LatchOutput {
             state: if fault {
                 LatchState::Fault
@@ -332,6 +443,7 @@ mod tests {
             angle_deg: deg,
             rate_deg_s: -50.0,
             stowed_deg: 90.0,
+            encoder_stuck: false,
         }
     }
 
@@ -396,6 +508,52 @@ mod tests {
             &LatchConfig::default(),
         );
         assert_eq!(out.state, LatchState::Latched);
+    }
+
+    #[test]
+    fn given_switch_open_when_encoder_at_latch_for_confirm_time_then_latched_and_flagged() {
+        let mut tr = LatchTracker::new();
+        let samples: [(bool, f32); 32] = [(false, 0.01); 32];
+        let out = run(&mut tr, &samples);
+        assert!(out.newly_latched && tr.is_latched());
+        assert!(out.faults.contains(Fault::SwitchOpenAtLatch));
+    }
+
+    #[test]
+    fn given_switch_stuck_closed_then_no_latch_until_encoder_confirms() {
+        let mut tr = LatchTracker::new();
+        // Closed far from the latch for the debounce time: distrusted.
+        let mut samples: std::vec::Vec<(bool, f32)> =
+            (0..10).map(|i| (true, 60.0 - i as f32)).collect();
+        // The encoder crosses the 2° window: not a latch with that switch.
+        samples.extend([(true, 1.5), (true, 0.8), (true, 0.2)]);
+        let out = run(&mut tr, &samples);
+        assert!(tr.switch_suspect() && !tr.is_latched());
+        assert_eq!(out.state, LatchState::Fault);
+        // At the latch angle for the confirmation time: latched.
+        samples.extend([(true, 0.0); 32]);
+        let mut tr = LatchTracker::new();
+        let out = run(&mut tr, &samples);
+        assert!(tr.is_latched());
+        assert_eq!(out.state, LatchState::Latched);
+    }
+
+    #[test]
+    fn given_stuck_encoder_then_switch_alone_latches_after_debounce() {
+        let cfg = LatchConfig::default();
+        let mut tr = LatchTracker::new();
+        let stuck = |t: f32, sw: bool| LatchInput {
+            measured_deg: None,
+            encoder_stuck: true,
+            ..input(t, sw, 20.0)
+        };
+        tr.step(&stuck(0.0, false), &cfg);
+        for k in 1..=3 {
+            let out = tr.step(&stuck(0.01 * k as f32, true), &cfg);
+            assert!(!tr.is_latched(), "{k}: {out:?}");
+        }
+        let out = tr.step(&stuck(0.04, true), &cfg);
+        assert!(out.newly_latched);
     }
 
     #[test]

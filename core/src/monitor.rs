@@ -189,6 +189,12 @@ pub struct SensorConfig {
     pub encoder_sd_deg: f32,
     /// Quantisation step [deg] (360/16384 for 14 bits).
     pub encoder_step_deg: f32,
+    /// Consecutive identical readings after which the encoder is stuck
+    /// (flag `encoder_stuck`, readings not used until they change); 0
+    /// switches the check off. With σ = 0.02° of noise against a 0.022°
+    /// step a reading repeats with probability ≲ 0.4, so 20 in a row
+    /// happen by chance about once in 10⁸ samples.
+    pub stuck_samples: u16,
 }
 
 impl Default for SensorConfig {
@@ -196,6 +202,7 @@ impl Default for SensorConfig {
         SensorConfig {
             encoder_sd_deg: 0.02,
             encoder_step_deg: 360.0 / 16384.0,
+            stuck_samples: 20,
         }
     }
 }
@@ -473,6 +480,10 @@ pub struct Monitor<const N: usize> {
     /// `z = Φ⁻¹(confidence)`.
     z: f32,
     rejects: [u8; N],
+    /// Last in-range reading of each encoder [deg] and how many samples in
+    /// a row repeated it exactly.
+    last_raw: [f32; N],
+    same_run: [u16; N],
     started: bool,
     /// Time stamp of the first sample [s].
     t_start: f32,
@@ -540,6 +551,8 @@ impl<const N: usize> Monitor<N> {
             optimistic: None,
             z: normal_quantile(config.margin.confidence),
             rejects: [0; N],
+            last_raw: [f32::NAN; N],
+            same_run: [0; N],
             started: false,
             t_start: 0.0,
             t_prev: 0.0,
@@ -633,6 +646,7 @@ impl<const N: usize> Monitor<N> {
         // Encoders.
         let mut faults = [global; N];
         let mut meas = [None::<f32>; N];
+        let mut stuck = [false; N];
         for j in 0..N {
             let z = sample.phi_deg[j];
             if !z.is_finite() {
@@ -640,7 +654,21 @@ impl<const N: usize> Monitor<N> {
             } else if libm::fabsf(z) > ENCODER_RANGE_DEG {
                 faults[j].insert(Fault::EncoderRange);
             } else {
-                meas[j] = Some(z * DEG);
+                // A reading frozen to the same value for longer than the
+                // noise allows is a stuck (or stale) encoder: not used.
+                if z == self.last_raw[j] {
+                    self.same_run[j] = self.same_run[j].saturating_add(1);
+                } else {
+                    self.same_run[j] = 0;
+                    self.last_raw[j] = z;
+                }
+                let limit = self.sensor.stuck_samples;
+                if limit > 0 && self.same_run[j].saturating_add(1) >= limit {
+                    faults[j].insert(Fault::EncoderStuck);
+                    stuck[j] = true;
+                } else {
+                    meas[j] = Some(z * DEG);
+                }
             }
         }
         // The readings as they came (range-checked): the latch estimator
@@ -708,6 +736,7 @@ impl<const N: usize> Monitor<N> {
                     angle_deg: self.kf[j].angle() / DEG,
                     rate_deg_s: self.kf[j].rate() / DEG,
                     stowed_deg: self.stowed_deg[j],
+                    encoder_stuck: stuck[j],
                 },
                 &self.latch_cfg,
             );

@@ -83,6 +83,9 @@ impl Knots {
 }
 
 /// A joint's spring, as the mechanism file gives it.
+// The curve variant's knots are inline: no heap to box them in, and one
+// value at a time is decoded.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug, PartialEq, Default, Serialize, Deserialize)]
 pub enum SpringFrame {
     /// No spring.

@@ -25,15 +25,20 @@ fuzz_target!(|data: &[u8]| {
 
 fn check<T: Serialize + DeserializeOwned>(frame: &[u8], max: usize) {
     let mut buf = frame.to_vec();
-    let Ok(value) = telemetry::decode::<T>(&mut buf) else { return };
+    let Ok(value) = telemetry::decode::<T>(&mut buf) else {
+        return;
+    };
     let mut out = vec![0u8; max];
     let len = telemetry::encode(&value, &mut out)
         .unwrap_or_else(|e| panic!("a decoded value does not re-encode in {max} bytes: {e}"))
         .len();
     let first = out[..len].to_vec();
     let mut again = first.clone();
-    let value2: T = telemetry::decode(&mut again).unwrap_or_else(|e| panic!("re-encoded frame does not decode: {e}"));
+    let value2: T = telemetry::decode(&mut again)
+        .unwrap_or_else(|e| panic!("re-encoded frame does not decode: {e}"));
     let mut out2 = vec![0u8; max];
-    let len2 = telemetry::encode(&value2, &mut out2).expect("second encode").len();
+    let len2 = telemetry::encode(&value2, &mut out2)
+        .expect("second encode")
+        .len();
     assert_eq!(&out2[..len2], &first[..], "encode-decode-encode differs");
 }

@@ -11,8 +11,12 @@ use deploywatch_sim::monitor_config::monitor_config;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let Ok(text) = std::str::from_utf8(data) else { return };
-    let Ok(mech) = Mechanism::from_toml_str(text, "fuzz.toml") else { return };
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    let Ok(mech) = Mechanism::from_toml_str(text, "fuzz.toml") else {
+        return;
+    };
     let written = mech.to_toml_string();
     let back = Mechanism::from_toml_str(&written, "written.toml")
         .unwrap_or_else(|e| panic!("written mechanism does not read back: {e}\n{written}"));

@@ -33,7 +33,8 @@ const MECHANISM: &str = include_str!("../../data/mechanisms/seed001_T01.toml");
 fn template() -> &'static (Monitor<N>, [f32; N]) {
     static T: OnceLock<(Monitor<N>, [f32; N])> = OnceLock::new();
     T.get_or_init(|| {
-        let mech = Mechanism::from_toml_str(MECHANISM, "seed001_T01.toml").expect("bundled mechanism");
+        let mech =
+            Mechanism::from_toml_str(MECHANISM, "seed001_T01.toml").expect("bundled mechanism");
         let cfg = monitor_config::<N>(&mech).expect("monitor configuration");
         let stowed = std::array::from_fn(|j| cfg.joints[j].stowed_deg);
         (Monitor::new(&cfg).expect("monitor"), stowed)
@@ -103,9 +104,19 @@ fn check(status: &Status<N>, latched: &mut [bool; N]) {
         for (name, v) in values {
             assert!(!v.is_nan(), "joint {}: {name} is NaN: {js:?}", j + 1);
         }
-        assert!((0.0..=1.0).contains(&js.confidence), "joint {}: confidence {}", j + 1, js.confidence);
+        assert!(
+            (0.0..=1.0).contains(&js.confidence),
+            "joint {}: confidence {}",
+            j + 1,
+            js.confidence
+        );
         if latched[j] {
-            assert_eq!(js.latch, LatchState::Latched, "joint {}: a confirmed latch was lost", j + 1);
+            assert_eq!(
+                js.latch,
+                LatchState::Latched,
+                "joint {}: a confirmed latch was lost",
+                j + 1
+            );
         }
         latched[j] |= js.latch == LatchState::Latched;
     }

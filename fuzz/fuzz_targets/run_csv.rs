@@ -10,10 +10,14 @@ use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     // Run::load_with rejects non-UTF-8 files before parsing.
-    let Ok(text) = std::str::from_utf8(data) else { return };
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
     for allow_missing in [false, true] {
         let options = ReadOptions { allow_missing };
-        let Ok(run) = Run::parse_with(text, "fuzz.csv", options) else { continue };
+        let Ok(run) = Run::parse_with(text, "fuzz.csv", options) else {
+            continue;
+        };
         assert!(run.joints() >= 1 && run.len() >= 1);
         assert!(run.phi_deg.iter().all(|s| s.len() == run.len()));
         assert!(run.latch.iter().all(|s| s.len() == run.len()));

@@ -817,9 +817,11 @@ impl Run {
         let declares_missing = match self.meta(MISSING_SAMPLES_KEY) {
             None => false,
             Some(MISSING_SAMPLES_VALUE) => true,
-            Some(other) => return Err(invalid(format!(
+            Some(other) => {
+                return Err(invalid(format!(
                 "metadata {MISSING_SAMPLES_KEY} = {other:?}; expected \"{MISSING_SAMPLES_VALUE}\""
-            ))),
+            )))
+            }
         };
         let mut prev: Option<String> = None;
         for (i, &t) in self.t_s.iter().enumerate() {
