@@ -318,7 +318,8 @@ fn bundled_examples_are_diagnosed_correctly() {
 
         // Now the truth.
         let truth_json: serde_json::Value = serde_json::from_str(
-            &std::fs::read_to_string(data_dir().join(format!("examples/{dir}/truth.json"))).unwrap(),
+            &std::fs::read_to_string(data_dir().join(format!("examples/{dir}/truth.json")))
+                .unwrap(),
         )
         .unwrap();
         let truth: Vec<Effect> = truth_json["effects"]
@@ -326,10 +327,17 @@ fn bundled_examples_are_diagnosed_correctly() {
             .unwrap()
             .iter()
             .map(|e| {
-                let joint = e["joint"].as_u64().map(|j| format!(":joint={j}")).unwrap_or_default();
-                format!("{}{joint}:value={}", e["name"].as_str().unwrap(), e["value"])
-                    .parse()
-                    .unwrap()
+                let joint = e["joint"]
+                    .as_u64()
+                    .map(|j| format!(":joint={j}"))
+                    .unwrap_or_default();
+                format!(
+                    "{}{joint}:value={}",
+                    e["name"].as_str().unwrap(),
+                    e["value"]
+                )
+                .parse()
+                .unwrap()
             })
             .collect();
         let floor = truth_json["runs"]
@@ -338,7 +346,10 @@ fn bundled_examples_are_diagnosed_correctly() {
             .iter()
             .map(|r| r["truth_rms_deg"].as_f64().unwrap())
             .fold(0.0, f64::max);
-        let mechanisms: Vec<Mechanism> = mech_paths.iter().map(|p| Mechanism::load(p).unwrap()).collect();
+        let mechanisms: Vec<Mechanism> = mech_paths
+            .iter()
+            .map(|p| Mechanism::load(p).unwrap())
+            .collect();
         println!(
             "{dir}: found {:?}, RMS {:.4} -> {:.4} (floor {floor})",
             found.iter().map(|e| e.to_string()).collect::<Vec<_>>(),
@@ -349,7 +360,10 @@ fn bundled_examples_are_diagnosed_correctly() {
             let others: Vec<Effect> = truth.iter().filter(|o| *o != t).copied().collect();
             let full = effect_size_between(&mechanisms, &others, &truth);
             let hit = found.iter().find(|f| key(f) == key(t));
-            println!("  truth {t}: moves the runs by {full:.3} deg; found {:?}", hit.map(|h| h.value));
+            println!(
+                "  truth {t}: moves the runs by {full:.3} deg; found {:?}",
+                hit.map(|h| h.value)
+            );
             if full >= 0.3 {
                 let h = hit.unwrap_or_else(|| panic!("{dir}: {t} not found"));
                 assert!(
@@ -363,10 +377,17 @@ fn bundled_examples_are_diagnosed_correctly() {
             if !truth.iter().any(|t| key(t) == key(f)) {
                 let without = outcome.strength_rms_deg[k];
                 println!("  extra {f}: RMS without it {without:.4} deg");
-                assert!(without < 0.1, "{dir}: {f} is not in the truth and not below the bar");
+                assert!(
+                    without < 0.1,
+                    "{dir}: {f} is not in the truth and not below the bar"
+                );
             }
         }
-        assert!(outcome.unexplained.is_none(), "{dir}: {:?}", outcome.unexplained);
+        assert!(
+            outcome.unexplained.is_none(),
+            "{dir}: {:?}",
+            outcome.unexplained
+        );
         assert!(
             outcome.extended.rms() <= 1.2 * floor,
             "{dir}: extended RMS {} above the noise floor {floor}",

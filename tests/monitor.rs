@@ -464,9 +464,12 @@ mod properties {
     }
 
     proptest! {
+        // A fixed seed keeps CI deterministic; set PROPTEST_CASES higher
+        // and change the seed locally to explore further.
         #![proptest_config(ProptestConfig {
-            cases: 64,
+            cases: 256,
             failure_persistence: None,
+            rng_seed: proptest::test_runner::RngSeed::Fixed(20_261_121),
             ..ProptestConfig::default()
         })]
 

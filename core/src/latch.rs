@@ -325,13 +325,16 @@ impl LatchTracker {
             self.early_run = false;
         }
 
-        // Switch closed (debounced): a latch if the encoder agrees, or, with
-        // the encoder unavailable, if the switch has stayed closed for the
-        // debounce time. A distrusted switch declares nothing.
+        // Switch closed (debounced): a latch if a valid encoder reading
+        // agrees, or, with no valid reading, only once the switch has stayed
+        // closed for the whole debounce time — the filtered angle alone is
+        // not evidence (two corrupted samples, a spurious closure and a
+        // missing reading, must not make a latch). A distrusted switch
+        // declares nothing.
         let closed = x.switch && votes >= cfg.closed_votes;
         let agrees = match x.measured_deg {
             Some(_) => in_window,
-            None => in_window || closed_long,
+            None => closed_long,
         };
         if closed && agrees && !self.switch_suspect {
             return self.declare(faults);

@@ -192,8 +192,8 @@ pub struct SensorConfig {
     /// Consecutive identical readings after which the encoder is stuck
     /// (flag `encoder_stuck`, readings not used until they change); 0
     /// switches the check off. With σ = 0.02° of noise against a 0.022°
-    /// step a reading repeats with probability ≲ 0.4, so 20 in a row
-    /// happen by chance about once in 10⁸ samples.
+    /// step a reading repeats with probability ≤ 0.42, so 20 in a row
+    /// happen by chance with probability ≈ 6·10⁻⁸.
     pub stuck_samples: u16,
 }
 

@@ -65,8 +65,9 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
         ..DiagnoseOptions::default()
     };
     if let Some(dir) = args.json.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| CliError::input(format!("{}: cannot create the folder: {e}", dir.display())))?;
+        std::fs::create_dir_all(dir).map_err(|e| {
+            CliError::input(format!("{}: cannot create the folder: {e}", dir.display()))
+        })?;
     }
     let outcome = diagnose::diagnose(&campaign, &opts);
     if !outcome.baseline.sse.is_finite() {
