@@ -10,6 +10,8 @@
 //!
 //! `latch_detent` is not drawn: it does no net work and moves a run by under
 //! 0.01°, below the sensor noise (`physics.md` section 6).
+// Per-joint series are indexed in lockstep with their offsets.
+#![allow(clippy::needless_range_loop)]
 
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions};
