@@ -5,7 +5,7 @@
 
 use crate::effect::{self, Effect};
 use crate::mechanism::Mechanism;
-use crate::run::{pair_runs, Run};
+use crate::run::{check_analysable, pair_runs, Run};
 use crate::sim::{self, SimOptions, Trajectory};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
@@ -106,6 +106,9 @@ impl Campaign {
     ) -> Result<(), CampaignError> {
         let file = source.display().to_string();
         let mechanism = pair_runs(mechanisms, &run, &file)?.clone();
+        // A run that never moves, or that stops before its joints latched
+        // and before the mechanism's duration, is refused, not fitted.
+        check_analysable(&run, &mechanism, &file)?;
         let t0 = run.t_s.first().copied().unwrap_or(0.0);
         if t0.abs() > 1e-9 {
             return Err(CampaignError::NotFromRelease { file, t0 });

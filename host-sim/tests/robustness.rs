@@ -395,11 +395,9 @@ fn a_run_truncated_at_a_line_end_is_a_clear_finding() {
     check_analysable(&stall, &mech, "stall.csv").expect("a stall to duration_s");
 }
 
-/// Waits for `Campaign::push` (or the diagnose and identify commands) to
-/// call `run::check_analysable`: until then `diagnose` fits a run that never
-/// moves and reports nonsense effects with exit code 0.
+/// `Campaign::push` calls `run::check_analysable`: `diagnose` and `identify`
+/// refuse a run that never moves, or one cut before its joints latched.
 #[test]
-#[ignore = "needs Campaign::push to call run::check_analysable (docs/reliability.md, item 5)"]
 fn diagnose_refuses_a_run_that_never_moves_and_a_run_cut_at_a_line_end() {
     let dir = tempfile::tempdir().expect("tempdir");
     let text = t01_run_text();
