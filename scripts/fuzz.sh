@@ -8,8 +8,10 @@
 #   scripts/fuzz.sh [SECONDS] [TARGET ...]     run (all targets by default)
 #   scripts/fuzz.sh --keep [SECONDS] [TARGET ...]
 #                                              run, then merge the inputs that
-#                                              add coverage into fuzz/corpus/
+#                                              reach new edges into fuzz/corpus/
 #   scripts/fuzz.sh --cmin [TARGET ...]        minimise fuzz/corpus/<target>/
+#                                              (with the seeds) to a set that
+#                                              covers every edge
 #
 # Inputs: fuzz/corpus/<target>/ (kept in the repository, minimised) and
 # fuzz/seeds/<target>/ (written by fuzz/seeds.py). What a run discovers goes
@@ -65,13 +67,23 @@ cd "$FUZZ"
 # Release with debug assertions (cargo fuzz's default): an overflow crashes.
 cargo fuzz build
 
+# The kept corpus is small on purpose: a set of inputs that covers every
+# edge reached so far (-use_counters=0: hit counts are not features), not
+# every input that ever reached a new count. A run rediscovers the depth in
+# seconds; the repository keeps kilobytes, not megabytes.
 if [[ $mode == cmin ]]; then
     for t in "${targets[@]}"; do
         mkdir -p "corpus/$t"
         before=$(find "corpus/$t" -type f | wc -l)
-        cargo fuzz cmin "$t" "corpus/$t"
+        fresh="target/cmin/$t"
+        rm -rf "$fresh"
+        mkdir -p "$fresh"
+        cargo fuzz run "$t" "$fresh" "corpus/$t" "seeds/$t" -- \
+            -set_cover_merge=1 -use_counters=0 >"target/cmin/$t.log" 2>&1
+        rm -rf "corpus/$t"
+        mv "$fresh" "corpus/$t"
         after=$(find "corpus/$t" -type f | wc -l)
-        echo "$t: corpus $before -> $after inputs, $(du -sh "corpus/$t" | cut -f1)"
+        echo "$t: corpus $before -> $after inputs, $(cat "corpus/$t"/* 2>/dev/null | wc -c) bytes"
     done
     exit 0
 fi
@@ -109,8 +121,8 @@ for t in "${targets[@]}"; do
     printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$(date -u +%FT%TZ)" "$t" "$seconds" "${runs:-?}" "${eps:-?}" "${cov:-?}" "$result" >>"$log"
     summary+=("$(printf '%-15s %5s s %12s runs %8s exec/s  cov %6s  %s' "$t" "$seconds" "${runs:-?}" "${eps:-?}" "${cov:-?}" "$result")")
     if [[ $mode == keep && $rc -eq 0 ]]; then
-        # Keep only the inputs that add coverage to the kept corpus.
-        cargo fuzz run "$t" "corpus/$t" "$work" -- -merge=1 >/dev/null 2>&1
+        # Keep only the inputs that reach edges the kept corpus does not.
+        cargo fuzz run "$t" "corpus/$t" "$work" -- -merge=1 -use_counters=0 >/dev/null 2>&1
     fi
 done
 

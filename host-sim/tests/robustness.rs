@@ -172,6 +172,11 @@ fn angles_beyond_the_physical_range_are_refused() {
             "expected an angle within ±720 deg, found 1000.5",
         ],
     );
+    // The file's bound is the monitor's.
+    assert_eq!(
+        MAX_ANGLE_DEG,
+        f64::from(deploywatch_core::monitor::ENCODER_RANGE_DEG)
+    );
     // The same bound on writing, and at the bound itself a run is fine.
     let mut r = Run::parse(&text, "t01.csv").expect("bundled run");
     r.phi_deg[0][3] = MAX_ANGLE_DEG;
