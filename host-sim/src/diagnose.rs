@@ -805,17 +805,8 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions) -> Outcome {
     // Strength of each effect: RMS without it.
     let strength: Vec<f64> = (0..current.set.len())
         .map(|k| {
-            let mut reduced = Vec::new();
-            let mut p = Vec::new();
-            let mut off = 0;
-            for (i, c) in current.set.iter().enumerate() {
-                if i != k {
-                    reduced.push(*c);
-                    p.extend_from_slice(&current.params[off..off + c.params()]);
-                }
-                off += c.params();
-            }
-            eng.sse(campaign, &reduced, &p)
+            let r = current.without(k);
+            eng.sse(campaign, &r.set, &r.params)
                 .map(|(s, m)| (s / m.max(1) as f64).sqrt())
                 .unwrap_or(f64::INFINITY)
         })
