@@ -109,6 +109,15 @@ struct Outcome {
     latched: bool,
 }
 
+impl Outcome {
+    fn is_right(&self) -> bool {
+        matches!(
+            (self.predicted, self.latched),
+            (Prediction::Latch, true) | (Prediction::Stall, false)
+        )
+    }
+}
+
 /// One Monte-Carlo run of seed001_T01: the paper's friction scaled by
 /// U(0.5, 1.5) and each spring by U(0.9, 1.1) (as `spring_softening`
 /// s ∈ [−0.1, 0.1]), joint by joint, measured with sensor seed `seed`.
@@ -125,44 +134,70 @@ fn monte_carlo_run(
             j + 1,
             base * rng.uniform(0.5, 1.5),
         ));
-        let soft = rng.uniform(-0.1, 0.1)
-            * std::env::var("MC_SPRING")
-                .ok()
-                .and_then(|v| v.parse::<f64>().ok())
-                .unwrap_or(1.0);
+        let soft = rng.uniform(-0.1, 0.1);
         effects.push(Effect::joint(EffectKind::SpringSoftening, j + 1, soft));
     }
     let (traj, run) = simulate_run(mech, &effects, seed);
     let st = replay(cfg, &run);
     std::array::from_fn(|j| {
         let i = half_stroke_index(&traj, mech.joints[j].stowed_deg, j).unwrap_or(st.len() - 1);
-        Outcome {
-            predicted: st[i.min(st.len() - 1)].joints[j].prediction,
+        let s = &st[i.min(st.len() - 1)];
+        let out = Outcome {
+            predicted: s.joints[j].prediction,
             latched: traj.latch_s[j].is_some(),
+        };
+        if !out.is_right() {
+            let js = &s.joints[j];
+            println!(
+                "wrong: sensor seed {seed} joint {}: at t = {:.2} s T_C = {:.3} ± {:.3} N·m \
+                 (truth {:.3}, spring ×{:.3}), predicted {} (confidence {:.1}, latch at {}); \
+                 outcome {}",
+                j + 1,
+                s.t_s,
+                js.coulomb_nm,
+                js.coulomb_sd_nm,
+                effects[2 * j].value,
+                1.0 - effects[2 * j + 1].value,
+                js.prediction,
+                js.confidence,
+                js.time_to_latch_s
+                    .map_or("-".to_string(), |v| format!("{:.2} s", v + s.t_s)),
+                traj.latch_s[j].map_or_else(
+                    || format!(
+                        "no latch by the deadline ({:.1}° left)",
+                        traj.phi_deg[j].last().unwrap_or(&f64::NAN).abs()
+                    ),
+                    |t| format!("latched at {t:.2} s")
+                ),
+            );
         }
+        out
     })
 }
 
-/// 200-run Monte-Carlo of friction and spring scatter on seed001_T01:
+/// The Monte-Carlo draws: splitmix64 seed of the friction and spring
+/// scatter, first sensor seed. The first is the one tabulated in
+/// docs/monitor.md; the other two are independent repeats.
+const MC_DRAWS: [(u64, u64); 3] = [(2024, 1000), (7, 5000), (99, 9000)];
+
+/// Runs in each Monte-Carlo.
+const MC_RUNS: usize = 200;
+
+/// One 200-run Monte-Carlo of friction and spring scatter on seed001_T01:
 /// the latch / stall prediction made at half stroke against the outcome.
-/// Rerun with `cargo test -p deploywatch-tests --test monitor
-/// monte_carlo_prediction -- --nocapture` (the table is in docs/monitor.md).
-#[test]
-fn monte_carlo_prediction_at_half_stroke() {
-    let mech = mechanism("seed001_T01");
-    let mut cfg = monitor_config::<3>(&mech).unwrap();
-    // MC_STEPS=0 runs the cheap variant (one-joint energy balance only).
-    if let Some(steps) = std::env::var("MC_STEPS").ok().and_then(|v| v.parse().ok()) {
-        cfg.margin.rollout.steps_per_update = steps;
-    }
-    let mut rng = SplitMix(2024);
-    let runs = 200;
+/// Returns (runs with every joint right, joint predictions right).
+fn monte_carlo(
+    mech: &Mechanism,
+    cfg: &MonitorConfig<3>,
+    draws: u64,
+    sensor: u64,
+) -> (usize, usize) {
+    let mut rng = SplitMix(draws);
     // table[joint][latched as usize][prediction: latch, stall, unknown]
     let mut table = [[[0usize; 3]; 2]; 3];
     let mut runs_right = 0;
-    for k in 0..runs {
-        let out = monte_carlo_run(&mech, &cfg, &mut rng, 1000 + k as u64);
-        let mut all = true;
+    for k in 0..MC_RUNS {
+        let out = monte_carlo_run(mech, cfg, &mut rng, sensor + k as u64);
         for (j, o) in out.iter().enumerate() {
             let col = match o.predicted {
                 Prediction::Latch => 0,
@@ -170,14 +205,13 @@ fn monte_carlo_prediction_at_half_stroke() {
                 Prediction::Unknown => 2,
             };
             table[j][usize::from(o.latched)][col] += 1;
-            let right = matches!(
-                (o.predicted, o.latched),
-                (Prediction::Latch, true) | (Prediction::Stall, false)
-            );
-            all &= right;
         }
-        runs_right += usize::from(all);
+        runs_right += usize::from(out.iter().all(Outcome::is_right));
     }
+    println!(
+        "draws {draws}, sensor seeds {sensor}–{}:",
+        sensor + MC_RUNS as u64 - 1
+    );
     println!("| joint | outcome | predicted latch | predicted stall | unknown |");
     println!("|---|---|---|---|---|");
     let mut right = 0;
@@ -188,9 +222,10 @@ fn monte_carlo_prediction_at_half_stroke() {
         }
         right += t[1][0] + t[0][1];
     }
-    let total = runs * 3;
+    let total = MC_RUNS * 3;
     println!(
-        "runs with every joint right: {runs_right}/{runs}; joint predictions right: {right}/{total} ({:.1} %)",
+        "runs with every joint right: {runs_right}/{MC_RUNS} ({:.1} %); joint predictions right: {right}/{total} ({:.1} %)",
+        100.0 * runs_right as f64 / MC_RUNS as f64,
         100.0 * right as f64 / total as f64
     );
     let stalled: usize = table.iter().map(|t| t[0].iter().sum::<usize>()).sum();
@@ -198,16 +233,44 @@ fn monte_carlo_prediction_at_half_stroke() {
         stalled > 0 && stalled < total,
         "the scatter must give both outcomes ({stalled} stalls)"
     );
-    assert!(
-        right * 100 >= 95 * total,
-        "only {right}/{total} joint predictions right at half stroke"
-    );
-    // Every joint of a run right at once is the harder count: joint 2 of
-    // T01 sits on a knife edge (2 % of friction flips it), see docs/monitor.md.
-    assert!(
-        runs_right * 100 >= 90 * runs,
-        "only {runs_right}/{runs} runs entirely right"
-    );
+    (runs_right, right)
+}
+
+/// The 200-run Monte-Carlo of issue 3, three times over independent draws.
+/// Issue 3 asks for ≥ 95 % of runs with the prediction made at half stroke
+/// right; across the three draws the monitor gets 94.7 % (94.5, 94.5 and
+/// 95.0 %), so this guards what is reached — ≥ 95 % of the joint
+/// predictions and ≥ 90 % of the runs in each draw — and the issue stays
+/// open (docs/monitor.md §8). Rerun with `cargo test -p deploywatch-tests --test
+/// monitor monte_carlo -- --nocapture` (tables in docs/monitor.md;
+/// `MC_STEPS=0` runs the cheap variant, the one-joint energy balance only).
+#[test]
+fn monte_carlo_prediction_at_half_stroke() {
+    let mech = mechanism("seed001_T01");
+    let mut cfg = monitor_config::<3>(&mech).unwrap();
+    let cheap = std::env::var("MC_STEPS").ok().and_then(|v| v.parse().ok());
+    if let Some(steps) = cheap {
+        cfg.margin.rollout.steps_per_update = steps;
+    }
+    let results: Vec<(usize, usize)> = MC_DRAWS
+        .iter()
+        .map(|&(draws, sensor)| monte_carlo(&mech, &cfg, draws, sensor))
+        .collect();
+    let all: usize = results.iter().map(|r| r.0).sum();
+    println!("all draws: {all}/{} runs right", MC_RUNS * MC_DRAWS.len());
+    if cheap.is_some() {
+        return;
+    }
+    for (&(draws, _), &(runs_right, right)) in MC_DRAWS.iter().zip(results.iter()) {
+        assert!(
+            runs_right * 100 >= 90 * MC_RUNS,
+            "draws {draws}: only {runs_right}/{MC_RUNS} runs right at half stroke"
+        );
+        assert!(
+            right * 100 >= 95 * 3 * MC_RUNS,
+            "draws {draws}: only {right} joint predictions right"
+        );
+    }
 }
 
 /// Seeds of the sensor noise the single-run tests are repeated over.

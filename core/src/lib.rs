@@ -25,6 +25,7 @@ pub mod monitor;
 pub mod observer;
 pub mod real;
 pub mod rollout;
+pub mod smoother;
 pub mod spring;
 pub mod telemetry;
 

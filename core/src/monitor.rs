@@ -29,6 +29,7 @@ use crate::observer::{
 use crate::rollout::{
     normal_quantile, Bracket, JointOutcome, Rollout, RolloutConfig, RolloutStart,
 };
+use crate::smoother::CentredFit;
 use crate::spring::{Branch, Spring};
 use serde::{Deserialize, Serialize};
 
@@ -472,6 +473,8 @@ pub struct Monitor<const N: usize> {
     margin: [Option<MarginResult>; N],
     /// The rollout in progress, its bracket and start time [s].
     rollout: Option<(Rollout<N>, Bracket, f32)>,
+    /// Position in [`CYCLE`] of the rollout in progress.
+    cycle_pos: u8,
     /// Last finished nominal, pessimistic and optimistic outcomes, with
     /// their start times [s].
     nominal: Option<([JointOutcome; N], f32)>,
@@ -491,7 +494,11 @@ pub struct Monitor<const N: usize> {
     back_run: u8,
     t_back: f32,
     blank_until: f32,
-    restart_pending: bool,
+    /// The last readings, for the friction observer's centred rates.
+    fit: CentredFit<N>,
+    /// Whether the previous sample gave a centred fit (the observers run
+    /// on without a restart).
+    fit_run: bool,
     next_margin: u8,
     status: Status<N>,
 }
@@ -508,6 +515,13 @@ const ACC_SHOCK_VAR: f32 = 100.0;
 /// Consecutive gate rejections after which the rate filter restarts at the
 /// measurement.
 const MAX_REJECTS: u8 = 3;
+/// The order of the rollouts.
+const CYCLE: [Bracket; 4] = [
+    Bracket::Nominal,
+    Bracket::Pessimistic,
+    Bracket::Nominal,
+    Bracket::Optimistic,
+];
 /// Consecutive non-increasing time stamps after which the monitor adopts them.
 const RESYNC_SAMPLES: u8 = 3;
 
@@ -542,10 +556,13 @@ impl<const N: usize> Monitor<N> {
                 f.set_jerk_psd(config.observer.jerk_psd);
                 f
             }),
-            fo: core::array::from_fn(|j| FrictionObserver::new(config.joints[j].prior)),
+            fo: core::array::from_fn(|j| {
+                FrictionObserver::new(config.joints[j].prior, config.margin.spring_sd_rel)
+            }),
             lt: [LatchTracker::new(); N],
             margin: [None; N],
             rollout: None,
+            cycle_pos: 0,
             nominal: None,
             pessimistic: None,
             optimistic: None,
@@ -559,7 +576,8 @@ impl<const N: usize> Monitor<N> {
             back_run: 0,
             t_back: 0.0,
             blank_until: f32::NEG_INFINITY,
-            restart_pending: false,
+            fit: CentredFit::new(),
+            fit_run: false,
             next_margin: 0,
             status: Status::default(),
         })
@@ -712,7 +730,6 @@ impl<const N: usize> Monitor<N> {
                                 kf.set_jerk_psd(self.observer.jerk_psd);
                                 faults[j].insert(Fault::EstimatorReset);
                                 self.rejects[j] = 0;
-                                self.restart_pending = true;
                                 self.blank_until = t + self.observer.settle_s;
                             } else {
                                 meas[j] = None;
@@ -748,7 +765,6 @@ impl<const N: usize> Monitor<N> {
             core::array::from_fn(|j| self.lt[j].is_latched() || self.lt[j].held_at_latch());
         if newly.iter().any(|n| *n) {
             self.apply_latch_impulse(&newly, &locked);
-            self.restart_pending = true;
             self.blank_until = t + self.observer.settle_s;
         }
 
@@ -757,61 +773,59 @@ impl<const N: usize> Monitor<N> {
             core::array::from_fn(|j| if locked[j] { 0.0 } else { self.kf[j].angle() });
         let om_m: [f32; N] =
             core::array::from_fn(|j| if locked[j] { 0.0 } else { self.kf[j].rate() });
-        let terms = momentum_terms(&self.chain, &phi_m, &om_m);
-        let m = &terms.mass;
+        let m = self.chain.mass_matrix(&phi_m);
         let zone = self.observer.snap_zone_deg * DEG;
         let in_zone = (0..N).any(|j| !locked[j] && libm::fabsf(phi_m[j]) < zone);
         if in_zone || gap {
-            self.restart_pending = true;
             self.blank_until = t + self.observer.settle_s;
         }
         let quiet = t >= self.blank_until;
-        if quiet && self.restart_pending {
-            for fo in self.fo.iter_mut() {
-                fo.restart();
-            }
-            self.restart_pending = false;
-        }
-        let mut tau_s = [0.0f32; N];
-        for j in 0..N {
-            if !locked[j] {
-                let branch = Branch::select(phi_m[j], om_m[j]);
-                tau_s[j] = self.chain.joints()[j].spring.torque(phi_m[j], branch);
-            }
-        }
-        if quiet {
-            // Learn only from samples where every free joint was measured
-            // and no rate filter lags a manoeuvre (its innovations are white).
-            let high = self.observer.jerk_adaptation.high;
-            let all_measured =
-                (0..N).all(|j| locked[j] || (meas[j].is_some() && self.kf[j].nis() <= high));
-            for j in 0..N {
-                if locked[j] {
-                    continue;
+
+        // Friction learning, half a window back, on the centred fit of the
+        // readings (no lag, little noise): only samples outside the snap
+        // zones and the settling after a snap, latch or gap, with every
+        // free joint measured (`smoother.rs`). The observers restart
+        // whenever the run of fits breaks.
+        self.fit.push(t, &meas, quiet && !gap && dt > 0.0, &locked);
+        match self.fit.centre(r_meas) {
+            Some(c) => {
+                let terms = momentum_terms(&self.chain, &c.phi, &c.rate);
+                for j in 0..N {
+                    if c.locked[j] {
+                        continue;
+                    }
+                    if !self.fit_run {
+                        self.fo[j].restart();
+                    }
+                    let mut p = 0.0f32;
+                    for k in 0..N {
+                        p += terms.mass[j][k] * c.rate[k];
+                    }
+                    let branch = Branch::select(c.phi[j], c.rate[j]);
+                    self.fo[j].step(
+                        &ObserverInput {
+                            momentum: p,
+                            spring_torque_nm: self.chain.joints()[j]
+                                .spring
+                                .torque(c.phi[j], branch),
+                            beta_nm: terms.beta[j],
+                            rate_rad_s: c.rate[j],
+                            rate_var: c.rate_var[j],
+                            dt_s: c.dt_s,
+                            learn: true,
+                        },
+                        &self.observer.tuning,
+                    );
                 }
-                let mut p = 0.0f32;
-                for k in 0..N {
-                    p += m[j][k] * om_m[k];
-                }
-                self.fo[j].step(
-                    &ObserverInput {
-                        momentum: p,
-                        spring_torque_nm: tau_s[j],
-                        beta_nm: terms.beta[j],
-                        rate_rad_s: om_m[j],
-                        rate_var: self.kf[j].rate_var(),
-                        dt_s: dt,
-                        learn: all_measured && dt > 0.0,
-                    },
-                    &self.observer.tuning,
-                );
+                self.fit_run = true;
             }
+            None => self.fit_run = false,
         }
         // Articulated inertia 1/(M⁻¹)_jj over the free joints: the one-joint
         // energy balance counts all of the joint's kinetic energy, the share
         // the outer panels carry included, so it errs on the side of a latch
         // and its stall verdicts are safe ones.
-        let minv = inverse_spd_masked(m, &locked);
+        let minv = inverse_spd_masked(&m, &locked);
         let inertia: [f32; N] = core::array::from_fn(|j| match &minv {
             Some(mi) if mi[j][j] > 0.0 && mi[j][j].is_finite() => 1.0 / mi[j][j],
             _ => m[j][j].max(1e-6),
@@ -974,11 +988,13 @@ impl<const N: usize> Monitor<N> {
                 return;
             }
         }
-        let next = match self.rollout {
-            None | Some((_, Bracket::Optimistic, _)) => Bracket::Nominal,
-            Some((_, Bracket::Nominal, _)) => Bracket::Pessimistic,
-            Some((_, Bracket::Pessimistic, _)) => Bracket::Optimistic,
+        // The prediction is refreshed most often; the brackets that give
+        // its confidence take their turns in between (`CYCLE`).
+        let pos = match self.rollout {
+            None => 0,
+            Some(_) => (usize::from(self.cycle_pos) + 1) % CYCLE.len(),
         };
+        let next = CYCLE[pos];
         if !quiet {
             // Keep the finished rollout until the estimates have settled.
             return;
@@ -995,7 +1011,8 @@ impl<const N: usize> Monitor<N> {
         for j in 0..N {
             let e = self.fo[j].estimate();
             // More friction goes with weaker springs, and less with stronger.
-            spring[j] = (1.0 - sign * z * self.margin_cfg.spring_sd_rel).max(0.0);
+            let sd_k = libm::sqrtf(e.spring_scale_var.max(0.0));
+            spring[j] = (1.0 + e.spring_scale_err - sign * z * sd_k).max(0.0);
             let sd_c = libm::sqrtf(e.coulomb_var.max(0.0));
             let sd_f = libm::sqrtf(e.viscous_var.max(0.0));
             coulomb[j] = (e.coulomb_nm + sign * z * sd_c).max(0.0);
@@ -1020,6 +1037,7 @@ impl<const N: usize> Monitor<N> {
             capture_rad: self.capture_rad,
         };
         self.rollout = Some((Rollout::new(start), next, t));
+        self.cycle_pos = pos as u8;
     }
 
     /// The plastic latch impulse of `physics.md` §5 applied to the rate
@@ -1108,8 +1126,8 @@ impl<const N: usize> Monitor<N> {
                 viscous_nms: est.viscous_nms,
                 coulomb_var: est.coulomb_var,
                 coulomb_lower_nm: bound,
-                spring_scale: 1.0,
-                spring_sd_rel: cfg.spring_sd_rel,
+                spring_scale: 1.0 + est.spring_scale_err,
+                spring_sd_rel: libm::sqrtf(est.spring_scale_var.max(0.0)),
                 viscous_var: est.viscous_var,
                 cov: est.cov,
             },

@@ -417,6 +417,11 @@ pub struct FrictionEstimate {
     pub viscous_var: f32,
     /// Covariance of `T_C` and `f`.
     pub cov: f32,
+    /// Relative error of the spring curve `κ` (the spring torque is
+    /// `(1 + κ) τ_s`) [1].
+    pub spring_scale_err: f32,
+    /// Variance of `κ`.
+    pub spring_scale_var: f32,
 }
 
 /// The observer's lag variance at a restart mid-motion, in prior variances
@@ -427,21 +432,22 @@ const LAG_VAR_START: f32 = 4.0;
 /// Weight of one step in the running mean square of the observer lag.
 const LAG_WEIGHT: f32 = 0.1;
 
-/// Number of estimated parameters: `θ = [T_C, f]`.
-const P: usize = 2;
+/// Number of estimated parameters: `θ = [T_C, f, κ]`.
+const P: usize = 3;
 
-/// Bounds of the parameter projection: `0 ≤ T_C, f ≤ 1000`.
-const THETA_MIN: [f32; P] = [0.0, 0.0];
-const THETA_MAX: [f32; P] = [1000.0, 1000.0];
+/// Bounds of the parameter projection: `0 ≤ T_C, f ≤ 1000`, `|κ| ≤ 0.5`.
+const THETA_MIN: [f32; P] = [0.0, 0.0, -0.5];
+const THETA_MAX: [f32; P] = [1000.0, 1000.0, 0.5];
 
 /// Momentum disturbance observer and RLS estimator of one joint's friction.
 ///
 /// ```text
-/// d = −T_C tanh(ω/ω_c) − f ω,   h = [−tanh(ω/ω_c), −ω]
+/// d = κ τ_s − T_C tanh(ω/ω_c) − f ω,   h = [−tanh(ω/ω_c), −ω, τ_s]
 /// ```
-/// (An error of the spring curve lands in `d` too; a third regressor `τ_s`
-/// for it was tried and dropped: over the part of the stroke seen by half
-/// stroke it is too collinear with the Coulomb one to separate.)
+/// with `κ` the relative error of the spring curve (the spring torque is
+/// `(1 + κ) τ_s`) and a prior `N(0, σ_κ²)` on it:
+/// over the part of the stroke seen by half stroke it is partly collinear
+/// with the Coulomb one, and the prior keeps the split stable.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrictionObserver {
     /// Disturbance estimate `r` [N·m] (first-order filtered `d`).
@@ -462,6 +468,8 @@ pub struct FrictionObserver {
     /// `K dt` of the last step.
     kdt: f32,
     prior: FrictionPrior,
+    /// Prior standard deviation of `κ` [1].
+    spring_sd_rel: f32,
 }
 
 /// What one observer step needs about the joint.
@@ -485,10 +493,11 @@ pub struct ObserverInput {
 
 impl FrictionObserver {
     /// A fresh observer at the prior.
-    pub fn new(prior: FrictionPrior) -> Self {
+    pub fn new(prior: FrictionPrior, spring_sd_rel: f32) -> Self {
         let mut sigma = [[0.0f32; P]; P];
         sigma[0][0] = prior.coulomb_sd_nm * prior.coulomb_sd_nm;
         sigma[1][1] = prior.viscous_sd_nms * prior.viscous_sd_nms;
+        sigma[2][2] = spring_sd_rel * spring_sd_rel;
         FrictionObserver {
             r: 0.0,
             y: [0.0; P],
@@ -496,12 +505,13 @@ impl FrictionObserver {
             u_prev: 0.0,
             h_prev: [0.0; P],
             primed: false,
-            theta: [prior.coulomb_nm, prior.viscous_nms],
+            theta: [prior.coulomb_nm, prior.viscous_nms, 0.0],
             sigma,
             // At the start the joints rest (r = d = 0): no lag yet.
             lag_var: prior.coulomb_sd_nm * prior.coulomb_sd_nm / LAG_VAR_START,
             kdt: 0.0,
             prior,
+            spring_sd_rel,
         }
     }
 
@@ -509,6 +519,11 @@ impl FrictionObserver {
     /// at the next step (both sides of `r = θᵀy` restart together, so the
     /// identity still holds); the parameter estimate is kept.
     pub fn restart(&mut self) {
+        if !self.primed {
+            // Not running: nothing to restart (a fresh observer starts at
+            // rest, where r = d = 0 holds without a transient).
+            return;
+        }
         self.r = 0.0;
         self.y = [0.0; P];
         self.primed = false;
@@ -550,7 +565,7 @@ impl FrictionObserver {
 
     /// Resets the parameters to the prior (after a numerical failure).
     pub fn reset_parameters(&mut self) {
-        *self = FrictionObserver::new(self.prior);
+        *self = FrictionObserver::new(self.prior, self.spring_sd_rel);
     }
 
     /// The disturbance estimate `r` [N·m]: the friction torque, filtered.
@@ -566,6 +581,8 @@ impl FrictionObserver {
             coulomb_var: self.sigma[0][0],
             viscous_var: self.sigma[1][1],
             cov: self.sigma[0][1],
+            spring_scale_err: self.theta[2],
+            spring_scale_var: self.sigma[2][2],
         }
     }
 
@@ -578,13 +595,18 @@ impl FrictionObserver {
             .chain(self.theta.iter())
             .chain(self.sigma.iter().flatten())
             .all(|v| v.is_finite());
-        finite && (0..P).all(|i| self.sigma[i][i] > 0.0)
+        // κ may be fixed (a zero prior spread); T_C and f are always free.
+        finite && self.sigma[0][0] > 0.0 && self.sigma[1][1] > 0.0 && self.sigma[2][2] >= 0.0
     }
 
     /// One step: advances the observer and, if `input.learn`, the RLS.
     pub fn step(&mut self, input: &ObserverInput, tuning: &ObserverTuning) {
         let wc = tuning.coulomb_threshold_rad_s;
-        let h = [-libm::tanhf(input.rate_rad_s / wc), -input.rate_rad_s];
+        let h = [
+            -libm::tanhf(input.rate_rad_s / wc),
+            -input.rate_rad_s,
+            input.spring_torque_nm,
+        ];
         let u = input.spring_torque_nm + input.beta_nm;
         if !self.primed {
             self.p_prev = input.momentum;
@@ -668,7 +690,7 @@ impl FrictionObserver {
             .zip(THETA_MIN.iter())
             .zip(THETA_MAX.iter())
         {
-            *t = t.clamp(*lo, *hi);
+            *t = t.max(*lo).min(*hi);
         }
     }
 }
@@ -872,12 +894,15 @@ mod tests {
             viscous_walk: 0.0,
             residual_var_floor: 1e-4,
         };
-        let mut o = FrictionObserver::new(FrictionPrior {
-            coulomb_nm: 0.0,
-            coulomb_sd_nm: 2.0,
-            viscous_nms: 0.0,
-            viscous_sd_nms: 0.05,
-        });
+        let mut o = FrictionObserver::new(
+            FrictionPrior {
+                coulomb_nm: 0.0,
+                coulomb_sd_nm: 2.0,
+                viscous_nms: 0.0,
+                viscous_sd_nms: 0.05,
+            },
+            0.05,
+        );
         let (mut w, dt) = (0.0f32, 0.01f32);
         for _ in 0..300 {
             let tau = 3.0 - 0.5 * w;

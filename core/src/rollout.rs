@@ -40,6 +40,10 @@ use crate::spring::Branch;
 /// stalled [s].
 pub const STALL_HOLD_S: f32 = 0.2;
 
+/// Longest snap-through from the capture angle to the latch the rollout
+/// allows for [s].
+const MAX_SNAP_S: f32 = 0.05;
+
 /// Which friction a rollout assumes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Bracket {
@@ -211,15 +215,50 @@ impl<const N: usize> Rollout<N> {
         }
         self.t_s += dt;
         if crossed.iter().any(|c| *c) {
+            // The joint covers the rest of its stroke (the snap-through)
+            // in a few milliseconds; over that time the generalised momenta
+            // of the other joints hardly change (their equations do not
+            // contain the latching joint's torque), so they are taken at the
+            // capture angle and kept through the jump to the latch angle
+            // and the plastic impact (physics.md §5).
+            let m_before = chain.mass_matrix(&self.x.phi);
+            let mut p = [0.0f32; N];
+            for (pj, row) in p.iter_mut().zip(m_before.iter()) {
+                *pj = row
+                    .iter()
+                    .zip(self.x.phi_dot.iter())
+                    .map(|(a, w)| a * w)
+                    .sum();
+            }
+            // Time to the latch angle at the rate of the crossing (the
+            // snap only shortens it; negative when the step overshot it):
+            // the other joints move on meanwhile.
+            let mut tau = 0.0f32;
+            for j in 0..N {
+                if crossed[j] {
+                    let w = self.x.phi_dot[j];
+                    let t_j = if w != 0.0 { -self.x.phi[j] / w } else { 0.0 };
+                    if t_j.is_finite() {
+                        tau = tau.max(t_j.max(-dt).min(MAX_SNAP_S));
+                    }
+                }
+            }
             let mut after = self.latched;
             for j in 0..N {
                 if crossed[j] {
                     after[j] = true;
-                    self.latch_after_s[j] = self.t_s;
                     self.x.phi[j] = 0.0;
+                } else if !self.latched[j] {
+                    self.x.phi[j] += tau * self.x.phi_dot[j];
                 }
             }
-            match chain.latch_impulse(&self.x, &after) {
+            self.t_s += tau;
+            for j in 0..N {
+                if crossed[j] {
+                    self.latch_after_s[j] = self.t_s;
+                }
+            }
+            match solve_spd_masked(&chain.mass_matrix(&self.x.phi), &p, &after) {
                 Ok(w) if w.iter().all(|v| v.is_finite()) => self.x.phi_dot = w,
                 _ => {
                     for j in 0..N {
