@@ -458,6 +458,11 @@ impl<T: Real, const N: usize> Chain<T, N> {
         Ok(solve_spd_masked(&m, &p, latched_after)?)
     }
 
+    /// Generalised momenta `p = M(φ) φ̇` [N·m·s].
+    pub fn momentum(&self, x: &ChainState<T, N>) -> [T; N] {
+        mat_vec(&self.mass_matrix(&x.phi), &x.phi_dot)
+    }
+
     /// Kinetic energy `½ φ̇ᵀ M φ̇` [J].
     pub fn kinetic_energy(&self, x: &ChainState<T, N>) -> T {
         let m = self.mass_matrix(&x.phi);

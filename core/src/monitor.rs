@@ -274,7 +274,8 @@ pub struct MarginConfig {
     /// latches later counts as stalled (the mechanism file's `duration_s`).
     pub deadline_s: f32,
     /// Relative standard deviation of the spring torques [1]: how far the
-    /// hinges may be from their curves.
+    /// hinges may be from their curves. The prior spread of the friction
+    /// observer's spring-scale estimate `κ` (`docs/monitor.md` §3.2).
     pub spring_sd_rel: f32,
     /// Floor of the energy standard deviation [J].
     pub energy_sd_floor_j: f32,

@@ -930,4 +930,51 @@ mod tests {
         assert!((e.coulomb_nm - tc).abs() < 0.05 * tc, "{e:?}");
         assert!(o.is_healthy());
     }
+
+    #[test]
+    fn observer_separates_a_spring_error_from_friction_when_the_torque_varies() {
+        // I φ̈ = (1 + κ) τ_s(φ) − T_C tanh(φ̇/ω_c), τ_s = 3 − 1.2 φ N·m over
+        // φ = 0 … 1.5 rad (the torque falls to 40 %): the spring is 8 %
+        // stronger than its curve.
+        let (inertia, tc, kappa) = (2.0f32, 1.0f32, 0.08f32);
+        let tuning = ObserverTuning {
+            bandwidth_per_s: 10.0,
+            coulomb_threshold_rad_s: 0.01,
+            coulomb_walk: 0.0,
+            viscous_walk: 0.0,
+            residual_var_floor: 1e-4,
+        };
+        let prior = FrictionPrior {
+            coulomb_nm: 0.0,
+            coulomb_sd_nm: 2.0,
+            viscous_nms: 0.0,
+            viscous_sd_nms: 0.05,
+        };
+        let mut o = FrictionObserver::new(prior, 0.05);
+        let spring = |phi: f32| 3.0 - 1.2 * phi;
+        let (mut phi, mut w, dt) = (0.0f32, 0.0f32, 0.01f32);
+        while phi < 1.5 {
+            for _ in 0..100 {
+                let h = dt / 100.0;
+                let d = -tc * libm::tanhf(w / 0.01);
+                w += h * ((1.0 + kappa) * spring(phi) + d) / inertia;
+                phi += h * w;
+            }
+            o.step(
+                &ObserverInput {
+                    momentum: inertia * w,
+                    spring_torque_nm: spring(phi),
+                    beta_nm: 0.0,
+                    rate_rad_s: w,
+                    rate_var: 0.0,
+                    dt_s: dt,
+                    learn: true,
+                },
+                &tuning,
+            );
+        }
+        let e = o.estimate();
+        assert!((e.spring_scale_err - kappa).abs() < 0.02, "{e:?}");
+        assert!((e.coulomb_nm - tc).abs() < 0.05 * tc, "{e:?}");
+    }
 }

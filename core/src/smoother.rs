@@ -23,6 +23,8 @@
 //! σ = 0.02°. A window whose residual is far above the noise (an impact,
 //! a snap, a spike the rate filter let through) gives no fit.
 
+use crate::linalg::solve_spd_masked;
+
 /// Number of readings in the window (odd): the fit is for the middle one,
 /// `(WINDOW − 1)/2` samples back.
 pub const WINDOW: usize = 11;
@@ -148,23 +150,33 @@ impl<const N: usize> CentredFit<N> {
             return None;
         }
         let mut tau = [0.0f32; WINDOW];
+        let mut sums = [0.0f32; 5];
         for (k, tk) in tau.iter_mut().enumerate() {
             let sl = self.slot(k);
             if !sl.clean || sl.locked != m.locked {
                 return None;
             }
             *tk = sl.t_s - m.t_s;
+            let mut p = 1.0f32;
+            for sk in sums.iter_mut() {
+                *sk += p;
+                p *= *tk;
+            }
         }
+        // XᵀX of [1 τ τ²] depends on the times alone; var b = σ² (XᵀX)⁻¹₁₁.
+        let s = sums;
+        let xtx = [[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]];
+        let unit_var_b = solve_spd_masked(&xtx, &[0.0, 1.0, 0.0], &[false; 3]).ok()?[1];
         for j in 0..N {
             if m.locked[j] {
                 continue;
             }
             // Relative to the middle reading, for the f32 sums.
             let y: [f32; WINDOW] = core::array::from_fn(|k| self.slot(k).phi[j] - m.phi[j]);
-            let (a, b, var_b) = fit_quadratic(&tau, &y, meas_var)?;
+            let (a, b) = fit_quadratic(&tau, &y, &xtx, meas_var)?;
             out.phi[j] = m.phi[j] + a;
             out.rate[j] = b;
-            out.rate_var[j] = var_b;
+            out.rate_var[j] = meas_var * unit_var_b;
         }
         let finite = out
             .phi
@@ -176,59 +188,32 @@ impl<const N: usize> CentredFit<N> {
     }
 }
 
-/// Least-squares `y ≈ a + b τ + c τ²`: `(a, b, var b)`, `None` when a
-/// reading is missing, the times are degenerate or the residual is not
+/// Least-squares `y ≈ a + b τ + c τ²` with the normal matrix `xtx` of the
+/// times: `(a, b)`, `None` when a reading is missing or the residual is not
 /// that of noise of variance `meas_var`. One copy for every joint count.
 #[inline(never)]
-fn fit_quadratic(tau: &[f32; WINDOW], y: &[f32; WINDOW], meas_var: f32) -> Option<(f32, f32, f32)> {
-    // Normal equations: XᵀX from the times, Xᵀy from the readings.
-    let mut s = [0.0f32; 5];
+fn fit_quadratic(
+    tau: &[f32; WINDOW],
+    y: &[f32; WINDOW],
+    xtx: &[[f32; 3]; 3],
+    meas_var: f32,
+) -> Option<(f32, f32)> {
     let mut xty = [0.0f32; 3];
     for (&t, &v) in tau.iter().zip(y.iter()) {
         if !v.is_finite() {
             return None;
         }
-        let mut p = 1.0f32;
-        for (i, sk) in s.iter_mut().enumerate() {
-            *sk += p;
-            if i < 3 {
-                xty[i] += v * p;
-            }
-            p *= t;
-        }
+        xty[0] += v;
+        xty[1] += v * t;
+        xty[2] += v * t * t;
     }
-    let inv = inverse3(&[[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]])?;
-    let coef: [f32; 3] = core::array::from_fn(|r| (0..3).map(|c| inv[r][c] * xty[c]).sum::<f32>());
+    let coef = solve_spd_masked(xtx, &xty, &[false; 3]).ok()?;
     let mut ssr = 0.0f32;
     for (&t, &v) in tau.iter().zip(y.iter()) {
         let e = v - coef[0] - coef[1] * t - coef[2] * t * t;
         ssr += e * e;
     }
-    if !(ssr <= RESIDUAL_LIMIT * meas_var) {
-        return None;
-    }
-    Some((coef[0], coef[1], meas_var * inv[1][1]))
-}
-
-/// Inverse of a symmetric positive definite 3×3 matrix by cofactors;
-/// `None` when it is (numerically) singular.
-fn inverse3(a: &[[f32; 3]; 3]) -> Option<[[f32; 3]; 3]> {
-    let c00 = a[1][1] * a[2][2] - a[1][2] * a[2][1];
-    let c01 = a[1][2] * a[2][0] - a[1][0] * a[2][2];
-    let c02 = a[1][0] * a[2][1] - a[1][1] * a[2][0];
-    let det = a[0][0] * c00 + a[0][1] * c01 + a[0][2] * c02;
-    if !(det > 0.0) || !det.is_finite() {
-        return None;
-    }
-    let c11 = a[0][0] * a[2][2] - a[0][2] * a[2][0];
-    let c12 = a[0][2] * a[1][0] - a[0][0] * a[1][2];
-    let c22 = a[0][0] * a[1][1] - a[0][1] * a[1][0];
-    let d = 1.0 / det;
-    Some([
-        [c00 * d, c01 * d, c02 * d],
-        [c01 * d, c11 * d, c12 * d],
-        [c02 * d, c12 * d, c22 * d],
-    ])
+    (ssr <= RESIDUAL_LIMIT * meas_var).then_some((coef[0], coef[1]))
 }
 
 #[cfg(test)]
