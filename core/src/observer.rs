@@ -696,11 +696,13 @@ impl FrictionObserver {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::{ChainState, Friction, GlobalEffects, Joint, JointEffects, Panel, Spring};
 
-    fn chain() -> Chain<f32, 3> {
+    /// Three identical free panels without springs (also used by the
+    /// rollout's tests).
+    pub(crate) fn chain() -> Chain<f32, 3> {
         let p = Panel {
             length_m: 0.8,
             mass_kg: 3.5,
@@ -882,18 +884,23 @@ mod tests {
         );
     }
 
-    #[test]
-    fn observer_recovers_coulomb_friction_of_a_single_body() {
-        // I ω̇ = τ_s + d with d = −T_C tanh(ω/ω_c), τ_s = 3 N·m: exact data.
-        let inertia = 2.0f32;
-        let tc = 1.2f32;
-        let tuning = ObserverTuning {
+    /// Observer tuning for noise-free data: no random walk.
+    fn exact_data_tuning() -> ObserverTuning {
+        ObserverTuning {
             bandwidth_per_s: 10.0,
             coulomb_threshold_rad_s: 0.01,
             coulomb_walk: 0.0,
             viscous_walk: 0.0,
             residual_var_floor: 1e-4,
-        };
+        }
+    }
+
+    #[test]
+    fn observer_recovers_coulomb_friction_of_a_single_body() {
+        // I ω̇ = τ_s + d with d = −T_C tanh(ω/ω_c), τ_s = 3 N·m: exact data.
+        let inertia = 2.0f32;
+        let tc = 1.2f32;
+        let tuning = exact_data_tuning();
         let mut o = FrictionObserver::new(
             FrictionPrior {
                 coulomb_nm: 0.0,
@@ -937,13 +944,7 @@ mod tests {
         // φ = 0 … 1.5 rad (the torque falls to 40 %): the spring is 8 %
         // stronger than its curve.
         let (inertia, tc, kappa) = (2.0f32, 1.0f32, 0.08f32);
-        let tuning = ObserverTuning {
-            bandwidth_per_s: 10.0,
-            coulomb_threshold_rad_s: 0.01,
-            coulomb_walk: 0.0,
-            viscous_walk: 0.0,
-            residual_var_floor: 1e-4,
-        };
+        let tuning = exact_data_tuning();
         let prior = FrictionPrior {
             coulomb_nm: 0.0,
             coulomb_sd_nm: 2.0,

@@ -381,19 +381,7 @@ mod tests {
     /// Three free panels without springs or friction: joint 3 swings into
     /// its latch, the others coast on at the rates the impact left them.
     fn coast(capture_3: f32, dt: f32) -> [JointOutcome; 3] {
-        let p = Panel {
-            length_m: 0.8,
-            mass_kg: 3.5,
-            com_m: 0.4,
-            inertia_kgm2: 0.27,
-        };
-        let j = Joint {
-            stowed_rad: 1.0,
-            spring: Spring::None,
-            friction: Friction::default(),
-            effects: JointEffects::default(),
-        };
-        let chain = Chain::new([p; 3], [j; 3], GlobalEffects::default()).unwrap();
+        let chain = crate::observer::tests::chain();
         let cfg = RolloutConfig {
             dt_s: dt,
             steps_per_update: 255,
