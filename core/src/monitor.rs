@@ -500,6 +500,8 @@ pub struct Monitor<const N: usize> {
     /// Whether the previous sample gave a centred fit (the observers run
     /// on without a restart).
     fit_run: bool,
+    /// Time of the last centred fit [s].
+    t_centre: f32,
     next_margin: u8,
     status: Status<N>,
 }
@@ -516,6 +518,9 @@ const ACC_SHOCK_VAR: f32 = 100.0;
 /// Consecutive gate rejections after which the rate filter restarts at the
 /// measurement.
 const MAX_REJECTS: u8 = 3;
+/// Time without a centred fit after which a rollout starts from the rate
+/// filter instead [s].
+const CENTRE_WAIT_S: f32 = 0.5;
 /// The order of the rollouts.
 const CYCLE: [Bracket; 4] = [
     Bracket::Nominal,
@@ -579,6 +584,7 @@ impl<const N: usize> Monitor<N> {
             blank_until: f32::NEG_INFINITY,
             fit: CentredFit::new(),
             fit_run: false,
+            t_centre: f32::NEG_INFINITY,
             next_margin: 0,
             status: Status::default(),
         })
@@ -788,7 +794,8 @@ impl<const N: usize> Monitor<N> {
         // free joint measured (`smoother.rs`). The observers restart
         // whenever the run of fits breaks.
         self.fit.push(t, &meas, quiet && !gap && dt > 0.0, &locked);
-        match self.fit.centre(r_meas) {
+        let centre = self.fit.centre(r_meas);
+        match &centre {
             Some(c) => {
                 let terms = momentum_terms(&self.chain, &c.phi, &c.rate);
                 for j in 0..N {
@@ -869,7 +876,34 @@ impl<const N: usize> Monitor<N> {
         }
 
         if self.margin_cfg.rollout.steps_per_update > 0 {
-            self.advance_rollouts(t, quiet, &locked, &phi_m, &om_m);
+            // A rollout starts from the centred fit (rates to a few tenths
+            // of a degree per second, half a window back); from the rate
+            // filter only when no fit has come for a while (a flaky
+            // encoder), since its rates after a latch impact are off by
+            // degrees per second (docs/monitor.md §6).
+            let start = match &centre {
+                Some(c) => Some((
+                    c.t_s,
+                    ChainState {
+                        phi: c.phi,
+                        phi_dot: c.rate,
+                    },
+                    c.locked,
+                )),
+                None if quiet && t - self.t_centre > CENTRE_WAIT_S => Some((
+                    t,
+                    ChainState {
+                        phi: phi_m,
+                        phi_dot: om_m,
+                    },
+                    locked,
+                )),
+                None => None,
+            };
+            if let Some(c) = &centre {
+                self.t_centre = c.t_s;
+            }
+            self.advance_rollouts(start);
         }
 
         // Status.
@@ -959,17 +993,11 @@ impl<const N: usize> Monitor<N> {
     }
 
     /// Advances the rollout in progress; when it ends, stores its outcome
-    /// and starts the other bracket from the current estimates (only while
-    /// the observers are settled: a rollout from a snap or a latch transient
-    /// would start from the rate filter's wide-open state).
-    fn advance_rollouts(
-        &mut self,
-        t: f32,
-        quiet: bool,
-        locked: &[bool; N],
-        phi: &[f32; N],
-        omega: &[f32; N],
-    ) {
+    /// and starts the next bracket from `start` — time [s], state and locked
+    /// joints, `None` while no settled state is at hand (in a snap zone or
+    /// the settling after a latch the rate filter is wide open) — with the
+    /// current friction estimates.
+    fn advance_rollouts(&mut self, start: Option<(f32, ChainState<f32, N>, [bool; N])>) {
         let mut cfg = self.margin_cfg.rollout;
         if let Some((r, bracket, t0)) = self.rollout.as_mut() {
             // Only the time left to the deadline matters.
@@ -996,10 +1024,10 @@ impl<const N: usize> Monitor<N> {
             Some(_) => (usize::from(self.cycle_pos) + 1) % CYCLE.len(),
         };
         let next = CYCLE[pos];
-        if !quiet {
+        let Some((t, state, locked)) = start else {
             // Keep the finished rollout until the estimates have settled.
             return;
-        }
+        };
         let z = self.z;
         let sign = match next {
             Bracket::Nominal => 0.0,
@@ -1027,11 +1055,8 @@ impl<const N: usize> Monitor<N> {
             }
         }
         let start = RolloutStart {
-            state: ChainState {
-                phi: *phi,
-                phi_dot: *omega,
-            },
-            latched: *locked,
+            state,
+            latched: locked,
             coulomb_nm: coulomb,
             viscous_nms: viscous,
             spring_scale: spring,

@@ -18,10 +18,13 @@
 //! so a joint can come to rest in the creep regime without the step going
 //! unstable.
 //! A joint latches in the rollout when it reaches its capture angle moving
-//! inwards; the rollout ends when every joint has latched, when every free
-//! joint has crept (|ω| < 2 ω_c) for [`STALL_HOLD_S`] at a rate that would
-//! not cover the rest of its stroke before the horizon, or at the horizon
-//! (the deployment's deadline).
+//! inwards; the rollout ends when every joint has latched, at the horizon
+//! (the deployment's deadline), or once every free joint has crept
+//! (|ω| < 2 ω_c) for [`STALL_HOLD_S`] and none can break free: the rest is
+//! then quasi-static creep, whose time to the capture angle is a quadrature
+//! over the spring curve ([`creep`]). The creep speeds up where the spring
+//! stiffens towards the latch (the tape springs of seed 001 do), so the rate
+//! of the moment is no guide to the time it takes.
 //!
 //! It runs three times per cycle, a few steps per monitor update: with the
 //! estimates `T̂_C`, `f̂`, `κ̂` (nominal: the prediction), with `T̂_C + zσ`,
@@ -36,8 +39,8 @@ use crate::chain::{Chain, ChainState, Mode};
 use crate::linalg::solve_spd_masked;
 use crate::spring::Branch;
 
-/// Predicted time a free joint must creep before the rollout calls it
-/// stalled [s].
+/// Predicted time every free joint must creep before the rollout settles
+/// the outcome by the creep quadrature [s].
 pub const STALL_HOLD_S: f32 = 0.2;
 
 /// Longest snap-through from the capture angle to the latch the rollout
@@ -269,29 +272,129 @@ impl<const N: usize> Rollout<N> {
         }
         let creeping = (0..N).all(|j| self.latched[j] || libm::fabsf(self.x.phi_dot[j]) < 2.0 * wc);
         self.creeping_s = if creeping { self.creeping_s + dt } else { 0.0 };
-        // A creeping joint still gets there if its creep covers the rest of
-        // the stroke before the horizon: only stop when none can.
-        let time_left = cfg.horizon_s - self.t_s;
-        let hopeless = (0..N).all(|j| {
-            let inward = -self.x.phi[j] * self.x.phi_dot[j];
-            let rest = libm::fabsf(self.x.phi[j]) - self.start.capture_rad[j];
-            self.latched[j]
-                || !(inward > 0.0)
-                || rest * libm::fabsf(self.x.phi[j]) > inward * time_left
-        });
         let finite = self
             .x
             .phi
             .iter()
             .chain(self.x.phi_dot.iter())
             .all(|v| v.is_finite());
-        if (self.creeping_s >= STALL_HOLD_S && hopeless) || self.t_s >= cfg.horizon_s || !finite {
+        if !finite || self.t_s >= cfg.horizon_s {
             self.finish();
+            return;
         }
+        if self.creeping_s >= STALL_HOLD_S {
+            self.settle_creep(chain, cfg);
+        }
+    }
+
+    /// Ends the rollout by quadrature once every free joint creeps
+    /// quasi-statically and none can break free: each joint's outcome is
+    /// then its [`creep`] time against the time left. Does nothing while
+    /// some joint may still break free (the integration goes on).
+    fn settle_creep(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
+        let time_left = cfg.horizon_s - self.t_s;
+        let mut after = [f32::INFINITY; N];
+        for j in 0..N {
+            if self.latched[j] {
+                continue;
+            }
+            let creep = creep(
+                &chain.joints()[j].spring,
+                libm::fabsf(self.x.phi[j]),
+                self.start.capture_rad[j],
+                self.start.spring_scale[j],
+                self.start.coulomb_nm[j],
+                self.start.viscous_nms[j],
+                cfg.coulomb_threshold_rad_s,
+            );
+            match creep {
+                Creep::Covers(t) if t <= time_left => after[j] = t,
+                Creep::Covers(_) | Creep::Stops => {}
+                Creep::BreaksFree(t) if t <= time_left => return,
+                Creep::BreaksFree(_) => {}
+            }
+        }
+        for j in 0..N {
+            if !self.latched[j] && after[j].is_finite() {
+                self.latched[j] = true;
+                self.latch_after_s[j] = self.t_s + after[j];
+            }
+        }
+        self.finish();
     }
 
     fn finish(&mut self) {
         self.done = true;
+    }
+}
+
+/// Sub-intervals of the creep quadrature.
+const CREEP_PANELS: usize = 8;
+
+/// What quasi-static creep does over the rest of a joint's stroke.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Creep {
+    /// The joint creeps to its capture angle in this time [s].
+    Covers(f32),
+    /// The spring overcomes the Coulomb torque after this time [s] of
+    /// creep: the joint breaks free and accelerates.
+    BreaksFree(f32),
+    /// The spring cannot move the joint (no torque inwards).
+    Stops,
+}
+
+/// Quasi-static creep of one joint from `|φ| = from_rad` to the capture
+/// angle `to_rad`: with inertia negligible the friction balances the spring,
+///
+/// ```text
+/// T_C tanh(ω/ω_c) + f ω = s τ_s(φ)  ⇒  ω ≈ ω_c artanh(s τ_s / T_C)
+/// ```
+/// (plus one Newton step for `f`), while `s τ_s < T_C`; the time is
+/// `∫ dφ / ω(φ)` by the midpoint rule over [`CREEP_PANELS`] panels. The
+/// creep rate grows as the spring torque grows along the stroke, so this is
+/// where a constant-rate extrapolation would call a stall too early.
+pub fn creep(
+    spring: &crate::spring::Spring<f32>,
+    from_rad: f32,
+    to_rad: f32,
+    scale: f32,
+    coulomb_nm: f32,
+    viscous_nms: f32,
+    wc: f32,
+) -> Creep {
+    let span = from_rad - to_rad;
+    if !(span > 0.0) {
+        return Creep::Covers(0.0);
+    }
+    let h = span / CREEP_PANELS as f32;
+    let mut t = 0.0f32;
+    for k in 0..CREEP_PANELS {
+        let abs = from_rad - (k as f32 + 0.5) * h;
+        let torque = scale * spring.magnitude(abs, Branch::Unfold);
+        if !(torque > 0.0) {
+            return Creep::Stops;
+        }
+        if !(torque < coulomb_nm) {
+            return Creep::BreaksFree(t);
+        }
+        let w0 = wc * libm::atanhf(torque / coulomb_nm);
+        // One Newton step on T_C tanh(ω/ω_c) + f ω − τ = 0 from f = 0.
+        let th = libm::tanhf(w0 / wc);
+        let slope = coulomb_nm * (1.0 - th * th) / wc + viscous_nms;
+        let w = if slope > 0.0 {
+            w0 - viscous_nms * w0 / slope
+        } else {
+            w0
+        };
+        if !(w > 0.0) {
+            return Creep::Stops;
+        }
+        t += h / w;
+    }
+    if t.is_finite() {
+        Creep::Covers(t)
+    } else {
+        Creep::Stops
     }
 }
 
@@ -424,6 +527,145 @@ mod tests {
                 j + 1
             );
         }
+    }
+
+    /// A spring that stiffens towards the latch, as the tape springs of seed
+    /// 001 do over the second half of their stroke: `1.5 − 0.5|φ|` N·m.
+    const STIFFENING: Spring<f32> = Spring::Linear {
+        preload_nm: 1.5,
+        stiffness_nm_per_rad: -0.5,
+        count: 1.0,
+    };
+
+    const WC: f32 = 0.01;
+
+    /// `∫ dφ / (ω_c artanh(τ(φ)/T_C))` by a fine midpoint rule (f64).
+    fn creep_reference(from: f64, to: f64, tc: f64) -> f64 {
+        let n = 100_000;
+        let h = (from - to) / n as f64;
+        (0..n)
+            .map(|k| {
+                let abs = from - (k as f64 + 0.5) * h;
+                h / (f64::from(WC) * ((1.5 - 0.5 * abs) / tc).atanh())
+            })
+            .sum()
+    }
+
+    #[test]
+    fn creep_time_is_the_quasi_static_quadrature() {
+        // Constant spring: ω = ω_c artanh(1/2), 0.5 rad in 91.0 s.
+        let flat = Spring::Linear {
+            preload_nm: 1.0,
+            stiffness_nm_per_rad: 0.0,
+            count: 1.0,
+        };
+        let expect = 0.5 / (WC * 0.5f32.atanh());
+        match creep(&flat, 0.6, 0.1, 1.0, 2.0, 0.0, WC) {
+            Creep::Covers(t) => assert!((t / expect - 1.0).abs() < 1e-4, "{t} vs {expect}"),
+            other => panic!("{other:?}"),
+        }
+        // Viscous friction slows the creep: T_C tanh(ω/ω_c) + f ω = τ.
+        let f = 5.0f32;
+        let w = {
+            let (mut lo, mut hi) = (0.0f64, 0.1f64);
+            for _ in 0..100 {
+                let mid = 0.5 * (lo + hi);
+                if 2.0 * (mid / 0.01).tanh() + 5.0 * mid > 1.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            lo
+        };
+        match creep(&flat, 0.6, 0.1, 1.0, 2.0, f, WC) {
+            Creep::Covers(t) => {
+                let expect = 0.5 / w;
+                assert!(
+                    (f64::from(t) / expect - 1.0).abs() < 0.01,
+                    "{t} vs {expect}"
+                );
+            }
+            other => panic!("{other:?}"),
+        }
+        // Stiffening spring: 8 panels against a fine quadrature.
+        let expect = creep_reference(1.0, 0.05, 1.6);
+        match creep(&STIFFENING, 1.0, 0.05, 1.0, 1.6, 0.0, WC) {
+            Creep::Covers(t) => assert!(
+                (f64::from(t) / expect - 1.0).abs() < 0.01,
+                "{t} vs {expect}"
+            ),
+            other => panic!("{other:?}"),
+        }
+        // The spring scale counts: 1.2 × 1.45 > 1.6 before the latch.
+        assert!(matches!(
+            creep(&STIFFENING, 1.0, 0.05, 1.2, 1.6, 0.0, WC),
+            Creep::BreaksFree(t) if t > 0.0
+        ));
+        assert_eq!(
+            creep(&Spring::None, 1.0, 0.05, 1.0, 1.6, 0.0, WC),
+            Creep::Stops
+        );
+        assert_eq!(
+            creep(&STIFFENING, 0.04, 0.05, 1.0, 1.6, 0.0, WC),
+            Creep::Covers(0.0)
+        );
+    }
+
+    /// A joint held by its friction that creeps ever faster towards the
+    /// latch: the rollout latches it when the creep gets there before the
+    /// horizon (a constant-rate extrapolation from the start would take
+    /// 1.3 times as long and call a stall), and stalls it when not.
+    #[test]
+    fn a_creep_that_speeds_up_is_followed_to_the_latch() {
+        let p = Panel {
+            length_m: 0.8,
+            mass_kg: 4.0,
+            com_m: 0.4,
+            inertia_kgm2: 0.3,
+        };
+        let j = Joint {
+            stowed_rad: 1.0,
+            spring: STIFFENING,
+            friction: Friction::default(),
+            effects: JointEffects::default(),
+        };
+        let chain = Chain::new([p], [j], GlobalEffects::default()).unwrap();
+        let t_creep = creep_reference(1.0, 0.05, 1.6) as f32;
+        let t_const = 0.95 / (WC * (1.0f32 / 1.6).atanh());
+        assert!(t_const > 1.3 * t_creep, "{t_const} vs {t_creep}");
+        let run = |horizon_s: f32| {
+            let cfg = RolloutConfig {
+                dt_s: 0.01,
+                steps_per_update: 255,
+                horizon_s,
+                coulomb_threshold_rad_s: WC,
+            };
+            let mut r = Rollout::new(RolloutStart {
+                state: ChainState {
+                    phi: [1.0],
+                    phi_dot: [0.0],
+                },
+                latched: [false],
+                coulomb_nm: [1.6],
+                viscous_nms: [0.0],
+                spring_scale: [1.0],
+                capture_rad: [0.05],
+            });
+            for _ in 0..10 {
+                r.advance(&chain, &cfg);
+            }
+            assert!(r.is_done(), "a creep ends by quadrature");
+            r.outcome()[0]
+        };
+        let out = run(1.2 * t_creep);
+        assert!(out.latches);
+        assert!(
+            (out.latch_after_s / t_creep - 1.0).abs() < 0.02,
+            "{} vs {t_creep}",
+            out.latch_after_s
+        );
+        assert!(!run(0.9 * t_creep).latches);
     }
 
     #[test]
