@@ -213,7 +213,12 @@ impl<const N: usize> Rollout<N> {
             self.x.phi_dot[j] += dt * a[j];
             let after = self.x.phi[j];
             let inward = before * mid.phi_dot[j] < 0.0;
-            let reached = libm::fabsf(after) <= self.start.capture_rad[j] || before * after <= 0.0;
+            // The capture angle is a shortcut for a joint that snaps
+            // through: one that arrives slower than the rest of its stroke
+            // in MAX_SNAP_S is integrated on to the latch angle.
+            let snaps = libm::fabsf(after) <= self.start.capture_rad[j]
+                && libm::fabsf(after) <= MAX_SNAP_S * libm::fabsf(self.x.phi_dot[j]);
+            let reached = snaps || before * after <= 0.0;
             crossed[j] = inward && reached;
         }
         self.t_s += dt;
@@ -294,17 +299,28 @@ impl<const N: usize> Rollout<N> {
     fn settle_creep(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
         let time_left = cfg.horizon_s - self.t_s;
         let mut after = [f32::INFINITY; N];
+        let m = chain.mass_matrix(&self.x.phi);
         for j in 0..N {
             if self.latched[j] {
                 continue;
             }
+            // Articulated inertia 1/(M⁻¹)_jj, the other free joints free.
+            let mut e = [0.0f32; N];
+            e[j] = 1.0;
+            let inertia = match solve_spd_masked(&m, &e, &self.latched) {
+                Ok(col) if col[j] > 0.0 => 1.0 / col[j],
+                _ => m[j][j],
+            };
             let creep = creep(
                 &chain.joints()[j].spring,
-                libm::fabsf(self.x.phi[j]),
-                self.start.capture_rad[j],
-                self.start.spring_scale[j],
-                self.start.coulomb_nm[j],
-                self.start.viscous_nms[j],
+                &CreepJoint {
+                    from_rad: libm::fabsf(self.x.phi[j]),
+                    capture_rad: self.start.capture_rad[j],
+                    spring_scale: self.start.spring_scale[j],
+                    coulomb_nm: self.start.coulomb_nm[j],
+                    viscous_nms: self.start.viscous_nms[j],
+                    inertia_kgm2: inertia,
+                },
                 cfg.coulomb_threshold_rad_s,
             );
             match creep {
@@ -331,20 +347,48 @@ impl<const N: usize> Rollout<N> {
 /// Sub-intervals of the creep quadrature.
 const CREEP_PANELS: usize = 8;
 
+/// Step of the one-joint snap-through integration [s].
+const SNAP_DT_S: f32 = 0.002;
+
+/// Longest snap-through from a creep the quadrature integrates [s]; a
+/// longer one is left to the rollout.
+const SNAP_LIMIT_S: f32 = 0.5;
+
 /// What quasi-static creep does over the rest of a joint's stroke.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Creep {
-    /// The joint creeps to its capture angle in this time [s].
+    /// The joint creeps to its capture angle and snaps through to the latch
+    /// in this time [s].
     Covers(f32),
-    /// The spring overcomes the Coulomb torque after this time [s] of
-    /// creep: the joint breaks free and accelerates.
+    /// The spring overcomes the Coulomb torque before the capture angle
+    /// after this time [s] of creep (the joint breaks free and
+    /// accelerates), or the snap-through takes longer than
+    /// [`SNAP_LIMIT_S`]: the rollout has to go on.
     BreaksFree(f32),
     /// The spring cannot move the joint (no torque inwards).
     Stops,
 }
 
-/// Quasi-static creep of one joint from `|φ| = from_rad` to the capture
-/// angle `to_rad`: with inertia negligible the friction balances the spring,
+/// One creeping joint, for [`creep`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CreepJoint {
+    /// `|φ|` now [rad].
+    pub from_rad: f32,
+    /// Capture angle [rad] (0 without a snap-through).
+    pub capture_rad: f32,
+    /// Factor on the spring torque [1].
+    pub spring_scale: f32,
+    /// Coulomb torque `T_C` [N·m].
+    pub coulomb_nm: f32,
+    /// Viscous coefficient `f` [N·m·s/rad].
+    pub viscous_nms: f32,
+    /// Articulated inertia `1/(M⁻¹)_jj` [kg·m²] (for the snap-through).
+    pub inertia_kgm2: f32,
+}
+
+/// Quasi-static creep of one joint from `|φ| = from_rad` to its capture
+/// angle, then the snap-through to the latch. With inertia negligible the
+/// friction balances the spring,
 ///
 /// ```text
 /// T_C tanh(ω/ω_c) + f ω = s τ_s(φ)  ⇒  ω ≈ ω_c artanh(s τ_s / T_C)
@@ -353,49 +397,85 @@ pub enum Creep {
 /// `∫ dφ / ω(φ)` by the midpoint rule over [`CREEP_PANELS`] panels. The
 /// creep rate grows as the spring torque grows along the stroke, so this is
 /// where a constant-rate extrapolation would call a stall too early.
-pub fn creep(
-    spring: &crate::spring::Spring<f32>,
-    from_rad: f32,
-    to_rad: f32,
-    scale: f32,
-    coulomb_nm: f32,
-    viscous_nms: f32,
-    wc: f32,
-) -> Creep {
-    let span = from_rad - to_rad;
-    if !(span > 0.0) {
-        return Creep::Covers(0.0);
-    }
-    let h = span / CREEP_PANELS as f32;
+///
+/// A joint that creeps up to the capture angle does not latch there: it
+/// breaks free where the spring's snap-through peak first exceeds `T_C`
+/// and accelerates from its creep rate, which with the whole outer chain to
+/// move takes a few tenths of a second. That part is integrated for the
+/// joint alone, `I φ̈ = s τ_s − T_C tanh(ω/ω_c) − f ω` with `I` its
+/// articulated inertia, in steps of [`SNAP_DT_S`] linearly implicit in the
+/// friction.
+pub fn creep(spring: &crate::spring::Spring<f32>, joint: &CreepJoint, wc: f32) -> Creep {
+    let (scale, tc, f) = (joint.spring_scale, joint.coulomb_nm, joint.viscous_nms);
+    let to_rad = joint.capture_rad.max(0.0);
+    let span = joint.from_rad - to_rad;
     let mut t = 0.0f32;
-    for k in 0..CREEP_PANELS {
-        let abs = from_rad - (k as f32 + 0.5) * h;
-        let torque = scale * spring.magnitude(abs, Branch::Unfold);
-        if !(torque > 0.0) {
-            return Creep::Stops;
+    if span > 0.0 {
+        let h = span / CREEP_PANELS as f32;
+        for k in 0..CREEP_PANELS {
+            let abs = joint.from_rad - (k as f32 + 0.5) * h;
+            let torque = scale * spring.magnitude(abs, Branch::Unfold);
+            if !(torque > 0.0) {
+                return Creep::Stops;
+            }
+            if !(torque < tc) {
+                return Creep::BreaksFree(t);
+            }
+            match creep_rate(torque, tc, f, wc) {
+                Some(w) => t += h / w,
+                None => return Creep::Stops,
+            }
         }
-        if !(torque < coulomb_nm) {
-            return Creep::BreaksFree(t);
-        }
-        let w0 = wc * libm::atanhf(torque / coulomb_nm);
-        // One Newton step on T_C tanh(ω/ω_c) + f ω − τ = 0 from f = 0.
-        let th = libm::tanhf(w0 / wc);
-        let slope = coulomb_nm * (1.0 - th * th) / wc + viscous_nms;
-        let w = if slope > 0.0 {
-            w0 - viscous_nms * w0 / slope
-        } else {
-            w0
-        };
-        if !(w > 0.0) {
-            return Creep::Stops;
-        }
-        t += h / w;
     }
-    if t.is_finite() {
-        Creep::Covers(t)
+    // The snap-through from the capture angle, at the creep rate there.
+    let mut abs = to_rad.min(joint.from_rad.max(0.0));
+    let mut w = creep_rate(scale * spring.magnitude(abs, Branch::Unfold), tc, f, wc).unwrap_or(0.0);
+    let inertia = joint.inertia_kgm2;
+    if !(inertia > 0.0) {
+        return Creep::BreaksFree(t);
+    }
+    let mut snap = 0.0f32;
+    while abs > 0.0 {
+        if snap >= SNAP_LIMIT_S {
+            return Creep::BreaksFree(t + snap);
+        }
+        let th = libm::tanhf(w / wc);
+        let torque = scale * spring.magnitude(abs, Branch::Unfold) - tc * th - f * w;
+        let damping = tc * (1.0 - th * th) / wc + f;
+        let dw = SNAP_DT_S * torque / (inertia + SNAP_DT_S * damping);
+        let step = SNAP_DT_S * (w + 0.5 * dw);
+        if !step.is_finite() {
+            return Creep::Stops;
+        }
+        if step >= abs && step > 0.0 {
+            snap += SNAP_DT_S * abs / step;
+            break;
+        }
+        abs -= step;
+        w += dw;
+        snap += SNAP_DT_S;
+    }
+    let total = t + snap;
+    if total.is_finite() {
+        Creep::Covers(total)
     } else {
         Creep::Stops
     }
+}
+
+/// The quasi-static creep rate [rad/s] under a spring torque `torque`
+/// below `T_C`: `ω_c artanh(τ/T_C)`, then one Newton step on
+/// `T_C tanh(ω/ω_c) + f ω − τ = 0` for the viscous part. `None` when the
+/// spring cannot move the joint or overcomes the friction.
+fn creep_rate(torque: f32, tc: f32, f: f32, wc: f32) -> Option<f32> {
+    if !(torque > 0.0) || !(torque < tc) {
+        return None;
+    }
+    let w0 = wc * libm::atanhf(torque / tc);
+    let th = libm::tanhf(w0 / wc);
+    let slope = tc * (1.0 - th * th) / wc + f;
+    let w = if slope > 0.0 { w0 - f * w0 / slope } else { w0 };
+    (w > 0.0 && w.is_finite()).then_some(w)
 }
 
 /// `z` with `Φ(z) = p` for `p` in (0.5, 1), by Newton's method on the
@@ -422,7 +502,7 @@ pub fn normal_quantile(p: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Friction, GlobalEffects, Joint, JointEffects, Panel, Spring};
+    use crate::{Curve, Friction, GlobalEffects, Joint, JointEffects, Panel, Spring};
 
     fn chain() -> Chain<f32, 1> {
         let p = Panel {
@@ -539,16 +619,28 @@ mod tests {
 
     const WC: f32 = 0.01;
 
-    /// `∫ dφ / (ω_c artanh(τ(φ)/T_C))` by a fine midpoint rule (f64).
-    fn creep_reference(from: f64, to: f64, tc: f64) -> f64 {
+    /// `∫ dφ / (ω_c artanh(τ(φ)/T_C))` from `from` to 0 for [`STIFFENING`]
+    /// by a fine midpoint rule (f64).
+    fn creep_reference(from: f64, tc: f64) -> f64 {
         let n = 100_000;
-        let h = (from - to) / n as f64;
+        let h = from / n as f64;
         (0..n)
             .map(|k| {
                 let abs = from - (k as f64 + 0.5) * h;
                 h / (f64::from(WC) * ((1.5 - 0.5 * abs) / tc).atanh())
             })
             .sum()
+    }
+
+    fn joint(from_rad: f32, coulomb_nm: f32) -> CreepJoint {
+        CreepJoint {
+            from_rad,
+            capture_rad: 0.0,
+            spring_scale: 1.0,
+            coulomb_nm,
+            viscous_nms: 0.0,
+            inertia_kgm2: 1.0,
+        }
     }
 
     #[test]
@@ -560,12 +652,11 @@ mod tests {
             count: 1.0,
         };
         let expect = 0.5 / (WC * 0.5f32.atanh());
-        match creep(&flat, 0.6, 0.1, 1.0, 2.0, 0.0, WC) {
+        match creep(&flat, &joint(0.5, 2.0), WC) {
             Creep::Covers(t) => assert!((t / expect - 1.0).abs() < 1e-4, "{t} vs {expect}"),
             other => panic!("{other:?}"),
         }
         // Viscous friction slows the creep: T_C tanh(ω/ω_c) + f ω = τ.
-        let f = 5.0f32;
         let w = {
             let (mut lo, mut hi) = (0.0f64, 0.1f64);
             for _ in 0..100 {
@@ -578,7 +669,11 @@ mod tests {
             }
             lo
         };
-        match creep(&flat, 0.6, 0.1, 1.0, 2.0, f, WC) {
+        let viscous = CreepJoint {
+            viscous_nms: 5.0,
+            ..joint(0.5, 2.0)
+        };
+        match creep(&flat, &viscous, WC) {
             Creep::Covers(t) => {
                 let expect = 0.5 / w;
                 assert!(
@@ -589,8 +684,8 @@ mod tests {
             other => panic!("{other:?}"),
         }
         // Stiffening spring: 8 panels against a fine quadrature.
-        let expect = creep_reference(1.0, 0.05, 1.6);
-        match creep(&STIFFENING, 1.0, 0.05, 1.0, 1.6, 0.0, WC) {
+        let expect = creep_reference(1.0, 1.6);
+        match creep(&STIFFENING, &joint(1.0, 1.6), WC) {
             Creep::Covers(t) => assert!(
                 (f64::from(t) / expect - 1.0).abs() < 0.01,
                 "{t} vs {expect}"
@@ -598,18 +693,58 @@ mod tests {
             other => panic!("{other:?}"),
         }
         // The spring scale counts: 1.2 × 1.45 > 1.6 before the latch.
+        let stronger = CreepJoint {
+            spring_scale: 1.2,
+            ..joint(1.0, 1.6)
+        };
         assert!(matches!(
-            creep(&STIFFENING, 1.0, 0.05, 1.2, 1.6, 0.0, WC),
+            creep(&STIFFENING, &stronger, WC),
             Creep::BreaksFree(t) if t > 0.0
         ));
-        assert_eq!(
-            creep(&Spring::None, 1.0, 0.05, 1.0, 1.6, 0.0, WC),
-            Creep::Stops
-        );
-        assert_eq!(
-            creep(&STIFFENING, 0.04, 0.05, 1.0, 1.6, 0.0, WC),
-            Creep::Covers(0.0)
-        );
+        assert_eq!(creep(&Spring::None, &joint(1.0, 1.6), WC), Creep::Stops);
+        assert_eq!(creep(&STIFFENING, &joint(0.0, 1.6), WC), Creep::Covers(0.0));
+    }
+
+    /// A snap-through peak inside the capture angle: 1 N·m down to 2°,
+    /// rising to 20 N·m at 0.5°. A joint that creeps in at 1.2 N·m of
+    /// friction breaks free where the peak passes 1.2 N·m and accelerates
+    /// from its creep rate; the one-joint integration agrees with a fine
+    /// explicit one (f64, 10 µs steps).
+    #[test]
+    fn a_creep_into_the_capture_angle_snaps_through_in_its_own_time() {
+        let pts = [(0.0f32, 0.0f32), (0.5, 20.0), (2.0, 1.0), (90.0, 1.0)];
+        let curve = Curve::new(&pts, crate::spring::Interp::Linear).unwrap();
+        let spring = Spring::Curve {
+            unfold: curve,
+            fold: crate::spring::Fold::SameAsUnfold,
+            count: 1.0,
+        };
+        let (tc, inertia) = (1.2f64, 3.0f64);
+        let capture = 2.0f32.to_radians();
+        let j = CreepJoint {
+            from_rad: capture,
+            capture_rad: capture,
+            spring_scale: 1.0,
+            coulomb_nm: tc as f32,
+            viscous_nms: 0.0,
+            inertia_kgm2: inertia as f32,
+        };
+        let Creep::Covers(t) = creep(&spring, &j, WC) else {
+            panic!("no snap-through");
+        };
+        // Reference: from the creep rate at the capture angle.
+        let wc = f64::from(WC);
+        let torque = |abs: f64| f64::from(curve.eval(abs.to_degrees() as f32));
+        let (mut abs, mut w, mut t_ref) = (f64::from(capture), wc * (1.0 / tc).atanh(), 0.0);
+        let h = 1e-5;
+        while abs > 0.0 {
+            let a = (torque(abs) - tc * (w / wc).tanh()) / inertia;
+            abs -= h * w;
+            w += h * a;
+            t_ref += h;
+        }
+        assert!(t_ref > 0.1, "a slow snap: {t_ref} s");
+        assert!((f64::from(t) - t_ref).abs() < 0.01, "{t} vs {t_ref}");
     }
 
     /// A joint held by its friction that creeps ever faster towards the
@@ -631,8 +766,8 @@ mod tests {
             effects: JointEffects::default(),
         };
         let chain = Chain::new([p], [j], GlobalEffects::default()).unwrap();
-        let t_creep = creep_reference(1.0, 0.05, 1.6) as f32;
-        let t_const = 0.95 / (WC * (1.0f32 / 1.6).atanh());
+        let t_creep = creep_reference(1.0, 1.6) as f32;
+        let t_const = 1.0 / (WC * (1.0f32 / 1.6).atanh());
         assert!(t_const > 1.3 * t_creep, "{t_const} vs {t_creep}");
         let run = |horizon_s: f32| {
             let cfg = RolloutConfig {
@@ -650,7 +785,7 @@ mod tests {
                 coulomb_nm: [1.6],
                 viscous_nms: [0.0],
                 spring_scale: [1.0],
-                capture_rad: [0.05],
+                capture_rad: [0.0],
             });
             for _ in 0..10 {
                 r.advance(&chain, &cfg);
