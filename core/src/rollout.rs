@@ -40,7 +40,7 @@ use crate::linalg::solve_spd_masked;
 use crate::spring::Branch;
 
 /// Predicted time every free joint must creep before the rollout settles
-/// the outcome by the creep quadrature [s].
+/// the outcome by the creep quadrature, and between two tries [s].
 pub const STALL_HOLD_S: f32 = 0.2;
 
 /// Longest snap-through from the capture angle to the latch the rollout
@@ -289,6 +289,10 @@ impl<const N: usize> Rollout<N> {
         }
         if self.creeping_s >= STALL_HOLD_S {
             self.settle_creep(chain, cfg);
+            // Undecided (a joint breaks free in time): look again after
+            // another hold, not at every step (the quadrature and the
+            // snap-through cost up to a few hundred spring evaluations).
+            self.creeping_s = 0.0;
         }
     }
 
@@ -322,6 +326,7 @@ impl<const N: usize> Rollout<N> {
                     inertia_kgm2: inertia,
                 },
                 cfg.coulomb_threshold_rad_s,
+                time_left,
             );
             match creep {
                 Creep::Covers(t) if t <= time_left => after[j] = t,
@@ -358,7 +363,7 @@ const SNAP_LIMIT_S: f32 = 0.5;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Creep {
     /// The joint creeps to its capture angle and snaps through to the latch
-    /// in this time [s].
+    /// in this time [s] (past the horizon: in no less).
     Covers(f32),
     /// The spring overcomes the Coulomb torque before the capture angle
     /// after this time [s] of creep (the joint breaks free and
@@ -405,7 +410,15 @@ pub struct CreepJoint {
 /// joint alone, `I φ̈ = s τ_s − T_C tanh(ω/ω_c) − f ω` with `I` its
 /// articulated inertia, in steps of [`SNAP_DT_S`] linearly implicit in the
 /// friction.
-pub fn creep(spring: &crate::spring::Spring<f32>, joint: &CreepJoint, wc: f32) -> Creep {
+///
+/// `horizon_s` is the time that matters [s]: the integration stops once it
+/// is passed (the joint does not latch within it either way).
+pub fn creep(
+    spring: &crate::spring::Spring<f32>,
+    joint: &CreepJoint,
+    wc: f32,
+    horizon_s: f32,
+) -> Creep {
     let (scale, tc, f) = (joint.spring_scale, joint.coulomb_nm, joint.viscous_nms);
     let to_rad = joint.capture_rad.max(0.0);
     let span = joint.from_rad - to_rad;
@@ -436,6 +449,9 @@ pub fn creep(spring: &crate::spring::Spring<f32>, joint: &CreepJoint, wc: f32) -
     }
     let mut snap = 0.0f32;
     while abs > 0.0 {
+        if t + snap > horizon_s {
+            return Creep::Covers(t + snap);
+        }
         if snap >= SNAP_LIMIT_S {
             return Creep::BreaksFree(t + snap);
         }
@@ -652,7 +668,7 @@ mod tests {
             count: 1.0,
         };
         let expect = 0.5 / (WC * 0.5f32.atanh());
-        match creep(&flat, &joint(0.5, 2.0), WC) {
+        match creep(&flat, &joint(0.5, 2.0), WC, f32::INFINITY) {
             Creep::Covers(t) => assert!((t / expect - 1.0).abs() < 1e-4, "{t} vs {expect}"),
             other => panic!("{other:?}"),
         }
@@ -673,7 +689,7 @@ mod tests {
             viscous_nms: 5.0,
             ..joint(0.5, 2.0)
         };
-        match creep(&flat, &viscous, WC) {
+        match creep(&flat, &viscous, WC, f32::INFINITY) {
             Creep::Covers(t) => {
                 let expect = 0.5 / w;
                 assert!(
@@ -685,7 +701,7 @@ mod tests {
         }
         // Stiffening spring: 8 panels against a fine quadrature.
         let expect = creep_reference(1.0, 1.6);
-        match creep(&STIFFENING, &joint(1.0, 1.6), WC) {
+        match creep(&STIFFENING, &joint(1.0, 1.6), WC, f32::INFINITY) {
             Creep::Covers(t) => assert!(
                 (f64::from(t) / expect - 1.0).abs() < 0.01,
                 "{t} vs {expect}"
@@ -698,11 +714,17 @@ mod tests {
             ..joint(1.0, 1.6)
         };
         assert!(matches!(
-            creep(&STIFFENING, &stronger, WC),
+            creep(&STIFFENING, &stronger, WC, f32::INFINITY),
             Creep::BreaksFree(t) if t > 0.0
         ));
-        assert_eq!(creep(&Spring::None, &joint(1.0, 1.6), WC), Creep::Stops);
-        assert_eq!(creep(&STIFFENING, &joint(0.0, 1.6), WC), Creep::Covers(0.0));
+        assert_eq!(
+            creep(&Spring::None, &joint(1.0, 1.6), WC, f32::INFINITY),
+            Creep::Stops
+        );
+        assert_eq!(
+            creep(&STIFFENING, &joint(0.0, 1.6), WC, f32::INFINITY),
+            Creep::Covers(0.0)
+        );
     }
 
     /// A snap-through peak inside the capture angle: 1 N·m down to 2°,
@@ -729,7 +751,7 @@ mod tests {
             viscous_nms: 0.0,
             inertia_kgm2: inertia as f32,
         };
-        let Creep::Covers(t) = creep(&spring, &j, WC) else {
+        let Creep::Covers(t) = creep(&spring, &j, WC, f32::INFINITY) else {
             panic!("no snap-through");
         };
         // Reference: from the creep rate at the capture angle.
