@@ -81,6 +81,24 @@ pub fn solve_spd_masked<T: Real, const N: usize>(
     Ok(x)
 }
 
+/// Articulated inertia of joint `j`, `1/(M⁻¹)_jj` over the free
+/// coordinates [kg·m²]: the inertia the joint feels with every other free
+/// joint free to move (Featherstone, *Rigid Body Dynamics Algorithms*,
+/// 2008, §7.1). `None` for a locked joint or a matrix that is not positive
+/// definite.
+pub fn articulated_inertia<T: Real, const N: usize>(
+    m: &[[T; N]; N],
+    locked: &[bool; N],
+    j: usize,
+) -> Option<T> {
+    let mut e = [T::ZERO; N];
+    *e.get_mut(j)? = T::ONE;
+    let col = solve_spd_masked(m, &e, locked).ok()?;
+    let d = col[j];
+    let i = T::ONE / d;
+    (d > T::ZERO && i.is_finite()).then_some(i)
+}
+
 /// `y = M x`.
 pub fn mat_vec<T: Real, const N: usize>(m: &[[T; N]; N], x: &[T; N]) -> [T; N] {
     let mut y = [T::ZERO; N];
@@ -110,6 +128,11 @@ mod tests {
         // Free block [[4, .5], [.5, 2]] x = [1, 3].
         assert!((4.0 * x[0] + 0.5 * x[2] - 1.0).abs() < 1e-12);
         assert!((0.5 * x[0] + 2.0 * x[2] - 3.0).abs() < 1e-12);
+        // (M⁻¹)_00 of the free block is 2/(8 − 0.25).
+        let i0 = articulated_inertia(&m, &[false, true, false], 0).unwrap();
+        assert!((i0 - 7.75 / 2.0).abs() < 1e-12);
+        assert_eq!(articulated_inertia(&m, &[false, true, false], 1), None);
+        assert_eq!(articulated_inertia(&m, &[false; 3], 3), None);
         let bad = [[0.0, 0.0], [0.0, 1.0]];
         assert_eq!(
             solve_spd_masked(&bad, &[1.0, 1.0], &[false; 2]),

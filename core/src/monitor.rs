@@ -20,11 +20,11 @@ use crate::chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEff
 use crate::faults::{Fault, FaultFlags};
 use crate::friction::Friction;
 use crate::latch::{LatchConfig, LatchInput, LatchState, LatchTracker};
-use crate::linalg::solve_spd_masked;
+use crate::linalg::{articulated_inertia, solve_spd_masked};
 use crate::margin::{self, MarginInput, MarginResult, MarginSettings, UncertaintyFactors};
 use crate::observer::{
-    inverse_spd_masked, momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation,
-    ObserverInput, ObserverTuning, RateFilter,
+    momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation, ObserverInput,
+    ObserverTuning, RateFilter,
 };
 use crate::rollout::{
     normal_quantile, Bracket, JointOutcome, Rollout, RolloutConfig, RolloutStart,
@@ -833,10 +833,8 @@ impl<const N: usize> Monitor<N> {
         // energy balance counts all of the joint's kinetic energy, the share
         // the outer panels carry included, so it errs on the side of a latch
         // and its stall verdicts are safe ones.
-        let minv = inverse_spd_masked(&m, &locked);
-        let inertia: [f32; N] = core::array::from_fn(|j| match &minv {
-            Some(mi) if mi[j][j] > 0.0 && mi[j][j].is_finite() => 1.0 / mi[j][j],
-            _ => m[j][j].max(1e-6),
+        let inertia: [f32; N] = core::array::from_fn(|j| {
+            articulated_inertia(&m, &locked, j).unwrap_or_else(|| m[j][j].max(1e-6))
         });
 
         // Health: nothing non-finite survives an update.

@@ -315,67 +315,6 @@ pub fn momentum_terms<const N: usize>(
     }
 }
 
-/// Inverse of the free block of a symmetric positive definite `m`
-/// (rows and columns of `locked` joints are zero), by one Cholesky
-/// factorisation; `None` when the block is not positive definite.
-pub fn inverse_spd_masked<const N: usize>(
-    m: &[[f32; N]; N],
-    locked: &[bool; N],
-) -> Option<[[f32; N]; N]> {
-    let mut l = [[0.0f32; N]; N];
-    for i in 0..N {
-        if locked[i] {
-            continue;
-        }
-        for j in 0..=i {
-            if locked[j] {
-                continue;
-            }
-            let mut s = m[i][j];
-            for k in 0..j {
-                s -= l[i][k] * l[j][k];
-            }
-            if i == j {
-                if !(s > 0.0) {
-                    return None;
-                }
-                l[i][i] = libm::sqrtf(s);
-            } else {
-                l[i][j] = s / l[j][j];
-            }
-        }
-    }
-    let mut inv = [[0.0f32; N]; N];
-    for c in 0..N {
-        if locked[c] {
-            continue;
-        }
-        // L y = e_c, then Lᵀ x = y.
-        let mut y = [0.0f32; N];
-        for i in 0..N {
-            if locked[i] {
-                continue;
-            }
-            let mut s = if i == c { 1.0 } else { 0.0 };
-            for k in 0..i {
-                s -= l[i][k] * y[k];
-            }
-            y[i] = s / l[i][i];
-        }
-        for i in (0..N).rev() {
-            if locked[i] {
-                continue;
-            }
-            let mut s = y[i];
-            for k in i + 1..N {
-                s -= l[k][i] * inv[k][c];
-            }
-            inv[i][c] = s / l[i][i];
-        }
-    }
-    Some(inv)
-}
-
 /// Tuning of one joint's friction observer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ObserverTuning {
@@ -740,12 +679,6 @@ pub(crate) mod tests {
                 rhs[j],
                 t.coriolis[j]
             );
-        }
-        let inv = inverse_spd_masked(&m, &[false, true, false]).unwrap();
-        let x =
-            crate::linalg::solve_spd_masked(&m, &[1.0, 0.0, 0.0], &[false, true, false]).unwrap();
-        for i in 0..3 {
-            assert!((inv[i][0] - x[i]).abs() < 1e-5);
         }
         for j in 0..3 {
             for k in 0..3 {

@@ -36,7 +36,7 @@
 //! estimate; one that the bracket does not confirm is the best estimate only.
 
 use crate::chain::{Chain, ChainState, Mode};
-use crate::linalg::solve_spd_masked;
+use crate::linalg::{articulated_inertia, solve_spd_masked};
 use crate::spring::Branch;
 
 /// Predicted time every free joint must creep before the rollout settles
@@ -308,13 +308,7 @@ impl<const N: usize> Rollout<N> {
             if self.latched[j] {
                 continue;
             }
-            // Articulated inertia 1/(M⁻¹)_jj, the other free joints free.
-            let mut e = [0.0f32; N];
-            e[j] = 1.0;
-            let inertia = match solve_spd_masked(&m, &e, &self.latched) {
-                Ok(col) if col[j] > 0.0 => 1.0 / col[j],
-                _ => m[j][j],
-            };
+            let inertia = articulated_inertia(&m, &self.latched, j).unwrap_or_else(|| m[j][j]);
             let creep = creep(
                 &chain.joints()[j].spring,
                 &CreepJoint {
@@ -520,7 +514,8 @@ mod tests {
     use super::*;
     use crate::{Curve, Friction, GlobalEffects, Joint, JointEffects, Panel, Spring};
 
-    fn chain() -> Chain<f32, 1> {
+    /// One panel on one hinge.
+    fn one_joint(stowed_rad: f32, spring: Spring<f32>) -> Chain<f32, 1> {
         let p = Panel {
             length_m: 0.8,
             mass_kg: 4.0,
@@ -528,16 +523,21 @@ mod tests {
             inertia_kgm2: 0.3,
         };
         let j = Joint {
-            stowed_rad: 1.5,
-            spring: Spring::Linear {
-                preload_nm: 1.0,
-                stiffness_nm_per_rad: 0.5,
-                count: 1.0,
-            },
+            stowed_rad,
+            spring,
             friction: Friction::default(),
             effects: JointEffects::default(),
         };
         Chain::new([p], [j], GlobalEffects::default()).unwrap()
+    }
+
+    fn chain() -> Chain<f32, 1> {
+        let spring = Spring::Linear {
+            preload_nm: 1.0,
+            stiffness_nm_per_rad: 0.5,
+            count: 1.0,
+        };
+        one_joint(1.5, spring)
     }
 
     fn run(tc: f32) -> Rollout<1> {
@@ -775,19 +775,7 @@ mod tests {
     /// 1.3 times as long and call a stall), and stalls it when not.
     #[test]
     fn a_creep_that_speeds_up_is_followed_to_the_latch() {
-        let p = Panel {
-            length_m: 0.8,
-            mass_kg: 4.0,
-            com_m: 0.4,
-            inertia_kgm2: 0.3,
-        };
-        let j = Joint {
-            stowed_rad: 1.0,
-            spring: STIFFENING,
-            friction: Friction::default(),
-            effects: JointEffects::default(),
-        };
-        let chain = Chain::new([p], [j], GlobalEffects::default()).unwrap();
+        let chain = one_joint(1.0, STIFFENING);
         let t_creep = creep_reference(1.0, 1.6) as f32;
         let t_const = 1.0 / (WC * (1.0f32 / 1.6).atanh());
         assert!(t_const > 1.3 * t_creep, "{t_const} vs {t_creep}");
