@@ -31,6 +31,16 @@ pub fn solve_spd_masked<T: Real, const N: usize>(
     b: &[T; N],
     locked: &[bool; N],
 ) -> Result<[T; N], SolveError> {
+    let l = cholesky_masked(m, locked)?;
+    Ok(substitute(&l, b, locked))
+}
+
+/// The Cholesky factor `L` (`M = L Lᵀ`) of the free block; locked rows
+/// and columns hold the identity.
+fn cholesky_masked<T: Real, const N: usize>(
+    m: &[[T; N]; N],
+    locked: &[bool; N],
+) -> Result<[[T; N]; N], SolveError> {
     let mut l = [[T::ZERO; N]; N];
     for i in 0..N {
         if locked[i] {
@@ -56,6 +66,11 @@ pub fn solve_spd_masked<T: Real, const N: usize>(
             }
         }
     }
+    Ok(l)
+}
+
+/// `L y = b`, then `Lᵀ x = y`, on the free coordinates.
+fn substitute<T: Real, const N: usize>(l: &[[T; N]; N], b: &[T; N], locked: &[bool; N]) -> [T; N] {
     let mut y = [T::ZERO; N];
     for i in 0..N {
         if locked[i] {
@@ -78,25 +93,32 @@ pub fn solve_spd_masked<T: Real, const N: usize>(
         }
         x[i] = s / l[i][i];
     }
-    Ok(x)
+    x
 }
 
-/// Articulated inertia of joint `j`, `1/(M⁻¹)_jj` over the free
-/// coordinates [kg·m²]: the inertia the joint feels with every other free
+/// Articulated inertia of each joint, `1/(M⁻¹)_jj` over the free
+/// coordinates [kg·m²]: the inertia a joint feels with every other free
 /// joint free to move (Featherstone, *Rigid Body Dynamics Algorithms*,
-/// 2008, §7.1). `None` for a locked joint or a matrix that is not positive
-/// definite.
-pub fn articulated_inertia<T: Real, const N: usize>(
+/// 2008, §7.1). One factorisation, one substitution per joint. `None` for
+/// a locked joint, and for every joint when the free block is not
+/// positive definite.
+pub fn articulated_inertias<T: Real, const N: usize>(
     m: &[[T; N]; N],
     locked: &[bool; N],
-    j: usize,
-) -> Option<T> {
-    let mut e = [T::ZERO; N];
-    *e.get_mut(j)? = T::ONE;
-    let col = solve_spd_masked(m, &e, locked).ok()?;
-    let d = col[j];
-    let i = T::ONE / d;
-    (d > T::ZERO && i.is_finite()).then_some(i)
+) -> [Option<T>; N] {
+    let Ok(l) = cholesky_masked(m, locked) else {
+        return [None; N];
+    };
+    core::array::from_fn(|j| {
+        if locked[j] {
+            return None;
+        }
+        let mut e = [T::ZERO; N];
+        e[j] = T::ONE;
+        let d = substitute(&l, &e, locked)[j];
+        let i = T::ONE / d;
+        (d > T::ZERO && i.is_finite()).then_some(i)
+    })
 }
 
 /// `y = M x`.
@@ -129,10 +151,14 @@ mod tests {
         assert!((4.0 * x[0] + 0.5 * x[2] - 1.0).abs() < 1e-12);
         assert!((0.5 * x[0] + 2.0 * x[2] - 3.0).abs() < 1e-12);
         // (M⁻¹)_00 of the free block is 2/(8 − 0.25).
-        let i0 = articulated_inertia(&m, &[false, true, false], 0).unwrap();
-        assert!((i0 - 7.75 / 2.0).abs() < 1e-12);
-        assert_eq!(articulated_inertia(&m, &[false, true, false], 1), None);
-        assert_eq!(articulated_inertia(&m, &[false; 3], 3), None);
+        let inertia = articulated_inertias(&m, &[false, true, false]);
+        assert!((inertia[0].unwrap() - 7.75 / 2.0).abs() < 1e-12);
+        assert_eq!(inertia[1], None);
+        assert!((inertia[2].unwrap() - 7.75 / 4.0).abs() < 1e-12);
+        assert_eq!(
+            articulated_inertias(&[[0.0, 0.0], [0.0, 1.0]], &[false; 2]),
+            [None; 2]
+        );
         let bad = [[0.0, 0.0], [0.0, 1.0]];
         assert_eq!(
             solve_spd_masked(&bad, &[1.0, 1.0], &[false; 2]),

@@ -20,7 +20,7 @@ use crate::chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEff
 use crate::faults::{Fault, FaultFlags};
 use crate::friction::Friction;
 use crate::latch::{LatchConfig, LatchInput, LatchState, LatchTracker};
-use crate::linalg::{articulated_inertia, solve_spd_masked};
+use crate::linalg::{articulated_inertias, solve_spd_masked};
 use crate::margin::{self, MarginInput, MarginResult, MarginSettings, UncertaintyFactors};
 use crate::observer::{
     momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation, ObserverInput,
@@ -833,9 +833,9 @@ impl<const N: usize> Monitor<N> {
         // energy balance counts all of the joint's kinetic energy, the share
         // the outer panels carry included, so it errs on the side of a latch
         // and its stall verdicts are safe ones.
-        let inertia: [f32; N] = core::array::from_fn(|j| {
-            articulated_inertia(&m, &locked, j).unwrap_or_else(|| m[j][j].max(1e-6))
-        });
+        let free_inertia = articulated_inertias(&m, &locked);
+        let inertia: [f32; N] =
+            core::array::from_fn(|j| free_inertia[j].unwrap_or_else(|| m[j][j].max(1e-6)));
 
         // Health: nothing non-finite survives an update.
         for j in 0..N {

@@ -36,7 +36,7 @@
 //! estimate; one that the bracket does not confirm is the best estimate only.
 
 use crate::chain::{Chain, ChainState, Mode};
-use crate::linalg::{articulated_inertia, solve_spd_masked};
+use crate::linalg::{articulated_inertias, solve_spd_masked};
 use crate::spring::Branch;
 
 /// Predicted time every free joint must creep before the rollout settles
@@ -304,11 +304,11 @@ impl<const N: usize> Rollout<N> {
         let time_left = cfg.horizon_s - self.t_s;
         let mut after = [f32::INFINITY; N];
         let m = chain.mass_matrix(&self.x.phi);
+        let inertia = articulated_inertias(&m, &self.latched);
         for j in 0..N {
             if self.latched[j] {
                 continue;
             }
-            let inertia = articulated_inertia(&m, &self.latched, j).unwrap_or_else(|| m[j][j]);
             let creep = creep(
                 &chain.joints()[j].spring,
                 &CreepJoint {
@@ -317,7 +317,7 @@ impl<const N: usize> Rollout<N> {
                     spring_scale: self.start.spring_scale[j],
                     coulomb_nm: self.start.coulomb_nm[j],
                     viscous_nms: self.start.viscous_nms[j],
-                    inertia_kgm2: inertia,
+                    inertia_kgm2: inertia[j].unwrap_or(m[j][j]),
                 },
                 cfg.coulomb_threshold_rad_s,
                 time_left,
