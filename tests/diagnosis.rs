@@ -13,13 +13,13 @@
 // Per-joint series are indexed in lockstep with their offsets.
 #![allow(clippy::needless_range_loop)]
 
-use deploywatch_sim::campaign::Campaign;
-use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions};
-use deploywatch_sim::effect::{self, Effect, EffectKind};
-use deploywatch_sim::mechanism::Mechanism;
-use deploywatch_sim::run::Run;
-use deploywatch_sim::sensor::{self, SensorModel};
-use deploywatch_sim::sim::{self, SimOptions};
+use deploywatch_sim::analysis::diagnose::{diagnose, DiagnoseOptions};
+use deploywatch_sim::data::campaign::Campaign;
+use deploywatch_sim::data::run::Run;
+use deploywatch_sim::model::effect::{self, Effect, EffectKind};
+use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::simulate::deployment::{self, SimOptions};
+use deploywatch_sim::simulate::sensor::{self, SensorModel};
 use deploywatch_tests::data_dir;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -84,8 +84,8 @@ fn effect_size(mechs: &[Mechanism], effects: &[Effect]) -> f64 {
             stop_when_deployed: false,
             ..SimOptions::default()
         };
-        let a = sim::simulate(m, &[], &opts).unwrap();
-        let b = sim::simulate(m, effects, &opts).unwrap();
+        let a = deployment::simulate(m, &[], &opts).unwrap();
+        let b = deployment::simulate(m, effects, &opts).unwrap();
         let off = effect::encoder_offsets_deg(effects, m.joint_count());
         for j in 0..m.joint_count() {
             for i in 0..a.t_s.len() {
@@ -124,7 +124,7 @@ fn generate(seed: u64, kinds: &[EffectKind], pair: usize) -> Case {
         .iter()
         .enumerate()
         .map(|(r, m)| {
-            let traj = sim::simulate(m, &truth, &SimOptions::default()).unwrap();
+            let traj = deployment::simulate(m, &truth, &SimOptions::default()).unwrap();
             let offsets = effect::encoder_offsets_deg(&truth, m.joint_count());
             let mut run = sensor::measure(
                 &traj,
@@ -406,8 +406,8 @@ fn effect_size_between(mechs: &[Mechanism], a: &[Effect], b: &[Effect]) -> f64 {
             stop_when_deployed: false,
             ..SimOptions::default()
         };
-        let x = sim::simulate(m, a, &opts).unwrap();
-        let y = sim::simulate(m, b, &opts).unwrap();
+        let x = deployment::simulate(m, a, &opts).unwrap();
+        let y = deployment::simulate(m, b, &opts).unwrap();
         let (oa, ob) = (
             effect::encoder_offsets_deg(a, m.joint_count()),
             effect::encoder_offsets_deg(b, m.joint_count()),

@@ -7,10 +7,10 @@
 //! latching without friction but not with the paper's friction.
 
 use deploywatch_core::ChainState;
-use deploywatch_sim::effect::{self, Effect};
-use deploywatch_sim::mechanism::Mechanism;
-use deploywatch_sim::run::Run;
-use deploywatch_sim::sim::{self, SimOptions};
+use deploywatch_sim::data::run::Run;
+use deploywatch_sim::model::effect::{self, Effect};
+use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::simulate::deployment::{self, SimOptions};
 use deploywatch_tests::data_dir;
 
 /// The golden case `name_variant` (`seed001_T01`, `nominal`|`eft`).
@@ -43,7 +43,7 @@ fn check_case(name: &str, variant: &str) {
         duration_s: Some(meta["duration_s"].as_f64().unwrap()),
         ..SimOptions::default()
     };
-    let traj = sim::simulate(&mech, &effects, &opts).unwrap();
+    let traj = deployment::simulate(&mech, &effects, &opts).unwrap();
 
     assert_eq!(
         traj.t_s.len(),
@@ -141,7 +141,7 @@ fn energy_is_conserved_without_friction_and_latches() {
         sample_hz: Some(200.0),
         ..SimOptions::default()
     };
-    let traj = sim::simulate(&mech, &[], &opts).unwrap();
+    let traj = deployment::simulate(&mech, &[], &opts).unwrap();
     assert!(traj.latch_s.iter().all(Option::is_none));
     let (je, g) = effect::to_core(&[], 2);
     let chain = mech.chain::<2>(&je, g).unwrap();
@@ -181,13 +181,13 @@ fn energy_is_conserved_without_friction_and_latches() {
 #[test]
 fn seed001_t02_fails_to_latch_with_the_papers_friction() {
     let mech = Mechanism::load(&data_dir().join("mechanisms/seed001_T02.toml")).unwrap();
-    let nominal = sim::simulate(&mech, &[], &SimOptions::default()).unwrap();
+    let nominal = deployment::simulate(&mech, &[], &SimOptions::default()).unwrap();
     assert!(nominal.deployed(), "{:?}", nominal.latch_s);
     let friction: Vec<Effect> = ["1:value=2.63", "2:value=1.7", "3:value=0.001"]
         .iter()
         .map(|s| format!("coulomb_friction:joint={s}").parse().unwrap())
         .collect();
-    let eft = sim::simulate(&mech, &friction, &SimOptions::default()).unwrap();
+    let eft = deployment::simulate(&mech, &friction, &SimOptions::default()).unwrap();
     assert_eq!(eft.latch_s[0], None, "joint 1 must not latch");
     assert!((eft.end_s - 12.0).abs() < 1e-9);
 }

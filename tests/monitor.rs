@@ -3,12 +3,12 @@
 
 use deploywatch_core::monitor::{Monitor, MonitorConfig, Prediction, Sample, Status};
 use deploywatch_core::LatchState;
-use deploywatch_sim::effect::{Effect, EffectKind};
-use deploywatch_sim::mechanism::Mechanism;
-use deploywatch_sim::monitor_config::{monitor_config, samples};
-use deploywatch_sim::run::Run;
-use deploywatch_sim::sensor::{measure, SensorModel};
-use deploywatch_sim::sim::{simulate, SimOptions, Trajectory};
+use deploywatch_sim::data::run::Run;
+use deploywatch_sim::model::effect::{Effect, EffectKind};
+use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::onboard::monitor_config::{monitor_config, samples};
+use deploywatch_sim::simulate::deployment::{simulate, SimOptions, Trajectory};
+use deploywatch_sim::simulate::sensor::{measure, SensorModel};
 use deploywatch_tests::data_dir;
 
 /// The papers' identified friction, seed 001 (N·m at joints 1–3).

@@ -5,15 +5,15 @@
 //! (`cargo test -p deploywatch-tests --test paper_vectors -- --nocapture`).
 
 use deploywatch_core::spring::{Branch, Spring};
-use deploywatch_sim::kinematics::{
-    planar_mobility, spatial_mobility, FIXED_CONSTRAINTS, REVOLUTE_CONSTRAINTS,
-};
-use deploywatch_sim::margin::{joint_margin, margin_pct, Standard};
-use deploywatch_sim::mechanism::Mechanism;
-use deploywatch_sim::rsm::{
+use deploywatch_sim::analysis::design_margin::{joint_margin, margin_pct, Standard};
+use deploywatch_sim::analysis::identify::rsm::{
     fit_quadratic, minimize_in_box, minimize_in_box_projected, Ccd, CcdKind, Coding, Fit, Quadratic,
 };
-use deploywatch_sim::truss::{synthesize, TrussInput};
+use deploywatch_sim::model::kinematics::{
+    planar_mobility, spatial_mobility, FIXED_CONSTRAINTS, REVOLUTE_CONSTRAINTS,
+};
+use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::paper::truss_synthesis::{synthesize, TrussInput};
 use deploywatch_tests::data_dir;
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -396,9 +396,12 @@ fn table9_paper_optimum_is_a_weighted_minimum() {
     let mut best = (f64::INFINITY, 0.0, Vec::new());
     for step in 0..=100 {
         let w = step as f64 / 100.0;
-        let m =
-            deploywatch_sim::rsm::minimize_weighted_in_box(&[(w, &te1), (1.0 - w, &te2)], &lo, &hi)
-                .unwrap();
+        let m = deploywatch_sim::analysis::identify::rsm::minimize_weighted_in_box(
+            &[(w, &te1), (1.0 - w, &te2)],
+            &lo,
+            &hi,
+        )
+        .unwrap();
         let d =
             m.x.iter()
                 .zip(&paper)

@@ -25,12 +25,12 @@
 //!
 //! Prints Markdown tables on stdout (progress on stderr).
 
-use deploywatch_sim::campaign::Campaign;
-use deploywatch_sim::effect::{Effect, EffectKind};
-use deploywatch_sim::identify::{
+use deploywatch_sim::analysis::identify::{
     self, identify_direct, identify_rsm, DirectOptions, Identification, RsmOptions, RsmResponse,
 };
-use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::data::campaign::Campaign;
+use deploywatch_sim::model::effect::{Effect, EffectKind};
+use deploywatch_sim::model::mechanism::Mechanism;
 use std::path::{Path, PathBuf};
 
 fn data() -> PathBuf {
@@ -78,7 +78,7 @@ fn example_truth(dir: &Path, joints: usize) -> Vec<f64> {
     t
 }
 
-fn cell(j: Option<&deploywatch_sim::identify::JointEft>, truth: &[f64]) -> String {
+fn cell(j: Option<&deploywatch_sim::analysis::identify::JointEft>, truth: &[f64]) -> String {
     let Some(j) = j else { return "–".into() };
     let t = truth[j.joint - 1];
     let err = if t >= 0.1 {

@@ -6,9 +6,9 @@
 use std::path::{Path, PathBuf};
 
 use deploywatch_core::spring::Interp;
-use deploywatch_sim::mechanism::{Mechanism, SpringSpec};
-use deploywatch_sim::mechanism_toml::MechanismError;
-use deploywatch_sim::run::{pair_runs, Run, RunError};
+use deploywatch_sim::data::run::{pair_runs, Run, RunError};
+use deploywatch_sim::model::mechanism::{Mechanism, SpringSpec};
+use deploywatch_sim::model::mechanism_toml::MechanismError;
 
 fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../data")

@@ -10,13 +10,13 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use deploywatch_sim::faults::{self, SensorFault};
-use deploywatch_sim::mechanism::Mechanism;
-use deploywatch_sim::run::{
+use deploywatch_sim::data::run::{
     check_analysable, ReadOptions, Run, RunError, MAX_ANGLE_DEG, MISSING_SAMPLES_KEY,
 };
-use deploywatch_sim::sensor::{measure, SensorModel};
-use deploywatch_sim::sim::{simulate, SimOptions};
+use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::simulate::deployment::{simulate, SimOptions};
+use deploywatch_sim::simulate::fault_injection::{self, SensorFault};
+use deploywatch_sim::simulate::sensor::{measure, SensorModel};
 
 fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../data")
@@ -197,7 +197,7 @@ fn missing_samples_are_refused_by_the_analyses_with_the_reason() {
     let f: SensorFault = "dropout:joint=2:start=0.3:duration=0.05:mode=missing"
         .parse()
         .expect("fault");
-    faults::apply(&mut run, &[f], 1).expect("apply");
+    fault_injection::apply(&mut run, &[f], 1).expect("apply");
     let path = dir.path().join("dropout.csv");
     run.write(&path)
         .expect("a run that declares its missing samples is written");
@@ -323,7 +323,7 @@ fn the_bundled_runs_are_analysable() {
             let p = e.expect("entry").path();
             if p.extension().is_some_and(|x| x == "csv") {
                 let run = Run::load(&p).expect("bundled run");
-                let m = deploywatch_sim::run::pair_runs(&mechs, &run, s(&p)).expect("paired");
+                let m = deploywatch_sim::data::run::pair_runs(&mechs, &run, s(&p)).expect("paired");
                 check_analysable(&run, m, s(&p)).unwrap_or_else(|e| panic!("{e}"));
                 seen += 1;
             }
@@ -591,7 +591,7 @@ fn faults_apply_to_a_simulated_run_of_every_reference_mechanism() {
         };
         let traj = simulate(&mech, &[], &opts).expect("simulate");
         let n = mech.joint_count();
-        for kind in faults::KINDS {
+        for kind in fault_injection::KINDS {
             let spec = match kind {
                 "dropout" => format!("dropout:joint={n}:start=0.5:duration=0.2:mode=stale"),
                 "spike" => format!("spike:joint={n}:t=0.7:magnitude=-15"),
@@ -605,7 +605,7 @@ fn faults_apply_to_a_simulated_run_of_every_reference_mechanism() {
             let fault: SensorFault = spec.parse().expect("spec");
             let mut run = measure(&traj, &vec![0.0; n], &SensorModel::REFERENCE, 9);
             let clean = run.clone();
-            let report = faults::apply(&mut run, &[fault], 9)
+            let report = fault_injection::apply(&mut run, &[fault], 9)
                 .unwrap_or_else(|e| panic!("{name} {spec}: {e}"));
             assert!(report[0].samples > 0, "{name} {spec}: nothing happened");
             assert_ne!(run, clean, "{name} {spec}");

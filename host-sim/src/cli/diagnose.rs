@@ -3,12 +3,12 @@
 //! of `docs/spec/formats.md` and a Markdown report with plots beside it.
 
 use super::CliError;
-use crate::campaign::Campaign;
-use crate::diagnose::{self, Candidate, DiagnoseOptions, Outcome, MIN_DELTA_BIC};
-use crate::effect::{Effect, EffectKind};
-use crate::evidence::{self, JointEvidence, CORRELATES};
-use crate::metrics::{self, TimeWindow};
-use crate::plot::{self, Mark, Panel, Series};
+use crate::analysis::diagnose::evidence::{self, JointEvidence, CORRELATES};
+use crate::analysis::diagnose::{self, Candidate, DiagnoseOptions, Outcome, MIN_DELTA_BIC};
+use crate::analysis::metrics::{self, TimeWindow};
+use crate::data::campaign::Campaign;
+use crate::model::effect::{Effect, EffectKind};
+use crate::report::plot::{self, Mark, Panel, Series};
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

@@ -1,6 +1,6 @@
 //! `deploywatch identify`: the equivalent friction torque (EFT, `physics.md`
 //! 4) of each joint from measured runs, by the direct least-squares method or
-//! by the response surface of seed 000 ([`crate::identify`]).
+//! by the response surface of seed 000 ([`crate::analysis::identify`]).
 //!
 //! Prints a table of EFTs per joint (with 95 % intervals for `direct`), the
 //! fit quality (RMS before/after, seed 000 Eq. 14 trajectory errors), the
@@ -9,12 +9,12 @@
 //! (like seed 001 Figs. 10/11) with `--plot`, by default beside the JSON.
 
 use super::CliError;
-use crate::campaign::Campaign;
-use crate::identify::{
+use crate::analysis::identify::{
     self, identify_direct, identify_rsm, DirectOptions, Identification, Method, RsmOptions,
     RsmResponse,
 };
-use crate::plot::{self, Mark, Panel, Series};
+use crate::data::campaign::Campaign;
+use crate::report::plot::{self, Mark, Panel, Series};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `deploywatch identify`.

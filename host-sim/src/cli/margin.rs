@@ -9,8 +9,8 @@
 //! required minimum.
 
 use super::CliError;
-use crate::margin::{joint_margin, JointMargin, Resistance, Standard};
-use crate::mechanism::Mechanism;
+use crate::analysis::design_margin::{joint_margin, JointMargin, Resistance, Standard};
+use crate::model::mechanism::Mechanism;
 use std::path::PathBuf;
 
 /// Arguments of `deploywatch margin`.
@@ -170,7 +170,7 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::margin::Factors;
+    use crate::analysis::design_margin::Factors;
 
     #[test]
     fn factor_arguments_parse() {

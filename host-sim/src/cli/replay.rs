@@ -3,8 +3,8 @@
 //! QEMU's statuses are bit-identical with the host's.
 
 use super::CliError;
-use crate::mechanism::Mechanism;
-use crate::replay::{self, Prepared, ReplayError};
+use crate::model::mechanism::Mechanism;
+use crate::onboard::replay::{self, Prepared, ReplayError};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 

@@ -1,13 +1,13 @@
 //! `deploywatch simulate`: one deployment of a mechanism, written as a run CSV.
 
 use super::CliError;
-use crate::effect::{self, Effect};
-use crate::faults::{self, SensorFault};
-use crate::mechanism::Mechanism;
-use crate::plot::{self, Mark, Panel, Series};
-use crate::run::Run;
-use crate::sensor::{self, SensorModel};
-use crate::sim::{self, SimOptions};
+use crate::data::run::Run;
+use crate::model::effect::{self, Effect};
+use crate::model::mechanism::Mechanism;
+use crate::report::plot::{self, Mark, Panel, Series};
+use crate::simulate::deployment::{self, SimOptions};
+use crate::simulate::fault_injection::{self, SensorFault};
+use crate::simulate::sensor::{self, SensorModel};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `deploywatch simulate`.
@@ -65,8 +65,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         stop_when_deployed: args.faults.is_empty(),
         ..SimOptions::default()
     };
-    let traj =
-        sim::simulate(&mech, &args.effects, &opts).map_err(|e| CliError::failed(e.to_string()))?;
+    let traj = deployment::simulate(&mech, &args.effects, &opts)
+        .map_err(|e| CliError::failed(e.to_string()))?;
     let sensor = if args.no_noise {
         SensorModel::IDEAL
     } else {
@@ -96,7 +96,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
             )
         },
     );
-    let reports = faults::apply(&mut run, &args.faults, args.seed)
+    let reports = fault_injection::apply(&mut run, &args.faults, args.seed)
         .map_err(|m| CliError::input(format!("--fault: {m}")))?;
     run.write(&args.out)
         .map_err(|e| CliError::input(e.to_string()))?;

@@ -3,10 +3,10 @@
 //! residuals against them. The effects of a campaign are common to all its
 //! runs (same rig, same hardware); each run keeps its own mechanism.
 
-use crate::effect::{self, Effect};
-use crate::mechanism::Mechanism;
-use crate::run::{check_analysable, pair_runs, Run};
-use crate::sim::{self, SimOptions, Trajectory};
+use crate::data::run::{check_analysable, pair_runs, Run};
+use crate::model::effect::{self, Effect};
+use crate::model::mechanism::Mechanism;
+use crate::simulate::deployment::{self, SimOptions, Trajectory};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -62,10 +62,10 @@ impl Default for Campaign {
 pub enum CampaignError {
     /// A mechanism file is invalid.
     #[error(transparent)]
-    Mechanism(#[from] crate::mechanism_toml::MechanismError),
+    Mechanism(#[from] crate::model::mechanism_toml::MechanismError),
     /// A run file is invalid or cannot be paired.
     #[error(transparent)]
-    Run(#[from] crate::run::RunError),
+    Run(#[from] crate::data::run::RunError),
     /// Nothing to work on.
     #[error("no runs given")]
     NoRuns,
@@ -128,9 +128,13 @@ impl Campaign {
 
     /// Simulates run `i` with `effects`, sampled at the run's own time stamps
     /// over its whole length (encoder offsets applied to the angles).
-    pub fn simulate(&self, i: usize, effects: &[Effect]) -> Result<Trajectory, sim::SimError> {
+    pub fn simulate(
+        &self,
+        i: usize,
+        effects: &[Effect],
+    ) -> Result<Trajectory, deployment::SimError> {
         let r = &self.runs[i];
-        let mut traj = sim::simulate_at(&r.mechanism, effects, &self.sim, &r.run.t_s)?;
+        let mut traj = deployment::simulate_at(&r.mechanism, effects, &self.sim, &r.run.t_s)?;
         let offsets = effect::encoder_offsets_deg(effects, r.mechanism.joint_count());
         for (j, b) in offsets.iter().enumerate() {
             if *b != 0.0 {

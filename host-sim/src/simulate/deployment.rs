@@ -1,5 +1,5 @@
 //! The full deployment simulator: the core's chain equations in `f64`,
-//! integrated by Dormand–Prince 5(4) ([`crate::ode`]) with event location on
+//! integrated by Dormand–Prince 5(4) ([`crate::simulate::ode`]) with event location on
 //! the dense output for
 //! - latches: `φ_j` reaching 0 from the stowed side, located to 1e-12 s,
 //!   followed by the plastic impulse of `physics.md` section 5;
@@ -9,9 +9,9 @@
 //! Between events the right-hand side is smooth, so the error control sees
 //! no discontinuity; every restart re-evaluates the derivative.
 
-use crate::effect::{self, Effect};
-use crate::mechanism::Mechanism;
-use crate::ode::{self, Dense, State};
+use crate::model::effect::{self, Effect};
+use crate::model::mechanism::Mechanism;
+use crate::simulate::ode::{self, Dense, State};
 use deploywatch_core::{Branch, Chain, Mode};
 
 /// Integration and output settings.
@@ -140,7 +140,7 @@ pub const MAX_STEPS: usize = 1_000_000;
 pub const MAX_BRANCH_BURST: usize = 10;
 
 /// Simulates a mechanism with extra effects (sensor effects are ignored
-/// here: see [`crate::sensor`]).
+/// here: see [`crate::simulate::sensor`]).
 pub fn simulate(
     mech: &Mechanism,
     effects: &[Effect],

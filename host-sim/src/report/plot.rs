@@ -13,7 +13,7 @@ static FONT: Once = Once::new();
 
 fn register_font() {
     FONT.call_once(|| {
-        let bytes: &'static [u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+        let bytes: &'static [u8] = include_bytes!("../../../assets/DejaVuSans.ttf");
         // A font that fails to parse only loses the text, never the plot.
         let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, bytes);
     });

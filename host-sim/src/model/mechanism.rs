@@ -2,7 +2,7 @@
 //! (`docs/spec/formats.md`) describes, sized at run time (1 to 4 joints),
 //! and its conversion into the core's fixed-size [`Chain`].
 //!
-//! Reading and validating the TOML lives in [`crate::mechanism_toml`].
+//! Reading and validating the TOML lives in [`crate::model::mechanism_toml`].
 
 use deploywatch_core::spring::{CurveError, Fold, Interp, TapePoints};
 use deploywatch_core::{Chain, Curve, Friction, GlobalEffects, Joint, JointEffects, Panel, Spring};

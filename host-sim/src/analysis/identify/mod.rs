@@ -8,7 +8,7 @@
 //! - **direct** ([`identify_direct`]): minimise the sum of squared angle
 //!   residuals of all runs at once (seed 001 Eq. 6 over the whole runs,
 //!   model minus measurement at every sample) over the EFTs with a
-//!   derivative-based least-squares solver ([`crate::fit::least_squares`],
+//!   derivative-based least-squares solver ([`crate::analysis::fit::least_squares`],
 //!   Levenberg–Marquardt, finite-difference Jacobian with one parallel
 //!   simulation per column), lower bound 0, 95 % confidence intervals from
 //!   the Jacobian at the solution.
@@ -16,18 +16,20 @@
 //!   Eqs. 14–16, Table 9): a central composite design (CCD) of EFTs around a
 //!   centre, every design point simulated (in parallel), a full quadratic
 //!   (Eq. 15) fitted to each response with its R², and the fitted surface
-//!   minimised inside the box the design explored ([`crate::rsm`]).
+//!   minimised inside the box the design explored ([`crate::analysis::identify::rsm`]).
 //!
 //! A *simulation* in the counts below is one evaluation of the model on the
 //! whole campaign, i.e. one deployment of every run; `deployments` counts
 //! the single deployments (`simulations × runs`).
 
-use crate::campaign::Campaign;
-use crate::effect::{Effect, EffectKind};
-use crate::fit::{self, FitOptions};
-use crate::metrics::{self, TimeWindow};
-use crate::rsm::{self, CcdKind, Coding, Quadratic};
-use crate::sim::Trajectory;
+pub mod rsm;
+
+use self::rsm::{CcdKind, Coding, Quadratic};
+use crate::analysis::fit::{self, FitOptions};
+use crate::analysis::metrics::{self, TimeWindow};
+use crate::data::campaign::Campaign;
+use crate::model::effect::{Effect, EffectKind};
+use crate::simulate::deployment::Trajectory;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -80,7 +82,7 @@ pub struct JointEft {
     /// Equivalent friction torque `T_C` [N·m] (`physics.md` 4).
     pub coulomb_nm: f64,
     /// 95 % confidence interval [N·m] (direct method only: from the
-    /// Jacobian, `p ± t₀.₉₇₅ · sd`, see [`crate::fit`]); `null` for rsm.
+    /// Jacobian, `p ± t₀.₉₇₅ · sd`, see [`crate::analysis::fit`]); `null` for rsm.
     pub ci95: Option<[f64; 2]>,
     /// Standard deviation of the estimate [N·m] (direct method only).
     pub sd_nm: Option<f64>,
@@ -615,10 +617,10 @@ fn scan_with(model: &Model, progress: Progress) -> Result<Scan, IdentifyError> {
 /// by an active set: the solver works unbounded (a negative `T_C` is
 /// simulated as it is, a driving torque), and a joint that ends below 0 is
 /// fixed at 0 and the others refitted, until none is negative. (The
-/// projection of the bounds inside [`crate::fit::least_squares`] can stall a
+/// projection of the bounds inside [`crate::analysis::fit::least_squares`] can stall a
 /// parameter at its bound, so it is not used here.) The start is
 /// `opts.start_nm`, or the per-joint best of the start scan ([`scan`]). The
-/// 95 % intervals come from the Jacobian at the solution ([`crate::fit`]);
+/// 95 % intervals come from the Jacobian at the solution ([`crate::analysis::fit`]);
 /// a joint fixed at 0 gets `[0, upper end of its interval when last free]`.
 pub fn identify_direct(
     campaign: &Campaign,
@@ -776,7 +778,7 @@ fn responses(score: &CampaignScore, mse: f64, joints: &[usize]) -> Vec<f64> {
 }
 
 /// Identifies the EFT of `joints` (1-based) by the response-surface method
-/// of seed 000 (section 4.3): a CCD ([`crate::rsm::Ccd`]) around
+/// of seed 000 (section 4.3): a CCD ([`crate::analysis::identify::rsm::Ccd`]) around
 /// `opts.centre_nm` with `opts.half_range_nm`, each design point simulated on
 /// every run (design points in parallel), a full quadratic (Eq. 15) fitted
 /// to each response (trajectory error of each joint, Eq. 14, mean over the
@@ -986,18 +988,22 @@ pub fn identify_rsm(
 }
 
 /// A synthetic measured run: `mech` simulated with `effects` (default
-/// [`crate::sim::SimOptions`]: the run ends at the first sample at or after
+/// [`crate::simulate::deployment::SimOptions`]: the run ends at the first sample at or after
 /// the last latch, formats.md) and read by the reference sensor
-/// ([`crate::sensor::SensorModel::REFERENCE`], N(0, 0.02°) then 14 bits)
+/// ([`crate::simulate::sensor::SensorModel::REFERENCE`], N(0, 0.02°) then 14 bits)
 /// with noise seed `seed`; its `mechanism` metadata names `mech`.
 pub fn synthetic_run(
-    mech: &crate::mechanism::Mechanism,
+    mech: &crate::model::mechanism::Mechanism,
     effects: &[Effect],
     seed: u64,
-) -> Result<crate::run::Run, crate::sim::SimError> {
-    use crate::sensor::{self, SensorModel};
-    let traj = crate::sim::simulate(mech, effects, &crate::sim::SimOptions::default())?;
-    let offsets = crate::effect::encoder_offsets_deg(effects, mech.joint_count());
+) -> Result<crate::data::run::Run, crate::simulate::deployment::SimError> {
+    use crate::simulate::sensor::{self, SensorModel};
+    let traj = crate::simulate::deployment::simulate(
+        mech,
+        effects,
+        &crate::simulate::deployment::SimOptions::default(),
+    )?;
+    let offsets = crate::model::effect::encoder_offsets_deg(effects, mech.joint_count());
     let mut run = sensor::measure(&traj, &offsets, &SensorModel::REFERENCE, seed);
     run.set_meta("mechanism", &mech.name);
     run.set_meta(

@@ -34,7 +34,7 @@ use deploywatch_core::spring::{CurveError, Interp, TapePoints};
 use deploywatch_core::{Curve, Panel, Spring};
 use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 
-use crate::mechanism::{FrictionSpec, JointSpec, Mechanism, SpringSpec, MAX_JOINTS};
+use crate::model::mechanism::{FrictionSpec, JointSpec, Mechanism, SpringSpec, MAX_JOINTS};
 
 /// `[run] duration_s` when the file does not give it (s).
 pub const DEFAULT_DURATION_S: f64 = 6.0;
@@ -43,7 +43,7 @@ pub const DEFAULT_DURATION_S: f64 = 6.0;
 pub const DEFAULT_SAMPLE_HZ: f64 = 100.0;
 
 /// Highest accepted `[run] sample_hz` (Hz): run CSV files write `t_s` with 6
-/// decimals (see [`crate::run::Run::to_csv_string`]), so samples closer than
+/// decimals (see [`crate::data::run::Run::to_csv_string`]), so samples closer than
 /// 1 µs could not be told apart.
 pub const MAX_SAMPLE_HZ: f64 = 1.0e6;
 

@@ -13,8 +13,8 @@ use deploywatch_core::observer::FrictionPrior;
 use deploywatch_core::spring::{CurveError, Fold, Interp, TapePoints};
 use deploywatch_core::{Curve, Panel, Spring};
 
-use crate::mechanism::{Mechanism, SpringSpec};
-use crate::run::Run;
+use crate::data::run::Run;
+use crate::model::mechanism::{Mechanism, SpringSpec};
 
 /// Standard deviations of the friction prior.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -13,7 +13,7 @@
 //! [`Sample<N>`] frame per sample; the output one [`Status<N>`] frame per
 //! sample. Frames are the core's telemetry frames
 //! ([`deploywatch_core::telemetry`]). The host's statuses come from the
-//! simulator's own path ([`monitor_config`](crate::monitor_config::monitor_config)
+//! simulator's own path ([`monitor_config`](crate::onboard::monitor_config::monitor_config)
 //! and [`Monitor::update`]); the configuration frames are checked to build
 //! the very same [`MonitorConfig`] before any replay, so a difference of the
 //! two sides is one of the target, never of the configuration.
@@ -34,10 +34,10 @@ use deploywatch_firmware_example::config::{
     ConfigHeader, JointFrame, Knots, SpringFrame, TapeFrame, CONFIG_VERSION, JOINT_COUNTS,
 };
 
-use crate::mechanism::{Mechanism, SpringSpec};
-use crate::monitor_config::{monitor_config, samples, spring_f32};
-use crate::plot::{self, Mark, Panel, Series};
-use crate::run::Run;
+use crate::data::run::Run;
+use crate::model::mechanism::{Mechanism, SpringSpec};
+use crate::onboard::monitor_config::{monitor_config, samples, spring_f32};
+use crate::report::plot::{self, Mark, Panel, Series};
 
 /// Joint counts the host side replays (`Monitor<N>` for each).
 pub const HOST_JOINTS: std::ops::RangeInclusive<usize> = 1..=4;
@@ -139,7 +139,7 @@ pub struct Prepared {
 
 /// Loads a run for the monitor (missing samples allowed, as `NaN`).
 pub fn load_run(path: &Path) -> Result<Run, ReplayError> {
-    let opts = crate::run::ReadOptions {
+    let opts = crate::data::run::ReadOptions {
         allow_missing: true,
     };
     Run::load_with(path, opts).map_err(|e| ReplayError::Input(e.to_string()))
@@ -239,7 +239,7 @@ pub fn joint_frame(mech: &Mechanism, j: usize) -> Result<JointFrame, ReplayError
         capture_deg: capture_deg as f32,
         // The default spread of the prior, as `monitor_config` takes it.
         prior: {
-            let spread = crate::monitor_config::PriorSpread::default();
+            let spread = crate::onboard::monitor_config::PriorSpread::default();
             [
                 joint.friction.coulomb_nm as f32,
                 spread.coulomb_sd_nm as f32,
@@ -286,8 +286,8 @@ pub fn config_frames<const N: usize>(
         _ => {
             return Err(ReplayError::Input(format!(
                 "{}: the configuration frames do not rebuild the host's monitor configuration \
-                 (firmware-example/src/config.rs and host-sim/src/replay.rs are out of step \
-                 with deploywatch_sim::monitor_config)",
+                 (firmware-example/src/config.rs and host-sim/src/onboard/replay.rs are out of step \
+                 with deploywatch_sim::onboard::monitor_config)",
                 mech.name
             )))
         }

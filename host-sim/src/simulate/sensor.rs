@@ -8,8 +8,8 @@
 //! drawn sample by sample, joint by joint, so the same seed gives the same
 //! file byte for byte on every machine.
 
-use crate::run::Run;
-use crate::sim::Trajectory;
+use crate::data::run::Run;
+use crate::simulate::deployment::Trajectory;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};

@@ -6,7 +6,7 @@
 //! 2. Noise floor σ̂ estimated from the data alone (third differences).
 //! 3. Candidates: every effect, per joint where it has one. Each is fitted to
 //!    all runs at once: a coarse scan for a start, then Levenberg–Marquardt
-//!    ([`crate::fit`]); candidates are fitted in parallel.
+//!    ([`crate::analysis::fit`]); candidates are fitted in parallel.
 //! 4. Stepwise selection: the candidate with the best BIC is added if it
 //!    earns its keep — BIC better by more than [`MIN_DELTA_BIC`], its 95 %
 //!    interval excludes zero, and (with two or more runs) the held-out RMS
@@ -16,9 +16,11 @@
 //! 5. A clear residual that no candidate explains is reported as
 //!    `unexplained`, never forced onto a name.
 
-use crate::campaign::{Campaign, CampaignRun};
-use crate::effect::{Effect, EffectKind};
-use crate::fit::{self, FitOptions};
+pub mod evidence;
+
+use crate::analysis::fit::{self, FitOptions};
+use crate::data::campaign::{Campaign, CampaignRun};
+use crate::model::effect::{Effect, EffectKind};
 use rayon::prelude::*;
 use std::time::Instant;
 

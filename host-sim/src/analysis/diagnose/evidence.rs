@@ -4,8 +4,8 @@
 //! whether they look like a sensor effect (present at rest and after the
 //! latch) or a dynamic one (zero at release, growing with the motion).
 
-use crate::campaign::Campaign;
-use crate::effect::Effect;
+use crate::data::campaign::Campaign;
+use crate::model::effect::Effect;
 
 /// Residual statistics of one joint in one run (model − measured, deg).
 #[derive(Clone, Debug, PartialEq)]

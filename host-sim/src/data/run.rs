@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::mechanism::{Mechanism, MAX_JOINTS};
+use crate::model::mechanism::{Mechanism, MAX_JOINTS};
 
 /// Largest joint angle a run file may hold [deg], either sign: a hinge
 /// angle beyond two turns is no reading of a deploying joint (the monitor's

@@ -3,9 +3,9 @@
 //! `docs/reliability.md` has the model, the syntax and the monitor's
 //! contract per fault).
 //!
-//! A fault is applied to a [`Run`] after [`crate::sensor::measure`], so the
+//! A fault is applied to a [`Run`] after [`crate::simulate::sensor::measure`], so the
 //! motion is the healthy one and only the readings are wrong: the truth
-//! stays available from the [`crate::sim::Trajectory`] for scoring the
+//! stays available from the [`crate::simulate::deployment::Trajectory`] for scoring the
 //! monitor. Every random choice comes from a ChaCha8 generator seeded with
 //! the run's seed, one stream per fault (stream `1 + k` for the k-th fault
 //! of the list; the sensor noise uses stream 0), so the same seed and the
@@ -32,10 +32,10 @@
 //! monitor's `Sample`. A run that has one carries the metadata
 //! [`MISSING_SAMPLES_KEY`]` = "NaN"`, which [`apply`] sets: only such a run
 //! may be written with `NaN` fields, and only a reader that asks for it
-//! ([`crate::run::ReadOptions::allow_missing`]) accepts them.
+//! ([`crate::data::run::ReadOptions::allow_missing`]) accepts them.
 
-use crate::run::{Run, MAX_ANGLE_DEG, MISSING_SAMPLES_KEY, MISSING_SAMPLES_VALUE};
-use crate::sensor::RESOLUTION_DEG;
+use crate::data::run::{Run, MAX_ANGLE_DEG, MISSING_SAMPLES_KEY, MISSING_SAMPLES_VALUE};
+use crate::simulate::sensor::RESOLUTION_DEG;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
@@ -549,7 +549,7 @@ pub fn describe(faults: &[SensorFault]) -> String {
         .join("; ")
 }
 
-/// Applies `faults` to `run` (a run measured by [`crate::sensor::measure`]),
+/// Applies `faults` to `run` (a run measured by [`crate::simulate::sensor::measure`]),
 /// deterministically from `seed`; returns what each fault did, in the order
 /// given.
 ///

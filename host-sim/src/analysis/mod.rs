@@ -1,0 +1,10 @@
+//! What the runs say about the model: how a model is scored against a run
+//! (`metrics`), least squares over simulations (`fit`), the equivalent
+//! friction torques (`identify`), the cause of what the model gets wrong
+//! (`diagnose`), and the design torque margins of the flight standards
+//! (`design_margin`).
+pub mod design_margin;
+pub mod diagnose;
+pub mod fit;
+pub mod identify;
+pub mod metrics;

@@ -1,0 +1,4 @@
+//! Runs as they are recorded (the run CSV of `docs/spec/formats.md`) and a
+//! campaign: several runs, each paired with its mechanism.
+pub mod campaign;
+pub mod run;

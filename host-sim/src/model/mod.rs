@@ -1,0 +1,7 @@
+//! What is simulated: a mechanism as read from its TOML file, the named
+//! effects that extend it (`docs/spec/physics.md` section 6), and its
+//! mobility.
+pub mod effect;
+pub mod kinematics;
+pub mod mechanism;
+pub mod mechanism_toml;
