@@ -18,6 +18,7 @@ use deploywatch_sim::data::campaign::Campaign;
 use deploywatch_sim::data::run::Run;
 use deploywatch_sim::model::effect::{self, Effect, EffectKind};
 use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::report::progress::quiet;
 use deploywatch_sim::simulate::deployment::{self, SimOptions};
 use deploywatch_sim::simulate::sensor::{self, SensorModel};
 use deploywatch_tests::data_dir;
@@ -187,7 +188,7 @@ fn hidden_effects_are_named_and_measured() {
                 .push(&mechs, run.clone(), Path::new(&format!("run{r}.csv")))
                 .unwrap();
         }
-        let outcome = diagnose(&campaign, &DiagnoseOptions::default());
+        let outcome = diagnose(&campaign, &DiagnoseOptions::default(), &quiet);
         let found = outcome.extended.effects();
 
         // Only now compare with the truth.
@@ -315,7 +316,7 @@ fn bundled_examples_are_diagnosed_correctly() {
             .map(|m| data_dir().join(format!("examples/{dir}/{m}.csv")))
             .collect();
         let campaign = Campaign::load(&mech_paths, &run_paths).unwrap();
-        let outcome = diagnose(&campaign, &DiagnoseOptions::default());
+        let outcome = diagnose(&campaign, &DiagnoseOptions::default(), &quiet);
         let found = outcome.extended.effects();
 
         // Now the truth.

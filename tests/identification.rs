@@ -16,6 +16,7 @@ use deploywatch_sim::cli::identify::{run as run_cli, IdentifyArgs};
 use deploywatch_sim::data::campaign::Campaign;
 use deploywatch_sim::model::effect::{Effect, EffectKind};
 use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::report::progress::quiet;
 use deploywatch_tests::data_dir;
 use std::path::{Path, PathBuf};
 
@@ -43,8 +44,6 @@ fn synthetic(names: &[&str], truth: &[f64], seeds: &[u64]) -> Campaign {
     }
     c
 }
-
-fn quiet(_: &str) {}
 
 /// Every EFT ≥ 0.1 N·m within 2 %, every interval contains the truth, the
 /// RMS after is at the noise floor (σ = 0.02°, plus quantisation).

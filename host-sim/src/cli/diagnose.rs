@@ -9,6 +9,7 @@ use crate::analysis::metrics::{self, TimeWindow};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};
 use crate::report::plot::{self, Mark, Panel, Series};
+use crate::report::progress;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -61,7 +62,6 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     }
     let opts = DiagnoseOptions {
         max_effects: args.max_effects,
-        progress: !args.quiet,
         ..DiagnoseOptions::default()
     };
     if let Some(dir) = args.json.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -69,7 +69,15 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
             CliError::input(format!("{}: cannot create the folder: {e}", dir.display()))
         })?;
     }
-    let outcome = diagnose::diagnose(&campaign, &opts);
+    let outcome = diagnose::diagnose(
+        &campaign,
+        &opts,
+        if args.quiet {
+            &progress::quiet
+        } else {
+            &progress::stderr
+        },
+    );
     if !outcome.baseline.sse.is_finite() {
         return Err(CliError::failed(
             "the mechanisms as given cannot be simulated against these runs",

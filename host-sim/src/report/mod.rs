@@ -1,2 +1,4 @@
-//! What people look at: PNG plots shared by every command that draws.
+//! What people look at: PNG plots shared by every command that draws, and
+//! the progress lines of long work.
 pub mod plot;
+pub mod progress;

@@ -21,6 +21,7 @@ pub mod evidence;
 use crate::analysis::fit::{self, FitOptions};
 use crate::data::campaign::{Campaign, CampaignRun};
 use crate::model::effect::{Effect, EffectKind};
+use crate::report::progress::Progress;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -286,8 +287,6 @@ pub struct DiagnoseOptions {
     pub max_effects: usize,
     /// The candidates considered (all by default).
     pub kinds: Vec<EffectKind>,
-    /// Print progress on stderr.
-    pub progress: bool,
 }
 
 impl Default for DiagnoseOptions {
@@ -295,7 +294,6 @@ impl Default for DiagnoseOptions {
         DiagnoseOptions {
             max_effects: 3,
             kinds: EffectKind::ALL.to_vec(),
-            progress: false,
         }
     }
 }
@@ -355,15 +353,13 @@ pub fn noise_sigma_deg(campaign: &Campaign) -> f64 {
 
 struct Engine<'a> {
     campaign: &'a Campaign,
-    opts: &'a DiagnoseOptions,
+    progress: Progress<'a>,
     sims: std::sync::atomic::AtomicUsize,
 }
 
 impl Engine<'_> {
     fn say(&self, msg: impl AsRef<str>) {
-        if self.opts.progress {
-            eprintln!("{}", msg.as_ref());
-        }
+        (self.progress)(msg.as_ref());
     }
 
     fn residuals(&self, c: &Campaign, set: &[Candidate], p: &[f64]) -> Option<Vec<f64>> {
@@ -673,11 +669,11 @@ fn clear_of_zero(f: &FittedSet, cand: Candidate, cand_offset: usize) -> bool {
 }
 
 /// Diagnoses a campaign.
-pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions) -> Outcome {
+pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress) -> Outcome {
     let t0 = Instant::now();
     let eng = Engine {
         campaign,
-        opts,
+        progress,
         sims: std::sync::atomic::AtomicUsize::new(0),
     };
     let sigma = noise_sigma_deg(campaign);

@@ -29,6 +29,7 @@ use crate::analysis::fit::{self, FitOptions};
 use crate::analysis::metrics::{self, TimeWindow};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};
+use crate::report::progress::Progress;
 use crate::simulate::deployment::Trajectory;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -276,12 +277,6 @@ pub enum IdentifyError {
     #[error("response surface: {0}")]
     Rsm(#[from] rsm::RsmError),
 }
-
-/// Progress messages while simulating (e.g. printed on stderr by the CLI).
-pub type Progress<'a> = &'a (dyn Fn(&str) + Sync);
-
-/// A progress sink that drops everything.
-pub fn quiet(_: &str) {}
 
 /// Settings of [`identify_direct`].
 #[derive(Clone, Debug, PartialEq)]
