@@ -366,8 +366,37 @@ pub fn least_squares(
         sse,
         residuals: m,
         evaluations,
-        termination: format!("{:?}", report.termination),
+        termination: termination_words(&report.termination),
     })
+}
+
+/// Why the solver stopped, in words (the solver's verdict as printed and
+/// stored in the JSON).
+pub fn termination_words(t: &levenberg_marquardt::TerminationReason) -> String {
+    use levenberg_marquardt::TerminationReason as T;
+    match t {
+        T::Converged { ftol, xtol } => {
+            let mut why = Vec::new();
+            if *ftol {
+                why.push("the sum of squares stopped decreasing (ftol)");
+            }
+            if *xtol {
+                why.push("the parameters stopped moving (xtol)");
+            }
+            format!("converged: {}", why.join(" and "))
+        }
+        T::ResidualsZero => "converged: the residuals are zero".into(),
+        T::Orthogonal => "converged: the residuals are orthogonal to the Jacobian (gtol)".into(),
+        T::LostPatience => "stopped: the evaluation budget ran out".into(),
+        T::NoImprovementPossible(what) => {
+            format!("stopped: no improvement possible at machine precision ({what})")
+        }
+        T::User(what) => format!("stopped: the model could not be evaluated ({what})"),
+        T::Numerical(what) => format!("stopped: a number became NaN or infinite ({what})"),
+        T::NoParameters => "stopped: no parameter to fit".into(),
+        T::NoResiduals => "stopped: no residual".into(),
+        T::WrongDimensions(what) => format!("stopped: wrong dimensions ({what})"),
+    }
 }
 
 #[cfg(test)]

@@ -29,7 +29,7 @@ pub struct DiagnoseArgs {
     #[arg(long, default_value_t = 3)]
     pub max_effects: usize,
     /// No progress on the terminal.
-    #[arg(long)]
+    #[arg(long, short)]
     pub quiet: bool,
     /// The measured runs (CSV), one test campaign: the effects found are
     /// common to all of them.
@@ -42,6 +42,8 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     if args.max_effects == 0 || args.max_effects > 3 {
         return Err(CliError::input("--max-effects: expected 1, 2 or 3"));
     }
+    super::check_output("--json", &args.json)?;
+    super::check_output("the report beside --json", &args.json.with_extension("md"))?;
     let campaign =
         Campaign::load(&args.mechanisms, &args.runs).map_err(|e| CliError::input(e.to_string()))?;
     for cr in &campaign.runs {
@@ -64,11 +66,6 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
         max_effects: args.max_effects,
         ..DiagnoseOptions::default()
     };
-    if let Some(dir) = args.json.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| {
-            CliError::input(format!("{}: cannot create the folder: {e}", dir.display()))
-        })?;
-    }
     let outcome = diagnose::diagnose(
         &campaign,
         &opts,

@@ -8,13 +8,14 @@
 //! `--json` and a PNG of measured vs simulated angles before and after
 //! (like seed 001 Figs. 10/11) with `--plot`, by default beside the JSON.
 
-use super::CliError;
+use super::{check_output, CliError, Console};
 use crate::analysis::identify::{
-    self, identify_direct, identify_rsm, DirectOptions, Identification, Method, RsmOptions,
+    self, identify_direct, identify_rsm, list, DirectOptions, Identification, Method, RsmOptions,
     RsmResponse,
 };
-use crate::data::campaign::Campaign;
-use crate::report::plot::{self, Mark, Panel, Series};
+use crate::data::campaign::{Campaign, CampaignRun};
+use crate::report::plot::{self, Mark, Panel, Series, YAxis};
+use crate::simulate::deployment::Trajectory;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `deploywatch identify`.
@@ -68,7 +69,8 @@ pub struct IdentifyArgs {
     #[arg(long, default_value = "te", value_parser = parse_response)]
     pub response: RsmResponse,
 
-    /// No progress messages on stderr.
+    /// No progress and no chatter: the result table, errors and warnings
+    /// only; the JSON and PNG are written as usual.
     #[arg(long, short)]
     pub quiet: bool,
 }
@@ -107,60 +109,98 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
             args.method.name()
         )));
     }
-    let quiet = args.quiet;
-    let progress = move |m: &str| {
-        if !quiet {
-            eprintln!("identify: {m}");
+    let png = args
+        .plot
+        .clone()
+        .or_else(|| args.json.as_ref().map(|j| j.with_extension("png")));
+    if let Some(json) = &args.json {
+        check_output("--json", json)?;
+    }
+    if let Some(png) = &png {
+        check_output(
+            if args.plot.is_some() {
+                "--plot"
+            } else {
+                "the plot beside --json"
+            },
+            png,
+        )?;
+    }
+    let console = Console::new(args.quiet);
+    let id = identify_with(args, &campaign, &joints, &console)?;
+    print!("{}", report(&campaign, &id));
+    warn_residuals(&campaign, &id, &console);
+    if let Some(path) = &args.json {
+        std::fs::write(path, id.to_json() + "\n").map_err(|e| {
+            CliError::input(format!("--json {}: cannot write: {e}", path.display()))
+        })?;
+        console.say(format_args!("json: {}", path.display()));
+    }
+    match png {
+        Some(png) => {
+            plot_fit(&png, &campaign, &id).map_err(CliError::failed)?;
+            console.say(format_args!("plot: {}", png.display()));
         }
+        None => console
+            .say("plot: none (give --plot OUT.png, or --json OUT.json to draw OUT.png beside it)"),
+    }
+    Ok(())
+}
+
+/// Warns when the identified friction leaves more than
+/// [`identify::RESIDUAL_WARN_FACTOR`] × the noise at some joint, and points
+/// to `deploywatch diagnose`.
+fn warn_residuals(campaign: &Campaign, id: &Identification, console: &Console) {
+    let warnings = identify::residual_warnings(campaign, id);
+    let Some(first) = warnings.first() else {
+        return;
     };
+    let mut text = format!(
+        "the identified friction leaves more than {} times the noise RMS ({:.3} deg) at:",
+        identify::RESIDUAL_WARN_FACTOR,
+        first.noise_deg
+    );
+    for w in &warnings {
+        text += &format!("\n  {w}");
+    }
+    text += "\nfriction alone does not explain these runs: `deploywatch diagnose` \
+             (same --mechanism and runs, --json OUT.json) looks for the cause";
+    console.warn(text);
+}
+
+/// Runs the chosen method with the arguments' options.
+fn identify_with(
+    args: &IdentifyArgs,
+    campaign: &Campaign,
+    joints: &[usize],
+    console: &Console,
+) -> Result<Identification, CliError> {
     let result = match args.method {
         Method::Direct => identify_direct(
-            &campaign,
-            &joints,
+            campaign,
+            joints,
             &DirectOptions {
                 start_nm: args.start.clone(),
                 ..DirectOptions::default()
             },
-            &progress,
+            console.progress(),
         ),
         Method::Rsm => identify_rsm(
-            &campaign,
-            &joints,
+            campaign,
+            joints,
             &RsmOptions {
                 centre_nm: args.center.clone(),
                 half_range_nm: args.range.clone(),
                 response: args.response,
                 ..RsmOptions::default()
             },
-            &progress,
+            console.progress(),
         ),
     };
-    let id = result.map_err(|e| match e {
+    result.map_err(|e| match e {
         identify::IdentifyError::BadOption(m) => CliError::input(m),
         other => CliError::failed(other.to_string()),
-    })?;
-
-    print!("{}", report(&campaign, &id));
-
-    if let Some(path) = &args.json {
-        std::fs::write(path, id.to_json() + "\n")
-            .map_err(|e| CliError::input(format!("cannot write {}: {e}", path.display())))?;
-        println!("json: {}", path.display());
-    }
-    let png = args
-        .plot
-        .clone()
-        .or_else(|| args.json.as_ref().map(|j| j.with_extension("png")));
-    match png {
-        Some(png) => {
-            plot_fit(&png, &campaign, &id).map_err(CliError::failed)?;
-            println!("plot: {}", png.display());
-        }
-        None => println!(
-            "plot: none (give --plot OUT.png, or --json OUT.json to draw OUT.png beside it)"
-        ),
-    }
-    Ok(())
+    })
 }
 
 /// The human report: EFT table, fit quality, cost.
@@ -236,27 +276,27 @@ pub fn report(campaign: &Campaign, id: &Identification) -> String {
     if let Some(d) = &id.direct {
         let _ = writeln!(
             s,
-            "  least squares: SSE {:.4} deg² over {} residuals, {}; start {:?} N·m ({}){}",
+            "  least squares: SSE {:.4} deg² over {} residuals, {}; start {} N·m ({}){}",
             d.sse_deg2,
             d.residuals,
             d.termination,
-            d.start_nm,
+            list(&d.start_nm),
             d.start_rule,
             if d.fixed_at_zero.is_empty() {
                 String::new()
             } else {
-                format!("; fixed at the bound 0: joints {:?}", d.fixed_at_zero)
+                format!("; fixed at the bound 0: joints {}", list(&d.fixed_at_zero))
             }
         );
     }
     if let Some(r) = &id.rsm {
         let _ = writeln!(
             s,
-            "  design: {} points, α = {:.3}, centre {:?} ± {:?} N·m ({})",
+            "  design: {} points, α = {:.3}, centre {} ± {} N·m ({})",
             r.points_nm.len(),
             r.alpha,
-            r.centre_nm,
-            r.half_range_nm,
+            list(&r.centre_nm),
+            list(&r.half_range_nm),
             r.design_rule
         );
         let r2: Vec<String> = r
@@ -283,9 +323,10 @@ pub fn report(campaign: &Campaign, id: &Identification) -> String {
     s
 }
 
-/// Draws, per run and joint, the measured angles (dots) with the model
-/// before (the mechanism as given) and after (with the identified EFTs):
-/// the layout of seed 001 Figs. 10/11.
+/// Draws, per run and joint, the measured angles (dots, on top) with the
+/// model before (the mechanism as given) and after (with the identified
+/// EFTs): the layout of seed 001 Figs. 10/11; then, per run, a panel of
+/// the residuals after the fit (model − measured) of every joint.
 pub fn plot_fit(png: &Path, campaign: &Campaign, id: &Identification) -> Result<(), String> {
     let mut before = Vec::new();
     let mut after = Vec::new();
@@ -297,43 +338,54 @@ pub fn plot_fit(png: &Path, campaign: &Campaign, id: &Identification) -> Result<
                 .map_err(|e| e.to_string())?,
         );
     }
+    let residuals: Vec<Vec<Vec<f64>>> = campaign
+        .runs
+        .iter()
+        .zip(&after)
+        .map(|(cr, a)| {
+            (0..cr.run.joints())
+                .map(|j| {
+                    a.phi_deg[j]
+                        .iter()
+                        .zip(&cr.run.phi_deg[j])
+                        .map(|(m, y)| m - y)
+                        .collect()
+                })
+                .collect()
+        })
+        .collect();
     let mut panels = Vec::new();
     for (i, cr) in campaign.runs.iter().enumerate() {
         for j in 0..cr.run.joints() {
-            let eft = id
-                .eft(j + 1)
-                .map_or("not identified".to_string(), |v| format!("EFT {v:.4} N·m"));
-            panels.push(Panel {
-                title: format!("{} joint {} ({eft})", cr.name(), j + 1),
-                y_label: "angle [deg]".into(),
-                series: vec![
-                    Series {
-                        label: "measured".into(),
-                        x: &cr.run.t_s,
-                        y: &cr.run.phi_deg[j],
-                        mark: Mark::Dots,
-                        color: 6,
-                    },
-                    Series {
-                        label: "before (as given)".into(),
-                        x: &before[i].t_s,
-                        y: &before[i].phi_deg[j],
-                        mark: Mark::Line,
-                        color: 1,
-                    },
-                    Series {
-                        label: format!("after ({})", id.method.name()),
-                        x: &after[i].t_s,
-                        y: &after[i].phi_deg[j],
-                        mark: Mark::Line,
-                        color: 0,
-                    },
-                ],
-                markers: Vec::new(),
-            });
+            panels.push((
+                angle_panel(cr, j, id, &before[i], &after[i]),
+                YAxis::default(),
+            ));
         }
+        panels.push((
+            Panel {
+                title: format!("{}: residual after the fit (model − measured)", cr.name()),
+                y_label: "residual [deg]".into(),
+                series: residuals[i]
+                    .iter()
+                    .enumerate()
+                    .map(|(j, r)| Series {
+                        label: format!("joint {}", j + 1),
+                        x: &cr.run.t_s,
+                        y: r,
+                        mark: Mark::Line,
+                        color: j,
+                    })
+                    .collect(),
+                markers: Vec::new(),
+            },
+            YAxis {
+                limits: None,
+                lines: vec![(0.0, "0".into())],
+            },
+        ));
     }
-    plot::draw(
+    plot::draw_with_axes(
         png,
         &format!(
             "EFT identification ({}): RMS {:.3} -> {:.4} deg",
@@ -345,4 +397,45 @@ pub fn plot_fit(png: &Path, campaign: &Campaign, id: &Identification) -> Result<
         &panels,
     )
     .map_err(|e| e.to_string())
+}
+
+/// One run's joint `j` (0-based): measured, before and after.
+fn angle_panel<'a>(
+    cr: &'a CampaignRun,
+    j: usize,
+    id: &Identification,
+    before: &'a Trajectory,
+    after: &'a Trajectory,
+) -> Panel<'a> {
+    let eft = id
+        .eft(j + 1)
+        .map_or("not identified".to_string(), |v| format!("EFT {v:.4} N·m"));
+    Panel {
+        title: format!("{} joint {} ({eft})", cr.name(), j + 1),
+        y_label: "angle [deg]".into(),
+        series: vec![
+            Series {
+                label: "before (as given)".into(),
+                x: &before.t_s,
+                y: &before.phi_deg[j],
+                mark: Mark::Line,
+                color: 1,
+            },
+            Series {
+                label: format!("after ({})", id.method.name()),
+                x: &after.t_s,
+                y: &after.phi_deg[j],
+                mark: Mark::Line,
+                color: 0,
+            },
+            Series {
+                label: "measured".into(),
+                x: &cr.run.t_s,
+                y: &cr.run.phi_deg[j],
+                mark: Mark::Dots,
+                color: 6,
+            },
+        ],
+        markers: Vec::new(),
+    }
 }

@@ -2,16 +2,21 @@
 //! (`docs/margin.md`, `physics.md` 9).
 //!
 //! For each joint it prints `T_D` (the spring torque at the stowed angle on
-//! the unfolding branch), `T_R` (the friction: `--friction` or the joint's
-//! `friction.coulomb_nm`), the torque-form margin (seed 001 Eq. 7), `E_D`,
-//! `E_R = T_R · stroke` and the energy-form margin (seed 000 Eq. 21), with the
-//! chosen standard's friction factor applied, and pass/fail against its
-//! required minimum.
-
-use super::CliError;
-use crate::analysis::design_margin::{joint_margin, JointMargin, Resistance, Standard};
+//! the unfolding branch), `T_R` (the friction: `--friction`, what `--from`
+//! found added to the joint's `friction.coulomb_nm`, or that value alone),
+//! the torque-form margin (seed 001 Eq. 7), `E_D`, `E_R = T_R · stroke` plus
+//! the energy a viscous damping dissipates on the deployment, and the
+//! energy-form margin (seed 000 Eq. 21), with the chosen standard's friction
+//! factor applied, and pass/fail against its required minimum. `--json`
+//! writes the same table.
+use super::{check_output, CliError, Console};
+use crate::analysis::design_margin::{joint_margin, Factors, JointMargin, Resistance, Standard};
+use crate::model::effect::{Effect, EffectKind};
 use crate::model::mechanism::Mechanism;
-use std::path::PathBuf;
+use crate::simulate::deployment::{self, SimOptions};
+use clap::builder::PossibleValue;
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
 
 /// Arguments of `deploywatch margin`.
 #[derive(clap::Args, Debug)]
@@ -22,21 +27,63 @@ pub struct MarginArgs {
 
     /// Friction (EFT) per joint [N·m], comma-separated, one value per joint
     /// (e.g. 0.54,0.472); default: each joint's friction.coulomb_nm.
-    #[arg(long, value_name = "NM,NM,..", value_delimiter = ',')]
+    #[arg(
+        long,
+        value_name = "NM,NM,..",
+        value_delimiter = ',',
+        conflicts_with = "from"
+    )]
     pub friction: Option<Vec<f64>>,
 
+    /// What `identify` or `diagnose` found (their --json output): the EFT
+    /// per joint [N·m] (identify), or the coulomb_friction [N·m] and
+    /// viscous_damping [N·m·s/rad] per joint (diagnose), added to the
+    /// mechanism's own friction.
+    #[arg(long, value_name = "FILE.json")]
+    pub from: Option<PathBuf>,
+
     /// Flight standard whose uncertainty factors and minimum margin apply.
-    #[arg(long, default_value = "none", value_parser = parse_standard)]
+    #[arg(long, value_enum, ignore_case = true, default_value_t = Standard::None)]
     pub standard: Standard,
 
     /// Override one uncertainty factor, KIND=VALUE (kinds: inertia, spring,
     /// friction, hysteresis, harness, adhesion, other); may be repeated.
     #[arg(long = "factor", value_name = "KIND=VALUE", value_parser = parse_factor)]
     pub factors: Vec<(Resistance, f64)>,
+
+    /// Also write the margins as JSON here.
+    #[arg(long, value_name = "OUT.json")]
+    pub json: Option<PathBuf>,
+
+    /// No chatter: the table, errors and warnings only; the JSON is
+    /// written as usual.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
-fn parse_standard(s: &str) -> Result<Standard, String> {
-    s.parse()
+/// `--standard` takes the names of [`Standard::ALL`], each with its
+/// reference as help, so `--help` lists them.
+impl clap::ValueEnum for Standard {
+    fn value_variants<'a>() -> &'a [Self] {
+        &Standard::ALL
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        let aliases: &[&str] = match self {
+            Standard::None => &[],
+            Standard::NasaStd5017 => &["nasa-std-5017b", "nasa"],
+            Standard::EcssEST3301C => &["ecss"],
+        };
+        Some(
+            PossibleValue::new(self.name())
+                .help(self.reference())
+                .aliases(aliases.iter().copied()),
+        )
+    }
+
+    fn from_str(input: &str, _ignore_case: bool) -> Result<Self, String> {
+        input.parse()
+    }
 }
 
 fn parse_factor(s: &str) -> Result<(Resistance, f64), String> {
@@ -72,60 +119,399 @@ fn verdict(m: &JointMargin) -> &'static str {
     }
 }
 
-/// Runs `deploywatch margin`.
-pub fn run(args: &MarginArgs) -> Result<(), CliError> {
-    // The loader's errors name the file, the key and what was expected.
-    let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
-    let n = mech.joint_count();
-    let friction: Vec<f64> = match &args.friction {
-        Some(v) => {
-            if v.len() != n {
-                return Err(CliError::input(format!(
-                    "--friction has {} values but {} has {n} joints",
-                    v.len(),
-                    args.mechanism.display()
-                )));
-            }
-            if let Some(bad) = v.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
-                return Err(CliError::input(format!(
-                    "--friction: {bad} is not a friction torque (a number ≥ 0 N·m)"
-                )));
-            }
-            v.clone()
-        }
-        None => mech.joints.iter().map(|j| j.friction.coulomb_nm).collect(),
-    };
-    let mut factors = args.standard.factors();
-    for (kind, value) in &args.factors {
-        factors.set(*kind, *value);
-    }
-    let custom = factors != args.standard.factors();
+/// The resistances of each joint the margins use, and where they come from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Resistances {
+    /// Coulomb friction (EFT) per joint [N·m].
+    pub coulomb_nm: Vec<f64>,
+    /// Viscous damping per joint [N·m·s/rad].
+    pub viscous_nms: Vec<f64>,
+    /// Where the values come from, in words.
+    pub source: String,
+    /// Effects of a diagnosis that no margin here accounts for.
+    pub ignored: Vec<String>,
+    /// The mechanisms the file was found on (empty if it does not say).
+    pub found_on: Vec<String>,
+}
 
-    let mut rows = Vec::with_capacity(n);
+/// Why a `--from` file cannot be used.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum FromError {
+    /// The file cannot be read.
+    #[error("cannot read: {0}")]
+    Read(#[from] std::io::Error),
+    /// The file is not JSON.
+    #[error("not JSON ({0})")]
+    Json(#[from] serde_json::Error),
+    /// JSON, but neither identify's nor diagnose's.
+    #[error(
+        "expected the JSON of `deploywatch identify` (with \"method\" and \"joints\") \
+         or of `deploywatch diagnose` (with \"effects\")"
+    )]
+    Unknown,
+    /// A field missing or of the wrong kind.
+    #[error("{at}: expected \"{key}\", {expected}")]
+    Field {
+        /// Where in the file, e.g. `joints[0]`.
+        at: String,
+        /// The key.
+        key: &'static str,
+        /// What it should hold.
+        expected: &'static str,
+    },
+    /// A joint the mechanism does not have.
+    #[error("{effect} at joint {joint}, but {mechanism} has joints 1 to {joints}")]
+    Joint {
+        /// The effect found.
+        effect: EffectKind,
+        /// Its joint (1-based).
+        joint: usize,
+        /// The mechanism's name.
+        mechanism: String,
+        /// Its joint count.
+        joints: usize,
+    },
+}
+
+/// What an identify or diagnose JSON found.
+struct Found {
+    /// Which command wrote it.
+    command: &'static str,
+    /// The friction and damping effects.
+    effects: Vec<Effect>,
+    /// Other effects, in words (not in the margins).
+    ignored: Vec<String>,
+    /// The mechanisms it was found on.
+    found_on: Vec<String>,
+}
+
+/// Reads `--from`: an identify JSON (`"method"` and `"joints"`) or a
+/// diagnose JSON (`"effects"`), for a mechanism of `mech` (whose own
+/// friction the found values add to, as the effects do in `physics.md` 6).
+pub fn read_found(path: &Path, mech: &Mechanism) -> Result<Resistances, FromError> {
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(path)?)?;
+    let found = if doc.get("method").is_some() {
+        identify_effects(&doc)?
+    } else if doc.get("effects").is_some() {
+        diagnose_effects(&doc)?
+    } else {
+        return Err(FromError::Unknown);
+    };
+    let n = mech.joint_count();
+    let mut r = Resistances {
+        coulomb_nm: mech.joints.iter().map(|j| j.friction.coulomb_nm).collect(),
+        viscous_nms: mech.joints.iter().map(|j| j.friction.viscous_nms).collect(),
+        source: format!(
+            "{} ({}) + the mechanism's friction",
+            found.command,
+            path.display()
+        ),
+        ignored: found.ignored,
+        found_on: found.found_on,
+    };
+    for e in found.effects {
+        let j = e.joint.unwrap_or(0);
+        if j == 0 || j > n {
+            return Err(FromError::Joint {
+                effect: e.kind,
+                joint: j,
+                mechanism: mech.name.clone(),
+                joints: n,
+            });
+        }
+        match e.kind {
+            EffectKind::CoulombFriction => r.coulomb_nm[j - 1] += e.value,
+            _ => r.viscous_nms[j - 1] += e.value,
+        }
+    }
+    Ok(r)
+}
+
+/// A finite number ≥ 0 at `key` of `v`.
+fn nonneg(v: &Value, key: &'static str, at: &str) -> Result<f64, FromError> {
+    v.get(key)
+        .and_then(Value::as_f64)
+        .filter(|x| x.is_finite() && *x >= 0.0)
+        .ok_or_else(|| FromError::Field {
+            at: at.to_string(),
+            key,
+            expected: "a number ≥ 0",
+        })
+}
+
+/// The joint number at `"joint"` of `v` (1-based).
+fn joint_of(v: &Value, at: &str) -> Result<usize, FromError> {
+    v.get("joint")
+        .and_then(Value::as_u64)
+        .filter(|j| *j >= 1)
+        .map(|j| j as usize)
+        .ok_or_else(|| FromError::Field {
+            at: at.to_string(),
+            key: "joint",
+            expected: "a joint number from 1",
+        })
+}
+
+/// The list at `key` of the top level of `doc`.
+fn list_at<'a>(doc: &'a Value, key: &'static str) -> Result<&'a Vec<Value>, FromError> {
+    doc.get(key)
+        .and_then(Value::as_array)
+        .ok_or_else(|| FromError::Field {
+            at: "the top level".into(),
+            key,
+            expected: "a list",
+        })
+}
+
+/// The EFTs of an identify JSON, and the mechanisms of its runs.
+fn identify_effects(doc: &Value) -> Result<Found, FromError> {
+    let mut effects = Vec::new();
+    for (i, j) in list_at(doc, "joints")?.iter().enumerate() {
+        let at = format!("joints[{i}]");
+        let joint = joint_of(j, &at)?;
+        let value = nonneg(j, "coulomb_nm", &at)?;
+        effects.push(Effect::joint(EffectKind::CoulombFriction, joint, value));
+    }
+    let mut found_on: Vec<String> = doc
+        .pointer("/after/runs")
+        .and_then(Value::as_array)
+        .into_iter()
+        .flatten()
+        .filter_map(|r| r.get("mechanism").and_then(Value::as_str).map(String::from))
+        .collect();
+    found_on.dedup();
+    Ok(Found {
+        command: "identify",
+        effects,
+        ignored: Vec::new(),
+        found_on,
+    })
+}
+
+/// The friction and damping effects of a diagnose JSON, the other effects
+/// (named, not used), and the mechanisms it was found on.
+fn diagnose_effects(doc: &Value) -> Result<Found, FromError> {
+    let (mut effects, mut ignored) = (Vec::new(), Vec::new());
+    for (i, e) in list_at(doc, "effects")?.iter().enumerate() {
+        let name = e.get("name").and_then(Value::as_str).unwrap_or("?");
+        let at = format!("effects[{i}] ({name})");
+        let kind = match name {
+            "coulomb_friction" => EffectKind::CoulombFriction,
+            "viscous_damping" => EffectKind::ViscousDamping,
+            other => {
+                let joint = e.get("joint").and_then(Value::as_u64);
+                ignored.push(joint.map_or(other.to_string(), |j| format!("{other} at joint {j}")));
+                continue;
+            }
+        };
+        let joint = joint_of(e, &at)?;
+        effects.push(Effect::joint(kind, joint, nonneg(e, "value", &at)?));
+    }
+    let found_on = match doc.get("mechanisms").and_then(Value::as_array) {
+        Some(m) => m
+            .iter()
+            .filter_map(|v| v.as_str().map(String::from))
+            .collect(),
+        None => doc
+            .get("mechanism")
+            .and_then(Value::as_str)
+            .map(|m| vec![m.to_string()])
+            .unwrap_or_default(),
+    };
+    Ok(Found {
+        command: "diagnose",
+        effects,
+        ignored,
+        found_on,
+    })
+}
+
+/// The resistances from `--friction`, or the mechanism's own friction.
+fn given_resistances(args: &MarginArgs, mech: &Mechanism) -> Result<Resistances, CliError> {
+    let n = mech.joint_count();
+    let viscous_nms = mech.joints.iter().map(|j| j.friction.viscous_nms).collect();
+    let Some(v) = &args.friction else {
+        return Ok(Resistances {
+            coulomb_nm: mech.joints.iter().map(|j| j.friction.coulomb_nm).collect(),
+            viscous_nms,
+            source: "the mechanism's friction".into(),
+            ignored: Vec::new(),
+            found_on: Vec::new(),
+        });
+    };
+    if v.len() != n {
+        return Err(CliError::input(format!(
+            "--friction has {} values but {} has {n} joints",
+            v.len(),
+            args.mechanism.display()
+        )));
+    }
+    if let Some(bad) = v.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
+        return Err(CliError::input(format!(
+            "--friction: {bad} is not a friction torque (a number ≥ 0 N·m)"
+        )));
+    }
+    Ok(Resistances {
+        coulomb_nm: v.clone(),
+        viscous_nms,
+        source: "--friction".into(),
+        ignored: Vec::new(),
+        found_on: Vec::new(),
+    })
+}
+
+/// The energy [J] each joint's viscous damping dissipates on the
+/// deployment simulated with those resistances: `∫ f · φ̇² dt` up to the
+/// latch (rectangle rule on the sample grid). Zero where `f = 0`.
+fn viscous_energy_j(mech: &Mechanism, r: &Resistances) -> Result<Vec<f64>, CliError> {
+    let n = mech.joint_count();
+    if r.viscous_nms.iter().all(|f| *f == 0.0) {
+        return Ok(vec![0.0; n]);
+    }
+    // The mechanism already holds its own friction: add only what was found.
+    let effects: Vec<Effect> = (0..n)
+        .flat_map(|j| {
+            let own = &mech.joints[j].friction;
+            [
+                Effect::joint(
+                    EffectKind::CoulombFriction,
+                    j + 1,
+                    r.coulomb_nm[j] - own.coulomb_nm,
+                ),
+                Effect::joint(
+                    EffectKind::ViscousDamping,
+                    j + 1,
+                    r.viscous_nms[j] - own.viscous_nms,
+                ),
+            ]
+        })
+        .collect();
+    let traj = deployment::simulate(mech, &effects, &SimOptions::default())
+        .map_err(|e| CliError::failed(format!("the deployment with the found damping: {e}")))?;
+    let dt = traj.t_s.windows(2).map(|w| w[1] - w[0]);
+    Ok((0..n)
+        .map(|j| {
+            let rate = &traj.rate_deg_s[j];
+            dt.clone()
+                .zip(rate)
+                .map(|(dt, w)| r.viscous_nms[j] * w.to_radians().powi(2) * dt)
+                .sum()
+        })
+        .collect())
+}
+
+/// One row of the table.
+#[derive(Clone, Debug)]
+pub struct Row {
+    /// 1-based joint.
+    pub joint: usize,
+    /// Stowed angle [deg].
+    pub stowed_deg: f64,
+    /// Viscous damping [N·m·s/rad].
+    pub viscous_nms: f64,
+    /// The energy the viscous damping dissipates on the deployment [J],
+    /// included in `margin.resisting_energy_j`.
+    pub viscous_energy_j: f64,
+    /// The margins.
+    pub margin: JointMargin,
+}
+
+/// The margins of every joint with the resistances `r` and `factors`.
+fn margins(
+    mech: &Mechanism,
+    path: &Path,
+    r: &Resistances,
+    standard: Standard,
+    factors: &Factors,
+) -> Result<Vec<Row>, CliError> {
+    let viscous = viscous_energy_j(mech, r)?;
+    let mut rows = Vec::with_capacity(mech.joint_count());
     for (j, joint) in mech.joints.iter().enumerate() {
         let spring = joint.spring.to_spring().map_err(|e| {
             CliError::input(format!(
                 "{}: joint {}: bad spring: {e}",
-                args.mechanism.display(),
+                path.display(),
                 j + 1
             ))
         })?;
-        let m = joint_margin(
+        let mut m = joint_margin(
             &spring,
             joint.stowed_deg.to_radians(),
-            friction[j],
-            args.standard,
-            Some(&factors),
+            r.coulomb_nm[j],
+            standard,
+            Some(factors),
         );
-        rows.push((j + 1, joint.stowed_deg, m));
+        m.resisting_energy_j += viscous[j];
+        rows.push(Row {
+            joint: j + 1,
+            stowed_deg: joint.stowed_deg,
+            viscous_nms: r.viscous_nms[j],
+            viscous_energy_j: viscous[j],
+            margin: m,
+        });
     }
+    Ok(rows)
+}
 
-    println!(
+/// Runs `deploywatch margin`.
+pub fn run(args: &MarginArgs) -> Result<(), CliError> {
+    // The loader's errors name the file, the key and what was expected.
+    let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
+    let resist = match &args.from {
+        Some(path) => read_found(path, &mech)
+            .map_err(|e| CliError::input(format!("--from {}: {e}", path.display())))?,
+        None => given_resistances(args, &mech)?,
+    };
+    if let Some(out) = &args.json {
+        check_output("--json", out)?;
+    }
+    let console = Console::new(args.quiet);
+    if !resist.found_on.is_empty() && !resist.found_on.contains(&mech.name) {
+        console.warn(format_args!(
+            "the friction in --from was found on {}, not on {}: it is applied as it is",
+            resist.found_on.join(", "),
+            mech.name
+        ));
+    }
+    let mut factors = args.standard.factors();
+    for (kind, value) in &args.factors {
+        factors.set(*kind, *value);
+    }
+    let rows = margins(&mech, &args.mechanism, &resist, args.standard, &factors)?;
+    print!("{}", table(args, &mech, &resist, &factors, &rows));
+    if let Some(out) = &args.json {
+        let doc = to_json(args, &mech, &resist, &factors, &rows);
+        let text =
+            serde_json::to_string_pretty(&doc).map_err(|e| CliError::failed(e.to_string()))?;
+        std::fs::write(out, text + "\n")
+            .map_err(|e| CliError::input(format!("--json {}: cannot write: {e}", out.display())))?;
+        console.say(format_args!("json: {}", out.display()));
+    }
+    Ok(())
+}
+
+/// The header lines: mechanism, source of the resistances, standard.
+fn table_header(args: &MarginArgs, mech: &Mechanism, r: &Resistances, factors: &Factors) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let custom = *factors != args.standard.factors();
+    let _ = writeln!(
+        s,
         "torque margins of `{}` ({})",
         mech.name,
         args.mechanism.display()
     );
-    println!(
+    let _ = writeln!(s, "resistances from: {}", r.source);
+    if !r.ignored.is_empty() {
+        let _ = writeln!(
+            s,
+            "not in these margins (no resistance form here): {}",
+            r.ignored.join(", ")
+        );
+    }
+    let _ = writeln!(
+        s,
         "standard: {}{}",
         args.standard.reference(),
         if custom { " (factors overridden)" } else { "" }
@@ -135,36 +521,111 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
             .iter()
             .map(|r| format!("{r} {}", factors.get(*r)))
             .collect();
-        println!("uncertainty factors: {}", list.join(", "));
-        println!(
+        let _ = writeln!(s, "uncertainty factors: {}", list.join(", "));
+        let _ = writeln!(
+            s,
             "applied to the friction: {} ; required minimum margin: {:.0} %",
             factors.get(Resistance::Friction),
             args.standard.required_margin() * 100.0
         );
-        println!("margins below: D / (FoS_friction · R) − 1");
+        let _ = writeln!(s, "margins below: D / (FoS_friction · R) − 1");
     } else {
-        println!("margins below: D / R − 1 (seed 001 Eq. 7, seed 000 Eq. 21); pass at ≥ 0 %");
+        let _ = writeln!(
+            s,
+            "margins below: D / R − 1 (seed 001 Eq. 7, seed 000 Eq. 21); pass at ≥ 0 %"
+        );
     }
-    println!();
-    println!(
-        "{:>5} {:>10} {:>9} {:>9} {:>11} {:>9} {:>9} {:>11}  result",
-        "joint", "stowed_deg", "T_D_Nm", "T_R_Nm", "TM_torque_%", "E_D_J", "E_R_J", "TM_energy_%",
+    if r.viscous_nms.iter().any(|f| *f != 0.0) {
+        let _ = writeln!(
+            s,
+            "E_R includes E_visc, the energy the viscous damping dissipates on the simulated deployment"
+        );
+    }
+    s
+}
+
+/// The table printed on the terminal.
+fn table(
+    args: &MarginArgs,
+    mech: &Mechanism,
+    r: &Resistances,
+    factors: &Factors,
+    rows: &[Row],
+) -> String {
+    use std::fmt::Write as _;
+    let mut s = table_header(args, mech, r, factors);
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "{:>5} {:>10} {:>9} {:>9} {:>11} {:>9} {:>9} {:>9} {:>11}  result",
+        "joint",
+        "stowed_deg",
+        "T_D_Nm",
+        "T_R_Nm",
+        "TM_torque_%",
+        "E_D_J",
+        "E_visc_J",
+        "E_R_J",
+        "TM_energy_%",
     );
-    for (j, stowed, m) in &rows {
-        println!(
-            "{:>5} {:>10.2} {:>9.4} {:>9.4} {:>11} {:>9.4} {:>9.4} {:>11}  {}",
-            j,
-            stowed,
+    for row in rows {
+        let m = &row.margin;
+        let _ = writeln!(
+            s,
+            "{:>5} {:>10.2} {:>9.4} {:>9.4} {:>11} {:>9.4} {:>9.4} {:>9.4} {:>11}  {}",
+            row.joint,
+            row.stowed_deg,
             m.driving_torque_nm,
             m.resisting_torque_nm,
             pct(m.torque_margin_pct()),
             m.driving_energy_j,
+            row.viscous_energy_j,
             m.resisting_energy_j,
             pct(m.energy_margin_pct()),
             verdict(m)
         );
     }
-    Ok(())
+    s
+}
+
+/// The margins as JSON (`--json`); an infinite margin (no resistance) is
+/// `null`.
+fn to_json(
+    args: &MarginArgs,
+    mech: &Mechanism,
+    r: &Resistances,
+    factors: &Factors,
+    rows: &[Row],
+) -> Value {
+    let finite = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
+    json!({
+        "mechanism": mech.name,
+        "mechanism_file": args.mechanism.display().to_string(),
+        "resistances_from": r.source,
+        "not_included": r.ignored,
+        "standard": args.standard.name(),
+        "factors": Resistance::ALL
+            .iter()
+            .map(|k| (k.name().to_string(), json!(factors.get(*k))))
+            .collect::<serde_json::Map<_, _>>(),
+        "required_margin_pct": args.standard.required_margin() * 100.0,
+        "joints": rows.iter().map(|row| {
+            let m = &row.margin;
+            json!({
+                "joint": row.joint,
+                "stowed_deg": row.stowed_deg,
+                "coulomb_nm": m.resisting_torque_nm,
+                "viscous_nms": row.viscous_nms,
+                "driving_torque_nm": m.driving_torque_nm,
+                "torque_margin_pct": finite(m.torque_margin_pct()),
+                "driving_energy_j": m.driving_energy_j,
+                "viscous_energy_j": row.viscous_energy_j,
+                "resisting_energy_j": m.resisting_energy_j,
+                "energy_margin_pct": finite(m.energy_margin_pct()),
+                "pass": m.torque_pass() && m.energy_pass(),
+            })
+        }).collect::<Vec<_>>(),
+    })
 }
 
 #[cfg(test)]
@@ -185,11 +646,9 @@ mod tests {
         assert!(parse_factor("friction").is_err());
         assert!(parse_factor("friction=-1").is_err());
         assert!(parse_factor("glue=2").is_err());
-        assert_eq!(
-            parse_standard("ECSS-E-ST-33-01C").unwrap(),
-            Standard::EcssEST3301C
-        );
-        assert!(parse_standard("mil-std").is_err());
+        let std = |s: &str| <Standard as clap::ValueEnum>::from_str(s, true);
+        assert_eq!(std("ECSS-E-ST-33-01C").unwrap(), Standard::EcssEST3301C);
+        assert!(std("mil-std").is_err());
     }
 
     #[test]
@@ -204,8 +663,11 @@ mod tests {
                 .join("../data/mechanisms")
                 .join(file),
             friction,
+            from: None,
             standard: Standard::EcssEST3301C,
             factors: vec![(Resistance::Friction, 2.5)],
+            json: None,
+            quiet: true,
         }
     }
 

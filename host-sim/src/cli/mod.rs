@@ -1,5 +1,17 @@
 //! The `deploywatch` command line: one module per subcommand, each with its
 //! `clap` arguments and a `run` function. `main.rs` only dispatches.
+//!
+//! Conventions shared by every command (README, "The commands"):
+//!
+//! - exit code 0 on success, 2 for input the user can fix (a file, an
+//!   argument, an output path that cannot be written), 1 when the work
+//!   itself fails;
+//! - every output path is checked with [`check_output`] before any work:
+//!   its folder must exist (folders are never created, except the one
+//!   `replay --keep` names) and a file must be creatable there;
+//! - `--quiet` ([`Console`]): no progress and no chatter (which file was
+//!   written where); the result a command prints on stdout, errors and
+//!   warnings stay, and the result files are written.
 
 pub mod diagnose;
 pub mod identify;
@@ -7,7 +19,9 @@ pub mod margin;
 pub mod replay;
 pub mod simulate;
 
+use crate::report::progress::{self, Progress};
 use clap::{Parser, Subcommand};
+use std::path::Path;
 
 /// deploywatch: simulate, identify and diagnose spacecraft panel deployments.
 #[derive(Debug, Parser)]
@@ -72,6 +86,80 @@ impl std::fmt::Display for CliError {
 }
 
 impl std::error::Error for CliError {}
+
+/// Checks, before any work, that the output `path` (given with `flag`,
+/// e.g. `--plot`) can be written: its folder exists (it is never created),
+/// the path is not a folder, and a file can be created or opened for
+/// writing there. A file that did not exist is removed again, so a command
+/// that fails later leaves nothing behind; an existing file is not changed.
+pub fn check_output(flag: &str, path: &Path) -> Result<(), CliError> {
+    let bad = |why: String| CliError::input(format!("{flag} {}: {why}", path.display()));
+    if path.as_os_str().is_empty() {
+        return Err(bad("expected a file name".into()));
+    }
+    let folder = path.parent().filter(|d| !d.as_os_str().is_empty());
+    if let Some(dir) = folder {
+        if !dir.is_dir() {
+            return Err(bad(format!(
+                "the folder {} does not exist (deploywatch does not create folders: \
+                 create it first, e.g. `mkdir -p {}`)",
+                dir.display(),
+                dir.display()
+            )));
+        }
+    }
+    if path.is_dir() {
+        return Err(bad("is a folder; expected a file name".into()));
+    }
+    let existed = path.exists();
+    std::fs::OpenOptions::new()
+        .append(true)
+        .create(true)
+        .open(path)
+        .map_err(|e| bad(format!("cannot be written: {e}")))?;
+    if !existed {
+        let _ = std::fs::remove_file(path);
+    }
+    Ok(())
+}
+
+/// Where a command's words go: progress and chatter on the terminal unless
+/// `--quiet`; warnings always (stderr).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Console {
+    /// `--quiet`: no progress, no chatter.
+    pub quiet: bool,
+}
+
+impl Console {
+    /// A console for a command given `--quiet` or not.
+    pub fn new(quiet: bool) -> Self {
+        Console { quiet }
+    }
+
+    /// Chatter on stdout (what was written where, summaries): dropped with
+    /// `--quiet`.
+    pub fn say(&self, line: impl std::fmt::Display) {
+        if !self.quiet {
+            println!("{line}");
+        }
+    }
+
+    /// A warning about the result on stderr, kept with `--quiet`.
+    pub fn warn(&self, line: impl std::fmt::Display) {
+        eprintln!("warning: {line}");
+    }
+
+    /// The progress sink of the library ([`crate::report::progress`]):
+    /// stderr, or nowhere with `--quiet`.
+    pub fn progress(&self) -> Progress<'static> {
+        if self.quiet {
+            &progress::quiet
+        } else {
+            &progress::stderr
+        }
+    }
+}
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> Result<(), CliError> {

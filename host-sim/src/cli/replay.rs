@@ -2,7 +2,7 @@
 //! host (`f32`) or on the example firmware under QEMU, with the check that
 //! QEMU's statuses are bit-identical with the host's.
 
-use super::CliError;
+use super::{check_output, CliError, Console};
 use crate::model::mechanism::Mechanism;
 use crate::onboard::replay::{self, Prepared, ReplayError};
 use std::path::{Path, PathBuf};
@@ -53,6 +53,30 @@ pub struct ReplayArgs {
     /// Longest QEMU run [s].
     #[arg(long, default_value_t = 300)]
     pub timeout: u64,
+    /// No progress and no chatter (QEMU's log, which file was written
+    /// where): the per-joint summary, the comparison verdict, errors and
+    /// warnings only; the files are written as usual.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Checks every output before the work: the files' folders exist and can
+/// be written; the `--keep` folder is created (not its parents).
+fn check_outputs(args: &ReplayArgs) -> Result<(), CliError> {
+    if let Some(d) = &args.keep {
+        if !d.is_dir() {
+            check_output("--keep", d)?;
+            std::fs::create_dir(d)
+                .map_err(|e| CliError::input(format!("--keep {}: {e}", d.display())))?;
+        }
+    }
+    if let Some(out) = &args.out {
+        check_output("--out", out)?;
+    }
+    if let Some(png) = &args.plot {
+        check_output("--plot", png)?;
+    }
+    Ok(())
 }
 
 /// A temporary directory removed when dropped.
@@ -107,14 +131,12 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
             Some(replay::find_elf(args.elf.as_deref()).map_err(cli_error)?)
         }
     };
+    check_outputs(args)?;
     let prepared = replay::prepare(&mech, &run).map_err(cli_error)?;
+    let console = Console::new(args.quiet);
     let temp;
     let dir = match &args.keep {
-        Some(d) => {
-            std::fs::create_dir_all(d)
-                .map_err(|e| CliError::input(format!("{}: {e}", d.display())))?;
-            d.clone()
-        }
+        Some(d) => d.clone(),
         None => {
             temp = TempDir::new();
             temp.0.clone()
@@ -125,14 +147,14 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
         write(&dir.join("input.bin"), &prepared.input)?;
         write(&dir.join("host.bin"), &prepared.host_frames)?;
     }
-    println!(
+    console.say(format_args!(
         "{}: {} samples of {} joints, {} ({} input bytes)",
         args.run.display(),
         prepared.samples,
         prepared.joints,
         mech.name,
         prepared.input.len()
-    );
+    ));
     // The statuses reported: the target's.
     let (statuses, mismatch) = match (args.target, elf) {
         (Target::Qemu, Some(elf)) => {
@@ -143,7 +165,9 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
                 Duration::from_secs(args.timeout),
             )
             .map_err(cli_error)?;
-            eprint!("{}", q.log);
+            if !args.quiet {
+                eprint!("{}", q.log);
+            }
             let statuses =
                 replay::decode_statuses(&q.frames, prepared.joints).map_err(cli_error)?;
             let m = check(&prepared, &q.frames, "QEMU (Cortex-M4F firmware)");
@@ -158,7 +182,10 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
             (prepared.host.clone(), m)
         }
         _ => {
-            println!("host f32 run: {} status frames", prepared.host.len());
+            console.say(format_args!(
+                "host f32 run: {} status frames",
+                prepared.host.len()
+            ));
             (prepared.host.clone(), None)
         }
     };
@@ -170,14 +197,14 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::input(format!("{}: {e}", out.display())))?;
         replay::write_status_csv(std::io::BufWriter::new(file), &statuses)
             .map_err(|e| CliError::input(format!("{}: {e}", out.display())))?;
-        println!("  status CSV: {}", out.display());
+        console.say(format_args!("  status CSV: {}", out.display()));
     }
     if let Some(png) = &args.plot {
         replay::plot(png, &mech.name, &statuses).map_err(|e| CliError::failed(e.to_string()))?;
-        println!("  plot: {}", png.display());
+        console.say(format_args!("  plot: {}", png.display()));
     }
     if keep {
-        println!("  frames: {}", dir.display());
+        console.say(format_args!("  frames: {}", dir.display()));
     }
     match mismatch {
         Some(m) => Err(CliError::failed(m)),

@@ -1,8 +1,8 @@
 //! `deploywatch simulate`: one deployment of a mechanism, written as a run CSV.
 
-use super::CliError;
+use super::{check_output, CliError, Console};
 use crate::data::run::Run;
-use crate::model::effect::{self, Effect};
+use crate::model::effect::{self, Effect, EffectKind};
 use crate::model::mechanism::Mechanism;
 use crate::report::plot::{self, Mark, Panel, Series};
 use crate::simulate::deployment::{self, SimOptions};
@@ -18,9 +18,9 @@ pub struct SimulateArgs {
     /// Where to write the run (CSV).
     #[arg(long)]
     pub out: PathBuf,
-    /// An extra effect, `NAME[:joint=J]:value=V[:alpha_deg=A]`, repeatable;
-    /// NAME from docs/spec/physics.md section 6, e.g. `coulomb_friction:joint=1:value=2.63`.
-    #[arg(long = "effect", value_name = "EFFECT")]
+    /// An extra effect, `NAME[:joint=J]:value=V[:alpha_deg=A]`, repeatable
+    /// (the help lists every NAME with the unit of V: [`effect_help`]).
+    #[arg(long = "effect", value_name = "EFFECT", help = effect_help())]
     pub effects: Vec<Effect>,
     /// A sensor fault, `KIND:key=value:...`, repeatable (docs/reliability.md),
     /// e.g. `dropout:joint=1:start=0.5:duration=0.1:mode=stale`. Drawn from
@@ -40,6 +40,39 @@ pub struct SimulateArgs {
     /// Also draw the joint angles and latch events into this PNG.
     #[arg(long)]
     pub plot: Option<PathBuf>,
+    /// No chatter: the summary of the run is printed, errors and warnings
+    /// too, nothing else; the run (and the plot) are written as usual.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// The help of `--effect`, generated from the effect table
+/// ([`EffectKind::ALL`] with [`EffectKind::unit`]) so that it cannot drift
+/// from what the parser accepts.
+pub fn effect_help() -> String {
+    let mut s = String::from(
+        "An extra effect, NAME[:joint=J]:value=V[:alpha_deg=A], repeatable \
+         (docs/spec/physics.md section 6), e.g. coulomb_friction:joint=1:value=2.63. \
+         NAME and the unit of V:",
+    );
+    for k in EffectKind::ALL {
+        let unit = match k.unit() {
+            "1" => "dimensionless".to_string(),
+            u => u.to_string(),
+        };
+        let scope = if k.per_joint() {
+            "per joint, joint=J"
+        } else {
+            "global, no joint"
+        };
+        let extra = if k == EffectKind::RigTilt {
+            "; alpha_deg=A: direction [deg]"
+        } else {
+            ""
+        };
+        s += &format!("\n  {:<18} V in {unit} ({scope}{extra})", k.name());
+    }
+    s
 }
 
 /// Runs `deploywatch simulate`.
@@ -60,6 +93,11 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
             )));
         }
     }
+    check_output("--out", &args.out)?;
+    if let Some(png) = &args.plot {
+        check_output("--plot", png)?;
+    }
+    let console = Console::new(args.quiet);
     let opts = SimOptions {
         sample_hz: args.rate,
         stop_when_deployed: args.faults.is_empty(),
@@ -127,7 +165,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     if let Some(png) = &args.plot {
         plot_run(png, &mech.name, &run, &traj.latch_s)
             .map_err(|e| CliError::failed(e.to_string()))?;
-        println!("  plot: {}", png.display());
+        console.say(format_args!("  plot: {}", png.display()));
     }
     Ok(())
 }

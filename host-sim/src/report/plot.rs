@@ -4,6 +4,7 @@
 //! Text uses the bundled DejaVu Sans (`assets/DejaVuSans.ttf`), so plots
 //! render the same on a machine without system fonts.
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 use std::path::Path;
@@ -97,8 +98,36 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-/// Draws `panels` stacked vertically into a PNG at `path`.
+/// How a panel's y axis is laid out beyond what its data spans.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct YAxis {
+    /// Fixed limits `(lower, upper)` in the unit of the data; values beyond
+    /// them are drawn at the frame. `None`: the data's range.
+    pub limits: Option<(f64, f64)>,
+    /// Horizontal reference lines `(y, label)`, e.g. the 0 % line of a margin.
+    pub lines: Vec<(f64, String)>,
+}
+
+/// Draws `panels` stacked vertically into a PNG at `path`, each y axis
+/// fitted to its data.
 pub fn draw(path: &Path, title: &str, x_label: &str, panels: &[Panel]) -> Result<(), PlotError> {
+    let with_axes: Vec<(Panel, YAxis)> = panels
+        .iter()
+        .map(|p| (p.clone(), YAxis::default()))
+        .collect();
+    draw_with_axes(path, title, x_label, &with_axes)
+}
+
+/// Draws `panels` stacked vertically into a PNG at `path`, each with its
+/// [`YAxis`]. Lines first, measured dots on top (visible even under a
+/// good fit), then the vertical markers with their labels staggered so that
+/// close ones do not overlap, then the reference lines and the legend.
+pub fn draw_with_axes(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    panels: &[(Panel, YAxis)],
+) -> Result<(), PlotError> {
     register_font();
     let err = |e: &dyn std::fmt::Display| PlotError {
         path: path.display().to_string(),
@@ -111,66 +140,149 @@ pub fn draw(path: &Path, title: &str, x_label: &str, panels: &[Panel]) -> Result
         .titled(title, ("sans-serif", 22))
         .map_err(|e| err(&e))?;
     let areas = root.split_evenly((panels.len().max(1), 1));
-    for (panel, area) in panels.iter().zip(areas.iter()) {
-        let (x0, x1) = range(panel.series.iter().flat_map(|s| s.x.iter().copied()));
-        let (y0, y1) = range(panel.series.iter().flat_map(|s| s.y.iter().copied()));
-        let mut chart = ChartBuilder::on(area)
-            .caption(&panel.title, ("sans-serif", 16))
-            .margin(8)
-            .x_label_area_size(36)
-            .y_label_area_size(70)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(|e| err(&e))?;
-        chart
-            .configure_mesh()
-            .x_desc(x_label)
-            .y_desc(&panel.y_label)
-            .label_style(("sans-serif", 13))
-            .draw()
-            .map_err(|e| err(&e))?;
-        for s in &panel.series {
-            let c = color(s.color);
-            let pts =
-                s.x.iter()
-                    .zip(s.y.iter())
-                    .filter(|(x, y)| x.is_finite() && y.is_finite())
-                    .map(|(x, y)| (*x, *y));
-            let drawn = match s.mark {
-                Mark::Line => chart
-                    .draw_series(LineSeries::new(pts, c.stroke_width(2)))
-                    .map_err(|e| err(&e))?,
-                Mark::Dots => chart
-                    .draw_series(pts.map(|p| Circle::new(p, 1, c.filled())))
-                    .map_err(|e| err(&e))?,
-            };
-            drawn
-                .label(s.label.clone())
-                .legend(move |(x, y)| Rectangle::new([(x, y - 4), (x + 14, y + 4)], c.filled()));
-        }
-        for (x, label) in &panel.markers {
-            if *x >= x0 && *x <= x1 {
-                chart
-                    .draw_series(LineSeries::new([(*x, y0), (*x, y1)], BLACK.mix(0.35)))
-                    .map_err(|e| err(&e))?;
-                chart
-                    .draw_series(std::iter::once(Text::new(
-                        label.clone(),
-                        (*x, y1),
-                        ("sans-serif", 12),
-                    )))
-                    .map_err(|e| err(&e))?;
-            }
-        }
-        if !panel.series.is_empty() {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK.mix(0.3))
-                .label_font(("sans-serif", 13))
-                .draw()
-                .map_err(|e| err(&e))?;
-        }
+    for ((panel, axis), area) in panels.iter().zip(areas.iter()) {
+        draw_panel(area, x_label, panel, axis).map_err(|e| err(&e))?;
     }
     root.present().map_err(|e| err(&e))?;
     Ok(())
 }
+
+/// The error type of drawing on the bitmap backend.
+type DrawError = DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>;
+
+/// The chart of one panel, on the coordinates it is drawn in.
+type Chart<'a> = ChartContext<'a, BitMapBackend<'a>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// One panel: frame and mesh, series, markers, reference lines, legend.
+fn draw_panel(
+    area: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    x_label: &str,
+    panel: &Panel,
+    axis: &YAxis,
+) -> Result<(), DrawError> {
+    let (x0, x1) = range(panel.series.iter().flat_map(|s| s.x.iter().copied()));
+    let (y0, y1) = axis
+        .limits
+        .unwrap_or_else(|| range(panel.series.iter().flat_map(|s| s.y.iter().copied())));
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, ("sans-serif", 16))
+        .margin(8)
+        .x_label_area_size(36)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(&panel.y_label)
+        .label_style(("sans-serif", 13))
+        .draw()?;
+    // Lines first, then the measured dots on top of them.
+    let lines = panel.series.iter().filter(|s| s.mark == Mark::Line);
+    let dots = panel.series.iter().filter(|s| s.mark == Mark::Dots);
+    for s in lines.chain(dots) {
+        draw_series(&mut chart, s, (y0, y1))?;
+    }
+    draw_markers(&mut chart, &panel.markers, (x0, x1), (y0, y1))?;
+    for (y, label) in &axis.lines {
+        let style = BLACK.stroke_width(1);
+        chart
+            .draw_series(LineSeries::new([(x0, *y), (x1, *y)], style))?
+            .label(label.clone())
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 14, y)], style));
+    }
+    if !panel.series.is_empty() {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.3))
+            .label_font(("sans-serif", 13))
+            .draw()?;
+    }
+    Ok(())
+}
+
+/// One series: a line, or measured samples as dots with every k-th one
+/// ringed (at most [`MAX_RINGS`] rings), so that the measurement stays
+/// visible on top of a curve that fits it. Values beyond the y limits are
+/// drawn at the frame.
+fn draw_series<'a>(
+    chart: &mut Chart<'a>,
+    s: &Series,
+    (y0, y1): (f64, f64),
+) -> Result<(), DrawError> {
+    let c = color(s.color);
+    let pts: Vec<(f64, f64)> =
+        s.x.iter()
+            .zip(s.y.iter())
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+            .map(|(x, y)| (*x, y.clamp(y0, y1)))
+            .collect();
+    let drawn = match s.mark {
+        Mark::Line => chart.draw_series(LineSeries::new(pts, c.stroke_width(2)))?,
+        Mark::Dots => {
+            let every = pts.len().div_ceil(MAX_RINGS).max(1);
+            let rings = pts
+                .iter()
+                .step_by(every)
+                .map(|p| Circle::new(*p, 4, c.stroke_width(1)));
+            chart.draw_series(rings)?;
+            chart.draw_series(pts.iter().map(|p| Circle::new(*p, 1, c.filled())))?
+        }
+    };
+    // The legend: a line, or a ring (the other drawn invisible).
+    let (line, ring) = match s.mark {
+        Mark::Line => (c.stroke_width(2), TRANSPARENT.stroke_width(0)),
+        Mark::Dots => (TRANSPARENT.stroke_width(0), c.stroke_width(1)),
+    };
+    drawn.label(s.label.clone()).legend(move |(x, y)| {
+        EmptyElement::at((x, y))
+            + PathElement::new([(0, 0), (14, 0)], line)
+            + Circle::new((7, 0), 4, ring)
+    });
+    Ok(())
+}
+
+/// Vertical markers (latch instants) with labels staggered over rows: a
+/// label closer than [`MARKER_LABEL_GAP`] of the x range to the previous
+/// one in a row goes to the next row.
+fn draw_markers<'a>(
+    chart: &mut Chart<'a>,
+    markers: &[(f64, String)],
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+) -> Result<(), DrawError> {
+    let mut visible: Vec<&(f64, String)> = markers
+        .iter()
+        .filter(|(x, _)| *x >= x0 && *x <= x1)
+        .collect();
+    visible.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let gap = MARKER_LABEL_GAP * (x1 - x0);
+    let row_height = 0.07 * (y1 - y0);
+    let mut row_end: Vec<f64> = Vec::new();
+    for (x, label) in visible {
+        chart.draw_series(LineSeries::new([(*x, y0), (*x, y1)], BLACK.mix(0.35)))?;
+        let row = row_end
+            .iter()
+            .position(|end| *x >= *end)
+            .unwrap_or(row_end.len());
+        if row == row_end.len() {
+            row_end.push(f64::NEG_INFINITY);
+        }
+        row_end[row] = x + gap;
+        let at = (x + 0.004 * (x1 - x0), y1 - row as f64 * row_height);
+        chart.draw_series(std::iter::once(Text::new(
+            label.clone(),
+            at,
+            ("sans-serif", 12),
+        )))?;
+    }
+    Ok(())
+}
+
+/// The most rings a measured series gets (every k-th sample ringed).
+pub const MAX_RINGS: usize = 120;
+
+/// The least distance between two marker labels in one row, as a fraction
+/// of the x range [1]: the width of "latch 1" at 12 px on a 1000 px axis,
+/// with a little air.
+pub const MARKER_LABEL_GAP: f64 = 0.06;

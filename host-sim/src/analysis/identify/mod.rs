@@ -516,8 +516,9 @@ fn check_vector(what: &str, v: &[f64], n: usize, nonnegative: bool) -> Result<()
         .any(|x| !x.is_finite() || (nonnegative && *x < 0.0))
     {
         return Err(IdentifyError::BadOption(format!(
-            "{what}: expected finite{} values in N·m, got {v:?}",
-            if nonnegative { " non-negative" } else { "" }
+            "{what}: expected finite{} values in N·m, got {}",
+            if nonnegative { " non-negative" } else { "" },
+            list(v)
         )));
     }
     Ok(())
@@ -551,8 +552,8 @@ pub fn scan(
 
 fn scan_with(model: &Model, progress: Progress) -> Result<Scan, IdentifyError> {
     progress(&format!(
-        "scan: the same EFT at joints {:?}, {} values from 0 to {} N·m",
-        model.joints,
+        "scan: the same EFT at joints {}, {} values from 0 to {} N·m",
+        list(model.joints),
         SCAN_GRID_NM.len(),
         SCAN_GRID_NM[SCAN_GRID_NM.len() - 1]
     ));
@@ -594,8 +595,10 @@ fn scan_with(model: &Model, progress: Progress) -> Result<Scan, IdentifyError> {
         })
         .collect();
     progress(&format!(
-        "scan: best uniform EFT {} N·m (RMS {:.4} deg); best per joint {:?} N·m",
-        best.0, best.1 .1, per_joint
+        "scan: best uniform EFT {} N·m (RMS {:.4} deg); best per joint {} N·m",
+        best.0,
+        best.1 .1,
+        list(&per_joint)
     ));
     Ok(Scan {
         uniform_best_nm: best.0,
@@ -627,14 +630,7 @@ pub fn identify_direct(
     check_joints(campaign, joints)?;
     let k = joints.len();
     let model = Model::new(campaign, joints);
-    let (before, _) = model
-        .score(&vec![0.0; k])
-        .ok_or_else(|| IdentifyError::Simulation("as given (no extra friction)".into()))?;
-    progress(&format!(
-        "before: RMS {:.4} deg over {} runs",
-        before.rms_deg,
-        campaign.runs.len()
-    ));
+    let before = score_as_given(&model, progress)?;
     let (start, start_rule) = match &opts.start_nm {
         Some(s) => {
             check_vector("start", s, k, true)?;
@@ -644,7 +640,10 @@ pub fn identify_direct(
             let sc = scan_with(&model, progress)?;
             (
                 sc.per_joint_best_nm,
-                "per-joint best of the uniform-EFT scan (SCAN_GRID_NM)".to_string(),
+                format!(
+                    "per-joint best of a scan of uniform EFTs from 0 to {} N·m",
+                    SCAN_GRID_NM[SCAN_GRID_NM.len() - 1]
+                ),
             )
         }
     };
@@ -675,8 +674,9 @@ pub fn identify_direct(
         }
         let q0: Vec<f64> = idx.iter().map(|&i| p[i]).collect();
         progress(&format!(
-            "direct: Levenberg–Marquardt over joints {:?} from {q0:?} N·m",
-            idx.iter().map(|&i| joints[i]).collect::<Vec<_>>()
+            "direct: Levenberg–Marquardt over joints {} from {} N·m",
+            list(&idx.iter().map(|&i| joints[i]).collect::<Vec<_>>()),
+            list(&q0)
         ));
         let f = |q: &[f64]| -> Option<Vec<f64>> {
             let x = full(q);
@@ -720,7 +720,7 @@ pub fn identify_direct(
     };
     let (after, _) = model
         .score(&p)
-        .ok_or_else(|| IdentifyError::Simulation(format!("at the solution {p:?}")))?;
+        .ok_or_else(|| IdentifyError::Simulation(format!("at the solution {} N·m", list(&p))))?;
     let out = Identification {
         method: Method::Direct,
         joints: joints
@@ -793,18 +793,115 @@ pub fn identify_rsm(
 ) -> Result<Identification, IdentifyError> {
     let t0 = Instant::now();
     check_joints(campaign, joints)?;
-    let k = joints.len();
     let model = Model::new(campaign, joints);
+    let before = score_as_given(&model, progress)?;
+    let plan = rsm_design(&model, opts, progress)?;
+    let coding = Coding::new(plan.centre.clone(), plan.half.clone())?;
+    let points = design_points(&plan, &coding, joints)?;
+    progress(&format!(
+        "rsm: {} design points ({} CCD, α = {:.3}) around {} ± {} N·m",
+        points.len(),
+        opts.kind,
+        plan.reach,
+        list(&plan.centre),
+        list(&plan.half)
+    ));
+    let table = simulate_design(&model, &points, progress)?;
+    let names = response_names(joints);
+    let (surfaces, fits) = fit_surfaces(&plan.design.coded_points(), &table, &names)?;
+    let (min, lo, hi) = minimise_surface(&fits, joints.len(), opts.response, &coding, plan.reach)?;
+    progress(&format!(
+        "rsm: surface minimum {:.4} at {} N·m; checking by simulation",
+        min.value,
+        list(&min.x)
+    ));
+    let (after, _) = model.score(&min.x).ok_or_else(|| {
+        IdentifyError::Simulation(format!("at the surface's minimum {} N·m", list(&min.x)))
+    })?;
+    let simulated = simulated_response(&after, joints, opts.response);
+    let k = joints.len();
+    Ok(Identification {
+        method: Method::Rsm,
+        joints: joints
+            .iter()
+            .zip(&min.x)
+            .map(|(&j, &v)| JointEft {
+                joint: j,
+                coulomb_nm: v,
+                ci95: None,
+                sd_nm: None,
+            })
+            .collect(),
+        rms_deg_before: before.rms_deg,
+        rms_deg_after: after.rms_deg,
+        simulations: model.count(),
+        deployments: model.count() * campaign.runs.len(),
+        wall_s: t0.elapsed().as_secs_f64(),
+        before,
+        after,
+        direct: None,
+        rsm: Some(RsmDetails {
+            centre_nm: plan.centre,
+            half_range_nm: plan.half,
+            design_rule: plan.rule.join("; "),
+            alpha: plan.reach,
+            points_nm: points,
+            responses: surfaces,
+            minimised: match opts.response {
+                RsmResponse::TeSum => names[..k].join(" + "),
+                RsmResponse::Mse => names[k].clone(),
+            },
+            box_nm: lo.iter().zip(&hi).map(|(l, h)| [*l, *h]).collect(),
+            predicted: min.value,
+            simulated,
+        }),
+    })
+}
+
+/// Numbers as a comma-separated list for people: `1.6, 1.6, 0`.
+pub fn list<T: std::fmt::Display>(v: &[T]) -> String {
+    v.iter()
+        .map(|x| x.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The campaign scored with the mechanisms as given (no extra friction).
+fn score_as_given(model: &Model, progress: Progress) -> Result<CampaignScore, IdentifyError> {
     let (before, _) = model
-        .score(&vec![0.0; k])
+        .score(&vec![0.0; model.joints.len()])
         .ok_or_else(|| IdentifyError::Simulation("as given (no extra friction)".into()))?;
     progress(&format!(
         "before: RMS {:.4} deg over {} runs",
         before.rms_deg,
-        campaign.runs.len()
+        model.campaign.runs.len()
     ));
+    Ok(before)
+}
+
+/// The design of a response-surface identification: where and how wide.
+struct RsmPlan {
+    /// The CCD in coded units.
+    design: rsm::Ccd,
+    /// Its coded extent: α (circumscribed) or 1.
+    reach: f64,
+    /// Design centre [N·m].
+    centre: Vec<f64>,
+    /// Half-ranges [N·m] (coded ±1).
+    half: Vec<f64>,
+    /// How the centre and half-ranges were chosen.
+    rule: Vec<String>,
+}
+
+/// Chooses the design: the given centre or the start scan's, the given
+/// half-ranges or `half_range_fraction × centre`.
+fn rsm_design(
+    model: &Model,
+    opts: &RsmOptions,
+    progress: Progress,
+) -> Result<RsmPlan, IdentifyError> {
+    let k = model.joints.len();
     let design = rsm::Ccd::new(k, opts.kind, opts.centre_runs)?;
-    // The coded extent of the design: α (circumscribed) or 1.
     let reach = design
         .coded_points()
         .iter()
@@ -818,10 +915,11 @@ pub fn identify_rsm(
             c.clone()
         }
         None => {
-            let sc = scan_with(&model, progress)?;
+            let sc = scan_with(model, progress)?;
             rule.push(format!(
-                "centre = per-joint best of the uniform-EFT scan {:?} N·m (at least {} N·m)",
-                sc.per_joint_best_nm, SCAN_GRID_NM[1]
+                "centre = per-joint best of the uniform-EFT scan, {} N·m (at least {} N·m)",
+                list(&sc.per_joint_best_nm),
+                SCAN_GRID_NM[1]
             ));
             sc.per_joint_best_nm
                 .iter()
@@ -853,52 +951,85 @@ pub fn identify_rsm(
                 .collect()
         }
     };
-    let coding = Coding::new(centre.clone(), half.clone())?;
-    let mut points = design.natural_points(&coding)?;
+    Ok(RsmPlan {
+        design,
+        reach,
+        centre,
+        half,
+        rule,
+    })
+}
+
+/// The design points [N·m]; a point below 0 (beyond rounding) is an error.
+fn design_points(
+    plan: &RsmPlan,
+    coding: &Coding,
+    joints: &[usize],
+) -> Result<Vec<Vec<f64>>, IdentifyError> {
+    let mut points = plan.design.natural_points(coding)?;
     for p in points.iter_mut() {
         for (i, v) in p.iter_mut().enumerate() {
-            if *v < 0.0 {
-                if *v > -1e-9 * half[i] {
-                    *v = 0.0;
-                } else {
-                    return Err(IdentifyError::BadOption(format!(
-                        "the design reaches EFT {v:.4} N·m < 0 at joint {}: centre {} − {reach:.3} × half-range {} is negative; \
-                         raise the centre or narrow the range",
-                        joints[i], centre[i], half[i]
-                    )));
-                }
+            if *v >= 0.0 {
+                continue;
+            }
+            if *v > -1e-9 * plan.half[i] {
+                *v = 0.0;
+            } else {
+                return Err(IdentifyError::BadOption(format!(
+                    "the design reaches EFT {v:.4} N·m < 0 at joint {}: centre {} − {:.3} × half-range {} is negative; \
+                     raise the centre or narrow the range",
+                    joints[i], plan.centre[i], plan.reach, plan.half[i]
+                )));
             }
         }
     }
-    progress(&format!(
-        "rsm: {} design points ({:?} CCD, α = {reach:.3}) around {centre:?} ± {half:?} N·m",
-        points.len(),
-        opts.kind
-    ));
+    Ok(points)
+}
+
+/// Simulates every design point (in parallel): one row of responses each.
+fn simulate_design(
+    model: &Model,
+    points: &[Vec<f64>],
+    progress: Progress,
+) -> Result<Vec<Vec<f64>>, IdentifyError> {
     let done = AtomicUsize::new(0);
     let results: Vec<Option<Vec<f64>>> = points
         .par_iter()
         .map(|p| {
             let (s, _) = model.score(p)?;
             let mse = s.rms_deg * s.rms_deg;
-            let r = responses(&s, mse, joints);
+            let r = responses(&s, mse, model.joints);
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
             progress(&format!("rsm: design point {n}/{} simulated", points.len()));
             Some(r)
         })
         .collect();
-    let mut table = Vec::with_capacity(points.len());
-    for (p, r) in points.iter().zip(results) {
-        let r =
-            r.ok_or_else(|| IdentifyError::Simulation(format!("at the design point {p:?} N·m")))?;
-        table.push(r);
-    }
-    let names: Vec<String> = joints
+    points
+        .iter()
+        .zip(results)
+        .map(|(p, r)| {
+            r.ok_or_else(|| {
+                IdentifyError::Simulation(format!("at the design point {} N·m", list(p)))
+            })
+        })
+        .collect()
+}
+
+/// The names of the responses: `te<j>_pct` per joint, then `mse_deg2`.
+fn response_names(joints: &[usize]) -> Vec<String> {
+    joints
         .iter()
         .map(|j| format!("te{j}_pct"))
         .chain(std::iter::once("mse_deg2".to_string()))
-        .collect();
-    let coded = design.coded_points();
+        .collect()
+}
+
+/// A full quadratic (seed 000 Eq. 15) fitted to every response column.
+fn fit_surfaces(
+    coded: &[Vec<f64>],
+    table: &[Vec<f64>],
+    names: &[String],
+) -> Result<(Vec<ResponseSurface>, Vec<rsm::Fit>), IdentifyError> {
     let mut surfaces = Vec::with_capacity(names.len());
     let mut fits = Vec::with_capacity(names.len());
     for (c, name) in names.iter().enumerate() {
@@ -908,7 +1039,7 @@ pub fn identify_rsm(
                 "with a defined {name} at every design point (a joint without samples for Eq. 14?)"
             )));
         }
-        let f = rsm::fit_quadratic(&coded, &y)?;
+        let f = rsm::fit_quadratic(coded, &y)?;
         surfaces.push(ResponseSurface {
             name: name.clone(),
             values: y,
@@ -918,68 +1049,111 @@ pub fn identify_rsm(
         });
         fits.push(f);
     }
-    // The surface to minimise, in coded units.
-    let target: Quadratic = match opts.response {
+    Ok((surfaces, fits))
+}
+
+/// Minimises the chosen response's surface in the box the design spans
+/// (clipped at 0 N·m): the minimum and the box `(lower, upper)` [N·m].
+fn minimise_surface(
+    fits: &[rsm::Fit],
+    k: usize,
+    response: RsmResponse,
+    coding: &Coding,
+    reach: f64,
+) -> Result<(rsm::BoxMinimum, Vec<f64>, Vec<f64>), IdentifyError> {
+    let target: Quadratic = match response {
         RsmResponse::TeSum => {
             let parts: Vec<(f64, &Quadratic)> = fits[..k].iter().map(|f| (1.0, &f.model)).collect();
             Quadratic::weighted_sum(&parts)?
         }
         RsmResponse::Mse => fits[k].model.clone(),
     };
-    let natural = target.to_natural(&coding)?;
+    let natural = target.to_natural(coding)?;
     let (lo, hi) = coding.natural_box(reach);
     let lo: Vec<f64> = lo.iter().map(|v| v.max(0.0)).collect();
     let min = rsm::minimize_in_box(&natural, &lo, &hi)?;
-    progress(&format!(
-        "rsm: surface minimum {:.4} at {:?} N·m; checking by simulation",
-        min.value, min.x
-    ));
-    let (after, _) = model.score(&min.x).ok_or_else(|| {
-        IdentifyError::Simulation(format!("at the surface's minimum {:?}", min.x))
-    })?;
-    let simulated = match opts.response {
+    Ok((min, lo, hi))
+}
+
+/// The minimised response, simulated (the check of the surface's minimum).
+fn simulated_response(after: &CampaignScore, joints: &[usize], response: RsmResponse) -> f64 {
+    match response {
         RsmResponse::TeSum => joints
             .iter()
             .map(|&j| after.mean_te_pct(j).unwrap_or(f64::NAN))
             .sum(),
         RsmResponse::Mse => after.rms_deg * after.rms_deg,
-    };
-    Ok(Identification {
-        method: Method::Rsm,
-        joints: joints
-            .iter()
-            .zip(&min.x)
-            .map(|(&j, &v)| JointEft {
-                joint: j,
-                coulomb_nm: v,
-                ci95: None,
-                sd_nm: None,
-            })
-            .collect(),
-        rms_deg_before: before.rms_deg,
-        rms_deg_after: after.rms_deg,
-        simulations: model.count(),
-        deployments: model.count() * campaign.runs.len(),
-        wall_s: t0.elapsed().as_secs_f64(),
-        before,
-        after,
-        direct: None,
-        rsm: Some(RsmDetails {
-            centre_nm: centre,
-            half_range_nm: half,
-            design_rule: rule.join("; "),
-            alpha: reach,
-            points_nm: points,
-            responses: surfaces,
-            minimised: match opts.response {
-                RsmResponse::TeSum => names[..k].join(" + "),
-                RsmResponse::Mse => names[k].clone(),
-            },
-            box_nm: lo.iter().zip(&hi).map(|(l, h)| [*l, *h]).collect(),
-            predicted: min.value,
-            simulated,
-        }),
-    })
+    }
+}
+
+/// `identify` warns when a joint's residual after the fit exceeds this
+/// multiple of the noise RMS [1]: the EFT alone then leaves a systematic
+/// error, as [`crate::analysis::diagnose::evidence`] calls a residual "clear"
+/// of the noise above 3 σ.
+pub const RESIDUAL_WARN_FACTOR: f64 = 3.0;
+
+/// A joint of a run that the identified EFTs do not explain down to the
+/// noise: a hint that something other than Coulomb friction is at work.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ResidualWarning {
+    /// The run's file name.
+    pub run: String,
+    /// 1-based joint.
+    pub joint: usize,
+    /// RMS of the residual after the fit [deg].
+    pub rms_deg: f64,
+    /// The noise RMS estimated from the runs [deg].
+    pub noise_deg: f64,
+    /// Where in the stroke the residual is largest, in words: the first,
+    /// middle or last third of the measured angle's way to the latch.
+    pub where_in_stroke: &'static str,
+}
+
+impl std::fmt::Display for ResidualWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} joint {}: {:.3} deg RMS ({:.1} times the noise), largest {}",
+            self.run,
+            self.joint,
+            self.rms_deg,
+            self.rms_deg / self.noise_deg.max(1e-12),
+            self.where_in_stroke
+        )
+    }
+}
+
+/// The joints whose residual with the identified EFTs stays above
+/// [`RESIDUAL_WARN_FACTOR`] × the noise RMS (estimated from the runs,
+/// [`crate::analysis::diagnose::noise_sigma_deg`]), with where in the stroke.
+pub fn residual_warnings(campaign: &Campaign, id: &Identification) -> Vec<ResidualWarning> {
+    use crate::analysis::diagnose::{evidence, noise_sigma_deg};
+    let sigma = noise_sigma_deg(campaign);
+    let limit = RESIDUAL_WARN_FACTOR * sigma;
+    evidence::analyse(campaign, &id.effects(), sigma)
+        .into_iter()
+        .filter(|e| e.rms_deg > limit)
+        .map(|e| {
+            let third = e
+                .stroke_thirds_rms_deg
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| v.is_finite())
+                .max_by(|a, b| a.1.total_cmp(b.1))
+                .map_or(0, |(k, _)| k);
+            ResidualWarning {
+                run: e.run,
+                joint: e.joint,
+                rms_deg: e.rms_deg,
+                noise_deg: sigma,
+                where_in_stroke: [
+                    "early in the stroke",
+                    "in mid-stroke",
+                    "late in the stroke (near the latch)",
+                ][third],
+            }
+        })
+        .collect()
 }
 
 /// A synthetic measured run: `mech` simulated with `effects` (default

@@ -128,6 +128,16 @@ pub enum CcdKind {
     Inscribed,
 }
 
+impl std::fmt::Display for CcdKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            CcdKind::Circumscribed => "circumscribed",
+            CcdKind::FaceCentred => "face-centred",
+            CcdKind::Inscribed => "inscribed",
+        })
+    }
+}
+
 /// A central composite design of `k` factors with `n0` centre runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Ccd {
