@@ -1,0 +1,551 @@
+//! What a new user ran into at the command line (issue 12, "What went wrong
+//! at the command line": outputs, `margin --from`, help texts, words instead
+//! of Rust debug output, `--quiet`, plots; issue 13 item 4: identify's
+//! residual warning). The `deploywatch` binary is run as a black box on the
+//! bundled data; every test checks the exit code, the message and that
+//! nothing panicked.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use deploywatch_sim::model::effect::EffectKind;
+use serde_json::Value;
+
+fn data(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../data")
+        .join(rel)
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("utf-8 path")
+}
+
+fn deploywatch(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_deploywatch"))
+        .args(args)
+        .output()
+        .expect("run deploywatch")
+}
+
+fn stdout(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Asserts success without a panic; returns stdout.
+fn succeeds(out: &Output) -> String {
+    let err = stderr(out);
+    assert!(!err.contains("panicked"), "panic:\n{err}");
+    assert!(
+        out.status.success(),
+        "exit {:?}; stderr:\n{err}",
+        out.status
+    );
+    stdout(out)
+}
+
+/// Asserts a clean failure with exit code `code` and stderr containing
+/// every one of `says`; returns stderr.
+fn fails(out: &Output, code: i32, says: &[&str]) -> String {
+    let err = stderr(out);
+    assert!(!err.contains("panicked"), "panic:\n{err}");
+    assert_eq!(out.status.code(), Some(code), "exit code; stderr:\n{err}");
+    for w in says {
+        assert!(err.contains(w), "stderr lacks {w:?}:\n{err}");
+    }
+    err
+}
+
+const T01: &str = "mechanisms/seed001_T01.toml";
+const T02: &str = "mechanisms/seed001_T02.toml";
+
+/// The identify arguments of the bundled EFT campaign (example a).
+fn identify_a(extra: &[&str]) -> Output {
+    let (m1, m2) = (data(T01), data(T02));
+    let (r1, r2) = (
+        data("examples/a_seed001_eft/seed001_T01.csv"),
+        data("examples/a_seed001_eft/seed001_T02.csv"),
+    );
+    let mut args = vec![
+        "identify",
+        "--mechanism",
+        s(&m1),
+        "--mechanism",
+        s(&m2),
+        s(&r1),
+        s(&r2),
+    ];
+    args.extend_from_slice(extra);
+    deploywatch(&args)
+}
+
+/// The height [px] of a PNG, from its IHDR chunk.
+fn png_height(path: &Path) -> u32 {
+    let bytes = std::fs::read(path).expect("png written");
+    assert_eq!(&bytes[1..4], b"PNG", "{} is not a PNG", path.display());
+    u32::from_be_bytes(bytes[20..24].try_into().expect("IHDR"))
+}
+
+// ---------------------------------------------------------------------------
+// Outputs are checked before the work.
+
+#[test]
+fn simulate_plot_into_a_missing_folder_is_refused_before_the_run_is_written() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let csv = dir.path().join("t01.csv");
+    let png = dir.path().join("no_such_folder").join("t01.png");
+    let out = deploywatch(&[
+        "simulate",
+        s(&data(T01)),
+        "--out",
+        s(&csv),
+        "--plot",
+        s(&png),
+    ]);
+    fails(
+        &out,
+        2,
+        &[
+            "--plot",
+            "no_such_folder",
+            "does not exist",
+            "create it first",
+        ],
+    );
+    assert!(!stderr(&out).contains("ImageError"));
+    assert!(
+        !csv.exists(),
+        "the run was written although the plot cannot be"
+    );
+    assert!(
+        !png.parent().expect("folder").exists(),
+        "a folder was created"
+    );
+}
+
+#[test]
+fn every_command_refuses_an_output_in_a_missing_folder_before_any_work() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let missing = dir.path().join("missing");
+    let file = |name: &str| missing.join(name).to_str().expect("utf-8").to_string();
+    let (m1, m2) = (data(T01), data(T02));
+    let run1 = data("examples/a_seed001_eft/seed001_T01.csv");
+    let run2 = data("examples/a_seed001_eft/seed001_T02.csv");
+    let cases: Vec<(&str, Vec<String>)> = vec![
+        (
+            "--out",
+            vec![
+                "simulate".into(),
+                s(&m1).into(),
+                "--out".into(),
+                file("r.csv"),
+            ],
+        ),
+        (
+            "--json",
+            vec![
+                "identify".into(),
+                "--mechanism".into(),
+                s(&m1).into(),
+                "--mechanism".into(),
+                s(&m2).into(),
+                s(&run1).into(),
+                s(&run2).into(),
+                "--json".into(),
+                file("eft.json"),
+            ],
+        ),
+        (
+            "--json",
+            vec![
+                "margin".into(),
+                "--mechanism".into(),
+                s(&m1).into(),
+                "--json".into(),
+                file("m.json"),
+            ],
+        ),
+        (
+            "--json",
+            vec![
+                "diagnose".into(),
+                "--mechanism".into(),
+                s(&m1).into(),
+                "--mechanism".into(),
+                s(&m2).into(),
+                "--json".into(),
+                file("d.json"),
+                s(&run1).into(),
+                s(&run2).into(),
+            ],
+        ),
+        (
+            "--plot",
+            vec![
+                "replay".into(),
+                s(&run1).into(),
+                "--mechanism".into(),
+                s(&m1).into(),
+                "--plot".into(),
+                file("r.png"),
+            ],
+        ),
+    ];
+    for (flag, args) in cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = deploywatch(&args);
+        let err = fails(&out, 2, &[flag, "missing", "does not exist"]);
+        assert!(
+            stdout(&out).is_empty(),
+            "{}: worked before refusing its output:\n{}\n{err}",
+            args[0],
+            stdout(&out)
+        );
+        assert!(!missing.exists(), "{}: created the folder", args[0]);
+    }
+}
+
+#[test]
+fn an_output_that_is_a_folder_is_refused_with_its_name() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = deploywatch(&["simulate", s(&data(T01)), "--out", s(dir.path())]);
+    fails(&out, 2, &["--out", "is a folder"]);
+}
+
+// ---------------------------------------------------------------------------
+// margin reads what identify and diagnose found.
+
+#[test]
+fn margin_from_an_identify_json_uses_the_identified_friction() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let eft = dir.path().join("eft.json");
+    succeeds(&identify_a(&["--quiet", "--json", s(&eft)]));
+    let margins = dir.path().join("margins.json");
+    let out = deploywatch(&[
+        "margin",
+        "--mechanism",
+        s(&data(T01)),
+        "--from",
+        s(&eft),
+        "--json",
+        s(&margins),
+    ]);
+    let text = succeeds(&out);
+    assert!(text.contains("identify"), "{text}");
+    let id: Value = serde_json::from_str(&std::fs::read_to_string(&eft).expect("eft")).unwrap();
+    let m: Value =
+        serde_json::from_str(&std::fs::read_to_string(&margins).expect("margins")).unwrap();
+    let joints = m["joints"].as_array().expect("joints");
+    assert_eq!(joints.len(), 3);
+    for found in id["joints"].as_array().expect("identified joints") {
+        let j = found["joint"].as_u64().expect("joint") as usize;
+        let row = &joints[j - 1];
+        let t_r = row["coulomb_nm"].as_f64().expect("T_R");
+        // seed001_T01 has no friction of its own: T_R is the EFT found.
+        assert_eq!(t_r, found["coulomb_nm"].as_f64().expect("EFT"));
+        let t_d = row["driving_torque_nm"].as_f64().expect("T_D");
+        let tm = row["torque_margin_pct"].as_f64().expect("finite margin");
+        assert!((tm - (t_d / t_r - 1.0) * 100.0).abs() < 1e-9 * tm.abs().max(1.0));
+    }
+}
+
+#[test]
+fn margin_from_a_diagnose_json_takes_friction_and_damping_and_names_the_rest() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    // The diagnosis format of docs/spec/formats.md.
+    let diagnosis = dir.path().join("diagnosis.json");
+    std::fs::write(
+        &diagnosis,
+        r#"{
+  "mechanism": "seed001-T01",
+  "runs": ["t01.csv"],
+  "baseline": { "rms_deg": 6.41, "trajectory_error_pct": [31.2, 18.0, 4.1] },
+  "effects": [
+    { "name": "coulomb_friction", "joint": 1, "value": 0.8, "unit": "N·m", "ci95": [0.79, 0.81], "evidence": "..." },
+    { "name": "viscous_damping", "joint": 2, "value": 0.05, "unit": "N·m·s/rad", "ci95": [0.04, 0.06], "evidence": "..." },
+    { "name": "harness_stiffness", "joint": 3, "value": 0.1, "unit": "N·m/rad", "ci95": [0.09, 0.11], "evidence": "..." }
+  ],
+  "extended": { "rms_deg": 0.031, "trajectory_error_pct": [0.4, 0.3, 0.2] },
+  "gain": { "rms_ratio": 206.8, "held_out_rms_deg": null }
+}"#,
+    )
+    .expect("write");
+    let margins = dir.path().join("margins.json");
+    let out = deploywatch(&[
+        "margin",
+        "--mechanism",
+        s(&data(T01)),
+        "--from",
+        s(&diagnosis),
+        "--json",
+        s(&margins),
+        "--quiet",
+    ]);
+    let text = succeeds(&out);
+    assert!(text.contains("harness_stiffness at joint 3"), "{text}");
+    let m: Value =
+        serde_json::from_str(&std::fs::read_to_string(&margins).expect("margins")).unwrap();
+    let j = &m["joints"];
+    assert_eq!(j[0]["coulomb_nm"].as_f64(), Some(0.8));
+    assert_eq!(j[1]["viscous_nms"].as_f64(), Some(0.05));
+    let e_visc = j[1]["viscous_energy_j"].as_f64().expect("E_visc");
+    assert!(e_visc > 0.0, "the damping dissipates energy on the way");
+    assert_eq!(j[0]["viscous_energy_j"].as_f64(), Some(0.0));
+    // E_R = T_R · stroke + E_visc.
+    for row in j.as_array().expect("joints") {
+        let stroke = row["stowed_deg"].as_f64().unwrap().abs().to_radians();
+        let want = row["coulomb_nm"].as_f64().unwrap() * stroke
+            + row["viscous_energy_j"].as_f64().unwrap();
+        let got = row["resisting_energy_j"].as_f64().unwrap();
+        assert!((got - want).abs() < 1e-12 + 1e-12 * want, "{got} vs {want}");
+    }
+    assert_eq!(
+        m["not_included"][0].as_str(),
+        Some("harness_stiffness at joint 3")
+    );
+}
+
+#[test]
+fn margin_from_a_file_that_is_neither_says_what_it_expected() {
+    let run = data("examples/a_seed001_eft/seed001_T01.csv");
+    let out = deploywatch(&["margin", "--mechanism", s(&data(T01)), "--from", s(&run)]);
+    fails(&out, 2, &["--from", "seed001_T01.csv", "not JSON"]);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let other = dir.path().join("other.json");
+    std::fs::write(&other, r#"{"joints": 3}"#).expect("write");
+    let out = deploywatch(&["margin", "--mechanism", s(&data(T01)), "--from", s(&other)]);
+    fails(&out, 2, &["deploywatch identify", "deploywatch diagnose"]);
+    let far = dir.path().join("far.json");
+    std::fs::write(
+        &far,
+        r#"{"method": "direct", "joints": [{"joint": 4, "coulomb_nm": 1.0}]}"#,
+    )
+    .expect("write");
+    let out = deploywatch(&["margin", "--mechanism", s(&data(T01)), "--from", s(&far)]);
+    fails(&out, 2, &["joint 4", "joints 1 to 3"]);
+}
+
+// ---------------------------------------------------------------------------
+// Help texts.
+
+#[test]
+fn margin_help_lists_the_standards() {
+    let help = succeeds(&deploywatch(&["margin", "--help"]));
+    for name in ["none", "nasa-std-5017", "ecss-e-st-33-01c"] {
+        assert!(
+            help.lines()
+                .any(|l| l.trim_start().starts_with(&format!("- {name}:"))),
+            "--standard does not list {name}:\n{help}"
+        );
+    }
+    let out = deploywatch(&["margin", "--mechanism", s(&data(T01)), "--standard", "mil"]);
+    fails(&out, 2, &["nasa-std-5017", "ecss-e-st-33-01c"]);
+}
+
+#[test]
+fn simulate_help_gives_every_effect_with_its_unit() {
+    let help = succeeds(&deploywatch(&["simulate", "--help"]));
+    for k in EffectKind::ALL {
+        let unit = match k.unit() {
+            "1" => "dimensionless",
+            u => u,
+        };
+        assert!(
+            help.lines()
+                .any(|l| l.contains(k.name()) && l.contains(&format!("V in {unit} "))),
+            "{} with its unit {unit} is missing:\n{help}",
+            k.name()
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Words, not Rust debug output.
+
+#[test]
+fn identify_prints_words_not_rust_debug_output() {
+    for method in ["direct", "rsm"] {
+        let out = identify_a(&["--quiet", "--method", method]);
+        let text = succeeds(&out) + &stderr(&out);
+        for debug in ["{", "}", "Converged", "SCAN_GRID", "Circumscribed"] {
+            assert!(!text.contains(debug), "{method}: {debug:?} in\n{text}");
+        }
+        assert!(text.contains("EFT"), "{text}");
+    }
+    let out = identify_a(&["--method", "direct"]);
+    let progress = stderr(&out);
+    assert!(
+        !progress.contains('{') && !progress.contains("SCAN_GRID"),
+        "{progress}"
+    );
+}
+
+// ---------------------------------------------------------------------------
+// --quiet on every command.
+
+#[test]
+fn quiet_silences_progress_and_chatter_on_every_command() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let p = |name: &str| dir.path().join(name);
+    let (m1, m2) = (data(T01), data(T02));
+    let run1 = data("examples/a_seed001_eft/seed001_T01.csv");
+    let run2 = data("examples/a_seed001_eft/seed001_T02.csv");
+    let sim = deploywatch(&[
+        "simulate",
+        s(&m1),
+        "--out",
+        s(&p("t01.csv")),
+        "--plot",
+        s(&p("t01.png")),
+        "-q",
+    ]);
+    let id = identify_a(&["-q", "--json", s(&p("eft.json"))]);
+    let margin = deploywatch(&[
+        "margin",
+        "--mechanism",
+        s(&m1),
+        "--from",
+        s(&p("eft.json")),
+        "--json",
+        s(&p("m.json")),
+        "--quiet",
+    ]);
+    let diag = deploywatch(&[
+        "diagnose",
+        "-q",
+        "--mechanism",
+        s(&m1),
+        "--mechanism",
+        s(&m2),
+        "--json",
+        s(&p("d.json")),
+        s(&run1),
+        s(&run2),
+    ]);
+    let replay = deploywatch(&[
+        "replay",
+        s(&run1),
+        "--mechanism",
+        s(&m1),
+        "--out",
+        s(&p("status.csv")),
+        "--plot",
+        s(&p("status.png")),
+        "--quiet",
+    ]);
+    for (name, out) in [
+        ("simulate", &sim),
+        ("identify", &id),
+        ("margin", &margin),
+        ("diagnose", &diag),
+        ("replay", &replay),
+    ] {
+        succeeds(out);
+        let (o, e) = (stdout(out), stderr(out));
+        assert!(e.is_empty(), "{name} -q wrote to stderr:\n{e}");
+        for chatter in ["plot:", "json:", "status CSV:", "frames", "worker threads"] {
+            assert!(!o.contains(chatter), "{name} -q says {chatter:?}:\n{o}");
+        }
+    }
+    for f in [
+        "t01.csv",
+        "t01.png",
+        "eft.json",
+        "eft.png",
+        "m.json",
+        "d.json",
+        "d.md",
+        "status.csv",
+        "status.png",
+    ] {
+        assert!(p(f).exists(), "{f} was not written with --quiet");
+    }
+    // Without --quiet the same commands do report progress and files.
+    let loud = identify_a(&["--json", s(&p("eft2.json"))]);
+    assert!(stderr(&loud).contains("scan"), "{}", stderr(&loud));
+    assert!(stdout(&loud).contains("json:"), "{}", stdout(&loud));
+}
+
+// ---------------------------------------------------------------------------
+// identify warns when friction leaves a residual above the noise.
+
+#[test]
+fn identify_warns_when_friction_alone_leaves_residuals_above_the_noise() {
+    // Example c: friction at joint 1 and a harness at joint 2; friction
+    // alone leaves joint 2 well above the noise.
+    let (r1, r2) = (
+        data("examples/c_seed001_friction_harness/seed001_T01.csv"),
+        data("examples/c_seed001_friction_harness/seed001_T02.csv"),
+    );
+    let out = deploywatch(&[
+        "identify",
+        "--quiet",
+        "--mechanism",
+        s(&data(T01)),
+        "--mechanism",
+        s(&data(T02)),
+        s(&r1),
+        s(&r2),
+    ]);
+    succeeds(&out);
+    let err = stderr(&out);
+    for says in [
+        "warning:",
+        "times the noise",
+        "seed001_T01.csv joint 2",
+        "in the stroke",
+        "deploywatch diagnose",
+    ] {
+        assert!(err.contains(says), "lacks {says:?}:\n{err}");
+    }
+    // Example a is friction only: no warning.
+    let out = identify_a(&["--quiet"]);
+    succeeds(&out);
+    assert!(!stderr(&out).contains("warning"), "{}", stderr(&out));
+}
+
+// ---------------------------------------------------------------------------
+// Plots.
+
+#[test]
+fn identify_plot_has_a_residual_panel_per_run() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let png = dir.path().join("eft.png");
+    succeeds(&identify_a(&["--quiet", "--plot", s(&png)]));
+    // One panel per run and joint, plus one residual panel per run, each
+    // 300 px high under a 40 px title (report/plot.rs).
+    let (runs, joints) = (2, 3);
+    assert_eq!(png_height(&png), 40 + 300 * runs * (joints + 1));
+}
+
+#[test]
+fn simulate_and_replay_write_their_plots_quietly() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let csv = dir.path().join("t02.csv");
+    let png = dir.path().join("t02.png");
+    succeeds(&deploywatch(&[
+        "simulate",
+        s(&data(T02)),
+        "--out",
+        s(&csv),
+        "--plot",
+        s(&png),
+        "-q",
+    ]));
+    assert_eq!(png_height(&png), 40 + 300);
+    let status_png = dir.path().join("status.png");
+    succeeds(&deploywatch(&[
+        "replay",
+        s(&csv),
+        "--mechanism",
+        s(&data(T02)),
+        "--plot",
+        s(&status_png),
+        "-q",
+    ]));
+    assert_eq!(png_height(&status_png), 40 + 3 * 300);
+}
