@@ -131,72 +131,28 @@ fn simulate_plot_into_a_missing_folder_is_refused_before_the_run_is_written() {
 fn every_command_refuses_an_output_in_a_missing_folder_before_any_work() {
     let dir = tempfile::tempdir().expect("tempdir");
     let missing = dir.path().join("missing");
-    let file = |name: &str| missing.join(name).to_str().expect("utf-8").to_string();
-    let (m1, m2) = (data(T01), data(T02));
-    let run1 = data("examples/a_seed001_eft/seed001_T01.csv");
-    let run2 = data("examples/a_seed001_eft/seed001_T02.csv");
-    let cases: Vec<(&str, Vec<String>)> = vec![
-        (
-            "--out",
-            vec![
-                "simulate".into(),
-                s(&m1).into(),
-                "--out".into(),
-                file("r.csv"),
-            ],
-        ),
+    let cases = [
+        ("--out", "simulate M1 --out DIR/r.csv"),
         (
             "--json",
-            vec![
-                "identify".into(),
-                "--mechanism".into(),
-                s(&m1).into(),
-                "--mechanism".into(),
-                s(&m2).into(),
-                s(&run1).into(),
-                s(&run2).into(),
-                "--json".into(),
-                file("eft.json"),
-            ],
+            "identify --mechanism M1 --mechanism M2 R1 R2 --json DIR/eft.json",
         ),
+        ("--json", "margin --mechanism M1 --json DIR/m.json"),
         (
             "--json",
-            vec![
-                "margin".into(),
-                "--mechanism".into(),
-                s(&m1).into(),
-                "--json".into(),
-                file("m.json"),
-            ],
+            "diagnose --mechanism M1 --mechanism M2 --json DIR/d.json R1 R2",
         ),
-        (
-            "--json",
-            vec![
-                "diagnose".into(),
-                "--mechanism".into(),
-                s(&m1).into(),
-                "--mechanism".into(),
-                s(&m2).into(),
-                "--json".into(),
-                file("d.json"),
-                s(&run1).into(),
-                s(&run2).into(),
-            ],
-        ),
-        (
-            "--plot",
-            vec![
-                "replay".into(),
-                s(&run1).into(),
-                "--mechanism".into(),
-                s(&m1).into(),
-                "--plot".into(),
-                file("r.png"),
-            ],
-        ),
+        ("--plot", "replay R1 --mechanism M1 --plot DIR/r.png"),
     ];
-    for (flag, args) in cases {
-        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    for (flag, line) in cases {
+        // The paths (data/ and the temporary folder) hold no spaces.
+        let line = line
+            .replace("M1", s(&data(T01)))
+            .replace("M2", s(&data(T02)))
+            .replace("R1", s(&data("examples/a_seed001_eft/seed001_T01.csv")))
+            .replace("R2", s(&data("examples/a_seed001_eft/seed001_T02.csv")))
+            .replace("DIR", s(&missing));
+        let args: Vec<&str> = line.split_whitespace().collect();
         let out = deploywatch(&args);
         let err = fails(&out, 2, &[flag, "missing", "does not exist"]);
         assert!(
@@ -219,26 +175,42 @@ fn an_output_that_is_a_folder_is_refused_with_its_name() {
 // ---------------------------------------------------------------------------
 // margin reads what identify and diagnose found.
 
+/// `margin --mechanism seed001_T01 --from FILE --json OUT`: its stdout and
+/// the margins JSON it wrote (beside FILE).
+fn margin_from(file: &Path, extra: &[&str]) -> (String, Value) {
+    let text = succeeds(&run_margin_from(file, extra));
+    let margins = file.with_file_name("margins.json");
+    let m = serde_json::from_str(&std::fs::read_to_string(&margins).expect("margins"))
+        .expect("margins JSON");
+    (text, m)
+}
+
+/// Runs `margin --mechanism seed001_T01 --from FILE --json margins.json`
+/// (beside FILE).
+fn run_margin_from(file: &Path, extra: &[&str]) -> Output {
+    let margins = file.with_file_name("margins.json");
+    let mech = data(T01);
+    let mut args = vec![
+        "margin",
+        "--mechanism",
+        s(&mech),
+        "--from",
+        s(file),
+        "--json",
+        s(&margins),
+    ];
+    args.extend_from_slice(extra);
+    deploywatch(&args)
+}
+
 #[test]
 fn margin_from_an_identify_json_uses_the_identified_friction() {
     let dir = tempfile::tempdir().expect("tempdir");
     let eft = dir.path().join("eft.json");
     succeeds(&identify_a(&["--quiet", "--json", s(&eft)]));
-    let margins = dir.path().join("margins.json");
-    let out = deploywatch(&[
-        "margin",
-        "--mechanism",
-        s(&data(T01)),
-        "--from",
-        s(&eft),
-        "--json",
-        s(&margins),
-    ]);
-    let text = succeeds(&out);
+    let (text, m) = margin_from(&eft, &[]);
     assert!(text.contains("identify"), "{text}");
     let id: Value = serde_json::from_str(&std::fs::read_to_string(&eft).expect("eft")).unwrap();
-    let m: Value =
-        serde_json::from_str(&std::fs::read_to_string(&margins).expect("margins")).unwrap();
     let joints = m["joints"].as_array().expect("joints");
     assert_eq!(joints.len(), 3);
     for found in id["joints"].as_array().expect("identified joints") {
@@ -274,21 +246,8 @@ fn margin_from_a_diagnose_json_takes_friction_and_damping_and_names_the_rest() {
 }"#,
     )
     .expect("write");
-    let margins = dir.path().join("margins.json");
-    let out = deploywatch(&[
-        "margin",
-        "--mechanism",
-        s(&data(T01)),
-        "--from",
-        s(&diagnosis),
-        "--json",
-        s(&margins),
-        "--quiet",
-    ]);
-    let text = succeeds(&out);
+    let (text, m) = margin_from(&diagnosis, &["--quiet"]);
     assert!(text.contains("harness_stiffness at joint 3"), "{text}");
-    let m: Value =
-        serde_json::from_str(&std::fs::read_to_string(&margins).expect("margins")).unwrap();
     let j = &m["joints"];
     assert_eq!(j[0]["coulomb_nm"].as_f64(), Some(0.8));
     assert_eq!(j[1]["viscous_nms"].as_f64(), Some(0.05));
@@ -404,16 +363,7 @@ fn quiet_silences_progress_and_chatter_on_every_command() {
         "-q",
     ]);
     let id = identify_a(&["-q", "--json", s(&p("eft.json"))]);
-    let margin = deploywatch(&[
-        "margin",
-        "--mechanism",
-        s(&m1),
-        "--from",
-        s(&p("eft.json")),
-        "--json",
-        s(&p("m.json")),
-        "--quiet",
-    ]);
+    let margin = run_margin_from(&p("eft.json"), &["--quiet"]);
     let diag = deploywatch(&[
         "diagnose",
         "-q",
@@ -426,16 +376,17 @@ fn quiet_silences_progress_and_chatter_on_every_command() {
         s(&run1),
         s(&run2),
     ]);
+    let (status_csv, status_png) = (p("status.csv"), p("status.png"));
     let replay = deploywatch(&[
         "replay",
         s(&run1),
+        "--quiet",
         "--mechanism",
         s(&m1),
         "--out",
-        s(&p("status.csv")),
+        s(&status_csv),
         "--plot",
-        s(&p("status.png")),
-        "--quiet",
+        s(&status_png),
     ]);
     for (name, out) in [
         ("simulate", &sim),
@@ -456,7 +407,7 @@ fn quiet_silences_progress_and_chatter_on_every_command() {
         "t01.png",
         "eft.json",
         "eft.png",
-        "m.json",
+        "margins.json",
         "d.json",
         "d.md",
         "status.csv",

@@ -240,6 +240,30 @@ impl Identification {
             .map(|j| j.coulomb_nm)
     }
 
+    /// The parts every method fills the same way: the scores before and
+    /// after, the cost; no EFT and no details yet.
+    fn scored(
+        method: Method,
+        model: &Model,
+        t0: Instant,
+        before: CampaignScore,
+        after: CampaignScore,
+    ) -> Self {
+        Identification {
+            method,
+            joints: Vec::new(),
+            rms_deg_before: before.rms_deg,
+            rms_deg_after: after.rms_deg,
+            simulations: model.count(),
+            deployments: model.count() * model.campaign.runs.len(),
+            wall_s: t0.elapsed().as_secs_f64(),
+            before,
+            after,
+            direct: None,
+            rsm: None,
+        }
+    }
+
     /// Pretty-printed JSON.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
@@ -721,8 +745,8 @@ pub fn identify_direct(
     let (after, _) = model
         .score(&p)
         .ok_or_else(|| IdentifyError::Simulation(format!("at the solution {} N·m", list(&p))))?;
-    let out = Identification {
-        method: Method::Direct,
+    let scored = Identification::scored(Method::Direct, &model, t0, before, after);
+    Ok(Identification {
         joints: joints
             .iter()
             .enumerate()
@@ -737,13 +761,6 @@ pub fn identify_direct(
                 sd_nm: Some(sd[i]),
             })
             .collect(),
-        rms_deg_before: before.rms_deg,
-        rms_deg_after: after.rms_deg,
-        simulations: model.count(),
-        deployments: model.count() * campaign.runs.len(),
-        wall_s: t0.elapsed().as_secs_f64(),
-        before,
-        after,
         direct: Some(DirectDetails {
             start_nm: start,
             start_rule,
@@ -757,9 +774,8 @@ pub fn identify_direct(
                 .map(|(j, _)| *j)
                 .collect(),
         }),
-        rsm: None,
-    };
-    Ok(out)
+        ..scored
+    })
 }
 
 /// The response of a scored design point.
@@ -821,7 +837,6 @@ pub fn identify_rsm(
     let simulated = simulated_response(&after, joints, opts.response);
     let k = joints.len();
     Ok(Identification {
-        method: Method::Rsm,
         joints: joints
             .iter()
             .zip(&min.x)
@@ -832,14 +847,6 @@ pub fn identify_rsm(
                 sd_nm: None,
             })
             .collect(),
-        rms_deg_before: before.rms_deg,
-        rms_deg_after: after.rms_deg,
-        simulations: model.count(),
-        deployments: model.count() * campaign.runs.len(),
-        wall_s: t0.elapsed().as_secs_f64(),
-        before,
-        after,
-        direct: None,
         rsm: Some(RsmDetails {
             centre_nm: plan.centre,
             half_range_nm: plan.half,
@@ -855,6 +862,7 @@ pub fn identify_rsm(
             predicted: min.value,
             simulated,
         }),
+        ..Identification::scored(Method::Rsm, &model, t0, before, after)
     })
 }
 
