@@ -576,7 +576,7 @@ pub fn scan(
 
 fn scan_with(model: &Model, progress: Progress) -> Result<Scan, IdentifyError> {
     progress(&format!(
-        "scan: the same EFT at joints {}, {} values from 0 to {} N·m",
+        "scan: the same EFT at joints {} ({} values from 0 to {} N·m)",
         list(model.joints),
         SCAN_GRID_NM.len(),
         SCAN_GRID_NM[SCAN_GRID_NM.len() - 1]
@@ -652,99 +652,14 @@ pub fn identify_direct(
 ) -> Result<Identification, IdentifyError> {
     let t0 = Instant::now();
     check_joints(campaign, joints)?;
-    let k = joints.len();
     let model = Model::new(campaign, joints);
     let before = score_as_given(&model, progress)?;
-    let (start, start_rule) = match &opts.start_nm {
-        Some(s) => {
-            check_vector("start", s, k, true)?;
-            (s.clone(), "given".to_string())
-        }
-        None => {
-            let sc = scan_with(&model, progress)?;
-            (
-                sc.per_joint_best_nm,
-                format!(
-                    "per-joint best of a scan of uniform EFTs from 0 to {} N·m",
-                    SCAN_GRID_NM[SCAN_GRID_NM.len() - 1]
-                ),
-            )
-        }
-    };
-    // Active set: `free[i]` false when joint i is fixed at 0.
-    let mut free = vec![true; k];
-    let mut p = start.clone();
-    let mut ci: Vec<[f64; 2]> = vec![[f64::NEG_INFINITY, f64::INFINITY]; k];
-    let mut sd = vec![f64::INFINITY; k];
-    let best = Mutex::new(f64::INFINITY);
-    let (sse, residuals, termination) = loop {
-        let idx: Vec<usize> = (0..k).filter(|&i| free[i]).collect();
-        let full = |q: &[f64]| -> Vec<f64> {
-            let mut x = vec![0.0; k];
-            for (&i, &v) in idx.iter().zip(q) {
-                x[i] = v;
-            }
-            x
-        };
-        if idx.is_empty() {
-            let r = model
-                .residuals(&p)
-                .ok_or_else(|| IdentifyError::Simulation("with every EFT at 0".into()))?;
-            break (
-                r.iter().map(|x| x * x).sum::<f64>(),
-                r.len(),
-                "every EFT at 0".to_string(),
-            );
-        }
-        let q0: Vec<f64> = idx.iter().map(|&i| p[i]).collect();
-        progress(&format!(
-            "direct: Levenberg–Marquardt over joints {} from {} N·m",
-            list(&idx.iter().map(|&i| joints[i]).collect::<Vec<_>>()),
-            list(&q0)
-        ));
-        let f = |q: &[f64]| -> Option<Vec<f64>> {
-            let x = full(q);
-            let r = model.residuals(&x)?;
-            let rms = (r.iter().map(|v| v * v).sum::<f64>() / r.len().max(1) as f64).sqrt();
-            if let Ok(mut b) = best.lock() {
-                if rms < *b {
-                    *b = rms;
-                    let ps: Vec<String> = x.iter().map(|v| format!("{v:.5}")).collect();
-                    progress(&format!(
-                        "direct: {} simulations, best RMS {rms:.5} deg at [{}] N·m",
-                        model.count(),
-                        ps.join(", ")
-                    ));
-                }
-            }
-            Some(r)
-        };
-        let m = idx.len();
-        let mut fo = FitOptions::new(vec![f64::NEG_INFINITY; m], vec![opts.min_step_nm; m]);
-        fo.upper = vec![opts.upper_nm; m];
-        fo.patience = opts.patience;
-        let fit = fit::least_squares(&f, &q0, &fo)?;
-        p = full(&fit.params);
-        for (r, &i) in idx.iter().enumerate() {
-            ci[i] = fit.ci95[r];
-            sd[i] = fit.sd[r];
-        }
-        let negative: Vec<usize> = idx.iter().copied().filter(|&i| p[i] < 0.0).collect();
-        if negative.is_empty() {
-            break (fit.sse, fit.residuals, fit.termination);
-        }
-        for i in negative {
-            progress(&format!(
-                "direct: joint {} ends at {:.5} N·m < 0: fixed at 0, refitting the others",
-                joints[i], p[i]
-            ));
-            free[i] = false;
-            p[i] = 0.0;
-        }
-    };
+    let (start, start_rule) = direct_start(&model, opts, progress)?;
+    let fit = active_set_fit(&model, &start, opts, progress)?;
+    let p = &fit.params;
     let (after, _) = model
-        .score(&p)
-        .ok_or_else(|| IdentifyError::Simulation(format!("at the solution {} N·m", list(&p))))?;
+        .score(p)
+        .ok_or_else(|| IdentifyError::Simulation(format!("at the solution {} N·m", list(p))))?;
     let scored = Identification::scored(Method::Direct, &model, t0, before, after);
     Ok(Identification {
         joints: joints
@@ -753,29 +668,179 @@ pub fn identify_direct(
             .map(|(i, &j)| JointEft {
                 joint: j,
                 coulomb_nm: p[i],
-                ci95: Some(if free[i] {
-                    ci[i]
+                ci95: Some(if fit.free[i] {
+                    fit.ci[i]
                 } else {
-                    [0.0, ci[i][1].max(0.0)]
+                    [0.0, fit.ci[i][1].max(0.0)]
                 }),
-                sd_nm: Some(sd[i]),
+                sd_nm: Some(fit.sd[i]),
             })
             .collect(),
         direct: Some(DirectDetails {
             start_nm: start,
             start_rule,
-            sse_deg2: sse,
-            residuals,
-            termination,
+            sse_deg2: fit.sse,
+            residuals: fit.residuals,
+            termination: fit.termination,
             fixed_at_zero: joints
                 .iter()
-                .zip(&free)
+                .zip(&fit.free)
                 .filter(|(_, f)| !**f)
                 .map(|(j, _)| *j)
                 .collect(),
         }),
         ..scored
     })
+}
+
+/// The start of the direct method and how it was chosen: the given one,
+/// or the per-joint best of the start scan.
+fn direct_start(
+    model: &Model,
+    opts: &DirectOptions,
+    progress: Progress,
+) -> Result<(Vec<f64>, String), IdentifyError> {
+    match &opts.start_nm {
+        Some(s) => {
+            check_vector("start", s, model.joints.len(), true)?;
+            Ok((s.clone(), "given".to_string()))
+        }
+        None => {
+            let sc = scan_with(model, progress)?;
+            Ok((
+                sc.per_joint_best_nm,
+                format!(
+                    "per-joint best of a scan of uniform EFTs from 0 to {} N·m",
+                    SCAN_GRID_NM[SCAN_GRID_NM.len() - 1]
+                ),
+            ))
+        }
+    }
+}
+
+/// The outcome of the bounded least squares of the direct method.
+struct ActiveSetFit {
+    /// The EFT of every identified joint [N·m] (0 where fixed).
+    params: Vec<f64>,
+    /// False where the joint was fixed at the bound 0.
+    free: Vec<bool>,
+    /// 95 % intervals [N·m] (of the last fit where the joint was free).
+    ci: Vec<[f64; 2]>,
+    /// Standard deviations [N·m].
+    sd: Vec<f64>,
+    /// Sum of squared residuals [deg²].
+    sse: f64,
+    /// Number of residuals.
+    residuals: usize,
+    /// The solver's verdict, in words.
+    termination: String,
+}
+
+/// Least squares with `T_C ≥ 0` by an active set: fit the free joints
+/// unbounded; fix any that ends below 0 at 0 and refit the others, until
+/// none is negative.
+fn active_set_fit(
+    model: &Model,
+    start: &[f64],
+    opts: &DirectOptions,
+    progress: Progress,
+) -> Result<ActiveSetFit, IdentifyError> {
+    let k = model.joints.len();
+    let mut out = ActiveSetFit {
+        params: start.to_vec(),
+        free: vec![true; k],
+        ci: vec![[f64::NEG_INFINITY, f64::INFINITY]; k],
+        sd: vec![f64::INFINITY; k],
+        sse: 0.0,
+        residuals: 0,
+        termination: String::new(),
+    };
+    let best = Mutex::new(f64::INFINITY);
+    loop {
+        let idx: Vec<usize> = (0..k).filter(|&i| out.free[i]).collect();
+        if idx.is_empty() {
+            let r = model
+                .residuals(&out.params)
+                .ok_or_else(|| IdentifyError::Simulation("with every EFT at 0".into()))?;
+            out.sse = r.iter().map(|x| x * x).sum::<f64>();
+            out.residuals = r.len();
+            out.termination = "every EFT at 0".to_string();
+            return Ok(out);
+        }
+        let fit = fit_free_joints(model, &out.params, &idx, opts, &best, progress)?;
+        for (r, &i) in idx.iter().enumerate() {
+            out.params[i] = fit.params[r];
+            out.ci[i] = fit.ci95[r];
+            out.sd[i] = fit.sd[r];
+        }
+        let negative: Vec<usize> = idx
+            .iter()
+            .copied()
+            .filter(|&i| out.params[i] < 0.0)
+            .collect();
+        if negative.is_empty() {
+            out.sse = fit.sse;
+            out.residuals = fit.residuals;
+            out.termination = fit.termination;
+            return Ok(out);
+        }
+        for i in negative {
+            progress(&format!(
+                "direct: joint {} ends at {:.5} N·m < 0: fixed at 0, refitting the others",
+                model.joints[i], out.params[i]
+            ));
+            out.free[i] = false;
+            out.params[i] = 0.0;
+        }
+    }
+}
+
+/// One Levenberg–Marquardt fit of the joints `idx` (indices into the
+/// identified joints), the others held at `p`; reports each better RMS
+/// (`best` [deg], shared by the rounds) as progress.
+fn fit_free_joints(
+    model: &Model,
+    p: &[f64],
+    idx: &[usize],
+    opts: &DirectOptions,
+    best: &Mutex<f64>,
+    progress: Progress,
+) -> Result<fit::FitResult, IdentifyError> {
+    let full = |q: &[f64]| -> Vec<f64> {
+        let mut x = p.to_vec();
+        for (&i, &v) in idx.iter().zip(q) {
+            x[i] = v;
+        }
+        x
+    };
+    let q0: Vec<f64> = idx.iter().map(|&i| p[i]).collect();
+    progress(&format!(
+        "direct: Levenberg–Marquardt over joints {} from {} N·m",
+        list(&idx.iter().map(|&i| model.joints[i]).collect::<Vec<_>>()),
+        list(&q0)
+    ));
+    let f = |q: &[f64]| -> Option<Vec<f64>> {
+        let x = full(q);
+        let r = model.residuals(&x)?;
+        let rms = (r.iter().map(|v| v * v).sum::<f64>() / r.len().max(1) as f64).sqrt();
+        if let Ok(mut b) = best.lock() {
+            if rms < *b {
+                *b = rms;
+                let ps: Vec<String> = x.iter().map(|v| format!("{v:.5}")).collect();
+                progress(&format!(
+                    "direct: {} simulations, best RMS {rms:.5} deg at {} N·m",
+                    model.count(),
+                    ps.join(", ")
+                ));
+            }
+        }
+        Some(r)
+    };
+    let m = idx.len();
+    let mut fo = FitOptions::new(vec![f64::NEG_INFINITY; m], vec![opts.min_step_nm; m]);
+    fo.upper = vec![opts.upper_nm; m];
+    fo.patience = opts.patience;
+    Ok(fit::least_squares(&f, &q0, &fo)?)
 }
 
 /// The response of a scored design point.
