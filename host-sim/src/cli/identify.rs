@@ -151,6 +151,14 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
 /// [`identify::RESIDUAL_WARN_FACTOR`] × the noise at some joint, and points
 /// to `deploywatch diagnose`.
 fn warn_residuals(campaign: &Campaign, id: &Identification, console: &Console) {
+    let edge = at_design_edge(id);
+    if !edge.is_empty() {
+        console.warn(format_args!(
+            "the EFT of joint(s) {} is at the edge of the design box: the best value may lie \
+             beyond it; move --center or widen --range",
+            list(&edge)
+        ));
+    }
     let warnings = identify::residual_warnings(campaign, id);
     let Some(first) = warnings.first() else {
         return;
@@ -166,6 +174,22 @@ fn warn_residuals(campaign: &Campaign, id: &Identification, console: &Console) {
     text += "\nfriction alone does not explain these runs: `deploywatch diagnose` \
              (same --mechanism and runs, --json OUT.json) looks for the cause";
     console.warn(text);
+}
+
+/// The joints whose response-surface EFT lies on the edge of the box the
+/// surface was minimised in (not at the bound 0): the design did not
+/// reach the minimum.
+fn at_design_edge(id: &Identification) -> Vec<usize> {
+    let Some(r) = &id.rsm else {
+        return Vec::new();
+    };
+    let on = |v: f64, edge: f64| (v - edge).abs() <= 1e-9 * edge.abs().max(1e-12);
+    id.joints
+        .iter()
+        .zip(&r.box_nm)
+        .filter(|(j, [lo, hi])| on(j.coulomb_nm, *hi) || (*lo > 0.0 && on(j.coulomb_nm, *lo)))
+        .map(|(j, _)| j.joint)
+        .collect()
 }
 
 /// Runs the chosen method with the arguments' options.
@@ -205,21 +229,29 @@ fn identify_with(
 
 /// The human report: EFT table, fit quality, cost.
 pub fn report(campaign: &Campaign, id: &Identification) -> String {
-    use std::fmt::Write as _;
-    let mut s = String::new();
     let runs: Vec<String> = campaign
         .runs
         .iter()
         .map(|r| format!("{} ({})", r.name(), r.mechanism.name))
         .collect();
-    let _ = writeln!(
-        s,
-        "EFT identification, method {}, {} run(s): {}",
+    format!(
+        "EFT identification, method {}, {} run(s): {}\n\n{}\n{}{}cost: {} simulations of the campaign ({} deployments), {:.2} s wall\n",
         id.method.name(),
         runs.len(),
-        runs.join(", ")
-    );
-    let _ = writeln!(s);
+        runs.join(", "),
+        eft_table(id),
+        fit_quality(id),
+        method_details(id),
+        id.simulations,
+        id.deployments,
+        id.wall_s
+    )
+}
+
+/// The EFT per joint, with its 95 % interval (direct) or design box (rsm).
+fn eft_table(id: &Identification) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
     match id.method {
         Method::Direct => {
             let _ = writeln!(
@@ -249,20 +281,26 @@ pub fn report(campaign: &Campaign, id: &Identification) -> String {
             }
         }
     }
-    let _ = writeln!(s);
+    s
+}
+
+/// RMS before and after, per run with the trajectory errors.
+fn fit_quality(id: &Identification) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
     let ratio = id.rms_deg_before / id.rms_deg_after;
     let _ = writeln!(
         s,
         "fit: RMS {:.4} deg before (mechanisms as given) -> {:.4} deg after (ratio {ratio:.1})",
         id.rms_deg_before, id.rms_deg_after
     );
+    let te = |v: &[Option<f64>]| -> String {
+        v.iter()
+            .map(|t| t.map_or("-".into(), |t| format!("{t:.2}")))
+            .collect::<Vec<_>>()
+            .join("/")
+    };
     for (b, a) in id.before.runs.iter().zip(&id.after.runs) {
-        let te = |v: &[Option<f64>]| -> String {
-            v.iter()
-                .map(|t| t.map_or("-".into(), |t| format!("{t:.2}")))
-                .collect::<Vec<_>>()
-                .join("/")
-        };
         let _ = writeln!(
             s,
             "  {}: RMS {:.4} -> {:.4} deg; trajectory error per joint [%] {} -> {}",
@@ -273,6 +311,13 @@ pub fn report(campaign: &Campaign, id: &Identification) -> String {
             te(&a.trajectory_error_pct)
         );
     }
+    s
+}
+
+/// The solver's verdict (direct) or the design and its surfaces (rsm).
+fn method_details(id: &Identification) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
     if let Some(d) = &id.direct {
         let _ = writeln!(
             s,
@@ -315,11 +360,6 @@ pub fn report(campaign: &Campaign, id: &Identification) -> String {
             r.minimised, r.predicted, r.simulated
         );
     }
-    let _ = writeln!(
-        s,
-        "cost: {} simulations of the campaign ({} deployments), {:.2} s wall",
-        id.simulations, id.deployments, id.wall_s
-    );
     s
 }
 

@@ -114,23 +114,9 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
 pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
     let run = replay::load_run(&args.run).map_err(cli_error)?;
-    // Everything the QEMU target needs is checked before any work.
-    let elf = match args.target {
-        Target::Host => None,
-        Target::Qemu => {
-            if !replay::firmware_supports(mech.joint_count()) {
-                return Err(CliError::input(format!(
-                    "{}: {} joints; the example firmware has monitors of {} joints only \
-                     (firmware-example/src/config.rs, JOINT_COUNTS: the 64 KiB flash budget); \
-                     --target host replays 1 to 4",
-                    mech.name,
-                    mech.joint_count(),
-                    replay::firmware_joint_counts()
-                )));
-            }
-            Some(replay::find_elf(args.elf.as_deref()).map_err(cli_error)?)
-        }
-    };
+    // Everything the QEMU target needs, and every output, is checked
+    // before any work.
+    let elf = qemu_elf(args, &mech)?;
     check_outputs(args)?;
     let prepared = replay::prepare(&mech, &run).map_err(cli_error)?;
     let console = Console::new(args.quiet);
@@ -142,8 +128,7 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
             temp.0.clone()
         }
     };
-    let keep = args.keep.is_some();
-    if keep {
+    if args.keep.is_some() {
         write(&dir.join("input.bin"), &prepared.input)?;
         write(&dir.join("host.bin"), &prepared.host_frames)?;
     }
@@ -155,61 +140,93 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
         mech.name,
         prepared.input.len()
     ));
-    // The statuses reported: the target's.
-    let (statuses, mismatch) = match (args.target, elf) {
-        (Target::Qemu, Some(elf)) => {
-            let q = replay::run_qemu(
-                &elf,
-                &prepared.input,
-                &dir,
-                Duration::from_secs(args.timeout),
-            )
-            .map_err(cli_error)?;
-            if !args.quiet {
-                eprint!("{}", q.log);
-            }
-            let statuses =
-                replay::decode_statuses(&q.frames, prepared.joints).map_err(cli_error)?;
-            let m = check(&prepared, &q.frames, "QEMU (Cortex-M4F firmware)");
-            (statuses, m)
-        }
-        _ if args.compare => {
-            let fw = replay::firmware_loop_on_host(&prepared.input).map_err(cli_error)?;
-            if keep {
-                write(&dir.join("firmware-loop.bin"), &fw)?;
-            }
-            let m = check(&prepared, &fw, "the firmware's replay loop on the host");
-            (prepared.host.clone(), m)
-        }
-        _ => {
-            console.say(format_args!(
-                "host f32 run: {} status frames",
-                prepared.host.len()
-            ));
-            (prepared.host.clone(), None)
-        }
-    };
+    let (statuses, mismatch) = target_statuses(args, elf, &prepared, &dir, &console)?;
     for s in replay::summary(&statuses) {
         println!("  {s}");
     }
-    if let Some(out) = &args.out {
-        let file = std::fs::File::create(out)
-            .map_err(|e| CliError::input(format!("{}: {e}", out.display())))?;
-        replay::write_status_csv(std::io::BufWriter::new(file), &statuses)
-            .map_err(|e| CliError::input(format!("{}: {e}", out.display())))?;
-        console.say(format_args!("  status CSV: {}", out.display()));
-    }
-    if let Some(png) = &args.plot {
-        replay::plot(png, &mech.name, &statuses).map_err(|e| CliError::failed(e.to_string()))?;
-        console.say(format_args!("  plot: {}", png.display()));
-    }
-    if keep {
+    write_outputs(args, &mech.name, &statuses, &console)?;
+    if args.keep.is_some() {
         console.say(format_args!("  frames: {}", dir.display()));
     }
     match mismatch {
         Some(m) => Err(CliError::failed(m)),
         None => Ok(()),
     }
+}
+
+/// The firmware ELF for `--target qemu` (None for the host), after checking
+/// that the firmware has a monitor of the mechanism's joint count.
+fn qemu_elf(args: &ReplayArgs, mech: &Mechanism) -> Result<Option<PathBuf>, CliError> {
+    if args.target == Target::Host {
+        return Ok(None);
+    }
+    if !replay::firmware_supports(mech.joint_count()) {
+        return Err(CliError::input(format!(
+            "{}: {} joints; the example firmware has monitors of {} joints only \
+             (firmware-example/src/config.rs, JOINT_COUNTS: the 64 KiB flash budget); \
+             --target host replays 1 to 4",
+            mech.name,
+            mech.joint_count(),
+            replay::firmware_joint_counts()
+        )));
+    }
+    Ok(Some(
+        replay::find_elf(args.elf.as_deref()).map_err(cli_error)?,
+    ))
+}
+
+/// The statuses reported (the target's) and, when they were compared with
+/// the host's, the message of a mismatch.
+fn target_statuses(
+    args: &ReplayArgs,
+    elf: Option<PathBuf>,
+    prepared: &Prepared,
+    dir: &Path,
+    console: &Console,
+) -> Result<(Vec<replay::StatusRow>, Option<String>), CliError> {
+    if let Some(elf) = elf {
+        let timeout = Duration::from_secs(args.timeout);
+        let q = replay::run_qemu(&elf, &prepared.input, dir, timeout).map_err(cli_error)?;
+        if !console.quiet {
+            eprint!("{}", q.log);
+        }
+        let statuses = replay::decode_statuses(&q.frames, prepared.joints).map_err(cli_error)?;
+        let m = check(prepared, &q.frames, "QEMU (Cortex-M4F firmware)");
+        return Ok((statuses, m));
+    }
+    if args.compare {
+        let fw = replay::firmware_loop_on_host(&prepared.input).map_err(cli_error)?;
+        if args.keep.is_some() {
+            write(&dir.join("firmware-loop.bin"), &fw)?;
+        }
+        let m = check(prepared, &fw, "the firmware's replay loop on the host");
+        return Ok((prepared.host.clone(), m));
+    }
+    console.say(format_args!(
+        "host f32 run: {} status frames",
+        prepared.host.len()
+    ));
+    Ok((prepared.host.clone(), None))
+}
+
+/// Writes the status CSV (`--out`) and the plot (`--plot`).
+fn write_outputs(
+    args: &ReplayArgs,
+    name: &str,
+    statuses: &[replay::StatusRow],
+    console: &Console,
+) -> Result<(), CliError> {
+    if let Some(out) = &args.out {
+        let bad = |e: std::io::Error| CliError::input(format!("--out {}: {e}", out.display()));
+        let file = std::fs::File::create(out).map_err(bad)?;
+        replay::write_status_csv(std::io::BufWriter::new(file), statuses).map_err(bad)?;
+        console.say(format_args!("  status CSV: {}", out.display()));
+    }
+    if let Some(png) = &args.plot {
+        replay::plot(png, name, statuses).map_err(|e| CliError::failed(e.to_string()))?;
+        console.say(format_args!("  plot: {}", png.display()));
+    }
+    Ok(())
 }
 
 /// Compares `target` with the host's frames: prints the verdict, returns

@@ -78,25 +78,7 @@ pub fn effect_help() -> String {
 /// Runs `deploywatch simulate`.
 pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
-    for e in &args.effects {
-        e.validate(mech.joint_count())
-            .map_err(|m| CliError::input(format!("--effect {e}: {m}")))?;
-    }
-    for f in &args.faults {
-        f.validate(mech.joint_count())
-            .map_err(|m| CliError::input(format!("--fault {f}: {m}")))?;
-    }
-    if let Some(r) = args.rate {
-        if !(r > 0.0 && r.is_finite()) {
-            return Err(CliError::input(format!(
-                "--rate {r}: expected a positive sample rate in Hz"
-            )));
-        }
-    }
-    check_output("--out", &args.out)?;
-    if let Some(png) = &args.plot {
-        check_output("--plot", png)?;
-    }
+    check_args(args, &mech)?;
     let console = Console::new(args.quiet);
     let opts = SimOptions {
         sample_hz: args.rate,
@@ -105,40 +87,11 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     };
     let traj = deployment::simulate(&mech, &args.effects, &opts)
         .map_err(|e| CliError::failed(e.to_string()))?;
-    let sensor = if args.no_noise {
-        SensorModel::IDEAL
-    } else {
-        SensorModel::REFERENCE
-    };
-    let offsets = effect::encoder_offsets_deg(&args.effects, mech.joint_count());
-    let mut run = sensor::measure(&traj, &offsets, &sensor, args.seed);
-    run.set_meta("mechanism", &mech.name);
-    run.set_meta("source", "deploywatch simulate");
-    let effects: Vec<String> = args.effects.iter().map(|e| e.to_string()).collect();
-    run.set_meta(
-        "effects",
-        &if effects.is_empty() {
-            "none".to_string()
-        } else {
-            effects.join("; ")
-        },
-    );
-    run.set_meta(
-        "sensor",
-        &if args.no_noise {
-            "ideal (true angles)".to_string()
-        } else {
-            format!(
-                "noise sigma {} deg, resolution {} deg, seed {}",
-                sensor.noise_sigma_deg, sensor.resolution_deg, args.seed
-            )
-        },
-    );
+    let mut run = measure(args, &mech, &traj);
     let reports = fault_injection::apply(&mut run, &args.faults, args.seed)
         .map_err(|m| CliError::input(format!("--fault: {m}")))?;
     run.write(&args.out)
         .map_err(|e| CliError::input(e.to_string()))?;
-
     println!(
         "{}: {} samples at {} Hz to {} ({} steps, {} evaluations)",
         mech.name,
@@ -168,6 +121,66 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         console.say(format_args!("  plot: {}", png.display()));
     }
     Ok(())
+}
+
+/// Checks the arguments against the mechanism, and that the outputs can be
+/// written, before anything is simulated.
+fn check_args(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
+    for e in &args.effects {
+        e.validate(mech.joint_count())
+            .map_err(|m| CliError::input(format!("--effect {e}: {m}")))?;
+    }
+    for f in &args.faults {
+        f.validate(mech.joint_count())
+            .map_err(|m| CliError::input(format!("--fault {f}: {m}")))?;
+    }
+    if let Some(r) = args.rate {
+        if !(r > 0.0 && r.is_finite()) {
+            return Err(CliError::input(format!(
+                "--rate {r}: expected a positive sample rate in Hz"
+            )));
+        }
+    }
+    check_output("--out", &args.out)?;
+    if let Some(png) = &args.plot {
+        check_output("--plot", png)?;
+    }
+    Ok(())
+}
+
+/// The run the sensors record of `traj`, with its metadata (mechanism,
+/// source, effects, sensor).
+fn measure(args: &SimulateArgs, mech: &Mechanism, traj: &deployment::Trajectory) -> Run {
+    let sensor = if args.no_noise {
+        SensorModel::IDEAL
+    } else {
+        SensorModel::REFERENCE
+    };
+    let offsets = effect::encoder_offsets_deg(&args.effects, mech.joint_count());
+    let mut run = sensor::measure(traj, &offsets, &sensor, args.seed);
+    run.set_meta("mechanism", &mech.name);
+    run.set_meta("source", "deploywatch simulate");
+    let effects: Vec<String> = args.effects.iter().map(|e| e.to_string()).collect();
+    run.set_meta(
+        "effects",
+        &if effects.is_empty() {
+            "none".to_string()
+        } else {
+            effects.join("; ")
+        },
+    );
+    run.set_meta(
+        "sensor",
+        &if args.no_noise {
+            "ideal (true angles)".to_string()
+        } else {
+            format!(
+                "noise sigma {} deg, resolution {} deg, seed {}",
+                sensor.noise_sigma_deg, sensor.resolution_deg, args.seed
+            )
+        },
+    );
+    run
 }
 
 /// Draws a run's joint angles with its latch events.
