@@ -310,12 +310,12 @@ fn simulate_help_gives_every_effect_with_its_unit() {
     let help = succeeds(&deploywatch(&["simulate", "--help"]));
     for k in EffectKind::ALL {
         let unit = match k.unit() {
-            "1" => "dimensionless",
-            u => u,
+            "1" => "V dimensionless".to_string(),
+            u => format!("V in {u} "),
         };
         assert!(
             help.lines()
-                .any(|l| l.contains(k.name()) && l.contains(&format!("V in {unit} "))),
+                .any(|l| l.contains(k.name()) && l.contains(&unit)),
             "{} with its unit {unit} is missing:\n{help}",
             k.name()
         );

@@ -57,8 +57,8 @@ pub fn effect_help() -> String {
     );
     for k in EffectKind::ALL {
         let unit = match k.unit() {
-            "1" => "dimensionless".to_string(),
-            u => u.to_string(),
+            "1" => "V dimensionless, a fraction".to_string(),
+            u => format!("V in {u}"),
         };
         let scope = if k.per_joint() {
             "per joint, joint=J"
@@ -70,7 +70,7 @@ pub fn effect_help() -> String {
         } else {
             ""
         };
-        s += &format!("\n  {:<18} V in {unit} ({scope}{extra})", k.name());
+        s += &format!("\n  {:<18} {unit} ({scope}{extra})", k.name());
     }
     s
 }
