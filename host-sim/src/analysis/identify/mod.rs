@@ -1165,6 +1165,11 @@ fn simulated_response(after: &CampaignScore, joints: &[usize], response: RsmResp
 /// of the noise above 3 σ.
 pub const RESIDUAL_WARN_FACTOR: f64 = 3.0;
 
+/// The least noise RMS the warning threshold assumes [deg]: runs of true
+/// angles (`simulate --no-noise`) have none, and a fit is never warned
+/// about for residuals of a few thousandths of a degree.
+pub const RESIDUAL_WARN_NOISE_FLOOR_DEG: f64 = 0.001;
+
 /// A joint of a run that the identified EFTs do not explain down to the
 /// noise: a hint that something other than Coulomb friction is at work.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -1201,7 +1206,7 @@ impl std::fmt::Display for ResidualWarning {
 /// [`crate::analysis::diagnose::noise_sigma_deg`]), with where in the stroke.
 pub fn residual_warnings(campaign: &Campaign, id: &Identification) -> Vec<ResidualWarning> {
     use crate::analysis::diagnose::{evidence, noise_sigma_deg};
-    let sigma = noise_sigma_deg(campaign);
+    let sigma = noise_sigma_deg(campaign).max(RESIDUAL_WARN_NOISE_FLOOR_DEG);
     let limit = RESIDUAL_WARN_FACTOR * sigma;
     evidence::analyse(campaign, &id.effects(), sigma)
         .into_iter()
