@@ -27,6 +27,7 @@ pub mod real;
 pub mod rollout;
 pub mod smoother;
 pub mod spring;
+pub mod standards;
 pub mod telemetry;
 
 pub use chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel};

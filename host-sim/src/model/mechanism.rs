@@ -139,6 +139,9 @@ pub struct Mechanism {
     pub duration_s: f64,
     /// `[run] sample_hz` [Hz].
     pub sample_hz: f64,
+    /// `[run] settle_s`: how long a run goes on recording after the first
+    /// sample at or after the last latch [s] (`formats.md`).
+    pub settle_s: f64,
 }
 
 impl Mechanism {

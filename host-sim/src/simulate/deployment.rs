@@ -171,7 +171,8 @@ pub fn simulate_at(
 ) -> Result<Trajectory, SimError> {
     let n = mech.joint_count();
     for e in effects {
-        e.validate(n).map_err(SimError::Invalid)?;
+        e.validate_joint(n)
+            .map_err(|e| SimError::Invalid(e.to_string()))?;
     }
     if times.first().is_some_and(|&t| t < 0.0) || times.windows(2).any(|w| !(w[1] > w[0])) {
         return Err(SimError::Invalid(
