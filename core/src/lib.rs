@@ -14,6 +14,7 @@
 mod fmt;
 
 pub mod chain;
+pub mod encoder;
 pub mod faults;
 pub mod friction;
 #[cfg(feature = "hal")]

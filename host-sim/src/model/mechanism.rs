@@ -10,6 +10,42 @@ use deploywatch_core::{Chain, Curve, Friction, GlobalEffects, Joint, JointEffect
 /// Most joints a mechanism may have (`physics.md` section 1: n = 1..4).
 pub const MAX_JOINTS: usize = 4;
 
+/// Calls `$body` with `const $n: usize` set to `$joints` (1 to
+/// [`MAX_JOINTS`]), `$other` for any other count: the one dispatch from a
+/// run-time joint count to the core's const-generic `Chain<T, N>`,
+/// `Monitor<N>`, ...
+///
+/// ```ignore
+/// with_joints!(mech.joint_count(), N => run::<N>(mech), else Err(too_many()))
+/// ```
+macro_rules! with_joints {
+    ($joints:expr, $n:ident => $body:expr, else $other:expr) => {
+        match $joints {
+            1 => {
+                const $n: usize = 1;
+                $body
+            }
+            2 => {
+                const $n: usize = 2;
+                $body
+            }
+            3 => {
+                const $n: usize = 3;
+                $body
+            }
+            4 => {
+                const $n: usize = 4;
+                $body
+            }
+            _ => $other,
+        }
+    };
+}
+pub(crate) use with_joints;
+
+// `with_joints!` has one arm per joint count up to `MAX_JOINTS`.
+const _: () = assert!(MAX_JOINTS == 4);
+
 /// One hinge spring as written in the file.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SpringSpec {

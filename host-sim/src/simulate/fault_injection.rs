@@ -36,6 +36,7 @@
 
 use crate::data::run::{Run, MAX_ANGLE_DEG, MISSING_SAMPLES_KEY, MISSING_SAMPLES_VALUE};
 use crate::simulate::sensor::RESOLUTION_DEG;
+use deploywatch_core::encoder;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
@@ -558,19 +559,7 @@ pub fn describe(faults: &[SensorFault]) -> String {
 /// every sample. Sets the metadata `faults` ([`describe`]) and, when a
 /// reading went missing, [`MISSING_SAMPLES_KEY`].
 pub fn apply(run: &mut Run, faults: &[SensorFault], seed: u64) -> Result<Vec<FaultReport>, String> {
-    let n = run.joints();
-    if run.is_empty() {
-        return Err("the run has no samples: expected at least one".to_string());
-    }
-    if run.latch.len() != n
-        || run.phi_deg.iter().any(|s| s.len() != run.len())
-        || run.latch.iter().any(|s| s.len() != run.len())
-    {
-        return Err("the run's series do not all have one value per time stamp".to_string());
-    }
-    for f in faults {
-        f.validate(n)?;
-    }
+    check_fits(run, faults)?;
     let t0: Vec<f64> = run.t_s.clone();
     let keep: Vec<bool> = t0
         .iter()
@@ -589,188 +578,35 @@ pub fn apply(run: &mut Run, faults: &[SensorFault], seed: u64) -> Result<Vec<Fau
             "the gaps remove every sample of the run: expected at least one left".to_string(),
         );
     }
-
-    let mut counts = vec![0usize; faults.len()];
     let rng_for = |k: usize| {
         let mut r = ChaCha8Rng::seed_from_u64(seed);
         r.set_stream(1 + k as u64);
         r
     };
-    // Encoder and switch faults, in the order given.
+    // Encoder and switch faults in the order given, then the jitter, then
+    // the gaps.
+    let mut counts = vec![0usize; faults.len()];
     for (k, f) in faults.iter().enumerate() {
-        let mut rng = rng_for(k);
-        counts[k] = match *f {
-            SensorFault::Dropout {
-                joint,
-                start_s,
-                duration_s,
-                mode,
-            } => {
-                let phi = &mut run.phi_deg[joint - 1];
-                let mut c = 0;
-                let mut held: Option<f64> = None;
-                for i in 0..t0.len() {
-                    if !in_window(t0[i], start_s, duration_s) {
-                        continue;
-                    }
-                    let value = match mode {
-                        DropoutMode::Missing => f64::NAN,
-                        DropoutMode::Stale => match held {
-                            Some(v) => v,
-                            // The last reading before the window, or the
-                            // window's first reading when it opens the run.
-                            None => {
-                                let v = if i > 0 { phi[i - 1] } else { phi[i] };
-                                held = Some(v);
-                                v
-                            }
-                        },
-                    };
-                    if !same(phi[i], value) {
-                        c += 1;
-                    }
-                    phi[i] = value;
-                }
-                c
-            }
-            SensorFault::Spike {
-                joint,
-                t_s,
-                magnitude_deg,
-                samples,
-            } => {
-                let phi = &mut run.phi_deg[joint - 1];
-                let first = t0
-                    .iter()
-                    .position(|&t| t >= t_s - TIME_EPS_S)
-                    .unwrap_or(t0.len());
-                let last = (first + samples).min(t0.len());
-                for x in &mut phi[first..last] {
-                    *x += magnitude_deg;
-                }
-                last - first
-            }
-            SensorFault::StuckAt {
-                joint,
-                start_s,
-                value_deg,
-            } => {
-                let phi = &mut run.phi_deg[joint - 1];
-                let first = t0
-                    .iter()
-                    .position(|&t| t >= start_s - TIME_EPS_S)
-                    .unwrap_or(t0.len());
-                let value = value_deg.unwrap_or_else(|| {
-                    let i = first.saturating_sub(1).min(phi.len() - 1);
-                    phi[i]
-                });
-                let mut c = 0;
-                for x in &mut phi[first..] {
-                    if !same(*x, value) {
-                        c += 1;
-                    }
-                    *x = value;
-                }
-                c
-            }
-            SensorFault::ParityError { joint, rate, bits } => {
-                let phi = &mut run.phi_deg[joint - 1];
-                let mut c = 0;
-                for x in phi.iter_mut() {
-                    // One draw per sample whatever happens, so that the
-                    // corrupted samples do not depend on the readings.
-                    let hit = rng.gen::<f64>() < rate;
-                    let mut flips = 0u16;
-                    while flips.count_ones() < bits {
-                        flips |= 1 << rng.gen_range(0..16);
-                    }
-                    if hit && x.is_finite() {
-                        *x = corrupt_word(*x, flips);
-                        c += 1;
-                    }
-                }
-                c
-            }
-            SensorFault::SwitchChatter { joint, bounce_s } => {
-                let latch = &mut run.latch[joint - 1];
-                let closings: Vec<usize> = (0..latch.len())
-                    .filter(|&i| latch[i] && (i == 0 || !latch[i - 1]))
-                    .collect();
-                let mut c = 0;
-                for i in closings {
-                    let tc = t0[i];
-                    // The first contact reads closed; the next sample sees
-                    // the first bounce (open); later ones are at random.
-                    for k in i + 1..latch.len() {
-                        if t0[k] - tc > bounce_s + TIME_EPS_S {
-                            break;
-                        }
-                        let reads = if k == i + 1 { false } else { rng.gen::<bool>() };
-                        if reads != latch[k] {
-                            c += 1;
-                        }
-                        latch[k] = reads;
-                    }
-                }
-                c
-            }
-            SensorFault::SwitchStuck { joint, closed } => {
-                let latch = &mut run.latch[joint - 1];
-                let c = latch.iter().filter(|&&l| l != closed).count();
-                latch.iter_mut().for_each(|l| *l = closed);
-                c
-            }
-            SensorFault::TimeJitter { .. } | SensorFault::TimeGap { .. } => 0,
-        };
+        counts[k] = apply_sensor_fault(run, &t0, f, &mut rng_for(k));
     }
-    // Time-stamp jitter.
     for (k, f) in faults.iter().enumerate() {
         if let SensorFault::TimeJitter { sigma_s } = *f {
-            let mut rng = rng_for(k);
-            let dt_min = t0
-                .windows(2)
-                .map(|w| w[1] - w[0])
-                .fold(f64::INFINITY, f64::min);
-            let limit = if dt_min.is_finite() {
-                MAX_JITTER_FRACTION * dt_min
-            } else {
-                0.0
-            };
-            let normal = Normal::new(0.0, sigma_s).map_err(|e| format!("jitter: {e}"))?;
-            for t in run.t_s.iter_mut().skip(1) {
-                let e = normal.sample(&mut rng).clamp(-limit, limit);
-                if e != 0.0 {
-                    counts[k] += 1;
-                }
-                *t += e;
-            }
+            counts[k] = jitter(&mut run.t_s, &t0, sigma_s, &mut rng_for(k))?;
         }
     }
-    // Gaps: drop the rows.
-    if keep.iter().any(|k| !k) {
-        for (k, f) in faults.iter().enumerate() {
-            if let SensorFault::TimeGap {
-                start_s,
-                duration_s,
-            } = *f
-            {
-                counts[k] = t0
-                    .iter()
-                    .filter(|&&t| in_window(t, start_s, duration_s))
-                    .count();
-            }
-        }
-        let filter = |v: &mut Vec<f64>| {
-            let mut it = keep.iter();
-            v.retain(|_| *it.next().unwrap_or(&true));
-        };
-        filter(&mut run.t_s);
-        run.phi_deg.iter_mut().for_each(filter);
-        for l in run.latch.iter_mut() {
-            let mut it = keep.iter();
-            l.retain(|_| *it.next().unwrap_or(&true));
+    for (k, f) in faults.iter().enumerate() {
+        if let SensorFault::TimeGap {
+            start_s,
+            duration_s,
+        } = *f
+        {
+            counts[k] = t0
+                .iter()
+                .filter(|&&t| in_window(t, start_s, duration_s))
+                .count();
         }
     }
+    drop_rows(run, &keep);
 
     if !faults.is_empty() {
         run.set_meta("faults", &describe(faults));
@@ -785,6 +621,218 @@ pub fn apply(run: &mut Run, faults: &[SensorFault], seed: u64) -> Result<Vec<Fau
         .collect())
 }
 
+/// The time a fault starts [s], `None` for faults that act on the whole run.
+fn start_of(f: &SensorFault) -> Option<f64> {
+    match *f {
+        SensorFault::Dropout { start_s, .. }
+        | SensorFault::StuckAt { start_s, .. }
+        | SensorFault::TimeGap { start_s, .. } => Some(start_s),
+        SensorFault::Spike { t_s, .. } => Some(t_s),
+        _ => None,
+    }
+}
+
+/// Checks that the run is well formed and that every fault fits it: its
+/// joint exists, its parameters are valid, and it starts before the run
+/// ends (a fault that starts later would silently do nothing).
+fn check_fits(run: &Run, faults: &[SensorFault]) -> Result<(), String> {
+    let n = run.joints();
+    let Some(&end_s) = run.t_s.last() else {
+        return Err("the run has no samples: expected at least one".to_string());
+    };
+    if run.latch.len() != n
+        || run.phi_deg.iter().any(|s| s.len() != run.len())
+        || run.latch.iter().any(|s| s.len() != run.len())
+    {
+        return Err("the run's series do not all have one value per time stamp".to_string());
+    }
+    for f in faults {
+        f.validate(n)?;
+        if let Some(start) = start_of(f).filter(|&s| s > end_s + TIME_EPS_S) {
+            return Err(format!(
+                "{f}: starts at {start} s, after the run ends ({end_s} s): expected a start from 0 to {end_s} s"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Applies one encoder or switch fault (the clock faults are applied
+/// after: [`jitter`], [`drop_rows`]); returns the number of samples changed.
+fn apply_sensor_fault(run: &mut Run, t0: &[f64], f: &SensorFault, rng: &mut ChaCha8Rng) -> usize {
+    match *f {
+        SensorFault::Dropout {
+            joint,
+            start_s,
+            duration_s,
+            mode,
+        } => dropout(&mut run.phi_deg[joint - 1], t0, start_s, duration_s, mode),
+        SensorFault::Spike {
+            joint,
+            t_s,
+            magnitude_deg,
+            samples,
+        } => spike(&mut run.phi_deg[joint - 1], t0, t_s, magnitude_deg, samples),
+        SensorFault::StuckAt {
+            joint,
+            start_s,
+            value_deg,
+        } => stuck(&mut run.phi_deg[joint - 1], t0, start_s, value_deg),
+        SensorFault::ParityError { joint, rate, bits } => {
+            parity(&mut run.phi_deg[joint - 1], rate, bits, rng)
+        }
+        SensorFault::SwitchChatter { joint, bounce_s } => {
+            chatter(&mut run.latch[joint - 1], t0, bounce_s, rng)
+        }
+        SensorFault::SwitchStuck { joint, closed } => {
+            let latch = &mut run.latch[joint - 1];
+            let c = latch.iter().filter(|&&l| l != closed).count();
+            latch.iter_mut().for_each(|l| *l = closed);
+            c
+        }
+        SensorFault::TimeJitter { .. } | SensorFault::TimeGap { .. } => 0,
+    }
+}
+
+/// `dropout`: the readings in the window repeat the last one before it, or
+/// are missing.
+fn dropout(phi: &mut [f64], t0: &[f64], start_s: f64, duration_s: f64, mode: DropoutMode) -> usize {
+    let mut c = 0;
+    let mut held: Option<f64> = None;
+    for i in 0..t0.len() {
+        if !in_window(t0[i], start_s, duration_s) {
+            continue;
+        }
+        let value = match mode {
+            DropoutMode::Missing => f64::NAN,
+            // The last reading before the window, or the window's first
+            // reading when it opens the run.
+            DropoutMode::Stale => *held.get_or_insert(if i > 0 { phi[i - 1] } else { phi[i] }),
+        };
+        if !same(phi[i], value) {
+            c += 1;
+        }
+        phi[i] = value;
+    }
+    c
+}
+
+/// `spike`: `samples` readings from the first at or after `t_s` are off by
+/// `magnitude_deg`.
+fn spike(phi: &mut [f64], t0: &[f64], t_s: f64, magnitude_deg: f64, samples: usize) -> usize {
+    let first = t0
+        .iter()
+        .position(|&t| t >= t_s - TIME_EPS_S)
+        .unwrap_or(t0.len());
+    let last = (first + samples).min(t0.len());
+    for x in &mut phi[first..last] {
+        *x += magnitude_deg;
+    }
+    last - first
+}
+
+/// `stuck`: from `start_s` on, `value_deg` or the last reading before.
+fn stuck(phi: &mut [f64], t0: &[f64], start_s: f64, value_deg: Option<f64>) -> usize {
+    let first = t0
+        .iter()
+        .position(|&t| t >= start_s - TIME_EPS_S)
+        .unwrap_or(t0.len());
+    let value = value_deg.unwrap_or_else(|| {
+        let i = first.saturating_sub(1).min(phi.len() - 1);
+        phi[i]
+    });
+    let mut c = 0;
+    for x in &mut phi[first..] {
+        if !same(*x, value) {
+            c += 1;
+        }
+        *x = value;
+    }
+    c
+}
+
+/// `parity`: a fraction `rate` of the answer words get `bits` flipped bits.
+fn parity(phi: &mut [f64], rate: f64, bits: u32, rng: &mut ChaCha8Rng) -> usize {
+    let mut c = 0;
+    for x in phi.iter_mut() {
+        // One draw per sample whatever happens, so that the corrupted
+        // samples do not depend on the readings.
+        let hit = rng.gen::<f64>() < rate;
+        let mut flips = 0u16;
+        while flips.count_ones() < bits {
+            flips |= 1 << rng.gen_range(0..16);
+        }
+        if hit && x.is_finite() {
+            *x = corrupt_word(*x, flips);
+            c += 1;
+        }
+    }
+    c
+}
+
+/// `chatter`: after each closing, the next sample reads open, then each
+/// sample up to `bounce_s` after the closing reads at random.
+fn chatter(latch: &mut [bool], t0: &[f64], bounce_s: f64, rng: &mut ChaCha8Rng) -> usize {
+    let closings: Vec<usize> = (0..latch.len())
+        .filter(|&i| latch[i] && (i == 0 || !latch[i - 1]))
+        .collect();
+    let mut c = 0;
+    for i in closings {
+        let tc = t0[i];
+        for k in i + 1..latch.len() {
+            if t0[k] - tc > bounce_s + TIME_EPS_S {
+                break;
+            }
+            let reads = if k == i + 1 { false } else { rng.gen::<bool>() };
+            if reads != latch[k] {
+                c += 1;
+            }
+            latch[k] = reads;
+        }
+    }
+    c
+}
+
+/// `jitter`: every time stamp but the first off by N(0, σ), clipped to
+/// ±[`MAX_JITTER_FRACTION`] of the shortest interval of the original times.
+fn jitter(
+    t_s: &mut [f64],
+    t0: &[f64],
+    sigma_s: f64,
+    rng: &mut ChaCha8Rng,
+) -> Result<usize, String> {
+    let dt_min = t0
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .fold(f64::INFINITY, f64::min);
+    let limit = if dt_min.is_finite() {
+        MAX_JITTER_FRACTION * dt_min
+    } else {
+        0.0
+    };
+    let normal = Normal::new(0.0, sigma_s).map_err(|e| format!("jitter: {e}"))?;
+    let mut c = 0;
+    for t in t_s.iter_mut().skip(1) {
+        let e = normal.sample(rng).clamp(-limit, limit);
+        if e != 0.0 {
+            c += 1;
+        }
+        *t += e;
+    }
+    Ok(c)
+}
+
+/// `gap`: removes the rows whose `keep` is false.
+fn drop_rows(run: &mut Run, keep: &[bool]) {
+    fn retain<T>(v: &mut Vec<T>, keep: &[bool]) {
+        let mut it = keep.iter();
+        v.retain(|_| *it.next().unwrap_or(&true));
+    }
+    retain(&mut run.t_s, keep);
+    run.phi_deg.iter_mut().for_each(|v| retain(v, keep));
+    run.latch.iter_mut().for_each(|v| retain(v, keep));
+}
+
 /// True when `t` is in `[start, start + duration)`, to the time slack.
 fn in_window(t: f64, start_s: f64, duration_s: f64) -> bool {
     t >= start_s - TIME_EPS_S && t < start_s + duration_s - TIME_EPS_S
@@ -795,37 +843,25 @@ fn same(a: f64, b: f64) -> bool {
     a == b || (a.is_nan() && b.is_nan())
 }
 
-/// Bit 15 of an AS5047P frame: even parity over bits 14:0.
-const PARITY_BIT: u16 = 1 << 15;
-/// Bit 14 of an answer: the error flag.
-const ERROR_FLAG_BIT: u16 = 1 << 14;
-/// Bits 13:0: the angle count.
-const DATA_MASK: u16 = 0x3FFF;
-
 /// The reading `deg` after the AS5047P answer word that carried it had the
 /// bits of `flips` inverted on the wire: `NaN` when the driver rejects the
-/// word (parity or error flag, as `deploywatch_core::hal::as5047p` does),
-/// otherwise the reading with the count changed by the corrupted data bits
-/// (the driver has no way to notice).
+/// word (parity or error flag: [`encoder::check_answer`], what the driver
+/// does), otherwise the reading with the count changed by the corrupted
+/// data bits (the driver has no way to notice).
 pub fn corrupt_word(deg: f64, flips: u16) -> f64 {
-    let count = ((deg / RESOLUTION_DEG).round() as i64).rem_euclid(1 << 14) as u16;
-    let data = count & DATA_MASK;
-    let word = if data.count_ones() % 2 == 1 {
-        data | PARITY_BIT
-    } else {
-        data
-    };
-    let bad = word ^ flips;
-    if bad.count_ones() % 2 == 1 || bad & ERROR_FLAG_BIT != 0 {
-        return f64::NAN;
+    let turn = i64::from(encoder::COUNTS_PER_TURN);
+    let count = ((deg / RESOLUTION_DEG).round() as i64).rem_euclid(turn) as u16;
+    let data = count & encoder::DATA_MASK;
+    match encoder::check_answer(encoder::with_even_parity(data) ^ flips) {
+        Ok(bad) => deg + (i64::from(bad) - i64::from(data)) as f64 * RESOLUTION_DEG,
+        Err(_) => f64::NAN,
     }
-    let delta = i64::from(bad & DATA_MASK) - i64::from(data);
-    deg + delta as f64 * RESOLUTION_DEG
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use deploywatch_core::encoder::{ERROR_FLAG_BIT, PARITY_BIT};
 
     /// A 2-joint run at 100 Hz over 1 s: joint 1 moves from -90 to 0 and
     /// latches at 0.5 s; joint 2 stays at 45 and never latches.
