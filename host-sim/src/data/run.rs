@@ -1023,6 +1023,32 @@ pub fn pair_runs<'a>(
     Ok(m)
 }
 
+/// Checks that a run can be of `mechanism`: its `mechanism` metadata, when
+/// given, names it, and the joint counts agree. For the commands that take
+/// one mechanism file and one run (`replay`); `file` names the run.
+pub fn check_run_of(mechanism: &Mechanism, run: &Run, file: &str) -> Result<(), RunError> {
+    if let Some(name) = run.mechanism().filter(|&n| n != mechanism.name) {
+        return Err(RunError::whole(
+            file,
+            RunErrorKind::UnknownMechanism {
+                name: name.to_string(),
+                given: vec![mechanism.name.clone()],
+            },
+        ));
+    }
+    if mechanism.joint_count() != run.joints() {
+        return Err(RunError::whole(
+            file,
+            RunErrorKind::JointCountMismatch {
+                mechanism: mechanism.name.clone(),
+                run_joints: run.joints(),
+                mechanism_joints: mechanism.joint_count(),
+            },
+        ));
+    }
+    Ok(())
+}
+
 impl Run {
     /// The largest change of any joint's angle over the run [deg]: max − min
     /// of its readings, missing ones (`NaN`) left out; 0 for no reading.
