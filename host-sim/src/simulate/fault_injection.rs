@@ -214,34 +214,30 @@ impl SensorFault {
 
     /// Checks the parameters, and the joint against a run or mechanism of
     /// `joints` joints. The message says what was expected.
-    pub fn validate(&self, joints: usize) -> Result<(), String> {
-        let time = |name: &str, v: f64| -> Result<(), String> {
-            if v.is_finite() && v >= 0.0 {
-                Ok(())
-            } else {
-                Err(format!(
-                    "{}: {name}={v}: expected a time in seconds, 0 or more",
-                    self.kind()
-                ))
-            }
+    pub fn validate(&self, joints: usize) -> Result<(), FaultError> {
+        let kind = self.kind();
+        let bad = |key: &'static str, value: f64, expected: &str| FaultError::BadParameter {
+            kind,
+            key,
+            value: value.to_string(),
+            expected: expected.to_string(),
         };
-        let length = |name: &str, v: f64| -> Result<(), String> {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(format!(
-                    "{}: {name}={v}: expected a positive duration in seconds",
-                    self.kind()
-                ))
-            }
+        let time = |key, v: f64| {
+            let ok = v.is_finite() && v >= 0.0;
+            ok.then_some(())
+                .ok_or_else(|| bad(key, v, "a time in seconds, 0 or more"))
         };
-        if let Some(j) = self.joint() {
-            if j == 0 || j > joints {
-                return Err(format!(
-                    "{}: joint {j} does not exist (expected a joint from 1 to {joints})",
-                    self.kind()
-                ));
-            }
+        let length = |key, v: f64| {
+            let ok = v.is_finite() && v > 0.0;
+            ok.then_some(())
+                .ok_or_else(|| bad(key, v, "a positive duration in seconds"))
+        };
+        if let Some(joint) = self.joint().filter(|&j| j == 0 || j > joints) {
+            return Err(FaultError::NoSuchJoint {
+                kind,
+                joint,
+                joints,
+            });
         }
         match *self {
             SensorFault::Dropout {
@@ -264,13 +260,12 @@ impl SensorFault {
             } => {
                 time("t", t_s)?;
                 if !(magnitude_deg.is_finite() && magnitude_deg.abs() <= 2.0 * MAX_ANGLE_DEG) {
-                    return Err(format!(
-                        "spike: magnitude={magnitude_deg}: expected a finite angle in degrees within ±{}",
-                        2.0 * MAX_ANGLE_DEG
-                    ));
+                    let expected =
+                        format!("a finite angle in degrees within ±{}", 2.0 * MAX_ANGLE_DEG);
+                    return Err(bad("magnitude", magnitude_deg, &expected));
                 }
                 if samples == 0 {
-                    return Err("spike: samples=0: expected 1 or more samples".to_string());
+                    return Err(bad("samples", 0.0, "1 or more samples"));
                 }
                 Ok(())
             }
@@ -279,22 +274,23 @@ impl SensorFault {
             } => {
                 time("start", start_s)?;
                 match value_deg {
-                    Some(v) if !(v.is_finite() && v.abs() <= MAX_ANGLE_DEG) => Err(format!(
-                        "stuck: value={v}: expected an angle in degrees within ±{MAX_ANGLE_DEG} (what a run file holds)"
+                    Some(v) if !(v.is_finite() && v.abs() <= MAX_ANGLE_DEG) => Err(bad(
+                        "value",
+                        v,
+                        &format!(
+                            "an angle in degrees within ±{MAX_ANGLE_DEG} (what a run file holds)"
+                        ),
                     )),
                     _ => Ok(()),
                 }
             }
             SensorFault::ParityError { rate, bits, .. } => {
                 if !(0.0..=1.0).contains(&rate) {
-                    return Err(format!(
-                        "parity: rate={rate}: expected a fraction of the samples from 0 to 1"
-                    ));
+                    return Err(bad("rate", rate, "a fraction of the samples from 0 to 1"));
                 }
                 if !(1..=4).contains(&bits) {
-                    return Err(format!(
-                        "parity: bits={bits}: expected 1 to 4 flipped bits per corrupted word"
-                    ));
+                    let expected = "1 to 4 flipped bits per corrupted word";
+                    return Err(bad("bits", f64::from(bits), expected));
                 }
                 Ok(())
             }
@@ -302,9 +298,9 @@ impl SensorFault {
                 if bounce_s.is_finite() && bounce_s > 0.0 && bounce_s <= MAX_BOUNCE_S + TIME_EPS_S {
                     Ok(())
                 } else {
-                    Err(format!(
-                        "chatter: bounce={bounce_s}: expected a bounce time in seconds, more than 0 and at most {MAX_BOUNCE_S}"
-                    ))
+                    let expected =
+                        format!("a bounce time in seconds, more than 0 and at most {MAX_BOUNCE_S}");
+                    Err(bad("bounce", bounce_s, &expected))
                 }
             }
             SensorFault::SwitchStuck { .. } => Ok(()),
@@ -312,7 +308,8 @@ impl SensorFault {
                 if sigma_s.is_finite() && sigma_s > 0.0 {
                     Ok(())
                 } else {
-                    Err(format!("jitter: sigma={sigma_s}: expected a positive standard deviation in seconds"))
+                    let expected = "a positive standard deviation in seconds";
+                    Err(bad("sigma", sigma_s, expected))
                 }
             }
         }
@@ -380,6 +377,122 @@ impl fmt::Display for SensorFault {
     }
 }
 
+/// Why a `--fault` was refused, or a fault could not be applied to a run.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum FaultError {
+    /// Not one of the fault kinds.
+    #[error("unknown fault `{kind}` in `{text}`: expected one of {}", KINDS.join(", "))]
+    UnknownKind {
+        /// The kind given.
+        kind: String,
+        /// The whole `--fault` text.
+        text: String,
+    },
+    /// A part that is not `key=value`.
+    #[error("`{part}` in `{text}`: expected key=value")]
+    NotKeyValue {
+        /// The part.
+        part: String,
+        /// The whole `--fault` text.
+        text: String,
+    },
+    /// A key the kind does not take.
+    #[error("unknown key `{key}` in `{text}`: {kind} takes {}", allowed.join(", "))]
+    UnknownKey {
+        /// The key.
+        key: String,
+        /// The fault kind.
+        kind: &'static str,
+        /// The keys it takes.
+        allowed: Vec<&'static str>,
+        /// The whole `--fault` text.
+        text: String,
+    },
+    /// A key given twice.
+    #[error("key `{key}` given twice in `{text}`")]
+    RepeatedKey {
+        /// The key.
+        key: String,
+        /// The whole `--fault` text.
+        text: String,
+    },
+    /// A required key is absent.
+    #[error("`{text}`: missing {key}=...; {kind} needs {}", required.join(", "))]
+    MissingKey {
+        /// The key.
+        key: &'static str,
+        /// The fault kind.
+        kind: &'static str,
+        /// The keys it needs.
+        required: &'static [&'static str],
+        /// The whole `--fault` text.
+        text: String,
+    },
+    /// A value that does not parse.
+    #[error("`{key}={value}` in `{text}`: expected {expected}")]
+    BadValue {
+        /// The key.
+        key: &'static str,
+        /// The value as written.
+        value: String,
+        /// What was expected.
+        expected: &'static str,
+        /// The whole `--fault` text.
+        text: String,
+    },
+    /// A parameter out of its range.
+    #[error("{kind}: {key}={value}: expected {expected}")]
+    BadParameter {
+        /// The fault kind.
+        kind: &'static str,
+        /// The key.
+        key: &'static str,
+        /// The value.
+        value: String,
+        /// What was expected.
+        expected: String,
+    },
+    /// [`FaultError::BadParameter`] found while parsing `text`.
+    #[error("`{text}`: {source}")]
+    InText {
+        /// The whole `--fault` text.
+        text: String,
+        /// What was wrong.
+        #[source]
+        source: Box<FaultError>,
+    },
+    /// A joint the run or mechanism does not have.
+    #[error("{kind}: joint {joint} does not exist (expected a joint from 1 to {joints})")]
+    NoSuchJoint {
+        /// The fault kind.
+        kind: &'static str,
+        /// The joint given.
+        joint: usize,
+        /// The joint count.
+        joints: usize,
+    },
+    /// A fault that starts after the run's last sample (it would do nothing).
+    #[error("{fault}: starts at {start_s} s, after the run ends ({end_s} s): expected a start from 0 to {end_s} s")]
+    AfterEnd {
+        /// The fault, in the `--fault` syntax.
+        fault: String,
+        /// Its start [s].
+        start_s: f64,
+        /// The run's last sample [s].
+        end_s: f64,
+    },
+    /// The run has no samples.
+    #[error("the run has no samples: expected at least one")]
+    EmptyRun,
+    /// The run's series differ in length.
+    #[error("the run's series do not all have one value per time stamp")]
+    RaggedRun,
+    /// The gaps would remove every sample.
+    #[error("the gaps remove every sample of the run: expected at least one left")]
+    GapsRemoveAll,
+}
+
 /// The keys each kind takes: (required, optional).
 fn keys_of(kind: &str) -> (&'static [&'static str], &'static [&'static str]) {
     match kind {
@@ -396,59 +509,38 @@ fn keys_of(kind: &str) -> (&'static [&'static str], &'static [&'static str]) {
 }
 
 impl FromStr for SensorFault {
-    type Err = String;
+    type Err = FaultError;
 
     /// Parses `KIND:key=value:...` (the `--fault` syntax; see the variants).
     /// Checks the parameters but not the joint's existence (that needs the
     /// mechanism: [`SensorFault::validate`]).
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, FaultError> {
+        let text = || s.to_string();
         let mut parts = s.split(':');
-        let kind = parts.next().unwrap_or("").trim();
-        if !KINDS.contains(&kind) {
-            return Err(format!(
-                "unknown fault `{kind}` in `{s}`: expected one of {}",
-                KINDS.join(", ")
-            ));
-        }
-        let (required, optional) = keys_of(kind);
-        let mut given: Vec<(&str, &str)> = Vec::new();
-        for p in parts {
-            let (k, v) = p
-                .split_once('=')
-                .ok_or_else(|| format!("`{p}` in `{s}`: expected key=value"))?;
-            let (k, v) = (k.trim(), v.trim());
-            if !required.contains(&k) && !optional.contains(&k) {
-                let all: Vec<&str> = required.iter().chain(optional).copied().collect();
-                return Err(format!(
-                    "unknown key `{k}` in `{s}`: {kind} takes {}",
-                    all.join(", ")
-                ));
-            }
-            if given.iter().any(|(g, _)| *g == k) {
-                return Err(format!("key `{k}` given twice in `{s}`"));
-            }
-            given.push((k, v));
-        }
-        for r in required {
-            if !given.iter().any(|(g, _)| g == r) {
-                return Err(format!(
-                    "`{s}`: missing {r}=...; {kind} needs {}",
-                    required.join(", ")
-                ));
-            }
-        }
-        let get = |k: &str| given.iter().find(|(g, _)| *g == k).map(|(_, v)| *v);
-        let num = |k: &str| -> Result<f64, String> {
-            let v = get(k).unwrap_or("");
-            match v.parse::<f64>() {
-                Ok(x) if x.is_finite() => Ok(x),
-                _ => Err(format!("`{k}={v}` in `{s}`: expected a finite number")),
-            }
+        let kind_given = parts.next().unwrap_or("").trim();
+        let Some(&kind) = KINDS.iter().find(|k| **k == kind_given) else {
+            return Err(FaultError::UnknownKind {
+                kind: kind_given.to_string(),
+                text: text(),
+            });
         };
-        let int = |k: &str, what: &str| -> Result<usize, String> {
-            let v = get(k).unwrap_or("");
-            v.parse::<usize>()
-                .map_err(|_| format!("`{k}={v}` in `{s}`: expected {what}"))
+        let given = fault_keys(kind, parts, s)?;
+        let get = |k: &str| given.iter().find(|(g, _)| *g == k).map(|(_, v)| *v);
+        let bad = |key: &'static str, expected| FaultError::BadValue {
+            key,
+            value: get(key).unwrap_or("").to_string(),
+            expected,
+            text: text(),
+        };
+        let num = |k: &'static str| match get(k).unwrap_or("").parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            _ => Err(bad(k, "a finite number")),
+        };
+        let int = |k: &'static str, what| {
+            get(k)
+                .unwrap_or("")
+                .parse::<usize>()
+                .map_err(|_| bad(k, what))
         };
         let joint = || int("joint", "a joint number from 1");
         let fault = match kind {
@@ -459,11 +551,7 @@ impl FromStr for SensorFault {
                 mode: match get("mode").unwrap_or("missing") {
                     "stale" => DropoutMode::Stale,
                     "missing" => DropoutMode::Missing,
-                    other => {
-                        return Err(format!(
-                            "`mode={other}` in `{s}`: expected stale or missing"
-                        ))
-                    }
+                    _ => return Err(bad("mode", "stale or missing")),
                 },
             },
             "spike" => SensorFault::Spike {
@@ -478,10 +566,7 @@ impl FromStr for SensorFault {
             "stuck" => SensorFault::StuckAt {
                 joint: joint()?,
                 start_s: num("start")?,
-                value_deg: match get("value") {
-                    Some(_) => Some(num("value")?),
-                    None => None,
-                },
+                value_deg: get("value").map(|_| num("value")).transpose()?,
             },
             "parity" => SensorFault::ParityError {
                 joint: joint()?,
@@ -500,9 +585,7 @@ impl FromStr for SensorFault {
                 closed: match get("state").unwrap_or("") {
                     "closed" => true,
                     "open" => false,
-                    other => {
-                        return Err(format!("`state={other}` in `{s}`: expected open or closed"))
-                    }
+                    _ => return Err(bad("state", "open or closed")),
                 },
             },
             "jitter" => SensorFault::TimeJitter {
@@ -514,11 +597,57 @@ impl FromStr for SensorFault {
             },
         };
         // Parameters only: any joint from 1 passes here.
-        fault
-            .validate(usize::MAX)
-            .map_err(|m| format!("`{s}`: {m}"))?;
+        fault.validate(usize::MAX).map_err(|e| FaultError::InText {
+            text: text(),
+            source: Box::new(e),
+        })?;
         Ok(fault)
     }
+}
+
+/// The `key=value` parts of a `--fault` text `s` of `kind`: each key known
+/// to the kind, given once, every required one given.
+fn fault_keys<'s>(
+    kind: &'static str,
+    parts: impl Iterator<Item = &'s str>,
+    s: &str,
+) -> Result<Vec<(&'s str, &'s str)>, FaultError> {
+    let (required, optional) = keys_of(kind);
+    let mut given: Vec<(&str, &str)> = Vec::new();
+    for p in parts {
+        let (k, v) = p.split_once('=').ok_or_else(|| FaultError::NotKeyValue {
+            part: p.to_string(),
+            text: s.to_string(),
+        })?;
+        let (k, v) = (k.trim(), v.trim());
+        if !required.contains(&k) && !optional.contains(&k) {
+            return Err(FaultError::UnknownKey {
+                key: k.to_string(),
+                kind,
+                allowed: required.iter().chain(optional).copied().collect(),
+                text: s.to_string(),
+            });
+        }
+        if given.iter().any(|(g, _)| *g == k) {
+            return Err(FaultError::RepeatedKey {
+                key: k.to_string(),
+                text: s.to_string(),
+            });
+        }
+        given.push((k, v));
+    }
+    if let Some(&key) = required
+        .iter()
+        .find(|r| !given.iter().any(|(g, _)| g == *r))
+    {
+        return Err(FaultError::MissingKey {
+            key,
+            kind,
+            required,
+            text: s.to_string(),
+        });
+    }
+    Ok(given)
 }
 
 /// What one fault did to a run.
@@ -558,7 +687,11 @@ pub fn describe(faults: &[SensorFault]) -> String {
 /// joint it does not have, a bad parameter) or when the gaps would remove
 /// every sample. Sets the metadata `faults` ([`describe`]) and, when a
 /// reading went missing, [`MISSING_SAMPLES_KEY`].
-pub fn apply(run: &mut Run, faults: &[SensorFault], seed: u64) -> Result<Vec<FaultReport>, String> {
+pub fn apply(
+    run: &mut Run,
+    faults: &[SensorFault],
+    seed: u64,
+) -> Result<Vec<FaultReport>, FaultError> {
     check_fits(run, faults)?;
     let t0: Vec<f64> = run.t_s.clone();
     let keep: Vec<bool> = t0
@@ -574,9 +707,7 @@ pub fn apply(run: &mut Run, faults: &[SensorFault], seed: u64) -> Result<Vec<Fau
         })
         .collect();
     if !keep.iter().any(|k| *k) {
-        return Err(
-            "the gaps remove every sample of the run: expected at least one left".to_string(),
-        );
+        return Err(FaultError::GapsRemoveAll);
     }
     let rng_for = |k: usize| {
         let mut r = ChaCha8Rng::seed_from_u64(seed);
@@ -635,23 +766,25 @@ fn start_of(f: &SensorFault) -> Option<f64> {
 /// Checks that the run is well formed and that every fault fits it: its
 /// joint exists, its parameters are valid, and it starts before the run
 /// ends (a fault that starts later would silently do nothing).
-fn check_fits(run: &Run, faults: &[SensorFault]) -> Result<(), String> {
+fn check_fits(run: &Run, faults: &[SensorFault]) -> Result<(), FaultError> {
     let n = run.joints();
     let Some(&end_s) = run.t_s.last() else {
-        return Err("the run has no samples: expected at least one".to_string());
+        return Err(FaultError::EmptyRun);
     };
     if run.latch.len() != n
         || run.phi_deg.iter().any(|s| s.len() != run.len())
         || run.latch.iter().any(|s| s.len() != run.len())
     {
-        return Err("the run's series do not all have one value per time stamp".to_string());
+        return Err(FaultError::RaggedRun);
     }
     for f in faults {
         f.validate(n)?;
         if let Some(start) = start_of(f).filter(|&s| s > end_s + TIME_EPS_S) {
-            return Err(format!(
-                "{f}: starts at {start} s, after the run ends ({end_s} s): expected a start from 0 to {end_s} s"
-            ));
+            return Err(FaultError::AfterEnd {
+                fault: f.to_string(),
+                start_s: start,
+                end_s,
+            });
         }
     }
     Ok(())
@@ -800,7 +933,7 @@ fn jitter(
     t0: &[f64],
     sigma_s: f64,
     rng: &mut ChaCha8Rng,
-) -> Result<usize, String> {
+) -> Result<usize, FaultError> {
     let dt_min = t0
         .windows(2)
         .map(|w| w[1] - w[0])
@@ -810,7 +943,12 @@ fn jitter(
     } else {
         0.0
     };
-    let normal = Normal::new(0.0, sigma_s).map_err(|e| format!("jitter: {e}"))?;
+    let normal = Normal::new(0.0, sigma_s).map_err(|_| FaultError::BadParameter {
+        kind: "jitter",
+        key: "sigma",
+        value: sigma_s.to_string(),
+        expected: "a positive standard deviation in seconds".to_string(),
+    })?;
     let mut c = 0;
     for t in t_s.iter_mut().skip(1) {
         let e = normal.sample(rng).clamp(-limit, limit);
@@ -937,13 +1075,14 @@ mod tests {
             ("jitter", "missing sigma"),
             ("gap:0.1", "expected key=value"),
         ] {
-            let e = bad.parse::<SensorFault>().unwrap_err();
+            let e = bad.parse::<SensorFault>().unwrap_err().to_string();
             assert!(e.contains(says), "{bad}: {e}");
         }
         let f: SensorFault = "spike:joint=3:t=1:magnitude=3".parse().unwrap();
         assert!(f
             .validate(2)
             .unwrap_err()
+            .to_string()
             .contains("joint 3 does not exist (expected a joint from 1 to 2)"));
     }
 
@@ -1126,7 +1265,9 @@ mod tests {
         let i = r.t_s.iter().position(|&t| t > 0.5).unwrap();
         assert!(r.latch[0][i] && !r.latch[0][i - 1]);
         let mut r = run();
-        let e = apply(&mut r, &["gap:start=0:duration=2".parse().unwrap()], 0).unwrap_err();
+        let e = apply(&mut r, &["gap:start=0:duration=2".parse().unwrap()], 0)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("remove every sample"), "{e}");
         assert_eq!(r, run());
     }
@@ -1171,7 +1312,9 @@ mod tests {
     #[test]
     fn a_fault_that_does_not_fit_the_run_leaves_it_unchanged() {
         let mut r = run();
-        let e = apply(&mut r, &["stuck:joint=3:start=0".parse().unwrap()], 0).unwrap_err();
+        let e = apply(&mut r, &["stuck:joint=3:start=0".parse().unwrap()], 0)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("joint 3 does not exist"), "{e}");
         assert_eq!(r, run());
     }
