@@ -53,6 +53,7 @@
 //! factors from [`crate::standards`] (listed in `docs/margin.md`).
 
 use crate::spring::{Branch, Spring};
+use crate::standards;
 
 /// Steps of the energy march over the remaining stroke.
 pub const NODES: usize = 6;
@@ -85,27 +86,26 @@ impl UncertaintyFactors {
         viscous: 1.0,
     };
 
-    /// ECSS-E-ST-33-01C ([`crate::standards::ECSS_E_ST_33_01C`]): the
-    /// spring factor divides the driving spring, inertia the kinetic energy,
-    /// friction both friction energies.
-    pub const ECSS_E_ST_33_01C: Self = Self::of(&crate::standards::ECSS_E_ST_33_01C, true);
+    /// ECSS-E-ST-33-01C ([`crate::standards`]): the spring factor divides
+    /// the driving spring, inertia the kinetic energy, friction multiplies
+    /// both friction energies.
+    pub const ECSS_E_ST_33_01C: Self = UncertaintyFactors {
+        spring: standards::ECSS_E_ST_33_01C_SPRING as f32,
+        kinetic: standards::ECSS_E_ST_33_01C_INERTIA as f32,
+        coulomb: standards::ECSS_E_ST_33_01C_FRICTION as f32,
+        viscous: standards::ECSS_E_ST_33_01C_FRICTION as f32,
+    };
 
-    /// NASA-STD-5017B ([`crate::standards::NASA_STD_5017B`]): the driving
-    /// spring unfactored (the standard factors the resistances), inertia
-    /// (acceleration) divides the kinetic energy, friction ("variable")
+    /// NASA-STD-5017B ([`crate::standards`]): the driving spring
+    /// unfactored (the standard factors the resistances), inertia
+    /// ("acceleration") divides the kinetic energy, friction ("variable")
     /// multiplies both friction energies.
-    pub const NASA_STD_5017: Self = Self::of(&crate::standards::NASA_STD_5017B, false);
-
-    /// A standard's factors; `factor_spring`: whether its spring factor
-    /// also divides the driving spring energy.
-    const fn of(f: &crate::standards::StandardFactors, factor_spring: bool) -> Self {
-        UncertaintyFactors {
-            spring: if factor_spring { f.spring as f32 } else { 1.0 },
-            kinetic: f.inertia as f32,
-            coulomb: f.friction as f32,
-            viscous: f.friction as f32,
-        }
-    }
+    pub const NASA_STD_5017: Self = UncertaintyFactors {
+        spring: 1.0,
+        kinetic: standards::NASA_STD_5017B_ACCELERATION as f32,
+        coulomb: standards::NASA_STD_5017B_VARIABLE as f32,
+        viscous: standards::NASA_STD_5017B_VARIABLE as f32,
+    };
 
     /// True when every factor is finite and ≥ 1 is not required, only > 0.
     pub fn is_valid(&self) -> bool {

@@ -12,44 +12,15 @@
 //! from. Treat them as configuration with a stated source, and check them
 //! against the issue of the standard that applies.
 
-/// Uncertainty factors `FoS_i` [1] of one standard, per kind of resistance.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct StandardFactors {
-    /// Inertia: the torque to reach a required acceleration.
-    pub inertia: f64,
-    /// A spring that resists the motion (a known, fixed torque).
-    pub spring: f64,
-    /// Friction (Coulomb and viscous).
-    pub friction: f64,
-    /// Hysteresis of a spring or a damper.
-    pub hysteresis: f64,
-    /// Harness (cable) stiffness and drag.
-    pub harness: f64,
-    /// Adhesion (cold welding, stiction).
-    pub adhesion: f64,
-    /// Any other resistance.
-    pub other: f64,
-}
-
-/// NASA-STD-5017B (2022), *Design and Development Requirements for
-/// Mechanisms*, torque/force margin Eq. 4-1, Table 1, row "theory or
-/// analysis" (initial sizing): acceleration 1.25, fixed/known 1.5, variable
-/// 3.0. Friction, harness, hysteresis, adhesion and other are "variable"
-/// (this project's mapping). Values from a secondary source quoting Table 1,
-/// not checked against the standard's text (`docs/margin.md`).
-pub const NASA_STD_5017B: StandardFactors = StandardFactors {
-    inertia: NASA_STD_5017B_ACCELERATION,
-    spring: NASA_STD_5017B_FIXED,
-    friction: NASA_STD_5017B_VARIABLE,
-    hysteresis: NASA_STD_5017B_VARIABLE,
-    harness: NASA_STD_5017B_VARIABLE,
-    adhesion: NASA_STD_5017B_VARIABLE,
-    other: NASA_STD_5017B_VARIABLE,
-};
+// NASA-STD-5017B (2022), *Design and Development Requirements for
+// Mechanisms*, torque/force margin Eq. 4-1, Table 1. The host maps friction,
+// harness, hysteresis, adhesion and "other" to "variable", a resisting
+// spring to "fixed", inertia to "acceleration" (this project's mapping).
+// Values from a secondary source quoting Table 1, not checked against the
+// standard's text (`docs/margin.md`).
 
 /// NASA-STD-5017B Table 1, column "acceleration" (inertia torques), row
-/// "theory or analysis" [1].
+/// "theory or analysis" (initial sizing) [1].
 pub const NASA_STD_5017B_ACCELERATION: f64 = 1.25;
 
 /// NASA-STD-5017B Table 1, column "fixed/known" (e.g. springs), row "theory
@@ -60,17 +31,29 @@ pub const NASA_STD_5017B_FIXED: f64 = 1.5;
 /// "theory or analysis" [1].
 pub const NASA_STD_5017B_VARIABLE: f64 = 3.0;
 
-/// ECSS-E-ST-33-01C (2009), *Space engineering — Mechanisms*, clause 4.7.5
-/// (motorisation), table of minimum uncertainty factors, design stage: inertia
-/// 1.1, spring 1.2, friction 3, hysteresis 3, harness 3, adhesion 3, other
-/// forces 3. Recalled from the standard's table and **not confirmed** from
-/// its text; some summaries give 1.5 for hysteresis (`docs/margin.md`).
-pub const ECSS_E_ST_33_01C: StandardFactors = StandardFactors {
-    inertia: 1.1,
-    spring: 1.2,
-    friction: 3.0,
-    hysteresis: 3.0,
-    harness: 3.0,
-    adhesion: 3.0,
-    other: 3.0,
-};
+// ECSS-E-ST-33-01C (2009), *Space engineering — Mechanisms*, clause 4.7.5
+// (motorisation), table of minimum uncertainty factors, design stage.
+// Recalled from the standard's table and **not confirmed** from its text
+// (`docs/margin.md`).
+
+/// ECSS-E-ST-33-01C 4.7.5 uncertainty factor table, row "inertia" [1].
+pub const ECSS_E_ST_33_01C_INERTIA: f64 = 1.1;
+
+/// ECSS-E-ST-33-01C 4.7.5 uncertainty factor table, row "spring" [1].
+pub const ECSS_E_ST_33_01C_SPRING: f64 = 1.2;
+
+/// ECSS-E-ST-33-01C 4.7.5 uncertainty factor table, row "friction" [1].
+pub const ECSS_E_ST_33_01C_FRICTION: f64 = 3.0;
+
+/// ECSS-E-ST-33-01C 4.7.5 uncertainty factor table, row "hysteresis" [1]
+/// (some summaries give 1.5; the conservative 3 is kept).
+pub const ECSS_E_ST_33_01C_HYSTERESIS: f64 = 3.0;
+
+/// ECSS-E-ST-33-01C 4.7.5 uncertainty factor table, row "harness" [1].
+pub const ECSS_E_ST_33_01C_HARNESS: f64 = 3.0;
+
+/// ECSS-E-ST-33-01C 4.7.5 uncertainty factor table, row "adhesion" [1].
+pub const ECSS_E_ST_33_01C_ADHESION: f64 = 3.0;
+
+/// ECSS-E-ST-33-01C 4.7.5 uncertainty factor table, row "other forces" [1].
+pub const ECSS_E_ST_33_01C_OTHER: f64 = 3.0;

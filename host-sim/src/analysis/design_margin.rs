@@ -33,7 +33,7 @@
 //! configuration, not as a quotation of the standards.
 
 use deploywatch_core::spring::{Branch, Spring};
-use deploywatch_core::standards::{self, StandardFactors};
+use deploywatch_core::standards;
 use std::fmt;
 use std::str::FromStr;
 
@@ -120,20 +120,6 @@ pub struct Factors {
     pub adhesion: f64,
     /// On other resistances.
     pub other: f64,
-}
-
-impl From<StandardFactors> for Factors {
-    fn from(f: StandardFactors) -> Self {
-        Factors {
-            inertia: f.inertia,
-            spring: f.spring,
-            friction: f.friction,
-            hysteresis: f.hysteresis,
-            harness: f.harness,
-            adhesion: f.adhesion,
-            other: f.other,
-        }
-    }
 }
 
 impl Factors {
@@ -225,8 +211,24 @@ impl Standard {
     pub fn factors(self) -> Factors {
         match self {
             Standard::None => Factors::UNITY,
-            Standard::NasaStd5017 => Factors::from(standards::NASA_STD_5017B),
-            Standard::EcssEST3301C => Factors::from(standards::ECSS_E_ST_33_01C),
+            Standard::NasaStd5017 => Factors {
+                inertia: standards::NASA_STD_5017B_ACCELERATION,
+                spring: standards::NASA_STD_5017B_FIXED,
+                friction: standards::NASA_STD_5017B_VARIABLE,
+                hysteresis: standards::NASA_STD_5017B_VARIABLE,
+                harness: standards::NASA_STD_5017B_VARIABLE,
+                adhesion: standards::NASA_STD_5017B_VARIABLE,
+                other: standards::NASA_STD_5017B_VARIABLE,
+            },
+            Standard::EcssEST3301C => Factors {
+                inertia: standards::ECSS_E_ST_33_01C_INERTIA,
+                spring: standards::ECSS_E_ST_33_01C_SPRING,
+                friction: standards::ECSS_E_ST_33_01C_FRICTION,
+                hysteresis: standards::ECSS_E_ST_33_01C_HYSTERESIS,
+                harness: standards::ECSS_E_ST_33_01C_HARNESS,
+                adhesion: standards::ECSS_E_ST_33_01C_ADHESION,
+                other: standards::ECSS_E_ST_33_01C_OTHER,
+            },
         }
     }
 

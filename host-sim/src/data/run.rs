@@ -3,6 +3,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use crate::model::located::Located;
 use crate::model::mechanism::{Mechanism, MAX_JOINTS};
 
 /// Largest joint angle a run file may hold [deg], either sign: a hinge
@@ -96,53 +97,17 @@ impl Run {
 /// [`Run::load`]; `line` is 1-based and counts every line of the file,
 /// metadata lines included (`None` for what concerns the whole file).
 /// Displayed as `file:line: what was wrong; expected ...`.
-#[derive(Debug)]
-pub struct RunError {
-    /// The file.
-    pub file: String,
-    /// 1-based line, when the error is about one.
-    pub line: Option<usize>,
-    /// What was wrong.
-    pub kind: RunErrorKind,
-}
+pub type RunError = Located<RunErrorKind>;
 
 impl RunError {
     /// An error about line `line` of `file`.
     fn at(file: &str, line: usize, kind: RunErrorKind) -> RunError {
-        RunError {
-            file: file.to_string(),
-            line: Some(line),
-            kind,
-        }
+        Located::new(file, Some(line), kind)
     }
 
     /// An error about the whole of `file`.
     fn whole(file: &str, kind: RunErrorKind) -> RunError {
-        RunError {
-            file: file.to_string(),
-            line: None,
-            kind,
-        }
-    }
-
-    /// The 1-based line the error points at, when there is one.
-    pub fn line(&self) -> Option<usize> {
-        self.line
-    }
-}
-
-impl std::fmt::Display for RunError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self.line {
-            Some(l) => write!(f, "{}:{l}: {}", self.file, self.kind),
-            None => write!(f, "{}: {}", self.file, self.kind),
-        }
-    }
-}
-
-impl std::error::Error for RunError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        std::error::Error::source(&self.kind)
+        Located::new(file, None, kind)
     }
 }
 

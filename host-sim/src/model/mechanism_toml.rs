@@ -39,6 +39,7 @@ use deploywatch_core::spring::{CurveError, Interp, TapePoints};
 use deploywatch_core::{Curve, Panel, Spring};
 
 use crate::model::effect::{EffectKind, ValueRange};
+use crate::model::located::Located;
 use crate::model::mechanism::{FrictionSpec, JointSpec, Mechanism, SpringSpec, MAX_JOINTS};
 
 /// `[run] duration_s` when the file does not give it (s).
@@ -69,30 +70,7 @@ pub const MAX_SAMPLE_HZ: f64 = 1.0e6;
 /// given to [`Mechanism::load`]; `line` is the 1-based line of the offending
 /// value when the TOML parser reports a position for it. Displayed as
 /// `file:line: what was wrong; expected ...` (`file: ...` without a line).
-#[derive(Debug)]
-pub struct MechanismError {
-    /// The file.
-    pub file: String,
-    /// 1-based line of the offending value, if known.
-    pub line: Option<usize>,
-    /// What was wrong.
-    pub kind: MechanismErrorKind,
-}
-
-impl std::fmt::Display for MechanismError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self.line {
-            Some(l) => write!(f, "{}:{l}: {}", self.file, self.kind),
-            None => write!(f, "{}: {}", self.file, self.kind),
-        }
-    }
-}
-
-impl std::error::Error for MechanismError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        std::error::Error::source(&self.kind)
-    }
-}
+pub type MechanismError = Located<MechanismErrorKind>;
 
 /// What was wrong with a mechanism file (the location is in
 /// [`MechanismError`]); `key` is a key path such as `joint[2].spring.kind`.
@@ -213,11 +191,6 @@ pub enum MechanismErrorKind {
 }
 
 impl MechanismError {
-    /// The 1-based line the error points at, when known.
-    pub fn line(&self) -> Option<usize> {
-        self.line
-    }
-
     /// The key path the error is about, when there is one.
     pub fn key(&self) -> Option<&str> {
         match &self.kind {

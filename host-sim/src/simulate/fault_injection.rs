@@ -1127,9 +1127,14 @@ mod tests {
             let want = if i == 31 || i == 32 { 30.0 } else { 0.0 };
             assert!((d - want).abs() < 1e-9, "sample {i}: {d}");
         }
-        // A spike after the end of the run touches nothing.
-        let (r, n) = applied("spike:joint=1:t=5:magnitude=30");
-        assert_eq!((n, r.phi_deg), (0, run().phi_deg));
+        // A spike after the end of the run would do nothing: refused, the
+        // run unchanged.
+        let mut r = run();
+        let late = "spike:joint=1:t=5:magnitude=30".parse().unwrap();
+        let e = apply(&mut r, &[late], 0).unwrap_err();
+        assert!(matches!(e, FaultError::AfterEnd { .. }), "{e}");
+        assert!(e.to_string().contains("after the run ends (1 s)"), "{e}");
+        assert_eq!(r, run());
     }
 
     #[test]
