@@ -3,34 +3,17 @@
 //! code 2, the file, line and key named, what is allowed) and never a panic,
 //! or, for what used to be refused or to abort, the right result.
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+use common::{data, deploywatch, fails, s, t01_mechanism, t01_run_text, write};
 
 use deploywatch_sim::data::run::Run;
 
-fn data() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../data")
-}
-
-fn t01_mechanism() -> PathBuf {
-    data().join("mechanisms/seed001_T01.toml")
-}
-
 fn t01_text() -> String {
     std::fs::read_to_string(t01_mechanism()).expect("bundled mechanism")
-}
-
-/// A measured-looking run of seed001 T01 (3 joints, 100 Hz) as CSV text.
-fn t01_run_text() -> String {
-    std::fs::read_to_string(data().join("examples/a_seed001_eft/seed001_T01.csv"))
-        .expect("bundled run")
-}
-
-fn deploywatch(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_deploywatch"))
-        .args(args)
-        .output()
-        .expect("run deploywatch")
 }
 
 fn stderr(out: &Output) -> String {
@@ -40,12 +23,7 @@ fn stderr(out: &Output) -> String {
 /// Asserts a clean input error: exit code 2, no panic, and stderr containing
 /// every one of `says`.
 fn refused(out: &Output, says: &[&str]) {
-    let err = stderr(out);
-    assert!(!err.contains("panicked"), "panic:\n{err}");
-    assert_eq!(out.status.code(), Some(2), "exit code; stderr:\n{err}");
-    for s in says {
-        assert!(err.contains(s), "stderr lacks {s:?}:\n{err}");
-    }
+    fails(out, 2, says);
 }
 
 /// Asserts success, no panic.
@@ -53,16 +31,6 @@ fn succeeded(out: &Output) {
     let err = stderr(out);
     assert!(!err.contains("panicked"), "panic:\n{err}");
     assert_eq!(out.status.code(), Some(0), "exit code; stderr:\n{err}");
-}
-
-fn write(dir: &Path, name: &str, text: impl AsRef<[u8]>) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).expect("write test file");
-    p
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().expect("utf-8 path")
 }
 
 /// The 1-based line of the first line of `text` containing `needle`.
@@ -115,26 +83,30 @@ fn effect_values_that_change_what_the_effect_is_are_refused() {
 }
 
 #[test]
-fn a_centre_of_mass_beyond_the_panel_is_refused_with_file_line_and_key() {
+fn mechanism_values_no_panel_can_have_are_refused_with_file_line_and_key() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let text = t01_text().replacen("com_m = 0.4", "com_m = 0.9", 1);
-    let (out, _) = simulate(dir.path(), &text, &[]);
-    let toml = dir.path().join("m.toml");
-    let at = format!("{}:{}:", toml.display(), line_of(&text, "com_m = 0.9"));
-    refused(
-        &out,
-        &[&at, "panel[1].com_m", "0 to length_m = 0.8", "found 0.9"],
-    );
-}
-
-#[test]
-fn a_stowed_angle_beyond_one_turn_is_refused_with_file_line_and_key() {
-    let dir = tempfile::tempdir().expect("temp dir");
-    let text = t01_text().replacen("stowed_deg = -90.0", "stowed_deg = -450.0", 1);
-    let (out, _) = simulate(dir.path(), &text, &[]);
-    let toml = dir.path().join("m.toml");
-    let at = format!("{}:{}:", toml.display(), line_of(&text, "-450.0"));
-    refused(&out, &[&at, "joint[1].stowed_deg", "±360", "found -450.0"]);
+    for (from, to, says) in [
+        // A centre of mass beyond the panel.
+        (
+            "com_m = 0.4",
+            "com_m = 0.9",
+            ["panel[1].com_m", "0 to length_m = 0.8", "found 0.9"],
+        ),
+        // A hinge folded more than one turn.
+        (
+            "stowed_deg = -90.0",
+            "stowed_deg = -450.0",
+            ["joint[1].stowed_deg", "±360", "found -450.0"],
+        ),
+    ] {
+        let text = t01_text().replacen(from, to, 1);
+        let (out, _) = simulate(dir.path(), &text, &[]);
+        let toml = dir.path().join("m.toml");
+        let at = format!("{}:{}:", toml.display(), line_of(&text, to));
+        let mut all = vec![at.as_str()];
+        all.extend(says);
+        refused(&out, &all);
+    }
 }
 
 #[test]

@@ -7,8 +7,11 @@
 //!
 //! The command-line tests run the `deploywatch` binary as a black box.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+
+use std::path::Path;
+
+use common::{data, deploywatch, fails, s, t01_mechanism, t01_run_text, write};
 
 use deploywatch_sim::data::run::{
     check_analysable, ReadOptions, Run, RunErrorKind, MAX_ANGLE_DEG, MISSING_SAMPLES_KEY,
@@ -17,49 +20,6 @@ use deploywatch_sim::model::mechanism::Mechanism;
 use deploywatch_sim::simulate::deployment::{simulate, SimOptions};
 use deploywatch_sim::simulate::fault_injection::{self, SensorFault};
 use deploywatch_sim::simulate::sensor::{measure, SensorModel};
-
-fn data() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../data")
-}
-
-fn t01_mechanism() -> PathBuf {
-    data().join("mechanisms/seed001_T01.toml")
-}
-
-/// A measured-looking run of seed001 T01 (3 joints, 100 Hz) as CSV text.
-fn t01_run_text() -> String {
-    std::fs::read_to_string(data().join("examples/a_seed001_eft/seed001_T01.csv"))
-        .expect("bundled run")
-}
-
-fn deploywatch(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_deploywatch"))
-        .args(args)
-        .output()
-        .expect("run deploywatch")
-}
-
-/// Asserts a clean failure: exit code `code`, no panic, and stderr
-/// containing every one of `says`. Returns stderr.
-fn fails(out: &Output, code: i32, says: &[&str]) -> String {
-    let err = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!err.contains("panicked at"), "panic:\n{err}");
-    assert_eq!(out.status.code(), Some(code), "exit code; stderr:\n{err}");
-    for s in says {
-        assert!(err.contains(s), "stderr lacks {s:?}:\n{err}");
-    }
-    err
-}
-
-fn write(dir: &Path, name: &str, text: impl AsRef<[u8]>) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).expect("write test file");
-    p
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().expect("utf-8 path")
-}
 
 /// `diagnose` and `identify` on one run of seed001 T01: both must refuse it
 /// with exit code 2 and the same message parts.

@@ -177,7 +177,7 @@ pub enum RunErrorKind {
     },
     /// A column whose name the format does not know, where the header for
     /// the joint count the file seems to have expects another one.
-    #[error("unknown column `{column}` (column {position}): expected `{expected}` there; expected the header `{expected_header}` (for {joints} joint(s))")]
+    #[error("unknown column `{column}` (column {position}): expected `{expected}` there; expected the header `{}` (for {joints} joint(s))", run_header(*joints))]
     UnknownColumn {
         /// The unknown column's name.
         column: String,
@@ -187,8 +187,6 @@ pub enum RunErrorKind {
         expected: String,
         /// The joint count the header seems to be for.
         joints: usize,
-        /// The complete header expected for that joint count.
-        expected_header: String,
     },
     /// The same column twice.
     #[error("column `{column}` appears twice (columns {first} and {position}); expected each column once")]
@@ -201,7 +199,7 @@ pub enum RunErrorKind {
         position: usize,
     },
     /// All columns are there but not in the required order.
-    #[error("wrong column order: column {position} is `{found}`, expected `{expected}` (header `{expected_header}`)")]
+    #[error("wrong column order: column {position} is `{found}`, expected `{expected}` (header `{}`)", run_header(*joints))]
     ColumnOrder {
         /// 1-based position of the first misplaced column.
         position: usize,
@@ -209,8 +207,8 @@ pub enum RunErrorKind {
         found: String,
         /// The column expected there.
         expected: String,
-        /// The complete header expected.
-        expected_header: String,
+        /// The joint count of the header.
+        joints: usize,
     },
     /// More than [`MAX_JOINTS`] joints.
     #[error("{found} joints in the header; expected 1 to {MAX_JOINTS}")]
@@ -743,7 +741,6 @@ impl Run {
                     position: i + 1,
                     expected: want.clone(),
                     joints: n,
-                    expected_header: expected_header.clone(),
                 },
                 (Col::Other, None) => RunErrorKind::ExtraColumn {
                     column: shorten(names[i]),
@@ -782,7 +779,7 @@ impl Run {
                         position: i + 1,
                         found: name.to_string(),
                         expected: want.clone(),
-                        expected_header,
+                        joints: n,
                     },
                 ));
             }
