@@ -67,6 +67,25 @@ fn a_huge_duration_simulates_until_the_wing_latched_with_memory_for_what_is_simu
 }
 
 #[test]
+fn a_huge_duration_to_be_written_whole_is_refused_before_the_work() {
+    // GIVEN `duration_s = 1e9` and a fault (which makes the run go on to
+    // duration_s)
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = t01_text().replace("duration_s = 6.0", "duration_s = 1e9");
+    let fault = "dropout:joint=1:start=0.5:duration=0.1";
+    let (out, csv) = simulate(dir.path(), &text, &["--fault", fault]);
+    // THEN a clear error, not an allocation failure
+    let err = stderr(&out);
+    assert!(!err.contains("panicked") && !err.contains("memory allocation"));
+    assert!(matches!(out.status.code(), Some(1 | 2)), "{err}");
+    assert!(
+        err.contains("samples") && err.contains("duration_s"),
+        "{err}"
+    );
+    assert!(!csv.exists());
+}
+
+#[test]
 fn effect_values_that_change_what_the_effect_is_are_refused() {
     let dir = tempfile::tempdir().expect("temp dir");
     for (effect, allowed) in [

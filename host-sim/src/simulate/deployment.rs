@@ -147,10 +147,10 @@ pub enum SimError {
 /// takes under 2,000).
 pub const MAX_STEPS: usize = 1_000_000;
 
-/// Most samples of one simulated run: 10⁷, a day at 100 Hz (a CSV of about
-/// half a gigabyte). Memory grows with the samples written, never with the
-/// duration asked for.
-pub const MAX_SAMPLES: usize = 10_000_000;
+/// Most samples of one simulated run: 10⁶, 2.8 hours at 100 Hz (deployments
+/// last seconds; a 3-joint trajectory of 10⁶ samples takes about 60 MB).
+/// Memory grows with the samples written, never with the duration asked for.
+pub const MAX_SAMPLES: usize = 1_000_000;
 
 /// Most branch events one joint may have within 1 ms before the simulation
 /// is declared to slide on `φ̇ = 0`.
@@ -179,6 +179,10 @@ pub fn simulate(
     } else {
         usize::MAX
     };
+    if count > MAX_SAMPLES && !opts.stop_when_deployed {
+        // The whole duration would be written: refuse before the work.
+        return Err(SimError::TooManySamples { t_s: duration });
+    }
     let times = Samples::Grid {
         rate_hz: rate,
         count,
