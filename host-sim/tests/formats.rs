@@ -1168,3 +1168,21 @@ fn mutated_inputs_are_accepted_or_rejected_with_a_located_error_never_a_panic() 
     // The mutations do break most files.
     assert!(rejected.0 > 1000 && rejected.1 > 1000, "{rejected:?}");
 }
+
+#[test]
+fn run_settle_s_defaults_to_two_tenths_is_read_checked_and_written_back() {
+    use deploywatch_sim::model::mechanism_toml::DEFAULT_SETTLE_S;
+    let m = Mechanism::from_toml_str(&t01_text(), "t01.toml").expect("T01");
+    assert_eq!(m.settle_s, DEFAULT_SETTLE_S);
+    assert_eq!(DEFAULT_SETTLE_S, 0.2);
+    let text = t01_with("sample_hz = 100.0", "sample_hz = 100.0\nsettle_s = 0.0");
+    let m = Mechanism::from_toml_str(&text, "t01.toml").expect("settle_s = 0");
+    assert_eq!(m.settle_s, 0.0);
+    let back = Mechanism::from_toml_str(&m.to_toml_string(), "back.toml").expect("written");
+    assert_eq!(back, m);
+    let text = t01_with("sample_hz = 100.0", "sample_hz = 100.0\nsettle_s = -1");
+    let e = bad_mech(&text);
+    assert_eq!(e.line, Some(line_of(&text, "settle_s")));
+    assert_eq!(e.key(), Some("run.settle_s"));
+    assert!(e.to_string().contains("a finite number ≥ 0 [s]"), "{e}");
+}
