@@ -619,6 +619,23 @@ impl<'t> RowReader<'_, 't> {
     }
 }
 
+/// What is wrong with an angle of a run in memory, `None` for nothing: it
+/// must be finite and within ±[`MAX_ANGLE_DEG`], or `NaN` where missing
+/// samples are declared.
+fn angle_problem(phi: f64, declares_missing: bool) -> Option<String> {
+    if phi.is_nan() && declares_missing {
+        None
+    } else if !phi.is_finite() {
+        Some(format!("{phi}; expected a finite angle"))
+    } else if phi.abs() > MAX_ANGLE_DEG {
+        Some(format!(
+            "{phi}; expected an angle within ±{MAX_ANGLE_DEG} deg"
+        ))
+    } else {
+        None
+    }
+}
+
 /// What [`RunErrorKind::BadNumber`] adds for a `NaN` angle in a file that
 /// does not declare missing samples.
 const MISSING_HINT: &str = "; a missing reading may be written `NaN` only in a file that declares it: add the line `# missing_samples = \"NaN\"` before the header (docs/spec/formats.md)";
@@ -854,21 +871,10 @@ impl Run {
                     )));
                 }
             }
-            for j in 0..n {
-                let phi = self.phi_deg[j][i];
-                if phi.is_nan() && declares_missing {
-                    continue;
-                }
-                if !phi.is_finite() {
+            for (j, series) in self.phi_deg.iter().enumerate() {
+                if let Some(what) = angle_problem(series[i], declares_missing) {
                     return Err(invalid(format!(
-                        "sample {}: phi{}_deg = {phi}; expected a finite angle",
-                        i + 1,
-                        j + 1
-                    )));
-                }
-                if phi.abs() > MAX_ANGLE_DEG {
-                    return Err(invalid(format!(
-                        "sample {}: phi{}_deg = {phi}; expected an angle within ±{MAX_ANGLE_DEG} deg",
+                        "sample {}: phi{}_deg = {what}",
                         i + 1,
                         j + 1
                     )));

@@ -852,25 +852,10 @@ impl Cx<'_> {
             ));
         }
 
-        let (mut duration_s, mut sample_hz) = (DEFAULT_DURATION_S, DEFAULT_SAMPLE_HZ);
-        let mut settle_s = DEFAULT_SETTLE_S;
-        if let Some(sp) = top.get("run") {
-            let run = self.table(sp, "run", RUN_KEYS)?;
-            if let Some(d) = self.opt_number(&run, "duration_s", Bound::Positive, "s")? {
-                duration_s = d;
-            }
-            if let Some(d) = self.opt_number(&run, "settle_s", Bound::NonNegative, "s")? {
-                settle_s = d;
-            }
-            if let Some(sp) = run.get("sample_hz") {
-                let key = run.key("sample_hz");
-                let hz = self.number(sp, &key, Bound::Positive, "Hz")?;
-                if hz > MAX_SAMPLE_HZ {
-                    return Err(self.invalid(sp, &key, "a finite number > 0 and ≤ 1e6 [Hz]"));
-                }
-                sample_hz = hz;
-            }
-        }
+        let (duration_s, sample_hz, settle_s) = match top.get("run") {
+            Some(sp) => self.run_settings(sp)?,
+            None => (DEFAULT_DURATION_S, DEFAULT_SAMPLE_HZ, DEFAULT_SETTLE_S),
+        };
 
         Ok(Mechanism {
             name,
@@ -881,6 +866,26 @@ impl Cx<'_> {
             sample_hz,
             settle_s,
         })
+    }
+
+    /// `[run]`: `(duration_s, sample_hz, settle_s)`, each defaulted on its own.
+    fn run_settings(&self, sp: &Sp) -> Res<(f64, f64, f64)> {
+        let run = self.table(sp, "run", RUN_KEYS)?;
+        let duration_s = self.opt_number(&run, "duration_s", Bound::Positive, "s")?;
+        let settle_s = self.opt_number(&run, "settle_s", Bound::NonNegative, "s")?;
+        let mut sample_hz = DEFAULT_SAMPLE_HZ;
+        if let Some(sp) = run.get("sample_hz") {
+            let key = run.key("sample_hz");
+            sample_hz = self.number(sp, &key, Bound::Positive, "Hz")?;
+            if sample_hz > MAX_SAMPLE_HZ {
+                return Err(self.invalid(sp, &key, "a finite number > 0 and ≤ 1e6 [Hz]"));
+            }
+        }
+        Ok((
+            duration_s.unwrap_or(DEFAULT_DURATION_S),
+            sample_hz,
+            settle_s.unwrap_or(DEFAULT_SETTLE_S),
+        ))
     }
 
     /// `[[key]]`: an array of tables (`key = [{...}, ...]` is the same in TOML).
@@ -970,75 +975,9 @@ impl Cx<'_> {
             }
         };
         let spec = match kind.1 {
-            "linear" => {
-                let t = self.table(sp, path, LINEAR_KEYS)?;
-                SpringSpec::Linear {
-                    preload_nm: self.req_number(&t, "preload_nm", Bound::NonNegative, "N·m")?,
-                    stiffness_nm_per_rad: self.req_number(
-                        &t,
-                        "stiffness_nm_per_rad",
-                        Bound::NonNegative,
-                        "N·m/rad",
-                    )?,
-                    count: self.count(&t)?,
-                }
-            }
-            "tape" => {
-                let t = self.table(sp, path, TAPE_SPRING_KEYS)?;
-                let Some(ty) = t.get("type") else {
-                    return Err(self.missing(&t, "type", "the name of a [tape.\"NAME\"] table"));
-                };
-                let type_key = t.key("type");
-                let type_name = self.string(ty, &type_key)?;
-                let Some((_, points)) = tapes.iter().find(|(n, _)| n == type_name) else {
-                    return Err(self.err(
-                        self.line(ty),
-                        MechanismErrorKind::UnknownTapeType {
-                            key: type_key,
-                            found: type_name.to_string(),
-                            defined: tapes.iter().map(|(n, _)| n.clone()).collect(),
-                        },
-                    ));
-                };
-                SpringSpec::Tape {
-                    type_name: type_name.to_string(),
-                    points: *points,
-                    count: self.count(&t)?,
-                }
-            }
-            "curve" => {
-                let t = self.table(sp, path, CURVE_KEYS)?;
-                let interp = match t.get("interp") {
-                    None => Interp::Akima,
-                    Some(i) => match self.string(i, &t.key("interp"))? {
-                        "akima" => Interp::Akima,
-                        "linear" => Interp::Linear,
-                        _ => {
-                            return Err(self.invalid(
-                                i,
-                                &t.key("interp"),
-                                "\"akima\" or \"linear\"",
-                            ))
-                        }
-                    },
-                };
-                let unfold = match t.get("unfold") {
-                    Some(u) => self.curve(u, &t.key("unfold"), interp)?,
-                    None => {
-                        return Err(self.missing(&t, "unfold", "an array of [deg, N·m] points"))
-                    }
-                };
-                let fold = t
-                    .get("fold")
-                    .map(|f| self.curve(f, &t.key("fold"), interp))
-                    .transpose()?;
-                SpringSpec::Curve {
-                    unfold,
-                    fold,
-                    interp,
-                    count: self.count(&t)?,
-                }
-            }
+            "linear" => self.linear_spring(&self.table(sp, path, LINEAR_KEYS)?)?,
+            "tape" => self.tape_spring(&self.table(sp, path, TAPE_SPRING_KEYS)?, tapes)?,
+            "curve" => self.curve_spring(&self.table(sp, path, CURVE_KEYS)?)?,
             other => {
                 return Err(self.err(
                     self.line(kind.0),
@@ -1062,6 +1001,66 @@ impl Cx<'_> {
             )
         })?;
         Ok(spec)
+    }
+
+    /// `kind = "linear"`: `preload_nm`, `stiffness_nm_per_rad`, `count`.
+    fn linear_spring(&self, t: &Table<'_>) -> Res<SpringSpec> {
+        let stiffness = "stiffness_nm_per_rad";
+        Ok(SpringSpec::Linear {
+            preload_nm: self.req_number(t, "preload_nm", Bound::NonNegative, "N·m")?,
+            stiffness_nm_per_rad: self.req_number(t, stiffness, Bound::NonNegative, "N·m/rad")?,
+            count: self.count(t)?,
+        })
+    }
+
+    /// `kind = "tape"`: a `type` defined by a `[tape."NAME"]` table, `count`.
+    fn tape_spring(&self, t: &Table<'_>, tapes: &[(String, TapePoints<f64>)]) -> Res<SpringSpec> {
+        let Some(ty) = t.get("type") else {
+            return Err(self.missing(t, "type", "the name of a [tape.\"NAME\"] table"));
+        };
+        let type_key = t.key("type");
+        let type_name = self.string(ty, &type_key)?;
+        let Some((_, points)) = tapes.iter().find(|(n, _)| n == type_name) else {
+            return Err(self.err(
+                self.line(ty),
+                MechanismErrorKind::UnknownTapeType {
+                    key: type_key,
+                    found: type_name.to_string(),
+                    defined: tapes.iter().map(|(n, _)| n.clone()).collect(),
+                },
+            ));
+        };
+        Ok(SpringSpec::Tape {
+            type_name: type_name.to_string(),
+            points: *points,
+            count: self.count(t)?,
+        })
+    }
+
+    /// `kind = "curve"`: `unfold`, optional `fold` and `interp`, `count`.
+    fn curve_spring(&self, t: &Table<'_>) -> Res<SpringSpec> {
+        let interp = match t.get("interp") {
+            None => Interp::Akima,
+            Some(i) => match self.string(i, &t.key("interp"))? {
+                "akima" => Interp::Akima,
+                "linear" => Interp::Linear,
+                _ => return Err(self.invalid(i, &t.key("interp"), "\"akima\" or \"linear\"")),
+            },
+        };
+        let unfold = match t.get("unfold") {
+            Some(u) => self.curve(u, &t.key("unfold"), interp)?,
+            None => return Err(self.missing(t, "unfold", "an array of [deg, N·m] points")),
+        };
+        let fold = t
+            .get("fold")
+            .map(|f| self.curve(f, &t.key("fold"), interp))
+            .transpose()?;
+        Ok(SpringSpec::Curve {
+            unfold,
+            fold,
+            interp,
+            count: self.count(t)?,
+        })
     }
 
     /// `[[deg, N·m], ...]`, checked by the core.

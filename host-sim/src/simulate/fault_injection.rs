@@ -216,22 +216,6 @@ impl SensorFault {
     /// `joints` joints. The message says what was expected.
     pub fn validate(&self, joints: usize) -> Result<(), FaultError> {
         let kind = self.kind();
-        let bad = |key: &'static str, value: f64, expected: &str| FaultError::BadParameter {
-            kind,
-            key,
-            value: value.to_string(),
-            expected: expected.to_string(),
-        };
-        let time = |key, v: f64| {
-            let ok = v.is_finite() && v >= 0.0;
-            ok.then_some(())
-                .ok_or_else(|| bad(key, v, "a time in seconds, 0 or more"))
-        };
-        let length = |key, v: f64| {
-            let ok = v.is_finite() && v > 0.0;
-            ok.then_some(())
-                .ok_or_else(|| bad(key, v, "a positive duration in seconds"))
-        };
         if let Some(joint) = self.joint().filter(|&j| j == 0 || j > joints) {
             return Err(FaultError::NoSuchJoint {
                 kind,
@@ -239,6 +223,9 @@ impl SensorFault {
                 joints,
             });
         }
+        let p = Params { kind };
+        let seconds = "a time in seconds, 0 or more";
+        let positive_s = "a positive duration in seconds";
         match *self {
             SensorFault::Dropout {
                 start_s,
@@ -249,8 +236,8 @@ impl SensorFault {
                 start_s,
                 duration_s,
             } => {
-                time("start", start_s)?;
-                length("duration", duration_s)
+                p.check("start", start_s, start_s >= 0.0, seconds)?;
+                p.check("duration", duration_s, duration_s > 0.0, positive_s)
             }
             SensorFault::Spike {
                 t_s,
@@ -258,60 +245,70 @@ impl SensorFault {
                 samples,
                 ..
             } => {
-                time("t", t_s)?;
-                if !(magnitude_deg.is_finite() && magnitude_deg.abs() <= 2.0 * MAX_ANGLE_DEG) {
-                    let expected =
-                        format!("a finite angle in degrees within ±{}", 2.0 * MAX_ANGLE_DEG);
-                    return Err(bad("magnitude", magnitude_deg, &expected));
-                }
-                if samples == 0 {
-                    return Err(bad("samples", 0.0, "1 or more samples"));
-                }
-                Ok(())
+                p.check("t", t_s, t_s >= 0.0, seconds)?;
+                let max = 2.0 * MAX_ANGLE_DEG;
+                let within = format!("a finite angle in degrees within ±{max}");
+                p.check(
+                    "magnitude",
+                    magnitude_deg,
+                    magnitude_deg.abs() <= max,
+                    &within,
+                )?;
+                p.check("samples", samples as f64, samples > 0, "1 or more samples")
             }
             SensorFault::StuckAt {
                 start_s, value_deg, ..
             } => {
-                time("start", start_s)?;
-                match value_deg {
-                    Some(v) if !(v.is_finite() && v.abs() <= MAX_ANGLE_DEG) => Err(bad(
-                        "value",
-                        v,
-                        &format!(
-                            "an angle in degrees within ±{MAX_ANGLE_DEG} (what a run file holds)"
-                        ),
-                    )),
-                    _ => Ok(()),
-                }
+                p.check("start", start_s, start_s >= 0.0, seconds)?;
+                let v = value_deg.unwrap_or(0.0);
+                let within =
+                    format!("an angle in degrees within ±{MAX_ANGLE_DEG} (what a run file holds)");
+                p.check("value", v, v.abs() <= MAX_ANGLE_DEG, &within)
             }
             SensorFault::ParityError { rate, bits, .. } => {
-                if !(0.0..=1.0).contains(&rate) {
-                    return Err(bad("rate", rate, "a fraction of the samples from 0 to 1"));
-                }
-                if !(1..=4).contains(&bits) {
-                    let expected = "1 to 4 flipped bits per corrupted word";
-                    return Err(bad("bits", f64::from(bits), expected));
-                }
-                Ok(())
+                let fraction = "a fraction of the samples from 0 to 1";
+                p.check("rate", rate, (0.0..=1.0).contains(&rate), fraction)?;
+                let flips = "1 to 4 flipped bits per corrupted word";
+                p.check("bits", f64::from(bits), (1..=4).contains(&bits), flips)
             }
             SensorFault::SwitchChatter { bounce_s, .. } => {
-                if bounce_s.is_finite() && bounce_s > 0.0 && bounce_s <= MAX_BOUNCE_S + TIME_EPS_S {
-                    Ok(())
-                } else {
-                    let expected =
-                        format!("a bounce time in seconds, more than 0 and at most {MAX_BOUNCE_S}");
-                    Err(bad("bounce", bounce_s, &expected))
-                }
+                let ok = bounce_s > 0.0 && bounce_s <= MAX_BOUNCE_S + TIME_EPS_S;
+                let expected =
+                    format!("a bounce time in seconds, more than 0 and at most {MAX_BOUNCE_S}");
+                p.check("bounce", bounce_s, ok, &expected)
             }
             SensorFault::SwitchStuck { .. } => Ok(()),
             SensorFault::TimeJitter { sigma_s } => {
-                if sigma_s.is_finite() && sigma_s > 0.0 {
-                    Ok(())
-                } else {
-                    let expected = "a positive standard deviation in seconds";
-                    Err(bad("sigma", sigma_s, expected))
-                }
+                let expected = "a positive standard deviation in seconds";
+                p.check("sigma", sigma_s, sigma_s > 0.0, expected)
             }
+        }
+    }
+}
+
+/// The parameter checks of one fault kind.
+struct Params {
+    kind: &'static str,
+}
+
+impl Params {
+    /// `key = value` must be finite and `ok`; the error says `expected`.
+    fn check(
+        &self,
+        key: &'static str,
+        value: f64,
+        ok: bool,
+        expected: &str,
+    ) -> Result<(), FaultError> {
+        if value.is_finite() && ok {
+            Ok(())
+        } else {
+            Err(FaultError::BadParameter {
+                kind: self.kind,
+                key,
+                value: value.to_string(),
+                expected: expected.to_string(),
+            })
         }
     }
 }
