@@ -619,6 +619,31 @@ impl<'t> RowReader<'_, 't> {
     }
 }
 
+/// The first column of a header of `n` joints that the format does not
+/// know there: an unknown name (told with the column expected at its place,
+/// or as extra past the end), or a latch column beyond the joints.
+fn unknown_column(cols: &[Col], names: &[&str], n: usize) -> Option<RunErrorKind> {
+    let expected = run_columns(n);
+    cols.iter().enumerate().find_map(|(i, c)| {
+        let extra = || RunErrorKind::ExtraColumn {
+            column: shorten(names[i]),
+            position: i + 1,
+            expected_header: run_header(n),
+        };
+        match (*c, expected.get(i)) {
+            (Col::Other, Some(want)) => Some(RunErrorKind::UnknownColumn {
+                column: shorten(names[i]),
+                position: i + 1,
+                expected: want.clone(),
+                joints: n,
+            }),
+            (Col::Other, None) => Some(extra()),
+            (Col::Latch(j), _) if j > n => Some(extra()),
+            _ => None,
+        }
+    })
+}
+
 /// What is wrong with an angle of a run in memory, `None` for nothing: it
 /// must be finite and within ±[`MAX_ANGLE_DEG`], or `NaN` where missing
 /// samples are declared.
@@ -751,26 +776,7 @@ impl Run {
                 return Err(RunError::at(file, line, kind));
             }
         }
-        for (i, c) in cols.iter().enumerate() {
-            let kind = match (*c, expected.get(i)) {
-                (Col::Other, Some(want)) => RunErrorKind::UnknownColumn {
-                    column: shorten(names[i]),
-                    position: i + 1,
-                    expected: want.clone(),
-                    joints: n,
-                },
-                (Col::Other, None) => RunErrorKind::ExtraColumn {
-                    column: shorten(names[i]),
-                    position: i + 1,
-                    expected_header: expected_header.clone(),
-                },
-                (Col::Latch(j), _) if j > n => RunErrorKind::ExtraColumn {
-                    column: shorten(names[i]),
-                    position: i + 1,
-                    expected_header: expected_header.clone(),
-                },
-                _ => continue,
-            };
+        if let Some(kind) = unknown_column(&cols, names, n) {
             return Err(RunError::at(file, line, kind));
         }
         for want in &expected {

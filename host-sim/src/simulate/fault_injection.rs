@@ -521,76 +521,62 @@ impl FromStr for SensorFault {
                 text: text(),
             });
         };
-        let given = fault_keys(kind, parts, s)?;
-        let get = |k: &str| given.iter().find(|(g, _)| *g == k).map(|(_, v)| *v);
-        let bad = |key: &'static str, expected| FaultError::BadValue {
-            key,
-            value: get(key).unwrap_or("").to_string(),
-            expected,
-            text: text(),
+        let a = FaultArgs {
+            given: fault_keys(kind, parts, s)?,
+            text: s,
         };
-        let num = |k: &'static str| match get(k).unwrap_or("").parse::<f64>() {
-            Ok(x) if x.is_finite() => Ok(x),
-            _ => Err(bad(k, "a finite number")),
-        };
-        let int = |k: &'static str, what| {
-            get(k)
-                .unwrap_or("")
-                .parse::<usize>()
-                .map_err(|_| bad(k, what))
-        };
-        let joint = || int("joint", "a joint number from 1");
+        let joint = || a.int("joint", "a joint number from 1");
         let fault = match kind {
             "dropout" => SensorFault::Dropout {
                 joint: joint()?,
-                start_s: num("start")?,
-                duration_s: num("duration")?,
-                mode: match get("mode").unwrap_or("missing") {
+                start_s: a.num("start")?,
+                duration_s: a.num("duration")?,
+                mode: match a.get("mode").unwrap_or("missing") {
                     "stale" => DropoutMode::Stale,
                     "missing" => DropoutMode::Missing,
-                    _ => return Err(bad("mode", "stale or missing")),
+                    _ => return Err(a.bad("mode", "stale or missing")),
                 },
             },
             "spike" => SensorFault::Spike {
                 joint: joint()?,
-                t_s: num("t")?,
-                magnitude_deg: num("magnitude")?,
-                samples: match get("samples") {
-                    Some(_) => int("samples", "a number of samples from 1")?,
+                t_s: a.num("t")?,
+                magnitude_deg: a.num("magnitude")?,
+                samples: match a.get("samples") {
+                    Some(_) => a.int("samples", "a number of samples from 1")?,
                     None => 1,
                 },
             },
             "stuck" => SensorFault::StuckAt {
                 joint: joint()?,
-                start_s: num("start")?,
-                value_deg: get("value").map(|_| num("value")).transpose()?,
+                start_s: a.num("start")?,
+                value_deg: a.get("value").map(|_| a.num("value")).transpose()?,
             },
             "parity" => SensorFault::ParityError {
                 joint: joint()?,
-                rate: num("rate")?,
-                bits: match get("bits") {
-                    Some(_) => int("bits", "1 to 4 flipped bits")? as u32,
+                rate: a.num("rate")?,
+                bits: match a.get("bits") {
+                    Some(_) => a.int("bits", "1 to 4 flipped bits")? as u32,
                     None => 1,
                 },
             },
             "chatter" => SensorFault::SwitchChatter {
                 joint: joint()?,
-                bounce_s: num("bounce")?,
+                bounce_s: a.num("bounce")?,
             },
             "switch_stuck" => SensorFault::SwitchStuck {
                 joint: joint()?,
-                closed: match get("state").unwrap_or("") {
+                closed: match a.get("state").unwrap_or("") {
                     "closed" => true,
                     "open" => false,
-                    _ => return Err(bad("state", "open or closed")),
+                    _ => return Err(a.bad("state", "open or closed")),
                 },
             },
             "jitter" => SensorFault::TimeJitter {
-                sigma_s: num("sigma")?,
+                sigma_s: a.num("sigma")?,
             },
             _ => SensorFault::TimeGap {
-                start_s: num("start")?,
-                duration_s: num("duration")?,
+                start_s: a.num("start")?,
+                duration_s: a.num("duration")?,
             },
         };
         // Parameters only: any joint from 1 passes here.
@@ -599,6 +585,43 @@ impl FromStr for SensorFault {
             source: Box::new(e),
         })?;
         Ok(fault)
+    }
+}
+
+/// The `key=value` parts of one `--fault` text, read as values.
+struct FaultArgs<'s> {
+    given: Vec<(&'s str, &'s str)>,
+    text: &'s str,
+}
+
+impl FaultArgs<'_> {
+    /// The value of `key`, if given.
+    fn get(&self, key: &str) -> Option<&str> {
+        self.given.iter().find(|(g, _)| *g == key).map(|(_, v)| *v)
+    }
+
+    /// `key`'s value is not `expected`.
+    fn bad(&self, key: &'static str, expected: &'static str) -> FaultError {
+        FaultError::BadValue {
+            key,
+            value: self.get(key).unwrap_or("").to_string(),
+            expected,
+            text: self.text.to_string(),
+        }
+    }
+
+    /// `key` as a finite number.
+    fn num(&self, key: &'static str) -> Result<f64, FaultError> {
+        match self.get(key).unwrap_or("").parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            _ => Err(self.bad(key, "a finite number")),
+        }
+    }
+
+    /// `key` as a non-negative integer (`what` says which).
+    fn int(&self, key: &'static str, what: &'static str) -> Result<usize, FaultError> {
+        let v = self.get(key).unwrap_or("");
+        v.parse::<usize>().map_err(|_| self.bad(key, what))
     }
 }
 
