@@ -20,23 +20,14 @@ pub const MAX_JOINTS: usize = 4;
 /// ```
 macro_rules! with_joints {
     ($joints:expr, $n:ident => $body:expr, else $other:expr) => {
+        $crate::model::mechanism::with_joints!(@arms $joints; $n; $body; $other; 1 2 3 4)
+    };
+    (@arms $joints:expr; $n:ident; $body:expr; $other:expr; $($k:literal)*) => {
         match $joints {
-            1 => {
-                const $n: usize = 1;
+            $($k => {
+                const $n: usize = $k;
                 $body
-            }
-            2 => {
-                const $n: usize = 2;
-                $body
-            }
-            3 => {
-                const $n: usize = 3;
-                $body
-            }
-            4 => {
-                const $n: usize = 4;
-                $body
-            }
+            })*
             _ => $other,
         }
     };
