@@ -349,8 +349,9 @@ impl<T: Real, const N: usize> Chain<T, N> {
             t *= T::ONE - e.spring_softening;
         }
         t += jt.friction.torque(phi_dot);
+        // `coulomb_friction` (physics.md 6): the EFT of the one friction law.
         if e.coulomb_nm != T::ZERO {
-            t -= e.coulomb_nm * (phi_dot / T::of(crate::friction::COULOMB_THRESHOLD_RAD_S)).tanh();
+            t += crate::friction::Friction::coulomb(e.coulomb_nm).torque(phi_dot);
         }
         t -= e.viscous_nms * phi_dot;
         t += e.harness_nm_per_rad * (jt.stowed_rad - phi);

@@ -14,6 +14,7 @@
 mod fmt;
 
 pub mod chain;
+pub mod encoder;
 pub mod faults;
 pub mod friction;
 #[cfg(feature = "hal")]
@@ -27,6 +28,7 @@ pub mod real;
 pub mod rollout;
 pub mod smoother;
 pub mod spring;
+pub mod standards;
 pub mod telemetry;
 
 pub use chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel};

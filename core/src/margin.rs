@@ -49,10 +49,11 @@
 //!      / (FS_coulomb T_C W_C + FS_viscous f W_v + max(−K_eff, 0)) − 1     [×100 %]
 //! ```
 //! over the whole remaining stroke `[x_c, x₀]`. The factors default to 1
-//! (a best estimate); `docs/monitor.md` lists the NASA-STD-5017 and
-//! ECSS-E-ST-33-01C categories they stand for.
+//! (a best estimate); the presets take the NASA-STD-5017 and ECSS-E-ST-33-01C
+//! factors from [`crate::standards`] (listed in `docs/margin.md`).
 
 use crate::spring::{Branch, Spring};
+use crate::standards;
 
 /// Steps of the energy march over the remaining stroke.
 pub const NODES: usize = 6;
@@ -85,24 +86,25 @@ impl UncertaintyFactors {
         viscous: 1.0,
     };
 
-    /// The factors commonly quoted for ECSS-E-ST-33-01C (Table 4-1, at the
-    /// design stage): spring 1.2, inertia 1.1, friction 3, viscous
-    /// (others) 3. Check against the issue of the standard that applies.
+    /// ECSS-E-ST-33-01C ([`crate::standards`]): the spring factor divides
+    /// the driving spring, inertia the kinetic energy, friction multiplies
+    /// both friction energies.
     pub const ECSS_E_ST_33_01C: Self = UncertaintyFactors {
-        spring: 1.2,
-        kinetic: 1.1,
-        coulomb: 3.0,
-        viscous: 3.0,
+        spring: standards::ECSS_E_ST_33_01C_SPRING as f32,
+        kinetic: standards::ECSS_E_ST_33_01C_INERTIA as f32,
+        coulomb: standards::ECSS_E_ST_33_01C_FRICTION as f32,
+        viscous: standards::ECSS_E_ST_33_01C_FRICTION as f32,
     };
 
-    /// The factors commonly quoted for NASA-STD-5017 (torque margin with
-    /// friction and other variable resistances at 1.5 once measured by
-    /// test, inertia 1.1). Check against the issue of the standard that applies.
+    /// NASA-STD-5017B ([`crate::standards`]): the driving spring
+    /// unfactored (the standard factors the resistances), inertia
+    /// ("acceleration") divides the kinetic energy, friction ("variable")
+    /// multiplies both friction energies.
     pub const NASA_STD_5017: Self = UncertaintyFactors {
         spring: 1.0,
-        kinetic: 1.1,
-        coulomb: 1.5,
-        viscous: 1.5,
+        kinetic: standards::NASA_STD_5017B_ACCELERATION as f32,
+        coulomb: standards::NASA_STD_5017B_VARIABLE as f32,
+        viscous: standards::NASA_STD_5017B_VARIABLE as f32,
     };
 
     /// True when every factor is finite and ≥ 1 is not required, only > 0.

@@ -202,7 +202,7 @@ impl Default for SensorConfig {
     fn default() -> Self {
         SensorConfig {
             encoder_sd_deg: 0.02,
-            encoder_step_deg: 360.0 / 16384.0,
+            encoder_step_deg: crate::encoder::STEP_DEG as f32,
             stuck_samples: 20,
         }
     }

@@ -19,7 +19,11 @@ fn data(p: &str) -> PathBuf {
 fn bench(c: &mut Criterion) {
     let mech = Mechanism::load(&data("mechanisms/seed001_T01.toml")).expect("bundled mechanism");
     let golden = Run::load(&data("reference/seed001_T01_nominal.csv")).expect("bundled golden run");
-    let opts = SimOptions::default();
+    // The golden files end at the last latch (formats.md: settle_s = 0).
+    let opts = SimOptions {
+        settle_s: Some(0.0),
+        ..SimOptions::default()
+    };
     // Accuracy at the benchmarked settings, on the golden 1 kHz grid.
     let fine = simulate(
         &mech,

@@ -29,8 +29,8 @@
 
 use embedded_hal::spi::SpiDevice;
 
-/// Counts per mechanical turn of the 14-bit angle.
-pub const COUNTS_PER_TURN: u16 = 1 << 14;
+pub use crate::encoder::COUNTS_PER_TURN;
+use crate::encoder::{FrameError, DATA_MASK};
 
 /// Register addresses (14 bits).
 pub mod reg {
@@ -48,10 +48,7 @@ pub mod reg {
     pub const ANGLECOM: u16 = 0x3FFF;
 }
 
-const PARITY_BIT: u16 = 1 << 15;
 const READ_BIT: u16 = 1 << 14;
-const ERROR_FLAG_BIT: u16 = 1 << 14;
-const DATA_MASK: u16 = 0x3FFF;
 
 /// Why an encoder reading failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -103,15 +100,7 @@ impl ErrorFlags {
     }
 }
 
-/// Sets bit 15 so that the 16-bit frame has even parity.
-const fn with_even_parity(frame: u16) -> u16 {
-    let low = frame & !PARITY_BIT;
-    if low.count_ones() & 1 == 1 {
-        low | PARITY_BIT
-    } else {
-        low
-    }
-}
+use crate::encoder::with_even_parity;
 
 /// The command frame that reads register `addr` (parity included).
 pub const fn read_command(addr: u16) -> u16 {
@@ -119,14 +108,12 @@ pub const fn read_command(addr: u16) -> u16 {
 }
 
 /// Checks an answer frame and returns its 14 data bits.
+/// ([`crate::encoder::check_answer`]).
 pub fn answer_data<E>(frame: u16) -> Result<u16, EncoderError<E>> {
-    if frame.count_ones() & 1 != 0 {
-        return Err(EncoderError::Parity);
-    }
-    if frame & ERROR_FLAG_BIT != 0 {
-        return Err(EncoderError::ErrorFlag);
-    }
-    Ok(frame & DATA_MASK)
+    crate::encoder::check_answer(frame).map_err(|e| match e {
+        FrameError::Parity => EncoderError::Parity,
+        FrameError::ErrorFlag => EncoderError::ErrorFlag,
+    })
 }
 
 /// Counts of the 14-bit angle to degrees, in [0, 360).
@@ -208,6 +195,7 @@ impl<SPI: SpiDevice> As5047p<SPI> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::encoder::ERROR_FLAG_BIT;
     use embedded_hal::spi::{ErrorKind, ErrorType, Operation};
     use embedded_hal_mock::eh1::spi::{Mock, Transaction};
 

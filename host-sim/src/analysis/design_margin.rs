@@ -33,6 +33,7 @@
 //! configuration, not as a quotation of the standards.
 
 use deploywatch_core::spring::{Branch, Spring};
+use deploywatch_core::standards;
 use std::fmt;
 use std::str::FromStr;
 
@@ -204,41 +205,29 @@ impl Standard {
         }
     }
 
-    /// The default uncertainty factors.
-    ///
-    /// - `None`: all 1.
-    /// - `NasaStd5017`: Rev B Table 1, initial sizing by theory or analysis:
-    ///   variable torques (friction, harness, hysteresis, adhesion, other)
-    ///   3.0, fixed/known torques (springs) 1.5, acceleration (inertia) 1.25.
-    ///   Taken from a secondary source that quotes Table 1 (values after
-    ///   development/qualification test 2.5 / 1.35 / 1.15, after acceptance
-    ///   test at environmental extremes 2.0 / 1.25 / 1.10), not checked
-    ///   against the standard's text here. Mapping hysteresis, adhesion and
-    ///   "other" to "variable" is this project's choice.
-    /// - `EcssEST3301C`: inertia 1.1, spring 1.2, friction 3, hysteresis 3,
-    ///   harness 3, adhesion 3, other forces 3, recalled from the standard's
-    ///   table of minimum uncertainty factors and **not confirmed** from its
-    ///   text (some summaries give 1.5 for hysteresis).
+    /// The default uncertainty factors: all 1 for `None`, otherwise the
+    /// standard's row in [`deploywatch_core::standards`] (the one source,
+    /// with the provenance of each value; `docs/margin.md` lists them).
     pub fn factors(self) -> Factors {
         match self {
             Standard::None => Factors::UNITY,
             Standard::NasaStd5017 => Factors {
-                inertia: 1.25,
-                spring: 1.5,
-                friction: 3.0,
-                hysteresis: 3.0,
-                harness: 3.0,
-                adhesion: 3.0,
-                other: 3.0,
+                inertia: standards::NASA_STD_5017B_ACCELERATION,
+                spring: standards::NASA_STD_5017B_FIXED,
+                friction: standards::NASA_STD_5017B_VARIABLE,
+                hysteresis: standards::NASA_STD_5017B_VARIABLE,
+                harness: standards::NASA_STD_5017B_VARIABLE,
+                adhesion: standards::NASA_STD_5017B_VARIABLE,
+                other: standards::NASA_STD_5017B_VARIABLE,
             },
             Standard::EcssEST3301C => Factors {
-                inertia: 1.1,
-                spring: 1.2,
-                friction: 3.0,
-                hysteresis: 3.0,
-                harness: 3.0,
-                adhesion: 3.0,
-                other: 3.0,
+                inertia: standards::ECSS_E_ST_33_01C_INERTIA,
+                spring: standards::ECSS_E_ST_33_01C_SPRING,
+                friction: standards::ECSS_E_ST_33_01C_FRICTION,
+                hysteresis: standards::ECSS_E_ST_33_01C_HYSTERESIS,
+                harness: standards::ECSS_E_ST_33_01C_HARNESS,
+                adhesion: standards::ECSS_E_ST_33_01C_ADHESION,
+                other: standards::ECSS_E_ST_33_01C_OTHER,
             },
         }
     }

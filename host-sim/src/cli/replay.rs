@@ -114,6 +114,8 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
 pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
     let run = replay::load_run(&args.run).map_err(cli_error)?;
+    crate::data::run::check_run_of(&mech, &run, &args.run.display().to_string())
+        .map_err(|e| CliError::input(e.to_string()))?;
     // Everything the QEMU target needs, and every output, is checked
     // before any work.
     let elf = qemu_elf(args, &mech)?;

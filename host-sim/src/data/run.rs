@@ -3,6 +3,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use crate::model::located::Located;
 use crate::model::mechanism::{Mechanism, MAX_JOINTS};
 
 /// Largest joint angle a run file may hold [deg], either sign: a hinge
@@ -89,19 +90,34 @@ impl Run {
 // ---------------------------------------------------------------------------
 // Reading and writing the run CSV.
 
-/// Why a run file was rejected, or a run could not be paired or written.
+/// Why a run file was rejected, or a run could not be paired or written:
+/// where (`file`, `line`) and what ([`RunErrorKind`]).
 ///
-/// Every variant names the file (`file`: the `source` given to [`Run::parse`]
-/// or the path given to [`Run::load`]). `line` is 1-based and counts every
-/// line of the file, metadata lines included.
+/// `file` is the `source` given to [`Run::parse`] or the path given to
+/// [`Run::load`]; `line` is 1-based and counts every line of the file,
+/// metadata lines included (`None` for what concerns the whole file).
+/// Displayed as `file:line: what was wrong; expected ...`.
+pub type RunError = Located<RunErrorKind>;
+
+impl RunError {
+    /// An error about line `line` of `file`.
+    fn at(file: &str, line: usize, kind: RunErrorKind) -> RunError {
+        Located::new(file, Some(line), kind)
+    }
+
+    /// An error about the whole of `file`.
+    fn whole(file: &str, kind: RunErrorKind) -> RunError {
+        Located::new(file, None, kind)
+    }
+}
+
+/// What was wrong with a run (the location is in [`RunError`]).
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
-pub enum RunError {
+pub enum RunErrorKind {
     /// The file could not be read or written.
-    #[error("{path}: {action} the run file: {source}")]
+    #[error("{action} the run file: {source}")]
     Io {
-        /// The path as given.
-        path: String,
         /// `"cannot read"` or `"cannot write"`.
         action: &'static str,
         /// The operating system's error.
@@ -109,66 +125,38 @@ pub enum RunError {
         source: std::io::Error,
     },
     /// The file ends before the header line.
-    #[error("{file}:{line}: expected a header line `t_s,phi1_deg,...,latch1,...`, found the end of the file")]
-    NoHeader {
-        /// The file.
-        file: String,
-        /// The line where the header was expected.
-        line: usize,
-    },
+    #[error("expected a header line `t_s,phi1_deg,...,latch1,...`, found the end of the file")]
+    NoHeader,
     /// The file has a header but no data row.
-    #[error(
-        "{file}:{line}: expected at least one data row after the header, found the end of the file"
-    )]
-    NoSamples {
-        /// The file.
-        file: String,
-        /// The line where the first row was expected.
-        line: usize,
-    },
+    #[error("expected at least one data row after the header, found the end of the file")]
+    NoSamples,
     /// A `#` line that is not `# key = "json string"`.
-    #[error("{file}:{line}: bad metadata line: expected {expected}, found `{found}`")]
+    #[error("bad metadata line: expected {expected}, found `{found}`")]
     BadMetadata {
-        /// The file.
-        file: String,
-        /// The line.
-        line: usize,
         /// What the line should look like.
         expected: String,
         /// The line (shortened).
         found: String,
     },
     /// The same metadata key twice.
-    #[error("{file}:{line}: metadata key `{key}` given twice (first on line {first}); expected each key once")]
+    #[error("metadata key `{key}` given twice (first on line {first}); expected each key once")]
     DuplicateMetadata {
-        /// The file.
-        file: String,
-        /// The line of the repeat.
-        line: usize,
         /// The key.
         key: String,
         /// The line where it was first given.
         first: usize,
     },
     /// A line that belongs nowhere: an empty line, or metadata after the header.
-    #[error("{file}:{line}: expected {expected}, found `{found}`")]
+    #[error("expected {expected}, found `{found}`")]
     BadLine {
-        /// The file.
-        file: String,
-        /// The line.
-        line: usize,
         /// What was expected there.
         expected: String,
         /// The line (shortened).
         found: String,
     },
     /// A column the header must have is absent.
-    #[error("{file}:{line}: missing column `{column}`; expected the header `{expected_header}`")]
+    #[error("missing column `{column}`; expected the header `{expected_header}`")]
     MissingColumn {
-        /// The file.
-        file: String,
-        /// The header's line.
-        line: usize,
         /// The missing column's name.
         column: String,
         /// The complete header expected for this number of joints.
@@ -176,12 +164,10 @@ pub enum RunError {
     },
     /// A column the header must not have (unknown name, or a latch column
     /// beyond the number of angle columns).
-    #[error("{file}:{line}: extra column `{column}` (column {position}); expected the header `{expected_header}`")]
+    #[error(
+        "extra column `{column}` (column {position}); expected the header `{expected_header}`"
+    )]
     ExtraColumn {
-        /// The file.
-        file: String,
-        /// The header's line.
-        line: usize,
         /// The extra column's name.
         column: String,
         /// Its 1-based position in the header.
@@ -189,13 +175,22 @@ pub enum RunError {
         /// The complete header expected.
         expected_header: String,
     },
+    /// A column whose name the format does not know, where the header for
+    /// the joint count the file seems to have expects another one.
+    #[error("unknown column `{column}` (column {position}): expected `{expected}` there; expected the header `{}` (for {joints} joint(s))", run_header(*joints))]
+    UnknownColumn {
+        /// The unknown column's name.
+        column: String,
+        /// Its 1-based position in the header.
+        position: usize,
+        /// The column expected at that position.
+        expected: String,
+        /// The joint count the header seems to be for.
+        joints: usize,
+    },
     /// The same column twice.
-    #[error("{file}:{line}: column `{column}` appears twice (columns {first} and {position}); expected each column once")]
+    #[error("column `{column}` appears twice (columns {first} and {position}); expected each column once")]
     DuplicateColumn {
-        /// The file.
-        file: String,
-        /// The header's line.
-        line: usize,
         /// The column's name.
         column: String,
         /// 1-based position of its first occurrence.
@@ -204,74 +199,55 @@ pub enum RunError {
         position: usize,
     },
     /// All columns are there but not in the required order.
-    #[error("{file}:{line}: wrong column order: column {position} is `{found}`, expected `{expected}` (header `{expected_header}`)")]
+    #[error("wrong column order: column {position} is `{found}`, expected `{expected}` (header `{}`)", run_header(*joints))]
     ColumnOrder {
-        /// The file.
-        file: String,
-        /// The header's line.
-        line: usize,
         /// 1-based position of the first misplaced column.
         position: usize,
         /// The column found there.
         found: String,
         /// The column expected there.
         expected: String,
-        /// The complete header expected.
-        expected_header: String,
+        /// The joint count of the header.
+        joints: usize,
     },
     /// More than [`MAX_JOINTS`] joints.
-    #[error("{file}:{line}: {found} joints in the header; expected 1 to {MAX_JOINTS}")]
+    #[error("{found} joints in the header; expected 1 to {MAX_JOINTS}")]
     TooManyJoints {
-        /// The file.
-        file: String,
-        /// The header's line.
-        line: usize,
         /// Number of `phi<j>_deg` (or `latch<j>`) columns.
         found: usize,
     },
     /// A data row with the wrong number of fields.
-    #[error("{file}:{line}: expected {expected} comma-separated fields (as in the header), found {found}")]
+    #[error("expected {expected} comma-separated fields (as in the header), found {found}")]
     FieldCount {
-        /// The file.
-        file: String,
-        /// The line.
-        line: usize,
         /// Number of header columns.
         expected: usize,
         /// Number of fields in the row.
         found: usize,
     },
     /// A field that is not a finite number (unparsable, NaN or infinite).
-    #[error("{file}:{line}: column `{column}`: expected a finite number, found `{found}`")]
+    #[error("column `{column}`: expected a finite number, found `{found}`{hint}")]
     BadNumber {
-        /// The file.
-        file: String,
-        /// The line.
-        line: usize,
         /// The column's name.
         column: String,
         /// The field (shortened).
         found: String,
+        /// More help, or empty: for `NaN` in an angle column of a file that
+        /// does not declare missing samples, how to declare them.
+        hint: &'static str,
     },
     /// `t_s` not strictly increasing.
-    #[error("{file}:{line}: column `t_s`: expected a time after {previous} s (strictly increasing), found {found} s")]
+    #[error(
+        "column `t_s`: expected a time after {previous} s (strictly increasing), found {found} s"
+    )]
     NonMonotonicTime {
-        /// The file.
-        file: String,
-        /// The line.
-        line: usize,
         /// The time of the row, as written.
         found: String,
         /// The time of the previous row, as written.
         previous: String,
     },
     /// An angle beyond ±[`MAX_ANGLE_DEG`].
-    #[error("{file}:{line}: column `{column}`: expected an angle within ±720 deg, found {found}")]
+    #[error("column `{column}`: expected an angle within ±720 deg, found {found}")]
     AngleRange {
-        /// The file.
-        file: String,
-        /// The line.
-        line: usize,
         /// The column's name.
         column: String,
         /// The field (shortened).
@@ -279,77 +255,56 @@ pub enum RunError {
     },
     /// A missing reading (`NaN`, which the file declares with
     /// `# missing_samples = "NaN"`) given to a reader that needs every angle.
-    #[error("{file}:{line}: column `{column}`: a missing sample (`NaN`, declared by the file's `# missing_samples` metadata), but this command needs every angle: expected a finite number")]
+    #[error("column `{column}`: a missing sample (`NaN`, declared by the file's `# missing_samples` metadata), but this command needs every angle: expected a finite number")]
     MissingSample {
-        /// The file.
-        file: String,
-        /// The line.
-        line: usize,
         /// The column's name.
         column: String,
     },
     /// A file that is not UTF-8 text.
-    #[error("{file}: not a text file (invalid UTF-8 at byte {offset}); expected a run CSV")]
+    #[error("not a text file (invalid UTF-8 at byte {offset}); expected a run CSV")]
     NotText {
-        /// The file.
-        file: String,
         /// Offset of the first invalid byte.
         offset: usize,
     },
     /// A latch field other than `0` or `1`.
-    #[error("{file}:{line}: column `{column}`: expected 0 or 1, found `{found}`")]
+    #[error("column `{column}`: expected 0 or 1, found `{found}`")]
     BadLatch {
-        /// The file.
-        file: String,
-        /// The line.
-        line: usize,
         /// The column's name.
         column: String,
         /// The field (shortened).
         found: String,
     },
     /// An in-memory run that the format cannot hold (on writing).
-    #[error("{file}: cannot write the run: {reason}")]
+    #[error("cannot write the run: {reason}")]
     Invalid {
-        /// The file it was to be written to.
-        file: String,
         /// What is wrong, for a person.
         reason: String,
     },
     /// Pairing: the run has no `mechanism` metadata.
-    #[error("{file}: no `# mechanism = \"NAME\"` metadata line; expected the name of the run's mechanism")]
-    NoMechanism {
-        /// The run file.
-        file: String,
-    },
+    #[error("no `# mechanism = \"NAME\"` metadata line; expected the name of the run's mechanism")]
+    NoMechanism,
     /// Pairing: no mechanism of the run's `mechanism` name was given.
     #[error(
-        "{file}: mechanism \"{name}\" (from the run's metadata) was not given; expected one of: {}",
+        "mechanism \"{name}\" (from the run's metadata) was not given; expected one of: {}",
         names_or_none(given)
     )]
     UnknownMechanism {
-        /// The run file.
-        file: String,
         /// The run's `mechanism` metadata.
         name: String,
         /// The names of the mechanisms given.
         given: Vec<String>,
     },
     /// Pairing: two different mechanisms of that name were given.
-    #[error("{file}: {count} different mechanisms named \"{name}\" were given; expected one")]
+    #[error("{count} different mechanisms named \"{name}\" were given; expected one")]
     AmbiguousMechanism {
-        /// The run file.
-        file: String,
         /// The name.
         name: String,
         /// How many mechanisms carry it.
         count: usize,
     },
     /// Analysis: no joint moves by [`MIN_MOTION_DEG`] or more over the run.
-    #[error("{file}: the run never moves (no joint's angle changes by more than {motion_deg:.3} deg over {duration_s:.3} s): nothing to analyse; expected a deployment, at least one joint moving by 1 deg or more (did the release fire, do the encoders read?)")]
+    #[error("the run never moves (no joint's angle changes by more than {motion_deg:.3} deg over {duration_s:.3} s): nothing to analyse; expected a deployment, at least one joint moving by 1 deg or more (did the release fire, do the encoders read?)")]
     NeverMoves {
-        /// The run file.
-        file: String,
         /// The largest change of any joint's angle [deg].
         motion_deg: f64,
         /// The run's length [s].
@@ -358,10 +313,8 @@ pub enum RunError {
     /// Analysis: the run stops before every joint latched and before its
     /// mechanism's `duration_s` (a truncated file, or a recording stopped
     /// early).
-    #[error("{file}: the run ends at {end_s} s with joint(s) {} not latched, before the mechanism's duration_s = {duration_s} s: truncated? expected a run to go on until every joint latched or to duration_s (docs/spec/formats.md)", joint_list(unlatched))]
+    #[error("the run ends at {end_s} s with joint(s) {} not latched, before the mechanism's duration_s = {duration_s} s: truncated? expected a run to go on until every joint latched or to duration_s (docs/spec/formats.md)", joint_list(unlatched))]
     EndsEarly {
-        /// The run file.
-        file: String,
         /// Time of the last sample [s].
         end_s: f64,
         /// The mechanism's `duration_s` [s].
@@ -370,10 +323,8 @@ pub enum RunError {
         unlatched: Vec<usize>,
     },
     /// Pairing: the run and its mechanism have different joint counts.
-    #[error("{file}: the run has {run_joints} joints but mechanism \"{mechanism}\" has {mechanism_joints}; expected equal joint counts")]
+    #[error("the run has {run_joints} joints but mechanism \"{mechanism}\" has {mechanism_joints}; expected equal joint counts")]
     JointCountMismatch {
-        /// The run file.
-        file: String,
         /// The mechanism's name.
         mechanism: String,
         /// Joints in the run.
@@ -381,31 +332,6 @@ pub enum RunError {
         /// Joints in the mechanism.
         mechanism_joints: usize,
     },
-}
-
-impl RunError {
-    /// The 1-based line the error points at, when there is one.
-    pub fn line(&self) -> Option<usize> {
-        match self {
-            RunError::NoHeader { line, .. }
-            | RunError::NoSamples { line, .. }
-            | RunError::BadMetadata { line, .. }
-            | RunError::DuplicateMetadata { line, .. }
-            | RunError::BadLine { line, .. }
-            | RunError::MissingColumn { line, .. }
-            | RunError::ExtraColumn { line, .. }
-            | RunError::DuplicateColumn { line, .. }
-            | RunError::ColumnOrder { line, .. }
-            | RunError::TooManyJoints { line, .. }
-            | RunError::FieldCount { line, .. }
-            | RunError::BadNumber { line, .. }
-            | RunError::NonMonotonicTime { line, .. }
-            | RunError::AngleRange { line, .. }
-            | RunError::MissingSample { line, .. }
-            | RunError::BadLatch { line, .. } => Some(*line),
-            _ => None,
-        }
-    }
 }
 
 fn joint_list(joints: &[usize]) -> String {
@@ -499,6 +425,246 @@ fn format_time(t: f64) -> String {
     s
 }
 
+/// Reads the `# key = "json string"` lines into `run.metadata` and returns
+/// the header line (its number and text) and the line of each metadata key.
+fn read_metadata<'t>(
+    run: &mut Run,
+    lines: &mut impl Iterator<Item = (usize, &'t str)>,
+    file: &str,
+) -> Result<(usize, &'t str, Vec<usize>), RunError> {
+    let mut meta_lines: Vec<usize> = Vec::new();
+    let mut last = 0;
+    for (n, line) in lines.by_ref() {
+        last = n;
+        let Some(rest) = line.strip_prefix('#') else {
+            return Ok((n, line, meta_lines));
+        };
+        let bad = |expected: &str| {
+            RunError::at(
+                file,
+                n,
+                RunErrorKind::BadMetadata {
+                    expected: expected.to_string(),
+                    found: shorten(line),
+                },
+            )
+        };
+        let Some((key, value)) = rest.split_once('=') else {
+            return Err(bad("`# key = \"json string\"`"));
+        };
+        let key = key.trim();
+        if !valid_meta_key(key) {
+            return Err(bad("`# key = \"json string\"` with a key without spaces"));
+        }
+        let value: String = serde_json::from_str(value.trim())
+            .map_err(|_| bad("`# key = \"json string\"` with the value a JSON string"))?;
+        if let Some(i) = run.metadata.iter().position(|(k, _)| k == key) {
+            let first = meta_lines[i];
+            let key = key.to_string();
+            return Err(RunError::at(
+                file,
+                n,
+                RunErrorKind::DuplicateMetadata { key, first },
+            ));
+        }
+        run.metadata.push((key.to_string(), value));
+        meta_lines.push(n);
+    }
+    Err(RunError::at(file, last + 1, RunErrorKind::NoHeader))
+}
+
+/// True when the run declares `# missing_samples = "NaN"`; an error for
+/// any other value of that key.
+fn declares_missing(run: &Run, meta_lines: &[usize], file: &str) -> Result<bool, RunError> {
+    match run.meta(MISSING_SAMPLES_KEY) {
+        None => Ok(false),
+        Some(MISSING_SAMPLES_VALUE) => Ok(true),
+        Some(other) => {
+            let i = run
+                .metadata
+                .iter()
+                .position(|(k, _)| k == MISSING_SAMPLES_KEY)
+                .unwrap_or(0);
+            Err(RunError::at(
+                file,
+                meta_lines.get(i).copied().unwrap_or(1),
+                RunErrorKind::BadMetadata {
+                    expected: format!(
+                        "`# {MISSING_SAMPLES_KEY} = \"{MISSING_SAMPLES_VALUE}\"` (the only value)"
+                    ),
+                    found: shorten(&format!("# {MISSING_SAMPLES_KEY} = {other:?}")),
+                },
+            ))
+        }
+    }
+}
+
+/// The data rows of a run file, read one at a time after the header.
+struct RowReader<'f, 't> {
+    file: &'f str,
+    columns: Vec<String>,
+    declares_missing: bool,
+    allow_missing: bool,
+    /// The previous row's time, as read and as written.
+    prev_t: Option<(f64, &'t str)>,
+}
+
+impl<'t> RowReader<'_, 't> {
+    /// Checks row `ln` and appends it to `run`.
+    fn read(&mut self, run: &mut Run, ln: usize, line: &'t str) -> Result<(), RunError> {
+        let err = |kind| RunError::at(self.file, ln, kind);
+        if line.trim().is_empty() || line.starts_with('#') {
+            return Err(err(RunErrorKind::BadLine {
+                expected: format!(
+                    "a data row of {} comma-separated fields (empty lines and metadata after the header are not allowed)",
+                    self.columns.len()
+                ),
+                found: shorten(line),
+            }));
+        }
+        let fields: Vec<&'t str> = line.split(',').map(str::trim).collect();
+        if fields.len() != self.columns.len() {
+            return Err(err(RunErrorKind::FieldCount {
+                expected: self.columns.len(),
+                found: fields.len(),
+            }));
+        }
+        let t = self.time(&fields, ln)?;
+        run.t_s.push(t);
+        let n = run.phi_deg.len();
+        for j in 0..n {
+            let phi = self.angle(&fields, 1 + j, ln)?;
+            run.phi_deg[j].push(phi);
+        }
+        for j in 0..n {
+            let k = 1 + n + j;
+            let latched = match fields[k] {
+                "0" => false,
+                "1" => true,
+                other => {
+                    return Err(err(RunErrorKind::BadLatch {
+                        column: self.columns[k].clone(),
+                        found: shorten(other),
+                    }))
+                }
+            };
+            run.latch[j].push(latched);
+        }
+        Ok(())
+    }
+
+    /// Field `k` as a finite number.
+    fn number(&self, fields: &[&str], k: usize, ln: usize) -> Result<f64, RunError> {
+        match fields[k].parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            _ => {
+                let is_angle = k >= 1 && k <= (self.columns.len() - 1) / 2;
+                let hint = if is_angle && fields[k] == MISSING_SAMPLES_VALUE {
+                    MISSING_HINT
+                } else {
+                    ""
+                };
+                Err(RunError::at(
+                    self.file,
+                    ln,
+                    RunErrorKind::BadNumber {
+                        column: self.columns[k].clone(),
+                        found: shorten(fields[k]),
+                        hint,
+                    },
+                ))
+            }
+        }
+    }
+
+    /// `t_s`: a finite time after the previous row's.
+    fn time(&mut self, fields: &[&'t str], ln: usize) -> Result<f64, RunError> {
+        let t = self.number(fields, 0, ln)?;
+        if let Some((p, ptext)) = self.prev_t {
+            if t <= p {
+                return Err(RunError::at(
+                    self.file,
+                    ln,
+                    RunErrorKind::NonMonotonicTime {
+                        found: shorten(fields[0]),
+                        previous: shorten(ptext),
+                    },
+                ));
+            }
+        }
+        self.prev_t = Some((t, fields[0]));
+        Ok(t)
+    }
+
+    /// Angle field `k`: within ±[`MAX_ANGLE_DEG`], or `NaN` where the file
+    /// declares missing samples and the reader accepts them.
+    fn angle(&self, fields: &[&str], k: usize, ln: usize) -> Result<f64, RunError> {
+        let column = || self.columns[k].clone();
+        if self.declares_missing && fields[k] == MISSING_SAMPLES_VALUE {
+            if !self.allow_missing {
+                let kind = RunErrorKind::MissingSample { column: column() };
+                return Err(RunError::at(self.file, ln, kind));
+            }
+            return Ok(f64::NAN);
+        }
+        let phi = self.number(fields, k, ln)?;
+        if phi.abs() > MAX_ANGLE_DEG {
+            let kind = RunErrorKind::AngleRange {
+                column: column(),
+                found: shorten(fields[k]),
+            };
+            return Err(RunError::at(self.file, ln, kind));
+        }
+        Ok(phi)
+    }
+}
+
+/// The first column of a header of `n` joints that the format does not
+/// know there: an unknown name (told with the column expected at its place,
+/// or as extra past the end), or a latch column beyond the joints.
+fn unknown_column(cols: &[Col], names: &[&str], n: usize) -> Option<RunErrorKind> {
+    let expected = run_columns(n);
+    cols.iter().enumerate().find_map(|(i, c)| {
+        let extra = || RunErrorKind::ExtraColumn {
+            column: shorten(names[i]),
+            position: i + 1,
+            expected_header: run_header(n),
+        };
+        match (*c, expected.get(i)) {
+            (Col::Other, Some(want)) => Some(RunErrorKind::UnknownColumn {
+                column: shorten(names[i]),
+                position: i + 1,
+                expected: want.clone(),
+                joints: n,
+            }),
+            (Col::Other, None) => Some(extra()),
+            (Col::Latch(j), _) if j > n => Some(extra()),
+            _ => None,
+        }
+    })
+}
+
+/// What is wrong with an angle of a run in memory, `None` for nothing: it
+/// must be finite and within ±[`MAX_ANGLE_DEG`], or `NaN` where missing
+/// samples are declared.
+fn angle_problem(phi: f64, declares_missing: bool) -> Option<String> {
+    if phi.is_nan() && declares_missing {
+        None
+    } else if !phi.is_finite() {
+        Some(format!("{phi}; expected a finite angle"))
+    } else if phi.abs() > MAX_ANGLE_DEG {
+        Some(format!(
+            "{phi}; expected an angle within ±{MAX_ANGLE_DEG} deg"
+        ))
+    } else {
+        None
+    }
+}
+
+/// What [`RunErrorKind::BadNumber`] adds for a `NaN` angle in a file that
+/// does not declare missing samples.
+const MISSING_HINT: &str = "; a missing reading may be written `NaN` only in a file that declares it: add the line `# missing_samples = \"NaN\"` before the header (docs/spec/formats.md)";
+
 impl Run {
     /// Reads and validates a run CSV file.
     pub fn load(path: &Path) -> Result<Run, RunError> {
@@ -508,14 +674,22 @@ impl Run {
     /// Reads and validates a run CSV file with the given options.
     pub fn load_with(path: &Path, options: ReadOptions) -> Result<Run, RunError> {
         let file = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|source| RunError::Io {
-            path: file.clone(),
-            action: "cannot read",
-            source,
+        let bytes = std::fs::read(path).map_err(|source| {
+            RunError::whole(
+                &file,
+                RunErrorKind::Io {
+                    action: "cannot read",
+                    source,
+                },
+            )
         })?;
-        let text = String::from_utf8(bytes).map_err(|e| RunError::NotText {
-            file: file.clone(),
-            offset: e.utf8_error().valid_up_to(),
+        let text = String::from_utf8(bytes).map_err(|e| {
+            RunError::whole(
+                &file,
+                RunErrorKind::NotText {
+                    offset: e.utf8_error().valid_up_to(),
+                },
+            )
         })?;
         Run::parse_with(&text, &file, options)
     }
@@ -537,169 +711,33 @@ impl Run {
     /// [`RunError::MissingSample`]; without the declaration, a
     /// [`RunError::BadNumber`] whatever the option.
     pub fn parse_with(text: &str, source: &str, options: ReadOptions) -> Result<Run, RunError> {
-        let file = source.to_string();
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
+        // Blank lines at the end of the file are no data (editors add them).
+        let body = text.trim_end_matches(|c: char| c.is_whitespace());
+        let mut lines = body.lines().enumerate().map(|(i, l)| (i + 1, l));
         let mut run = Run::default();
-        let mut meta_lines: Vec<usize> = Vec::new();
-
-        // Metadata, then the header.
-        let (header_line, header) = loop {
-            let Some((n, line)) = lines.next() else {
-                return Err(RunError::NoHeader {
-                    file,
-                    line: text.lines().count() + 1,
-                });
-            };
-            let Some(rest) = line.strip_prefix('#') else {
-                break (n, line);
-            };
-            let expected = "`# key = \"json string\"`";
-            let bad = |expected: &str| RunError::BadMetadata {
-                file: file.clone(),
-                line: n,
-                expected: expected.to_string(),
-                found: shorten(line),
-            };
-            let Some((key, value)) = rest.split_once('=') else {
-                return Err(bad(expected));
-            };
-            let key = key.trim();
-            if !valid_meta_key(key) {
-                return Err(bad("`# key = \"json string\"` with a key without spaces"));
-            }
-            let value: String = serde_json::from_str(value.trim())
-                .map_err(|_| bad("`# key = \"json string\"` with the value a JSON string"))?;
-            if let Some(i) = run.metadata.iter().position(|(k, _)| k == key) {
-                return Err(RunError::DuplicateMetadata {
-                    file,
-                    line: n,
-                    key: key.to_string(),
-                    first: meta_lines[i],
-                });
-            }
-            run.metadata.push((key.to_string(), value));
-            meta_lines.push(n);
-        };
-
-        let declares_missing = match run.meta(MISSING_SAMPLES_KEY) {
-            None => false,
-            Some(MISSING_SAMPLES_VALUE) => true,
-            Some(other) => {
-                let i = run
-                    .metadata
-                    .iter()
-                    .position(|(k, _)| k == MISSING_SAMPLES_KEY)
-                    .unwrap_or(0);
-                return Err(RunError::BadMetadata {
-                    file,
-                    line: meta_lines.get(i).copied().unwrap_or(1),
-                    expected: format!(
-                        "`# {MISSING_SAMPLES_KEY} = \"{MISSING_SAMPLES_VALUE}\"` (the only value)"
-                    ),
-                    found: shorten(&format!("# {MISSING_SAMPLES_KEY} = {other:?}")),
-                });
-            }
-        };
+        let (header_line, header, meta_lines) = read_metadata(&mut run, &mut lines, source)?;
+        let declares_missing = declares_missing(&run, &meta_lines, source)?;
         let names: Vec<&str> = header.split(',').map(str::trim).collect();
-        let n = Self::check_header(&names, &file, header_line)?;
-        let columns = run_columns(n);
+        let n = Self::check_header(&names, source, header_line)?;
+        let mut rows = RowReader {
+            file: source,
+            columns: run_columns(n),
+            declares_missing,
+            allow_missing: options.allow_missing,
+            prev_t: None,
+        };
         run.phi_deg = vec![Vec::new(); n];
         run.latch = vec![Vec::new(); n];
-
-        let mut prev_t: Option<(f64, &str)> = None;
         for (ln, line) in lines {
-            if line.trim().is_empty() || line.starts_with('#') {
-                return Err(RunError::BadLine {
-                    file,
-                    line: ln,
-                    expected: format!(
-                        "a data row of {} comma-separated fields (empty lines and metadata after the header are not allowed)",
-                        columns.len()
-                    ),
-                    found: shorten(line),
-                });
-            }
-            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-            if fields.len() != columns.len() {
-                return Err(RunError::FieldCount {
-                    file,
-                    line: ln,
-                    expected: columns.len(),
-                    found: fields.len(),
-                });
-            }
-            let number = |k: usize| -> Result<f64, RunError> {
-                match fields[k].parse::<f64>() {
-                    Ok(x) if x.is_finite() => Ok(x),
-                    _ => Err(RunError::BadNumber {
-                        file: file.clone(),
-                        line: ln,
-                        column: columns[k].clone(),
-                        found: shorten(fields[k]),
-                    }),
-                }
-            };
-            let t = number(0)?;
-            if let Some((p, ptext)) = prev_t {
-                if t <= p {
-                    return Err(RunError::NonMonotonicTime {
-                        file,
-                        line: ln,
-                        found: shorten(fields[0]),
-                        previous: shorten(ptext),
-                    });
-                }
-            }
-            prev_t = Some((t, fields[0]));
-            run.t_s.push(t);
-            for j in 0..n {
-                let k = 1 + j;
-                let phi = if declares_missing && fields[k] == MISSING_SAMPLES_VALUE {
-                    if !options.allow_missing {
-                        return Err(RunError::MissingSample {
-                            file,
-                            line: ln,
-                            column: columns[k].clone(),
-                        });
-                    }
-                    f64::NAN
-                } else {
-                    let phi = number(k)?;
-                    if phi.abs() > MAX_ANGLE_DEG {
-                        return Err(RunError::AngleRange {
-                            file,
-                            line: ln,
-                            column: columns[k].clone(),
-                            found: shorten(fields[k]),
-                        });
-                    }
-                    phi
-                };
-                run.phi_deg[j].push(phi);
-            }
-            for j in 0..n {
-                let k = 1 + n + j;
-                let latched = match fields[k] {
-                    "0" => false,
-                    "1" => true,
-                    other => {
-                        return Err(RunError::BadLatch {
-                            file,
-                            line: ln,
-                            column: columns[k].clone(),
-                            found: shorten(other),
-                        })
-                    }
-                };
-                run.latch[j].push(latched);
-            }
+            rows.read(&mut run, ln, line)?;
         }
         if run.t_s.is_empty() {
-            return Err(RunError::NoSamples {
-                file,
-                line: header_line + 1,
-            });
+            return Err(RunError::at(
+                source,
+                header_line + 1,
+                RunErrorKind::NoSamples,
+            ));
         }
         Ok(run)
     }
@@ -710,62 +748,63 @@ impl Run {
         let n_phi = cols.iter().filter(|c| matches!(c, Col::Phi(_))).count();
         let n_latch = cols.iter().filter(|c| matches!(c, Col::Latch(_))).count();
         if n_phi.max(n_latch) > MAX_JOINTS {
-            return Err(RunError::TooManyJoints {
-                file: file.to_string(),
+            return Err(RunError::at(
+                file,
                 line,
-                found: n_phi.max(n_latch),
-            });
+                RunErrorKind::TooManyJoints {
+                    found: n_phi.max(n_latch),
+                },
+            ));
         }
-        let n = n_phi.max(1);
+        // The joint count the header seems to be for: its angle columns,
+        // its latch columns, or its width, whichever says more (a misspelt
+        // column must not change the count).
+        let half = (names.len().saturating_sub(1) / 2).min(MAX_JOINTS);
+        let n = match n_phi.max(n_latch.min(half)) {
+            0 => half.max(1),
+            n => n,
+        };
         let expected_header = run_header(n);
+        let expected = run_columns(n);
         for (i, c) in cols.iter().enumerate() {
             if let Some(first) = cols[..i].iter().position(|d| d == c && *c != Col::Other) {
-                return Err(RunError::DuplicateColumn {
-                    file: file.to_string(),
-                    line,
+                let kind = RunErrorKind::DuplicateColumn {
                     column: names[i].to_string(),
                     first: first + 1,
                     position: i + 1,
-                });
+                };
+                return Err(RunError::at(file, line, kind));
             }
         }
-        let extra = |i: usize| RunError::ExtraColumn {
-            file: file.to_string(),
-            line,
-            column: shorten(names[i]),
-            position: i + 1,
-            expected_header: expected_header.clone(),
-        };
-        for (i, c) in cols.iter().enumerate() {
-            match *c {
-                Col::Other => return Err(extra(i)),
-                Col::Latch(j) if j > n => return Err(extra(i)),
-                _ => {}
-            }
+        if let Some(kind) = unknown_column(&cols, names, n) {
+            return Err(RunError::at(file, line, kind));
         }
-        let expected = run_columns(n);
         for want in &expected {
             if !names.contains(&want.as_str()) {
-                return Err(RunError::MissingColumn {
-                    file: file.to_string(),
+                return Err(RunError::at(
+                    file,
                     line,
-                    column: want.clone(),
-                    expected_header,
-                });
+                    RunErrorKind::MissingColumn {
+                        column: want.clone(),
+                        expected_header,
+                    },
+                ));
             }
         }
         // Now the columns are exactly the expected ones (no duplicates, none
         // missing, none extra), so only their order can be wrong.
         for (i, (name, want)) in names.iter().zip(&expected).enumerate() {
             if name != want {
-                return Err(RunError::ColumnOrder {
-                    file: file.to_string(),
+                return Err(RunError::at(
+                    file,
                     line,
-                    position: i + 1,
-                    found: name.to_string(),
-                    expected: want.clone(),
-                    expected_header,
-                });
+                    RunErrorKind::ColumnOrder {
+                        position: i + 1,
+                        found: name.to_string(),
+                        expected: want.clone(),
+                        joints: n,
+                    },
+                ));
             }
         }
         Ok(n)
@@ -779,10 +818,7 @@ impl Run {
     /// `# missing_samples = "NaN"`), metadata keys without spaces or `=`.
     /// `file` names the run in the error.
     pub fn validate(&self, file: &str) -> Result<(), RunError> {
-        let invalid = |reason: String| RunError::Invalid {
-            file: file.to_string(),
-            reason,
-        };
+        let invalid = |reason: String| RunError::whole(file, RunErrorKind::Invalid { reason });
         let n = self.joints();
         if n == 0 || n > MAX_JOINTS {
             return Err(invalid(format!("{n} joints; expected 1 to {MAX_JOINTS}")));
@@ -841,21 +877,10 @@ impl Run {
                     )));
                 }
             }
-            for j in 0..n {
-                let phi = self.phi_deg[j][i];
-                if phi.is_nan() && declares_missing {
-                    continue;
-                }
-                if !phi.is_finite() {
+            for (j, series) in self.phi_deg.iter().enumerate() {
+                if let Some(what) = angle_problem(series[i], declares_missing) {
                     return Err(invalid(format!(
-                        "sample {}: phi{}_deg = {phi}; expected a finite angle",
-                        i + 1,
-                        j + 1
-                    )));
-                }
-                if phi.abs() > MAX_ANGLE_DEG {
-                    return Err(invalid(format!(
-                        "sample {}: phi{}_deg = {phi}; expected an angle within ±{MAX_ANGLE_DEG} deg",
+                        "sample {}: phi{}_deg = {what}",
                         i + 1,
                         j + 1
                     )));
@@ -912,10 +937,14 @@ impl Run {
     /// [`Run::to_csv_string`] to `path`.
     pub fn write(&self, path: &Path) -> Result<(), RunError> {
         self.validate(&path.display().to_string())?;
-        std::fs::write(path, self.to_csv_string()).map_err(|source| RunError::Io {
-            path: path.display().to_string(),
-            action: "cannot write",
-            source,
+        std::fs::write(path, self.to_csv_string()).map_err(|source| {
+            RunError::whole(
+                &path.display().to_string(),
+                RunErrorKind::Io {
+                    action: "cannot write",
+                    source,
+                },
+            )
         })
     }
 }
@@ -933,33 +962,65 @@ pub fn pair_runs<'a>(
 ) -> Result<&'a Mechanism, RunError> {
     let file = run_source.to_string();
     let Some(name) = run.mechanism() else {
-        return Err(RunError::NoMechanism { file });
+        return Err(RunError::whole(&file, RunErrorKind::NoMechanism));
     };
     let mut same = mechanisms.iter().filter(|m| m.name == name);
     let Some(m) = same.next() else {
-        return Err(RunError::UnknownMechanism {
-            file,
-            name: name.to_string(),
-            given: mechanisms.iter().map(|m| m.name.clone()).collect(),
-        });
+        return Err(RunError::whole(
+            &file,
+            RunErrorKind::UnknownMechanism {
+                name: name.to_string(),
+                given: mechanisms.iter().map(|m| m.name.clone()).collect(),
+            },
+        ));
     };
     let others: Vec<&Mechanism> = same.collect();
     if others.iter().any(|o| *o != m) {
-        return Err(RunError::AmbiguousMechanism {
-            file,
-            name: name.to_string(),
-            count: 1 + others.len(),
-        });
+        return Err(RunError::whole(
+            &file,
+            RunErrorKind::AmbiguousMechanism {
+                name: name.to_string(),
+                count: 1 + others.len(),
+            },
+        ));
     }
     if m.joint_count() != run.joints() {
-        return Err(RunError::JointCountMismatch {
-            file,
-            mechanism: m.name.clone(),
-            run_joints: run.joints(),
-            mechanism_joints: m.joint_count(),
-        });
+        return Err(RunError::whole(
+            &file,
+            RunErrorKind::JointCountMismatch {
+                mechanism: m.name.clone(),
+                run_joints: run.joints(),
+                mechanism_joints: m.joint_count(),
+            },
+        ));
     }
     Ok(m)
+}
+
+/// Checks that a run can be of `mechanism`: its `mechanism` metadata, when
+/// given, names it, and the joint counts agree. For the commands that take
+/// one mechanism file and one run (`replay`); `file` names the run.
+pub fn check_run_of(mechanism: &Mechanism, run: &Run, file: &str) -> Result<(), RunError> {
+    if let Some(name) = run.mechanism().filter(|&n| n != mechanism.name) {
+        return Err(RunError::whole(
+            file,
+            RunErrorKind::UnknownMechanism {
+                name: name.to_string(),
+                given: vec![mechanism.name.clone()],
+            },
+        ));
+    }
+    if mechanism.joint_count() != run.joints() {
+        return Err(RunError::whole(
+            file,
+            RunErrorKind::JointCountMismatch {
+                mechanism: mechanism.name.clone(),
+                run_joints: run.joints(),
+                mechanism_joints: mechanism.joint_count(),
+            },
+        ));
+    }
+    Ok(())
 }
 
 impl Run {
@@ -998,18 +1059,22 @@ impl Run {
 /// run that never moves (a failed release) is one it must call a stall.
 pub fn check_analysable(run: &Run, mechanism: &Mechanism, file: &str) -> Result<(), RunError> {
     let (Some(&first), Some(&end_s)) = (run.t_s.first(), run.t_s.last()) else {
-        return Err(RunError::Invalid {
-            file: file.to_string(),
-            reason: "no samples; expected at least one".to_string(),
-        });
+        return Err(RunError::whole(
+            file,
+            RunErrorKind::Invalid {
+                reason: "no samples; expected at least one".to_string(),
+            },
+        ));
     };
     let motion_deg = run.motion_deg();
     if motion_deg < MIN_MOTION_DEG {
-        return Err(RunError::NeverMoves {
-            file: file.to_string(),
-            motion_deg,
-            duration_s: end_s - first,
-        });
+        return Err(RunError::whole(
+            file,
+            RunErrorKind::NeverMoves {
+                motion_deg,
+                duration_s: end_s - first,
+            },
+        ));
     }
     let unlatched: Vec<usize> = run
         .latch
@@ -1024,12 +1089,14 @@ pub fn check_analysable(run: &Run, mechanism: &Mechanism, file: &str) -> Result<
         0.0
     };
     if !unlatched.is_empty() && end_s < mechanism.duration_s - 1.5 * dt {
-        return Err(RunError::EndsEarly {
-            file: file.to_string(),
-            end_s,
-            duration_s: mechanism.duration_s,
-            unlatched,
-        });
+        return Err(RunError::whole(
+            file,
+            RunErrorKind::EndsEarly {
+                end_s,
+                duration_s: mechanism.duration_s,
+                unlatched,
+            },
+        ));
     }
     Ok(())
 }

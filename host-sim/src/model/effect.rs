@@ -66,6 +66,23 @@ impl EffectKind {
         }
     }
 
+    /// The values the effect may take: what keeps it the effect its name
+    /// says (a negative friction or stiffness would drive the joint, a
+    /// softening of 1 or more removes or reverses the spring). The mechanism
+    /// file's friction keys follow the same rule
+    /// ([`crate::model::mechanism_toml`]).
+    pub fn allowed(self) -> ValueRange {
+        match self {
+            EffectKind::CoulombFriction
+            | EffectKind::ViscousDamping
+            | EffectKind::HarnessStiffness
+            | EffectKind::LatchDetent
+            | EffectKind::AirDrag => ValueRange::NonNegative,
+            EffectKind::SpringSoftening => ValueRange::BelowOne,
+            EffectKind::RigTilt | EffectKind::EncoderOffset => ValueRange::Finite,
+        }
+    }
+
     /// True for effects that act on one joint (`joint` is required).
     pub fn per_joint(self) -> bool {
         !matches!(self, EffectKind::AirDrag | EffectKind::RigTilt)
@@ -77,6 +94,127 @@ impl EffectKind {
     }
 }
 
+/// The values an effect (or a mechanism file's friction key) may take.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ValueRange {
+    /// Any finite number.
+    Finite,
+    /// A finite number ≥ 0.
+    NonNegative,
+    /// A finite number < 1 (`spring_softening`: 1 removes the spring).
+    BelowOne,
+}
+
+impl ValueRange {
+    /// True when `x` is allowed.
+    pub fn contains(self, x: f64) -> bool {
+        x.is_finite()
+            && match self {
+                ValueRange::Finite => true,
+                ValueRange::NonNegative => x >= 0.0,
+                ValueRange::BelowOne => x < 1.0,
+            }
+    }
+
+    /// The range in words, e.g. "a finite number ≥ 0".
+    pub fn describe(self) -> &'static str {
+        match self {
+            ValueRange::Finite => "a finite number",
+            ValueRange::NonNegative => "a finite number ≥ 0",
+            ValueRange::BelowOne => "a finite number < 1 (1 removes the spring, more reverses it)",
+        }
+    }
+}
+
+/// Why an effect was rejected: its `--effect` text, or its joint or value.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EffectError {
+    /// Not one of the names of `physics.md` section 6.
+    #[error("unknown effect `{name}`: expected one of {}", effect_names())]
+    UnknownName {
+        /// The name given.
+        name: String,
+    },
+    /// A part of the `--effect` text that is not `key=value`.
+    #[error("`{part}` in `{text}`: expected key=value")]
+    NotKeyValue {
+        /// The part.
+        part: String,
+        /// The whole text.
+        text: String,
+    },
+    /// A key other than `joint`, `value`, `alpha_deg`.
+    #[error("unknown key `{key}` in `{text}`: expected joint, value or alpha_deg")]
+    UnknownKey {
+        /// The key.
+        key: String,
+        /// The whole text.
+        text: String,
+    },
+    /// A value that does not parse.
+    #[error("`{key}={value}` in `{text}`: expected {expected}")]
+    BadNumber {
+        /// The key.
+        key: String,
+        /// The value as written.
+        value: String,
+        /// The whole text.
+        text: String,
+        /// What was expected.
+        expected: &'static str,
+    },
+    /// No `value=V`.
+    #[error("`{text}`: missing value=V")]
+    MissingValue {
+        /// The whole text.
+        text: String,
+    },
+    /// A per-joint effect without `joint=J`.
+    #[error("{kind} acts on a joint: give joint=J")]
+    NeedsJoint {
+        /// The effect.
+        kind: EffectKind,
+    },
+    /// A global effect given a joint.
+    #[error("{kind} is global: it takes no joint")]
+    GlobalWithJoint {
+        /// The effect.
+        kind: EffectKind,
+    },
+    /// A joint the mechanism does not have.
+    #[error("{kind}: joint {joint} does not exist (the mechanism has joints 1 to {joints})")]
+    NoSuchJoint {
+        /// The effect.
+        kind: EffectKind,
+        /// The joint given.
+        joint: usize,
+        /// The mechanism's joint count.
+        joints: usize,
+    },
+    /// A value outside [`EffectKind::allowed`].
+    #[error("{kind}: value={value}: expected {} [{}]", kind.allowed().describe(), kind.unit())]
+    OutOfRange {
+        /// The effect.
+        kind: EffectKind,
+        /// The value given.
+        value: f64,
+    },
+    /// `alpha_deg` not finite.
+    #[error("{kind}: alpha_deg={alpha_deg}: expected a finite angle [deg]")]
+    BadAlpha {
+        /// The effect.
+        kind: EffectKind,
+        /// The angle given.
+        alpha_deg: f64,
+    },
+}
+
+fn effect_names() -> String {
+    let names: Vec<_> = EffectKind::ALL.iter().map(|k| k.name()).collect();
+    names.join(", ")
+}
+
 impl fmt::Display for EffectKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
@@ -84,15 +222,14 @@ impl fmt::Display for EffectKind {
 }
 
 impl FromStr for EffectKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = EffectError;
+    fn from_str(s: &str) -> Result<Self, EffectError> {
         EffectKind::ALL
             .iter()
             .copied()
             .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = EffectKind::ALL.iter().map(|k| k.name()).collect();
-                format!("unknown effect `{s}`: expected one of {}", names.join(", "))
+            .ok_or_else(|| EffectError::UnknownName {
+                name: s.to_string(),
             })
     }
 }
@@ -131,18 +268,43 @@ impl Effect {
         }
     }
 
-    /// Checks the joint against a mechanism of `joints` joints.
-    pub fn validate(&self, joints: usize) -> Result<(), String> {
-        if !self.value.is_finite() || !self.alpha_deg.is_finite() {
-            return Err(format!("{}: the value must be a finite number", self.kind));
+    /// Checks the joint against a mechanism of `joints` joints and the
+    /// value against [`EffectKind::allowed`]: what a user may ask for
+    /// (`--effect`).
+    pub fn validate(&self, joints: usize) -> Result<(), EffectError> {
+        self.validate_joint(joints)?;
+        if !self.kind.allowed().contains(self.value) {
+            return Err(EffectError::OutOfRange {
+                kind: self.kind,
+                value: self.value,
+            });
         }
-        match (self.kind.per_joint(), self.joint) {
-            (true, None) => Err(format!("{} acts on a joint: give joint=J", self.kind)),
-            (true, Some(j)) if j == 0 || j > joints => Err(format!(
-                "{}: joint {j} does not exist (the mechanism has joints 1 to {joints})",
-                self.kind
-            )),
-            (false, Some(_)) => Err(format!("{} is global: it takes no joint", self.kind)),
+        Ok(())
+    }
+
+    /// Checks only that the numbers are finite and the joint exists: what
+    /// the simulator needs (an identification may try a correction below
+    /// the mechanism's own friction, which [`Effect::validate`] refuses).
+    pub fn validate_joint(&self, joints: usize) -> Result<(), EffectError> {
+        let kind = self.kind;
+        if !self.value.is_finite() {
+            return Err(EffectError::OutOfRange {
+                kind,
+                value: self.value,
+            });
+        }
+        if !self.alpha_deg.is_finite() {
+            let alpha_deg = self.alpha_deg;
+            return Err(EffectError::BadAlpha { kind, alpha_deg });
+        }
+        match (kind.per_joint(), self.joint) {
+            (true, None) => Err(EffectError::NeedsJoint { kind }),
+            (true, Some(joint)) if joint == 0 || joint > joints => Err(EffectError::NoSuchJoint {
+                kind,
+                joint,
+                joints,
+            }),
+            (false, Some(_)) => Err(EffectError::GlobalWithJoint { kind }),
             _ => Ok(()),
         }
     }
@@ -163,39 +325,47 @@ impl fmt::Display for Effect {
 }
 
 impl FromStr for Effect {
-    type Err = String;
+    type Err = EffectError;
     /// Parses `NAME[:joint=J]:value=V[:alpha_deg=A]` (the `--effect` syntax).
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, EffectError> {
         let mut parts = s.split(':');
         let kind: EffectKind = parts.next().unwrap_or("").trim().parse()?;
         let mut joint = None;
         let mut value = None;
         let mut alpha_deg = 0.0;
         for p in parts {
-            let (k, v) = p
-                .split_once('=')
-                .ok_or_else(|| format!("`{p}` in `{s}`: expected key=value"))?;
-            let num = |v: &str| -> Result<f64, String> {
-                v.trim()
-                    .parse::<f64>()
-                    .map_err(|_| format!("`{k}={v}` in `{s}`: expected a number"))
+            let (k, v) = p.split_once('=').ok_or_else(|| EffectError::NotKeyValue {
+                part: p.to_string(),
+                text: s.to_string(),
+            })?;
+            let bad = |expected| EffectError::BadNumber {
+                key: k.to_string(),
+                value: v.to_string(),
+                text: s.to_string(),
+                expected,
             };
+            let num = |v: &str| v.trim().parse::<f64>().map_err(|_| bad("a number"));
             match k.trim() {
                 "joint" => {
-                    joint = Some(v.trim().parse::<usize>().map_err(|_| {
-                        format!("`joint={v}` in `{s}`: expected a joint number from 1")
-                    })?)
+                    joint = Some(
+                        v.trim()
+                            .parse::<usize>()
+                            .map_err(|_| bad("a joint number from 1"))?,
+                    )
                 }
                 "value" => value = Some(num(v)?),
                 "alpha_deg" => alpha_deg = num(v)?,
                 other => {
-                    return Err(format!(
-                        "unknown key `{other}` in `{s}`: expected joint, value or alpha_deg"
-                    ))
+                    return Err(EffectError::UnknownKey {
+                        key: other.to_string(),
+                        text: s.to_string(),
+                    })
                 }
             }
         }
-        let value = value.ok_or_else(|| format!("`{s}`: missing value=V"))?;
+        let value = value.ok_or_else(|| EffectError::MissingValue {
+            text: s.to_string(),
+        })?;
         Ok(Effect {
             kind,
             joint,
@@ -268,5 +438,19 @@ mod tests {
         let e: Effect = "harness_stiffness:joint=3:value=0.2".parse().unwrap();
         assert!(e.validate(2).is_err());
         assert!(e.validate(3).is_ok());
+        // Values that would turn the effect into another one are refused.
+        for bad in [
+            "coulomb_friction:joint=1:value=-1",
+            "spring_softening:joint=1:value=1",
+            "harness_stiffness:joint=1:value=-0.1",
+        ] {
+            let e: Effect = bad.parse().unwrap();
+            assert!(
+                matches!(e.validate(2), Err(EffectError::OutOfRange { .. })),
+                "{bad}"
+            );
+        }
+        let e: Effect = "spring_softening:joint=1:value=-0.2".parse().unwrap();
+        assert!(e.validate(2).is_ok(), "a negative softening stiffens");
     }
 }

@@ -10,6 +10,33 @@ use deploywatch_core::{Chain, Curve, Friction, GlobalEffects, Joint, JointEffect
 /// Most joints a mechanism may have (`physics.md` section 1: n = 1..4).
 pub const MAX_JOINTS: usize = 4;
 
+/// Calls `$body` with `const $n: usize` set to `$joints` (1 to
+/// [`MAX_JOINTS`]), `$other` for any other count: the one dispatch from a
+/// run-time joint count to the core's const-generic `Chain<T, N>`,
+/// `Monitor<N>`, ...
+///
+/// ```ignore
+/// with_joints!(mech.joint_count(), N => run::<N>(mech), else Err(too_many()))
+/// ```
+macro_rules! with_joints {
+    ($joints:expr, $n:ident => $body:expr, else $other:expr) => {
+        $crate::model::mechanism::with_joints!(@arms $joints; $n; $body; $other; 1 2 3 4)
+    };
+    (@arms $joints:expr; $n:ident; $body:expr; $other:expr; $($k:literal)*) => {
+        match $joints {
+            $($k => {
+                const $n: usize = $k;
+                $body
+            })*
+            _ => $other,
+        }
+    };
+}
+pub(crate) use with_joints;
+
+// `with_joints!` has one arm per joint count up to `MAX_JOINTS`.
+const _: () = assert!(MAX_JOINTS == 4);
+
 /// One hinge spring as written in the file.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SpringSpec {
@@ -139,6 +166,9 @@ pub struct Mechanism {
     pub duration_s: f64,
     /// `[run] sample_hz` [Hz].
     pub sample_hz: f64,
+    /// `[run] settle_s`: how long a run goes on recording after the first
+    /// sample at or after the last latch [s] (`formats.md`).
+    pub settle_s: f64,
 }
 
 impl Mechanism {

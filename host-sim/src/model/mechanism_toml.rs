@@ -15,9 +15,14 @@
 //! - `friction`: all zero with `coulomb_threshold_rad_s = 0.01`
 //!   ([`FrictionSpec::default`]);
 //! - `interp` of a curve spring: `"akima"`;
-//! - `[run] duration_s`: [`DEFAULT_DURATION_S`] (6 s) and `[run] sample_hz`:
-//!   [`DEFAULT_SAMPLE_HZ`] (100 Hz), each on its own, whether `[run]` is
-//!   absent or only lacks that key.
+//! - `[run] duration_s`: [`DEFAULT_DURATION_S`] (6 s), `[run] sample_hz`:
+//!   [`DEFAULT_SAMPLE_HZ`] (100 Hz) and `[run] settle_s`: [`DEFAULT_SETTLE_S`]
+//!   (0.2 s), each on its own, whether `[run]` is absent or only lacks that
+//!   key.
+//!
+//! Beyond the types, values must describe a mechanism: `com_m` within the
+//! panel (0 to `length_m`), `0 < |stowed_deg| ≤ 360`, friction values as
+//! the matching effects allow them ([`EffectKind::allowed`]).
 //!
 //! `count` is required (a silently defaulted hinge count would change the
 //! spring torque by a factor), and must be a TOML integer ≥ 1.
@@ -32,8 +37,9 @@ use std::path::Path;
 
 use deploywatch_core::spring::{CurveError, Interp, TapePoints};
 use deploywatch_core::{Curve, Panel, Spring};
-use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 
+use crate::model::effect::{EffectKind, ValueRange};
+use crate::model::located::Located;
 use crate::model::mechanism::{FrictionSpec, JointSpec, Mechanism, SpringSpec, MAX_JOINTS};
 
 /// `[run] duration_s` when the file does not give it (s).
@@ -42,82 +48,76 @@ pub const DEFAULT_DURATION_S: f64 = 6.0;
 /// `[run] sample_hz` when the file does not give it (Hz).
 pub const DEFAULT_SAMPLE_HZ: f64 = 100.0;
 
+/// `[run] settle_s` when the file does not give it (s): a rig keeps
+/// recording after the wing has latched, and the on-board monitor confirms a
+/// latch on 2 of 3 switch samples, so a run needs a few samples past the last
+/// latch (`formats.md`, "Run: CSV").
+pub const DEFAULT_SETTLE_S: f64 = 0.2;
+
+/// Largest `|stowed_deg|` (deg): one turn. A hinge folded further than a
+/// full turn is a typing error (radians for degrees, an extra digit).
+pub const MAX_STOWED_DEG: f64 = 360.0;
+
 /// Highest accepted `[run] sample_hz` (Hz): run CSV files write `t_s` with 6
 /// decimals (see [`crate::data::run::Run::to_csv_string`]), so samples closer than
 /// 1 µs could not be told apart.
 pub const MAX_SAMPLE_HZ: f64 = 1.0e6;
 
-/// Why a mechanism file was rejected.
+/// Why a mechanism file was rejected: where (`file`, `line`) and what
+/// ([`MechanismErrorKind`]).
 ///
-/// Every variant names the file (`file`, the `source` given to
-/// [`Mechanism::from_toml_str`] or the path given to [`Mechanism::load`]);
-/// `line` is the 1-based line of the offending value when the TOML parser
-/// reports a position for it, and `key` the key path such as
-/// `joint[2].spring.kind`.
+/// `file` is the `source` given to [`Mechanism::from_toml_str`] or the path
+/// given to [`Mechanism::load`]; `line` is the 1-based line of the offending
+/// value when the TOML parser reports a position for it. Displayed as
+/// `file:line: what was wrong; expected ...` (`file: ...` without a line).
+pub type MechanismError = Located<MechanismErrorKind>;
+
+/// What was wrong with a mechanism file (the location is in
+/// [`MechanismError`]); `key` is a key path such as `joint[2].spring.kind`.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
-pub enum MechanismError {
+pub enum MechanismErrorKind {
     /// The file could not be read.
-    #[error("{path}: cannot read the mechanism file: {source}")]
+    #[error("cannot read the mechanism file: {source}")]
     Io {
-        /// The path as given.
-        path: String,
         /// The operating system's error.
         #[source]
         source: std::io::Error,
     },
     /// The file could not be written.
-    #[error("{path}: cannot write the mechanism file: {source}")]
+    #[error("cannot write the mechanism file: {source}")]
     Write {
-        /// The path as given.
-        path: String,
         /// The operating system's error.
         #[source]
         source: std::io::Error,
     },
     /// The text is not valid TOML (or repeats a key).
-    #[error("{}: invalid TOML{}: {message}", loc(file, *line), at_column(*column))]
+    #[error("invalid TOML{}: {message}", at_column(*column))]
     Syntax {
-        /// The file.
-        file: String,
-        /// 1-based line of the error, if known.
-        line: Option<usize>,
         /// 1-based column (in characters) of the error, if known.
         column: Option<usize>,
         /// The TOML parser's message, on one line.
         message: String,
     },
     /// A key the format does not define.
-    #[error("{}: unknown key `{key}`; expected one of: {expected}", loc(file, *line))]
+    #[error("unknown key `{key}`; expected one of: {expected}")]
     UnknownKey {
-        /// The file.
-        file: String,
-        /// 1-based line of the key's value, if known.
-        line: Option<usize>,
         /// Key path of the unknown key.
         key: String,
         /// The keys allowed at that place, comma separated.
         expected: String,
     },
     /// A required key is absent.
-    #[error("{}: missing key `{key}`: expected {expected}", loc(file, *line))]
+    #[error("missing key `{key}`: expected {expected}")]
     MissingKey {
-        /// The file.
-        file: String,
-        /// 1-based line of the table that lacks the key, if known.
-        line: Option<usize>,
         /// Key path of the missing key.
         key: String,
         /// What the key should hold.
         expected: String,
     },
     /// A value has the wrong TOML type (a string where a number belongs...).
-    #[error("{}: `{key}`: expected {expected}, found {found}", loc(file, *line))]
+    #[error("`{key}`: expected {expected}, found {found}")]
     WrongType {
-        /// The file.
-        file: String,
-        /// 1-based line of the value, if known.
-        line: Option<usize>,
         /// Key path of the value.
         key: String,
         /// What the key should hold.
@@ -126,12 +126,8 @@ pub enum MechanismError {
         found: String,
     },
     /// A value of the right type is out of range or otherwise invalid.
-    #[error("{}: `{key}`: expected {expected}, found {found}", loc(file, *line))]
+    #[error("`{key}`: expected {expected}, found {found}")]
     InvalidValue {
-        /// The file.
-        file: String,
-        /// 1-based line of the value, if known.
-        line: Option<usize>,
         /// Key path of the value.
         key: String,
         /// What the key should hold.
@@ -141,14 +137,9 @@ pub enum MechanismError {
     },
     /// `spring.kind` is not one of the known kinds.
     #[error(
-        "{}: `{key}`: unknown spring kind \"{found}\" for joint {joint}; expected one of \"linear\", \"tape\", \"curve\"",
-        loc(file, *line)
+        "`{key}`: unknown spring kind \"{found}\" for joint {joint}; expected one of \"linear\", \"tape\", \"curve\""
     )]
     UnknownSpringKind {
-        /// The file.
-        file: String,
-        /// 1-based line of the value, if known.
-        line: Option<usize>,
         /// Key path, `joint[j].spring.kind`.
         key: String,
         /// The joint, 1-based.
@@ -158,15 +149,10 @@ pub enum MechanismError {
     },
     /// A tape spring's `type` has no `[tape."NAME"]` table.
     #[error(
-        "{}: `{key}`: tape type \"{found}\" is not defined; expected a [tape.\"{found}\"] table (defined: {})",
-        loc(file, *line),
+        "`{key}`: tape type \"{found}\" is not defined; expected a [tape.\"{found}\"] table (defined: {})",
         list_or_none(defined)
     )]
     UnknownTapeType {
-        /// The file.
-        file: String,
-        /// 1-based line of the value, if known.
-        line: Option<usize>,
         /// Key path, `joint[j].spring.type`.
         key: String,
         /// The type name found.
@@ -175,28 +161,16 @@ pub enum MechanismError {
         defined: Vec<String>,
     },
     /// Not 1 to 4 `[[panel]]` tables.
-    #[error(
-        "{}: expected 1 to {MAX_JOINTS} [[panel]] tables, found {found}",
-        loc(file, *line)
-    )]
+    #[error("expected 1 to {MAX_JOINTS} [[panel]] tables, found {found}")]
     PanelCount {
-        /// The file.
-        file: String,
-        /// 1-based line of the first panel past the limit, if known.
-        line: Option<usize>,
         /// Number of `[[panel]]` tables.
         found: usize,
     },
     /// The number of `[[joint]]` tables differs from the number of panels.
     #[error(
-        "{}: expected one [[joint]] table per [[panel]] table ({panels}), found {joints} [[joint]] tables",
-        loc(file, *line)
+        "expected one [[joint]] table per [[panel]] table ({panels}), found {joints} [[joint]] tables"
     )]
     JointCount {
-        /// The file.
-        file: String,
-        /// 1-based line of the first surplus joint, if known.
-        line: Option<usize>,
         /// Number of `[[panel]]` tables.
         panels: usize,
         /// Number of `[[joint]]` tables.
@@ -205,14 +179,9 @@ pub enum MechanismError {
     /// A tabulated curve (a curve spring's branch or a tape type's points)
     /// rejected by the core.
     #[error(
-        "{}: `{key}`: expected 2 to 16 points [deg, N·m] with finite values and strictly increasing angles: {source}",
-        loc(file, *line)
+        "`{key}`: expected 2 to 16 points [deg, N·m] with finite values and strictly increasing angles: {source}"
     )]
     BadCurve {
-        /// The file.
-        file: String,
-        /// 1-based line of the value, if known.
-        line: Option<usize>,
         /// Key path of the curve.
         key: String,
         /// The core's reason.
@@ -222,43 +191,18 @@ pub enum MechanismError {
 }
 
 impl MechanismError {
-    /// The 1-based line the error points at, when known.
-    pub fn line(&self) -> Option<usize> {
-        match self {
-            MechanismError::Io { .. } | MechanismError::Write { .. } => None,
-            MechanismError::Syntax { line, .. }
-            | MechanismError::UnknownKey { line, .. }
-            | MechanismError::MissingKey { line, .. }
-            | MechanismError::WrongType { line, .. }
-            | MechanismError::InvalidValue { line, .. }
-            | MechanismError::UnknownSpringKind { line, .. }
-            | MechanismError::UnknownTapeType { line, .. }
-            | MechanismError::PanelCount { line, .. }
-            | MechanismError::JointCount { line, .. }
-            | MechanismError::BadCurve { line, .. } => *line,
-        }
-    }
-
     /// The key path the error is about, when there is one.
     pub fn key(&self) -> Option<&str> {
-        match self {
-            MechanismError::UnknownKey { key, .. }
-            | MechanismError::MissingKey { key, .. }
-            | MechanismError::WrongType { key, .. }
-            | MechanismError::InvalidValue { key, .. }
-            | MechanismError::UnknownSpringKind { key, .. }
-            | MechanismError::UnknownTapeType { key, .. }
-            | MechanismError::BadCurve { key, .. } => Some(key),
+        match &self.kind {
+            MechanismErrorKind::UnknownKey { key, .. }
+            | MechanismErrorKind::MissingKey { key, .. }
+            | MechanismErrorKind::WrongType { key, .. }
+            | MechanismErrorKind::InvalidValue { key, .. }
+            | MechanismErrorKind::UnknownSpringKind { key, .. }
+            | MechanismErrorKind::UnknownTapeType { key, .. }
+            | MechanismErrorKind::BadCurve { key, .. } => Some(key),
             _ => None,
         }
-    }
-}
-
-/// `file:line` or `file`.
-fn loc(file: &str, line: Option<usize>) -> String {
-    match line {
-        Some(l) => format!("{file}:{l}"),
-        None => file.to_string(),
     }
 }
 
@@ -283,9 +227,10 @@ fn list_or_none(names: &[String]) -> String {
 impl Mechanism {
     /// Reads and validates a mechanism TOML file.
     pub fn load(path: &Path) -> Result<Mechanism, MechanismError> {
-        let text = std::fs::read_to_string(path).map_err(|source| MechanismError::Io {
-            path: path.display().to_string(),
-            source,
+        let text = std::fs::read_to_string(path).map_err(|source| MechanismError {
+            file: path.display().to_string(),
+            line: None,
+            kind: MechanismErrorKind::Io { source },
         })?;
         Mechanism::from_toml_str(&text, &path.display().to_string())
     }
@@ -294,25 +239,25 @@ impl Mechanism {
     /// (usually the file's path).
     pub fn from_toml_str(text: &str, source: &str) -> Result<Mechanism, MechanismError> {
         let cx = Cx { file: source, text };
-        let root: Sp = toml::from_str(text).map_err(|e| {
+        let doc = toml_edit::ImDocument::parse(text).map_err(|e| {
             let message: Vec<&str> = e
                 .message()
                 .lines()
                 .map(str::trim)
                 .filter(|l| !l.is_empty())
                 .collect();
-            MechanismError::Syntax {
-                file: source.to_string(),
-                line: e.span().map(|s| cx.line_of(s.start)),
-                column: e.span().map(|s| cx.column_of(s.start)),
-                message: if message.is_empty() {
-                    "expected a value or a key here".to_string()
-                } else {
-                    message.join("; ")
-                },
-            }
+            let message = if message.is_empty() {
+                "expected a value or a key here".to_string()
+            } else {
+                message.join("; ")
+            };
+            let column = e.span().map(|s| cx.column_of(s.start));
+            cx.err(
+                e.span().map(|s| cx.line_of(s.start)),
+                MechanismErrorKind::Syntax { column, message },
+            )
         })?;
-        cx.mechanism(&root)
+        cx.mechanism(&Sp::table(doc.as_table()))
     }
 
     /// Writes the mechanism as TOML, in the layout of `formats.md`.
@@ -381,18 +326,20 @@ impl Mechanism {
         }
         let _ = write!(
             out,
-            "\n[run]\nduration_s = {}\nsample_hz = {}\n",
+            "\n[run]\nduration_s = {}\nsample_hz = {}\nsettle_s = {}\n",
             num(self.duration_s),
-            num(self.sample_hz)
+            num(self.sample_hz),
+            num(self.settle_s)
         );
         out
     }
 
     /// Writes [`Mechanism::to_toml_string`] to `path`.
     pub fn write(&self, path: &Path) -> Result<(), MechanismError> {
-        std::fs::write(path, self.to_toml_string()).map_err(|source| MechanismError::Write {
-            path: path.display().to_string(),
-            source,
+        std::fs::write(path, self.to_toml_string()).map_err(|source| MechanismError {
+            file: path.display().to_string(),
+            line: None,
+            kind: MechanismErrorKind::Write { source },
         })
     }
 }
@@ -478,20 +425,11 @@ fn spring_toml(s: &SpringSpec, tapes: &mut Vec<(String, TapePoints<f64>)>) -> St
 }
 
 // ---------------------------------------------------------------------------
-// A TOML tree with the byte spans of its values.
-//
-// `toml::Spanned<T>` fails on values the parser has no span for (the implicit
-// `tape` table of `[tape."TS-1"]`, for one), so `Sp` speaks the same private
-// protocol (serde_spanned 0.6, used by toml 0.8) but falls back to an unspanned
-// value. The tests of `tests/formats.rs` check that lines are reported, so a
-// change of that protocol would show there.
-
-const SPANNED_NAME: &str = "$__serde_spanned_private_Spanned";
-const SPANNED_START: &str = "$__serde_spanned_private_start";
-const SPANNED_END: &str = "$__serde_spanned_private_end";
-const SPANNED_VALUE: &str = "$__serde_spanned_private_value";
-const SPANNED_FIELDS: [&str; 3] = [SPANNED_START, SPANNED_END, SPANNED_VALUE];
-const DATETIME_FIELD: &str = "$__toml_private_datetime";
+// A TOML tree with the byte spans of its values, from `toml_edit`'s parsed
+// document (`ImDocument` keeps the spans; the `toml` crate's deserializer
+// reads the same tree, so lines and messages agree with it). Values the
+// parser has no span for (the implicit `tape` table of `[tape."TS-1"]`, a
+// dotted key's table) are kept without one.
 
 /// A TOML value and, when known, its byte span in the text.
 #[derive(Debug)]
@@ -509,6 +447,58 @@ enum Node {
     Datetime(String),
     Array(Vec<Sp>),
     Table(Vec<(String, Sp)>),
+}
+
+impl Sp {
+    /// A `[table]` (or the document's root table).
+    fn table(t: &toml_edit::Table) -> Sp {
+        Sp {
+            span: t.span(),
+            node: Node::Table(
+                t.iter()
+                    .map(|(k, v)| (k.to_string(), Sp::item(v)))
+                    .collect(),
+            ),
+        }
+    }
+
+    /// Any item: a value, a table or an array of tables.
+    fn item(item: &toml_edit::Item) -> Sp {
+        match item {
+            toml_edit::Item::Value(v) => Sp::value(v),
+            toml_edit::Item::Table(t) => Sp::table(t),
+            toml_edit::Item::ArrayOfTables(a) => Sp {
+                span: a.span(),
+                node: Node::Array(a.iter().map(Sp::table).collect()),
+            },
+            toml_edit::Item::None => Sp {
+                span: None,
+                node: Node::Table(Vec::new()),
+            },
+        }
+    }
+
+    /// A value (inline tables and arrays included).
+    fn value(v: &toml_edit::Value) -> Sp {
+        use toml_edit::Value as V;
+        let node = match v {
+            V::String(s) => Node::Str(s.value().clone()),
+            V::Integer(i) => Node::Int(*i.value()),
+            V::Float(x) => Node::Float(*x.value()),
+            V::Boolean(b) => Node::Bool(*b.value()),
+            V::Datetime(d) => Node::Datetime(d.value().to_string()),
+            V::Array(a) => Node::Array(a.iter().map(Sp::value).collect()),
+            V::InlineTable(t) => Node::Table(
+                t.iter()
+                    .map(|(k, v)| (k.to_string(), Sp::value(v)))
+                    .collect(),
+            ),
+        };
+        Sp {
+            span: v.span(),
+            node,
+        }
+    }
 }
 
 impl Node {
@@ -551,91 +541,6 @@ impl Node {
     }
 }
 
-impl<'de> Deserialize<'de> for Sp {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Sp, D::Error> {
-        d.deserialize_struct(SPANNED_NAME, &SPANNED_FIELDS, SpVisitor)
-    }
-}
-
-impl<'de> Deserialize<'de> for Node {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Node, D::Error> {
-        d.deserialize_any(SpVisitor).map(|sp| sp.node)
-    }
-}
-
-struct SpVisitor;
-
-fn bare(node: Node) -> Sp {
-    Sp { span: None, node }
-}
-
-impl<'de> Visitor<'de> for SpVisitor {
-    type Value = Sp;
-
-    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("a TOML value")
-    }
-
-    fn visit_bool<E>(self, v: bool) -> Result<Sp, E> {
-        Ok(bare(Node::Bool(v)))
-    }
-
-    fn visit_i64<E>(self, v: i64) -> Result<Sp, E> {
-        Ok(bare(Node::Int(v)))
-    }
-
-    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Sp, E> {
-        i64::try_from(v)
-            .map(|v| bare(Node::Int(v)))
-            .map_err(|_| E::custom("integer out of range"))
-    }
-
-    fn visit_f64<E>(self, v: f64) -> Result<Sp, E> {
-        Ok(bare(Node::Float(v)))
-    }
-
-    fn visit_str<E>(self, v: &str) -> Result<Sp, E> {
-        Ok(bare(Node::Str(v.to_string())))
-    }
-
-    fn visit_string<E>(self, v: String) -> Result<Sp, E> {
-        Ok(bare(Node::Str(v)))
-    }
-
-    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Sp, A::Error> {
-        let mut items = Vec::new();
-        while let Some(x) = seq.next_element::<Sp>()? {
-            items.push(x);
-        }
-        Ok(bare(Node::Array(items)))
-    }
-
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Sp, A::Error> {
-        let mut entries = Vec::new();
-        let (mut start, mut end, mut value) = (None, None, None);
-        while let Some(key) = map.next_key::<String>()? {
-            match key.as_str() {
-                SPANNED_START => start = Some(map.next_value::<usize>()?),
-                SPANNED_END => end = Some(map.next_value::<usize>()?),
-                // Unspanned here: asking for a span again would recurse.
-                SPANNED_VALUE => value = Some(map.next_value::<Node>()?),
-                DATETIME_FIELD => return Ok(bare(Node::Datetime(map.next_value::<String>()?))),
-                _ => {
-                    let v = map.next_value::<Sp>()?;
-                    entries.push((key, v));
-                }
-            }
-        }
-        match value {
-            Some(node) => Ok(Sp {
-                span: start.zip(end).map(|(s, e)| s..e),
-                node,
-            }),
-            None => Ok(bare(Node::Table(entries))),
-        }
-    }
-}
-
 // ---------------------------------------------------------------------------
 // Validation.
 
@@ -655,7 +560,7 @@ const FRICTION_KEYS: &[&str] = &[
     "stribeck_rad_s",
 ];
 const TAPE_KEYS: &[&str] = &["a", "b", "d", "m_90", "c_180"];
-const RUN_KEYS: &[&str] = &["duration_s", "sample_hz"];
+const RUN_KEYS: &[&str] = &["duration_s", "sample_hz", "settle_s"];
 
 /// What a number must be.
 #[derive(Clone, Copy)]
@@ -664,9 +569,19 @@ enum Bound {
     NonZero,
     NonNegative,
     Positive,
+    BelowOne,
 }
 
 impl Bound {
+    /// The values an effect allows ([`EffectKind::allowed`]).
+    fn of(kind: EffectKind) -> Bound {
+        match kind.allowed() {
+            ValueRange::Finite => Bound::Finite,
+            ValueRange::NonNegative => Bound::NonNegative,
+            ValueRange::BelowOne => Bound::BelowOne,
+        }
+    }
+
     fn ok(self, x: f64) -> bool {
         x.is_finite()
             && match self {
@@ -674,6 +589,7 @@ impl Bound {
                 Bound::NonZero => x != 0.0,
                 Bound::NonNegative => x >= 0.0,
                 Bound::Positive => x > 0.0,
+                Bound::BelowOne => x < 1.0,
             }
     }
 
@@ -683,6 +599,7 @@ impl Bound {
             Bound::NonZero => "a finite non-zero number",
             Bound::NonNegative => "a finite number ≥ 0",
             Bound::Positive => "a finite number > 0",
+            Bound::BelowOne => "a finite number < 1",
         };
         if unit.is_empty() {
             what.to_string()
@@ -733,6 +650,15 @@ fn join(path: &str, key: &str) -> String {
 }
 
 impl Cx<'_> {
+    /// An error at `line` of this file.
+    fn err(&self, line: Option<usize>, kind: MechanismErrorKind) -> MechanismError {
+        MechanismError {
+            file: self.file.to_string(),
+            line,
+            kind,
+        }
+    }
+
     fn line_of(&self, byte: usize) -> usize {
         let end = byte.min(self.text.len());
         self.text.as_bytes()[..end]
@@ -757,32 +683,35 @@ impl Cx<'_> {
     }
 
     fn wrong_type(&self, sp: &Sp, key: &str, expected: &str) -> MechanismError {
-        MechanismError::WrongType {
-            file: self.file.to_string(),
-            line: self.line(sp),
-            key: key.to_string(),
-            expected: expected.to_string(),
-            found: sp.node.type_name().to_string(),
-        }
+        self.err(
+            self.line(sp),
+            MechanismErrorKind::WrongType {
+                key: key.to_string(),
+                expected: expected.to_string(),
+                found: sp.node.type_name().to_string(),
+            },
+        )
     }
 
     fn invalid(&self, sp: &Sp, key: &str, expected: &str) -> MechanismError {
-        MechanismError::InvalidValue {
-            file: self.file.to_string(),
-            line: self.line(sp),
-            key: key.to_string(),
-            expected: expected.to_string(),
-            found: sp.node.show(),
-        }
+        self.err(
+            self.line(sp),
+            MechanismErrorKind::InvalidValue {
+                key: key.to_string(),
+                expected: expected.to_string(),
+                found: sp.node.show(),
+            },
+        )
     }
 
     fn missing(&self, t: &Table<'_>, key: &str, expected: &str) -> MechanismError {
-        MechanismError::MissingKey {
-            file: self.file.to_string(),
-            line: t.line,
-            key: t.key(key),
-            expected: expected.to_string(),
-        }
+        self.err(
+            t.line,
+            MechanismErrorKind::MissingKey {
+                key: t.key(key),
+                expected: expected.to_string(),
+            },
+        )
     }
 
     /// `sp` as a table whose keys are all in `allowed`.
@@ -792,12 +721,13 @@ impl Cx<'_> {
         };
         for (k, v) in entries {
             if !allowed.contains(&k.as_str()) {
-                return Err(MechanismError::UnknownKey {
-                    file: self.file.to_string(),
-                    line: self.line(v).or_else(|| self.line(sp)),
-                    key: join(path, k),
-                    expected: allowed.join(", "),
-                });
+                return Err(self.err(
+                    self.line(v).or_else(|| self.line(sp)),
+                    MechanismErrorKind::UnknownKey {
+                        key: join(path, k),
+                        expected: allowed.join(", "),
+                    },
+                ));
             }
         }
         Ok(Table {
@@ -899,11 +829,12 @@ impl Cx<'_> {
             panels.push(self.panel(sp, &format!("panel[{}]", i + 1))?);
         }
         if panels.is_empty() || panels.len() > MAX_JOINTS {
-            return Err(MechanismError::PanelCount {
-                file: self.file.to_string(),
-                line: panel_items.get(MAX_JOINTS).and_then(|sp| self.line(sp)),
-                found: panels.len(),
-            });
+            return Err(self.err(
+                panel_items.get(MAX_JOINTS).and_then(|sp| self.line(sp)),
+                MechanismErrorKind::PanelCount {
+                    found: panels.len(),
+                },
+            ));
         }
 
         let joint_items = self.array_of_tables(&top, "joint")?;
@@ -912,29 +843,19 @@ impl Cx<'_> {
             joints.push(self.joint(sp, i + 1, &tapes)?);
         }
         if joints.len() != panels.len() {
-            return Err(MechanismError::JointCount {
-                file: self.file.to_string(),
-                line: joint_items.get(panels.len()).and_then(|sp| self.line(sp)),
-                panels: panels.len(),
-                joints: joints.len(),
-            });
+            return Err(self.err(
+                joint_items.get(panels.len()).and_then(|sp| self.line(sp)),
+                MechanismErrorKind::JointCount {
+                    panels: panels.len(),
+                    joints: joints.len(),
+                },
+            ));
         }
 
-        let (mut duration_s, mut sample_hz) = (DEFAULT_DURATION_S, DEFAULT_SAMPLE_HZ);
-        if let Some(sp) = top.get("run") {
-            let run = self.table(sp, "run", RUN_KEYS)?;
-            if let Some(d) = self.opt_number(&run, "duration_s", Bound::Positive, "s")? {
-                duration_s = d;
-            }
-            if let Some(sp) = run.get("sample_hz") {
-                let key = run.key("sample_hz");
-                let hz = self.number(sp, &key, Bound::Positive, "Hz")?;
-                if hz > MAX_SAMPLE_HZ {
-                    return Err(self.invalid(sp, &key, "a finite number > 0 and ≤ 1e6 [Hz]"));
-                }
-                sample_hz = hz;
-            }
-        }
+        let (duration_s, sample_hz, settle_s) = match top.get("run") {
+            Some(sp) => self.run_settings(sp)?,
+            None => (DEFAULT_DURATION_S, DEFAULT_SAMPLE_HZ, DEFAULT_SETTLE_S),
+        };
 
         Ok(Mechanism {
             name,
@@ -943,7 +864,28 @@ impl Cx<'_> {
             joints,
             duration_s,
             sample_hz,
+            settle_s,
         })
+    }
+
+    /// `[run]`: `(duration_s, sample_hz, settle_s)`, each defaulted on its own.
+    fn run_settings(&self, sp: &Sp) -> Res<(f64, f64, f64)> {
+        let run = self.table(sp, "run", RUN_KEYS)?;
+        let duration_s = self.opt_number(&run, "duration_s", Bound::Positive, "s")?;
+        let settle_s = self.opt_number(&run, "settle_s", Bound::NonNegative, "s")?;
+        let mut sample_hz = DEFAULT_SAMPLE_HZ;
+        if let Some(sp) = run.get("sample_hz") {
+            let key = run.key("sample_hz");
+            sample_hz = self.number(sp, &key, Bound::Positive, "Hz")?;
+            if sample_hz > MAX_SAMPLE_HZ {
+                return Err(self.invalid(sp, &key, "a finite number > 0 and ≤ 1e6 [Hz]"));
+            }
+        }
+        Ok((
+            duration_s.unwrap_or(DEFAULT_DURATION_S),
+            sample_hz,
+            settle_s.unwrap_or(DEFAULT_SETTLE_S),
+        ))
     }
 
     /// `[[key]]`: an array of tables (`key = [{...}, ...]` is the same in TOML).
@@ -960,10 +902,21 @@ impl Cx<'_> {
 
     fn panel(&self, sp: &Sp, path: &str) -> Res<Panel<f64>> {
         let t = self.table(sp, path, PANEL_KEYS)?;
+        let length_m = self.req_number(&t, "length_m", Bound::Positive, "m")?;
+        let mass_kg = self.req_number(&t, "mass_kg", Bound::Positive, "kg")?;
+        let com_m = self.req_number(&t, "com_m", Bound::Finite, "m")?;
+        if !(0.0..=length_m).contains(&com_m) {
+            let expected = format!(
+                "a distance from the panel's hinge within the panel, 0 to length_m = {} [m]",
+                num(length_m)
+            );
+            let sp = t.get("com_m").unwrap_or(sp);
+            return Err(self.invalid(sp, &t.key("com_m"), &expected));
+        }
         Ok(Panel {
-            length_m: self.req_number(&t, "length_m", Bound::Positive, "m")?,
-            mass_kg: self.req_number(&t, "mass_kg", Bound::Positive, "kg")?,
-            com_m: self.req_number(&t, "com_m", Bound::Finite, "m")?,
+            length_m,
+            mass_kg,
+            com_m,
             inertia_kgm2: self.req_number(&t, "inertia_kgm2", Bound::Positive, "kg·m²")?,
         })
     }
@@ -972,6 +925,11 @@ impl Cx<'_> {
         let path = format!("joint[{j}]");
         let t = self.table(sp, &path, JOINT_KEYS)?;
         let stowed_deg = self.req_number(&t, "stowed_deg", Bound::NonZero, "deg")?;
+        if stowed_deg.abs() > MAX_STOWED_DEG {
+            let sp = t.get("stowed_deg").unwrap_or(sp);
+            let expected = "a finite non-zero angle within ±360 [deg] (at most one turn)";
+            return Err(self.invalid(sp, &t.key("stowed_deg"), expected));
+        }
         let spring = match t.get("spring") {
             Some(s) => self.spring(s, &t.key("spring"), j, tapes)?,
             None => {
@@ -1007,103 +965,102 @@ impl Cx<'_> {
         let kind = match entries.iter().find(|(k, _)| k == "kind") {
             Some((_, k)) => (k, self.string(k, &kind_key)?),
             None => {
-                return Err(MechanismError::MissingKey {
-                    file: self.file.to_string(),
-                    line: self.line(sp),
-                    key: kind_key,
-                    expected: "one of \"linear\", \"tape\", \"curve\"".to_string(),
-                })
+                return Err(self.err(
+                    self.line(sp),
+                    MechanismErrorKind::MissingKey {
+                        key: kind_key,
+                        expected: "one of \"linear\", \"tape\", \"curve\"".to_string(),
+                    },
+                ))
             }
         };
         let spec = match kind.1 {
-            "linear" => {
-                let t = self.table(sp, path, LINEAR_KEYS)?;
-                SpringSpec::Linear {
-                    preload_nm: self.req_number(&t, "preload_nm", Bound::NonNegative, "N·m")?,
-                    stiffness_nm_per_rad: self.req_number(
-                        &t,
-                        "stiffness_nm_per_rad",
-                        Bound::NonNegative,
-                        "N·m/rad",
-                    )?,
-                    count: self.count(&t)?,
-                }
-            }
-            "tape" => {
-                let t = self.table(sp, path, TAPE_SPRING_KEYS)?;
-                let Some(ty) = t.get("type") else {
-                    return Err(self.missing(&t, "type", "the name of a [tape.\"NAME\"] table"));
-                };
-                let type_key = t.key("type");
-                let type_name = self.string(ty, &type_key)?;
-                let Some((_, points)) = tapes.iter().find(|(n, _)| n == type_name) else {
-                    return Err(MechanismError::UnknownTapeType {
-                        file: self.file.to_string(),
-                        line: self.line(ty),
-                        key: type_key,
-                        found: type_name.to_string(),
-                        defined: tapes.iter().map(|(n, _)| n.clone()).collect(),
-                    });
-                };
-                SpringSpec::Tape {
-                    type_name: type_name.to_string(),
-                    points: *points,
-                    count: self.count(&t)?,
-                }
-            }
-            "curve" => {
-                let t = self.table(sp, path, CURVE_KEYS)?;
-                let interp = match t.get("interp") {
-                    None => Interp::Akima,
-                    Some(i) => match self.string(i, &t.key("interp"))? {
-                        "akima" => Interp::Akima,
-                        "linear" => Interp::Linear,
-                        _ => {
-                            return Err(self.invalid(
-                                i,
-                                &t.key("interp"),
-                                "\"akima\" or \"linear\"",
-                            ))
-                        }
-                    },
-                };
-                let unfold = match t.get("unfold") {
-                    Some(u) => self.curve(u, &t.key("unfold"), interp)?,
-                    None => {
-                        return Err(self.missing(&t, "unfold", "an array of [deg, N·m] points"))
-                    }
-                };
-                let fold = t
-                    .get("fold")
-                    .map(|f| self.curve(f, &t.key("fold"), interp))
-                    .transpose()?;
-                SpringSpec::Curve {
-                    unfold,
-                    fold,
-                    interp,
-                    count: self.count(&t)?,
-                }
-            }
+            "linear" => self.linear_spring(&self.table(sp, path, LINEAR_KEYS)?)?,
+            "tape" => self.tape_spring(&self.table(sp, path, TAPE_SPRING_KEYS)?, tapes)?,
+            "curve" => self.curve_spring(&self.table(sp, path, CURVE_KEYS)?)?,
             other => {
-                return Err(MechanismError::UnknownSpringKind {
-                    file: self.file.to_string(),
-                    line: self.line(kind.0),
-                    key: kind_key,
-                    joint: j,
-                    found: other.to_string(),
-                })
+                return Err(self.err(
+                    self.line(kind.0),
+                    MechanismErrorKind::UnknownSpringKind {
+                        key: kind_key,
+                        joint: j,
+                        found: other.to_string(),
+                    },
+                ))
             }
         };
         // The core's own check (the pieces were checked above; this cannot
         // fail unless the core's rules grow).
-        spec.to_spring()
-            .map_err(|source| MechanismError::BadCurve {
-                file: self.file.to_string(),
-                line: self.line(sp),
-                key: path.to_string(),
-                source,
-            })?;
+        spec.to_spring().map_err(|source| {
+            self.err(
+                self.line(sp),
+                MechanismErrorKind::BadCurve {
+                    key: path.to_string(),
+                    source,
+                },
+            )
+        })?;
         Ok(spec)
+    }
+
+    /// `kind = "linear"`: `preload_nm`, `stiffness_nm_per_rad`, `count`.
+    fn linear_spring(&self, t: &Table<'_>) -> Res<SpringSpec> {
+        let stiffness = "stiffness_nm_per_rad";
+        Ok(SpringSpec::Linear {
+            preload_nm: self.req_number(t, "preload_nm", Bound::NonNegative, "N·m")?,
+            stiffness_nm_per_rad: self.req_number(t, stiffness, Bound::NonNegative, "N·m/rad")?,
+            count: self.count(t)?,
+        })
+    }
+
+    /// `kind = "tape"`: a `type` defined by a `[tape."NAME"]` table, `count`.
+    fn tape_spring(&self, t: &Table<'_>, tapes: &[(String, TapePoints<f64>)]) -> Res<SpringSpec> {
+        let Some(ty) = t.get("type") else {
+            return Err(self.missing(t, "type", "the name of a [tape.\"NAME\"] table"));
+        };
+        let type_key = t.key("type");
+        let type_name = self.string(ty, &type_key)?;
+        let Some((_, points)) = tapes.iter().find(|(n, _)| n == type_name) else {
+            return Err(self.err(
+                self.line(ty),
+                MechanismErrorKind::UnknownTapeType {
+                    key: type_key,
+                    found: type_name.to_string(),
+                    defined: tapes.iter().map(|(n, _)| n.clone()).collect(),
+                },
+            ));
+        };
+        Ok(SpringSpec::Tape {
+            type_name: type_name.to_string(),
+            points: *points,
+            count: self.count(t)?,
+        })
+    }
+
+    /// `kind = "curve"`: `unfold`, optional `fold` and `interp`, `count`.
+    fn curve_spring(&self, t: &Table<'_>) -> Res<SpringSpec> {
+        let interp = match t.get("interp") {
+            None => Interp::Akima,
+            Some(i) => match self.string(i, &t.key("interp"))? {
+                "akima" => Interp::Akima,
+                "linear" => Interp::Linear,
+                _ => return Err(self.invalid(i, &t.key("interp"), "\"akima\" or \"linear\"")),
+            },
+        };
+        let unfold = match t.get("unfold") {
+            Some(u) => self.curve(u, &t.key("unfold"), interp)?,
+            None => return Err(self.missing(t, "unfold", "an array of [deg, N·m] points")),
+        };
+        let fold = t
+            .get("fold")
+            .map(|f| self.curve(f, &t.key("fold"), interp))
+            .transpose()?;
+        Ok(SpringSpec::Curve {
+            unfold,
+            fold,
+            interp,
+            count: self.count(t)?,
+        })
     }
 
     /// `[[deg, N·m], ...]`, checked by the core.
@@ -1115,11 +1072,14 @@ impl Cx<'_> {
         for (i, p) in items.iter().enumerate() {
             points.push(self.pair(p, &format!("{key}[{}]", i + 1), "[deg, N·m]")?);
         }
-        Curve::new(&points, interp).map_err(|source| MechanismError::BadCurve {
-            file: self.file.to_string(),
-            line: self.line(sp),
-            key: key.to_string(),
-            source,
+        Curve::new(&points, interp).map_err(|source| {
+            self.err(
+                self.line(sp),
+                MechanismErrorKind::BadCurve {
+                    key: key.to_string(),
+                    source,
+                },
+            )
         })?;
         Ok(points)
     }
@@ -1127,10 +1087,13 @@ impl Cx<'_> {
     fn friction(&self, sp: &Sp, path: &str) -> Res<FrictionSpec> {
         let t = self.table(sp, path, FRICTION_KEYS)?;
         let mut f = FrictionSpec::default();
-        if let Some(x) = self.opt_number(&t, "coulomb_nm", Bound::NonNegative, "N·m")? {
+        // The same values as the matching effects (`--effect`) allow.
+        let coulomb = Bound::of(EffectKind::CoulombFriction);
+        if let Some(x) = self.opt_number(&t, "coulomb_nm", coulomb, "N·m")? {
             f.coulomb_nm = x;
         }
-        if let Some(x) = self.opt_number(&t, "viscous_nms", Bound::NonNegative, "N·m·s/rad")? {
+        let viscous = Bound::of(EffectKind::ViscousDamping);
+        if let Some(x) = self.opt_number(&t, "viscous_nms", viscous, "N·m·s/rad")? {
             f.viscous_nms = x;
         }
         if let Some(x) = self.opt_number(&t, "coulomb_threshold_rad_s", Bound::Positive, "rad/s")? {
@@ -1220,11 +1183,14 @@ impl Cx<'_> {
                 m_90,
                 c_180,
             };
-            Spring::tape(&points, 1.0).map_err(|source| MechanismError::BadCurve {
-                file: self.file.to_string(),
-                line: self.line(v),
-                key: path.clone(),
-                source,
+            Spring::tape(&points, 1.0).map_err(|source| {
+                self.err(
+                    self.line(v),
+                    MechanismErrorKind::BadCurve {
+                        key: path.clone(),
+                        source,
+                    },
+                )
             })?;
             out.push((name.clone(), points));
         }

@@ -3,5 +3,6 @@
 //! mobility.
 pub mod effect;
 pub mod kinematics;
+pub mod located;
 pub mod mechanism;
 pub mod mechanism_toml;

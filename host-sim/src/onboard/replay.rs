@@ -35,7 +35,7 @@ use deploywatch_firmware_example::config::{
 };
 
 use crate::data::run::Run;
-use crate::model::mechanism::{Mechanism, SpringSpec};
+use crate::model::mechanism::{with_joints, Mechanism, SpringSpec};
 use crate::onboard::monitor_config::{monitor_config, samples, spring_f32};
 use crate::report::plot::{self, Mark, Panel, Series};
 
@@ -143,31 +143,6 @@ pub fn load_run(path: &Path) -> Result<Run, ReplayError> {
         allow_missing: true,
     };
     Run::load_with(path, opts).map_err(|e| ReplayError::Input(e.to_string()))
-}
-
-/// Calls `$body` with `const $n: usize` set to `$joints` (1 to 4).
-macro_rules! with_joints {
-    ($joints:expr, $n:ident => $body:expr, else $other:expr) => {
-        match $joints {
-            1 => {
-                const $n: usize = 1;
-                $body
-            }
-            2 => {
-                const $n: usize = 2;
-                $body
-            }
-            3 => {
-                const $n: usize = 3;
-                $body
-            }
-            4 => {
-                const $n: usize = 4;
-                $body
-            }
-            _ => $other,
-        }
-    };
 }
 
 /// The firmware's [`JointFrame`] of joint `j` (0-based) of `mech`: the same

@@ -10,7 +10,7 @@
 //! no discontinuity; every restart re-evaluates the derivative.
 
 use crate::model::effect::{self, Effect};
-use crate::model::mechanism::Mechanism;
+use crate::model::mechanism::{with_joints, Mechanism, MAX_JOINTS};
 use crate::simulate::ode::{self, Dense, State};
 use deploywatch_core::{Branch, Chain, Mode};
 
@@ -30,8 +30,13 @@ pub struct SimOptions {
     /// Latch joints at `φ = 0` (the reference). When false, joints swing
     /// through and the simulation runs the whole duration (energy checks).
     pub latching: bool,
-    /// End at the first sample at or after the last latch (formats.md).
+    /// End `settle_s` after the first sample at or after the last latch
+    /// (formats.md); when false, hold the deployed state to the last sample.
     pub stop_when_deployed: bool,
+    /// Recording after the last latch [s]; the mechanism's `settle_s` when
+    /// `None` (0: end at the first sample at or after the last latch, as
+    /// the golden files do).
+    pub settle_s: Option<f64>,
 }
 
 impl Default for SimOptions {
@@ -44,6 +49,7 @@ impl Default for SimOptions {
             sample_hz: None,
             latching: true,
             stop_when_deployed: true,
+            settle_s: None,
         }
     }
 }
@@ -118,6 +124,12 @@ pub enum SimError {
         /// Simulated time [s].
         t_s: f64,
     },
+    /// The run would hold more than [`MAX_SAMPLES`] samples.
+    #[error("the run would hold more than {MAX_SAMPLES} samples by t = {t_s:.3} s; expected a shorter [run] duration_s or a lower sample rate")]
+    TooManySamples {
+        /// Simulated time [s].
+        t_s: f64,
+    },
     /// A tape-spring joint sticks at `φ̇ = 0` where neither branch is
     /// consistent (the reference reports this as an error too).
     #[error(
@@ -134,6 +146,11 @@ pub enum SimError {
 /// Most accepted plus rejected steps of one simulation (a 12 s deployment
 /// takes under 2,000).
 pub const MAX_STEPS: usize = 1_000_000;
+
+/// Most samples of one simulated run: 10⁶, 2.8 hours at 100 Hz (deployments
+/// last seconds; a 3-joint trajectory of 10⁶ samples takes about 60 MB).
+/// Memory grows with the samples written, never with the duration asked for.
+pub const MAX_SAMPLES: usize = 1_000_000;
 
 /// Most branch events one joint may have within 1 ms before the simulation
 /// is declared to slide on `φ̇ = 0`.
@@ -154,9 +171,23 @@ pub fn simulate(
             "duration ({duration} s) and sample rate ({rate} Hz) must be positive"
         )));
     }
-    let last_k = (duration * rate + 1e-9).floor() as usize;
-    let times: Vec<f64> = (0..=last_k).map(|k| k as f64 / rate).collect();
-    simulate_at(mech, effects, opts, &times)
+    // The grid is generated as the run goes: a long duration costs nothing
+    // when the wing latches early.
+    let last_k = (duration * rate + 1e-9).floor();
+    let count = if last_k < usize::MAX as f64 {
+        last_k as usize + 1
+    } else {
+        usize::MAX
+    };
+    if count > MAX_SAMPLES && !opts.stop_when_deployed {
+        // The whole duration would be written: refuse before the work.
+        return Err(SimError::TooManySamples { t_s: duration });
+    }
+    let times = Samples::Grid {
+        rate_hz: rate,
+        count,
+    };
+    simulate_samples(mech, effects, opts, times)
 }
 
 /// Simulates a mechanism and samples it at the given times (sorted, from 0):
@@ -169,26 +200,77 @@ pub fn simulate_at(
     opts: &SimOptions,
     times: &[f64],
 ) -> Result<Trajectory, SimError> {
-    let n = mech.joint_count();
-    for e in effects {
-        e.validate(n).map_err(SimError::Invalid)?;
-    }
     if times.first().is_some_and(|&t| t < 0.0) || times.windows(2).any(|w| !(w[1] > w[0])) {
         return Err(SimError::Invalid(
             "sample times must start at or after 0 and increase strictly".into(),
         ));
     }
+    simulate_samples(mech, effects, opts, Samples::Listed(times))
+}
+
+/// [`simulate_at`] on any sample times.
+fn simulate_samples(
+    mech: &Mechanism,
+    effects: &[Effect],
+    opts: &SimOptions,
+    times: Samples<'_>,
+) -> Result<Trajectory, SimError> {
+    let n = mech.joint_count();
+    for e in effects {
+        e.validate_joint(n)
+            .map_err(|e| SimError::Invalid(e.to_string()))?;
+    }
+    let settle_s = opts.settle_s.unwrap_or(mech.settle_s);
+    if !(settle_s >= 0.0 && settle_s.is_finite()) {
+        return Err(SimError::Invalid(format!(
+            "settle_s = {settle_s} s: expected a finite time ≥ 0"
+        )));
+    }
+    let opts = SimOptions {
+        settle_s: Some(settle_s),
+        ..*opts
+    };
     let (je, g) = effect::to_core(effects, n);
     let bad = || SimError::Invalid(format!("mechanism `{}` cannot be built", mech.name));
-    match n {
-        1 => run_chain(&mech.chain::<1>(&je, g).ok_or_else(bad)?, times, opts),
-        2 => run_chain(&mech.chain::<2>(&je, g).ok_or_else(bad)?, times, opts),
-        3 => run_chain(&mech.chain::<3>(&je, g).ok_or_else(bad)?, times, opts),
-        4 => run_chain(&mech.chain::<4>(&je, g).ok_or_else(bad)?, times, opts),
-        _ => Err(SimError::Invalid(format!(
-            "mechanism `{}` has {n} joints; 1 to 4 are supported",
+    let other = || {
+        SimError::Invalid(format!(
+            "mechanism `{}` has {n} joints; 1 to {MAX_JOINTS} are supported",
             mech.name
-        ))),
+        ))
+    };
+    with_joints!(n, N => run_chain(&mech.chain::<N>(&je, g).ok_or_else(bad)?, times, &opts), else Err(other()))
+}
+
+/// The output sample times: a measured run's (listed), or a uniform grid
+/// from 0 generated as the run goes.
+#[derive(Clone, Copy, Debug)]
+pub enum Samples<'a> {
+    /// Given times, sorted, from 0.
+    Listed(&'a [f64]),
+    /// `k / rate_hz` for `k = 0 .. count`.
+    Grid {
+        /// Sample rate [Hz].
+        rate_hz: f64,
+        /// Number of samples.
+        count: usize,
+    },
+}
+
+impl Samples<'_> {
+    /// Sample `k` [s], `None` past the end.
+    fn get(&self, k: usize) -> Option<f64> {
+        match *self {
+            Samples::Listed(t) => t.get(k).copied(),
+            Samples::Grid { rate_hz, count } => (k < count).then(|| k as f64 / rate_hz),
+        }
+    }
+
+    /// The last sample [s] (0 for none).
+    fn last(&self) -> f64 {
+        match *self {
+            Samples::Listed(t) => t.last().copied().unwrap_or(0.0),
+            Samples::Grid { rate_hz, count } => count.saturating_sub(1) as f64 / rate_hz,
+        }
     }
 }
 
@@ -322,9 +404,6 @@ mod small_list {
         pub fn iter(&self) -> impl Iterator<Item = T> + '_ {
             self.items[..self.len].iter().flatten().copied()
         }
-        pub fn is_empty(&self) -> bool {
-            self.len == 0
-        }
     }
 }
 
@@ -367,67 +446,35 @@ fn locate<const N: usize>(g: impl Fn(&State<N>) -> f64, dense: &Dense<N>, t0: f6
 }
 
 /// Integrates a chain from its stowed state at rest up to the last of
-/// `times` (sorted), sampling it there.
+/// `times`, sampling it there: start at rest, then take steps (each cut at
+/// its first event, latch or branch switch) until every joint latched or the
+/// last sample, then close the run (`settle_s` of the deployed state, or the
+/// samples left).
 pub fn run_chain<const N: usize>(
     chain: &Chain<f64, N>,
-    times: &[f64],
+    times: Samples<'_>,
     opts: &SimOptions,
 ) -> Result<Trajectory, SimError> {
-    let duration = times.last().copied().unwrap_or(0.0);
-    let mut it = Integrator {
-        chain,
-        mode: Mode::default(),
-        side: [0.0; N],
-        hyst: [None; N],
-        evaluations: 0,
+    let duration = times.last();
+    let (mut it, mut y) = Integrator::at_rest(chain);
+    let mut out = Sampler {
+        times,
+        k: 0,
+        out: Trajectory {
+            phi_deg: vec![Vec::new(); N],
+            rate_deg_s: vec![Vec::new(); N],
+            latched: vec![Vec::new(); N],
+            latch_s: vec![None; N],
+            ..Trajectory::default()
+        },
     };
-    let mut y = State::<N>::ZERO;
-    for (j, jt) in chain.joints().iter().enumerate() {
-        y.q[j] = jt.stowed_rad;
-        it.side[j] = if jt.stowed_rad >= 0.0 { 1.0 } else { -1.0 };
-        it.hyst[j] = jt.spring.hysteresis_below_rad();
-    }
-    for j in 0..N {
-        it.mode.branch[j] = it.choose_branch(&y, j);
-    }
-
-    let mut out = Trajectory {
-        t_s: Vec::new(),
-        phi_deg: vec![Vec::new(); N],
-        rate_deg_s: vec![Vec::new(); N],
-        latched: vec![Vec::new(); N],
-        latch_s: vec![None; N],
-        end_s: 0.0,
-        stats: SimStats::default(),
-    };
-    let mut k = 0usize;
-    let push = |out: &mut Trajectory, t: f64, s: &State<N>, latched: &[bool; N]| {
-        out.t_s.push(t);
-        for j in 0..N {
-            let (q, v) = if latched[j] {
-                (0.0, 0.0)
-            } else {
-                (s.q[j], s.v[j])
-            };
-            out.phi_deg[j].push(q.to_degrees());
-            out.rate_deg_s[j].push(v.to_degrees());
-            out.latched[j].push(latched[j]);
-        }
-    };
-    while k < times.len() && times[k] <= 0.0 {
-        push(&mut out, times[k], &y, &it.mode.latched);
-        k += 1;
-    }
+    out.push_while(|tk| tk <= 0.0, |_| y, &it.mode.latched)?;
 
     let mut t = 0.0;
     let mut k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
     let mut h = 1e-4f64.min(opts.max_step_s);
-    let mut same_instant_events = 0usize;
-    // Branch events per joint within the last millisecond: a burst is a joint
-    // sliding on φ̇ = 0 (Zeno chattering between the branches).
-    let mut burst = [(f64::NEG_INFINITY, 0usize); N];
+    let mut events = EventLog::<N>::new();
     let mut done = false;
-    let mut hold = false;
     while !done && t < duration {
         h = h.min(opts.max_step_s).min(duration - t);
         if h < 1e-13 {
@@ -436,144 +483,291 @@ pub fn run_chain<const N: usize>(
             }
             return Err(SimError::StepUnderflow { t_s: t });
         }
-        let mut f = |_t: f64, s: &State<N>| it.deriv(s);
-        let Some(att) = ode::step(&mut f, t, &y, &k1, h, opts.rtol, opts.atol) else {
-            // The trial state left the domain (e.g. NaN): shrink.
-            h *= 0.25;
-            out.stats.rejected += 1;
+        let Some(att) = it.attempt(&mut out.out.stats, t, &y, &k1, &mut h, opts)? else {
             continue;
         };
-        if att.err > 1.0 {
-            h = ode::next_h(h, att.err);
-            out.stats.rejected += 1;
-            continue;
-        }
-        out.stats.steps += 1;
-        if out.stats.steps + out.stats.rejected > MAX_STEPS {
-            return Err(SimError::TooManySteps { t_s: t });
-        }
         let t1 = t + h;
-        let fired = it.fired(&y, &att.y1);
-        let mut t_end = t1;
-        let mut first: Option<Event> = None;
-        if !fired.is_empty() {
-            for ev in fired.iter() {
-                let te = locate(|s| it.g(ev, s), &att.dense, t, t1);
-                // A latch wins a tie: at φ = 0 the joint latches, whatever
-                // its rate does there.
-                let earlier = match ev {
-                    Event::Latch(_) => te <= t_end,
-                    Event::Branch(_) => te < t_end - 1e-12,
-                };
-                if first.is_none() || earlier {
-                    t_end = te;
-                    first = Some(ev);
-                }
-            }
-        }
+        let (t_end, first) = it.first_event(&y, &att, t, t1);
         // Samples up to the end of this (possibly cut) step. A sample at the
         // event instant itself is taken after the event is applied.
-        while k < times.len() {
-            let tk = times[k];
-            let inside = if first.is_some() {
-                tk < t_end
+        let cut = first.is_some();
+        out.push_while(
+            |tk| if cut { tk < t_end } else { tk <= t_end },
+            |tk| att.dense.at(tk),
+            &it.mode.latched,
+        )?;
+        let Some(ev) = first else {
+            t = t1;
+            y = att.y1;
+            k1 = att.k7;
+            h = ode::next_h(h, att.err);
+            events.same_instant = 0;
+            continue;
+        };
+        out.out.stats.events += 1;
+        events.same_instant = if (t_end - t).abs() < 1e-12 {
+            events.same_instant + 1
+        } else {
+            0
+        };
+        y = att.dense.at(t_end);
+        done = it.apply_event(ev, &mut y, t_end, opts, &mut events, &mut out.out)?;
+        t = t_end;
+        k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
+        // Restart with a modest step after a discontinuity.
+        h = h.min(1e-3);
+    }
+    out.out.end_s = t.min(duration);
+    out.close(t, &y, &it.mode.latched, done, opts)?;
+    out.out.stats.evaluations = it.evaluations;
+    Ok(out.out)
+}
+
+/// The output: the trajectory and the next sample time to fill.
+struct Sampler<'t> {
+    times: Samples<'t>,
+    k: usize,
+    out: Trajectory,
+}
+
+impl Sampler<'_> {
+    /// Appends one sample (latched joints at 0, at rest).
+    fn push<const N: usize>(
+        &mut self,
+        t: f64,
+        s: &State<N>,
+        latched: &[bool; N],
+    ) -> Result<(), SimError> {
+        if self.out.t_s.len() >= MAX_SAMPLES {
+            return Err(SimError::TooManySamples { t_s: t });
+        }
+        self.out.t_s.push(t);
+        for j in 0..N {
+            let (q, v) = if latched[j] {
+                (0.0, 0.0)
             } else {
-                tk <= t_end
+                (s.q[j], s.v[j])
             };
-            if !inside {
-                break;
-            }
-            push(&mut out, tk, &att.dense.at(tk), &it.mode.latched);
-            k += 1;
+            self.out.phi_deg[j].push(q.to_degrees());
+            self.out.rate_deg_s[j].push(v.to_degrees());
+            self.out.latched[j].push(latched[j]);
         }
-        match first {
-            None => {
-                t = t1;
-                y = att.y1;
-                k1 = att.k7;
-                h = ode::next_h(h, att.err);
-                same_instant_events = 0;
-            }
-            Some(ev) => {
-                out.stats.events += 1;
-                same_instant_events = if (t_end - t).abs() < 1e-12 {
-                    same_instant_events + 1
-                } else {
-                    0
-                };
-                let mut ye = att.dense.at(t_end);
-                match ev {
-                    Event::Latch(_) if opts.latching => {
-                        // Every free joint at (or numerically past) the latch
-                        // angle now latches in the same impulse.
-                        let mut after = it.mode.latched;
-                        for j in 0..N {
-                            if !after[j] && it.side[j] * ye.q[j] <= 1e-12 {
-                                after[j] = true;
-                            }
-                        }
-                        let v = chain
-                            .latch_impulse(&ye.chain(), &after)
-                            .map_err(|_| SimError::Singular { t_s: t_end })?;
-                        ye.v = v;
-                        for j in 0..N {
-                            if after[j] && !it.mode.latched[j] {
-                                out.latch_s[j] = Some(t_end);
-                                ye.q[j] = 0.0;
-                                ye.v[j] = 0.0;
-                            }
-                        }
-                        it.mode.latched = after;
-                        if it.mode.latched.iter().all(|&l| l) {
-                            // Nothing moves any more: end here, or hold the
-                            // deployed state over the remaining samples.
-                            done = true;
-                            hold = !opts.stop_when_deployed;
-                        }
-                    }
-                    Event::Latch(j) => {
-                        // Latching off: restart on the other side of the kink.
-                        it.side[j] = -it.side[j];
-                        it.mode.branch[j] = it.choose_branch(&ye, j);
-                    }
-                    Event::Branch(j) => {
-                        let (last, count) = burst[j];
-                        burst[j] = if t_end - last < 1e-3 {
-                            (last, count + 1)
-                        } else {
-                            (t_end, 1)
-                        };
-                        if same_instant_events > 20 || burst[j].1 > MAX_BRANCH_BURST {
-                            return Err(SimError::Sliding {
-                                joint: j + 1,
-                                t_s: t_end,
-                            });
-                        }
-                        it.mode.branch[j] = it.choose_branch(&ye, j);
-                    }
-                }
-                t = t_end;
-                y = ye;
-                k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
-                // Restart with a modest step after a discontinuity.
-                h = h.min(1e-3);
-            }
+        Ok(())
+    }
+
+    /// Appends the next samples while `inside(t_k)`, the state at `t_k`
+    /// given by `state`.
+    fn push_while<const N: usize>(
+        &mut self,
+        inside: impl Fn(f64) -> bool,
+        state: impl Fn(f64) -> State<N>,
+        latched: &[bool; N],
+    ) -> Result<(), SimError> {
+        while let Some(tk) = self.times.get(self.k).filter(|&tk| inside(tk)) {
+            self.push(tk, &state(tk), latched)?;
+            self.k += 1;
+        }
+        Ok(())
+    }
+
+    /// Closes the run at time `t`, state `y`. Deployed (`done`): the first
+    /// sample at or after the last latch, then `settle_s` more of the
+    /// deployed state (every joint latched: nothing moves), or with
+    /// `stop_when_deployed` off the deployed state to the last sample. Not
+    /// deployed: the samples left up to `t`.
+    fn close<const N: usize>(
+        &mut self,
+        t: f64,
+        y: &State<N>,
+        latched: &[bool; N],
+        done: bool,
+        opts: &SimOptions,
+    ) -> Result<(), SimError> {
+        if !done {
+            return self.push_while(|tk| tk <= t + 1e-9, |_| *y, latched);
+        }
+        let Some(first) = self.times.get(self.k) else {
+            return Ok(());
+        };
+        let end = if opts.stop_when_deployed {
+            first + opts.settle_s.unwrap_or(0.0) + 1e-9
+        } else {
+            f64::INFINITY
+        };
+        self.push_while(|tk| tk <= end, |_| *y, latched)
+    }
+}
+
+/// Events of the run so far that decide whether a joint slides on `φ̇ = 0`.
+struct EventLog<const N: usize> {
+    /// Consecutive events at the same instant.
+    same_instant: usize,
+    /// Per joint: the start of the last millisecond of branch events and
+    /// their count (a burst is Zeno chattering between the branches).
+    burst: [(f64, usize); N],
+}
+
+impl<const N: usize> EventLog<N> {
+    fn new() -> Self {
+        EventLog {
+            same_instant: 0,
+            burst: [(f64::NEG_INFINITY, 0usize); N],
         }
     }
-    out.end_s = t.min(duration);
-    // Close the run: the first sample at or after the last latch, or the
-    // samples left up to the duration.
-    while k < times.len() {
-        let tk = times[k];
-        if tk > t + 1e-9 && !done {
-            break;
+
+    /// Records a branch event of joint `j` at `t`; an error when the joint
+    /// slides.
+    fn branch(&mut self, j: usize, t: f64) -> Result<(), SimError> {
+        let (last, count) = self.burst[j];
+        self.burst[j] = if t - last < 1e-3 {
+            (last, count + 1)
+        } else {
+            (t, 1)
+        };
+        if self.same_instant > 20 || self.burst[j].1 > MAX_BRANCH_BURST {
+            return Err(SimError::Sliding {
+                joint: j + 1,
+                t_s: t,
+            });
         }
-        push(&mut out, tk, &y, &it.mode.latched);
-        k += 1;
-        if done && !hold {
-            break;
-        }
+        Ok(())
     }
-    out.stats.evaluations = it.evaluations;
-    Ok(out)
+}
+
+impl<'a, const N: usize> Integrator<'a, N> {
+    /// The integrator at the stowed state at rest, each joint on the branch
+    /// the rule gives there.
+    fn at_rest(chain: &'a Chain<f64, N>) -> (Self, State<N>) {
+        let mut it = Integrator {
+            chain,
+            mode: Mode::default(),
+            side: [0.0; N],
+            hyst: [None; N],
+            evaluations: 0,
+        };
+        let mut y = State::<N>::ZERO;
+        for (j, jt) in chain.joints().iter().enumerate() {
+            y.q[j] = jt.stowed_rad;
+            it.side[j] = if jt.stowed_rad >= 0.0 { 1.0 } else { -1.0 };
+            it.hyst[j] = jt.spring.hysteresis_below_rad();
+        }
+        for j in 0..N {
+            it.mode.branch[j] = it.choose_branch(&y, j);
+        }
+        (it, y)
+    }
+
+    /// One Dormand–Prince step of `h` from `(t, y)`: the accepted attempt,
+    /// or `None` with `h` shrunk after a rejection.
+    fn attempt(
+        &mut self,
+        stats: &mut SimStats,
+        t: f64,
+        y: &State<N>,
+        k1: &State<N>,
+        h: &mut f64,
+        opts: &SimOptions,
+    ) -> Result<Option<ode::Attempt<N>>, SimError> {
+        let mut f = |_t: f64, s: &State<N>| self.deriv(s);
+        let Some(att) = ode::step(&mut f, t, y, k1, *h, opts.rtol, opts.atol) else {
+            // The trial state left the domain (e.g. NaN): shrink.
+            *h *= 0.25;
+            stats.rejected += 1;
+            return Ok(None);
+        };
+        if att.err > 1.0 {
+            *h = ode::next_h(*h, att.err);
+            stats.rejected += 1;
+            return Ok(None);
+        }
+        stats.steps += 1;
+        if stats.steps + stats.rejected > MAX_STEPS {
+            return Err(SimError::TooManySteps { t_s: t });
+        }
+        Ok(Some(att))
+    }
+
+    /// The first event of a step from `t` to `t1` and its instant (`t1`
+    /// and `None` when nothing fired).
+    fn first_event(
+        &mut self,
+        y: &State<N>,
+        att: &ode::Attempt<N>,
+        t: f64,
+        t1: f64,
+    ) -> (f64, Option<Event>) {
+        let fired = self.fired(y, &att.y1);
+        let mut t_end = t1;
+        let mut first: Option<Event> = None;
+        for ev in fired.iter() {
+            let te = locate(|s| self.g(ev, s), &att.dense, t, t1);
+            // A latch wins a tie: at φ = 0 the joint latches, whatever its
+            // rate does there.
+            let earlier = match ev {
+                Event::Latch(_) => te <= t_end,
+                Event::Branch(_) => te < t_end - 1e-12,
+            };
+            if first.is_none() || earlier {
+                t_end = te;
+                first = Some(ev);
+            }
+        }
+        (t_end, first)
+    }
+
+    /// Applies an event at `t_e` to the state `ye` there; true when every
+    /// joint is now latched.
+    fn apply_event(
+        &mut self,
+        ev: Event,
+        ye: &mut State<N>,
+        t_e: f64,
+        opts: &SimOptions,
+        events: &mut EventLog<N>,
+        out: &mut Trajectory,
+    ) -> Result<bool, SimError> {
+        match ev {
+            Event::Latch(_) if opts.latching => return self.latch(ye, t_e, out),
+            Event::Latch(j) => {
+                // Latching off: restart on the other side of the kink.
+                self.side[j] = -self.side[j];
+                self.mode.branch[j] = self.choose_branch(ye, j);
+            }
+            Event::Branch(j) => {
+                events.branch(j, t_e)?;
+                self.mode.branch[j] = self.choose_branch(ye, j);
+            }
+        }
+        Ok(false)
+    }
+
+    /// A latch at `t_e`: every free joint at (or numerically past) the latch
+    /// angle latches in the same plastic impulse (`physics.md` section 5).
+    /// True when every joint is now latched.
+    fn latch(
+        &mut self,
+        ye: &mut State<N>,
+        t_e: f64,
+        out: &mut Trajectory,
+    ) -> Result<bool, SimError> {
+        let mut after = self.mode.latched;
+        for j in 0..N {
+            if !after[j] && self.side[j] * ye.q[j] <= 1e-12 {
+                after[j] = true;
+            }
+        }
+        ye.v = self
+            .chain
+            .latch_impulse(&ye.chain(), &after)
+            .map_err(|_| SimError::Singular { t_s: t_e })?;
+        for j in 0..N {
+            if after[j] && !self.mode.latched[j] {
+                out.latch_s[j] = Some(t_e);
+                ye.q[j] = 0.0;
+                ye.v[j] = 0.0;
+            }
+        }
+        self.mode.latched = after;
+        Ok(self.mode.latched.iter().all(|&l| l))
+    }
 }

@@ -36,6 +36,7 @@
 
 use crate::data::run::{Run, MAX_ANGLE_DEG, MISSING_SAMPLES_KEY, MISSING_SAMPLES_VALUE};
 use crate::simulate::sensor::RESOLUTION_DEG;
+use deploywatch_core::encoder;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
@@ -213,35 +214,18 @@ impl SensorFault {
 
     /// Checks the parameters, and the joint against a run or mechanism of
     /// `joints` joints. The message says what was expected.
-    pub fn validate(&self, joints: usize) -> Result<(), String> {
-        let time = |name: &str, v: f64| -> Result<(), String> {
-            if v.is_finite() && v >= 0.0 {
-                Ok(())
-            } else {
-                Err(format!(
-                    "{}: {name}={v}: expected a time in seconds, 0 or more",
-                    self.kind()
-                ))
-            }
-        };
-        let length = |name: &str, v: f64| -> Result<(), String> {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(format!(
-                    "{}: {name}={v}: expected a positive duration in seconds",
-                    self.kind()
-                ))
-            }
-        };
-        if let Some(j) = self.joint() {
-            if j == 0 || j > joints {
-                return Err(format!(
-                    "{}: joint {j} does not exist (expected a joint from 1 to {joints})",
-                    self.kind()
-                ));
-            }
+    pub fn validate(&self, joints: usize) -> Result<(), FaultError> {
+        let kind = self.kind();
+        if let Some(joint) = self.joint().filter(|&j| j == 0 || j > joints) {
+            return Err(FaultError::NoSuchJoint {
+                kind,
+                joint,
+                joints,
+            });
         }
+        let p = Params { kind };
+        let seconds = "a time in seconds, 0 or more";
+        let positive_s = "a positive duration in seconds";
         match *self {
             SensorFault::Dropout {
                 start_s,
@@ -252,8 +236,8 @@ impl SensorFault {
                 start_s,
                 duration_s,
             } => {
-                time("start", start_s)?;
-                length("duration", duration_s)
+                p.check("start", start_s, start_s >= 0.0, seconds)?;
+                p.check("duration", duration_s, duration_s > 0.0, positive_s)
             }
             SensorFault::Spike {
                 t_s,
@@ -261,59 +245,70 @@ impl SensorFault {
                 samples,
                 ..
             } => {
-                time("t", t_s)?;
-                if !(magnitude_deg.is_finite() && magnitude_deg.abs() <= 2.0 * MAX_ANGLE_DEG) {
-                    return Err(format!(
-                        "spike: magnitude={magnitude_deg}: expected a finite angle in degrees within ±{}",
-                        2.0 * MAX_ANGLE_DEG
-                    ));
-                }
-                if samples == 0 {
-                    return Err("spike: samples=0: expected 1 or more samples".to_string());
-                }
-                Ok(())
+                p.check("t", t_s, t_s >= 0.0, seconds)?;
+                let max = 2.0 * MAX_ANGLE_DEG;
+                let within = format!("a finite angle in degrees within ±{max}");
+                p.check(
+                    "magnitude",
+                    magnitude_deg,
+                    magnitude_deg.abs() <= max,
+                    &within,
+                )?;
+                p.check("samples", samples as f64, samples > 0, "1 or more samples")
             }
             SensorFault::StuckAt {
                 start_s, value_deg, ..
             } => {
-                time("start", start_s)?;
-                match value_deg {
-                    Some(v) if !(v.is_finite() && v.abs() <= MAX_ANGLE_DEG) => Err(format!(
-                        "stuck: value={v}: expected an angle in degrees within ±{MAX_ANGLE_DEG} (what a run file holds)"
-                    )),
-                    _ => Ok(()),
-                }
+                p.check("start", start_s, start_s >= 0.0, seconds)?;
+                let v = value_deg.unwrap_or(0.0);
+                let within =
+                    format!("an angle in degrees within ±{MAX_ANGLE_DEG} (what a run file holds)");
+                p.check("value", v, v.abs() <= MAX_ANGLE_DEG, &within)
             }
             SensorFault::ParityError { rate, bits, .. } => {
-                if !(0.0..=1.0).contains(&rate) {
-                    return Err(format!(
-                        "parity: rate={rate}: expected a fraction of the samples from 0 to 1"
-                    ));
-                }
-                if !(1..=4).contains(&bits) {
-                    return Err(format!(
-                        "parity: bits={bits}: expected 1 to 4 flipped bits per corrupted word"
-                    ));
-                }
-                Ok(())
+                let fraction = "a fraction of the samples from 0 to 1";
+                p.check("rate", rate, (0.0..=1.0).contains(&rate), fraction)?;
+                let flips = "1 to 4 flipped bits per corrupted word";
+                p.check("bits", f64::from(bits), (1..=4).contains(&bits), flips)
             }
             SensorFault::SwitchChatter { bounce_s, .. } => {
-                if bounce_s.is_finite() && bounce_s > 0.0 && bounce_s <= MAX_BOUNCE_S + TIME_EPS_S {
-                    Ok(())
-                } else {
-                    Err(format!(
-                        "chatter: bounce={bounce_s}: expected a bounce time in seconds, more than 0 and at most {MAX_BOUNCE_S}"
-                    ))
-                }
+                let ok = bounce_s > 0.0 && bounce_s <= MAX_BOUNCE_S + TIME_EPS_S;
+                let expected =
+                    format!("a bounce time in seconds, more than 0 and at most {MAX_BOUNCE_S}");
+                p.check("bounce", bounce_s, ok, &expected)
             }
             SensorFault::SwitchStuck { .. } => Ok(()),
             SensorFault::TimeJitter { sigma_s } => {
-                if sigma_s.is_finite() && sigma_s > 0.0 {
-                    Ok(())
-                } else {
-                    Err(format!("jitter: sigma={sigma_s}: expected a positive standard deviation in seconds"))
-                }
+                let expected = "a positive standard deviation in seconds";
+                p.check("sigma", sigma_s, sigma_s > 0.0, expected)
             }
+        }
+    }
+}
+
+/// The parameter checks of one fault kind.
+struct Params {
+    kind: &'static str,
+}
+
+impl Params {
+    /// `key = value` must be finite and `ok`; the error says `expected`.
+    fn check(
+        &self,
+        key: &'static str,
+        value: f64,
+        ok: bool,
+        expected: &str,
+    ) -> Result<(), FaultError> {
+        if value.is_finite() && ok {
+            Ok(())
+        } else {
+            Err(FaultError::BadParameter {
+                kind: self.kind,
+                key,
+                value: value.to_string(),
+                expected: expected.to_string(),
+            })
         }
     }
 }
@@ -379,6 +374,122 @@ impl fmt::Display for SensorFault {
     }
 }
 
+/// Why a `--fault` was refused, or a fault could not be applied to a run.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum FaultError {
+    /// Not one of the fault kinds.
+    #[error("unknown fault `{kind}` in `{text}`: expected one of {}", KINDS.join(", "))]
+    UnknownKind {
+        /// The kind given.
+        kind: String,
+        /// The whole `--fault` text.
+        text: String,
+    },
+    /// A part that is not `key=value`.
+    #[error("`{part}` in `{text}`: expected key=value")]
+    NotKeyValue {
+        /// The part.
+        part: String,
+        /// The whole `--fault` text.
+        text: String,
+    },
+    /// A key the kind does not take.
+    #[error("unknown key `{key}` in `{text}`: {kind} takes {}", allowed.join(", "))]
+    UnknownKey {
+        /// The key.
+        key: String,
+        /// The fault kind.
+        kind: &'static str,
+        /// The keys it takes.
+        allowed: Vec<&'static str>,
+        /// The whole `--fault` text.
+        text: String,
+    },
+    /// A key given twice.
+    #[error("key `{key}` given twice in `{text}`")]
+    RepeatedKey {
+        /// The key.
+        key: String,
+        /// The whole `--fault` text.
+        text: String,
+    },
+    /// A required key is absent.
+    #[error("`{text}`: missing {key}=...; {kind} needs {}", required.join(", "))]
+    MissingKey {
+        /// The key.
+        key: &'static str,
+        /// The fault kind.
+        kind: &'static str,
+        /// The keys it needs.
+        required: &'static [&'static str],
+        /// The whole `--fault` text.
+        text: String,
+    },
+    /// A value that does not parse.
+    #[error("`{key}={value}` in `{text}`: expected {expected}")]
+    BadValue {
+        /// The key.
+        key: &'static str,
+        /// The value as written.
+        value: String,
+        /// What was expected.
+        expected: &'static str,
+        /// The whole `--fault` text.
+        text: String,
+    },
+    /// A parameter out of its range.
+    #[error("{kind}: {key}={value}: expected {expected}")]
+    BadParameter {
+        /// The fault kind.
+        kind: &'static str,
+        /// The key.
+        key: &'static str,
+        /// The value.
+        value: String,
+        /// What was expected.
+        expected: String,
+    },
+    /// [`FaultError::BadParameter`] found while parsing `text`.
+    #[error("`{text}`: {source}")]
+    InText {
+        /// The whole `--fault` text.
+        text: String,
+        /// What was wrong.
+        #[source]
+        source: Box<FaultError>,
+    },
+    /// A joint the run or mechanism does not have.
+    #[error("{kind}: joint {joint} does not exist (expected a joint from 1 to {joints})")]
+    NoSuchJoint {
+        /// The fault kind.
+        kind: &'static str,
+        /// The joint given.
+        joint: usize,
+        /// The joint count.
+        joints: usize,
+    },
+    /// A fault that starts after the run's last sample (it would do nothing).
+    #[error("{fault}: starts at {start_s} s, after the run ends ({end_s} s): expected a start from 0 to {end_s} s")]
+    AfterEnd {
+        /// The fault, in the `--fault` syntax.
+        fault: String,
+        /// Its start [s].
+        start_s: f64,
+        /// The run's last sample [s].
+        end_s: f64,
+    },
+    /// The run has no samples.
+    #[error("the run has no samples: expected at least one")]
+    EmptyRun,
+    /// The run's series differ in length.
+    #[error("the run's series do not all have one value per time stamp")]
+    RaggedRun,
+    /// The gaps would remove every sample.
+    #[error("the gaps remove every sample of the run: expected at least one left")]
+    GapsRemoveAll,
+}
+
 /// The keys each kind takes: (required, optional).
 fn keys_of(kind: &str) -> (&'static [&'static str], &'static [&'static str]) {
     match kind {
@@ -395,129 +506,168 @@ fn keys_of(kind: &str) -> (&'static [&'static str], &'static [&'static str]) {
 }
 
 impl FromStr for SensorFault {
-    type Err = String;
+    type Err = FaultError;
 
     /// Parses `KIND:key=value:...` (the `--fault` syntax; see the variants).
     /// Checks the parameters but not the joint's existence (that needs the
     /// mechanism: [`SensorFault::validate`]).
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, FaultError> {
+        let text = || s.to_string();
         let mut parts = s.split(':');
-        let kind = parts.next().unwrap_or("").trim();
-        if !KINDS.contains(&kind) {
-            return Err(format!(
-                "unknown fault `{kind}` in `{s}`: expected one of {}",
-                KINDS.join(", ")
-            ));
-        }
-        let (required, optional) = keys_of(kind);
-        let mut given: Vec<(&str, &str)> = Vec::new();
-        for p in parts {
-            let (k, v) = p
-                .split_once('=')
-                .ok_or_else(|| format!("`{p}` in `{s}`: expected key=value"))?;
-            let (k, v) = (k.trim(), v.trim());
-            if !required.contains(&k) && !optional.contains(&k) {
-                let all: Vec<&str> = required.iter().chain(optional).copied().collect();
-                return Err(format!(
-                    "unknown key `{k}` in `{s}`: {kind} takes {}",
-                    all.join(", ")
-                ));
-            }
-            if given.iter().any(|(g, _)| *g == k) {
-                return Err(format!("key `{k}` given twice in `{s}`"));
-            }
-            given.push((k, v));
-        }
-        for r in required {
-            if !given.iter().any(|(g, _)| g == r) {
-                return Err(format!(
-                    "`{s}`: missing {r}=...; {kind} needs {}",
-                    required.join(", ")
-                ));
-            }
-        }
-        let get = |k: &str| given.iter().find(|(g, _)| *g == k).map(|(_, v)| *v);
-        let num = |k: &str| -> Result<f64, String> {
-            let v = get(k).unwrap_or("");
-            match v.parse::<f64>() {
-                Ok(x) if x.is_finite() => Ok(x),
-                _ => Err(format!("`{k}={v}` in `{s}`: expected a finite number")),
-            }
+        let kind_given = parts.next().unwrap_or("").trim();
+        let Some(&kind) = KINDS.iter().find(|k| **k == kind_given) else {
+            return Err(FaultError::UnknownKind {
+                kind: kind_given.to_string(),
+                text: text(),
+            });
         };
-        let int = |k: &str, what: &str| -> Result<usize, String> {
-            let v = get(k).unwrap_or("");
-            v.parse::<usize>()
-                .map_err(|_| format!("`{k}={v}` in `{s}`: expected {what}"))
+        let a = FaultArgs {
+            given: fault_keys(kind, parts, s)?,
+            text: s,
         };
-        let joint = || int("joint", "a joint number from 1");
+        let joint = || a.int("joint", "a joint number from 1");
         let fault = match kind {
             "dropout" => SensorFault::Dropout {
                 joint: joint()?,
-                start_s: num("start")?,
-                duration_s: num("duration")?,
-                mode: match get("mode").unwrap_or("missing") {
+                start_s: a.num("start")?,
+                duration_s: a.num("duration")?,
+                mode: match a.get("mode").unwrap_or("missing") {
                     "stale" => DropoutMode::Stale,
                     "missing" => DropoutMode::Missing,
-                    other => {
-                        return Err(format!(
-                            "`mode={other}` in `{s}`: expected stale or missing"
-                        ))
-                    }
+                    _ => return Err(a.bad("mode", "stale or missing")),
                 },
             },
             "spike" => SensorFault::Spike {
                 joint: joint()?,
-                t_s: num("t")?,
-                magnitude_deg: num("magnitude")?,
-                samples: match get("samples") {
-                    Some(_) => int("samples", "a number of samples from 1")?,
+                t_s: a.num("t")?,
+                magnitude_deg: a.num("magnitude")?,
+                samples: match a.get("samples") {
+                    Some(_) => a.int("samples", "a number of samples from 1")?,
                     None => 1,
                 },
             },
             "stuck" => SensorFault::StuckAt {
                 joint: joint()?,
-                start_s: num("start")?,
-                value_deg: match get("value") {
-                    Some(_) => Some(num("value")?),
-                    None => None,
-                },
+                start_s: a.num("start")?,
+                value_deg: a.get("value").map(|_| a.num("value")).transpose()?,
             },
             "parity" => SensorFault::ParityError {
                 joint: joint()?,
-                rate: num("rate")?,
-                bits: match get("bits") {
-                    Some(_) => int("bits", "1 to 4 flipped bits")? as u32,
+                rate: a.num("rate")?,
+                bits: match a.get("bits") {
+                    Some(_) => a.int("bits", "1 to 4 flipped bits")? as u32,
                     None => 1,
                 },
             },
             "chatter" => SensorFault::SwitchChatter {
                 joint: joint()?,
-                bounce_s: num("bounce")?,
+                bounce_s: a.num("bounce")?,
             },
             "switch_stuck" => SensorFault::SwitchStuck {
                 joint: joint()?,
-                closed: match get("state").unwrap_or("") {
+                closed: match a.get("state").unwrap_or("") {
                     "closed" => true,
                     "open" => false,
-                    other => {
-                        return Err(format!("`state={other}` in `{s}`: expected open or closed"))
-                    }
+                    _ => return Err(a.bad("state", "open or closed")),
                 },
             },
             "jitter" => SensorFault::TimeJitter {
-                sigma_s: num("sigma")?,
+                sigma_s: a.num("sigma")?,
             },
             _ => SensorFault::TimeGap {
-                start_s: num("start")?,
-                duration_s: num("duration")?,
+                start_s: a.num("start")?,
+                duration_s: a.num("duration")?,
             },
         };
         // Parameters only: any joint from 1 passes here.
-        fault
-            .validate(usize::MAX)
-            .map_err(|m| format!("`{s}`: {m}"))?;
+        fault.validate(usize::MAX).map_err(|e| FaultError::InText {
+            text: text(),
+            source: Box::new(e),
+        })?;
         Ok(fault)
     }
+}
+
+/// The `key=value` parts of one `--fault` text, read as values.
+struct FaultArgs<'s> {
+    given: Vec<(&'s str, &'s str)>,
+    text: &'s str,
+}
+
+impl FaultArgs<'_> {
+    /// The value of `key`, if given.
+    fn get(&self, key: &str) -> Option<&str> {
+        self.given.iter().find(|(g, _)| *g == key).map(|(_, v)| *v)
+    }
+
+    /// `key`'s value is not `expected`.
+    fn bad(&self, key: &'static str, expected: &'static str) -> FaultError {
+        FaultError::BadValue {
+            key,
+            value: self.get(key).unwrap_or("").to_string(),
+            expected,
+            text: self.text.to_string(),
+        }
+    }
+
+    /// `key` as a finite number.
+    fn num(&self, key: &'static str) -> Result<f64, FaultError> {
+        match self.get(key).unwrap_or("").parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            _ => Err(self.bad(key, "a finite number")),
+        }
+    }
+
+    /// `key` as a non-negative integer (`what` says which).
+    fn int(&self, key: &'static str, what: &'static str) -> Result<usize, FaultError> {
+        let v = self.get(key).unwrap_or("");
+        v.parse::<usize>().map_err(|_| self.bad(key, what))
+    }
+}
+
+/// The `key=value` parts of a `--fault` text `s` of `kind`: each key known
+/// to the kind, given once, every required one given.
+fn fault_keys<'s>(
+    kind: &'static str,
+    parts: impl Iterator<Item = &'s str>,
+    s: &str,
+) -> Result<Vec<(&'s str, &'s str)>, FaultError> {
+    let (required, optional) = keys_of(kind);
+    let mut given: Vec<(&str, &str)> = Vec::new();
+    for p in parts {
+        let (k, v) = p.split_once('=').ok_or_else(|| FaultError::NotKeyValue {
+            part: p.to_string(),
+            text: s.to_string(),
+        })?;
+        let (k, v) = (k.trim(), v.trim());
+        if !required.contains(&k) && !optional.contains(&k) {
+            return Err(FaultError::UnknownKey {
+                key: k.to_string(),
+                kind,
+                allowed: required.iter().chain(optional).copied().collect(),
+                text: s.to_string(),
+            });
+        }
+        if given.iter().any(|(g, _)| *g == k) {
+            return Err(FaultError::RepeatedKey {
+                key: k.to_string(),
+                text: s.to_string(),
+            });
+        }
+        given.push((k, v));
+    }
+    if let Some(&key) = required
+        .iter()
+        .find(|r| !given.iter().any(|(g, _)| g == *r))
+    {
+        return Err(FaultError::MissingKey {
+            key,
+            kind,
+            required,
+            text: s.to_string(),
+        });
+    }
+    Ok(given)
 }
 
 /// What one fault did to a run.
@@ -557,20 +707,12 @@ pub fn describe(faults: &[SensorFault]) -> String {
 /// joint it does not have, a bad parameter) or when the gaps would remove
 /// every sample. Sets the metadata `faults` ([`describe`]) and, when a
 /// reading went missing, [`MISSING_SAMPLES_KEY`].
-pub fn apply(run: &mut Run, faults: &[SensorFault], seed: u64) -> Result<Vec<FaultReport>, String> {
-    let n = run.joints();
-    if run.is_empty() {
-        return Err("the run has no samples: expected at least one".to_string());
-    }
-    if run.latch.len() != n
-        || run.phi_deg.iter().any(|s| s.len() != run.len())
-        || run.latch.iter().any(|s| s.len() != run.len())
-    {
-        return Err("the run's series do not all have one value per time stamp".to_string());
-    }
-    for f in faults {
-        f.validate(n)?;
-    }
+pub fn apply(
+    run: &mut Run,
+    faults: &[SensorFault],
+    seed: u64,
+) -> Result<Vec<FaultReport>, FaultError> {
+    check_fits(run, faults)?;
     let t0: Vec<f64> = run.t_s.clone();
     let keep: Vec<bool> = t0
         .iter()
@@ -585,192 +727,37 @@ pub fn apply(run: &mut Run, faults: &[SensorFault], seed: u64) -> Result<Vec<Fau
         })
         .collect();
     if !keep.iter().any(|k| *k) {
-        return Err(
-            "the gaps remove every sample of the run: expected at least one left".to_string(),
-        );
+        return Err(FaultError::GapsRemoveAll);
     }
-
-    let mut counts = vec![0usize; faults.len()];
     let rng_for = |k: usize| {
         let mut r = ChaCha8Rng::seed_from_u64(seed);
         r.set_stream(1 + k as u64);
         r
     };
-    // Encoder and switch faults, in the order given.
+    // Encoder and switch faults in the order given, then the jitter, then
+    // the gaps.
+    let mut counts = vec![0usize; faults.len()];
     for (k, f) in faults.iter().enumerate() {
-        let mut rng = rng_for(k);
-        counts[k] = match *f {
-            SensorFault::Dropout {
-                joint,
-                start_s,
-                duration_s,
-                mode,
-            } => {
-                let phi = &mut run.phi_deg[joint - 1];
-                let mut c = 0;
-                let mut held: Option<f64> = None;
-                for i in 0..t0.len() {
-                    if !in_window(t0[i], start_s, duration_s) {
-                        continue;
-                    }
-                    let value = match mode {
-                        DropoutMode::Missing => f64::NAN,
-                        DropoutMode::Stale => match held {
-                            Some(v) => v,
-                            // The last reading before the window, or the
-                            // window's first reading when it opens the run.
-                            None => {
-                                let v = if i > 0 { phi[i - 1] } else { phi[i] };
-                                held = Some(v);
-                                v
-                            }
-                        },
-                    };
-                    if !same(phi[i], value) {
-                        c += 1;
-                    }
-                    phi[i] = value;
-                }
-                c
-            }
-            SensorFault::Spike {
-                joint,
-                t_s,
-                magnitude_deg,
-                samples,
-            } => {
-                let phi = &mut run.phi_deg[joint - 1];
-                let first = t0
-                    .iter()
-                    .position(|&t| t >= t_s - TIME_EPS_S)
-                    .unwrap_or(t0.len());
-                let last = (first + samples).min(t0.len());
-                for x in &mut phi[first..last] {
-                    *x += magnitude_deg;
-                }
-                last - first
-            }
-            SensorFault::StuckAt {
-                joint,
-                start_s,
-                value_deg,
-            } => {
-                let phi = &mut run.phi_deg[joint - 1];
-                let first = t0
-                    .iter()
-                    .position(|&t| t >= start_s - TIME_EPS_S)
-                    .unwrap_or(t0.len());
-                let value = value_deg.unwrap_or_else(|| {
-                    let i = first.saturating_sub(1).min(phi.len() - 1);
-                    phi[i]
-                });
-                let mut c = 0;
-                for x in &mut phi[first..] {
-                    if !same(*x, value) {
-                        c += 1;
-                    }
-                    *x = value;
-                }
-                c
-            }
-            SensorFault::ParityError { joint, rate, bits } => {
-                let phi = &mut run.phi_deg[joint - 1];
-                let mut c = 0;
-                for x in phi.iter_mut() {
-                    // One draw per sample whatever happens, so that the
-                    // corrupted samples do not depend on the readings.
-                    let hit = rng.gen::<f64>() < rate;
-                    let mut flips = 0u16;
-                    while flips.count_ones() < bits {
-                        flips |= 1 << rng.gen_range(0..16);
-                    }
-                    if hit && x.is_finite() {
-                        *x = corrupt_word(*x, flips);
-                        c += 1;
-                    }
-                }
-                c
-            }
-            SensorFault::SwitchChatter { joint, bounce_s } => {
-                let latch = &mut run.latch[joint - 1];
-                let closings: Vec<usize> = (0..latch.len())
-                    .filter(|&i| latch[i] && (i == 0 || !latch[i - 1]))
-                    .collect();
-                let mut c = 0;
-                for i in closings {
-                    let tc = t0[i];
-                    // The first contact reads closed; the next sample sees
-                    // the first bounce (open); later ones are at random.
-                    for k in i + 1..latch.len() {
-                        if t0[k] - tc > bounce_s + TIME_EPS_S {
-                            break;
-                        }
-                        let reads = if k == i + 1 { false } else { rng.gen::<bool>() };
-                        if reads != latch[k] {
-                            c += 1;
-                        }
-                        latch[k] = reads;
-                    }
-                }
-                c
-            }
-            SensorFault::SwitchStuck { joint, closed } => {
-                let latch = &mut run.latch[joint - 1];
-                let c = latch.iter().filter(|&&l| l != closed).count();
-                latch.iter_mut().for_each(|l| *l = closed);
-                c
-            }
-            SensorFault::TimeJitter { .. } | SensorFault::TimeGap { .. } => 0,
-        };
+        counts[k] = apply_sensor_fault(run, &t0, f, &mut rng_for(k));
     }
-    // Time-stamp jitter.
     for (k, f) in faults.iter().enumerate() {
         if let SensorFault::TimeJitter { sigma_s } = *f {
-            let mut rng = rng_for(k);
-            let dt_min = t0
-                .windows(2)
-                .map(|w| w[1] - w[0])
-                .fold(f64::INFINITY, f64::min);
-            let limit = if dt_min.is_finite() {
-                MAX_JITTER_FRACTION * dt_min
-            } else {
-                0.0
-            };
-            let normal = Normal::new(0.0, sigma_s).map_err(|e| format!("jitter: {e}"))?;
-            for t in run.t_s.iter_mut().skip(1) {
-                let e = normal.sample(&mut rng).clamp(-limit, limit);
-                if e != 0.0 {
-                    counts[k] += 1;
-                }
-                *t += e;
-            }
+            counts[k] = jitter(&mut run.t_s, &t0, sigma_s, &mut rng_for(k))?;
         }
     }
-    // Gaps: drop the rows.
-    if keep.iter().any(|k| !k) {
-        for (k, f) in faults.iter().enumerate() {
-            if let SensorFault::TimeGap {
-                start_s,
-                duration_s,
-            } = *f
-            {
-                counts[k] = t0
-                    .iter()
-                    .filter(|&&t| in_window(t, start_s, duration_s))
-                    .count();
-            }
-        }
-        let filter = |v: &mut Vec<f64>| {
-            let mut it = keep.iter();
-            v.retain(|_| *it.next().unwrap_or(&true));
-        };
-        filter(&mut run.t_s);
-        run.phi_deg.iter_mut().for_each(filter);
-        for l in run.latch.iter_mut() {
-            let mut it = keep.iter();
-            l.retain(|_| *it.next().unwrap_or(&true));
+    for (k, f) in faults.iter().enumerate() {
+        if let SensorFault::TimeGap {
+            start_s,
+            duration_s,
+        } = *f
+        {
+            counts[k] = t0
+                .iter()
+                .filter(|&&t| in_window(t, start_s, duration_s))
+                .count();
         }
     }
+    drop_rows(run, &keep);
 
     if !faults.is_empty() {
         run.set_meta("faults", &describe(faults));
@@ -785,6 +772,225 @@ pub fn apply(run: &mut Run, faults: &[SensorFault], seed: u64) -> Result<Vec<Fau
         .collect())
 }
 
+/// The time a fault starts [s], `None` for faults that act on the whole run.
+fn start_of(f: &SensorFault) -> Option<f64> {
+    match *f {
+        SensorFault::Dropout { start_s, .. }
+        | SensorFault::StuckAt { start_s, .. }
+        | SensorFault::TimeGap { start_s, .. } => Some(start_s),
+        SensorFault::Spike { t_s, .. } => Some(t_s),
+        _ => None,
+    }
+}
+
+/// Checks that the run is well formed and that every fault fits it: its
+/// joint exists, its parameters are valid, and it starts before the run
+/// ends (a fault that starts later would silently do nothing).
+fn check_fits(run: &Run, faults: &[SensorFault]) -> Result<(), FaultError> {
+    let n = run.joints();
+    let Some(&end_s) = run.t_s.last() else {
+        return Err(FaultError::EmptyRun);
+    };
+    if run.latch.len() != n
+        || run.phi_deg.iter().any(|s| s.len() != run.len())
+        || run.latch.iter().any(|s| s.len() != run.len())
+    {
+        return Err(FaultError::RaggedRun);
+    }
+    for f in faults {
+        f.validate(n)?;
+        if let Some(start) = start_of(f).filter(|&s| s > end_s + TIME_EPS_S) {
+            return Err(FaultError::AfterEnd {
+                fault: f.to_string(),
+                start_s: start,
+                end_s,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Applies one encoder or switch fault (the clock faults are applied
+/// after: [`jitter`], [`drop_rows`]); returns the number of samples changed.
+fn apply_sensor_fault(run: &mut Run, t0: &[f64], f: &SensorFault, rng: &mut ChaCha8Rng) -> usize {
+    match *f {
+        SensorFault::Dropout {
+            joint,
+            start_s,
+            duration_s,
+            mode,
+        } => dropout(&mut run.phi_deg[joint - 1], t0, start_s, duration_s, mode),
+        SensorFault::Spike {
+            joint,
+            t_s,
+            magnitude_deg,
+            samples,
+        } => spike(&mut run.phi_deg[joint - 1], t0, t_s, magnitude_deg, samples),
+        SensorFault::StuckAt {
+            joint,
+            start_s,
+            value_deg,
+        } => stuck(&mut run.phi_deg[joint - 1], t0, start_s, value_deg),
+        SensorFault::ParityError { joint, rate, bits } => {
+            parity(&mut run.phi_deg[joint - 1], rate, bits, rng)
+        }
+        SensorFault::SwitchChatter { joint, bounce_s } => {
+            chatter(&mut run.latch[joint - 1], t0, bounce_s, rng)
+        }
+        SensorFault::SwitchStuck { joint, closed } => {
+            let latch = &mut run.latch[joint - 1];
+            let c = latch.iter().filter(|&&l| l != closed).count();
+            latch.iter_mut().for_each(|l| *l = closed);
+            c
+        }
+        SensorFault::TimeJitter { .. } | SensorFault::TimeGap { .. } => 0,
+    }
+}
+
+/// `dropout`: the readings in the window repeat the last one before it, or
+/// are missing.
+fn dropout(phi: &mut [f64], t0: &[f64], start_s: f64, duration_s: f64, mode: DropoutMode) -> usize {
+    let mut c = 0;
+    let mut held: Option<f64> = None;
+    for i in 0..t0.len() {
+        if !in_window(t0[i], start_s, duration_s) {
+            continue;
+        }
+        let value = match mode {
+            DropoutMode::Missing => f64::NAN,
+            // The last reading before the window, or the window's first
+            // reading when it opens the run.
+            DropoutMode::Stale => *held.get_or_insert(if i > 0 { phi[i - 1] } else { phi[i] }),
+        };
+        if !same(phi[i], value) {
+            c += 1;
+        }
+        phi[i] = value;
+    }
+    c
+}
+
+/// `spike`: `samples` readings from the first at or after `t_s` are off by
+/// `magnitude_deg`.
+fn spike(phi: &mut [f64], t0: &[f64], t_s: f64, magnitude_deg: f64, samples: usize) -> usize {
+    let first = t0
+        .iter()
+        .position(|&t| t >= t_s - TIME_EPS_S)
+        .unwrap_or(t0.len());
+    let last = (first + samples).min(t0.len());
+    for x in &mut phi[first..last] {
+        *x += magnitude_deg;
+    }
+    last - first
+}
+
+/// `stuck`: from `start_s` on, `value_deg` or the last reading before.
+fn stuck(phi: &mut [f64], t0: &[f64], start_s: f64, value_deg: Option<f64>) -> usize {
+    let first = t0
+        .iter()
+        .position(|&t| t >= start_s - TIME_EPS_S)
+        .unwrap_or(t0.len());
+    let value = value_deg.unwrap_or_else(|| {
+        let i = first.saturating_sub(1).min(phi.len() - 1);
+        phi[i]
+    });
+    let mut c = 0;
+    for x in &mut phi[first..] {
+        if !same(*x, value) {
+            c += 1;
+        }
+        *x = value;
+    }
+    c
+}
+
+/// `parity`: a fraction `rate` of the answer words get `bits` flipped bits.
+fn parity(phi: &mut [f64], rate: f64, bits: u32, rng: &mut ChaCha8Rng) -> usize {
+    let mut c = 0;
+    for x in phi.iter_mut() {
+        // One draw per sample whatever happens, so that the corrupted
+        // samples do not depend on the readings.
+        let hit = rng.gen::<f64>() < rate;
+        let mut flips = 0u16;
+        while flips.count_ones() < bits {
+            flips |= 1 << rng.gen_range(0..16);
+        }
+        if hit && x.is_finite() {
+            *x = corrupt_word(*x, flips);
+            c += 1;
+        }
+    }
+    c
+}
+
+/// `chatter`: after each closing, the next sample reads open, then each
+/// sample up to `bounce_s` after the closing reads at random.
+fn chatter(latch: &mut [bool], t0: &[f64], bounce_s: f64, rng: &mut ChaCha8Rng) -> usize {
+    let closings: Vec<usize> = (0..latch.len())
+        .filter(|&i| latch[i] && (i == 0 || !latch[i - 1]))
+        .collect();
+    let mut c = 0;
+    for i in closings {
+        let tc = t0[i];
+        for k in i + 1..latch.len() {
+            if t0[k] - tc > bounce_s + TIME_EPS_S {
+                break;
+            }
+            let reads = if k == i + 1 { false } else { rng.gen::<bool>() };
+            if reads != latch[k] {
+                c += 1;
+            }
+            latch[k] = reads;
+        }
+    }
+    c
+}
+
+/// `jitter`: every time stamp but the first off by N(0, σ), clipped to
+/// ±[`MAX_JITTER_FRACTION`] of the shortest interval of the original times.
+fn jitter(
+    t_s: &mut [f64],
+    t0: &[f64],
+    sigma_s: f64,
+    rng: &mut ChaCha8Rng,
+) -> Result<usize, FaultError> {
+    let dt_min = t0
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .fold(f64::INFINITY, f64::min);
+    let limit = if dt_min.is_finite() {
+        MAX_JITTER_FRACTION * dt_min
+    } else {
+        0.0
+    };
+    let normal = Normal::new(0.0, sigma_s).map_err(|_| FaultError::BadParameter {
+        kind: "jitter",
+        key: "sigma",
+        value: sigma_s.to_string(),
+        expected: "a positive standard deviation in seconds".to_string(),
+    })?;
+    let mut c = 0;
+    for t in t_s.iter_mut().skip(1) {
+        let e = normal.sample(rng).clamp(-limit, limit);
+        if e != 0.0 {
+            c += 1;
+        }
+        *t += e;
+    }
+    Ok(c)
+}
+
+/// `gap`: removes the rows whose `keep` is false.
+fn drop_rows(run: &mut Run, keep: &[bool]) {
+    fn retain<T>(v: &mut Vec<T>, keep: &[bool]) {
+        let mut it = keep.iter();
+        v.retain(|_| *it.next().unwrap_or(&true));
+    }
+    retain(&mut run.t_s, keep);
+    run.phi_deg.iter_mut().for_each(|v| retain(v, keep));
+    run.latch.iter_mut().for_each(|v| retain(v, keep));
+}
+
 /// True when `t` is in `[start, start + duration)`, to the time slack.
 fn in_window(t: f64, start_s: f64, duration_s: f64) -> bool {
     t >= start_s - TIME_EPS_S && t < start_s + duration_s - TIME_EPS_S
@@ -795,37 +1001,25 @@ fn same(a: f64, b: f64) -> bool {
     a == b || (a.is_nan() && b.is_nan())
 }
 
-/// Bit 15 of an AS5047P frame: even parity over bits 14:0.
-const PARITY_BIT: u16 = 1 << 15;
-/// Bit 14 of an answer: the error flag.
-const ERROR_FLAG_BIT: u16 = 1 << 14;
-/// Bits 13:0: the angle count.
-const DATA_MASK: u16 = 0x3FFF;
-
 /// The reading `deg` after the AS5047P answer word that carried it had the
 /// bits of `flips` inverted on the wire: `NaN` when the driver rejects the
-/// word (parity or error flag, as `deploywatch_core::hal::as5047p` does),
-/// otherwise the reading with the count changed by the corrupted data bits
-/// (the driver has no way to notice).
+/// word (parity or error flag: [`encoder::check_answer`], what the driver
+/// does), otherwise the reading with the count changed by the corrupted
+/// data bits (the driver has no way to notice).
 pub fn corrupt_word(deg: f64, flips: u16) -> f64 {
-    let count = ((deg / RESOLUTION_DEG).round() as i64).rem_euclid(1 << 14) as u16;
-    let data = count & DATA_MASK;
-    let word = if data.count_ones() % 2 == 1 {
-        data | PARITY_BIT
-    } else {
-        data
-    };
-    let bad = word ^ flips;
-    if bad.count_ones() % 2 == 1 || bad & ERROR_FLAG_BIT != 0 {
-        return f64::NAN;
+    let turn = i64::from(encoder::COUNTS_PER_TURN);
+    let count = ((deg / RESOLUTION_DEG).round() as i64).rem_euclid(turn) as u16;
+    let data = count & encoder::DATA_MASK;
+    match encoder::check_answer(encoder::with_even_parity(data) ^ flips) {
+        Ok(bad) => deg + (i64::from(bad) - i64::from(data)) as f64 * RESOLUTION_DEG,
+        Err(_) => f64::NAN,
     }
-    let delta = i64::from(bad & DATA_MASK) - i64::from(data);
-    deg + delta as f64 * RESOLUTION_DEG
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use deploywatch_core::encoder::{ERROR_FLAG_BIT, PARITY_BIT};
 
     /// A 2-joint run at 100 Hz over 1 s: joint 1 moves from -90 to 0 and
     /// latches at 0.5 s; joint 2 stays at 45 and never latches.
@@ -901,13 +1095,14 @@ mod tests {
             ("jitter", "missing sigma"),
             ("gap:0.1", "expected key=value"),
         ] {
-            let e = bad.parse::<SensorFault>().unwrap_err();
+            let e = bad.parse::<SensorFault>().unwrap_err().to_string();
             assert!(e.contains(says), "{bad}: {e}");
         }
         let f: SensorFault = "spike:joint=3:t=1:magnitude=3".parse().unwrap();
         assert!(f
             .validate(2)
             .unwrap_err()
+            .to_string()
             .contains("joint 3 does not exist (expected a joint from 1 to 2)"));
     }
 
@@ -952,9 +1147,14 @@ mod tests {
             let want = if i == 31 || i == 32 { 30.0 } else { 0.0 };
             assert!((d - want).abs() < 1e-9, "sample {i}: {d}");
         }
-        // A spike after the end of the run touches nothing.
-        let (r, n) = applied("spike:joint=1:t=5:magnitude=30");
-        assert_eq!((n, r.phi_deg), (0, run().phi_deg));
+        // A spike after the end of the run would do nothing: refused, the
+        // run unchanged.
+        let mut r = run();
+        let late = "spike:joint=1:t=5:magnitude=30".parse().unwrap();
+        let e = apply(&mut r, &[late], 0).unwrap_err();
+        assert!(matches!(e, FaultError::AfterEnd { .. }), "{e}");
+        assert!(e.to_string().contains("after the run ends (1 s)"), "{e}");
+        assert_eq!(r, run());
     }
 
     #[test]
@@ -1090,7 +1290,9 @@ mod tests {
         let i = r.t_s.iter().position(|&t| t > 0.5).unwrap();
         assert!(r.latch[0][i] && !r.latch[0][i - 1]);
         let mut r = run();
-        let e = apply(&mut r, &["gap:start=0:duration=2".parse().unwrap()], 0).unwrap_err();
+        let e = apply(&mut r, &["gap:start=0:duration=2".parse().unwrap()], 0)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("remove every sample"), "{e}");
         assert_eq!(r, run());
     }
@@ -1135,7 +1337,9 @@ mod tests {
     #[test]
     fn a_fault_that_does_not_fit_the_run_leaves_it_unchanged() {
         let mut r = run();
-        let e = apply(&mut r, &["stuck:joint=3:start=0".parse().unwrap()], 0).unwrap_err();
+        let e = apply(&mut r, &["stuck:joint=3:start=0".parse().unwrap()], 0)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("joint 3 does not exist"), "{e}");
         assert_eq!(r, run());
     }

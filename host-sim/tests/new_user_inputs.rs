@@ -1,0 +1,252 @@
+//! What a new user ran into at the command line (issue 12, section 2), each
+//! checked on the `deploywatch` binary as a black box: a clear error (exit
+//! code 2, the file, line and key named, what is allowed) and never a panic,
+//! or, for what used to be refused or to abort, the right result.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+use common::{data, deploywatch, fails, s, t01_mechanism, t01_run_text, write};
+
+use deploywatch_sim::data::run::Run;
+
+fn t01_text() -> String {
+    std::fs::read_to_string(t01_mechanism()).expect("bundled mechanism")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Asserts a clean input error: exit code 2, no panic, and stderr containing
+/// every one of `says`.
+fn refused(out: &Output, says: &[&str]) {
+    fails(out, 2, says);
+}
+
+/// Asserts success, no panic.
+fn succeeded(out: &Output) {
+    let err = stderr(out);
+    assert!(!err.contains("panicked"), "panic:\n{err}");
+    assert_eq!(out.status.code(), Some(0), "exit code; stderr:\n{err}");
+}
+
+/// The 1-based line of the first line of `text` containing `needle`.
+fn line_of(text: &str, needle: &str) -> usize {
+    1 + text
+        .lines()
+        .position(|l| l.contains(needle))
+        .expect("needle in text")
+}
+
+/// `deploywatch simulate` of a mechanism text with extra arguments.
+fn simulate(dir: &Path, mechanism: &str, extra: &[&str]) -> (Output, PathBuf) {
+    let toml = write(dir, "m.toml", mechanism);
+    let csv = dir.join("run.csv");
+    let mut args = vec!["simulate", s(&toml), "--out", s(&csv)];
+    args.extend_from_slice(extra);
+    (deploywatch(&args), csv)
+}
+
+#[test]
+fn a_huge_duration_simulates_until_the_wing_latched_with_memory_for_what_is_simulated() {
+    // GIVEN seed001 T01 (latches after about 2.4 s) with `duration_s = 1e9`
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = t01_text().replace("duration_s = 6.0", "duration_s = 1e9");
+    assert!(text.contains("duration_s = 1e9"));
+    // WHEN it is simulated
+    let (out, csv) = simulate(dir.path(), &text, &["--no-noise"]);
+    // THEN it ends after the last latch, with a run of a few seconds
+    succeeded(&out);
+    let run = Run::load(&csv).expect("the run written");
+    let end = *run.t_s.last().expect("samples");
+    assert!(end < 10.0, "the run goes on to {end} s");
+    assert!(run.latch.iter().all(|l| l.last() == Some(&true)));
+}
+
+#[test]
+fn a_huge_duration_to_be_written_whole_is_refused_before_the_work() {
+    // GIVEN `duration_s = 1e9` and a fault (which makes the run go on to
+    // duration_s)
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = t01_text().replace("duration_s = 6.0", "duration_s = 1e9");
+    let fault = "dropout:joint=1:start=0.5:duration=0.1";
+    let (out, csv) = simulate(dir.path(), &text, &["--fault", fault]);
+    // THEN a clear error, not an allocation failure
+    let err = stderr(&out);
+    assert!(!err.contains("panicked") && !err.contains("memory allocation"));
+    assert!(matches!(out.status.code(), Some(1 | 2)), "{err}");
+    assert!(
+        err.contains("samples") && err.contains("duration_s"),
+        "{err}"
+    );
+    assert!(!csv.exists());
+}
+
+#[test]
+fn effect_values_that_change_what_the_effect_is_are_refused() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for (effect, allowed) in [
+        ("coulomb_friction:joint=1:value=-1", "≥ 0 [N·m]"),
+        ("spring_softening:joint=1:value=1", "< 1"),
+        ("spring_softening:joint=2:value=1.5", "< 1"),
+        ("harness_stiffness:joint=1:value=-0.5", "≥ 0 [N·m/rad]"),
+    ] {
+        let (out, csv) = simulate(dir.path(), &t01_text(), &["--effect", effect]);
+        let name = effect.split(':').next().unwrap_or_default();
+        refused(&out, &["--effect", name, allowed]);
+        assert!(!csv.exists(), "{effect}: a run was written");
+    }
+}
+
+#[test]
+fn mechanism_values_no_panel_can_have_are_refused_with_file_line_and_key() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for (from, to, says) in [
+        // A centre of mass beyond the panel.
+        (
+            "com_m = 0.4",
+            "com_m = 0.9",
+            ["panel[1].com_m", "0 to length_m = 0.8", "found 0.9"],
+        ),
+        // A hinge folded more than one turn.
+        (
+            "stowed_deg = -90.0",
+            "stowed_deg = -450.0",
+            ["joint[1].stowed_deg", "±360", "found -450.0"],
+        ),
+    ] {
+        let text = t01_text().replacen(from, to, 1);
+        let (out, _) = simulate(dir.path(), &text, &[]);
+        let toml = dir.path().join("m.toml");
+        let at = format!("{}:{}:", toml.display(), line_of(&text, to));
+        let mut all = vec![at.as_str()];
+        all.extend(says);
+        refused(&out, &all);
+    }
+}
+
+#[test]
+fn a_fault_that_starts_after_the_run_ends_is_refused() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (out, csv) = simulate(
+        dir.path(),
+        &t01_text(),
+        &[
+            "--fault",
+            "dropout:joint=1:start=100:duration=0.1:mode=stale",
+        ],
+    );
+    refused(
+        &out,
+        &[
+            "--fault",
+            "after the run ends",
+            "expected a start from 0 to",
+        ],
+    );
+    assert!(!csv.exists(), "a run was written");
+}
+
+#[test]
+fn a_run_file_ending_in_blank_lines_is_read() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let run = write(dir.path(), "run.csv", format!("{}\n\n\n", t01_run_text()));
+    let out = deploywatch(&["replay", "--mechanism", s(&t01_mechanism()), s(&run)]);
+    succeeded(&out);
+}
+
+#[test]
+fn a_wrong_header_is_told_for_the_joint_count_the_file_seems_to_have() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = t01_run_text();
+    let header = "t_s,phi1_deg,phi2_deg,phi3_deg,latch1,latch2,latch3";
+    let at = line_of(&text, header);
+    let bad = text.replace(header, "time,a1,a2,a3,s1,s2,s3");
+    let run = write(dir.path(), "run.csv", bad);
+    let out = deploywatch(&["replay", "--mechanism", s(&t01_mechanism()), s(&run)]);
+    let where_ = format!("{}:{at}:", run.display());
+    refused(
+        &out,
+        &[
+            &where_,
+            "unknown column `time` (column 1): expected `t_s` there",
+            header,
+            "3 joint(s)",
+        ],
+    );
+    assert!(!stderr(&out).contains("extra column"), "{}", stderr(&out));
+}
+
+#[test]
+fn an_undeclared_nan_says_how_to_declare_missing_samples() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = t01_run_text();
+    // The first data row after the header: its first angle becomes NaN.
+    let header_at = line_of(&text, "t_s,phi1_deg");
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let row = &mut lines[header_at];
+    let fields: Vec<&str> = row.split(',').collect();
+    *row = format!("{},NaN,{}", fields[0], fields[2..].join(","));
+    let run = write(dir.path(), "run.csv", lines.join("\n") + "\n");
+    let out = deploywatch(&["replay", "--mechanism", s(&t01_mechanism()), s(&run)]);
+    let where_ = format!("{}:{}:", run.display(), header_at + 1);
+    refused(
+        &out,
+        &[
+            &where_,
+            "phi1_deg",
+            "# missing_samples = \"NaN\"",
+            "formats.md",
+        ],
+    );
+}
+
+#[test]
+fn replay_errors_name_the_run_file() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // A run of seed000 case 1 (2 joints) against the 3-joint T01 mechanism.
+    let other = std::fs::read_to_string(data().join("reference/seed000_case1_nominal.csv"))
+        .expect("bundled golden run");
+    let other = other.replace("seed000-case1-open", "seed001-T01");
+    let run = write(dir.path(), "two_joints.csv", other);
+    let out = deploywatch(&["replay", "--mechanism", s(&t01_mechanism()), s(&run)]);
+    refused(&out, &[s(&run), "2 joints", "3"]);
+}
+
+/// The first time at which every switch reads closed.
+fn deployed_at(run: &Run) -> f64 {
+    let i = (0..run.len())
+        .find(|&i| run.latch.iter().all(|l| l[i]))
+        .expect("every joint latches");
+    run.t_s[i]
+}
+
+#[test]
+fn a_simulated_run_records_settle_s_after_the_last_latch() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // The default settle_s = 0.2 s, then one given in the file.
+    for (text, settle_s) in [
+        (t01_text(), 0.2),
+        (
+            t01_text().replace("sample_hz = 100.0", "sample_hz = 100.0\nsettle_s = 0.5"),
+            0.5,
+        ),
+    ] {
+        let (out, csv) = simulate(dir.path(), &text, &[]);
+        succeeded(&out);
+        let run = Run::load(&csv).expect("the run written");
+        let latched = deployed_at(&run);
+        let end = *run.t_s.last().expect("samples");
+        assert!(
+            end >= latched + settle_s - 1e-9,
+            "settle_s = {settle_s}: last latch at {latched} s, run ends at {end} s"
+        );
+        assert!(end < latched + settle_s + 0.02, "ends at {end} s");
+        // Every switch stays closed after the latch: the joints stay latched.
+        let i = run.t_s.iter().position(|&t| t >= latched).unwrap_or(0);
+        assert!(run.latch.iter().all(|l| l[i..].iter().all(|&x| x)));
+    }
+}
