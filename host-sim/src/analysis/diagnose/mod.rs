@@ -559,17 +559,10 @@ impl Engine<'_> {
                 }
                 continue;
             }
-            let at = s
-                .fitted
-                .set
-                .iter()
-                .position(|c| *c == s.candidate)
-                .map(|k| s.fitted.set[..k].iter().map(|c| c.params()).sum::<usize>())
-                .unwrap_or(0);
             s.verdict = if s.delta_bic <= MIN_DELTA_BIC {
                 format!("BIC gain {:.1} ≤ {MIN_DELTA_BIC}", s.delta_bic)
-            } else if !clear_of_zero(&s.fitted, s.candidate, at) {
-                "its 95 % interval contains zero".into()
+            } else if !new_members_clear(&s.fitted, current) {
+                "a 95 % interval contains zero".into()
             } else {
                 s.held_out_rms_deg = self.held_out(&s.fitted);
                 match (s.held_out_rms_deg, current_held) {
@@ -655,20 +648,262 @@ fn sub_campaign(c: &Campaign, keep: impl Fn(usize) -> bool) -> Campaign {
     }
 }
 
-/// True when the 95 % interval of the candidate's value excludes zero.
-fn clear_of_zero(f: &FittedSet, cand: Candidate, cand_offset: usize) -> bool {
-    let n = cand.params();
-    let (Some(p), Some(ci)) = (
-        f.params.get(cand_offset..cand_offset + n),
-        f.ci95.get(cand_offset..cand_offset + n),
-    ) else {
-        return false;
-    };
-    let (v, _) = cand.value_ci(p, ci);
-    v[0] > 0.0 || v[1] < 0.0
+/// True when the 95 % interval of the value of every member of `f` that is
+/// not in `current` excludes zero (a pair move adds two).
+fn new_members_clear(f: &FittedSet, current: &FittedSet) -> bool {
+    let mut off = 0;
+    for c in &f.set {
+        let n = c.params();
+        if !current.set.contains(c) {
+            let (Some(p), Some(ci)) = (f.params.get(off..off + n), f.ci95.get(off..off + n))
+            else {
+                return false;
+            };
+            let (v, _) = c.value_ci(p, ci);
+            if !(v[0] > 0.0 || v[1] < 0.0) {
+                return false;
+            }
+        }
+        off += n;
+    }
+    true
 }
 
-/// Diagnoses a campaign.
+/// How many of a round's best single candidates seed pair moves.
+pub const PAIR_SEEDS: usize = 4;
+
+/// Most search steps (additions, pair additions and swaps) of one diagnosis.
+const MAX_STEPS: usize = 10;
+
+/// Most swap rounds of one diagnosis.
+const MAX_SWAPS: usize = 2;
+
+/// The state of the stepwise search: the current set, its held-out RMS, the
+/// rounds tried so far and the sets already visited.
+struct Search<'e, 'a> {
+    eng: &'e Engine<'a>,
+    candidates: Vec<Candidate>,
+    max_effects: usize,
+    floor_deg: f64,
+    current: FittedSet,
+    current_held: Option<f64>,
+    rounds: Vec<Round>,
+    seen: Vec<Vec<Candidate>>,
+    swaps: usize,
+}
+
+impl Search<'_, '_> {
+    /// Runs the search to its end: at each step an addition, else a pair
+    /// addition, else a swap; stop at the noise floor or when nothing
+    /// earns its keep.
+    fn run(&mut self) {
+        for _ in 0..MAX_STEPS {
+            if self.current.rms() <= self.floor_deg {
+                self.eng.say(format!(
+                    "residual {:.4} deg is down to the noise floor: stop",
+                    self.current.rms()
+                ));
+                return;
+            }
+            if self.try_add() || self.try_pair() {
+                continue;
+            }
+            if !self.try_swap() {
+                return;
+            }
+        }
+    }
+
+    /// Candidates not in the current set.
+    fn outside(&self) -> Vec<Candidate> {
+        self.candidates
+            .iter()
+            .copied()
+            .filter(|c| !self.current.set.contains(c))
+            .collect()
+    }
+
+    /// Judges `moves` against the current set, records the round and, when
+    /// a move earns its keep and leads to a set not yet visited, takes it
+    /// (then drops what no longer earns its keep). True when it moved.
+    fn step(&mut self, moves: &[(FittedSet, Candidate)], what: String, done: &str) -> bool {
+        let fits = self.eng.fit_moves(self.eng.campaign, moves);
+        let (round, next) = self
+            .eng
+            .judge(&self.current, self.current_held, fits.into_iter(), what);
+        self.rounds.push(round);
+        match next {
+            Some((f, held)) if !self.seen.contains(&f.set) => {
+                self.eng.say(format!(
+                    "  {done} {{{}}} (RMS {:.4} deg)",
+                    labels(&f.set),
+                    f.rms()
+                ));
+                let (f, held) = self.eng.backward(f, held);
+                self.seen.push(f.set.clone());
+                self.current = f;
+                self.current_held = held;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Forward step: the best single candidate that earns its keep.
+    fn try_add(&mut self) -> bool {
+        if self.current.set.len() >= self.max_effects {
+            return false;
+        }
+        let todo = self.outside();
+        self.eng.say(format!(
+            "round {}: fitting {} candidates beside {{{}}} (RMS {:.4} deg)",
+            self.rounds.len() + 1,
+            todo.len(),
+            labels(&self.current.set),
+            self.current.rms()
+        ));
+        let moves: Vec<(FittedSet, Candidate)> =
+            todo.iter().map(|&c| (self.current.clone(), c)).collect();
+        let what = format!("add to {{{}}}", labels(&self.current.set));
+        self.step(&moves, what, "added:")
+    }
+
+    /// Pair step, when no single candidate earned its keep: two causes that
+    /// act together may each fail the held-out test alone (one effect cannot
+    /// predict a run the other shapes). The [`PAIR_SEEDS`] best singles of
+    /// the last round by BIC (the training criterion) are each paired with
+    /// every other candidate, the pairs fitted jointly, and the held-out
+    /// check applied to the pair as a whole.
+    fn try_pair(&mut self) -> bool {
+        if self.current.set.len() + 2 > self.max_effects {
+            return false;
+        }
+        let Some(last) = self.rounds.last() else {
+            return false;
+        };
+        let seeds: Vec<FittedSet> = last
+            .scores
+            .iter()
+            .filter(|s| s.delta_bic > MIN_DELTA_BIC && s.fitted.set.len() == self.current.set.len() + 1)
+            .take(PAIR_SEEDS)
+            .map(|s| s.fitted.clone())
+            .collect();
+        if seeds.is_empty() {
+            return false;
+        }
+        let mut moves = Vec::new();
+        for (a, seed) in seeds.iter().enumerate() {
+            let first = seed.set[seed.set.len() - 1];
+            for c in self.outside() {
+                let earlier = seeds[..a].iter().any(|s| s.set.last() == Some(&c));
+                if c != first && !earlier {
+                    moves.push((seed.clone(), c));
+                }
+            }
+        }
+        self.eng.say(format!(
+            "pairs: no single candidate earns its keep; fitting {} pairs beside {{{}}}",
+            moves.len(),
+            labels(&self.current.set)
+        ));
+        let what = format!("add a pair to {{{}}}", labels(&self.current.set));
+        self.step(&moves, what, "added the pair:")
+    }
+
+    /// Swap step: replace one effect by another candidate when the residual
+    /// is still above the noise floor (greedy steps can take a wrong turn
+    /// when two effects act together). Every candidate may swap in: the
+    /// moves are prescreened by their coarse scan.
+    fn try_swap(&mut self) -> bool {
+        if self.current.set.is_empty() || self.swaps >= MAX_SWAPS {
+            return false;
+        }
+        self.swaps += 1;
+        let outside = self.outside();
+        let mut moves = Vec::new();
+        for k in 0..self.current.set.len() {
+            let reduced = self.current.without(k);
+            for c in &outside {
+                moves.push((reduced.clone(), *c));
+            }
+        }
+        self.eng.say(format!(
+            "swap {}: trying {} replacements in {{{}}}",
+            self.swaps,
+            moves.len(),
+            labels(&self.current.set)
+        ));
+        let what = format!("swap one of {{{}}}", labels(&self.current.set));
+        let moved = self.step(&moves, what, "swapped to");
+        if !moved {
+            self.eng.say("  no swap earns its keep: stop");
+        }
+        moved
+    }
+}
+
+impl Engine<'_> {
+    /// The baseline: the mechanisms as given, no effect.
+    fn baseline(&self) -> FittedSet {
+        self.fit(self.campaign, &[], &[]).unwrap_or(FittedSet {
+            set: Vec::new(),
+            params: Vec::new(),
+            ci95: Vec::new(),
+            sse: f64::INFINITY,
+            m: self.campaign.samples(),
+            evaluations: 0,
+        })
+    }
+
+    /// The set reordered strongest first, with each effect's strength: the
+    /// RMS [deg] of the set without it (the others' values kept).
+    fn strongest_first(&self, current: &FittedSet) -> (FittedSet, Vec<f64>) {
+        let strength: Vec<f64> = (0..current.set.len())
+            .map(|k| {
+                let r = current.without(k);
+                self.sse(self.campaign, &r.set, &r.params)
+                    .map(|(s, m)| (s / m.max(1) as f64).sqrt())
+                    .unwrap_or(f64::INFINITY)
+            })
+            .collect();
+        let mut order: Vec<usize> = (0..current.set.len()).collect();
+        order.sort_by(|&a, &b| strength[b].total_cmp(&strength[a]));
+        let mut offs = Vec::new();
+        let mut off = 0;
+        for c in &current.set {
+            offs.push(off);
+            off += c.params();
+        }
+        let pick = |v: &[f64], i: usize| v[offs[i]..offs[i] + current.set[i].params()].to_vec();
+        let pick_ci =
+            |v: &[[f64; 2]], i: usize| v[offs[i]..offs[i] + current.set[i].params()].to_vec();
+        let extended = FittedSet {
+            set: order.iter().map(|&i| current.set[i]).collect(),
+            params: order.iter().flat_map(|&i| pick(&current.params, i)).collect(),
+            ci95: order.iter().flat_map(|&i| pick_ci(&current.ci95, i)).collect(),
+            ..current.clone()
+        };
+        (extended, order.iter().map(|&i| strength[i]).collect())
+    }
+}
+
+/// The `unexplained` description when the residual stays clearly above the
+/// noise floor σ̂ (above 1.5 σ̂ and σ̂ + 0.01°).
+fn unexplained_text(extended: &FittedSet, sigma: f64) -> Option<String> {
+    let rms = extended.rms();
+    if rms > 1.5 * sigma.max(1e-6) && rms > sigma + 0.01 {
+        Some(format!(
+            "the residual stays at {rms:.4} deg RMS, {:.1} times the noise floor ({sigma:.4} deg), and no further candidate earns its keep",
+            rms / sigma.max(1e-9),
+        ))
+    } else {
+        None
+    }
+}
+
+/// Diagnoses a campaign: baseline, noise floor, stepwise search
+/// ([`Search`]), then the effects strongest first and what stays
+/// unexplained.
 pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress) -> Outcome {
     let t0 = Instant::now();
     let eng = Engine {
@@ -677,183 +912,41 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         sims: std::sync::atomic::AtomicUsize::new(0),
     };
     let sigma = noise_sigma_deg(campaign);
-    let floor = NOISE_FLOOR_FACTOR * sigma;
-    let baseline = eng.fit(campaign, &[], &[]).unwrap_or(FittedSet {
-        set: Vec::new(),
-        params: Vec::new(),
-        ci95: Vec::new(),
-        sse: f64::INFINITY,
-        m: campaign.samples(),
-        evaluations: 0,
-    });
+    let baseline = eng.baseline();
     eng.say(format!(
         "baseline: RMS {:.4} deg over {} runs; noise floor sigma {:.4} deg",
         baseline.rms(),
         campaign.runs.len(),
         sigma
     ));
-    let candidates: Vec<Candidate> = Candidate::all(campaign.max_joints())
-        .into_iter()
-        .filter(|c| opts.kinds.contains(&c.kind))
-        .collect();
-
-    let mut current = baseline.clone();
-    let mut current_held = eng.held_out(&current);
-    let mut rounds = Vec::new();
-    let mut seen: Vec<Vec<Candidate>> = vec![Vec::new()];
-    let mut swaps = 0;
-    for _ in 0..10 {
-        if current.rms() <= floor {
-            eng.say(format!(
-                "residual {:.4} deg is down to the noise floor: stop",
-                current.rms()
-            ));
-            break;
-        }
-        // Forward: add the best candidate that earns its keep.
-        if current.set.len() < opts.max_effects {
-            let todo: Vec<Candidate> = candidates
-                .iter()
-                .copied()
-                .filter(|c| !current.set.contains(c))
-                .collect();
-            eng.say(format!(
-                "round {}: fitting {} candidates beside {{{}}} (RMS {:.4} deg)",
-                rounds.len() + 1,
-                todo.len(),
-                labels(&current.set),
-                current.rms()
-            ));
-            let moves: Vec<(FittedSet, Candidate)> =
-                todo.iter().map(|&c| (current.clone(), c)).collect();
-            let (round, next) = eng.judge(
-                &current,
-                current_held,
-                eng.fit_moves(campaign, &moves).into_iter(),
-                format!("add to {{{}}}", labels(&current.set)),
-            );
-            rounds.push(round);
-            if let Some((f, held)) = next {
-                if !seen.contains(&f.set) {
-                    eng.say(format!(
-                        "  added {} (RMS {:.4} deg)",
-                        labels(&f.set),
-                        f.rms()
-                    ));
-                    let (f, held) = eng.backward(f, held);
-                    seen.push(f.set.clone());
-                    current = f;
-                    current_held = held;
-                    continue;
-                }
-            }
-        }
-        // Swap: replace one effect by another candidate when the residual is
-        // still above the noise floor (greedy steps can take a wrong turn
-        // when two effects act together).
-        if current.set.is_empty() || swaps >= 2 {
-            break;
-        }
-        swaps += 1;
-        // Every candidate may swap in: the moves are prescreened by their
-        // coarse scan, so this costs a few simulations per move.
-        let strongest: Vec<Candidate> = candidates
-            .iter()
-            .copied()
-            .filter(|c| !current.set.contains(c))
-            .collect();
-        let mut moves = Vec::new();
-        for k in 0..current.set.len() {
-            let reduced = current.without(k);
-            for c in &strongest {
-                moves.push((reduced.clone(), *c));
-            }
-        }
-        eng.say(format!(
-            "swap {swaps}: trying {} replacements in {{{}}}",
-            moves.len(),
-            labels(&current.set)
-        ));
-        let (round, next) = eng.judge(
-            &current,
-            current_held,
-            eng.fit_moves(campaign, &moves).into_iter(),
-            format!("swap one of {{{}}}", labels(&current.set)),
-        );
-        rounds.push(round);
-        match next {
-            Some((f, held)) if !seen.contains(&f.set) => {
-                eng.say(format!(
-                    "  swapped to {{{}}} (RMS {:.4} deg)",
-                    labels(&f.set),
-                    f.rms()
-                ));
-                let (f, held) = eng.backward(f, held);
-                seen.push(f.set.clone());
-                current = f;
-                current_held = held;
-            }
-            _ => {
-                eng.say("  no swap earns its keep: stop");
-                break;
-            }
-        }
-    }
-
-    // Strength of each effect: RMS without it.
-    let strength: Vec<f64> = (0..current.set.len())
-        .map(|k| {
-            let r = current.without(k);
-            eng.sse(campaign, &r.set, &r.params)
-                .map(|(s, m)| (s / m.max(1) as f64).sqrt())
-                .unwrap_or(f64::INFINITY)
-        })
-        .collect();
-    // Strongest first.
-    let mut order: Vec<usize> = (0..current.set.len()).collect();
-    order.sort_by(|&a, &b| strength[b].total_cmp(&strength[a]));
-    let mut extended = current.clone();
-    extended.set = order.iter().map(|&i| current.set[i]).collect();
-    let mut offs = Vec::new();
-    let mut off = 0;
-    for c in &current.set {
-        offs.push(off);
-        off += c.params();
-    }
-    extended.params = order
-        .iter()
-        .flat_map(|&i| current.params[offs[i]..offs[i] + current.set[i].params()].to_vec())
-        .collect();
-    extended.ci95 = order
-        .iter()
-        .flat_map(|&i| current.ci95[offs[i]..offs[i] + current.set[i].params()].to_vec())
-        .collect();
-    let strength_rms_deg = order.iter().map(|&i| strength[i]).collect();
-    let held_out_rms_deg = if extended.set.is_empty() {
-        current_held
-    } else {
-        current_held.or_else(|| eng.held_out(&extended))
+    let mut search = Search {
+        eng: &eng,
+        candidates: Candidate::all(campaign.max_joints())
+            .into_iter()
+            .filter(|c| opts.kinds.contains(&c.kind))
+            .collect(),
+        max_effects: opts.max_effects,
+        floor_deg: NOISE_FLOOR_FACTOR * sigma,
+        current_held: eng.held_out(&baseline),
+        current: baseline.clone(),
+        rounds: Vec::new(),
+        seen: vec![Vec::new()],
+        swaps: 0,
     };
-
-    let unexplained = if extended.rms() > 1.5 * sigma.max(1e-6) && extended.rms() > sigma + 0.01 {
-        Some(format!(
-            "the residual stays at {:.4} deg RMS, {:.1} times the noise floor ({:.4} deg), and no further candidate earns its keep",
-            extended.rms(),
-            extended.rms() / sigma.max(1e-9),
-            sigma
-        ))
-    } else {
-        None
+    search.run();
+    let (extended, strength_rms_deg) = eng.strongest_first(&search.current);
+    let held_out_rms_deg = match search.current_held {
+        None if !extended.set.is_empty() => eng.held_out(&extended),
+        h => h,
     };
-
     Outcome {
         noise_sigma_deg: sigma,
+        unexplained: unexplained_text(&extended, sigma),
         baseline,
         extended,
         strength_rms_deg,
         held_out_rms_deg,
-        rounds,
-        unexplained,
+        rounds: search.rounds,
         simulations: eng.sims.load(std::sync::atomic::Ordering::Relaxed),
         wall_s: t0.elapsed().as_secs_f64(),
     }
