@@ -28,10 +28,12 @@ pub mod rollout;
 pub mod smoother;
 pub mod spring;
 pub mod telemetry;
+pub mod torque_table;
 
 pub use chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel};
 pub use friction::Friction;
 pub use real::Real;
+pub use torque_table::{Table, TableError, TorqueTable};
 pub use spring::{Branch, Curve, Fold, Interp, Spring, TapePoints};
 
 pub use faults::{Fault, FaultFlags};

@@ -5,3 +5,4 @@ pub mod effect;
 pub mod kinematics;
 pub mod mechanism;
 pub mod mechanism_toml;
+pub mod torque_table;

@@ -16,7 +16,10 @@
 //! 5. A clear residual that no candidate explains is reported as
 //!    `unexplained`, never forced onto a name.
 
+pub mod discover;
 pub mod evidence;
+
+use discover::{TableForm, TABLE_BOUND_NM};
 
 use crate::analysis::fit::{self, FitOptions};
 use crate::data::campaign::{Campaign, CampaignRun};
@@ -43,6 +46,8 @@ pub struct Candidate {
     pub kind: EffectKind,
     /// 1-based joint for per-joint effects.
     pub joint: Option<usize>,
+    /// `torque_table` only: the form of the table.
+    pub table: Option<TableForm>,
 }
 
 impl Candidate {
@@ -55,10 +60,15 @@ impl Candidate {
                     out.push(Candidate {
                         kind,
                         joint: Some(j),
+                        table: None,
                     });
                 }
             } else {
-                out.push(Candidate { kind, joint: None });
+                out.push(Candidate {
+                    kind,
+                    joint: None,
+                    table: None,
+                });
             }
         }
         out
@@ -66,6 +76,9 @@ impl Candidate {
 
     /// Number of parameters (rig tilt: magnitude and direction).
     pub fn params(&self) -> usize {
+        if let Some(t) = self.table {
+            return t.params();
+        }
         if self.kind == EffectKind::RigTilt {
             2
         } else {
@@ -86,6 +99,9 @@ impl Candidate {
             // the motion, no wrap-around, no singular direction at g = 0.
             EffectKind::RigTilt => vec![(-5.0, 5.0, 1e-5), (-5.0, 5.0, 1e-5)],
             EffectKind::EncoderOffset => vec![(-30.0, 30.0, 1e-4)],
+            EffectKind::TorqueTable => {
+                vec![(-TABLE_BOUND_NM, TABLE_BOUND_NM, 1e-4); self.params()]
+            }
         }
     }
 
@@ -110,11 +126,20 @@ impl Candidate {
                 v
             }
             EffectKind::EncoderOffset => one(&[0.0]),
+            // A constant torque of either sign and a few sizes: the scan
+            // ranks the joints and forms, the fit shapes the table.
+            EffectKind::TorqueTable => [-0.3, -0.05, 0.0, 0.05, 0.3]
+                .iter()
+                .map(|&v| vec![v; self.params()])
+                .collect(),
         }
     }
 
     /// The effect with parameters `p`.
     pub fn effect(&self, p: &[f64]) -> Effect {
+        if let Some(t) = self.table {
+            return t.effect(self.joint, p);
+        }
         let x = p.first().copied().unwrap_or(0.0);
         if self.kind == EffectKind::RigTilt {
             let y = p.get(1).copied().unwrap_or(0.0);
@@ -123,13 +148,14 @@ impl Candidate {
                 joint: None,
                 value: x.hypot(y),
                 alpha_deg: y.atan2(x).to_degrees().rem_euclid(360.0),
+                ..Effect::default()
             };
         }
         Effect {
             kind: self.kind,
             joint: self.joint,
             value: x,
-            alpha_deg: 0.0,
+            ..Effect::default()
         }
     }
 
@@ -138,6 +164,14 @@ impl Candidate {
     /// propagation for the tilt's magnitude and angle).
     pub fn value_ci(&self, p: &[f64], ci: &[[f64; 2]]) -> ([f64; 2], Option<[f64; 2]>) {
         let half = |k: usize| ci.get(k).map_or(f64::INFINITY, |c| 0.5 * (c[1] - c[0]));
+        if self.table.is_some() {
+            // A table's value is its largest knot torque: that knot's interval.
+            let k = (0..p.len())
+                .max_by(|&a, &b| p[a].abs().total_cmp(&p[b].abs()))
+                .unwrap_or(0);
+            let (v, h) = (p.get(k).map_or(0.0, |x| x.abs()), half(k));
+            return ([v - h, v + h], None);
+        }
         if self.kind == EffectKind::RigTilt {
             let (x, y) = (
                 p.first().copied().unwrap_or(0.0),
@@ -160,6 +194,9 @@ impl Candidate {
 
     /// `name` or `name@joint`, for progress lines and reports.
     pub fn label(&self) -> String {
+        if let (Some(t), Some(j)) = (self.table, self.joint) {
+            return format!("{} j{j} ({})", self.kind, t.name());
+        }
         match self.joint {
             Some(j) => format!("{} j{j}", self.kind),
             None => self.kind.to_string(),
@@ -287,6 +324,9 @@ pub struct DiagnoseOptions {
     pub max_effects: usize,
     /// The candidates considered (all by default).
     pub kinds: Vec<EffectKind>,
+    /// Whether to look for a torque no named effect describes
+    /// ([`discover`]) when the named effects leave a residual.
+    pub discover: bool,
 }
 
 impl Default for DiagnoseOptions {
@@ -294,6 +334,7 @@ impl Default for DiagnoseOptions {
         DiagnoseOptions {
             max_effects: 3,
             kinds: EffectKind::ALL.to_vec(),
+            discover: true,
         }
     }
 }
@@ -675,6 +716,9 @@ pub const PAIR_SEEDS: usize = 4;
 /// Most search steps (additions, pair additions and swaps) of one diagnosis.
 const MAX_STEPS: usize = 10;
 
+/// Most discovered torque tables of one diagnosis.
+pub const MAX_TABLES: usize = 2;
+
 /// Most swap rounds of one diagnosis.
 const MAX_SWAPS: usize = 2;
 
@@ -710,6 +754,56 @@ impl Search<'_, '_> {
             }
             if !self.try_swap() {
                 return;
+            }
+        }
+    }
+
+    /// Named effects in the current set (discovered tables do not count
+    /// against `max_effects`).
+    fn named_len(&self) -> usize {
+        self.current.set.iter().filter(|c| c.table.is_none()).count()
+    }
+
+    /// Discovery: while the residual stays clearly above the noise, fit a
+    /// torque table at each joint (angle, rate, both), judge the tables like
+    /// any candidate (the joint is the one whose table wins by BIC), and
+    /// after one is added let the named search go on beside it. At most
+    /// [`MAX_TABLES`] tables, at different joints.
+    fn discover(&mut self, tables: &[Candidate], sigma: f64) {
+        for _ in 0..MAX_TABLES {
+            if unexplained_text(&self.current, sigma).is_none() {
+                return;
+            }
+            let taken: Vec<Option<usize>> = self
+                .current
+                .set
+                .iter()
+                .filter(|c| c.table.is_some())
+                .map(|c| c.joint)
+                .collect();
+            let moves: Vec<(FittedSet, Candidate)> = tables
+                .iter()
+                .filter(|c| !taken.contains(&c.joint))
+                .map(|&c| (self.current.clone(), c))
+                .collect();
+            if moves.is_empty() {
+                return;
+            }
+            self.eng.say(format!(
+                "discovery: the residual stays at {:.4} deg; fitting {} torque tables beside {{{}}}",
+                self.current.rms(),
+                moves.len(),
+                labels(&self.current.set)
+            ));
+            let what = format!("discover a torque beside {{{}}}", labels(&self.current.set));
+            if !self.step(&moves, what, "discovered:") {
+                return;
+            }
+            // The named search goes on beside the table only while the
+            // residual stays clearly above the noise.
+            if unexplained_text(&self.current, sigma).is_some() {
+                self.swaps = 0;
+                self.run();
             }
         }
     }
@@ -751,7 +845,7 @@ impl Search<'_, '_> {
 
     /// Forward step: the best single candidate that earns its keep.
     fn try_add(&mut self) -> bool {
-        if self.current.set.len() >= self.max_effects {
+        if self.named_len() >= self.max_effects {
             return false;
         }
         let todo = self.outside();
@@ -775,7 +869,7 @@ impl Search<'_, '_> {
     /// every other candidate, the pairs fitted jointly, and the held-out
     /// check applied to the pair as a whole.
     fn try_pair(&mut self) -> bool {
-        if self.current.set.len() + 2 > self.max_effects {
+        if self.named_len() + 2 > self.max_effects {
             return false;
         }
         let Some(last) = self.rounds.last() else {
@@ -934,6 +1028,9 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         swaps: 0,
     };
     search.run();
+    if opts.discover {
+        search.discover(&discover::table_candidates(campaign), sigma);
+    }
     let (extended, strength_rms_deg) = eng.strongest_first(&search.current);
     let held_out_rms_deg = match search.current_held {
         None if !extended.set.is_empty() => eng.held_out(&extended),
