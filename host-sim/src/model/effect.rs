@@ -319,7 +319,9 @@ mod tests {
         assert_eq!(e.value, 0.3);
         assert_eq!(e.to_string(), text);
         assert!(e.validate(2).is_ok());
-        assert!("torque_table:joint=1:angle_deg=0,1".parse::<Effect>().is_err());
+        assert!("torque_table:joint=1:angle_deg=0,1"
+            .parse::<Effect>()
+            .is_err());
         assert!("air_drag:value=1:angle_deg=0,1:torque_nm=1,1"
             .parse::<Effect>()
             .is_err());

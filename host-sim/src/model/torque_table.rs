@@ -62,10 +62,17 @@ impl TablePoints {
         };
         let t = TorqueTable {
             angle: one(&self.angle_deg, &self.torque_nm, "angle_deg", "torque_nm")?,
-            rate: one(&self.rate_deg_s, &self.rate_torque_nm, "rate_deg_s", "rate_torque_nm")?,
+            rate: one(
+                &self.rate_deg_s,
+                &self.rate_torque_nm,
+                "rate_deg_s",
+                "rate_torque_nm",
+            )?,
         };
         if t.angle.is_none() && t.rate.is_none() {
-            return Err("torque_table needs angle_deg/torque_nm, rate_deg_s/rate_torque_nm or both".into());
+            return Err(
+                "torque_table needs angle_deg/torque_nm, rate_deg_s/rate_torque_nm or both".into(),
+            );
         }
         Ok(t)
     }
@@ -73,7 +80,10 @@ impl TablePoints {
 
 /// `a,b,c` of a list, shortest round-trip form of each number.
 fn list(v: &[f64]) -> String {
-    v.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(",")
+    v.iter()
+        .map(|x| x.to_string())
+        .collect::<Vec<_>>()
+        .join(",")
 }
 
 /// The table's keys in the `--effect` syntax, each preceded by `:`.
@@ -83,7 +93,12 @@ pub fn to_keys(t: &TorqueTable<f64>) -> String {
         let _ = write!(s, ":angle_deg={}:torque_nm={}", list(f.xs()), list(f.ys()));
     }
     if let Some(g) = &t.rate {
-        let _ = write!(s, ":rate_deg_s={}:rate_torque_nm={}", list(g.xs()), list(g.ys()));
+        let _ = write!(
+            s,
+            ":rate_deg_s={}:rate_torque_nm={}",
+            list(g.xs()),
+            list(g.ys())
+        );
     }
     s
 }

@@ -4,10 +4,10 @@
 //! When the named effects leave a residual above the noise, the missing
 //! joint torque is fitted directly through the simulator: at each joint, a
 //! table `f(φ)` over the stroke, a table `g(φ̇)` over the rates the runs
-//! reach, or both, each with a few knots (four over the angle, two free
+//! reach, or both, each with a few knots (five over the angle, two free
 //! over the rate with `g(0) = 0` so that `f` carries the constant part).
 //! Few, evenly spread knots are the regularisation: a piecewise-linear
-//! torque with four knots cannot chase the noise of 2 × 600 samples, and
+//! torque with five knots cannot chase the noise of 2 × 600 samples, and
 //! its knot values get 95 % intervals from the Jacobian like any effect's
 //! value. The joint is localised by the training criterion (BIC) of the
 //! table fitted at each joint; the table is then judged like any effect
@@ -20,7 +20,7 @@ use crate::model::torque_table::max_abs_nm;
 use deploywatch_core::{Table, TorqueTable};
 
 /// Knots of a discovered angle table `f(φ)`, spread evenly over the stroke.
-pub const ANGLE_KNOTS: u8 = 4;
+pub const ANGLE_KNOTS: u8 = 5;
 
 /// Free knots of a discovered rate table `g(φ̇)` (beside `g(0) = 0`).
 pub const RATE_KNOTS: u8 = 2;
@@ -209,28 +209,49 @@ pub fn shape_sentence(form: &TableForm, joint: usize, t: &TorqueTable<f64>) -> S
     let motion = -f64::from(form.from_deg).signum(); // sign of φ̇ while deploying
     let mut parts = Vec::new();
     if let Some(f) = &t.angle {
-        let peak = f.ys().iter().copied().fold(0.0f64, |m, y| if y.abs() > m.abs() { y } else { m });
+        let peak = f
+            .ys()
+            .iter()
+            .copied()
+            .fold(0.0f64, |m, y| if y.abs() > m.abs() { y } else { m });
         let strong: Vec<f64> = f
             .xs()
             .iter()
             .zip(f.ys())
-            .filter(|(_, y)| y.abs() >= 0.5 * peak.abs())
+            .filter(|(_, y)| *y * peak > 0.0 && y.abs() >= 0.5 * peak.abs())
             .map(|(x, _)| *x)
             .collect();
         let lo = strong.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = strong.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let span = if hi - lo < 1.0 {
+            format!("around {lo:.0}°")
+        } else {
+            format!("{lo:.0}° to {hi:.0}°")
+        };
         parts.push(format!(
-            "a {} torque of up to {:.3} N·m {} ({lo:.0}° to {hi:.0}°)",
-            if peak * motion < 0.0 { "resisting" } else { "driving" },
+            "a {} torque of up to {:.3} N·m {} ({span})",
+            if peak * motion < 0.0 {
+                "resisting"
+            } else {
+                "driving"
+            },
             peak.abs(),
             stroke_region(f64::from(form.from_deg), lo, hi)
         ));
     }
     if let Some(g) = &t.rate {
-        let end = if motion > 0.0 { g.ys()[g.ys().len() - 1] } else { g.ys()[0] };
+        let end = if motion > 0.0 {
+            g.ys()[g.ys().len() - 1]
+        } else {
+            g.ys()[0]
+        };
         parts.push(format!(
             "a {} part that grows with the rate to {:.3} N·m at {} deg/s",
-            if end * motion < 0.0 { "resisting" } else { "driving" },
+            if end * motion < 0.0 {
+                "resisting"
+            } else {
+                "driving"
+            },
             end.abs(),
             form.rate_max_deg_s
         ));
@@ -238,4 +259,12 @@ pub fn shape_sentence(form: &TableForm, joint: usize, t: &TorqueTable<f64>) -> S
         parts.push("independent of the rate".to_string());
     }
     format!("joint {joint}: {}", parts.join(", "))
+}
+
+/// A discovered table with its 95 % band, knot by knot: `[fitted, lower,
+/// upper]` (the rate table's fixed `g(0) = 0` has no width).
+pub fn band(form: &TableForm, p: &[f64], ci: &[[f64; 2]]) -> [TorqueTable<f64>; 3] {
+    let lo: Vec<f64> = ci.iter().map(|c| c[0]).collect();
+    let hi: Vec<f64> = ci.iter().map(|c| c[1]).collect();
+    [form.table(p), form.table(&lo), form.table(&hi)]
 }

@@ -279,6 +279,27 @@ impl FittedSet {
         }
     }
 
+    /// The parameters and their 95 % intervals of the `k`-th effect.
+    pub fn effect_params(&self, k: usize) -> Option<(&[f64], &[[f64; 2]])> {
+        let off: usize = self.set.get(..k)?.iter().map(|c| c.params()).sum();
+        let n = self.set.get(k)?.params();
+        Some((self.params.get(off..off + n)?, self.ci95.get(off..off + n)?))
+    }
+
+    /// A discovered table at the `k`-th place: its form, the one-sentence
+    /// shape and the table with its 95 % band (`[fitted, lower, upper]`).
+    pub fn table_of(
+        &self,
+        k: usize,
+    ) -> Option<(TableForm, String, [deploywatch_core::TorqueTable<f64>; 3])> {
+        let c = self.set.get(k)?;
+        let form = c.table?;
+        let (p, ci) = self.effect_params(k)?;
+        let tables = discover::band(&form, p, ci);
+        let shape = discover::shape_sentence(&form, c.joint.unwrap_or(0), &tables[0]);
+        Some((form, shape, tables))
+    }
+
     /// Bayesian information criterion of the Gaussian likelihood,
     /// `m ln(SSE/m) + k ln m`.
     pub fn bic(&self) -> f64 {
@@ -696,8 +717,7 @@ fn new_members_clear(f: &FittedSet, current: &FittedSet) -> bool {
     for c in &f.set {
         let n = c.params();
         if !current.set.contains(c) {
-            let (Some(p), Some(ci)) = (f.params.get(off..off + n), f.ci95.get(off..off + n))
-            else {
+            let (Some(p), Some(ci)) = (f.params.get(off..off + n), f.ci95.get(off..off + n)) else {
                 return false;
             };
             let (v, _) = c.value_ci(p, ci);
@@ -761,7 +781,11 @@ impl Search<'_, '_> {
     /// Named effects in the current set (discovered tables do not count
     /// against `max_effects`).
     fn named_len(&self) -> usize {
-        self.current.set.iter().filter(|c| c.table.is_none()).count()
+        self.current
+            .set
+            .iter()
+            .filter(|c| c.table.is_none())
+            .count()
     }
 
     /// Discovery: while the residual stays clearly above the noise, fit a
@@ -822,9 +846,9 @@ impl Search<'_, '_> {
     /// (then drops what no longer earns its keep). True when it moved.
     fn step(&mut self, moves: &[(FittedSet, Candidate)], what: String, done: &str) -> bool {
         let fits = self.eng.fit_moves(self.eng.campaign, moves);
-        let (round, next) = self
-            .eng
-            .judge(&self.current, self.current_held, fits.into_iter(), what);
+        let (round, next) =
+            self.eng
+                .judge(&self.current, self.current_held, fits.into_iter(), what);
         self.rounds.push(round);
         match next {
             Some((f, held)) if !self.seen.contains(&f.set) => {
@@ -878,7 +902,9 @@ impl Search<'_, '_> {
         let seeds: Vec<FittedSet> = last
             .scores
             .iter()
-            .filter(|s| s.delta_bic > MIN_DELTA_BIC && s.fitted.set.len() == self.current.set.len() + 1)
+            .filter(|s| {
+                s.delta_bic > MIN_DELTA_BIC && s.fitted.set.len() == self.current.set.len() + 1
+            })
             .take(PAIR_SEEDS)
             .map(|s| s.fitted.clone())
             .collect();
@@ -973,8 +999,14 @@ impl Engine<'_> {
             |v: &[[f64; 2]], i: usize| v[offs[i]..offs[i] + current.set[i].params()].to_vec();
         let extended = FittedSet {
             set: order.iter().map(|&i| current.set[i]).collect(),
-            params: order.iter().flat_map(|&i| pick(&current.params, i)).collect(),
-            ci95: order.iter().flat_map(|&i| pick_ci(&current.ci95, i)).collect(),
+            params: order
+                .iter()
+                .flat_map(|&i| pick(&current.params, i))
+                .collect(),
+            ci95: order
+                .iter()
+                .flat_map(|&i| pick_ci(&current.ci95, i))
+                .collect(),
             ..current.clone()
         };
         (extended, order.iter().map(|&i| strength[i]).collect())
