@@ -19,16 +19,6 @@ use crate::model::effect::{Effect, EffectKind};
 use crate::model::torque_table::max_abs_nm;
 use deploywatch_core::{Table, TorqueTable};
 
-/// Knots of a discovered angle table `f(φ)`, spread evenly over the stroke.
-pub const ANGLE_KNOTS: u8 = 5;
-
-/// Free knots of a discovered rate table `g(φ̇)` (beside `g(0) = 0`).
-pub const RATE_KNOTS: u8 = 2;
-
-/// Bound on a discovered knot's torque [N·m]: beyond any hinge spring of the
-/// seed mechanisms, so never active on a real torque.
-pub const TABLE_BOUND_NM: f64 = 5.0;
-
 /// The form of a candidate table at one joint: which tables, over which
 /// span. Integers so that candidates stay comparable and hashable.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -46,6 +36,16 @@ pub struct TableForm {
 }
 
 impl TableForm {
+    /// Knots of a discovered angle table `f(φ)`, spread evenly over the stroke
+    /// (five: one every 45° of a 180° stroke, fine enough for a bump a quarter
+    /// of the stroke wide, coarse enough not to follow the noise).
+    pub const ANGLE_KNOTS: u8 = 5;
+    /// Free knots of a discovered rate table `g(φ̇)` (beside `g(0) = 0`).
+    pub const RATE_KNOTS: u8 = 2;
+    /// Bound on a discovered knot's torque [N·m]: beyond any hinge spring of the
+    /// seed mechanisms, so never active on a real torque.
+    pub const BOUND_NM: f64 = 5.0;
+
     /// Number of parameters (knot torques).
     pub fn params(&self) -> usize {
         usize::from(self.angle_knots) + usize::from(self.rate_knots)
@@ -160,7 +160,11 @@ pub fn table_candidates(campaign: &Campaign) -> Vec<Candidate> {
         }
         let from_deg = from.round() as i32;
         let rate_max_deg_s = rate.round() as i32;
-        for (a, r) in [(ANGLE_KNOTS, 0), (0, RATE_KNOTS), (ANGLE_KNOTS, RATE_KNOTS)] {
+        for (a, r) in [
+            (TableForm::ANGLE_KNOTS, 0),
+            (0, TableForm::RATE_KNOTS),
+            (TableForm::ANGLE_KNOTS, TableForm::RATE_KNOTS),
+        ] {
             out.push(Candidate {
                 kind: EffectKind::TorqueTable,
                 joint: Some(j + 1),

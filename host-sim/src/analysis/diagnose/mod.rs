@@ -19,7 +19,7 @@
 pub mod discover;
 pub mod evidence;
 
-use discover::{TableForm, TABLE_BOUND_NM};
+use discover::TableForm;
 
 use crate::analysis::fit::{self, FitOptions};
 use crate::data::campaign::{Campaign, CampaignRun};
@@ -100,7 +100,7 @@ impl Candidate {
             EffectKind::RigTilt => vec![(-5.0, 5.0, 1e-5), (-5.0, 5.0, 1e-5)],
             EffectKind::EncoderOffset => vec![(-30.0, 30.0, 1e-4)],
             EffectKind::TorqueTable => {
-                vec![(-TABLE_BOUND_NM, TABLE_BOUND_NM, 1e-4); self.params()]
+                vec![(-TableForm::BOUND_NM, TableForm::BOUND_NM, 1e-4); self.params()]
             }
         }
     }
@@ -595,19 +595,7 @@ impl Engine<'_> {
             })
             .collect();
         scores.sort_by(|a, b| b.delta_bic.total_cmp(&a.delta_bic));
-        let show = if std::env::var_os("DEPLOYWATCH_TRACE").is_some() {
-            usize::MAX
-        } else {
-            5
-        };
-        for s in scores.iter().take(show) {
-            self.say(format!(
-                "  {:<40} RMS {:.4} deg  dBIC {:>10.1}",
-                labels(&s.fitted.set),
-                s.fitted.rms(),
-                s.delta_bic
-            ));
-        }
+        self.show_scores(&scores);
         let mut chosen = None;
         let mut tried = 0;
         for s in scores.iter_mut() {
@@ -621,23 +609,9 @@ impl Engine<'_> {
                 }
                 continue;
             }
-            s.verdict = if s.delta_bic <= MIN_DELTA_BIC {
-                format!("BIC gain {:.1} ≤ {MIN_DELTA_BIC}", s.delta_bic)
-            } else if !new_members_clear(&s.fitted, current) {
-                "a 95 % interval contains zero".into()
-            } else {
-                s.held_out_rms_deg = self.held_out(&s.fitted);
-                match (s.held_out_rms_deg, current_held) {
-                    (Some(h), Some(c)) if h >= 0.95 * c => {
-                        format!("held-out RMS {h:.4} deg does not beat {c:.4} deg")
-                    }
-                    _ => {
-                        chosen = Some(s.candidate);
-                        s.accepted = true;
-                        "earns its keep: added".into()
-                    }
-                }
-            };
+            if self.verdict(s, current, current_held) {
+                chosen = Some(s.candidate);
+            }
         }
         let next = chosen.and_then(|c| {
             scores
@@ -654,6 +628,51 @@ impl Engine<'_> {
             },
             next,
         )
+    }
+
+    /// Prints the five best scores of a round (all with `DEPLOYWATCH_TRACE`).
+    fn show_scores(&self, scores: &[CandidateScore]) {
+        let show = if std::env::var_os("DEPLOYWATCH_TRACE").is_some() {
+            usize::MAX
+        } else {
+            5
+        };
+        for s in scores.iter().take(show) {
+            self.say(format!(
+                "  {:<40} RMS {:.4} deg  dBIC {:>10.1}",
+                labels(&s.fitted.set),
+                s.fitted.rms(),
+                s.delta_bic
+            ));
+        }
+    }
+
+    /// Whether a move earns its keep: BIC gain > [`MIN_DELTA_BIC`], every
+    /// added effect's interval clear of zero, and a held-out RMS at least
+    /// 5 % better than the current set's. Writes the verdict into `s`.
+    fn verdict(
+        &self,
+        s: &mut CandidateScore,
+        current: &FittedSet,
+        current_held: Option<f64>,
+    ) -> bool {
+        s.verdict = if s.delta_bic <= MIN_DELTA_BIC {
+            format!("BIC gain {:.1} ≤ {MIN_DELTA_BIC}", s.delta_bic)
+        } else if !new_members_clear(&s.fitted, current) {
+            "a 95 % interval contains zero".into()
+        } else {
+            s.held_out_rms_deg = self.held_out(&s.fitted);
+            match (s.held_out_rms_deg, current_held) {
+                (Some(h), Some(c)) if h >= 0.95 * c => {
+                    format!("held-out RMS {h:.4} deg does not beat {c:.4} deg")
+                }
+                _ => {
+                    s.accepted = true;
+                    "earns its keep: added".into()
+                }
+            }
+        };
+        s.accepted
     }
 
     /// Drops effects that no longer earn their keep beside the others.
@@ -772,7 +791,13 @@ impl Search<'_, '_> {
             if self.try_add() || self.try_pair() {
                 continue;
             }
-            if !self.try_swap() {
+            // A swap, else a pair swap seeded by the swap round (one effect
+            // replaced by two that only work together).
+            let before = self.rounds.len();
+            if self.try_swap() {
+                continue;
+            }
+            if self.rounds.len() == before || !self.try_pair() {
                 return;
             }
         }
@@ -795,7 +820,7 @@ impl Search<'_, '_> {
     /// [`MAX_TABLES`] tables, at different joints.
     fn discover(&mut self, tables: &[Candidate], sigma: f64) {
         for _ in 0..MAX_TABLES {
-            if unexplained_text(&self.current, sigma).is_none() {
+            if !above_noise(&self.current, sigma) {
                 return;
             }
             let taken: Vec<Option<usize>> = self
@@ -823,13 +848,51 @@ impl Search<'_, '_> {
             if !self.step(&moves, what, "discovered:") {
                 return;
             }
+            if self.prefer_named() {
+                continue;
+            }
             // The named search goes on beside the table only while the
             // residual stays clearly above the noise.
-            if unexplained_text(&self.current, sigma).is_some() {
+            if above_noise(&self.current, sigma) {
                 self.swaps = 0;
                 self.run();
             }
         }
+    }
+
+    /// A named effect that explains the data wins over a table: each table
+    /// of the set is replaced by every named candidate in turn, and the best
+    /// replacement by BIC is taken when its BIC is better than the table's
+    /// set (as good a fit with fewer parameters) and its interval is clear
+    /// of zero. True when a table was replaced.
+    fn prefer_named(&mut self) -> bool {
+        let named: Vec<Candidate> = self.outside();
+        let mut moves = Vec::new();
+        for (k, c) in self.current.set.iter().enumerate() {
+            if c.table.is_some() {
+                let reduced = self.current.without(k);
+                moves.extend(named.iter().map(|&n| (reduced.clone(), n)));
+            }
+        }
+        let fits = self.eng.fit_moves(self.eng.campaign, &moves);
+        let best = fits
+            .into_iter()
+            .filter(|(_, _, screened_out)| !screened_out)
+            .filter_map(|(_, f, _)| f)
+            .filter(|f| f.bic() < self.current.bic() && new_members_clear(f, &self.current))
+            .min_by(|a, b| a.bic().total_cmp(&b.bic()));
+        let Some(f) = best else {
+            return false;
+        };
+        self.eng.say(format!(
+            "  a named effect explains it as well: {{{}}} (RMS {:.4} deg)",
+            labels(&f.set),
+            f.rms()
+        ));
+        self.current_held = self.eng.held_out(&f);
+        self.seen.push(f.set.clone());
+        self.current = f;
+        true
     }
 
     /// Candidates not in the current set.
@@ -886,25 +949,22 @@ impl Search<'_, '_> {
         self.step(&moves, what, "added:")
     }
 
-    /// Pair step, when no single candidate earned its keep: two causes that
-    /// act together may each fail the held-out test alone (one effect cannot
-    /// predict a run the other shapes). The [`PAIR_SEEDS`] best singles of
-    /// the last round by BIC (the training criterion) are each paired with
-    /// every other candidate, the pairs fitted jointly, and the held-out
-    /// check applied to the pair as a whole.
+    /// Pair step, when no single move earned its keep: two causes that act
+    /// together may each fail the held-out test alone (one effect cannot
+    /// predict a run the other shapes). The [`PAIR_SEEDS`] best moves of the
+    /// last round (an addition or a swap) by BIC, the training criterion,
+    /// are each completed with every other candidate, the sets fitted
+    /// jointly, and the held-out check applied to the set as a whole.
     fn try_pair(&mut self) -> bool {
-        if self.named_len() + 2 > self.max_effects {
-            return false;
-        }
         let Some(last) = self.rounds.last() else {
             return false;
         };
+        let room =
+            |f: &FittedSet| f.set.iter().filter(|c| c.table.is_none()).count() < self.max_effects;
         let seeds: Vec<FittedSet> = last
             .scores
             .iter()
-            .filter(|s| {
-                s.delta_bic > MIN_DELTA_BIC && s.fitted.set.len() == self.current.set.len() + 1
-            })
+            .filter(|s| !s.verdict.starts_with("screened") && room(&s.fitted))
             .take(PAIR_SEEDS)
             .map(|s| s.fitted.clone())
             .collect();
@@ -922,7 +982,7 @@ impl Search<'_, '_> {
             }
         }
         self.eng.say(format!(
-            "pairs: no single candidate earns its keep; fitting {} pairs beside {{{}}}",
+            "pairs: fitting {} sets of two, seeded by the last round, beside {{{}}}",
             moves.len(),
             labels(&self.current.set)
         ));
@@ -1013,18 +1073,27 @@ impl Engine<'_> {
     }
 }
 
+/// True when the residual of a set stays clearly above the noise floor σ̂
+/// [deg]: above 1.5 σ̂ and above σ̂ + 0.01°.
+fn above_noise(f: &FittedSet, sigma: f64) -> bool {
+    let rms = f.rms();
+    rms > 1.5 * sigma.max(1e-6) && rms > sigma + 0.01
+}
+
 /// The `unexplained` description when the residual stays clearly above the
-/// noise floor σ̂ (above 1.5 σ̂ and σ̂ + 0.01°).
-fn unexplained_text(extended: &FittedSet, sigma: f64) -> Option<String> {
-    let rms = extended.rms();
-    if rms > 1.5 * sigma.max(1e-6) && rms > sigma + 0.01 {
-        Some(format!(
-            "the residual stays at {rms:.4} deg RMS, {:.1} times the noise floor ({sigma:.4} deg), and no further candidate earns its keep",
-            rms / sigma.max(1e-9),
-        ))
-    } else {
-        None
+/// noise floor: how large, at which joint and where in the stroke.
+fn unexplained_text(campaign: &Campaign, extended: &FittedSet, sigma: f64) -> Option<String> {
+    if !above_noise(extended, sigma) {
+        return None;
     }
+    let rms = extended.rms();
+    let at = evidence::locate(&evidence::analyse(campaign, &extended.effects(), sigma))
+        .map(|w| format!(", largest at {w}"))
+        .unwrap_or_default();
+    Some(format!(
+        "the residual stays at {rms:.4} deg RMS, {:.1} times the noise floor ({sigma:.4} deg){at}, and no further candidate earns its keep",
+        rms / sigma.max(1e-9),
+    ))
 }
 
 /// Diagnoses a campaign: baseline, noise floor, stepwise search
@@ -1070,7 +1139,7 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
     };
     Outcome {
         noise_sigma_deg: sigma,
-        unexplained: unexplained_text(&extended, sigma),
+        unexplained: unexplained_text(campaign, &extended, sigma),
         baseline,
         extended,
         strength_rms_deg,
