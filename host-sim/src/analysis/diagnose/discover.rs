@@ -42,6 +42,9 @@ impl TableForm {
     pub const ANGLE_KNOTS: u8 = 5;
     /// Free knots of a discovered rate table `g(φ̇)` (beside `g(0) = 0`).
     pub const RATE_KNOTS: u8 = 2;
+    /// Smallest rate span of a rate table [deg/s]: its first knot then sits
+    /// at 30 deg/s or more, so that `g` never becomes a stiff damper.
+    pub const MIN_RATE_SPAN_DEG_S: f64 = 60.0;
     /// Bound on a discovered knot's torque [N·m]: beyond any hinge spring of the
     /// seed mechanisms, so never active on a real torque.
     pub const BOUND_NM: f64 = 5.0;
@@ -159,7 +162,10 @@ pub fn table_candidates(campaign: &Campaign) -> Vec<Candidate> {
             continue;
         }
         let from_deg = from.round() as i32;
-        let rate_max_deg_s = rate.round() as i32;
+        // Knots closer than this in rate would make a stiff damper of the
+        // table (a steep g near φ̇ = 0 stalls the integrator).
+        let rate_max_deg_s =
+            (rate.abs().max(TableForm::MIN_RATE_SPAN_DEG_S) * rate.signum()).round() as i32;
         for (a, r) in [
             (TableForm::ANGLE_KNOTS, 0),
             (0, TableForm::RATE_KNOTS),
