@@ -813,28 +813,17 @@ impl Search<'_, '_> {
             .count()
     }
 
-    /// Discovery: while the residual stays clearly above the noise, fit a
+    /// Discovery: while the residual stays above the noise floor, fit a
     /// torque table at each joint (angle, rate, both), judge the tables like
     /// any candidate (the joint is the one whose table wins by BIC), and
     /// after one is added let the named search go on beside it. At most
     /// [`MAX_TABLES`] tables, at different joints.
     fn discover(&mut self, tables: &[Candidate], sigma: f64) {
         for _ in 0..MAX_TABLES {
-            if !above_noise(&self.current, sigma) {
+            if self.current.rms() <= self.floor_deg {
                 return;
             }
-            let taken: Vec<Option<usize>> = self
-                .current
-                .set
-                .iter()
-                .filter(|c| c.table.is_some())
-                .map(|c| c.joint)
-                .collect();
-            let moves: Vec<(FittedSet, Candidate)> = tables
-                .iter()
-                .filter(|c| !taken.contains(&c.joint))
-                .map(|&c| (self.current.clone(), c))
-                .collect();
+            let moves = self.table_moves(tables);
             if moves.is_empty() {
                 return;
             }
@@ -858,6 +847,30 @@ impl Search<'_, '_> {
                 self.run();
             }
         }
+    }
+
+    /// The discovery moves: each table at a joint without one, beside the
+    /// current set and in place of each of its named effects (named
+    /// effects that only approximated the unnamed torque give way to it).
+    fn table_moves(&self, tables: &[Candidate]) -> Vec<(FittedSet, Candidate)> {
+        let taken: Vec<Option<usize>> = self
+            .current
+            .set
+            .iter()
+            .filter(|c| c.table.is_some())
+            .map(|c| c.joint)
+            .collect();
+        let named = (0..self.current.set.len()).filter(|&k| self.current.set[k].table.is_none());
+        let bases: Vec<FittedSet> = std::iter::once(self.current.clone())
+            .chain(named.map(|k| self.current.without(k)))
+            .collect();
+        let mut moves = Vec::new();
+        for base in &bases {
+            for c in tables.iter().filter(|c| !taken.contains(&c.joint)) {
+                moves.push((base.clone(), *c));
+            }
+        }
+        moves
     }
 
     /// A named effect that explains the data wins over a table: each table
