@@ -7,14 +7,20 @@
 //! 3. Candidates: every effect, per joint where it has one. Each is fitted to
 //!    all runs at once: a coarse scan for a start, then Levenberg–Marquardt
 //!    ([`crate::analysis::fit`]); candidates are fitted in parallel.
-//! 4. Stepwise selection: the candidate with the best BIC is added if it
-//!    earns its keep — BIC better by more than [`MIN_DELTA_BIC`], its 95 %
-//!    interval excludes zero, and (with two or more runs) the held-out RMS
+//! 4. Stepwise selection: the move (an addition; when none passes, a pair
+//!    fitted jointly; then a swap, and a swap for a pair) with the best BIC
+//!    is taken if it earns its keep — BIC better by more than
+//!    [`MIN_DELTA_BIC`], every added effect's 95 % interval excludes zero,
+//!    and (with two or more runs) the held-out RMS of the resulting set
 //!    (fit on all runs but one, predict that one) improves; effects that no
-//!    longer earn their keep are dropped again. At most three effects; stop
-//!    at the noise floor.
-//! 5. A clear residual that no candidate explains is reported as
-//!    `unexplained`, never forced onto a name.
+//!    longer earn their keep are dropped again. At most three named
+//!    effects; stop at the noise floor.
+//! 5. Discovery ([`discover`]): when the named effects leave a residual
+//!    above the noise floor, a `torque_table` fitted at each joint is judged
+//!    like any candidate; a named effect that fits as well replaces it.
+//! 6. A clear residual that nothing explains is reported as `unexplained`
+//!    (how large, which joint, which part of the stroke), never forced onto
+//!    a name.
 
 pub mod discover;
 pub mod evidence;
