@@ -74,6 +74,8 @@ fn draw_effect(rng: &mut ChaCha8Rng, kind: EffectKind, joints: usize) -> Effect 
             Effect::joint(kind, j, s * u(rng, 0.3, 2.0))
         }
         EffectKind::LatchDetent => Effect::joint(kind, j, u(rng, 0.5, 2.0)),
+        // Not drawn here: tests/unnamed_torque.rs draws its own tables.
+        EffectKind::TorqueTable => Effect::joint(kind, j, 0.0),
     }
 }
 
@@ -112,21 +114,40 @@ fn generate(seed: u64, kinds: &[EffectKind], pair: usize) -> Case {
         }
         truth.push(e);
     }
-    // Each effect on its own must move the runs by ≥ 0.3° RMS.
+    // Each effect on its own must move the runs by ≥ 0.3° RMS: its value is
+    // raised up to six times by 1.5; an effect still below that (one that
+    // barely acts where it was drawn) is drawn again.
     for i in 0..truth.len() {
-        for _ in 0..12 {
+        let mut raises = 0;
+        for _ in 0..40 {
             if effect_size(&mechs, &truth[i..=i]) >= 0.3 {
                 break;
             }
+            if raises == 6 {
+                let e = draw_effect(&mut rng, truth[i].kind, joints);
+                if !truth.iter().any(|t| t.kind == e.kind && t.joint == e.joint) {
+                    truth[i] = e;
+                }
+                raises = 0;
+                continue;
+            }
             truth[i].value *= 1.5;
+            raises += 1;
         }
     }
-    let runs = mechs
+    let runs = simulate_runs(&mechs, &truth, seed);
+    Case { pair, truth, runs }
+}
+
+/// The measured runs of `truth` on each mechanism, with the reference
+/// sensor noise drawn from `seed`.
+fn simulate_runs(mechs: &[Mechanism], truth: &[Effect], seed: u64) -> Vec<Run> {
+    mechs
         .iter()
         .enumerate()
         .map(|(r, m)| {
-            let traj = deployment::simulate(m, &truth, &SimOptions::default()).unwrap();
-            let offsets = effect::encoder_offsets_deg(&truth, m.joint_count());
+            let traj = deployment::simulate(m, truth, &SimOptions::default()).unwrap();
+            let offsets = effect::encoder_offsets_deg(truth, m.joint_count());
             let mut run = sensor::measure(
                 &traj,
                 &offsets,
@@ -136,32 +157,50 @@ fn generate(seed: u64, kinds: &[EffectKind], pair: usize) -> Case {
             run.set_meta("mechanism", &m.name);
             run
         })
-        .collect();
-    Case { pair, truth, runs }
+        .collect()
 }
 
-/// The cases: every kind alone four times, then pairs, then nulls.
+/// The cases: every kind alone three times, then 30 two-cause campaigns,
+/// then 10 null campaigns (61 in all, half with two causes).
 fn cases() -> Vec<(u64, Vec<EffectKind>, usize)> {
     let mut out = Vec::new();
     let mut rng = ChaCha8Rng::seed_from_u64(2026);
     let mut seed = 1000;
-    for rep in 0..4 {
+    for rep in 0..3 {
         for (k, kind) in KINDS.iter().enumerate() {
             seed += 1;
             out.push((seed, vec![*kind], (rep + k) % 2));
         }
     }
-    for p in 0..12 {
+    for p in 0..30 {
         seed += 1;
         let a = KINDS[rng.gen_range(0..KINDS.len())];
-        let b = KINDS[rng.gen_range(0..KINDS.len())];
+        let mut b = KINDS[rng.gen_range(0..KINDS.len())];
+        // A global effect (air drag, rig tilt) exists once: two of them
+        // would be one.
+        while b == a && !a.per_joint() {
+            b = KINDS[rng.gen_range(0..KINDS.len())];
+        }
         out.push((seed, vec![a, b], p % 2));
     }
-    for p in 0..5 {
+    for p in 0..10 {
         seed += 1;
         out.push((seed, vec![], p % 2));
     }
     out
+}
+
+/// What the diagnosis sees of a case: the nominal mechanisms and the runs
+/// (`keep` selects which runs).
+fn campaign_of(case: &Case, keep: impl Fn(usize) -> bool) -> Campaign {
+    let mut campaign = Campaign::default();
+    let mechs = mechanisms(case.pair);
+    for (r, run) in case.runs.iter().enumerate().filter(|(r, _)| keep(*r)) {
+        campaign
+            .push(&mechs, run.clone(), Path::new(&format!("run{r}.csv")))
+            .unwrap();
+    }
+    campaign
 }
 
 fn key(e: &Effect) -> (EffectKind, Option<usize>) {
@@ -171,8 +210,11 @@ fn key(e: &Effect) -> (EffectKind, Option<usize>) {
 #[test]
 fn hidden_effects_are_named_and_measured() {
     let specs = cases();
-    assert!(specs.len() >= 45);
+    assert!(specs.len() >= 60);
+    assert!(specs.iter().filter(|s| s.1.len() == 2).count() * 2 >= specs.len() - 1);
+    assert!(specs.iter().filter(|s| s.1.is_empty()).count() >= 10);
     let (mut correct, mut total) = (0usize, 0usize);
+    let (mut correct2, mut total2) = (0usize, 0usize);
     let mut failures = Vec::new();
     let mut confusion: BTreeMap<(String, String), usize> = BTreeMap::new();
     let mut value_errors = Vec::new();
@@ -180,14 +222,8 @@ fn hidden_effects_are_named_and_measured() {
     let mut false_claims_in_null = 0;
     for (seed, kinds, pair) in specs {
         let case = generate(seed, &kinds, pair);
-        // What the diagnosis sees: the nominal mechanisms and the runs.
-        let mut campaign = Campaign::default();
-        let mechs = mechanisms(case.pair);
-        for (r, run) in case.runs.iter().enumerate() {
-            campaign
-                .push(&mechs, run.clone(), Path::new(&format!("run{r}.csv")))
-                .unwrap();
-        }
+        eprintln!("seed {seed}: diagnosing ({} hidden)", case.truth.len());
+        let campaign = campaign_of(&case, |_| true);
         let outcome = diagnose(&campaign, &DiagnoseOptions::default(), &quiet);
         let found = outcome.extended.effects();
 
@@ -208,6 +244,10 @@ fn hidden_effects_are_named_and_measured() {
             outcome.simulations,
             outcome.wall_s
         );
+        if case.truth.len() == 2 {
+            total2 += 1;
+            correct2 += usize::from(ok);
+        }
         if ok {
             correct += 1;
         } else {
@@ -249,10 +289,12 @@ fn hidden_effects_are_named_and_measured() {
         }
         let gain = outcome.baseline.rms() / outcome.extended.rms().max(1e-12);
         gains.push((seed, gain));
-        if case.truth.len() == 1 && ok {
-            let (t, f) = (&case.truth[0], &found[0]);
-            let err = (f.value - t.value).abs() / t.value.abs();
-            value_errors.push((seed, t.to_string(), f.value, err));
+        if ok {
+            for t in &case.truth {
+                let f = found.iter().find(|f| key(f) == key(t)).unwrap();
+                let err = (f.value - t.value).abs() / t.value.abs();
+                value_errors.push((seed, t.to_string(), f.value, err));
+            }
         }
     }
 
@@ -261,21 +303,25 @@ fn hidden_effects_are_named_and_measured() {
         println!("  {t:<40} -> {f:<40} {n}");
     }
     println!("\ncorrect set of names and joints: {correct}/{total}");
+    println!("  of which two-cause campaigns: {correct2}/{total2}");
     for f in &failures {
         println!("  MISS {f}");
     }
     let worst_value = value_errors.iter().map(|v| v.3).fold(0.0, f64::max);
     println!(
-        "single-effect value error: worst {:.2} %",
+        "value error of the effects named right: worst {:.2} %",
         100.0 * worst_value
     );
     let min_gain = gains.iter().map(|g| g.1).fold(f64::INFINITY, f64::min);
     println!("RMS gain: smallest x{min_gain:.1}");
 
-    assert!(correct * 10 >= total * 9, "only {correct}/{total} correct");
+    assert!(
+        correct * 100 >= total * 95,
+        "only {correct}/{total} correct"
+    );
     for (seed, t, v, err) in &value_errors {
         assert!(
-            *err <= 0.10,
+            *err <= 0.05,
             "seed {seed}: {t} estimated {v} ({:.1} % off)",
             100.0 * err
         );
@@ -422,4 +468,64 @@ fn effect_size_between(mechs: &[Mechanism], a: &[Effect], b: &[Effect]) -> f64 {
         }
     }
     (sse / n as f64).sqrt()
+}
+
+/// Issue 13: a campaign answer is never worse than the answers of its runs
+/// taken alone. Two causes (rig tilt and Coulomb friction at joint 1) on
+/// seed 001 T01 + T02: when each run alone is explained to the noise, the
+/// two runs together must be too, with the same causes.
+#[test]
+fn a_campaign_is_never_worse_than_its_runs_alone() {
+    for seed in [7u64, 8, 9] {
+        let truth = vec![
+            Effect {
+                alpha_deg: 30.0,
+                ..Effect::global(EffectKind::RigTilt, 0.05)
+            },
+            Effect::joint(EffectKind::CoulombFriction, 1, 0.8),
+        ];
+        let case = Case {
+            pair: 0,
+            runs: simulate_runs(&mechanisms(0), &truth, seed),
+            truth,
+        };
+        let alone: Vec<_> = (0..2)
+            .map(|r| {
+                diagnose(
+                    &campaign_of(&case, |i| i == r),
+                    &DiagnoseOptions::default(),
+                    &quiet,
+                )
+            })
+            .collect();
+        let both = diagnose(
+            &campaign_of(&case, |_| true),
+            &DiagnoseOptions::default(),
+            &quiet,
+        );
+        let names = |o: &deploywatch_sim::analysis::diagnose::Outcome| {
+            let mut k: Vec<_> = o.extended.effects().iter().map(key).collect();
+            k.sort();
+            k
+        };
+        println!(
+            "seed {seed}: alone {:?} / {:?}, together {:?} (RMS {:.4})",
+            names(&alone[0]),
+            names(&alone[1]),
+            names(&both),
+            both.extended.rms()
+        );
+        let worst_alone = alone.iter().map(|o| o.extended.rms()).fold(0.0, f64::max);
+        if alone.iter().all(|o| o.unexplained.is_none()) {
+            assert!(
+                both.unexplained.is_none(),
+                "seed {seed}: {:?}",
+                both.unexplained
+            );
+            assert!(both.extended.rms() <= 1.2 * worst_alone);
+        }
+        let mut want: Vec<_> = case.truth.iter().map(key).collect();
+        want.sort();
+        assert_eq!(names(&both), want, "seed {seed}");
+    }
 }

@@ -24,6 +24,7 @@ use crate::friction::Friction;
 use crate::linalg::{mat_vec, solve_spd_masked, SolveError};
 use crate::real::Real;
 use crate::spring::{Branch, Spring};
+use crate::torque_table::TorqueTable;
 
 /// Half-width δ of the `latch_detent` zone [deg] (`physics.md` section 6).
 pub const DETENT_ZONE_DEG: f64 = 3.0;
@@ -55,6 +56,8 @@ pub struct JointEffects<T> {
     pub harness_nm_per_rad: T,
     /// `latch_detent`: adds `−T_d sign(φ) sin(2π|φ|/δ)` while `|φ| < δ` [N·m].
     pub detent_nm: T,
+    /// `torque_table`: adds `f(φ) + g(φ̇)` ([`crate::torque_table`]).
+    pub table: TorqueTable<T>,
 }
 
 /// The named effects that act on the whole chain (`physics.md` section 6).
@@ -363,7 +366,7 @@ impl<T: Real, const N: usize> Chain<T, N> {
                 t -= e.detent_nm * phi.signum0() * (two_pi * a / delta).sin();
             }
         }
-        t
+        t + e.table.torque(phi, phi_dot)
     }
 
     /// Generalised forces of the distributed effects conjugate to the

@@ -30,11 +30,13 @@ pub mod smoother;
 pub mod spring;
 pub mod standards;
 pub mod telemetry;
+pub mod torque_table;
 
 pub use chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel};
 pub use friction::Friction;
 pub use real::Real;
 pub use spring::{Branch, Curve, Fold, Interp, Spring, TapePoints};
+pub use torque_table::{Table, TableError, TorqueTable};
 
 pub use faults::{Fault, FaultFlags};
 pub use latch::LatchState;

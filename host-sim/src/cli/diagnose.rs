@@ -10,6 +10,7 @@ use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};
 use crate::report::plot::{self, Mark, Panel, Series};
 use crate::report::progress;
+use deploywatch_core::{Table, TorqueTable};
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -132,6 +133,9 @@ fn effect_line(e: &Effect, o: &Outcome, k: usize) -> String {
     if e.kind == EffectKind::RigTilt {
         s += &format!(", alpha {:.1} deg", e.alpha_deg);
     }
+    if let Some((_, shape, _)) = o.extended.table_of(k) {
+        s += &format!(" (largest torque; {shape})");
+    }
     s
 }
 
@@ -227,6 +231,23 @@ fn round4(x: f64) -> Value {
     }
 }
 
+/// A discovered `torque_table` in the JSON (`docs/spec/formats.md`): its
+/// tables, the 95 % band of each knot, and the shape in one sentence.
+fn add_tables(v: &mut Value, shape: &str, t: &[TorqueTable<f64>; 3]) {
+    let r = |x: &[f64]| x.iter().map(|y| round4(*y)).collect::<Vec<_>>();
+    if let (Some(f), Some(lo), Some(hi)) = (&t[0].angle, &t[1].angle, &t[2].angle) {
+        v["angle_deg"] = json!(r(f.xs()));
+        v["torque_nm"] = json!(r(f.ys()));
+        v["torque_ci95_nm"] = json!([r(lo.ys()), r(hi.ys())]);
+    }
+    if let (Some(g), Some(lo), Some(hi)) = (&t[0].rate, &t[1].rate, &t[2].rate) {
+        v["rate_deg_s"] = json!(r(g.xs()));
+        v["rate_torque_nm"] = json!(r(g.ys()));
+        v["rate_torque_ci95_nm"] = json!([r(lo.ys()), r(hi.ys())]);
+    }
+    v["shape"] = json!(shape);
+}
+
 /// The diagnosis JSON (`docs/spec/formats.md`), with the extra fields the
 /// project adds (noise floor, candidates, evidence).
 pub fn to_json(c: &Campaign, o: &Outcome, before: &[JointEvidence]) -> Value {
@@ -244,6 +265,9 @@ pub fn to_json(c: &Campaign, o: &Outcome, before: &[JointEvidence]) -> Value {
                 "ci95": [round4(lo), round4(hi)],
                 "evidence": evidence_of(o, k, o.extended.set[k]),
             });
+            if let Some((_, shape, t)) = o.extended.table_of(k) {
+                add_tables(&mut v, &shape, &t);
+            }
             if e.kind == EffectKind::RigTilt {
                 v["alpha_deg"] = round4(e.alpha_deg);
                 if let (_, Some(ci)) = o.extended.effect_ci(k) {
@@ -309,6 +333,8 @@ pub fn to_json(c: &Campaign, o: &Outcome, before: &[JointEvidence]) -> Value {
     })
 }
 
+/// Writes the Markdown report and its plots: header, causes, discovered
+/// torques, what the baseline gets wrong, per-run plots, every round.
 fn write_report(
     path: &Path,
     c: &Campaign,
@@ -321,17 +347,26 @@ fn write_report(
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "diagnosis".into());
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let ext = o.extended.effects();
     let mut md = String::new();
-    let _ = writeln!(
-        md,
-        "# Diagnosis: {}\n",
-        c.runs
-            .iter()
-            .map(|r| r.name())
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
+    report_header(&mut md, c, o);
+    report_causes(&mut md, o);
+    report_tables(&mut md, &dir, &stem, o)?;
+    report_evidence(&mut md, before, after);
+    let _ = writeln!(md, "\n## Plots\n");
+    let ext = o.extended.effects();
+    for i in 0..c.runs.len() {
+        report_run_plots(&mut md, &dir, &stem, c, i, &ext)?;
+    }
+    report_rounds(&mut md, o);
+    let _ = writeln!(md, "{} simulations in {:.2} s.", o.simulations, o.wall_s);
+    std::fs::write(path, md)
+        .map_err(|e| CliError::input(format!("{}: cannot write: {e}", path.display())))
+}
+
+/// Title and headline numbers.
+fn report_header(md: &mut String, c: &Campaign, o: &Outcome) {
+    let runs: Vec<String> = c.runs.iter().map(|r| r.name()).collect();
+    let _ = writeln!(md, "# Diagnosis: {}\n", runs.join(", "));
     let _ = writeln!(
         md,
         "Baseline RMS **{:.4}°** → extended **{:.4}°** (×{:.1}); noise floor estimated from the runs {:.4}°{}.\n",
@@ -343,6 +378,12 @@ fn write_report(
             .map(|h| format!("; held-out RMS (fit on the other runs) {h:.4}°"))
             .unwrap_or_default()
     );
+}
+
+/// The causes found, with values, intervals and evidence; and what stays
+/// unexplained.
+fn report_causes(md: &mut String, o: &Outcome) {
+    let ext = o.extended.effects();
     let _ = writeln!(md, "## Causes found\n");
     if ext.is_empty() {
         let _ = writeln!(
@@ -356,10 +397,10 @@ fn write_report(
         );
         for (k, e) in ext.iter().enumerate() {
             let (lo, hi) = ci_of(o, k);
-            let alpha = if e.kind == EffectKind::RigTilt {
-                format!(" (α = {:.1}°)", e.alpha_deg)
-            } else {
-                String::new()
+            let extra = match (e.kind, o.extended.table_of(k)) {
+                (EffectKind::RigTilt, _) => format!(" (α = {:.1}°)", e.alpha_deg),
+                (_, Some((_, shape, _))) => format!(" (largest; {shape})"),
+                _ => String::new(),
             };
             let _ = writeln!(
                 md,
@@ -368,7 +409,7 @@ fn write_report(
                 e.joint.map(|j| j.to_string()).unwrap_or_else(|| "—".into()),
                 e.value,
                 e.kind.unit(),
-                alpha,
+                extra,
                 lo,
                 hi,
                 evidence_of(o, k, o.extended.set[k])
@@ -379,6 +420,10 @@ fn write_report(
     if let Some(u) = &o.unexplained {
         let _ = writeln!(md, "**Unexplained:** {u}.\n");
     }
+}
+
+/// Residual evidence before and after the extension.
+fn report_evidence(md: &mut String, before: &[JointEvidence], after: &[JointEvidence]) {
     let _ = writeln!(md, "## What the baseline gets wrong\n");
     for e in before {
         let _ = writeln!(md, "- {}: {}", e.run, e.summary);
@@ -387,118 +432,168 @@ fn write_report(
     for e in after {
         let _ = writeln!(md, "- {}: {}", e.run, e.summary);
     }
-    let _ = writeln!(md, "\n## Plots\n");
-    for (i, cr) in c.runs.iter().enumerate() {
-        let base = c.simulate(i, &[]);
-        let extd = c.simulate(i, &ext);
-        let (Ok(base), Ok(extd)) = (base, extd) else {
+}
+
+/// The points of one table as plot series: the fitted table and its band,
+/// extended flat by a tenth of the span beyond the end points (the table is
+/// held constant there).
+fn table_series(tables: &[Option<&Table<f64>>; 3]) -> Option<[(Vec<f64>, Vec<f64>); 3]> {
+    let mid = tables[0]?;
+    let (x0, x1) = (mid.xs()[0], mid.xs()[mid.xs().len() - 1]);
+    let pad = 0.1 * (x1 - x0);
+    let xs: Vec<f64> = (0..=100)
+        .map(|i| x0 - pad + (x1 - x0 + 2.0 * pad) * i as f64 / 100.0)
+        .collect();
+    let line = |t: Option<&Table<f64>>| {
+        let t = t.unwrap_or(mid);
+        (
+            xs.clone(),
+            xs.iter().map(|&x| t.eval(x)).collect::<Vec<f64>>(),
+        )
+    };
+    Some([line(Some(mid)), line(tables[1]), line(tables[2])])
+}
+
+/// Discovered torques: the shape in words, and a plot of the torque against
+/// angle and rate with its 95 % band.
+fn report_tables(md: &mut String, dir: &Path, stem: &str, o: &Outcome) -> Result<(), CliError> {
+    for k in 0..o.extended.set.len() {
+        let Some((_, shape, t)) = o.extended.table_of(k) else {
             continue;
-        };
-        let run = &cr.run;
-        let name = cr.name().trim_end_matches(".csv").to_string();
-        let angles = dir.join(format!("{stem}_{name}_angles.png"));
-        let resid = dir.join(format!("{stem}_{name}_residuals.png"));
-        let mut pa = Vec::new();
-        let mut pr = Vec::new();
-        let rb: Vec<Vec<f64>> = (0..run.joints())
-            .map(|j| {
-                base.phi_deg[j]
-                    .iter()
-                    .zip(&run.phi_deg[j])
-                    .map(|(m, y)| m - y)
-                    .collect()
-            })
-            .collect();
-        let re: Vec<Vec<f64>> = (0..run.joints())
-            .map(|j| {
-                extd.phi_deg[j]
-                    .iter()
-                    .zip(&run.phi_deg[j])
-                    .map(|(m, y)| m - y)
-                    .collect()
-            })
-            .collect();
-        for j in 0..run.joints() {
-            pa.push(Panel {
-                title: format!("joint {}", j + 1),
-                y_label: "angle [deg]".into(),
-                series: vec![
-                    Series {
-                        label: "measured".into(),
-                        x: &run.t_s,
-                        y: &run.phi_deg[j],
-                        mark: Mark::Dots,
-                        color: 6,
-                    },
-                    Series {
-                        label: "baseline".into(),
-                        x: &base.t_s,
-                        y: &base.phi_deg[j],
-                        mark: Mark::Line,
-                        color: 1,
-                    },
-                    Series {
-                        label: "extended".into(),
-                        x: &extd.t_s,
-                        y: &extd.phi_deg[j],
-                        mark: Mark::Line,
-                        color: 0,
-                    },
-                ],
-                markers: Vec::new(),
-            });
-            pr.push(Panel {
-                title: format!("joint {}: model − measured", j + 1),
-                y_label: "residual [deg]".into(),
-                series: vec![
-                    Series {
-                        label: "baseline".into(),
-                        x: &run.t_s,
-                        y: &rb[j],
-                        mark: Mark::Line,
-                        color: 1,
-                    },
-                    Series {
-                        label: "extended".into(),
-                        x: &run.t_s,
-                        y: &re[j],
-                        mark: Mark::Line,
-                        color: 0,
-                    },
-                ],
-                markers: Vec::new(),
-            });
-        }
-        plot::draw(
-            &angles,
-            &format!("{name}: measured vs baseline vs extended"),
-            "time [s]",
-            &pa,
-        )
-        .map_err(|e| CliError::failed(e.to_string()))?;
-        plot::draw(
-            &resid,
-            &format!("{name}: residuals before and after"),
-            "time [s]",
-            &pr,
-        )
-        .map_err(|e| CliError::failed(e.to_string()))?;
-        let fname = |p: &Path| {
-            p.file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default()
         };
         let _ = writeln!(
             md,
-            "### {name}\n\n![angles]({})\n\n![residuals]({})\n",
-            fname(&angles),
-            fname(&resid)
+            "## Discovered torque at joint {}\n\n{shape}.\n",
+            o.extended.set[k].joint.unwrap_or(0)
         );
+        let angle = table_series(&[
+            t[0].angle.as_ref(),
+            t[1].angle.as_ref(),
+            t[2].angle.as_ref(),
+        ]);
+        let rate = table_series(&[t[0].rate.as_ref(), t[1].rate.as_ref(), t[2].rate.as_ref()]);
+        for (what, unit, series) in [
+            ("angle", "angle [deg]", angle),
+            ("rate", "rate [deg/s]", rate),
+        ] {
+            let Some(s) = series else { continue };
+            let file = dir.join(format!("{stem}_table{}_{what}.png", k + 1));
+            let panel = Panel {
+                title: format!("torque vs {what} (95 % band)"),
+                y_label: "torque [N·m]".into(),
+                series: ["found", "lower 95 %", "upper 95 %"]
+                    .iter()
+                    .zip(&s)
+                    .enumerate()
+                    .map(|(i, (label, (x, y)))| Series {
+                        label: (*label).into(),
+                        x,
+                        y,
+                        mark: Mark::Line,
+                        color: if i == 0 { 0 } else { 6 },
+                    })
+                    .collect(),
+                markers: Vec::new(),
+            };
+            plot::draw(&file, &format!("discovered torque: {what}"), unit, &[panel])
+                .map_err(|e| CliError::failed(e.to_string()))?;
+            let _ = writeln!(md, "![torque vs {what}]({})\n", file_name(&file));
+        }
     }
+    Ok(())
+}
+
+/// The file name of a path, for links in the report.
+fn file_name(p: &Path) -> String {
+    p.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// Model minus measurement [deg], `[joint][sample]`.
+fn residuals_of(model: &[Vec<f64>], measured: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    model
+        .iter()
+        .zip(measured)
+        .map(|(m, y)| m.iter().zip(y).map(|(a, b)| a - b).collect())
+        .collect()
+}
+
+/// One run's plots: measured vs baseline vs extended angles, and the
+/// residuals before and after.
+fn report_run_plots(
+    md: &mut String,
+    dir: &Path,
+    stem: &str,
+    c: &Campaign,
+    i: usize,
+    ext: &[Effect],
+) -> Result<(), CliError> {
+    let (Ok(base), Ok(extd)) = (c.simulate(i, &[]), c.simulate(i, ext)) else {
+        return Ok(());
+    };
+    let run = &c.runs[i].run;
+    let name = c.runs[i].name().trim_end_matches(".csv").to_string();
+    let rb = residuals_of(&base.phi_deg, &run.phi_deg);
+    let re = residuals_of(&extd.phi_deg, &run.phi_deg);
+    let mut pa = Vec::new();
+    let mut pr = Vec::new();
+    for j in 0..run.joints() {
+        pa.push(Panel {
+            title: format!("joint {}", j + 1),
+            y_label: "angle [deg]".into(),
+            series: vec![
+                Series {
+                    mark: Mark::Dots,
+                    ..line("measured", &run.t_s, &run.phi_deg[j], 6)
+                },
+                line("baseline", &base.t_s, &base.phi_deg[j], 1),
+                line("extended", &extd.t_s, &extd.phi_deg[j], 0),
+            ],
+            markers: Vec::new(),
+        });
+        pr.push(Panel {
+            title: format!("joint {}: model − measured", j + 1),
+            y_label: "residual [deg]".into(),
+            series: vec![
+                line("baseline", &run.t_s, &rb[j], 1),
+                line("extended", &run.t_s, &re[j], 0),
+            ],
+            markers: Vec::new(),
+        });
+    }
+    let angles = dir.join(format!("{stem}_{name}_angles.png"));
+    let resid = dir.join(format!("{stem}_{name}_residuals.png"));
+    let title = format!("{name}: measured vs baseline vs extended");
+    plot::draw(&angles, &title, "time [s]", &pa).map_err(|e| CliError::failed(e.to_string()))?;
+    let title = format!("{name}: residuals before and after");
+    plot::draw(&resid, &title, "time [s]", &pr).map_err(|e| CliError::failed(e.to_string()))?;
+    let _ = writeln!(
+        md,
+        "### {name}\n\n![angles]({})\n\n![residuals]({})\n",
+        file_name(&angles),
+        file_name(&resid)
+    );
+    Ok(())
+}
+
+/// A line series.
+fn line<'a>(label: &str, x: &'a [f64], y: &'a [f64], color: usize) -> Series<'a> {
+    Series {
+        label: label.into(),
+        x,
+        y,
+        mark: Mark::Line,
+        color,
+    }
+}
+
+/// Every candidate of every round, with its score and verdict.
+fn report_rounds(md: &mut String, o: &Outcome) {
     let _ = writeln!(md, "## Why the winner won: every candidate, every round\n");
     let _ = writeln!(
         md,
-        "An effect is kept only if it improves the BIC by more than {MIN_DELTA_BIC}, its 95 % interval excludes zero, and (with two or more runs) it predicts held-out runs at least 5 % better.\n"
+        "An effect is kept only if it improves the BIC by more than {MIN_DELTA_BIC}, its 95 % interval excludes zero, and (with two or more runs) the set it joins predicts held-out runs at least 5 % better. When no single candidate passes, pairs are fitted jointly and the held-out check applies to the pair.\n"
     );
     for r in &o.rounds {
         let _ = writeln!(md, "### {} (start RMS {:.4}°)\n", r.what, r.start_rms_deg);
@@ -510,7 +605,7 @@ fn write_report(
             let _ = writeln!(
                 md,
                 "| {} | {:.4} | {:.1} | {} | {} |",
-                s.candidate.label(),
+                labels_of(&s.fitted.set),
                 s.fitted.rms(),
                 s.delta_bic,
                 s.held_out_rms_deg
@@ -521,7 +616,9 @@ fn write_report(
         }
         md.push('\n');
     }
-    let _ = writeln!(md, "{} simulations in {:.2} s.", o.simulations, o.wall_s);
-    std::fs::write(path, md)
-        .map_err(|e| CliError::input(format!("{}: cannot write: {e}", path.display())))
+}
+
+/// `a, b` of a set's labels.
+fn labels_of(set: &[Candidate]) -> String {
+    set.iter().map(|c| c.label()).collect::<Vec<_>>().join(", ")
 }

@@ -1,7 +1,8 @@
 //! The named effects of `docs/spec/physics.md` section 6: the vocabulary a
 //! diagnosis reports, and the extras `deploywatch simulate --effect` adds.
 
-use deploywatch_core::{GlobalEffects, JointEffects};
+use crate::model::torque_table::{self, TablePoints};
+use deploywatch_core::{GlobalEffects, JointEffects, TorqueTable};
 use std::fmt;
 use std::str::FromStr;
 
@@ -24,6 +25,10 @@ pub enum EffectKind {
     RigTilt,
     /// `encoder_offset`: `b` [deg] added to a joint's reading (sensor only).
     EncoderOffset,
+    /// `torque_table`: tables `f(φ) + g(φ̇)` [N·m] at a joint; not in
+    /// [`EffectKind::ALL`] (it has tables, not one value: a diagnosis fits it
+    /// only when no named effect explains the data).
+    TorqueTable,
 }
 
 impl EffectKind {
@@ -50,13 +55,16 @@ impl EffectKind {
             EffectKind::AirDrag => "air_drag",
             EffectKind::RigTilt => "rig_tilt",
             EffectKind::EncoderOffset => "encoder_offset",
+            EffectKind::TorqueTable => "torque_table",
         }
     }
 
     /// The unit of the effect's value.
     pub fn unit(self) -> &'static str {
         match self {
-            EffectKind::CoulombFriction | EffectKind::LatchDetent => "N·m",
+            EffectKind::CoulombFriction | EffectKind::LatchDetent | EffectKind::TorqueTable => {
+                "N·m"
+            }
             EffectKind::ViscousDamping => "N·m·s/rad",
             EffectKind::SpringSoftening => "1",
             EffectKind::HarnessStiffness => "N·m/rad",
@@ -77,7 +85,8 @@ impl EffectKind {
             | EffectKind::ViscousDamping
             | EffectKind::HarnessStiffness
             | EffectKind::LatchDetent
-            | EffectKind::AirDrag => ValueRange::NonNegative,
+            | EffectKind::AirDrag
+            | EffectKind::TorqueTable => ValueRange::NonNegative,
             EffectKind::SpringSoftening => ValueRange::BelowOne,
             EffectKind::RigTilt | EffectKind::EncoderOffset => ValueRange::Finite,
         }
@@ -164,6 +173,20 @@ pub enum EffectError {
         /// What was expected.
         expected: &'static str,
     },
+    /// A `torque_table` whose points are not a table.
+    #[error("`{text}`: {reason}")]
+    Table {
+        /// The whole text.
+        text: String,
+        /// What is wrong with the points.
+        reason: String,
+    },
+    /// Table keys on an effect other than `torque_table`.
+    #[error("`{text}`: only torque_table takes angle_deg/torque_nm/rate_deg_s/rate_torque_nm")]
+    TableOnNamedEffect {
+        /// The whole text.
+        text: String,
+    },
     /// No `value=V`.
     #[error("`{text}`: missing value=V")]
     MissingValue {
@@ -227,6 +250,7 @@ impl FromStr for EffectKind {
         EffectKind::ALL
             .iter()
             .copied()
+            .chain([EffectKind::TorqueTable])
             .find(|k| k.name() == s)
             .ok_or_else(|| EffectError::UnknownName {
                 name: s.to_string(),
@@ -235,7 +259,7 @@ impl FromStr for EffectKind {
 }
 
 /// One effect with its joint and value.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Effect {
     /// Which effect.
     pub kind: EffectKind,
@@ -245,6 +269,17 @@ pub struct Effect {
     pub value: f64,
     /// `rig_tilt` only: direction of the tilt gravity [deg].
     pub alpha_deg: f64,
+    /// `torque_table` only: the tables (`value` is then their largest
+    /// absolute torque [N·m]).
+    pub table: TorqueTable<f64>,
+}
+
+impl Default for EffectKind {
+    /// `coulomb_friction`, the first of the vocabulary (for `Default` of
+    /// [`Effect`] only).
+    fn default() -> Self {
+        EffectKind::CoulombFriction
+    }
 }
 
 impl Effect {
@@ -254,7 +289,7 @@ impl Effect {
             kind,
             joint: Some(joint),
             value,
-            alpha_deg: 0.0,
+            ..Effect::default()
         }
     }
 
@@ -264,7 +299,7 @@ impl Effect {
             kind,
             joint: None,
             value,
-            alpha_deg: 0.0,
+            ..Effect::default()
         }
     }
 
@@ -320,6 +355,9 @@ impl fmt::Display for Effect {
         if self.kind == EffectKind::RigTilt {
             write!(f, ":alpha_deg={}", self.alpha_deg)?;
         }
+        if self.kind == EffectKind::TorqueTable {
+            f.write_str(&torque_table::to_keys(&self.table))?;
+        }
         Ok(())
     }
 }
@@ -333,6 +371,11 @@ impl FromStr for Effect {
         let mut joint = None;
         let mut value = None;
         let mut alpha_deg = 0.0;
+        let mut points = TablePoints::default();
+        let table_error = |reason| EffectError::Table {
+            text: s.to_string(),
+            reason,
+        };
         for p in parts {
             let (k, v) = p.split_once('=').ok_or_else(|| EffectError::NotKeyValue {
                 part: p.to_string(),
@@ -355,6 +398,7 @@ impl FromStr for Effect {
                 }
                 "value" => value = Some(num(v)?),
                 "alpha_deg" => alpha_deg = num(v)?,
+                other if points.take(other, v).map_err(table_error)? => {}
                 other => {
                     return Err(EffectError::UnknownKey {
                         key: other.to_string(),
@@ -362,6 +406,22 @@ impl FromStr for Effect {
                     })
                 }
             }
+        }
+        if kind == EffectKind::TorqueTable {
+            let table = points.build().map_err(table_error)?;
+            let value = torque_table::max_abs_nm(&table);
+            return Ok(Effect {
+                kind,
+                joint,
+                value,
+                table,
+                ..Effect::default()
+            });
+        }
+        if !points.is_empty() {
+            return Err(EffectError::TableOnNamedEffect {
+                text: s.to_string(),
+            });
         }
         let value = value.ok_or_else(|| EffectError::MissingValue {
             text: s.to_string(),
@@ -371,6 +431,7 @@ impl FromStr for Effect {
             joint,
             value,
             alpha_deg,
+            ..Effect::default()
         })
     }
 }
@@ -395,6 +456,7 @@ pub fn to_core(effects: &[Effect], joints: usize) -> (Vec<JointEffects<f64>>, Gl
             }
             (EffectKind::HarnessStiffness, Some(j)) => je[j].harness_nm_per_rad += e.value,
             (EffectKind::LatchDetent, Some(j)) => je[j].detent_nm += e.value,
+            (EffectKind::TorqueTable, Some(j)) => je[j].table = e.table,
             (EffectKind::AirDrag, _) => g.air_drag_kg_m2 += e.value,
             (EffectKind::RigTilt, _) => {
                 g.tilt_m_s2 = e.value;
@@ -452,5 +514,21 @@ mod tests {
         }
         let e: Effect = "spring_softening:joint=1:value=-0.2".parse().unwrap();
         assert!(e.validate(2).is_ok(), "a negative softening stiffens");
+    }
+
+    #[test]
+    fn parses_and_prints_a_torque_table() {
+        let text = "torque_table:joint=2:value=0.3:angle_deg=-90,0:torque_nm=0.3,0:rate_deg_s=0,50:rate_torque_nm=0,-0.1";
+        let e: Effect = text.parse().unwrap();
+        assert_eq!(e.kind, EffectKind::TorqueTable);
+        assert_eq!(e.value, 0.3);
+        assert_eq!(e.to_string(), text);
+        assert!(e.validate(2).is_ok());
+        assert!("torque_table:joint=1:angle_deg=0,1"
+            .parse::<Effect>()
+            .is_err());
+        assert!("air_drag:value=1:angle_deg=0,1:torque_nm=1,1"
+            .parse::<Effect>()
+            .is_err());
     }
 }

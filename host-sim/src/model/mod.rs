@@ -6,3 +6,4 @@ pub mod kinematics;
 pub mod located;
 pub mod mechanism;
 pub mod mechanism_toml;
+pub mod torque_table;

@@ -235,3 +235,31 @@ fn describe(
     }
     s
 }
+
+/// Where a residual is largest, in words: the joint with the largest RMS
+/// over the runs, and the third of its stroke where that joint's residual
+/// is largest (`"joint 2, mostly in the middle third of the stroke"`).
+pub fn locate(evidence: &[JointEvidence]) -> Option<String> {
+    let joints = evidence.iter().map(|e| e.joint).max()?;
+    let per_joint = |j: usize| evidence.iter().filter(move |e| e.joint == j);
+    let worst = (1..=joints).max_by(|&a, &b| {
+        let ra = per_joint(a).map(|e| e.rms_deg).fold(0.0, f64::max);
+        let rb = per_joint(b).map(|e| e.rms_deg).fold(0.0, f64::max);
+        ra.total_cmp(&rb)
+    })?;
+    let mut thirds = [0.0f64; 3];
+    for e in per_joint(worst) {
+        for (t, v) in thirds.iter_mut().zip(e.stroke_thirds_rms_deg) {
+            if v.is_finite() {
+                *t = t.max(v);
+            }
+        }
+    }
+    let k = (0..3).max_by(|&a, &b| thirds[a].total_cmp(&thirds[b]))?;
+    let region = [
+        "the first third of the stroke (near the stowed angle)",
+        "the middle third of the stroke",
+        "the last third of the stroke (near the latch)",
+    ][k];
+    Some(format!("joint {worst}, mostly in {region}"))
+}

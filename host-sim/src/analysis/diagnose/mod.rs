@@ -7,16 +7,25 @@
 //! 3. Candidates: every effect, per joint where it has one. Each is fitted to
 //!    all runs at once: a coarse scan for a start, then Levenberg–Marquardt
 //!    ([`crate::analysis::fit`]); candidates are fitted in parallel.
-//! 4. Stepwise selection: the candidate with the best BIC is added if it
-//!    earns its keep — BIC better by more than [`MIN_DELTA_BIC`], its 95 %
-//!    interval excludes zero, and (with two or more runs) the held-out RMS
+//! 4. Stepwise selection: the move (an addition; when none passes, a pair
+//!    fitted jointly; then a swap, and a swap for a pair) with the best BIC
+//!    is taken if it earns its keep — BIC better by more than
+//!    [`MIN_DELTA_BIC`], every added effect's 95 % interval excludes zero,
+//!    and (with two or more runs) the held-out RMS of the resulting set
 //!    (fit on all runs but one, predict that one) improves; effects that no
-//!    longer earn their keep are dropped again. At most three effects; stop
-//!    at the noise floor.
-//! 5. A clear residual that no candidate explains is reported as
-//!    `unexplained`, never forced onto a name.
+//!    longer earn their keep are dropped again. At most three named
+//!    effects; stop at the noise floor.
+//! 5. Discovery ([`discover`]): when the named effects leave a residual
+//!    above the noise floor, a `torque_table` fitted at each joint is judged
+//!    like any candidate; a named effect that fits as well replaces it.
+//! 6. A clear residual that nothing explains is reported as `unexplained`
+//!    (how large, which joint, which part of the stroke), never forced onto
+//!    a name.
 
+pub mod discover;
 pub mod evidence;
+
+use discover::TableForm;
 
 use crate::analysis::fit::{self, FitOptions};
 use crate::data::campaign::{Campaign, CampaignRun};
@@ -43,6 +52,8 @@ pub struct Candidate {
     pub kind: EffectKind,
     /// 1-based joint for per-joint effects.
     pub joint: Option<usize>,
+    /// `torque_table` only: the form of the table.
+    pub table: Option<TableForm>,
 }
 
 impl Candidate {
@@ -55,10 +66,15 @@ impl Candidate {
                     out.push(Candidate {
                         kind,
                         joint: Some(j),
+                        table: None,
                     });
                 }
             } else {
-                out.push(Candidate { kind, joint: None });
+                out.push(Candidate {
+                    kind,
+                    joint: None,
+                    table: None,
+                });
             }
         }
         out
@@ -66,6 +82,9 @@ impl Candidate {
 
     /// Number of parameters (rig tilt: magnitude and direction).
     pub fn params(&self) -> usize {
+        if let Some(t) = self.table {
+            return t.params();
+        }
         if self.kind == EffectKind::RigTilt {
             2
         } else {
@@ -86,6 +105,9 @@ impl Candidate {
             // the motion, no wrap-around, no singular direction at g = 0.
             EffectKind::RigTilt => vec![(-5.0, 5.0, 1e-5), (-5.0, 5.0, 1e-5)],
             EffectKind::EncoderOffset => vec![(-30.0, 30.0, 1e-4)],
+            EffectKind::TorqueTable => {
+                vec![(-TableForm::BOUND_NM, TableForm::BOUND_NM, 1e-4); self.params()]
+            }
         }
     }
 
@@ -110,11 +132,20 @@ impl Candidate {
                 v
             }
             EffectKind::EncoderOffset => one(&[0.0]),
+            // A constant torque of either sign and a few sizes: the scan
+            // ranks the joints and forms, the fit shapes the table.
+            EffectKind::TorqueTable => [-0.3, -0.05, 0.0, 0.05, 0.3]
+                .iter()
+                .map(|&v| vec![v; self.params()])
+                .collect(),
         }
     }
 
     /// The effect with parameters `p`.
     pub fn effect(&self, p: &[f64]) -> Effect {
+        if let Some(t) = self.table {
+            return t.effect(self.joint, p);
+        }
         let x = p.first().copied().unwrap_or(0.0);
         if self.kind == EffectKind::RigTilt {
             let y = p.get(1).copied().unwrap_or(0.0);
@@ -123,13 +154,14 @@ impl Candidate {
                 joint: None,
                 value: x.hypot(y),
                 alpha_deg: y.atan2(x).to_degrees().rem_euclid(360.0),
+                ..Effect::default()
             };
         }
         Effect {
             kind: self.kind,
             joint: self.joint,
             value: x,
-            alpha_deg: 0.0,
+            ..Effect::default()
         }
     }
 
@@ -138,6 +170,14 @@ impl Candidate {
     /// propagation for the tilt's magnitude and angle).
     pub fn value_ci(&self, p: &[f64], ci: &[[f64; 2]]) -> ([f64; 2], Option<[f64; 2]>) {
         let half = |k: usize| ci.get(k).map_or(f64::INFINITY, |c| 0.5 * (c[1] - c[0]));
+        if self.table.is_some() {
+            // A table's value is its largest knot torque: that knot's interval.
+            let k = (0..p.len())
+                .max_by(|&a, &b| p[a].abs().total_cmp(&p[b].abs()))
+                .unwrap_or(0);
+            let (v, h) = (p.get(k).map_or(0.0, |x| x.abs()), half(k));
+            return ([v - h, v + h], None);
+        }
         if self.kind == EffectKind::RigTilt {
             let (x, y) = (
                 p.first().copied().unwrap_or(0.0),
@@ -160,6 +200,9 @@ impl Candidate {
 
     /// `name` or `name@joint`, for progress lines and reports.
     pub fn label(&self) -> String {
+        if let (Some(t), Some(j)) = (self.table, self.joint) {
+            return format!("{} j{j} ({})", self.kind, t.name());
+        }
         match self.joint {
             Some(j) => format!("{} j{j}", self.kind),
             None => self.kind.to_string(),
@@ -242,6 +285,27 @@ impl FittedSet {
         }
     }
 
+    /// The parameters and their 95 % intervals of the `k`-th effect.
+    pub fn effect_params(&self, k: usize) -> Option<(&[f64], &[[f64; 2]])> {
+        let off: usize = self.set.get(..k)?.iter().map(|c| c.params()).sum();
+        let n = self.set.get(k)?.params();
+        Some((self.params.get(off..off + n)?, self.ci95.get(off..off + n)?))
+    }
+
+    /// A discovered table at the `k`-th place: its form, the one-sentence
+    /// shape and the table with its 95 % band (`[fitted, lower, upper]`).
+    pub fn table_of(
+        &self,
+        k: usize,
+    ) -> Option<(TableForm, String, [deploywatch_core::TorqueTable<f64>; 3])> {
+        let c = self.set.get(k)?;
+        let form = c.table?;
+        let (p, ci) = self.effect_params(k)?;
+        let tables = discover::band(&form, p, ci);
+        let shape = discover::shape_sentence(&form, c.joint.unwrap_or(0), &tables[0]);
+        Some((form, shape, tables))
+    }
+
     /// Bayesian information criterion of the Gaussian likelihood,
     /// `m ln(SSE/m) + k ln m`.
     pub fn bic(&self) -> f64 {
@@ -287,6 +351,9 @@ pub struct DiagnoseOptions {
     pub max_effects: usize,
     /// The candidates considered (all by default).
     pub kinds: Vec<EffectKind>,
+    /// Whether to look for a torque no named effect describes
+    /// ([`discover`]) when the named effects leave a residual.
+    pub discover: bool,
 }
 
 impl Default for DiagnoseOptions {
@@ -294,6 +361,7 @@ impl Default for DiagnoseOptions {
         DiagnoseOptions {
             max_effects: 3,
             kinds: EffectKind::ALL.to_vec(),
+            discover: true,
         }
     }
 }
@@ -533,19 +601,7 @@ impl Engine<'_> {
             })
             .collect();
         scores.sort_by(|a, b| b.delta_bic.total_cmp(&a.delta_bic));
-        let show = if std::env::var_os("DEPLOYWATCH_TRACE").is_some() {
-            usize::MAX
-        } else {
-            5
-        };
-        for s in scores.iter().take(show) {
-            self.say(format!(
-                "  {:<40} RMS {:.4} deg  dBIC {:>10.1}",
-                labels(&s.fitted.set),
-                s.fitted.rms(),
-                s.delta_bic
-            ));
-        }
+        self.show_scores(&scores);
         let mut chosen = None;
         let mut tried = 0;
         for s in scores.iter_mut() {
@@ -559,30 +615,9 @@ impl Engine<'_> {
                 }
                 continue;
             }
-            let at = s
-                .fitted
-                .set
-                .iter()
-                .position(|c| *c == s.candidate)
-                .map(|k| s.fitted.set[..k].iter().map(|c| c.params()).sum::<usize>())
-                .unwrap_or(0);
-            s.verdict = if s.delta_bic <= MIN_DELTA_BIC {
-                format!("BIC gain {:.1} ≤ {MIN_DELTA_BIC}", s.delta_bic)
-            } else if !clear_of_zero(&s.fitted, s.candidate, at) {
-                "its 95 % interval contains zero".into()
-            } else {
-                s.held_out_rms_deg = self.held_out(&s.fitted);
-                match (s.held_out_rms_deg, current_held) {
-                    (Some(h), Some(c)) if h >= 0.95 * c => {
-                        format!("held-out RMS {h:.4} deg does not beat {c:.4} deg")
-                    }
-                    _ => {
-                        chosen = Some(s.candidate);
-                        s.accepted = true;
-                        "earns its keep: added".into()
-                    }
-                }
-            };
+            if self.verdict(s, current, current_held) {
+                chosen = Some(s.candidate);
+            }
         }
         let next = chosen.and_then(|c| {
             scores
@@ -599,6 +634,51 @@ impl Engine<'_> {
             },
             next,
         )
+    }
+
+    /// Prints the five best scores of a round (all with `DEPLOYWATCH_TRACE`).
+    fn show_scores(&self, scores: &[CandidateScore]) {
+        let show = if std::env::var_os("DEPLOYWATCH_TRACE").is_some() {
+            usize::MAX
+        } else {
+            5
+        };
+        for s in scores.iter().take(show) {
+            self.say(format!(
+                "  {:<40} RMS {:.4} deg  dBIC {:>10.1}",
+                labels(&s.fitted.set),
+                s.fitted.rms(),
+                s.delta_bic
+            ));
+        }
+    }
+
+    /// Whether a move earns its keep: BIC gain > [`MIN_DELTA_BIC`], every
+    /// added effect's interval clear of zero, and a held-out RMS at least
+    /// 5 % better than the current set's. Writes the verdict into `s`.
+    fn verdict(
+        &self,
+        s: &mut CandidateScore,
+        current: &FittedSet,
+        current_held: Option<f64>,
+    ) -> bool {
+        s.verdict = if s.delta_bic <= MIN_DELTA_BIC {
+            format!("BIC gain {:.1} ≤ {MIN_DELTA_BIC}", s.delta_bic)
+        } else if !new_members_clear(&s.fitted, current) {
+            "a 95 % interval contains zero".into()
+        } else {
+            s.held_out_rms_deg = self.held_out(&s.fitted);
+            match (s.held_out_rms_deg, current_held) {
+                (Some(h), Some(c)) if h >= 0.95 * c => {
+                    format!("held-out RMS {h:.4} deg does not beat {c:.4} deg")
+                }
+                _ => {
+                    s.accepted = true;
+                    "earns its keep: added".into()
+                }
+            }
+        };
+        s.accepted
     }
 
     /// Drops effects that no longer earn their keep beside the others.
@@ -655,20 +735,389 @@ fn sub_campaign(c: &Campaign, keep: impl Fn(usize) -> bool) -> Campaign {
     }
 }
 
-/// True when the 95 % interval of the candidate's value excludes zero.
-fn clear_of_zero(f: &FittedSet, cand: Candidate, cand_offset: usize) -> bool {
-    let n = cand.params();
-    let (Some(p), Some(ci)) = (
-        f.params.get(cand_offset..cand_offset + n),
-        f.ci95.get(cand_offset..cand_offset + n),
-    ) else {
-        return false;
-    };
-    let (v, _) = cand.value_ci(p, ci);
-    v[0] > 0.0 || v[1] < 0.0
+/// True when the 95 % interval of the value of every member of `f` that is
+/// not in `current` excludes zero (a pair move adds two).
+fn new_members_clear(f: &FittedSet, current: &FittedSet) -> bool {
+    let mut off = 0;
+    for c in &f.set {
+        let n = c.params();
+        if !current.set.contains(c) {
+            let (Some(p), Some(ci)) = (f.params.get(off..off + n), f.ci95.get(off..off + n)) else {
+                return false;
+            };
+            let (v, _) = c.value_ci(p, ci);
+            if !(v[0] > 0.0 || v[1] < 0.0) {
+                return false;
+            }
+        }
+        off += n;
+    }
+    true
 }
 
-/// Diagnoses a campaign.
+/// How many of a round's best single candidates seed pair moves.
+pub const PAIR_SEEDS: usize = 4;
+
+/// Most search steps (additions, pair additions and swaps) of one diagnosis.
+const MAX_STEPS: usize = 10;
+
+/// Most discovered torque tables of one diagnosis.
+pub const MAX_TABLES: usize = 2;
+
+/// Most swap rounds of one diagnosis.
+const MAX_SWAPS: usize = 2;
+
+/// The state of the stepwise search: the current set, its held-out RMS, the
+/// rounds tried so far and the sets already visited.
+struct Search<'e, 'a> {
+    eng: &'e Engine<'a>,
+    candidates: Vec<Candidate>,
+    max_effects: usize,
+    floor_deg: f64,
+    current: FittedSet,
+    current_held: Option<f64>,
+    rounds: Vec<Round>,
+    seen: Vec<Vec<Candidate>>,
+    swaps: usize,
+}
+
+impl Search<'_, '_> {
+    /// Runs the search to its end: at each step an addition, else a pair
+    /// addition, else a swap; stop at the noise floor or when nothing
+    /// earns its keep.
+    fn run(&mut self) {
+        for _ in 0..MAX_STEPS {
+            if self.current.rms() <= self.floor_deg {
+                self.eng.say(format!(
+                    "residual {:.4} deg is down to the noise floor: stop",
+                    self.current.rms()
+                ));
+                return;
+            }
+            if self.try_add() || self.try_pair() {
+                continue;
+            }
+            // A swap, else a pair swap seeded by the swap round (one effect
+            // replaced by two that only work together).
+            let before = self.rounds.len();
+            if self.try_swap() {
+                continue;
+            }
+            if self.rounds.len() == before || !self.try_pair() {
+                return;
+            }
+        }
+    }
+
+    /// Named effects in the current set (discovered tables do not count
+    /// against `max_effects`).
+    fn named_len(&self) -> usize {
+        self.current
+            .set
+            .iter()
+            .filter(|c| c.table.is_none())
+            .count()
+    }
+
+    /// Discovery: while the residual stays above the noise floor, fit a
+    /// torque table at each joint (angle, rate, both), judge the tables like
+    /// any candidate (the joint is the one whose table wins by BIC), and
+    /// after one is added let the named search go on beside it. At most
+    /// [`MAX_TABLES`] tables, at different joints.
+    fn discover(&mut self, tables: &[Candidate], sigma: f64) {
+        for _ in 0..MAX_TABLES {
+            if self.current.rms() <= self.floor_deg {
+                return;
+            }
+            let moves = self.table_moves(tables);
+            if moves.is_empty() {
+                return;
+            }
+            self.eng.say(format!(
+                "discovery: the residual stays at {:.4} deg; fitting {} torque tables beside {{{}}}",
+                self.current.rms(),
+                moves.len(),
+                labels(&self.current.set)
+            ));
+            let what = format!("discover a torque beside {{{}}}", labels(&self.current.set));
+            if !self.step(&moves, what, "discovered:") {
+                return;
+            }
+            if self.prefer_named() {
+                continue;
+            }
+            // The named search goes on beside the table only while the
+            // residual stays clearly above the noise.
+            if above_noise(&self.current, sigma) {
+                self.swaps = 0;
+                self.run();
+            }
+        }
+    }
+
+    /// The discovery moves: each table at a joint without one, beside the
+    /// current set and in place of each of its named effects (named
+    /// effects that only approximated the unnamed torque give way to it).
+    fn table_moves(&self, tables: &[Candidate]) -> Vec<(FittedSet, Candidate)> {
+        let taken: Vec<Option<usize>> = self
+            .current
+            .set
+            .iter()
+            .filter(|c| c.table.is_some())
+            .map(|c| c.joint)
+            .collect();
+        let named = (0..self.current.set.len()).filter(|&k| self.current.set[k].table.is_none());
+        let bases: Vec<FittedSet> = std::iter::once(self.current.clone())
+            .chain(named.map(|k| self.current.without(k)))
+            .collect();
+        let mut moves = Vec::new();
+        for base in &bases {
+            for c in tables.iter().filter(|c| !taken.contains(&c.joint)) {
+                moves.push((base.clone(), *c));
+            }
+        }
+        moves
+    }
+
+    /// A named effect that explains the data wins over a table: each table
+    /// of the set is replaced by every named candidate in turn, and the best
+    /// replacement by BIC is taken when its BIC is better than the table's
+    /// set (as good a fit with fewer parameters) and its interval is clear
+    /// of zero. True when a table was replaced.
+    fn prefer_named(&mut self) -> bool {
+        let named: Vec<Candidate> = self.outside();
+        let mut moves = Vec::new();
+        for (k, c) in self.current.set.iter().enumerate() {
+            if c.table.is_some() {
+                let reduced = self.current.without(k);
+                moves.extend(named.iter().map(|&n| (reduced.clone(), n)));
+            }
+        }
+        let fits = self.eng.fit_moves(self.eng.campaign, &moves);
+        let best = fits
+            .into_iter()
+            .filter(|(_, _, screened_out)| !screened_out)
+            .filter_map(|(_, f, _)| f)
+            .filter(|f| f.bic() < self.current.bic() && new_members_clear(f, &self.current))
+            .min_by(|a, b| a.bic().total_cmp(&b.bic()));
+        let Some(f) = best else {
+            return false;
+        };
+        self.eng.say(format!(
+            "  a named effect explains it as well: {{{}}} (RMS {:.4} deg)",
+            labels(&f.set),
+            f.rms()
+        ));
+        self.current_held = self.eng.held_out(&f);
+        self.seen.push(f.set.clone());
+        self.current = f;
+        true
+    }
+
+    /// Candidates not in the current set.
+    fn outside(&self) -> Vec<Candidate> {
+        self.candidates
+            .iter()
+            .copied()
+            .filter(|c| !self.current.set.contains(c))
+            .collect()
+    }
+
+    /// Judges `moves` against the current set, records the round and, when
+    /// a move earns its keep and leads to a set not yet visited, takes it
+    /// (then drops what no longer earns its keep). True when it moved.
+    fn step(&mut self, moves: &[(FittedSet, Candidate)], what: String, done: &str) -> bool {
+        let fits = self.eng.fit_moves(self.eng.campaign, moves);
+        let (round, next) =
+            self.eng
+                .judge(&self.current, self.current_held, fits.into_iter(), what);
+        self.rounds.push(round);
+        match next {
+            Some((f, held)) if !self.seen.contains(&f.set) => {
+                self.eng.say(format!(
+                    "  {done} {{{}}} (RMS {:.4} deg)",
+                    labels(&f.set),
+                    f.rms()
+                ));
+                let (f, held) = self.eng.backward(f, held);
+                self.seen.push(f.set.clone());
+                self.current = f;
+                self.current_held = held;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Forward step: the best single candidate that earns its keep.
+    fn try_add(&mut self) -> bool {
+        if self.named_len() >= self.max_effects {
+            return false;
+        }
+        let todo = self.outside();
+        self.eng.say(format!(
+            "round {}: fitting {} candidates beside {{{}}} (RMS {:.4} deg)",
+            self.rounds.len() + 1,
+            todo.len(),
+            labels(&self.current.set),
+            self.current.rms()
+        ));
+        let moves: Vec<(FittedSet, Candidate)> =
+            todo.iter().map(|&c| (self.current.clone(), c)).collect();
+        let what = format!("add to {{{}}}", labels(&self.current.set));
+        self.step(&moves, what, "added:")
+    }
+
+    /// Pair step, when no single move earned its keep: two causes that act
+    /// together may each fail the held-out test alone (one effect cannot
+    /// predict a run the other shapes). The [`PAIR_SEEDS`] best moves of the
+    /// last round (an addition or a swap) by BIC, the training criterion,
+    /// are each completed with every other candidate, the sets fitted
+    /// jointly, and the held-out check applied to the set as a whole.
+    fn try_pair(&mut self) -> bool {
+        let Some(last) = self.rounds.last() else {
+            return false;
+        };
+        let room =
+            |f: &FittedSet| f.set.iter().filter(|c| c.table.is_none()).count() < self.max_effects;
+        let seeds: Vec<FittedSet> = last
+            .scores
+            .iter()
+            .filter(|s| !s.verdict.starts_with("screened") && room(&s.fitted))
+            .take(PAIR_SEEDS)
+            .map(|s| s.fitted.clone())
+            .collect();
+        if seeds.is_empty() {
+            return false;
+        }
+        let mut moves = Vec::new();
+        for (a, seed) in seeds.iter().enumerate() {
+            let first = seed.set[seed.set.len() - 1];
+            for c in self.outside() {
+                let earlier = seeds[..a].iter().any(|s| s.set.last() == Some(&c));
+                if c != first && !earlier {
+                    moves.push((seed.clone(), c));
+                }
+            }
+        }
+        self.eng.say(format!(
+            "pairs: fitting {} sets of two, seeded by the last round, beside {{{}}}",
+            moves.len(),
+            labels(&self.current.set)
+        ));
+        let what = format!("add a pair to {{{}}}", labels(&self.current.set));
+        self.step(&moves, what, "added the pair:")
+    }
+
+    /// Swap step: replace one effect by another candidate when the residual
+    /// is still above the noise floor (greedy steps can take a wrong turn
+    /// when two effects act together). Every candidate may swap in: the
+    /// moves are prescreened by their coarse scan.
+    fn try_swap(&mut self) -> bool {
+        if self.current.set.is_empty() || self.swaps >= MAX_SWAPS {
+            return false;
+        }
+        self.swaps += 1;
+        let outside = self.outside();
+        let mut moves = Vec::new();
+        for k in 0..self.current.set.len() {
+            let reduced = self.current.without(k);
+            for c in &outside {
+                moves.push((reduced.clone(), *c));
+            }
+        }
+        self.eng.say(format!(
+            "swap {}: trying {} replacements in {{{}}}",
+            self.swaps,
+            moves.len(),
+            labels(&self.current.set)
+        ));
+        let what = format!("swap one of {{{}}}", labels(&self.current.set));
+        let moved = self.step(&moves, what, "swapped to");
+        if !moved {
+            self.eng.say("  no swap earns its keep: stop");
+        }
+        moved
+    }
+}
+
+impl Engine<'_> {
+    /// The baseline: the mechanisms as given, no effect.
+    fn baseline(&self) -> FittedSet {
+        self.fit(self.campaign, &[], &[]).unwrap_or(FittedSet {
+            set: Vec::new(),
+            params: Vec::new(),
+            ci95: Vec::new(),
+            sse: f64::INFINITY,
+            m: self.campaign.samples(),
+            evaluations: 0,
+        })
+    }
+
+    /// The set reordered strongest first, with each effect's strength: the
+    /// RMS [deg] of the set without it (the others' values kept).
+    fn strongest_first(&self, current: &FittedSet) -> (FittedSet, Vec<f64>) {
+        let strength: Vec<f64> = (0..current.set.len())
+            .map(|k| {
+                let r = current.without(k);
+                self.sse(self.campaign, &r.set, &r.params)
+                    .map(|(s, m)| (s / m.max(1) as f64).sqrt())
+                    .unwrap_or(f64::INFINITY)
+            })
+            .collect();
+        let mut order: Vec<usize> = (0..current.set.len()).collect();
+        order.sort_by(|&a, &b| strength[b].total_cmp(&strength[a]));
+        let mut offs = Vec::new();
+        let mut off = 0;
+        for c in &current.set {
+            offs.push(off);
+            off += c.params();
+        }
+        let pick = |v: &[f64], i: usize| v[offs[i]..offs[i] + current.set[i].params()].to_vec();
+        let pick_ci =
+            |v: &[[f64; 2]], i: usize| v[offs[i]..offs[i] + current.set[i].params()].to_vec();
+        let extended = FittedSet {
+            set: order.iter().map(|&i| current.set[i]).collect(),
+            params: order
+                .iter()
+                .flat_map(|&i| pick(&current.params, i))
+                .collect(),
+            ci95: order
+                .iter()
+                .flat_map(|&i| pick_ci(&current.ci95, i))
+                .collect(),
+            ..current.clone()
+        };
+        (extended, order.iter().map(|&i| strength[i]).collect())
+    }
+}
+
+/// True when the residual of a set stays clearly above the noise floor σ̂
+/// [deg]: above 1.5 σ̂ and above σ̂ + 0.01°.
+fn above_noise(f: &FittedSet, sigma: f64) -> bool {
+    let rms = f.rms();
+    rms > 1.5 * sigma.max(1e-6) && rms > sigma + 0.01
+}
+
+/// The `unexplained` description when the residual stays clearly above the
+/// noise floor: how large, at which joint and where in the stroke.
+fn unexplained_text(campaign: &Campaign, extended: &FittedSet, sigma: f64) -> Option<String> {
+    if !above_noise(extended, sigma) {
+        return None;
+    }
+    let rms = extended.rms();
+    let at = evidence::locate(&evidence::analyse(campaign, &extended.effects(), sigma))
+        .map(|w| format!(", largest at {w}"))
+        .unwrap_or_default();
+    Some(format!(
+        "the residual stays at {rms:.4} deg RMS, {:.1} times the noise floor ({sigma:.4} deg){at}, and no further candidate earns its keep",
+        rms / sigma.max(1e-9),
+    ))
+}
+
+/// Diagnoses a campaign: baseline, noise floor, stepwise search
+/// ([`Search`]), then the effects strongest first and what stays
+/// unexplained.
 pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress) -> Outcome {
     let t0 = Instant::now();
     let eng = Engine {
@@ -677,183 +1126,44 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         sims: std::sync::atomic::AtomicUsize::new(0),
     };
     let sigma = noise_sigma_deg(campaign);
-    let floor = NOISE_FLOOR_FACTOR * sigma;
-    let baseline = eng.fit(campaign, &[], &[]).unwrap_or(FittedSet {
-        set: Vec::new(),
-        params: Vec::new(),
-        ci95: Vec::new(),
-        sse: f64::INFINITY,
-        m: campaign.samples(),
-        evaluations: 0,
-    });
+    let baseline = eng.baseline();
     eng.say(format!(
         "baseline: RMS {:.4} deg over {} runs; noise floor sigma {:.4} deg",
         baseline.rms(),
         campaign.runs.len(),
         sigma
     ));
-    let candidates: Vec<Candidate> = Candidate::all(campaign.max_joints())
-        .into_iter()
-        .filter(|c| opts.kinds.contains(&c.kind))
-        .collect();
-
-    let mut current = baseline.clone();
-    let mut current_held = eng.held_out(&current);
-    let mut rounds = Vec::new();
-    let mut seen: Vec<Vec<Candidate>> = vec![Vec::new()];
-    let mut swaps = 0;
-    for _ in 0..10 {
-        if current.rms() <= floor {
-            eng.say(format!(
-                "residual {:.4} deg is down to the noise floor: stop",
-                current.rms()
-            ));
-            break;
-        }
-        // Forward: add the best candidate that earns its keep.
-        if current.set.len() < opts.max_effects {
-            let todo: Vec<Candidate> = candidates
-                .iter()
-                .copied()
-                .filter(|c| !current.set.contains(c))
-                .collect();
-            eng.say(format!(
-                "round {}: fitting {} candidates beside {{{}}} (RMS {:.4} deg)",
-                rounds.len() + 1,
-                todo.len(),
-                labels(&current.set),
-                current.rms()
-            ));
-            let moves: Vec<(FittedSet, Candidate)> =
-                todo.iter().map(|&c| (current.clone(), c)).collect();
-            let (round, next) = eng.judge(
-                &current,
-                current_held,
-                eng.fit_moves(campaign, &moves).into_iter(),
-                format!("add to {{{}}}", labels(&current.set)),
-            );
-            rounds.push(round);
-            if let Some((f, held)) = next {
-                if !seen.contains(&f.set) {
-                    eng.say(format!(
-                        "  added {} (RMS {:.4} deg)",
-                        labels(&f.set),
-                        f.rms()
-                    ));
-                    let (f, held) = eng.backward(f, held);
-                    seen.push(f.set.clone());
-                    current = f;
-                    current_held = held;
-                    continue;
-                }
-            }
-        }
-        // Swap: replace one effect by another candidate when the residual is
-        // still above the noise floor (greedy steps can take a wrong turn
-        // when two effects act together).
-        if current.set.is_empty() || swaps >= 2 {
-            break;
-        }
-        swaps += 1;
-        // Every candidate may swap in: the moves are prescreened by their
-        // coarse scan, so this costs a few simulations per move.
-        let strongest: Vec<Candidate> = candidates
-            .iter()
-            .copied()
-            .filter(|c| !current.set.contains(c))
-            .collect();
-        let mut moves = Vec::new();
-        for k in 0..current.set.len() {
-            let reduced = current.without(k);
-            for c in &strongest {
-                moves.push((reduced.clone(), *c));
-            }
-        }
-        eng.say(format!(
-            "swap {swaps}: trying {} replacements in {{{}}}",
-            moves.len(),
-            labels(&current.set)
-        ));
-        let (round, next) = eng.judge(
-            &current,
-            current_held,
-            eng.fit_moves(campaign, &moves).into_iter(),
-            format!("swap one of {{{}}}", labels(&current.set)),
-        );
-        rounds.push(round);
-        match next {
-            Some((f, held)) if !seen.contains(&f.set) => {
-                eng.say(format!(
-                    "  swapped to {{{}}} (RMS {:.4} deg)",
-                    labels(&f.set),
-                    f.rms()
-                ));
-                let (f, held) = eng.backward(f, held);
-                seen.push(f.set.clone());
-                current = f;
-                current_held = held;
-            }
-            _ => {
-                eng.say("  no swap earns its keep: stop");
-                break;
-            }
-        }
-    }
-
-    // Strength of each effect: RMS without it.
-    let strength: Vec<f64> = (0..current.set.len())
-        .map(|k| {
-            let r = current.without(k);
-            eng.sse(campaign, &r.set, &r.params)
-                .map(|(s, m)| (s / m.max(1) as f64).sqrt())
-                .unwrap_or(f64::INFINITY)
-        })
-        .collect();
-    // Strongest first.
-    let mut order: Vec<usize> = (0..current.set.len()).collect();
-    order.sort_by(|&a, &b| strength[b].total_cmp(&strength[a]));
-    let mut extended = current.clone();
-    extended.set = order.iter().map(|&i| current.set[i]).collect();
-    let mut offs = Vec::new();
-    let mut off = 0;
-    for c in &current.set {
-        offs.push(off);
-        off += c.params();
-    }
-    extended.params = order
-        .iter()
-        .flat_map(|&i| current.params[offs[i]..offs[i] + current.set[i].params()].to_vec())
-        .collect();
-    extended.ci95 = order
-        .iter()
-        .flat_map(|&i| current.ci95[offs[i]..offs[i] + current.set[i].params()].to_vec())
-        .collect();
-    let strength_rms_deg = order.iter().map(|&i| strength[i]).collect();
-    let held_out_rms_deg = if extended.set.is_empty() {
-        current_held
-    } else {
-        current_held.or_else(|| eng.held_out(&extended))
+    let mut search = Search {
+        eng: &eng,
+        candidates: Candidate::all(campaign.max_joints())
+            .into_iter()
+            .filter(|c| opts.kinds.contains(&c.kind))
+            .collect(),
+        max_effects: opts.max_effects,
+        floor_deg: NOISE_FLOOR_FACTOR * sigma,
+        current_held: eng.held_out(&baseline),
+        current: baseline.clone(),
+        rounds: Vec::new(),
+        seen: vec![Vec::new()],
+        swaps: 0,
     };
-
-    let unexplained = if extended.rms() > 1.5 * sigma.max(1e-6) && extended.rms() > sigma + 0.01 {
-        Some(format!(
-            "the residual stays at {:.4} deg RMS, {:.1} times the noise floor ({:.4} deg), and no further candidate earns its keep",
-            extended.rms(),
-            extended.rms() / sigma.max(1e-9),
-            sigma
-        ))
-    } else {
-        None
+    search.run();
+    if opts.discover {
+        search.discover(&discover::table_candidates(campaign), sigma);
+    }
+    let (extended, strength_rms_deg) = eng.strongest_first(&search.current);
+    let held_out_rms_deg = match search.current_held {
+        None if !extended.set.is_empty() => eng.held_out(&extended),
+        h => h,
     };
-
     Outcome {
         noise_sigma_deg: sigma,
+        unexplained: unexplained_text(campaign, &extended, sigma),
         baseline,
         extended,
         strength_rms_deg,
         held_out_rms_deg,
-        rounds,
-        unexplained,
+        rounds: search.rounds,
         simulations: eng.sims.load(std::sync::atomic::Ordering::Relaxed),
         wall_s: t0.elapsed().as_secs_f64(),
     }

@@ -1,0 +1,178 @@
+//! The `torque_table` effect (`docs/spec/physics.md` section 6): an extra
+//! joint torque of a form no named effect has, given as tables.
+//!
+//! ```text
+//! τ_table(φ, φ̇) = f(φ_deg) + g(φ̇_deg_s)        [N·m]
+//! ```
+//!
+//! `f` and `g` are piecewise linear through their points and held constant
+//! beyond the end points; either may be absent (zero). The sign is that of
+//! every joint torque: positive increases `φ`. A diagnosis that discovers a
+//! torque the vocabulary lacks reports it in this form.
+//!
+//! Tables are fixed-size ([`TABLE_MAX_KNOTS`] points) so that the chain,
+//! which the on-board monitor also holds, stays heap-free and small.
+
+use crate::real::Real;
+
+/// Most points of one table. A discovered torque uses a handful; eight keep
+/// `JointEffects` small enough for the monitor's 4 KiB budget.
+pub const TABLE_MAX_KNOTS: usize = 8;
+
+/// Why a table was rejected.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum TableError {
+    /// Fewer than two points.
+    TooFewPoints,
+    /// More than [`TABLE_MAX_KNOTS`] points.
+    TooManyPoints,
+    /// Abscissae are not strictly increasing.
+    NotIncreasing,
+    /// A point is NaN or infinite.
+    NotFinite,
+}
+
+impl core::fmt::Display for TableError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            TableError::TooFewPoints => "a torque table needs at least 2 points",
+            TableError::TooManyPoints => "a torque table has at most 8 points",
+            TableError::NotIncreasing => "torque table abscissae must be strictly increasing",
+            TableError::NotFinite => "torque table points must be finite numbers",
+        })
+    }
+}
+
+impl core::error::Error for TableError {}
+
+/// A piecewise-linear table `y(x)`, clamped to its end values outside its
+/// points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Table<T> {
+    len: usize,
+    x: [T; TABLE_MAX_KNOTS],
+    y: [T; TABLE_MAX_KNOTS],
+}
+
+impl<T: Real> Table<T> {
+    /// A table through `xs` (strictly increasing) and `ys` (same length).
+    pub fn new(xs: &[T], ys: &[T]) -> Result<Self, TableError> {
+        let n = xs.len();
+        if n < 2 || ys.len() != n {
+            return Err(TableError::TooFewPoints);
+        }
+        if n > TABLE_MAX_KNOTS {
+            return Err(TableError::TooManyPoints);
+        }
+        let mut t = Table {
+            len: n,
+            x: [T::ZERO; TABLE_MAX_KNOTS],
+            y: [T::ZERO; TABLE_MAX_KNOTS],
+        };
+        for i in 0..n {
+            if !xs[i].is_finite() || !ys[i].is_finite() {
+                return Err(TableError::NotFinite);
+            }
+            if i > 0 && !(xs[i] > xs[i - 1]) {
+                return Err(TableError::NotIncreasing);
+            }
+            t.x[i] = xs[i];
+            t.y[i] = ys[i];
+        }
+        Ok(t)
+    }
+
+    /// The abscissae.
+    pub fn xs(&self) -> &[T] {
+        &self.x[..self.len]
+    }
+
+    /// The values.
+    pub fn ys(&self) -> &[T] {
+        &self.y[..self.len]
+    }
+
+    /// `y(x)`: linear between points, the end value beyond them.
+    #[inline]
+    pub fn eval(&self, x: T) -> T {
+        let n = self.len;
+        if !(x > self.x[0]) {
+            return self.y[0];
+        }
+        for i in 1..n {
+            if x < self.x[i] {
+                let s = (x - self.x[i - 1]) / (self.x[i] - self.x[i - 1]);
+                return self.y[i - 1] + s * (self.y[i] - self.y[i - 1]);
+            }
+        }
+        self.y[n - 1]
+    }
+}
+
+/// The `torque_table` of one joint: `f(φ)` over the angle [deg → N·m] and
+/// `g(φ̇)` over the rate [deg/s → N·m], either or both.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct TorqueTable<T> {
+    /// `f`: torque [N·m] against the joint angle [deg].
+    pub angle: Option<Table<T>>,
+    /// `g`: torque [N·m] against the joint rate [deg/s].
+    pub rate: Option<Table<T>>,
+}
+
+impl<T: Real> TorqueTable<T> {
+    /// `f(φ) + g(φ̇)` [N·m] at angle `phi` [rad] and rate `phi_dot` [rad/s].
+    #[inline]
+    pub fn torque(&self, phi: T, phi_dot: T) -> T {
+        let mut t = T::ZERO;
+        if let Some(f) = &self.angle {
+            t += f.eval(phi.to_degrees());
+        }
+        if let Some(g) = &self.rate {
+            t += g.eval(phi_dot.to_degrees());
+        }
+        t
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn given_a_table_when_evaluated_then_linear_inside_and_held_outside() {
+        let t = Table::new(&[-90.0, -45.0, 0.0], &[0.0, 0.4, 0.1]).unwrap();
+        assert_eq!(t.eval(-120.0), 0.0);
+        assert!((t.eval(-67.5) - 0.2).abs() < 1e-12);
+        assert!((t.eval(-22.5) - 0.25).abs() < 1e-12);
+        assert_eq!(t.eval(10.0), 0.1);
+        assert_eq!(t.eval(f64::NAN), 0.0);
+    }
+
+    #[test]
+    fn given_bad_points_then_a_named_error() {
+        assert_eq!(Table::new(&[1.0], &[1.0]), Err(TableError::TooFewPoints));
+        assert_eq!(
+            Table::new(&[1.0, 1.0], &[1.0, 2.0]),
+            Err(TableError::NotIncreasing)
+        );
+        assert_eq!(
+            Table::new(&[0.0, f64::NAN], &[1.0, 2.0]),
+            Err(TableError::NotFinite)
+        );
+        assert_eq!(
+            Table::new(&[0.0; 9], &[0.0; 9]),
+            Err(TableError::TooManyPoints)
+        );
+    }
+
+    #[test]
+    fn given_angle_and_rate_tables_then_the_torques_add() {
+        let tt = TorqueTable {
+            angle: Some(Table::new(&[-90.0, 0.0], &[1.0, 1.0]).unwrap()),
+            rate: Some(Table::new(&[0.0, 100.0], &[0.0, -1.0]).unwrap()),
+        };
+        let t = tt.torque(-0.5, 50f64.to_radians());
+        assert!((t - 0.5).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,141 @@
+//! The host side of the `torque_table` effect (`docs/spec/physics.md`
+//! section 6; the torque itself is computed once, in
+//! [`deploywatch_core::torque_table`]): its points as written in the
+//! `--effect` syntax and in a diagnosis JSON, and a one-sentence description
+//! of its shape.
+//!
+//! `--effect torque_table:joint=J:angle_deg=A1,A2,..:torque_nm=T1,T2,..`
+//! `[:rate_deg_s=R1,R2,..:rate_torque_nm=G1,G2,..]` (either table or both).
+
+use deploywatch_core::{Table, TorqueTable};
+use std::fmt::Write as _;
+
+/// The four point lists of a torque table as they are written, before they
+/// are checked and built.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TablePoints {
+    /// `angle_deg`: abscissae of `f` [deg].
+    pub angle_deg: Option<Vec<f64>>,
+    /// `torque_nm`: `f` at those angles [N·m].
+    pub torque_nm: Option<Vec<f64>>,
+    /// `rate_deg_s`: abscissae of `g` [deg/s].
+    pub rate_deg_s: Option<Vec<f64>>,
+    /// `rate_torque_nm`: `g` at those rates [N·m].
+    pub rate_torque_nm: Option<Vec<f64>>,
+}
+
+impl TablePoints {
+    /// Takes `key=value` when `key` is one of the four table keys; returns
+    /// `Ok(false)` for any other key.
+    pub fn take(&mut self, key: &str, value: &str) -> Result<bool, String> {
+        let slot = match key {
+            "angle_deg" => &mut self.angle_deg,
+            "torque_nm" => &mut self.torque_nm,
+            "rate_deg_s" => &mut self.rate_deg_s,
+            "rate_torque_nm" => &mut self.rate_torque_nm,
+            _ => return Ok(false),
+        };
+        let list = value
+            .split(',')
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<Vec<f64>, _>>()
+            .map_err(|_| format!("`{key}={value}`: expected numbers separated by commas"))?;
+        *slot = Some(list);
+        Ok(true)
+    }
+
+    /// True when no table key was given.
+    pub fn is_empty(&self) -> bool {
+        *self == TablePoints::default()
+    }
+
+    /// Builds the table: each of `f` and `g` needs both its lists, of equal
+    /// length, abscissae strictly increasing; at least one of them.
+    pub fn build(&self) -> Result<TorqueTable<f64>, String> {
+        let one = |x: &Option<Vec<f64>>, y: &Option<Vec<f64>>, xk: &str, yk: &str| match (x, y) {
+            (None, None) => Ok(None),
+            (Some(x), Some(y)) if x.len() == y.len() => Table::new(x, y)
+                .map(Some)
+                .map_err(|e| format!("{xk}/{yk}: {e}")),
+            (Some(_), Some(_)) => Err(format!("{xk} and {yk} must have as many points")),
+            _ => Err(format!("{xk} and {yk} go together: give both")),
+        };
+        let t = TorqueTable {
+            angle: one(&self.angle_deg, &self.torque_nm, "angle_deg", "torque_nm")?,
+            rate: one(
+                &self.rate_deg_s,
+                &self.rate_torque_nm,
+                "rate_deg_s",
+                "rate_torque_nm",
+            )?,
+        };
+        if t.angle.is_none() && t.rate.is_none() {
+            return Err(
+                "torque_table needs angle_deg/torque_nm, rate_deg_s/rate_torque_nm or both".into(),
+            );
+        }
+        Ok(t)
+    }
+}
+
+/// `a,b,c` of a list, shortest round-trip form of each number.
+fn list(v: &[f64]) -> String {
+    v.iter()
+        .map(|x| x.to_string())
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// The table's keys in the `--effect` syntax, each preceded by `:`.
+pub fn to_keys(t: &TorqueTable<f64>) -> String {
+    let mut s = String::new();
+    if let Some(f) = &t.angle {
+        let _ = write!(s, ":angle_deg={}:torque_nm={}", list(f.xs()), list(f.ys()));
+    }
+    if let Some(g) = &t.rate {
+        let _ = write!(
+            s,
+            ":rate_deg_s={}:rate_torque_nm={}",
+            list(g.xs()),
+            list(g.ys())
+        );
+    }
+    s
+}
+
+/// The largest absolute torque of either table [N·m] (the `value` a
+/// diagnosis reports beside the tables).
+pub fn max_abs_nm(t: &TorqueTable<f64>) -> f64 {
+    [&t.angle, &t.rate]
+        .into_iter()
+        .flatten()
+        .flat_map(|tab| tab.ys().iter().map(|y| y.abs()))
+        .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn given_points_when_built_then_keys_round_trip() {
+        let mut p = TablePoints::default();
+        assert!(p.take("angle_deg", "-90,-45,0").unwrap());
+        assert!(p.take("torque_nm", "0,0.3,-0.1").unwrap());
+        assert!(!p.take("joint", "1").unwrap());
+        let t = p.build().unwrap();
+        assert_eq!(to_keys(&t), ":angle_deg=-90,-45,0:torque_nm=0,0.3,-0.1");
+        assert_eq!(max_abs_nm(&t), 0.3);
+    }
+
+    #[test]
+    fn given_bad_points_then_the_error_names_the_keys() {
+        let mut p = TablePoints::default();
+        p.take("rate_deg_s", "0,10").unwrap();
+        assert!(p.build().unwrap_err().contains("rate_torque_nm"));
+        p.take("rate_torque_nm", "1").unwrap();
+        assert!(p.build().unwrap_err().contains("as many points"));
+        assert!(p.take("angle_deg", "a,b").is_err());
+        assert!(TablePoints::default().build().is_err());
+    }
+}

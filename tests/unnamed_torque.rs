@@ -1,0 +1,312 @@
+//! Hidden unnamed torques (issue 13): torques of forms no named effect of
+//! `physics.md` section 6 has, hidden in seeded campaigns, beside named
+//! effects or alone, one or two per campaign.
+//!
+//! The generator writes its own forms as dense `torque_table`s (eight
+//! points, unlike the five-knot tables the diagnosis fits, at other places):
+//! - `rub`: a resisting bump over part of the stroke (a harness that rubs),
+//!   `T exp(−((φ − φc)/w)²)`;
+//! - `ramp`: a torque that grows linearly over the last part of the stroke
+//!   (a cable pulled taut), driving or resisting;
+//! - `rate`: a resisting torque `c √(|φ̇|/R)`, sub-linear in the rate (no
+//!   named effect has that form);
+//! - `rub+rate`: both at one joint.
+//!
+//! The seeds and the truth stay in this file; the diagnosis sees the runs
+//! and the nominal mechanisms only. A case passes when every joint that
+//! holds a hidden torque holds a found effect (a `torque_table`, or a named
+//! effect that explains the data as well: a named effect wins over a table)
+//! and the extended model, re-simulated, fits the runs within twice the
+//! noise RMS; every other case must be reported `unexplained`, naming the
+//! joint and the stroke region. The share found as tables is printed.
+
+use deploywatch_core::{Table, TorqueTable};
+use deploywatch_sim::analysis::diagnose::{diagnose, DiagnoseOptions};
+use deploywatch_sim::data::campaign::Campaign;
+use deploywatch_sim::model::effect::{Effect, EffectKind};
+use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::report::progress::quiet;
+use deploywatch_sim::simulate::deployment::{self, SimOptions};
+use deploywatch_sim::simulate::sensor::{self, SensorModel};
+use deploywatch_tests::data_dir;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::path::Path;
+
+const PAIRS: [[&str; 2]; 2] = [
+    ["seed001_T01", "seed001_T02"],
+    ["seed000_case1", "seed000_case3"],
+];
+
+/// The unnamed forms drawn.
+#[derive(Clone, Copy, Debug)]
+enum Form {
+    Rub,
+    Ramp,
+    Rate,
+    RubRate,
+}
+
+fn mechanisms(pair: usize) -> Vec<Mechanism> {
+    PAIRS[pair]
+        .iter()
+        .map(|m| Mechanism::load(&data_dir().join(format!("mechanisms/{m}.toml"))).unwrap())
+        .collect()
+}
+
+/// Eight points of `y(x)` evenly over `[lo, hi]`.
+fn table_of(lo: f64, hi: f64, y: impl Fn(f64) -> f64) -> Table<f64> {
+    let xs: Vec<f64> = (0..8).map(|i| lo + (hi - lo) * i as f64 / 7.0).collect();
+    let ys: Vec<f64> = xs.iter().map(|&x| y(x)).collect();
+    Table::new(&xs, &ys).unwrap()
+}
+
+/// A table of form `form` at joint `j` (1-based) of a joint stowed at
+/// `stowed` deg, with amplitude `amp` [N·m].
+fn draw_table(rng: &mut ChaCha8Rng, form: Form, stowed: f64, amp: f64) -> TorqueTable<f64> {
+    let motion = -stowed.signum(); // sign of φ̇ while deploying
+    let (a, b) = (stowed.min(0.0), stowed.max(0.0));
+    let at = |f: f64| stowed * (1.0 - f); // fraction f of the stroke done
+    let rub = |rng: &mut ChaCha8Rng| {
+        let c = at(rng.gen_range(0.2..0.8));
+        let w = stowed.abs() * rng.gen_range(0.08..0.2);
+        table_of((c - 2.0 * w).max(a), (c + 2.0 * w).min(b), move |x| {
+            -motion * amp * (-((x - c) / w).powi(2)).exp()
+        })
+    };
+    let rate = |rng: &mut ChaCha8Rng| {
+        let r = rng.gen_range(100.0..400.0);
+        let (lo, hi) = if motion > 0.0 { (0.0, r) } else { (-r, 0.0) };
+        table_of(lo, hi, move |x| -motion * amp * (x.abs() / r).sqrt())
+    };
+    match form {
+        Form::Rub => TorqueTable {
+            angle: Some(rub(rng)),
+            rate: None,
+        },
+        Form::Ramp => {
+            let start = rng.gen_range(0.4..0.7);
+            let s = if rng.gen::<bool>() { 1.0 } else { -1.0 };
+            let (lo, hi) = (at(start).min(at(1.0)), at(start).max(at(1.0)));
+            let x0 = at(start);
+            TorqueTable {
+                angle: Some(table_of(lo, hi, move |x| {
+                    s * amp * ((x - x0) / (at(1.0) - x0)).clamp(0.0, 1.0)
+                })),
+                rate: None,
+            }
+        }
+        Form::Rate => TorqueTable {
+            angle: None,
+            rate: Some(rate(rng)),
+        },
+        Form::RubRate => TorqueTable {
+            angle: Some(rub(rng)),
+            rate: Some(rate(rng)),
+        },
+    }
+}
+
+/// How far effects move the pair of runs [deg RMS], noise-free.
+fn effect_size(mechs: &[Mechanism], effects: &[Effect]) -> f64 {
+    let opts = SimOptions {
+        stop_when_deployed: false,
+        ..SimOptions::default()
+    };
+    let (mut sse, mut n) = (0.0, 0usize);
+    for m in mechs {
+        let a = deployment::simulate(m, &[], &opts).unwrap();
+        let b = deployment::simulate(m, effects, &opts).unwrap();
+        for j in 0..m.joint_count() {
+            for (x, y) in a.phi_deg[j].iter().zip(&b.phi_deg[j]) {
+                sse += (x - y).powi(2);
+                n += 1;
+            }
+        }
+    }
+    (sse / n as f64).sqrt()
+}
+
+/// One hidden torque at joint `j`, its amplitude raised until it moves the
+/// runs by at least 0.3° RMS.
+fn hidden_torque(seed: u64, form: Form, mechs: &[Mechanism], j: usize) -> Effect {
+    let stowed = mechs[0].joints[j - 1].stowed_deg;
+    let mut amp = 0.05;
+    loop {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let table = draw_table(&mut rng, form, stowed, amp);
+        let e = Effect {
+            kind: EffectKind::TorqueTable,
+            joint: Some(j),
+            value: amp,
+            table,
+            ..Effect::default()
+        };
+        if effect_size(mechs, &[e]) >= 0.3 || amp > 2.0 {
+            return e;
+        }
+        amp *= 1.5;
+    }
+}
+
+struct Case {
+    pair: usize,
+    truth: Vec<Effect>,
+    runs: Vec<deploywatch_sim::data::run::Run>,
+    noise_rms_deg: f64,
+}
+
+/// Simulates the truth and measures it with the reference sensor; returns
+/// the runs and the RMS of the sensor noise they carry.
+fn generate(seed: u64, pair: usize, truth: Vec<Effect>) -> Case {
+    let mechs = mechanisms(pair);
+    let (mut sse, mut n) = (0.0, 0usize);
+    let runs = mechs
+        .iter()
+        .enumerate()
+        .map(|(r, m)| {
+            let traj = deployment::simulate(m, &truth, &SimOptions::default()).unwrap();
+            let mut run = sensor::measure(
+                &traj,
+                &vec![0.0; m.joint_count()],
+                &SensorModel::REFERENCE,
+                seed * 10 + r as u64,
+            );
+            for j in 0..m.joint_count() {
+                for (y, x) in run.phi_deg[j].iter().zip(&traj.phi_deg[j]) {
+                    sse += (y - x).powi(2);
+                    n += 1;
+                }
+            }
+            run.set_meta("mechanism", &m.name);
+            run
+        })
+        .collect();
+    Case {
+        pair,
+        truth,
+        runs,
+        noise_rms_deg: (sse / n as f64).sqrt(),
+    }
+}
+
+/// The hidden cases: a form alone, beside a named effect, and two tables.
+fn cases() -> Vec<Case> {
+    let mut out = Vec::new();
+    let mut rng = ChaCha8Rng::seed_from_u64(1313);
+    let forms = [Form::Rub, Form::Ramp, Form::Rate, Form::RubRate];
+    for k in 0..12u64 {
+        let seed = 7000 + k;
+        let pair = (k % 2) as usize;
+        let mechs = mechanisms(pair);
+        let joints = mechs[0].joint_count();
+        let j = rng.gen_range(1..=joints);
+        let mut truth = vec![hidden_torque(seed, forms[k as usize % 4], &mechs, j)];
+        match k / 4 {
+            1 => truth.push(match rng.gen_range(0..3) {
+                0 => Effect::joint(EffectKind::CoulombFriction, rng.gen_range(1..=joints), 0.3),
+                1 => Effect::global(EffectKind::AirDrag, 0.3),
+                _ => Effect {
+                    alpha_deg: rng.gen_range(0.0..360.0),
+                    ..Effect::global(EffectKind::RigTilt, 0.08)
+                },
+            }),
+            2 => {
+                let other = 1 + j % joints;
+                truth.push(hidden_torque(
+                    seed + 100,
+                    forms[(k as usize + 1) % 4],
+                    &mechs,
+                    other,
+                ));
+            }
+            _ => {}
+        }
+        out.push(generate(seed, pair, truth));
+    }
+    out
+}
+
+#[test]
+fn unnamed_torques_are_found_at_their_joint_or_reported_unexplained() {
+    let all = cases();
+    let (mut found_ok, mut unexplained_ok, mut tables_ok) = (0usize, 0usize, 0usize);
+    let mut bad = Vec::new();
+    for (k, case) in all.iter().enumerate() {
+        let mut campaign = Campaign::default();
+        let mechs = mechanisms(case.pair);
+        for (r, run) in case.runs.iter().enumerate() {
+            campaign
+                .push(&mechs, run.clone(), Path::new(&format!("run{r}.csv")))
+                .unwrap();
+        }
+        let o = diagnose(&campaign, &DiagnoseOptions::default(), &quiet);
+        // Only now the truth.
+        let found = o.extended.effects();
+        let table_joints = |v: &[Effect]| {
+            let mut j: Vec<_> = v
+                .iter()
+                .filter(|e| e.kind == EffectKind::TorqueTable)
+                .map(|e| e.joint)
+                .collect();
+            j.sort();
+            j
+        };
+        // The right joint: every joint that holds a hidden torque holds a
+        // found effect, a table or a named effect that explains it as well
+        // (a named effect that explains the data wins over a table).
+        let found_joints: Vec<_> = found.iter().map(|e| e.joint).collect();
+        let right_joint = table_joints(&case.truth)
+            .iter()
+            .all(|j| found_joints.contains(j));
+        let as_table = table_joints(&case.truth)
+            .iter()
+            .all(|j| table_joints(&found).contains(j));
+        let fits = o.extended.rms() <= 2.0 * case.noise_rms_deg;
+        let ok = right_joint && fits && o.unexplained.is_none();
+        let named_where = o
+            .unexplained
+            .as_deref()
+            .is_some_and(|u| u.contains("joint ") && u.contains("stroke"));
+        println!(
+            "case {k}: truth {:?} found {:?}; RMS {:.4} -> {:.4} (noise {:.4}, {:.1} s){}",
+            case.truth
+                .iter()
+                .map(|e| format!("{}@{:?}", e.kind, e.joint))
+                .collect::<Vec<_>>(),
+            found
+                .iter()
+                .map(|e| format!("{}@{:?}", e.kind, e.joint))
+                .collect::<Vec<_>>(),
+            o.baseline.rms(),
+            o.extended.rms(),
+            case.noise_rms_deg,
+            o.wall_s,
+            o.unexplained
+                .as_deref()
+                .map(|u| format!("; unexplained: {u}"))
+                .unwrap_or_default()
+        );
+        if ok {
+            found_ok += 1;
+            tables_ok += usize::from(as_table);
+        } else if named_where {
+            unexplained_ok += 1;
+        } else {
+            bad.push(k);
+        }
+    }
+    println!(
+        "right joint and fit within 2x noise: {found_ok}/{} ({tables_ok} of them as torque_table at every hidden joint); unexplained with joint and region: {unexplained_ok}; neither: {bad:?}",
+        all.len()
+    );
+    assert!(
+        found_ok * 10 >= all.len() * 8,
+        "only {found_ok}/{} found",
+        all.len()
+    );
+    assert!(
+        bad.is_empty(),
+        "cases neither found nor reported unexplained: {bad:?}"
+    );
+}
