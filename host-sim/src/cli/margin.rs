@@ -9,7 +9,7 @@
 //! required minimum.
 
 use super::CliError;
-use crate::analysis::design_margin::{joint_margin, JointMargin, Resistance, Standard};
+use crate::analysis::design_margin::{joint_margin, JointMargin, NameError, Resistance, Standard};
 use crate::model::mechanism::Mechanism;
 use std::path::PathBuf;
 
@@ -36,14 +36,14 @@ pub struct MarginArgs {
 }
 
 fn parse_standard(s: &str) -> Result<Standard, String> {
-    s.parse()
+    s.parse().map_err(|e: NameError| e.to_string())
 }
 
 fn parse_factor(s: &str) -> Result<(Resistance, f64), String> {
     let (k, v) = s
         .split_once('=')
         .ok_or_else(|| format!("`{s}`: expected KIND=VALUE, e.g. friction=2.5"))?;
-    let kind: Resistance = k.parse()?;
+    let kind: Resistance = k.parse().map_err(|e: NameError| e.to_string())?;
     let value: f64 = v
         .trim()
         .parse()
