@@ -88,17 +88,32 @@ impl fmt::Display for Resistance {
     }
 }
 
+/// A name that is not a [`Resistance`] or a [`Standard`].
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum NameError {
+    /// Not a kind of resistance.
+    #[error("unknown resistance `{name}`: expected one of {}", Resistance::ALL.map(|r| r.name()).join(", "))]
+    Resistance {
+        /// The name given.
+        name: String,
+    },
+    /// Not a standard.
+    #[error("unknown standard `{name}`: expected none, nasa-std-5017 or ecss-e-st-33-01c")]
+    Standard {
+        /// The name given.
+        name: String,
+    },
+}
+
 impl FromStr for Resistance {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = NameError;
+    fn from_str(s: &str) -> Result<Self, NameError> {
         Resistance::ALL
             .into_iter()
             .find(|r| r.name().eq_ignore_ascii_case(s.trim()))
-            .ok_or_else(|| {
-                format!(
-                    "unknown resistance `{s}`: expected one of {}",
-                    Resistance::ALL.map(|r| r.name()).join(", ")
-                )
+            .ok_or_else(|| NameError::Resistance {
+                name: s.to_string(),
             })
     }
 }
@@ -246,16 +261,16 @@ impl fmt::Display for Standard {
 }
 
 impl FromStr for Standard {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = NameError;
+    fn from_str(s: &str) -> Result<Self, NameError> {
         let t = s.trim().to_ascii_lowercase().replace('_', "-");
         match t.as_str() {
             "none" => Ok(Standard::None),
             "nasa-std-5017" | "nasa-std-5017b" | "nasa" => Ok(Standard::NasaStd5017),
             "ecss-e-st-33-01c" | "ecss" => Ok(Standard::EcssEST3301C),
-            _ => Err(format!(
-                "unknown standard `{s}`: expected none, nasa-std-5017 or ecss-e-st-33-01c"
-            )),
+            _ => Err(NameError::Standard {
+                name: s.to_string(),
+            }),
         }
     }
 }

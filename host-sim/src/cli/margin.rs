@@ -10,7 +10,9 @@
 //! factor applied, and pass/fail against its required minimum. `--json`
 //! writes the same table.
 use super::{check_output, CliError, Console};
-use crate::analysis::design_margin::{joint_margin, Factors, JointMargin, Resistance, Standard};
+use crate::analysis::design_margin::{
+    joint_margin, Factors, JointMargin, NameError, Resistance, Standard,
+};
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::{self, SimOptions};
@@ -82,7 +84,7 @@ impl clap::ValueEnum for Standard {
     }
 
     fn from_str(input: &str, _ignore_case: bool) -> Result<Self, String> {
-        input.parse()
+        input.parse().map_err(|e: NameError| e.to_string())
     }
 }
 
@@ -90,7 +92,7 @@ fn parse_factor(s: &str) -> Result<(Resistance, f64), String> {
     let (k, v) = s
         .split_once('=')
         .ok_or_else(|| format!("`{s}`: expected KIND=VALUE, e.g. friction=2.5"))?;
-    let kind: Resistance = k.parse()?;
+    let kind: Resistance = k.parse().map_err(|e: NameError| e.to_string())?;
     let value: f64 = v
         .trim()
         .parse()
