@@ -278,3 +278,57 @@ pub fn band(form: &TableForm, p: &[f64], ci: &[[f64; 2]]) -> [TorqueTable<f64>; 
     let hi: Vec<f64> = ci.iter().map(|c| c[1]).collect();
     [form.table(p), form.table(&lo), form.table(&hi)]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn form(from_deg: i32, rate_max_deg_s: i32) -> TableForm {
+        TableForm {
+            angle_knots: TableForm::ANGLE_KNOTS,
+            from_deg,
+            rate_knots: TableForm::RATE_KNOTS,
+            rate_max_deg_s,
+        }
+    }
+
+    #[test]
+    fn given_a_stroke_from_180_when_tabled_then_knot_values_follow_the_angles() {
+        // Knot torques are given from the stowed end towards the latch.
+        let t = form(180, -200).table(&[1.0, 2.0, 3.0, 4.0, 5.0, 0.5, 0.7]);
+        let f = t.angle.unwrap();
+        assert_eq!(f.xs(), &[0.0, 45.0, 90.0, 135.0, 180.0]);
+        assert_eq!(f.ys(), &[5.0, 4.0, 3.0, 2.0, 1.0]);
+        let g = t.rate.unwrap();
+        assert_eq!(g.xs(), &[-200.0, -100.0, 0.0]);
+        assert_eq!(g.ys(), &[0.7, 0.5, 0.0]);
+    }
+
+    #[test]
+    fn given_a_stroke_from_minus_90_then_the_knots_are_already_increasing() {
+        let t = form(-90, 150).table(&[1.0, 2.0, 3.0, 4.0, 5.0, -0.1, -0.2]);
+        assert_eq!(t.angle.unwrap().xs(), &[-90.0, -67.5, -45.0, -22.5, 0.0]);
+        assert_eq!(t.angle.unwrap().ys(), &[1.0, 2.0, 3.0, 4.0, 5.0]);
+        assert_eq!(t.rate.unwrap().ys(), &[0.0, -0.1, -0.2]);
+    }
+
+    #[test]
+    fn given_a_resisting_bump_then_the_shape_names_joint_region_and_sign() {
+        // Joint 2 deploys from 180° towards 0 (φ̇ < 0): a positive torque resists.
+        let f = TableForm {
+            rate_knots: 0,
+            ..form(180, -200)
+        };
+        let t = f.table(&[0.0, 0.05, 0.3, 0.05, 0.0]);
+        let s = shape_sentence(&f, 2, &t);
+        assert!(
+            s.starts_with("joint 2: a resisting torque of up to 0.300 N·m"),
+            "{s}"
+        );
+        assert!(
+            s.contains("middle third") && s.contains("around 90°"),
+            "{s}"
+        );
+        assert!(s.contains("independent of the rate"), "{s}");
+    }
+}
