@@ -139,6 +139,8 @@ pub struct Mechanism {
     pub duration_s: f64,
     /// `[run] sample_hz` [Hz].
     pub sample_hz: f64,
+    /// `[truss]`: links on the panels (`None`: the open chain).
+    pub truss: Option<crate::model::truss::Truss>,
 }
 
 impl Mechanism {

@@ -125,6 +125,15 @@ pub enum MechanismError {
         /// The TOML type found.
         found: String,
     },
+    /// The `[truss]` table is invalid (`crate::model::truss_toml`).
+    #[error("{file}: {source}")]
+    Truss {
+        /// The file.
+        file: String,
+        /// What is wrong, with its key path.
+        #[source]
+        source: crate::model::truss::TrussError,
+    },
     /// A value of the right type is out of range or otherwise invalid.
     #[error("{}: `{key}`: expected {expected}, found {found}", loc(file, *line))]
     InvalidValue {
@@ -225,7 +234,9 @@ impl MechanismError {
     /// The 1-based line the error points at, when known.
     pub fn line(&self) -> Option<usize> {
         match self {
-            MechanismError::Io { .. } | MechanismError::Write { .. } => None,
+            MechanismError::Io { .. }
+            | MechanismError::Write { .. }
+            | MechanismError::Truss { .. } => None,
             MechanismError::Syntax { line, .. }
             | MechanismError::UnknownKey { line, .. }
             | MechanismError::MissingKey { line, .. }
@@ -249,6 +260,7 @@ impl MechanismError {
             | MechanismError::UnknownSpringKind { key, .. }
             | MechanismError::UnknownTapeType { key, .. }
             | MechanismError::BadCurve { key, .. } => Some(key),
+            MechanismError::Truss { source, .. } => Some(&source.key),
             _ => None,
         }
     }
@@ -385,6 +397,9 @@ impl Mechanism {
             num(self.duration_s),
             num(self.sample_hz)
         );
+        if let Some(t) = &self.truss {
+            crate::model::truss_toml::write(t, &mut out);
+        }
         out
     }
 
@@ -641,7 +656,15 @@ impl<'de> Visitor<'de> for SpVisitor {
 
 type Res<T> = Result<T, MechanismError>;
 
-const TOP_KEYS: &[&str] = &["name", "description", "panel", "joint", "tape", "run"];
+const TOP_KEYS: &[&str] = &[
+    "name",
+    "description",
+    "panel",
+    "joint",
+    "tape",
+    "run",
+    "truss",
+];
 const PANEL_KEYS: &[&str] = &["length_m", "mass_kg", "com_m", "inertia_kgm2"];
 const JOINT_KEYS: &[&str] = &["stowed_deg", "spring", "friction"];
 const LINEAR_KEYS: &[&str] = &["kind", "preload_nm", "stiffness_nm_per_rad", "count"];
@@ -943,6 +966,12 @@ impl Cx<'_> {
             joints,
             duration_s,
             sample_hz,
+            truss: crate::model::truss_toml::read(self.text).map_err(|e| {
+                MechanismError::Truss {
+                    file: self.file.to_string(),
+                    source: e,
+                }
+            })?,
         })
     }
 

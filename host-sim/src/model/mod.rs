@@ -5,3 +5,5 @@ pub mod effect;
 pub mod kinematics;
 pub mod mechanism;
 pub mod mechanism_toml;
+pub mod truss;
+pub mod truss_toml;
