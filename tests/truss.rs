@@ -148,3 +148,142 @@ fn truss_mechanisms_round_trip() {
         assert_eq!(back.to_toml_string(), text, "{name}: writing is stable");
     }
 }
+
+// ------------------------------------------------------------- four-bar
+
+use deploywatch_sim::simulate::multibody::{self, Body, Model, Pin, PointSpring, System};
+
+/// Ground pivots 0.5 m apart, crank 0.15 m, coupler 0.45 m, rocker 0.30 m
+/// (Grashof crank-rocker: no dead point).
+const FOUR_BAR: [f64; 4] = [0.5, 0.15, 0.45, 0.3];
+
+/// The upper intersection of the circles (p, r) and (q, s).
+fn circles(p: [f64; 2], r: f64, q: [f64; 2], s: f64) -> [f64; 2] {
+    let d = [q[0] - p[0], q[1] - p[1]];
+    let l = (d[0] * d[0] + d[1] * d[1]).sqrt();
+    let a = (r * r - s * s + l * l) / (2.0 * l);
+    let h = (r * r - a * a).sqrt();
+    let m = [p[0] + a * d[0] / l, p[1] + a * d[1] / l];
+    [m[0] - h * d[1] / l, m[1] + h * d[0] / l]
+}
+
+/// Closed-form rocker angle [rad] at crank angle `t2` [rad].
+fn rocker_angle(t2: f64) -> f64 {
+    let [d, a, b, c] = FOUR_BAR;
+    let pa = [a * t2.cos(), a * t2.sin()];
+    let pb = circles(pa, b, [d, 0.0], c);
+    (pb[1]).atan2(pb[0] - d)
+}
+
+/// The four-bar at crank angle 60°, driven by a torque on the crank and a
+/// spring from the ground to the coupler's middle.
+fn four_bar() -> Model {
+    let [d, a, b, c] = FOUR_BAR;
+    let t2 = 60f64.to_radians();
+    let pa = [a * t2.cos(), a * t2.sin()];
+    let pb = circles(pa, b, [d, 0.0], c);
+    let bar = |name: &str, m: f64, l: f64, p: [f64; 2], q: [f64; 2]| Body {
+        name: name.into(),
+        mass_kg: m,
+        inertia_kgm2: m * l * l / 12.0,
+        com_m: [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])],
+    };
+    let ground = Body {
+        name: "ground".into(),
+        mass_kg: 0.0,
+        inertia_kgm2: 0.0,
+        com_m: [0.0; 2],
+    };
+    let mut crank = Pin::plain("O2", 0, 1, [0.0, 0.0]);
+    crank.offset_rad = t2;
+    crank.torque_nm = 1.0;
+    let mut rocker = Pin::plain("O4", 0, 3, [d, 0.0]);
+    rocker.offset_rad = rocker_angle(t2);
+    let mid = [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])];
+    let sys = System {
+        bodies: vec![
+            ground,
+            bar("crank", 0.2, a, [0.0, 0.0], pa),
+            bar("coupler", 0.4, b, pa, pb),
+            bar("rocker", 0.3, c, [d, 0.0], pb),
+        ],
+        pins: vec![
+            crank,
+            Pin::plain("A", 1, 2, pa),
+            Pin::plain("B", 2, 3, pb),
+            rocker,
+        ],
+        springs: vec![PointSpring {
+            a: (0, [0.25, 0.6]),
+            b: (2, mid),
+            stiffness_n_m: 50.0,
+            rest_m: 0.1,
+        }],
+    };
+    Model::new(sys).unwrap()
+}
+
+fn tight() -> SimOptions {
+    SimOptions {
+        rtol: 1e-11,
+        atol: 1e-13,
+        ..SimOptions::default()
+    }
+}
+
+#[test]
+fn four_bar_follows_closed_form_kinematics_and_conserves_energy() {
+    let model = four_bar();
+    assert_eq!(
+        model.mobility(&[0.0; 3], &[false; 4]),
+        1,
+        "Gruebler 3·3 − 2·4 = 1"
+    );
+    let times: Vec<f64> = (0..=2000).map(|k| k as f64 * 1e-3).collect();
+    let run = multibody::run(&model, &times, &tight()).unwrap();
+    assert_eq!(run.t_s.len(), times.len());
+    let (crank, rocker) = (&run.angle_deg[0], &run.angle_deg[3]);
+    let lo = crank.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = crank.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    assert!(hi - lo > 45.0, "the crank swings: {lo}° to {hi}°");
+    let mut worst: f64 = 0.0;
+    for i in 0..times.len() {
+        let want = rocker_angle(crank[i].to_radians());
+        let d = (rocker[i].to_radians() - want + std::f64::consts::PI)
+            .rem_euclid(2.0 * std::f64::consts::PI)
+            - std::f64::consts::PI;
+        worst = worst.max(d.abs());
+    }
+    eprintln!("four-bar: rocker vs closed form {worst:.2e} rad");
+    assert!(worst <= 1e-9, "rocker angle off by {worst} rad");
+    check_invariants("four-bar", &run);
+}
+
+/// Energy within 1e-9 of its initial value (relative) and constraint error
+/// within 1e-9 m at every sample.
+fn check_invariants(what: &str, run: &multibody::MbTrajectory) {
+    let e0 = run.energy_j[0];
+    let drift = run
+        .energy_j
+        .iter()
+        .map(|e| (e - e0).abs())
+        .fold(0.0, f64::max)
+        / e0.abs();
+    let gmax = run.constraint_error.iter().copied().fold(0.0, f64::max);
+    eprintln!("{what}: energy drift {drift:.2e} (relative), constraint {gmax:.2e} m");
+    assert!(drift <= 1e-9, "{what}: energy drift {drift} (relative)");
+    assert!(gmax <= 1e-9, "{what}: constraint error {gmax} m");
+}
+
+#[test]
+fn truss_conserves_energy_before_the_first_lock_and_keeps_its_constraints() {
+    let m = Mechanism::load(&data_dir().join("mechanisms/seed000_case2_truss.toml")).unwrap();
+    // Knee H locks at 0.663 s.
+    let opts = SimOptions {
+        duration_s: Some(0.65),
+        ..tight()
+    };
+    let run = simulate_wing(&m, &opts).unwrap().run;
+    assert!(run.lock_s.iter().all(Option::is_none));
+    check_invariants("truss", &run);
+}

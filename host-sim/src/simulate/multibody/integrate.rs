@@ -43,6 +43,10 @@ pub struct MbTrajectory {
     pub angle_deg: Vec<Vec<f64>>,
     /// `locked[p][i]`: pin `p` locked at sample `i`.
     pub locked: Vec<Vec<bool>>,
+    /// Mechanical energy at each sample [J] ([`Model::energy`]).
+    pub energy_j: Vec<f64>,
+    /// Constraint error `max |g|` at each sample [m or rad].
+    pub constraint_error: Vec<f64>,
 }
 
 /// Integrates a model from its reference pose at rest and samples it at
@@ -142,6 +146,9 @@ impl<'a, const N: usize> Runner<'a, N> {
     fn push(&mut self, t: f64, y: &State<N>) {
         let k = self.model.kin(&y.q, &y.v);
         self.out.t_s.push(t);
+        self.out.energy_j.push(self.model.energy(&y.q, &y.v));
+        let err = self.model.constraint_error(&y.q, &self.active);
+        self.out.constraint_error.push(err);
         for p in 0..self.latched.len() {
             let alpha = match (self.latched[p], self.model.sys.pins[p].lock_at_rad) {
                 (true, Some(l)) => l,

@@ -229,11 +229,25 @@ impl Model {
         r
     }
 
-    /// Kinetic energy `½ q̇ᵀ M q̇` [J].
-    pub fn kinetic(&self, k: &Kin, v: &[f64]) -> f64 {
-        let (m, _) = self.mass_and_forces(k);
-        let v = DVector::from_column_slice(v);
-        0.5 * v.dot(&(&m * &v))
+    /// Mechanical energy [J]: kinetic `½ q̇ᵀ M q̇`, plus the pin springs'
+    /// `∫₀^|α| T` (`Spring::release`), plus `½ c (ℓ − ℓ0)²` of the point
+    /// springs, minus the work potential `τ α` of the applied torques.
+    /// Conserved without friction and locks.
+    pub fn energy(&self, q: &[f64], v: &[f64]) -> f64 {
+        let k = self.kin(q, v);
+        let (m, _) = self.mass_and_forces(&k);
+        let vd = DVector::from_column_slice(v);
+        let mut e = 0.5 * vd.dot(&(&m * &vd));
+        for (p, pin) in self.sys.pins.iter().enumerate() {
+            let alpha = self.pin_angle(&k, p).0;
+            e += pin.spring.release(0.0, alpha.abs()) - pin.torque_nm * alpha;
+        }
+        for s in &self.sys.springs {
+            let d = sub(k.world(s.b.0, s.b.1), k.world(s.a.0, s.a.1));
+            let stretch = dot(d, d).sqrt() - s.rest_m;
+            e += 0.5 * s.stiffness_n_m * stretch * stretch;
+        }
+        e
     }
 }
 
