@@ -6,6 +6,7 @@ pub mod identify;
 pub mod margin;
 pub mod replay;
 pub mod simulate;
+pub mod truss;
 
 use clap::{Parser, Subcommand};
 

@@ -45,6 +45,9 @@ pub struct SimulateArgs {
 /// Runs `deploywatch simulate`.
 pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
+    if mech.truss.is_some() {
+        return super::truss::run(args, &mech);
+    }
     for e in &args.effects {
         e.validate(mech.joint_count())
             .map_err(|m| CliError::input(format!("--effect {e}: {m}")))?;

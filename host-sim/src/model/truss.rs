@@ -162,20 +162,20 @@ impl Truss {
                     ));
                 }
             }
-            if p.on == Carrier::Node && n < 2 {
-                return Err(err(
-                    format!("{key}.on"),
-                    format!(
-                        "free node \"{}\" is on {n} link(s); expected a node on at least two links",
-                        p.name
-                    ),
-                ));
-            }
             if p.knee && (p.on != Carrier::Node || n != 2) {
                 return Err(err(
                     format!("{key}.knee"),
                     format!(
                         "knee \"{}\" joins {n} link(s); expected a free node of exactly two links",
+                        p.name
+                    ),
+                ));
+            }
+            if p.on == Carrier::Node && n < 2 {
+                return Err(err(
+                    format!("{key}.on"),
+                    format!(
+                        "free node \"{}\" is on {n} link(s); expected a node on at least two links",
                         p.name
                     ),
                 ));
