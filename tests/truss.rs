@@ -287,3 +287,171 @@ fn truss_conserves_energy_before_the_first_lock_and_keeps_its_constraints() {
     assert!(run.lock_s.iter().all(Option::is_none));
     check_invariants("truss", &run);
 }
+
+// ------------------------------------------------- Andrews' squeezer
+
+/// Andrews' squeezing mechanism (Hairer & Wanner II §VII.7; the "andrews"
+/// problem of the Test Set for IVP Solvers, Mazzia et al., `andrews.f`):
+/// seven bodies, four of them meeting at one point E, a spring and a
+/// driving torque. Constants and consistent initial values from the test
+/// set; its reference solution at t = 0.03 s (`andsoln`, PSIDE at
+/// tol 1e-14) is below.
+mod andrews {
+    use super::*;
+
+    const M: [f64; 7] = [
+        0.04325, 0.00365, 0.02373, 0.00706, 0.07050, 0.00706, 0.05498,
+    ];
+    const I: [f64; 7] = [
+        2.194e-6, 4.410e-7, 5.255e-6, 5.667e-7, 1.169e-5, 5.667e-7, 1.912e-5,
+    ];
+    const XA: [f64; 2] = [-0.06934, -0.00227];
+    const XB: [f64; 2] = [-0.03635, 0.03273];
+    const XC: [f64; 2] = [0.014, 0.072];
+    const D: f64 = 28e-3;
+    const DA: f64 = 115e-4;
+    const E: f64 = 2e-2;
+    const EA: f64 = 1421e-5;
+    const RR: f64 = 7e-3;
+    const RA: f64 = 92e-5;
+    const SS: f64 = 35e-3;
+    const SA: f64 = 1874e-5;
+    const SB: f64 = 1043e-5;
+    const SC: f64 = 18e-3;
+    const SD: f64 = 2e-2;
+    const TA: f64 = 2308e-5;
+    const TB: f64 = 916e-5;
+    const U: f64 = 4e-2;
+    const UA: f64 = 1228e-5;
+    const UB: f64 = 449e-5;
+    const ZF: f64 = 2e-2;
+    const ZT: f64 = 4e-2;
+    const FA: f64 = 1421e-5;
+    const MOM: f64 = 0.033;
+    const C0: f64 = 4530.0;
+    const L0: f64 = 0.07785;
+
+    /// β, Θ, γ, Φ, δ, Ω, ε at t = 0 (consistent), as published.
+    #[allow(clippy::excessive_precision)]
+    pub const Q0: [f64; 7] = [
+        -0.0617138900142764496358948458001,
+        0.0,
+        0.455279819163070380255912382449,
+        0.222668390165885884674473185609,
+        0.487364979543842550225598953530,
+        -0.222668390165885884674473185609,
+        1.23054744454982119249735015568,
+    ];
+
+    /// β, Θ, γ, Φ, δ, Ω, ε at t = 0.03 s (the test set's reference).
+    pub const Q_REF: [f64; 7] = [
+        0.1581077119629904e2,
+        -0.1575637105984298e2,
+        0.4082224013073101e-1,
+        -0.5347301163226948,
+        0.5244099658805304,
+        0.5347301163226948,
+        0.1048080741042263e1,
+    ];
+
+    fn at(p: [f64; 2], r: f64, a: f64) -> [f64; 2] {
+        [p[0] + r * a.cos(), p[1] + r * a.sin()]
+    }
+
+    fn body(m: f64, i: f64, com_m: [f64; 2]) -> Body {
+        Body {
+            name: String::new(),
+            mass_kg: m,
+            inertia_kgm2: i,
+            com_m,
+        }
+    }
+
+    fn pin(a: usize, b: usize, p: [f64; 2], offset_rad: f64) -> Pin {
+        let mut pin = Pin::plain("", a, b, p);
+        pin.offset_rad = offset_rad;
+        pin
+    }
+
+    /// Bodies at the initial pose; pins 0..=6 carry β, Θ, γ, Φ, δ, Ω, ε.
+    pub fn model() -> Model {
+        let [be, th, ga, ph, de, om, ep] = Q0;
+        let o = [0.0, 0.0];
+        let f = at(o, RR, be);
+        let e = at(f, -D, be + th);
+        // E is also at the end of body 3 (`g1`, `g2` of andrews.f).
+        let e3 = [XB[0] + SS * ga.sin(), XB[1] - SS * ga.cos()];
+        assert!((e[0] - e3[0]).hypot(e[1] - e3[1]) < 1e-14);
+        let p = at(XA, ZT, de);
+        let q = at(XA, U, ep - std::f64::consts::FRAC_PI_2);
+        let dpt = [
+            XB[0] + SD * ga.cos() + SC * ga.sin(),
+            XB[1] + SD * ga.sin() - SC * ga.cos(),
+        ];
+        let ground = body(0.0, 0.0, o);
+        let bodies = vec![
+            ground,
+            body(M[0], I[0], at(o, RA, be)),
+            body(M[1], I[1], at(f, -DA, be + th)),
+            body(M[2], I[2], at(XB, SA.hypot(SB), ga)),
+            body(M[4], I[4], at(XA, TA.hypot(TB), de)),
+            body(
+                M[3],
+                I[3],
+                at(p, E - EA, ph + de - std::f64::consts::FRAC_PI_2),
+            ),
+            body(M[6], I[6], at(XA, UA.hypot(UB), ep)),
+            body(M[5], I[5], at(q, ZF - FA, om + ep)),
+        ];
+        let mut crank = pin(0, 1, o, be);
+        crank.torque_nm = MOM;
+        let pins = vec![
+            crank,
+            pin(1, 2, f, th),
+            pin(0, 3, XB, ga),
+            pin(4, 5, p, ph),
+            pin(0, 4, XA, de),
+            pin(6, 7, q, om),
+            pin(0, 6, XA, ep),
+            pin(2, 3, e, 0.0),
+            pin(2, 5, e, 0.0),
+            pin(2, 7, e, 0.0),
+        ];
+        let springs = vec![PointSpring {
+            a: (0, XC),
+            b: (3, dpt),
+            stiffness_n_m: C0,
+            rest_m: L0,
+        }];
+        Model::new(System {
+            bodies,
+            pins,
+            springs,
+        })
+        .unwrap()
+    }
+}
+
+#[test]
+fn andrews_squeezer_matches_the_test_set_reference_at_30_ms() {
+    let model = andrews::model();
+    assert_eq!(model.n(), 7);
+    assert!(model.constraint_error(&[0.0; 7], &[false; 10]) < 1e-15);
+    assert_eq!(model.mobility(&[0.0; 7], &[false; 10]), 1);
+    let opts = SimOptions {
+        rtol: 1e-12,
+        atol: 1e-14,
+        max_step_s: 1e-3,
+        ..SimOptions::default()
+    };
+    let run = multibody::run(&model, &[0.0, 0.03], &opts).unwrap();
+    for (p, want) in andrews::Q_REF.iter().enumerate() {
+        let got = run.angle_deg[p][1].to_radians();
+        let rel = (got - want).abs() / want.abs();
+        eprintln!(
+            "andrews q{}: {got:.15e} vs {want:.15e} (relative {rel:.1e})",
+            p + 1
+        );
+        assert!(rel <= 1e-6, "angle {}: {got} vs {want} ({rel:e})", p + 1);
+    }
+}
