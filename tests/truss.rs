@@ -455,3 +455,50 @@ fn andrews_squeezer_matches_the_test_set_reference_at_30_ms() {
         assert!(rel <= 1e-6, "angle {}: {got} vs {want} ({rel:e})", p + 1);
     }
 }
+
+/// The lock-up mode of `truss-link.md`: with the outer panel held folded
+/// (hinge I held at −180° from the start) the inner panel deploys and the
+/// wing locks in the second fully locked pose near `φ_O = 0`,
+/// `φ_I = −179.75°`, with the outer panel stowed.
+#[test]
+fn lock_up_mode_finds_the_second_locked_pose() {
+    let m = Mechanism::load(&data_dir().join("mechanisms/seed000_case2_truss.toml")).unwrap();
+    let mut model = deploywatch_sim::simulate::multibody::wing_model(&m).unwrap();
+    let hold = &mut model.sys.pins[1];
+    assert_eq!(hold.name, "hinge 2");
+    hold.lock_at_rad = Some(hold.offset_rad);
+    let times: Vec<f64> = (0..=600).map(|k| k as f64 * 0.01).collect();
+    let run = multibody::run(&model, &times, &SimOptions::default()).unwrap();
+    let names: Vec<&str> = model.sys.pins.iter().map(|p| p.name.as_str()).collect();
+    eprintln!(
+        "lock-up: end {:.4} s, φ_O {:.4}°, mobility {:?}, locks {:?} {:?}",
+        run.end_s,
+        run.angle_deg[0].last().unwrap(),
+        run.mobility,
+        names,
+        run.lock_s
+    );
+    let knee_h = *run.angle_deg[8].last().unwrap();
+    eprintln!("lock-up: knee H {knee_h:.4}° at the end");
+    assert_eq!(run.mobility.last(), Some(&0));
+    // With the hold, O, B and E lock and the held wing has no freedom left;
+    // H is not yet straight (about 170°).
+    for p in [0, 6, 7] {
+        assert!(run.lock_s[p].is_some(), "{} locks", names[p]);
+    }
+    // Released, the outer panel closes H: the pose with O, B, E and H
+    // locked next to the stowed outer panel is the second locked pose.
+    model.sys.pins[1].lock_at_rad = Some(0.0);
+    let mut locked = vec![false; model.sys.pins.len()];
+    for p in [0, 6, 7, 8] {
+        locked[p] = true;
+    }
+    let mut q = run.final_q.clone();
+    let err = model.project_position(&mut q, &locked).unwrap();
+    let k = model.kin(&q, &vec![0.0; q.len()]);
+    let phi_i = model.pin_angle(&k, 1).0.to_degrees();
+    eprintln!("second locked pose: φ_I {phi_i:.4}°, closure {err:.1e}");
+    assert!(err < 1e-9, "the pose closes: {err}");
+    assert!((phi_i + 179.75).abs() < 0.01, "φ_I {phi_i}°");
+    assert_eq!(model.mobility(&q, &locked), 0);
+}

@@ -32,6 +32,8 @@ pub struct MbTrajectory {
     /// Mobility `n − rank C` after each lock event, starting with the
     /// initial one.
     pub mobility: Vec<usize>,
+    /// Tree coordinates where the simulation stopped [rad].
+    pub final_q: Vec<f64>,
     /// Largest constraint error after any projection [m or rad].
     pub max_constraint_error: f64,
     /// Lock instant of each pin [s].
@@ -189,6 +191,15 @@ impl<'a, const N: usize> Runner<'a, N> {
     fn run(mut self, times: &[f64]) -> Result<MbTrajectory, SimError> {
         let duration = times.last().copied().unwrap_or(0.0);
         let mut y = State::<N>::ZERO;
+        // A pin that starts at its lock angle is held from the start (a
+        // hold-down: the lock-up mode of `truss-link.md`).
+        for (p, pin) in self.model.sys.pins.iter().enumerate() {
+            if pin.lock_at_rad == Some(pin.offset_rad) {
+                self.active[p] = true;
+                self.latched[p] = true;
+                self.out.lock_s[p] = Some(0.0);
+            }
+        }
         let m0 = self.model.mobility(&y.q, &self.active);
         self.out.mobility.push(m0);
         let mut k = 0usize;
@@ -259,6 +270,7 @@ impl<'a, const N: usize> Runner<'a, N> {
             k1 = self.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
         }
         self.out.end_s = t.min(duration);
+        self.out.final_q = y.q.to_vec();
         // Close the run: the first sample at or after the end.
         if k < times.len() {
             self.push(times[k], &y);
