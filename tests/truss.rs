@@ -502,3 +502,42 @@ fn lock_up_mode_finds_the_second_locked_pose() {
     assert!((phi_i + 179.75).abs() < 0.01, "φ_I {phi_i}°");
     assert_eq!(model.mobility(&q, &locked), 0);
 }
+
+/// One physics: the open chain of seed 000 case 1 built as a multibody
+/// system (hinges only) reproduces the chain's golden deployments
+/// (`data/reference/seed000_case1_*`) like the chain simulator does.
+#[test]
+fn multibody_reproduces_the_chain_goldens_without_a_truss() {
+    use deploywatch_sim::data::run::Run;
+    use deploywatch_sim::model::truss::open_chain_system;
+    // Latch instants of the golden JSON files.
+    let cases = [
+        ("nominal", [0.0, 0.0], [2.302428, 1.571546]),
+        ("eft", [0.54, 0.472], [2.734546, 1.788456]),
+    ];
+    for (variant, friction, latch_s) in cases {
+        let mut m = Mechanism::load(&data_dir().join("mechanisms/seed000_case1.toml")).unwrap();
+        for (j, f) in m.joints.iter_mut().zip(friction) {
+            j.friction.coulomb_nm = f;
+        }
+        let golden =
+            Run::load(&data_dir().join(format!("reference/seed000_case1_{variant}.csv"))).unwrap();
+        let model = Model::new(open_chain_system(&m).unwrap()).unwrap();
+        let run = multibody::run(&model, &golden.t_s, &SimOptions::default()).unwrap();
+        let n = golden.len().min(run.t_s.len());
+        assert!(golden.len().abs_diff(run.t_s.len()) <= 1);
+        for (j, want_s) in latch_s.iter().enumerate() {
+            let sse: f64 = (0..n)
+                .map(|i| (run.angle_deg[j][i] - golden.phi_deg[j][i]).powi(2))
+                .sum();
+            let rms = (sse / n as f64).sqrt();
+            eprintln!(
+                "chain {variant} joint {}: RMS {rms:.2e}°, lock {:?}",
+                j + 1,
+                run.lock_s[j]
+            );
+            assert!(rms <= 0.01, "{variant} joint {}: {rms}°", j + 1);
+            assert!((run.lock_s[j].unwrap() - want_s).abs() <= 1e-3);
+        }
+    }
+}

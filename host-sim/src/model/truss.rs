@@ -71,6 +71,33 @@ pub struct Truss {
     pub links: Vec<TrussLink>,
 }
 
+/// The open chain of `physics.md` §1 as a multibody [`System`] (hinges
+/// only, no links): the same springs, friction and latches as the chain
+/// simulator, to show that both simulators carry one physics.
+pub fn open_chain_system(mech: &Mechanism) -> Result<System, TrussError> {
+    let mut hinges_mm = vec![[0.0, 0.0]];
+    let mut dir = 0.0;
+    for (p, j) in mech
+        .panels
+        .iter()
+        .zip(&mech.joints)
+        .take(mech.panels.len() - 1)
+    {
+        dir += j.stowed_deg.to_radians();
+        let h = hinges_mm[hinges_mm.len() - 1];
+        hinges_mm.push([
+            h[0] + 1e3 * p.length_m * dir.cos(),
+            h[1] + 1e3 * p.length_m * dir.sin(),
+        ]);
+    }
+    Truss {
+        hinges_mm,
+        points: Vec::new(),
+        links: Vec::new(),
+    }
+    .system(mech)
+}
+
 /// Largest mismatch between a link's length and its points [mm].
 pub const LENGTH_TOL_MM: f64 = 0.01;
 
