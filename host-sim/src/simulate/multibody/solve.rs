@@ -27,10 +27,20 @@ pub const RANK_TOL: f64 = 1e-10;
 /// locked truss is dependent to about 1e-5, not to round-off.
 pub const IMPLIED_TOL: f64 = 1e-3;
 
-/// `W⁺ r` by SVD with the relative threshold [`RANK_TOL`].
+/// `W⁺ r`: by Cholesky of `W Wᵀ` (`W⁺ = Wᵀ (W Wᵀ)⁻¹`) when the rows are
+/// clearly independent (every pivot above `RANK_TOL²` of the largest), else
+/// by SVD with the relative threshold [`RANK_TOL`].
 fn pinv_solve(w: &DMatrix<f64>, r: &DVector<f64>) -> Option<DVector<f64>> {
     if w.nrows() == 0 {
         return Some(DVector::zeros(w.ncols()));
+    }
+    let g = w * w.transpose();
+    if let Some(ch) = g.clone().cholesky() {
+        let d = ch.l_dirty().diagonal();
+        let (lo, hi) = (d.min(), d.max());
+        if lo * lo > hi * hi * RANK_TOL * RANK_TOL {
+            return Some(w.transpose() * ch.solve(r));
+        }
     }
     let svd = w.clone().svd(true, true);
     let smax = svd.singular_values.max();
