@@ -170,6 +170,12 @@ pub fn simulate_at(
     times: &[f64],
 ) -> Result<Trajectory, SimError> {
     let n = mech.joint_count();
+    if mech.truss.is_some() {
+        return Err(SimError::Invalid(format!(
+            "mechanism `{}` has a [truss]: the chain simulator cannot run it; expected an open chain (truss wings: simulate::multibody)",
+            mech.name
+        )));
+    }
     for e in effects {
         e.validate(n).map_err(SimError::Invalid)?;
     }
