@@ -41,6 +41,23 @@ fn gruebler_mobility_seed000_table1() {
     assert_eq!(planar_mobility(10, 10, 0), 7);
 }
 
+/// Seed 000 Table 1, Type 2 corrected (`truss-link.md`): F joins four links,
+/// so it is three joints, not one: 12 revolute joints and 3 DOF — counted
+/// from the truss file and confirmed by the constraint Jacobian's rank.
+#[test]
+fn gruebler_mobility_seed000_table1_corrected_from_the_truss_file() {
+    use deploywatch_sim::model::kinematics::truss_bodies_and_joints;
+    use deploywatch_sim::simulate::multibody::wing_model;
+    let m = load("seed000_case2_truss.toml");
+    let (bodies, joints) = truss_bodies_and_joints(m.truss.as_ref().unwrap(), m.panels.len());
+    assert_eq!((bodies, joints), (10, 12));
+    assert_eq!(planar_mobility(10, 10, 0), 7, "as printed (F counted once)");
+    assert_eq!(planar_mobility(bodies, joints, 0), 3, "corrected");
+    let model = wing_model(&m).unwrap();
+    let q = vec![0.0; model.n()];
+    assert_eq!(model.mobility(&q, &vec![false; model.sys.pins.len()]), 3);
+}
+
 /// Seed 001 Eq. 3: 4 bodies · 6 − (1 fixed · 6 + 3 revolute · 5) = 3 (exact).
 #[test]
 fn spatial_mobility_seed001_eq3() {

@@ -18,6 +18,7 @@ pub mod identify;
 pub mod margin;
 pub mod replay;
 pub mod simulate;
+pub mod truss;
 
 use crate::report::progress::{self, Progress};
 use clap::{Parser, Subcommand};

@@ -79,6 +79,9 @@ pub fn effect_help() -> String {
 pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
     check_args(args, &mech)?;
+    if mech.truss.is_some() {
+        return super::truss::run(args, &mech);
+    }
     let console = Console::new(args.quiet);
     let opts = SimOptions {
         sample_hz: args.rate,

@@ -42,6 +42,31 @@ pub fn open_chain_mobility(n: u32) -> i64 {
     planar_mobility(n + 1, n, 0)
 }
 
+/// Bodies and revolute joints of a wing with a truss, counting a node that
+/// joins `k` links as `k − 1` joints (`truss-link.md`: F joins four links,
+/// three joints): `(L, J1)` for [`planar_mobility`].
+///
+/// `L = 1 + panels + links` (the bus included); `J1 = panels` hinges, plus
+/// one joint per link end on the bus or a panel, plus `k − 1` per free node
+/// of `k` links.
+pub fn truss_bodies_and_joints(truss: &crate::model::truss::Truss, panels: usize) -> (u32, u32) {
+    use crate::model::truss::Carrier;
+    let bodies = 1 + panels + truss.links.len();
+    let mut joints = panels;
+    for p in &truss.points {
+        let k = truss
+            .links
+            .iter()
+            .filter(|l| l.ends.iter().any(|e| e == &p.name))
+            .count();
+        joints += match p.on {
+            Carrier::Node => k.saturating_sub(1),
+            _ => k,
+        };
+    }
+    (bodies as u32, joints as u32)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

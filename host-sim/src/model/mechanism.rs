@@ -169,6 +169,8 @@ pub struct Mechanism {
     /// `[run] settle_s`: how long a run goes on recording after the first
     /// sample at or after the last latch [s] (`formats.md`).
     pub settle_s: f64,
+    /// `[truss]`: links on the panels (`None`: the open chain).
+    pub truss: Option<crate::model::truss::Truss>,
 }
 
 impl Mechanism {

@@ -125,6 +125,13 @@ pub enum MechanismErrorKind {
         /// The TOML type found.
         found: String,
     },
+    /// The `[truss]` table is invalid (`crate::model::truss_toml`).
+    #[error("{source}")]
+    Truss {
+        /// What is wrong, with its key path.
+        #[source]
+        source: crate::model::truss::TrussError,
+    },
     /// A value of the right type is out of range or otherwise invalid.
     #[error("`{key}`: expected {expected}, found {found}")]
     InvalidValue {
@@ -201,6 +208,7 @@ impl MechanismError {
             | MechanismErrorKind::UnknownSpringKind { key, .. }
             | MechanismErrorKind::UnknownTapeType { key, .. }
             | MechanismErrorKind::BadCurve { key, .. } => Some(key),
+            MechanismErrorKind::Truss { source } => Some(&source.key),
             _ => None,
         }
     }
@@ -331,6 +339,9 @@ impl Mechanism {
             num(self.sample_hz),
             num(self.settle_s)
         );
+        if let Some(t) = &self.truss {
+            crate::model::truss_toml::write(t, &mut out);
+        }
         out
     }
 
@@ -546,7 +557,15 @@ impl Node {
 
 type Res<T> = Result<T, MechanismError>;
 
-const TOP_KEYS: &[&str] = &["name", "description", "panel", "joint", "tape", "run"];
+const TOP_KEYS: &[&str] = &[
+    "name",
+    "description",
+    "panel",
+    "joint",
+    "tape",
+    "run",
+    "truss",
+];
 const PANEL_KEYS: &[&str] = &["length_m", "mass_kg", "com_m", "inertia_kgm2"];
 const JOINT_KEYS: &[&str] = &["stowed_deg", "spring", "friction"];
 const LINEAR_KEYS: &[&str] = &["kind", "preload_nm", "stiffness_nm_per_rad", "count"];
@@ -865,6 +884,8 @@ impl Cx<'_> {
             duration_s,
             sample_hz,
             settle_s,
+            truss: crate::model::truss_toml::read(self.text)
+                .map_err(|source| self.err(None, MechanismErrorKind::Truss { source }))?,
         })
     }
 

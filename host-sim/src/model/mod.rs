@@ -7,3 +7,5 @@ pub mod located;
 pub mod mechanism;
 pub mod mechanism_toml;
 pub mod torque_table;
+pub mod truss;
+pub mod truss_toml;

@@ -215,6 +215,13 @@ fn simulate_samples(
     opts: &SimOptions,
     times: Samples<'_>,
 ) -> Result<Trajectory, SimError> {
+    if mech.truss.is_some() {
+        return Err(SimError::Invalid(format!(
+            "mechanism `{}` has a [truss]: the chain simulator cannot run it; \
+             expected an open chain (truss wings: simulate::multibody)",
+            mech.name
+        )));
+    }
     let n = mech.joint_count();
     for e in effects {
         e.validate_joint(n)
@@ -410,7 +417,12 @@ mod small_list {
 /// Locates the root of `g` on the interpolant in `[t0, t1]` where
 /// `g(t0) > 0 ≥ g(t1)` (Illinois method), returning a time just past it
 /// (where `g ≤ 0`).
-fn locate<const N: usize>(g: impl Fn(&State<N>) -> f64, dense: &Dense<N>, t0: f64, t1: f64) -> f64 {
+pub(crate) fn locate<const N: usize>(
+    g: impl Fn(&State<N>) -> f64,
+    dense: &Dense<N>,
+    t0: f64,
+    t1: f64,
+) -> f64 {
     let (mut a, mut b) = (t0, t1);
     let (mut fa, mut fb) = (g(&dense.at(a)), g(&dense.at(b)));
     if fa <= 0.0 {

@@ -3,5 +3,6 @@
 //! reference sensor model, and the sensor faults a test bench can inject.
 pub mod deployment;
 pub mod fault_injection;
+pub mod multibody;
 pub mod ode;
 pub mod sensor;

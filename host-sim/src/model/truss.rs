@@ -1,0 +1,359 @@
+//! A truss of pin-jointed links on a panel wing (`docs/spec/truss-link.md`,
+//! the `[truss]` table of `docs/spec/formats.md`), and its conversion into a
+//! planar multibody [`System`].
+//!
+//! Everything is given at the stowed pose in the project frame (origin at
+//! hinge O, `physics.md` §1). Bodies: 0 the bus, 1..=n the panels, then one
+//! body per link. Pins:
+//! - hinge `j` between panel `j−1` and panel `j`: angle `φ_j = stowed +`
+//!   relative rotation, the mechanism's spring and friction, locks at 0;
+//! - a link end on the bus or a panel: angle of the link (from its far end
+//!   to the pin) relative to the carrier, stowed value from the geometry;
+//! - a knee (a node of exactly two links): interior angle, locks at 180°;
+//! - any other node joins its links to its reference link (three pins for
+//!   the four links at F), angle = relative rotation.
+
+use crate::model::mechanism::{FrictionSpec, Mechanism};
+use crate::simulate::multibody::{Body, Pin, System};
+use deploywatch_core::Spring;
+use std::f64::consts::PI;
+
+/// What a point of the truss is fixed to.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Carrier {
+    /// The bus (fixed).
+    Bus,
+    /// Panel `i` (1-based, bus outwards).
+    Panel(usize),
+    /// A free node: only the links that meet there hold it.
+    Node,
+}
+
+/// A named point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrussPoint {
+    /// Name (`"A"`, `"F"`...).
+    pub name: String,
+    /// What it is fixed to.
+    pub on: Carrier,
+    /// Position at the stowed pose [mm].
+    pub at_mm: [f64; 2],
+    /// A knee: a node of two links that locks when they are straight.
+    pub knee: bool,
+    /// For a node of three or more links: the link the others turn
+    /// against (default the first link that names the point).
+    pub reference_link: Option<String>,
+    /// Friction on every pin at this point (on the relative rotation).
+    pub friction: FrictionSpec,
+}
+
+/// A pin-jointed bar.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrussLink {
+    /// Name (`"1"`...`"7"`).
+    pub name: String,
+    /// Its two end points.
+    pub ends: [String; 2],
+    /// Mass [kg]; centre of mass at mid-length, inertia `m L²/12`.
+    pub mass_kg: f64,
+    /// Length [mm] (checked against the points).
+    pub length_mm: f64,
+}
+
+/// The truss of a wing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Truss {
+    /// Hinge `j` position at the stowed pose [mm], one per joint (O first).
+    pub hinges_mm: Vec<[f64; 2]>,
+    /// Named points.
+    pub points: Vec<TrussPoint>,
+    /// Links.
+    pub links: Vec<TrussLink>,
+}
+
+/// The open chain of `physics.md` §1 as a multibody [`System`] (hinges
+/// only, no links): the same springs, friction and latches as the chain
+/// simulator, to show that both simulators carry one physics.
+pub fn open_chain_system(mech: &Mechanism) -> Result<System, TrussError> {
+    let mut hinges_mm = vec![[0.0, 0.0]];
+    let mut dir = 0.0;
+    for (p, j) in mech
+        .panels
+        .iter()
+        .zip(&mech.joints)
+        .take(mech.panels.len() - 1)
+    {
+        dir += j.stowed_deg.to_radians();
+        let h = hinges_mm[hinges_mm.len() - 1];
+        hinges_mm.push([
+            h[0] + 1e3 * p.length_m * dir.cos(),
+            h[1] + 1e3 * p.length_m * dir.sin(),
+        ]);
+    }
+    Truss {
+        hinges_mm,
+        points: Vec::new(),
+        links: Vec::new(),
+    }
+    .system(mech)
+}
+
+/// Largest mismatch between a link's length and its points [mm].
+pub const LENGTH_TOL_MM: f64 = 0.01;
+
+/// `[x, y]` in mm as metres.
+fn m(p: [f64; 2]) -> [f64; 2] {
+    [p[0] * 1e-3, p[1] * 1e-3]
+}
+
+/// Why a truss is not a valid mechanism (the key path names the place).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("`{key}`: {message}")]
+pub struct TrussError {
+    /// Key path, e.g. `truss.link[3].length_mm`.
+    pub key: String,
+    /// What is wrong and what was expected.
+    pub message: String,
+}
+
+fn err(key: impl Into<String>, message: impl Into<String>) -> TrussError {
+    TrussError {
+        key: key.into(),
+        message: message.into(),
+    }
+}
+
+fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+fn angle(v: [f64; 2]) -> f64 {
+    v[1].atan2(v[0])
+}
+
+/// The body a point's carrier is (`None` for a node).
+fn carrier_body(c: &Carrier) -> Option<usize> {
+    match c {
+        Carrier::Bus => Some(0),
+        Carrier::Panel(i) => Some(*i),
+        Carrier::Node => None,
+    }
+}
+
+impl Truss {
+    fn point(&self, name: &str) -> Option<(usize, &TrussPoint)> {
+        self.points.iter().enumerate().find(|(_, p)| p.name == name)
+    }
+
+    /// Checks the geometry and the topology (lengths, knees, nodes).
+    pub fn check(&self, panels: usize) -> Result<(), TrussError> {
+        if self.hinges_mm.len() != panels {
+            return Err(err(
+                "truss.hinges_mm",
+                format!(
+                    "{} hinge positions; expected one per joint ({panels})",
+                    self.hinges_mm.len()
+                ),
+            ));
+        }
+        for (i, l) in self.links.iter().enumerate() {
+            let key = format!("truss.link[{}]", i + 1);
+            let mut at = [[0.0; 2]; 2];
+            for (e, name) in l.ends.iter().enumerate() {
+                at[e] = self
+                    .point(name)
+                    .ok_or_else(|| err(format!("{key}.ends"), format!("no point named \"{name}\"; expected one of the [[truss.point]] names")))?
+                    .1
+                    .at_mm;
+            }
+            let d = sub(at[1], at[0]);
+            let dist = (d[0] * d[0] + d[1] * d[1]).sqrt();
+            if (dist - l.length_mm).abs() > LENGTH_TOL_MM {
+                return Err(err(
+                    format!("{key}.length_mm"),
+                    format!(
+                        "link \"{}\" is {:.4} mm long but its points {} and {} are {:.4} mm apart; expected them to agree within {} mm",
+                        l.name, l.length_mm, l.ends[0], l.ends[1], dist, LENGTH_TOL_MM
+                    ),
+                ));
+            }
+        }
+        for (i, p) in self.points.iter().enumerate() {
+            let key = format!("truss.point[{}]", i + 1);
+            let n = self.links_at(&p.name).len();
+            if let Carrier::Panel(j) = p.on {
+                if j == 0 || j > panels {
+                    return Err(err(
+                        format!("{key}.on"),
+                        format!("panel {j}; expected 1 to {panels}"),
+                    ));
+                }
+            }
+            if p.knee && (p.on != Carrier::Node || n != 2) {
+                return Err(err(
+                    format!("{key}.knee"),
+                    format!(
+                        "knee \"{}\" joins {n} link(s); expected a free node of exactly two links",
+                        p.name
+                    ),
+                ));
+            }
+            if p.on == Carrier::Node && n < 2 {
+                return Err(err(
+                    format!("{key}.on"),
+                    format!(
+                        "free node \"{}\" is on {n} link(s); expected a node on at least two links",
+                        p.name
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Indices of the links with an end at the point `name`.
+    fn links_at(&self, name: &str) -> Vec<usize> {
+        (0..self.links.len())
+            .filter(|&i| self.links[i].ends.iter().any(|e| e == name))
+            .collect()
+    }
+
+    /// The multibody system of the wing with this truss (checked first).
+    pub fn system(&self, mech: &Mechanism) -> Result<System, TrussError> {
+        let np = mech.panels.len();
+        self.check(np)?;
+        let mut sys = System::default();
+        sys.bodies.push(Body {
+            name: "bus".into(),
+            mass_kg: 0.0,
+            inertia_kgm2: 0.0,
+            com_m: [0.0; 2],
+        });
+        self.add_panels(mech, &mut sys);
+        for l in &self.links {
+            let a = m(self
+                .point(&l.ends[0])
+                .map(|p| p.1.at_mm)
+                .unwrap_or_default());
+            let b = m(self
+                .point(&l.ends[1])
+                .map(|p| p.1.at_mm)
+                .unwrap_or_default());
+            let len = l.length_mm * 1e-3;
+            sys.bodies.push(Body {
+                name: format!("link {}", l.name),
+                mass_kg: l.mass_kg,
+                inertia_kgm2: l.mass_kg * len * len / 12.0,
+                com_m: [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])],
+            });
+        }
+        for p in &self.points {
+            self.add_point_pins(p, np, &mut sys)?;
+        }
+        Ok(sys)
+    }
+
+    /// Panels and their hinges (`truss-link.md`: centre of mass on the
+    /// hinge line of the inner panel, the others turned by their stowed
+    /// angles).
+    fn add_panels(&self, mech: &Mechanism, sys: &mut System) {
+        let np = mech.panels.len();
+        let first = if np > 1 {
+            angle(sub(self.hinges_mm[1], self.hinges_mm[0]))
+        } else {
+            mech.joints[0].stowed_deg.to_radians()
+        };
+        let mut dir = first;
+        for (i, (panel, joint)) in mech.panels.iter().zip(&mech.joints).enumerate() {
+            if i > 0 {
+                dir += joint.stowed_deg.to_radians();
+            }
+            let h = m(self.hinges_mm[i]);
+            sys.bodies.push(Body {
+                name: format!("panel {}", i + 1),
+                mass_kg: panel.mass_kg,
+                inertia_kgm2: panel.inertia_kgm2,
+                com_m: [
+                    h[0] + panel.com_m * dir.cos(),
+                    h[1] + panel.com_m * dir.sin(),
+                ],
+            });
+            let mut pin = Pin::plain(&format!("hinge {}", i + 1), i, i + 1, h);
+            pin.offset_rad = joint.stowed_deg.to_radians();
+            pin.spring = joint.spring.to_spring().unwrap_or(Spring::None);
+            pin.friction = joint.friction.to_friction();
+            pin.lock_at_rad = Some(0.0);
+            sys.pins.push(pin);
+        }
+    }
+
+    /// The pins at one point.
+    fn add_point_pins(
+        &self,
+        p: &TrussPoint,
+        np: usize,
+        sys: &mut System,
+    ) -> Result<(), TrussError> {
+        let links = self.links_at(&p.name);
+        let body_of = |l: usize| np + 1 + l;
+        let far = |l: usize| {
+            let e = &self.links[l].ends;
+            let other = if e[0] == p.name { &e[1] } else { &e[0] };
+            m(self.point(other).map(|q| q.1.at_mm).unwrap_or_default())
+        };
+        let at = m(p.at_mm);
+        if let Some(c) = carrier_body(&p.on) {
+            for &l in &links {
+                let mut pin = Pin::plain(
+                    &format!("{}:{}", p.name, self.links[l].name),
+                    c,
+                    body_of(l),
+                    at,
+                );
+                pin.offset_rad = angle(sub(at, far(l)));
+                pin.friction = p.friction.to_friction();
+                sys.pins.push(pin);
+            }
+            return Ok(());
+        }
+        let reference = match &p.reference_link {
+            Some(name) => links
+                .iter()
+                .copied()
+                .find(|&l| &self.links[l].name == name)
+                .ok_or_else(|| {
+                    err(
+                        format!("truss.point \"{}\".reference_link", p.name),
+                        format!(
+                            "link \"{name}\" does not end at \"{}\"; expected one of its links",
+                            p.name
+                        ),
+                    )
+                })?,
+            None => links[0],
+        };
+        for &l in links.iter().filter(|&&l| l != reference) {
+            let (a, b) = (body_of(reference), body_of(l));
+            let mut pin = Pin::plain(
+                &format!(
+                    "{}:{}-{}",
+                    p.name, self.links[reference].name, self.links[l].name
+                ),
+                a,
+                b,
+                at,
+            );
+            pin.friction = p.friction.to_friction();
+            if p.knee {
+                pin.name = p.name.clone();
+                let (u1, u2) = (sub(far(reference), at), sub(far(l), at));
+                let s0 = (u1[0] * u2[1] - u1[1] * u2[0]).atan2(u1[0] * u2[0] + u1[1] * u2[1]);
+                pin.sign = if s0 >= 0.0 { 1.0 } else { -1.0 };
+                pin.offset_rad = s0.abs();
+                pin.lock_at_rad = Some(PI);
+            }
+            sys.pins.push(pin);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,64 @@
+//! A wing with a truss: from a [`Mechanism`] with a `[truss]` to a sampled
+//! multibody run.
+
+use super::integrate::{run, MbTrajectory};
+use super::kin::Model;
+use crate::model::mechanism::Mechanism;
+use crate::simulate::deployment::{SimError, SimOptions};
+
+/// A truss deployment: the multibody run and the names of its pins.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WingRun {
+    /// Pin names, in the order of the run's series (hinges first: `hinge 1`,
+    /// `hinge 2`...; knees by their point name; `P:L` a link `L` on a body at
+    /// point `P`; `P:R-L` link `L` against link `R` at node `P`).
+    pub pins: Vec<String>,
+    /// The run.
+    pub run: MbTrajectory,
+}
+
+impl WingRun {
+    /// The series of the pin called `name`: angles [deg] and lock flags.
+    pub fn series(&self, name: &str) -> Option<(&[f64], &[bool])> {
+        let p = self.pins.iter().position(|n| n == name)?;
+        Some((&self.run.angle_deg[p], &self.run.locked[p]))
+    }
+
+    /// Lock instant of the pin called `name` [s].
+    pub fn lock_s(&self, name: &str) -> Option<f64> {
+        let p = self.pins.iter().position(|n| n == name)?;
+        self.run.lock_s[p]
+    }
+}
+
+/// The multibody model of a mechanism with a truss.
+pub fn wing_model(mech: &Mechanism) -> Result<Model, SimError> {
+    let truss = mech
+        .truss
+        .as_ref()
+        .ok_or_else(|| SimError::Invalid(format!("mechanism `{}` has no [truss]", mech.name)))?;
+    let sys = truss
+        .system(mech)
+        .map_err(|e| SimError::Invalid(e.to_string()))?;
+    Model::new(sys).map_err(|e| SimError::Invalid(e.to_string()))
+}
+
+/// Simulates a mechanism with a truss from the stowed pose at rest, sampled
+/// at the mechanism's (or the options') rate.
+pub fn simulate_wing(mech: &Mechanism, opts: &SimOptions) -> Result<WingRun, SimError> {
+    let model = wing_model(mech)?;
+    let duration = opts.duration_s.unwrap_or(mech.duration_s);
+    let rate = opts.sample_hz.unwrap_or(mech.sample_hz);
+    if !(duration > 0.0 && rate > 0.0 && duration.is_finite() && rate.is_finite()) {
+        return Err(SimError::Invalid(format!(
+            "duration ({duration} s) and sample rate ({rate} Hz) must be positive"
+        )));
+    }
+    let last = (duration * rate + 1e-9).floor() as usize;
+    let times: Vec<f64> = (0..=last).map(|k| k as f64 / rate).collect();
+    let run = run(&model, &times, opts)?;
+    Ok(WingRun {
+        pins: model.sys.pins.iter().map(|p| p.name.clone()).collect(),
+        run,
+    })
+}

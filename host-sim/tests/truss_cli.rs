@@ -1,0 +1,168 @@
+//! `deploywatch simulate` on truss mechanisms as a black box: a good truss
+//! runs; bad truss input gives a clear error (file, key, what was expected)
+//! and exit code 2, never a panic.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn data() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../data")
+}
+
+fn case2() -> String {
+    std::fs::read_to_string(data().join("mechanisms/seed000_case2_truss.toml")).unwrap()
+}
+
+/// Runs `deploywatch simulate` on the given mechanism text.
+fn simulate(text: &str) -> (Output, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    let mech = dir.path().join("wing.toml");
+    std::fs::write(&mech, text).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_deploywatch"))
+        .arg("simulate")
+        .arg(&mech)
+        .arg("--out")
+        .arg(dir.path().join("run.csv"))
+        .arg("--no-noise")
+        .output()
+        .unwrap();
+    (out, dir)
+}
+
+/// Asserts exit code 2, no panic, and every fragment in the message.
+fn rejects(text: &str, fragments: &[&str]) {
+    let (out, _dir) = simulate(text);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for f in fragments {
+        assert!(err.contains(f), "`{f}` missing from: {err}");
+    }
+}
+
+#[test]
+fn a_truss_wing_deploys_and_prints_its_mobility() {
+    let (out, dir) = simulate(&case2());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(text.contains("Gruebler 3(10 - 1) - 2·12 = 3"), "{text}");
+    assert!(text.contains("3 -> 2 -> 1 -> 0"), "{text}");
+    let run = std::fs::read_to_string(dir.path().join("run.csv")).unwrap();
+    assert!(run.contains("t_s,phi1_deg,phi2_deg,latch1,latch2"), "{run}");
+    let extra = std::fs::read_to_string(dir.path().join("run_truss.csv")).unwrap();
+    assert!(extra.contains("t_s,psi_deg,kneeB_deg,kneeE_deg,kneeH_deg,kneeB,kneeE,kneeH"));
+}
+
+#[test]
+fn a_link_whose_length_does_not_match_its_points() {
+    let text = case2().replace("length_mm = 753.5785", "length_mm = 760.0");
+    rejects(
+        &text,
+        &[
+            "wing.toml",
+            "truss.link[3].length_mm",
+            "753.5785 mm apart",
+            "expected",
+        ],
+    );
+}
+
+#[test]
+fn a_knee_on_one_link() {
+    let text = case2().replace(
+        "name = \"A\"\non = \"bus\"",
+        "name = \"A\"\non = \"bus\"\nknee = true",
+    );
+    rejects(
+        &text,
+        &[
+            "wing.toml",
+            "truss.point[1].knee",
+            "knee \"A\" joins 1 link(s)",
+            "expected a free node of exactly two links",
+        ],
+    );
+}
+
+#[test]
+fn a_free_node_on_no_link() {
+    let text = format!(
+        "{}\n[[truss.point]]\nname = \"Z\"\non = \"node\"\nat_mm = [1.0, 2.0]\n",
+        case2()
+    );
+    rejects(
+        &text,
+        &[
+            "wing.toml",
+            "truss.point[9].on",
+            "free node \"Z\" is on 0 link(s)",
+            "expected",
+        ],
+    );
+}
+
+#[test]
+fn a_loop_that_cannot_close_at_the_stowed_pose() {
+    // Node F moved 1 mm: links 2, 3, 5 and 7 can no longer all reach it.
+    let text = case2().replace("at_mm = [-34.44, 884.27]", "at_mm = [-34.44, 885.27]");
+    rejects(
+        &text,
+        &[
+            "wing.toml",
+            "truss.link[2].length_mm",
+            "expected them to agree",
+        ],
+    );
+}
+
+/// Three more links (A–D, D–G, A–F) pin both panels and node F: 0 DOF.
+#[test]
+fn a_truss_that_locks_up() {
+    let p = |x: f64, y: f64| [x, y];
+    let (a, d, g, f) = (
+        p(-70.0, 299.0),
+        p(-56.0, 651.0),
+        p(56.4, 163.0),
+        p(-34.44, 884.27),
+    );
+    let len = |u: [f64; 2], v: [f64; 2]| ((u[0] - v[0]).powi(2) + (u[1] - v[1]).powi(2)).sqrt();
+    let mut text = case2();
+    for (name, e0, e1, l) in [
+        ("8", "A", "D", len(a, d)),
+        ("9", "D", "G", len(d, g)),
+        ("10", "A", "F", len(a, f)),
+    ] {
+        text.push_str(&format!(
+            "\n[[truss.link]]\nname = \"{name}\"\nends = [\"{e0}\", \"{e1}\"]\nmass_kg = 0.1\nlength_mm = {l}\n"
+        ));
+    }
+    rejects(
+        &text,
+        &[
+            "wing.toml",
+            "`truss`",
+            "locked up at the stowed pose",
+            "expected",
+        ],
+    );
+}
+
+#[test]
+fn unknown_truss_keys_and_bad_carriers() {
+    let text = case2().replace("on = \"bus\"", "on = \"wall\"");
+    rejects(
+        &text,
+        &[
+            "wing.toml",
+            "truss.point[1].on",
+            "expected \"bus\", \"node\" or \"panel1\"",
+        ],
+    );
+    let text = case2().replace("hinges_mm =", "hinge_mm =");
+    rejects(&text, &["wing.toml", "truss.hinge_mm", "unknown key"]);
+}
