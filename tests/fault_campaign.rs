@@ -267,7 +267,7 @@ fn score<const N: usize>(
     let st: Vec<Status<N>> = samples::<N>(&run)
         .expect("joint count")
         .iter()
-        .map(|s| m.update(s))
+        .map(|s| m.update_and_predict(s))
         .collect();
     tally.runs += 1;
     let ctx = |j: usize| format!("{label}: {} seed {seed} joint {}: {fault}", sc.name, j + 1);

@@ -28,6 +28,7 @@ pub mod rollout;
 pub mod smoother;
 pub mod spring;
 pub mod telemetry;
+pub mod trig;
 
 pub use chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel};
 pub use friction::Friction;
