@@ -780,7 +780,13 @@ fn clean_monte_carlo(sample_hz: f64, runs: usize, draws: u64, sensor: u64) {
     for k in 0..runs {
         let effects = scatter(&mut rng);
         let seed = sensor + k as u64;
-        let (traj, run) = simulate_run(&mech, &effects, seed);
+        // formats.md: a run goes on for settle_s after the last latch, or
+        // ends at duration_s when a joint never latches.
+        let mut traj = simulate_truth(&mech, &effects);
+        if traj.latch_s.iter().all(Option::is_some) {
+            hold(&mut traj, HOLD_S, 1.0 / mech.sample_hz);
+        }
+        let run = measure(&traj, &[], &SensorModel::REFERENCE, seed);
         let st = replay(&cfg, &run);
         let (count, seen) = flags_raised(&st);
         if count > 0 {

@@ -550,6 +550,12 @@ const IMPACT_INFLATE_SAMPLES: u8 = 2;
 /// Rate variance added to every free joint at an impact [rad²/s²]: the
 /// plastic impulse changes the rates by up to about 2 rad/s.
 const IMPACT_RATE_VAR: f32 = 4.0;
+/// Innovations up to this many gates are a manoeuvre (the filter restarts
+/// at the reading, keeping its rate), beyond it a spike (flagged). At
+/// σ ≈ 0.03° a gate is 0.17° and this 0.5°: a joint stopping under its
+/// friction at 5 rad/s² misses the prediction by ½·a·t² ≈ 0.06° over 20 ms,
+/// while a spike is degrees off.
+const MANOEUVRE_GATE: f32 = 3.0;
 /// Rate uncertainty of a filter restarted at an impact [rad/s].
 const IMPACT_RATE_SD: f32 = 1.0;
 /// Consecutive non-increasing time stamps after which the monitor adopts them.
@@ -784,10 +790,20 @@ impl<const N: usize> Monitor<N> {
                 }
                 if let Some(z) = meas[j] {
                     let r = if gap { r_meas + 1.0 } else { r_meas };
+                    // A reading beyond the gate but within
+                    // `MANOEUVRE_GATE` gates of the prediction is a
+                    // manoeuvre the white-jerk model did not foresee (a
+                    // joint that sticks under its friction stops with a
+                    // step in acceleration), not a spike.
+                    let nu = z - kf.angle();
+                    let manoeuvre =
+                        nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r);
                     match kf.update(z, r, gate2, &self.observer.jerk_adaptation) {
                         Fusion::Accepted => self.rejects[j] = 0,
-                        Fusion::Rejected if impact => {
+                        Fusion::Rejected if impact || manoeuvre => {
+                            let rate = if impact { 0.0 } else { kf.rate() };
                             *kf = RateFilter::new(z, sd, IMPACT_RATE_SD, START_ACC_SD);
+                            kf.set_rate(rate, 0.0);
                             kf.set_jerk_psd(self.observer.jerk_psd);
                             self.rejects[j] = 0;
                             self.blank_until = t + self.observer.settle_s;

@@ -117,6 +117,11 @@ impl RateFilter {
         self.x[2]
     }
 
+    /// Variance of the angle estimate [rad²].
+    pub fn angle_var(&self) -> f32 {
+        self.p[0]
+    }
+
     /// Variance of the rate estimate [rad²/s²].
     pub fn rate_var(&self) -> f32 {
         self.p[3]

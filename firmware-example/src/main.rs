@@ -39,7 +39,6 @@ use defmt_semihosting as _;
 use deploywatch_core::telemetry::replay::{
     replay as replay_input, ConfigHeader, Error, Meter, MonitorStore, Work,
 };
-use deploywatch_core::Monitor;
 use semihosting::experimental::env;
 use semihosting::fs::File;
 use semihosting::io::{Read, Write};
@@ -106,11 +105,8 @@ fn replay() -> Result<u32, Error> {
         defmt::error!("the core peripherals are already taken");
         return Err(Error::Config);
     };
-    // The monitors live in static memory (.bss), not on the stack.
-    let (Some(two), Some(three)) = (
-        cortex_m::singleton!(: Option<Monitor<2>> = None),
-        cortex_m::singleton!(: Option<Monitor<3>> = None),
-    ) else {
+    // The monitor lives in static memory (.bss), not on the stack.
+    let Some(store) = cortex_m::singleton!(: MonitorStore = MonitorStore::Empty) else {
         defmt::error!("the monitor storage is already taken");
         return Err(Error::Config);
     };
@@ -119,7 +115,7 @@ fn replay() -> Result<u32, Error> {
         |buf| input.read(buf).map_err(|_| ()),
         |frame| output.write_all(frame).map_err(|_| ()),
         &mut meter,
-        MonitorStore { two, three },
+        store,
         |h: &ConfigHeader| {
             defmt::info!(
                 "monitor of {=u8} joints, deadline {=f32} s",
@@ -237,7 +233,9 @@ impl Meter for WorkMeter {
 }
 
 /// Opens the input and creates the output, as the semihosting command line
-/// `PROGRAM INPUT OUTPUT` says.
+/// `PROGRAM INPUT OUTPUT` says. Out of line: its argument and path buffers
+/// leave the stack before the replay starts.
+#[inline(never)]
 fn setup() -> Result<(File, File), Setup> {
     let args = env::args::<512>().map_err(|_| Setup::Usage)?;
     let mut it = (&args).into_iter().skip(1);

@@ -667,7 +667,6 @@ fn panel<'a>(
 pub fn firmware_loop_on_host(input: &[u8]) -> Result<Vec<u8>, ReplayError> {
     let mut rest = input;
     let mut out = Vec::new();
-    let (mut two, mut three) = (None, None);
     deploywatch_core::telemetry::replay::replay(
         |buf| {
             let k = buf.len().min(rest.len());
@@ -680,10 +679,7 @@ pub fn firmware_loop_on_host(input: &[u8]) -> Result<Vec<u8>, ReplayError> {
             Ok(())
         },
         &mut (),
-        deploywatch_core::telemetry::replay::MonitorStore {
-            two: &mut two,
-            three: &mut three,
-        },
+        &mut deploywatch_core::telemetry::replay::MonitorStore::Empty,
         |_| {},
     )
     .map_err(|e| ReplayError::Target(format!("the firmware's loop on the host: {e}")))?;

@@ -249,14 +249,19 @@ impl Meter for () {
     fn stop(&mut self, _: Work) {}
 }
 
-/// Where the monitors live: the firmware gives static storage (a monitor is
+/// Where the monitor lives: the firmware gives static storage (a monitor is
 /// kilobytes; on the stack it would double the stack's peak), the host
-/// anything.
-pub struct MonitorStore<'a> {
-    /// The 2-joint monitor, built when the configuration says 2 joints.
-    pub two: &'a mut Option<Monitor<2>>,
+/// anything. One slot serves every joint count.
+#[derive(Default)]
+#[allow(clippy::large_enum_variant)]
+pub enum MonitorStore {
+    /// No monitor yet.
+    #[default]
+    Empty,
+    /// The 2-joint monitor.
+    Two(Monitor<2>),
     /// The 3-joint monitor.
-    pub three: &'a mut Option<Monitor<3>>,
+    Three(Monitor<3>),
 }
 
 /// Replays the sample frames left in `src` through `monitor`, as a flight
@@ -317,7 +322,7 @@ pub fn replay<R, W, M>(
     read: R,
     write: W,
     meter: &mut M,
-    store: MonitorStore<'_>,
+    store: &mut MonitorStore,
     on_config: impl FnOnce(&ConfigHeader),
 ) -> Result<(u8, u32), Error>
 where
@@ -331,34 +336,44 @@ where
     let n = match header.joints {
         2 => {
             let config = read_config::<2, R>(&header, &mut src)?;
-            replay_n(&config, store.two, &mut src, write, meter)
+            build(&config, store)?;
+            match store {
+                MonitorStore::Two(m) => run(m, &mut src, write, meter),
+                _ => Err(Error::Config),
+            }
         }
         3 => {
             let config = read_config::<3, R>(&header, &mut src)?;
-            replay_n(&config, store.three, &mut src, write, meter)
+            build(&config, store)?;
+            match store {
+                MonitorStore::Three(m) => run(m, &mut src, write, meter),
+                _ => Err(Error::Config),
+            }
         }
         _ => Err(Error::ConfigFrame),
     }?;
     Ok((header.joints, n))
 }
 
-/// One monitor size: out of line, so that only one size's frame is on the
-/// stack at a time, and called after [`read_config`] has returned, so that
-/// the configuration's construction is not on the stack under the
-/// monitor's.
+/// Builds the monitor of `config` in `store`. Out of line, so that the
+/// monitor under construction is not on the stack under [`run`].
 #[inline(never)]
-fn replay_n<const N: usize, R, W, M>(
-    config: &MonitorConfig<N>,
-    slot: &mut Option<Monitor<N>>,
-    src: &mut Source<R>,
-    write: W,
-    meter: &mut M,
-) -> Result<u32, Error>
+fn build<const N: usize>(config: &MonitorConfig<N>, store: &mut MonitorStore) -> Result<(), Error>
 where
-    R: FnMut(&mut [u8]) -> Result<usize, ()>,
-    W: FnMut(&[u8]) -> Result<(), ()>,
-    M: Meter,
+    Monitor<N>: Into<MonitorStore>,
 {
-    let monitor = slot.insert(Monitor::new(config).map_err(|_| Error::Config)?);
-    run(monitor, src, write, meter)
+    *store = Monitor::new(config).map_err(|_| Error::Config)?.into();
+    Ok(())
+}
+
+impl From<Monitor<2>> for MonitorStore {
+    fn from(m: Monitor<2>) -> Self {
+        MonitorStore::Two(m)
+    }
+}
+
+impl From<Monitor<3>> for MonitorStore {
+    fn from(m: Monitor<3>) -> Self {
+        MonitorStore::Three(m)
+    }
 }
