@@ -503,6 +503,8 @@ pub struct Monitor<const N: usize> {
     fit_run: bool,
     /// Time of the last centred fit [s].
     t_centre: f32,
+    /// Running mean of the sample intervals [s] (0 before the first).
+    dt_mean: f32,
     /// Each switch at the previous sample (a closing is an impact).
     switch_prev: [bool; N],
     /// End of the window after a switch closed in which a reading the rate
@@ -550,6 +552,11 @@ const IMPACT_INFLATE_SAMPLES: u8 = 2;
 /// Rate variance added to every free joint at an impact [rad²/s²]: the
 /// plastic impulse changes the rates by up to about 2 rad/s.
 const IMPACT_RATE_VAR: f32 = 4.0;
+/// Relative departure of a sample interval from the running mean beyond
+/// which the time stamp is flagged `time_jitter` [1].
+const JITTER_TOL: f32 = 0.2;
+/// Weight of a new interval in the running mean [1].
+const JITTER_WEIGHT: f32 = 0.05;
 /// Innovations up to this many gates are a manoeuvre (the filter restarts
 /// at the reading, keeping its rate), beyond it a spike (flagged). At
 /// σ ≈ 0.03° a gate is 0.17° and this 0.5°: a joint stopping under its
@@ -617,6 +624,7 @@ impl<const N: usize> Monitor<N> {
             t_centre: f32::NEG_INFINITY,
             rollout_start: None,
             switch_prev: [false; N],
+            dt_mean: 0.0,
             impact_until: f32::NEG_INFINITY,
             impact_samples: 0,
             next_margin: 0,
@@ -704,6 +712,15 @@ impl<const N: usize> Monitor<N> {
                 dt = d.min(1.0);
             } else {
                 dt = d;
+                // Time-stamp jitter: an interval off the running mean.
+                if self.dt_mean > 0.0 && libm::fabsf(d - self.dt_mean) > JITTER_TOL * self.dt_mean {
+                    global.insert(Fault::TimeJitter);
+                }
+                self.dt_mean = if self.dt_mean > 0.0 {
+                    self.dt_mean + JITTER_WEIGHT * (d - self.dt_mean)
+                } else {
+                    d
+                };
             }
         }
         self.back_run = 0;
@@ -806,7 +823,9 @@ impl<const N: usize> Monitor<N> {
                             kf.set_rate(rate, 0.0);
                             kf.set_jerk_psd(self.observer.jerk_psd);
                             self.rejects[j] = 0;
-                            self.blank_until = t + self.observer.settle_s;
+                            if impact {
+                                self.blank_until = t + self.observer.settle_s;
+                            }
                         }
                         Fusion::Rejected => {
                             faults[j].insert(Fault::EncoderOutlier);
