@@ -55,7 +55,7 @@ fn ldl_masked<T: Real, const N: usize>(
             l[i][i] = T::ONE;
             continue;
         }
-        for j in 0..=i {
+        for j in 0..i + 1 {
             if locked[j] {
                 continue;
             }
