@@ -288,8 +288,8 @@ impl Default for MarginConfig {
             confidence: 0.9,
             rollout: RolloutConfig {
                 dt_s: 0.01,
-                steps_per_slice: 4,
-                slices_per_sample: 3,
+                steps_per_slice: 2,
+                slices_per_sample: 6,
                 horizon_s: 10.0,
                 coulomb_threshold_rad_s: crate::friction::COULOMB_THRESHOLD_RAD_S as f32,
             },
