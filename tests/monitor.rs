@@ -889,3 +889,65 @@ fn clean_monte_carlo_at_100_hz_raises_no_fault_flag() {
 fn clean_monte_carlo_at_1_khz_raises_no_fault_flag() {
     clean_monte_carlo(1000.0, MC_RUNS, 7, 5000);
 }
+
+/// The longest full prediction cycle measured on the default schedule,
+/// rounded up [s] (issue 14's target: 0.5 s).
+const REFRESH_LIMIT_S: f64 = 1.6;
+
+/// How fresh the prediction is: replaying seed001 T01 and T02 with the
+/// papers' friction at 100 Hz on the replay schedule
+/// (`Monitor::update_and_predict`: `slices_per_sample` slices of
+/// `steps_per_slice` rollout steps after each sample), the longest time
+/// between two completed cycles of the four rollouts (nominal,
+/// pessimistic, nominal, optimistic), from the first completed rollout to
+/// the last latch (to the deadline when a joint stalls). Issue 14 asks for a full refresh at least every 0.5 s
+/// of deployment at 100 Hz; that is not met on the default schedule (12
+/// rollout steps per sample: the longest cycle is 1.2 s on T01 and 1.5 s on
+/// T02, early in a deployment while every rollout runs to the deadline), so
+/// this holds the
+/// present figure ([`REFRESH_LIMIT_S`]) against regressions; the printout
+/// is the figure in docs/performance.md. (20 slices per sample bring T01
+/// to 0.38 s but T02 only to 0.59 s, and move T02's stall call.)
+#[test]
+fn full_prediction_refresh_cycle() {
+    for name in ["seed001_T01", "seed001_T02"] {
+        let mech = mechanism(name);
+        let cfg = monitor_config::<3>(&mech).unwrap();
+        let slices = cfg.margin.rollout.slices_per_sample;
+        for seed in 1..=3 {
+            let (traj, run) = simulate_run(&mech, &coulomb(&SEED001_FRICTION), seed);
+            // To the last latch, or to the deadline when a joint stalls.
+            let end = if traj.latch_s.iter().all(Option::is_some) {
+                traj.latch_s.iter().flatten().fold(0.0f64, |a, &b| a.max(b))
+            } else {
+                mech.duration_s
+            };
+            let mut m = Monitor::new(&cfg).unwrap();
+            let mut finished: Vec<f64> = Vec::new();
+            for s in samples::<3>(&run).unwrap() {
+                m.update(&s);
+                for _ in 0..slices {
+                    if m.predict() {
+                        finished.push(f64::from(s.t_s));
+                    }
+                }
+            }
+            // A full cycle ends at every fourth completion.
+            let cycles: Vec<f64> = finished.iter().copied().filter(|&t| t <= end).collect();
+            let worst = cycles
+                .windows(5)
+                .map(|w| w[4] - w[0])
+                .fold(0.0f64, f64::max);
+            println!(
+                "{name} seed {seed}: {} rollouts by {end:.2} s (last latch or deadline), longest full cycle {:.2} s",
+                cycles.len(),
+                worst
+            );
+            assert!(cycles.len() >= 5, "{name} seed {seed}: too few rollouts");
+            assert!(
+                worst <= REFRESH_LIMIT_S,
+                "{name} seed {seed}: a full cycle took {worst:.2} s"
+            );
+        }
+    }
+}
