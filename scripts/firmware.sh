@@ -7,6 +7,7 @@
 # Usage:
 #   scripts/firmware.sh build                 firmware ELF + deploywatch, prints the sizes
 #   scripts/firmware.sh size                  flash / RAM of the ELF against the budget
+#   scripts/firmware.sh panic-check           no panic path linked from the project's code
 #   scripts/firmware.sh run IN.bin OUT.bin    run the firmware on QEMU: configuration and
 #                                             sample frames IN.bin -> status frames OUT.bin
 #                                             (IN.bin: input.bin of `deploywatch replay --keep`)
@@ -26,7 +27,7 @@ elf="$fw/target/thumbv7em-none-eabihf/release/deploywatch-firmware-example"
 deploywatch=  # set by build_host_tool
 # The on-board budget (memory.x declares the same regions, so the link fails
 # beyond them; this check reports the margin).
-FLASH_BUDGET=$((72 * 1024))
+FLASH_BUDGET=$((64 * 1024))
 RAM_BUDGET=$((16 * 1024))
 
 die() { echo "firmware.sh: $*" >&2; exit 1; }
@@ -62,6 +63,51 @@ size_report() {
     printf '  RAM   %6d B of %6d B (%3d %%), static data only; the stack uses the rest\n' \
         "$ram" "$RAM_BUDGET" $((100 * ram / RAM_BUDGET))
     [ "$flash" -le "$FLASH_BUDGET" ] && [ "$ram" -le "$RAM_BUDGET" ] || die "over the budget"
+}
+
+# panic_check: the firmware ELF must link no panic path from the project's
+# own code (core/src, firmware-example/src): every call site of a panic entry
+# (core::panicking, slice index and length failures, unwrap/expect failures,
+# and the outlined stubs that branch to them) is resolved through its inlined
+# frames (addr2line -i, the ELF's debug info), and one inside the project's
+# sources fails the build. Call sites that are only in dependencies
+# (semihosting, cobs, postcard, defmt's reentrancy checks) are counted and
+# named, not failed: their panics are theirs to prove.
+panic_check() {
+    [ -f "$elf" ] || die "no firmware ELF: run scripts/firmware.sh build"
+    local dis
+    dis=$(arm-none-eabi-objdump -d -C --no-show-raw-insn "$elf")
+    # Panic entries, then the outlined stubs that branch into one.
+    local entries='core::panicking::|core::slice::index::slice_index_fail|len_mismatch_fail|core::option::unwrap_failed|core::option::expect_failed|core::result::unwrap_failed|core::cell::panic_already'
+    local stubs
+    stubs=$(awk -v re="<($entries)" '
+        /^[0-9a-f]+ <.*>:$/ { fn = $2; next }
+        fn ~ /^<OUTLINED_FUNCTION/ && $0 ~ re { print substr(fn, 2, length(fn) - 3) }' <<<"$dis" | sort -u | paste -sd'|')
+    [ -n "$stubs" ] && entries="$entries|$stubs"
+    local sites
+    sites=$(awk -v re="[ \t]b[a-z.]*[ \t]+[0-9a-f]+ <($entries)" '
+        /^[0-9a-f]+ <.*>:$/ { fn = $2; next }
+        $0 ~ re && fn !~ /^<(core::panicking|core::slice::index::slice_index_fail|core::slice::copy_from_slice_impl|OUTLINED_FUNCTION)/ {
+            sub(":", "", $1); print $1 }' <<<"$dis")
+    local ours=0 theirs=0 where
+    local -A deps=()
+    for a in $sites; do
+        # The innermost frame outside Rust's own library owns the panic.
+        where=$(arm-none-eabi-addr2line -e "$elf" -i -a "0x$a" | tail -n +2 \
+            | grep -vE "(/rustlib/src/rust/library/|^/rustc/)" | head -1 || true)
+        if grep -qE "^($root/core/src|$fw/src)/" <<<"$where"; then
+            ours=$((ours + 1))
+            echo "firmware.sh: a panic path in the project's code at 0x$a:" >&2
+            arm-none-eabi-addr2line -e "$elf" -f -i -C -a "0x$a" | tail -n +2 | paste - - | sed 's/^/    /' >&2
+        else
+            theirs=$((theirs + 1))
+            local dep
+            dep=$(grep -oE 'registry/src/[^/]+/[^/]+' <<<"$where" | sed 's#.*/##' || true)
+            deps[${dep:-unattributed@0x$a}]=1
+        fi
+    done
+    [ "$ours" -eq 0 ] || die "$ours panic path(s) linked from core/src or firmware-example/src"
+    echo "  panic paths: none from core/src or firmware-example/src; $theirs call site(s) in dependencies: ${!deps[*]}"
 }
 
 # qemu_exec IN OUT: runs the firmware on IN, writes OUT and returns
@@ -123,9 +169,13 @@ case "$cmd" in
         build_firmware
         build_host_tool
         size_report
+        panic_check
         ;;
     size)
         size_report
+        ;;
+    panic-check)
+        panic_check
         ;;
     run)
         [ $# -eq 3 ] || die "usage: scripts/firmware.sh run IN.bin OUT.bin"
@@ -142,6 +192,7 @@ case "$cmd" in
         build_firmware
         build_host_tool
         size_report
+        panic_check
         # The replay protocol and the firmware's loop, on the host.
         (cd "$root" && cargo test --quiet --release -p deploywatch-sim --test replay)
         # Every reference mechanism (data/mechanisms/: seed 000 cases 1 and 3,

@@ -77,7 +77,7 @@ fn replay<const N: usize>(cfg: &MonitorConfig<N>, run: &Run) -> Vec<Status<N>> {
     samples::<N>(run)
         .expect("joint count")
         .iter()
-        .map(|s| m.update(s))
+        .map(|s| m.update_and_predict(s))
         .collect()
 }
 
@@ -269,7 +269,7 @@ fn monte_carlo_prediction_at_half_stroke() {
     let mut cfg = monitor_config::<3>(&mech).unwrap();
     let cheap = std::env::var("MC_STEPS").ok().and_then(|v| v.parse().ok());
     if let Some(steps) = cheap {
-        cfg.margin.rollout.steps_per_update = steps;
+        cfg.margin.rollout.steps_per_slice = steps;
     }
     let results: Vec<(usize, usize)> = MC_DRAWS
         .iter()
@@ -319,7 +319,7 @@ fn rollout_from_the_true_state_predicts_the_simulation() {
                 };
                 let mut rc = cfg.margin.rollout;
                 rc.horizon_s = (deadline - traj.t_s[i]) as f32;
-                rc.steps_per_update = u8::MAX;
+                rc.steps_per_slice = u8::MAX;
                 let mut r = Rollout::new(RolloutStart {
                     state: ChainState {
                         phi: std::array::from_fn(|q| traj.phi_deg[q][i].to_radians() as f32),
@@ -405,6 +405,55 @@ fn t01_friction_within_15_percent_at_half_stroke() {
         }
     }
     println!("worst relative error {:.1} %", 100.0 * worst);
+}
+
+/// The same with 1 ms σ of time-stamp jitter (`faults::apply`'s
+/// `jitter:sigma=0.001`, clipped to ±4.5 ms): the Coulomb estimates at half
+/// stroke stay within 15 % (issue 14; it was 40 % before the observer
+/// learned on the centred fit of the stamped times), and the jitter is
+/// flagged.
+#[test]
+fn t01_friction_within_15_percent_at_half_stroke_with_1_ms_jitter() {
+    use deploywatch_core::Fault;
+    use deploywatch_sim::faults::{apply, SensorFault};
+    let mech = mechanism("seed001_T01");
+    let cfg = monitor_config::<3>(&mech).unwrap();
+    let mut worst = 0.0f64;
+    for seed in SEEDS {
+        let (traj, mut run) = simulate_run(&mech, &coulomb(&SEED001_FRICTION), seed);
+        apply(
+            &mut run,
+            &[SensorFault::TimeJitter { sigma_s: 0.001 }],
+            seed,
+        )
+        .unwrap();
+        let st = replay(&cfg, &run);
+        assert!(
+            st.iter()
+                .any(|s| s.joints[0].faults.contains(Fault::TimeJitter)),
+            "seed {seed}: jitter not flagged"
+        );
+        for (j, &truth) in SEED001_FRICTION.iter().enumerate() {
+            if truth < 0.3 {
+                continue;
+            }
+            let i = half_stroke_index(&traj, mech.joints[j].stowed_deg, j)
+                .expect("joint reaches half stroke");
+            let est = st[i].joints[j];
+            let err = est.coulomb_nm as f64 / truth - 1.0;
+            println!(
+                "jitter, seed {seed:2} joint {} at t = {:.2} s: T_C = {:.3} ± {:.3} N·m (truth {truth}, {:+.1} %)",
+                j + 1,
+                st[i].t_s,
+                est.coulomb_nm,
+                est.coulomb_sd_nm,
+                100.0 * err
+            );
+            worst = worst.max(err.abs());
+            assert!(err.abs() <= 0.15, "seed {seed} joint {}: {err:+.3}", j + 1);
+        }
+    }
+    println!("jitter: worst relative error {:.1} %", 100.0 * worst);
 }
 
 /// seed001_T02 with the paper's friction: joint 1 (2 × TS-3 against
@@ -647,7 +696,7 @@ mod properties {
             for (dt, phi, latch) in steps {
                 t = if dt.is_finite() { t + dt } else { dt };
                 let s = Sample::new(t, phi, latch);
-                let st = m.update(&s);
+                let st = m.update_and_predict(&s);
                 for (j, js) in st.joints.iter().enumerate() {
                     prop_assert!(finite_status(js), "{js:?}");
                     if !phi[j].is_finite() {
@@ -685,7 +734,7 @@ mod properties {
             let mut m = Monitor::new(&cfg).unwrap();
             let mut latched = [false; 3];
             for s in &ss {
-                let st = m.update(s);
+                let st = m.update_and_predict(s);
                 #[allow(clippy::needless_range_loop)]
                 for j in 0..3 {
                     let now = st.joints[j].latch == LatchState::Latched;
@@ -697,6 +746,208 @@ mod properties {
                     latched[j] |= now;
                 }
             }
+        }
+    }
+}
+
+/// Fault flags raised over a replay: (samples with a flag, the flags' names
+/// with the first time and joint each was seen).
+fn flags_raised<const N: usize>(st: &[Status<N>]) -> (usize, Vec<String>) {
+    let mut count = 0;
+    let mut seen: Vec<String> = Vec::new();
+    for s in st {
+        for (j, js) in s.joints.iter().enumerate() {
+            if js.faults.is_empty() {
+                continue;
+            }
+            count += 1;
+            let name = js.faults.to_string();
+            if !seen.iter().any(|x| x.starts_with(&name)) {
+                seen.push(format!("{name} (first at {:.3} s, joint {})", s.t_s, j + 1));
+            }
+        }
+    }
+    (count, seen)
+}
+
+/// Replays `run` with the monitor of `mech` and asserts no fault flag.
+fn assert_clean<const N: usize>(label: &str, mech: &Mechanism, run: &Run) {
+    let cfg = monitor_config::<N>(mech).unwrap();
+    let st = replay(&cfg, run);
+    let (count, seen) = flags_raised(&st);
+    assert_eq!(count, 0, "{label}: fault flags on a clean run: {seen:?}");
+}
+
+/// Every bundled reference and example run (no fault injected) replays
+/// without a single fault flag: a flight monitor that cries wolf on every
+/// deployment is ignored (issue 14).
+#[test]
+fn clean_reference_and_example_runs_raise_no_fault_flag() {
+    let data = data_dir();
+    let mut files = Vec::new();
+    for dir in [
+        "reference",
+        "examples/a_seed001_eft",
+        "examples/b_seed000_eft_air_drag",
+        "examples/c_seed001_friction_harness",
+    ] {
+        for e in std::fs::read_dir(data.join(dir)).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|x| x == "csv") {
+                files.push(p);
+            }
+        }
+    }
+    files.sort();
+    assert!(files.len() >= 14, "{files:?}");
+    for p in &files {
+        let run = Run::load(p).unwrap();
+        let name = run.mechanism().unwrap().replace('-', "_");
+        let name = name.trim_end_matches("_open");
+        let mech = mechanism(name);
+        let label = p.display().to_string();
+        match mech.joint_count() {
+            2 => assert_clean::<2>(&label, &mech, &run),
+            3 => assert_clean::<3>(&label, &mech, &run),
+            n => panic!("{label}: {n} joints"),
+        }
+        println!("{label}: no fault flag");
+    }
+}
+
+/// Clean Monte-Carlo runs (the friction and spring scatter of
+/// [`monte_carlo_prediction_at_half_stroke`], reference sensor, no fault)
+/// at `sample_hz`: no fault flag in any status, and every latch declared
+/// within 30 ms after the switch closes, never before. The runs go on for
+/// [`HOLD_S`] (the `settle_s` of `formats.md`) after the last latch.
+fn clean_monte_carlo(sample_hz: f64, runs: usize, draws: u64, sensor: u64) {
+    let mut mech = mechanism("seed001_T01");
+    mech.sample_hz = sample_hz;
+    let cfg = monitor_config::<3>(&mech).unwrap();
+    let mut rng = SplitMix(draws);
+    let (mut flagged, mut latches, mut worst_ms) = (0, 0, 0.0f64);
+    for k in 0..runs {
+        let effects = scatter(&mut rng);
+        let seed = sensor + k as u64;
+        // formats.md: a run goes on for settle_s after the last latch, or
+        // ends at duration_s when a joint never latches.
+        let mut traj = simulate_truth(&mech, &effects);
+        if traj.latch_s.iter().all(Option::is_some) {
+            hold(&mut traj, HOLD_S, 1.0 / mech.sample_hz);
+        }
+        let run = measure(&traj, &[], &SensorModel::REFERENCE, seed);
+        let st = replay(&cfg, &run);
+        let (count, seen) = flags_raised(&st);
+        if count > 0 {
+            flagged += 1;
+            println!("{sample_hz} Hz seed {seed}: {count} flagged statuses: {seen:?}");
+        }
+        for j in 0..3 {
+            let declared = st
+                .iter()
+                .find(|s| s.joints[j].latch == LatchState::Latched)
+                .map(|s| s.t_s as f64);
+            // The switch closes at the first sample at or after the latch.
+            let switch =
+                traj.latch_s[j].and_then(|t| run.t_s.iter().copied().find(|&s| s >= t - 1e-9));
+            match (switch, declared) {
+                (Some(t), Some(d)) => {
+                    latches += 1;
+                    worst_ms = worst_ms.max(1e3 * (d - t));
+                    assert!(d >= t - 1e-6, "{sample_hz} Hz seed {seed} joint {}: declared at {d} before the switch at {t}", j + 1);
+                    assert!(
+                        d <= t + 0.030 + 1e-6,
+                        "{sample_hz} Hz seed {seed} joint {}: declared at {d}, switch at {t}",
+                        j + 1
+                    );
+                }
+                (None, None) => {}
+                (t, d) => panic!(
+                    "{sample_hz} Hz seed {seed} joint {}: switch {t:?}, declared {d:?}",
+                    j + 1
+                ),
+            }
+        }
+    }
+    println!("{sample_hz} Hz: {runs} clean runs, {flagged} with a fault flag; {latches} latches declared, the latest {worst_ms:.1} ms after the switch");
+    assert_eq!(
+        flagged, 0,
+        "{sample_hz} Hz: {flagged}/{runs} clean runs raised a fault flag"
+    );
+}
+
+/// 200 clean Monte-Carlo runs at 100 Hz: zero fault flags, latches declared
+/// within 30 ms of the switch. Rerun with `cargo test -p deploywatch-tests
+/// --test monitor clean_monte_carlo -- --nocapture`.
+#[test]
+fn clean_monte_carlo_at_100_hz_raises_no_fault_flag() {
+    clean_monte_carlo(100.0, MC_RUNS, 2024, 1000);
+}
+
+/// The same at 1 kHz.
+#[test]
+fn clean_monte_carlo_at_1_khz_raises_no_fault_flag() {
+    clean_monte_carlo(1000.0, MC_RUNS, 7, 5000);
+}
+
+/// The longest full prediction cycle measured on the default schedule,
+/// rounded up [s] (issue 14's target: 0.5 s).
+const REFRESH_LIMIT_S: f64 = 1.6;
+
+/// How fresh the prediction is: replaying seed001 T01 and T02 with the
+/// papers' friction at 100 Hz on the replay schedule
+/// (`Monitor::update_and_predict`: `slices_per_sample` slices of
+/// `steps_per_slice` rollout steps after each sample), the longest time
+/// between two completed cycles of the four rollouts (nominal,
+/// pessimistic, nominal, optimistic), from the first completed rollout to
+/// the last latch (to the deadline when a joint stalls). Issue 14 asks for a full refresh at least every 0.5 s
+/// of deployment at 100 Hz; that is not met on the default schedule (12
+/// rollout steps per sample: the longest cycle is 1.2 s on T01 and 1.5 s on
+/// T02, early in a deployment while every rollout runs to the deadline), so
+/// this holds the
+/// present figure ([`REFRESH_LIMIT_S`]) against regressions; the printout
+/// is the figure in docs/performance.md. (20 slices per sample bring T01
+/// to 0.38 s but T02 only to 0.59 s, and move T02's stall call.)
+#[test]
+fn full_prediction_refresh_cycle() {
+    for name in ["seed001_T01", "seed001_T02"] {
+        let mech = mechanism(name);
+        let cfg = monitor_config::<3>(&mech).unwrap();
+        let slices = cfg.margin.rollout.slices_per_sample;
+        for seed in 1..=3 {
+            let (traj, run) = simulate_run(&mech, &coulomb(&SEED001_FRICTION), seed);
+            // To the last latch, or to the deadline when a joint stalls.
+            let end = if traj.latch_s.iter().all(Option::is_some) {
+                traj.latch_s.iter().flatten().fold(0.0f64, |a, &b| a.max(b))
+            } else {
+                mech.duration_s
+            };
+            let mut m = Monitor::new(&cfg).unwrap();
+            let mut finished: Vec<f64> = Vec::new();
+            for s in samples::<3>(&run).unwrap() {
+                m.update(&s);
+                for _ in 0..slices {
+                    if m.predict() {
+                        finished.push(f64::from(s.t_s));
+                    }
+                }
+            }
+            // A full cycle ends at every fourth completion.
+            let cycles: Vec<f64> = finished.iter().copied().filter(|&t| t <= end).collect();
+            let worst = cycles
+                .windows(5)
+                .map(|w| w[4] - w[0])
+                .fold(0.0f64, f64::max);
+            println!(
+                "{name} seed {seed}: {} rollouts by {end:.2} s (last latch or deadline), longest full cycle {:.2} s",
+                cycles.len(),
+                worst
+            );
+            assert!(cycles.len() >= 5, "{name} seed {seed}: too few rollouts");
+            assert!(
+                worst <= REFRESH_LIMIT_S,
+                "{name} seed {seed}: a full cycle took {worst:.2} s"
+            );
         }
     }
 }

@@ -285,8 +285,7 @@ impl<T: Real, const N: usize> Chain<T, N> {
         let mut c = [T::ZERO; N];
         let mut s = [T::ZERO; N];
         for k in 0..N {
-            c[k] = theta[k].cos();
-            s[k] = theta[k].sin();
+            (s[k], c[k]) = theta[k].sin_cos();
         }
         (c, s)
     }

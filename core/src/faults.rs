@@ -41,11 +41,14 @@ pub enum Fault {
     /// noise allows (a frozen or stuck sensor): its readings are not used
     /// until they change.
     EncoderStuck = 11,
+    /// The sample interval differs from the running mean of the intervals
+    /// by more than 20 % (time-stamp jitter); the sample is used.
+    TimeJitter = 12,
 }
 
 impl Fault {
     /// Every fault, in bit order.
-    pub const ALL: [Fault; 12] = [
+    pub const ALL: [Fault; 13] = [
         Fault::EncoderMissing,
         Fault::EncoderRange,
         Fault::EncoderOutlier,
@@ -58,6 +61,7 @@ impl Fault {
         Fault::LatchDisagree,
         Fault::EstimatorReset,
         Fault::EncoderStuck,
+        Fault::TimeJitter,
     ];
 
     /// The name used in telemetry CSV and reports.
@@ -75,6 +79,7 @@ impl Fault {
             Fault::LatchDisagree => "latch_disagree",
             Fault::EstimatorReset => "estimator_reset",
             Fault::EncoderStuck => "encoder_stuck",
+            Fault::TimeJitter => "time_jitter",
         }
     }
 

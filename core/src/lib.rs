@@ -31,6 +31,7 @@ pub mod spring;
 pub mod standards;
 pub mod telemetry;
 pub mod torque_table;
+pub mod trig;
 
 pub use chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel};
 pub use friction::Friction;

@@ -24,20 +24,28 @@ impl core::fmt::Display for SolveError {
 
 impl core::error::Error for SolveError {}
 
-/// Solves `M x = b` on the free coordinates (`locked[i] == false`) by
-/// Cholesky factorisation; locked entries of `x` are zero.
+/// Solves `M x = b` on the free coordinates (`locked[i] == false`) by an
+/// `L D Lᵀ` factorisation; locked entries of `x` are zero.
 pub fn solve_spd_masked<T: Real, const N: usize>(
     m: &[[T; N]; N],
     b: &[T; N],
     locked: &[bool; N],
 ) -> Result<[T; N], SolveError> {
-    let l = cholesky_masked(m, locked)?;
+    let l = ldl_masked(m, locked)?;
     Ok(substitute(&l, b, locked))
 }
 
-/// The Cholesky factor `L` (`M = L Lᵀ`) of the free block; locked rows
-/// and columns hold the identity.
-fn cholesky_masked<T: Real, const N: usize>(
+/// The factors of `M = L D Lᵀ` (`L` unit lower triangular, `D` diagonal)
+/// of the free block, `D` on the diagonal of the result and `L` below it;
+/// locked rows and columns hold the identity. The square-root-free form
+/// of Cholesky's factorisation (Golub & Van Loan, *Matrix Computations*,
+/// 4th ed., §4.1.2): the same arithmetic without the `N` square roots,
+/// which a Cortex-M4F computes in software.
+///
+/// ```text
+/// L_ij = (M_ij − Σ_{k<j} L_ik L_jk D_k) / D_j,   D_i = M_ii − Σ_{k<i} L_ik² D_k
+/// ```
+fn ldl_masked<T: Real, const N: usize>(
     m: &[[T; N]; N],
     locked: &[bool; N],
 ) -> Result<[[T; N]; N], SolveError> {
@@ -47,20 +55,22 @@ fn cholesky_masked<T: Real, const N: usize>(
             l[i][i] = T::ONE;
             continue;
         }
-        for j in 0..=i {
+        for j in 0..i + 1 {
             if locked[j] {
                 continue;
             }
             let mut s = m[i][j];
             for k in 0..j {
-                s -= l[i][k] * l[j][k];
+                if !locked[k] {
+                    s -= l[i][k] * l[j][k] * l[k][k];
+                }
             }
             if i == j {
                 // `!(s > 0)` also catches NaN.
                 if !(s > T::ZERO) {
                     return Err(SolveError::NotPositiveDefinite);
                 }
-                l[i][i] = s.sqrt();
+                l[i][i] = s;
             } else {
                 l[i][j] = s / l[j][j];
             }
@@ -69,7 +79,7 @@ fn cholesky_masked<T: Real, const N: usize>(
     Ok(l)
 }
 
-/// `L y = b`, then `Lᵀ x = y`, on the free coordinates.
+/// `L y = b`, `D z = y`, then `Lᵀ x = z`, on the free coordinates.
 fn substitute<T: Real, const N: usize>(l: &[[T; N]; N], b: &[T; N], locked: &[bool; N]) -> [T; N] {
     let mut y = [T::ZERO; N];
     for i in 0..N {
@@ -80,18 +90,18 @@ fn substitute<T: Real, const N: usize>(l: &[[T; N]; N], b: &[T; N], locked: &[bo
         for k in 0..i {
             s -= l[i][k] * y[k];
         }
-        y[i] = s / l[i][i];
+        y[i] = s;
     }
     let mut x = [T::ZERO; N];
     for i in (0..N).rev() {
         if locked[i] {
             continue;
         }
-        let mut s = y[i];
+        let mut s = y[i] / l[i][i];
         for k in i + 1..N {
             s -= l[k][i] * x[k];
         }
-        x[i] = s / l[i][i];
+        x[i] = s;
     }
     x
 }
@@ -106,7 +116,7 @@ pub fn articulated_inertias<T: Real, const N: usize>(
     m: &[[T; N]; N],
     locked: &[bool; N],
 ) -> [Option<T>; N] {
-    let Ok(l) = cholesky_masked(m, locked) else {
+    let Ok(l) = ldl_masked(m, locked) else {
         return [None; N];
     };
     core::array::from_fn(|j| {

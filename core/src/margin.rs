@@ -242,7 +242,7 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
     let mut t_star_var = 0.0f32;
     let mut t_total = 0.0f32;
     let mut stalled = false;
-    let mut omega = libm::sqrtf(2.0 * e.max(0.0) / inertia);
+    let mut omega = crate::real::sqrtf(2.0 * e.max(0.0) / inertia);
     let mut hi = x0;
     for i in 0..NODES {
         let lo = if i + 1 == NODES {
@@ -269,7 +269,7 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
                 t_star_var = var_a / (w_c * w_c);
             }
         }
-        let omega_next = libm::sqrtf(2.0 * e.max(0.0) / inertia);
+        let omega_next = crate::real::sqrtf(2.0 * e.max(0.0) / inertia);
         if e <= 0.0 {
             stalled = true;
         } else {
@@ -292,7 +292,7 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
     };
     // P(T_C < T*) for T_C ~ N(T̂_C, σ²) truncated to T_C ≥ L (friction is
     // never negative, and never below the torque it exerts now).
-    let sd = libm::sqrtf((x.coulomb_var.max(0.0) + t_star_var).max(1e-12));
+    let sd = crate::real::sqrtf((x.coulomb_var.max(0.0) + t_star_var).max(1e-12));
     let lower = x.coulomb_lower_nm.max(0.0);
     let p = truncated_below_cdf(t_star, tc, sd, lower);
     MarginResult {
@@ -411,7 +411,7 @@ mod tests {
             count: 1.0,
         };
         let r = evaluate(&s, &input(0.0), &SET);
-        let want = libm::sqrtf(2.0 * core::f32::consts::FRAC_PI_2);
+        let want = crate::real::sqrtf(2.0 * core::f32::consts::FRAC_PI_2);
         let got = r.time_to_latch_s.unwrap();
         assert!((got - want).abs() < 0.08 * want, "{got} vs {want}");
     }

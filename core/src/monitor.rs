@@ -288,7 +288,8 @@ impl Default for MarginConfig {
             confidence: 0.9,
             rollout: RolloutConfig {
                 dt_s: 0.01,
-                steps_per_update: 12,
+                steps_per_slice: 2,
+                slices_per_sample: 6,
                 horizon_s: 10.0,
                 coulomb_threshold_rad_s: crate::friction::COULOMB_THRESHOLD_RAD_S as f32,
             },
@@ -502,6 +503,18 @@ pub struct Monitor<const N: usize> {
     fit_run: bool,
     /// Time of the last centred fit [s].
     t_centre: f32,
+    /// Running mean of the sample intervals [s] (0 before the first).
+    dt_mean: f32,
+    /// Each switch at the previous sample (a closing is an impact).
+    switch_prev: [bool; N],
+    /// End of the window after a switch closed in which a reading the rate
+    /// filter rejects is the impact, not an outlier [s].
+    impact_until: f32,
+    /// Samples left whose prediction is widened for the impact.
+    impact_samples: u8,
+    /// Where the next rollout starts: time [s], state and locked joints
+    /// (set by `update`, used by `predict`).
+    rollout_start: Option<(f32, ChainState<f32, N>, [bool; N])>,
     next_margin: u8,
     status: Status<N>,
 }
@@ -528,6 +541,30 @@ const CYCLE: [Bracket; 4] = [
     Bracket::Nominal,
     Bracket::Optimistic,
 ];
+/// Time after a latch switch closes during which a reading the rate filter
+/// rejects is the latch impact, not an outlier [s]: the impact is within a
+/// sample of the closing at 100 Hz, and a chattering switch (≤ 20 ms)
+/// closes again inside it.
+const IMPACT_WINDOW_S: f32 = 0.03;
+/// Samples, from the one where a switch closes, whose prediction is widened
+/// for the impact.
+const IMPACT_INFLATE_SAMPLES: u8 = 2;
+/// Rate variance added to every free joint at an impact [rad²/s²]: the
+/// plastic impulse changes the rates by up to about 2 rad/s.
+const IMPACT_RATE_VAR: f32 = 4.0;
+/// Relative departure of a sample interval from the running mean beyond
+/// which the time stamp is flagged `time_jitter` [1].
+const JITTER_TOL: f32 = 0.2;
+/// Weight of a new interval in the running mean [1].
+const JITTER_WEIGHT: f32 = 0.05;
+/// Innovations up to this many gates are a manoeuvre (the filter restarts
+/// at the reading, keeping its rate), beyond it a spike (flagged). At
+/// σ ≈ 0.03° a gate is 0.17° and this 0.5°: a joint stopping under its
+/// friction at 5 rad/s² misses the prediction by ½·a·t² ≈ 0.06° over 20 ms,
+/// while a spike is degrees off.
+const MANOEUVRE_GATE: f32 = 3.0;
+/// Rate uncertainty of a filter restarted at an impact [rad/s].
+const IMPACT_RATE_SD: f32 = 1.0;
 /// Consecutive non-increasing time stamps after which the monitor adopts them.
 const RESYNC_SAMPLES: u8 = 3;
 
@@ -585,6 +622,11 @@ impl<const N: usize> Monitor<N> {
             fit: CentredFit::new(),
             fit_run: false,
             t_centre: f32::NEG_INFINITY,
+            rollout_start: None,
+            switch_prev: [false; N],
+            dt_mean: 0.0,
+            impact_until: f32::NEG_INFINITY,
+            impact_samples: 0,
             next_margin: 0,
             status: Status::default(),
         })
@@ -603,6 +645,12 @@ impl<const N: usize> Monitor<N> {
     /// The rate filter of joint `j` (0-based), for diagnostics.
     pub fn rate_filter(&self, j: usize) -> Option<&RateFilter> {
         self.kf.get(j)
+    }
+
+    /// Slices of [`Monitor::predict`] a replay runs after each sample
+    /// (`margin.rollout.slices_per_sample`).
+    pub fn config_slices_per_sample(&self) -> u8 {
+        self.margin_cfg.rollout.slices_per_sample
     }
 
     /// The chain model the monitor uses (f32).
@@ -630,6 +678,9 @@ impl<const N: usize> Monitor<N> {
     /// Never panics: a NaN or infinite reading is a missing measurement, a
     /// time stamp that does not increase or is not finite makes the sample
     /// unused, and each raises a [`Fault`] flag in the status.
+    // Out of line: the sample-rate path is one function to measure, and its
+    // frame is not merged into the caller's.
+    #[inline(never)]
     pub fn update(&mut self, sample: &Sample<N>) -> Status<N> {
         let mut global = FaultFlags::EMPTY;
         let t = sample.t_s;
@@ -661,6 +712,15 @@ impl<const N: usize> Monitor<N> {
                 dt = d.min(1.0);
             } else {
                 dt = d;
+                // Time-stamp jitter: an interval off the running mean.
+                if self.dt_mean > 0.0 && libm::fabsf(d - self.dt_mean) > JITTER_TOL * self.dt_mean {
+                    global.insert(Fault::TimeJitter);
+                }
+                self.dt_mean = if self.dt_mean > 0.0 {
+                    self.dt_mean + JITTER_WEIGHT * (d - self.dt_mean)
+                } else {
+                    d
+                };
             }
         }
         self.back_run = 0;
@@ -687,8 +747,12 @@ impl<const N: usize> Monitor<N> {
                     self.same_run[j] = 0;
                     self.last_raw[j] = z;
                 }
+                // A latched joint's encoder reads a constant by rights (a
+                // noise-free or coarse encoder repeats exactly): the check
+                // ends with the latch, whose declaration is final.
                 let limit = self.sensor.stuck_samples;
-                if limit > 0 && self.same_run[j].saturating_add(1) >= limit {
+                let latched = self.lt[j].is_latched();
+                if !latched && limit > 0 && self.same_run[j].saturating_add(1) >= limit {
                     faults[j].insert(Fault::EncoderStuck);
                     stuck[j] = true;
                 } else {
@@ -702,7 +766,7 @@ impl<const N: usize> Monitor<N> {
         // the switch must agree anyway).
         let raw = meas;
         let r_meas = self.meas_var();
-        let sd = libm::sqrtf(r_meas);
+        let sd = crate::real::sqrtf(r_meas);
         if !self.started {
             for j in 0..N {
                 let phi0 = meas[j].unwrap_or(self.stowed_deg[j] * DEG);
@@ -712,6 +776,19 @@ impl<const N: usize> Monitor<N> {
             self.started = true;
             self.t_start = t;
         } else {
+            // A latch switch closing announces an impact: the latching
+            // joint stops within a sample and the plastic impulse changes
+            // the other joints' rates (physics.md §5). Over the next
+            // `IMPACT_WINDOW_S` the rate filters widen their gates, and a
+            // reading they still cannot reconcile restarts the filter at
+            // the reading: expected, not an outlier.
+            if (0..N).any(|j| sample.latch[j] && !self.switch_prev[j]) {
+                self.impact_until = t + IMPACT_WINDOW_S;
+                self.impact_samples = IMPACT_INFLATE_SAMPLES;
+            }
+            let impact = t <= self.impact_until;
+            let inflate = self.impact_samples > 0;
+            self.impact_samples = self.impact_samples.saturating_sub(1);
             let gate2 = self.observer.gate_sigma * self.observer.gate_sigma;
             let zone = self.observer.snap_zone_deg * DEG;
             for j in 0..N {
@@ -721,14 +798,35 @@ impl<const N: usize> Monitor<N> {
                 } else {
                     0.0
                 };
+                if inflate && !self.lt[j].is_latched() {
+                    kf.inflate(IMPACT_RATE_VAR, ACC_SHOCK_VAR);
+                }
                 kf.predict(dt, q_floor);
                 if gap {
                     kf.inflate(1.0, ACC_SHOCK_VAR);
                 }
                 if let Some(z) = meas[j] {
                     let r = if gap { r_meas + 1.0 } else { r_meas };
+                    // A reading beyond the gate but within
+                    // `MANOEUVRE_GATE` gates of the prediction is a
+                    // manoeuvre the white-jerk model did not foresee (a
+                    // joint that sticks under its friction stops with a
+                    // step in acceleration), not a spike.
+                    let nu = z - kf.angle();
+                    let manoeuvre =
+                        nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r);
                     match kf.update(z, r, gate2, &self.observer.jerk_adaptation) {
                         Fusion::Accepted => self.rejects[j] = 0,
+                        Fusion::Rejected if impact || manoeuvre => {
+                            let rate = if impact { 0.0 } else { kf.rate() };
+                            *kf = RateFilter::new(z, sd, IMPACT_RATE_SD, START_ACC_SD);
+                            kf.set_rate(rate, 0.0);
+                            kf.set_jerk_psd(self.observer.jerk_psd);
+                            self.rejects[j] = 0;
+                            if impact {
+                                self.blank_until = t + self.observer.settle_s;
+                            }
+                        }
                         Fusion::Rejected => {
                             faults[j].insert(Fault::EncoderOutlier);
                             self.rejects[j] = self.rejects[j].saturating_add(1);
@@ -747,6 +845,7 @@ impl<const N: usize> Monitor<N> {
             }
         }
         self.t_prev = t;
+        self.switch_prev = sample.latch;
 
         // Latch states.
         let mut states = [LatchState::Stowed; N];
@@ -873,7 +972,7 @@ impl<const N: usize> Monitor<N> {
             }
         }
 
-        if self.margin_cfg.rollout.steps_per_update > 0 {
+        if self.margin_cfg.rollout.steps_per_slice > 0 {
             // A rollout starts from the centred fit (rates to a few tenths
             // of a degree per second, half a window back); from the rate
             // filter only when no fit has come for a while (a flaky
@@ -901,11 +1000,11 @@ impl<const N: usize> Monitor<N> {
             if let Some(c) = &centre {
                 self.t_centre = c.t_s;
             }
-            self.advance_rollouts(start);
+            // Handed to the next slices of `predict`.
+            self.rollout_start = start;
         }
 
         // Status.
-        let conf = self.margin_cfg.confidence;
         for j in 0..N {
             let est = self.fo[j].estimate();
             let latched = self.lt[j].is_latched();
@@ -914,55 +1013,7 @@ impl<const N: usize> Monitor<N> {
             } else {
                 self.margin[j].map(|r| r.margin_pct)
             };
-            // A latch after the deadline is a stall.
-            let deadline = self.t_start + self.margin_cfg.deadline_s;
-            let pick = |o: Option<([JointOutcome; N], f32)>| {
-                o.and_then(|(x, t0)| {
-                    x.get(j).map(|x| {
-                        let mut x = *x;
-                        x.latches &= t0 + x.latch_after_s <= deadline;
-                        (x, t0)
-                    })
-                })
-            };
-            let (nom, pess, opt) = (
-                pick(self.nominal),
-                pick(self.pessimistic),
-                pick(self.optimistic),
-            );
-            let ttl = |o: Option<(JointOutcome, f32)>| {
-                o.filter(|(x, _)| x.latches)
-                    .map(|(x, t0)| (t0 + x.latch_after_s - t).max(0.0))
-            };
-            let energy = self.margin[j];
-            let energy_stall = energy.is_some_and(|r| r.latch_probability <= 1.0 - conf);
-            let rollouts = self.margin_cfg.rollout.steps_per_update > 0;
-            let (prediction, confidence, time_to_latch) = match nom {
-                _ if latched => (Prediction::Latch, 1.0, None),
-                // Not even the one-joint balance, which counts all the
-                // kinetic energy in the joint, gets it to the latch.
-                _ if energy_stall => (Prediction::Stall, conf, None),
-                // Rollouts switched off: the one-joint balance alone.
-                _ if !rollouts => match energy {
-                    Some(r) if r.latch_probability >= conf => {
-                        (Prediction::Latch, conf, r.time_to_latch_s)
-                    }
-                    _ => (
-                        Prediction::Unknown,
-                        0.0,
-                        energy.and_then(|r| r.time_to_latch_s),
-                    ),
-                },
-                None => (Prediction::Unknown, 0.0, None),
-                Some((x, _)) if x.latches => {
-                    let sure = pess.is_some_and(|(p, _)| p.latches);
-                    (Prediction::Latch, if sure { conf } else { 0.5 }, ttl(nom))
-                }
-                Some(_) => {
-                    let sure = opt.is_some_and(|(o, _)| !o.latches);
-                    (Prediction::Stall, if sure { conf } else { 0.5 }, None)
-                }
-            };
+            let (prediction, confidence, time_to_latch) = self.prediction(j, t);
             if newly[j] {
                 info!("joint {} latched at t = {} s", j + 1, t);
             }
@@ -973,9 +1024,9 @@ impl<const N: usize> Monitor<N> {
                 phi_deg: finite(self.kf[j].angle() / DEG),
                 rate_deg_s: finite(self.kf[j].rate() / DEG),
                 coulomb_nm: finite(est.coulomb_nm),
-                coulomb_sd_nm: finite(libm::sqrtf(est.coulomb_var.max(0.0))),
+                coulomb_sd_nm: finite(crate::real::sqrtf(est.coulomb_var.max(0.0))),
                 viscous_nms: finite(est.viscous_nms),
-                viscous_sd_nms: finite(libm::sqrtf(est.viscous_var.max(0.0))),
+                viscous_sd_nms: finite(crate::real::sqrtf(est.viscous_var.max(0.0))),
                 friction_torque_nm: finite(self.fo[j].disturbance_nm()),
                 latch: states[j],
                 margin_pct: margin_pct.map(finite),
@@ -990,13 +1041,114 @@ impl<const N: usize> Monitor<N> {
         self.status
     }
 
+    /// The latch / stall prediction of joint `j` at time `t` [s] from the
+    /// last finished rollouts and the energy balance: the prediction, its
+    /// confidence and the time to the latch [s].
+    fn prediction(&self, j: usize, t: f32) -> (Prediction, f32, Option<f32>) {
+        let conf = self.margin_cfg.confidence;
+        let latched = self.lt.get(j).is_some_and(|l| l.is_latched());
+        // A latch after the deadline is a stall.
+        let deadline = self.t_start + self.margin_cfg.deadline_s;
+        let pick = |o: Option<([JointOutcome; N], f32)>| {
+            o.and_then(|(x, t0)| {
+                x.get(j).map(|x| {
+                    let mut x = *x;
+                    x.latches &= t0 + x.latch_after_s <= deadline;
+                    (x, t0)
+                })
+            })
+        };
+        let (nom, pess, opt) = (
+            pick(self.nominal),
+            pick(self.pessimistic),
+            pick(self.optimistic),
+        );
+        let ttl = |o: Option<(JointOutcome, f32)>| {
+            o.filter(|(x, _)| x.latches)
+                .map(|(x, t0)| (t0 + x.latch_after_s - t).max(0.0))
+        };
+        let energy = self.margin.get(j).copied().flatten();
+        let energy_stall = energy.is_some_and(|r| r.latch_probability <= 1.0 - conf);
+        let rollouts = self.margin_cfg.rollout.steps_per_slice > 0;
+        match nom {
+            _ if latched => (Prediction::Latch, 1.0, None),
+            // Not even the one-joint balance, which counts all the
+            // kinetic energy in the joint, gets it to the latch.
+            _ if energy_stall => (Prediction::Stall, conf, None),
+            // Rollouts switched off: the one-joint balance alone.
+            _ if !rollouts => match energy {
+                Some(r) if r.latch_probability >= conf => {
+                    (Prediction::Latch, conf, r.time_to_latch_s)
+                }
+                _ => (
+                    Prediction::Unknown,
+                    0.0,
+                    energy.and_then(|r| r.time_to_latch_s),
+                ),
+            },
+            None => (Prediction::Unknown, 0.0, None),
+            Some((x, _)) if x.latches => {
+                let sure = pess.is_some_and(|(p, _)| p.latches);
+                (Prediction::Latch, if sure { conf } else { 0.5 }, ttl(nom))
+            }
+            Some(_) => {
+                let sure = opt.is_some_and(|(o, _)| !o.latches);
+                (Prediction::Stall, if sure { conf } else { 0.5 }, None)
+            }
+        }
+    }
+
+    /// One slice of the latch / stall prediction: advances the rollout in
+    /// progress by up to `margin.rollout.steps_per_slice` steps, starts the
+    /// next one when it ends (from the last settled state [`Monitor::update`]
+    /// handed over), and refreshes the prediction in [`Monitor::status`].
+    ///
+    /// The sample-rate path ([`Monitor::update`]) never runs a rollout: the
+    /// application calls this at a lower priority (the idle loop, a
+    /// low-priority task), as often as it has time for. Its cost is bounded
+    /// by the slice (`docs/performance.md`). Returns true when a rollout
+    /// finished in this slice.
+    #[inline(never)]
+    pub fn predict(&mut self) -> bool {
+        if self.margin_cfg.rollout.steps_per_slice == 0 || !self.started {
+            return false;
+        }
+        let finished = self.advance_rollouts();
+        if finished {
+            let t = self.status.t_s;
+            for j in 0..N {
+                let (prediction, confidence, time_to_latch) = self.prediction(j, t);
+                if let Some(js) = self.status.joints.get_mut(j) {
+                    js.prediction = prediction;
+                    js.confidence = confidence;
+                    js.time_to_latch_s = time_to_latch.filter(|v| v.is_finite());
+                }
+            }
+        }
+        finished
+    }
+
+    /// [`Monitor::update`], then `margin.rollout.slices_per_sample` slices
+    /// of [`Monitor::predict`]: the schedule of a replay, fixed so that the
+    /// host and the MCU compute the same statuses. Returns the status after
+    /// the slices.
+    pub fn update_and_predict(&mut self, sample: &Sample<N>) -> Status<N> {
+        self.update(sample);
+        for _ in 0..self.margin_cfg.rollout.slices_per_sample {
+            self.predict();
+        }
+        self.status
+    }
+
     /// Advances the rollout in progress; when it ends, stores its outcome
-    /// and starts the next bracket from `start` — time [s], state and locked
-    /// joints, `None` while no settled state is at hand (in a snap zone or
-    /// the settling after a latch the rate filter is wide open) — with the
-    /// current friction estimates.
-    fn advance_rollouts(&mut self, start: Option<(f32, ChainState<f32, N>, [bool; N])>) {
+    /// and starts the next bracket from [`Monitor::update`]'s last settled
+    /// state — time [s], state and locked joints, `None` while no settled
+    /// state is at hand (in a snap zone or the settling after a latch the
+    /// rate filter is wide open) — with the current friction estimates.
+    /// Returns true when a rollout finished.
+    fn advance_rollouts(&mut self) -> bool {
         let mut cfg = self.margin_cfg.rollout;
+        let mut finished = false;
         if let Some((r, bracket, t0)) = self.rollout.as_mut() {
             // Only the time left to the deadline matters.
             cfg.horizon_s = cfg
@@ -1011,8 +1163,9 @@ impl<const N: usize> Monitor<N> {
                     Bracket::Pessimistic => self.pessimistic = Some(out),
                     Bracket::Optimistic => self.optimistic = Some(out),
                 }
+                finished = true;
             } else {
-                return;
+                return false;
             }
         }
         // The prediction is refreshed most often; the brackets that give
@@ -1021,10 +1174,10 @@ impl<const N: usize> Monitor<N> {
             None => 0,
             Some(_) => (usize::from(self.cycle_pos) + 1) % CYCLE.len(),
         };
-        let next = CYCLE[pos];
-        let Some((t, state, locked)) = start else {
+        let next = CYCLE.get(pos).copied().unwrap_or_default();
+        let Some((t, state, locked)) = self.rollout_start else {
             // Keep the finished rollout until the estimates have settled.
-            return;
+            return finished;
         };
         let z = self.z;
         let sign = match next {
@@ -1038,10 +1191,10 @@ impl<const N: usize> Monitor<N> {
         for j in 0..N {
             let e = self.fo[j].estimate();
             // More friction goes with weaker springs, and less with stronger.
-            let sd_k = libm::sqrtf(e.spring_scale_var.max(0.0));
+            let sd_k = crate::real::sqrtf(e.spring_scale_var.max(0.0));
             spring[j] = (1.0 + e.spring_scale_err - sign * z * sd_k).max(0.0);
-            let sd_c = libm::sqrtf(e.coulomb_var.max(0.0));
-            let sd_f = libm::sqrtf(e.viscous_var.max(0.0));
+            let sd_c = crate::real::sqrtf(e.coulomb_var.max(0.0));
+            let sd_f = crate::real::sqrtf(e.viscous_var.max(0.0));
             coulomb[j] = (e.coulomb_nm + sign * z * sd_c).max(0.0);
             viscous[j] = (e.viscous_nms + sign * z * sd_f).max(0.0);
             if next == Bracket::Optimistic && !locked[j] {
@@ -1062,6 +1215,7 @@ impl<const N: usize> Monitor<N> {
         };
         self.rollout = Some((Rollout::new(start), next, t));
         self.cycle_pos = pos as u8;
+        finished
     }
 
     /// The plastic latch impulse of `physics.md` §5 applied to the rate
@@ -1132,7 +1286,8 @@ impl<const N: usize> Monitor<N> {
         } else {
             0.0
         };
-        let bound = if bound <= est.coulomb_nm + 2.0 * libm::sqrtf(est.coulomb_var.max(0.0)) {
+        let bound = if bound <= est.coulomb_nm + 2.0 * crate::real::sqrtf(est.coulomb_var.max(0.0))
+        {
             bound
         } else {
             0.0
@@ -1151,7 +1306,7 @@ impl<const N: usize> Monitor<N> {
                 coulomb_var: est.coulomb_var,
                 coulomb_lower_nm: bound,
                 spring_scale: 1.0 + est.spring_scale_err,
-                spring_sd_rel: libm::sqrtf(est.spring_scale_var.max(0.0)),
+                spring_sd_rel: crate::real::sqrtf(est.spring_scale_var.max(0.0)),
                 viscous_var: est.viscous_var,
                 cov: est.cov,
             },

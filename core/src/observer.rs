@@ -117,6 +117,11 @@ impl RateFilter {
         self.x[2]
     }
 
+    /// Variance of the angle estimate [rad²].
+    pub fn angle_var(&self) -> f32 {
+        self.p[0]
+    }
+
     /// Variance of the rate estimate [rad²/s²].
     pub fn rate_var(&self) -> f32 {
         self.p[3]
@@ -262,8 +267,7 @@ pub fn momentum_terms<const N: usize>(
     for k in 0..N {
         th_acc += phi[k];
         thd_acc += omega[k];
-        c[k] = libm::cosf(th_acc);
-        s[k] = libm::sinf(th_acc);
+        (s[k], c[k]) = crate::trig::sin_cos(th_acc);
         thd[k] = thd_acc;
     }
     let mut d = [[0.0f32; N]; N];
@@ -487,7 +491,7 @@ impl FrictionObserver {
         if !self.primed || !(self.kdt > 0.0) {
             return 0.0;
         }
-        let sd = libm::sqrtf(self.lag_var.max(0.0) * self.kdt / (2.0 - self.kdt));
+        let sd = crate::real::sqrtf(self.lag_var.max(0.0) * self.kdt / (2.0 - self.kdt));
         let bound =
             libm::fabsf(self.r) - self.theta[1].max(0.0) * libm::fabsf(rate_rad_s) - 2.0 * sd;
         if bound.is_finite() {
@@ -527,13 +531,17 @@ impl FrictionObserver {
 
     /// True when every state is finite and the variances are positive.
     pub fn is_healthy(&self) -> bool {
-        let finite = [self.r, self.p_prev, self.u_prev, self.lag_var, self.kdt]
+        // A NaN or an infinity anywhere makes the sum NaN or infinite (and
+        // a finite sum of finite values cannot overflow to a false alarm
+        // that matters: it resets an observer that is beyond 10³⁸ anyway).
+        let sum: f32 = [self.r, self.p_prev, self.u_prev, self.lag_var, self.kdt]
             .iter()
             .chain(self.y.iter())
             .chain(self.h_prev.iter())
             .chain(self.theta.iter())
             .chain(self.sigma.iter().flatten())
-            .all(|v| v.is_finite());
+            .sum();
+        let finite = sum.is_finite();
         // κ may be fixed (a zero prior spread); T_C and f are always free.
         finite && self.sigma[0][0] > 0.0 && self.sigma[1][1] > 0.0 && self.sigma[2][2] >= 0.0
     }
@@ -581,9 +589,10 @@ impl FrictionObserver {
             // Errors in variables ("effective variance"): a rate error δω
             // moves the Coulomb regressor by sech²(ω/ω_c) δω/ω_c, i.e. the
             // torque by T_C sech²(ω/ω_c) δω/ω_c; |r| bounds T_C from below.
-            let sech = 1.0 / libm::coshf(input.rate_rad_s / wc);
+            // sech² = 1 − tanh², and −h₀ is the tanh.
+            let sech2 = (1.0 - h[0] * h[0]).max(0.0);
             let tc = self.theta[0].max(libm::fabsf(self.r));
-            let g = tc * sech * sech / wc;
+            let g = tc * sech2 / wc;
             let eiv = g * g * input.rate_var.max(0.0);
             self.learn(kdt, eiv, tuning);
         }

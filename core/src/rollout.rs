@@ -81,10 +81,15 @@ pub struct RolloutStart<const N: usize> {
 pub struct RolloutConfig {
     /// Integration step [s].
     pub dt_s: f32,
-    /// Steps advanced per monitor update (two chain evaluations each); 0
-    /// switches the rollouts off (the prediction then rests on the one-joint
-    /// energy balance of [`crate::margin`] alone).
-    pub steps_per_update: u8,
+    /// Steps advanced per slice of [`crate::Monitor::predict`] (two chain
+    /// evaluations each); 0 switches the rollouts off (the prediction then
+    /// rests on the one-joint energy balance of [`crate::margin`] alone).
+    pub steps_per_slice: u8,
+    /// Slices of [`crate::Monitor::predict`] a replay runs after each
+    /// sample ([`crate::Monitor::update_and_predict`]): the time the
+    /// application gives the prediction between two samples, fixed so that
+    /// a replay is deterministic.
+    pub slices_per_sample: u8,
     /// Predicted time after which the joints not latched count as stalled
     /// [s] (the monitor shortens it to the deployment's deadline).
     pub horizon_s: f32,
@@ -140,9 +145,9 @@ impl<const N: usize> Rollout<N> {
         })
     }
 
-    /// Advances up to `cfg.steps_per_update` steps.
+    /// Advances up to `cfg.steps_per_slice` steps.
     pub fn advance(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
-        for _ in 0..cfg.steps_per_update {
+        for _ in 0..cfg.steps_per_slice {
             if self.done {
                 return;
             }
@@ -543,7 +548,8 @@ mod tests {
     fn run(tc: f32) -> Rollout<1> {
         let cfg = RolloutConfig {
             dt_s: 0.02,
-            steps_per_update: 255,
+            steps_per_slice: 255,
+            slices_per_sample: 1,
             horizon_s: 20.0,
             coulomb_threshold_rad_s: 0.01,
         };
@@ -583,7 +589,8 @@ mod tests {
         let chain = crate::observer::tests::chain();
         let cfg = RolloutConfig {
             dt_s: dt,
-            steps_per_update: 255,
+            steps_per_slice: 255,
+            slices_per_sample: 1,
             horizon_s: 10.0,
             coulomb_threshold_rad_s: 0.01,
         };
@@ -782,7 +789,8 @@ mod tests {
         let run = |horizon_s: f32| {
             let cfg = RolloutConfig {
                 dt_s: 0.01,
-                steps_per_update: 255,
+                steps_per_slice: 255,
+                slices_per_sample: 1,
                 horizon_s,
                 coulomb_threshold_rad_s: WC,
             };

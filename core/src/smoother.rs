@@ -23,8 +23,6 @@
 //! σ = 0.02°. A window whose residual is far above the noise (an impact,
 //! a snap, a spike the rate filter let through) gives no fit.
 
-use crate::linalg::solve_spd_masked;
-
 /// Number of readings in the window (odd): the fit is for the middle one,
 /// `(WINDOW − 1)/2` samples back.
 pub const WINDOW: usize = 11;
@@ -114,11 +112,14 @@ impl<const N: usize> CentredFit<N> {
             locked: *locked,
         };
         if self.len < WINDOW {
-            let i = (self.head + self.len) % WINDOW;
-            self.slots[i] = slot;
+            if let Some(s) = self.slots.get_mut((self.head + self.len) % WINDOW) {
+                *s = slot;
+            }
             self.len += 1;
         } else {
-            self.slots[self.head] = slot;
+            if let Some(s) = self.slots.get_mut(self.head % WINDOW) {
+                *s = slot;
+            }
             self.head = (self.head + 1) % WINDOW;
         }
     }
@@ -166,14 +167,16 @@ impl<const N: usize> CentredFit<N> {
         // XᵀX of [1 τ τ²] depends on the times alone; var b = σ² (XᵀX)⁻¹₁₁.
         let s = sums;
         let xtx = [[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]];
-        let unit_var_b = solve_spd_masked(&xtx, &[0.0, 1.0, 0.0], &[false; 3]).ok()?[1];
+        // Inverted once for every joint (the fits share the times).
+        let inv = inverse_sym3(&xtx)?;
+        let unit_var_b = inv[1][1];
         for j in 0..N {
             if m.locked[j] {
                 continue;
             }
             // Relative to the middle reading, for the f32 sums.
             let y: [f32; WINDOW] = core::array::from_fn(|k| self.slot(k).phi[j] - m.phi[j]);
-            let (a, b) = fit_quadratic(&tau, &y, &xtx, meas_var)?;
+            let (a, b) = fit_quadratic(&tau, &y, &inv, meas_var)?;
             out.phi[j] = m.phi[j] + a;
             out.rate[j] = b;
             out.rate_var[j] = meas_var * unit_var_b;
@@ -188,14 +191,40 @@ impl<const N: usize> CentredFit<N> {
     }
 }
 
-/// Least-squares `y ≈ a + b τ + c τ²` with the normal matrix `xtx` of the
-/// times: `(a, b)`, `None` when a reading is missing or the residual is not
-/// that of noise of variance `meas_var`. One copy for every joint count.
+/// The inverse of a symmetric positive definite 3×3 matrix by its
+/// adjugate, `A⁻¹ = adj(A)/det(A)`; `None` unless `det(A) > 0` and the
+/// result is finite. (Cramer's rule is as accurate as a factorisation for
+/// the well-conditioned normal matrix of [`WINDOW`] time offsets, and takes
+/// neither square roots nor a solve per joint.)
+fn inverse_sym3(a: &[[f32; 3]; 3]) -> Option<[[f32; 3]; 3]> {
+    let c00 = a[1][1] * a[2][2] - a[1][2] * a[2][1];
+    let c01 = a[1][2] * a[2][0] - a[1][0] * a[2][2];
+    let c02 = a[1][0] * a[2][1] - a[1][1] * a[2][0];
+    let det = a[0][0] * c00 + a[0][1] * c01 + a[0][2] * c02;
+    if !(det > 0.0) {
+        return None;
+    }
+    let c11 = a[0][0] * a[2][2] - a[0][2] * a[2][0];
+    let c12 = a[0][2] * a[1][0] - a[0][0] * a[1][2];
+    let c22 = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+    let k = 1.0 / det;
+    let inv = [
+        [c00 * k, c01 * k, c02 * k],
+        [c01 * k, c11 * k, c12 * k],
+        [c02 * k, c12 * k, c22 * k],
+    ];
+    inv.iter().flatten().all(|v| v.is_finite()).then_some(inv)
+}
+
+/// Least-squares `y ≈ a + b τ + c τ²` with `inv` the inverse of the normal
+/// matrix of the times: `(a, b)`, `None` when a reading is missing or the
+/// residual is not that of noise of variance `meas_var`. One copy for every
+/// joint count.
 #[inline(never)]
 fn fit_quadratic(
     tau: &[f32; WINDOW],
     y: &[f32; WINDOW],
-    xtx: &[[f32; 3]; 3],
+    inv: &[[f32; 3]; 3],
     meas_var: f32,
 ) -> Option<(f32, f32)> {
     let mut xty = [0.0f32; 3];
@@ -207,7 +236,8 @@ fn fit_quadratic(
         xty[1] += v * t;
         xty[2] += v * t * t;
     }
-    let coef = solve_spd_masked(xtx, &xty, &[false; 3]).ok()?;
+    let coef: [f32; 3] =
+        core::array::from_fn(|i| inv[i].iter().zip(xty.iter()).map(|(a, b)| a * b).sum());
     let mut ssr = 0.0f32;
     for (&t, &v) in tau.iter().zip(y.iter()) {
         let e = v - coef[0] - coef[1] * t - coef[2] * t * t;

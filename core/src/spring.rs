@@ -105,15 +105,17 @@ impl<T: Real> Curve<T> {
             y: [T::ZERO; MAX_KNOTS],
             slope: [T::ZERO; MAX_KNOTS],
         };
-        for (i, &(x, y)) in points.iter().enumerate() {
+        let mut prev = None;
+        for ((&(x, y), cx), cy) in points.iter().zip(c.x.iter_mut()).zip(c.y.iter_mut()) {
             if !x.is_finite() || !y.is_finite() {
                 return Err(CurveError::NotFinite);
             }
-            if i > 0 && x <= c.x[i - 1] {
+            if prev.is_some_and(|p| x <= p) {
                 return Err(CurveError::NotIncreasing);
             }
-            c.x[i] = x;
-            c.y[i] = y;
+            prev = Some(x);
+            *cx = x;
+            *cy = y;
         }
         if !c.linear && n > 2 {
             c.akima_slopes();
@@ -124,7 +126,9 @@ impl<T: Real> Curve<T> {
     /// Knot slopes of the Akima spline, transcribed from scipy 1.17
     /// `Akima1DInterpolator.__init__` (method "akima", break_mult 1e-9).
     fn akima_slopes(&mut self) {
-        let n = self.len;
+        // Clamped so that every index below is provably in bounds (no
+        // panic path); `new` guarantees it anyway.
+        let n = self.len.clamp(2, MAX_KNOTS);
         // m[2..n+1] are the chord slopes, two extrapolated on each side.
         let mut m = [T::ZERO; MAX_KNOTS + 3];
         for i in 0..n - 1 {
@@ -173,27 +177,30 @@ impl<T: Real> Curve<T> {
         }
     }
 
-    /// Index of the interval holding `x` (clamped to the first and last).
+    /// Index of the interval holding `x` (clamped to the first and last),
+    /// below `n − 1` with `n` the knots used.
     #[inline]
-    fn interval(&self, x: T) -> usize {
+    fn interval(&self, x: T, n: usize) -> usize {
         let mut i = 0;
-        while i + 2 < self.len && x >= self.x[i + 1] {
+        while i + 2 < n && self.x.get(i + 1).is_some_and(|&xi| x >= xi) {
             i += 1;
         }
-        i
+        i.min(n.saturating_sub(2))
     }
 
     /// The value at `x` degrees, clamped to the end values outside the knots.
     #[inline]
     pub fn eval(&self, x: T) -> T {
-        let n = self.len;
+        // Clamped so that every index below is provably in bounds (no
+        // panic path on the monitor's sample path); `new` guarantees it.
+        let n = self.len.clamp(2, MAX_KNOTS);
         if !(x > self.x[0]) {
             return self.y[0];
         }
         if x >= self.x[n - 1] {
             return self.y[n - 1];
         }
-        let i = self.interval(x);
+        let i = self.interval(x, n);
         let h = self.x[i + 1] - self.x[i];
         let s = (x - self.x[i]) / h;
         if self.linear {
@@ -224,7 +231,7 @@ impl<T: Real> Curve<T> {
 
     /// `∫_{x0}^{x} T dθ` with `x0` the first knot and clamping outside.
     fn antiderivative(&self, x: T) -> T {
-        let n = self.len;
+        let n = self.len.clamp(2, MAX_KNOTS);
         if !(x > self.x[0]) {
             return (x - self.x[0]) * self.y[0];
         }
@@ -247,12 +254,13 @@ impl<T: Real> Curve<T> {
     /// `∫_0^s p_i(σ) dσ` for the Hermite cubic of interval `i` in its unit
     /// coordinate σ (multiply by the interval length for degrees).
     fn segment_integral(&self, i: usize, s: T) -> T {
-        let (y0, y1) = (self.y[i], self.y[i + 1]);
+        let knot = |v: &[T; MAX_KNOTS], k: usize| v.get(k).copied().unwrap_or(T::ZERO);
+        let (y0, y1) = (knot(&self.y, i), knot(&self.y, i + 1));
         let half = T::of(0.5);
         if self.linear {
             return y0 * s + half * (y1 - y0) * s * s;
         }
-        let h = self.x[i + 1] - self.x[i];
+        let h = knot(&self.x, i + 1) - knot(&self.x, i);
         let s2 = s * s;
         let s3 = s2 * s;
         let s4 = s3 * s;
@@ -262,7 +270,7 @@ impl<T: Real> Curve<T> {
         let i10 = quarter * s4 - T::of(2.0) * third * s3 + half * s2;
         let i01 = -half * s4 + s3;
         let i11 = quarter * s4 - third * s3;
-        i00 * y0 + i10 * h * self.slope[i] + i01 * y1 + i11 * h * self.slope[i + 1]
+        i00 * y0 + i10 * h * knot(&self.slope, i) + i01 * y1 + i11 * h * knot(&self.slope, i + 1)
     }
 }
 

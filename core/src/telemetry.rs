@@ -17,6 +17,9 @@
 //! caller's buffer, at most [`sample_frame_max`] / [`status_frame_max`]
 //! bytes long.
 
+pub mod config;
+pub mod replay;
+
 use postcard::ser_flavors::crc::CrcModifier;
 use postcard::ser_flavors::{Cobs, Slice};
 use serde::{Deserialize, Serialize};

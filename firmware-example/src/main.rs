@@ -5,7 +5,17 @@
 //! semihosting argument (the monitor configuration frames, then the sample
 //! frames), runs the samples through the on-board monitor of that
 //! configuration, and writes the status frames to the file named by the
-//! second (see `src/lib.rs`).
+//! second. The protocol and the loop are the core's
+//! (`deploywatch_core::telemetry::replay`); this binary only gives them
+//! files, static storage for the monitors, a meter and a log.
+//!
+//! The loop runs the monitor's two paths as a flight application does:
+//! `Monitor::update` once per sample (the sample-rate path: in flight, the
+//! timer interrupt of the sampling), then slices of `Monitor::predict` of
+//! bounded cost (in flight, the idle loop or a low-priority task, until the
+//! next sample). The number of slices per sample is fixed by the
+//! configuration (`margin.rollout.slices_per_sample`), so that the replay is
+//! deterministic and bit-identical with the host's.
 //! It logs with defmt over semihosting stdout (decode with `defmt-print`) and
 //! ends QEMU with a semihosting exit: 0 on success, 1 on an error, 101 on a
 //! panic, 134 on a fault.
@@ -26,7 +36,9 @@ use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::SYST;
 use cortex_m_rt::{entry, exception, ExceptionFrame};
 use defmt_semihosting as _;
-use deploywatch_firmware_example::{replay as replay_input, ConfigHeader, Error, Meter};
+use deploywatch_core::telemetry::replay::{
+    replay as replay_input, ConfigHeader, Error, Meter, MonitorStore, Work,
+};
 use semihosting::experimental::env;
 use semihosting::fs::File;
 use semihosting::io::{Read, Write};
@@ -93,11 +105,17 @@ fn replay() -> Result<u32, Error> {
         defmt::error!("the core peripherals are already taken");
         return Err(Error::Config);
     };
-    let mut meter = UpdateMeter::new(peripherals.SYST);
+    // The monitor lives in static memory (.bss), not on the stack.
+    let Some(store) = cortex_m::singleton!(: MonitorStore = MonitorStore::Empty) else {
+        defmt::error!("the monitor storage is already taken");
+        return Err(Error::Config);
+    };
+    let mut meter = WorkMeter::new(peripherals.SYST);
     let result = replay_input(
         |buf| input.read(buf).map_err(|_| ()),
         |frame| output.write_all(frame).map_err(|_| ()),
         &mut meter,
+        store,
         |h: &ConfigHeader| {
             defmt::info!(
                 "monitor of {=u8} joints, deadline {=f32} s",
@@ -110,23 +128,55 @@ fn replay() -> Result<u32, Error> {
     result.map(|(_, samples)| samples)
 }
 
-/// Counts the instructions of every `Monitor::update` with SysTick on the
-/// core clock. QEMU's mps2-an386 clocks the core at 25 MHz of virtual time,
-/// and `-icount shift=0` makes every instruction 1 ns of it, so one tick is
-/// 40 instructions: each call is measured to ±40, the mean far better.
-/// Without `-icount` the figures follow the host's speed and mean nothing.
-struct UpdateMeter {
-    t0: u32,
+/// Calls, total and largest cost of one kind of work [SysTick ticks].
+#[derive(Clone, Copy, Default)]
+struct Tally {
     calls: u32,
     sum: u64,
     max: u32,
+}
+
+impl Tally {
+    fn add(&mut self, ticks: u32) {
+        self.calls += 1;
+        self.sum += u64::from(ticks);
+        self.max = self.max.max(ticks);
+    }
+
+    fn report(&self, what: &str, per_tick: u32) {
+        if self.calls == 0 {
+            defmt::info!("{=str}: 0 calls", what);
+            return;
+        }
+        let mean = (self.sum / u64::from(self.calls)) as u32;
+        defmt::info!(
+            "{=str}: {=u32} calls, mean {=u32} max {=u32} instructions ({=u32} per SysTick tick; QEMU -icount shift=0)",
+            what,
+            self.calls,
+            mean * per_tick,
+            self.max * per_tick,
+            per_tick
+        );
+    }
+}
+
+/// Counts the instructions of every `Monitor::update` and every slice of
+/// `Monitor::predict` with SysTick on the core clock. QEMU's mps2-an386
+/// clocks the core at 25 MHz of virtual time, and `-icount shift=0` makes
+/// every instruction 1 ns of it, so one tick is 40 instructions: each call is
+/// measured to ±40, the mean far better. Without `-icount` the figures
+/// follow the host's speed and mean nothing.
+struct WorkMeter {
+    t0: u32,
+    update: Tally,
+    predict: Tally,
     /// Ticks of an empty start/stop.
     overhead: u32,
     /// Instructions per tick, from a loop of known length.
     per_tick: u32,
 }
 
-impl UpdateMeter {
+impl WorkMeter {
     /// SysTick's 24-bit counter.
     const MASK: u32 = 0x00FF_FFFF;
 
@@ -135,65 +185,57 @@ impl UpdateMeter {
         syst.set_reload(Self::MASK);
         syst.clear_current();
         syst.enable_counter();
-        let mut m = UpdateMeter {
+        let mut m = WorkMeter {
             t0: 0,
-            calls: 0,
-            sum: 0,
-            max: 0,
+            update: Tally::default(),
+            predict: Tally::default(),
             overhead: 0,
             per_tick: 0,
         };
         m.start();
-        m.stop();
-        m.overhead = m.max;
+        m.stop(Work::Update);
+        m.overhead = m.update.max;
         // `asm::delay(n)` runs n + 1 turns of a two-instruction loop
         // (subs, bne; cortex-m 0.7.10).
         const TURNS: u32 = 100_000;
+        m.update = Tally::default();
         m.start();
         cortex_m::asm::delay(TURNS - 1);
-        m.stop();
-        let ticks = m.max.max(1);
+        m.stop(Work::Update);
+        let ticks = m.update.max.max(1);
         m.per_tick = (2 * TURNS + ticks / 2) / ticks;
-        m.calls = 0;
-        m.sum = 0;
-        m.max = 0;
+        m.update = Tally::default();
         m
     }
 
     fn report(&self) {
-        if self.calls == 0 {
-            return;
-        }
-        let mean = (self.sum / u64::from(self.calls)) as u32;
-        defmt::info!(
-            "Monitor::update: {=u32} calls, mean {=u32} max {=u32} instructions ({=u32} per SysTick tick; QEMU -icount shift=0)",
-            self.calls,
-            mean * self.per_tick,
-            self.max * self.per_tick,
-            self.per_tick
-        );
+        self.update.report("Monitor::update", self.per_tick);
+        self.predict.report("predict", self.per_tick);
     }
 }
 
-impl Meter for UpdateMeter {
+impl Meter for WorkMeter {
     #[inline(always)]
     fn start(&mut self) {
         self.t0 = SYST::get_current();
     }
 
     #[inline(always)]
-    fn stop(&mut self) {
+    fn stop(&mut self, work: Work) {
         let t1 = SYST::get_current();
         // SysTick counts down.
         let ticks = (self.t0.wrapping_sub(t1) & Self::MASK).saturating_sub(self.overhead);
-        self.calls += 1;
-        self.sum += u64::from(ticks);
-        self.max = self.max.max(ticks);
+        match work {
+            Work::Update => self.update.add(ticks),
+            Work::Predict => self.predict.add(ticks),
+        }
     }
 }
 
 /// Opens the input and creates the output, as the semihosting command line
-/// `PROGRAM INPUT OUTPUT` says.
+/// `PROGRAM INPUT OUTPUT` says. Out of line: its argument and path buffers
+/// leave the stack before the replay starts.
+#[inline(never)]
 fn setup() -> Result<(File, File), Setup> {
     let args = env::args::<512>().map_err(|_| Setup::Usage)?;
     let mut it = (&args).into_iter().skip(1);
@@ -212,8 +254,12 @@ fn c_path<'b, E>(
     buf: &'b mut [u8; MAX_PATH + 1],
 ) -> Result<&'b CStr, Setup> {
     let path = arg.and_then(|a| a.ok()).ok_or(Setup::Usage)?.as_bytes();
-    let dst = buf.get_mut(..path.len()).ok_or(Setup::Usage)?;
-    dst.copy_from_slice(path);
+    if path.len() > MAX_PATH {
+        return Err(Setup::Usage);
+    }
+    for (d, s) in buf.iter_mut().zip(path.iter()) {
+        *d = *s;
+    }
     let end = path.len() + 1;
     CStr::from_bytes_with_nul(buf.get(..end).ok_or(Setup::Usage)?).map_err(|_| Setup::Usage)
 }

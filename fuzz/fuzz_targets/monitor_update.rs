@@ -80,7 +80,7 @@ fuzz_target!(|data: &[u8]| {
             reading[missing] = f32::NAN;
         }
         let sample = Sample::new(t_s, reading, std::array::from_fn(|j| ctrl & (1 << j) != 0));
-        let status = monitor.update(&sample);
+        let status = monitor.update_and_predict(&sample);
         check(&status, &mut latched);
         telemetry::encode(&status, &mut frame).expect("a status fits status_frame_max");
     }

@@ -221,7 +221,7 @@ pub fn replay<const N: usize>(monitor: &mut Monitor<N>, run: &Run) -> Option<Vec
     Some(
         samples::<N>(run)?
             .iter()
-            .map(|s| monitor.update(s))
+            .map(|s| monitor.update_and_predict(s))
             .collect(),
     )
 }

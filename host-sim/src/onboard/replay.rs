@@ -8,13 +8,13 @@
 //!                                      └─QEMU: firmware (Cortex-M4F)─────> status frames ── compare
 //! ```
 //!
-//! The input is the firmware's protocol (`firmware-example/src/lib.rs`): the
+//! The input is the firmware's protocol (`deploywatch_core::telemetry::replay`): the
 //! monitor configuration as frames ([`config_frames`]), then one
 //! [`Sample<N>`] frame per sample; the output one [`Status<N>`] frame per
 //! sample. Frames are the core's telemetry frames
 //! ([`deploywatch_core::telemetry`]). The host's statuses come from the
 //! simulator's own path ([`monitor_config`](crate::onboard::monitor_config::monitor_config)
-//! and [`Monitor::update`]); the configuration frames are checked to build
+//! and [`Monitor::update_and_predict`]); the configuration frames are checked to build
 //! the very same [`MonitorConfig`] before any replay, so a difference of the
 //! two sides is one of the target, never of the configuration.
 //!
@@ -30,7 +30,7 @@ use std::time::{Duration, Instant};
 use deploywatch_core::monitor::{JointStatus, Monitor, MonitorConfig, Sample, Status};
 use deploywatch_core::spring::Interp;
 use deploywatch_core::telemetry;
-use deploywatch_firmware_example::config::{
+use deploywatch_core::telemetry::config::{
     ConfigHeader, JointFrame, Knots, SpringFrame, TapeFrame, CONFIG_VERSION, JOINT_COUNTS,
 };
 
@@ -261,7 +261,7 @@ pub fn config_frames<const N: usize>(
         _ => {
             return Err(ReplayError::Input(format!(
                 "{}: the configuration frames do not rebuild the host's monitor configuration \
-                 (firmware-example/src/config.rs and host-sim/src/onboard/replay.rs are out of step \
+                 (core/src/telemetry/config.rs and host-sim/src/onboard/replay.rs are out of step \
                  with deploywatch_sim::onboard::monitor_config)",
                 mech.name
             )))
@@ -293,7 +293,7 @@ fn prepare_n<const N: usize>(mech: &Mechanism, run: &Run) -> Result<Prepared, Re
     let mut host_frames = Vec::new();
     let mut host = Vec::with_capacity(samples.len());
     for (i, s) in samples.iter().enumerate() {
-        let status = monitor.update(s);
+        let status = monitor.update_and_predict(s);
         encode_into(&status, &mut host_frames, &format!("status {i}"))?;
         host.push(StatusRow::from(&status));
     }
@@ -678,13 +678,13 @@ fn panel<'a>(
     }
 }
 
-/// The firmware's own replay loop (`firmware-example/src/lib.rs`), run on
+/// The firmware's own replay loop (`deploywatch_core::telemetry::replay`), run on
 /// the host over `input`: against the host's statuses it tells a
 /// difference of code path from one of target.
 pub fn firmware_loop_on_host(input: &[u8]) -> Result<Vec<u8>, ReplayError> {
     let mut rest = input;
     let mut out = Vec::new();
-    deploywatch_firmware_example::replay(
+    deploywatch_core::telemetry::replay::replay(
         |buf| {
             let k = buf.len().min(rest.len());
             buf[..k].copy_from_slice(&rest[..k]);
@@ -696,6 +696,7 @@ pub fn firmware_loop_on_host(input: &[u8]) -> Result<Vec<u8>, ReplayError> {
             Ok(())
         },
         &mut (),
+        &mut deploywatch_core::telemetry::replay::MonitorStore::Empty,
         |_| {},
     )
     .map_err(|e| ReplayError::Target(format!("the firmware's loop on the host: {e}")))?;

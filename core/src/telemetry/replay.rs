@@ -1,37 +1,33 @@
-//! The replay that the deploywatch example firmware runs on the MCU: a
-//! recorded run, sample by sample, through the on-board
-//! [`Monitor`](deploywatch_core::Monitor), with the statuses written back.
+//! The replay protocol the firmware speaks: a recorded run, sample by
+//! sample, through the on-board [`Monitor`](crate::Monitor), with the
+//! statuses written back.
 //!
-//! This crate is `no_std` and also builds on the host, where
-//! `deploywatch replay` (`host-sim/src/replay.rs`) writes the configuration
-//! frames with its types and checks them against the host's own conversion
-//! of the mechanism file.
+//! It lives in the core so that the host (`deploywatch replay`) and the
+//! firmware share one implementation and the host never depends on a
+//! firmware crate: the host writes the configuration frames with these
+//! types, checks them against its own conversion of the mechanism file, and
+//! can run this very loop itself.
 //!
 //! # Files
-//! - Input: the monitor configuration ([`config`]: a [`ConfigHeader`] frame,
+//! - Input: the monitor configuration ([`super::config`]: a [`ConfigHeader`] frame,
 //!   then one [`JointFrame`] per joint), then one frame per sample, a
-//!   [`Sample<N>`](deploywatch_core::Sample) each, in time order, `N` the
+//!   [`Sample<N>`](crate::Sample) each, in time order, `N` the
 //!   header's joint count (one of [`JOINT_COUNTS`]).
 //! - Output: one frame per input sample, the
-//!   [`Status<N>`](deploywatch_core::Status) that
-//!   [`Monitor::update`](deploywatch_core::Monitor::update) returned.
+//!   [`Status<N>`](crate::Status) that
+//!   [`Monitor::update`](crate::Monitor::update) returned.
 //!
 //! Every frame is the core's telemetry frame
-//! ([`deploywatch_core::telemetry`]): postcard, CRC-32C, COBS, then `0x00`.
+//! ([`crate::telemetry`]): postcard, CRC-32C, COBS, then `0x00`.
 //! A frame that does not decode stops the replay with its index: a replay
 //! input comes from a file, so a bad frame is a bad file, not line noise.
-#![no_std]
-#![deny(missing_docs)]
-#![forbid(unsafe_code)]
 
-use deploywatch_core::monitor::MonitorConfig;
-use deploywatch_core::telemetry::{self, sample_frame_max, status_frame_max};
-use deploywatch_core::{Monitor, Sample, Status};
+use crate::monitor::MonitorConfig;
+use crate::telemetry::{self, sample_frame_max, status_frame_max};
+use crate::{Monitor, Sample, Status};
 
-pub mod config;
-
-pub use config::{ConfigHeader, JointFrame, JOINT_COUNTS, MAX_JOINTS};
-use config::{CONFIG_HEADER_FRAME_MAX, CONFIG_VERSION, JOINT_FRAME_MAX};
+pub use super::config::{ConfigHeader, JointFrame, JOINT_COUNTS, MAX_JOINTS};
+use super::config::{CONFIG_HEADER_FRAME_MAX, CONFIG_VERSION, JOINT_FRAME_MAX};
 
 /// Largest input sample frame of any joint count the firmware takes, `0x00`
 /// included [bytes].
@@ -48,7 +44,7 @@ pub const READ_CHUNK: usize = 256;
 #[non_exhaustive]
 pub enum Error {
     /// The configuration frames are missing, do not decode, are of another
-    /// [`CONFIG_VERSION`](config::CONFIG_VERSION) or give a joint count not in
+    /// [`CONFIG_VERSION`](super::config::CONFIG_VERSION) or give a joint count not in
     /// [`JOINT_COUNTS`].
     ConfigFrame,
     /// The monitor (or the core's spring constructor) rejects the
@@ -229,23 +225,53 @@ where
     Ok(config)
 }
 
-/// Brackets every [`Monitor::update`] call of [`run`]: the firmware counts
-/// the instructions it takes; `()` does nothing.
+/// The two kinds of work [`run`] does, each metered on its own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Work {
+    /// [`Monitor::update`]: the sample-rate path.
+    Update,
+    /// One slice of [`Monitor::predict`]: the low-priority prediction.
+    Predict,
+}
+
+/// Brackets every [`Monitor::update`] and [`Monitor::predict`] call of
+/// [`run`]: the firmware counts the instructions each takes; `()` does
+/// nothing.
 pub trait Meter {
     /// Just before the call.
     fn start(&mut self);
     /// Just after it.
-    fn stop(&mut self);
+    fn stop(&mut self, work: Work);
 }
 
 impl Meter for () {
     fn start(&mut self) {}
-    fn stop(&mut self) {}
+    fn stop(&mut self, _: Work) {}
 }
 
-/// Replays the sample frames left in `src` through `monitor`: runs
-/// [`Monitor::update`] on every sample (inside `meter`'s brackets) and hands
-/// each status frame to `write`. Returns the number of samples.
+/// Where the monitor lives: the firmware gives static storage (a monitor is
+/// kilobytes; on the stack it would double the stack's peak), the host
+/// anything. One slot serves every joint count.
+#[derive(Default)]
+#[allow(clippy::large_enum_variant)]
+pub enum MonitorStore {
+    /// No monitor yet.
+    #[default]
+    Empty,
+    /// The 2-joint monitor.
+    Two(Monitor<2>),
+    /// The 3-joint monitor.
+    Three(Monitor<3>),
+}
+
+/// Replays the sample frames left in `src` through `monitor`, as a flight
+/// application schedules the two paths: [`Monitor::update`] on every sample
+/// (the sample-rate path), then `margin.rollout.slices_per_sample` slices
+/// of [`Monitor::predict`] (the idle time before the next sample; fixed, so
+/// that the replay is deterministic and the same as the host's
+/// [`Monitor::update_and_predict`]), each inside `meter`'s brackets. Hands
+/// each status frame, as of the end of the slices, to `write`. Returns the
+/// number of samples.
 #[inline(never)]
 pub fn run<const N: usize, R, W, M>(
     monitor: &mut Monitor<N>,
@@ -261,6 +287,7 @@ where
     let mut frame = [0u8; SAMPLE_FRAME_MAX];
     let mut out = [0u8; STATUS_FRAME_MAX];
     let mut index: u32 = 0;
+    let slices = monitor.config_slices_per_sample();
     loop {
         let buf = frame.get_mut(..sample_frame_max(N)).ok_or(Error::Encode)?;
         let f = match src.next_frame(buf) {
@@ -272,9 +299,15 @@ where
         };
         let sample: Sample<N> = telemetry::decode(f).map_err(|_| Error::Frame { index })?;
         meter.start();
-        let status: Status<N> = monitor.update(&sample);
-        meter.stop();
-        let bytes = telemetry::encode(&status, &mut out).map_err(|_| Error::Encode)?;
+        monitor.update(&sample);
+        meter.stop(Work::Update);
+        for _ in 0..slices {
+            meter.start();
+            monitor.predict();
+            meter.stop(Work::Predict);
+        }
+        let status: &Status<N> = monitor.status();
+        let bytes = telemetry::encode(status, &mut out).map_err(|_| Error::Encode)?;
         write(bytes).map_err(|_| Error::Write)?;
         index += 1;
     }
@@ -282,13 +315,14 @@ where
 }
 
 /// The whole replay of an input stream: the configuration frames, then the
-/// samples through a monitor of the header's joint count. Returns the joint
-/// count and the number of samples. `on_config` is called with the header
-/// once it is read (the firmware logs it).
+/// samples through a monitor of the header's joint count, built in `store`.
+/// Returns the joint count and the number of samples. `on_config` is called
+/// with the header once it is read (the firmware logs it).
 pub fn replay<R, W, M>(
     read: R,
     write: W,
     meter: &mut M,
+    store: &mut MonitorStore,
     on_config: impl FnOnce(&ConfigHeader),
 ) -> Result<(u8, u32), Error>
 where
@@ -302,33 +336,44 @@ where
     let n = match header.joints {
         2 => {
             let config = read_config::<2, R>(&header, &mut src)?;
-            replay_n(&config, &mut src, write, meter)
+            build(&config, store)?;
+            match store {
+                MonitorStore::Two(m) => run(m, &mut src, write, meter),
+                _ => Err(Error::Config),
+            }
         }
         3 => {
             let config = read_config::<3, R>(&header, &mut src)?;
-            replay_n(&config, &mut src, write, meter)
+            build(&config, store)?;
+            match store {
+                MonitorStore::Three(m) => run(m, &mut src, write, meter),
+                _ => Err(Error::Config),
+            }
         }
         _ => Err(Error::ConfigFrame),
     }?;
     Ok((header.joints, n))
 }
 
-/// One monitor size: out of line, so that only one size's frame is on the
-/// stack at a time, and called after [`read_config`] has returned, so that
-/// the configuration's construction is not on the stack under the
-/// monitor's.
+/// Builds the monitor of `config` in `store`. Out of line, so that the
+/// monitor under construction is not on the stack under [`run`].
 #[inline(never)]
-fn replay_n<const N: usize, R, W, M>(
-    config: &MonitorConfig<N>,
-    src: &mut Source<R>,
-    write: W,
-    meter: &mut M,
-) -> Result<u32, Error>
+fn build<const N: usize>(config: &MonitorConfig<N>, store: &mut MonitorStore) -> Result<(), Error>
 where
-    R: FnMut(&mut [u8]) -> Result<usize, ()>,
-    W: FnMut(&[u8]) -> Result<(), ()>,
-    M: Meter,
+    Monitor<N>: Into<MonitorStore>,
 {
-    let mut monitor = Monitor::new(config).map_err(|_| Error::Config)?;
-    run(&mut monitor, src, write, meter)
+    *store = Monitor::new(config).map_err(|_| Error::Config)?.into();
+    Ok(())
+}
+
+impl From<Monitor<2>> for MonitorStore {
+    fn from(m: Monitor<2>) -> Self {
+        MonitorStore::Two(m)
+    }
+}
+
+impl From<Monitor<3>> for MonitorStore {
+    fn from(m: Monitor<3>) -> Self {
+        MonitorStore::Three(m)
+    }
 }

@@ -15,10 +15,10 @@
 //! every replay. Everything else of the configuration is the core's default
 //! tuning, the same code on both sides.
 
-use deploywatch_core::monitor::{JointConfig, MonitorConfig};
-use deploywatch_core::observer::FrictionPrior;
-use deploywatch_core::spring::{CurveError, Fold, Interp, MAX_KNOTS};
-use deploywatch_core::{Curve, Panel, Spring, TapePoints};
+use crate::monitor::{JointConfig, MonitorConfig};
+use crate::observer::FrictionPrior;
+use crate::spring::{CurveError, Fold, Interp, MAX_KNOTS};
+use crate::{Curve, Panel, Spring, TapePoints};
 use serde::{Deserialize, Serialize};
 
 /// The joint counts the firmware has a monitor for (`Monitor<N>` is
@@ -293,7 +293,7 @@ pub const JOINT_FRAME_PAYLOAD_MAX: usize =
 /// Largest frame of a [`JointFrame`], `0x00` included [bytes].
 pub const JOINT_FRAME_MAX: usize = framed(JOINT_FRAME_PAYLOAD_MAX);
 
-/// The core's framing overhead (see `deploywatch_core::telemetry`).
+/// The core's framing overhead (see `crate::telemetry`).
 const fn framed(payload: usize) -> usize {
     let with_crc = payload + 4;
     with_crc + with_crc.div_ceil(254) + 1
