@@ -415,7 +415,7 @@ fn t01_friction_within_15_percent_at_half_stroke() {
 #[test]
 fn t01_friction_within_15_percent_at_half_stroke_with_1_ms_jitter() {
     use deploywatch_core::Fault;
-    use deploywatch_sim::faults::{apply, SensorFault};
+    use deploywatch_sim::simulate::fault_injection::{apply, SensorFault};
     let mech = mechanism("seed001_T01");
     let cfg = monitor_config::<3>(&mech).unwrap();
     let mut worst = 0.0f64;
