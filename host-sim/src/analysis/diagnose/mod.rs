@@ -56,6 +56,22 @@ pub struct Candidate {
     pub table: Option<TableForm>,
 }
 
+/// Where the fit may move one parameter, and how finely it differentiates.
+///
+/// All three are in the parameter's own unit: [`EffectKind::unit`] of the
+/// candidate (N·m for a torque table's node values, m/s² for each rig-tilt
+/// component).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct ParamBound {
+    /// Smallest value the fit may take.
+    lower: f64,
+    /// Largest value the fit may take.
+    upper: f64,
+    /// Smallest finite-difference step of the Jacobian (the step is
+    /// `max(min_step, 1e-4·|p|)`, see [`FitOptions::min_step`]).
+    min_step: f64,
+}
+
 impl Candidate {
     /// Every candidate for a campaign of `joints` joints.
     pub fn all(joints: usize) -> Vec<Candidate> {
@@ -92,21 +108,26 @@ impl Candidate {
         }
     }
 
-    /// `(lower, upper, smallest finite-difference step)` per parameter.
-    fn bounds(&self) -> Vec<(f64, f64, f64)> {
+    /// The fit's bounds and smallest finite-difference step, one per parameter.
+    fn bounds(&self) -> Vec<ParamBound> {
+        let b = |lower, upper, min_step| ParamBound {
+            lower,
+            upper,
+            min_step,
+        };
         match self.kind {
-            EffectKind::CoulombFriction => vec![(0.0, 20.0, 1e-4)],
-            EffectKind::ViscousDamping => vec![(0.0, 50.0, 1e-4)],
-            EffectKind::SpringSoftening => vec![(-1.0, 0.99, 1e-5)],
-            EffectKind::HarnessStiffness => vec![(0.0, 20.0, 1e-4)],
-            EffectKind::LatchDetent => vec![(0.0, 50.0, 1e-3)],
-            EffectKind::AirDrag => vec![(0.0, 20.0, 1e-4)],
+            EffectKind::CoulombFriction => vec![b(0.0, 20.0, 1e-4)],
+            EffectKind::ViscousDamping => vec![b(0.0, 50.0, 1e-4)],
+            EffectKind::SpringSoftening => vec![b(-1.0, 0.99, 1e-5)],
+            EffectKind::HarnessStiffness => vec![b(0.0, 20.0, 1e-4)],
+            EffectKind::LatchDetent => vec![b(0.0, 50.0, 1e-3)],
+            EffectKind::AirDrag => vec![b(0.0, 20.0, 1e-4)],
             // Cartesian components (g cos α, g sin α): nearly linear in
             // the motion, no wrap-around, no singular direction at g = 0.
-            EffectKind::RigTilt => vec![(-5.0, 5.0, 1e-5), (-5.0, 5.0, 1e-5)],
-            EffectKind::EncoderOffset => vec![(-30.0, 30.0, 1e-4)],
+            EffectKind::RigTilt => vec![b(-5.0, 5.0, 1e-5), b(-5.0, 5.0, 1e-5)],
+            EffectKind::EncoderOffset => vec![b(-30.0, 30.0, 1e-4)],
             EffectKind::TorqueTable => {
-                vec![(-TableForm::BOUND_NM, TableForm::BOUND_NM, 1e-4); self.params()]
+                vec![b(-TableForm::BOUND_NM, TableForm::BOUND_NM, 1e-4); self.params()]
             }
         }
     }
@@ -453,11 +474,11 @@ impl Engine<'_> {
                 evaluations: 1,
             });
         }
-        let b: Vec<(f64, f64, f64)> = set.iter().flat_map(|c| c.bounds()).collect();
+        let b: Vec<ParamBound> = set.iter().flat_map(|c| c.bounds()).collect();
         let opts = FitOptions {
-            lower: b.iter().map(|x| x.0).collect(),
-            upper: b.iter().map(|x| x.1).collect(),
-            min_step: b.iter().map(|x| x.2).collect(),
+            lower: b.iter().map(|x| x.lower).collect(),
+            upper: b.iter().map(|x| x.upper).collect(),
+            min_step: b.iter().map(|x| x.min_step).collect(),
             patience: 12,
         };
         let model = |p: &[f64]| self.residuals(c, set, p);
