@@ -229,6 +229,18 @@ impl Candidate {
             None => self.kind.to_string(),
         }
     }
+
+    /// The candidate in words for progress lines: `coulomb_friction at
+    /// joint 1`, `torque_table at joint 2 (angle)`, `air_drag`.
+    pub fn words(&self) -> String {
+        if let (Some(t), Some(j)) = (self.table, self.joint) {
+            return format!("{} at joint {j} ({})", self.kind, t.name());
+        }
+        match self.joint {
+            Some(j) => format!("{} at joint {j}", self.kind),
+            None => self.kind.to_string(),
+        }
+    }
 }
 
 /// A set of candidates with their parameters, as effects.
@@ -722,7 +734,7 @@ impl Engine<'_> {
                         .set
                         .iter()
                         .filter(|c| !r.set.contains(c))
-                        .map(|c| c.label())
+                        .map(|c| c.words())
                         .collect();
                     self.say(format!(
                         "  dropped {}: no longer earns its keep",
@@ -738,9 +750,13 @@ impl Engine<'_> {
     }
 }
 
-/// `a, b, c` of a set's labels.
+/// `a, b, c` of a set in words ([`Candidate::words`]); `nothing` for the
+/// empty set.
 fn labels(set: &[Candidate]) -> String {
-    set.iter().map(|c| c.label()).collect::<Vec<_>>().join(", ")
+    if set.is_empty() {
+        return "nothing".to_string();
+    }
+    set.iter().map(|c| c.words()).collect::<Vec<_>>().join(", ")
 }
 
 fn sub_campaign(c: &Campaign, keep: impl Fn(usize) -> bool) -> Campaign {
@@ -855,12 +871,12 @@ impl Search<'_, '_> {
                 return;
             }
             self.eng.say(format!(
-                "discovery: the residual stays at {:.4} deg; fitting {} torque tables beside {{{}}}",
+                "discovery: the residual stays at {:.4} deg; fitting {} torque tables beside {}",
                 self.current.rms(),
                 moves.len(),
                 labels(&self.current.set)
             ));
-            let what = format!("discover a torque beside {{{}}}", labels(&self.current.set));
+            let what = format!("discover a torque beside {}", labels(&self.current.set));
             if !self.step(&moves, what, "discovered:") {
                 return;
             }
@@ -925,7 +941,7 @@ impl Search<'_, '_> {
             return false;
         };
         self.eng.say(format!(
-            "  a named effect explains it as well: {{{}}} (RMS {:.4} deg)",
+            "  a named effect explains it as well: {} (RMS {:.4} deg)",
             labels(&f.set),
             f.rms()
         ));
@@ -956,7 +972,7 @@ impl Search<'_, '_> {
         match next {
             Some((f, held)) if !self.seen.contains(&f.set) => {
                 self.eng.say(format!(
-                    "  {done} {{{}}} (RMS {:.4} deg)",
+                    "  {done} {} (RMS {:.4} deg)",
                     labels(&f.set),
                     f.rms()
                 ));
@@ -977,7 +993,7 @@ impl Search<'_, '_> {
         }
         let todo = self.outside();
         self.eng.say(format!(
-            "round {}: fitting {} candidates beside {{{}}} (RMS {:.4} deg)",
+            "round {}: fitting {} candidates beside {} (RMS {:.4} deg)",
             self.rounds.len() + 1,
             todo.len(),
             labels(&self.current.set),
@@ -985,7 +1001,7 @@ impl Search<'_, '_> {
         ));
         let moves: Vec<(FittedSet, Candidate)> =
             todo.iter().map(|&c| (self.current.clone(), c)).collect();
-        let what = format!("add to {{{}}}", labels(&self.current.set));
+        let what = format!("add to {}", labels(&self.current.set));
         self.step(&moves, what, "added:")
     }
 
@@ -1022,11 +1038,11 @@ impl Search<'_, '_> {
             }
         }
         self.eng.say(format!(
-            "pairs: fitting {} sets of two, seeded by the last round, beside {{{}}}",
+            "pairs: fitting {} sets of two, seeded by the last round, beside {}",
             moves.len(),
             labels(&self.current.set)
         ));
-        let what = format!("add a pair to {{{}}}", labels(&self.current.set));
+        let what = format!("add a pair to {}", labels(&self.current.set));
         self.step(&moves, what, "added the pair:")
     }
 
@@ -1048,12 +1064,12 @@ impl Search<'_, '_> {
             }
         }
         self.eng.say(format!(
-            "swap {}: trying {} replacements in {{{}}}",
+            "swap {}: trying {} replacements in {}",
             self.swaps,
             moves.len(),
             labels(&self.current.set)
         ));
-        let what = format!("swap one of {{{}}}", labels(&self.current.set));
+        let what = format!("swap one of {}", labels(&self.current.set));
         let moved = self.step(&moves, what, "swapped to");
         if !moved {
             self.eng.say("  no swap earns its keep: stop");
