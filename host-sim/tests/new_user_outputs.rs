@@ -320,6 +320,13 @@ fn simulate_help_gives_every_effect_with_its_unit() {
             k.name()
         );
     }
+    assert!(
+        help.lines()
+            .any(|l| l.contains("torque_table:joint=J:angle_deg=A1")
+                && l.contains("rate_torque_nm=")
+                && l.contains("N·m")),
+        "torque_table with its syntax is missing:\n{help}"
+    );
 }
 
 // ---------------------------------------------------------------------------
@@ -341,6 +348,38 @@ fn identify_prints_words_not_rust_debug_output() {
         !progress.contains('{') && !progress.contains("SCAN_GRID"),
         "{progress}"
     );
+    // diagnose: progress lines name sets in words (no `{a j1}`), and a
+    // dimensionless value is not followed by a unit `1`.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = deploywatch(&[
+        "diagnose",
+        "--mechanism",
+        s(&data(T01)),
+        "--mechanism",
+        s(&data(T02)),
+        "--json",
+        s(&dir.path().join("d.json")),
+        s(&data("examples/c_seed001_friction_harness/seed001_T01.csv")),
+        s(&data("examples/c_seed001_friction_harness/seed001_T02.csv")),
+    ]);
+    let text = succeeds(&out) + &stderr(&out);
+    assert!(!text.contains('{') && !text.contains('}'), "{text}");
+    assert!(!text.contains(" j1") && !text.contains(" j2"), "{text}");
+    assert!(text.contains("at joint"), "{text}");
+    for l in text.lines() {
+        assert!(
+            !l.trim_end().ends_with(" 1") && !l.contains(" 1 (95 %"),
+            "unit `1` in {l:?}"
+        );
+    }
+    let md = std::fs::read_to_string(dir.path().join("d.md")).expect("report");
+    for d in 0..=9 {
+        assert!(
+            !md.contains(&format!("{d} 1 |")),
+            "unit `1` in
+{md}"
+        );
+    }
 }
 
 // ---------------------------------------------------------------------------

@@ -117,16 +117,25 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// ` N·m` after a value, or `, a dimensionless fraction` for unit `1` (as
+/// `simulate --help` says it).
+fn unit_words(kind: EffectKind) -> String {
+    match kind.unit() {
+        "1" => ", a dimensionless fraction".to_string(),
+        u => format!(" {u}"),
+    }
+}
+
 fn effect_line(e: &Effect, o: &Outcome, k: usize) -> String {
     let (lo, hi) = ci_of(o, k);
     let mut s = format!(
-        "{}{} = {:.5} {} (95 % CI {:.5} .. {:.5})",
+        "{}{} = {:.5}{} (95 % CI {:.5} .. {:.5})",
         e.kind,
         e.joint
             .map(|j| format!(" at joint {j}"))
             .unwrap_or_default(),
         e.value,
-        e.kind.unit(),
+        unit_words(e.kind),
         lo,
         hi
     );
@@ -187,7 +196,7 @@ fn evidence_of(o: &Outcome, k: usize, c: Candidate) -> String {
     if !alt.is_empty() {
         let names: Vec<String> = alt
             .iter()
-            .map(|(a, d)| format!("{} (BIC {d:.1} worse)", a.label()))
+            .map(|(a, d)| format!("{} (BIC {d:.1} worse)", a.words()))
             .collect();
         let _ = write!(s, "; nearly as good: {}", names.join(", "));
     }
@@ -408,7 +417,10 @@ fn report_causes(md: &mut String, o: &Outcome) {
                 e.kind,
                 e.joint.map(|j| j.to_string()).unwrap_or_else(|| "—".into()),
                 e.value,
-                e.kind.unit(),
+                match e.kind.unit() {
+                    "1" => "(dimensionless)",
+                    u => u,
+                },
                 extra,
                 lo,
                 hi,
@@ -620,5 +632,19 @@ fn report_rounds(md: &mut String, o: &Outcome) {
 
 /// `a, b` of a set's labels.
 fn labels_of(set: &[Candidate]) -> String {
-    set.iter().map(|c| c.label()).collect::<Vec<_>>().join(", ")
+    set.iter().map(|c| c.words()).collect::<Vec<_>>().join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_dimensionless_value_is_said_in_words_not_unit_1() {
+        assert_eq!(
+            unit_words(EffectKind::SpringSoftening),
+            ", a dimensionless fraction"
+        );
+        assert_eq!(unit_words(EffectKind::CoulombFriction), " N·m");
+    }
 }

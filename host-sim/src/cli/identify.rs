@@ -10,12 +10,12 @@
 
 use super::{check_output, CliError, Console};
 use crate::analysis::identify::{
-    self, identify_direct, identify_rsm, list, DirectOptions, Identification, Method, RsmOptions,
-    RsmResponse,
+    self, identify_direct, identify_rsm, list, DirectOptions, Identification, Method,
+    ParseNameError, RsmOptions, RsmResponse,
 };
 use crate::data::campaign::{Campaign, CampaignRun};
 use crate::report::plot::{self, Mark, Panel, Series, YAxis};
-use crate::simulate::deployment::Trajectory;
+use crate::simulate::deployment::{self, Trajectory};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `deploywatch identify`.
@@ -75,12 +75,30 @@ pub struct IdentifyArgs {
     pub quiet: bool,
 }
 
-fn parse_method(s: &str) -> Result<Method, String> {
+fn parse_method(s: &str) -> Result<Method, ParseNameError> {
     s.parse()
 }
 
-fn parse_response(s: &str) -> Result<RsmResponse, String> {
+fn parse_response(s: &str) -> Result<RsmResponse, ParseNameError> {
     s.parse()
+}
+
+/// Why the fit plot could not be drawn.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum PlotFitError {
+    /// A run could not be simulated, before or after the fit.
+    #[error("cannot simulate run {run} for the plot: {source}")]
+    Simulate {
+        /// The run's name.
+        run: String,
+        /// Why.
+        #[source]
+        source: deployment::SimError,
+    },
+    /// The PNG could not be drawn.
+    #[error(transparent)]
+    Plot(#[from] plot::PlotError),
 }
 
 /// Runs `deploywatch identify`.
@@ -138,7 +156,7 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
     }
     match png {
         Some(png) => {
-            plot_fit(&png, &campaign, &id).map_err(CliError::failed)?;
+            plot_fit(&png, &campaign, &id).map_err(|e| CliError::failed(e.to_string()))?;
             console.say(format_args!("plot: {}", png.display()));
         }
         None => console
@@ -367,16 +385,16 @@ fn method_details(id: &Identification) -> String {
 /// model before (the mechanism as given) and after (with the identified
 /// EFTs): the layout of seed 001 Figs. 10/11; then, per run, a panel of
 /// the residuals after the fit (model − measured) of every joint.
-pub fn plot_fit(png: &Path, campaign: &Campaign, id: &Identification) -> Result<(), String> {
+pub fn plot_fit(png: &Path, campaign: &Campaign, id: &Identification) -> Result<(), PlotFitError> {
     let mut before = Vec::new();
     let mut after = Vec::new();
-    for i in 0..campaign.runs.len() {
-        before.push(campaign.simulate(i, &[]).map_err(|e| e.to_string())?);
-        after.push(
-            campaign
-                .simulate(i, &id.effects())
-                .map_err(|e| e.to_string())?,
-        );
+    for (i, cr) in campaign.runs.iter().enumerate() {
+        let failed = |source| PlotFitError::Simulate {
+            run: cr.name(),
+            source,
+        };
+        before.push(campaign.simulate(i, &[]).map_err(failed)?);
+        after.push(campaign.simulate(i, &id.effects()).map_err(failed)?);
     }
     let residuals: Vec<Vec<Vec<f64>>> = campaign
         .runs
@@ -435,8 +453,8 @@ pub fn plot_fit(png: &Path, campaign: &Campaign, id: &Identification) -> Result<
         ),
         "time [s]",
         &panels,
-    )
-    .map_err(|e| e.to_string())
+    )?;
+    Ok(())
 }
 
 /// One run's joint `j` (0-based): measured, before and after.

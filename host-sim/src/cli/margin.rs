@@ -88,17 +88,45 @@ impl clap::ValueEnum for Standard {
     }
 }
 
-fn parse_factor(s: &str) -> Result<(Resistance, f64), String> {
-    let (k, v) = s
-        .split_once('=')
-        .ok_or_else(|| format!("`{s}`: expected KIND=VALUE, e.g. friction=2.5"))?;
-    let kind: Resistance = k.parse().map_err(|e: NameError| e.to_string())?;
-    let value: f64 = v
-        .trim()
-        .parse()
-        .map_err(|_| format!("`{v}` is not a number"))?;
+/// What is wrong with a `--factor KIND=VALUE`.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum FactorError {
+    /// No `=`.
+    #[error("`{text}`: expected KIND=VALUE, e.g. friction=2.5")]
+    NotKeyValue {
+        /// The whole text.
+        text: String,
+    },
+    /// Not a kind of resistance.
+    #[error(transparent)]
+    Kind(#[from] NameError),
+    /// A value that does not parse.
+    #[error("`{value}` is not a number")]
+    NotANumber {
+        /// The value as written.
+        value: String,
+    },
+    /// A value that is not a positive finite number.
+    #[error("factor `{value}` must be a positive number")]
+    NotPositive {
+        /// The value as written.
+        value: String,
+    },
+}
+
+fn parse_factor(s: &str) -> Result<(Resistance, f64), FactorError> {
+    let (k, v) = s.split_once('=').ok_or_else(|| FactorError::NotKeyValue {
+        text: s.to_string(),
+    })?;
+    let kind: Resistance = k.parse()?;
+    let value: f64 = v.trim().parse().map_err(|_| FactorError::NotANumber {
+        value: v.to_string(),
+    })?;
     if !(value.is_finite() && value > 0.0) {
-        return Err(format!("factor `{v}` must be a positive number"));
+        return Err(FactorError::NotPositive {
+            value: v.to_string(),
+        });
     }
     Ok((kind, value))
 }

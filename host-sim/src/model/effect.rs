@@ -1,7 +1,7 @@
 //! The named effects of `docs/spec/physics.md` section 6: the vocabulary a
 //! diagnosis reports, and the extras `deploywatch simulate --effect` adds.
 
-use crate::model::torque_table::{self, TablePoints};
+use crate::model::torque_table::{self, TableError, TablePoints};
 use deploywatch_core::{GlobalEffects, JointEffects, TorqueTable};
 use std::fmt;
 use std::str::FromStr;
@@ -174,12 +174,13 @@ pub enum EffectError {
         expected: &'static str,
     },
     /// A `torque_table` whose points are not a table.
-    #[error("`{text}`: {reason}")]
+    #[error("`{text}`: {source}")]
     Table {
         /// The whole text.
         text: String,
         /// What is wrong with the points.
-        reason: String,
+        #[source]
+        source: TableError,
     },
     /// Table keys on an effect other than `torque_table`.
     #[error("`{text}`: only torque_table takes angle_deg/torque_nm/rate_deg_s/rate_torque_nm")]
@@ -372,9 +373,9 @@ impl FromStr for Effect {
         let mut value = None;
         let mut alpha_deg = 0.0;
         let mut points = TablePoints::default();
-        let table_error = |reason| EffectError::Table {
+        let table_error = |source| EffectError::Table {
             text: s.to_string(),
-            reason,
+            source,
         };
         for p in parts {
             let (k, v) = p.split_once('=').ok_or_else(|| EffectError::NotKeyValue {

@@ -7,8 +7,53 @@
 //! `--effect torque_table:joint=J:angle_deg=A1,A2,..:torque_nm=T1,T2,..`
 //! `[:rate_deg_s=R1,R2,..:rate_torque_nm=G1,G2,..]` (either table or both).
 
-use deploywatch_core::{Table, TorqueTable};
+use deploywatch_core::{Table, TableError as CoreTableError, TorqueTable};
 use std::fmt::Write as _;
+
+/// What is wrong with the points of a torque table.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum TableError {
+    /// A list that is not numbers separated by commas.
+    #[error("`{key}={value}`: expected numbers separated by commas")]
+    BadNumberList {
+        /// The key.
+        key: String,
+        /// The list as written.
+        value: String,
+    },
+    /// Abscissae and values of unequal length.
+    #[error("{x_key} and {y_key} must have as many points")]
+    UnequalLengths {
+        /// The abscissae's key (`angle_deg` or `rate_deg_s`).
+        x_key: &'static str,
+        /// The values' key (`torque_nm` or `rate_torque_nm`).
+        y_key: &'static str,
+    },
+    /// Only one list of a pair given.
+    #[error("{x_key} and {y_key} go together: give both")]
+    HalfPair {
+        /// The abscissae's key (`angle_deg` or `rate_deg_s`).
+        x_key: &'static str,
+        /// The values' key (`torque_nm` or `rate_torque_nm`).
+        y_key: &'static str,
+    },
+    /// Neither pair given.
+    #[error("torque_table needs angle_deg/torque_nm, rate_deg_s/rate_torque_nm or both")]
+    NoTable,
+    /// A pair the core refuses as a table (too few or too many points,
+    /// abscissae not increasing, numbers not finite).
+    #[error("{x_key}/{y_key}: {source}")]
+    Core {
+        /// The abscissae's key (`angle_deg` or `rate_deg_s`).
+        x_key: &'static str,
+        /// The values' key (`torque_nm` or `rate_torque_nm`).
+        y_key: &'static str,
+        /// The core's reason.
+        #[source]
+        source: CoreTableError,
+    },
+}
 
 /// The four point lists of a torque table as they are written, before they
 /// are checked and built.
@@ -27,7 +72,7 @@ pub struct TablePoints {
 impl TablePoints {
     /// Takes `key=value` when `key` is one of the four table keys; returns
     /// `Ok(false)` for any other key.
-    pub fn take(&mut self, key: &str, value: &str) -> Result<bool, String> {
+    pub fn take(&mut self, key: &str, value: &str) -> Result<bool, TableError> {
         let slot = match key {
             "angle_deg" => &mut self.angle_deg,
             "torque_nm" => &mut self.torque_nm,
@@ -39,7 +84,10 @@ impl TablePoints {
             .split(',')
             .map(|x| x.trim().parse::<f64>())
             .collect::<Result<Vec<f64>, _>>()
-            .map_err(|_| format!("`{key}={value}`: expected numbers separated by commas"))?;
+            .map_err(|_| TableError::BadNumberList {
+                key: key.to_string(),
+                value: value.to_string(),
+            })?;
         *slot = Some(list);
         Ok(true)
     }
@@ -51,14 +99,23 @@ impl TablePoints {
 
     /// Builds the table: each of `f` and `g` needs both its lists, of equal
     /// length, abscissae strictly increasing; at least one of them.
-    pub fn build(&self) -> Result<TorqueTable<f64>, String> {
-        let one = |x: &Option<Vec<f64>>, y: &Option<Vec<f64>>, xk: &str, yk: &str| match (x, y) {
+    pub fn build(&self) -> Result<TorqueTable<f64>, TableError> {
+        let one = |x: &Option<Vec<f64>>,
+                   y: &Option<Vec<f64>>,
+                   x_key: &'static str,
+                   y_key: &'static str| match (x, y) {
             (None, None) => Ok(None),
-            (Some(x), Some(y)) if x.len() == y.len() => Table::new(x, y)
-                .map(Some)
-                .map_err(|e| format!("{xk}/{yk}: {e}")),
-            (Some(_), Some(_)) => Err(format!("{xk} and {yk} must have as many points")),
-            _ => Err(format!("{xk} and {yk} go together: give both")),
+            (Some(x), Some(y)) if x.len() == y.len() => {
+                Table::new(x, y)
+                    .map(Some)
+                    .map_err(|source| TableError::Core {
+                        x_key,
+                        y_key,
+                        source,
+                    })
+            }
+            (Some(_), Some(_)) => Err(TableError::UnequalLengths { x_key, y_key }),
+            _ => Err(TableError::HalfPair { x_key, y_key }),
         };
         let t = TorqueTable {
             angle: one(&self.angle_deg, &self.torque_nm, "angle_deg", "torque_nm")?,
@@ -70,9 +127,7 @@ impl TablePoints {
             )?,
         };
         if t.angle.is_none() && t.rate.is_none() {
-            return Err(
-                "torque_table needs angle_deg/torque_nm, rate_deg_s/rate_torque_nm or both".into(),
-            );
+            return Err(TableError::NoTable);
         }
         Ok(t)
     }
@@ -132,10 +187,21 @@ mod tests {
     fn given_bad_points_then_the_error_names_the_keys() {
         let mut p = TablePoints::default();
         p.take("rate_deg_s", "0,10").unwrap();
-        assert!(p.build().unwrap_err().contains("rate_torque_nm"));
+        let e = p.build().unwrap_err();
+        assert!(matches!(e, TableError::HalfPair { .. }));
+        assert!(e.to_string().contains("rate_torque_nm"));
         p.take("rate_torque_nm", "1").unwrap();
-        assert!(p.build().unwrap_err().contains("as many points"));
-        assert!(p.take("angle_deg", "a,b").is_err());
-        assert!(TablePoints::default().build().is_err());
+        let e = p.build().unwrap_err();
+        assert!(matches!(e, TableError::UnequalLengths { .. }));
+        assert!(e.to_string().contains("as many points"));
+        assert!(matches!(
+            p.take("angle_deg", "a,b"),
+            Err(TableError::BadNumberList { .. })
+        ));
+        assert_eq!(TablePoints::default().build(), Err(TableError::NoTable));
+        let mut q = TablePoints::default();
+        q.take("angle_deg", "0").unwrap();
+        q.take("torque_nm", "1").unwrap();
+        assert!(matches!(q.build(), Err(TableError::Core { .. })));
     }
 }

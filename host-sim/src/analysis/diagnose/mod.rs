@@ -56,6 +56,22 @@ pub struct Candidate {
     pub table: Option<TableForm>,
 }
 
+/// Where the fit may move one parameter, and how finely it differentiates.
+///
+/// All three are in the parameter's own unit: [`EffectKind::unit`] of the
+/// candidate (N·m for a torque table's node values, m/s² for each rig-tilt
+/// component).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct ParamBound {
+    /// Smallest value the fit may take.
+    lower: f64,
+    /// Largest value the fit may take.
+    upper: f64,
+    /// Smallest finite-difference step of the Jacobian (the step is
+    /// `max(min_step, 1e-4·|p|)`, see [`FitOptions::min_step`]).
+    min_step: f64,
+}
+
 impl Candidate {
     /// Every candidate for a campaign of `joints` joints.
     pub fn all(joints: usize) -> Vec<Candidate> {
@@ -92,21 +108,26 @@ impl Candidate {
         }
     }
 
-    /// `(lower, upper, smallest finite-difference step)` per parameter.
-    fn bounds(&self) -> Vec<(f64, f64, f64)> {
+    /// The fit's bounds and smallest finite-difference step, one per parameter.
+    fn bounds(&self) -> Vec<ParamBound> {
+        let b = |lower, upper, min_step| ParamBound {
+            lower,
+            upper,
+            min_step,
+        };
         match self.kind {
-            EffectKind::CoulombFriction => vec![(0.0, 20.0, 1e-4)],
-            EffectKind::ViscousDamping => vec![(0.0, 50.0, 1e-4)],
-            EffectKind::SpringSoftening => vec![(-1.0, 0.99, 1e-5)],
-            EffectKind::HarnessStiffness => vec![(0.0, 20.0, 1e-4)],
-            EffectKind::LatchDetent => vec![(0.0, 50.0, 1e-3)],
-            EffectKind::AirDrag => vec![(0.0, 20.0, 1e-4)],
+            EffectKind::CoulombFriction => vec![b(0.0, 20.0, 1e-4)],
+            EffectKind::ViscousDamping => vec![b(0.0, 50.0, 1e-4)],
+            EffectKind::SpringSoftening => vec![b(-1.0, 0.99, 1e-5)],
+            EffectKind::HarnessStiffness => vec![b(0.0, 20.0, 1e-4)],
+            EffectKind::LatchDetent => vec![b(0.0, 50.0, 1e-3)],
+            EffectKind::AirDrag => vec![b(0.0, 20.0, 1e-4)],
             // Cartesian components (g cos α, g sin α): nearly linear in
             // the motion, no wrap-around, no singular direction at g = 0.
-            EffectKind::RigTilt => vec![(-5.0, 5.0, 1e-5), (-5.0, 5.0, 1e-5)],
-            EffectKind::EncoderOffset => vec![(-30.0, 30.0, 1e-4)],
+            EffectKind::RigTilt => vec![b(-5.0, 5.0, 1e-5), b(-5.0, 5.0, 1e-5)],
+            EffectKind::EncoderOffset => vec![b(-30.0, 30.0, 1e-4)],
             EffectKind::TorqueTable => {
-                vec![(-TableForm::BOUND_NM, TableForm::BOUND_NM, 1e-4); self.params()]
+                vec![b(-TableForm::BOUND_NM, TableForm::BOUND_NM, 1e-4); self.params()]
             }
         }
     }
@@ -205,6 +226,18 @@ impl Candidate {
         }
         match self.joint {
             Some(j) => format!("{} j{j}", self.kind),
+            None => self.kind.to_string(),
+        }
+    }
+
+    /// The candidate in words for progress lines: `coulomb_friction at
+    /// joint 1`, `torque_table at joint 2 (angle)`, `air_drag`.
+    pub fn words(&self) -> String {
+        if let (Some(t), Some(j)) = (self.table, self.joint) {
+            return format!("{} at joint {j} ({})", self.kind, t.name());
+        }
+        match self.joint {
+            Some(j) => format!("{} at joint {j}", self.kind),
             None => self.kind.to_string(),
         }
     }
@@ -453,11 +486,11 @@ impl Engine<'_> {
                 evaluations: 1,
             });
         }
-        let b: Vec<(f64, f64, f64)> = set.iter().flat_map(|c| c.bounds()).collect();
+        let b: Vec<ParamBound> = set.iter().flat_map(|c| c.bounds()).collect();
         let opts = FitOptions {
-            lower: b.iter().map(|x| x.0).collect(),
-            upper: b.iter().map(|x| x.1).collect(),
-            min_step: b.iter().map(|x| x.2).collect(),
+            lower: b.iter().map(|x| x.lower).collect(),
+            upper: b.iter().map(|x| x.upper).collect(),
+            min_step: b.iter().map(|x| x.min_step).collect(),
             patience: 12,
         };
         let model = |p: &[f64]| self.residuals(c, set, p);
@@ -701,7 +734,7 @@ impl Engine<'_> {
                         .set
                         .iter()
                         .filter(|c| !r.set.contains(c))
-                        .map(|c| c.label())
+                        .map(|c| c.words())
                         .collect();
                     self.say(format!(
                         "  dropped {}: no longer earns its keep",
@@ -717,9 +750,13 @@ impl Engine<'_> {
     }
 }
 
-/// `a, b, c` of a set's labels.
+/// `a, b, c` of a set in words ([`Candidate::words`]); `nothing` for the
+/// empty set.
 fn labels(set: &[Candidate]) -> String {
-    set.iter().map(|c| c.label()).collect::<Vec<_>>().join(", ")
+    if set.is_empty() {
+        return "nothing".to_string();
+    }
+    set.iter().map(|c| c.words()).collect::<Vec<_>>().join(", ")
 }
 
 fn sub_campaign(c: &Campaign, keep: impl Fn(usize) -> bool) -> Campaign {
@@ -834,12 +871,12 @@ impl Search<'_, '_> {
                 return;
             }
             self.eng.say(format!(
-                "discovery: the residual stays at {:.4} deg; fitting {} torque tables beside {{{}}}",
+                "discovery: the residual stays at {:.4} deg; fitting {} torque tables beside {}",
                 self.current.rms(),
                 moves.len(),
                 labels(&self.current.set)
             ));
-            let what = format!("discover a torque beside {{{}}}", labels(&self.current.set));
+            let what = format!("discover a torque beside {}", labels(&self.current.set));
             if !self.step(&moves, what, "discovered:") {
                 return;
             }
@@ -904,7 +941,7 @@ impl Search<'_, '_> {
             return false;
         };
         self.eng.say(format!(
-            "  a named effect explains it as well: {{{}}} (RMS {:.4} deg)",
+            "  a named effect explains it as well: {} (RMS {:.4} deg)",
             labels(&f.set),
             f.rms()
         ));
@@ -935,7 +972,7 @@ impl Search<'_, '_> {
         match next {
             Some((f, held)) if !self.seen.contains(&f.set) => {
                 self.eng.say(format!(
-                    "  {done} {{{}}} (RMS {:.4} deg)",
+                    "  {done} {} (RMS {:.4} deg)",
                     labels(&f.set),
                     f.rms()
                 ));
@@ -956,7 +993,7 @@ impl Search<'_, '_> {
         }
         let todo = self.outside();
         self.eng.say(format!(
-            "round {}: fitting {} candidates beside {{{}}} (RMS {:.4} deg)",
+            "round {}: fitting {} candidates beside {} (RMS {:.4} deg)",
             self.rounds.len() + 1,
             todo.len(),
             labels(&self.current.set),
@@ -964,7 +1001,7 @@ impl Search<'_, '_> {
         ));
         let moves: Vec<(FittedSet, Candidate)> =
             todo.iter().map(|&c| (self.current.clone(), c)).collect();
-        let what = format!("add to {{{}}}", labels(&self.current.set));
+        let what = format!("add to {}", labels(&self.current.set));
         self.step(&moves, what, "added:")
     }
 
@@ -1001,11 +1038,11 @@ impl Search<'_, '_> {
             }
         }
         self.eng.say(format!(
-            "pairs: fitting {} sets of two, seeded by the last round, beside {{{}}}",
+            "pairs: fitting {} sets of two, seeded by the last round, beside {}",
             moves.len(),
             labels(&self.current.set)
         ));
-        let what = format!("add a pair to {{{}}}", labels(&self.current.set));
+        let what = format!("add a pair to {}", labels(&self.current.set));
         self.step(&moves, what, "added the pair:")
     }
 
@@ -1027,12 +1064,12 @@ impl Search<'_, '_> {
             }
         }
         self.eng.say(format!(
-            "swap {}: trying {} replacements in {{{}}}",
+            "swap {}: trying {} replacements in {}",
             self.swaps,
             moves.len(),
             labels(&self.current.set)
         ));
-        let what = format!("swap one of {{{}}}", labels(&self.current.set));
+        let what = format!("swap one of {}", labels(&self.current.set));
         let moved = self.step(&moves, what, "swapped to");
         if !moved {
             self.eng.say("  no swap earns its keep: stop");

@@ -64,13 +64,33 @@ impl Method {
     }
 }
 
+/// A name on the command line that is not a [`Method`] or an [`RsmResponse`].
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ParseNameError {
+    /// Not one of the accepted names.
+    #[error("unknown {what} `{name}`: expected {expected}")]
+    UnknownName {
+        /// What was being named (`method`, `response`).
+        what: &'static str,
+        /// The name given.
+        name: String,
+        /// The accepted names, in words.
+        expected: &'static str,
+    },
+}
+
 impl std::str::FromStr for Method {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ParseNameError;
+    fn from_str(s: &str) -> Result<Self, ParseNameError> {
         match s {
             "direct" => Ok(Method::Direct),
             "rsm" => Ok(Method::Rsm),
-            _ => Err(format!("unknown method `{s}`: expected `direct` or `rsm`")),
+            _ => Err(ParseNameError::UnknownName {
+                what: "method",
+                name: s.to_string(),
+                expected: "`direct` or `rsm`",
+            }),
         }
     }
 }
@@ -351,12 +371,16 @@ impl RsmResponse {
 }
 
 impl std::str::FromStr for RsmResponse {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ParseNameError;
+    fn from_str(s: &str) -> Result<Self, ParseNameError> {
         match s {
             "te" => Ok(RsmResponse::TeSum),
             "mse" => Ok(RsmResponse::Mse),
-            _ => Err(format!("unknown response `{s}`: expected `te` or `mse`")),
+            _ => Err(ParseNameError::UnknownName {
+                what: "response",
+                name: s.to_string(),
+                expected: "`te` or `mse`",
+            }),
         }
     }
 }
@@ -1272,7 +1296,11 @@ mod tests {
         for r in [RsmResponse::TeSum, RsmResponse::Mse] {
             assert_eq!(r.name().parse::<RsmResponse>(), Ok(r));
         }
-        assert!("lm".parse::<Method>().unwrap_err().contains("direct"));
+        assert!("lm"
+            .parse::<Method>()
+            .unwrap_err()
+            .to_string()
+            .contains("direct"));
         assert_eq!(serde_json::to_string(&Method::Rsm).unwrap(), "\"rsm\"");
     }
 
