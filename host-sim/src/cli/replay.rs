@@ -165,7 +165,7 @@ fn qemu_elf(args: &ReplayArgs, mech: &Mechanism) -> Result<Option<PathBuf>, CliE
     if !replay::firmware_supports(mech.joint_count()) {
         return Err(CliError::input(format!(
             "{}: {} joints; the example firmware has monitors of {} joints only \
-             (firmware-example/src/config.rs, JOINT_COUNTS: the 64 KiB flash budget); \
+             (deploywatch_core::telemetry::config::JOINT_COUNTS: the 64 KiB flash budget); \
              --target host replays 1 to 4",
             mech.name,
             mech.joint_count(),

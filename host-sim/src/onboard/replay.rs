@@ -434,7 +434,7 @@ fn num(x: f32) -> String {
 /// `JointStatus` changes.
 type Column = (&'static str, &'static str, fn(&JointStatus) -> String);
 
-/// The per-joint columns, in order (`docs/firmware.md`).
+/// The per-joint columns, in order (documented in `docs/monitor.md` §1.1).
 pub const JOINT_COLUMNS: [Column; 8] = [
     ("phi", "_deg", |s| num(s.phi_deg)),
     ("rate", "_deg_s", |s| num(s.rate_deg_s)),
