@@ -85,28 +85,36 @@ impl<T: Real> Table<T> {
 
     /// The abscissae.
     pub fn xs(&self) -> &[T] {
-        &self.x[..self.len]
+        self.x.get(..self.len).unwrap_or(&[])
     }
 
     /// The values.
     pub fn ys(&self) -> &[T] {
-        &self.y[..self.len]
+        self.y.get(..self.len).unwrap_or(&[])
     }
 
     /// `y(x)`: linear between points, the end value beyond them.
     #[inline]
     pub fn eval(&self, x: T) -> T {
-        let n = self.len;
-        if !(x > self.x[0]) {
-            return self.y[0];
+        let (xs, ys) = (self.xs(), self.ys());
+        let (Some(&x0), Some(&y0)) = (xs.first(), ys.first()) else {
+            return T::ZERO;
+        };
+        if !(x > x0) {
+            return y0;
         }
-        for i in 1..n {
-            if x < self.x[i] {
-                let s = (x - self.x[i - 1]) / (self.x[i] - self.x[i - 1]);
-                return self.y[i - 1] + s * (self.y[i] - self.y[i - 1]);
+        // No indexing: every access is proven in bounds, so the sample path
+        // links no panic (`scripts/firmware.sh panic-check`).
+        for (xw, yw) in xs.windows(2).zip(ys.windows(2)) {
+            let (&[xa, xb], &[ya, yb]) = (xw, yw) else {
+                continue;
+            };
+            if x < xb {
+                let s = (x - xa) / (xb - xa);
+                return ya + s * (yb - ya);
             }
         }
-        self.y[n - 1]
+        ys.last().copied().unwrap_or(T::ZERO)
     }
 }
 
