@@ -2,12 +2,14 @@
 //! simulator with its reference sensor model (issue 3).
 
 use deploywatch_core::monitor::{Monitor, MonitorConfig, Prediction, Sample, Status};
+use deploywatch_core::Fault;
 use deploywatch_core::LatchState;
 use deploywatch_sim::data::run::Run;
 use deploywatch_sim::model::effect::{Effect, EffectKind};
 use deploywatch_sim::model::mechanism::Mechanism;
 use deploywatch_sim::onboard::monitor_config::{monitor_config, samples};
 use deploywatch_sim::simulate::deployment::{simulate, SimOptions, Trajectory};
+use deploywatch_sim::simulate::fault_injection::{apply, SensorFault};
 use deploywatch_sim::simulate::sensor::{measure, SensorModel};
 use deploywatch_tests::data_dir;
 
@@ -378,12 +380,30 @@ const SEEDS: std::ops::RangeInclusive<u64> = 1..=10;
 /// joint has covered half its stroke.
 #[test]
 fn t01_friction_within_15_percent_at_half_stroke() {
+    t01_friction_at_half_stroke("", &[]);
+}
+
+/// T01 with the papers' friction and `faults` injected: every Coulomb
+/// estimate of a joint whose friction is ≥ 0.3 N·m is within 15 % of the
+/// truth at half stroke, over every seed; a jitter fault is also flagged.
+fn t01_friction_at_half_stroke(label: &str, faults: &[SensorFault]) {
     let mech = mechanism("seed001_T01");
     let cfg = monitor_config::<3>(&mech).unwrap();
     let mut worst = 0.0f64;
     for seed in SEEDS {
-        let (traj, run) = simulate_run(&mech, &coulomb(&SEED001_FRICTION), seed);
+        let (traj, mut run) = simulate_run(&mech, &coulomb(&SEED001_FRICTION), seed);
+        apply(&mut run, faults, seed).unwrap();
         let st = replay(&cfg, &run);
+        if faults
+            .iter()
+            .any(|f| matches!(f, SensorFault::TimeJitter { .. }))
+        {
+            assert!(
+                st.iter()
+                    .any(|s| s.joints[0].faults.contains(Fault::TimeJitter)),
+                "seed {seed}: jitter not flagged"
+            );
+        }
         for (j, &truth) in SEED001_FRICTION.iter().enumerate() {
             if truth < 0.3 {
                 continue;
@@ -393,7 +413,7 @@ fn t01_friction_within_15_percent_at_half_stroke() {
             let est = st[i].joints[j];
             let err = est.coulomb_nm as f64 / truth - 1.0;
             println!(
-                "seed {seed:2} joint {} at t = {:.2} s: T_C = {:.3} ± {:.3} N·m (truth {truth}, {:+.1} %)",
+                "{label}seed {seed:2} joint {} at t = {:.2} s: T_C = {:.3} ± {:.3} N·m (truth {truth}, {:+.1} %)",
                 j + 1,
                 st[i].t_s,
                 est.coulomb_nm,
@@ -404,7 +424,7 @@ fn t01_friction_within_15_percent_at_half_stroke() {
             assert!(err.abs() <= 0.15, "seed {seed} joint {}: {err:+.3}", j + 1);
         }
     }
-    println!("worst relative error {:.1} %", 100.0 * worst);
+    println!("{label}worst relative error {:.1} %", 100.0 * worst);
 }
 
 /// The same with 1 ms σ of time-stamp jitter (`faults::apply`'s
@@ -414,46 +434,7 @@ fn t01_friction_within_15_percent_at_half_stroke() {
 /// flagged.
 #[test]
 fn t01_friction_within_15_percent_at_half_stroke_with_1_ms_jitter() {
-    use deploywatch_core::Fault;
-    use deploywatch_sim::simulate::fault_injection::{apply, SensorFault};
-    let mech = mechanism("seed001_T01");
-    let cfg = monitor_config::<3>(&mech).unwrap();
-    let mut worst = 0.0f64;
-    for seed in SEEDS {
-        let (traj, mut run) = simulate_run(&mech, &coulomb(&SEED001_FRICTION), seed);
-        apply(
-            &mut run,
-            &[SensorFault::TimeJitter { sigma_s: 0.001 }],
-            seed,
-        )
-        .unwrap();
-        let st = replay(&cfg, &run);
-        assert!(
-            st.iter()
-                .any(|s| s.joints[0].faults.contains(Fault::TimeJitter)),
-            "seed {seed}: jitter not flagged"
-        );
-        for (j, &truth) in SEED001_FRICTION.iter().enumerate() {
-            if truth < 0.3 {
-                continue;
-            }
-            let i = half_stroke_index(&traj, mech.joints[j].stowed_deg, j)
-                .expect("joint reaches half stroke");
-            let est = st[i].joints[j];
-            let err = est.coulomb_nm as f64 / truth - 1.0;
-            println!(
-                "jitter, seed {seed:2} joint {} at t = {:.2} s: T_C = {:.3} ± {:.3} N·m (truth {truth}, {:+.1} %)",
-                j + 1,
-                st[i].t_s,
-                est.coulomb_nm,
-                est.coulomb_sd_nm,
-                100.0 * err
-            );
-            worst = worst.max(err.abs());
-            assert!(err.abs() <= 0.15, "seed {seed} joint {}: {err:+.3}", j + 1);
-        }
-    }
-    println!("jitter: worst relative error {:.1} %", 100.0 * worst);
+    t01_friction_at_half_stroke("jitter, ", &[SensorFault::TimeJitter { sigma_s: 0.001 }]);
 }
 
 /// seed001_T02 with the paper's friction: joint 1 (2 × TS-3 against
