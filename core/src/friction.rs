@@ -56,7 +56,7 @@ impl<T: Real> Friction<T> {
     pub fn torque(&self, omega: T) -> T {
         let mut t = T::ZERO;
         if self.coulomb_nm != T::ZERO {
-            t += self.coulomb_nm * (omega / self.coulomb_threshold_rad_s).tanh();
+            t += self.coulomb_nm * coulomb_shape(omega, self.coulomb_threshold_rad_s);
         }
         let peak = self.breakaway_nm - self.coulomb_nm;
         if peak != T::ZERO && self.stribeck_rad_s > T::ZERO {
@@ -67,6 +67,16 @@ impl<T: Real> Friction<T> {
         t += self.viscous_nms * omega;
         -t
     }
+}
+
+/// The shape of the Coulomb part of the friction law (`physics.md` §4):
+/// `tanh(ω/ω_c)` [1] at relative rate `omega` [rad/s] for the threshold
+/// `omega_c` [rad/s]. The one place the law's smoothing is written: the
+/// simulator's [`Friction::torque`], the observer's regressor and the
+/// rollout's linearly implicit step all call it.
+#[inline]
+pub fn coulomb_shape<T: Real>(omega: T, omega_c: T) -> T {
+    (omega / omega_c).tanh()
 }
 
 #[cfg(test)]

@@ -37,6 +37,7 @@
 //! on line and inflated by the correlation of the filtered residual.
 
 use crate::chain::Chain;
+use crate::friction::coulomb_shape;
 
 /// Number of unique entries of a symmetric 3×3 matrix.
 const SYM3: usize = 6;
@@ -550,7 +551,7 @@ impl FrictionObserver {
     pub fn step(&mut self, input: &ObserverInput, tuning: &ObserverTuning) {
         let wc = tuning.coulomb_threshold_rad_s;
         let h = [
-            -libm::tanhf(input.rate_rad_s / wc),
+            -coulomb_shape(input.rate_rad_s, wc),
             -input.rate_rad_s,
             input.spring_torque_nm,
         ];

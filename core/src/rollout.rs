@@ -36,6 +36,7 @@
 //! estimate; one that the bracket does not confirm is the best estimate only.
 
 use crate::chain::{Chain, ChainState, Mode};
+use crate::friction::coulomb_shape;
 use crate::linalg::{articulated_inertias, solve_spd_masked};
 use crate::spring::Branch;
 
@@ -180,7 +181,7 @@ impl<const N: usize> Rollout<N> {
             let spring = chain.joints()[j].spring.torque(x.phi[j], mode.branch[j]);
             let tc = self.start.coulomb_nm[j];
             let f = self.start.viscous_nms[j];
-            let th = libm::tanhf(w / wc);
+            let th = coulomb_shape(w, wc);
             rhs[j] += (self.start.spring_scale[j] - 1.0) * spring - tc * th - f * w;
             m[j][j] += h * (tc * (1.0 - th * th) / wc + f);
         }
@@ -454,7 +455,7 @@ pub fn creep(
         if snap >= SNAP_LIMIT_S {
             return Creep::BreaksFree(t + snap);
         }
-        let th = libm::tanhf(w / wc);
+        let th = coulomb_shape(w, wc);
         let torque = scale * spring.magnitude(abs, Branch::Unfold) - tc * th - f * w;
         let damping = tc * (1.0 - th * th) / wc + f;
         let dw = SNAP_DT_S * torque / (inertia + SNAP_DT_S * damping);
