@@ -286,7 +286,7 @@ pub enum RunErrorKind {
     /// Pairing: no mechanism of the run's `mechanism` name was given.
     #[error(
         "mechanism \"{name}\" (from the run's metadata) was not given; expected one of: {}",
-        names_or_none(given)
+        crate::model::mechanism_toml::list_or_none(given)
     )]
     UnknownMechanism {
         /// The run's `mechanism` metadata.
@@ -340,18 +340,6 @@ fn joint_list(joints: &[usize]) -> String {
         .map(|j| j.to_string())
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-fn names_or_none(names: &[String]) -> String {
-    if names.is_empty() {
-        "none".to_string()
-    } else {
-        names
-            .iter()
-            .map(|n| format!("\"{n}\""))
-            .collect::<Vec<_>>()
-            .join(", ")
-    }
 }
 
 /// A line or field for a message: at most 60 characters.

@@ -220,7 +220,8 @@ fn at_column(column: Option<usize>) -> String {
         .unwrap_or_default()
 }
 
-fn list_or_none(names: &[String]) -> String {
+/// `"a", "b"` of `names` for an error message, or `none`.
+pub(crate) fn list_or_none(names: &[String]) -> String {
     if names.is_empty() {
         "none".to_string()
     } else {
