@@ -26,9 +26,8 @@ use crate::observer::{
     momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation, ObserverInput,
     ObserverTuning, RateFilter,
 };
-use crate::rollout::{
-    normal_quantile, Bracket, JointOutcome, Rollout, RolloutConfig, RolloutStart,
-};
+use crate::predictor::{FrictionBelief, PredictionQuery, Predictor};
+use crate::rollout::RolloutConfig;
 use crate::smoother::CentredFit;
 use crate::spring::{Branch, Spring};
 use serde::{Deserialize, Serialize};
@@ -473,17 +472,9 @@ pub struct Monitor<const N: usize> {
     fo: [FrictionObserver; N],
     lt: [LatchTracker; N],
     margin: [Option<MarginResult>; N],
-    /// The rollout in progress, its bracket and start time [s].
-    rollout: Option<(Rollout<N>, Bracket, f32)>,
-    /// Position in [`CYCLE`] of the rollout in progress.
-    cycle_pos: u8,
-    /// Last finished nominal, pessimistic and optimistic outcomes, with
-    /// their start times [s].
-    nominal: Option<([JointOutcome; N], f32)>,
-    pessimistic: Option<([JointOutcome; N], f32)>,
-    optimistic: Option<([JointOutcome; N], f32)>,
-    /// `z = Φ⁻¹(confidence)`.
-    z: f32,
+    /// The latch / stall prediction (the rollout cycle), advanced by
+    /// [`Monitor::predict`].
+    predictor: Predictor<N>,
     rejects: [u8; N],
     /// Last in-range reading of each encoder [deg] and how many samples in
     /// a row repeated it exactly.
@@ -512,9 +503,6 @@ pub struct Monitor<const N: usize> {
     impact_until: f32,
     /// Samples left whose prediction is widened for the impact.
     impact_samples: u8,
-    /// Where the next rollout starts: time [s], state and locked joints
-    /// (set by `update`, used by `predict`).
-    rollout_start: Option<(f32, ChainState<f32, N>, [bool; N])>,
     next_margin: u8,
     status: Status<N>,
 }
@@ -534,13 +522,6 @@ const MAX_REJECTS: u8 = 3;
 /// Time without a centred fit after which a rollout starts from the rate
 /// filter instead [s].
 const CENTRE_WAIT_S: f32 = 0.5;
-/// The order of the rollouts.
-const CYCLE: [Bracket; 4] = [
-    Bracket::Nominal,
-    Bracket::Pessimistic,
-    Bracket::Nominal,
-    Bracket::Optimistic,
-];
 /// Time after a latch switch closes during which a reading the rate filter
 /// rejects is the latch impact, not an outlier [s]: the impact is within a
 /// sample of the closing at 100 Hz, and a chattering switch (≤ 20 ms)
@@ -604,12 +585,7 @@ impl<const N: usize> Monitor<N> {
             }),
             lt: [LatchTracker::new(); N],
             margin: [None; N],
-            rollout: None,
-            cycle_pos: 0,
-            nominal: None,
-            pessimistic: None,
-            optimistic: None,
-            z: normal_quantile(config.margin.confidence),
+            predictor: Predictor::new(config.margin.confidence),
             rejects: [0; N],
             last_raw: [f32::NAN; N],
             same_run: [0; N],
@@ -622,7 +598,6 @@ impl<const N: usize> Monitor<N> {
             fit: CentredFit::new(),
             fit_run: false,
             t_centre: f32::NEG_INFINITY,
-            rollout_start: None,
             switch_prev: [false; N],
             dt_mean: 0.0,
             impact_until: f32::NEG_INFINITY,
@@ -1001,7 +976,7 @@ impl<const N: usize> Monitor<N> {
                 self.t_centre = c.t_s;
             }
             // Handed to the next slices of `predict`.
-            self.rollout_start = start;
+            self.predictor.set_start(start);
         }
 
         // Status.
@@ -1045,57 +1020,17 @@ impl<const N: usize> Monitor<N> {
     /// last finished rollouts and the energy balance: the prediction, its
     /// confidence and the time to the latch [s].
     fn prediction(&self, j: usize, t: f32) -> (Prediction, f32, Option<f32>) {
-        let conf = self.margin_cfg.confidence;
-        let latched = self.lt.get(j).is_some_and(|l| l.is_latched());
-        // A latch after the deadline is a stall.
-        let deadline = self.t_start + self.margin_cfg.deadline_s;
-        let pick = |o: Option<([JointOutcome; N], f32)>| {
-            o.and_then(|(x, t0)| {
-                x.get(j).map(|x| {
-                    let mut x = *x;
-                    x.latches &= t0 + x.latch_after_s <= deadline;
-                    (x, t0)
-                })
-            })
-        };
-        let (nom, pess, opt) = (
-            pick(self.nominal),
-            pick(self.pessimistic),
-            pick(self.optimistic),
-        );
-        let ttl = |o: Option<(JointOutcome, f32)>| {
-            o.filter(|(x, _)| x.latches)
-                .map(|(x, t0)| (t0 + x.latch_after_s - t).max(0.0))
-        };
-        let energy = self.margin.get(j).copied().flatten();
-        let energy_stall = energy.is_some_and(|r| r.latch_probability <= 1.0 - conf);
-        let rollouts = self.margin_cfg.rollout.steps_per_slice > 0;
-        match nom {
-            _ if latched => (Prediction::Latch, 1.0, None),
-            // Not even the one-joint balance, which counts all the
-            // kinetic energy in the joint, gets it to the latch.
-            _ if energy_stall => (Prediction::Stall, conf, None),
-            // Rollouts switched off: the one-joint balance alone.
-            _ if !rollouts => match energy {
-                Some(r) if r.latch_probability >= conf => {
-                    (Prediction::Latch, conf, r.time_to_latch_s)
-                }
-                _ => (
-                    Prediction::Unknown,
-                    0.0,
-                    energy.and_then(|r| r.time_to_latch_s),
-                ),
+        self.predictor.prediction(
+            j,
+            t,
+            &PredictionQuery {
+                latched: self.lt.get(j).is_some_and(|l| l.is_latched()),
+                energy: self.margin.get(j).copied().flatten(),
+                deadline_s: self.t_start + self.margin_cfg.deadline_s,
+                confidence: self.margin_cfg.confidence,
+                rollouts: self.margin_cfg.rollout.steps_per_slice > 0,
             },
-            None => (Prediction::Unknown, 0.0, None),
-            Some((x, _)) if x.latches => {
-                let sure = pess.is_some_and(|(p, _)| p.latches);
-                (Prediction::Latch, if sure { conf } else { 0.5 }, ttl(nom))
-            }
-            Some(_) => {
-                let sure = opt.is_some_and(|(o, _)| !o.latches);
-                (Prediction::Stall, if sure { conf } else { 0.5 }, None)
-            }
-        }
+        )
     }
 
     /// One slice of the latch / stall prediction: advances the rollout in
@@ -1140,82 +1075,33 @@ impl<const N: usize> Monitor<N> {
         self.status
     }
 
-    /// Advances the rollout in progress; when it ends, stores its outcome
-    /// and starts the next bracket from [`Monitor::update`]'s last settled
-    /// state — time [s], state and locked joints, `None` while no settled
-    /// state is at hand (in a snap zone or the settling after a latch the
-    /// rate filter is wide open) — with the current friction estimates.
-    /// Returns true when a rollout finished.
+    /// Advances the rollout in progress; when it ends, the predictor
+    /// starts the next bracket from [`Monitor::update`]'s last settled
+    /// state with the current friction estimates. Returns true when a
+    /// rollout finished.
     fn advance_rollouts(&mut self) -> bool {
-        let mut cfg = self.margin_cfg.rollout;
-        let mut finished = false;
-        if let Some((r, bracket, t0)) = self.rollout.as_mut() {
-            // Only the time left to the deadline matters.
-            cfg.horizon_s = cfg
-                .horizon_s
-                .min(self.t_start + self.margin_cfg.deadline_s - *t0)
-                .max(cfg.dt_s);
-            r.advance(&self.chain, &cfg);
-            if r.is_done() {
-                let out = (r.outcome(), *t0);
-                match bracket {
-                    Bracket::Nominal => self.nominal = Some(out),
-                    Bracket::Pessimistic => self.pessimistic = Some(out),
-                    Bracket::Optimistic => self.optimistic = Some(out),
+        let (fo, kf) = (&self.fo, &self.kf);
+        self.predictor.slice(
+            &self.chain,
+            &self.margin_cfg.rollout,
+            self.t_start + self.margin_cfg.deadline_s,
+            &self.capture_rad,
+            |j| match (fo.get(j), kf.get(j)) {
+                (Some(o), Some(f)) => {
+                    let e = o.estimate();
+                    FrictionBelief {
+                        coulomb_nm: e.coulomb_nm,
+                        coulomb_var: e.coulomb_var,
+                        viscous_nms: e.viscous_nms,
+                        viscous_var: e.viscous_var,
+                        spring_scale_err: e.spring_scale_err,
+                        spring_scale_var: e.spring_scale_var,
+                        coulomb_lower_nm: o.coulomb_lower_bound(f.rate()),
+                    }
                 }
-                finished = true;
-            } else {
-                return false;
-            }
-        }
-        // The prediction is refreshed most often; the brackets that give
-        // its confidence take their turns in between (`CYCLE`).
-        let pos = match self.rollout {
-            None => 0,
-            Some(_) => (usize::from(self.cycle_pos) + 1) % CYCLE.len(),
-        };
-        let next = CYCLE.get(pos).copied().unwrap_or_default();
-        let Some((t, state, locked)) = self.rollout_start else {
-            // Keep the finished rollout until the estimates have settled.
-            return finished;
-        };
-        let z = self.z;
-        let sign = match next {
-            Bracket::Nominal => 0.0,
-            Bracket::Pessimistic => 1.0,
-            Bracket::Optimistic => -1.0,
-        };
-        let mut coulomb = [0.0f32; N];
-        let mut viscous = [0.0f32; N];
-        let mut spring = [1.0f32; N];
-        for j in 0..N {
-            let e = self.fo[j].estimate();
-            // More friction goes with weaker springs, and less with stronger.
-            let sd_k = crate::real::sqrtf(e.spring_scale_var.max(0.0));
-            spring[j] = (1.0 + e.spring_scale_err - sign * z * sd_k).max(0.0);
-            let sd_c = crate::real::sqrtf(e.coulomb_var.max(0.0));
-            let sd_f = crate::real::sqrtf(e.viscous_var.max(0.0));
-            coulomb[j] = (e.coulomb_nm + sign * z * sd_c).max(0.0);
-            viscous[j] = (e.viscous_nms + sign * z * sd_f).max(0.0);
-            if next == Bracket::Optimistic && !locked[j] {
-                // Friction is never below the torque it exerts now.
-                let bound = self.fo[j].coulomb_lower_bound(self.kf[j].rate());
-                if bound <= e.coulomb_nm + 2.0 * sd_c {
-                    coulomb[j] = coulomb[j].max(bound);
-                }
-            }
-        }
-        let start = RolloutStart {
-            state,
-            latched: locked,
-            coulomb_nm: coulomb,
-            viscous_nms: viscous,
-            spring_scale: spring,
-            capture_rad: self.capture_rad,
-        };
-        self.rollout = Some((Rollout::new(start), next, t));
-        self.cycle_pos = pos as u8;
-        finished
+                _ => FrictionBelief::default(),
+            },
+        )
     }
 
     /// The plastic latch impulse of `physics.md` §5 applied to the rate
