@@ -871,24 +871,22 @@ fn clean_monte_carlo_at_1_khz_raises_no_fault_flag() {
     clean_monte_carlo(1000.0, MC_RUNS, 7, 5000);
 }
 
-/// The longest full prediction cycle measured on the default schedule,
-/// rounded up [s] (issue 14's target: 0.5 s).
-const REFRESH_LIMIT_S: f64 = 1.6;
+/// Issue 14's bound on the time between two full predictions [s].
+const REFRESH_LIMIT_S: f64 = 0.5;
 
 /// How fresh the prediction is: replaying seed001 T01 and T02 with the
 /// papers' friction at 100 Hz on the replay schedule
 /// (`Monitor::update_and_predict`: `slices_per_sample` slices of
-/// `steps_per_slice` rollout steps after each sample), the longest time
-/// between two completed cycles of the four rollouts (nominal,
-/// pessimistic, nominal, optimistic), from the first completed rollout to
-/// the last latch (to the deadline when a joint stalls). Issue 14 asks for a full refresh at least every 0.5 s
-/// of deployment at 100 Hz; that is not met on the default schedule (12
-/// rollout steps per sample: the longest cycle is 1.2 s on T01 and 1.5 s on
-/// T02, early in a deployment while every rollout runs to the deadline), so
-/// this holds the
-/// present figure ([`REFRESH_LIMIT_S`]) against regressions; the printout
-/// is the figure in docs/performance.md. (20 slices per sample bring T01
-/// to 0.38 s but T02 only to 0.59 s, and move T02's stall call.)
+/// `steps_per_slice` units of rollout work after each sample), the longest
+/// time between two completed full predictions — a cycle of the nominal
+/// rollout and the brackets its verdicts need (`docs/monitor.md` §6) —
+/// from the first one to the last latch (to the deadline when a joint
+/// stalls). Issue 14 asks for a full refresh at least every 0.5 s of
+/// deployment at 100 Hz ([`REFRESH_LIMIT_S`]). Also printed: the longest
+/// time from the start of a cycle to the end of the next one, the worst
+/// delay before a change of estimate is in a full prediction (a change
+/// just after a cycle's nominal rollout started waits for the next
+/// cycle). The printout is the figure in docs/performance.md.
 #[test]
 fn full_prediction_refresh_cycle() {
     for name in ["seed001_T01", "seed001_T02"] {
@@ -904,30 +902,39 @@ fn full_prediction_refresh_cycle() {
                 mech.duration_s
             };
             let mut m = Monitor::new(&cfg).unwrap();
-            let mut finished: Vec<f64> = Vec::new();
+            let mut done: Vec<f64> = Vec::new();
             for s in samples::<3>(&run).unwrap() {
                 m.update(&s);
+                let before = m.predictor().refreshes();
                 for _ in 0..slices {
-                    if m.predict() {
-                        finished.push(f64::from(s.t_s));
-                    }
+                    m.predict();
+                }
+                if m.predictor().refreshes() != before {
+                    done.push(f64::from(s.t_s));
                 }
             }
-            // A full cycle ends at every fourth completion.
-            let cycles: Vec<f64> = finished.iter().copied().filter(|&t| t <= end).collect();
-            let worst = cycles
-                .windows(5)
-                .map(|w| w[4] - w[0])
-                .fold(0.0f64, f64::max);
+            let cycles: Vec<f64> = done.iter().copied().filter(|&t| t <= end).collect();
+            let longest = |n: usize| {
+                cycles
+                    .windows(n)
+                    .map(|w| w[n - 1] - w[0])
+                    .fold(0.0f64, f64::max)
+            };
+            let (worst, delay) = (longest(2), longest(3));
             println!(
-                "{name} seed {seed}: {} rollouts by {end:.2} s (last latch or deadline), longest full cycle {:.2} s",
+                "{name} seed {seed}: {} full predictions by {end:.2} s (last latch or deadline), \
+                 the first at {:.2} s; longest between two {worst:.2} s; \
+                 longest from a cycle's start to the next one's end {delay:.2} s",
                 cycles.len(),
-                worst
+                cycles.first().copied().unwrap_or(f64::NAN),
             );
-            assert!(cycles.len() >= 5, "{name} seed {seed}: too few rollouts");
+            assert!(
+                cycles.len() >= 3,
+                "{name} seed {seed}: too few full predictions"
+            );
             assert!(
                 worst <= REFRESH_LIMIT_S,
-                "{name} seed {seed}: a full cycle took {worst:.2} s"
+                "{name} seed {seed}: {worst:.2} s between two full predictions"
             );
         }
     }

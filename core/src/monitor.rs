@@ -287,8 +287,9 @@ impl Default for MarginConfig {
             confidence: 0.9,
             rollout: RolloutConfig {
                 dt_s: 0.01,
-                steps_per_slice: 2,
-                slices_per_sample: 6,
+                bracket_dt_s: 0.02,
+                steps_per_slice: 1,
+                slices_per_sample: 20,
                 horizon_s: 10.0,
                 coulomb_threshold_rad_s: crate::friction::COULOMB_THRESHOLD_RAD_S as f32,
             },
@@ -438,6 +439,7 @@ impl<const N: usize> MonitorConfig<N> {
             ),
             (
                 positive(self.margin.rollout.dt_s)
+                    && positive(self.margin.rollout.bracket_dt_s)
                     && positive(self.margin.rollout.horizon_s)
                     && positive(self.margin.rollout.coulomb_threshold_rad_s),
                 "rollout",
@@ -626,6 +628,11 @@ impl<const N: usize> Monitor<N> {
     /// (`margin.rollout.slices_per_sample`).
     pub fn config_slices_per_sample(&self) -> u8 {
         self.margin_cfg.rollout.slices_per_sample
+    }
+
+    /// The latch / stall prediction (its rollout cycle), for diagnostics.
+    pub fn predictor(&self) -> &Predictor<N> {
+        &self.predictor
     }
 
     /// The chain model the monitor uses (f32).
@@ -1019,7 +1026,7 @@ impl<const N: usize> Monitor<N> {
     /// The latch / stall prediction of joint `j` at time `t` [s] from the
     /// last finished rollouts and the energy balance: the prediction, its
     /// confidence and the time to the latch [s].
-    fn prediction(&self, j: usize, t: f32) -> (Prediction, f32, Option<f32>) {
+    fn prediction(&mut self, j: usize, t: f32) -> (Prediction, f32, Option<f32>) {
         self.predictor.prediction(
             j,
             t,
@@ -1034,8 +1041,10 @@ impl<const N: usize> Monitor<N> {
     }
 
     /// One slice of the latch / stall prediction: advances the rollout in
-    /// progress by up to `margin.rollout.steps_per_slice` steps, starts the
-    /// next one when it ends (from the last settled state [`Monitor::update`]
+    /// progress by up to `margin.rollout.steps_per_slice` units of work (a
+    /// step of the chain, or a bounded piece of the creep quadrature:
+    /// [`crate::rollout::Rollout::advance`]), starts the next one when it
+    /// ends (from the last settled state [`Monitor::update`]
     /// handed over), and refreshes the prediction in [`Monitor::status`].
     ///
     /// The sample-rate path ([`Monitor::update`]) never runs a rollout: the

@@ -6,10 +6,17 @@
 //! last settled state ([`Predictor::set_start`]); each slice
 //! ([`Predictor::slice`]) advances the rollout in progress by a bounded
 //! amount of work and, when it ends, stores its outcome and starts the next
-//! rollout of the cycle (nominal, pessimistic, nominal, optimistic:
-//! `docs/monitor.md` §6) from that state, with the friction beliefs the
+//! rollout of the cycle from that state, with the friction beliefs the
 //! monitor gives it then. [`Predictor::prediction`] turns the last finished
 //! rollouts into a joint's prediction, confidence and time to the latch.
+//!
+//! A cycle — one *full prediction* — is the nominal rollout (the
+//! prediction), then the brackets its verdicts need for their confidence
+//! (`docs/monitor.md` §6): the pessimistic one when it latches some joint,
+//! watching only those joints (it ends once they have latched), and the
+//! optimistic one when it stalls some joint, watching only those (it ends
+//! early if they all latch). A bracket that would confirm nothing is not
+//! run. [`Predictor::refreshes`] counts the completed cycles.
 
 use crate::chain::{Chain, ChainState};
 use crate::margin::MarginResult;
@@ -17,16 +24,6 @@ use crate::monitor::Prediction;
 use crate::rollout::{
     normal_quantile, Bracket, JointOutcome, Rollout, RolloutConfig, RolloutStart,
 };
-
-/// The order of the rollouts: the prediction (nominal) is refreshed most
-/// often, the brackets that give its confidence take their turns in
-/// between.
-pub const CYCLE: [Bracket; 4] = [
-    Bracket::Nominal,
-    Bracket::Pessimistic,
-    Bracket::Nominal,
-    Bracket::Optimistic,
-];
 
 /// What the monitor believes of one joint's friction and spring when a
 /// rollout starts (the friction observer's estimate, `docs/monitor.md`
@@ -58,13 +55,24 @@ type Finished<const N: usize> = Option<([JointOutcome; N], f32)>;
 pub struct Predictor<const N: usize> {
     /// The rollout in progress, its bracket and start time [s].
     rollout: Option<(Rollout<N>, Bracket, f32)>,
-    /// Position in [`CYCLE`] of the rollout in progress.
-    cycle_pos: u8,
+    /// The next rollout of the cycle and the joints it watches.
+    next: (Bracket, [bool; N]),
+    /// The nominal rollout's verdicts in this cycle: the joints it latches
+    /// by the deadline and those it does not (free at its start).
+    verdict: ([bool; N], [bool; N]),
+    /// Completed cycles (full predictions).
+    refreshes: u32,
     /// Last finished nominal, pessimistic and optimistic outcomes, with
     /// their start times [s].
     nominal: Finished<N>,
     pessimistic: Finished<N>,
     optimistic: Finished<N>,
+    /// The joints each bracket watched (only those it confirms or not).
+    pessimistic_watch: [bool; N],
+    optimistic_watch: [bool; N],
+    /// Joints the one-joint energy balance has called stalled
+    /// (`P ≤ 1 − confidence`), until it gives `P ≥` [`ENERGY_STALL_CLEAR`].
+    energy_stall: [bool; N],
     /// `z = Φ⁻¹(confidence)`.
     z: f32,
     /// Where the next rollout starts: time [s], state and locked joints
@@ -78,10 +86,15 @@ impl<const N: usize> Predictor<N> {
     pub fn new(confidence: f32) -> Self {
         Predictor {
             rollout: None,
-            cycle_pos: 0,
+            next: (Bracket::Nominal, [true; N]),
+            verdict: ([false; N], [false; N]),
+            refreshes: 0,
             nominal: None,
             pessimistic: None,
             optimistic: None,
+            pessimistic_watch: [false; N],
+            optimistic_watch: [false; N],
+            energy_stall: [false; N],
             z: normal_quantile(confidence),
             start: None,
         }
@@ -92,6 +105,18 @@ impl<const N: usize> Predictor<N> {
     /// progress goes on, a finished one is kept).
     pub fn set_start(&mut self, start: Option<(f32, ChainState<f32, N>, [bool; N])>) {
         self.start = start;
+    }
+
+    /// The rollout in progress: its bracket, start time [s] and the time
+    /// it has simulated [s] (for diagnostics).
+    pub fn in_progress(&self) -> Option<(Bracket, f32, f32)> {
+        self.rollout.map(|(r, b, t0)| (b, t0, r.elapsed_s()))
+    }
+
+    /// Full predictions completed so far: cycles of the nominal rollout and
+    /// the brackets its verdicts need.
+    pub fn refreshes(&self) -> u32 {
+        self.refreshes
     }
 
     /// One slice: advances the rollout in progress by at most
@@ -111,28 +136,66 @@ impl<const N: usize> Predictor<N> {
         let mut cfg = *cfg;
         let mut finished = false;
         if let Some((r, bracket, t0)) = self.rollout.as_mut() {
+            if *bracket != Bracket::Nominal {
+                cfg.dt_s = cfg.bracket_dt_s;
+            }
             // Only the time left to the deadline matters.
             cfg.horizon_s = cfg.horizon_s.min(deadline_s - *t0).max(cfg.dt_s);
             r.advance(chain, &cfg);
-            if r.is_done() {
-                let out = (r.outcome(), *t0);
-                match bracket {
-                    Bracket::Nominal => self.nominal = Some(out),
-                    Bracket::Pessimistic => self.pessimistic = Some(out),
-                    Bracket::Optimistic => self.optimistic = Some(out),
-                }
-                finished = true;
-            } else {
+            if !r.is_done() {
                 return false;
             }
+            let out = (r.outcome(), *t0);
+            let bracket = *bracket;
+            if bracket == Bracket::Nominal {
+                // The cycle's verdicts: which joints, free at the start,
+                // latch by the deadline, and which do not.
+                let (x, started_latched) = (out.0, r.start().latched);
+                for j in 0..N {
+                    let free = !started_latched[j];
+                    let by_deadline = x[j].latches && out.1 + x[j].latch_after_s <= deadline_s;
+                    self.verdict.0[j] = free && by_deadline;
+                    self.verdict.1[j] = free && !by_deadline;
+                }
+            }
+            let (latches, stalls) = self.verdict;
+            let any = |m: &[bool; N]| m.iter().any(|v| *v);
+            let (next, cycle_done) = match bracket {
+                Bracket::Nominal => {
+                    self.nominal = Some(out);
+                    if any(&latches) {
+                        ((Bracket::Pessimistic, latches), false)
+                    } else if any(&stalls) {
+                        ((Bracket::Optimistic, stalls), false)
+                    } else {
+                        ((Bracket::Nominal, [true; N]), true)
+                    }
+                }
+                Bracket::Pessimistic => {
+                    self.pessimistic = Some(out);
+                    self.pessimistic_watch = r.watch();
+                    if any(&stalls) {
+                        ((Bracket::Optimistic, stalls), false)
+                    } else {
+                        ((Bracket::Nominal, [true; N]), true)
+                    }
+                }
+                Bracket::Optimistic => {
+                    self.optimistic = Some(out);
+                    self.optimistic_watch = r.watch();
+                    ((Bracket::Nominal, [true; N]), true)
+                }
+            };
+            self.next = next;
+            if cycle_done {
+                self.refreshes = self.refreshes.wrapping_add(1);
+            }
+            self.rollout = None;
+            finished = true;
         }
-        let pos = match self.rollout {
-            None => 0,
-            Some(_) => (usize::from(self.cycle_pos) + 1) % CYCLE.len(),
-        };
-        let next = CYCLE.get(pos).copied().unwrap_or_default();
+        let (next, watch) = self.next;
         let Some((t, state, locked)) = self.start else {
-            // Keep the finished rollout until the estimates have settled.
+            // No settled state yet: the next rollout waits for one.
             return finished;
         };
         let z = self.z;
@@ -169,8 +232,7 @@ impl<const N: usize> Predictor<N> {
             spring_scale: spring,
             capture_rad: *capture_rad,
         };
-        self.rollout = Some((Rollout::new(start), next, t));
-        self.cycle_pos = pos as u8;
+        self.rollout = Some((Rollout::new(start).watching(watch), next, t));
         finished
     }
 
@@ -179,7 +241,7 @@ impl<const N: usize> Predictor<N> {
     /// latch, its one-joint energy balance, the deadline): the prediction,
     /// its confidence and the time to the latch [s].
     pub fn prediction(
-        &self,
+        &mut self,
         j: usize,
         t: f32,
         query: &PredictionQuery,
@@ -205,7 +267,25 @@ impl<const N: usize> Predictor<N> {
                 .map(|(x, t0)| (t0 + x.latch_after_s - t).max(0.0))
         };
         let energy = query.energy;
-        let energy_stall = energy.is_some_and(|r| r.latch_probability <= 1.0 - conf);
+        // The balance's call of a stall holds until it clearly lets the
+        // joint latch again: its probability flickers about the threshold
+        // as the friction estimate and its bound settle, and a stall must
+        // not be taken back by an unconfirmed rollout in between.
+        let called = if let Some(r) = energy {
+            let p = r.latch_probability;
+            let held = self.energy_stall.get(j).copied().unwrap_or(false);
+            p <= 1.0 - conf || (held && p < ENERGY_STALL_CLEAR)
+        } else {
+            false
+        };
+        if let Some(flag) = self.energy_stall.get_mut(j) {
+            *flag = called && !query.latched;
+        }
+        let energy_stall = called;
+        let (pess_watch, opt_watch) = (
+            self.pessimistic_watch.get(j).copied().unwrap_or(false),
+            self.optimistic_watch.get(j).copied().unwrap_or(false),
+        );
         match nom {
             _ if query.latched => (Prediction::Latch, 1.0, None),
             // Not even the one-joint balance, which counts all the
@@ -224,16 +304,21 @@ impl<const N: usize> Predictor<N> {
             },
             None => (Prediction::Unknown, 0.0, None),
             Some((x, _)) if x.latches => {
-                let sure = pess.is_some_and(|(p, _)| p.latches);
+                let sure = pess_watch && pess.is_some_and(|(p, _)| p.latches);
                 (Prediction::Latch, if sure { conf } else { 0.5 }, ttl(nom))
             }
             Some(_) => {
-                let sure = opt.is_some_and(|(o, _)| !o.latches);
+                let sure = opt_watch && opt.is_some_and(|(o, _)| !o.latches);
                 (Prediction::Stall, if sure { conf } else { 0.5 }, None)
             }
         }
     }
 }
+
+/// Latch probability of the one-joint energy balance at which its call of a
+/// stall (`P ≤ 1 − confidence`) is lifted [1]: the hysteresis of the
+/// override (`docs/monitor.md` §6).
+pub const ENERGY_STALL_CLEAR: f32 = 0.5;
 
 /// What [`Predictor::prediction`] needs to know of one joint besides the
 /// rollouts.

@@ -26,7 +26,8 @@
 //! stiffens towards the latch (the tape springs of seed 001 do), so the rate
 //! of the moment is no guide to the time it takes.
 //!
-//! It runs three times per cycle, a few steps per monitor update: with the
+//! It runs up to three times per cycle ([`crate::predictor`]), a bounded
+//! amount of work per slice of [`crate::Monitor::predict`]: with the
 //! estimates `T̂_C`, `f̂`, `κ̂` (nominal: the prediction), with `T̂_C + zσ`,
 //! `f̂ + zσ` and the springs at `1 + κ̂ − zσ_κ` (pessimistic), and with
 //! `max(T̂_C − zσ, L)`, `f̂ − zσ` and `1 + κ̂ + zσ_κ` (optimistic, `L` the
@@ -80,10 +81,15 @@ pub struct RolloutStart<const N: usize> {
 /// Settings of the rollouts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RolloutConfig {
-    /// Integration step [s].
+    /// Integration step of the nominal rollout (the prediction) [s].
     pub dt_s: f32,
-    /// Steps advanced per slice of [`crate::Monitor::predict`] (two chain
-    /// evaluations each); 0 switches the rollouts off (the prediction then
+    /// Integration step of the pessimistic and optimistic brackets [s]:
+    /// they only confirm the nominal rollout's verdicts (its confidence),
+    /// and may be coarser.
+    pub bracket_dt_s: f32,
+    /// Units of work per slice of [`crate::Monitor::predict`] (a unit: one
+    /// step, two chain evaluations, or [`CREEP_EVALS_PER_STEP`] spring
+    /// evaluations of the creep quadrature); 0 switches the rollouts off (the prediction then
     /// rests on the one-joint energy balance of [`crate::margin`] alone).
     pub steps_per_slice: u8,
     /// Slices of [`crate::Monitor::predict`] a replay runs after each
@@ -117,6 +123,27 @@ pub struct Rollout<const N: usize> {
     t_s: f32,
     creeping_s: f32,
     done: bool,
+    /// The joints whose outcome is wanted: the rollout ends once all of
+    /// them have latched (every joint unless [`Rollout::watching`]).
+    watch: [bool; N],
+    /// The creep quadrature in progress, resumed slice by slice.
+    settle: Option<Settle<N>>,
+}
+
+/// The creep quadrature of a rollout in progress ([`Rollout::settle_creep`]),
+/// one joint after the other, resumable.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Settle<const N: usize> {
+    /// Time left to the horizon when the quadrature started [s].
+    time_left: f32,
+    /// Articulated inertia of each joint then [kg·m²].
+    inertia: [f32; N],
+    /// Creep time of each joint settled so far [s] (∞: no latch).
+    after: [f32; N],
+    /// The joint in progress.
+    joint: u8,
+    /// Its creep, once begun.
+    run: Option<CreepRun>,
 }
 
 impl<const N: usize> Rollout<N> {
@@ -129,8 +156,34 @@ impl<const N: usize> Rollout<N> {
             t_s: 0.0,
             creeping_s: 0.0,
             done: false,
+            watch: [true; N],
+            settle: None,
             start,
         }
+    }
+
+    /// The same rollout, ended as soon as every joint of `watch` has
+    /// latched: the outcome of the others is then left as "not latched"
+    /// (a bracket that only has to confirm the nominal rollout's latches
+    /// stops there). A rollout watching no joint ends at the first step.
+    pub fn watching(mut self, watch: [bool; N]) -> Self {
+        self.watch = watch;
+        self
+    }
+
+    /// Where the rollout started, with the friction and springs it assumes.
+    pub fn start(&self) -> &RolloutStart<N> {
+        &self.start
+    }
+
+    /// The joints whose outcome the rollout decides ([`Rollout::watching`]).
+    pub fn watch(&self) -> [bool; N] {
+        self.watch
+    }
+
+    /// Time simulated so far [s].
+    pub fn elapsed_s(&self) -> f32 {
+        self.t_s
     }
 
     /// True once the rollout has ended.
@@ -146,13 +199,20 @@ impl<const N: usize> Rollout<N> {
         })
     }
 
-    /// Advances up to `cfg.steps_per_slice` steps.
+    /// Advances by up to `cfg.steps_per_slice` units of work: a unit is
+    /// one step of the chain, or [`CREEP_EVALS_PER_STEP`] spring
+    /// evaluations of the creep quadrature and snap-through, so that a
+    /// slice costs about the same whatever the rollout is doing.
     pub fn advance(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
         for _ in 0..cfg.steps_per_slice {
             if self.done {
                 return;
             }
-            self.step(chain, cfg);
+            if self.settle.is_some() {
+                self.settle_creep(chain, cfg, CREEP_EVALS_PER_STEP);
+            } else {
+                self.step(chain, cfg);
+            }
         }
     }
 
@@ -277,7 +337,7 @@ impl<const N: usize> Rollout<N> {
             }
             self.latched = after;
         }
-        if self.latched.iter().all(|l| *l) {
+        if (0..N).all(|j| self.latched[j] || !self.watch[j]) {
             self.done = true;
             return;
         }
@@ -294,51 +354,78 @@ impl<const N: usize> Rollout<N> {
             return;
         }
         if self.creeping_s >= STALL_HOLD_S {
-            self.settle_creep(chain, cfg);
-            // Undecided (a joint breaks free in time): look again after
-            // another hold, not at every step (the quadrature and the
-            // snap-through cost up to a few hundred spring evaluations).
+            // The quadrature runs in the next units of work; undecided (a
+            // joint breaks free in time), the integration goes on and looks
+            // again after another hold, not at every step (the quadrature
+            // and the snap-through cost up to a few hundred spring
+            // evaluations).
+            let m = chain.mass_matrix(&self.x.phi);
+            let inertia = articulated_inertias(&m, &self.latched);
+            self.settle = Some(Settle {
+                time_left: cfg.horizon_s - self.t_s,
+                inertia: core::array::from_fn(|j| inertia[j].unwrap_or(m[j][j])),
+                after: [f32::INFINITY; N],
+                joint: 0,
+                run: None,
+            });
             self.creeping_s = 0.0;
         }
     }
 
     /// Ends the rollout by quadrature once every free joint creeps
     /// quasi-statically and none can break free: each joint's outcome is
-    /// then its [`creep`] time against the time left. Does nothing while
-    /// some joint may still break free (the integration goes on).
-    fn settle_creep(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
-        let time_left = cfg.horizon_s - self.t_s;
-        let mut after = [f32::INFINITY; N];
-        let m = chain.mass_matrix(&self.x.phi);
-        let inertia = articulated_inertias(&m, &self.latched);
-        for j in 0..N {
+    /// then its [`creep`] time against the time left. Runs at most `evals`
+    /// spring evaluations and resumes at the next call; when some joint may
+    /// still break free, drops the quadrature (the integration goes on).
+    fn settle_creep(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig, evals: u16) {
+        let Some(mut settle) = self.settle.take() else {
+            return;
+        };
+        let mut budget = evals;
+        while usize::from(settle.joint) < N {
+            let j = usize::from(settle.joint);
             if self.latched[j] {
+                settle.joint += 1;
                 continue;
             }
-            let creep = creep(
-                &chain.joints()[j].spring,
-                &CreepJoint {
-                    from_rad: libm::fabsf(self.x.phi[j]),
-                    capture_rad: self.start.capture_rad[j],
-                    spring_scale: self.start.spring_scale[j],
-                    coulomb_nm: self.start.coulomb_nm[j],
-                    viscous_nms: self.start.viscous_nms[j],
-                    inertia_kgm2: inertia[j].unwrap_or(m[j][j]),
-                },
-                cfg.coulomb_threshold_rad_s,
-                time_left,
-            );
+            let (Some(joint), Some(&inertia)) = (chain.joints().get(j), settle.inertia.get(j))
+            else {
+                return;
+            };
+            let mut run = settle.run.unwrap_or_else(|| {
+                CreepRun::new(
+                    CreepJoint {
+                        from_rad: libm::fabsf(self.x.phi[j]),
+                        capture_rad: self.start.capture_rad[j],
+                        spring_scale: self.start.spring_scale[j],
+                        coulomb_nm: self.start.coulomb_nm[j],
+                        viscous_nms: self.start.viscous_nms[j],
+                        inertia_kgm2: inertia,
+                    },
+                    cfg.coulomb_threshold_rad_s,
+                    settle.time_left,
+                )
+            });
+            let Some(creep) = run.run(&joint.spring, &mut budget) else {
+                // Out of work for this slice: resume here.
+                settle.run = Some(run);
+                self.settle = Some(settle);
+                return;
+            };
+            let time_left = settle.time_left;
             match creep {
-                Creep::Covers(t) if t <= time_left => after[j] = t,
+                Creep::Covers(t) if t <= time_left => settle.after[j] = t,
                 Creep::Covers(_) | Creep::Stops => {}
                 Creep::BreaksFree(t) if t <= time_left => return,
                 Creep::BreaksFree(_) => {}
             }
+            settle.run = None;
+            settle.joint += 1;
         }
         for j in 0..N {
-            if !self.latched[j] && after[j].is_finite() {
+            if !self.latched[j] && settle.after[j].is_finite() {
                 self.latched[j] = true;
-                self.latch_after_s[j] = self.t_s + after[j];
+                self.latch_after_s[j] = self.t_s + settle.after[j];
             }
         }
         self.finish();
@@ -351,6 +438,11 @@ impl<const N: usize> Rollout<N> {
 
 /// Sub-intervals of the creep quadrature.
 const CREEP_PANELS: usize = 8;
+
+/// Spring evaluations of the creep quadrature and snap-through that count
+/// as one unit of a rollout's work (about the instructions of one step of
+/// the chain on the Cortex-M4F: `docs/performance.md`).
+pub const CREEP_EVALS_PER_STEP: u16 = 24;
 
 /// Step of the one-joint snap-through integration [s].
 const SNAP_DT_S: f32 = 0.002;
@@ -419,63 +511,134 @@ pub fn creep(
     wc: f32,
     horizon_s: f32,
 ) -> Creep {
-    let (scale, tc, f) = (joint.spring_scale, joint.coulomb_nm, joint.viscous_nms);
-    let to_rad = joint.capture_rad.max(0.0);
-    let span = joint.from_rad - to_rad;
-    let mut t = 0.0f32;
-    if span > 0.0 {
-        let h = span / CREEP_PANELS as f32;
-        for k in 0..CREEP_PANELS {
-            let abs = joint.from_rad - (k as f32 + 0.5) * h;
-            let torque = scale * spring.magnitude(abs, Branch::Unfold);
-            if !(torque > 0.0) {
-                return Creep::Stops;
-            }
-            if !(torque < tc) {
-                return Creep::BreaksFree(t);
-            }
-            match creep_rate(torque, tc, f, wc) {
-                Some(w) => t += h / w,
-                None => return Creep::Stops,
-            }
+    let mut run = CreepRun::new(*joint, wc, horizon_s);
+    loop {
+        let mut budget = u16::MAX;
+        if let Some(out) = run.run(spring, &mut budget) {
+            return out;
         }
     }
-    // The snap-through from the capture angle, at the creep rate there.
-    let mut abs = to_rad.min(joint.from_rad.max(0.0));
-    let mut w = creep_rate(scale * spring.magnitude(abs, Branch::Unfold), tc, f, wc).unwrap_or(0.0);
-    let inertia = joint.inertia_kgm2;
-    if !(inertia > 0.0) {
-        return Creep::BreaksFree(t);
+}
+
+/// [`creep`] in progress: resumable, a bounded number of spring
+/// evaluations at a time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CreepRun {
+    joint: CreepJoint,
+    wc: f32,
+    horizon_s: f32,
+    stage: CreepStage,
+}
+
+/// Where a [`CreepRun`] is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum CreepStage {
+    /// Panel `k` of the quadrature next, `t` [s] of creep so far.
+    Quadrature { k: u8, t: f32 },
+    /// The snap-through: creep time `t` [s], `|φ|` [rad], rate `w`
+    /// [rad/s] and time of the snap so far [s].
+    Snap { t: f32, abs: f32, w: f32, snap: f32 },
+}
+
+impl CreepRun {
+    /// The creep of `joint` (see [`creep`]), not yet begun.
+    pub fn new(joint: CreepJoint, wc: f32, horizon_s: f32) -> Self {
+        CreepRun {
+            joint,
+            wc,
+            horizon_s,
+            stage: CreepStage::Quadrature { k: 0, t: 0.0 },
+        }
     }
-    let mut snap = 0.0f32;
-    while abs > 0.0 {
-        if t + snap > horizon_s {
-            return Creep::Covers(t + snap);
+
+    /// Goes on for at most `budget` spring evaluations (taken off it);
+    /// `Some` once the outcome is known, `None` when the budget ran out.
+    pub fn run(&mut self, spring: &crate::spring::Spring<f32>, budget: &mut u16) -> Option<Creep> {
+        let joint = self.joint;
+        let wc = self.wc;
+        let (scale, tc, f) = (joint.spring_scale, joint.coulomb_nm, joint.viscous_nms);
+        let to_rad = joint.capture_rad.max(0.0);
+        loop {
+            if *budget == 0 {
+                return None;
+            }
+            *budget -= 1;
+            match self.stage {
+                CreepStage::Quadrature { k, mut t } => {
+                    let span = joint.from_rad - to_rad;
+                    if span > 0.0 && usize::from(k) < CREEP_PANELS {
+                        let h = span / CREEP_PANELS as f32;
+                        let abs = joint.from_rad - (f32::from(k) + 0.5) * h;
+                        let torque = scale * spring.magnitude(abs, Branch::Unfold);
+                        if !(torque > 0.0) {
+                            return Some(Creep::Stops);
+                        }
+                        if !(torque < tc) {
+                            return Some(Creep::BreaksFree(t));
+                        }
+                        match creep_rate(torque, tc, f, wc) {
+                            Some(w) => t += h / w,
+                            None => return Some(Creep::Stops),
+                        }
+                        self.stage = CreepStage::Quadrature { k: k + 1, t };
+                        continue;
+                    }
+                    // The snap-through from the capture angle, at the creep
+                    // rate there.
+                    let abs = to_rad.min(joint.from_rad.max(0.0));
+                    let w = creep_rate(scale * spring.magnitude(abs, Branch::Unfold), tc, f, wc)
+                        .unwrap_or(0.0);
+                    if !(joint.inertia_kgm2 > 0.0) {
+                        return Some(Creep::BreaksFree(t));
+                    }
+                    self.stage = CreepStage::Snap {
+                        t,
+                        abs,
+                        w,
+                        snap: 0.0,
+                    };
+                }
+                CreepStage::Snap {
+                    t,
+                    mut abs,
+                    mut w,
+                    mut snap,
+                } => {
+                    let inertia = joint.inertia_kgm2;
+                    if abs > 0.0 {
+                        if t + snap > self.horizon_s {
+                            return Some(Creep::Covers(t + snap));
+                        }
+                        if snap >= SNAP_LIMIT_S {
+                            return Some(Creep::BreaksFree(t + snap));
+                        }
+                        let th = coulomb_shape(w, wc);
+                        let torque =
+                            scale * spring.magnitude(abs, Branch::Unfold) - tc * th - f * w;
+                        let damping = tc * (1.0 - th * th) / wc + f;
+                        let dw = SNAP_DT_S * torque / (inertia + SNAP_DT_S * damping);
+                        let step = SNAP_DT_S * (w + 0.5 * dw);
+                        if !step.is_finite() {
+                            return Some(Creep::Stops);
+                        }
+                        if !(step >= abs && step > 0.0) {
+                            abs -= step;
+                            w += dw;
+                            snap += SNAP_DT_S;
+                            self.stage = CreepStage::Snap { t, abs, w, snap };
+                            continue;
+                        }
+                        snap += SNAP_DT_S * abs / step;
+                    }
+                    let total = t + snap;
+                    return Some(if total.is_finite() {
+                        Creep::Covers(total)
+                    } else {
+                        Creep::Stops
+                    });
+                }
+            }
         }
-        if snap >= SNAP_LIMIT_S {
-            return Creep::BreaksFree(t + snap);
-        }
-        let th = coulomb_shape(w, wc);
-        let torque = scale * spring.magnitude(abs, Branch::Unfold) - tc * th - f * w;
-        let damping = tc * (1.0 - th * th) / wc + f;
-        let dw = SNAP_DT_S * torque / (inertia + SNAP_DT_S * damping);
-        let step = SNAP_DT_S * (w + 0.5 * dw);
-        if !step.is_finite() {
-            return Creep::Stops;
-        }
-        if step >= abs && step > 0.0 {
-            snap += SNAP_DT_S * abs / step;
-            break;
-        }
-        abs -= step;
-        w += dw;
-        snap += SNAP_DT_S;
-    }
-    let total = t + snap;
-    if total.is_finite() {
-        Creep::Covers(total)
-    } else {
-        Creep::Stops
     }
 }
 
@@ -549,6 +712,7 @@ mod tests {
     fn run(tc: f32) -> Rollout<1> {
         let cfg = RolloutConfig {
             dt_s: 0.02,
+            bracket_dt_s: 0.02,
             steps_per_slice: 255,
             slices_per_sample: 1,
             horizon_s: 20.0,
@@ -590,6 +754,7 @@ mod tests {
         let chain = crate::observer::tests::chain();
         let cfg = RolloutConfig {
             dt_s: dt,
+            bracket_dt_s: dt,
             steps_per_slice: 255,
             slices_per_sample: 1,
             horizon_s: 10.0,
@@ -790,6 +955,7 @@ mod tests {
         let run = |horizon_s: f32| {
             let cfg = RolloutConfig {
                 dt_s: 0.01,
+                bracket_dt_s: 0.01,
                 steps_per_slice: 255,
                 slices_per_sample: 1,
                 horizon_s,
