@@ -573,7 +573,7 @@ fn status_and_sample_frames_round_trip() {
     let mut sbuf = [0u8; sample_frame_max(3)];
     let mut longest = 0;
     for sample in samples::<3>(&run).unwrap() {
-        let status = m.update(&sample);
+        let status = *m.update(&sample);
         let frame = encode(&status, &mut buf).expect("status frame");
         longest = longest.max(frame.len());
         assert_eq!(
