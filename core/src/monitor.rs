@@ -20,7 +20,7 @@ use crate::chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEff
 use crate::faults::{Fault, FaultFlags};
 use crate::friction::Friction;
 use crate::latch::{LatchConfig, LatchInput, LatchState, LatchTracker};
-use crate::linalg::{articulated_inertias, solve_spd_masked};
+use crate::linalg::{articulated_inertia, solve_spd_masked};
 use crate::margin::{self, MarginInput, MarginResult, MarginSettings, UncertaintyFactors};
 use crate::observer::{
     momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation, ObserverInput,
@@ -515,6 +515,8 @@ pub struct Monitor<const N: usize> {
     rollout_start: Option<(f32, ChainState<f32, N>, [bool; N])>,
     /// The joint whose energy margin is evaluated at the next sample.
     next_margin: u8,
+    /// The joints whose friction observer stepped at this sample.
+    learned: [bool; N],
     status: Status<N>,
 }
 
@@ -542,6 +544,36 @@ struct JointState {
     same_run: u16,
     /// The latch switch at the previous sample (a closing is an impact).
     switch_prev: bool,
+    /// The status's standard deviations of `T_C` and `f`, with the
+    /// variances they are the roots of (they change only when the observer
+    /// learns: the square roots are not taken again in between).
+    coulomb_sd: CachedSqrt,
+    viscous_sd: CachedSqrt,
+}
+
+/// `√v` of the last `v` asked for.
+#[derive(Clone, Copy, Debug)]
+struct CachedSqrt {
+    /// The last argument (NaN at first: never equal).
+    v: f32,
+    /// Its square root.
+    root: f32,
+}
+
+impl CachedSqrt {
+    const EMPTY: CachedSqrt = CachedSqrt {
+        v: f32::NAN,
+        root: 0.0,
+    };
+
+    /// `√max(v, 0)`, computed only when `v` changed.
+    fn sqrt(&mut self, v: f32) -> f32 {
+        if v != self.v {
+            self.v = v;
+            self.root = crate::real::sqrtf(v.max(0.0));
+        }
+        self.root
+    }
 }
 
 impl JointState {
@@ -561,6 +593,8 @@ impl JointState {
             last_raw: f32::NAN,
             same_run: 0,
             switch_prev: false,
+            coulomb_sd: CachedSqrt::EMPTY,
+            viscous_sd: CachedSqrt::EMPTY,
         }
     }
 
@@ -742,6 +776,7 @@ impl<const N: usize> Monitor<N> {
             impact_until: f32::NEG_INFINITY,
             impact_samples: 0,
             next_margin: 0,
+            learned: [false; N],
             status: Status::default(),
         })
     }
@@ -1101,6 +1136,7 @@ impl<const N: usize> Monitor<N> {
             &latches.locked,
         );
         let centre = self.fit.centre(self.meas_var);
+        self.learned = [false; N];
         match &centre {
             Some(c) => {
                 let terms = momentum_terms(&self.chain, &c.phi, &c.rate);
@@ -1108,6 +1144,7 @@ impl<const N: usize> Monitor<N> {
                     if c.locked[j] {
                         continue;
                     }
+                    self.learned[j] = true;
                     let js = &mut self.joints[j];
                     if !self.fit_run {
                         js.fo.restart();
@@ -1155,7 +1192,8 @@ impl<const N: usize> Monitor<N> {
                 self.joints[j].kf = self.fresh_filter(phi0, sd, RESET_RATE_SD, RESET_ACC_SD);
                 readings.faults[j].insert(Fault::EstimatorReset);
             }
-            if !self.joints[j].fo.is_healthy() {
+            // An observer changes only when it steps.
+            if self.learned[j] && !self.joints[j].fo.is_healthy() {
                 self.joints[j].fo.reset_parameters();
                 readings.faults[j].insert(Fault::EstimatorReset);
             }
@@ -1178,16 +1216,12 @@ impl<const N: usize> Monitor<N> {
             // energy, the share the outer panels carry included, so it errs
             // on the side of a latch and its stall verdicts are safe ones.
             let m = self.chain.mass_matrix(&latches.phi);
-            let free_inertia = articulated_inertias(&m, &latches.locked);
             let own = m
                 .get(jm)
                 .and_then(|row| row.get(jm))
                 .copied()
                 .unwrap_or(1.0);
-            let inertia = free_inertia
-                .get(jm)
-                .copied()
-                .flatten()
+            let inertia = articulated_inertia(&m, &latches.locked, jm)
                 .unwrap_or_else(|| own.max(MIN_INERTIA_KGM2));
             let result = self.joint_margin(jm, inertia, quiet);
             if let Some(js) = self.joints.get_mut(jm) {
@@ -1244,8 +1278,10 @@ impl<const N: usize> Monitor<N> {
     fn compose_status(&mut self, t: f32, readings: &Readings<N>, latches: &Latches<N>) {
         for j in 0..N {
             let (prediction, confidence, time_to_latch) = self.prediction(j, t);
-            let js = &self.joints[j];
+            let js = &mut self.joints[j];
             let est = js.fo.estimate();
+            let coulomb_sd = js.coulomb_sd.sqrt(est.coulomb_var);
+            let viscous_sd = js.viscous_sd.sqrt(est.viscous_var);
             let margin_pct = if js.lt.is_latched() {
                 None
             } else {
@@ -1262,9 +1298,9 @@ impl<const N: usize> Monitor<N> {
                 phi_deg: finite(js.kf.angle() / DEG),
                 rate_deg_s: finite(js.kf.rate() / DEG),
                 coulomb_nm: finite(est.coulomb_nm),
-                coulomb_sd_nm: finite(crate::real::sqrtf(est.coulomb_var.max(0.0))),
+                coulomb_sd_nm: finite(coulomb_sd),
                 viscous_nms: finite(est.viscous_nms),
-                viscous_sd_nms: finite(crate::real::sqrtf(est.viscous_var.max(0.0))),
+                viscous_sd_nms: finite(viscous_sd),
                 friction_torque_nm: finite(js.fo.disturbance_nm()),
                 latch: latches.states[j],
                 margin_pct: margin_pct.map(finite),

@@ -174,12 +174,10 @@ impl RateFilter {
     /// True when every state and covariance entry is finite and the
     /// variances are positive.
     pub fn is_healthy(&self) -> bool {
-        self.x.iter().chain(self.p.iter()).all(|v| v.is_finite())
-            && self.q.is_finite()
-            && self.nis.is_finite()
-            && self.p[0] > 0.0
-            && self.p[3] > 0.0
-            && self.p[5] > 0.0
+        // A NaN or an infinity anywhere makes the sum NaN or infinite (as
+        // in `FrictionObserver::is_healthy`: one pass, no branch per entry).
+        let sum: f32 = self.x.iter().chain(self.p.iter()).sum::<f32>() + self.q + self.nis;
+        sum.is_finite() && self.p[0] > 0.0 && self.p[3] > 0.0 && self.p[5] > 0.0
     }
 
     /// Time update over `dt` [s] with the adapted jerk spectral density, or
