@@ -101,6 +101,64 @@ impl core::fmt::Display for Prediction {
     }
 }
 
+/// Whether the measurements determine a parameter, or only its prior does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Observability {
+    /// The prior still dominates, or the standard deviation is too wide
+    /// for the value to mean anything: the estimate is the prior pulled a
+    /// little, and the reported deviation (the posterior's) is what is
+    /// known.
+    #[default]
+    Unobservable,
+    /// The data determine it: the posterior variance is at most
+    /// [`OBSERVED_PRIOR_SHARE`] of the prior's and the standard deviation
+    /// at most [`VISCOUS_RESOLVED_SD`].
+    Estimated,
+}
+
+impl Observability {
+    /// Every value.
+    pub const ALL: [Observability; 2] = [Observability::Unobservable, Observability::Estimated];
+
+    /// The name used in telemetry CSV and reports.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Observability::Unobservable => "unobservable",
+            Observability::Estimated => "estimated",
+        }
+    }
+
+    /// The value of a name written by [`Observability::as_str`].
+    pub fn from_name(name: &str) -> Option<Self> {
+        Observability::ALL
+            .iter()
+            .copied()
+            .find(|p| p.as_str() == name)
+    }
+
+    /// The verdict on a parameter of posterior variance `var` and prior
+    /// variance `prior_var`, resolved when its deviation is at most
+    /// `resolved_sd`.
+    pub fn of(var: f32, prior_var: f32, resolved_sd: f32) -> Self {
+        if var <= OBSERVED_PRIOR_SHARE * prior_var && var <= resolved_sd * resolved_sd {
+            Observability::Estimated
+        } else {
+            Observability::Unobservable
+        }
+    }
+}
+
+/// Largest share of the prior variance left once the data determine a
+/// parameter [1]: the data then carry at least three times the prior's
+/// information.
+pub const OBSERVED_PRIOR_SHARE: f32 = 0.25;
+
+/// Largest standard deviation of a viscous coefficient reported as
+/// estimated [N·m·s/rad]: a damping of 0.2 N·m·s/rad is then resolved at
+/// 2σ.
+pub const VISCOUS_RESOLVED_SD: f32 = 0.1;
+
 /// What the monitor knows about one joint.
 #[derive(Clone, Copy, Debug, PartialEq, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -117,6 +175,10 @@ pub struct JointStatus {
     pub viscous_nms: f32,
     /// Standard deviation of `f` [N·m·s/rad].
     pub viscous_sd_nms: f32,
+    /// Whether the data determine `f` ([`Observability::Estimated`]) or
+    /// only its prior does (`viscous_nms ± viscous_sd_nms` is then the
+    /// prior pulled a little, with its honest deviation).
+    pub viscous: Observability,
     /// Disturbance-observer friction torque now (filtered) [N·m].
     pub friction_torque_nm: f32,
     /// Latch state.
@@ -1301,6 +1363,11 @@ impl<const N: usize> Monitor<N> {
                 coulomb_sd_nm: finite(coulomb_sd),
                 viscous_nms: finite(est.viscous_nms),
                 viscous_sd_nms: finite(viscous_sd),
+                viscous: Observability::of(
+                    est.viscous_var,
+                    js.fo.prior().viscous_sd_nms * js.fo.prior().viscous_sd_nms,
+                    VISCOUS_RESOLVED_SD,
+                ),
                 friction_torque_nm: finite(js.fo.disturbance_nm()),
                 latch: latches.states[j],
                 margin_pct: margin_pct.map(finite),

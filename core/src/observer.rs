@@ -521,6 +521,11 @@ impl FrictionObserver {
         *self = FrictionObserver::new(self.prior, self.spring_sd_rel);
     }
 
+    /// The prior of the friction parameters.
+    pub fn prior(&self) -> &FrictionPrior {
+        &self.prior
+    }
+
     /// The disturbance estimate `r` [N·m]: the friction torque, filtered.
     pub fn disturbance_nm(&self) -> f32 {
         self.r
