@@ -42,4 +42,6 @@ pub use torque_table::{Table, TableError, TorqueTable};
 
 pub use faults::{Fault, FaultFlags};
 pub use latch::LatchState;
-pub use monitor::{JointConfig, JointStatus, Monitor, MonitorConfig, Prediction, Sample, Status};
+pub use monitor::{
+    JointConfig, JointStatus, Monitor, MonitorConfig, Observability, Prediction, Sample, Status,
+};

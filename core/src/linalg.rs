@@ -131,6 +131,29 @@ pub fn articulated_inertias<T: Real, const N: usize>(
     })
 }
 
+/// Articulated inertia `1/(M⁻¹)_jj` of joint `j` alone [kg·m²]: the
+/// same factorisation and substitution as [`articulated_inertias`], for one
+/// joint (the monitor evaluates one joint's margin per sample). `None` for
+/// a locked joint or an index out of range, and when the free block is not
+/// positive definite.
+pub fn articulated_inertia<T: Real, const N: usize>(
+    m: &[[T; N]; N],
+    locked: &[bool; N],
+    j: usize,
+) -> Option<T> {
+    if locked.get(j).copied().unwrap_or(true) {
+        return None;
+    }
+    let l = ldl_masked(m, locked).ok()?;
+    let mut e = [T::ZERO; N];
+    if let Some(ej) = e.get_mut(j) {
+        *ej = T::ONE;
+    }
+    let d = substitute(&l, &e, locked).get(j).copied()?;
+    let i = T::ONE / d;
+    (d > T::ZERO && i.is_finite()).then_some(i)
+}
+
 /// `y = M x`.
 pub fn mat_vec<T: Real, const N: usize>(m: &[[T; N]; N], x: &[T; N]) -> [T; N] {
     let mut y = [T::ZERO; N];

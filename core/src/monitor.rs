@@ -20,7 +20,7 @@ use crate::chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEff
 use crate::faults::{Fault, FaultFlags};
 use crate::friction::Friction;
 use crate::latch::{LatchConfig, LatchInput, LatchState, LatchTracker};
-use crate::linalg::{articulated_inertias, solve_spd_masked};
+use crate::linalg::{articulated_inertia, solve_spd_masked};
 use crate::margin::{self, MarginInput, MarginResult, MarginSettings, UncertaintyFactors};
 use crate::observer::{
     momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation, ObserverInput,
@@ -28,7 +28,7 @@ use crate::observer::{
 };
 use crate::predictor::{FrictionBelief, PredictionQuery, Predictor};
 use crate::rollout::RolloutConfig;
-use crate::smoother::CentredFit;
+use crate::smoother::{Centre, CentredFit};
 use crate::spring::{Branch, Spring};
 use serde::{Deserialize, Serialize};
 
@@ -100,6 +100,64 @@ impl core::fmt::Display for Prediction {
     }
 }
 
+/// Whether the measurements determine a parameter, or only its prior does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Observability {
+    /// The prior still dominates, or the standard deviation is too wide
+    /// for the value to mean anything: the estimate is the prior pulled a
+    /// little, and the reported deviation (the posterior's) is what is
+    /// known.
+    #[default]
+    Unobservable,
+    /// The data determine it: the posterior variance is at most
+    /// [`OBSERVED_PRIOR_SHARE`] of the prior's and the standard deviation
+    /// at most [`VISCOUS_RESOLVED_SD`].
+    Estimated,
+}
+
+impl Observability {
+    /// Every value.
+    pub const ALL: [Observability; 2] = [Observability::Unobservable, Observability::Estimated];
+
+    /// The name used in telemetry CSV and reports.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Observability::Unobservable => "unobservable",
+            Observability::Estimated => "estimated",
+        }
+    }
+
+    /// The value of a name written by [`Observability::as_str`].
+    pub fn from_name(name: &str) -> Option<Self> {
+        Observability::ALL
+            .iter()
+            .copied()
+            .find(|p| p.as_str() == name)
+    }
+
+    /// The verdict on a parameter of posterior variance `var` and prior
+    /// variance `prior_var`, resolved when its deviation is at most
+    /// `resolved_sd`.
+    pub fn of(var: f32, prior_var: f32, resolved_sd: f32) -> Self {
+        if var <= OBSERVED_PRIOR_SHARE * prior_var && var <= resolved_sd * resolved_sd {
+            Observability::Estimated
+        } else {
+            Observability::Unobservable
+        }
+    }
+}
+
+/// Largest share of the prior variance left once the data determine a
+/// parameter [1]: the data then carry at least three times the prior's
+/// information.
+pub const OBSERVED_PRIOR_SHARE: f32 = 0.25;
+
+/// Largest standard deviation of a viscous coefficient reported as
+/// estimated [N·m·s/rad]: a damping of 0.2 N·m·s/rad is then resolved at
+/// 2σ.
+pub const VISCOUS_RESOLVED_SD: f32 = 0.1;
+
 /// What the monitor knows about one joint.
 #[derive(Clone, Copy, Debug, PartialEq, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -116,6 +174,10 @@ pub struct JointStatus {
     pub viscous_nms: f32,
     /// Standard deviation of `f` [N·m·s/rad].
     pub viscous_sd_nms: f32,
+    /// Whether the data determine `f` ([`Observability::Estimated`]) or
+    /// only its prior does (`viscous_nms ± viscous_sd_nms` is then the
+    /// prior pulled a little, with its honest deviation).
+    pub viscous: Observability,
     /// Disturbance-observer friction torque now (filtered) [N·m].
     pub friction_torque_nm: f32,
     /// Latch state.
@@ -464,30 +526,30 @@ impl<const N: usize> MonitorConfig<N> {
 #[derive(Clone, Debug)]
 pub struct Monitor<const N: usize> {
     chain: Chain<f32, N>,
-    stowed_deg: [f32; N],
-    capture_rad: [f32; N],
+    /// Variance of one encoder reading [rad²] (noise and quantisation).
+    meas_var: f32,
+    /// Its square root [rad].
+    meas_sd: f32,
     sensor: SensorConfig,
     observer: ObserverConfig,
     latch_cfg: LatchConfig,
     margin_cfg: MarginConfig,
-    kf: [RateFilter; N],
-    fo: [FrictionObserver; N],
-    lt: [LatchTracker; N],
-    margin: [Option<MarginResult>; N],
+    /// Everything the monitor tracks about each joint.
+    joints: [JointState; N],
     /// The latch / stall prediction (the rollout cycle), advanced by
     /// [`Monitor::predict`].
     predictor: Predictor<N>,
-    rejects: [u8; N],
-    /// Last in-range reading of each encoder [deg] and how many samples in
-    /// a row repeated it exactly.
-    last_raw: [f32; N],
-    same_run: [u16; N],
     started: bool,
     /// Time stamp of the first sample [s].
     t_start: f32,
+    /// Time stamp of the last sample used [s].
     t_prev: f32,
+    /// Consecutive time stamps that did not increase, and the last of them
+    /// [s] (three in a row are adopted as the new time base).
     back_run: u8,
     t_back: f32,
+    /// End of the settling after a snap, latch or gap [s]: the friction
+    /// learning and the margin wait until then.
     blank_until: f32,
     /// The last readings, for the friction observer's centred rates.
     fit: CentredFit<N>,
@@ -498,15 +560,146 @@ pub struct Monitor<const N: usize> {
     t_centre: f32,
     /// Running mean of the sample intervals [s] (0 before the first).
     dt_mean: f32,
-    /// Each switch at the previous sample (a closing is an impact).
-    switch_prev: [bool; N],
     /// End of the window after a switch closed in which a reading the rate
     /// filter rejects is the impact, not an outlier [s].
     impact_until: f32,
     /// Samples left whose prediction is widened for the impact.
     impact_samples: u8,
+    /// The joint whose energy margin is evaluated at the next sample.
     next_margin: u8,
+    /// The joints whose friction observer stepped at this sample.
+    learned: [bool; N],
     status: Status<N>,
+}
+
+/// What the monitor tracks about one joint from sample to sample.
+#[derive(Clone, Copy, Debug)]
+struct JointState {
+    /// Stowed angle [deg] (the latch is at 0).
+    stowed_deg: f32,
+    /// Capture angle `x_c` [rad] (below it the spring completes the latch).
+    capture_rad: f32,
+    /// Kinematic Kalman filter of the angle and rate (§2 of
+    /// `docs/monitor.md`).
+    kf: RateFilter,
+    /// Momentum disturbance observer and RLS friction estimate (§3).
+    fo: FrictionObserver,
+    /// Latch-state estimator, switch fused with encoder (§4).
+    lt: LatchTracker,
+    /// Last energy margin and one-joint latch probability (§5).
+    margin: Option<MarginResult>,
+    /// Consecutive readings the rate filter's gate rejected.
+    rejects: u8,
+    /// Last in-range reading of the encoder [deg].
+    last_raw: f32,
+    /// How many samples in a row repeated `last_raw` exactly.
+    same_run: u16,
+    /// The latch switch at the previous sample (a closing is an impact).
+    switch_prev: bool,
+    /// The status's standard deviations of `T_C` and `f`, with the
+    /// variances they are the roots of (they change only when the observer
+    /// learns: the square roots are not taken again in between).
+    coulomb_sd: CachedSqrt,
+    viscous_sd: CachedSqrt,
+}
+
+/// `√v` of the last `v` asked for.
+#[derive(Clone, Copy, Debug)]
+struct CachedSqrt {
+    /// The last argument (NaN at first: never equal).
+    v: f32,
+    /// Its square root.
+    root: f32,
+}
+
+impl CachedSqrt {
+    const EMPTY: CachedSqrt = CachedSqrt {
+        v: f32::NAN,
+        root: 0.0,
+    };
+
+    /// `√max(v, 0)`, computed only when `v` changed.
+    fn sqrt(&mut self, v: f32) -> f32 {
+        if v != self.v {
+            self.v = v;
+            self.root = crate::real::sqrtf(v.max(0.0));
+        }
+        self.root
+    }
+}
+
+impl JointState {
+    /// A joint at its stowed angle, waiting for the first sample; `sd` is
+    /// the encoder's standard deviation [rad].
+    fn new(joint: &JointConfig, sd: f32, observer: &ObserverConfig, spring_sd_rel: f32) -> Self {
+        let mut kf = RateFilter::new(joint.stowed_deg * DEG, sd, START_RATE_SD, START_ACC_SD);
+        kf.set_jerk_psd(observer.jerk_psd);
+        JointState {
+            stowed_deg: joint.stowed_deg,
+            capture_rad: joint.capture_deg * DEG,
+            kf,
+            fo: FrictionObserver::new(joint.prior, spring_sd_rel),
+            lt: LatchTracker::new(),
+            margin: None,
+            rejects: 0,
+            last_raw: f32::NAN,
+            same_run: 0,
+            switch_prev: false,
+            coulomb_sd: CachedSqrt::EMPTY,
+            viscous_sd: CachedSqrt::EMPTY,
+        }
+    }
+
+    /// True when the joint is latched or held at its latch (the model sits
+    /// it at 0).
+    fn locked(&self) -> bool {
+        self.lt.is_latched() || self.lt.held_at_latch()
+    }
+}
+
+/// The clock's verdict on a sample's time stamp.
+#[derive(Clone, Copy, Debug)]
+struct Clock {
+    /// Time stamp [s].
+    t: f32,
+    /// Time step used by the filters [s] (0 at the first sample).
+    dt: f32,
+    /// A gap (or a newly adopted time base) before this sample.
+    gap: bool,
+    /// Time faults, raised on every joint.
+    faults: FaultFlags,
+}
+
+/// This sample's encoder readings, per joint.
+#[derive(Clone, Copy, Debug)]
+struct Readings<const N: usize> {
+    /// Faults raised so far.
+    faults: [FaultFlags; N],
+    /// Readings the rate filters used [rad]: `None` when missing, out of
+    /// range, stuck or gated out.
+    used: [Option<f32>; N],
+    /// The readings as they came, range-checked [rad]: the latch estimator
+    /// compares them with the switch even when the rate filter gated one
+    /// out (a joint stopping dead at its latch looks like a spike to it;
+    /// the switch must agree anyway).
+    raw: [Option<f32>; N],
+    /// Encoders frozen for longer than the noise allows.
+    stuck: [bool; N],
+}
+
+/// The latch states after this sample.
+#[derive(Clone, Copy, Debug)]
+struct Latches<const N: usize> {
+    /// Each joint's state.
+    states: [LatchState; N],
+    /// Joints declared latched at this sample.
+    newly: [bool; N],
+    /// Joints the model sits at 0 (latched or held at the latch).
+    locked: [bool; N],
+    /// Model angles [rad]: the rate filter's, 0 for a locked joint.
+    phi: [f32; N],
+    /// Model rates [rad/s]: the rate filter's, 0 for a locked joint.
+    rate: [f32; N],
 }
 
 /// Rate uncertainty at the first sample [rad/s]: a deployment starts from
@@ -514,10 +707,23 @@ pub struct Monitor<const N: usize> {
 const START_RATE_SD: f32 = 0.01;
 /// Acceleration uncertainty at the first sample [rad/s²].
 const START_ACC_SD: f32 = 1.0;
-/// Variance added to a rate after a latch impulse or a gap [rad²/s²].
+/// Rate uncertainty of a rate filter restarted after repeated rejections or
+/// a numerical failure [rad/s]: the joint may be anywhere in its stroke.
+const RESET_RATE_SD: f32 = 1.0;
+/// Acceleration uncertainty of such a restarted filter [rad/s²].
+const RESET_ACC_SD: f32 = 10.0;
+/// Variance added to a rate after a latch impulse [rad²/s²].
 const RATE_SHOCK_VAR: f32 = 0.04;
-/// Variance added to an acceleration after a latch impulse or a gap [rad²/s⁴].
+/// Variance added to an acceleration after a latch impulse, an impact or a
+/// gap [rad²/s⁴].
 const ACC_SHOCK_VAR: f32 = 100.0;
+/// Variance added to a rate over a gap [rad²/s²] (the joint may have
+/// changed its rate by ≈ 1 rad/s while unobserved).
+const GAP_RATE_VAR: f32 = 1.0;
+/// Variance added to the first reading after a gap [rad²].
+const GAP_MEAS_VAR: f32 = 1.0;
+/// Longest time step the filters propagate over a gap [s].
+const MAX_GAP_STEP_S: f32 = 1.0;
 /// Consecutive gate rejections after which the rate filter restarts at the
 /// measurement.
 const MAX_REJECTS: u8 = 3;
@@ -550,6 +756,20 @@ const MANOEUVRE_GATE: f32 = 3.0;
 const IMPACT_RATE_SD: f32 = 1.0;
 /// Consecutive non-increasing time stamps after which the monitor adopts them.
 const RESYNC_SAMPLES: u8 = 3;
+/// Smallest articulated inertia the margin divides by [kg·m²] (a guard;
+/// real panels are 10⁻² and more).
+const MIN_INERTIA_KGM2: f32 = 1e-6;
+/// Standard deviations of `T̂_C` beyond which the friction torque's lower
+/// bound on `T_C` is a transient of `r`, not evidence (`docs/monitor.md`
+/// §3.2).
+const LOWER_BOUND_SIGMAS: f32 = 2.0;
+/// The margin of a joint the monitor knows nothing about (a guard for an
+/// index out of range, which the callers never pass).
+const UNKNOWN_MARGIN: MarginResult = MarginResult {
+    margin_pct: 0.0,
+    latch_probability: 0.5,
+    time_to_latch_s: None,
+};
 
 impl<const N: usize> Monitor<N> {
     /// A monitor for the configured mechanism, waiting for its first sample.
@@ -564,33 +784,24 @@ impl<const N: usize> Monitor<N> {
         let chain = Chain::new(config.panels, joints, GlobalEffects::default())
             .map_err(ConfigError::Chain)?;
         let sd = config.sensor.encoder_sd_deg * DEG;
+        let meas_var = Self::meas_var(&config.sensor);
         Ok(Monitor {
             chain,
-            stowed_deg: core::array::from_fn(|j| config.joints[j].stowed_deg),
-            capture_rad: core::array::from_fn(|j| config.joints[j].capture_deg * DEG),
+            meas_var,
+            meas_sd: crate::real::sqrtf(meas_var),
             sensor: config.sensor,
             observer: config.observer,
             latch_cfg: config.latch,
             margin_cfg: config.margin,
-            kf: core::array::from_fn(|j| {
-                let mut f = RateFilter::new(
-                    config.joints[j].stowed_deg * DEG,
+            joints: core::array::from_fn(|j| {
+                JointState::new(
+                    &config.joints[j],
                     sd,
-                    START_RATE_SD,
-                    START_ACC_SD,
-                );
-                f.set_jerk_psd(config.observer.jerk_psd);
-                f
+                    &config.observer,
+                    config.margin.spring_sd_rel,
+                )
             }),
-            fo: core::array::from_fn(|j| {
-                FrictionObserver::new(config.joints[j].prior, config.margin.spring_sd_rel)
-            }),
-            lt: [LatchTracker::new(); N],
-            margin: [None; N],
             predictor: Predictor::new(config.margin.confidence),
-            rejects: [0; N],
-            last_raw: [f32::NAN; N],
-            same_run: [0; N],
             started: false,
             t_start: 0.0,
             t_prev: 0.0,
@@ -600,11 +811,11 @@ impl<const N: usize> Monitor<N> {
             fit: CentredFit::new(),
             fit_run: false,
             t_centre: f32::NEG_INFINITY,
-            switch_prev: [false; N],
             dt_mean: 0.0,
             impact_until: f32::NEG_INFINITY,
             impact_samples: 0,
             next_margin: 0,
+            learned: [false; N],
             status: Status::default(),
         })
     }
@@ -616,12 +827,12 @@ impl<const N: usize> Monitor<N> {
 
     /// The friction observer of joint `j` (0-based), for diagnostics.
     pub fn observer(&self, j: usize) -> Option<&FrictionObserver> {
-        self.fo.get(j)
+        self.joints.get(j).map(|s| &s.fo)
     }
 
     /// The rate filter of joint `j` (0-based), for diagnostics.
     pub fn rate_filter(&self, j: usize) -> Option<&RateFilter> {
-        self.kf.get(j)
+        self.joints.get(j).map(|s| &s.kf)
     }
 
     /// Slices of [`Monitor::predict`] a replay runs after each sample
@@ -640,19 +851,28 @@ impl<const N: usize> Monitor<N> {
         &self.chain
     }
 
-    /// Measurement variance of one encoder reading [rad²].
-    fn meas_var(&self) -> f32 {
-        let sd = self.sensor.encoder_sd_deg * DEG;
-        let q = self.sensor.encoder_step_deg * DEG;
+    /// Measurement variance of one encoder reading [rad²]: noise and
+    /// quantisation, `σ² + Δ²/12`.
+    fn meas_var(sensor: &SensorConfig) -> f32 {
+        let sd = sensor.encoder_sd_deg * DEG;
+        let q = sensor.encoder_step_deg * DEG;
         sd * sd + q * q / 12.0
     }
 
+    /// A rate filter started at `phi_rad` [rad] with rate and acceleration
+    /// deviations `sd_rate` [rad/s] and `sd_acc` [rad/s²].
+    fn fresh_filter(&self, phi_rad: f32, sd: f32, sd_rate: f32, sd_acc: f32) -> RateFilter {
+        let mut f = RateFilter::new(phi_rad, sd, sd_rate, sd_acc);
+        f.set_jerk_psd(self.observer.jerk_psd);
+        f
+    }
+
     /// The previous status with this sample's faults (a sample not used).
-    fn hold(&mut self, faults: FaultFlags) -> Status<N> {
+    fn hold(&mut self, faults: FaultFlags) -> &Status<N> {
         for js in self.status.joints.iter_mut() {
             js.faults = faults;
         }
-        self.status
+        &self.status
     }
 
     /// Processes one sample and returns the monitor's status.
@@ -663,19 +883,37 @@ impl<const N: usize> Monitor<N> {
     // Out of line: the sample-rate path is one function to measure, and its
     // frame is not merged into the caller's.
     #[inline(never)]
-    pub fn update(&mut self, sample: &Sample<N>) -> Status<N> {
-        let mut global = FaultFlags::EMPTY;
-        let t = sample.t_s;
+    pub fn update(&mut self, sample: &Sample<N>) -> &Status<N> {
+        let clock = match self.check_clock(sample.t_s) {
+            Ok(clock) => clock,
+            Err(faults) => return self.hold(faults),
+        };
+        let mut readings = self.read_encoders(sample, &clock);
+        self.track_rates(sample, &clock, &mut readings);
+        let latches = self.track_latches(sample, &clock, &mut readings);
+        let centre = self.learn_friction(&clock, &readings, &latches);
+        self.check_health(&mut readings);
+        self.evaluate_margin(clock.t, &latches);
+        self.hand_over_to_prediction(clock.t, centre.as_ref(), &latches);
+        self.compose_status(clock.t, &readings, &latches);
+        &self.status
+    }
+
+    /// Checks the time stamp: the time step and the time faults, or `Err`
+    /// with the faults of a sample that is not used (not finite, or
+    /// backwards until [`RESYNC_SAMPLES`] in a row adopt the new time base).
+    fn check_clock(&mut self, t: f32) -> Result<Clock, FaultFlags> {
+        let mut faults = FaultFlags::EMPTY;
         if !t.is_finite() {
-            global.insert(Fault::TimeInvalid);
-            return self.hold(global);
+            faults.insert(Fault::TimeInvalid);
+            return Err(faults);
         }
         let mut gap = false;
         let mut dt = 0.0f32;
         if self.started {
             let d = t - self.t_prev;
             if !(d >= self.observer.min_dt_s) {
-                global.insert(Fault::TimeBackwards);
+                faults.insert(Fault::TimeBackwards);
                 let chained = self.back_run > 0 && t - self.t_back >= self.observer.min_dt_s;
                 self.back_run = if chained {
                     self.back_run.saturating_add(1)
@@ -684,19 +922,19 @@ impl<const N: usize> Monitor<N> {
                 };
                 self.t_back = t;
                 if self.back_run < RESYNC_SAMPLES {
-                    return self.hold(global);
+                    return Err(faults);
                 }
                 // Adopt the new time base, as after a gap.
                 gap = true;
                 dt = self.observer.max_gap_s;
             } else if !(d <= self.observer.max_gap_s) {
                 gap = true;
-                dt = d.min(1.0);
+                dt = d.min(MAX_GAP_STEP_S);
             } else {
                 dt = d;
                 // Time-stamp jitter: an interval off the running mean.
                 if self.dt_mean > 0.0 && libm::fabsf(d - self.dt_mean) > JITTER_TOL * self.dt_mean {
-                    global.insert(Fault::TimeJitter);
+                    faults.insert(Fault::TimeJitter);
                 }
                 self.dt_mean = if self.dt_mean > 0.0 {
                     self.dt_mean + JITTER_WEIGHT * (d - self.dt_mean)
@@ -707,14 +945,19 @@ impl<const N: usize> Monitor<N> {
         }
         self.back_run = 0;
         if gap {
-            global.insert(Fault::TimeGap);
+            faults.insert(Fault::TimeGap);
         }
+        Ok(Clock { t, dt, gap, faults })
+    }
 
-        // Encoders.
-        let mut faults = [global; N];
-        let mut meas = [None::<f32>; N];
+    /// Reads the encoders: missing, out-of-range and stuck readings are
+    /// flagged and not used.
+    fn read_encoders(&mut self, sample: &Sample<N>, clock: &Clock) -> Readings<N> {
+        let mut faults = [clock.faults; N];
+        let mut used = [None::<f32>; N];
         let mut stuck = [false; N];
-        for j in 0..N {
+        let limit = self.sensor.stuck_samples;
+        for (j, js) in self.joints.iter_mut().enumerate() {
             let z = sample.phi_deg[j];
             if !z.is_finite() {
                 faults[j].insert(Fault::EncoderMissing);
@@ -723,37 +966,42 @@ impl<const N: usize> Monitor<N> {
             } else {
                 // A reading frozen to the same value for longer than the
                 // noise allows is a stuck (or stale) encoder: not used.
-                if z == self.last_raw[j] {
-                    self.same_run[j] = self.same_run[j].saturating_add(1);
+                if z == js.last_raw {
+                    js.same_run = js.same_run.saturating_add(1);
                 } else {
-                    self.same_run[j] = 0;
-                    self.last_raw[j] = z;
+                    js.same_run = 0;
+                    js.last_raw = z;
                 }
                 // A latched joint's encoder reads a constant by rights (a
                 // noise-free or coarse encoder repeats exactly): the check
                 // ends with the latch, whose declaration is final.
-                let limit = self.sensor.stuck_samples;
-                let latched = self.lt[j].is_latched();
-                if !latched && limit > 0 && self.same_run[j].saturating_add(1) >= limit {
+                let latched = js.lt.is_latched();
+                if !latched && limit > 0 && js.same_run.saturating_add(1) >= limit {
                     faults[j].insert(Fault::EncoderStuck);
                     stuck[j] = true;
                 } else {
-                    meas[j] = Some(z * DEG);
+                    used[j] = Some(z * DEG);
                 }
             }
         }
-        // The readings as they came (range-checked): the latch estimator
-        // compares them with the switch even when the rate filter gated one
-        // out (a joint stopping dead at its latch looks like a spike to it;
-        // the switch must agree anyway).
-        let raw = meas;
-        let r_meas = self.meas_var();
-        let sd = crate::real::sqrtf(r_meas);
+        Readings {
+            faults,
+            used,
+            raw: used,
+            stuck,
+        }
+    }
+
+    /// Tracks the angles and rates: each rate filter predicts to the sample
+    /// and fuses its reading, with the latch impact expected when a switch
+    /// closes (`docs/monitor.md` §6.2); spikes are flagged and gated out.
+    fn track_rates(&mut self, sample: &Sample<N>, clock: &Clock, readings: &mut Readings<N>) {
+        let t = clock.t;
+        let sd = self.meas_sd;
         if !self.started {
             for j in 0..N {
-                let phi0 = meas[j].unwrap_or(self.stowed_deg[j] * DEG);
-                self.kf[j] = RateFilter::new(phi0, sd, START_RATE_SD, START_ACC_SD);
-                self.kf[j].set_jerk_psd(self.observer.jerk_psd);
+                let phi0 = readings.used[j].unwrap_or(self.joints[j].stowed_deg * DEG);
+                self.joints[j].kf = self.fresh_filter(phi0, sd, START_RATE_SD, START_ACC_SD);
             }
             self.started = true;
             self.t_start = t;
@@ -764,118 +1012,175 @@ impl<const N: usize> Monitor<N> {
             // `IMPACT_WINDOW_S` the rate filters widen their gates, and a
             // reading they still cannot reconcile restarts the filter at
             // the reading: expected, not an outlier.
-            if (0..N).any(|j| sample.latch[j] && !self.switch_prev[j]) {
+            if (0..N).any(|j| sample.latch[j] && !self.joints[j].switch_prev) {
                 self.impact_until = t + IMPACT_WINDOW_S;
                 self.impact_samples = IMPACT_INFLATE_SAMPLES;
             }
             let impact = t <= self.impact_until;
             let inflate = self.impact_samples > 0;
             self.impact_samples = self.impact_samples.saturating_sub(1);
-            let gate2 = self.observer.gate_sigma * self.observer.gate_sigma;
-            let zone = self.observer.snap_zone_deg * DEG;
             for j in 0..N {
-                let kf = &mut self.kf[j];
-                let q_floor = if !self.lt[j].is_latched() && libm::fabsf(kf.angle()) < zone {
-                    self.observer.zone_jerk_psd
-                } else {
-                    0.0
-                };
-                if inflate && !self.lt[j].is_latched() {
-                    kf.inflate(IMPACT_RATE_VAR, ACC_SHOCK_VAR);
-                }
-                kf.predict(dt, q_floor);
-                if gap {
-                    kf.inflate(1.0, ACC_SHOCK_VAR);
-                }
-                if let Some(z) = meas[j] {
-                    let r = if gap { r_meas + 1.0 } else { r_meas };
-                    // A reading beyond the gate but within
-                    // `MANOEUVRE_GATE` gates of the prediction is a
-                    // manoeuvre the white-jerk model did not foresee (a
-                    // joint that sticks under its friction stops with a
-                    // step in acceleration), not a spike.
-                    let nu = z - kf.angle();
-                    let manoeuvre =
-                        nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r);
-                    match kf.update(z, r, gate2, &self.observer.jerk_adaptation) {
-                        Fusion::Accepted => self.rejects[j] = 0,
-                        Fusion::Rejected if impact || manoeuvre => {
-                            let rate = if impact { 0.0 } else { kf.rate() };
-                            *kf = RateFilter::new(z, sd, IMPACT_RATE_SD, START_ACC_SD);
-                            kf.set_rate(rate, 0.0);
-                            kf.set_jerk_psd(self.observer.jerk_psd);
-                            self.rejects[j] = 0;
-                            if impact {
-                                self.blank_until = t + self.observer.settle_s;
-                            }
-                        }
-                        Fusion::Rejected => {
-                            faults[j].insert(Fault::EncoderOutlier);
-                            self.rejects[j] = self.rejects[j].saturating_add(1);
-                            if self.rejects[j] >= MAX_REJECTS {
-                                *kf = RateFilter::new(z, sd, 1.0, 10.0);
-                                kf.set_jerk_psd(self.observer.jerk_psd);
-                                faults[j].insert(Fault::EstimatorReset);
-                                self.rejects[j] = 0;
-                                self.blank_until = t + self.observer.settle_s;
-                            } else {
-                                meas[j] = None;
-                            }
-                        }
-                    }
-                }
+                self.track_rate(j, clock, readings, impact, inflate);
             }
         }
         self.t_prev = t;
-        self.switch_prev = sample.latch;
+        for (js, s) in self.joints.iter_mut().zip(sample.latch.iter()) {
+            js.switch_prev = *s;
+        }
+    }
 
-        // Latch states.
+    /// One joint's rate filter: prediction and fusion of its reading (see
+    /// [`Monitor::track_rates`]).
+    fn track_rate(
+        &mut self,
+        j: usize,
+        clock: &Clock,
+        readings: &mut Readings<N>,
+        impact: bool,
+        inflate: bool,
+    ) {
+        let (t, gap) = (clock.t, clock.gap);
+        let (r_meas, sd) = (self.meas_var, self.meas_sd);
+        let gate2 = self.observer.gate_sigma * self.observer.gate_sigma;
+        let zone = self.observer.snap_zone_deg * DEG;
+        let Some(js) = self.joints.get_mut(j) else {
+            return;
+        };
+        let latched = js.lt.is_latched();
+        let kf = &mut js.kf;
+        let q_floor = if !latched && libm::fabsf(kf.angle()) < zone {
+            self.observer.zone_jerk_psd
+        } else {
+            0.0
+        };
+        if inflate && !latched {
+            kf.inflate(IMPACT_RATE_VAR, ACC_SHOCK_VAR);
+        }
+        kf.predict(clock.dt, q_floor);
+        if gap {
+            kf.inflate(GAP_RATE_VAR, ACC_SHOCK_VAR);
+        }
+        let Some(z) = readings.used[j] else {
+            return;
+        };
+        let r = if gap { r_meas + GAP_MEAS_VAR } else { r_meas };
+        // A reading beyond the gate but within `MANOEUVRE_GATE` gates of
+        // the prediction is a manoeuvre the white-jerk model did not
+        // foresee (a joint that sticks under its friction stops with a
+        // step in acceleration), not a spike.
+        let nu = z - kf.angle();
+        let manoeuvre = nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r);
+        match kf.update(z, r, gate2, &self.observer.jerk_adaptation) {
+            Fusion::Accepted => js.rejects = 0,
+            Fusion::Rejected if impact || manoeuvre => {
+                let rate = if impact { 0.0 } else { kf.rate() };
+                *kf = RateFilter::new(z, sd, IMPACT_RATE_SD, START_ACC_SD);
+                kf.set_rate(rate, 0.0);
+                kf.set_jerk_psd(self.observer.jerk_psd);
+                js.rejects = 0;
+                if impact {
+                    self.blank_until = t + self.observer.settle_s;
+                }
+            }
+            Fusion::Rejected => {
+                readings.faults[j].insert(Fault::EncoderOutlier);
+                js.rejects = js.rejects.saturating_add(1);
+                if js.rejects >= MAX_REJECTS {
+                    *kf = RateFilter::new(z, sd, RESET_RATE_SD, RESET_ACC_SD);
+                    kf.set_jerk_psd(self.observer.jerk_psd);
+                    readings.faults[j].insert(Fault::EstimatorReset);
+                    js.rejects = 0;
+                    self.blank_until = t + self.observer.settle_s;
+                } else {
+                    readings.used[j] = None;
+                }
+            }
+        }
+    }
+
+    /// Tracks the latch states (switch fused with encoder), and applies the
+    /// plastic latch impulse to the rates when a joint latches.
+    fn track_latches(
+        &mut self,
+        sample: &Sample<N>,
+        clock: &Clock,
+        readings: &mut Readings<N>,
+    ) -> Latches<N> {
+        let t = clock.t;
         let mut states = [LatchState::Stowed; N];
         let mut newly = [false; N];
-        for j in 0..N {
-            let out = self.lt[j].step(
+        for (j, js) in self.joints.iter_mut().enumerate() {
+            let out = js.lt.step(
                 &LatchInput {
                     t_s: t,
                     switch: sample.latch[j],
-                    measured_deg: raw[j].map(|z| z / DEG),
-                    angle_deg: self.kf[j].angle() / DEG,
-                    rate_deg_s: self.kf[j].rate() / DEG,
-                    stowed_deg: self.stowed_deg[j],
-                    encoder_stuck: stuck[j],
+                    measured_deg: readings.raw[j].map(|z| z / DEG),
+                    angle_deg: js.kf.angle() / DEG,
+                    rate_deg_s: js.kf.rate() / DEG,
+                    stowed_deg: js.stowed_deg,
+                    encoder_stuck: readings.stuck[j],
                 },
                 &self.latch_cfg,
             );
             states[j] = out.state;
             newly[j] = out.newly_latched;
-            faults[j] = faults[j].union(out.faults);
+            readings.faults[j] = readings.faults[j].union(out.faults);
         }
-        let locked: [bool; N] =
-            core::array::from_fn(|j| self.lt[j].is_latched() || self.lt[j].held_at_latch());
+        let locked: [bool; N] = core::array::from_fn(|j| self.joints[j].locked());
         if newly.iter().any(|n| *n) {
             self.apply_latch_impulse(&newly, &locked);
             self.blank_until = t + self.observer.settle_s;
         }
-
         // Model quantities: latched joints sit at 0.
-        let phi_m: [f32; N] =
-            core::array::from_fn(|j| if locked[j] { 0.0 } else { self.kf[j].angle() });
-        let om_m: [f32; N] =
-            core::array::from_fn(|j| if locked[j] { 0.0 } else { self.kf[j].rate() });
-        let m = self.chain.mass_matrix(&phi_m);
+        let phi = core::array::from_fn(|j| {
+            if locked[j] {
+                0.0
+            } else {
+                self.joints[j].kf.angle()
+            }
+        });
+        let rate = core::array::from_fn(|j| {
+            if locked[j] {
+                0.0
+            } else {
+                self.joints[j].kf.rate()
+            }
+        });
+        Latches {
+            states,
+            newly,
+            locked,
+            phi,
+            rate,
+        }
+    }
+
+    /// Friction learning, half a window back, on the centred fit of the
+    /// readings (no lag, little noise): only samples outside the snap
+    /// zones and the settling after a snap, latch or gap, with every free
+    /// joint measured (`smoother.rs`). The observers restart whenever the
+    /// run of fits breaks. Returns the fit, if any.
+    fn learn_friction(
+        &mut self,
+        clock: &Clock,
+        readings: &Readings<N>,
+        latches: &Latches<N>,
+    ) -> Option<Centre<N>> {
+        let t = clock.t;
         let zone = self.observer.snap_zone_deg * DEG;
-        let in_zone = (0..N).any(|j| !locked[j] && libm::fabsf(phi_m[j]) < zone);
-        if in_zone || gap {
+        let in_zone = (0..N).any(|j| !latches.locked[j] && libm::fabsf(latches.phi[j]) < zone);
+        if in_zone || clock.gap {
             self.blank_until = t + self.observer.settle_s;
         }
-        let quiet = t >= self.blank_until;
-
-        // Friction learning, half a window back, on the centred fit of the
-        // readings (no lag, little noise): only samples outside the snap
-        // zones and the settling after a snap, latch or gap, with every
-        // free joint measured (`smoother.rs`). The observers restart
-        // whenever the run of fits breaks.
-        self.fit.push(t, &meas, quiet && !gap && dt > 0.0, &locked);
-        let centre = self.fit.centre(r_meas);
+        let quiet = self.quiet(t);
+        self.fit.push(
+            t,
+            &readings.used,
+            quiet && !clock.gap && clock.dt > 0.0,
+            &latches.locked,
+        );
+        let centre = self.fit.centre(self.meas_var);
+        self.learned = [false; N];
         match &centre {
             Some(c) => {
                 let terms = momentum_terms(&self.chain, &c.phi, &c.rate);
@@ -883,15 +1188,17 @@ impl<const N: usize> Monitor<N> {
                     if c.locked[j] {
                         continue;
                     }
+                    self.learned[j] = true;
+                    let js = &mut self.joints[j];
                     if !self.fit_run {
-                        self.fo[j].restart();
+                        js.fo.restart();
                     }
                     let mut p = 0.0f32;
                     for k in 0..N {
                         p += terms.mass[j][k] * c.rate[k];
                     }
                     let branch = Branch::select(c.phi[j], c.rate[j]);
-                    self.fo[j].step(
+                    js.fo.step(
                         &ObserverInput {
                             momentum: p,
                             spring_torque_nm: self.chain.joints()[j]
@@ -910,117 +1217,150 @@ impl<const N: usize> Monitor<N> {
             }
             None => self.fit_run = false,
         }
-        // Articulated inertia 1/(M⁻¹)_jj over the free joints: the one-joint
-        // energy balance counts all of the joint's kinetic energy, the share
-        // the outer panels carry included, so it errs on the side of a latch
-        // and its stall verdicts are safe ones.
-        let free_inertia = articulated_inertias(&m, &locked);
-        let inertia: [f32; N] =
-            core::array::from_fn(|j| free_inertia[j].unwrap_or_else(|| m[j][j].max(1e-6)));
+        centre
+    }
 
-        // Health: nothing non-finite survives an update.
+    /// True when no snap, latch or gap has happened for `settle_s`: the
+    /// estimates have settled.
+    fn quiet(&self, t: f32) -> bool {
+        t >= self.blank_until
+    }
+
+    /// Health: nothing non-finite survives an update. A failed rate filter
+    /// restarts at the reading, a failed observer at its prior.
+    fn check_health(&mut self, readings: &mut Readings<N>) {
+        let sd = self.meas_sd;
         for j in 0..N {
-            if !self.kf[j].is_healthy() {
-                let phi0 = meas[j].unwrap_or(self.stowed_deg[j] * DEG);
-                self.kf[j] = RateFilter::new(phi0, sd, 1.0, 10.0);
-                self.kf[j].set_jerk_psd(self.observer.jerk_psd);
-                faults[j].insert(Fault::EstimatorReset);
+            if !self.joints[j].kf.is_healthy() {
+                let phi0 = readings.used[j].unwrap_or(self.joints[j].stowed_deg * DEG);
+                self.joints[j].kf = self.fresh_filter(phi0, sd, RESET_RATE_SD, RESET_ACC_SD);
+                readings.faults[j].insert(Fault::EstimatorReset);
             }
-            if !self.fo[j].is_healthy() {
-                self.fo[j].reset_parameters();
-                faults[j].insert(Fault::EstimatorReset);
+            // An observer changes only when it steps.
+            if self.learned[j] && !self.joints[j].fo.is_healthy() {
+                self.joints[j].fo.reset_parameters();
+                readings.faults[j].insert(Fault::EstimatorReset);
             }
         }
+    }
 
-        // Margin and prediction: one joint per update, in turn.
+    /// The energy margin of the remaining stroke: one joint per update, in
+    /// turn, not inside a snap zone or the settling time after a snap,
+    /// latch or gap (the rates there are the rate filter's wide-open
+    /// transient, and the margin computed on entry stands).
+    fn evaluate_margin(&mut self, t: f32, latches: &Latches<N>) {
+        let quiet = self.quiet(t);
+        let zone = self.observer.snap_zone_deg * DEG;
         let jm = usize::from(self.next_margin) % N.max(1);
         self.next_margin = ((jm + 1) % N.max(1)) as u8;
-        // Not inside a snap zone or the settling time after a snap, latch or
-        // gap: the rates there are the rate filter's wide-open transient,
-        // and the prediction made on entry stands.
-        let settled = quiet && libm::fabsf(phi_m.get(jm).copied().unwrap_or(0.0)) >= zone;
-        if let (Some(false), true) = (locked.get(jm), settled) {
-            if let Some(slot) = self.margin.get_mut(jm) {
-                *slot = Some(Self::joint_margin(
-                    &self.chain,
-                    inertia.get(jm).copied().unwrap_or(1.0),
-                    quiet,
-                    jm,
-                    &self.kf,
-                    &self.fo,
-                    self.capture_rad.get(jm).copied().unwrap_or(0.0),
-                    &self.margin_cfg,
-                ));
+        let settled = quiet && libm::fabsf(latches.phi.get(jm).copied().unwrap_or(0.0)) >= zone;
+        if let (Some(false), true) = (latches.locked.get(jm), settled) {
+            // Articulated inertia 1/(M⁻¹)_jj over the free joints: the
+            // one-joint energy balance counts all of the joint's kinetic
+            // energy, the share the outer panels carry included, so it errs
+            // on the side of a latch and its stall verdicts are safe ones.
+            let m = self.chain.mass_matrix(&latches.phi);
+            let own = m
+                .get(jm)
+                .and_then(|row| row.get(jm))
+                .copied()
+                .unwrap_or(1.0);
+            let inertia = articulated_inertia(&m, &latches.locked, jm)
+                .unwrap_or_else(|| own.max(MIN_INERTIA_KGM2));
+            let result = self.joint_margin(jm, inertia, quiet);
+            if let Some(js) = self.joints.get_mut(jm) {
+                js.margin = Some(result);
             }
         }
+    }
 
-        if self.margin_cfg.rollout.steps_per_slice > 0 {
-            // A rollout starts from the centred fit (rates to a few tenths
-            // of a degree per second, half a window back); from the rate
-            // filter only when no fit has come for a while (a flaky
-            // encoder), since its rates after a latch impact are off by
-            // degrees per second (docs/monitor.md §6).
-            let start = match &centre {
-                Some(c) => Some((
-                    c.t_s,
-                    ChainState {
-                        phi: c.phi,
-                        phi_dot: c.rate,
-                    },
-                    c.locked,
-                )),
-                None if quiet && t - self.t_centre > CENTRE_WAIT_S => Some((
-                    t,
-                    ChainState {
-                        phi: phi_m,
-                        phi_dot: om_m,
-                    },
-                    locked,
-                )),
-                None => None,
-            };
-            if let Some(c) = &centre {
-                self.t_centre = c.t_s;
-            }
-            // Handed to the next slices of `predict`.
-            self.predictor.set_start(start);
+    /// Hands the state the next rollout starts from to the prediction
+    /// ([`Monitor::predict`]).
+    ///
+    /// A rollout starts from the centred fit (rates to a few tenths of a
+    /// degree per second, half a window back); from the rate filter only
+    /// when no fit has come for a while (a flaky encoder), since its rates
+    /// after a latch impact are off by degrees per second
+    /// (docs/monitor.md §6).
+    fn hand_over_to_prediction(
+        &mut self,
+        t: f32,
+        centre: Option<&Centre<N>>,
+        latches: &Latches<N>,
+    ) {
+        if self.margin_cfg.rollout.steps_per_slice == 0 {
+            return;
         }
+        let quiet = self.quiet(t);
+        let start = match centre {
+            Some(c) => Some((
+                c.t_s,
+                ChainState {
+                    phi: c.phi,
+                    phi_dot: c.rate,
+                },
+                c.locked,
+            )),
+            None if quiet && t - self.t_centre > CENTRE_WAIT_S => Some((
+                t,
+                ChainState {
+                    phi: latches.phi,
+                    phi_dot: latches.rate,
+                },
+                latches.locked,
+            )),
+            None => None,
+        };
+        if let Some(c) = centre {
+            self.t_centre = c.t_s;
+        }
+        // Handed to the next slices of `predict`.
+        self.predictor.set_start(start);
+    }
 
-        // Status.
+    /// Composes the status of every joint at time `t` [s].
+    fn compose_status(&mut self, t: f32, readings: &Readings<N>, latches: &Latches<N>) {
         for j in 0..N {
-            let est = self.fo[j].estimate();
-            let latched = self.lt[j].is_latched();
-            let margin_pct = if latched {
+            let (prediction, confidence, time_to_latch) = self.prediction(j, t);
+            let js = &mut self.joints[j];
+            let est = js.fo.estimate();
+            let coulomb_sd = js.coulomb_sd.sqrt(est.coulomb_var);
+            let viscous_sd = js.viscous_sd.sqrt(est.viscous_var);
+            let margin_pct = if js.lt.is_latched() {
                 None
             } else {
-                self.margin[j].map(|r| r.margin_pct)
+                js.margin.map(|r| r.margin_pct)
             };
-            let (prediction, confidence, time_to_latch) = self.prediction(j, t);
-            if newly[j] {
+            let faults = readings.faults[j];
+            if latches.newly[j] {
                 info!("joint {} latched at t = {} s", j + 1, t);
             }
-            if !faults[j].is_empty() {
-                debug!("joint {} faults {}", j + 1, faults[j].0);
+            if !faults.is_empty() {
+                debug!("joint {} faults {}", j + 1, faults.0);
             }
             self.status.joints[j] = JointStatus {
-                phi_deg: finite(self.kf[j].angle() / DEG),
-                rate_deg_s: finite(self.kf[j].rate() / DEG),
+                phi_deg: finite(js.kf.angle() / DEG),
+                rate_deg_s: finite(js.kf.rate() / DEG),
                 coulomb_nm: finite(est.coulomb_nm),
-                coulomb_sd_nm: finite(crate::real::sqrtf(est.coulomb_var.max(0.0))),
+                coulomb_sd_nm: finite(coulomb_sd),
                 viscous_nms: finite(est.viscous_nms),
-                viscous_sd_nms: finite(crate::real::sqrtf(est.viscous_var.max(0.0))),
-                friction_torque_nm: finite(self.fo[j].disturbance_nm()),
-                latch: states[j],
+                viscous_sd_nms: finite(viscous_sd),
+                viscous: Observability::of(
+                    est.viscous_var,
+                    js.fo.prior().viscous_sd_nms * js.fo.prior().viscous_sd_nms,
+                    VISCOUS_RESOLVED_SD,
+                ),
+                friction_torque_nm: finite(js.fo.disturbance_nm()),
+                latch: latches.states[j],
                 margin_pct: margin_pct.map(finite),
                 prediction,
                 confidence,
                 time_to_latch_s: time_to_latch.filter(|v| v.is_finite()),
-                faults: faults[j],
+                faults,
             };
         }
         self.status.t_s = t;
         self.status.samples = self.status.samples.saturating_add(1);
-        self.status
     }
 
     /// The latch / stall prediction of joint `j` at time `t` [s] from the
@@ -1031,8 +1371,8 @@ impl<const N: usize> Monitor<N> {
             j,
             t,
             &PredictionQuery {
-                latched: self.lt.get(j).is_some_and(|l| l.is_latched()),
-                energy: self.margin.get(j).copied().flatten(),
+                latched: self.joints.get(j).is_some_and(|s| s.lt.is_latched()),
+                energy: self.joints.get(j).and_then(|s| s.margin),
                 deadline_s: self.t_start + self.margin_cfg.deadline_s,
                 confidence: self.margin_cfg.confidence,
                 rollouts: self.margin_cfg.rollout.steps_per_slice > 0,
@@ -1089,15 +1429,16 @@ impl<const N: usize> Monitor<N> {
     /// state with the current friction estimates. Returns true when a
     /// rollout finished.
     fn advance_rollouts(&mut self) -> bool {
-        let (fo, kf) = (&self.fo, &self.kf);
+        let joints = &self.joints;
+        let capture_rad: [f32; N] = core::array::from_fn(|j| joints[j].capture_rad);
         self.predictor.slice(
             &self.chain,
             &self.margin_cfg.rollout,
             self.t_start + self.margin_cfg.deadline_s,
-            &self.capture_rad,
-            |j| match (fo.get(j), kf.get(j)) {
-                (Some(o), Some(f)) => {
-                    let e = o.estimate();
+            &capture_rad,
+            |j| match joints.get(j) {
+                Some(js) => {
+                    let e = js.fo.estimate();
                     FrictionBelief {
                         coulomb_nm: e.coulomb_nm,
                         coulomb_var: e.coulomb_var,
@@ -1105,7 +1446,7 @@ impl<const N: usize> Monitor<N> {
                         viscous_var: e.viscous_var,
                         spring_scale_err: e.spring_scale_err,
                         spring_scale_var: e.spring_scale_var,
-                        coulomb_lower_nm: o.coulomb_lower_bound(f.rate()),
+                        coulomb_lower_nm: js.fo.coulomb_lower_bound(js.kf.rate()),
                     }
                 }
                 _ => FrictionBelief::default(),
@@ -1122,14 +1463,14 @@ impl<const N: usize> Monitor<N> {
             if locked_before[j] {
                 0.0
             } else {
-                self.kf[j].angle()
+                self.joints[j].kf.angle()
             }
         });
         let om: [f32; N] = core::array::from_fn(|j| {
             if locked_before[j] {
                 0.0
             } else {
-                self.kf[j].rate()
+                self.joints[j].kf.rate()
             }
         });
         let m = momentum_terms(&self.chain, &phi, &om).mass;
@@ -1140,36 +1481,25 @@ impl<const N: usize> Monitor<N> {
         if let Ok(after) = solve_spd_masked(&m, &p, locked_after) {
             for j in 0..N {
                 if newly[j] {
-                    let a = self.kf[j].angle();
-                    self.kf[j].pin(a);
+                    let a = self.joints[j].kf.angle();
+                    self.joints[j].kf.pin(a);
                 } else if !locked_after[j] && after[j].is_finite() {
-                    self.kf[j].set_rate(after[j], RATE_SHOCK_VAR);
-                    self.kf[j].inflate(0.0, ACC_SHOCK_VAR);
+                    self.joints[j].kf.set_rate(after[j], RATE_SHOCK_VAR);
+                    self.joints[j].kf.inflate(0.0, ACC_SHOCK_VAR);
                 }
             }
         }
     }
 
     /// Energy margin and one-joint latch probability of joint `j`, with
-    /// `inertia` its articulated inertia `1/(M⁻¹)_jj` [kg·m²].
-    #[allow(clippy::too_many_arguments)]
-    fn joint_margin(
-        chain: &Chain<f32, N>,
-        inertia: f32,
-        quiet: bool,
-        j: usize,
-        kf: &[RateFilter; N],
-        fo: &[FrictionObserver; N],
-        capture_rad: f32,
-        cfg: &MarginConfig,
-    ) -> MarginResult {
-        let (Some(f), Some(o), Some(joint)) = (kf.get(j), fo.get(j), chain.joints().get(j)) else {
-            return MarginResult {
-                margin_pct: 0.0,
-                latch_probability: 0.5,
-                time_to_latch_s: None,
-            };
+    /// `inertia` its articulated inertia `1/(M⁻¹)_jj` [kg·m²]; `quiet` when
+    /// the observer runs undisturbed (its friction torque then bounds `T_C`
+    /// from below).
+    fn joint_margin(&self, j: usize, inertia: f32, quiet: bool) -> MarginResult {
+        let (Some(js), Some(joint)) = (self.joints.get(j), self.chain.joints().get(j)) else {
+            return UNKNOWN_MARGIN;
         };
+        let (f, o) = (&js.kf, &js.fo);
         let est = o.estimate();
         let phi = f.angle();
         let rate = f.rate();
@@ -1181,12 +1511,14 @@ impl<const N: usize> Monitor<N> {
         } else {
             0.0
         };
-        let bound = if bound <= est.coulomb_nm + 2.0 * crate::real::sqrtf(est.coulomb_var.max(0.0))
+        let bound = if bound
+            <= est.coulomb_nm + LOWER_BOUND_SIGMAS * crate::real::sqrtf(est.coulomb_var.max(0.0))
         {
             bound
         } else {
             0.0
         };
+        let cfg = &self.margin_cfg;
         margin::evaluate(
             &joint.spring,
             &MarginInput {
@@ -1195,7 +1527,7 @@ impl<const N: usize> Monitor<N> {
                 towards_latch: phi * rate < 0.0,
                 inertia_kgm2: inertia,
                 rate_var: f.rate_var(),
-                capture_rad,
+                capture_rad: js.capture_rad,
                 coulomb_nm: est.coulomb_nm,
                 viscous_nms: est.viscous_nms,
                 coulomb_var: est.coulomb_var,

@@ -51,6 +51,13 @@ pub enum Fusion {
     Rejected,
 }
 
+/// Factor of the jerk spectral density per sample while the rate filter
+/// lags ([`JerkAdaptation::high`]).
+const Q_GROWTH: f32 = 4.0;
+/// Factor per sample while it follows with room to spare
+/// ([`JerkAdaptation::low`]).
+const Q_SHRINK: f32 = 0.9;
+
 /// Kinematic Kalman filter of one joint angle: `[φ, ω, α]` in rad, rad/s,
 /// rad/s², white-jerk process noise.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -167,12 +174,10 @@ impl RateFilter {
     /// True when every state and covariance entry is finite and the
     /// variances are positive.
     pub fn is_healthy(&self) -> bool {
-        self.x.iter().chain(self.p.iter()).all(|v| v.is_finite())
-            && self.q.is_finite()
-            && self.nis.is_finite()
-            && self.p[0] > 0.0
-            && self.p[3] > 0.0
-            && self.p[5] > 0.0
+        // A NaN or an infinity anywhere makes the sum NaN or infinite (as
+        // in `FrictionObserver::is_healthy`: one pass, no branch per entry).
+        let sum: f32 = self.x.iter().chain(self.p.iter()).sum::<f32>() + self.q + self.nis;
+        sum.is_finite() && self.p[0] > 0.0 && self.p[3] > 0.0 && self.p[5] > 0.0
     }
 
     /// Time update over `dt` [s] with the adapted jerk spectral density, or
@@ -212,9 +217,9 @@ impl RateFilter {
         }
         self.nis += adapt.weight * (nu * nu / s - self.nis);
         if self.nis > adapt.high {
-            self.q = (4.0 * self.q).min(adapt.q_max);
+            self.q = (Q_GROWTH * self.q).min(adapt.q_max);
         } else if self.nis < adapt.low {
-            self.q = (0.9 * self.q).max(adapt.q_min);
+            self.q = (Q_SHRINK * self.q).max(adapt.q_min);
         }
         let k = [self.p[0] / s, self.p[1] / s, self.p[2] / s];
         self.x[0] += k[0] * nu;
@@ -376,6 +381,10 @@ const LAG_VAR_START: f32 = 4.0;
 /// Weight of one step in the running mean square of the observer lag.
 const LAG_WEIGHT: f32 = 0.1;
 
+/// Smallest `K dt` the residual's correlation inflation divides by (a
+/// guard: `K dt` is 0.1 at 100 Hz).
+const MIN_KDT: f32 = 1e-3;
+
 /// Number of estimated parameters: `θ = [T_C, f, κ]`.
 const P: usize = 3;
 
@@ -512,6 +521,11 @@ impl FrictionObserver {
         *self = FrictionObserver::new(self.prior, self.spring_sd_rel);
     }
 
+    /// The prior of the friction parameters.
+    pub fn prior(&self) -> &FrictionPrior {
+        &self.prior
+    }
+
     /// The disturbance estimate `r` [N·m]: the friction torque, filtered.
     pub fn disturbance_nm(&self) -> f32 {
         self.r
@@ -616,7 +630,7 @@ impl FrictionObserver {
         // E[(d̄ − r)²] = `lag_var` (which also grows while r lags d); the
         // rate error (`eiv`) varies slowly and is inflated as it stands.
         let rho = 1.0 - kdt;
-        let inflation = ((1.0 + rho) / (1.0 - rho).max(1e-3)).max(1.0);
+        let inflation = ((1.0 + rho) / (1.0 - rho).max(MIN_KDT)).max(1.0);
         let noise = self.lag_var.max(tuning.residual_var_floor) + eiv * inflation;
         let s = hsh + noise;
         if !(s > 0.0) || !s.is_finite() {

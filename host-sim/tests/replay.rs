@@ -71,6 +71,9 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
             "rate{j}_deg_s",
             "coulomb{j}_nm",
             "coulomb{j}_sd_nm",
+            "viscous{j}_nms",
+            "viscous{j}_sd_nms",
+            "viscous{j}_obs",
             "latch{j}",
             "margin{j}_pct",
             "prediction{j}",
@@ -103,22 +106,27 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
         rows += 1;
         let _: f32 = rec[0].parse().unwrap();
         for j in 0..3 {
-            let col = |k: usize| &rec[1 + 8 * j + k];
-            for k in [0, 1, 2, 3] {
+            let col = |k: usize| &rec[1 + 11 * j + k];
+            for k in [0, 1, 2, 3, 4, 5] {
                 assert!(col(k).parse::<f32>().is_ok(), "{}", col(k));
             }
-            assert!(states.contains(&col(4)), "state {}", col(4));
-            latched[j] |= col(4) == "latched";
             assert!(
-                col(5).is_empty() || col(5).parse::<f32>().is_ok(),
-                "{}",
-                col(5)
+                ["estimated", "unobservable"].contains(&col(6)),
+                "viscous {}",
+                col(6)
             );
-            assert!(predictions.contains(&col(6)), "prediction {}", col(6));
+            assert!(states.contains(&col(7)), "state {}", col(7));
+            latched[j] |= col(7) == "latched";
             assert!(
-                col(7).is_empty() || col(7).split('|').all(|f| fault_names.contains(&f)),
+                col(8).is_empty() || col(8).parse::<f32>().is_ok(),
+                "{}",
+                col(8)
+            );
+            assert!(predictions.contains(&col(9)), "prediction {}", col(9));
+            assert!(
+                col(10).is_empty() || col(10).split('|').all(|f| fault_names.contains(&f)),
                 "faults {}",
-                col(7)
+                col(10)
             );
         }
     }

@@ -435,11 +435,14 @@ fn num(x: f32) -> String {
 type Column = (&'static str, &'static str, fn(&JointStatus) -> String);
 
 /// The per-joint columns, in order (documented in `docs/monitor.md` §1.1).
-pub const JOINT_COLUMNS: [Column; 8] = [
+pub const JOINT_COLUMNS: [Column; 11] = [
     ("phi", "_deg", |s| num(s.phi_deg)),
     ("rate", "_deg_s", |s| num(s.rate_deg_s)),
     ("coulomb", "_nm", |s| num(s.coulomb_nm)),
     ("coulomb", "_sd_nm", |s| num(s.coulomb_sd_nm)),
+    ("viscous", "_nms", |s| num(s.viscous_nms)),
+    ("viscous", "_sd_nms", |s| num(s.viscous_sd_nms)),
+    ("viscous", "_obs", |s| s.viscous.as_str().into()),
     ("latch", "", |s| s.latch.as_str().into()),
     ("margin", "_pct", |s| {
         s.margin_pct.map(num).unwrap_or_default()
