@@ -1,6 +1,6 @@
 //! One seed000 case 2 truss deployment with the paper's EFT (3.35 s of
-//! motion, 9 tree coordinates, 6 loop rows, three lock events), default
-//! tolerances, 100 Hz output. `cargo bench -p deploywatch-sim --bench truss`;
+//! motion, 9 tree coordinates, 6 loop rows, three lock events), the wing's
+//! default options (`wing_options`: rtol 1e-6), 100 Hz output. `cargo bench -p deploywatch-sim --bench truss`;
 //! the median is recorded in docs/performance.md.
 //!
 //! Before timing, the run is checked against its golden file
@@ -11,8 +11,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::simulate::deployment::SimOptions;
-use deploywatch_sim::simulate::multibody::{simulate_wing, WingRun};
+use deploywatch_sim::simulate::multibody::{simulate_wing, wing_options, WingRun};
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 
@@ -73,7 +72,7 @@ fn bench(c: &mut Criterion) {
     let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data");
     let mech = Mechanism::load(&data.join("mechanisms/seed000_case2_truss_eft.toml"))
         .expect("bundled mechanism");
-    let opts = SimOptions::default();
+    let opts = wing_options();
     let run = simulate_wing(&mech, &opts).expect("simulation");
     println!("seed000_case2_truss_eft: {:?}", run.run.stats);
     check_accuracy(

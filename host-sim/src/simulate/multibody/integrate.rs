@@ -316,8 +316,15 @@ impl<'a, const N: usize> Runner<'a, N> {
             }
             let t_end = first.unwrap_or(t1);
             while k < times.len() && (times[k] < t_end || (first.is_none() && times[k] <= t_end)) {
+                // Output samples: the interpolant with its positions
+                // projected (frozen Gauss–Newton, no new rows); the velocity
+                // is the interpolant's, consistent to the step's accuracy.
                 let mut s = att.dense.at(times[k]);
-                self.project_factored(&mut s, times[k])?;
+                let err = self
+                    .work
+                    .project_position_factored(self.model, &mut s.q, &self.active)
+                    .ok_or(SimError::Singular { t_s: times[k] })?;
+                self.record_error(err);
                 self.push(times[k], &s);
                 k += 1;
             }

@@ -99,6 +99,16 @@ impl Model {
 
     /// Kinematics at `(q, q̇)` into `k`, reusing its buffers.
     pub fn kin_into(&self, q: &[f64], v: &[f64], k: &mut Kin) {
+        self.kin_impl(q, Some(v), k);
+    }
+
+    /// Positions only (`θ`, `t_b`, pin positions) into `k`: what `g(q)`
+    /// needs; velocities and accelerations are left as they were.
+    pub(crate) fn kin_positions_into(&self, q: &[f64], k: &mut Kin) {
+        self.kin_impl(q, None, k);
+    }
+
+    fn kin_impl(&self, q: &[f64], v: Option<&[f64]>, k: &mut Kin) {
         let nb = self.sys.bodies.len();
         let n = self.n();
         k.theta.resize(nb, 0.0);
@@ -118,11 +128,13 @@ impl Model {
             };
             let at = self.sys.pins[self.tree.coord_pin[c]].at_m;
             let p = k.world(a, at);
-            k.pin_vel[c] = k.vel(&self.tree, a, p);
-            k.pin_acc0[c] = k.acc0(&self.tree, a, p);
+            if let Some(v) = v {
+                k.pin_vel[c] = k.vel(&self.tree, a, p);
+                k.pin_acc0[c] = k.acc0(&self.tree, a, p);
+                k.omega[b] = k.omega[a] + v[c];
+            }
             k.pin_pos[c] = p;
             k.theta[b] = k.theta[a] + q[c];
-            k.omega[b] = k.omega[a] + v[c];
             let (s, co) = k.theta[b].sin_cos();
             k.rot[b] = [co, s];
             k.trans[b] = [

@@ -68,25 +68,28 @@ fn factor(m: DMatrix<f64>, c: &DMatrix<f64>) -> Option<(DMatrix<f64>, DMatrix<f6
 /// (lower triangle read and overwritten by `L`); `false` when not positive
 /// definite.
 fn cholesky_in_place(a: &mut [f64], n: usize) -> bool {
-    for j in 0..n {
-        let mut d = a[j * n + j];
-        for k in 0..j {
-            d -= a[j * n + k] * a[j * n + k];
+    // Row by row (Cholesky–Banachiewicz) on contiguous slices.
+    for i in 0..n {
+        let (done, rest) = a.split_at_mut(i * n);
+        let row_i = &mut rest[..n];
+        for j in 0..i {
+            let row_j = &done[j * n..j * n + j + 1];
+            let s = row_i[j] - dot_n(&row_i[..j], &row_j[..j]);
+            row_i[j] = s / row_j[j];
         }
+        let d = row_i[i] - dot_n(&row_i[..i], &row_i[..i]);
         if !(d > 0.0 && d.is_finite()) {
             return false;
         }
-        let d = d.sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let mut s = a[i * n + j];
-            for k in 0..j {
-                s -= a[i * n + k] * a[j * n + k];
-            }
-            a[i * n + j] = s / d;
-        }
+        row_i[i] = d.sqrt();
     }
     true
+}
+
+/// `Σ aᵢ bᵢ` over the shorter of the two.
+#[inline]
+fn dot_n(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// `x ← L⁻¹ x` (`L` lower, row-major `n × n`).
@@ -127,7 +130,6 @@ pub(crate) struct Work {
     rows: usize,
     /// Kinematics scratch.
     pub kin: Kin,
-    zero: Vec<f64>,
     /// Cholesky factor `L` of `M`, row-major `n × n`.
     l: Vec<f64>,
     /// Right-hand side `Q`.
@@ -163,7 +165,6 @@ impl Work {
             n,
             rows: 0,
             kin: Kin::default(),
-            zero: vec![0.0; n],
             l: vec![0.0; n * n],
             f: vec![0.0; n],
             c: vec![0.0; rmax * n],
@@ -217,14 +218,22 @@ impl Work {
     /// and the factor in `self.l`.
     fn factor_rows(&mut self) {
         let (n, m) = (self.n, self.rows);
-        self.w[..m * n].copy_from_slice(&self.c[..m * n]);
-        for i in 0..m {
-            solve_l(&self.l, n, &mut self.w[i * n..(i + 1) * n]);
+        if m == 0 {
+            self.fast = true;
+            return;
         }
-        for i in 0..m {
-            for j in 0..=i {
-                let (wi, wj) = (&self.w[i * n..(i + 1) * n], &self.w[j * n..(j + 1) * n]);
-                self.gl[i * m + j] = wi.iter().zip(wj).map(|(x, y)| x * y).sum();
+        self.w[..m * n].copy_from_slice(&self.c[..m * n]);
+        for wi in self.w[..m * n].chunks_exact_mut(n) {
+            solve_l(&self.l, n, wi);
+        }
+        let w = &self.w[..m * n];
+        for (i, (wi, gi)) in w
+            .chunks_exact(n)
+            .zip(self.gl.chunks_exact_mut(m))
+            .enumerate()
+        {
+            for (wj, gij) in w.chunks_exact(n).zip(gi.iter_mut()).take(i + 1) {
+                *gij = dot_n(wi, wj);
             }
         }
         self.fast = cholesky_in_place(&mut self.gl[..m * m], m) && {
@@ -232,7 +241,7 @@ impl Work {
             let (lo, hi) = d.fold((f64::INFINITY, 0.0f64), |(lo, hi), x| {
                 (lo.min(x), hi.max(x))
             });
-            m == 0 || lo * lo > hi * hi * RANK_TOL * RANK_TOL
+            lo * lo > hi * hi * RANK_TOL * RANK_TOL
         };
     }
 
@@ -243,7 +252,7 @@ impl Work {
     /// first order in the move).
     pub fn refresh_rows(&mut self, model: &Model, q: &[f64], locked: &[bool]) {
         let n = self.n;
-        model.kin_into(q, &self.zero, &mut self.kin);
+        model.kin_positions_into(q, &mut self.kin);
         let m = model.row_count(locked);
         self.rows = model.rows_into(
             &self.kin,
@@ -333,10 +342,10 @@ impl Work {
         v.iter().all(|x| x.is_finite()).then_some(())
     }
 
-    /// `max |g|` at `q` with the pins `locked` (kinematics left in
-    /// [`Work::kin`] at zero velocity).
+    /// `max |g|` at `q` with the pins `locked` (positions left in
+    /// [`Work::kin`]).
     pub fn residual(&mut self, model: &Model, q: &[f64], locked: &[bool]) -> f64 {
-        model.kin_into(q, &self.zero, &mut self.kin);
+        model.kin_positions_into(q, &mut self.kin);
         self.residual_at_kin(model, locked)
     }
 
