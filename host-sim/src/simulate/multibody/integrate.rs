@@ -1,8 +1,11 @@
 //! Event-driven integration: Dormand–Prince 5(4) of [`crate::simulate::ode`]
-//! on the tree coordinates, coordinate projection (positions, then
-//! velocities) after every accepted step, and lock events located on the
+//! on the tree coordinates with a PI step controller, coordinate projection
+//! (positions, then velocities) after every accepted step with the
+//! factorisation of the step's last stage, output samples from the dense
+//! output with their positions projected, and lock events located on the
 //! dense output by the chain simulator's root finder
-//! ([`crate::simulate::deployment`]).
+//! ([`crate::simulate::deployment`]). Nothing is allocated per step
+//! ([`super::solve`]'s work space).
 //!
 //! A lock event is a lockable pin's angle `α` reaching its lock angle from
 //! the side it started on. At the located instant the positions are
