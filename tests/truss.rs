@@ -5,7 +5,7 @@
 
 use deploywatch_sim::model::mechanism::Mechanism;
 use deploywatch_sim::simulate::deployment::SimOptions;
-use deploywatch_sim::simulate::multibody::{simulate_wing, WingRun};
+use deploywatch_sim::simulate::multibody::{simulate_wing, wing_options, WingRun};
 use deploywatch_tests::data_dir;
 
 /// A golden CSV: `t_s` and the named columns.
@@ -56,9 +56,11 @@ const LOCKS: [(&str, &str); 5] = [
     ("H", "H"),
 ];
 
+/// A bundled truss mechanism run with the wing's default options (what
+/// `deploywatch simulate` and the truss benchmark use).
 fn simulate(mech: &str) -> WingRun {
     let m = Mechanism::load(&data_dir().join(format!("mechanisms/{mech}.toml"))).unwrap();
-    simulate_wing(&m, &SimOptions::default()).unwrap()
+    simulate_wing(&m, &wing_options()).unwrap()
 }
 
 fn check(case: u32, eft: bool) {

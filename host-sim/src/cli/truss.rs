@@ -14,7 +14,7 @@ use crate::data::run::Run;
 use crate::model::kinematics::{planar_mobility, truss_bodies_and_joints};
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::{SimOptions, Trajectory};
-use crate::simulate::multibody::{simulate_wing, wing_model, WingRun};
+use crate::simulate::multibody::{simulate_wing, wing_model, wing_options, WingRun};
 use crate::simulate::sensor::{self, SensorModel};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -48,7 +48,7 @@ pub fn run(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
     super::check_output("--out (truss columns)", &side)?;
     let opts = SimOptions {
         sample_hz: args.rate,
-        ..SimOptions::default()
+        ..wing_options()
     };
     let wing = simulate_wing(mech, &opts).map_err(|e| CliError::failed(e.to_string()))?;
     let sensor_model = if args.no_noise {

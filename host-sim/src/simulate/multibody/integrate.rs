@@ -1,8 +1,11 @@
 //! Event-driven integration: Dormand–Prince 5(4) of [`crate::simulate::ode`]
-//! on the tree coordinates, coordinate projection (positions, then
-//! velocities) after every accepted step, and lock events located on the
+//! on the tree coordinates with a PI step controller, coordinate projection
+//! (positions, then velocities) after every accepted step with the
+//! factorisation of the step's last stage, output samples from the dense
+//! output with their positions projected, and lock events located on the
 //! dense output by the chain simulator's root finder
-//! ([`crate::simulate::deployment`]).
+//! ([`crate::simulate::deployment`]). Nothing is allocated per step
+//! ([`super::solve`]'s work space).
 //!
 //! A lock event is a lockable pin's angle `α` reaching its lock angle from
 //! the side it started on. At the located instant the positions are
@@ -13,6 +16,7 @@
 //! hinge latch over a locked truss) is recorded but adds no row.
 
 use super::kin::Model;
+use super::solve::Work;
 use crate::simulate::deployment::{locate, SimError, SimOptions, SimStats, MAX_STEPS};
 use crate::simulate::ode::{self, State};
 
@@ -68,6 +72,48 @@ pub fn run(model: &Model, times: &[f64], opts: &SimOptions) -> Result<MbTrajecto
     dispatch!(1 2 3 4 5 6 7 8 9 10 11 12)
 }
 
+/// Step-size control after an accepted step: the proportional-integral
+/// controller of Hairer's DOPRI5 (Hairer, Nørsett & Wanner I §II.4 and
+/// Hairer & Wanner II §IV.2: `h·0.9·err^−(0.2−0.75β)·err_prev^β`,
+/// `β = 0.04`, growth within [0.2, 10]), and no growth in the step after a
+/// rejection. The friction's `tanh(ω/ω_c)` makes the equations stiff while a
+/// pin's rate crosses zero; there the plain controller of
+/// [`ode::next_h`] alternates growing and rejected steps at the stability
+/// limit, which the memory of the integral term and the no-growth rule damp.
+#[derive(Clone, Copy, Debug)]
+struct Controller {
+    /// Error norm of the last accepted step.
+    err_prev: f64,
+    /// The last attempt was rejected.
+    rejected: bool,
+}
+
+impl Default for Controller {
+    fn default() -> Self {
+        Controller {
+            err_prev: 1e-4,
+            rejected: false,
+        }
+    }
+}
+
+impl Controller {
+    const BETA: f64 = 0.04;
+
+    /// The next step after an accepted step `h` with error norm `err ≤ 1`.
+    fn next(&mut self, h: f64, err: f64) -> f64 {
+        let err = err.max(1e-10);
+        let fac = 0.9 * err.powf(-(0.2 - 0.75 * Self::BETA)) * self.err_prev.powf(Self::BETA);
+        let mut fac = fac.clamp(0.2, 10.0);
+        if self.rejected {
+            fac = fac.min(1.0);
+        }
+        self.err_prev = err.max(1e-4);
+        self.rejected = false;
+        h * fac
+    }
+}
+
 struct Runner<'a, const N: usize> {
     model: &'a Model,
     opts: &'a SimOptions,
@@ -77,6 +123,9 @@ struct Runner<'a, const N: usize> {
     latched: Vec<bool>,
     /// Sign of `α − lock` at the start, per lockable pin.
     side: Vec<f64>,
+    /// Allocation-free solves; holds the factorisation of the last
+    /// evaluation.
+    work: Work,
     evaluations: usize,
     out: MbTrajectory,
 }
@@ -99,6 +148,7 @@ impl<'a, const N: usize> Runner<'a, N> {
             active: vec![false; np],
             latched: vec![false; np],
             side,
+            work: Work::new(model),
             evaluations: 0,
             out: MbTrajectory {
                 angle_deg: vec![Vec::new(); np],
@@ -111,50 +161,70 @@ impl<'a, const N: usize> Runner<'a, N> {
 
     fn deriv(&mut self, y: &State<N>) -> Option<State<N>> {
         self.evaluations += 1;
-        let a = self.model.acceleration(&y.q, &y.v, &self.active)?;
         let mut out = State {
             q: y.v,
             v: [0.0; N],
         };
-        out.v.copy_from_slice(&a);
+        self.work
+            .acceleration(self.model, &y.q, &y.v, &self.active, &mut out.v)?;
         Some(out)
     }
 
     /// Event function of pin `p`: positive until it reaches its lock angle.
     fn g(&self, p: usize, y: &State<N>) -> f64 {
-        let k = self.model.kin(&y.q, &y.v);
         let lock = self.model.sys.pins[p].lock_at_rad.unwrap_or(0.0);
-        self.side[p] * (self.model.pin_angle(&k, p).0 - lock)
+        self.side[p] * (self.model.pin_angle_at(&y.q, p) - lock)
     }
 
-    fn lockable(&self) -> Vec<usize> {
+    fn lockable(&self) -> impl Iterator<Item = usize> + '_ {
         (0..self.latched.len())
             .filter(|&p| !self.latched[p] && self.model.sys.pins[p].lock_at_rad.is_some())
-            .collect()
     }
 
-    /// Projects positions then velocities with the active rows.
+    fn record_error(&mut self, err: f64) {
+        self.out.max_constraint_error = self.out.max_constraint_error.max(err);
+    }
+
+    /// Projects positions then velocities with the active rows,
+    /// refactoring (after an event).
     fn project(&mut self, y: &mut State<N>, t: f64) -> Result<(), SimError> {
         let err = self
-            .model
-            .project_position(&mut y.q, &self.active)
+            .work
+            .project_position(self.model, &mut y.q, &self.active)
             .ok_or(SimError::Singular { t_s: t })?;
-        self.out.max_constraint_error = self.out.max_constraint_error.max(err);
-        self.model
-            .project_velocity(&y.q, &mut y.v, &self.active)
+        self.record_error(err);
+        self.work
+            .project_velocity_factored(&mut y.v)
+            .ok_or(SimError::Singular { t_s: t })
+    }
+
+    /// Projects positions then velocities with the metric `M` of the
+    /// step's last stage (at its end point): positions by a simplified
+    /// Gauss–Newton (Jacobian of the last projection frozen), velocities
+    /// onto the rows rebuilt at the projected positions. No new
+    /// factorisation of `M`.
+    fn project_factored(&mut self, y: &mut State<N>, t: f64) -> Result<(), SimError> {
+        let err = self
+            .work
+            .project_position_factored(self.model, &mut y.q, &self.active)
+            .ok_or(SimError::Singular { t_s: t })?;
+        self.record_error(err);
+        self.work.refresh_rows(self.model, &y.q, &self.active);
+        self.work
+            .project_velocity_factored(&mut y.v)
             .ok_or(SimError::Singular { t_s: t })
     }
 
     fn push(&mut self, t: f64, y: &State<N>) {
-        let k = self.model.kin(&y.q, &y.v);
         self.out.t_s.push(t);
-        self.out.energy_j.push(self.model.energy(&y.q, &y.v));
-        let err = self.model.constraint_error(&y.q, &self.active);
+        let energy = self.work.energy(self.model, &y.q, &y.v);
+        self.out.energy_j.push(energy);
+        let err = self.work.residual_at_kin(self.model, &self.active);
         self.out.constraint_error.push(err);
         for p in 0..self.latched.len() {
             let alpha = match (self.latched[p], self.model.sys.pins[p].lock_at_rad) {
                 (true, Some(l)) => l,
-                _ => self.model.pin_angle(&k, p).0,
+                _ => self.model.pin_angle(&self.work.kin, p).0,
             };
             self.out.angle_deg[p].push(alpha.to_degrees());
             self.out.locked[p].push(self.latched[p]);
@@ -165,11 +235,9 @@ impl<'a, const N: usize> Runner<'a, N> {
     /// [`CAPTURE_RAD`], then the plastic impact. Returns the mobility left.
     fn lock(&mut self, t: f64, y: &mut State<N>) -> Result<usize, SimError> {
         self.project(y, t)?;
-        let k = self.model.kin(&y.q, &y.v);
         let mut caught: Vec<(f64, usize)> = Vec::new();
         for p in self.lockable() {
-            let lock = self.model.sys.pins[p].lock_at_rad.unwrap_or(0.0);
-            let d = self.side[p] * (self.model.pin_angle(&k, p).0 - lock);
+            let d = self.g(p, y);
             if d <= CAPTURE_RAD {
                 caught.push((d, p));
             }
@@ -211,6 +279,7 @@ impl<'a, const N: usize> Runner<'a, N> {
         let mut k1 = self.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
         let mut h = 1e-4f64.min(self.opts.max_step_s);
         let mut done = m0 == 0;
+        let mut ctl = Controller::default();
         while !done && t < duration {
             h = h.min(self.opts.max_step_s).min(duration - t);
             if h < 1e-13 {
@@ -228,9 +297,12 @@ impl<'a, const N: usize> Runner<'a, N> {
             };
             if att.err > 1.0 {
                 h = ode::next_h(h, att.err);
+                ctl.rejected = true;
                 self.out.stats.rejected += 1;
                 continue;
             }
+            // From here to the projection of the end point the work space
+            // holds the factorisation at `att.y1` (the last stage, FSAL).
             self.out.stats.steps += 1;
             if self.out.stats.steps + self.out.stats.rejected > MAX_STEPS {
                 return Err(SimError::TooManySteps { t_s: t });
@@ -247,27 +319,39 @@ impl<'a, const N: usize> Runner<'a, N> {
             }
             let t_end = first.unwrap_or(t1);
             while k < times.len() && (times[k] < t_end || (first.is_none() && times[k] <= t_end)) {
+                // Output samples: the interpolant with its positions
+                // projected (frozen Gauss–Newton, no new rows); the velocity
+                // is the interpolant's, consistent to the step's accuracy.
                 let mut s = att.dense.at(times[k]);
-                self.project(&mut s, times[k])?;
+                let err = self
+                    .work
+                    .project_position_factored(self.model, &mut s.q, &self.active)
+                    .ok_or(SimError::Singular { t_s: times[k] })?;
+                self.record_error(err);
                 self.push(times[k], &s);
                 k += 1;
             }
-            let mut ye = if first.is_some() {
-                att.dense.at(t_end)
-            } else {
-                att.y1
-            };
             if first.is_some() {
+                let mut ye = att.dense.at(t_end);
                 self.out.stats.events += 1;
                 done = self.lock(t_end, &mut ye)? == 0 && self.opts.stop_when_deployed;
                 h = h.min(1e-3);
+                ctl = Controller::default();
+                t = t_end;
+                y = ye;
+                k1 = self.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
             } else {
-                self.project(&mut ye, t_end)?;
-                h = ode::next_h(h, att.err);
+                // The last stage's derivative at the unprojected end point
+                // starts the next step (FSAL): the projection moves the
+                // state by about the local error, which changes `f` by as
+                // little.
+                let mut ye = att.y1;
+                self.project_factored(&mut ye, t_end)?;
+                h = ctl.next(h, att.err);
+                t = t_end;
+                y = ye;
+                k1 = att.k7;
             }
-            t = t_end;
-            y = ye;
-            k1 = self.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
         }
         self.out.end_s = t.min(duration);
         self.out.final_q = y.q.to_vec();

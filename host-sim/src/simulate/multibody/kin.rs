@@ -44,10 +44,12 @@ pub struct Model {
 }
 
 /// Positions and velocities of every body at one state.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Kin {
     /// Absolute rotation of each body from its reference pose [rad].
     pub theta: Vec<f64>,
+    /// `(cos θ_b, sin θ_b)` of each body.
+    pub rot: Vec<[f64; 2]>,
     /// Translation `t_b` of each body [m].
     pub trans: Vec<[f64; 2]>,
     /// Angular velocity of each body [rad/s].
@@ -71,6 +73,17 @@ pub struct Rows {
     pub g: DVector<f64>,
 }
 
+/// Constraint rows written into caller-owned buffers (no allocation):
+/// `c` row-major with `n` columns.
+pub(crate) struct RowsOut<'a> {
+    /// `C`, row-major, `rows × n` (or empty: not wanted).
+    pub c: &'a mut [f64],
+    /// `γ` (or empty: not wanted).
+    pub gamma: &'a mut [f64],
+    /// `g`.
+    pub g: &'a mut [f64],
+}
+
 impl Model {
     /// Number of coordinates.
     pub fn n(&self) -> usize {
@@ -79,34 +92,56 @@ impl Model {
 
     /// Kinematics at `(q, q̇)`.
     pub fn kin(&self, q: &[f64], v: &[f64]) -> Kin {
+        let mut k = Kin::default();
+        self.kin_into(q, v, &mut k);
+        k
+    }
+
+    /// Kinematics at `(q, q̇)` into `k`, reusing its buffers.
+    pub fn kin_into(&self, q: &[f64], v: &[f64], k: &mut Kin) {
+        self.kin_impl(q, Some(v), k);
+    }
+
+    /// Positions only (`θ`, `t_b`, pin positions) into `k`: what `g(q)`
+    /// needs; velocities and accelerations are left as they were.
+    pub(crate) fn kin_positions_into(&self, q: &[f64], k: &mut Kin) {
+        self.kin_impl(q, None, k);
+    }
+
+    fn kin_impl(&self, q: &[f64], v: Option<&[f64]>, k: &mut Kin) {
         let nb = self.sys.bodies.len();
         let n = self.n();
-        let mut k = Kin {
-            theta: vec![0.0; nb],
-            trans: vec![[0.0; 2]; nb],
-            omega: vec![0.0; nb],
-            pin_pos: vec![[0.0; 2]; n],
-            pin_vel: vec![[0.0; 2]; n],
-            pin_acc0: vec![[0.0; 2]; n],
-        };
+        k.theta.resize(nb, 0.0);
+        k.rot.resize(nb, [1.0, 0.0]);
+        k.trans.resize(nb, [0.0; 2]);
+        k.omega.resize(nb, 0.0);
+        k.pin_pos.resize(n, [0.0; 2]);
+        k.pin_vel.resize(n, [0.0; 2]);
+        k.pin_acc0.resize(n, [0.0; 2]);
+        k.theta[0] = 0.0;
+        k.rot[0] = [1.0, 0.0];
+        k.trans[0] = [0.0; 2];
+        k.omega[0] = 0.0;
         for &b in self.tree.order.iter().skip(1) {
             let Some((a, c)) = self.tree.parent[b] else {
                 continue;
             };
             let at = self.sys.pins[self.tree.coord_pin[c]].at_m;
             let p = k.world(a, at);
-            k.pin_vel[c] = k.vel(&self.tree, a, p);
-            k.pin_acc0[c] = k.acc0(&self.tree, a, p);
+            if let Some(v) = v {
+                k.pin_vel[c] = k.vel(&self.tree, a, p);
+                k.pin_acc0[c] = k.acc0(&self.tree, a, p);
+                k.omega[b] = k.omega[a] + v[c];
+            }
             k.pin_pos[c] = p;
             k.theta[b] = k.theta[a] + q[c];
-            k.omega[b] = k.omega[a] + v[c];
             let (s, co) = k.theta[b].sin_cos();
+            k.rot[b] = [co, s];
             k.trans[b] = [
                 p[0] - (co * at[0] - s * at[1]),
                 p[1] - (s * at[0] + co * at[1]),
             ];
         }
-        k
     }
 
     /// Adds `w · (∂x/∂q)ᵀ f` for a world point `x` of body `b` to `out`
@@ -137,29 +172,59 @@ impl Model {
         )
     }
 
+    /// Angle `α` [rad] of pin `p` at coordinates `q` (no kinematics needed:
+    /// `θ_b` is the sum of the coordinates on the path to `b`).
+    pub fn pin_angle_at(&self, q: &[f64], p: usize) -> f64 {
+        let pin = &self.sys.pins[p];
+        let (a, b) = pin.bodies;
+        let theta = |b: usize| self.tree.path[b].iter().map(|&c| q[c]).sum::<f64>();
+        pin.offset_rad + pin.sign * (theta(b) - theta(a))
+    }
+
     /// Mass matrix `M(q)` and right-hand side `Q(q, q̇)` (velocity-product
     /// terms, pin torques, point springs).
     pub fn mass_and_forces(&self, k: &Kin) -> (DMatrix<f64>, DVector<f64>) {
         let n = self.n();
-        let mut m = DMatrix::<f64>::zeros(n, n);
+        let mut m = vec![0.0; n * n];
         let mut rhs = vec![0.0; n];
+        self.mass_into(k, &mut m, Some(&mut rhs));
+        (DMatrix::from_row_slice(n, n, &m), DVector::from_vec(rhs))
+    }
+
+    /// [`Model::mass_and_forces`] into buffers: `m` (`n × n`, row-major,
+    /// full) and, when given, `rhs` (`n`).
+    pub(crate) fn mass_into(&self, k: &Kin, m: &mut [f64], rhs: Option<&mut [f64]>) {
+        m.iter_mut().for_each(|x| *x = 0.0);
+        let n = self.n();
         for (b, body) in self.sys.bodies.iter().enumerate().skip(1) {
             let c = k.world(b, body.com_m);
             let path = &self.tree.path[b];
-            for &i in path {
+            for (ii, &i) in path.iter().enumerate() {
                 let ri = sub(c, k.pin_pos[i]);
-                for &j in path {
-                    m[(i, j)] += body.mass_kg * dot(ri, sub(c, k.pin_pos[j])) + body.inertia_kgm2;
+                for &j in &path[..=ii] {
+                    m[i * n + j] +=
+                        body.mass_kg * dot(ri, sub(c, k.pin_pos[j])) + body.inertia_kgm2;
                 }
             }
+        }
+        // Each pair of path coordinates was added once, in whichever
+        // triangle its order on the path put it: fold both into a full
+        // symmetric matrix.
+        for i in 0..n {
+            for j in 0..i {
+                let s = m[i * n + j] + m[j * n + i];
+                m[i * n + j] = s;
+                m[j * n + i] = s;
+            }
+        }
+        let Some(rhs) = rhs else {
+            return;
+        };
+        rhs.iter_mut().for_each(|x| *x = 0.0);
+        for (b, body) in self.sys.bodies.iter().enumerate().skip(1) {
+            let c = k.world(b, body.com_m);
             let a0 = k.acc0(&self.tree, b, c);
-            self.add_point_jt(
-                k,
-                b,
-                c,
-                [-body.mass_kg * a0[0], -body.mass_kg * a0[1]],
-                &mut rhs,
-            );
+            self.add_point_jt(k, b, c, [-body.mass_kg * a0[0], -body.mass_kg * a0[1]], rhs);
         }
         for (p, pin) in self.sys.pins.iter().enumerate() {
             let (alpha, rate) = self.pin_angle(k, p);
@@ -167,7 +232,7 @@ impl Model {
                 + pin.friction.torque(rate)
                 + pin.torque_nm;
             if tau != 0.0 {
-                self.add_rel_rot(pin.bodies.0, pin.bodies.1, tau * pin.sign, &mut rhs);
+                self.add_rel_rot(pin.bodies.0, pin.bodies.1, tau * pin.sign, rhs);
             }
         }
         for s in &self.sys.springs {
@@ -175,10 +240,9 @@ impl Model {
             let d = sub(xb, xa);
             let len = dot(d, d).sqrt();
             let f = -s.stiffness_n_m * (len - s.rest_m) / len;
-            self.add_point_jt(k, s.b.0, xb, [f * d[0], f * d[1]], &mut rhs);
-            self.add_point_jt(k, s.a.0, xa, [-f * d[0], -f * d[1]], &mut rhs);
+            self.add_point_jt(k, s.b.0, xb, [f * d[0], f * d[1]], rhs);
+            self.add_point_jt(k, s.a.0, xa, [-f * d[0], -f * d[1]], rhs);
         }
-        (m, DVector::from_vec(rhs))
     }
 
     /// The cut pins (pins that are not tree coordinates).
@@ -186,45 +250,84 @@ impl Model {
         (0..self.sys.pins.len()).filter(|&p| self.tree.pin_coord[p].is_none())
     }
 
+    /// Number of constraint rows with the pins `locked`.
+    pub(crate) fn row_count(&self, locked: &[bool]) -> usize {
+        2 * self.cut_pins().count() + locked.iter().filter(|&&l| l).count()
+    }
+
     /// Constraint rows at a state: two per cut pin, one per locked pin
     /// (`locked[p]`), in that order.
     pub fn rows(&self, k: &Kin, locked: &[bool]) -> Rows {
         let n = self.n();
-        let cuts: Vec<usize> = self.cut_pins().collect();
-        let locks: Vec<usize> = (0..locked.len()).filter(|&p| locked[p]).collect();
-        let m = 2 * cuts.len() + locks.len();
-        let mut r = Rows {
-            c: DMatrix::zeros(m, n),
-            gamma: DVector::zeros(m),
-            g: DVector::zeros(m),
-        };
-        let mut row = vec![0.0; n];
-        for (i, &p) in cuts.iter().enumerate() {
+        let m = self.row_count(locked);
+        let mut c = vec![0.0; m * n];
+        let mut gamma = vec![0.0; m];
+        let mut g = vec![0.0; m];
+        self.rows_into(
+            k,
+            locked,
+            RowsOut {
+                c: &mut c,
+                gamma: &mut gamma,
+                g: &mut g,
+            },
+        );
+        Rows {
+            c: DMatrix::from_row_slice(m, n, &c),
+            gamma: DVector::from_vec(gamma),
+            g: DVector::from_vec(g),
+        }
+    }
+
+    /// [`Model::rows`] into buffers of at least [`Model::row_count`] rows;
+    /// `C` and `γ` only when their buffers are not empty. Returns the
+    /// number of rows.
+    pub(crate) fn rows_into(&self, k: &Kin, locked: &[bool], out: RowsOut<'_>) -> usize {
+        let n = self.n();
+        let want_c = !out.c.is_empty();
+        let want_gamma = !out.gamma.is_empty();
+        let mut r = 0;
+        for p in self.cut_pins() {
             let pin = &self.sys.pins[p];
             let (a, b) = pin.bodies;
             let (xa, xb) = (k.world(a, pin.at_m), k.world(b, pin.at_m));
-            let (aa, ab) = (k.acc0(&self.tree, a, xa), k.acc0(&self.tree, b, xb));
-            for (d, e) in [[1.0, 0.0], [0.0, 1.0]].into_iter().enumerate() {
-                row.iter_mut().for_each(|x| *x = 0.0);
-                self.add_point_jt(k, b, xb, e, &mut row);
-                let mut neg = vec![0.0; n];
-                self.add_point_jt(k, a, xa, e, &mut neg);
-                for c in 0..n {
-                    r.c[(2 * i + d, c)] = row[c] - neg[c];
+            out.g[r] = xb[0] - xa[0];
+            out.g[r + 1] = xb[1] - xa[1];
+            if want_gamma {
+                let (aa, ab) = (k.acc0(&self.tree, a, xa), k.acc0(&self.tree, b, xb));
+                out.gamma[r] = -(ab[0] - aa[0]);
+                out.gamma[r + 1] = -(ab[1] - aa[1]);
+            }
+            if want_c {
+                let (cx, rest) = out.c[r * n..(r + 2) * n].split_at_mut(n);
+                cx.iter_mut().for_each(|x| *x = 0.0);
+                rest.iter_mut().for_each(|x| *x = 0.0);
+                // ∂x/∂q_c = (x − P_c)^⊥ = (−(y − P_y), x − P_x).
+                for &c in &self.tree.path[b] {
+                    let d = sub(xb, k.pin_pos[c]);
+                    cx[c] -= d[1];
+                    rest[c] += d[0];
                 }
-                r.g[2 * i + d] = xb[d] - xa[d];
-                r.gamma[2 * i + d] = -(ab[d] - aa[d]);
+                for &c in &self.tree.path[a] {
+                    let d = sub(xa, k.pin_pos[c]);
+                    cx[c] += d[1];
+                    rest[c] -= d[0];
+                }
             }
+            r += 2;
         }
-        for (i, &p) in locks.iter().enumerate() {
+        for (p, _) in locked.iter().enumerate().filter(|(_, &l)| l) {
             let pin = &self.sys.pins[p];
-            row.iter_mut().for_each(|x| *x = 0.0);
-            self.add_rel_rot(pin.bodies.0, pin.bodies.1, pin.sign, &mut row);
-            let at = 2 * cuts.len() + i;
-            for c in 0..n {
-                r.c[(at, c)] = row[c];
+            if want_c {
+                let row = &mut out.c[r * n..(r + 1) * n];
+                row.iter_mut().for_each(|x| *x = 0.0);
+                self.add_rel_rot(pin.bodies.0, pin.bodies.1, pin.sign, row);
             }
-            r.g[at] = self.pin_angle(k, p).0 - pin.lock_at_rad.unwrap_or(0.0);
+            if want_gamma {
+                out.gamma[r] = 0.0;
+            }
+            out.g[r] = self.pin_angle(k, p).0 - pin.lock_at_rad.unwrap_or(0.0);
+            r += 1;
         }
         r
     }
@@ -235,11 +338,25 @@ impl Model {
     /// Conserved without friction and locks.
     pub fn energy(&self, q: &[f64], v: &[f64]) -> f64 {
         let k = self.kin(q, v);
-        let (m, _) = self.mass_and_forces(&k);
-        let vd = DVector::from_column_slice(v);
-        let mut e = 0.5 * vd.dot(&(&m * &vd));
+        let n = self.n();
+        self.energy_at(&k, v, &mut vec![0.0; n * n])
+    }
+
+    /// [`Model::energy`] at kinematics `k` with velocities `v`, `m` an
+    /// `n × n` scratch buffer.
+    pub(crate) fn energy_at(&self, k: &Kin, v: &[f64], m: &mut [f64]) -> f64 {
+        let n = self.n();
+        self.mass_into(k, m, None);
+        let mut e = 0.0;
+        for i in 0..n {
+            let mut mv = 0.0;
+            for j in 0..n {
+                mv += m[i * n + j] * v[j];
+            }
+            e += 0.5 * v[i] * mv;
+        }
         for (p, pin) in self.sys.pins.iter().enumerate() {
-            let alpha = self.pin_angle(&k, p).0;
+            let alpha = self.pin_angle(k, p).0;
             e += pin.spring.release(0.0, alpha.abs()) - pin.torque_nm * alpha;
         }
         for s in &self.sys.springs {
@@ -255,7 +372,7 @@ impl Kin {
     /// World position of a point of body `b` given at the reference pose.
     #[inline]
     pub fn world(&self, b: usize, x: [f64; 2]) -> [f64; 2] {
-        let (s, c) = self.theta[b].sin_cos();
+        let [c, s] = self.rot[b];
         [
             c * x[0] - s * x[1] + self.trans[b][0],
             s * x[0] + c * x[1] + self.trans[b][1],

@@ -31,6 +31,28 @@ impl WingRun {
     }
 }
 
+/// Relative tolerance of a wing deployment by default ([`wing_options`]).
+///
+/// The truss goldens are met to 0.01° (hinges) and 1 ms (locks); at 1e-6 the
+/// case 2 EFT run is within 6e-6° of its golden hinge angles, 3e-5° of its
+/// knee angles and 1 µs of its lock instants (`benches/truss.rs` prints
+/// them), three orders of magnitude inside those bounds, at 1270 instead of
+/// 2260 evaluations for the chain's 1e-8 (`docs/performance.md`).
+pub const WING_RTOL: f64 = 1e-6;
+
+/// Absolute tolerance of a wing deployment by default [rad, rad/s].
+pub const WING_ATOL: f64 = 1e-8;
+
+/// The default options of a wing deployment: [`SimOptions::default`] with
+/// the truss tolerances [`WING_RTOL`], [`WING_ATOL`].
+pub fn wing_options() -> SimOptions {
+    SimOptions {
+        rtol: WING_RTOL,
+        atol: WING_ATOL,
+        ..SimOptions::default()
+    }
+}
+
 /// The multibody model of a mechanism with a truss.
 pub fn wing_model(mech: &Mechanism) -> Result<Model, SimError> {
     let truss = mech
