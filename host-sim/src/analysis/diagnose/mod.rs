@@ -1170,11 +1170,15 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         campaign.runs.len(),
         sigma
     ));
+    // A wing with a truss: the effects its simulator models, at the hinges
+    // (`crate::simulate::truss_deployment`); no torque-table discovery.
+    let truss = campaign.runs.iter().any(|r| r.mechanism.truss.is_some());
     let mut search = Search {
         eng: &eng,
         candidates: Candidate::all(campaign.max_joints())
             .into_iter()
             .filter(|c| opts.kinds.contains(&c.kind))
+            .filter(|c| !truss || crate::simulate::truss_deployment::models(c.kind))
             .collect(),
         max_effects: opts.max_effects,
         floor_deg: NOISE_FLOOR_FACTOR * sigma,
@@ -1185,7 +1189,7 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         swaps: 0,
     };
     search.run();
-    if opts.discover {
+    if opts.discover && !truss {
         search.discover(&discover::table_candidates(campaign), sigma);
     }
     let (extended, strength_rms_deg) = eng.strongest_first(&search.current);
