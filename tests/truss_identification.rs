@@ -105,3 +105,27 @@ fn response_surface_on_table9s_design_runs_on_the_truss_wing() {
     }
     assert!(id.rms_deg_after < id.rms_deg_before);
 }
+
+#[test]
+fn diagnose_accepts_truss_wings_and_a_clean_run_raises_no_claim() {
+    use deploywatch_sim::analysis::diagnose::{diagnose, DiagnoseOptions};
+    // The nominal truss wings as given, read by the reference sensor: the
+    // diagnosis simulates them with the one truss simulator and finds
+    // nothing to explain.
+    let c = synthetic([0.0; 3], [5, 6]);
+    let outcome = diagnose(&c, &DiagnoseOptions::default(), &quiet);
+    eprintln!(
+        "clean truss runs: baseline {:.4} deg, noise {:.4} deg, effects {:?}, unexplained {:?}",
+        outcome.baseline.rms(),
+        outcome.noise_sigma_deg,
+        outcome.extended.set,
+        outcome.unexplained
+    );
+    assert!(
+        outcome.extended.set.is_empty(),
+        "{:?}",
+        outcome.extended.set
+    );
+    assert!(outcome.unexplained.is_none(), "{:?}", outcome.unexplained);
+    assert!(outcome.baseline.rms() < 0.03);
+}
