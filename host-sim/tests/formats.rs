@@ -1075,6 +1075,7 @@ fn writing_formats_numbers_and_checks_the_run() {
         t_s: vec![0.0, 0.0125, 1.0 / 3.0, 2.5],
         phi_deg: vec![vec![-90.0, -89.1234567, -0.0, 1e-9]],
         latch: vec![vec![false, false, true, true]],
+        extra: Vec::new(),
     };
     assert_eq!(
         run.to_csv_string(),

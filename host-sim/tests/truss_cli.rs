@@ -52,10 +52,97 @@ fn a_truss_wing_deploys_and_prints_its_mobility() {
     );
     assert!(text.contains("Gruebler 3(10 - 1) - 2·12 = 3"), "{text}");
     assert!(text.contains("3 -> 2 -> 1 -> 0"), "{text}");
-    let run = std::fs::read_to_string(dir.path().join("run.csv")).unwrap();
-    assert!(run.contains("t_s,phi1_deg,phi2_deg,latch1,latch2"), "{run}");
-    let extra = std::fs::read_to_string(dir.path().join("run_truss.csv")).unwrap();
-    assert!(extra.contains("t_s,psi_deg,kneeB_deg,kneeE_deg,kneeH_deg,kneeB,kneeE,kneeH"));
+    // One run CSV: the hinge columns of every run, then the documented
+    // extra columns (docs/spec/formats.md), no sidecar file.
+    let path = dir.path().join("run.csv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        text.contains(
+            "\nt_s,phi1_deg,phi2_deg,latch1,latch2,psi_deg,kneeB_deg,kneeE_deg,kneeH_deg,kneeB,kneeE,kneeH\n"
+        ),
+        "{text}"
+    );
+    assert!(!dir.path().join("run_truss.csv").exists());
+    // Every reader of runs reads it; the extra columns come back.
+    let run = deploywatch_sim::data::run::Run::load(&path).unwrap();
+    assert_eq!(run.joints(), 2);
+    let knee_b = run.extra("kneeB").expect("kneeB switch");
+    let latch1 = &run.latch[0];
+    // Knee B and hinge O lock in the same instant (truss-link.md).
+    assert_eq!(
+        knee_b.values.iter().position(|&x| x == 1.0),
+        latch1.iter().position(|&l| l)
+    );
+    let h = &run.extra("kneeH_deg").unwrap().values;
+    assert!(
+        h[0] < 179.0 && (h[h.len() - 1] - 180.0).abs() < 1e-9,
+        "{h:?}"
+    );
+}
+
+#[test]
+fn a_truss_run_with_effects_is_the_eft_mechanism() {
+    // `--effect coulomb_friction` at joints 1, 2 (hinges) and 3 (the pins
+    // at node F) on the nominal wing gives the wing whose file carries the
+    // paper's EFT: one truss simulator, the effects on its pins.
+    let dir = tempfile::tempdir().unwrap();
+    let run = |mech: &str, out: &str, effects: &[&str]| {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_deploywatch"));
+        cmd.arg("simulate")
+            .arg(data().join("mechanisms").join(mech))
+            .arg("--out")
+            .arg(dir.path().join(out))
+            .args(["--no-noise", "-q"]);
+        for e in effects {
+            cmd.arg("--effect").arg(e);
+        }
+        let o = cmd.output().unwrap();
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let r = deploywatch_sim::data::run::Run::load(&dir.path().join(out)).unwrap();
+        (r.t_s, r.phi_deg, r.latch, r.extra)
+    };
+    let eft = run("seed000_case2_truss_eft.toml", "eft.csv", &[]);
+    let with = run(
+        "seed000_case2_truss.toml",
+        "with.csv",
+        &[
+            "coulomb_friction:joint=1:value=0.54",
+            "coulomb_friction:joint=2:value=0.472",
+            "coulomb_friction:joint=3:value=0.065",
+        ],
+    );
+    assert_eq!(eft, with);
+    let none = run("seed000_case2_truss.toml", "none.csv", &[]);
+    assert!(none.0.len() + 50 < eft.0.len(), "friction slows the wing");
+    // An effect the truss wing does not model, or a joint it does not have.
+    for (effect, fragment) in [
+        (
+            "harness_stiffness:joint=1:value=0.1",
+            "not modelled on a wing with a truss",
+        ),
+        (
+            "coulomb_friction:joint=4:value=0.1",
+            "joint 4 does not exist",
+        ),
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_deploywatch"))
+            .arg("simulate")
+            .arg(data().join("mechanisms/seed000_case2_truss.toml"))
+            .arg("--out")
+            .arg(dir.path().join("bad.csv"))
+            .args(["--effect", effect])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_ne!(o.status.code(), Some(0), "{effect}");
+        assert!(err.contains(fragment), "{effect}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
 }
 
 #[test]

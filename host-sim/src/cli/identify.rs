@@ -257,13 +257,26 @@ pub fn report(campaign: &Campaign, id: &Identification) -> String {
         id.method.name(),
         runs.len(),
         runs.join(", "),
-        eft_table(id),
+        eft_table(id) + &node_note(campaign, id),
         fit_quality(id),
         method_details(id),
         id.simulations,
         id.deployments,
         id.wall_s
     )
+}
+
+/// For a truss wing: which identified joints are truss friction nodes
+/// (`joint 3 (truss node F)`), one line each; empty otherwise.
+fn node_note(campaign: &Campaign, id: &Identification) -> String {
+    let Some(mech) = campaign.runs.first().map(|r| &r.mechanism) else {
+        return String::new();
+    };
+    id.joints
+        .iter()
+        .filter(|j| j.joint > mech.joint_count())
+        .map(|j| format!("  {}: on each pin at the node\n", mech.joint_label(j.joint)))
+        .collect()
 }
 
 /// The EFT per joint, with its 95 % interval (direct) or design box (rsm).

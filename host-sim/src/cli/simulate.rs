@@ -136,7 +136,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
 /// written, before anything is simulated.
 fn check_args(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
     for e in &args.effects {
-        e.validate(mech.joint_count())
+        e.validate(mech.effect_joints())
             .map_err(|m| CliError::input(format!("--effect {e}: {m}")))?;
     }
     for f in &args.faults {
@@ -159,7 +159,7 @@ fn check_args(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
 
 /// The run the sensors record of `traj`, with its metadata (mechanism,
 /// source, effects, sensor).
-fn measure(args: &SimulateArgs, mech: &Mechanism, traj: &deployment::Trajectory) -> Run {
+pub(super) fn measure(args: &SimulateArgs, mech: &Mechanism, traj: &deployment::Trajectory) -> Run {
     let sensor = if args.no_noise {
         SensorModel::IDEAL
     } else {

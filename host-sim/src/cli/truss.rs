@@ -1,30 +1,40 @@
 //! `deploywatch simulate` of a mechanism with a `[truss]`: the multibody
-//! simulator ([`crate::simulate::multibody`]).
+//! simulator ([`crate::simulate::multibody`]) through the deployment
+//! dispatch ([`crate::simulate::truss_deployment`]), with `--effect`s on its
+//! pins.
 //!
-//! Writes the two hinge angles and their latch switches as a normal run CSV
-//! (`--out`), and beside it `<out stem>_truss.csv` with `t_s`, `psi_deg`
-//! and every knee's interior angle and switch (`knee<P>_deg`, `knee<P>`;
-//! `docs/spec/formats.md`, "Truss run: extra columns"). Prints the Gruebler
-//! count with multi-link joints and the mobility from the constraint
-//! Jacobian's rank after each lock.
+//! Writes one run CSV (`--out`): the hinge angles and latch switches as in
+//! every run, then the documented extra columns `psi_deg`, every knee's
+//! interior angle `knee<P>_deg` and its switch `knee<P>`
+//! (`docs/spec/formats.md`, "Run: extra columns"). Prints the Gruebler count
+//! with multi-link joints and the mobility from the constraint Jacobian's
+//! rank after each lock.
 
 use super::simulate::SimulateArgs;
 use super::CliError;
-use crate::data::run::Run;
+use crate::data::run::{ExtraColumn, ExtraKind, Run};
 use crate::model::kinematics::{planar_mobility, truss_bodies_and_joints};
 use crate::model::mechanism::Mechanism;
-use crate::simulate::deployment::{SimOptions, Trajectory};
-use crate::simulate::multibody::{simulate_wing, wing_model, wing_options, WingRun};
-use crate::simulate::sensor::{self, SensorModel};
-use std::fmt::Write as _;
-use std::path::Path;
+use crate::simulate::deployment::{Samples, SimOptions};
+use crate::simulate::multibody::{wing_model, WingRun};
+use crate::simulate::truss_deployment::simulate_truss;
 
 /// Runs `deploywatch simulate` on a truss mechanism.
 pub fn run(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
     let file = args.mechanism.display();
-    if !args.effects.is_empty() || !args.faults.is_empty() || args.plot.is_some() {
+    if !args.faults.is_empty() || args.plot.is_some() {
         return Err(CliError::input(format!(
-            "{file}: --effect, --fault and --plot are not supported for a mechanism with a [truss] yet; expected none of them"
+            "{file}: --fault and --plot are not supported for a mechanism with a [truss] yet; expected neither"
+        )));
+    }
+    if let Some(e) = args
+        .effects
+        .iter()
+        .find(|e| !crate::simulate::truss_deployment::models(e.kind))
+    {
+        return Err(CliError::input(format!(
+            "--effect {e}: {} is not modelled on a wing with a truss; expected coulomb_friction, viscous_damping, spring_softening or encoder_offset",
+            e.kind
         )));
     }
     let truss = mech
@@ -41,104 +51,74 @@ pub fn run(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
             "{file}: `truss`: the wing is locked up at the stowed pose (0 degrees of freedom by the constraint Jacobian, Gruebler {gruebler}); expected a truss that lets the panels move"
         )));
     }
-    let side = args.out.with_file_name(format!(
-        "{}_truss.csv",
-        args.out.file_stem().unwrap_or_default().to_string_lossy()
-    ));
-    super::check_output("--out (truss columns)", &side)?;
     let opts = SimOptions {
         sample_hz: args.rate,
         ..wing_options()
     };
-    let wing = simulate_wing(mech, &opts).map_err(|e| CliError::failed(e.to_string()))?;
-    let sensor_model = if args.no_noise {
-        SensorModel::IDEAL
+    let rate = args.rate.unwrap_or(mech.sample_hz);
+    let last = (mech.duration_s * rate + 1e-9).floor();
+    let count = if last < 1e7 {
+        last as usize + 1
     } else {
-        SensorModel::REFERENCE
+        usize::MAX
     };
-    let mut out = sensor::measure(
-        &hinges(&wing, mech.joints.len()),
-        &[],
-        &sensor_model,
-        args.seed,
-    );
-    out.set_meta("mechanism", &mech.name);
+    let times = Samples::Grid {
+        rate_hz: rate,
+        count,
+    };
+    let (traj, wing) = simulate_truss(mech, &args.effects, &opts, times)
+        .map_err(|e| CliError::failed(e.to_string()))?;
+    let mut out = super::simulate::measure(args, mech, &traj);
     out.set_meta("source", "deploywatch simulate (multibody, truss)");
-    out.set_meta("effects", "none");
+    add_extra(&mut out, &wing);
     out.write(&args.out)
         .map_err(|e| CliError::input(e.to_string()))?;
-    write_extra(&side, &wing, &out)?;
-    if !args.quiet {
-        report(mech, &wing, (bodies, joints, gruebler), &side);
-    }
+    report(mech, &wing, (bodies, joints, gruebler), args);
     Ok(())
 }
 
-/// The hinge series as a chain trajectory (the sensor model's input).
-fn hinges(wing: &WingRun, n: usize) -> Trajectory {
-    let mut t = Trajectory {
-        t_s: wing.run.t_s.clone(),
-        end_s: wing.run.end_s,
-        stats: wing.run.stats,
-        ..Trajectory::default()
-    };
-    for j in 0..n {
-        let name = format!("hinge {}", j + 1);
-        let (a, l) = wing.series(&name).unwrap_or((&[], &[]));
-        t.phi_deg.push(a.to_vec());
-        t.rate_deg_s.push(vec![0.0; a.len()]);
-        t.latched.push(l.to_vec());
-        t.latch_s.push(wing.lock_s(&name));
-    }
-    t
-}
-
-/// The knee and ψ columns (`<stem>_truss.csv`).
-fn write_extra(path: &Path, wing: &WingRun, run: &Run) -> Result<(), CliError> {
+/// The truss's extra columns: `psi_deg` (link 3 against its carrier at C,
+/// `truss-link.md`), then `knee<P>_deg` and `knee<P>` of every knee, in the
+/// points' file order (true values: the sensor model reads the hinges only).
+pub fn add_extra(run: &mut Run, wing: &WingRun) {
+    let n = run.len();
     let knees: Vec<usize> = (0..wing.pins.len())
         .filter(|&p| !wing.pins[p].contains(':') && !wing.pins[p].starts_with("hinge"))
         .collect();
-    let psi = wing.pins.iter().position(|n| n.ends_with(":3"));
-    let mut text = String::new();
-    for (k, v) in &run.metadata {
-        let _ = writeln!(text, "# {k} = {v:?}");
-    }
-    text.push_str("t_s");
-    if psi.is_some() {
-        text.push_str(",psi_deg");
-    }
-    for &p in &knees {
-        let _ = write!(text, ",knee{}_deg", wing.pins[p]);
+    let column = |name: String, kind, values: Vec<f64>| ExtraColumn {
+        name,
+        kind,
+        values: values.into_iter().take(n).collect(),
+    };
+    if let Some(p) = wing.pins.iter().position(|n| n.ends_with(":3")) {
+        let values = wing.run.angle_deg[p].clone();
+        run.extra
+            .push(column("psi_deg".into(), ExtraKind::Psi, values));
     }
     for &p in &knees {
-        let _ = write!(text, ",knee{}", wing.pins[p]);
+        let values = wing.run.angle_deg[p].clone();
+        let name = format!("knee{}_deg", wing.pins[p]);
+        run.extra.push(column(name, ExtraKind::KneeAngle, values));
     }
-    text.push('\n');
-    for (i, t) in wing.run.t_s.iter().enumerate() {
-        let _ = write!(text, "{t:.6}");
-        if let Some(p) = psi {
-            let _ = write!(text, ",{:.6}", wing.run.angle_deg[p][i]);
-        }
-        for &p in &knees {
-            let _ = write!(text, ",{:.6}", wing.run.angle_deg[p][i]);
-        }
-        for &p in &knees {
-            let _ = write!(text, ",{}", u8::from(wing.run.locked[p][i]));
-        }
-        text.push('\n');
+    for &p in &knees {
+        let values = wing.run.locked[p]
+            .iter()
+            .map(|&l| f64::from(u8::from(l)))
+            .collect();
+        let name = format!("knee{}", wing.pins[p]);
+        run.extra.push(column(name, ExtraKind::KneeSwitch, values));
     }
-    std::fs::write(path, text)
-        .map_err(|e| CliError::input(format!("{}: cannot write: {e}", path.display())))
 }
 
-/// Prints the locks and the mobility.
-fn report(mech: &Mechanism, wing: &WingRun, count: (u32, u32, i64), side: &Path) {
+/// Prints the locks and the mobility (the summary and the locks even with
+/// `--quiet`, as the chain's `simulate` does).
+fn report(mech: &Mechanism, wing: &WingRun, count: (u32, u32, i64), args: &SimulateArgs) {
     let (bodies, joints, gruebler) = count;
     println!(
-        "{}: {} samples to the run and {} ({} steps, {} evaluations)",
+        "{}: {} samples to {} ({} steps, {} evaluations)",
         mech.name,
         wing.run.t_s.len(),
-        side.display(),
+        args.out.display(),
         wing.run.stats.steps,
         wing.run.stats.evaluations
     );

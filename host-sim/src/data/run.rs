@@ -47,6 +47,69 @@ pub struct Run {
     pub phi_deg: Vec<Vec<f64>>,
     /// `latch<j>`: `latch[j][i]` is joint j+1's switch at sample i.
     pub latch: Vec<Vec<bool>>,
+    /// The documented extra columns after the joint columns, in file order
+    /// (a truss run's `psi_deg`, `knee<P>_deg`, `knee<P>`: see
+    /// [`ExtraKind`]); empty for a plain run. Commands that do not use
+    /// them ignore them; [`Run::to_csv_string`] writes them back.
+    pub extra: Vec<ExtraColumn>,
+}
+
+/// What a documented extra column of a run holds (`docs/spec/formats.md`,
+/// "Run: extra columns"): the truss wing's link angle and knees.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExtraKind {
+    /// `psi_deg`: link 3 against the inner panel [deg] (`truss-link.md`).
+    Psi,
+    /// `knee<P>_deg`: interior angle of knee `P` [deg] (180 when straight).
+    KneeAngle,
+    /// `knee<P>`: knee `P`'s lock switch, 0 or 1.
+    KneeSwitch,
+}
+
+impl ExtraKind {
+    /// True for the 0/1 switch columns (the others are angles in degrees).
+    pub fn is_switch(self) -> bool {
+        self == ExtraKind::KneeSwitch
+    }
+
+    /// The kind of a column name, `None` for a name the format does not
+    /// document. A knee name `P` is 1 to 16 ASCII letters or digits
+    /// ([`valid_knee_name`]), so `knee<P>_deg` and `knee<P>` cannot be
+    /// confused.
+    pub fn of(name: &str) -> Option<ExtraKind> {
+        if name == "psi_deg" {
+            return Some(ExtraKind::Psi);
+        }
+        let rest = name.strip_prefix("knee")?;
+        match rest.strip_suffix("_deg") {
+            Some(p) if valid_knee_name(p) => Some(ExtraKind::KneeAngle),
+            Some(_) => None,
+            None if valid_knee_name(rest) => Some(ExtraKind::KneeSwitch),
+            None => None,
+        }
+    }
+}
+
+/// True for a knee name that can name run columns (`knee<P>_deg`,
+/// `knee<P>`): 1 to 16 ASCII letters or digits.
+pub fn valid_knee_name(p: &str) -> bool {
+    (1..=16).contains(&p.len()) && p.bytes().all(|b| b.is_ascii_alphanumeric())
+}
+
+/// The documented extra columns, in words (for messages).
+pub const EXTRA_COLUMNS: &str =
+    "psi_deg, knee<P>_deg, knee<P> (P: a knee's name, 1 to 16 ASCII letters or digits)";
+
+/// One documented extra column of a run: its name and samples (angles in
+/// degrees, switches 0 or 1 as 0.0 or 1.0).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExtraColumn {
+    /// The column's name (`psi_deg`, `kneeB_deg`, `kneeB`...).
+    pub name: String,
+    /// What it holds.
+    pub kind: ExtraKind,
+    /// One value per sample.
+    pub values: Vec<f64>,
 }
 
 impl Run {
@@ -84,6 +147,11 @@ impl Run {
     /// The `mechanism` metadata: the name of the mechanism this run belongs to.
     pub fn mechanism(&self) -> Option<&str> {
         self.meta("mechanism")
+    }
+
+    /// The extra column called `name`, if the run has it.
+    pub fn extra(&self, name: &str) -> Option<&ExtraColumn> {
+        self.extra.iter().find(|c| c.name == name)
     }
 }
 
@@ -165,7 +233,7 @@ pub enum RunErrorKind {
     /// A column the header must not have (unknown name, or a latch column
     /// beyond the number of angle columns).
     #[error(
-        "extra column `{column}` (column {position}); expected the header `{expected_header}`"
+        "extra column `{column}` (column {position}); expected the header `{expected_header}`, optionally followed by the documented extra columns {EXTRA_COLUMNS} (docs/spec/formats.md)"
     )]
     ExtraColumn {
         /// The extra column's name.
@@ -187,6 +255,17 @@ pub enum RunErrorKind {
         expected: String,
         /// The joint count the header seems to be for.
         joints: usize,
+    },
+    /// A joint column (`t_s`, `phi<j>_deg`, `latch<j>`) after the first
+    /// documented extra column.
+    #[error("column `{column}` (column {position}) comes after the extra column `{first_extra}`; expected the header `t_s,phi1_deg,...,latch1,...` first and the extra columns after it")]
+    AfterExtra {
+        /// The misplaced column.
+        column: String,
+        /// Its 1-based position.
+        position: usize,
+        /// The first extra column.
+        first_extra: String,
     },
     /// The same column twice.
     #[error("column `{column}` appears twice (columns {first} and {position}); expected each column once")]
@@ -491,6 +570,8 @@ fn declares_missing(run: &Run, meta_lines: &[usize], file: &str) -> Result<bool,
 struct RowReader<'f, 't> {
     file: &'f str,
     columns: Vec<String>,
+    /// Joints: the angle columns are `1..=joints`.
+    joints: usize,
     declares_missing: bool,
     allow_missing: bool,
     /// The previous row's time, as read and as written.
@@ -538,6 +619,31 @@ impl<'t> RowReader<'_, 't> {
             };
             run.latch[j].push(latched);
         }
+        for (e, col) in run.extra.iter_mut().enumerate() {
+            let k = 1 + 2 * n + e;
+            let value = if col.kind.is_switch() {
+                match fields[k] {
+                    "0" => 0.0,
+                    "1" => 1.0,
+                    other => {
+                        return Err(err(RunErrorKind::BadLatch {
+                            column: self.columns[k].clone(),
+                            found: shorten(other),
+                        }))
+                    }
+                }
+            } else {
+                let x = self.number(&fields, k, ln)?;
+                if x.abs() > MAX_ANGLE_DEG {
+                    return Err(err(RunErrorKind::AngleRange {
+                        column: self.columns[k].clone(),
+                        found: shorten(fields[k]),
+                    }));
+                }
+                x
+            };
+            col.values.push(value);
+        }
         Ok(())
     }
 
@@ -546,7 +652,7 @@ impl<'t> RowReader<'_, 't> {
         match fields[k].parse::<f64>() {
             Ok(x) if x.is_finite() => Ok(x),
             _ => {
-                let is_angle = k >= 1 && k <= (self.columns.len() - 1) / 2;
+                let is_angle = k >= 1 && k <= self.joints;
                 let hint = if is_angle && fields[k] == MISSING_SAMPLES_VALUE {
                     MISSING_HINT
                 } else {
@@ -707,10 +813,19 @@ impl Run {
         let (header_line, header, meta_lines) = read_metadata(&mut run, &mut lines, source)?;
         let declares_missing = declares_missing(&run, &meta_lines, source)?;
         let names: Vec<&str> = header.split(',').map(str::trim).collect();
-        let n = Self::check_header(&names, source, header_line)?;
+        // The joint columns, then the documented extra ones (formats.md).
+        let split = names
+            .iter()
+            .position(|c| ExtraKind::of(c).is_some())
+            .unwrap_or(names.len());
+        let n = Self::check_header(&names[..split], source, header_line)?;
+        run.extra = Self::check_extra(&names, split, n, source, header_line)?;
+        let mut columns = run_columns(n);
+        columns.extend(run.extra.iter().map(|c| c.name.clone()));
         let mut rows = RowReader {
             file: source,
-            columns: run_columns(n),
+            columns,
+            joints: n,
             declares_missing,
             allow_missing: options.allow_missing,
             prev_t: None,
@@ -728,6 +843,63 @@ impl Run {
             ));
         }
         Ok(run)
+    }
+
+    /// Checks the header's extra columns, `names[split..]`: each a
+    /// documented extra column ([`ExtraKind::of`]), once; no joint column
+    /// among them. Returns them, without samples yet.
+    fn check_extra(
+        names: &[&str],
+        split: usize,
+        n: usize,
+        file: &str,
+        line: usize,
+    ) -> Result<Vec<ExtraColumn>, RunError> {
+        let mut out: Vec<ExtraColumn> = Vec::new();
+        for (i, name) in names.iter().enumerate().skip(split) {
+            let kind = match (ExtraKind::of(name), classify(name)) {
+                (Some(kind), _) => kind,
+                (None, Col::Other) => {
+                    return Err(RunError::at(
+                        file,
+                        line,
+                        RunErrorKind::ExtraColumn {
+                            column: shorten(name),
+                            position: i + 1,
+                            expected_header: run_header(n),
+                        },
+                    ))
+                }
+                (None, _) => {
+                    return Err(RunError::at(
+                        file,
+                        line,
+                        RunErrorKind::AfterExtra {
+                            column: shorten(name),
+                            position: i + 1,
+                            first_extra: names[split].to_string(),
+                        },
+                    ))
+                }
+            };
+            if let Some(first) = names[split..i].iter().position(|c| c == name) {
+                return Err(RunError::at(
+                    file,
+                    line,
+                    RunErrorKind::DuplicateColumn {
+                        column: name.to_string(),
+                        first: split + first + 1,
+                        position: i + 1,
+                    },
+                ));
+            }
+            out.push(ExtraColumn {
+                name: name.to_string(),
+                kind,
+                values: Vec::new(),
+            });
+        }
+        Ok(out)
     }
 
     /// Checks the header and returns the number of joints.
@@ -831,6 +1003,48 @@ impl Run {
                 )));
             }
         }
+        for (e, col) in self.extra.iter().enumerate() {
+            if ExtraKind::of(&col.name) != Some(col.kind) {
+                return Err(invalid(format!(
+                    "extra column {:?}; expected one of the documented extra columns {EXTRA_COLUMNS}, named for what it holds",
+                    col.name
+                )));
+            }
+            if self.extra[..e].iter().any(|c| c.name == col.name) {
+                return Err(invalid(format!(
+                    "extra column {:?} twice; expected each column once",
+                    col.name
+                )));
+            }
+            if col.values.len() != self.len() {
+                return Err(invalid(format!(
+                    "extra column {:?} has {} samples; expected {} (as many as t_s)",
+                    col.name,
+                    col.values.len(),
+                    self.len()
+                )));
+            }
+            let bad = col.values.iter().position(|&x| {
+                if col.kind.is_switch() {
+                    x != 0.0 && x != 1.0
+                } else {
+                    angle_problem(x, false).is_some()
+                }
+            });
+            if let Some(i) = bad {
+                return Err(invalid(format!(
+                    "sample {}: {} = {}; expected {}",
+                    i + 1,
+                    col.name,
+                    col.values[i],
+                    if col.kind.is_switch() {
+                        "0 or 1"
+                    } else {
+                        "a finite angle within ±720 deg"
+                    }
+                )));
+            }
+        }
         for (k, _) in &self.metadata {
             if !valid_meta_key(k) {
                 return Err(invalid(format!(
@@ -901,6 +1115,10 @@ impl Run {
             let _ = writeln!(out, "# {k} = {json}");
         }
         out.push_str(&run_header(n));
+        for col in &self.extra {
+            out.push(',');
+            out.push_str(&col.name);
+        }
         out.push('\n');
         for (i, &t) in self.t_s.iter().enumerate() {
             out.push_str(&format_time(t));
@@ -915,6 +1133,14 @@ impl Run {
                     Some(false) => ",0",
                     None => ",NaN",
                 });
+            }
+            for col in &self.extra {
+                let x = col.values.get(i).copied().unwrap_or(f64::NAN);
+                if col.kind.is_switch() && (x == 0.0 || x == 1.0) {
+                    let _ = write!(out, ",{x:.0}");
+                } else {
+                    let _ = write!(out, ",{x:.6}");
+                }
             }
             out.push('\n');
         }
@@ -1087,4 +1313,74 @@ pub fn check_analysable(run: &Run, mechanism: &Mechanism, file: &str) -> Result<
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TRUSS: &str = "# mechanism = \"w\"\n\
+        t_s,phi1_deg,latch1,psi_deg,kneeB_deg,kneeB\n\
+        0.000,90.0,0,-10.5,150.25,0\n\
+        0.010,0.0,1,-20.0,180.0,1\n";
+
+    #[test]
+    fn documented_extra_columns_are_read_kept_and_written_back() {
+        let run = Run::parse(TRUSS, "w.csv").unwrap();
+        assert_eq!(run.joints(), 1);
+        assert_eq!(run.phi_deg[0], [90.0, 0.0]);
+        let names: Vec<&str> = run.extra.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(names, ["psi_deg", "kneeB_deg", "kneeB"]);
+        assert_eq!(run.extra("kneeB_deg").unwrap().values, [150.25, 180.0]);
+        assert_eq!(run.extra("kneeB").unwrap().kind, ExtraKind::KneeSwitch);
+        assert_eq!(run.extra("kneeB").unwrap().values, [0.0, 1.0]);
+        let text = run.to_csv_string();
+        assert!(text.contains("t_s,phi1_deg,latch1,psi_deg,kneeB_deg,kneeB\n0.000,90.000000,0,-10.500000,150.250000,0\n"), "{text}");
+        assert_eq!(Run::parse(&text, "again").unwrap(), run);
+        run.validate("w.csv").unwrap();
+    }
+
+    fn error(text: &str) -> String {
+        Run::parse(text, "w.csv").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn undocumented_or_misplaced_extra_columns_are_errors() {
+        let e = error(&TRUSS.replace("kneeB\n", "kneeB,speed\n"));
+        assert!(
+            e.contains("w.csv:2") && e.contains("extra column `speed` (column 7)"),
+            "{e}"
+        );
+        assert!(e.contains("psi_deg, knee<P>_deg, knee<P>"), "{e}");
+        let e = error("t_s,phi1_deg,latch1,kneeB,phi2_deg\n0,1,0,0,1\n");
+        assert!(
+            e.contains("`phi2_deg` (column 5) comes after the extra column `kneeB`"),
+            "{e}"
+        );
+        let e = error(&TRUSS.replace("kneeB_deg,kneeB", "kneeB,kneeB"));
+        assert!(e.contains("column `kneeB` appears twice"), "{e}");
+        let e = error(&TRUSS.replace("150.25,0", "150.25,2"));
+        assert!(
+            e.contains("w.csv:3") && e.contains("column `kneeB`: expected 0 or 1"),
+            "{e}"
+        );
+        let e = error(&TRUSS.replace("150.25", "abc"));
+        assert!(
+            e.contains("column `kneeB_deg`: expected a finite number"),
+            "{e}"
+        );
+        // A knee name with an underscore is not documented.
+        let e = error(&TRUSS.replace("kneeB_deg", "knee_B_deg"));
+        assert!(
+            e.contains("extra column `knee_B_deg`") || e.contains("unknown column"),
+            "{e}"
+        );
+        let mut run = Run::parse(TRUSS, "w.csv").unwrap();
+        run.extra[0].values.pop();
+        let e = run.validate("out.csv").unwrap_err().to_string();
+        assert!(
+            e.contains("extra column \"psi_deg\" has 1 samples; expected 2"),
+            "{e}"
+        );
+    }
 }

@@ -179,6 +179,27 @@ impl Mechanism {
         self.joints.len()
     }
 
+    /// Joints an effect or an identification may name: the hinges `1..=n`,
+    /// then, on a wing with a truss, one per friction node
+    /// ([`crate::model::truss::Truss::friction_nodes`]): 3 for the seed 000
+    /// truss wing (joint 3 = the pins at F).
+    pub fn effect_joints(&self) -> usize {
+        self.joint_count() + self.truss.as_ref().map_or(0, |t| t.friction_nodes().len())
+    }
+
+    /// A joint for people: `joint 2`, or `joint 3 (truss node F)` for a
+    /// friction node of a truss.
+    pub fn joint_label(&self, joint: usize) -> String {
+        let n = self.joint_count();
+        match &self.truss {
+            Some(t) if joint > n => match t.friction_nodes().get(joint - n - 1) {
+                Some(&i) => format!("joint {joint} (truss node {})", t.points[i].name),
+                None => format!("joint {joint}"),
+            },
+            _ => format!("joint {joint}"),
+        }
+    }
+
     /// The core chain with `N = self.joint_count()` joints and the given
     /// per-joint and global effects (`effects.len()` must be `N`).
     ///

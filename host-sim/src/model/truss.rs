@@ -141,6 +141,18 @@ fn carrier_body(c: &Carrier) -> Option<usize> {
 }
 
 impl Truss {
+    /// The friction nodes: the free nodes that are not knees (F of the seed
+    /// 000 wing), in file order, as indices into [`Truss::points`]. Each is
+    /// one friction parameter acting on every pin at that node, numbered
+    /// after the hinges: joint `n + k` of an effect or an identification is
+    /// the `k`-th friction node (the paper's EFT3 at F is joint 3 of the
+    /// two-panel wing, `docs/identification.md`).
+    pub fn friction_nodes(&self) -> Vec<usize> {
+        (0..self.points.len())
+            .filter(|&i| self.points[i].on == Carrier::Node && !self.points[i].knee)
+            .collect()
+    }
+
     fn point(&self, name: &str) -> Option<(usize, &TrussPoint)> {
         self.points.iter().enumerate().find(|(_, p)| p.name == name)
     }
@@ -194,6 +206,15 @@ impl Truss {
                     format!("{key}.knee"),
                     format!(
                         "knee \"{}\" joins {n} link(s); expected a free node of exactly two links",
+                        p.name
+                    ),
+                ));
+            }
+            if p.knee && !crate::data::run::valid_knee_name(&p.name) {
+                return Err(err(
+                    format!("{key}.name"),
+                    format!(
+                        "knee name {:?}; expected 1 to 16 ASCII letters or digits (it names the run's columns knee<P>_deg and knee<P>)",
                         p.name
                     ),
                 ));

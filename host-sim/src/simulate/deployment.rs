@@ -216,11 +216,9 @@ fn simulate_samples(
     times: Samples<'_>,
 ) -> Result<Trajectory, SimError> {
     if mech.truss.is_some() {
-        return Err(SimError::Invalid(format!(
-            "mechanism `{}` has a [truss]: the chain simulator cannot run it; \
-             expected an open chain (truss wings: simulate::multibody)",
-            mech.name
-        )));
+        // The one truss simulator (multibody), with the effects on its pins.
+        return crate::simulate::truss_deployment::simulate_truss(mech, effects, opts, times)
+            .map(|(traj, _)| traj);
     }
     let n = mech.joint_count();
     for e in effects {

@@ -1031,6 +1031,7 @@ mod tests {
             metadata: vec![("mechanism".into(), "test".into())],
             phi_deg: vec![phi1, vec![45.0; t.len()]],
             latch: vec![latch1, vec![false; t.len()]],
+            extra: Vec::new(),
             t_s: t,
         }
     }

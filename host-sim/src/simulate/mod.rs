@@ -6,3 +6,4 @@ pub mod fault_injection;
 pub mod multibody;
 pub mod ode;
 pub mod sensor;
+pub mod truss_deployment;

@@ -78,6 +78,7 @@ pub fn measure(traj: &Trajectory, offsets_deg: &[f64], sensor: &SensorModel, see
         t_s: traj.t_s.clone(),
         phi_deg: phi,
         latch: traj.latched.clone(),
+        extra: Vec::new(),
     }
 }
 

@@ -1152,6 +1152,17 @@ fn unexplained_text(campaign: &Campaign, extended: &FittedSet, sigma: f64) -> Op
     ))
 }
 
+/// The joints an effect may name in every run's mechanism (the hinges,
+/// then a truss wing's friction nodes).
+fn parameter_joints(campaign: &Campaign) -> usize {
+    campaign
+        .runs
+        .iter()
+        .map(|r| r.mechanism.effect_joints())
+        .min()
+        .unwrap_or(0)
+}
+
 /// Diagnoses a campaign: baseline, noise floor, stepwise search
 /// ([`Search`]), then the effects strongest first and what stays
 /// unexplained.
@@ -1170,11 +1181,24 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         campaign.runs.len(),
         sigma
     ));
+    // A wing with a truss: the effects its simulator models, at the hinges
+    // (`crate::simulate::truss_deployment`); no torque-table discovery.
+    // Its friction nodes (joint n + k, e.g. 3 = the pins at F) are
+    // coulomb_friction candidates too: the paper's EFT3.
+    let truss = campaign.runs.iter().any(|r| r.mechanism.truss.is_some());
+    let nodes = (campaign.max_joints() + 1)..=parameter_joints(campaign);
+    let node_friction = nodes.map(|j| Candidate {
+        kind: EffectKind::CoulombFriction,
+        joint: Some(j),
+        table: None,
+    });
     let mut search = Search {
         eng: &eng,
         candidates: Candidate::all(campaign.max_joints())
             .into_iter()
+            .chain(node_friction)
             .filter(|c| opts.kinds.contains(&c.kind))
+            .filter(|c| !truss || crate::simulate::truss_deployment::models(c.kind))
             .collect(),
         max_effects: opts.max_effects,
         floor_deg: NOISE_FLOOR_FACTOR * sigma,
@@ -1185,7 +1209,7 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         swaps: 0,
     };
     search.run();
-    if opts.discover {
+    if opts.discover && !truss {
         search.discover(&discover::table_candidates(campaign), sigma);
     }
     let (extended, strength_rms_deg) = eng.strongest_first(&search.current);

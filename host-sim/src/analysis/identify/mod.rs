@@ -426,14 +426,20 @@ impl Default for RsmOptions {
 struct Model<'a> {
     campaign: &'a Campaign,
     joints: &'a [usize],
+    /// The identified joints that are measured (hinges): the responses of
+    /// a response surface (a truss's friction node has no angle of its own;
+    /// seed 000 Table 9 has TE1, TE2 for EFT1..3).
+    te_joints: Vec<usize>,
     evaluations: AtomicUsize,
 }
 
 impl<'a> Model<'a> {
     fn new(campaign: &'a Campaign, joints: &'a [usize]) -> Self {
+        let measured = measured_joints(campaign);
         Model {
             campaign,
             joints,
+            te_joints: joints.iter().copied().filter(|&j| j <= measured).collect(),
             evaluations: AtomicUsize::new(0),
         }
     }
@@ -522,12 +528,7 @@ pub fn check_joints(campaign: &Campaign, joints: &[usize]) -> Result<(), Identif
     if joints.is_empty() {
         return Err(IdentifyError::NoJoints);
     }
-    let n = campaign
-        .runs
-        .iter()
-        .map(|r| r.run.joints())
-        .min()
-        .unwrap_or(0);
+    let n = parameter_joints(campaign);
     for (i, &j) in joints.iter().enumerate() {
         if j == 0 || j > n {
             return Err(IdentifyError::BadJoint {
@@ -542,15 +543,32 @@ pub fn check_joints(campaign: &Campaign, joints: &[usize]) -> Result<(), Identif
     Ok(())
 }
 
-/// The joints every run of the campaign has: `1..=n`.
+/// The joints every run of the campaign has: `1..=n`, counting a truss
+/// wing's friction nodes after its hinges
+/// ([`crate::model::mechanism::Mechanism::effect_joints`]: EFT1..3 of the
+/// seed 000 truss wing are joints 1, 2 and 3, joint 3 the pins at F).
 pub fn all_joints(campaign: &Campaign) -> Vec<usize> {
-    let n = campaign
+    (1..=parameter_joints(campaign)).collect()
+}
+
+/// The joints an EFT may be identified at in every run's mechanism.
+fn parameter_joints(campaign: &Campaign) -> usize {
+    campaign
+        .runs
+        .iter()
+        .map(|r| r.mechanism.effect_joints())
+        .min()
+        .unwrap_or(0)
+}
+
+/// The joints every run measures (its angle columns).
+fn measured_joints(campaign: &Campaign) -> usize {
+    campaign
         .runs
         .iter()
         .map(|r| r.run.joints())
         .min()
-        .unwrap_or(0);
-    (1..=n).collect()
+        .unwrap_or(0)
 }
 
 fn check_vector(what: &str, v: &[f64], n: usize, nonnegative: bool) -> Result<(), IdentifyError> {
@@ -634,8 +652,13 @@ fn scan_with(model: &Model, progress: Progress) -> Result<Scan, IdentifyError> {
         .iter()
         .min_by(|a, b| a.1 .1.total_cmp(&b.1 .1))
         .ok_or_else(|| IdentifyError::Simulation("at any EFT of the start scan".into()))?;
+    let measured = measured_joints(model.campaign);
     let per_joint: Vec<f64> = (0..k)
         .map(|i| {
+            if model.joints[i] > measured {
+                // A truss friction node has no angle of its own.
+                return best.0;
+            }
             ok.iter()
                 .min_by(|a, b| a.1 .0[i].total_cmp(&b.1 .0[i]))
                 .map(|r| r.0)
@@ -912,9 +935,10 @@ pub fn identify_rsm(
         list(&plan.half)
     ));
     let table = simulate_design(&model, &points, progress)?;
-    let names = response_names(joints);
+    let names = response_names(&model.te_joints);
     let (surfaces, fits) = fit_surfaces(&plan.design.coded_points(), &table, &names)?;
-    let (min, lo, hi) = minimise_surface(&fits, joints.len(), opts.response, &coding, plan.reach)?;
+    let k = model.te_joints.len();
+    let (min, lo, hi) = minimise_surface(&fits, k, opts.response, &coding, plan.reach)?;
     progress(&format!(
         "rsm: surface minimum {:.4} at {} N·m; checking by simulation",
         min.value,
@@ -923,8 +947,7 @@ pub fn identify_rsm(
     let (after, _) = model.score(&min.x).ok_or_else(|| {
         IdentifyError::Simulation(format!("at the surface's minimum {} N·m", list(&min.x)))
     })?;
-    let simulated = simulated_response(&after, joints, opts.response);
-    let k = joints.len();
+    let simulated = simulated_response(&after, &model.te_joints, opts.response);
     Ok(Identification {
         joints: joints
             .iter()
@@ -1095,7 +1118,7 @@ fn simulate_design(
         .map(|p| {
             let (s, _) = model.score(p)?;
             let mse = s.rms_deg * s.rms_deg;
-            let r = responses(&s, mse, model.joints);
+            let r = responses(&s, mse, &model.te_joints);
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
             progress(&format!("rsm: design point {n}/{} simulated", points.len()));
             Some(r)
