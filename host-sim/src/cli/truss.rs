@@ -16,7 +16,7 @@ use crate::data::run::{ExtraColumn, ExtraKind, Run};
 use crate::model::kinematics::{planar_mobility, truss_bodies_and_joints};
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::{Samples, SimOptions};
-use crate::simulate::multibody::{wing_model, WingRun};
+use crate::simulate::multibody::{wing_model, wing_options, WingRun};
 use crate::simulate::truss_deployment::simulate_truss;
 
 /// Runs `deploywatch simulate` on a truss mechanism.
