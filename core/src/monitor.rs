@@ -26,6 +26,7 @@ use crate::observer::{
     momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation, ObserverInput,
     ObserverTuning, RateFilter,
 };
+use crate::plausibility::{Reading, ReadingCheck, Verdict};
 use crate::rollout::{
     normal_quantile, Bracket, JointOutcome, Rollout, RolloutConfig, RolloutStart,
 };
@@ -485,6 +486,8 @@ pub struct Monitor<const N: usize> {
     /// `z = Φ⁻¹(confidence)`.
     z: f32,
     rejects: [u8; N],
+    /// Stale and returning-spike checks of each encoder (`plausibility.rs`).
+    plausibility: [ReadingCheck; N],
     /// Last in-range reading of each encoder [deg] and how many samples in
     /// a row repeated it exactly.
     last_raw: [f32; N],
@@ -611,6 +614,7 @@ impl<const N: usize> Monitor<N> {
             optimistic: None,
             z: normal_quantile(config.margin.confidence),
             rejects: [0; N],
+            plausibility: [ReadingCheck::new(); N],
             last_raw: [f32::NAN; N],
             same_run: [0; N],
             started: false,
@@ -729,6 +733,12 @@ impl<const N: usize> Monitor<N> {
         }
 
         // Encoders.
+        // Not across a gap, nor at or after a switch closing (an impact
+        // under way: a joint may stop dead): `plausibility.rs`.
+        let no_checks = !self.started
+            || gap
+            || t <= self.impact_until
+            || (0..N).any(|j| sample.latch[j] && !self.switch_prev[j]);
         let mut faults = [global; N];
         let mut meas = [None::<f32>; N];
         let mut stuck = [false; N];
@@ -752,7 +762,24 @@ impl<const N: usize> Monitor<N> {
                 // ends with the latch, whose declaration is final.
                 let limit = self.sensor.stuck_samples;
                 let latched = self.lt[j].is_latched();
-                if !latched && limit > 0 && self.same_run[j].saturating_add(1) >= limit {
+                // Stale while moving (not used) or a spike that returned
+                // (flagged): `plausibility.rs`.
+                let verdict = self.plausibility[j].check_filter(
+                    &Reading {
+                        t_s: t,
+                        angle: Some(z * DEG),
+                        repeats: self.same_run[j],
+                        step: self.sensor.encoder_step_deg * DEG,
+                        moving_checks: !no_checks && !latched && !sample.latch[j],
+                    },
+                    &self.kf[j],
+                    self.t_prev,
+                );
+                if let Some(f) = verdict.fault() {
+                    faults[j].insert(f);
+                }
+                let stale = verdict == Verdict::Stale;
+                if !latched && limit > 0 && (stale || self.same_run[j].saturating_add(1) >= limit) {
                     faults[j].insert(Fault::EncoderStuck);
                     stuck[j] = true;
                 } else {
