@@ -183,11 +183,12 @@ impl ReadingCheck {
             return Verdict::Plausible;
         };
         let dt = reading.t_s - course.t_s;
+        let line = self.line();
         if reading.repeats <= 1 {
             // The readings' own rate when the repeats began (the rate
             // filter's, before three readings; it follows every reading
             // near a latch).
-            self.repeat_rate = self.line().map_or(course.rate, |l| l.rate);
+            self.repeat_rate = line.map_or(course.rate, |l| l.rate);
         }
         let motion = libm::fabsf(self.repeat_rate) * dt;
         if reading.repeats >= STALE_REPEATS && motion > STALE_MOTION_STEPS * reading.step {
@@ -206,7 +207,7 @@ impl ReadingCheck {
             self.age();
             return Verdict::Plausible;
         }
-        if let Some(line) = self.line() {
+        if let Some(line) = line {
             let jump = z - line.at(reading.t_s);
             if libm::fabsf(jump) > DEPART_RAD {
                 self.pending = Some(Departure {
@@ -232,7 +233,8 @@ impl ReadingCheck {
             return None;
         }
         let rate = (z2 - z0) / (t2 - t0);
-        let (tm, zm) = ((t0 + t1 + t2) / 3.0, (z0 + z1 + z2) / 3.0);
+        const THIRD: f32 = 1.0 / 3.0;
+        let (tm, zm) = ((t0 + t1 + t2) * THIRD, (z0 + z1 + z2) * THIRD);
         Some(Course {
             t_s: t2,
             angle: zm + rate * (t2 - tm),
