@@ -105,7 +105,8 @@ pub struct LatchConfig {
     /// How long the switch must stay closed without a break to count on its
     /// own [s]: for a latch while the encoder is unavailable (missing or
     /// stuck), and for a switch closed far from the latch angle to be
-    /// distrusted. Longer than the longest bounce (20 ms).
+    /// distrusted. Longer than the longest bounce (20 ms). Also the bounce
+    /// window: two changes of the switch's state within it are chatter.
     pub debounce_s: f32,
     /// How long a healthy encoder must read within `at_latch_deg` of the
     /// latch angle, while the switch stays open or is distrusted, for the
@@ -220,6 +221,9 @@ pub struct LatchTracker {
     /// the switch open or distrusted [s].
     confirm_since: f32,
     confirm_run: bool,
+    /// Time of the switch's last change of state [s] (valid when `flipped`).
+    flip_since: f32,
+    flipped: bool,
 }
 
 impl LatchTracker {
@@ -244,6 +248,8 @@ impl LatchTracker {
             switch_suspect: false,
             confirm_since: 0.0,
             confirm_run: false,
+            flip_since: 0.0,
+            flipped: false,
         }
     }
 
@@ -286,6 +292,16 @@ impl LatchTracker {
         let votes = last3.count_ones() as u8;
         if self.samples >= 3 && (last3 == 0b101 || last3 == 0b010) {
             faults.insert(Fault::SwitchChatter);
+        }
+        // Any reversal within the bounce time of the previous change of
+        // state is chatter, however many samples the bounce held (a clean
+        // switch closes once, at the latch, and stays closed).
+        if self.samples >= 2 && (last3 & 0b01 != 0) != (last3 & 0b10 != 0) {
+            if self.flipped && x.t_s - self.flip_since <= cfg.debounce_s {
+                faults.insert(Fault::SwitchChatter);
+            }
+            self.flipped = true;
+            self.flip_since = x.t_s;
         }
         if x.measured_deg.is_some() {
             self.missing_run = 0;

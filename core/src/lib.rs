@@ -24,6 +24,7 @@ pub mod linalg;
 pub mod margin;
 pub mod monitor;
 pub mod observer;
+pub mod plausibility;
 pub mod predictor;
 pub mod real;
 pub mod rollout;

@@ -26,6 +26,7 @@ use crate::observer::{
     momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation, ObserverInput,
     ObserverTuning, RateFilter,
 };
+use crate::plausibility::{Reading, ReadingCheck, Verdict};
 use crate::predictor::{FrictionBelief, PredictionQuery, Predictor};
 use crate::rollout::RolloutConfig;
 use crate::smoother::{Centre, CentredFit};
@@ -594,6 +595,8 @@ struct JointState {
     last_raw: f32,
     /// How many samples in a row repeated `last_raw` exactly.
     same_run: u16,
+    /// Stale and returning-spike checks of the encoder (`plausibility.rs`).
+    plausibility: ReadingCheck,
     /// The latch switch at the previous sample (a closing is an impact).
     switch_prev: bool,
     /// The status's standard deviations of `T_C` and `f`, with the
@@ -644,6 +647,7 @@ impl JointState {
             rejects: 0,
             last_raw: f32::NAN,
             same_run: 0,
+            plausibility: ReadingCheck::new(),
             switch_prev: false,
             coulomb_sd: CachedSqrt::EMPTY,
             viscous_sd: CachedSqrt::EMPTY,
@@ -950,9 +954,14 @@ impl<const N: usize> Monitor<N> {
         Ok(Clock { t, dt, gap, faults })
     }
 
-    /// Reads the encoders: missing, out-of-range and stuck readings are
-    /// flagged and not used.
     fn read_encoders(&mut self, sample: &Sample<N>, clock: &Clock) -> Readings<N> {
+        // The plausibility checks (`plausibility.rs`) are off across a
+        // gap and at or after a switch closing (an impact under way: a
+        // joint may stop dead).
+        let no_checks = !self.started
+            || clock.gap
+            || clock.t <= self.impact_until
+            || (0..N).any(|j| sample.latch[j] && !self.joints[j].switch_prev);
         let mut faults = [clock.faults; N];
         let mut used = [None::<f32>; N];
         let mut stuck = [false; N];
@@ -976,7 +985,25 @@ impl<const N: usize> Monitor<N> {
                 // noise-free or coarse encoder repeats exactly): the check
                 // ends with the latch, whose declaration is final.
                 let latched = js.lt.is_latched();
-                if !latched && limit > 0 && js.same_run.saturating_add(1) >= limit {
+                // Stale while moving (not used) or a spike that returned
+                // (flagged): `plausibility.rs`. Runs before the rate
+                // filter's step, on its prediction from the last sample.
+                let verdict = js.plausibility.check_filter(
+                    &Reading {
+                        t_s: clock.t,
+                        angle: Some(z * DEG),
+                        repeats: js.same_run,
+                        step: self.sensor.encoder_step_deg * DEG,
+                        moving_checks: !no_checks && !latched && !sample.latch[j],
+                    },
+                    &js.kf,
+                    self.t_prev,
+                );
+                if let Some(f) = verdict.fault() {
+                    faults[j].insert(f);
+                }
+                let stale = verdict == Verdict::Stale;
+                if !latched && limit > 0 && (stale || js.same_run.saturating_add(1) >= limit) {
                     faults[j].insert(Fault::EncoderStuck);
                     stuck[j] = true;
                 } else {

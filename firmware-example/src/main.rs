@@ -9,13 +9,26 @@
 //! (`deploywatch_core::telemetry::replay`); this binary only gives them
 //! files, static storage for the monitors, a meter and a log.
 //!
-//! The loop runs the monitor's two paths as a flight application does:
-//! `Monitor::update` once per sample (the sample-rate path: in flight, the
-//! timer interrupt of the sampling), then slices of `Monitor::predict` of
-//! bounded cost (in flight, the idle loop or a low-priority task, until the
-//! next sample). The number of slices per sample is fixed by the
-//! configuration (`margin.rollout.slices_per_sample`), so that the replay is
-//! deterministic and bit-identical with the host's.
+//! It runs the monitor's two paths as a flight application does, at two
+//! priorities sharing one monitor:
+//!
+//! - **the sample-rate path** — `Monitor::update` — in the SysTick
+//!   exception, the timer interrupt of the sampling;
+//! - **the prediction** — slices of `Monitor::predict` of bounded cost — in
+//!   the main (idle) loop, at thread priority.
+//!
+//! The monitor is shared through a `cortex_m::interrupt::Mutex<RefCell<..>>`
+//! (`SHARED`): each `predict` slice runs in a critical section, so the
+//! sample interrupt waits at most one slice (bounded, `docs/performance.md`)
+//! and never sees a half-advanced rollout. Flight code would read the
+//! sensors in the interrupt; here the sensor is the replay file, which
+//! semihosting can only read from thread mode: the main loop decodes the
+//! next sample into the mailbox (`Mailbox`) and sleeps (`wfi`) until the
+//! next timer tick has run `Monitor::update` on it. The order of the work
+//! — `update`, then `margin.rollout.slices_per_sample` slices, then the
+//! status — is the core's loop (`telemetry::replay::run_paths`), the one the
+//! host runs too, so the replay is deterministic and bit-identical with the
+//! host whatever the timer's period.
 //! It logs with defmt over semihosting stdout (decode with `defmt-print`) and
 //! ends QEMU with a semihosting exit: 0 on success, 1 on an error, 101 on a
 //! panic, 134 on a fault.
@@ -28,17 +41,20 @@
 #![no_std]
 #![no_main]
 
+use core::cell::RefCell;
 use core::ffi::CStr;
 
 // The critical-section implementation (single core) that defmt-semihosting uses.
-use cortex_m as _;
+use cortex_m::interrupt::{self, Mutex};
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::SYST;
 use cortex_m_rt::{entry, exception, ExceptionFrame};
 use defmt_semihosting as _;
 use deploywatch_core::telemetry::replay::{
-    replay as replay_input, ConfigHeader, Error, Meter, MonitorStore, Work,
+    configure, read_header, run_paths, status_frame, ConfigStore, Error, MonitorStore, Paths,
+    Source, Stored, Work,
 };
+use deploywatch_core::{Monitor, Sample};
 use semihosting::experimental::env;
 use semihosting::fs::File;
 use semihosting::io::{Read, Write};
@@ -46,6 +62,159 @@ use semihosting::process;
 
 /// Longest accepted path argument, NUL excluded [bytes].
 const MAX_PATH: usize = 127;
+
+/// SysTick's period, the replay's sample clock [core clock ticks]: 8192
+/// ticks, 327,680 instructions under `-icount shift=0` (0.33 ms of virtual
+/// time), several times the longest `update` or `predict` slice, which the
+/// meter needs (it measures modulo the period). In flight it is the sample
+/// interval (250,000 ticks for 100 Hz at 25 MHz); in the replay the samples
+/// come from a file as fast as the main loop reads them, and the period only
+/// paces the handover (QEMU idles the `wfi` in real time).
+const SAMPLE_TICKS: u32 = 8192;
+
+/// What the sample interrupt and the main loop share.
+struct Shared {
+    /// The monitor (static memory: it is kilobytes).
+    monitor: MonitorStore,
+    /// The sample handed to the interrupt, and its answer.
+    mailbox: Mailbox,
+    /// The instruction counts of both paths.
+    meter: WorkMeter,
+}
+
+/// The one monitor of the application, shared by the SysTick exception
+/// (`update`) and the main loop (`predict`, the status).
+static SHARED: Mutex<RefCell<Shared>> = Mutex::new(RefCell::new(Shared {
+    monitor: MonitorStore::Empty,
+    mailbox: Mailbox::Empty,
+    meter: WorkMeter::new(),
+}));
+
+/// The handover of one sample from the main loop to the sample interrupt.
+// `repr(u8)`: `Empty` is tag 0, so `SHARED` starts all zeros (.bss).
+#[derive(Clone, Copy)]
+#[repr(u8)]
+enum Mailbox {
+    /// Nothing to do.
+    Empty,
+    /// A sample of 2 joints for `Monitor::update`.
+    Two(Sample<2>),
+    /// A sample of 3 joints.
+    Three(Sample<3>),
+    /// `Monitor::update` has run on the sample.
+    Done,
+}
+
+/// A sample of one of the firmware's joint counts, into the mailbox.
+trait Post {
+    fn post(&self) -> Mailbox;
+}
+
+impl Post for Sample<2> {
+    fn post(&self) -> Mailbox {
+        Mailbox::Two(*self)
+    }
+}
+
+impl Post for Sample<3> {
+    fn post(&self) -> Mailbox {
+        Mailbox::Three(*self)
+    }
+}
+
+/// Runs `f` on the shared state inside a critical section; `None` if it is
+/// already borrowed (cannot happen: every borrow is inside one critical
+/// section on a single core).
+fn with_shared<T>(f: impl FnOnce(&mut Shared) -> T) -> Option<T> {
+    interrupt::free(|cs| {
+        SHARED
+            .borrow(cs)
+            .try_borrow_mut()
+            .ok()
+            .map(|mut s| f(&mut s))
+    })
+}
+
+/// The sample-rate path: on each timer tick, `Monitor::update` on the
+/// sample in the mailbox, if there is one.
+#[exception]
+fn SysTick() {
+    with_shared(|sh| {
+        let Shared {
+            monitor,
+            mailbox,
+            meter,
+        } = sh;
+        match (&*mailbox, monitor) {
+            (Mailbox::Two(s), MonitorStore::Two(m)) => {
+                meter.start();
+                m.update(s);
+                meter.stop(Work::Update);
+            }
+            (Mailbox::Three(s), MonitorStore::Three(m)) => {
+                meter.start();
+                m.update(s);
+                meter.stop(Work::Update);
+            }
+            _ => return,
+        }
+        *mailbox = Mailbox::Done;
+    });
+}
+
+/// The main loop's side of the two paths (`telemetry::replay::Paths`):
+/// samples to the interrupt, `predict` slices and the status here.
+struct Application<const N: usize>;
+
+impl<const N: usize> Paths<N> for Application<N>
+where
+    Sample<N>: Post,
+    Monitor<N>: Stored,
+{
+    fn slices_per_sample(&mut self) -> Result<u8, Error> {
+        with_shared(|sh| Monitor::<N>::get(&mut sh.monitor).map(|m| m.config_slices_per_sample()))
+            .flatten()
+            .ok_or(Error::Config)
+    }
+
+    fn update(&mut self, sample: &Sample<N>) -> Result<(), Error> {
+        with_shared(|sh| sh.mailbox = sample.post()).ok_or(Error::Config)?;
+        loop {
+            // Sleeps until an interrupt; the timer's comes within a period.
+            cortex_m::asm::wfi();
+            let done = with_shared(|sh| {
+                let done = matches!(sh.mailbox, Mailbox::Done);
+                if done {
+                    sh.mailbox = Mailbox::Empty;
+                }
+                done
+            });
+            if done.ok_or(Error::Config)? {
+                return Ok(());
+            }
+        }
+    }
+
+    fn predict(&mut self) -> Result<(), Error> {
+        // One bounded slice per critical section: the sample interrupt
+        // waits at most this long.
+        with_shared(|sh| {
+            let m = Monitor::<N>::get(&mut sh.monitor)?;
+            sh.meter.start();
+            m.predict();
+            sh.meter.stop(Work::Predict);
+            Some(())
+        })
+        .flatten()
+        .ok_or(Error::Config)
+    }
+
+    fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error> {
+        with_shared(|sh| Monitor::<N>::get(&mut sh.monitor).map(|m| status_frame(m, out)))
+            .flatten()
+            .ok_or(Error::Config)?
+    }
+}
 
 #[entry]
 fn main() -> ! {
@@ -105,41 +274,62 @@ fn replay() -> Result<u32, Error> {
         defmt::error!("the core peripherals are already taken");
         return Err(Error::Config);
     };
-    // The monitor lives in static memory (.bss), not on the stack.
-    let Some(store) = cortex_m::singleton!(: MonitorStore = MonitorStore::Empty) else {
-        defmt::error!("the monitor storage is already taken");
+    // The configuration is built in static memory (.bss), not on the stack.
+    let Some(config) = cortex_m::singleton!(: ConfigStore = ConfigStore::Empty) else {
+        defmt::error!("the configuration storage is already taken");
         return Err(Error::Config);
     };
-    let mut meter = WorkMeter::new(peripherals.SYST);
-    let result = replay_input(
-        |buf| input.read(buf).map_err(|_| ()),
-        |frame| output.write_all(frame).map_err(|_| ()),
-        &mut meter,
-        store,
-        |h: &ConfigHeader| {
-            defmt::info!(
-                "monitor of {=u8} joints, deadline {=f32} s",
-                h.joints,
-                h.deadline_s
-            )
-        },
+    let mut src = Source::new(|buf: &mut [u8]| input.read(buf).map_err(|_| ()));
+    let header = read_header(&mut src)?;
+    defmt::info!(
+        "monitor of {=u8} joints, deadline {=f32} s",
+        header.joints,
+        header.deadline_s
     );
-    meter.report();
-    result.map(|(_, samples)| samples)
+    // Start-up: the timer interrupt is not running yet.
+    with_shared(|sh| configure(&header, &mut src, config, &mut sh.monitor))
+        .ok_or(Error::Config)??;
+    let mut syst = peripherals.SYST;
+    let per_tick = calibrate(&mut syst);
+    syst.enable_interrupt();
+    let write = |frame: &[u8]| output.write_all(frame).map_err(|_| ());
+    let result = match header.joints {
+        2 => run_paths(&mut Application::<2>, &mut src, write),
+        3 => run_paths(&mut Application::<3>, &mut src, write),
+        _ => Err(Error::ConfigFrame),
+    };
+    syst.disable_interrupt();
+    if let Some(meter) = with_shared(|sh| sh.meter) {
+        meter.update.report("Monitor::update", per_tick);
+        meter.predict.report("predict", per_tick);
+    }
+    result
 }
 
 /// Calls, total and largest cost of one kind of work [SysTick ticks].
-#[derive(Clone, Copy, Default)]
+/// The total is a `u32` (saturating, which the report warns of): 4.3·10⁹
+/// ticks are 172 s of work at 25 MHz, 180 times the longest replay's
+/// (`predict` of seed001_T02_eft, 24·10⁶ ticks), and a 64-bit division
+/// would cost 0.4 KiB of flash.
+#[derive(Clone, Copy)]
 struct Tally {
     calls: u32,
-    sum: u64,
+    sum: u32,
     max: u32,
 }
 
 impl Tally {
+    const fn new() -> Self {
+        Tally {
+            calls: 0,
+            sum: 0,
+            max: 0,
+        }
+    }
+
     fn add(&mut self, ticks: u32) {
         self.calls += 1;
-        self.sum += u64::from(ticks);
+        self.sum = self.sum.saturating_add(ticks);
         self.max = self.max.max(ticks);
     }
 
@@ -148,7 +338,10 @@ impl Tally {
             defmt::info!("{=str}: 0 calls", what);
             return;
         }
-        let mean = (self.sum / u64::from(self.calls)) as u32;
+        if self.sum == u32::MAX {
+            defmt::warn!("{=str}: the tally saturated, the mean is low", what);
+        }
+        let mean = self.sum / self.calls;
         defmt::info!(
             "{=str}: {=u32} calls, mean {=u32} max {=u32} instructions ({=u32} per SysTick tick; QEMU -icount shift=0)",
             what,
@@ -164,72 +357,76 @@ impl Tally {
 /// `Monitor::predict` with SysTick on the core clock. QEMU's mps2-an386
 /// clocks the core at 25 MHz of virtual time, and `-icount shift=0` makes
 /// every instruction 1 ns of it, so one tick is 40 instructions: each call is
-/// measured to ±40, the mean far better. Without `-icount` the figures
-/// follow the host's speed and mean nothing.
+/// measured to ±40, the mean far better. SysTick runs with the period
+/// [`SAMPLE_TICKS`], so a call is measured modulo it (every call is far
+/// shorter). Without `-icount` the figures follow the host's speed and mean
+/// nothing.
+#[derive(Clone, Copy)]
 struct WorkMeter {
     t0: u32,
     update: Tally,
     predict: Tally,
     /// Ticks of an empty start/stop.
     overhead: u32,
-    /// Instructions per tick, from a loop of known length.
-    per_tick: u32,
 }
 
 impl WorkMeter {
-    /// SysTick's 24-bit counter.
-    const MASK: u32 = 0x00FF_FFFF;
-
-    fn new(mut syst: SYST) -> Self {
-        syst.set_clock_source(SystClkSource::Core);
-        syst.set_reload(Self::MASK);
-        syst.clear_current();
-        syst.enable_counter();
-        let mut m = WorkMeter {
+    const fn new() -> Self {
+        WorkMeter {
             t0: 0,
-            update: Tally::default(),
-            predict: Tally::default(),
+            update: Tally::new(),
+            predict: Tally::new(),
             overhead: 0,
-            per_tick: 0,
-        };
-        m.start();
-        m.stop(Work::Update);
-        m.overhead = m.update.max;
-        // `asm::delay(n)` runs n + 1 turns of a two-instruction loop
-        // (subs, bne; cortex-m 0.7.10).
-        const TURNS: u32 = 100_000;
-        m.update = Tally::default();
-        m.start();
-        cortex_m::asm::delay(TURNS - 1);
-        m.stop(Work::Update);
-        let ticks = m.update.max.max(1);
-        m.per_tick = (2 * TURNS + ticks / 2) / ticks;
-        m.update = Tally::default();
-        m
+        }
     }
 
-    fn report(&self) {
-        self.update.report("Monitor::update", self.per_tick);
-        self.predict.report("predict", self.per_tick);
-    }
-}
-
-impl Meter for WorkMeter {
     #[inline(always)]
     fn start(&mut self) {
         self.t0 = SYST::get_current();
     }
 
+    /// Ticks since [`WorkMeter::start`], less the meter's own.
+    #[inline(always)]
+    fn elapsed(&self) -> u32 {
+        let t1 = SYST::get_current();
+        // SysTick counts down from SAMPLE_TICKS − 1 to 0, then reloads.
+        let ticks = if self.t0 >= t1 {
+            self.t0 - t1
+        } else {
+            self.t0 + SAMPLE_TICKS - t1
+        };
+        ticks.saturating_sub(self.overhead)
+    }
+
     #[inline(always)]
     fn stop(&mut self, work: Work) {
-        let t1 = SYST::get_current();
-        // SysTick counts down.
-        let ticks = (self.t0.wrapping_sub(t1) & Self::MASK).saturating_sub(self.overhead);
+        let ticks = self.elapsed();
         match work {
             Work::Update => self.update.add(ticks),
             Work::Predict => self.predict.add(ticks),
         }
     }
+}
+
+/// Starts SysTick on the core clock with the period [`SAMPLE_TICKS`]
+/// (interrupt still off), measures the meter's own cost into the shared
+/// meter and returns the instructions per tick, from a loop of known length.
+fn calibrate(syst: &mut SYST) -> u32 {
+    syst.set_clock_source(SystClkSource::Core);
+    syst.set_reload(SAMPLE_TICKS - 1);
+    syst.clear_current();
+    syst.enable_counter();
+    let mut m = WorkMeter::new();
+    m.start();
+    m.overhead = m.elapsed();
+    // `asm::delay(n)` runs n + 1 turns of a two-instruction loop
+    // (subs, bne; cortex-m 0.7.10): 200,000 instructions, under a period.
+    const TURNS: u32 = 100_000;
+    m.start();
+    cortex_m::asm::delay(TURNS - 1);
+    let ticks = m.elapsed().max(1);
+    with_shared(|sh| sh.meter.overhead = m.overhead);
+    (2 * TURNS + ticks / 2) / ticks
 }
 
 /// Opens the input and creates the output, as the semihosting command line

@@ -189,10 +189,179 @@ where
     Ok(header)
 }
 
-/// Reads the `N` joint frames that follow the header and builds the
-/// monitor configuration, one joint frame at a time (the configuration is
-/// built on the MCU's stack, just before the monitor's own frame).
+/// Where the monitor configuration is built: the firmware gives static
+/// storage (a configuration of 3 joints is about 1.5 KiB: on the stack,
+/// under the monitor's construction, it would set the stack's peak), the
+/// host anything. One slot serves every joint count.
+// `repr(u8)`: the tag comes first and `Empty` is 0, so an empty store is
+// all zeros and a static one goes to .bss, not to .data (whose image
+// would take its size in flash).
+#[derive(Default)]
+#[allow(clippy::large_enum_variant)]
+#[repr(u8)]
+pub enum ConfigStore {
+    /// No configuration yet.
+    #[default]
+    Empty,
+    /// A configuration of 2 joints.
+    Two(MonitorConfig<2>),
+    /// A configuration of 3 joints.
+    Three(MonitorConfig<3>),
+}
+
+/// A configuration or monitor of one of the [`JOINT_COUNTS`], as held in
+/// [`ConfigStore`] / [`MonitorStore`]: the generic code of the replay
+/// reaches the slot of its `N` through it.
+pub trait Slot: Sized {
+    /// The configuration of this joint count in `store`, if that is what
+    /// it holds.
+    fn config(store: &mut ConfigStore) -> Option<&mut Self>;
+}
+
+impl Slot for MonitorConfig<2> {
+    fn config(store: &mut ConfigStore) -> Option<&mut Self> {
+        match store {
+            ConfigStore::Two(c) => Some(c),
+            _ => None,
+        }
+    }
+}
+
+impl Slot for MonitorConfig<3> {
+    fn config(store: &mut ConfigStore) -> Option<&mut Self> {
+        match store {
+            ConfigStore::Three(c) => Some(c),
+            _ => None,
+        }
+    }
+}
+
+/// The monitor of one of the [`JOINT_COUNTS`] in a [`MonitorStore`].
+pub trait Stored: Sized {
+    /// The monitor of this joint count in `store`, if that is what it holds.
+    fn get(store: &mut MonitorStore) -> Option<&mut Self>;
+    /// Moves the monitor into `store`.
+    fn put(self, store: &mut MonitorStore);
+}
+
+impl Stored for Monitor<2> {
+    fn get(store: &mut MonitorStore) -> Option<&mut Self> {
+        match store {
+            MonitorStore::Two(m) => Some(m),
+            _ => None,
+        }
+    }
+
+    #[inline(always)]
+    fn put(self, store: &mut MonitorStore) {
+        *store = MonitorStore::Two(self);
+    }
+}
+
+impl Stored for Monitor<3> {
+    fn get(store: &mut MonitorStore) -> Option<&mut Self> {
+        match store {
+            MonitorStore::Three(m) => Some(m),
+            _ => None,
+        }
+    }
+
+    #[inline(always)]
+    fn put(self, store: &mut MonitorStore) {
+        *store = MonitorStore::Three(self);
+    }
+}
+
+/// Puts a configuration of `N` joints with placeholder joints (all
+/// overwritten by [`read_config_into`]) and the default tuning in `store`.
+/// Out of line: the placeholder leaves the stack before the joint frames
+/// are read.
 #[inline(never)]
+fn placeholder_config<const N: usize>(store: &mut ConfigStore) -> Result<(), Error>
+where
+    MonitorConfig<N>: Into<ConfigStore>,
+{
+    let (panel, joint, tuning) = placeholder()?;
+    *store = MonitorConfig {
+        panels: [panel; N],
+        joints: [joint; N],
+        sensor: tuning.sensor,
+        observer: tuning.observer,
+        latch: tuning.latch,
+        margin: tuning.margin,
+    }
+    .into();
+    Ok(())
+}
+
+/// A placeholder joint (a spring of `None` always builds) and the default
+/// tuning ([`MonitorConfig::new`]'s), built once for every joint count:
+/// flash is short.
+#[inline(never)]
+fn placeholder() -> Result<
+    (
+        crate::Panel<f32>,
+        crate::monitor::JointConfig,
+        MonitorConfig<0>,
+    ),
+    Error,
+> {
+    let (panel, joint) = JointFrame::default()
+        .to_config()
+        .map_err(|_| Error::Config)?;
+    Ok((panel, joint, MonitorConfig::new([], [])))
+}
+
+/// Reads the `N` joint frames that follow the header into `config`, one
+/// frame at a time, each joint written in place (with `config` in static
+/// memory, only one joint frame is ever on the stack).
+#[inline(never)]
+pub fn read_config_into<const N: usize, R>(
+    header: &ConfigHeader,
+    src: &mut Source<R>,
+    config: &mut MonitorConfig<N>,
+) -> Result<(), Error>
+where
+    R: FnMut(&mut [u8]) -> Result<usize, ()>,
+{
+    if usize::from(header.joints) != N {
+        return Err(Error::ConfigFrame);
+    }
+    config.margin.deadline_s = header.deadline_s;
+    for j in 0..N {
+        let (Some(panel), Some(joint)) = (config.panels.get_mut(j), config.joints.get_mut(j))
+        else {
+            return Err(Error::ConfigFrame);
+        };
+        read_joint(src, panel, joint)?;
+    }
+    Ok(())
+}
+
+/// Reads one joint frame and writes its panel and joint configuration.
+/// Out of line: the frame buffer and the decoded frame are one joint's.
+#[inline(never)]
+fn read_joint<R>(
+    src: &mut Source<R>,
+    panel: &mut crate::Panel<f32>,
+    joint: &mut crate::monitor::JointConfig,
+) -> Result<(), Error>
+where
+    R: FnMut(&mut [u8]) -> Result<usize, ()>,
+{
+    let mut buf = [0u8; JOINT_FRAME_MAX];
+    let frame: JointFrame = match src.next_frame(&mut buf) {
+        Ok(Some(f)) => telemetry::decode(f).map_err(|_| Error::ConfigFrame)?,
+        Err(FrameError::Read) => return Err(Error::Read),
+        _ => return Err(Error::ConfigFrame),
+    };
+    (*panel, *joint) = frame.to_config().map_err(|_| Error::Config)?;
+    Ok(())
+}
+
+/// Reads the `N` joint frames that follow the header and returns the
+/// monitor configuration (on the caller's stack: the host's way;
+/// the firmware uses [`configure`]).
 pub fn read_config<const N: usize, R>(
     header: &ConfigHeader,
     src: &mut Source<R>,
@@ -200,29 +369,50 @@ pub fn read_config<const N: usize, R>(
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
 {
-    if usize::from(header.joints) != N {
-        return Err(Error::ConfigFrame);
-    }
-    // Placeholders, all overwritten (a spring of `None` always builds).
     let (panel, joint) = JointFrame::default()
         .to_config()
         .map_err(|_| Error::Config)?;
     let mut config = MonitorConfig::new([panel; N], [joint; N]);
-    config.margin.deadline_s = header.deadline_s;
-    let mut buf = [0u8; JOINT_FRAME_MAX];
-    for j in 0..N {
-        let frame: JointFrame = match src.next_frame(&mut buf) {
-            Ok(Some(f)) => telemetry::decode(f).map_err(|_| Error::ConfigFrame)?,
-            Err(FrameError::Read) => return Err(Error::Read),
-            _ => return Err(Error::ConfigFrame),
-        };
-        let (p, c) = frame.to_config().map_err(|_| Error::Config)?;
-        if let (Some(ps), Some(cs)) = (config.panels.get_mut(j), config.joints.get_mut(j)) {
-            *ps = p;
-            *cs = c;
-        }
-    }
+    read_config_into(header, src, &mut config)?;
     Ok(config)
+}
+
+/// The configuration phase of a replay, after [`read_header`]: reads the
+/// joint frames into `config` and builds the monitor of the header's joint
+/// count in `store`. With both stores in static memory the stack holds, in
+/// turn, one joint frame, then the monitor's construction — never the
+/// configuration or two of them at once.
+pub fn configure<R>(
+    header: &ConfigHeader,
+    src: &mut Source<R>,
+    config: &mut ConfigStore,
+    store: &mut MonitorStore,
+) -> Result<(), Error>
+where
+    R: FnMut(&mut [u8]) -> Result<usize, ()>,
+{
+    match header.joints {
+        2 => configure_n::<2, R>(header, src, config, store),
+        3 => configure_n::<3, R>(header, src, config, store),
+        _ => Err(Error::ConfigFrame),
+    }
+}
+
+fn configure_n<const N: usize, R>(
+    header: &ConfigHeader,
+    src: &mut Source<R>,
+    config: &mut ConfigStore,
+    store: &mut MonitorStore,
+) -> Result<(), Error>
+where
+    R: FnMut(&mut [u8]) -> Result<usize, ()>,
+    MonitorConfig<N>: Into<ConfigStore> + Slot,
+    Monitor<N>: Stored,
+{
+    placeholder_config::<N>(config)?;
+    let c = MonitorConfig::<N>::config(config).ok_or(Error::Config)?;
+    read_config_into(header, src, c)?;
+    build(c, store)
 }
 
 /// The two kinds of work [`run`] does, each metered on its own.
@@ -252,8 +442,10 @@ impl Meter for () {
 /// Where the monitor lives: the firmware gives static storage (a monitor is
 /// kilobytes; on the stack it would double the stack's peak), the host
 /// anything. One slot serves every joint count.
+// `repr(u8)`: an empty store is all zeros (.bss), as for [`ConfigStore`].
 #[derive(Default)]
 #[allow(clippy::large_enum_variant)]
+#[repr(u8)]
 pub enum MonitorStore {
     /// No monitor yet.
     #[default]
@@ -264,19 +456,73 @@ pub enum MonitorStore {
     Three(Monitor<3>),
 }
 
-/// Replays the sample frames left in `src` through `monitor`, as a flight
-/// application schedules the two paths: [`Monitor::update`] on every sample
-/// (the sample-rate path), then `margin.rollout.slices_per_sample` slices
-/// of [`Monitor::predict`] (the idle time before the next sample; fixed, so
-/// that the replay is deterministic and the same as the host's
-/// [`Monitor::update_and_predict`]), each inside `meter`'s brackets. Hands
-/// each status frame, as of the end of the slices, to `write`. Returns the
-/// number of samples.
+/// How [`run_paths`] reaches the monitor's two paths. The loop (what runs,
+/// in which order, how often) is [`run_paths`]'s alone; an implementation
+/// only says *where* each path runs: [`Direct`] calls the monitor in
+/// place (the host), the firmware hands each sample to its timer
+/// interrupt and runs the prediction slices in its idle loop.
+pub trait Paths<const N: usize> {
+    /// Slices of [`Monitor::predict`] after each sample
+    /// ([`Monitor::config_slices_per_sample`]).
+    fn slices_per_sample(&mut self) -> Result<u8, Error>;
+    /// Runs [`Monitor::update`] on `sample` (the sample-rate path) and
+    /// returns once it has.
+    fn update(&mut self, sample: &Sample<N>) -> Result<(), Error>;
+    /// Runs one slice of [`Monitor::predict`] (the low-priority path).
+    fn predict(&mut self) -> Result<(), Error>;
+    /// Writes the frame of the monitor's current [`Status`] into `out`
+    /// ([`telemetry::encode`]) and returns its length.
+    fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error>;
+}
+
+/// Both paths called in place on a monitor the caller holds, each inside
+/// `meter`'s brackets.
+pub struct Direct<'a, const N: usize, M> {
+    /// The monitor.
+    pub monitor: &'a mut Monitor<N>,
+    /// Its meter.
+    pub meter: &'a mut M,
+}
+
+impl<const N: usize, M: Meter> Paths<N> for Direct<'_, N, M> {
+    fn slices_per_sample(&mut self) -> Result<u8, Error> {
+        Ok(self.monitor.config_slices_per_sample())
+    }
+
+    fn update(&mut self, sample: &Sample<N>) -> Result<(), Error> {
+        self.meter.start();
+        self.monitor.update(sample);
+        self.meter.stop(Work::Update);
+        Ok(())
+    }
+
+    fn predict(&mut self) -> Result<(), Error> {
+        self.meter.start();
+        self.monitor.predict();
+        self.meter.stop(Work::Predict);
+        Ok(())
+    }
+
+    fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error> {
+        status_frame(self.monitor, out)
+    }
+}
+
+/// The frame of `monitor`'s current status in `out`; its length.
+pub fn status_frame<const N: usize>(monitor: &Monitor<N>, out: &mut [u8]) -> Result<usize, Error> {
+    let status: &Status<N> = monitor.status();
+    telemetry::encode(status, out)
+        .map(|f| f.len())
+        .map_err(|_| Error::Encode)
+}
+
+/// Replays the sample frames left in `src` through `monitor` in place
+/// ([`Direct`]): [`run_paths`]'s loop.
 #[inline(never)]
 pub fn run<const N: usize, R, W, M>(
     monitor: &mut Monitor<N>,
     src: &mut Source<R>,
-    mut write: W,
+    write: W,
     meter: &mut M,
 ) -> Result<u32, Error>
 where
@@ -284,10 +530,33 @@ where
     W: FnMut(&[u8]) -> Result<(), ()>,
     M: Meter,
 {
+    run_paths(&mut Direct { monitor, meter }, src, write)
+}
+
+/// The replay loop: the sample frames left in `src`, through the monitor's
+/// two paths as a flight application schedules them —
+/// [`Monitor::update`] on every sample (the sample-rate path), then
+/// `margin.rollout.slices_per_sample` slices of [`Monitor::predict`] (the
+/// idle time before the next sample; fixed, so that the replay is
+/// deterministic and the same as the host's
+/// [`Monitor::update_and_predict`]). Hands each status frame, as of the end
+/// of the slices, to `write`. Returns the number of samples. The one
+/// definition of the schedule: the host and the firmware both run it.
+#[inline(never)]
+pub fn run_paths<const N: usize, R, W, P>(
+    paths: &mut P,
+    src: &mut Source<R>,
+    mut write: W,
+) -> Result<u32, Error>
+where
+    R: FnMut(&mut [u8]) -> Result<usize, ()>,
+    W: FnMut(&[u8]) -> Result<(), ()>,
+    P: Paths<N>,
+{
     let mut frame = [0u8; SAMPLE_FRAME_MAX];
     let mut out = [0u8; STATUS_FRAME_MAX];
     let mut index: u32 = 0;
-    let slices = monitor.config_slices_per_sample();
+    let slices = paths.slices_per_sample()?;
     loop {
         let buf = frame.get_mut(..sample_frame_max(N)).ok_or(Error::Encode)?;
         let f = match src.next_frame(buf) {
@@ -298,26 +567,23 @@ where
             Err(FrameError::TooLong) => return Err(Error::Frame { index }),
         };
         let sample: Sample<N> = telemetry::decode(f).map_err(|_| Error::Frame { index })?;
-        meter.start();
-        monitor.update(&sample);
-        meter.stop(Work::Update);
+        paths.update(&sample)?;
         for _ in 0..slices {
-            meter.start();
-            monitor.predict();
-            meter.stop(Work::Predict);
+            paths.predict()?;
         }
-        let status: &Status<N> = monitor.status();
-        let bytes = telemetry::encode(status, &mut out).map_err(|_| Error::Encode)?;
-        write(bytes).map_err(|_| Error::Write)?;
+        let n = paths.status_frame(&mut out)?;
+        write(out.get(..n).ok_or(Error::Encode)?).map_err(|_| Error::Write)?;
         index += 1;
     }
     Ok(index)
 }
 
-/// The whole replay of an input stream: the configuration frames, then the
-/// samples through a monitor of the header's joint count, built in `store`.
-/// Returns the joint count and the number of samples. `on_config` is called
-/// with the header once it is read (the firmware logs it).
+/// The whole replay of an input stream, in place: the configuration frames,
+/// then the samples through a monitor of the header's joint count, built in
+/// `store` ([`Direct`]). Returns the joint count and the number of samples.
+/// `on_config` is called with the header once it is read. The configuration
+/// is built on the stack here (the host's way); the firmware runs the same
+/// steps with static stores and its own [`Paths`].
 pub fn replay<R, W, M>(
     read: R,
     write: W,
@@ -333,24 +599,12 @@ where
     let mut src = Source::new(read);
     let header = read_header(&mut src)?;
     on_config(&header);
-    let n = match header.joints {
-        2 => {
-            let config = read_config::<2, R>(&header, &mut src)?;
-            build(&config, store)?;
-            match store {
-                MonitorStore::Two(m) => run(m, &mut src, write, meter),
-                _ => Err(Error::Config),
-            }
-        }
-        3 => {
-            let config = read_config::<3, R>(&header, &mut src)?;
-            build(&config, store)?;
-            match store {
-                MonitorStore::Three(m) => run(m, &mut src, write, meter),
-                _ => Err(Error::Config),
-            }
-        }
-        _ => Err(Error::ConfigFrame),
+    let mut config = ConfigStore::Empty;
+    configure(&header, &mut src, &mut config, store)?;
+    let n = match store {
+        MonitorStore::Two(m) => run(m, &mut src, write, meter),
+        MonitorStore::Three(m) => run(m, &mut src, write, meter),
+        MonitorStore::Empty => Err(Error::Config),
     }?;
     Ok((header.joints, n))
 }
@@ -360,20 +614,26 @@ where
 #[inline(never)]
 fn build<const N: usize>(config: &MonitorConfig<N>, store: &mut MonitorStore) -> Result<(), Error>
 where
-    Monitor<N>: Into<MonitorStore>,
+    Monitor<N>: Stored,
 {
-    *store = Monitor::new(config).map_err(|_| Error::Config)?.into();
-    Ok(())
-}
-
-impl From<Monitor<2>> for MonitorStore {
-    fn from(m: Monitor<2>) -> Self {
-        MonitorStore::Two(m)
+    match Monitor::new(config) {
+        // Moved into the store's slot (no second copy in a store value).
+        Ok(m) => {
+            m.put(store);
+            Ok(())
+        }
+        Err(_) => Err(Error::Config),
     }
 }
 
-impl From<Monitor<3>> for MonitorStore {
-    fn from(m: Monitor<3>) -> Self {
-        MonitorStore::Three(m)
+impl From<MonitorConfig<2>> for ConfigStore {
+    fn from(c: MonitorConfig<2>) -> Self {
+        ConfigStore::Two(c)
+    }
+}
+
+impl From<MonitorConfig<3>> for ConfigStore {
+    fn from(c: MonitorConfig<3>) -> Self {
+        ConfigStore::Three(c)
     }
 }

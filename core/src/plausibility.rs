@@ -1,0 +1,364 @@
+//! Plausibility of each encoder reading against the joint's own motion: the
+//! two encoder faults that the rate filter's innovation gate cannot see.
+//!
+//! - **A stale reading** (a frozen or dropped-out encoder that repeats its
+//!   last value): the same reading, to the bit, as the previous one while
+//!   the readings before had the joint moving by more than
+//!   [`STALE_MOTION_STEPS`] quantisation steps per interval when the
+//!   repeats began (the slope of the last three readings). A healthy
+//!   encoder moving that far cannot repeat its code: with the encoder's
+//!   noise σ ≈ 0.9 step, the difference of two readings is
+//!   `N(m, (0.9·√2)²)` steps for a motion of `m` steps, and it rounds to
+//!   the same code with probability `Φ((0.5 − m)/1.27)`, 2·10⁻⁴ for
+//!   `m = 5`; [`STALE_REPEATS`] = 2 repeats in a row make it about 4·10⁻⁸ per
+//!   sample. The gate cannot see it: a stale value is within half a degree
+//!   of a slow joint's prediction, and the stuck-encoder count
+//!   (`SensorConfig::stuck_samples`, 20 repeats) is for a joint at rest.
+//! - **A spike that returns**: a reading that leaves the prediction by more
+//!   than [`DEPART_RAD`] and, within [`SPIKE_SAMPLES`] samples, comes back
+//!   to within [`RETURN_FRACTION`] of that jump of where the joint was
+//!   going before it left: the line through the three readings before the
+//!   jump, extrapolated (the readings themselves, not the rate filter,
+//!   whose gate near a latch is wide open and whose rate there follows
+//!   every reading). Inside a tape spring's
+//!   snap zone the filter's gate is wide open (the model cannot follow the
+//!   snap), so a 2-sample spike there can be accepted as motion; it is
+//!   flagged when the readings come back. A real change of motion — the
+//!   latch impact that stops a joint, the impulse that changes the others'
+//!   rates — leaves the old trajectory and does not return to it.
+//!
+//! Per joint, a few floating-point operations per sample: the checks run in
+//! the encoder stage of [`Monitor::update`](crate::Monitor::update), before
+//! the rate filter takes the reading.
+
+use crate::faults::Fault;
+use crate::observer::RateFilter;
+
+/// Predicted motion over one sample interval above which a repeated
+/// reading is stale [quantisation steps].
+pub const STALE_MOTION_STEPS: f32 = 5.0;
+/// Consecutive repeats (while moving) that make a reading stale.
+pub const STALE_REPEATS: u16 = 2;
+/// Departure from the filter's extrapolation that may start a spike [rad]
+/// (0.2°: 7 σ of the reference encoder; a departure alone flags nothing).
+pub const DEPART_RAD: f32 = 0.2 * core::f32::consts::PI / 180.0;
+/// Samples, from the first that departs, a spike may last.
+pub const SPIKE_SAMPLES: u8 = 2;
+/// A reading back within this fraction of the jump from the old
+/// trajectory has returned [1].
+pub const RETURN_FRACTION: f32 = 0.3;
+
+/// Readings of the line a spike is judged against.
+const LINE_READINGS: usize = 3;
+
+/// The rate filter's state at the previous sample: where the joint was
+/// going.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Course {
+    /// Time of the previous sample [s].
+    pub t_s: f32,
+    /// Angle [rad].
+    pub angle: f32,
+    /// Rate [rad/s].
+    pub rate: f32,
+    /// Acceleration [rad/s²].
+    pub acc: f32,
+}
+
+impl Course {
+    /// The course of `filter`, whose last sample was at `t_s` [s].
+    pub fn of(filter: &RateFilter, t_s: f32) -> Self {
+        Course {
+            t_s,
+            angle: filter.angle(),
+            rate: filter.rate(),
+            acc: filter.acceleration(),
+        }
+    }
+
+    /// The angle extrapolated to `t` [rad].
+    fn at(&self, t: f32) -> f32 {
+        let tau = t - self.t_s;
+        self.angle + tau * (self.rate + 0.5 * tau * self.acc)
+    }
+}
+
+/// One encoder reading as the checks see it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reading {
+    /// Time stamp [s].
+    pub t_s: f32,
+    /// The reading [rad], in range and finite; `None` when missing.
+    pub angle: Option<f32>,
+    /// How many samples in a row have repeated it exactly.
+    pub repeats: u16,
+    /// The encoder's quantisation step [rad].
+    pub step: f32,
+    /// False where motion checks do not apply: the joint is latched, its
+    /// switch closed or an impact is under way (the joint may stop dead),
+    /// or the sample follows a gap.
+    pub moving_checks: bool,
+}
+
+/// What the checks say of one reading.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    /// Nothing wrong seen.
+    Plausible,
+    /// The reading repeats a stale value: not to be used (as a stuck one,
+    /// [`Fault::EncoderStuck`]).
+    Stale,
+    /// The last readings were a spike that has now returned: flag
+    /// [`Fault::EncoderOutlier`] (this reading is good).
+    SpikeReturned,
+}
+
+impl Verdict {
+    /// The fault to raise, if any.
+    pub fn fault(self) -> Option<Fault> {
+        match self {
+            Verdict::Plausible => None,
+            Verdict::Stale => Some(Fault::EncoderStuck),
+            Verdict::SpikeReturned => Some(Fault::EncoderOutlier),
+        }
+    }
+}
+
+/// A departure from the course, waiting to see whether it returns.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Departure {
+    /// The course before it.
+    course: Course,
+    /// Its size [rad].
+    jump: f32,
+    /// Samples since it started, the departing one included.
+    samples: u8,
+}
+
+/// The plausibility checks of one encoder.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct ReadingCheck {
+    pending: Option<Departure>,
+    /// The last readings, (time [s], angle [rad]), newest last; the last
+    /// `seen` of them valid.
+    last: [(f32, f32); LINE_READINGS],
+    seen: u8,
+    /// The filter's rate when the current run of repeats began [rad/s]:
+    /// the first repeat is fused as a stop, so the later ones are judged
+    /// against the motion before it.
+    repeat_rate: f32,
+}
+
+impl ReadingCheck {
+    /// A check with nothing pending.
+    pub const fn new() -> Self {
+        ReadingCheck {
+            pending: None,
+            last: [(0.0, 0.0); LINE_READINGS],
+            seen: 0,
+            repeat_rate: 0.0,
+        }
+    }
+
+    /// Checks `reading` against the joint's rate filter as it stood after
+    /// the previous sample, at `t_prev` [s]. Out of line: one copy for
+    /// every joint count.
+    #[inline(never)]
+    pub fn check_filter(&mut self, reading: &Reading, filter: &RateFilter, t_prev: f32) -> Verdict {
+        self.check(reading, &Course::of(filter, t_prev))
+    }
+
+    /// Checks `reading` against `course`, the rate filter's state at the
+    /// previous sample.
+    pub fn check(&mut self, reading: &Reading, course: &Course) -> Verdict {
+        if !reading.moving_checks {
+            self.pending = None;
+            self.seen = 0;
+            // A run of repeats that begins here is not judged as stale.
+            self.repeat_rate = 0.0;
+            return Verdict::Plausible;
+        }
+        let Some(z) = reading.angle else {
+            self.age();
+            return Verdict::Plausible;
+        };
+        let dt = reading.t_s - course.t_s;
+        let line = self.line();
+        if reading.repeats <= 1 {
+            // The readings' own rate when the repeats began (the rate
+            // filter's, before three readings; it follows every reading
+            // near a latch).
+            self.repeat_rate = line.map_or(course.rate, |l| l.rate);
+        }
+        let motion = libm::fabsf(self.repeat_rate) * dt;
+        if reading.repeats >= STALE_REPEATS && motion > STALE_MOTION_STEPS * reading.step {
+            self.pending = None;
+            return Verdict::Stale;
+        }
+        if let Some(d) = self.pending {
+            let off = libm::fabsf(z - d.course.at(reading.t_s));
+            self.push(reading.t_s, z);
+            if off <= RETURN_FRACTION * libm::fabsf(d.jump) {
+                self.pending = None;
+                // Start the line afresh from the good reading.
+                self.seen = 1;
+                return Verdict::SpikeReturned;
+            }
+            self.age();
+            return Verdict::Plausible;
+        }
+        if let Some(line) = line {
+            let jump = z - line.at(reading.t_s);
+            if libm::fabsf(jump) > DEPART_RAD {
+                self.pending = Some(Departure {
+                    course: line,
+                    jump,
+                    samples: 1,
+                });
+            }
+        }
+        self.push(reading.t_s, z);
+        Verdict::Plausible
+    }
+
+    /// The line through the last three readings: the slope of the outer
+    /// two, through their mean (the least-squares line of three equally
+    /// spaced readings), at the newest one's time.
+    fn line(&self) -> Option<Course> {
+        if usize::from(self.seen) < LINE_READINGS {
+            return None;
+        }
+        let [(t0, z0), (t1, z1), (t2, z2)] = self.last;
+        if !(t2 > t0) {
+            return None;
+        }
+        let rate = (z2 - z0) / (t2 - t0);
+        const THIRD: f32 = 1.0 / 3.0;
+        let (tm, zm) = ((t0 + t1 + t2) * THIRD, (z0 + z1 + z2) * THIRD);
+        Some(Course {
+            t_s: t2,
+            angle: zm + rate * (t2 - tm),
+            rate,
+            acc: 0.0,
+        })
+    }
+
+    fn push(&mut self, t: f32, z: f32) {
+        self.last.rotate_left(1);
+        self.last[LINE_READINGS - 1] = (t, z);
+        self.seen = self.seen.saturating_add(1).min(LINE_READINGS as u8);
+    }
+
+    /// One more sample without a return; past [`SPIKE_SAMPLES`] the
+    /// departure was real motion.
+    fn age(&mut self) {
+        if let Some(d) = &mut self.pending {
+            d.samples = d.samples.saturating_add(1);
+            if d.samples > SPIKE_SAMPLES {
+                self.pending = None;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const DEG: f32 = core::f32::consts::PI / 180.0;
+    const STEP: f32 = 360.0 / 16384.0 * DEG;
+
+    fn reading(t: f32, deg: f32, repeats: u16) -> Reading {
+        Reading {
+            t_s: t,
+            angle: Some(deg * DEG),
+            repeats,
+            step: STEP,
+            moving_checks: true,
+        }
+    }
+
+    /// A joint at −100°/s from 10° at t = 0.
+    fn course(t: f32) -> Course {
+        Course {
+            t_s: t,
+            angle: (10.0 - 100.0 * t) * DEG,
+            rate: -100.0 * DEG,
+            acc: 0.0,
+        }
+    }
+
+    #[test]
+    fn a_two_sample_spike_that_returns_is_flagged_when_it_returns() {
+        let mut c = ReadingCheck::new();
+        // 0.01–0.03: on course; 0.04, 0.05: at 0° (a spike to the latch
+        // angle); 0.06: back on course (4°).
+        for (t, deg) in [
+            (0.01, 9.0),
+            (0.02, 8.0),
+            (0.03, 7.0),
+            (0.04, 0.0),
+            (0.05, 0.0),
+        ] {
+            assert_eq!(
+                c.check(&reading(t, deg, 0), &course(t - 0.01)),
+                Verdict::Plausible
+            );
+        }
+        assert_eq!(
+            c.check(&reading(0.06, 4.0, 0), &course(0.05)),
+            Verdict::SpikeReturned
+        );
+    }
+
+    #[test]
+    fn a_stop_does_not_return_and_is_not_flagged() {
+        let mut c = ReadingCheck::new();
+        // The joint stops dead at 8° at 0.02 s and stays.
+        let mut v = Vec::new();
+        for (k, deg) in [9.0, 8.0, 8.01, 7.99, 8.0, 8.02].iter().enumerate() {
+            let t = 0.01 * (k + 1) as f32;
+            v.push(c.check(&reading(t, *deg, 0), &course(t - 0.01)));
+        }
+        assert!(v.iter().all(|x| *x == Verdict::Plausible), "{v:?}");
+    }
+
+    #[test]
+    fn repeats_are_stale_only_while_moving() {
+        // Moving at 100°/s: the first repeat is fused (the filter slows
+        // down), the second is judged against the motion before it.
+        let mut c = ReadingCheck::new();
+        assert_eq!(
+            c.check(&reading(0.01, 9.0, 0), &course(0.0)),
+            Verdict::Plausible
+        );
+        assert_eq!(
+            c.check(&reading(0.02, 9.0, 1), &course(0.01)),
+            Verdict::Plausible
+        );
+        let slowed = Course {
+            rate: -DEG,
+            ..course(0.02)
+        };
+        assert_eq!(c.check(&reading(0.03, 9.0, 2), &slowed), Verdict::Stale);
+        // At rest, repeats are what a quantised encoder does.
+        let rest = Course {
+            t_s: 0.01,
+            angle: 8.0 * DEG,
+            rate: 0.001,
+            acc: 0.0,
+        };
+        let mut c = ReadingCheck::new();
+        for k in 0..5u16 {
+            let t = 0.02 + 0.01 * f32::from(k);
+            let at = Course {
+                t_s: t - 0.01,
+                ..rest
+            };
+            assert_eq!(c.check(&reading(t, 8.0, k), &at), Verdict::Plausible);
+        }
+        let mut off = reading(0.02, 8.0, 2);
+        off.moving_checks = false;
+        assert_eq!(c.check(&off, &course(0.01)), Verdict::Plausible);
+    }
+}
