@@ -634,6 +634,7 @@ impl CachedSqrt {
 impl JointState {
     /// A joint at its stowed angle, waiting for the first sample; `sd` is
     /// the encoder's standard deviation [rad].
+    #[inline(never)]
     fn new(joint: &JointConfig, sd: f32, observer: &ObserverConfig, spring_sd_rel: f32) -> Self {
         let mut kf = RateFilter::new(joint.stowed_deg * DEG, sd, START_RATE_SD, START_ACC_SD);
         kf.set_jerk_psd(observer.jerk_psd);
@@ -659,6 +660,221 @@ impl JointState {
     fn locked(&self) -> bool {
         self.lt.is_latched() || self.lt.held_at_latch()
     }
+
+    /// The joint's rate filter at one sample: prediction and fusion of its
+    /// reading (see [`Monitor::track_rates`]; `docs/monitor.md` §2, §6.2).
+    /// Not generic over the joint count, so the monitors of 2 and 3 joints
+    /// share one copy in flash.
+    #[inline(never)]
+    fn track_rate(
+        &mut self,
+        reading: Option<f32>,
+        faults: &mut FaultFlags,
+        ctx: &RateContext<'_>,
+    ) -> RateOutcome {
+        let (r_meas, sd) = (ctx.meas_var, ctx.meas_sd);
+        let observer = ctx.observer;
+        let gap = ctx.clock.gap;
+        let gate2 = observer.gate_sigma * observer.gate_sigma;
+        let zone = observer.snap_zone_deg * DEG;
+        let latched = self.lt.is_latched();
+        let kf = &mut self.kf;
+        let q_floor = if !latched && libm::fabsf(kf.angle()) < zone {
+            observer.zone_jerk_psd
+        } else {
+            0.0
+        };
+        if ctx.inflate && !latched {
+            kf.inflate(IMPACT_RATE_VAR, ACC_SHOCK_VAR);
+        }
+        kf.predict(ctx.clock.dt, q_floor);
+        if gap {
+            kf.inflate(GAP_RATE_VAR, ACC_SHOCK_VAR);
+        }
+        let Some(z) = reading else {
+            return RateOutcome::Used;
+        };
+        let r = if gap { r_meas + GAP_MEAS_VAR } else { r_meas };
+        // A reading beyond the gate but within `MANOEUVRE_GATE` gates of
+        // the prediction is a manoeuvre the white-jerk model did not
+        // foresee (a joint that sticks under its friction stops with a
+        // step in acceleration), not a spike.
+        let nu = z - kf.angle();
+        let manoeuvre = nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r);
+        match kf.update(z, r, gate2, &observer.jerk_adaptation) {
+            Fusion::Accepted => {
+                self.rejects = 0;
+                RateOutcome::Used
+            }
+            Fusion::Rejected if ctx.impact || manoeuvre => {
+                let rate = if ctx.impact { 0.0 } else { kf.rate() };
+                *kf = RateFilter::new(z, sd, IMPACT_RATE_SD, START_ACC_SD);
+                kf.set_rate(rate, 0.0);
+                kf.set_jerk_psd(observer.jerk_psd);
+                self.rejects = 0;
+                if ctx.impact {
+                    RateOutcome::Restarted
+                } else {
+                    RateOutcome::Used
+                }
+            }
+            Fusion::Rejected => {
+                faults.insert(Fault::EncoderOutlier);
+                self.rejects = self.rejects.saturating_add(1);
+                if self.rejects >= MAX_REJECTS {
+                    *kf = RateFilter::new(z, sd, RESET_RATE_SD, RESET_ACC_SD);
+                    kf.set_jerk_psd(observer.jerk_psd);
+                    faults.insert(Fault::EstimatorReset);
+                    self.rejects = 0;
+                    RateOutcome::Restarted
+                } else {
+                    RateOutcome::GatedOut
+                }
+            }
+        }
+    }
+
+    /// Checks one encoder reading `z` [deg] (the joint's latch switch
+    /// `switch`): missing, out of range, stuck or stale readings are flagged
+    /// and not used, a spike that returned is flagged (`plausibility.rs`).
+    /// Returns the reading to use [rad], the faults and whether the encoder
+    /// is frozen. Not generic over the joint count (one copy in flash).
+    #[inline(never)]
+    fn read_encoder(
+        &mut self,
+        z: f32,
+        switch: bool,
+        ctx: &ReadingContext,
+    ) -> (Option<f32>, FaultFlags, bool) {
+        let mut faults = FaultFlags::EMPTY;
+        if !z.is_finite() {
+            faults.insert(Fault::EncoderMissing);
+            return (None, faults, false);
+        }
+        if libm::fabsf(z) > ENCODER_RANGE_DEG {
+            faults.insert(Fault::EncoderRange);
+            return (None, faults, false);
+        }
+        // A reading frozen to the same value for longer than the noise
+        // allows is a stuck (or stale) encoder: not used.
+        if z == self.last_raw {
+            self.same_run = self.same_run.saturating_add(1);
+        } else {
+            self.same_run = 0;
+            self.last_raw = z;
+        }
+        // A latched joint's encoder reads a constant by rights (a
+        // noise-free or coarse encoder repeats exactly): the check ends
+        // with the latch, whose declaration is final.
+        let latched = self.lt.is_latched();
+        // Stale while moving (not used) or a spike that returned (flagged):
+        // `plausibility.rs`. Runs before the rate filter's step, on its
+        // prediction from the last sample.
+        let verdict = self.plausibility.check_filter(
+            &Reading {
+                t_s: ctx.t,
+                angle: Some(z * DEG),
+                repeats: self.same_run,
+                step: ctx.step_rad,
+                moving_checks: !ctx.no_checks && !latched && !switch,
+            },
+            &self.kf,
+            ctx.t_prev,
+        );
+        if let Some(f) = verdict.fault() {
+            faults.insert(f);
+        }
+        let stale = verdict == Verdict::Stale;
+        let limit = ctx.stuck_limit;
+        if !latched && limit > 0 && (stale || self.same_run.saturating_add(1) >= limit) {
+            faults.insert(Fault::EncoderStuck);
+            (None, faults, true)
+        } else {
+            (Some(z * DEG), faults, false)
+        }
+    }
+
+    /// The joint's status line: estimates (non-finite values as 0), the
+    /// latch `state`, the `faults` of this sample and the prediction.
+    /// Not generic over the joint count (one copy in flash).
+    #[inline(never)]
+    fn status(&mut self, faults: FaultFlags, state: LatchState, forecast: Forecast) -> JointStatus {
+        let est = self.fo.estimate();
+        let coulomb_sd = self.coulomb_sd.sqrt(est.coulomb_var);
+        let viscous_sd = self.viscous_sd.sqrt(est.viscous_var);
+        let margin_pct = if self.lt.is_latched() {
+            None
+        } else {
+            self.margin.map(|r| r.margin_pct)
+        };
+        let prior_sd = self.fo.prior().viscous_sd_nms;
+        JointStatus {
+            phi_deg: finite(self.kf.angle() / DEG),
+            rate_deg_s: finite(self.kf.rate() / DEG),
+            coulomb_nm: finite(est.coulomb_nm),
+            coulomb_sd_nm: finite(coulomb_sd),
+            viscous_nms: finite(est.viscous_nms),
+            viscous_sd_nms: finite(viscous_sd),
+            viscous: Observability::of(est.viscous_var, prior_sd * prior_sd, VISCOUS_RESOLVED_SD),
+            friction_torque_nm: finite(self.fo.disturbance_nm()),
+            latch: state,
+            margin_pct: margin_pct.map(finite),
+            prediction: forecast.prediction,
+            confidence: forecast.confidence,
+            time_to_latch_s: forecast.time_to_latch_s.filter(|v| v.is_finite()),
+            faults,
+        }
+    }
+}
+
+/// What the encoder checks of one sample share (see
+/// [`JointState::read_encoder`]).
+struct ReadingContext {
+    /// Time stamp of this sample and of the last one used [s].
+    t: f32,
+    t_prev: f32,
+    /// Encoder quantisation step [rad].
+    step_rad: f32,
+    /// Repeats of one value that make an encoder stuck (0: never).
+    stuck_limit: u16,
+    /// The plausibility checks are off (first sample, gap, impact).
+    no_checks: bool,
+}
+
+/// A joint's latch / stall prediction, as the status reports it.
+#[derive(Clone, Copy, Debug)]
+struct Forecast {
+    prediction: Prediction,
+    confidence: f32,
+    /// Time to the latch [s].
+    time_to_latch_s: Option<f32>,
+}
+
+/// What the rate filters of one sample share (see [`JointState::track_rate`]).
+struct RateContext<'a> {
+    /// The clock's verdict on this sample.
+    clock: Clock,
+    /// Within the impact window after a switch closed.
+    impact: bool,
+    /// Widen the rate filter's prediction for the impact.
+    inflate: bool,
+    /// Variance of one reading [rad²] and its square root [rad].
+    meas_var: f32,
+    meas_sd: f32,
+    /// The observer's tuning.
+    observer: &'a ObserverConfig,
+}
+
+/// What a joint's rate filter made of its reading.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum RateOutcome {
+    /// Fused, or none to fuse.
+    Used,
+    /// Rejected as an outlier; the reading is not used.
+    GatedOut,
+    /// The filter restarted at the reading (impact or reset): the friction
+    /// learning waits for the settling.
+    Restarted,
 }
 
 /// The clock's verdict on a sample's time stamp.
@@ -965,51 +1181,19 @@ impl<const N: usize> Monitor<N> {
         let mut faults = [clock.faults; N];
         let mut used = [None::<f32>; N];
         let mut stuck = [false; N];
-        let limit = self.sensor.stuck_samples;
+        let ctx = ReadingContext {
+            t: clock.t,
+            t_prev: self.t_prev,
+            step_rad: self.sensor.encoder_step_deg * DEG,
+            stuck_limit: self.sensor.stuck_samples,
+            no_checks,
+        };
         for (j, js) in self.joints.iter_mut().enumerate() {
-            let z = sample.phi_deg[j];
-            if !z.is_finite() {
-                faults[j].insert(Fault::EncoderMissing);
-            } else if libm::fabsf(z) > ENCODER_RANGE_DEG {
-                faults[j].insert(Fault::EncoderRange);
-            } else {
-                // A reading frozen to the same value for longer than the
-                // noise allows is a stuck (or stale) encoder: not used.
-                if z == js.last_raw {
-                    js.same_run = js.same_run.saturating_add(1);
-                } else {
-                    js.same_run = 0;
-                    js.last_raw = z;
-                }
-                // A latched joint's encoder reads a constant by rights (a
-                // noise-free or coarse encoder repeats exactly): the check
-                // ends with the latch, whose declaration is final.
-                let latched = js.lt.is_latched();
-                // Stale while moving (not used) or a spike that returned
-                // (flagged): `plausibility.rs`. Runs before the rate
-                // filter's step, on its prediction from the last sample.
-                let verdict = js.plausibility.check_filter(
-                    &Reading {
-                        t_s: clock.t,
-                        angle: Some(z * DEG),
-                        repeats: js.same_run,
-                        step: self.sensor.encoder_step_deg * DEG,
-                        moving_checks: !no_checks && !latched && !sample.latch[j],
-                    },
-                    &js.kf,
-                    self.t_prev,
-                );
-                if let Some(f) = verdict.fault() {
-                    faults[j].insert(f);
-                }
-                let stale = verdict == Verdict::Stale;
-                if !latched && limit > 0 && (stale || js.same_run.saturating_add(1) >= limit) {
-                    faults[j].insert(Fault::EncoderStuck);
-                    stuck[j] = true;
-                } else {
-                    used[j] = Some(z * DEG);
-                }
-            }
+            let (z, switch) = (sample.phi_deg[j], sample.latch[j]);
+            let (reading, flags, frozen) = js.read_encoder(z, switch, &ctx);
+            faults[j] = faults[j].union(flags);
+            used[j] = reading;
+            stuck[j] = frozen;
         }
         Readings {
             faults,
@@ -1046,82 +1230,36 @@ impl<const N: usize> Monitor<N> {
             let impact = t <= self.impact_until;
             let inflate = self.impact_samples > 0;
             self.impact_samples = self.impact_samples.saturating_sub(1);
-            for j in 0..N {
-                self.track_rate(j, clock, readings, impact, inflate);
+            let ctx = RateContext {
+                clock: *clock,
+                impact,
+                inflate,
+                meas_var: self.meas_var,
+                meas_sd: self.meas_sd,
+                observer: &self.observer,
+            };
+            for (j, js) in self.joints.iter_mut().enumerate() {
+                let reading = readings.used.get(j).copied().flatten();
+                let mut faults = readings.faults.get(j).copied().unwrap_or_default();
+                match js.track_rate(reading, &mut faults, &ctx) {
+                    RateOutcome::Used => {}
+                    RateOutcome::GatedOut => {
+                        if let Some(u) = readings.used.get_mut(j) {
+                            *u = None;
+                        }
+                    }
+                    RateOutcome::Restarted => {
+                        self.blank_until = t + self.observer.settle_s;
+                    }
+                }
+                if let Some(f) = readings.faults.get_mut(j) {
+                    *f = faults;
+                }
             }
         }
         self.t_prev = t;
         for (js, s) in self.joints.iter_mut().zip(sample.latch.iter()) {
             js.switch_prev = *s;
-        }
-    }
-
-    /// One joint's rate filter: prediction and fusion of its reading (see
-    /// [`Monitor::track_rates`]).
-    fn track_rate(
-        &mut self,
-        j: usize,
-        clock: &Clock,
-        readings: &mut Readings<N>,
-        impact: bool,
-        inflate: bool,
-    ) {
-        let (t, gap) = (clock.t, clock.gap);
-        let (r_meas, sd) = (self.meas_var, self.meas_sd);
-        let gate2 = self.observer.gate_sigma * self.observer.gate_sigma;
-        let zone = self.observer.snap_zone_deg * DEG;
-        let Some(js) = self.joints.get_mut(j) else {
-            return;
-        };
-        let latched = js.lt.is_latched();
-        let kf = &mut js.kf;
-        let q_floor = if !latched && libm::fabsf(kf.angle()) < zone {
-            self.observer.zone_jerk_psd
-        } else {
-            0.0
-        };
-        if inflate && !latched {
-            kf.inflate(IMPACT_RATE_VAR, ACC_SHOCK_VAR);
-        }
-        kf.predict(clock.dt, q_floor);
-        if gap {
-            kf.inflate(GAP_RATE_VAR, ACC_SHOCK_VAR);
-        }
-        let Some(z) = readings.used[j] else {
-            return;
-        };
-        let r = if gap { r_meas + GAP_MEAS_VAR } else { r_meas };
-        // A reading beyond the gate but within `MANOEUVRE_GATE` gates of
-        // the prediction is a manoeuvre the white-jerk model did not
-        // foresee (a joint that sticks under its friction stops with a
-        // step in acceleration), not a spike.
-        let nu = z - kf.angle();
-        let manoeuvre = nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r);
-        match kf.update(z, r, gate2, &self.observer.jerk_adaptation) {
-            Fusion::Accepted => js.rejects = 0,
-            Fusion::Rejected if impact || manoeuvre => {
-                let rate = if impact { 0.0 } else { kf.rate() };
-                *kf = RateFilter::new(z, sd, IMPACT_RATE_SD, START_ACC_SD);
-                kf.set_rate(rate, 0.0);
-                kf.set_jerk_psd(self.observer.jerk_psd);
-                js.rejects = 0;
-                if impact {
-                    self.blank_until = t + self.observer.settle_s;
-                }
-            }
-            Fusion::Rejected => {
-                readings.faults[j].insert(Fault::EncoderOutlier);
-                js.rejects = js.rejects.saturating_add(1);
-                if js.rejects >= MAX_REJECTS {
-                    *kf = RateFilter::new(z, sd, RESET_RATE_SD, RESET_ACC_SD);
-                    kf.set_jerk_psd(self.observer.jerk_psd);
-                    readings.faults[j].insert(Fault::EstimatorReset);
-                    js.rejects = 0;
-                    self.blank_until = t + self.observer.settle_s;
-                } else {
-                    readings.used[j] = None;
-                }
-            }
         }
     }
 
@@ -1349,42 +1487,24 @@ impl<const N: usize> Monitor<N> {
     fn compose_status(&mut self, t: f32, readings: &Readings<N>, latches: &Latches<N>) {
         for j in 0..N {
             let (prediction, confidence, time_to_latch) = self.prediction(j, t);
-            let js = &mut self.joints[j];
-            let est = js.fo.estimate();
-            let coulomb_sd = js.coulomb_sd.sqrt(est.coulomb_var);
-            let viscous_sd = js.viscous_sd.sqrt(est.viscous_var);
-            let margin_pct = if js.lt.is_latched() {
-                None
-            } else {
-                js.margin.map(|r| r.margin_pct)
-            };
-            let faults = readings.faults[j];
-            if latches.newly[j] {
+            let (faults, state, newly) = (readings.faults[j], latches.states[j], latches.newly[j]);
+            if newly {
                 info!("joint {} latched at t = {} s", j + 1, t);
             }
             if !faults.is_empty() {
                 debug!("joint {} faults {}", j + 1, faults.0);
             }
-            self.status.joints[j] = JointStatus {
-                phi_deg: finite(js.kf.angle() / DEG),
-                rate_deg_s: finite(js.kf.rate() / DEG),
-                coulomb_nm: finite(est.coulomb_nm),
-                coulomb_sd_nm: finite(coulomb_sd),
-                viscous_nms: finite(est.viscous_nms),
-                viscous_sd_nms: finite(viscous_sd),
-                viscous: Observability::of(
-                    est.viscous_var,
-                    js.fo.prior().viscous_sd_nms * js.fo.prior().viscous_sd_nms,
-                    VISCOUS_RESOLVED_SD,
-                ),
-                friction_torque_nm: finite(js.fo.disturbance_nm()),
-                latch: latches.states[j],
-                margin_pct: margin_pct.map(finite),
-                prediction,
-                confidence,
-                time_to_latch_s: time_to_latch.filter(|v| v.is_finite()),
-                faults,
-            };
+            if let (Some(js), Some(out)) = (self.joints.get_mut(j), self.status.joints.get_mut(j)) {
+                *out = js.status(
+                    faults,
+                    state,
+                    Forecast {
+                        prediction,
+                        confidence,
+                        time_to_latch_s: time_to_latch,
+                    },
+                );
+            }
         }
         self.status.t_s = t;
         self.status.samples = self.status.samples.saturating_add(1);
