@@ -258,6 +258,7 @@ fn cli_writes_the_json_and_the_plot() {
         center: None,
         range: None,
         response: RsmResponse::TeSum,
+        rounds: None,
         quiet: true,
     };
     run_cli(&args).unwrap();
@@ -325,5 +326,22 @@ fn cli_writes_the_json_and_the_plot() {
     let e = run_cli(&bad).unwrap_err();
     assert_eq!(e.code, 2, "{}", e.message);
     assert!(e.message.contains("centre"), "{}", e.message);
+    let bad = IdentifyArgs {
+        method: Method::Direct,
+        center: None,
+        rounds: Some(3),
+        ..bad
+    };
+    let e = run_cli(&bad).unwrap_err();
+    assert_eq!(e.code, 2, "{}", e.message);
+    assert!(e.message.contains("--rounds"), "{}", e.message);
+    let bad = IdentifyArgs {
+        method: Method::Rsm,
+        rounds: Some(0),
+        ..bad
+    };
+    let e = run_cli(&bad).unwrap_err();
+    assert_eq!(e.code, 2, "{}", e.message);
+    assert!(e.message.contains("rounds 0"), "{}", e.message);
     let _ = std::fs::remove_dir_all(&out);
 }

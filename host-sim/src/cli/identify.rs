@@ -69,6 +69,12 @@ pub struct IdentifyArgs {
     #[arg(long, default_value = "te", value_parser = parse_response)]
     pub response: RsmResponse,
 
+    /// rsm: rounds of the design; 1 is seed 000's single CCD, each further
+    /// round re-centres on the last minimum with half the half-ranges
+    /// (sequential RSM). Default: 1.
+    #[arg(long, value_name = "N")]
+    pub rounds: Option<usize>,
+
     /// No progress and no chatter: the result table, errors and warnings
     /// only; the JSON and PNG are written as usual.
     #[arg(long, short)]
@@ -116,6 +122,7 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
     let rsm_only = [
         ("--center", args.center.is_some()),
         ("--range", args.range.is_some()),
+        ("--rounds", args.rounds.is_some()),
     ];
     let misplaced = match args.method {
         Method::Direct => rsm_only.iter().find(|(_, given)| *given),
@@ -234,6 +241,7 @@ fn identify_with(
                 centre_nm: args.center.clone(),
                 half_range_nm: args.range.clone(),
                 response: args.response,
+                rounds: args.rounds.unwrap_or(1),
                 ..RsmOptions::default()
             },
             console.progress(),

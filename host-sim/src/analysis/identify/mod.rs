@@ -210,6 +210,8 @@ pub struct RsmDetails {
     pub predicted: f64,
     /// The same response simulated at the minimum (check).
     pub simulated: f64,
+    /// Rounds of the design run (the fields above are the last round's).
+    pub rounds: usize,
 }
 
 /// The outcome of an identification, serialisable to the JSON of
@@ -406,7 +408,21 @@ pub struct RsmOptions {
     pub centre_runs: usize,
     /// The response minimised.
     pub response: RsmResponse,
+    /// Rounds of the design [1]: 1 is seed 000's single CCD; each further
+    /// round re-centres the design on the last surface minimum and halves
+    /// its half-ranges ([`RSM_ROUND_SHRINK`]), the sequential
+    /// response-surface method of Box and Wilson (1951) (Myers,
+    /// Montgomery and Anderson-Cook, *Response Surface Methodology*, ch. 5–6).
+    pub rounds: usize,
 }
+
+/// Factor on the half-ranges from one round of a sequential response-surface
+/// design to the next [1].
+pub const RSM_ROUND_SHRINK: f64 = 0.5;
+
+/// Least design centre of a later round [N·m]: a minimum at 0 N·m is
+/// re-centred here so the next design has a positive extent.
+const RSM_MIN_CENTRE_NM: f64 = 1e-3;
 
 impl Default for RsmOptions {
     fn default() -> Self {
@@ -417,6 +433,7 @@ impl Default for RsmOptions {
             kind: CcdKind::Circumscribed,
             centre_runs: 1,
             response: RsmResponse::TeSum,
+            rounds: 1,
         }
     }
 }
@@ -923,27 +940,55 @@ pub fn identify_rsm(
     check_joints(campaign, joints)?;
     let model = Model::new(campaign, joints);
     let before = score_as_given(&model, progress)?;
-    let plan = rsm_design(&model, opts, progress)?;
-    let coding = Coding::new(plan.centre.clone(), plan.half.clone())?;
-    let points = design_points(&plan, &coding, joints)?;
-    progress(&format!(
-        "rsm: {} design points ({} CCD, α = {:.3}) around {} ± {} N·m",
-        points.len(),
-        opts.kind,
-        plan.reach,
-        list(&plan.centre),
-        list(&plan.half)
-    ));
-    let table = simulate_design(&model, &points, progress)?;
-    let names = response_names(&model.te_joints);
-    let (surfaces, fits) = fit_surfaces(&plan.design.coded_points(), &table, &names)?;
+    if opts.rounds == 0 {
+        return Err(IdentifyError::BadOption(
+            "rounds 0: expected at least 1 round of the design".into(),
+        ));
+    }
+    let mut plan = rsm_design(&model, opts, progress)?;
+    let mut round = 1;
+    let (points, surfaces, min, lo, hi, names) = loop {
+        let coding = Coding::new(plan.centre.clone(), plan.half.clone())?;
+        let points = design_points(&plan, &coding, joints)?;
+        progress(&format!(
+            "rsm round {round}/{}: {} design points ({} CCD, α = {:.3}) around {} ± {} N·m",
+            opts.rounds,
+            points.len(),
+            opts.kind,
+            plan.reach,
+            list(&plan.centre),
+            list(&plan.half)
+        ));
+        let table = simulate_design(&model, &points, progress)?;
+        let names = response_names(&model.te_joints);
+        let (surfaces, fits) = fit_surfaces(&plan.design.coded_points(), &table, &names)?;
+        let k = model.te_joints.len();
+        let (min, lo, hi) = minimise_surface(&fits, k, opts.response, &coding, plan.reach)?;
+        progress(&format!(
+            "rsm round {round}: surface minimum {:.4} at {} N·m",
+            min.value,
+            list(&min.x)
+        ));
+        if round >= opts.rounds {
+            break (points, surfaces, min, lo, hi, names);
+        }
+        // The next round: centred on this minimum, half as wide, and no
+        // design point below 0 N·m.
+        plan.centre = min.x.iter().map(|c| c.max(RSM_MIN_CENTRE_NM)).collect();
+        plan.half = plan
+            .half
+            .iter()
+            .zip(&plan.centre)
+            .map(|(h, c)| (h * RSM_ROUND_SHRINK).min(0.999 * c / plan.reach))
+            .collect();
+        plan.rule.push(format!(
+            "round {}: re-centred on the round-{round} minimum, half-ranges × {RSM_ROUND_SHRINK}",
+            round + 1
+        ));
+        round += 1;
+    };
     let k = model.te_joints.len();
-    let (min, lo, hi) = minimise_surface(&fits, k, opts.response, &coding, plan.reach)?;
-    progress(&format!(
-        "rsm: surface minimum {:.4} at {} N·m; checking by simulation",
-        min.value,
-        list(&min.x)
-    ));
+    progress("rsm: checking the last minimum by simulation");
     let (after, _) = model.score(&min.x).ok_or_else(|| {
         IdentifyError::Simulation(format!("at the surface's minimum {} N·m", list(&min.x)))
     })?;
@@ -973,6 +1018,7 @@ pub fn identify_rsm(
             box_nm: lo.iter().zip(&hi).map(|(l, h)| [*l, *h]).collect(),
             predicted: min.value,
             simulated,
+            rounds: round,
         }),
         ..Identification::scored(Method::Rsm, &model, t0, before, after)
     })
