@@ -5,7 +5,9 @@
 
 use deploywatch_sim::model::mechanism::Mechanism;
 use deploywatch_sim::simulate::deployment::SimOptions;
-use deploywatch_sim::simulate::multibody::{simulate_wing, wing_options, WingRun};
+use deploywatch_sim::simulate::multibody::{
+    simulate_wing, wing_options, WingRun, GOLDEN_COLUMNS, GOLDEN_LOCKS,
+};
 use deploywatch_tests::data_dir;
 
 /// A golden CSV: `t_s` and the named columns.
@@ -37,25 +39,6 @@ impl Golden {
     }
 }
 
-/// The golden column and the simulator's pin it is compared with.
-const COLUMNS: [(&str, &str, f64); 6] = [
-    ("phi1_deg", "hinge 1", 0.01),
-    ("phi2_deg", "hinge 2", 0.01),
-    ("psi_deg", "C:3", 0.05),
-    ("kneeB_deg", "B", 0.05),
-    ("kneeE_deg", "E", 0.05),
-    ("kneeH_deg", "H", 0.05),
-];
-
-/// The lock names of the golden JSON and the simulator's pins.
-const LOCKS: [(&str, &str); 5] = [
-    ("O", "hinge 1"),
-    ("I", "hinge 2"),
-    ("B", "B"),
-    ("E", "E"),
-    ("H", "H"),
-];
-
 /// A bundled truss mechanism run with the wing's default options (what
 /// `deploywatch simulate` and the truss benchmark use).
 fn simulate(mech: &str) -> WingRun {
@@ -81,7 +64,7 @@ fn check(case: u32, eft: bool) {
         run.run.t_s.len(),
         t.len()
     );
-    for (col, pin, tol) in COLUMNS {
+    for (col, pin, tol) in GOLDEN_COLUMNS {
         let g = golden.column(col);
         let (s, _) = run.series(pin).unwrap();
         let mut sse = 0.0;
@@ -100,7 +83,7 @@ fn check(case: u32, eft: bool) {
         &std::fs::read_to_string(data_dir().join(format!("reference/truss/{stem}.json"))).unwrap(),
     )
     .unwrap();
-    for (name, pin) in LOCKS {
+    for (name, pin) in GOLDEN_LOCKS {
         let want = meta["latch_s"][name].as_f64().unwrap();
         let got = run.lock_s(pin).unwrap_or(f64::NAN);
         eprintln!("{stem} lock {name}: {got:.6} s (golden {want:.6} s)");

@@ -11,29 +11,12 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::simulate::multibody::{simulate_wing, wing_options, WingRun};
+use deploywatch_sim::simulate::multibody::{
+    simulate_wing, wing_options, WingRun, GOLDEN_COLUMNS, GOLDEN_LOCKS,
+};
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-/// Golden column, simulator pin, RMS bound [deg].
-const COLUMNS: [(&str, &str, f64); 6] = [
-    ("phi1_deg", "hinge 1", 0.01),
-    ("phi2_deg", "hinge 2", 0.01),
-    ("psi_deg", "C:3", 0.05),
-    ("kneeB_deg", "B", 0.05),
-    ("kneeE_deg", "E", 0.05),
-    ("kneeH_deg", "H", 0.05),
-];
-
-/// Lock name in the golden JSON and the simulator's pin.
-const LOCKS: [(&str, &str); 5] = [
-    ("O", "hinge 1"),
-    ("I", "hinge 2"),
-    ("B", "B"),
-    ("E", "E"),
-    ("H", "H"),
-];
 
 /// Checks a run against the golden CSV/JSON pair `stem` and prints the
 /// errors; panics when a bound of issue 15 is exceeded.
@@ -46,7 +29,7 @@ fn check_accuracy(run: &WingRun, dir: &Path, stem: &str) {
         .collect();
     let n = rows.len().min(run.run.t_s.len());
     assert!(rows.len().abs_diff(run.run.t_s.len()) <= 1, "sample counts");
-    for (col, pin, bound) in COLUMNS {
+    for (col, pin, bound) in GOLDEN_COLUMNS {
         let c = names.iter().position(|&x| x == col).expect("golden column");
         let (s, _) = run.series(pin).expect("pin");
         let sse: f64 = (0..n).map(|i| (s[i] - rows[i][c]).powi(2)).sum();
@@ -58,7 +41,7 @@ fn check_accuracy(run: &WingRun, dir: &Path, stem: &str) {
         &std::fs::read_to_string(dir.join(format!("{stem}.json"))).expect("golden JSON"),
     )
     .expect("JSON");
-    for (name, pin) in LOCKS {
+    for (name, pin) in GOLDEN_LOCKS {
         let want = meta["latch_s"][name].as_f64().expect("lock instant");
         let got = run.lock_s(pin).unwrap_or(f64::NAN);
         println!("  lock {name}: {got:.6} s (golden {want:.6} s)");

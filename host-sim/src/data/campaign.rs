@@ -80,6 +80,18 @@ pub enum CampaignError {
 }
 
 impl Campaign {
+    /// The joints an effect or EFT may name in every run's mechanism: the
+    /// hinges, then a truss wing's friction nodes
+    /// ([`Mechanism::effect_joints`](crate::model::mechanism::Mechanism::effect_joints));
+    /// the least over the runs.
+    pub fn effect_joints(&self) -> usize {
+        self.runs
+            .iter()
+            .map(|r| r.mechanism.effect_joints())
+            .min()
+            .unwrap_or(0)
+    }
+
     /// Loads mechanisms and runs and pairs them.
     pub fn load(mechanisms: &[PathBuf], runs: &[PathBuf]) -> Result<Campaign, CampaignError> {
         let mechs = mechanisms

@@ -1152,17 +1152,6 @@ fn unexplained_text(campaign: &Campaign, extended: &FittedSet, sigma: f64) -> Op
     ))
 }
 
-/// The joints an effect may name in every run's mechanism (the hinges,
-/// then a truss wing's friction nodes).
-fn parameter_joints(campaign: &Campaign) -> usize {
-    campaign
-        .runs
-        .iter()
-        .map(|r| r.mechanism.effect_joints())
-        .min()
-        .unwrap_or(0)
-}
-
 /// Diagnoses a campaign: baseline, noise floor, stepwise search
 /// ([`Search`]), then the effects strongest first and what stays
 /// unexplained.
@@ -1186,7 +1175,7 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
     // Its friction nodes (joint n + k, e.g. 3 = the pins at F) are
     // coulomb_friction candidates too: the paper's EFT3.
     let truss = campaign.runs.iter().any(|r| r.mechanism.truss.is_some());
-    let nodes = (campaign.max_joints() + 1)..=parameter_joints(campaign);
+    let nodes = (campaign.max_joints() + 1)..=campaign.effect_joints();
     let node_friction = nodes.map(|j| Candidate {
         kind: EffectKind::CoulombFriction,
         joint: Some(j),

@@ -545,7 +545,7 @@ pub fn check_joints(campaign: &Campaign, joints: &[usize]) -> Result<(), Identif
     if joints.is_empty() {
         return Err(IdentifyError::NoJoints);
     }
-    let n = parameter_joints(campaign);
+    let n = campaign.effect_joints();
     for (i, &j) in joints.iter().enumerate() {
         if j == 0 || j > n {
             return Err(IdentifyError::BadJoint {
@@ -565,17 +565,7 @@ pub fn check_joints(campaign: &Campaign, joints: &[usize]) -> Result<(), Identif
 /// ([`crate::model::mechanism::Mechanism::effect_joints`]: EFT1..3 of the
 /// seed 000 truss wing are joints 1, 2 and 3, joint 3 the pins at F).
 pub fn all_joints(campaign: &Campaign) -> Vec<usize> {
-    (1..=parameter_joints(campaign)).collect()
-}
-
-/// The joints an EFT may be identified at in every run's mechanism.
-fn parameter_joints(campaign: &Campaign) -> usize {
-    campaign
-        .runs
-        .iter()
-        .map(|r| r.mechanism.effect_joints())
-        .min()
-        .unwrap_or(0)
+    (1..=campaign.effect_joints()).collect()
 }
 
 /// The joints every run measures (its angle columns).

@@ -27,7 +27,10 @@ pub mod wing;
 pub use integrate::{run, MbTrajectory, CAPTURE_RAD};
 pub use kin::Model;
 pub use system::{Body, Pin, PointSpring, System, SystemError};
-pub use wing::{simulate_wing, wing_model, wing_options, WingRun, WING_ATOL, WING_RTOL};
+pub use wing::{
+    simulate_wing, wing_model, wing_options, WingRun, GOLDEN_COLUMNS, GOLDEN_LOCKS, WING_ATOL,
+    WING_RTOL,
+};
 
 impl Model {
     /// Builds the spanning tree of a system.

@@ -84,3 +84,24 @@ pub fn simulate_wing(mech: &Mechanism, opts: &SimOptions) -> Result<WingRun, Sim
         run,
     })
 }
+
+/// The golden trajectories of the truss wing (`data/reference/truss/`,
+/// `truss-link.md`): each angle column, the simulator's pin it is compared
+/// with and issue 15's RMS bound [deg].
+pub const GOLDEN_COLUMNS: [(&str, &str, f64); 6] = [
+    ("phi1_deg", "hinge 1", 0.01),
+    ("phi2_deg", "hinge 2", 0.01),
+    ("psi_deg", "C:3", 0.05),
+    ("kneeB_deg", "B", 0.05),
+    ("kneeE_deg", "E", 0.05),
+    ("kneeH_deg", "H", 0.05),
+];
+
+/// The lock names of the golden JSON files and the simulator's pins.
+pub const GOLDEN_LOCKS: [(&str, &str); 5] = [
+    ("O", "hinge 1"),
+    ("I", "hinge 2"),
+    ("B", "B"),
+    ("E", "E"),
+    ("H", "H"),
+];
