@@ -633,7 +633,8 @@ impl CachedSqrt {
 
 impl JointState {
     /// A joint at its stowed angle, waiting for the first sample; `sd` is
-    /// the encoder's standard deviation [rad].
+    /// the encoder's standard deviation [rad]. Not generic over the joint
+    /// count (one copy in flash).
     #[inline(never)]
     fn new(joint: &JointConfig, sd: f32, observer: &ObserverConfig, spring_sd_rel: f32) -> Self {
         let mut kf = RateFilter::new(joint.stowed_deg * DEG, sd, START_RATE_SD, START_ACC_SD);

@@ -927,14 +927,14 @@ pub fn identify_rsm(
     progress: Progress,
 ) -> Result<Identification, IdentifyError> {
     let t0 = Instant::now();
-    check_joints(campaign, joints)?;
-    let model = Model::new(campaign, joints);
-    let before = score_as_given(&model, progress)?;
     if opts.rounds == 0 {
         return Err(IdentifyError::BadOption(
             "rounds 0: expected at least 1 round of the design".into(),
         ));
     }
+    check_joints(campaign, joints)?;
+    let model = Model::new(campaign, joints);
+    let before = score_as_given(&model, progress)?;
     let mut plan = rsm_design(&model, opts, progress)?;
     let mut round = 1;
     let (points, surfaces, min, lo, hi, names) = loop {
