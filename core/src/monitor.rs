@@ -1,17 +1,29 @@
-//! The on-board deployment monitor: one entry point,
-//! [`Monitor::update`]`(&Sample) -> Status`.
+//! The on-board deployment monitor: two paths, as flight software runs them.
 //!
-//! Each sample (time stamp, encoder angles, latch switches) goes through
+//! [`Monitor::update`]`(&Sample) -> &Status` is the sample-rate path (a
+//! timer interrupt): each sample (time stamp, encoder angles, latch
+//! switches) goes through
 //!
 //! 1. the time checks (NaN, backwards, gaps: [`Fault`] flags, never a panic);
-//! 2. a kinematic Kalman filter per joint: angle and rate from the 14-bit
-//!    encoder, spikes gated out ([`crate::observer::RateFilter`]);
+//! 2. the encoder checks and a kinematic Kalman filter per joint: angle and
+//!    rate from the 14-bit encoder, spikes gated out
+//!    ([`crate::observer::RateFilter`]);
 //! 3. the latch-state estimator per joint, switch fused with encoder
-//!    ([`crate::latch`]);
-//! 4. the generalised-momentum disturbance observer and RLS friction
-//!    estimate per free joint ([`crate::observer::FrictionObserver`]);
-//! 5. the energy margin of the remaining stroke and the latch / stall
-//!    prediction, one joint per update in turn ([`crate::margin`]).
+//!    ([`crate::latch`]), and the plastic latch impulse on the rates;
+//! 4. the sample queued for the friction learning (a bounded queue).
+//!
+//! [`Monitor::predict`] is the slow path (the idle loop or a low-priority
+//! task), in slices of bounded cost. A slice either learns from one queued
+//! sample, oldest first —
+//!
+//! 5. the generalised-momentum disturbance observer and RLS friction
+//!    estimate per free joint on the centred fit
+//!    ([`crate::observer::FrictionObserver`]);
+//! 6. the energy margin of the remaining stroke, one joint per learned
+//!    sample in turn ([`crate::margin`]);
+//!
+//! — or, with the queue empty, advances the latch / stall prediction by one
+//! unit of rollout work ([`crate::predictor`]).
 //!
 //! Everything is `f32`, fixed-size and heap-free; `size_of::<Monitor<3>>()`
 //! is under 4 KiB. `docs/monitor.md` has the equations and the tuning.
@@ -31,6 +43,7 @@ use crate::predictor::{FrictionBelief, PredictionQuery, Predictor};
 use crate::rollout::RolloutConfig;
 use crate::smoother::{Centre, CentredFit};
 use crate::spring::{Branch, Spring};
+use heapless::Deque;
 use serde::{Deserialize, Serialize};
 
 const DEG: f32 = core::f32::consts::PI / 180.0;
@@ -352,7 +365,7 @@ impl Default for MarginConfig {
                 dt_s: 0.01,
                 bracket_dt_s: 0.02,
                 steps_per_slice: 1,
-                slices_per_sample: 20,
+                slices_per_sample: 21,
                 horizon_s: 10.0,
                 coulomb_threshold_rad_s: crate::friction::COULOMB_THRESHOLD_RAD_S as f32,
             },
@@ -566,11 +579,42 @@ pub struct Monitor<const N: usize> {
     impact_until: f32,
     /// Samples left whose prediction is widened for the impact.
     impact_samples: u8,
-    /// The joint whose energy margin is evaluated at the next sample.
+    /// The joint whose energy margin is evaluated at the next learned
+    /// sample.
     next_margin: u8,
-    /// The joints whose friction observer stepped at this sample.
-    learned: [bool; N],
+    /// Samples [`Monitor::update`] queued for the friction learning, which
+    /// [`Monitor::predict`] takes oldest first.
+    learning: Deque<Learning<N>, LEARNING_QUEUE>,
+    /// Samples dropped from a full learning queue (the slow path fell
+    /// behind by more than [`LEARNING_QUEUE`] samples).
+    learning_overruns: u32,
     status: Status<N>,
+}
+
+/// Samples the learning queue holds [1]: at 100 Hz, 80 ms of a slow path
+/// kept from running (at the replay's schedule it is emptied after every
+/// sample).
+pub const LEARNING_QUEUE: usize = 4;
+
+/// What the friction learning and the energy margin need of one sample,
+/// queued by [`Monitor::update`] for [`Monitor::predict`].
+#[derive(Clone, Copy, Debug)]
+struct Learning<const N: usize> {
+    /// Time stamp [s].
+    t: f32,
+    /// The sample is fit to learn from: settled (no snap, latch or gap
+    /// within `settle_s`), no gap, a positive time step.
+    clean: bool,
+    /// No snap, latch or gap within `settle_s` (the margin's condition).
+    quiet: bool,
+    /// Readings the rate filters used [rad], NaN where none (missing,
+    /// out of range, stuck or gated out).
+    used: [f32; N],
+    /// Joints the model sits at 0.
+    locked: [bool; N],
+    /// Joints declared latched at the sample (logged by the slow path: a
+    /// log line costs a thousand instructions over semihosting).
+    newly: [bool; N],
 }
 
 /// What the monitor tracks about one joint from sample to sample.
@@ -795,11 +839,26 @@ impl JointState {
         }
     }
 
-    /// The joint's status line: estimates (non-finite values as 0), the
-    /// latch `state`, the `faults` of this sample and the prediction.
-    /// Not generic over the joint count (one copy in flash).
+    /// The sample-rate part of the joint's status line (non-finite values
+    /// as 0): angle, rate, the latch `state` and the `faults` of this
+    /// sample; no margin once latched. Not generic over the joint count
+    /// (one copy in flash).
     #[inline(never)]
-    fn status(&mut self, faults: FaultFlags, state: LatchState, forecast: Forecast) -> JointStatus {
+    fn sample_status(&self, out: &mut JointStatus, faults: FaultFlags, state: LatchState) {
+        out.phi_deg = finite(self.kf.angle() / DEG);
+        out.rate_deg_s = finite(self.kf.rate() / DEG);
+        out.latch = state;
+        out.faults = faults;
+        if self.lt.is_latched() {
+            out.margin_pct = None;
+        }
+    }
+
+    /// The learned part of the joint's status line (non-finite values as
+    /// 0): friction estimates, margin and the prediction. Not generic over
+    /// the joint count (one copy in flash).
+    #[inline(never)]
+    fn estimates(&mut self, out: &mut JointStatus, forecast: Forecast) {
         let est = self.fo.estimate();
         let coulomb_sd = self.coulomb_sd.sqrt(est.coulomb_var);
         let viscous_sd = self.viscous_sd.sqrt(est.viscous_var);
@@ -809,22 +868,16 @@ impl JointState {
             self.margin.map(|r| r.margin_pct)
         };
         let prior_sd = self.fo.prior().viscous_sd_nms;
-        JointStatus {
-            phi_deg: finite(self.kf.angle() / DEG),
-            rate_deg_s: finite(self.kf.rate() / DEG),
-            coulomb_nm: finite(est.coulomb_nm),
-            coulomb_sd_nm: finite(coulomb_sd),
-            viscous_nms: finite(est.viscous_nms),
-            viscous_sd_nms: finite(viscous_sd),
-            viscous: Observability::of(est.viscous_var, prior_sd * prior_sd, VISCOUS_RESOLVED_SD),
-            friction_torque_nm: finite(self.fo.disturbance_nm()),
-            latch: state,
-            margin_pct: margin_pct.map(finite),
-            prediction: forecast.prediction,
-            confidence: forecast.confidence,
-            time_to_latch_s: forecast.time_to_latch_s.filter(|v| v.is_finite()),
-            faults,
-        }
+        out.coulomb_nm = finite(est.coulomb_nm);
+        out.coulomb_sd_nm = finite(coulomb_sd);
+        out.viscous_nms = finite(est.viscous_nms);
+        out.viscous_sd_nms = finite(viscous_sd);
+        out.viscous = Observability::of(est.viscous_var, prior_sd * prior_sd, VISCOUS_RESOLVED_SD);
+        out.friction_torque_nm = finite(self.fo.disturbance_nm());
+        out.margin_pct = margin_pct.map(finite);
+        out.prediction = forecast.prediction;
+        out.confidence = forecast.confidence;
+        out.time_to_latch_s = forecast.time_to_latch_s.filter(|v| v.is_finite());
     }
 }
 
@@ -917,10 +970,6 @@ struct Latches<const N: usize> {
     newly: [bool; N],
     /// Joints the model sits at 0 (latched or held at the latch).
     locked: [bool; N],
-    /// Model angles [rad]: the rate filter's, 0 for a locked joint.
-    phi: [f32; N],
-    /// Model rates [rad/s]: the rate filter's, 0 for a locked joint.
-    rate: [f32; N],
 }
 
 /// Rate uncertainty at the first sample [rad/s]: a deployment starts from
@@ -1036,7 +1085,8 @@ impl<const N: usize> Monitor<N> {
             impact_until: f32::NEG_INFINITY,
             impact_samples: 0,
             next_margin: 0,
-            learned: [false; N],
+            learning: Deque::new(),
+            learning_overruns: 0,
             status: Status::default(),
         })
     }
@@ -1112,10 +1162,8 @@ impl<const N: usize> Monitor<N> {
         let mut readings = self.read_encoders(sample, &clock);
         self.track_rates(sample, &clock, &mut readings);
         let latches = self.track_latches(sample, &clock, &mut readings);
-        let centre = self.learn_friction(&clock, &readings, &latches);
         self.check_health(&mut readings);
-        self.evaluate_margin(clock.t, &latches);
-        self.hand_over_to_prediction(clock.t, centre.as_ref(), &latches);
+        self.queue_for_learning(&clock, &readings, &latches);
         self.compose_status(clock.t, &readings, &latches);
         &self.status
     }
@@ -1297,56 +1345,116 @@ impl<const N: usize> Monitor<N> {
             self.apply_latch_impulse(&newly, &locked);
             self.blank_until = t + self.observer.settle_s;
         }
-        // Model quantities: latched joints sit at 0.
-        let phi = core::array::from_fn(|j| {
-            if locked[j] {
-                0.0
-            } else {
-                self.joints[j].kf.angle()
-            }
-        });
-        let rate = core::array::from_fn(|j| {
-            if locked[j] {
-                0.0
-            } else {
-                self.joints[j].kf.rate()
-            }
-        });
         Latches {
             states,
             newly,
             locked,
-            phi,
-            rate,
         }
+    }
+
+    /// Queues the sample for the friction learning of [`Monitor::predict`].
+    /// The settling after a snap or a gap starts here, on the sample's own
+    /// angles. A full queue drops its oldest sample and breaks the fit's
+    /// run there (the observers restart), counted in
+    /// [`Monitor::learning_overruns`]: never silently.
+    fn queue_for_learning(&mut self, clock: &Clock, readings: &Readings<N>, latches: &Latches<N>) {
+        let t = clock.t;
+        let zone = self.observer.snap_zone_deg * DEG;
+        let in_zone =
+            (0..N).any(|j| !latches.locked[j] && libm::fabsf(self.joints[j].kf.angle()) < zone);
+        if in_zone || clock.gap {
+            self.blank_until = t + self.observer.settle_s;
+        }
+        let quiet = self.quiet(t);
+        let sample = Learning {
+            t,
+            clean: quiet && !clock.gap && clock.dt > 0.0,
+            quiet,
+            used: core::array::from_fn(|j| readings.used[j].unwrap_or(f32::NAN)),
+            locked: latches.locked,
+            newly: latches.newly,
+        };
+        if self.learning.is_full() {
+            let _ = self.learning.pop_front();
+            if let Some(next) = self.learning.front_mut() {
+                next.clean = false;
+            }
+            self.learning_overruns = self.learning_overruns.saturating_add(1);
+            warn!("learning queue full: a sample dropped");
+        }
+        let _ = self.learning.push_back(sample);
+    }
+
+    /// True when no snap, latch or gap has happened for `settle_s`: the
+    /// estimates have settled.
+    fn quiet(&self, t: f32) -> bool {
+        t >= self.blank_until
+    }
+
+    /// Health of the rate filters: nothing non-finite survives an update.
+    /// A failed rate filter restarts at the reading.
+    fn check_health(&mut self, readings: &mut Readings<N>) {
+        let sd = self.meas_sd;
+        for j in 0..N {
+            if !self.joints[j].kf.is_healthy() {
+                let phi0 = readings.used[j].unwrap_or(self.joints[j].stowed_deg * DEG);
+                self.joints[j].kf = self.fresh_filter(phi0, sd, RESET_RATE_SD, RESET_ACC_SD);
+                readings.faults[j].insert(Fault::EstimatorReset);
+            }
+        }
+    }
+
+    /// Composes the sample-rate part of every joint's status at time `t`
+    /// [s]; the learned part is [`Monitor::refresh_estimates`]'.
+    fn compose_status(&mut self, t: f32, readings: &Readings<N>, latches: &Latches<N>) {
+        for j in 0..N {
+            let (faults, state) = (readings.faults[j], latches.states[j]);
+            if !faults.is_empty() {
+                debug!("joint {} faults {}", j + 1, faults.0);
+            }
+            if let (Some(js), Some(out)) = (self.joints.get(j), self.status.joints.get_mut(j)) {
+                js.sample_status(out, faults, state);
+            }
+        }
+        self.status.t_s = t;
+        self.status.samples = self.status.samples.saturating_add(1);
+    }
+
+    /// The slow path's learning from one queued sample: the friction
+    /// observers on the centred fit, the energy margin of one joint, the
+    /// start of the next rollout, and the status's learned part.
+    fn learn(&mut self, sample: &Learning<N>) {
+        for (j, newly) in sample.newly.iter().enumerate() {
+            if *newly {
+                info!("joint {} latched at t = {} s", j + 1, sample.t);
+            }
+        }
+        let centre = self.learn_friction(sample);
+        self.evaluate_margin(sample);
+        self.hand_over_to_prediction(sample, centre.as_ref());
+        self.refresh_estimates(sample.t);
+    }
+
+    /// The model's angles [rad] and rates [rad/s]: the rate filters', 0 for
+    /// a `locked` joint (latched joints sit at 0).
+    fn model_state(&self, locked: &[bool; N]) -> ([f32; N], [f32; N]) {
+        let pick = |j: usize, v: f32| if locked[j] { 0.0 } else { v };
+        (
+            core::array::from_fn(|j| pick(j, self.joints[j].kf.angle())),
+            core::array::from_fn(|j| pick(j, self.joints[j].kf.rate())),
+        )
     }
 
     /// Friction learning, half a window back, on the centred fit of the
     /// readings (no lag, little noise): only samples outside the snap
     /// zones and the settling after a snap, latch or gap, with every free
     /// joint measured (`smoother.rs`). The observers restart whenever the
-    /// run of fits breaks. Returns the fit, if any.
-    fn learn_friction(
-        &mut self,
-        clock: &Clock,
-        readings: &Readings<N>,
-        latches: &Latches<N>,
-    ) -> Option<Centre<N>> {
-        let t = clock.t;
-        let zone = self.observer.snap_zone_deg * DEG;
-        let in_zone = (0..N).any(|j| !latches.locked[j] && libm::fabsf(latches.phi[j]) < zone);
-        if in_zone || clock.gap {
-            self.blank_until = t + self.observer.settle_s;
-        }
-        let quiet = self.quiet(t);
-        self.fit.push(
-            t,
-            &readings.used,
-            quiet && !clock.gap && clock.dt > 0.0,
-            &latches.locked,
-        );
+    /// run of fits breaks; an observer that fails restarts at its prior
+    /// (`estimator_reset` in the status). Returns the fit, if any.
+    fn learn_friction(&mut self, sample: &Learning<N>) -> Option<Centre<N>> {
+        self.fit
+            .push(sample.t, &sample.used, sample.clean, &sample.locked);
         let centre = self.fit.centre(self.meas_var);
-        self.learned = [false; N];
         match &centre {
             Some(c) => {
                 let terms = momentum_terms(&self.chain, &c.phi, &c.rate);
@@ -1354,7 +1462,6 @@ impl<const N: usize> Monitor<N> {
                     if c.locked[j] {
                         continue;
                     }
-                    self.learned[j] = true;
                     let js = &mut self.joints[j];
                     if !self.fit_run {
                         js.fo.restart();
@@ -1378,6 +1485,13 @@ impl<const N: usize> Monitor<N> {
                         },
                         &self.observer.tuning,
                     );
+                    // An observer changes only when it steps.
+                    if !js.fo.is_healthy() {
+                        js.fo.reset_parameters();
+                        if let Some(out) = self.status.joints.get_mut(j) {
+                            out.faults.insert(Fault::EstimatorReset);
+                        }
+                    }
                 }
                 self.fit_run = true;
             }
@@ -1386,78 +1500,48 @@ impl<const N: usize> Monitor<N> {
         centre
     }
 
-    /// True when no snap, latch or gap has happened for `settle_s`: the
-    /// estimates have settled.
-    fn quiet(&self, t: f32) -> bool {
-        t >= self.blank_until
-    }
-
-    /// Health: nothing non-finite survives an update. A failed rate filter
-    /// restarts at the reading, a failed observer at its prior.
-    fn check_health(&mut self, readings: &mut Readings<N>) {
-        let sd = self.meas_sd;
-        for j in 0..N {
-            if !self.joints[j].kf.is_healthy() {
-                let phi0 = readings.used[j].unwrap_or(self.joints[j].stowed_deg * DEG);
-                self.joints[j].kf = self.fresh_filter(phi0, sd, RESET_RATE_SD, RESET_ACC_SD);
-                readings.faults[j].insert(Fault::EstimatorReset);
-            }
-            // An observer changes only when it steps.
-            if self.learned[j] && !self.joints[j].fo.is_healthy() {
-                self.joints[j].fo.reset_parameters();
-                readings.faults[j].insert(Fault::EstimatorReset);
-            }
-        }
-    }
-
-    /// The energy margin of the remaining stroke: one joint per update, in
-    /// turn, not inside a snap zone or the settling time after a snap,
-    /// latch or gap (the rates there are the rate filter's wide-open
-    /// transient, and the margin computed on entry stands).
-    fn evaluate_margin(&mut self, t: f32, latches: &Latches<N>) {
-        let quiet = self.quiet(t);
+    /// The energy margin of the remaining stroke: one joint per learned
+    /// sample, in turn, not inside a snap zone or the settling time after
+    /// a snap, latch or gap (the rates there are the rate filter's
+    /// wide-open transient, and the margin computed on entry stands).
+    fn evaluate_margin(&mut self, sample: &Learning<N>) {
         let zone = self.observer.snap_zone_deg * DEG;
         let jm = usize::from(self.next_margin) % N.max(1);
         self.next_margin = ((jm + 1) % N.max(1)) as u8;
-        let settled = quiet && libm::fabsf(latches.phi.get(jm).copied().unwrap_or(0.0)) >= zone;
-        if let (Some(false), true) = (latches.locked.get(jm), settled) {
+        let (phi, _) = self.model_state(&sample.locked);
+        let settled = sample.quiet && libm::fabsf(phi.get(jm).copied().unwrap_or(0.0)) >= zone;
+        if let (Some(false), true) = (sample.locked.get(jm), settled) {
             // Articulated inertia 1/(M⁻¹)_jj over the free joints: the
             // one-joint energy balance counts all of the joint's kinetic
             // energy, the share the outer panels carry included, so it errs
             // on the side of a latch and its stall verdicts are safe ones.
-            let m = self.chain.mass_matrix(&latches.phi);
+            let m = self.chain.mass_matrix(&phi);
             let own = m
                 .get(jm)
                 .and_then(|row| row.get(jm))
                 .copied()
                 .unwrap_or(1.0);
-            let inertia = articulated_inertia(&m, &latches.locked, jm)
+            let inertia = articulated_inertia(&m, &sample.locked, jm)
                 .unwrap_or_else(|| own.max(MIN_INERTIA_KGM2));
-            let result = self.joint_margin(jm, inertia, quiet);
+            let result = self.joint_margin(jm, inertia, sample.quiet);
             if let Some(js) = self.joints.get_mut(jm) {
                 js.margin = Some(result);
             }
         }
     }
 
-    /// Hands the state the next rollout starts from to the prediction
-    /// ([`Monitor::predict`]).
+    /// Hands the state the next rollout starts from to the prediction.
     ///
     /// A rollout starts from the centred fit (rates to a few tenths of a
     /// degree per second, half a window back); from the rate filter only
     /// when no fit has come for a while (a flaky encoder), since its rates
     /// after a latch impact are off by degrees per second
     /// (docs/monitor.md §6).
-    fn hand_over_to_prediction(
-        &mut self,
-        t: f32,
-        centre: Option<&Centre<N>>,
-        latches: &Latches<N>,
-    ) {
+    fn hand_over_to_prediction(&mut self, sample: &Learning<N>, centre: Option<&Centre<N>>) {
         if self.margin_cfg.rollout.steps_per_slice == 0 {
             return;
         }
-        let quiet = self.quiet(t);
+        let t = sample.t;
         let start = match centre {
             Some(c) => Some((
                 c.t_s,
@@ -1467,48 +1551,35 @@ impl<const N: usize> Monitor<N> {
                 },
                 c.locked,
             )),
-            None if quiet && t - self.t_centre > CENTRE_WAIT_S => Some((
-                t,
-                ChainState {
-                    phi: latches.phi,
-                    phi_dot: latches.rate,
-                },
-                latches.locked,
-            )),
+            None if sample.quiet && t - self.t_centre > CENTRE_WAIT_S => {
+                let (phi, phi_dot) = self.model_state(&sample.locked);
+                Some((t, ChainState { phi, phi_dot }, sample.locked))
+            }
             None => None,
         };
         if let Some(c) = centre {
             self.t_centre = c.t_s;
         }
-        // Handed to the next slices of `predict`.
+        // Handed to the next rollout the predictor starts.
         self.predictor.set_start(start);
     }
 
-    /// Composes the status of every joint at time `t` [s].
-    fn compose_status(&mut self, t: f32, readings: &Readings<N>, latches: &Latches<N>) {
+    /// The learned part of every joint's status: friction, margin and the
+    /// latch / stall prediction as of time `t` [s].
+    fn refresh_estimates(&mut self, t: f32) {
         for j in 0..N {
-            let (prediction, confidence, time_to_latch) = self.prediction(j, t);
-            let (faults, state, newly) = (readings.faults[j], latches.states[j], latches.newly[j]);
-            if newly {
-                info!("joint {} latched at t = {} s", j + 1, t);
-            }
-            if !faults.is_empty() {
-                debug!("joint {} faults {}", j + 1, faults.0);
-            }
+            let (prediction, confidence, time_to_latch_s) = self.prediction(j, t);
             if let (Some(js), Some(out)) = (self.joints.get_mut(j), self.status.joints.get_mut(j)) {
-                *out = js.status(
-                    faults,
-                    state,
+                js.estimates(
+                    out,
                     Forecast {
                         prediction,
                         confidence,
-                        time_to_latch_s: time_to_latch,
+                        time_to_latch_s,
                     },
                 );
             }
         }
-        self.status.t_s = t;
-        self.status.samples = self.status.samples.saturating_add(1);
     }
 
     /// The latch / stall prediction of joint `j` at time `t` [s] from the
@@ -1528,36 +1599,47 @@ impl<const N: usize> Monitor<N> {
         )
     }
 
-    /// One slice of the latch / stall prediction: advances the rollout in
-    /// progress by up to `margin.rollout.steps_per_slice` units of work (a
-    /// step of the chain, or a bounded piece of the creep quadrature:
+    /// One slice of the slow path. With samples queued by
+    /// [`Monitor::update`], it learns from the oldest one: the friction
+    /// observers, the energy margin of one joint, the start of the next
+    /// rollout, and the learned part of [`Monitor::status`] (friction,
+    /// margin, prediction). With the queue empty it advances the rollout
+    /// in progress by up to `margin.rollout.steps_per_slice` units of work
+    /// (a step of the chain, or a bounded piece of the creep quadrature:
     /// [`crate::rollout::Rollout::advance`]), starts the next one when it
-    /// ends (from the last settled state [`Monitor::update`]
-    /// handed over), and refreshes the prediction in [`Monitor::status`].
+    /// ends, and refreshes the prediction in the status.
     ///
-    /// The sample-rate path ([`Monitor::update`]) never runs a rollout: the
-    /// application calls this at a lower priority (the idle loop, a
-    /// low-priority task), as often as it has time for. Its cost is bounded
-    /// by the slice (`docs/performance.md`). Returns true when a rollout
-    /// finished in this slice.
+    /// The sample-rate path ([`Monitor::update`]) neither learns nor runs a
+    /// rollout: the application calls this at a lower priority (the idle
+    /// loop, a low-priority task), as often as it has time for, and at
+    /// least once per sample on average, or the queue overflows
+    /// ([`Monitor::learning_overruns`]). Its cost is bounded by the slice
+    /// (`docs/performance.md`). Returns true when a rollout finished in
+    /// this slice.
     #[inline(never)]
     pub fn predict(&mut self) -> bool {
-        if self.margin_cfg.rollout.steps_per_slice == 0 || !self.started {
+        if !self.started {
+            return false;
+        }
+        if let Some(sample) = self.learning.pop_front() {
+            self.learn(&sample);
+            return false;
+        }
+        if self.margin_cfg.rollout.steps_per_slice == 0 {
             return false;
         }
         let finished = self.advance_rollouts();
         if finished {
-            let t = self.status.t_s;
-            for j in 0..N {
-                let (prediction, confidence, time_to_latch) = self.prediction(j, t);
-                if let Some(js) = self.status.joints.get_mut(j) {
-                    js.prediction = prediction;
-                    js.confidence = confidence;
-                    js.time_to_latch_s = time_to_latch.filter(|v| v.is_finite());
-                }
-            }
+            self.refresh_estimates(self.status.t_s);
         }
         finished
+    }
+
+    /// Samples dropped so far because the learning queue was full (the
+    /// slow path, [`Monitor::predict`], fell behind by more than
+    /// [`LEARNING_QUEUE`] samples). 0 on the replay schedule.
+    pub fn learning_overruns(&self) -> u32 {
+        self.learning_overruns
     }
 
     /// [`Monitor::update`], then `margin.rollout.slices_per_sample` slices
@@ -1621,7 +1703,7 @@ impl<const N: usize> Monitor<N> {
                 self.joints[j].kf.rate()
             }
         });
-        let m = momentum_terms(&self.chain, &phi, &om).mass;
+        let m = self.chain.mass_matrix(&phi);
         let mut p = [0.0f32; N];
         for (pj, row) in p.iter_mut().zip(m.iter()) {
             *pj = row.iter().zip(om.iter()).map(|(a, b)| a * b).sum();

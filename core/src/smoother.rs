@@ -102,12 +102,12 @@ impl<const N: usize> CentredFit<N> {
         *self = Self::new();
     }
 
-    /// Adds a sample: time [s], readings [rad] (`None` where missing or
+    /// Adds a sample: time [s], readings [rad] (NaN where missing or
     /// rejected), whether it is fit to learn from, and the locked joints.
-    pub fn push(&mut self, t_s: f32, phi: &[Option<f32>; N], clean: bool, locked: &[bool; N]) {
+    pub fn push(&mut self, t_s: f32, phi: &[f32; N], clean: bool, locked: &[bool; N]) {
         let slot = Slot {
             t_s,
-            phi: core::array::from_fn(|j| phi[j].unwrap_or(f32::NAN)),
+            phi: *phi,
             clean,
             locked: *locked,
         };
@@ -256,7 +256,7 @@ mod tests {
         let phi = |t: f32| 0.3 + 1.5 * t - 2.0 * t * t;
         for k in 0..20 {
             let t = 1.0 + 0.01 * k as f32;
-            f.push(t, &[Some(phi(t)), None], true, &[false, true]);
+            f.push(t, &[phi(t), f32::NAN], true, &[false, true]);
             let c = f.centre(1e-8);
             if k + 1 < WINDOW {
                 assert!(c.is_none());
@@ -281,7 +281,7 @@ mod tests {
                 if jump_at.is_some_and(|i| k >= i) {
                     z += 0.01;
                 }
-                let z = if missing_at == Some(k) { None } else { Some(z) };
+                let z = if missing_at == Some(k) { f32::NAN } else { z };
                 f.push(t, &[z], dirty_at != Some(k), &[false]);
             }
             f.centre(1e-8)
