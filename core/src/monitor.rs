@@ -1841,6 +1841,41 @@ mod tests {
         assert!(st.joints[0].faults.is_empty(), "{}", st.joints[0].faults);
     }
 
+    /// A 1-joint deployment at 100 Hz: `φ = 90° − 20 t²` [deg].
+    fn swing(k: usize) -> Sample<1> {
+        let t = 0.01 * k as f32;
+        Sample::new(t, [90.0 - 20.0 * t * t], [false])
+    }
+
+    #[test]
+    fn a_starved_slow_path_drops_the_oldest_samples_and_says_so() {
+        let mut m = Monitor::new(&config()).unwrap();
+        for k in 0..100 {
+            m.update_and_predict(&swing(k));
+        }
+        assert_eq!(m.learning_overruns(), 0, "the replay schedule keeps up");
+        let learned = m.status().samples;
+        assert!(m.status().joints[0].margin_pct.is_some(), "learned");
+        // 10 samples with no slice of the slow path: the queue keeps the
+        // last LEARNING_QUEUE of them and counts the rest.
+        for k in 100..110 {
+            m.update(&swing(k));
+        }
+        assert_eq!(m.learning_overruns() as usize, 10 - LEARNING_QUEUE);
+        assert_eq!(m.status().samples, learned + 10, "every sample is used");
+        // The next sample still finds the queue full (one more dropped);
+        // then the slow path catches up and learns on, with finite
+        // estimates.
+        for k in 110..200 {
+            let st = m.update_and_predict(&swing(k));
+            let j = &st.joints[0];
+            assert!(j.coulomb_nm.is_finite() && j.coulomb_sd_nm.is_finite());
+            assert!(j.faults.is_empty(), "{k}: {}", j.faults);
+        }
+        assert_eq!(m.learning_overruns() as usize, 11 - LEARNING_QUEUE);
+        assert!(m.status().joints[0].margin_pct.is_some());
+    }
+
     #[test]
     fn missing_reading_is_flagged_and_estimates_stay_finite() {
         let mut m = Monitor::new(&config()).unwrap();
