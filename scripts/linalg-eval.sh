@@ -14,6 +14,18 @@
 #   scripts/linalg-eval.sh compile-cost  what nalgebra adds to the build: crates
 #                                        and the wall time of compiling them (a
 #                                        fresh target dir; minutes)
+#   scripts/linalg-eval.sh firmware [RUN.csv MECH.toml ...]
+#                                        the whole firmware with nalgebra in
+#                                        linalg.rs: copies core/ and
+#                                        firmware-example/ to a scratch folder,
+#                                        builds them as they are and with
+#                                        experiments/linalg-nalgebra/firmware/linalg.rs
+#                                        in the copy's core; prints both flash
+#                                        figures and, for each run given (default:
+#                                        the T01 and case-1 references), both
+#                                        firmwares' Monitor::update / predict
+#                                        counts on the same input (needs the host
+#                                        tool: cargo build --release -p deploywatch-sim)
 #
 # Needs the embedded toolchain (scripts/embedded-toolchain.sh). Not part of
 # scripts/test.sh: it is an evaluation, rerun by hand.
@@ -139,11 +151,88 @@ compile_cost() {
     echo "(wall time on this machine, load average $(cut -d' ' -f1-3 /proc/loadavg))"
 }
 
+# firmware_eval [RUN.csv MECH.toml]...: see the header.
+firmware_eval() {
+    # Outside experiments/linalg-nalgebra/: cargo would merge its .cargo/config.toml
+    # (rustflags) with the firmware's.
+    local scratch="$root/target/linalg-eval/firmware"
+    # A fresh copy of the sources; the target dir is kept between runs.
+    rm -rf "$scratch/core" "$scratch/firmware-example"
+    mkdir -p "$scratch"
+    # The working tree's core/ and firmware-example/ (not their targets), and a
+    # memory.x with room to link what does not fit: the flash is measured by
+    # arm-none-eabi-size against the 64 KiB budget, not by the link.
+    tar -C "$root" --exclude=./firmware-example/target --exclude=./core/target \
+        -cf - core firmware-example | tar -C "$scratch" -xf -
+    sed 's/LENGTH = 64K/LENGTH = 128K/' "$root/memory.x" >"$scratch/memory.x"
+    # The root manifest, for what core/Cargo.toml inherits from the workspace.
+    sed 's/^members = .*/members = ["core"]/' "$root/Cargo.toml" >"$scratch/Cargo.toml"
+    local fw="$scratch/firmware-example" elf
+    elf="$scratch/target/$DW_TARGET/release/deploywatch-firmware-example"
+    fw_build() {
+        # shellcheck disable=SC2086 # DW_BUILD_STD is a list of arguments
+        (cd "$fw" && CARGO_TARGET_DIR="$scratch/target" dw_cargo build --quiet --release $DW_BUILD_STD)
+    }
+    echo "== the firmware as it is (a copy of core/ and firmware-example/)"
+    fw_build
+    cp "$elf" "$out/firmware-core.elf"
+    echo "== the firmware with nalgebra's Cholesky in linalg.rs"
+    cp "$exp/firmware/linalg.rs" "$scratch/core/src/linalg.rs"
+    sed -i 's/^\[dependencies\]$/[dependencies]\nnalgebra = { version = "0.34", default-features = false, features = ["libm"] }/' \
+        "$scratch/core/Cargo.toml"
+    fw_build
+    cp "$elf" "$out/firmware-nalgebra.elf"
+    echo
+    echo "| firmware | flash (text + data) | of 65,536 B | panic call sites |"
+    echo "|---|---|---|---|"
+    local v f
+    for v in core nalgebra; do
+        f=$(flash_of "$out/firmware-$v.elf")
+        printf '| linalg.rs: %s | %d B | %+d B | %d |\n' "$v" "$f" $((f - 65536)) "$(panic_sites "$out/firmware-$v.elf")"
+    done
+    [ $# -gt 0 ] || set -- \
+        "$root/data/reference/seed001_T01_eft.csv" "$root/data/mechanisms/seed001_T01.toml" \
+        "$root/data/reference/seed000_case1_eft.csv" "$root/data/mechanisms/seed000_case1.toml"
+    local dir deploywatch
+    dir=$(cd "$root" && cargo metadata --format-version 1 --no-deps \
+        | sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
+    deploywatch="${dir:-$root/target}/release/deploywatch"
+    if [ ! -x "$deploywatch" ]; then
+        echo "(no $deploywatch: cargo build --release -p deploywatch-sim for the instruction counts)"
+        return 0
+    fi
+    while [ $# -ge 2 ]; do
+        local run=$1 mech=$2 keep
+        shift 2
+        keep="$out/replay-$(basename "${run%.*}")"
+        mkdir -p "$keep"
+        "$deploywatch" replay "$run" --mechanism "$mech" --keep "$keep" --quiet >/dev/null
+        echo
+        echo "$(basename "$run"): the same input.bin through both firmwares (QEMU -icount shift=0)"
+        for v in core nalgebra; do
+            local args="arg=fw,arg=$keep/input.bin,arg=$keep/qemu-$v.bin"
+            timeout "${QEMU_TIMEOUT:-300}" qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic \
+                -icount shift=0 -semihosting-config "enable=on,target=native,$args" \
+                -kernel "$out/firmware-$v.elf" | defmt-print -e "$out/firmware-$v.elf" \
+                | grep -E 'Monitor::update|predict|stack' | sed "s/^/  $v: /"
+            if cmp -s "$keep/qemu-$v.bin" "$keep/host.bin"; then
+                echo "  $v: status frames bit-identical with the host's f32 run"
+            else
+                echo "  $v: status frames differ from the host's f32 run (the host runs the core's L D Lᵀ)"
+            fi
+        done
+    done
+}
+
 case "${1:-release}" in
     release | release-o3) evaluate "${1:-release}" ;;
     compile-cost) compile_cost ;;
+    firmware)
+        shift
+        firmware_eval "$@"
+        ;;
     *)
-        sed -n '2,19p' "$0" >&2
+        sed -n '2,31p' "$0" >&2
         exit 2
         ;;
 esac
