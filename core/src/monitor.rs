@@ -23,8 +23,8 @@ use crate::latch::{LatchConfig, LatchInput, LatchState, LatchTracker};
 use crate::linalg::{articulated_inertia, solve_spd_masked};
 use crate::margin::{self, MarginInput, MarginResult, MarginSettings, UncertaintyFactors};
 use crate::observer::{
-    momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation, ObserverInput,
-    ObserverTuning, RateFilter,
+    momentum_terms, FrictionEstimate, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation,
+    ObserverInput, ObserverTuning, RateFilter,
 };
 use crate::plausibility::{Reading, ReadingCheck, Verdict};
 use crate::predictor::{FrictionBelief, PredictionQuery, Predictor};
@@ -795,28 +795,51 @@ impl JointState {
         }
     }
 
+    /// The friction the prediction and the energy margin use, and whether
+    /// the data resolve `f`: the observer's estimate when they do; when
+    /// they do not, the estimate conditioned on `f` = its prior mean, whose
+    /// Coulomb torque holds the friction seen at the rates observed
+    /// (`docs/monitor.md` §3.2, [`FrictionObserver::estimate_given_viscous`]).
+    /// Not generic over the joint count (one copy in flash).
+    #[inline(never)]
+    fn friction(&self) -> (FrictionEstimate, Observability) {
+        let est = self.fo.estimate();
+        let prior = self.fo.prior();
+        let sd = prior.viscous_sd_nms;
+        match Observability::of(est.viscous_var, sd * sd, VISCOUS_RESOLVED_SD) {
+            Observability::Estimated => (est, Observability::Estimated),
+            Observability::Unobservable => (
+                self.fo.estimate_given_viscous(prior.viscous_nms),
+                Observability::Unobservable,
+            ),
+        }
+    }
+
     /// The joint's status line: estimates (non-finite values as 0), the
-    /// latch `state`, the `faults` of this sample and the prediction.
+    /// latch `state`, the `faults` of this sample and the prediction. The
+    /// Coulomb torque is the one the prediction uses
+    /// ([`JointState::friction`]); the viscous coefficient is the
+    /// observer's, with its posterior deviation.
     /// Not generic over the joint count (one copy in flash).
     #[inline(never)]
     fn status(&mut self, faults: FaultFlags, state: LatchState, forecast: Forecast) -> JointStatus {
+        let (used, viscous) = self.friction();
         let est = self.fo.estimate();
-        let coulomb_sd = self.coulomb_sd.sqrt(est.coulomb_var);
+        let coulomb_sd = self.coulomb_sd.sqrt(used.coulomb_var);
         let viscous_sd = self.viscous_sd.sqrt(est.viscous_var);
         let margin_pct = if self.lt.is_latched() {
             None
         } else {
             self.margin.map(|r| r.margin_pct)
         };
-        let prior_sd = self.fo.prior().viscous_sd_nms;
         JointStatus {
             phi_deg: finite(self.kf.angle() / DEG),
             rate_deg_s: finite(self.kf.rate() / DEG),
-            coulomb_nm: finite(est.coulomb_nm),
+            coulomb_nm: finite(used.coulomb_nm),
             coulomb_sd_nm: finite(coulomb_sd),
             viscous_nms: finite(est.viscous_nms),
             viscous_sd_nms: finite(viscous_sd),
-            viscous: Observability::of(est.viscous_var, prior_sd * prior_sd, VISCOUS_RESOLVED_SD),
+            viscous,
             friction_torque_nm: finite(self.fo.disturbance_nm()),
             latch: state,
             margin_pct: margin_pct.map(finite),
@@ -1586,7 +1609,8 @@ impl<const N: usize> Monitor<N> {
             &capture_rad,
             |j| match joints.get(j) {
                 Some(js) => {
-                    let e = js.fo.estimate();
+                    // f only as far as the data resolve it (§3.2).
+                    let e = js.friction().0;
                     FrictionBelief {
                         coulomb_nm: e.coulomb_nm,
                         coulomb_var: e.coulomb_var,
@@ -1594,7 +1618,7 @@ impl<const N: usize> Monitor<N> {
                         viscous_var: e.viscous_var,
                         spring_scale_err: e.spring_scale_err,
                         spring_scale_var: e.spring_scale_var,
-                        coulomb_lower_nm: js.fo.coulomb_lower_bound(js.kf.rate()),
+                        coulomb_lower_nm: js.fo.coulomb_lower_bound(js.kf.rate(), e.viscous_nms),
                     }
                 }
                 _ => FrictionBelief::default(),
@@ -1648,14 +1672,15 @@ impl<const N: usize> Monitor<N> {
             return UNKNOWN_MARGIN;
         };
         let (f, o) = (&js.kf, &js.fo);
-        let est = o.estimate();
+        // f only as far as the data resolve it (§3.2).
+        let est = js.friction().0;
         let phi = f.angle();
         let rate = f.rate();
         // The friction torque seen now bounds T_C from below, when the
         // observer runs undisturbed and the bound agrees with the estimate
         // (a bound beyond T̂_C + 2σ is a transient of r, not evidence).
         let bound = if quiet {
-            o.coulomb_lower_bound(rate)
+            o.coulomb_lower_bound(rate, est.viscous_nms)
         } else {
             0.0
         };

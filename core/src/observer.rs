@@ -494,16 +494,17 @@ impl FrictionObserver {
 
     /// A lower bound of the Coulomb torque [N·m] from the friction torque
     /// acting now: `|d| = |T_C tanh(ω/ω_c) + f ω| ≤ T_C + f|ω|`, so
-    /// `T_C ≥ |r| − f̂|ω| − 2σ_r`, with
+    /// `T_C ≥ |r| − f|ω| − 2σ_r` for the viscous coefficient `viscous_nms`
+    /// the bound is taken with (the one the caller's `T_C` goes with, see
+    /// [`FrictionObserver::estimate_given_viscous`]), with
     /// `σ_r² = E[(d̄ − r)²] K dt/(2 − K dt)` the noise of `r`. 0 until the
     /// observer has run.
-    pub fn coulomb_lower_bound(&self, rate_rad_s: f32) -> f32 {
+    pub fn coulomb_lower_bound(&self, rate_rad_s: f32, viscous_nms: f32) -> f32 {
         if !self.primed || !(self.kdt > 0.0) {
             return 0.0;
         }
         let sd = crate::real::sqrtf(self.lag_var.max(0.0) * self.kdt / (2.0 - self.kdt));
-        let bound =
-            libm::fabsf(self.r) - self.theta[1].max(0.0) * libm::fabsf(rate_rad_s) - 2.0 * sd;
+        let bound = libm::fabsf(self.r) - viscous_nms.max(0.0) * libm::fabsf(rate_rad_s) - 2.0 * sd;
         if bound.is_finite() {
             bound.max(0.0)
         } else {
@@ -541,6 +542,38 @@ impl FrictionObserver {
             cov: self.sigma[0][1],
             spring_scale_err: self.theta[2],
             spring_scale_var: self.sigma[2][2],
+        }
+    }
+
+    /// The estimate conditioned on the viscous coefficient being
+    /// `viscous_nms` [N·m·s/rad]: what the observer would report had it
+    /// known `f`, for use where the data do not resolve `f`
+    /// (`docs/monitor.md` §3.2). For the Gaussian posterior
+    /// `θ ~ N(θ̂, Σ)`, `θ = [T_C, f, κ]`, the conditional of a joint
+    /// Gaussian:
+    ///
+    /// ```text
+    /// θ_i | f = f₀  ~  N(θ̂_i + Σ_if/Σ_ff (f₀ − f̂),  Σ_ii − Σ_if²/Σ_ff),   i ∈ {T_C, κ}
+    /// ```
+    ///
+    /// Over a stroke at rates near `ω̄` the data fix `T_C + f ω̄`, so the
+    /// conditioned Coulomb torque is `≈ T_C + (f − f₀) ω̄`: it holds the
+    /// friction seen at the rates observed. The viscous variance and the
+    /// covariance are 0 in the result.
+    #[inline(never)]
+    pub fn estimate_given_viscous(&self, viscous_nms: f32) -> FrictionEstimate {
+        let (s, th) = (&self.sigma, &self.theta);
+        // Σ_ff > 0 while the observer is healthy (a reset follows otherwise).
+        let (g0, g2) = (s[0][1] / s[1][1], s[2][1] / s[1][1]);
+        let df = viscous_nms - th[1];
+        FrictionEstimate {
+            coulomb_nm: (th[0] + g0 * df).max(THETA_MIN[0]),
+            viscous_nms,
+            coulomb_var: s[0][0] - g0 * s[0][1],
+            viscous_var: 0.0,
+            cov: 0.0,
+            spring_scale_err: th[2] + g2 * df,
+            spring_scale_var: s[2][2] - g2 * s[2][1],
         }
     }
 
@@ -646,7 +679,19 @@ impl FrictionObserver {
                 self.sigma[i][j] -= sh[i] * sh[j] / s;
             }
         }
-        // Parameter projection onto the physical set.
+        // Parameter projection onto the physical set. The bound the data
+        // press against is `f ≥ 0` (a damping of 0 under a wide prior): it
+        // is met in the metric Σ⁻¹ (D. Simon & T. L. Chia, "Kalman
+        // filtering with state equality constraints", IEEE T-AES 38(1),
+        // 2002), which moves T_C and κ as the data would have, had f = 0
+        // been known ([`FrictionObserver::estimate_given_viscous`]). A clamp of f alone leaves them
+        // where the violating f pulled them, and the Coulomb estimate then
+        // drifts away step after step.
+        if self.theta[1] < THETA_MIN[1] {
+            let e = self.estimate_given_viscous(THETA_MIN[1]);
+            self.theta = [e.coulomb_nm, THETA_MIN[1], e.spring_scale_err];
+        }
+        // The other bounds (and rounding) by a clamp.
         for ((t, lo), hi) in self
             .theta
             .iter_mut()
