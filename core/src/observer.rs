@@ -563,7 +563,9 @@ impl FrictionObserver {
     #[inline(never)]
     pub fn estimate_given_viscous(&self, viscous_nms: f32) -> FrictionEstimate {
         let (s, th) = (&self.sigma, &self.theta);
-        // Σ_ff > 0 while the observer is healthy (a reset follows otherwise).
+        // Σ_ff > 0 while the observer is healthy (a reset follows
+        // otherwise), and well above 0 where `f` is unresolved, the use the
+        // monitor makes of this.
         let (g0, g2) = (s[0][1] / s[1][1], s[2][1] / s[1][1]);
         let df = viscous_nms - th[1];
         FrictionEstimate {
@@ -938,6 +940,89 @@ pub(crate) mod tests {
         let e = o.estimate();
         assert!((e.coulomb_nm - tc).abs() < 0.05 * tc, "{e:?}");
         assert!(o.is_healthy());
+    }
+
+    /// A single body `I ω̇ = 3 − 0.5 ω − T_C tanh(ω/ω_c) − f ω` (the
+    /// `−0.5 ω` known), started at rate `w0` [rad/s], exact data at 100 Hz
+    /// for 3 s, under a wide viscous prior `f = 0 ± 1` and a spring scale
+    /// fixed at 1 (the spring torque is a constant, collinear with the
+    /// Coulomb regressor); returns the observer and the final rate [rad/s].
+    fn single_body_with_wide_viscous_prior(tc: f32, f: f32, w0: f32) -> (FrictionObserver, f32) {
+        let inertia = 2.0f32;
+        let mut o = FrictionObserver::new(
+            FrictionPrior {
+                coulomb_nm: 0.0,
+                coulomb_sd_nm: 2.0,
+                viscous_nms: 0.0,
+                viscous_sd_nms: 1.0,
+            },
+            0.0,
+        );
+        let (mut w, dt) = (w0, 0.01f32);
+        for _ in 0..300 {
+            for _ in 0..100 {
+                let d = -tc * libm::tanhf(w / 0.01) - f * w;
+                w += (dt / 100.0) * (3.0 - 0.5 * w + d) / inertia;
+            }
+            o.step(
+                &ObserverInput {
+                    momentum: inertia * w,
+                    spring_torque_nm: 3.0,
+                    beta_nm: -0.5 * w,
+                    rate_rad_s: w,
+                    rate_var: 0.0,
+                    dt_s: dt,
+                    learn: true,
+                },
+                &exact_data_tuning(),
+            );
+        }
+        (o, w)
+    }
+
+    #[test]
+    fn a_damping_of_zero_under_a_wide_prior_leaves_the_coulomb_estimate_alone() {
+        // From rest, no damping: f sits at its bound 0, met in the metric
+        // Σ⁻¹, and the Coulomb estimate stays on the truth. (Noisy data
+        // press f against the bound much harder: on T01 with the sensor
+        // model, `tests/monitor.rs` viscous, a clamp of f alone let joint
+        // 3's Coulomb estimate drift to 21.8 N·m against 0.001.)
+        let (o, _) = single_body_with_wide_viscous_prior(1.2, 0.0, 0.0);
+        let e = o.estimate();
+        assert!((e.coulomb_nm - 1.2).abs() < 0.05 * 1.2, "{e:?}");
+        assert!(e.viscous_nms <= 2.0 * libm::sqrtf(e.viscous_var), "{e:?}");
+        assert!(o.is_healthy());
+    }
+
+    #[test]
+    fn conditioned_on_no_damping_the_coulomb_torque_holds_the_friction_seen() {
+        // Started at its terminal rate (3 − 0.5 ω − 1.2 − 0.3 ω = 0 at
+        // 2.25 rad/s) the body never changes rate: the data fix T_C + f ω
+        // there and nothing of the split, and f stays unresolved.
+        // Conditioned on f = 0 the Coulomb torque is that friction, with no
+        // viscous term and a smaller variance.
+        let (tc, f) = (1.2f32, 0.3f32);
+        let (o, w) = single_body_with_wide_viscous_prior(tc, f, 2.25);
+        let seen = tc + f * w;
+        let e = o.estimate();
+        assert!(e.viscous_var > 0.25, "f is not resolved: {e:?}");
+        assert!(
+            (e.coulomb_nm + e.viscous_nms * w - seen).abs() < 0.05 * seen,
+            "{e:?}"
+        );
+        let c = o.estimate_given_viscous(0.0);
+        assert!((c.coulomb_nm - seen).abs() < 0.05 * seen, "{c:?} vs {seen}");
+        assert_eq!((c.viscous_nms, c.viscous_var, c.cov), (0.0, 0.0, 0.0));
+        assert!(
+            c.coulomb_var > 0.0 && c.coulomb_var < e.coulomb_var,
+            "{c:?} {e:?}"
+        );
+        // Conditioned on the estimate itself nothing moves.
+        let same = o.estimate_given_viscous(e.viscous_nms);
+        assert!(
+            (same.coulomb_nm - e.coulomb_nm).abs() < 1e-4,
+            "{same:?} {e:?}"
+        );
     }
 
     #[test]
