@@ -106,14 +106,14 @@ impl core::fmt::Display for Prediction {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Observability {
     /// The prior still dominates, or the standard deviation is too wide
-    /// for the value to mean anything: the estimate is the prior pulled a
-    /// little, and the reported deviation (the posterior's) is what is
-    /// known.
+    /// for the value to mean anything: the reported value and deviation
+    /// are the posterior's (an honest interval under an honest prior), and
+    /// the prediction does not use the value (`docs/monitor.md` §3.2).
     #[default]
     Unobservable,
     /// The data determine it: the posterior variance is at most
     /// [`OBSERVED_PRIOR_SHARE`] of the prior's and the standard deviation
-    /// at most [`VISCOUS_RESOLVED_SD`].
+    /// at most [`VISCOUS_RESOLVED_SD`]; the prediction uses it.
     Estimated,
 }
 
@@ -167,7 +167,10 @@ pub struct JointStatus {
     pub phi_deg: f32,
     /// Estimated rate [deg/s].
     pub rate_deg_s: f32,
-    /// Estimated Coulomb friction torque `T_C` [N·m].
+    /// Estimated Coulomb friction torque `T_C` [N·m]; while `viscous` is
+    /// [`Observability::Unobservable`], the one conditioned on `f` = its
+    /// prior mean (the friction seen at the rates observed, what the
+    /// prediction uses).
     pub coulomb_nm: f32,
     /// Standard deviation of `T_C` [N·m].
     pub coulomb_sd_nm: f32,
@@ -176,8 +179,8 @@ pub struct JointStatus {
     /// Standard deviation of `f` [N·m·s/rad].
     pub viscous_sd_nms: f32,
     /// Whether the data determine `f` ([`Observability::Estimated`]) or
-    /// only its prior does (`viscous_nms ± viscous_sd_nms` is then the
-    /// prior pulled a little, with its honest deviation).
+    /// not (`viscous_nms ± viscous_sd_nms` is then the posterior, wide,
+    /// and the prediction leaves `f` out).
     pub viscous: Observability,
     /// Disturbance-observer friction torque now (filtered) [N·m].
     pub friction_torque_nm: f32,
