@@ -943,36 +943,31 @@ fn full_prediction_refresh_cycle() {
 }
 
 /// seed001_T01 with the papers' friction and a viscous damping of
-/// `VISCOUS_TRUTH` N·m·s/rad at every joint, reference sensor, three seeds.
+/// 0, 0.2 and 0.3 N·m·s/rad at every joint, reference sensor, three seeds,
+/// the default monitor configuration (viscous prior `0 ± 1`,
+/// `monitor_config::VISCOUS_PRIOR_SD_NMS`).
 ///
-/// With the default prior (`f = 0 ± 0.05`, tight: the prediction needs it,
-/// see docs/monitor.md §10) the data cannot move the estimate far, and the
-/// status says so: every joint `unobservable`.
-///
-/// With a wide prior (`± VISCOUS_WIDE_SD`) the data speak: at half stroke
-/// and 0.2 s before each latch, a joint whose status says `estimated` has
-/// its damping within 20 % (issue 14), every joint, estimated or not, has
-/// the truth within 3 reported standard deviations (an honest
-/// uncertainty), and joint 3 (no Coulomb friction, the fastest stroke) is
-/// estimated before its latch. Rerun with `cargo test -p deploywatch-tests
-/// --test monitor viscous -- --nocapture` (table in docs/monitor.md §8).
+/// At half stroke and 0.2 s before each latch the status says which
+/// (issue 14): a joint `estimated` has its damping within 20 % of a truth
+/// ≥ 0.2 (within 2 reported standard deviations of a truth of 0); a joint
+/// `unobservable` has the truth within 2 reported standard deviations (an
+/// honest uncertainty). Joint 3 (no Coulomb friction, the fastest stroke)
+/// is `estimated` before its latch whenever the truth is ≥ 0.2. The
+/// prediction takes `f` only where it is resolved (docs/monitor.md §3.2):
+/// every joint, which latches in the simulation, is predicted to latch at
+/// half stroke, and no joint is ever predicted to stall. Rerun with
+/// `cargo test --release -p deploywatch-tests --test monitor viscous --
+/// --nocapture` (table in docs/monitor.md §8).
 #[test]
 fn t01_viscous_damping_estimated_or_reported_unobservable() {
-    const VISCOUS_TRUTH: f64 = 0.3;
-    const VISCOUS_WIDE_SD: f32 = 1.0;
     let mech = mechanism("seed001_T01");
-    let tight = monitor_config::<3>(&mech).unwrap();
-    let mut wide = tight;
-    for j in wide.joints.iter_mut() {
-        j.prior.viscous_sd_nms = VISCOUS_WIDE_SD;
-    }
-    for seed in 1..=3u64 {
-        let mut effects = coulomb(&SEED001_FRICTION);
-        effects
-            .extend((1..=3).map(|j| Effect::joint(EffectKind::ViscousDamping, j, VISCOUS_TRUTH)));
-        let (traj, run) = simulate_run(&mech, &effects, seed);
-        for (prior, cfg) in [("tight", &tight), ("wide", &wide)] {
-            let st = replay(cfg, &run);
+    let cfg = monitor_config::<3>(&mech).unwrap();
+    for truth in [0.0, 0.2, 0.3] {
+        for seed in 1..=3u64 {
+            let mut effects = coulomb(&SEED001_FRICTION);
+            effects.extend((1..=3).map(|j| Effect::joint(EffectKind::ViscousDamping, j, truth)));
+            let (traj, run) = simulate_run(&mech, &effects, seed);
+            let st = replay(&cfg, &run);
             for j in 0..3 {
                 let half = half_stroke_index(&traj, mech.joints[j].stowed_deg, j)
                     .expect("joint reaches half stroke");
@@ -985,35 +980,40 @@ fn t01_viscous_damping_estimated_or_reported_unobservable() {
                 for (when, i) in [("half stroke", half), ("before the latch", before)] {
                     let js = st[i].joints[j];
                     let (f, sd) = (f64::from(js.viscous_nms), f64::from(js.viscous_sd_nms));
-                    let err = f / VISCOUS_TRUTH - 1.0;
                     println!(
-                        "{prior} prior, seed {seed} joint {} at {when} (t = {:.2} s): f = {f:.3} ± {sd:.3} N·m·s/rad, {} ({:+.1} %)",
+                        "truth {truth:.1}, seed {seed} joint {} at {when} (t = {:.2} s): f = {f:.3} ± {sd:.3} N·m·s/rad, {} ({:+.2} σ); T_C = {:.3} ± {:.3} N·m; {}",
                         j + 1,
                         st[i].t_s,
                         js.viscous.as_str(),
-                        100.0 * err
+                        (f - truth) / sd,
+                        js.coulomb_nm,
+                        js.coulomb_sd_nm,
+                        js.prediction,
                     );
-                    if prior == "tight" {
-                        assert_eq!(
-                            js.viscous,
-                            Observability::Unobservable,
-                            "seed {seed} joint {}",
-                            j + 1
+                    let label = format!("truth {truth} seed {seed} joint {} at {when}", j + 1);
+                    if js.viscous == Observability::Estimated && truth > 0.0 {
+                        let err = f / truth - 1.0;
+                        assert!(err.abs() <= 0.2, "{label}: estimated {f} ({err:+.3})");
+                    } else {
+                        assert!(
+                            (f - truth).abs() <= 2.0 * sd,
+                            "{label}: {} {f} ± {sd}",
+                            js.viscous.as_str()
                         );
-                        continue;
                     }
-                    assert!(
-                        (f - VISCOUS_TRUTH).abs() <= 3.0 * sd,
-                        "seed {seed} joint {} at {when}: {f} ± {sd} against {VISCOUS_TRUTH}",
-                        j + 1
-                    );
-                    if js.viscous == Observability::Estimated {
-                        assert!(err.abs() <= 0.2, "seed {seed} joint {}: {err:+.3}", j + 1);
+                    if j == 2 && when == "before the latch" && truth >= 0.2 {
+                        assert_eq!(js.viscous, Observability::Estimated, "{label}");
                     }
-                    if j == 2 && when == "before the latch" {
-                        assert_eq!(js.viscous, Observability::Estimated, "seed {seed} joint 3");
+                    if when == "half stroke" {
+                        assert_eq!(js.prediction, Prediction::Latch, "{label}");
                     }
                 }
+                assert!(
+                    st.iter()
+                        .all(|s| s.joints[j].prediction != Prediction::Stall),
+                    "truth {truth} seed {seed} joint {}: a stall predicted",
+                    j + 1
+                );
             }
         }
     }

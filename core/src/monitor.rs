@@ -35,8 +35,8 @@ use crate::latch::{LatchConfig, LatchInput, LatchState, LatchTracker};
 use crate::linalg::{articulated_inertia, solve_spd_masked};
 use crate::margin::{self, MarginInput, MarginResult, MarginSettings, UncertaintyFactors};
 use crate::observer::{
-    momentum_terms, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation, ObserverInput,
-    ObserverTuning, RateFilter,
+    momentum_terms, FrictionEstimate, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation,
+    ObserverInput, ObserverTuning, RateFilter,
 };
 use crate::plausibility::{Reading, ReadingCheck, Verdict};
 use crate::predictor::{FrictionBelief, PredictionQuery, Predictor};
@@ -119,14 +119,14 @@ impl core::fmt::Display for Prediction {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Observability {
     /// The prior still dominates, or the standard deviation is too wide
-    /// for the value to mean anything: the estimate is the prior pulled a
-    /// little, and the reported deviation (the posterior's) is what is
-    /// known.
+    /// for the value to mean anything: the reported value and deviation
+    /// are the posterior's (an honest interval under an honest prior), and
+    /// the prediction does not use the value (`docs/monitor.md` §3.2).
     #[default]
     Unobservable,
     /// The data determine it: the posterior variance is at most
     /// [`OBSERVED_PRIOR_SHARE`] of the prior's and the standard deviation
-    /// at most [`VISCOUS_RESOLVED_SD`].
+    /// at most [`VISCOUS_RESOLVED_SD`]; the prediction uses it.
     Estimated,
 }
 
@@ -180,7 +180,10 @@ pub struct JointStatus {
     pub phi_deg: f32,
     /// Estimated rate [deg/s].
     pub rate_deg_s: f32,
-    /// Estimated Coulomb friction torque `T_C` [N·m].
+    /// Estimated Coulomb friction torque `T_C` [N·m]; while `viscous` is
+    /// [`Observability::Unobservable`], the one conditioned on `f` = its
+    /// prior mean (the friction seen at the rates observed, what the
+    /// prediction uses).
     pub coulomb_nm: f32,
     /// Standard deviation of `T_C` [N·m].
     pub coulomb_sd_nm: f32,
@@ -189,8 +192,8 @@ pub struct JointStatus {
     /// Standard deviation of `f` [N·m·s/rad].
     pub viscous_sd_nms: f32,
     /// Whether the data determine `f` ([`Observability::Estimated`]) or
-    /// only its prior does (`viscous_nms ± viscous_sd_nms` is then the
-    /// prior pulled a little, with its honest deviation).
+    /// not (`viscous_nms ± viscous_sd_nms` is then the posterior, wide,
+    /// and the prediction leaves `f` out).
     pub viscous: Observability,
     /// Disturbance-observer friction torque now (filtered) [N·m].
     pub friction_torque_nm: f32,
@@ -854,25 +857,47 @@ impl JointState {
         }
     }
 
+    /// The friction the prediction and the energy margin use, and whether
+    /// the data resolve `f`: the observer's estimate when they do; when
+    /// they do not, the estimate conditioned on `f` = its prior mean, whose
+    /// Coulomb torque holds the friction seen at the rates observed
+    /// (`docs/monitor.md` §3.2, [`FrictionObserver::estimate_given_viscous`]).
+    /// Not generic over the joint count (one copy in flash).
+    #[inline(never)]
+    fn friction(&self) -> (FrictionEstimate, Observability) {
+        let est = self.fo.estimate();
+        let prior = self.fo.prior();
+        let sd = prior.viscous_sd_nms;
+        match Observability::of(est.viscous_var, sd * sd, VISCOUS_RESOLVED_SD) {
+            Observability::Estimated => (est, Observability::Estimated),
+            Observability::Unobservable => (
+                self.fo.estimate_given_viscous(prior.viscous_nms),
+                Observability::Unobservable,
+            ),
+        }
+    }
+
     /// The learned part of the joint's status line (non-finite values as
-    /// 0): friction estimates, margin and the prediction. Not generic over
-    /// the joint count (one copy in flash).
+    /// 0): friction estimates, margin and the prediction. The Coulomb
+    /// torque is the one the prediction uses ([`JointState::friction`]);
+    /// the viscous coefficient is the observer's, with its posterior
+    /// deviation. Not generic over the joint count (one copy in flash).
     #[inline(never)]
     fn estimates(&mut self, out: &mut JointStatus, forecast: Forecast) {
+        let (used, viscous) = self.friction();
         let est = self.fo.estimate();
-        let coulomb_sd = self.coulomb_sd.sqrt(est.coulomb_var);
+        let coulomb_sd = self.coulomb_sd.sqrt(used.coulomb_var);
         let viscous_sd = self.viscous_sd.sqrt(est.viscous_var);
         let margin_pct = if self.lt.is_latched() {
             None
         } else {
             self.margin.map(|r| r.margin_pct)
         };
-        let prior_sd = self.fo.prior().viscous_sd_nms;
-        out.coulomb_nm = finite(est.coulomb_nm);
+        out.coulomb_nm = finite(used.coulomb_nm);
         out.coulomb_sd_nm = finite(coulomb_sd);
         out.viscous_nms = finite(est.viscous_nms);
         out.viscous_sd_nms = finite(viscous_sd);
-        out.viscous = Observability::of(est.viscous_var, prior_sd * prior_sd, VISCOUS_RESOLVED_SD);
+        out.viscous = viscous;
         out.friction_torque_nm = finite(self.fo.disturbance_nm());
         out.margin_pct = margin_pct.map(finite);
         out.prediction = forecast.prediction;
@@ -1668,7 +1693,8 @@ impl<const N: usize> Monitor<N> {
             &capture_rad,
             |j| match joints.get(j) {
                 Some(js) => {
-                    let e = js.fo.estimate();
+                    // f only as far as the data resolve it (§3.2).
+                    let e = js.friction().0;
                     FrictionBelief {
                         coulomb_nm: e.coulomb_nm,
                         coulomb_var: e.coulomb_var,
@@ -1676,7 +1702,7 @@ impl<const N: usize> Monitor<N> {
                         viscous_var: e.viscous_var,
                         spring_scale_err: e.spring_scale_err,
                         spring_scale_var: e.spring_scale_var,
-                        coulomb_lower_nm: js.fo.coulomb_lower_bound(js.kf.rate()),
+                        coulomb_lower_nm: js.fo.coulomb_lower_bound(js.kf.rate(), e.viscous_nms),
                     }
                 }
                 _ => FrictionBelief::default(),
@@ -1730,14 +1756,15 @@ impl<const N: usize> Monitor<N> {
             return UNKNOWN_MARGIN;
         };
         let (f, o) = (&js.kf, &js.fo);
-        let est = o.estimate();
+        // f only as far as the data resolve it (§3.2).
+        let est = js.friction().0;
         let phi = f.angle();
         let rate = f.rate();
         // The friction torque seen now bounds T_C from below, when the
         // observer runs undisturbed and the bound agrees with the estimate
         // (a bound beyond T̂_C + 2σ is a transient of r, not evidence).
         let bound = if quiet {
-            o.coulomb_lower_bound(rate)
+            o.coulomb_lower_bound(rate, est.viscous_nms)
         } else {
             0.0
         };

@@ -27,7 +27,11 @@ use crate::rollout::{
 
 /// What the monitor believes of one joint's friction and spring when a
 /// rollout starts (the friction observer's estimate, `docs/monitor.md`
-/// §3.2).
+/// §3.2). The viscous term is in it only as far as the data resolve it:
+/// where they do not, `viscous_nms` is the prior mean with `viscous_var` 0
+/// and the Coulomb torque is the estimate conditioned on it, which holds
+/// the friction seen at the rates observed
+/// (`FrictionObserver::estimate_given_viscous`).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct FrictionBelief {
     /// Coulomb torque `T̂_C` [N·m].
