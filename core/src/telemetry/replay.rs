@@ -240,8 +240,20 @@ impl Slot for MonitorConfig<3> {
 pub trait Stored: Sized {
     /// The monitor of this joint count in `store`, if that is what it holds.
     fn get(store: &mut MonitorStore) -> Option<&mut Self>;
-    /// Moves the monitor into `store`.
-    fn put(self, store: &mut MonitorStore);
+    /// A store holding a vacant monitor of this joint count, for
+    /// [`Monitor::reset`] to configure in place. Out of line and returned
+    /// by value: the monitor is written straight into the returned store,
+    /// which the caller copies into its slot once (one monitor on the
+    /// stack, not the two or three that building it there takes).
+    fn vacant() -> MonitorStore;
+    /// The monitor of this joint count in `store`: the one it holds, or a
+    /// vacant one put there first.
+    fn slot(store: &mut MonitorStore) -> Option<&mut Self> {
+        if Self::get(store).is_none() {
+            *store = Self::vacant();
+        }
+        Self::get(store)
+    }
 }
 
 impl Stored for Monitor<2> {
@@ -252,9 +264,9 @@ impl Stored for Monitor<2> {
         }
     }
 
-    #[inline(always)]
-    fn put(self, store: &mut MonitorStore) {
-        *store = MonitorStore::Two(self);
+    #[inline(never)]
+    fn vacant() -> MonitorStore {
+        MonitorStore::Two(Monitor::vacant())
     }
 }
 
@@ -266,9 +278,9 @@ impl Stored for Monitor<3> {
         }
     }
 
-    #[inline(always)]
-    fn put(self, store: &mut MonitorStore) {
-        *store = MonitorStore::Three(self);
+    #[inline(never)]
+    fn vacant() -> MonitorStore {
+        MonitorStore::Three(Monitor::vacant())
     }
 }
 
@@ -609,21 +621,17 @@ where
     Ok((header.joints, n))
 }
 
-/// Builds the monitor of `config` in `store`. Out of line, so that the
-/// monitor under construction is not on the stack under [`run`].
+/// Builds the monitor of `config` in `store`, in place
+/// ([`Monitor::reset`] on the store's slot): neither a monitor nor a
+/// `Result` of one is ever on the stack, which sets the firmware's stack
+/// peak otherwise (`docs/performance.md`).
 #[inline(never)]
 fn build<const N: usize>(config: &MonitorConfig<N>, store: &mut MonitorStore) -> Result<(), Error>
 where
     Monitor<N>: Stored,
 {
-    match Monitor::new(config) {
-        // Moved into the store's slot (no second copy in a store value).
-        Ok(m) => {
-            m.put(store);
-            Ok(())
-        }
-        Err(_) => Err(Error::Config),
-    }
+    let monitor = Monitor::<N>::slot(store).ok_or(Error::Config)?;
+    monitor.reset(config).map_err(|_| Error::Config)
 }
 
 impl From<MonitorConfig<2>> for ConfigStore {
