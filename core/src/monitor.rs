@@ -1004,18 +1004,19 @@ impl<const N: usize> Monitor<N> {
     /// ([`Monitor::reset`] on a vacant monitor: one definition of the
     /// initial state).
     pub fn new(config: &MonitorConfig<N>) -> Result<Self, ConfigError> {
-        let mut m = Self::vacant();
+        let mut m = Self::vacant(config);
         m.reset(config)?;
         Ok(m)
     }
 
     /// Storage for a monitor, every field written with a placeholder (a
-    /// chain of zero panels, unconfigured joints) for [`Monitor::reset`] to
-    /// overwrite: not a monitor of any mechanism. Out of line and returned
-    /// by value, so that a caller moving it into its final place (a static
-    /// slot) has it written there directly, not built on the stack.
+    /// chain of zero panels, unconfigured joints, `config`'s tuning) for
+    /// [`Monitor::reset`] to overwrite: not a monitor of any mechanism.
+    /// Out of line and returned by value, so that a caller moving it into
+    /// its final place (a static slot) has it written there directly, not
+    /// built on the stack.
     #[inline(never)]
-    pub(crate) fn vacant() -> Self {
+    pub(crate) fn vacant(config: &MonitorConfig<N>) -> Self {
         let joint = JointConfig {
             stowed_deg: 0.0,
             spring: Spring::None,
@@ -1027,17 +1028,16 @@ impl<const N: usize> Monitor<N> {
                 viscous_sd_nms: 1.0,
             },
         };
-        let observer = ObserverConfig::default();
-        let state = JointState::new(&joint, 1.0, &observer, 0.0);
+        let state = JointState::new(&joint, 1.0, &config.observer, 0.0);
         // The large parts last: each is written in place only if nothing
         // is built after it (LLVM's call-slot forwarding).
         Monitor {
             meas_var: 0.0,
             meas_sd: 0.0,
-            sensor: SensorConfig::default(),
-            observer,
-            latch_cfg: LatchConfig::default(),
-            margin_cfg: MarginConfig::default(),
+            sensor: config.sensor,
+            observer: config.observer,
+            latch_cfg: config.latch,
+            margin_cfg: config.margin,
             started: false,
             t_start: 0.0,
             t_prev: 0.0,
