@@ -720,16 +720,22 @@ mod tests {
         let fresh2 = frames(&mut Monitor::new(&c2).expect("config"), &c2, 0, 200);
         let mut store = MonitorStore::Empty;
         // Built in an empty slot, in a slot holding a used monitor of
-        // another joint count, and in one holding a used monitor of its own.
+        // another joint count, and in one holding a used monitor of its own
+        // (used for an odd number of samples: stopped mid-way through the
+        // joints' turns).
         build(&c3, &mut store).expect("build");
         let m = Monitor::<3>::get(&mut store).expect("3 joints");
         assert_eq!(frames(m, &c3, 0, 200), fresh3);
         build(&c2, &mut store).expect("build");
         let m = Monitor::<2>::get(&mut store).expect("2 joints");
         assert_eq!(frames(m, &c2, 0, 200), fresh2);
-        build(&c2, &mut store).expect("build");
-        let m = Monitor::<2>::get(&mut store).expect("2 joints");
-        assert_eq!(frames(m, &c2, 0, 200), fresh2);
+        for (used, c) in [(137, &c3), (91, &c3)] {
+            let m = Monitor::<3>::slot(&mut store, c).expect("3 joints");
+            frames(m, c, 0, used);
+            build(c, &mut store).expect("build");
+            let m = Monitor::<3>::get(&mut store).expect("3 joints");
+            assert_eq!(frames(m, c, 0, 200), fresh3);
+        }
     }
 
     #[test]
