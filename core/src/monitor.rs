@@ -1017,6 +1017,8 @@ impl<const N: usize> Monitor<N> {
     /// built on the stack.
     #[inline(never)]
     pub(crate) fn vacant(config: &MonitorConfig<N>) -> Self {
+        // A placeholder joint (unsprung, at the latch, any valid prior; an
+        // encoder σ of 1 rad, no spring spread): `reset` replaces it.
         let joint = JointConfig {
             stowed_deg: 0.0,
             spring: Spring::None,
@@ -1053,7 +1055,7 @@ impl<const N: usize> Monitor<N> {
             learned: [false; N],
             status: Status::default(),
             fit: CentredFit::new(),
-            predictor: Predictor::new(0.9),
+            predictor: Predictor::new(MarginConfig::default().confidence),
             joints: [state; N],
             chain: Chain::vacant(),
         }
@@ -1063,7 +1065,7 @@ impl<const N: usize> Monitor<N> {
     /// the same order, compiled once for all joint counts: each joint is
     /// checked, with the tuning, as a one-joint configuration (the checks
     /// take 2.8 KiB of the firmware's flash per joint count otherwise).
-    fn validate(config: &MonitorConfig<N>) -> Result<(), ConfigError> {
+    fn validate_config(config: &MonitorConfig<N>) -> Result<(), ConfigError> {
         if N == 0 {
             return config.validate();
         }
@@ -1094,7 +1096,7 @@ impl<const N: usize> Monitor<N> {
     /// start-up, `telemetry::replay`). On an error the monitor is unchanged.
     #[inline(never)]
     pub fn reset(&mut self, config: &MonitorConfig<N>) -> Result<(), ConfigError> {
-        Self::validate(config)?;
+        Self::validate_config(config)?;
         // Every field by name: a field added to `Monitor` must be set here.
         let Monitor {
             chain,
