@@ -151,8 +151,9 @@ impl<const N: usize> Default for Mode<N> {
 /// inertia coefficients precomputed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Chain<T, const N: usize> {
-    panels: [Panel<T>; N],
+    // The joints first: [`Chain::vacant`] has them written in place.
     joints: [Joint<T>; N],
+    panels: [Panel<T>; N],
     global: GlobalEffects<T>,
     /// `A_kl` [kg·m²].
     a: [[T; N]; N],
@@ -181,6 +182,64 @@ impl<T: Real, const N: usize> Chain<T, N> {
         joints: [Joint<T>; N],
         global: GlobalEffects<T>,
     ) -> Result<Self, ChainError> {
+        Self::check_panels(&panels)?;
+        let mut c = Chain {
+            panels,
+            joints,
+            global,
+            a: [[T::ZERO; N]; N],
+            mass_moment: [T::ZERO; N],
+        };
+        c.precompute();
+        Ok(c)
+    }
+
+    /// A chain of massless, zero-length panels and unsprung joints: storage
+    /// to be configured in place with [`Chain::set_panels`] and
+    /// [`Chain::joint_mut`] (not a mechanism: its mass matrix is singular).
+    /// Out of line, as are its joints: returned values are written in
+    /// place, where a chain built inline would be copied from the stack.
+    #[inline(never)]
+    pub(crate) fn vacant() -> Self {
+        Chain {
+            panels: [Panel {
+                length_m: T::ZERO,
+                mass_kg: T::ZERO,
+                com_m: T::ZERO,
+                inertia_kgm2: T::ZERO,
+            }; N],
+            global: GlobalEffects::default(),
+            a: [[T::ZERO; N]; N],
+            mass_moment: [T::ZERO; N],
+            joints: Self::vacant_joints(),
+        }
+    }
+
+    /// Unsprung joints without friction or effects, for [`Chain::vacant`].
+    #[inline(never)]
+    fn vacant_joints() -> [Joint<T>; N] {
+        [Joint {
+            stowed_rad: T::ZERO,
+            spring: Spring::None,
+            friction: Friction::default(),
+            effects: JointEffects::default(),
+        }; N]
+    }
+
+    /// Replaces the panels in place and precomputes `A` and the mass
+    /// moments again, as [`Chain::new`] does; the joints and the global
+    /// effects stay. On an error the chain is unchanged. Lets a chain in
+    /// static memory be configured without a second one on the stack.
+    pub fn set_panels(&mut self, panels: &[Panel<T>; N]) -> Result<(), ChainError> {
+        Self::check_panels(panels)?;
+        self.panels = *panels;
+        self.precompute();
+        Ok(())
+    }
+
+    /// Every panel needs a positive finite length and mass, and a
+    /// non-negative finite inertia.
+    fn check_panels(panels: &[Panel<T>; N]) -> Result<(), ChainError> {
         for (index, p) in panels.iter().enumerate() {
             let ok = p.length_m > T::ZERO
                 && p.mass_kg > T::ZERO
@@ -193,15 +252,7 @@ impl<T: Real, const N: usize> Chain<T, N> {
                 return Err(ChainError::BadPanel { index });
             }
         }
-        let mut c = Chain {
-            panels,
-            joints,
-            global,
-            a: [[T::ZERO; N]; N],
-            mass_moment: [T::ZERO; N],
-        };
-        c.precompute();
-        Ok(c)
+        Ok(())
     }
 
     fn precompute(&mut self) {

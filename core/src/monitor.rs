@@ -28,7 +28,7 @@
 //! Everything is `f32`, fixed-size and heap-free; `size_of::<Monitor<3>>()`
 //! is under 4 KiB. `docs/monitor.md` has the equations and the tuning.
 
-use crate::chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, Panel};
+use crate::chain::{Chain, ChainError, ChainState, GlobalEffects, JointEffects, Panel};
 use crate::faults::{Fault, FaultFlags};
 use crate::friction::Friction;
 use crate::latch::{LatchConfig, LatchInput, LatchState, LatchTracker};
@@ -1066,54 +1066,181 @@ const UNKNOWN_MARGIN: MarginResult = MarginResult {
     time_to_latch_s: None,
 };
 
+/// [`MonitorConfig::validate`] of one joint, out of line: one copy for
+/// every joint count ([`Monitor::reset`]).
+#[inline(never)]
+fn validate_one(config: &MonitorConfig<1>) -> Result<(), ConfigError> {
+    config.validate()
+}
+
 impl<const N: usize> Monitor<N> {
-    /// A monitor for the configured mechanism, waiting for its first sample.
+    /// A monitor for the configured mechanism, waiting for its first sample
+    /// ([`Monitor::reset`] on a vacant monitor: one definition of the
+    /// initial state).
     pub fn new(config: &MonitorConfig<N>) -> Result<Self, ConfigError> {
-        config.validate()?;
-        let joints: [Joint<f32>; N] = core::array::from_fn(|j| Joint {
-            stowed_rad: config.joints[j].stowed_deg * DEG,
-            spring: config.joints[j].spring,
-            friction: Friction::default(),
-            effects: JointEffects::default(),
-        });
-        let chain = Chain::new(config.panels, joints, GlobalEffects::default())
-            .map_err(ConfigError::Chain)?;
-        let sd = config.sensor.encoder_sd_deg * DEG;
-        let meas_var = Self::meas_var(&config.sensor);
-        Ok(Monitor {
-            chain,
-            meas_var,
-            meas_sd: crate::real::sqrtf(meas_var),
+        let mut m = Self::vacant(config);
+        m.reset(config)?;
+        Ok(m)
+    }
+
+    /// Storage for a monitor, every field written with a placeholder (a
+    /// chain of zero panels, unconfigured joints, `config`'s tuning) for
+    /// [`Monitor::reset`] to overwrite: not a monitor of any mechanism.
+    /// Out of line and returned by value, so that a caller moving it into
+    /// its final place (a static slot) has it written there directly, not
+    /// built on the stack.
+    #[inline(never)]
+    pub(crate) fn vacant(config: &MonitorConfig<N>) -> Self {
+        // A placeholder joint (unsprung, at the latch, any valid prior; an
+        // encoder σ of 1 rad, no spring spread): `reset` replaces it.
+        let joint = JointConfig {
+            stowed_deg: 0.0,
+            spring: Spring::None,
+            capture_deg: 0.0,
+            prior: FrictionPrior {
+                coulomb_nm: 0.0,
+                coulomb_sd_nm: 1.0,
+                viscous_nms: 0.0,
+                viscous_sd_nms: 1.0,
+            },
+        };
+        let state = JointState::new(&joint, 1.0, &config.observer, 0.0);
+        // The large parts last: each is written in place only if nothing
+        // is built after it (LLVM's call-slot forwarding).
+        Monitor {
+            meas_var: 0.0,
+            meas_sd: 0.0,
             sensor: config.sensor,
             observer: config.observer,
             latch_cfg: config.latch,
             margin_cfg: config.margin,
-            joints: core::array::from_fn(|j| {
-                JointState::new(
-                    &config.joints[j],
-                    sd,
-                    &config.observer,
-                    config.margin.spring_sd_rel,
-                )
-            }),
-            predictor: Predictor::new(config.margin.confidence),
             started: false,
             t_start: 0.0,
             t_prev: 0.0,
             back_run: 0,
             t_back: 0.0,
-            blank_until: f32::NEG_INFINITY,
-            fit: CentredFit::new(),
+            blank_until: 0.0,
             fit_run: false,
-            t_centre: f32::NEG_INFINITY,
+            t_centre: 0.0,
             dt_mean: 0.0,
-            impact_until: f32::NEG_INFINITY,
+            impact_until: 0.0,
             impact_samples: 0,
             next_margin: 0,
             learning: Deque::new(),
             learning_overruns: 0,
             status: Status::default(),
-        })
+            fit: CentredFit::new(),
+            predictor: Predictor::new(MarginConfig::default().confidence),
+            joints: [state; N],
+            chain: Chain::vacant(),
+        }
+    }
+
+    /// [`MonitorConfig::validate`] of `config`, with the same errors in
+    /// the same order, compiled once for all joint counts: each joint is
+    /// checked, with the tuning, as a one-joint configuration (the checks
+    /// take 2.8 KiB of the firmware's flash per joint count otherwise).
+    fn validate_config(config: &MonitorConfig<N>) -> Result<(), ConfigError> {
+        if N == 0 {
+            return config.validate();
+        }
+        let mut tuning = Ok(());
+        for (index, (panel, joint)) in config.panels.iter().zip(&config.joints).enumerate() {
+            let one = MonitorConfig {
+                panels: [*panel],
+                joints: [*joint],
+                sensor: config.sensor,
+                observer: config.observer,
+                latch: config.latch,
+                margin: config.margin,
+            };
+            match validate_one(&one) {
+                Err(ConfigError::Joint { what, .. }) => {
+                    return Err(ConfigError::Joint { index, what })
+                }
+                other => tuning = other,
+            }
+        }
+        tuning
+    }
+
+    /// Makes this monitor the one for `config`, waiting for its first
+    /// sample, in place: it validates `config` and writes every field where
+    /// it is, so that a monitor in static memory is (re)configured without
+    /// a second monitor, or a `Result` of one, on the stack (the firmware's
+    /// start-up, `telemetry::replay`). On an error the monitor is unchanged.
+    #[inline(never)]
+    pub fn reset(&mut self, config: &MonitorConfig<N>) -> Result<(), ConfigError> {
+        Self::validate_config(config)?;
+        // Every field by name: a field added to `Monitor` must be set here.
+        let Monitor {
+            chain,
+            meas_var,
+            meas_sd,
+            sensor,
+            observer,
+            latch_cfg,
+            margin_cfg,
+            joints,
+            predictor,
+            started,
+            t_start,
+            t_prev,
+            back_run,
+            t_back,
+            blank_until,
+            fit,
+            fit_run,
+            t_centre,
+            dt_mean,
+            impact_until,
+            impact_samples,
+            next_margin,
+            learning,
+            learning_overruns,
+            status,
+        } = self;
+        // The only check that can fail after `validate`: before any write.
+        chain
+            .set_panels(&config.panels)
+            .map_err(ConfigError::Chain)?;
+        *chain.global_mut() = GlobalEffects::default();
+        for (j, c) in config.joints.iter().enumerate() {
+            if let Some(joint) = chain.joint_mut(j) {
+                joint.stowed_rad = c.stowed_deg * DEG;
+                joint.spring = c.spring;
+                joint.friction = Friction::default();
+                joint.effects = JointEffects::default();
+            }
+        }
+        let sd = config.sensor.encoder_sd_deg * DEG;
+        *meas_var = Self::meas_var(&config.sensor);
+        *meas_sd = crate::real::sqrtf(*meas_var);
+        *sensor = config.sensor;
+        *observer = config.observer;
+        *latch_cfg = config.latch;
+        *margin_cfg = config.margin;
+        for (state, c) in joints.iter_mut().zip(config.joints.iter()) {
+            *state = JointState::new(c, sd, &config.observer, config.margin.spring_sd_rel);
+        }
+        *predictor = Predictor::new(config.margin.confidence);
+        *started = false;
+        *t_start = 0.0;
+        *t_prev = 0.0;
+        *back_run = 0;
+        *t_back = 0.0;
+        *blank_until = f32::NEG_INFINITY;
+        *fit = CentredFit::new();
+        *fit_run = false;
+        *t_centre = f32::NEG_INFINITY;
+        *dt_mean = 0.0;
+        *impact_until = f32::NEG_INFINITY;
+        *impact_samples = 0;
+        *next_margin = 0;
+        learning.clear();
+        *learning_overruns = 0;
+        *status = Status::default();
+        Ok(())
     }
 
     /// The status after the last sample.

@@ -169,7 +169,7 @@ struct Application<const N: usize>;
 impl<const N: usize> Paths<N> for Application<N>
 where
     Sample<N>: Post,
-    Monitor<N>: Stored,
+    Monitor<N>: Stored<N>,
 {
     fn slices_per_sample(&mut self) -> Result<u8, Error> {
         with_shared(|sh| Monitor::<N>::get(&mut sh.monitor).map(|m| m.config_slices_per_sample()))

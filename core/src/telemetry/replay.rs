@@ -237,14 +237,26 @@ impl Slot for MonitorConfig<3> {
 }
 
 /// The monitor of one of the [`JOINT_COUNTS`] in a [`MonitorStore`].
-pub trait Stored: Sized {
+pub trait Stored<const N: usize>: Sized {
     /// The monitor of this joint count in `store`, if that is what it holds.
     fn get(store: &mut MonitorStore) -> Option<&mut Self>;
-    /// Moves the monitor into `store`.
-    fn put(self, store: &mut MonitorStore);
+    /// A store holding a vacant monitor of this joint count, for
+    /// [`Monitor::reset`] to configure in place. Out of line and returned
+    /// by value: the monitor is written straight into the returned store,
+    /// which the caller copies into its slot once (one monitor on the
+    /// stack, not the two or three that building it there takes).
+    fn vacant(config: &MonitorConfig<N>) -> MonitorStore;
+    /// The monitor of this joint count in `store`: the one it holds, or a
+    /// vacant one put there first.
+    fn slot<'s>(store: &'s mut MonitorStore, config: &MonitorConfig<N>) -> Option<&'s mut Self> {
+        if Self::get(store).is_none() {
+            *store = Self::vacant(config);
+        }
+        Self::get(store)
+    }
 }
 
-impl Stored for Monitor<2> {
+impl Stored<2> for Monitor<2> {
     fn get(store: &mut MonitorStore) -> Option<&mut Self> {
         match store {
             MonitorStore::Two(m) => Some(m),
@@ -252,13 +264,13 @@ impl Stored for Monitor<2> {
         }
     }
 
-    #[inline(always)]
-    fn put(self, store: &mut MonitorStore) {
-        *store = MonitorStore::Two(self);
+    #[inline(never)]
+    fn vacant(config: &MonitorConfig<2>) -> MonitorStore {
+        MonitorStore::Two(Monitor::vacant(config))
     }
 }
 
-impl Stored for Monitor<3> {
+impl Stored<3> for Monitor<3> {
     fn get(store: &mut MonitorStore) -> Option<&mut Self> {
         match store {
             MonitorStore::Three(m) => Some(m),
@@ -266,9 +278,9 @@ impl Stored for Monitor<3> {
         }
     }
 
-    #[inline(always)]
-    fn put(self, store: &mut MonitorStore) {
-        *store = MonitorStore::Three(self);
+    #[inline(never)]
+    fn vacant(config: &MonitorConfig<3>) -> MonitorStore {
+        MonitorStore::Three(Monitor::vacant(config))
     }
 }
 
@@ -407,7 +419,7 @@ fn configure_n<const N: usize, R>(
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
     MonitorConfig<N>: Into<ConfigStore> + Slot,
-    Monitor<N>: Stored,
+    Monitor<N>: Stored<N>,
 {
     placeholder_config::<N>(config)?;
     let c = MonitorConfig::<N>::config(config).ok_or(Error::Config)?;
@@ -609,21 +621,17 @@ where
     Ok((header.joints, n))
 }
 
-/// Builds the monitor of `config` in `store`. Out of line, so that the
-/// monitor under construction is not on the stack under [`run`].
+/// Builds the monitor of `config` in `store`, in place
+/// ([`Monitor::reset`] on the store's slot): neither a monitor nor a
+/// `Result` of one is ever on the stack, which sets the firmware's stack
+/// peak otherwise (`docs/performance.md`).
 #[inline(never)]
 fn build<const N: usize>(config: &MonitorConfig<N>, store: &mut MonitorStore) -> Result<(), Error>
 where
-    Monitor<N>: Stored,
+    Monitor<N>: Stored<N>,
 {
-    match Monitor::new(config) {
-        // Moved into the store's slot (no second copy in a store value).
-        Ok(m) => {
-            m.put(store);
-            Ok(())
-        }
-        Err(_) => Err(Error::Config),
-    }
+    let monitor = Monitor::<N>::slot(store, config).ok_or(Error::Config)?;
+    monitor.reset(config).map_err(|_| Error::Config)
 }
 
 impl From<MonitorConfig<2>> for ConfigStore {
@@ -635,5 +643,145 @@ impl From<MonitorConfig<2>> for ConfigStore {
 impl From<MonitorConfig<3>> for ConfigStore {
     fn from(c: MonitorConfig<3>) -> Self {
         ConfigStore::Three(c)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::monitor::{ConfigError, JointConfig};
+    use crate::observer::FrictionPrior;
+    use crate::{ChainError, Panel, Spring};
+
+    /// A chain of `N` equal panels on linear springs, stowed at 90°, 100°, …
+    fn config<const N: usize>() -> MonitorConfig<N> {
+        let panel = Panel {
+            length_m: 0.8,
+            mass_kg: 4.0,
+            com_m: 0.4,
+            inertia_kgm2: 0.3,
+        };
+        MonitorConfig::new(
+            [panel; N],
+            core::array::from_fn(|j| JointConfig {
+                stowed_deg: 90.0 + 10.0 * j as f32,
+                spring: Spring::Linear {
+                    preload_nm: 1.0,
+                    stiffness_nm_per_rad: 0.5,
+                    count: 1.0,
+                },
+                capture_deg: 0.0,
+                prior: FrictionPrior {
+                    coulomb_nm: 0.0,
+                    coulomb_sd_nm: 2.0,
+                    viscous_nms: 0.0,
+                    viscous_sd_nms: 0.05,
+                },
+            }),
+        )
+    }
+
+    /// A deployment at 100 Hz: every joint opens from its stowed angle to
+    /// its latch in 1.5 s, then holds with the switch closed.
+    fn sample<const N: usize>(config: &MonitorConfig<N>, k: usize) -> Sample<N> {
+        let t = k as f32 * 0.01;
+        let x = (1.0 - t / 1.5).max(0.0);
+        Sample::new(
+            t,
+            core::array::from_fn(|j| config.joints[j].stowed_deg * x * x),
+            [x == 0.0; N],
+        )
+    }
+
+    /// The status frames of `monitor` over samples `from..to`, two
+    /// prediction slices after each.
+    fn frames<const N: usize>(
+        monitor: &mut Monitor<N>,
+        config: &MonitorConfig<N>,
+        from: usize,
+        to: usize,
+    ) -> Vec<u8> {
+        let mut all = Vec::new();
+        let mut out = [0u8; STATUS_FRAME_MAX];
+        for k in from..to {
+            monitor.update(&sample(config, k));
+            monitor.predict();
+            monitor.predict();
+            let n = status_frame(monitor, &mut out).expect("status frame");
+            all.extend_from_slice(&out[..n]);
+        }
+        all
+    }
+
+    #[test]
+    fn a_monitor_built_in_its_slot_answers_as_a_new_one() {
+        let (c2, c3) = (config::<2>(), config::<3>());
+        let fresh3 = frames(&mut Monitor::new(&c3).expect("config"), &c3, 0, 200);
+        let fresh2 = frames(&mut Monitor::new(&c2).expect("config"), &c2, 0, 200);
+        let mut store = MonitorStore::Empty;
+        // Built in an empty slot, in a slot holding a used monitor of
+        // another joint count, and in one holding a used monitor of its own
+        // (used for an odd number of samples: stopped mid-way through the
+        // joints' turns).
+        build(&c3, &mut store).expect("build");
+        let m = Monitor::<3>::get(&mut store).expect("3 joints");
+        assert_eq!(frames(m, &c3, 0, 200), fresh3);
+        build(&c2, &mut store).expect("build");
+        let m = Monitor::<2>::get(&mut store).expect("2 joints");
+        assert_eq!(frames(m, &c2, 0, 200), fresh2);
+        for (used, c) in [(137, &c3), (91, &c3)] {
+            let m = Monitor::<3>::slot(&mut store, c).expect("3 joints");
+            frames(m, c, 0, used);
+            build(c, &mut store).expect("build");
+            let m = Monitor::<3>::get(&mut store).expect("3 joints");
+            assert_eq!(frames(m, c, 0, 200), fresh3);
+        }
+    }
+
+    #[test]
+    fn a_rejected_configuration_leaves_the_monitor_as_it_was() {
+        let c = config::<3>();
+        let mut m = Monitor::new(&c).expect("config");
+        frames(&mut m, &c, 0, 80);
+        let mut before = m.clone();
+        let mut bad_panel = c;
+        bad_panel.panels[1].mass_kg = 0.0;
+        assert_eq!(
+            m.reset(&bad_panel),
+            Err(ConfigError::Chain(ChainError::BadPanel { index: 1 }))
+        );
+        let mut bad_joint = c;
+        bad_joint.joints[2].prior.coulomb_sd_nm = 0.0;
+        assert_eq!(
+            m.reset(&bad_joint),
+            Err(ConfigError::Joint {
+                index: 2,
+                what: "coulomb prior sd"
+            })
+        );
+        let mut bad_tuning = c;
+        bad_tuning.sensor.encoder_sd_deg = -1.0;
+        assert_eq!(
+            m.reset(&bad_tuning),
+            Err(ConfigError::Parameter("encoder_sd_deg"))
+        );
+        assert_eq!(
+            frames(&mut m, &c, 80, 200),
+            frames(&mut before, &c, 80, 200)
+        );
+    }
+
+    #[test]
+    fn reset_reports_what_validate_reports() {
+        // A bad joint before a bad tuning parameter, as `validate` orders them.
+        let mut c = config::<3>();
+        c.joints[1].stowed_deg = f32::NAN;
+        c.observer.gate_sigma = 0.0;
+        let mut m = Monitor::new(&config::<3>()).expect("config");
+        assert_eq!(m.reset(&c).err(), c.validate().err());
+        c.joints[1].stowed_deg = 90.0;
+        assert_eq!(m.reset(&c).err(), c.validate().err());
+        c.observer = config::<3>().observer;
+        assert_eq!(m.reset(&c), Ok(()));
     }
 }
