@@ -1938,34 +1938,42 @@ fn finite(v: f32) -> f32 {
     }
 }
 
+/// A chain of `N` equal panels (0.8 m, 4 kg) on linear springs, stowed at
+/// 90°, 100°, …, with the default tuning: the unit tests' mechanism.
+#[cfg(test)]
+pub(crate) fn example_config<const N: usize>() -> MonitorConfig<N> {
+    let panel = Panel {
+        length_m: 0.8,
+        mass_kg: 4.0,
+        com_m: 0.4,
+        inertia_kgm2: 0.3,
+    };
+    MonitorConfig::new(
+        [panel; N],
+        core::array::from_fn(|j| JointConfig {
+            stowed_deg: 90.0 + 10.0 * j as f32,
+            spring: Spring::Linear {
+                preload_nm: 1.0,
+                stiffness_nm_per_rad: 0.5,
+                count: 1.0,
+            },
+            capture_deg: 0.0,
+            prior: FrictionPrior {
+                coulomb_nm: 0.0,
+                coulomb_sd_nm: 2.0,
+                viscous_nms: 0.0,
+                viscous_sd_nms: 0.05,
+            },
+        }),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn config() -> MonitorConfig<1> {
-        MonitorConfig::new(
-            [Panel {
-                length_m: 0.8,
-                mass_kg: 4.0,
-                com_m: 0.4,
-                inertia_kgm2: 0.3,
-            }],
-            [JointConfig {
-                stowed_deg: 90.0,
-                spring: Spring::Linear {
-                    preload_nm: 1.0,
-                    stiffness_nm_per_rad: 0.5,
-                    count: 1.0,
-                },
-                capture_deg: 0.0,
-                prior: FrictionPrior {
-                    coulomb_nm: 0.0,
-                    coulomb_sd_nm: 2.0,
-                    viscous_nms: 0.0,
-                    viscous_sd_nms: 0.05,
-                },
-            }],
-        )
+        example_config()
     }
 
     #[test]

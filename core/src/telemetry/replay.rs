@@ -649,36 +649,12 @@ impl From<MonitorConfig<3>> for ConfigStore {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::monitor::{ConfigError, JointConfig};
-    use crate::observer::FrictionPrior;
-    use crate::{ChainError, Panel, Spring};
+    use crate::monitor::ConfigError;
+    use crate::ChainError;
 
     /// A chain of `N` equal panels on linear springs, stowed at 90°, 100°, …
     fn config<const N: usize>() -> MonitorConfig<N> {
-        let panel = Panel {
-            length_m: 0.8,
-            mass_kg: 4.0,
-            com_m: 0.4,
-            inertia_kgm2: 0.3,
-        };
-        MonitorConfig::new(
-            [panel; N],
-            core::array::from_fn(|j| JointConfig {
-                stowed_deg: 90.0 + 10.0 * j as f32,
-                spring: Spring::Linear {
-                    preload_nm: 1.0,
-                    stiffness_nm_per_rad: 0.5,
-                    count: 1.0,
-                },
-                capture_deg: 0.0,
-                prior: FrictionPrior {
-                    coulomb_nm: 0.0,
-                    coulomb_sd_nm: 2.0,
-                    viscous_nms: 0.0,
-                    viscous_sd_nms: 0.05,
-                },
-            }),
-        )
+        crate::monitor::example_config()
     }
 
     /// A deployment at 100 Hz: every joint opens from its stowed angle to
