@@ -883,12 +883,14 @@ const REFRESH_LIMIT_S: f64 = 0.5;
 /// time between two completed full predictions — a cycle of the nominal
 /// rollout and the brackets its verdicts need (`docs/monitor.md` §6) —
 /// from the first one to the last latch (to the deadline when a joint
-/// stalls). Issue 14 asks for a full refresh at least every 0.5 s of
-/// deployment at 100 Hz ([`REFRESH_LIMIT_S`]). Also printed: the longest
-/// time from the start of a cycle to the end of the next one, the worst
-/// delay before a change of estimate is in a full prediction (a change
-/// just after a cycle's nominal rollout started waits for the next
-/// cycle). The printout is the figure in docs/performance.md.
+/// stalls), and the longest time from the start of a cycle to the end of
+/// the next one: the worst delay before a change of estimate is in a
+/// completed full prediction (a change just after a cycle's nominal
+/// rollout started waits for the next cycle; a cycle starts at the latest
+/// when the one before it ends). Issue 14 asks for the full prediction
+/// refreshed ≤ 0.5 s after any change of estimate ([`REFRESH_LIMIT_S`]):
+/// the test asserts it of the worst delay, which bounds the time between
+/// two refreshes too. The printout is the figure in docs/performance.md.
 #[test]
 fn full_prediction_refresh_cycle() {
     for name in ["seed001_T01", "seed001_T02"] {
@@ -937,6 +939,11 @@ fn full_prediction_refresh_cycle() {
             assert!(
                 worst <= REFRESH_LIMIT_S,
                 "{name} seed {seed}: {worst:.2} s between two full predictions"
+            );
+            assert!(
+                delay <= REFRESH_LIMIT_S,
+                "{name} seed {seed}: a change of estimate waits up to {delay:.2} s \
+                 for a full prediction"
             );
         }
     }

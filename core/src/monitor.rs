@@ -365,10 +365,10 @@ impl Default for MarginConfig {
             factors: UncertaintyFactors::UNITY,
             confidence: 0.9,
             rollout: RolloutConfig {
-                dt_s: 0.01,
+                dt_s: 0.02,
                 bracket_dt_s: 0.02,
                 steps_per_slice: 1,
-                slices_per_sample: 21,
+                slices_per_sample: 40,
                 horizon_s: 10.0,
                 coulomb_threshold_rad_s: crate::friction::COULOMB_THRESHOLD_RAD_S as f32,
             },
