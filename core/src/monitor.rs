@@ -1532,7 +1532,12 @@ impl<const N: usize> Monitor<N> {
                 next.clean = false;
             }
             self.learning_overruns = self.learning_overruns.saturating_add(1);
-            warn!("learning queue full: a sample dropped");
+            // Once: a log line costs more than the sample path's budget
+            // over semihosting, and a starved slow path must not be
+            // starved further; the counter tells the rest.
+            if self.learning_overruns == 1 {
+                warn!("learning queue full: samples dropped (see learning_overruns)");
+            }
         }
         let _ = self.learning.push_back(sample);
     }
