@@ -901,42 +901,10 @@ pub(crate) mod tests {
 
     #[test]
     fn observer_recovers_coulomb_friction_of_a_single_body() {
-        // I ω̇ = τ_s + d with d = −T_C tanh(ω/ω_c), τ_s = 3 N·m: exact data.
-        let inertia = 2.0f32;
+        // I ω̇ = τ_s + d with d = −T_C tanh(ω/ω_c), τ_s = 3 N·m: exact data,
+        // the default-like prior.
         let tc = 1.2f32;
-        let tuning = exact_data_tuning();
-        let mut o = FrictionObserver::new(
-            FrictionPrior {
-                coulomb_nm: 0.0,
-                coulomb_sd_nm: 2.0,
-                viscous_nms: 0.0,
-                viscous_sd_nms: 0.05,
-            },
-            0.05,
-        );
-        let (mut w, dt) = (0.0f32, 0.01f32);
-        for _ in 0..300 {
-            let tau = 3.0 - 0.5 * w;
-            let d = -tc * libm::tanhf(w / 0.01);
-            // Fine sub-steps of the true motion.
-            for _ in 0..100 {
-                let d = -tc * libm::tanhf(w / 0.01);
-                w += (dt / 100.0) * (3.0 - 0.5 * w + d) / inertia;
-            }
-            let _ = (tau, d);
-            o.step(
-                &ObserverInput {
-                    momentum: inertia * w,
-                    spring_torque_nm: 3.0,
-                    beta_nm: -0.5 * w,
-                    rate_rad_s: w,
-                    rate_var: 0.0,
-                    dt_s: dt,
-                    learn: true,
-                },
-                &tuning,
-            );
-        }
+        let (o, _) = single_body(0.05, 0.05, tc, 0.0, 0.0);
         let e = o.estimate();
         assert!((e.coulomb_nm - tc).abs() < 0.05 * tc, "{e:?}");
         assert!(o.is_healthy());
@@ -944,22 +912,29 @@ pub(crate) mod tests {
 
     /// A single body `I ω̇ = 3 − 0.5 ω − T_C tanh(ω/ω_c) − f ω` (the
     /// `−0.5 ω` known), started at rate `w0` [rad/s], exact data at 100 Hz
-    /// for 3 s, under a wide viscous prior `f = 0 ± 1` and a spring scale
-    /// fixed at 1 (the spring torque is a constant, collinear with the
-    /// Coulomb regressor); returns the observer and the final rate [rad/s].
-    fn single_body_with_wide_viscous_prior(tc: f32, f: f32, w0: f32) -> (FrictionObserver, f32) {
+    /// for 3 s, observed under a viscous prior `f = 0 ± viscous_sd` and a
+    /// spring-scale spread `spring_sd_rel`; returns the observer and the
+    /// final rate [rad/s].
+    fn single_body(
+        viscous_sd: f32,
+        spring_sd_rel: f32,
+        tc: f32,
+        f: f32,
+        w0: f32,
+    ) -> (FrictionObserver, f32) {
         let inertia = 2.0f32;
         let mut o = FrictionObserver::new(
             FrictionPrior {
                 coulomb_nm: 0.0,
                 coulomb_sd_nm: 2.0,
                 viscous_nms: 0.0,
-                viscous_sd_nms: 1.0,
+                viscous_sd_nms: viscous_sd,
             },
-            0.0,
+            spring_sd_rel,
         );
         let (mut w, dt) = (w0, 0.01f32);
         for _ in 0..300 {
+            // Fine sub-steps of the true motion.
             for _ in 0..100 {
                 let d = -tc * libm::tanhf(w / 0.01) - f * w;
                 w += (dt / 100.0) * (3.0 - 0.5 * w + d) / inertia;
@@ -978,6 +953,13 @@ pub(crate) mod tests {
             );
         }
         (o, w)
+    }
+
+    /// [`single_body`] under a wide viscous prior `f = 0 ± 1` and a spring
+    /// scale fixed at 1 (the spring torque is a constant, collinear with
+    /// the Coulomb regressor).
+    fn single_body_with_wide_viscous_prior(tc: f32, f: f32, w0: f32) -> (FrictionObserver, f32) {
+        single_body(1.0, 0.0, tc, f, w0)
     }
 
     #[test]
