@@ -1,0 +1,1 @@
+//! The spreadsheet dialect of the run CSV.
