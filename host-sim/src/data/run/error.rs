@@ -249,6 +249,41 @@ pub enum RunErrorKind {
         /// Joints (1-based) whose switch is open at the last sample.
         unlatched: Vec<usize>,
     },
+    /// Meaning: a joint's first sample is its stowed angle in radians
+    /// ([`crate::data::consistency`]).
+    #[error("column `phi{joint}_deg` (column {}): the run starts at {found} where joint {joint} is stowed at {stowed_deg} deg, {:.1} times less: angles in radians? expected degrees (multiply by 180/π = 57.2958)", joint + 1, stowed_deg / found)]
+    AnglesInRadians {
+        /// The joint (1-based).
+        joint: usize,
+        /// Its first reading, as written.
+        found: f64,
+        /// Its stowed angle [deg].
+        stowed_deg: f64,
+    },
+    /// Meaning: a joint's first sample is minus its stowed angle.
+    #[error("column `phi{joint}_deg` (column {}): the run starts at {found} deg where joint {joint} is stowed at {stowed_deg} deg: the sign is flipped, an encoder mounted mirrored? expected the project's sign convention (docs/spec/formats.md): negate the column", joint + 1)]
+    MirroredEncoder {
+        /// The joint (1-based).
+        joint: usize,
+        /// Its first reading [deg].
+        found: f64,
+        /// Its stowed angle [deg].
+        stowed_deg: f64,
+    },
+    /// Meaning: the run lasts far longer than its mechanism's horizon.
+    #[error("column `t_s` (column 1): the run spans {span_s} with samples {interval_s} apart, {factor:.0} times mechanism \"{mechanism}\"'s duration_s = {duration_s} s: time in milliseconds? expected seconds (divide t_s by 1000)")]
+    TimeInMilliseconds {
+        /// Last minus first time stamp, as written.
+        span_s: f64,
+        /// Median interval between samples, as written.
+        interval_s: f64,
+        /// `span_s / duration_s`.
+        factor: f64,
+        /// The mechanism's name.
+        mechanism: String,
+        /// Its `duration_s` [s].
+        duration_s: f64,
+    },
     /// Pairing: the run and its mechanism have different joint counts.
     #[error("the run has {run_joints} joints but mechanism \"{mechanism}\" has {mechanism_joints}; expected equal joint counts")]
     JointCountMismatch {
