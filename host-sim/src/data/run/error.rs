@@ -144,7 +144,7 @@ pub enum RunErrorKind {
         found: usize,
     },
     /// A data row with the wrong number of fields.
-    #[error("expected {expected} comma-separated fields (as in the header), found {found}")]
+    #[error("expected {expected} comma-separated fields (as in the header), found {found}{}", if found > expected { DECIMAL_COMMA_HINT } else { "" })]
     FieldCount {
         /// Number of header columns.
         expected: usize,
@@ -295,6 +295,10 @@ pub enum RunErrorKind {
         mechanism_joints: usize,
     },
 }
+
+/// What [`RunErrorKind::FieldCount`] adds when a row has more fields than
+/// the header: the likely cause, numbers with a decimal comma.
+const DECIMAL_COMMA_HINT: &str = ": decimal commas? a spreadsheet's export with `,` as the decimal mark must separate fields with `;` (read as the spreadsheet dialect, docs/spec/formats.md), or be exported with `.` as the decimal mark";
 
 fn joint_list(joints: &[usize]) -> String {
     joints

@@ -366,6 +366,7 @@ impl Run {
     /// [`RunError::BadNumber`] whatever the option.
     pub fn parse_with(text: &str, source: &str, options: ReadOptions) -> Result<Run, RunError> {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        let text = super::dialect::to_comma_dialect(text, source)?;
         // Blank lines at the end of the file are no data (editors add them).
         let body = text.trim_end_matches(|c: char| c.is_whitespace());
         let mut lines = body.lines().enumerate().map(|(i, l)| (i + 1, l));
