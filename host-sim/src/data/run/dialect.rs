@@ -68,7 +68,10 @@ pub(super) fn to_comma_dialect<'t>(text: &'t str, source: &str) -> Result<Cow<'t
 fn convert(record: &csv::StringRecord) -> String {
     let fields: Vec<&str> = record.iter().collect();
     if fields.first().is_some_and(|f| f.starts_with('#')) {
-        let used = fields.iter().rposition(|f| !f.trim().is_empty()).map_or(0, |i| i + 1);
+        let used = fields
+            .iter()
+            .rposition(|f| !f.trim().is_empty())
+            .map_or(0, |i| i + 1);
         return fields[..used].join(";");
     }
     fields

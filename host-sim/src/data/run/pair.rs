@@ -4,6 +4,16 @@
 use super::{Run, RunError, RunErrorKind, MIN_MOTION_DEG};
 use crate::model::mechanism::Mechanism;
 
+/// The line of the run's `# mechanism` metadata: metadata lines come
+/// first in a run file, one per key, in order (`docs/spec/formats.md`).
+fn mechanism_line(run: &Run) -> usize {
+    1 + run
+        .metadata
+        .iter()
+        .position(|(k, _)| k == "mechanism")
+        .unwrap_or(0)
+}
+
 /// The mechanism a run belongs to: the one whose `name` equals the run's
 /// `mechanism` metadata. `run_source` names the run in errors.
 ///
@@ -21,8 +31,9 @@ pub fn pair_runs<'a>(
     };
     let mut same = mechanisms.iter().filter(|m| m.name == name);
     let Some(m) = same.next() else {
-        return Err(RunError::whole(
+        return Err(RunError::at(
             &file,
+            mechanism_line(run),
             RunErrorKind::UnknownMechanism {
                 name: name.to_string(),
                 given: mechanisms.iter().map(|m| m.name.clone()).collect(),
@@ -57,8 +68,9 @@ pub fn pair_runs<'a>(
 /// one mechanism file and one run (`replay`); `file` names the run.
 pub fn check_run_of(mechanism: &Mechanism, run: &Run, file: &str) -> Result<(), RunError> {
     if let Some(name) = run.mechanism().filter(|&n| n != mechanism.name) {
-        return Err(RunError::whole(
+        return Err(RunError::at(
             file,
+            mechanism_line(run),
             RunErrorKind::UnknownMechanism {
                 name: name.to_string(),
                 given: vec![mechanism.name.clone()],
