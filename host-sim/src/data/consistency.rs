@@ -28,6 +28,10 @@ const MIN_STOWED_FOR_UNITS_DEG: f64 = 10.0 * MIN_MOTION_DEG;
 /// that deploys from a stowed angle of 10 deg or more spans more than that.
 const MAX_RADIAN_READING: f64 = 4.0 * std::f64::consts::PI;
 
+/// Readings whose median is a joint's reading at the start: five, so that
+/// two corrupted ones among them (a spike, parity errors) do not decide.
+const START_SAMPLES: usize = 5;
+
 /// How many times the mechanism's `duration_s` a run may last before its
 /// times are taken for milliseconds: a recording a hundred simulation
 /// horizons long is no one deployment, and milliseconds make it a thousand.
@@ -70,6 +74,21 @@ pub fn check(run: &Run, mechanism: &Mechanism, file: &str) -> Result<Vec<String>
 /// then one row per sample (`docs/spec/formats.md`).
 fn line_of_sample(run: &Run, i: usize) -> usize {
     run.metadata.len() + 2 + i
+}
+
+/// The first sample of a series (its index) and its reading at the start:
+/// the median of its first [`START_SAMPLES`] finite readings, so that one
+/// corrupted reading (a spike, a parity error) does not decide.
+fn start_reading(series: &[f64]) -> Option<(usize, f64)> {
+    let i0 = series.iter().position(|x| x.is_finite())?;
+    let mut first: Vec<f64> = series[i0..]
+        .iter()
+        .copied()
+        .filter(|x| x.is_finite())
+        .take(START_SAMPLES)
+        .collect();
+    first.sort_by(f64::total_cmp);
+    Some((i0, first[first.len() / 2]))
 }
 
 /// The median interval between samples [s as written].
@@ -124,13 +143,21 @@ fn check_angles(
     warnings: &mut Vec<String>,
 ) -> Result<(), RunError> {
     let series = &run.phi_deg[j];
-    let Some(&first) = series.iter().find(|x| x.is_finite()) else {
+    let Some((i0, first)) = start_reading(series) else {
         return Ok(());
     };
-    if stowed_deg.abs() < MIN_STOWED_FOR_UNITS_DEG {
+    // A joint that never moves (a stuck encoder, a failed release) says
+    // nothing about units.
+    let (lo, hi) = series
+        .iter()
+        .filter(|x| x.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| {
+            (l.min(x), h.max(x))
+        });
+    if stowed_deg.abs() < MIN_STOWED_FOR_UNITS_DEG || hi - lo < MIN_MOTION_DEG {
         return Ok(());
     }
-    let line = line_of_sample(run, series.iter().position(|x| x.is_finite()).unwrap_or(0));
+    let line = line_of_sample(run, i0);
     let degrees = (first - stowed_deg).abs();
     let radians = (first - stowed_deg / DEG_PER_RAD).abs();
     let mirrored = (first + stowed_deg).abs();
@@ -190,5 +217,55 @@ fn check_latches(run: &Run, file: &str, warnings: &mut Vec<String>) {
                 column = 2 + n + j
             ));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+
+    fn data(p: &str) -> PathBuf {
+        PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("../data")
+            .join(p)
+    }
+
+    fn t01() -> (Run, Mechanism) {
+        let run = Run::load(&data("examples/c_seed001_friction_harness/seed001_T01.csv")).unwrap();
+        let m = Mechanism::load(&data("mechanisms/seed001_T01.toml")).unwrap();
+        (run, m)
+    }
+
+    #[test]
+    fn the_bundled_run_has_no_finding() {
+        let (run, m) = t01();
+        assert_eq!(check(&run, &m, "r.csv").unwrap(), Vec::<String>::new());
+    }
+
+    #[test]
+    fn radians_are_told_from_one_corrupted_first_reading() {
+        let (mut run, m) = t01();
+        for x in run.phi_deg[0].iter_mut() {
+            *x = x.to_radians();
+        }
+        let e = check(&run, &m, "r.csv").unwrap_err();
+        assert!(
+            matches!(e.kind, RunErrorKind::AnglesInRadians { joint: 1, .. }),
+            "{e}"
+        );
+        // A spike at the first sample of a healthy run decides nothing.
+        let (mut run, m) = t01();
+        run.phi_deg[0][0] = 90.0;
+        assert_eq!(check(&run, &m, "r.csv").unwrap(), Vec::<String>::new());
+    }
+
+    #[test]
+    fn a_failed_deployment_whose_latch_never_closes_is_no_finding() {
+        // A bundled T02 run: joints 1 and 2 do not latch.
+        let run = Run::load(&data("examples/a_seed001_eft/seed001_T02.csv")).unwrap();
+        let m = Mechanism::load(&data("mechanisms/seed001_T02.toml")).unwrap();
+        assert_eq!(run.latch[0].last(), Some(&false));
+        assert_eq!(check(&run, &m, "r.csv").unwrap(), Vec::<String>::new());
     }
 }

@@ -131,3 +131,41 @@ pub fn warnings(mechanism: &Mechanism, path: &Path) -> Vec<String> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+
+    fn t01_text() -> String {
+        let p =
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms/seed001_T01.toml");
+        std::fs::read_to_string(p).unwrap()
+    }
+
+    #[test]
+    fn the_t01_springs_deploy_in_seconds_and_nothing_is_unlikely() {
+        let text = t01_text();
+        let m = Mechanism::from_toml_str(&text, "t01").unwrap();
+        assert_eq!(check(&m, Some(&text)), Vec::new());
+        // The bundled run latches its joints within 1 to 4 s.
+        for j in 0..3 {
+            let t = deploy_time_s(&m, j).unwrap();
+            assert!((0.2..20.0).contains(&t), "joint {}: {t} s", j + 1);
+        }
+    }
+
+    #[test]
+    fn a_mass_in_grams_names_the_key_and_its_line() {
+        let text = t01_text().replacen("mass_kg = 3.5", "mass_kg = 3500.0", 1);
+        let line = 1 + text.lines().position(|l| l.contains("3500.0")).unwrap();
+        let m = Mechanism::from_toml_str(&text, "t01").unwrap();
+        let w = check(&m, Some(&text));
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert_eq!(
+            (w[0].key.as_str(), w[0].line),
+            ("panel[1].mass_kg", Some(line))
+        );
+        assert!(w[0].message.contains("grams"), "{}", w[0].message);
+    }
+}
