@@ -210,6 +210,21 @@ fn decimal_commas_in_a_comma_file_are_refused_naming_decimal_commas() {
 }
 
 #[test]
+fn a_tab_separated_file_is_refused_naming_the_separator() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (meta, header, rows) = run_parts();
+    let mut text = meta.join("\n") + "\n" + &header.replace(',', "\t") + "\n";
+    for r in rows {
+        text.push_str(&r.join("\t"));
+        text.push('\n');
+    }
+    let run = write(dir.path(), "tabs.csv", text);
+    let out = identify(&run, &t01_mechanism());
+    let at = format!("tabs.csv:{}:", first_row_line() - 1);
+    refused_before_work(&out, &[&at, "tab-separated"]);
+}
+
+#[test]
 fn a_mass_in_grams_is_a_warning_naming_the_key_and_line_even_with_quiet() {
     let dir = tempfile::tempdir().expect("temp dir");
     let text = std::fs::read_to_string(t01_mechanism()).expect("mechanism");

@@ -25,6 +25,18 @@ fn is_spreadsheet(text: &str) -> bool {
 /// crate with `;` as delimiter, decimal commas made points, metadata lines
 /// unquoted and stripped of the empty cells a spreadsheet pads them with).
 pub(super) fn to_comma_dialect<'t>(text: &'t str, source: &str) -> Result<Cow<'t, str>, RunError> {
+    if let Some((n, header)) = text
+        .lines()
+        .enumerate()
+        .find(|(_, l)| !l.starts_with('#'))
+        .filter(|(_, h)| h.contains('\t') && !h.contains(',') && !h.contains(';'))
+    {
+        let kind = RunErrorKind::BadLine {
+            expected: "a header separated by `,` (or by `;`, the spreadsheet dialect); this one is tab-separated: save it as CSV".to_string(),
+            found: shorten(header),
+        };
+        return Err(RunError::at(source, n + 1, kind));
+    }
     if !is_spreadsheet(text) {
         return Ok(Cow::Borrowed(text));
     }
