@@ -439,7 +439,23 @@ fn the_readme_commands_raise_no_warning_about_their_inputs() {
         d("examples/a_seed001_eft/seed001_T02.csv"),
     );
     let t02csv = dir.path().join("t02.csv");
+    let (c1, c2) = (
+        d("examples/c_seed001_friction_harness/seed001_T01.csv"),
+        d("examples/c_seed001_friction_harness/seed001_T02.csv"),
+    );
+    let diagnosis = dir.path().join("diagnosis.json");
     let commands: Vec<Vec<String>> = vec![
+        vec![
+            "diagnose",
+            "--mechanism",
+            s(&t01),
+            "--mechanism",
+            s(&t02),
+            "--json",
+            s(&diagnosis),
+            s(&c1),
+            s(&c2),
+        ],
         vec![
             "simulate",
             s(&t02),
