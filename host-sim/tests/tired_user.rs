@@ -296,6 +296,33 @@ fn a_latch_column_stuck_closed_is_a_warning_naming_the_column() {
 }
 
 #[test]
+fn a_latch_column_stuck_open_on_a_latched_joint_is_a_warning() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = transformed(|r| r[5] = "0".to_string());
+    let run = write(dir.path(), "open.csv", text);
+    // The monitor's replay reads it (identify refuses it as ended early).
+    let out = deploywatch(&[
+        "replay",
+        s(&run),
+        "--mechanism",
+        s(&t01_mechanism()),
+        "--target",
+        "host",
+        "--out",
+        s(&dir.path().join("status.csv")),
+    ]);
+    fails(
+        &out,
+        0,
+        &[
+            "open.csv:",
+            "column `latch2` (column 6)",
+            "never reads closed",
+        ],
+    );
+}
+
+#[test]
 fn replay_refuses_radians_before_the_monitor_runs() {
     let dir = tempfile::tempdir().expect("temp dir");
     let text = transformed(|r| {
@@ -385,7 +412,8 @@ fn every_bundled_example_and_reference_run_raises_no_input_warning() {
 fn the_truss_reference_runs_agree_with_their_mechanisms() {
     // The truss references hold angles and knees but no latch columns (no
     // command reads them): their angles and times are checked against
-    // their mechanisms through the same check, latches read open.
+    // their mechanisms through the same check, the switches read closed at
+    // the last sample only (a reference ends at the last latch, formats.md).
     for stem in [
         "seed000_case2_truss_eft",
         "seed000_case2_truss_nominal",
@@ -413,6 +441,9 @@ fn the_truss_reference_runs_agree_with_their_mechanisms() {
                 run.phi_deg[j].push(f[1 + j]);
                 run.latch[j].push(false);
             }
+        }
+        for latch in &mut run.latch {
+            *latch.last_mut().expect("samples") = true;
         }
         let name = run.mechanism().expect("mechanism").to_string();
         let paths = mechanisms_named(&name);

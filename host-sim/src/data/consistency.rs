@@ -53,7 +53,8 @@ const MIN_SAMPLES_PER_HORIZON: f64 = 10.0;
 ///   [`RunErrorKind::TimeInMilliseconds`];
 /// - warnings: fewer than [`MIN_SAMPLES_PER_HORIZON`] samples over
 ///   `duration_s`; a latch switch closed at the first sample of a joint
-///   that then moves (a stuck switch or an inverted column).
+///   that then moves (a stuck switch or an inverted column), or never
+///   closed on a joint that reaches its latch angle (a switch stuck open).
 ///
 /// A latch that never closes is no finding: that is a failed deployment,
 /// which is what the analyses are for.
@@ -198,7 +199,9 @@ fn check_angles(
     Ok(())
 }
 
-/// Latch switches closed at the first sample of a joint that then moves.
+/// Latch switches closed at the first sample of a joint that then moves,
+/// or never closed on a joint that reaches its latch angle (0 deg, within
+/// [`MIN_MOTION_DEG`]).
 fn check_latches(run: &Run, file: &str, warnings: &mut Vec<String>) {
     let n = run.joints();
     for (j, latch) in run.latch.iter().enumerate() {
@@ -209,6 +212,19 @@ fn check_latches(run: &Run, file: &str, warnings: &mut Vec<String>) {
         let moves = phi
             .iter()
             .any(|x| x.is_finite() && (x - first).abs() >= MIN_MOTION_DEG);
+        let reaches_latch = phi.iter().any(|x| x.abs() < MIN_MOTION_DEG);
+        if moves && reaches_latch && !latch.iter().any(|&l| l) {
+            let i = phi
+                .iter()
+                .position(|x| x.abs() < MIN_MOTION_DEG)
+                .unwrap_or(0);
+            warnings.push(format!(
+                "{file}:{line}: column `latch{joint}` (column {column}): joint {joint} reaches its latch angle (0 deg) but its switch never reads closed: a switch unwired or stuck open?",
+                line = line_of_sample(run, i),
+                joint = j + 1,
+                column = 2 + n + j
+            ));
+        }
         if latch.first() == Some(&true) && moves {
             warnings.push(format!(
                 "{file}:{line}: column `latch{joint}` (column {column}): joint {joint}'s latch reads closed at the first sample, before the joint moves: a switch stuck closed, or a column written inverted (1 = open)?",
