@@ -1040,7 +1040,7 @@ fn pair_runs_errors() {
     );
     assert_eq!(
         e.to_string(),
-        "good.csv: mechanism \"seed000-case1-open\" (from the run's metadata) was not given; \
+        "good.csv:1: mechanism \"seed000-case1-open\" (from the run's metadata) was not given; \
          expected one of: \"seed001-T01\", \"seed001-T02\""
     );
 

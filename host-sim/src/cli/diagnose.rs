@@ -47,6 +47,9 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     super::check_output("the report beside --json", &args.json.with_extension("md"))?;
     let campaign =
         Campaign::load(&args.mechanisms, &args.runs).map_err(|e| CliError::input(e.to_string()))?;
+    for w in crate::data::inputs::campaign_warnings(&args.mechanisms, &campaign) {
+        super::Console::new(args.quiet).warn(w);
+    }
     for cr in &campaign.runs {
         if cr.run.len() < 20 {
             return Err(CliError::input(format!(

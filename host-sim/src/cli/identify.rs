@@ -152,6 +152,9 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
         )?;
     }
     let console = Console::new(args.quiet);
+    for w in crate::data::inputs::campaign_warnings(&args.mechanisms, &campaign) {
+        console.warn(w);
+    }
     let id = identify_with(args, &campaign, &joints, &console)?;
     print!("{}", report(&campaign, &id));
     warn_residuals(&campaign, &id, &console);

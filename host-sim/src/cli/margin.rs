@@ -497,6 +497,9 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         check_output("--json", out)?;
     }
     let console = Console::new(args.quiet);
+    for w in crate::model::plausibility::warnings(&mech, &args.mechanism) {
+        console.warn(w);
+    }
     if !resist.found_on.is_empty() && !resist.found_on.contains(&mech.name) {
         console.warn(format_args!(
             "the friction in --from was found on {}, not on {}: it is applied as it is",

@@ -114,7 +114,7 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
 pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
     let run = replay::load_run(&args.run).map_err(cli_error)?;
-    crate::data::run::check_run_of(&mech, &run, &args.run.display().to_string())
+    let warnings = crate::data::inputs::check_pair(&mech, &args.mechanism, &run, &args.run)
         .map_err(|e| CliError::input(e.to_string()))?;
     // Everything the QEMU target needs, and every output, is checked
     // before any work.
@@ -122,6 +122,9 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     check_outputs(args)?;
     let prepared = replay::prepare(&mech, &run).map_err(cli_error)?;
     let console = Console::new(args.quiet);
+    for w in warnings {
+        console.warn(w);
+    }
     let temp;
     let dir = match &args.keep {
         Some(d) => d.clone(),

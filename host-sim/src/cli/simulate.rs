@@ -85,6 +85,9 @@ pub fn effect_help() -> String {
 pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
     check_args(args, &mech)?;
+    for w in crate::model::plausibility::warnings(&mech, &args.mechanism) {
+        Console::new(args.quiet).warn(w);
+    }
     if mech.truss.is_some() {
         return super::truss::run(args, &mech);
     }

@@ -118,6 +118,8 @@ impl Campaign {
     ) -> Result<(), CampaignError> {
         let file = source.display().to_string();
         let mechanism = pair_runs(mechanisms, &run, &file)?.clone();
+        // Units, signs and switches against the mechanism, before any work.
+        crate::data::consistency::check(&run, &mechanism, &file)?;
         // A run that never moves, or that stops before its joints latched
         // and before the mechanism's duration, is refused, not fitted.
         check_analysable(&run, &mechanism, &file)?;

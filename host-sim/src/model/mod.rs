@@ -6,6 +6,7 @@ pub mod kinematics;
 pub mod located;
 pub mod mechanism;
 pub mod mechanism_toml;
+pub mod plausibility;
 pub mod torque_table;
 pub mod truss;
 pub mod truss_toml;

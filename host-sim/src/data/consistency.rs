@@ -1,0 +1,287 @@
+//! Whether a run means what its mechanism says, checked before any work:
+//! the units of its angles and times, the sign of its encoders, its latch
+//! switches. The format reader ([`crate::data::run`]) checks syntax; this
+//! checks meaning, with the likely cause named.
+//!
+//! Every command that pairs a run with a mechanism (`identify`, `diagnose`
+//! through [`crate::data::campaign::Campaign::push`], `replay`) calls
+//! [`check`] before it simulates anything. A finding that makes the run
+//! unusable is an error ([`RunErrorKind::AnglesInRadians`],
+//! [`RunErrorKind::MirroredEncoder`], [`RunErrorKind::TimeInMilliseconds`]);
+//! one where the data may be right is a warning, returned as a line of text.
+
+use crate::data::run::{Run, RunError, RunErrorKind, MIN_MOTION_DEG};
+use crate::model::mechanism::Mechanism;
+
+/// Degrees per radian: an angle read in radians is this many times smaller
+/// than the same angle in degrees (57.3).
+const DEG_PER_RAD: f64 = 180.0 / std::f64::consts::PI;
+
+/// Smallest stowed angle whose reading tells degrees from radians, and a
+/// sign flip from the stowed pose [deg]: ten times [`MIN_MOTION_DEG`], so
+/// the hypotheses (φ₀, φ₀/57.3, −φ₀) are at least 9.8 deg apart, far beyond
+/// encoder noise (0.02 deg) and a typical encoder offset.
+const MIN_STOWED_FOR_UNITS_DEG: f64 = 10.0 * MIN_MOTION_DEG;
+
+/// Largest reading of a joint recorded in radians [rad as written]: the
+/// reader's bound, ±720 deg, in radians (4π). A joint recorded in degrees
+/// that deploys from a stowed angle of 10 deg or more spans more than that.
+const MAX_RADIAN_READING: f64 = 4.0 * std::f64::consts::PI;
+
+/// Readings whose median is a joint's reading at the start: five, so that
+/// two corrupted ones among them (a spike, parity errors) do not decide.
+const START_SAMPLES: usize = 5;
+
+/// How many times the mechanism's `duration_s` a run may last before its
+/// times are taken for milliseconds: a recording a hundred simulation
+/// horizons long is no one deployment, and milliseconds make it a thousand.
+const MAX_DURATION_FACTOR: f64 = 100.0;
+
+/// Fewest samples over the mechanism's `duration_s` that show a
+/// deployment's shape; coarser sampling is a warning.
+const MIN_SAMPLES_PER_HORIZON: f64 = 10.0;
+
+/// Checks `run` (read from `file`) against `mechanism` before any
+/// simulation. Returns the warnings (`file:line: ...`, without the
+/// `warning:` prefix), or the first error:
+/// - the first sample is the stowed angle in radians (ratio 57.3):
+///   [`RunErrorKind::AnglesInRadians`];
+/// - the first sample is minus the stowed angle (a mirrored encoder) on a
+///   joint whose stowed angle is not ±180 deg: [`RunErrorKind::MirroredEncoder`]
+///   (at ±180 deg, −φ₀ is the same pose one turn on: a warning);
+/// - the run lasts more than [`MAX_DURATION_FACTOR`] × `duration_s`:
+///   [`RunErrorKind::TimeInMilliseconds`];
+/// - warnings: fewer than [`MIN_SAMPLES_PER_HORIZON`] samples over
+///   `duration_s`; a latch switch closed at the first sample of a joint
+///   that then moves (a stuck switch or an inverted column), or never
+///   closed on a joint that reaches its latch angle (a switch stuck open).
+///
+/// A latch that never closes is no finding: that is a failed deployment,
+/// which is what the analyses are for.
+pub fn check(run: &Run, mechanism: &Mechanism, file: &str) -> Result<Vec<String>, RunError> {
+    let mut warnings = Vec::new();
+    if run.is_empty() {
+        return Ok(warnings);
+    }
+    check_time(run, mechanism, file, &mut warnings)?;
+    for (j, joint) in mechanism.joints.iter().enumerate().take(run.joints()) {
+        check_angles(run, j, joint.stowed_deg, file, &mut warnings)?;
+    }
+    check_latches(run, file, &mut warnings);
+    Ok(warnings)
+}
+
+/// Line number of sample `i` in the file: the metadata lines, the header,
+/// then one row per sample (`docs/spec/formats.md`).
+fn line_of_sample(run: &Run, i: usize) -> usize {
+    run.metadata.len() + 2 + i
+}
+
+/// The first sample of a series (its index) and its reading at the start:
+/// the median of its first [`START_SAMPLES`] finite readings, so that one
+/// corrupted reading (a spike, a parity error) does not decide.
+fn start_reading(series: &[f64]) -> Option<(usize, f64)> {
+    let i0 = series.iter().position(|x| x.is_finite())?;
+    let mut first: Vec<f64> = series[i0..]
+        .iter()
+        .copied()
+        .filter(|x| x.is_finite())
+        .take(START_SAMPLES)
+        .collect();
+    first.sort_by(f64::total_cmp);
+    Some((i0, first[first.len() / 2]))
+}
+
+/// The median interval between samples [s as written].
+fn median_interval(t: &[f64]) -> f64 {
+    let mut d: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    if d.is_empty() {
+        return 0.0;
+    }
+    d.sort_by(f64::total_cmp);
+    d[d.len() / 2]
+}
+
+fn check_time(
+    run: &Run,
+    mechanism: &Mechanism,
+    file: &str,
+    warnings: &mut Vec<String>,
+) -> Result<(), RunError> {
+    let (first, last) = (run.t_s[0], run.t_s[run.len() - 1]);
+    let span_s = last - first;
+    let horizon_s = mechanism.duration_s;
+    let interval_s = median_interval(&run.t_s);
+    if span_s > MAX_DURATION_FACTOR * horizon_s {
+        return Err(RunError::at(
+            file,
+            line_of_sample(run, run.len() - 1),
+            RunErrorKind::TimeInMilliseconds {
+                span_s,
+                interval_s,
+                factor: span_s / horizon_s,
+                mechanism: mechanism.name.clone(),
+                duration_s: horizon_s,
+            },
+        ));
+    }
+    if interval_s > horizon_s / MIN_SAMPLES_PER_HORIZON {
+        warnings.push(format!(
+            "{file}:{}: column `t_s` (column 1): samples {interval_s} s apart, fewer than {MIN_SAMPLES_PER_HORIZON} over mechanism \"{}\"'s duration_s = {horizon_s} s: too coarse to show a deployment; is the sample rate right?",
+            line_of_sample(run, 1),
+            mechanism.name
+        ));
+    }
+    Ok(())
+}
+
+/// The first sample of joint `j` against its stowed angle.
+fn check_angles(
+    run: &Run,
+    j: usize,
+    stowed_deg: f64,
+    file: &str,
+    warnings: &mut Vec<String>,
+) -> Result<(), RunError> {
+    let series = &run.phi_deg[j];
+    let Some((i0, first)) = start_reading(series) else {
+        return Ok(());
+    };
+    // A joint that never moves (a stuck encoder, a failed release) says
+    // nothing about units.
+    let (lo, hi) = series
+        .iter()
+        .filter(|x| x.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| {
+            (l.min(x), h.max(x))
+        });
+    if stowed_deg.abs() < MIN_STOWED_FOR_UNITS_DEG || hi - lo < MIN_MOTION_DEG {
+        return Ok(());
+    }
+    let line = line_of_sample(run, i0);
+    let degrees = (first - stowed_deg).abs();
+    let radians = (first - stowed_deg / DEG_PER_RAD).abs();
+    let mirrored = (first + stowed_deg).abs();
+    let largest = series
+        .iter()
+        .filter(|x| x.is_finite())
+        .fold(0.0_f64, |m, x| m.max(x.abs()));
+    if radians < degrees && radians < mirrored && largest <= MAX_RADIAN_READING {
+        return Err(RunError::at(
+            file,
+            line,
+            RunErrorKind::AnglesInRadians {
+                joint: j + 1,
+                found: first,
+                stowed_deg,
+            },
+        ));
+    }
+    if mirrored < degrees && mirrored < radians {
+        if (stowed_deg.abs() - 180.0).abs() < MIN_STOWED_FOR_UNITS_DEG {
+            warnings.push(format!(
+                "{file}:{line}: column `phi{joint}_deg` (column {column}): the run starts at {first} deg where joint {joint} is stowed at {stowed_deg} deg: an encoder mounted mirrored, or one that wraps at ±180 deg?",
+                joint = j + 1,
+                column = j + 2
+            ));
+        } else {
+            return Err(RunError::at(
+                file,
+                line,
+                RunErrorKind::MirroredEncoder {
+                    joint: j + 1,
+                    found: first,
+                    stowed_deg,
+                },
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Latch switches closed at the first sample of a joint that then moves,
+/// or never closed on a joint that reaches its latch angle (0 deg, within
+/// [`MIN_MOTION_DEG`]).
+fn check_latches(run: &Run, file: &str, warnings: &mut Vec<String>) {
+    let n = run.joints();
+    for (j, latch) in run.latch.iter().enumerate() {
+        let phi = &run.phi_deg[j];
+        let Some(&first) = phi.iter().find(|x| x.is_finite()) else {
+            continue;
+        };
+        let moves = phi
+            .iter()
+            .any(|x| x.is_finite() && (x - first).abs() >= MIN_MOTION_DEG);
+        let reaches_latch = phi.iter().any(|x| x.abs() < MIN_MOTION_DEG);
+        if moves && reaches_latch && !latch.iter().any(|&l| l) {
+            let i = phi
+                .iter()
+                .position(|x| x.abs() < MIN_MOTION_DEG)
+                .unwrap_or(0);
+            warnings.push(format!(
+                "{file}:{line}: column `latch{joint}` (column {column}): joint {joint} reaches its latch angle (0 deg) but its switch never reads closed: a switch unwired or stuck open?",
+                line = line_of_sample(run, i),
+                joint = j + 1,
+                column = 2 + n + j
+            ));
+        }
+        if latch.first() == Some(&true) && moves {
+            warnings.push(format!(
+                "{file}:{line}: column `latch{joint}` (column {column}): joint {joint}'s latch reads closed at the first sample, before the joint moves: a switch stuck closed, or a column written inverted (1 = open)?",
+                line = line_of_sample(run, 0),
+                joint = j + 1,
+                column = 2 + n + j
+            ));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+
+    fn data(p: &str) -> PathBuf {
+        PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("../data")
+            .join(p)
+    }
+
+    fn t01() -> (Run, Mechanism) {
+        let run = Run::load(&data("examples/c_seed001_friction_harness/seed001_T01.csv")).unwrap();
+        let m = Mechanism::load(&data("mechanisms/seed001_T01.toml")).unwrap();
+        (run, m)
+    }
+
+    #[test]
+    fn the_bundled_run_has_no_finding() {
+        let (run, m) = t01();
+        assert_eq!(check(&run, &m, "r.csv").unwrap(), Vec::<String>::new());
+    }
+
+    #[test]
+    fn radians_are_told_from_one_corrupted_first_reading() {
+        let (mut run, m) = t01();
+        for x in run.phi_deg[0].iter_mut() {
+            *x = x.to_radians();
+        }
+        let e = check(&run, &m, "r.csv").unwrap_err();
+        assert!(
+            matches!(e.kind, RunErrorKind::AnglesInRadians { joint: 1, .. }),
+            "{e}"
+        );
+        // A spike at the first sample of a healthy run decides nothing.
+        let (mut run, m) = t01();
+        run.phi_deg[0][0] = 90.0;
+        assert_eq!(check(&run, &m, "r.csv").unwrap(), Vec::<String>::new());
+    }
+
+    #[test]
+    fn a_failed_deployment_whose_latch_never_closes_is_no_finding() {
+        // A bundled T02 run: joints 1 and 2 do not latch.
+        let run = Run::load(&data("examples/a_seed001_eft/seed001_T02.csv")).unwrap();
+        let m = Mechanism::load(&data("mechanisms/seed001_T02.toml")).unwrap();
+        assert_eq!(run.latch[0].last(), Some(&false));
+        assert_eq!(check(&run, &m, "r.csv").unwrap(), Vec::<String>::new());
+    }
+}

@@ -1,0 +1,171 @@
+//! Values of a mechanism that are valid but unlikely: a panel mass typed in
+//! grams, an inertia that no panel of that mass and length has, a spring
+//! that would deploy its panels in a flash or over hours. Each is a warning
+//! (the value may be right), naming the key and, when the TOML text is
+//! given, its line; none stops a command.
+//!
+//! The estimates use no simulation: areal mass `m / L²` (the file gives no
+//! panel width, so a square panel is assumed), the hinge inertia against
+//! `m·L²/3` of a uniform panel, and the deployment time of a constant torque
+//! releasing the spring's energy over the stroke.
+
+use std::path::Path;
+
+use crate::model::mechanism::Mechanism;
+
+/// Lightest plausible panel [kg/m²]: a 50 µm polyimide film (1.42 g/cm³)
+/// weighs 0.07 kg/m²; no self-supporting panel is lighter.
+pub const MIN_AREAL_MASS_KG_M2: f64 = 0.05;
+
+/// Heaviest plausible panel [kg/m²]: a 12.7 mm steel plate (7.85 g/cm³)
+/// weighs 100 kg/m²; a mass typed in grams is a thousand times the true one.
+pub const MAX_AREAL_MASS_KG_M2: f64 = 100.0;
+
+/// Smallest plausible hinge inertia `I_c + m·com²` against `m·L²/3` (a
+/// uniform panel about its hinge): 0.1, a radius of gyration of 0.18 L,
+/// as if the mass sat in the fifth of the panel next to the hinge.
+pub const MIN_INERTIA_RATIO: f64 = 0.1;
+
+/// Largest plausible hinge inertia against `m·L²/3`: 3, all the mass at the
+/// far edge (`m·L²`); a body within the panel's length cannot exceed it.
+pub const MAX_INERTIA_RATIO: f64 = 3.0;
+
+/// Shortest plausible deployment [s]: a tenth of a second, below which the
+/// latch impact would break a real panel.
+pub const MIN_DEPLOY_S: f64 = 0.1;
+
+/// Longest plausible deployment [s]: ten minutes, beyond which the spring
+/// could not overcome any real hinge's friction.
+pub const MAX_DEPLOY_S: f64 = 600.0;
+
+/// A valid but unlikely value.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Implausible {
+    /// The key path (`panel[1].mass_kg`, `joint[2].spring`), 1-based.
+    pub key: String,
+    /// The value's line in the TOML text, when the text was given.
+    pub line: Option<usize>,
+    /// What is unlikely and the likely cause, one sentence.
+    pub message: String,
+}
+
+/// The deployment time of joint `j` (0-based) estimated without simulation
+/// [s]: the spring's energy `E` over the stroke `Δφ` (its unfolding branch,
+/// [`deploywatch_core::Spring::release`]) as a constant torque `E/Δφ`
+/// turning the outboard panels, straight, about the joint: `t = Δφ·√(2I/E)`.
+/// `None` when the spring releases no energy or the spring is invalid.
+pub fn deploy_time_s(mechanism: &Mechanism, j: usize) -> Option<f64> {
+    let joint = mechanism.joints.get(j)?;
+    let spring = joint.spring.to_spring().ok()?;
+    let stroke = joint.stowed_deg.abs().to_radians();
+    let energy = spring.release(0.0, stroke);
+    if !(energy > 0.0) || stroke == 0.0 {
+        return None;
+    }
+    let mut reach = 0.0;
+    let mut inertia = 0.0;
+    for p in &mechanism.panels[j.min(mechanism.panels.len())..] {
+        let r = reach + p.com_m;
+        inertia += p.inertia_kgm2 + p.mass_kg * r * r;
+        reach += p.length_m;
+    }
+    Some(stroke * (2.0 * inertia / energy).sqrt())
+}
+
+/// The unlikely values of `mechanism`; `text` is its TOML (for the lines).
+pub fn check(mechanism: &Mechanism, text: Option<&str>) -> Vec<Implausible> {
+    let doc = text.and_then(|t| toml_edit::ImDocument::parse(t).ok());
+    let line_of = |table: &str, i: usize, key: &str| -> Option<usize> {
+        let (doc, text) = (doc.as_ref()?, text?);
+        let item = doc.get(table)?.as_array_of_tables()?.get(i)?.get(key)?;
+        let start = item.span()?.start;
+        Some(text[..start.min(text.len())].matches('\n').count() + 1)
+    };
+    let mut out = Vec::new();
+    for (i, p) in mechanism.panels.iter().enumerate() {
+        let mut say = |key: &str, message: String| {
+            out.push(Implausible {
+                key: format!("panel[{}].{key}", i + 1),
+                line: line_of("panel", i, key),
+                message,
+            })
+        };
+        let l = p.length_m;
+        let areal = p.mass_kg / (l * l);
+        if areal > MAX_AREAL_MASS_KG_M2 {
+            say("mass_kg", format!("{} kg on a {:.0} mm panel is {areal:.0} kg/m² (a square panel), heavier than a {MAX_AREAL_MASS_KG_M2} kg/m² steel plate: a mass in grams? expected kilograms", p.mass_kg, l * 1000.0));
+        } else if areal < MIN_AREAL_MASS_KG_M2 {
+            say("mass_kg", format!("{} kg on a {:.0} mm panel is {areal:.3} kg/m² (a square panel), lighter than a {MIN_AREAL_MASS_KG_M2} kg/m² film: a mass in tonnes, or a length in millimetres? expected kilograms and metres", p.mass_kg, l * 1000.0));
+        }
+        let uniform = p.mass_kg * l * l / 3.0;
+        let ratio = (p.inertia_kgm2 + p.mass_kg * p.com_m * p.com_m) / uniform;
+        if !(MIN_INERTIA_RATIO..=MAX_INERTIA_RATIO).contains(&ratio) {
+            say("inertia_kgm2", format!("{} kg·m² about the centre of mass makes the hinge inertia {ratio:.2} times m·L²/3 = {uniform:.3} kg·m² of a uniform panel (plausible {MIN_INERTIA_RATIO} to {MAX_INERTIA_RATIO}): an inertia in other units (g·m², kg·mm²), or about another axis?", p.inertia_kgm2));
+        }
+    }
+    for j in 0..mechanism.joints.len() {
+        let Some(t) = deploy_time_s(mechanism, j) else {
+            continue;
+        };
+        if !(MIN_DEPLOY_S..=MAX_DEPLOY_S).contains(&t) {
+            out.push(Implausible {
+                key: format!("joint[{}].spring", j + 1),
+                line: line_of("joint", j, "spring"),
+                message: format!("the spring would deploy its panels in about {t:.3} s (its energy as a constant torque, no friction), outside {MIN_DEPLOY_S} s to {MAX_DEPLOY_S} s: a torque or stiffness in other units (N·mm, per degree), or a wrong hinge count?"),
+            });
+        }
+    }
+    out
+}
+
+/// [`check`] of a mechanism read from `path` (its text read again for the
+/// lines), as `path:line: key: message` lines for the CLI's warnings.
+pub fn warnings(mechanism: &Mechanism, path: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).ok();
+    let file = path.display();
+    check(mechanism, text.as_deref())
+        .into_iter()
+        .map(|w| match w.line {
+            Some(l) => format!("{file}:{l}: `{}`: {}", w.key, w.message),
+            None => format!("{file}: `{}`: {}", w.key, w.message),
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+
+    fn t01_text() -> String {
+        let p =
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms/seed001_T01.toml");
+        std::fs::read_to_string(p).unwrap()
+    }
+
+    #[test]
+    fn the_t01_springs_deploy_in_seconds_and_nothing_is_unlikely() {
+        let text = t01_text();
+        let m = Mechanism::from_toml_str(&text, "t01").unwrap();
+        assert_eq!(check(&m, Some(&text)), Vec::new());
+        // The bundled run latches its joints within 1 to 4 s.
+        for j in 0..3 {
+            let t = deploy_time_s(&m, j).unwrap();
+            assert!((0.2..20.0).contains(&t), "joint {}: {t} s", j + 1);
+        }
+    }
+
+    #[test]
+    fn a_mass_in_grams_names_the_key_and_its_line() {
+        let text = t01_text().replacen("mass_kg = 3.5", "mass_kg = 3500.0", 1);
+        let line = 1 + text.lines().position(|l| l.contains("3500.0")).unwrap();
+        let m = Mechanism::from_toml_str(&text, "t01").unwrap();
+        let w = check(&m, Some(&text));
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert_eq!(
+            (w[0].key.as_str(), w[0].line),
+            ("panel[1].mass_kg", Some(line))
+        );
+        assert!(w[0].message.contains("grams"), "{}", w[0].message);
+    }
+}
