@@ -6,8 +6,8 @@
 #![deny(missing_docs)]
 
 use deploywatch_sim::analysis::reliability::criteria::{Criterion, Outcome};
-use deploywatch_sim::analysis::reliability::mc::{self, McSettings};
 use deploywatch_sim::analysis::reliability::identified;
+use deploywatch_sim::analysis::reliability::mc::{self, McSettings};
 use deploywatch_sim::analysis::reliability::params::Vary;
 use deploywatch_sim::analysis::reliability::subset::{self, SubsetSettings};
 use deploywatch_sim::analysis::reliability::{Problem, ReliabilityError};
