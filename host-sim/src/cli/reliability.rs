@@ -190,10 +190,20 @@ fn print_estimate(problem: &Problem, est: &Estimate, wall_s: f64) {
             l.threshold, l.p, l.cov, l.simulations
         );
     }
-    println!(
-        "p_fail = {:.4e}  c.o.v. {:.3}  95 % [{:.4e}, {:.4e}]  {} deployments, {} failed, {wall_s:.2} s wall",
-        est.p_fail, est.cov, est.ci95.0, est.ci95.1, est.simulations, est.failures
-    );
+    if est.converged {
+        println!(
+            "p_fail = {:.4e}  c.o.v. {:.3}  95 % [{:.4e}, {:.4e}]  {} deployments, {} failed, {wall_s:.2} s wall",
+            est.p_fail, est.cov, est.ci95.0, est.ci95.1, est.simulations, est.failures
+        );
+    } else {
+        println!(
+            "p_fail < {:.4e} (the last threshold, {:.6e}, is still above 0: the probability \
+             of reaching it bounds p_fail)  {} deployments, {wall_s:.2} s wall",
+            est.p_fail,
+            est.levels.last().map_or(f64::NAN, |l| l.threshold),
+            est.simulations
+        );
+    }
     if let Some(f) = &est.most_likely_failure {
         println!(
             "most likely failure (beta {:.3}): {}",

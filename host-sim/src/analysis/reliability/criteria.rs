@@ -4,11 +4,14 @@
 //! Subset simulation needs `g` to decrease continuously into the failure
 //! domain, not a pass/fail flag:
 //!
-//! - `not_latched`: per joint, latched at `t_j` with rate `ω_j`:
-//!   `g_j = |ω_j| (T − t_j)` [deg], the angle the joint would still travel by
-//!   `duration_s = T` at its latch rate (→ 0 when it latches just at `T`);
-//!   not latched: `g_j = −|φ_j(T)|` [deg], minus the angle still to go
-//!   (→ 0 when it stops just at the latch). `g = min_j g_j`.
+//! - `not_latched`: per joint, latched at `t_j`: `g_j = T − t_j` [s], the
+//!   time left of `duration_s = T` (→ 0 when it latches just at `T`); not
+//!   latched: `g_j = −T |φ_j(T)| / |φ_j(0)|` [s], minus the fraction of its
+//!   stroke still to go, scaled by `T` (→ 0 when it stops just at the latch).
+//!   `g = min_j g_j`. Time slack puts every joint on the same scale, so that
+//!   the levels of subset simulation follow whichever joint comes closest to
+//!   failing (a margin in angle or rate would let the fast joints hide the
+//!   slow one).
 //! - `latch_rate>X`: `g = X − max_j |ω_j|` [deg/s] over the latched joints
 //!   (`X` when none latched).
 //! - `time>X`: `g = X − t_last` [s], `t_last` the last latch, `T` when some
@@ -78,6 +81,8 @@ pub struct Outcome {
     pub latch_rate_deg_s: Vec<Option<f64>>,
     /// Angle at the end [deg] (0 when latched).
     pub end_deg: Vec<f64>,
+    /// Angle at the start [deg] (the stowed angle).
+    pub stowed_deg: Vec<f64>,
     /// `duration_s` of the run [s].
     pub duration_s: f64,
 }
@@ -90,11 +95,11 @@ impl Outcome {
             Criterion::NotLatched => self
                 .latch_s
                 .iter()
-                .zip(&self.latch_rate_deg_s)
                 .zip(&self.end_deg)
-                .map(|((l, w), end)| match (l, w) {
-                    (Some(t), Some(w)) => w.abs() * (t_end - t).max(0.0),
-                    _ => -end.abs(),
+                .zip(&self.stowed_deg)
+                .map(|((l, end), stowed)| match l {
+                    Some(t) => (t_end - t).max(0.0),
+                    None => -t_end * end.abs() / stowed.abs().max(f64::MIN_POSITIVE),
                 })
                 .fold(f64::INFINITY, f64::min),
             Criterion::LatchRateAbove(x) => {
@@ -141,18 +146,20 @@ mod tests {
             latch_s: vec![Some(1.0), None],
             latch_rate_deg_s: vec![Some(30.0), None],
             end_deg: vec![0.0, -4.0],
+            stowed_deg: vec![90.0, -180.0],
             duration_s: 10.0,
         };
-        assert_eq!(o.g_of(Criterion::NotLatched), -4.0);
+        assert_eq!(o.g_of(Criterion::NotLatched), -10.0 * 4.0 / 180.0);
         assert_eq!(o.g_of(Criterion::LatchRateAbove(40.0)), 10.0);
         assert_eq!(o.g_of(Criterion::TimeAbove(5.0)), -5.0);
         let ok = Outcome {
             latch_s: vec![Some(1.0), Some(2.0)],
             latch_rate_deg_s: vec![Some(30.0), Some(-50.0)],
             end_deg: vec![0.0, 0.0],
+            stowed_deg: vec![90.0, -180.0],
             duration_s: 10.0,
         };
-        assert_eq!(ok.g_of(Criterion::NotLatched), 270.0);
+        assert_eq!(ok.g_of(Criterion::NotLatched), 8.0);
         assert_eq!(
             ok.g(&[Criterion::NotLatched, Criterion::LatchRateAbove(40.0)]),
             -10.0

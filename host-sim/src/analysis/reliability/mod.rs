@@ -184,6 +184,11 @@ fn outcome(traj: &Trajectory, duration_s: f64) -> Outcome {
             .iter()
             .map(|p| p.last().copied().unwrap_or(0.0))
             .collect(),
+        stowed_deg: traj
+            .phi_deg
+            .iter()
+            .map(|p| p.first().copied().unwrap_or(0.0))
+            .collect(),
         duration_s,
     }
 }
