@@ -10,7 +10,7 @@ use deploywatch_sim::analysis::reliability::identified;
 use deploywatch_sim::analysis::reliability::mc::{self, McSettings};
 use deploywatch_sim::analysis::reliability::params::Vary;
 use deploywatch_sim::analysis::reliability::subset::{self, SubsetSettings};
-use deploywatch_sim::analysis::reliability::{Problem, ReliabilityError};
+use deploywatch_sim::analysis::reliability::{Evaluate, Problem, ReliabilityError};
 use deploywatch_sim::model::effect::Effect;
 use deploywatch_sim::model::mechanism::Mechanism;
 use deploywatch_sim::report::progress;
@@ -208,8 +208,7 @@ fn reliability(
     evaluate: Option<PyObject>,
 ) -> PyResult<String> {
     let p = problem(mechanism_toml, source, vary, fail, from_json)?;
-    let run = |eval: &mut dyn FnMut(&[Vec<f64>]) -> Result<Vec<f64>, ReliabilityError>| match method
-    {
+    let run = |eval: Evaluate<'_>| match method {
         "mc" => mc::run(
             &p,
             &McSettings {
