@@ -63,6 +63,7 @@ fn case(p: f64) -> (Problem, f64) {
         mech,
         vary: vec![vary],
         fail: vec![Criterion::NotLatched],
+        corr: Vec::new(),
     };
     (problem, exact)
 }
@@ -164,4 +165,38 @@ fn the_same_seed_gives_the_same_bits_on_any_number_of_threads() {
         subset_of(&problem, 8),
         "another seed draws other points"
     );
+}
+
+/// Two correlated frictions on the same joint add up: `T_C = X1 + X2`,
+/// `X_i ~ N(μ/2, σ_i)` with correlation `ρ`, is `N(μ, √(σ1² + σ2² + 2ρσ1σ2))`,
+/// so the exact probability is again a normal tail.
+#[test]
+fn correlated_parameters_hold_the_exact_probability() {
+    let mech = mechanism();
+    let t_star = critical_friction(&mech);
+    let (s1, s2, rho): (f64, f64, f64) = (0.06, 0.08, 0.5);
+    let sd = (s1 * s1 + s2 * s2 + 2.0 * rho * s1 * s2).sqrt();
+    let mu = t_star + sd * normal::inverse_cdf(1e-3);
+    let exact = normal::tail((t_star - mu) / sd);
+    let vary = [s1, s2].map(|s| {
+        format!("coulomb_friction:joint=1:normal({},{s})", mu / 2.0)
+            .parse()
+            .unwrap()
+    });
+    let problem = Problem {
+        mech,
+        vary: vary.to_vec(),
+        fail: vec![Criterion::NotLatched],
+        corr: vec!["1,2,0.5".parse().unwrap()],
+    };
+    let s = subset_of(&problem, 0);
+    assert!(s.converged);
+    assert_within(&s, exact);
+    // Without the correlation the sum is narrower: the probability falls.
+    let independent = Problem {
+        corr: Vec::new(),
+        ..problem
+    };
+    let i = subset_of(&independent, 0);
+    assert!(i.ci95.1 < exact, "{:?} vs {exact}", i.ci95);
 }

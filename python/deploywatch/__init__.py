@@ -104,9 +104,11 @@ def reliability(
     from_=None,
     executor=None,
     chunk=None,
+    corr=(),
 ):
     """``deploywatch reliability`` as a function: returns its JSON as a dict.
 
+    ``corr``: ``"I,J,RHO"`` strings, as ``--corr``.
     ``executor``: ``None`` for every local core (rayon), or any object with
     ``submit(fn, *args)`` returning futures with ``result()``: a
     ``concurrent.futures.Executor`` or a ``dask.distributed.Client``. Each
@@ -120,6 +122,7 @@ def reliability(
     if executor is not None:
         evaluate = _evaluator(executor, text, source, vary, fail, from_json, chunk)
     out = _native.reliability(
-        text, source, vary, fail, method, samples, target_cov, seed, from_json, evaluate
+        text, source, vary, fail, method, samples, target_cov, seed, from_json, evaluate,
+        list(corr),
     )
     return json.loads(out)

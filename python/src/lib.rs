@@ -5,6 +5,7 @@
 //! as text, so that remote workers need no files.
 #![deny(missing_docs)]
 
+use deploywatch_sim::analysis::reliability::correlation::Correlation;
 use deploywatch_sim::analysis::reliability::criteria::{Criterion, Outcome};
 use deploywatch_sim::analysis::reliability::identified;
 use deploywatch_sim::analysis::reliability::mc::{self, McSettings};
@@ -35,6 +36,7 @@ fn problem(
     vary: Vec<String>,
     fail: Vec<String>,
     from_json: Option<&str>,
+    corr: &[String],
 ) -> PyResult<Problem> {
     let mech = mechanism(mech_toml, source)?;
     let mut vs: Vec<Vary> = vary
@@ -54,10 +56,15 @@ fn problem(
         .iter()
         .map(|c| c.parse::<Criterion>().map_err(value_err))
         .collect::<PyResult<_>>()?;
+    let corr = corr
+        .iter()
+        .map(|c| c.parse::<Correlation>().map_err(value_err))
+        .collect::<PyResult<_>>()?;
     let p = Problem {
         mech,
         vary: vs,
         fail,
+        corr,
     };
     p.check().map_err(value_err)?;
     Ok(p)
@@ -73,7 +80,7 @@ fn parameters(
     fail: Vec<String>,
     from_json: Option<&str>,
 ) -> PyResult<Vec<String>> {
-    let p = problem(mechanism_toml, source, vary, fail, from_json)?;
+    let p = problem(mechanism_toml, source, vary, fail, from_json, &[])?;
     Ok(p.vary.iter().map(|v| v.to_string()).collect())
 }
 
@@ -145,7 +152,7 @@ fn simulate_batch<'py>(
     params: PyReadonlyArray2<'py, f64>,
     from_json: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let p = problem(mechanism_toml, source, vary, fail, from_json)?;
+    let p = problem(mechanism_toml, source, vary, fail, from_json, &[])?;
     let a = params.as_array();
     if a.ncols() != p.vary.len() {
         return Err(value_err(format!(
@@ -193,7 +200,7 @@ fn simulate_batch<'py>(
 /// rows to an executor).
 #[allow(clippy::too_many_arguments)]
 #[pyfunction]
-#[pyo3(signature = (mechanism_toml, source, vary, fail, method, samples, target_cov, seed, from_json=None, evaluate=None))]
+#[pyo3(signature = (mechanism_toml, source, vary, fail, method, samples, target_cov, seed, from_json=None, evaluate=None, corr=Vec::new()))]
 fn reliability(
     py: Python<'_>,
     mechanism_toml: &str,
@@ -206,8 +213,9 @@ fn reliability(
     seed: u64,
     from_json: Option<&str>,
     evaluate: Option<PyObject>,
+    corr: Vec<String>,
 ) -> PyResult<String> {
-    let p = problem(mechanism_toml, source, vary, fail, from_json)?;
+    let p = problem(mechanism_toml, source, vary, fail, from_json, &corr)?;
     let run = |eval: Evaluate<'_>| match method {
         "mc" => mc::run(
             &p,

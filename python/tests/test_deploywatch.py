@@ -79,6 +79,11 @@ def test_reliability_equals_the_cli(cli, root, tmp_path, local):
     assert 0 < local["p_fail"] < 1 and local["converged"]
     mc = deploywatch.reliability(root / MECH, vary=VARY, fail=FAIL, method="mc", samples=3000, seed=3)
     assert mc == cli_json(cli, root, tmp_path, "--method", "mc", "--samples", "3000", "--seed", "3")
+    corr = deploywatch.reliability(
+        root / MECH, vary=VARY, fail=FAIL, samples=1000, seed=3, corr=["1,2,-0.6"]
+    )
+    assert corr == cli_json(cli, root, tmp_path, "--samples", "1000", "--seed", "3", "--corr", "1,2,-0.6")
+    assert corr["corr"] == ["1,2,-0.6"] and corr["p_fail"] != local["p_fail"]
 
 
 def test_a_thread_pool_gives_the_same_bits(root, local):

@@ -3,6 +3,7 @@
 //! simulation, docs/reliability.md).
 
 use super::{check_output, CliError, Console};
+use crate::analysis::reliability::correlation::Correlation;
 use crate::analysis::reliability::criteria::Criterion;
 use crate::analysis::reliability::identified;
 use crate::analysis::reliability::mc::{self, McSettings};
@@ -39,6 +40,11 @@ pub struct ReliabilityArgs {
     /// `latch_rate>X` [deg/s], `time>X` [s].
     #[arg(long = "fail", value_name = "CRITERION", required = true)]
     pub fail: Vec<Criterion>,
+    /// A correlation `I,J,RHO` of the standard normals behind parameters I
+    /// and J (1-based, in the order of the --vary, then --from; a Gaussian
+    /// copula), repeatable.
+    #[arg(long = "corr", value_name = "I,J,RHO")]
+    pub corr: Vec<Correlation>,
     /// The estimator.
     #[arg(long, value_enum, default_value_t = Method::Subset)]
     pub method: Method,
@@ -98,6 +104,7 @@ pub fn problem(args: &ReliabilityArgs) -> Result<Problem, CliError> {
         mech,
         vary,
         fail: args.fail.clone(),
+        corr: args.corr.clone(),
     };
     problem
         .check()

@@ -14,6 +14,7 @@
 //! (seed, level, index) ([`stream`]), and every reduction runs in a fixed
 //! order, so the same seed gives the same bits on any number of workers.
 
+pub mod correlation;
 pub mod criteria;
 pub mod identified;
 pub mod mc;
@@ -24,6 +25,7 @@ pub mod subset;
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::{self, SimError, SimOptions, Trajectory};
+use correlation::Correlation;
 use criteria::{Criterion, Outcome};
 use params::Vary;
 use rand::SeedableRng;
@@ -43,6 +45,8 @@ pub struct Problem {
     pub vary: Vec<Vary>,
     /// The failure criteria (at least one; any one fails).
     pub fail: Vec<Criterion>,
+    /// Correlations of the parameters' standard normals ([`correlation`]).
+    pub corr: Vec<Correlation>,
 }
 
 /// Why an analysis stopped.
@@ -84,6 +88,7 @@ impl Problem {
         for v in &self.vary {
             v.check(&self.mech).map_err(|e| bad(e.to_string()))?;
         }
+        correlation::cholesky(&self.corr, self.vary.len()).map_err(bad)?;
         for c in &self.fail {
             if let Criterion::TimeAbove(x) = c {
                 if *x >= self.mech.duration_s {
@@ -98,12 +103,21 @@ impl Problem {
         Ok(())
     }
 
-    /// The parameter point at the standard normal point `u`.
+    /// The parameter point at the independent standard normal point `u`
+    /// (correlated first by [`correlation::correlate`] if there are
+    /// correlations).
     pub fn x_of(&self, u: &[f64]) -> Vec<f64> {
+        let l = correlation::cholesky(&self.corr, self.vary.len())
+            .ok()
+            .flatten();
+        let z = match &l {
+            Some(l) => correlation::correlate(l, u),
+            None => u.to_vec(),
+        };
         self.vary
             .iter()
-            .zip(u)
-            .map(|(v, &u)| v.dist.at(u))
+            .zip(&z)
+            .map(|(v, &z)| v.dist.at(z))
             .collect()
     }
 
@@ -295,6 +309,7 @@ impl Estimate {
             "seed": seed,
             "vary": problem.vary.iter().map(|v| v.to_string()).collect::<Vec<_>>(),
             "fail": problem.fail.iter().map(|c| c.to_string()).collect::<Vec<_>>(),
+            "corr": problem.corr.iter().map(|c| c.to_string()).collect::<Vec<_>>(),
             "p_fail": self.p_fail,
             "cov": self.cov,
             "ci95": [self.ci95.0, self.ci95.1],
