@@ -2,7 +2,7 @@
 # Fuzzes deploywatch's input decoders with libFuzzer (cargo fuzz): each
 # target for SECONDS (default 30, the CI setting), one after the other, and
 # fails if any of them crashes (a panic, an overflow, a failed oracle, a
-# timeout or an out-of-memory). docs/reliability.md has the targets and the
+# timeout or an out-of-memory). docs/robustness.md has the targets and the
 # log of longer runs.
 #
 #   scripts/fuzz.sh [SECONDS] [TARGET ...]     run (all targets by default)

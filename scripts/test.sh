@@ -10,6 +10,9 @@
 #  2. cargo test --workspace (the test profile is optimised, see Cargo.toml):
 #     unit tests, golden trajectories, paper vectors, monitor, identification,
 #     the hidden-effect diagnosis suite, black-box CLI tests
+#  2b. the Python package (python/, its own workspace): .venv/ made or
+#     updated by scripts/python-env.sh (the extension built once, in
+#     release), then pytest, with a real Dask LocalCluster of 2 processes
 #  3. the embedded toolchain (installed by scripts/embedded-toolchain.sh from
 #     Debian packages or an installed rustup target; never downloaded), the
 #     no_std proof of the core for thumbv7em-none-eabihf with each feature
@@ -32,6 +35,12 @@ cargo clippy --workspace --all-targets --locked -- -D warnings
 
 step "cargo test --workspace"
 cargo test --workspace --locked
+
+step "python package: build, pytest (Dask LocalCluster)"
+cargo fmt --manifest-path python/Cargo.toml -- --check
+bash scripts/python-env.sh
+# pytest exits 5 when it collects no test: a failure here, like any other.
+.venv/bin/pytest python/tests -q || { rc=$?; [ "$rc" = 5 ] && echo "pytest collected no test"; exit "$rc"; }
 
 if $host_only; then
     echo "host checks passed (--host: embedded, QEMU and fuzz steps skipped)"

@@ -12,7 +12,7 @@
 //! stroke for the joints with friction of 0.3 N·m or more.
 //!
 //! Rerun: `cargo test -p deploywatch-tests --test fault_campaign -- --nocapture`
-//! (the table is printed as Markdown; `docs/reliability.md` has a copy).
+//! (the table is printed as Markdown; `docs/robustness.md` has a copy).
 
 use deploywatch_core::monitor::{Monitor, MonitorConfig, Prediction, Status};
 use deploywatch_core::LatchState;

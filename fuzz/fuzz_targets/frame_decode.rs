@@ -1,5 +1,5 @@
 //! The telemetry frame decoder (COBS, postcard, CRC-32C) on an arbitrary
-//! byte stream, as a ground station receives it (docs/reliability.md).
+//! byte stream, as a ground station receives it (docs/robustness.md).
 //!
 //! Oracle: never a panic; a frame that decodes re-encodes within the
 //! documented maximum frame size into a frame that decodes to the same

@@ -1,4 +1,4 @@
-//! The mechanism TOML reader on arbitrary bytes (docs/reliability.md).
+//! The mechanism TOML reader on arbitrary bytes (docs/robustness.md).
 //!
 //! Oracle: never a panic; a mechanism that is read writes back as TOML that
 //! reads as the same mechanism (the writer's documented round trip), and

@@ -1,4 +1,4 @@
-//! `Monitor::update` on an arbitrary stream of samples (docs/reliability.md):
+//! `Monitor::update` on an arbitrary stream of samples (docs/robustness.md):
 //! the monitor of the seed001 T01 mechanism (3 joints), fed samples decoded
 //! from the fuzzer's bytes.
 //!
@@ -14,7 +14,7 @@
 //!   that small codes make a smooth motion from the stowed angles.
 //!
 //! Oracle (the monitor's contract, `core/src/faults.rs` and
-//! docs/reliability.md): never a panic; no NaN in the status; the
+//! docs/robustness.md): never a panic; no NaN in the status; the
 //! confidence in [0, 1]; a confirmed latch is never lost; every status fits
 //! the documented maximum telemetry frame.
 #![no_main]

@@ -1,4 +1,4 @@
-//! The run CSV reader on arbitrary bytes (docs/reliability.md).
+//! The run CSV reader on arbitrary bytes (docs/robustness.md).
 //!
 //! Oracle: never a panic; a run that is read passes its own checks the way
 //! the writer needs them, and writing it, reading that back and writing

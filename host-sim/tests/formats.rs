@@ -27,10 +27,15 @@ fn files(dir: &Path, ext: &str) -> Vec<PathBuf> {
 
 fn mechanisms() -> Vec<Mechanism> {
     // The truss wings (`*_truss*.toml`) are tested in tests/truss.rs and
-    // host-sim/tests/truss_cli.rs.
+    // host-sim/tests/truss_cli.rs; the project's own
+    // `reliability_one_panel.toml` (not a seed mechanism) in tests/reliability.rs.
     files(&data().join("mechanisms"), "toml")
         .iter()
         .filter(|p| !p.to_string_lossy().contains("_truss"))
+        .filter(|p| {
+            p.file_name()
+                .is_some_and(|f| f.to_string_lossy().starts_with("seed"))
+        })
         .map(|p| Mechanism::load(p).unwrap_or_else(|e| panic!("{e}")))
         .collect()
 }

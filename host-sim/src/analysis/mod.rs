@@ -8,3 +8,4 @@ pub mod diagnose;
 pub mod fit;
 pub mod identify;
 pub mod metrics;
+pub mod reliability;

@@ -16,6 +16,7 @@
 pub mod diagnose;
 pub mod identify;
 pub mod margin;
+pub mod reliability;
 pub mod replay;
 pub mod simulate;
 pub mod truss;
@@ -52,6 +53,9 @@ pub enum Command {
     /// example firmware under QEMU (bit-identical with the host): per-joint
     /// summary, status CSV, PNG.
     Replay(replay::ReplayArgs),
+    /// The probability that a deployment fails from the uncertainty of its
+    /// parameters: crude Monte-Carlo or subset simulation (JSON).
+    Reliability(reliability::ReliabilityArgs),
 }
 
 /// An error a subcommand reports to the user (printed, exit code 1 or 2).
@@ -170,5 +174,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Identify(a) => identify::run(&a),
         Command::Margin(a) => margin::run(&a),
         Command::Replay(a) => replay::run(&a),
+        Command::Reliability(a) => reliability::run(&a),
     }
 }

@@ -22,7 +22,7 @@ pub struct SimulateArgs {
     /// (the help lists every NAME with the unit of V: [`effect_help`]).
     #[arg(long = "effect", value_name = "EFFECT", help = effect_help())]
     pub effects: Vec<Effect>,
-    /// A sensor fault, `KIND:key=value:...`, repeatable (docs/reliability.md),
+    /// A sensor fault, `KIND:key=value:...`, repeatable (docs/robustness.md),
     /// e.g. `dropout:joint=1:start=0.5:duration=0.1:mode=stale`. Drawn from
     /// `--seed`. With a fault the run goes on to the mechanism's
     /// `duration_s`, so that what the sensors do after the latch is recorded.

@@ -1,6 +1,6 @@
 //! Sensor faults injected into a measured run: what a failing encoder, latch
 //! switch or clock does to the data the monitor sees (issue 7;
-//! `docs/reliability.md` has the model, the syntax and the monitor's
+//! `docs/robustness.md` has the model, the syntax and the monitor's
 //! contract per fault).
 //!
 //! A fault is applied to a [`Run`] after [`crate::simulate::sensor::measure`], so the

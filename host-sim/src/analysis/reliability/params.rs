@@ -1,0 +1,432 @@
+//! The uncertain parameters: which quantity a `--vary` names (a named effect
+//! of `physics.md` section 6, or a mechanism parameter), its probability
+//! law, and the map from the standard normal space to the parameter.
+
+use super::normal;
+use crate::model::effect::{Effect, EffectError, EffectKind};
+use crate::model::mechanism::{Mechanism, SpringSpec};
+use std::fmt;
+use std::str::FromStr;
+
+/// A mechanism parameter a `--vary` may name (the effects are the others).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MechParam {
+    /// `spring_preload`: `preload_nm` of a linear spring [N·m].
+    SpringPreload,
+    /// `spring_stiffness`: `stiffness_nm_per_rad` of a linear spring [N·m/rad].
+    SpringStiffness,
+    /// `panel_mass`: `mass_kg` of the panel the joint drives [kg].
+    PanelMass,
+    /// `panel_inertia`: `inertia_kgm2` of the panel the joint drives [kg·m²].
+    PanelInertia,
+}
+
+impl MechParam {
+    /// Every mechanism parameter.
+    pub const ALL: [MechParam; 4] = [
+        MechParam::SpringPreload,
+        MechParam::SpringStiffness,
+        MechParam::PanelMass,
+        MechParam::PanelInertia,
+    ];
+
+    /// The name in `--vary`.
+    pub fn name(self) -> &'static str {
+        match self {
+            MechParam::SpringPreload => "spring_preload",
+            MechParam::SpringStiffness => "spring_stiffness",
+            MechParam::PanelMass => "panel_mass",
+            MechParam::PanelInertia => "panel_inertia",
+        }
+    }
+}
+
+/// What a `--vary` sets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Target {
+    /// A named effect (as parsed by [`Effect::from_str`], its value the
+    /// draw), added to the mechanism's effects.
+    Effect {
+        /// Which effect.
+        kind: EffectKind,
+        /// Its 1-based joint, `None` for a global effect.
+        joint: Option<usize>,
+        /// `rig_tilt` only: the direction [deg].
+        alpha_deg: f64,
+    },
+    /// A mechanism parameter of a 1-based joint, replaced by the draw.
+    Mech(MechParam, usize),
+}
+
+/// A probability law of one parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Dist {
+    /// `normal(mean,sd)`.
+    Normal {
+        /// Mean.
+        mean: f64,
+        /// Standard deviation (> 0).
+        sd: f64,
+    },
+    /// `lognormal(median,sigma_ln)`: `ln x` is normal.
+    LogNormal {
+        /// Median (> 0).
+        median: f64,
+        /// Standard deviation of `ln x` (> 0).
+        sigma_ln: f64,
+    },
+    /// `uniform(lo,hi)`.
+    Uniform {
+        /// Lower bound.
+        lo: f64,
+        /// Upper bound (> lo).
+        hi: f64,
+    },
+    /// `truncnormal(mean,sd,lo,hi)`: a normal law kept to `[lo, hi]`.
+    TruncNormal {
+        /// Mean of the untruncated law.
+        mean: f64,
+        /// Its standard deviation (> 0).
+        sd: f64,
+        /// Lower bound.
+        lo: f64,
+        /// Upper bound (> lo).
+        hi: f64,
+    },
+}
+
+impl Dist {
+    /// The parameter at the standard normal coordinate `u`:
+    /// `x = F⁻¹(Φ(u))` (the Rosenblatt map of one variable).
+    pub fn at(&self, u: f64) -> f64 {
+        match *self {
+            Dist::Normal { mean, sd } => mean + sd * u,
+            Dist::LogNormal { median, sigma_ln } => median * (sigma_ln * u).exp(),
+            Dist::Uniform { lo, hi } => lo + (hi - lo) * normal::cdf(u),
+            Dist::TruncNormal { mean, sd, lo, hi } => {
+                let (a, b) = (normal::cdf((lo - mean) / sd), normal::cdf((hi - mean) / sd));
+                let x = mean + sd * normal::inverse_cdf(a + normal::cdf(u) * (b - a));
+                x.clamp(lo, hi)
+            }
+        }
+    }
+
+    pub(crate) fn check(&self) -> Result<(), &'static str> {
+        let ok = match *self {
+            Dist::Normal { mean, sd } => mean.is_finite() && sd > 0.0 && sd.is_finite(),
+            Dist::LogNormal { median, sigma_ln } => {
+                median > 0.0 && median.is_finite() && sigma_ln > 0.0 && sigma_ln.is_finite()
+            }
+            Dist::Uniform { lo, hi } => lo.is_finite() && hi.is_finite() && hi > lo,
+            Dist::TruncNormal { mean, sd, lo, hi } => {
+                mean.is_finite() && sd > 0.0 && sd.is_finite() && lo < hi && !lo.is_nan()
+            }
+        };
+        if ok {
+            Ok(())
+        } else {
+            Err("sd, sigma_ln and median > 0, lo < hi, finite numbers")
+        }
+    }
+}
+
+impl fmt::Display for Dist {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Dist::Normal { mean, sd } => write!(f, "normal({mean},{sd})"),
+            Dist::LogNormal { median, sigma_ln } => write!(f, "lognormal({median},{sigma_ln})"),
+            Dist::Uniform { lo, hi } => write!(f, "uniform({lo},{hi})"),
+            Dist::TruncNormal { mean, sd, lo, hi } => {
+                write!(f, "truncnormal({mean},{sd},{lo},{hi})")
+            }
+        }
+    }
+}
+
+/// Why a `--vary` was rejected.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum VaryError {
+    /// No law after the last `:`.
+    #[error("`{0}`: expected NAME[:joint=J]:DIST, DIST one of normal(mean,sd), lognormal(median,sigma_ln), uniform(lo,hi), truncnormal(mean,sd,lo,hi)")]
+    Syntax(String),
+    /// A law with the wrong name, count of numbers, or values.
+    #[error("`{text}`: {why}")]
+    Law {
+        /// The whole text.
+        text: String,
+        /// What is wrong.
+        why: String,
+    },
+    /// The effect part does not parse.
+    #[error("`{text}`: {source}")]
+    Effect {
+        /// The whole text.
+        text: String,
+        /// The effect parser's error.
+        #[source]
+        source: EffectError,
+    },
+    /// A joint missing or not in the mechanism, or a spring that is not linear.
+    #[error("{0}")]
+    Mechanism(String),
+}
+
+/// One `--vary NAME[:joint=J]:DIST`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vary {
+    /// What it sets.
+    pub target: Target,
+    /// Its law.
+    pub dist: Dist,
+}
+
+impl Vary {
+    /// The name shown in reports, e.g. `coulomb_friction:joint=1`.
+    pub fn label(&self) -> String {
+        match self.target {
+            Target::Effect { kind, joint, .. } => match joint {
+                Some(j) => format!("{kind}:joint={j}"),
+                None => kind.to_string(),
+            },
+            Target::Mech(p, j) => format!("{}:joint={j}", p.name()),
+        }
+    }
+
+    /// Checks the target against a mechanism.
+    pub fn check(&self, mech: &Mechanism) -> Result<(), VaryError> {
+        let bad = |m: String| VaryError::Mechanism(format!("--vary {}: {m}", self.label()));
+        match self.target {
+            Target::Effect { .. } => self
+                .effect(0.0)
+                .validate_joint(mech.effect_joints())
+                .map_err(|m| bad(m.to_string())),
+            Target::Mech(p, j) => {
+                if j == 0 || j > mech.joint_count() {
+                    return Err(bad(format!(
+                        "joint {j} does not exist (the mechanism has joints 1 to {})",
+                        mech.joint_count()
+                    )));
+                }
+                let linear = matches!(mech.joints[j - 1].spring, SpringSpec::Linear { .. });
+                if matches!(p, MechParam::SpringPreload | MechParam::SpringStiffness) && !linear {
+                    return Err(bad(format!(
+                        "joint {j}'s spring is not linear (kind = \"linear\" has preload and stiffness)"
+                    )));
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// The effect with value `x` (a mechanism parameter: a
+    /// `coulomb_friction` of 0, never used).
+    fn effect(&self, x: f64) -> Effect {
+        match self.target {
+            Target::Effect {
+                kind,
+                joint,
+                alpha_deg,
+            } => Effect {
+                kind,
+                joint,
+                value: x,
+                alpha_deg,
+                ..Effect::default()
+            },
+            Target::Mech(..) => Effect::default(),
+        }
+    }
+
+    /// Sets the value `x` into the mechanism (a mechanism parameter) or the
+    /// list of effects (an effect, added).
+    pub fn apply(&self, x: f64, mech: &mut Mechanism, effects: &mut Vec<Effect>) {
+        match self.target {
+            Target::Effect { .. } => effects.push(self.effect(x)),
+            Target::Mech(p, j) => {
+                let i = j - 1;
+                match p {
+                    MechParam::PanelMass => mech.panels[i].mass_kg = x,
+                    MechParam::PanelInertia => mech.panels[i].inertia_kgm2 = x,
+                    MechParam::SpringPreload | MechParam::SpringStiffness => {
+                        if let SpringSpec::Linear {
+                            preload_nm,
+                            stiffness_nm_per_rad,
+                            ..
+                        } = &mut mech.joints[i].spring
+                        {
+                            match p {
+                                MechParam::SpringPreload => *preload_nm = x,
+                                _ => *stiffness_nm_per_rad = x,
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+impl fmt::Display for Vary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}", self.label(), self.dist)
+    }
+}
+
+fn parse_dist(text: &str, law: &str) -> Result<Dist, VaryError> {
+    let bad = |why: String| VaryError::Law {
+        text: text.to_string(),
+        why,
+    };
+    let (name, rest) = law
+        .split_once('(')
+        .ok_or_else(|| VaryError::Syntax(text.to_string()))?;
+    let args = rest
+        .strip_suffix(')')
+        .ok_or_else(|| bad(format!("`{law}`: expected a closing parenthesis")))?;
+    let nums: Vec<f64> = args
+        .split(',')
+        .map(|a| a.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad(format!("`{law}`: expected numbers separated by commas")))?;
+    let want = |n: usize| {
+        if nums.len() == n {
+            Ok(())
+        } else {
+            Err(bad(format!("`{law}`: {name} takes {n} numbers")))
+        }
+    };
+    let dist = match name.trim() {
+        "normal" => {
+            want(2)?;
+            Dist::Normal {
+                mean: nums[0],
+                sd: nums[1],
+            }
+        }
+        "lognormal" => {
+            want(2)?;
+            Dist::LogNormal {
+                median: nums[0],
+                sigma_ln: nums[1],
+            }
+        }
+        "uniform" => {
+            want(2)?;
+            Dist::Uniform {
+                lo: nums[0],
+                hi: nums[1],
+            }
+        }
+        "truncnormal" => {
+            want(4)?;
+            Dist::TruncNormal {
+                mean: nums[0],
+                sd: nums[1],
+                lo: nums[2],
+                hi: nums[3],
+            }
+        }
+        other => {
+            return Err(bad(format!(
+                "unknown law `{other}`: expected normal, lognormal, uniform or truncnormal"
+            )))
+        }
+    };
+    dist.check()
+        .map_err(|w| bad(format!("`{law}`: expected {w}")))?;
+    Ok(dist)
+}
+
+impl FromStr for Vary {
+    type Err = VaryError;
+    /// Parses `NAME[:joint=J][:alpha_deg=A]:DIST`; the effect part goes
+    /// through the `--effect` parser ([`Effect::from_str`]).
+    fn from_str(s: &str) -> Result<Self, VaryError> {
+        let (head, law) = s
+            .rsplit_once(':')
+            .filter(|(_, l)| l.contains('('))
+            .ok_or_else(|| VaryError::Syntax(s.to_string()))?;
+        let dist = parse_dist(s, law)?;
+        let name = head.split(':').next().unwrap_or("").trim();
+        let target = if let Some(p) = MechParam::ALL.iter().copied().find(|p| p.name() == name) {
+            let joint = head
+                .split(':')
+                .skip(1)
+                .find_map(|kv| kv.trim().strip_prefix("joint="))
+                .and_then(|j| j.trim().parse::<usize>().ok())
+                .filter(|&j| j >= 1)
+                .ok_or_else(|| {
+                    VaryError::Mechanism(format!("`{s}`: {} needs joint=J (from 1)", p.name()))
+                })?;
+            Target::Mech(p, joint)
+        } else {
+            let effect: Effect =
+                format!("{head}:value=0")
+                    .parse()
+                    .map_err(|source| VaryError::Effect {
+                        text: s.to_string(),
+                        source,
+                    })?;
+            if effect.kind == EffectKind::TorqueTable {
+                return Err(VaryError::Mechanism(format!(
+                    "`{s}`: torque_table has tables, not one value to vary"
+                )));
+            }
+            Target::Effect {
+                kind: effect.kind,
+                joint: effect.joint,
+                alpha_deg: effect.alpha_deg,
+            }
+        };
+        Ok(Vary { target, dist })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_effects_and_mechanism_parameters() {
+        let v: Vary = "coulomb_friction:joint=2:normal(1.5,0.1)".parse().unwrap();
+        assert_eq!(v.label(), "coulomb_friction:joint=2");
+        assert_eq!(v.dist, Dist::Normal { mean: 1.5, sd: 0.1 });
+        let v: Vary = "panel_mass:joint=1:truncnormal(3.5,0.2,3,4)"
+            .parse()
+            .unwrap();
+        assert_eq!(v.target, Target::Mech(MechParam::PanelMass, 1));
+        let v: Vary = "air_drag:lognormal(0.1,0.3)".parse().unwrap();
+        assert_eq!(v.to_string(), "air_drag:lognormal(0.1,0.3)");
+        for bad in [
+            "coulomb_friction:joint=1",
+            "coulomb_friction:joint=1:normal(1)",
+            "coulomb_friction:joint=1:normal(1,-1)",
+            "coulomb_friction:joint=1:gauss(1,1)",
+            "friction:joint=1:normal(1,1)",
+            "spring_preload:uniform(1,2)",
+        ] {
+            assert!(bad.parse::<Vary>().is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn the_laws_map_the_normal_space() {
+        let n = Dist::Normal { mean: 2.0, sd: 0.5 };
+        assert_eq!(n.at(1.0), 2.5);
+        let u = Dist::Uniform { lo: 1.0, hi: 3.0 };
+        assert!((u.at(0.0) - 2.0).abs() < 1e-15);
+        let t = Dist::TruncNormal {
+            mean: 0.0,
+            sd: 1.0,
+            lo: -1.0,
+            hi: 1.0,
+        };
+        assert!(t.at(8.0) <= 1.0 && t.at(-8.0) >= -1.0 && t.at(0.0).abs() < 1e-12);
+        let l = Dist::LogNormal {
+            median: 2.0,
+            sigma_ln: 0.1,
+        };
+        assert_eq!(l.at(0.0), 2.0);
+    }
+}

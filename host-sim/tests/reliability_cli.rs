@@ -1,0 +1,184 @@
+//! `deploywatch reliability` as a user runs it: bad input exits 2 with a
+//! message naming what is wrong, a deployment that cannot be simulated
+//! exits 1 with its parameters, the JSON is the same for the same seed on 1
+//! or 2 threads, and `--from` turns an identify result into normal laws.
+//!
+//! `cargo test -p deploywatch-sim --test reliability_cli`
+
+mod common;
+
+use common::{data, deploywatch, fails, s, write};
+use std::process::Command;
+
+fn one_panel() -> String {
+    data()
+        .join("mechanisms/reliability_one_panel.toml")
+        .to_string_lossy()
+        .into_owned()
+}
+
+#[test]
+fn bad_input_exits_2_and_says_what_is_wrong() {
+    let m = one_panel();
+    let run = |args: &[&str]| {
+        let mut all = vec!["reliability", m.as_str()];
+        all.extend_from_slice(args);
+        deploywatch(&all)
+    };
+    let v = "coulomb_friction:joint=1:normal(1,0.1)";
+    fails(
+        &run(&[
+            "--vary",
+            "coulomb_friction:joint=2:normal(1,0.1)",
+            "--fail",
+            "not_latched",
+        ]),
+        2,
+        &["joint 2 does not exist"],
+    );
+    fails(
+        &run(&[
+            "--vary",
+            "coulomb_friction:joint=1:gauss(1,0.1)",
+            "--fail",
+            "not_latched",
+        ]),
+        2,
+        &["unknown law `gauss`"],
+    );
+    fails(
+        &run(&["--vary", v, "--fail", "time>20"]),
+        2,
+        &["duration_s (10 s)"],
+    );
+    fails(
+        &run(&["--vary", v, "--fail", "landed"]),
+        2,
+        &["not_latched, latch_rate>X"],
+    );
+    fails(
+        &run(&[
+            "--vary",
+            "spring_preload:joint=1:normal(1,0.1)",
+            "--fail",
+            "not_latched",
+            "--json",
+            "/no/such/folder/r.json",
+        ]),
+        2,
+        &["does not exist"],
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let not_identify = write(dir.path(), "x.json", "{\"effects\": []}");
+    fails(
+        &run(&["--from", s(&not_identify), "--fail", "not_latched"]),
+        2,
+        &["deploywatch identify"],
+    );
+    // A normal law that reaches a negative mass: the simulation fails (1)
+    // and the message gives the parameters.
+    fails(
+        &run(&[
+            "--vary",
+            "panel_mass:joint=1:normal(3,2)",
+            "--fail",
+            "not_latched",
+            "--method",
+            "mc",
+            "--samples",
+            "200",
+            "-q",
+        ]),
+        1,
+        &["panel_mass:joint=1 = -"],
+    );
+}
+
+#[test]
+fn the_same_seed_gives_the_same_file_on_1_or_2_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |threads: &str, name: &str| {
+        let json = dir.path().join(name);
+        let status = Command::new(env!("CARGO_BIN_EXE_deploywatch"))
+            .env("RAYON_NUM_THREADS", threads)
+            .args([
+                "reliability",
+                &one_panel(),
+                "--vary",
+                "coulomb_friction:joint=1:normal(1.1,0.1)",
+                "--vary",
+                "panel_inertia:joint=1:truncnormal(0.16,0.02,0.1,0.3)",
+                "--fail",
+                "not_latched",
+                "--fail",
+                "latch_rate>100",
+                "--samples",
+                "500",
+                "--seed",
+                "5",
+                "-q",
+                "--json",
+                s(&json),
+            ])
+            .output()
+            .unwrap();
+        assert!(
+            status.status.success(),
+            "{}",
+            String::from_utf8_lossy(&status.stderr)
+        );
+        std::fs::read_to_string(json).unwrap()
+    };
+    let one = out("1", "one.json");
+    assert_eq!(one, out("2", "two.json"));
+    let v: serde_json::Value = serde_json::from_str(&one).unwrap();
+    for key in [
+        "p_fail",
+        "cov",
+        "ci95",
+        "simulations",
+        "levels",
+        "most_likely_failure",
+    ] {
+        assert!(v.get(key).is_some(), "{key} missing:\n{one}");
+    }
+    let p = v["p_fail"].as_f64().unwrap();
+    assert!(p > 0.0 && p < 1.0, "{p}");
+}
+
+#[test]
+fn from_takes_the_identified_values_and_their_intervals_as_normal_laws() {
+    let dir = tempfile::tempdir().unwrap();
+    let eft = write(
+        dir.path(),
+        "eft.json",
+        r#"{"method": "direct", "joints": [{"joint": 1, "coulomb_nm": 1.2, "ci95": [1.0, 1.4], "sd_nm": 0.1}]}"#,
+    );
+    let json = dir.path().join("r.json");
+    let out = deploywatch(&[
+        "reliability",
+        &one_panel(),
+        "--from",
+        s(&eft),
+        "--fail",
+        "not_latched",
+        "--samples",
+        "500",
+        "-q",
+        "--json",
+        s(&json),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    let vary = v["vary"][0].as_str().unwrap();
+    // sd = (1.4 − 1.0) / (2 · 1.96) = 0.10204 N·m.
+    assert!(
+        vary.starts_with("coulomb_friction:joint=1:normal(1.2,0.1020"),
+        "{vary}"
+    );
+}

@@ -1,0 +1,31 @@
+"""Shared fixtures: the repository, the `deploywatch` CLI to compare with."""
+
+import os
+import pathlib
+import subprocess
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="session")
+def root():
+    return ROOT
+
+
+@pytest.fixture(scope="session")
+def cli():
+    """The CLI binary: $DEPLOYWATCH_BIN, else target/debug/deploywatch (built
+    by `cargo test` in scripts/test.sh), else built here."""
+    env = os.environ.get("DEPLOYWATCH_BIN")
+    if env:
+        return env
+    exe = ROOT / "target" / "debug" / "deploywatch"
+    if not exe.exists():
+        subprocess.run(
+            ["cargo", "build", "-q", "-p", "deploywatch-sim", "--bin", "deploywatch"],
+            cwd=ROOT,
+            check=True,
+        )
+    return str(exe)
