@@ -10,7 +10,7 @@ pub const MAX_ANGLE_DEG: f64 = 720.0;
 /// The metadata key that declares missing encoder readings: a run with
 /// `# missing_samples = "NaN"` may have `NaN` in its `phi<j>_deg` fields,
 /// each a reading the sensor did not deliver (a dropout, a parity error).
-/// See [`ReadOptions::allow_missing`] and `docs/reliability.md`.
+/// See [`ReadOptions::allow_missing`] and `docs/robustness.md`.
 pub const MISSING_SAMPLES_KEY: &str = "missing_samples";
 
 /// The one value of [`MISSING_SAMPLES_KEY`]: the field text of a missing

@@ -1,0 +1,730 @@
+//! The shape of the two library crates, checked from their sources:
+//!
+//! - **layers point one way**: in `host-sim/src`, `report` and `paper` (leaf
+//!   utilities) ← `model` ← `data` ← `simulate` ← `analysis`, `onboard` ←
+//!   `cli`; in `core/src`, `physics` ← `monitor` ← `telemetry`, `hal`. A
+//!   module never names one of a higher layer, and two peers of one layer
+//!   (`analysis`/`onboard`, `telemetry`/`hal`) never name each other;
+//! - **no import cycles** at file granularity, inside a layer too: each `.rs`
+//!   file is a module (`foo/mod.rs` is `foo`), and a file names another when
+//!   its non-test code holds a path `crate::…`, `super::…` or `self::…` that
+//!   resolves to it (the longest prefix that is a file). A `pub use
+//!   self::child::X` in a `mod.rs` names the child; a child naming
+//!   `super::X` names its parent. Nothing names the crate root (`lib.rs`):
+//!   items are named by the module that holds them;
+//! - **sizes**: no file over [`MAX_FILE_LINES`] lines and no function over
+//!   [`MAX_FN_LINES`] lines (from its `fn` line to its closing brace).
+//!
+//! `#[cfg(test)]` modules (inline, or files declared `#[cfg(test)] mod x;`)
+//! are left out of the graph; the sizes count them.
+//!
+//! `cargo test -p deploywatch-tests --test structure`
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// Longest source file, lines.
+const MAX_FILE_LINES: usize = 900;
+/// Longest function, lines.
+const MAX_FN_LINES: usize = 80;
+
+/// A module path below the crate root (`["analysis", "diagnose"]`).
+type ModPath = Vec<String>;
+
+/// One crate's rule: the layer of each top-level module, and the peers.
+struct Layers {
+    /// Top-level module → layer (0 is the lowest).
+    layer: &'static [(&'static str, u8)],
+    /// Pairs of top-level modules of one layer that must not name each other.
+    peers: &'static [(&'static str, &'static str)],
+}
+
+const HOST: Layers = Layers {
+    layer: &[
+        ("report", 0),
+        ("paper", 0),
+        ("model", 1),
+        ("data", 2),
+        ("simulate", 3),
+        ("analysis", 4),
+        ("onboard", 4),
+        ("cli", 5),
+    ],
+    peers: &[("analysis", "onboard")],
+};
+
+const CORE: Layers = Layers {
+    layer: &[
+        ("fmt", 0),
+        ("physics", 0),
+        ("monitor", 1),
+        ("telemetry", 2),
+        ("hal", 2),
+    ],
+    peers: &[("telemetry", "hal")],
+};
+
+/// One source file: its path below `src/` and its text.
+struct Source {
+    rel: PathBuf,
+    text: String,
+}
+
+fn read_tree(src: &Path) -> Vec<Source> {
+    let mut out = Vec::new();
+    let mut stack = vec![src.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let p = entry.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|e| e == "rs") {
+                let text = std::fs::read_to_string(&p).unwrap();
+                let rel = p.strip_prefix(src).unwrap().to_path_buf();
+                out.push(Source { rel, text });
+            }
+        }
+    }
+    out.sort_by(|a, b| a.rel.cmp(&b.rel));
+    out
+}
+
+/// The module a file is (`a/b.rs` and `a/b/mod.rs` are `a::b`; `lib.rs`
+/// and `main.rs` are the root, `[]`).
+fn module_of(rel: &Path) -> ModPath {
+    let mut parts: Vec<String> = rel
+        .iter()
+        .map(|c| c.to_string_lossy().into_owned())
+        .collect();
+    let last = parts.pop().unwrap_or_default();
+    let stem = last.trim_end_matches(".rs");
+    if !matches!(stem, "mod" | "lib" | "main") {
+        parts.push(stem.to_string());
+    }
+    parts
+}
+
+/// The text with comments, strings and char literals blanked (newlines
+/// kept, so line numbers hold).
+fn strip(text: &str) -> String {
+    let b: Vec<char> = text.chars().collect();
+    let mut out = String::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        let c = b[i];
+        let next = b.get(i + 1).copied().unwrap_or(' ');
+        if c == '/' && next == '/' {
+            while i < b.len() && b[i] != '\n' {
+                i += 1;
+            }
+        } else if c == '/' && next == '*' {
+            let mut depth = 0;
+            while i < b.len() {
+                if b[i] == '/' && b.get(i + 1) == Some(&'*') {
+                    depth += 1;
+                    i += 2;
+                } else if b[i] == '*' && b.get(i + 1) == Some(&'/') {
+                    depth -= 1;
+                    i += 2;
+                    if depth == 0 {
+                        break;
+                    }
+                } else {
+                    if b[i] == '\n' {
+                        out.push('\n');
+                    }
+                    i += 1;
+                }
+            }
+        } else if c == '"' || (c == 'r' && (next == '"' || next == '#') && raw_start(&b, i)) {
+            i = skip_string(&b, i, &mut out);
+        } else if c == '\'' && is_char_literal(&b, i) {
+            i = skip_char(&b, i);
+            out.push(' ');
+        } else {
+            out.push(c);
+            i += 1;
+        }
+    }
+    out
+}
+
+/// True when `r` at `i` opens a raw string (`r"…"`, `r#"…"#`), not an
+/// identifier ending in `r`.
+fn raw_start(b: &[char], i: usize) -> bool {
+    let prev_ident = i > 0 && (b[i - 1].is_alphanumeric() || b[i - 1] == '_');
+    if prev_ident {
+        return false;
+    }
+    let mut j = i + 1;
+    while j < b.len() && b[j] == '#' {
+        j += 1;
+    }
+    j < b.len() && b[j] == '"'
+}
+
+/// Skips a (raw) string literal from `i`, keeping its newlines.
+fn skip_string(b: &[char], mut i: usize, out: &mut String) -> usize {
+    let mut hashes = 0;
+    let raw = b[i] == 'r';
+    if raw {
+        i += 1;
+        while b[i] == '#' {
+            hashes += 1;
+            i += 1;
+        }
+    }
+    i += 1;
+    while i < b.len() {
+        if b[i] == '\n' {
+            out.push('\n');
+        }
+        if !raw && b[i] == '\\' {
+            i += 2;
+            continue;
+        }
+        if b[i] == '"' && (0..hashes).all(|k| b.get(i + 1 + k) == Some(&'#')) {
+            return i + 1 + hashes;
+        }
+        i += 1;
+    }
+    i
+}
+
+/// True when `'` at `i` opens a char literal rather than a lifetime.
+fn is_char_literal(b: &[char], i: usize) -> bool {
+    match (b.get(i + 1), b.get(i + 2)) {
+        (Some('\\'), _) => true,
+        (Some(_), Some('\'')) => true,
+        _ => false,
+    }
+}
+
+fn skip_char(b: &[char], mut i: usize) -> usize {
+    i += 1;
+    if b.get(i) == Some(&'\\') {
+        i += 1;
+    }
+    while i < b.len() && b[i] != '\'' {
+        i += 1;
+    }
+    i + 1
+}
+
+/// Removes `#[cfg(test)]` inline modules from stripped text (lines kept)
+/// and returns the names of `#[cfg(test)] mod x;` file modules.
+fn drop_test_modules(stripped: &str) -> (String, Vec<String>) {
+    let mut out = stripped.to_string();
+    let mut test_files = Vec::new();
+    let mut from = 0;
+    while let Some(at) = out[from..].find("#[cfg(test)]") {
+        let start = from + at;
+        let rest = &out[start + 12..];
+        let trimmed = rest.trim_start();
+        let Some(after_mod) = trimmed
+            .strip_prefix("mod ")
+            .or_else(|| trimmed.strip_prefix("pub mod "))
+            .or_else(|| trimmed.strip_prefix("pub(crate) mod "))
+        else {
+            from = start + 12;
+            continue;
+        };
+        let name: String = after_mod
+            .trim_start()
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        let after_name = after_mod.trim_start()[name.len()..].trim_start();
+        if after_name.starts_with(';') {
+            test_files.push(name);
+            from = start + 12;
+            continue;
+        }
+        let open = start + out[start..].find('{').unwrap();
+        let close = matching_brace(&out, open);
+        let blanked: String = out[start..close]
+            .chars()
+            .map(|c| if c == '\n' { '\n' } else { ' ' })
+            .collect();
+        out.replace_range(start..close, &blanked);
+        from = close;
+    }
+    (out, test_files)
+}
+
+/// The index just past the `}` that closes the `{` at `open`.
+fn matching_brace(s: &str, open: usize) -> usize {
+    let mut depth = 0i32;
+    for (k, c) in s[open..].char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' => {
+                depth -= 1;
+                if depth == 0 {
+                    return open + k + 1;
+                }
+            }
+            _ => {}
+        }
+    }
+    s.len()
+}
+
+/// Every path a file's code names, with the byte offset naming it: `use`
+/// trees (braces expanded, `as` renames dropped), then the inline
+/// `crate::`/`super::` paths of the code outside `use` items.
+fn named_paths(code: &str) -> Vec<(Vec<String>, usize)> {
+    let mut out = Vec::new();
+    let mut rest = code.to_string();
+    let mut from = 0;
+    while let Some(k) = find_use(&rest[from..]) {
+        let at = from + k;
+        let body_start = at + 4;
+        let end = body_start + rest[body_start..].find(';').unwrap_or(0);
+        let tree = without_renames(&rest[body_start..end]);
+        let mut paths = Vec::new();
+        expand_use("", &tree, &mut paths);
+        out.extend(paths.into_iter().map(|p| (p, at)));
+        let blank: String = rest[at..end]
+            .chars()
+            .map(|c| if c == '\n' { '\n' } else { ' ' })
+            .collect();
+        rest.replace_range(at..end, &blank);
+        from = end;
+    }
+    for (i, _) in rest.char_indices() {
+        let s = &rest[i..];
+        let boundary = rest[..i]
+            .chars()
+            .next_back()
+            .is_none_or(|p| !(p.is_alphanumeric() || p == '_' || p == ':'));
+        if boundary && (s.starts_with("crate::") || s.starts_with("super::")) {
+            let path: String = s
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':')
+                .collect();
+            out.push((segments(&path), i));
+        }
+    }
+    out
+}
+
+/// A use tree without white space and without its `as name` renames.
+fn without_renames(tree: &str) -> String {
+    let words: Vec<&str> = tree.split_whitespace().collect();
+    let mut kept = String::new();
+    let mut i = 0;
+    while i < words.len() {
+        if words[i] == "as" && i + 1 < words.len() {
+            // `as name` or `as name,` / `as name}`: keep the punctuation.
+            let tail: String = words[i + 1]
+                .chars()
+                .skip_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            kept.push_str(&tail);
+            i += 2;
+        } else {
+            kept.push_str(words[i]);
+            i += 1;
+        }
+    }
+    kept
+}
+
+/// The byte offset of the next `use ` item keyword.
+fn find_use(s: &str) -> Option<usize> {
+    let mut from = 0;
+    while let Some(at) = s[from..].find("use ") {
+        let i = from + at;
+        let before = s[..i].chars().next_back();
+        if before.is_none_or(|c| !(c.is_alphanumeric() || c == '_')) {
+            return Some(i);
+        }
+        from = i + 4;
+    }
+    None
+}
+
+/// Expands a whitespace-free use tree (`a::{b,c::{d,e}}`) into paths.
+fn expand_use(prefix: &str, tree: &str, out: &mut Vec<Vec<String>>) {
+    let tree = tree.trim_start_matches("::");
+    if let Some(open) = tree.find('{') {
+        let head = format!("{prefix}{}", &tree[..open]);
+        let inner = &tree[open + 1..tree.rfind('}').unwrap_or(tree.len())];
+        for part in split_top(inner) {
+            expand_use(&head, &part, out);
+        }
+    } else {
+        out.push(segments(&format!("{prefix}{tree}")));
+    }
+}
+
+/// Splits at top-level commas.
+fn split_top(s: &str) -> Vec<String> {
+    let (mut parts, mut cur, mut depth) = (Vec::new(), String::new(), 0);
+    for c in s.chars() {
+        match c {
+            '{' => depth += 1,
+            '}' => depth -= 1,
+            ',' if depth == 0 => {
+                parts.push(std::mem::take(&mut cur));
+                continue;
+            }
+            _ => {}
+        }
+        cur.push(c);
+    }
+    if !cur.is_empty() {
+        parts.push(cur);
+    }
+    parts
+}
+
+fn segments(path: &str) -> Vec<String> {
+    path.split("::")
+        .filter(|s| !s.is_empty())
+        .map(str::to_string)
+        .collect()
+}
+
+/// Resolves a named path from module `at` to the file module it lands in
+/// (`None` for paths outside the crate: `std::`, other crates).
+fn resolve(at: &ModPath, path: &[String], modules: &BTreeSet<ModPath>) -> Option<ModPath> {
+    let mut base: ModPath = match path.first()?.as_str() {
+        "crate" => Vec::new(),
+        "self" | "super" => at.clone(),
+        _ => return None,
+    };
+    let mut i = if path[0] == "crate" { 1 } else { 0 };
+    while i < path.len() && (path[i] == "super" || path[i] == "self") {
+        if path[i] == "super" {
+            base.pop();
+        }
+        i += 1;
+    }
+    let mut best = base.clone();
+    let mut cur = base;
+    for seg in &path[i..] {
+        cur.push(seg.clone());
+        if modules.contains(&cur) {
+            best = cur.clone();
+        } else {
+            break;
+        }
+    }
+    Some(best)
+}
+
+/// One crate's module graph: module → (named module → first line naming it).
+struct Graph {
+    edges: BTreeMap<ModPath, BTreeMap<ModPath, usize>>,
+    files: BTreeMap<ModPath, PathBuf>,
+}
+
+fn graph(sources: &[Source]) -> Graph {
+    let modules: BTreeSet<ModPath> = sources.iter().map(|s| module_of(&s.rel)).collect();
+    let mut test_mods: BTreeSet<ModPath> = BTreeSet::new();
+    let mut code: BTreeMap<ModPath, String> = BTreeMap::new();
+    let mut files = BTreeMap::new();
+    for s in sources {
+        let m = module_of(&s.rel);
+        let (c, tests) = drop_test_modules(&strip(&s.text));
+        for t in tests {
+            let mut child = m.clone();
+            child.push(t);
+            test_mods.insert(child);
+        }
+        code.insert(m.clone(), c);
+        files.insert(m, s.rel.clone());
+    }
+    let mut edges: BTreeMap<ModPath, BTreeMap<ModPath, usize>> = BTreeMap::new();
+    for (m, c) in &code {
+        if test_mods.iter().any(|t| m.starts_with(t)) {
+            continue;
+        }
+        let e = edges.entry(m.clone()).or_default();
+        for (p, at) in named_paths(c) {
+            if let Some(to) = resolve(m, &p, &modules) {
+                if &to != m && !test_mods.contains(&to) {
+                    let line = c[..at].matches('\n').count() + 1;
+                    let first = e.entry(to).or_insert(line);
+                    *first = (*first).min(line);
+                }
+            }
+        }
+    }
+    Graph { edges, files }
+}
+
+/// Lines naming a module of a higher layer, a peer, or the crate root.
+fn layer_violations(g: &Graph, rule: &Layers) -> Vec<String> {
+    let layer_of = |m: &ModPath| -> Option<u8> {
+        let top = m.first()?;
+        rule.layer.iter().find(|(n, _)| n == top).map(|(_, l)| *l)
+    };
+    let mut out = Vec::new();
+    for (from, tos) in &g.edges {
+        if from.is_empty() {
+            continue;
+        }
+        let file = g.files[from].display();
+        let Some(lf) = layer_of(from) else {
+            out.push(format!(
+                "{file}: module `{}` is in no layer (top-level modules: {:?})",
+                from.join("::"),
+                rule.layer.iter().map(|(n, _)| *n).collect::<Vec<_>>()
+            ));
+            continue;
+        };
+        for (to, line) in tos {
+            if to.is_empty() {
+                out.push(format!(
+                    "{file}:{line}: names the crate root; name the module that holds the item"
+                ));
+                continue;
+            }
+            let lt = layer_of(to).unwrap_or(u8::MAX);
+            let peers = rule
+                .peers
+                .iter()
+                .any(|&(a, b)| (from[0] == a && to[0] == b) || (from[0] == b && to[0] == a));
+            if lt > lf || peers {
+                out.push(format!(
+                    "{file}:{line}: `{}` (layer {lf}) names `{}` (layer {lt}{})",
+                    from.join("::"),
+                    to.join("::"),
+                    if peers { ", a peer" } else { "" }
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// The shortest cycle through each module that is on one, each distinct
+/// cycle once, with the lines that close it.
+fn cycles(g: &Graph) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut seen: BTreeSet<BTreeSet<ModPath>> = BTreeSet::new();
+    for start in g.edges.keys() {
+        let Some(cycle) = shortest_cycle(g, start) else {
+            continue;
+        };
+        if !seen.insert(cycle.iter().cloned().collect()) {
+            continue;
+        }
+        let text: Vec<String> = cycle
+            .windows(2)
+            .map(|w| {
+                let line = g.edges[&w[0]][&w[1]];
+                format!("{}:{line} → {}", g.files[&w[0]].display(), w[1].join("::"))
+            })
+            .collect();
+        out.push(format!("cycle: {}", text.join(", ")));
+    }
+    out
+}
+
+/// The shortest path from `start` back to itself (breadth first).
+fn shortest_cycle(g: &Graph, start: &ModPath) -> Option<Vec<ModPath>> {
+    let mut prev: BTreeMap<ModPath, ModPath> = BTreeMap::new();
+    let mut queue = std::collections::VecDeque::from([start.clone()]);
+    while let Some(m) = queue.pop_front() {
+        for to in g.edges.get(&m).into_iter().flat_map(|e| e.keys()) {
+            if to == start {
+                let mut path = vec![m.clone()];
+                let mut cur = m.clone();
+                while &cur != start {
+                    cur = prev[&cur].clone();
+                    path.push(cur.clone());
+                }
+                path.reverse();
+                path.push(start.clone());
+                return Some(path);
+            }
+            if !prev.contains_key(to) && to != start {
+                prev.insert(to.clone(), m.clone());
+                queue.push_back(to.clone());
+            }
+        }
+    }
+    None
+}
+
+/// Files over [`MAX_FILE_LINES`] and functions over [`MAX_FN_LINES`].
+fn size_violations(sources: &[Source], root: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for s in sources {
+        let file = format!("{root}/{}", s.rel.display());
+        let n = s.text.lines().count();
+        if n > MAX_FILE_LINES {
+            out.push(format!("{file}: {n} lines (at most {MAX_FILE_LINES})"));
+        }
+        for (name, line, len) in long_functions(&strip(&s.text)) {
+            out.push(format!(
+                "{file}:{line}: fn {name} is {len} lines (at most {MAX_FN_LINES})"
+            ));
+        }
+    }
+    out
+}
+
+/// `(name, first line, lines)` of every function longer than [`MAX_FN_LINES`].
+fn long_functions(code: &str) -> Vec<(String, usize, usize)> {
+    let mut out = Vec::new();
+    let line_of = |at: usize| code[..at].matches('\n').count() + 1;
+    let mut from = 0;
+    while let Some(k) = code[from..].find("fn ") {
+        let at = from + k;
+        from = at + 3;
+        let before = code[..at].chars().next_back();
+        if before.is_some_and(|c| c.is_alphanumeric() || c == '_') {
+            continue;
+        }
+        let name: String = code[at + 3..]
+            .trim_start()
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        if name.is_empty() {
+            continue;
+        }
+        let (Some(semi), Some(open)) = (
+            code[at..].find(';').map(|x| x + at).or(Some(usize::MAX)),
+            code[at..].find('{').map(|x| x + at),
+        ) else {
+            continue;
+        };
+        if semi < open {
+            continue;
+        }
+        let close = matching_brace(code, open);
+        let len = line_of(close.saturating_sub(1)) - line_of(at) + 1;
+        if len > MAX_FN_LINES {
+            out.push((name, line_of(at), len));
+        }
+    }
+    out
+}
+
+fn check_crate(root: &str, rule: &Layers) -> Vec<String> {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join(root)
+        .join("src");
+    let sources = read_tree(&src);
+    let g = graph(&sources);
+    let mut out = layer_violations(&g, rule);
+    out.extend(cycles(&g));
+    out.extend(size_violations(&sources, root));
+    out
+}
+
+fn assert_clean(found: Vec<String>) {
+    assert!(
+        found.is_empty(),
+        "{} findings:\n{}",
+        found.len(),
+        found.join("\n")
+    );
+}
+
+#[test]
+fn host_sim_layers_point_one_way_without_cycles_or_long_code() {
+    assert_clean(check_crate("host-sim", &HOST));
+}
+
+#[test]
+fn core_layers_point_one_way_without_cycles_or_long_code() {
+    assert_clean(check_crate("core", &CORE));
+}
+
+// The checker on small trees of its own, so that it can be seen to fail.
+
+fn tree(files: &[(&str, &str)]) -> Vec<Source> {
+    files
+        .iter()
+        .map(|(rel, text)| Source {
+            rel: PathBuf::from(rel),
+            text: text.to_string(),
+        })
+        .collect()
+}
+
+#[test]
+fn checker_finds_a_two_file_cycle_through_a_use_group() {
+    let t = tree(&[
+        ("lib.rs", "pub mod model;\n"),
+        ("model/mod.rs", "pub mod a;\npub mod b;\n"),
+        (
+            "model/a.rs",
+            "use crate::model::{b::B, x};\npub struct A;\n",
+        ),
+        ("model/b.rs", "pub struct B(super::a::A);\n"),
+    ]);
+    let found = cycles(&graph(&t));
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(found[0].contains("model/a.rs:1"), "{found:?}");
+}
+
+#[test]
+fn checker_finds_a_parent_child_cycle_and_ignores_test_modules() {
+    let t = tree(&[
+        ("lib.rs", "pub mod m;\n"),
+        ("m/mod.rs", "mod c;\npub use self::c::C;\npub struct P;\n"),
+        (
+            "m/c.rs",
+            "pub struct C(super::P);\n#[cfg(test)]\nmod tests {\n use crate::m::P;\n}\n",
+        ),
+        (
+            "m/d.rs",
+            "#[cfg(test)]\nmod tests { use super::super::P; }\n",
+        ),
+    ]);
+    let found = cycles(&graph(&t));
+    assert_eq!(found.len(), 1, "{found:?}");
+    let g = graph(&t);
+    assert!(g.edges[&vec!["m".to_string(), "d".to_string()]].is_empty());
+}
+
+#[test]
+fn checker_finds_an_upward_import_and_a_peer_import() {
+    let t = tree(&[
+        (
+            "lib.rs",
+            "pub mod model; pub mod cli; pub mod analysis; pub mod onboard;\n",
+        ),
+        ("model.rs", "fn f() { crate::cli::run(); }\n"),
+        ("cli.rs", "use crate::model;\n"),
+        ("analysis.rs", "use crate::onboard::X;\n"),
+        ("onboard.rs", "pub struct X;\n"),
+    ]);
+    let found = layer_violations(&graph(&t), &HOST);
+    assert_eq!(found.len(), 2, "{found:?}");
+    assert!(
+        found.iter().any(|f| f.starts_with("model.rs:1")),
+        "{found:?}"
+    );
+    assert!(found.iter().any(|f| f.contains("a peer")), "{found:?}");
+}
+
+#[test]
+fn checker_ignores_paths_in_comments_and_strings() {
+    let t = tree(&[
+        ("lib.rs", "pub mod model; pub mod cli;\n"),
+        (
+            "model.rs",
+            "// crate::cli::run()\nconst S: &str = \"crate::cli\";\n/* use crate::cli; */\n",
+        ),
+        ("cli.rs", "use crate::model;\n"),
+    ]);
+    assert!(layer_violations(&graph(&t), &HOST).is_empty());
+}
+
+#[test]
+fn checker_measures_functions_from_fn_to_closing_brace() {
+    let body = "    let x = 1;\n".repeat(MAX_FN_LINES);
+    let long = format!("fn long() {{\n{body}}}\nfn short() {{ let s = \"}}\"; }}\n");
+    let found = long_functions(&strip(&long));
+    assert_eq!(found, vec![("long".to_string(), 1, MAX_FN_LINES + 2)]);
+}
