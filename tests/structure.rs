@@ -10,7 +10,8 @@
 //!   its non-test code holds a path `crate::…`, `super::…` or `self::…` that
 //!   resolves to it (the longest prefix that is a file). A `pub use
 //!   self::child::X` in a `mod.rs` names the child; a child naming
-//!   `super::X` names its parent. Nothing names the crate root (`lib.rs`):
+//!   `super::X` names its parent; a path may also start at a child module
+//!   (`pub use child::X`). Nothing names the crate root (`lib.rs`):
 //!   items are named by the module that holds them;
 //! - **sizes**: no file over [`MAX_FILE_LINES`] lines and no function over
 //!   [`MAX_FN_LINES`] lines (from its `fn` line to its closing brace).
@@ -390,9 +391,12 @@ fn segments(path: &str) -> Vec<String> {
 /// Resolves a named path from module `at` to the file module it lands in
 /// (`None` for paths outside the crate: `std::`, other crates).
 fn resolve(at: &ModPath, path: &[String], modules: &BTreeSet<ModPath>) -> Option<ModPath> {
-    let mut base: ModPath = match path.first()?.as_str() {
+    let first = path.first()?;
+    let mut base: ModPath = match first.as_str() {
         "crate" => Vec::new(),
         "self" | "super" => at.clone(),
+        // A path relative to this module (`pub use child::X`).
+        _ if modules.contains(&[at.as_slice(), &[first.clone()]].concat()) => at.clone(),
         _ => return None,
     };
     let mut i = if path[0] == "crate" { 1 } else { 0 };
@@ -671,7 +675,7 @@ fn checker_finds_a_two_file_cycle_through_a_use_group() {
 fn checker_finds_a_parent_child_cycle_and_ignores_test_modules() {
     let t = tree(&[
         ("lib.rs", "pub mod m;\n"),
-        ("m/mod.rs", "mod c;\npub use self::c::C;\npub struct P;\n"),
+        ("m/mod.rs", "mod c;\npub use c::C;\npub struct P;\n"),
         (
             "m/c.rs",
             "pub struct C(super::P);\n#[cfg(test)]\nmod tests {\n use crate::m::P;\n}\n",

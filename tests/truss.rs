@@ -494,7 +494,7 @@ fn lock_up_mode_finds_the_second_locked_pose() {
 #[test]
 fn multibody_reproduces_the_chain_goldens_without_a_truss() {
     use deploywatch_sim::data::run::Run;
-    use deploywatch_sim::model::truss::open_chain_system;
+    use deploywatch_sim::simulate::multibody::build::open_chain_system;
     // Latch instants of the golden JSON files.
     let cases = [
         ("nominal", [0.0, 0.0], [2.302428, 1.571546]),

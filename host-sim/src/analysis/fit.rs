@@ -88,7 +88,7 @@ impl FitResult {
 #[non_exhaustive]
 pub enum FitError {
     /// The model could not be evaluated at the starting point.
-    #[error("the model cannot be evaluated at the starting point {}", crate::analysis::identify::list(.0))]
+    #[error("the model cannot be evaluated at the starting point {}", crate::report::text::list(.0))]
     BadStart(Vec<f64>),
     /// More parameters than residuals.
     #[error("{params} parameters but only {residuals} residuals")]

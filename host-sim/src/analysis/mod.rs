@@ -3,8 +3,10 @@
 //! friction torques (`identify`), the cause of what the model gets wrong
 //! (`diagnose`), and the design torque margins of the flight standards
 //! (`design_margin`).
+pub mod campaign_sim;
 pub mod design_margin;
 pub mod diagnose;
+pub mod evidence;
 pub mod fit;
 pub mod identify;
 pub mod metrics;

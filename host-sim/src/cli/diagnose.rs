@@ -3,8 +3,9 @@
 //! of `docs/spec/formats.md` and a Markdown report with plots beside it.
 
 use super::CliError;
-use crate::analysis::diagnose::evidence::{self, JointEvidence, CORRELATES};
+use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::diagnose::{self, Candidate, DiagnoseOptions, Outcome, MIN_DELTA_BIC};
+use crate::analysis::evidence::{self, JointEvidence, CORRELATES};
 use crate::analysis::metrics::{self, TimeWindow};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};

@@ -9,12 +9,14 @@
 //! (like seed 001 Figs. 10/11) with `--plot`, by default beside the JSON.
 
 use super::{check_output, CliError, Console};
+use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::identify::{
-    self, identify_direct, identify_rsm, list, DirectOptions, Identification, Method,
-    ParseNameError, RsmOptions, RsmResponse,
+    self, identify_direct, identify_rsm, DirectOptions, Identification, Method, ParseNameError,
+    RsmOptions, RsmResponse,
 };
 use crate::data::campaign::{Campaign, CampaignRun};
 use crate::report::plot::{self, Mark, Panel, Series, YAxis};
+use crate::report::text::list;
 use crate::simulate::deployment::{self, Trajectory};
 use std::path::{Path, PathBuf};
 

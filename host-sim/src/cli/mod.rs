@@ -19,7 +19,8 @@ pub mod margin;
 pub mod reliability;
 pub mod replay;
 pub mod simulate;
-pub mod truss;
+pub mod simulate_args;
+pub mod simulate_truss;
 
 use crate::report::progress::{self, Progress};
 use clap::{Parser, Subcommand};

@@ -4,10 +4,7 @@
 //! runs (same rig, same hardware); each run keeps its own mechanism.
 
 use crate::data::run::{check_analysable, pair_runs, Run};
-use crate::model::effect::{self, Effect};
 use crate::model::mechanism::Mechanism;
-use crate::simulate::deployment::{self, SimOptions, Trajectory};
-use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// One measured run with its mechanism.
@@ -31,29 +28,12 @@ impl CampaignRun {
     }
 }
 
-/// Runs of one campaign.
-#[derive(Clone, Debug)]
+/// Runs of one campaign. The model's side of a campaign (its runs
+/// simulated, the residuals) is `analysis::campaign_sim`.
+#[derive(Clone, Debug, Default)]
 pub struct Campaign {
     /// The runs, in the order given.
     pub runs: Vec<CampaignRun>,
-    /// Integration settings of the model runs. Fits use rtol 1e-7: the
-    /// angles are then within about 1e-5 deg of the converged solution,
-    /// three orders below the sensor noise, at two thirds of the cost.
-    pub sim: SimOptions,
-}
-
-impl Default for Campaign {
-    fn default() -> Self {
-        Campaign {
-            runs: Vec::new(),
-            sim: SimOptions {
-                rtol: 1e-7,
-                atol: 1e-9,
-                stop_when_deployed: false,
-                ..SimOptions::default()
-            },
-        }
-    }
 }
 
 /// Why a campaign could not be assembled.
@@ -138,68 +118,6 @@ impl Campaign {
     /// Total number of angle samples (joints × samples, all runs).
     pub fn samples(&self) -> usize {
         self.runs.iter().map(|r| r.run.len() * r.run.joints()).sum()
-    }
-
-    /// Simulates run `i` with `effects`, sampled at the run's own time stamps
-    /// over its whole length (encoder offsets applied to the angles).
-    pub fn simulate(
-        &self,
-        i: usize,
-        effects: &[Effect],
-    ) -> Result<Trajectory, deployment::SimError> {
-        let r = &self.runs[i];
-        let mut traj = deployment::simulate_at(&r.mechanism, effects, &self.sim, &r.run.t_s)?;
-        let offsets = effect::encoder_offsets_deg(effects, r.mechanism.joint_count());
-        for (j, b) in offsets.iter().enumerate() {
-            if *b != 0.0 {
-                for x in traj.phi_deg[j].iter_mut() {
-                    *x += b;
-                }
-            }
-        }
-        Ok(traj)
-    }
-
-    /// Model minus measurement [deg] of run `i`, joint by joint
-    /// (`[joint][sample]`).
-    pub fn residuals(&self, i: usize, effects: &[Effect]) -> Option<Vec<Vec<f64>>> {
-        let traj = self.simulate(i, effects).ok()?;
-        let run = &self.runs[i].run;
-        if traj.t_s.len() != run.len() {
-            return None;
-        }
-        Some(
-            (0..run.joints())
-                .map(|j| {
-                    traj.phi_deg[j]
-                        .iter()
-                        .zip(&run.phi_deg[j])
-                        .map(|(m, y)| m - y)
-                        .collect()
-                })
-                .collect(),
-        )
-    }
-
-    /// All residuals of all runs, flattened (runs simulated in parallel).
-    pub fn residual_vector(&self, effects: &[Effect]) -> Option<Vec<f64>> {
-        let per_run: Vec<Option<Vec<Vec<f64>>>> = (0..self.runs.len())
-            .into_par_iter()
-            .map(|i| self.residuals(i, effects))
-            .collect();
-        let mut out = Vec::with_capacity(self.samples());
-        for r in per_run {
-            for joint in r? {
-                out.extend(joint);
-            }
-        }
-        Some(out)
-    }
-
-    /// RMS of the residuals of all runs [deg], `None` if a simulation fails.
-    pub fn rms(&self, effects: &[Effect]) -> Option<f64> {
-        let r = self.residual_vector(effects)?;
-        Some((r.iter().map(|x| x * x).sum::<f64>() / r.len().max(1) as f64).sqrt())
     }
 
     /// The largest joint count of the campaign's mechanisms.

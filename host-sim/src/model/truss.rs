@@ -1,6 +1,7 @@
 //! A truss of pin-jointed links on a panel wing (`docs/spec/truss-link.md`,
-//! the `[truss]` table of `docs/spec/formats.md`), and its conversion into a
-//! planar multibody [`System`].
+//! the `[truss]` table of `docs/spec/formats.md`): its points, links and
+//! checks. Its planar multibody system is built by
+//! `simulate::multibody::build`.
 //!
 //! Everything is given at the stowed pose in the project frame (origin at
 //! hinge O, `physics.md` §1). Bodies: 0 the bus, 1..=n the panels, then one
@@ -13,10 +14,7 @@
 //! - any other node joins its links to its reference link (three pins for
 //!   the four links at F), angle = relative rotation.
 
-use crate::model::mechanism::{FrictionSpec, Mechanism};
-use crate::simulate::multibody::{Body, Pin, System};
-use deploywatch_core::Spring;
-use std::f64::consts::PI;
+use crate::model::friction_spec::FrictionSpec;
 
 /// What a point of the truss is fixed to.
 #[derive(Clone, Debug, PartialEq)]
@@ -71,38 +69,17 @@ pub struct Truss {
     pub links: Vec<TrussLink>,
 }
 
-/// The open chain of `physics.md` §1 as a multibody [`System`] (hinges
-/// only, no links): the same springs, friction and latches as the chain
-/// simulator, to show that both simulators carry one physics.
-pub fn open_chain_system(mech: &Mechanism) -> Result<System, TrussError> {
-    let mut hinges_mm = vec![[0.0, 0.0]];
-    let mut dir = 0.0;
-    for (p, j) in mech
-        .panels
-        .iter()
-        .zip(&mech.joints)
-        .take(mech.panels.len() - 1)
-    {
-        dir += j.stowed_deg.to_radians();
-        let h = hinges_mm[hinges_mm.len() - 1];
-        hinges_mm.push([
-            h[0] + 1e3 * p.length_m * dir.cos(),
-            h[1] + 1e3 * p.length_m * dir.sin(),
-        ]);
-    }
-    Truss {
-        hinges_mm,
-        points: Vec::new(),
-        links: Vec::new(),
-    }
-    .system(mech)
+/// True for a knee name that can name run columns (`knee<P>_deg`,
+/// `knee<P>`): 1 to 16 ASCII letters or digits.
+pub fn valid_knee_name(p: &str) -> bool {
+    (1..=16).contains(&p.len()) && p.bytes().all(|b| b.is_ascii_alphanumeric())
 }
 
 /// Largest mismatch between a link's length and its points [mm].
 pub const LENGTH_TOL_MM: f64 = 0.01;
 
 /// `[x, y]` in mm as metres.
-fn m(p: [f64; 2]) -> [f64; 2] {
+pub fn m(p: [f64; 2]) -> [f64; 2] {
     [p[0] * 1e-3, p[1] * 1e-3]
 }
 
@@ -116,23 +93,26 @@ pub struct TrussError {
     pub message: String,
 }
 
-fn err(key: impl Into<String>, message: impl Into<String>) -> TrussError {
+/// A [`TrussError`] at `key`.
+pub fn err(key: impl Into<String>, message: impl Into<String>) -> TrussError {
     TrussError {
         key: key.into(),
         message: message.into(),
     }
 }
 
-fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+/// `a − b`.
+pub fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [a[0] - b[0], a[1] - b[1]]
 }
 
-fn angle(v: [f64; 2]) -> f64 {
+/// The direction of `v` [rad].
+pub fn angle(v: [f64; 2]) -> f64 {
     v[1].atan2(v[0])
 }
 
 /// The body a point's carrier is (`None` for a node).
-fn carrier_body(c: &Carrier) -> Option<usize> {
+pub fn carrier_body(c: &Carrier) -> Option<usize> {
     match c {
         Carrier::Bus => Some(0),
         Carrier::Panel(i) => Some(*i),
@@ -153,7 +133,8 @@ impl Truss {
             .collect()
     }
 
-    fn point(&self, name: &str) -> Option<(usize, &TrussPoint)> {
+    /// The point named `name`, with its index.
+    pub fn point(&self, name: &str) -> Option<(usize, &TrussPoint)> {
         self.points.iter().enumerate().find(|(_, p)| p.name == name)
     }
 
@@ -210,7 +191,7 @@ impl Truss {
                     ),
                 ));
             }
-            if p.knee && !crate::data::run::valid_knee_name(&p.name) {
+            if p.knee && !valid_knee_name(&p.name) {
                 return Err(err(
                     format!("{key}.name"),
                     format!(
@@ -233,148 +214,9 @@ impl Truss {
     }
 
     /// Indices of the links with an end at the point `name`.
-    fn links_at(&self, name: &str) -> Vec<usize> {
+    pub fn links_at(&self, name: &str) -> Vec<usize> {
         (0..self.links.len())
             .filter(|&i| self.links[i].ends.iter().any(|e| e == name))
             .collect()
-    }
-
-    /// The multibody system of the wing with this truss (checked first).
-    pub fn system(&self, mech: &Mechanism) -> Result<System, TrussError> {
-        let np = mech.panels.len();
-        self.check(np)?;
-        let mut sys = System::default();
-        sys.bodies.push(Body {
-            name: "bus".into(),
-            mass_kg: 0.0,
-            inertia_kgm2: 0.0,
-            com_m: [0.0; 2],
-        });
-        self.add_panels(mech, &mut sys);
-        for l in &self.links {
-            let a = m(self
-                .point(&l.ends[0])
-                .map(|p| p.1.at_mm)
-                .unwrap_or_default());
-            let b = m(self
-                .point(&l.ends[1])
-                .map(|p| p.1.at_mm)
-                .unwrap_or_default());
-            let len = l.length_mm * 1e-3;
-            sys.bodies.push(Body {
-                name: format!("link {}", l.name),
-                mass_kg: l.mass_kg,
-                inertia_kgm2: l.mass_kg * len * len / 12.0,
-                com_m: [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])],
-            });
-        }
-        for p in &self.points {
-            self.add_point_pins(p, np, &mut sys)?;
-        }
-        Ok(sys)
-    }
-
-    /// Panels and their hinges (`truss-link.md`: centre of mass on the
-    /// hinge line of the inner panel, the others turned by their stowed
-    /// angles).
-    fn add_panels(&self, mech: &Mechanism, sys: &mut System) {
-        let np = mech.panels.len();
-        let first = if np > 1 {
-            angle(sub(self.hinges_mm[1], self.hinges_mm[0]))
-        } else {
-            mech.joints[0].stowed_deg.to_radians()
-        };
-        let mut dir = first;
-        for (i, (panel, joint)) in mech.panels.iter().zip(&mech.joints).enumerate() {
-            if i > 0 {
-                dir += joint.stowed_deg.to_radians();
-            }
-            let h = m(self.hinges_mm[i]);
-            sys.bodies.push(Body {
-                name: format!("panel {}", i + 1),
-                mass_kg: panel.mass_kg,
-                inertia_kgm2: panel.inertia_kgm2,
-                com_m: [
-                    h[0] + panel.com_m * dir.cos(),
-                    h[1] + panel.com_m * dir.sin(),
-                ],
-            });
-            let mut pin = Pin::plain(&format!("hinge {}", i + 1), i, i + 1, h);
-            pin.offset_rad = joint.stowed_deg.to_radians();
-            pin.spring = joint.spring.to_spring().unwrap_or(Spring::None);
-            pin.friction = joint.friction.to_friction();
-            pin.lock_at_rad = Some(0.0);
-            sys.pins.push(pin);
-        }
-    }
-
-    /// The pins at one point.
-    fn add_point_pins(
-        &self,
-        p: &TrussPoint,
-        np: usize,
-        sys: &mut System,
-    ) -> Result<(), TrussError> {
-        let links = self.links_at(&p.name);
-        let body_of = |l: usize| np + 1 + l;
-        let far = |l: usize| {
-            let e = &self.links[l].ends;
-            let other = if e[0] == p.name { &e[1] } else { &e[0] };
-            m(self.point(other).map(|q| q.1.at_mm).unwrap_or_default())
-        };
-        let at = m(p.at_mm);
-        if let Some(c) = carrier_body(&p.on) {
-            for &l in &links {
-                let mut pin = Pin::plain(
-                    &format!("{}:{}", p.name, self.links[l].name),
-                    c,
-                    body_of(l),
-                    at,
-                );
-                pin.offset_rad = angle(sub(at, far(l)));
-                pin.friction = p.friction.to_friction();
-                sys.pins.push(pin);
-            }
-            return Ok(());
-        }
-        let reference = match &p.reference_link {
-            Some(name) => links
-                .iter()
-                .copied()
-                .find(|&l| &self.links[l].name == name)
-                .ok_or_else(|| {
-                    err(
-                        format!("truss.point \"{}\".reference_link", p.name),
-                        format!(
-                            "link \"{name}\" does not end at \"{}\"; expected one of its links",
-                            p.name
-                        ),
-                    )
-                })?,
-            None => links[0],
-        };
-        for &l in links.iter().filter(|&&l| l != reference) {
-            let (a, b) = (body_of(reference), body_of(l));
-            let mut pin = Pin::plain(
-                &format!(
-                    "{}:{}-{}",
-                    p.name, self.links[reference].name, self.links[l].name
-                ),
-                a,
-                b,
-                at,
-            );
-            pin.friction = p.friction.to_friction();
-            if p.knee {
-                pin.name = p.name.clone();
-                let (u1, u2) = (sub(far(reference), at), sub(far(l), at));
-                let s0 = (u1[0] * u2[1] - u1[1] * u2[0]).atan2(u1[0] * u2[0] + u1[1] * u2[1]);
-                pin.sign = if s0 >= 0.0 { 1.0 } else { -1.0 };
-                pin.offset_rad = s0.abs();
-                pin.lock_at_rad = Some(PI);
-            }
-            sys.pins.push(pin);
-        }
-        Ok(())
     }
 }

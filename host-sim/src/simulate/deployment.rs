@@ -11,146 +11,11 @@
 
 use crate::model::effect::{self, Effect};
 use crate::model::mechanism::{with_joints, Mechanism, MAX_JOINTS};
-use crate::simulate::ode::{self, Dense, State};
+use crate::simulate::ode::{self, locate, State};
+pub use crate::simulate::trajectory::{
+    Samples, SimError, SimOptions, SimStats, Trajectory, MAX_SAMPLES, MAX_STEPS,
+};
 use deploywatch_core::{Branch, Chain, Mode};
-
-/// Integration and output settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SimOptions {
-    /// Relative tolerance of the error control.
-    pub rtol: f64,
-    /// Absolute tolerance [rad, rad/s].
-    pub atol: f64,
-    /// Largest step [s].
-    pub max_step_s: f64,
-    /// Simulated time limit [s]; the mechanism's `duration_s` when `None`.
-    pub duration_s: Option<f64>,
-    /// Output rate [Hz]; the mechanism's `sample_hz` when `None`.
-    pub sample_hz: Option<f64>,
-    /// Latch joints at `φ = 0` (the reference). When false, joints swing
-    /// through and the simulation runs the whole duration (energy checks).
-    pub latching: bool,
-    /// End `settle_s` after the first sample at or after the last latch
-    /// (formats.md); when false, hold the deployed state to the last sample.
-    pub stop_when_deployed: bool,
-    /// Recording after the last latch [s]; the mechanism's `settle_s` when
-    /// `None` (0: end at the first sample at or after the last latch, as
-    /// the golden files do).
-    pub settle_s: Option<f64>,
-}
-
-impl Default for SimOptions {
-    fn default() -> Self {
-        SimOptions {
-            rtol: 1e-8,
-            atol: 1e-10,
-            max_step_s: 0.05,
-            duration_s: None,
-            sample_hz: None,
-            latching: true,
-            stop_when_deployed: true,
-            settle_s: None,
-        }
-    }
-}
-
-/// Counters of one simulation.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct SimStats {
-    /// Accepted steps.
-    pub steps: usize,
-    /// Rejected steps.
-    pub rejected: usize,
-    /// Evaluations of the equations of motion.
-    pub evaluations: usize,
-    /// Latch and branch events.
-    pub events: usize,
-}
-
-/// A simulated deployment, sampled at the output rate.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Trajectory {
-    /// Sample times [s].
-    pub t_s: Vec<f64>,
-    /// `phi_deg[j][i]`: joint j+1 at sample i [deg] (true angle, no sensor).
-    pub phi_deg: Vec<Vec<f64>>,
-    /// `rate_deg_s[j][i]`: joint j+1's rate [deg/s].
-    pub rate_deg_s: Vec<Vec<f64>>,
-    /// `latched[j][i]`: joint j+1 latched at sample i.
-    pub latched: Vec<Vec<bool>>,
-    /// Latch instant of each joint [s], `None` if it never latched.
-    pub latch_s: Vec<Option<f64>>,
-    /// Where the simulation stopped [s].
-    pub end_s: f64,
-    /// Work done.
-    pub stats: SimStats,
-}
-
-impl Trajectory {
-    /// Number of joints.
-    pub fn joints(&self) -> usize {
-        self.phi_deg.len()
-    }
-
-    /// True when every joint latched.
-    pub fn deployed(&self) -> bool {
-        self.latch_s.iter().all(Option::is_some)
-    }
-}
-
-/// Why a simulation failed.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum SimError {
-    /// The mechanism or an effect is not valid for simulation.
-    #[error("{0}")]
-    Invalid(String),
-    /// The equations could not be evaluated (singular mass matrix or a state
-    /// that is not finite).
-    #[error("the equations of motion failed at t = {t_s:.6} s (singular mass matrix or non-finite state)")]
-    Singular {
-        /// Simulated time [s].
-        t_s: f64,
-    },
-    /// The step size fell below 1e-13 s: the model is too stiff or discontinuous.
-    #[error("step size underflow at t = {t_s:.6} s: the model is too stiff here")]
-    StepUnderflow {
-        /// Simulated time [s].
-        t_s: f64,
-    },
-    /// The integration took more than [`MAX_STEPS`] steps.
-    #[error("more than {MAX_STEPS} steps by t = {t_s:.6} s: the model is too stiff")]
-    TooManySteps {
-        /// Simulated time [s].
-        t_s: f64,
-    },
-    /// The run would hold more than [`MAX_SAMPLES`] samples.
-    #[error("the run would hold more than {MAX_SAMPLES} samples by t = {t_s:.3} s; expected a shorter [run] duration_s or a lower sample rate")]
-    TooManySamples {
-        /// Simulated time [s].
-        t_s: f64,
-    },
-    /// A tape-spring joint sticks at `φ̇ = 0` where neither branch is
-    /// consistent (the reference reports this as an error too).
-    #[error(
-        "joint {joint} slides on φ̇ = 0 at t = {t_s:.6} s: neither spring branch is consistent"
-    )]
-    Sliding {
-        /// 1-based joint.
-        joint: usize,
-        /// Simulated time [s].
-        t_s: f64,
-    },
-}
-
-/// Most accepted plus rejected steps of one simulation (a 12 s deployment
-/// takes under 2,000).
-pub const MAX_STEPS: usize = 1_000_000;
-
-/// Most samples of one simulated run: 10⁶, 2.8 hours at 100 Hz (deployments
-/// last seconds; a 3-joint trajectory of 10⁶ samples takes about 60 MB).
-/// Memory grows with the samples written, never with the duration asked for.
-pub const MAX_SAMPLES: usize = 1_000_000;
 
 /// Most branch events one joint may have within 1 ms before the simulation
 /// is declared to slide on `φ̇ = 0`.
@@ -244,39 +109,6 @@ fn simulate_samples(
         ))
     };
     with_joints!(n, N => run_chain(&mech.chain::<N>(&je, g).ok_or_else(bad)?, times, &opts), else Err(other()))
-}
-
-/// The output sample times: a measured run's (listed), or a uniform grid
-/// from 0 generated as the run goes.
-#[derive(Clone, Copy, Debug)]
-pub enum Samples<'a> {
-    /// Given times, sorted, from 0.
-    Listed(&'a [f64]),
-    /// `k / rate_hz` for `k = 0 .. count`.
-    Grid {
-        /// Sample rate [Hz].
-        rate_hz: f64,
-        /// Number of samples.
-        count: usize,
-    },
-}
-
-impl Samples<'_> {
-    /// Sample `k` [s], `None` past the end.
-    fn get(&self, k: usize) -> Option<f64> {
-        match *self {
-            Samples::Listed(t) => t.get(k).copied(),
-            Samples::Grid { rate_hz, count } => (k < count).then(|| k as f64 / rate_hz),
-        }
-    }
-
-    /// The last sample [s] (0 for none).
-    fn last(&self) -> f64 {
-        match *self {
-            Samples::Listed(t) => t.last().copied().unwrap_or(0.0),
-            Samples::Grid { rate_hz, count } => count.saturating_sub(1) as f64 / rate_hz,
-        }
-    }
 }
 
 /// What the event search found in a step.
@@ -410,49 +242,6 @@ mod small_list {
             self.items[..self.len].iter().flatten().copied()
         }
     }
-}
-
-/// Locates the root of `g` on the interpolant in `[t0, t1]` where
-/// `g(t0) > 0 ≥ g(t1)` (Illinois method), returning a time just past it
-/// (where `g ≤ 0`).
-pub(crate) fn locate<const N: usize>(
-    g: impl Fn(&State<N>) -> f64,
-    dense: &Dense<N>,
-    t0: f64,
-    t1: f64,
-) -> f64 {
-    let (mut a, mut b) = (t0, t1);
-    let (mut fa, mut fb) = (g(&dense.at(a)), g(&dense.at(b)));
-    if fa <= 0.0 {
-        return a;
-    }
-    let mut side = 0;
-    for _ in 0..200 {
-        if b - a <= 1e-13 * (1.0 + b.abs()) {
-            break;
-        }
-        let mut c = (a * fb - b * fa) / (fb - fa);
-        if !(c > a && c < b) {
-            c = 0.5 * (a + b);
-        }
-        let fc = g(&dense.at(c));
-        if fc > 0.0 {
-            a = c;
-            fa = fc;
-            if side == -1 {
-                fb *= 0.5;
-            }
-            side = -1;
-        } else {
-            b = c;
-            fb = fc;
-            if side == 1 {
-                fa *= 0.5;
-            }
-            side = 1;
-        }
-    }
-    b
 }
 
 /// Integrates a chain from its stowed state at rest up to the last of

@@ -1,9 +1,14 @@
 //! From a mechanism to a run: the full deployment simulator (the core's
 //! chain equations in `f64`, Dormand–Prince 5(4) with event location), the
 //! reference sensor model, and the sensor faults a test bench can inject.
+//!
+//! [`deployment`] is the one entry point: it integrates an open chain
+//! itself and hands a truss wing to [`truss_deployment`] (the multibody
+//! simulator of [`multibody`]); both fill a [`trajectory::Trajectory`].
 pub mod deployment;
 pub mod fault_injection;
 pub mod multibody;
 pub mod ode;
 pub mod sensor;
+pub mod trajectory;
 pub mod truss_deployment;

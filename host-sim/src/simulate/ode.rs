@@ -262,3 +262,46 @@ mod tests {
         assert!(worst < 1e-8, "{worst}");
     }
 }
+
+/// Locates the root of `g` on the interpolant in `[t0, t1]` where
+/// `g(t0) > 0 ≥ g(t1)` (Illinois method), returning a time just past it
+/// (where `g ≤ 0`).
+pub fn locate<const N: usize>(
+    g: impl Fn(&State<N>) -> f64,
+    dense: &Dense<N>,
+    t0: f64,
+    t1: f64,
+) -> f64 {
+    let (mut a, mut b) = (t0, t1);
+    let (mut fa, mut fb) = (g(&dense.at(a)), g(&dense.at(b)));
+    if fa <= 0.0 {
+        return a;
+    }
+    let mut side = 0;
+    for _ in 0..200 {
+        if b - a <= 1e-13 * (1.0 + b.abs()) {
+            break;
+        }
+        let mut c = (a * fb - b * fa) / (fb - fa);
+        if !(c > a && c < b) {
+            c = 0.5 * (a + b);
+        }
+        let fc = g(&dense.at(c));
+        if fc > 0.0 {
+            a = c;
+            fa = fc;
+            if side == -1 {
+                fb *= 0.5;
+            }
+            side = -1;
+        } else {
+            b = c;
+            fb = fc;
+            if side == 1 {
+                fa *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    b
+}

@@ -9,7 +9,7 @@
 //! file byte for byte on every machine.
 
 use crate::data::run::Run;
-use crate::simulate::deployment::Trajectory;
+use crate::simulate::trajectory::Trajectory;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};

@@ -16,8 +16,8 @@
 
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::mechanism::Mechanism;
-use crate::simulate::deployment::{Samples, SimError, SimOptions, Trajectory, MAX_SAMPLES};
 use crate::simulate::multibody::{self, Model, System, WingRun};
+use crate::simulate::trajectory::{Samples, SimError, SimOptions, Trajectory, MAX_SAMPLES};
 use deploywatch_core::Spring;
 
 /// True for the effects the truss wing models ([`apply_effects`]).
@@ -38,8 +38,7 @@ pub fn system_with_effects(mech: &Mechanism, effects: &[Effect]) -> Result<Syste
         .truss
         .as_ref()
         .ok_or_else(|| SimError::Invalid(format!("mechanism `{}` has no [truss]", mech.name)))?;
-    let mut sys = truss
-        .system(mech)
+    let mut sys = crate::simulate::multibody::build::wing_system(truss, mech)
         .map_err(|e| SimError::Invalid(e.to_string()))?;
     let n = mech.joint_count();
     let nodes = truss.friction_nodes();

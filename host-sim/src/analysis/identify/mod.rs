@@ -25,11 +25,13 @@
 pub mod rsm;
 
 use self::rsm::{CcdKind, Coding, Quadratic};
+use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::fit::{self, FitOptions};
 use crate::analysis::metrics::{self, TimeWindow};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};
 use crate::report::progress::Progress;
+use crate::report::text::list;
 use crate::simulate::deployment::Trajectory;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -1014,14 +1016,6 @@ pub fn identify_rsm(
     })
 }
 
-/// Numbers as a comma-separated list for people: `1.6, 1.6, 0`.
-pub fn list<T: std::fmt::Display>(v: &[T]) -> String {
-    v.iter()
-        .map(|x| x.to_string())
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
 /// The campaign scored with the mechanisms as given (no extra friction).
 fn score_as_given(model: &Model, progress: Progress) -> Result<CampaignScore, IdentifyError> {
     let (before, _) = model
@@ -1244,7 +1238,7 @@ fn simulated_response(after: &CampaignScore, joints: &[usize], response: RsmResp
 
 /// `identify` warns when a joint's residual after the fit exceeds this
 /// multiple of the noise RMS [1]: the EFT alone then leaves a systematic
-/// error, as [`crate::analysis::diagnose::evidence`] calls a residual "clear"
+/// error, as [`crate::analysis::evidence`] calls a residual "clear"
 /// of the noise above 3 σ.
 pub const RESIDUAL_WARN_FACTOR: f64 = 3.0;
 
@@ -1286,9 +1280,9 @@ impl std::fmt::Display for ResidualWarning {
 
 /// The joints whose residual with the identified EFTs stays above
 /// [`RESIDUAL_WARN_FACTOR`] × the noise RMS (estimated from the runs,
-/// [`crate::analysis::diagnose::noise_sigma_deg`]), with where in the stroke.
+/// [`crate::analysis::evidence::noise_sigma_deg`]), with where in the stroke.
 pub fn residual_warnings(campaign: &Campaign, id: &Identification) -> Vec<ResidualWarning> {
-    use crate::analysis::diagnose::{evidence, noise_sigma_deg};
+    use crate::analysis::evidence::{self, noise_sigma_deg};
     let sigma = noise_sigma_deg(campaign).max(RESIDUAL_WARN_NOISE_FLOOR_DEG);
     let limit = RESIDUAL_WARN_FACTOR * sigma;
     evidence::analyse(campaign, &id.effects(), sigma)

@@ -7,7 +7,7 @@
 use std::borrow::Cow;
 
 use super::error::shorten;
-use super::{RunError, RunErrorKind};
+use super::error::{RunError, RunErrorKind};
 
 /// The field separator of the spreadsheet dialect.
 pub const SPREADSHEET_SEPARATOR: u8 = b';';

@@ -3,8 +3,7 @@
 use crate::model::located::Located;
 use crate::model::mechanism::MAX_JOINTS;
 
-use super::parse::run_header;
-use super::EXTRA_COLUMNS;
+use super::record::{run_header, EXTRA_COLUMNS};
 
 /// Why a run file was rejected, or a run could not be paired or written:
 /// where (`file`, `line`) and what ([`RunErrorKind`]).

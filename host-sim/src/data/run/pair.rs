@@ -1,7 +1,8 @@
 //! Pairing a run with its mechanism, and whether it holds something to
 //! analyse.
 
-use super::{Run, RunError, RunErrorKind, MIN_MOTION_DEG};
+use super::error::{RunError, RunErrorKind};
+use super::record::{Run, MIN_MOTION_DEG};
 use crate::model::mechanism::Mechanism;
 
 /// The line of the run's `# mechanism` metadata: metadata lines come

@@ -3,24 +3,13 @@
 use std::path::Path;
 
 use super::error::shorten;
-use super::{
-    ExtraColumn, ExtraKind, ReadOptions, Run, RunError, RunErrorKind, MAX_ANGLE_DEG,
-    MISSING_SAMPLES_KEY, MISSING_SAMPLES_VALUE,
+use super::error::{RunError, RunErrorKind};
+use super::record::{run_columns, run_header};
+use super::record::{
+    ExtraColumn, ExtraKind, ReadOptions, Run, MAX_ANGLE_DEG, MISSING_SAMPLES_KEY,
+    MISSING_SAMPLES_VALUE,
 };
 use crate::model::mechanism::MAX_JOINTS;
-
-/// The header for `n` joints: `t_s,phi1_deg..phiN_deg,latch1..latchN`.
-pub fn run_header(n: usize) -> String {
-    run_columns(n).join(",")
-}
-
-fn run_columns(n: usize) -> Vec<String> {
-    let mut cols = Vec::with_capacity(1 + 2 * n);
-    cols.push("t_s".to_string());
-    cols.extend((1..=n).map(|j| format!("phi{j}_deg")));
-    cols.extend((1..=n).map(|j| format!("latch{j}")));
-    cols
-}
 
 /// A header column.
 #[derive(Clone, Copy, PartialEq, Eq)]

@@ -3,10 +3,11 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::parse::{format_time, run_header, valid_meta_key};
-use super::{
-    ExtraKind, Run, RunError, RunErrorKind, EXTRA_COLUMNS, MAX_ANGLE_DEG, MAX_JOINTS,
-    MISSING_SAMPLES_KEY, MISSING_SAMPLES_VALUE,
+use super::error::{RunError, RunErrorKind};
+use super::parse::{format_time, valid_meta_key};
+use super::record::{
+    run_header, ExtraKind, Run, EXTRA_COLUMNS, MAX_ANGLE_DEG, MAX_JOINTS, MISSING_SAMPLES_KEY,
+    MISSING_SAMPLES_VALUE,
 };
 
 /// What is wrong with an angle of a run in memory, `None` for nothing: it

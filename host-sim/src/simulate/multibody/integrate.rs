@@ -17,8 +17,9 @@
 
 use super::kin::Model;
 use super::solve::Work;
-use crate::simulate::deployment::{locate, SimError, SimOptions, SimStats, MAX_STEPS};
+use crate::simulate::ode::locate;
 use crate::simulate::ode::{self, State};
+use crate::simulate::trajectory::{SimError, SimOptions, SimStats, MAX_STEPS};
 
 /// Capture window of the simultaneous-capture rule: 0.5° [rad].
 pub const CAPTURE_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;

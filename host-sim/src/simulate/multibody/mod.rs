@@ -14,10 +14,11 @@
 //! The open chain without a truss stays in [`crate::simulate::deployment`]
 //! (the core's chain equations): one physics for the chain, which this
 //! simulator reproduces when given the chain as bodies and hinges
-//! ([`crate::model::truss::open_chain_system`]; `tests/truss.rs` checks it
+//! ([`build::open_chain_system`]; `tests/truss.rs` checks it
 //! against the chain's golden deployments). Validation: `tests/truss.rs`
 //! (truss goldens, four-bar, Andrews' squeezer, lock-up mode),
 //! `host-sim/tests/truss_cli.rs` (bad input).
+pub mod build;
 pub mod integrate;
 pub mod kin;
 pub mod solve;

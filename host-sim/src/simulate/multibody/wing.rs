@@ -4,7 +4,7 @@
 use super::integrate::{run, MbTrajectory};
 use super::kin::Model;
 use crate::model::mechanism::Mechanism;
-use crate::simulate::deployment::{SimError, SimOptions};
+use crate::simulate::trajectory::{SimError, SimOptions};
 
 /// A truss deployment: the multibody run and the names of its pins.
 #[derive(Clone, Debug, PartialEq)]
@@ -59,8 +59,7 @@ pub fn wing_model(mech: &Mechanism) -> Result<Model, SimError> {
         .truss
         .as_ref()
         .ok_or_else(|| SimError::Invalid(format!("mechanism `{}` has no [truss]", mech.name)))?;
-    let sys = truss
-        .system(mech)
+    let sys = crate::simulate::multibody::build::wing_system(truss, mech)
         .map_err(|e| SimError::Invalid(e.to_string()))?;
     Model::new(sys).map_err(|e| SimError::Invalid(e.to_string()))
 }

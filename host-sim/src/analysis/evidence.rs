@@ -4,6 +4,7 @@
 //! whether they look like a sensor effect (present at rest and after the
 //! latch) or a dynamic one (zero at release, growing with the motion).
 
+use crate::analysis::campaign_sim::CampaignSim;
 use crate::data::campaign::Campaign;
 use crate::model::effect::Effect;
 
@@ -262,4 +263,32 @@ pub fn locate(evidence: &[JointEvidence]) -> Option<String> {
         "the last third of the stroke (near the latch)",
     ][k];
     Some(format!("joint {worst}, mostly in {region}"))
+}
+
+/// Estimates the sensor noise σ [deg] from the runs alone: the median
+/// absolute third difference of each angle series, scaled for white noise
+/// (`Var Δ³e = 20 σ²`, MAD → σ by 1.4826); smooth motion contributes only
+/// `φ⃛·Δt³`, and latch instants are outliers the median ignores.
+pub fn noise_sigma_deg(campaign: &Campaign) -> f64 {
+    let mut est = Vec::new();
+    for r in &campaign.runs {
+        for phi in &r.run.phi_deg {
+            let mut d3: Vec<f64> = phi
+                .windows(4)
+                .map(|w| (w[3] - 3.0 * w[2] + 3.0 * w[1] - w[0]).abs())
+                .filter(|x| x.is_finite())
+                .collect();
+            if d3.len() < 10 {
+                continue;
+            }
+            d3.sort_by(f64::total_cmp);
+            let mad = d3[d3.len() / 2];
+            est.push(1.4826 * mad / 20f64.sqrt());
+        }
+    }
+    if est.is_empty() {
+        return 0.0;
+    }
+    est.sort_by(f64::total_cmp);
+    est[est.len() / 2]
 }

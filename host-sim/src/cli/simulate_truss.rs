@@ -10,7 +10,7 @@
 //! with multi-link joints and the mobility from the constraint Jacobian's
 //! rank after each lock.
 
-use super::simulate::SimulateArgs;
+use super::simulate_args::{measure, SimulateArgs};
 use super::CliError;
 use crate::data::run::{ExtraColumn, ExtraKind, Run};
 use crate::model::kinematics::{planar_mobility, truss_bodies_and_joints};
@@ -68,7 +68,7 @@ pub fn run(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
     };
     let (traj, wing) = simulate_truss(mech, &args.effects, &opts, times)
         .map_err(|e| CliError::failed(e.to_string()))?;
-    let mut out = super::simulate::measure(args, mech, &traj);
+    let mut out = measure(args, mech, &traj);
     out.set_meta("source", "deploywatch simulate (multibody, truss)");
     add_extra(&mut out, &wing);
     out.write(&args.out)

@@ -1,0 +1,212 @@
+//! One candidate cause of a diagnosis and where its parameters may move.
+
+use super::table_form::TableForm;
+use crate::model::effect::{Effect, EffectKind};
+/// One candidate cause: an effect kind and, for per-joint effects, a joint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Candidate {
+    /// The effect.
+    pub kind: EffectKind,
+    /// 1-based joint for per-joint effects.
+    pub joint: Option<usize>,
+    /// `torque_table` only: the form of the table.
+    pub table: Option<TableForm>,
+}
+
+/// Where the fit may move one parameter, and how finely it differentiates.
+///
+/// All three are in the parameter's own unit: [`EffectKind::unit`] of the
+/// candidate (N·m for a torque table's node values, m/s² for each rig-tilt
+/// component).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParamBound {
+    /// Smallest value the fit may take.
+    pub lower: f64,
+    /// Largest value the fit may take.
+    pub upper: f64,
+    /// Smallest finite-difference step of the Jacobian (the step is
+    /// `max(min_step, 1e-4·|p|)`, see [`FitOptions::min_step`]).
+    pub min_step: f64,
+}
+
+impl Candidate {
+    /// Every candidate for a campaign of `joints` joints.
+    pub fn all(joints: usize) -> Vec<Candidate> {
+        let mut out = Vec::new();
+        for kind in EffectKind::ALL {
+            if kind.per_joint() {
+                for j in 1..=joints {
+                    out.push(Candidate {
+                        kind,
+                        joint: Some(j),
+                        table: None,
+                    });
+                }
+            } else {
+                out.push(Candidate {
+                    kind,
+                    joint: None,
+                    table: None,
+                });
+            }
+        }
+        out
+    }
+
+    /// Number of parameters (rig tilt: magnitude and direction).
+    pub fn params(&self) -> usize {
+        if let Some(t) = self.table {
+            return t.params();
+        }
+        if self.kind == EffectKind::RigTilt {
+            2
+        } else {
+            1
+        }
+    }
+
+    /// The fit's bounds and smallest finite-difference step, one per parameter.
+    pub fn bounds(&self) -> Vec<ParamBound> {
+        let b = |lower, upper, min_step| ParamBound {
+            lower,
+            upper,
+            min_step,
+        };
+        match self.kind {
+            EffectKind::CoulombFriction => vec![b(0.0, 20.0, 1e-4)],
+            EffectKind::ViscousDamping => vec![b(0.0, 50.0, 1e-4)],
+            EffectKind::SpringSoftening => vec![b(-1.0, 0.99, 1e-5)],
+            EffectKind::HarnessStiffness => vec![b(0.0, 20.0, 1e-4)],
+            EffectKind::LatchDetent => vec![b(0.0, 50.0, 1e-3)],
+            EffectKind::AirDrag => vec![b(0.0, 20.0, 1e-4)],
+            // Cartesian components (g cos α, g sin α): nearly linear in
+            // the motion, no wrap-around, no singular direction at g = 0.
+            EffectKind::RigTilt => vec![b(-5.0, 5.0, 1e-5), b(-5.0, 5.0, 1e-5)],
+            EffectKind::EncoderOffset => vec![b(-30.0, 30.0, 1e-4)],
+            EffectKind::TorqueTable => {
+                vec![b(-TableForm::BOUND_NM, TableForm::BOUND_NM, 1e-4); self.params()]
+            }
+        }
+    }
+
+    /// Starting points of the coarse scan.
+    pub fn scan(&self) -> Vec<Vec<f64>> {
+        let one = |v: &[f64]| v.iter().map(|&x| vec![x]).collect();
+        match self.kind {
+            EffectKind::CoulombFriction => one(&[0.03, 0.1, 0.3, 1.0, 3.0]),
+            EffectKind::ViscousDamping => one(&[0.03, 0.1, 0.3, 1.0, 3.0]),
+            EffectKind::SpringSoftening => one(&[-0.2, 0.05, 0.2, 0.45]),
+            EffectKind::HarnessStiffness => one(&[0.03, 0.1, 0.3, 1.0]),
+            EffectKind::LatchDetent => one(&[0.3, 1.0, 3.0]),
+            EffectKind::AirDrag => one(&[0.05, 0.2, 0.8, 3.0]),
+            EffectKind::RigTilt => {
+                let mut v = Vec::new();
+                for g in [0.01, 0.08] {
+                    for k in 0..8 {
+                        let a = k as f64 * std::f64::consts::FRAC_PI_4;
+                        v.push(vec![g * a.cos(), g * a.sin()]);
+                    }
+                }
+                v
+            }
+            EffectKind::EncoderOffset => one(&[0.0]),
+            // A constant torque of either sign and a few sizes: the scan
+            // ranks the joints and forms, the fit shapes the table.
+            EffectKind::TorqueTable => [-0.3, -0.05, 0.0, 0.05, 0.3]
+                .iter()
+                .map(|&v| vec![v; self.params()])
+                .collect(),
+        }
+    }
+
+    /// The effect with parameters `p`.
+    pub fn effect(&self, p: &[f64]) -> Effect {
+        if let Some(t) = self.table {
+            return t.effect(self.joint, p);
+        }
+        let x = p.first().copied().unwrap_or(0.0);
+        if self.kind == EffectKind::RigTilt {
+            let y = p.get(1).copied().unwrap_or(0.0);
+            return Effect {
+                kind: self.kind,
+                joint: None,
+                value: x.hypot(y),
+                alpha_deg: y.atan2(x).to_degrees().rem_euclid(360.0),
+                ..Effect::default()
+            };
+        }
+        Effect {
+            kind: self.kind,
+            joint: self.joint,
+            value: x,
+            ..Effect::default()
+        }
+    }
+
+    /// The 95 % interval of the effect's value, and for a rig tilt of its
+    /// direction [deg], from the intervals of its parameters (first-order
+    /// propagation for the tilt's magnitude and angle).
+    pub fn value_ci(&self, p: &[f64], ci: &[[f64; 2]]) -> ([f64; 2], Option<[f64; 2]>) {
+        let half = |k: usize| ci.get(k).map_or(f64::INFINITY, |c| 0.5 * (c[1] - c[0]));
+        if self.table.is_some() {
+            // A table's value is its largest knot torque: that knot's interval.
+            let k = (0..p.len())
+                .max_by(|&a, &b| p[a].abs().total_cmp(&p[b].abs()))
+                .unwrap_or(0);
+            let (v, h) = (p.get(k).map_or(0.0, |x| x.abs()), half(k));
+            return ([v - h, v + h], None);
+        }
+        if self.kind == EffectKind::RigTilt {
+            let (x, y) = (
+                p.first().copied().unwrap_or(0.0),
+                p.get(1).copied().unwrap_or(0.0),
+            );
+            let g = x.hypot(y).max(1e-300);
+            let (hx, hy) = (half(0), half(1));
+            let hg = ((x * hx).powi(2) + (y * hy).powi(2)).sqrt() / g;
+            let ha = (((y * hx).powi(2) + (x * hy).powi(2)).sqrt() / (g * g)).to_degrees();
+            let a = y.atan2(x).to_degrees().rem_euclid(360.0);
+            return ([g - hg, g + hg], Some([a - ha, a + ha]));
+        }
+        (
+            ci.first()
+                .copied()
+                .unwrap_or([f64::NEG_INFINITY, f64::INFINITY]),
+            None,
+        )
+    }
+
+    /// `name` or `name@joint`, for progress lines and reports.
+    pub fn label(&self) -> String {
+        if let (Some(t), Some(j)) = (self.table, self.joint) {
+            return format!("{} j{j} ({})", self.kind, t.name());
+        }
+        match self.joint {
+            Some(j) => format!("{} j{j}", self.kind),
+            None => self.kind.to_string(),
+        }
+    }
+
+    /// The candidate in words for progress lines: `coulomb_friction at
+    /// joint 1`, `torque_table at joint 2 (angle)`, `air_drag`.
+    pub fn words(&self) -> String {
+        if let (Some(t), Some(j)) = (self.table, self.joint) {
+            return format!("{} at joint {j} ({})", self.kind, t.name());
+        }
+        match self.joint {
+            Some(j) => format!("{} at joint {j}", self.kind),
+            None => self.kind.to_string(),
+        }
+    }
+}
+
+/// A set of candidates with their parameters, as effects.
+pub fn effects_of(set: &[Candidate], p: &[f64]) -> Vec<Effect> {
+    let mut out = Vec::with_capacity(set.len());
+    let mut k = 0;
+    for c in set {
+        out.push(c.effect(&p[k..k + c.params()]));
+        k += c.params();
+    }
+    out
+}

@@ -1,0 +1,113 @@
+//! The form of a torque table a diagnosis may fit at one joint.
+
+use crate::model::effect::{Effect, EffectKind};
+use crate::model::torque_table::max_abs_nm;
+use deploywatch_core::{Table, TorqueTable};
+/// The form of a candidate table at one joint: which tables, over which
+/// span. Integers so that candidates stay comparable and hashable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TableForm {
+    /// Knots of `f(φ)` (0: no angle table).
+    pub angle_knots: u8,
+    /// The stroke end farthest from the latch [deg]; the knots are spread
+    /// from it to 0 (the latch).
+    pub from_deg: i32,
+    /// Free knots of `g(φ̇)` (0: no rate table).
+    pub rate_knots: u8,
+    /// The largest rate the runs reach at this joint, with the sign of the
+    /// deployment [deg/s]; the knots are spread from 0 to it.
+    pub rate_max_deg_s: i32,
+}
+
+impl TableForm {
+    /// Knots of a discovered angle table `f(φ)`, spread evenly over the stroke
+    /// (five: one every 45° of a 180° stroke, fine enough for a bump a quarter
+    /// of the stroke wide, coarse enough not to follow the noise).
+    pub const ANGLE_KNOTS: u8 = 5;
+    /// Free knots of a discovered rate table `g(φ̇)` (beside `g(0) = 0`).
+    pub const RATE_KNOTS: u8 = 2;
+    /// Smallest rate span of a rate table [deg/s]: its first knot then sits
+    /// at 30 deg/s or more, so that `g` never becomes a stiff damper.
+    pub const MIN_RATE_SPAN_DEG_S: f64 = 60.0;
+    /// Bound on a discovered knot's torque [N·m]: beyond any hinge spring of the
+    /// seed mechanisms, so never active on a real torque.
+    pub const BOUND_NM: f64 = 5.0;
+
+    /// Number of parameters (knot torques).
+    pub fn params(&self) -> usize {
+        usize::from(self.angle_knots) + usize::from(self.rate_knots)
+    }
+
+    /// `"angle"`, `"rate"` or `"angle+rate"`.
+    pub fn name(&self) -> &'static str {
+        match (self.angle_knots > 0, self.rate_knots > 0) {
+            (true, true) => "angle+rate",
+            (true, false) => "angle",
+            _ => "rate",
+        }
+    }
+
+    /// The angle knots [deg], increasing.
+    pub fn angle_xs(&self) -> Vec<f64> {
+        let k = usize::from(self.angle_knots);
+        let from = f64::from(self.from_deg);
+        let mut xs: Vec<f64> = (0..k)
+            .map(|i| from * (1.0 - i as f64 / (k - 1).max(1) as f64))
+            .collect();
+        xs.sort_by(f64::total_cmp);
+        xs
+    }
+
+    /// The rate knots [deg/s], increasing, with `0` among them.
+    pub fn rate_xs(&self) -> Vec<f64> {
+        let k = usize::from(self.rate_knots);
+        let r = f64::from(self.rate_max_deg_s);
+        let mut xs: Vec<f64> = (0..=k).map(|i| r * i as f64 / k.max(1) as f64).collect();
+        xs.sort_by(f64::total_cmp);
+        xs
+    }
+
+    /// The torque table with knot torques `p` (angle knots, then the free
+    /// rate knots from the rate 0 outwards).
+    pub fn table(&self, p: &[f64]) -> TorqueTable<f64> {
+        let na = usize::from(self.angle_knots);
+        let angle = (na >= 2)
+            .then(|| {
+                let xs = self.angle_xs();
+                let mut ys = p[..na].to_vec();
+                if self.from_deg > 0 {
+                    // Knots were given from the stroke end to 0: reverse to
+                    // match increasing angles.
+                    ys.reverse();
+                }
+                // `angle_xs` runs from `from_deg` to 0; for a negative
+                // stroke that is already increasing and the torques match.
+                Table::new(&xs, &ys).ok()
+            })
+            .flatten();
+        let rate = (self.rate_knots > 0)
+            .then(|| {
+                let xs = self.rate_xs();
+                let mut ys = vec![0.0];
+                ys.extend_from_slice(&p[na..na + usize::from(self.rate_knots)]);
+                if self.rate_max_deg_s < 0 {
+                    ys.reverse();
+                }
+                Table::new(&xs, &ys).ok()
+            })
+            .flatten();
+        TorqueTable { angle, rate }
+    }
+
+    /// The effect at `joint` with knot torques `p`.
+    pub fn effect(&self, joint: Option<usize>, p: &[f64]) -> Effect {
+        let table = self.table(p);
+        Effect {
+            kind: EffectKind::TorqueTable,
+            joint,
+            value: max_abs_nm(&table),
+            table,
+            ..Effect::default()
+        }
+    }
+}
