@@ -8,9 +8,10 @@
 //! intervals contain the truth; `rsm` returns EFTs inside its design box,
 //! reports R² for every response and lowers the trajectory RMS.
 
+use deploywatch_sim::analysis::identify::by_rsm::identify_rsm;
+use deploywatch_sim::analysis::identify::direct::identify_direct;
 use deploywatch_sim::analysis::identify::{
-    self, identify_direct, identify_rsm, DirectOptions, Identification, Method, RsmOptions,
-    RsmResponse,
+    self, DirectOptions, Identification, Method, RsmOptions, RsmResponse,
 };
 use deploywatch_sim::cli::identify::{run as run_cli, IdentifyArgs};
 use deploywatch_sim::data::campaign::Campaign;
@@ -38,7 +39,8 @@ fn synthetic(names: &[&str], truth: &[f64], seeds: &[u64]) -> Campaign {
         .collect();
     let mut c = Campaign::default();
     for ((m, name), seed) in mechs.iter().zip(names).zip(seeds) {
-        let run = identify::synthetic_run(m, &effects, *seed).expect("simulate the truth");
+        let run = identify::residual_check::synthetic_run(m, &effects, *seed)
+            .expect("simulate the truth");
         c.push(&mechs, run, Path::new(&format!("{name}.csv")))
             .expect("pair run");
     }

@@ -9,8 +9,10 @@
 //! TE1 and TE2 of the two hinges) runs, reports its R² and lowers the RMS
 //! (its accuracy is reported in docs/identification.md, not asserted).
 
+use deploywatch_sim::analysis::identify::by_rsm::identify_rsm;
+use deploywatch_sim::analysis::identify::direct::identify_direct;
 use deploywatch_sim::analysis::identify::{
-    self, identify_direct, identify_rsm, DirectOptions, Identification, RsmOptions, RsmResponse,
+    self, DirectOptions, Identification, RsmOptions, RsmResponse,
 };
 use deploywatch_sim::data::campaign::Campaign;
 use deploywatch_sim::model::effect::{Effect, EffectKind};
@@ -34,7 +36,8 @@ fn synthetic(truth: [f64; 3], seeds: [u64; 2]) -> Campaign {
         .collect();
     let mut c = Campaign::default();
     for ((m, name), seed) in mechs.iter().zip(CASES).zip(seeds) {
-        let run = identify::synthetic_run(m, &effects, seed).expect("simulate the truth");
+        let run =
+            identify::residual_check::synthetic_run(m, &effects, seed).expect("simulate the truth");
         assert_eq!(run.joints(), 2, "the run measures the two hinges");
         c.push(&mechs, run, Path::new(&format!("{name}.csv")))
             .unwrap();

@@ -12,7 +12,7 @@
 
 use deploywatch_core::monitor::Monitor;
 use deploywatch_core::LatchState;
-use deploywatch_sim::analysis::identify::synthetic_run;
+use deploywatch_sim::analysis::identify::residual_check::synthetic_run;
 use deploywatch_sim::data::run::Run;
 use deploywatch_sim::model::effect::{Effect, EffectKind};
 use deploywatch_sim::model::mechanism::Mechanism;

@@ -25,8 +25,10 @@
 //!
 //! Prints Markdown tables on stdout (progress on stderr).
 
+use deploywatch_sim::analysis::identify::by_rsm::identify_rsm;
+use deploywatch_sim::analysis::identify::direct::identify_direct;
 use deploywatch_sim::analysis::identify::{
-    self, identify_direct, identify_rsm, DirectOptions, Identification, RsmOptions, RsmResponse,
+    self, DirectOptions, Identification, RsmOptions, RsmResponse,
 };
 use deploywatch_sim::data::campaign::Campaign;
 use deploywatch_sim::model::effect::{Effect, EffectKind};
@@ -57,7 +59,7 @@ fn synthetic(names: &[&str], truth: &[f64], seeds: &[u64]) -> Campaign {
         .collect();
     let mut c = Campaign::default();
     for (m, (name, seed)) in mechs.iter().zip(names.iter().zip(seeds)) {
-        let run = identify::synthetic_run(m, &effects, *seed).expect("simulation");
+        let run = identify::residual_check::synthetic_run(m, &effects, *seed).expect("simulation");
         c.push(&mechs, run, Path::new(&format!("{name}.csv")))
             .expect("pairing");
     }

@@ -10,9 +10,10 @@
 
 use super::{check_output, CliError, Console};
 use crate::analysis::campaign_sim::CampaignSim;
+use crate::analysis::identify::by_rsm::identify_rsm;
+use crate::analysis::identify::direct::identify_direct;
 use crate::analysis::identify::{
-    self, identify_direct, identify_rsm, DirectOptions, Identification, Method, ParseNameError,
-    RsmOptions, RsmResponse,
+    self, DirectOptions, Identification, Method, ParseNameError, RsmOptions, RsmResponse,
 };
 use crate::data::campaign::{Campaign, CampaignRun};
 use crate::report::plot::{self, Mark, Panel, Series, YAxis};
@@ -178,7 +179,7 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
 }
 
 /// Warns when the identified friction leaves more than
-/// [`identify::RESIDUAL_WARN_FACTOR`] × the noise at some joint, and points
+/// [`identify::residual_check::RESIDUAL_WARN_FACTOR`] × the noise at some joint, and points
 /// to `deploywatch diagnose`.
 fn warn_residuals(campaign: &Campaign, id: &Identification, console: &Console) {
     let edge = at_design_edge(id);
@@ -189,13 +190,13 @@ fn warn_residuals(campaign: &Campaign, id: &Identification, console: &Console) {
             list(&edge)
         ));
     }
-    let warnings = identify::residual_warnings(campaign, id);
+    let warnings = identify::residual_check::residual_warnings(campaign, id);
     let Some(first) = warnings.first() else {
         return;
     };
     let mut text = format!(
         "the identified friction leaves more than {} times the noise RMS ({:.3} deg) at:",
-        identify::RESIDUAL_WARN_FACTOR,
+        identify::residual_check::RESIDUAL_WARN_FACTOR,
         first.noise_deg
     );
     for w in &warnings {

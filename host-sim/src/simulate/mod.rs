@@ -7,6 +7,7 @@
 //! simulator of [`multibody`]); both fill a [`trajectory::Trajectory`].
 pub mod deployment;
 pub mod fault_injection;
+pub mod fault_syntax;
 pub mod multibody;
 pub mod ode;
 pub mod sensor;

@@ -212,7 +212,7 @@ pub enum RunErrorKind {
     /// Pairing: no mechanism of the run's `mechanism` name was given.
     #[error(
         "mechanism \"{name}\" (from the run's metadata) was not given; expected one of: {}",
-        crate::model::mechanism_toml::list_or_none(given)
+        crate::model::mechanism_error::list_or_none(given)
     )]
     UnknownMechanism {
         /// The run's `mechanism` metadata.

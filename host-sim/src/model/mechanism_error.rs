@@ -1,0 +1,175 @@
+//! Why a mechanism file was rejected, and where.
+
+use crate::model::located::Located;
+use crate::model::mechanism::MAX_JOINTS;
+use deploywatch_core::spring::CurveError;
+
+/// Why a mechanism file was rejected: where (`file`, `line`) and what
+/// ([`MechanismErrorKind`]).
+///
+/// `file` is the `source` given to [`Mechanism::from_toml_str`] or the path
+/// given to [`Mechanism::load`]; `line` is the 1-based line of the offending
+/// value when the TOML parser reports a position for it. Displayed as
+/// `file:line: what was wrong; expected ...` (`file: ...` without a line).
+pub type MechanismError = Located<MechanismErrorKind>;
+
+/// What was wrong with a mechanism file (the location is in
+/// [`MechanismError`]); `key` is a key path such as `joint[2].spring.kind`.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MechanismErrorKind {
+    /// The file could not be read.
+    #[error("cannot read the mechanism file: {source}")]
+    Io {
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file could not be written.
+    #[error("cannot write the mechanism file: {source}")]
+    Write {
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The text is not valid TOML (or repeats a key).
+    #[error("invalid TOML{}: {message}", at_column(*column))]
+    Syntax {
+        /// 1-based column (in characters) of the error, if known.
+        column: Option<usize>,
+        /// The TOML parser's message, on one line.
+        message: String,
+    },
+    /// A key the format does not define.
+    #[error("unknown key `{key}`; expected one of: {expected}")]
+    UnknownKey {
+        /// Key path of the unknown key.
+        key: String,
+        /// The keys allowed at that place, comma separated.
+        expected: String,
+    },
+    /// A required key is absent.
+    #[error("missing key `{key}`: expected {expected}")]
+    MissingKey {
+        /// Key path of the missing key.
+        key: String,
+        /// What the key should hold.
+        expected: String,
+    },
+    /// A value has the wrong TOML type (a string where a number belongs...).
+    #[error("`{key}`: expected {expected}, found {found}")]
+    WrongType {
+        /// Key path of the value.
+        key: String,
+        /// What the key should hold.
+        expected: String,
+        /// The TOML type found.
+        found: String,
+    },
+    /// The `[truss]` table is invalid (`crate::model::truss_toml`).
+    #[error("{source}")]
+    Truss {
+        /// What is wrong, with its key path.
+        #[source]
+        source: crate::model::truss::TrussError,
+    },
+    /// A value of the right type is out of range or otherwise invalid.
+    #[error("`{key}`: expected {expected}, found {found}")]
+    InvalidValue {
+        /// Key path of the value.
+        key: String,
+        /// What the key should hold.
+        expected: String,
+        /// The value found, as written back in TOML.
+        found: String,
+    },
+    /// `spring.kind` is not one of the known kinds.
+    #[error(
+        "`{key}`: unknown spring kind \"{found}\" for joint {joint}; expected one of \"linear\", \"tape\", \"curve\""
+    )]
+    UnknownSpringKind {
+        /// Key path, `joint[j].spring.kind`.
+        key: String,
+        /// The joint, 1-based.
+        joint: usize,
+        /// The kind found.
+        found: String,
+    },
+    /// A tape spring's `type` has no `[tape."NAME"]` table.
+    #[error(
+        "`{key}`: tape type \"{found}\" is not defined; expected a [tape.\"{found}\"] table (defined: {})",
+        list_or_none(defined)
+    )]
+    UnknownTapeType {
+        /// Key path, `joint[j].spring.type`.
+        key: String,
+        /// The type name found.
+        found: String,
+        /// The tape types the file defines.
+        defined: Vec<String>,
+    },
+    /// Not 1 to 4 `[[panel]]` tables.
+    #[error("expected 1 to {MAX_JOINTS} [[panel]] tables, found {found}")]
+    PanelCount {
+        /// Number of `[[panel]]` tables.
+        found: usize,
+    },
+    /// The number of `[[joint]]` tables differs from the number of panels.
+    #[error(
+        "expected one [[joint]] table per [[panel]] table ({panels}), found {joints} [[joint]] tables"
+    )]
+    JointCount {
+        /// Number of `[[panel]]` tables.
+        panels: usize,
+        /// Number of `[[joint]]` tables.
+        joints: usize,
+    },
+    /// A tabulated curve (a curve spring's branch or a tape type's points)
+    /// rejected by the core.
+    #[error(
+        "`{key}`: expected 2 to 16 points [deg, N·m] with finite values and strictly increasing angles: {source}"
+    )]
+    BadCurve {
+        /// Key path of the curve.
+        key: String,
+        /// The core's reason.
+        #[source]
+        source: CurveError,
+    },
+}
+
+impl MechanismError {
+    /// The key path the error is about, when there is one.
+    pub fn key(&self) -> Option<&str> {
+        match &self.kind {
+            MechanismErrorKind::UnknownKey { key, .. }
+            | MechanismErrorKind::MissingKey { key, .. }
+            | MechanismErrorKind::WrongType { key, .. }
+            | MechanismErrorKind::InvalidValue { key, .. }
+            | MechanismErrorKind::UnknownSpringKind { key, .. }
+            | MechanismErrorKind::UnknownTapeType { key, .. }
+            | MechanismErrorKind::BadCurve { key, .. } => Some(key),
+            MechanismErrorKind::Truss { source } => Some(&source.key),
+            _ => None,
+        }
+    }
+}
+
+fn at_column(column: Option<usize>) -> String {
+    column
+        .map(|c| format!(" at column {c}"))
+        .unwrap_or_default()
+}
+
+/// `"a", "b"` of `names` for an error message, or `none`.
+pub(crate) fn list_or_none(names: &[String]) -> String {
+    if names.is_empty() {
+        "none".to_string()
+    } else {
+        names
+            .iter()
+            .map(|n| format!("\"{n}\""))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}

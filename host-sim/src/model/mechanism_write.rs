@@ -1,0 +1,183 @@
+//! A mechanism written back as TOML (`docs/spec/formats.md`): what
+//! `Mechanism::from_toml_str` reads back as the same mechanism.
+
+use crate::model::mechanism::{FrictionSpec, Mechanism, SpringSpec};
+use crate::model::mechanism_error::{MechanismError, MechanismErrorKind};
+use deploywatch_core::spring::{Interp, TapePoints};
+use std::fmt::Write as _;
+use std::path::Path;
+
+impl Mechanism {
+    /// Writes the mechanism as TOML, in the layout of `formats.md`.
+    ///
+    /// Deterministic byte for byte; numbers are written in Rust's shortest
+    /// round-trip form, so [`Mechanism::from_toml_str`] of the output equals
+    /// `self` (for a mechanism that passes validation). Tape types are written
+    /// once each, in order of first use; should two joints use the same type
+    /// name with different points, the later ones are renamed `"NAME (2)"`,
+    /// `"NAME (3)"`, ... so that the file stays unambiguous.
+    pub fn to_toml_string(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(out, "name = {}", toml_str(&self.name));
+        let _ = writeln!(out, "description = {}", toml_str(&self.description));
+        for p in &self.panels {
+            let _ = write!(
+                out,
+                "\n[[panel]]\nlength_m = {}\nmass_kg = {}\ncom_m = {}\ninertia_kgm2 = {}\n",
+                num(p.length_m),
+                num(p.mass_kg),
+                num(p.com_m),
+                num(p.inertia_kgm2)
+            );
+        }
+        let mut tapes: Vec<(String, TapePoints<f64>)> = Vec::new();
+        for j in &self.joints {
+            let _ = write!(
+                out,
+                "\n[[joint]]\nstowed_deg = {}\nspring = {}\n",
+                num(j.stowed_deg),
+                spring_toml(&j.spring, &mut tapes)
+            );
+            if j.friction != FrictionSpec::default() {
+                let f = &j.friction;
+                let mut s = format!(
+                    "friction = {{ coulomb_nm = {}, viscous_nms = {}, coulomb_threshold_rad_s = {}",
+                    num(f.coulomb_nm),
+                    num(f.viscous_nms),
+                    num(f.coulomb_threshold_rad_s)
+                );
+                if let Some((brk, st)) = f.stribeck {
+                    let _ = write!(
+                        s,
+                        ", breakaway_nm = {}, stribeck_rad_s = {}",
+                        num(brk),
+                        num(st)
+                    );
+                }
+                let _ = writeln!(out, "{s} }}");
+            }
+        }
+        for (name, p) in &tapes {
+            let _ = write!(
+                out,
+                "\n[tape.{}]\na = [{}, {}]\nb = [{}, {}]\nd = [{}, {}]\nm_90 = {}\nc_180 = {}\n",
+                toml_str(name),
+                num(p.a.0),
+                num(p.a.1),
+                num(p.b.0),
+                num(p.b.1),
+                num(p.d.0),
+                num(p.d.1),
+                num(p.m_90),
+                num(p.c_180)
+            );
+        }
+        let _ = write!(
+            out,
+            "\n[run]\nduration_s = {}\nsample_hz = {}\nsettle_s = {}\n",
+            num(self.duration_s),
+            num(self.sample_hz),
+            num(self.settle_s)
+        );
+        if let Some(t) = &self.truss {
+            crate::model::truss_toml::write(t, &mut out);
+        }
+        out
+    }
+
+    /// Writes [`Mechanism::to_toml_string`] to `path`.
+    pub fn write(&self, path: &Path) -> Result<(), MechanismError> {
+        std::fs::write(path, self.to_toml_string()).map_err(|source| MechanismError {
+            file: path.display().to_string(),
+            line: None,
+            kind: MechanismErrorKind::Write { source },
+        })
+    }
+}
+
+/// A TOML basic string, quoted and escaped by the `toml` crate.
+pub fn toml_str(s: &str) -> String {
+    toml::Value::String(s.to_string()).to_string()
+}
+
+/// A float in Rust's shortest round-trip form, valid TOML.
+pub fn num(x: f64) -> String {
+    if x.is_nan() {
+        "nan".to_string()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf" } else { "-inf" }.to_string()
+    } else {
+        format!("{x:?}")
+    }
+}
+
+fn points_toml(points: &[(f64, f64)]) -> String {
+    let inner: Vec<String> = points
+        .iter()
+        .map(|(x, y)| format!("[{}, {}]", num(*x), num(*y)))
+        .collect();
+    format!("[{}]", inner.join(", "))
+}
+
+fn spring_toml(s: &SpringSpec, tapes: &mut Vec<(String, TapePoints<f64>)>) -> String {
+    match s {
+        SpringSpec::Linear {
+            preload_nm,
+            stiffness_nm_per_rad,
+            count,
+        } => format!(
+            "{{ kind = \"linear\", preload_nm = {}, stiffness_nm_per_rad = {}, count = {count} }}",
+            num(*preload_nm),
+            num(*stiffness_nm_per_rad)
+        ),
+        SpringSpec::Tape {
+            type_name,
+            points,
+            count,
+        } => {
+            let mut name = type_name.clone();
+            let mut k = 1;
+            loop {
+                match tapes.iter().find(|(n, _)| *n == name) {
+                    Some((_, p)) if p == points => break,
+                    Some(_) => {
+                        k += 1;
+                        name = format!("{type_name} ({k})");
+                    }
+                    None => {
+                        tapes.push((name.clone(), *points));
+                        break;
+                    }
+                }
+            }
+            format!(
+                "{{ kind = \"tape\", type = {}, count = {count} }}",
+                toml_str(&name)
+            )
+        }
+        SpringSpec::Curve {
+            unfold,
+            fold,
+            interp,
+            count,
+        } => {
+            let mut s = format!("{{ kind = \"curve\", unfold = {}", points_toml(unfold));
+            if let Some(f) = fold {
+                let _ = write!(s, ", fold = {}", points_toml(f));
+            }
+            let interp = match interp {
+                Interp::Akima => "akima",
+                Interp::Linear => "linear",
+            };
+            let _ = write!(s, ", interp = \"{interp}\", count = {count} }}");
+            s
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------
+// A TOML tree with the byte spans of its values, from `toml_edit`'s parsed
+// document (`ImDocument` keeps the spans; the `toml` crate's deserializer
+// reads the same tree, so lines and messages agree with it). Values the
+// parser has no span for (the implicit `tape` table of `[tape."TS-1"]`, a
+// dotted key's table) are kept without one.
