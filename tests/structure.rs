@@ -194,11 +194,10 @@ fn skip_string(b: &[char], mut i: usize, out: &mut String) -> usize {
 
 /// True when `'` at `i` opens a char literal rather than a lifetime.
 fn is_char_literal(b: &[char], i: usize) -> bool {
-    match (b.get(i + 1), b.get(i + 2)) {
-        (Some('\\'), _) => true,
-        (Some(_), Some('\'')) => true,
-        _ => false,
-    }
+    matches!(
+        (b.get(i + 1), b.get(i + 2)),
+        (Some('\\'), _) | (Some(_), Some('\''))
+    )
 }
 
 fn skip_char(b: &[char], mut i: usize) -> usize {
@@ -396,7 +395,7 @@ fn resolve(at: &ModPath, path: &[String], modules: &BTreeSet<ModPath>) -> Option
         "crate" => Vec::new(),
         "self" | "super" => at.clone(),
         // A path relative to this module (`pub use child::X`).
-        _ if modules.contains(&[at.as_slice(), &[first.clone()]].concat()) => at.clone(),
+        _ if modules.contains(&[at.as_slice(), std::slice::from_ref(first)].concat()) => at.clone(),
         _ => return None,
     };
     let mut i = if path[0] == "crate" { 1 } else { 0 };

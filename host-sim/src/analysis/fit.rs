@@ -282,6 +282,46 @@ pub fn t975(dof: usize) -> f64 {
         + (3.0 * z7 + 19.0 * z5 + 17.0 * z3 - 15.0 * z) / (384.0 * v * v * v)
 }
 
+/// The standard deviations and 95 % intervals of the parameters `p` of a
+/// fit with Jacobian `j` (`None`: unknown, infinite intervals), `sse` the
+/// sum of squares of `m` residuals: `cov = s² (JᵀJ)⁺`, `s² = SSE/(m − n)`,
+/// the interval `p ± t₀.₉₇₅(m − n) · sd`.
+fn intervals(j: Option<DMatrix<f64>>, p: &[f64], sse: f64, m: usize) -> (Vec<f64>, Vec<[f64; 2]>) {
+    let n = p.len();
+    let Some(j) = j else {
+        return (
+            vec![f64::INFINITY; n],
+            p.iter()
+                .map(|_| [f64::NEG_INFINITY, f64::INFINITY])
+                .collect(),
+        );
+    };
+    let jtj = j.transpose() * &j;
+    let s2 = sse / (m - n) as f64;
+    let t = t975(m - n);
+    // Pseudo-inverse: a parameter the data cannot see gets an
+    // infinite interval rather than a failure.
+    let cov = jtj
+        .clone()
+        .pseudo_inverse(1e-12 * jtj.norm().max(1e-300))
+        .unwrap_or_else(|_| DMatrix::from_element(n, n, f64::INFINITY));
+    let sd: Vec<f64> = (0..n)
+        .map(|i| {
+            if jtj[(i, i)] <= 0.0 {
+                f64::INFINITY
+            } else {
+                (s2 * cov[(i, i)]).max(0.0).sqrt()
+            }
+        })
+        .collect();
+    let ci = sd
+        .iter()
+        .zip(p)
+        .map(|(s, x)| [x - t * s, x + t * s])
+        .collect();
+    (sd, ci)
+}
+
 /// Minimises `Σ r(p)²` from `p0` within the bounds of `opts`.
 pub fn least_squares(
     model: &dyn Residuals,
@@ -324,40 +364,7 @@ pub fn least_squares(
         .ok_or_else(|| FitError::BadStart(p.clone()))?;
     let sse: f64 = r.iter().map(|x| x * x).sum();
     let m = problem.m;
-    let (sd, ci95) = match problem.jacobian_at(&p) {
-        Some(j) => {
-            let jtj = j.transpose() * &j;
-            let s2 = sse / (m - n) as f64;
-            let t = t975(m - n);
-            // Pseudo-inverse: a parameter the data cannot see gets an
-            // infinite interval rather than a failure.
-            let cov = jtj
-                .clone()
-                .pseudo_inverse(1e-12 * jtj.norm().max(1e-300))
-                .unwrap_or_else(|_| DMatrix::from_element(n, n, f64::INFINITY));
-            let sd: Vec<f64> = (0..n)
-                .map(|i| {
-                    if jtj[(i, i)] <= 0.0 {
-                        f64::INFINITY
-                    } else {
-                        (s2 * cov[(i, i)]).max(0.0).sqrt()
-                    }
-                })
-                .collect();
-            let ci = sd
-                .iter()
-                .zip(&p)
-                .map(|(s, x)| [x - t * s, x + t * s])
-                .collect();
-            (sd, ci)
-        }
-        None => (
-            vec![f64::INFINITY; n],
-            p.iter()
-                .map(|_| [f64::NEG_INFINITY, f64::INFINITY])
-                .collect(),
-        ),
-    };
+    let (sd, ci95) = intervals(problem.jacobian_at(&p), &p, sse, m);
     let evaluations = problem.evaluations.lock().map(|e| *e).unwrap_or(0) + 1;
     Ok(FitResult {
         params: p,

@@ -261,6 +261,39 @@ fn add_tables(v: &mut Value, shape: &str, t: &[TorqueTable<f64>; 3]) {
     v["shape"] = json!(shape);
 }
 
+/// Every round's candidates with their scores, for the JSON.
+fn candidates_json(o: &Outcome) -> Value {
+    json!(o
+        .rounds
+        .iter()
+        .map(|r| json!({
+            "round": r.what,
+            "start_rms_deg": round4(r.start_rms_deg),
+            "scores": r.scores.iter().map(|s| json!({
+                "candidate": s.candidate.label(),
+                "rms_deg": round4(s.fitted.rms()),
+                "delta_bic": round4(s.delta_bic),
+                "held_out_rms_deg": s.held_out_rms_deg.map(round4).unwrap_or(Value::Null),
+                "verdict": s.verdict,
+            })).collect::<Vec<_>>(),
+        }))
+        .collect::<Vec<_>>())
+}
+
+/// The evidence of each run and joint before the diagnosis, for the JSON.
+fn evidence_json(before: &[JointEvidence]) -> Value {
+    json!(before.iter().map(|e| json!({
+            "run": e.run, "joint": e.joint, "rms_deg": round4(e.rms_deg),
+            "stroke_thirds_rms_deg": e.stroke_thirds_rms_deg.iter().map(|v| round4(*v)).collect::<Vec<_>>(),
+            "near_latch_rms_deg": round4(e.near_latch_rms_deg),
+            "at_release_mean_deg": round4(e.at_release_mean_deg),
+            "after_latch_mean_deg": round4(e.after_latch_mean_deg),
+            "latch_lead_s": e.latch_lead_s.map(round4).unwrap_or(Value::Null),
+            "correlation": CORRELATES.iter().zip(e.correlation).map(|(n, r)| (n.to_string(), round4(r))).collect::<serde_json::Map<_, _>>(),
+            "summary": e.summary,
+        })).collect::<Vec<_>>())
+}
+
 /// The diagnosis JSON (`docs/spec/formats.md`), with the extra fields the
 /// project adds (noise floor, candidates, evidence).
 pub fn to_json(c: &Campaign, o: &Outcome, before: &[JointEvidence]) -> Value {
@@ -320,27 +353,8 @@ pub fn to_json(c: &Campaign, o: &Outcome, before: &[JointEvidence]) -> Value {
             "rms_ratio": round4(o.baseline.rms() / o.extended.rms().max(1e-12)),
             "held_out_rms_deg": o.held_out_rms_deg.map(round4).unwrap_or(Value::Null),
         },
-        "candidates": o.rounds.iter().map(|r| json!({
-            "round": r.what,
-            "start_rms_deg": round4(r.start_rms_deg),
-            "scores": r.scores.iter().map(|s| json!({
-                "candidate": s.candidate.label(),
-                "rms_deg": round4(s.fitted.rms()),
-                "delta_bic": round4(s.delta_bic),
-                "held_out_rms_deg": s.held_out_rms_deg.map(round4).unwrap_or(Value::Null),
-                "verdict": s.verdict,
-            })).collect::<Vec<_>>(),
-        })).collect::<Vec<_>>(),
-        "evidence": before.iter().map(|e| json!({
-            "run": e.run, "joint": e.joint, "rms_deg": round4(e.rms_deg),
-            "stroke_thirds_rms_deg": e.stroke_thirds_rms_deg.iter().map(|v| round4(*v)).collect::<Vec<_>>(),
-            "near_latch_rms_deg": round4(e.near_latch_rms_deg),
-            "at_release_mean_deg": round4(e.at_release_mean_deg),
-            "after_latch_mean_deg": round4(e.after_latch_mean_deg),
-            "latch_lead_s": e.latch_lead_s.map(round4).unwrap_or(Value::Null),
-            "correlation": CORRELATES.iter().zip(e.correlation).map(|(n, r)| (n.to_string(), round4(r))).collect::<serde_json::Map<_, _>>(),
-            "summary": e.summary,
-        })).collect::<Vec<_>>(),
+        "candidates": candidates_json(o),
+        "evidence": evidence_json(before),
         "simulations": o.simulations,
         "wall_s": round4(o.wall_s),
     })

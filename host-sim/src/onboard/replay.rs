@@ -758,6 +758,51 @@ pub struct QemuRun {
     pub log: String,
 }
 
+/// QEMU's `-semihosting-config` value that hands the firmware its input and
+/// output files (each path without white space, at most 127 bytes, commas
+/// doubled).
+fn semihosting_args(in_path: &Path, out_path: &Path) -> Result<String, ReplayError> {
+    let mut args = "enable=on,target=native,arg=deploywatch-firmware-example".to_string();
+    for p in [&in_path, &out_path] {
+        let s = p
+            .to_str()
+            .ok_or_else(|| ReplayError::Input(format!("{}: not UTF-8", p.display())))?;
+        if s.chars().any(char::is_whitespace) || s.len() > 127 {
+            return Err(ReplayError::Input(format!(
+                "{s}: a semihosting argument may not contain spaces nor exceed 127 bytes \
+                 (choose another --keep directory or TMPDIR)"
+            )));
+        }
+        args.push_str(",arg=");
+        args.push_str(&s.replace(',', ",,"));
+    }
+    Ok(args)
+}
+
+/// Waits for QEMU to exit, killing it after `timeout`.
+fn wait_for(
+    child: &mut std::process::Child,
+    timeout: Duration,
+) -> Result<std::process::ExitStatus, ReplayError> {
+    let start = Instant::now();
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(st)) => break st,
+            Ok(None) if start.elapsed() > timeout => {
+                let _ = child.kill();
+                let _ = child.wait();
+                return Err(ReplayError::Target(format!(
+                    "the firmware did not finish within {} s (QEMU killed)",
+                    timeout.as_secs()
+                )));
+            }
+            Ok(None) => std::thread::sleep(Duration::from_millis(20)),
+            Err(e) => return Err(ReplayError::Target(format!("waiting for {QEMU}: {e}"))),
+        }
+    };
+    Ok(status)
+}
+
 /// Runs the firmware `elf` under QEMU on `input` (the files go to `dir`:
 /// `input.bin`, `qemu.bin`, `qemu.defmt`), waiting at most `timeout`.
 pub fn run_qemu(
@@ -774,20 +819,7 @@ pub fn run_qemu(
     let log_path = dir.join("qemu.defmt");
     std::fs::write(&in_path, input).map_err(|e| io_err(&in_path, e))?;
     let _ = std::fs::remove_file(&out_path);
-    let mut args = "enable=on,target=native,arg=deploywatch-firmware-example".to_string();
-    for p in [&in_path, &out_path] {
-        let s = p
-            .to_str()
-            .ok_or_else(|| ReplayError::Input(format!("{}: not UTF-8", p.display())))?;
-        if s.chars().any(char::is_whitespace) || s.len() > 127 {
-            return Err(ReplayError::Input(format!(
-                "{s}: a semihosting argument may not contain spaces nor exceed 127 bytes \
-                 (choose another --keep directory or TMPDIR)"
-            )));
-        }
-        args.push_str(",arg=");
-        args.push_str(&s.replace(',', ",,"));
-    }
+    let args = semihosting_args(&in_path, &out_path)?;
     let log = std::fs::File::create(&log_path).map_err(|e| io_err(&log_path, e))?;
     let mut child = Command::new(QEMU)
         .args(["-cpu", "cortex-m4", "-machine", "mps2-an386", "-nographic"])
@@ -811,22 +843,7 @@ pub fn run_qemu(
             }
             _ => ReplayError::Setup(format!("cannot start {QEMU}: {e}")),
         })?;
-    let start = Instant::now();
-    let status = loop {
-        match child.try_wait() {
-            Ok(Some(st)) => break st,
-            Ok(None) if start.elapsed() > timeout => {
-                let _ = child.kill();
-                let _ = child.wait();
-                return Err(ReplayError::Target(format!(
-                    "the firmware did not finish within {} s (QEMU killed)",
-                    timeout.as_secs()
-                )));
-            }
-            Ok(None) => std::thread::sleep(Duration::from_millis(20)),
-            Err(e) => return Err(ReplayError::Target(format!("waiting for {QEMU}: {e}"))),
-        }
-    };
+    let status = wait_for(&mut child, timeout)?;
     let mut stderr = String::new();
     if let Some(mut e) = child.stderr.take() {
         let _ = io::Read::read_to_string(&mut e, &mut stderr);

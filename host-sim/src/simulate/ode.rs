@@ -174,13 +174,45 @@ where
             (E7, &k7),
         ],
     );
+    let err = error_norm(y, &y1, &e, rtol, atol);
+    let r = dense_coefficients(y, &y1, [k1, &k3, &k4, &k5, &k6, &k7], h);
+    Some(Attempt {
+        y1,
+        k7,
+        err: if err.is_finite() { err } else { f64::INFINITY },
+        dense: Dense { t0: t, h, r },
+    })
+}
+
+/// The error norm of a step: the RMS over the `2N` components of the
+/// embedded error `e`, each scaled by `atol + rtol · max(|y|, |y1|)`.
+#[inline]
+fn error_norm<const N: usize>(
+    y: &State<N>,
+    y1: &State<N>,
+    e: &State<N>,
+    rtol: f64,
+    atol: f64,
+) -> f64 {
     let mut acc = 0.0;
     for i in 0..N {
         let sq = atol + rtol * y.q[i].abs().max(y1.q[i].abs());
         let sv = atol + rtol * y.v[i].abs().max(y1.v[i].abs());
         acc += (e.q[i] / sq).powi(2) + (e.v[i] / sv).powi(2);
     }
-    let err = (acc / (2 * N) as f64).sqrt();
+    (acc / (2 * N) as f64).sqrt()
+}
+
+/// The coefficients of the step's dense output (Hairer, Nørsett & Wanner's
+/// `CONTD5`): `k` holds `k1, k3, k4, k5, k6, k7`.
+#[inline]
+fn dense_coefficients<const N: usize>(
+    y: &State<N>,
+    y1: &State<N>,
+    k: [&State<N>; 6],
+    h: f64,
+) -> [State<N>; 5] {
+    let [k1, k3, k4, k5, k6, k7] = k;
     let mut r = [State::ZERO; 5];
     r[0] = *y;
     for i in 0..N {
@@ -209,12 +241,7 @@ where
                 + D6 * k6.v[i]
                 + D7 * k7.v[i]);
     }
-    Some(Attempt {
-        y1,
-        k7,
-        err: if err.is_finite() { err } else { f64::INFINITY },
-        dense: Dense { t0: t, h, r },
-    })
+    r
 }
 
 /// The next step size after an attempt with error norm `err` (order 5,
@@ -227,40 +254,6 @@ pub fn next_h(h: f64, err: f64) -> f64 {
         (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
     };
     h * fac
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn harmonic_oscillator_is_accurate_and_dense_output_interpolates() {
-        // q'' = −q, q(0) = 1: q = cos t.
-        let mut f = |_t: f64, y: &State<1>| {
-            Some(State {
-                q: y.v,
-                v: [-y.q[0]],
-            })
-        };
-        let mut y = State { q: [1.0], v: [0.0] };
-        let mut k1 = f(0.0, &y).unwrap();
-        let (mut t, mut h) = (0.0f64, 1e-3f64);
-        let mut worst: f64 = 0.0;
-        while t < 10.0 {
-            h = h.min(10.0 - t);
-            let a = step(&mut f, t, &y, &k1, h, 1e-10, 1e-12).unwrap();
-            if a.err <= 1.0 {
-                let tm = t + 0.37 * h;
-                worst = worst.max((a.dense.at(tm).q[0] - tm.cos()).abs());
-                t += h;
-                y = a.y1;
-                k1 = a.k7;
-            }
-            h = next_h(h, a.err);
-        }
-        assert!((y.q[0] - 10f64.cos()).abs() < 1e-8);
-        assert!(worst < 1e-8, "{worst}");
-    }
 }
 
 /// Locates the root of `g` on the interpolant in `[t0, t1]` where
@@ -304,4 +297,38 @@ pub fn locate<const N: usize>(
         }
     }
     b
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn harmonic_oscillator_is_accurate_and_dense_output_interpolates() {
+        // q'' = −q, q(0) = 1: q = cos t.
+        let mut f = |_t: f64, y: &State<1>| {
+            Some(State {
+                q: y.v,
+                v: [-y.q[0]],
+            })
+        };
+        let mut y = State { q: [1.0], v: [0.0] };
+        let mut k1 = f(0.0, &y).unwrap();
+        let (mut t, mut h) = (0.0f64, 1e-3f64);
+        let mut worst: f64 = 0.0;
+        while t < 10.0 {
+            h = h.min(10.0 - t);
+            let a = step(&mut f, t, &y, &k1, h, 1e-10, 1e-12).unwrap();
+            if a.err <= 1.0 {
+                let tm = t + 0.37 * h;
+                worst = worst.max((a.dense.at(tm).q[0] - tm.cos()).abs());
+                t += h;
+                y = a.y1;
+                k1 = a.k7;
+            }
+            h = next_h(h, a.err);
+        }
+        assert!((y.q[0] - 10f64.cos()).abs() < 1e-8);
+        assert!(worst < 1e-8, "{worst}");
+    }
 }

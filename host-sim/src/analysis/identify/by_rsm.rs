@@ -35,11 +35,7 @@ pub fn identify_rsm(
     progress: Progress,
 ) -> Result<Identification, IdentifyError> {
     let t0 = Instant::now();
-    if opts.rounds == 0 {
-        return Err(IdentifyError::BadOption(
-            "rounds 0: expected at least 1 round of the design".into(),
-        ));
-    }
+    check_rounds(opts.rounds)?;
     check_joints(campaign, joints)?;
     let model = Model::new(campaign, joints);
     let before = score_as_given(&model, progress)?;
@@ -70,19 +66,7 @@ pub fn identify_rsm(
         if round >= opts.rounds {
             break (points, surfaces, min, lo, hi, names);
         }
-        // The next round: centred on this minimum, half as wide, and no
-        // design point below 0 N·m.
-        plan.centre = min.x.iter().map(|c| c.max(RSM_MIN_CENTRE_NM)).collect();
-        plan.half = plan
-            .half
-            .iter()
-            .zip(&plan.centre)
-            .map(|(h, c)| (h * RSM_ROUND_SHRINK).min(0.999 * c / plan.reach))
-            .collect();
-        plan.rule.push(format!(
-            "round {}: re-centred on the round-{round} minimum, half-ranges × {RSM_ROUND_SHRINK}",
-            round + 1
-        ));
+        plan.next_round(&min.x, round);
         round += 1;
     };
     let k = model.te_joints.len();
@@ -120,6 +104,34 @@ pub fn identify_rsm(
         }),
         ..Identification::scored(Method::Rsm, &model, t0, before, after)
     })
+}
+
+/// At least one round of the design.
+fn check_rounds(rounds: usize) -> Result<(), IdentifyError> {
+    if rounds == 0 {
+        return Err(IdentifyError::BadOption(
+            "rounds 0: expected at least 1 round of the design".into(),
+        ));
+    }
+    Ok(())
+}
+
+impl RsmPlan {
+    /// The design of the round after `round`: centred on that round's
+    /// minimum `min_x`, half as wide, and no design point below 0 N·m.
+    fn next_round(&mut self, min_x: &[f64], round: usize) {
+        self.centre = min_x.iter().map(|c| c.max(RSM_MIN_CENTRE_NM)).collect();
+        self.half = self
+            .half
+            .iter()
+            .zip(&self.centre)
+            .map(|(h, c)| (h * RSM_ROUND_SHRINK).min(0.999 * c / self.reach))
+            .collect();
+        self.rule.push(format!(
+            "round {}: re-centred on the round-{round} minimum, half-ranges × {RSM_ROUND_SHRINK}",
+            round + 1
+        ));
+    }
 }
 
 /// The design of a response-surface identification: where and how wide.

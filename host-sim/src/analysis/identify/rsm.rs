@@ -796,7 +796,6 @@ pub fn minimize_in_box_projected(
     let zeros = vec![0.0; k];
     let ones = vec![1.0; k];
     let lipschitz = h.norm().max(1e-300);
-    let project = |u: &mut [f64]| u.iter_mut().for_each(|v| *v = v.clamp(0.0, 1.0));
     let mut centre_only = Vec::new();
     let starts: &[Vec<f64>] = if starts.is_empty() {
         centre_only.push(lo.iter().zip(hi).map(|(l, h)| 0.5 * (l + h)).collect());
@@ -806,7 +805,7 @@ pub fn minimize_in_box_projected(
     };
     let mut best: Option<(f64, Vec<f64>)> = None;
     for s in starts {
-        let mut u: Vec<f64> = s
+        let u: Vec<f64> = s
             .iter()
             .zip(lo.iter().zip(&w))
             .map(|(x, (l, w))| ((x - l) / w).clamp(0.0, 1.0))
@@ -814,40 +813,7 @@ pub fn minimize_in_box_projected(
         if u.iter().any(|v| !v.is_finite()) {
             return Err(RsmError::NotFinite);
         }
-        let mut fu = scaled.eval(&u);
-        let mut step = 1.0 / lipschitz;
-        for _ in 0..20_000 {
-            let g = scaled.gradient(&u);
-            let mut moved = false;
-            let mut t = step * 4.0;
-            for _ in 0..60 {
-                let mut un: Vec<f64> = u.iter().zip(&g).map(|(x, g)| x - t * g).collect();
-                project(&mut un);
-                let d: f64 = un
-                    .iter()
-                    .zip(&u)
-                    .zip(&g)
-                    .map(|((a, b), g)| g * (a - b))
-                    .sum();
-                let fn_ = scaled.eval(&un);
-                if fn_ <= fu + 1e-4 * d {
-                    let dx: f64 = un
-                        .iter()
-                        .zip(&u)
-                        .map(|(a, b)| (a - b).abs())
-                        .fold(0.0, f64::max);
-                    moved = dx > 1e-15;
-                    u = un;
-                    fu = fn_;
-                    step = t;
-                    break;
-                }
-                t *= 0.5;
-            }
-            if !moved {
-                break;
-            }
-        }
+        let (mut u, mut fu) = descend(&scaled, u, lipschitz);
         // Polish: solve the face system of the final active set.
         let state = active_set(&u, &zeros, &ones);
         if let Some(up) = face_point(&b, &h, &state, &zeros, &ones) {
@@ -873,6 +839,47 @@ pub fn minimize_in_box_projected(
         active: active_set(&x, lo, hi),
         x,
     })
+}
+
+/// Projected gradient descent of `scaled` on the unit box from `u` (Armijo
+/// backtracking from four times the last accepted step, the first step
+/// `1/L`), until no step moves: the point and its value.
+fn descend(scaled: &Quadratic, mut u: Vec<f64>, lipschitz: f64) -> (Vec<f64>, f64) {
+    let mut fu = scaled.eval(&u);
+    let mut step = 1.0 / lipschitz;
+    for _ in 0..20_000 {
+        let g = scaled.gradient(&u);
+        let mut moved = false;
+        let mut t = step * 4.0;
+        for _ in 0..60 {
+            let mut un: Vec<f64> = u.iter().zip(&g).map(|(x, g)| x - t * g).collect();
+            un.iter_mut().for_each(|v| *v = v.clamp(0.0, 1.0));
+            let d: f64 = un
+                .iter()
+                .zip(&u)
+                .zip(&g)
+                .map(|((a, b), g)| g * (a - b))
+                .sum();
+            let fn_ = scaled.eval(&un);
+            if fn_ <= fu + 1e-4 * d {
+                let dx: f64 = un
+                    .iter()
+                    .zip(&u)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                moved = dx > 1e-15;
+                u = un;
+                fu = fn_;
+                step = t;
+                break;
+            }
+            t *= 0.5;
+        }
+        if !moved {
+            break;
+        }
+    }
+    (u, fu)
 }
 
 /// The minimum of `Σ w_i f_i` over the box: [`Quadratic::weighted_sum`] then

@@ -257,11 +257,10 @@ impl<'a, const N: usize> Runner<'a, N> {
         Ok(m)
     }
 
-    fn run(mut self, times: &[f64]) -> Result<MbTrajectory, SimError> {
-        let duration = times.last().copied().unwrap_or(0.0);
-        let mut y = State::<N>::ZERO;
-        // A pin that starts at its lock angle is held from the start (a
-        // hold-down: the lock-up mode of `truss-link.md`).
+    /// Holds every pin that starts at its lock angle from the start (a
+    /// hold-down: the lock-up mode of `truss-link.md`); the mobility at the
+    /// start.
+    fn hold_downs(&mut self, y: &State<N>) -> usize {
         for (p, pin) in self.model.sys.pins.iter().enumerate() {
             if pin.lock_at_rad == Some(pin.offset_rad) {
                 self.active[p] = true;
@@ -271,6 +270,54 @@ impl<'a, const N: usize> Runner<'a, N> {
         }
         let m0 = self.model.mobility(&y.q, &self.active);
         self.out.mobility.push(m0);
+        m0
+    }
+
+    /// The first lock instant within the step `[t, t1]`, located on its
+    /// dense output (`None`: no lock, or latching off).
+    fn first_lock(&self, att: &ode::Attempt<N>, t: f64, t1: f64) -> Option<f64> {
+        let mut first: Option<f64> = None;
+        if self.opts.latching {
+            for p in self.lockable() {
+                if self.g(p, &att.y1) <= 0.0 {
+                    let te = locate(|s| self.g(p, s), &att.dense, t, t1);
+                    first = Some(first.map_or(te, |f: f64| f.min(te)));
+                }
+            }
+        }
+        first
+    }
+
+    /// Writes the output samples from `times[k]` up to `t_end` (inclusive
+    /// when the step ends without a lock): the interpolant with its
+    /// positions projected (frozen Gauss–Newton, no new rows); the velocity
+    /// is the interpolant's, consistent to the step's accuracy. Returns the
+    /// next sample's index.
+    fn sample_step(
+        &mut self,
+        dense: &ode::Dense<N>,
+        times: &[f64],
+        mut k: usize,
+        t_end: f64,
+        through_end: bool,
+    ) -> Result<usize, SimError> {
+        while k < times.len() && (times[k] < t_end || (through_end && times[k] <= t_end)) {
+            let mut s = dense.at(times[k]);
+            let err = self
+                .work
+                .project_position_factored(self.model, &mut s.q, &self.active)
+                .ok_or(SimError::Singular { t_s: times[k] })?;
+            self.record_error(err);
+            self.push(times[k], &s);
+            k += 1;
+        }
+        Ok(k)
+    }
+
+    fn run(mut self, times: &[f64]) -> Result<MbTrajectory, SimError> {
+        let duration = times.last().copied().unwrap_or(0.0);
+        let mut y = State::<N>::ZERO;
+        let m0 = self.hold_downs(&y);
         let mut k = 0usize;
         while k < times.len() && times[k] <= 0.0 {
             self.push(times[k], &y);
@@ -309,29 +356,9 @@ impl<'a, const N: usize> Runner<'a, N> {
                 return Err(SimError::TooManySteps { t_s: t });
             }
             let t1 = t + h;
-            let mut first: Option<f64> = None;
-            if self.opts.latching {
-                for p in self.lockable() {
-                    if self.g(p, &att.y1) <= 0.0 {
-                        let te = locate(|s| self.g(p, s), &att.dense, t, t1);
-                        first = Some(first.map_or(te, |f: f64| f.min(te)));
-                    }
-                }
-            }
+            let first = self.first_lock(&att, t, t1);
             let t_end = first.unwrap_or(t1);
-            while k < times.len() && (times[k] < t_end || (first.is_none() && times[k] <= t_end)) {
-                // Output samples: the interpolant with its positions
-                // projected (frozen Gauss–Newton, no new rows); the velocity
-                // is the interpolant's, consistent to the step's accuracy.
-                let mut s = att.dense.at(times[k]);
-                let err = self
-                    .work
-                    .project_position_factored(self.model, &mut s.q, &self.active)
-                    .ok_or(SimError::Singular { t_s: times[k] })?;
-                self.record_error(err);
-                self.push(times[k], &s);
-                k += 1;
-            }
+            k = self.sample_step(&att.dense, times, k, t_end, first.is_none())?;
             if first.is_some() {
                 let mut ye = att.dense.at(t_end);
                 self.out.stats.events += 1;
