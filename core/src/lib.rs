@@ -13,36 +13,29 @@
 #[macro_use]
 mod fmt;
 
-pub mod chain;
-pub mod encoder;
-pub mod faults;
-pub mod friction;
 #[cfg(feature = "hal")]
 pub mod hal;
-pub mod latch;
-pub mod linalg;
-pub mod margin;
 pub mod monitor;
-pub mod observer;
-pub mod plausibility;
-pub mod predictor;
-pub mod real;
-pub mod rollout;
-pub mod smoother;
-pub mod spring;
-pub mod standards;
+pub mod physics;
 pub mod telemetry;
-pub mod torque_table;
-pub mod trig;
 
-pub use chain::{Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel};
-pub use friction::Friction;
-pub use real::Real;
-pub use spring::{Branch, Curve, Fold, Interp, Spring, TapePoints};
-pub use torque_table::{Table, TableError, TorqueTable};
+// The modules under their short paths (`deploywatch_core::chain`,
+// `deploywatch_core::observer`, ...), as the firmware and host use them.
+pub use monitor::{
+    encoder, faults, latch, margin, observer, plausibility, predictor, rollout, smoother, standards,
+};
+pub use physics::{chain, friction, linalg, real, spring, torque_table, trig};
 
-pub use faults::{Fault, FaultFlags};
-pub use latch::LatchState;
+pub use physics::chain::{
+    Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel,
+};
+pub use physics::friction::Friction;
+pub use physics::real::Real;
+pub use physics::spring::{Branch, Curve, Fold, Interp, Spring, TapePoints};
+pub use physics::torque_table::{Table, TableError, TorqueTable};
+
+pub use monitor::faults::{Fault, FaultFlags};
+pub use monitor::latch::LatchState;
 pub use monitor::{
     JointConfig, JointStatus, Monitor, MonitorConfig, Observability, Prediction, Sample, Status,
 };

@@ -29,8 +29,8 @@
 
 use embedded_hal::spi::SpiDevice;
 
-pub use crate::encoder::COUNTS_PER_TURN;
-use crate::encoder::{FrameError, DATA_MASK};
+pub use crate::monitor::encoder::COUNTS_PER_TURN;
+use crate::monitor::encoder::{FrameError, DATA_MASK};
 
 /// Register addresses (14 bits).
 pub mod reg {
@@ -100,7 +100,7 @@ impl ErrorFlags {
     }
 }
 
-use crate::encoder::with_even_parity;
+use crate::monitor::encoder::with_even_parity;
 
 /// The command frame that reads register `addr` (parity included).
 pub const fn read_command(addr: u16) -> u16 {
@@ -108,9 +108,9 @@ pub const fn read_command(addr: u16) -> u16 {
 }
 
 /// Checks an answer frame and returns its 14 data bits.
-/// ([`crate::encoder::check_answer`]).
+/// ([`crate::monitor::encoder::check_answer`]).
 pub fn answer_data<E>(frame: u16) -> Result<u16, EncoderError<E>> {
-    crate::encoder::check_answer(frame).map_err(|e| match e {
+    crate::monitor::encoder::check_answer(frame).map_err(|e| match e {
         FrameError::Parity => EncoderError::Parity,
         FrameError::ErrorFlag => EncoderError::ErrorFlag,
     })
@@ -195,7 +195,7 @@ impl<SPI: SpiDevice> As5047p<SPI> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::encoder::ERROR_FLAG_BIT;
+    use crate::monitor::encoder::ERROR_FLAG_BIT;
     use embedded_hal::spi::{ErrorKind, ErrorType, Operation};
     use embedded_hal_mock::eh1::spi::{Mock, Transaction};
 

@@ -5,7 +5,7 @@
 //! depends on the wiring (a switch to ground with a pull-up reads low when
 //! closed), so the active level is part of the configuration. The driver
 //! reads the pin as it is: debouncing and the fusion with the encoder angle
-//! are the monitor's (`crate::latch`).
+//! are the monitor's (`crate::monitor::latch`).
 
 use embedded_hal::digital::InputPin;
 

@@ -15,10 +15,11 @@
 //! every replay. Everything else of the configuration is the core's default
 //! tuning, the same code on both sides.
 
-use crate::monitor::{JointConfig, MonitorConfig};
-use crate::observer::FrictionPrior;
-use crate::spring::{CurveError, Fold, Interp, MAX_KNOTS};
-use crate::{Curve, Panel, Spring, TapePoints};
+use crate::monitor::estimator::{JointConfig, MonitorConfig};
+use crate::monitor::observer::FrictionPrior;
+use crate::physics::chain::Panel;
+use crate::physics::spring::{Curve, Spring, TapePoints};
+use crate::physics::spring::{CurveError, Fold, Interp, MAX_KNOTS};
 use serde::{Deserialize, Serialize};
 
 /// The joint counts the firmware has a monitor for (`Monitor<N>` is

@@ -22,9 +22,9 @@
 //! A frame that does not decode stops the replay with its index: a replay
 //! input comes from a file, so a bad frame is a bad file, not line noise.
 
-use crate::monitor::MonitorConfig;
+use crate::monitor::estimator::MonitorConfig;
+use crate::monitor::estimator::{Monitor, Sample, Status};
 use crate::telemetry::{self, sample_frame_max, status_frame_max};
-use crate::{Monitor, Sample, Status};
 
 pub use super::config::{ConfigHeader, JointFrame, JOINT_COUNTS, MAX_JOINTS};
 use super::config::{CONFIG_HEADER_FRAME_MAX, CONFIG_VERSION, JOINT_FRAME_MAX};
@@ -312,8 +312,8 @@ where
 #[inline(never)]
 fn placeholder() -> Result<
     (
-        crate::Panel<f32>,
-        crate::monitor::JointConfig,
+        crate::physics::chain::Panel<f32>,
+        crate::monitor::estimator::JointConfig,
         MonitorConfig<0>,
     ),
     Error,
@@ -355,8 +355,8 @@ where
 #[inline(never)]
 fn read_joint<R>(
     src: &mut Source<R>,
-    panel: &mut crate::Panel<f32>,
-    joint: &mut crate::monitor::JointConfig,
+    panel: &mut crate::physics::chain::Panel<f32>,
+    joint: &mut crate::monitor::estimator::JointConfig,
 ) -> Result<(), Error>
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
@@ -649,12 +649,12 @@ impl From<MonitorConfig<3>> for ConfigStore {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::monitor::ConfigError;
+    use crate::monitor::estimator::ConfigError;
     use crate::ChainError;
 
     /// A chain of `N` equal panels on linear springs, stowed at 90°, 100°, …
     fn config<const N: usize>() -> MonitorConfig<N> {
-        crate::monitor::example_config()
+        crate::monitor::estimator::example_config()
     }
 
     /// A deployment at 100 Hz: every joint opens from its stowed angle to

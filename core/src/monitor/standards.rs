@@ -1,6 +1,6 @@
 //! Uncertainty factors of the flight standards for mechanism margins: the one
 //! definition that the host's design margin (`deploywatch margin`) and the
-//! on-board energy margin ([`crate::margin::UncertaintyFactors`]) both use.
+//! on-board energy margin ([`crate::monitor::margin::UncertaintyFactors`]) both use.
 //!
 //! ```text
 //! MoS = D_min / Σ_i (FoS_i · R_i) − 1  ≥  MoS_required

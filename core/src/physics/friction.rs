@@ -8,7 +8,7 @@
 //!
 //! The papers' equivalent friction torque (EFT) is `T_brk = T_C`, `f = 0`.
 
-use crate::real::Real;
+use crate::physics::real::Real;
 
 /// Default `ω_coul` [rad/s] of the smooth Coulomb sign.
 pub const COULOMB_THRESHOLD_RAD_S: f64 = 0.01;

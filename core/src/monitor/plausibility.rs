@@ -31,8 +31,8 @@
 //! the encoder stage of [`Monitor::update`](crate::Monitor::update), before
 //! the rate filter takes the reading.
 
-use crate::faults::Fault;
-use crate::observer::RateFilter;
+use crate::monitor::faults::Fault;
+use crate::monitor::observer::RateFilter;
 
 /// Predicted motion over one sample interval above which a repeated
 /// reading is stale [quantisation steps].

@@ -20,7 +20,7 @@
 //! single bad switch sample can neither declare nor — once confirmed — undo
 //! a latch.
 
-use crate::faults::{Fault, FaultFlags};
+use crate::monitor::faults::{Fault, FaultFlags};
 use serde::{Deserialize, Serialize};
 
 /// The latch state of a joint.

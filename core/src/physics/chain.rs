@@ -18,13 +18,13 @@
 //! `τ` are the joint torques (spring, friction, joint effects) and `Q_ext`
 //! the generalised forces of distributed effects (air drag, rig tilt),
 //! conjugate to the absolute angles. Locked joints are removed from the
-//! coordinates ([`crate::linalg::solve_spd_masked`]).
+//! coordinates ([`crate::physics::linalg::solve_spd_masked`]).
 
-use crate::friction::Friction;
-use crate::linalg::{mat_vec, solve_spd_masked, SolveError};
-use crate::real::Real;
-use crate::spring::{Branch, Spring};
-use crate::torque_table::TorqueTable;
+use crate::physics::friction::Friction;
+use crate::physics::linalg::{mat_vec, solve_spd_masked, SolveError};
+use crate::physics::real::Real;
+use crate::physics::spring::{Branch, Spring};
+use crate::physics::torque_table::TorqueTable;
 
 /// Half-width δ of the `latch_detent` zone [deg] (`physics.md` section 6).
 pub const DETENT_ZONE_DEG: f64 = 3.0;
@@ -56,7 +56,7 @@ pub struct JointEffects<T> {
     pub harness_nm_per_rad: T,
     /// `latch_detent`: adds `−T_d sign(φ) sin(2π|φ|/δ)` while `|φ| < δ` [N·m].
     pub detent_nm: T,
-    /// `torque_table`: adds `f(φ) + g(φ̇)` ([`crate::torque_table`]).
+    /// `torque_table`: adds `f(φ) + g(φ̇)` ([`crate::physics::torque_table`]).
     pub table: TorqueTable<T>,
 }
 
@@ -404,7 +404,7 @@ impl<T: Real, const N: usize> Chain<T, N> {
         t += jt.friction.torque(phi_dot);
         // `coulomb_friction` (physics.md 6): the EFT of the one friction law.
         if e.coulomb_nm != T::ZERO {
-            t += crate::friction::Friction::coulomb(e.coulomb_nm).torque(phi_dot);
+            t += crate::physics::friction::Friction::coulomb(e.coulomb_nm).torque(phi_dot);
         }
         t -= e.viscous_nms * phi_dot;
         t += e.harness_nm_per_rad * (jt.stowed_rad - phi);

@@ -24,7 +24,7 @@
 //! joints destroy part of it (`physics.md` §5), and their reactions can hold
 //! the joint back, so the balance errs towards a latch: a stall it predicts
 //! is a safe verdict, a latch is checked by the rollouts
-//! ([`crate::rollout`]). Its variance follows
+//! ([`crate::monitor::rollout`]). Its variance follows
 //! from the friction covariance and a relative spread of the spring energy:
 //!
 //! ```text
@@ -50,10 +50,10 @@
 //! ```
 //! over the whole remaining stroke `[x_c, x₀]`. The factors default to 1
 //! (a best estimate); the presets take the NASA-STD-5017 and ECSS-E-ST-33-01C
-//! factors from [`crate::standards`] (listed in `docs/margin.md`).
+//! factors from [`crate::monitor::standards`] (listed in `docs/margin.md`).
 
-use crate::spring::{Branch, Spring};
-use crate::standards;
+use crate::monitor::standards;
+use crate::physics::spring::{Branch, Spring};
 
 /// Steps of the energy march over the remaining stroke.
 pub const NODES: usize = 6;
@@ -86,7 +86,7 @@ impl UncertaintyFactors {
         viscous: 1.0,
     };
 
-    /// ECSS-E-ST-33-01C ([`crate::standards`]): the spring factor divides
+    /// ECSS-E-ST-33-01C ([`crate::monitor::standards`]): the spring factor divides
     /// the driving spring, inertia the kinetic energy, friction multiplies
     /// both friction energies.
     pub const ECSS_E_ST_33_01C: Self = UncertaintyFactors {
@@ -96,7 +96,7 @@ impl UncertaintyFactors {
         viscous: standards::ECSS_E_ST_33_01C_FRICTION as f32,
     };
 
-    /// NASA-STD-5017B ([`crate::standards`]): the driving spring
+    /// NASA-STD-5017B ([`crate::monitor::standards`]): the driving spring
     /// unfactored (the standard factors the resistances), inertia
     /// ("acceleration") divides the kinetic energy, friction ("variable")
     /// multiplies both friction energies.
@@ -242,7 +242,7 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
     let mut t_star_var = 0.0f32;
     let mut t_total = 0.0f32;
     let mut stalled = false;
-    let mut omega = crate::real::sqrtf(2.0 * e.max(0.0) / inertia);
+    let mut omega = crate::physics::real::sqrtf(2.0 * e.max(0.0) / inertia);
     let mut hi = x0;
     for i in 0..NODES {
         let lo = if i + 1 == NODES {
@@ -269,7 +269,7 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
                 t_star_var = var_a / (w_c * w_c);
             }
         }
-        let omega_next = crate::real::sqrtf(2.0 * e.max(0.0) / inertia);
+        let omega_next = crate::physics::real::sqrtf(2.0 * e.max(0.0) / inertia);
         if e <= 0.0 {
             stalled = true;
         } else {
@@ -292,7 +292,7 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
     };
     // P(T_C < T*) for T_C ~ N(T̂_C, σ²) truncated to T_C ≥ L (friction is
     // never negative, and never below the torque it exerts now).
-    let sd = crate::real::sqrtf((x.coulomb_var.max(0.0) + t_star_var).max(1e-12));
+    let sd = crate::physics::real::sqrtf((x.coulomb_var.max(0.0) + t_star_var).max(1e-12));
     let lower = x.coulomb_lower_nm.max(0.0);
     let p = truncated_below_cdf(t_star, tc, sd, lower);
     MarginResult {
@@ -411,7 +411,7 @@ mod tests {
             count: 1.0,
         };
         let r = evaluate(&s, &input(0.0), &SET);
-        let want = crate::real::sqrtf(2.0 * core::f32::consts::FRAC_PI_2);
+        let want = crate::physics::real::sqrtf(2.0 * core::f32::consts::FRAC_PI_2);
         let got = r.time_to_latch_s.unwrap();
         assert!((got - want).abs() < 0.08 * want, "{got} vs {want}");
     }

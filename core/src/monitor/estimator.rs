@@ -7,9 +7,9 @@
 //! 1. the time checks (NaN, backwards, gaps: [`Fault`] flags, never a panic);
 //! 2. the encoder checks and a kinematic Kalman filter per joint: angle and
 //!    rate from the 14-bit encoder, spikes gated out
-//!    ([`crate::observer::RateFilter`]);
+//!    ([`crate::monitor::observer::RateFilter`]);
 //! 3. the latch-state estimator per joint, switch fused with encoder
-//!    ([`crate::latch`]), and the plastic latch impulse on the rates;
+//!    ([`crate::monitor::latch`]), and the plastic latch impulse on the rates;
 //! 4. the sample queued for the friction learning (a bounded queue).
 //!
 //! [`Monitor::predict`] is the slow path (the idle loop or a low-priority
@@ -18,526 +18,41 @@
 //!
 //! 5. the generalised-momentum disturbance observer and RLS friction
 //!    estimate per free joint on the centred fit
-//!    ([`crate::observer::FrictionObserver`]);
+//!    ([`crate::monitor::observer::FrictionObserver`]);
 //! 6. the energy margin of the remaining stroke, one joint per learned
-//!    sample in turn ([`crate::margin`]);
+//!    sample in turn ([`crate::monitor::margin`]);
 //!
 //! — or, with the queue empty, advances the latch / stall prediction by one
-//! unit of rollout work ([`crate::predictor`]).
+//! unit of rollout work ([`crate::monitor::predictor`]).
 //!
 //! Everything is `f32`, fixed-size and heap-free; `size_of::<Monitor<3>>()`
 //! is under 4 KiB. `docs/monitor.md` has the equations and the tuning.
 
-use crate::chain::{Chain, ChainError, ChainState, GlobalEffects, JointEffects, Panel};
-use crate::faults::{Fault, FaultFlags};
-use crate::friction::Friction;
-use crate::latch::{LatchConfig, LatchInput, LatchState, LatchTracker};
-use crate::linalg::{articulated_inertia, solve_spd_masked};
-use crate::margin::{self, MarginInput, MarginResult, MarginSettings, UncertaintyFactors};
-use crate::observer::{
-    momentum_terms, FrictionEstimate, FrictionObserver, FrictionPrior, Fusion, JerkAdaptation,
-    ObserverInput, ObserverTuning, RateFilter,
+pub use crate::monitor::config::{
+    ConfigError, JointConfig, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
+    ENCODER_RANGE_DEG,
 };
-use crate::plausibility::{Reading, ReadingCheck, Verdict};
-use crate::predictor::{FrictionBelief, PredictionQuery, Predictor};
-use crate::rollout::RolloutConfig;
-use crate::smoother::{Centre, CentredFit};
-use crate::spring::{Branch, Spring};
+use crate::monitor::faults::{Fault, FaultFlags};
+use crate::monitor::latch::{LatchConfig, LatchInput, LatchState, LatchTracker};
+use crate::monitor::margin::{self, MarginInput, MarginResult, MarginSettings};
+use crate::monitor::observer::{
+    momentum_terms, FrictionEstimate, FrictionObserver, FrictionPrior, Fusion, ObserverInput,
+    RateFilter,
+};
+use crate::monitor::plausibility::{Reading, ReadingCheck, Verdict};
+pub use crate::monitor::predictor::Prediction;
+use crate::monitor::predictor::{FrictionBelief, PredictionQuery, Predictor};
+use crate::monitor::smoother::{Centre, CentredFit};
+pub use crate::monitor::status::{
+    JointStatus, Observability, Sample, Status, OBSERVED_PRIOR_SHARE, VISCOUS_RESOLVED_SD,
+};
+use crate::physics::chain::{Chain, ChainState, GlobalEffects, JointEffects};
+use crate::physics::friction::Friction;
+use crate::physics::linalg::{articulated_inertia, solve_spd_masked};
+use crate::physics::spring::{Branch, Spring};
 use heapless::Deque;
-use serde::{Deserialize, Serialize};
 
 const DEG: f32 = core::f32::consts::PI / 180.0;
-
-/// Largest encoder reading accepted [deg]; beyond it a reading is a fault.
-pub const ENCODER_RANGE_DEG: f32 = 720.0;
-
-/// One sample of the sensors.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Sample<const N: usize> {
-    /// Time stamp [s].
-    pub t_s: f32,
-    /// Encoder angle of each joint [deg]; NaN for a missing reading.
-    #[serde(with = "crate::telemetry::array")]
-    pub phi_deg: [f32; N],
-    /// Latch switch of each joint (true = closed).
-    #[serde(with = "crate::telemetry::array")]
-    pub latch: [bool; N],
-}
-
-impl<const N: usize> Sample<N> {
-    /// A sample.
-    pub const fn new(t_s: f32, phi_deg: [f32; N], latch: [bool; N]) -> Self {
-        Sample {
-            t_s,
-            phi_deg,
-            latch,
-        }
-    }
-}
-
-/// The latch / stall prediction of a joint.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Prediction {
-    /// Not decided at the configured confidence.
-    #[default]
-    Unknown,
-    /// Will latch (or has latched).
-    Latch,
-    /// Will stall short of the latch.
-    Stall,
-}
-
-impl Prediction {
-    /// Every prediction.
-    pub const ALL: [Prediction; 3] = [Prediction::Unknown, Prediction::Latch, Prediction::Stall];
-
-    /// The name used in telemetry CSV and reports.
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            Prediction::Unknown => "unknown",
-            Prediction::Latch => "latch",
-            Prediction::Stall => "stall",
-        }
-    }
-
-    /// The prediction of a name written by [`Prediction::as_str`].
-    pub fn from_name(name: &str) -> Option<Self> {
-        Prediction::ALL.iter().copied().find(|p| p.as_str() == name)
-    }
-}
-
-impl core::fmt::Display for Prediction {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-/// Whether the measurements determine a parameter, or only its prior does.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Observability {
-    /// The prior still dominates, or the standard deviation is too wide
-    /// for the value to mean anything: the reported value and deviation
-    /// are the posterior's (an honest interval under an honest prior), and
-    /// the prediction does not use the value (`docs/monitor.md` §3.2).
-    #[default]
-    Unobservable,
-    /// The data determine it: the posterior variance is at most
-    /// [`OBSERVED_PRIOR_SHARE`] of the prior's and the standard deviation
-    /// at most [`VISCOUS_RESOLVED_SD`]; the prediction uses it.
-    Estimated,
-}
-
-impl Observability {
-    /// Every value.
-    pub const ALL: [Observability; 2] = [Observability::Unobservable, Observability::Estimated];
-
-    /// The name used in telemetry CSV and reports.
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            Observability::Unobservable => "unobservable",
-            Observability::Estimated => "estimated",
-        }
-    }
-
-    /// The value of a name written by [`Observability::as_str`].
-    pub fn from_name(name: &str) -> Option<Self> {
-        Observability::ALL
-            .iter()
-            .copied()
-            .find(|p| p.as_str() == name)
-    }
-
-    /// The verdict on a parameter of posterior variance `var` and prior
-    /// variance `prior_var`, resolved when its deviation is at most
-    /// `resolved_sd`.
-    pub fn of(var: f32, prior_var: f32, resolved_sd: f32) -> Self {
-        if var <= OBSERVED_PRIOR_SHARE * prior_var && var <= resolved_sd * resolved_sd {
-            Observability::Estimated
-        } else {
-            Observability::Unobservable
-        }
-    }
-}
-
-/// Largest share of the prior variance left once the data determine a
-/// parameter [1]: the data then carry at least three times the prior's
-/// information.
-pub const OBSERVED_PRIOR_SHARE: f32 = 0.25;
-
-/// Largest standard deviation of a viscous coefficient reported as
-/// estimated [N·m·s/rad]: a damping of 0.2 N·m·s/rad is then resolved at
-/// 2σ.
-pub const VISCOUS_RESOLVED_SD: f32 = 0.1;
-
-/// What the monitor knows about one joint.
-#[derive(Clone, Copy, Debug, PartialEq, Default, Serialize, Deserialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct JointStatus {
-    /// Estimated angle [deg].
-    pub phi_deg: f32,
-    /// Estimated rate [deg/s].
-    pub rate_deg_s: f32,
-    /// Estimated Coulomb friction torque `T_C` [N·m]; while `viscous` is
-    /// [`Observability::Unobservable`], the one conditioned on `f` = its
-    /// prior mean (the friction seen at the rates observed, what the
-    /// prediction uses).
-    pub coulomb_nm: f32,
-    /// Standard deviation of `T_C` [N·m].
-    pub coulomb_sd_nm: f32,
-    /// Estimated viscous coefficient `f` [N·m·s/rad].
-    pub viscous_nms: f32,
-    /// Standard deviation of `f` [N·m·s/rad].
-    pub viscous_sd_nms: f32,
-    /// Whether the data determine `f` ([`Observability::Estimated`]) or
-    /// not (`viscous_nms ± viscous_sd_nms` is then the posterior, wide,
-    /// and the prediction leaves `f` out).
-    pub viscous: Observability,
-    /// Disturbance-observer friction torque now (filtered) [N·m].
-    pub friction_torque_nm: f32,
-    /// Latch state.
-    pub latch: LatchState,
-    /// Torque margin of the remaining stroke, energy form, with the
-    /// configured uncertainty factors [%]; `None` once latched or before
-    /// the first evaluation.
-    pub margin_pct: Option<f32>,
-    /// Latch / stall prediction: the outcome of the nominal rollout
-    /// (`Unknown` until the first one has finished).
-    pub prediction: Prediction,
-    /// Confidence level of `prediction` [0, 1]: the configured level when
-    /// the bracketing rollout confirms it, 0.5 when it does not (the best
-    /// estimate only), 1 once latched, 0 when unknown.
-    pub confidence: f32,
-    /// Predicted time until the latch [s], from the nominal rollout; `None`
-    /// for a stall, once latched, or before the first rollout.
-    pub time_to_latch_s: Option<f32>,
-    /// Faults raised at this sample.
-    pub faults: FaultFlags,
-}
-
-/// The monitor's answer to one sample.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Status<const N: usize> {
-    /// Time stamp of the last sample used [s].
-    pub t_s: f32,
-    /// Samples used so far.
-    pub samples: u32,
-    /// Per joint.
-    #[serde(with = "crate::telemetry::array")]
-    pub joints: [JointStatus; N],
-}
-
-impl<const N: usize> Default for Status<N> {
-    fn default() -> Self {
-        Status {
-            t_s: 0.0,
-            samples: 0,
-            joints: [JointStatus::default(); N],
-        }
-    }
-}
-
-impl<const N: usize> Status<N> {
-    /// True when no joint has a fault flag.
-    pub fn is_clean(&self) -> bool {
-        self.joints.iter().all(|j| j.faults.is_empty())
-    }
-}
-
-/// One joint of the monitored mechanism.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct JointConfig {
-    /// Stowed angle [deg]; the latch angle is 0.
-    pub stowed_deg: f32,
-    /// The hinge spring (all hinges of the joint), as in the mechanism.
-    pub spring: Spring<f32>,
-    /// Capture angle `x_c` [deg]: below it the spring completes the latch
-    /// whatever the friction (a tape spring's θ_B; 0 for a linear spring).
-    pub capture_deg: f32,
-    /// Prior of the friction parameters.
-    pub prior: FrictionPrior,
-}
-
-/// The encoder.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SensorConfig {
-    /// White noise before quantisation, σ [deg].
-    pub encoder_sd_deg: f32,
-    /// Quantisation step [deg] (360/16384 for 14 bits).
-    pub encoder_step_deg: f32,
-    /// Consecutive identical readings after which the encoder is stuck
-    /// (flag `encoder_stuck`, readings not used until they change); 0
-    /// switches the check off. With σ = 0.02° of noise against a 0.022°
-    /// step a reading repeats with probability ≤ 0.42, so 20 in a row
-    /// happen by chance with probability ≈ 6·10⁻⁸.
-    pub stuck_samples: u16,
-}
-
-impl Default for SensorConfig {
-    fn default() -> Self {
-        SensorConfig {
-            encoder_sd_deg: 0.02,
-            encoder_step_deg: crate::encoder::STEP_DEG as f32,
-            stuck_samples: 20,
-        }
-    }
-}
-
-/// Tuning of the rate filter and the friction observer.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ObserverConfig {
-    /// Jerk spectral density of the rate filter at the start [rad²/s⁵].
-    pub jerk_psd: f32,
-    /// Its adaptation to the innovations.
-    pub jerk_adaptation: JerkAdaptation,
-    /// The same inside the snap zone of a tape spring [rad²/s⁵].
-    pub zone_jerk_psd: f32,
-    /// `|φ|` below which a free joint is in its snap zone [deg]: the spring
-    /// torque is too steep there for the model, so friction learning pauses.
-    pub snap_zone_deg: f32,
-    /// Innovation gate of the encoder [σ].
-    pub gate_sigma: f32,
-    /// Disturbance observer and RLS.
-    pub tuning: ObserverTuning,
-    /// Pause of the friction learning after a snap, latch or gap [s].
-    pub settle_s: f32,
-    /// Time step above which the samples around it are a gap [s].
-    pub max_gap_s: f32,
-    /// Smallest time step accepted [s].
-    pub min_dt_s: f32,
-}
-
-impl Default for ObserverConfig {
-    fn default() -> Self {
-        ObserverConfig {
-            jerk_psd: 1e-3,
-            jerk_adaptation: JerkAdaptation {
-                q_min: 1e-3,
-                q_max: 1e4,
-                high: 2.0,
-                low: 1.2,
-                weight: 0.05,
-            },
-            zone_jerk_psd: 1.0e7,
-            snap_zone_deg: 3.0,
-            gate_sigma: 6.0,
-            tuning: ObserverTuning {
-                bandwidth_per_s: 10.0,
-                coulomb_threshold_rad_s: crate::friction::COULOMB_THRESHOLD_RAD_S as f32,
-                coulomb_walk: 0.05,
-                viscous_walk: 1e-4,
-                residual_var_floor: 1e-4,
-            },
-            settle_s: 0.1,
-            max_gap_s: 0.1,
-            min_dt_s: 1e-4,
-        }
-    }
-}
-
-/// Settings of the margin and the prediction.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MarginConfig {
-    /// Uncertainty factors of the reported margin.
-    pub factors: UncertaintyFactors,
-    /// Confidence level of the latch / stall prediction: the rollouts bracket
-    /// the friction at `T̂_C ± zσ`, `Φ(z)` = this.
-    pub confidence: f32,
-    /// The forward simulations of the prediction.
-    pub rollout: RolloutConfig,
-    /// The deployment's deadline, from the first sample [s]: a joint that
-    /// latches later counts as stalled (the mechanism file's `duration_s`).
-    pub deadline_s: f32,
-    /// Relative standard deviation of the spring torques [1]: how far the
-    /// hinges may be from their curves. The prior spread of the friction
-    /// observer's spring-scale estimate `κ` (`docs/monitor.md` §3.2).
-    pub spring_sd_rel: f32,
-    /// Floor of the energy standard deviation [J].
-    pub energy_sd_floor_j: f32,
-}
-
-impl Default for MarginConfig {
-    fn default() -> Self {
-        MarginConfig {
-            factors: UncertaintyFactors::UNITY,
-            confidence: 0.9,
-            rollout: RolloutConfig {
-                dt_s: 0.02,
-                bracket_dt_s: 0.02,
-                steps_per_slice: 1,
-                slices_per_sample: 40,
-                horizon_s: 10.0,
-                coulomb_threshold_rad_s: crate::friction::COULOMB_THRESHOLD_RAD_S as f32,
-            },
-            deadline_s: 6.0,
-            spring_sd_rel: 0.05,
-            energy_sd_floor_j: 0.02,
-        }
-    }
-}
-
-/// Everything the monitor is configured with: the mechanism as fixed-size
-/// tables (the host converts it from the mechanism TOML) and the tuning.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MonitorConfig<const N: usize> {
-    /// Panels, bus outwards.
-    pub panels: [Panel<f32>; N],
-    /// Joints; joint j drives panel j.
-    pub joints: [JointConfig; N],
-    /// The encoder.
-    pub sensor: SensorConfig,
-    /// Rate filter and friction observer.
-    pub observer: ObserverConfig,
-    /// Latch-state estimator.
-    pub latch: LatchConfig,
-    /// Margin and prediction.
-    pub margin: MarginConfig,
-}
-
-impl<const N: usize> MonitorConfig<N> {
-    /// A configuration with the default tuning.
-    pub fn new(panels: [Panel<f32>; N], joints: [JointConfig; N]) -> Self {
-        MonitorConfig {
-            panels,
-            joints,
-            sensor: SensorConfig::default(),
-            observer: ObserverConfig::default(),
-            latch: LatchConfig::default(),
-            margin: MarginConfig::default(),
-        }
-    }
-}
-
-/// Why a configuration was rejected.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[non_exhaustive]
-pub enum ConfigError {
-    /// The panels do not make a chain.
-    Chain(ChainError),
-    /// Joint `index` (0-based) has a bad parameter.
-    Joint {
-        /// 0-based joint index.
-        index: usize,
-        /// Which parameter.
-        what: &'static str,
-    },
-    /// A tuning parameter is out of range.
-    Parameter(&'static str),
-}
-
-impl core::fmt::Display for ConfigError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            ConfigError::Chain(e) => write!(f, "monitor mechanism: {e}"),
-            ConfigError::Joint { index, what } => {
-                write!(
-                    f,
-                    "monitor joint {}: {what} must be a finite number in range",
-                    index + 1
-                )
-            }
-            ConfigError::Parameter(what) => write!(f, "monitor tuning: {what} is out of range"),
-        }
-    }
-}
-
-impl core::error::Error for ConfigError {}
-
-fn positive(v: f32) -> bool {
-    v.is_finite() && v > 0.0
-}
-
-fn non_negative(v: f32) -> bool {
-    v.is_finite() && v >= 0.0
-}
-
-impl<const N: usize> MonitorConfig<N> {
-    /// Checks every parameter.
-    pub fn validate(&self) -> Result<(), ConfigError> {
-        for (index, j) in self.joints.iter().enumerate() {
-            let checks: [(bool, &'static str); 6] = [
-                (
-                    j.stowed_deg.is_finite() && libm::fabsf(j.stowed_deg) <= ENCODER_RANGE_DEG,
-                    "stowed_deg",
-                ),
-                (non_negative(j.capture_deg), "capture_deg"),
-                (j.prior.coulomb_nm.is_finite(), "coulomb prior"),
-                (positive(j.prior.coulomb_sd_nm), "coulomb prior sd"),
-                (j.prior.viscous_nms.is_finite(), "viscous prior"),
-                (positive(j.prior.viscous_sd_nms), "viscous prior sd"),
-            ];
-            if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
-                return Err(ConfigError::Joint { index, what });
-            }
-        }
-        let o = &self.observer;
-        let t = &o.tuning;
-        let checks: [(bool, &'static str); 18] = [
-            (positive(self.sensor.encoder_sd_deg), "encoder_sd_deg"),
-            (
-                non_negative(self.sensor.encoder_step_deg),
-                "encoder_step_deg",
-            ),
-            (positive(o.jerk_psd), "jerk_psd"),
-            (
-                positive(o.jerk_adaptation.q_min)
-                    && o.jerk_adaptation.q_max >= o.jerk_adaptation.q_min
-                    && o.jerk_adaptation.q_max.is_finite()
-                    && positive(o.jerk_adaptation.low)
-                    && o.jerk_adaptation.high > o.jerk_adaptation.low
-                    && o.jerk_adaptation.high.is_finite()
-                    && o.jerk_adaptation.weight > 0.0
-                    && o.jerk_adaptation.weight <= 1.0,
-                "jerk_adaptation",
-            ),
-            (positive(o.zone_jerk_psd), "zone_jerk_psd"),
-            (non_negative(o.snap_zone_deg), "snap_zone_deg"),
-            (positive(o.gate_sigma), "gate_sigma"),
-            (positive(t.bandwidth_per_s), "bandwidth_per_s"),
-            (
-                positive(t.coulomb_threshold_rad_s),
-                "coulomb_threshold_rad_s",
-            ),
-            (
-                non_negative(t.coulomb_walk) && non_negative(t.viscous_walk),
-                "friction walk",
-            ),
-            (positive(t.residual_var_floor), "residual_var_floor"),
-            (non_negative(o.settle_s), "settle_s"),
-            (
-                positive(o.min_dt_s) && positive(o.max_gap_s) && o.max_gap_s > o.min_dt_s,
-                "time step limits",
-            ),
-            (self.margin.factors.is_valid(), "uncertainty factors"),
-            (
-                self.margin.confidence > 0.5 && self.margin.confidence < 1.0,
-                "confidence",
-            ),
-            (
-                positive(self.margin.rollout.dt_s)
-                    && positive(self.margin.rollout.bracket_dt_s)
-                    && positive(self.margin.rollout.horizon_s)
-                    && positive(self.margin.rollout.coulomb_threshold_rad_s),
-                "rollout",
-            ),
-            (positive(self.margin.deadline_s), "deadline_s"),
-            (
-                non_negative(self.margin.spring_sd_rel) && positive(self.margin.energy_sd_floor_j),
-                "margin spread",
-            ),
-        ];
-        if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
-            return Err(ConfigError::Parameter(what));
-        }
-        if !self.latch.is_valid() {
-            return Err(ConfigError::Parameter("latch thresholds"));
-        }
-        Ok(())
-    }
-}
 
 /// The on-board monitor of an `N`-joint deployment.
 #[derive(Clone, Debug)]
@@ -672,7 +187,7 @@ impl CachedSqrt {
     fn sqrt(&mut self, v: f32) -> f32 {
         if v != self.v {
             self.v = v;
-            self.root = crate::real::sqrtf(v.max(0.0));
+            self.root = crate::physics::real::sqrtf(v.max(0.0));
         }
         self.root
     }
@@ -1215,7 +730,7 @@ impl<const N: usize> Monitor<N> {
         }
         let sd = config.sensor.encoder_sd_deg * DEG;
         *meas_var = Self::meas_var(&config.sensor);
-        *meas_sd = crate::real::sqrtf(*meas_var);
+        *meas_sd = crate::physics::real::sqrtf(*meas_var);
         *sensor = config.sensor;
         *observer = config.observer;
         *latch_cfg = config.latch;
@@ -1763,7 +1278,7 @@ impl<const N: usize> Monitor<N> {
     /// margin, prediction). With the queue empty it advances the rollout
     /// in progress by up to `margin.rollout.steps_per_slice` units of work
     /// (a step of the chain, or a bounded piece of the creep quadrature:
-    /// [`crate::rollout::Rollout::advance`]), starts the next one when it
+    /// [`crate::monitor::rollout::Rollout::advance`]), starts the next one when it
     /// ends, and refreshes the prediction in the status.
     ///
     /// The sample-rate path ([`Monitor::update`]) neither learns nor runs a
@@ -1901,7 +1416,8 @@ impl<const N: usize> Monitor<N> {
             0.0
         };
         let bound = if bound
-            <= est.coulomb_nm + LOWER_BOUND_SIGMAS * crate::real::sqrtf(est.coulomb_var.max(0.0))
+            <= est.coulomb_nm
+                + LOWER_BOUND_SIGMAS * crate::physics::real::sqrtf(est.coulomb_var.max(0.0))
         {
             bound
         } else {
@@ -1922,7 +1438,7 @@ impl<const N: usize> Monitor<N> {
                 coulomb_var: est.coulomb_var,
                 coulomb_lower_nm: bound,
                 spring_scale: 1.0 + est.spring_scale_err,
-                spring_sd_rel: crate::real::sqrtf(est.spring_scale_var.max(0.0)),
+                spring_sd_rel: crate::physics::real::sqrtf(est.spring_scale_var.max(0.0)),
                 viscous_var: est.viscous_var,
                 cov: est.cov,
             },
@@ -1947,7 +1463,7 @@ fn finite(v: f32) -> f32 {
 /// 90°, 100°, …, with the default tuning: the unit tests' mechanism.
 #[cfg(test)]
 pub(crate) fn example_config<const N: usize>() -> MonitorConfig<N> {
-    let panel = Panel {
+    let panel = crate::physics::chain::Panel {
         length_m: 0.8,
         mass_kg: 4.0,
         com_m: 0.4,
@@ -1974,112 +1490,4 @@ pub(crate) fn example_config<const N: usize>() -> MonitorConfig<N> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn config() -> MonitorConfig<1> {
-        example_config()
-    }
-
-    #[test]
-    fn bad_time_stamps_are_flagged_and_resynchronised() {
-        let mut m = Monitor::new(&config()).unwrap();
-        m.update(&Sample::new(0.0, [90.0], [false]));
-        m.update(&Sample::new(0.01, [90.0], [false]));
-        let st = m.update(&Sample::new(f32::NAN, [90.0], [false]));
-        assert!(st.joints[0].faults.contains(Fault::TimeInvalid));
-        assert_eq!(st.samples, 2, "a sample with a bad time stamp is not used");
-        // A clock that jumps ahead (a gap), then back to where it was: the
-        // samples behind the jump are flagged and not used, until three in a
-        // row are adopted as the new time base.
-        let st = m.update(&Sample::new(5.0, [90.0], [false]));
-        assert!(st.joints[0].faults.contains(Fault::TimeGap));
-        assert_eq!(st.samples, 3);
-        for (k, t) in [0.02f32, 0.03].iter().enumerate() {
-            let st = m.update(&Sample::new(*t, [90.0], [false]));
-            assert!(st.joints[0].faults.contains(Fault::TimeBackwards), "{k}");
-            assert_eq!(st.samples, 3);
-        }
-        let st = m.update(&Sample::new(0.04, [90.0], [false]));
-        assert!(st.joints[0].faults.contains(Fault::TimeBackwards));
-        assert!(st.joints[0].faults.contains(Fault::TimeGap));
-        assert_eq!(st.samples, 4, "adopted");
-        let st = m.update(&Sample::new(0.05, [90.0], [false]));
-        assert!(st.joints[0].faults.is_empty(), "{}", st.joints[0].faults);
-    }
-
-    /// A 1-joint deployment at 100 Hz: `φ = 90° − 20 t²` [deg].
-    fn swing(k: usize) -> Sample<1> {
-        let t = 0.01 * k as f32;
-        Sample::new(t, [90.0 - 20.0 * t * t], [false])
-    }
-
-    #[test]
-    fn a_starved_slow_path_drops_the_oldest_samples_and_says_so() {
-        let mut m = Monitor::new(&config()).unwrap();
-        for k in 0..100 {
-            m.update_and_predict(&swing(k));
-        }
-        assert_eq!(m.learning_overruns(), 0, "the replay schedule keeps up");
-        let learned = m.status().samples;
-        assert!(m.status().joints[0].margin_pct.is_some(), "learned");
-        // 10 samples with no slice of the slow path: the queue keeps the
-        // last LEARNING_QUEUE of them and counts the rest.
-        for k in 100..110 {
-            m.update(&swing(k));
-        }
-        assert_eq!(m.learning_overruns() as usize, 10 - LEARNING_QUEUE);
-        assert_eq!(m.status().samples, learned + 10, "every sample is used");
-        // The next sample still finds the queue full (one more dropped);
-        // then the slow path catches up and learns on, with finite
-        // estimates.
-        for k in 110..200 {
-            let st = m.update_and_predict(&swing(k));
-            let j = &st.joints[0];
-            assert!(j.coulomb_nm.is_finite() && j.coulomb_sd_nm.is_finite());
-            assert!(j.faults.is_empty(), "{k}: {}", j.faults);
-        }
-        assert_eq!(m.learning_overruns() as usize, 11 - LEARNING_QUEUE);
-        assert!(m.status().joints[0].margin_pct.is_some());
-    }
-
-    #[test]
-    fn missing_reading_is_flagged_and_estimates_stay_finite() {
-        let mut m = Monitor::new(&config()).unwrap();
-        m.update(&Sample::new(0.0, [90.0], [false]));
-        let st = m.update(&Sample::new(0.01, [f32::NAN], [false]));
-        assert!(st.joints[0].faults.contains(Fault::EncoderMissing));
-        let st = m.update(&Sample::new(0.02, [1e30], [false]));
-        assert!(st.joints[0].faults.contains(Fault::EncoderRange));
-        assert!(st.joints[0].phi_deg.is_finite() && (st.joints[0].phi_deg - 90.0).abs() < 1.0);
-    }
-
-    #[test]
-    fn config_errors_name_the_parameter() {
-        let mut c = config();
-        c.joints[0].prior.coulomb_sd_nm = f32::NAN;
-        assert_eq!(
-            Monitor::new(&c).err(),
-            Some(ConfigError::Joint {
-                index: 0,
-                what: "coulomb prior sd"
-            })
-        );
-        let mut c = config();
-        c.margin.confidence = 1.5;
-        assert_eq!(
-            Monitor::new(&c).err(),
-            Some(ConfigError::Parameter("confidence"))
-        );
-        let mut c = config();
-        c.panels[0].mass_kg = 0.0;
-        assert!(matches!(Monitor::new(&c), Err(ConfigError::Chain(_))));
-    }
-
-    #[test]
-    fn prediction_names_round_trip() {
-        for p in Prediction::ALL {
-            assert_eq!(Prediction::from_name(p.as_str()), Some(p));
-        }
-    }
-}
+mod tests;

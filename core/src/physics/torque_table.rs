@@ -13,7 +13,7 @@
 //! Tables are fixed-size ([`TABLE_MAX_KNOTS`] points) so that the chain,
 //! which the on-board monitor also holds, stays heap-free and small.
 
-use crate::real::Real;
+use crate::physics::real::Real;
 
 /// Most points of one table. A discovered torque uses a handful; eight keep
 /// `JointEffects` small enough for the monitor's 4 KiB budget.

@@ -5,7 +5,7 @@
 //! side with zero: the free block is then solved exactly as if the locked
 //! coordinates were not there (`physics.md` section 5).
 
-use crate::real::Real;
+use crate::physics::real::Real;
 
 /// Why a solve failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,5 +1,5 @@
 //! The latch / stall prediction as a resumable computation: the cycle of
-//! rollouts ([`crate::rollout`]) that [`crate::Monitor::predict`] advances
+//! rollouts ([`crate::monitor::rollout`]) that [`crate::Monitor::predict`] advances
 //! slice by slice, at a lower priority than the sample path.
 //!
 //! The sample path ([`crate::Monitor::update`]) hands the predictor the
@@ -18,12 +18,49 @@
 //! early if they all latch). A bracket that would confirm nothing is not
 //! run. [`Predictor::refreshes`] counts the completed cycles.
 
-use crate::chain::{Chain, ChainState};
-use crate::margin::MarginResult;
-use crate::monitor::Prediction;
-use crate::rollout::{
+use crate::monitor::margin::MarginResult;
+use crate::monitor::rollout::{
     normal_quantile, Bracket, JointOutcome, Rollout, RolloutConfig, RolloutStart,
 };
+use crate::physics::chain::{Chain, ChainState};
+use serde::{Deserialize, Serialize};
+/// The latch / stall prediction of a joint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Prediction {
+    /// Not decided at the configured confidence.
+    #[default]
+    Unknown,
+    /// Will latch (or has latched).
+    Latch,
+    /// Will stall short of the latch.
+    Stall,
+}
+
+impl Prediction {
+    /// Every prediction.
+    pub const ALL: [Prediction; 3] = [Prediction::Unknown, Prediction::Latch, Prediction::Stall];
+
+    /// The name used in telemetry CSV and reports.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Prediction::Unknown => "unknown",
+            Prediction::Latch => "latch",
+            Prediction::Stall => "stall",
+        }
+    }
+
+    /// The prediction of a name written by [`Prediction::as_str`].
+    pub fn from_name(name: &str) -> Option<Self> {
+        Prediction::ALL.iter().copied().find(|p| p.as_str() == name)
+    }
+}
+
+impl core::fmt::Display for Prediction {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
 
 /// What the monitor believes of one joint's friction and spring when a
 /// rollout starts (the friction observer's estimate, `docs/monitor.md`
@@ -214,10 +251,10 @@ impl<const N: usize> Predictor<N> {
         for j in 0..N {
             let e = belief(j);
             // More friction goes with weaker springs, and less with stronger.
-            let sd_k = crate::real::sqrtf(e.spring_scale_var.max(0.0));
+            let sd_k = crate::physics::real::sqrtf(e.spring_scale_var.max(0.0));
             spring[j] = (1.0 + e.spring_scale_err - sign * z * sd_k).max(0.0);
-            let sd_c = crate::real::sqrtf(e.coulomb_var.max(0.0));
-            let sd_f = crate::real::sqrtf(e.viscous_var.max(0.0));
+            let sd_c = crate::physics::real::sqrtf(e.coulomb_var.max(0.0));
+            let sd_f = crate::physics::real::sqrtf(e.viscous_var.max(0.0));
             coulomb[j] = (e.coulomb_nm + sign * z * sd_c).max(0.0);
             viscous[j] = (e.viscous_nms + sign * z * sd_f).max(0.0);
             if next == Bracket::Optimistic && !locked[j] {

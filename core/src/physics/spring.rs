@@ -14,7 +14,7 @@
 //! method="akima")` does (the reference implementation's choice), and clamped
 //! to their end values outside the knots.
 
-use crate::real::Real;
+use crate::physics::real::Real;
 
 /// Most knots a tabulated branch may have.
 pub const MAX_KNOTS: usize = 16;

@@ -1,10 +1,10 @@
 //! The float type the chain equations are generic over.
 //!
 //! `f32` on board, `f64` on the host. Every transcendental function goes
-//! through [`libm`] or the core's own [`crate::trig`] on both targets, never
+//! through [`libm`] or the core's own [`crate::physics::trig`] on both targets, never
 //! through `std`: the host's glibc `sinf` and the MCU's would differ in the
 //! last bit, and the firmware replay must be bit-identical with the host run
-//! of the same core code. The `f32` sine and cosine are [`crate::trig`]'s
+//! of the same core code. The `f32` sine and cosine are [`crate::physics::trig`]'s
 //! (all `f32`, a few tens of instructions on a Cortex-M4F, where libm's
 //! `sinf`/`cosf` fall into software `f64`); the `f64` ones stay libm's, so
 //! the host simulator's accuracy is untouched.
@@ -44,9 +44,9 @@ pub trait Real:
     fn of(x: f64) -> Self;
     /// Converts to `f64` (exact).
     fn to_f64(self) -> f64;
-    /// Sine (`f32`: [`crate::trig`]; `f64`: libm).
+    /// Sine (`f32`: [`crate::physics::trig`]; `f64`: libm).
     fn sin(self) -> Self;
-    /// Cosine (`f32`: [`crate::trig`]; `f64`: libm).
+    /// Cosine (`f32`: [`crate::physics::trig`]; `f64`: libm).
     fn cos(self) -> Self;
     /// `(sin x, cos x)`, from one argument reduction where the type has one.
     #[inline]
@@ -123,15 +123,15 @@ impl Real for f32 {
     }
     #[inline]
     fn sin(self) -> Self {
-        crate::trig::sin(self)
+        crate::physics::trig::sin(self)
     }
     #[inline]
     fn cos(self) -> Self {
-        crate::trig::cos(self)
+        crate::physics::trig::cos(self)
     }
     #[inline]
     fn sin_cos(self) -> (Self, Self) {
-        crate::trig::sin_cos(self)
+        crate::physics::trig::sin_cos(self)
     }
     #[inline]
     fn sqrt(self) -> Self {

@@ -1,0 +1,305 @@
+//! The monitor's configuration: the chain, the sensors, the friction
+//! priors, the margin's factors and the prediction's settings, and their
+//! checks.
+
+use crate::monitor::latch::LatchConfig;
+use crate::monitor::margin::UncertaintyFactors;
+use crate::monitor::observer::{FrictionPrior, JerkAdaptation, ObserverTuning};
+use crate::monitor::rollout::RolloutConfig;
+use crate::physics::chain::{ChainError, Panel};
+use crate::physics::spring::Spring;
+
+/// Largest encoder reading accepted [deg]; beyond it a reading is a fault.
+pub const ENCODER_RANGE_DEG: f32 = 720.0;
+
+/// One joint of the monitored mechanism.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointConfig {
+    /// Stowed angle [deg]; the latch angle is 0.
+    pub stowed_deg: f32,
+    /// The hinge spring (all hinges of the joint), as in the mechanism.
+    pub spring: Spring<f32>,
+    /// Capture angle `x_c` [deg]: below it the spring completes the latch
+    /// whatever the friction (a tape spring's θ_B; 0 for a linear spring).
+    pub capture_deg: f32,
+    /// Prior of the friction parameters.
+    pub prior: FrictionPrior,
+}
+
+/// The encoder.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SensorConfig {
+    /// White noise before quantisation, σ [deg].
+    pub encoder_sd_deg: f32,
+    /// Quantisation step [deg] (360/16384 for 14 bits).
+    pub encoder_step_deg: f32,
+    /// Consecutive identical readings after which the encoder is stuck
+    /// (flag `encoder_stuck`, readings not used until they change); 0
+    /// switches the check off. With σ = 0.02° of noise against a 0.022°
+    /// step a reading repeats with probability ≤ 0.42, so 20 in a row
+    /// happen by chance with probability ≈ 6·10⁻⁸.
+    pub stuck_samples: u16,
+}
+
+impl Default for SensorConfig {
+    fn default() -> Self {
+        SensorConfig {
+            encoder_sd_deg: 0.02,
+            encoder_step_deg: crate::monitor::encoder::STEP_DEG as f32,
+            stuck_samples: 20,
+        }
+    }
+}
+
+/// Tuning of the rate filter and the friction observer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObserverConfig {
+    /// Jerk spectral density of the rate filter at the start [rad²/s⁵].
+    pub jerk_psd: f32,
+    /// Its adaptation to the innovations.
+    pub jerk_adaptation: JerkAdaptation,
+    /// The same inside the snap zone of a tape spring [rad²/s⁵].
+    pub zone_jerk_psd: f32,
+    /// `|φ|` below which a free joint is in its snap zone [deg]: the spring
+    /// torque is too steep there for the model, so friction learning pauses.
+    pub snap_zone_deg: f32,
+    /// Innovation gate of the encoder [σ].
+    pub gate_sigma: f32,
+    /// Disturbance observer and RLS.
+    pub tuning: ObserverTuning,
+    /// Pause of the friction learning after a snap, latch or gap [s].
+    pub settle_s: f32,
+    /// Time step above which the samples around it are a gap [s].
+    pub max_gap_s: f32,
+    /// Smallest time step accepted [s].
+    pub min_dt_s: f32,
+}
+
+impl Default for ObserverConfig {
+    fn default() -> Self {
+        ObserverConfig {
+            jerk_psd: 1e-3,
+            jerk_adaptation: JerkAdaptation {
+                q_min: 1e-3,
+                q_max: 1e4,
+                high: 2.0,
+                low: 1.2,
+                weight: 0.05,
+            },
+            zone_jerk_psd: 1.0e7,
+            snap_zone_deg: 3.0,
+            gate_sigma: 6.0,
+            tuning: ObserverTuning {
+                bandwidth_per_s: 10.0,
+                coulomb_threshold_rad_s: crate::physics::friction::COULOMB_THRESHOLD_RAD_S as f32,
+                coulomb_walk: 0.05,
+                viscous_walk: 1e-4,
+                residual_var_floor: 1e-4,
+            },
+            settle_s: 0.1,
+            max_gap_s: 0.1,
+            min_dt_s: 1e-4,
+        }
+    }
+}
+
+/// Settings of the margin and the prediction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MarginConfig {
+    /// Uncertainty factors of the reported margin.
+    pub factors: UncertaintyFactors,
+    /// Confidence level of the latch / stall prediction: the rollouts bracket
+    /// the friction at `T̂_C ± zσ`, `Φ(z)` = this.
+    pub confidence: f32,
+    /// The forward simulations of the prediction.
+    pub rollout: RolloutConfig,
+    /// The deployment's deadline, from the first sample [s]: a joint that
+    /// latches later counts as stalled (the mechanism file's `duration_s`).
+    pub deadline_s: f32,
+    /// Relative standard deviation of the spring torques [1]: how far the
+    /// hinges may be from their curves. The prior spread of the friction
+    /// observer's spring-scale estimate `κ` (`docs/monitor.md` §3.2).
+    pub spring_sd_rel: f32,
+    /// Floor of the energy standard deviation [J].
+    pub energy_sd_floor_j: f32,
+}
+
+impl Default for MarginConfig {
+    fn default() -> Self {
+        MarginConfig {
+            factors: UncertaintyFactors::UNITY,
+            confidence: 0.9,
+            rollout: RolloutConfig {
+                dt_s: 0.02,
+                bracket_dt_s: 0.02,
+                steps_per_slice: 1,
+                slices_per_sample: 40,
+                horizon_s: 10.0,
+                coulomb_threshold_rad_s: crate::physics::friction::COULOMB_THRESHOLD_RAD_S as f32,
+            },
+            deadline_s: 6.0,
+            spring_sd_rel: 0.05,
+            energy_sd_floor_j: 0.02,
+        }
+    }
+}
+
+/// Everything the monitor is configured with: the mechanism as fixed-size
+/// tables (the host converts it from the mechanism TOML) and the tuning.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MonitorConfig<const N: usize> {
+    /// Panels, bus outwards.
+    pub panels: [Panel<f32>; N],
+    /// Joints; joint j drives panel j.
+    pub joints: [JointConfig; N],
+    /// The encoder.
+    pub sensor: SensorConfig,
+    /// Rate filter and friction observer.
+    pub observer: ObserverConfig,
+    /// Latch-state estimator.
+    pub latch: LatchConfig,
+    /// Margin and prediction.
+    pub margin: MarginConfig,
+}
+
+impl<const N: usize> MonitorConfig<N> {
+    /// A configuration with the default tuning.
+    pub fn new(panels: [Panel<f32>; N], joints: [JointConfig; N]) -> Self {
+        MonitorConfig {
+            panels,
+            joints,
+            sensor: SensorConfig::default(),
+            observer: ObserverConfig::default(),
+            latch: LatchConfig::default(),
+            margin: MarginConfig::default(),
+        }
+    }
+}
+
+/// Why a configuration was rejected.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum ConfigError {
+    /// The panels do not make a chain.
+    Chain(ChainError),
+    /// Joint `index` (0-based) has a bad parameter.
+    Joint {
+        /// 0-based joint index.
+        index: usize,
+        /// Which parameter.
+        what: &'static str,
+    },
+    /// A tuning parameter is out of range.
+    Parameter(&'static str),
+}
+
+impl core::fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ConfigError::Chain(e) => write!(f, "monitor mechanism: {e}"),
+            ConfigError::Joint { index, what } => {
+                write!(
+                    f,
+                    "monitor joint {}: {what} must be a finite number in range",
+                    index + 1
+                )
+            }
+            ConfigError::Parameter(what) => write!(f, "monitor tuning: {what} is out of range"),
+        }
+    }
+}
+
+impl core::error::Error for ConfigError {}
+
+fn positive(v: f32) -> bool {
+    v.is_finite() && v > 0.0
+}
+
+fn non_negative(v: f32) -> bool {
+    v.is_finite() && v >= 0.0
+}
+
+impl<const N: usize> MonitorConfig<N> {
+    /// Checks every parameter.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        for (index, j) in self.joints.iter().enumerate() {
+            let checks: [(bool, &'static str); 6] = [
+                (
+                    j.stowed_deg.is_finite() && libm::fabsf(j.stowed_deg) <= ENCODER_RANGE_DEG,
+                    "stowed_deg",
+                ),
+                (non_negative(j.capture_deg), "capture_deg"),
+                (j.prior.coulomb_nm.is_finite(), "coulomb prior"),
+                (positive(j.prior.coulomb_sd_nm), "coulomb prior sd"),
+                (j.prior.viscous_nms.is_finite(), "viscous prior"),
+                (positive(j.prior.viscous_sd_nms), "viscous prior sd"),
+            ];
+            if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
+                return Err(ConfigError::Joint { index, what });
+            }
+        }
+        let o = &self.observer;
+        let t = &o.tuning;
+        let checks: [(bool, &'static str); 18] = [
+            (positive(self.sensor.encoder_sd_deg), "encoder_sd_deg"),
+            (
+                non_negative(self.sensor.encoder_step_deg),
+                "encoder_step_deg",
+            ),
+            (positive(o.jerk_psd), "jerk_psd"),
+            (
+                positive(o.jerk_adaptation.q_min)
+                    && o.jerk_adaptation.q_max >= o.jerk_adaptation.q_min
+                    && o.jerk_adaptation.q_max.is_finite()
+                    && positive(o.jerk_adaptation.low)
+                    && o.jerk_adaptation.high > o.jerk_adaptation.low
+                    && o.jerk_adaptation.high.is_finite()
+                    && o.jerk_adaptation.weight > 0.0
+                    && o.jerk_adaptation.weight <= 1.0,
+                "jerk_adaptation",
+            ),
+            (positive(o.zone_jerk_psd), "zone_jerk_psd"),
+            (non_negative(o.snap_zone_deg), "snap_zone_deg"),
+            (positive(o.gate_sigma), "gate_sigma"),
+            (positive(t.bandwidth_per_s), "bandwidth_per_s"),
+            (
+                positive(t.coulomb_threshold_rad_s),
+                "coulomb_threshold_rad_s",
+            ),
+            (
+                non_negative(t.coulomb_walk) && non_negative(t.viscous_walk),
+                "friction walk",
+            ),
+            (positive(t.residual_var_floor), "residual_var_floor"),
+            (non_negative(o.settle_s), "settle_s"),
+            (
+                positive(o.min_dt_s) && positive(o.max_gap_s) && o.max_gap_s > o.min_dt_s,
+                "time step limits",
+            ),
+            (self.margin.factors.is_valid(), "uncertainty factors"),
+            (
+                self.margin.confidence > 0.5 && self.margin.confidence < 1.0,
+                "confidence",
+            ),
+            (
+                positive(self.margin.rollout.dt_s)
+                    && positive(self.margin.rollout.bracket_dt_s)
+                    && positive(self.margin.rollout.horizon_s)
+                    && positive(self.margin.rollout.coulomb_threshold_rad_s),
+                "rollout",
+            ),
+            (positive(self.margin.deadline_s), "deadline_s"),
+            (
+                non_negative(self.margin.spring_sd_rel) && positive(self.margin.energy_sd_floor_j),
+                "margin spread",
+            ),
+        ];
+        if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
+            return Err(ConfigError::Parameter(what));
+        }
+        if !self.latch.is_valid() {
+            return Err(ConfigError::Parameter("latch thresholds"));
+        }
+        Ok(())
+    }
+}

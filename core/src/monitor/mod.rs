@@ -1,0 +1,25 @@
+//! The on-board monitor: what the sensors say about a deployment while it
+//! runs. [`estimator`] holds the [`Monitor`] (its configuration, the sample
+//! path `update` and the slow path `predict`); it is made of the friction
+//! observer ([`observer`], on the centred fit of [`smoother`]), the latch
+//! tracker ([`latch`]), the reading checks ([`plausibility`], [`faults`],
+//! [`encoder`]), the torque margin ([`margin`], factors of [`standards`])
+//! and the latch / stall prediction ([`predictor`] over [`rollout`]).
+//! `core/README.md` maps the two paths.
+
+pub mod config;
+pub mod encoder;
+pub mod estimator;
+pub mod faults;
+pub mod latch;
+pub mod margin;
+pub mod observer;
+pub mod plausibility;
+pub mod predictor;
+pub mod rollout;
+pub(crate) mod serde_array;
+pub mod smoother;
+pub mod standards;
+pub mod status;
+
+pub use estimator::*;

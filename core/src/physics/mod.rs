@@ -1,0 +1,15 @@
+//! The panel chain's physics (`docs/spec/physics.md`), written once and
+//! generic over the float type ([`real::Real`]: `f32` on board, `f64` in the
+//! host simulator): the chain's mass matrix and equations of motion
+//! ([`chain`]), the hinge springs ([`spring`]), the friction law
+//! ([`friction`]), tabulated joint torques ([`torque_table`]), and the
+//! arithmetic they need ([`linalg`], [`trig`]). Nothing here knows about
+//! sensors or the monitor.
+
+pub mod chain;
+pub mod friction;
+pub mod linalg;
+pub mod real;
+pub mod spring;
+pub mod torque_table;
+pub mod trig;
