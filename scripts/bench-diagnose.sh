@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Times `deploywatch diagnose` (two runs at 100 Hz each unless said):
 # - the three bundled example campaigns;
-# - the two-cause campaign of issue 13 (seed001 T01 + T02, rig tilt
+# - the two-cause campaign (seed001 T01 + T02, rig tilt
 #   0.05 m/s² at 30° and Coulomb friction 0.8 N·m at joint 1);
 # - an unnamed torque (a rub at joint 2 of T01 + T02; torque discovery runs);
 # - a 10-run campaign (five T01 and five T02 runs with other noise seeds,

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Issue 14 item 2: core/src/linalg.rs against nalgebra's fixed-size, no_std
+# core/src/physics/linalg.rs against nalgebra's fixed-size, no_std
 # SMatrix/SVector, on the Cortex-M4F (thumbv7em-none-eabihf) under QEMU.
 # The experiment is experiments/linalg-nalgebra/ (its own workspace, excluded
-# from the root one); docs/performance.md, "nalgebra for linalg.rs (issue 14
-# item 2)", has the results and the decision.
+# from the root one); docs/performance.md, "nalgebra for linalg.rs", has the
+# results and the decision.
 #
 # Usage:
 #   scripts/linalg-eval.sh [PROFILE]     instructions per call (QEMU, -icount
@@ -177,7 +177,7 @@ firmware_eval() {
     fw_build
     cp "$elf" "$out/firmware-core.elf"
     echo "== the firmware with nalgebra's Cholesky in linalg.rs"
-    cp "$exp/firmware/linalg.rs" "$scratch/core/src/linalg.rs"
+    cp "$exp/firmware/linalg.rs" "$scratch/core/src/physics/linalg.rs"
     sed -i 's/^\[dependencies\]$/[dependencies]\nnalgebra = { version = "0.34", default-features = false, features = ["libm"] }/' \
         "$scratch/core/Cargo.toml"
     fw_build

@@ -1,4 +1,4 @@
-//! Hidden-effect tests of `diagnose` (issue 6).
+//! Hidden-effect tests of `diagnose`.
 //!
 //! A seeded generator draws each case: a mechanism pair (seed001 T01+T02 or
 //! seed000 case1+case3), zero, one or two effects of the vocabulary (joint and
@@ -470,7 +470,7 @@ fn effect_size_between(mechs: &[Mechanism], a: &[Effect], b: &[Effect]) -> f64 {
     (sse / n as f64).sqrt()
 }
 
-/// Issue 13: a campaign answer is never worse than the answers of its runs
+/// A campaign answer is never worse than the answers of its runs
 /// taken alone. Two causes (rig tilt and Coulomb friction at joint 1) on
 /// seed 001 T01 + T02: when each run alone is explained to the noise, the
 /// two runs together must be too, with the same causes.

@@ -1,4 +1,4 @@
-//! Fault-injection campaign of the on-board monitor (issue 7, item 3):
+//! Fault-injection campaign of the on-board monitor:
 //! every sensor fault of `deploywatch_sim::simulate::fault_injection` × the four reference
 //! mechanisms (nominal and with the papers' friction) × 3 sensor seeds.
 //!

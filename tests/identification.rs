@@ -1,4 +1,4 @@
-//! EFT identification (issue 5): the direct least-squares method and the
+//! EFT identification: the direct least-squares method and the
 //! response surface of seed 000 on runs simulated here with known friction
 //! and the reference sensor, and on example (a) of `shared/reference/examples`
 //! (bundled at `data/examples/a_seed001_eft`), produced by the independent

@@ -1,5 +1,5 @@
 //! The on-board monitor (`deploywatch_core::monitor`) on runs of the
-//! simulator with its reference sensor model (issue 3).
+//! simulator with its reference sensor model.
 
 use deploywatch_core::monitor::{
     Monitor, MonitorConfig, Observability, Prediction, Sample, Status,
@@ -261,9 +261,9 @@ fn monte_carlo(
     (runs_right, right)
 }
 
-/// The 200-run Monte-Carlo of issue 3, six times over independent draws:
+/// The 200-run Monte-Carlo, six times over independent draws:
 /// in each, the latch / stall prediction made at half stroke is right for
-/// every joint in ≥ 95 % of the runs (issue 3), and ≥ 98 % of the joint
+/// every joint in ≥ 95 % of the runs, and ≥ 98 % of the joint
 /// predictions are right. Rerun with `cargo test -p deploywatch-tests --test
 /// monitor monte_carlo -- --nocapture` (tables in docs/monitor.md §8;
 /// `MC_STEPS=0` runs the cheap variant, the one-joint energy balance only).
@@ -431,9 +431,8 @@ fn t01_friction_at_half_stroke(label: &str, faults: &[SensorFault]) {
 
 /// The same with 1 ms σ of time-stamp jitter (`faults::apply`'s
 /// `jitter:sigma=0.001`, clipped to ±4.5 ms): the Coulomb estimates at half
-/// stroke stay within 15 % (issue 14; it was 40 % before the observer
-/// learned on the centred fit of the stamped times), and the jitter is
-/// flagged.
+/// stroke stay within 15 % (the observer learns on the centred fit of the
+/// stamped times), and the jitter is flagged.
 #[test]
 fn t01_friction_within_15_percent_at_half_stroke_with_1_ms_jitter() {
     t01_friction_at_half_stroke("jitter, ", &[SensorFault::TimeJitter { sigma_s: 0.001 }]);
@@ -763,7 +762,7 @@ fn assert_clean<const N: usize>(label: &str, mech: &Mechanism, run: &Run) {
 
 /// Every bundled reference and example run (no fault injected) replays
 /// without a single fault flag: a flight monitor that cries wolf on every
-/// deployment is ignored (issue 14).
+/// deployment is ignored.
 #[test]
 fn clean_reference_and_example_runs_raise_no_fault_flag() {
     let data = data_dir();
@@ -873,7 +872,8 @@ fn clean_monte_carlo_at_1_khz_raises_no_fault_flag() {
     clean_monte_carlo(1000.0, MC_RUNS, 7, 5000);
 }
 
-/// Issue 14's bound on the time between two full predictions [s].
+/// The required bound on the delay before a change of estimate is in a
+/// completed full prediction [s].
 const REFRESH_LIMIT_S: f64 = 0.5;
 
 /// How fresh the prediction is: replaying seed001 T01 and T02 with the
@@ -887,8 +887,8 @@ const REFRESH_LIMIT_S: f64 = 0.5;
 /// the next one: the worst delay before a change of estimate is in a
 /// completed full prediction (a change just after a cycle's nominal
 /// rollout started waits for the next cycle; a cycle starts at the latest
-/// when the one before it ends). Issue 14 asks for the full prediction
-/// refreshed ≤ 0.5 s after any change of estimate ([`REFRESH_LIMIT_S`]):
+/// when the one before it ends). The full prediction must be refreshed
+/// ≤ 0.5 s after any change of estimate ([`REFRESH_LIMIT_S`]):
 /// the test asserts it of the worst delay, which bounds the time between
 /// two refreshes too. The printout is the figure in docs/performance.md.
 #[test]
@@ -954,8 +954,7 @@ fn full_prediction_refresh_cycle() {
 /// the default monitor configuration (viscous prior `0 ± 1`,
 /// `monitor_config::VISCOUS_PRIOR_SD_NMS`).
 ///
-/// At half stroke and 0.2 s before each latch the status says which
-/// (issue 14): a joint `estimated` has its damping within 20 % of a truth
+/// At half stroke and 0.2 s before each latch the status says which: a joint `estimated` has its damping within 20 % of a truth
 /// ≥ 0.2 (within 2 reported standard deviations of a truth of 0); a joint
 /// `unobservable` has the truth within 2 reported standard deviations (an
 /// honest uncertainty). Joint 3 (no Coulomb friction, the fastest stroke)

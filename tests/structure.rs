@@ -623,23 +623,75 @@ fn check_crate(root: &str, rule: &Layers) -> Vec<String> {
     out
 }
 
-fn assert_clean(found: Vec<String>) {
+/// Findings not resolved yet, each `(file, what)`: the file below the
+/// repository root and `"lines"` (the file's size) or `"fn NAME"`. The
+/// list only shrinks: a finding not in it fails the test, and so does an
+/// entry that no longer matches a finding (remove it).
+const NOT_YET: &[(&str, &str)] = &[
+    ("core/monitor/config.rs", "fn validate"),
+    ("core/monitor/estimator.rs", "lines"),
+    ("core/monitor/latch.rs", "fn step"),
+    ("core/monitor/margin.rs", "fn evaluate"),
+    ("core/monitor/rollout.rs", "fn step"),
+    ("core/monitor/rollout.rs", "fn run"),
+];
+
+/// True when `finding` is the entry `(file, what)` of [`NOT_YET`].
+fn is_entry(finding: &str, (file, what): (&str, &str)) -> bool {
+    let Some(rest) = finding.strip_prefix(file) else {
+        return false;
+    };
+    match what {
+        "lines" => {
+            rest.starts_with(": ") && rest.ends_with(&format!("lines (at most {MAX_FILE_LINES})"))
+        }
+        name => rest.starts_with(':') && rest.contains(&format!(": {name} is ")),
+    }
+}
+
+/// Fails with every finding of crate `root` outside [`NOT_YET`], and with
+/// every entry of [`NOT_YET`] under `root` that no finding matches.
+fn assert_clean(root: &str, found: Vec<String>) {
+    let new: Vec<&str> = found
+        .iter()
+        .map(String::as_str)
+        .filter(|f| !NOT_YET.iter().any(|&e| is_entry(f, e)))
+        .collect();
+    let gone: Vec<&(&str, &str)> = NOT_YET
+        .iter()
+        .filter(|(file, _)| file.starts_with(&format!("{root}/")))
+        .filter(|&&e| !found.iter().any(|f| is_entry(f, e)))
+        .collect();
     assert!(
-        found.is_empty(),
-        "{} findings:\n{}",
-        found.len(),
-        found.join("\n")
+        new.is_empty() && gone.is_empty(),
+        "{} findings:\n{}\nentries of NOT_YET resolved (remove them): {gone:?}",
+        new.len(),
+        new.join("\n")
     );
 }
 
 #[test]
 fn host_sim_layers_point_one_way_without_cycles_or_long_code() {
-    assert_clean(check_crate("host-sim", &HOST));
+    assert_clean("host-sim", check_crate("host-sim", &HOST));
 }
 
 #[test]
 fn core_layers_point_one_way_without_cycles_or_long_code() {
-    assert_clean(check_crate("core", &CORE));
+    assert_clean("core", check_crate("core", &CORE));
+}
+
+#[test]
+fn not_yet_entries_match_only_their_own_finding() {
+    let long_fn = "core/monitor/latch.rs:287: fn step is 164 lines (at most 80)";
+    let long_file = "core/monitor/estimator.rs: 1493 lines (at most 900)";
+    assert!(is_entry(long_fn, ("core/monitor/latch.rs", "fn step")));
+    assert!(!is_entry(long_fn, ("core/monitor/latch.rs", "fn step_one")));
+    assert!(!is_entry(long_fn, ("core/monitor/latch.rs", "lines")));
+    assert!(is_entry(long_file, ("core/monitor/estimator.rs", "lines")));
+    assert!(!is_entry(
+        "cycle: core/monitor/latch.rs:3 → x",
+        ("core/monitor/latch.rs", "lines")
+    ));
 }
 
 // The checker on small trees of its own, so that it can be seen to fail.

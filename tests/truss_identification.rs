@@ -1,4 +1,4 @@
-//! The paper's identification on the truss wing (issue 15, item 6): runs of
+//! The paper's identification on the truss wing: runs of
 //! the seed 000 truss wing (cases 2 and 3) simulated by the one truss
 //! simulator with known EFTs — EFT1 at hinge O, EFT2 at hinge I, EFT3 on
 //! each pin at node F (joint 3 of the truss wing) — read by the reference

@@ -1,4 +1,4 @@
-//! The on-board monitor on truss runs (issue 15, item 7): runs of the seed
+//! The on-board monitor on truss runs: runs of the seed
 //! 000 truss wing (cases 2 and 3, nominal and with the paper's EFT), made
 //! by the truss simulator and read by the reference sensor, replayed
 //! through the monitor, whose model is the two-panel chain of the same

@@ -1,4 +1,4 @@
-//! Hidden unnamed torques (issue 13): torques of forms no named effect of
+//! Hidden unnamed torques: torques of forms no named effect of
 //! `physics.md` section 6 has, hidden in seeded campaigns, beside named
 //! effects or alone, one or two per campaign.
 //!

@@ -5,7 +5,7 @@
 //!
 //! Before timing, the run is checked against its golden file
 //! (`data/reference/truss/seed000_case2_truss_eft.*`) with the bounds of
-//! issue 15 (as `tests/truss.rs` does): hinge angles within 0.01° RMS, ψ and
+//! `tests/truss.rs`: hinge angles within 0.01° RMS, ψ and
 //! the knees within 0.05° RMS, every lock instant within 1 ms. A faster run
 //! that is not accurate fails here instead of being timed.
 
@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Checks a run against the golden CSV/JSON pair `stem` and prints the
-/// errors; panics when a bound of issue 15 is exceeded.
+/// errors; panics when a bound of `tests/truss.rs` is exceeded.
 fn check_accuracy(run: &WingRun, dir: &Path, stem: &str) {
     let text = std::fs::read_to_string(dir.join(format!("{stem}.csv"))).expect("golden CSV");
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));

@@ -1,4 +1,4 @@
-//! What a new user ran into at the command line (issue 12, section 2), each
+//! What a new user runs into at the command line with bad input, each
 //! checked on the `deploywatch` binary as a black box: a clear error (exit
 //! code 2, the file, line and key named, what is allowed) and never a panic,
 //! or, for what used to be refused or to abort, the right result.

@@ -1,7 +1,6 @@
-//! What a new user ran into at the command line (issue 12, "What went wrong
-//! at the command line": outputs, `margin --from`, help texts, words instead
-//! of Rust debug output, `--quiet`, plots; issue 13 item 4: identify's
-//! residual warning). The `deploywatch` binary is run as a black box on the
+//! What a new user runs into at the command line with outputs: `margin
+//! --from`, help texts, words instead of Rust debug output, `--quiet`,
+//! plots, identify's residual warning. The `deploywatch` binary is run as a black box on the
 //! bundled data; every test checks the exit code, the message and that
 //! nothing panicked.
 

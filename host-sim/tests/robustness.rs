@@ -1,4 +1,4 @@
-//! Bad input to the host tools (issue 7, item 5; docs/robustness.md): a
+//! Bad input to the host tools (docs/robustness.md): a
 //! truncated or corrupt run file, a mechanism whose joint count does not
 //! match the run, angles out of physical range, a run that never moves,
 //! missing samples, bad `--fault` options. Each gives a clear error (exit

@@ -1,4 +1,4 @@
-//! `core/src/linalg.rs` with nalgebra in place of the L D Lᵀ code: NOT the
+//! `core/src/physics/linalg.rs` with nalgebra in place of the L D Lᵀ code: NOT the
 //! core's file. `scripts/linalg-eval.sh firmware` copies core/ and
 //! firmware-example/ to a scratch folder, puts this file in the copy's
 //! `src/linalg.rs`, adds nalgebra (no default features, libm) to the copy's

@@ -1,5 +1,5 @@
 //! `deploywatch_core::linalg` against nalgebra's fixed-size `SMatrix` /
-//! `SVector` (no std, no alloc, libm), issue 14 item 2.
+//! `SVector` (no std, no alloc, libm).
 //!
 //! Both implementations have the same signatures, on the core's row-major
 //! arrays, so that the same inputs go through both and the functions the

@@ -42,8 +42,8 @@ impl Default for PriorSpread {
 /// 2.63 N·m), so the prior says only that a viscous torque `f ω` at the
 /// rates of a deployment (≈ 1 rad/s at its fastest on seed001_T01) is not
 /// larger than the largest friction torque seen: 2.63 N·m at 1 rad/s is
-/// 2.6 σ. Tighter would be a claim the papers do not make (a true 0.3 read
-/// `0.06 ± 0.04` under a prior of 0.05, a 5 σ miss, issue 14); the
+/// 2.6 σ. Tighter would be a claim the papers do not make (under a prior of
+/// 0.05 a true 0.3 reads `0.06 ± 0.04`, a 5 σ miss); the
 /// prediction is unharmed by the width because it uses `f` only once the
 /// data resolve it (`docs/monitor.md` §3.2).
 pub const VISCOUS_PRIOR_SD_NMS: f64 = 1.0;

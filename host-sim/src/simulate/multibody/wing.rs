@@ -86,7 +86,7 @@ pub fn simulate_wing(mech: &Mechanism, opts: &SimOptions) -> Result<WingRun, Sim
 
 /// The golden trajectories of the truss wing (`data/reference/truss/`,
 /// `truss-link.md`): each angle column, the simulator's pin it is compared
-/// with and issue 15's RMS bound [deg].
+/// with and the RMS bound [deg] it must meet.
 pub const GOLDEN_COLUMNS: [(&str, &str, f64); 6] = [
     ("phi1_deg", "hinge 1", 0.01),
     ("phi2_deg", "hinge 2", 0.01),
