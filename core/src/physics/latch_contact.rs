@@ -243,7 +243,10 @@ impl<T: Real> PhysicalLatch<T> {
             }
         }
         let right = T::PI * T::of(0.5);
-        for (a, name) in [(p.entry_ramp_rad, "entry ramp"), (p.hold_ramp_rad, "hold ramp")] {
+        for (a, name) in [
+            (p.entry_ramp_rad, "entry ramp"),
+            (p.hold_ramp_rad, "hold ramp"),
+        ] {
             if !(a > T::ZERO && a < right) {
                 return Err(LatchError::Ramp(name));
             }
@@ -516,7 +519,11 @@ mod tests {
                         (l.potential_energy(phi + e) - l.potential_energy(phi - e)) / (2.0 * e);
                     let f = l.stop_force(phi, 0.0).elastic_n;
                     let tau = l.conservative_torque(phi) + l.stop_torque(f);
-                    assert!((tau + grad).abs() < 1e-5 * (1.0 + tau.abs()), "u={u}: {tau} vs {}", -grad);
+                    assert!(
+                        (tau + grad).abs() < 1e-5 * (1.0 + tau.abs()),
+                        "u={u}: {tau} vs {}",
+                        -grad
+                    );
                 }
                 u += 1.3e-4;
             }
@@ -531,7 +538,10 @@ mod tests {
         let f = l.stop_force(0.001, 0.0);
         let delta: f64 = 0.001 * 30.0;
         assert!((f.elastic_n - 37_000.0 * delta.powf(1.5)).abs() < 1e-9 * f.elastic_n);
-        assert!(l.stop_torque(f.applied_n()) < 0.0, "pushes φ back towards the stowed side");
+        assert!(
+            l.stop_torque(f.applied_n()) < 0.0,
+            "pushes φ back towards the stowed side"
+        );
         // Leaving fast: the raw force pulls, the applied one is zero.
         let leaving = l.stop_force(1e-6, -50.0);
         assert!(leaving.raw_n < 0.0 && leaving.applied_n() == 0.0);
@@ -545,8 +555,14 @@ mod tests {
         let c = l.plunger.crest_rad;
         let on_entry = c + 0.5 * l.entry_width_rad();
         let on_hold = c - 0.5 * l.hold_width_rad();
-        assert!(l.conservative_torque(on_entry) > 0.0, "resists the approach");
-        assert!(l.conservative_torque(on_hold) < 0.0, "pushes towards the stop");
+        assert!(
+            l.conservative_torque(on_entry) > 0.0,
+            "resists the approach"
+        );
+        assert!(
+            l.conservative_torque(on_hold) < 0.0,
+            "pushes towards the stop"
+        );
         let e = l.engagement_energy();
         assert!((e - (20.0 * 1.0 + 0.5 * 10.0) / 1000.0).abs() < 1e-15);
         let v_crest = l.potential_energy(c) - l.magnet_energy(c);

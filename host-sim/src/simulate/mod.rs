@@ -8,6 +8,7 @@
 pub mod deployment;
 pub mod fault_injection;
 pub mod fault_syntax;
+pub mod latch_deployment;
 pub mod multibody;
 pub mod ode;
 pub mod sensor;
