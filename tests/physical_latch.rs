@@ -289,3 +289,60 @@ fn bad_latch_keys_are_refused_with_their_line() {
         .to_string()
         .contains("model"));
 }
+
+/// The bundled latch runs: folder, file, mechanism, effects (their
+/// READMEs give the same `simulate` commands, `--seed 1`).
+const BUNDLED: [(&str, &str, &str, &[&str]); 4] = [
+    (
+        "latch_clean_bounce",
+        "seed001_T02.csv",
+        "seed001_T02_physical_latch.toml",
+        &[],
+    ),
+    (
+        "latch_escape_relatch",
+        "one_panel.csv",
+        "one_panel_physical_latch.toml",
+        &["plunger_weakening:joint=1:value=0.5"],
+    ),
+    (
+        "latch_ramp_stop",
+        "one_panel.csv",
+        "one_panel_physical_latch.toml",
+        &[],
+    ),
+    (
+        "latch_escape_never",
+        "seed001_T01.csv",
+        "seed001_T01_physical_latch.toml",
+        &[],
+    ),
+];
+
+#[test]
+fn bundled_latch_runs_are_what_their_commands_make() {
+    use deploywatch_sim::data::run::Run;
+    use deploywatch_sim::simulate::sensor::{self, SensorModel};
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data");
+    for (dir, file, mech_file, effects) in BUNDLED {
+        let run = Run::load(&data.join("examples").join(dir).join(file)).unwrap();
+        let mech = mechanism(mech_file);
+        assert_eq!(run.mechanism(), Some(mech.name.as_str()));
+        let out = self::run(&mech, effects, &SimOptions::default());
+        let again = sensor::measure(
+            &out.traj,
+            &vec![0.0; mech.joint_count()],
+            &SensorModel::REFERENCE,
+            1,
+        );
+        assert_eq!(again.latch, run.latch, "{dir}: the switch columns");
+        for j in 0..mech.joint_count() {
+            let worst = again.phi_deg[j]
+                .iter()
+                .zip(&run.phi_deg[j])
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(worst < 1e-5, "{dir} joint {}: {worst} deg", j + 1);
+        }
+    }
+}

@@ -609,9 +609,9 @@ fn latch_instants<const N: usize>(
                     .next();
             }
             let last_close = mine
-                .filter(|e| e.kind == LatchEventKind::Mark(LatchMark::Switch) && e.rate_rad_s < 0.0)
-                .map(|e| e.t_s)
-                .last();
+                .rev()
+                .find(|e| e.kind == LatchEventKind::Mark(LatchMark::Switch) && e.rate_rad_s < 0.0)
+                .map(|e| e.t_s);
             if closed_at_end {
                 last_close.or(Some(0.0))
             } else {
