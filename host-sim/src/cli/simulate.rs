@@ -127,6 +127,8 @@ fn check_args(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
         e.validate(mech.effect_joints())
             .map_err(|m| CliError::input(format!("--effect {e}: {m}")))?;
     }
+    latch_deployment::check_latch_effects(mech, &args.effects)
+        .map_err(|m| CliError::input(format!("--effect {m}")))?;
     for f in &args.faults {
         f.validate(mech.joint_count())
             .map_err(|m| CliError::input(format!("--fault {f}: {m}")))?;

@@ -21,6 +21,7 @@
 //! the file.
 
 use deploywatch_core::physics::latch_contact::{HertzStop, Magnet, PhysicalLatch, Plunger};
+use deploywatch_core::Real;
 use std::fmt::Write as _;
 use toml_edit::{ImDocument, Item, Value};
 
@@ -109,48 +110,51 @@ pub struct LatchSpec {
 const MM_PER_M: f64 = 1000.0;
 
 impl LatchSpec {
-    /// The core's latch for a joint stowed at `stowed_deg`, with the
+    /// The core's latch, in `f64` for the simulator or `f32` for the
+    /// on-board monitor, for a joint stowed at `stowed_deg`, with the
     /// plunger's preload and rate scaled by `plunger_scale` and the magnet's
     /// force by `magnet_scale` (`1 − weakening`).
-    pub fn to_core(
+    pub fn to_core<T: Real>(
         &self,
         stowed_deg: f64,
         plunger_scale: f64,
         magnet_scale: f64,
-    ) -> PhysicalLatch<f64> {
+    ) -> PhysicalLatch<T> {
         let (s, p) = (&self.stop, &self.plunger);
+        let mm = |x: f64| T::of(x / MM_PER_M);
+        let rad = |deg: f64| T::of(deg.to_radians());
         let magnet = match &self.magnet {
             Some(m) => Magnet {
-                force_n: m.force_n * magnet_scale,
-                decay_mm: m.decay_mm,
-                reach_mm: m.reach_mm,
-                radius_m: m.radius_mm / MM_PER_M,
+                force_n: T::of(m.force_n * magnet_scale),
+                decay_mm: T::of(m.decay_mm),
+                reach_mm: T::of(m.reach_mm),
+                radius_m: mm(m.radius_mm),
             },
             None => Magnet {
-                force_n: 0.0,
-                decay_mm: 1.0,
-                reach_mm: 0.0,
-                radius_m: s.radius_mm / MM_PER_M,
+                force_n: T::ZERO,
+                decay_mm: T::ONE,
+                reach_mm: T::ZERO,
+                radius_m: mm(s.radius_mm),
             },
         };
         PhysicalLatch {
-            side: if stowed_deg >= 0.0 { 1.0 } else { -1.0 },
+            side: if stowed_deg >= 0.0 { T::ONE } else { -T::ONE },
             stop: HertzStop {
-                stiffness_n_per_mm1_5: s.stiffness_n_per_mm1_5,
-                damping_ns_per_mm1_25: s.damping_ns_per_mm1_25,
-                radius_m: s.radius_mm / MM_PER_M,
+                stiffness_n_per_mm1_5: T::of(s.stiffness_n_per_mm1_5),
+                damping_ns_per_mm1_25: T::of(s.damping_ns_per_mm1_25),
+                radius_m: mm(s.radius_mm),
             },
             plunger: Plunger {
-                preload_n: p.preload_n * plunger_scale,
-                stiffness_n_per_mm: p.stiffness_n_per_mm * plunger_scale,
-                radius_m: p.radius_mm / MM_PER_M,
-                stroke_mm: p.stroke_mm,
-                crest_rad: p.crest_deg.to_radians(),
-                entry_ramp_rad: p.entry_ramp_deg.to_radians(),
-                hold_ramp_rad: p.hold_ramp_deg.to_radians(),
+                preload_n: T::of(p.preload_n * plunger_scale),
+                stiffness_n_per_mm: T::of(p.stiffness_n_per_mm * plunger_scale),
+                radius_m: mm(p.radius_mm),
+                stroke_mm: T::of(p.stroke_mm),
+                crest_rad: rad(p.crest_deg),
+                entry_ramp_rad: rad(p.entry_ramp_deg),
+                hold_ramp_rad: rad(p.hold_ramp_deg),
             },
             magnet,
-            switch_travel_rad: self.switch_travel_deg.to_radians(),
+            switch_travel_rad: rad(self.switch_travel_deg),
         }
     }
 }
@@ -384,7 +388,7 @@ fn latch_table(
         plunger,
         magnet,
     };
-    spec.to_core(1.0, 1.0, 1.0)
+    spec.to_core::<f64>(1.0, 1.0, 1.0)
         .check()
         .map_err(|why| t.err(path, &format!("a physical latch: {why}"), e.1.clone()))?;
     Ok(Some(spec))
