@@ -136,7 +136,8 @@ fn single_impact_restitution_matches_hunt_crossley_within_2_percent() {
 }
 
 /// Every bundled physical-latch scenario: mechanism, effects.
-const SCENARIOS: [(&str, &[&str]); 4] = [
+const SCENARIOS: [(&str, &[&str]); 5] = [
+    ("seed000_case1_physical_latch.toml", &[]),
     ("seed001_T02_physical_latch.toml", &[]),
     ("seed001_T01_physical_latch.toml", &[]),
     ("one_panel_physical_latch.toml", &[]),
