@@ -76,6 +76,8 @@ fn draw_effect(rng: &mut ChaCha8Rng, kind: EffectKind, joints: usize) -> Effect 
         EffectKind::LatchDetent => Effect::joint(kind, j, u(rng, 0.5, 2.0)),
         // Not drawn here: tests/unnamed_torque.rs draws its own tables.
         EffectKind::TorqueTable => Effect::joint(kind, j, 0.0),
+        // Never drawn: they act only on a physical latch (`EffectKind::LATCH`).
+        EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => Effect::joint(kind, j, 0.0),
     }
 }
 

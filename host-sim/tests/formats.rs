@@ -28,10 +28,12 @@ fn files(dir: &Path, ext: &str) -> Vec<PathBuf> {
 fn mechanisms() -> Vec<Mechanism> {
     // The truss wings (`*_truss*.toml`) are tested in tests/truss.rs and
     // host-sim/tests/truss_cli.rs; the project's own
-    // `reliability_one_panel.toml` (not a seed mechanism) in tests/reliability.rs.
+    // `reliability_one_panel.toml` (not a seed mechanism) in tests/reliability.rs;
+    // the physical-latch examples (`*_physical_latch.toml`) in tests/physical_latch.rs.
     files(&data().join("mechanisms"), "toml")
         .iter()
         .filter(|p| !p.to_string_lossy().contains("_truss"))
+        .filter(|p| !p.to_string_lossy().contains("_physical_latch"))
         .filter(|p| {
             p.file_name()
                 .is_some_and(|f| f.to_string_lossy().starts_with("seed"))
@@ -40,12 +42,17 @@ fn mechanisms() -> Vec<Mechanism> {
         .collect()
 }
 
-/// `data/reference/*.csv` and `data/examples/*/*.csv`.
+/// `data/reference/*.csv` and `data/examples/*/*.csv` (but the
+/// physical-latch runs `data/examples/latch_*`, tested in
+/// tests/physical_latch.rs with their own mechanisms).
 fn bundled_runs() -> Vec<PathBuf> {
     let mut v = files(&data().join("reference"), "csv");
     for d in std::fs::read_dir(data().join("examples")).expect("examples") {
         let d = d.expect("entry").path();
-        if d.is_dir() {
+        let latch = d
+            .file_name()
+            .is_some_and(|f| f.to_string_lossy().starts_with("latch_"));
+        if d.is_dir() && !latch {
             v.extend(files(&d, "csv"));
         }
     }

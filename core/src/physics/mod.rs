@@ -8,6 +8,7 @@
 
 pub mod chain;
 pub mod friction;
+pub mod latch_contact;
 pub mod linalg;
 pub mod real;
 pub mod spring;

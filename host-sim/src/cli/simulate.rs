@@ -8,6 +8,7 @@ use crate::model::mechanism::Mechanism;
 use crate::report::plot::{self, Mark, Panel, Series};
 use crate::simulate::deployment::{self, SimOptions};
 use crate::simulate::fault_injection;
+use crate::simulate::latch_deployment::{self, LatchRun};
 use std::path::Path;
 
 /// Runs `deploywatch simulate`.
@@ -26,8 +27,20 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         stop_when_deployed: args.faults.is_empty(),
         ..SimOptions::default()
     };
-    let traj = deployment::simulate(&mech, &args.effects, &opts)
-        .map_err(|e| CliError::failed(e.to_string()))?;
+    let failed = |e: deployment::SimError| CliError::failed(e.to_string());
+    let physical = if mech.has_physical_latch() {
+        let grid = deployment::sample_grid(&mech, &opts).map_err(failed)?;
+        Some(
+            latch_deployment::simulate_physical(&mech, &args.effects, &opts, grid)
+                .map_err(failed)?,
+        )
+    } else {
+        None
+    };
+    let traj = match &physical {
+        Some(run) => run.traj.clone(),
+        None => deployment::simulate(&mech, &args.effects, &opts).map_err(failed)?,
+    };
     let mut run = measure(args, &mech, &traj);
     let reports = fault_injection::apply(&mut run, &args.faults, args.seed)
         .map_err(|m| CliError::input(format!("--fault: {m}")))?;
@@ -53,6 +66,9 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
             ),
         }
     }
+    if let Some(run) = &physical {
+        print_latches(&mech, &args.effects, run);
+    }
     for r in &reports {
         println!("  fault {r}");
     }
@@ -64,6 +80,46 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// What each physical latch did, and the run's energy ledger.
+fn print_latches(mech: &Mechanism, effects: &[crate::model::effect::Effect], run: &LatchRun) {
+    let w = latch_deployment::weakenings(effects, mech.joint_count());
+    for (j, spec) in mech.latches.iter().enumerate() {
+        let (Some(spec), Some(joint)) = (spec, mech.joints.get(j)) else {
+            continue;
+        };
+        let (p, m) = w.get(j).copied().unwrap_or((1.0, 1.0));
+        let latch = spec.to_core(joint.stowed_deg, p, m);
+        if let Some(o) = run.outcome(j + 1, &latch) {
+            println!(
+                "  joint {} physical latch: {} impacts, {} engagements over the crest, {} escapes, \
+                 switch closed {} times; ends {:?} at {:.4} deg from the stop",
+                j + 1,
+                o.impacts,
+                o.engagements,
+                o.escapes,
+                o.switch_closings,
+                o.end,
+                o.end_travel_deg
+            );
+        }
+    }
+    let e = &run.energy;
+    println!(
+        "  energy [J]: stored {:.6}; at the end kinetic {:.6}, springs {:.6}, latches {:.6}; \
+         dissipated by friction/hysteresis {:.6}, by the stops {:.6}, by ideal impacts {:.6}; \
+         worst drift {:.3e} ({:.2e} of stored)",
+        e.stored_j,
+        e.kinetic_j,
+        e.spring_j,
+        e.latch_j,
+        e.friction_j,
+        e.contact_j,
+        e.impact_j,
+        e.worst_drift_j,
+        e.worst_drift_j / e.stored_j.abs().max(f64::MIN_POSITIVE)
+    );
+}
+
 /// Checks the arguments against the mechanism, and that the outputs can be
 /// written, before anything is simulated.
 fn check_args(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
@@ -71,6 +127,8 @@ fn check_args(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
         e.validate(mech.effect_joints())
             .map_err(|m| CliError::input(format!("--effect {e}: {m}")))?;
     }
+    latch_deployment::check_latch_effects(mech, &args.effects)
+        .map_err(|m| CliError::input(format!("--effect {m}")))?;
     for f in &args.faults {
         f.validate(mech.joint_count())
             .map_err(|m| CliError::input(format!("--fault {f}: {m}")))?;

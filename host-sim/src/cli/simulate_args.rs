@@ -78,6 +78,13 @@ pub fn effect_help() -> String {
          and/or rate [deg/s], 2 to 8 points each (per joint, joint=J, no value)",
         EffectKind::TorqueTable.name()
     );
+    for k in EffectKind::LATCH {
+        s += &format!(
+            "\n  {:<18} V dimensionless, a fraction 0 to 1 (per joint, joint=J; a joint \
+             with a physical latch, docs/simulator.md)",
+            k.name()
+        );
+    }
     s
 }
 

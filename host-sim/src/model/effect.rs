@@ -29,9 +29,22 @@ pub enum EffectKind {
     /// [`EffectKind::ALL`] (it has tables, not one value: a diagnosis fits it
     /// only when no named effect explains the data).
     TorqueTable,
+    /// `plunger_weakening`: `w` [1], the ball plunger of a joint's physical
+    /// latch has its preload and rate scaled by `1 − w` (this project's
+    /// own; not in [`EffectKind::ALL`]: only a physical latch has one).
+    PlungerWeakening,
+    /// `magnet_weakening`: `w` [1], the magnet of a joint's physical latch
+    /// has its force scaled by `1 − w` (this project's own, not in
+    /// [`EffectKind::ALL`]).
+    MagnetWeakening,
 }
 
 impl EffectKind {
+    /// The effects on a joint's physical latch
+    /// ([`crate::model::latch_toml`]): parsed and simulated, never a
+    /// diagnosis candidate (they are not in [`EffectKind::ALL`]).
+    pub const LATCH: [EffectKind; 2] = [EffectKind::PlungerWeakening, EffectKind::MagnetWeakening];
+
     /// Every effect, in the order of `physics.md` section 6.
     pub const ALL: [EffectKind; 8] = [
         EffectKind::CoulombFriction,
@@ -56,6 +69,8 @@ impl EffectKind {
             EffectKind::RigTilt => "rig_tilt",
             EffectKind::EncoderOffset => "encoder_offset",
             EffectKind::TorqueTable => "torque_table",
+            EffectKind::PlungerWeakening => "plunger_weakening",
+            EffectKind::MagnetWeakening => "magnet_weakening",
         }
     }
 
@@ -66,7 +81,9 @@ impl EffectKind {
                 "N·m"
             }
             EffectKind::ViscousDamping => "N·m·s/rad",
-            EffectKind::SpringSoftening => "1",
+            EffectKind::SpringSoftening
+            | EffectKind::PlungerWeakening
+            | EffectKind::MagnetWeakening => "1",
             EffectKind::HarnessStiffness => "N·m/rad",
             EffectKind::AirDrag => "kg/m²",
             EffectKind::RigTilt => "m/s²",
@@ -88,6 +105,7 @@ impl EffectKind {
             | EffectKind::AirDrag
             | EffectKind::TorqueTable => ValueRange::NonNegative,
             EffectKind::SpringSoftening => ValueRange::BelowOne,
+            EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => ValueRange::Fraction,
             EffectKind::RigTilt | EffectKind::EncoderOffset => ValueRange::Finite,
         }
     }
@@ -112,6 +130,8 @@ pub enum ValueRange {
     NonNegative,
     /// A finite number < 1 (`spring_softening`: 1 removes the spring).
     BelowOne,
+    /// A fraction from 0 to 1 (a weakening: 1 removes the part).
+    Fraction,
 }
 
 impl ValueRange {
@@ -122,6 +142,7 @@ impl ValueRange {
                 ValueRange::Finite => true,
                 ValueRange::NonNegative => x >= 0.0,
                 ValueRange::BelowOne => x < 1.0,
+                ValueRange::Fraction => (0.0..=1.0).contains(&x),
             }
     }
 
@@ -131,6 +152,7 @@ impl ValueRange {
             ValueRange::Finite => "a finite number",
             ValueRange::NonNegative => "a finite number ≥ 0",
             ValueRange::BelowOne => "a finite number < 1 (1 removes the spring, more reverses it)",
+            ValueRange::Fraction => "a fraction from 0 to 1 (1 removes the part)",
         }
     }
 }
@@ -235,7 +257,11 @@ pub enum EffectError {
 }
 
 fn effect_names() -> String {
-    let names: Vec<_> = EffectKind::ALL.iter().map(|k| k.name()).collect();
+    let names: Vec<_> = EffectKind::ALL
+        .iter()
+        .chain(&EffectKind::LATCH)
+        .map(|k| k.name())
+        .collect();
     names.join(", ")
 }
 
@@ -252,6 +278,7 @@ impl FromStr for EffectKind {
             .iter()
             .copied()
             .chain([EffectKind::TorqueTable])
+            .chain(EffectKind::LATCH)
             .find(|k| k.name() == s)
             .ok_or_else(|| EffectError::UnknownName {
                 name: s.to_string(),

@@ -134,12 +134,25 @@ pub struct Mechanism {
     pub settle_s: f64,
     /// `[truss]`: links on the panels (`None`: the open chain).
     pub truss: Option<crate::model::truss::Truss>,
+    /// `[joint.latch]` of each joint (`None`, or an empty list: the ideal
+    /// latch of `physics.md` section 5; [`crate::model::latch_toml`]).
+    pub latches: Vec<Option<crate::model::latch_toml::LatchSpec>>,
 }
 
 impl Mechanism {
     /// Number of joints (= panels).
     pub fn joint_count(&self) -> usize {
         self.joints.len()
+    }
+
+    /// The physical latch of joint `j` (0-based), `None` for the ideal one.
+    pub fn latch(&self, j: usize) -> Option<&crate::model::latch_toml::LatchSpec> {
+        self.latches.get(j).and_then(Option::as_ref)
+    }
+
+    /// True when some joint has a physical latch.
+    pub fn has_physical_latch(&self) -> bool {
+        self.latches.iter().any(Option::is_some)
     }
 
     /// Joints an effect or an identification may name: the hinges `1..=n`,

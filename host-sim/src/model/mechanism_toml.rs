@@ -225,7 +225,7 @@ const TOP_KEYS: &[&str] = &[
     "truss",
 ];
 const PANEL_KEYS: &[&str] = &["length_m", "mass_kg", "com_m", "inertia_kgm2"];
-const JOINT_KEYS: &[&str] = &["stowed_deg", "spring", "friction"];
+const JOINT_KEYS: &[&str] = &["stowed_deg", "spring", "friction", "latch"];
 const LINEAR_KEYS: &[&str] = &["kind", "preload_nm", "stiffness_nm_per_rad", "count"];
 const TAPE_SPRING_KEYS: &[&str] = &["kind", "type", "count"];
 const CURVE_KEYS: &[&str] = &["kind", "unfold", "fold", "interp", "count"];
@@ -256,6 +256,7 @@ impl Bound {
             ValueRange::Finite => Bound::Finite,
             ValueRange::NonNegative => Bound::NonNegative,
             ValueRange::BelowOne => Bound::BelowOne,
+            ValueRange::Fraction => Bound::NonNegative,
         }
     }
 
@@ -544,6 +545,8 @@ impl Cx<'_> {
             settle_s,
             truss: crate::model::truss_toml::read(self.text)
                 .map_err(|source| self.err(None, MechanismErrorKind::Truss { source }))?,
+            latches: crate::model::latch_toml::read(self.text)
+                .map_err(|source| self.err(source.line, MechanismErrorKind::Latch { source }))?,
         })
     }
 

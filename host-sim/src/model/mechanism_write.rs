@@ -31,7 +31,7 @@ impl Mechanism {
             );
         }
         let mut tapes: Vec<(String, TapePoints<f64>)> = Vec::new();
-        for j in &self.joints {
+        for (i, j) in self.joints.iter().enumerate() {
             let _ = write!(
                 out,
                 "\n[[joint]]\nstowed_deg = {}\nspring = {}\n",
@@ -55,6 +55,9 @@ impl Mechanism {
                     );
                 }
                 let _ = writeln!(out, "{s} }}");
+            }
+            if let Some(l) = self.latch(i) {
+                out.push_str(&crate::model::latch_toml::write(l));
             }
         }
         for (name, p) in &tapes {

@@ -4,6 +4,7 @@
 pub mod effect;
 pub mod friction_spec;
 pub mod kinematics;
+pub mod latch_toml;
 pub mod located;
 pub mod mechanism;
 pub mod mechanism_error;

@@ -28,6 +28,12 @@ pub fn simulate(
     effects: &[Effect],
     opts: &SimOptions,
 ) -> Result<Trajectory, SimError> {
+    simulate_samples(mech, effects, opts, sample_grid(mech, opts)?)
+}
+
+/// The output grid of [`simulate`]: `opts`' (or the mechanism's) duration
+/// and rate.
+pub fn sample_grid(mech: &Mechanism, opts: &SimOptions) -> Result<Samples<'static>, SimError> {
     let duration = opts.duration_s.unwrap_or(mech.duration_s);
     let rate = opts.sample_hz.unwrap_or(mech.sample_hz);
     let positive = |x: f64| x > 0.0 && x.is_finite();
@@ -48,11 +54,10 @@ pub fn simulate(
         // The whole duration would be written: refuse before the work.
         return Err(SimError::TooManySamples { t_s: duration });
     }
-    let times = Samples::Grid {
+    Ok(Samples::Grid {
         rate_hz: rate,
         count,
-    };
-    simulate_samples(mech, effects, opts, times)
+    })
 }
 
 /// Simulates a mechanism and samples it at the given times (sorted, from 0):
@@ -80,6 +85,12 @@ fn simulate_samples(
     opts: &SimOptions,
     times: Samples<'_>,
 ) -> Result<Trajectory, SimError> {
+    // A joint with a physical latch: the latch simulator (`[joint.latch]`).
+    crate::simulate::latch_deployment::check_latch_effects(mech, effects)?;
+    if mech.has_physical_latch() {
+        return crate::simulate::latch_deployment::simulate_physical(mech, effects, opts, times)
+            .map(|run| run.traj);
+    }
     if mech.truss.is_some() {
         // The one truss simulator (multibody), with the effects on its pins.
         return crate::simulate::truss_deployment::simulate_truss(mech, effects, opts, times)

@@ -8,6 +8,8 @@
 pub mod deployment;
 pub mod fault_injection;
 pub mod fault_syntax;
+pub mod latch_deployment;
+pub mod latch_run;
 pub mod multibody;
 pub mod ode;
 pub mod sensor;

@@ -86,6 +86,9 @@ impl Candidate {
             EffectKind::TorqueTable => {
                 vec![b(-TableForm::BOUND_NM, TableForm::BOUND_NM, 1e-4); self.params()]
             }
+            // Physical-latch effects are never candidates (not in
+            // `EffectKind::ALL`); bounds for completeness.
+            EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => vec![b(0.0, 1.0, 1e-4)],
         }
     }
 
@@ -116,6 +119,7 @@ impl Candidate {
                 .iter()
                 .map(|&v| vec![v; self.params()])
                 .collect(),
+            EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => one(&[0.3]),
         }
     }
 

@@ -1,0 +1,651 @@
+//! The physical latch of one joint (`docs/spec/physics.md` section 10, this
+//! project's extension): a Hertzian stop, a ball-plunger detent and a
+//! magnet, acting on the joint through the latch's travel from the stop.
+//!
+//! # Travel and torques
+//! The joint arrives from the side of its stowed angle, `s = sign(φ_stowed)`.
+//! The latch works on the **travel** `u = s φ` [rad]: positive while the
+//! protrusion is short of the stop, 0 at the stop, negative inside it. A
+//! torque `τ_u` that increases `u` is the joint torque `τ_φ = s τ_u`.
+//!
+//! # The stop (Hertz with Hunt–Crossley-type damping)
+//! At radius `r_c` from the hinge the penetration is `δ = −u r_c` [mm]
+//! (positive inside the stop) and
+//!
+//! ```text
+//! F = k δ^1.5 + c δ^0.25 δ̇     [N], δ in mm, δ̇ in mm/s,
+//! k [N/mm^1.5], c [N·s/mm^1.25]  (seed 000 §4.2, seed 001 §4.2)
+//! ```
+//!
+//! only while `δ > 0`, and never pulling: the force applied is `max(F, 0)`.
+//! `τ_u = F r_c` [N·m] pushes the joint back out of the stop. The elastic
+//! part stores `V_c = k δ^2.5 / 2.5` [N·mm]; the rest dissipates.
+//!
+//! # The ball plunger
+//! A ball pressed by a spring (`P = P0 + k_p x`, `x` its depression [mm])
+//! sits on the protrusion's path at radius `r_p`. Coming in, the protrusion
+//! pushes the ball in along the entry ramp (angle `α_e`) until the crest
+//! `u_c`, where the ball is in by the stroke `h`; past the crest the ball
+//! runs down the hold ramp (angle `α_h`) and pushes the protrusion towards
+//! the stop. Depression along the travel:
+//!
+//! ```text
+//! entry ramp  u_c < u ≤ u_c + w_e:  x = (u_c + w_e − u) r_p tan α_e,  w_e = h / (r_p tan α_e)
+//! hold ramp   u_c − w_h ≤ u ≤ u_c:  x = (u − u_c + w_h) r_p tan α_h,  w_h = h / (r_p tan α_h)
+//! elsewhere                         x = 0
+//! V_p = P0 x + ½ k_p x²  [N·mm],  τ_u = −dV_p/du
+//! ```
+//!
+//! The ball is frictionless, so the plunger is conservative: climbing the
+//! entry ramp takes [`PhysicalLatch::engagement_energy`]; the largest
+//! torque the hold ramp opposes to a return is
+//! [`PhysicalLatch::holding_torque`].
+//!
+//! # The magnet
+//! Over the last gap `g = u r_m` [mm] below its reach `g_r`, with the force
+//! `F_m` at contact and decay length `g0`,
+//!
+//! ```text
+//! F_m(g) = F_m0 [(1 + g/g0)^−2 − a] / (1 − a),  a = (1 + g_r/g0)^−2,   0 ≤ g < g_r
+//! ```
+//!
+//! (zero at the reach, `F_m0` at contact, held at `F_m0` inside the stop),
+//! pulling the joint towards the stop: `τ_u = −F_m r_m`.
+//!
+//! # The switch
+//! The latch switch is closed while `u ≤ u_s`, its stated travel from the
+//! stop ([`PhysicalLatch::switch_closed`]).
+//!
+//! Everything here is a pure function of `(φ, φ̇)`; it never panics (a
+//! parameter set that [`PhysicalLatch::check`] refuses gives finite or NaN
+//! numbers, never a panic).
+
+use crate::physics::real::Real;
+
+/// Millimetres per metre: the papers give the stop in mm, the chain is in m.
+const MM_PER_M: f64 = 1000.0;
+
+/// Smallest `1 + g/g0` the magnet law is evaluated at, where a frozen
+/// segment is extended past its bounds (a step that crosses a mark).
+const MAGNET_FLOOR: f64 = 0.1;
+
+/// The stop: a Hertzian contact with Hunt–Crossley-type damping.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HertzStop<T> {
+    /// `k` [N/mm^1.5] (seed 000 §4.2, seed 001 §4.2: 37,000).
+    pub stiffness_n_per_mm1_5: T,
+    /// `c` [N·s/mm^1.25] (seed 000 §4.2, seed 001 §4.2: 3.7).
+    pub damping_ns_per_mm1_25: T,
+    /// `r_c`: distance of the contact from the hinge axis [m].
+    pub radius_m: T,
+}
+
+/// The ball plunger: a spring-loaded ball the protrusion climbs over.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plunger<T> {
+    /// `P0`: the ball's spring force with the ball out [N].
+    pub preload_n: T,
+    /// `k_p`: the ball's spring rate [N/mm].
+    pub stiffness_n_per_mm: T,
+    /// `r_p`: distance of the ball from the hinge axis [m].
+    pub radius_m: T,
+    /// `h`: how far the ball is pushed in at the crest [mm].
+    pub stroke_mm: T,
+    /// `u_c`: travel from the stop at which the ball is on the crest [rad].
+    pub crest_rad: T,
+    /// `α_e`: angle of the entry ramp to the direction of travel [rad].
+    pub entry_ramp_rad: T,
+    /// `α_h`: angle of the hold ramp to the direction of travel [rad].
+    pub hold_ramp_rad: T,
+}
+
+/// The magnet that pulls the protrusion over the last gap.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Magnet<T> {
+    /// `F_m0`: attraction at contact [N].
+    pub force_n: T,
+    /// `g0`: decay length of the attraction [mm].
+    pub decay_mm: T,
+    /// `g_r`: gap beyond which the magnet does nothing [mm].
+    pub reach_mm: T,
+    /// `r_m`: distance of the magnet from the hinge axis [m].
+    pub radius_m: T,
+}
+
+/// The physical latch of one joint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PhysicalLatch<T> {
+    /// `s`: +1 when the joint is stowed at a positive angle, −1 otherwise.
+    pub side: T,
+    /// The stop.
+    pub stop: HertzStop<T>,
+    /// The ball plunger.
+    pub plunger: Plunger<T>,
+    /// The magnet.
+    pub magnet: Magnet<T>,
+    /// `u_s`: the switch closes at this travel from the stop [rad].
+    pub switch_travel_rad: T,
+}
+
+/// What is wrong with a latch's parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum LatchError {
+    /// `side` is not ±1.
+    Side,
+    /// A parameter is negative or not finite; names it.
+    Negative(&'static str),
+    /// A length that must be positive (a radius, the magnet's decay, a
+    /// ramp angle) is not; names it.
+    NotPositive(&'static str),
+    /// A ramp angle is not below 90°.
+    Ramp(&'static str),
+}
+
+impl core::fmt::Display for LatchError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            LatchError::Side => f.write_str("side must be +1 or -1"),
+            LatchError::Negative(k) => write!(f, "{k} must be a finite number >= 0"),
+            LatchError::NotPositive(k) => write!(f, "{k} must be a finite number > 0"),
+            LatchError::Ramp(k) => write!(f, "{k} must be an angle between 0 and 90 deg"),
+        }
+    }
+}
+
+impl core::error::Error for LatchError {}
+
+/// The points of the travel where the latch's torque law changes form: the
+/// simulator locates each crossing as an event.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LatchMark {
+    /// `u = 0`: contact onset and separation.
+    Stop,
+    /// `u = u_c`: the crest of the plunger.
+    Crest,
+    /// `u = u_c + w_e`: the protrusion meets the ball.
+    EntryRamp,
+    /// `u = u_c − w_h`: the ball is fully out on the hold side.
+    HoldRampEnd,
+    /// `g = g_r`: the magnet's reach.
+    MagnetReach,
+    /// `u = u_s`: the switch opens or closes.
+    Switch,
+}
+
+/// Where the ball is: the plunger law's segment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlungerSegment {
+    /// The ball is out and does not touch the protrusion.
+    Clear,
+    /// On the entry ramp (`u_c < u ≤ u_c + w_e`): the ball resists.
+    Entry,
+    /// On the hold ramp (`u_c − w_h ≤ u ≤ u_c`): the ball pushes in.
+    Hold,
+}
+
+/// The contact force of the stop, split for bookkeeping.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StopForce<T> {
+    /// `k δ^1.5` [N]: the elastic part.
+    pub elastic_n: T,
+    /// `k δ^1.5 + c δ^0.25 δ̇` [N], not clamped: negative when the stop
+    /// would pull.
+    pub raw_n: T,
+}
+
+impl<T: Real> StopForce<T> {
+    /// The force applied, `max(raw, 0)` [N].
+    pub fn applied_n(&self) -> T {
+        self.raw_n.max(T::ZERO)
+    }
+}
+
+fn tan<T: Real>(a: T) -> T {
+    let (s, c) = a.sin_cos();
+    s / c
+}
+
+impl<T: Real> PhysicalLatch<T> {
+    /// Checks every parameter: finite, radii and the magnet's decay > 0,
+    /// forces, rates, the stroke, the crest, the reach and the switch
+    /// travel ≥ 0, ramp angles in (0°, 90°).
+    pub fn check(&self) -> Result<(), LatchError> {
+        if !(self.side == T::ONE || self.side == -T::ONE) {
+            return Err(LatchError::Side);
+        }
+        let (st, p, m) = (&self.stop, &self.plunger, &self.magnet);
+        let non_negative = [
+            (st.stiffness_n_per_mm1_5, "stop stiffness"),
+            (st.damping_ns_per_mm1_25, "stop damping"),
+            (p.preload_n, "plunger preload"),
+            (p.stiffness_n_per_mm, "plunger stiffness"),
+            (p.stroke_mm, "plunger stroke"),
+            (p.crest_rad, "plunger crest"),
+            (m.force_n, "magnet force"),
+            (m.reach_mm, "magnet reach"),
+            (self.switch_travel_rad, "switch travel"),
+        ];
+        for (x, name) in non_negative {
+            if !(x >= T::ZERO && x.is_finite()) {
+                return Err(LatchError::Negative(name));
+            }
+        }
+        let positive = [
+            (st.radius_m, "stop radius"),
+            (p.radius_m, "plunger radius"),
+            (m.radius_m, "magnet radius"),
+            (m.decay_mm, "magnet decay length"),
+        ];
+        for (x, name) in positive {
+            if !(x > T::ZERO && x.is_finite()) {
+                return Err(LatchError::NotPositive(name));
+            }
+        }
+        let right = T::PI * T::of(0.5);
+        for (a, name) in [
+            (p.entry_ramp_rad, "entry ramp"),
+            (p.hold_ramp_rad, "hold ramp"),
+        ] {
+            if !(a > T::ZERO && a < right) {
+                return Err(LatchError::Ramp(name));
+            }
+        }
+        Ok(())
+    }
+
+    /// The travel from the stop `u = s φ` [rad].
+    #[inline]
+    pub fn travel(&self, phi: T) -> T {
+        self.side * phi
+    }
+
+    /// True while the switch is closed: `u ≤ u_s`.
+    pub fn switch_closed(&self, phi: T) -> bool {
+        self.travel(phi) <= self.switch_travel_rad
+    }
+
+    /// `r_p tan α` [mm/rad] of a ramp: depression per radian of travel.
+    fn ramp_rate(&self, angle: T) -> T {
+        self.plunger.radius_m * T::of(MM_PER_M) * tan(angle)
+    }
+
+    /// `w_e`: angular width of the entry ramp [rad].
+    pub fn entry_width_rad(&self) -> T {
+        self.plunger.stroke_mm / self.ramp_rate(self.plunger.entry_ramp_rad)
+    }
+
+    /// `w_h`: angular width of the hold ramp [rad].
+    pub fn hold_width_rad(&self) -> T {
+        self.plunger.stroke_mm / self.ramp_rate(self.plunger.hold_ramp_rad)
+    }
+
+    /// The travel of each [`LatchMark`] [rad].
+    pub fn marks(&self) -> [(LatchMark, T); 6] {
+        let c = self.plunger.crest_rad;
+        let reach = self.magnet.reach_mm / (self.magnet.radius_m * T::of(MM_PER_M));
+        [
+            (LatchMark::Stop, T::ZERO),
+            (LatchMark::Crest, c),
+            (LatchMark::EntryRamp, c + self.entry_width_rad()),
+            (LatchMark::HoldRampEnd, c - self.hold_width_rad()),
+            (LatchMark::MagnetReach, reach),
+            (LatchMark::Switch, self.switch_travel_rad),
+        ]
+    }
+
+    /// The plunger's segment at travel `u` [rad].
+    pub fn plunger_segment(&self, u: T) -> PlungerSegment {
+        let c = self.plunger.crest_rad;
+        if u > c && u <= c + self.entry_width_rad() {
+            PlungerSegment::Entry
+        } else if u <= c && u >= c - self.hold_width_rad() {
+            PlungerSegment::Hold
+        } else {
+            PlungerSegment::Clear
+        }
+    }
+
+    /// The ball's depression `x` [mm] and `dx/du` [mm/rad] on a segment,
+    /// its formula extended beyond the segment's bounds.
+    fn depression_on(&self, seg: PlungerSegment, u: T) -> (T, T) {
+        let c = self.plunger.crest_rad;
+        match seg {
+            PlungerSegment::Clear => (T::ZERO, T::ZERO),
+            PlungerSegment::Entry => {
+                let r = self.ramp_rate(self.plunger.entry_ramp_rad);
+                ((c + self.entry_width_rad() - u) * r, -r)
+            }
+            PlungerSegment::Hold => {
+                let r = self.ramp_rate(self.plunger.hold_ramp_rad);
+                ((u - c + self.hold_width_rad()) * r, r)
+            }
+        }
+    }
+
+    /// The plunger's energy `P0 x + ½ k_p x²` [J] at depression `x` [mm].
+    fn plunger_energy_at(&self, x: T) -> T {
+        let p = &self.plunger;
+        (p.preload_n * x + T::of(0.5) * p.stiffness_n_per_mm * x * x) / T::of(MM_PER_M)
+    }
+
+    /// The plunger's torque `τ_u = −dV_p/du` [N·m] on a segment (see
+    /// [`Self::plunger_segment`]), its formula extended beyond the bounds.
+    pub fn plunger_torque_on(&self, seg: PlungerSegment, u: T) -> T {
+        let (x, dx) = self.depression_on(seg, u);
+        let p = &self.plunger;
+        -(p.preload_n + p.stiffness_n_per_mm * x) * dx / T::of(MM_PER_M)
+    }
+
+    /// The magnet's force [N] at travel `u`, on the segment inside
+    /// (`within`) or beyond its reach.
+    pub fn magnet_force_on(&self, within: bool, u: T) -> T {
+        let m = &self.magnet;
+        if !within || m.force_n == T::ZERO {
+            return T::ZERO;
+        }
+        let g = (u * m.radius_m * T::of(MM_PER_M)).max(T::ZERO);
+        let a = self.magnet_floor_term();
+        let b = (T::ONE + g / m.decay_mm).max(T::of(MAGNET_FLOOR));
+        m.force_n * (T::ONE / (b * b) - a) / (T::ONE - a)
+    }
+
+    /// `a = (1 + g_r/g0)^−2`.
+    fn magnet_floor_term(&self) -> T {
+        let b = T::ONE + self.magnet.reach_mm / self.magnet.decay_mm;
+        T::ONE / (b * b)
+    }
+
+    /// True while the travel is inside the magnet's reach.
+    pub fn magnet_within(&self, u: T) -> bool {
+        u * self.magnet.radius_m * T::of(MM_PER_M) < self.magnet.reach_mm
+    }
+
+    /// The magnet's potential energy [J] at travel `u` (0 beyond the
+    /// reach, negative inside it).
+    pub fn magnet_energy(&self, u: T) -> T {
+        let m = &self.magnet;
+        let g = u * m.radius_m * T::of(MM_PER_M);
+        if !self.magnet_within(u) || m.force_n == T::ZERO {
+            return T::ZERO;
+        }
+        let a = self.magnet_floor_term();
+        let gp = g.max(T::ZERO);
+        let inv = |s: T| m.decay_mm / (T::ONE + s / m.decay_mm);
+        let w = inv(gp) - inv(m.reach_mm) - a * (m.reach_mm - gp);
+        let inside = m.force_n * (g - gp); // g < 0: the force held at F_m0
+        (-m.force_n * w / (T::ONE - a) + inside) / T::of(MM_PER_M)
+    }
+
+    /// The stop's force at `(φ, φ̇)` (zero while `u ≥ 0`).
+    pub fn stop_force(&self, phi: T, phi_dot: T) -> StopForce<T> {
+        let st = &self.stop;
+        let r_mm = st.radius_m * T::of(MM_PER_M);
+        let delta = -self.travel(phi) * r_mm;
+        if !(delta > T::ZERO) {
+            return StopForce {
+                elastic_n: T::ZERO,
+                raw_n: T::ZERO,
+            };
+        }
+        let delta_dot = -self.travel(phi_dot) * r_mm;
+        let q = delta.sqrt();
+        let elastic_n = st.stiffness_n_per_mm1_5 * delta * q;
+        let raw_n = elastic_n + st.damping_ns_per_mm1_25 * q.sqrt() * delta_dot;
+        StopForce { elastic_n, raw_n }
+    }
+
+    /// The joint torque `τ_φ` [N·m] of a stop force `force_n` [N].
+    pub fn stop_torque(&self, force_n: T) -> T {
+        self.side * force_n * self.stop.radius_m
+    }
+
+    /// The stop's elastic energy `k δ^2.5 / 2.5` [J] at `φ`.
+    pub fn stop_energy(&self, phi: T) -> T {
+        let delta = -self.travel(phi) * self.stop.radius_m * T::of(MM_PER_M);
+        if !(delta > T::ZERO) {
+            return T::ZERO;
+        }
+        self.stop.stiffness_n_per_mm1_5 * delta * delta * delta.sqrt()
+            / (T::of(2.5) * T::of(MM_PER_M))
+    }
+
+    /// The conservative joint torque `τ_φ` [N·m] of plunger and magnet at
+    /// `φ`, each on the segment its travel is in.
+    pub fn conservative_torque(&self, phi: T) -> T {
+        let u = self.travel(phi);
+        let seg = self.plunger_segment(u);
+        let within = self.magnet_within(u);
+        self.side * self.conservative_torque_u(seg, within, u)
+    }
+
+    /// `τ_u` [N·m] of plunger and magnet on given segments.
+    pub fn conservative_torque_u(&self, seg: PlungerSegment, within: bool, u: T) -> T {
+        let magnet = self.magnet_force_on(within, u) * self.magnet.radius_m;
+        self.plunger_torque_on(seg, u) - magnet
+    }
+
+    /// The latch's whole joint torque `τ_φ(φ, φ̇)` [N·m]: stop (clamped at
+    /// zero force), plunger and magnet.
+    pub fn torque(&self, phi: T, phi_dot: T) -> T {
+        let f = self.stop_force(phi, phi_dot).applied_n();
+        self.conservative_torque(phi) + self.stop_torque(f)
+    }
+
+    /// Potential energy of the conservative parts at `φ` [J]: plunger,
+    /// magnet and the stop's elastic energy.
+    pub fn potential_energy(&self, phi: T) -> T {
+        let u = self.travel(phi);
+        let (x, _) = self.depression_on(self.plunger_segment(u), u);
+        self.plunger_energy_at(x) + self.magnet_energy(u) + self.stop_energy(phi)
+    }
+
+    /// Energy to climb the entry ramp to the crest, `P0 h + ½ k_p h²` [J]:
+    /// the latch's engagement, a resistance of the stroke's last part.
+    pub fn engagement_energy(&self) -> T {
+        self.plunger_energy_at(self.plunger.stroke_mm)
+    }
+
+    /// Energy to take the joint from rest at the stop back over the crest
+    /// against plunger and magnet alone [J] (the hinge spring not counted).
+    pub fn escape_energy(&self) -> T {
+        let crest = self.plunger.crest_rad;
+        let at_crest = self.plunger_energy_at(self.plunger.stroke_mm) + self.magnet_energy(crest);
+        let at_stop = self.potential_energy(T::ZERO);
+        at_crest - at_stop
+    }
+
+    /// The largest torque the hold ramp opposes to a return,
+    /// `(P0 + k_p h) r_p tan α_h` [N·m] (at the crest).
+    pub fn holding_torque(&self) -> T {
+        let p = &self.plunger;
+        (p.preload_n + p.stiffness_n_per_mm * p.stroke_mm) * self.ramp_rate(p.hold_ramp_rad)
+            / T::of(MM_PER_M)
+    }
+
+    /// The largest torque the entry ramp opposes to the approach,
+    /// `(P0 + k_p h) r_p tan α_e` [N·m] (at the crest): a drive weaker than
+    /// this near the crest stops the joint on the ramp.
+    pub fn entry_torque(&self) -> T {
+        let p = &self.plunger;
+        (p.preload_n + p.stiffness_n_per_mm * p.stroke_mm) * self.ramp_rate(p.entry_ramp_rad)
+            / T::of(MM_PER_M)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn latch(side: f64) -> PhysicalLatch<f64> {
+        PhysicalLatch {
+            side,
+            stop: HertzStop {
+                stiffness_n_per_mm1_5: 37_000.0,
+                damping_ns_per_mm1_25: 3.7,
+                radius_m: 0.03,
+            },
+            plunger: Plunger {
+                preload_n: 20.0,
+                stiffness_n_per_mm: 10.0,
+                radius_m: 0.03,
+                stroke_mm: 1.0,
+                crest_rad: 1f64.to_radians(),
+                entry_ramp_rad: 30f64.to_radians(),
+                hold_ramp_rad: 50f64.to_radians(),
+            },
+            magnet: Magnet {
+                force_n: 10.0,
+                decay_mm: 0.5,
+                reach_mm: 2.0,
+                radius_m: 0.03,
+            },
+            switch_travel_rad: 0.05f64.to_radians(),
+        }
+    }
+
+    #[test]
+    fn conservative_torque_is_minus_the_gradient_of_the_potential() {
+        for side in [1.0, -1.0] {
+            let l = latch(side);
+            let mut u = -0.004;
+            while u < 0.09 {
+                let phi = side * u;
+                // Away from the marks, where the law is smooth.
+                let near = l.marks().iter().any(|&(_, m)| (u - m).abs() < 1e-5);
+                if !near {
+                    let e = 1e-8;
+                    let grad =
+                        (l.potential_energy(phi + e) - l.potential_energy(phi - e)) / (2.0 * e);
+                    let f = l.stop_force(phi, 0.0).elastic_n;
+                    let tau = l.conservative_torque(phi) + l.stop_torque(f);
+                    assert!(
+                        (tau + grad).abs() < 1e-5 * (1.0 + tau.abs()),
+                        "u={u}: {tau} vs {}",
+                        -grad
+                    );
+                }
+                u += 1.3e-4;
+            }
+        }
+    }
+
+    #[test]
+    fn stop_pushes_out_never_pulls_and_is_zero_outside() {
+        let l = latch(-1.0);
+        // side −1: inside the stop is φ > 0.
+        assert_eq!(l.stop_force(-0.01, 5.0).applied_n(), 0.0);
+        let f = l.stop_force(0.001, 0.0);
+        let delta: f64 = 0.001 * 30.0;
+        assert!((f.elastic_n - 37_000.0 * delta.powf(1.5)).abs() < 1e-9 * f.elastic_n);
+        assert!(
+            l.stop_torque(f.applied_n()) < 0.0,
+            "pushes φ back towards the stowed side"
+        );
+        // Leaving fast: the raw force pulls, the applied one is zero.
+        let leaving = l.stop_force(1e-6, -50.0);
+        assert!(leaving.raw_n < 0.0 && leaving.applied_n() == 0.0);
+        // Damping adds while going in.
+        assert!(l.stop_force(0.001, 1.0).raw_n > f.raw_n);
+    }
+
+    #[test]
+    fn plunger_resists_on_entry_pushes_in_past_the_crest_and_stores_the_engagement() {
+        let l = latch(1.0);
+        let c = l.plunger.crest_rad;
+        let on_entry = c + 0.5 * l.entry_width_rad();
+        let on_hold = c - 0.5 * l.hold_width_rad();
+        assert!(
+            l.conservative_torque(on_entry) > 0.0,
+            "resists the approach"
+        );
+        assert!(
+            l.conservative_torque(on_hold) < 0.0,
+            "pushes towards the stop"
+        );
+        let e = l.engagement_energy();
+        assert!((e - (20.0 * 1.0 + 0.5 * 10.0) / 1000.0).abs() < 1e-15);
+        let v_crest = l.potential_energy(c) - l.magnet_energy(c);
+        assert!((v_crest - e).abs() < 1e-12);
+        // The torque at the crest from the hold side is the holding torque.
+        let just_in = l.plunger_torque_on(PlungerSegment::Hold, c);
+        assert!((just_in + l.holding_torque()).abs() < 1e-12);
+        let just_out = l.plunger_torque_on(PlungerSegment::Entry, c);
+        assert!((just_out - l.entry_torque()).abs() < 1e-12);
+        assert!(l.escape_energy() > 0.0);
+    }
+
+    #[test]
+    fn magnet_is_f0_at_contact_zero_at_its_reach_and_pulls_in() {
+        let l = latch(1.0);
+        assert!((l.magnet_force_on(true, 0.0) - 10.0).abs() < 1e-12);
+        let reach = 2.0 / 30.0;
+        assert!(l.magnet_force_on(true, reach).abs() < 1e-12);
+        assert!(!l.magnet_within(reach * 1.01));
+        assert!(l.magnet_energy(0.0) < 0.0 && l.magnet_energy(reach * 1.01) == 0.0);
+        assert!(l.magnet_energy(reach * 0.999).abs() < 1e-6);
+    }
+
+    #[test]
+    fn switch_closes_at_its_travel_and_marks_are_ordered() {
+        let l = latch(-1.0);
+        assert!(!l.switch_closed(-0.06f64.to_radians()));
+        assert!(l.switch_closed(-0.04f64.to_radians()));
+        assert!(l.switch_closed(0.01));
+        let m = l.marks();
+        assert!(m[2].1 > m[1].1 && m[1].1 > m[3].1);
+        assert_eq!(l.check(), Ok(()));
+    }
+
+    #[test]
+    fn bad_parameters_are_refused_and_never_panic() {
+        let mut l = latch(1.0);
+        l.plunger.hold_ramp_rad = 2.0;
+        assert_eq!(l.check(), Err(LatchError::Ramp("hold ramp")));
+        let mut l = latch(1.0);
+        l.stop.radius_m = 0.0;
+        assert_eq!(l.check(), Err(LatchError::NotPositive("stop radius")));
+        let mut l = latch(0.5);
+        assert_eq!(l.check(), Err(LatchError::Side));
+        l.magnet.decay_mm = 0.0;
+        for x in [f64::NAN, -1.0, 0.0, 1.0, f64::INFINITY] {
+            let _ = l.torque(x, x);
+            let _ = l.potential_energy(x);
+        }
+    }
+
+    #[test]
+    fn f32_agrees_with_f64() {
+        let l = latch(1.0);
+        let m = |x: f64| x as f32;
+        let l32 = PhysicalLatch::<f32> {
+            side: 1.0,
+            stop: HertzStop {
+                stiffness_n_per_mm1_5: 37_000.0,
+                damping_ns_per_mm1_25: 3.7,
+                radius_m: 0.03,
+            },
+            plunger: Plunger {
+                preload_n: 20.0,
+                stiffness_n_per_mm: 10.0,
+                radius_m: 0.03,
+                stroke_mm: 1.0,
+                crest_rad: m(l.plunger.crest_rad),
+                entry_ramp_rad: m(l.plunger.entry_ramp_rad),
+                hold_ramp_rad: m(l.plunger.hold_ramp_rad),
+            },
+            magnet: Magnet {
+                force_n: 10.0,
+                decay_mm: 0.5,
+                reach_mm: 2.0,
+                radius_m: 0.03,
+            },
+            switch_travel_rad: m(l.switch_travel_rad),
+        };
+        for phi in [-0.002, 0.005, 0.02, 0.04] {
+            let a = l.torque(phi, 0.3);
+            let b = l32.torque(phi as f32, 0.3) as f64;
+            assert!((a - b).abs() < 1e-4 * (1.0 + a.abs()), "{phi}: {a} vs {b}");
+        }
+    }
+}

@@ -1,0 +1,826 @@
+//! The deployment of an open chain with physical latches
+//! (`docs/spec/physics.md` section 10, `docs/simulator.md` "Physical
+//! latch"): the core's chain equations plus, at each joint with a
+//! `[joint.latch]`, the torque of its stop, ball plunger and magnet
+//! ([`deploywatch_core::physics::latch_contact`]), integrated by
+//! Dormand–Prince 5(4) ([`crate::simulate::ode`]).
+//!
+//! A joint with a physical latch is never locked: it bounces on its stop,
+//! may escape over the plunger and come back, or stop on the ramp. Joints
+//! without one keep the ideal plastic latch of section 5.
+//!
+//! Every place where a latch's law changes form is an event, located on the
+//! dense output and restarted from: each mark of the travel (stop, crest,
+//! the ramps' ends, the magnet's reach, the switch) and the instant the
+//! stop's raw force reaches zero (the contact lets go while still
+//! compressed, the law never pulls). Between events each joint's law is
+//! frozen on its segment, so the right-hand side is smooth inside a step.
+//!
+//! The run goes on to the last sample (a physical latch is never "done");
+//! a joint's latch instant is the last closing of its switch, when the
+//! switch is closed at the end. An energy ledger ([`Energy`]) is kept along
+//! the run on Gauss–Legendre nodes of every step.
+
+use crate::model::effect::{Effect, EffectKind};
+use crate::model::mechanism::Mechanism;
+use crate::simulate::ode::{self, locate, Dense, State};
+use crate::simulate::trajectory::{
+    Samples, SimError, SimOptions, Trajectory, MAX_SAMPLES, MAX_STEPS,
+};
+use deploywatch_core::linalg::solve_spd_masked;
+use deploywatch_core::physics::latch_contact::{LatchMark, PhysicalLatch, PlungerSegment};
+use deploywatch_core::{Branch, Chain, Mode};
+
+pub use crate::simulate::latch_run::{
+    Energy, LatchEnd, LatchEvent, LatchEventKind, LatchOutcome, LatchRun,
+};
+
+/// Most events at one instant before the run is declared stuck (Zeno).
+pub const MAX_EVENTS_AT_ONE_INSTANT: usize = 50;
+
+/// Time ahead of an event at which the new segment is read [s]: the state
+/// is then on the far side of the mark it just reached.
+const PROBE_S: f64 = 1e-9;
+
+/// 3-point Gauss–Legendre nodes and weights on [0, 1] (exact to degree 5).
+const GAUSS3: [(f64, f64); 3] = [
+    (0.112_701_665_379_258_31, 5.0 / 18.0),
+    (0.5, 8.0 / 18.0),
+    (0.887_298_334_620_741_7, 5.0 / 18.0),
+];
+
+/// The stop's contact between events.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Contact {
+    /// Off the stop (`u ≥ 0`): no force.
+    Open,
+    /// In the stop with the law's force `k δ^1.5 + c δ^0.25 δ̇ > 0`.
+    Pressing,
+    /// In the stop, but the law would pull: no force (it lets go).
+    Released,
+}
+
+/// The segments a joint's latch law is frozen on between events.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Segments {
+    plunger: PlungerSegment,
+    magnet: bool,
+    contact: Contact,
+    switch: bool,
+}
+
+/// The latch scales `(plunger, magnet)` of each joint from the
+/// `plunger_weakening` / `magnet_weakening` effects (`1 − w`, composed).
+pub fn weakenings(effects: &[Effect], joints: usize) -> Vec<(f64, f64)> {
+    let mut out = vec![(1.0, 1.0); joints];
+    for e in effects {
+        let Some(j) = e
+            .joint
+            .and_then(|j| j.checked_sub(1))
+            .filter(|&j| j < joints)
+        else {
+            continue;
+        };
+        match e.kind {
+            EffectKind::PlungerWeakening => out[j].0 *= 1.0 - e.value,
+            EffectKind::MagnetWeakening => out[j].1 *= 1.0 - e.value,
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Refuses latch effects on joints without a physical latch (they would
+/// do nothing, silently).
+pub fn check_latch_effects(mech: &Mechanism, effects: &[Effect]) -> Result<(), SimError> {
+    for e in effects {
+        if !EffectKind::LATCH.contains(&e.kind) {
+            continue;
+        }
+        let has = e
+            .joint
+            .and_then(|j| j.checked_sub(1))
+            .is_some_and(|j| mech.latch(j).is_some());
+        if !has || mech.truss.is_some() {
+            return Err(SimError::Invalid(format!(
+                "{e}: the joint has no physical latch ([joint.latch] model = \"physical\" in the mechanism file)"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The core latches of a mechanism's joints with the effects' weakenings.
+pub fn latches<const N: usize>(
+    mech: &Mechanism,
+    effects: &[Effect],
+) -> [Option<PhysicalLatch<f64>>; N] {
+    let w = weakenings(effects, N);
+    core::array::from_fn(|j| {
+        let (p, m) = w.get(j).copied().unwrap_or((1.0, 1.0));
+        let stowed = mech.joints.get(j).map_or(1.0, |s| s.stowed_deg);
+        mech.latch(j).map(|l| l.to_core(stowed, p, m))
+    })
+}
+
+/// The integrator's state besides `(φ, φ̇)`.
+struct Sim<'a, const N: usize> {
+    chain: &'a Chain<f64, N>,
+    latch: [Option<PhysicalLatch<f64>>; N],
+    seg: [Segments; N],
+    mode: Mode<N>,
+    /// `sign(φ_stowed)` of the joints with an ideal latch.
+    side: [f64; N],
+    hyst: [Option<f64>; N],
+    evaluations: usize,
+}
+
+/// What can fire in a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Ev {
+    Plunger(usize),
+    Magnet(usize),
+    Contact(usize),
+    Switch(usize),
+    Ideal(usize),
+    Branch(usize),
+}
+
+impl<'a, const N: usize> Sim<'a, N> {
+    fn new(chain: &'a Chain<f64, N>, latch: [Option<PhysicalLatch<f64>>; N], y: &State<N>) -> Self {
+        let mut sim = Sim {
+            chain,
+            latch,
+            seg: [Segments {
+                plunger: PlungerSegment::Clear,
+                magnet: false,
+                contact: Contact::Open,
+                switch: false,
+            }; N],
+            mode: Mode::default(),
+            side: [1.0; N],
+            hyst: [None; N],
+            evaluations: 0,
+        };
+        for (j, jt) in chain.joints().iter().enumerate() {
+            sim.side[j] = if jt.stowed_rad >= 0.0 { 1.0 } else { -1.0 };
+            sim.hyst[j] = jt.spring.hysteresis_below_rad();
+            sim.mode.branch[j] = branch_at(y.q[j], y.v[j]);
+            if let Some(l) = &sim.latch[j] {
+                sim.seg[j] = classify(l, y.q[j], y.v[j], Contact::Open);
+            }
+        }
+        sim
+    }
+
+    /// The spring's torque continued into the stop: `T(0⁺)` on the
+    /// stowed side while `u < 0`, minus what the chain puts there.
+    fn spring_extension(&self, j: usize, phi: f64, branch: Branch) -> f64 {
+        let (Some(l), Some(jt)) = (&self.latch[j], self.chain.joints().get(j)) else {
+            return 0.0;
+        };
+        if l.travel(phi) >= 0.0 {
+            return 0.0;
+        }
+        let soft = 1.0 - jt.effects.spring_softening;
+        let at_stop = jt.spring.torque(l.side * f64::MIN_POSITIVE, branch);
+        soft * (at_stop - jt.spring.torque(phi, branch))
+    }
+
+    /// The latch torque of joint `j` on its frozen segments [N·m] and the
+    /// stop's force applied [N].
+    fn latch_torque(&self, j: usize, phi: f64, phi_dot: f64) -> (f64, f64) {
+        let Some(l) = &self.latch[j] else {
+            return (0.0, 0.0);
+        };
+        let s = &self.seg[j];
+        let u = l.travel(phi);
+        let cons = l.side * l.conservative_torque_u(s.plunger, s.magnet, u);
+        let f = match s.contact {
+            Contact::Pressing => l.stop_force(phi, phi_dot).raw_n,
+            Contact::Open | Contact::Released => 0.0,
+        };
+        (cons + l.stop_torque(f), f)
+    }
+
+    fn deriv(&mut self, y: &State<N>) -> Option<State<N>> {
+        self.evaluations += 1;
+        let (m, mut rhs) = self.chain.equations(&y.chain(), &self.mode);
+        for j in 0..N {
+            if self.latch[j].is_some() {
+                rhs[j] += self.latch_torque(j, y.q[j], y.v[j]).0
+                    + self.spring_extension(j, y.q[j], self.mode.branch[j]);
+            }
+        }
+        let a = solve_spd_masked(&m, &rhs, &self.mode.latched).ok()?;
+        let mut v = y.v;
+        for (j, vj) in v.iter_mut().enumerate() {
+            if self.mode.latched[j] {
+                *vj = 0.0;
+            }
+        }
+        a.iter()
+            .all(|x| x.is_finite())
+            .then_some(State { q: v, v: a })
+    }
+}
+
+/// The spring branch of seed 001 Eq. 1 from the state (`F` at rest).
+fn branch_at(phi: f64, phi_dot: f64) -> Branch {
+    if phi * phi_dot < 0.0 {
+        Branch::Unfold
+    } else {
+        Branch::Fold
+    }
+}
+
+/// The segments of a latch at `(φ, φ̇)`, read a moment ahead; `was` is the
+/// contact before (a compressed stop that let go stays released until its
+/// force rises again).
+fn classify(l: &PhysicalLatch<f64>, phi: f64, phi_dot: f64, was: Contact) -> Segments {
+    let ahead = phi + phi_dot * PROBE_S;
+    let u = l.travel(ahead);
+    let raw = l.stop_force(ahead, phi_dot).raw_n;
+    let contact = if u >= 0.0 {
+        Contact::Open
+    } else if was == Contact::Open || raw > 0.0 {
+        Contact::Pressing
+    } else {
+        Contact::Released
+    };
+    Segments {
+        plunger: l.plunger_segment(u),
+        magnet: l.magnet_within(u),
+        contact,
+        switch: l.switch_closed(ahead),
+    }
+}
+
+/// Distance inside the frozen segment (> 0 while it holds), for event `ev`.
+fn inside<const N: usize>(sim: &Sim<'_, N>, ev: Ev, y: &State<N>) -> f64 {
+    let j = match ev {
+        Ev::Plunger(j)
+        | Ev::Magnet(j)
+        | Ev::Contact(j)
+        | Ev::Switch(j)
+        | Ev::Ideal(j)
+        | Ev::Branch(j) => j,
+    };
+    let (phi, rate) = (y.q[j], y.v[j]);
+    if let Ev::Ideal(_) = ev {
+        return sim.side[j] * phi;
+    }
+    if let Ev::Branch(_) = ev {
+        let g = phi * rate;
+        return match sim.mode.branch[j] {
+            Branch::Unfold => -g,
+            Branch::Fold => g + f64::MIN_POSITIVE,
+        };
+    }
+    let Some(l) = &sim.latch[j] else {
+        return 1.0;
+    };
+    let s = &sim.seg[j];
+    let u = l.travel(phi);
+    let [_, crest, entry, hold_end, reach, switch] = l.marks().map(|(_, m)| m);
+    match ev {
+        Ev::Plunger(_) => match s.plunger {
+            PlungerSegment::Entry => (u - crest).min(entry - u),
+            PlungerSegment::Hold => (crest - u).min(u - hold_end),
+            PlungerSegment::Clear if u > crest => u - entry,
+            PlungerSegment::Clear => hold_end - u,
+        },
+        Ev::Magnet(_) if s.magnet => reach - u,
+        Ev::Magnet(_) => u - reach,
+        Ev::Switch(_) if s.switch => switch - u,
+        Ev::Switch(_) => u - switch,
+        _ => {
+            let raw = l.stop_force(phi, rate).raw_n;
+            match s.contact {
+                Contact::Open => u,
+                Contact::Pressing => (-u).min(raw),
+                Contact::Released => (-u).min(-raw),
+            }
+        }
+    }
+}
+
+/// Fixed-capacity list of the events that may fire in a step.
+struct Candidates {
+    items: [Option<Ev>; 6 * 4],
+    len: usize,
+}
+
+impl Candidates {
+    fn push(&mut self, e: Ev) {
+        if let Some(slot) = self.items.get_mut(self.len) {
+            *slot = Some(e);
+            self.len += 1;
+        }
+    }
+}
+
+impl<const N: usize> Sim<'_, N> {
+    /// The events whose segment is left somewhere in the step (checked at
+    /// its ends and at interior points of the dense output).
+    fn candidates(&mut self, dense: &Dense<N>, y1: &State<N>) -> Candidates {
+        let mut out = Candidates {
+            items: [None; 24],
+            len: 0,
+        };
+        let probes: [State<N>; 4] = [0.25, 0.5, 0.75, 1.0].map(|s| {
+            if s == 1.0 {
+                *y1
+            } else {
+                dense.at(dense.t0 + s * dense.h)
+            }
+        });
+        for j in 0..N {
+            if self.mode.latched[j] {
+                continue;
+            }
+            let mut evs = [None; 5];
+            if let Some(l) = &self.latch[j] {
+                let magnet = (l.magnet.force_n > 0.0).then_some(Ev::Magnet(j));
+                evs = [
+                    Some(Ev::Plunger(j)),
+                    magnet,
+                    Some(Ev::Contact(j)),
+                    Some(Ev::Switch(j)),
+                    None,
+                ];
+            } else {
+                evs[0] = Some(Ev::Ideal(j));
+            }
+            if let Some(below) = self.hyst[j] {
+                let want = branch_at(y1.q[j], y1.v[j]);
+                let near = probes.iter().any(|p| p.q[j].abs() < below)
+                    || dense.at(dense.t0).q[j].abs() < below;
+                if want != self.mode.branch[j] && !near {
+                    self.mode.branch[j] = want; // F = U out there: no restart.
+                } else {
+                    evs[4] = Some(Ev::Branch(j));
+                }
+            }
+            for ev in evs.into_iter().flatten() {
+                if probes.iter().any(|p| inside(self, ev, p) <= 0.0) {
+                    out.push(ev);
+                }
+            }
+        }
+        out
+    }
+
+    /// The first event of the step and its instant (`None`: none fired).
+    fn first_event(&mut self, dense: &Dense<N>, y1: &State<N>) -> (f64, Option<Ev>) {
+        let t1 = dense.t0 + dense.h;
+        let fired = self.candidates(dense, y1);
+        let mut best = (t1, None);
+        for ev in fired.items.iter().take(fired.len).flatten().copied() {
+            // The first change from inside (g > 0) to outside on the probes
+            // brackets the root; a segment left at the very start (g = 0
+            // there) is bracketed from its first inside probe.
+            let mut lo: Option<f64> = None;
+            let mut bracket = None;
+            for s in [0.0, 0.25, 0.5, 0.75, 1.0] {
+                let t = if s == 1.0 { t1 } else { dense.t0 + s * dense.h };
+                let y = if s == 1.0 { *y1 } else { dense.at(t) };
+                let g = inside(self, ev, &y);
+                match lo {
+                    Some(a) if g <= 0.0 => {
+                        bracket = Some((a, t));
+                        break;
+                    }
+                    _ if g > 0.0 => lo = Some(t),
+                    _ => {}
+                }
+            }
+            let Some((a, b)) = bracket else {
+                continue;
+            };
+            let te = locate(|y| inside(self, ev, y), dense, a, b);
+            if best.1.is_none() || te < best.0 {
+                best = (te, Some(ev));
+            }
+        }
+        best
+    }
+}
+
+/// The ledger's running sums.
+#[derive(Clone, Copy, Debug, Default)]
+struct Ledger {
+    energy: Energy,
+    /// Total at the start [J].
+    start_j: f64,
+}
+
+impl<const N: usize> Sim<'_, N> {
+    /// Kinetic, chain and latch potential at a state [J].
+    fn energies(&self, y: &State<N>) -> (f64, f64, f64) {
+        let mut spring = self.chain.potential_energy(&y.q);
+        let mut latch = 0.0;
+        for (j, l) in self.latch.iter().enumerate() {
+            let (Some(l), Some(jt)) = (l, self.chain.joints().get(j)) else {
+                continue;
+            };
+            latch += l.potential_energy(y.q[j]);
+            let u = l.travel(y.q[j]);
+            if u < 0.0 {
+                // The spring continued into the stop with its torque at 0⁺.
+                let soft = 1.0 - jt.effects.spring_softening;
+                let t0 = jt
+                    .spring
+                    .torque(l.side * f64::MIN_POSITIVE, Branch::Unfold)
+                    .abs();
+                spring += soft * (t0 * u - jt.spring.release(0.0, y.q[j].abs()));
+            }
+        }
+        (self.chain.kinetic_energy(&y.chain()), spring, latch)
+    }
+
+    /// Power of the non-conservative joint torques and of the stops'
+    /// damping at a state [W] (both ≤ 0 for a passive mechanism).
+    fn power(&self, y: &State<N>) -> (f64, f64) {
+        let (mut joints, mut contact) = (0.0, 0.0);
+        for (j, jt) in self.chain.joints().iter().enumerate() {
+            if self.mode.latched[j] {
+                continue;
+            }
+            let (phi, rate, branch) = (y.q[j], y.v[j], self.mode.branch[j]);
+            let soft = 1.0 - jt.effects.spring_softening;
+            let ext = self.spring_extension(j, phi, branch);
+            let total = self.chain.joint_torque(j, phi, rate, branch) + ext;
+            let ext_unfold = self.spring_extension(j, phi, Branch::Unfold);
+            let cons = soft * jt.spring.torque(phi, Branch::Unfold)
+                + ext_unfold
+                + jt.effects.harness_nm_per_rad * (jt.stowed_rad - phi);
+            joints += (total - cons) * rate;
+            if let Some(l) = &self.latch[j] {
+                let (_, f) = self.latch_torque(j, phi, rate);
+                let elastic = l.stop_force(phi, rate).elastic_n;
+                contact += l.stop_torque(f - elastic) * rate;
+            }
+        }
+        (joints, contact)
+    }
+
+    /// Adds the dissipation over `[t0, t1]` of a step and checks the drift
+    /// at `y1`.
+    fn account(&self, ledger: &mut Ledger, dense: &Dense<N>, t1: f64, y1: &State<N>) {
+        let h = t1 - dense.t0;
+        for (s, w) in GAUSS3 {
+            let (pj, pc) = self.power(&dense.at(dense.t0 + s * h));
+            ledger.energy.friction_j -= w * h * pj;
+            ledger.energy.contact_j -= w * h * pc;
+        }
+        self.close_ledger(ledger, y1);
+    }
+
+    /// The ledger's state terms at `y` and the drift there.
+    fn close_ledger(&self, ledger: &mut Ledger, y: &State<N>) {
+        let (k, s, l) = self.energies(y);
+        let e = &mut ledger.energy;
+        (e.kinetic_j, e.spring_j, e.latch_j) = (k, s, l);
+        let total = k + s + l + e.friction_j + e.contact_j + e.impact_j;
+        e.worst_drift_j = e.worst_drift_j.max((total - ledger.start_j).abs());
+    }
+}
+
+/// Samples of the run.
+struct Out<'t> {
+    times: Samples<'t>,
+    k: usize,
+    traj: Trajectory,
+}
+
+impl Out<'_> {
+    fn push_while<const N: usize>(
+        &mut self,
+        sim: &Sim<'_, N>,
+        inside_step: impl Fn(f64) -> bool,
+        state: impl Fn(f64) -> State<N>,
+    ) -> Result<(), SimError> {
+        while let Some(tk) = self.times.get(self.k).filter(|&tk| inside_step(tk)) {
+            if self.traj.t_s.len() >= MAX_SAMPLES {
+                return Err(SimError::TooManySamples { t_s: tk });
+            }
+            let y = state(tk);
+            self.traj.t_s.push(tk);
+            for j in 0..N {
+                let ideal = sim.mode.latched[j];
+                let (q, v) = if ideal { (0.0, 0.0) } else { (y.q[j], y.v[j]) };
+                let closed = ideal || sim.latch[j].as_ref().is_some_and(|l| l.switch_closed(q));
+                self.traj.phi_deg[j].push(q.to_degrees());
+                self.traj.rate_deg_s[j].push(v.to_degrees());
+                self.traj.latched[j].push(closed);
+            }
+            self.k += 1;
+        }
+        Ok(())
+    }
+}
+
+/// Simulates a mechanism with at least one physical latch (an open chain:
+/// truss wings are refused) at the given sample times.
+pub fn simulate_physical(
+    mech: &Mechanism,
+    effects: &[Effect],
+    opts: &SimOptions,
+    times: Samples<'_>,
+) -> Result<LatchRun, SimError> {
+    if mech.truss.is_some() {
+        return Err(SimError::Invalid(format!(
+            "mechanism `{}`: physical latches are simulated on open chains only, not on truss wings",
+            mech.name
+        )));
+    }
+    check_latch_effects(mech, effects)?;
+    let n = mech.joint_count();
+    let (je, g) = crate::model::effect::to_core(effects, n);
+    let bad = || SimError::Invalid(format!("mechanism `{}` cannot be built", mech.name));
+    crate::model::mechanism::with_joints!(n, N => {
+        let chain = mech.chain::<N>(&je, g).ok_or_else(bad)?;
+        let y0 = State {
+            q: core::array::from_fn(|j| chain.joints()[j].stowed_rad),
+            v: [0.0; N],
+        };
+        run_from(&chain, latches::<N>(mech, effects), y0, times, opts)
+    }, else Err(bad()))
+}
+
+/// Integrates a chain with the given latches from `y0` at `t = 0` to the
+/// last of `times`, sampling it there.
+pub fn run_from<const N: usize>(
+    chain: &Chain<f64, N>,
+    latch: [Option<PhysicalLatch<f64>>; N],
+    y0: State<N>,
+    times: Samples<'_>,
+    opts: &SimOptions,
+) -> Result<LatchRun, SimError> {
+    let mut sim = Sim::new(chain, latch, &y0);
+    let mut run = Runner {
+        out: Out {
+            times,
+            k: 0,
+            traj: Trajectory {
+                phi_deg: vec![Vec::new(); N],
+                rate_deg_s: vec![Vec::new(); N],
+                latched: vec![Vec::new(); N],
+                latch_s: vec![None; N],
+                ..Trajectory::default()
+            },
+        },
+        events: Vec::new(),
+        ledger: Ledger::default(),
+        same_instant: 0,
+    };
+    let (k, s, l) = sim.energies(&y0);
+    run.ledger.start_j = k + s + l;
+    run.ledger.energy.stored_j = k + s + l;
+    sim.close_ledger(&mut run.ledger, &y0);
+    run.out.push_while(&sim, |tk| tk <= 0.0, |_| y0)?;
+    let t_end = run.integrate(&mut sim, y0, times.last(), opts)?;
+    run.out.traj.end_s = t_end;
+    run.out.traj.stats.evaluations = sim.evaluations;
+    run.out.traj.latch_s = latch_instants(&sim, &run.events, &run.out.traj);
+    Ok(LatchRun {
+        traj: run.out.traj,
+        events: run.events,
+        energy: run.ledger.energy,
+    })
+}
+
+/// Each joint's latch instant: the ideal latch's, or the last closing of a
+/// physical latch's switch when it is closed at the end.
+fn latch_instants<const N: usize>(
+    sim: &Sim<'_, N>,
+    events: &[LatchEvent],
+    traj: &Trajectory,
+) -> Vec<Option<f64>> {
+    (0..N)
+        .map(|j| {
+            let closed_at_end = traj.latched[j].last().copied().unwrap_or(false);
+            let mine = events.iter().filter(|e| e.joint == j + 1);
+            if sim.latch[j].is_none() {
+                return mine
+                    .filter(|e| e.kind == LatchEventKind::IdealLatch)
+                    .map(|e| e.t_s)
+                    .next();
+            }
+            let last_close = mine
+                .rev()
+                .find(|e| e.kind == LatchEventKind::Mark(LatchMark::Switch) && e.rate_rad_s < 0.0)
+                .map(|e| e.t_s);
+            if closed_at_end {
+                last_close.or(Some(0.0))
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
+/// The run in progress.
+struct Runner<'t> {
+    out: Out<'t>,
+    events: Vec<LatchEvent>,
+    ledger: Ledger,
+    same_instant: usize,
+}
+
+impl Runner<'_> {
+    /// Steps from `y` at 0 to `duration`; returns where it stopped.
+    fn integrate<const N: usize>(
+        &mut self,
+        sim: &mut Sim<'_, N>,
+        mut y: State<N>,
+        duration: f64,
+        opts: &SimOptions,
+    ) -> Result<f64, SimError> {
+        let mut t = 0.0;
+        let mut k1 = sim.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
+        let mut h = 1e-4f64.min(opts.max_step_s);
+        while t < duration {
+            h = h.min(opts.max_step_s).min(duration - t);
+            if h < 1e-13 {
+                if duration - t < 1e-12 {
+                    break;
+                }
+                return Err(SimError::StepUnderflow { t_s: t });
+            }
+            let stats = &mut self.out.traj.stats;
+            let mut f = |_t: f64, s: &State<N>| sim.deriv(s);
+            let Some(att) = ode::step(&mut f, t, &y, &k1, h, opts.rtol, opts.atol) else {
+                h *= 0.25;
+                stats.rejected += 1;
+                continue;
+            };
+            if att.err > 1.0 {
+                h = ode::next_h(h, att.err);
+                stats.rejected += 1;
+                continue;
+            }
+            stats.steps += 1;
+            if stats.steps + stats.rejected > MAX_STEPS {
+                return Err(SimError::TooManySteps { t_s: t });
+            }
+            let (t_end, first) = sim.first_event(&att.dense, &att.y1);
+            let cut = first.is_some();
+            self.out.push_while(
+                sim,
+                |tk| if cut { tk < t_end } else { tk <= t_end },
+                |tk| att.dense.at(tk),
+            )?;
+            let y_end = if cut { att.dense.at(t_end) } else { att.y1 };
+            sim.account(&mut self.ledger, &att.dense, t_end, &y_end);
+            let Some(ev) = first else {
+                (t, y, k1, h) = (t_end, att.y1, att.k7, ode::next_h(h, att.err));
+                self.same_instant = 0;
+                continue;
+            };
+            self.same_instant = if t_end - t < 1e-12 {
+                self.same_instant + 1
+            } else {
+                0
+            };
+            y = y_end;
+            self.apply(sim, ev, &mut y, t_end)?;
+            t = t_end;
+            k1 = sim.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
+            h = h.min(1e-3);
+        }
+        self.out.push_while(sim, |tk| tk <= t + 1e-9, |_| y)?;
+        Ok(t.min(duration))
+    }
+
+    /// Applies event `ev` at `t` to the state `y` there.
+    fn apply<const N: usize>(
+        &mut self,
+        sim: &mut Sim<'_, N>,
+        ev: Ev,
+        y: &mut State<N>,
+        t: f64,
+    ) -> Result<(), SimError> {
+        self.out.traj.stats.events += 1;
+        let j = match ev {
+            Ev::Plunger(j)
+            | Ev::Magnet(j)
+            | Ev::Contact(j)
+            | Ev::Switch(j)
+            | Ev::Ideal(j)
+            | Ev::Branch(j) => j,
+        };
+        if self.same_instant > MAX_EVENTS_AT_ONE_INSTANT {
+            return Err(SimError::Sliding {
+                joint: j + 1,
+                t_s: t,
+            });
+        }
+        let kind = match ev {
+            Ev::Ideal(_) => {
+                self.ideal_latch(sim, y, t)?;
+                LatchEventKind::IdealLatch
+            }
+            Ev::Branch(_) => {
+                sim.mode.branch[j] = branch_at(y.q[j], y.v[j]);
+                LatchEventKind::Branch
+            }
+            _ => self.cross(sim, ev, j, y),
+        };
+        // Every other latch read again from the state: an event of one kind
+        // can coincide with a mark of another (a branch switch at the stop).
+        for k in 0..N {
+            if let (Some(l), false) = (sim.latch[k], k == j && !matches!(ev, Ev::Branch(_))) {
+                sim.seg[k] = classify(&l, y.q[k], y.v[k], sim.seg[k].contact);
+            }
+        }
+        let (u, du) = match &sim.latch[j] {
+            Some(l) => (l.travel(y.q[j]), l.travel(y.v[j])),
+            None => (sim.side[j] * y.q[j], sim.side[j] * y.v[j]),
+        };
+        self.events.push(LatchEvent {
+            t_s: t,
+            joint: j + 1,
+            kind,
+            travel_rad: u,
+            rate_rad_s: du,
+        });
+        Ok(())
+    }
+
+    /// A latch segment left: the new segments, and what to log.
+    fn cross<const N: usize>(
+        &mut self,
+        sim: &mut Sim<'_, N>,
+        ev: Ev,
+        j: usize,
+        y: &State<N>,
+    ) -> LatchEventKind {
+        let Some(l) = sim.latch[j] else {
+            return LatchEventKind::Branch;
+        };
+        let before = sim.seg[j];
+        let after = classify(&l, y.q[j], y.v[j], before.contact);
+        sim.seg[j] = after;
+        let mark = |m| LatchEventKind::Mark(m);
+        match ev {
+            Ev::Plunger(_)
+                if before.plunger == PlungerSegment::Entry
+                    && after.plunger == PlungerSegment::Hold =>
+            {
+                mark(LatchMark::Crest)
+            }
+            Ev::Plunger(_)
+                if before.plunger == PlungerSegment::Hold
+                    && after.plunger == PlungerSegment::Entry =>
+            {
+                mark(LatchMark::Crest)
+            }
+            Ev::Plunger(_) if l.travel(y.q[j]) > l.plunger.crest_rad => mark(LatchMark::EntryRamp),
+            Ev::Plunger(_) => mark(LatchMark::HoldRampEnd),
+            Ev::Magnet(_) => mark(LatchMark::MagnetReach),
+            Ev::Switch(_) => mark(LatchMark::Switch),
+            _ => match (before.contact, after.contact) {
+                (_, Contact::Open) | (Contact::Open, _) => mark(LatchMark::Stop),
+                (_, Contact::Released) => LatchEventKind::Release,
+                _ => LatchEventKind::Press,
+            },
+        }
+    }
+
+    /// An ideal latch at `t`: every free ideal joint at its latch angle
+    /// locks in one plastic impulse (`physics.md` section 5).
+    fn ideal_latch<const N: usize>(
+        &mut self,
+        sim: &mut Sim<'_, N>,
+        y: &mut State<N>,
+        t: f64,
+    ) -> Result<(), SimError> {
+        let mut after = sim.mode.latched;
+        for j in 0..N {
+            if sim.latch[j].is_none() && !after[j] && sim.side[j] * y.q[j] <= 1e-12 {
+                after[j] = true;
+            }
+        }
+        let before = sim.chain.kinetic_energy(&y.chain());
+        y.v = sim
+            .chain
+            .latch_impulse(&y.chain(), &after)
+            .map_err(|_| SimError::Singular { t_s: t })?;
+        for j in 0..N {
+            if after[j] {
+                y.v[j] = 0.0;
+            }
+        }
+        // The locked joints' springs keep their energy at φ = 0 (none).
+        for j in 0..N {
+            if after[j] && !sim.mode.latched[j] {
+                y.q[j] = 0.0;
+            }
+        }
+        sim.mode.latched = after;
+        self.ledger.energy.impact_j += before - sim.chain.kinetic_energy(&y.chain());
+        Ok(())
+    }
+}

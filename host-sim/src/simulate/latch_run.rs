@@ -1,0 +1,129 @@
+//! What a physical-latch run gives (`crate::simulate::latch_deployment`):
+//! its events, its energy ledger, and what each latch did.
+
+use crate::simulate::trajectory::Trajectory;
+use deploywatch_core::physics::latch_contact::{LatchMark, PhysicalLatch, PlungerSegment};
+
+/// What happened at an event.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LatchEventKind {
+    /// The joint crossed a mark of its travel (towards the stop when
+    /// `rate_rad_s` of the event is negative).
+    Mark(LatchMark),
+    /// The stop's force reached zero while the joint is in it.
+    Release,
+    /// The stop's force rose from zero again inside it.
+    Press,
+    /// An ideal latch locked the joint (section 5).
+    IdealLatch,
+    /// A tape spring changed branch.
+    Branch,
+}
+
+/// One event of a physical-latch run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LatchEvent {
+    /// Instant [s].
+    pub t_s: f64,
+    /// 1-based joint.
+    pub joint: usize,
+    /// What happened.
+    pub kind: LatchEventKind,
+    /// The travel from the stop `u = s φ` there [rad].
+    pub travel_rad: f64,
+    /// The travel's rate `u̇` there [rad/s] (negative: towards the stop).
+    pub rate_rad_s: f64,
+}
+
+/// The energy ledger of a run [J]: `kinetic + spring + latch + friction +
+/// contact + impact` is the energy stored at the start, to the drift.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Energy {
+    /// Potential energy stored at the start (springs, harness, latches).
+    pub stored_j: f64,
+    /// Kinetic energy at the end.
+    pub kinetic_j: f64,
+    /// Potential of the chain at the end: springs on their unfolding
+    /// branch, harness, rig tilt.
+    pub spring_j: f64,
+    /// Potential of the latches at the end: plunger, magnet, the stops'
+    /// elastic energy.
+    pub latch_j: f64,
+    /// Dissipated by the joint torques that are not conservative: friction,
+    /// the tape springs' hysteresis, joint effects.
+    pub friction_j: f64,
+    /// Dissipated by the stops' damping.
+    pub contact_j: f64,
+    /// Lost in the plastic impacts of ideal latches.
+    pub impact_j: f64,
+    /// Largest `|total − stored|` over the step ends of the run.
+    pub worst_drift_j: f64,
+}
+
+/// A physical-latch run: the trajectory, the events and the ledger.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LatchRun {
+    /// The sampled trajectory (`latched` is the switch).
+    pub traj: Trajectory,
+    /// Every event, in time order.
+    pub events: Vec<LatchEvent>,
+    /// The energy ledger at the end.
+    pub energy: Energy,
+}
+
+/// Where a joint with a physical latch ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LatchEnd {
+    /// Short of the plunger: the protrusion never touched the ball, or left it.
+    ShortOfPlunger,
+    /// On the entry ramp, short of the crest: the switch is open unless its
+    /// travel reaches that far.
+    OnRamp,
+    /// Past the crest, held by the plunger (and magnet) towards the stop.
+    Held,
+}
+
+/// What a physical latch did over a run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LatchOutcome {
+    /// Arrivals on the stop (contact onsets).
+    pub impacts: usize,
+    /// Passes back out over the crest after having been in.
+    pub escapes: usize,
+    /// Passes in over the crest.
+    pub engagements: usize,
+    /// Closings of the switch.
+    pub switch_closings: usize,
+    /// Where the joint ended.
+    pub end: LatchEnd,
+    /// The travel from the stop at the end [deg].
+    pub end_travel_deg: f64,
+}
+
+impl LatchRun {
+    /// What the physical latch of joint `joint` (1-based) did, `None` for a
+    /// joint with an ideal latch.
+    pub fn outcome(&self, joint: usize, latch: &PhysicalLatch<f64>) -> Option<LatchOutcome> {
+        let phi_deg = *self.traj.phi_deg.get(joint.checked_sub(1)?)?.last()?;
+        let mine = || self.events.iter().filter(|e| e.joint == joint);
+        let count = |m: LatchMark, inward: bool| {
+            mine()
+                .filter(|e| e.kind == LatchEventKind::Mark(m) && (e.rate_rad_s < 0.0) == inward)
+                .count()
+        };
+        let u = latch.travel(phi_deg.to_radians());
+        let end = match latch.plunger_segment(u) {
+            _ if u <= latch.plunger.crest_rad => LatchEnd::Held,
+            PlungerSegment::Entry => LatchEnd::OnRamp,
+            _ => LatchEnd::ShortOfPlunger,
+        };
+        Some(LatchOutcome {
+            impacts: count(LatchMark::Stop, true),
+            escapes: count(LatchMark::Crest, false),
+            engagements: count(LatchMark::Crest, true),
+            switch_closings: count(LatchMark::Switch, true),
+            end,
+            end_travel_deg: u.to_degrees(),
+        })
+    }
+}
