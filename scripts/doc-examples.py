@@ -181,7 +181,7 @@ def strip_comment(line):
                 quote = None
         elif c in "'\"":
             quote = c
-        elif c == "#" and (n == 0 or line[n - 1].isspace()) and not line[n - 1 : n + 1] == "$#":
+        elif c == "#" and (n == 0 or line[n - 1].isspace()):
             return line[:n].rstrip()
     return line.rstrip()
 
@@ -537,7 +537,18 @@ def self_test(checker):
         msgs = " ".join(x.message for x in f)
         if "exit 2" not in msgs or "scripts/no-such-script.sh" not in msgs or len(f) != 2:
             problems.append(f"a failing run and a missing script should fail, got {f}")
-        # 6. A command in an unlabelled block is flagged.
+        # 6. A transcript (`$ ` lines and their output) is compared and updated alike.
+        transcript = (
+            "```text\n$ deploywatch margin --mechanism data/mechanisms/seed000_case1.toml \\\n"
+            "      --friction 0.54,0.472 -q\nnot what margin prints\n```\n"
+        )
+        doc.write_text(transcript)
+        f = check_doc(checker, doc, False, [])
+        check_doc(checker, doc, True, [])
+        g = check_doc(checker, doc, False, [])
+        if len(f) != 1 or f[0].line != 2 or g or "--friction 0.54,0.472 -q\n" not in doc.read_text():
+            problems.append(f"a wrong transcript should fail at line 2 and pass after --update, got {f} then {g}")
+        # 7. A command in an unlabelled block is flagged.
         doc.write_text("```\ncargo test -p deploywatch-tests --test structure\n```\n")
         if not check_doc(checker, doc, False, []):
             problems.append("a command in an unlabelled block should fail")
@@ -546,8 +557,8 @@ def self_test(checker):
     for p in problems:
         print(f"self-test FAILED: {p}", file=sys.stderr)
     if not problems:
-        print("self-test passed: wrong output, changed digit, unknown option and subcommand, failing run, "
-              "missing script and unlabelled command all fail; --update repairs the output")
+        print("self-test passed: wrong output or transcript, changed digit, unknown option and subcommand, "
+              "failing run, missing script and unlabelled command all fail; --update repairs the outputs")
     return not problems
 
 
