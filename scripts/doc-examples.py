@@ -270,7 +270,7 @@ def classify(doc_lines):
     return blocks
 
 
-def lint(path, blocks, doc_lines):
+def lint(path, blocks):
     """A command block the checker would not see is an error: label it `sh`."""
     out = []
     for b in blocks:
@@ -390,7 +390,7 @@ def check_doc(checker, path, update, report):
     rel = os.path.relpath(path, ROOT) if str(path).startswith(str(ROOT)) else str(path)
     lines = Path(path).read_text().splitlines()
     blocks = classify(lines)
-    failures = lint(rel, blocks, lines)
+    failures = lint(rel, blocks)
     edits = []  # (first, last_exclusive, new lines), 0-based, on `lines`
     tmp = workspace()
     bindir = tmp / ".doc-examples-bin"
