@@ -2,14 +2,19 @@
 # Every test of deploywatch, as CI runs it (.ci/run calls exactly this).
 #
 #   scripts/test.sh          everything
-#   scripts/test.sh --host   host checks only (fmt, clippy, cargo test): no
-#                            embedded toolchain, no QEMU, no fuzzing
+#   scripts/test.sh --host   host checks only (fmt, clippy, cargo test, the
+#                            docs' examples, Python): no embedded toolchain,
+#                            no QEMU, no fuzzing
 #
 # Steps (each prints a header; the first failure stops the run):
 #  1. cargo fmt --check, clippy -D warnings on every target of the workspace
 #  2. cargo test --workspace (the test profile is optimised, see Cargo.toml):
 #     unit tests, golden trajectories, paper vectors, monitor, identification,
 #     the hidden-effect diagnosis suite, black-box CLI tests
+#  2a. the docs' examples (scripts/doc-examples.py): the checker's self-test,
+#     then every command shown in README.md and docs/*.md run with today's
+#     release binary and its shown output compared (synopses checked against
+#     --help; slow ones marked in the doc and skipped, with the reason)
 #  2b. the Python package (python/, its own workspace): .venv/ made or
 #     updated by scripts/python-env.sh (the extension built once, in
 #     release), then pytest, with a real Dask LocalCluster of 2 processes
@@ -35,6 +40,10 @@ cargo clippy --workspace --all-targets --locked -- -D warnings
 
 step "cargo test --workspace"
 cargo test --workspace --locked
+
+step "docs: every shown command run, its output compared"
+python3 scripts/doc-examples.py --self-test
+python3 scripts/doc-examples.py --check
 
 step "python package: build, pytest (Dask LocalCluster)"
 cargo fmt --manifest-path python/Cargo.toml -- --check

@@ -72,7 +72,7 @@ fn direct_recovers_the_papers_eft_on_the_truss_wing() {
 
 #[test]
 fn direct_recovers_eft3_at_its_smallest_required_value() {
-    // Table 9's centre for EFT1, EFT2 and the least EFT3 the issue asks for.
+    // Table 9's centre for EFT1, EFT2 and the least EFT3 required of `direct`.
     let truth = [0.75, 0.60, 0.05];
     let c = synthetic(truth, [3, 4]);
     let id = identify_direct(&c, &[1, 2, 3], &DirectOptions::default(), &quiet).unwrap();

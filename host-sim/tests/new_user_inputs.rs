@@ -1,7 +1,8 @@
 //! What a new user runs into at the command line with bad input, each
 //! checked on the `deploywatch` binary as a black box: a clear error (exit
 //! code 2, the file, line and key named, what is allowed) and never a panic,
-//! or, for what used to be refused or to abort, the right result.
+//! or, for unusual input that is valid (a huge duration, a run file ending in
+//! blank lines), the right result.
 
 mod common;
 

@@ -23,7 +23,7 @@ use deploywatch_sim::data::run::Run;
 use deploywatch_sim::model::mechanism::Mechanism;
 use deploywatch_sim::model::plausibility;
 
-/// The bundled run of the trials.
+/// A bundled run of seed 001's trials (example campaign c).
 fn bundled_run() -> PathBuf {
     data().join("examples/c_seed001_friction_harness/seed001_T01.csv")
 }

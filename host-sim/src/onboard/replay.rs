@@ -49,7 +49,7 @@ pub const DEFAULT_ELF: &str =
 /// The QEMU program the firmware runs on.
 pub const QEMU: &str = "qemu-system-arm";
 
-/// What to run the firmware replay on after the fix of the toolchain.
+/// What to run when the firmware ELF or QEMU is missing.
 const SETUP_HINT: &str =
     "run scripts/embedded-toolchain.sh (once per machine), then scripts/firmware.sh build";
 
