@@ -16,7 +16,7 @@ method=${2:-subset}
 samples=${3:-2000}
 seed=${4:-0}
 cargo build -q --release --locked -p deploywatch-sim --bin deploywatch
-dw=target/release/deploywatch
+dw=${CARGO_TARGET_DIR:-target}/release/deploywatch
 mech=data/mechanisms/reliability_one_panel.toml
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
