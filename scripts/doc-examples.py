@@ -340,7 +340,7 @@ class Checker:
         return errors
 
     def run(self, cmd, workdir, bindir):
-        env = dict(os.environ, PATH=f"{bindir}{os.pathsep}{os.environ['PATH']}", DEPLOYWATCH=str(self.binary))
+        env = dict(os.environ, PATH=f"{bindir}{os.pathsep}{os.environ['PATH']}")
         t0 = time.monotonic()
         try:
             r = subprocess.run(
