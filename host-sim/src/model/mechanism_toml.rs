@@ -38,7 +38,7 @@ use deploywatch_core::spring::{Interp, TapePoints};
 use deploywatch_core::{Curve, Panel, Spring};
 
 use crate::model::effect::{EffectKind, ValueRange};
-use crate::model::mechanism::{FrictionSpec, JointSpec, Mechanism, SpringSpec, MAX_JOINTS};
+use crate::model::mechanism::{FrictionSpec, JointSpec, Mechanism, SpringSpec, MAX_CHAIN_JOINTS};
 pub use crate::model::mechanism_error::{MechanismError, MechanismErrorKind};
 use crate::model::mechanism_write::{num, toml_str};
 
@@ -505,9 +505,11 @@ impl Cx<'_> {
         for (i, sp) in panel_items.iter().enumerate() {
             panels.push(self.panel(sp, &format!("panel[{}]", i + 1))?);
         }
-        if panels.is_empty() || panels.len() > MAX_JOINTS {
+        if panels.is_empty() || panels.len() > MAX_CHAIN_JOINTS {
             return Err(self.err(
-                panel_items.get(MAX_JOINTS).and_then(|sp| self.line(sp)),
+                panel_items
+                    .get(MAX_CHAIN_JOINTS)
+                    .and_then(|sp| self.line(sp)),
                 MechanismErrorKind::PanelCount {
                     found: panels.len(),
                 },
@@ -569,7 +571,7 @@ impl Cx<'_> {
 
     /// `[[key]]`: an array of tables (`key = [{...}, ...]` is the same in TOML).
     fn array_of_tables<'s>(&self, top: &Table<'s>, key: &str) -> Res<&'s [Sp]> {
-        let expected = format!("1 to {MAX_JOINTS} [[{key}]] tables");
+        let expected = format!("1 to {MAX_CHAIN_JOINTS} [[{key}]] tables");
         let Some(sp) = top.get(key) else {
             return Err(self.missing(top, key, &expected));
         };
@@ -670,7 +672,7 @@ impl Cx<'_> {
         };
         // The core's own check (the pieces were checked above; this cannot
         // fail unless the core's rules grow).
-        spec.to_spring().map_err(|source| {
+        spec.to_spring::<f64>().map_err(|source| {
             self.err(
                 self.line(sp),
                 MechanismErrorKind::BadCurve {

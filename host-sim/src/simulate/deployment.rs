@@ -10,7 +10,7 @@
 //! no discontinuity; every restart re-evaluates the derivative.
 
 use crate::model::effect::{self, Effect};
-use crate::model::mechanism::{with_joints, Mechanism, MAX_JOINTS};
+use crate::model::mechanism::{with_joints, Mechanism, MAX_CHAIN_JOINTS};
 use crate::simulate::ode::{self, locate, State};
 pub use crate::simulate::trajectory::{
     Samples, SimError, SimOptions, SimStats, Trajectory, MAX_SAMPLES, MAX_STEPS,
@@ -38,20 +38,13 @@ pub fn simulate(
     }
     // The grid is generated as the run goes: a long duration costs nothing
     // when the wing latches early.
-    let last_k = (duration * rate + 1e-9).floor();
-    let count = if last_k < usize::MAX as f64 {
-        last_k as usize + 1
-    } else {
-        usize::MAX
-    };
-    if count > MAX_SAMPLES && !opts.stop_when_deployed {
+    let times = Samples::grid(duration, rate);
+    if matches!(times, Samples::Grid { count, .. } if count > MAX_SAMPLES)
+        && !opts.stop_when_deployed
+    {
         // The whole duration would be written: refuse before the work.
         return Err(SimError::TooManySamples { t_s: duration });
     }
-    let times = Samples::Grid {
-        rate_hz: rate,
-        count,
-    };
     simulate_samples(mech, effects, opts, times)
 }
 
@@ -104,7 +97,7 @@ fn simulate_samples(
     let bad = || SimError::Invalid(format!("mechanism `{}` cannot be built", mech.name));
     let other = || {
         SimError::Invalid(format!(
-            "mechanism `{}` has {n} joints; 1 to {MAX_JOINTS} are supported",
+            "mechanism `{}` has {n} joints; 1 to {MAX_CHAIN_JOINTS} are supported",
             mech.name
         ))
     };
@@ -126,6 +119,8 @@ struct Integrator<'a, const N: usize> {
     side: [f64; N],
     /// Where each joint's branch matters [rad] (`None`: no hysteresis).
     hyst: [Option<f64>; N],
+    /// The step-size controller ([`ode::CHAIN_CONTROL`]).
+    step_control: ode::StepController,
     evaluations: usize,
 }
 
@@ -271,13 +266,13 @@ pub fn run_chain<const N: usize>(
 
     let mut t = 0.0;
     let mut k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
-    let mut h = 1e-4f64.min(opts.max_step_s);
+    let mut h = ode::INITIAL_STEP_S.min(opts.max_step_s);
     let mut events = EventLog::<N>::new();
     let mut done = false;
     while !done && t < duration {
         h = h.min(opts.max_step_s).min(duration - t);
-        if h < 1e-13 {
-            if duration - t < 1e-12 {
+        if h < ode::MIN_STEP_S {
+            if duration - t < ode::END_SLACK_S {
                 break;
             }
             return Err(SimError::StepUnderflow { t_s: t });
@@ -299,7 +294,7 @@ pub fn run_chain<const N: usize>(
             t = t1;
             y = att.y1;
             k1 = att.k7;
-            h = ode::next_h(h, att.err);
+            h = it.step_control.accept(h, att.err);
             events.same_instant = 0;
             continue;
         };
@@ -314,7 +309,8 @@ pub fn run_chain<const N: usize>(
         t = t_end;
         k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
         // Restart with a modest step after a discontinuity.
-        h = h.min(1e-3);
+        h = h.min(ode::RESTART_STEP_S);
+        it.step_control.restart();
     }
     out.out.end_s = t.min(duration);
     out.close(t, &y, &it.mode.latched, done, opts)?;
@@ -442,6 +438,7 @@ impl<'a, const N: usize> Integrator<'a, N> {
             mode: Mode::default(),
             side: [0.0; N],
             hyst: [None; N],
+            step_control: ode::StepController::new(ode::CHAIN_CONTROL),
             evaluations: 0,
         };
         let mut y = State::<N>::ZERO;
@@ -470,12 +467,12 @@ impl<'a, const N: usize> Integrator<'a, N> {
         let mut f = |_t: f64, s: &State<N>| self.deriv(s);
         let Some(att) = ode::step(&mut f, t, y, k1, *h, opts.rtol, opts.atol) else {
             // The trial state left the domain (e.g. NaN): shrink.
-            *h *= 0.25;
+            *h *= ode::FAILED_STEP_SHRINK;
             stats.rejected += 1;
             return Ok(None);
         };
         if att.err > 1.0 {
-            *h = ode::next_h(*h, att.err);
+            *h = self.step_control.reject(*h, att.err);
             stats.rejected += 1;
             return Ok(None);
         }

@@ -156,7 +156,39 @@ pub enum Samples<'a> {
     },
 }
 
+/// The most samples a uniform grid counts: one more than [`MAX_SAMPLES`].
+/// Every longer grid is refused alike, as a run that would hold more than
+/// [`MAX_SAMPLES`] samples, so counting further says nothing; the cap also
+/// keeps the count of an absurd `duration × rate` (10³⁰⁰ s) a number, not a
+/// saturated conversion, and the time of the refusal in range.
+pub const GRID_COUNT_CAP: usize = MAX_SAMPLES + 1;
+
+/// Slack on `duration × rate` when counting a grid's samples [samples]: a
+/// duration that is a whole number of sample periods keeps its last sample
+/// although the product rounds below it (0.3 s × 10 Hz = 2.9999999999999996).
+pub const GRID_ROUNDING_SAMPLES: f64 = 1e-9;
+
+/// Samples `k / rate_hz ≤ duration_s`, `k = 0, 1, …`, capped at
+/// [`GRID_COUNT_CAP`]: the one count of a run's uniform sample grid.
+/// `duration_s` and `rate_hz` are positive and finite (checked by callers).
+pub fn grid_count(duration_s: f64, rate_hz: f64) -> usize {
+    let last_k = (duration_s * rate_hz + GRID_ROUNDING_SAMPLES).floor();
+    if last_k < (GRID_COUNT_CAP - 1) as f64 {
+        last_k as usize + 1
+    } else {
+        GRID_COUNT_CAP
+    }
+}
+
 impl Samples<'_> {
+    /// The uniform grid `k / rate_hz ≤ duration_s` ([`grid_count`]).
+    pub fn grid(duration_s: f64, rate_hz: f64) -> Samples<'static> {
+        Samples::Grid {
+            rate_hz,
+            count: grid_count(duration_s, rate_hz),
+        }
+    }
+
     /// Sample `k` [s], `None` past the end.
     pub fn get(&self, k: usize) -> Option<f64> {
         match *self {

@@ -110,8 +110,9 @@ pub fn simulate_truss(
         Samples::Listed(t) => t.to_vec(),
         Samples::Grid { rate_hz, count } => {
             if count > MAX_SAMPLES {
+                // The time of the first sample past the limit.
                 return Err(SimError::TooManySamples {
-                    t_s: count as f64 / rate_hz,
+                    t_s: MAX_SAMPLES as f64 / rate_hz,
                 });
             }
             (0..count).map(|k| k as f64 / rate_hz).collect()
