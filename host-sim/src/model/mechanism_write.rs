@@ -95,9 +95,10 @@ impl Mechanism {
     }
 }
 
-/// A TOML basic string, quoted and escaped by the `toml` crate.
+/// A TOML string, quoted and escaped by `toml_edit` (the parser of
+/// [`crate::model::toml_tree`]).
 pub fn toml_str(s: &str) -> String {
-    toml::Value::String(s.to_string()).to_string()
+    toml_edit::Value::from(s).to_string()
 }
 
 /// A float in Rust's shortest round-trip form, valid TOML.

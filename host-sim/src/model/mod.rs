@@ -10,6 +10,7 @@ pub mod mechanism_error;
 pub mod mechanism_toml;
 pub mod mechanism_write;
 pub mod plausibility;
+pub mod toml_tree;
 pub mod torque_table;
 pub mod truss;
 pub mod truss_toml;
