@@ -269,10 +269,14 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
     }
 }
 
+/// The standard normal's 0.975 quantile: a two-sided 95 % interval is
+/// `± Z_975` standard deviations.
+pub const Z_975: f64 = 1.959_963_984_540_054;
+
 /// Student-t 0.975 quantile for `dof` degrees of freedom (Cornish–Fisher
-/// expansion; exact to 1e-3 for dof ≥ 3, 1.96 in the limit).
+/// expansion; exact to 1e-3 for dof ≥ 3, [`Z_975`] in the limit).
 pub fn t975(dof: usize) -> f64 {
-    let z = 1.959_963_984_540_054;
+    let z = Z_975;
     let v = dof.max(1) as f64;
     let z3 = z * z * z;
     let z5 = z3 * z * z;
