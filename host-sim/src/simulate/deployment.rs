@@ -12,14 +12,34 @@
 use crate::model::effect::{self, Effect};
 use crate::model::mechanism::{with_joints, Mechanism, MAX_CHAIN_JOINTS};
 use crate::simulate::ode::{self, locate, State};
+use crate::simulate::trajectory::SAMPLE_TIME_SLACK_S;
 pub use crate::simulate::trajectory::{
     Samples, SimError, SimOptions, SimStats, Trajectory, MAX_SAMPLES, MAX_STEPS,
 };
 use deploywatch_core::{Branch, Chain, Mode};
 
-/// Most branch events one joint may have within 1 ms before the simulation
-/// is declared to slide on `φ̇ = 0`.
+/// Most branch events one joint may have within [`BRANCH_BURST_WINDOW_S`]
+/// before the simulation is declared to slide on `φ̇ = 0`.
 pub const MAX_BRANCH_BURST: usize = 10;
+
+/// The window of [`MAX_BRANCH_BURST`] [s]: 1 ms, a tenth of a sample at
+/// 100 Hz; a spring switching branches more often than that is chattering,
+/// not moving.
+pub const BRANCH_BURST_WINDOW_S: f64 = 1e-3;
+
+/// Most consecutive events at one instant before the simulation is declared
+/// to slide: more than a joint per event for any chain of
+/// [`MAX_CHAIN_JOINTS`] joints, twice over.
+pub const MAX_SAME_INSTANT_EVENTS: usize = 20;
+
+/// Events closer than this are at the same instant [s]: the precision to
+/// which [`ode::locate`] finds an event time of seconds.
+pub const SAME_INSTANT_S: f64 = 1e-12;
+
+/// A joint this close to its latch angle on the stowed side [rad] latches
+/// with the joint whose event fired: a located event leaves the angle a
+/// rounding error from 0.
+pub const LATCH_REACHED_RAD: f64 = 1e-12;
 
 /// Simulates a mechanism with extra effects (sensor effects are ignored
 /// here: see [`crate::simulate::sensor`]).
@@ -299,7 +319,7 @@ pub fn run_chain<const N: usize>(
             continue;
         };
         out.out.stats.events += 1;
-        events.same_instant = if (t_end - t).abs() < 1e-12 {
+        events.same_instant = if (t_end - t).abs() < SAME_INSTANT_S {
             events.same_instant + 1
         } else {
             0
@@ -379,13 +399,13 @@ impl Sampler<'_> {
         opts: &SimOptions,
     ) -> Result<(), SimError> {
         if !done {
-            return self.push_while(|tk| tk <= t + 1e-9, |_| *y, latched);
+            return self.push_while(|tk| tk <= t + SAMPLE_TIME_SLACK_S, |_| *y, latched);
         }
         let Some(first) = self.times.get(self.k) else {
             return Ok(());
         };
         let end = if opts.stop_when_deployed {
-            first + opts.settle_s.unwrap_or(0.0) + 1e-9
+            first + opts.settle_s.unwrap_or(0.0) + SAMPLE_TIME_SLACK_S
         } else {
             f64::INFINITY
         };
@@ -414,12 +434,12 @@ impl<const N: usize> EventLog<N> {
     /// slides.
     fn branch(&mut self, j: usize, t: f64) -> Result<(), SimError> {
         let (last, count) = self.burst[j];
-        self.burst[j] = if t - last < 1e-3 {
+        self.burst[j] = if t - last < BRANCH_BURST_WINDOW_S {
             (last, count + 1)
         } else {
             (t, 1)
         };
-        if self.same_instant > 20 || self.burst[j].1 > MAX_BRANCH_BURST {
+        if self.same_instant > MAX_SAME_INSTANT_EVENTS || self.burst[j].1 > MAX_BRANCH_BURST {
             return Err(SimError::Sliding {
                 joint: j + 1,
                 t_s: t,
@@ -501,7 +521,7 @@ impl<'a, const N: usize> Integrator<'a, N> {
             // rate does there.
             let earlier = match ev {
                 Event::Latch(_) => te <= t_end,
-                Event::Branch(_) => te < t_end - 1e-12,
+                Event::Branch(_) => te < t_end - SAME_INSTANT_S,
             };
             if first.is_none() || earlier {
                 t_end = te;
@@ -548,7 +568,7 @@ impl<'a, const N: usize> Integrator<'a, N> {
     ) -> Result<bool, SimError> {
         let mut after = self.mode.latched;
         for j in 0..N {
-            if !after[j] && self.side[j] * ye.q[j] <= 1e-12 {
+            if !after[j] && self.side[j] * ye.q[j] <= LATCH_REACHED_RAD {
                 after[j] = true;
             }
         }

@@ -28,12 +28,33 @@ pub struct SimOptions {
     pub settle_s: Option<f64>,
 }
 
+/// Default relative tolerance of the DOPRI5 error norm ([`SimOptions::rtol`]):
+/// the golden trajectories (`tests/golden.rs`, `docs/validation.md`) hold
+/// their bounds with it.
+pub const DEFAULT_RTOL: f64 = 1e-8;
+
+/// Default absolute tolerance of the DOPRI5 error norm [rad, rad/s]
+/// ([`SimOptions::atol`]): 10⁻¹⁰ rad is far below any sensor's resolution
+/// (an AS5047P count is 3.8·10⁻⁴ rad).
+pub const DEFAULT_ATOL: f64 = 1e-10;
+
+/// Default longest step [s] ([`SimOptions::max_step_s`]): an event is found
+/// by a sign change of its function over a step, and a step much shorter
+/// than a deployment's swings (seconds) cannot hide a crossing and its
+/// return.
+pub const DEFAULT_MAX_STEP_S: f64 = 0.05;
+
+/// Slack on a sample time when deciding whether it is at or before a time
+/// of the run [s]: far below the µs resolution of `t_s` in a run CSV, far
+/// above the rounding of sums of seconds.
+pub const SAMPLE_TIME_SLACK_S: f64 = 1e-9;
+
 impl Default for SimOptions {
     fn default() -> Self {
         SimOptions {
-            rtol: 1e-8,
-            atol: 1e-10,
-            max_step_s: 0.05,
+            rtol: DEFAULT_RTOL,
+            atol: DEFAULT_ATOL,
+            max_step_s: DEFAULT_MAX_STEP_S,
             duration_s: None,
             sample_hz: None,
             latching: true,

@@ -26,6 +26,7 @@ pub mod by_rsm;
 pub mod direct;
 pub mod residual_check;
 pub mod rsm;
+pub mod rsm_box;
 
 use self::rsm::{CcdKind, Coding, Quadratic};
 use crate::analysis::campaign_sim::CampaignSim;
@@ -193,7 +194,7 @@ pub struct DirectOptions {
     /// best of the start scan ([`scan`]).
     pub start_nm: Option<Vec<f64>>,
     /// Smallest finite-difference step [N·m] (the step is
-    /// `max(min_step, 1e-4·|T_C|)`).
+    /// `max(min_step, JACOBIAN_REL_STEP·|T_C|)`, `analysis::fit`).
     pub min_step_nm: f64,
     /// Upper bound of every EFT [N·m].
     pub upper_nm: f64,
@@ -205,7 +206,7 @@ impl Default for DirectOptions {
     fn default() -> Self {
         DirectOptions {
             start_nm: None,
-            min_step_nm: 1e-4,
+            min_step_nm: DEFAULT_MIN_STEP_NM,
             upper_nm: 100.0,
             patience: 40,
         }
@@ -278,9 +279,25 @@ pub struct RsmOptions {
     pub rounds: usize,
 }
 
+/// Default smallest finite-difference step of an EFT [N·m]
+/// ([`DirectOptions::min_step_nm`]): the Jacobian's step is
+/// `max(min_step, JACOBIAN_REL_STEP·|T_C|)` (`analysis::fit`); 10⁻⁴ N·m is
+/// a tenth of the smallest friction the papers identify (0.001 N·m), far
+/// above the simulation's error at its tolerances.
+pub const DEFAULT_MIN_STEP_NM: f64 = 1e-4;
+
 /// Factor on the half-ranges from one round of a sequential response-surface
 /// design to the next [1].
 pub const RSM_ROUND_SHRINK: f64 = 0.5;
+
+/// A later round's half-range stays below this fraction of the distance
+/// from its centre to 0 N·m over the design's reach (ratio): the axial
+/// points stay strictly above 0, where the effect is defined.
+pub const RSM_REACH_MARGIN: f64 = 0.999;
+
+/// A design point below 0 N·m by less than this fraction of its half-range
+/// (ratio) is rounding and is set to 0; further below, the plan is refused.
+pub const RSM_ZERO_SLACK: f64 = 1e-9;
 
 /// Least design centre of a later round [N·m]: a minimum at 0 N·m is
 /// re-centred here so the next design has a positive extent.
