@@ -39,8 +39,7 @@ use deploywatch_core::{Curve, Panel, Spring};
 use crate::model::effect::EffectKind;
 use crate::model::mechanism::{FrictionSpec, JointSpec, Mechanism, SpringSpec, MAX_CHAIN_JOINTS};
 pub use crate::model::mechanism_error::{MechanismError, MechanismErrorKind};
-use crate::model::mechanism_write::num;
-use crate::model::toml_tree::{join, Bound, Cx, Node, Res, Sp, Table};
+use crate::model::toml_tree::{join, num, Bound, Cx, Node, Res, Sp, Table};
 
 /// `[run] duration_s` when the file does not give it (s).
 pub const DEFAULT_DURATION_S: f64 = 6.0;

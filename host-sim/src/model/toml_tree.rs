@@ -13,7 +13,6 @@ use std::ops::Range;
 
 use crate::model::effect::{EffectKind, ValueRange};
 use crate::model::mechanism_error::{MechanismError, MechanismErrorKind};
-use crate::model::mechanism_write::{num, toml_str};
 
 /// A TOML value and, when known, its byte span in the text.
 #[derive(Debug)]
@@ -424,5 +423,21 @@ impl Cx<'_> {
         let x = self.number(&items[0], &format!("{key}[1]"), Bound::Finite, "")?;
         let y = self.number(&items[1], &format!("{key}[2]"), Bound::Finite, "")?;
         Ok((x, y))
+    }
+}
+
+/// A TOML string, quoted and escaped by `toml_edit`.
+pub fn toml_str(s: &str) -> String {
+    toml_edit::Value::from(s).to_string()
+}
+
+/// A float in Rust's shortest round-trip form, valid TOML.
+pub fn num(x: f64) -> String {
+    if x.is_nan() {
+        "nan".to_string()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf" } else { "-inf" }.to_string()
+    } else {
+        format!("{x:?}")
     }
 }

@@ -2,7 +2,7 @@
 //! "Diagnosis: JSON", with the project's fields of "Findings JSON"): written
 //! by `cli::diagnose`, read by `margin --from`. Only `effects` (and each
 //! effect's `name`) is required on reading; numbers are rounded to 6
-//! decimals ([`super::rounded`]) and `null` where not finite.
+//! decimals ([`super::numbers::rounded`]) and `null` where not finite.
 
 use serde::de::{MapAccess, Visitor};
 use serde::ser::SerializeMap;

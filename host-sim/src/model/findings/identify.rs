@@ -5,7 +5,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{nan_if_null, nans_if_null, not_given};
+use super::numbers::{nan_if_null, nans_if_null, not_given};
 
 /// Which identification method.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
