@@ -84,6 +84,9 @@ impl Mechanism {
 // ---------------------------------------------------------------------------
 // Validation.
 
+/// The top-level keys. A table read by its own module
+/// ([`crate::model::toml_tree`]: `[truss]` by [`crate::model::truss_toml`])
+/// is listed here and dispatched at the end of `mechanism`.
 const TOP_KEYS: &[&str] = &[
     "name",
     "description",
