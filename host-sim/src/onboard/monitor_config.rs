@@ -26,15 +26,19 @@ pub struct PriorSpread {
 }
 
 impl Default for PriorSpread {
-    /// 2 N·m (the papers' identified values are 0.001–2.63 N·m) and
-    /// [`VISCOUS_PRIOR_SD_NMS`].
+    /// [`COULOMB_PRIOR_SD_NM`] and [`VISCOUS_PRIOR_SD_NMS`].
     fn default() -> Self {
         PriorSpread {
-            coulomb_sd_nm: 2.0,
+            coulomb_sd_nm: COULOMB_PRIOR_SD_NM,
             viscous_sd_nms: VISCOUS_PRIOR_SD_NMS,
         }
     }
 }
+
+/// Standard deviation of the Coulomb torque's prior [N·m]: the papers'
+/// identified values are 0.001–2.63 N·m, so 2 N·m says only that a hinge's
+/// friction is of that order.
+pub const COULOMB_PRIOR_SD_NM: f64 = 2.0;
 
 /// Standard deviation of the viscous coefficient's prior [N·m·s/rad]: what
 /// is known of a hinge's damping before the deployment. The papers identify
