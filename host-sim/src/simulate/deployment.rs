@@ -28,8 +28,8 @@ pub const MAX_BRANCH_BURST: usize = 10;
 pub const BRANCH_BURST_WINDOW_S: f64 = 1e-3;
 
 /// Most consecutive events at one instant before the simulation is declared
-/// to slide: more than a joint per event for any chain of
-/// [`MAX_CHAIN_JOINTS`] joints, twice over.
+/// to slide: five per joint of the longest chain ([`MAX_CHAIN_JOINTS`]),
+/// far more than a latch and a branch switch each.
 pub const MAX_SAME_INSTANT_EVENTS: usize = 20;
 
 /// Events closer than this are at the same instant [s]: the precision to

@@ -389,7 +389,7 @@ impl StepController {
 const LOCATE_MAX_ITERATIONS: usize = 200;
 
 /// Width of the bracket [`locate`] stops at, relative to `1 + |t|` [s/s]:
-/// a few ulps of a time of seconds.
+/// a few hundred ulps of a time of seconds.
 const LOCATE_REL_TOL: f64 = 1e-13;
 
 /// Locates the root of `g` on the interpolant in `[t0, t1]` where

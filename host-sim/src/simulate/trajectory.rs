@@ -29,7 +29,7 @@ pub struct SimOptions {
 }
 
 /// Default relative tolerance of the DOPRI5 error norm ([`SimOptions::rtol`]):
-/// the golden trajectories (`tests/golden.rs`, `docs/validation.md`) hold
+/// the golden trajectories (`tests/golden.rs`, `docs/simulator.md`) hold
 /// their bounds with it.
 pub const DEFAULT_RTOL: f64 = 1e-8;
 
@@ -186,7 +186,7 @@ pub const GRID_COUNT_CAP: usize = MAX_SAMPLES + 1;
 
 /// Slack on `duration × rate` when counting a grid's samples [samples]: a
 /// duration that is a whole number of sample periods keeps its last sample
-/// although the product rounds below it (0.3 s × 10 Hz = 2.9999999999999996).
+/// although the product rounds below it (0.29 s × 100 Hz = 28.999999999999996).
 pub const GRID_ROUNDING_SAMPLES: f64 = 1e-9;
 
 /// Samples `k / rate_hz ≤ duration_s`, `k = 0, 1, …`, capped at
