@@ -7,8 +7,9 @@
 use deploywatch_core::spring::{Branch, Spring};
 use deploywatch_sim::analysis::design_margin::{joint_margin, margin_pct, Standard};
 use deploywatch_sim::analysis::identify::rsm::{
-    fit_quadratic, minimize_in_box, minimize_in_box_projected, Ccd, CcdKind, Coding, Fit, Quadratic,
+    fit_quadratic, Ccd, CcdKind, Coding, Fit, Quadratic,
 };
+use deploywatch_sim::analysis::identify::rsm_box::{minimize_in_box, minimize_in_box_projected};
 use deploywatch_sim::model::kinematics::{
     planar_mobility, spatial_mobility, FIXED_CONSTRAINTS, REVOLUTE_CONSTRAINTS,
 };
@@ -413,7 +414,7 @@ fn table9_paper_optimum_is_a_weighted_minimum() {
     let mut best = (f64::INFINITY, 0.0, Vec::new());
     for step in 0..=100 {
         let w = step as f64 / 100.0;
-        let m = deploywatch_sim::analysis::identify::rsm::minimize_weighted_in_box(
+        let m = deploywatch_sim::analysis::identify::rsm_box::minimize_weighted_in_box(
             &[(w, &te1), (1.0 - w, &te2)],
             &lo,
             &hi,

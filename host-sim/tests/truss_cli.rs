@@ -253,3 +253,38 @@ fn unknown_truss_keys_and_bad_carriers() {
     let text = case2().replace("hinges_mm =", "hinge_mm =");
     rejects(&text, &["wing.toml", "truss.hinge_mm", "unknown key"]);
 }
+
+/// The 1-based line of the first line of `text` holding `needle`.
+fn line_of(text: &str, needle: &str) -> usize {
+    1 + text
+        .lines()
+        .position(|l| l.contains(needle))
+        .unwrap_or_else(|| panic!("`{needle}` not in the text"))
+}
+
+#[test]
+fn truss_errors_name_their_line() {
+    // A value of the wrong kind: its own line.
+    let text = case2().replace("on = \"bus\"", "on = \"wall\"");
+    let line = line_of(&text, "on = \"wall\"");
+    rejects(
+        &text,
+        &[&format!("wing.toml:{line}: "), "truss.point[1].on"],
+    );
+    // A check of the whole truss: the line of the key it names.
+    let text = case2().replace("length_mm = 753.5785", "length_mm = 760.0");
+    let line = line_of(&text, "length_mm = 760.0");
+    rejects(
+        &text,
+        &[&format!("wing.toml:{line}: "), "truss.link[3].length_mm"],
+    );
+    let text = case2().replace(
+        "name = \"A\"\non = \"bus\"",
+        "name = \"A\"\non = \"bus\"\nknee = true",
+    );
+    let line = line_of(&text, "knee = true");
+    rejects(
+        &text,
+        &[&format!("wing.toml:{line}: "), "truss.point[1].knee"],
+    );
+}

@@ -27,8 +27,24 @@ use serde::{Deserialize, Serialize};
 /// the bundled mechanisms, fill the 64 KiB budget).
 pub const JOINT_COUNTS: [u8; 2] = [2, 3];
 
-/// The largest of [`JOINT_COUNTS`].
-pub const MAX_JOINTS: usize = 3;
+/// The most joints of a monitor the firmware carries: the largest of
+/// [`JOINT_COUNTS`]. It sizes the replay's frame buffers. The host simulates
+/// longer chains (up to `deploywatch_sim::model::mechanism::MAX_CHAIN_JOINTS`,
+/// the `n = 1..4` of `physics.md` section 1), which the firmware refuses: a
+/// monitor size costs flash, a simulated joint does not.
+pub const FIRMWARE_MAX_JOINTS: usize = largest(&JOINT_COUNTS);
+
+/// The largest of `counts` (0 for none), at compile time.
+const fn largest(mut counts: &[u8]) -> usize {
+    let mut max = 0;
+    while let [first, rest @ ..] = counts {
+        if *first as usize > max {
+            max = *first as usize;
+        }
+        counts = rest;
+    }
+    max
+}
 
 /// Version of the configuration frames; the firmware refuses another.
 pub const CONFIG_VERSION: u8 = 1;

@@ -26,15 +26,15 @@ use crate::monitor::estimator::MonitorConfig;
 use crate::monitor::estimator::{Monitor, Sample, Status};
 use crate::telemetry::{self, sample_frame_max, status_frame_max};
 
-pub use super::config::{ConfigHeader, JointFrame, JOINT_COUNTS, MAX_JOINTS};
+pub use super::config::{ConfigHeader, JointFrame, FIRMWARE_MAX_JOINTS, JOINT_COUNTS};
 use super::config::{CONFIG_HEADER_FRAME_MAX, CONFIG_VERSION, JOINT_FRAME_MAX};
 
 /// Largest input sample frame of any joint count the firmware takes, `0x00`
 /// included [bytes].
-pub const SAMPLE_FRAME_MAX: usize = sample_frame_max(MAX_JOINTS);
+pub const SAMPLE_FRAME_MAX: usize = sample_frame_max(FIRMWARE_MAX_JOINTS);
 
 /// Largest output frame of any joint count, `0x00` included [bytes].
-pub const STATUS_FRAME_MAX: usize = status_frame_max(MAX_JOINTS);
+pub const STATUS_FRAME_MAX: usize = status_frame_max(FIRMWARE_MAX_JOINTS);
 
 /// Bytes read from the input at a time.
 pub const READ_CHUNK: usize = 256;

@@ -216,7 +216,7 @@ impl Problem<'_> {
         let cols: Vec<Option<Vec<f64>>> = (0..n)
             .into_par_iter()
             .map(|j| {
-                let mut h = self.opts.min_step[j].max(1e-4 * p[j].abs());
+                let mut h = self.opts.min_step[j].max(JACOBIAN_REL_STEP * p[j].abs());
                 if p[j] + h > self.opts.upper[j] {
                     h = -h;
                 }
@@ -269,10 +269,32 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
     }
 }
 
+/// Forward-difference step of the Jacobian relative to the parameter
+/// (ratio), above the options' `min_step`: about the square root of the
+/// simulation's relative tolerance (10⁻⁸), where truncation and the
+/// simulation's own error balance.
+pub const JACOBIAN_REL_STEP: f64 = 1e-4;
+
+/// Singular values of `JᵀJ` below this fraction of its norm count as zero
+/// in the covariance's pseudo-inverse (ratio): about 10⁴ ulps, a parameter
+/// the data cannot see.
+pub const PINV_REL_TOL: f64 = 1e-12;
+
+/// Levenberg–Marquardt's relative tolerance on the parameters (ratio):
+/// finer than any interval the fit reports.
+pub const LM_XTOL: f64 = 1e-8;
+
+/// Levenberg–Marquardt's relative tolerance on the sum of squares (ratio).
+pub const LM_FTOL: f64 = 1e-10;
+
+/// The standard normal's 0.975 quantile: a two-sided 95 % interval is
+/// `± Z_975` standard deviations.
+pub const Z_975: f64 = 1.959_963_984_540_054;
+
 /// Student-t 0.975 quantile for `dof` degrees of freedom (Cornish–Fisher
-/// expansion; exact to 1e-3 for dof ≥ 3, 1.96 in the limit).
+/// expansion; exact to 1e-3 for dof ≥ 3, [`Z_975`] in the limit).
 pub fn t975(dof: usize) -> f64 {
-    let z = 1.959_963_984_540_054;
+    let z = Z_975;
     let v = dof.max(1) as f64;
     let z3 = z * z * z;
     let z5 = z3 * z * z;
@@ -303,7 +325,7 @@ fn intervals(j: Option<DMatrix<f64>>, p: &[f64], sse: f64, m: usize) -> (Vec<f64
     // infinite interval rather than a failure.
     let cov = jtj
         .clone()
-        .pseudo_inverse(1e-12 * jtj.norm().max(1e-300))
+        .pseudo_inverse(PINV_REL_TOL * jtj.norm().max(f64::MIN_POSITIVE))
         .unwrap_or_else(|_| DMatrix::from_element(n, n, f64::INFINITY));
     let sd: Vec<f64> = (0..n)
         .map(|i| {
@@ -355,8 +377,8 @@ pub fn least_squares(
     problem.u = DVector::from_iterator(n, start.iter().zip(&bounds).map(|(&p, b)| b.u(p)));
     let (problem, report) = LevenbergMarquardt::new()
         .with_patience(opts.patience)
-        .with_xtol(1e-8)
-        .with_ftol(1e-10)
+        .with_xtol(LM_XTOL)
+        .with_ftol(LM_FTOL)
         .minimize(problem);
     let p = problem.clamp(&problem.p_of(problem.u.as_slice()));
     let r = problem

@@ -9,10 +9,13 @@ use crate::analysis::evidence::{self, JointEvidence, CORRELATES};
 use crate::analysis::metrics::{self, TimeWindow};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};
+use crate::model::findings::diagnosis::{
+    Diagnosis, Evidence, Fit, FoundEffect, Gain, Named, Round, Score,
+};
+use crate::model::findings::rounded;
 use crate::report::plot::{self, Mark, Panel, Series};
 use crate::report::progress;
 use deploywatch_core::{Table, TorqueTable};
-use serde_json::{json, Value};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -99,7 +102,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
         "baseline RMS {:.4} deg -> extended {:.4} deg (x{:.1}); noise floor {:.4} deg",
         outcome.baseline.rms(),
         outcome.extended.rms(),
-        outcome.baseline.rms() / outcome.extended.rms().max(1e-12),
+        outcome.baseline.rms() / outcome.extended.rms().max(MIN_RMS_DEG),
         outcome.noise_sigma_deg
     );
     for (k, e) in ext_effects.iter().enumerate() {
@@ -236,128 +239,164 @@ fn te_per_joint(c: &Campaign, effects: &[Effect]) -> Vec<Option<f64>> {
         .collect()
 }
 
-fn round4(x: f64) -> Value {
-    if x.is_finite() {
-        json!((x * 1e6).round() / 1e6)
-    } else {
-        Value::Null
-    }
+/// A list of numbers for the JSON, each [`rounded`].
+fn rounded_all(x: &[f64]) -> Vec<Option<f64>> {
+    x.iter().map(|y| rounded(*y)).collect()
 }
 
 /// A discovered `torque_table` in the JSON (`docs/spec/formats.md`): its
 /// tables, the 95 % band of each knot, and the shape in one sentence.
-fn add_tables(v: &mut Value, shape: &str, t: &[TorqueTable<f64>; 3]) {
-    let r = |x: &[f64]| x.iter().map(|y| round4(*y)).collect::<Vec<_>>();
+fn add_tables(v: &mut FoundEffect, shape: &str, t: &[TorqueTable<f64>; 3]) {
     if let (Some(f), Some(lo), Some(hi)) = (&t[0].angle, &t[1].angle, &t[2].angle) {
-        v["angle_deg"] = json!(r(f.xs()));
-        v["torque_nm"] = json!(r(f.ys()));
-        v["torque_ci95_nm"] = json!([r(lo.ys()), r(hi.ys())]);
+        v.angle_deg = Some(rounded_all(f.xs()));
+        v.torque_nm = Some(rounded_all(f.ys()));
+        v.torque_ci95_nm = Some([rounded_all(lo.ys()), rounded_all(hi.ys())]);
     }
     if let (Some(g), Some(lo), Some(hi)) = (&t[0].rate, &t[1].rate, &t[2].rate) {
-        v["rate_deg_s"] = json!(r(g.xs()));
-        v["rate_torque_nm"] = json!(r(g.ys()));
-        v["rate_torque_ci95_nm"] = json!([r(lo.ys()), r(hi.ys())]);
+        v.rate_deg_s = Some(rounded_all(g.xs()));
+        v.rate_torque_nm = Some(rounded_all(g.ys()));
+        v.rate_torque_ci95_nm = Some([rounded_all(lo.ys()), rounded_all(hi.ys())]);
     }
-    v["shape"] = json!(shape);
+    v.shape = Some(shape.to_string());
 }
 
 /// Every round's candidates with their scores, for the JSON.
-fn candidates_json(o: &Outcome) -> Value {
-    json!(o
-        .rounds
+fn candidates_json(o: &Outcome) -> Vec<Round> {
+    o.rounds
         .iter()
-        .map(|r| json!({
-            "round": r.what,
-            "start_rms_deg": round4(r.start_rms_deg),
-            "scores": r.scores.iter().map(|s| json!({
-                "candidate": s.candidate.label(),
-                "rms_deg": round4(s.fitted.rms()),
-                "delta_bic": round4(s.delta_bic),
-                "held_out_rms_deg": s.held_out_rms_deg.map(round4).unwrap_or(Value::Null),
-                "verdict": s.verdict,
-            })).collect::<Vec<_>>(),
-        }))
-        .collect::<Vec<_>>())
+        .map(|r| Round {
+            round: r.what.clone(),
+            start_rms_deg: rounded(r.start_rms_deg),
+            scores: r
+                .scores
+                .iter()
+                .map(|s| Score {
+                    candidate: s.candidate.label(),
+                    rms_deg: rounded(s.fitted.rms()),
+                    delta_bic: rounded(s.delta_bic),
+                    held_out_rms_deg: s.held_out_rms_deg.and_then(rounded),
+                    verdict: s.verdict.clone(),
+                })
+                .collect(),
+        })
+        .collect()
 }
 
 /// The evidence of each run and joint before the diagnosis, for the JSON.
-fn evidence_json(before: &[JointEvidence]) -> Value {
-    json!(before.iter().map(|e| json!({
-            "run": e.run, "joint": e.joint, "rms_deg": round4(e.rms_deg),
-            "stroke_thirds_rms_deg": e.stroke_thirds_rms_deg.iter().map(|v| round4(*v)).collect::<Vec<_>>(),
-            "near_latch_rms_deg": round4(e.near_latch_rms_deg),
-            "at_release_mean_deg": round4(e.at_release_mean_deg),
-            "after_latch_mean_deg": round4(e.after_latch_mean_deg),
-            "latch_lead_s": e.latch_lead_s.map(round4).unwrap_or(Value::Null),
-            "correlation": CORRELATES.iter().zip(e.correlation).map(|(n, r)| (n.to_string(), round4(r))).collect::<serde_json::Map<_, _>>(),
-            "summary": e.summary,
-        })).collect::<Vec<_>>())
+fn evidence_json(before: &[JointEvidence]) -> Vec<Evidence> {
+    before
+        .iter()
+        .map(|e| Evidence {
+            run: e.run.clone(),
+            joint: e.joint,
+            rms_deg: rounded(e.rms_deg),
+            stroke_thirds_rms_deg: rounded_all(&e.stroke_thirds_rms_deg),
+            near_latch_rms_deg: rounded(e.near_latch_rms_deg),
+            at_release_mean_deg: rounded(e.at_release_mean_deg),
+            after_latch_mean_deg: rounded(e.after_latch_mean_deg),
+            latch_lead_s: e.latch_lead_s.and_then(rounded),
+            correlation: Named(
+                CORRELATES
+                    .iter()
+                    .zip(e.correlation)
+                    .map(|(n, r)| (n.to_string(), rounded(r)))
+                    .collect(),
+            ),
+            summary: e.summary.clone(),
+        })
+        .collect()
 }
 
-/// The diagnosis JSON (`docs/spec/formats.md`), with the extra fields the
-/// project adds (noise floor, candidates, evidence).
-pub fn to_json(c: &Campaign, o: &Outcome, before: &[JointEvidence]) -> Value {
-    let effects_ext = o.extended.effects();
-    let mut effects: Vec<Value> = effects_ext
+/// The effects found, for the JSON: each with its interval and evidence,
+/// then the residual none of them explains.
+fn effects_json(o: &Outcome, before: &[JointEvidence]) -> Vec<FoundEffect> {
+    let mut effects: Vec<FoundEffect> = o
+        .extended
+        .effects()
         .iter()
         .enumerate()
         .map(|(k, e)| {
             let (lo, hi) = ci_of(o, k);
-            let mut v = json!({
-                "name": e.kind.name(),
-                "joint": e.joint,
-                "value": round4(e.value),
-                "unit": e.kind.unit(),
-                "ci95": [round4(lo), round4(hi)],
-                "evidence": evidence_of(o, k, o.extended.set[k]),
-            });
+            let mut v = FoundEffect {
+                name: e.kind.name().to_string(),
+                joint: e.joint,
+                value: rounded(e.value),
+                unit: Some(e.kind.unit().to_string()),
+                ci95: Some([rounded(lo), rounded(hi)]),
+                evidence: evidence_of(o, k, o.extended.set[k]),
+                ..FoundEffect::default()
+            };
             if let Some((_, shape, t)) = o.extended.table_of(k) {
                 add_tables(&mut v, &shape, &t);
             }
             if e.kind == EffectKind::RigTilt {
-                v["alpha_deg"] = round4(e.alpha_deg);
+                v.alpha_deg = rounded(e.alpha_deg);
                 if let (_, Some(ci)) = o.extended.effect_ci(k) {
-                    v["alpha_ci95_deg"] = json!([round4(ci[0]), round4(ci[1])]);
+                    v.alpha_ci95_deg = Some([rounded(ci[0]), rounded(ci[1])]);
                 }
             }
             v
         })
         .collect();
     if let Some(u) = &o.unexplained {
-        effects.push(json!({
-            "name": "unexplained",
-            "joint": Value::Null,
-            "value": Value::Null,
-            "unit": Value::Null,
-            "description": u,
-            "evidence": before.iter().filter(|e| e.rms_deg > 3.0 * o.noise_sigma_deg).map(|e| format!("{}: {}", e.run, e.summary)).collect::<Vec<_>>().join("; "),
-        }));
+        effects.push(FoundEffect {
+            name: "unexplained".to_string(),
+            description: Some(u.clone()),
+            evidence: before
+                .iter()
+                .filter(|e| e.rms_deg > UNEXPLAINED_NOISE_FACTOR * o.noise_sigma_deg)
+                .map(|e| format!("{}: {}", e.run, e.summary))
+                .collect::<Vec<_>>()
+                .join("; "),
+            ..FoundEffect::default()
+        });
     }
-    let te = |effects: &[Effect]| -> Value {
+    effects
+}
+
+/// A joint's baseline residual is named in the evidence of an
+/// `"unexplained"` effect when its RMS exceeds this many noise standard
+/// deviations (ratio): above what noise alone leaves.
+pub const UNEXPLAINED_NOISE_FACTOR: f64 = 3.0;
+
+/// Smallest extended RMS the gain's ratio divides by [deg]: a perfect fit
+/// gives a large finite ratio, not infinity.
+pub const MIN_RMS_DEG: f64 = 1e-12;
+
+/// The diagnosis JSON (`docs/spec/formats.md`), with the extra fields the
+/// project adds (noise floor, candidates, evidence).
+pub fn to_json(c: &Campaign, o: &Outcome, before: &[JointEvidence]) -> Diagnosis {
+    let te = |effects: &[Effect]| -> Vec<Option<f64>> {
         te_per_joint(c, effects)
             .into_iter()
-            .map(|v| v.map(round4).unwrap_or(Value::Null))
+            .map(|v| v.and_then(rounded))
             .collect()
     };
     let mut mechs: Vec<String> = c.runs.iter().map(|r| r.mechanism.name.clone()).collect();
     mechs.dedup();
-    json!({
-        "mechanism": mechs.first().cloned().unwrap_or_default(),
-        "mechanisms": mechs,
-        "runs": c.runs.iter().map(|r| r.name()).collect::<Vec<_>>(),
-        "noise_sigma_deg": round4(o.noise_sigma_deg),
-        "baseline": { "rms_deg": round4(o.baseline.rms()), "trajectory_error_pct": te(&[]) },
-        "effects": effects,
-        "extended": { "rms_deg": round4(o.extended.rms()), "trajectory_error_pct": te(&effects_ext) },
-        "gain": {
-            "rms_ratio": round4(o.baseline.rms() / o.extended.rms().max(1e-12)),
-            "held_out_rms_deg": o.held_out_rms_deg.map(round4).unwrap_or(Value::Null),
+    Diagnosis {
+        mechanism: mechs.first().cloned().unwrap_or_default(),
+        mechanisms: mechs,
+        runs: c.runs.iter().map(|r| r.name()).collect(),
+        noise_sigma_deg: rounded(o.noise_sigma_deg),
+        baseline: Fit {
+            rms_deg: rounded(o.baseline.rms()),
+            trajectory_error_pct: te(&[]),
         },
-        "candidates": candidates_json(o),
-        "evidence": evidence_json(before),
-        "simulations": o.simulations,
-        "wall_s": round4(o.wall_s),
-    })
+        effects: effects_json(o, before),
+        extended: Fit {
+            rms_deg: rounded(o.extended.rms()),
+            trajectory_error_pct: te(&o.extended.effects()),
+        },
+        gain: Gain {
+            rms_ratio: rounded(o.baseline.rms() / o.extended.rms().max(MIN_RMS_DEG)),
+            held_out_rms_deg: o.held_out_rms_deg.and_then(rounded),
+        },
+        candidates: candidates_json(o),
+        evidence: evidence_json(before),
+        simulations: o.simulations,
+        wall_s: rounded(o.wall_s),
+    }
 }
 
 /// Writes the Markdown report and its plots: header, causes, discovered
@@ -399,7 +438,7 @@ fn report_header(md: &mut String, c: &Campaign, o: &Outcome) {
         "Baseline RMS **{:.4}°** → extended **{:.4}°** (×{:.1}); noise floor estimated from the runs {:.4}°{}.\n",
         o.baseline.rms(),
         o.extended.rms(),
-        o.baseline.rms() / o.extended.rms().max(1e-12),
+        o.baseline.rms() / o.extended.rms().max(MIN_RMS_DEG),
         o.noise_sigma_deg,
         o.held_out_rms_deg
             .map(|h| format!("; held-out RMS (fit on the other runs) {h:.4}°"))

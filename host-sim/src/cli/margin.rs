@@ -14,6 +14,7 @@ use crate::analysis::design_margin::{
     joint_margin, Factors, JointMargin, NameError, Resistance, Standard,
 };
 use crate::model::effect::{Effect, EffectKind};
+use crate::model::findings::{Diagnosis, Findings, FindingsError, Identification};
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::{self, SimOptions};
 use clap::builder::PossibleValue;
@@ -171,15 +172,9 @@ pub enum FromError {
     /// The file cannot be read.
     #[error("cannot read: {0}")]
     Read(#[from] std::io::Error),
-    /// The file is not JSON.
-    #[error("not JSON ({0})")]
-    Json(#[from] serde_json::Error),
-    /// JSON, but neither identify's nor diagnose's.
-    #[error(
-        "expected the JSON of `deploywatch identify` (with \"method\" and \"joints\") \
-         or of `deploywatch diagnose` (with \"effects\")"
-    )]
-    Unknown,
+    /// Not the JSON of identify or diagnose.
+    #[error("{0}")]
+    Findings(#[from] FindingsError),
     /// A field missing or of the wrong kind.
     #[error("{at}: expected \"{key}\", {expected}")]
     Field {
@@ -217,16 +212,13 @@ struct Found {
 }
 
 /// Reads `--from`: an identify JSON (`"method"` and `"joints"`) or a
-/// diagnose JSON (`"effects"`), for a mechanism of `mech` (whose own
-/// friction the found values add to, as the effects do in `physics.md` 6).
+/// diagnose JSON (`"effects"`) ([`Findings`]), for a mechanism of `mech`
+/// (whose own friction the found values add to, as the effects do in
+/// `physics.md` 6).
 pub fn read_found(path: &Path, mech: &Mechanism) -> Result<Resistances, FromError> {
-    let doc: Value = serde_json::from_str(&std::fs::read_to_string(path)?)?;
-    let found = if doc.get("method").is_some() {
-        identify_effects(&doc)?
-    } else if doc.get("effects").is_some() {
-        diagnose_effects(&doc)?
-    } else {
-        return Err(FromError::Unknown);
+    let found = match Findings::from_json_str(&std::fs::read_to_string(path)?)? {
+        Findings::Identify(id) => identify_effects(&id)?,
+        Findings::Diagnosis(d) => diagnose_effects(&d)?,
     };
     let n = mech.joint_count();
     let mut r = Resistances {
@@ -258,11 +250,9 @@ pub fn read_found(path: &Path, mech: &Mechanism) -> Result<Resistances, FromErro
     Ok(r)
 }
 
-/// A finite number ≥ 0 at `key` of `v`.
-fn nonneg(v: &Value, key: &'static str, at: &str) -> Result<f64, FromError> {
-    v.get(key)
-        .and_then(Value::as_f64)
-        .filter(|x| x.is_finite() && *x >= 0.0)
+/// `x` if it is a finite number ≥ 0.
+fn nonneg(x: Option<f64>, key: &'static str, at: &str) -> Result<f64, FromError> {
+    x.filter(|x| x.is_finite() && *x >= 0.0)
         .ok_or_else(|| FromError::Field {
             at: at.to_string(),
             key,
@@ -270,46 +260,25 @@ fn nonneg(v: &Value, key: &'static str, at: &str) -> Result<f64, FromError> {
         })
 }
 
-/// The joint number at `"joint"` of `v` (1-based).
-fn joint_of(v: &Value, at: &str) -> Result<usize, FromError> {
-    v.get("joint")
-        .and_then(Value::as_u64)
-        .filter(|j| *j >= 1)
-        .map(|j| j as usize)
-        .ok_or_else(|| FromError::Field {
-            at: at.to_string(),
-            key: "joint",
-            expected: "a joint number from 1",
-        })
-}
-
-/// The list at `key` of the top level of `doc`.
-fn list_at<'a>(doc: &'a Value, key: &'static str) -> Result<&'a Vec<Value>, FromError> {
-    doc.get(key)
-        .and_then(Value::as_array)
-        .ok_or_else(|| FromError::Field {
-            at: "the top level".into(),
-            key,
-            expected: "a list",
-        })
+/// `joint` if it is a joint number (from 1).
+fn joint_of(joint: Option<usize>, at: &str) -> Result<usize, FromError> {
+    joint.filter(|j| *j >= 1).ok_or_else(|| FromError::Field {
+        at: at.to_string(),
+        key: "joint",
+        expected: "a joint number from 1",
+    })
 }
 
 /// The EFTs of an identify JSON, and the mechanisms of its runs.
-fn identify_effects(doc: &Value) -> Result<Found, FromError> {
+fn identify_effects(id: &Identification) -> Result<Found, FromError> {
     let mut effects = Vec::new();
-    for (i, j) in list_at(doc, "joints")?.iter().enumerate() {
+    for (i, j) in id.joints.iter().enumerate() {
         let at = format!("joints[{i}]");
-        let joint = joint_of(j, &at)?;
-        let value = nonneg(j, "coulomb_nm", &at)?;
+        let joint = joint_of(Some(j.joint), &at)?;
+        let value = nonneg(Some(j.coulomb_nm), "coulomb_nm", &at)?;
         effects.push(Effect::joint(EffectKind::CoulombFriction, joint, value));
     }
-    let mut found_on: Vec<String> = doc
-        .pointer("/after/runs")
-        .and_then(Value::as_array)
-        .into_iter()
-        .flatten()
-        .filter_map(|r| r.get("mechanism").and_then(Value::as_str).map(String::from))
-        .collect();
+    let mut found_on: Vec<String> = id.after.runs.iter().map(|r| r.mechanism.clone()).collect();
     found_on.dedup();
     Ok(Found {
         command: "identify",
@@ -321,39 +290,29 @@ fn identify_effects(doc: &Value) -> Result<Found, FromError> {
 
 /// The friction and damping effects of a diagnose JSON, the other effects
 /// (named, not used), and the mechanisms it was found on.
-fn diagnose_effects(doc: &Value) -> Result<Found, FromError> {
+fn diagnose_effects(d: &Diagnosis) -> Result<Found, FromError> {
     let (mut effects, mut ignored) = (Vec::new(), Vec::new());
-    for (i, e) in list_at(doc, "effects")?.iter().enumerate() {
-        let name = e.get("name").and_then(Value::as_str).unwrap_or("?");
-        let at = format!("effects[{i}] ({name})");
-        let kind = match name {
+    for (i, e) in d.effects.iter().enumerate() {
+        let at = format!("effects[{i}] ({})", e.name);
+        let kind = match e.name.as_str() {
             "coulomb_friction" => EffectKind::CoulombFriction,
             "viscous_damping" => EffectKind::ViscousDamping,
             other => {
-                let joint = e.get("joint").and_then(Value::as_u64);
-                ignored.push(joint.map_or(other.to_string(), |j| format!("{other} at joint {j}")));
+                ignored.push(
+                    e.joint
+                        .map_or(other.to_string(), |j| format!("{other} at joint {j}")),
+                );
                 continue;
             }
         };
-        let joint = joint_of(e, &at)?;
-        effects.push(Effect::joint(kind, joint, nonneg(e, "value", &at)?));
+        let joint = joint_of(e.joint, &at)?;
+        effects.push(Effect::joint(kind, joint, nonneg(e.value, "value", &at)?));
     }
-    let found_on = match doc.get("mechanisms").and_then(Value::as_array) {
-        Some(m) => m
-            .iter()
-            .filter_map(|v| v.as_str().map(String::from))
-            .collect(),
-        None => doc
-            .get("mechanism")
-            .and_then(Value::as_str)
-            .map(|m| vec![m.to_string()])
-            .unwrap_or_default(),
-    };
     Ok(Found {
         command: "diagnose",
         effects,
         ignored,
-        found_on,
+        found_on: d.found_on(),
     })
 }
 

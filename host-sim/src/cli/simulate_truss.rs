@@ -56,16 +56,7 @@ pub fn run(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
         ..wing_options()
     };
     let rate = args.rate.unwrap_or(mech.sample_hz);
-    let last = (mech.duration_s * rate + 1e-9).floor();
-    let count = if last < 1e7 {
-        last as usize + 1
-    } else {
-        usize::MAX
-    };
-    let times = Samples::Grid {
-        rate_hz: rate,
-        count,
-    };
+    let times = Samples::grid(mech.duration_s, rate);
     let (traj, wing) = simulate_truss(mech, &args.effects, &opts, times)
         .map_err(|e| CliError::failed(e.to_string()))?;
     let mut out = measure(args, mech, &traj);

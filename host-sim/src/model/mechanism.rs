@@ -6,13 +6,22 @@
 
 pub use crate::model::friction_spec::FrictionSpec;
 use deploywatch_core::spring::{CurveError, Fold, Interp, TapePoints};
-use deploywatch_core::{Chain, Curve, Friction, GlobalEffects, Joint, JointEffects, Panel, Spring};
+use deploywatch_core::{
+    Chain, Curve, Friction, GlobalEffects, Joint, JointEffects, Panel, Real, Spring,
+};
 
-/// Most joints a mechanism may have (`physics.md` section 1: n = 1..4).
-pub const MAX_JOINTS: usize = 4;
+/// Most joints a mechanism, and so a run, may have: the longest chain the
+/// simulator models (`physics.md` section 1: n = 1..4). The on-board monitor
+/// is carried by the firmware for fewer
+/// ([`deploywatch_core::telemetry::config::FIRMWARE_MAX_JOINTS`], checked
+/// below to be no more): every mechanism the firmware monitors can be
+/// simulated, not every simulated one monitored on the target.
+pub const MAX_CHAIN_JOINTS: usize = 4;
+
+const _: () = assert!(deploywatch_core::telemetry::config::FIRMWARE_MAX_JOINTS <= MAX_CHAIN_JOINTS);
 
 /// Calls `$body` with `const $n: usize` set to `$joints` (1 to
-/// [`MAX_JOINTS`]), `$other` for any other count: the one dispatch from a
+/// [`MAX_CHAIN_JOINTS`]), `$other` for any other count: the one dispatch from a
 /// run-time joint count to the core's const-generic `Chain<T, N>`,
 /// `Monitor<N>`, ...
 ///
@@ -35,8 +44,8 @@ macro_rules! with_joints {
 }
 pub(crate) use with_joints;
 
-// `with_joints!` has one arm per joint count up to `MAX_JOINTS`.
-const _: () = assert!(MAX_JOINTS == 4);
+// `with_joints!` has one arm per joint count up to `MAX_CHAIN_JOINTS`.
+const _: () = assert!(MAX_CHAIN_JOINTS == 4);
 
 /// One hinge spring as written in the file.
 #[derive(Clone, Debug, PartialEq)]
@@ -73,31 +82,50 @@ pub enum SpringSpec {
 }
 
 impl SpringSpec {
-    /// The core spring this describes.
-    pub fn to_spring(&self) -> Result<Spring<f64>, CurveError> {
+    /// The core spring this describes, in the float type `T` (`f64` for the
+    /// simulator, `f32` for the on-board monitor): every number of the file
+    /// converted by [`Real::of`] (rounded to nearest), then checked by the
+    /// core ([`Spring::tape`], [`Curve::new`]).
+    pub fn to_spring<T: Real>(&self) -> Result<Spring<T>, CurveError> {
+        let count = |c: u32| T::of(f64::from(c));
+        let pair = |p: (f64, f64)| (T::of(p.0), T::of(p.1));
+        let points = |ps: &[(f64, f64)]| ps.iter().map(|&p| pair(p)).collect::<Vec<_>>();
         Ok(match self {
             SpringSpec::Linear {
                 preload_nm,
                 stiffness_nm_per_rad,
-                count,
+                count: c,
             } => Spring::Linear {
-                preload_nm: *preload_nm,
-                stiffness_nm_per_rad: *stiffness_nm_per_rad,
-                count: *count as f64,
+                preload_nm: T::of(*preload_nm),
+                stiffness_nm_per_rad: T::of(*stiffness_nm_per_rad),
+                count: count(*c),
             },
-            SpringSpec::Tape { points, count, .. } => Spring::tape(points, *count as f64)?,
+            SpringSpec::Tape {
+                points: p,
+                count: c,
+                ..
+            } => {
+                let p = TapePoints {
+                    a: pair(p.a),
+                    b: pair(p.b),
+                    d: pair(p.d),
+                    m_90: T::of(p.m_90),
+                    c_180: T::of(p.c_180),
+                };
+                Spring::tape(&p, count(*c))?
+            }
             SpringSpec::Curve {
                 unfold,
                 fold,
                 interp,
-                count,
+                count: c,
             } => Spring::Curve {
-                unfold: Curve::new(unfold, *interp)?,
+                unfold: Curve::new(&points(unfold), *interp)?,
                 fold: match fold {
                     None => Fold::SameAsUnfold,
-                    Some(f) => Fold::Curve(Curve::new(f, *interp)?),
+                    Some(f) => Fold::Curve(Curve::new(&points(f), *interp)?),
                 },
-                count: *count as f64,
+                count: count(*c),
             },
         })
     }

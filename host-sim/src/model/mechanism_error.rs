@@ -1,7 +1,7 @@
 //! Why a mechanism file was rejected, and where.
 
 use crate::model::located::Located;
-use crate::model::mechanism::MAX_JOINTS;
+use crate::model::mechanism::MAX_CHAIN_JOINTS;
 use deploywatch_core::spring::CurveError;
 
 /// Why a mechanism file was rejected: where (`file`, `line`) and what
@@ -116,7 +116,7 @@ pub enum MechanismErrorKind {
         defined: Vec<String>,
     },
     /// Not 1 to 4 `[[panel]]` tables.
-    #[error("expected 1 to {MAX_JOINTS} [[panel]] tables, found {found}")]
+    #[error("expected 1 to {MAX_CHAIN_JOINTS} [[panel]] tables, found {found}")]
     PanelCount {
         /// Number of `[[panel]]` tables.
         found: usize,

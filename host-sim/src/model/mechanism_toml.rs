@@ -31,16 +31,15 @@
 //! with every number in Rust's shortest round-trip form, so that reading the
 //! output gives back an equal [`Mechanism`].
 
-use std::ops::Range;
 use std::path::Path;
 
 use deploywatch_core::spring::{Interp, TapePoints};
 use deploywatch_core::{Curve, Panel, Spring};
 
-use crate::model::effect::{EffectKind, ValueRange};
-use crate::model::mechanism::{FrictionSpec, JointSpec, Mechanism, SpringSpec, MAX_JOINTS};
+use crate::model::effect::EffectKind;
+use crate::model::mechanism::{FrictionSpec, JointSpec, Mechanism, SpringSpec, MAX_CHAIN_JOINTS};
 pub use crate::model::mechanism_error::{MechanismError, MechanismErrorKind};
-use crate::model::mechanism_write::{num, toml_str};
+use crate::model::toml_tree::{join, num, Bound, Cx, Node, Res, Sp, Table};
 
 /// `[run] duration_s` when the file does not give it (s).
 pub const DEFAULT_DURATION_S: f64 = 6.0;
@@ -78,143 +77,16 @@ impl Mechanism {
     /// (usually the file's path).
     pub fn from_toml_str(text: &str, source: &str) -> Result<Mechanism, MechanismError> {
         let cx = Cx { file: source, text };
-        let doc = toml_edit::ImDocument::parse(text).map_err(|e| {
-            let message: Vec<&str> = e
-                .message()
-                .lines()
-                .map(str::trim)
-                .filter(|l| !l.is_empty())
-                .collect();
-            let message = if message.is_empty() {
-                "expected a value or a key here".to_string()
-            } else {
-                message.join("; ")
-            };
-            let column = e.span().map(|s| cx.column_of(s.start));
-            cx.err(
-                e.span().map(|s| cx.line_of(s.start)),
-                MechanismErrorKind::Syntax { column, message },
-            )
-        })?;
-        cx.mechanism(&Sp::table(doc.as_table()))
-    }
-}
-
-/// A TOML value and, when known, its byte span in the text.
-#[derive(Debug)]
-struct Sp {
-    span: Option<Range<usize>>,
-    node: Node,
-}
-
-#[derive(Debug)]
-enum Node {
-    Str(String),
-    Int(i64),
-    Float(f64),
-    Bool(bool),
-    Datetime(String),
-    Array(Vec<Sp>),
-    Table(Vec<(String, Sp)>),
-}
-
-impl Sp {
-    /// A `[table]` (or the document's root table).
-    fn table(t: &toml_edit::Table) -> Sp {
-        Sp {
-            span: t.span(),
-            node: Node::Table(
-                t.iter()
-                    .map(|(k, v)| (k.to_string(), Sp::item(v)))
-                    .collect(),
-            ),
-        }
-    }
-
-    /// Any item: a value, a table or an array of tables.
-    fn item(item: &toml_edit::Item) -> Sp {
-        match item {
-            toml_edit::Item::Value(v) => Sp::value(v),
-            toml_edit::Item::Table(t) => Sp::table(t),
-            toml_edit::Item::ArrayOfTables(a) => Sp {
-                span: a.span(),
-                node: Node::Array(a.iter().map(Sp::table).collect()),
-            },
-            toml_edit::Item::None => Sp {
-                span: None,
-                node: Node::Table(Vec::new()),
-            },
-        }
-    }
-
-    /// A value (inline tables and arrays included).
-    fn value(v: &toml_edit::Value) -> Sp {
-        use toml_edit::Value as V;
-        let node = match v {
-            V::String(s) => Node::Str(s.value().clone()),
-            V::Integer(i) => Node::Int(*i.value()),
-            V::Float(x) => Node::Float(*x.value()),
-            V::Boolean(b) => Node::Bool(*b.value()),
-            V::Datetime(d) => Node::Datetime(d.value().to_string()),
-            V::Array(a) => Node::Array(a.iter().map(Sp::value).collect()),
-            V::InlineTable(t) => Node::Table(
-                t.iter()
-                    .map(|(k, v)| (k.to_string(), Sp::value(v)))
-                    .collect(),
-            ),
-        };
-        Sp {
-            span: v.span(),
-            node,
-        }
-    }
-}
-
-impl Node {
-    fn type_name(&self) -> &'static str {
-        match self {
-            Node::Str(_) => "a string",
-            Node::Int(_) => "an integer",
-            Node::Float(_) => "a float",
-            Node::Bool(_) => "a boolean",
-            Node::Datetime(_) => "a date-time",
-            Node::Array(_) => "an array",
-            Node::Table(_) => "a table",
-        }
-    }
-
-    /// The value as TOML, shortened, for messages.
-    fn show(&self) -> String {
-        let s = match self {
-            Node::Str(s) => toml_str(s),
-            Node::Int(i) => i.to_string(),
-            Node::Float(x) => num(*x),
-            Node::Bool(b) => b.to_string(),
-            Node::Datetime(d) => d.clone(),
-            Node::Array(a) => format!(
-                "[{}]",
-                a.iter()
-                    .map(|v| v.node.show())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-            Node::Table(_) => "a table".to_string(),
-        };
-        if s.chars().count() > 60 {
-            let mut t: String = s.chars().take(57).collect();
-            t.push_str("...");
-            t
-        } else {
-            s
-        }
+        cx.mechanism(&cx.parse()?)
     }
 }
 
 // ---------------------------------------------------------------------------
 // Validation.
 
-type Res<T> = Result<T, MechanismError>;
-
+/// The top-level keys. A table read by its own module
+/// ([`crate::model::toml_tree`]: `[truss]` by [`crate::model::truss_toml`])
+/// is listed here and dispatched at the end of `mechanism`.
 const TOP_KEYS: &[&str] = &[
     "name",
     "description",
@@ -239,229 +111,7 @@ const FRICTION_KEYS: &[&str] = &[
 const TAPE_KEYS: &[&str] = &["a", "b", "d", "m_90", "c_180"];
 const RUN_KEYS: &[&str] = &["duration_s", "sample_hz", "settle_s"];
 
-/// What a number must be.
-#[derive(Clone, Copy)]
-enum Bound {
-    Finite,
-    NonZero,
-    NonNegative,
-    Positive,
-    BelowOne,
-}
-
-impl Bound {
-    /// The values an effect allows ([`EffectKind::allowed`]).
-    fn of(kind: EffectKind) -> Bound {
-        match kind.allowed() {
-            ValueRange::Finite => Bound::Finite,
-            ValueRange::NonNegative => Bound::NonNegative,
-            ValueRange::BelowOne => Bound::BelowOne,
-            ValueRange::Fraction => Bound::NonNegative,
-        }
-    }
-
-    fn ok(self, x: f64) -> bool {
-        x.is_finite()
-            && match self {
-                Bound::Finite => true,
-                Bound::NonZero => x != 0.0,
-                Bound::NonNegative => x >= 0.0,
-                Bound::Positive => x > 0.0,
-                Bound::BelowOne => x < 1.0,
-            }
-    }
-
-    fn describe(self, unit: &str) -> String {
-        let what = match self {
-            Bound::Finite => "a finite number",
-            Bound::NonZero => "a finite non-zero number",
-            Bound::NonNegative => "a finite number ≥ 0",
-            Bound::Positive => "a finite number > 0",
-            Bound::BelowOne => "a finite number < 1",
-        };
-        if unit.is_empty() {
-            what.to_string()
-        } else {
-            format!("{what} [{unit}]")
-        }
-    }
-}
-
-/// The file being read.
-struct Cx<'a> {
-    file: &'a str,
-    text: &'a str,
-}
-
-/// The keys of one table, checked against the allowed ones.
-struct Table<'a> {
-    entries: &'a [(String, Sp)],
-    path: String,
-    line: Option<usize>,
-}
-
-impl<'a> Table<'a> {
-    fn get(&self, key: &str) -> Option<&'a Sp> {
-        self.entries.iter().find(|(k, _)| k == key).map(|(_, v)| v)
-    }
-
-    fn key(&self, key: &str) -> String {
-        join(&self.path, key)
-    }
-}
-
-fn join(path: &str, key: &str) -> String {
-    let key = if !key.is_empty()
-        && key
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-    {
-        key.to_string()
-    } else {
-        toml_str(key)
-    };
-    if path.is_empty() {
-        key
-    } else {
-        format!("{path}.{key}")
-    }
-}
-
 impl Cx<'_> {
-    /// An error at `line` of this file.
-    fn err(&self, line: Option<usize>, kind: MechanismErrorKind) -> MechanismError {
-        MechanismError {
-            file: self.file.to_string(),
-            line,
-            kind,
-        }
-    }
-
-    fn line_of(&self, byte: usize) -> usize {
-        let end = byte.min(self.text.len());
-        self.text.as_bytes()[..end]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count()
-            + 1
-    }
-
-    /// 1-based column, in characters, of byte `byte`.
-    fn column_of(&self, byte: usize) -> usize {
-        let mut end = byte.min(self.text.len());
-        while !self.text.is_char_boundary(end) {
-            end -= 1;
-        }
-        let start = self.text[..end].rfind('\n').map_or(0, |i| i + 1);
-        self.text[start..end].chars().count() + 1
-    }
-
-    fn line(&self, sp: &Sp) -> Option<usize> {
-        sp.span.as_ref().map(|s| self.line_of(s.start))
-    }
-
-    fn wrong_type(&self, sp: &Sp, key: &str, expected: &str) -> MechanismError {
-        self.err(
-            self.line(sp),
-            MechanismErrorKind::WrongType {
-                key: key.to_string(),
-                expected: expected.to_string(),
-                found: sp.node.type_name().to_string(),
-            },
-        )
-    }
-
-    fn invalid(&self, sp: &Sp, key: &str, expected: &str) -> MechanismError {
-        self.err(
-            self.line(sp),
-            MechanismErrorKind::InvalidValue {
-                key: key.to_string(),
-                expected: expected.to_string(),
-                found: sp.node.show(),
-            },
-        )
-    }
-
-    fn missing(&self, t: &Table<'_>, key: &str, expected: &str) -> MechanismError {
-        self.err(
-            t.line,
-            MechanismErrorKind::MissingKey {
-                key: t.key(key),
-                expected: expected.to_string(),
-            },
-        )
-    }
-
-    /// `sp` as a table whose keys are all in `allowed`.
-    fn table<'s>(&self, sp: &'s Sp, path: &str, allowed: &[&str]) -> Res<Table<'s>> {
-        let Node::Table(entries) = &sp.node else {
-            return Err(self.wrong_type(sp, path, "a table"));
-        };
-        for (k, v) in entries {
-            if !allowed.contains(&k.as_str()) {
-                return Err(self.err(
-                    self.line(v).or_else(|| self.line(sp)),
-                    MechanismErrorKind::UnknownKey {
-                        key: join(path, k),
-                        expected: allowed.join(", "),
-                    },
-                ));
-            }
-        }
-        Ok(Table {
-            entries,
-            path: path.to_string(),
-            line: self.line(sp),
-        })
-    }
-
-    fn number(&self, sp: &Sp, key: &str, range: Bound, unit: &str) -> Res<f64> {
-        let x = match sp.node {
-            Node::Float(x) => x,
-            Node::Int(i) => i as f64,
-            _ => return Err(self.wrong_type(sp, key, &range.describe(unit))),
-        };
-        if range.ok(x) {
-            Ok(x)
-        } else {
-            Err(self.invalid(sp, key, &range.describe(unit)))
-        }
-    }
-
-    fn req_number(&self, t: &Table<'_>, key: &str, range: Bound, unit: &str) -> Res<f64> {
-        match t.get(key) {
-            Some(sp) => self.number(sp, &t.key(key), range, unit),
-            None => Err(self.missing(t, key, &range.describe(unit))),
-        }
-    }
-
-    fn opt_number(&self, t: &Table<'_>, key: &str, range: Bound, unit: &str) -> Res<Option<f64>> {
-        t.get(key)
-            .map(|sp| self.number(sp, &t.key(key), range, unit))
-            .transpose()
-    }
-
-    fn string<'s>(&self, sp: &'s Sp, key: &str) -> Res<&'s str> {
-        match &sp.node {
-            Node::Str(s) => Ok(s),
-            _ => Err(self.wrong_type(sp, key, "a string")),
-        }
-    }
-
-    /// `[x, y]`: two numbers.
-    fn pair(&self, sp: &Sp, key: &str, what: &str) -> Res<(f64, f64)> {
-        let expected = format!("a pair of finite numbers {what}");
-        let Node::Array(items) = &sp.node else {
-            return Err(self.wrong_type(sp, key, &expected));
-        };
-        if items.len() != 2 {
-            return Err(self.invalid(sp, key, &expected));
-        }
-        let x = self.number(&items[0], &format!("{key}[1]"), Bound::Finite, "")?;
-        let y = self.number(&items[1], &format!("{key}[2]"), Bound::Finite, "")?;
-        Ok((x, y))
-    }
-
     fn count(&self, t: &Table<'_>) -> Res<u32> {
         let expected = "an integer ≥ 1 (number of identical hinges)";
         let Some(sp) = t.get("count") else {
@@ -506,9 +156,11 @@ impl Cx<'_> {
         for (i, sp) in panel_items.iter().enumerate() {
             panels.push(self.panel(sp, &format!("panel[{}]", i + 1))?);
         }
-        if panels.is_empty() || panels.len() > MAX_JOINTS {
+        if panels.is_empty() || panels.len() > MAX_CHAIN_JOINTS {
             return Err(self.err(
-                panel_items.get(MAX_JOINTS).and_then(|sp| self.line(sp)),
+                panel_items
+                    .get(MAX_CHAIN_JOINTS)
+                    .and_then(|sp| self.line(sp)),
                 MechanismErrorKind::PanelCount {
                     found: panels.len(),
                 },
@@ -535,6 +187,11 @@ impl Cx<'_> {
             None => (DEFAULT_DURATION_S, DEFAULT_SAMPLE_HZ, DEFAULT_SETTLE_S),
         };
 
+        // Each further table is read by its own module, on the same tree.
+        let truss = top
+            .get("truss")
+            .map(|sp| crate::model::truss_toml::read(self, sp, panels.len()))
+            .transpose()?;
         Ok(Mechanism {
             name,
             description,
@@ -543,8 +200,7 @@ impl Cx<'_> {
             duration_s,
             sample_hz,
             settle_s,
-            truss: crate::model::truss_toml::read(self.text)
-                .map_err(|source| self.err(None, MechanismErrorKind::Truss { source }))?,
+            truss,
             latches: crate::model::latch_toml::read(self.text)
                 .map_err(|source| self.err(source.line, MechanismErrorKind::Latch { source }))?,
         })
@@ -572,7 +228,7 @@ impl Cx<'_> {
 
     /// `[[key]]`: an array of tables (`key = [{...}, ...]` is the same in TOML).
     fn array_of_tables<'s>(&self, top: &Table<'s>, key: &str) -> Res<&'s [Sp]> {
-        let expected = format!("1 to {MAX_JOINTS} [[{key}]] tables");
+        let expected = format!("1 to {MAX_CHAIN_JOINTS} [[{key}]] tables");
         let Some(sp) = top.get(key) else {
             return Err(self.missing(top, key, &expected));
         };
@@ -673,7 +329,7 @@ impl Cx<'_> {
         };
         // The core's own check (the pieces were checked above; this cannot
         // fail unless the core's rules grow).
-        spec.to_spring().map_err(|source| {
+        spec.to_spring::<f64>().map_err(|source| {
             self.err(
                 self.line(sp),
                 MechanismErrorKind::BadCurve {

@@ -3,6 +3,7 @@
 
 use crate::model::mechanism::{FrictionSpec, Mechanism, SpringSpec};
 use crate::model::mechanism_error::{MechanismError, MechanismErrorKind};
+pub use crate::model::toml_tree::{num, toml_str};
 use deploywatch_core::spring::{Interp, TapePoints};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -95,22 +96,6 @@ impl Mechanism {
             line: None,
             kind: MechanismErrorKind::Write { source },
         })
-    }
-}
-
-/// A TOML basic string, quoted and escaped by the `toml` crate.
-pub fn toml_str(s: &str) -> String {
-    toml::Value::String(s.to_string()).to_string()
-}
-
-/// A float in Rust's shortest round-trip form, valid TOML.
-pub fn num(x: f64) -> String {
-    if x.is_nan() {
-        "nan".to_string()
-    } else if x.is_infinite() {
-        if x > 0.0 { "inf" } else { "-inf" }.to_string()
-    } else {
-        format!("{x:?}")
     }
 }
 

@@ -2,6 +2,7 @@
 //! effects that extend it (`docs/spec/physics.md` section 6), and its
 //! mobility.
 pub mod effect;
+pub mod findings;
 pub mod friction_spec;
 pub mod kinematics;
 pub mod latch_toml;
@@ -11,6 +12,7 @@ pub mod mechanism_error;
 pub mod mechanism_toml;
 pub mod mechanism_write;
 pub mod plausibility;
+pub mod toml_tree;
 pub mod torque_table;
 pub mod truss;
 pub mod truss_toml;

@@ -18,130 +18,86 @@
 //! length_mm = 139.9994
 //! ```
 
-use toml::{Table, Value};
-
 use crate::model::mechanism::FrictionSpec;
-use crate::model::truss::{Carrier, Truss, TrussError, TrussLink, TrussPoint};
+use crate::model::mechanism_error::MechanismErrorKind;
+use crate::model::toml_tree::{Bound, Cx, Node, Res, Sp, Table};
+use crate::model::truss::{Carrier, Truss, TrussLink, TrussPoint};
 
 const TRUSS_KEYS: &[&str] = &["hinges_mm", "point", "link"];
 const POINT_KEYS: &[&str] = &["name", "on", "at_mm", "knee", "reference_link", "friction"];
 const LINK_KEYS: &[&str] = &["name", "ends", "mass_kg", "length_mm"];
 const FRICTION_KEYS: &[&str] = &["coulomb_nm", "viscous_nms", "coulomb_threshold_rad_s"];
 
-fn err(key: impl Into<String>, message: impl Into<String>) -> TrussError {
-    TrussError {
-        key: key.into(),
-        message: message.into(),
-    }
-}
-
-/// The `[truss]` table of a mechanism file's text, `None` without one.
-/// (The rest of the file is read by [`crate::model::mechanism_toml`].)
-pub fn read(text: &str) -> Result<Option<Truss>, TrussError> {
-    let root: Table = text
-        .parse()
-        .map_err(|e: toml::de::Error| err("truss", format!("invalid TOML: {}", e.message())))?;
-    match root.get("truss") {
-        None => Ok(None),
-        Some(Value::Table(t)) => truss(t).map(Some),
-        Some(_) => Err(err("truss", "expected a table")),
-    }
-}
-
-fn known(t: &Table, key: &str, allowed: &[&str]) -> Result<(), TrussError> {
-    match t.keys().find(|k| !allowed.contains(&k.as_str())) {
-        Some(k) => Err(err(
-            format!("{key}.{k}"),
-            format!("unknown key; expected one of: {}", allowed.join(", ")),
-        )),
-        None => Ok(()),
-    }
-}
-
-fn number(t: &Table, key: &str, name: &str) -> Result<f64, TrussError> {
-    match t.get(name) {
-        Some(Value::Float(x)) if x.is_finite() => Ok(*x),
-        Some(Value::Integer(i)) => Ok(*i as f64),
-        Some(_) => Err(err(format!("{key}.{name}"), "expected a finite number")),
-        None => Err(err(format!("{key}.{name}"), "missing; expected a number")),
-    }
-}
-
-fn string<'a>(t: &'a Table, key: &str, name: &str) -> Result<&'a str, TrussError> {
-    match t.get(name) {
-        Some(Value::String(s)) if !s.is_empty() => Ok(s),
-        Some(_) => Err(err(format!("{key}.{name}"), "expected a non-empty string")),
-        None => Err(err(format!("{key}.{name}"), "missing; expected a string")),
-    }
-}
-
-/// A `[x, y]` pair in millimetres.
-fn xy_mm(v: Option<&Value>, key: &str) -> Result<[f64; 2], TrussError> {
-    let bad = || err(key, "expected [x, y] in mm (two finite numbers)");
-    let a = v.and_then(Value::as_array).ok_or_else(bad)?;
-    let num = |v: &Value| {
-        v.as_float()
-            .or(v.as_integer().map(|i| i as f64))
-            .filter(|x| x.is_finite())
+/// The `[truss]` table `sp` of a mechanism file with `panels` panels,
+/// read and checked ([`Truss::check`]); every error names its line.
+pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, panels: usize) -> Res<Truss> {
+    let t = cx.table(sp, "truss", TRUSS_KEYS)?;
+    let expected = "[[x, y], ...] in mm, one per joint";
+    let hinges = match t.get("hinges_mm") {
+        Some(h) => h,
+        None => return Err(cx.missing(&t, "hinges_mm", expected)),
     };
-    match a.as_slice() {
-        [x, y] => Ok([num(x).ok_or_else(bad)?, num(y).ok_or_else(bad)?]),
-        _ => Err(bad()),
-    }
-}
-
-fn tables<'a>(t: &'a Table, key: &str, name: &str) -> Result<Vec<&'a Table>, TrussError> {
-    match t.get(name) {
-        None => Ok(Vec::new()),
-        Some(Value::Array(a)) => a
-            .iter()
-            .enumerate()
-            .map(|(i, v)| {
-                v.as_table()
-                    .ok_or_else(|| err(format!("{key}.{name}[{}]", i + 1), "expected a table"))
-            })
-            .collect(),
-        Some(_) => Err(err(
-            format!("{key}.{name}"),
-            "expected an array of tables [[...]]",
-        )),
-    }
-}
-
-fn truss(t: &Table) -> Result<Truss, TrussError> {
-    known(t, "truss", TRUSS_KEYS)?;
-    let hinges = t
-        .get("hinges_mm")
-        .and_then(Value::as_array)
-        .ok_or_else(|| {
-            err(
-                "truss.hinges_mm",
-                "missing; expected [[x, y], ...] in mm, one per joint",
-            )
-        })?;
-    let hinges_mm = hinges
+    let Node::Array(items) = &hinges.node else {
+        return Err(cx.wrong_type(hinges, &t.key("hinges_mm"), expected));
+    };
+    let hinges_mm = items
         .iter()
         .enumerate()
-        .map(|(i, v)| xy_mm(Some(v), &format!("truss.hinges_mm[{}]", i + 1)))
-        .collect::<Result<_, _>>()?;
-    let mut points = Vec::new();
-    for (i, p) in tables(t, "truss", "point")?.into_iter().enumerate() {
-        points.push(point(p, &format!("truss.point[{}]", i + 1))?);
-    }
-    let mut links = Vec::new();
-    for (i, l) in tables(t, "truss", "link")?.into_iter().enumerate() {
-        links.push(link(l, &format!("truss.link[{}]", i + 1))?);
-    }
-    Ok(Truss {
+        .map(|(i, v)| xy_mm(cx, v, &format!("truss.hinges_mm[{}]", i + 1)))
+        .collect::<Res<_>>()?;
+    let points = tables(cx, &t, "point")?
+        .iter()
+        .enumerate()
+        .map(|(i, p)| point(cx, p, &format!("truss.point[{}]", i + 1)))
+        .collect::<Res<_>>()?;
+    let links = tables(cx, &t, "link")?
+        .iter()
+        .enumerate()
+        .map(|(i, l)| link(cx, l, &format!("truss.link[{}]", i + 1)))
+        .collect::<Res<_>>()?;
+    let truss = Truss {
         hinges_mm,
         points,
         links,
-    })
+    };
+    truss.check(panels).map_err(|source| {
+        let line = cx.line(sp.at_path(&source.key)).or_else(|| cx.line(sp));
+        cx.err(line, MechanismErrorKind::Truss { source })
+    })?;
+    Ok(truss)
 }
 
-fn point(t: &Table, key: &str) -> Result<TrussPoint, TrussError> {
-    known(t, key, POINT_KEYS)?;
-    let on = match string(t, key, "on")? {
+/// A `[x, y]` pair in millimetres.
+fn xy_mm(cx: &Cx<'_>, sp: &Sp, key: &str) -> Res<[f64; 2]> {
+    let (x, y) = cx.pair(sp, key, "[x, y] in mm")?;
+    Ok([x, y])
+}
+
+/// `[[truss.NAME]]`: the tables of an array of tables (none when absent).
+fn tables<'s>(cx: &Cx<'_>, t: &Table<'s>, name: &str) -> Res<&'s [Sp]> {
+    match t.get(name) {
+        None => Ok(&[]),
+        Some(sp) => match &sp.node {
+            Node::Array(items) => Ok(items),
+            _ => Err(cx.wrong_type(sp, &t.key(name), "an array of tables [[...]]")),
+        },
+    }
+}
+
+/// A required non-empty string.
+fn name<'s>(cx: &Cx<'_>, t: &Table<'s>, key: &str) -> Res<&'s str> {
+    let Some(sp) = t.get(key) else {
+        return Err(cx.missing(t, key, "a non-empty string"));
+    };
+    match cx.string(sp, &t.key(key))? {
+        "" => Err(cx.invalid(sp, &t.key(key), "a non-empty string")),
+        s => Ok(s),
+    }
+}
+
+fn point(cx: &Cx<'_>, sp: &Sp, key: &str) -> Res<TrussPoint> {
+    let t = cx.table(sp, key, POINT_KEYS)?;
+    let on = match name(cx, &t, "on")? {
         "bus" => Carrier::Bus,
         "node" => Carrier::Node,
         s => match s
@@ -150,81 +106,82 @@ fn point(t: &Table, key: &str) -> Result<TrussPoint, TrussError> {
         {
             Some(n) => Carrier::Panel(n),
             None => {
-                return Err(err(
-                    format!("{key}.on"),
-                    format!("\"{s}\"; expected \"bus\", \"node\" or \"panel1\"..\"panel4\""),
-                ))
+                let sp = t.get("on").unwrap_or(sp);
+                let expected = "\"bus\", \"node\" or \"panel1\"..\"panel4\"";
+                return Err(cx.invalid(sp, &t.key("on"), expected));
             }
         },
     };
     let knee = match t.get("knee") {
         None => false,
-        Some(Value::Boolean(b)) => *b,
-        Some(_) => return Err(err(format!("{key}.knee"), "expected true or false")),
+        Some(Sp {
+            node: Node::Bool(b),
+            ..
+        }) => *b,
+        Some(k) => return Err(cx.wrong_type(k, &t.key("knee"), "true or false")),
     };
     let reference_link = match t.get("reference_link") {
         None => None,
-        Some(_) => Some(string(t, key, "reference_link")?.to_string()),
+        Some(_) => Some(name(cx, &t, "reference_link")?.to_string()),
+    };
+    let at_mm = match t.get("at_mm") {
+        Some(a) => xy_mm(cx, a, &t.key("at_mm"))?,
+        None => return Err(cx.missing(&t, "at_mm", "[x, y] in mm")),
+    };
+    let friction = match t.get("friction") {
+        Some(f) => friction(cx, f, &t.key("friction"))?,
+        None => FrictionSpec::default(),
     };
     Ok(TrussPoint {
-        name: string(t, key, "name")?.to_string(),
+        name: name(cx, &t, "name")?.to_string(),
         on,
-        at_mm: xy_mm(t.get("at_mm"), &format!("{key}.at_mm"))?,
+        at_mm,
         knee,
         reference_link,
-        friction: friction(t.get("friction"), &format!("{key}.friction"))?,
+        friction,
     })
 }
 
-fn friction(v: Option<&Value>, key: &str) -> Result<FrictionSpec, TrussError> {
+/// `friction = { coulomb_nm = ..., ... }`: every value ≥ 0, the rest of
+/// [`FrictionSpec::default`].
+fn friction(cx: &Cx<'_>, sp: &Sp, key: &str) -> Res<FrictionSpec> {
+    let t = cx.table(sp, key, FRICTION_KEYS)?;
     let mut f = FrictionSpec::default();
-    let Some(v) = v else { return Ok(f) };
-    let t = v
-        .as_table()
-        .ok_or_else(|| err(key, "expected an inline table { coulomb_nm = ... }"))?;
-    known(t, key, FRICTION_KEYS)?;
-    let nonneg = |name: &str, d: f64| -> Result<f64, TrussError> {
-        match t.get(name) {
-            None => Ok(d),
-            Some(_) => {
-                let x = number(t, key, name)?;
-                if x < 0.0 {
-                    return Err(err(format!("{key}.{name}"), "expected a number ≥ 0"));
-                }
-                Ok(x)
-            }
-        }
-    };
-    f.coulomb_nm = nonneg("coulomb_nm", 0.0)?;
-    f.viscous_nms = nonneg("viscous_nms", 0.0)?;
-    f.coulomb_threshold_rad_s = nonneg("coulomb_threshold_rad_s", f.coulomb_threshold_rad_s)?;
+    let nonneg = Bound::NonNegative;
+    if let Some(x) = cx.opt_number(&t, "coulomb_nm", nonneg, "N·m")? {
+        f.coulomb_nm = x;
+    }
+    if let Some(x) = cx.opt_number(&t, "viscous_nms", nonneg, "N·m·s/rad")? {
+        f.viscous_nms = x;
+    }
+    if let Some(x) = cx.opt_number(&t, "coulomb_threshold_rad_s", nonneg, "rad/s")? {
+        f.coulomb_threshold_rad_s = x;
+    }
     Ok(f)
 }
 
-fn link(t: &Table, key: &str) -> Result<TrussLink, TrussError> {
-    known(t, key, LINK_KEYS)?;
-    let ends = match t.get("ends").and_then(Value::as_array).map(Vec::as_slice) {
-        Some([Value::String(a), Value::String(b)]) if a != b => [a.clone(), b.clone()],
-        _ => {
-            return Err(err(
-                format!("{key}.ends"),
-                "expected two different point names [\"A\", \"B\"]",
-            ))
-        }
+fn link(cx: &Cx<'_>, sp: &Sp, key: &str) -> Res<TrussLink> {
+    let t = cx.table(sp, key, LINK_KEYS)?;
+    let expected = "two different point names [\"A\", \"B\"]";
+    let ends = match t.get("ends") {
+        None => return Err(cx.missing(&t, "ends", expected)),
+        Some(e) => match &e.node {
+            Node::Array(items) => match items.as_slice() {
+                [Sp {
+                    node: Node::Str(a), ..
+                }, Sp {
+                    node: Node::Str(b), ..
+                }] if a != b => [a.clone(), b.clone()],
+                _ => return Err(cx.invalid(e, &t.key("ends"), expected)),
+            },
+            _ => return Err(cx.wrong_type(e, &t.key("ends"), expected)),
+        },
     };
-    let mass_kg = number(t, key, "mass_kg")?;
-    let length_mm = number(t, key, "length_mm")?;
-    if !(mass_kg > 0.0) || !(length_mm > 0.0) {
-        return Err(err(
-            key.to_string(),
-            "expected mass_kg > 0 and length_mm > 0",
-        ));
-    }
     Ok(TrussLink {
-        name: string(t, key, "name")?.to_string(),
+        name: name(cx, &t, "name")?.to_string(),
         ends,
-        mass_kg,
-        length_mm,
+        mass_kg: cx.req_number(&t, "mass_kg", Bound::Positive, "kg")?,
+        length_mm: cx.req_number(&t, "length_mm", Bound::Positive, "mm")?,
     })
 }
 

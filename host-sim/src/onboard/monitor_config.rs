@@ -10,8 +10,8 @@
 
 use deploywatch_core::monitor::{JointConfig, Monitor, MonitorConfig, Sample, Status};
 use deploywatch_core::observer::FrictionPrior;
-use deploywatch_core::spring::{CurveError, Fold, Interp, TapePoints};
-use deploywatch_core::{Curve, Panel, Spring};
+use deploywatch_core::spring::CurveError;
+use deploywatch_core::{Panel, Spring};
 
 use crate::data::run::Run;
 use crate::model::mechanism::{Mechanism, SpringSpec};
@@ -26,15 +26,19 @@ pub struct PriorSpread {
 }
 
 impl Default for PriorSpread {
-    /// 2 N·m (the papers' identified values are 0.001–2.63 N·m) and
-    /// [`VISCOUS_PRIOR_SD_NMS`].
+    /// [`COULOMB_PRIOR_SD_NM`] and [`VISCOUS_PRIOR_SD_NMS`].
     fn default() -> Self {
         PriorSpread {
-            coulomb_sd_nm: 2.0,
+            coulomb_sd_nm: COULOMB_PRIOR_SD_NM,
             viscous_sd_nms: VISCOUS_PRIOR_SD_NMS,
         }
     }
 }
+
+/// Standard deviation of the Coulomb torque's prior [N·m]: the papers'
+/// identified values are 0.001–2.63 N·m, so 2 N·m says only that a hinge's
+/// friction is of that order.
+pub const COULOMB_PRIOR_SD_NM: f64 = 2.0;
 
 /// Standard deviation of the viscous coefficient's prior [N·m·s/rad]: what
 /// is known of a hinge's damping before the deployment. The papers identify
@@ -73,69 +77,40 @@ pub enum MonitorConfigError {
     Config(deploywatch_core::monitor::ConfigError),
 }
 
-fn f32_points(points: &[(f64, f64)]) -> Vec<(f32, f32)> {
-    points.iter().map(|&(x, y)| (x as f32, y as f32)).collect()
-}
-
-/// The spring of a joint in `f32`, and its capture angle [deg].
+/// The spring of a joint in `f32` ([`SpringSpec::to_spring`]), and its
+/// capture angle [deg].
 ///
 /// The capture angle is where a tape spring's snap-through takes over:
 /// θ_B of its points (seed 001 Table 1), below which the unfolding moment
 /// rises to its peak D. For a curve spring it is the first knot after the
-/// highest moment within 5° of the latch, if that peak is more than three
-/// times the moment there; a linear spring has none (0).
+/// highest moment within [`CAPTURE_WINDOW_DEG`] of the latch, if that peak
+/// is more than [`CAPTURE_PEAK_RATIO`] times the moment there; a linear
+/// spring has none (0).
 pub fn spring_f32(spec: &SpringSpec) -> Result<(Spring<f32>, f64), CurveError> {
-    Ok(match spec {
-        SpringSpec::Linear {
-            preload_nm,
-            stiffness_nm_per_rad,
-            count,
-        } => (
-            Spring::Linear {
-                preload_nm: *preload_nm as f32,
-                stiffness_nm_per_rad: *stiffness_nm_per_rad as f32,
-                count: *count as f32,
-            },
-            0.0,
-        ),
-        SpringSpec::Tape { points, count, .. } => {
-            let p = TapePoints {
-                a: (points.a.0 as f32, points.a.1 as f32),
-                b: (points.b.0 as f32, points.b.1 as f32),
-                d: (points.d.0 as f32, points.d.1 as f32),
-                m_90: points.m_90 as f32,
-                c_180: points.c_180 as f32,
-            };
-            (Spring::tape(&p, *count as f32)?, points.b.0)
-        }
-        SpringSpec::Curve {
-            unfold,
-            fold,
-            interp,
-            count,
-        } => {
-            let u = Curve::new(&f32_points(unfold), *interp)?;
-            let f = match fold {
-                None => Fold::SameAsUnfold,
-                Some(f) => Fold::Curve(Curve::new(&f32_points(f), *interp)?),
-            };
-            (
-                Spring::Curve {
-                    unfold: u,
-                    fold: f,
-                    count: *count as f32,
-                },
-                curve_capture_deg(unfold, *interp),
-            )
-        }
-    })
+    let capture_deg = match spec {
+        SpringSpec::Linear { .. } => 0.0,
+        SpringSpec::Tape { points, .. } => points.b.0,
+        SpringSpec::Curve { unfold, .. } => curve_capture_deg(unfold),
+    };
+    Ok((spec.to_spring::<f32>()?, capture_deg))
 }
 
-fn curve_capture_deg(unfold: &[(f64, f64)], _interp: Interp) -> f64 {
+/// How far from the latch a curve spring's snap-through peak is looked for
+/// [deg]: a tape spring's peak D lies within a few degrees of the latch
+/// (seed 001 Table 1: 1.5° to 3°).
+pub const CAPTURE_WINDOW_DEG: f64 = 5.0;
+
+/// How much higher than the moment at the next knot a curve spring's peak
+/// must be to count as a snap-through (ratio): a tape spring's peak D is
+/// several times its moment past B (seed 001 Table 1), a smooth curve's is
+/// not.
+pub const CAPTURE_PEAK_RATIO: f64 = 3.0;
+
+fn curve_capture_deg(unfold: &[(f64, f64)]) -> f64 {
     let near: Vec<(usize, &(f64, f64))> = unfold
         .iter()
         .enumerate()
-        .filter(|(_, p)| p.0 <= 5.0)
+        .filter(|(_, p)| p.0 <= CAPTURE_WINDOW_DEG)
         .collect();
     let Some(&(ipk, peak)) = near.iter().max_by(|a, b| {
         a.1 .1
@@ -145,7 +120,7 @@ fn curve_capture_deg(unfold: &[(f64, f64)], _interp: Interp) -> f64 {
         return 0.0;
     };
     match unfold.get(ipk + 1) {
-        Some(after) if peak.1 > 3.0 * after.1.abs() => after.0,
+        Some(after) if peak.1 > CAPTURE_PEAK_RATIO * after.1.abs() => after.0,
         _ => 0.0,
     }
 }
@@ -264,8 +239,8 @@ mod tests {
     #[test]
     fn curve_capture_is_after_a_snap_peak() {
         let pts = [(0.0, 0.0), (0.5, 30.0), (1.2, 1.0), (90.0, 1.2)];
-        assert_eq!(curve_capture_deg(&pts, Interp::Linear), 1.2);
+        assert_eq!(curve_capture_deg(&pts), 1.2);
         let flat = [(0.0, 1.0), (90.0, 2.0)];
-        assert_eq!(curve_capture_deg(&flat, Interp::Linear), 0.0);
+        assert_eq!(curve_capture_deg(&flat), 0.0);
     }
 }

@@ -10,16 +10,36 @@
 //! no discontinuity; every restart re-evaluates the derivative.
 
 use crate::model::effect::{self, Effect};
-use crate::model::mechanism::{with_joints, Mechanism, MAX_JOINTS};
+use crate::model::mechanism::{with_joints, Mechanism, MAX_CHAIN_JOINTS};
 use crate::simulate::ode::{self, locate, State};
+use crate::simulate::trajectory::SAMPLE_TIME_SLACK_S;
 pub use crate::simulate::trajectory::{
     Samples, SimError, SimOptions, SimStats, Trajectory, MAX_SAMPLES, MAX_STEPS,
 };
 use deploywatch_core::{Branch, Chain, Mode};
 
-/// Most branch events one joint may have within 1 ms before the simulation
-/// is declared to slide on `φ̇ = 0`.
+/// Most branch events one joint may have within [`BRANCH_BURST_WINDOW_S`]
+/// before the simulation is declared to slide on `φ̇ = 0`.
 pub const MAX_BRANCH_BURST: usize = 10;
+
+/// The window of [`MAX_BRANCH_BURST`] [s]: 1 ms, a tenth of a sample at
+/// 100 Hz; a spring switching branches more often than that is chattering,
+/// not moving.
+pub const BRANCH_BURST_WINDOW_S: f64 = 1e-3;
+
+/// Most consecutive events at one instant before the simulation is declared
+/// to slide: five per joint of the longest chain ([`MAX_CHAIN_JOINTS`]),
+/// far more than a latch and a branch switch each.
+pub const MAX_SAME_INSTANT_EVENTS: usize = 20;
+
+/// Events closer than this are at the same instant [s]: the precision to
+/// which [`ode::locate`] finds an event time of seconds.
+pub const SAME_INSTANT_S: f64 = 1e-12;
+
+/// A joint this close to its latch angle on the stowed side [rad] latches
+/// with the joint whose event fired: a located event leaves the angle a
+/// rounding error from 0.
+pub const LATCH_REACHED_RAD: f64 = 1e-12;
 
 /// Simulates a mechanism with extra effects (sensor effects are ignored
 /// here: see [`crate::simulate::sensor`]).
@@ -44,20 +64,14 @@ pub fn sample_grid(mech: &Mechanism, opts: &SimOptions) -> Result<Samples<'stati
     }
     // The grid is generated as the run goes: a long duration costs nothing
     // when the wing latches early.
-    let last_k = (duration * rate + 1e-9).floor();
-    let count = if last_k < usize::MAX as f64 {
-        last_k as usize + 1
-    } else {
-        usize::MAX
-    };
-    if count > MAX_SAMPLES && !opts.stop_when_deployed {
+    let times = Samples::grid(duration, rate);
+    if matches!(times, Samples::Grid { count, .. } if count > MAX_SAMPLES)
+        && !opts.stop_when_deployed
+    {
         // The whole duration would be written: refuse before the work.
         return Err(SimError::TooManySamples { t_s: duration });
     }
-    Ok(Samples::Grid {
-        rate_hz: rate,
-        count,
-    })
+    Ok(times)
 }
 
 /// Simulates a mechanism and samples it at the given times (sorted, from 0):
@@ -115,7 +129,7 @@ fn simulate_samples(
     let bad = || SimError::Invalid(format!("mechanism `{}` cannot be built", mech.name));
     let other = || {
         SimError::Invalid(format!(
-            "mechanism `{}` has {n} joints; 1 to {MAX_JOINTS} are supported",
+            "mechanism `{}` has {n} joints; 1 to {MAX_CHAIN_JOINTS} are supported",
             mech.name
         ))
     };
@@ -137,6 +151,8 @@ struct Integrator<'a, const N: usize> {
     side: [f64; N],
     /// Where each joint's branch matters [rad] (`None`: no hysteresis).
     hyst: [Option<f64>; N],
+    /// The step-size controller ([`ode::CHAIN_CONTROL`]).
+    step_control: ode::StepController,
     evaluations: usize,
 }
 
@@ -282,13 +298,13 @@ pub fn run_chain<const N: usize>(
 
     let mut t = 0.0;
     let mut k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
-    let mut h = 1e-4f64.min(opts.max_step_s);
+    let mut h = ode::INITIAL_STEP_S.min(opts.max_step_s);
     let mut events = EventLog::<N>::new();
     let mut done = false;
     while !done && t < duration {
         h = h.min(opts.max_step_s).min(duration - t);
-        if h < 1e-13 {
-            if duration - t < 1e-12 {
+        if h < ode::MIN_STEP_S {
+            if duration - t < ode::END_SLACK_S {
                 break;
             }
             return Err(SimError::StepUnderflow { t_s: t });
@@ -310,12 +326,12 @@ pub fn run_chain<const N: usize>(
             t = t1;
             y = att.y1;
             k1 = att.k7;
-            h = ode::next_h(h, att.err);
+            h = it.step_control.accept(h, att.err);
             events.same_instant = 0;
             continue;
         };
         out.out.stats.events += 1;
-        events.same_instant = if (t_end - t).abs() < 1e-12 {
+        events.same_instant = if (t_end - t).abs() < SAME_INSTANT_S {
             events.same_instant + 1
         } else {
             0
@@ -325,7 +341,8 @@ pub fn run_chain<const N: usize>(
         t = t_end;
         k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
         // Restart with a modest step after a discontinuity.
-        h = h.min(1e-3);
+        h = h.min(ode::RESTART_STEP_S);
+        it.step_control.restart();
     }
     out.out.end_s = t.min(duration);
     out.close(t, &y, &it.mode.latched, done, opts)?;
@@ -394,13 +411,13 @@ impl Sampler<'_> {
         opts: &SimOptions,
     ) -> Result<(), SimError> {
         if !done {
-            return self.push_while(|tk| tk <= t + 1e-9, |_| *y, latched);
+            return self.push_while(|tk| tk <= t + SAMPLE_TIME_SLACK_S, |_| *y, latched);
         }
         let Some(first) = self.times.get(self.k) else {
             return Ok(());
         };
         let end = if opts.stop_when_deployed {
-            first + opts.settle_s.unwrap_or(0.0) + 1e-9
+            first + opts.settle_s.unwrap_or(0.0) + SAMPLE_TIME_SLACK_S
         } else {
             f64::INFINITY
         };
@@ -429,12 +446,12 @@ impl<const N: usize> EventLog<N> {
     /// slides.
     fn branch(&mut self, j: usize, t: f64) -> Result<(), SimError> {
         let (last, count) = self.burst[j];
-        self.burst[j] = if t - last < 1e-3 {
+        self.burst[j] = if t - last < BRANCH_BURST_WINDOW_S {
             (last, count + 1)
         } else {
             (t, 1)
         };
-        if self.same_instant > 20 || self.burst[j].1 > MAX_BRANCH_BURST {
+        if self.same_instant > MAX_SAME_INSTANT_EVENTS || self.burst[j].1 > MAX_BRANCH_BURST {
             return Err(SimError::Sliding {
                 joint: j + 1,
                 t_s: t,
@@ -453,6 +470,7 @@ impl<'a, const N: usize> Integrator<'a, N> {
             mode: Mode::default(),
             side: [0.0; N],
             hyst: [None; N],
+            step_control: ode::StepController::new(ode::CHAIN_CONTROL),
             evaluations: 0,
         };
         let mut y = State::<N>::ZERO;
@@ -481,12 +499,12 @@ impl<'a, const N: usize> Integrator<'a, N> {
         let mut f = |_t: f64, s: &State<N>| self.deriv(s);
         let Some(att) = ode::step(&mut f, t, y, k1, *h, opts.rtol, opts.atol) else {
             // The trial state left the domain (e.g. NaN): shrink.
-            *h *= 0.25;
+            *h *= ode::FAILED_STEP_SHRINK;
             stats.rejected += 1;
             return Ok(None);
         };
         if att.err > 1.0 {
-            *h = ode::next_h(*h, att.err);
+            *h = self.step_control.reject(*h, att.err);
             stats.rejected += 1;
             return Ok(None);
         }
@@ -515,7 +533,7 @@ impl<'a, const N: usize> Integrator<'a, N> {
             // rate does there.
             let earlier = match ev {
                 Event::Latch(_) => te <= t_end,
-                Event::Branch(_) => te < t_end - 1e-12,
+                Event::Branch(_) => te < t_end - SAME_INSTANT_S,
             };
             if first.is_none() || earlier {
                 t_end = te;
@@ -562,7 +580,7 @@ impl<'a, const N: usize> Integrator<'a, N> {
     ) -> Result<bool, SimError> {
         let mut after = self.mode.latched;
         for j in 0..N {
-            if !after[j] && self.side[j] * ye.q[j] <= 1e-12 {
+            if !after[j] && self.side[j] * ye.q[j] <= LATCH_REACHED_RAD {
                 after[j] = true;
             }
         }

@@ -640,11 +640,12 @@ impl Runner<'_> {
     ) -> Result<f64, SimError> {
         let mut t = 0.0;
         let mut k1 = sim.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
-        let mut h = 1e-4f64.min(opts.max_step_s);
+        let mut h = ode::INITIAL_STEP_S.min(opts.max_step_s);
+        let mut control = ode::StepController::new(ode::CHAIN_CONTROL);
         while t < duration {
             h = h.min(opts.max_step_s).min(duration - t);
-            if h < 1e-13 {
-                if duration - t < 1e-12 {
+            if h < ode::MIN_STEP_S {
+                if duration - t < ode::END_SLACK_S {
                     break;
                 }
                 return Err(SimError::StepUnderflow { t_s: t });
@@ -652,12 +653,12 @@ impl Runner<'_> {
             let stats = &mut self.out.traj.stats;
             let mut f = |_t: f64, s: &State<N>| sim.deriv(s);
             let Some(att) = ode::step(&mut f, t, &y, &k1, h, opts.rtol, opts.atol) else {
-                h *= 0.25;
+                h *= ode::FAILED_STEP_SHRINK;
                 stats.rejected += 1;
                 continue;
             };
             if att.err > 1.0 {
-                h = ode::next_h(h, att.err);
+                h = control.reject(h, att.err);
                 stats.rejected += 1;
                 continue;
             }
@@ -675,7 +676,7 @@ impl Runner<'_> {
             let y_end = if cut { att.dense.at(t_end) } else { att.y1 };
             sim.account(&mut self.ledger, &att.dense, t_end, &y_end);
             let Some(ev) = first else {
-                (t, y, k1, h) = (t_end, att.y1, att.k7, ode::next_h(h, att.err));
+                (t, y, k1, h) = (t_end, att.y1, att.k7, control.accept(h, att.err));
                 self.same_instant = 0;
                 continue;
             };
@@ -688,7 +689,8 @@ impl Runner<'_> {
             self.apply(sim, ev, &mut y, t_end)?;
             t = t_end;
             k1 = sim.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
-            h = h.min(1e-3);
+            h = h.min(ode::RESTART_STEP_S);
+            control.restart();
         }
         self.out.push_while(sim, |tk| tk <= t + 1e-9, |_| y)?;
         Ok(t.min(duration))

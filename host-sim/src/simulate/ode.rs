@@ -244,17 +244,153 @@ fn dense_coefficients<const N: usize>(
     r
 }
 
-/// The next step size after an attempt with error norm `err` (order 5,
-/// safety 0.9, growth limited to [0.2, 5]).
-#[inline]
-pub fn next_h(h: f64, err: f64) -> f64 {
-    let fac = if err == 0.0 {
-        5.0
-    } else {
-        (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
-    };
-    h * fac
+/// The first step of an integration [s] (at most the options'
+/// `max_step_s`): small against the fastest time scale of a deployment (a
+/// latch impact or a knee snap, milliseconds); the controller grows it.
+pub const INITIAL_STEP_S: f64 = 1e-4;
+
+/// The step after a discontinuity (a latch, a branch switch, a lock) is at
+/// most this [s]: the controller's memory of the old smooth regime says
+/// nothing of the new one, so it starts over with a modest step.
+pub const RESTART_STEP_S: f64 = 1e-3;
+
+/// Smallest step before the integration gives up [s]: 10⁻¹³ s is a few
+/// hundred ulps of a time of seconds, below which `t + h` stops moving.
+pub const MIN_STEP_S: f64 = 1e-13;
+
+/// How close to the end time a step below [`MIN_STEP_S`] counts as having
+/// arrived rather than as an underflow [s].
+pub const END_SLACK_S: f64 = 1e-12;
+
+/// The factor a step shrinks by when its trial state leaves the domain of
+/// the equations (singular mass matrix, NaN): no error norm says by how
+/// much, so a fixed quarter.
+pub const FAILED_STEP_SHRINK: f64 = 0.25;
+
+/// Constants of a [`StepController`] (Hairer, Nørsett & Wanner I §II.4;
+/// Hairer & Wanner II §IV.2): after a step with error norm `err`, the next
+/// step is `h · safety · err^−(1/5 − 0.75 β) · err_prev^β`, the factor
+/// clamped to `[min_factor, max_factor]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepControl {
+    /// Safety factor on the step the error estimate asks for.
+    pub safety: f64,
+    /// Integral gain β of the proportional-integral controller (0: the
+    /// elementary controller `h · safety · err^−1/5`).
+    pub beta: f64,
+    /// Smallest step ratio after one attempt.
+    pub min_factor: f64,
+    /// Largest step ratio after one accepted step.
+    pub max_factor: f64,
+    /// The step after a rejection may not grow.
+    pub hold_after_reject: bool,
 }
+
+/// Exponent of the error norm in the elementary controller: 1/5, one over
+/// the order + 1 of the embedded 4th-order estimate of DOPRI5.
+const ERROR_EXPONENT: f64 = 0.2;
+
+/// The error norm a step is credited with at least: a step that makes no
+/// measurable error grows by `max_factor`, not by infinity.
+const MIN_ERROR_NORM: f64 = 1e-10;
+
+/// The error norm remembered by the integral term at least, and before the
+/// first step: keeps one exact step from licensing a jump later.
+const MIN_ERROR_MEMORY: f64 = 1e-4;
+
+/// The chain's controller (`deployment.rs`): the elementary one, safety
+/// 0.9, growth within [0.2, 5]. The chain integrates from event to event
+/// (latches and spring-branch switches are located and restarted from, see
+/// [`RESTART_STEP_S`]) and takes few steps with it (513 accepted steps for
+/// the 12 s, 3-joint run of `deploywatch simulate
+/// data/mechanisms/seed001_T02.toml --effect
+/// coulomb_friction:joint=1:value=2.63 --seed 1`, 2026-11-25); every
+/// trajectory the project ships (golden comparisons, examples, firmware
+/// replays) is computed with it, and the proportional-integral
+/// [`TRUSS_CONTROL`] has not been shown to gain anything here.
+pub const CHAIN_CONTROL: StepControl = StepControl {
+    safety: 0.9,
+    beta: 0.0,
+    min_factor: 0.2,
+    max_factor: 5.0,
+    hold_after_reject: false,
+};
+
+/// The truss wing's controller (`multibody/integrate.rs`): the
+/// proportional-integral controller of Hairer's DOPRI5 code, `β = 0.04`,
+/// growth within [0.2, 10], and no growth in the step after a rejection.
+/// The pins' friction `tanh(ω/ω_c)` makes the multibody equations stiff
+/// while a pin's rate crosses zero, which happens between events (a truss
+/// has more pins than locks); there the elementary controller alternates
+/// growing and rejected steps at the stability limit, which the memory of
+/// the integral term and the no-growth rule damp.
+pub const TRUSS_CONTROL: StepControl = StepControl {
+    safety: 0.9,
+    beta: 0.04,
+    min_factor: 0.2,
+    max_factor: 10.0,
+    hold_after_reject: true,
+};
+
+/// Step-size control of DOPRI5: the next step after each attempt, from its
+/// error norm and, for `β > 0`, the last accepted one's.
+#[derive(Clone, Copy, Debug)]
+pub struct StepController {
+    control: StepControl,
+    /// Error norm of the last accepted step.
+    err_prev: f64,
+    /// The last attempt was rejected.
+    rejected: bool,
+}
+
+impl StepController {
+    /// A controller with no memory yet.
+    pub fn new(control: StepControl) -> Self {
+        StepController {
+            control,
+            err_prev: MIN_ERROR_MEMORY,
+            rejected: false,
+        }
+    }
+
+    /// Forgets the past steps (after a discontinuity).
+    pub fn restart(&mut self) {
+        *self = StepController::new(self.control);
+    }
+
+    /// The next step after an accepted step `h` with error norm `err ≤ 1`.
+    #[inline]
+    pub fn accept(&mut self, h: f64, err: f64) -> f64 {
+        let c = self.control;
+        let err = err.max(MIN_ERROR_NORM);
+        let fac =
+            c.safety * err.powf(-(ERROR_EXPONENT - 0.75 * c.beta)) * self.err_prev.powf(c.beta);
+        let mut fac = fac.clamp(c.min_factor, c.max_factor);
+        if self.rejected && c.hold_after_reject {
+            fac = fac.min(1.0);
+        }
+        self.err_prev = err.max(MIN_ERROR_MEMORY);
+        self.rejected = false;
+        h * fac
+    }
+
+    /// The next step after a rejected step `h` with error norm `err > 1`:
+    /// the elementary controller's (the integral term only steers growth).
+    #[inline]
+    pub fn reject(&mut self, h: f64, err: f64) -> f64 {
+        let c = self.control;
+        self.rejected = true;
+        h * (c.safety * err.powf(-ERROR_EXPONENT)).clamp(c.min_factor, c.max_factor)
+    }
+}
+
+/// Most Illinois iterations of [`locate`]: it converges superlinearly, a
+/// few tens reach [`LOCATE_REL_TOL`]; the cap only bounds a pathological `g`.
+const LOCATE_MAX_ITERATIONS: usize = 200;
+
+/// Width of the bracket [`locate`] stops at, relative to `1 + |t|` [s/s]:
+/// a few hundred ulps of a time of seconds.
+const LOCATE_REL_TOL: f64 = 1e-13;
 
 /// Locates the root of `g` on the interpolant in `[t0, t1]` where
 /// `g(t0) > 0 ≥ g(t1)` (Illinois method), returning a time just past it
@@ -271,8 +407,8 @@ pub fn locate<const N: usize>(
         return a;
     }
     let mut side = 0;
-    for _ in 0..200 {
-        if b - a <= 1e-13 * (1.0 + b.abs()) {
+    for _ in 0..LOCATE_MAX_ITERATIONS {
+        if b - a <= LOCATE_REL_TOL * (1.0 + b.abs()) {
             break;
         }
         let mut c = (a * fb - b * fa) / (fb - fa);
@@ -316,6 +452,7 @@ mod tests {
         let mut k1 = f(0.0, &y).unwrap();
         let (mut t, mut h) = (0.0f64, 1e-3f64);
         let mut worst: f64 = 0.0;
+        let mut ctl = StepController::new(CHAIN_CONTROL);
         while t < 10.0 {
             h = h.min(10.0 - t);
             let a = step(&mut f, t, &y, &k1, h, 1e-10, 1e-12).unwrap();
@@ -326,7 +463,11 @@ mod tests {
                 y = a.y1;
                 k1 = a.k7;
             }
-            h = next_h(h, a.err);
+            h = if a.err <= 1.0 {
+                ctl.accept(h, a.err)
+            } else {
+                ctl.reject(h, a.err)
+            };
         }
         assert!((y.q[0] - 10f64.cos()).abs() < 1e-8);
         assert!(worst < 1e-8, "{worst}");

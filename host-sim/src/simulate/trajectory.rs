@@ -28,12 +28,33 @@ pub struct SimOptions {
     pub settle_s: Option<f64>,
 }
 
+/// Default relative tolerance of the DOPRI5 error norm ([`SimOptions::rtol`]):
+/// the golden trajectories (`tests/golden.rs`, `docs/simulator.md`) hold
+/// their bounds with it.
+pub const DEFAULT_RTOL: f64 = 1e-8;
+
+/// Default absolute tolerance of the DOPRI5 error norm [rad, rad/s]
+/// ([`SimOptions::atol`]): 10⁻¹⁰ rad is far below any sensor's resolution
+/// (an AS5047P count is 3.8·10⁻⁴ rad).
+pub const DEFAULT_ATOL: f64 = 1e-10;
+
+/// Default longest step [s] ([`SimOptions::max_step_s`]): an event is found
+/// by a sign change of its function over a step, and a step much shorter
+/// than a deployment's swings (seconds) cannot hide a crossing and its
+/// return.
+pub const DEFAULT_MAX_STEP_S: f64 = 0.05;
+
+/// Slack on a sample time when deciding whether it is at or before a time
+/// of the run [s]: far below the µs resolution of `t_s` in a run CSV, far
+/// above the rounding of sums of seconds.
+pub const SAMPLE_TIME_SLACK_S: f64 = 1e-9;
+
 impl Default for SimOptions {
     fn default() -> Self {
         SimOptions {
-            rtol: 1e-8,
-            atol: 1e-10,
-            max_step_s: 0.05,
+            rtol: DEFAULT_RTOL,
+            atol: DEFAULT_ATOL,
+            max_step_s: DEFAULT_MAX_STEP_S,
             duration_s: None,
             sample_hz: None,
             latching: true,
@@ -156,7 +177,39 @@ pub enum Samples<'a> {
     },
 }
 
+/// The most samples a uniform grid counts: one more than [`MAX_SAMPLES`].
+/// Every longer grid is refused alike, as a run that would hold more than
+/// [`MAX_SAMPLES`] samples, so counting further says nothing; the cap also
+/// keeps the count of an absurd `duration × rate` (10³⁰⁰ s) a number, not a
+/// saturated conversion, and the time of the refusal in range.
+pub const GRID_COUNT_CAP: usize = MAX_SAMPLES + 1;
+
+/// Slack on `duration × rate` when counting a grid's samples [samples]: a
+/// duration that is a whole number of sample periods keeps its last sample
+/// although the product rounds below it (0.29 s × 100 Hz = 28.999999999999996).
+pub const GRID_ROUNDING_SAMPLES: f64 = 1e-9;
+
+/// Samples `k / rate_hz ≤ duration_s`, `k = 0, 1, …`, capped at
+/// [`GRID_COUNT_CAP`]: the one count of a run's uniform sample grid.
+/// `duration_s` and `rate_hz` are positive and finite (checked by callers).
+pub fn grid_count(duration_s: f64, rate_hz: f64) -> usize {
+    let last_k = (duration_s * rate_hz + GRID_ROUNDING_SAMPLES).floor();
+    if last_k < (GRID_COUNT_CAP - 1) as f64 {
+        last_k as usize + 1
+    } else {
+        GRID_COUNT_CAP
+    }
+}
+
 impl Samples<'_> {
+    /// The uniform grid `k / rate_hz ≤ duration_s` ([`grid_count`]).
+    pub fn grid(duration_s: f64, rate_hz: f64) -> Samples<'static> {
+        Samples::Grid {
+            rate_hz,
+            count: grid_count(duration_s, rate_hz),
+        }
+    }
+
     /// Sample `k` [s], `None` past the end.
     pub fn get(&self, k: usize) -> Option<f64> {
         match *self {

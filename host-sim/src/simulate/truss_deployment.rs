@@ -17,7 +17,9 @@
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::mechanism::Mechanism;
 use crate::simulate::multibody::{self, Model, System, WingRun};
-use crate::simulate::trajectory::{Samples, SimError, SimOptions, Trajectory, MAX_SAMPLES};
+use crate::simulate::trajectory::{
+    Samples, SimError, SimOptions, Trajectory, MAX_SAMPLES, SAMPLE_TIME_SLACK_S,
+};
 use deploywatch_core::Spring;
 
 /// True for the effects the truss wing models ([`apply_effects`]).
@@ -110,8 +112,9 @@ pub fn simulate_truss(
         Samples::Listed(t) => t.to_vec(),
         Samples::Grid { rate_hz, count } => {
             if count > MAX_SAMPLES {
+                // The time of the first sample past the limit.
                 return Err(SimError::TooManySamples {
-                    t_s: count as f64 / rate_hz,
+                    t_s: MAX_SAMPLES as f64 / rate_hz,
                 });
             }
             (0..count).map(|k| k as f64 / rate_hz).collect()
@@ -128,7 +131,7 @@ pub fn simulate_truss(
     if locked_up && run.t_s.len() < times.len() {
         let end = run.t_s.last().copied().unwrap_or(0.0);
         let last = if opts.stop_when_deployed {
-            times.partition_point(|&t| t <= end + settle_s + 1e-9)
+            times.partition_point(|&t| t <= end + settle_s + SAMPLE_TIME_SLACK_S)
         } else {
             times.len()
         };

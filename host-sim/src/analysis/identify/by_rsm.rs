@@ -125,7 +125,7 @@ impl RsmPlan {
             .half
             .iter()
             .zip(&self.centre)
-            .map(|(h, c)| (h * RSM_ROUND_SHRINK).min(0.999 * c / self.reach))
+            .map(|(h, c)| (h * RSM_ROUND_SHRINK).min(RSM_REACH_MARGIN * c / self.reach))
             .collect();
         self.rule.push(format!(
             "round {}: re-centred on the round-{round} minimum, half-ranges × {RSM_ROUND_SHRINK}",
@@ -227,7 +227,7 @@ fn design_points(
             if *v >= 0.0 {
                 continue;
             }
-            if *v > -1e-9 * plan.half[i] {
+            if *v > -RSM_ZERO_SLACK * plan.half[i] {
                 *v = 0.0;
             } else {
                 return Err(IdentifyError::BadOption(format!(
@@ -315,7 +315,7 @@ fn minimise_surface(
     response: RsmResponse,
     coding: &Coding,
     reach: f64,
-) -> Result<(rsm::BoxMinimum, Vec<f64>, Vec<f64>), IdentifyError> {
+) -> Result<(rsm_box::BoxMinimum, Vec<f64>, Vec<f64>), IdentifyError> {
     let target: Quadratic = match response {
         RsmResponse::TeSum => {
             let parts: Vec<(f64, &Quadratic)> = fits[..k].iter().map(|f| (1.0, &f.model)).collect();
@@ -326,7 +326,7 @@ fn minimise_surface(
     let natural = target.to_natural(coding)?;
     let (lo, hi) = coding.natural_box(reach);
     let lo: Vec<f64> = lo.iter().map(|v| v.max(0.0)).collect();
-    let min = rsm::minimize_in_box(&natural, &lo, &hi)?;
+    let min = rsm_box::minimize_in_box(&natural, &lo, &hi)?;
     Ok((min, lo, hi))
 }
 

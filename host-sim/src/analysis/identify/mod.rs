@@ -26,6 +26,7 @@ pub mod by_rsm;
 pub mod direct;
 pub mod residual_check;
 pub mod rsm;
+pub mod rsm_box;
 
 use self::rsm::{CcdKind, Coding, Quadratic};
 use crate::analysis::campaign_sim::CampaignSim;
@@ -33,6 +34,10 @@ use crate::analysis::fit::{self, FitOptions};
 use crate::analysis::metrics::{self, TimeWindow};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};
+pub use crate::model::findings::identify::{
+    CampaignScore, DirectDetails, Identification, JointEft, Method, ResponseSurface, RsmDetails,
+    RunScore,
+};
 use crate::report::progress::Progress;
 use crate::report::text::list;
 use crate::simulate::deployment::Trajectory;
@@ -48,16 +53,6 @@ pub const SCAN_GRID_NM: [f64; 16] = [
     0.0, 0.025, 0.035355, 0.05, 0.070711, 0.1, 0.141421, 0.2, 0.282843, 0.4, 0.565685, 0.8,
     1.131371, 1.6, 2.262742, 3.2,
 ];
-
-/// Which identification method.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Method {
-    /// Least squares over the trajectories (seed 001 Eq. 6 as the objective).
-    Direct,
-    /// Response surface on a central composite design (seed 000 Eqs. 14–16).
-    Rsm,
-}
 
 impl Method {
     /// The name used on the command line and in the JSON.
@@ -100,50 +95,6 @@ impl std::str::FromStr for Method {
     }
 }
 
-/// The EFT identified at one joint.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct JointEft {
-    /// 1-based joint.
-    pub joint: usize,
-    /// Equivalent friction torque `T_C` [N·m] (`physics.md` 4).
-    pub coulomb_nm: f64,
-    /// 95 % confidence interval [N·m] (direct method only: from the
-    /// Jacobian, `p ± t₀.₉₇₅ · sd`, see [`crate::analysis::fit`]); `null` for rsm.
-    pub ci95: Option<[f64; 2]>,
-    /// Standard deviation of the estimate [N·m] (direct method only).
-    pub sd_nm: Option<f64>,
-}
-
-/// How well one run is reproduced by a model.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RunScore {
-    /// The run's file name.
-    pub run: String,
-    /// The mechanism it was paired with.
-    pub mechanism: String,
-    /// RMS of model minus measurement over every sample and joint [deg]
-    /// (`physics.md` 8).
-    pub rms_deg: f64,
-    /// Trajectory error of each joint [%] (seed 000 Eq. 14, `physics.md` 8,
-    /// whole run); `null` where no sample qualifies.
-    pub trajectory_error_pct: Vec<Option<f64>>,
-    /// Sum of squared residuals of each joint over the run [deg²].
-    #[serde(skip)]
-    pub joint_sse_deg2: Vec<f64>,
-    /// Samples of the run.
-    #[serde(skip)]
-    pub samples: usize,
-}
-
-/// A model's fit to the whole campaign.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct CampaignScore {
-    /// RMS over every sample, joint and run [deg].
-    pub rms_deg: f64,
-    /// Per run.
-    pub runs: Vec<RunScore>,
-}
-
 impl CampaignScore {
     /// Trajectory error of joint `joint` (1-based) averaged over the runs
     /// where it is defined [%]; `None` if it is defined in none.
@@ -155,99 +106,6 @@ impl CampaignScore {
             .collect();
         (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
     }
-}
-
-/// Details of a direct (least-squares) identification.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct DirectDetails {
-    /// Where the solver started [N·m], one value per identified joint.
-    pub start_nm: Vec<f64>,
-    /// How the start was chosen.
-    pub start_rule: String,
-    /// Sum of squared residuals at the solution [deg²] (seed 001 Eq. 6 over
-    /// the whole runs).
-    pub sse_deg2: f64,
-    /// Number of residuals (samples × joints, all runs).
-    pub residuals: usize,
-    /// The solver's verdict.
-    pub termination: String,
-    /// Joints whose EFT ended below 0 and were fixed at the bound 0.
-    pub fixed_at_zero: Vec<usize>,
-}
-
-/// One response of the design and its fitted quadratic.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct ResponseSurface {
-    /// `te<j>_pct` (trajectory error of joint j, seed 000 Eq. 14, mean over
-    /// the runs) or `mse_deg2` (mean squared angle residual, all runs).
-    pub name: String,
-    /// The response at each design point, in design order.
-    pub values: Vec<f64>,
-    /// R² of the full quadratic (seed 000 Eq. 15) fitted to it.
-    pub r2: f64,
-    /// Adjusted R².
-    pub adj_r2: f64,
-    /// The quadratic's coefficients in coded units, seed 000 Eq. 16 order
-    /// (`b0, b1..bk, b12.., b11..bkk`).
-    pub coded_coefficients: Vec<f64>,
-}
-
-/// Details of a response-surface identification.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RsmDetails {
-    /// Design centre [N·m].
-    pub centre_nm: Vec<f64>,
-    /// Half-ranges [N·m]: coded ±1.
-    pub half_range_nm: Vec<f64>,
-    /// How the centre and half-ranges were chosen.
-    pub design_rule: String,
-    /// Axial distance α in coded units (1.682 for a rotatable 3-factor CCD).
-    pub alpha: f64,
-    /// The design points [N·m], in design order (factorial, axial, centre).
-    pub points_nm: Vec<Vec<f64>>,
-    /// Every response with its fitted surface.
-    pub responses: Vec<ResponseSurface>,
-    /// The response minimised.
-    pub minimised: String,
-    /// The box the surface was minimised in [N·m]: `[lower, upper]` per joint.
-    pub box_nm: Vec<[f64; 2]>,
-    /// The fitted surface's value at its minimum (prediction).
-    pub predicted: f64,
-    /// The same response simulated at the minimum (check).
-    pub simulated: f64,
-    /// Rounds of the design run (the fields above are the last round's).
-    pub rounds: usize,
-}
-
-/// The outcome of an identification, serialisable to the JSON of
-/// `deploywatch identify --json`.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Identification {
-    /// `direct` or `rsm`.
-    pub method: Method,
-    /// The EFT per identified joint.
-    pub joints: Vec<JointEft>,
-    /// RMS of the mechanisms as given (no extra friction) against the runs [deg].
-    pub rms_deg_before: f64,
-    /// RMS with the identified EFTs [deg].
-    pub rms_deg_after: f64,
-    /// Model evaluations on the whole campaign (each one deployment of every
-    /// run), everything included: start scan, solver or design, checks.
-    pub simulations: usize,
-    /// Single deployments simulated (`simulations × runs`).
-    pub deployments: usize,
-    /// Wall-clock time of the identification [s].
-    pub wall_s: f64,
-    /// Before: the mechanisms as given, per run.
-    pub before: CampaignScore,
-    /// After: with the identified EFTs, per run.
-    pub after: CampaignScore,
-    /// Direct method details.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub direct: Option<DirectDetails>,
-    /// Response-surface details.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub rsm: Option<RsmDetails>,
 }
 
 impl Identification {
@@ -336,7 +194,7 @@ pub struct DirectOptions {
     /// best of the start scan ([`scan`]).
     pub start_nm: Option<Vec<f64>>,
     /// Smallest finite-difference step [N·m] (the step is
-    /// `max(min_step, 1e-4·|T_C|)`).
+    /// `max(min_step, JACOBIAN_REL_STEP·|T_C|)`, `analysis::fit`).
     pub min_step_nm: f64,
     /// Upper bound of every EFT [N·m].
     pub upper_nm: f64,
@@ -348,7 +206,7 @@ impl Default for DirectOptions {
     fn default() -> Self {
         DirectOptions {
             start_nm: None,
-            min_step_nm: 1e-4,
+            min_step_nm: DEFAULT_MIN_STEP_NM,
             upper_nm: 100.0,
             patience: 40,
         }
@@ -421,9 +279,25 @@ pub struct RsmOptions {
     pub rounds: usize,
 }
 
+/// Default smallest finite-difference step of an EFT [N·m]
+/// ([`DirectOptions::min_step_nm`]): the Jacobian's step is
+/// `max(min_step, JACOBIAN_REL_STEP·|T_C|)` (`analysis::fit`); 10⁻⁴ N·m is
+/// a tenth of the smallest friction the papers identify (0.001 N·m), far
+/// above the simulation's error at its tolerances.
+pub const DEFAULT_MIN_STEP_NM: f64 = 1e-4;
+
 /// Factor on the half-ranges from one round of a sequential response-surface
 /// design to the next [1].
 pub const RSM_ROUND_SHRINK: f64 = 0.5;
+
+/// A later round's half-range stays below this fraction of the distance
+/// from its centre to 0 N·m over the design's reach (ratio): the axial
+/// points stay strictly above 0, where the effect is defined.
+pub const RSM_REACH_MARGIN: f64 = 0.999;
+
+/// A design point below 0 N·m by less than this fraction of its half-range
+/// (ratio) is rounding and is set to 0; further below, the plan is refused.
+pub const RSM_ZERO_SLACK: f64 = 1e-9;
 
 /// Least design centre of a later round [N·m]: a minimum at 0 N·m is
 /// re-centred here so the next design has a positive extent.

@@ -2,6 +2,7 @@
 //! interval of Wilson (1927), which stays meaningful with no failure.
 
 use super::{stream, Estimate, Evaluate, FailurePoint, Problem, ReliabilityError};
+use crate::analysis::fit::Z_975;
 use crate::report::progress::Progress;
 use rand::Rng;
 use rand_distr::StandardNormal;
@@ -32,7 +33,7 @@ pub fn wilson95(k: usize, n: usize) -> (f64, f64) {
     if n == 0 {
         return (0.0, 1.0);
     }
-    let (z, n) = (1.959963984540054, n as f64);
+    let (z, n) = (Z_975, n as f64);
     let p = k as f64 / n;
     let d = 1.0 + z * z / n;
     let c = (p + z * z / (2.0 * n)) / d;

@@ -60,7 +60,10 @@ pub fn inverse_cdf(p: f64) -> f64 {
         2.445134137142996,
         3.754408661907416,
     ];
-    let p_low = 0.02425;
+    // Acklam's breakpoint between the central and the tail rational
+    // approximations (probability).
+    const P_LOW: f64 = 0.02425;
+    let p_low = P_LOW;
     let tail_poly = |q: f64| {
         (((((C[0] * q + C[1]) * q + C[2]) * q + C[3]) * q + C[4]) * q + C[5])
             / ((((D[0] * q + D[1]) * q + D[2]) * q + D[3]) * q + 1.0)

@@ -12,6 +12,7 @@
 
 use super::mc::{check_len, draw};
 use super::{stream, Estimate, Evaluate, FailurePoint, Level, Problem, ReliabilityError};
+use crate::analysis::fit::Z_975;
 use crate::report::progress::Progress;
 use rand::Rng;
 use rand_distr::StandardNormal;
@@ -122,7 +123,7 @@ fn finish(
     let d2: f64 = levels.iter().map(|l| l.cov * l.cov).sum();
     let cov = d2.sqrt();
     let s = (1.0 + d2).ln().sqrt();
-    let z = 1.959963984540054;
+    let z = Z_975;
     let mut best = None;
     for i in 0..pop.g.len() {
         FailurePoint::keep_best(&mut best, &pop.u[i], &pop.x[i], pop.g[i]);

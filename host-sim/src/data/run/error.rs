@@ -1,7 +1,7 @@
 //! Why a run file was rejected, or a run could not be paired or written.
 
 use crate::model::located::Located;
-use crate::model::mechanism::MAX_JOINTS;
+use crate::model::mechanism::MAX_CHAIN_JOINTS;
 
 use super::record::{run_header, EXTRA_COLUMNS};
 
@@ -136,8 +136,8 @@ pub enum RunErrorKind {
         /// The joint count of the header.
         joints: usize,
     },
-    /// More than [`MAX_JOINTS`] joints.
-    #[error("{found} joints in the header; expected 1 to {MAX_JOINTS}")]
+    /// More than [`MAX_CHAIN_JOINTS`] joints.
+    #[error("{found} joints in the header; expected 1 to {MAX_CHAIN_JOINTS}")]
     TooManyJoints {
         /// Number of `phi<j>_deg` (or `latch<j>`) columns.
         found: usize,

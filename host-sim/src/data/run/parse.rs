@@ -9,7 +9,7 @@ use super::record::{
     ExtraColumn, ExtraKind, ReadOptions, Run, MAX_ANGLE_DEG, MISSING_SAMPLES_KEY,
     MISSING_SAMPLES_VALUE,
 };
-use crate::model::mechanism::MAX_JOINTS;
+use crate::model::mechanism::MAX_CHAIN_JOINTS;
 
 /// A header column.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -457,7 +457,7 @@ impl Run {
         let cols: Vec<Col> = names.iter().map(|s| classify(s)).collect();
         let n_phi = cols.iter().filter(|c| matches!(c, Col::Phi(_))).count();
         let n_latch = cols.iter().filter(|c| matches!(c, Col::Latch(_))).count();
-        if n_phi.max(n_latch) > MAX_JOINTS {
+        if n_phi.max(n_latch) > MAX_CHAIN_JOINTS {
             return Err(RunError::at(
                 file,
                 line,
@@ -469,7 +469,7 @@ impl Run {
         // The joint count the header seems to be for: its angle columns,
         // its latch columns, or its width, whichever says more (a misspelt
         // column must not change the count).
-        let half = (names.len().saturating_sub(1) / 2).min(MAX_JOINTS);
+        let half = (names.len().saturating_sub(1) / 2).min(MAX_CHAIN_JOINTS);
         let n = match n_phi.max(n_latch.min(half)) {
             0 => half.max(1),
             n => n,

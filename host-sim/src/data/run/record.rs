@@ -1,7 +1,7 @@
 //! The run in memory: its samples, metadata, extra columns, header and
 //! the limits a run file is held to.
 
-pub use crate::model::mechanism::MAX_JOINTS;
+pub use crate::model::mechanism::MAX_CHAIN_JOINTS;
 
 /// Largest joint angle a run file may hold [deg], either sign: a hinge
 /// angle beyond two turns is no reading of a deploying joint (the monitor's

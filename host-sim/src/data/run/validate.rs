@@ -6,8 +6,8 @@ use std::path::Path;
 use super::error::{RunError, RunErrorKind};
 use super::parse::{format_time, valid_meta_key};
 use super::record::{
-    run_header, ExtraKind, Run, EXTRA_COLUMNS, MAX_ANGLE_DEG, MAX_JOINTS, MISSING_SAMPLES_KEY,
-    MISSING_SAMPLES_VALUE,
+    run_header, ExtraKind, Run, EXTRA_COLUMNS, MAX_ANGLE_DEG, MAX_CHAIN_JOINTS,
+    MISSING_SAMPLES_KEY, MISSING_SAMPLES_VALUE,
 };
 
 /// What is wrong with an angle of a run in memory, `None` for nothing: it
@@ -45,8 +45,8 @@ impl Run {
     /// The joint count and the length of every series.
     fn check_shape(&self) -> Result<(), String> {
         let n = self.joints();
-        if n == 0 || n > MAX_JOINTS {
-            return Err(format!("{n} joints; expected 1 to {MAX_JOINTS}"));
+        if n == 0 || n > MAX_CHAIN_JOINTS {
+            return Err(format!("{n} joints; expected 1 to {MAX_CHAIN_JOINTS}"));
         }
         if self.latch.len() != n {
             return Err(format!(

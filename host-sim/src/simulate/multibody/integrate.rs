@@ -73,48 +73,6 @@ pub fn run(model: &Model, times: &[f64], opts: &SimOptions) -> Result<MbTrajecto
     dispatch!(1 2 3 4 5 6 7 8 9 10 11 12)
 }
 
-/// Step-size control after an accepted step: the proportional-integral
-/// controller of Hairer's DOPRI5 (Hairer, Nørsett & Wanner I §II.4 and
-/// Hairer & Wanner II §IV.2: `h·0.9·err^−(0.2−0.75β)·err_prev^β`,
-/// `β = 0.04`, growth within [0.2, 10]), and no growth in the step after a
-/// rejection. The friction's `tanh(ω/ω_c)` makes the equations stiff while a
-/// pin's rate crosses zero; there the plain controller of
-/// [`ode::next_h`] alternates growing and rejected steps at the stability
-/// limit, which the memory of the integral term and the no-growth rule damp.
-#[derive(Clone, Copy, Debug)]
-struct Controller {
-    /// Error norm of the last accepted step.
-    err_prev: f64,
-    /// The last attempt was rejected.
-    rejected: bool,
-}
-
-impl Default for Controller {
-    fn default() -> Self {
-        Controller {
-            err_prev: 1e-4,
-            rejected: false,
-        }
-    }
-}
-
-impl Controller {
-    const BETA: f64 = 0.04;
-
-    /// The next step after an accepted step `h` with error norm `err ≤ 1`.
-    fn next(&mut self, h: f64, err: f64) -> f64 {
-        let err = err.max(1e-10);
-        let fac = 0.9 * err.powf(-(0.2 - 0.75 * Self::BETA)) * self.err_prev.powf(Self::BETA);
-        let mut fac = fac.clamp(0.2, 10.0);
-        if self.rejected {
-            fac = fac.min(1.0);
-        }
-        self.err_prev = err.max(1e-4);
-        self.rejected = false;
-        h * fac
-    }
-}
-
 struct Runner<'a, const N: usize> {
     model: &'a Model,
     opts: &'a SimOptions,
@@ -325,13 +283,13 @@ impl<'a, const N: usize> Runner<'a, N> {
         }
         let mut t = 0.0;
         let mut k1 = self.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
-        let mut h = 1e-4f64.min(self.opts.max_step_s);
+        let mut h = ode::INITIAL_STEP_S.min(self.opts.max_step_s);
         let mut done = m0 == 0;
-        let mut ctl = Controller::default();
+        let mut ctl = ode::StepController::new(ode::TRUSS_CONTROL);
         while !done && t < duration {
             h = h.min(self.opts.max_step_s).min(duration - t);
-            if h < 1e-13 {
-                if duration - t < 1e-12 {
+            if h < ode::MIN_STEP_S {
+                if duration - t < ode::END_SLACK_S {
                     break;
                 }
                 return Err(SimError::StepUnderflow { t_s: t });
@@ -339,13 +297,12 @@ impl<'a, const N: usize> Runner<'a, N> {
             let (rtol, atol) = (self.opts.rtol, self.opts.atol);
             let mut f = |_t: f64, s: &State<N>| self.deriv(s);
             let Some(att) = ode::step(&mut f, t, &y, &k1, h, rtol, atol) else {
-                h *= 0.25;
+                h *= ode::FAILED_STEP_SHRINK;
                 self.out.stats.rejected += 1;
                 continue;
             };
             if att.err > 1.0 {
-                h = ode::next_h(h, att.err);
-                ctl.rejected = true;
+                h = ctl.reject(h, att.err);
                 self.out.stats.rejected += 1;
                 continue;
             }
@@ -363,8 +320,8 @@ impl<'a, const N: usize> Runner<'a, N> {
                 let mut ye = att.dense.at(t_end);
                 self.out.stats.events += 1;
                 done = self.lock(t_end, &mut ye)? == 0 && self.opts.stop_when_deployed;
-                h = h.min(1e-3);
-                ctl = Controller::default();
+                h = h.min(ode::RESTART_STEP_S);
+                ctl.restart();
                 t = t_end;
                 y = ye;
                 k1 = self.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
@@ -375,7 +332,7 @@ impl<'a, const N: usize> Runner<'a, N> {
                 // little.
                 let mut ye = att.y1;
                 self.project_factored(&mut ye, t_end)?;
-                h = ctl.next(h, att.err);
+                h = ctl.accept(h, att.err);
                 t = t_end;
                 y = ye;
                 k1 = att.k7;

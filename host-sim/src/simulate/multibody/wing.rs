@@ -4,7 +4,7 @@
 use super::integrate::{run, MbTrajectory};
 use super::kin::Model;
 use crate::model::mechanism::Mechanism;
-use crate::simulate::trajectory::{SimError, SimOptions};
+use crate::simulate::trajectory::{grid_count, SimError, SimOptions, MAX_SAMPLES};
 
 /// A truss deployment: the multibody run and the names of its pins.
 #[derive(Clone, Debug, PartialEq)]
@@ -75,8 +75,11 @@ pub fn simulate_wing(mech: &Mechanism, opts: &SimOptions) -> Result<WingRun, Sim
             "duration ({duration} s) and sample rate ({rate} Hz) must be positive"
         )));
     }
-    let last = (duration * rate + 1e-9).floor() as usize;
-    let times: Vec<f64> = (0..=last).map(|k| k as f64 / rate).collect();
+    let count = grid_count(duration, rate);
+    if count > MAX_SAMPLES {
+        return Err(SimError::TooManySamples { t_s: duration });
+    }
+    let times: Vec<f64> = (0..count).map(|k| k as f64 / rate).collect();
     let run = run(&model, &times, opts)?;
     Ok(WingRun {
         pins: model.sys.pins.iter().map(|p| p.name.clone()).collect(),

@@ -1,6 +1,7 @@
 //! Tests of `rsm`.
 
 use super::*;
+use crate::analysis::identify::rsm_box::*;
 
 fn approx(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol

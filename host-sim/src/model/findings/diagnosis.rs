@@ -1,0 +1,239 @@
+//! The diagnosis JSON (`deploywatch diagnose --json`, `docs/spec/formats.md`
+//! "Diagnosis: JSON", with the project's fields of "Findings JSON"): written
+//! by `cli::diagnose`, read by `margin --from`. Only `effects` (and each
+//! effect's `name`) is required on reading; numbers are rounded to 6
+//! decimals ([`super::numbers::rounded`]) and `null` where not finite.
+
+use serde::de::{MapAccess, Visitor};
+use serde::ser::SerializeMap;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+/// A diagnosis.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Diagnosis {
+    /// The first run's mechanism (`formats.md`).
+    #[serde(default)]
+    pub mechanism: String,
+    /// Every mechanism of the campaign, in run order, without repeats.
+    #[serde(default)]
+    pub mechanisms: Vec<String>,
+    /// The runs' file names.
+    #[serde(default)]
+    pub runs: Vec<String>,
+    /// The noise floor: standard deviation of the angle noise [deg].
+    #[serde(default)]
+    pub noise_sigma_deg: Option<f64>,
+    /// The mechanisms as given.
+    #[serde(default)]
+    pub baseline: Fit,
+    /// The causes found, strongest first.
+    pub effects: Vec<FoundEffect>,
+    /// The mechanisms with the effects added and fitted.
+    #[serde(default)]
+    pub extended: Fit,
+    /// What the effects gain.
+    #[serde(default)]
+    pub gain: Gain,
+    /// Every round of the search with its candidates' scores.
+    #[serde(default)]
+    pub candidates: Vec<Round>,
+    /// What the residuals of the baseline show, per run and joint.
+    #[serde(default)]
+    pub evidence: Vec<Evidence>,
+    /// Campaign simulations the diagnosis took.
+    #[serde(default)]
+    pub simulations: usize,
+    /// Its wall-clock time [s].
+    #[serde(default)]
+    pub wall_s: Option<f64>,
+}
+
+impl Diagnosis {
+    /// The mechanisms it was found on: `mechanisms`, or `mechanism` in a
+    /// file that gives only that (none if neither).
+    pub fn found_on(&self) -> Vec<String> {
+        if self.mechanisms.is_empty() && !self.mechanism.is_empty() {
+            vec![self.mechanism.clone()]
+        } else {
+            self.mechanisms.clone()
+        }
+    }
+}
+
+/// How well a model reproduces the runs.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Fit {
+    /// RMS of model minus measurement over all runs [deg].
+    #[serde(default)]
+    pub rms_deg: Option<f64>,
+    /// Trajectory error of each joint, mean over the runs [%].
+    #[serde(default)]
+    pub trajectory_error_pct: Vec<Option<f64>>,
+}
+
+/// What the extended model gains on the baseline.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Gain {
+    /// Baseline RMS over extended RMS.
+    #[serde(default)]
+    pub rms_ratio: Option<f64>,
+    /// The extended model's RMS on runs it was not fitted on [deg] (`null`
+    /// with one run).
+    #[serde(default)]
+    pub held_out_rms_deg: Option<f64>,
+}
+
+/// One effect found (or `"unexplained"`, with its description).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FoundEffect {
+    /// Its name (`physics.md` section 6), or `"unexplained"`.
+    pub name: String,
+    /// 1-based joint, `null` for a global effect.
+    #[serde(default)]
+    pub joint: Option<usize>,
+    /// Its value in `unit` (a table's largest absolute torque).
+    #[serde(default)]
+    pub value: Option<f64>,
+    /// The unit of `value`.
+    #[serde(default)]
+    pub unit: Option<String>,
+    /// 95 % interval of `value`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ci95: Option<[Option<f64>; 2]>,
+    /// What the residual none of the effects explains looks like.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    /// Why it was chosen, in words.
+    #[serde(default)]
+    pub evidence: String,
+    /// A `torque_table`'s angle knots [deg].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angle_deg: Option<Vec<Option<f64>>>,
+    /// Its torque at each angle knot [N·m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub torque_nm: Option<Vec<Option<f64>>>,
+    /// The 95 % band of each angle knot's torque: lower, upper [N·m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub torque_ci95_nm: Option<[Vec<Option<f64>>; 2]>,
+    /// A `torque_table`'s rate knots [deg/s].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate_deg_s: Option<Vec<Option<f64>>>,
+    /// Its torque at each rate knot [N·m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate_torque_nm: Option<Vec<Option<f64>>>,
+    /// The 95 % band of each rate knot's torque: lower, upper [N·m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate_torque_ci95_nm: Option<[Vec<Option<f64>>; 2]>,
+    /// A `torque_table`'s shape in one sentence.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shape: Option<String>,
+    /// `rig_tilt`'s direction α [deg].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_deg: Option<f64>,
+    /// Its 95 % interval [deg].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_ci95_deg: Option<[Option<f64>; 2]>,
+}
+
+/// One round of the search.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Round {
+    /// What the round tried, in words.
+    #[serde(default)]
+    pub round: String,
+    /// The RMS it started from [deg].
+    #[serde(default)]
+    pub start_rms_deg: Option<f64>,
+    /// Each candidate's score.
+    #[serde(default)]
+    pub scores: Vec<Score>,
+}
+
+/// One candidate of a round.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Score {
+    /// The candidate, e.g. `coulomb_friction at joint 2`.
+    #[serde(default)]
+    pub candidate: String,
+    /// RMS with it fitted [deg].
+    #[serde(default)]
+    pub rms_deg: Option<f64>,
+    /// Its BIC gain.
+    #[serde(default)]
+    pub delta_bic: Option<f64>,
+    /// Its RMS on runs it was not fitted on [deg].
+    #[serde(default)]
+    pub held_out_rms_deg: Option<f64>,
+    /// What became of it, in words.
+    #[serde(default)]
+    pub verdict: String,
+}
+
+/// What one joint's baseline residual shows on one run.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Evidence {
+    /// The run's file name.
+    #[serde(default)]
+    pub run: String,
+    /// 1-based joint.
+    #[serde(default)]
+    pub joint: usize,
+    /// RMS of the residual [deg].
+    #[serde(default)]
+    pub rms_deg: Option<f64>,
+    /// RMS over each third of the stroke [deg].
+    #[serde(default)]
+    pub stroke_thirds_rms_deg: Vec<Option<f64>>,
+    /// RMS near the latch [deg].
+    #[serde(default)]
+    pub near_latch_rms_deg: Option<f64>,
+    /// Mean residual at release [deg].
+    #[serde(default)]
+    pub at_release_mean_deg: Option<f64>,
+    /// Mean residual after the latch [deg].
+    #[serde(default)]
+    pub after_latch_mean_deg: Option<f64>,
+    /// How much earlier the model latches than the run [s].
+    #[serde(default)]
+    pub latch_lead_s: Option<f64>,
+    /// Correlation of the residual with each quantity, by name.
+    #[serde(default)]
+    pub correlation: Named,
+    /// All of it in one sentence.
+    #[serde(default)]
+    pub summary: String,
+}
+
+/// Numbers by name, in order: a JSON object whose key order is kept.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Named(pub Vec<(String, Option<f64>)>);
+
+impl Serialize for Named {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_map(Some(self.0.len()))?;
+        for (k, v) in &self.0 {
+            m.serialize_entry(k, v)?;
+        }
+        m.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for Named {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Named;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("an object of numbers")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut a: A) -> Result<Named, A::Error> {
+                let mut out = Vec::new();
+                while let Some(entry) = a.next_entry::<String, Option<f64>>()? {
+                    out.push(entry);
+                }
+                Ok(Named(out))
+            }
+        }
+        d.deserialize_map(V)
+    }
+}
