@@ -1,0 +1,122 @@
+//! What the sample path hands the slow path: the samples queued for the
+//! friction learning, and the state the learning keeps between them (the
+//! centred fit's window, whose turn the energy margin is).
+
+use crate::monitor::smoother::CentredFit;
+use heapless::Deque;
+
+/// Samples the learning queue holds [1]: at 100 Hz, 80 ms of a slow path
+/// kept from running (at the replay's schedule it is emptied after every
+/// sample).
+pub const LEARNING_QUEUE: usize = 4;
+
+/// What the friction learning and the energy margin need of one sample,
+/// queued by [`crate::Monitor::update`] for [`crate::Monitor::predict`].
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Learning<const N: usize> {
+    /// Time stamp [s].
+    pub(super) t: f32,
+    /// The sample is fit to learn from: settled (no snap, latch or gap
+    /// within `settle_s`), no gap, a positive time step.
+    pub(super) clean: bool,
+    /// No snap, latch or gap within `settle_s` (the margin's condition).
+    pub(super) quiet: bool,
+    /// Each joint at the sample.
+    pub(super) joints: [LearnedJoint; N],
+}
+
+/// One joint of a queued sample.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct LearnedJoint {
+    /// The reading the rate filter used [rad], NaN where none (missing,
+    /// out of range, stuck or gated out).
+    pub(super) used: f32,
+    /// The model sits the joint at 0.
+    pub(super) locked: bool,
+    /// Declared latched at the sample (logged by the slow path: a log line
+    /// costs a thousand instructions over semihosting).
+    pub(super) newly: bool,
+}
+
+impl<const N: usize> Learning<N> {
+    /// The joints the model sits at 0.
+    pub(super) fn locked(&self) -> [bool; N] {
+        core::array::from_fn(|j| self.joints[j].locked)
+    }
+
+    /// The readings the rate filters used [rad] (NaN where none).
+    pub(super) fn used(&self) -> [f32; N] {
+        core::array::from_fn(|j| self.joints[j].used)
+    }
+}
+
+/// The slow path's learning: its queue and what it keeps from one learned
+/// sample to the next.
+#[derive(Clone, Debug)]
+pub(super) struct Learner<const N: usize> {
+    /// Samples [`crate::Monitor::update`] queued, which
+    /// [`crate::Monitor::predict`] takes oldest first.
+    queue: Deque<Learning<N>, LEARNING_QUEUE>,
+    /// Samples dropped from a full queue (the slow path fell behind by
+    /// more than [`LEARNING_QUEUE`] samples).
+    pub(super) overruns: u32,
+    /// The last readings, for the friction observer's centred rates.
+    pub(super) fit: CentredFit<N>,
+    /// Whether the previous sample gave a centred fit (the observers run
+    /// on without a restart).
+    pub(super) fit_run: bool,
+    /// Time of the last centred fit [s].
+    pub(super) t_centre: f32,
+    /// The joint whose energy margin is evaluated at the next learned
+    /// sample.
+    pub(super) next_margin: u8,
+}
+
+impl<const N: usize> Learner<N> {
+    /// Nothing queued, nothing learned.
+    pub(super) fn new() -> Self {
+        Learner {
+            queue: Deque::new(),
+            overruns: 0,
+            fit: CentredFit::new(),
+            fit_run: false,
+            t_centre: f32::NEG_INFINITY,
+            next_margin: 0,
+        }
+    }
+
+    /// Back to [`Learner::new`], in place.
+    pub(super) fn reset(&mut self) {
+        self.queue.clear();
+        self.overruns = 0;
+        self.fit = CentredFit::new();
+        self.fit_run = false;
+        self.t_centre = f32::NEG_INFINITY;
+        self.next_margin = 0;
+    }
+
+    /// Queues `sample`. A full queue drops its oldest sample and breaks the
+    /// fit's run there (the observers restart), counted in
+    /// [`Learner::overruns`]: never silently.
+    pub(super) fn push(&mut self, sample: Learning<N>) {
+        if self.queue.is_full() {
+            let _ = self.queue.pop_front();
+            if let Some(next) = self.queue.front_mut() {
+                next.clean = false;
+            }
+            self.overruns = self.overruns.saturating_add(1);
+            // Once: a log line costs more than the sample path's budget
+            // over semihosting, and a starved slow path must not be
+            // starved further; the counter tells the rest.
+            if self.overruns == 1 {
+                warn!("learning queue full: samples dropped (see learning_overruns)");
+            }
+        }
+        let _ = self.queue.push_back(sample);
+    }
+
+    /// The oldest sample queued, taken off the queue.
+    pub(super) fn pop(&mut self) -> Option<Learning<N>> {
+        self.queue.pop_front()
+    }
+}
