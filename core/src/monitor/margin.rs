@@ -316,18 +316,16 @@ fn march(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings, st: &Stroke)
     let (tc, fv, inertia) = (st.tc, st.fv, st.inertia);
     let step = (st.x0 - st.xc) / NODES as f32;
     let mut e = st.k_eff;
-    let mut m = March {
-        e_s: 0.0,
-        w_c: 0.0,
-        w_v: 0.0,
-        // The joint latches when T_C stays below T*_i = A_i / W_C,i at
-        // every node, A_i the energy there without the Coulomb loss; the
-        // most demanding node sets the threshold and its spread.
-        t_star: f32::INFINITY,
-        t_star_var: 0.0,
-        t_total: 0.0,
-        stalled: false,
-    };
+    let mut e_s = 0.0f32;
+    let mut w_c = 0.0f32;
+    let mut w_v = 0.0f32;
+    // The joint latches when T_C stays below T*_i = A_i / W_C,i at every
+    // node, A_i the energy there without the Coulomb loss; the most
+    // demanding node sets the threshold and its spread.
+    let mut t_star = f32::INFINITY;
+    let mut t_star_var = 0.0f32;
+    let mut t_total = 0.0f32;
+    let mut stalled = false;
     let mut omega = crate::physics::real::sqrtf(2.0 * e.max(0.0) / inertia);
     let mut hi = st.x0;
     for i in 0..NODES {
@@ -338,29 +336,29 @@ fn march(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings, st: &Stroke)
         };
         let dx = hi - lo;
         let gain = x.spring_scale.max(0.0) * spring.release(lo, hi);
-        m.e_s += gain;
-        m.w_c += dx;
-        m.w_v += omega * dx;
+        e_s += gain;
+        w_c += dx;
+        w_v += omega * dx;
         e += gain - tc * dx - fv * omega * dx;
-        if m.w_c > 0.0 {
-            let a = e + tc * m.w_c;
-            let threshold = a / m.w_c;
-            if threshold < m.t_star {
-                m.t_star = threshold;
+        if w_c > 0.0 {
+            let a = e + tc * w_c;
+            let threshold = a / w_c;
+            if threshold < t_star {
+                t_star = threshold;
                 // Spread of A (viscous, spring, kinetic) in Coulomb units.
-                let var_a = m.w_v * m.w_v * x.viscous_var.max(0.0)
-                    + (x.spring_sd_rel * m.e_s) * (x.spring_sd_rel * m.e_s)
+                let var_a = w_v * w_v * x.viscous_var.max(0.0)
+                    + (x.spring_sd_rel * e_s) * (x.spring_sd_rel * e_s)
                     + st.var_k
                     + s.energy_sd_floor_j * s.energy_sd_floor_j;
-                m.t_star_var = var_a / (m.w_c * m.w_c);
+                t_star_var = var_a / (w_c * w_c);
             }
         }
         let omega_next = crate::physics::real::sqrtf(2.0 * e.max(0.0) / inertia);
         if e <= 0.0 {
-            m.stalled = true;
+            stalled = true;
         } else {
             let mean = 0.5 * (omega + omega_next);
-            m.t_total += if mean > 1e-9 {
+            t_total += if mean > 1e-9 {
                 dx / mean
             } else {
                 f32::INFINITY
@@ -369,7 +367,15 @@ fn march(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings, st: &Stroke)
         omega = omega_next;
         hi = lo;
     }
-    m
+    March {
+        e_s,
+        w_c,
+        w_v,
+        t_star,
+        t_star_var,
+        t_total,
+        stalled,
+    }
 }
 
 #[cfg(test)]

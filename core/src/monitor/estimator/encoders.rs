@@ -125,20 +125,23 @@ impl<const N: usize> Monitor<N> {
             stuck_limit: self.tuning.sensor.stuck_samples,
             no_checks,
         };
+        // Index loops on the sample path: at the firmware's `opt-level =
+        // "z"` an iterator adapter is a call per element.
         let mut readings = [JointReading {
             faults: clock.faults,
             used: None,
             raw: None,
             stuck: false,
         }; N];
-        let inputs = sample.phi_deg.iter().zip(sample.latch.iter());
-        for ((js, out), (z, switch)) in self.joints.iter_mut().zip(readings.iter_mut()).zip(inputs)
-        {
-            let (reading, flags, frozen) = js.read_encoder(*z, *switch, &ctx);
-            out.faults = out.faults.union(flags);
-            out.used = reading;
-            out.raw = reading;
-            out.stuck = frozen;
+        for (j, js) in self.joints.iter_mut().enumerate() {
+            let (z, switch) = (sample.phi_deg[j], sample.latch[j]);
+            let (reading, flags, frozen) = js.read_encoder(z, switch, &ctx);
+            readings[j] = JointReading {
+                faults: clock.faults.union(flags),
+                used: reading,
+                raw: reading,
+                stuck: frozen,
+            };
         }
         readings
     }
@@ -146,9 +149,6 @@ impl<const N: usize> Monitor<N> {
     /// True when a latch switch closes at `sample` (open at the previous
     /// one): an impact under way.
     pub(super) fn switch_closing(&self, sample: &Sample<N>) -> bool {
-        self.joints
-            .iter()
-            .zip(sample.latch.iter())
-            .any(|(js, s)| *s && !js.switch_prev)
+        (0..N).any(|j| sample.latch[j] && !self.joints[j].switch_prev)
     }
 }

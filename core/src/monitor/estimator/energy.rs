@@ -28,12 +28,12 @@ impl<const N: usize> Monitor<N> {
     /// sample, in turn, not inside a snap zone or the settling time after
     /// a snap, latch or gap (the rates there are the rate filter's
     /// wide-open transient, and the margin computed on entry stands).
-    pub(super) fn evaluate_margin(&mut self, sample: &Learning<N>) {
+    /// `locked` holds the sample's joints the model sits at 0.
+    pub(super) fn evaluate_margin(&mut self, sample: &Learning<N>, locked: &[bool; N]) {
         let zone = self.tuning.observer.snap_zone_deg * DEG;
         let jm = usize::from(self.learner.next_margin) % N.max(1);
         self.learner.next_margin = ((jm + 1) % N.max(1)) as u8;
-        let locked = sample.locked();
-        let (phi, _) = self.model_state(&locked);
+        let (phi, _) = self.model_state(locked);
         let settled = sample.quiet && libm::fabsf(phi.get(jm).copied().unwrap_or(0.0)) >= zone;
         if let (Some(false), true) = (locked.get(jm), settled) {
             // Articulated inertia 1/(M⁻¹)_jj over the free joints: the
@@ -47,7 +47,7 @@ impl<const N: usize> Monitor<N> {
                 .copied()
                 .unwrap_or(1.0);
             let inertia =
-                articulated_inertia(&m, &locked, jm).unwrap_or_else(|| own.max(MIN_INERTIA_KGM2));
+                articulated_inertia(&m, locked, jm).unwrap_or_else(|| own.max(MIN_INERTIA_KGM2));
             let result = self.joint_margin(jm, inertia, sample.quiet);
             if let Some(js) = self.joints.get_mut(jm) {
                 js.margin = Some(result);

@@ -6,7 +6,7 @@ use crate::monitor::config::{JointConfig, ObserverConfig};
 use crate::monitor::faults::FaultFlags;
 use crate::monitor::latch::{LatchState, LatchTracker};
 use crate::monitor::margin::MarginResult;
-use crate::monitor::observer::{FrictionEstimate, FrictionObserver, RateFilter};
+use crate::monitor::observer::{FrictionEstimate, FrictionObserver, FrictionPrior, RateFilter};
 use crate::monitor::plausibility::ReadingCheck;
 use crate::monitor::predictor::Prediction;
 use crate::monitor::status::{JointStatus, Observability, VISCOUS_RESOLVED_SD};
@@ -53,6 +53,30 @@ pub(super) struct JointState {
     viscous_sd: CachedSqrt,
 }
 
+/// What a joint's state starts from: its [`JointConfig`] but the spring
+/// (which the chain model holds; a spring is hundreds of bytes, and a
+/// placeholder joint is built on the stack).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct JointStart {
+    /// Stowed angle [deg].
+    pub(super) stowed_deg: f32,
+    /// Capture angle [deg].
+    pub(super) capture_deg: f32,
+    /// Prior of the friction parameters.
+    pub(super) prior: FrictionPrior,
+}
+
+impl JointStart {
+    /// The start of a configured joint.
+    pub(super) fn of(joint: &JointConfig) -> Self {
+        JointStart {
+            stowed_deg: joint.stowed_deg,
+            capture_deg: joint.capture_deg,
+            prior: joint.prior,
+        }
+    }
+}
+
 /// `√v` of the last `v` asked for.
 #[derive(Clone, Copy, Debug)]
 struct CachedSqrt {
@@ -88,11 +112,12 @@ pub(super) struct Forecast {
 }
 
 impl JointState {
-    /// A joint at its stowed angle, waiting for the first sample; `sd` is
-    /// the encoder's standard deviation [rad].
+    /// A joint at its stowed angle, waiting for the first sample: `joint`
+    /// without its spring (the chain holds it), `sd` the encoder's standard
+    /// deviation [rad].
     #[inline(never)]
     pub(super) fn new(
-        joint: &JointConfig,
+        joint: &JointStart,
         sd: f32,
         observer: &ObserverConfig,
         spring_sd_rel: f32,

@@ -83,18 +83,13 @@ impl<const N: usize> Monitor<N> {
         let Ok(after) = self.chain.latch_impulse(&before, locked_after) else {
             return;
         };
-        for ((js, rate), (newly, locked)) in self
-            .joints
-            .iter_mut()
-            .zip(after.iter())
-            .zip(newly.iter().zip(locked_after.iter()))
-        {
-            if *newly {
-                let a = js.kf.angle();
-                js.kf.pin(a);
-            } else if !*locked && rate.is_finite() {
-                js.kf.set_rate(*rate, RATE_SHOCK_VAR);
-                js.kf.inflate(0.0, ACC_SHOCK_VAR);
+        for j in 0..N {
+            if newly[j] {
+                let a = self.joints[j].kf.angle();
+                self.joints[j].kf.pin(a);
+            } else if !locked_after[j] && after[j].is_finite() {
+                self.joints[j].kf.set_rate(after[j], RATE_SHOCK_VAR);
+                self.joints[j].kf.inflate(0.0, ACC_SHOCK_VAR);
             }
         }
     }

@@ -172,9 +172,9 @@ impl<const N: usize> Monitor<N> {
         let t = clock.t;
         if !self.timeline.started {
             let (sd, jerk_psd) = (self.tuning.meas_sd, self.tuning.observer.jerk_psd);
-            for (js, r) in self.joints.iter_mut().zip(readings.iter()) {
-                let phi0 = r.used.unwrap_or(js.stowed_deg * DEG);
-                js.kf = fresh_filter(phi0, sd, START_RATE_SD, START_ACC_SD, jerk_psd);
+            for j in 0..N {
+                let phi0 = readings[j].used.unwrap_or(self.joints[j].stowed_deg * DEG);
+                self.joints[j].kf = fresh_filter(phi0, sd, START_RATE_SD, START_ACC_SD, jerk_psd);
             }
             self.timeline.started = true;
             self.timeline.t_start = t;
@@ -200,7 +200,10 @@ impl<const N: usize> Monitor<N> {
                 meas_sd: self.tuning.meas_sd,
                 observer: &self.tuning.observer,
             };
-            for (js, r) in self.joints.iter_mut().zip(readings.iter_mut()) {
+            for (j, js) in self.joints.iter_mut().enumerate() {
+                let Some(r) = readings.get_mut(j) else {
+                    continue;
+                };
                 match js.track_rate(r.used, &mut r.faults, &ctx) {
                     RateOutcome::Used => {}
                     RateOutcome::GatedOut => r.used = None,
@@ -220,11 +223,11 @@ impl<const N: usize> Monitor<N> {
     /// A failed rate filter restarts at the reading.
     pub(super) fn check_health(&mut self, readings: &mut Readings<N>) {
         let (sd, jerk_psd) = (self.tuning.meas_sd, self.tuning.observer.jerk_psd);
-        for (js, r) in self.joints.iter_mut().zip(readings.iter_mut()) {
-            if !js.kf.is_healthy() {
-                let phi0 = r.used.unwrap_or(js.stowed_deg * DEG);
-                js.kf = fresh_filter(phi0, sd, RESET_RATE_SD, RESET_ACC_SD, jerk_psd);
-                r.faults.insert(Fault::EstimatorReset);
+        for j in 0..N {
+            if !self.joints[j].kf.is_healthy() {
+                let phi0 = readings[j].used.unwrap_or(self.joints[j].stowed_deg * DEG);
+                self.joints[j].kf = fresh_filter(phi0, sd, RESET_RATE_SD, RESET_ACC_SD, jerk_psd);
+                readings[j].faults.insert(Fault::EstimatorReset);
             }
         }
     }

@@ -52,11 +52,8 @@ impl<const N: usize> Monitor<N> {
     fn queue_for_learning(&mut self, clock: &Clock, readings: &Readings<N>, latches: &Latches<N>) {
         let t = clock.t;
         let zone = self.tuning.observer.snap_zone_deg * DEG;
-        let in_zone = self
-            .joints
-            .iter()
-            .zip(latches.iter())
-            .any(|(js, l)| !l.locked && libm::fabsf(js.kf.angle()) < zone);
+        let in_zone =
+            (0..N).any(|j| !latches[j].locked && libm::fabsf(self.joints[j].kf.angle()) < zone);
         if in_zone || clock.gap {
             self.windows.blank_until = t + self.tuning.observer.settle_s;
         }
@@ -82,18 +79,14 @@ impl<const N: usize> Monitor<N> {
     /// Composes the sample-rate part of every joint's status at time `t`
     /// [s]; the learned part is [`Monitor::refresh_estimates`]'.
     fn compose_status(&mut self, t: f32, readings: &Readings<N>, latches: &Latches<N>) {
-        let per_joint = readings.iter().zip(latches.iter());
-        for (j, ((js, out), (r, l))) in self
-            .joints
-            .iter()
-            .zip(self.status.joints.iter_mut())
-            .zip(per_joint)
-            .enumerate()
-        {
-            if !r.faults.is_empty() {
-                debug!("joint {} faults {}", j + 1, r.faults.0);
+        for j in 0..N {
+            let (faults, state) = (readings[j].faults, latches[j].state);
+            if !faults.is_empty() {
+                debug!("joint {} faults {}", j + 1, faults.0);
             }
-            js.sample_status(out, r.faults, l.state);
+            if let (Some(js), Some(out)) = (self.joints.get(j), self.status.joints.get_mut(j)) {
+                js.sample_status(out, faults, state);
+            }
         }
         self.status.t_s = t;
         self.status.samples = self.status.samples.saturating_add(1);

@@ -70,8 +70,9 @@ impl<const N: usize> Monitor<N> {
                 info!("joint {} latched at t = {} s", j + 1, sample.t);
             }
         }
-        let centre = self.learn_friction(sample);
-        self.evaluate_margin(sample);
+        let locked = sample.locked();
+        let centre = self.learn_friction(sample, &locked);
+        self.evaluate_margin(sample, &locked);
         self.hand_over_to_prediction(sample, centre.as_ref());
         self.refresh_estimates(sample.t);
     }
@@ -82,11 +83,12 @@ impl<const N: usize> Monitor<N> {
     /// joint measured (`smoother.rs`). The observers restart whenever the
     /// run of fits breaks; an observer that fails restarts at its prior
     /// (`estimator_reset` in the status). Returns the fit, if any.
-    fn learn_friction(&mut self, sample: &Learning<N>) -> Option<Centre<N>> {
+    /// `locked` holds the sample's joints the model sits at 0.
+    fn learn_friction(&mut self, sample: &Learning<N>, locked: &[bool; N]) -> Option<Centre<N>> {
         let learner = &mut self.learner;
         learner
             .fit
-            .push(sample.t, &sample.used(), sample.clean, &sample.locked());
+            .push(sample.t, &sample.used(), sample.clean, locked);
         let centre = learner.fit.centre(self.tuning.meas_var);
         let Some(c) = &centre else {
             learner.fit_run = false;

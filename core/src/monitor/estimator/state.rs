@@ -3,10 +3,10 @@
 //! memory is configured without a second one on the stack.
 
 use super::clock::Timeline;
-use super::joint::{JointState, DEG};
+use super::joint::{JointStart, JointState, DEG};
 use super::learning::Learner;
 use crate::monitor::config::{
-    ConfigError, JointConfig, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
+    ConfigError, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
 };
 use crate::monitor::latch::LatchConfig;
 use crate::monitor::observer::{FrictionObserver, FrictionPrior, RateFilter};
@@ -14,7 +14,6 @@ use crate::monitor::predictor::Predictor;
 use crate::monitor::status::Status;
 use crate::physics::chain::{Chain, GlobalEffects, JointEffects};
 use crate::physics::friction::Friction;
-use crate::physics::spring::Spring;
 
 /// The on-board monitor of an `N`-joint deployment.
 #[derive(Clone, Debug)]
@@ -122,11 +121,10 @@ impl<const N: usize> Monitor<N> {
     /// built on the stack.
     #[inline(never)]
     pub(crate) fn vacant(config: &MonitorConfig<N>) -> Self {
-        // A placeholder joint (unsprung, at the latch, any valid prior; an
-        // encoder σ of 1 rad, no spring spread): `reset` replaces it.
-        let joint = JointConfig {
+        // A placeholder joint (at the latch, any valid prior; an encoder σ
+        // of 1 rad, no spring spread): `reset` replaces it.
+        let joint = JointStart {
             stowed_deg: 0.0,
-            spring: Spring::None,
             capture_deg: 0.0,
             prior: FrictionPrior {
                 coulomb_nm: 0.0,
@@ -209,7 +207,12 @@ impl<const N: usize> Monitor<N> {
         *tuning = Tuning::of(config);
         let sd = config.sensor.encoder_sd_deg * DEG;
         for (state, c) in joints.iter_mut().zip(config.joints.iter()) {
-            *state = JointState::new(c, sd, &config.observer, config.margin.spring_sd_rel);
+            *state = JointState::new(
+                &JointStart::of(c),
+                sd,
+                &config.observer,
+                config.margin.spring_sd_rel,
+            );
         }
         *timeline = Timeline::START;
         *windows = Windows::CLOSED;
