@@ -60,7 +60,10 @@ impl Timeline {
     /// Checks the time stamp `t` [s] with the limits of `observer`: the
     /// time step and the time faults, or `Err` with the faults of a sample
     /// that is not used (not finite, or backwards until [`RESYNC_SAMPLES`]
-    /// in a row adopt the new time base).
+    /// in a row adopt the new time base). Inlined into the sample path of
+    /// each joint count: the call and its returned `Result` through memory
+    /// cost more than the copy.
+    #[inline(always)]
     pub(super) fn check(&mut self, t: f32, observer: &ObserverConfig) -> Result<Clock, FaultFlags> {
         let mut faults = FaultFlags::EMPTY;
         if !t.is_finite() {
