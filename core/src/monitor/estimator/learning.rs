@@ -12,6 +12,10 @@ pub const LEARNING_QUEUE: usize = 4;
 
 /// What the friction learning and the energy margin need of one sample,
 /// queued by [`crate::Monitor::update`] for [`crate::Monitor::predict`].
+/// Per field, not per joint: a joint's reading and its two flags in one
+/// struct take 8 bytes (the flags padded to the `f32`), and the queue's
+/// 16 bytes more would take the monitor past 4 KiB
+/// (`tests/monitor.rs` `monitor_fits_in_4_kib`).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Learning<const N: usize> {
     /// Time stamp [s].
@@ -21,42 +25,24 @@ pub(super) struct Learning<const N: usize> {
     pub(super) clean: bool,
     /// No snap, latch or gap within `settle_s` (the margin's condition).
     pub(super) quiet: bool,
-    /// Each joint at the sample.
-    pub(super) joints: [LearnedJoint; N],
-}
-
-/// One joint of a queued sample.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct LearnedJoint {
-    /// The reading the rate filter used [rad], NaN where none (missing,
+    /// Readings the rate filters used [rad], NaN where none (missing,
     /// out of range, stuck or gated out).
-    pub(super) used: f32,
-    /// The model sits the joint at 0.
-    pub(super) locked: bool,
-    /// Declared latched at the sample (logged by the slow path: a log line
-    /// costs a thousand instructions over semihosting).
-    pub(super) newly: bool,
+    pub(super) used: [f32; N],
+    /// Joints the model sits at 0.
+    pub(super) locked: [bool; N],
+    /// Joints declared latched at the sample (logged by the slow path: a
+    /// log line costs a thousand instructions over semihosting).
+    pub(super) newly: [bool; N],
 }
 
-impl<const N: usize> Learning<N> {
-    /// The joints the model sits at 0.
-    pub(super) fn locked(&self) -> [bool; N] {
-        core::array::from_fn(|j| self.joints[j].locked)
-    }
+/// The queue of samples [`crate::Monitor::update`] hands to
+/// [`crate::Monitor::predict`], oldest first.
+pub(super) type LearningQueue<const N: usize> = Deque<Learning<N>, LEARNING_QUEUE>;
 
-    /// The readings the rate filters used [rad] (NaN where none).
-    pub(super) fn used(&self) -> [f32; N] {
-        core::array::from_fn(|j| self.joints[j].used)
-    }
-}
-
-/// The slow path's learning: its queue and what it keeps from one learned
-/// sample to the next.
+/// What the slow path's learning keeps from one learned sample to the
+/// next.
 #[derive(Clone, Debug)]
 pub(super) struct Learner<const N: usize> {
-    /// Samples [`crate::Monitor::update`] queued, which
-    /// [`crate::Monitor::predict`] takes oldest first.
-    queue: Deque<Learning<N>, LEARNING_QUEUE>,
     /// Samples dropped from a full queue (the slow path fell behind by
     /// more than [`LEARNING_QUEUE`] samples).
     pub(super) overruns: u32,
@@ -73,10 +59,9 @@ pub(super) struct Learner<const N: usize> {
 }
 
 impl<const N: usize> Learner<N> {
-    /// Nothing queued, nothing learned.
+    /// Nothing learned.
     pub(super) fn new() -> Self {
         Learner {
-            queue: Deque::new(),
             overruns: 0,
             fit: CentredFit::new(),
             fit_run: false,
@@ -87,7 +72,6 @@ impl<const N: usize> Learner<N> {
 
     /// Back to [`Learner::new`], in place.
     pub(super) fn reset(&mut self) {
-        self.queue.clear();
         self.overruns = 0;
         self.fit = CentredFit::new();
         self.fit_run = false;
@@ -95,13 +79,13 @@ impl<const N: usize> Learner<N> {
         self.next_margin = 0;
     }
 
-    /// Queues `sample`. A full queue drops its oldest sample and breaks the
-    /// fit's run there (the observers restart), counted in
+    /// Queues `sample` on `queue`. A full queue drops its oldest sample and
+    /// breaks the fit's run there (the observers restart), counted in
     /// [`Learner::overruns`]: never silently.
-    pub(super) fn push(&mut self, sample: Learning<N>) {
-        if self.queue.is_full() {
-            let _ = self.queue.pop_front();
-            if let Some(next) = self.queue.front_mut() {
+    pub(super) fn push(&mut self, queue: &mut LearningQueue<N>, sample: Learning<N>) {
+        if queue.is_full() {
+            let _ = queue.pop_front();
+            if let Some(next) = queue.front_mut() {
                 next.clean = false;
             }
             self.overruns = self.overruns.saturating_add(1);
@@ -112,11 +96,6 @@ impl<const N: usize> Learner<N> {
                 warn!("learning queue full: samples dropped (see learning_overruns)");
             }
         }
-        let _ = self.queue.push_back(sample);
-    }
-
-    /// The oldest sample queued, taken off the queue.
-    pub(super) fn pop(&mut self) -> Option<Learning<N>> {
-        self.queue.pop_front()
+        let _ = queue.push_back(sample);
     }
 }

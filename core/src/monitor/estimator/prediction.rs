@@ -41,9 +41,8 @@ impl<const N: usize> Monitor<N> {
                 c.locked,
             )),
             None if sample.quiet && t - self.learner.t_centre > CENTRE_WAIT_S => {
-                let locked = sample.locked();
-                let (phi, phi_dot) = self.model_state(&locked);
-                Some((t, ChainState { phi, phi_dot }, locked))
+                let (phi, phi_dot) = self.model_state(&sample.locked);
+                Some((t, ChainState { phi, phi_dot }, sample.locked))
             }
             None => None,
         };

@@ -8,7 +8,7 @@ use super::clock::Clock;
 use super::encoders::Readings;
 use super::joint::DEG;
 use super::latches::Latches;
-use super::learning::{LearnedJoint, Learning};
+use super::learning::Learning;
 use super::state::Monitor;
 use crate::monitor::faults::FaultFlags;
 use crate::monitor::status::{Sample, Status};
@@ -58,16 +58,15 @@ impl<const N: usize> Monitor<N> {
             self.windows.blank_until = t + self.tuning.observer.settle_s;
         }
         let quiet = self.quiet(t);
-        self.learner.push(Learning {
+        let sample = Learning {
             t,
             clean: quiet && !clock.gap && clock.dt > 0.0,
             quiet,
-            joints: core::array::from_fn(|j| LearnedJoint {
-                used: readings[j].used.unwrap_or(f32::NAN),
-                locked: latches[j].locked,
-                newly: latches[j].newly,
-            }),
-        });
+            used: core::array::from_fn(|j| readings[j].used.unwrap_or(f32::NAN)),
+            locked: core::array::from_fn(|j| latches[j].locked),
+            newly: core::array::from_fn(|j| latches[j].newly),
+        };
+        self.learner.push(&mut self.queue, sample);
     }
 
     /// True when no snap, latch or gap has happened for `settle_s`: the

@@ -35,7 +35,7 @@ impl<const N: usize> Monitor<N> {
         if !self.timeline.started {
             return false;
         }
-        if let Some(sample) = self.learner.pop() {
+        if let Some(sample) = self.queue.pop_front() {
             self.learn(&sample);
             return false;
         }
@@ -65,14 +65,13 @@ impl<const N: usize> Monitor<N> {
     /// observers on the centred fit, the energy margin of one joint, the
     /// start of the next rollout, and the status's learned part.
     fn learn(&mut self, sample: &Learning<N>) {
-        for (j, joint) in sample.joints.iter().enumerate() {
-            if joint.newly {
+        for (j, newly) in sample.newly.iter().enumerate() {
+            if *newly {
                 info!("joint {} latched at t = {} s", j + 1, sample.t);
             }
         }
-        let locked = sample.locked();
-        let centre = self.learn_friction(sample, &locked);
-        self.evaluate_margin(sample, &locked);
+        let centre = self.learn_friction(sample);
+        self.evaluate_margin(sample);
         self.hand_over_to_prediction(sample, centre.as_ref());
         self.refresh_estimates(sample.t);
     }
@@ -83,12 +82,11 @@ impl<const N: usize> Monitor<N> {
     /// joint measured (`smoother.rs`). The observers restart whenever the
     /// run of fits breaks; an observer that fails restarts at its prior
     /// (`estimator_reset` in the status). Returns the fit, if any.
-    /// `locked` holds the sample's joints the model sits at 0.
-    fn learn_friction(&mut self, sample: &Learning<N>, locked: &[bool; N]) -> Option<Centre<N>> {
+    fn learn_friction(&mut self, sample: &Learning<N>) -> Option<Centre<N>> {
         let learner = &mut self.learner;
         learner
             .fit
-            .push(sample.t, &sample.used(), sample.clean, locked);
+            .push(sample.t, &sample.used, sample.clean, &sample.locked);
         let centre = learner.fit.centre(self.tuning.meas_var);
         let Some(c) = &centre else {
             learner.fit_run = false;

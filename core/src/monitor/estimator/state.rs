@@ -4,7 +4,7 @@
 
 use super::clock::Timeline;
 use super::joint::{JointStart, JointState, DEG};
-use super::learning::Learner;
+use super::learning::{Learner, LearningQueue};
 use crate::monitor::config::{
     ConfigError, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
 };
@@ -28,8 +28,10 @@ pub struct Monitor<const N: usize> {
     pub(super) timeline: Timeline,
     /// The windows that events open on the time line.
     pub(super) windows: Windows,
-    /// The slow path's learning: the queue [`Monitor::update`] fills and
-    /// what the learning keeps between samples.
+    /// Samples [`Monitor::update`] queued for the friction learning, which
+    /// [`Monitor::predict`] takes oldest first.
+    pub(super) queue: LearningQueue<N>,
+    /// What the slow path's learning keeps between samples.
     pub(super) learner: Learner<N>,
     /// The latch / stall prediction (the rollout cycle), advanced by
     /// [`Monitor::predict`].
@@ -147,6 +149,7 @@ impl<const N: usize> Monitor<N> {
             },
             timeline: Timeline::START,
             windows: Windows::CLOSED,
+            queue: LearningQueue::new(),
             status: Status::default(),
             learner: Learner::new(),
             predictor: Predictor::new(MarginConfig::default().confidence),
@@ -198,6 +201,7 @@ impl<const N: usize> Monitor<N> {
             joints,
             timeline,
             windows,
+            queue,
             learner,
             predictor,
             status,
@@ -216,6 +220,7 @@ impl<const N: usize> Monitor<N> {
         }
         *timeline = Timeline::START;
         *windows = Windows::CLOSED;
+        queue.clear();
         learner.reset();
         *predictor = Predictor::new(config.margin.confidence);
         *status = Status::default();
