@@ -58,14 +58,19 @@ impl<const N: usize> Monitor<N> {
             self.windows.blank_until = t + self.tuning.observer.settle_s;
         }
         let quiet = self.quiet(t);
-        let sample = Learning {
+        let mut sample = Learning {
             t,
             clean: quiet && !clock.gap && clock.dt > 0.0,
             quiet,
-            used: core::array::from_fn(|j| readings[j].used.unwrap_or(f32::NAN)),
-            locked: core::array::from_fn(|j| latches[j].locked),
-            newly: core::array::from_fn(|j| latches[j].newly),
+            used: [f32::NAN; N],
+            locked: [false; N],
+            newly: [false; N],
         };
+        for j in 0..N {
+            sample.used[j] = readings[j].used.unwrap_or(f32::NAN);
+            sample.locked[j] = latches[j].locked;
+            sample.newly[j] = latches[j].newly;
+        }
         self.learner.push(&mut self.queue, sample);
     }
 
