@@ -219,48 +219,67 @@ fn non_negative(v: f32) -> bool {
     v.is_finite() && v >= 0.0
 }
 
-impl<const N: usize> MonitorConfig<N> {
-    /// Checks every parameter.
-    pub fn validate(&self) -> Result<(), ConfigError> {
-        for (index, j) in self.joints.iter().enumerate() {
-            let checks: [(bool, &'static str); 6] = [
-                (
-                    j.stowed_deg.is_finite() && libm::fabsf(j.stowed_deg) <= ENCODER_RANGE_DEG,
-                    "stowed_deg",
-                ),
-                (non_negative(j.capture_deg), "capture_deg"),
-                (j.prior.coulomb_nm.is_finite(), "coulomb prior"),
-                (positive(j.prior.coulomb_sd_nm), "coulomb prior sd"),
-                (j.prior.viscous_nms.is_finite(), "viscous prior"),
-                (positive(j.prior.viscous_sd_nms), "viscous prior sd"),
-            ];
-            if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
-                return Err(ConfigError::Joint { index, what });
-            }
-        }
-        let o = &self.observer;
-        let t = &o.tuning;
-        let checks: [(bool, &'static str); 18] = [
-            (positive(self.sensor.encoder_sd_deg), "encoder_sd_deg"),
+/// The name of the first check of `checks` that fails.
+fn first_failure(checks: &[(bool, &'static str)]) -> Result<(), &'static str> {
+    match checks.iter().find(|(ok, _)| !ok) {
+        Some((_, what)) => Err(what),
+        None => Ok(()),
+    }
+}
+
+impl JointConfig {
+    /// Checks the joint's parameters; `Err` names the first one out of
+    /// range.
+    fn check(&self) -> Result<(), &'static str> {
+        first_failure(&[
             (
-                non_negative(self.sensor.encoder_step_deg),
-                "encoder_step_deg",
+                self.stowed_deg.is_finite() && libm::fabsf(self.stowed_deg) <= ENCODER_RANGE_DEG,
+                "stowed_deg",
             ),
-            (positive(o.jerk_psd), "jerk_psd"),
-            (
-                positive(o.jerk_adaptation.q_min)
-                    && o.jerk_adaptation.q_max >= o.jerk_adaptation.q_min
-                    && o.jerk_adaptation.q_max.is_finite()
-                    && positive(o.jerk_adaptation.low)
-                    && o.jerk_adaptation.high > o.jerk_adaptation.low
-                    && o.jerk_adaptation.high.is_finite()
-                    && o.jerk_adaptation.weight > 0.0
-                    && o.jerk_adaptation.weight <= 1.0,
-                "jerk_adaptation",
-            ),
-            (positive(o.zone_jerk_psd), "zone_jerk_psd"),
-            (non_negative(o.snap_zone_deg), "snap_zone_deg"),
-            (positive(o.gate_sigma), "gate_sigma"),
+            (non_negative(self.capture_deg), "capture_deg"),
+            (self.prior.coulomb_nm.is_finite(), "coulomb prior"),
+            (positive(self.prior.coulomb_sd_nm), "coulomb prior sd"),
+            (self.prior.viscous_nms.is_finite(), "viscous prior"),
+            (positive(self.prior.viscous_sd_nms), "viscous prior sd"),
+        ])
+    }
+}
+
+impl SensorConfig {
+    /// Checks the encoder's parameters; `Err` names the first one out of
+    /// range.
+    fn check(&self) -> Result<(), &'static str> {
+        first_failure(&[
+            (positive(self.encoder_sd_deg), "encoder_sd_deg"),
+            (non_negative(self.encoder_step_deg), "encoder_step_deg"),
+        ])
+    }
+}
+
+/// True when the jerk adaptation's bounds are ordered and its weight is in
+/// (0, 1].
+fn jerk_adaptation_ok(a: &JerkAdaptation) -> bool {
+    positive(a.q_min)
+        && a.q_max >= a.q_min
+        && a.q_max.is_finite()
+        && positive(a.low)
+        && a.high > a.low
+        && a.high.is_finite()
+        && a.weight > 0.0
+        && a.weight <= 1.0
+}
+
+impl ObserverConfig {
+    /// Checks the rate filter's and the friction observer's tuning; `Err`
+    /// names the first parameter out of range.
+    fn check(&self) -> Result<(), &'static str> {
+        let t = &self.tuning;
+        first_failure(&[
+            (positive(self.jerk_psd), "jerk_psd"),
+            (jerk_adaptation_ok(&self.jerk_adaptation), "jerk_adaptation"),
+            (positive(self.zone_jerk_psd), "zone_jerk_psd"),
+            (non_negative(self.snap_zone_deg), "snap_zone_deg"),
+            (positive(self.gate_sigma), "gate_sigma"),
             (positive(t.bandwidth_per_s), "bandwidth_per_s"),
             (
                 positive(t.coulomb_threshold_rad_s),
@@ -271,32 +290,55 @@ impl<const N: usize> MonitorConfig<N> {
                 "friction walk",
             ),
             (positive(t.residual_var_floor), "residual_var_floor"),
-            (non_negative(o.settle_s), "settle_s"),
+            (non_negative(self.settle_s), "settle_s"),
             (
-                positive(o.min_dt_s) && positive(o.max_gap_s) && o.max_gap_s > o.min_dt_s,
+                positive(self.min_dt_s)
+                    && positive(self.max_gap_s)
+                    && self.max_gap_s > self.min_dt_s,
                 "time step limits",
             ),
-            (self.margin.factors.is_valid(), "uncertainty factors"),
+        ])
+    }
+}
+
+impl MarginConfig {
+    /// Checks the margin's and the prediction's settings; `Err` names the
+    /// first one out of range.
+    fn check(&self) -> Result<(), &'static str> {
+        let r = &self.rollout;
+        first_failure(&[
+            (self.factors.is_valid(), "uncertainty factors"),
+            (self.confidence > 0.5 && self.confidence < 1.0, "confidence"),
             (
-                self.margin.confidence > 0.5 && self.margin.confidence < 1.0,
-                "confidence",
-            ),
-            (
-                positive(self.margin.rollout.dt_s)
-                    && positive(self.margin.rollout.bracket_dt_s)
-                    && positive(self.margin.rollout.horizon_s)
-                    && positive(self.margin.rollout.coulomb_threshold_rad_s),
+                positive(r.dt_s)
+                    && positive(r.bracket_dt_s)
+                    && positive(r.horizon_s)
+                    && positive(r.coulomb_threshold_rad_s),
                 "rollout",
             ),
-            (positive(self.margin.deadline_s), "deadline_s"),
+            (positive(self.deadline_s), "deadline_s"),
             (
-                non_negative(self.margin.spring_sd_rel) && positive(self.margin.energy_sd_floor_j),
+                non_negative(self.spring_sd_rel) && positive(self.energy_sd_floor_j),
                 "margin spread",
             ),
-        ];
-        if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
-            return Err(ConfigError::Parameter(what));
+        ])
+    }
+}
+
+impl<const N: usize> MonitorConfig<N> {
+    /// Checks every parameter: the joints in order, then the sensor, the
+    /// observer, the margin and the latch thresholds; the error names the
+    /// first one out of range.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        for (index, j) in self.joints.iter().enumerate() {
+            j.check()
+                .map_err(|what| ConfigError::Joint { index, what })?;
         }
+        self.sensor
+            .check()
+            .and_then(|()| self.observer.check())
+            .and_then(|()| self.margin.check())
+            .map_err(ConfigError::Parameter)?;
         if !self.latch.is_valid() {
             return Err(ConfigError::Parameter("latch thresholds"));
         }

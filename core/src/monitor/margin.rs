@@ -221,17 +221,101 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
     let k_eff = if x.towards_latch {
         k
     } else {
-        let ts = x.spring_scale.max(0.0) * spring.magnitude(x0, Branch::Unfold);
-        let den = ts + tc;
-        if den > 1e-6 {
-            k * (ts - tc) / den
+        moving_away(spring, x, k, tc)
+    };
+    let stroke = Stroke {
+        x0,
+        xc,
+        tc,
+        fv,
+        inertia,
+        k_eff,
+        var_k,
+    };
+    let m = march(spring, x, s, &stroke);
+    let drive = m.e_s / s.factors.spring + k_eff.max(0.0) / s.factors.kinetic;
+    let resist =
+        s.factors.coulomb * tc * m.w_c + s.factors.viscous * fv * m.w_v + (-k_eff).max(0.0);
+    let margin_pct = if resist > 1e-9 {
+        ((drive / resist - 1.0) * 100.0).clamp(-100.0, MARGIN_CAP_PCT)
+    } else {
+        MARGIN_CAP_PCT
+    };
+    // P(T_C < T*) for T_C ~ N(T̂_C, σ²) truncated to T_C ≥ L (friction is
+    // never negative, and never below the torque it exerts now).
+    let sd = crate::physics::real::sqrtf((x.coulomb_var.max(0.0) + m.t_star_var).max(1e-12));
+    let lower = x.coulomb_lower_nm.max(0.0);
+    let p = truncated_below_cdf(m.t_star, tc, sd, lower);
+    MarginResult {
+        margin_pct: if margin_pct.is_finite() {
+            margin_pct
         } else {
             0.0
-        }
-    };
+        },
+        latch_probability: if p.is_finite() {
+            p.clamp(0.0, 1.0)
+        } else {
+            0.5
+        },
+        time_to_latch_s: if m.stalled || !m.t_total.is_finite() {
+            None
+        } else {
+            Some(m.t_total)
+        },
+    }
+}
 
-    let step = (x0 - xc) / NODES as f32;
-    let mut e = k_eff;
+/// `K_eff` of a joint moving away from the latch with kinetic energy `k`
+/// [J] against the Coulomb torque `tc` [N·m]: it first travels
+/// `Δ = K/(T_s + T_C)` further out and comes back, which leaves
+/// `K (T_s − T_C)/(T_s + T_C)`.
+fn moving_away(spring: &Spring<f32>, x: &MarginInput, k: f32, tc: f32) -> f32 {
+    let ts = x.spring_scale.max(0.0) * spring.magnitude(x.angle_abs_rad, Branch::Unfold);
+    let den = ts + tc;
+    if den > 1e-6 {
+        k * (ts - tc) / den
+    } else {
+        0.0
+    }
+}
+
+/// The remaining stroke of a joint, as [`evaluate`] marches it.
+struct Stroke {
+    /// `x₀` and `x_c` [rad].
+    x0: f32,
+    xc: f32,
+    /// `T_C` [N·m] and `f` [N·m·s/rad], not negative.
+    tc: f32,
+    fv: f32,
+    /// `I` [kg·m²].
+    inertia: f32,
+    /// `K_eff` [J] and the variance of `K` [J²].
+    k_eff: f32,
+    var_k: f32,
+}
+
+/// What the march over the remaining stroke adds up.
+struct March {
+    /// Spring energy released `E_s` [J].
+    e_s: f32,
+    /// `W_C = x₀ − x_c` [rad] and `W_v = ∫ ω dθ` [rad²/s].
+    w_c: f32,
+    w_v: f32,
+    /// The most demanding node's threshold `T*` [N·m] and its variance.
+    t_star: f32,
+    t_star_var: f32,
+    /// Time to the capture angle [s] (over the steps the joint moves).
+    t_total: f32,
+    /// The energy ran out before the capture angle.
+    stalled: bool,
+}
+
+/// Marches `E` over [`NODES`] equal steps from `x₀` to `x_c`, with the
+/// viscous loss of a step taken at the speed of its start.
+fn march(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings, st: &Stroke) -> March {
+    let (tc, fv, inertia) = (st.tc, st.fv, st.inertia);
+    let step = (st.x0 - st.xc) / NODES as f32;
+    let mut e = st.k_eff;
     let mut e_s = 0.0f32;
     let mut w_c = 0.0f32;
     let mut w_v = 0.0f32;
@@ -243,12 +327,12 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
     let mut t_total = 0.0f32;
     let mut stalled = false;
     let mut omega = crate::physics::real::sqrtf(2.0 * e.max(0.0) / inertia);
-    let mut hi = x0;
+    let mut hi = st.x0;
     for i in 0..NODES {
         let lo = if i + 1 == NODES {
-            xc
+            st.xc
         } else {
-            x0 - (i + 1) as f32 * step
+            st.x0 - (i + 1) as f32 * step
         };
         let dx = hi - lo;
         let gain = x.spring_scale.max(0.0) * spring.release(lo, hi);
@@ -264,7 +348,7 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
                 // Spread of A (viscous, spring, kinetic) in Coulomb units.
                 let var_a = w_v * w_v * x.viscous_var.max(0.0)
                     + (x.spring_sd_rel * e_s) * (x.spring_sd_rel * e_s)
-                    + var_k
+                    + st.var_k
                     + s.energy_sd_floor_j * s.energy_sd_floor_j;
                 t_star_var = var_a / (w_c * w_c);
             }
@@ -283,34 +367,14 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
         omega = omega_next;
         hi = lo;
     }
-    let drive = e_s / s.factors.spring + k_eff.max(0.0) / s.factors.kinetic;
-    let resist = s.factors.coulomb * tc * w_c + s.factors.viscous * fv * w_v + (-k_eff).max(0.0);
-    let margin_pct = if resist > 1e-9 {
-        ((drive / resist - 1.0) * 100.0).clamp(-100.0, MARGIN_CAP_PCT)
-    } else {
-        MARGIN_CAP_PCT
-    };
-    // P(T_C < T*) for T_C ~ N(T̂_C, σ²) truncated to T_C ≥ L (friction is
-    // never negative, and never below the torque it exerts now).
-    let sd = crate::physics::real::sqrtf((x.coulomb_var.max(0.0) + t_star_var).max(1e-12));
-    let lower = x.coulomb_lower_nm.max(0.0);
-    let p = truncated_below_cdf(t_star, tc, sd, lower);
-    MarginResult {
-        margin_pct: if margin_pct.is_finite() {
-            margin_pct
-        } else {
-            0.0
-        },
-        latch_probability: if p.is_finite() {
-            p.clamp(0.0, 1.0)
-        } else {
-            0.5
-        },
-        time_to_latch_s: if stalled || !t_total.is_finite() {
-            None
-        } else {
-            Some(t_total)
-        },
+    March {
+        e_s,
+        w_c,
+        w_v,
+        t_star,
+        t_star_var,
+        t_total,
+        stalled,
     }
 }
 

@@ -249,14 +249,46 @@ impl<const N: usize> Rollout<N> {
     }
 
     /// One step: the midpoint rule (second order), each stage linearly
-    /// implicit in the stiff friction.
+    /// implicit in the stiff friction; then the latches the step reached,
+    /// and the end of the rollout or the start of the creep quadrature.
     fn step(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
         let dt = cfg.dt_s;
         let wc = cfg.coulomb_threshold_rad_s;
-        let Some(a1) = self.acceleration(chain, &self.x, 0.5 * dt, wc) else {
+        let Some(crossed) = self.integrate(chain, dt, wc) else {
             self.finish();
             return;
         };
+        self.t_s += dt;
+        if crossed.iter().any(|c| *c) {
+            self.latch_crossed(chain, &crossed, dt);
+        }
+        if (0..N).all(|j| self.latched[j] || !self.watch[j]) {
+            self.done = true;
+            return;
+        }
+        let creeping = (0..N).all(|j| self.latched[j] || libm::fabsf(self.x.phi_dot[j]) < 2.0 * wc);
+        self.creeping_s = if creeping { self.creeping_s + dt } else { 0.0 };
+        let finite = self
+            .x
+            .phi
+            .iter()
+            .chain(self.x.phi_dot.iter())
+            .all(|v| v.is_finite());
+        if !finite || self.t_s >= cfg.horizon_s {
+            self.finish();
+            return;
+        }
+        if self.creeping_s >= STALL_HOLD_S {
+            self.begin_settle(chain, cfg);
+        }
+    }
+
+    /// Integrates the free joints over `dt` [s] by the midpoint rule, each
+    /// stage linearly implicit in the friction (`ω_c` = `wc` [rad/s]).
+    /// Returns the joints that reached their capture angle moving inwards,
+    /// or `None` when the equations could not be solved.
+    fn integrate(&mut self, chain: &Chain<f32, N>, dt: f32, wc: f32) -> Option<[bool; N]> {
+        let a1 = self.acceleration(chain, &self.x, 0.5 * dt, wc)?;
         let mut mid = self.x;
         for j in 0..N {
             if !self.latched[j] {
@@ -264,10 +296,7 @@ impl<const N: usize> Rollout<N> {
                 mid.phi[j] += 0.5 * dt * self.x.phi_dot[j];
             }
         }
-        let Some(a) = self.acceleration(chain, &mid, dt, wc) else {
-            self.finish();
-            return;
-        };
+        let a = self.acceleration(chain, &mid, dt, wc)?;
         let mut crossed = [false; N];
         for j in 0..N {
             if self.latched[j] {
@@ -287,89 +316,77 @@ impl<const N: usize> Rollout<N> {
             let reached = snaps || before * after <= 0.0;
             crossed[j] = inward && reached;
         }
-        self.t_s += dt;
-        if crossed.iter().any(|c| *c) {
-            // The joint covers the rest of its stroke (the snap-through)
-            // in a few milliseconds; over that time the generalised momenta
-            // of the other joints hardly change (their equations do not
-            // contain the latching joint's torque), so they are taken at the
-            // capture angle and kept through the jump to the latch angle
-            // and the plastic impact (physics.md §5).
-            let p = chain.momentum(&self.x);
-            // Time to the latch angle at the rate of the crossing (the
-            // snap only shortens it; negative when the step overshot it):
-            // the other joints move on meanwhile.
-            let mut tau = f32::NEG_INFINITY;
-            for j in 0..N {
-                if crossed[j] {
-                    let w = self.x.phi_dot[j];
-                    let t_j = if w != 0.0 { -self.x.phi[j] / w } else { 0.0 };
-                    if t_j.is_finite() {
-                        tau = tau.max(t_j.max(-dt).min(MAX_SNAP_S));
+        Some(crossed)
+    }
+
+    /// Latches the `crossed` joints (reached in a step of `dt` [s]).
+    ///
+    /// The joint covers the rest of its stroke (the snap-through) in a few
+    /// milliseconds; over that time the generalised momenta of the other
+    /// joints hardly change (their equations do not contain the latching
+    /// joint's torque), so they are taken at the capture angle and kept
+    /// through the jump to the latch angle and the plastic impact
+    /// (physics.md §5).
+    fn latch_crossed(&mut self, chain: &Chain<f32, N>, crossed: &[bool; N], dt: f32) {
+        let p = chain.momentum(&self.x);
+        // Time to the latch angle at the rate of the crossing (the
+        // snap only shortens it; negative when the step overshot it):
+        // the other joints move on meanwhile.
+        let mut tau = f32::NEG_INFINITY;
+        for j in 0..N {
+            if crossed[j] {
+                let w = self.x.phi_dot[j];
+                let t_j = if w != 0.0 { -self.x.phi[j] / w } else { 0.0 };
+                if t_j.is_finite() {
+                    tau = tau.max(t_j.max(-dt).min(MAX_SNAP_S));
+                }
+            }
+        }
+        let tau = if tau.is_finite() { tau } else { 0.0 };
+        let mut after = self.latched;
+        for j in 0..N {
+            if crossed[j] {
+                after[j] = true;
+                self.x.phi[j] = 0.0;
+            } else if !self.latched[j] {
+                self.x.phi[j] += tau * self.x.phi_dot[j];
+            }
+        }
+        self.t_s += tau;
+        for j in 0..N {
+            if crossed[j] {
+                self.latch_after_s[j] = self.t_s;
+            }
+        }
+        match solve_spd_masked(&chain.mass_matrix(&self.x.phi), &p, &after) {
+            Ok(w) if w.iter().all(|v| v.is_finite()) => self.x.phi_dot = w,
+            _ => {
+                for j in 0..N {
+                    if after[j] {
+                        self.x.phi_dot[j] = 0.0;
                     }
                 }
             }
-            let tau = if tau.is_finite() { tau } else { 0.0 };
-            let mut after = self.latched;
-            for j in 0..N {
-                if crossed[j] {
-                    after[j] = true;
-                    self.x.phi[j] = 0.0;
-                } else if !self.latched[j] {
-                    self.x.phi[j] += tau * self.x.phi_dot[j];
-                }
-            }
-            self.t_s += tau;
-            for j in 0..N {
-                if crossed[j] {
-                    self.latch_after_s[j] = self.t_s;
-                }
-            }
-            match solve_spd_masked(&chain.mass_matrix(&self.x.phi), &p, &after) {
-                Ok(w) if w.iter().all(|v| v.is_finite()) => self.x.phi_dot = w,
-                _ => {
-                    for j in 0..N {
-                        if after[j] {
-                            self.x.phi_dot[j] = 0.0;
-                        }
-                    }
-                }
-            }
-            self.latched = after;
         }
-        if (0..N).all(|j| self.latched[j] || !self.watch[j]) {
-            self.done = true;
-            return;
-        }
-        let creeping = (0..N).all(|j| self.latched[j] || libm::fabsf(self.x.phi_dot[j]) < 2.0 * wc);
-        self.creeping_s = if creeping { self.creeping_s + dt } else { 0.0 };
-        let finite = self
-            .x
-            .phi
-            .iter()
-            .chain(self.x.phi_dot.iter())
-            .all(|v| v.is_finite());
-        if !finite || self.t_s >= cfg.horizon_s {
-            self.finish();
-            return;
-        }
-        if self.creeping_s >= STALL_HOLD_S {
-            // The quadrature runs in the next units of work; undecided (a
-            // joint breaks free in time), the integration goes on and looks
-            // again after another hold, not at every step (the quadrature
-            // and the snap-through cost up to a few hundred spring
-            // evaluations).
-            let m = chain.mass_matrix(&self.x.phi);
-            let inertia = articulated_inertias(&m, &self.latched);
-            self.settle = Some(Settle {
-                time_left: cfg.horizon_s - self.t_s,
-                inertia: core::array::from_fn(|j| inertia[j].unwrap_or(m[j][j])),
-                after: [f32::INFINITY; N],
-                joint: 0,
-                run: None,
-            });
-            self.creeping_s = 0.0;
-        }
+        self.latched = after;
+    }
+
+    /// Starts the creep quadrature, which runs in the next units of work;
+    /// undecided (a joint breaks free in time), the integration goes on
+    /// and looks again after another hold, not at every step (the
+    /// quadrature and the snap-through cost up to a few hundred spring
+    /// evaluations).
+    fn begin_settle(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
+        let m = chain.mass_matrix(&self.x.phi);
+        let inertia = articulated_inertias(&m, &self.latched);
+        self.settle = Some(Settle {
+            time_left: cfg.horizon_s - self.t_s,
+            inertia: core::array::from_fn(|j| inertia[j].unwrap_or(m[j][j])),
+            after: [f32::INFINITY; N],
+            joint: 0,
+            run: None,
+        });
+        self.creeping_s = 0.0;
     }
 
     /// Ends the rollout by quadrature once every free joint creeps
@@ -558,91 +575,111 @@ impl CreepRun {
         spring: &crate::physics::spring::Spring<f32>,
         budget: &mut u16,
     ) -> Option<Creep> {
-        let joint = self.joint;
-        let wc = self.wc;
-        let (scale, tc, f) = (joint.spring_scale, joint.coulomb_nm, joint.viscous_nms);
-        let to_rad = joint.capture_rad.max(0.0);
         loop {
             if *budget == 0 {
                 return None;
             }
             *budget -= 1;
-            match self.stage {
-                CreepStage::Quadrature { k, mut t } => {
-                    let span = joint.from_rad - to_rad;
-                    if span > 0.0 && usize::from(k) < CREEP_PANELS {
-                        let h = span / CREEP_PANELS as f32;
-                        let abs = joint.from_rad - (f32::from(k) + 0.5) * h;
-                        let torque = scale * spring.magnitude(abs, Branch::Unfold);
-                        if !(torque > 0.0) {
-                            return Some(Creep::Stops);
-                        }
-                        if !(torque < tc) {
-                            return Some(Creep::BreaksFree(t));
-                        }
-                        match creep_rate(torque, tc, f, wc) {
-                            Some(w) => t += h / w,
-                            None => return Some(Creep::Stops),
-                        }
-                        self.stage = CreepStage::Quadrature { k: k + 1, t };
-                        continue;
-                    }
-                    // The snap-through from the capture angle, at the creep
-                    // rate there.
-                    let abs = to_rad.min(joint.from_rad.max(0.0));
-                    let w = creep_rate(scale * spring.magnitude(abs, Branch::Unfold), tc, f, wc)
-                        .unwrap_or(0.0);
-                    if !(joint.inertia_kgm2 > 0.0) {
-                        return Some(Creep::BreaksFree(t));
-                    }
-                    self.stage = CreepStage::Snap {
-                        t,
-                        abs,
-                        w,
-                        snap: 0.0,
-                    };
-                }
-                CreepStage::Snap {
-                    t,
-                    mut abs,
-                    mut w,
-                    mut snap,
-                } => {
-                    let inertia = joint.inertia_kgm2;
-                    if abs > 0.0 {
-                        if t + snap > self.horizon_s {
-                            return Some(Creep::Covers(t + snap));
-                        }
-                        if snap >= SNAP_LIMIT_S {
-                            return Some(Creep::BreaksFree(t + snap));
-                        }
-                        let th = coulomb_shape(w, wc);
-                        let torque =
-                            scale * spring.magnitude(abs, Branch::Unfold) - tc * th - f * w;
-                        let damping = tc * (1.0 - th * th) / wc + f;
-                        let dw = SNAP_DT_S * torque / (inertia + SNAP_DT_S * damping);
-                        let step = SNAP_DT_S * (w + 0.5 * dw);
-                        if !step.is_finite() {
-                            return Some(Creep::Stops);
-                        }
-                        if !(step >= abs && step > 0.0) {
-                            abs -= step;
-                            w += dw;
-                            snap += SNAP_DT_S;
-                            self.stage = CreepStage::Snap { t, abs, w, snap };
-                            continue;
-                        }
-                        snap += SNAP_DT_S * abs / step;
-                    }
-                    let total = t + snap;
-                    return Some(if total.is_finite() {
-                        Creep::Covers(total)
-                    } else {
-                        Creep::Stops
-                    });
-                }
+            let outcome = match self.stage {
+                CreepStage::Quadrature { k, t } => self.quadrature(spring, k, t),
+                CreepStage::Snap { t, abs, w, snap } => self.snap(spring, t, abs, w, snap),
+            };
+            if outcome.is_some() {
+                return outcome;
             }
         }
+    }
+
+    /// Panel `k` of the quadrature after `t` [s] of creep, or, past the
+    /// last panel, the start of the snap-through from the capture angle at
+    /// the creep rate there. `Some` once the outcome is known.
+    fn quadrature(
+        &mut self,
+        spring: &crate::physics::spring::Spring<f32>,
+        k: u8,
+        mut t: f32,
+    ) -> Option<Creep> {
+        let joint = self.joint;
+        let wc = self.wc;
+        let (scale, tc, f) = (joint.spring_scale, joint.coulomb_nm, joint.viscous_nms);
+        let to_rad = joint.capture_rad.max(0.0);
+        let span = joint.from_rad - to_rad;
+        if span > 0.0 && usize::from(k) < CREEP_PANELS {
+            let h = span / CREEP_PANELS as f32;
+            let abs = joint.from_rad - (f32::from(k) + 0.5) * h;
+            let torque = scale * spring.magnitude(abs, Branch::Unfold);
+            if !(torque > 0.0) {
+                return Some(Creep::Stops);
+            }
+            if !(torque < tc) {
+                return Some(Creep::BreaksFree(t));
+            }
+            match creep_rate(torque, tc, f, wc) {
+                Some(w) => t += h / w,
+                None => return Some(Creep::Stops),
+            }
+            self.stage = CreepStage::Quadrature { k: k + 1, t };
+            return None;
+        }
+        let abs = to_rad.min(joint.from_rad.max(0.0));
+        let w = creep_rate(scale * spring.magnitude(abs, Branch::Unfold), tc, f, wc).unwrap_or(0.0);
+        if !(joint.inertia_kgm2 > 0.0) {
+            return Some(Creep::BreaksFree(t));
+        }
+        self.stage = CreepStage::Snap {
+            t,
+            abs,
+            w,
+            snap: 0.0,
+        };
+        None
+    }
+
+    /// One step of the snap-through after `t` [s] of creep, at `|φ|` =
+    /// `abs` [rad] with rate `w` [rad/s], `snap` [s] into it. `Some` once
+    /// the outcome is known.
+    fn snap(
+        &mut self,
+        spring: &crate::physics::spring::Spring<f32>,
+        t: f32,
+        mut abs: f32,
+        mut w: f32,
+        mut snap: f32,
+    ) -> Option<Creep> {
+        let joint = self.joint;
+        let wc = self.wc;
+        let (scale, tc, f) = (joint.spring_scale, joint.coulomb_nm, joint.viscous_nms);
+        let inertia = joint.inertia_kgm2;
+        if abs > 0.0 {
+            if t + snap > self.horizon_s {
+                return Some(Creep::Covers(t + snap));
+            }
+            if snap >= SNAP_LIMIT_S {
+                return Some(Creep::BreaksFree(t + snap));
+            }
+            let th = coulomb_shape(w, wc);
+            let torque = scale * spring.magnitude(abs, Branch::Unfold) - tc * th - f * w;
+            let damping = tc * (1.0 - th * th) / wc + f;
+            let dw = SNAP_DT_S * torque / (inertia + SNAP_DT_S * damping);
+            let step = SNAP_DT_S * (w + 0.5 * dw);
+            if !step.is_finite() {
+                return Some(Creep::Stops);
+            }
+            if !(step >= abs && step > 0.0) {
+                abs -= step;
+                w += dw;
+                snap += SNAP_DT_S;
+                self.stage = CreepStage::Snap { t, abs, w, snap };
+                return None;
+            }
+            snap += SNAP_DT_S * abs / step;
+        }
+        let total = t + snap;
+        Some(if total.is_finite() {
+            Creep::Covers(total)
+        } else {
+            Creep::Stops
+        })
     }
 }
 

@@ -508,7 +508,14 @@ impl<T: Real, const N: usize> Chain<T, N> {
         latched_after: &[bool; N],
     ) -> Result<[T; N], ChainError> {
         let m = self.mass_matrix(&x.phi);
-        let p = mat_vec(&m, &x.phi_dot);
+        // `mat_vec` written out: the monitor runs this in its sample path,
+        // where the firmware's `opt-level = "z"` would make it a call.
+        let mut p = [T::ZERO; N];
+        for i in 0..N {
+            for j in 0..N {
+                p[i] += m[i][j] * x.phi_dot[j];
+            }
+        }
         Ok(solve_spd_masked(&m, &p, latched_after)?)
     }
 

@@ -1,6 +1,7 @@
 //! Tests of `estimator`.
 
 use super::*;
+use crate::monitor::faults::Fault;
 
 fn config() -> MonitorConfig<1> {
     example_config()

@@ -1,0 +1,234 @@
+//! The sample path's rate filters: each joint's kinematic Kalman filter
+//! predicts to the sample and fuses its reading, with the latch impact
+//! expected when a switch closes (`docs/monitor.md` §2, §6.2); spikes are
+//! flagged and gated out, a filter that fails restarts at the reading.
+
+use super::clock::Clock;
+use super::encoders::Readings;
+use super::joint::{JointState, DEG, START_ACC_SD, START_RATE_SD};
+use super::state::Monitor;
+use crate::monitor::config::ObserverConfig;
+use crate::monitor::faults::{Fault, FaultFlags};
+use crate::monitor::observer::{Fusion, RateFilter};
+use crate::monitor::status::Sample;
+
+/// Rate uncertainty of a rate filter restarted after repeated rejections or
+/// a numerical failure [rad/s]: the joint may be anywhere in its stroke.
+const RESET_RATE_SD: f32 = 1.0;
+/// Acceleration uncertainty of such a restarted filter [rad/s²].
+const RESET_ACC_SD: f32 = 10.0;
+/// Variance added to an acceleration after a latch impulse, an impact or a
+/// gap [rad²/s⁴].
+pub(super) const ACC_SHOCK_VAR: f32 = 100.0;
+/// Variance added to a rate over a gap [rad²/s²] (the joint may have
+/// changed its rate by ≈ 1 rad/s while unobserved).
+const GAP_RATE_VAR: f32 = 1.0;
+/// Variance added to the first reading after a gap [rad²].
+const GAP_MEAS_VAR: f32 = 1.0;
+/// Consecutive gate rejections after which the rate filter restarts at the
+/// measurement.
+const MAX_REJECTS: u8 = 3;
+/// Time after a latch switch closes during which a reading the rate filter
+/// rejects is the latch impact, not an outlier [s]: the impact is within a
+/// sample of the closing at 100 Hz, and a chattering switch (≤ 20 ms)
+/// closes again inside it.
+const IMPACT_WINDOW_S: f32 = 0.03;
+/// Samples, from the one where a switch closes, whose prediction is widened
+/// for the impact.
+const IMPACT_INFLATE_SAMPLES: u8 = 2;
+/// Rate variance added to every free joint at an impact [rad²/s²]: the
+/// plastic impulse changes the rates by up to about 2 rad/s.
+const IMPACT_RATE_VAR: f32 = 4.0;
+/// Innovations up to this many gates are a manoeuvre (the filter restarts
+/// at the reading, keeping its rate), beyond it a spike (flagged). At
+/// σ ≈ 0.03° a gate is 0.17° and this 0.5°: a joint stopping under its
+/// friction at 5 rad/s² misses the prediction by ½·a·t² ≈ 0.06° over 20 ms,
+/// while a spike is degrees off.
+const MANOEUVRE_GATE: f32 = 3.0;
+/// Rate uncertainty of a filter restarted at an impact [rad/s].
+const IMPACT_RATE_SD: f32 = 1.0;
+
+/// What the rate filters of one sample share (see [`JointState::track_rate`]).
+struct RateContext<'a> {
+    /// The clock's verdict on this sample.
+    clock: Clock,
+    /// Within the impact window after a switch closed.
+    impact: bool,
+    /// Widen the rate filter's prediction for the impact.
+    inflate: bool,
+    /// Variance of one reading [rad²] and its square root [rad].
+    meas_var: f32,
+    meas_sd: f32,
+    /// The observer's tuning.
+    observer: &'a ObserverConfig,
+}
+
+/// What a joint's rate filter made of its reading.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum RateOutcome {
+    /// Fused, or none to fuse.
+    Used,
+    /// Rejected as an outlier; the reading is not used.
+    GatedOut,
+    /// The filter restarted at the reading (impact or reset): the friction
+    /// learning waits for the settling.
+    Restarted,
+}
+
+/// A rate filter started at `phi_rad` [rad] with angle, rate and
+/// acceleration deviations `sd` [rad], `sd_rate` [rad/s] and `sd_acc`
+/// [rad/s²], and the jerk spectral density `jerk_psd` [rad²/s⁵].
+fn fresh_filter(phi_rad: f32, sd: f32, sd_rate: f32, sd_acc: f32, jerk_psd: f32) -> RateFilter {
+    let mut f = RateFilter::new(phi_rad, sd, sd_rate, sd_acc);
+    f.set_jerk_psd(jerk_psd);
+    f
+}
+
+impl JointState {
+    /// The joint's rate filter at one sample: prediction and fusion of its
+    /// reading (see [`Monitor::track_rates`]; `docs/monitor.md` §2, §6.2).
+    /// Not generic over the joint count, so the monitors of 2 and 3 joints
+    /// share one copy in flash.
+    #[inline(never)]
+    fn track_rate(
+        &mut self,
+        reading: Option<f32>,
+        faults: &mut FaultFlags,
+        ctx: &RateContext<'_>,
+    ) -> RateOutcome {
+        let (r_meas, sd) = (ctx.meas_var, ctx.meas_sd);
+        let observer = ctx.observer;
+        let gap = ctx.clock.gap;
+        let gate2 = observer.gate_sigma * observer.gate_sigma;
+        let zone = observer.snap_zone_deg * DEG;
+        let latched = self.lt.is_latched();
+        let kf = &mut self.kf;
+        let q_floor = if !latched && libm::fabsf(kf.angle()) < zone {
+            observer.zone_jerk_psd
+        } else {
+            0.0
+        };
+        if ctx.inflate && !latched {
+            kf.inflate(IMPACT_RATE_VAR, ACC_SHOCK_VAR);
+        }
+        kf.predict(ctx.clock.dt, q_floor);
+        if gap {
+            kf.inflate(GAP_RATE_VAR, ACC_SHOCK_VAR);
+        }
+        let Some(z) = reading else {
+            return RateOutcome::Used;
+        };
+        let r = if gap { r_meas + GAP_MEAS_VAR } else { r_meas };
+        // A reading beyond the gate but within `MANOEUVRE_GATE` gates of
+        // the prediction is a manoeuvre the white-jerk model did not
+        // foresee (a joint that sticks under its friction stops with a
+        // step in acceleration), not a spike.
+        let nu = z - kf.angle();
+        let manoeuvre = nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r);
+        match kf.update(z, r, gate2, &observer.jerk_adaptation) {
+            Fusion::Accepted => {
+                self.rejects = 0;
+                RateOutcome::Used
+            }
+            Fusion::Rejected if ctx.impact || manoeuvre => {
+                let rate = if ctx.impact { 0.0 } else { kf.rate() };
+                *kf = RateFilter::new(z, sd, IMPACT_RATE_SD, START_ACC_SD);
+                kf.set_rate(rate, 0.0);
+                kf.set_jerk_psd(observer.jerk_psd);
+                self.rejects = 0;
+                if ctx.impact {
+                    RateOutcome::Restarted
+                } else {
+                    RateOutcome::Used
+                }
+            }
+            Fusion::Rejected => {
+                faults.insert(Fault::EncoderOutlier);
+                self.rejects = self.rejects.saturating_add(1);
+                if self.rejects >= MAX_REJECTS {
+                    *kf = RateFilter::new(z, sd, RESET_RATE_SD, RESET_ACC_SD);
+                    kf.set_jerk_psd(observer.jerk_psd);
+                    faults.insert(Fault::EstimatorReset);
+                    self.rejects = 0;
+                    RateOutcome::Restarted
+                } else {
+                    RateOutcome::GatedOut
+                }
+            }
+        }
+    }
+}
+
+impl<const N: usize> Monitor<N> {
+    /// Tracks the angles and rates: each rate filter predicts to the sample
+    /// and fuses its reading, with the latch impact expected when a switch
+    /// closes (`docs/monitor.md` §6.2); spikes are flagged and gated out.
+    pub(super) fn track_rates(
+        &mut self,
+        sample: &Sample<N>,
+        clock: &Clock,
+        readings: &mut Readings<N>,
+    ) {
+        let t = clock.t;
+        if !self.timeline.started {
+            let (sd, jerk_psd) = (self.tuning.meas_sd, self.tuning.observer.jerk_psd);
+            for j in 0..N {
+                let phi0 = readings[j].used.unwrap_or(self.joints[j].stowed_deg * DEG);
+                self.joints[j].kf = fresh_filter(phi0, sd, START_RATE_SD, START_ACC_SD, jerk_psd);
+            }
+            self.timeline.started = true;
+            self.timeline.t_start = t;
+        } else {
+            // A latch switch closing announces an impact: the latching
+            // joint stops within a sample and the plastic impulse changes
+            // the other joints' rates (physics.md §5). Over the next
+            // `IMPACT_WINDOW_S` the rate filters widen their gates, and a
+            // reading they still cannot reconcile restarts the filter at
+            // the reading: expected, not an outlier.
+            if self.switch_closing(sample) {
+                self.windows.impact_until = t + IMPACT_WINDOW_S;
+                self.windows.impact_samples = IMPACT_INFLATE_SAMPLES;
+            }
+            let impact = t <= self.windows.impact_until;
+            let inflate = self.windows.impact_samples > 0;
+            self.windows.impact_samples = self.windows.impact_samples.saturating_sub(1);
+            let ctx = RateContext {
+                clock: *clock,
+                impact,
+                inflate,
+                meas_var: self.tuning.meas_var,
+                meas_sd: self.tuning.meas_sd,
+                observer: &self.tuning.observer,
+            };
+            for (j, js) in self.joints.iter_mut().enumerate() {
+                let Some(r) = readings.get_mut(j) else {
+                    continue;
+                };
+                match js.track_rate(r.used, &mut r.faults, &ctx) {
+                    RateOutcome::Used => {}
+                    RateOutcome::GatedOut => r.used = None,
+                    RateOutcome::Restarted => {
+                        self.windows.blank_until = t + self.tuning.observer.settle_s;
+                    }
+                }
+            }
+        }
+        self.timeline.t_prev = t;
+        for (js, s) in self.joints.iter_mut().zip(sample.latch.iter()) {
+            js.switch_prev = *s;
+        }
+    }
+
+    /// Health of the rate filters: nothing non-finite survives an update.
+    /// A failed rate filter restarts at the reading.
+    pub(super) fn check_health(&mut self, readings: &mut Readings<N>) {
+        let (sd, jerk_psd) = (self.tuning.meas_sd, self.tuning.observer.jerk_psd);
+        for j in 0..N {
+            if !self.joints[j].kf.is_healthy() {
+                let phi0 = readings[j].used.unwrap_or(self.joints[j].stowed_deg * DEG);
+                self.joints[j].kf = fresh_filter(phi0, sd, RESET_RATE_SD, RESET_ACC_SD, jerk_psd);
+                readings[j].faults.insert(Fault::EstimatorReset);
+            }
+        }
+    }
+}

@@ -1,0 +1,132 @@
+//! The slow path, [`Monitor::predict`], in slices of bounded cost: a slice
+//! learns from one queued sample (the friction observers on the centred
+//! fit, the energy margin of one joint, the start of the next rollout, the
+//! status's learned half) or, with the queue empty, advances the latch /
+//! stall prediction by one unit of rollout work.
+
+use super::learning::Learning;
+use super::state::Monitor;
+use crate::monitor::faults::Fault;
+use crate::monitor::observer::{momentum_terms, ObserverInput};
+use crate::monitor::smoother::Centre;
+use crate::monitor::status::{Sample, Status};
+use crate::physics::spring::Branch;
+
+impl<const N: usize> Monitor<N> {
+    /// One slice of the slow path. With samples queued by
+    /// [`Monitor::update`], it learns from the oldest one: the friction
+    /// observers, the energy margin of one joint, the start of the next
+    /// rollout, and the learned part of [`Monitor::status`] (friction,
+    /// margin, prediction). With the queue empty it advances the rollout
+    /// in progress by up to `margin.rollout.steps_per_slice` units of work
+    /// (a step of the chain, or a bounded piece of the creep quadrature:
+    /// [`crate::monitor::rollout::Rollout::advance`]), starts the next one when it
+    /// ends, and refreshes the prediction in the status.
+    ///
+    /// The sample-rate path ([`Monitor::update`]) neither learns nor runs a
+    /// rollout: the application calls this at a lower priority (the idle
+    /// loop, a low-priority task), as often as it has time for, and at
+    /// least once per sample on average, or the queue overflows
+    /// ([`Monitor::learning_overruns`]). Its cost is bounded by the slice
+    /// (`docs/performance.md`). Returns true when a rollout finished in
+    /// this slice.
+    #[inline(never)]
+    pub fn predict(&mut self) -> bool {
+        if !self.timeline.started {
+            return false;
+        }
+        if let Some(sample) = self.queue.pop_front() {
+            self.learn(&sample);
+            return false;
+        }
+        if self.tuning.margin.rollout.steps_per_slice == 0 {
+            return false;
+        }
+        let finished = self.advance_rollouts();
+        if finished {
+            self.refresh_estimates(self.status.t_s);
+        }
+        finished
+    }
+
+    /// [`Monitor::update`], then `margin.rollout.slices_per_sample` slices
+    /// of [`Monitor::predict`]: the schedule of a replay, fixed so that the
+    /// host and the MCU compute the same statuses. Returns the status after
+    /// the slices.
+    pub fn update_and_predict(&mut self, sample: &Sample<N>) -> Status<N> {
+        self.update(sample);
+        for _ in 0..self.tuning.margin.rollout.slices_per_sample {
+            self.predict();
+        }
+        self.status
+    }
+
+    /// The slow path's learning from one queued sample: the friction
+    /// observers on the centred fit, the energy margin of one joint, the
+    /// start of the next rollout, and the status's learned part.
+    fn learn(&mut self, sample: &Learning<N>) {
+        for (j, newly) in sample.newly.iter().enumerate() {
+            if *newly {
+                info!("joint {} latched at t = {} s", j + 1, sample.t);
+            }
+        }
+        let centre = self.learn_friction(sample);
+        self.evaluate_margin(sample);
+        self.hand_over_to_prediction(sample, centre.as_ref());
+        self.refresh_estimates(sample.t);
+    }
+
+    /// Friction learning, half a window back, on the centred fit of the
+    /// readings (no lag, little noise): only samples outside the snap
+    /// zones and the settling after a snap, latch or gap, with every free
+    /// joint measured (`smoother.rs`). The observers restart whenever the
+    /// run of fits breaks; an observer that fails restarts at its prior
+    /// (`estimator_reset` in the status). Returns the fit, if any.
+    fn learn_friction(&mut self, sample: &Learning<N>) -> Option<Centre<N>> {
+        let learner = &mut self.learner;
+        learner
+            .fit
+            .push(sample.t, &sample.used, sample.clean, &sample.locked);
+        let centre = learner.fit.centre(self.tuning.meas_var);
+        let Some(c) = &centre else {
+            learner.fit_run = false;
+            return centre;
+        };
+        let terms = momentum_terms(&self.chain, &c.phi, &c.rate);
+        for j in 0..N {
+            if c.locked[j] {
+                continue;
+            }
+            let js = &mut self.joints[j];
+            if !learner.fit_run {
+                js.fo.restart();
+            }
+            let mut p = 0.0f32;
+            for k in 0..N {
+                p += terms.mass[j][k] * c.rate[k];
+            }
+            let branch = Branch::select(c.phi[j], c.rate[j]);
+            js.fo.step(
+                &ObserverInput {
+                    momentum: p,
+                    spring_torque_nm: self.chain.joints()[j].spring.torque(c.phi[j], branch),
+                    beta_nm: terms.beta[j],
+                    rate_rad_s: c.rate[j],
+                    rate_var: c.rate_var[j],
+                    dt_s: c.dt_s,
+                    learn: true,
+                },
+                &self.tuning.observer.tuning,
+            );
+            // An observer changes only when it steps.
+            if !js.fo.is_healthy() {
+                js.fo.reset_parameters();
+                if let Some(out) = self.status.joints.get_mut(j) {
+                    out.faults.insert(Fault::EstimatorReset);
+                }
+            }
+        }
+        learner.fit_run = true;
+        centre
+    }
+}

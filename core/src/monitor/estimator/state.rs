@@ -1,0 +1,290 @@
+//! The [`Monitor`]'s state, grouped by what holds it, and its
+//! construction: in place ([`Monitor::reset`]) so that a monitor in static
+//! memory is configured without a second one on the stack.
+
+use super::clock::Timeline;
+use super::joint::{JointStart, JointState, DEG};
+use super::learning::{Learner, LearningQueue};
+use crate::monitor::config::{
+    ConfigError, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
+};
+use crate::monitor::latch::LatchConfig;
+use crate::monitor::observer::{FrictionObserver, FrictionPrior, RateFilter};
+use crate::monitor::predictor::Predictor;
+use crate::monitor::status::Status;
+use crate::physics::chain::{Chain, GlobalEffects, JointEffects};
+use crate::physics::friction::Friction;
+
+/// The on-board monitor of an `N`-joint deployment.
+#[derive(Clone, Debug)]
+pub struct Monitor<const N: usize> {
+    /// The chain model (f32), with the configured panels and springs.
+    pub(super) chain: Chain<f32, N>,
+    /// The configuration's tuning.
+    pub(super) tuning: Tuning,
+    /// Everything the monitor tracks about each joint.
+    pub(super) joints: [JointState; N],
+    /// The time line of the samples used.
+    pub(super) timeline: Timeline,
+    /// The windows that events open on the time line.
+    pub(super) windows: Windows,
+    /// Samples [`Monitor::update`] queued for the friction learning, which
+    /// [`Monitor::predict`] takes oldest first.
+    pub(super) queue: LearningQueue<N>,
+    /// What the slow path's learning keeps between samples.
+    pub(super) learner: Learner<N>,
+    /// The latch / stall prediction (the rollout cycle), advanced by
+    /// [`Monitor::predict`].
+    pub(super) predictor: Predictor<N>,
+    /// The status after the last sample.
+    pub(super) status: Status<N>,
+}
+
+/// The configuration's tuning, as the monitor uses it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Tuning {
+    /// Variance of one encoder reading [rad²] (noise and quantisation).
+    pub(super) meas_var: f32,
+    /// Its square root [rad].
+    pub(super) meas_sd: f32,
+    pub(super) sensor: SensorConfig,
+    pub(super) observer: ObserverConfig,
+    pub(super) latch: LatchConfig,
+    pub(super) margin: MarginConfig,
+}
+
+/// The windows that events open on the time line [s].
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Windows {
+    /// End of the settling after a snap, latch or gap [s]: the friction
+    /// learning and the margin wait until then.
+    pub(super) blank_until: f32,
+    /// End of the window after a switch closed in which a reading the rate
+    /// filter rejects is the impact, not an outlier [s].
+    pub(super) impact_until: f32,
+    /// Samples left whose prediction is widened for the impact.
+    pub(super) impact_samples: u8,
+}
+
+impl Windows {
+    /// No window open.
+    const CLOSED: Windows = Windows {
+        blank_until: f32::NEG_INFINITY,
+        impact_until: f32::NEG_INFINITY,
+        impact_samples: 0,
+    };
+}
+
+impl Tuning {
+    /// The tuning of `config`'s sensor, observer, latch and margin.
+    fn of<const N: usize>(config: &MonitorConfig<N>) -> Self {
+        let meas_var = meas_var(&config.sensor);
+        Tuning {
+            meas_var,
+            meas_sd: crate::physics::real::sqrtf(meas_var),
+            sensor: config.sensor,
+            observer: config.observer,
+            latch: config.latch,
+            margin: config.margin,
+        }
+    }
+}
+
+/// Measurement variance of one encoder reading [rad²]: noise and
+/// quantisation, `σ² + Δ²/12`.
+fn meas_var(sensor: &SensorConfig) -> f32 {
+    let sd = sensor.encoder_sd_deg * DEG;
+    let q = sensor.encoder_step_deg * DEG;
+    sd * sd + q * q / 12.0
+}
+
+/// [`MonitorConfig::validate`] of one joint, out of line: one copy for
+/// every joint count ([`Monitor::reset`]).
+#[inline(never)]
+fn validate_one(config: &MonitorConfig<1>) -> Result<(), ConfigError> {
+    config.validate()
+}
+
+impl<const N: usize> Monitor<N> {
+    /// A monitor for the configured mechanism, waiting for its first sample
+    /// ([`Monitor::reset`] on a vacant monitor: one definition of the
+    /// initial state).
+    pub fn new(config: &MonitorConfig<N>) -> Result<Self, ConfigError> {
+        let mut m = Self::vacant(config);
+        m.reset(config)?;
+        Ok(m)
+    }
+
+    /// Storage for a monitor, every field written with a placeholder (a
+    /// chain of zero panels, unconfigured joints, `config`'s tuning) for
+    /// [`Monitor::reset`] to overwrite: not a monitor of any mechanism.
+    /// Out of line and returned by value, so that a caller moving it into
+    /// its final place (a static slot) has it written there directly, not
+    /// built on the stack.
+    #[inline(never)]
+    pub(crate) fn vacant(config: &MonitorConfig<N>) -> Self {
+        // A placeholder joint (at the latch, any valid prior; an encoder σ
+        // of 1 rad, no spring spread): `reset` replaces it.
+        let joint = JointStart {
+            stowed_deg: 0.0,
+            capture_deg: 0.0,
+            prior: FrictionPrior {
+                coulomb_nm: 0.0,
+                coulomb_sd_nm: 1.0,
+                viscous_nms: 0.0,
+                viscous_sd_nms: 1.0,
+            },
+        };
+        let state = JointState::new(&joint, 1.0, &config.observer, 0.0);
+        // The large parts last: each is written in place only if nothing
+        // is built after it (LLVM's call-slot forwarding).
+        Monitor {
+            tuning: Tuning {
+                meas_var: 0.0,
+                meas_sd: 0.0,
+                sensor: config.sensor,
+                observer: config.observer,
+                latch: config.latch,
+                margin: config.margin,
+            },
+            timeline: Timeline::START,
+            windows: Windows::CLOSED,
+            queue: LearningQueue::new(),
+            status: Status::default(),
+            learner: Learner::new(),
+            predictor: Predictor::new(MarginConfig::default().confidence),
+            joints: [state; N],
+            chain: Chain::vacant(),
+        }
+    }
+
+    /// [`MonitorConfig::validate`] of `config`, with the same errors in
+    /// the same order, compiled once for all joint counts: each joint is
+    /// checked, with the tuning, as a one-joint configuration (the checks
+    /// take 2.8 KiB of the firmware's flash per joint count otherwise).
+    fn validate_config(config: &MonitorConfig<N>) -> Result<(), ConfigError> {
+        if N == 0 {
+            return config.validate();
+        }
+        let mut tuning = Ok(());
+        for (index, (panel, joint)) in config.panels.iter().zip(&config.joints).enumerate() {
+            let one = MonitorConfig {
+                panels: [*panel],
+                joints: [*joint],
+                sensor: config.sensor,
+                observer: config.observer,
+                latch: config.latch,
+                margin: config.margin,
+            };
+            match validate_one(&one) {
+                Err(ConfigError::Joint { what, .. }) => {
+                    return Err(ConfigError::Joint { index, what })
+                }
+                other => tuning = other,
+            }
+        }
+        tuning
+    }
+
+    /// Makes this monitor the one for `config`, waiting for its first
+    /// sample, in place: it validates `config` and writes every field where
+    /// it is, so that a monitor in static memory is (re)configured without
+    /// a second monitor, or a `Result` of one, on the stack (the firmware's
+    /// start-up, `telemetry::replay`). On an error the monitor is unchanged.
+    #[inline(never)]
+    pub fn reset(&mut self, config: &MonitorConfig<N>) -> Result<(), ConfigError> {
+        Self::validate_config(config)?;
+        // Every field by name: a field added to `Monitor` must be set here.
+        let Monitor {
+            chain,
+            tuning,
+            joints,
+            timeline,
+            windows,
+            queue,
+            learner,
+            predictor,
+            status,
+        } = self;
+        // The only check that can fail after `validate`: before any write.
+        configure_chain(chain, config)?;
+        *tuning = Tuning::of(config);
+        let sd = config.sensor.encoder_sd_deg * DEG;
+        for (state, c) in joints.iter_mut().zip(config.joints.iter()) {
+            *state = JointState::new(
+                &JointStart::of(c),
+                sd,
+                &config.observer,
+                config.margin.spring_sd_rel,
+            );
+        }
+        *timeline = Timeline::START;
+        *windows = Windows::CLOSED;
+        queue.clear();
+        learner.reset();
+        *predictor = Predictor::new(config.margin.confidence);
+        *status = Status::default();
+        Ok(())
+    }
+
+    /// The status after the last sample.
+    pub fn status(&self) -> &Status<N> {
+        &self.status
+    }
+
+    /// The friction observer of joint `j` (0-based), for diagnostics.
+    pub fn observer(&self, j: usize) -> Option<&FrictionObserver> {
+        self.joints.get(j).map(|s| &s.fo)
+    }
+
+    /// The rate filter of joint `j` (0-based), for diagnostics.
+    pub fn rate_filter(&self, j: usize) -> Option<&RateFilter> {
+        self.joints.get(j).map(|s| &s.kf)
+    }
+
+    /// Slices of [`Monitor::predict`] a replay runs after each sample
+    /// (`margin.rollout.slices_per_sample`).
+    pub fn config_slices_per_sample(&self) -> u8 {
+        self.tuning.margin.rollout.slices_per_sample
+    }
+
+    /// The latch / stall prediction (its rollout cycle), for diagnostics.
+    pub fn predictor(&self) -> &Predictor<N> {
+        &self.predictor
+    }
+
+    /// The chain model the monitor uses (f32).
+    pub fn chain(&self) -> &Chain<f32, N> {
+        &self.chain
+    }
+
+    /// Samples dropped so far because the learning queue was full (the
+    /// slow path, [`Monitor::predict`], fell behind by more than
+    /// [`crate::monitor::estimator::LEARNING_QUEUE`] samples). 0 on the
+    /// replay schedule.
+    pub fn learning_overruns(&self) -> u32 {
+        self.learner.overruns
+    }
+}
+
+/// Sets `chain` to the panels and joints of `config`, with no effects
+/// (no tilt, drag, harness or softening) and no friction: the monitor
+/// estimates the friction itself.
+fn configure_chain<const N: usize>(
+    chain: &mut Chain<f32, N>,
+    config: &MonitorConfig<N>,
+) -> Result<(), ConfigError> {
+    chain
+        .set_panels(&config.panels)
+        .map_err(ConfigError::Chain)?;
+    *chain.global_mut() = GlobalEffects::default();
+    for (j, c) in config.joints.iter().enumerate() {
+        if let Some(joint) = chain.joint_mut(j) {
+            joint.stowed_rad = c.stowed_deg * DEG;
+            joint.spring = c.spring;
+            joint.friction = Friction::default();
+            joint.effects = JointEffects::default();
+        }
+    }
+    Ok(())
+}
