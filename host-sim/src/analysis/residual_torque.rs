@@ -52,6 +52,10 @@ pub const SIGNIFICANCE_SD: f64 = 3.5;
 /// feature must stand out, not only the sum of many small ones).
 pub const BIN_Z: f64 = 3.0;
 
+/// A bin mean this many standard errors from zero is "clear of its band"
+/// when a residual torque is described in words.
+pub const CLEAR_BIN_Z: f64 = 2.0;
+
 /// One sample of a joint's residual torque.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TorqueSample {
@@ -124,12 +128,15 @@ impl JointTorque {
     /// words, with its size and whether it resists or drives the
     /// deployment.
     pub fn describe(&self) -> String {
-        let Some(big) = self
-            .by_angle
-            .iter()
-            .filter(|b| b.n > 0)
-            .max_by(|a, b| a.mean_nm.abs().total_cmp(&b.mean_nm.abs()))
-        else {
+        // The largest bin mean among those clear of their band (else the
+        // clearest): a bin of a few noisy samples says little.
+        let used = self.by_angle.iter().filter(|b| b.n > 0);
+        let z = |b: &Bin| b.mean_nm.abs() / b.se_nm.max(1e-12);
+        let clear = used
+            .clone()
+            .filter(|b| z(b) >= CLEAR_BIN_Z)
+            .max_by(|a, b| a.mean_nm.abs().total_cmp(&b.mean_nm.abs()));
+        let Some(big) = clear.or_else(|| used.max_by(|a, b| z(a).total_cmp(&z(b)))) else {
             return format!("joint {}: no sample to judge", self.joint);
         };
         let motion = -self.stowed_deg.signum();

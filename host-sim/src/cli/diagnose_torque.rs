@@ -5,7 +5,7 @@
 
 use super::CliError;
 use crate::analysis::residual_torque::{Bin, JointTorque, TorqueSample};
-use crate::report::plot::{self, Mark, Panel, Series};
+use crate::report::plot::{self, Mark, Panel, Series, YAxis};
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -130,9 +130,30 @@ fn joint_figure(path: &Path, label: &str, t: &JointTorque) -> Result<(), CliErro
             markers: Vec::new(),
         })
         .collect();
+    let axis = YAxis {
+        limits: Some(y_limits(t)),
+        lines: vec![(0.0, String::new())],
+    };
+    let with_axes: Vec<(Panel, YAxis)> = panels.into_iter().map(|p| (p, axis.clone())).collect();
     let title = format!("residual torque at joint {} ({label})", t.joint);
-    plot::draw(path, &title, "angle [deg] / rate [deg/s]", &panels)
+    plot::draw_with_axes(path, &title, "angle [deg] / rate [deg/s]", &with_axes)
         .map_err(|e| CliError::failed(e.to_string()))
+}
+
+/// The y range of a joint's figure [N·m]: the 5th to 95th percentile of
+/// its samples, widened by half (the few samples near a latch, whose band
+/// is wide, are drawn at the frame instead of squashing the rest).
+fn y_limits(t: &JointTorque) -> (f64, f64) {
+    let mut v: Vec<f64> = t.samples.iter().map(|s| s.torque_nm).collect();
+    v.sort_by(f64::total_cmp);
+    let q = |p: f64| {
+        v.get(((v.len().saturating_sub(1)) as f64 * p) as usize)
+            .copied()
+    };
+    match (q(0.05), q(0.95)) {
+        (Some(a), Some(b)) if b > a => (a - 0.5 * (b - a), b + 0.5 * (b - a)),
+        _ => (-1.0, 1.0),
+    }
 }
 
 /// The report section: per joint, the residual torque the baseline and the
