@@ -48,8 +48,9 @@ impl Search<'_, '_> {
             ));
             let what = format!("discover a torque beside {}", labels(&self.current.set));
             if !self.step(&moves, what.clone(), "discovered:") {
+                let first = self.current.set.iter().all(|c| c.table.is_none());
                 let even = self.even_moves();
-                if even.iter().all(|m| moves.contains(m)) {
+                if !first || even.iter().all(|m| moves.contains(m)) {
                     break;
                 }
                 self.eng
@@ -97,7 +98,7 @@ impl Search<'_, '_> {
                 }
             }
         }
-        if moves.is_empty() {
+        if moves.is_empty() && taken.is_empty() {
             self.eng.say("  no joint's residual torque is significant");
             return self.even_moves();
         }
@@ -105,9 +106,10 @@ impl Search<'_, '_> {
     }
 
     /// The even forms at every joint without a table, beside the current
-    /// set: when the evidence finds no joint, or its joints' tables do not
-    /// earn their keep, although the angles say a torque is missing (one
-    /// too fast for the smoother, say). Each claim is checked at the end.
+    /// set: for the first table, when the evidence finds no joint or its
+    /// joints' tables do not earn their keep, although the angles say a
+    /// torque is missing (one too fast for the smoother, say). A second
+    /// table needs the evidence. Each claim is checked at the end.
     fn even_moves(&self) -> Vec<(FittedSet, Candidate)> {
         let taken: Vec<Option<usize>> = self
             .current
