@@ -15,3 +15,5 @@ pub fn repo_root() -> PathBuf {
 pub fn data_dir() -> PathBuf {
     repo_root().join("data")
 }
+
+pub mod hidden_torque;

@@ -494,6 +494,30 @@ impl<T: Real, const N: usize> Chain<T, N> {
         Ok(solve_spd_masked(&m, &rhs, &mode.latched)?)
     }
 
+    /// Inverse dynamics: the joint torques [N·m] the model lacks for the
+    /// state `x` to have the accelerations `accel` [rad/s²],
+    /// `τ_missing = M(φ) φ̈ − (τ + Sᵀ(Q_ext − C))` (Lagrange's equations of
+    /// [`Chain::equations`] solved for the torque instead of `φ̈`). Latched
+    /// joints hold no acceleration (theirs is taken as 0) and get 0: their
+    /// torque is the latch's reaction.
+    pub fn missing_torque(&self, x: &ChainState<T, N>, accel: &[T; N], mode: &Mode<N>) -> [T; N] {
+        let (m, rhs) = self.equations(x, mode);
+        let mut a = *accel;
+        for (aj, &locked) in a.iter_mut().zip(mode.latched.iter()) {
+            if locked {
+                *aj = T::ZERO;
+            }
+        }
+        let ma = mat_vec(&m, &a);
+        let mut out = [T::ZERO; N];
+        for j in 0..N {
+            if !mode.latched[j] {
+                out[j] = ma[j] - rhs[j];
+            }
+        }
+        out
+    }
+
     /// Rates just after a perfectly plastic latch (`physics.md` section 5).
     ///
     /// `latched_after` is the set of joints locked after the impact (those
@@ -673,6 +697,32 @@ mod tests {
             let grad = (c.potential_energy(&a) - c.potential_energy(&b)) / 2e-6;
             assert!((rhs[j] + grad).abs() < 1e-7, "{j}: {} vs {}", rhs[j], -grad);
         }
+    }
+
+    #[test]
+    fn missing_torque_is_the_torque_an_extra_effect_adds() {
+        // Accelerations of a chain with a viscous damper at joint 2, seen by
+        // the chain without it: the missing torque is −f φ̇₂ at joint 2 only.
+        let plain = chain3();
+        let mut damped = plain;
+        damped.joint_mut(1).unwrap().effects.viscous_nms = 0.7;
+        let x = ChainState {
+            phi: [0.2, -0.5, 1.0],
+            phi_dot: [0.4, -1.0, 2.0],
+        };
+        let mode = Mode::default();
+        let acc = damped.acceleration(&x, &mode).unwrap();
+        let tau = plain.missing_torque(&x, &acc, &mode);
+        assert!(tau[0].abs() < 1e-12 && tau[2].abs() < 1e-12, "{tau:?}");
+        assert!((tau[1] - 0.7).abs() < 1e-12, "{tau:?}");
+        let latched = Mode {
+            latched: [true, false, false],
+            ..Mode::default()
+        };
+        let acc = damped.acceleration(&x, &latched).unwrap();
+        let tau = plain.missing_torque(&x, &acc, &latched);
+        assert_eq!(tau[0], 0.0);
+        assert!((tau[1] - 0.7).abs() < 1e-12, "{tau:?}");
     }
 
     #[test]

@@ -8,6 +8,29 @@ use crate::analysis::campaign_sim::CampaignSim;
 use crate::data::campaign::Campaign;
 use crate::model::effect::Effect;
 
+/// "Near the latch": within this angle of it [deg] (the detent zone is 3°,
+/// the tape springs snap within about 1.3°; 5° holds both with room).
+pub const NEAR_LATCH_DEG: f64 = 5.0;
+
+/// "At release": the first this many seconds of a run [s], before the panel
+/// has moved by more than the sensor noise.
+pub const RELEASE_WINDOW_S: f64 = 0.05;
+
+/// A residual is "clear" beyond this many noise floors σ̂ [1].
+pub const CLEAR_SIGMAS: f64 = 3.0;
+
+/// A residual at release that changes by less than this share of itself
+/// after the latch is a sensor effect (an offset) [1].
+pub const SENSOR_CHANGE_SHARE: f64 = 0.25;
+
+/// Correlations weaker than this are not worth a word [1] (|r| ≤ 0.3 is
+/// "weak" on Cohen's scale).
+pub const MIN_CORRELATION: f64 = 0.3;
+
+/// A latch lead or lag shorter than this is within a sample's timing [s]
+/// (half a sample at 100 Hz).
+pub const LATCH_LEAD_S: f64 = 0.005;
+
 /// Residual statistics of one joint in one run (model − measured, deg).
 #[derive(Clone, Debug, PartialEq)]
 pub struct JointEvidence {
@@ -21,11 +44,11 @@ pub struct JointEvidence {
     /// measured angle's distance to the latch (`|φ| > ⅔|φ_s|`, between,
     /// `< ⅓|φ_s|`) [deg]; NaN where no sample falls.
     pub stroke_thirds_rms_deg: [f64; 3],
-    /// RMS within 5° of the latch angle, before the latch [deg].
+    /// RMS within [`NEAR_LATCH_DEG`] of the latch angle, before the latch [deg].
     pub near_latch_rms_deg: f64,
     /// Mean residual after the joint latched in both model and run [deg].
     pub after_latch_mean_deg: f64,
-    /// Mean residual over the first 50 ms (the panel has hardly moved) [deg].
+    /// Mean residual over the first [`RELEASE_WINDOW_S`] (the panel has hardly moved) [deg].
     pub at_release_mean_deg: f64,
     /// Model latch time minus measured latch time [s] (None if either never latched).
     pub latch_lead_s: Option<f64>,
@@ -92,6 +115,24 @@ fn pearson(a: &[f64], b: &[f64]) -> f64 {
     }
 }
 
+/// Pearson correlations of the residual `r` before sample `end` (the
+/// measured latch) with rate, rate², angle, stowed distance and latch
+/// proximity ([`CORRELATES`]); rates by central differences.
+fn correlations(t: &[f64], meas: &[f64], r: &[f64], end: usize, stowed: f64) -> [f64; 5] {
+    let mut regs: [Vec<f64>; 5] = Default::default();
+    let mut rr = Vec::new();
+    for k in 1..end.saturating_sub(1) {
+        let rate = (meas[k + 1] - meas[k - 1]) / (t[k + 1] - t[k - 1]);
+        regs[0].push(rate);
+        regs[1].push(rate * rate.abs());
+        regs[2].push(meas[k]);
+        regs[3].push((meas[k] - stowed).abs());
+        regs[4].push((-meas[k].abs() / NEAR_LATCH_DEG).exp());
+        rr.push(r[k]);
+    }
+    [0, 1, 2, 3, 4].map(|q| pearson(&rr, &regs[q]))
+}
+
 /// The residual evidence of a model (`effects` on the campaign's
 /// mechanisms) against every run and joint. `sigma` is the noise floor [deg].
 pub fn analyse(campaign: &Campaign, effects: &[Effect], sigma: f64) -> Vec<JointEvidence> {
@@ -119,33 +160,27 @@ pub fn analyse(campaign: &Campaign, effects: &[Effect], sigma: f64) -> Vec<Joint
                 third(1.0 / 3.0, 2.0 / 3.0),
                 third(-1.0, 1.0 / 3.0),
             ];
-            let near = rms((0..end).filter(|&k| meas[k].abs() < 5.0).map(|k| r[k]));
+            let near = rms((0..end)
+                .filter(|&k| meas[k].abs() < NEAR_LATCH_DEG)
+                .map(|k| r[k]));
             let after = mean(
                 (0..run.len())
                     .filter(|&k| latched_meas[k] && traj.latched[j][k])
                     .map(|k| r[k]),
             );
-            let release = mean((0..run.len()).filter(|&k| run.t_s[k] <= 0.05).map(|k| r[k]));
+            let release = mean(
+                (0..run.len())
+                    .filter(|&k| run.t_s[k] <= RELEASE_WINDOW_S)
+                    .map(|k| r[k]),
+            );
             let latch_meas = latched_meas.iter().position(|&l| l).map(|k| run.t_s[k]);
             let latch_model = traj.latched[j].iter().position(|&l| l).map(|k| traj.t_s[k]);
             let lead = match (latch_model, latch_meas) {
                 (Some(a), Some(b)) => Some(a - b),
                 _ => None,
             };
-            // Regressors before the measured latch (rate by central differences).
-            let mut regs: [Vec<f64>; 5] = Default::default();
-            let mut rr = Vec::new();
-            for k in 1..end.saturating_sub(1) {
-                let dt = run.t_s[k + 1] - run.t_s[k - 1];
-                let rate = (meas[k + 1] - meas[k - 1]) / dt;
-                regs[0].push(rate);
-                regs[1].push(rate * rate.abs());
-                regs[2].push(meas[k]);
-                regs[3].push((meas[k] - cr.mechanism.joints[j].stowed_deg).abs());
-                regs[4].push((-meas[k].abs() / 5.0).exp());
-                rr.push(r[k]);
-            }
-            let correlation = [0, 1, 2, 3, 4].map(|q| pearson(&rr, &regs[q]));
+            let stowed = cr.mechanism.joints[j].stowed_deg;
+            let correlation = correlations(&run.t_s, meas, &r, end, stowed);
             let total = rms(r.iter().copied());
             let summary = describe(
                 j + 1,
@@ -187,7 +222,7 @@ fn describe(
     corr: &[f64; 5],
     sigma: f64,
 ) -> String {
-    let clear = 3.0 * sigma.max(1e-6);
+    let clear = CLEAR_SIGMAS * sigma.max(1e-6);
     if !(total > clear) {
         return format!(
             "joint {joint}: residual {total:.3} deg RMS, at the noise ({sigma:.3} deg)"
@@ -196,7 +231,7 @@ fn describe(
     let mut s = format!("joint {joint}: residual {total:.3} deg RMS");
     let sensor = release.abs() > clear
         && after.is_finite()
-        && (after - release).abs() < 0.25 * release.abs();
+        && (after - release).abs() < SENSOR_CHANGE_SHARE * release.abs();
     if sensor {
         s += &format!(
             "; already {release:+.3} deg at release and {after:+.3} deg after the latch: a sensor effect (offset), not dynamics"
@@ -219,10 +254,10 @@ fn describe(
         s += "; zero at release, grows with the motion: dynamic";
     }
     match lead {
-        Some(l) if l < -0.005 => {
+        Some(l) if l < -LATCH_LEAD_S => {
             s += &format!("; the model latches {:.3} s early (runs ahead)", -l)
         }
-        Some(l) if l > 0.005 => s += &format!("; the model latches {l:.3} s late (lags)"),
+        Some(l) if l > LATCH_LEAD_S => s += &format!("; the model latches {l:.3} s late (lags)"),
         _ => {}
     }
     if let Some((k, c)) = corr
@@ -230,7 +265,7 @@ fn describe(
         .enumerate()
         .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
     {
-        if c.abs() > 0.3 {
+        if c.abs() > MIN_CORRELATION {
             s += &format!("; correlates most with {} (r = {c:+.2})", CORRELATES[k]);
         }
     }

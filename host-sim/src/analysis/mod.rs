@@ -11,3 +11,7 @@ pub mod fit;
 pub mod identify;
 pub mod metrics;
 pub mod reliability;
+pub mod residual_named;
+pub mod residual_shape;
+pub mod residual_torque;
+pub mod smoothing;

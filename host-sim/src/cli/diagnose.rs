@@ -2,15 +2,16 @@
 //! the named cause, the extended model and its gain — as the diagnosis JSON
 //! of `docs/spec/formats.md` and a Markdown report with plots beside it.
 
-use super::CliError;
+use super::{diagnose_torque, CliError};
 use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::diagnose::{self, Candidate, DiagnoseOptions, Outcome, MIN_DELTA_BIC};
 use crate::analysis::evidence::{self, JointEvidence, CORRELATES};
 use crate::analysis::metrics::{self, TimeWindow};
+use crate::analysis::residual_torque::{self, JointTorque};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::findings::diagnosis::{
-    Diagnosis, Evidence, Fit, FoundEffect, Gain, Named, Round, Score,
+    Diagnosis, Evidence, Fit, FoundEffect, Gain, Named, ResidualTorque, Round, Score,
 };
 use crate::model::findings::rounded;
 use crate::report::plot::{self, Mark, Panel, Series};
@@ -42,13 +43,9 @@ pub struct DiagnoseArgs {
     pub runs: Vec<PathBuf>,
 }
 
-/// Runs `deploywatch diagnose`.
-pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
-    if args.max_effects == 0 || args.max_effects > 3 {
-        return Err(CliError::input("--max-effects: expected 1, 2 or 3"));
-    }
-    super::check_output("--json", &args.json)?;
-    super::check_output("the report beside --json", &args.json.with_extension("md"))?;
+/// The campaign of the arguments, with its warnings shown; a run too
+/// short to diagnose is an error.
+fn load_campaign(args: &DiagnoseArgs) -> Result<Campaign, CliError> {
     let campaign =
         Campaign::load(&args.mechanisms, &args.runs).map_err(|e| CliError::input(e.to_string()))?;
     for w in crate::data::inputs::campaign_warnings(&args.mechanisms, &campaign) {
@@ -63,6 +60,17 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
             )));
         }
     }
+    Ok(campaign)
+}
+
+/// Runs `deploywatch diagnose`.
+pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
+    if args.max_effects == 0 || args.max_effects > 3 {
+        return Err(CliError::input("--max-effects: expected 1, 2 or 3"));
+    }
+    super::check_output("--json", &args.json)?;
+    super::check_output("the report beside --json", &args.json.with_extension("md"))?;
+    let campaign = load_campaign(args)?;
     if !args.quiet {
         eprintln!(
             "diagnosing {} run(s) on {} worker threads",
@@ -91,12 +99,13 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     let before = evidence::analyse(&campaign, &[], outcome.noise_sigma_deg);
     let ext_effects = outcome.extended.effects();
     let after = evidence::analyse(&campaign, &ext_effects, outcome.noise_sigma_deg);
-    let doc = to_json(&campaign, &outcome, &before);
-    let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::failed(e.to_string()))?;
-    std::fs::write(&args.json, text + "\n")
-        .map_err(|e| CliError::input(format!("{}: cannot write: {e}", args.json.display())))?;
+    let torque = [
+        residual_torque::residual_torque(&campaign, &[]),
+        residual_torque::residual_torque(&campaign, &ext_effects),
+    ];
+    write_json(&args.json, &campaign, &outcome, &before, &torque)?;
     let report = args.json.with_extension("md");
-    write_report(&report, &campaign, &outcome, &before, &after)?;
+    write_report(&report, &campaign, &outcome, [&before, &after], &torque)?;
 
     println!(
         "baseline RMS {:.4} deg -> extended {:.4} deg (x{:.1}); noise floor {:.4} deg",
@@ -396,7 +405,27 @@ pub fn to_json(c: &Campaign, o: &Outcome, before: &[JointEvidence]) -> Diagnosis
         evidence: evidence_json(before),
         simulations: o.simulations,
         wall_s: rounded(o.wall_s),
+        residual_torque: None,
     }
+}
+
+/// Writes the diagnosis JSON ([`to_json`], with the residual torque of the
+/// baseline and of the extended model under `residual_torque`).
+fn write_json(
+    path: &Path,
+    c: &Campaign,
+    o: &Outcome,
+    before: &[JointEvidence],
+    torque: &[Vec<JointTorque>; 2],
+) -> Result<(), CliError> {
+    let mut doc = to_json(c, o, before);
+    doc.residual_torque = Some(ResidualTorque {
+        baseline: diagnose_torque::torque_json(&torque[0]),
+        extended: diagnose_torque::torque_json(&torque[1]),
+    });
+    let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::failed(e.to_string()))?;
+    std::fs::write(path, text + "\n")
+        .map_err(|e| CliError::input(format!("{}: cannot write: {e}", path.display())))
 }
 
 /// Writes the Markdown report and its plots: header, causes, discovered
@@ -405,8 +434,8 @@ fn write_report(
     path: &Path,
     c: &Campaign,
     o: &Outcome,
-    before: &[JointEvidence],
-    after: &[JointEvidence],
+    [before, after]: [&[JointEvidence]; 2],
+    torque: &[Vec<JointTorque>; 2],
 ) -> Result<(), CliError> {
     let stem = path
         .file_stem()
@@ -418,6 +447,7 @@ fn write_report(
     report_causes(&mut md, o);
     report_tables(&mut md, &dir, &stem, o)?;
     report_evidence(&mut md, before, after);
+    diagnose_torque::report_torque(&mut md, &dir, &stem, &torque[0], &torque[1])?;
     let _ = writeln!(md, "\n## Plots\n");
     let ext = o.extended.effects();
     for i in 0..c.runs.len() {

@@ -2,6 +2,37 @@
 
 use super::table_form::TableForm;
 use crate::model::effect::{Effect, EffectKind};
+/// Largest Coulomb torque a fit may take [N·m]: above any hinge spring of
+/// the seed mechanisms (2.4–3.6 N·m at the stowed angle), so a wing with it
+/// would not deploy; never active on a real cause.
+pub const MAX_COULOMB_NM: f64 = 20.0;
+
+/// Largest viscous coefficient [N·m·s/rad]: at 1 rad/s it would stop any
+/// seed hinge spring several times over.
+pub const MAX_VISCOUS_NMS: f64 = 50.0;
+
+/// Spring softening range [1]: from a spring twice as stiff (−1) to one at
+/// 1 % of its torque (0.99, not 1: a spring of no torque cannot deploy).
+pub const SOFTENING_RANGE: [f64; 2] = [-1.0, 0.99];
+
+/// Largest harness stiffness [N·m/rad]: 20 N·m/rad holds a seed wing well
+/// before its latch.
+pub const MAX_HARNESS_NM_PER_RAD: f64 = 20.0;
+
+/// Largest detent torque [N·m].
+pub const MAX_DETENT_NM: f64 = 50.0;
+
+/// Largest air-drag coefficient [kg/m²] (sea-level air on a flat plate is
+/// about 0.6 kg/m²; 20 bounds a rig in any gas).
+pub const MAX_AIR_DRAG_KG_M2: f64 = 20.0;
+
+/// Largest rig-tilt component [m/s²]: a rig tilted by 30° has 4.9 m/s².
+pub const MAX_TILT_M_S2: f64 = 5.0;
+
+/// Largest encoder offset [deg]: beyond it a mounting error is no longer an
+/// offset but a wrong mechanism.
+pub const MAX_ENCODER_OFFSET_DEG: f64 = 30.0;
+
 /// One candidate cause: an effect kind and, for per-joint effects, a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Candidate {
@@ -73,16 +104,23 @@ impl Candidate {
             min_step,
         };
         match self.kind {
-            EffectKind::CoulombFriction => vec![b(0.0, 20.0, 1e-4)],
-            EffectKind::ViscousDamping => vec![b(0.0, 50.0, 1e-4)],
-            EffectKind::SpringSoftening => vec![b(-1.0, 0.99, 1e-5)],
-            EffectKind::HarnessStiffness => vec![b(0.0, 20.0, 1e-4)],
-            EffectKind::LatchDetent => vec![b(0.0, 50.0, 1e-3)],
-            EffectKind::AirDrag => vec![b(0.0, 20.0, 1e-4)],
+            EffectKind::CoulombFriction => vec![b(0.0, MAX_COULOMB_NM, 1e-4)],
+            EffectKind::ViscousDamping => vec![b(0.0, MAX_VISCOUS_NMS, 1e-4)],
+            EffectKind::SpringSoftening => {
+                vec![b(SOFTENING_RANGE[0], SOFTENING_RANGE[1], 1e-5)]
+            }
+            EffectKind::HarnessStiffness => vec![b(0.0, MAX_HARNESS_NM_PER_RAD, 1e-4)],
+            EffectKind::LatchDetent => vec![b(0.0, MAX_DETENT_NM, 1e-3)],
+            EffectKind::AirDrag => vec![b(0.0, MAX_AIR_DRAG_KG_M2, 1e-4)],
             // Cartesian components (g cos α, g sin α): nearly linear in
             // the motion, no wrap-around, no singular direction at g = 0.
-            EffectKind::RigTilt => vec![b(-5.0, 5.0, 1e-5), b(-5.0, 5.0, 1e-5)],
-            EffectKind::EncoderOffset => vec![b(-30.0, 30.0, 1e-4)],
+            EffectKind::RigTilt => {
+                let t = MAX_TILT_M_S2;
+                vec![b(-t, t, 1e-5), b(-t, t, 1e-5)]
+            }
+            EffectKind::EncoderOffset => {
+                vec![b(-MAX_ENCODER_OFFSET_DEG, MAX_ENCODER_OFFSET_DEG, 1e-4)]
+            }
             EffectKind::TorqueTable => {
                 vec![b(-TableForm::BOUND_NM, TableForm::BOUND_NM, 1e-4); self.params()]
             }

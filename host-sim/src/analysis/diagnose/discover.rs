@@ -70,6 +70,7 @@ pub fn table_candidates(campaign: &Campaign) -> Vec<Candidate> {
                     from_deg,
                     rate_knots: r,
                     rate_max_deg_s,
+                    placed: None,
                 }),
             });
         }
@@ -141,25 +142,70 @@ pub fn shape_sentence(form: &TableForm, joint: usize, t: &TorqueTable<f64>) -> S
         ));
     }
     if let Some(g) = &t.rate {
-        let end = if motion > 0.0 {
-            g.ys()[g.ys().len() - 1]
-        } else {
-            g.ys()[0]
-        };
-        parts.push(format!(
-            "a {} part that grows with the rate to {:.3} N·m at {} deg/s",
-            if end * motion < 0.0 {
-                "resisting"
-            } else {
-                "driving"
-            },
-            end.abs(),
-            form.rate_max_deg_s
-        ));
+        parts.push(rate_words(g.xs(), g.ys(), motion));
     } else {
         parts.push("independent of the rate".to_string());
     }
     format!("joint {joint}: {}", parts.join(", "))
+}
+
+/// Below this share of its peak, a rate law's value at the largest rate
+/// makes it "peaked" (it falls back after a peak) [1].
+const PEAK_FALL: f64 = 0.6;
+
+/// A monotone rate law is "faster than linear (about quadratic)" when its
+/// value at half the largest rate is below this share of its end value,
+/// "saturating" when above `1 − QUADRATIC_MID` [1] (linear: ½).
+const QUADRATIC_MID: f64 = 0.35;
+
+/// How a rate table depends on the rate, in words: peaked near a rate,
+/// growing faster than linearly, about linearly or saturating; resisting or
+/// driving; its size. `motion` is the sign of the deployment's rate.
+pub fn rate_words(xs: &[f64], ys: &[f64], motion: f64) -> String {
+    // Along the deployment: |rate| increasing.
+    let mut pts: Vec<(f64, f64)> = xs
+        .iter()
+        .zip(ys)
+        .filter(|(x, _)| **x * motion >= 0.0)
+        .map(|(x, y)| (x.abs(), *y))
+        .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let Some(&(r_end, y_end)) = pts.last() else {
+        return "independent of the rate".into();
+    };
+    let &(r_peak, y_peak) = pts
+        .iter()
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+        .unwrap_or(&(r_end, y_end));
+    let sign = if y_peak * motion < 0.0 {
+        "resisting"
+    } else {
+        "driving"
+    };
+    if y_end.abs() < PEAK_FALL * y_peak.abs() && r_peak < r_end {
+        return format!(
+            "a {sign} part peaked near zero rate ({:.3} N·m at {r_peak:.0} deg/s, {:.3} N·m at {r_end:.0} deg/s)",
+            y_peak.abs(),
+            y_end.abs()
+        );
+    }
+    let mid = crate::analysis::residual_shape::interp(
+        &pts.iter().map(|p| p.0).collect::<Vec<_>>(),
+        &pts.iter().map(|p| p.1).collect::<Vec<_>>(),
+        0.5 * r_end,
+    );
+    let ratio = mid / y_end;
+    let growth = if ratio < QUADRATIC_MID {
+        "growing faster than linearly (about quadratic)"
+    } else if ratio > 1.0 - QUADRATIC_MID {
+        "rising fast and saturating"
+    } else {
+        "growing about linearly"
+    };
+    format!(
+        "a {sign} part {growth} with the rate to {:.3} N·m at {r_end:.0} deg/s",
+        y_end.abs()
+    )
 }
 
 /// A discovered table with its 95 % band, knot by knot: `[fitted, lower,
@@ -180,6 +226,7 @@ mod tests {
             from_deg,
             rate_knots: TableForm::RATE_KNOTS,
             rate_max_deg_s,
+            placed: None,
         }
     }
 

@@ -24,13 +24,14 @@
 
 mod candidate;
 pub mod discover;
+mod evidence_search;
 mod outcome;
 mod table_form;
 
 pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
 pub use outcome::{CandidateScore, DiagnoseOptions, FittedSet, Outcome, Round};
-pub use table_form::TableForm;
+pub use table_form::{PlacedKnots, TableForm};
 
 use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::evidence::{self, noise_sigma_deg};
@@ -48,6 +49,22 @@ pub const MIN_DELTA_BIC: f64 = 10.0;
 /// The residual is "down to the sensor noise" below this multiple of σ̂.
 pub const NOISE_FLOOR_FACTOR: f64 = 1.2;
 
+/// A move must lower the held-out RMS below this share of the current
+/// set's [1] (5 % better: a gain the noise of two runs does not give).
+pub const HELD_OUT_SHARE: f64 = 0.95;
+
+/// A residual is "clearly above the noise" beyond this multiple of σ̂ [1]
+/// (and beyond [`ABOVE_NOISE_MARGIN_DEG`] over σ̂).
+pub const ABOVE_NOISE_FACTOR: f64 = 1.5;
+
+/// A residual clearly above the noise also exceeds σ̂ by this [deg] (the encoder's step, 0.022°,
+/// rounded down: below it a residual is quantisation).
+pub const ABOVE_NOISE_MARGIN_DEG: f64 = 0.01;
+
+/// Levenberg–Marquardt iterations without progress before a fit stops
+/// ([`FitOptions::patience`]).
+const FIT_PATIENCE: usize = 12;
+
 /// How many candidates of a round, best by their coarse scan, are fitted
 /// fully (the others keep their scan score).
 pub const SCREEN_KEEP: usize = 8;
@@ -56,11 +73,30 @@ struct Engine<'a> {
     campaign: &'a Campaign,
     progress: Progress<'a>,
     sims: std::sync::atomic::AtomicUsize,
+    /// Start values of the tables shaped by the residual torque.
+    starts: std::sync::Mutex<std::collections::HashMap<TableForm, Vec<f64>>>,
 }
 
 impl Engine<'_> {
     fn say(&self, msg: impl AsRef<str>) {
         (self.progress)(msg.as_ref());
+    }
+
+    /// Remembers the start values of a table shaped by the data.
+    fn set_start(&self, form: TableForm, p: Vec<f64>) {
+        let mut m = self.starts.lock().unwrap_or_else(|e| e.into_inner());
+        m.insert(form, p);
+    }
+
+    /// The starting points of a candidate's coarse scan: a table shaped by
+    /// the data starts from its shape (and half of it); any other from its
+    /// own scan ([`Candidate::scan`]).
+    fn scan_of(&self, cand: &Candidate) -> Vec<Vec<f64>> {
+        let m = self.starts.lock().unwrap_or_else(|e| e.into_inner());
+        match cand.table.and_then(|t| m.get(&t)) {
+            Some(p) => vec![p.clone(), p.iter().map(|x| 0.5 * x).collect()],
+            None => cand.scan(),
+        }
     }
 
     fn residuals(&self, c: &Campaign, set: &[Candidate], p: &[f64]) -> Option<Vec<f64>> {
@@ -91,7 +127,7 @@ impl Engine<'_> {
             lower: b.iter().map(|x| x.lower).collect(),
             upper: b.iter().map(|x| x.upper).collect(),
             min_step: b.iter().map(|x| x.min_step).collect(),
-            patience: 12,
+            patience: FIT_PATIENCE,
         };
         let model = |p: &[f64]| self.residuals(c, set, p);
         let r = fit::least_squares(&model, p0, &opts).ok()?;
@@ -111,7 +147,7 @@ impl Engine<'_> {
         let mut set = base.set.clone();
         set.push(cand);
         let mut best: Option<(f64, usize, Vec<f64>)> = None;
-        for start in cand.scan() {
+        for start in self.scan_of(&cand) {
             let mut p = base.params.clone();
             p.extend(start);
             if let Some((sse, m)) = self.sse(c, &set, &p) {
@@ -252,6 +288,11 @@ impl Engine<'_> {
                 chosen = Some(s.candidate);
             }
         }
+        if std::env::var_os("DEPLOYWATCH_TRACE").is_some() {
+            for s in scores.iter().filter(|s| !s.verdict.is_empty()).take(4) {
+                self.say(format!("    {}: {}", labels(&s.fitted.set), s.verdict));
+            }
+        }
         let next = chosen.and_then(|c| {
             scores
                 .iter()
@@ -302,7 +343,7 @@ impl Engine<'_> {
         } else {
             s.held_out_rms_deg = self.held_out(&s.fitted);
             match (s.held_out_rms_deg, current_held) {
-                (Some(h), Some(c)) if h >= 0.95 * c => {
+                (Some(h), Some(c)) if h >= HELD_OUT_SHARE * c => {
                     format!("held-out RMS {h:.4} deg does not beat {c:.4} deg")
                 }
                 _ => {
@@ -415,6 +456,8 @@ struct Search<'e, 'a> {
     rounds: Vec<Round>,
     seen: Vec<Vec<Candidate>>,
     swaps: usize,
+    /// Whether the pairs the residual torque proposes were tried.
+    proposed: bool,
 }
 
 impl Search<'_, '_> {
@@ -439,7 +482,7 @@ impl Search<'_, '_> {
             if self.try_swap() {
                 continue;
             }
-            if self.rounds.len() == before || !self.try_pair() {
+            if (self.rounds.len() == before || !self.try_pair()) && !self.try_proposed() {
                 return;
             }
         }
@@ -453,66 +496,6 @@ impl Search<'_, '_> {
             .iter()
             .filter(|c| c.table.is_none())
             .count()
-    }
-
-    /// Discovery: while the residual stays above the noise floor, fit a
-    /// torque table at each joint (angle, rate, both), judge the tables like
-    /// any candidate (the joint is the one whose table wins by BIC), and
-    /// after one is added let the named search go on beside it. At most
-    /// [`MAX_TABLES`] tables, at different joints.
-    fn discover(&mut self, tables: &[Candidate], sigma: f64) {
-        for _ in 0..MAX_TABLES {
-            if self.current.rms() <= self.floor_deg {
-                return;
-            }
-            let moves = self.table_moves(tables);
-            if moves.is_empty() {
-                return;
-            }
-            self.eng.say(format!(
-                "discovery: the residual stays at {:.4} deg; fitting {} torque tables beside {}",
-                self.current.rms(),
-                moves.len(),
-                labels(&self.current.set)
-            ));
-            let what = format!("discover a torque beside {}", labels(&self.current.set));
-            if !self.step(&moves, what, "discovered:") {
-                return;
-            }
-            if self.prefer_named() {
-                continue;
-            }
-            // The named search goes on beside the table only while the
-            // residual stays clearly above the noise.
-            if above_noise(&self.current, sigma) {
-                self.swaps = 0;
-                self.run();
-            }
-        }
-    }
-
-    /// The discovery moves: each table at a joint without one, beside the
-    /// current set and in place of each of its named effects (named
-    /// effects that only approximated the unnamed torque give way to it).
-    fn table_moves(&self, tables: &[Candidate]) -> Vec<(FittedSet, Candidate)> {
-        let taken: Vec<Option<usize>> = self
-            .current
-            .set
-            .iter()
-            .filter(|c| c.table.is_some())
-            .map(|c| c.joint)
-            .collect();
-        let named = (0..self.current.set.len()).filter(|&k| self.current.set[k].table.is_none());
-        let bases: Vec<FittedSet> = std::iter::once(self.current.clone())
-            .chain(named.map(|k| self.current.without(k)))
-            .collect();
-        let mut moves = Vec::new();
-        for base in &bases {
-            for c in tables.iter().filter(|c| !taken.contains(&c.joint)) {
-                moves.push((base.clone(), *c));
-            }
-        }
-        moves
     }
 
     /// A named effect that explains the data wins over a table: each table
@@ -729,10 +712,11 @@ impl Engine<'_> {
 }
 
 /// True when the residual of a set stays clearly above the noise floor σ̂
-/// [deg]: above 1.5 σ̂ and above σ̂ + 0.01°.
+/// [deg]: above [`ABOVE_NOISE_FACTOR`] σ̂ and above σ̂ +
+/// [`ABOVE_NOISE_MARGIN_DEG`].
 fn above_noise(f: &FittedSet, sigma: f64) -> bool {
     let rms = f.rms();
-    rms > 1.5 * sigma.max(1e-6) && rms > sigma + 0.01
+    rms > ABOVE_NOISE_FACTOR * sigma.max(1e-6) && rms > sigma + ABOVE_NOISE_MARGIN_DEG
 }
 
 /// The `unexplained` description when the residual stays clearly above the
@@ -760,6 +744,7 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         campaign,
         progress,
         sims: std::sync::atomic::AtomicUsize::new(0),
+        starts: Default::default(),
     };
     let sigma = noise_sigma_deg(campaign);
     let baseline = eng.baseline();
@@ -795,10 +780,11 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         rounds: Vec::new(),
         seen: vec![Vec::new()],
         swaps: 0,
+        proposed: false,
     };
     search.run();
     if opts.discover && !truss {
-        search.discover(&discover::table_candidates(campaign), sigma);
+        search.discover(sigma);
     }
     let (extended, strength_rms_deg) = eng.strongest_first(&search.current);
     let held_out_rms_deg = match search.current_held {

@@ -1,7 +1,9 @@
 //! The form of a torque table a diagnosis may fit at one joint.
 
+use crate::analysis::residual_shape::Shape;
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::torque_table::max_abs_nm;
+use deploywatch_core::torque_table::TABLE_MAX_KNOTS;
 use deploywatch_core::{Table, TorqueTable};
 /// The form of a candidate table at one joint: which tables, over which
 /// span. Integers so that candidates stay comparable and hashable.
@@ -17,6 +19,69 @@ pub struct TableForm {
     /// The largest rate the runs reach at this joint, with the sign of the
     /// deployment [deg/s]; the knots are spread from 0 to it.
     pub rate_max_deg_s: i32,
+    /// Knots placed where the residual torque bends
+    /// ([`crate::analysis::residual_shape`]); `None`: the even knots above.
+    pub placed: Option<PlacedKnots>,
+}
+
+/// Knots placed from the data, in hundredths so that forms stay comparable
+/// and hashable. `angle_knots` of [`TableForm`] counts the angle knots,
+/// `rate_knots` the rate knots beside the one at 0 (held at 0 N·m).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PlacedKnots {
+    /// Angle knots [0.01 deg], increasing.
+    pub angle_cdeg: [i32; TABLE_MAX_KNOTS],
+    /// Rate knots [0.01 deg/s], increasing, 0 among them.
+    pub rate_cdeg_s: [i32; TABLE_MAX_KNOTS],
+}
+
+/// Hundredths of `x`, as stored in [`PlacedKnots`].
+fn hundredths(x: f64) -> i32 {
+    (x * 100.0).round() as i32
+}
+
+impl PlacedKnots {
+    /// The form of a shape fitted to a residual torque: its knots, with the
+    /// stroke and rate span of the even form for the words. `None` when it
+    /// has more knots than a table holds.
+    pub fn form(shape: &Shape, from_deg: i32, rate_max_deg_s: i32) -> Option<TableForm> {
+        let (na, nr) = (shape.angle_deg.len(), shape.rate_deg_s.len());
+        if na > TABLE_MAX_KNOTS || nr > TABLE_MAX_KNOTS || na == 1 || nr == 1 {
+            return None;
+        }
+        let mut k = PlacedKnots {
+            angle_cdeg: [0; TABLE_MAX_KNOTS],
+            rate_cdeg_s: [0; TABLE_MAX_KNOTS],
+        };
+        for (d, x) in k.angle_cdeg.iter_mut().zip(&shape.angle_deg) {
+            *d = hundredths(*x);
+        }
+        for (d, x) in k.rate_cdeg_s.iter_mut().zip(&shape.rate_deg_s) {
+            *d = hundredths(*x);
+        }
+        Some(TableForm {
+            angle_knots: na as u8,
+            from_deg,
+            rate_knots: nr.saturating_sub(1) as u8,
+            rate_max_deg_s,
+            placed: Some(k),
+        })
+    }
+
+    /// The start values of such a form: the shape's knot torques (angle
+    /// knots, then the rate knots without the one at 0).
+    pub fn start(shape: &Shape) -> Vec<f64> {
+        let mut p = shape.angle_nm.clone();
+        p.extend(
+            shape
+                .rate_deg_s
+                .iter()
+                .zip(&shape.rate_nm)
+                .filter(|(x, _)| **x != 0.0)
+                .map(|(_, y)| *y),
+        );
+        p
+    }
 }
 
 impl TableForm {
@@ -50,6 +115,14 @@ impl TableForm {
     /// The angle knots [deg], increasing.
     pub fn angle_xs(&self) -> Vec<f64> {
         let k = usize::from(self.angle_knots);
+        if let Some(p) = &self.placed {
+            return p
+                .angle_cdeg
+                .iter()
+                .take(k)
+                .map(|&c| f64::from(c) / 100.0)
+                .collect();
+        }
         let from = f64::from(self.from_deg);
         let mut xs: Vec<f64> = (0..k)
             .map(|i| from * (1.0 - i as f64 / (k - 1).max(1) as f64))
@@ -61,6 +134,14 @@ impl TableForm {
     /// The rate knots [deg/s], increasing, with `0` among them.
     pub fn rate_xs(&self) -> Vec<f64> {
         let k = usize::from(self.rate_knots);
+        if let Some(p) = &self.placed {
+            return p
+                .rate_cdeg_s
+                .iter()
+                .take(k + 1)
+                .map(|&c| f64::from(c) / 100.0)
+                .collect();
+        }
         let r = f64::from(self.rate_max_deg_s);
         let mut xs: Vec<f64> = (0..=k).map(|i| r * i as f64 / k.max(1) as f64).collect();
         xs.sort_by(f64::total_cmp);
@@ -68,8 +149,12 @@ impl TableForm {
     }
 
     /// The torque table with knot torques `p` (angle knots, then the free
-    /// rate knots from the rate 0 outwards).
+    /// rate knots from the rate 0 outwards; placed knots: both in
+    /// increasing order).
     pub fn table(&self, p: &[f64]) -> TorqueTable<f64> {
+        if self.placed.is_some() {
+            return self.placed_table(p);
+        }
         let na = usize::from(self.angle_knots);
         let angle = (na >= 2)
             .then(|| {
@@ -95,6 +180,31 @@ impl TableForm {
                 }
                 Table::new(&xs, &ys).ok()
             })
+            .flatten();
+        TorqueTable { angle, rate }
+    }
+
+    /// [`TableForm::table`] of placed knots: the values in increasing order
+    /// of their knots, the rate knot at 0 held at 0.
+    fn placed_table(&self, p: &[f64]) -> TorqueTable<f64> {
+        let na = usize::from(self.angle_knots);
+        let angle = (na >= 2)
+            .then(|| Table::new(&self.angle_xs(), p.get(..na)?).ok())
+            .flatten();
+        let rxs = self.rate_xs();
+        let mut free = p.iter().skip(na);
+        let rys: Vec<f64> = rxs
+            .iter()
+            .map(|&x| {
+                if x == 0.0 {
+                    0.0
+                } else {
+                    free.next().copied().unwrap_or(0.0)
+                }
+            })
+            .collect();
+        let rate = (self.rate_knots > 0)
+            .then(|| Table::new(&rxs, &rys).ok())
             .flatten();
         TorqueTable { angle, rate }
     }

@@ -46,6 +46,70 @@ pub struct Diagnosis {
     /// Its wall-clock time [s].
     #[serde(default)]
     pub wall_s: Option<f64>,
+    /// The joint torque the baseline and the extended model lack, estimated
+    /// from the runs (`docs/diagnosis.md`, "The residual torque from the
+    /// data").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub residual_torque: Option<ResidualTorque>,
+}
+
+/// The residual torque against the baseline and against the extended model.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ResidualTorque {
+    /// Against the mechanisms as given, one entry per joint.
+    pub baseline: Vec<JointResidualTorque>,
+    /// Against the mechanisms with the effects found, one entry per joint.
+    pub extended: Vec<JointResidualTorque>,
+}
+
+/// One joint's residual torque, summarised and binned.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct JointResidualTorque {
+    /// Joint, from 1.
+    pub joint: usize,
+    /// Significant against its own band (`χ²` of the bin means and one bin
+    /// beyond 3 standard errors).
+    pub significant: bool,
+    /// `χ²` of the angle bins' means against zero.
+    #[serde(default)]
+    pub chi2: Option<f64>,
+    /// Largest `|mean| / se` of one bin.
+    #[serde(default)]
+    pub max_bin_z: Option<f64>,
+    /// RMS of the residual torque samples [N·m].
+    #[serde(default)]
+    pub rms_nm: Option<f64>,
+    /// Samples used.
+    #[serde(default)]
+    pub samples: usize,
+    /// One sentence: where in the stroke, at which rates, resisting or driving.
+    #[serde(default)]
+    pub description: String,
+    /// Bins over the angle [deg].
+    #[serde(default)]
+    pub by_angle_deg: Vec<TorqueBin>,
+    /// Bins over the rate [deg/s].
+    #[serde(default)]
+    pub by_rate_deg_s: Vec<TorqueBin>,
+}
+
+/// One bin of the residual torque.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TorqueBin {
+    /// Lower edge (deg or deg/s).
+    #[serde(default)]
+    pub from: Option<f64>,
+    /// Upper edge (deg or deg/s).
+    #[serde(default)]
+    pub to: Option<f64>,
+    /// Samples in the bin.
+    pub n: usize,
+    /// Mean residual torque [N·m].
+    #[serde(default)]
+    pub mean_nm: Option<f64>,
+    /// Standard error of the mean [N·m].
+    #[serde(default)]
+    pub se_nm: Option<f64>,
 }
 
 impl Diagnosis {

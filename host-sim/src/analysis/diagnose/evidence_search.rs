@@ -1,0 +1,252 @@
+//! Discovery guided by the residual torque from the data
+//! ([`crate::analysis::residual_torque`]).
+//!
+//! Tables are tried at the joints whose residual torque is significant
+//! beside the set they would join (at every joint, in the even forms, only
+//! when no joint's is), and besides the even forms of
+//! [`super::discover`], in the shape the residual torque itself has
+//! ([`crate::analysis::residual_shape`]: knots placed where it bends, their
+//! number by BIC), which starts the fit through the simulator. Each claim
+//! is checked against the same evidence at the end: a table or a named
+//! joint effect whose joint shows no significant residual torque without
+//! it is dropped.
+
+use super::candidate::Candidate;
+use super::discover;
+use super::outcome::FittedSet;
+use super::table_form::PlacedKnots;
+use super::{above_noise, labels, Search, MAX_TABLES};
+use crate::analysis::residual_named::propose_pair;
+use crate::analysis::residual_shape::best_shape;
+use crate::analysis::residual_torque::{residual_torque, JointTorque};
+use crate::model::effect::EffectKind;
+
+/// A claim at a joint without significant residual torque is dropped only
+/// when the set without it fits within this share of the set's RMS (or of
+/// the noise floor) [1]: what the fit needs stays.
+const CLAIM_RMS_SHARE: f64 = 1.1;
+
+impl Search<'_, '_> {
+    /// Discovery: while the residual stays above the noise floor, fit torque
+    /// tables at the joints whose residual torque is significant, judge
+    /// them like any candidate, and after one is added let the named search
+    /// go on beside it. At most [`MAX_TABLES`] tables, at different joints.
+    pub(super) fn discover(&mut self, sigma: f64) {
+        for _ in 0..MAX_TABLES {
+            if self.current.rms() <= self.floor_deg {
+                break;
+            }
+            let moves = self.table_moves();
+            if moves.is_empty() {
+                break;
+            }
+            self.eng.say(format!(
+                "discovery: the residual stays at {:.4} deg; fitting {} torque tables beside {}",
+                self.current.rms(),
+                moves.len(),
+                labels(&self.current.set)
+            ));
+            let what = format!("discover a torque beside {}", labels(&self.current.set));
+            if !self.step(&moves, what.clone(), "discovered:") {
+                let first = self.current.set.iter().all(|c| c.table.is_none());
+                let even = self.even_moves();
+                if !first || even.iter().all(|m| moves.contains(m)) {
+                    break;
+                }
+                self.eng
+                    .say("  no table at the evidence's joints earns its keep: even tables at every joint");
+                if !self.step(&even, what, "discovered:") {
+                    break;
+                }
+            }
+            if self.prefer_named() {
+                continue;
+            }
+            if above_noise(&self.current, sigma) {
+                self.swaps = 0;
+                self.run();
+            }
+        }
+        self.check_claims();
+    }
+
+    /// The discovery moves: beside the current set and in place of each of
+    /// its named effects, a table at each joint without one whose residual
+    /// torque beside that set is significant.
+    fn table_moves(&self) -> Vec<(FittedSet, Candidate)> {
+        let taken: Vec<Option<usize>> = self
+            .current
+            .set
+            .iter()
+            .filter(|c| c.table.is_some())
+            .map(|c| c.joint)
+            .collect();
+        let named = (0..self.current.set.len()).filter(|&k| self.current.set[k].table.is_none());
+        let bases: Vec<FittedSet> = std::iter::once(self.current.clone())
+            .chain(named.map(|k| self.current.without(k)))
+            .collect();
+        let even = discover::table_candidates(self.eng.campaign);
+        let mut moves = Vec::new();
+        for base in &bases {
+            let res = residual_torque(self.eng.campaign, &base.effects());
+            for jt in res
+                .iter()
+                .filter(|j| j.significant && !taken.contains(&Some(j.joint)))
+            {
+                for c in self.joint_tables(jt, &even) {
+                    moves.push((base.clone(), c));
+                }
+            }
+        }
+        if moves.is_empty() && taken.is_empty() {
+            self.eng.say("  no joint's residual torque is significant");
+            return self.even_moves();
+        }
+        moves
+    }
+
+    /// The even forms at every joint without a table, beside the current
+    /// set: for the first table, when the evidence finds no joint or its
+    /// joints' tables do not earn their keep, although the angles say a
+    /// torque is missing (one too fast for the smoother, say). A second
+    /// table needs the evidence. Each claim is checked at the end.
+    fn even_moves(&self) -> Vec<(FittedSet, Candidate)> {
+        let taken: Vec<Option<usize>> = self
+            .current
+            .set
+            .iter()
+            .filter(|c| c.table.is_some())
+            .map(|c| c.joint)
+            .collect();
+        discover::table_candidates(self.eng.campaign)
+            .into_iter()
+            .filter(|c| !taken.contains(&c.joint))
+            .map(|c| (self.current.clone(), c))
+            .collect()
+    }
+
+    /// The table candidates at one joint: the even forms and the shape the
+    /// residual torque has (its knot torques kept as the fit's start).
+    fn joint_tables(&self, jt: &JointTorque, even: &[Candidate]) -> Vec<Candidate> {
+        let mine: Vec<Candidate> = even
+            .iter()
+            .copied()
+            .filter(|c| c.joint == Some(jt.joint))
+            .collect();
+        let mut out = mine.clone();
+        let Some(form) = mine.first().and_then(|c| c.table) else {
+            return out;
+        };
+        let motion = -f64::from(form.from_deg).signum();
+        let Some(shape) = best_shape(&jt.samples, motion) else {
+            return out;
+        };
+        let Some(placed) = PlacedKnots::form(&shape, form.from_deg, form.rate_max_deg_s) else {
+            return out;
+        };
+        self.eng.say(format!(
+            "  residual torque at joint {}: {} angle and {} rate knots (BIC {:.0} against {:.0} for none)",
+            jt.joint,
+            shape.angle_deg.len(),
+            shape.rate_deg_s.len(),
+            shape.bic,
+            shape.bic_zero
+        ));
+        self.eng.set_start(placed, PlacedKnots::start(&shape));
+        out.push(Candidate {
+            kind: EffectKind::TorqueTable,
+            joint: Some(jt.joint),
+            table: Some(placed),
+        });
+        out
+    }
+
+    /// Drops every table and named joint effect (sensor effects aside)
+    /// whose joint shows no significant residual torque without it and
+    /// whose loss the fit hardly notices ([`CLAIM_RMS_SHARE`]): a claim at
+    /// a joint that holds nothing.
+    fn check_claims(&mut self) {
+        loop {
+            let weak = (0..self.current.set.len()).find(|&k| {
+                let c = self.current.set[k];
+                let Some(j) = c.joint else { return false };
+                if c.kind == EffectKind::EncoderOffset || j > self.eng.campaign.max_joints() {
+                    return false;
+                }
+                let without = self.current.without(k);
+                let res = residual_torque(self.eng.campaign, &without.effects());
+                res.iter().any(|r| r.joint == j && !r.significant)
+            });
+            let Some(k) = weak else { return };
+            let gone = self.current.set[k];
+            let reduced = self.current.without(k);
+            let Some(f) = self
+                .eng
+                .fit(self.eng.campaign, &reduced.set, &reduced.params)
+            else {
+                return;
+            };
+            // The evidence may miss a torque the fit needs: a claim goes
+            // only when the fit hardly notices (the data hold nothing there).
+            if f.rms() > CLAIM_RMS_SHARE * self.current.rms().max(self.floor_deg) {
+                return;
+            }
+            self.eng.say(format!(
+                "  dropped {}: joint {} shows no significant residual torque without it (RMS {:.4} deg)",
+                gone.words(),
+                gone.joint.unwrap_or(0),
+                f.rms()
+            ));
+            self.current_held = self.eng.held_out(&f);
+            self.current = f;
+        }
+    }
+
+    /// When the stepwise search ends above the noise: the pairs of named
+    /// effects at one joint that the baseline's residual torque proposes
+    /// ([`propose_pair`]), fitted through the simulator in place of the
+    /// current set and judged like any move. True when one was taken.
+    pub(super) fn try_proposed(&mut self) -> bool {
+        if std::mem::replace(&mut self.proposed, true) {
+            return false;
+        }
+        let res = residual_torque(self.eng.campaign, &[]);
+        let mut moves = Vec::new();
+        for p in res.iter().filter_map(propose_pair) {
+            let [(a, va), (b, _)] = p.effects[..] else {
+                continue;
+            };
+            let cand = |kind| Candidate {
+                kind,
+                joint: Some(p.joint),
+                table: None,
+            };
+            if !self.candidates.contains(&cand(a)) || !self.candidates.contains(&cand(b)) {
+                continue;
+            }
+            let base = FittedSet {
+                set: vec![cand(a)],
+                params: vec![va],
+                ci95: vec![[f64::NEG_INFINITY, f64::INFINITY]],
+                sse: f64::NAN,
+                m: self.current.m,
+                evaluations: 0,
+            };
+            self.eng.say(format!(
+                "  the residual torque at joint {} looks like {} and {}",
+                p.joint,
+                cand(a).words(),
+                cand(b).words()
+            ));
+            moves.push((base, cand(b)));
+        }
+        if moves.is_empty() {
+            return false;
+        }
+        let what = format!(
+            "replace {} by a pair the residual torque proposes",
+            labels(&self.current.set)
+        );
+        self.step(&moves, what, "proposed by the residual torque:")
+    }
+}

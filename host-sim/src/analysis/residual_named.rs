@@ -1,0 +1,138 @@
+//! Named effects proposed by the residual torque: at one joint, the torque
+//! the model lacks is regressed on the signatures of the named joint
+//! effects of `physics.md` section 6,
+//!
+//! ```text
+//! coulomb_friction   −tanh(φ̇ / 0.01)        × T_C
+//! viscous_damping    −φ̇                     × f
+//! spring_softening   −τ_spring(φ)           × s
+//! harness_stiffness  (φ_stowed − φ)         × k_h
+//! ```
+//!
+//! alone and in pairs, by weighted least squares (no simulation), and the
+//! best by BIC is proposed. Two causes at one joint (a softened spring with
+//! friction, say) show here as a pair that fits the residual torque far
+//! better than either alone, where a stepwise search through the simulator
+//! may settle on stand-ins.
+
+use crate::analysis::residual_shape::{bic, thin};
+use crate::analysis::residual_torque::{JointTorque, TorqueSample};
+use crate::model::effect::EffectKind;
+
+/// The named joint effects with a torque signature.
+pub const KINDS: [EffectKind; 4] = [
+    EffectKind::CoulombFriction,
+    EffectKind::ViscousDamping,
+    EffectKind::SpringSoftening,
+    EffectKind::HarnessStiffness,
+];
+
+/// `ω_coul` of `coulomb_friction` [rad/s] (`physics.md` section 4).
+const OMEGA_COUL_RAD_S: f64 = 0.01;
+
+/// A pair is proposed when its BIC beats the best single effect's by more
+/// than this (Kass & Raftery's "very strong").
+pub const MIN_PAIR_GAIN: f64 = 10.0;
+
+/// A named effect's torque per unit of its value at a sample [N·m per unit].
+pub fn signature(kind: EffectKind, s: &TorqueSample) -> f64 {
+    let rate = s.rate_deg_s.to_radians();
+    match kind {
+        EffectKind::CoulombFriction => -(rate / OMEGA_COUL_RAD_S).tanh(),
+        EffectKind::ViscousDamping => -rate,
+        EffectKind::SpringSoftening => -s.spring_nm,
+        EffectKind::HarnessStiffness => s.from_stowed_rad,
+        _ => 0.0,
+    }
+}
+
+/// Named effects that explain one joint's residual torque, with their
+/// values and the fit's BIC.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Proposal {
+    /// 1-based joint.
+    pub joint: usize,
+    /// The effects and their values (in each kind's unit).
+    pub effects: Vec<(EffectKind, f64)>,
+    /// BIC of the fit to the residual torque.
+    pub bic: f64,
+}
+
+/// Weighted least squares of the samples on the signatures of `kinds`:
+/// the values and the weighted RSS. `None` when singular or a value is not
+/// positive (every named effect here has a positive value).
+fn fit(samples: &[TorqueSample], kinds: &[EffectKind]) -> Option<(Vec<f64>, f64)> {
+    let k = kinds.len();
+    let mut ata = [[0.0; 2]; 2];
+    let mut atb = [0.0; 2];
+    for s in samples {
+        let w = 1.0 / s.se_nm.max(1e-9).powi(2);
+        let x: Vec<f64> = kinds.iter().map(|&kd| signature(kd, s)).collect();
+        for a in 0..k {
+            atb[a] += w * x[a] * s.torque_nm;
+            for b in 0..k {
+                ata[a][b] += w * x[a] * x[b];
+            }
+        }
+    }
+    let v = match k {
+        1 => vec![atb[0] / ata[0][0]],
+        2 => {
+            let det = ata[0][0] * ata[1][1] - ata[0][1] * ata[1][0];
+            if det.abs() <= 1e-12 * ata[0][0] * ata[1][1] {
+                return None;
+            }
+            vec![
+                (atb[0] * ata[1][1] - atb[1] * ata[0][1]) / det,
+                (atb[1] * ata[0][0] - atb[0] * ata[1][0]) / det,
+            ]
+        }
+        _ => return None,
+    };
+    if v.iter().any(|x| !(*x > 0.0)) {
+        return None;
+    }
+    let rss = samples
+        .iter()
+        .map(|s| {
+            let m: f64 = kinds
+                .iter()
+                .zip(&v)
+                .map(|(&kd, c)| c * signature(kd, s))
+                .sum();
+            ((s.torque_nm - m) / s.se_nm.max(1e-9)).powi(2)
+        })
+        .sum();
+    Some((v, rss))
+}
+
+/// The best named pair at a joint with a significant residual torque, when
+/// it beats the best single effect by [`MIN_PAIR_GAIN`]; `None` otherwise
+/// (a single effect the stepwise search finds itself).
+pub fn propose_pair(jt: &JointTorque) -> Option<Proposal> {
+    if !jt.significant {
+        return None;
+    }
+    let samples = thin(&jt.samples);
+    let score = |kinds: &[EffectKind]| -> Option<Proposal> {
+        let (v, rss) = fit(&samples, kinds)?;
+        Some(Proposal {
+            joint: jt.joint,
+            effects: kinds.iter().copied().zip(v).collect(),
+            bic: bic(&samples, rss, kinds.len()),
+        })
+    };
+    let best = |it: Vec<Proposal>| it.into_iter().min_by(|a, b| a.bic.total_cmp(&b.bic));
+    let single = best(KINDS.iter().filter_map(|&k| score(&[k])).collect());
+    let mut pairs = Vec::new();
+    for a in 0..KINDS.len() {
+        for b in a + 1..KINDS.len() {
+            pairs.extend(score(&[KINDS[a], KINDS[b]]));
+        }
+    }
+    let pair = best(pairs)?;
+    match single {
+        Some(s) if s.bic - pair.bic <= MIN_PAIR_GAIN => None,
+        _ => Some(pair),
+    }
+}
