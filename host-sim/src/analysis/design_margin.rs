@@ -313,7 +313,24 @@ pub fn factored_margin(driving: f64, terms: &[Term], factors: &Factors) -> f64 {
     ratio(driving, factored_resistance(terms, factors)) - 1.0
 }
 
-/// Both margins of one spring-driven joint against a constant friction.
+/// The kind a physical latch's engagement counts as: the standards'
+/// "variable" (NASA-STD-5017B) / "other forces" (ECSS-E-ST-33-01C) factor,
+/// 3 by default (`docs/margin.md`, "The latch's engagement").
+pub const LATCH_KIND: Resistance = Resistance::Other;
+
+/// A physical latch's engagement as a resistance (`physics.md` §10.3): zero
+/// for the ideal latch.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct LatchResistance {
+    /// The entry torque `(P0 + k_p h) r_p tan α_e` [N·m]: the torque form's
+    /// resistance.
+    pub entry_torque_nm: f64,
+    /// The engagement energy `P0 h + ½ k_p h²` [J]: the energy form's.
+    pub engagement_energy_j: f64,
+}
+
+/// Both margins of one spring-driven joint against a constant friction
+/// and, with a physical latch, its engagement.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointMargin {
     /// The stroke `|φ_stowed|` [rad].
@@ -328,26 +345,40 @@ pub struct JointMargin {
     pub resisting_energy_j: f64,
     /// The factors applied to the friction.
     pub friction_factor: f64,
+    /// The physical latch's engagement (zero for the ideal latch).
+    pub latch: LatchResistance,
+    /// The factor applied to it (that of [`LATCH_KIND`]).
+    pub latch_factor: f64,
     /// Required minimum margin [%] (`MoS_required · 100`).
     pub required_pct: f64,
 }
 
 impl JointMargin {
-    /// The torque-form margin with the friction factor,
-    /// `(T_D / (FoS · T_R) − 1) · 100` [%] (seed 001 Eq. 7 when the factor is 1).
+    /// The same margins with a physical latch's engagement.
+    pub fn with_latch(mut self, latch: LatchResistance) -> Self {
+        self.latch = latch;
+        self
+    }
+
+    /// The torque-form margin with the factors,
+    /// `(T_D / (FoS_f · T_R + FoS_l · T_e) − 1) · 100` [%] (seed 001 Eq. 7
+    /// when the factors are 1 and the latch ideal, `T_e = 0`).
     pub fn torque_margin_pct(&self) -> f64 {
         margin_pct(
             self.driving_torque_nm,
-            self.friction_factor * self.resisting_torque_nm,
+            self.friction_factor * self.resisting_torque_nm
+                + self.latch_factor * self.latch.entry_torque_nm,
         )
     }
 
-    /// The energy-form margin with the friction factor,
-    /// `(E_D / (FoS · E_R) − 1) · 100` [%] (seed 000 Eq. 21 when the factor is 1).
+    /// The energy-form margin with the factors,
+    /// `(E_D / (FoS_f · E_R + FoS_l · E_eng) − 1) · 100` [%] (seed 000
+    /// Eq. 21 when the factors are 1 and the latch ideal, `E_eng = 0`).
     pub fn energy_margin_pct(&self) -> f64 {
         margin_pct(
             self.driving_energy_j,
-            self.friction_factor * self.resisting_energy_j,
+            self.friction_factor * self.resisting_energy_j
+                + self.latch_factor * self.latch.engagement_energy_j,
         )
     }
 
@@ -384,6 +415,8 @@ pub fn joint_margin(
         driving_energy_j: spring.release(0.0, stroke),
         resisting_energy_j: friction_nm * stroke,
         friction_factor: f.get(Resistance::Friction),
+        latch: LatchResistance::default(),
+        latch_factor: f.get(LATCH_KIND),
         required_pct: standard.required_margin() * 100.0,
     }
 }

@@ -7,11 +7,15 @@
 //! the torque-form margin (seed 001 Eq. 7), `E_D`, `E_R = T_R · stroke` plus
 //! the energy a viscous damping dissipates on the deployment, and the
 //! energy-form margin (seed 000 Eq. 21), with the chosen standard's friction
-//! factor applied, and pass/fail against its required minimum. `--json`
-//! writes the same table.
+//! factor applied, and pass/fail against its required minimum. A joint with
+//! a physical latch (`[joint.latch]`) also counts the plunger's engagement
+//! as a resistance, factored as [`LATCH_KIND`]: its entry torque in the
+//! torque form, its engagement energy in the energy form, each printed on
+//! a line of its own. `--json` writes the same table.
 use super::{check_output, CliError, Console};
 use crate::analysis::design_margin::{
-    joint_margin, Factors, JointMargin, NameError, Resistance, Standard,
+    joint_margin, Factors, JointMargin, LatchResistance, NameError, Resistance, Standard,
+    LATCH_KIND,
 };
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::findings::{Diagnosis, Findings, FindingsError, Identification};
@@ -432,6 +436,7 @@ fn margins(
             Some(factors),
         );
         m.resisting_energy_j += viscous[j];
+        let m = m.with_latch(latch_resistance(mech, j));
         rows.push(Row {
             joint: j + 1,
             stowed_deg: joint.stowed_deg,
@@ -441,6 +446,20 @@ fn margins(
         });
     }
     Ok(rows)
+}
+
+/// The engagement of joint `j`'s physical latch (0-based) as a resistance,
+/// from the core's law in `f64` (`physics.md` §10.3); zero for the ideal
+/// latch.
+pub fn latch_resistance(mech: &Mechanism, j: usize) -> LatchResistance {
+    let (Some(spec), Some(joint)) = (mech.latch(j), mech.joints.get(j)) else {
+        return LatchResistance::default();
+    };
+    let l = spec.to_core::<f64>(joint.stowed_deg, 1.0, 1.0);
+    LatchResistance {
+        entry_torque_nm: l.entry_torque(),
+        engagement_energy_j: l.engagement_energy(),
+    }
 }
 
 /// Runs `deploywatch margin`.
@@ -516,15 +535,26 @@ fn table_header(args: &MarginArgs, mech: &Mechanism, r: &Resistances, factors: &
         let _ = writeln!(s, "uncertainty factors: {}", list.join(", "));
         let _ = writeln!(
             s,
-            "applied to the friction: {} ; required minimum margin: {:.0} %",
+            "applied to the friction: {} ; to a latch's engagement ({}): {} ; required minimum margin: {:.0} %",
             factors.get(Resistance::Friction),
+            LATCH_KIND,
+            factors.get(LATCH_KIND),
             args.standard.required_margin() * 100.0
         );
-        let _ = writeln!(s, "margins below: D / (FoS_friction · R) − 1");
+        let _ = writeln!(
+            s,
+            "margins below: D / (FoS_friction · R + FoS_{LATCH_KIND} · R_latch) − 1"
+        );
     } else {
         let _ = writeln!(
             s,
             "margins below: D / R − 1 (seed 001 Eq. 7, seed 000 Eq. 21); pass at ≥ 0 %"
+        );
+    }
+    if mech.has_physical_latch() {
+        let _ = writeln!(
+            s,
+            "R includes a physical latch's engagement (T_e in the torque form, E_eng in the energy form)"
         );
     }
     if r.viscous_nms.iter().any(|f| *f != 0.0) {
@@ -576,6 +606,16 @@ fn table(
             pct(m.energy_margin_pct()),
             verdict(m)
         );
+        if m.latch != LatchResistance::default() {
+            let _ = writeln!(
+                s,
+                "{:>5} latch engagement ({LATCH_KIND}, factor {}): T_e {:.4} N·m in the torque form, E_eng {:.4} J in the energy form",
+                "",
+                m.latch_factor,
+                m.latch.entry_torque_nm,
+                m.latch.engagement_energy_j,
+            );
+        }
     }
     s
 }
@@ -613,6 +653,8 @@ fn to_json(
                 "driving_energy_j": m.driving_energy_j,
                 "viscous_energy_j": row.viscous_energy_j,
                 "resisting_energy_j": m.resisting_energy_j,
+                "latch_entry_torque_nm": m.latch.entry_torque_nm,
+                "latch_engagement_energy_j": m.latch.engagement_energy_j,
                 "energy_margin_pct": finite(m.energy_margin_pct()),
                 "pass": m.torque_pass() && m.energy_pass(),
             })
