@@ -21,6 +21,7 @@
 //! a latch.
 
 use crate::monitor::faults::{Fault, FaultFlags};
+use crate::monitor::held::Held;
 use serde::{Deserialize, Serialize};
 
 /// The latch state of a joint.
@@ -198,32 +199,26 @@ pub struct LatchTracker {
     /// Switch readings, newest in bit 0.
     history: u8,
     samples: u8,
-    /// Start of the current slow stretch [s] (valid when `slow`).
-    slow_since: f32,
-    slow: bool,
-    /// Start of the current at-latch-with-switch-open stretch [s].
-    open_since: f32,
-    at_latch_run: bool,
+    /// The filtered rate below the stall rate (with hysteresis: it ends
+    /// above twice that rate).
+    slow: Held,
+    /// The encoder at the latch angle with the switch open.
+    open: Held,
     open_at_latch: bool,
+    /// Consecutive samples without an encoder reading.
     missing_run: u8,
     switch_early: bool,
-    /// Start of the current unbroken closed stretch of the switch [s].
-    closed_since: f32,
-    closed_run: bool,
-    /// Start of the current stretch of a debounced switch closed with the
-    /// encoder far from the latch [s].
-    early_since: f32,
-    early_run: bool,
+    /// An unbroken closed stretch of the switch.
+    closed: Held,
+    /// A debounced switch closed with the encoder far from the latch.
+    early: Held,
     /// The switch closed far from the latch for `debounce_s`: it is not
     /// trusted (stuck closed) until the encoder is found stuck.
     switch_suspect: bool,
-    /// Start of the current stretch of the encoder at the latch angle with
-    /// the switch open or distrusted [s].
-    confirm_since: f32,
-    confirm_run: bool,
-    /// Time of the switch's last change of state [s] (valid when `flipped`).
-    flip_since: f32,
-    flipped: bool,
+    /// The encoder at the latch angle with the switch open or distrusted.
+    confirm: Held,
+    /// The switch's last change of state (an event).
+    flip: Held,
 }
 
 impl LatchTracker {
@@ -234,22 +229,16 @@ impl LatchTracker {
             latched: false,
             history: 0,
             samples: 0,
-            slow_since: 0.0,
-            slow: false,
-            open_since: 0.0,
-            at_latch_run: false,
+            slow: Held::NEW,
+            open: Held::NEW,
             open_at_latch: false,
             missing_run: 0,
             switch_early: false,
-            closed_since: 0.0,
-            closed_run: false,
-            early_since: 0.0,
-            early_run: false,
+            closed: Held::NEW,
+            early: Held::NEW,
             switch_suspect: false,
-            confirm_since: 0.0,
-            confirm_run: false,
-            flip_since: 0.0,
-            flipped: false,
+            confirm: Held::NEW,
+            flip: Held::NEW,
         }
     }
 
@@ -286,23 +275,7 @@ impl LatchTracker {
     /// One sample.
     pub fn step(&mut self, x: &LatchInput, cfg: &LatchConfig) -> LatchOutput {
         let mut faults = FaultFlags::EMPTY;
-        self.history = (self.history << 1) | u8::from(x.switch);
-        self.samples = self.samples.saturating_add(1);
-        let last3 = self.history & 0b111;
-        let votes = last3.count_ones() as u8;
-        if self.samples >= 3 && (last3 == 0b101 || last3 == 0b010) {
-            faults.insert(Fault::SwitchChatter);
-        }
-        // Any reversal within the bounce time of the previous change of
-        // state is chatter, however many samples the bounce held (a clean
-        // switch closes once, at the latch, and stays closed).
-        if self.samples >= 2 && (last3 & 0b01 != 0) != (last3 & 0b10 != 0) {
-            if self.flipped && x.t_s - self.flip_since <= cfg.debounce_s {
-                faults.insert(Fault::SwitchChatter);
-            }
-            self.flipped = true;
-            self.flip_since = x.t_s;
-        }
+        let votes = self.read_switch(x, cfg, &mut faults);
         if x.measured_deg.is_some() {
             self.missing_run = 0;
         } else {
@@ -310,130 +283,17 @@ impl LatchTracker {
         }
         let angle = x.measured_deg.unwrap_or(x.angle_deg);
         let in_window = libm::fabsf(angle) <= cfg.window_deg;
-
         if self.latched {
-            let away = x
-                .measured_deg
-                .is_some_and(|m| libm::fabsf(m) > cfg.window_deg);
-            if !x.switch || away {
-                faults.insert(Fault::LatchDisagree);
-            }
-            return LatchOutput {
-                state: LatchState::Latched,
-                newly_latched: false,
-                faults,
-            };
+            return Self::hold(x, cfg, faults);
         }
-
-        // Unbroken closed stretch of the switch.
-        if x.switch {
-            if !self.closed_run {
-                self.closed_run = true;
-                self.closed_since = x.t_s;
-            }
-        } else {
-            self.closed_run = false;
-        }
-        let closed_long = self.closed_run && x.t_s - self.closed_since >= cfg.debounce_s;
-        if x.encoder_stuck {
-            // The disagreement was the encoder's.
-            self.switch_suspect = false;
-            self.early_run = false;
-        }
-
-        // Switch closed (debounced): a latch if a valid encoder reading
-        // agrees, or, with no valid reading, only once the switch has stayed
-        // closed for the whole debounce time — the filtered angle alone is
-        // not evidence (two corrupted samples, a spurious closure and a
-        // missing reading, must not make a latch). A distrusted switch
-        // declares nothing.
-        let closed = x.switch && votes >= cfg.closed_votes;
-        let agrees = match x.measured_deg {
-            Some(_) => in_window,
-            None => closed_long,
-        };
-        if closed && agrees && !self.switch_suspect {
+        if self.switch_declares(x, cfg, votes, in_window, &mut faults) {
             return self.declare(faults);
         }
-        self.switch_early = closed && !agrees;
-        if self.switch_early {
-            faults.insert(Fault::SwitchEarly);
-            if x.measured_deg.is_some() {
-                if !self.early_run {
-                    self.early_run = true;
-                    self.early_since = x.t_s;
-                }
-                if x.t_s - self.early_since >= cfg.debounce_s {
-                    self.switch_suspect = true;
-                }
-            }
-        } else {
-            self.early_run = false;
+        if self.encoder_declares(x, cfg, &mut faults) {
+            return self.declare(faults);
         }
-        if self.switch_suspect {
-            faults.insert(Fault::SwitchEarly);
-        }
-
-        // Encoder alone: at the latch angle for the confirmation time while
-        // the switch stays open or is distrusted.
-        let encoder_at_latch = (!x.switch || self.switch_suspect)
-            && x.measured_deg
-                .is_some_and(|m| libm::fabsf(m) <= cfg.at_latch_deg);
-        if encoder_at_latch {
-            if !self.confirm_run {
-                self.confirm_run = true;
-                self.confirm_since = x.t_s;
-            }
-            if x.t_s - self.confirm_since >= cfg.encoder_confirm_s {
-                if !x.switch {
-                    faults.insert(Fault::SwitchOpenAtLatch);
-                }
-                return self.declare(faults);
-            }
-        } else {
-            self.confirm_run = false;
-        }
-
-        // Encoder at the latch while the switch stays open.
-        let at_latch = !x.switch
-            && x.measured_deg
-                .is_some_and(|m| libm::fabsf(m) <= cfg.at_latch_deg);
-        if at_latch {
-            if !self.at_latch_run {
-                self.at_latch_run = true;
-                self.open_since = x.t_s;
-            }
-            self.open_at_latch = x.t_s - self.open_since >= cfg.switch_timeout_s;
-        } else {
-            self.at_latch_run = false;
-            self.open_at_latch = false;
-        }
-        if self.open_at_latch {
-            faults.insert(Fault::SwitchOpenAtLatch);
-        }
-
-        // Motion state from the filtered angle and rate.
-        let moved = libm::fabsf(x.angle_deg - x.stowed_deg) > cfg.start_deg;
-        let speed = libm::fabsf(x.rate_deg_s);
-        if speed < cfg.stall_rate_deg_s {
-            if !self.slow {
-                self.slow = true;
-                self.slow_since = x.t_s;
-            }
-        } else if speed > 2.0 * cfg.stall_rate_deg_s {
-            self.slow = false;
-        }
-        let stopped = self.slow && x.t_s - self.slow_since >= cfg.stall_time_s;
-        self.motion = match self.motion {
-            LatchState::Stowed if moved => LatchState::Deploying,
-            LatchState::Stowed => LatchState::Stowed,
-            _ if libm::fabsf(x.angle_deg) < cfg.latching_deg || (x.switch && in_window) => {
-                LatchState::Latching
-            }
-            _ if stopped => LatchState::Stalled,
-            LatchState::Stalled if self.slow => LatchState::Stalled,
-            _ => LatchState::Deploying,
-        };
+        self.check_open_at_latch(x, cfg, &mut faults);
+        self.track_motion(x, cfg, in_window);
         let fault = self.switch_early
             || self.switch_suspect
             || self.open_at_latch
@@ -447,6 +307,154 @@ impl LatchTracker {
             newly_latched: false,
             faults,
         }
+    }
+
+    /// Shifts the switch reading into the history and flags chatter;
+    /// returns the closed votes of the last three samples.
+    #[inline(always)]
+    fn read_switch(&mut self, x: &LatchInput, cfg: &LatchConfig, faults: &mut FaultFlags) -> u8 {
+        self.history = (self.history << 1) | u8::from(x.switch);
+        self.samples = self.samples.saturating_add(1);
+        let last3 = self.history & 0b111;
+        if self.samples >= 3 && (last3 == 0b101 || last3 == 0b010) {
+            faults.insert(Fault::SwitchChatter);
+        }
+        // Any reversal within the bounce time of the previous change of
+        // state is chatter, however many samples the bounce held (a clean
+        // switch closes once, at the latch, and stays closed).
+        if self.samples >= 2 && (last3 & 0b01 != 0) != (last3 & 0b10 != 0) {
+            if self.flip.within(x.t_s, cfg.debounce_s) {
+                faults.insert(Fault::SwitchChatter);
+            }
+            self.flip.restart(x.t_s);
+        }
+        last3.count_ones() as u8
+    }
+
+    /// A declared latch is final: a switch that opens, or an encoder away
+    /// from the latch, is a disagreement.
+    #[inline(always)]
+    fn hold(x: &LatchInput, cfg: &LatchConfig, mut faults: FaultFlags) -> LatchOutput {
+        let away = x
+            .measured_deg
+            .is_some_and(|m| libm::fabsf(m) > cfg.window_deg);
+        if !x.switch || away {
+            faults.insert(Fault::LatchDisagree);
+        }
+        LatchOutput {
+            state: LatchState::Latched,
+            newly_latched: false,
+            faults,
+        }
+    }
+
+    /// The switch's case: true when a debounced closed switch declares the
+    /// latch. Switch closed (debounced): a latch if a valid encoder reading
+    /// agrees, or, with no valid reading, only once the switch has stayed
+    /// closed for the whole debounce time — the filtered angle alone is not
+    /// evidence (two corrupted samples, a spurious closure and a missing
+    /// reading, must not make a latch). A distrusted switch declares
+    /// nothing; a switch closed far from the latch for the debounce time
+    /// becomes distrusted.
+    #[inline(always)]
+    fn switch_declares(
+        &mut self,
+        x: &LatchInput,
+        cfg: &LatchConfig,
+        votes: u8,
+        in_window: bool,
+        faults: &mut FaultFlags,
+    ) -> bool {
+        self.closed.update(x.switch, x.t_s);
+        let closed_long = self.closed.at_least(x.t_s, cfg.debounce_s);
+        if x.encoder_stuck {
+            // The disagreement was the encoder's.
+            self.switch_suspect = false;
+            self.early.stop();
+        }
+        let closed = x.switch && votes >= cfg.closed_votes;
+        let agrees = match x.measured_deg {
+            Some(_) => in_window,
+            None => closed_long,
+        };
+        if closed && agrees && !self.switch_suspect {
+            return true;
+        }
+        self.switch_early = closed && !agrees;
+        if self.switch_early {
+            faults.insert(Fault::SwitchEarly);
+            if x.measured_deg.is_some() {
+                self.early.start(x.t_s);
+                if self.early.at_least(x.t_s, cfg.debounce_s) {
+                    self.switch_suspect = true;
+                }
+            }
+        } else {
+            self.early.stop();
+        }
+        if self.switch_suspect {
+            faults.insert(Fault::SwitchEarly);
+        }
+        false
+    }
+
+    /// The encoder alone: true when it has been at the latch angle for the
+    /// confirmation time while the switch stays open or is distrusted.
+    #[inline(always)]
+    fn encoder_declares(
+        &mut self,
+        x: &LatchInput,
+        cfg: &LatchConfig,
+        faults: &mut FaultFlags,
+    ) -> bool {
+        let encoder_at_latch = (!x.switch || self.switch_suspect)
+            && x.measured_deg
+                .is_some_and(|m| libm::fabsf(m) <= cfg.at_latch_deg);
+        self.confirm.update(encoder_at_latch, x.t_s);
+        if encoder_at_latch && self.confirm.at_least(x.t_s, cfg.encoder_confirm_s) {
+            if !x.switch {
+                faults.insert(Fault::SwitchOpenAtLatch);
+            }
+            return true;
+        }
+        false
+    }
+
+    /// The encoder at the latch while the switch stays open for the switch
+    /// timeout: a switch fault.
+    #[inline(always)]
+    fn check_open_at_latch(&mut self, x: &LatchInput, cfg: &LatchConfig, faults: &mut FaultFlags) {
+        let at_latch = !x.switch
+            && x.measured_deg
+                .is_some_and(|m| libm::fabsf(m) <= cfg.at_latch_deg);
+        self.open.update(at_latch, x.t_s);
+        self.open_at_latch = at_latch && self.open.at_least(x.t_s, cfg.switch_timeout_s);
+        if self.open_at_latch {
+            faults.insert(Fault::SwitchOpenAtLatch);
+        }
+    }
+
+    /// The motion state from the filtered angle and rate.
+    #[inline(always)]
+    fn track_motion(&mut self, x: &LatchInput, cfg: &LatchConfig, in_window: bool) {
+        let moved = libm::fabsf(x.angle_deg - x.stowed_deg) > cfg.start_deg;
+        let speed = libm::fabsf(x.rate_deg_s);
+        if speed < cfg.stall_rate_deg_s {
+            self.slow.start(x.t_s);
+        } else if speed > 2.0 * cfg.stall_rate_deg_s {
+            self.slow.stop();
+        }
+        let stopped = self.slow.at_least(x.t_s, cfg.stall_time_s);
+        self.motion = match self.motion {
+            LatchState::Stowed if moved => LatchState::Deploying,
+            LatchState::Stowed => LatchState::Stowed,
+            _ if libm::fabsf(x.angle_deg) < cfg.latching_deg || (x.switch && in_window) => {
+                LatchState::Latching
+            }
+            _ if stopped => LatchState::Stalled,
+            LatchState::Stalled if self.slow.is_on() => LatchState::Stalled,
+            _ => LatchState::Deploying,
+        };
     }
 }
 

@@ -11,6 +11,7 @@ pub mod config;
 pub mod encoder;
 pub mod estimator;
 pub mod faults;
+pub mod held;
 pub mod latch;
 pub mod margin;
 pub mod observer;
