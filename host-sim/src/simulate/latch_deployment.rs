@@ -146,6 +146,20 @@ enum Ev {
     Branch(usize),
 }
 
+impl Ev {
+    /// The joint (from 0) the event belongs to.
+    fn joint(self) -> usize {
+        match self {
+            Ev::Plunger(j)
+            | Ev::Magnet(j)
+            | Ev::Contact(j)
+            | Ev::Switch(j)
+            | Ev::Ideal(j)
+            | Ev::Branch(j) => j,
+        }
+    }
+}
+
 impl<'a, const N: usize> Sim<'a, N> {
     fn new(chain: &'a Chain<f64, N>, latch: [Option<PhysicalLatch<f64>>; N], y: &State<N>) -> Self {
         let mut sim = Sim {
@@ -258,14 +272,7 @@ fn classify(l: &PhysicalLatch<f64>, phi: f64, phi_dot: f64, was: Contact) -> Seg
 
 /// Distance inside the frozen segment (> 0 while it holds), for event `ev`.
 fn inside<const N: usize>(sim: &Sim<'_, N>, ev: Ev, y: &State<N>) -> f64 {
-    let j = match ev {
-        Ev::Plunger(j)
-        | Ev::Magnet(j)
-        | Ev::Contact(j)
-        | Ev::Switch(j)
-        | Ev::Ideal(j)
-        | Ev::Branch(j) => j,
-    };
+    let j = ev.joint();
     let (phi, rate) = (y.q[j], y.v[j]);
     if let Ev::Ideal(_) = ev {
         return sim.side[j] * phi;
@@ -705,14 +712,7 @@ impl Runner<'_> {
         t: f64,
     ) -> Result<(), SimError> {
         self.out.traj.stats.events += 1;
-        let j = match ev {
-            Ev::Plunger(j)
-            | Ev::Magnet(j)
-            | Ev::Contact(j)
-            | Ev::Switch(j)
-            | Ev::Ideal(j)
-            | Ev::Branch(j) => j,
-        };
+        let j = ev.joint();
         if self.same_instant > MAX_EVENTS_AT_ONE_INSTANT {
             return Err(SimError::Sliding {
                 joint: j + 1,
