@@ -163,8 +163,8 @@ pub struct Mechanism {
     /// `[truss]`: links on the panels (`None`: the open chain).
     pub truss: Option<crate::model::truss::Truss>,
     /// `[joint.latch]` of each joint (`None`, or an empty list: the ideal
-    /// latch of `physics.md` section 5; [`crate::model::latch_toml`]).
-    pub latches: Vec<Option<crate::model::latch_toml::LatchSpec>>,
+    /// latch of `physics.md` section 5; [`crate::model::latch`]).
+    pub latches: Vec<Option<crate::model::latch::LatchSpec>>,
 }
 
 impl Mechanism {
@@ -174,7 +174,7 @@ impl Mechanism {
     }
 
     /// The physical latch of joint `j` (0-based), `None` for the ideal one.
-    pub fn latch(&self, j: usize) -> Option<&crate::model::latch_toml::LatchSpec> {
+    pub fn latch(&self, j: usize) -> Option<&crate::model::latch::LatchSpec> {
         self.latches.get(j).and_then(Option::as_ref)
     }
 

@@ -73,13 +73,6 @@ pub enum MechanismErrorKind {
         #[source]
         source: crate::model::truss::TrussError,
     },
-    /// A `[joint.latch]` table is invalid (`crate::model::latch_toml`).
-    #[error("{source}")]
-    Latch {
-        /// What is wrong, with its key path.
-        #[source]
-        source: crate::model::latch_toml::LatchTomlError,
-    },
     /// A value of the right type is out of range or otherwise invalid.
     #[error("`{key}`: expected {expected}, found {found}")]
     InvalidValue {
@@ -157,7 +150,6 @@ impl MechanismError {
             | MechanismErrorKind::UnknownTapeType { key, .. }
             | MechanismErrorKind::BadCurve { key, .. } => Some(key),
             MechanismErrorKind::Truss { source } => Some(&source.key),
-            MechanismErrorKind::Latch { source } => Some(&source.key),
             _ => None,
         }
     }

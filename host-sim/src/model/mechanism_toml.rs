@@ -169,8 +169,10 @@ impl Cx<'_> {
 
         let joint_items = self.array_of_tables(&top, "joint")?;
         let mut joints = Vec::with_capacity(joint_items.len());
+        let mut latches = Vec::with_capacity(joint_items.len());
         for (i, sp) in joint_items.iter().enumerate() {
             joints.push(self.joint(sp, i + 1, &tapes)?);
+            latches.push(self.latch(sp, i + 1)?);
         }
         if joints.len() != panels.len() {
             return Err(self.err(
@@ -201,8 +203,7 @@ impl Cx<'_> {
             sample_hz,
             settle_s,
             truss,
-            latches: crate::model::latch_toml::read(self.text)
-                .map_err(|source| self.err(source.line, MechanismErrorKind::Latch { source }))?,
+            latches,
         })
     }
 
@@ -287,6 +288,19 @@ impl Cx<'_> {
             spring,
             friction,
         })
+    }
+
+    /// `[joint.latch]` of joint `j` (1-based), `None` for the ideal latch.
+    fn latch(&self, sp: &Sp, j: usize) -> Res<Option<crate::model::latch::LatchSpec>> {
+        let Node::Table(entries) = &sp.node else {
+            return Ok(None);
+        };
+        match entries.iter().find(|(k, _)| k == "latch") {
+            Some((_, latch)) => {
+                crate::model::latch_toml::read(self, latch, &format!("joint[{j}].latch"))
+            }
+            None => Ok(None),
+        }
     }
 
     fn spring(

@@ -5,6 +5,7 @@ pub mod effect;
 pub mod findings;
 pub mod friction_spec;
 pub mod kinematics;
+pub mod latch;
 pub mod latch_toml;
 pub mod located;
 pub mod mechanism;

@@ -5,7 +5,8 @@
 //!
 //! Each table of the file is read by the module that owns it, on this tree:
 //! the mechanism proper by [`crate::model::mechanism_toml`], `[truss]` by
-//! [`crate::model::truss_toml`]. A new table gets its own module with a
+//! [`crate::model::truss_toml`], `[joint.latch]` by
+//! [`crate::model::latch_toml`]. A new table gets its own module with a
 //! `read(cx: &Cx, sp: &Sp, ...) -> Res<T>` and one line in
 //! [`crate::model::mechanism_toml`]'s `TOP_KEYS` and `mechanism`.
 

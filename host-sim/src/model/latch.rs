@@ -1,0 +1,125 @@
+//! A joint's physical latch as written in the mechanism file's
+//! `[joint.latch]` table (`docs/spec/formats.md`, "Physical latch", this
+//! project's extension), in the file's units, and its conversion to the
+//! core's [`PhysicalLatch`] ([`deploywatch_core::physics::latch_contact`]).
+//! Read and written by [`crate::model::latch_toml`].
+
+use deploywatch_core::physics::latch_contact::{HertzStop, Magnet, PhysicalLatch, Plunger};
+use deploywatch_core::Real;
+
+/// The papers' contact stiffness `k` [N/mm^1.5] (seed 000 §4.2, seed 001
+/// §4.2): the default of `stop.stiffness_n_per_mm1_5`.
+pub const PAPER_STIFFNESS_N_PER_MM1_5: f64 = 37_000.0;
+
+/// The papers' contact damping `c` [N·s/mm^1.25] (seed 000 §4.2, seed 001
+/// §4.2): the default of `stop.damping_ns_per_mm1_25`.
+pub const PAPER_DAMPING_NS_PER_MM1_25: f64 = 3.7;
+
+/// The stop as written: Hertz contact at a radius.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StopSpec {
+    /// `radius_mm`: contact distance from the hinge axis [mm].
+    pub radius_mm: f64,
+    /// `stiffness_n_per_mm1_5` [N/mm^1.5].
+    pub stiffness_n_per_mm1_5: f64,
+    /// `damping_ns_per_mm1_25` [N·s/mm^1.25].
+    pub damping_ns_per_mm1_25: f64,
+}
+
+/// The ball plunger as written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlungerSpec {
+    /// `preload_n` [N].
+    pub preload_n: f64,
+    /// `stiffness_n_per_mm` [N/mm].
+    pub stiffness_n_per_mm: f64,
+    /// `radius_mm` [mm].
+    pub radius_mm: f64,
+    /// `stroke_mm`: ball depression at the crest [mm].
+    pub stroke_mm: f64,
+    /// `crest_deg`: travel from the stop of the crest [deg].
+    pub crest_deg: f64,
+    /// `entry_ramp_deg` [deg].
+    pub entry_ramp_deg: f64,
+    /// `hold_ramp_deg` [deg].
+    pub hold_ramp_deg: f64,
+}
+
+/// The magnet as written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MagnetSpec {
+    /// `force_n`: attraction at contact [N].
+    pub force_n: f64,
+    /// `decay_mm` [mm].
+    pub decay_mm: f64,
+    /// `reach_mm` [mm].
+    pub reach_mm: f64,
+    /// `radius_mm` [mm].
+    pub radius_mm: f64,
+}
+
+/// A joint's physical latch as written in `[joint.latch]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LatchSpec {
+    /// `switch_travel_deg` [deg].
+    pub switch_travel_deg: f64,
+    /// `stop`.
+    pub stop: StopSpec,
+    /// `plunger`.
+    pub plunger: PlungerSpec,
+    /// `magnet`, `None` without one.
+    pub magnet: Option<MagnetSpec>,
+}
+
+/// Millimetres per metre.
+const MM_PER_M: f64 = 1000.0;
+
+impl LatchSpec {
+    /// The core's latch, in `f64` for the simulator or `f32` for the
+    /// on-board monitor, for a joint stowed at `stowed_deg`, with the
+    /// plunger's preload and rate scaled by `plunger_scale` and the magnet's
+    /// force by `magnet_scale` (`1 − weakening`).
+    pub fn to_core<T: Real>(
+        &self,
+        stowed_deg: f64,
+        plunger_scale: f64,
+        magnet_scale: f64,
+    ) -> PhysicalLatch<T> {
+        let (s, p) = (&self.stop, &self.plunger);
+        let mm = |x: f64| T::of(x / MM_PER_M);
+        let rad = |deg: f64| T::of(deg.to_radians());
+        let magnet = match &self.magnet {
+            Some(m) => Magnet {
+                force_n: T::of(m.force_n * magnet_scale),
+                decay_mm: T::of(m.decay_mm),
+                reach_mm: T::of(m.reach_mm),
+                radius_m: mm(m.radius_mm),
+            },
+            None => Magnet {
+                force_n: T::ZERO,
+                decay_mm: T::ONE,
+                reach_mm: T::ZERO,
+                radius_m: mm(s.radius_mm),
+            },
+        };
+        PhysicalLatch {
+            side: if stowed_deg >= 0.0 { T::ONE } else { -T::ONE },
+            stop: HertzStop {
+                stiffness_n_per_mm1_5: T::of(s.stiffness_n_per_mm1_5),
+                damping_ns_per_mm1_25: T::of(s.damping_ns_per_mm1_25),
+                radius_m: mm(s.radius_mm),
+            },
+            plunger: Plunger {
+                preload_n: T::of(p.preload_n * plunger_scale),
+                stiffness_n_per_mm: T::of(p.stiffness_n_per_mm * plunger_scale),
+                radius_m: mm(p.radius_mm),
+                stroke_mm: T::of(p.stroke_mm),
+                crest_rad: rad(p.crest_deg),
+                entry_ramp_rad: rad(p.entry_ramp_deg),
+                hold_ramp_rad: rad(p.hold_ramp_deg),
+            },
+            magnet,
+            switch_travel_rad: rad(self.switch_travel_deg),
+        }
+    }
+}
