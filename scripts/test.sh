@@ -27,6 +27,9 @@
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
+# A run from scratch gains nothing from incremental compilation; without it
+# the workspace's build takes about 5 GB less disk.
+export CARGO_INCREMENTAL=0
 host_only=false
 [ "${1:-}" = "--host" ] && host_only=true
 
