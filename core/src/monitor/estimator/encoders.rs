@@ -120,10 +120,8 @@ impl<const N: usize> Monitor<N> {
         // The plausibility checks (`plausibility.rs`) are off across a
         // gap and at or after a switch closing (an impact under way: a
         // joint may stop dead).
-        let no_checks = !self.timeline.started
-            || clock.gap
-            || clock.t <= self.windows.impact_until
-            || closing;
+        let no_checks =
+            !self.timeline.started || clock.gap || clock.t <= self.windows.impact_until || closing;
         let ctx = ReadingContext {
             t: clock.t,
             t_prev: self.timeline.t_prev,
