@@ -77,10 +77,11 @@ impl<const N: usize> Default for Slot<N> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CentredFit<const N: usize> {
     slots: [Slot<N>; WINDOW],
-    /// Index of the oldest slot (below [`WINDOW`]; a byte, as the monitor
+    /// Index of the oldest slot (below [`WINDOW`]; read at every slot
+    /// access, so a `usize`).
+    head: usize,
+    /// Number of slots filled (up to [`WINDOW`]; a byte, as the monitor
     /// has to fit in 4 KiB).
-    head: u8,
-    /// Number of slots filled (up to [`WINDOW`]).
     len: u8,
 }
 
@@ -114,7 +115,7 @@ impl<const N: usize> CentredFit<N> {
             clean,
             locked: *locked,
         };
-        let (head, len) = (usize::from(self.head), usize::from(self.len));
+        let (head, len) = (self.head, usize::from(self.len));
         if len < WINDOW {
             if let Some(s) = self.slots.get_mut((head + len) % WINDOW) {
                 *s = slot;
@@ -124,12 +125,12 @@ impl<const N: usize> CentredFit<N> {
             if let Some(s) = self.slots.get_mut(head % WINDOW) {
                 *s = slot;
             }
-            self.head = ((head + 1) % WINDOW) as u8;
+            self.head = (head + 1) % WINDOW;
         }
     }
 
     fn slot(&self, k: usize) -> &Slot<N> {
-        &self.slots[(usize::from(self.head) + k) % WINDOW]
+        &self.slots[(self.head + k) % WINDOW]
     }
 
     /// The fit at the middle of the window, with `meas_var` the variance of
