@@ -211,19 +211,25 @@ impl core::fmt::Display for ConfigError {
 
 impl core::error::Error for ConfigError {}
 
+// The checks run once, at configuration: out of line, they take a call
+// each instead of their comparisons (flash is short).
+#[inline(never)]
 fn positive(v: f32) -> bool {
     v.is_finite() && v > 0.0
 }
 
+#[inline(never)]
 fn non_negative(v: f32) -> bool {
     v.is_finite() && v >= 0.0
 }
 
-/// The name of the first check of `checks` that fails.
-fn first_failure(checks: &[(bool, &'static str)]) -> Result<(), &'static str> {
-    match checks.iter().find(|(ok, _)| !ok) {
-        Some((_, what)) => Err(what),
-        None => Ok(()),
+/// `Err(what)` unless `ok`: one check, in a sequence that stops at the
+/// first that fails.
+fn require(ok: bool, what: &'static str) -> Result<(), &'static str> {
+    if ok {
+        Ok(())
+    } else {
+        Err(what)
     }
 }
 
@@ -231,17 +237,16 @@ impl JointConfig {
     /// Checks the joint's parameters; `Err` names the first one out of
     /// range.
     fn check(&self) -> Result<(), &'static str> {
-        first_failure(&[
-            (
-                self.stowed_deg.is_finite() && libm::fabsf(self.stowed_deg) <= ENCODER_RANGE_DEG,
-                "stowed_deg",
-            ),
-            (non_negative(self.capture_deg), "capture_deg"),
-            (self.prior.coulomb_nm.is_finite(), "coulomb prior"),
-            (positive(self.prior.coulomb_sd_nm), "coulomb prior sd"),
-            (self.prior.viscous_nms.is_finite(), "viscous prior"),
-            (positive(self.prior.viscous_sd_nms), "viscous prior sd"),
-        ])
+        require(
+            self.stowed_deg.is_finite() && libm::fabsf(self.stowed_deg) <= ENCODER_RANGE_DEG,
+            "stowed_deg",
+        )?;
+        require(non_negative(self.capture_deg), "capture_deg")?;
+        require(self.prior.coulomb_nm.is_finite(), "coulomb prior")?;
+        require(positive(self.prior.coulomb_sd_nm), "coulomb prior sd")?;
+        require(self.prior.viscous_nms.is_finite(), "viscous prior")?;
+        require(positive(self.prior.viscous_sd_nms), "viscous prior sd")?;
+        Ok(())
     }
 }
 
@@ -249,10 +254,9 @@ impl SensorConfig {
     /// Checks the encoder's parameters; `Err` names the first one out of
     /// range.
     fn check(&self) -> Result<(), &'static str> {
-        first_failure(&[
-            (positive(self.encoder_sd_deg), "encoder_sd_deg"),
-            (non_negative(self.encoder_step_deg), "encoder_step_deg"),
-        ])
+        require(positive(self.encoder_sd_deg), "encoder_sd_deg")?;
+        require(non_negative(self.encoder_step_deg), "encoder_step_deg")?;
+        Ok(())
     }
 }
 
@@ -274,30 +278,27 @@ impl ObserverConfig {
     /// names the first parameter out of range.
     fn check(&self) -> Result<(), &'static str> {
         let t = &self.tuning;
-        first_failure(&[
-            (positive(self.jerk_psd), "jerk_psd"),
-            (jerk_adaptation_ok(&self.jerk_adaptation), "jerk_adaptation"),
-            (positive(self.zone_jerk_psd), "zone_jerk_psd"),
-            (non_negative(self.snap_zone_deg), "snap_zone_deg"),
-            (positive(self.gate_sigma), "gate_sigma"),
-            (positive(t.bandwidth_per_s), "bandwidth_per_s"),
-            (
-                positive(t.coulomb_threshold_rad_s),
-                "coulomb_threshold_rad_s",
-            ),
-            (
-                non_negative(t.coulomb_walk) && non_negative(t.viscous_walk),
-                "friction walk",
-            ),
-            (positive(t.residual_var_floor), "residual_var_floor"),
-            (non_negative(self.settle_s), "settle_s"),
-            (
-                positive(self.min_dt_s)
-                    && positive(self.max_gap_s)
-                    && self.max_gap_s > self.min_dt_s,
-                "time step limits",
-            ),
-        ])
+        require(positive(self.jerk_psd), "jerk_psd")?;
+        require(jerk_adaptation_ok(&self.jerk_adaptation), "jerk_adaptation")?;
+        require(positive(self.zone_jerk_psd), "zone_jerk_psd")?;
+        require(non_negative(self.snap_zone_deg), "snap_zone_deg")?;
+        require(positive(self.gate_sigma), "gate_sigma")?;
+        require(positive(t.bandwidth_per_s), "bandwidth_per_s")?;
+        require(
+            positive(t.coulomb_threshold_rad_s),
+            "coulomb_threshold_rad_s",
+        )?;
+        require(
+            non_negative(t.coulomb_walk) && non_negative(t.viscous_walk),
+            "friction walk",
+        )?;
+        require(positive(t.residual_var_floor), "residual_var_floor")?;
+        require(non_negative(self.settle_s), "settle_s")?;
+        require(
+            positive(self.min_dt_s) && positive(self.max_gap_s) && self.max_gap_s > self.min_dt_s,
+            "time step limits",
+        )?;
+        Ok(())
     }
 }
 
@@ -306,22 +307,21 @@ impl MarginConfig {
     /// first one out of range.
     fn check(&self) -> Result<(), &'static str> {
         let r = &self.rollout;
-        first_failure(&[
-            (self.factors.is_valid(), "uncertainty factors"),
-            (self.confidence > 0.5 && self.confidence < 1.0, "confidence"),
-            (
-                positive(r.dt_s)
-                    && positive(r.bracket_dt_s)
-                    && positive(r.horizon_s)
-                    && positive(r.coulomb_threshold_rad_s),
-                "rollout",
-            ),
-            (positive(self.deadline_s), "deadline_s"),
-            (
-                non_negative(self.spring_sd_rel) && positive(self.energy_sd_floor_j),
-                "margin spread",
-            ),
-        ])
+        require(self.factors.is_valid(), "uncertainty factors")?;
+        require(self.confidence > 0.5 && self.confidence < 1.0, "confidence")?;
+        require(
+            positive(r.dt_s)
+                && positive(r.bracket_dt_s)
+                && positive(r.horizon_s)
+                && positive(r.coulomb_threshold_rad_s),
+            "rollout",
+        )?;
+        require(positive(self.deadline_s), "deadline_s")?;
+        require(
+            non_negative(self.spring_sd_rel) && positive(self.energy_sd_floor_j),
+            "margin spread",
+        )?;
+        Ok(())
     }
 }
 

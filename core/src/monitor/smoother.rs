@@ -26,6 +26,8 @@
 /// Number of readings in the window (odd): the fit is for the middle one,
 /// `(WINDOW − 1)/2` samples back.
 pub const WINDOW: usize = 11;
+// `CentredFit` counts its slots in bytes.
+const _: () = assert!(WINDOW <= u8::MAX as usize);
 
 /// Residual (sum of squares over the noise variance) above which a window
 /// is not a smooth motion: `WINDOW − 3` degrees of freedom, mean 8; this is
@@ -75,10 +77,12 @@ impl<const N: usize> Default for Slot<N> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CentredFit<const N: usize> {
     slots: [Slot<N>; WINDOW],
-    /// Index of the oldest slot.
+    /// Index of the oldest slot (below [`WINDOW`]; read at every slot
+    /// access, so a `usize`).
     head: usize,
-    /// Number of slots filled (up to [`WINDOW`]).
-    len: usize,
+    /// Number of slots filled (up to [`WINDOW`]; a byte, as the monitor
+    /// has to fit in 4 KiB).
+    len: u8,
 }
 
 impl<const N: usize> Default for CentredFit<N> {
@@ -111,16 +115,17 @@ impl<const N: usize> CentredFit<N> {
             clean,
             locked: *locked,
         };
-        if self.len < WINDOW {
-            if let Some(s) = self.slots.get_mut((self.head + self.len) % WINDOW) {
+        let (head, len) = (self.head, usize::from(self.len));
+        if len < WINDOW {
+            if let Some(s) = self.slots.get_mut((head + len) % WINDOW) {
                 *s = slot;
             }
             self.len += 1;
         } else {
-            if let Some(s) = self.slots.get_mut(self.head % WINDOW) {
+            if let Some(s) = self.slots.get_mut(head % WINDOW) {
                 *s = slot;
             }
-            self.head = (self.head + 1) % WINDOW;
+            self.head = (head + 1) % WINDOW;
         }
     }
 
@@ -133,7 +138,7 @@ impl<const N: usize> CentredFit<N> {
     /// it is clean, no joint latched or unlatched inside it, every free
     /// joint has every reading, and each fit's residual is that of noise.
     pub fn centre(&self, meas_var: f32) -> Option<Centre<N>> {
-        if self.len < WINDOW || !(meas_var > 0.0) {
+        if usize::from(self.len) < WINDOW || !(meas_var > 0.0) {
             return None;
         }
         let mid = WINDOW / 2;

@@ -109,15 +109,19 @@ impl JointState {
 
 impl<const N: usize> Monitor<N> {
     /// Checks each joint's encoder reading of `sample` (time faults of
-    /// `clock` raised on every joint).
-    pub(super) fn read_encoders(&mut self, sample: &Sample<N>, clock: &Clock) -> Readings<N> {
+    /// `clock` raised on every joint; `closing` when a latch switch closes
+    /// at this sample, [`Monitor::switch_closing`]).
+    pub(super) fn read_encoders(
+        &mut self,
+        sample: &Sample<N>,
+        clock: &Clock,
+        closing: bool,
+    ) -> Readings<N> {
         // The plausibility checks (`plausibility.rs`) are off across a
         // gap and at or after a switch closing (an impact under way: a
         // joint may stop dead).
-        let no_checks = !self.timeline.started
-            || clock.gap
-            || clock.t <= self.windows.impact_until
-            || self.switch_closing(sample);
+        let no_checks =
+            !self.timeline.started || clock.gap || clock.t <= self.windows.impact_until || closing;
         let ctx = ReadingContext {
             t: clock.t,
             t_prev: self.timeline.t_prev,

@@ -32,9 +32,10 @@ impl<const N: usize> Monitor<N> {
         let zone = self.tuning.observer.snap_zone_deg * DEG;
         let jm = usize::from(self.learner.next_margin) % N.max(1);
         self.learner.next_margin = ((jm + 1) % N.max(1)) as u8;
-        let (phi, _) = self.model_state(&sample.locked);
+        let locked = sample.locked();
+        let (phi, _) = self.model_state(&locked);
         let settled = sample.quiet && libm::fabsf(phi.get(jm).copied().unwrap_or(0.0)) >= zone;
-        if let (Some(false), true) = (sample.locked.get(jm), settled) {
+        if let (Some(false), true) = (locked.get(jm), settled) {
             // Articulated inertia 1/(M⁻¹)_jj over the free joints: the
             // one-joint energy balance counts all of the joint's kinetic
             // energy, the share the outer panels carry included, so it errs
@@ -45,8 +46,8 @@ impl<const N: usize> Monitor<N> {
                 .and_then(|row| row.get(jm))
                 .copied()
                 .unwrap_or(1.0);
-            let inertia = articulated_inertia(&m, &sample.locked, jm)
-                .unwrap_or_else(|| own.max(MIN_INERTIA_KGM2));
+            let inertia =
+                articulated_inertia(&m, &locked, jm).unwrap_or_else(|| own.max(MIN_INERTIA_KGM2));
             let result = self.joint_margin(jm, inertia, sample.quiet);
             if let Some(js) = self.joints.get_mut(jm) {
                 js.margin = Some(result);

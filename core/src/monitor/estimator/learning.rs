@@ -12,10 +12,6 @@ pub const LEARNING_QUEUE: usize = 4;
 
 /// What the friction learning and the energy margin need of one sample,
 /// queued by [`crate::Monitor::update`] for [`crate::Monitor::predict`].
-/// Per field, not per joint: a joint's reading and its two flags in one
-/// struct take 8 bytes (the flags padded to the `f32`), and the queue's
-/// 16 bytes more would take the monitor past 4 KiB
-/// (`tests/monitor.rs` `monitor_fits_in_4_kib`).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Learning<const N: usize> {
     /// Time stamp [s].
@@ -25,14 +21,34 @@ pub(super) struct Learning<const N: usize> {
     pub(super) clean: bool,
     /// No snap, latch or gap within `settle_s` (the margin's condition).
     pub(super) quiet: bool,
-    /// Readings the rate filters used [rad], NaN where none (missing,
+    /// Each joint's part of the sample.
+    pub(super) joints: [JointLearning; N],
+}
+
+/// One joint's part of a [`Learning`] sample (8 bytes: the flags share
+/// the reading's alignment).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct JointLearning {
+    /// The reading the rate filter used [rad], NaN where none (missing,
     /// out of range, stuck or gated out).
-    pub(super) used: [f32; N],
-    /// Joints the model sits at 0.
-    pub(super) locked: [bool; N],
-    /// Joints declared latched at the sample (logged by the slow path: a
-    /// log line costs a thousand instructions over semihosting).
-    pub(super) newly: [bool; N],
+    pub(super) used: f32,
+    /// The model sits the joint at 0.
+    pub(super) locked: bool,
+    /// Declared latched at the sample (logged by the slow path: a log line
+    /// costs a thousand instructions over semihosting).
+    pub(super) newly: bool,
+}
+
+impl<const N: usize> Learning<N> {
+    /// The readings the rate filters used [rad], NaN where none.
+    pub(super) fn used(&self) -> [f32; N] {
+        core::array::from_fn(|j| self.joints[j].used)
+    }
+
+    /// The joints the model sits at 0.
+    pub(super) fn locked(&self) -> [bool; N] {
+        core::array::from_fn(|j| self.joints[j].locked)
+    }
 }
 
 /// The queue of samples [`crate::Monitor::update`] hands to

@@ -41,8 +41,9 @@ impl<const N: usize> Monitor<N> {
                 c.locked,
             )),
             None if sample.quiet && t - self.learner.t_centre > CENTRE_WAIT_S => {
-                let (phi, phi_dot) = self.model_state(&sample.locked);
-                Some((t, ChainState { phi, phi_dot }, sample.locked))
+                let locked = sample.locked();
+                let (phi, phi_dot) = self.model_state(&locked);
+                Some((t, ChainState { phi, phi_dot }, locked))
             }
             None => None,
         };

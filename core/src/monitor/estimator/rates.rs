@@ -162,11 +162,13 @@ impl JointState {
 impl<const N: usize> Monitor<N> {
     /// Tracks the angles and rates: each rate filter predicts to the sample
     /// and fuses its reading, with the latch impact expected when a switch
-    /// closes (`docs/monitor.md` §6.2); spikes are flagged and gated out.
+    /// closes (`closing`, [`Monitor::switch_closing`]; `docs/monitor.md`
+    /// §6.2); spikes are flagged and gated out.
     pub(super) fn track_rates(
         &mut self,
         sample: &Sample<N>,
         clock: &Clock,
+        closing: bool,
         readings: &mut Readings<N>,
     ) {
         let t = clock.t;
@@ -185,7 +187,7 @@ impl<const N: usize> Monitor<N> {
             // `IMPACT_WINDOW_S` the rate filters widen their gates, and a
             // reading they still cannot reconcile restarts the filter at
             // the reading: expected, not an outlier.
-            if self.switch_closing(sample) {
+            if closing {
                 self.windows.impact_until = t + IMPACT_WINDOW_S;
                 self.windows.impact_samples = IMPACT_INFLATE_SAMPLES;
             }

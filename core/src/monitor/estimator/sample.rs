@@ -8,7 +8,7 @@ use super::clock::Clock;
 use super::encoders::Readings;
 use super::joint::DEG;
 use super::latches::Latches;
-use super::learning::Learning;
+use super::learning::{JointLearning, Learning};
 use super::state::Monitor;
 use crate::monitor::faults::FaultFlags;
 use crate::monitor::status::{Sample, Status};
@@ -28,8 +28,11 @@ impl<const N: usize> Monitor<N> {
             Ok(clock) => clock,
             Err(faults) => return self.hold(faults),
         };
-        let mut readings = self.read_encoders(sample, &clock);
-        self.track_rates(sample, &clock, &mut readings);
+        // A latch switch closing (open at the previous sample): an impact
+        // under way.
+        let closing = self.switch_closing(sample);
+        let mut readings = self.read_encoders(sample, &clock, closing);
+        self.track_rates(sample, &clock, closing, &mut readings);
         let latches = self.track_latches(sample, &clock, &mut readings);
         self.check_health(&mut readings);
         self.queue_for_learning(&clock, &readings, &latches);
@@ -58,19 +61,16 @@ impl<const N: usize> Monitor<N> {
             self.windows.blank_until = t + self.tuning.observer.settle_s;
         }
         let quiet = self.quiet(t);
-        let mut sample = Learning {
+        let sample = Learning {
             t,
             clean: quiet && !clock.gap && clock.dt > 0.0,
             quiet,
-            used: [f32::NAN; N],
-            locked: [false; N],
-            newly: [false; N],
+            joints: core::array::from_fn(|j| JointLearning {
+                used: readings[j].used.unwrap_or(f32::NAN),
+                locked: latches[j].locked,
+                newly: latches[j].newly,
+            }),
         };
-        for j in 0..N {
-            sample.used[j] = readings[j].used.unwrap_or(f32::NAN);
-            sample.locked[j] = latches[j].locked;
-            sample.newly[j] = latches[j].newly;
-        }
         self.learner.push(&mut self.queue, sample);
     }
 

@@ -65,8 +65,8 @@ impl<const N: usize> Monitor<N> {
     /// observers on the centred fit, the energy margin of one joint, the
     /// start of the next rollout, and the status's learned part.
     fn learn(&mut self, sample: &Learning<N>) {
-        for (j, newly) in sample.newly.iter().enumerate() {
-            if *newly {
+        for (j, joint) in sample.joints.iter().enumerate() {
+            if joint.newly {
                 info!("joint {} latched at t = {} s", j + 1, sample.t);
             }
         }
@@ -86,7 +86,7 @@ impl<const N: usize> Monitor<N> {
         let learner = &mut self.learner;
         learner
             .fit
-            .push(sample.t, &sample.used, sample.clean, &sample.locked);
+            .push(sample.t, &sample.used(), sample.clean, &sample.locked());
         let centre = learner.fit.centre(self.tuning.meas_var);
         let Some(c) = &centre else {
             learner.fit_run = false;
