@@ -20,11 +20,11 @@
 //! noise RMS; every other case must be reported `unexplained`, naming the
 //! joint and the stroke region. The share found as tables is printed.
 
-use deploywatch_core::{Table, TorqueTable};
 use deploywatch_sim::analysis::diagnose::{diagnose, DiagnoseOptions};
 use deploywatch_sim::data::campaign::Campaign;
 use deploywatch_sim::model::effect::{Effect, EffectKind};
 use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::model::torque_table::{HostTable as Table, HostTorqueTable as TorqueTable};
 use deploywatch_sim::report::progress::quiet;
 use deploywatch_sim::simulate::deployment::{self, SimOptions};
 use deploywatch_sim::simulate::sensor::{self, SensorModel};
@@ -55,7 +55,7 @@ fn mechanisms(pair: usize) -> Vec<Mechanism> {
 }
 
 /// Eight points of `y(x)` evenly over `[lo, hi]`.
-fn table_of(lo: f64, hi: f64, y: impl Fn(f64) -> f64) -> Table<f64> {
+fn table_of(lo: f64, hi: f64, y: impl Fn(f64) -> f64) -> Table {
     let xs: Vec<f64> = (0..8).map(|i| lo + (hi - lo) * i as f64 / 7.0).collect();
     let ys: Vec<f64> = xs.iter().map(|&x| y(x)).collect();
     Table::new(&xs, &ys).unwrap()
@@ -63,7 +63,7 @@ fn table_of(lo: f64, hi: f64, y: impl Fn(f64) -> f64) -> Table<f64> {
 
 /// A table of form `form` at joint `j` (1-based) of a joint stowed at
 /// `stowed` deg, with amplitude `amp` [N·m].
-fn draw_table(rng: &mut ChaCha8Rng, form: Form, stowed: f64, amp: f64) -> TorqueTable<f64> {
+fn draw_table(rng: &mut ChaCha8Rng, form: Form, stowed: f64, amp: f64) -> TorqueTable {
     let motion = -stowed.signum(); // sign of φ̇ while deploying
     let (a, b) = (stowed.min(0.0), stowed.max(0.0));
     let at = |f: f64| stowed * (1.0 - f); // fraction f of the stroke done

@@ -14,8 +14,8 @@
 
 use crate::analysis::residual_torque::TorqueSample;
 
-/// Most knots of one fitted table (angle or rate): the core's table size.
-pub const MAX_KNOTS: usize = deploywatch_core::torque_table::TABLE_MAX_KNOTS;
+/// Most knots of one fitted table (angle or rate): the host's table size.
+pub const MAX_KNOTS: usize = crate::model::torque_table::HOST_TABLE_MAX_KNOTS;
 
 /// Candidate knot places per axis (quantiles of the samples).
 const GRID: usize = 48;

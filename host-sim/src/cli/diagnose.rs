@@ -14,9 +14,9 @@ use crate::model::findings::diagnosis::{
     Diagnosis, Evidence, Fit, FoundEffect, Gain, Named, ResidualTorque, Round, Score,
 };
 use crate::model::findings::rounded;
+use crate::model::torque_table::{HostTable, HostTorqueTable};
 use crate::report::plot::{self, Mark, Panel, Series};
 use crate::report::progress;
-use deploywatch_core::{Table, TorqueTable};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -255,7 +255,7 @@ fn rounded_all(x: &[f64]) -> Vec<Option<f64>> {
 
 /// A discovered `torque_table` in the JSON (`docs/spec/formats.md`): its
 /// tables, the 95 % band of each knot, and the shape in one sentence.
-fn add_tables(v: &mut FoundEffect, shape: &str, t: &[TorqueTable<f64>; 3]) {
+fn add_tables(v: &mut FoundEffect, shape: &str, t: &[HostTorqueTable; 3]) {
     if let (Some(f), Some(lo), Some(hi)) = (&t[0].angle, &t[1].angle, &t[2].angle) {
         v.angle_deg = Some(rounded_all(f.xs()));
         v.torque_nm = Some(rounded_all(f.ys()));
@@ -536,14 +536,14 @@ fn report_evidence(md: &mut String, before: &[JointEvidence], after: &[JointEvid
 /// The points of one table as plot series: the fitted table and its band,
 /// extended flat by a tenth of the span beyond the end points (the table is
 /// held constant there).
-fn table_series(tables: &[Option<&Table<f64>>; 3]) -> Option<[(Vec<f64>, Vec<f64>); 3]> {
+fn table_series(tables: &[Option<&HostTable>; 3]) -> Option<[(Vec<f64>, Vec<f64>); 3]> {
     let mid = tables[0]?;
     let (x0, x1) = (mid.xs()[0], mid.xs()[mid.xs().len() - 1]);
     let pad = 0.1 * (x1 - x0);
     let xs: Vec<f64> = (0..=100)
         .map(|i| x0 - pad + (x1 - x0 + 2.0 * pad) * i as f64 / 100.0)
         .collect();
-    let line = |t: Option<&Table<f64>>| {
+    let line = |t: Option<&HostTable>| {
         let t = t.unwrap_or(mid);
         (
             xs.clone(),

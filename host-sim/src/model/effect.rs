@@ -2,7 +2,8 @@
 //! diagnosis reports, and the extras `deploywatch simulate --effect` adds.
 
 use crate::model::torque_table::{self, TableError, TablePoints};
-use deploywatch_core::{GlobalEffects, JointEffects, TorqueTable};
+use crate::model::torque_table::{HostJointEffects, HostTorqueTable};
+use deploywatch_core::GlobalEffects;
 use std::fmt;
 use std::str::FromStr;
 
@@ -299,7 +300,7 @@ pub struct Effect {
     pub alpha_deg: f64,
     /// `torque_table` only: the tables (`value` is then their largest
     /// absolute torque [N·m]).
-    pub table: TorqueTable<f64>,
+    pub table: HostTorqueTable,
 }
 
 impl Default for EffectKind {
@@ -466,8 +467,8 @@ impl FromStr for Effect {
 
 /// The dynamic effects of a list, as the core's per-joint and global tables
 /// (sensor effects are left out: see [`encoder_offsets_deg`]).
-pub fn to_core(effects: &[Effect], joints: usize) -> (Vec<JointEffects<f64>>, GlobalEffects<f64>) {
-    let mut je = vec![JointEffects::default(); joints];
+pub fn to_core(effects: &[Effect], joints: usize) -> (Vec<HostJointEffects>, GlobalEffects<f64>) {
+    let mut je = vec![HostJointEffects::default(); joints];
     let mut g = GlobalEffects::default();
     for e in effects {
         let j = e
