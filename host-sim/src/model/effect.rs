@@ -1,8 +1,9 @@
 //! The named effects of `docs/spec/physics.md` section 6: the vocabulary a
 //! diagnosis reports, and the extras `deploywatch simulate --effect` adds.
 
-use crate::model::torque_table::{self, TableError, TablePoints};
-use crate::model::torque_table::{HostJointEffects, HostTorqueTable};
+use crate::model::torque_table::{
+    self, HostJointEffects, HostTorqueTable, TableError, TablePoints,
+};
 use deploywatch_core::GlobalEffects;
 use std::fmt;
 use std::str::FromStr;

@@ -14,7 +14,8 @@ use std::fmt::Write as _;
 /// diagnosis hold tables this large (a hump of a rate law or a dip over
 /// part of the stroke needs more knots than the monitor's
 /// [`deploywatch_core::torque_table::TABLE_MAX_KNOTS`]); a table for the
-/// monitor is a compressed export ([`crate::onboard::table_export`]).
+/// monitor is a compressed export of 8 points, made by the diagnosis with
+/// its fit loss (`docs/diagnosis.md`).
 pub const HOST_TABLE_MAX_KNOTS: usize = 24;
 
 /// One piecewise-linear table as the host holds it.
