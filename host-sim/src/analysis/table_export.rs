@@ -68,11 +68,11 @@ pub fn export_tables(campaign: &Campaign, effects: &[Effect]) -> Vec<TableExport
     tables
         .into_iter()
         .filter_map(|(k, joint)| {
-            let table = &effects[k].table;
-            let samples = stroke_samples(campaign, &trajectories, effects, joint - 1, table);
-            let motion = motion_of(campaign, joint - 1);
-            let (table, compressed) = compress(&effects[k].table, &samples, motion)?;
-            let (torque_rms_nm, torque_max_nm) = torque_loss(&effects[k].table, &table, &samples);
+            let host = &effects[k].table;
+            let j = joint.checked_sub(1)?;
+            let samples = stroke_samples(campaign, &trajectories, effects, j, host);
+            let (table, compressed) = compress(host, &samples, motion_of(campaign, j))?;
+            let (torque_rms_nm, torque_max_nm) = torque_loss(host, &table, &samples);
             let angle_rms_deg = if compressed {
                 angle_loss(campaign, &trajectories, effects, k, &table)
             } else {
