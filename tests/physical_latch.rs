@@ -10,6 +10,7 @@ use deploywatch_core::physics::latch_contact::{
 use deploywatch_core::{Chain, Friction, GlobalEffects, Joint, JointEffects, Panel, Spring};
 use deploywatch_sim::model::effect::Effect;
 use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::model::torque_table::HostChain;
 use deploywatch_sim::simulate::deployment::{self, SimOptions};
 use deploywatch_sim::simulate::latch_deployment::{self, LatchEnd, LatchEventKind, LatchRun};
 use deploywatch_sim::simulate::ode::State;
@@ -42,7 +43,7 @@ fn run(mech: &Mechanism, effects: &[&str], opts: &SimOptions) -> LatchRun {
 /// A single rigid panel hinged at the bus, no spring, no plunger, no
 /// magnet: only the stop acts during the impact.
 #[allow(clippy::field_reassign_with_default)]
-fn bare_stop(r_mm: f64) -> (Chain<f64, 1>, PhysicalLatch<f64>) {
+fn bare_stop(r_mm: f64) -> (HostChain<1>, PhysicalLatch<f64>) {
     let panel = Panel {
         length_m: 0.8,
         mass_kg: 3.5,

@@ -20,11 +20,11 @@
 //! noise RMS; every other case must be reported `unexplained`, naming the
 //! joint and the stroke region. The share found as tables is printed.
 
-use deploywatch_core::{Table, TorqueTable};
 use deploywatch_sim::analysis::diagnose::{diagnose, DiagnoseOptions};
 use deploywatch_sim::data::campaign::Campaign;
 use deploywatch_sim::model::effect::{Effect, EffectKind};
 use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::model::torque_table::{HostTable as Table, HostTorqueTable as TorqueTable};
 use deploywatch_sim::report::progress::quiet;
 use deploywatch_sim::simulate::deployment::{self, SimOptions};
 use deploywatch_sim::simulate::sensor::{self, SensorModel};
@@ -55,7 +55,7 @@ fn mechanisms(pair: usize) -> Vec<Mechanism> {
 }
 
 /// Eight points of `y(x)` evenly over `[lo, hi]`.
-fn table_of(lo: f64, hi: f64, y: impl Fn(f64) -> f64) -> Table<f64> {
+fn table_of(lo: f64, hi: f64, y: impl Fn(f64) -> f64) -> Table {
     let xs: Vec<f64> = (0..8).map(|i| lo + (hi - lo) * i as f64 / 7.0).collect();
     let ys: Vec<f64> = xs.iter().map(|&x| y(x)).collect();
     Table::new(&xs, &ys).unwrap()
@@ -63,7 +63,7 @@ fn table_of(lo: f64, hi: f64, y: impl Fn(f64) -> f64) -> Table<f64> {
 
 /// A table of form `form` at joint `j` (1-based) of a joint stowed at
 /// `stowed` deg, with amplitude `amp` [N·m].
-fn draw_table(rng: &mut ChaCha8Rng, form: Form, stowed: f64, amp: f64) -> TorqueTable<f64> {
+fn draw_table(rng: &mut ChaCha8Rng, form: Form, stowed: f64, amp: f64) -> TorqueTable {
     let motion = -stowed.signum(); // sign of φ̇ while deploying
     let (a, b) = (stowed.min(0.0), stowed.max(0.0));
     let at = |f: f64| stowed * (1.0 - f); // fraction f of the stroke done
@@ -319,6 +319,9 @@ struct Verdict {
     honest: bool,
     /// A claim at a joint that holds nothing.
     spurious: bool,
+    /// The re-simulated angle RMS difference [deg] of each table that had
+    /// to be compressed for the monitor.
+    export_loss_deg: Vec<f64>,
 }
 
 fn judge_family_case(c: &deploywatch_tests::hidden_torque::Case) -> Verdict {
@@ -342,6 +345,7 @@ fn judge_family_case(c: &deploywatch_tests::hidden_torque::Case) -> Verdict {
             .as_deref()
             .is_some_and(|u| u.contains("joint ") && u.contains("stroke")),
         spurious: got.iter().any(|j| !want.contains(j)),
+        export_loss_deg: monitor_exports(&campaign, &found),
     };
     println!(
         "  {}: truth {:?} found {:?}; RMS {:.4} -> {:.4} (noise {:.4}, {:.1} s){}{}",
@@ -367,6 +371,29 @@ fn judge_family_case(c: &deploywatch_tests::hidden_torque::Case) -> Verdict {
     verdict
 }
 
+/// The monitor's export of every table found: at most the monitor's
+/// points per axis; prints the fit loss and returns the re-simulated angle
+/// loss [deg] of each compressed one.
+fn monitor_exports(campaign: &Campaign, found: &[Effect]) -> Vec<f64> {
+    use deploywatch_core::torque_table::TABLE_MAX_KNOTS;
+    use deploywatch_sim::analysis::table_export::export_tables;
+    let mut out = Vec::new();
+    for x in export_tables(campaign, found) {
+        for t in [&x.table.angle, &x.table.rate].into_iter().flatten() {
+            assert!(t.xs().len() <= TABLE_MAX_KNOTS, "{:?}", x.table);
+        }
+        if x.compressed {
+            let a = x.angle_rms_deg.expect("the export re-simulates");
+            println!(
+                "    monitor table at joint {}: torque difference RMS {:.4} N·m (max {:.4}), angles {:.4} deg",
+                x.joint, x.torque_rms_nm, x.torque_max_nm, a
+            );
+            out.push(a);
+        }
+    }
+    out
+}
+
 /// Hidden torques of forms unlike the diagnosis's knots
 /// (`deploywatch_tests::hidden_torque`): narrow features, torques
 /// proportional to the spring's, rate laws peaked at low rate and
@@ -382,11 +409,13 @@ fn hidden_torque_families_are_found_or_reported_unexplained() {
         1
     };
     let (mut found, mut with, mut clean, mut total, mut bad) = (0, 0, 0, 0, Vec::new());
+    let mut losses = Vec::new();
     for f in families() {
         let (mut ok, mut n) = (0, 0);
         for k in 0..per {
             let c = case(f, k);
             let v = judge_family_case(&c);
+            losses.extend(v.export_loss_deg.iter().copied());
             n += 1;
             total += 1;
             ok += usize::from(v.found);
@@ -403,6 +432,13 @@ fn hidden_torque_families_are_found_or_reported_unexplained() {
     }
     println!(
         "hidden torques found: {found}/{with}; no claim at a joint that holds nothing: {clean}/{total}; neither found nor unexplained: {bad:?}"
+    );
+    losses.sort_by(f64::total_cmp);
+    println!(
+        "monitor exports compressed: {}; re-simulated angle loss median {:.4} deg, largest {:.4} deg",
+        losses.len(),
+        losses.get(losses.len() / 2).copied().unwrap_or(0.0),
+        losses.last().copied().unwrap_or(0.0)
     );
     assert!(found * 100 >= with * 60, "only {found}/{with} found");
     assert!(

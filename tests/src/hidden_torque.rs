@@ -18,10 +18,11 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::data_dir;
-use deploywatch_core::{Branch, Table, TorqueTable};
+use deploywatch_core::Branch;
 use deploywatch_sim::data::run::Run;
 use deploywatch_sim::model::effect::{self, Effect, EffectKind};
 use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::model::torque_table::{HostTable as Table, HostTorqueTable as TorqueTable};
 use deploywatch_sim::simulate::deployment::{self, SimOptions};
 use deploywatch_sim::simulate::sensor::{self, SensorModel};
 use rand::{Rng, SeedableRng};
@@ -83,7 +84,7 @@ pub fn mechanisms(pair: usize) -> Vec<Mechanism> {
 }
 
 /// Eight points of `y` at `xs`.
-fn table_at(xs: &[f64], y: impl Fn(f64) -> f64) -> Table<f64> {
+fn table_at(xs: &[f64], y: impl Fn(f64) -> f64) -> Table {
     let ys: Vec<f64> = xs.iter().map(|&x| y(x)).collect();
     Table::new(xs, &ys).unwrap()
 }
@@ -103,13 +104,7 @@ fn spring_nm(m: &Mechanism, j: usize, phi_deg: f64) -> f64 {
 }
 
 /// A table of form `form` at 0-based joint `j` with amplitude `amp` [N·m].
-fn draw_table(
-    rng: &mut ChaCha8Rng,
-    form: Form,
-    m: &Mechanism,
-    j: usize,
-    amp: f64,
-) -> TorqueTable<f64> {
+fn draw_table(rng: &mut ChaCha8Rng, form: Form, m: &Mechanism, j: usize, amp: f64) -> TorqueTable {
     let stowed = m.joints[j].stowed_deg;
     let motion = -stowed.signum();
     let at = |f: f64| stowed * (1.0 - f);

@@ -24,7 +24,7 @@ use crate::physics::friction::Friction;
 use crate::physics::linalg::{mat_vec, solve_spd_masked, SolveError};
 use crate::physics::real::Real;
 use crate::physics::spring::{Branch, Spring};
-use crate::physics::torque_table::TorqueTable;
+use crate::physics::torque_table::{TorqueTable, TABLE_MAX_KNOTS};
 
 /// Half-width δ of the `latch_detent` zone [deg] (`physics.md` section 6).
 pub const DETENT_ZONE_DEG: f64 = 3.0;
@@ -43,9 +43,10 @@ pub struct Panel<T> {
 }
 
 /// The named effects that act on one joint (`physics.md` section 6), all
-/// zero by default. They add to the joint's own friction law.
+/// zero by default. They add to the joint's own friction law. `K`: the
+/// most points of each torque table ([`TABLE_MAX_KNOTS`] on the monitor).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct JointEffects<T> {
+pub struct JointEffects<T, const K: usize = TABLE_MAX_KNOTS> {
     /// `coulomb_friction`: adds `−T_C tanh(φ̇/0.01)` [N·m].
     pub coulomb_nm: T,
     /// `viscous_damping`: adds `−f φ̇` [N·m·s/rad].
@@ -57,7 +58,7 @@ pub struct JointEffects<T> {
     /// `latch_detent`: adds `−T_d sign(φ) sin(2π|φ|/δ)` while `|φ| < δ` [N·m].
     pub detent_nm: T,
     /// `torque_table`: adds `f(φ) + g(φ̇)` ([`crate::physics::torque_table`]).
-    pub table: TorqueTable<T>,
+    pub table: TorqueTable<T, K>,
 }
 
 /// The named effects that act on the whole chain (`physics.md` section 6).
@@ -71,9 +72,9 @@ pub struct GlobalEffects<T> {
     pub tilt_alpha_rad: T,
 }
 
-/// One joint: what drives and resists it.
+/// One joint: what drives and resists it (`K` as in [`JointEffects`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Joint<T> {
+pub struct Joint<T, const K: usize = TABLE_MAX_KNOTS> {
     /// Stowed (initial) angle `φ_j(0)` [rad]; the latch angle is 0.
     pub stowed_rad: T,
     /// The hinge spring(s).
@@ -81,7 +82,7 @@ pub struct Joint<T> {
     /// The joint's friction law.
     pub friction: Friction<T>,
     /// Named effects acting on this joint.
-    pub effects: JointEffects<T>,
+    pub effects: JointEffects<T, K>,
 }
 
 /// Why a chain could not be built or evaluated.
@@ -148,11 +149,13 @@ impl<const N: usize> Default for Mode<N> {
 }
 
 /// The chain model: panels, joints and global effects, with the constant
-/// inertia coefficients precomputed.
+/// inertia coefficients precomputed. `K`: the most points of a joint's
+/// torque tables ([`TABLE_MAX_KNOTS`] on the monitor; the host simulator
+/// holds larger tables).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Chain<T, const N: usize> {
+pub struct Chain<T, const N: usize, const K: usize = TABLE_MAX_KNOTS> {
     // The joints first: [`Chain::vacant`] has them written in place.
-    joints: [Joint<T>; N],
+    joints: [Joint<T, K>; N],
     panels: [Panel<T>; N],
     global: GlobalEffects<T>,
     /// `A_kl` [kg·m²].
@@ -175,11 +178,11 @@ const GAUSS8: [(f64, f64); 8] = [
     (0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
 ];
 
-impl<T: Real, const N: usize> Chain<T, N> {
+impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
     /// Builds the chain and precomputes `A` and the mass moments.
     pub fn new(
         panels: [Panel<T>; N],
-        joints: [Joint<T>; N],
+        joints: [Joint<T, K>; N],
         global: GlobalEffects<T>,
     ) -> Result<Self, ChainError> {
         Self::check_panels(&panels)?;
@@ -217,7 +220,7 @@ impl<T: Real, const N: usize> Chain<T, N> {
 
     /// Unsprung joints without friction or effects, for [`Chain::vacant`].
     #[inline(never)]
-    fn vacant_joints() -> [Joint<T>; N] {
+    fn vacant_joints() -> [Joint<T, K>; N] {
         [Joint {
             stowed_rad: T::ZERO,
             spring: Spring::None,
@@ -293,13 +296,13 @@ impl<T: Real, const N: usize> Chain<T, N> {
     }
 
     /// The joints.
-    pub fn joints(&self) -> &[Joint<T>; N] {
+    pub fn joints(&self) -> &[Joint<T, K>; N] {
         &self.joints
     }
 
     /// Joint `j` (0-based), mutable: effects and friction can be changed
     /// without rebuilding the chain (they do not enter the inertia).
-    pub fn joint_mut(&mut self, j: usize) -> Option<&mut Joint<T>> {
+    pub fn joint_mut(&mut self, j: usize) -> Option<&mut Joint<T, K>> {
         self.joints.get_mut(j)
     }
 

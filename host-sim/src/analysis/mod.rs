@@ -15,3 +15,4 @@ pub mod residual_named;
 pub mod residual_shape;
 pub mod residual_torque;
 pub mod smoothing;
+pub mod table_export;

@@ -14,8 +14,8 @@
 
 use crate::analysis::residual_torque::TorqueSample;
 
-/// Most knots of one fitted table (angle or rate): the core's table size.
-pub const MAX_KNOTS: usize = deploywatch_core::torque_table::TABLE_MAX_KNOTS;
+/// Most knots of one fitted table (angle or rate): the host's table size.
+pub const MAX_KNOTS: usize = crate::model::torque_table::HOST_TABLE_MAX_KNOTS;
 
 /// Candidate knot places per axis (quantiles of the samples).
 const GRID: usize = 48;
@@ -303,11 +303,35 @@ fn room(knots: &[f64], x: f64, axis: Axis) -> bool {
     knots.iter().all(|k| (k - x).abs() >= gap)
 }
 
+/// How knots are counted: what a knot must gain to be kept.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KnotScore {
+    /// BIC on the samples: a knot must pay for itself (a fit to measured,
+    /// noisy torques).
+    Bic,
+    /// The residual sum of squares alone: every knot up to the limit is
+    /// kept (a compression of a known torque, where more knots are always
+    /// closer).
+    Rss,
+}
+
 /// Fits the samples of a joint deploying in direction `motion` (the sign of
 /// `φ̇`) with the axes `axes` (angle, rate or both): greedy knot insertion
 /// up to [`MAX_KNOTS`] per axis, the count by BIC, then removal of knots
 /// that lower the BIC.
 pub fn fit_shape(samples: &[TorqueSample], motion: f64, axes: &[Axis]) -> Option<Shape> {
+    fit_shape_with(samples, motion, axes, MAX_KNOTS, KnotScore::Bic)
+}
+
+/// [`fit_shape`] with at most `max_knots` knots per axis, counted by
+/// `criterion`.
+pub fn fit_shape_with(
+    samples: &[TorqueSample],
+    motion: f64,
+    axes: &[Axis],
+    max_knots: usize,
+    criterion: KnotScore,
+) -> Option<Shape> {
     let mut k = Knots {
         angle: Vec::new(),
         rate: Vec::new(),
@@ -325,7 +349,10 @@ pub fn fit_shape(samples: &[TorqueSample], motion: f64, axes: &[Axis]) -> Option
     let score = |k: &Knots| -> Option<f64> {
         let (_, _, rss) = solve(samples, k)?;
         let p = k.angle.len() + k.rate.len().saturating_sub(1);
-        Some(bic(samples, rss, p))
+        Some(match criterion {
+            KnotScore::Bic => bic(samples, rss, p),
+            KnotScore::Rss => rss,
+        })
     };
     let mut best = (score(&k)?, k.clone());
     let mut cur = k;
@@ -337,7 +364,7 @@ pub fn fit_shape(samples: &[TorqueSample], motion: f64, axes: &[Axis]) -> Option
                 Axis::Angle => &cur.angle,
                 Axis::Rate => &cur.rate,
             };
-            if list.len() >= MAX_KNOTS {
+            if list.len() >= max_knots {
                 continue;
             }
             for &x in g.iter().filter(|&&x| room(list, x, *axis)) {

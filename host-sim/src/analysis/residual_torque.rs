@@ -29,8 +29,9 @@ use crate::analysis::smoothing::{noise_sigma, smooth_segment, CubicWeights, Smoo
 use crate::data::campaign::Campaign;
 use crate::model::effect::{self, Effect};
 use crate::model::mechanism::{with_joints, Mechanism};
+use crate::model::torque_table::HostChain;
 use crate::simulate::deployment::Trajectory;
-use deploywatch_core::{Branch, Chain, ChainState, Mode};
+use deploywatch_core::{Branch, ChainState, Mode};
 use rayon::prelude::*;
 
 /// Samples within this angle of the latch [deg] are left out: the tape
@@ -326,7 +327,7 @@ fn joint_state(at: &RunAt, model: &([f64; 3], bool), j: usize, i: usize) -> Opti
 /// the encoder offsets), joint by joint, and whether its acceleration could
 /// be evaluated.
 fn model_state<const N: usize>(
-    chain: &Chain<f64, N>,
+    chain: &HostChain<N>,
     traj: &Trajectory,
     offsets: &[f64],
     i: usize,
@@ -410,7 +411,7 @@ fn run_torque<const N: usize>(
 /// the model's torque (by a central difference over one standard error, so
 /// that a friction law steep at rest counts as steep).
 fn torque_se<const N: usize>(
-    chain: &Chain<f64, N>,
+    chain: &HostChain<N>,
     x: &ChainState<f64, N>,
     mode: &Mode<N>,
     se: &[Vec<[f64; 3]>],

@@ -8,15 +8,16 @@ use crate::analysis::diagnose::{self, Candidate, DiagnoseOptions, Outcome, MIN_D
 use crate::analysis::evidence::{self, JointEvidence, CORRELATES};
 use crate::analysis::metrics::{self, TimeWindow};
 use crate::analysis::residual_torque::{self, JointTorque};
+use crate::analysis::table_export::{self, TableExport};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::findings::diagnosis::{
-    Diagnosis, Evidence, Fit, FoundEffect, Gain, Named, ResidualTorque, Round, Score,
+    Diagnosis, Evidence, Fit, FoundEffect, Gain, MonitorTable, Named, ResidualTorque, Round, Score,
 };
 use crate::model::findings::rounded;
+use crate::model::torque_table::{HostTable, HostTorqueTable};
 use crate::report::plot::{self, Mark, Panel, Series};
 use crate::report::progress;
-use deploywatch_core::{Table, TorqueTable};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -103,7 +104,8 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
         residual_torque::residual_torque(&campaign, &[]),
         residual_torque::residual_torque(&campaign, &ext_effects),
     ];
-    write_json(&args.json, &campaign, &outcome, &before, &torque)?;
+    let exports = table_export::export_tables(&campaign, &ext_effects);
+    write_json(&args.json, &campaign, &outcome, &before, &torque, &exports)?;
     let report = args.json.with_extension("md");
     write_report(&report, &campaign, &outcome, [&before, &after], &torque)?;
 
@@ -122,6 +124,9 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     }
     if let Some(u) = &outcome.unexplained {
         println!("  unexplained: {u}");
+    }
+    for x in &exports {
+        println!("  {}", export_line(x));
     }
     println!(
         "{} simulations in {:.2} s; JSON {}; report {}",
@@ -255,7 +260,7 @@ fn rounded_all(x: &[f64]) -> Vec<Option<f64>> {
 
 /// A discovered `torque_table` in the JSON (`docs/spec/formats.md`): its
 /// tables, the 95 % band of each knot, and the shape in one sentence.
-fn add_tables(v: &mut FoundEffect, shape: &str, t: &[TorqueTable<f64>; 3]) {
+fn add_tables(v: &mut FoundEffect, shape: &str, t: &[HostTorqueTable; 3]) {
     if let (Some(f), Some(lo), Some(hi)) = (&t[0].angle, &t[1].angle, &t[2].angle) {
         v.angle_deg = Some(rounded_all(f.xs()));
         v.torque_nm = Some(rounded_all(f.ys()));
@@ -267,6 +272,50 @@ fn add_tables(v: &mut FoundEffect, shape: &str, t: &[TorqueTable<f64>; 3]) {
         v.rate_torque_ci95_nm = Some([rounded_all(lo.ys()), rounded_all(hi.ys())]);
     }
     v.shape = Some(shape.to_string());
+}
+
+/// The monitor's export of a discovered table, in one line.
+fn export_line(x: &TableExport) -> String {
+    let points = |t: &Option<deploywatch_core::Table<f64>>| t.as_ref().map_or(0, |t| t.xs().len());
+    let (na, nr) = (points(&x.table.angle), points(&x.table.rate));
+    if !x.compressed {
+        return format!(
+            "monitor table at joint {}: as found ({na} angle and {nr} rate points), no loss",
+            x.joint
+        );
+    }
+    format!(
+        "monitor table at joint {}: compressed to {na} angle and {nr} rate points; torque difference RMS {:.4} N·m (max {:.4}), re-simulated angles RMS {} deg",
+        x.joint,
+        x.torque_rms_nm,
+        x.torque_max_nm,
+        x.angle_rms_deg
+            .map_or("n/a".to_string(), |a| format!("{a:.4}"))
+    )
+}
+
+/// Puts each table's monitor export beside its `torque_table` in the JSON.
+fn add_monitor_tables(effects: &mut [FoundEffect], exports: &[TableExport]) {
+    for x in exports {
+        let Some(v) = effects
+            .iter_mut()
+            .find(|e| e.name == EffectKind::TorqueTable.name() && e.joint == Some(x.joint))
+        else {
+            continue;
+        };
+        let xs = |t: &Option<deploywatch_core::Table<f64>>| t.as_ref().map(|t| rounded_all(t.xs()));
+        let ys = |t: &Option<deploywatch_core::Table<f64>>| t.as_ref().map(|t| rounded_all(t.ys()));
+        v.monitor_table = Some(MonitorTable {
+            angle_deg: xs(&x.table.angle),
+            torque_nm: ys(&x.table.angle),
+            rate_deg_s: xs(&x.table.rate),
+            rate_torque_nm: ys(&x.table.rate),
+            compressed: x.compressed,
+            torque_rms_diff_nm: rounded(x.torque_rms_nm),
+            torque_max_diff_nm: rounded(x.torque_max_nm),
+            angle_rms_diff_deg: x.angle_rms_deg.and_then(rounded),
+        });
+    }
 }
 
 /// Every round's candidates with their scores, for the JSON.
@@ -417,8 +466,10 @@ fn write_json(
     o: &Outcome,
     before: &[JointEvidence],
     torque: &[Vec<JointTorque>; 2],
+    exports: &[TableExport],
 ) -> Result<(), CliError> {
     let mut doc = to_json(c, o, before);
+    add_monitor_tables(&mut doc.effects, exports);
     doc.residual_torque = Some(ResidualTorque {
         baseline: diagnose_torque::torque_json(&torque[0]),
         extended: diagnose_torque::torque_json(&torque[1]),
@@ -536,14 +587,14 @@ fn report_evidence(md: &mut String, before: &[JointEvidence], after: &[JointEvid
 /// The points of one table as plot series: the fitted table and its band,
 /// extended flat by a tenth of the span beyond the end points (the table is
 /// held constant there).
-fn table_series(tables: &[Option<&Table<f64>>; 3]) -> Option<[(Vec<f64>, Vec<f64>); 3]> {
+fn table_series(tables: &[Option<&HostTable>; 3]) -> Option<[(Vec<f64>, Vec<f64>); 3]> {
     let mid = tables[0]?;
     let (x0, x1) = (mid.xs()[0], mid.xs()[mid.xs().len() - 1]);
     let pad = 0.1 * (x1 - x0);
     let xs: Vec<f64> = (0..=100)
         .map(|i| x0 - pad + (x1 - x0 + 2.0 * pad) * i as f64 / 100.0)
         .collect();
-    let line = |t: Option<&Table<f64>>| {
+    let line = |t: Option<&HostTable>| {
         let t = t.unwrap_or(mid);
         (
             xs.clone(),

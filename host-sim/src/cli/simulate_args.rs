@@ -75,7 +75,7 @@ pub fn effect_help() -> String {
     s += &format!(
         "\n  {:<18} torque_table:joint=J:angle_deg=A1,A2,..:torque_nm=T1,T2,..\
          [:rate_deg_s=R1,R2,..:rate_torque_nm=G1,G2,..]: torque in N·m vs angle [deg] \
-         and/or rate [deg/s], 2 to 8 points each (per joint, joint=J, no value)",
+         and/or rate [deg/s], 2 to 24 points each (per joint, joint=J, no value)",
         EffectKind::TorqueTable.name()
     );
     for k in EffectKind::LATCH {

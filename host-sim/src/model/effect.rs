@@ -1,8 +1,10 @@
 //! The named effects of `docs/spec/physics.md` section 6: the vocabulary a
 //! diagnosis reports, and the extras `deploywatch simulate --effect` adds.
 
-use crate::model::torque_table::{self, TableError, TablePoints};
-use deploywatch_core::{GlobalEffects, JointEffects, TorqueTable};
+use crate::model::torque_table::{
+    self, HostJointEffects, HostTorqueTable, TableError, TablePoints,
+};
+use deploywatch_core::GlobalEffects;
 use std::fmt;
 use std::str::FromStr;
 
@@ -299,7 +301,7 @@ pub struct Effect {
     pub alpha_deg: f64,
     /// `torque_table` only: the tables (`value` is then their largest
     /// absolute torque [N·m]).
-    pub table: TorqueTable<f64>,
+    pub table: HostTorqueTable,
 }
 
 impl Default for EffectKind {
@@ -466,8 +468,8 @@ impl FromStr for Effect {
 
 /// The dynamic effects of a list, as the core's per-joint and global tables
 /// (sensor effects are left out: see [`encoder_offsets_deg`]).
-pub fn to_core(effects: &[Effect], joints: usize) -> (Vec<JointEffects<f64>>, GlobalEffects<f64>) {
-    let mut je = vec![JointEffects::default(); joints];
+pub fn to_core(effects: &[Effect], joints: usize) -> (Vec<HostJointEffects>, GlobalEffects<f64>) {
+    let mut je = vec![HostJointEffects::default(); joints];
     let mut g = GlobalEffects::default();
     for e in effects {
         let j = e

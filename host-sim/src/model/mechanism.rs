@@ -5,10 +5,9 @@
 //! Reading and validating the TOML lives in [`crate::model::mechanism_toml`].
 
 pub use crate::model::friction_spec::FrictionSpec;
+use crate::model::torque_table::{HostChain, HostJointEffects};
 use deploywatch_core::spring::{CurveError, Fold, Interp, TapePoints};
-use deploywatch_core::{
-    Chain, Curve, Friction, GlobalEffects, Joint, JointEffects, Panel, Real, Spring,
-};
+use deploywatch_core::{Chain, Curve, Friction, GlobalEffects, Joint, Panel, Real, Spring};
 
 /// Most joints a mechanism, and so a run, may have: the longest chain the
 /// simulator models (`physics.md` section 1: n = 1..4). The on-board monitor
@@ -211,9 +210,9 @@ impl Mechanism {
     /// validated when the file was read.
     pub fn chain<const N: usize>(
         &self,
-        effects: &[JointEffects<f64>],
+        effects: &[HostJointEffects],
         global: GlobalEffects<f64>,
-    ) -> Option<Chain<f64, N>> {
+    ) -> Option<HostChain<N>> {
         if self.joints.len() != N || self.panels.len() != N || effects.len() != N {
             return None;
         }
@@ -222,7 +221,7 @@ impl Mechanism {
             stowed_rad: 0.0,
             spring: Spring::None,
             friction: Friction::default(),
-            effects: JointEffects::default(),
+            effects: HostJointEffects::default(),
         }; N];
         for (i, j) in self.joints.iter().enumerate() {
             joints[i] = Joint {

@@ -10,6 +10,27 @@
 use deploywatch_core::{Table, TableError as CoreTableError, TorqueTable};
 use std::fmt::Write as _;
 
+/// Most points of one table on the host [1]: the host simulator and the
+/// diagnosis hold tables this large (a hump of a rate law or a dip over
+/// part of the stroke needs more knots than the monitor's
+/// [`deploywatch_core::torque_table::TABLE_MAX_KNOTS`]); a table for the
+/// monitor is a compressed export of 8 points, made by the diagnosis with
+/// its fit loss (`docs/diagnosis.md`).
+pub const HOST_TABLE_MAX_KNOTS: usize = 24;
+
+/// One piecewise-linear table as the host holds it.
+pub type HostTable = Table<f64, HOST_TABLE_MAX_KNOTS>;
+
+/// A joint's `torque_table` as the host holds it.
+pub type HostTorqueTable = TorqueTable<f64, HOST_TABLE_MAX_KNOTS>;
+
+/// A joint's named effects as the host simulator holds them.
+pub type HostJointEffects = deploywatch_core::JointEffects<f64, HOST_TABLE_MAX_KNOTS>;
+
+/// The core chain of `N` joints as the host simulator integrates it
+/// (`f64`, tables of up to [`HOST_TABLE_MAX_KNOTS`] points).
+pub type HostChain<const N: usize> = deploywatch_core::Chain<f64, N, HOST_TABLE_MAX_KNOTS>;
+
 /// What is wrong with the points of a torque table.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -99,7 +120,7 @@ impl TablePoints {
 
     /// Builds the table: each of `f` and `g` needs both its lists, of equal
     /// length, abscissae strictly increasing; at least one of them.
-    pub fn build(&self) -> Result<TorqueTable<f64>, TableError> {
+    pub fn build(&self) -> Result<HostTorqueTable, TableError> {
         let one = |x: &Option<Vec<f64>>,
                    y: &Option<Vec<f64>>,
                    x_key: &'static str,
@@ -142,7 +163,7 @@ fn list(v: &[f64]) -> String {
 }
 
 /// The table's keys in the `--effect` syntax, each preceded by `:`.
-pub fn to_keys(t: &TorqueTable<f64>) -> String {
+pub fn to_keys<const K: usize>(t: &TorqueTable<f64, K>) -> String {
     let mut s = String::new();
     if let Some(f) = &t.angle {
         let _ = write!(s, ":angle_deg={}:torque_nm={}", list(f.xs()), list(f.ys()));
@@ -160,7 +181,7 @@ pub fn to_keys(t: &TorqueTable<f64>) -> String {
 
 /// The largest absolute torque of either table [N·m] (the `value` a
 /// diagnosis reports beside the tables).
-pub fn max_abs_nm(t: &TorqueTable<f64>) -> f64 {
+pub fn max_abs_nm<const K: usize>(t: &TorqueTable<f64, K>) -> f64 {
     [&t.angle, &t.rate]
         .into_iter()
         .flatten()

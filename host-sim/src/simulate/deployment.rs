@@ -11,12 +11,13 @@
 
 use crate::model::effect::{self, Effect};
 use crate::model::mechanism::{with_joints, Mechanism, MAX_CHAIN_JOINTS};
+use crate::model::torque_table::HostChain;
 use crate::simulate::ode::{self, locate, State};
 use crate::simulate::trajectory::SAMPLE_TIME_SLACK_S;
 pub use crate::simulate::trajectory::{
     Samples, SimError, SimOptions, SimStats, Trajectory, MAX_SAMPLES, MAX_STEPS,
 };
-use deploywatch_core::{Branch, Chain, Mode};
+use deploywatch_core::{Branch, Mode};
 
 /// Most branch events one joint may have within [`BRANCH_BURST_WINDOW_S`]
 /// before the simulation is declared to slide on `φ̇ = 0`.
@@ -145,7 +146,7 @@ enum Event {
 
 /// The integrator's discrete bookkeeping.
 struct Integrator<'a, const N: usize> {
-    chain: &'a Chain<f64, N>,
+    chain: &'a HostChain<N>,
     mode: Mode<N>,
     /// `sign(φ_stowed)`: the side a latch is reached from.
     side: [f64; N],
@@ -277,7 +278,7 @@ mod small_list {
 /// last sample, then close the run (`settle_s` of the deployed state, or the
 /// samples left).
 pub fn run_chain<const N: usize>(
-    chain: &Chain<f64, N>,
+    chain: &HostChain<N>,
     times: Samples<'_>,
     opts: &SimOptions,
 ) -> Result<Trajectory, SimError> {
@@ -464,7 +465,7 @@ impl<const N: usize> EventLog<N> {
 impl<'a, const N: usize> Integrator<'a, N> {
     /// The integrator at the stowed state at rest, each joint on the branch
     /// the rule gives there.
-    fn at_rest(chain: &'a Chain<f64, N>) -> (Self, State<N>) {
+    fn at_rest(chain: &'a HostChain<N>) -> (Self, State<N>) {
         let mut it = Integrator {
             chain,
             mode: Mode::default(),

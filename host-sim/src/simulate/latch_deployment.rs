@@ -23,13 +23,14 @@
 
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::mechanism::Mechanism;
+use crate::model::torque_table::HostChain;
 use crate::simulate::ode::{self, locate, Dense, State};
 use crate::simulate::trajectory::{
     Samples, SimError, SimOptions, Trajectory, MAX_SAMPLES, MAX_STEPS,
 };
 use deploywatch_core::linalg::solve_spd_masked;
 use deploywatch_core::physics::latch_contact::{LatchMark, PhysicalLatch, PlungerSegment};
-use deploywatch_core::{Branch, Chain, Mode};
+use deploywatch_core::{Branch, Mode};
 
 pub use crate::simulate::latch_run::{
     Energy, LatchEnd, LatchEvent, LatchEventKind, LatchOutcome, LatchRun,
@@ -125,7 +126,7 @@ pub fn latches<const N: usize>(
 
 /// The integrator's state besides `(φ, φ̇)`.
 struct Sim<'a, const N: usize> {
-    chain: &'a Chain<f64, N>,
+    chain: &'a HostChain<N>,
     latch: [Option<PhysicalLatch<f64>>; N],
     seg: [Segments; N],
     mode: Mode<N>,
@@ -161,7 +162,7 @@ impl Ev {
 }
 
 impl<'a, const N: usize> Sim<'a, N> {
-    fn new(chain: &'a Chain<f64, N>, latch: [Option<PhysicalLatch<f64>>; N], y: &State<N>) -> Self {
+    fn new(chain: &'a HostChain<N>, latch: [Option<PhysicalLatch<f64>>; N], y: &State<N>) -> Self {
         let mut sim = Sim {
             chain,
             latch,
@@ -559,7 +560,7 @@ pub fn simulate_physical(
 /// Integrates a chain with the given latches from `y0` at `t = 0` to the
 /// last of `times`, sampling it there.
 pub fn run_from<const N: usize>(
-    chain: &Chain<f64, N>,
+    chain: &HostChain<N>,
     latch: [Option<PhysicalLatch<f64>>; N],
     y0: State<N>,
     times: Samples<'_>,

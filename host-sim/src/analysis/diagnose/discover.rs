@@ -17,7 +17,7 @@ use super::candidate::Candidate;
 use super::table_form::TableForm;
 use crate::data::campaign::Campaign;
 use crate::model::effect::EffectKind;
-use deploywatch_core::TorqueTable;
+use crate::model::torque_table::HostTorqueTable;
 
 /// The farthest angle from the latch [deg] and the largest rate with the
 /// sign of the motion [deg/s] that the runs reach at 0-based joint `j`
@@ -107,7 +107,7 @@ fn stroke_region(from_deg: f64, lo: f64, hi: f64) -> String {
 /// One sentence on the shape of a discovered torque: which joint, where in
 /// the stroke, how it depends on the rate, and its sign (resisting or
 /// driving the deployment).
-pub fn shape_sentence(form: &TableForm, joint: usize, t: &TorqueTable<f64>) -> String {
+pub fn shape_sentence(form: &TableForm, joint: usize, t: &HostTorqueTable) -> String {
     let motion = -f64::from(form.from_deg).signum(); // sign of φ̇ while deploying
     let mut parts = Vec::new();
     if let Some(f) = &t.angle {
@@ -210,7 +210,7 @@ pub fn rate_words(xs: &[f64], ys: &[f64], motion: f64) -> String {
 
 /// A discovered table with its 95 % band, knot by knot: `[fitted, lower,
 /// upper]` (the rate table's fixed `g(0) = 0` has no width).
-pub fn band(form: &TableForm, p: &[f64], ci: &[[f64; 2]]) -> [TorqueTable<f64>; 3] {
+pub fn band(form: &TableForm, p: &[f64], ci: &[[f64; 2]]) -> [HostTorqueTable; 3] {
     let lo: Vec<f64> = ci.iter().map(|c| c[0]).collect();
     let hi: Vec<f64> = ci.iter().map(|c| c[1]).collect();
     [form.table(p), form.table(&lo), form.table(&hi)]

@@ -67,6 +67,7 @@ impl Search<'_, '_> {
                 self.run();
             }
         }
+        self.refine_tables();
         self.check_claims();
     }
 

@@ -26,6 +26,7 @@ mod candidate;
 pub mod discover;
 mod evidence_search;
 mod outcome;
+mod refine;
 mod table_form;
 
 pub use candidate::Candidate;

@@ -82,7 +82,11 @@ impl FittedSet {
     pub fn table_of(
         &self,
         k: usize,
-    ) -> Option<(TableForm, String, [deploywatch_core::TorqueTable<f64>; 3])> {
+    ) -> Option<(
+        TableForm,
+        String,
+        [crate::model::torque_table::HostTorqueTable; 3],
+    )> {
         let c = self.set.get(k)?;
         let form = c.table?;
         let (p, ci) = self.effect_params(k)?;

@@ -2,9 +2,9 @@
 
 use crate::analysis::residual_shape::Shape;
 use crate::model::effect::{Effect, EffectKind};
-use crate::model::torque_table::max_abs_nm;
-use deploywatch_core::torque_table::TABLE_MAX_KNOTS;
-use deploywatch_core::{Table, TorqueTable};
+use crate::model::torque_table::{
+    max_abs_nm, HostTable, HostTorqueTable, HOST_TABLE_MAX_KNOTS as MAX_KNOTS,
+};
 /// The form of a candidate table at one joint: which tables, over which
 /// span. Integers so that candidates stay comparable and hashable.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -30,9 +30,9 @@ pub struct TableForm {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct PlacedKnots {
     /// Angle knots [0.01 deg], increasing.
-    pub angle_cdeg: [i32; TABLE_MAX_KNOTS],
+    pub angle_cdeg: [i32; MAX_KNOTS],
     /// Rate knots [0.01 deg/s], increasing, 0 among them.
-    pub rate_cdeg_s: [i32; TABLE_MAX_KNOTS],
+    pub rate_cdeg_s: [i32; MAX_KNOTS],
 }
 
 /// Hundredths of `x`, as stored in [`PlacedKnots`].
@@ -46,12 +46,12 @@ impl PlacedKnots {
     /// has more knots than a table holds.
     pub fn form(shape: &Shape, from_deg: i32, rate_max_deg_s: i32) -> Option<TableForm> {
         let (na, nr) = (shape.angle_deg.len(), shape.rate_deg_s.len());
-        if na > TABLE_MAX_KNOTS || nr > TABLE_MAX_KNOTS || na == 1 || nr == 1 {
+        if na > MAX_KNOTS || nr > MAX_KNOTS || na == 1 || nr == 1 {
             return None;
         }
         let mut k = PlacedKnots {
-            angle_cdeg: [0; TABLE_MAX_KNOTS],
-            rate_cdeg_s: [0; TABLE_MAX_KNOTS],
+            angle_cdeg: [0; MAX_KNOTS],
+            rate_cdeg_s: [0; MAX_KNOTS],
         };
         for (d, x) in k.angle_cdeg.iter_mut().zip(&shape.angle_deg) {
             *d = hundredths(*x);
@@ -151,7 +151,7 @@ impl TableForm {
     /// The torque table with knot torques `p` (angle knots, then the free
     /// rate knots from the rate 0 outwards; placed knots: both in
     /// increasing order).
-    pub fn table(&self, p: &[f64]) -> TorqueTable<f64> {
+    pub fn table(&self, p: &[f64]) -> HostTorqueTable {
         if self.placed.is_some() {
             return self.placed_table(p);
         }
@@ -167,7 +167,7 @@ impl TableForm {
                 }
                 // `angle_xs` runs from `from_deg` to 0; for a negative
                 // stroke that is already increasing and the torques match.
-                Table::new(&xs, &ys).ok()
+                HostTable::new(&xs, &ys).ok()
             })
             .flatten();
         let rate = (self.rate_knots > 0)
@@ -178,18 +178,18 @@ impl TableForm {
                 if self.rate_max_deg_s < 0 {
                     ys.reverse();
                 }
-                Table::new(&xs, &ys).ok()
+                HostTable::new(&xs, &ys).ok()
             })
             .flatten();
-        TorqueTable { angle, rate }
+        HostTorqueTable { angle, rate }
     }
 
     /// [`TableForm::table`] of placed knots: the values in increasing order
     /// of their knots, the rate knot at 0 held at 0.
-    fn placed_table(&self, p: &[f64]) -> TorqueTable<f64> {
+    fn placed_table(&self, p: &[f64]) -> HostTorqueTable {
         let na = usize::from(self.angle_knots);
         let angle = (na >= 2)
-            .then(|| Table::new(&self.angle_xs(), p.get(..na)?).ok())
+            .then(|| HostTable::new(&self.angle_xs(), p.get(..na)?).ok())
             .flatten();
         let rxs = self.rate_xs();
         let mut free = p.iter().skip(na);
@@ -204,9 +204,9 @@ impl TableForm {
             })
             .collect();
         let rate = (self.rate_knots > 0)
-            .then(|| Table::new(&rxs, &rys).ok())
+            .then(|| HostTable::new(&rxs, &rys).ok())
             .flatten();
-        TorqueTable { angle, rate }
+        HostTorqueTable { angle, rate }
     }
 
     /// The effect at `joint` with knot torques `p`.

@@ -191,12 +191,49 @@ pub struct FoundEffect {
     /// A `torque_table`'s shape in one sentence.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shape: Option<String>,
+    /// A `torque_table`'s export for the on-board monitor: at most the
+    /// monitor's 8 points per table, with the fit loss of the compression.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub monitor_table: Option<MonitorTable>,
     /// `rig_tilt`'s direction α [deg].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alpha_deg: Option<f64>,
     /// Its 95 % interval [deg].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alpha_ci95_deg: Option<[Option<f64>; 2]>,
+}
+
+/// A discovered table as the on-board monitor holds it (at most
+/// `deploywatch_core::torque_table::TABLE_MAX_KNOTS` points per table) and
+/// what compressing the host's table to it cost.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct MonitorTable {
+    /// Angle knots [deg].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angle_deg: Option<Vec<Option<f64>>>,
+    /// The torque at each angle knot [N·m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub torque_nm: Option<Vec<Option<f64>>>,
+    /// Rate knots [deg/s].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate_deg_s: Option<Vec<Option<f64>>>,
+    /// The torque at each rate knot [N·m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate_torque_nm: Option<Vec<Option<f64>>>,
+    /// True when the host's table had more points and was compressed.
+    #[serde(default)]
+    pub compressed: bool,
+    /// RMS of the host's minus the exported torque over the stroke and
+    /// rates the runs cover [N·m].
+    #[serde(default)]
+    pub torque_rms_diff_nm: Option<f64>,
+    /// Largest absolute difference of the two torques there [N·m].
+    #[serde(default)]
+    pub torque_max_diff_nm: Option<f64>,
+    /// RMS difference of the angles re-simulated on the campaign's runs
+    /// with the host's and with the exported table [deg].
+    #[serde(default)]
+    pub angle_rms_diff_deg: Option<f64>,
 }
 
 /// One round of the search.

@@ -1,0 +1,261 @@
+//! Refinement of a discovered table: more knots where the fit needs them.
+//!
+//! A table taken by discovery has the knots it started with (five even
+//! angle knots, or those the residual torque's shape placed). When the fit
+//! with it still leaves a residual above the noise floor, each table of the
+//! set is tried in finer forms, each replacing it (the others' values kept
+//! as the start): its angle knots doubled (a midpoint between each pair at
+//! least twice [`MIN_ANGLE_SPACING_DEG`] apart), a rate table with knots
+//! halving towards rest (`r, r/2, r/4, …` down to [`MIN_RATE_SPACING_DEG_S`],
+//! so that a rate law peaked a few deg/s from rest is representable), and
+//! both. Each starts from the table as fitted (evaluated at the new knots;
+//! a new rate table from 0) and is refined through the simulator and
+//! judged by BIC and the held-out RMS ([`Search::refined`]). Up to
+//! [`HOST_TABLE_MAX_KNOTS`] knots per axis, the host's table size; the
+//! monitor gets a compressed export ([`crate::analysis::table_export`]).
+
+use super::candidate::Candidate;
+use super::outcome::{CandidateScore, FittedSet, Round};
+use super::table_form::{PlacedKnots, TableForm};
+use super::{labels, Search, HELD_OUT_SHARE, MIN_DELTA_BIC};
+use crate::analysis::residual_shape::{Shape, MIN_ANGLE_SPACING_DEG, MIN_RATE_SPACING_DEG_S};
+use crate::model::effect::EffectKind;
+use crate::model::torque_table::{HostTorqueTable, HOST_TABLE_MAX_KNOTS};
+
+/// Refinement rounds at most: each may double a table's angle knots once.
+const REFINE_ROUNDS: usize = 2;
+
+/// Finer forms judged per round, best BIC first (as many as a round tries).
+const REFINE_TRIES: usize = 3;
+
+/// Rate knots of a refined rate table at most (0 among them): halving from
+/// the largest rate, eight reach 1/64 of it.
+const RATE_KNOTS: usize = 8;
+
+impl Search<'_, '_> {
+    /// While the residual stays above the noise floor, tries the finer
+    /// forms of every table in the set and takes the best that earns its
+    /// keep ([`Search::refined`]).
+    pub(super) fn refine_tables(&mut self) {
+        for _ in 0..REFINE_ROUNDS {
+            if self.current.rms() <= self.floor_deg {
+                return;
+            }
+            let moves = self.refine_moves();
+            if moves.is_empty() {
+                return;
+            }
+            self.eng.say(format!(
+                "refinement: the residual stays at {:.4} deg; fitting {} finer tables in {}",
+                self.current.rms(),
+                moves.len(),
+                labels(&self.current.set)
+            ));
+            if !self.refined(&moves) {
+                return;
+            }
+        }
+    }
+
+    /// Judges the finer forms: of the [`REFINE_TRIES`] best by BIC, the
+    /// first that gains more than [`MIN_DELTA_BIC`] and whose held-out RMS
+    /// beats the current set's by [`HELD_OUT_SHARE`] is taken. A refinement reshapes a table already kept,
+    /// so its knots' intervals are not asked to be clear of zero (more
+    /// knots share the torque, and the largest may be near-collinear with
+    /// a knot of the other axis). True when one was taken.
+    fn refined(&mut self, moves: &[(FittedSet, Candidate)]) -> bool {
+        let fits = self.eng.fit_moves(self.eng.campaign, moves);
+        let current = self.current.clone();
+        let mut scores: Vec<CandidateScore> = fits
+            .into_iter()
+            .filter(|(_, _, screened_out)| !screened_out)
+            .filter_map(|(candidate, f, _)| {
+                let fitted = f?;
+                Some(CandidateScore {
+                    candidate,
+                    delta_bic: current.bic() - fitted.bic(),
+                    fitted,
+                    held_out_rms_deg: None,
+                    accepted: false,
+                    verdict: String::new(),
+                })
+            })
+            .collect();
+        scores.sort_by(|a, b| b.delta_bic.total_cmp(&a.delta_bic));
+        for s in &scores {
+            self.eng.say(format!(
+                "  {:<40} RMS {:.4} deg  dBIC {:>10.1}",
+                labels(&s.fitted.set),
+                s.fitted.rms(),
+                s.delta_bic
+            ));
+        }
+        let mut taken = None;
+        for s in scores.iter_mut().take(REFINE_TRIES) {
+            if taken.is_some() {
+                s.verdict = format!("dBIC {:.1}, not the best", s.delta_bic);
+                continue;
+            }
+            s.verdict = if s.delta_bic <= MIN_DELTA_BIC {
+                format!("BIC gain {:.1} ≤ {MIN_DELTA_BIC}", s.delta_bic)
+            } else {
+                s.held_out_rms_deg = self.eng.held_out(&s.fitted);
+                match (s.held_out_rms_deg, self.current_held) {
+                    (Some(h), Some(c)) if h >= HELD_OUT_SHARE * c => {
+                        format!("held-out RMS {h:.4} deg does not beat {c:.4} deg")
+                    }
+                    _ => {
+                        s.accepted = true;
+                        taken = Some((s.fitted.clone(), s.held_out_rms_deg));
+                        "earns its keep: refined".into()
+                    }
+                }
+            };
+        }
+        self.rounds.push(Round {
+            what: format!("refine a table of {}", labels(&current.set)),
+            start: current.set.clone(),
+            start_rms_deg: current.rms(),
+            scores,
+        });
+        let Some((f, held)) = taken else {
+            return false;
+        };
+        self.eng.say(format!(
+            "  refined: {} (RMS {:.4} deg)",
+            labels(&f.set),
+            f.rms()
+        ));
+        let (f, held) = self.eng.backward(f, held);
+        self.seen.push(f.set.clone());
+        self.current = f;
+        self.current_held = held;
+        true
+    }
+
+    /// Each table of the set in its finer forms, in place of itself.
+    fn refine_moves(&self) -> Vec<(FittedSet, Candidate)> {
+        let mut moves = Vec::new();
+        for (k, c) in self.current.set.iter().enumerate() {
+            let (Some(form), Some((p, _))) = (c.table, self.current.effect_params(k)) else {
+                continue;
+            };
+            let table = form.table(p);
+            let base = self.current.without(k);
+            for shape in finer_shapes(&form, &table) {
+                let Some(placed) = PlacedKnots::form(&shape, form.from_deg, form.rate_max_deg_s)
+                else {
+                    continue;
+                };
+                let cand = Candidate {
+                    kind: EffectKind::TorqueTable,
+                    joint: c.joint,
+                    table: Some(placed),
+                };
+                if self.seen.iter().any(|s| s.contains(&cand)) {
+                    continue;
+                }
+                self.eng.set_start(placed, PlacedKnots::start(&shape));
+                moves.push((base.clone(), cand));
+            }
+        }
+        moves
+    }
+}
+
+/// The finer forms of `table` (of form `form`) as shapes whose values are
+/// the start: angle knots doubled, a halving rate table, and both.
+fn finer_shapes(form: &TableForm, table: &HostTorqueTable) -> Vec<Shape> {
+    let angle = table.angle.as_ref().map(|f| f.xs().to_vec());
+    let finer_angle = angle
+        .as_deref()
+        .map(doubled)
+        .filter(|x| Some(x) != angle.as_ref());
+    let rate_now = table.rate.as_ref().map(|g| g.xs().to_vec());
+    let halving = halving_rates(f64::from(form.rate_max_deg_s));
+    let finer_rate = (halving.len() > rate_now.as_ref().map_or(0, Vec::len)).then_some(halving);
+    let mut out = Vec::new();
+    let mut push = |a: Option<Vec<f64>>, r: Option<Vec<f64>>| {
+        let angle_deg = a.unwrap_or_default();
+        let rate_deg_s = r.unwrap_or_default();
+        let angle_nm = angle_deg
+            .iter()
+            .map(|&x| table.angle.as_ref().map_or(0.0, |f| f.eval(x)))
+            .collect();
+        let rate_nm = rate_deg_s
+            .iter()
+            .map(|&x| table.rate.as_ref().map_or(0.0, |g| g.eval(x)))
+            .collect();
+        out.push(Shape {
+            angle_deg,
+            angle_nm,
+            rate_deg_s,
+            rate_nm,
+            rss: f64::NAN,
+            bic: f64::NAN,
+            bic_zero: f64::NAN,
+        });
+    };
+    if finer_angle.is_some() {
+        push(finer_angle.clone(), rate_now.clone());
+    }
+    if finer_rate.is_some() {
+        push(angle.clone(), finer_rate.clone());
+    }
+    if finer_angle.is_some() && finer_rate.is_some() {
+        push(finer_angle, finer_rate);
+    }
+    out
+}
+
+/// `xs` with a midpoint between each pair of knots at least twice
+/// [`MIN_ANGLE_SPACING_DEG`] apart, up to [`HOST_TABLE_MAX_KNOTS`] knots
+/// (rounded to the hundredths the forms store).
+fn doubled(xs: &[f64]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(2 * xs.len());
+    for w in xs.windows(2) {
+        out.push(w[0]);
+        if w[1] - w[0] >= 2.0 * MIN_ANGLE_SPACING_DEG && out.len() + 2 < HOST_TABLE_MAX_KNOTS {
+            out.push((0.5 * (w[0] + w[1]) * 100.0).round() / 100.0);
+        }
+    }
+    out.extend(xs.last());
+    out
+}
+
+/// Rate knots `0, …, r/4, r/2, r` (increasing, `r` with its sign), halving
+/// from `r` while the gap to the next stays at least
+/// [`MIN_RATE_SPACING_DEG_S`]; at most [`RATE_KNOTS`].
+fn halving_rates(r: f64) -> Vec<f64> {
+    let mut v = vec![r];
+    let mut x = r;
+    while v.len() + 1 < RATE_KNOTS && (0.5 * x).abs() >= MIN_RATE_SPACING_DEG_S {
+        x *= 0.5;
+        v.push((x * 100.0).round() / 100.0);
+    }
+    v.push(0.0);
+    v.sort_by(f64::total_cmp);
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn doubling_puts_midpoints_between_wide_knots_only() {
+        assert_eq!(
+            doubled(&[0.0, 45.0, 90.0, 93.0]),
+            vec![0.0, 22.5, 45.0, 67.5, 90.0, 93.0]
+        );
+    }
+
+    #[test]
+    fn halving_rates_reach_a_few_deg_s_from_rest() {
+        let v = halving_rates(-300.0);
+        assert_eq!(v.len(), RATE_KNOTS);
+        assert_eq!(v.first(), Some(&-300.0));
+        assert_eq!(v.last(), Some(&0.0));
+        assert!(v[v.len() - 2].abs() >= MIN_RATE_SPACING_DEG_S && v[v.len() - 2].abs() < 10.0);
+    }
+}
