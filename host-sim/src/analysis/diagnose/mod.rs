@@ -501,10 +501,9 @@ impl Search<'_, '_> {
     /// A named effect that explains the data wins over a table: each table
     /// of the set is replaced by every named candidate in turn (and by the
     /// pairs of named effects at its joint, [`Search::named_pairs_for`]),
-    /// and the best
-    /// replacement by BIC is taken when its BIC is better than the table's
-    /// set (as good a fit with fewer parameters) and its interval is clear
-    /// of zero. True when a table was replaced.
+    /// and the best replacement by BIC is taken when its BIC is better than
+    /// the table's set (as good a fit with fewer parameters) and its
+    /// intervals are clear of zero. True when a table was replaced.
     fn prefer_named(&mut self) -> bool {
         let named: Vec<Candidate> = self.outside();
         let mut moves = Vec::new();
