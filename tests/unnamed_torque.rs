@@ -333,7 +333,14 @@ fn judge_family_case(c: &deploywatch_tests::hidden_torque::Case) -> Verdict {
             .push(&mechs, run.clone(), Path::new(&format!("run{r}.csv")))
             .unwrap();
     }
-    let o = diagnose(&campaign, &DiagnoseOptions::default(), &quiet);
+    // `DEPLOYWATCH_TRACE` shows the search's progress.
+    let sink: deploywatch_sim::report::progress::Progress =
+        if std::env::var_os("DEPLOYWATCH_TRACE").is_some() {
+            &deploywatch_sim::report::progress::stderr
+        } else {
+            &quiet
+        };
+    let o = diagnose(&campaign, &DiagnoseOptions::default(), sink);
     // Only now the truth.
     let found = o.extended.effects();
     let (want, got) = (joints_of(&c.truth), joints_of(&found));
@@ -410,7 +417,9 @@ fn hidden_torque_families_are_found_or_reported_unexplained() {
     };
     let (mut found, mut with, mut clean, mut total, mut bad) = (0, 0, 0, 0, Vec::new());
     let mut losses = Vec::new();
-    for f in families() {
+    // `DEPLOYWATCH_FAMILY=two` runs only the families whose name holds it.
+    let only = std::env::var("DEPLOYWATCH_FAMILY").unwrap_or_default();
+    for f in families().into_iter().filter(|f| f.name().contains(&only)) {
         let (mut ok, mut n) = (0, 0);
         for k in 0..per {
             let c = case(f, k);

@@ -61,7 +61,7 @@ pub struct Proposal {
 /// Weighted least squares of the samples on the signatures of `kinds`:
 /// the values and the weighted RSS. `None` when singular or a value is not
 /// positive (every named effect here has a positive value).
-fn fit(samples: &[TorqueSample], kinds: &[EffectKind]) -> Option<(Vec<f64>, f64)> {
+pub fn fit(samples: &[TorqueSample], kinds: &[EffectKind]) -> Option<(Vec<f64>, f64)> {
     let k = kinds.len();
     let mut ata = [[0.0; 2]; 2];
     let mut atb = [0.0; 2];

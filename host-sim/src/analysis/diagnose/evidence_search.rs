@@ -16,7 +16,7 @@ use super::discover;
 use super::outcome::FittedSet;
 use super::table_form::PlacedKnots;
 use super::{above_noise, labels, Search, MAX_TABLES};
-use crate::analysis::residual_named::propose_pair;
+use crate::analysis::residual_named::{self, propose_pair};
 use crate::analysis::residual_shape::best_shape;
 use crate::analysis::residual_torque::{residual_torque, JointTorque};
 use crate::model::effect::EffectKind;
@@ -249,5 +249,54 @@ impl Search<'_, '_> {
             labels(&self.current.set)
         );
         self.step(&moves, what, "proposed by the residual torque:")
+    }
+}
+
+impl Search<'_, '_> {
+    /// Two named effects at one joint in place of a table there: the
+    /// residual torque beside `reduced` (the set without the table) at the
+    /// table's joint is regressed on each pair of named signatures
+    /// ([`residual_named::fit`], no simulation); every pair with positive
+    /// values is a move, the first effect starting from its regressed
+    /// value. A table that stands in for two causes at one joint (a
+    /// softened spring with friction, say) is replaced when the pair fits
+    /// as well with fewer parameters.
+    pub(super) fn named_pairs_for(
+        &self,
+        reduced: &FittedSet,
+        table: Candidate,
+    ) -> Vec<(FittedSet, Candidate)> {
+        let Some(joint) = table.joint else {
+            return Vec::new();
+        };
+        let res = residual_torque(self.eng.campaign, &reduced.effects());
+        let Some(jt) = res.iter().find(|r| r.joint == joint) else {
+            return Vec::new();
+        };
+        let samples = crate::analysis::residual_shape::thin(&jt.samples);
+        let cand = |kind| Candidate {
+            kind,
+            joint: Some(joint),
+            table: None,
+        };
+        let kinds = residual_named::KINDS;
+        let mut moves = Vec::new();
+        for (a, &ka) in kinds.iter().enumerate() {
+            for &kb in &kinds[a + 1..] {
+                let (ca, cb) = (cand(ka), cand(kb));
+                if !self.candidates.contains(&ca) || !self.candidates.contains(&cb) {
+                    continue;
+                }
+                let Some((v, _)) = residual_named::fit(&samples, &[ka, kb]) else {
+                    continue;
+                };
+                let mut base = reduced.clone();
+                base.set.push(ca);
+                base.params.push(v[0]);
+                base.ci95.push([f64::NEG_INFINITY, f64::INFINITY]);
+                moves.push((base, cb));
+            }
+        }
+        moves
     }
 }

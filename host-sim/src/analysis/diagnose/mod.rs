@@ -500,10 +500,11 @@ impl Search<'_, '_> {
     }
 
     /// A named effect that explains the data wins over a table: each table
-    /// of the set is replaced by every named candidate in turn, and the best
-    /// replacement by BIC is taken when its BIC is better than the table's
-    /// set (as good a fit with fewer parameters) and its interval is clear
-    /// of zero. True when a table was replaced.
+    /// of the set is replaced by every named candidate in turn (and by the
+    /// pairs of named effects at its joint, [`Search::named_pairs_for`]),
+    /// and the best replacement by BIC is taken when its BIC is better than
+    /// the table's set (as good a fit with fewer parameters) and its
+    /// intervals are clear of zero. True when a table was replaced.
     fn prefer_named(&mut self) -> bool {
         let named: Vec<Candidate> = self.outside();
         let mut moves = Vec::new();
@@ -511,6 +512,7 @@ impl Search<'_, '_> {
             if c.table.is_some() {
                 let reduced = self.current.without(k);
                 moves.extend(named.iter().map(|&n| (reduced.clone(), n)));
+                moves.extend(self.named_pairs_for(&reduced, *c));
             }
         }
         let fits = self.eng.fit_moves(self.eng.campaign, &moves);
