@@ -59,7 +59,7 @@ impl Search<'_, '_> {
                     break;
                 }
             }
-            if self.prefer_named() {
+            if self.prefer_named(sigma) {
                 continue;
             }
             if above_noise(&self.current, sigma) {

@@ -503,9 +503,12 @@ impl Search<'_, '_> {
     /// of the set is replaced by every named candidate in turn (and by the
     /// pairs of named effects at its joint, [`Search::named_pairs_for`]),
     /// and the best replacement by BIC is taken when its BIC is better than
-    /// the table's set (as good a fit with fewer parameters) and its
-    /// intervals are clear of zero. True when a table was replaced.
-    fn prefer_named(&mut self) -> bool {
+    /// the table's set, its RMS within [`NAMED_RMS_SHARE`] of the table
+    /// set's (or of the noise floor: as good a fit, with fewer parameters),
+    /// its residual not above the noise σ̂ (it explains the data: a coarse
+    /// table is left to the refinement instead) and its intervals clear of
+    /// zero. True when a table was replaced.
+    fn prefer_named(&mut self, sigma: f64) -> bool {
         let named: Vec<Candidate> = self.outside();
         let mut moves = Vec::new();
         for (k, c) in self.current.set.iter().enumerate() {
@@ -521,6 +524,8 @@ impl Search<'_, '_> {
             .filter(|(_, _, screened_out)| !screened_out)
             .filter_map(|(_, f, _)| f)
             .filter(|f| f.bic() < self.current.bic() && new_members_clear(f, &self.current))
+            .filter(|f| f.rms() <= NAMED_RMS_SHARE * self.current.rms().max(self.floor_deg))
+            .filter(|f| !above_noise(f, sigma))
             .min_by(|a, b| a.bic().total_cmp(&b.bic()));
         let Some(f) = best else {
             return false;
@@ -713,6 +718,12 @@ impl Engine<'_> {
         (extended, order.iter().map(|&i| strength[i]).collect())
     }
 }
+
+/// A named replacement of a table must fit within this share of the table
+/// set's RMS (or of the noise floor) [1]: a better BIC alone would let a
+/// pair of named stand-ins, with fewer parameters, replace a coarse table
+/// that the refinement would have brought to the noise.
+const NAMED_RMS_SHARE: f64 = 1.05;
 
 /// True when the residual of a set stays clearly above the noise floor σ̂
 /// [deg]: above [`ABOVE_NOISE_FACTOR`] σ̂ and above σ̂ +
