@@ -33,6 +33,7 @@ fn run(tc: f32) -> Rollout<1> {
     let cfg = RolloutConfig {
         dt_s: 0.02,
         bracket_dt_s: 0.02,
+        glide_dt_s: 0.25,
         steps_per_slice: 255,
         slices_per_sample: 1,
         horizon_s: 20.0,
@@ -75,6 +76,7 @@ fn coast(capture_3: f32, dt: f32) -> [JointOutcome; 3] {
     let cfg = RolloutConfig {
         dt_s: dt,
         bracket_dt_s: dt,
+        glide_dt_s: dt,
         steps_per_slice: 255,
         slices_per_sample: 1,
         horizon_s: 10.0,
@@ -276,6 +278,7 @@ fn a_creep_that_speeds_up_is_followed_to_the_latch() {
         let cfg = RolloutConfig {
             dt_s: 0.01,
             bracket_dt_s: 0.01,
+            glide_dt_s: 0.25,
             steps_per_slice: 255,
             slices_per_sample: 1,
             horizon_s,
