@@ -306,11 +306,11 @@ impl<const N: usize> Rollout<N> {
     /// tape spring's snap-through peak is met at the base step), and it
     /// covers at most half of what is left to its capture angle (the latch
     /// too). A step is lengthened only when these allow at least
-    /// [`GLIDE_MIN_STEPS`] base steps at once, and not past the horizon.
+    /// [`GLIDE_MIN_STEPS`] base steps at once.
     fn step_length(&self, chain: &Chain<f32, N>, cfg: &RolloutConfig) -> f32 {
         let base = cfg.dt_s;
         let wc = cfg.coulomb_threshold_rad_s;
-        let mut h = cfg.glide_dt_s.min(cfg.horizon_s - self.t_s);
+        let mut h = cfg.glide_dt_s;
         for j in 0..N {
             if self.latched[j] {
                 continue;
