@@ -16,7 +16,11 @@
 //! stepped by the midpoint rule (second order: two evaluations a step),
 //! each stage linearly implicit in the stiff friction (`h` = its length),
 //! so a joint can come to rest in the creep regime without the step going
-//! unstable.
+//! unstable. While every free joint glides or creeps slowly and smoothly,
+//! far from its latch, the step grows up to `glide_dt_s`
+//! (`docs/monitor.md` §6, the glide): a panel coasting on its momentum
+//! with its spring within a few per cent of its friction, or creeping, is
+//! crossed in a few long steps instead of hundreds.
 //! A joint latches in the rollout when it reaches its capture angle moving
 //! inwards; the rollout ends when every joint has latched, at the horizon
 //! (the deployment's deadline), or once every free joint has crept
