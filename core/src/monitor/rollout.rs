@@ -94,8 +94,8 @@ pub struct RolloutConfig {
     /// Longest integration step [s]: while every free joint glides or
     /// creeps slowly and smoothly, far from its capture angle, the step
     /// grows from `dt_s` (or `bracket_dt_s`) up to this
-    /// ([`GLIDE_TURN_RAD`], [`GLIDE_RATE_CHANGE`]); at or below the step
-    /// the step stays fixed.
+    /// ([`GLIDE_TURN_RAD`], [`GLIDE_RATE_CHANGE`]); below two steps the
+    /// step stays fixed.
     pub glide_dt_s: f32,
     /// Units of work per slice of [`crate::Monitor::predict`] (a unit: one
     /// step, two chain evaluations, or [`CREEP_EVALS_PER_STEP`] spring
