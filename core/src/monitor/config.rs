@@ -131,9 +131,10 @@ impl Default for MarginConfig {
             confidence: 0.9,
             rollout: RolloutConfig {
                 dt_s: 0.02,
-                bracket_dt_s: 0.02,
+                bracket_dt_s: 0.03,
+                glide_dt_s: 0.5,
                 steps_per_slice: 1,
-                slices_per_sample: 40,
+                slices_per_sample: 17,
                 horizon_s: 10.0,
                 coulomb_threshold_rad_s: crate::physics::friction::COULOMB_THRESHOLD_RAD_S as f32,
             },
@@ -312,6 +313,7 @@ impl MarginConfig {
         require(
             positive(r.dt_s)
                 && positive(r.bracket_dt_s)
+                && positive(r.glide_dt_s)
                 && positive(r.horizon_s)
                 && positive(r.coulomb_threshold_rad_s),
             "rollout",
