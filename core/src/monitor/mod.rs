@@ -7,6 +7,7 @@
 //! and the latch / stall prediction ([`predictor`] over [`rollout`]).
 //! `core/README.md` maps the two paths.
 
+pub mod bounce;
 pub mod config;
 pub mod encoder;
 pub mod estimator;

@@ -16,6 +16,7 @@
 //! tuning, the same code on both sides.
 
 use crate::monitor::estimator::{JointConfig, MonitorConfig};
+use crate::monitor::latch::PhysicalLatch;
 use crate::monitor::observer::FrictionPrior;
 use crate::physics::chain::Panel;
 use crate::physics::spring::{Curve, Spring, TapePoints};
@@ -47,7 +48,7 @@ const fn largest(mut counts: &[u8]) -> usize {
 }
 
 /// Version of the configuration frames; the firmware refuses another.
-pub const CONFIG_VERSION: u8 = 1;
+pub const CONFIG_VERSION: u8 = 2;
 
 /// The first frame of a replay input.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -59,6 +60,9 @@ pub struct ConfigHeader {
     pub joints: u8,
     /// The deployment's deadline (`MarginConfig::deadline_s`) [s].
     pub deadline_s: f32,
+    /// The latch as built (`LatchConfig::physical`), `None` for the ideal
+    /// latch.
+    pub latch: Option<PhysicalLatch>,
 }
 
 /// Tabulated knots of a curve spring branch.
@@ -264,7 +268,8 @@ impl JointFrame {
 
 impl ConfigHeader {
     /// The monitor configuration of this header and its `N` joint frames:
-    /// the core's default tuning with these panels, joints and deadline.
+    /// the core's default tuning with these panels, joints, deadline and
+    /// latch.
     /// `None` when `N` is not the header's joint count; the error of a
     /// spring curve the core rejects.
     pub fn config<const N: usize>(
@@ -274,12 +279,12 @@ impl ConfigHeader {
         if usize::from(self.joints) != N {
             return None;
         }
-        Some(build(self.deadline_s, joints))
+        Some(build(self, joints))
     }
 }
 
 fn build<const N: usize>(
-    deadline_s: f32,
+    header: &ConfigHeader,
     frames: &[JointFrame; N],
 ) -> Result<MonitorConfig<N>, CurveError> {
     // Placeholders, all overwritten (a spring of `None` always builds).
@@ -292,13 +297,14 @@ fn build<const N: usize>(
         joints[i] = j;
     }
     let mut config = MonitorConfig::new(panels, joints);
-    config.margin.deadline_s = deadline_s;
+    config.margin.deadline_s = header.deadline_s;
+    config.latch.physical = header.latch;
     Ok(config)
 }
 
 /// Largest frame of a [`ConfigHeader`], `0x00` included [bytes]
-/// (payload: 1 + 1 + 4).
-pub const CONFIG_HEADER_FRAME_MAX: usize = framed(6);
+/// (payload: 1 + 1 + 4, and the latch: 1 + 4·4).
+pub const CONFIG_HEADER_FRAME_MAX: usize = framed(23);
 
 /// Largest postcard payload of a [`JointFrame`]: five `f32` of panel and
 /// stowed angle (20), the spring (tag 1 + count 4 + the curve variant's

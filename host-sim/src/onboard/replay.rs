@@ -248,6 +248,7 @@ pub fn config_frames<const N: usize>(
         version: CONFIG_VERSION,
         joints: N as u8,
         deadline_s: mech.duration_s as f32,
+        latch: config.latch.physical,
     };
     let mut joints = Vec::with_capacity(N);
     for j in 0..N {

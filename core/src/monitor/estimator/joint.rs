@@ -141,6 +141,17 @@ impl JointState {
         }
     }
 
+    /// True when the joint's switch `switch` and reading `z_deg` [deg]
+    /// announce an impact: its switch closes (with a physical latch: the
+    /// first time since the joint came in, not again at each rebound), or
+    /// (physical latch) its encoder comes within the plunger's crest of the
+    /// stop, where the joint may hit the stop between two samples with its
+    /// switch open again at the next.
+    #[inline(never)]
+    pub(super) fn announces_impact(&self, switch: bool, z_deg: f32) -> bool {
+        (switch && !self.switch_prev && !self.lt.touched_stop()) || self.lt.enters_stop_zone(z_deg)
+    }
+
     /// True when the joint is latched or held at its latch (the model sits
     /// it at 0).
     pub(super) fn locked(&self) -> bool {
