@@ -226,7 +226,7 @@ fn monte_carlo(
         for (j, o) in out.iter().enumerate() {
             let col = match o.predicted {
                 Prediction::Latch => 0,
-                Prediction::Stall => 1,
+                Prediction::Stall | Prediction::RampStop => 1,
                 Prediction::Unknown => 2,
             };
             table[j][usize::from(o.latched)][col] += 1;

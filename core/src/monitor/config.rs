@@ -3,6 +3,7 @@
 //! checks.
 
 use crate::monitor::latch::LatchConfig;
+use crate::monitor::latch_margin::Engagement;
 use crate::monitor::margin::UncertaintyFactors;
 use crate::monitor::observer::{FrictionPrior, JerkAdaptation, ObserverTuning};
 use crate::monitor::rollout::RolloutConfig;
@@ -24,6 +25,9 @@ pub struct JointConfig {
     pub capture_deg: f32,
     /// Prior of the friction parameters.
     pub prior: FrictionPrior,
+    /// The physical latch's engagement the margin counts
+    /// ([`Engagement::IDEAL`] for the ideal latch of `physics.md` §5).
+    pub latch: Engagement,
 }
 
 /// The encoder.
@@ -241,6 +245,7 @@ impl JointConfig {
             (positive(self.prior.coulomb_sd_nm), "coulomb prior sd"),
             (self.prior.viscous_nms.is_finite(), "viscous prior"),
             (positive(self.prior.viscous_sd_nms), "viscous prior sd"),
+            (self.latch.is_valid(), "latch engagement"),
         ])
     }
 }

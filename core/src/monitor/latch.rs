@@ -363,6 +363,12 @@ impl LatchTracker {
         !self.latched && self.bounce.in_zone()
     }
 
+    /// True while a physical latch's joint is at rest on the plunger's
+    /// ramp with its switch open ([`LatchState::StoppedShort`]).
+    pub fn stopped_short(&self) -> bool {
+        self.motion == LatchState::StoppedShort
+    }
+
     /// True while the encoder sits at the latch angle with the switch open
     /// (the joint is then held fixed by the dynamics model, but not latched).
     pub fn held_at_latch(&self) -> bool {

@@ -17,6 +17,7 @@
 
 use crate::monitor::estimator::{JointConfig, MonitorConfig};
 use crate::monitor::latch::PhysicalLatch;
+use crate::monitor::latch_margin::Engagement;
 use crate::monitor::observer::FrictionPrior;
 use crate::physics::chain::Panel;
 use crate::physics::spring::{Curve, Spring, TapePoints};
@@ -238,7 +239,20 @@ pub struct JointFrame {
     /// `FrictionPrior` fields in declaration order: Coulomb mean and sd
     /// [N·m], viscous mean and sd [N·m·s/rad].
     pub prior: [f32; PRIOR_FIELDS],
+    /// `JointConfig::latch` (`Engagement`, all 0 for the ideal latch):
+    /// engagement energy [J] (three plain `f32` fields rather than an array:
+    /// one deserializer fewer in flash).
+    pub latch_energy_j: f32,
+    /// Its crest [rad].
+    pub latch_crest_rad: f32,
+    /// Its entry ramp's width [rad].
+    pub latch_ramp_rad: f32,
 }
+
+/// Fields of the core's `Engagement` (all `f32`): when it changes, the
+/// `latch_*` fields of [`JointFrame`], [`JointFrame::to_config`] and the
+/// host's `deploywatch_sim::replay::joint_frame` change with it.
+pub const LATCH_FIELDS: usize = 3;
 
 impl JointFrame {
     /// The panel and joint configuration.
@@ -260,6 +274,11 @@ impl JointFrame {
                     coulomb_sd_nm,
                     viscous_nms,
                     viscous_sd_nms,
+                },
+                latch: Engagement {
+                    energy_j: self.latch_energy_j,
+                    crest_rad: self.latch_crest_rad,
+                    ramp_rad: self.latch_ramp_rad,
                 },
             },
         ))
@@ -309,9 +328,9 @@ pub const CONFIG_HEADER_FRAME_MAX: usize = framed(23);
 /// Largest postcard payload of a [`JointFrame`]: five `f32` of panel and
 /// stowed angle (20), the spring (tag 1 + count 4 + the curve variant's
 /// flag 1, knots 1 + 2·4·[`MAX_KNOTS`] and optional knots 1 + the same),
-/// the capture angle (4) and the prior (4 each).
+/// the capture angle (4), the prior and the latch (4 each).
 pub const JOINT_FRAME_PAYLOAD_MAX: usize =
-    20 + (1 + 4 + 1 + 2 * (1 + 8 * MAX_KNOTS) + 1) + 4 + 4 * PRIOR_FIELDS;
+    20 + (1 + 4 + 1 + 2 * (1 + 8 * MAX_KNOTS) + 1) + 4 + 4 * PRIOR_FIELDS + 4 * LATCH_FIELDS;
 
 /// Largest frame of a [`JointFrame`], `0x00` included [bytes].
 pub const JOINT_FRAME_MAX: usize = framed(JOINT_FRAME_PAYLOAD_MAX);

@@ -6,9 +6,12 @@
 //! friction written in the file as the prior mean of the friction estimate
 //! (zero for the nominal mechanisms), with the spread of [`PriorSpread`],
 //! and the file's `[run] duration_s` as the deadline of the deployment: a
-//! joint predicted to latch later is predicted to stall.
+//! joint predicted to latch later is predicted to stall. A joint with a
+//! physical latch (`[joint.latch]`) carries the three figures of its plunger
+//! the margin needs ([`engagement`]).
 
 use deploywatch_core::latch::PhysicalLatch;
+use deploywatch_core::monitor::latch_margin::Engagement;
 use deploywatch_core::monitor::{JointConfig, Monitor, MonitorConfig, Sample, Status};
 use deploywatch_core::observer::FrictionPrior;
 use deploywatch_core::spring::CurveError;
@@ -156,6 +159,24 @@ fn curve_capture_deg(unfold: &[(f64, f64)]) -> f64 {
     }
 }
 
+/// The engagement of joint `j`'s physical latch (0-based) as the monitor's
+/// margin counts it (`core::monitor::latch_margin`): the engagement energy
+/// `P0 h + ½ k_p h²` [J], the crest and the entry ramp's width [rad]
+/// (the entry torque is the host's torque form's), from the core's law
+/// in `f64` (`physics.md` §10.3), rounded to `f32`;
+/// [`Engagement::IDEAL`] for an ideal latch.
+pub fn engagement(mech: &Mechanism, j: usize) -> Engagement {
+    let (Some(spec), Some(joint)) = (mech.latch(j), mech.joints.get(j)) else {
+        return Engagement::IDEAL;
+    };
+    let l = spec.to_core::<f64>(joint.stowed_deg, 1.0, 1.0);
+    Engagement {
+        energy_j: l.engagement_energy() as f32,
+        crest_rad: l.plunger.crest_rad as f32,
+        ramp_rad: l.entry_width_rad() as f32,
+    }
+}
+
 /// The monitor configuration of a mechanism with `N` joints and the default
 /// tuning (`docs/monitor.md`).
 pub fn monitor_config<const N: usize>(
@@ -202,6 +223,7 @@ pub fn monitor_config_with<const N: usize>(
                 viscous_nms: j.friction.viscous_nms as f32,
                 viscous_sd_nms: spread.viscous_sd_nms as f32,
             },
+            latch: engagement(mech, i),
         });
     }
     let joints: [JointConfig; N] =
