@@ -13,14 +13,17 @@
 //!   an open stretch of the switch whose `n` readings sum to `Σ (d − s) >
 //!   4σ√n` (a joint at rest on the stop drifts below 0); before it, the
 //!   switch open and `d > s + 4σ` later than `1.5 d₀/v₀` after the joint
-//!   came within the crest's reach at `d₀` with speed `v₀` (it would have
-//!   reached the stop by then: it has been there and left). Once seen,
+//!   came within the crest's reach at `d₀` with speed `v₀`, or was at the
+//!   speed of its last two readings to come within it by the next reading
+//!   (it would have reached the stop by then: it has been there and left,
+//!   so it has also been past the crest). Once seen,
 //!   changes of the switch are rebounds until the latch is declared;
 //!   without it, they are chatter (judged when the switch closes again);
 //! - **latched**: the switch closed without a break for the bounce window,
 //!   the reading on the stop;
 //! - **escaped**: after the joint was past the crest (a reading `d ≤
-//!   crest − 4σ`, or the switch closed at the latch), or after the latch
+//!   crest − 4σ`, the switch closed at the latch, or the arrival time's
+//!   evidence above), or after the latch
 //!   was declared, the switch open and `d > crest + 4σ`; until the latch is
 //!   declared again;
 //! - **left the stop after the latch**: the switch opens (a latch declared
@@ -172,6 +175,9 @@ pub struct Bounce {
     switch_declared: bool,
     /// Distance of the previous reading from the stop [deg] (NaN: none).
     prev_off: f32,
+    /// Where the previous reading put the joint by the next one at its
+    /// speed then, `2 d − d_prev` [deg] (NaN: none).
+    lead_prev: f32,
     /// Low-pass of the distance from the stop [deg] (NaN: none yet).
     smooth_off: f32,
     /// Time of the previous reading [s].
@@ -183,6 +189,9 @@ pub struct Bounce {
     /// The crest's reach [deg] ([`StopLimits::escape_deg`]; NaN before the
     /// first reading).
     zone_deg: f32,
+    /// The joint came within the crest's reach fast enough to cross the
+    /// crest before the next reading.
+    through: bool,
     /// When the joint reaches the stop at the speed it came within the
     /// crest's reach with [s].
     arrive_by: f32,
@@ -201,11 +210,13 @@ impl Bounce {
         escaped: false,
         switch_declared: false,
         prev_off: f32::NAN,
+        lead_prev: f32::NAN,
         smooth_off: f32::NAN,
         t_prev: 0.0,
         ramp: Held::NEW,
         off_stop: HeldSamples::NEW,
         zone_deg: f32::NAN,
+        through: false,
         arrive_by: f32::INFINITY,
         open_sum: 0.0,
         open_n: 0,
@@ -222,22 +233,26 @@ impl Bounce {
         self.escaped
     }
 
-    /// True when the switch has closed near the latch since the joint
-    /// last came in.
-    pub fn touched(&self) -> bool {
-        self.contact
-    }
-
-    /// True when a reading `off_deg` [deg] from the stop is within the
-    /// crest's reach and the previous one was beyond it (false when no
-    /// physical latch is tracked).
+    /// True when a reading `off_deg` [deg] from the stop puts the joint
+    /// within the crest's reach by the next reading ([`Bounce::lead`]) and
+    /// the previous one did not (false when no physical latch is tracked).
     pub fn enters_zone(&self, off_deg: f32) -> bool {
-        off_deg <= self.zone_deg && self.prev_off > self.zone_deg
+        self.lead(off_deg) <= self.zone_deg && !self.in_zone()
     }
 
-    /// True while the previous reading was within the crest's reach.
+    /// Where a reading `off_deg` [deg] puts the joint by the next reading
+    /// at the speed since the previous one, `2 d − d_prev` [deg] (NaN
+    /// without a previous reading): a joint fast enough to pass the crest
+    /// and hit the stop between two readings is within the crest's reach
+    /// one reading early.
+    fn lead(&self, off_deg: f32) -> f32 {
+        2.0 * off_deg - self.prev_off
+    }
+
+    /// True while the previous reading put the joint within the crest's
+    /// reach by this one.
     pub fn in_zone(&self) -> bool {
-        self.prev_off <= self.zone_deg
+        self.lead_prev <= self.zone_deg
     }
 
     /// The low-pass of the reading's distance from the stop [deg] (NaN
@@ -251,6 +266,7 @@ impl Bounce {
     pub fn observe(&mut self, x: &StopReading, lim: &StopLimits, window_deg: f32) {
         let Some(off) = x.off_deg else {
             self.prev_off = f32::NAN;
+            self.lead_prev = f32::NAN;
             self.off_stop.update(false);
             self.ramp.stop();
             return;
@@ -268,19 +284,28 @@ impl Bounce {
             self.inside = true;
         }
         if self.enters_zone(off) {
-            self.arrival(off, x.t_s);
+            // A new approach.
+            self.arrive_by = f32::INFINITY;
+            self.through = false;
+        }
+        if self.lead(off) <= self.zone_deg {
+            self.arrival(off, x.t_s, lim.inside_deg);
         }
         let left = !x.switch && off > lim.on_stop_deg;
         self.off_stop.update(left);
         self.open_stretch(x.switch, off, lim);
         if left {
             if !self.contact && x.t_s > self.arrive_by {
+                // It has been on the stop between two readings, and past
+                // the crest when it came fast enough to cross it within one.
                 self.seen = true;
+                self.inside |= self.through;
             }
             if self.inside && off > lim.escape_deg {
                 self.escape();
             }
         }
+        self.lead_prev = self.lead(off);
         self.prev_off = off;
         self.t_prev = x.t_s;
     }
@@ -296,16 +321,29 @@ impl Bounce {
         self.smooth_off += a * (off - self.smooth_off);
     }
 
-    /// The joint came within the crest's reach at `off` [deg] and `t_s`
-    /// [s]: at the speed it came with it reaches the stop by `arrive_by`
-    /// (with [`ARRIVAL_SLACK`]); off the stop later, it has bounced.
-    fn arrival(&mut self, off: f32, t_s: f32) {
+    /// A reading `off` [deg] at `t_s` [s] within the crest's reach (or
+    /// one reading from it): at the speed since the previous reading the
+    /// joint reaches the stop by `arrive_by`, the earliest such time of the
+    /// approach (with [`ARRIVAL_SLACK`] on the time from the crest's
+    /// reach); off the stop later, it has bounced. `inside_deg` [deg]: past
+    /// the crest within it ([`StopLimits`]); the joint crosses it before
+    /// the next reading at this speed when `off − fall` is within it. A
+    /// reading that does not come closer changes nothing.
+    fn arrival(&mut self, off: f32, t_s: f32, inside_deg: f32) {
         let (dt, fall) = (t_s - self.t_prev, self.prev_off - off);
-        self.arrive_by = if dt > 0.0 && fall > 0.0 {
-            t_s + ARRIVAL_SLACK * off * dt / fall
+        if !(dt > 0.0 && fall > 0.0) {
+            return;
+        }
+        let reach = if off < self.zone_deg {
+            off
         } else {
-            f32::INFINITY
+            self.zone_deg
         };
+        let by = t_s + (off + (ARRIVAL_SLACK - 1.0) * reach) * dt / fall;
+        if by < self.arrive_by {
+            self.arrive_by = by;
+        }
+        self.through |= off - fall <= inside_deg;
     }
 
     /// The evidence of the switch's open stretch after the joint touched

@@ -348,13 +348,6 @@ impl LatchTracker {
         !self.latched && self.bounce.escaped()
     }
 
-    /// True when the switch of a physical latch has closed at the latch
-    /// since the joint last came in (it has hit its stop; a closing now is
-    /// a rebound's end, not the impact). Always false for the ideal latch.
-    pub fn touched_stop(&self) -> bool {
-        self.bounce.touched()
-    }
-
     /// True while the previous reading put the joint, not latched, within
     /// the crest of a physical latch's stop, where it may stop dead on the
     /// stop or the ramp, or bounce: a reading there is not judged by the

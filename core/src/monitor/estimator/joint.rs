@@ -156,7 +156,7 @@ impl JointState {
     /// switch open again at the next.
     #[inline(never)]
     pub(super) fn announces_impact(&self, switch: bool, z_deg: f32) -> bool {
-        (switch && !self.switch_prev && !self.lt.touched_stop()) || self.lt.enters_stop_zone(z_deg)
+        (switch && !self.switch_prev) || self.lt.enters_stop_zone(z_deg)
     }
 
     /// True when the joint is latched or held at its latch (the model sits
