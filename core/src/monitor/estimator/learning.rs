@@ -14,8 +14,8 @@ pub const LEARNING_QUEUE: usize = 4;
 /// queued by [`crate::Monitor::update`] for [`crate::Monitor::predict`].
 /// Per field, not per joint: a joint's reading and its two flags in one
 /// struct take 8 bytes (the flags padded to the `f32`), and the queue's
-/// 16 bytes more would take the monitor past 4 KiB
-/// (`tests/monitor.rs` `monitor_fits_in_4_kib`).
+/// 16 bytes more would take the monitor past its budget
+/// (`tests/monitor.rs` `monitor_fits_in_its_ram_budget`).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Learning<const N: usize> {
     /// Time stamp [s].
