@@ -3,6 +3,7 @@
 //! checks.
 
 use crate::monitor::latch::LatchConfig;
+use crate::monitor::latch_margin::Engagement;
 use crate::monitor::margin::UncertaintyFactors;
 use crate::monitor::observer::{FrictionPrior, JerkAdaptation, ObserverTuning};
 use crate::monitor::rollout::RolloutConfig;
@@ -24,6 +25,9 @@ pub struct JointConfig {
     pub capture_deg: f32,
     /// Prior of the friction parameters.
     pub prior: FrictionPrior,
+    /// The physical latch's engagement the margin counts
+    /// ([`Engagement::IDEAL`] for the ideal latch of `physics.md` §5).
+    pub latch: Engagement,
 }
 
 /// The encoder.
@@ -247,6 +251,7 @@ impl JointConfig {
         require(positive(self.prior.coulomb_sd_nm), "coulomb prior sd")?;
         require(self.prior.viscous_nms.is_finite(), "viscous prior")?;
         require(positive(self.prior.viscous_sd_nms), "viscous prior sd")?;
+        require(self.latch.is_valid(), "latch engagement")?;
         Ok(())
     }
 }

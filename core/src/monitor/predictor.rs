@@ -35,11 +35,20 @@ pub enum Prediction {
     Latch,
     /// Will stall short of the latch.
     Stall,
+    /// Will stop on the physical latch's entry ramp, short of its crest
+    /// (the energy balance reaches the ramp's foot and runs out before the
+    /// crest: [`crate::monitor::latch_margin`]).
+    RampStop,
 }
 
 impl Prediction {
     /// Every prediction.
-    pub const ALL: [Prediction; 3] = [Prediction::Unknown, Prediction::Latch, Prediction::Stall];
+    pub const ALL: [Prediction; 4] = [
+        Prediction::Unknown,
+        Prediction::Latch,
+        Prediction::Stall,
+        Prediction::RampStop,
+    ];
 
     /// The name used in telemetry CSV and reports.
     pub const fn as_str(self) -> &'static str {
@@ -47,6 +56,7 @@ impl Prediction {
             Prediction::Unknown => "unknown",
             Prediction::Latch => "latch",
             Prediction::Stall => "stall",
+            Prediction::RampStop => "ramp_stop",
         }
     }
 
@@ -280,7 +290,9 @@ impl<const N: usize> Predictor<N> {
     /// The latch / stall prediction of joint `j` at time `t` [s] from the
     /// last finished rollouts and what `query` says of the joint (its
     /// latch, its one-joint energy balance, the deadline): the prediction,
-    /// its confidence and the time to the latch [s].
+    /// its confidence and the time to the latch [s]. A joint whose balance
+    /// stops it on a physical latch's entry ramp is predicted to stop there
+    /// ([`crate::monitor::latch_margin`]).
     pub fn prediction(
         &mut self,
         j: usize,
@@ -327,11 +339,12 @@ impl<const N: usize> Predictor<N> {
             self.pessimistic_watch.get(j).copied().unwrap_or(false),
             self.optimistic_watch.get(j).copied().unwrap_or(false),
         );
+        let stall = stall_kind(energy);
         match nom {
             _ if query.latched => (Prediction::Latch, 1.0, None),
             // Not even the one-joint balance, which counts all the
             // kinetic energy in the joint, gets it to the latch.
-            _ if energy_stall => (Prediction::Stall, conf, None),
+            _ if energy_stall => (stall, conf, None),
             // Rollouts switched off: the one-joint balance alone.
             _ if !query.rollouts => match energy {
                 Some(r) if r.latch_probability >= conf => {
@@ -350,9 +363,23 @@ impl<const N: usize> Predictor<N> {
             }
             Some(_) => {
                 let sure = opt_watch && opt.is_some_and(|(o, _)| !o.latches);
-                (Prediction::Stall, if sure { conf } else { 0.5 }, None)
+                (stall, if sure { conf } else { 0.5 }, None)
             }
         }
+    }
+}
+
+/// The name of a stall of a joint whose energy balance is `energy`:
+/// [`Prediction::RampStop`] when the balance stops it on a physical latch's
+/// entry ramp (`MarginResult::stops_on_ramp`,
+/// [`crate::monitor::latch_margin`]), else [`Prediction::Stall`]. The
+/// rollouts do not model the plunger, so the balance locates the stall.
+#[inline]
+fn stall_kind(energy: Option<MarginResult>) -> Prediction {
+    if energy.is_some_and(|r| r.stops_on_ramp) {
+        Prediction::RampStop
+    } else {
+        Prediction::Stall
     }
 }
 

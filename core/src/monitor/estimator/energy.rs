@@ -21,6 +21,7 @@ const UNKNOWN_MARGIN: MarginResult = MarginResult {
     margin_pct: 0.0,
     latch_probability: 0.5,
     time_to_latch_s: None,
+    stops_on_ramp: false,
 };
 
 impl<const N: usize> Monitor<N> {
@@ -112,6 +113,7 @@ impl<const N: usize> Monitor<N> {
                 spring_sd_rel: crate::physics::real::sqrtf(est.spring_scale_var.max(0.0)),
                 viscous_var: est.viscous_var,
                 cov: est.cov,
+                latch: js.engagement,
             },
             &MarginSettings {
                 factors: cfg.factors,
