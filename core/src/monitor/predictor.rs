@@ -259,21 +259,8 @@ impl<const N: usize> Predictor<N> {
         let mut viscous = [0.0f32; N];
         let mut spring = [1.0f32; N];
         for j in 0..N {
-            let e = belief(j);
-            // More friction goes with weaker springs, and less with stronger.
-            let sd_k = crate::physics::real::sqrtf(e.spring_scale_var.max(0.0));
-            spring[j] = (1.0 + e.spring_scale_err - sign * z * sd_k).max(0.0);
-            let sd_c = crate::physics::real::sqrtf(e.coulomb_var.max(0.0));
-            let sd_f = crate::physics::real::sqrtf(e.viscous_var.max(0.0));
-            coulomb[j] = (e.coulomb_nm + sign * z * sd_c).max(0.0);
-            viscous[j] = (e.viscous_nms + sign * z * sd_f).max(0.0);
-            if next == Bracket::Optimistic && !locked[j] {
-                // Friction is never below the torque it exerts now.
-                let bound = e.coulomb_lower_nm;
-                if bound <= e.coulomb_nm + 2.0 * sd_c {
-                    coulomb[j] = coulomb[j].max(bound);
-                }
-            }
+            let floor = next == Bracket::Optimistic && !locked[j];
+            (coulomb[j], viscous[j], spring[j]) = bracket_joint(&belief(j), sign * z, floor);
         }
         let start = RolloutStart {
             state,
@@ -402,4 +389,29 @@ pub struct PredictionQuery {
     pub confidence: f32,
     /// False when the rollouts are switched off.
     pub rollouts: bool,
+}
+
+/// One joint's Coulomb torque [N·m], viscous coefficient [N·m·s/rad] and
+/// spring scale [1] in a rollout whose friction is `shift` standard
+/// deviations above the belief `e` (below for a negative `shift`; more
+/// friction goes with weaker springs, and less with stronger); with
+/// `floor`, the Coulomb torque is never below the friction torque the joint
+/// exerts now. Not generic over the joint count: one copy in flash for
+/// every monitor.
+#[inline(never)]
+fn bracket_joint(e: &FrictionBelief, shift: f32, floor: bool) -> (f32, f32, f32) {
+    let sd_k = crate::physics::real::sqrtf(e.spring_scale_var.max(0.0));
+    let spring = (1.0 + e.spring_scale_err - shift * sd_k).max(0.0);
+    let sd_c = crate::physics::real::sqrtf(e.coulomb_var.max(0.0));
+    let sd_f = crate::physics::real::sqrtf(e.viscous_var.max(0.0));
+    let mut coulomb = (e.coulomb_nm + shift * sd_c).max(0.0);
+    let viscous = (e.viscous_nms + shift * sd_f).max(0.0);
+    if floor {
+        // Friction is never below the torque it exerts now.
+        let bound = e.coulomb_lower_nm;
+        if bound <= e.coulomb_nm + 2.0 * sd_c {
+            coulomb = coulomb.max(bound);
+        }
+    }
+    (coulomb, viscous, spring)
 }
