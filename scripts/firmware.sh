@@ -198,7 +198,7 @@ case "$cmd" in
         # Every reference mechanism (data/mechanisms/: seed 000 cases 1 and 3,
         # 2 joints; seed 001 T01 and T02, 3 joints), nominal and with friction
         # (data/reference/), then measured-like runs (noise, quantisation,
-        # friction) of the seed 001 mechanisms.
+        # friction) of the seed 001 mechanisms, and the physical-latch runs.
         for ref in "$root"/data/reference/*.csv; do
             name=$(basename "$ref" .csv)        # e.g. seed001_T01_eft
             replay "$ref" "$root/data/mechanisms/${name%_*}.toml"
@@ -208,6 +208,12 @@ case "$cmd" in
                 replay "$root/data/examples/$set/seed001_$t.csv" "$root/data/mechanisms/seed001_$t.toml"
             done
         done
+        # The simulator's physical-latch runs of 3 joints (bounces, escapes),
+        # the monitor configured with their physical latch.
+        replay "$root/data/examples/latch_clean_bounce/seed001_T02.csv" \
+            "$root/data/mechanisms/seed001_T02_physical_latch.toml"
+        replay "$root/data/examples/latch_escape_never/seed001_T01.csv" \
+            "$root/data/mechanisms/seed001_T01_physical_latch.toml"
         # A damaged input must fail the firmware with exit 1, not hang or
         # write a partial file as if all were well.
         bad="$root/target/replay/truncated"

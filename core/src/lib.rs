@@ -22,7 +22,8 @@ pub mod telemetry;
 // The modules under their short paths (`deploywatch_core::chain`,
 // `deploywatch_core::observer`, ...), as the firmware and host use them.
 pub use monitor::{
-    encoder, faults, latch, margin, observer, plausibility, predictor, rollout, smoother, standards,
+    encoder, faults, latch, latch_margin, margin, observer, plausibility, predictor, rollout,
+    smoother, standards,
 };
 pub use physics::{chain, friction, linalg, real, spring, torque_table, trig};
 

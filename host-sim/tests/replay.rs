@@ -93,7 +93,7 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
         "stalled",
         "fault",
     ];
-    let predictions = ["latch", "stall", "unknown"];
+    let predictions = ["latch", "stall", "unknown", "ramp_stop"];
     let fault_names: Vec<&str> = deploywatch_core::Fault::ALL
         .iter()
         .map(|f| f.as_str())

@@ -3,6 +3,7 @@
 //! checks.
 
 use crate::monitor::latch::LatchConfig;
+use crate::monitor::latch_margin::Engagement;
 use crate::monitor::margin::UncertaintyFactors;
 use crate::monitor::observer::{FrictionPrior, JerkAdaptation, ObserverTuning};
 use crate::monitor::rollout::RolloutConfig;
@@ -24,6 +25,9 @@ pub struct JointConfig {
     pub capture_deg: f32,
     /// Prior of the friction parameters.
     pub prior: FrictionPrior,
+    /// The physical latch's engagement the margin counts
+    /// ([`Engagement::IDEAL`] for the ideal latch of `physics.md` §5).
+    pub latch: Engagement,
 }
 
 /// The encoder.
@@ -131,9 +135,10 @@ impl Default for MarginConfig {
             confidence: 0.9,
             rollout: RolloutConfig {
                 dt_s: 0.02,
-                bracket_dt_s: 0.02,
+                bracket_dt_s: 0.03,
+                glide_dt_s: 0.5,
                 steps_per_slice: 1,
-                slices_per_sample: 40,
+                slices_per_sample: 17,
                 horizon_s: 10.0,
                 coulomb_threshold_rad_s: crate::physics::friction::COULOMB_THRESHOLD_RAD_S as f32,
             },
@@ -246,6 +251,7 @@ impl JointConfig {
         require(positive(self.prior.coulomb_sd_nm), "coulomb prior sd")?;
         require(self.prior.viscous_nms.is_finite(), "viscous prior")?;
         require(positive(self.prior.viscous_sd_nms), "viscous prior sd")?;
+        require(self.latch.is_valid(), "latch engagement")?;
         Ok(())
     }
 }
@@ -312,6 +318,7 @@ impl MarginConfig {
         require(
             positive(r.dt_s)
                 && positive(r.bracket_dt_s)
+                && positive(r.glide_dt_s)
                 && positive(r.horizon_s)
                 && positive(r.coulomb_threshold_rad_s),
             "rollout",

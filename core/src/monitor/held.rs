@@ -1,6 +1,10 @@
-//! How long a condition has held: the latch tracker's timers
-//! ([`crate::monitor::latch`]) as one small type instead of hand-made
+//! How long a condition has held: the timers of the latch tracker
+//! ([`crate::monitor::latch`]) as two small types instead of hand-made
 //! `since`/`run` pairs.
+//!
+//! - [`Held`]: a condition held since a time stamp [s] (the start of its
+//!   current unbroken stretch), or the time of the last event.
+//! - [`HeldSamples`]: a condition held for a number of consecutive samples.
 
 /// A condition held since a time stamp [s]: the start of its current
 /// unbroken stretch (or the time of the last event), or none while it does
@@ -87,6 +91,27 @@ impl Held {
     }
 }
 
+/// A condition held for a number of consecutive samples (saturating).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct HeldSamples(u8);
+
+impl HeldSamples {
+    /// A condition that does not hold.
+    pub const NEW: HeldSamples = HeldSamples(0);
+
+    /// Records the condition at one sample.
+    #[inline(always)]
+    pub fn update(&mut self, holds: bool) {
+        self.0 = if holds { self.0.saturating_add(1) } else { 0 };
+    }
+
+    /// Consecutive samples the condition has held.
+    #[inline(always)]
+    pub fn count(&self) -> u8 {
+        self.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -104,5 +129,19 @@ mod tests {
         assert!(h.at_least(2.25, 0.25) && h.within(2.25, 0.25) && !h.within(2.5, 0.25));
         h.restart(3.0);
         assert!(h.within(3.0, 0.0) && !h.at_least(3.0, 0.1));
+    }
+
+    #[test]
+    fn held_samples_count_and_saturate() {
+        let mut n = HeldSamples::NEW;
+        n.update(true);
+        n.update(true);
+        assert_eq!(n.count(), 2);
+        n.update(false);
+        assert_eq!(n.count(), 0);
+        for _ in 0..300 {
+            n.update(true);
+        }
+        assert_eq!(n.count(), u8::MAX);
     }
 }

@@ -9,7 +9,7 @@
 //!                                                                   Latched   |φ| < window_deg
 //!  Fault: shown instead of the motion state while a sensor disagrees
 //!  (switch closed far from the latch, encoder at the latch with the switch
-//!  open, encoder missing for several samples). Latched is final.
+//!  open, encoder missing for several samples). Latched is final (ideal latch).
 //! ```
 //!
 //! A latch is declared only when the switch says so (so never before the
@@ -19,10 +19,27 @@
 //! closed sample is never enough (two of the last three are needed), so a
 //! single bad switch sample can neither declare nor — once confirmed — undo
 //! a latch.
+//!
+//! With a physical latch configured ([`PhysicalLatch`]: a stop the joint
+//! bounces off, a ball plunger it can escape over, a ramp it can stop on;
+//! `docs/monitor.md` §4.1) the rule is the one of [`crate::monitor::bounce`]:
+//! rebounds are not chatter, the latch is declared once the switch has held
+//! closed for the bounce window with the encoder on the stop, an escape over
+//! the plunger's crest is [`LatchState::Escaped`] (not latched, also after a
+//! declaration, until the latch is declared again) and a joint at rest on the
+//! ramp with the switch open is [`LatchState::StoppedShort`].
 
+use crate::monitor::bounce::{Bounce, LatchEvent, StopLimits, StopReading};
 use crate::monitor::faults::{Fault, FaultFlags};
-use crate::monitor::held::Held;
+use crate::monitor::held::{Held, HeldSamples};
 use serde::{Deserialize, Serialize};
+
+pub use crate::monitor::bounce::PhysicalLatch;
+
+/// Slack on the bounce window of a physical latch [s]: the time stamps'
+/// `f32` rounding (a few µs at 10 s) must not cost a sample; far below the
+/// smallest time step the monitor accepts (0.1 ms).
+const HOLD_ROUNDING_S: f32 = 1e-5;
 
 /// The latch state of a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
@@ -33,25 +50,38 @@ pub enum LatchState {
     Stowed,
     /// Moving towards the latch.
     Deploying,
-    /// Within the latching zone or the switch is closing.
+    /// Within the latching zone or the switch is closing (with a physical
+    /// latch: also while the joint bounces off its stop).
     Latching,
-    /// The latch is confirmed by switch and encoder (final).
+    /// The latch is confirmed by switch and encoder (final for the ideal
+    /// latch; with a physical latch until switch and encoder both say the
+    /// joint has left the stop).
     Latched,
-    /// Stopped short of the latch.
+    /// Stopped short of the latch, outside the plunger's ramp.
     Stalled,
     /// A sensor disagrees; see the joint's fault flags.
     Fault,
+    /// The joint went back over the plunger's crest after its switch had
+    /// closed (an escape, physical latch only): not latched until the
+    /// latch is declared again. An event of the mechanism, not a sensor
+    /// fault.
+    Escaped,
+    /// At rest on the plunger's ramp, short of the latch, with the switch
+    /// open (physical latch only): neither latched nor a mid-stroke stall.
+    StoppedShort,
 }
 
 impl LatchState {
     /// Every state.
-    pub const ALL: [LatchState; 6] = [
+    pub const ALL: [LatchState; 8] = [
         LatchState::Stowed,
         LatchState::Deploying,
         LatchState::Latching,
         LatchState::Latched,
         LatchState::Stalled,
         LatchState::Fault,
+        LatchState::Escaped,
+        LatchState::StoppedShort,
     ];
 
     /// The name used in telemetry CSV and reports.
@@ -63,6 +93,8 @@ impl LatchState {
             LatchState::Latched => "latched",
             LatchState::Stalled => "stalled",
             LatchState::Fault => "fault",
+            LatchState::Escaped => "escaped",
+            LatchState::StoppedShort => "stopped_short",
         }
     }
 
@@ -96,7 +128,8 @@ pub struct LatchConfig {
     /// How long it must stay stopped to be `Stalled` [s].
     pub stall_time_s: f32,
     /// Encoder reading that counts as "at the latch" for the switch-open
-    /// check [deg].
+    /// check [deg] (ideal latch; a physical latch uses its switch travel
+    /// and the encoder noise instead).
     pub at_latch_deg: f32,
     /// How long the encoder may sit at the latch with the switch open
     /// before that is a fault [s].
@@ -107,7 +140,9 @@ pub struct LatchConfig {
     /// own [s]: for a latch while the encoder is unavailable (missing or
     /// stuck), and for a switch closed far from the latch angle to be
     /// distrusted. Longer than the longest bounce (20 ms). Also the bounce
-    /// window: two changes of the switch's state within it are chatter.
+    /// window: two changes of the switch's state within it are chatter
+    /// (with a physical latch, only when the encoder did not see the joint
+    /// leave its stop).
     pub debounce_s: f32,
     /// How long a healthy encoder must read within `at_latch_deg` of the
     /// latch angle, while the switch stays open or is distrusted, for the
@@ -115,6 +150,10 @@ pub struct LatchConfig {
     /// than the stuck-encoder detection, so a reading frozen at the latch
     /// angle is caught first.
     pub encoder_confirm_s: f32,
+    /// The latch as built (stop, plunger, ramp), `None` for the ideal latch
+    /// of `physics.md` §5 (a permanent lock at 0, a switch that closes
+    /// once).
+    pub physical: Option<PhysicalLatch>,
 }
 
 impl Default for LatchConfig {
@@ -131,6 +170,7 @@ impl Default for LatchConfig {
             missing_samples: 5,
             debounce_s: 0.03,
             encoder_confirm_s: 0.3,
+            physical: None,
         }
     }
 }
@@ -156,6 +196,7 @@ impl LatchConfig {
             && self.debounce_s >= 0.0
             && self.encoder_confirm_s.is_finite()
             && self.encoder_confirm_s > 0.0
+            && self.physical.is_none_or(|p| p.is_valid())
     }
 }
 
@@ -178,6 +219,31 @@ pub struct LatchInput {
     /// `None` in `measured_deg`): a switch that disagreed with it is
     /// trusted again.
     pub encoder_stuck: bool,
+    /// Standard deviation of one encoder reading [deg] (noise and
+    /// quantisation): how far "on the stop" reaches with a physical latch.
+    pub noise_sd_deg: f32,
+}
+
+impl LatchInput {
+    /// The sample as the physical-latch rule sees it.
+    fn stop_reading(&self) -> StopReading {
+        StopReading {
+            t_s: self.t_s,
+            switch: self.switch,
+            off_deg: self.measured_deg.map(libm::fabsf),
+        }
+    }
+}
+
+impl LatchEvent {
+    /// The state reported for the event.
+    const fn state(self) -> LatchState {
+        match self {
+            LatchEvent::Escaped => LatchState::Escaped,
+            LatchEvent::StoppedShort => LatchState::StoppedShort,
+            LatchEvent::Rebound => LatchState::Latching,
+        }
+    }
 }
 
 /// The estimator's answer for one sample.
@@ -187,8 +253,23 @@ pub struct LatchOutput {
     pub state: LatchState,
     /// True on the one sample at which the latch is declared.
     pub newly_latched: bool,
+    /// True on the one sample at which a declared latch is found undone
+    /// (physical latch: the joint left its stop or escaped).
+    pub unlatched: bool,
     /// Faults found at this sample.
     pub faults: FaultFlags,
+}
+
+impl LatchOutput {
+    /// A sample with no change of the latch.
+    const fn state(state: LatchState, faults: FaultFlags) -> Self {
+        LatchOutput {
+            state,
+            newly_latched: false,
+            unlatched: false,
+            faults,
+        }
+    }
 }
 
 /// Latch-state estimator of one joint.
@@ -199,26 +280,26 @@ pub struct LatchTracker {
     /// Switch readings, newest in bit 0.
     history: u8,
     samples: u8,
-    /// The filtered rate below the stall rate (with hysteresis: it ends
-    /// above twice that rate).
+    /// Slow stretch of the filtered rate (with hysteresis).
     slow: Held,
-    /// The encoder at the latch angle with the switch open.
-    open: Held,
+    /// Encoder at the latch with the switch open.
+    at_latch: Held,
     open_at_latch: bool,
-    /// Consecutive samples without an encoder reading.
-    missing_run: u8,
+    missing: HeldSamples,
     switch_early: bool,
-    /// An unbroken closed stretch of the switch.
+    /// Unbroken closed stretch of the switch.
     closed: Held,
     /// A debounced switch closed with the encoder far from the latch.
     early: Held,
     /// The switch closed far from the latch for `debounce_s`: it is not
     /// trusted (stuck closed) until the encoder is found stuck.
     switch_suspect: bool,
-    /// The encoder at the latch angle with the switch open or distrusted.
+    /// Encoder at the latch angle with the switch open or distrusted.
     confirm: Held,
-    /// The switch's last change of state (an event).
+    /// The switch's last change of state.
     flip: Held,
+    /// The physical latch's bounce, escape and ramp bookkeeping.
+    bounce: Bounce,
 }
 
 impl LatchTracker {
@@ -230,15 +311,16 @@ impl LatchTracker {
             history: 0,
             samples: 0,
             slow: Held::NEW,
-            open: Held::NEW,
+            at_latch: Held::NEW,
             open_at_latch: false,
-            missing_run: 0,
+            missing: HeldSamples::NEW,
             switch_early: false,
             closed: Held::NEW,
             early: Held::NEW,
             switch_suspect: false,
             confirm: Held::NEW,
             flip: Held::NEW,
+            bounce: Bounce::NEW,
         }
     }
 
@@ -248,9 +330,36 @@ impl LatchTracker {
         self.switch_suspect
     }
 
-    /// True once the latch is confirmed.
+    /// True while the latch is confirmed.
     pub fn is_latched(&self) -> bool {
         self.latched
+    }
+
+    /// True when a reading `z_deg` [deg] brings the joint, not latched,
+    /// within the crest of a physical latch's stop (it was beyond it at the
+    /// previous reading): it may hit the stop before the next sample.
+    pub fn enters_stop_zone(&self, z_deg: f32) -> bool {
+        !self.latched && self.bounce.enters_zone(libm::fabsf(z_deg))
+    }
+
+    /// True while a physical latch's joint is out over the crest after an
+    /// escape (not latched again yet).
+    pub fn escaped(&self) -> bool {
+        !self.latched && self.bounce.escaped()
+    }
+
+    /// True while the previous reading put the joint, not latched, within
+    /// the crest of a physical latch's stop, where it may stop dead on the
+    /// stop or the ramp, or bounce: a reading there is not judged by the
+    /// smooth-motion checks of `plausibility.rs`.
+    pub fn near_stop(&self) -> bool {
+        !self.latched && self.bounce.in_zone()
+    }
+
+    /// True while a physical latch's joint is at rest on the plunger's
+    /// ramp with its switch open ([`LatchState::StoppedShort`]).
+    pub fn stopped_short(&self) -> bool {
+        self.motion == LatchState::StoppedShort
     }
 
     /// True while the encoder sits at the latch angle with the switch open
@@ -259,113 +368,154 @@ impl LatchTracker {
         self.open_at_latch
     }
 
-    /// Declares the latch (final).
-    fn declare(&mut self, faults: FaultFlags) -> LatchOutput {
+    /// Declares the latch (`switch`: the switch's reading now).
+    fn declare(&mut self, switch: bool, faults: FaultFlags) -> LatchOutput {
         self.latched = true;
         self.motion = LatchState::Latched;
         self.switch_early = false;
         self.open_at_latch = false;
+        self.bounce.latched(switch);
         LatchOutput {
-            state: LatchState::Latched,
             newly_latched: true,
-            faults,
+            ..LatchOutput::state(LatchState::Latched, faults)
         }
     }
 
     /// One sample.
     pub fn step(&mut self, x: &LatchInput, cfg: &LatchConfig) -> LatchOutput {
         let mut faults = FaultFlags::EMPTY;
-        let votes = self.read_switch(x, cfg, &mut faults);
-        if x.measured_deg.is_some() {
-            self.missing_run = 0;
-        } else {
-            self.missing_run = self.missing_run.saturating_add(1);
-        }
-        let angle = x.measured_deg.unwrap_or(x.angle_deg);
-        let in_window = libm::fabsf(angle) <= cfg.window_deg;
+        let view = self.view(x, cfg);
+        let votes = self.record_switch(x, cfg, view.physical, &mut faults);
+        self.missing.update(x.measured_deg.is_none());
         if self.latched {
-            return Self::hold(x, cfg, faults);
+            return self.step_latched(x, cfg, view.left, faults);
         }
-        if self.switch_declares(x, cfg, votes, in_window, &mut faults) {
-            return self.declare(faults);
+        if let Some(out) = self.check_switch(x, cfg, votes, view.held, &mut faults) {
+            return out;
         }
-        if self.encoder_declares(x, cfg, &mut faults) {
-            return self.declare(faults);
+        if let Some(out) = self.confirm_by_encoder(x, cfg, view.at_latch, &mut faults) {
+            return out;
         }
-        self.check_open_at_latch(x, cfg, &mut faults);
-        self.track_motion(x, cfg, in_window);
-        let fault = self.switch_early
-            || self.switch_suspect
-            || self.open_at_latch
-            || self.missing_run >= cfg.missing_samples;
-        LatchOutput {
-            state: if fault {
-                LatchState::Fault
-            } else {
-                self.motion
-            },
-            newly_latched: false,
-            faults,
+        self.check_open_at_latch(x, cfg, view.at_latch, &mut faults);
+        let state = self.motion_state(x, cfg, view.event);
+        LatchOutput::state(state, faults)
+    }
+
+    /// What the configured latch makes of this sample's encoder reading:
+    /// the ideal latch's thresholds, or the physical latch's rule
+    /// ([`Bounce`]), which takes the sample here.
+    fn view(&mut self, x: &LatchInput, cfg: &LatchConfig) -> LatchView {
+        self.closed.update(x.switch, x.t_s);
+        let Some(p) = cfg.physical else {
+            return LatchView {
+                physical: false,
+                at_latch: x
+                    .measured_deg
+                    .is_some_and(|m| libm::fabsf(m) <= cfg.at_latch_deg),
+                held: true,
+                left: None,
+                event: None,
+            };
+        };
+        let lim = StopLimits::new(&p, x.noise_sd_deg);
+        let r = x.stop_reading();
+        self.bounce.observe(&r, &lim, cfg.window_deg);
+        let on_stop = r.off_deg.is_none_or(|d| d <= lim.on_stop_deg);
+        let (left, event) = if self.latched {
+            (self.bounce.left_stop(&r, &lim), None)
+        } else {
+            (None, self.bounce.event(x.t_s, cfg.stall_time_s))
+        };
+        LatchView {
+            physical: true,
+            at_latch: r.off_deg.is_some() && self.bounce.smoothed_off_deg() <= lim.at_rest_deg,
+            held: on_stop
+                && self
+                    .closed
+                    .at_least(x.t_s, p.bounce_window_s - HOLD_ROUNDING_S),
+            left,
+            event,
         }
     }
 
-    /// Shifts the switch reading into the history and flags chatter;
-    /// returns the closed votes of the last three samples.
-    #[inline(always)]
-    fn read_switch(&mut self, x: &LatchInput, cfg: &LatchConfig, faults: &mut FaultFlags) -> u8 {
+    /// Records the switch reading and flags chatter: a closed-open-closed
+    /// or open-closed-open pattern, or any reversal within the debounce
+    /// time of the previous change of state (a clean ideal switch closes
+    /// once, at the latch, and stays closed). With a physical latch a
+    /// reversal is judged when the switch closes again, and is a rebound,
+    /// not chatter, when the encoder has seen the joint leave its stop
+    /// ([`Bounce::seen`]). Returns the closed samples among the last three.
+    fn record_switch(
+        &mut self,
+        x: &LatchInput,
+        cfg: &LatchConfig,
+        physical: bool,
+        faults: &mut FaultFlags,
+    ) -> u8 {
         self.history = (self.history << 1) | u8::from(x.switch);
         self.samples = self.samples.saturating_add(1);
         let last3 = self.history & 0b111;
-        if self.samples >= 3 && (last3 == 0b101 || last3 == 0b010) {
+        let votes = last3.count_ones() as u8;
+        let judged = !physical || (x.switch && !self.bounce.seen());
+        if judged && self.samples >= 3 && (last3 == 0b101 || last3 == 0b010) {
             faults.insert(Fault::SwitchChatter);
         }
-        // Any reversal within the bounce time of the previous change of
-        // state is chatter, however many samples the bounce held (a clean
-        // switch closes once, at the latch, and stays closed).
         if self.samples >= 2 && (last3 & 0b01 != 0) != (last3 & 0b10 != 0) {
-            if self.flip.within(x.t_s, cfg.debounce_s) {
+            if judged && self.flip.within(x.t_s, cfg.debounce_s) {
                 faults.insert(Fault::SwitchChatter);
             }
             self.flip.restart(x.t_s);
         }
-        last3.count_ones() as u8
+        votes
     }
 
-    /// A declared latch is final: a switch that opens, or an encoder away
-    /// from the latch, is a disagreement.
-    #[inline(always)]
-    fn hold(x: &LatchInput, cfg: &LatchConfig, mut faults: FaultFlags) -> LatchOutput {
+    /// A sample after the latch was declared: a switch that opens or an
+    /// encoder that leaves the window is flagged and the latch kept; with
+    /// a physical latch, the latch is undone when both say the joint has
+    /// left its stop (`left`: a rebound after the declaration, or an
+    /// escape).
+    fn step_latched(
+        &mut self,
+        x: &LatchInput,
+        cfg: &LatchConfig,
+        left: Option<LatchEvent>,
+        mut faults: FaultFlags,
+    ) -> LatchOutput {
+        if let Some(event) = left {
+            let state = event.state();
+            self.latched = false;
+            self.motion = state;
+            return LatchOutput {
+                unlatched: true,
+                ..LatchOutput::state(state, faults)
+            };
+        }
         let away = x
             .measured_deg
             .is_some_and(|m| libm::fabsf(m) > cfg.window_deg);
         if !x.switch || away {
             faults.insert(Fault::LatchDisagree);
         }
-        LatchOutput {
-            state: LatchState::Latched,
-            newly_latched: false,
-            faults,
-        }
+        LatchOutput::state(LatchState::Latched, faults)
     }
 
-    /// The switch's case: true when a debounced closed switch declares the
-    /// latch. Switch closed (debounced): a latch if a valid encoder reading
-    /// agrees, or, with no valid reading, only once the switch has stayed
-    /// closed for the whole debounce time — the filtered angle alone is not
-    /// evidence (two corrupted samples, a spurious closure and a missing
-    /// reading, must not make a latch). A distrusted switch declares
-    /// nothing; a switch closed far from the latch for the debounce time
-    /// becomes distrusted.
-    #[inline(always)]
-    fn switch_declares(
+    /// The switch's verdict: a latch when it is closed (debounced) and a
+    /// valid encoder reading agrees, or, with no valid reading, once it
+    /// has stayed closed for the whole debounce time — the filtered angle
+    /// alone is not evidence (two corrupted samples, a spurious closure and
+    /// a missing reading, must not make a latch). A physical latch also
+    /// needs `held`: the switch closed without a break for its bounce
+    /// window, the reading on the stop. A distrusted switch declares
+    /// nothing; one closed far from the latch is flagged, and distrusted
+    /// once that has lasted the debounce time.
+    fn check_switch(
         &mut self,
         x: &LatchInput,
         cfg: &LatchConfig,
         votes: u8,
-        in_window: bool,
+        held: bool,
         faults: &mut FaultFlags,
-    ) -> bool {
-        self.closed.update(x.switch, x.t_s);
+    ) -> Option<LatchOutput> {
         let closed_long = self.closed.at_least(x.t_s, cfg.debounce_s);
         if x.encoder_stuck {
             // The disagreement was the encoder's.
@@ -374,11 +524,11 @@ impl LatchTracker {
         }
         let closed = x.switch && votes >= cfg.closed_votes;
         let agrees = match x.measured_deg {
-            Some(_) => in_window,
+            Some(m) => libm::fabsf(m) <= cfg.window_deg,
             None => closed_long,
         };
-        if closed && agrees && !self.switch_suspect {
-            return true;
+        if closed && agrees && held && !self.switch_suspect {
+            return Some(self.declare(x.switch, *faults));
         }
         self.switch_early = closed && !agrees;
         if self.switch_early {
@@ -395,48 +545,57 @@ impl LatchTracker {
         if self.switch_suspect {
             faults.insert(Fault::SwitchEarly);
         }
-        false
+        None
     }
 
-    /// The encoder alone: true when it has been at the latch angle for the
-    /// confirmation time while the switch stays open or is distrusted.
-    #[inline(always)]
-    fn encoder_declares(
+    /// Encoder alone: at the latch angle (`at_latch`) for the confirmation
+    /// time while the switch stays open or is distrusted: the latch is
+    /// declared (flagged `switch_open_at_latch` when the switch is open).
+    fn confirm_by_encoder(
         &mut self,
         x: &LatchInput,
         cfg: &LatchConfig,
+        at_latch: bool,
         faults: &mut FaultFlags,
-    ) -> bool {
-        let encoder_at_latch = (!x.switch || self.switch_suspect)
-            && x.measured_deg
-                .is_some_and(|m| libm::fabsf(m) <= cfg.at_latch_deg);
-        self.confirm.update(encoder_at_latch, x.t_s);
-        if encoder_at_latch && self.confirm.at_least(x.t_s, cfg.encoder_confirm_s) {
+    ) -> Option<LatchOutput> {
+        let alone = (!x.switch || self.switch_suspect) && at_latch;
+        self.confirm.update(alone, x.t_s);
+        if self.confirm.at_least(x.t_s, cfg.encoder_confirm_s) {
             if !x.switch {
                 faults.insert(Fault::SwitchOpenAtLatch);
             }
-            return true;
+            return Some(self.declare(x.switch, *faults));
         }
-        false
+        None
     }
 
-    /// The encoder at the latch while the switch stays open for the switch
-    /// timeout: a switch fault.
-    #[inline(always)]
-    fn check_open_at_latch(&mut self, x: &LatchInput, cfg: &LatchConfig, faults: &mut FaultFlags) {
-        let at_latch = !x.switch
-            && x.measured_deg
-                .is_some_and(|m| libm::fabsf(m) <= cfg.at_latch_deg);
-        self.open.update(at_latch, x.t_s);
-        self.open_at_latch = at_latch && self.open.at_least(x.t_s, cfg.switch_timeout_s);
+    /// Encoder at the latch (`at_latch`) while the switch stays open for
+    /// the switch timeout: flagged `switch_open_at_latch`, and the joint
+    /// held at the latch by the dynamics model.
+    fn check_open_at_latch(
+        &mut self,
+        x: &LatchInput,
+        cfg: &LatchConfig,
+        at_latch: bool,
+        faults: &mut FaultFlags,
+    ) {
+        self.at_latch.update(!x.switch && at_latch, x.t_s);
+        self.open_at_latch = self.at_latch.at_least(x.t_s, cfg.switch_timeout_s);
         if self.open_at_latch {
             faults.insert(Fault::SwitchOpenAtLatch);
         }
     }
 
-    /// The motion state from the filtered angle and rate.
-    #[inline(always)]
-    fn track_motion(&mut self, x: &LatchInput, cfg: &LatchConfig, in_window: bool) {
+    /// The state to report when no latch was declared: the motion state
+    /// from the filtered angle and rate (with a physical latch: an escape,
+    /// or a stop on the ramp, `event`, first), or `Fault` while a sensor
+    /// disagrees.
+    fn motion_state(
+        &mut self,
+        x: &LatchInput,
+        cfg: &LatchConfig,
+        event: Option<LatchEvent>,
+    ) -> LatchState {
         let moved = libm::fabsf(x.angle_deg - x.stowed_deg) > cfg.start_deg;
         let speed = libm::fabsf(x.rate_deg_s);
         if speed < cfg.stall_rate_deg_s {
@@ -445,155 +604,49 @@ impl LatchTracker {
             self.slow.stop();
         }
         let stopped = self.slow.at_least(x.t_s, cfg.stall_time_s);
-        self.motion = match self.motion {
-            LatchState::Stowed if moved => LatchState::Deploying,
-            LatchState::Stowed => LatchState::Stowed,
+        let in_window = libm::fabsf(x.measured_deg.unwrap_or(x.angle_deg)) <= cfg.window_deg;
+        self.motion = match (event, self.motion) {
+            (Some(event), _) => event.state(),
+            (None, LatchState::Stowed) if moved => LatchState::Deploying,
+            (None, LatchState::Stowed) => LatchState::Stowed,
             _ if libm::fabsf(x.angle_deg) < cfg.latching_deg || (x.switch && in_window) => {
                 LatchState::Latching
             }
             _ if stopped => LatchState::Stalled,
-            LatchState::Stalled if self.slow.is_on() => LatchState::Stalled,
+            (None, LatchState::Stalled) if self.slow.is_on() => LatchState::Stalled,
             _ => LatchState::Deploying,
         };
+        let fault = self.switch_early
+            || self.switch_suspect
+            || self.open_at_latch
+            || self.missing.count() >= cfg.missing_samples;
+        if fault {
+            LatchState::Fault
+        } else {
+            self.motion
+        }
     }
+}
+
+/// What the configured latch makes of one sample (see
+/// [`LatchTracker::step`]).
+#[derive(Clone, Copy, Debug)]
+struct LatchView {
+    /// A physical latch is configured.
+    physical: bool,
+    /// The encoder puts the joint at the latch: the reading within
+    /// `at_latch_deg` (ideal latch), or the smoothed reading within the
+    /// switch travel and one reading's noise of the stop (physical latch:
+    /// a joint at rest on the ramp is not at the latch).
+    at_latch: bool,
+    /// The switch has held closed for the bounce window with the reading
+    /// on the stop (always true for the ideal latch).
+    held: bool,
+    /// A declared physical latch left its stop at this sample.
+    left: Option<LatchEvent>,
+    /// What a physical latch reports instead of the motion state.
+    event: Option<LatchEvent>,
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn input(t: f32, switch: bool, deg: f32) -> LatchInput {
-        LatchInput {
-            t_s: t,
-            switch,
-            measured_deg: Some(deg),
-            angle_deg: deg,
-            rate_deg_s: -50.0,
-            stowed_deg: 90.0,
-            encoder_stuck: false,
-        }
-    }
-
-    fn run(tr: &mut LatchTracker, samples: &[(bool, f32)]) -> LatchOutput {
-        let cfg = LatchConfig::default();
-        let mut out = None;
-        for (i, &(sw, deg)) in samples.iter().enumerate() {
-            out = Some(tr.step(&input(i as f32 * 0.01, sw, deg), &cfg));
-        }
-        out.unwrap()
-    }
-
-    #[test]
-    fn given_switch_and_encoder_agree_when_closed_twice_then_latched() {
-        let mut tr = LatchTracker::new();
-        let out = run(&mut tr, &[(false, 80.0), (false, 1.0), (true, 0.0)]);
-        assert_eq!(
-            out.state,
-            LatchState::Latching,
-            "one closed sample is not a latch"
-        );
-        let out = tr.step(&input(0.03, true, 0.01), &LatchConfig::default());
-        assert!(out.newly_latched);
-        assert_eq!(out.state, LatchState::Latched);
-    }
-
-    #[test]
-    fn given_switch_closed_far_from_latch_then_fault_not_latch() {
-        let mut tr = LatchTracker::new();
-        let out = run(
-            &mut tr,
-            &[(false, 60.0), (true, 59.0), (true, 58.0), (true, 57.0)],
-        );
-        assert_eq!(out.state, LatchState::Fault);
-        assert!(out.faults.contains(Fault::SwitchEarly));
-        assert!(!tr.is_latched());
-    }
-
-    #[test]
-    fn given_encoder_at_latch_with_switch_open_then_fault_not_latch() {
-        let mut tr = LatchTracker::new();
-        let samples: [(bool, f32); 20] = [(false, 0.01); 20];
-        let out = run(&mut tr, &samples);
-        assert_eq!(out.state, LatchState::Fault);
-        assert!(out.faults.contains(Fault::SwitchOpenAtLatch));
-        assert!(!tr.is_latched());
-    }
-
-    #[test]
-    fn given_confirmed_latch_when_switch_opens_then_latch_kept_and_flagged() {
-        let mut tr = LatchTracker::new();
-        run(&mut tr, &[(true, 0.0), (true, 0.0)]);
-        assert!(tr.is_latched());
-        let out = tr.step(&input(1.0, false, 0.0), &LatchConfig::default());
-        assert_eq!(out.state, LatchState::Latched);
-        assert!(out.faults.contains(Fault::LatchDisagree));
-        let out = tr.step(
-            &LatchInput {
-                measured_deg: None,
-                ..input(1.01, true, 0.0)
-            },
-            &LatchConfig::default(),
-        );
-        assert_eq!(out.state, LatchState::Latched);
-    }
-
-    #[test]
-    fn given_switch_open_when_encoder_at_latch_for_confirm_time_then_latched_and_flagged() {
-        let mut tr = LatchTracker::new();
-        let samples: [(bool, f32); 32] = [(false, 0.01); 32];
-        let out = run(&mut tr, &samples);
-        assert!(out.newly_latched && tr.is_latched());
-        assert!(out.faults.contains(Fault::SwitchOpenAtLatch));
-    }
-
-    #[test]
-    fn given_switch_stuck_closed_then_no_latch_until_encoder_confirms() {
-        let mut tr = LatchTracker::new();
-        // Closed far from the latch for the debounce time: distrusted.
-        let mut samples: std::vec::Vec<(bool, f32)> =
-            (0..10).map(|i| (true, 60.0 - i as f32)).collect();
-        // The encoder crosses the 2° window: not a latch with that switch.
-        samples.extend([(true, 1.5), (true, 0.8), (true, 0.2)]);
-        let out = run(&mut tr, &samples);
-        assert!(tr.switch_suspect() && !tr.is_latched());
-        assert_eq!(out.state, LatchState::Fault);
-        // At the latch angle for the confirmation time: latched.
-        samples.extend([(true, 0.0); 32]);
-        let mut tr = LatchTracker::new();
-        let out = run(&mut tr, &samples);
-        assert!(tr.is_latched());
-        assert_eq!(out.state, LatchState::Latched);
-    }
-
-    #[test]
-    fn given_stuck_encoder_then_switch_alone_latches_after_debounce() {
-        let cfg = LatchConfig::default();
-        let mut tr = LatchTracker::new();
-        let stuck = |t: f32, sw: bool| LatchInput {
-            measured_deg: None,
-            encoder_stuck: true,
-            ..input(t, sw, 20.0)
-        };
-        tr.step(&stuck(0.0, false), &cfg);
-        for k in 1..=3 {
-            let out = tr.step(&stuck(0.01 * k as f32, true), &cfg);
-            assert!(!tr.is_latched(), "{k}: {out:?}");
-        }
-        let out = tr.step(&stuck(0.04, true), &cfg);
-        assert!(out.newly_latched);
-    }
-
-    #[test]
-    fn given_chatter_then_flagged() {
-        let mut tr = LatchTracker::new();
-        let out = run(&mut tr, &[(false, 50.0), (true, 49.0), (false, 48.0)]);
-        assert!(out.faults.contains(Fault::SwitchChatter));
-    }
-
-    #[test]
-    fn names_round_trip() {
-        for s in LatchState::ALL {
-            assert_eq!(LatchState::from_name(s.as_str()), Some(s));
-        }
-    }
-}
+mod tests;

@@ -46,12 +46,17 @@
 //! # Margin with uncertainty factors
 //! ```text
 //! TM = (E_s / FS_spring + max(K_eff, 0) / FS_kinetic)
-//!      / (FS_coulomb T_C W_C + FS_viscous f W_v + max(−K_eff, 0)) − 1     [×100 %]
+//!      / (FS_coulomb T_C W_C + FS_viscous f W_v + max(−K_eff, 0) + FS_latch W_eng) − 1
 //! ```
-//! over the whole remaining stroke `[x_c, x₀]`. The factors default to 1
+//! [×100 %] over the whole remaining stroke `[x_c, x₀]`. `W_eng` is the
+//! work still ahead to climb a physical latch's entry ramp (0 for the ideal
+//! latch), which the march also loses at its end; the march then ends at
+//! the crest if it lies beyond `x_c` ([`crate::monitor::latch_margin`]).
+//! The factors default to 1
 //! (a best estimate); the presets take the NASA-STD-5017 and ECSS-E-ST-33-01C
 //! factors from [`crate::monitor::standards`] (listed in `docs/margin.md`).
 
+use crate::monitor::latch_margin::Engagement;
 use crate::monitor::standards;
 use crate::physics::spring::{Branch, Spring};
 
@@ -75,6 +80,10 @@ pub struct UncertaintyFactors {
     pub coulomb: f32,
     /// Multiplies the viscous friction energy [1].
     pub viscous: f32,
+    /// Multiplies the physical latch's engagement energy still ahead [1]
+    /// ([`crate::monitor::latch_margin`]; the standards' "variable" /
+    /// "other forces" factor in the presets, `docs/margin.md`).
+    pub latch: f32,
 }
 
 impl UncertaintyFactors {
@@ -84,6 +93,7 @@ impl UncertaintyFactors {
         kinetic: 1.0,
         coulomb: 1.0,
         viscous: 1.0,
+        latch: 1.0,
     };
 
     /// ECSS-E-ST-33-01C ([`crate::monitor::standards`]): the spring factor divides
@@ -94,6 +104,7 @@ impl UncertaintyFactors {
         kinetic: standards::ECSS_E_ST_33_01C_INERTIA as f32,
         coulomb: standards::ECSS_E_ST_33_01C_FRICTION as f32,
         viscous: standards::ECSS_E_ST_33_01C_FRICTION as f32,
+        latch: standards::ECSS_E_ST_33_01C_OTHER as f32,
     };
 
     /// NASA-STD-5017B ([`crate::monitor::standards`]): the driving spring
@@ -105,13 +116,20 @@ impl UncertaintyFactors {
         kinetic: standards::NASA_STD_5017B_ACCELERATION as f32,
         coulomb: standards::NASA_STD_5017B_VARIABLE as f32,
         viscous: standards::NASA_STD_5017B_VARIABLE as f32,
+        latch: standards::NASA_STD_5017B_VARIABLE as f32,
     };
 
     /// True when every factor is finite and ≥ 1 is not required, only > 0.
     pub fn is_valid(&self) -> bool {
-        [self.spring, self.kinetic, self.coulomb, self.viscous]
-            .iter()
-            .all(|f| f.is_finite() && *f > 0.0)
+        [
+            self.spring,
+            self.kinetic,
+            self.coulomb,
+            self.viscous,
+            self.latch,
+        ]
+        .iter()
+        .all(|f| f.is_finite() && *f > 0.0)
     }
 }
 
@@ -153,6 +171,8 @@ pub struct MarginInput {
     pub viscous_var: f32,
     /// Covariance of `T_C` and `f`.
     pub cov: f32,
+    /// The joint's physical latch ([`Engagement::IDEAL`] for the ideal one).
+    pub latch: Engagement,
 }
 
 /// Settings of the prediction.
@@ -175,6 +195,10 @@ pub struct MarginResult {
     /// Predicted time to the capture angle [s], `None` when the best
     /// estimate stalls.
     pub time_to_latch_s: Option<f32>,
+    /// The best estimate reaches a physical latch's crest without the
+    /// entry ramp's work and not with it: the plunger stops the joint
+    /// ([`crate::monitor::latch_margin`]).
+    pub stops_on_ramp: bool,
 }
 
 /// Standard normal distribution function `Φ(z) = ½ erfc(−z/√2)`.
@@ -202,7 +226,7 @@ pub fn truncated_below_cdf(x: f32, mean: f32, sd: f32, lower: f32) -> f32 {
 /// spring `spring` (the joint's nominal spring, all hinges).
 pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> MarginResult {
     let x0 = x.angle_abs_rad;
-    let xc = x.capture_rad.max(0.0);
+    let xc = x.latch.march_end(x.capture_rad.max(0.0));
     let tc = x.coulomb_nm.max(0.0);
     let fv = x.viscous_nms.max(0.0);
     let inertia = x.inertia_kgm2.max(1e-6);
@@ -212,6 +236,7 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
             margin_pct: MARGIN_CAP_PCT,
             latch_probability: 1.0,
             time_to_latch_s: Some(0.0),
+            stops_on_ramp: false,
         };
     }
     let w = x.rate_abs_rad_s;
@@ -232,10 +257,14 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
         k_eff,
         var_k,
     };
-    let m = march(spring, x, s, &stroke);
+    let mut m = march(spring, x, s, &stroke);
+    let w_eng = x.latch.work_j(xc, x0);
+    let stops_on_ramp = m.climb_ramp(w_eng, tc, x0 <= x.latch.foot_rad());
     let drive = m.e_s / s.factors.spring + k_eff.max(0.0) / s.factors.kinetic;
-    let resist =
-        s.factors.coulomb * tc * m.w_c + s.factors.viscous * fv * m.w_v + (-k_eff).max(0.0);
+    let resist = s.factors.coulomb * tc * m.w_c
+        + s.factors.viscous * fv * m.w_v
+        + (-k_eff).max(0.0)
+        + s.factors.latch * w_eng;
     let margin_pct = if resist > 1e-9 {
         ((drive / resist - 1.0) * 100.0).clamp(-100.0, MARGIN_CAP_PCT)
     } else {
@@ -262,6 +291,7 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
         } else {
             Some(m.t_total)
         },
+        stops_on_ramp,
     }
 }
 
@@ -308,6 +338,30 @@ struct March {
     t_total: f32,
     /// The energy ran out before the capture angle.
     stalled: bool,
+    /// `E` left at the end of the march [J].
+    e_end: f32,
+}
+
+impl March {
+    /// Takes a physical latch's entry-ramp work still ahead `w_eng` [J]
+    /// off at the end of the march (`latch_margin`), `tc` the Coulomb
+    /// torque [N·m]; true when the joint stops on the ramp: the march
+    /// reaches the crest without the ramp's work and not with it, or the
+    /// joint is on the ramp already (`on_ramp`) and stalls. An exact no-op
+    /// for the ideal latch (`w_eng` = 0: the threshold is the last node's,
+    /// a stall at the end is already one; no joint is on a ramp of no
+    /// width beyond the capture angle).
+    fn climb_ramp(&mut self, w_eng: f32, tc: f32, on_ramp: bool) -> bool {
+        let reaches = !self.stalled && self.e_end > 0.0;
+        self.e_end -= w_eng;
+        let stops = self.e_end <= 0.0;
+        self.stalled |= stops;
+        let threshold = (self.e_end + tc * self.w_c) / self.w_c;
+        if threshold < self.t_star {
+            self.t_star = threshold;
+        }
+        (reaches && stops) || (on_ramp && self.stalled)
+    }
 }
 
 /// Marches `E` over [`NODES`] equal steps from `x₀` to `x_c`, with the
@@ -375,6 +429,7 @@ fn march(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings, st: &Stroke)
         t_star_var,
         t_total,
         stalled,
+        e_end: e,
     }
 }
 
@@ -406,6 +461,7 @@ mod tests {
             spring_sd_rel: 0.0,
             viscous_var: 1e-6,
             cov: 0.0,
+            latch: Engagement::IDEAL,
         }
     }
 

@@ -3,16 +3,19 @@
 //! path `update` and the slow path `predict`); it is made of the friction
 //! observer ([`observer`], on the centred fit of [`smoother`]), the latch
 //! tracker ([`latch`]), the reading checks ([`plausibility`], [`faults`],
-//! [`encoder`]), the torque margin ([`margin`], factors of [`standards`])
+//! [`encoder`]), the torque margin ([`margin`], factors of [`standards`], the
+//! physical latch's engagement in [`latch_margin`])
 //! and the latch / stall prediction ([`predictor`] over [`rollout`]).
 //! `core/README.md` maps the two paths.
 
+pub mod bounce;
 pub mod config;
 pub mod encoder;
 pub mod estimator;
 pub mod faults;
 pub mod held;
 pub mod latch;
+pub mod latch_margin;
 pub mod margin;
 pub mod observer;
 pub mod plausibility;

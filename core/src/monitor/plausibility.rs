@@ -185,10 +185,11 @@ impl ReadingCheck {
         let dt = reading.t_s - course.t_s;
         let line = self.line();
         if reading.repeats <= 1 {
-            // The readings' own rate when the repeats began (the rate
-            // filter's, before three readings; it follows every reading
-            // near a latch).
-            self.repeat_rate = line.map_or(course.rate, |l| l.rate);
+            // The readings' own rate when the repeats began; none before
+            // three readings (after a gap or an impact the rate filter's
+            // rate is widened and may be far from the readings': a joint
+            // at rest would read stale).
+            self.repeat_rate = line.map_or(0.0, |l| l.rate);
         }
         let motion = libm::fabsf(self.repeat_rate) * dt;
         if reading.repeats >= STALE_REPEATS && motion > STALE_MOTION_STEPS * reading.step {
@@ -326,21 +327,33 @@ mod tests {
     #[test]
     fn repeats_are_stale_only_while_moving() {
         // Moving at 100°/s: the first repeat is fused (the filter slows
-        // down), the second is judged against the motion before it.
+        // down), the second is judged against the readings' motion before
+        // it.
         let mut c = ReadingCheck::new();
+        for (k, deg) in [11.0, 10.0, 9.0].iter().enumerate() {
+            let t = 0.01 * (k + 1) as f32;
+            assert_eq!(
+                c.check(&reading(t, *deg, 0), &course(t - 0.01)),
+                Verdict::Plausible
+            );
+        }
         assert_eq!(
-            c.check(&reading(0.01, 9.0, 0), &course(0.0)),
-            Verdict::Plausible
-        );
-        assert_eq!(
-            c.check(&reading(0.02, 9.0, 1), &course(0.01)),
+            c.check(&reading(0.04, 9.0, 1), &course(0.03)),
             Verdict::Plausible
         );
         let slowed = Course {
             rate: -DEG,
-            ..course(0.02)
+            ..course(0.04)
         };
-        assert_eq!(c.check(&reading(0.03, 9.0, 2), &slowed), Verdict::Stale);
+        assert_eq!(c.check(&reading(0.05, 9.0, 2), &slowed), Verdict::Stale);
+        // Before three readings there is no motion to judge a repeat by.
+        let mut c = ReadingCheck::new();
+        c.check(&reading(0.01, 9.0, 0), &course(0.0));
+        c.check(&reading(0.02, 9.0, 1), &course(0.01));
+        assert_eq!(
+            c.check(&reading(0.03, 9.0, 2), &course(0.02)),
+            Verdict::Plausible
+        );
         // At rest, repeats are what a quantised encoder does.
         let rest = Course {
             t_s: 0.01,

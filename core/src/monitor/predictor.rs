@@ -35,11 +35,20 @@ pub enum Prediction {
     Latch,
     /// Will stall short of the latch.
     Stall,
+    /// Will stop on the physical latch's entry ramp, short of its crest
+    /// (the energy balance reaches the ramp's foot and runs out before the
+    /// crest: [`crate::monitor::latch_margin`]).
+    RampStop,
 }
 
 impl Prediction {
     /// Every prediction.
-    pub const ALL: [Prediction; 3] = [Prediction::Unknown, Prediction::Latch, Prediction::Stall];
+    pub const ALL: [Prediction; 4] = [
+        Prediction::Unknown,
+        Prediction::Latch,
+        Prediction::Stall,
+        Prediction::RampStop,
+    ];
 
     /// The name used in telemetry CSV and reports.
     pub const fn as_str(self) -> &'static str {
@@ -47,6 +56,7 @@ impl Prediction {
             Prediction::Unknown => "unknown",
             Prediction::Latch => "latch",
             Prediction::Stall => "stall",
+            Prediction::RampStop => "ramp_stop",
         }
     }
 
@@ -249,21 +259,8 @@ impl<const N: usize> Predictor<N> {
         let mut viscous = [0.0f32; N];
         let mut spring = [1.0f32; N];
         for j in 0..N {
-            let e = belief(j);
-            // More friction goes with weaker springs, and less with stronger.
-            let sd_k = crate::physics::real::sqrtf(e.spring_scale_var.max(0.0));
-            spring[j] = (1.0 + e.spring_scale_err - sign * z * sd_k).max(0.0);
-            let sd_c = crate::physics::real::sqrtf(e.coulomb_var.max(0.0));
-            let sd_f = crate::physics::real::sqrtf(e.viscous_var.max(0.0));
-            coulomb[j] = (e.coulomb_nm + sign * z * sd_c).max(0.0);
-            viscous[j] = (e.viscous_nms + sign * z * sd_f).max(0.0);
-            if next == Bracket::Optimistic && !locked[j] {
-                // Friction is never below the torque it exerts now.
-                let bound = e.coulomb_lower_nm;
-                if bound <= e.coulomb_nm + 2.0 * sd_c {
-                    coulomb[j] = coulomb[j].max(bound);
-                }
-            }
+            let floor = next == Bracket::Optimistic && !locked[j];
+            (coulomb[j], viscous[j], spring[j]) = bracket_joint(&belief(j), sign * z, floor);
         }
         let start = RolloutStart {
             state,
@@ -280,7 +277,9 @@ impl<const N: usize> Predictor<N> {
     /// The latch / stall prediction of joint `j` at time `t` [s] from the
     /// last finished rollouts and what `query` says of the joint (its
     /// latch, its one-joint energy balance, the deadline): the prediction,
-    /// its confidence and the time to the latch [s].
+    /// its confidence and the time to the latch [s]. A joint whose balance
+    /// stops it on a physical latch's entry ramp is predicted to stop there
+    /// ([`crate::monitor::latch_margin`]).
     pub fn prediction(
         &mut self,
         j: usize,
@@ -327,11 +326,12 @@ impl<const N: usize> Predictor<N> {
             self.pessimistic_watch.get(j).copied().unwrap_or(false),
             self.optimistic_watch.get(j).copied().unwrap_or(false),
         );
+        let stall = stall_kind(energy);
         match nom {
             _ if query.latched => (Prediction::Latch, 1.0, None),
             // Not even the one-joint balance, which counts all the
             // kinetic energy in the joint, gets it to the latch.
-            _ if energy_stall => (Prediction::Stall, conf, None),
+            _ if energy_stall => (stall, conf, None),
             // Rollouts switched off: the one-joint balance alone.
             _ if !query.rollouts => match energy {
                 Some(r) if r.latch_probability >= conf => {
@@ -350,9 +350,23 @@ impl<const N: usize> Predictor<N> {
             }
             Some(_) => {
                 let sure = opt_watch && opt.is_some_and(|(o, _)| !o.latches);
-                (Prediction::Stall, if sure { conf } else { 0.5 }, None)
+                (stall, if sure { conf } else { 0.5 }, None)
             }
         }
+    }
+}
+
+/// The name of a stall of a joint whose energy balance is `energy`:
+/// [`Prediction::RampStop`] when the balance stops it on a physical latch's
+/// entry ramp (`MarginResult::stops_on_ramp`,
+/// [`crate::monitor::latch_margin`]), else [`Prediction::Stall`]. The
+/// rollouts do not model the plunger, so the balance locates the stall.
+#[inline]
+fn stall_kind(energy: Option<MarginResult>) -> Prediction {
+    if energy.is_some_and(|r| r.stops_on_ramp) {
+        Prediction::RampStop
+    } else {
+        Prediction::Stall
     }
 }
 
@@ -375,4 +389,29 @@ pub struct PredictionQuery {
     pub confidence: f32,
     /// False when the rollouts are switched off.
     pub rollouts: bool,
+}
+
+/// One joint's Coulomb torque [N·m], viscous coefficient [N·m·s/rad] and
+/// spring scale [1] in a rollout whose friction is `shift` standard
+/// deviations above the belief `e` (below for a negative `shift`; more
+/// friction goes with weaker springs, and less with stronger); with
+/// `floor`, the Coulomb torque is never below the friction torque the joint
+/// exerts now. Not generic over the joint count: one copy in flash for
+/// every monitor.
+#[inline(never)]
+fn bracket_joint(e: &FrictionBelief, shift: f32, floor: bool) -> (f32, f32, f32) {
+    let sd_k = crate::physics::real::sqrtf(e.spring_scale_var.max(0.0));
+    let spring = (1.0 + e.spring_scale_err - shift * sd_k).max(0.0);
+    let sd_c = crate::physics::real::sqrtf(e.coulomb_var.max(0.0));
+    let sd_f = crate::physics::real::sqrtf(e.viscous_var.max(0.0));
+    let mut coulomb = (e.coulomb_nm + shift * sd_c).max(0.0);
+    let viscous = (e.viscous_nms + shift * sd_f).max(0.0);
+    if floor {
+        // Friction is never below the torque it exerts now.
+        let bound = e.coulomb_lower_nm;
+        if bound <= e.coulomb_nm + 2.0 * sd_c {
+            coulomb = coulomb.max(bound);
+        }
+    }
+    (coulomb, viscous, spring)
 }

@@ -16,7 +16,11 @@
 //! stepped by the midpoint rule (second order: two evaluations a step),
 //! each stage linearly implicit in the stiff friction (`h` = its length),
 //! so a joint can come to rest in the creep regime without the step going
-//! unstable.
+//! unstable. While every free joint glides or creeps slowly and smoothly,
+//! far from its latch, the step grows up to `glide_dt_s`
+//! (`docs/monitor.md` §6, the glide): a panel coasting on its momentum
+//! with its spring within a few per cent of its friction, or creeping, is
+//! crossed in a few long steps instead of hundreds.
 //! A joint latches in the rollout when it reaches its capture angle moving
 //! inwards; the rollout ends when every joint has latched, at the horizon
 //! (the deployment's deadline), or once every free joint has crept
@@ -87,6 +91,12 @@ pub struct RolloutConfig {
     /// they only confirm the nominal rollout's verdicts (its confidence),
     /// and may be coarser.
     pub bracket_dt_s: f32,
+    /// Longest integration step [s]: while every free joint glides or
+    /// creeps slowly and smoothly, far from its capture angle, the step
+    /// grows from `dt_s` (or `bracket_dt_s`) up to this
+    /// ([`GLIDE_TURN_RAD`], [`GLIDE_RATE_CHANGE`]); below two steps the
+    /// step stays fixed.
+    pub glide_dt_s: f32,
     /// Units of work per slice of [`crate::Monitor::predict`] (a unit: one
     /// step, two chain evaluations, or [`CREEP_EVALS_PER_STEP`] spring
     /// evaluations of the creep quadrature); 0 switches the rollouts off (the prediction then
@@ -122,6 +132,9 @@ pub struct Rollout<const N: usize> {
     latch_after_s: [f32; N],
     t_s: f32,
     creeping_s: f32,
+    /// Each free joint's acceleration in the last step [rad/s²] (∞ before
+    /// the first step and after a latch: the next step is a base step).
+    accel: [f32; N],
     done: bool,
     /// The joints whose outcome is wanted: the rollout ends once all of
     /// them have latched (every joint unless [`Rollout::watching`]).
@@ -155,6 +168,7 @@ impl<const N: usize> Rollout<N> {
             latch_after_s: [0.0; N],
             t_s: 0.0,
             creeping_s: 0.0,
+            accel: [f32::INFINITY; N],
             done: false,
             watch: [true; N],
             settle: None,
@@ -252,7 +266,7 @@ impl<const N: usize> Rollout<N> {
     /// implicit in the stiff friction; then the latches the step reached,
     /// and the end of the rollout or the start of the creep quadrature.
     fn step(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
-        let dt = cfg.dt_s;
+        let dt = self.step_length(chain, cfg);
         let wc = cfg.coulomb_threshold_rad_s;
         let Some(crossed) = self.integrate(chain, dt, wc) else {
             self.finish();
@@ -261,6 +275,8 @@ impl<const N: usize> Rollout<N> {
         self.t_s += dt;
         if crossed.iter().any(|c| *c) {
             self.latch_crossed(chain, &crossed, dt);
+            // The impact changes every rate: a base step next.
+            self.accel = [f32::INFINITY; N];
         }
         if (0..N).all(|j| self.latched[j] || !self.watch[j]) {
             self.done = true;
@@ -281,6 +297,62 @@ impl<const N: usize> Rollout<N> {
         if self.creeping_s >= STALL_HOLD_S {
             self.begin_settle(chain, cfg);
         }
+    }
+
+    /// Length of the next step [s]: `cfg.dt_s`, or longer, up to
+    /// `cfg.glide_dt_s`, while every free joint glides or creeps slowly
+    /// and smoothly (`docs/monitor.md` §6, the glide): over the step each
+    /// free joint turns by at most [`GLIDE_TURN_RAD`], its rate changes by
+    /// at most [`GLIDE_RATE_CHANGE`] of itself (of `ω_c` when slower), its
+    /// spring torque at the step's end (at the present rate) differs from
+    /// the present one by at most [`GLIDE_TORQUE_CHANGE`] of the larger of
+    /// the two torques that balance in the glide, spring and Coulomb (a
+    /// tape spring's snap-through peak is met at the base step), and it
+    /// covers at most half of what is left to its capture angle (the latch
+    /// too). A step is lengthened only when these allow at least
+    /// [`GLIDE_MIN_STEPS`] base steps at once.
+    fn step_length(&self, chain: &Chain<f32, N>, cfg: &RolloutConfig) -> f32 {
+        let base = cfg.dt_s;
+        let wc = cfg.coulomb_threshold_rad_s;
+        let mut h = cfg.glide_dt_s;
+        for j in 0..N {
+            if self.latched[j] {
+                continue;
+            }
+            let w = libm::fabsf(self.x.phi_dot[j]);
+            let left = libm::fabsf(self.x.phi[j]) - self.start.capture_rad[j];
+            let limits = [
+                GLIDE_TURN_RAD / w,
+                0.5 * left / w,
+                GLIDE_RATE_CHANGE * w.max(wc) / libm::fabsf(self.accel[j]),
+            ];
+            for limit in limits {
+                // A NaN limit makes `h` NaN: a base step.
+                if !(limit >= h) {
+                    h = limit;
+                }
+            }
+        }
+        // Lengthened by at least GLIDE_MIN_STEPS base steps or not at all:
+        // a swing is stepped exactly as with the fixed step.
+        if !(h >= GLIDE_MIN_STEPS * base) {
+            return base;
+        }
+        for (j, joint) in chain.joints().iter().enumerate() {
+            if self.latched[j] {
+                continue;
+            }
+            let (phi, w) = (self.x.phi[j], self.x.phi_dot[j]);
+            let branch = Branch::select(phi, w);
+            let scale = self.start.spring_scale[j];
+            let now = scale * joint.spring.torque(phi, branch);
+            let then = scale * joint.spring.torque(phi + w * h, branch);
+            let balance = libm::fabsf(now).max(self.start.coulomb_nm[j]);
+            if !(libm::fabsf(then - now) <= GLIDE_TORQUE_CHANGE * balance) {
+                return base;
+            }
+        }
+        h
     }
 
     /// Integrates the free joints over `dt` [s] by the midpoint rule, each
@@ -306,6 +378,7 @@ impl<const N: usize> Rollout<N> {
             let before = self.x.phi[j];
             self.x.phi[j] += dt * mid.phi_dot[j];
             self.x.phi_dot[j] += dt * a[j];
+            self.accel[j] = a[j];
             let after = self.x.phi[j];
             let inward = before * mid.phi_dot[j] < 0.0;
             // The capture angle is a shortcut for a joint that snaps
@@ -452,6 +525,22 @@ impl<const N: usize> Rollout<N> {
         self.done = true;
     }
 }
+
+/// Most a free joint may turn in one lengthened step of the glide [rad]
+/// (2°: the spring torque changes little over it).
+pub const GLIDE_TURN_RAD: f32 = 0.035;
+
+/// Most a free joint's rate may change in one lengthened step of the
+/// glide, relative to the rate (to `ω_c` when slower) [1].
+pub const GLIDE_RATE_CHANGE: f32 = 0.1;
+
+/// Fewest base steps a lengthened step spans [1]: below, the base step.
+pub const GLIDE_MIN_STEPS: f32 = 2.0;
+
+/// Most a free joint's spring torque may change over one lengthened step
+/// of the glide, relative to the larger of its spring and Coulomb torques
+/// [1].
+pub const GLIDE_TORQUE_CHANGE: f32 = 0.05;
 
 /// Sub-intervals of the creep quadrature.
 const CREEP_PANELS: usize = 8;

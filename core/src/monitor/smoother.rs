@@ -78,8 +78,9 @@ impl<const N: usize> Default for Slot<N> {
 pub struct CentredFit<const N: usize> {
     slots: [Slot<N>; WINDOW],
     /// Index of the oldest slot (below [`WINDOW`]; read at every slot
-    /// access, so a `usize`).
-    head: usize,
+    /// access, so a word: a `u32`, the width of `usize` on the MCU, and
+    /// half of it on a 64-bit host).
+    head: u32,
     /// Number of slots filled (up to [`WINDOW`]; a byte, as the monitor
     /// has to fit in 4 KiB).
     len: u8,
@@ -115,7 +116,7 @@ impl<const N: usize> CentredFit<N> {
             clean,
             locked: *locked,
         };
-        let (head, len) = (self.head, usize::from(self.len));
+        let (head, len) = (self.head as usize, usize::from(self.len));
         if len < WINDOW {
             if let Some(s) = self.slots.get_mut((head + len) % WINDOW) {
                 *s = slot;
@@ -125,12 +126,12 @@ impl<const N: usize> CentredFit<N> {
             if let Some(s) = self.slots.get_mut(head % WINDOW) {
                 *s = slot;
             }
-            self.head = (head + 1) % WINDOW;
+            self.head = ((head + 1) % WINDOW) as u32;
         }
     }
 
     fn slot(&self, k: usize) -> &Slot<N> {
-        &self.slots[(self.head + k) % WINDOW]
+        &self.slots[(self.head as usize + k) % WINDOW]
     }
 
     /// The fit at the middle of the window, with `meas_var` the variance of

@@ -31,7 +31,8 @@ pub fn solve_spd_masked<T: Real, const N: usize>(
     b: &[T; N],
     locked: &[bool; N],
 ) -> Result<[T; N], SolveError> {
-    let l = ldl_masked(m, locked)?;
+    let mut l = [[T::ZERO; N]; N];
+    ldl_masked(m, locked, &mut l)?;
     Ok(substitute(&l, b, locked))
 }
 
@@ -45,11 +46,15 @@ pub fn solve_spd_masked<T: Real, const N: usize>(
 /// ```text
 /// L_ij = (M_ij − Σ_{k<j} L_ik L_jk D_k) / D_j,   D_i = M_ii − Σ_{k<i} L_ik² D_k
 /// ```
+///
+/// The factors are written into `l` (zero on entry), not returned: a
+/// returned `Result` of the matrix is copied once more on the MCU (a
+/// `memcpy` of 36 bytes at 3 joints, twice per solve).
 fn ldl_masked<T: Real, const N: usize>(
     m: &[[T; N]; N],
     locked: &[bool; N],
-) -> Result<[[T; N]; N], SolveError> {
-    let mut l = [[T::ZERO; N]; N];
+    l: &mut [[T; N]; N],
+) -> Result<(), SolveError> {
     for i in 0..N {
         if locked[i] {
             l[i][i] = T::ONE;
@@ -76,7 +81,7 @@ fn ldl_masked<T: Real, const N: usize>(
             }
         }
     }
-    Ok(l)
+    Ok(())
 }
 
 /// `L y = b`, `D z = y`, then `Lᵀ x = z`, on the free coordinates.
@@ -116,9 +121,10 @@ pub fn articulated_inertias<T: Real, const N: usize>(
     m: &[[T; N]; N],
     locked: &[bool; N],
 ) -> [Option<T>; N] {
-    let Ok(l) = ldl_masked(m, locked) else {
+    let mut l = [[T::ZERO; N]; N];
+    if ldl_masked(m, locked, &mut l).is_err() {
         return [None; N];
-    };
+    }
     core::array::from_fn(|j| {
         if locked[j] {
             return None;
@@ -144,7 +150,8 @@ pub fn articulated_inertia<T: Real, const N: usize>(
     if locked.get(j).copied().unwrap_or(true) {
         return None;
     }
-    let l = ldl_masked(m, locked).ok()?;
+    let mut l = [[T::ZERO; N]; N];
+    ldl_masked(m, locked, &mut l).ok()?;
     let mut e = [T::ZERO; N];
     if let Some(ej) = e.get_mut(j) {
         *ej = T::ONE;

@@ -81,7 +81,9 @@ impl core::error::Error for CurveError {}
 /// curve (linear interpolation is the special case of chord slopes).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Curve<T> {
-    len: usize,
+    /// Number of knots (at most [`MAX_KNOTS`]; a `u32`, the width of
+    /// `usize` on the MCU, so that the host's monitor has its size).
+    len: u32,
     linear: bool,
     x: [T; MAX_KNOTS],
     y: [T; MAX_KNOTS],
@@ -99,7 +101,7 @@ impl<T: Real> Curve<T> {
             return Err(CurveError::TooManyKnots);
         }
         let mut c = Curve {
-            len: n,
+            len: n as u32,
             linear: interp == Interp::Linear,
             x: [T::ZERO; MAX_KNOTS],
             y: [T::ZERO; MAX_KNOTS],
@@ -128,7 +130,7 @@ impl<T: Real> Curve<T> {
     fn akima_slopes(&mut self) {
         // Clamped so that every index below is provably in bounds (no
         // panic path); `new` guarantees it anyway.
-        let n = self.len.clamp(2, MAX_KNOTS);
+        let n = (self.len as usize).clamp(2, MAX_KNOTS);
         // m[2..n+1] are the chord slopes, two extrapolated on each side.
         let mut m = [T::ZERO; MAX_KNOTS + 3];
         for i in 0..n - 1 {
@@ -160,7 +162,7 @@ impl<T: Real> Curve<T> {
 
     /// Number of knots.
     pub fn len(&self) -> usize {
-        self.len
+        self.len as usize
     }
 
     /// Always false: a curve has at least two knots.
@@ -170,7 +172,7 @@ impl<T: Real> Curve<T> {
 
     /// The knots `(deg, N·m)`.
     pub fn knot(&self, i: usize) -> Option<(T, T)> {
-        if i < self.len {
+        if i < self.len as usize {
             Some((self.x[i], self.y[i]))
         } else {
             None
@@ -193,7 +195,7 @@ impl<T: Real> Curve<T> {
     pub fn eval(&self, x: T) -> T {
         // Clamped so that every index below is provably in bounds (no
         // panic path on the monitor's sample path); `new` guarantees it.
-        let n = self.len.clamp(2, MAX_KNOTS);
+        let n = (self.len as usize).clamp(2, MAX_KNOTS);
         if !(x > self.x[0]) {
             return self.y[0];
         }
@@ -231,7 +233,7 @@ impl<T: Real> Curve<T> {
 
     /// `∫_{x0}^{x} T dθ` with `x0` the first knot and clamping outside.
     fn antiderivative(&self, x: T) -> T {
-        let n = self.len.clamp(2, MAX_KNOTS);
+        let n = (self.len as usize).clamp(2, MAX_KNOTS);
         if !(x > self.x[0]) {
             return (x - self.x[0]) * self.y[0];
         }

@@ -16,6 +16,8 @@
 //! tuning, the same code on both sides.
 
 use crate::monitor::estimator::{JointConfig, MonitorConfig};
+use crate::monitor::latch::PhysicalLatch;
+use crate::monitor::latch_margin::Engagement;
 use crate::monitor::observer::FrictionPrior;
 use crate::physics::chain::Panel;
 use crate::physics::spring::{Curve, Spring, TapePoints};
@@ -47,7 +49,7 @@ const fn largest(mut counts: &[u8]) -> usize {
 }
 
 /// Version of the configuration frames; the firmware refuses another.
-pub const CONFIG_VERSION: u8 = 1;
+pub const CONFIG_VERSION: u8 = 2;
 
 /// The first frame of a replay input.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -59,6 +61,9 @@ pub struct ConfigHeader {
     pub joints: u8,
     /// The deployment's deadline (`MarginConfig::deadline_s`) [s].
     pub deadline_s: f32,
+    /// The latch as built (`LatchConfig::physical`), `None` for the ideal
+    /// latch.
+    pub latch: Option<PhysicalLatch>,
 }
 
 /// Tabulated knots of a curve spring branch.
@@ -234,7 +239,20 @@ pub struct JointFrame {
     /// `FrictionPrior` fields in declaration order: Coulomb mean and sd
     /// [N·m], viscous mean and sd [N·m·s/rad].
     pub prior: [f32; PRIOR_FIELDS],
+    /// `JointConfig::latch` (`Engagement`, all 0 for the ideal latch):
+    /// engagement energy [J] (three plain `f32` fields rather than an array:
+    /// one deserializer fewer in flash).
+    pub latch_energy_j: f32,
+    /// Its crest [rad].
+    pub latch_crest_rad: f32,
+    /// Its entry ramp's width [rad].
+    pub latch_ramp_rad: f32,
 }
+
+/// Fields of the core's `Engagement` (all `f32`): when it changes, the
+/// `latch_*` fields of [`JointFrame`], [`JointFrame::to_config`] and the
+/// host's `deploywatch_sim::replay::joint_frame` change with it.
+pub const LATCH_FIELDS: usize = 3;
 
 impl JointFrame {
     /// The panel and joint configuration.
@@ -257,6 +275,11 @@ impl JointFrame {
                     viscous_nms,
                     viscous_sd_nms,
                 },
+                latch: Engagement {
+                    energy_j: self.latch_energy_j,
+                    crest_rad: self.latch_crest_rad,
+                    ramp_rad: self.latch_ramp_rad,
+                },
             },
         ))
     }
@@ -264,7 +287,8 @@ impl JointFrame {
 
 impl ConfigHeader {
     /// The monitor configuration of this header and its `N` joint frames:
-    /// the core's default tuning with these panels, joints and deadline.
+    /// the core's default tuning with these panels, joints, deadline and
+    /// latch.
     /// `None` when `N` is not the header's joint count; the error of a
     /// spring curve the core rejects.
     pub fn config<const N: usize>(
@@ -274,12 +298,12 @@ impl ConfigHeader {
         if usize::from(self.joints) != N {
             return None;
         }
-        Some(build(self.deadline_s, joints))
+        Some(build(self, joints))
     }
 }
 
 fn build<const N: usize>(
-    deadline_s: f32,
+    header: &ConfigHeader,
     frames: &[JointFrame; N],
 ) -> Result<MonitorConfig<N>, CurveError> {
     // Placeholders, all overwritten (a spring of `None` always builds).
@@ -292,20 +316,21 @@ fn build<const N: usize>(
         joints[i] = j;
     }
     let mut config = MonitorConfig::new(panels, joints);
-    config.margin.deadline_s = deadline_s;
+    config.margin.deadline_s = header.deadline_s;
+    config.latch.physical = header.latch;
     Ok(config)
 }
 
 /// Largest frame of a [`ConfigHeader`], `0x00` included [bytes]
-/// (payload: 1 + 1 + 4).
-pub const CONFIG_HEADER_FRAME_MAX: usize = framed(6);
+/// (payload: 1 + 1 + 4, and the latch: 1 + 4·4).
+pub const CONFIG_HEADER_FRAME_MAX: usize = framed(23);
 
 /// Largest postcard payload of a [`JointFrame`]: five `f32` of panel and
 /// stowed angle (20), the spring (tag 1 + count 4 + the curve variant's
 /// flag 1, knots 1 + 2·4·[`MAX_KNOTS`] and optional knots 1 + the same),
-/// the capture angle (4) and the prior (4 each).
+/// the capture angle (4), the prior and the latch (4 each).
 pub const JOINT_FRAME_PAYLOAD_MAX: usize =
-    20 + (1 + 4 + 1 + 2 * (1 + 8 * MAX_KNOTS) + 1) + 4 + 4 * PRIOR_FIELDS;
+    20 + (1 + 4 + 1 + 2 * (1 + 8 * MAX_KNOTS) + 1) + 4 + 4 * PRIOR_FIELDS + 4 * LATCH_FIELDS;
 
 /// Largest frame of a [`JointFrame`], `0x00` included [bytes].
 pub const JOINT_FRAME_MAX: usize = framed(JOINT_FRAME_PAYLOAD_MAX);

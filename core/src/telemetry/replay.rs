@@ -340,6 +340,7 @@ where
         return Err(Error::ConfigFrame);
     }
     config.margin.deadline_s = header.deadline_s;
+    config.latch.physical = header.latch;
     for j in 0..N {
         let (Some(panel), Some(joint)) = (config.panels.get_mut(j), config.joints.get_mut(j))
         else {

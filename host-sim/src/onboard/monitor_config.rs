@@ -6,8 +6,12 @@
 //! friction written in the file as the prior mean of the friction estimate
 //! (zero for the nominal mechanisms), with the spread of [`PriorSpread`],
 //! and the file's `[run] duration_s` as the deadline of the deployment: a
-//! joint predicted to latch later is predicted to stall.
+//! joint predicted to latch later is predicted to stall. A joint with a
+//! physical latch (`[joint.latch]`) carries the three figures of its plunger
+//! the margin needs ([`engagement`]).
 
+use deploywatch_core::latch::PhysicalLatch;
+use deploywatch_core::monitor::latch_margin::Engagement;
 use deploywatch_core::monitor::{JointConfig, Monitor, MonitorConfig, Sample, Status};
 use deploywatch_core::observer::FrictionPrior;
 use deploywatch_core::spring::CurveError;
@@ -51,6 +55,36 @@ pub const COULOMB_PRIOR_SD_NM: f64 = 2.0;
 /// prediction is unharmed by the width because it uses `f` only once the
 /// data resolve it (`docs/monitor.md` §3.2).
 pub const VISCOUS_PRIOR_SD_NMS: f64 = 1.0;
+
+/// How long the switch of a physical latch must stay closed, the encoder
+/// on the stop, for the monitor to declare the latch [s]: ten times the
+/// millisecond contact of a Hertzian impact, and with one 10 ms sample
+/// interval on top within the 50 ms allowed after the last rebound.
+pub const BOUNCE_WINDOW_S: f64 = 0.03;
+
+/// The monitor's [`PhysicalLatch`] of a mechanism: that of its first joint
+/// with a physical latch (`[joint.latch]`; the monitor has one for every
+/// joint, `docs/monitor.md` §4.1), `None` (the ideal latch of `physics.md`
+/// §5) when it has none. The switch travel and the crest are the file's;
+/// the ramp reaches from the stop to the outer end of the plunger's entry
+/// ramp (crest + its width), where a joint that arrives with too little
+/// energy comes to rest.
+pub fn physical_latch(mech: &Mechanism) -> Option<PhysicalLatch> {
+    let (j, spec) = mech
+        .latches
+        .iter()
+        .enumerate()
+        .find_map(|(j, l)| l.as_ref().map(|l| (j, l)))?;
+    let stowed = mech.joints.get(j).map_or(0.0, |jt| jt.stowed_deg);
+    let core = spec.to_core::<f64>(stowed, 1.0, 1.0);
+    let crest_deg = spec.plunger.crest_deg;
+    Some(PhysicalLatch {
+        switch_travel_deg: spec.switch_travel_deg as f32,
+        crest_deg: crest_deg as f32,
+        ramp_deg: (crest_deg + core.entry_width_rad().to_degrees()) as f32,
+        bounce_window_s: BOUNCE_WINDOW_S as f32,
+    })
+}
 
 /// Why a mechanism cannot be monitored.
 #[derive(Debug, thiserror::Error)]
@@ -125,6 +159,24 @@ fn curve_capture_deg(unfold: &[(f64, f64)]) -> f64 {
     }
 }
 
+/// The engagement of joint `j`'s physical latch (0-based) as the monitor's
+/// margin counts it (`core::monitor::latch_margin`): the engagement energy
+/// `P0 h + ½ k_p h²` [J], the crest and the entry ramp's width [rad]
+/// (the entry torque is the host's torque form's), from the core's law
+/// in `f64` (`physics.md` §10.3), rounded to `f32`;
+/// [`Engagement::IDEAL`] for an ideal latch.
+pub fn engagement(mech: &Mechanism, j: usize) -> Engagement {
+    let (Some(spec), Some(joint)) = (mech.latch(j), mech.joints.get(j)) else {
+        return Engagement::IDEAL;
+    };
+    let l = spec.to_core::<f64>(joint.stowed_deg, 1.0, 1.0);
+    Engagement {
+        energy_j: l.engagement_energy() as f32,
+        crest_rad: l.plunger.crest_rad as f32,
+        ramp_rad: l.entry_width_rad() as f32,
+    }
+}
+
 /// The monitor configuration of a mechanism with `N` joints and the default
 /// tuning (`docs/monitor.md`).
 pub fn monitor_config<const N: usize>(
@@ -133,7 +185,8 @@ pub fn monitor_config<const N: usize>(
     monitor_config_with::<N>(mech, &PriorSpread::default())
 }
 
-/// [`monitor_config`] with a chosen spread of the friction prior.
+/// [`monitor_config`] with a chosen spread of the friction prior. The latch
+/// tracker gets the mechanism's [`physical_latch`] (`None`: ideal latches).
 pub fn monitor_config_with<const N: usize>(
     mech: &Mechanism,
     spread: &PriorSpread,
@@ -170,6 +223,7 @@ pub fn monitor_config_with<const N: usize>(
                 viscous_nms: j.friction.viscous_nms as f32,
                 viscous_sd_nms: spread.viscous_sd_nms as f32,
             },
+            latch: engagement(mech, i),
         });
     }
     let joints: [JointConfig; N] =
@@ -181,6 +235,7 @@ pub fn monitor_config_with<const N: usize>(
             })?;
     let mut cfg = MonitorConfig::new(panels, joints);
     cfg.margin.deadline_s = mech.duration_s as f32;
+    cfg.latch.physical = physical_latch(mech);
     cfg.validate().map_err(MonitorConfigError::Config)?;
     Ok(cfg)
 }

@@ -204,6 +204,8 @@ pub fn joint_frame(mech: &Mechanism, j: usize) -> Result<JointFrame, ReplayError
             count: *count as f32,
         },
     };
+    let latch = crate::onboard::monitor_config::engagement(mech, j);
+    let spread = crate::onboard::monitor_config::PriorSpread::default();
     Ok(JointFrame {
         length_m: p.length_m as f32,
         mass_kg: p.mass_kg as f32,
@@ -213,15 +215,15 @@ pub fn joint_frame(mech: &Mechanism, j: usize) -> Result<JointFrame, ReplayError
         spring,
         capture_deg: capture_deg as f32,
         // The default spread of the prior, as `monitor_config` takes it.
-        prior: {
-            let spread = crate::onboard::monitor_config::PriorSpread::default();
-            [
-                joint.friction.coulomb_nm as f32,
-                spread.coulomb_sd_nm as f32,
-                joint.friction.viscous_nms as f32,
-                spread.viscous_sd_nms as f32,
-            ]
-        },
+        prior: [
+            joint.friction.coulomb_nm as f32,
+            spread.coulomb_sd_nm as f32,
+            joint.friction.viscous_nms as f32,
+            spread.viscous_sd_nms as f32,
+        ],
+        latch_energy_j: latch.energy_j,
+        latch_crest_rad: latch.crest_rad,
+        latch_ramp_rad: latch.ramp_rad,
     })
 }
 
@@ -248,6 +250,7 @@ pub fn config_frames<const N: usize>(
         version: CONFIG_VERSION,
         joints: N as u8,
         deadline_s: mech.duration_s as f32,
+        latch: config.latch.physical,
     };
     let mut joints = Vec::with_capacity(N);
     for j in 0..N {

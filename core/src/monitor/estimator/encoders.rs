@@ -88,7 +88,7 @@ impl JointState {
                 angle: Some(z * DEG),
                 repeats: self.same_run,
                 step: ctx.step_rad,
-                moving_checks: !ctx.no_checks && !latched && !switch,
+                moving_checks: !ctx.no_checks && !latched && !switch && !self.lt.near_stop(),
             },
             &self.kf,
             ctx.t_prev,
@@ -109,19 +109,22 @@ impl JointState {
 
 impl<const N: usize> Monitor<N> {
     /// Checks each joint's encoder reading of `sample` (time faults of
-    /// `clock` raised on every joint; `closing` when a latch switch closes
-    /// at this sample, [`Monitor::switch_closing`]).
+    /// `clock` raised on every joint; `announced` when a joint announces an
+    /// impact at this sample, [`Monitor::impact_announced`]).
     pub(super) fn read_encoders(
         &mut self,
         sample: &Sample<N>,
         clock: &Clock,
-        closing: bool,
+        announced: bool,
     ) -> Readings<N> {
         // The plausibility checks (`plausibility.rs`) are off across a
-        // gap and at or after a switch closing (an impact under way: a
-        // joint may stop dead).
-        let no_checks =
-            !self.timeline.started || clock.gap || clock.t <= self.windows.impact_until || closing;
+        // gap and at or after an announced impact (a switch closing, or a
+        // physical latch's joint coming within its crest: a joint may stop
+        // dead).
+        let no_checks = !self.timeline.started
+            || clock.gap
+            || clock.t <= self.windows.impact_until
+            || announced;
         let ctx = ReadingContext {
             t: clock.t,
             t_prev: self.timeline.t_prev,
@@ -150,9 +153,10 @@ impl<const N: usize> Monitor<N> {
         readings
     }
 
-    /// True when a latch switch closes at `sample` (open at the previous
-    /// one): an impact under way.
-    pub(super) fn switch_closing(&self, sample: &Sample<N>) -> bool {
-        (0..N).any(|j| sample.latch[j] && !self.joints[j].switch_prev)
+    /// True when a joint announces an impact at `sample`
+    /// ([`super::joint::JointState::announces_impact`]: a latch switch
+    /// closes, or a reading comes within a physical latch's crest).
+    pub(super) fn impact_announced(&self, sample: &Sample<N>) -> bool {
+        (0..N).any(|j| self.joints[j].announces_impact(sample.latch[j], sample.phi_deg[j]))
     }
 }

@@ -2,11 +2,13 @@
 //! learned sample in turn ([`crate::monitor::margin`] on the joint's rate
 //! filter, friction estimate and articulated inertia).
 
-use super::joint::DEG;
+use super::joint::{JointState, DEG};
 use super::learning::Learning;
 use super::state::Monitor;
+use crate::monitor::config::MarginConfig;
 use crate::monitor::margin::{self, MarginInput, MarginResult, MarginSettings};
 use crate::physics::linalg::articulated_inertia;
+use crate::physics::spring::Spring;
 
 /// Smallest articulated inertia the margin divides by [kg·m²] (a guard;
 /// real panels are 10⁻² and more).
@@ -21,6 +23,7 @@ const UNKNOWN_MARGIN: MarginResult = MarginResult {
     margin_pct: 0.0,
     latch_probability: 0.5,
     time_to_latch_s: None,
+    stops_on_ramp: false,
 };
 
 impl<const N: usize> Monitor<N> {
@@ -70,53 +73,71 @@ impl<const N: usize> Monitor<N> {
     /// the observer runs undisturbed (its friction torque then bounds `T_C`
     /// from below).
     fn joint_margin(&self, j: usize, inertia: f32, quiet: bool) -> MarginResult {
-        let (Some(js), Some(joint)) = (self.joints.get(j), self.chain.joints().get(j)) else {
-            return UNKNOWN_MARGIN;
-        };
-        let (f, o) = (&js.kf, &js.fo);
-        // f only as far as the data resolve it (§3.2).
-        let est = js.friction().0;
-        let phi = f.angle();
-        let rate = f.rate();
-        // The friction torque seen now bounds T_C from below, when the
-        // observer runs undisturbed and the bound agrees with the estimate
-        // (a bound beyond T̂_C + 2σ is a transient of r, not evidence).
-        let bound = if quiet {
-            o.coulomb_lower_bound(rate, est.viscous_nms)
-        } else {
-            0.0
-        };
-        let bound = if bound
-            <= est.coulomb_nm
-                + LOWER_BOUND_SIGMAS * crate::physics::real::sqrtf(est.coulomb_var.max(0.0))
-        {
-            bound
-        } else {
-            0.0
-        };
-        let cfg = &self.tuning.margin;
-        margin::evaluate(
-            &joint.spring,
-            &MarginInput {
-                angle_abs_rad: libm::fabsf(phi),
-                rate_abs_rad_s: libm::fabsf(rate),
-                towards_latch: phi * rate < 0.0,
-                inertia_kgm2: inertia,
-                rate_var: f.rate_var(),
-                capture_rad: js.capture_rad,
-                coulomb_nm: est.coulomb_nm,
-                viscous_nms: est.viscous_nms,
-                coulomb_var: est.coulomb_var,
-                coulomb_lower_nm: bound,
-                spring_scale: 1.0 + est.spring_scale_err,
-                spring_sd_rel: crate::physics::real::sqrtf(est.spring_scale_var.max(0.0)),
-                viscous_var: est.viscous_var,
-                cov: est.cov,
-            },
-            &MarginSettings {
-                factors: cfg.factors,
-                energy_sd_floor_j: cfg.energy_sd_floor_j,
-            },
-        )
+        match (self.joints.get(j), self.chain.joints().get(j)) {
+            (Some(js), Some(joint)) => {
+                joint_margin(js, &joint.spring, &self.tuning.margin, inertia, quiet)
+            }
+            _ => UNKNOWN_MARGIN,
+        }
     }
+}
+
+/// Energy margin and one-joint latch probability of the joint `js` with
+/// spring `spring`, `inertia` its articulated inertia `1/(M⁻¹)_jj`
+/// [kg·m²]; `quiet` when the observer runs undisturbed (its friction
+/// torque then bounds `T_C` from below). Not generic over the joint
+/// count: one copy in flash for every monitor.
+#[inline(never)]
+fn joint_margin(
+    js: &JointState,
+    spring: &Spring<f32>,
+    cfg: &MarginConfig,
+    inertia: f32,
+    quiet: bool,
+) -> MarginResult {
+    let (f, o) = (&js.kf, &js.fo);
+    // f only as far as the data resolve it (§3.2).
+    let est = js.friction().0;
+    let phi = f.angle();
+    let rate = f.rate();
+    // The friction torque seen now bounds T_C from below, when the
+    // observer runs undisturbed and the bound agrees with the estimate
+    // (a bound beyond T̂_C + 2σ is a transient of r, not evidence).
+    let bound = if quiet {
+        o.coulomb_lower_bound(rate, est.viscous_nms)
+    } else {
+        0.0
+    };
+    let bound = if bound
+        <= est.coulomb_nm
+            + LOWER_BOUND_SIGMAS * crate::physics::real::sqrtf(est.coulomb_var.max(0.0))
+    {
+        bound
+    } else {
+        0.0
+    };
+    margin::evaluate(
+        spring,
+        &MarginInput {
+            angle_abs_rad: libm::fabsf(phi),
+            rate_abs_rad_s: libm::fabsf(rate),
+            towards_latch: phi * rate < 0.0,
+            inertia_kgm2: inertia,
+            rate_var: f.rate_var(),
+            capture_rad: js.capture_rad,
+            coulomb_nm: est.coulomb_nm,
+            viscous_nms: est.viscous_nms,
+            coulomb_var: est.coulomb_var,
+            coulomb_lower_nm: bound,
+            spring_scale: 1.0 + est.spring_scale_err,
+            spring_sd_rel: crate::physics::real::sqrtf(est.spring_scale_var.max(0.0)),
+            viscous_var: est.viscous_var,
+            cov: est.cov,
+            latch: js.engagement,
+        },
+        &MarginSettings {
+            factors: cfg.factors,
+            energy_sd_floor_j: cfg.energy_sd_floor_j,
+        },
+    )
 }

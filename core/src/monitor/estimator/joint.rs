@@ -5,6 +5,7 @@
 use crate::monitor::config::{JointConfig, ObserverConfig};
 use crate::monitor::faults::FaultFlags;
 use crate::monitor::latch::{LatchState, LatchTracker};
+use crate::monitor::latch_margin::Engagement;
 use crate::monitor::margin::MarginResult;
 use crate::monitor::observer::{FrictionEstimate, FrictionObserver, FrictionPrior, RateFilter};
 use crate::monitor::plausibility::ReadingCheck;
@@ -27,6 +28,8 @@ pub(super) struct JointState {
     pub(super) stowed_deg: f32,
     /// Capture angle `x_c` [rad] (below it the spring completes the latch).
     pub(super) capture_rad: f32,
+    /// The physical latch's engagement (the margin's resistance).
+    pub(super) engagement: Engagement,
     /// Kinematic Kalman filter of the angle and rate (§2 of
     /// `docs/monitor.md`).
     pub(super) kf: RateFilter,
@@ -64,6 +67,8 @@ pub(super) struct JointStart {
     pub(super) capture_deg: f32,
     /// Prior of the friction parameters.
     pub(super) prior: FrictionPrior,
+    /// The physical latch's engagement.
+    pub(super) engagement: Engagement,
 }
 
 impl JointStart {
@@ -73,6 +78,7 @@ impl JointStart {
             stowed_deg: joint.stowed_deg,
             capture_deg: joint.capture_deg,
             prior: joint.prior,
+            engagement: joint.latch,
         }
     }
 }
@@ -127,6 +133,7 @@ impl JointState {
         JointState {
             stowed_deg: joint.stowed_deg,
             capture_rad: joint.capture_deg * DEG,
+            engagement: joint.engagement,
             kf,
             fo: FrictionObserver::new(joint.prior, spring_sd_rel),
             lt: LatchTracker::new(),
@@ -139,6 +146,17 @@ impl JointState {
             coulomb_sd: CachedSqrt::EMPTY,
             viscous_sd: CachedSqrt::EMPTY,
         }
+    }
+
+    /// True when the joint's switch `switch` and reading `z_deg` [deg]
+    /// announce an impact: its switch closes (with a physical latch: the
+    /// first time since the joint came in, not again at each rebound), or
+    /// (physical latch) its encoder comes within the plunger's crest of the
+    /// stop, where the joint may hit the stop between two samples with its
+    /// switch open again at the next.
+    #[inline(never)]
+    pub(super) fn announces_impact(&self, switch: bool, z_deg: f32) -> bool {
+        (switch && !self.switch_prev) || self.lt.enters_stop_zone(z_deg)
     }
 
     /// True when the joint is latched or held at its latch (the model sits

@@ -40,6 +40,8 @@ impl<const N: usize> Monitor<N> {
         let t = clock.t;
         let mut states = [LatchState::Stowed; N];
         let mut newly = [false; N];
+        let mut unlatched = false;
+        let noise_sd_deg = self.tuning.meas_sd / DEG;
         for (j, js) in self.joints.iter_mut().enumerate() {
             let out = js.lt.step(
                 &LatchInput {
@@ -50,16 +52,22 @@ impl<const N: usize> Monitor<N> {
                     rate_deg_s: js.kf.rate() / DEG,
                     stowed_deg: js.stowed_deg,
                     encoder_stuck: readings[j].stuck,
+                    noise_sd_deg,
                 },
                 &self.tuning.latch,
             );
             states[j] = out.state;
             newly[j] = out.newly_latched;
+            unlatched |= out.unlatched;
             readings[j].faults = readings[j].faults.union(out.faults);
         }
         let locked: [bool; N] = core::array::from_fn(|j| self.joints[j].locked());
         if newly.iter().any(|n| *n) {
             self.apply_latch_impulse(&newly, &locked);
+            self.windows.blank_until = t + self.tuning.observer.settle_s;
+        } else if unlatched {
+            // A physical latch undone (a rebound or an escape after the
+            // declaration): the joint is free again, the learning settles.
             self.windows.blank_until = t + self.tuning.observer.settle_s;
         }
         core::array::from_fn(|j| JointLatch {

@@ -74,10 +74,13 @@ impl<const N: usize> Monitor<N> {
 
     /// The latch / stall prediction of joint `j` at time `t` [s] from the
     /// last finished rollouts and the energy balance: the prediction, its
-    /// confidence and the time to the latch [s].
+    /// confidence and the time to the latch [s]. A stall of a joint the
+    /// latch tracker sees at rest on a physical latch's ramp
+    /// ([`crate::monitor::latch::LatchState::StoppedShort`]) is a ramp stop.
     fn prediction(&mut self, j: usize, t: f32) -> (Prediction, f32, Option<f32>) {
         let cfg = &self.tuning.margin;
-        self.predictor.prediction(
+        let on_ramp = self.joints.get(j).is_some_and(|s| s.lt.stopped_short());
+        let (prediction, confidence, time) = self.predictor.prediction(
             j,
             t,
             &PredictionQuery {
@@ -87,7 +90,11 @@ impl<const N: usize> Monitor<N> {
                 confidence: cfg.confidence,
                 rollouts: cfg.rollout.steps_per_slice > 0,
             },
-        )
+        );
+        match prediction {
+            Prediction::Stall if on_ramp => (Prediction::RampStop, confidence, time),
+            _ => (prediction, confidence, time),
+        }
     }
 
     /// Advances the rollout in progress; when it ends, the predictor

@@ -103,7 +103,10 @@ impl JointState {
         let zone = observer.snap_zone_deg * DEG;
         let latched = self.lt.is_latched();
         let kf = &mut self.kf;
-        let q_floor = if !latched && libm::fabsf(kf.angle()) < zone {
+        // An escaped joint (physical latch) moves as it is thrown about
+        // between the plunger and its spring: followed as in the snap zone.
+        let free_zone = libm::fabsf(kf.angle()) < zone || self.lt.escaped();
+        let q_floor = if !latched && free_zone {
             observer.zone_jerk_psd
         } else {
             0.0
@@ -162,13 +165,13 @@ impl JointState {
 impl<const N: usize> Monitor<N> {
     /// Tracks the angles and rates: each rate filter predicts to the sample
     /// and fuses its reading, with the latch impact expected when a switch
-    /// closes (`closing`, [`Monitor::switch_closing`]; `docs/monitor.md`
+    /// closes (`announced`, [`Monitor::impact_announced`]; `docs/monitor.md`
     /// §6.2); spikes are flagged and gated out.
     pub(super) fn track_rates(
         &mut self,
         sample: &Sample<N>,
         clock: &Clock,
-        closing: bool,
+        announced: bool,
         readings: &mut Readings<N>,
     ) {
         let t = clock.t;
@@ -181,13 +184,14 @@ impl<const N: usize> Monitor<N> {
             self.timeline.started = true;
             self.timeline.t_start = t;
         } else {
-            // A latch switch closing announces an impact: the latching
+            // A latch switch closing (or, with a physical latch, a joint
+            // coming within its crest) announces an impact: the latching
             // joint stops within a sample and the plastic impulse changes
             // the other joints' rates (physics.md §5). Over the next
             // `IMPACT_WINDOW_S` the rate filters widen their gates, and a
             // reading they still cannot reconcile restarts the filter at
             // the reading: expected, not an outlier.
-            if closing {
+            if announced {
                 self.windows.impact_until = t + IMPACT_WINDOW_S;
                 self.windows.impact_samples = IMPACT_INFLATE_SAMPLES;
             }

@@ -28,11 +28,11 @@ impl<const N: usize> Monitor<N> {
             Ok(clock) => clock,
             Err(faults) => return self.hold(faults),
         };
-        // A latch switch closing (open at the previous sample): an impact
-        // under way.
-        let closing = self.switch_closing(sample);
-        let mut readings = self.read_encoders(sample, &clock, closing);
-        self.track_rates(sample, &clock, closing, &mut readings);
+        // An impact under way: a latch switch closing, or a joint within a
+        // physical latch's crest.
+        let announced = self.impact_announced(sample);
+        let mut readings = self.read_encoders(sample, &clock, announced);
+        self.track_rates(sample, &clock, announced, &mut readings);
         let latches = self.track_latches(sample, &clock, &mut readings);
         self.check_health(&mut readings);
         self.queue_for_learning(&clock, &readings, &latches);

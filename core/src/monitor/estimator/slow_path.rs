@@ -7,10 +7,10 @@
 use super::learning::Learning;
 use super::state::Monitor;
 use crate::monitor::faults::Fault;
-use crate::monitor::observer::{momentum_terms, ObserverInput};
+use crate::monitor::observer::{momentum_terms, FrictionObserver, ObserverInput, ObserverTuning};
 use crate::monitor::smoother::Centre;
 use crate::monitor::status::{Sample, Status};
-use crate::physics::spring::Branch;
+use crate::physics::spring::{Branch, Spring};
 
 impl<const N: usize> Monitor<N> {
     /// One slice of the slow path. With samples queued by
@@ -97,19 +97,18 @@ impl<const N: usize> Monitor<N> {
             if c.locked[j] {
                 continue;
             }
-            let js = &mut self.joints[j];
-            if !learner.fit_run {
-                js.fo.restart();
-            }
             let mut p = 0.0f32;
             for k in 0..N {
                 p += terms.mass[j][k] * c.rate[k];
             }
-            let branch = Branch::select(c.phi[j], c.rate[j]);
-            js.fo.step(
-                &ObserverInput {
+            let healthy = learn_joint(
+                &mut self.joints[j].fo,
+                !learner.fit_run,
+                &self.chain.joints()[j].spring,
+                c.phi[j],
+                ObserverInput {
                     momentum: p,
-                    spring_torque_nm: self.chain.joints()[j].spring.torque(c.phi[j], branch),
+                    spring_torque_nm: 0.0,
                     beta_nm: terms.beta[j],
                     rate_rad_s: c.rate[j],
                     rate_var: c.rate_var[j],
@@ -118,9 +117,7 @@ impl<const N: usize> Monitor<N> {
                 },
                 &self.tuning.observer.tuning,
             );
-            // An observer changes only when it steps.
-            if !js.fo.is_healthy() {
-                js.fo.reset_parameters();
+            if !healthy {
                 if let Some(out) = self.status.joints.get_mut(j) {
                     out.faults.insert(Fault::EstimatorReset);
                 }
@@ -129,4 +126,38 @@ impl<const N: usize> Monitor<N> {
         learner.fit_run = true;
         centre
     }
+}
+
+/// One joint's friction observer on the centred fit: restarted first when
+/// `restart` (the run of fits broke), then stepped on `input` with the
+/// spring torque of `spring` at `phi` [rad] (on the branch of the fit's
+/// rate) filled in; an observer that fails restarts at its prior. Returns
+/// whether it was healthy. Not generic over the joint count: one copy in
+/// flash for every monitor.
+#[inline(never)]
+fn learn_joint(
+    fo: &mut FrictionObserver,
+    restart: bool,
+    spring: &Spring<f32>,
+    phi: f32,
+    input: ObserverInput,
+    tuning: &ObserverTuning,
+) -> bool {
+    if restart {
+        fo.restart();
+    }
+    let branch = Branch::select(phi, input.rate_rad_s);
+    fo.step(
+        &ObserverInput {
+            spring_torque_nm: spring.torque(phi, branch),
+            ..input
+        },
+        tuning,
+    );
+    // An observer changes only when it steps.
+    let healthy = fo.is_healthy();
+    if !healthy {
+        fo.reset_parameters();
+    }
+    healthy
 }

@@ -9,6 +9,7 @@ use crate::monitor::config::{
     ConfigError, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
 };
 use crate::monitor::latch::LatchConfig;
+use crate::monitor::latch_margin::Engagement;
 use crate::monitor::observer::{FrictionObserver, FrictionPrior, RateFilter};
 use crate::monitor::predictor::Predictor;
 use crate::monitor::status::Status;
@@ -134,6 +135,7 @@ impl<const N: usize> Monitor<N> {
                 viscous_nms: 0.0,
                 viscous_sd_nms: 1.0,
             },
+            engagement: Engagement::IDEAL,
         };
         let state = JointState::new(&joint, 1.0, &config.observer, 0.0);
         // The large parts last: each is written in place only if nothing

@@ -33,6 +33,7 @@ fn run(tc: f32) -> Rollout<1> {
     let cfg = RolloutConfig {
         dt_s: 0.02,
         bracket_dt_s: 0.02,
+        glide_dt_s: 0.25,
         steps_per_slice: 255,
         slices_per_sample: 1,
         horizon_s: 20.0,
@@ -75,6 +76,7 @@ fn coast(capture_3: f32, dt: f32) -> [JointOutcome; 3] {
     let cfg = RolloutConfig {
         dt_s: dt,
         bracket_dt_s: dt,
+        glide_dt_s: dt,
         steps_per_slice: 255,
         slices_per_sample: 1,
         horizon_s: 10.0,
@@ -276,6 +278,7 @@ fn a_creep_that_speeds_up_is_followed_to_the_latch() {
         let cfg = RolloutConfig {
             dt_s: 0.01,
             bracket_dt_s: 0.01,
+            glide_dt_s: 0.25,
             steps_per_slice: 255,
             slices_per_sample: 1,
             horizon_s,
@@ -312,4 +315,58 @@ fn a_creep_that_speeds_up_is_followed_to_the_latch() {
 fn quantile_inverts_the_cdf() {
     assert!((normal_quantile(0.9) - 1.281_551_6).abs() < 1e-4);
     assert_eq!(normal_quantile(0.5), 0.0);
+}
+
+/// A viscous creep: spring `1.2 + 0.5 φ` N·m against `T_C` = 1 N·m and
+/// `f` = 2 N·m·s/rad, from rest at 1.5 rad: the rate settles (in
+/// `I/f` ≈ 0.5 s) to the balance of spring and friction, slow and smooth.
+/// The lengthened steps find the latch time of fixed 10 ms steps within
+/// 3 % in under a fifth of the steps. Here `h f ≈ I` (steps as long as the
+/// relaxation time), where a linearly implicit step tracks the balance to
+/// first order only: 2.4 % early (`docs/monitor.md` §6, the glide).
+#[test]
+fn a_glide_takes_long_steps_and_keeps_the_latch_time() {
+    let spring = Spring::Linear {
+        preload_nm: 1.2,
+        stiffness_nm_per_rad: 0.5,
+        count: 1.0,
+    };
+    let chain = one_joint(1.5, spring);
+    let run = |glide_dt_s: f32| {
+        let cfg = RolloutConfig {
+            dt_s: 0.01,
+            bracket_dt_s: 0.01,
+            glide_dt_s,
+            steps_per_slice: 1,
+            slices_per_sample: 1,
+            horizon_s: 20.0,
+            coulomb_threshold_rad_s: 0.01,
+        };
+        let mut r = Rollout::new(RolloutStart {
+            state: ChainState {
+                phi: [1.5],
+                phi_dot: [0.0],
+            },
+            latched: [false],
+            coulomb_nm: [1.0],
+            viscous_nms: [2.0],
+            spring_scale: [1.0],
+            capture_rad: [0.0],
+        });
+        let mut steps = 0;
+        while !r.is_done() && steps < 10_000 {
+            r.advance(&chain, &cfg);
+            steps += 1;
+        }
+        assert!(r.is_done() && r.outcome()[0].latches);
+        (r.outcome()[0].latch_after_s, steps)
+    };
+    let (t_fixed, n_fixed) = run(0.01);
+    let (t_glide, n_glide) = run(0.5);
+    assert!(t_fixed > 4.0 && t_fixed < 8.0, "{t_fixed}");
+    assert!(
+        (t_glide - t_fixed).abs() <= 0.03 * t_fixed,
+        "{t_glide} s against {t_fixed} s"
+    );
+    assert!(5 * n_glide < n_fixed, "{n_glide} steps against {n_fixed}");
 }

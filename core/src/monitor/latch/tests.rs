@@ -1,0 +1,276 @@
+//! Unit tests of the latch tracker: the ideal latch and the physical one.
+
+use super::*;
+
+fn input(t: f32, switch: bool, deg: f32) -> LatchInput {
+    LatchInput {
+        t_s: t,
+        switch,
+        measured_deg: Some(deg),
+        angle_deg: deg,
+        rate_deg_s: -50.0,
+        stowed_deg: 90.0,
+        encoder_stuck: false,
+        noise_sd_deg: 0.02,
+    }
+}
+
+fn run(tr: &mut LatchTracker, samples: &[(bool, f32)]) -> LatchOutput {
+    let cfg = LatchConfig::default();
+    let mut out = None;
+    for (i, &(sw, deg)) in samples.iter().enumerate() {
+        out = Some(tr.step(&input(i as f32 * 0.01, sw, deg), &cfg));
+    }
+    out.unwrap()
+}
+
+#[test]
+fn given_switch_and_encoder_agree_when_closed_twice_then_latched() {
+    let mut tr = LatchTracker::new();
+    let out = run(&mut tr, &[(false, 80.0), (false, 1.0), (true, 0.0)]);
+    assert_eq!(
+        out.state,
+        LatchState::Latching,
+        "one closed sample is not a latch"
+    );
+    let out = tr.step(&input(0.03, true, 0.01), &LatchConfig::default());
+    assert!(out.newly_latched);
+    assert_eq!(out.state, LatchState::Latched);
+}
+
+#[test]
+fn given_switch_closed_far_from_latch_then_fault_not_latch() {
+    let mut tr = LatchTracker::new();
+    let out = run(
+        &mut tr,
+        &[(false, 60.0), (true, 59.0), (true, 58.0), (true, 57.0)],
+    );
+    assert_eq!(out.state, LatchState::Fault);
+    assert!(out.faults.contains(Fault::SwitchEarly));
+    assert!(!tr.is_latched());
+}
+
+#[test]
+fn given_encoder_at_latch_with_switch_open_then_fault_not_latch() {
+    let mut tr = LatchTracker::new();
+    let samples: [(bool, f32); 20] = [(false, 0.01); 20];
+    let out = run(&mut tr, &samples);
+    assert_eq!(out.state, LatchState::Fault);
+    assert!(out.faults.contains(Fault::SwitchOpenAtLatch));
+    assert!(!tr.is_latched());
+}
+
+#[test]
+fn given_confirmed_latch_when_switch_opens_then_latch_kept_and_flagged() {
+    let mut tr = LatchTracker::new();
+    run(&mut tr, &[(true, 0.0), (true, 0.0)]);
+    assert!(tr.is_latched());
+    let out = tr.step(&input(1.0, false, 0.0), &LatchConfig::default());
+    assert_eq!(out.state, LatchState::Latched);
+    assert!(out.faults.contains(Fault::LatchDisagree));
+    let out = tr.step(
+        &LatchInput {
+            measured_deg: None,
+            ..input(1.01, true, 0.0)
+        },
+        &LatchConfig::default(),
+    );
+    assert_eq!(out.state, LatchState::Latched);
+}
+
+#[test]
+fn given_switch_open_when_encoder_at_latch_for_confirm_time_then_latched_and_flagged() {
+    let mut tr = LatchTracker::new();
+    let samples: [(bool, f32); 32] = [(false, 0.01); 32];
+    let out = run(&mut tr, &samples);
+    assert!(out.newly_latched && tr.is_latched());
+    assert!(out.faults.contains(Fault::SwitchOpenAtLatch));
+}
+
+#[test]
+fn given_switch_stuck_closed_then_no_latch_until_encoder_confirms() {
+    let mut tr = LatchTracker::new();
+    // Closed far from the latch for the debounce time: distrusted.
+    let mut samples: std::vec::Vec<(bool, f32)> =
+        (0..10).map(|i| (true, 60.0 - i as f32)).collect();
+    // The encoder crosses the 2° window: not a latch with that switch.
+    samples.extend([(true, 1.5), (true, 0.8), (true, 0.2)]);
+    let out = run(&mut tr, &samples);
+    assert!(tr.switch_suspect() && !tr.is_latched());
+    assert_eq!(out.state, LatchState::Fault);
+    // At the latch angle for the confirmation time: latched.
+    samples.extend([(true, 0.0); 32]);
+    let mut tr = LatchTracker::new();
+    let out = run(&mut tr, &samples);
+    assert!(tr.is_latched());
+    assert_eq!(out.state, LatchState::Latched);
+}
+
+#[test]
+fn given_stuck_encoder_then_switch_alone_latches_after_debounce() {
+    let cfg = LatchConfig::default();
+    let mut tr = LatchTracker::new();
+    let stuck = |t: f32, sw: bool| LatchInput {
+        measured_deg: None,
+        encoder_stuck: true,
+        ..input(t, sw, 20.0)
+    };
+    tr.step(&stuck(0.0, false), &cfg);
+    for k in 1..=3 {
+        let out = tr.step(&stuck(0.01 * k as f32, true), &cfg);
+        assert!(!tr.is_latched(), "{k}: {out:?}");
+    }
+    let out = tr.step(&stuck(0.04, true), &cfg);
+    assert!(out.newly_latched);
+}
+
+#[test]
+fn given_chatter_then_flagged() {
+    let mut tr = LatchTracker::new();
+    let out = run(&mut tr, &[(false, 50.0), (true, 49.0), (false, 48.0)]);
+    assert!(out.faults.contains(Fault::SwitchChatter));
+}
+
+#[test]
+fn names_round_trip() {
+    for s in LatchState::ALL {
+        assert_eq!(LatchState::from_name(s.as_str()), Some(s));
+    }
+}
+
+/// The physical latch of the tests: 0.02° switch travel, crest at
+/// 1.5°, ramp 0.6°, bounce window 30 ms.
+fn physical() -> LatchConfig {
+    LatchConfig {
+        physical: Some(PhysicalLatch {
+            switch_travel_deg: 0.02,
+            crest_deg: 1.5,
+            ramp_deg: 0.6,
+            bounce_window_s: 0.03,
+        }),
+        ..LatchConfig::default()
+    }
+}
+
+fn run_with(tr: &mut LatchTracker, cfg: &LatchConfig, samples: &[(bool, f32)]) -> Vec<LatchOutput> {
+    samples
+        .iter()
+        .enumerate()
+        .map(|(i, &(sw, deg))| tr.step(&input(i as f32 * 0.01, sw, deg), cfg))
+        .collect()
+}
+
+#[test]
+fn given_physical_latch_when_joint_rebounds_then_no_chatter_and_latched_after_the_window() {
+    let cfg = physical();
+    let mut tr = LatchTracker::new();
+    // In, contact, a 0.5° rebound over two samples, contact, a small
+    // one-sample rebound, then held.
+    let mut s = vec![
+        (false, 3.0),
+        (false, 1.2),
+        (true, 0.0),
+        (false, 0.45),
+        (false, 0.3),
+    ];
+    s.extend([(true, 0.01), (false, 0.05), (true, 0.0), (true, 0.01)]);
+    s.extend([(true, 0.0); 4]);
+    let out = run_with(&mut tr, &cfg, &s);
+    assert!(out.iter().all(|o| o.faults.is_empty()), "{out:?}");
+    // Closed from sample 7: held for 30 ms at sample 10 (11 when the
+    // time stamps' rounding makes it 29.99 ms).
+    let first = out.iter().position(|o| o.newly_latched);
+    assert!(matches!(first, Some(10 | 11)), "{first:?}: {out:?}");
+}
+
+#[test]
+fn given_physical_latch_when_switch_toggles_at_rest_on_the_stop_then_chatter() {
+    let cfg = physical();
+    let mut tr = LatchTracker::new();
+    let s = [
+        (false, 3.0),
+        (false, 1.2),
+        (true, 0.0),
+        (false, 0.01),
+        (true, 0.0),
+        (true, 0.0),
+    ];
+    let out = run_with(&mut tr, &cfg, &s);
+    assert!(
+        out.iter().any(|o| o.faults.contains(Fault::SwitchChatter)),
+        "{out:?}"
+    );
+}
+
+#[test]
+fn given_physical_latch_when_joint_goes_over_the_crest_then_escaped_not_latched() {
+    let cfg = physical();
+    let mut tr = LatchTracker::new();
+    let mut s = vec![(false, 3.0), (false, 1.2), (true, 0.0)];
+    s.extend((1..=20).map(|k| (false, 0.3 * k as f32)));
+    let out = run_with(&mut tr, &cfg, &s);
+    let last = out.last().unwrap();
+    assert_eq!(last.state, LatchState::Escaped);
+    assert!(
+        out.iter().all(|o| o.faults.is_empty() && !o.newly_latched),
+        "{out:?}"
+    );
+    // Back in and held: latched again.
+    let t0 = s.len() as f32 * 0.01;
+    let mut last = None;
+    for k in 0..10 {
+        last = Some(tr.step(&input(t0 + 0.01 * k as f32, true, 0.0), &cfg));
+    }
+    assert_eq!(last.unwrap().state, LatchState::Latched);
+    // The switch opening after the declaration is a rebound (not
+    // latched); over the crest, an escape.
+    let t1 = t0 + 0.1;
+    let a = tr.step(&input(t1, false, 0.5), &cfg);
+    let b = tr.step(&input(t1 + 0.01, false, 2.5), &cfg);
+    assert!(a.unlatched && a.state == LatchState::Latching, "{a:?}");
+    assert_eq!(b.state, LatchState::Escaped, "{b:?}");
+    assert!(a.faults.is_empty() && b.faults.is_empty());
+}
+
+#[test]
+fn given_physical_latch_when_joint_rests_on_the_ramp_then_stopped_short() {
+    let cfg = physical();
+    let mut tr = LatchTracker::new();
+    let mut s = vec![(false, 3.0), (false, 1.2), (false, 0.5)];
+    s.extend([(false, 0.3); 150]);
+    let out = run_with(&mut tr, &cfg, &s);
+    let last = out.last().unwrap();
+    assert_eq!(last.state, LatchState::StoppedShort, "{last:?}");
+    assert!(out.iter().all(|o| o.faults.is_empty() && !o.newly_latched));
+}
+
+#[test]
+fn physical_latch_config_is_validated() {
+    let mut cfg = physical();
+    assert!(cfg.is_valid());
+    for bad in [
+        PhysicalLatch {
+            switch_travel_deg: -0.1,
+            ..cfg.physical.unwrap()
+        },
+        PhysicalLatch {
+            ramp_deg: 0.01,
+            ..cfg.physical.unwrap()
+        },
+        PhysicalLatch {
+            crest_deg: f32::NAN,
+            ..cfg.physical.unwrap()
+        },
+        PhysicalLatch {
+            bounce_window_s: 0.0,
+            ..cfg.physical.unwrap()
+        },
+        PhysicalLatch {
+            bounce_window_s: 0.2,
+            ..cfg.physical.unwrap()
+        },
+    ] {
+        cfg.physical = Some(bad);
+        assert!(!cfg.is_valid(), "{bad:?}");
+    }
+}
