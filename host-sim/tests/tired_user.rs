@@ -1,13 +1,14 @@
 //! A tired user's files, checked on the `deploywatch` binary as a black box:
 //! the bundled run `data/examples/c_seed001_friction_harness/seed001_T01.csv`
-//! saved the ways people save files (angles in radians, time in
-//! milliseconds, a spreadsheet's CSV, a mirrored encoder, a stuck latch
-//! column, another mechanism's header) and its mechanism with a mass typed
-//! in grams. Each is refused (exit 2) or warned about with the likely cause,
-//! the file, line and column named, before any simulation: the refused
-//! cases, run without `--quiet`, print the error and nothing else (no
-//! progress line of the identification, which comes first when the work
-//! starts). The bundled inputs raise no warning about themselves.
+//! saved the ways people save files (angles in radians, time in milliseconds,
+//! a spreadsheet's CSV, a mirrored encoder, an encoder zeroed at the stowed
+//! pose or counting 0 to 360 deg, a stuck latch column, another mechanism's
+//! header) and its mechanism with a mass typed in grams. Each is refused
+//! (exit 2) or warned about with the likely cause, the file, line and column
+//! named, before any simulation: the refused cases, run without `--quiet`,
+//! print the error and nothing else (no progress line of the identification,
+//! which comes first when the work starts). The bundled inputs raise no
+//! warning about themselves.
 //!
 //! `cargo test -p deploywatch-sim --test tired_user`
 
@@ -145,6 +146,42 @@ fn a_mirrored_encoder_is_refused_naming_the_sign() {
     let out = identify(&run, &t01_mechanism());
     let at = format!("mirrored.csv:{}:", first_row_line());
     refused_before_work(&out, &[&at, "column `phi1_deg`", "mirrored"]);
+}
+
+#[test]
+fn angles_counted_from_the_stowed_pose_are_refused_naming_the_zero() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // seed 001 T01 is stowed at -90, 180 and -180 deg: an encoder zeroed at
+    // power-up reads the angle travelled from there.
+    let stowed = [-90.0, 180.0, -180.0];
+    let text = transformed(|r| {
+        for (f, s) in r[1..4].iter_mut().zip(stowed) {
+            *f = format!("{:.4}", f.parse::<f64>().unwrap() - s);
+        }
+    });
+    let run = write(dir.path(), "zeroed.csv", text);
+    let out = identify(&run, &t01_mechanism());
+    let at = format!("zeroed.csv:{}:", first_row_line());
+    refused_before_work(
+        &out,
+        &[&at, "column `phi1_deg`", "counted from the stowed pose"],
+    );
+}
+
+#[test]
+fn angles_a_whole_turn_off_are_refused_naming_the_turn() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // An encoder counting 0 to 360 deg reads -90 deg as 270 deg.
+    let text = transformed(|r| {
+        let phi = r[1].parse::<f64>().unwrap();
+        r[1] = format!("{:.4}", phi.rem_euclid(360.0));
+    });
+    let run = write(dir.path(), "turn.csv", text);
+    let out = identify(&run, &t01_mechanism());
+    refused_before_work(
+        &out,
+        &["turn.csv:", "column `phi1_deg`", "whole turn", "0 to 360"],
+    );
 }
 
 /// The bundled run as a spreadsheet saves it: BOM, `;`, decimal commas,

@@ -7,7 +7,8 @@
 //! through [`crate::data::campaign::Campaign::push`], `replay`) calls
 //! [`check`] before it simulates anything. A finding that makes the run
 //! unusable is an error ([`RunErrorKind::AnglesInRadians`],
-//! [`RunErrorKind::MirroredEncoder`], [`RunErrorKind::TimeInMilliseconds`]);
+//! [`RunErrorKind::MirroredEncoder`], [`RunErrorKind::AnglesWholeTurnsOff`],
+//! [`RunErrorKind::AnglesFromStowed`], [`RunErrorKind::TimeInMilliseconds`]);
 //! one where the data may be right is a warning, returned as a line of text.
 
 use crate::data::run::{Run, RunError, RunErrorKind, MIN_MOTION_DEG};
@@ -27,6 +28,12 @@ const MIN_STOWED_FOR_UNITS_DEG: f64 = 10.0 * MIN_MOTION_DEG;
 /// reader's bound, ±720 deg, in radians (4π). A joint recorded in degrees
 /// that deploys from a stowed angle of 10 deg or more spans more than that.
 const MAX_RADIAN_READING: f64 = 4.0 * std::f64::consts::PI;
+
+/// Largest distance of a joint's reading at the start from its stowed angle
+/// that needs no word [deg]: ten times [`MIN_MOTION_DEG`], beyond encoder
+/// noise (0.02 deg) and the encoder offsets a mounting leaves (a few
+/// tenths of a degree).
+const START_OFFSET_WARN_DEG: f64 = 10.0 * MIN_MOTION_DEG;
 
 /// Readings whose median is a joint's reading at the start: five, so that
 /// two corrupted ones among them (a spike, parity errors) do not decide.
@@ -49,6 +56,10 @@ const MIN_SAMPLES_PER_HORIZON: f64 = 10.0;
 /// - the first sample is minus the stowed angle (a mirrored encoder) on a
 ///   joint whose stowed angle is not ±180 deg: [`RunErrorKind::MirroredEncoder`]
 ///   (at ±180 deg, −φ₀ is the same pose one turn on: a warning);
+/// - the first sample is whole turns from the stowed angle:
+///   [`RunErrorKind::AnglesWholeTurnsOff`]; near 0 with the readings moving
+///   away from 0: [`RunErrorKind::AnglesFromStowed`]; otherwise more than
+///   [`START_OFFSET_WARN_DEG`] from the stowed angle: a warning;
 /// - the run lasts more than [`MAX_DURATION_FACTOR`] × `duration_s`:
 ///   [`RunErrorKind::TimeInMilliseconds`];
 /// - warnings: fewer than [`MIN_SAMPLES_PER_HORIZON`] samples over
@@ -177,7 +188,15 @@ fn check_angles(
             },
         ));
     }
-    if mirrored < degrees && mirrored < radians {
+    // A start whole turns from the stowed angle is told in
+    // `check_start_offset`; at ±180 deg it is the mirrored start itself.
+    let turns = ((first - stowed_deg) / 360.0).round();
+    let whole_turns = if turns == 0.0 {
+        f64::INFINITY
+    } else {
+        (first - stowed_deg - 360.0 * turns).abs()
+    };
+    if mirrored < degrees && mirrored < radians && mirrored <= whole_turns {
         if (stowed_deg.abs() - 180.0).abs() < MIN_STOWED_FOR_UNITS_DEG {
             warnings.push(format!(
                 "{file}:{line}: column `phi{joint}_deg` (column {column}): the run starts at {first} deg where joint {joint} is stowed at {stowed_deg} deg: an encoder mounted mirrored, or one that wraps at ±180 deg?",
@@ -195,7 +214,70 @@ fn check_angles(
                 },
             ));
         }
+        return Ok(());
     }
+    check_start_offset(series, j, first, stowed_deg, file, line, warnings)
+}
+
+/// The reading at the start of joint `j` against its stowed angle, once
+/// radians and a mirrored encoder are ruled out: a start at 0 deg that
+/// moves away from 0 by about the stowed angle is an encoder counted from
+/// the stowed pose; a start whole turns from the stowed angle is an encoder
+/// counting 0 to 360 deg (errors); any other start further than
+/// [`START_OFFSET_WARN_DEG`] from the stowed angle is a warning (a test
+/// from another pose, or a large encoder offset: the data may be right, but
+/// every simulation starts at `stowed_deg`).
+fn check_start_offset(
+    series: &[f64],
+    j: usize,
+    first: f64,
+    stowed_deg: f64,
+    file: &str,
+    line: usize,
+    warnings: &mut Vec<String>,
+) -> Result<(), RunError> {
+    let offset = first - stowed_deg;
+    if offset.abs() <= START_OFFSET_WARN_DEG {
+        return Ok(());
+    }
+    let turns = (offset / 360.0).round();
+    if turns != 0.0 && (offset - 360.0 * turns).abs() <= START_OFFSET_WARN_DEG {
+        return Err(RunError::at(
+            file,
+            line,
+            RunErrorKind::AnglesWholeTurnsOff {
+                joint: j + 1,
+                found: first,
+                stowed_deg,
+                turns,
+            },
+        ));
+    }
+    // Counted from the stowed pose: the readings start near 0 and the
+    // farthest lies on the side of -stowed_deg, at least half a stroke out.
+    let farthest = series
+        .iter()
+        .filter(|x| x.is_finite())
+        .fold(0.0_f64, |m, &x| if x.abs() > m.abs() { x } else { m });
+    if first.abs() < offset.abs() / 2.0
+        && farthest * -stowed_deg > 0.0
+        && farthest.abs() >= stowed_deg.abs() / 2.0
+    {
+        return Err(RunError::at(
+            file,
+            line,
+            RunErrorKind::AnglesFromStowed {
+                joint: j + 1,
+                found: first,
+                stowed_deg,
+            },
+        ));
+    }
+    warnings.push(format!(
+        "{file}:{line}: column `phi{joint}_deg` (column {column}): the run starts at {first} deg, {offset:.1} deg from joint {joint}'s stowed angle {stowed_deg} deg, where every simulation starts: a test from another pose, or an encoder offset? (the mechanism's `stowed_deg`)",
+        joint = j + 1,
+        column = j + 2
+    ));
     Ok(())
 }
 
@@ -273,6 +355,57 @@ mod tests {
         // A spike at the first sample of a healthy run decides nothing.
         let (mut run, m) = t01();
         run.phi_deg[0][0] = 90.0;
+        assert_eq!(check(&run, &m, "r.csv").unwrap(), Vec::<String>::new());
+    }
+
+    #[test]
+    fn angles_counted_from_the_stowed_pose_are_told() {
+        let (mut run, m) = t01();
+        for (j, joint) in m.joints.iter().enumerate() {
+            for x in run.phi_deg[j].iter_mut() {
+                *x -= joint.stowed_deg;
+            }
+        }
+        let e = check(&run, &m, "r.csv").unwrap_err();
+        assert!(
+            matches!(e.kind, RunErrorKind::AnglesFromStowed { joint: 1, .. }),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn angles_a_whole_turn_off_are_told_not_taken_for_a_mirrored_encoder() {
+        let (mut run, m) = t01();
+        for x in run.phi_deg[0].iter_mut() {
+            *x += 360.0;
+        }
+        let e = check(&run, &m, "r.csv").unwrap_err();
+        assert!(
+            matches!(
+                e.kind,
+                RunErrorKind::AnglesWholeTurnsOff { joint: 1, turns, .. } if turns == 1.0
+            ),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_start_far_from_the_stowed_angle_is_a_warning_within_it_none() {
+        let (mut run, m) = t01();
+        for x in run.phi_deg[0].iter_mut() {
+            *x += 25.0;
+        }
+        let w = check(&run, &m, "r.csv").unwrap();
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].contains("phi1_deg") && w[0].contains("stowed"),
+            "{w:?}"
+        );
+        // An encoder offset of a few degrees is the diagnosis's business.
+        let (mut run, m) = t01();
+        for x in run.phi_deg[0].iter_mut() {
+            *x += 3.0;
+        }
         assert_eq!(check(&run, &m, "r.csv").unwrap(), Vec::<String>::new());
     }
 

@@ -269,6 +269,31 @@ pub enum RunErrorKind {
         /// Its stowed angle [deg].
         stowed_deg: f64,
     },
+    /// Meaning: a joint's readings start at 0 deg and move away from it by
+    /// about its stowed angle: angles counted from the stowed pose (an
+    /// incremental encoder zeroed at power-up), not from the latch.
+    #[error("column `phi{joint}_deg` (column {}): the run starts at {found} deg where joint {joint} is stowed at {stowed_deg} deg, and moves away from 0 deg: angles counted from the stowed pose (an encoder zeroed at power-up)? expected 0 deg at the latch (docs/spec/formats.md): add {stowed_deg} to the column", joint + 1)]
+    AnglesFromStowed {
+        /// The joint (1-based).
+        joint: usize,
+        /// Its reading at the start [deg].
+        found: f64,
+        /// Its stowed angle [deg].
+        stowed_deg: f64,
+    },
+    /// Meaning: a joint's readings are its angles shifted by whole turns
+    /// (an encoder that counts 0 to 360 deg, or a turn counter).
+    #[error("column `phi{joint}_deg` (column {}): the run starts at {found} deg where joint {joint} is stowed at {stowed_deg} deg, {turns} whole turn(s) away: an encoder counting 0 to 360 deg? expected the angle within a turn of the stowed angle (docs/spec/formats.md): subtract {} deg from the column", joint + 1, 360.0 * turns)]
+    AnglesWholeTurnsOff {
+        /// The joint (1-based).
+        joint: usize,
+        /// Its reading at the start [deg].
+        found: f64,
+        /// Its stowed angle [deg].
+        stowed_deg: f64,
+        /// Whole turns between the reading and the stowed angle (signed).
+        turns: f64,
+    },
     /// Meaning: the run lasts far longer than its mechanism's horizon.
     #[error("column `t_s` (column 1): the run spans {span_s} with samples {interval_s} apart, {factor:.0} times mechanism \"{mechanism}\"'s duration_s = {duration_s} s: time in milliseconds? expected seconds (divide t_s by 1000)")]
     TimeInMilliseconds {
