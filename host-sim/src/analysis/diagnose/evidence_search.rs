@@ -287,7 +287,13 @@ impl Search<'_, '_> {
                 if !self.candidates.contains(&ca) || !self.candidates.contains(&cb) {
                     continue;
                 }
-                let Some((v, _)) = residual_named::fit(&samples, &[ka, kb]) else {
+                // Where the residual torque cannot separate the two (a
+                // value not positive), the first starts from its value
+                // alone and the screen shares the torque
+                // ([`super::Engine::screen_shared`]).
+                let Some((v, _)) = residual_named::fit(&samples, &[ka, kb])
+                    .or_else(|| residual_named::fit(&samples, &[ka]))
+                else {
                     continue;
                 };
                 let mut base = reduced.clone();
