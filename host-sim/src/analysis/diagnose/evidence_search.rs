@@ -15,7 +15,7 @@ use super::candidate::Candidate;
 use super::discover;
 use super::outcome::FittedSet;
 use super::table_form::PlacedKnots;
-use super::{above_noise, labels, Search, MAX_TABLES};
+use super::{above_noise, labels, Engine, Search, MAX_TABLES, NOISE_FLOOR_FACTOR};
 use crate::analysis::residual_named::{self, propose_pair};
 use crate::analysis::residual_shape::best_shape;
 use crate::analysis::residual_torque::{residual_torque, JointTorque};
@@ -304,5 +304,41 @@ impl Search<'_, '_> {
             }
         }
         moves
+    }
+}
+
+impl Engine<'_> {
+    /// The `unexplained` description of a set whose residual is not
+    /// clearly above the noise ([`above_noise`]) but not down to it either
+    /// (above [`NOISE_FLOOR_FACTOR`] σ̂), when a global effect of it (rig
+    /// tilt, air drag) stands in for a joint torque: without it, the
+    /// residual torque is significant at a joint where the set claims no
+    /// torque (encoder offsets aside). The data say a torque is missing at
+    /// that joint, which the global effect brought within the noise of the
+    /// angles without holding it. The joint of the largest `χ²`, where in
+    /// the stroke, and its size.
+    pub(super) fn unexplained_torque(&self, f: &FittedSet, sigma: f64) -> Option<String> {
+        let rms = f.rms();
+        if above_noise(f, sigma) || rms <= NOISE_FLOOR_FACTOR * sigma {
+            return None;
+        }
+        let claimed: Vec<usize> = f
+            .set
+            .iter()
+            .filter(|c| c.kind != EffectKind::EncoderOffset)
+            .filter_map(|c| c.joint)
+            .collect();
+        let globals = (0..f.set.len()).filter(|&k| f.set[k].joint.is_none());
+        let jt = globals
+            .flat_map(|k| residual_torque(self.campaign, &f.without(k).effects()))
+            .filter(|j| j.significant && !claimed.contains(&j.joint))
+            .max_by(|a, b| a.chi2.total_cmp(&b.chi2))?;
+        Some(format!(
+            "the residual stays at {rms:.4} deg RMS, {:.1} times the noise floor ({sigma:.4} deg), and without its global effect the residual torque is significant at joint {}, which holds no effect found, largest in {} ({}); no further candidate earns its keep",
+            rms / sigma.max(1e-9),
+            jt.joint,
+            jt.stroke_region().unwrap_or("the stroke"),
+            jt.describe()
+        ))
     }
 }

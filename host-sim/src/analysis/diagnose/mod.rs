@@ -748,7 +748,8 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
     };
     Outcome {
         noise_sigma_deg: sigma,
-        unexplained: unexplained_text(campaign, &extended, sigma),
+        unexplained: unexplained_text(campaign, &extended, sigma)
+            .or_else(|| eng.unexplained_torque(&extended, sigma)),
         baseline,
         extended,
         strength_rms_deg,
