@@ -592,7 +592,7 @@ fn generate_one_joint(seed: u64, kinds: [EffectKind; 2], pair: usize) -> Case {
 /// and joints, nothing unexplained) with every value within 5 %. The
 /// target (95 % named) is for the hidden sets together: with
 /// [`hidden_effects_are_named_and_measured`]'s 61 it needs at least 5 of
-/// these 8; the test asks for the 6 measured (`docs/diagnosis.md`, "Two
+/// these 8; the test asks for the 7 measured (`docs/diagnosis.md`, "Two
 /// causes at one joint").
 #[test]
 fn two_causes_at_one_joint_are_named_and_measured() {
@@ -647,5 +647,5 @@ fn two_causes_at_one_joint_are_named_and_measured() {
         "two causes at one joint: {ok}/{total} named with values within 5 % (worst {:.2} %)",
         100.0 * worst
     );
-    assert!(ok * 4 >= total * 3, "{ok}/{total}; misses: {misses:?}");
+    assert!(ok * 8 >= total * 7, "{ok}/{total}; misses: {misses:?}");
 }

@@ -15,7 +15,10 @@ use super::candidate::Candidate;
 use super::discover;
 use super::outcome::FittedSet;
 use super::table_form::PlacedKnots;
-use super::{above_noise, labels, Engine, Search, MAX_TABLES, NOISE_FLOOR_FACTOR};
+use super::{
+    above_noise, labels, new_members_clear, Engine, Search, HELD_OUT_SHARE, MAX_TABLES,
+    MIN_DELTA_BIC, NOISE_FLOOR_FACTOR,
+};
 use crate::analysis::residual_named::{self, propose_pair};
 use crate::analysis::residual_shape::best_shape;
 use crate::analysis::residual_torque::{residual_torque, JointTorque};
@@ -266,9 +269,15 @@ impl Search<'_, '_> {
         reduced: &FittedSet,
         table: Candidate,
     ) -> Vec<(FittedSet, Candidate)> {
-        let Some(joint) = table.joint else {
-            return Vec::new();
-        };
+        match table.joint {
+            Some(joint) => self.named_pairs_at(reduced, joint),
+            None => Vec::new(),
+        }
+    }
+
+    /// The pairs of named joint effects at `joint` beside `reduced`
+    /// ([`Search::named_pairs_for`]).
+    fn named_pairs_at(&self, reduced: &FittedSet, joint: usize) -> Vec<(FittedSet, Candidate)> {
         let res = residual_torque(self.eng.campaign, &reduced.effects());
         let Some(jt) = res.iter().find(|r| r.joint == joint) else {
             return Vec::new();
@@ -340,5 +349,73 @@ impl Engine<'_> {
             jt.stroke_region().unwrap_or("the stroke"),
             jt.describe()
         ))
+    }
+}
+
+impl Search<'_, '_> {
+    /// When the stepwise search stalls with the residual clearly above the
+    /// noise: at each joint where the set holds named joint effects with a
+    /// torque signature, every pair of them in place of those effects
+    /// ([`Search::named_pairs_at`], screened also where the two share their
+    /// torque, [`super::Engine::fit_moves_sharing`]). The best by BIC is
+    /// taken when it gains more than [`MIN_DELTA_BIC`], its intervals clear
+    /// zero, its held-out RMS beats the set's by [`HELD_OUT_SHARE`] and it
+    /// explains the data (its residual not above the noise): two causes at
+    /// one joint where the search settled on stand-ins. Tried once; true
+    /// when a pair was taken.
+    pub(super) fn try_joint_pairs(&mut self) -> bool {
+        let sigma = self.floor_deg / NOISE_FLOOR_FACTOR;
+        if !above_noise(&self.current, sigma) || std::mem::replace(&mut self.paired, true) {
+            return false;
+        }
+        let named_at = |c: &Candidate, j: usize| {
+            c.joint == Some(j) && c.table.is_none() && residual_named::KINDS.contains(&c.kind)
+        };
+        let mut joints: Vec<usize> = self
+            .current
+            .set
+            .iter()
+            .filter(|c| c.table.is_none() && residual_named::KINDS.contains(&c.kind))
+            .filter_map(|c| c.joint)
+            .collect();
+        joints.dedup();
+        let mut moves = Vec::new();
+        for j in joints {
+            let mut base = self.current.clone();
+            while let Some(k) = base.set.iter().position(|c| named_at(c, j)) {
+                base = base.without(k);
+            }
+            moves.extend(self.named_pairs_at(&base, j));
+        }
+        if moves.is_empty() {
+            return false;
+        }
+        self.eng.say(format!(
+            "  named pairs at a joint in place of its named effects: fitting {}",
+            moves.len()
+        ));
+        let fits = self.eng.fit_moves_sharing(self.eng.campaign, &moves);
+        let current = self.current.clone();
+        let best = fits
+            .into_iter()
+            .filter(|(_, _, screened_out)| !screened_out)
+            .filter_map(|(_, f, _)| f)
+            .filter(|f| current.bic() - f.bic() > MIN_DELTA_BIC)
+            .filter(|f| new_members_clear(f, &current) && !above_noise(f, sigma))
+            .min_by(|a, b| a.bic().total_cmp(&b.bic()));
+        let Some(f) = best else {
+            return false;
+        };
+        let held = self.eng.held_out(&f);
+        if let (Some(h), Some(c)) = (held, self.current_held) {
+            if h >= HELD_OUT_SHARE * c {
+                return false;
+            }
+        }
+        if self.seen.contains(&f.set) {
+            return false;
+        }
+        self.take("named pair at a joint:", f, held);
+        true
     }
 }

@@ -392,6 +392,9 @@ struct Search<'e, 'a> {
     swaps: usize,
     /// Whether the pairs the residual torque proposes were tried.
     proposed: bool,
+    /// Whether the named pairs at the set's joints were tried
+    /// ([`Search::try_joint_pairs`]).
+    paired: bool,
 }
 
 impl Search<'_, '_> {
@@ -416,7 +419,10 @@ impl Search<'_, '_> {
             if self.try_swap() {
                 continue;
             }
-            if (self.rounds.len() == before || !self.try_pair()) && !self.try_proposed() {
+            if (self.rounds.len() == before || !self.try_pair())
+                && !self.try_proposed()
+                && !self.try_joint_pairs()
+            {
                 return;
             }
         }
@@ -736,6 +742,7 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         seen: vec![Vec::new()],
         swaps: 0,
         proposed: false,
+        paired: false,
     };
     search.run();
     if opts.discover && !truss {
