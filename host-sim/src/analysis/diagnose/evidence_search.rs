@@ -378,6 +378,7 @@ impl Search<'_, '_> {
             .filter(|c| c.table.is_none() && residual_named::KINDS.contains(&c.kind))
             .filter_map(|c| c.joint)
             .collect();
+        joints.sort_unstable();
         joints.dedup();
         let mut moves = Vec::new();
         for j in joints {

@@ -15,10 +15,12 @@ enum Starts {
     /// round, discovery and refinement).
     Held,
     /// Also where the candidate shares its torque with a named effect of
-    /// the base at its joint ([`Engine::screen_shared`]): named effects in
-    /// place of a table ([`super::Search::prefer_named`]). Measured in the
-    /// stepwise rounds too, where it let named pairs stand in for unnamed
-    /// torques (`docs/diagnosis.md`, "Two causes at one joint").
+    /// the base at its joint ([`Engine::screen_shared`]): named pairs at
+    /// one joint in place of a table ([`super::Search::prefer_named`]) or
+    /// of the named effects there ([`super::Search::try_joint_pairs`]).
+    /// Measured in the stepwise rounds too, where it let named pairs stand
+    /// in for unnamed torques (`docs/diagnosis.md`, "Two causes at one
+    /// joint").
     AlsoShared,
 }
 
@@ -82,8 +84,8 @@ impl Engine<'_> {
         self.fit_moves_from(c, moves, Starts::Held)
     }
 
-    /// [`Engine::fit_moves`] with [`Starts::AlsoShared`]: named effects in
-    /// place of a table, where two at one joint share a torque.
+    /// [`Engine::fit_moves`] with [`Starts::AlsoShared`]: named pairs at
+    /// one joint, where the two share a torque.
     pub(super) fn fit_moves_sharing(
         &self,
         c: &Campaign,

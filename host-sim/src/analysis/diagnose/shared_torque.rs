@@ -5,17 +5,19 @@
 //! out; so do viscous damping and friction). When one is taken first it
 //! absorbs most of the other, and the other scanned beside it with the
 //! first held over-resists: the move looks poor in the coarse scan and is
-//! never fitted, where the two would share the torque. When named effects
-//! are tried in place of a table ([`super::Search::prefer_named`]), the
-//! screen therefore also starts such a move on the line that keeps their summed
-//! torque over the measured states fixed: the candidate at a share of the
-//! value that would replace the base effect entirely, the base effect
-//! lowered by what the candidate takes over. Both come from the residual
-//! torque's samples ([`crate::analysis::residual_torque`]: the measured
-//! rates and angles, weighted by the torque's standard errors) and the
-//! effects' signatures ([`residual_named::signature`]); where the residual
-//! torque separates the two, its regression on both signatures
-//! ([`residual_named::fit`]) is a start too.
+//! never fitted, where the two would share the torque. When named pairs
+//! are tried at one joint (in place of a table,
+//! [`super::Search::prefer_named`], or of the named effects there,
+//! [`super::Search::try_joint_pairs`]), the screen therefore also starts
+//! such a move on the line that keeps their summed torque over the measured
+//! states fixed: the candidate at a share of the value that would replace
+//! the base effect entirely, the base effect lowered by what the candidate
+//! takes over. Both come from the residual torque's samples
+//! ([`crate::analysis::residual_torque`]: the measured rates and angles,
+//! weighted by the torque's standard errors) and the effects' signatures
+//! ([`residual_named::signature`]); where the residual torque separates the
+//! two, its regression on both signatures ([`residual_named::fit`]) is a
+//! start too.
 
 use super::candidate::Candidate;
 use super::outcome::FittedSet;
@@ -63,12 +65,13 @@ impl Engine<'_> {
         self.best_point(c, base, cand, points.into_iter())
     }
 
-    /// Start points (all parameters of `base ∪ {cand}`) where each named
-    /// joint effect of `base` at `cand`'s joint whose torque `cand`'s
-    /// shares ([`MIN_SHARED_COSINE`]) is refitted with `cand`: on the line
-    /// of fixed summed torque at [`LINE_SHARES`], and at the residual
-    /// torque's regression on both when its values are positive. None when
-    /// `cand` is not a named joint effect with a torque signature.
+    /// Start points (all parameters of `base ∪ {cand}`) where a named
+    /// joint effect of `base` at `cand`'s joint, whose signature's cosine
+    /// with `cand`'s is at least [`MIN_SHARED_COSINE`], is refitted with
+    /// `cand`: on the line of fixed summed torque at [`LINE_SHARES`], and
+    /// at the residual torque's regression on both when its values are
+    /// positive. None when `cand` is not a named joint effect with a torque
+    /// signature.
     pub(super) fn shared_starts(
         &self,
         c: &Campaign,
