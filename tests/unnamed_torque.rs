@@ -405,7 +405,8 @@ fn monitor_exports(campaign: &Campaign, found: &[Effect]) -> Vec<f64> {
 /// (`deploywatch_tests::hidden_torque`): narrow features, torques
 /// proportional to the spring's, rate laws peaked at low rate and
 /// quadratic, a torque beside named effects, two torques at two joints,
-/// null campaigns; each family's pass rate printed. The CI runs one
+/// null campaigns; each family's pass rate printed. A case not found must
+/// be `unexplained` with its joint and stroke region. The CI runs one
 /// campaign per family; `DEPLOYWATCH_FULL=1` runs six per family (42).
 #[test]
 fn hidden_torque_families_are_found_or_reported_unexplained() {
@@ -453,5 +454,9 @@ fn hidden_torque_families_are_found_or_reported_unexplained() {
     assert!(
         clean * 100 >= total * 85,
         "spurious claims: {clean}/{total} clean"
+    );
+    assert!(
+        bad.is_empty(),
+        "neither found nor unexplained with joint and region: {bad:?}"
     );
 }

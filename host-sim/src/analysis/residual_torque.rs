@@ -125,19 +125,44 @@ pub struct JointTorque {
 }
 
 impl JointTorque {
-    /// The part of the stroke where the residual torque is largest, in
-    /// words, with its size and whether it resists or drives the
-    /// deployment.
-    pub fn describe(&self) -> String {
-        // The largest bin mean among those clear of their band (else the
-        // clearest): a bin of a few noisy samples says little.
+    /// The angle bin where the residual torque is largest: the largest
+    /// mean among the bins clear of their band (else the clearest), since
+    /// a bin of a few noisy samples says little.
+    pub fn largest_bin(&self) -> Option<&Bin> {
         let used = self.by_angle.iter().filter(|b| b.n > 0);
         let z = |b: &Bin| b.mean_nm.abs() / b.se_nm.max(1e-12);
         let clear = used
             .clone()
             .filter(|b| z(b) >= CLEAR_BIN_Z)
             .max_by(|a, b| a.mean_nm.abs().total_cmp(&b.mean_nm.abs()));
-        let Some(big) = clear.or_else(|| used.max_by(|a, b| z(a).total_cmp(&z(b)))) else {
+        clear.or_else(|| used.max_by(|a, b| z(a).total_cmp(&z(b))))
+    }
+
+    /// Which third of the stroke (from the stowed angle to 0) holds the
+    /// [`JointTorque::largest_bin`], in words.
+    pub fn stroke_region(&self) -> Option<&'static str> {
+        let b = self.largest_bin()?;
+        let mid = 0.5 * (b.range[0] + b.range[1]);
+        let share = (mid - self.stowed_deg) / (-self.stowed_deg);
+        let third = if share.is_finite() {
+            (3.0 * share).floor().clamp(0.0, 2.0) as usize
+        } else {
+            1
+        };
+        [
+            "the first third of the stroke (near the stowed angle)",
+            "the middle third of the stroke",
+            "the last third of the stroke (near the latch)",
+        ]
+        .get(third)
+        .copied()
+    }
+
+    /// The part of the stroke where the residual torque is largest, in
+    /// words, with its size and whether it resists or drives the
+    /// deployment.
+    pub fn describe(&self) -> String {
+        let Some(big) = self.largest_bin() else {
             return format!("joint {}: no sample to judge", self.joint);
         };
         let motion = -self.stowed_deg.signum();
@@ -535,5 +560,52 @@ fn localise(joint: usize, stowed_deg: f64, samples: Vec<TorqueSample>) -> JointT
         max_z,
         significant,
         rms_nm,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A joint whose only clear bin is `range`, on a stroke from `stowed_deg`.
+    fn joint_with_bin(stowed_deg: f64, range: [f64; 2]) -> JointTorque {
+        let quiet = |r: [f64; 2]| Bin {
+            range: r,
+            n: 10,
+            mean_nm: 0.001,
+            se_nm: 0.01,
+        };
+        let loud = Bin {
+            range,
+            n: 10,
+            mean_nm: -0.2,
+            se_nm: 0.01,
+        };
+        JointTorque {
+            joint: 2,
+            stowed_deg,
+            samples: Vec::new(),
+            by_angle: vec![quiet([-50.0, -45.0]), loud, quiet([-30.0, -25.0])],
+            by_rate: Vec::new(),
+            chi2: 400.0,
+            max_z: 20.0,
+            significant: true,
+            rms_nm: 0.1,
+        }
+    }
+
+    #[test]
+    fn the_stroke_region_is_the_third_of_the_largest_clear_bin() {
+        let near_stowed = joint_with_bin(-90.0, [-88.0, -82.0]);
+        assert_eq!(
+            near_stowed.largest_bin().map(|b| b.range),
+            Some([-88.0, -82.0])
+        );
+        assert!(near_stowed.stroke_region().unwrap().contains("first third"));
+        let middle = joint_with_bin(-90.0, [-48.0, -42.0]);
+        assert!(middle.stroke_region().unwrap().contains("middle third"));
+        // A wing stowed at a positive angle deploys downwards to 0.
+        let near_latch = joint_with_bin(90.0, [2.0, 8.0]);
+        assert!(near_latch.stroke_region().unwrap().contains("last third"));
     }
 }

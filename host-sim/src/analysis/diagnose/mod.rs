@@ -27,6 +27,8 @@ pub mod discover;
 mod evidence_search;
 mod outcome;
 mod refine;
+mod screen;
+mod shared_torque;
 mod table_form;
 
 pub use candidate::Candidate;
@@ -140,75 +142,6 @@ impl Engine<'_> {
             m: r.residuals,
             evaluations: r.evaluations,
         })
-    }
-
-    /// Fits `base ∪ {cand}`: scans the candidate's value with the base's
-    /// parameters held, then refits everything.
-    fn screen(&self, c: &Campaign, base: &FittedSet, cand: Candidate) -> Option<FittedSet> {
-        let mut set = base.set.clone();
-        set.push(cand);
-        let mut best: Option<(f64, usize, Vec<f64>)> = None;
-        for start in self.scan_of(&cand) {
-            let mut p = base.params.clone();
-            p.extend(start);
-            if let Some((sse, m)) = self.sse(c, &set, &p) {
-                if best.as_ref().is_none_or(|(b, _, _)| sse < *b) {
-                    best = Some((sse, m, p));
-                }
-            }
-        }
-        let (sse, m, params) = best?;
-        Some(FittedSet {
-            ci95: params
-                .iter()
-                .map(|_| [f64::NEG_INFINITY, f64::INFINITY])
-                .collect(),
-            set,
-            params,
-            sse,
-            m,
-            evaluations: 0,
-        })
-    }
-
-    /// Screens every move (a base set plus a candidate) by its coarse scan
-    /// and fits the [`SCREEN_KEEP`] most promising ones fully; the others
-    /// keep their scan result and are marked as screened out.
-    fn fit_moves(
-        &self,
-        c: &Campaign,
-        moves: &[(FittedSet, Candidate)],
-    ) -> Vec<(Candidate, Option<FittedSet>, bool)> {
-        let screened: Vec<Option<FittedSet>> = moves
-            .par_iter()
-            .map(|(base, cand)| self.screen(c, base, *cand))
-            .collect();
-        let mut order: Vec<usize> = (0..moves.len())
-            .filter(|&i| screened[i].is_some())
-            .collect();
-        order.sort_by(|&a, &b| {
-            let sa = screened[a].as_ref().map_or(f64::INFINITY, |f| f.sse);
-            let sb = screened[b].as_ref().map_or(f64::INFINITY, |f| f.sse);
-            sa.total_cmp(&sb)
-        });
-        let keep: Vec<usize> = order.iter().copied().take(SCREEN_KEEP).collect();
-        let fitted: Vec<(usize, Option<FittedSet>)> = keep
-            .par_iter()
-            .map(|&i| {
-                let s = screened[i].as_ref()?;
-                Some((i, self.fit(c, &s.set, &s.params)))
-            })
-            .flatten()
-            .collect();
-        let mut out: Vec<(Candidate, Option<FittedSet>, bool)> = moves
-            .iter()
-            .zip(screened)
-            .map(|((_, cand), s)| (*cand, s, true))
-            .collect();
-        for (i, f) in fitted {
-            out[i] = (moves[i].1, f, false);
-        }
-        out
     }
 
     /// Held-out RMS [deg] of a set: fit on all runs but one (from the
@@ -459,6 +392,9 @@ struct Search<'e, 'a> {
     swaps: usize,
     /// Whether the pairs the residual torque proposes were tried.
     proposed: bool,
+    /// Whether the named pairs at the set's joints were tried
+    /// ([`Search::try_joint_pairs`]).
+    paired: bool,
 }
 
 impl Search<'_, '_> {
@@ -483,7 +419,10 @@ impl Search<'_, '_> {
             if self.try_swap() {
                 continue;
             }
-            if (self.rounds.len() == before || !self.try_pair()) && !self.try_proposed() {
+            if (self.rounds.len() == before || !self.try_pair())
+                && !self.try_proposed()
+                && !self.try_joint_pairs()
+            {
                 return;
             }
         }
@@ -501,13 +440,15 @@ impl Search<'_, '_> {
 
     /// A named effect that explains the data wins over a table: each table
     /// of the set is replaced by every named candidate in turn (and by the
-    /// pairs of named effects at its joint, [`Search::named_pairs_for`]),
-    /// and the best replacement by BIC is taken when its BIC is better than
-    /// the table's set, its RMS within [`NAMED_RMS_SHARE`] of the table
-    /// set's (or of the noise floor: as good a fit, with fewer parameters),
-    /// its residual not above the noise σ̂ (it explains the data: a coarse
-    /// table is left to the refinement instead) and its intervals clear of
-    /// zero. True when a table was replaced.
+    /// pairs of named effects at its joint, [`Search::named_pairs_for`],
+    /// screened also where the two share their torque,
+    /// [`Engine::fit_moves_sharing`]), and the best replacement by BIC is
+    /// taken when its BIC is better than the table's set, its RMS within
+    /// [`NAMED_RMS_SHARE`] of the table set's (or of the noise floor: as
+    /// good a fit, with fewer parameters), its residual not above the noise
+    /// σ̂ (it explains the data: a coarse table is left to the refinement
+    /// instead) and its intervals clear of zero. True when a table was
+    /// replaced.
     fn prefer_named(&mut self, sigma: f64) -> bool {
         let named: Vec<Candidate> = self.outside();
         let mut moves = Vec::new();
@@ -518,7 +459,7 @@ impl Search<'_, '_> {
                 moves.extend(self.named_pairs_for(&reduced, *c));
             }
         }
-        let fits = self.eng.fit_moves(self.eng.campaign, &moves);
+        let fits = self.eng.fit_moves_sharing(self.eng.campaign, &moves);
         let best = fits
             .into_iter()
             .filter(|(_, _, screened_out)| !screened_out)
@@ -801,6 +742,7 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         seen: vec![Vec::new()],
         swaps: 0,
         proposed: false,
+        paired: false,
     };
     search.run();
     if opts.discover && !truss {
@@ -813,7 +755,8 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
     };
     Outcome {
         noise_sigma_deg: sigma,
-        unexplained: unexplained_text(campaign, &extended, sigma),
+        unexplained: unexplained_text(campaign, &extended, sigma)
+            .or_else(|| eng.unexplained_torque(&extended, sigma)),
         baseline,
         extended,
         strength_rms_deg,

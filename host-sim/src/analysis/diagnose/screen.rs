@@ -1,0 +1,159 @@
+//! The coarse screen of a round's moves: each move (a base set plus a
+//! candidate) is scanned from a few start points, and only the most
+//! promising are fitted fully through the simulator.
+
+use super::candidate::Candidate;
+use super::outcome::FittedSet;
+use super::{Engine, SCREEN_KEEP};
+use crate::data::campaign::Campaign;
+use rayon::prelude::*;
+
+/// Where the screen of a move starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Starts {
+    /// The candidate's scan with the base's values held (every stepwise
+    /// round, discovery and refinement).
+    Held,
+    /// Also where the candidate shares its torque with a named effect of
+    /// the base at its joint ([`Engine::screen_shared`]): named pairs at
+    /// one joint in place of a table ([`super::Search::prefer_named`]) or
+    /// of the named effects there ([`super::Search::try_joint_pairs`]).
+    /// Measured in the stepwise rounds too, where it let named pairs stand
+    /// in for unnamed torques (`docs/diagnosis.md`, "Two causes at one
+    /// joint").
+    AlsoShared,
+}
+
+impl Engine<'_> {
+    /// Screens `base ∪ {cand}`: scans the candidate's value with the base's
+    /// parameters held; the best point by SSE.
+    fn screen(&self, c: &Campaign, base: &FittedSet, cand: Candidate) -> Option<FittedSet> {
+        let held = self.scan_of(&cand).into_iter().map(|start| {
+            let mut p = base.params.clone();
+            p.extend(start);
+            p
+        });
+        self.best_point(c, base, cand, held)
+    }
+
+    /// The point of `base ∪ {cand}` (all parameters) with the smallest SSE,
+    /// unfitted (intervals unbounded).
+    pub(super) fn best_point(
+        &self,
+        c: &Campaign,
+        base: &FittedSet,
+        cand: Candidate,
+        points: impl Iterator<Item = Vec<f64>>,
+    ) -> Option<FittedSet> {
+        let mut set = base.set.clone();
+        set.push(cand);
+        let mut best: Option<(f64, usize, Vec<f64>)> = None;
+        for p in points {
+            if let Some((sse, m)) = self.sse(c, &set, &p) {
+                if best.as_ref().is_none_or(|(b, _, _)| sse < *b) {
+                    best = Some((sse, m, p));
+                }
+            }
+        }
+        let (sse, m, params) = best?;
+        Some(FittedSet {
+            ci95: params
+                .iter()
+                .map(|_| [f64::NEG_INFINITY, f64::INFINITY])
+                .collect(),
+            set,
+            params,
+            sse,
+            m,
+            evaluations: 0,
+        })
+    }
+
+    /// Screens every move (a base set plus a candidate) by its coarse scan
+    /// and fits the [`SCREEN_KEEP`] most promising ones fully; the others
+    /// keep their scan result and are marked as screened out. With
+    /// [`Starts::AlsoShared`], a move whose candidate shares its torque
+    /// with an effect of the base ([`Engine::screen_shared`]) is also
+    /// fitted from where both share it when that point beats its own scan
+    /// and the last kept move's scan: the better of its fits counts.
+    pub(super) fn fit_moves(
+        &self,
+        c: &Campaign,
+        moves: &[(FittedSet, Candidate)],
+    ) -> Vec<(Candidate, Option<FittedSet>, bool)> {
+        self.fit_moves_from(c, moves, Starts::Held)
+    }
+
+    /// [`Engine::fit_moves`] with [`Starts::AlsoShared`]: named pairs at
+    /// one joint, where the two share a torque.
+    pub(super) fn fit_moves_sharing(
+        &self,
+        c: &Campaign,
+        moves: &[(FittedSet, Candidate)],
+    ) -> Vec<(Candidate, Option<FittedSet>, bool)> {
+        self.fit_moves_from(c, moves, Starts::AlsoShared)
+    }
+
+    /// Screens and fits the moves, the screen starting `starts_from`
+    /// ([`Engine::fit_moves`]).
+    fn fit_moves_from(
+        &self,
+        c: &Campaign,
+        moves: &[(FittedSet, Candidate)],
+        starts_from: Starts,
+    ) -> Vec<(Candidate, Option<FittedSet>, bool)> {
+        let screened: Vec<(Option<FittedSet>, Option<FittedSet>)> = moves
+            .par_iter()
+            .map(|(base, cand)| {
+                let shared = match starts_from {
+                    Starts::Held => None,
+                    Starts::AlsoShared => self.screen_shared(c, base, *cand),
+                };
+                (self.screen(c, base, *cand), shared)
+            })
+            .collect();
+        let sse_of = |f: &Option<FittedSet>| f.as_ref().map_or(f64::INFINITY, |f| f.sse);
+        let mut order: Vec<usize> = (0..moves.len())
+            .filter(|&i| screened[i].0.is_some())
+            .collect();
+        order.sort_by(|&a, &b| sse_of(&screened[a].0).total_cmp(&sse_of(&screened[b].0)));
+        let bar = match order.get(SCREEN_KEEP) {
+            Some(_) => order
+                .get(SCREEN_KEEP - 1)
+                .map_or(f64::INFINITY, |&i| sse_of(&screened[i].0)),
+            None => f64::INFINITY,
+        };
+        let keep: Vec<usize> = order.iter().copied().take(SCREEN_KEEP).collect();
+        let mut starts: Vec<(usize, &FittedSet)> = keep
+            .iter()
+            .filter_map(|&i| Some((i, screened[i].0.as_ref()?)))
+            .collect();
+        for (i, (held, shared)) in screened.iter().enumerate() {
+            let s = sse_of(shared);
+            if let Some(f) = shared.as_ref().filter(|_| s < sse_of(held) && s < bar) {
+                starts.push((i, f));
+            }
+        }
+        let fitted: Vec<(usize, Option<FittedSet>)> = starts
+            .par_iter()
+            .map(|&(i, s)| (i, self.fit(c, &s.set, &s.params)))
+            .collect();
+        let mut out: Vec<(Candidate, Option<FittedSet>, bool)> = moves
+            .iter()
+            .zip(screened)
+            .map(|((_, cand), (held, _))| (*cand, held, true))
+            .collect();
+        for (i, f) in fitted {
+            let better = match (&out[i], &f) {
+                ((_, _, true), _) => true,
+                ((_, Some(a), false), Some(b)) => b.sse < a.sse,
+                ((_, None, false), _) => true,
+                _ => false,
+            };
+            if better {
+                out[i] = (moves[i].1, f, false);
+            }
+        }
+        out
+    }
+}
