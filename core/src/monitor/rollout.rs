@@ -294,6 +294,21 @@ impl<const N: usize> Rollout<N> {
 /// The chain as the rollout evaluates it.
 type Model<'a> = ChainRef<'a, f32, R>;
 
+/// The mass matrix `M(φ)` of the joints in use ([`ChainRef::mass_matrix`]),
+/// out of line: one copy for the rollout's three uses.
+#[inline(never)]
+fn mass_matrix(chain: &Model<'_>, phi: &[f32; R]) -> [[f32; R]; R] {
+    chain.mass_matrix(phi)
+}
+
+/// `M x = b` on the first `n` joints, those not `locked`
+/// ([`solve_spd_masked_n`]), out of line: one copy for the rollout's two
+/// uses. `None` when the free block is not positive definite.
+#[inline(never)]
+fn solve(n: usize, m: &[[f32; R]; R], b: &[f32; R], locked: &[bool; R]) -> Option<[f32; R]> {
+    solve_spd_masked_n(n, m, b, locked).ok()
+}
+
 impl Stepper {
     /// The joints in use.
     fn count(&self) -> usize {
@@ -345,7 +360,7 @@ impl Stepper {
             rhs[j] += (self.start.spring_scale[j] - 1.0) * spring - tc * th - f * w;
             m[j][j] += h * (tc * (1.0 - th * th) / wc + f);
         }
-        solve_spd_masked_n(n, &m, &rhs, &self.latched).ok()
+        solve(n, &m, &rhs, &self.latched)
     }
 
     /// One step: the midpoint rule (second order), each stage linearly
@@ -487,7 +502,7 @@ impl Stepper {
     fn latch_crossed(&mut self, chain: &Model<'_>, crossed: &[bool; R], dt: f32) {
         let n = self.count();
         // `p = M(φ) φ̇` (`Chain::momentum`) over the joints in use.
-        let m = chain.mass_matrix(&self.x.phi);
+        let m = mass_matrix(chain, &self.x.phi);
         let mut p = [0.0f32; R];
         for i in 0..n {
             for j in 0..n {
@@ -523,8 +538,8 @@ impl Stepper {
                 self.latch_after_s[j] = self.t_s;
             }
         }
-        match solve_spd_masked_n(n, &chain.mass_matrix(&self.x.phi), &p, &after) {
-            Ok(w) if w.iter().all(|v| v.is_finite()) => self.x.phi_dot = w,
+        match solve(n, &mass_matrix(chain, &self.x.phi), &p, &after) {
+            Some(w) if w.iter().all(|v| v.is_finite()) => self.x.phi_dot = w,
             _ => {
                 for j in 0..n {
                     if after[j] {
@@ -542,7 +557,7 @@ impl Stepper {
     /// quadrature and the snap-through cost up to a few hundred spring
     /// evaluations).
     fn begin_settle(&mut self, chain: &Model<'_>, cfg: &RolloutConfig) {
-        let m = chain.mass_matrix(&self.x.phi);
+        let m = mass_matrix(chain, &self.x.phi);
         let inertia = articulated_inertias_n(self.count(), &m, &self.latched);
         self.settle = Some(Settle {
             time_left: cfg.horizon_s - self.t_s,
