@@ -51,7 +51,7 @@ pub fn solve_spd_masked_n<T: Real, const M: usize>(
 }
 
 /// The factors of `M = L D Lᵀ` (`L` unit lower triangular, `D` diagonal)
-/// of the free block, `D` on the diagonal of the result and `L` below it;
+/// of the free block of the first `n` coordinates, `D` on the diagonal of the result and `L` below it;
 /// locked rows and columns hold the identity. The square-root-free form
 /// of Cholesky's factorisation (Golub & Van Loan, *Matrix Computations*,
 /// 4th ed., §4.1.2): the same arithmetic without the `N` square roots,
@@ -99,7 +99,8 @@ fn ldl_masked<T: Real, const N: usize>(
     Ok(())
 }
 
-/// `L y = b`, `D z = y`, then `Lᵀ x = z`, on the free coordinates.
+/// `L y = b`, `D z = y`, then `Lᵀ x = z`, on the free coordinates of
+/// the first `n`.
 fn substitute<T: Real, const N: usize>(
     n: usize,
     l: &[[T; N]; N],
