@@ -51,8 +51,9 @@ pub fn solve_spd_masked_n<T: Real, const M: usize>(
 }
 
 /// The factors of `M = L D Lᵀ` (`L` unit lower triangular, `D` diagonal)
-/// of the free block of the first `n` coordinates, `D` on the diagonal of the result and `L` below it;
-/// locked rows and columns hold the identity. The square-root-free form
+/// of the free block of the first `n` coordinates, `D` on the diagonal
+/// of the result and `L` below it; locked rows and columns hold the
+/// identity. The square-root-free form
 /// of Cholesky's factorisation (Golub & Van Loan, *Matrix Computations*,
 /// 4th ed., §4.1.2): the same arithmetic without the `N` square roots,
 /// which a Cortex-M4F computes in software.
