@@ -40,7 +40,7 @@ use deploywatch_sim::onboard::monitor_config::{monitor_config, samples};
 use deploywatch_sim::simulate::deployment::{simulate, SimOptions, Trajectory};
 use deploywatch_sim::simulate::fault_injection::{apply, SensorFault};
 use deploywatch_sim::simulate::sensor::{measure, SensorModel};
-use deploywatch_tests::data_dir;
+use deploywatch_tests::{data_dir, SplitMix};
 
 /// Switch travel of the test latch [deg].
 const TRAVEL_DEG: f64 = 0.02;
@@ -64,23 +64,6 @@ const SIMULATIONS: usize = 3;
 /// Samples after the end of the simulation [s]: longer than the stall time
 /// (1 s), so a ramp stop has come to rest.
 const HOLD_S: f64 = 1.5;
-
-/// splitmix64.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next_f64()
-    }
-}
 
 /// One ballistic flight off the stop.
 #[derive(Clone, Copy, Debug)]

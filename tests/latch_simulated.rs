@@ -38,7 +38,7 @@ use deploywatch_sim::onboard::monitor_config::{monitor_config, samples};
 use deploywatch_sim::simulate::deployment::{self, SimOptions};
 use deploywatch_sim::simulate::latch_deployment::{self, LatchEnd, LatchEventKind, LatchRun};
 use deploywatch_sim::simulate::sensor::{measure, SensorModel};
-use deploywatch_tests::data_dir;
+use deploywatch_tests::{data_dir, SplitMix};
 
 /// A latch must be declared within this of the switch's last closing [s].
 const DECLARE_LIMIT_S: f64 = 0.05;
@@ -58,23 +58,6 @@ const SEEN_SAMPLES: usize = 3;
 const MAX_READING_FLAG_SHARE: f64 = 0.05;
 /// Samples the estimator may take to report a visible escape [1].
 const ESCAPE_LAG_SAMPLES: usize = 3;
-
-/// splitmix64.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next_f64()
-    }
-}
 
 fn mechanism(name: &str) -> Mechanism {
     Mechanism::load(&data_dir().join("mechanisms").join(format!("{name}.toml")))

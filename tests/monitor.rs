@@ -13,7 +13,7 @@ use deploywatch_sim::onboard::monitor_config::{monitor_config, samples};
 use deploywatch_sim::simulate::deployment::{simulate, SimOptions, Trajectory};
 use deploywatch_sim::simulate::fault_injection::{apply, SensorFault};
 use deploywatch_sim::simulate::sensor::{measure, SensorModel};
-use deploywatch_tests::data_dir;
+use deploywatch_tests::{data_dir, SplitMix};
 
 /// The papers' identified friction, seed 001 (N·m at joints 1–3).
 const SEED001_FRICTION: [f64; 3] = [2.63, 1.7, 0.001];
@@ -91,23 +91,6 @@ fn half_stroke_index(traj: &Trajectory, stowed_deg: f64, j: usize) -> Option<usi
     traj.phi_deg[j]
         .iter()
         .position(|p| p.abs() <= 0.5 * stowed_deg.abs())
-}
-
-/// splitmix64: a small deterministic generator for the Monte-Carlo draws.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next_f64()
-    }
 }
 
 /// The outcome of one Monte-Carlo joint: what the monitor predicted at half

@@ -1,4 +1,5 @@
-//! Shared helpers of the cross-crate tests: where the bundled data lives.
+//! Shared helpers of the cross-crate tests: where the bundled data lives,
+//! and the small deterministic generator of their Monte-Carlo draws.
 #![deny(missing_docs)]
 
 use std::path::PathBuf;
@@ -17,3 +18,24 @@ pub fn data_dir() -> PathBuf {
 }
 
 pub mod hidden_torque;
+
+/// splitmix64 (Steele, Lea and Flood 2014): a small deterministic generator
+/// for the tests' Monte-Carlo draws; the state is the seed.
+pub struct SplitMix(pub u64);
+
+impl SplitMix {
+    /// A uniform draw in [0, 1), 53 bits.
+    pub fn next_f64(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// A uniform draw in [lo, hi).
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next_f64()
+    }
+}

@@ -541,6 +541,20 @@ impl Search<'_, '_> {
         true
     }
 
+    /// Takes `f` (held-out RMS `held`) as the current set, saying `done`,
+    /// then drops what no longer earns its keep.
+    fn take(&mut self, done: &str, f: FittedSet, held: Option<f64>) {
+        self.eng.say(format!(
+            "  {done} {} (RMS {:.4} deg)",
+            labels(&f.set),
+            f.rms()
+        ));
+        let (f, held) = self.eng.backward(f, held);
+        self.seen.push(f.set.clone());
+        self.current = f;
+        self.current_held = held;
+    }
+
     /// Candidates not in the current set.
     fn outside(&self) -> Vec<Candidate> {
         self.candidates
@@ -561,15 +575,7 @@ impl Search<'_, '_> {
         self.rounds.push(round);
         match next {
             Some((f, held)) if !self.seen.contains(&f.set) => {
-                self.eng.say(format!(
-                    "  {done} {} (RMS {:.4} deg)",
-                    labels(&f.set),
-                    f.rms()
-                ));
-                let (f, held) = self.eng.backward(f, held);
-                self.seen.push(f.set.clone());
-                self.current = f;
-                self.current_held = held;
+                self.take(done, f, held);
                 true
             }
             _ => false,

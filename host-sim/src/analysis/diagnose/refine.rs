@@ -121,15 +121,7 @@ impl Search<'_, '_> {
         let Some((f, held)) = taken else {
             return false;
         };
-        self.eng.say(format!(
-            "  refined: {} (RMS {:.4} deg)",
-            labels(&f.set),
-            f.rms()
-        ));
-        let (f, held) = self.eng.backward(f, held);
-        self.seen.push(f.set.clone());
-        self.current = f;
-        self.current_held = held;
+        self.take("refined:", f, held);
         true
     }
 
