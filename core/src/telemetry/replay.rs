@@ -23,7 +23,8 @@
 //! input comes from a file, so a bad frame is a bad file, not line noise.
 
 use crate::monitor::estimator::MonitorConfig;
-use crate::monitor::estimator::{Monitor, Sample, Status};
+use crate::monitor::estimator::{Monitor, Sample};
+use crate::telemetry::counted::{CountedSample, StatusView};
 use crate::telemetry::{self, sample_frame_max, status_frame_max};
 
 pub use super::config::{ConfigHeader, JointFrame, FIRMWARE_MAX_JOINTS, JOINT_COUNTS};
@@ -469,71 +470,147 @@ pub enum MonitorStore {
     Three(Monitor<3>),
 }
 
+impl MonitorStore {
+    /// Joints of the monitor held (0 when empty).
+    pub fn joints(&self) -> usize {
+        match self {
+            MonitorStore::Empty => 0,
+            MonitorStore::Two(_) => 2,
+            MonitorStore::Three(_) => 3,
+        }
+    }
+
+    /// Slices of [`Monitor::predict`] after each sample
+    /// ([`Monitor::config_slices_per_sample`]); `None` when empty.
+    pub fn slices_per_sample(&self) -> Option<u8> {
+        match self {
+            MonitorStore::Empty => None,
+            MonitorStore::Two(m) => Some(m.config_slices_per_sample()),
+            MonitorStore::Three(m) => Some(m.config_slices_per_sample()),
+        }
+    }
+
+    /// [`Monitor::update`] on `sample`, inside `meter`'s brackets (the
+    /// sample's conversion stays outside them). [`Error::Config`] when the
+    /// sample is not of the monitor's joint count or the store is empty.
+    pub fn update<M: Meter>(&mut self, sample: &CountedSample, meter: &mut M) -> Result<(), Error> {
+        match self {
+            MonitorStore::Empty => return Err(Error::Config),
+            MonitorStore::Two(m) => {
+                let mut s = Sample::new(0.0, [0.0; 2], [false; 2]);
+                if !sample.write_to(&mut s) {
+                    return Err(Error::Config);
+                }
+                meter.start();
+                m.update(&s);
+            }
+            MonitorStore::Three(m) => {
+                let mut s = Sample::new(0.0, [0.0; 3], [false; 3]);
+                if !sample.write_to(&mut s) {
+                    return Err(Error::Config);
+                }
+                meter.start();
+                m.update(&s);
+            }
+        }
+        meter.stop(Work::Update);
+        Ok(())
+    }
+
+    /// One slice of [`Monitor::predict`], inside `meter`'s brackets;
+    /// [`Error::Config`] when the store is empty.
+    pub fn predict<M: Meter>(&mut self, meter: &mut M) -> Result<(), Error> {
+        match self {
+            MonitorStore::Empty => return Err(Error::Config),
+            MonitorStore::Two(m) => {
+                meter.start();
+                m.predict();
+            }
+            MonitorStore::Three(m) => {
+                meter.start();
+                m.predict();
+            }
+        }
+        meter.stop(Work::Predict);
+        Ok(())
+    }
+
+    /// The frame of the monitor's current [`Status`](crate::Status) in `out`; its length.
+    /// [`Error::Config`] when the store is empty.
+    pub fn status_frame(&self, out: &mut [u8]) -> Result<usize, Error> {
+        let view = match self {
+            MonitorStore::Empty => return Err(Error::Config),
+            MonitorStore::Two(m) => StatusView::of(m.status()),
+            MonitorStore::Three(m) => StatusView::of(m.status()),
+        };
+        view.encode(out).map_err(|_| Error::Encode)
+    }
+}
+
 /// How [`run_paths`] reaches the monitor's two paths. The loop (what runs,
 /// in which order, how often) is [`run_paths`]'s alone; an implementation
 /// only says *where* each path runs: [`Direct`] calls the monitor in
 /// place (the host), the firmware hands each sample to its timer
-/// interrupt and runs the prediction slices in its idle loop.
-pub trait Paths<const N: usize> {
+/// interrupt and runs the prediction slices in its idle loop. Not generic
+/// over the joint count: the loop is one copy for every monitor.
+pub trait Paths {
+    /// Joints of the monitor, which the sample frames carry.
+    fn joints(&mut self) -> Result<usize, Error>;
     /// Slices of [`Monitor::predict`] after each sample
     /// ([`Monitor::config_slices_per_sample`]).
     fn slices_per_sample(&mut self) -> Result<u8, Error>;
     /// Runs [`Monitor::update`] on `sample` (the sample-rate path) and
     /// returns once it has.
-    fn update(&mut self, sample: &Sample<N>) -> Result<(), Error>;
+    fn update(&mut self, sample: &CountedSample) -> Result<(), Error>;
     /// Runs one slice of [`Monitor::predict`] (the low-priority path).
     fn predict(&mut self) -> Result<(), Error>;
-    /// Writes the frame of the monitor's current [`Status`] into `out`
+    /// Writes the frame of the monitor's current [`Status`](crate::Status) into `out`
     /// ([`telemetry::encode`]) and returns its length.
     fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error>;
 }
 
-/// Both paths called in place on a monitor the caller holds, each inside
-/// `meter`'s brackets.
-pub struct Direct<'a, const N: usize, M> {
+/// Both paths called in place on the monitor in a store the caller holds,
+/// each inside `meter`'s brackets.
+pub struct Direct<'a, M> {
     /// The monitor.
-    pub monitor: &'a mut Monitor<N>,
+    pub store: &'a mut MonitorStore,
     /// Its meter.
     pub meter: &'a mut M,
 }
 
-impl<const N: usize, M: Meter> Paths<N> for Direct<'_, N, M> {
-    fn slices_per_sample(&mut self) -> Result<u8, Error> {
-        Ok(self.monitor.config_slices_per_sample())
+impl<M: Meter> Paths for Direct<'_, M> {
+    fn joints(&mut self) -> Result<usize, Error> {
+        Ok(self.store.joints())
     }
 
-    fn update(&mut self, sample: &Sample<N>) -> Result<(), Error> {
-        self.meter.start();
-        self.monitor.update(sample);
-        self.meter.stop(Work::Update);
-        Ok(())
+    fn slices_per_sample(&mut self) -> Result<u8, Error> {
+        self.store.slices_per_sample().ok_or(Error::Config)
+    }
+
+    fn update(&mut self, sample: &CountedSample) -> Result<(), Error> {
+        self.store.update(sample, self.meter)
     }
 
     fn predict(&mut self) -> Result<(), Error> {
-        self.meter.start();
-        self.monitor.predict();
-        self.meter.stop(Work::Predict);
-        Ok(())
+        self.store.predict(self.meter)
     }
 
     fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error> {
-        status_frame(self.monitor, out)
+        self.store.status_frame(out)
     }
 }
 
 /// The frame of `monitor`'s current status in `out`; its length.
 pub fn status_frame<const N: usize>(monitor: &Monitor<N>, out: &mut [u8]) -> Result<usize, Error> {
-    let status: &Status<N> = monitor.status();
-    telemetry::encode(status, out)
-        .map(|f| f.len())
+    StatusView::of(monitor.status())
+        .encode(out)
         .map_err(|_| Error::Encode)
 }
 
-/// Replays the sample frames left in `src` through `monitor` in place
-/// ([`Direct`]): [`run_paths`]'s loop.
-#[inline(never)]
-pub fn run<const N: usize, R, W, M>(
-    monitor: &mut Monitor<N>,
+/// Replays the sample frames left in `src` through the monitor in `store`
+/// in place ([`Direct`]): [`run_paths`]'s loop.
+pub fn run<R, W, M>(
+    store: &mut MonitorStore,
     src: &mut Source<R>,
     write: W,
     meter: &mut M,
@@ -543,7 +620,7 @@ where
     W: FnMut(&[u8]) -> Result<(), ()>,
     M: Meter,
 {
-    run_paths(&mut Direct { monitor, meter }, src, write)
+    run_paths(&mut Direct { store, meter }, src, write)
 }
 
 /// The replay loop: the sample frames left in `src`, through the monitor's
@@ -556,22 +633,21 @@ where
 /// of the slices, to `write`. Returns the number of samples. The one
 /// definition of the schedule: the host and the firmware both run it.
 #[inline(never)]
-pub fn run_paths<const N: usize, R, W, P>(
-    paths: &mut P,
-    src: &mut Source<R>,
-    mut write: W,
-) -> Result<u32, Error>
+pub fn run_paths<R, W, P>(paths: &mut P, src: &mut Source<R>, mut write: W) -> Result<u32, Error>
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
     W: FnMut(&[u8]) -> Result<(), ()>,
-    P: Paths<N>,
+    P: Paths,
 {
     let mut frame = [0u8; SAMPLE_FRAME_MAX];
     let mut out = [0u8; STATUS_FRAME_MAX];
     let mut index: u32 = 0;
+    let joints = paths.joints()?;
     let slices = paths.slices_per_sample()?;
     loop {
-        let buf = frame.get_mut(..sample_frame_max(N)).ok_or(Error::Encode)?;
+        let buf = frame
+            .get_mut(..sample_frame_max(joints))
+            .ok_or(Error::Config)?;
         let f = match src.next_frame(buf) {
             Ok(Some(f)) => f,
             Ok(None) => break,
@@ -579,7 +655,7 @@ where
             Err(FrameError::Truncated) => return Err(Error::Truncated),
             Err(FrameError::TooLong) => return Err(Error::Frame { index }),
         };
-        let sample: Sample<N> = telemetry::decode(f).map_err(|_| Error::Frame { index })?;
+        let sample = CountedSample::decode(f, joints).map_err(|_| Error::Frame { index })?;
         paths.update(&sample)?;
         for _ in 0..slices {
             paths.predict()?;
@@ -614,11 +690,7 @@ where
     on_config(&header);
     let mut config = ConfigStore::Empty;
     configure(&header, &mut src, &mut config, store)?;
-    let n = match store {
-        MonitorStore::Two(m) => run(m, &mut src, write, meter),
-        MonitorStore::Three(m) => run(m, &mut src, write, meter),
-        MonitorStore::Empty => Err(Error::Config),
-    }?;
+    let n = run(store, &mut src, write, meter)?;
     Ok((header.joints, n))
 }
 
