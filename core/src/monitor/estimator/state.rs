@@ -6,14 +6,14 @@ use super::clock::Timeline;
 use super::joint::{JointStart, JointState, DEG};
 use super::learning::{Learner, LearningQueue};
 use crate::monitor::config::{
-    ConfigError, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
+    ConfigError, JointConfig, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
 };
 use crate::monitor::latch::LatchConfig;
 use crate::monitor::latch_margin::Engagement;
 use crate::monitor::observer::{FrictionObserver, FrictionPrior, RateFilter};
 use crate::monitor::predictor::Predictor;
 use crate::monitor::status::Status;
-use crate::physics::chain::{Chain, GlobalEffects, JointEffects};
+use crate::physics::chain::{Chain, GlobalEffects, Joint, JointEffects};
 use crate::physics::friction::Friction;
 
 /// The on-board monitor of an `N`-joint deployment.
@@ -76,17 +76,51 @@ impl Windows {
     };
 }
 
-impl Tuning {
-    /// The tuning of `config`'s sensor, observer, latch and margin.
-    fn of<const N: usize>(config: &MonitorConfig<N>) -> Self {
-        let meas_var = meas_var(&config.sensor);
-        Tuning {
-            meas_var,
-            meas_sd: crate::physics::real::sqrtf(meas_var),
-            sensor: config.sensor,
-            observer: config.observer,
-            latch: config.latch,
-            margin: config.margin,
+/// Sets `tuning` to the tuning of `config` and each joint state to its
+/// joint of `config` (as many as `states` holds), waiting for the first
+/// sample: [`Monitor::reset`]'s part that does not depend on the joint
+/// count, one copy for every joint count.
+#[inline(never)]
+fn reset_tuning_and_joints(tuning: &mut Tuning, states: &mut [JointState], config: ConfigRef<'_>) {
+    let meas_var = meas_var(config.sensor);
+    *tuning = Tuning {
+        meas_var,
+        meas_sd: crate::physics::real::sqrtf(meas_var),
+        sensor: *config.sensor,
+        observer: *config.observer,
+        latch: *config.latch,
+        margin: *config.margin,
+    };
+    let sd = config.sensor.encoder_sd_deg * DEG;
+    for (state, c) in states.iter_mut().zip(config.joints) {
+        *state = JointState::new(
+            &JointStart::of(c),
+            sd,
+            config.observer,
+            config.margin.spring_sd_rel,
+        );
+    }
+}
+
+/// A [`MonitorConfig`] of any joint count, its joints as a slice (its
+/// panels are the chain's).
+#[derive(Clone, Copy)]
+struct ConfigRef<'a> {
+    joints: &'a [JointConfig],
+    sensor: &'a SensorConfig,
+    observer: &'a ObserverConfig,
+    latch: &'a LatchConfig,
+    margin: &'a MarginConfig,
+}
+
+impl<'a> ConfigRef<'a> {
+    fn of<const N: usize>(config: &'a MonitorConfig<N>) -> Self {
+        ConfigRef {
+            joints: &config.joints,
+            sensor: &config.sensor,
+            observer: &config.observer,
+            latch: &config.latch,
+            margin: &config.margin,
         }
     }
 }
@@ -97,13 +131,6 @@ fn meas_var(sensor: &SensorConfig) -> f32 {
     let sd = sensor.encoder_sd_deg * DEG;
     let q = sensor.encoder_step_deg * DEG;
     sd * sd + q * q / 12.0
-}
-
-/// [`MonitorConfig::validate`] of one joint, out of line: one copy for
-/// every joint count ([`Monitor::reset`]).
-#[inline(never)]
-fn validate_one(config: &MonitorConfig<1>) -> Result<(), ConfigError> {
-    config.validate()
 }
 
 impl<const N: usize> Monitor<N> {
@@ -160,34 +187,6 @@ impl<const N: usize> Monitor<N> {
         }
     }
 
-    /// [`MonitorConfig::validate`] of `config`, with the same errors in
-    /// the same order, compiled once for all joint counts: each joint is
-    /// checked, with the tuning, as a one-joint configuration (the checks
-    /// take 2.8 KiB of the firmware's flash per joint count otherwise).
-    fn validate_config(config: &MonitorConfig<N>) -> Result<(), ConfigError> {
-        if N == 0 {
-            return config.validate();
-        }
-        let mut tuning = Ok(());
-        for (index, (panel, joint)) in config.panels.iter().zip(&config.joints).enumerate() {
-            let one = MonitorConfig {
-                panels: [*panel],
-                joints: [*joint],
-                sensor: config.sensor,
-                observer: config.observer,
-                latch: config.latch,
-                margin: config.margin,
-            };
-            match validate_one(&one) {
-                Err(ConfigError::Joint { what, .. }) => {
-                    return Err(ConfigError::Joint { index, what })
-                }
-                other => tuning = other,
-            }
-        }
-        tuning
-    }
-
     /// Makes this monitor the one for `config`, waiting for its first
     /// sample, in place: it validates `config` and writes every field where
     /// it is, so that a monitor in static memory is (re)configured without
@@ -195,7 +194,7 @@ impl<const N: usize> Monitor<N> {
     /// start-up, `telemetry::replay`). On an error the monitor is unchanged.
     #[inline(never)]
     pub fn reset(&mut self, config: &MonitorConfig<N>) -> Result<(), ConfigError> {
-        Self::validate_config(config)?;
+        config.validate()?;
         // Every field by name: a field added to `Monitor` must be set here.
         let Monitor {
             chain,
@@ -210,16 +209,7 @@ impl<const N: usize> Monitor<N> {
         } = self;
         // The only check that can fail after `validate`: before any write.
         configure_chain(chain, config)?;
-        *tuning = Tuning::of(config);
-        let sd = config.sensor.encoder_sd_deg * DEG;
-        for (state, c) in joints.iter_mut().zip(config.joints.iter()) {
-            *state = JointState::new(
-                &JointStart::of(c),
-                sd,
-                &config.observer,
-                config.margin.spring_sd_rel,
-            );
-        }
+        reset_tuning_and_joints(tuning, joints, ConfigRef::of(config));
         *timeline = Timeline::START;
         *windows = Windows::CLOSED;
         queue.clear();
@@ -282,11 +272,18 @@ fn configure_chain<const N: usize>(
     *chain.global_mut() = GlobalEffects::default();
     for (j, c) in config.joints.iter().enumerate() {
         if let Some(joint) = chain.joint_mut(j) {
-            joint.stowed_rad = c.stowed_deg * DEG;
-            joint.spring = c.spring;
-            joint.friction = Friction::default();
-            joint.effects = JointEffects::default();
+            configure_joint(joint, c);
         }
     }
     Ok(())
+}
+
+/// Sets the chain's `joint` to `config`'s stowed angle and spring, with no
+/// effects and no friction. Out of line: one copy for every joint count.
+#[inline(never)]
+fn configure_joint(joint: &mut Joint<f32>, config: &JointConfig) {
+    joint.stowed_rad = config.stowed_deg * DEG;
+    joint.spring = config.spring;
+    joint.friction = Friction::default();
+    joint.effects = JointEffects::default();
 }
