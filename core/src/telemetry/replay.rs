@@ -22,6 +22,7 @@
 //! A frame that does not decode stops the replay with its index: a replay
 //! input comes from a file, so a bad frame is a bad file, not line noise.
 
+use crate::monitor::config::ConfigRef;
 use crate::monitor::estimator::MonitorConfig;
 use crate::monitor::estimator::{Monitor, Sample};
 use crate::telemetry::counted::{CountedSample, StatusView};
@@ -204,41 +205,20 @@ pub enum ConfigStore {
     /// No configuration yet.
     #[default]
     Empty,
-    /// A configuration of 2 joints.
-    Two(MonitorConfig<2>),
-    /// A configuration of 3 joints.
-    Three(MonitorConfig<3>),
-}
-
-/// A configuration or monitor of one of the [`JOINT_COUNTS`], as held in
-/// [`ConfigStore`] / [`MonitorStore`]: the generic code of the replay
-/// reaches the slot of its `N` through it.
-pub trait Slot: Sized {
-    /// The configuration of this joint count in `store`, if that is what
-    /// it holds.
-    fn config(store: &mut ConfigStore) -> Option<&mut Self>;
-}
-
-impl Slot for MonitorConfig<2> {
-    fn config(store: &mut ConfigStore) -> Option<&mut Self> {
-        match store {
-            ConfigStore::Two(c) => Some(c),
-            _ => None,
-        }
-    }
-}
-
-impl Slot for MonitorConfig<3> {
-    fn config(store: &mut ConfigStore) -> Option<&mut Self> {
-        match store {
-            ConfigStore::Three(c) => Some(c),
-            _ => None,
-        }
-    }
+    /// A configuration of `joints` joints: the first `joints` panels and
+    /// joints of `config` (the others are placeholders, never read). One
+    /// configuration type for every joint count, so that the code that
+    /// reads it is compiled once.
+    Counted {
+        /// Joints configured, one of [`JOINT_COUNTS`].
+        joints: usize,
+        /// The configuration.
+        config: MonitorConfig<FIRMWARE_MAX_JOINTS>,
+    },
 }
 
 /// The monitor of one of the [`JOINT_COUNTS`] in a [`MonitorStore`].
-pub trait Stored<const N: usize>: Sized {
+pub(crate) trait Stored<const N: usize>: Sized {
     /// The monitor of this joint count in `store`, if that is what it holds.
     fn get(store: &mut MonitorStore) -> Option<&mut Self>;
     /// A store holding a vacant monitor of this joint count, for
@@ -246,10 +226,10 @@ pub trait Stored<const N: usize>: Sized {
     /// by value: the monitor is written straight into the returned store,
     /// which the caller copies into its slot once (one monitor on the
     /// stack, not the two or three that building it there takes).
-    fn vacant(config: &MonitorConfig<N>) -> MonitorStore;
+    fn vacant(config: ConfigRef<'_>) -> MonitorStore;
     /// The monitor of this joint count in `store`: the one it holds, or a
     /// vacant one put there first.
-    fn slot<'s>(store: &'s mut MonitorStore, config: &MonitorConfig<N>) -> Option<&'s mut Self> {
+    fn slot<'s>(store: &'s mut MonitorStore, config: ConfigRef<'_>) -> Option<&'s mut Self> {
         if Self::get(store).is_none() {
             *store = Self::vacant(config);
         }
@@ -266,7 +246,7 @@ impl Stored<2> for Monitor<2> {
     }
 
     #[inline(never)]
-    fn vacant(config: &MonitorConfig<2>) -> MonitorStore {
+    fn vacant(config: ConfigRef<'_>) -> MonitorStore {
         MonitorStore::Two(Monitor::vacant(config))
     }
 }
@@ -280,31 +260,36 @@ impl Stored<3> for Monitor<3> {
     }
 
     #[inline(never)]
-    fn vacant(config: &MonitorConfig<3>) -> MonitorStore {
+    fn vacant(config: ConfigRef<'_>) -> MonitorStore {
         MonitorStore::Three(Monitor::vacant(config))
     }
 }
 
-/// Puts a configuration of `N` joints with placeholder joints (all
-/// overwritten by [`read_config_into`]) and the default tuning in `store`.
-/// Out of line: the placeholder leaves the stack before the joint frames
-/// are read.
+/// Puts a configuration of `joints` joints with placeholder joints (the
+/// first `joints` overwritten by the joint frames) and the default tuning
+/// in `store`, and returns it. Out of line: the placeholder leaves the
+/// stack before the joint frames are read.
 #[inline(never)]
-fn placeholder_config<const N: usize>(store: &mut ConfigStore) -> Result<(), Error>
-where
-    MonitorConfig<N>: Into<ConfigStore>,
-{
+fn placeholder_config(
+    store: &mut ConfigStore,
+    joints: usize,
+) -> Result<&mut MonitorConfig<FIRMWARE_MAX_JOINTS>, Error> {
     let (panel, joint, tuning) = placeholder()?;
-    *store = MonitorConfig {
-        panels: [panel; N],
-        joints: [joint; N],
-        sensor: tuning.sensor,
-        observer: tuning.observer,
-        latch: tuning.latch,
-        margin: tuning.margin,
+    *store = ConfigStore::Counted {
+        joints,
+        config: MonitorConfig {
+            panels: [panel; FIRMWARE_MAX_JOINTS],
+            joints: [joint; FIRMWARE_MAX_JOINTS],
+            sensor: tuning.sensor,
+            observer: tuning.observer,
+            latch: tuning.latch,
+            margin: tuning.margin,
+        },
+    };
+    match store {
+        ConfigStore::Counted { config, .. } => Ok(config),
+        ConfigStore::Empty => Err(Error::Config),
     }
-    .into();
-    Ok(())
 }
 
 /// A placeholder joint (a spring of `None` always builds) and the default
@@ -328,7 +313,6 @@ fn placeholder() -> Result<
 /// Reads the `N` joint frames that follow the header into `config`, one
 /// frame at a time, each joint written in place (with `config` in static
 /// memory, only one joint frame is ever on the stack).
-#[inline(never)]
 pub fn read_config_into<const N: usize, R>(
     header: &ConfigHeader,
     src: &mut Source<R>,
@@ -337,18 +321,36 @@ pub fn read_config_into<const N: usize, R>(
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
 {
-    if usize::from(header.joints) != N {
+    read_joints(header, src, config, N)
+}
+
+/// Reads the `joints` joint frames that follow the header into the first
+/// `joints` panels and joints of `config`, and the header's deadline and
+/// latch into its tuning; [`Error::ConfigFrame`] unless the header gives
+/// `joints` joints and `config` has as many. One copy for every joint
+/// count.
+#[inline(never)]
+fn read_joints<const M: usize, R>(
+    header: &ConfigHeader,
+    src: &mut Source<R>,
+    config: &mut MonitorConfig<M>,
+    joints: usize,
+) -> Result<(), Error>
+where
+    R: FnMut(&mut [u8]) -> Result<usize, ()>,
+{
+    let (Some(panels), Some(frames), true) = (
+        config.panels.get_mut(..joints),
+        config.joints.get_mut(..joints),
+        usize::from(header.joints) == joints,
+    ) else {
         return Err(Error::ConfigFrame);
+    };
+    for (panel, joint) in panels.iter_mut().zip(frames) {
+        read_joint(src, panel, joint)?;
     }
     config.margin.deadline_s = header.deadline_s;
     config.latch.physical = header.latch;
-    for j in 0..N {
-        let (Some(panel), Some(joint)) = (config.panels.get_mut(j), config.joints.get_mut(j))
-        else {
-            return Err(Error::ConfigFrame);
-        };
-        read_joint(src, panel, joint)?;
-    }
     Ok(())
 }
 
@@ -405,28 +407,18 @@ pub fn configure<R>(
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
 {
-    match header.joints {
-        2 => configure_n::<2, R>(header, src, config, store),
-        3 => configure_n::<3, R>(header, src, config, store),
+    if !JOINT_COUNTS.contains(&header.joints) {
+        return Err(Error::ConfigFrame);
+    }
+    let joints = usize::from(header.joints);
+    let c = placeholder_config(config, joints)?;
+    read_joints(header, src, c, joints)?;
+    let c = ConfigRef::first(c, joints).ok_or(Error::ConfigFrame)?;
+    match joints {
+        2 => build_from::<2>(c, store),
+        3 => build_from::<3>(c, store),
         _ => Err(Error::ConfigFrame),
     }
-}
-
-fn configure_n<const N: usize, R>(
-    header: &ConfigHeader,
-    src: &mut Source<R>,
-    config: &mut ConfigStore,
-    store: &mut MonitorStore,
-) -> Result<(), Error>
-where
-    R: FnMut(&mut [u8]) -> Result<usize, ()>,
-    MonitorConfig<N>: Into<ConfigStore> + Slot,
-    Monitor<N>: Stored<N>,
-{
-    placeholder_config::<N>(config)?;
-    let c = MonitorConfig::<N>::config(config).ok_or(Error::Config)?;
-    read_config_into(header, src, c)?;
-    build(c, store)
 }
 
 /// The two kinds of work [`run`] does, each metered on its own.
@@ -694,29 +686,26 @@ where
     Ok((header.joints, n))
 }
 
-/// Builds the monitor of `config` in `store`, in place
-/// ([`Monitor::reset`] on the store's slot): neither a monitor nor a
-/// `Result` of one is ever on the stack, which sets the firmware's stack
-/// peak otherwise (`docs/performance.md`).
-#[inline(never)]
+/// [`build_from`] of a whole configuration.
+#[cfg(test)]
 fn build<const N: usize>(config: &MonitorConfig<N>, store: &mut MonitorStore) -> Result<(), Error>
 where
     Monitor<N>: Stored<N>,
 {
+    build_from(ConfigRef::of(config), store)
+}
+
+/// Builds the monitor of `config` (of `N` joints) in `store`, in place
+/// ([`Monitor::reset`] on the store's slot): neither a monitor nor a
+/// `Result` of one is ever on the stack, which sets the firmware's stack
+/// peak otherwise (`docs/performance.md`).
+#[inline(never)]
+fn build_from<const N: usize>(config: ConfigRef<'_>, store: &mut MonitorStore) -> Result<(), Error>
+where
+    Monitor<N>: Stored<N>,
+{
     let monitor = Monitor::<N>::slot(store, config).ok_or(Error::Config)?;
-    monitor.reset(config).map_err(|_| Error::Config)
-}
-
-impl From<MonitorConfig<2>> for ConfigStore {
-    fn from(c: MonitorConfig<2>) -> Self {
-        ConfigStore::Two(c)
-    }
-}
-
-impl From<MonitorConfig<3>> for ConfigStore {
-    fn from(c: MonitorConfig<3>) -> Self {
-        ConfigStore::Three(c)
-    }
+    monitor.reset_from(config).map_err(|_| Error::Config)
 }
 
 #[cfg(test)]
@@ -779,12 +768,39 @@ mod tests {
         let m = Monitor::<2>::get(&mut store).expect("2 joints");
         assert_eq!(frames(m, &c2, 0, 200), fresh2);
         for (used, c) in [(137, &c3), (91, &c3)] {
-            let m = Monitor::<3>::slot(&mut store, c).expect("3 joints");
+            let m = Monitor::<3>::slot(&mut store, ConfigRef::of(c)).expect("3 joints");
             frames(m, c, 0, used);
             build(c, &mut store).expect("build");
             let m = Monitor::<3>::get(&mut store).expect("3 joints");
             assert_eq!(frames(m, c, 0, 200), fresh3);
         }
+    }
+
+    #[test]
+    fn a_monitor_built_from_the_first_joints_of_a_configuration_answers_as_one_of_them() {
+        // The example's joint j is the same in every joint count.
+        let (c2, mut c3) = (config::<2>(), config::<3>());
+        c3.joints[2].stowed_deg = f32::NAN;
+        let fresh2 = frames(&mut Monitor::new(&c2).expect("config"), &c2, 0, 200);
+        let mut store = MonitorStore::Empty;
+        let first = ConfigRef::first(&c3, 2).expect("2 of 3 joints");
+        build_from::<2>(first, &mut store).expect("the third joint is not read");
+        let m = Monitor::<2>::get(&mut store).expect("2 joints");
+        assert_eq!(frames(m, &c2, 0, 200), fresh2);
+        // A configuration of another joint count is refused, the monitor
+        // as it was.
+        let mut m = Monitor::new(&c2).expect("config");
+        frames(&mut m, &c2, 0, 80);
+        let mut before = m.clone();
+        assert_eq!(
+            m.reset_from(ConfigRef::of(&config::<3>())),
+            Err(ConfigError::Parameter("joint count"))
+        );
+        assert_eq!(
+            frames(&mut m, &c2, 80, 200),
+            frames(&mut before, &c2, 80, 200)
+        );
+        assert!(ConfigRef::first(&c3, 4).is_none());
     }
 
     #[test]

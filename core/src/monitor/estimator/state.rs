@@ -6,14 +6,14 @@ use super::clock::Timeline;
 use super::joint::{JointStart, JointState, DEG};
 use super::learning::{Learner, LearningQueue};
 use crate::monitor::config::{
-    ConfigError, JointConfig, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
+    ConfigError, ConfigRef, JointConfig, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
 };
 use crate::monitor::latch::LatchConfig;
 use crate::monitor::latch_margin::Engagement;
 use crate::monitor::observer::{FrictionObserver, FrictionPrior, RateFilter};
 use crate::monitor::predictor::Predictor;
 use crate::monitor::status::Status;
-use crate::physics::chain::{Chain, GlobalEffects, Joint, JointEffects};
+use crate::physics::chain::{Chain, GlobalEffects, Joint, JointEffects, Panel};
 use crate::physics::friction::Friction;
 
 /// The on-board monitor of an `N`-joint deployment.
@@ -102,29 +102,6 @@ fn reset_tuning_and_joints(tuning: &mut Tuning, states: &mut [JointState], confi
     }
 }
 
-/// A [`MonitorConfig`] of any joint count, its joints as a slice (its
-/// panels are the chain's).
-#[derive(Clone, Copy)]
-struct ConfigRef<'a> {
-    joints: &'a [JointConfig],
-    sensor: &'a SensorConfig,
-    observer: &'a ObserverConfig,
-    latch: &'a LatchConfig,
-    margin: &'a MarginConfig,
-}
-
-impl<'a> ConfigRef<'a> {
-    fn of<const N: usize>(config: &'a MonitorConfig<N>) -> Self {
-        ConfigRef {
-            joints: &config.joints,
-            sensor: &config.sensor,
-            observer: &config.observer,
-            latch: &config.latch,
-            margin: &config.margin,
-        }
-    }
-}
-
 /// Measurement variance of one encoder reading [rad²]: noise and
 /// quantisation, `σ² + Δ²/12`.
 fn meas_var(sensor: &SensorConfig) -> f32 {
@@ -138,7 +115,7 @@ impl<const N: usize> Monitor<N> {
     /// ([`Monitor::reset`] on a vacant monitor: one definition of the
     /// initial state).
     pub fn new(config: &MonitorConfig<N>) -> Result<Self, ConfigError> {
-        let mut m = Self::vacant(config);
+        let mut m = Self::vacant(ConfigRef::of(config));
         m.reset(config)?;
         Ok(m)
     }
@@ -150,7 +127,7 @@ impl<const N: usize> Monitor<N> {
     /// its final place (a static slot) has it written there directly, not
     /// built on the stack.
     #[inline(never)]
-    pub(crate) fn vacant(config: &MonitorConfig<N>) -> Self {
+    pub(crate) fn vacant(config: ConfigRef<'_>) -> Self {
         // A placeholder joint (at the latch, any valid prior; an encoder σ
         // of 1 rad, no spring spread): `reset` replaces it.
         let joint = JointStart {
@@ -164,17 +141,17 @@ impl<const N: usize> Monitor<N> {
             },
             engagement: Engagement::IDEAL,
         };
-        let state = JointState::new(&joint, 1.0, &config.observer, 0.0);
+        let state = JointState::new(&joint, 1.0, config.observer, 0.0);
         // The large parts last: each is written in place only if nothing
         // is built after it (LLVM's call-slot forwarding).
         Monitor {
             tuning: Tuning {
                 meas_var: 0.0,
                 meas_sd: 0.0,
-                sensor: config.sensor,
-                observer: config.observer,
-                latch: config.latch,
-                margin: config.margin,
+                sensor: *config.sensor,
+                observer: *config.observer,
+                latch: *config.latch,
+                margin: *config.margin,
             },
             timeline: Timeline::START,
             windows: Windows::CLOSED,
@@ -192,8 +169,22 @@ impl<const N: usize> Monitor<N> {
     /// it is, so that a monitor in static memory is (re)configured without
     /// a second monitor, or a `Result` of one, on the stack (the firmware's
     /// start-up, `telemetry::replay`). On an error the monitor is unchanged.
-    #[inline(never)]
     pub fn reset(&mut self, config: &MonitorConfig<N>) -> Result<(), ConfigError> {
+        self.reset_from(ConfigRef::of(config))
+    }
+
+    /// [`Monitor::reset`] on a configuration borrowed as slices (the
+    /// replay's, of a joint count known at run time):
+    /// [`ConfigError::Parameter`] `"joint count"` unless it has `N` panels
+    /// and `N` joints.
+    #[inline(never)]
+    pub(crate) fn reset_from(&mut self, config: ConfigRef<'_>) -> Result<(), ConfigError> {
+        let (Ok(panels), true) = (
+            <&[Panel<f32>; N]>::try_from(config.panels),
+            config.joints.len() == N,
+        ) else {
+            return Err(ConfigError::Parameter("joint count"));
+        };
         config.validate()?;
         // Every field by name: a field added to `Monitor` must be set here.
         let Monitor {
@@ -208,8 +199,8 @@ impl<const N: usize> Monitor<N> {
             status,
         } = self;
         // The only check that can fail after `validate`: before any write.
-        configure_chain(chain, config)?;
-        reset_tuning_and_joints(tuning, joints, ConfigRef::of(config));
+        configure_chain(chain, panels, config.joints)?;
+        reset_tuning_and_joints(tuning, joints, config);
         *timeline = Timeline::START;
         *windows = Windows::CLOSED;
         queue.clear();
@@ -259,18 +250,17 @@ impl<const N: usize> Monitor<N> {
     }
 }
 
-/// Sets `chain` to the panels and joints of `config`, with no effects
-/// (no tilt, drag, harness or softening) and no friction: the monitor
-/// estimates the friction itself.
+/// Sets `chain` to `panels` and `joints`, with no effects (no tilt,
+/// drag, harness or softening) and no friction: the monitor estimates the
+/// friction itself.
 fn configure_chain<const N: usize>(
     chain: &mut Chain<f32, N>,
-    config: &MonitorConfig<N>,
+    panels: &[Panel<f32>; N],
+    joints: &[JointConfig],
 ) -> Result<(), ConfigError> {
-    chain
-        .set_panels(&config.panels)
-        .map_err(ConfigError::Chain)?;
+    chain.set_panels(panels).map_err(ConfigError::Chain)?;
     *chain.global_mut() = GlobalEffects::default();
-    for (j, c) in config.joints.iter().enumerate() {
+    for (j, c) in joints.iter().enumerate() {
         if let Some(joint) = chain.joint_mut(j) {
             configure_joint(joint, c);
         }
