@@ -59,34 +59,15 @@ impl CountedSample {
     }
 
     /// The sample as a [`Sample<N>`]; `None` unless it has `N` joints.
-    pub fn to_sample<const N: usize>(&self) -> Option<Sample<N>> {
-        let mut sample = Sample::new(0.0, [0.0; N], [false; N]);
-        self.write_to(&mut sample).then_some(sample)
-    }
-
-    /// Writes the sample into `out`; false (nothing written) unless it has
-    /// `N` joints.
     #[inline(always)]
-    pub fn write_to<const N: usize>(&self, out: &mut Sample<N>) -> bool {
-        self.copy_to(&mut out.t_s, &mut out.phi_deg, &mut out.latch)
-    }
-
-    /// Writes the sample into the fields of a `Sample` of `phi_deg.len()`
-    /// joints; false (nothing written) unless that is its joint count. Out
-    /// of line: one copy for every joint count.
-    #[inline(never)]
-    fn copy_to(&self, t_s: &mut f32, phi_deg: &mut [f32], latch: &mut [bool]) -> bool {
-        let n = self.joints;
-        let (Some(phi), Some(switch)) = (self.phi_deg.get(..n), self.latch.get(..n)) else {
-            return false;
-        };
-        if phi_deg.len() != n || latch.len() != n {
-            return false;
-        }
-        *t_s = self.t_s;
-        phi_deg.copy_from_slice(phi);
-        latch.copy_from_slice(switch);
-        true
+    pub fn to_sample<const N: usize>(&self) -> Option<Sample<N>> {
+        (self.joints == N).then(|| {
+            Sample::new(
+                self.t_s,
+                core::array::from_fn(|j| self.phi_deg.get(j).copied().unwrap_or(0.0)),
+                core::array::from_fn(|j| self.latch.get(j).copied().unwrap_or(false)),
+            )
+        })
     }
 
     /// Reads one frame of a sample of `joints` joints, as

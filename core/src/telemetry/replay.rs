@@ -23,8 +23,8 @@
 //! input comes from a file, so a bad frame is a bad file, not line noise.
 
 use crate::monitor::config::ConfigRef;
+use crate::monitor::estimator::Monitor;
 use crate::monitor::estimator::MonitorConfig;
-use crate::monitor::estimator::{Monitor, Sample};
 use crate::telemetry::counted::{CountedSample, StatusView};
 use crate::telemetry::{self, sample_frame_max, status_frame_max};
 
@@ -489,18 +489,12 @@ impl MonitorStore {
         match self {
             MonitorStore::Empty => return Err(Error::Config),
             MonitorStore::Two(m) => {
-                let mut s = Sample::new(0.0, [0.0; 2], [false; 2]);
-                if !sample.write_to(&mut s) {
-                    return Err(Error::Config);
-                }
+                let s = sample.to_sample().ok_or(Error::Config)?;
                 meter.start();
                 m.update(&s);
             }
             MonitorStore::Three(m) => {
-                let mut s = Sample::new(0.0, [0.0; 3], [false; 3]);
-                if !sample.write_to(&mut s) {
-                    return Err(Error::Config);
-                }
+                let s = sample.to_sample().ok_or(Error::Config)?;
                 meter.start();
                 m.update(&s);
             }
