@@ -690,7 +690,7 @@ where
 }
 
 /// Builds the monitor of `config` (of `N` joints) in `store`, in place
-/// ([`Monitor::reset`] on the store's slot): neither a monitor nor a
+/// ([`Monitor::reset`]'s `reset_from` on the store's slot): neither a monitor nor a
 /// `Result` of one is ever on the stack, which sets the firmware's stack
 /// peak otherwise (`docs/performance.md`).
 #[inline(never)]
