@@ -351,9 +351,13 @@ pub(crate) struct ConfigRef<'a> {
     pub(crate) panels: &'a [Panel<f32>],
     /// Joints, as many as panels.
     pub(crate) joints: &'a [JointConfig],
+    /// The encoder.
     pub(crate) sensor: &'a SensorConfig,
+    /// Rate filter and friction observer.
     pub(crate) observer: &'a ObserverConfig,
+    /// Latch-state estimator.
     pub(crate) latch: &'a LatchConfig,
+    /// Margin and prediction.
     pub(crate) margin: &'a MarginConfig,
 }
 
@@ -381,7 +385,7 @@ impl<'a> ConfigRef<'a> {
     }
 
     /// [`MonitorConfig::validate`]: one copy for every joint count (the
-    /// checks take 1.1 KiB of the firmware's flash).
+    /// checks take 1.4 KiB of the firmware's flash).
     #[inline(never)]
     pub(crate) fn validate(&self) -> Result<(), ConfigError> {
         for (index, j) in self.joints.iter().enumerate() {
