@@ -706,6 +706,7 @@ where
 mod tests {
     use super::*;
     use crate::monitor::estimator::ConfigError;
+    use crate::monitor::estimator::Sample;
     use crate::ChainError;
 
     /// A chain of `N` equal panels on linear springs, stowed at 90°, 100°, …
