@@ -337,7 +337,7 @@ impl WorkMeter {
         }
     }
 
-    /// Ticks since [`WorkMeter::start`], less the meter's own.
+    /// Ticks since [`Meter::start`], less the meter's own.
     #[inline(always)]
     fn elapsed(&self) -> u32 {
         let t1 = SYST::get_current();
