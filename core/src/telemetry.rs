@@ -18,6 +18,7 @@
 //! bytes long.
 
 pub mod config;
+pub mod counted;
 pub mod replay;
 
 use postcard::ser_flavors::crc::CrcModifier;
@@ -74,12 +75,22 @@ pub fn encode<'a, T: Serialize + ?Sized>(value: &T, buf: &'a mut [u8]) -> Result
 /// contents are overwritten); a trailing `0x00` and anything after it are
 /// ignored.
 pub fn decode<'a, T: Deserialize<'a>>(frame: &'a mut [u8]) -> Result<T> {
+    let payload = cobs_payload(frame)?;
+    postcard::from_bytes_crc32(payload, CRC.digest()).map_err(payload_error)
+}
+
+/// The payload of `frame` (postcard bytes and CRC), COBS-decoded in place.
+fn cobs_payload(frame: &mut [u8]) -> Result<&[u8]> {
     let n = cobs::decode_in_place(frame).map_err(|_| TelemetryError::BadFraming)?;
-    let payload = frame.get(..n).ok_or(TelemetryError::BadFraming)?;
-    postcard::from_bytes_crc32(payload, CRC.digest()).map_err(|e| match e {
+    frame.get(..n).ok_or(TelemetryError::BadFraming)
+}
+
+/// The error of a payload postcard did not read.
+fn payload_error(e: postcard::Error) -> TelemetryError {
+    match e {
         postcard::Error::DeserializeBadCrc => TelemetryError::BadCrc,
         _ => TelemetryError::BadPayload,
-    })
+    }
 }
 
 /// Framing overhead: COBS adds one byte per 254 (rounded up, at least one),

@@ -50,11 +50,10 @@ use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::SYST;
 use cortex_m_rt::{entry, exception, ExceptionFrame};
 use defmt_semihosting as _;
+use deploywatch_core::telemetry::counted::CountedSample;
 use deploywatch_core::telemetry::replay::{
-    configure, read_header, run_paths, status_frame, ConfigStore, Error, MonitorStore, Paths,
-    Source, Stored, Work,
+    configure, read_header, run_paths, ConfigStore, Error, Meter, MonitorStore, Paths, Source, Work,
 };
-use deploywatch_core::{Monitor, Sample};
 use semihosting::experimental::env;
 use semihosting::fs::File;
 use semihosting::io::{Read, Write};
@@ -97,29 +96,11 @@ static SHARED: Mutex<RefCell<Shared>> = Mutex::new(RefCell::new(Shared {
 enum Mailbox {
     /// Nothing to do.
     Empty,
-    /// A sample of 2 joints for `Monitor::update`.
-    Two(Sample<2>),
-    /// A sample of 3 joints.
-    Three(Sample<3>),
-    /// `Monitor::update` has run on the sample.
-    Done,
-}
-
-/// A sample of one of the firmware's joint counts, into the mailbox.
-trait Post {
-    fn post(&self) -> Mailbox;
-}
-
-impl Post for Sample<2> {
-    fn post(&self) -> Mailbox {
-        Mailbox::Two(*self)
-    }
-}
-
-impl Post for Sample<3> {
-    fn post(&self) -> Mailbox {
-        Mailbox::Three(*self)
-    }
+    /// A sample (of the monitor's joint count) for `Monitor::update`.
+    Sample(CountedSample),
+    /// `Monitor::update` has run on the sample, or could not (a sample of
+    /// another joint count).
+    Done(Result<(), Error>),
 }
 
 /// Runs `f` on the shared state inside a critical section; `None` if it is
@@ -145,52 +126,42 @@ fn SysTick() {
             mailbox,
             meter,
         } = sh;
-        match (&*mailbox, monitor) {
-            (Mailbox::Two(s), MonitorStore::Two(m)) => {
-                meter.start();
-                m.update(s);
-                meter.stop(Work::Update);
-            }
-            (Mailbox::Three(s), MonitorStore::Three(m)) => {
-                meter.start();
-                m.update(s);
-                meter.stop(Work::Update);
-            }
-            _ => return,
+        if let Mailbox::Sample(s) = mailbox {
+            *mailbox = Mailbox::Done(monitor.update(s, meter));
         }
-        *mailbox = Mailbox::Done;
     });
 }
 
 /// The main loop's side of the two paths (`telemetry::replay::Paths`):
-/// samples to the interrupt, `predict` slices and the status here.
-struct Application<const N: usize>;
+/// samples to the interrupt, `predict` slices and the status here. One
+/// copy for every joint count: the monitor's store dispatches.
+struct Application;
 
-impl<const N: usize> Paths<N> for Application<N>
-where
-    Sample<N>: Post,
-    Monitor<N>: Stored<N>,
-{
+impl Paths for Application {
+    fn joints(&mut self) -> Result<usize, Error> {
+        with_shared(|sh| sh.monitor.joints()).ok_or(Error::Config)
+    }
+
     fn slices_per_sample(&mut self) -> Result<u8, Error> {
-        with_shared(|sh| Monitor::<N>::get(&mut sh.monitor).map(|m| m.config_slices_per_sample()))
+        with_shared(|sh| sh.monitor.slices_per_sample())
             .flatten()
             .ok_or(Error::Config)
     }
 
-    fn update(&mut self, sample: &Sample<N>) -> Result<(), Error> {
-        with_shared(|sh| sh.mailbox = sample.post()).ok_or(Error::Config)?;
+    fn update(&mut self, sample: &CountedSample) -> Result<(), Error> {
+        with_shared(|sh| sh.mailbox = Mailbox::Sample(*sample)).ok_or(Error::Config)?;
         loop {
             // Sleeps until an interrupt; the timer's comes within a period.
             cortex_m::asm::wfi();
-            let done = with_shared(|sh| {
-                let done = matches!(sh.mailbox, Mailbox::Done);
-                if done {
+            let done = with_shared(|sh| match sh.mailbox {
+                Mailbox::Done(result) => {
                     sh.mailbox = Mailbox::Empty;
+                    Some(result)
                 }
-                done
+                _ => None,
             });
-            if done.ok_or(Error::Config)? {
-                return Ok(());
+            if let Some(result) = done.ok_or(Error::Config)? {
+                return result;
             }
         }
     }
@@ -198,21 +169,11 @@ where
     fn predict(&mut self) -> Result<(), Error> {
         // One bounded slice per critical section: the sample interrupt
         // waits at most this long.
-        with_shared(|sh| {
-            let m = Monitor::<N>::get(&mut sh.monitor)?;
-            sh.meter.start();
-            m.predict();
-            sh.meter.stop(Work::Predict);
-            Some(())
-        })
-        .flatten()
-        .ok_or(Error::Config)
+        with_shared(|sh| sh.monitor.predict(&mut sh.meter)).ok_or(Error::Config)?
     }
 
     fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error> {
-        with_shared(|sh| Monitor::<N>::get(&mut sh.monitor).map(|m| status_frame(m, out)))
-            .flatten()
-            .ok_or(Error::Config)?
+        with_shared(|sh| sh.monitor.status_frame(out)).ok_or(Error::Config)?
     }
 }
 
@@ -293,11 +254,7 @@ fn replay() -> Result<u32, Error> {
     let per_tick = calibrate(&mut syst);
     syst.enable_interrupt();
     let write = |frame: &[u8]| output.write_all(frame).map_err(|_| ());
-    let result = match header.joints {
-        2 => run_paths(&mut Application::<2>, &mut src, write),
-        3 => run_paths(&mut Application::<3>, &mut src, write),
-        _ => Err(Error::ConfigFrame),
-    };
+    let result = run_paths(&mut Application, &mut src, write);
     syst.disable_interrupt();
     if let Some(meter) = with_shared(|sh| sh.meter) {
         meter.update.report("Monitor::update", per_tick);
@@ -380,12 +337,7 @@ impl WorkMeter {
         }
     }
 
-    #[inline(always)]
-    fn start(&mut self) {
-        self.t0 = SYST::get_current();
-    }
-
-    /// Ticks since [`WorkMeter::start`], less the meter's own.
+    /// Ticks since [`Meter::start`], less the meter's own.
     #[inline(always)]
     fn elapsed(&self) -> u32 {
         let t1 = SYST::get_current();
@@ -396,6 +348,13 @@ impl WorkMeter {
             self.t0 + SAMPLE_TICKS - t1
         };
         ticks.saturating_sub(self.overhead)
+    }
+}
+
+impl Meter for WorkMeter {
+    #[inline(always)]
+    fn start(&mut self) {
+        self.t0 = SYST::get_current();
     }
 
     #[inline(always)]

@@ -337,6 +337,57 @@ impl<const N: usize> MonitorConfig<N> {
     /// observer, the margin and the latch thresholds; the error names the
     /// first one out of range.
     pub fn validate(&self) -> Result<(), ConfigError> {
+        ConfigRef::of(self).validate()
+    }
+}
+
+/// A [`MonitorConfig`] of any joint count, borrowed, its panels and
+/// joints as slices: what the configuration's checks and the monitor's
+/// construction read, in code compiled once for every joint count (the
+/// firmware's flash holds the monitors of 2 and 3 joints).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ConfigRef<'a> {
+    /// Panels, bus outwards.
+    pub(crate) panels: &'a [Panel<f32>],
+    /// Joints, as many as panels.
+    pub(crate) joints: &'a [JointConfig],
+    /// The encoder.
+    pub(crate) sensor: &'a SensorConfig,
+    /// Rate filter and friction observer.
+    pub(crate) observer: &'a ObserverConfig,
+    /// Latch-state estimator.
+    pub(crate) latch: &'a LatchConfig,
+    /// Margin and prediction.
+    pub(crate) margin: &'a MarginConfig,
+}
+
+impl<'a> ConfigRef<'a> {
+    /// All of `config`.
+    pub(crate) fn of<const N: usize>(config: &'a MonitorConfig<N>) -> Self {
+        ConfigRef {
+            panels: &config.panels,
+            joints: &config.joints,
+            sensor: &config.sensor,
+            observer: &config.observer,
+            latch: &config.latch,
+            margin: &config.margin,
+        }
+    }
+
+    /// The first `n` panels and joints of `config`, with its tuning;
+    /// `None` when it has fewer.
+    pub(crate) fn first<const N: usize>(config: &'a MonitorConfig<N>, n: usize) -> Option<Self> {
+        Some(ConfigRef {
+            panels: config.panels.get(..n)?,
+            joints: config.joints.get(..n)?,
+            ..ConfigRef::of(config)
+        })
+    }
+
+    /// [`MonitorConfig::validate`]: one copy for every joint count (the
+    /// checks take 1.4 KiB of the firmware's flash).
+    #[inline(never)]
+    pub(crate) fn validate(&self) -> Result<(), ConfigError> {
         for (index, j) in self.joints.iter().enumerate() {
             j.check()
                 .map_err(|what| ConfigError::Joint { index, what })?;

@@ -5,11 +5,12 @@
 //! tracker ([`latch`]), the reading checks ([`plausibility`], [`faults`],
 //! [`encoder`]), the torque margin ([`margin`], factors of [`standards`], the
 //! physical latch's engagement in [`latch_margin`])
-//! and the latch / stall prediction ([`predictor`] over [`rollout`]).
+//! and the latch / stall prediction ([`predictor`] over [`rollout`], which ends in [`creep`]).
 //! `core/README.md` maps the two paths.
 
 pub mod bounce;
 pub mod config;
+pub mod creep;
 pub mod encoder;
 pub mod estimator;
 pub mod faults;

@@ -201,7 +201,7 @@ impl<const N: usize> Predictor<N> {
             if bracket == Bracket::Nominal {
                 // The cycle's verdicts: which joints, free at the start,
                 // latch by the deadline, and which do not.
-                let (x, started_latched) = (out.0, r.start().latched);
+                let (x, started_latched) = (out.0, r.started_latched());
                 for j in 0..N {
                     let free = !started_latched[j];
                     let by_deadline = x[j].latches && out.1 + x[j].latch_after_s <= deadline_s;

@@ -40,10 +40,22 @@
 //! optimistic one confirms, holds at that confidence for the friction
 //! estimate; one that the bracket does not confirm is the best estimate only.
 
-use crate::physics::chain::{Chain, ChainState, Mode};
+use crate::physics::chain::{Chain, ChainRef, ChainState, Coefficients, Mode};
 use crate::physics::friction::coulomb_shape;
-use crate::physics::linalg::{articulated_inertias, solve_spd_masked};
+use crate::physics::linalg::{articulated_inertias_n, solve_spd_masked_n};
 use crate::physics::spring::Branch;
+
+pub use crate::monitor::creep::{creep, Creep, CreepJoint, CreepRun};
+
+/// The most joints a rollout holds: the longest chain of `physics.md`
+/// section 1 (`n = 1..4`). The rollout's stepping is written once over
+/// arrays of this capacity with the joint count known at run time
+/// ([`ChainRef`]), so the monitors of every joint count share one copy
+/// of it.
+pub const ROLLOUT_MAX_JOINTS: usize = 4;
+
+/// Capacity of a rollout's per-joint arrays.
+const R: usize = ROLLOUT_MAX_JOINTS;
 
 /// Predicted time every free joint must creep before the rollout settles
 /// the outcome by the creep quadrature, and between two tries [s].
@@ -123,56 +135,112 @@ pub struct JointOutcome {
     pub latch_after_s: f32,
 }
 
-/// One forward simulation in progress.
+/// One forward simulation in progress: a shell over the stepping written
+/// once for every joint count (`Stepper`, [`ROLLOUT_MAX_JOINTS`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rollout<const N: usize> {
-    start: RolloutStart<N>,
-    x: ChainState<f32, N>,
-    latched: [bool; N],
-    latch_after_s: [f32; N],
+    core: Stepper,
+}
+
+/// A rollout's state over arrays of capacity [`ROLLOUT_MAX_JOINTS`], the
+/// first `n` joints in use (the others latched, watched by none).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Stepper {
+    /// Joints in use.
+    n: u8,
+    start: Assumed,
+    x: ChainState<f32, R>,
+    latched: [bool; R],
+    latch_after_s: [f32; R],
     t_s: f32,
     creeping_s: f32,
     /// Each free joint's acceleration in the last step [rad/s²] (∞ before
     /// the first step and after a latch: the next step is a base step).
-    accel: [f32; N],
+    accel: [f32; R],
     done: bool,
     /// The joints whose outcome is wanted: the rollout ends once all of
     /// them have latched (every joint unless [`Rollout::watching`]).
-    watch: [bool; N],
+    watch: [bool; R],
     /// The creep quadrature in progress, resumed slice by slice.
-    settle: Option<Settle<N>>,
+    settle: Option<Settle>,
 }
 
-/// The creep quadrature of a rollout in progress ([`Rollout::settle_creep`]),
+/// What a rollout assumes of each joint ([`RolloutStart`] without the
+/// state, which the rollout moves on from).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Assumed {
+    /// Joints latched at the start.
+    latched: [bool; R],
+    /// Coulomb torque of each joint [N·m].
+    coulomb_nm: [f32; R],
+    /// Viscous coefficient of each joint [N·m·s/rad].
+    viscous_nms: [f32; R],
+    /// Factor on each joint's spring torque [1].
+    spring_scale: [f32; R],
+    /// Capture angle of each joint [rad].
+    capture_rad: [f32; R],
+}
+
+/// The creep quadrature of a rollout in progress (`Stepper::settle_creep`),
 /// one joint after the other, resumable.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Settle<const N: usize> {
+struct Settle {
     /// Time left to the horizon when the quadrature started [s].
     time_left: f32,
     /// Articulated inertia of each joint then [kg·m²].
-    inertia: [f32; N],
+    inertia: [f32; R],
     /// Creep time of each joint settled so far [s] (∞: no latch).
-    after: [f32; N],
+    after: [f32; R],
     /// The joint in progress.
     joint: u8,
     /// Its creep, once begun.
     run: Option<CreepRun>,
 }
 
+/// `v` of `N` joints in an array of capacity [`ROLLOUT_MAX_JOINTS`], the
+/// rest `fill`.
+fn pad<T: Copy, const N: usize>(v: &[T; N], fill: T) -> [T; R] {
+    let mut out = [fill; R];
+    for (o, x) in out.iter_mut().zip(v.iter()) {
+        *o = *x;
+    }
+    out
+}
+
+/// The first `N` of `v`, the rest (none unless `N > R`) `fill`.
+fn unpad<T: Copy, const N: usize>(v: &[T; R], fill: T) -> [T; N] {
+    core::array::from_fn(|j| v.get(j).copied().unwrap_or(fill))
+}
+
 impl<const N: usize> Rollout<N> {
     /// A rollout from `start`, not yet advanced.
     pub fn new(start: RolloutStart<N>) -> Self {
+        const { assert!(N <= ROLLOUT_MAX_JOINTS, "a rollout holds at most 4 joints") };
+        let x = ChainState {
+            phi: pad(&start.state.phi, 0.0),
+            phi_dot: pad(&start.state.phi_dot, 0.0),
+        };
+        let start = Assumed {
+            latched: pad(&start.latched, true),
+            coulomb_nm: pad(&start.coulomb_nm, 0.0),
+            viscous_nms: pad(&start.viscous_nms, 0.0),
+            spring_scale: pad(&start.spring_scale, 1.0),
+            capture_rad: pad(&start.capture_rad, 0.0),
+        };
         Rollout {
-            x: start.state,
-            latched: start.latched,
-            latch_after_s: [0.0; N],
-            t_s: 0.0,
-            creeping_s: 0.0,
-            accel: [f32::INFINITY; N],
-            done: false,
-            watch: [true; N],
-            settle: None,
-            start,
+            core: Stepper {
+                n: N as u8,
+                x,
+                latched: start.latched,
+                latch_after_s: [0.0; R],
+                t_s: 0.0,
+                creeping_s: 0.0,
+                accel: [f32::INFINITY; R],
+                done: false,
+                watch: pad(&[true; N], false),
+                settle: None,
+                start,
+            },
         }
     }
 
@@ -181,35 +249,35 @@ impl<const N: usize> Rollout<N> {
     /// (a bracket that only has to confirm the nominal rollout's latches
     /// stops there). A rollout watching no joint ends at the first step.
     pub fn watching(mut self, watch: [bool; N]) -> Self {
-        self.watch = watch;
+        self.core.watch = pad(&watch, false);
         self
     }
 
-    /// Where the rollout started, with the friction and springs it assumes.
-    pub fn start(&self) -> &RolloutStart<N> {
-        &self.start
+    /// The joints latched when the rollout started.
+    pub fn started_latched(&self) -> [bool; N] {
+        unpad(&self.core.start.latched, true)
     }
 
     /// The joints whose outcome the rollout decides ([`Rollout::watching`]).
     pub fn watch(&self) -> [bool; N] {
-        self.watch
+        unpad(&self.core.watch, false)
     }
 
     /// Time simulated so far [s].
     pub fn elapsed_s(&self) -> f32 {
-        self.t_s
+        self.core.t_s
     }
 
     /// True once the rollout has ended.
     pub fn is_done(&self) -> bool {
-        self.done
+        self.core.done
     }
 
     /// The outcome of each joint (meaningful once done).
     pub fn outcome(&self) -> [JointOutcome; N] {
         core::array::from_fn(|j| JointOutcome {
-            latches: self.latched[j],
-            latch_after_s: self.latch_after_s[j],
+            latches: self.core.latched.get(j).copied().unwrap_or(false),
+            latch_after_s: self.core.latch_after_s.get(j).copied().unwrap_or(0.0),
         })
     }
 
@@ -218,6 +286,38 @@ impl<const N: usize> Rollout<N> {
     /// evaluations of the creep quadrature and snap-through, so that a
     /// slice costs about the same whatever the rollout is doing.
     pub fn advance(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
+        let mut store = Coefficients::default();
+        self.core.advance(&chain.counted_in(&mut store), cfg);
+    }
+}
+
+/// The chain as the rollout evaluates it.
+type Model<'a> = ChainRef<'a, f32, R>;
+
+/// The mass matrix `M(φ)` of the joints in use ([`ChainRef::mass_matrix`]),
+/// out of line: one copy for the rollout's three uses.
+#[inline(never)]
+fn mass_matrix(chain: &Model<'_>, phi: &[f32; R]) -> [[f32; R]; R] {
+    chain.mass_matrix(phi)
+}
+
+/// `M x = b` on the first `n` joints, those not `locked`
+/// ([`solve_spd_masked_n`]), out of line: one copy for the rollout's two
+/// uses. `None` when the free block is not positive definite.
+#[inline(never)]
+fn solve(n: usize, m: &[[f32; R]; R], b: &[f32; R], locked: &[bool; R]) -> Option<[f32; R]> {
+    solve_spd_masked_n(n, m, b, locked).ok()
+}
+
+impl Stepper {
+    /// The joints in use.
+    fn count(&self) -> usize {
+        usize::from(self.n).min(R)
+    }
+
+    /// [`Rollout::advance`], one copy for every joint count.
+    #[inline(never)]
+    fn advance(&mut self, chain: &Model<'_>, cfg: &RolloutConfig) {
         for _ in 0..cfg.steps_per_slice {
             if self.done {
                 return;
@@ -234,38 +334,40 @@ impl<const N: usize> Rollout<N> {
     /// `(M + h C) a = τ_s + τ_f − SᵀC_cor`.
     fn acceleration(
         &self,
-        chain: &Chain<f32, N>,
-        x: &ChainState<f32, N>,
+        chain: &Model<'_>,
+        x: &ChainState<f32, R>,
         h: f32,
         wc: f32,
-    ) -> Option<[f32; N]> {
-        let mut mode = Mode::<N> {
+    ) -> Option<[f32; R]> {
+        let n = self.count();
+        let mut mode = Mode::<R> {
             latched: self.latched,
             ..Mode::default()
         };
-        for j in 0..N {
+        for j in 0..n {
             mode.branch[j] = Branch::select(x.phi[j], x.phi_dot[j]);
         }
         let (mut m, mut rhs) = chain.equations(x, &mode);
-        for j in 0..N {
-            if self.latched[j] {
+        for j in 0..n {
+            let (false, Some(joint)) = (self.latched[j], chain.joints().get(j)) else {
                 continue;
-            }
+            };
             let w = x.phi_dot[j];
-            let spring = chain.joints()[j].spring.torque(x.phi[j], mode.branch[j]);
+            let spring = joint.spring.torque(x.phi[j], mode.branch[j]);
             let tc = self.start.coulomb_nm[j];
             let f = self.start.viscous_nms[j];
             let th = coulomb_shape(w, wc);
             rhs[j] += (self.start.spring_scale[j] - 1.0) * spring - tc * th - f * w;
             m[j][j] += h * (tc * (1.0 - th * th) / wc + f);
         }
-        solve_spd_masked(&m, &rhs, &self.latched).ok()
+        solve(n, &m, &rhs, &self.latched)
     }
 
     /// One step: the midpoint rule (second order), each stage linearly
     /// implicit in the stiff friction; then the latches the step reached,
     /// and the end of the rollout or the start of the creep quadrature.
-    fn step(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
+    fn step(&mut self, chain: &Model<'_>, cfg: &RolloutConfig) {
+        let n = self.count();
         let dt = self.step_length(chain, cfg);
         let wc = cfg.coulomb_threshold_rad_s;
         let Some(crossed) = self.integrate(chain, dt, wc) else {
@@ -276,20 +378,15 @@ impl<const N: usize> Rollout<N> {
         if crossed.iter().any(|c| *c) {
             self.latch_crossed(chain, &crossed, dt);
             // The impact changes every rate: a base step next.
-            self.accel = [f32::INFINITY; N];
+            self.accel = [f32::INFINITY; R];
         }
-        if (0..N).all(|j| self.latched[j] || !self.watch[j]) {
+        if (0..n).all(|j| self.latched[j] || !self.watch[j]) {
             self.done = true;
             return;
         }
-        let creeping = (0..N).all(|j| self.latched[j] || libm::fabsf(self.x.phi_dot[j]) < 2.0 * wc);
+        let creeping = (0..n).all(|j| self.latched[j] || libm::fabsf(self.x.phi_dot[j]) < 2.0 * wc);
         self.creeping_s = if creeping { self.creeping_s + dt } else { 0.0 };
-        let finite = self
-            .x
-            .phi
-            .iter()
-            .chain(self.x.phi_dot.iter())
-            .all(|v| v.is_finite());
+        let finite = (0..n).all(|j| self.x.phi[j].is_finite() && self.x.phi_dot[j].is_finite());
         if !finite || self.t_s >= cfg.horizon_s {
             self.finish();
             return;
@@ -311,11 +408,12 @@ impl<const N: usize> Rollout<N> {
     /// covers at most half of what is left to its capture angle (the latch
     /// too). A step is lengthened only when these allow at least
     /// [`GLIDE_MIN_STEPS`] base steps at once.
-    fn step_length(&self, chain: &Chain<f32, N>, cfg: &RolloutConfig) -> f32 {
+    fn step_length(&self, chain: &Model<'_>, cfg: &RolloutConfig) -> f32 {
+        let n = self.count();
         let base = cfg.dt_s;
         let wc = cfg.coulomb_threshold_rad_s;
         let mut h = cfg.glide_dt_s;
-        for j in 0..N {
+        for j in 0..n {
             if self.latched[j] {
                 continue;
             }
@@ -338,10 +436,10 @@ impl<const N: usize> Rollout<N> {
         if !(h >= GLIDE_MIN_STEPS * base) {
             return base;
         }
-        for (j, joint) in chain.joints().iter().enumerate() {
-            if self.latched[j] {
+        for j in 0..n {
+            let (false, Some(joint)) = (self.latched[j], chain.joints().get(j)) else {
                 continue;
-            }
+            };
             let (phi, w) = (self.x.phi[j], self.x.phi_dot[j]);
             let branch = Branch::select(phi, w);
             let scale = self.start.spring_scale[j];
@@ -359,18 +457,19 @@ impl<const N: usize> Rollout<N> {
     /// stage linearly implicit in the friction (`ω_c` = `wc` [rad/s]).
     /// Returns the joints that reached their capture angle moving inwards,
     /// or `None` when the equations could not be solved.
-    fn integrate(&mut self, chain: &Chain<f32, N>, dt: f32, wc: f32) -> Option<[bool; N]> {
+    fn integrate(&mut self, chain: &Model<'_>, dt: f32, wc: f32) -> Option<[bool; R]> {
+        let n = self.count();
         let a1 = self.acceleration(chain, &self.x, 0.5 * dt, wc)?;
         let mut mid = self.x;
-        for j in 0..N {
+        for j in 0..n {
             if !self.latched[j] {
                 mid.phi_dot[j] += 0.5 * dt * a1[j];
                 mid.phi[j] += 0.5 * dt * self.x.phi_dot[j];
             }
         }
         let a = self.acceleration(chain, &mid, dt, wc)?;
-        let mut crossed = [false; N];
-        for j in 0..N {
+        let mut crossed = [false; R];
+        for j in 0..n {
             if self.latched[j] {
                 self.x.phi_dot[j] = 0.0;
                 continue;
@@ -400,13 +499,21 @@ impl<const N: usize> Rollout<N> {
     /// joint's torque), so they are taken at the capture angle and kept
     /// through the jump to the latch angle and the plastic impact
     /// (physics.md §5).
-    fn latch_crossed(&mut self, chain: &Chain<f32, N>, crossed: &[bool; N], dt: f32) {
-        let p = chain.momentum(&self.x);
+    fn latch_crossed(&mut self, chain: &Model<'_>, crossed: &[bool; R], dt: f32) {
+        let n = self.count();
+        // `p = M(φ) φ̇` (`Chain::momentum`) over the joints in use.
+        let m = mass_matrix(chain, &self.x.phi);
+        let mut p = [0.0f32; R];
+        for i in 0..n {
+            for j in 0..n {
+                p[i] += m[i][j] * self.x.phi_dot[j];
+            }
+        }
         // Time to the latch angle at the rate of the crossing (the
         // snap only shortens it; negative when the step overshot it):
         // the other joints move on meanwhile.
         let mut tau = f32::NEG_INFINITY;
-        for j in 0..N {
+        for j in 0..n {
             if crossed[j] {
                 let w = self.x.phi_dot[j];
                 let t_j = if w != 0.0 { -self.x.phi[j] / w } else { 0.0 };
@@ -417,7 +524,7 @@ impl<const N: usize> Rollout<N> {
         }
         let tau = if tau.is_finite() { tau } else { 0.0 };
         let mut after = self.latched;
-        for j in 0..N {
+        for j in 0..n {
             if crossed[j] {
                 after[j] = true;
                 self.x.phi[j] = 0.0;
@@ -426,15 +533,15 @@ impl<const N: usize> Rollout<N> {
             }
         }
         self.t_s += tau;
-        for j in 0..N {
+        for j in 0..n {
             if crossed[j] {
                 self.latch_after_s[j] = self.t_s;
             }
         }
-        match solve_spd_masked(&chain.mass_matrix(&self.x.phi), &p, &after) {
-            Ok(w) if w.iter().all(|v| v.is_finite()) => self.x.phi_dot = w,
+        match solve(n, &mass_matrix(chain, &self.x.phi), &p, &after) {
+            Some(w) if w.iter().all(|v| v.is_finite()) => self.x.phi_dot = w,
             _ => {
-                for j in 0..N {
+                for j in 0..n {
                     if after[j] {
                         self.x.phi_dot[j] = 0.0;
                     }
@@ -449,13 +556,13 @@ impl<const N: usize> Rollout<N> {
     /// and looks again after another hold, not at every step (the
     /// quadrature and the snap-through cost up to a few hundred spring
     /// evaluations).
-    fn begin_settle(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
-        let m = chain.mass_matrix(&self.x.phi);
-        let inertia = articulated_inertias(&m, &self.latched);
+    fn begin_settle(&mut self, chain: &Model<'_>, cfg: &RolloutConfig) {
+        let m = mass_matrix(chain, &self.x.phi);
+        let inertia = articulated_inertias_n(self.count(), &m, &self.latched);
         self.settle = Some(Settle {
             time_left: cfg.horizon_s - self.t_s,
             inertia: core::array::from_fn(|j| inertia[j].unwrap_or(m[j][j])),
-            after: [f32::INFINITY; N],
+            after: [f32::INFINITY; R],
             joint: 0,
             run: None,
         });
@@ -467,12 +574,13 @@ impl<const N: usize> Rollout<N> {
     /// then its [`creep`] time against the time left. Runs at most `evals`
     /// spring evaluations and resumes at the next call; when some joint may
     /// still break free, drops the quadrature (the integration goes on).
-    fn settle_creep(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig, evals: u16) {
+    fn settle_creep(&mut self, chain: &Model<'_>, cfg: &RolloutConfig, evals: u16) {
         let Some(mut settle) = self.settle.take() else {
             return;
         };
+        let n = self.count();
         let mut budget = evals;
-        while usize::from(settle.joint) < N {
+        while usize::from(settle.joint) < n {
             let j = usize::from(settle.joint);
             if self.latched[j] {
                 settle.joint += 1;
@@ -512,7 +620,7 @@ impl<const N: usize> Rollout<N> {
             settle.run = None;
             settle.joint += 1;
         }
-        for j in 0..N {
+        for j in 0..n {
             if !self.latched[j] && settle.after[j].is_finite() {
                 self.latched[j] = true;
                 self.latch_after_s[j] = self.t_s + settle.after[j];
@@ -542,250 +650,10 @@ pub const GLIDE_MIN_STEPS: f32 = 2.0;
 /// [1].
 pub const GLIDE_TORQUE_CHANGE: f32 = 0.05;
 
-/// Sub-intervals of the creep quadrature.
-const CREEP_PANELS: usize = 8;
-
 /// Spring evaluations of the creep quadrature and snap-through that count
 /// as one unit of a rollout's work (about the instructions of one step of
 /// the chain on the Cortex-M4F: `docs/performance.md`).
 pub const CREEP_EVALS_PER_STEP: u16 = 24;
-
-/// Step of the one-joint snap-through integration [s].
-const SNAP_DT_S: f32 = 0.002;
-
-/// Longest snap-through from a creep the quadrature integrates [s]; a
-/// longer one is left to the rollout.
-const SNAP_LIMIT_S: f32 = 0.5;
-
-/// What quasi-static creep does over the rest of a joint's stroke.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Creep {
-    /// The joint creeps to its capture angle and snaps through to the latch
-    /// in this time [s] (past the horizon: in no less).
-    Covers(f32),
-    /// The spring overcomes the Coulomb torque before the capture angle
-    /// after this time [s] of creep (the joint breaks free and
-    /// accelerates), or the snap-through takes longer than
-    /// [`SNAP_LIMIT_S`]: the rollout has to go on.
-    BreaksFree(f32),
-    /// The spring cannot move the joint (no torque inwards).
-    Stops,
-}
-
-/// One creeping joint, for [`creep`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CreepJoint {
-    /// `|φ|` now [rad].
-    pub from_rad: f32,
-    /// Capture angle [rad] (0 without a snap-through).
-    pub capture_rad: f32,
-    /// Factor on the spring torque [1].
-    pub spring_scale: f32,
-    /// Coulomb torque `T_C` [N·m].
-    pub coulomb_nm: f32,
-    /// Viscous coefficient `f` [N·m·s/rad].
-    pub viscous_nms: f32,
-    /// Articulated inertia `1/(M⁻¹)_jj` [kg·m²] (for the snap-through).
-    pub inertia_kgm2: f32,
-}
-
-/// Quasi-static creep of one joint from `|φ| = from_rad` to its capture
-/// angle, then the snap-through to the latch. With inertia negligible the
-/// friction balances the spring,
-///
-/// ```text
-/// T_C tanh(ω/ω_c) + f ω = s τ_s(φ)  ⇒  ω ≈ ω_c artanh(s τ_s / T_C)
-/// ```
-/// (plus one Newton step for `f`), while `s τ_s < T_C`; the time is
-/// `∫ dφ / ω(φ)` by the midpoint rule over [`CREEP_PANELS`] panels. The
-/// creep rate grows as the spring torque grows along the stroke, so this is
-/// where a constant-rate extrapolation would call a stall too early.
-///
-/// A joint that creeps up to the capture angle does not latch there: it
-/// breaks free where the spring's snap-through peak first exceeds `T_C`
-/// and accelerates from its creep rate, which with the whole outer chain to
-/// move takes a few tenths of a second. That part is integrated for the
-/// joint alone, `I φ̈ = s τ_s − T_C tanh(ω/ω_c) − f ω` with `I` its
-/// articulated inertia, in steps of [`SNAP_DT_S`] linearly implicit in the
-/// friction.
-///
-/// `horizon_s` is the time that matters [s]: the integration stops once it
-/// is passed (the joint does not latch within it either way).
-pub fn creep(
-    spring: &crate::physics::spring::Spring<f32>,
-    joint: &CreepJoint,
-    wc: f32,
-    horizon_s: f32,
-) -> Creep {
-    let mut run = CreepRun::new(*joint, wc, horizon_s);
-    loop {
-        let mut budget = u16::MAX;
-        if let Some(out) = run.run(spring, &mut budget) {
-            return out;
-        }
-    }
-}
-
-/// [`creep`] in progress: resumable, a bounded number of spring
-/// evaluations at a time.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CreepRun {
-    joint: CreepJoint,
-    wc: f32,
-    horizon_s: f32,
-    stage: CreepStage,
-}
-
-/// Where a [`CreepRun`] is.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum CreepStage {
-    /// Panel `k` of the quadrature next, `t` [s] of creep so far.
-    Quadrature { k: u8, t: f32 },
-    /// The snap-through: creep time `t` [s], `|φ|` [rad], rate `w`
-    /// [rad/s] and time of the snap so far [s].
-    Snap { t: f32, abs: f32, w: f32, snap: f32 },
-}
-
-impl CreepRun {
-    /// The creep of `joint` (see [`creep`]), not yet begun.
-    pub fn new(joint: CreepJoint, wc: f32, horizon_s: f32) -> Self {
-        CreepRun {
-            joint,
-            wc,
-            horizon_s,
-            stage: CreepStage::Quadrature { k: 0, t: 0.0 },
-        }
-    }
-
-    /// Goes on for at most `budget` spring evaluations (taken off it);
-    /// `Some` once the outcome is known, `None` when the budget ran out.
-    pub fn run(
-        &mut self,
-        spring: &crate::physics::spring::Spring<f32>,
-        budget: &mut u16,
-    ) -> Option<Creep> {
-        loop {
-            if *budget == 0 {
-                return None;
-            }
-            *budget -= 1;
-            let outcome = match self.stage {
-                CreepStage::Quadrature { k, t } => self.quadrature(spring, k, t),
-                CreepStage::Snap { t, abs, w, snap } => self.snap(spring, t, abs, w, snap),
-            };
-            if outcome.is_some() {
-                return outcome;
-            }
-        }
-    }
-
-    /// Panel `k` of the quadrature after `t` [s] of creep, or, past the
-    /// last panel, the start of the snap-through from the capture angle at
-    /// the creep rate there. `Some` once the outcome is known.
-    fn quadrature(
-        &mut self,
-        spring: &crate::physics::spring::Spring<f32>,
-        k: u8,
-        mut t: f32,
-    ) -> Option<Creep> {
-        let joint = self.joint;
-        let wc = self.wc;
-        let (scale, tc, f) = (joint.spring_scale, joint.coulomb_nm, joint.viscous_nms);
-        let to_rad = joint.capture_rad.max(0.0);
-        let span = joint.from_rad - to_rad;
-        if span > 0.0 && usize::from(k) < CREEP_PANELS {
-            let h = span / CREEP_PANELS as f32;
-            let abs = joint.from_rad - (f32::from(k) + 0.5) * h;
-            let torque = scale * spring.magnitude(abs, Branch::Unfold);
-            if !(torque > 0.0) {
-                return Some(Creep::Stops);
-            }
-            if !(torque < tc) {
-                return Some(Creep::BreaksFree(t));
-            }
-            match creep_rate(torque, tc, f, wc) {
-                Some(w) => t += h / w,
-                None => return Some(Creep::Stops),
-            }
-            self.stage = CreepStage::Quadrature { k: k + 1, t };
-            return None;
-        }
-        let abs = to_rad.min(joint.from_rad.max(0.0));
-        let w = creep_rate(scale * spring.magnitude(abs, Branch::Unfold), tc, f, wc).unwrap_or(0.0);
-        if !(joint.inertia_kgm2 > 0.0) {
-            return Some(Creep::BreaksFree(t));
-        }
-        self.stage = CreepStage::Snap {
-            t,
-            abs,
-            w,
-            snap: 0.0,
-        };
-        None
-    }
-
-    /// One step of the snap-through after `t` [s] of creep, at `|φ|` =
-    /// `abs` [rad] with rate `w` [rad/s], `snap` [s] into it. `Some` once
-    /// the outcome is known.
-    fn snap(
-        &mut self,
-        spring: &crate::physics::spring::Spring<f32>,
-        t: f32,
-        mut abs: f32,
-        mut w: f32,
-        mut snap: f32,
-    ) -> Option<Creep> {
-        let joint = self.joint;
-        let wc = self.wc;
-        let (scale, tc, f) = (joint.spring_scale, joint.coulomb_nm, joint.viscous_nms);
-        let inertia = joint.inertia_kgm2;
-        if abs > 0.0 {
-            if t + snap > self.horizon_s {
-                return Some(Creep::Covers(t + snap));
-            }
-            if snap >= SNAP_LIMIT_S {
-                return Some(Creep::BreaksFree(t + snap));
-            }
-            let th = coulomb_shape(w, wc);
-            let torque = scale * spring.magnitude(abs, Branch::Unfold) - tc * th - f * w;
-            let damping = tc * (1.0 - th * th) / wc + f;
-            let dw = SNAP_DT_S * torque / (inertia + SNAP_DT_S * damping);
-            let step = SNAP_DT_S * (w + 0.5 * dw);
-            if !step.is_finite() {
-                return Some(Creep::Stops);
-            }
-            if !(step >= abs && step > 0.0) {
-                abs -= step;
-                w += dw;
-                snap += SNAP_DT_S;
-                self.stage = CreepStage::Snap { t, abs, w, snap };
-                return None;
-            }
-            snap += SNAP_DT_S * abs / step;
-        }
-        let total = t + snap;
-        Some(if total.is_finite() {
-            Creep::Covers(total)
-        } else {
-            Creep::Stops
-        })
-    }
-}
-
-/// The quasi-static creep rate [rad/s] under a spring torque `torque`
-/// below `T_C`: `ω_c artanh(τ/T_C)`, then one Newton step on
-/// `T_C tanh(ω/ω_c) + f ω − τ = 0` for the viscous part. `None` when the
-/// spring cannot move the joint or overcomes the friction.
-fn creep_rate(torque: f32, tc: f32, f: f32, wc: f32) -> Option<f32> {
-    if !(torque > 0.0) || !(torque < tc) {
-        return None;
-    }
-    let w0 = wc * libm::atanhf(torque / tc);
-    let th = libm::tanhf(w0 / wc);
-    let slope = tc * (1.0 - th * th) / wc + f;
-    let w = if slope > 0.0 { w0 - f * w0 / slope } else { w0 };
-    (w > 0.0 && w.is_finite()).then_some(w)
-}
 
 /// `z` with `Φ(z) = p` for `p` in (0.5, 1), by Newton's method on the
 /// normal distribution function (a handful of `erfc`/`exp` calls, run only

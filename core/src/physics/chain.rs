@@ -324,171 +324,64 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
     /// Absolute panel angles `θ = S φ` [rad].
     #[inline]
     pub fn absolute(phi: &[T; N]) -> [T; N] {
-        let mut th = [T::ZERO; N];
-        let mut acc = T::ZERO;
-        for i in 0..N {
-            acc += phi[i];
-            th[i] = acc;
-        }
-        th
+        absolute(N, phi)
     }
 
-    /// `(cos θ_k, sin θ_k)` for every panel.
+    /// The chain's equations over its `N` joints ([`ChainRef`]).
     #[inline]
-    fn trig(theta: &[T; N]) -> ([T; N], [T; N]) {
-        let mut c = [T::ZERO; N];
-        let mut s = [T::ZERO; N];
-        for k in 0..N {
-            (s[k], c[k]) = theta[k].sin_cos();
+    pub fn counted(&self) -> ChainRef<'_, T, N, K> {
+        ChainRef {
+            n: N,
+            a: &self.a,
+            mass_moment: &self.mass_moment,
+            panels: &self.panels,
+            joints: &self.joints,
+            global: &self.global,
         }
-        (c, s)
     }
 
-    /// `Sᵀ x`: `(Sᵀ x)_j = Σ_{k ≥ j} x_k`.
-    #[inline]
-    fn st(x: &[T; N]) -> [T; N] {
-        let mut y = [T::ZERO; N];
-        let mut acc = T::ZERO;
-        for j in (0..N).rev() {
-            acc += x[j];
-            y[j] = acc;
-        }
-        y
-    }
-
-    /// `Sᵀ D S` from `D`.
-    #[inline]
-    fn congruence(d: &[[T; N]; N]) -> [[T; N]; N] {
-        // R = D S (suffix sums along columns), M = Sᵀ R (suffix sums along rows).
-        let mut r = [[T::ZERO; N]; N];
-        for a in 0..N {
-            let mut acc = T::ZERO;
-            for k in (0..N).rev() {
-                acc += d[a][k];
-                r[a][k] = acc;
+    /// The chain's equations over arrays of capacity `M` holding its `N`
+    /// joints (`N ≤ M`; of a longer chain, its first `M` joints): the
+    /// inertia coefficients and mass moments are copied into `store`,
+    /// zero-padded. One copy of the code that evaluates the equations
+    /// serves chains of every joint count up to `M`.
+    pub fn counted_in<'a, const M: usize>(
+        &'a self,
+        store: &'a mut Coefficients<T, M>,
+    ) -> ChainRef<'a, T, M, K> {
+        let n = N.min(M);
+        for k in 0..n {
+            for l in 0..n {
+                store.a[k][l] = self.a[k][l];
             }
+            store.mass_moment[k] = self.mass_moment[k];
         }
-        let mut m = [[T::ZERO; N]; N];
-        for k in 0..N {
-            let mut acc = T::ZERO;
-            for j in (0..N).rev() {
-                acc += r[j][k];
-                m[j][k] = acc;
-            }
+        ChainRef {
+            n,
+            a: &store.a,
+            mass_moment: &store.mass_moment,
+            panels: &self.panels,
+            joints: &self.joints,
+            global: &self.global,
         }
-        m
     }
 
     /// The mass matrix in joint coordinates `M(φ) = Sᵀ D(θ) S` [kg·m²].
     pub fn mass_matrix(&self, phi: &[T; N]) -> [[T; N]; N] {
-        let th = Self::absolute(phi);
-        let (c, s) = Self::trig(&th);
-        let mut d = [[T::ZERO; N]; N];
-        for k in 0..N {
-            for l in 0..N {
-                d[k][l] = self.a[k][l] * (c[k] * c[l] + s[k] * s[l]);
-            }
-        }
-        Self::congruence(&d)
+        self.counted().mass_matrix(phi)
     }
 
     /// Torque on joint `j` [N·m] from its spring, friction and joint effects,
     /// at angle `phi` [rad] and rate `phi_dot` [rad/s] on `branch`.
     #[inline]
     pub fn joint_torque(&self, j: usize, phi: T, phi_dot: T, branch: Branch) -> T {
-        let Some(jt) = self.joints.get(j) else {
-            return T::ZERO;
-        };
-        let e = &jt.effects;
-        let mut t = jt.spring.torque(phi, branch);
-        if e.spring_softening != T::ZERO {
-            t *= T::ONE - e.spring_softening;
-        }
-        t += jt.friction.torque(phi_dot);
-        // `coulomb_friction` (physics.md 6): the EFT of the one friction law.
-        if e.coulomb_nm != T::ZERO {
-            t += crate::physics::friction::Friction::coulomb(e.coulomb_nm).torque(phi_dot);
-        }
-        t -= e.viscous_nms * phi_dot;
-        t += e.harness_nm_per_rad * (jt.stowed_rad - phi);
-        if e.detent_nm != T::ZERO {
-            let delta = T::of(DETENT_ZONE_DEG).to_radians();
-            let a = phi.abs();
-            if a < delta {
-                let two_pi = T::of(2.0) * T::PI;
-                t -= e.detent_nm * phi.signum0() * (two_pi * a / delta).sin();
-            }
-        }
-        t + e.table.torque(phi, phi_dot)
-    }
-
-    /// Generalised forces of the distributed effects conjugate to the
-    /// absolute angles, `Q_ext` [N·m]: rig tilt and air drag.
-    fn external(&self, c: &[T; N], s: &[T; N], theta_dot: &[T; N]) -> [T; N] {
-        let mut q = [T::ZERO; N];
-        let g = &self.global;
-        if g.tilt_m_s2 != T::ZERO {
-            // Q_k = g_t sin(α − θ_k) Σ_i m_i a_ik
-            let (ca, sa) = (g.tilt_alpha_rad.cos(), g.tilt_alpha_rad.sin());
-            for k in 0..N {
-                q[k] += g.tilt_m_s2 * (sa * c[k] - ca * s[k]) * self.mass_moment[k];
-            }
-        }
-        if g.air_drag_kg_m2 != T::ZERO {
-            let half = T::of(0.5);
-            for i in 0..N {
-                // v_n(s) = Σ_{k<i} L_k θ̇_k cos(θ_i − θ_k) + s θ̇_i
-                let mut base = T::ZERO;
-                for k in 0..i {
-                    base += self.panels[k].length_m * theta_dot[k] * (c[i] * c[k] + s[i] * s[k]);
-                }
-                let len = self.panels[i].length_m;
-                let (mut f0, mut f1) = (T::ZERO, T::ZERO);
-                for &(x, w) in GAUSS8.iter() {
-                    let sp = half * len * (T::ONE + T::of(x));
-                    let wp = half * len * T::of(w);
-                    let vn = base + sp * theta_dot[i];
-                    let f = -g.air_drag_kg_m2 * vn * vn.abs();
-                    f0 += wp * f;
-                    f1 += wp * f * sp;
-                }
-                for k in 0..i {
-                    q[k] += self.panels[k].length_m * (c[i] * c[k] + s[i] * s[k]) * f0;
-                }
-                q[i] += f1;
-            }
-        }
-        q
+        self.counted().joint_torque(j, phi, phi_dot, branch)
     }
 
     /// Mass matrix and right-hand side `τ + Sᵀ(Q_ext − C)` of Lagrange's
     /// equations in joint coordinates.
     pub fn equations(&self, x: &ChainState<T, N>, mode: &Mode<N>) -> ([[T; N]; N], [T; N]) {
-        let th = Self::absolute(&x.phi);
-        let thd = Self::absolute(&x.phi_dot);
-        let (c, s) = Self::trig(&th);
-        let mut d = [[T::ZERO; N]; N];
-        let mut cor = [T::ZERO; N];
-        for k in 0..N {
-            for l in 0..N {
-                let cos_kl = c[k] * c[l] + s[k] * s[l];
-                let sin_kl = s[k] * c[l] - c[k] * s[l];
-                d[k][l] = self.a[k][l] * cos_kl;
-                cor[k] += self.a[k][l] * sin_kl * thd[l] * thd[l];
-            }
-        }
-        let q = self.external(&c, &s, &thd);
-        let mut diff = [T::ZERO; N];
-        for k in 0..N {
-            diff[k] = q[k] - cor[k];
-        }
-        let mut rhs = Self::st(&diff);
-        for j in 0..N {
-            if !mode.latched[j] {
-                rhs[j] += self.joint_torque(j, x.phi[j], x.phi_dot[j], mode.branch[j]);
-            }
-        }
-        (Self::congruence(&d), rhs)
+        self.counted().equations(x, mode)
     }
 
     /// Joint accelerations `φ̈` [rad/s²]; zero for latched joints.
@@ -585,180 +478,242 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+/// The inertia coefficients and mass moments of a chain, zero-padded to a
+/// capacity of `M` joints, for [`Chain::counted_in`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coefficients<T, const M: usize> {
+    /// `A_kl` [kg·m²].
+    a: [[T; M]; M],
+    /// `Σ_i m_i a_ik` [kg·m].
+    mass_moment: [T; M],
+}
 
-    fn panel() -> Panel<f64> {
-        Panel {
-            length_m: 0.8,
-            mass_kg: 3.5,
-            com_m: 0.4,
-            inertia_kgm2: 0.27,
+impl<T: Real, const M: usize> Default for Coefficients<T, M> {
+    fn default() -> Self {
+        Coefficients {
+            a: [[T::ZERO; M]; M],
+            mass_moment: [T::ZERO; M],
         }
-    }
-
-    fn joint(stowed: f64) -> Joint<f64> {
-        Joint {
-            stowed_rad: stowed,
-            spring: Spring::Linear {
-                preload_nm: 1.0,
-                stiffness_nm_per_rad: 0.5,
-                count: 1.0,
-            },
-            friction: Friction::default(),
-            effects: JointEffects::default(),
-        }
-    }
-
-    fn chain3() -> Chain<f64, 3> {
-        Chain::new(
-            [panel(); 3],
-            [joint(-1.0), joint(2.0), joint(-2.0)],
-            GlobalEffects::default(),
-        )
-        .unwrap()
-    }
-
-    #[test]
-    fn mass_matrix_matches_kinetic_energy_by_finite_velocities() {
-        // ½ φ̇ᵀ M φ̇ equals Σ ½ (m |ṙ|² + I θ̇²) computed from positions.
-        let c = chain3();
-        let phi = [0.3, -1.1, 0.7];
-        let phid = [0.5, -0.2, 1.3];
-        let x = ChainState { phi, phi_dot: phid };
-        let ke = c.kinetic_energy(&x);
-        let pos = |phi: &[f64; 3]| {
-            let th = Chain::<f64, 3>::absolute(phi);
-            let mut h = (0.0, 0.0);
-            let mut r = [(0.0, 0.0); 3];
-            for i in 0..3 {
-                r[i] = (h.0 + 0.4 * th[i].cos(), h.1 + 0.4 * th[i].sin());
-                h = (h.0 + 0.8 * th[i].cos(), h.1 + 0.8 * th[i].sin());
-            }
-            (r, th)
-        };
-        let eps = 1e-6;
-        let mut p1 = phi;
-        let mut p0 = phi;
-        for j in 0..3 {
-            p1[j] += eps * phid[j];
-            p0[j] -= eps * phid[j];
-        }
-        let (r1, t1) = pos(&p1);
-        let (r0, t0) = pos(&p0);
-        let mut ke2 = 0.0;
-        for i in 0..3 {
-            let vx = (r1[i].0 - r0[i].0) / (2.0 * eps);
-            let vy = (r1[i].1 - r0[i].1) / (2.0 * eps);
-            let w = (t1[i] - t0[i]) / (2.0 * eps);
-            ke2 += 0.5 * (3.5 * (vx * vx + vy * vy) + 0.27 * w * w);
-        }
-        assert!((ke - ke2).abs() < 1e-8 * ke2, "{ke} vs {ke2}");
-    }
-
-    #[test]
-    fn latch_impulse_stops_the_joint_and_keeps_the_others_momentum() {
-        let c = chain3();
-        let x = ChainState {
-            phi: [0.0, -0.4, 0.9],
-            phi_dot: [1.5, -0.8, 0.6],
-        };
-        let after = c.latch_impulse(&x, &[true, false, false]).unwrap();
-        assert_eq!(after[0], 0.0);
-        let m = c.mass_matrix(&x.phi);
-        let p0 = mat_vec(&m, &x.phi_dot);
-        let p1 = mat_vec(&m, &after);
-        assert!((p0[1] - p1[1]).abs() < 1e-12 && (p0[2] - p1[2]).abs() < 1e-12);
-        // A plastic impact never adds energy.
-        let x1 = ChainState {
-            phi: x.phi,
-            phi_dot: after,
-        };
-        assert!(c.kinetic_energy(&x1) < c.kinetic_energy(&x));
-    }
-
-    #[test]
-    fn tilt_force_is_minus_the_potential_gradient() {
-        let mut c = chain3();
-        c.global_mut().tilt_m_s2 = 0.3;
-        c.global_mut().tilt_alpha_rad = 0.7;
-        for j in 0..3 {
-            c.joint_mut(j).unwrap().spring = Spring::None;
-        }
-        let phi = [0.2, -0.5, 1.0];
-        let x = ChainState {
-            phi,
-            phi_dot: [0.0; 3],
-        };
-        let (_, rhs) = c.equations(&x, &Mode::default());
-        for j in 0..3 {
-            let mut a = phi;
-            let mut b = phi;
-            a[j] += 1e-6;
-            b[j] -= 1e-6;
-            let grad = (c.potential_energy(&a) - c.potential_energy(&b)) / 2e-6;
-            assert!((rhs[j] + grad).abs() < 1e-7, "{j}: {} vs {}", rhs[j], -grad);
-        }
-    }
-
-    #[test]
-    fn missing_torque_is_the_torque_an_extra_effect_adds() {
-        // Accelerations of a chain with a viscous damper at joint 2, seen by
-        // the chain without it: the missing torque is −f φ̇₂ at joint 2 only.
-        let plain = chain3();
-        let mut damped = plain;
-        damped.joint_mut(1).unwrap().effects.viscous_nms = 0.7;
-        let x = ChainState {
-            phi: [0.2, -0.5, 1.0],
-            phi_dot: [0.4, -1.0, 2.0],
-        };
-        let mode = Mode::default();
-        let acc = damped.acceleration(&x, &mode).unwrap();
-        let tau = plain.missing_torque(&x, &acc, &mode);
-        assert!(tau[0].abs() < 1e-12 && tau[2].abs() < 1e-12, "{tau:?}");
-        assert!((tau[1] - 0.7).abs() < 1e-12, "{tau:?}");
-        let latched = Mode {
-            latched: [true, false, false],
-            ..Mode::default()
-        };
-        let acc = damped.acceleration(&x, &latched).unwrap();
-        let tau = plain.missing_torque(&x, &acc, &latched);
-        assert_eq!(tau[0], 0.0);
-        assert!((tau[1] - 0.7).abs() < 1e-12, "{tau:?}");
-    }
-
-    #[test]
-    fn air_drag_dissipates() {
-        let mut c = chain3();
-        c.global_mut().air_drag_kg_m2 = 0.25;
-        for j in 0..3 {
-            c.joint_mut(j).unwrap().spring = Spring::None;
-        }
-        let x = ChainState {
-            phi: [0.2, -0.5, 1.0],
-            phi_dot: [0.4, -1.0, 2.0],
-        };
-        let (_, rhs) = c.equations(&x, &Mode::default());
-        // Power of the drag forces: Σ τ_j φ̇_j < 0 (Coriolis does no work).
-        let m = c.mass_matrix(&x.phi);
-        let _ = m;
-        let cor_free = {
-            let mut c2 = c;
-            c2.global_mut().air_drag_kg_m2 = 0.0;
-            c2.equations(&x, &Mode::default()).1
-        };
-        let power: f64 = (0..3).map(|j| (rhs[j] - cor_free[j]) * x.phi_dot[j]).sum();
-        assert!(power < 0.0);
-    }
-
-    #[test]
-    fn bad_panel_is_an_error() {
-        let mut p = [panel(); 3];
-        p[1].mass_kg = 0.0;
-        assert_eq!(
-            Chain::new(p, [joint(1.0); 3], GlobalEffects::default()).err(),
-            Some(ChainError::BadPanel { index: 1 })
-        );
     }
 }
+
+/// A chain's equations over arrays of capacity `M` holding `n ≤ M` joints,
+/// the count known at run time ([`Chain::counted`], [`Chain::counted_in`]).
+/// Every loop runs over the first `n` joints in the order of the fixed-size
+/// chain, so the arithmetic is that of [`Chain`] bit for bit; entries past
+/// `n` of the arrays it returns are zero. The methods of [`Chain`] are
+/// shells over these (with `n = N`), and a caller written once over `M`
+/// serves chains of every joint count up to `M` with one copy of the code.
+#[derive(Clone, Copy, Debug)]
+pub struct ChainRef<'a, T, const M: usize, const K: usize = TABLE_MAX_KNOTS> {
+    /// Joints in use, `≤ M`, `≤` the joints and panels held.
+    n: usize,
+    a: &'a [[T; M]; M],
+    mass_moment: &'a [T; M],
+    panels: &'a [Panel<T>],
+    joints: &'a [Joint<T, K>],
+    global: &'a GlobalEffects<T>,
+}
+
+impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
+    /// The number of joints in use.
+    #[inline(always)]
+    pub fn joint_count(&self) -> usize {
+        self.n.min(M)
+    }
+
+    /// The joints in use.
+    #[inline(always)]
+    pub fn joints(&self) -> &[Joint<T, K>] {
+        self.joints.get(..self.joint_count()).unwrap_or(&[])
+    }
+
+    /// The mass matrix in joint coordinates `M(φ) = Sᵀ D(θ) S` [kg·m²].
+    #[inline(always)]
+    pub fn mass_matrix(&self, phi: &[T; M]) -> [[T; M]; M] {
+        let n = self.joint_count();
+        let th = absolute(n, phi);
+        let (c, s) = trig(n, &th);
+        let mut d = [[T::ZERO; M]; M];
+        for k in 0..n {
+            for l in 0..n {
+                d[k][l] = self.a[k][l] * (c[k] * c[l] + s[k] * s[l]);
+            }
+        }
+        congruence(n, &d)
+    }
+
+    /// Torque on joint `j` [N·m] from its spring, friction and joint effects,
+    /// at angle `phi` [rad] and rate `phi_dot` [rad/s] on `branch`.
+    #[inline(always)]
+    pub fn joint_torque(&self, j: usize, phi: T, phi_dot: T, branch: Branch) -> T {
+        let Some(jt) = self.joints.get(j) else {
+            return T::ZERO;
+        };
+        let e = &jt.effects;
+        let mut t = jt.spring.torque(phi, branch);
+        if e.spring_softening != T::ZERO {
+            t *= T::ONE - e.spring_softening;
+        }
+        t += jt.friction.torque(phi_dot);
+        // `coulomb_friction` (physics.md 6): the EFT of the one friction law.
+        if e.coulomb_nm != T::ZERO {
+            t += crate::physics::friction::Friction::coulomb(e.coulomb_nm).torque(phi_dot);
+        }
+        t -= e.viscous_nms * phi_dot;
+        t += e.harness_nm_per_rad * (jt.stowed_rad - phi);
+        if e.detent_nm != T::ZERO {
+            let delta = T::of(DETENT_ZONE_DEG).to_radians();
+            let a = phi.abs();
+            if a < delta {
+                let two_pi = T::of(2.0) * T::PI;
+                t -= e.detent_nm * phi.signum0() * (two_pi * a / delta).sin();
+            }
+        }
+        t + e.table.torque(phi, phi_dot)
+    }
+
+    /// Length `L_k` of panel `k` [m] (0 past the panels).
+    #[inline(always)]
+    fn length(&self, k: usize) -> T {
+        self.panels.get(k).map_or(T::ZERO, |p| p.length_m)
+    }
+
+    /// Generalised forces of the distributed effects conjugate to the
+    /// absolute angles, `Q_ext` [N·m]: rig tilt and air drag.
+    #[inline(always)]
+    fn external(&self, c: &[T; M], s: &[T; M], theta_dot: &[T; M]) -> [T; M] {
+        let n = self.joint_count();
+        let mut q = [T::ZERO; M];
+        let g = self.global;
+        if g.tilt_m_s2 != T::ZERO {
+            // Q_k = g_t sin(α − θ_k) Σ_i m_i a_ik
+            let (ca, sa) = (g.tilt_alpha_rad.cos(), g.tilt_alpha_rad.sin());
+            for k in 0..n {
+                q[k] += g.tilt_m_s2 * (sa * c[k] - ca * s[k]) * self.mass_moment[k];
+            }
+        }
+        if g.air_drag_kg_m2 != T::ZERO {
+            let half = T::of(0.5);
+            for i in 0..n {
+                // v_n(s) = Σ_{k<i} L_k θ̇_k cos(θ_i − θ_k) + s θ̇_i
+                let mut base = T::ZERO;
+                for k in 0..i {
+                    base += self.length(k) * theta_dot[k] * (c[i] * c[k] + s[i] * s[k]);
+                }
+                let len = self.length(i);
+                let (mut f0, mut f1) = (T::ZERO, T::ZERO);
+                for &(x, w) in GAUSS8.iter() {
+                    let sp = half * len * (T::ONE + T::of(x));
+                    let wp = half * len * T::of(w);
+                    let vn = base + sp * theta_dot[i];
+                    let f = -g.air_drag_kg_m2 * vn * vn.abs();
+                    f0 += wp * f;
+                    f1 += wp * f * sp;
+                }
+                for k in 0..i {
+                    q[k] += self.length(k) * (c[i] * c[k] + s[i] * s[k]) * f0;
+                }
+                q[i] += f1;
+            }
+        }
+        q
+    }
+
+    /// Mass matrix and right-hand side `τ + Sᵀ(Q_ext − C)` of Lagrange's
+    /// equations in joint coordinates.
+    #[inline(always)]
+    pub fn equations(&self, x: &ChainState<T, M>, mode: &Mode<M>) -> ([[T; M]; M], [T; M]) {
+        let n = self.joint_count();
+        let th = absolute(n, &x.phi);
+        let thd = absolute(n, &x.phi_dot);
+        let (c, s) = trig(n, &th);
+        let mut d = [[T::ZERO; M]; M];
+        let mut cor = [T::ZERO; M];
+        for k in 0..n {
+            for l in 0..n {
+                let cos_kl = c[k] * c[l] + s[k] * s[l];
+                let sin_kl = s[k] * c[l] - c[k] * s[l];
+                d[k][l] = self.a[k][l] * cos_kl;
+                cor[k] += self.a[k][l] * sin_kl * thd[l] * thd[l];
+            }
+        }
+        let q = self.external(&c, &s, &thd);
+        let mut diff = [T::ZERO; M];
+        for k in 0..n {
+            diff[k] = q[k] - cor[k];
+        }
+        let mut rhs = st(n, &diff);
+        for j in 0..n {
+            if !mode.latched[j] {
+                rhs[j] += self.joint_torque(j, x.phi[j], x.phi_dot[j], mode.branch[j]);
+            }
+        }
+        (congruence(n, &d), rhs)
+    }
+}
+
+/// Absolute panel angles `θ = S φ` [rad] of the first `n ≤ M` joints.
+#[inline(always)]
+fn absolute<T: Real, const M: usize>(n: usize, phi: &[T; M]) -> [T; M] {
+    let n = n.min(M);
+    let mut th = [T::ZERO; M];
+    let mut acc = T::ZERO;
+    for i in 0..n {
+        acc += phi[i];
+        th[i] = acc;
+    }
+    th
+}
+
+/// `(cos θ_k, sin θ_k)` for the first `n ≤ M` panels.
+#[inline(always)]
+fn trig<T: Real, const M: usize>(n: usize, theta: &[T; M]) -> ([T; M], [T; M]) {
+    let n = n.min(M);
+    let mut c = [T::ZERO; M];
+    let mut s = [T::ZERO; M];
+    for k in 0..n {
+        (s[k], c[k]) = theta[k].sin_cos();
+    }
+    (c, s)
+}
+
+/// `Sᵀ x`: `(Sᵀ x)_j = Σ_{j ≤ k < n} x_k`.
+#[inline(always)]
+fn st<T: Real, const M: usize>(n: usize, x: &[T; M]) -> [T; M] {
+    let n = n.min(M);
+    let mut y = [T::ZERO; M];
+    let mut acc = T::ZERO;
+    for j in (0..n).rev() {
+        acc += x[j];
+        y[j] = acc;
+    }
+    y
+}
+
+/// `Sᵀ D S` from `D`, over the first `n ≤ M` joints.
+#[inline(always)]
+fn congruence<T: Real, const M: usize>(n: usize, d: &[[T; M]; M]) -> [[T; M]; M] {
+    let n = n.min(M);
+    // R = D S (suffix sums along columns), M = Sᵀ R (suffix sums along rows).
+    let mut r = [[T::ZERO; M]; M];
+    for a in 0..n {
+        let mut acc = T::ZERO;
+        for k in (0..n).rev() {
+            acc += d[a][k];
+            r[a][k] = acc;
+        }
+    }
+    let mut m = [[T::ZERO; M]; M];
+    for k in 0..n {
+        let mut acc = T::ZERO;
+        for j in (0..n).rev() {
+            acc += r[j][k];
+            m[j][k] = acc;
+        }
+    }
+    m
+}
+
+#[cfg(test)]
+mod tests;

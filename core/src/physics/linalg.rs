@@ -31,14 +31,29 @@ pub fn solve_spd_masked<T: Real, const N: usize>(
     b: &[T; N],
     locked: &[bool; N],
 ) -> Result<[T; N], SolveError> {
-    let mut l = [[T::ZERO; N]; N];
-    ldl_masked(m, locked, &mut l)?;
-    Ok(substitute(&l, b, locked))
+    solve_spd_masked_n(N, m, b, locked)
+}
+
+/// [`solve_spd_masked`] on the first `n ≤ M` coordinates of arrays of
+/// capacity `M` (the joint count known at run time; entries past `n` of
+/// the result are zero). The same arithmetic in the same order as with
+/// `M = n`.
+#[inline(always)]
+pub fn solve_spd_masked_n<T: Real, const M: usize>(
+    n: usize,
+    m: &[[T; M]; M],
+    b: &[T; M],
+    locked: &[bool; M],
+) -> Result<[T; M], SolveError> {
+    let mut l = [[T::ZERO; M]; M];
+    ldl_masked(n, m, locked, &mut l)?;
+    Ok(substitute(n, &l, b, locked))
 }
 
 /// The factors of `M = L D Lᵀ` (`L` unit lower triangular, `D` diagonal)
-/// of the free block, `D` on the diagonal of the result and `L` below it;
-/// locked rows and columns hold the identity. The square-root-free form
+/// of the free block of the first `n` coordinates, `D` on the diagonal
+/// of the result and `L` below it; locked rows and columns hold the
+/// identity. The square-root-free form
 /// of Cholesky's factorisation (Golub & Van Loan, *Matrix Computations*,
 /// 4th ed., §4.1.2): the same arithmetic without the `N` square roots,
 /// which a Cortex-M4F computes in software.
@@ -51,11 +66,12 @@ pub fn solve_spd_masked<T: Real, const N: usize>(
 /// returned `Result` of the matrix is copied once more on the MCU (a
 /// `memcpy` of 36 bytes at 3 joints, twice per solve).
 fn ldl_masked<T: Real, const N: usize>(
+    n: usize,
     m: &[[T; N]; N],
     locked: &[bool; N],
     l: &mut [[T; N]; N],
 ) -> Result<(), SolveError> {
-    for i in 0..N {
+    for i in 0..n.min(N) {
         if locked[i] {
             l[i][i] = T::ONE;
             continue;
@@ -84,10 +100,17 @@ fn ldl_masked<T: Real, const N: usize>(
     Ok(())
 }
 
-/// `L y = b`, `D z = y`, then `Lᵀ x = z`, on the free coordinates.
-fn substitute<T: Real, const N: usize>(l: &[[T; N]; N], b: &[T; N], locked: &[bool; N]) -> [T; N] {
+/// `L y = b`, `D z = y`, then `Lᵀ x = z`, on the free coordinates of
+/// the first `n`.
+fn substitute<T: Real, const N: usize>(
+    n: usize,
+    l: &[[T; N]; N],
+    b: &[T; N],
+    locked: &[bool; N],
+) -> [T; N] {
+    let n = n.min(N);
     let mut y = [T::ZERO; N];
-    for i in 0..N {
+    for i in 0..n {
         if locked[i] {
             continue;
         }
@@ -98,12 +121,12 @@ fn substitute<T: Real, const N: usize>(l: &[[T; N]; N], b: &[T; N], locked: &[bo
         y[i] = s;
     }
     let mut x = [T::ZERO; N];
-    for i in (0..N).rev() {
+    for i in (0..n).rev() {
         if locked[i] {
             continue;
         }
         let mut s = y[i] / l[i][i];
-        for k in i + 1..N {
+        for k in i + 1..n {
             s -= l[k][i] * x[k];
         }
         x[i] = s;
@@ -121,17 +144,28 @@ pub fn articulated_inertias<T: Real, const N: usize>(
     m: &[[T; N]; N],
     locked: &[bool; N],
 ) -> [Option<T>; N] {
-    let mut l = [[T::ZERO; N]; N];
-    if ldl_masked(m, locked, &mut l).is_err() {
-        return [None; N];
+    articulated_inertias_n(N, m, locked)
+}
+
+/// [`articulated_inertias`] of the first `n ≤ M` coordinates of arrays of
+/// capacity `M` (`None` past `n`); the same arithmetic as with `M = n`.
+#[inline(always)]
+pub fn articulated_inertias_n<T: Real, const M: usize>(
+    n: usize,
+    m: &[[T; M]; M],
+    locked: &[bool; M],
+) -> [Option<T>; M] {
+    let mut l = [[T::ZERO; M]; M];
+    if ldl_masked(n, m, locked, &mut l).is_err() {
+        return [None; M];
     }
     core::array::from_fn(|j| {
-        if locked[j] {
+        if j >= n || locked[j] {
             return None;
         }
-        let mut e = [T::ZERO; N];
+        let mut e = [T::ZERO; M];
         e[j] = T::ONE;
-        let d = substitute(&l, &e, locked)[j];
+        let d = substitute(n, &l, &e, locked)[j];
         let i = T::ONE / d;
         (d > T::ZERO && i.is_finite()).then_some(i)
     })
@@ -151,12 +185,12 @@ pub fn articulated_inertia<T: Real, const N: usize>(
         return None;
     }
     let mut l = [[T::ZERO; N]; N];
-    ldl_masked(m, locked, &mut l).ok()?;
+    ldl_masked(N, m, locked, &mut l).ok()?;
     let mut e = [T::ZERO; N];
     if let Some(ej) = e.get_mut(j) {
         *ej = T::ONE;
     }
-    let d = substitute(&l, &e, locked).get(j).copied()?;
+    let d = substitute(N, &l, &e, locked).get(j).copied()?;
     let i = T::ONE / d;
     (d > T::ZERO && i.is_finite()).then_some(i)
 }

@@ -22,8 +22,10 @@
 //! A frame that does not decode stops the replay with its index: a replay
 //! input comes from a file, so a bad frame is a bad file, not line noise.
 
+use crate::monitor::config::ConfigRef;
+use crate::monitor::estimator::Monitor;
 use crate::monitor::estimator::MonitorConfig;
-use crate::monitor::estimator::{Monitor, Sample, Status};
+use crate::telemetry::counted::{CountedSample, StatusView};
 use crate::telemetry::{self, sample_frame_max, status_frame_max};
 
 pub use super::config::{ConfigHeader, JointFrame, FIRMWARE_MAX_JOINTS, JOINT_COUNTS};
@@ -203,41 +205,20 @@ pub enum ConfigStore {
     /// No configuration yet.
     #[default]
     Empty,
-    /// A configuration of 2 joints.
-    Two(MonitorConfig<2>),
-    /// A configuration of 3 joints.
-    Three(MonitorConfig<3>),
-}
-
-/// A configuration or monitor of one of the [`JOINT_COUNTS`], as held in
-/// [`ConfigStore`] / [`MonitorStore`]: the generic code of the replay
-/// reaches the slot of its `N` through it.
-pub trait Slot: Sized {
-    /// The configuration of this joint count in `store`, if that is what
-    /// it holds.
-    fn config(store: &mut ConfigStore) -> Option<&mut Self>;
-}
-
-impl Slot for MonitorConfig<2> {
-    fn config(store: &mut ConfigStore) -> Option<&mut Self> {
-        match store {
-            ConfigStore::Two(c) => Some(c),
-            _ => None,
-        }
-    }
-}
-
-impl Slot for MonitorConfig<3> {
-    fn config(store: &mut ConfigStore) -> Option<&mut Self> {
-        match store {
-            ConfigStore::Three(c) => Some(c),
-            _ => None,
-        }
-    }
+    /// A configuration of `joints` joints: the first `joints` panels and
+    /// joints of `config` (the others are placeholders, never read). One
+    /// configuration type for every joint count, so that the code that
+    /// reads it is compiled once.
+    Counted {
+        /// Joints configured, one of [`JOINT_COUNTS`].
+        joints: usize,
+        /// The configuration.
+        config: MonitorConfig<FIRMWARE_MAX_JOINTS>,
+    },
 }
 
 /// The monitor of one of the [`JOINT_COUNTS`] in a [`MonitorStore`].
-pub trait Stored<const N: usize>: Sized {
+pub(crate) trait Stored<const N: usize>: Sized {
     /// The monitor of this joint count in `store`, if that is what it holds.
     fn get(store: &mut MonitorStore) -> Option<&mut Self>;
     /// A store holding a vacant monitor of this joint count, for
@@ -245,10 +226,10 @@ pub trait Stored<const N: usize>: Sized {
     /// by value: the monitor is written straight into the returned store,
     /// which the caller copies into its slot once (one monitor on the
     /// stack, not the two or three that building it there takes).
-    fn vacant(config: &MonitorConfig<N>) -> MonitorStore;
+    fn vacant(config: ConfigRef<'_>) -> MonitorStore;
     /// The monitor of this joint count in `store`: the one it holds, or a
     /// vacant one put there first.
-    fn slot<'s>(store: &'s mut MonitorStore, config: &MonitorConfig<N>) -> Option<&'s mut Self> {
+    fn slot<'s>(store: &'s mut MonitorStore, config: ConfigRef<'_>) -> Option<&'s mut Self> {
         if Self::get(store).is_none() {
             *store = Self::vacant(config);
         }
@@ -265,7 +246,7 @@ impl Stored<2> for Monitor<2> {
     }
 
     #[inline(never)]
-    fn vacant(config: &MonitorConfig<2>) -> MonitorStore {
+    fn vacant(config: ConfigRef<'_>) -> MonitorStore {
         MonitorStore::Two(Monitor::vacant(config))
     }
 }
@@ -279,31 +260,36 @@ impl Stored<3> for Monitor<3> {
     }
 
     #[inline(never)]
-    fn vacant(config: &MonitorConfig<3>) -> MonitorStore {
+    fn vacant(config: ConfigRef<'_>) -> MonitorStore {
         MonitorStore::Three(Monitor::vacant(config))
     }
 }
 
-/// Puts a configuration of `N` joints with placeholder joints (all
-/// overwritten by [`read_config_into`]) and the default tuning in `store`.
-/// Out of line: the placeholder leaves the stack before the joint frames
-/// are read.
+/// Puts a configuration of `joints` joints with placeholder joints (the
+/// first `joints` overwritten by the joint frames) and the default tuning
+/// in `store`, and returns it. Out of line: the placeholder leaves the
+/// stack before the joint frames are read.
 #[inline(never)]
-fn placeholder_config<const N: usize>(store: &mut ConfigStore) -> Result<(), Error>
-where
-    MonitorConfig<N>: Into<ConfigStore>,
-{
+fn placeholder_config(
+    store: &mut ConfigStore,
+    joints: usize,
+) -> Result<&mut MonitorConfig<FIRMWARE_MAX_JOINTS>, Error> {
     let (panel, joint, tuning) = placeholder()?;
-    *store = MonitorConfig {
-        panels: [panel; N],
-        joints: [joint; N],
-        sensor: tuning.sensor,
-        observer: tuning.observer,
-        latch: tuning.latch,
-        margin: tuning.margin,
+    *store = ConfigStore::Counted {
+        joints,
+        config: MonitorConfig {
+            panels: [panel; FIRMWARE_MAX_JOINTS],
+            joints: [joint; FIRMWARE_MAX_JOINTS],
+            sensor: tuning.sensor,
+            observer: tuning.observer,
+            latch: tuning.latch,
+            margin: tuning.margin,
+        },
+    };
+    match store {
+        ConfigStore::Counted { config, .. } => Ok(config),
+        ConfigStore::Empty => Err(Error::Config),
     }
-    .into();
-    Ok(())
 }
 
 /// A placeholder joint (a spring of `None` always builds) and the default
@@ -327,7 +313,6 @@ fn placeholder() -> Result<
 /// Reads the `N` joint frames that follow the header into `config`, one
 /// frame at a time, each joint written in place (with `config` in static
 /// memory, only one joint frame is ever on the stack).
-#[inline(never)]
 pub fn read_config_into<const N: usize, R>(
     header: &ConfigHeader,
     src: &mut Source<R>,
@@ -336,18 +321,36 @@ pub fn read_config_into<const N: usize, R>(
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
 {
-    if usize::from(header.joints) != N {
+    read_joints(header, src, config, N)
+}
+
+/// Reads the `joints` joint frames that follow the header into the first
+/// `joints` panels and joints of `config`, and the header's deadline and
+/// latch into its tuning; [`Error::ConfigFrame`] unless the header gives
+/// `joints` joints and `config` has as many. One copy for every joint
+/// count.
+#[inline(never)]
+fn read_joints<const M: usize, R>(
+    header: &ConfigHeader,
+    src: &mut Source<R>,
+    config: &mut MonitorConfig<M>,
+    joints: usize,
+) -> Result<(), Error>
+where
+    R: FnMut(&mut [u8]) -> Result<usize, ()>,
+{
+    let (Some(panels), Some(frames), true) = (
+        config.panels.get_mut(..joints),
+        config.joints.get_mut(..joints),
+        usize::from(header.joints) == joints,
+    ) else {
         return Err(Error::ConfigFrame);
+    };
+    for (panel, joint) in panels.iter_mut().zip(frames) {
+        read_joint(src, panel, joint)?;
     }
     config.margin.deadline_s = header.deadline_s;
     config.latch.physical = header.latch;
-    for j in 0..N {
-        let (Some(panel), Some(joint)) = (config.panels.get_mut(j), config.joints.get_mut(j))
-        else {
-            return Err(Error::ConfigFrame);
-        };
-        read_joint(src, panel, joint)?;
-    }
     Ok(())
 }
 
@@ -404,28 +407,18 @@ pub fn configure<R>(
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
 {
-    match header.joints {
-        2 => configure_n::<2, R>(header, src, config, store),
-        3 => configure_n::<3, R>(header, src, config, store),
+    if !JOINT_COUNTS.contains(&header.joints) {
+        return Err(Error::ConfigFrame);
+    }
+    let joints = usize::from(header.joints);
+    let c = placeholder_config(config, joints)?;
+    read_joints(header, src, c, joints)?;
+    let c = ConfigRef::first(c, joints).ok_or(Error::ConfigFrame)?;
+    match joints {
+        2 => build_from::<2>(c, store),
+        3 => build_from::<3>(c, store),
         _ => Err(Error::ConfigFrame),
     }
-}
-
-fn configure_n<const N: usize, R>(
-    header: &ConfigHeader,
-    src: &mut Source<R>,
-    config: &mut ConfigStore,
-    store: &mut MonitorStore,
-) -> Result<(), Error>
-where
-    R: FnMut(&mut [u8]) -> Result<usize, ()>,
-    MonitorConfig<N>: Into<ConfigStore> + Slot,
-    Monitor<N>: Stored<N>,
-{
-    placeholder_config::<N>(config)?;
-    let c = MonitorConfig::<N>::config(config).ok_or(Error::Config)?;
-    read_config_into(header, src, c)?;
-    build(c, store)
 }
 
 /// The two kinds of work [`run`] does, each metered on its own.
@@ -469,71 +462,141 @@ pub enum MonitorStore {
     Three(Monitor<3>),
 }
 
+impl MonitorStore {
+    /// Joints of the monitor held (0 when empty).
+    pub fn joints(&self) -> usize {
+        match self {
+            MonitorStore::Empty => 0,
+            MonitorStore::Two(_) => 2,
+            MonitorStore::Three(_) => 3,
+        }
+    }
+
+    /// Slices of [`Monitor::predict`] after each sample
+    /// ([`Monitor::config_slices_per_sample`]); `None` when empty.
+    pub fn slices_per_sample(&self) -> Option<u8> {
+        match self {
+            MonitorStore::Empty => None,
+            MonitorStore::Two(m) => Some(m.config_slices_per_sample()),
+            MonitorStore::Three(m) => Some(m.config_slices_per_sample()),
+        }
+    }
+
+    /// [`Monitor::update`] on `sample`, inside `meter`'s brackets (the
+    /// sample's conversion stays outside them). [`Error::Config`] when the
+    /// sample is not of the monitor's joint count or the store is empty.
+    pub fn update<M: Meter>(&mut self, sample: &CountedSample, meter: &mut M) -> Result<(), Error> {
+        match self {
+            MonitorStore::Empty => return Err(Error::Config),
+            MonitorStore::Two(m) => {
+                let s = sample.to_sample().ok_or(Error::Config)?;
+                meter.start();
+                m.update(&s);
+            }
+            MonitorStore::Three(m) => {
+                let s = sample.to_sample().ok_or(Error::Config)?;
+                meter.start();
+                m.update(&s);
+            }
+        }
+        meter.stop(Work::Update);
+        Ok(())
+    }
+
+    /// One slice of [`Monitor::predict`], inside `meter`'s brackets;
+    /// [`Error::Config`] when the store is empty.
+    pub fn predict<M: Meter>(&mut self, meter: &mut M) -> Result<(), Error> {
+        match self {
+            MonitorStore::Empty => return Err(Error::Config),
+            MonitorStore::Two(m) => {
+                meter.start();
+                m.predict();
+            }
+            MonitorStore::Three(m) => {
+                meter.start();
+                m.predict();
+            }
+        }
+        meter.stop(Work::Predict);
+        Ok(())
+    }
+
+    /// The frame of the monitor's current [`Status`](crate::Status) in `out`; its length.
+    /// [`Error::Config`] when the store is empty.
+    pub fn status_frame(&self, out: &mut [u8]) -> Result<usize, Error> {
+        let view = match self {
+            MonitorStore::Empty => return Err(Error::Config),
+            MonitorStore::Two(m) => StatusView::of(m.status()),
+            MonitorStore::Three(m) => StatusView::of(m.status()),
+        };
+        view.encode(out).map_err(|_| Error::Encode)
+    }
+}
+
 /// How [`run_paths`] reaches the monitor's two paths. The loop (what runs,
 /// in which order, how often) is [`run_paths`]'s alone; an implementation
 /// only says *where* each path runs: [`Direct`] calls the monitor in
 /// place (the host), the firmware hands each sample to its timer
-/// interrupt and runs the prediction slices in its idle loop.
-pub trait Paths<const N: usize> {
+/// interrupt and runs the prediction slices in its idle loop. Not generic
+/// over the joint count: the loop is one copy for every monitor.
+pub trait Paths {
+    /// Joints of the monitor, which the sample frames carry.
+    fn joints(&mut self) -> Result<usize, Error>;
     /// Slices of [`Monitor::predict`] after each sample
     /// ([`Monitor::config_slices_per_sample`]).
     fn slices_per_sample(&mut self) -> Result<u8, Error>;
     /// Runs [`Monitor::update`] on `sample` (the sample-rate path) and
     /// returns once it has.
-    fn update(&mut self, sample: &Sample<N>) -> Result<(), Error>;
+    fn update(&mut self, sample: &CountedSample) -> Result<(), Error>;
     /// Runs one slice of [`Monitor::predict`] (the low-priority path).
     fn predict(&mut self) -> Result<(), Error>;
-    /// Writes the frame of the monitor's current [`Status`] into `out`
+    /// Writes the frame of the monitor's current [`Status`](crate::Status) into `out`
     /// ([`telemetry::encode`]) and returns its length.
     fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error>;
 }
 
-/// Both paths called in place on a monitor the caller holds, each inside
-/// `meter`'s brackets.
-pub struct Direct<'a, const N: usize, M> {
+/// Both paths called in place on the monitor in a store the caller holds,
+/// each inside `meter`'s brackets.
+pub struct Direct<'a, M> {
     /// The monitor.
-    pub monitor: &'a mut Monitor<N>,
+    pub store: &'a mut MonitorStore,
     /// Its meter.
     pub meter: &'a mut M,
 }
 
-impl<const N: usize, M: Meter> Paths<N> for Direct<'_, N, M> {
-    fn slices_per_sample(&mut self) -> Result<u8, Error> {
-        Ok(self.monitor.config_slices_per_sample())
+impl<M: Meter> Paths for Direct<'_, M> {
+    fn joints(&mut self) -> Result<usize, Error> {
+        Ok(self.store.joints())
     }
 
-    fn update(&mut self, sample: &Sample<N>) -> Result<(), Error> {
-        self.meter.start();
-        self.monitor.update(sample);
-        self.meter.stop(Work::Update);
-        Ok(())
+    fn slices_per_sample(&mut self) -> Result<u8, Error> {
+        self.store.slices_per_sample().ok_or(Error::Config)
+    }
+
+    fn update(&mut self, sample: &CountedSample) -> Result<(), Error> {
+        self.store.update(sample, self.meter)
     }
 
     fn predict(&mut self) -> Result<(), Error> {
-        self.meter.start();
-        self.monitor.predict();
-        self.meter.stop(Work::Predict);
-        Ok(())
+        self.store.predict(self.meter)
     }
 
     fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error> {
-        status_frame(self.monitor, out)
+        self.store.status_frame(out)
     }
 }
 
 /// The frame of `monitor`'s current status in `out`; its length.
 pub fn status_frame<const N: usize>(monitor: &Monitor<N>, out: &mut [u8]) -> Result<usize, Error> {
-    let status: &Status<N> = monitor.status();
-    telemetry::encode(status, out)
-        .map(|f| f.len())
+    StatusView::of(monitor.status())
+        .encode(out)
         .map_err(|_| Error::Encode)
 }
 
-/// Replays the sample frames left in `src` through `monitor` in place
-/// ([`Direct`]): [`run_paths`]'s loop.
-#[inline(never)]
-pub fn run<const N: usize, R, W, M>(
-    monitor: &mut Monitor<N>,
+/// Replays the sample frames left in `src` through the monitor in `store`
+/// in place ([`Direct`]): [`run_paths`]'s loop.
+pub fn run<R, W, M>(
+    store: &mut MonitorStore,
     src: &mut Source<R>,
     write: W,
     meter: &mut M,
@@ -543,7 +606,7 @@ where
     W: FnMut(&[u8]) -> Result<(), ()>,
     M: Meter,
 {
-    run_paths(&mut Direct { monitor, meter }, src, write)
+    run_paths(&mut Direct { store, meter }, src, write)
 }
 
 /// The replay loop: the sample frames left in `src`, through the monitor's
@@ -556,22 +619,21 @@ where
 /// of the slices, to `write`. Returns the number of samples. The one
 /// definition of the schedule: the host and the firmware both run it.
 #[inline(never)]
-pub fn run_paths<const N: usize, R, W, P>(
-    paths: &mut P,
-    src: &mut Source<R>,
-    mut write: W,
-) -> Result<u32, Error>
+pub fn run_paths<R, W, P>(paths: &mut P, src: &mut Source<R>, mut write: W) -> Result<u32, Error>
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
     W: FnMut(&[u8]) -> Result<(), ()>,
-    P: Paths<N>,
+    P: Paths,
 {
     let mut frame = [0u8; SAMPLE_FRAME_MAX];
     let mut out = [0u8; STATUS_FRAME_MAX];
     let mut index: u32 = 0;
+    let joints = paths.joints()?;
     let slices = paths.slices_per_sample()?;
     loop {
-        let buf = frame.get_mut(..sample_frame_max(N)).ok_or(Error::Encode)?;
+        let buf = frame
+            .get_mut(..sample_frame_max(joints))
+            .ok_or(Error::Config)?;
         let f = match src.next_frame(buf) {
             Ok(Some(f)) => f,
             Ok(None) => break,
@@ -579,7 +641,7 @@ where
             Err(FrameError::Truncated) => return Err(Error::Truncated),
             Err(FrameError::TooLong) => return Err(Error::Frame { index }),
         };
-        let sample: Sample<N> = telemetry::decode(f).map_err(|_| Error::Frame { index })?;
+        let sample = CountedSample::decode(f, joints).map_err(|_| Error::Frame { index })?;
         paths.update(&sample)?;
         for _ in 0..slices {
             paths.predict()?;
@@ -614,43 +676,37 @@ where
     on_config(&header);
     let mut config = ConfigStore::Empty;
     configure(&header, &mut src, &mut config, store)?;
-    let n = match store {
-        MonitorStore::Two(m) => run(m, &mut src, write, meter),
-        MonitorStore::Three(m) => run(m, &mut src, write, meter),
-        MonitorStore::Empty => Err(Error::Config),
-    }?;
+    let n = run(store, &mut src, write, meter)?;
     Ok((header.joints, n))
 }
 
-/// Builds the monitor of `config` in `store`, in place
-/// ([`Monitor::reset`] on the store's slot): neither a monitor nor a
-/// `Result` of one is ever on the stack, which sets the firmware's stack
-/// peak otherwise (`docs/performance.md`).
-#[inline(never)]
+/// [`build_from`] of a whole configuration.
+#[cfg(test)]
 fn build<const N: usize>(config: &MonitorConfig<N>, store: &mut MonitorStore) -> Result<(), Error>
 where
     Monitor<N>: Stored<N>,
 {
+    build_from(ConfigRef::of(config), store)
+}
+
+/// Builds the monitor of `config` (of `N` joints) in `store`, in place
+/// ([`Monitor::reset`]'s `reset_from` on the store's slot): neither a monitor nor a
+/// `Result` of one is ever on the stack, which sets the firmware's stack
+/// peak otherwise (`docs/performance.md`).
+#[inline(never)]
+fn build_from<const N: usize>(config: ConfigRef<'_>, store: &mut MonitorStore) -> Result<(), Error>
+where
+    Monitor<N>: Stored<N>,
+{
     let monitor = Monitor::<N>::slot(store, config).ok_or(Error::Config)?;
-    monitor.reset(config).map_err(|_| Error::Config)
-}
-
-impl From<MonitorConfig<2>> for ConfigStore {
-    fn from(c: MonitorConfig<2>) -> Self {
-        ConfigStore::Two(c)
-    }
-}
-
-impl From<MonitorConfig<3>> for ConfigStore {
-    fn from(c: MonitorConfig<3>) -> Self {
-        ConfigStore::Three(c)
-    }
+    monitor.reset_from(config).map_err(|_| Error::Config)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::monitor::estimator::ConfigError;
+    use crate::monitor::estimator::Sample;
     use crate::ChainError;
 
     /// A chain of `N` equal panels on linear springs, stowed at 90°, 100°, …
@@ -707,12 +763,39 @@ mod tests {
         let m = Monitor::<2>::get(&mut store).expect("2 joints");
         assert_eq!(frames(m, &c2, 0, 200), fresh2);
         for (used, c) in [(137, &c3), (91, &c3)] {
-            let m = Monitor::<3>::slot(&mut store, c).expect("3 joints");
+            let m = Monitor::<3>::slot(&mut store, ConfigRef::of(c)).expect("3 joints");
             frames(m, c, 0, used);
             build(c, &mut store).expect("build");
             let m = Monitor::<3>::get(&mut store).expect("3 joints");
             assert_eq!(frames(m, c, 0, 200), fresh3);
         }
+    }
+
+    #[test]
+    fn a_monitor_built_from_the_first_joints_of_a_configuration_answers_as_one_of_them() {
+        // The example's joint j is the same in every joint count.
+        let (c2, mut c3) = (config::<2>(), config::<3>());
+        c3.joints[2].stowed_deg = f32::NAN;
+        let fresh2 = frames(&mut Monitor::new(&c2).expect("config"), &c2, 0, 200);
+        let mut store = MonitorStore::Empty;
+        let first = ConfigRef::first(&c3, 2).expect("2 of 3 joints");
+        build_from::<2>(first, &mut store).expect("the third joint is not read");
+        let m = Monitor::<2>::get(&mut store).expect("2 joints");
+        assert_eq!(frames(m, &c2, 0, 200), fresh2);
+        // A configuration of another joint count is refused, the monitor
+        // as it was.
+        let mut m = Monitor::new(&c2).expect("config");
+        frames(&mut m, &c2, 0, 80);
+        let mut before = m.clone();
+        assert_eq!(
+            m.reset_from(ConfigRef::of(&config::<3>())),
+            Err(ConfigError::Parameter("joint count"))
+        );
+        assert_eq!(
+            frames(&mut m, &c2, 80, 200),
+            frames(&mut before, &c2, 80, 200)
+        );
+        assert!(ConfigRef::first(&c3, 4).is_none());
     }
 
     #[test]

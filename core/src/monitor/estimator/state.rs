@@ -6,14 +6,14 @@ use super::clock::Timeline;
 use super::joint::{JointStart, JointState, DEG};
 use super::learning::{Learner, LearningQueue};
 use crate::monitor::config::{
-    ConfigError, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
+    ConfigError, ConfigRef, JointConfig, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
 };
 use crate::monitor::latch::LatchConfig;
 use crate::monitor::latch_margin::Engagement;
 use crate::monitor::observer::{FrictionObserver, FrictionPrior, RateFilter};
 use crate::monitor::predictor::Predictor;
 use crate::monitor::status::Status;
-use crate::physics::chain::{Chain, GlobalEffects, JointEffects};
+use crate::physics::chain::{Chain, GlobalEffects, Joint, JointEffects, Panel};
 use crate::physics::friction::Friction;
 
 /// The on-board monitor of an `N`-joint deployment.
@@ -76,18 +76,29 @@ impl Windows {
     };
 }
 
-impl Tuning {
-    /// The tuning of `config`'s sensor, observer, latch and margin.
-    fn of<const N: usize>(config: &MonitorConfig<N>) -> Self {
-        let meas_var = meas_var(&config.sensor);
-        Tuning {
-            meas_var,
-            meas_sd: crate::physics::real::sqrtf(meas_var),
-            sensor: config.sensor,
-            observer: config.observer,
-            latch: config.latch,
-            margin: config.margin,
-        }
+/// Sets `tuning` to the tuning of `config` and each joint state to its
+/// joint of `config` (as many as `states` holds), waiting for the first
+/// sample: [`Monitor::reset`]'s part that does not depend on the joint
+/// count, one copy for every joint count.
+#[inline(never)]
+fn reset_tuning_and_joints(tuning: &mut Tuning, states: &mut [JointState], config: ConfigRef<'_>) {
+    let meas_var = meas_var(config.sensor);
+    *tuning = Tuning {
+        meas_var,
+        meas_sd: crate::physics::real::sqrtf(meas_var),
+        sensor: *config.sensor,
+        observer: *config.observer,
+        latch: *config.latch,
+        margin: *config.margin,
+    };
+    let sd = config.sensor.encoder_sd_deg * DEG;
+    for (state, c) in states.iter_mut().zip(config.joints) {
+        *state = JointState::new(
+            &JointStart::of(c),
+            sd,
+            config.observer,
+            config.margin.spring_sd_rel,
+        );
     }
 }
 
@@ -99,19 +110,12 @@ fn meas_var(sensor: &SensorConfig) -> f32 {
     sd * sd + q * q / 12.0
 }
 
-/// [`MonitorConfig::validate`] of one joint, out of line: one copy for
-/// every joint count ([`Monitor::reset`]).
-#[inline(never)]
-fn validate_one(config: &MonitorConfig<1>) -> Result<(), ConfigError> {
-    config.validate()
-}
-
 impl<const N: usize> Monitor<N> {
     /// A monitor for the configured mechanism, waiting for its first sample
     /// ([`Monitor::reset`] on a vacant monitor: one definition of the
     /// initial state).
     pub fn new(config: &MonitorConfig<N>) -> Result<Self, ConfigError> {
-        let mut m = Self::vacant(config);
+        let mut m = Self::vacant(ConfigRef::of(config));
         m.reset(config)?;
         Ok(m)
     }
@@ -123,7 +127,7 @@ impl<const N: usize> Monitor<N> {
     /// its final place (a static slot) has it written there directly, not
     /// built on the stack.
     #[inline(never)]
-    pub(crate) fn vacant(config: &MonitorConfig<N>) -> Self {
+    pub(crate) fn vacant(config: ConfigRef<'_>) -> Self {
         // A placeholder joint (at the latch, any valid prior; an encoder σ
         // of 1 rad, no spring spread): `reset` replaces it.
         let joint = JointStart {
@@ -137,17 +141,17 @@ impl<const N: usize> Monitor<N> {
             },
             engagement: Engagement::IDEAL,
         };
-        let state = JointState::new(&joint, 1.0, &config.observer, 0.0);
+        let state = JointState::new(&joint, 1.0, config.observer, 0.0);
         // The large parts last: each is written in place only if nothing
         // is built after it (LLVM's call-slot forwarding).
         Monitor {
             tuning: Tuning {
                 meas_var: 0.0,
                 meas_sd: 0.0,
-                sensor: config.sensor,
-                observer: config.observer,
-                latch: config.latch,
-                margin: config.margin,
+                sensor: *config.sensor,
+                observer: *config.observer,
+                latch: *config.latch,
+                margin: *config.margin,
             },
             timeline: Timeline::START,
             windows: Windows::CLOSED,
@@ -160,42 +164,28 @@ impl<const N: usize> Monitor<N> {
         }
     }
 
-    /// [`MonitorConfig::validate`] of `config`, with the same errors in
-    /// the same order, compiled once for all joint counts: each joint is
-    /// checked, with the tuning, as a one-joint configuration (the checks
-    /// take 2.8 KiB of the firmware's flash per joint count otherwise).
-    fn validate_config(config: &MonitorConfig<N>) -> Result<(), ConfigError> {
-        if N == 0 {
-            return config.validate();
-        }
-        let mut tuning = Ok(());
-        for (index, (panel, joint)) in config.panels.iter().zip(&config.joints).enumerate() {
-            let one = MonitorConfig {
-                panels: [*panel],
-                joints: [*joint],
-                sensor: config.sensor,
-                observer: config.observer,
-                latch: config.latch,
-                margin: config.margin,
-            };
-            match validate_one(&one) {
-                Err(ConfigError::Joint { what, .. }) => {
-                    return Err(ConfigError::Joint { index, what })
-                }
-                other => tuning = other,
-            }
-        }
-        tuning
-    }
-
     /// Makes this monitor the one for `config`, waiting for its first
     /// sample, in place: it validates `config` and writes every field where
     /// it is, so that a monitor in static memory is (re)configured without
     /// a second monitor, or a `Result` of one, on the stack (the firmware's
     /// start-up, `telemetry::replay`). On an error the monitor is unchanged.
-    #[inline(never)]
     pub fn reset(&mut self, config: &MonitorConfig<N>) -> Result<(), ConfigError> {
-        Self::validate_config(config)?;
+        self.reset_from(ConfigRef::of(config))
+    }
+
+    /// [`Monitor::reset`] on a configuration borrowed as slices (the
+    /// replay's, of a joint count known at run time):
+    /// [`ConfigError::Parameter`] `"joint count"` unless it has `N` panels
+    /// and `N` joints.
+    #[inline(never)]
+    pub(crate) fn reset_from(&mut self, config: ConfigRef<'_>) -> Result<(), ConfigError> {
+        let (Ok(panels), true) = (
+            <&[Panel<f32>; N]>::try_from(config.panels),
+            config.joints.len() == N,
+        ) else {
+            return Err(ConfigError::Parameter("joint count"));
+        };
+        config.validate()?;
         // Every field by name: a field added to `Monitor` must be set here.
         let Monitor {
             chain,
@@ -209,17 +199,8 @@ impl<const N: usize> Monitor<N> {
             status,
         } = self;
         // The only check that can fail after `validate`: before any write.
-        configure_chain(chain, config)?;
-        *tuning = Tuning::of(config);
-        let sd = config.sensor.encoder_sd_deg * DEG;
-        for (state, c) in joints.iter_mut().zip(config.joints.iter()) {
-            *state = JointState::new(
-                &JointStart::of(c),
-                sd,
-                &config.observer,
-                config.margin.spring_sd_rel,
-            );
-        }
+        configure_chain(chain, panels, config.joints)?;
+        reset_tuning_and_joints(tuning, joints, config);
         *timeline = Timeline::START;
         *windows = Windows::CLOSED;
         queue.clear();
@@ -269,24 +250,30 @@ impl<const N: usize> Monitor<N> {
     }
 }
 
-/// Sets `chain` to the panels and joints of `config`, with no effects
-/// (no tilt, drag, harness or softening) and no friction: the monitor
-/// estimates the friction itself.
+/// Sets `chain` to `panels` and `joints`, with no effects (no tilt,
+/// drag, harness or softening) and no friction: the monitor estimates the
+/// friction itself.
 fn configure_chain<const N: usize>(
     chain: &mut Chain<f32, N>,
-    config: &MonitorConfig<N>,
+    panels: &[Panel<f32>; N],
+    joints: &[JointConfig],
 ) -> Result<(), ConfigError> {
-    chain
-        .set_panels(&config.panels)
-        .map_err(ConfigError::Chain)?;
+    chain.set_panels(panels).map_err(ConfigError::Chain)?;
     *chain.global_mut() = GlobalEffects::default();
-    for (j, c) in config.joints.iter().enumerate() {
+    for (j, c) in joints.iter().enumerate() {
         if let Some(joint) = chain.joint_mut(j) {
-            joint.stowed_rad = c.stowed_deg * DEG;
-            joint.spring = c.spring;
-            joint.friction = Friction::default();
-            joint.effects = JointEffects::default();
+            configure_joint(joint, c);
         }
     }
     Ok(())
+}
+
+/// Sets the chain's `joint` to `config`'s stowed angle and spring, with no
+/// effects and no friction. Out of line: one copy for every joint count.
+#[inline(never)]
+fn configure_joint(joint: &mut Joint<f32>, config: &JointConfig) {
+    joint.stowed_rad = config.stowed_deg * DEG;
+    joint.spring = config.spring;
+    joint.friction = Friction::default();
+    joint.effects = JointEffects::default();
 }
