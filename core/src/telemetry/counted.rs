@@ -3,21 +3,20 @@
 //! (the firmware links the monitors of 2 and 3 joints, and its flash is
 //! short), with the bytes of [`Sample<N>`] and [`Status<N>`] on the wire.
 //!
-//! Both are read and written without serde, field by field as postcard
-//! encodes them (`crate::telemetry`'s frame: postcard, CRC-32C, COBS):
-//! postcard writes a struct as its fields in order and an array
-//! (`crate::monitor::serde_array`) as its elements, neither with a length.
-//! A sample's payload is fixed-size — the time and `n` angles as `f32`
-//! little-endian, then `n` switches as one byte each (0 or 1), then the
-//! CRC-32C of those bytes — and [`CountedSample::decode`] reads exactly
-//! the frames that [`telemetry::decode`](super::decode) reads as a
-//! `Sample<n>`, to the same values, and fails on the others with the same
-//! error. [`StatusView::encode`] writes the bytes
-//! [`telemetry::encode`](super::encode) writes for the `Status<n>` it
-//! views. The tests compare each with postcard's (every one-byte
-//! corruption of a sample frame; statuses with every variant, flag width
-//! and option). postcard's generic reader and writer, compiled for them,
-//! took about 1.7 KiB more of the firmware's flash (`docs/performance.md`).
+//! postcard writes a struct as its fields in order and a tuple (the
+//! arrays, `crate::monitor::serde_array`) as its elements, neither with a
+//! length: a [`StatusView`] writes exactly the bytes of the `Status<n>` it
+//! views. A sample's payload is fixed-size — the time and `n` angles as
+//! `f32` little-endian, then `n` switches as one byte each (0 or 1), then
+//! the CRC-32C of those bytes — and [`CountedSample::decode`] reads it
+//! without serde: exactly the frames that
+//! [`telemetry::decode`](super::decode) reads as a `Sample<n>` decode, to
+//! the same values, and the others fail with the same error (the tests
+//! compare the two on every one-byte corruption of a frame). postcard's
+//! generic reader, compiled for it, took 0.7 KiB of the firmware's flash.
+
+use serde::ser::{SerializeStruct, SerializeTuple, Serializer};
+use serde::Serialize;
 
 use super::config::FIRMWARE_MAX_JOINTS;
 use super::{TelemetryError, CRC};
@@ -127,7 +126,7 @@ fn word_at(bytes: &[u8], at: usize) -> Option<u32> {
     Some(u32::from_le_bytes(word))
 }
 
-/// A [`Status`] of any joint count, borrowed, written as the frame of the
+/// A [`Status`] of any joint count, borrowed: it serializes as the
 /// `Status<N>` it views.
 #[derive(Clone, Copy, Debug)]
 pub struct StatusView<'a> {
@@ -149,180 +148,57 @@ impl<'a> StatusView<'a> {
         }
     }
 
-    /// Writes the status as one frame into `buf` and returns the frame's
-    /// length: the bytes, and the error for a `buf` too short, of
-    /// [`telemetry::encode`](super::encode) of the `Status<N>` it views.
-    /// Written field by field (postcard's encoding of each, its CRC
-    /// flavor and its COBS flavor step for step, [`FrameWriter`]), not
-    /// through serde (the module's header).
+    /// Writes the status as one frame into `buf` (as
+    /// [`telemetry::encode`](super::encode) writes the `Status<N>` it
+    /// views) and returns the frame's length.
     #[inline(never)]
     pub fn encode(&self, buf: &mut [u8]) -> super::Result<usize> {
-        let mut w = FrameWriter::new(buf)?;
-        w.f32(self.t_s)?;
-        w.varint(self.samples)?;
-        for j in self.joints {
-            for v in [
-                j.phi_deg,
-                j.rate_deg_s,
-                j.coulomb_nm,
-                j.coulomb_sd_nm,
-                j.viscous_nms,
-                j.viscous_sd_nms,
-            ] {
-                w.f32(v)?;
-            }
-            w.varint(j.viscous as u32)?;
-            w.f32(j.friction_torque_nm)?;
-            w.varint(j.latch as u32)?;
-            w.option(j.margin_pct)?;
-            w.varint(j.prediction as u32)?;
-            w.f32(j.confidence)?;
-            w.option(j.time_to_latch_s)?;
-            w.varint(u32::from(j.faults.0))?;
-        }
-        w.finish()
+        super::encode(self, buf).map(|f| f.len())
     }
 }
 
-/// Writes a frame as [`telemetry::encode`](super::encode) does: each
-/// payload byte into the CRC-32C and, COBS-encoded, into the output (as
-/// postcard's `CrcModifier` over its `Cobs` flavor over a slice: a
-/// placeholder code byte first, the cobs crate's encoder state, the CRC
-/// little-endian after the payload, then the code fixed and `0x00`).
-/// postcard writes an `f32` as its 4 bytes little-endian, an unsigned
-/// integer and an enum's variant index as a varint, an `Option` as a tag
-/// byte (0 or 1) and its value.
-struct FrameWriter<'b> {
-    out: &'b mut [u8],
-    len: usize,
-    cobs: cobs::EncoderState,
-    crc: crc::Digest<'static, u32>,
+impl Serialize for StatusView<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut st = s.serialize_struct("Status", 3)?;
+        st.serialize_field("t_s", &self.t_s)?;
+        st.serialize_field("samples", &self.samples)?;
+        st.serialize_field("joints", &Tuple(self.joints))?;
+        st.end()
+    }
 }
 
-impl<'b> FrameWriter<'b> {
-    /// A frame into `out`, its first code byte reserved.
-    fn new(out: &'b mut [u8]) -> super::Result<Self> {
-        let mut w = FrameWriter {
-            out,
-            len: 0,
-            cobs: cobs::EncoderState::default(),
-            crc: CRC.digest(),
-        };
-        w.put(0)?;
-        Ok(w)
-    }
+/// A slice serialized as a tuple (no length), as `serde_array` writes an
+/// array.
+struct Tuple<'a, T>(&'a [T]);
 
-    /// `b` at the end of the output.
-    fn put(&mut self, b: u8) -> super::Result<()> {
-        *self
-            .out
-            .get_mut(self.len)
-            .ok_or(TelemetryError::BufferTooSmall)? = b;
-        self.len += 1;
-        Ok(())
-    }
-
-    /// `b` at `idx` of the output (a COBS code byte written back).
-    fn set(&mut self, idx: usize, b: u8) -> super::Result<()> {
-        *self
-            .out
-            .get_mut(idx)
-            .ok_or(TelemetryError::BufferTooSmall)? = b;
-        Ok(())
-    }
-
-    /// One byte COBS-encoded into the output.
-    fn encoded(&mut self, b: u8) -> super::Result<()> {
-        match self.cobs.push(b) {
-            cobs::PushResult::AddSingle(n) => self.put(n),
-            cobs::PushResult::ModifyFromStartAndSkip((idx, code)) => {
-                self.set(idx, code)?;
-                self.put(0)
-            }
-            cobs::PushResult::ModifyFromStartAndPushAndSkip((idx, code, n)) => {
-                self.set(idx, code)?;
-                self.put(n)?;
-                self.put(0)
-            }
+impl<T: Serialize> Serialize for Tuple<'_, T> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut t = s.serialize_tuple(self.0.len())?;
+        for x in self.0 {
+            t.serialize_element(x)?;
         }
-    }
-
-    /// Payload bytes.
-    fn bytes(&mut self, bytes: &[u8]) -> super::Result<()> {
-        for b in bytes {
-            self.crc.update(core::slice::from_ref(b));
-            self.encoded(*b)?;
-        }
-        Ok(())
-    }
-
-    /// An `f32`: its bytes little-endian.
-    fn f32(&mut self, v: f32) -> super::Result<()> {
-        self.bytes(&v.to_le_bytes())
-    }
-
-    /// An unsigned integer (or an enum's variant index): 7 bits a byte,
-    /// least significant first, the top bit set on every byte but the
-    /// last.
-    fn varint(&mut self, mut v: u32) -> super::Result<()> {
-        loop {
-            let low = (v & 0x7f) as u8;
-            v >>= 7;
-            if v == 0 {
-                return self.bytes(&[low]);
-            }
-            self.bytes(&[low | 0x80])?;
-        }
-    }
-
-    /// An `Option<f32>`: 0, or 1 and the value.
-    fn option(&mut self, v: Option<f32>) -> super::Result<()> {
-        match v {
-            None => self.bytes(&[0]),
-            Some(x) => {
-                self.bytes(&[1])?;
-                self.f32(x)
-            }
-        }
-    }
-
-    /// The CRC, the last code byte and the terminating `0x00`; the
-    /// frame's length.
-    fn finish(mut self) -> super::Result<usize> {
-        let crc = core::mem::replace(&mut self.crc, CRC.digest()).finalize();
-        for b in crc.to_le_bytes() {
-            self.encoded(b)?;
-        }
-        let (idx, code) = core::mem::take(&mut self.cobs).finalize();
-        self.set(idx, code)?;
-        self.put(0)?;
-        Ok(self.len)
+        t.end()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::monitor::faults::FaultFlags;
+    use crate::monitor::faults::{Fault, FaultFlags};
     use crate::monitor::latch::LatchState;
     use crate::monitor::predictor::Prediction;
     use crate::monitor::status::Observability;
     use crate::telemetry::{decode, encode, sample_frame_max, status_frame_max};
 
-    /// A status of `N` joints with every field set, distinct per joint;
-    /// `k` picks the variants, the flags, the options and the sample
-    /// count (varints of 1 to 5 bytes).
-    fn status<const N: usize>(k: usize) -> Status<N> {
-        const FLAGS: [u16; 6] = [0, 1, 0x7f, 0x80, 0x3fff, 0xffff];
-        const SAMPLES: [u32; 5] = [0, 127, 128, 70_000, u32::MAX];
+    /// A status of `N` joints with every field set, distinct per joint.
+    fn status<const N: usize>() -> Status<N> {
         let mut s = Status::<N> {
-            t_s: 12.345 + k as f32,
-            samples: SAMPLES[k % SAMPLES.len()],
+            t_s: 12.345,
+            samples: 70_000,
             ..Default::default()
         };
         for (j, js) in s.joints.iter_mut().enumerate() {
             let x = j as f32 + 0.25;
-            let v = j + k;
             *js = JointStatus {
                 phi_deg: -x,
                 rate_deg_s: 3.0 * x,
@@ -330,54 +206,41 @@ mod tests {
                 coulomb_sd_nm: 0.002,
                 viscous_nms: 1e-3 * x,
                 viscous_sd_nms: 0.5,
-                viscous: Observability::ALL[v % Observability::ALL.len()],
+                viscous: Observability::Estimated,
                 friction_torque_nm: 0.02,
-                latch: LatchState::ALL[v % LatchState::ALL.len()],
-                margin_pct: (v % 2 == 0).then_some(150.0 + x),
-                prediction: Prediction::ALL[v % Prediction::ALL.len()],
+                latch: LatchState::Latched,
+                margin_pct: (j != 1).then_some(150.0 + x),
+                prediction: Prediction::Stall,
                 confidence: 0.9,
-                time_to_latch_s: (v % 3 == 1).then_some(0.75),
-                faults: FaultFlags(FLAGS[v % FLAGS.len()]),
+                time_to_latch_s: (j == 1).then_some(0.75),
+                faults: FaultFlags::default(),
             };
+            js.faults.insert(Fault::SwitchChatter);
         }
         s
     }
 
     #[test]
     fn a_status_view_writes_the_bytes_of_the_status_it_views() {
-        fn check<const N: usize>(k: usize) {
-            let s = status::<N>(k);
+        fn check<const N: usize>() {
+            let s = status::<N>();
             let mut a = [0u8; 512];
             let mut b = [0u8; 512];
             let n = encode(&s, &mut a).expect("fits").len();
             assert!(n <= status_frame_max(N));
             assert_eq!(StatusView::of(&s).encode(&mut b), Ok(n));
             assert_eq!(a[..n], b[..n]);
-            // A buffer of any length up to the frame's: the same error.
-            for len in 0..n {
-                assert_eq!(
-                    StatusView::of(&s).encode(&mut b[..len]),
-                    encode(&s, &mut a[..len]).map(|f| f.len()),
-                    "{len} bytes"
-                );
-            }
+            // Too small a buffer fails alike.
+            let short = n - 1;
+            assert_eq!(
+                StatusView::of(&s).encode(&mut b[..short]),
+                encode(&s, &mut a[..short]).map(|f| f.len())
+            );
         }
-        for k in 0..40 {
-            check::<1>(k);
-            check::<2>(k);
-            check::<3>(k);
-            check::<4>(k);
-        }
-        // Zero bytes elsewhere in the payload (other COBS codes).
-        let mut s = status::<4>(0);
-        for (j, js) in s.joints.iter_mut().enumerate() {
-            js.phi_deg = f32::from_bits(0x0001_0203 + 0x0404_0404 * j as u32);
-        }
-        let mut a = [0u8; 512];
-        let mut b = [0u8; 512];
-        let n = encode(&s, &mut a).expect("fits").len();
-        assert_eq!(StatusView::of(&s).encode(&mut b), Ok(n));
-        assert_eq!(a[..n], b[..n]);
+        check::<1>();
+        check::<2>();
+        check::<3>();
+        check::<4>();
     }
 
     /// The frame of a sample of `N` joints.
