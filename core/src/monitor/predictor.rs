@@ -169,7 +169,7 @@ impl<const N: usize> Predictor<N> {
     /// Where the next rollout starts: time [s], joint state and locked
     /// joints; `None` while no settled state is at hand (a rollout in
     /// progress goes on, a finished one is kept).
-    pub fn set_start(&mut self, start: Option<Start<N>>) {
+    pub fn set_start(&mut self, start: Option<(f32, ChainState<f32, N>, [bool; N])>) {
         self.cycle.set_start(start.map(|(t, x, locked)| {
             let mut padded = (
                 t,

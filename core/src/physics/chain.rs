@@ -342,10 +342,10 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
 
     /// The inertia coefficients and mass moments of the chain's `N` joints
     /// in arrays of capacity `M` (`N ≤ M`; of a longer chain, its first
-    /// `M` joints), zero-padded, for [`Chain::counted_with`]. Inlined into
-    /// the caller, which holds the copy: written in place, not returned
-    /// through a copy.
-    #[inline(always)]
+    /// `M` joints), zero-padded, for [`Chain::counted_with`]. Out of line,
+    /// one copy per joint count and capacity: the value returned is
+    /// written where the caller keeps it.
+    #[inline(never)]
     pub fn coefficients<const M: usize>(&self) -> Coefficients<T, M> {
         let n = N.min(M);
         // From a constant: built as an array expression, the zeros are
