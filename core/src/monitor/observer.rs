@@ -36,7 +36,7 @@
 //! Gaussian prior, a random-walk drift and a measurement variance estimated
 //! on line and inflated by the correlation of the filtered residual.
 
-use crate::physics::chain::Chain;
+use crate::physics::chain::{Chain, ChainRef};
 use crate::physics::friction::coulomb_shape;
 
 /// Number of unique entries of a symmetric 3×3 matrix.
@@ -270,64 +270,76 @@ pub fn momentum_terms<const N: usize>(
     phi: &[f32; N],
     omega: &[f32; N],
 ) -> MomentumTerms<N> {
+    momentum_terms_n(&chain.counted(), phi, omega)
+}
+
+/// [`momentum_terms`] of the chain's first `n` joints ([`ChainRef`]) over
+/// arrays of capacity `M` (zero past `n`): the same arithmetic in the same
+/// order, one copy of the code for every joint count up to `M`.
+#[inline(always)]
+pub fn momentum_terms_n<const M: usize>(
+    chain: &ChainRef<'_, f32, M>,
+    phi: &[f32; M],
+    omega: &[f32; M],
+) -> MomentumTerms<M> {
+    let n = chain.joint_count().min(M);
     let a = chain.inertia_coefficients();
-    let mut c = [0.0f32; N];
-    let mut s = [0.0f32; N];
-    let mut thd = [0.0f32; N];
+    let mut c = [0.0f32; M];
+    let mut s = [0.0f32; M];
+    let mut thd = [0.0f32; M];
     let (mut th_acc, mut thd_acc) = (0.0f32, 0.0f32);
-    for k in 0..N {
+    for k in 0..n {
         th_acc += phi[k];
         thd_acc += omega[k];
         (s[k], c[k]) = crate::physics::trig::sin_cos(th_acc);
         thd[k] = thd_acc;
     }
-    let mut d = [[0.0f32; N]; N];
-    let mut b = [0.0f32; N];
-    let mut cor = [0.0f32; N];
-    for k in 0..N {
+    // M = Sᵀ D S built where it is returned: D, then its suffix sums along
+    // columns, then along rows, each entry read once before it is
+    // overwritten (arrays moved into the result, or kept apart, are
+    // cleared and copied on the MCU).
+    let mut out = MomentumTerms {
+        mass: [[0.0f32; M]; M],
+        beta: [0.0f32; M],
+        coriolis: [0.0f32; M],
+    };
+    let mut b = [0.0f32; M];
+    let mut cor = [0.0f32; M];
+    for k in 0..n {
         let mut acc = 0.0f32;
         let mut acc2 = 0.0f32;
-        for l in 0..N {
+        for l in 0..n {
             let cos_kl = c[k] * c[l] + s[k] * s[l];
             let sin_kl = s[k] * c[l] - c[k] * s[l];
-            d[k][l] = a[k][l] * cos_kl;
+            out.mass[k][l] = a[k][l] * cos_kl;
             acc += a[k][l] * sin_kl * thd[l];
             acc2 += a[k][l] * sin_kl * thd[l] * thd[l];
         }
         b[k] = -thd[k] * acc;
         cor[k] = acc2;
     }
-    // M = Sᵀ D S: suffix sums along columns, then along rows.
-    let mut r = [[0.0f32; N]; N];
-    for (ra, da) in r.iter_mut().zip(d.iter()) {
+    for row in out.mass.iter_mut().take(n) {
         let mut acc = 0.0f32;
-        for k in (0..N).rev() {
-            acc += da[k];
-            ra[k] = acc;
+        for k in (0..n).rev() {
+            acc += row[k];
+            row[k] = acc;
         }
     }
-    let mut m = [[0.0f32; N]; N];
-    for k in 0..N {
+    for k in 0..n {
         let mut acc = 0.0f32;
-        for j in (0..N).rev() {
-            acc += r[j][k];
-            m[j][k] = acc;
+        for j in (0..n).rev() {
+            acc += out.mass[j][k];
+            out.mass[j][k] = acc;
         }
     }
-    let mut beta = [0.0f32; N];
-    let mut coriolis = [0.0f32; N];
     let (mut acc, mut acc2) = (0.0f32, 0.0f32);
-    for k in (0..N).rev() {
+    for k in (0..n).rev() {
         acc += b[k];
         acc2 -= cor[k];
-        beta[k] = acc;
-        coriolis[k] = acc2;
+        out.beta[k] = acc;
+        out.coriolis[k] = acc2;
     }
-    MomentumTerms {
-        mass: m,
-        beta,
-        coriolis,
-    }
+    out
 }
 
 /// Tuning of one joint's friction observer.

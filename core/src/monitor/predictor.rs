@@ -20,9 +20,10 @@
 
 use crate::monitor::margin::MarginResult;
 use crate::monitor::rollout::{
-    normal_quantile, Bracket, JointOutcome, Rollout, RolloutConfig, RolloutStart,
+    normal_quantile, Bracket, JointOutcome, RolloutConfig, RolloutStart, Stepper,
+    ROLLOUT_MAX_JOINTS,
 };
-use crate::physics::chain::{Chain, ChainState};
+use crate::physics::chain::{Chain, ChainRef, ChainState};
 use serde::{Deserialize, Serialize};
 /// The latch / stall prediction of a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
@@ -98,56 +99,70 @@ pub struct FrictionBelief {
     pub coulomb_lower_nm: f32,
 }
 
-/// A finished rollout's outcome per joint, with its start time [s].
-type Finished<const N: usize> = Option<([JointOutcome; N], f32)>;
+/// Capacity of the cycle's per-joint arrays: a rollout's
+/// ([`ROLLOUT_MAX_JOINTS`]).
+const R: usize = ROLLOUT_MAX_JOINTS;
 
-/// The rollout cycle of the latch / stall prediction.
+/// A finished rollout's outcome per joint, with its start time [s].
+type Finished = Option<([JointOutcome; R], f32)>;
+
+/// Where the next rollout starts: time [s], joint state and locked joints.
+pub(crate) type Start<const M: usize> = (f32, ChainState<f32, M>, [bool; M]);
+
+/// The rollout cycle of the latch / stall prediction of an `N`-joint
+/// monitor: a shell over the cycle written once for every joint count
+/// (`Cycle`, over arrays of capacity [`ROLLOUT_MAX_JOINTS`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Predictor<const N: usize> {
+    cycle: Cycle,
+}
+
+/// The rollout cycle over arrays of capacity [`ROLLOUT_MAX_JOINTS`], the
+/// first `n` joints in use: one copy of the code for the monitors of
+/// every joint count ([`Predictor`] is its shell).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Cycle {
+    /// Joints in use.
+    n: u8,
     /// The rollout in progress, its bracket and start time [s].
-    rollout: Option<(Rollout<N>, Bracket, f32)>,
+    rollout: Option<(Stepper, Bracket, f32)>,
     /// The next rollout of the cycle and the joints it watches.
-    next: (Bracket, [bool; N]),
+    next: (Bracket, [bool; R]),
     /// The nominal rollout's verdicts in this cycle: the joints it latches
     /// by the deadline and those it does not (free at its start).
-    verdict: ([bool; N], [bool; N]),
+    verdict: ([bool; R], [bool; R]),
     /// Completed cycles (full predictions).
     refreshes: u32,
     /// Last finished nominal, pessimistic and optimistic outcomes, with
     /// their start times [s].
-    nominal: Finished<N>,
-    pessimistic: Finished<N>,
-    optimistic: Finished<N>,
+    nominal: Finished,
+    pessimistic: Finished,
+    optimistic: Finished,
     /// The joints each bracket watched (only those it confirms or not).
-    pessimistic_watch: [bool; N],
-    optimistic_watch: [bool; N],
+    pessimistic_watch: [bool; R],
+    optimistic_watch: [bool; R],
     /// Joints the one-joint energy balance has called stalled
     /// (`P ≤ 1 − confidence`), until it gives `P ≥` [`ENERGY_STALL_CLEAR`].
-    energy_stall: [bool; N],
+    energy_stall: [bool; R],
     /// `z = Φ⁻¹(confidence)`.
     z: f32,
     /// Where the next rollout starts: time [s], state and locked joints
-    /// (set by the sample path).
-    start: Option<(f32, ChainState<f32, N>, [bool; N])>,
+    /// (set by the sample path; the joints past `n` locked).
+    start: Option<Start<R>>,
 }
 
 impl<const N: usize> Predictor<N> {
     /// A predictor whose brackets are at confidence `confidence` (`Φ(z)`),
     /// with no rollout yet.
     pub fn new(confidence: f32) -> Self {
+        const {
+            assert!(
+                N <= ROLLOUT_MAX_JOINTS,
+                "a predictor holds at most 4 joints"
+            )
+        };
         Predictor {
-            rollout: None,
-            next: (Bracket::Nominal, [true; N]),
-            verdict: ([false; N], [false; N]),
-            refreshes: 0,
-            nominal: None,
-            pessimistic: None,
-            optimistic: None,
-            pessimistic_watch: [false; N],
-            optimistic_watch: [false; N],
-            energy_stall: [false; N],
-            z: normal_quantile(confidence),
-            start: None,
+            cycle: Cycle::new(N, confidence),
         }
     }
 
@@ -155,24 +170,39 @@ impl<const N: usize> Predictor<N> {
     /// joints; `None` while no settled state is at hand (a rollout in
     /// progress goes on, a finished one is kept).
     pub fn set_start(&mut self, start: Option<(f32, ChainState<f32, N>, [bool; N])>) {
-        self.start = start;
+        self.cycle.set_start(start.map(|(t, x, locked)| {
+            let mut padded = (
+                t,
+                ChainState {
+                    phi: [0.0; R],
+                    phi_dot: [0.0; R],
+                },
+                [true; R],
+            );
+            for j in 0..N.min(R) {
+                padded.1.phi[j] = x.phi[j];
+                padded.1.phi_dot[j] = x.phi_dot[j];
+                padded.2[j] = locked[j];
+            }
+            padded
+        }));
     }
 
     /// The rollout in progress: its bracket, start time [s] and the time
     /// it has simulated [s] (for diagnostics).
     pub fn in_progress(&self) -> Option<(Bracket, f32, f32)> {
-        self.rollout.map(|(r, b, t0)| (b, t0, r.elapsed_s()))
+        self.cycle.rollout.map(|(r, b, t0)| (b, t0, r.elapsed_s()))
     }
 
     /// Full predictions completed so far: cycles of the nominal rollout and
     /// the brackets its verdicts need.
     pub fn refreshes(&self) -> u32 {
-        self.refreshes
+        self.cycle.refreshes
     }
 
     /// One slice: advances the rollout in progress by at most
     /// `cfg.steps_per_slice` units of work; when it ends, stores its outcome
-    /// and starts the next rollout of [`CYCLE`] from the last start handed
+    /// and starts the next rollout of the cycle from the last start handed
     /// over, with `belief(j)` for each joint. `deadline_s` is the absolute
     /// deadline [s]: only the time left to it is simulated. Returns true
     /// when a rollout finished.
@@ -184,6 +214,80 @@ impl<const N: usize> Predictor<N> {
         capture_rad: &[f32; N],
         belief: impl Fn(usize) -> FrictionBelief,
     ) -> bool {
+        let store = chain.coefficients();
+        let mut capture = [0.0f32; R];
+        for (c, x) in capture.iter_mut().zip(capture_rad.iter()) {
+            *c = *x;
+        }
+        let chain = chain.counted_with(&store);
+        self.cycle.slice(&chain, cfg, deadline_s, &capture, &belief)
+    }
+
+    /// The latch / stall prediction of joint `j` at time `t` [s] from the
+    /// last finished rollouts and what `query` says of the joint
+    /// ([`Cycle::prediction`]).
+    pub fn prediction(
+        &mut self,
+        j: usize,
+        t: f32,
+        query: &PredictionQuery,
+    ) -> (Prediction, f32, Option<f32>) {
+        self.cycle.prediction(j, t, query)
+    }
+
+    /// The cycle itself, for the monitor's slow path written once for
+    /// every joint count.
+    pub(crate) fn cycle_mut(&mut self) -> &mut Cycle {
+        &mut self.cycle
+    }
+}
+
+impl Cycle {
+    /// A cycle of `n` joints (at most [`ROLLOUT_MAX_JOINTS`]) whose
+    /// brackets are at confidence `confidence` (`Φ(z)`), with no rollout
+    /// yet.
+    fn new(n: usize, confidence: f32) -> Self {
+        Cycle {
+            n: n.min(R) as u8,
+            rollout: None,
+            next: (Bracket::Nominal, [true; R]),
+            verdict: ([false; R], [false; R]),
+            refreshes: 0,
+            nominal: None,
+            pessimistic: None,
+            optimistic: None,
+            pessimistic_watch: [false; R],
+            optimistic_watch: [false; R],
+            energy_stall: [false; R],
+            z: normal_quantile(confidence),
+            start: None,
+        }
+    }
+
+    /// The joints in use.
+    fn count(&self) -> usize {
+        usize::from(self.n).min(R)
+    }
+
+    /// [`Predictor::set_start`] over arrays of capacity
+    /// [`ROLLOUT_MAX_JOINTS`] (the joints past the count locked).
+    pub(crate) fn set_start(&mut self, start: Option<Start<R>>) {
+        self.start = start;
+    }
+
+    /// [`Predictor::slice`] on the chain's equations over the joints in
+    /// use, `capture_rad` and `belief` of each of them: one copy for every
+    /// joint count.
+    #[inline(never)]
+    pub(crate) fn slice(
+        &mut self,
+        chain: &ChainRef<'_, f32, R>,
+        cfg: &RolloutConfig,
+        deadline_s: f32,
+        capture_rad: &[f32; R],
+        belief: &dyn Fn(usize) -> FrictionBelief,
+    ) -> bool {
+        let n = self.count();
         let mut cfg = *cfg;
         let mut finished = false;
         if let Some((r, bracket, t0)) = self.rollout.as_mut() {
@@ -202,7 +306,7 @@ impl<const N: usize> Predictor<N> {
                 // The cycle's verdicts: which joints, free at the start,
                 // latch by the deadline, and which do not.
                 let (x, started_latched) = (out.0, r.started_latched());
-                for j in 0..N {
+                for j in 0..n {
                     let free = !started_latched[j];
                     let by_deadline = x[j].latches && out.1 + x[j].latch_after_s <= deadline_s;
                     self.verdict.0[j] = free && by_deadline;
@@ -210,7 +314,7 @@ impl<const N: usize> Predictor<N> {
                 }
             }
             let (latches, stalls) = self.verdict;
-            let any = |m: &[bool; N]| m.iter().any(|v| *v);
+            let any = |m: &[bool; R]| m.iter().any(|v| *v);
             let (next, cycle_done) = match bracket {
                 Bracket::Nominal => {
                     self.nominal = Some(out);
@@ -219,7 +323,7 @@ impl<const N: usize> Predictor<N> {
                     } else if any(&stalls) {
                         ((Bracket::Optimistic, stalls), false)
                     } else {
-                        ((Bracket::Nominal, [true; N]), true)
+                        ((Bracket::Nominal, [true; R]), true)
                     }
                 }
                 Bracket::Pessimistic => {
@@ -228,13 +332,13 @@ impl<const N: usize> Predictor<N> {
                     if any(&stalls) {
                         ((Bracket::Optimistic, stalls), false)
                     } else {
-                        ((Bracket::Nominal, [true; N]), true)
+                        ((Bracket::Nominal, [true; R]), true)
                     }
                 }
                 Bracket::Optimistic => {
                     self.optimistic = Some(out);
                     self.optimistic_watch = r.watch();
-                    ((Bracket::Nominal, [true; N]), true)
+                    ((Bracket::Nominal, [true; R]), true)
                 }
             };
             self.next = next;
@@ -255,10 +359,10 @@ impl<const N: usize> Predictor<N> {
             Bracket::Pessimistic => 1.0,
             Bracket::Optimistic => -1.0,
         };
-        let mut coulomb = [0.0f32; N];
-        let mut viscous = [0.0f32; N];
-        let mut spring = [1.0f32; N];
-        for j in 0..N {
+        let mut coulomb = [0.0f32; R];
+        let mut viscous = [0.0f32; R];
+        let mut spring = [1.0f32; R];
+        for j in 0..n {
             let floor = next == Bracket::Optimistic && !locked[j];
             (coulomb[j], viscous[j], spring[j]) = bracket_joint(&belief(j), sign * z, floor);
         }
@@ -270,7 +374,7 @@ impl<const N: usize> Predictor<N> {
             spring_scale: spring,
             capture_rad: *capture_rad,
         };
-        self.rollout = Some((Rollout::new(start).watching(watch), next, t));
+        self.rollout = Some((Stepper::new(n, &start).watching(watch), next, t));
         finished
     }
 
@@ -280,7 +384,7 @@ impl<const N: usize> Predictor<N> {
     /// its confidence and the time to the latch [s]. A joint whose balance
     /// stops it on a physical latch's entry ramp is predicted to stop there
     /// ([`crate::monitor::latch_margin`]).
-    pub fn prediction(
+    pub(crate) fn prediction(
         &mut self,
         j: usize,
         t: f32,
@@ -288,8 +392,9 @@ impl<const N: usize> Predictor<N> {
     ) -> (Prediction, f32, Option<f32>) {
         let conf = query.confidence;
         let deadline = query.deadline_s;
-        let pick = |o: Finished<N>| {
-            o.and_then(|(x, t0)| {
+        let used = j < self.count();
+        let pick = |o: Finished| {
+            o.filter(|_| used).and_then(|(x, t0)| {
                 x.get(j).map(|x| {
                     let mut x = *x;
                     x.latches &= t0 + x.latch_after_s <= deadline;

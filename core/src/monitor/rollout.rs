@@ -40,7 +40,7 @@
 //! optimistic one confirms, holds at that confidence for the friction
 //! estimate; one that the bracket does not confirm is the best estimate only.
 
-use crate::physics::chain::{Chain, ChainRef, ChainState, Coefficients, Mode};
+use crate::physics::chain::{Chain, ChainRef, ChainState, Mode};
 use crate::physics::friction::coulomb_shape;
 use crate::physics::linalg::{articulated_inertias_n, solve_spd_masked_n};
 use crate::physics::spring::Branch;
@@ -143,9 +143,11 @@ pub struct Rollout<const N: usize> {
 }
 
 /// A rollout's state over arrays of capacity [`ROLLOUT_MAX_JOINTS`], the
-/// first `n` joints in use (the others latched, watched by none).
+/// first `n` joints in use (the others latched, watched by none): the
+/// rollout of every joint count, and the one the predictor's cycle runs
+/// ([`crate::monitor::predictor`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Stepper {
+pub(crate) struct Stepper {
     /// Joints in use.
     n: u8,
     start: Assumed,
@@ -216,11 +218,11 @@ impl<const N: usize> Rollout<N> {
     /// A rollout from `start`, not yet advanced.
     pub fn new(start: RolloutStart<N>) -> Self {
         const { assert!(N <= ROLLOUT_MAX_JOINTS, "a rollout holds at most 4 joints") };
-        let x = ChainState {
-            phi: pad(&start.state.phi, 0.0),
-            phi_dot: pad(&start.state.phi_dot, 0.0),
-        };
-        let start = Assumed {
+        let start = RolloutStart {
+            state: ChainState {
+                phi: pad(&start.state.phi, 0.0),
+                phi_dot: pad(&start.state.phi_dot, 0.0),
+            },
             latched: pad(&start.latched, true),
             coulomb_nm: pad(&start.coulomb_nm, 0.0),
             viscous_nms: pad(&start.viscous_nms, 0.0),
@@ -228,19 +230,7 @@ impl<const N: usize> Rollout<N> {
             capture_rad: pad(&start.capture_rad, 0.0),
         };
         Rollout {
-            core: Stepper {
-                n: N as u8,
-                x,
-                latched: start.latched,
-                latch_after_s: [0.0; R],
-                t_s: 0.0,
-                creeping_s: 0.0,
-                accel: [f32::INFINITY; R],
-                done: false,
-                watch: pad(&[true; N], false),
-                settle: None,
-                start,
-            },
+            core: Stepper::new(N, &start),
         }
     }
 
@@ -249,36 +239,34 @@ impl<const N: usize> Rollout<N> {
     /// (a bracket that only has to confirm the nominal rollout's latches
     /// stops there). A rollout watching no joint ends at the first step.
     pub fn watching(mut self, watch: [bool; N]) -> Self {
-        self.core.watch = pad(&watch, false);
+        self.core = self.core.watching(pad(&watch, false));
         self
     }
 
     /// The joints latched when the rollout started.
     pub fn started_latched(&self) -> [bool; N] {
-        unpad(&self.core.start.latched, true)
+        unpad(&self.core.started_latched(), true)
     }
 
     /// The joints whose outcome the rollout decides ([`Rollout::watching`]).
     pub fn watch(&self) -> [bool; N] {
-        unpad(&self.core.watch, false)
+        unpad(&self.core.watch(), false)
     }
 
     /// Time simulated so far [s].
     pub fn elapsed_s(&self) -> f32 {
-        self.core.t_s
+        self.core.elapsed_s()
     }
 
     /// True once the rollout has ended.
     pub fn is_done(&self) -> bool {
-        self.core.done
+        self.core.is_done()
     }
 
     /// The outcome of each joint (meaningful once done).
     pub fn outcome(&self) -> [JointOutcome; N] {
-        core::array::from_fn(|j| JointOutcome {
-            latches: self.core.latched.get(j).copied().unwrap_or(false),
-            latch_after_s: self.core.latch_after_s.get(j).copied().unwrap_or(0.0),
-        })
+        let out = self.core.outcome();
+        core::array::from_fn(|j| out.get(j).copied().unwrap_or_default())
     }
 
     /// Advances by up to `cfg.steps_per_slice` units of work: a unit is
@@ -286,8 +274,8 @@ impl<const N: usize> Rollout<N> {
     /// evaluations of the creep quadrature and snap-through, so that a
     /// slice costs about the same whatever the rollout is doing.
     pub fn advance(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
-        let mut store = Coefficients::default();
-        self.core.advance(&chain.counted_in(&mut store), cfg);
+        let store = chain.coefficients();
+        self.core.advance(&chain.counted_with(&store), cfg);
     }
 }
 
@@ -295,9 +283,10 @@ impl<const N: usize> Rollout<N> {
 type Model<'a> = ChainRef<'a, f32, R>;
 
 /// The mass matrix `M(φ)` of the joints in use ([`ChainRef::mass_matrix`]),
-/// out of line: one copy for the rollout's three uses.
+/// out of line: one copy for the rollout's three uses and the slow path's
+/// energy margin, for every joint count.
 #[inline(never)]
-fn mass_matrix(chain: &Model<'_>, phi: &[f32; R]) -> [[f32; R]; R] {
+pub(crate) fn mass_matrix(chain: &Model<'_>, phi: &[f32; R]) -> [[f32; R]; R] {
     chain.mass_matrix(phi)
 }
 
@@ -310,6 +299,73 @@ fn solve(n: usize, m: &[[f32; R]; R], b: &[f32; R], locked: &[bool; R]) -> Optio
 }
 
 impl Stepper {
+    /// A rollout of the first `n` joints (at most [`ROLLOUT_MAX_JOINTS`])
+    /// from `start`, not yet advanced, watching every joint in use; the
+    /// joints past `n` count as latched and watched by none.
+    pub(crate) fn new(n: usize, start: &RolloutStart<R>) -> Self {
+        let n = n.min(R);
+        let mut latched = start.latched;
+        for (j, l) in latched.iter_mut().enumerate() {
+            *l |= j >= n;
+        }
+        Stepper {
+            n: n as u8,
+            x: start.state,
+            latched,
+            latch_after_s: [0.0; R],
+            t_s: 0.0,
+            creeping_s: 0.0,
+            accel: [f32::INFINITY; R],
+            done: false,
+            watch: core::array::from_fn(|j| j < n),
+            settle: None,
+            start: Assumed {
+                latched,
+                coulomb_nm: start.coulomb_nm,
+                viscous_nms: start.viscous_nms,
+                spring_scale: start.spring_scale,
+                capture_rad: start.capture_rad,
+            },
+        }
+    }
+
+    /// [`Rollout::watching`]: the joints in use of `watch`.
+    pub(crate) fn watching(mut self, watch: [bool; R]) -> Self {
+        let n = self.count();
+        self.watch = core::array::from_fn(|j| j < n && watch[j]);
+        self
+    }
+
+    /// The joints latched when the rollout started (those past the count
+    /// too).
+    pub(crate) fn started_latched(&self) -> [bool; R] {
+        self.start.latched
+    }
+
+    /// The joints whose outcome the rollout decides.
+    pub(crate) fn watch(&self) -> [bool; R] {
+        self.watch
+    }
+
+    /// Time simulated so far [s].
+    pub(crate) fn elapsed_s(&self) -> f32 {
+        self.t_s
+    }
+
+    /// True once the rollout has ended.
+    pub(crate) fn is_done(&self) -> bool {
+        self.done
+    }
+
+    /// The outcome of each joint (meaningful once done; past the count:
+    /// latched at the start).
+    pub(crate) fn outcome(&self) -> [JointOutcome; R] {
+        core::array::from_fn(|j| JointOutcome {
+            latches: self.latched[j],
+            latch_after_s: self.latch_after_s[j],
+        })
+    }
+
     /// The joints in use.
     fn count(&self) -> usize {
         usize::from(self.n).min(R)
@@ -317,7 +373,7 @@ impl Stepper {
 
     /// [`Rollout::advance`], one copy for every joint count.
     #[inline(never)]
-    fn advance(&mut self, chain: &Model<'_>, cfg: &RolloutConfig) {
+    pub(crate) fn advance(&mut self, chain: &Model<'_>, cfg: &RolloutConfig) {
         for _ in 0..cfg.steps_per_slice {
             if self.done {
                 return;

@@ -139,6 +139,14 @@ impl<const N: usize> CentredFit<N> {
     /// it is clean, no joint latched or unlatched inside it, every free
     /// joint has every reading, and each fit's residual is that of noise.
     pub fn centre(&self, meas_var: f32) -> Option<Centre<N>> {
+        self.centre_with(meas_var, |c| *c)
+    }
+
+    /// What `read` makes of the [`CentredFit::centre`], handed to it where
+    /// it is built (a fit moved into an `Option` is copied byte by byte on
+    /// the MCU).
+    #[inline(always)]
+    pub fn centre_with<T>(&self, meas_var: f32, read: impl FnOnce(&Centre<N>) -> T) -> Option<T> {
         if usize::from(self.len) < WINDOW || !(meas_var > 0.0) {
             return None;
         }
@@ -181,7 +189,11 @@ impl<const N: usize> CentredFit<N> {
                 continue;
             }
             // Relative to the middle reading, for the f32 sums.
-            let y: [f32; WINDOW] = core::array::from_fn(|k| self.slot(k).phi[j] - m.phi[j]);
+            // Written in place: an array built by `from_fn` is copied.
+            let mut y = [0.0f32; WINDOW];
+            for (k, yk) in y.iter_mut().enumerate() {
+                *yk = self.slot(k).phi[j] - m.phi[j];
+            }
             let (a, b) = fit_quadratic(&tau, &y, &inv, meas_var)?;
             out.phi[j] = m.phi[j] + a;
             out.rate[j] = b;
@@ -193,7 +205,11 @@ impl<const N: usize> CentredFit<N> {
             .chain(out.rate.iter())
             .chain(out.rate_var.iter())
             .all(|v| v.is_finite());
-        finite.then_some(out)
+        if finite {
+            Some(read(&out))
+        } else {
+            None
+        }
     }
 }
 

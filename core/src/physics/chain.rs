@@ -340,24 +340,38 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
         }
     }
 
-    /// The chain's equations over arrays of capacity `M` holding its `N`
-    /// joints (`N ≤ M`; of a longer chain, its first `M` joints): the
-    /// inertia coefficients and mass moments are copied into `store`,
-    /// zero-padded. One copy of the code that evaluates the equations
-    /// serves chains of every joint count up to `M`.
-    pub fn counted_in<'a, const M: usize>(
-        &'a self,
-        store: &'a mut Coefficients<T, M>,
-    ) -> ChainRef<'a, T, M, K> {
+    /// The inertia coefficients and mass moments of the chain's `N` joints
+    /// in arrays of capacity `M` (`N ≤ M`; of a longer chain, its first
+    /// `M` joints), zero-padded, for [`Chain::counted_with`]. Out of line,
+    /// one copy per joint count and capacity: the value returned is
+    /// written where the caller keeps it.
+    #[inline(never)]
+    pub fn coefficients<const M: usize>(&self) -> Coefficients<T, M> {
         let n = N.min(M);
+        // From a constant: built as an array expression, the zeros are
+        // copied twice over on the MCU.
+        let mut store = Coefficients::ZERO;
         for k in 0..n {
             for l in 0..n {
                 store.a[k][l] = self.a[k][l];
             }
             store.mass_moment[k] = self.mass_moment[k];
         }
+        store
+    }
+
+    /// The chain's equations over arrays of capacity `M` holding its `N`
+    /// joints (`N ≤ M`; of a longer chain, its first `M` joints), with
+    /// `store` its [`Chain::coefficients`]. One copy of the code that
+    /// evaluates the equations serves chains of every joint count up to
+    /// `M`.
+    #[inline(always)]
+    pub fn counted_with<'a, const M: usize>(
+        &'a self,
+        store: &'a Coefficients<T, M>,
+    ) -> ChainRef<'a, T, M, K> {
         ChainRef {
-            n,
+            n: N.min(M),
             a: &store.a,
             mass_moment: &store.mass_moment,
             panels: &self.panels,
@@ -479,7 +493,8 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
 }
 
 /// The inertia coefficients and mass moments of a chain, zero-padded to a
-/// capacity of `M` joints, for [`Chain::counted_in`].
+/// capacity of `M` joints ([`Chain::coefficients`]), for
+/// [`Chain::counted_with`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Coefficients<T, const M: usize> {
     /// `A_kl` [kg·m²].
@@ -488,17 +503,16 @@ pub struct Coefficients<T, const M: usize> {
     mass_moment: [T; M],
 }
 
-impl<T: Real, const M: usize> Default for Coefficients<T, M> {
-    fn default() -> Self {
-        Coefficients {
-            a: [[T::ZERO; M]; M],
-            mass_moment: [T::ZERO; M],
-        }
-    }
+impl<T: Real, const M: usize> Coefficients<T, M> {
+    /// Every coefficient zero.
+    const ZERO: Self = Coefficients {
+        a: [[T::ZERO; M]; M],
+        mass_moment: [T::ZERO; M],
+    };
 }
 
 /// A chain's equations over arrays of capacity `M` holding `n ≤ M` joints,
-/// the count known at run time ([`Chain::counted`], [`Chain::counted_in`]).
+/// the count known at run time ([`Chain::counted`], [`Chain::counted_with`]).
 /// Every loop runs over the first `n` joints in the order of the fixed-size
 /// chain, so the arithmetic is that of [`Chain`] bit for bit; entries past
 /// `n` of the arrays it returns are zero. The methods of [`Chain`] are
@@ -522,6 +536,13 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
         self.n.min(M)
     }
 
+    /// The constant inertia coefficients `A_kl` [kg·m²] (zero past the
+    /// joints in use).
+    #[inline(always)]
+    pub fn inertia_coefficients(&self) -> &[[T; M]; M] {
+        self.a
+    }
+
     /// The joints in use.
     #[inline(always)]
     pub fn joints(&self) -> &[Joint<T, K>] {
@@ -540,7 +561,8 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
                 d[k][l] = self.a[k][l] * (c[k] * c[l] + s[k] * s[l]);
             }
         }
-        congruence(n, &d)
+        congruence(n, &mut d);
+        d
     }
 
     /// Torque on joint `j` [N·m] from its spring, friction and joint effects,
@@ -649,7 +671,8 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
                 rhs[j] += self.joint_torque(j, x.phi[j], x.phi_dot[j], mode.branch[j]);
             }
         }
-        (congruence(n, &d), rhs)
+        congruence(n, &mut d);
+        (d, rhs)
     }
 }
 
@@ -691,28 +714,28 @@ fn st<T: Real, const M: usize>(n: usize, x: &[T; M]) -> [T; M] {
     y
 }
 
-/// `Sᵀ D S` from `D`, over the first `n ≤ M` joints.
+/// `Sᵀ D S` from `D`, over the first `n ≤ M` joints, in place: `d` holds
+/// `D` on entry and `Sᵀ D S` on return (each entry is read once before
+/// it is overwritten, so the sums are those of separate matrices; one
+/// matrix fewer to clear and copy on the MCU).
 #[inline(always)]
-fn congruence<T: Real, const M: usize>(n: usize, d: &[[T; M]; M]) -> [[T; M]; M] {
+fn congruence<T: Real, const M: usize>(n: usize, d: &mut [[T; M]; M]) {
     let n = n.min(M);
     // R = D S (suffix sums along columns), M = Sᵀ R (suffix sums along rows).
-    let mut r = [[T::ZERO; M]; M];
-    for a in 0..n {
+    for row in d.iter_mut().take(n) {
         let mut acc = T::ZERO;
         for k in (0..n).rev() {
-            acc += d[a][k];
-            r[a][k] = acc;
+            acc += row[k];
+            row[k] = acc;
         }
     }
-    let mut m = [[T::ZERO; M]; M];
     for k in 0..n {
         let mut acc = T::ZERO;
         for j in (0..n).rev() {
-            acc += r[j][k];
-            m[j][k] = acc;
+            acc += d[j][k];
+            d[j][k] = acc;
         }
     }
-    m
 }
 
 #[cfg(test)]

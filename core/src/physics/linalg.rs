@@ -181,16 +181,29 @@ pub fn articulated_inertia<T: Real, const N: usize>(
     locked: &[bool; N],
     j: usize,
 ) -> Option<T> {
-    if locked.get(j).copied().unwrap_or(true) {
+    articulated_inertia_n(N, m, locked, j)
+}
+
+/// [`articulated_inertia`] of joint `j` among the first `n ≤ M`
+/// coordinates of arrays of capacity `M` (`None` for `j ≥ n`); the same
+/// arithmetic as with `M = n`.
+#[inline(always)]
+pub fn articulated_inertia_n<T: Real, const M: usize>(
+    n: usize,
+    m: &[[T; M]; M],
+    locked: &[bool; M],
+    j: usize,
+) -> Option<T> {
+    if j >= n || locked.get(j).copied().unwrap_or(true) {
         return None;
     }
-    let mut l = [[T::ZERO; N]; N];
-    ldl_masked(N, m, locked, &mut l).ok()?;
-    let mut e = [T::ZERO; N];
+    let mut l = [[T::ZERO; M]; M];
+    ldl_masked(n, m, locked, &mut l).ok()?;
+    let mut e = [T::ZERO; M];
     if let Some(ej) = e.get_mut(j) {
         *ej = T::ONE;
     }
-    let d = substitute(N, &l, &e, locked).get(j).copied()?;
+    let d = substitute(n, &l, &e, locked).get(j).copied()?;
     let i = T::ONE / d;
     (d > T::ZERO && i.is_finite()).then_some(i)
 }

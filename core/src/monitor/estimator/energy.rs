@@ -3,11 +3,13 @@
 //! filter, friction estimate and articulated inertia).
 
 use super::joint::{JointState, DEG};
-use super::learning::Learning;
+use super::learning::{Learning, R};
 use super::state::Monitor;
 use crate::monitor::config::MarginConfig;
 use crate::monitor::margin::{self, MarginInput, MarginResult, MarginSettings};
-use crate::physics::linalg::articulated_inertia;
+use crate::monitor::rollout::mass_matrix;
+use crate::physics::chain::{ChainRef, Coefficients};
+use crate::physics::linalg::articulated_inertia_n;
 use crate::physics::spring::Spring;
 
 /// Smallest articulated inertia the margin divides by [kg·m²] (a guard;
@@ -17,67 +19,76 @@ const MIN_INERTIA_KGM2: f32 = 1e-6;
 /// bound on `T_C` is a transient of `r`, not evidence (`docs/monitor.md`
 /// §3.2).
 const LOWER_BOUND_SIGMAS: f32 = 2.0;
-/// The margin of a joint the monitor knows nothing about (a guard for an
-/// index out of range, which the callers never pass).
-const UNKNOWN_MARGIN: MarginResult = MarginResult {
-    margin_pct: 0.0,
-    latch_probability: 0.5,
-    time_to_latch_s: None,
-    stops_on_ramp: false,
-};
 
 impl<const N: usize> Monitor<N> {
     /// The energy margin of the remaining stroke: one joint per learned
     /// sample, in turn, not inside a snap zone or the settling time after
     /// a snap, latch or gap (the rates there are the rate filter's
     /// wide-open transient, and the margin computed on entry stands).
-    pub(super) fn evaluate_margin(&mut self, sample: &Learning<N>) {
-        let zone = self.tuning.observer.snap_zone_deg * DEG;
+    /// `store`: the chain's [`crate::physics::chain::Chain::coefficients`];
+    /// `locked`: the sample's locked joints ([`Learning::locked_padded`]).
+    pub(super) fn evaluate_margin(
+        &mut self,
+        sample: &Learning<N>,
+        store: &Coefficients<f32, R>,
+        locked: &[bool; R],
+    ) {
         let jm = usize::from(self.learner.next_margin) % N.max(1);
         self.learner.next_margin = ((jm + 1) % N.max(1)) as u8;
-        let locked = sample.locked();
-        let (phi, _) = self.model_state(&locked);
-        let settled = sample.quiet && libm::fabsf(phi.get(jm).copied().unwrap_or(0.0)) >= zone;
-        if let (Some(false), true) = (locked.get(jm), settled) {
-            // Articulated inertia 1/(M⁻¹)_jj over the free joints: the
-            // one-joint energy balance counts all of the joint's kinetic
-            // energy, the share the outer panels carry included, so it errs
-            // on the side of a latch and its stall verdicts are safe ones.
-            let m = self.chain.mass_matrix(&phi);
-            let own = m
-                .get(jm)
-                .and_then(|row| row.get(jm))
-                .copied()
-                .unwrap_or(1.0);
-            let inertia =
-                articulated_inertia(&m, &locked, jm).unwrap_or_else(|| own.max(MIN_INERTIA_KGM2));
-            let result = self.joint_margin(jm, inertia, sample.quiet);
-            if let Some(js) = self.joints.get_mut(jm) {
-                js.margin = Some(result);
-            }
+        margin_of(
+            &self.chain.counted_with(store),
+            &mut self.joints,
+            jm,
+            locked,
+            sample.quiet,
+            &self.tuning.margin,
+            self.tuning.observer.snap_zone_deg * DEG,
+        );
+    }
+}
+
+/// The energy margin of joint `jm` of `joints` (stored in its state) when
+/// it is free and settled: not `locked`, `quiet` (no snap, latch or gap
+/// within the settling time) and out of its snap zone (`zone_rad` [rad]
+/// from the latch). The rates there are the rate filter's wide-open
+/// transient, and the margin computed on entry stands. Not generic over
+/// the joint count: one copy in flash for every monitor.
+#[inline(never)]
+fn margin_of(
+    chain: &ChainRef<'_, f32, R>,
+    joints: &mut [JointState],
+    jm: usize,
+    locked: &[bool; R],
+    quiet: bool,
+    cfg: &MarginConfig,
+    zone_rad: f32,
+) {
+    let n = chain.joint_count();
+    // The model's angles: the rate filters', 0 for a locked joint
+    // (latched joints sit at 0).
+    let mut phi = [0.0f32; R];
+    for (j, (p, js)) in phi.iter_mut().zip(joints.iter()).enumerate() {
+        if !locked[j] {
+            *p = js.kf.angle();
         }
     }
-
-    /// The model's angles [rad] and rates [rad/s]: the rate filters', 0 for
-    /// a `locked` joint (latched joints sit at 0).
-    pub(super) fn model_state(&self, locked: &[bool; N]) -> ([f32; N], [f32; N]) {
-        let pick = |j: usize, v: f32| if locked[j] { 0.0 } else { v };
-        (
-            core::array::from_fn(|j| pick(j, self.joints[j].kf.angle())),
-            core::array::from_fn(|j| pick(j, self.joints[j].kf.rate())),
-        )
-    }
-
-    /// Energy margin and one-joint latch probability of joint `j`, with
-    /// `inertia` its articulated inertia `1/(M⁻¹)_jj` [kg·m²]; `quiet` when
-    /// the observer runs undisturbed (its friction torque then bounds `T_C`
-    /// from below).
-    fn joint_margin(&self, j: usize, inertia: f32, quiet: bool) -> MarginResult {
-        match (self.joints.get(j), self.chain.joints().get(j)) {
-            (Some(js), Some(joint)) => {
-                joint_margin(js, &joint.spring, &self.tuning.margin, inertia, quiet)
-            }
-            _ => UNKNOWN_MARGIN,
+    let settled = quiet && libm::fabsf(phi.get(jm).copied().unwrap_or(0.0)) >= zone_rad;
+    if let (Some(false), true) = (locked.get(jm), settled) {
+        // Articulated inertia 1/(M⁻¹)_jj over the free joints: the
+        // one-joint energy balance counts all of the joint's kinetic
+        // energy, the share the outer panels carry included, so it errs
+        // on the side of a latch and its stall verdicts are safe ones.
+        let m = mass_matrix(chain, &phi);
+        let own = m
+            .get(jm)
+            .and_then(|row| row.get(jm))
+            .copied()
+            .unwrap_or(1.0);
+        let inertia =
+            articulated_inertia_n(n, &m, locked, jm).unwrap_or_else(|| own.max(MIN_INERTIA_KGM2));
+        let spring = chain.joints().get(jm).map(|joint| &joint.spring);
+        if let (Some(js), Some(spring)) = (joints.get_mut(jm), spring) {
+            js.margin = Some(joint_margin(js, spring, cfg, inertia, quiet));
         }
     }
 }

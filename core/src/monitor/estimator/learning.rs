@@ -2,7 +2,8 @@
 //! friction learning, and the state the learning keeps between them (the
 //! centred fit's window, whose turn the energy margin is).
 
-use crate::monitor::smoother::CentredFit;
+use crate::monitor::rollout::ROLLOUT_MAX_JOINTS;
+use crate::monitor::smoother::{Centre, CentredFit};
 use heapless::Deque;
 
 /// Samples the learning queue holds [1]: at 100 Hz, 80 ms of a slow path
@@ -48,6 +49,61 @@ impl<const N: usize> Learning<N> {
     /// The joints the model sits at 0.
     pub(super) fn locked(&self) -> [bool; N] {
         core::array::from_fn(|j| self.joints[j].locked)
+    }
+
+    /// [`Learning::locked`] over an array of capacity
+    /// [`ROLLOUT_MAX_JOINTS`], the joints past the monitor's locked.
+    pub(super) fn locked_padded(&self) -> [bool; R] {
+        let mut locked = [true; R];
+        for (l, joint) in locked.iter_mut().zip(self.joints.iter()) {
+            *l = joint.locked;
+        }
+        locked
+    }
+}
+
+/// Capacity of the slow path's per-joint arrays written once for every
+/// joint count: a rollout's.
+pub(super) const R: usize = ROLLOUT_MAX_JOINTS;
+
+/// The centred fit ([`Centre`]) over arrays of capacity
+/// [`ROLLOUT_MAX_JOINTS`], the joints past the monitor's locked at 0: what
+/// the learning and the hand-over to the prediction read of it, in the
+/// form their code written once for every joint count takes.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Fitted {
+    /// Time of the middle sample [s].
+    pub(super) t_s: f32,
+    /// Time since the previous middle sample [s].
+    pub(super) dt_s: f32,
+    /// Joint angles [rad].
+    pub(super) phi: [f32; R],
+    /// Joint rates [rad/s].
+    pub(super) rate: [f32; R],
+    /// Variance of each rate [rad²/s²].
+    pub(super) rate_var: [f32; R],
+    /// Joints locked at the middle sample.
+    pub(super) locked: [bool; R],
+}
+
+impl Fitted {
+    /// The fit `c` of `N` joints, padded.
+    pub(super) fn of<const N: usize>(c: &Centre<N>) -> Self {
+        let mut f = Fitted {
+            t_s: c.t_s,
+            dt_s: c.dt_s,
+            phi: [0.0; R],
+            rate: [0.0; R],
+            rate_var: [0.0; R],
+            locked: [true; R],
+        };
+        for j in 0..N.min(R) {
+            f.phi[j] = c.phi[j];
+            f.rate[j] = c.rate[j];
+            f.rate_var[j] = c.rate_var[j];
+            f.locked[j] = c.locked[j];
+        }
+        f
     }
 }
 

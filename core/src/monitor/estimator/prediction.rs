@@ -3,12 +3,13 @@
 //! from, the friction each rollout assumes, and the prediction read back
 //! into the status.
 
-use super::joint::Forecast;
-use super::learning::Learning;
+use super::joint::{Forecast, JointState};
+use super::learning::{Fitted, Learning, R};
 use super::state::Monitor;
-use crate::monitor::predictor::{FrictionBelief, Prediction, PredictionQuery};
-use crate::monitor::smoother::Centre;
-use crate::physics::chain::ChainState;
+use crate::monitor::predictor::{Cycle, FrictionBelief, Prediction, PredictionQuery};
+use crate::monitor::rollout::{RolloutConfig, ROLLOUT_MAX_JOINTS};
+use crate::monitor::status::JointStatus;
+use crate::physics::chain::{ChainRef, ChainState};
 
 /// Time without a centred fit after which a rollout starts from the rate
 /// filter instead [s].
@@ -22,110 +23,203 @@ impl<const N: usize> Monitor<N> {
     /// when no fit has come for a while (a flaky encoder), since its rates
     /// after a latch impact are off by degrees per second
     /// (docs/monitor.md §6).
+    ///
+    /// `locked`: the sample's locked joints ([`Learning::locked_padded`]).
     pub(super) fn hand_over_to_prediction(
         &mut self,
         sample: &Learning<N>,
-        centre: Option<&Centre<N>>,
+        locked: &[bool; R],
+        fit: Option<&Fitted>,
     ) {
         if self.tuning.margin.rollout.steps_per_slice == 0 {
             return;
         }
-        let t = sample.t;
-        let start = match centre {
-            Some(c) => Some((
-                c.t_s,
-                ChainState {
-                    phi: c.phi,
-                    phi_dot: c.rate,
-                },
-                c.locked,
-            )),
-            None if sample.quiet && t - self.learner.t_centre > CENTRE_WAIT_S => {
-                let locked = sample.locked();
-                let (phi, phi_dot) = self.model_state(&locked);
-                Some((t, ChainState { phi, phi_dot }, locked))
-            }
-            None => None,
-        };
-        if let Some(c) = centre {
-            self.learner.t_centre = c.t_s;
-        }
-        // Handed to the next rollout the predictor starts.
-        self.predictor.set_start(start);
+        hand_over(
+            self.predictor.cycle_mut(),
+            &self.joints,
+            fit,
+            (sample.t, sample.quiet, locked),
+            &mut self.learner.t_centre,
+        );
     }
 
     /// The learned part of every joint's status: friction, margin and the
-    /// latch / stall prediction as of time `t` [s].
+    /// latch / stall prediction as of time `t` [s] ([`refresh`]).
     pub(super) fn refresh_estimates(&mut self, t: f32) {
-        for j in 0..N {
-            let (prediction, confidence, time_to_latch_s) = self.prediction(j, t);
-            if let (Some(js), Some(out)) = (self.joints.get_mut(j), self.status.joints.get_mut(j)) {
-                js.estimates(
-                    out,
-                    Forecast {
-                        prediction,
-                        confidence,
-                        time_to_latch_s,
-                    },
-                );
-            }
-        }
-    }
-
-    /// The latch / stall prediction of joint `j` at time `t` [s] from the
-    /// last finished rollouts and the energy balance: the prediction, its
-    /// confidence and the time to the latch [s]. A stall of a joint the
-    /// latch tracker sees at rest on a physical latch's ramp
-    /// ([`crate::monitor::latch::LatchState::StoppedShort`]) is a ramp stop.
-    fn prediction(&mut self, j: usize, t: f32) -> (Prediction, f32, Option<f32>) {
         let cfg = &self.tuning.margin;
-        let on_ramp = self.joints.get(j).is_some_and(|s| s.lt.stopped_short());
-        let (prediction, confidence, time) = self.predictor.prediction(
-            j,
-            t,
-            &PredictionQuery {
-                latched: self.joints.get(j).is_some_and(|s| s.lt.is_latched()),
-                energy: self.joints.get(j).and_then(|s| s.margin),
+        refresh(
+            self.predictor.cycle_mut(),
+            &mut self.joints,
+            &mut self.status.joints,
+            &Horizon {
                 deadline_s: self.timeline.t_start + cfg.deadline_s,
                 confidence: cfg.confidence,
                 rollouts: cfg.rollout.steps_per_slice > 0,
             },
+            t,
         );
-        match prediction {
-            Prediction::Stall if on_ramp => (Prediction::RampStop, confidence, time),
-            _ => (prediction, confidence, time),
-        }
     }
 
     /// Advances the rollout in progress; when it ends, the predictor
     /// starts the next bracket from [`Monitor::update`]'s last settled
-    /// state with the current friction estimates. Returns true when a
-    /// rollout finished.
+    /// state with the current friction estimates ([`advance`]). Returns
+    /// true when a rollout finished.
     pub(super) fn advance_rollouts(&mut self) -> bool {
-        let joints = &self.joints;
-        let capture_rad: [f32; N] = core::array::from_fn(|j| joints[j].capture_rad);
+        let store = self.chain.coefficients();
+        let chain = self.chain.counted_with(&store);
         let cfg = &self.tuning.margin;
-        self.predictor.slice(
-            &self.chain,
+        advance(
+            self.predictor.cycle_mut(),
+            &chain,
             &cfg.rollout,
             self.timeline.t_start + cfg.deadline_s,
-            &capture_rad,
-            |j| match joints.get(j) {
-                Some(js) => {
-                    // f only as far as the data resolve it (§3.2).
-                    let e = js.friction().0;
-                    FrictionBelief {
-                        coulomb_nm: e.coulomb_nm,
-                        coulomb_var: e.coulomb_var,
-                        viscous_nms: e.viscous_nms,
-                        viscous_var: e.viscous_var,
-                        spring_scale_err: e.spring_scale_err,
-                        spring_scale_var: e.spring_scale_var,
-                        coulomb_lower_nm: js.fo.coulomb_lower_bound(js.kf.rate(), e.viscous_nms),
-                    }
-                }
-                _ => FrictionBelief::default(),
-            },
+            &self.joints,
         )
     }
+}
+
+/// [`Monitor::hand_over_to_prediction`] to `cycle`: the fit `fit` when
+/// there is one (its time kept in `t_centre` [s]), else, once no fit has
+/// come for [`CENTRE_WAIT_S`] and the sample (its time [s], whether it is
+/// quiet, its locked joints) is quiet, the rate filters of `joints` (0 for
+/// a locked joint). Not generic over the joint count: one copy in flash
+/// for every monitor.
+#[inline(never)]
+fn hand_over(
+    cycle: &mut Cycle,
+    joints: &[JointState],
+    fit: Option<&Fitted>,
+    (t, quiet, locked): (f32, bool, &[bool; R]),
+    t_centre: &mut f32,
+) {
+    let start = match fit {
+        Some(c) => Some((
+            c.t_s,
+            ChainState {
+                phi: c.phi,
+                phi_dot: c.rate,
+            },
+            c.locked,
+        )),
+        None if quiet && t - *t_centre > CENTRE_WAIT_S => {
+            let mut x = ChainState {
+                phi: [0.0; R],
+                phi_dot: [0.0; R],
+            };
+            for j in 0..joints.len().min(R) {
+                if let (false, Some(js)) = (locked[j], joints.get(j)) {
+                    x.phi[j] = js.kf.angle();
+                    x.phi_dot[j] = js.kf.rate();
+                }
+            }
+            Some((t, x, *locked))
+        }
+        None => None,
+    };
+    if let Some(c) = fit {
+        *t_centre = c.t_s;
+    }
+    // Handed to the next rollout the predictor starts.
+    cycle.set_start(start);
+}
+
+/// What the prediction of every joint is asked against: the deadline, the
+/// confidence and whether the rollouts run.
+struct Horizon {
+    /// The deployment's deadline, absolute [s].
+    deadline_s: f32,
+    /// Confidence level `Φ(z)` [1].
+    confidence: f32,
+    /// False when the rollouts are switched off.
+    rollouts: bool,
+}
+
+/// The learned part of the status line `out` of each joint of `joints`:
+/// friction, margin and the latch / stall prediction of `cycle` as of time
+/// `t` [s]. Not generic over the joint count: one copy in flash for every
+/// monitor.
+#[inline(never)]
+fn refresh(
+    cycle: &mut Cycle,
+    joints: &mut [JointState],
+    out: &mut [JointStatus],
+    horizon: &Horizon,
+    t: f32,
+) {
+    for (j, (js, out)) in joints.iter_mut().zip(out.iter_mut()).enumerate() {
+        let (prediction, confidence, time_to_latch_s) = forecast(cycle, j, js, horizon, t);
+        js.estimates(
+            out,
+            Forecast {
+                prediction,
+                confidence,
+                time_to_latch_s,
+            },
+        );
+    }
+}
+
+/// The latch / stall prediction of joint `j` (its state `js`) at time `t`
+/// [s] from the last finished rollouts of `cycle` and the energy balance:
+/// the prediction, its confidence and the time to the latch [s]. A stall
+/// of a joint the latch tracker sees at rest on a physical latch's ramp
+/// ([`crate::monitor::latch::LatchState::StoppedShort`]) is a ramp stop.
+fn forecast(
+    cycle: &mut Cycle,
+    j: usize,
+    js: &JointState,
+    horizon: &Horizon,
+    t: f32,
+) -> (Prediction, f32, Option<f32>) {
+    let on_ramp = js.lt.stopped_short();
+    let (prediction, confidence, time) = cycle.prediction(
+        j,
+        t,
+        &PredictionQuery {
+            latched: js.lt.is_latched(),
+            energy: js.margin,
+            deadline_s: horizon.deadline_s,
+            confidence: horizon.confidence,
+            rollouts: horizon.rollouts,
+        },
+    );
+    match prediction {
+        Prediction::Stall if on_ramp => (Prediction::RampStop, confidence, time),
+        _ => (prediction, confidence, time),
+    }
+}
+
+/// One slice of `cycle` ([`Cycle::slice`]) on `chain`, the joints'
+/// capture angles and friction beliefs taken from `joints`. Not generic
+/// over the joint count: one copy in flash for every monitor.
+#[inline(never)]
+fn advance(
+    cycle: &mut Cycle,
+    chain: &ChainRef<'_, f32, ROLLOUT_MAX_JOINTS>,
+    cfg: &RolloutConfig,
+    deadline_s: f32,
+    joints: &[JointState],
+) -> bool {
+    let mut capture_rad = [0.0f32; ROLLOUT_MAX_JOINTS];
+    for (c, js) in capture_rad.iter_mut().zip(joints.iter()) {
+        *c = js.capture_rad;
+    }
+    cycle.slice(chain, cfg, deadline_s, &capture_rad, &|j| {
+        match joints.get(j) {
+            Some(js) => {
+                // f only as far as the data resolve it (§3.2).
+                let e = js.friction().0;
+                FrictionBelief {
+                    coulomb_nm: e.coulomb_nm,
+                    coulomb_var: e.coulomb_var,
+                    viscous_nms: e.viscous_nms,
+                    viscous_var: e.viscous_var,
+                    spring_scale_err: e.spring_scale_err,
+                    spring_scale_var: e.spring_scale_var,
+                    coulomb_lower_nm: js.fo.coulomb_lower_bound(js.kf.rate(), e.viscous_nms),
+                }
+            }
+            _ => FrictionBelief::default(),
+        }
+    })
 }

@@ -4,12 +4,13 @@
 //! status's learned half) or, with the queue empty, advances the latch /
 //! stall prediction by one unit of rollout work.
 
-use super::learning::Learning;
+use super::joint::JointState;
+use super::learning::{Fitted, Learning, R};
 use super::state::Monitor;
 use crate::monitor::faults::Fault;
-use crate::monitor::observer::{momentum_terms, FrictionObserver, ObserverInput, ObserverTuning};
-use crate::monitor::smoother::Centre;
-use crate::monitor::status::{Sample, Status};
+use crate::monitor::observer::{momentum_terms_n, FrictionObserver, ObserverInput, ObserverTuning};
+use crate::monitor::status::{JointStatus, Sample, Status};
+use crate::physics::chain::{ChainRef, Coefficients};
 use crate::physics::spring::{Branch, Spring};
 
 impl<const N: usize> Monitor<N> {
@@ -70,9 +71,13 @@ impl<const N: usize> Monitor<N> {
                 info!("joint {} latched at t = {} s", j + 1, sample.t);
             }
         }
-        let centre = self.learn_friction(sample);
-        self.evaluate_margin(sample);
-        self.hand_over_to_prediction(sample, centre.as_ref());
+        // The chain's coefficients for the learning's code written once
+        // for every joint count, copied once per learned sample.
+        let store = self.chain.coefficients();
+        let fitted = self.learn_friction(sample, &store);
+        let locked = sample.locked_padded();
+        self.evaluate_margin(sample, &store, &locked);
+        self.hand_over_to_prediction(sample, &locked, fitted.as_ref());
         self.refresh_estimates(sample.t);
     }
 
@@ -81,50 +86,83 @@ impl<const N: usize> Monitor<N> {
     /// zones and the settling after a snap, latch or gap, with every free
     /// joint measured (`smoother.rs`). The observers restart whenever the
     /// run of fits breaks; an observer that fails restarts at its prior
-    /// (`estimator_reset` in the status). Returns the fit, if any.
-    fn learn_friction(&mut self, sample: &Learning<N>) -> Option<Centre<N>> {
+    /// (`estimator_reset` in the status). `store`: the chain's
+    /// [`crate::physics::chain::Chain::coefficients`]. Returns the fit, if
+    /// any.
+    fn learn_friction(
+        &mut self,
+        sample: &Learning<N>,
+        store: &Coefficients<f32, R>,
+    ) -> Option<Fitted> {
         let learner = &mut self.learner;
         learner
             .fit
             .push(sample.t, &sample.used(), sample.clean, &sample.locked());
-        let centre = learner.fit.centre(self.tuning.meas_var);
-        let Some(c) = &centre else {
+        let Some(fitted) = learner.fit.centre_with(self.tuning.meas_var, Fitted::of) else {
             learner.fit_run = false;
-            return centre;
+            return None;
         };
-        let terms = momentum_terms(&self.chain, &c.phi, &c.rate);
-        for j in 0..N {
-            if c.locked[j] {
-                continue;
-            }
-            let mut p = 0.0f32;
-            for k in 0..N {
-                p += terms.mass[j][k] * c.rate[k];
-            }
-            let healthy = learn_joint(
-                &mut self.joints[j].fo,
-                !learner.fit_run,
-                &self.chain.joints()[j].spring,
-                c.phi[j],
-                ObserverInput {
-                    momentum: p,
-                    spring_torque_nm: 0.0,
-                    beta_nm: terms.beta[j],
-                    rate_rad_s: c.rate[j],
-                    rate_var: c.rate_var[j],
-                    dt_s: c.dt_s,
-                    learn: true,
-                },
-                &self.tuning.observer.tuning,
-            );
-            if !healthy {
-                if let Some(out) = self.status.joints.get_mut(j) {
-                    out.faults.insert(Fault::EstimatorReset);
-                }
+        learn_joints(
+            &self.chain.counted_with(store),
+            &fitted,
+            !learner.fit_run,
+            &mut self.joints,
+            &mut self.status.joints,
+            &self.tuning.observer.tuning,
+        );
+        learner.fit_run = true;
+        Some(fitted)
+    }
+}
+
+/// The friction observers of `joints` stepped on the centred fit `c`
+/// (`restart`: the run of fits broke), with the momentum terms of `chain`
+/// at the fit; a joint whose observer fails has `EstimatorReset` set in
+/// its status line of `out`. Not generic over the joint count: one copy in
+/// flash for every monitor.
+#[inline(never)]
+fn learn_joints(
+    chain: &ChainRef<'_, f32, R>,
+    c: &Fitted,
+    restart: bool,
+    joints: &mut [JointState],
+    out: &mut [JointStatus],
+    tuning: &ObserverTuning,
+) {
+    let n = chain.joint_count();
+    let terms = momentum_terms_n(chain, &c.phi, &c.rate);
+    for j in 0..n {
+        if c.locked[j] {
+            continue;
+        }
+        let mut p = 0.0f32;
+        for k in 0..n {
+            p += terms.mass[j][k] * c.rate[k];
+        }
+        let (Some(js), Some(joint)) = (joints.get_mut(j), chain.joints().get(j)) else {
+            continue;
+        };
+        let healthy = learn_joint(
+            &mut js.fo,
+            restart,
+            &joint.spring,
+            c.phi[j],
+            ObserverInput {
+                momentum: p,
+                spring_torque_nm: 0.0,
+                beta_nm: terms.beta[j],
+                rate_rad_s: c.rate[j],
+                rate_var: c.rate_var[j],
+                dt_s: c.dt_s,
+                learn: true,
+            },
+            tuning,
+        );
+        if !healthy {
+            if let Some(out) = out.get_mut(j) {
+                out.faults.insert(Fault::EstimatorReset);
             }
         }
-        learner.fit_run = true;
-        centre
     }
 }
 
