@@ -184,6 +184,19 @@ fn angles_a_whole_turn_off_are_refused_naming_the_turn() {
     );
 }
 
+#[test]
+fn times_of_a_logger_clock_are_refused_naming_the_offset() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // A logger's time since power-up: the release at t = 1234.5 s.
+    let text = transformed(|r| {
+        r[0] = format!("{:.3}", r[0].parse::<f64>().unwrap() + 1234.5);
+    });
+    let run = write(dir.path(), "clock.csv", text);
+    let out = identify(&run, &t01_mechanism());
+    let at = format!("clock.csv:{}:", first_row_line());
+    refused_before_work(&out, &[&at, "column `t_s`", "1234.5", "subtract"]);
+}
+
 /// The bundled run as a spreadsheet saves it: BOM, `;`, decimal commas,
 /// CRLF; the metadata cells quoted when `quote` (as some spreadsheets do).
 fn spreadsheet_text(quote: bool) -> String {

@@ -50,10 +50,12 @@ pub enum CampaignError {
     #[error("no runs given")]
     NoRuns,
     /// A run whose time stamps do not start at 0.
-    #[error("{file}: the first sample is at t = {t0} s; a run starts at the release, t = 0")]
+    #[error("{file}:{line}: column `t_s` (column 1): the first sample is at t = {t0} s; a run starts at the release, t = 0: a logger's clock? subtract {t0} s from t_s")]
     NotFromRelease {
         /// The run.
         file: String,
+        /// Line of its first sample in the file.
+        line: usize,
         /// Its first time stamp [s].
         t0: f64,
     },
@@ -105,7 +107,9 @@ impl Campaign {
         check_analysable(&run, &mechanism, &file)?;
         let t0 = run.t_s.first().copied().unwrap_or(0.0);
         if t0.abs() > 1e-9 {
-            return Err(CampaignError::NotFromRelease { file, t0 });
+            // The metadata lines, then the header, then the first sample.
+            let line = run.metadata.len() + 2;
+            return Err(CampaignError::NotFromRelease { file, line, t0 });
         }
         self.runs.push(CampaignRun {
             source: source.to_path_buf(),
