@@ -1,6 +1,7 @@
 //! Values of a mechanism that are valid but unlikely: a panel mass typed in
-//! grams, an inertia that no panel of that mass and length has, a spring
-//! that would deploy its panels in a flash or over hours. Each is a warning
+//! grams, an inertia that no panel of that mass and length has, a stowed
+//! angle typed in radians, a spring that would deploy its panels in a flash
+//! or over hours. Each is a warning
 //! (the value may be right), naming the key and, when the TOML text is
 //! given, its line; none stops a command.
 //!
@@ -47,6 +48,22 @@ pub struct Implausible {
     pub line: Option<usize>,
     /// What is unlikely and the likely cause, one sentence.
     pub message: String,
+}
+
+/// Relative distance of a stowed angle from a quarter turn written in
+/// radians (π/2, π, 3π/2, 2π) within which it is taken for radians: 0.1 %,
+/// four significant digits (1.571, 3.142); no hinge is stowed 1.571 deg
+/// from its latch.
+pub const RADIAN_MATCH: f64 = 1e-3;
+
+/// `k` when `stowed_deg` is ±kπ/2 (k = 1..4) within [`RADIAN_MATCH`]: a
+/// stowed angle typed in radians.
+fn quarter_turns_in_radians(stowed_deg: f64) -> Option<i32> {
+    let x = stowed_deg.abs();
+    (1..=4).find(|&k| {
+        let q = f64::from(k) * std::f64::consts::FRAC_PI_2;
+        (x - q).abs() <= RADIAN_MATCH * q
+    })
 }
 
 /// The deployment time of joint `j` (0-based) estimated without simulation
@@ -103,6 +120,15 @@ pub fn check(mechanism: &Mechanism, text: Option<&str>) -> Vec<Implausible> {
             say("inertia_kgm2", format!("{} kg·m² about the centre of mass makes the hinge inertia {ratio:.2} times m·L²/3 = {uniform:.3} kg·m² of a uniform panel (plausible {MIN_INERTIA_RATIO} to {MAX_INERTIA_RATIO}): an inertia in other units (g·m², kg·mm²), or about another axis?", p.inertia_kgm2));
         }
     }
+    for (j, joint) in mechanism.joints.iter().enumerate() {
+        if let Some(k) = quarter_turns_in_radians(joint.stowed_deg) {
+            out.push(Implausible {
+                key: format!("joint[{}].stowed_deg", j + 1),
+                line: line_of("joint", j, "stowed_deg"),
+                message: format!("{} deg is {k}π/2 in radians, a stroke of {:.2} deg: an angle in radians? expected degrees ({:.1})", joint.stowed_deg, joint.stowed_deg.abs(), joint.stowed_deg.to_degrees()),
+            });
+        }
+    }
     for j in 0..mechanism.joints.len() {
         let Some(t) = deploy_time_s(mechanism, j) else {
             continue;
@@ -153,6 +179,25 @@ mod tests {
             let t = deploy_time_s(&m, j).unwrap();
             assert!((0.2..20.0).contains(&t), "joint {}: {t} s", j + 1);
         }
+    }
+
+    #[test]
+    fn a_stowed_angle_in_radians_names_the_key_and_its_line() {
+        let text = t01_text().replacen("stowed_deg = 180.0", "stowed_deg = 3.1416", 1);
+        let m = Mechanism::from_toml_str(&text, "t01").unwrap();
+        let found = check(&m, Some(&text));
+        let w: Vec<_> = found
+            .iter()
+            .filter(|w| w.key == "joint[2].stowed_deg")
+            .collect();
+        assert_eq!(w.len(), 1, "{found:?}");
+        let line = text.lines().position(|l| l.contains("3.1416")).unwrap() + 1;
+        assert_eq!(w[0].line, Some(line));
+        assert!(
+            w[0].message.contains("radians") && w[0].message.contains("180.0"),
+            "{}",
+            w[0].message
+        );
     }
 
     #[test]
