@@ -29,6 +29,7 @@ mod outcome;
 mod refine;
 mod screen;
 mod shared_torque;
+mod stand_in;
 mod table_form;
 
 pub use candidate::Candidate;
@@ -747,6 +748,7 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
     search.run();
     if opts.discover && !truss {
         search.discover(sigma);
+        search.replace_stand_in(sigma);
     }
     let (extended, strength_rms_deg) = eng.strongest_first(&search.current);
     let held_out_rms_deg = match search.current_held {
