@@ -20,7 +20,8 @@
 //!    like any candidate; a named effect that fits as well replaces it.
 //! 6. A clear residual that nothing explains is reported as `unexplained`
 //!    (how large, which joint, which part of the stroke), never forced onto
-//!    a name.
+//!    a name. Where a global effect stands in for a joint torque, a table
+//!    at that joint in its place is tried first (`stand_in`).
 
 mod candidate;
 pub mod discover;

@@ -1,5 +1,5 @@
 //! A table in place of a global stand-in: when the search ends where
-//! [`Engine::unexplained_torque`] would fire (a global effect — rig tilt,
+//! [`super::Engine::unexplained_torque`] would fire (a global effect — rig tilt,
 //! air drag — brings the residual within the noise of the angles, and
 //! without it the residual torque is significant at a joint where the set
 //! claims nothing), one more move is tried before the `unexplained`
@@ -10,7 +10,7 @@
 //! only when it also explains the data: its BIC better than the stand-in
 //! set's by more than [`MIN_DELTA_BIC`], its held-out RMS better by
 //! [`HELD_OUT_SHARE`], its residual not above the noise and no global
-//! stand-in left ([`Engine::unexplained_torque`] silent).
+//! stand-in left ([`super::Engine::unexplained_torque`] silent).
 
 use super::candidate::Candidate;
 use super::discover;
