@@ -131,7 +131,7 @@ impl Search<'_, '_> {
 
     /// The table candidates at one joint: the even forms and the shape the
     /// residual torque has (its knot torques kept as the fit's start).
-    fn joint_tables(&self, jt: &JointTorque, even: &[Candidate]) -> Vec<Candidate> {
+    pub(super) fn joint_tables(&self, jt: &JointTorque, even: &[Candidate]) -> Vec<Candidate> {
         let mine: Vec<Candidate> = even
             .iter()
             .copied()

@@ -20,7 +20,8 @@
 //!    like any candidate; a named effect that fits as well replaces it.
 //! 6. A clear residual that nothing explains is reported as `unexplained`
 //!    (how large, which joint, which part of the stroke), never forced onto
-//!    a name.
+//!    a name. Where a global effect stands in for a joint torque, a table
+//!    at that joint in its place is tried first (`stand_in`).
 
 mod candidate;
 pub mod discover;
@@ -29,6 +30,7 @@ mod outcome;
 mod refine;
 mod screen;
 mod shared_torque;
+mod stand_in;
 mod table_form;
 
 pub use candidate::Candidate;
@@ -747,6 +749,7 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
     search.run();
     if opts.discover && !truss {
         search.discover(sigma);
+        search.replace_stand_in(sigma);
     }
     let (extended, strength_rms_deg) = eng.strongest_first(&search.current);
     let held_out_rms_deg = match search.current_held {

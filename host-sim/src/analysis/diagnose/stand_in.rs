@@ -1,0 +1,103 @@
+//! A table in place of a global stand-in: when the search ends where
+//! [`super::Engine::unexplained_torque`] would fire (a global effect — rig tilt,
+//! air drag — brings the residual within the noise of the angles, and
+//! without it the residual torque is significant at a joint where the set
+//! claims nothing), one more move is tried before the `unexplained`
+//! answer: the set without that global effect, plus a torque table at that
+//! joint (the even forms and the shape the residual torque has,
+//! [`Search::joint_tables`]), fitted jointly, judged like any move and
+//! refined like the other tables ([`Search::refine_tables`]). It is kept
+//! only when it also explains the data: its BIC better than the stand-in
+//! set's by more than [`MIN_DELTA_BIC`], its held-out RMS better by
+//! [`HELD_OUT_SHARE`], its residual not above the noise and no global
+//! stand-in left ([`super::Engine::unexplained_torque`] silent).
+
+use super::candidate::Candidate;
+use super::discover;
+use super::outcome::FittedSet;
+use super::{above_noise, labels, Search, HELD_OUT_SHARE, MIN_DELTA_BIC};
+use crate::analysis::residual_torque::residual_torque;
+use crate::model::effect::EffectKind;
+
+impl Search<'_, '_> {
+    /// Tries a table at the joint a global stand-in hides (see the module
+    /// doc); keeps the search's state when the result does not explain the
+    /// data better. True when the table was kept.
+    pub(super) fn replace_stand_in(&mut self, sigma: f64) -> bool {
+        if self.eng.unexplained_torque(&self.current, sigma).is_none() {
+            return false;
+        }
+        let moves = self.stand_in_moves();
+        if moves.is_empty() {
+            return false;
+        }
+        let saved = (
+            self.current.clone(),
+            self.current_held,
+            self.seen.clone(),
+            self.swaps,
+        );
+        let what = format!(
+            "a table in place of a global stand-in in {}",
+            labels(&saved.0.set)
+        );
+        self.eng.say(format!(
+            "stand-in: the residual stays at {:.4} deg beside a global effect; fitting {} tables in its place",
+            self.current.rms(),
+            moves.len()
+        ));
+        if self.step(&moves, what, "a table in place of a global stand-in:") {
+            self.refine_tables();
+        }
+        let gain = saved.0.bic() - self.current.bic();
+        let held_better = match (self.current_held, saved.1) {
+            (Some(h), Some(c)) => h < HELD_OUT_SHARE * c,
+            _ => true,
+        };
+        if self.current.set != saved.0.set
+            && gain > MIN_DELTA_BIC
+            && held_better
+            && !above_noise(&self.current, sigma)
+            && self.eng.unexplained_torque(&self.current, sigma).is_none()
+        {
+            return true;
+        }
+        self.eng.say(format!(
+            "  the stand-in stays: {} (RMS {:.4} deg) does not explain the data better",
+            labels(&self.current.set),
+            self.current.rms()
+        ));
+        (self.current, self.current_held, self.seen, self.swaps) = saved;
+        false
+    }
+
+    /// For each global effect of the set: the set without it, with a table
+    /// at the joint where its residual torque is largest among the joints
+    /// that are significant and hold no claimed torque.
+    fn stand_in_moves(&self) -> Vec<(FittedSet, Candidate)> {
+        let claimed: Vec<usize> = self
+            .current
+            .set
+            .iter()
+            .filter(|c| c.kind != EffectKind::EncoderOffset)
+            .filter_map(|c| c.joint)
+            .collect();
+        let even = discover::table_candidates(self.eng.campaign);
+        let mut moves = Vec::new();
+        for k in (0..self.current.set.len()).filter(|&k| self.current.set[k].joint.is_none()) {
+            let base = self.current.without(k);
+            let res = residual_torque(self.eng.campaign, &base.effects());
+            let Some(jt) = res
+                .iter()
+                .filter(|j| j.significant && !claimed.contains(&j.joint))
+                .max_by(|a, b| a.chi2.total_cmp(&b.chi2))
+            else {
+                continue;
+            };
+            for c in self.joint_tables(jt, &even) {
+                moves.push((base.clone(), c));
+            }
+        }
+        moves
+    }
+}
