@@ -316,7 +316,38 @@ impl Search<'_, '_> {
     }
 }
 
+/// True when the residual of `f` is not clearly above the noise
+/// ([`above_noise`]) but not down to it either (above
+/// [`NOISE_FLOOR_FACTOR`] σ̂): where a global effect may stand in for a
+/// joint torque.
+pub(super) fn near_noise(f: &FittedSet, sigma: f64) -> bool {
+    !above_noise(f, sigma) && f.rms() > NOISE_FLOOR_FACTOR * sigma
+}
+
 impl Engine<'_> {
+    /// For each global effect `k` of `f` (rig tilt, air drag): the joint
+    /// whose residual torque, without that effect, is significant and
+    /// largest by `χ²` among the joints where `f` claims no torque (encoder
+    /// offsets aside) — the joint torque the global effect stands in for.
+    pub(super) fn hidden_by_globals(&self, f: &FittedSet) -> Vec<(usize, JointTorque)> {
+        let claimed: Vec<usize> = f
+            .set
+            .iter()
+            .filter(|c| c.kind != EffectKind::EncoderOffset)
+            .filter_map(|c| c.joint)
+            .collect();
+        (0..f.set.len())
+            .filter(|&k| f.set[k].joint.is_none())
+            .filter_map(|k| {
+                residual_torque(self.campaign, &f.without(k).effects())
+                    .into_iter()
+                    .filter(|j| j.significant && !claimed.contains(&j.joint))
+                    .max_by(|a, b| a.chi2.total_cmp(&b.chi2))
+                    .map(|j| (k, j))
+            })
+            .collect()
+    }
+
     /// The `unexplained` description of a set whose residual is not
     /// clearly above the noise ([`above_noise`]) but not down to it either
     /// (above [`NOISE_FLOOR_FACTOR`] σ̂), when a global effect of it (rig
@@ -327,21 +358,14 @@ impl Engine<'_> {
     /// angles without holding it. The joint of the largest `χ²`, where in
     /// the stroke, and its size.
     pub(super) fn unexplained_torque(&self, f: &FittedSet, sigma: f64) -> Option<String> {
-        let rms = f.rms();
-        if above_noise(f, sigma) || rms <= NOISE_FLOOR_FACTOR * sigma {
+        if !near_noise(f, sigma) {
             return None;
         }
-        let claimed: Vec<usize> = f
-            .set
-            .iter()
-            .filter(|c| c.kind != EffectKind::EncoderOffset)
-            .filter_map(|c| c.joint)
-            .collect();
-        let globals = (0..f.set.len()).filter(|&k| f.set[k].joint.is_none());
-        let jt = globals
-            .flat_map(|k| residual_torque(self.campaign, &f.without(k).effects()))
-            .filter(|j| j.significant && !claimed.contains(&j.joint))
-            .max_by(|a, b| a.chi2.total_cmp(&b.chi2))?;
+        let rms = f.rms();
+        let (_, jt) = self
+            .hidden_by_globals(f)
+            .into_iter()
+            .max_by(|a, b| a.1.chi2.total_cmp(&b.1.chi2))?;
         Some(format!(
             "the residual stays at {rms:.4} deg RMS, {:.1} times the noise floor ({sigma:.4} deg), and without its global effect the residual torque is significant at joint {}, which holds no effect found, largest in {} ({}); no further candidate earns its keep",
             rms / sigma.max(1e-9),

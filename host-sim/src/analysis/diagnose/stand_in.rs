@@ -14,17 +14,18 @@
 
 use super::candidate::Candidate;
 use super::discover;
+use super::evidence_search::near_noise;
 use super::outcome::FittedSet;
 use super::{above_noise, labels, Search, HELD_OUT_SHARE, MIN_DELTA_BIC};
-use crate::analysis::residual_torque::residual_torque;
-use crate::model::effect::EffectKind;
 
 impl Search<'_, '_> {
     /// Tries a table at the joint a global stand-in hides (see the module
     /// doc); keeps the search's state when the result does not explain the
     /// data better. True when the table was kept.
     pub(super) fn replace_stand_in(&mut self, sigma: f64) -> bool {
-        if self.eng.unexplained_torque(&self.current, sigma).is_none() {
+        // Where `unexplained_torque` fires: within the noise's bounds, with
+        // a joint torque hidden by a global effect.
+        if !near_noise(&self.current, sigma) {
             return false;
         }
         let moves = self.stand_in_moves();
@@ -71,30 +72,15 @@ impl Search<'_, '_> {
         false
     }
 
-    /// For each global effect of the set: the set without it, with a table
-    /// at the joint where its residual torque is largest among the joints
-    /// that are significant and hold no claimed torque.
+    /// For each global effect of the set that hides a joint torque
+    /// ([`super::Engine::hidden_by_globals`]): the set without it, with the
+    /// tables at that joint.
     fn stand_in_moves(&self) -> Vec<(FittedSet, Candidate)> {
-        let claimed: Vec<usize> = self
-            .current
-            .set
-            .iter()
-            .filter(|c| c.kind != EffectKind::EncoderOffset)
-            .filter_map(|c| c.joint)
-            .collect();
         let even = discover::table_candidates(self.eng.campaign);
         let mut moves = Vec::new();
-        for k in (0..self.current.set.len()).filter(|&k| self.current.set[k].joint.is_none()) {
+        for (k, jt) in self.eng.hidden_by_globals(&self.current) {
             let base = self.current.without(k);
-            let res = residual_torque(self.eng.campaign, &base.effects());
-            let Some(jt) = res
-                .iter()
-                .filter(|j| j.significant && !claimed.contains(&j.joint))
-                .max_by(|a, b| a.chi2.total_cmp(&b.chi2))
-            else {
-                continue;
-            };
-            for c in self.joint_tables(jt, &even) {
+            for c in self.joint_tables(&jt, &even) {
                 moves.push((base.clone(), c));
             }
         }
