@@ -123,3 +123,150 @@ impl LatchSpec {
         }
     }
 }
+
+/// How far a physical latch as built may differ from its drawing: the
+/// tolerances of a real ball plunger, magnet and stop, each a half-width of a
+/// uniform spread around the drawing's value.
+///
+/// [`LatchTolerance::default`] holds the figures of a commercial M8 ball
+/// plunger and a small NdFeB magnet as bought (a vendor's preload and rate
+/// ±20 %, a magnet's pull ±30 % with grade and gap, the stop's damping ±30 %)
+/// and a crest machined to ±0.1°: deploywatch's own figures, the ones the
+/// physical-latch campaigns of `docs/diagnosis.md` draw from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LatchTolerance {
+    /// Relative spread of the plunger's preload [1].
+    pub plunger_preload: f64,
+    /// Relative spread of the plunger's rate [1].
+    pub plunger_stiffness: f64,
+    /// Relative spread of the magnet's force at contact [1].
+    pub magnet_force: f64,
+    /// Relative spread of the stop's contact damping [1].
+    pub stop_damping: f64,
+    /// Absolute spread of the crest's position [deg].
+    pub crest_deg: f64,
+}
+
+impl Default for LatchTolerance {
+    fn default() -> Self {
+        LatchTolerance {
+            plunger_preload: 0.2,
+            plunger_stiffness: 0.2,
+            magnet_force: 0.3,
+            stop_damping: 0.3,
+            crest_deg: 0.1,
+        }
+    }
+}
+
+impl LatchSpec {
+    /// This latch as built: each toleranced figure moved by `u[k]` times
+    /// its spread, `u[k]` in [−1, 1] (preload, rate, magnet force, stop
+    /// damping, crest; a `u` outside is clamped to it).
+    pub fn as_built(&self, tol: &LatchTolerance, u: [f64; 5]) -> LatchSpec {
+        let u = u.map(|x| x.clamp(-1.0, 1.0));
+        let mut b = self.clone();
+        b.plunger.preload_n *= 1.0 + tol.plunger_preload * u[0];
+        b.plunger.stiffness_n_per_mm *= 1.0 + tol.plunger_stiffness * u[1];
+        if let Some(m) = b.magnet.as_mut() {
+            m.force_n *= 1.0 + tol.magnet_force * u[2];
+        }
+        b.stop.damping_ns_per_mm1_25 *= 1.0 + tol.stop_damping * u[3];
+        b.plunger.crest_deg = (b.plunger.crest_deg + tol.crest_deg * u[4]).max(0.0);
+        b
+    }
+}
+
+impl crate::model::mechanism::Mechanism {
+    /// This mechanism with every physical latch as built: five draws of
+    /// `uniform` (each in [0, 1)) per physical latch, joint by joint, mapped
+    /// to [−1, 1] for [`LatchSpec::as_built`]. Ideal latches draw nothing.
+    pub fn as_built(&self, tol: &LatchTolerance, uniform: &mut dyn FnMut() -> f64) -> Self {
+        let mut m = self.clone();
+        for latch in m.latches.iter_mut().flatten() {
+            let u: [f64; 5] = core::array::from_fn(|_| 2.0 * uniform() - 1.0);
+            *latch = latch.as_built(tol, u);
+        }
+        m
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn drawing() -> LatchSpec {
+        LatchSpec {
+            switch_travel_deg: 0.05,
+            stop: StopSpec {
+                radius_mm: 40.0,
+                stiffness_n_per_mm1_5: PAPER_STIFFNESS_N_PER_MM1_5,
+                damping_ns_per_mm1_25: PAPER_DAMPING_NS_PER_MM1_25,
+            },
+            plunger: PlungerSpec {
+                preload_n: 20.0,
+                stiffness_n_per_mm: 10.0,
+                radius_mm: 40.0,
+                stroke_mm: 0.8,
+                crest_deg: 0.6,
+                entry_ramp_deg: 30.0,
+                hold_ramp_deg: 50.0,
+            },
+            magnet: Some(MagnetSpec {
+                force_n: 15.0,
+                decay_mm: 0.5,
+                reach_mm: 2.0,
+                radius_mm: 40.0,
+            }),
+        }
+    }
+
+    #[test]
+    fn as_built_moves_each_figure_by_its_tolerance_at_the_ends() {
+        let d = drawing();
+        let t = LatchTolerance::default();
+        let hi = d.as_built(&t, [1.0; 5]);
+        assert!((hi.plunger.preload_n - 24.0).abs() < 1e-12);
+        assert!((hi.plunger.stiffness_n_per_mm - 12.0).abs() < 1e-12);
+        assert!((hi.magnet.as_ref().map_or(0.0, |m| m.force_n) - 19.5).abs() < 1e-12);
+        assert!((hi.stop.damping_ns_per_mm1_25 - 3.7 * 1.3).abs() < 1e-12);
+        assert!((hi.plunger.crest_deg - 0.7).abs() < 1e-12);
+        let lo = d.as_built(&t, [-5.0; 5]);
+        assert!((lo.plunger.preload_n - 16.0).abs() < 1e-12);
+        assert!((lo.plunger.crest_deg - 0.5).abs() < 1e-12);
+        assert_eq!(d.as_built(&t, [0.0; 5]), d);
+        // What is not toleranced stays as drawn.
+        assert_eq!(hi.stop.stiffness_n_per_mm1_5, d.stop.stiffness_n_per_mm1_5);
+        assert_eq!(hi.switch_travel_deg, d.switch_travel_deg);
+    }
+
+    #[test]
+    fn a_mechanism_as_built_draws_only_its_physical_latches() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms");
+        let t = LatchTolerance::default();
+        let mut state = 0.0_f64;
+        let mut draws = 0;
+        let mut uniform = || {
+            draws += 1;
+            state = (state + 0.618_033_988_75) % 1.0;
+            state
+        };
+        let ideal = crate::model::mechanism::Mechanism::load(&root.join("seed001_T01.toml"));
+        let ideal = ideal.expect("bundled mechanism");
+        assert_eq!(ideal.as_built(&t, &mut uniform), ideal);
+        let drawn =
+            crate::model::mechanism::Mechanism::load(&root.join("seed001_T01_physical_latch.toml"))
+                .expect("bundled mechanism");
+        let built = drawn.as_built(&t, &mut uniform);
+        assert_eq!(draws, 15);
+        for j in 0..3 {
+            let (d, b) = (
+                drawn.latch(j).expect("drawn"),
+                built.latch(j).expect("built"),
+            );
+            assert_ne!(d, b, "joint {} unchanged", j + 1);
+            let r = b.plunger.preload_n / d.plunger.preload_n;
+            assert!((0.8..=1.2).contains(&r), "preload ratio {r}");
+        }
+    }
+}
