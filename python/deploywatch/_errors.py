@@ -69,6 +69,7 @@ def _rebuild(
 
 
 _KINDS = {
+    "error": DeploywatchError,
     "input": InputError,
     "mechanism": MechanismError,
     "simulation": SimulationError,

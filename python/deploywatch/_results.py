@@ -21,7 +21,7 @@ class Trajectory:
 
     ``t_s`` (n,) [s]; ``phi_deg`` and ``rate_deg_s`` (n, joints) [deg],
     [deg/s]; ``latch_s`` (joints,) [s], NaN where the joint did not latch;
-    ``end_s`` the end of the run [s].
+    ``end_s`` where the simulation stopped [s].
     """
 
     t_s: FloatArray

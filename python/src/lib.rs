@@ -96,12 +96,7 @@ fn parameters(
 }
 
 /// An (n, j) matrix of `f(i, k)` as a numpy array.
-fn grid<'py>(
-    py: Python<'py>,
-    n: usize,
-    j: usize,
-    f: impl Fn(usize, usize) -> f64,
-) -> Matrix<'py> {
+fn grid<'py>(py: Python<'py>, n: usize, j: usize, f: impl Fn(usize, usize) -> f64) -> Matrix<'py> {
     Array2::from_shape_fn((n, j), |(i, k)| f(i, k)).into_pyarray(py)
 }
 
