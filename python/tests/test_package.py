@@ -53,3 +53,11 @@ def test_the_stubs_and_marker_are_installed():
     stub = (here / "_native.pyi").read_text()
     for name in FUNCTIONS:
         assert f"def {name}(" in stub, name
+
+
+def test_the_typed_usage_program_runs(root):
+    # python/tests/typed/usage.py is what `mypy --strict` checks in
+    # scripts/test.sh; here it runs.
+    import runpy
+
+    runpy.run_path(str(root / "python/tests/typed/usage.py"), run_name="__main__")
