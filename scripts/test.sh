@@ -56,7 +56,7 @@ bash scripts/python-env.sh
 .venv/bin/pytest python/tests -q || { rc=$?; [ "$rc" = 5 ] && echo "pytest collected no test"; exit "$rc"; }
 # The types: the package's own sources, then a program using the installed
 # package (its py.typed and stubs; run from a folder without the sources).
-.venv/bin/mypy --strict --cache-dir target/mypy python/deploywatch
+.venv/bin/mypy --strict --cache-dir target/mypy python/deploywatch python/examples
 (cd python/tests/typed && "$root/.venv/bin/mypy" --strict --cache-dir "$root/target/mypy" usage.py)
 
 if $host_only; then

@@ -51,7 +51,7 @@ impl Kind {
     }
 
     /// The exception for a Rust error: its message, its source chain.
-    pub(crate) fn from_error(self, e: &(dyn Error + 'static)) -> PyErr {
+    pub(crate) fn of(self, e: &(dyn Error + 'static)) -> PyErr {
         self.prefixed("", e)
     }
 
@@ -76,14 +76,14 @@ pub(crate) fn reliability(e: &ReliabilityError) -> PyErr {
         ReliabilityError::Evaluator(_) => Kind::Evaluator,
         _ => Kind::Other,
     };
-    kind.from_error(e)
+    kind.of(e)
 }
 
 /// The exception of a simulation error: `Invalid` (an effect the mechanism
 /// cannot take) is the user's input, the rest the integration's failure.
 pub(crate) fn simulation(e: &SimError) -> PyErr {
     match e {
-        SimError::Invalid(_) => Kind::Input.from_error(e),
-        _ => Kind::Simulation.from_error(e),
+        SimError::Invalid(_) => Kind::Input.of(e),
+        _ => Kind::Simulation.of(e),
     }
 }

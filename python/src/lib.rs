@@ -30,7 +30,7 @@ use pyo3::prelude::*;
 use steps::Stop;
 
 fn mechanism(text: &str, source: &str) -> PyResult<Mechanism> {
-    Mechanism::from_toml_str(text, source).map_err(|e| Kind::Mechanism.from_error(&e))
+    Mechanism::from_toml_str(text, source).map_err(|e| Kind::Mechanism.of(&e))
 }
 
 /// Each string of argument `arg` parsed, an error naming `arg[i]`.
