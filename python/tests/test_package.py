@@ -61,3 +61,20 @@ def test_the_typed_usage_program_runs(root):
     import runpy
 
     runpy.run_path(str(root / "python/tests/typed/usage.py"), run_name="__main__")
+
+
+def test_results_pickle(root):
+    # What a Dask task returns crosses processes by pickle.
+    import pickle
+
+    import numpy as np
+
+    mech = root / "data/mechanisms/reliability_one_panel.toml"
+    vary = ["coulomb_friction:joint=1:normal(1.1,0.1)"]
+    run = deploywatch.simulate(mech)
+    back = pickle.loads(pickle.dumps(run))
+    assert np.array_equal(back.phi_deg, run.phi_deg) and back.end_s == run.end_s
+    batch = deploywatch.simulate_batch(mech, vary, [[1.0], [1.6]])
+    assert np.array_equal(pickle.loads(pickle.dumps(batch)).g, batch.g)
+    r = deploywatch.reliability(mech, vary=vary, samples=1000, seed=2)
+    assert pickle.loads(pickle.dumps(r)) == r
