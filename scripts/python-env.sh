@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The Python environment of deploywatch: `.venv/` at the repository root
-# with pinned maturin, numpy, pytest and dask[distributed] from PyPI, and the
+# with pinned maturin, numpy, pytest, dask[distributed] and mypy from PyPI, and the
 # `deploywatch` package (python/, PyO3 + maturin) built in release and
 # installed. Idempotent: a second run with nothing changed takes a second.
 #
