@@ -17,7 +17,8 @@
 #     --help; slow ones marked in the doc and skipped, with the reason)
 #  2b. the Python package (python/, its own workspace): .venv/ made or
 #     updated by scripts/python-env.sh (the extension built once, in
-#     release), then pytest, with a real Dask LocalCluster of 2 processes
+#     release), then pytest, with a real Dask LocalCluster of 2 processes,
+#     then mypy --strict on the package and on a program using its stubs
 #  3. the embedded toolchain (installed by scripts/embedded-toolchain.sh from
 #     Debian packages or an installed rustup target; never downloaded), the
 #     no_std proof of the core for thumbv7em-none-eabihf with each feature
@@ -53,6 +54,10 @@ cargo fmt --manifest-path python/Cargo.toml -- --check
 bash scripts/python-env.sh
 # pytest exits 5 when it collects no test: a failure here, like any other.
 .venv/bin/pytest python/tests -q || { rc=$?; [ "$rc" = 5 ] && echo "pytest collected no test"; exit "$rc"; }
+# The types: the package's own sources, then a program using the installed
+# package (its py.typed and stubs; run from a folder without the sources).
+.venv/bin/mypy --strict --cache-dir target/mypy python/deploywatch python/examples
+(cd python/tests/typed && "$root/.venv/bin/mypy" --strict --cache-dir "$root/target/mypy" usage.py)
 
 if $host_only; then
     echo "host checks passed (--host: embedded, QEMU and fuzz steps skipped)"

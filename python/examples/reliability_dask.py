@@ -7,6 +7,7 @@ results are equal bit for bit (docs/reliability.md section 4).
 
 import sys
 import time
+from typing import Optional, Tuple
 
 from dask.distributed import Client, LocalCluster
 
@@ -20,23 +21,28 @@ VARY = [
 ]
 
 
-def main():
+def main() -> None:
     workers = int(sys.argv[1]) if len(sys.argv) > 1 else 2
     method = sys.argv[2] if len(sys.argv) > 2 else "subset"
     samples = int(sys.argv[3]) if len(sys.argv) > 3 else None
-    args = dict(vary=VARY, fail=["not_latched"], method=method, samples=samples, seed=0)
-    t = time.perf_counter()
-    local = deploywatch.reliability(MECH, **args)
-    t_local = time.perf_counter() - t
-    with LocalCluster(
-        n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
-    ) as cluster, Client(cluster) as client:
+
+    def run(executor: Optional[deploywatch.Executor]) -> Tuple[deploywatch.Reliability, float]:
         t = time.perf_counter()
-        remote = deploywatch.reliability(MECH, executor=client, **args)
-        t_dask = time.perf_counter() - t
+        r = deploywatch.reliability(
+            MECH, vary=VARY, fail=["not_latched"], method=method, samples=samples, seed=0,
+            executor=executor,
+        )
+        return r, time.perf_counter() - t
+
+    local, t_local = run(None)
+    # dask.distributed's constructors carry no annotations.
+    with LocalCluster(  # type: ignore[no-untyped-call]
+        n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster, Client(cluster) as client:  # type: ignore[no-untyped-call]
+        remote, t_dask = run(client)
     print(
-        f"{method}: p_fail = {local['p_fail']:.4e}, c.o.v. {local['cov']:.3f}, "
-        f"{local['simulations']} deployments; local {t_local:.2f} s, "
+        f"{method}: p_fail = {local.p_fail:.4e}, c.o.v. {local.cov:.3f}, "
+        f"{local.simulations} deployments; local {t_local:.2f} s, "
         f"Dask LocalCluster of {workers} processes {t_dask:.2f} s (cluster start not counted); "
         f"equal bit for bit: {local == remote}"
     )

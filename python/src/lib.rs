@@ -1,9 +1,16 @@
-//! The native part of the `deploywatch` Python package: one deployment, a
-//! batch of deployments (the hot loop in Rust on every core, the GIL
-//! released), and the reliability analysis with a Python batch evaluator
-//! (the package's `executor=`). Mechanisms and identify results are passed
-//! as text, so that remote workers need no files.
+//! The native part of the `deploywatch` Python package
+//! (`deploywatch._native`; the package's Python layer checks the arguments
+//! and types the results): one deployment, a batch of deployments (the hot
+//! loop in Rust on every core, the GIL released, Ctrl-C checked between
+//! steps), and the reliability analysis with an optional Python batch
+//! evaluator (the package's `executor=`). Mechanisms and identify results
+//! are passed as text, so that remote workers need no files. Errors are
+//! the package's exceptions ([`errors`]).
 #![deny(missing_docs)]
+
+mod convert;
+mod errors;
+mod steps;
 
 use deploywatch_sim::analysis::reliability::correlation::Correlation;
 use deploywatch_sim::analysis::reliability::criteria::{Criterion, Outcome};
@@ -11,66 +18,70 @@ use deploywatch_sim::analysis::reliability::identified;
 use deploywatch_sim::analysis::reliability::mc::{self, McSettings};
 use deploywatch_sim::analysis::reliability::params::Vary;
 use deploywatch_sim::analysis::reliability::subset::{self, SubsetSettings};
-use deploywatch_sim::analysis::reliability::{Evaluate, Problem, ReliabilityError};
+use deploywatch_sim::analysis::reliability::{Estimate, Evaluate, Problem, ReliabilityError};
 use deploywatch_sim::model::effect::Effect;
 use deploywatch_sim::model::mechanism::Mechanism;
 use deploywatch_sim::report::progress;
 use deploywatch_sim::simulate::deployment::{self, SimOptions};
+use errors::Kind;
+use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2};
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
-
-fn value_err(e: impl std::fmt::Display) -> PyErr {
-    PyValueError::new_err(e.to_string())
-}
+use steps::Stop;
 
 fn mechanism(text: &str, source: &str) -> PyResult<Mechanism> {
-    Mechanism::from_toml_str(text, source).map_err(value_err)
+    Mechanism::from_toml_str(text, source).map_err(|e| Kind::Mechanism.of(&e))
+}
+
+/// Each string of argument `arg` parsed, an error naming `arg[i]`.
+fn parse_all<T>(arg: &str, items: &[String]) -> PyResult<Vec<T>>
+where
+    T: std::str::FromStr,
+    T::Err: std::error::Error + 'static,
+{
+    items
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            s.parse::<T>()
+                .map_err(|e| Kind::Input.prefixed(&format!("{arg}[{i}]: "), &e))
+        })
+        .collect()
 }
 
 /// The problem of `reliability`/`simulate_batch` from their arguments.
 fn problem(
     mech_toml: &str,
     source: &str,
-    vary: Vec<String>,
-    fail: Vec<String>,
+    vary: &[String],
+    fail: &[String],
     from_json: Option<&str>,
     corr: &[String],
 ) -> PyResult<Problem> {
     let mech = mechanism(mech_toml, source)?;
-    let mut vs: Vec<Vary> = vary
-        .iter()
-        .map(|v| v.parse::<Vary>().map_err(value_err))
-        .collect::<PyResult<_>>()?;
+    let mut vs: Vec<Vary> = parse_all("vary", vary)?;
     if let Some(text) = from_json {
         let given = vs.clone();
-        let found = identified::from_identify_json(text).map_err(value_err)?;
+        let found = identified::from_identify_json(text)
+            .map_err(|m| Kind::Input.raise(format!("from_: {m}"), Vec::new()))?;
         vs.extend(
             found
                 .into_iter()
                 .filter(|f| !given.iter().any(|g| g.label() == f.label())),
         );
     }
-    let fail: Vec<Criterion> = fail
-        .iter()
-        .map(|c| c.parse::<Criterion>().map_err(value_err))
-        .collect::<PyResult<_>>()?;
-    let corr = corr
-        .iter()
-        .map(|c| c.parse::<Correlation>().map_err(value_err))
-        .collect::<PyResult<_>>()?;
     let p = Problem {
         mech,
         vary: vs,
-        fail,
-        corr,
+        fail: parse_all::<Criterion>("fail", fail)?,
+        corr: parse_all::<Correlation>("corr", corr)?,
     };
-    p.check().map_err(value_err)?;
+    p.check().map_err(|e| errors::reliability(&e))?;
     Ok(p)
 }
 
-/// The labels of the problem's parameters, in column order.
+/// The labels of the problem's parameters, in the column order of
+/// `simulate_batch`'s `params`.
 #[pyfunction]
 #[pyo3(signature = (mechanism_toml, source, vary, fail, from_json=None))]
 fn parameters(
@@ -80,11 +91,23 @@ fn parameters(
     fail: Vec<String>,
     from_json: Option<&str>,
 ) -> PyResult<Vec<String>> {
-    let p = problem(mechanism_toml, source, vary, fail, from_json, &[])?;
+    let p = problem(mechanism_toml, source, &vary, &fail, from_json, &[])?;
     Ok(p.vary.iter().map(|v| v.to_string()).collect())
 }
 
-/// One deployment: times, angles and rates (numpy) and latch instants.
+/// An (n, j) matrix of `f(i, k)` as a numpy array.
+fn grid<'py>(py: Python<'py>, n: usize, j: usize, f: impl Fn(usize, usize) -> f64) -> Matrix<'py> {
+    Array2::from_shape_fn((n, j), |(i, k)| f(i, k)).into_pyarray(py)
+}
+
+/// A numpy vector of float64.
+type Vector<'py> = Bound<'py, PyArray1<f64>>;
+/// A numpy matrix of float64.
+type Matrix<'py> = Bound<'py, PyArray2<f64>>;
+
+/// One deployment: `(t_s, phi_deg, rate_deg_s, latch_s, end_s)`, numpy
+/// arrays of shapes (n,), (n, joints), (n, joints), (joints,) (NaN where
+/// not latched) and a float. The GIL is released while it runs.
 #[pyfunction]
 #[pyo3(signature = (mechanism_toml, source, effects, sample_hz=None))]
 fn simulate<'py>(
@@ -93,54 +116,33 @@ fn simulate<'py>(
     source: &str,
     effects: Vec<String>,
     sample_hz: Option<f64>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<(Vector<'py>, Matrix<'py>, Matrix<'py>, Vector<'py>, f64)> {
     let mech = mechanism(mechanism_toml, source)?;
-    let effects: Vec<Effect> = effects
-        .iter()
-        .map(|e| e.parse::<Effect>().map_err(value_err))
-        .collect::<PyResult<_>>()?;
+    let effects: Vec<Effect> = parse_all("effects", &effects)?;
     let opts = SimOptions {
         sample_hz,
         ..SimOptions::default()
     };
     let traj = py
         .allow_threads(|| deployment::simulate(&mech, &effects, &opts))
-        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    let n = traj.t_s.len();
-    let j = traj.joints();
-    let cols = |v: &Vec<Vec<f64>>| -> Vec<f64> {
-        (0..n).flat_map(|i| (0..j).map(move |k| v[k][i])).collect()
-    };
-    let d = PyDict::new(py);
-    d.set_item("t_s", traj.t_s.clone().into_pyarray(py))?;
-    let shape = |v: Vec<f64>| numpy::ndarray::Array2::from_shape_vec((n, j), v);
-    d.set_item(
-        "phi_deg",
-        shape(cols(&traj.phi_deg))
-            .map_err(value_err)?
-            .into_pyarray(py),
-    )?;
-    d.set_item(
-        "rate_deg_s",
-        shape(cols(&traj.rate_deg_s))
-            .map_err(value_err)?
-            .into_pyarray(py),
-    )?;
-    d.set_item(
-        "latch_s",
-        traj.latch_s
-            .iter()
-            .map(|l| l.unwrap_or(f64::NAN))
-            .collect::<Vec<_>>()
-            .into_pyarray(py),
-    )?;
-    d.set_item("end_s", traj.end_s)?;
-    Ok(d)
+        .map_err(|e| errors::simulation(&e))?;
+    let (n, j) = (traj.t_s.len(), traj.joints());
+    let latch: Vec<f64> = traj.latch_s.iter().map(|l| l.unwrap_or(f64::NAN)).collect();
+    Ok((
+        traj.t_s.clone().into_pyarray(py),
+        grid(py, n, j, |i, k| traj.phi_deg[k][i]),
+        grid(py, n, j, |i, k| traj.rate_deg_s[k][i]),
+        latch.into_pyarray(py),
+        traj.end_s,
+    ))
 }
 
-/// A batch of deployments, one per row of `params` (columns: the `vary`
-/// parameters, then those of `from_json`): the limit state `g` and, per
-/// joint, latch instant, latch rate (NaN when not latched) and end angle.
+/// A batch of deployments, one per row of `params` (float64, C order;
+/// columns: the `vary` parameters, then those of `from_json`):
+/// `(g, latch_s, latch_rate_deg_s, end_deg)`, the limit state (n,) and per
+/// joint latch instant, latch rate (NaN when not latched) and end angle
+/// (n, joints). The GIL is released while it runs; Ctrl-C stops it between
+/// steps.
 #[pyfunction]
 #[pyo3(signature = (mechanism_toml, source, vary, fail, params, from_json=None))]
 fn simulate_batch<'py>(
@@ -151,58 +153,100 @@ fn simulate_batch<'py>(
     fail: Vec<String>,
     params: PyReadonlyArray2<'py, f64>,
     from_json: Option<&str>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let p = problem(mechanism_toml, source, vary, fail, from_json, &[])?;
+) -> PyResult<(Vector<'py>, Matrix<'py>, Matrix<'py>, Matrix<'py>)> {
+    let p = problem(mechanism_toml, source, &vary, &fail, from_json, &[])?;
     let a = params.as_array();
     if a.ncols() != p.vary.len() {
-        return Err(value_err(format!(
-            "params has {} columns; expected {} (one per parameter: {})",
-            a.ncols(),
-            p.vary.len(),
-            p.vary
-                .iter()
-                .map(|v| v.label())
-                .collect::<Vec<_>>()
-                .join(", ")
-        )));
+        let labels: Vec<String> = p.vary.iter().map(|v| v.label()).collect();
+        return Err(Kind::Input.raise(
+            format!(
+                "params: expected {} columns (one per parameter: {}), got {}",
+                p.vary.len(),
+                labels.join(", "),
+                a.ncols()
+            ),
+            Vec::new(),
+        ));
     }
     let xs: Vec<Vec<f64>> = a.rows().into_iter().map(|r| r.to_vec()).collect();
-    let outs = py
-        .allow_threads(|| p.deploy_batch(&xs))
-        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    let n = outs.len();
-    let j = p.mech.joint_count();
-    let grid = |f: &dyn Fn(&Outcome, usize) -> f64| -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let v: Vec<f64> = outs
-            .iter()
-            .flat_map(|o| (0..j).map(move |k| f(o, k)))
-            .collect();
-        Ok(numpy::ndarray::Array2::from_shape_vec((n, j), v)
-            .map_err(value_err)?
-            .into_pyarray(py))
-    };
-    let d = PyDict::new(py);
+    let outs: Vec<Outcome> = py
+        .allow_threads(|| steps::in_steps(&xs, |rows| p.deploy_batch(rows)))
+        .map_err(Stop::into_py)?;
+    let (n, j) = (outs.len(), p.mech.joint_count());
     let g: Vec<f64> = outs.iter().map(|o| o.g(&p.fail)).collect();
-    let g: Bound<'py, PyArray1<f64>> = g.into_pyarray(py);
-    d.set_item("g", g)?;
-    d.set_item("latch_s", grid(&|o, k| o.latch_s[k].unwrap_or(f64::NAN))?)?;
-    d.set_item(
-        "latch_rate_deg_s",
-        grid(&|o, k| o.latch_rate_deg_s[k].unwrap_or(f64::NAN))?,
-    )?;
-    d.set_item("end_deg", grid(&|o, k| o.end_deg[k])?)?;
-    Ok(d)
+    let at = |v: Option<f64>| v.unwrap_or(f64::NAN);
+    Ok((
+        g.into_pyarray(py),
+        grid(py, n, j, |i, k| at(outs[i].latch_s[k])),
+        grid(py, n, j, |i, k| at(outs[i].latch_rate_deg_s[k])),
+        grid(py, n, j, |i, k| outs[i].end_deg[k]),
+    ))
 }
 
-/// The reliability analysis; returns the CLI's JSON as text. `evaluate`:
-/// `None` for every local core, or a callable taking a float64 matrix (one
-/// row per point) and returning the `g` of each row (the package sends the
-/// rows to an executor).
+/// The settings of `reliability` that pick and tune the method.
+struct Settings<'a> {
+    method: &'a str,
+    samples: Option<usize>,
+    target_cov: Option<f64>,
+    seed: u64,
+}
+
+/// Runs the method of `s` on `p` with the evaluator `eval`.
+fn run(p: &Problem, s: &Settings<'_>, eval: Evaluate<'_>) -> Result<Estimate, ReliabilityError> {
+    match s.method {
+        "mc" => mc::run(
+            p,
+            &McSettings {
+                samples: s.samples.unwrap_or(100_000),
+                target_cov: s.target_cov,
+                seed: s.seed,
+            },
+            eval,
+            &progress::quiet,
+        ),
+        "subset" => subset::run(
+            p,
+            &SubsetSettings {
+                samples: s.samples.unwrap_or(SubsetSettings::default().samples),
+                seed: s.seed,
+                ..SubsetSettings::default()
+            },
+            eval,
+            &progress::quiet,
+        ),
+        other => Err(ReliabilityError::Invalid(format!(
+            "method `{other}`: expected \"mc\" or \"subset\""
+        ))),
+    }
+}
+
+/// The `g` of a batch from the Python evaluator, called with the GIL taken
+/// for the call (and a look at the signals before it).
+fn call_evaluator(f: &PyObject, xs: &[Vec<f64>], d: usize) -> Result<Vec<f64>, Stop> {
+    Python::with_gil(|py| {
+        py.check_signals()?;
+        let m = Array2::from_shape_fn((xs.len(), d), |(i, k)| xs[i][k]);
+        let out = f.call1(py, (m.into_pyarray(py),))?;
+        out.extract::<Vec<f64>>(py).map_err(|e| {
+            Stop::Rel(ReliabilityError::Evaluator(format!(
+                "the executor's answer: expected a list of floats ({e})"
+            )))
+        })
+    })
+}
+
+/// The reliability analysis; returns the CLI's JSON object as Python
+/// objects (a dict, no text in between). `evaluate`: `None` for every
+/// local core, or a callable taking a float64 matrix (one row per point)
+/// and returning the `g` of each row (the package sends the rows to an
+/// executor); an exception it raises is raised here as it is. The GIL is
+/// released while the analysis runs (taken back for each call of
+/// `evaluate`); Ctrl-C stops it between batches (`KeyboardInterrupt`).
 #[allow(clippy::too_many_arguments)]
 #[pyfunction]
 #[pyo3(signature = (mechanism_toml, source, vary, fail, method, samples, target_cov, seed, from_json=None, evaluate=None, corr=Vec::new()))]
-fn reliability(
-    py: Python<'_>,
+fn reliability<'py>(
+    py: Python<'py>,
     mechanism_toml: &str,
     source: &str,
     vary: Vec<String>,
@@ -214,59 +258,46 @@ fn reliability(
     from_json: Option<&str>,
     evaluate: Option<PyObject>,
     corr: Vec<String>,
-) -> PyResult<String> {
-    let p = problem(mechanism_toml, source, vary, fail, from_json, &corr)?;
-    let run = |eval: Evaluate<'_>| match method {
-        "mc" => mc::run(
-            &p,
-            &McSettings {
-                samples: samples.unwrap_or(100_000),
-                target_cov,
-                seed,
-            },
-            eval,
-            &progress::quiet,
-        ),
-        "subset" => subset::run(
-            &p,
-            &SubsetSettings {
-                samples: samples.unwrap_or(SubsetSettings::default().samples),
-                seed,
-                ..SubsetSettings::default()
-            },
-            eval,
-            &progress::quiet,
-        ),
-        other => Err(ReliabilityError::Invalid(format!(
-            "method `{other}`: expected \"mc\" or \"subset\""
-        ))),
+) -> PyResult<Bound<'py, PyAny>> {
+    let p = problem(mechanism_toml, source, &vary, &fail, from_json, &corr)?;
+    let s = Settings {
+        method,
+        samples,
+        target_cov,
+        seed,
     };
-    let est = match evaluate {
-        None => py.allow_threads(|| run(&mut |xs: &[Vec<f64>]| p.g_batch(xs))),
-        Some(f) => {
-            let d = p.vary.len();
-            run(&mut |xs: &[Vec<f64>]| {
-                let flat: Vec<f64> = xs.iter().flatten().copied().collect();
-                let m = numpy::ndarray::Array2::from_shape_vec((xs.len(), d), flat)
-                    .map_err(|e| ReliabilityError::Evaluator(e.to_string()))?;
-                let out = f
-                    .call1(py, (m.into_pyarray(py),))
-                    .and_then(|g| g.extract::<Vec<f64>>(py))
-                    .map_err(|e| ReliabilityError::Evaluator(e.to_string()))?;
-                Ok(out)
+    // A Python exception (Ctrl-C, an executor's task) stops the run through
+    // the analysis' error path and is kept here to be raised as it is.
+    let mut stopped: Option<PyErr> = None;
+    let est = py.allow_threads(|| {
+        let d = p.vary.len();
+        let mut eval = |xs: &[Vec<f64>]| -> Result<Vec<f64>, ReliabilityError> {
+            let got = match &evaluate {
+                None => steps::in_steps(xs, |rows| p.g_batch(rows)),
+                Some(f) => call_evaluator(f, xs, d),
+            };
+            got.map_err(|stop| match stop {
+                Stop::Rel(e) => e,
+                Stop::Py(e) => {
+                    stopped = Some(e);
+                    ReliabilityError::Evaluator("stopped by a Python exception".into())
+                }
             })
-        }
-    }
-    .map_err(|e| match e {
-        ReliabilityError::Invalid(m) => PyValueError::new_err(m),
-        other => PyRuntimeError::new_err(other.to_string()),
-    })?;
-    serde_json::to_string(&est.to_json(&p, seed)).map_err(value_err)
+        };
+        run(&p, &s, &mut eval)
+    });
+    let est = match (est, stopped) {
+        (_, Some(e)) => return Err(e),
+        (Err(e), None) => return Err(errors::reliability(&e)),
+        (Ok(est), None) => est,
+    };
+    convert::to_py(py, &est.to_json(&p, seed))
 }
 
 /// The extension module `deploywatch._native`.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
     m.add_function(wrap_pyfunction!(reliability, m)?)?;

@@ -1,4 +1,5 @@
-"""Shared fixtures: the repository, the `deploywatch` CLI to compare with."""
+"""Shared fixtures: the repository, the `deploywatch` CLI to compare with, a
+Dask LocalCluster of 2 worker processes (started once for the session)."""
 
 import os
 import pathlib
@@ -29,3 +30,15 @@ def cli():
             check=True,
         )
     return str(exe)
+
+
+@pytest.fixture(scope="session")
+def dask_client():
+    """A client of a real Dask LocalCluster of 2 worker processes, one thread
+    each (the workers import the installed `deploywatch`)."""
+    from dask import distributed
+
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster, distributed.Client(cluster) as client:
+        yield client

@@ -1,6 +1,8 @@
 """The Python package against the CLI: one deployment, a batch, and the
 reliability analysis locally, on a thread pool and on a real Dask
-LocalCluster of two worker processes, equal to the CLI's JSON bit for bit.
+LocalCluster of two worker processes, equal to the CLI's JSON bit for bit
+(the typed result's `to_dict()` is the CLI's JSON object, and the CLI's
+JSON read by `Reliability.from_dict` equals the typed result).
 
     bash scripts/python-env.sh && .venv/bin/pytest python/tests -q
 """
@@ -47,24 +49,32 @@ def cli_json(cli, root, tmp_path, *extra):
 def test_simulate_matches_the_cli(cli, root, tmp_path):
     effects = ["coulomb_friction:joint=1:value=1.2"]
     r = deploywatch.simulate(root / MECH, effects)
-    n = r["t_s"].shape[0]
-    assert r["phi_deg"].shape == (n, 1) and r["rate_deg_s"].shape == (n, 1)
-    assert r["phi_deg"][0, 0] == 90.0
-    assert r["latch_s"][0] == pytest.approx(cli_latch_s(cli, root, tmp_path, effects), abs=1e-6)
+    assert isinstance(r, deploywatch.Trajectory) and r.joints == 1
+    n = r.t_s.shape[0]
+    assert r.phi_deg.shape == (n, 1) and r.rate_deg_s.shape == (n, 1)
+    assert r.t_s.dtype == np.float64 and r.phi_deg.dtype == np.float64
+    assert r.phi_deg[0, 0] == 90.0
+    assert r.latch_s[0] == pytest.approx(cli_latch_s(cli, root, tmp_path, effects), abs=1e-6)
+    assert isinstance(r.end_s, float) and 0 < r.end_s <= r.t_s[-1]
 
 
 def test_simulate_batch_rows_are_deployments(cli, root, tmp_path):
     params = np.array([[1.0, 0.16], [1.2, 0.2], [1.6, 0.16]])
     b = deploywatch.simulate_batch(root / MECH, VARY, params, fail=FAIL)
-    assert b["g"].shape == (3,)
-    for key in ("latch_s", "latch_rate_deg_s", "end_deg"):
-        assert b[key].shape == (3, 1)
+    assert isinstance(b, deploywatch.Batch)
+    assert b.g.shape == (3,)
+    for a in (b.latch_s, b.latch_rate_deg_s, b.end_deg):
+        assert a.shape == (3, 1) and a.dtype == np.float64
     # Row 0 is the mechanism with that friction and its own inertia.
     want = cli_latch_s(cli, root, tmp_path, ["coulomb_friction:joint=1:value=1.0"])
-    assert b["latch_s"][0, 0] == pytest.approx(want, abs=1e-6)
+    assert b.latch_s[0, 0] == pytest.approx(want, abs=1e-6)
     # Friction 1.6 N·m stops the panel short of the latch: failed, g < 0.
-    assert np.isnan(b["latch_s"][2, 0]) and b["g"][2] < 0 and b["end_deg"][2, 0] > 0
-    assert b["g"][0] > 0 and b["latch_rate_deg_s"][0, 0] < 0
+    assert np.isnan(b.latch_s[2, 0]) and b.g[2] < 0 and b.end_deg[2, 0] > 0
+    assert b.g[0] > 0 and b.latch_rate_deg_s[0, 0] < 0
+    assert b.failed.tolist() == [False, False, True]
+    # Integers and a list of lists are numbers too: the same bits.
+    same = deploywatch.simulate_batch(root / MECH, VARY, params.tolist(), fail=FAIL)
+    assert np.array_equal(same.g, b.g)
     assert deploywatch.parameters(root / MECH, VARY, FAIL) == VARY
 
 
@@ -75,15 +85,23 @@ def local(root):
 
 def test_reliability_equals_the_cli(cli, root, tmp_path, local):
     want = cli_json(cli, root, tmp_path, "--method", "subset", "--samples", "1000", "--seed", "3")
-    assert local == want
-    assert 0 < local["p_fail"] < 1 and local["converged"]
+    assert isinstance(local, deploywatch.Reliability)
+    assert local.to_dict() == want and local == deploywatch.Reliability.from_dict(want)
+    assert 0 < local.p_fail < 1 and local.converged and local.method == "subset"
+    assert len(local.levels) >= 2 and local.levels[-1].threshold == 0.0
+    point = local.most_likely_failure
+    assert point is not None and point.g <= 0 and list(point.parameters) == [
+        "coulomb_friction:joint=1", "panel_inertia:joint=1"]
     mc = deploywatch.reliability(root / MECH, vary=VARY, fail=FAIL, method="mc", samples=3000, seed=3)
-    assert mc == cli_json(cli, root, tmp_path, "--method", "mc", "--samples", "3000", "--seed", "3")
+    want = cli_json(cli, root, tmp_path, "--method", "mc", "--samples", "3000", "--seed", "3")
+    assert mc.to_dict() == want and mc == deploywatch.Reliability.from_dict(want)
+    assert mc.levels == () and "levels" not in mc.to_dict()
     corr = deploywatch.reliability(
         root / MECH, vary=VARY, fail=FAIL, samples=1000, seed=3, corr=["1,2,-0.6"]
     )
-    assert corr == cli_json(cli, root, tmp_path, "--samples", "1000", "--seed", "3", "--corr", "1,2,-0.6")
-    assert corr["corr"] == ["1,2,-0.6"] and corr["p_fail"] != local["p_fail"]
+    want = cli_json(cli, root, tmp_path, "--samples", "1000", "--seed", "3", "--corr", "1,2,-0.6")
+    assert corr.to_dict() == want
+    assert corr.corr == ("1,2,-0.6",) and corr.p_fail != local.p_fail
 
 
 def test_a_thread_pool_gives_the_same_bits(root, local):
@@ -94,13 +112,9 @@ def test_a_thread_pool_gives_the_same_bits(root, local):
     assert got == local
 
 
-def test_a_dask_local_cluster_gives_the_same_bits(root, local):
-    from dask import distributed
-    with distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-    ) as cluster, distributed.Client(cluster) as client:
-        assert len(client.scheduler_info()["workers"]) == 2
-        got = deploywatch.reliability(
-            root / MECH, vary=VARY, fail=FAIL, samples=1000, seed=3, executor=client
-        )
+def test_a_dask_local_cluster_gives_the_same_bits(root, local, dask_client):
+    assert len(dask_client.scheduler_info()["workers"]) == 2
+    got = deploywatch.reliability(
+        root / MECH, vary=VARY, fail=FAIL, samples=1000, seed=3, executor=dask_client
+    )
     assert got == local

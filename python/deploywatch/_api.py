@@ -1,0 +1,275 @@
+"""The functions of deploywatch: arguments checked here (each error names
+the argument and what was expected), the work done by the extension
+(``deploywatch._native``), the results typed (``_results``)."""
+
+from __future__ import annotations
+
+import math as _math
+import os as _os
+from typing import Any, Callable, List, Optional, Protocol, Sequence, Union
+
+import numpy as _np
+import numpy.typing as _npt
+
+from . import _native
+from ._errors import InputError
+from ._results import Batch, FloatArray, Reliability, Trajectory
+
+PathLike = Union[str, "_os.PathLike[str]"]
+"""A file name: ``str`` or ``pathlib.Path``."""
+
+
+class Future(Protocol):
+    """What ``executor.submit`` returns: a future with ``result()``."""
+
+    def result(self) -> Any: ...
+
+    def cancel(self) -> Any: ...
+
+
+class Executor(Protocol):
+    """An executor of tasks: ``concurrent.futures.Executor``,
+    ``dask.distributed.Client`` or anything with ``submit(fn, *args)``."""
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Any: ...
+
+
+def _text(name: str, path: Any) -> "tuple[str, str]":
+    """The text and the name of a file given by path."""
+    if not isinstance(path, (str, _os.PathLike)):
+        raise InputError(f"{name}: expected a file name (str or pathlib.Path), got {type(path).__name__}")
+    p = _os.fspath(path)
+    if not isinstance(p, str):
+        raise InputError(f"{name}: expected a file name as text, got {type(p).__name__}")
+    with open(p, encoding="utf-8") as f:
+        return f.read(), p
+
+
+def _from_text(from_: Optional[PathLike]) -> Optional[str]:
+    return None if from_ is None else _text("from_", from_)[0]
+
+
+def _strings(name: str, value: Any) -> List[str]:
+    """A list of strings, refusing the classic slip of a single string
+    (which Python would iterate character by character)."""
+    if isinstance(value, (str, bytes)):
+        raise InputError(f"{name}: expected a list of strings, e.g. [{value!r}], got a single string")
+    try:
+        items = list(value)
+    except TypeError:
+        raise InputError(f"{name}: expected a list of strings, got {type(value).__name__}") from None
+    for i, v in enumerate(items):
+        if not isinstance(v, str):
+            raise InputError(f"{name}[{i}]: expected a string, got {type(v).__name__} {v!r}")
+    return items
+
+
+def _int(name: str, value: Any, low: int, high: Optional[int] = None) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
+        raise InputError(f"{name}: expected an integer, got {type(value).__name__} {value!r}")
+    v = int(value)
+    if v < low or (high is not None and v > high):
+        top = "" if high is None else f" and at most {high}"
+        raise InputError(f"{name}: expected an integer of at least {low}{top}, got {v}")
+    return v
+
+
+def _positive(name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, _np.integer, _np.floating)):
+        raise InputError(f"{name}: expected a positive number, got {type(value).__name__} {value!r}")
+    v = float(value)
+    if not (_math.isfinite(v) and v > 0.0):
+        raise InputError(f"{name}: expected a positive finite number, got {v}")
+    return v
+
+
+def _matrix(name: str, value: Any, labels: Sequence[str]) -> FloatArray:
+    """``value`` as a C-contiguous float64 matrix of one column per
+    parameter, or an InputError that says which shape and dtype it wanted."""
+    d = len(labels)
+    want = f"a 2-D array of real numbers of shape (n, {d}), one column per parameter ({', '.join(labels)})"
+    try:
+        a = _np.asarray(value)
+    except (ValueError, TypeError) as e:
+        raise InputError(f"{name}: expected {want}; got rows of unequal length or non-numbers ({e})") from None
+    if a.dtype.kind not in "iuf":
+        raise InputError(f"{name}: expected {want}; got an array of dtype {a.dtype}")
+    if a.ndim == 1 and d == 1:
+        a = a.reshape(-1, 1)
+    if a.ndim != 2 or a.shape[1] != d:
+        hint = f" (one point is [[{', '.join(['...'] * d)}]])" if a.ndim == 1 else ""
+        raise InputError(f"{name}: expected {want}; got shape {a.shape}{hint}")
+    out = _np.ascontiguousarray(a, dtype=_np.float64)
+    bad = _np.argwhere(~_np.isfinite(out))
+    if bad.size:
+        i, j = (int(k) for k in bad[0])
+        raise InputError(f"{name}[{i}, {j}] ({labels[j]}): expected a finite number, got {out[i, j]}")
+    return out
+
+
+def simulate(
+    mechanism: PathLike,
+    effects: Sequence[str] = (),
+    sample_hz: Optional[float] = None,
+) -> Trajectory:
+    """One deployment of the mechanism file (``deploywatch simulate``), with
+    extra effects in the ``--effect`` syntax (e.g.
+    ``"coulomb_friction:joint=1:value=1.2"``), sampled at ``sample_hz`` [Hz]
+    (default: the file's rate).
+
+    Returns a :class:`Trajectory`: ``t_s`` (n,), ``phi_deg`` and
+    ``rate_deg_s`` (n, joints), ``latch_s`` (joints,), NaN where not
+    latched, ``end_s``.
+
+    Raises ``MechanismError`` for a bad file, ``InputError`` for a bad
+    effect or rate, ``SimulationError`` if the equations cannot be
+    integrated.
+    """
+    text, source = _text("mechanism", mechanism)
+    effs = _strings("effects", effects)
+    hz = None if sample_hz is None else _positive("sample_hz", sample_hz)
+    t_s, phi, rate, latch, end_s = _native.simulate(text, source, effs, hz)
+    return Trajectory(t_s=t_s, phi_deg=phi, rate_deg_s=rate, latch_s=latch, end_s=end_s)
+
+
+def parameters(
+    mechanism: PathLike,
+    vary: Sequence[str] = (),
+    fail: Sequence[str] = ("not_latched",),
+    from_: Optional[PathLike] = None,
+) -> List[str]:
+    """The parameters of the problem (``vary``, then those of ``from_``,
+    an ``identify --json`` file), in the column order of ``params`` of
+    :func:`simulate_batch`."""
+    text, source = _text("mechanism", mechanism)
+    return _native.parameters(
+        text, source, _strings("vary", vary), _strings("fail", fail), _from_text(from_)
+    )
+
+
+def simulate_batch(
+    mechanism: PathLike,
+    vary: Sequence[str],
+    params: _npt.ArrayLike,
+    fail: Sequence[str] = ("not_latched",),
+    from_: Optional[PathLike] = None,
+) -> Batch:
+    """One deployment per row of ``params`` (numbers, shape (n, parameters):
+    one column per ``vary`` parameter, then those of ``from_``, in the order
+    of :func:`parameters`; a 1-D array when there is one parameter). The
+    loop runs in Rust on every core with the GIL released; Ctrl-C stops it.
+
+    Returns a :class:`Batch`: ``g`` (n,) (failure iff ``g <= 0``),
+    ``latch_s``, ``latch_rate_deg_s`` (n, joints; NaN where not latched),
+    ``end_deg`` (n, joints).
+
+    Raises ``InputError`` naming the argument (a ``vary``/``fail`` string,
+    the shape, dtype or a non-finite entry of ``params``),
+    ``MechanismError``, ``SimulationError`` for a deployment that cannot be
+    simulated (with its parameters).
+    """
+    text, source = _text("mechanism", mechanism)
+    vs, fs, fj = _strings("vary", vary), _strings("fail", fail), _from_text(from_)
+    labels = _native.parameters(text, source, vs, fs, fj)
+    rows = _matrix("params", params, labels)
+    return Batch(*_native.simulate_batch(text, source, vs, fs, rows, fj))
+
+
+def _g_chunk(
+    text: str, source: str, vary: List[str], fail: List[str], from_json: Optional[str], rows: FloatArray
+) -> FloatArray:
+    """The limit states of a chunk of rows: the task an executor runs."""
+    return _native.simulate_batch(text, source, vary, fail, rows, from_json)[0]
+
+
+def _workers(executor: Executor, workers: Optional[int]) -> int:
+    """How many tasks the executor runs at once (for the chunk size only):
+    ``workers`` if given, else a Dask client's worker count
+    (``Client.scheduler_info()``), else this machine's cores."""
+    if workers is not None:
+        return workers
+    info = getattr(executor, "scheduler_info", None)
+    if callable(info):
+        return max(1, len(info().get("workers", {})))
+    return _os.cpu_count() or 1
+
+
+def _evaluator(
+    executor: Executor, chunk: Optional[int], workers: int, task: "tuple[Any, ...]"
+) -> Callable[[FloatArray], List[float]]:
+    def evaluate(xs: FloatArray) -> List[float]:
+        n = xs.shape[0]
+        size = chunk or max(1, -(-n // workers // 4))
+        futures = [executor.submit(_g_chunk, *task, xs[i : i + size]) for i in range(0, n, size)]
+        try:
+            return _np.concatenate([f.result() for f in futures]).tolist()  # type: ignore[no-any-return]
+        except BaseException:
+            # A failed task or Ctrl-C: the other tasks are not wanted.
+            for f in futures:
+                cancel = getattr(f, "cancel", None)
+                if callable(cancel):
+                    cancel()
+            raise
+
+    return evaluate
+
+
+def reliability(
+    mechanism: PathLike,
+    vary: Sequence[str] = (),
+    fail: Sequence[str] = ("not_latched",),
+    method: str = "subset",
+    samples: Optional[int] = None,
+    target_cov: Optional[float] = None,
+    seed: int = 0,
+    from_: Optional[PathLike] = None,
+    executor: Optional[Executor] = None,
+    chunk: Optional[int] = None,
+    corr: Sequence[str] = (),
+    workers: Optional[int] = None,
+) -> Reliability:
+    """``deploywatch reliability`` as a function: the CLI's options as
+    keyword arguments, its JSON as a :class:`Reliability` (``.to_dict()``
+    is that JSON's dict, equal bit for bit).
+
+    ``vary``: ``--vary`` strings (e.g.
+    ``"coulomb_friction:joint=1:lognormal(2.63,0.05)"``); ``fail``:
+    ``--fail`` criteria; ``method``: ``"subset"`` or ``"mc"``; ``samples``,
+    ``target_cov``, ``seed`` as the CLI's; ``from_``: an ``identify --json``
+    file; ``corr``: ``"I,J,RHO"`` strings, as ``--corr``.
+
+    ``executor``: ``None`` for every local core (rayon, the GIL released),
+    or any object with ``submit(fn, *args)`` returning futures with
+    ``result()``: a ``concurrent.futures.Executor`` or a
+    ``dask.distributed.Client``. Each batch of deployments is cut into
+    chunks of ``chunk`` rows (default: about four per worker; ``workers``
+    tells how many tasks run at once, default the Dask client's workers or
+    this machine's cores) and submitted there. The result equals the local
+    one bit for bit. An error raised by a task (e.g. a ``SimulationError``
+    on a Dask worker) is raised here as it is.
+
+    Ctrl-C stops the analysis between batches (``KeyboardInterrupt``).
+    Raises ``InputError`` (``MechanismError``) for bad arguments,
+    ``SimulationError`` for a deployment that cannot be simulated,
+    ``EvaluatorError`` for an executor's unusable answer.
+    """
+    text, source = _text("mechanism", mechanism)
+    from_json = _from_text(from_)
+    vs, fs, cs = _strings("vary", vary), _strings("fail", fail), _strings("corr", corr)
+    if not isinstance(method, str):
+        raise InputError(f"method: expected \"subset\" or \"mc\", got {type(method).__name__}")
+    n = None if samples is None else _int("samples", samples, 1)
+    cov = None if target_cov is None else _positive("target_cov", target_cov)
+    sd = _int("seed", seed, 0, 2**64 - 1)
+    evaluate = None
+    if executor is not None:
+        if not callable(getattr(executor, "submit", None)):
+            raise InputError(
+                f"executor: expected a concurrent.futures.Executor or a dask.distributed.Client "
+                f"(an object with submit(fn, *args)), got {type(executor).__name__}"
+            )
+        size = None if chunk is None else _int("chunk", chunk, 1)
+        w = _workers(executor, None if workers is None else _int("workers", workers, 1))
+        evaluate = _evaluator(executor, size, w, (text, source, vs, fs, from_json))
+    out = _native.reliability(text, source, vs, fs, method, n, cov, sd, from_json, evaluate, cs)
+    return Reliability.from_dict(out)

@@ -1,0 +1,39 @@
+# The extension module deploywatch._native (python/src/lib.rs). Private:
+# use the functions of `deploywatch`, which check their arguments and type
+# the results.
+from typing import Any, Callable, Dict, List, Optional, Tuple
+
+import numpy as np
+import numpy.typing as npt
+
+_F = npt.NDArray[np.float64]
+
+__version__: str
+
+def simulate(
+    mechanism_toml: str, source: str, effects: List[str], sample_hz: Optional[float] = None
+) -> Tuple[_F, _F, _F, _F, float]: ...
+def simulate_batch(
+    mechanism_toml: str,
+    source: str,
+    vary: List[str],
+    fail: List[str],
+    params: _F,
+    from_json: Optional[str] = None,
+) -> Tuple[_F, _F, _F, _F]: ...
+def parameters(
+    mechanism_toml: str, source: str, vary: List[str], fail: List[str], from_json: Optional[str] = None
+) -> List[str]: ...
+def reliability(
+    mechanism_toml: str,
+    source: str,
+    vary: List[str],
+    fail: List[str],
+    method: str,
+    samples: Optional[int],
+    target_cov: Optional[float],
+    seed: int,
+    from_json: Optional[str] = None,
+    evaluate: Optional[Callable[[_F], List[float]]] = None,
+    corr: List[str] = ...,
+) -> Dict[str, Any]: ...

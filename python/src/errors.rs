@@ -1,0 +1,89 @@
+//! Rust errors as the package's exceptions (`deploywatch._errors`): the
+//! class says the kind of failure, the message is the Rust error's
+//! `Display` (the CLI's words), `__cause__` and `causes` its `source()`
+//! chain. The classes are plain Python classes, so they pickle and cross a
+//! Dask worker's boundary as themselves.
+
+use deploywatch_sim::analysis::reliability::ReliabilityError;
+use deploywatch_sim::simulate::deployment::SimError;
+use pyo3::prelude::*;
+use std::error::Error;
+
+/// Which exception class of `deploywatch` an error becomes.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Kind {
+    /// `InputError` (a `ValueError`): an argument is not usable.
+    Input,
+    /// `MechanismError` (an `InputError`): the mechanism file is not valid.
+    Mechanism,
+    /// `SimulationError` (a `RuntimeError`): a deployment failed.
+    Simulation,
+    /// `EvaluatorError` (a `RuntimeError`): the executor's answer is unusable.
+    Evaluator,
+    /// `DeploywatchError`: none of the above.
+    Other,
+}
+
+impl Kind {
+    /// The key of the class in `deploywatch._errors._KINDS`.
+    fn key(self) -> &'static str {
+        match self {
+            Kind::Input => "input",
+            Kind::Mechanism => "mechanism",
+            Kind::Simulation => "simulation",
+            Kind::Evaluator => "evaluator",
+            Kind::Other => "error",
+        }
+    }
+
+    /// The exception for a message with the given causes (outermost first).
+    pub(crate) fn raise(self, message: String, causes: Vec<String>) -> PyErr {
+        Python::with_gil(|py| {
+            let made = py
+                .import("deploywatch._errors")
+                .and_then(|m| m.getattr("_from_rust"))
+                .and_then(|f| f.call1((self.key(), message, causes)));
+            match made {
+                Ok(obj) => PyErr::from_value(obj),
+                Err(e) => e,
+            }
+        })
+    }
+
+    /// The exception for a Rust error: its message, its source chain.
+    pub(crate) fn of(self, e: &(dyn Error + 'static)) -> PyErr {
+        self.prefixed("", e)
+    }
+
+    /// The exception for a Rust error about an argument: `"{arg}: {e}"`.
+    pub(crate) fn prefixed(self, arg: &str, e: &(dyn Error + 'static)) -> PyErr {
+        let mut causes = Vec::new();
+        let mut next = e.source();
+        while let Some(c) = next {
+            causes.push(c.to_string());
+            next = c.source();
+        }
+        self.raise(format!("{arg}{e}"), causes)
+    }
+}
+
+/// The exception of a reliability error: `Invalid` is the user's input,
+/// `Simulation` a deployment, `Evaluator` the executor's answer.
+pub(crate) fn reliability(e: &ReliabilityError) -> PyErr {
+    let kind = match e {
+        ReliabilityError::Invalid(_) => Kind::Input,
+        ReliabilityError::Simulation { .. } => Kind::Simulation,
+        ReliabilityError::Evaluator(_) => Kind::Evaluator,
+        _ => Kind::Other,
+    };
+    kind.of(e)
+}
+
+/// The exception of a simulation error: `Invalid` (an effect the mechanism
+/// cannot take) is the user's input, the rest the integration's failure.
+pub(crate) fn simulation(e: &SimError) -> PyErr {
+    match e {
+        SimError::Invalid(_) => Kind::Input.of(e),
+        _ => Kind::Simulation.of(e),
+    }
+}

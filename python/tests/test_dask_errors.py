@@ -1,0 +1,45 @@
+"""An error raised inside a Dask worker process arrives in the caller as the
+package's exception, with the worker's message and cause (a real
+LocalCluster of 2 worker processes, the session's `dask_client`).
+
+    bash scripts/python-env.sh && .venv/bin/pytest python/tests/test_dask_errors.py -q
+"""
+
+import numpy as np
+import pytest
+
+import deploywatch
+from deploywatch import DeploywatchError, InputError, SimulationError
+
+MECH = "data/mechanisms/reliability_one_panel.toml"
+NEGATIVE = ["panel_inertia:joint=1:normal(0.16,0.2)"]
+
+
+def test_a_simulation_error_on_a_worker(root, dask_client):
+    rows = np.array([[0.16], [0.15], [-0.1], [0.17]])
+    with pytest.raises(SimulationError) as here:
+        deploywatch.simulate_batch(root / MECH, NEGATIVE, rows)
+    future = dask_client.submit(deploywatch.simulate_batch, root / MECH, NEGATIVE, rows)
+    with pytest.raises(SimulationError) as there:
+        future.result()
+    # The same class, message and cause as the same call here.
+    assert str(there.value) == str(here.value)
+    assert str(there.value).startswith("the deployment at panel_inertia:joint=1 = -0.1 failed")
+    assert there.value.causes == here.value.causes != ()
+    assert isinstance(there.value.__cause__, DeploywatchError)
+    assert str(there.value.__cause__) == str(here.value.__cause__)
+
+
+def test_an_input_error_on_a_worker(root, dask_client):
+    future = dask_client.submit(deploywatch.simulate_batch, root / MECH, NEGATIVE, [[0.1, 0.2]])
+    with pytest.raises(InputError, match=r"^params: expected a 2-D array .* got shape \(1, 2\)$") as e:
+        future.result()
+    assert isinstance(e.value, ValueError)
+
+
+def test_reliability_on_the_cluster_raises_the_workers_error(root, dask_client):
+    # The deployments run on the workers; the first that cannot be simulated
+    # stops the analysis with the worker's SimulationError.
+    with pytest.raises(SimulationError, match=r"^the deployment at panel_inertia:joint=1 = -[0-9.e-]+ failed: ") as e:
+        deploywatch.reliability(root / MECH, vary=NEGATIVE, samples=1000, executor=dask_client)
+    assert e.value.causes == ("mechanism `reliability-one-panel` cannot be built",)

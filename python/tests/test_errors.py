@@ -1,0 +1,309 @@
+"""Every error path of the package: the class (the package's hierarchy,
+also the built-in class a caller would catch), a message that names the
+argument and what was expected, the Rust error's cause kept; pickling keeps
+all of it (what a Dask worker does with an exception).
+
+    bash scripts/python-env.sh && .venv/bin/pytest python/tests/test_errors.py -q
+"""
+
+import pickle
+
+import numpy as np
+import pytest
+
+import deploywatch
+from deploywatch import (
+    DeploywatchError,
+    EvaluatorError,
+    InputError,
+    MechanismError,
+    SimulationError,
+)
+
+MECH = "data/mechanisms/reliability_one_panel.toml"
+VARY = [
+    "coulomb_friction:joint=1:normal(1.1,0.1)",
+    "panel_inertia:joint=1:truncnormal(0.16,0.02,0.1,0.3)",
+]
+# A normal law of the inertia that reaches negative values: some draws
+# cannot be simulated.
+NEGATIVE = ["panel_inertia:joint=1:normal(0.16,0.2)"]
+
+
+@pytest.fixture
+def mech(root):
+    return root / MECH
+
+
+def test_the_hierarchy():
+    assert issubclass(InputError, DeploywatchError) and issubclass(InputError, ValueError)
+    assert issubclass(MechanismError, InputError)
+    assert issubclass(SimulationError, DeploywatchError) and issubclass(SimulationError, RuntimeError)
+    assert issubclass(EvaluatorError, DeploywatchError) and issubclass(EvaluatorError, RuntimeError)
+    assert not issubclass(SimulationError, ValueError)
+
+
+# ---- the mechanism file -------------------------------------------------
+
+
+def test_a_mechanism_that_is_not_a_path(root):
+    with pytest.raises(InputError, match=r"^mechanism: expected a file name .*got int"):
+        deploywatch.simulate(42)  # type: ignore[arg-type]
+
+
+def test_a_missing_mechanism_file(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        deploywatch.simulate(tmp_path / "absent.toml")
+
+
+def test_a_mechanism_file_that_is_not_toml(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('name = "x"\n[joint\n')
+    with pytest.raises(MechanismError, match=r"bad\.toml:2: invalid TOML") as e:
+        deploywatch.simulate(bad)
+    assert isinstance(e.value, ValueError)
+
+
+def test_a_mechanism_file_with_a_wrong_key(root):
+    # Valid TOML, not a mechanism: the file, the line, the keys expected.
+    with pytest.raises(MechanismError, match=r"pyproject\.toml:1: unknown key `build-system`; expected one of"):
+        deploywatch.reliability(root / "python/pyproject.toml", vary=VARY)
+
+
+# ---- strings of the CLI's syntax ----------------------------------------
+
+
+@pytest.mark.parametrize("arg", ["effects"])
+def test_a_single_string_where_a_list_is_expected_simulate(mech, arg):
+    with pytest.raises(InputError, match=r"^effects: expected a list of strings, e\.g\. \['coulomb"):
+        deploywatch.simulate(mech, "coulomb_friction:joint=1:value=1.2")
+
+
+@pytest.mark.parametrize("arg", ["vary", "fail", "corr"])
+def test_a_single_string_where_a_list_is_expected(mech, arg):
+    kwargs = {"vary": VARY, arg: "not_latched"}
+    with pytest.raises(InputError, match=rf"^{arg}: expected a list of strings, e\.g\. \['not_latched'\]"):
+        deploywatch.reliability(mech, **kwargs)
+
+
+def test_a_list_holding_a_number(mech):
+    with pytest.raises(InputError, match=r"^vary\[1\]: expected a string, got float 1\.5"):
+        deploywatch.reliability(mech, vary=[VARY[0], 1.5])
+
+
+def test_an_unknown_effect(mech):
+    with pytest.raises(InputError, match=r"^effects\[1\]: unknown effect `nonsense`: expected one of coulomb_friction"):
+        deploywatch.simulate(mech, ["coulomb_friction:joint=1:value=1.2", "nonsense:joint=1:value=1"])
+
+
+def test_an_effect_on_a_joint_the_mechanism_lacks(mech):
+    with pytest.raises(InputError, match=r"joint 7 does not exist \(the mechanism has joints 1 to 1\)"):
+        deploywatch.simulate(mech, ["coulomb_friction:joint=7:value=1"])
+
+
+def test_a_bad_sample_rate(mech):
+    with pytest.raises(InputError, match=r"^sample_hz: expected a positive finite number, got -5\.0"):
+        deploywatch.simulate(mech, sample_hz=-5)
+
+
+def test_an_unknown_law(mech):
+    with pytest.raises(InputError, match=r"^vary\[0\]: .*unknown law `normul`: expected normal, lognormal"):
+        deploywatch.parameters(mech, ["coulomb_friction:joint=1:normul(1,2)"])
+
+
+def test_an_unknown_criterion(mech):
+    with pytest.raises(InputError, match=r"^fail\[1\]: .*latched_late: expected not_latched, latch_rate>X"):
+        deploywatch.simulate_batch(mech, VARY, [[1.0, 0.16]], fail=["not_latched", "latched_late"])
+
+
+def test_a_time_criterion_beyond_the_run(mech):
+    with pytest.raises(InputError, match=r"time>100: X must be below the mechanism's duration_s \(10 s\)"):
+        deploywatch.simulate_batch(mech, VARY, [[1.0, 0.16]], fail=["time>100"])
+
+
+def test_a_bad_correlation(mech):
+    with pytest.raises(InputError, match=r"^corr\[0\]: .*expected I,J,RHO"):
+        deploywatch.reliability(mech, vary=VARY, corr=["1,2,3"])
+
+
+def test_no_parameter_to_vary(mech):
+    with pytest.raises(InputError, match=r"expected at least one --vary"):
+        deploywatch.reliability(mech)
+
+
+def test_a_from_file_that_is_not_identify_json(mech):
+    with pytest.raises(InputError, match=r"^from_: not JSON"):
+        deploywatch.reliability(mech, vary=VARY, from_=mech)
+
+
+# ---- arrays: shape, dtype, values ---------------------------------------
+
+
+def test_params_as_one_row_of_two_parameters(mech):
+    with pytest.raises(InputError) as e:
+        deploywatch.simulate_batch(mech, VARY, np.array([1.0, 0.16]))
+    msg = str(e.value)
+    assert msg.startswith("params: expected a 2-D array of real numbers of shape (n, 2)")
+    assert "coulomb_friction:joint=1" in msg and "panel_inertia:joint=1" in msg
+    assert "got shape (2,) (one point is [[..., ...]])" in msg
+
+
+def test_params_with_a_column_too_many(mech):
+    with pytest.raises(InputError, match=r"shape \(n, 2\).*got shape \(1, 3\)$"):
+        deploywatch.simulate_batch(mech, VARY, np.zeros((1, 3)))
+
+
+def test_params_of_a_3d_array(mech):
+    with pytest.raises(InputError, match=r"got shape \(2, 2, 1\)$"):
+        deploywatch.simulate_batch(mech, VARY, np.ones((2, 2, 1)))
+
+
+@pytest.mark.parametrize(
+    "params, dtype",
+    [([["1.0", "0.16"]], "<U4"), (np.array([[1 + 0j, 0.16]]), "complex128"), ([[True, False]], "bool")],
+)
+def test_params_that_are_not_real_numbers(mech, params, dtype):
+    with pytest.raises(InputError, match=rf"^params: expected a 2-D array of real numbers .* got an array of dtype {dtype}$"):
+        deploywatch.simulate_batch(mech, VARY, params)
+
+
+def test_params_with_rows_of_unequal_length(mech):
+    with pytest.raises(InputError, match=r"^params: expected .*; got rows of unequal length or non-numbers"):
+        deploywatch.simulate_batch(mech, VARY, [[1.0, 0.16], [1.0]])
+
+
+def test_params_with_a_nan(mech):
+    with pytest.raises(InputError, match=r"^params\[1, 0\] \(coulomb_friction:joint=1:normal\(1\.1,0\.1\)\): expected a finite number, got nan$"):
+        deploywatch.simulate_batch(mech, VARY, [[1.0, 0.16], [np.nan, 0.16]])
+
+
+def test_params_of_one_column_as_a_vector(mech):
+    # One parameter: a 1-D array is its column (not an error).
+    b = deploywatch.simulate_batch(mech, VARY[:1], np.array([1.0, 1.2]))
+    assert b.g.shape == (2,)
+
+
+# ---- settings -----------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "kwargs, pattern",
+    [
+        ({"method": "foo"}, r'^method `foo`: expected "mc" or "subset"$'),
+        ({"method": 3}, r'^method: expected "subset" or "mc", got int$'),
+        ({"samples": 0}, r"^samples: expected an integer of at least 1, got 0$"),
+        ({"samples": 1.5}, r"^samples: expected an integer, got float 1\.5$"),
+        ({"samples": True}, r"^samples: expected an integer, got bool True$"),
+        ({"seed": -1}, r"^seed: expected an integer of at least 0 and at most 18446744073709551615, got -1$"),
+        ({"seed": 2**64}, r"^seed: expected an integer of at least 0 and at most"),
+        ({"target_cov": 0}, r"^target_cov: expected a positive finite number, got 0\.0$"),
+        ({"target_cov": "0.1"}, r"^target_cov: expected a positive number, got str '0\.1'$"),
+        ({"executor": object()}, r"^executor: expected a concurrent\.futures\.Executor or a dask\.distributed\.Client"),
+        ({"executor": None, "method": "subset", "samples": 1001}, r"^subset: 1001 samples per level and p0 = 0\.1"),
+    ],
+)
+def test_bad_settings(mech, kwargs, pattern):
+    with pytest.raises(InputError, match=pattern):
+        deploywatch.reliability(mech, vary=VARY, **kwargs)
+
+
+class _Immediate:
+    """An executor that runs each task at once, here."""
+
+    def submit(self, fn, *args):
+        from concurrent.futures import Future
+
+        f = Future()
+        try:
+            f.set_result(fn(*args))
+        except BaseException as e:  # noqa: BLE001 - handed to the caller
+            f.set_exception(e)
+        return f
+
+
+@pytest.mark.parametrize("value", [0, -3])
+def test_bad_chunk_and_workers(mech, value):
+    for arg in ("chunk", "workers"):
+        with pytest.raises(InputError, match=rf"^{arg}: expected an integer of at least 1, got {value}$"):
+            deploywatch.reliability(mech, vary=VARY, executor=_Immediate(), **{arg: value})
+
+
+# ---- failures of the work -----------------------------------------------
+
+
+def test_a_deployment_that_cannot_be_simulated(mech):
+    with pytest.raises(SimulationError) as e:
+        deploywatch.simulate_batch(mech, NEGATIVE, np.array([[0.16], [-0.1]]))
+    err = e.value
+    assert isinstance(err, RuntimeError)
+    assert str(err) == (
+        "the deployment at panel_inertia:joint=1 = -0.1 failed: "
+        "mechanism `reliability-one-panel` cannot be built"
+    )
+    # The Rust error's source, kept as the cause.
+    assert err.causes == ("mechanism `reliability-one-panel` cannot be built",)
+    assert isinstance(err.__cause__, DeploywatchError)
+    assert str(err.__cause__) == err.causes[0]
+
+
+def test_a_reliability_run_that_meets_such_a_deployment(mech):
+    with pytest.raises(SimulationError, match=r"^the deployment at panel_inertia:joint=1 = -[0-9.]+ failed"):
+        deploywatch.reliability(mech, vary=NEGATIVE, samples=1000)
+
+
+def test_an_executor_that_answers_too_few_values(mech):
+    class Short(_Immediate):
+        def submit(self, fn, *args):
+            f = super().submit(fn, *args)
+            g = f.result()[:-1]
+            f2 = type(f)()
+            f2.set_result(g)
+            return f2
+
+    with pytest.raises(EvaluatorError, match=r"values for a batch of \d+ points"):
+        deploywatch.reliability(mech, vary=VARY, samples=1000, executor=Short(), chunk=10**6)
+
+
+def test_an_executor_whose_task_fails_raises_that_error(mech):
+    class Broken(Exception):
+        pass
+
+    class Failing:
+        def submit(self, fn, *args):
+            raise Broken("the cluster went away")
+
+    with pytest.raises(Broken, match="^the cluster went away$"):
+        deploywatch.reliability(mech, vary=VARY, samples=1000, executor=Failing())
+
+
+def test_a_task_error_on_a_thread_pool_arrives_as_itself(mech):
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=2) as ex:
+        with pytest.raises(SimulationError, match=r"^the deployment at panel_inertia:joint=1 = -"):
+            deploywatch.reliability(mech, vary=NEGATIVE, samples=1000, executor=ex, chunk=50)
+
+
+# ---- pickling (what crosses a process boundary) -------------------------
+
+
+@pytest.mark.parametrize("cls", [DeploywatchError, InputError, MechanismError, SimulationError, EvaluatorError])
+def test_every_error_pickles_with_its_message_and_cause(cls):
+    from deploywatch._errors import _from_rust
+
+    kinds = {InputError: "input", MechanismError: "mechanism", SimulationError: "simulation",
+             EvaluatorError: "evaluator", DeploywatchError: "error"}
+    err = _from_rust(kinds[cls], "what went wrong", ["why", "deeper"])
+    back = pickle.loads(pickle.dumps(err))
+    assert type(back) is cls and str(back) == "what went wrong" and back.causes == ("why", "deeper")
+    assert str(back.__cause__) == "why" and str(back.__cause__.__cause__) == "deeper"
+    assert back.__cause__.__cause__.__cause__ is None
+
+
+def test_a_real_error_pickles(mech):
+    with pytest.raises(SimulationError) as e:
+        deploywatch.simulate_batch(mech, NEGATIVE, [[-0.1]])
+    back = pickle.loads(pickle.dumps(e.value))
+    assert type(back) is SimulationError
+    assert str(back) == str(e.value) and back.causes == e.value.causes
+    assert str(back.__cause__) == str(e.value.__cause__)

@@ -1,0 +1,58 @@
+"""A small program that uses deploywatch through its types: `mypy --strict`
+must pass on it against the installed package (its `py.typed` and stubs),
+and it runs (scripts/test.sh, python step):
+
+    cd python/tests/typed && ../../../.venv/bin/mypy --strict usage.py
+    .venv/bin/python python/tests/typed/usage.py
+"""
+
+from __future__ import annotations
+
+import pathlib
+from concurrent.futures import ThreadPoolExecutor
+from typing import List, Optional
+
+import numpy as np
+
+import deploywatch
+from deploywatch import Batch, FloatArray, Reliability, Trajectory
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+MECH = ROOT / "data/mechanisms/reliability_one_panel.toml"
+VARY = ["coulomb_friction:joint=1:normal(1.1,0.1)"]
+
+
+def latch_instants() -> FloatArray:
+    run: Trajectory = deploywatch.simulate(MECH, ["coulomb_friction:joint=1:value=1.2"])
+    return run.latch_s
+
+
+def failed_rows() -> List[int]:
+    batch: Batch = deploywatch.simulate_batch(MECH, VARY, np.array([[1.0], [1.6]]))
+    return [int(i) for i in np.flatnonzero(batch.failed)]
+
+
+def probability(executor: Optional[ThreadPoolExecutor] = None) -> float:
+    r: Reliability = deploywatch.reliability(
+        MECH, vary=VARY, fail=["not_latched"], samples=1000, seed=1, executor=executor
+    )
+    point = r.most_likely_failure
+    beta: float = point.beta if point is not None else float("inf")
+    assert beta > 0 and all(level.p > 0 for level in r.levels)
+    return r.p_fail
+
+
+def main() -> None:
+    try:
+        deploywatch.simulate_batch(MECH, VARY, np.zeros((1, 2)))
+    except deploywatch.InputError as e:
+        message: str = e.message
+        causes: tuple[str, ...] = e.causes
+        assert message.startswith("params:") and causes == ()
+    with ThreadPoolExecutor(max_workers=2) as ex:
+        assert probability(ex) == probability()
+    print(deploywatch.__version__, latch_instants(), failed_rows())
+
+
+if __name__ == "__main__":
+    main()
