@@ -130,32 +130,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     )?;
     outs.commit()?;
 
-    outln!(
-        "baseline RMS {:.4} deg -> extended {:.4} deg (x{:.1}); noise floor {:.4} deg",
-        outcome.baseline.rms(),
-        outcome.extended.rms(),
-        outcome.baseline.rms() / outcome.extended.rms().max(MIN_RMS_DEG),
-        outcome.noise_sigma_deg
-    );
-    for (k, e) in ext_effects.iter().enumerate() {
-        outln!("  {}", effect_line(e, &outcome, k));
-    }
-    if ext_effects.is_empty() && outcome.unexplained.is_none() {
-        outln!("  no effect: the mechanisms as given explain the runs to the noise");
-    }
-    if let Some(u) = &outcome.unexplained {
-        outln!("  unexplained: {u}");
-    }
-    for x in &exports {
-        outln!("  {}", export_line(x));
-    }
-    outln!(
-        "{} simulations in {:.2} s; JSON {}; report {}",
-        outcome.simulations,
-        outcome.wall_s,
-        args.json.display(),
-        report.display()
-    );
+    print_outcome(args, &outcome, &exports, &report);
     Ok(())
 }
 
@@ -531,6 +506,38 @@ fn write_report(
     md.push_str(next);
     std::fs::write(path, md)
         .map_err(|e| CliError::input(format!("{}: cannot write: {e}", path.display())))
+}
+
+/// The result on stdout: the headline numbers, the causes found, what is
+/// unexplained, the exported tables, where the files went.
+fn print_outcome(args: &DiagnoseArgs, outcome: &Outcome, exports: &[TableExport], report: &Path) {
+    let ext_effects = outcome.extended.effects();
+    outln!(
+        "baseline RMS {:.4} deg -> extended {:.4} deg (x{:.1}); noise floor {:.4} deg",
+        outcome.baseline.rms(),
+        outcome.extended.rms(),
+        outcome.baseline.rms() / outcome.extended.rms().max(MIN_RMS_DEG),
+        outcome.noise_sigma_deg
+    );
+    for (k, e) in ext_effects.iter().enumerate() {
+        outln!("  {}", effect_line(e, outcome, k));
+    }
+    if ext_effects.is_empty() && outcome.unexplained.is_none() {
+        outln!("  no effect: the mechanisms as given explain the runs to the noise");
+    }
+    if let Some(u) = &outcome.unexplained {
+        outln!("  unexplained: {u}");
+    }
+    for x in exports {
+        outln!("  {}", export_line(x));
+    }
+    outln!(
+        "{} simulations in {:.2} s; JSON {}; report {}",
+        outcome.simulations,
+        outcome.wall_s,
+        args.json.display(),
+        report.display()
+    );
 }
 
 /// A path as one shell word: as it is when it holds only characters no
