@@ -65,7 +65,9 @@ fn parse_layers(text: &str) -> Result<BTreeMap<String, Layers>, String> {
         .find("```layers\n")
         .ok_or("no ```layers block in ARCHITECTURE.md")?;
     let body = &text[start + 10..];
-    let body = &body[..body.find("```").ok_or("the ```layers block is not closed")?];
+    let body = &body[..body
+        .find("```")
+        .ok_or("the ```layers block is not closed")?];
     let mut out: BTreeMap<String, Layers> = BTreeMap::new();
     let mut current: Option<String> = None;
     for line in body.lines().map(str::trim).filter(|l| !l.is_empty()) {
@@ -77,9 +79,16 @@ fn parse_layers(text: &str) -> Result<BTreeMap<String, Layers>, String> {
         let (n, list) = line
             .split_once(':')
             .ok_or_else(|| format!("expected `N: modules`, found {line:?}"))?;
-        let n: u8 = n.trim().parse().map_err(|_| format!("bad layer number in {line:?}"))?;
+        let n: u8 = n
+            .trim()
+            .parse()
+            .map_err(|_| format!("bad layer number in {line:?}"))?;
         let rule = out
-            .get_mut(current.as_deref().ok_or("a layer line before any `crate:` line")?)
+            .get_mut(
+                current
+                    .as_deref()
+                    .ok_or("a layer line before any `crate:` line")?,
+            )
             .expect("entry made above");
         let groups: Vec<Vec<ModPath>> = list
             .split('∥')
@@ -517,7 +526,10 @@ fn layer_violations(g: &Graph, rule: &Layers) -> Vec<String> {
             out.push(format!(
                 "{file}: module `{}` is in no layer of ARCHITECTURE.md (entries: {:?})",
                 from.join("::"),
-                rule.layer.iter().map(|(n, _)| n.join("::")).collect::<Vec<_>>()
+                rule.layer
+                    .iter()
+                    .map(|(n, _)| n.join("::"))
+                    .collect::<Vec<_>>()
             ));
             continue;
         };
