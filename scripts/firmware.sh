@@ -30,6 +30,15 @@ deploywatch=  # set by build_host_tool
 # (docs/performance.md, "Flash, stack and RAM").
 FLASH_BUDGET=$((60 * 1024))
 RAM_BUDGET=$((16 * 1024))
+# The monitor's budgets on the Cortex-M4F (docs/monitor.md §6.1): instructions
+# of the sample path Monitor::update (ideal latches / a physical latch), of
+# one predict slice (17 slices within 30 % of a 100 MHz M4F at 100 Hz), and
+# the stack. `test` writes the measured figures against them into
+# docs/measured.md (scripts/measured.py) and fails when one is not met.
+UPDATE_BUDGET=4400
+UPDATE_BUDGET_PHYSICAL=5000
+SLICE_BUDGET=17350
+STACK_BUDGET=$((8 * 1024))
 
 die() { echo "firmware.sh: $*" >&2; exit 1; }
 
@@ -63,6 +72,7 @@ size_report() {
     printf '  flash %6d B of %6d B (%3d %%)\n' "$flash" "$FLASH_BUDGET" $((100 * flash / FLASH_BUDGET))
     printf '  RAM   %6d B of %6d B (%3d %%), static data only; the stack uses the rest\n' \
         "$ram" "$RAM_BUDGET" $((100 * ram / RAM_BUDGET))
+    python3 "$root/scripts/measured.py" firmware-size "$flash" "$ram" "$FLASH_BUDGET" "$RAM_BUDGET"
     [ "$flash" -le "$FLASH_BUDGET" ] && [ "$ram" -le "$RAM_BUDGET" ] || die "over the budget"
 }
 
@@ -159,8 +169,11 @@ replay() {
         dir="$root/target/replay/$(basename "$(dirname "$csv")")-$(basename "${csv%.*}")"
     fi
     mkdir -p "$dir"
+    # The firmware's log (instruction counts, stack) goes to stderr and to
+    # DIR/replay.log, which scripts/measured.py reads.
     "$deploywatch" replay "$csv" --mechanism "$mech" --target qemu --elf "$elf" \
         --keep "$dir" --out "$dir/status.csv" --timeout "${QEMU_TIMEOUT:-300}" \
+        2> >(tee "$dir/replay.log" >&2) \
         || die "replay of $csv failed"
 }
 
@@ -225,6 +238,9 @@ case "$cmd" in
         qemu_exec "$bad/input.bin" "$bad/qemu.bin" || status=$?
         [ "$status" -eq 1 ] || die "a truncated input gave QEMU exit $status, expected 1"
         echo "truncated input: the firmware reports it and exits 1, as it should"
+        python3 "$root/scripts/measured.py" firmware-replays "$root/target/replay" \
+            "$UPDATE_BUDGET" "$UPDATE_BUDGET_PHYSICAL" "$SLICE_BUDGET" "$STACK_BUDGET"
+        echo "measured figures: docs/measured.md"
         ;;
     *)
         sed -n '2,20p' "$0" >&2

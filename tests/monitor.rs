@@ -249,7 +249,10 @@ fn monte_carlo(
 /// every joint in ≥ 95 % of the runs, and ≥ 98 % of the joint
 /// predictions are right. Rerun with `cargo test -p deploywatch-tests --test
 /// monitor monte_carlo -- --nocapture` (tables in docs/monitor.md §8;
-/// `MC_STEPS=0` runs the cheap variant, the one-joint energy balance only).
+/// `MC_STEPS=0` runs the cheap variant, the one-joint energy balance only,
+/// against the same bounds, which it does not meet: 113/200 runs right on
+/// draw 2024, measured with `MC_STEPS=0 cargo test -p deploywatch-tests
+/// --test monitor monte_carlo -- --nocapture`).
 #[test]
 fn monte_carlo_prediction_at_half_stroke() {
     let mech = mechanism("seed001_T01");
@@ -264,9 +267,12 @@ fn monte_carlo_prediction_at_half_stroke() {
         .collect();
     let all: usize = results.iter().map(|r| r.0).sum();
     println!("all draws: {all}/{} runs right", MC_RUNS * MC_DRAWS.len());
-    if cheap.is_some() {
-        return;
+    // The cheap variant (`MC_STEPS`) is held to the same bounds: a knob that
+    // skipped them would let the test pass without asserting anything.
+    if let Some(steps) = cheap {
+        println!("MC_STEPS={steps}: rollout steps per slice, held to the same bounds");
     }
+    assert_eq!(results.len(), MC_DRAWS.len(), "every draw ran");
     for (&(draws, _), &(runs_right, right)) in MC_DRAWS.iter().zip(results.iter()) {
         assert!(
             runs_right * 100 >= 95 * MC_RUNS,

@@ -1,10 +1,13 @@
-//! The shape of the two library crates, checked from their sources:
+//! The shape of the two library crates, checked from their sources, with
+//! the layers read from the one place that states them: the fenced
+//! `layers` block of `ARCHITECTURE.md` ("Code map").
 //!
-//! - **layers point one way**: in `host-sim/src`, `report` and `paper` (leaf
-//!   utilities) ← `model` ← `data` ← `simulate` ← `analysis`, `onboard` ←
-//!   `cli`; in `core/src`, `physics` ← `monitor` ← `telemetry`, `hal`. A
-//!   module never names one of a higher layer, and two peers of one layer
-//!   (`analysis`/`onboard`, `telemetry`/`hal`) never name each other;
+//! - **layers point one way**: a module never names one of a higher layer,
+//!   and modules of one layer written `a ∥ b` (peers) never name each
+//!   other. A layer entry is a module path (`model`, `report::plot`); a
+//!   module belongs to the entry that is the longest prefix of its path,
+//!   so `report::plot` (a leaf utility) can sit below `report`. Every
+//!   top-level module must be in the list;
 //! - **no import cycles** at file granularity, inside a layer too: each `.rs`
 //!   file is a module (`foo/mod.rs` is `foo`), and a file names another when
 //!   its non-test code holds a path `crate::…`, `super::…` or `self::…` that
@@ -14,7 +17,10 @@
 //!   (`pub use child::X`). Nothing names the crate root (`lib.rs`):
 //!   items are named by the module that holds them;
 //! - **sizes**: no file over [`MAX_FILE_LINES`] lines and no function over
-//!   [`MAX_FN_LINES`] lines (from its `fn` line to its closing brace).
+//!   [`MAX_FN_LINES`] lines (from its `fn` line to its closing brace);
+//! - **stdout**: no `print!`/`println!` in `host-sim/src`: the library
+//!   never prints, and the command line prints its result through
+//!   `cli::outln!`, which a closed stdout does not stop.
 //!
 //! `#[cfg(test)]` modules (inline, or files declared `#[cfg(test)] mod x;`)
 //! are left out of the graph; the sizes count them.
@@ -32,38 +38,87 @@ const MAX_FN_LINES: usize = 80;
 /// A module path below the crate root (`["analysis", "diagnose"]`).
 type ModPath = Vec<String>;
 
-/// One crate's rule: the layer of each top-level module, and the peers.
+/// One crate's rule: the layer of each entry, and the peers.
+#[derive(Debug, Default, PartialEq)]
 struct Layers {
-    /// Top-level module → layer (0 is the lowest).
-    layer: &'static [(&'static str, u8)],
-    /// Pairs of top-level modules of one layer that must not name each other.
-    peers: &'static [(&'static str, &'static str)],
+    /// Module path → layer (0 is the lowest).
+    layer: Vec<(ModPath, u8)>,
+    /// Pairs of entries of one layer that must not name each other.
+    peers: Vec<(ModPath, ModPath)>,
 }
 
-const HOST: Layers = Layers {
-    layer: &[
-        ("report", 0),
-        ("paper", 0),
-        ("model", 1),
-        ("data", 2),
-        ("simulate", 3),
-        ("analysis", 4),
-        ("onboard", 4),
-        ("cli", 5),
-    ],
-    peers: &[("analysis", "onboard")],
-};
+impl Layers {
+    /// The entry a module belongs to: the longest entry that prefixes it.
+    fn entry_of(&self, m: &ModPath) -> Option<&(ModPath, u8)> {
+        self.layer
+            .iter()
+            .filter(|(p, _)| m.starts_with(p))
+            .max_by_key(|(p, _)| p.len())
+    }
+}
 
-const CORE: Layers = Layers {
-    layer: &[
-        ("fmt", 0),
-        ("physics", 0),
-        ("monitor", 1),
-        ("telemetry", 2),
-        ("hal", 2),
-    ],
-    peers: &[("telemetry", "hal")],
-};
+/// The `layers` block of `text` (ARCHITECTURE.md): `CRATE:` lines, each
+/// followed by `N: a, b ∥ c` lines (layer N holds `a`, `b` and `c`; `c` is
+/// a peer of `a` and of `b`). Returns crate name → its rule.
+fn parse_layers(text: &str) -> Result<BTreeMap<String, Layers>, String> {
+    let start = text
+        .find("```layers\n")
+        .ok_or("no ```layers block in ARCHITECTURE.md")?;
+    let body = &text[start + 10..];
+    let body = &body[..body
+        .find("```")
+        .ok_or("the ```layers block is not closed")?];
+    let mut out: BTreeMap<String, Layers> = BTreeMap::new();
+    let mut current: Option<String> = None;
+    for line in body.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if let Some(name) = line.strip_suffix(':') {
+            current = Some(name.to_string());
+            out.entry(name.to_string()).or_default();
+            continue;
+        }
+        let (n, list) = line
+            .split_once(':')
+            .ok_or_else(|| format!("expected `N: modules`, found {line:?}"))?;
+        let n: u8 = n
+            .trim()
+            .parse()
+            .map_err(|_| format!("bad layer number in {line:?}"))?;
+        let rule = out
+            .get_mut(
+                current
+                    .as_deref()
+                    .ok_or("a layer line before any `crate:` line")?,
+            )
+            .expect("entry made above");
+        let groups: Vec<Vec<ModPath>> = list
+            .split('∥')
+            .map(|g| {
+                g.split(',')
+                    .map(|m| m.trim().split("::").map(str::to_string).collect())
+                    .filter(|m: &ModPath| m.iter().all(|s| !s.is_empty()))
+                    .collect()
+            })
+            .collect();
+        for (i, g) in groups.iter().enumerate() {
+            for m in g {
+                rule.layer.push((m.clone(), n));
+                for other in groups.iter().skip(i + 1).flatten() {
+                    rule.peers.push((m.clone(), other.clone()));
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The rule of crate `name` (`host-sim`, `core`) from ARCHITECTURE.md.
+fn layers_of(name: &str) -> Layers {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../ARCHITECTURE.md");
+    let text = std::fs::read_to_string(&path).expect("ARCHITECTURE.md at the repository root");
+    let mut all = parse_layers(&text).unwrap_or_else(|e| panic!("ARCHITECTURE.md: {e}"));
+    all.remove(name)
+        .unwrap_or_else(|| panic!("ARCHITECTURE.md: no `{name}:` in the layers block"))
+}
 
 /// One source file: its path below `src/` and its text.
 struct Source {
@@ -461,21 +516,20 @@ fn graph(sources: &[Source]) -> Graph {
 
 /// Lines naming a module of a higher layer, a peer, or the crate root.
 fn layer_violations(g: &Graph, rule: &Layers) -> Vec<String> {
-    let layer_of = |m: &ModPath| -> Option<u8> {
-        let top = m.first()?;
-        rule.layer.iter().find(|(n, _)| n == top).map(|(_, l)| *l)
-    };
     let mut out = Vec::new();
     for (from, tos) in &g.edges {
         if from.is_empty() {
             continue;
         }
         let file = g.files[from].display();
-        let Some(lf) = layer_of(from) else {
+        let Some((ef, lf)) = rule.entry_of(from) else {
             out.push(format!(
-                "{file}: module `{}` is in no layer (top-level modules: {:?})",
+                "{file}: module `{}` is in no layer of ARCHITECTURE.md (entries: {:?})",
                 from.join("::"),
-                rule.layer.iter().map(|(n, _)| *n).collect::<Vec<_>>()
+                rule.layer
+                    .iter()
+                    .map(|(n, _)| n.join("::"))
+                    .collect::<Vec<_>>()
             ));
             continue;
         };
@@ -486,17 +540,45 @@ fn layer_violations(g: &Graph, rule: &Layers) -> Vec<String> {
                 ));
                 continue;
             }
-            let lt = layer_of(to).unwrap_or(u8::MAX);
-            let peers = rule
-                .peers
-                .iter()
-                .any(|&(a, b)| (from[0] == a && to[0] == b) || (from[0] == b && to[0] == a));
-            if lt > lf || peers {
+            let (et, lt) = rule
+                .entry_of(to)
+                .map_or((None, u8::MAX), |(e, l)| (Some(e), *l));
+            let peers = et.is_some_and(|et| {
+                rule.peers
+                    .iter()
+                    .any(|(a, b)| (a == ef && b == et) || (a == et && b == ef))
+            });
+            if lt > *lf || peers {
                 out.push(format!(
                     "{file}:{line}: `{}` (layer {lf}) names `{}` (layer {lt}{})",
                     from.join("::"),
                     to.join("::"),
                     if peers { ", a peer" } else { "" }
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// Lines of `host-sim/src` that print to stdout with `print!`/`println!`
+/// (outside comments, strings and test modules).
+fn stdout_prints(sources: &[Source], root: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for s in sources {
+        let (code, _) = drop_test_modules(&strip(&s.text));
+        for (i, line) in code.lines().enumerate() {
+            let found = ["println!", "print!"].iter().any(|m| {
+                line.match_indices(m).any(|(at, _)| {
+                    let before = line[..at].chars().next_back();
+                    before.is_none_or(|c| !(c.is_alphanumeric() || c == '_'))
+                })
+            });
+            if found {
+                out.push(format!(
+                    "{root}/{}:{}: prints to stdout; use `cli::outln!` (a closed stdout must not panic)",
+                    s.rel.display(),
+                    i + 1
                 ));
             }
         }
@@ -620,6 +702,9 @@ fn check_crate(root: &str, rule: &Layers) -> Vec<String> {
     let mut out = layer_violations(&g, rule);
     out.extend(cycles(&g));
     out.extend(size_violations(&sources, root));
+    if root == "host-sim" {
+        out.extend(stdout_prints(&sources, root));
+    }
     out
 }
 
@@ -665,12 +750,12 @@ fn assert_clean(root: &str, found: Vec<String>) {
 
 #[test]
 fn host_sim_layers_point_one_way_without_cycles_or_long_code() {
-    assert_clean("host-sim", check_crate("host-sim", &HOST));
+    assert_clean("host-sim", check_crate("host-sim", &layers_of("host-sim")));
 }
 
 #[test]
 fn core_layers_point_one_way_without_cycles_or_long_code() {
-    assert_clean("core", check_crate("core", &CORE));
+    assert_clean("core", check_crate("core", &layers_of("core")));
 }
 
 #[test]
@@ -747,7 +832,7 @@ fn checker_finds_an_upward_import_and_a_peer_import() {
         ("analysis.rs", "use crate::onboard::X;\n"),
         ("onboard.rs", "pub struct X;\n"),
     ]);
-    let found = layer_violations(&graph(&t), &HOST);
+    let found = layer_violations(&graph(&t), &layers_of("host-sim"));
     assert_eq!(found.len(), 2, "{found:?}");
     assert!(
         found.iter().any(|f| f.starts_with("model.rs:1")),
@@ -766,7 +851,7 @@ fn checker_ignores_paths_in_comments_and_strings() {
         ),
         ("cli.rs", "use crate::model;\n"),
     ]);
-    assert!(layer_violations(&graph(&t), &HOST).is_empty());
+    assert!(layer_violations(&graph(&t), &layers_of("host-sim")).is_empty());
 }
 
 #[test]
@@ -775,4 +860,35 @@ fn checker_measures_functions_from_fn_to_closing_brace() {
     let long = format!("fn long() {{\n{body}}}\nfn short() {{ let s = \"}}\"; }}\n");
     let found = long_functions(&strip(&long));
     assert_eq!(found, vec![("long".to_string(), 1, MAX_FN_LINES + 2)]);
+}
+
+#[test]
+fn the_layers_block_is_parsed_with_sub_module_entries_and_peers() {
+    let text = "x\n```layers\nhost-sim:\n  0: paper, report::plot\n  1: model\n  4: analysis ∥ onboard\n  5: report\ncore:\n  0: physics\n```\n";
+    let all = parse_layers(text).unwrap();
+    let host = &all["host-sim"];
+    let p = |s: &str| -> ModPath { s.split("::").map(str::to_string).collect() };
+    assert_eq!(host.entry_of(&p("report::plot::x")).unwrap().1, 0);
+    assert_eq!(host.entry_of(&p("report::diagnosis")).unwrap().1, 5);
+    assert_eq!(host.peers, vec![(p("analysis"), p("onboard"))]);
+    assert_eq!(all["core"].layer, vec![(p("physics"), 0)]);
+    assert!(parse_layers("no block").is_err());
+}
+
+#[test]
+fn checker_finds_a_leaf_utility_naming_its_higher_parent_and_a_print() {
+    let t = tree(&[
+        ("lib.rs", "pub mod report; pub mod cli;\n"),
+        ("report/mod.rs", "pub mod plot;\npub struct R;\n"),
+        ("report/plot.rs", "use super::R;\n"),
+        ("cli.rs", "fn f() { println!(\"x\"); eprintln!(\"y\"); }\n"),
+    ]);
+    let found = layer_violations(&graph(&t), &layers_of("host-sim"));
+    assert!(
+        found.iter().any(|f| f.starts_with("report/plot.rs:1")),
+        "{found:?}"
+    );
+    let prints = stdout_prints(&t, "host-sim");
+    assert_eq!(prints.len(), 1, "{prints:?}");
+    assert!(prints[0].starts_with("host-sim/cli.rs:1"), "{prints:?}");
 }

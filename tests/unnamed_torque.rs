@@ -418,9 +418,23 @@ fn hidden_torque_families_are_found_or_reported_unexplained() {
     };
     let (mut found, mut with, mut clean, mut total, mut bad) = (0, 0, 0, 0, Vec::new());
     let mut losses = Vec::new();
-    // `DEPLOYWATCH_FAMILY=two` runs only the families whose name holds it.
+    // `DEPLOYWATCH_FAMILY=two` runs only the families whose name holds it;
+    // a filter that matches none fails (a suite of zero cases proves nothing).
     let only = std::env::var("DEPLOYWATCH_FAMILY").unwrap_or_default();
-    for f in families().into_iter().filter(|f| f.name().contains(&only)) {
+    let chosen: Vec<Family> = families()
+        .into_iter()
+        .filter(|f| f.name().contains(&only))
+        .collect();
+    assert!(
+        !chosen.is_empty(),
+        "DEPLOYWATCH_FAMILY={only:?} matches no family (families: {}): zero cases would run",
+        families()
+            .iter()
+            .map(|f| f.name())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    for f in chosen {
         let (mut ok, mut n) = (0, 0);
         for k in 0..per {
             let c = case(f, k);
@@ -450,6 +464,7 @@ fn hidden_torque_families_are_found_or_reported_unexplained() {
         losses.get(losses.len() / 2).copied().unwrap_or(0.0),
         losses.last().copied().unwrap_or(0.0)
     );
+    assert!(total > 0, "zero cases ran");
     assert!(found * 100 >= with * 60, "only {found}/{with} found");
     assert!(
         clean * 100 >= total * 85,

@@ -1,29 +1,14 @@
 //! deploywatch host tools: the full deployment simulator, friction
-//! identification, torque margins and diagnosis of measured runs.
+//! identification, torque margins, diagnosis of measured runs, reliability,
+//! and the on-board monitor replayed on the host.
 //!
-//! The modules follow the pipeline a mechanisms engineer runs:
-//!
-//! ```text
-//!  model ──────────────► simulate ───────────► data ──────────► analysis ─────────► report
-//!  mechanism TOML,        deployment (DOPRI5    run CSV,          fit, metrics,       plots,
-//!  named effects,         + events), sensor,    campaign          identify (RSM,      JSON, Markdown
-//!  kinematics             fault injection       (runs ↔ mech.)    direct), diagnose,  (cli/)
-//!                                                  │              design_margin
-//!                                                  ▼
-//!                                               onboard: the core's monitor on a run
-//!                                               (host or QEMU replay)
-//! ```
-//!
-//! - [`model`]: what is simulated — a [`model::mechanism::Mechanism`] read from
-//!   its TOML file, the named effects of `physics.md` §6, mobility.
-//! - [`simulate`]: from a mechanism to a run — the chain integrated in `f64`,
-//!   the encoder and switch model, injected sensor faults.
-//! - [`data`]: runs as recorded (`formats.md`) and campaigns of runs.
-//! - [`analysis`]: what the runs say — metrics, least squares, friction
-//!   identification, diagnosis, design margins.
-//! - [`onboard`]: the on-board monitor of `deploywatch_core` fed with a run.
-//! - [`report`]: plots; [`paper`]: the seed papers' own tables.
-//! - [`cli`]: the `deploywatch` command line, one module per subcommand.
+//! The map of the modules — what each owns, what it may use, its
+//! invariants, the data flow of each command — is `ARCHITECTURE.md` at the
+//! repository root; its `layers` block is the layer order that
+//! `tests/structure.rs` checks. In short, lowest first: the leaf utilities
+//! ([`paper`], [`report::plot`], [`report::files`], [`report::progress`],
+//! …) ← [`model`] ← [`data`] ← [`simulate`] ← [`analysis`] ∥ [`onboard`] ←
+//! [`report`] (the report writers) ← [`cli`].
 //!
 //! The chain equations are not written here: they live in
 //! [`deploywatch_core::chain`], evaluated in `f64`.

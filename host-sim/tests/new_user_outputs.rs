@@ -538,3 +538,237 @@ fn simulate_and_replay_write_their_plots_quietly() {
     ]));
     assert_eq!(png_height(&status_png), 40 + 3 * 300);
 }
+
+// What a new user hit on the release binary (issue 32, item 8).
+
+/// `deploywatch simulate … --plot x.png | true`: the reader of stdout is
+/// gone before the first line. The command neither panics nor stops: the
+/// run and the plot are written and it exits 0.
+#[test]
+fn a_closed_stdout_neither_panics_nor_stops_the_outputs() {
+    use std::process::Stdio;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (csv, png) = (dir.path().join("t02.csv"), dir.path().join("t02.png"));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_deploywatch"))
+        .args([
+            "simulate",
+            s(&data(T02)),
+            "--out",
+            s(&csv),
+            "--plot",
+            s(&png),
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run deploywatch");
+    // Close the pipe's reading end at once, as `| true` does.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("wait");
+    let err = stderr(&out);
+    assert!(!err.contains("panicked"), "panic:\n{err}");
+    assert_eq!(out.status.code(), Some(0), "stderr:\n{err}");
+    assert!(csv.is_file(), "the run is not written");
+    assert!(png_height(&png) > 0, "the plot is not written");
+}
+
+/// The bundled run of example c at T01, diagnosed alone (about a second).
+fn diagnose_t01(json: &Path) -> Output {
+    let run = data("examples/c_seed001_friction_harness/seed001_T01.csv");
+    deploywatch(&[
+        "diagnose",
+        "-q",
+        "--mechanism",
+        s(&data(T01)),
+        "--json",
+        s(json),
+        s(&run),
+    ])
+}
+
+/// A `diagnose` that fails half-way through its outputs (here a plot's
+/// name is taken by a folder, found only when the plots are written)
+/// leaves the old JSON and report as they were, not a new JSON beside an
+/// old report, and no staging folder.
+#[test]
+fn a_diagnose_that_fails_half_way_leaves_the_old_outputs_as_they_were() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let json = dir.path().join("diagnosis.json");
+    std::fs::write(&json, "old json").unwrap();
+    std::fs::write(dir.path().join("diagnosis.md"), "old report").unwrap();
+    let blocker = dir.path().join("diagnosis_seed001_T01_residuals.png");
+    std::fs::create_dir(&blocker).unwrap();
+    let out = diagnose_t01(&json);
+    fails(&out, 2, &["diagnosis_seed001_T01_residuals.png", "folder"]);
+    assert_eq!(std::fs::read_to_string(&json).unwrap(), "old json");
+    let md = std::fs::read_to_string(dir.path().join("diagnosis.md")).unwrap();
+    assert_eq!(md, "old report");
+    let mut left: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(
+        left,
+        [
+            "diagnosis.json",
+            "diagnosis.md",
+            "diagnosis_seed001_T01_residuals.png"
+        ]
+    );
+}
+
+/// The image links of a Markdown report: the targets of `![alt](target)`.
+fn image_links(md: &str) -> Vec<String> {
+    md.split("![")
+        .skip(1)
+        .filter_map(|rest| {
+            let open = rest.find("](")?;
+            let tail = &rest[open + 2..];
+            Some(tail[..tail.find(')')?].to_string())
+        })
+        .collect()
+}
+
+/// A link target percent-decoded (ASCII bytes and UTF-8).
+fn percent_decoded(t: &str) -> String {
+    let b = t.as_bytes();
+    let (mut out, mut i) = (Vec::new(), 0);
+    while i < b.len() {
+        if b[i] == b'%' && i + 3 <= b.len() {
+            let hex = std::str::from_utf8(&b[i + 1..i + 3]).unwrap();
+            out.push(u8::from_str_radix(hex, 16).unwrap());
+            i += 3;
+        } else {
+            out.push(b[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).unwrap()
+}
+
+/// Splits a shell line into words: plain words and '…' quotes.
+fn shell_words(line: &str) -> Vec<String> {
+    let (mut words, mut cur, mut quoted, mut any) = (Vec::new(), String::new(), false, false);
+    for c in line.chars() {
+        match c {
+            '\'' => {
+                quoted = !quoted;
+                any = true;
+            }
+            ' ' if !quoted => {
+                if any {
+                    words.push(std::mem::take(&mut cur));
+                }
+                any = false;
+            }
+            c => {
+                cur.push(c);
+                any = true;
+            }
+        }
+    }
+    if any {
+        words.push(cur);
+    }
+    words
+}
+
+/// A report written where the path holds spaces: every image link is one
+/// Markdown link (no bare space) to a file that exists, the residual-torque
+/// figures among them; the report ends with the next step, a `margin
+/// --from` command that runs as written.
+#[test]
+fn the_diagnosis_report_links_files_with_spaces_and_ends_with_a_next_step_that_runs() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let folder = dir.path().join("rig runs");
+    std::fs::create_dir(&folder).unwrap();
+    let json = folder.join("my diagnosis.json");
+    succeeds(&diagnose_t01(&json));
+    let md = std::fs::read_to_string(folder.join("my diagnosis.md")).unwrap();
+    let links = image_links(&md);
+    assert!(
+        links.iter().filter(|l| l.contains("torque_")).count() >= 2,
+        "{links:?}"
+    );
+    for l in &links {
+        assert!(!l.contains(' ') && !l.contains('('), "broken link {l:?}");
+        let file = folder.join(percent_decoded(l));
+        assert!(file.is_file(), "link {l:?}: no file {}", file.display());
+    }
+    let next = md.rfind("## Next step").expect("a next step section");
+    let tail = &md[next..];
+    assert!(
+        !tail[13..].contains("\n## "),
+        "not the last section:\n{tail}"
+    );
+    let command = tail
+        .lines()
+        .find(|l| l.starts_with("deploywatch margin"))
+        .expect("a margin command");
+    let words = shell_words(command);
+    assert!(words.iter().any(|w| w == s(&json)), "{words:?}");
+    let args: Vec<&str> = words[1..].iter().map(String::as_str).collect();
+    let out = succeeds(&deploywatch(&args));
+    let from = format!("resistances from: diagnose ({})", json.display());
+    assert!(out.contains(&from), "{out}");
+}
+
+/// A joint the monitor saw latch, leave the latched state and latch again
+/// (example `latch_escape_never`, joints 1 and 3): replay names the first
+/// latch and the one for good, as the status stream it wrote shows them.
+#[test]
+fn replay_names_the_first_and_the_final_latch() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let status = dir.path().join("status.csv");
+    let run = data("examples/latch_escape_never/seed001_T01.csv");
+    let mech = data("mechanisms/seed001_T01_physical_latch.toml");
+    let out = succeeds(&deploywatch(&[
+        "replay",
+        s(&run),
+        "--mechanism",
+        s(&mech),
+        "-q",
+        "--out",
+        s(&status),
+    ]));
+    let text = std::fs::read_to_string(&status).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let mut relatched = 0;
+    for j in 1..=3 {
+        let col = header
+            .iter()
+            .position(|h| *h == format!("latch{j}"))
+            .unwrap();
+        let latched: Vec<(f32, bool)> = rows
+            .iter()
+            .map(|r| (r[0].parse().unwrap(), r[col] == "latched"))
+            .collect();
+        let first = latched.iter().find(|x| x.1).map(|x| x.0);
+        let end = latched.iter().rposition(|x| !x.1).map_or(0, |i| i + 1);
+        let last = latched.get(end).map(|x| x.0);
+        let line = out
+            .lines()
+            .find(|l| l.trim_start().starts_with(&format!("joint {j}:")))
+            .unwrap();
+        match (first, last) {
+            (Some(a), Some(b)) if a != b => {
+                relatched += 1;
+                let want = format!("latched first at {a:.3} s, for good at {b:.3} s");
+                assert!(line.contains(&want), "{line}\nlacks {want:?}");
+            }
+            (Some(a), Some(_)) => assert!(line.contains(&format!("latched at {a:.3} s")), "{line}"),
+            (Some(a), None) => {
+                let want = format!("latched first at {a:.3} s, not at the end");
+                assert!(line.contains(&want), "{line}");
+            }
+            (None, _) => assert!(line.contains("not latched"), "{line}"),
+        }
+    }
+    assert!(
+        relatched > 0,
+        "no joint latched twice: the case is not tested\n{out}"
+    );
+}

@@ -134,6 +134,42 @@ fn time_in_milliseconds_is_refused_naming_milliseconds() {
     );
 }
 
+/// Milliseconds against a mechanism whose `duration_s` is long (100 s):
+/// the run (2.55 s, 2550 "s") is shorter than a hundred horizons, so only
+/// its sample interval, a thousand times the mechanism's, tells. Refused
+/// naming the column and the factor.
+#[test]
+fn time_in_milliseconds_with_a_long_duration_is_refused_naming_the_factor() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let toml = std::fs::read_to_string(t01_mechanism()).unwrap();
+    assert!(
+        toml.contains("duration_s = 6.0"),
+        "the bundled mechanism changed"
+    );
+    let mech = write(
+        dir.path(),
+        "long.toml",
+        toml.replace("duration_s = 6.0", "duration_s = 100.0"),
+    );
+    let text = transformed(|r| {
+        r[0] = format!("{:.0}", r[0].parse::<f64>().unwrap() * 1000.0);
+    });
+    let run = write(dir.path(), "ms.csv", text);
+    let out = identify(&run, &mech);
+    refused_before_work(
+        &out,
+        &[
+            "ms.csv:",
+            "column `t_s` (column 1)",
+            "1000 times",
+            "milliseconds",
+            "divide t_s by 1000",
+        ],
+    );
+    let replay = deploywatch(&["replay", s(&run), "--mechanism", s(&mech)]);
+    fails(&replay, 2, &["column `t_s` (column 1)", "milliseconds"]);
+}
+
 #[test]
 fn a_mirrored_encoder_is_refused_naming_the_sign() {
     let dir = tempfile::tempdir().expect("temp dir");

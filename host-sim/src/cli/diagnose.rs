@@ -2,7 +2,7 @@
 //! the named cause, the extended model and its gain — as the diagnosis JSON
 //! of `docs/spec/formats.md` and a Markdown report with plots beside it.
 
-use super::{diagnose_torque, CliError};
+use super::{diagnose_torque, outln, CliError};
 use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::diagnose::{self, Candidate, DiagnoseOptions, Outcome, MIN_DELTA_BIC};
 use crate::analysis::evidence::{self, JointEvidence, CORRELATES};
@@ -16,6 +16,8 @@ use crate::model::findings::diagnosis::{
 };
 use crate::model::findings::rounded;
 use crate::model::torque_table::{HostTable, HostTorqueTable};
+use crate::report::files::Outputs;
+use crate::report::markdown;
 use crate::report::plot::{self, Mark, Panel, Series};
 use crate::report::progress;
 use std::fmt::Write as _;
@@ -105,36 +107,30 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
         residual_torque::residual_torque(&campaign, &ext_effects),
     ];
     let exports = table_export::export_tables(&campaign, &ext_effects);
-    write_json(&args.json, &campaign, &outcome, &before, &torque, &exports)?;
+    // All or none: the JSON, the report and its plots are staged and moved
+    // into place together, the report last.
+    let mut outs = Outputs::new();
+    write_json(
+        &outs.path(&args.json)?,
+        &campaign,
+        &outcome,
+        &before,
+        &torque,
+        &exports,
+    )?;
     let report = args.json.with_extension("md");
-    write_report(&report, &campaign, &outcome, [&before, &after], &torque)?;
+    let staged = outs.path(&report)?;
+    write_report(
+        &staged,
+        &campaign,
+        &outcome,
+        [&before, &after],
+        &torque,
+        &next_step(args),
+    )?;
+    outs.commit()?;
 
-    println!(
-        "baseline RMS {:.4} deg -> extended {:.4} deg (x{:.1}); noise floor {:.4} deg",
-        outcome.baseline.rms(),
-        outcome.extended.rms(),
-        outcome.baseline.rms() / outcome.extended.rms().max(MIN_RMS_DEG),
-        outcome.noise_sigma_deg
-    );
-    for (k, e) in ext_effects.iter().enumerate() {
-        println!("  {}", effect_line(e, &outcome, k));
-    }
-    if ext_effects.is_empty() && outcome.unexplained.is_none() {
-        println!("  no effect: the mechanisms as given explain the runs to the noise");
-    }
-    if let Some(u) = &outcome.unexplained {
-        println!("  unexplained: {u}");
-    }
-    for x in &exports {
-        println!("  {}", export_line(x));
-    }
-    println!(
-        "{} simulations in {:.2} s; JSON {}; report {}",
-        outcome.simulations,
-        outcome.wall_s,
-        args.json.display(),
-        report.display()
-    );
+    print_outcome(args, &outcome, &exports, &report);
     Ok(())
 }
 
@@ -487,6 +483,7 @@ fn write_report(
     o: &Outcome,
     [before, after]: [&[JointEvidence]; 2],
     torque: &[Vec<JointTorque>; 2],
+    next: &str,
 ) -> Result<(), CliError> {
     let stem = path
         .file_stem()
@@ -505,9 +502,78 @@ fn write_report(
         report_run_plots(&mut md, &dir, &stem, c, i, &ext)?;
     }
     report_rounds(&mut md, o);
-    let _ = writeln!(md, "{} simulations in {:.2} s.", o.simulations, o.wall_s);
+    let _ = writeln!(md, "{} simulations in {:.2} s.\n", o.simulations, o.wall_s);
+    md.push_str(next);
     std::fs::write(path, md)
         .map_err(|e| CliError::input(format!("{}: cannot write: {e}", path.display())))
+}
+
+/// The result on stdout: the headline numbers, the causes found, what is
+/// unexplained, the exported tables, where the files went.
+fn print_outcome(args: &DiagnoseArgs, outcome: &Outcome, exports: &[TableExport], report: &Path) {
+    let ext_effects = outcome.extended.effects();
+    outln!(
+        "baseline RMS {:.4} deg -> extended {:.4} deg (x{:.1}); noise floor {:.4} deg",
+        outcome.baseline.rms(),
+        outcome.extended.rms(),
+        outcome.baseline.rms() / outcome.extended.rms().max(MIN_RMS_DEG),
+        outcome.noise_sigma_deg
+    );
+    for (k, e) in ext_effects.iter().enumerate() {
+        outln!("  {}", effect_line(e, outcome, k));
+    }
+    if ext_effects.is_empty() && outcome.unexplained.is_none() {
+        outln!("  no effect: the mechanisms as given explain the runs to the noise");
+    }
+    if let Some(u) = &outcome.unexplained {
+        outln!("  unexplained: {u}");
+    }
+    for x in exports {
+        outln!("  {}", export_line(x));
+    }
+    outln!(
+        "{} simulations in {:.2} s; JSON {}; report {}",
+        outcome.simulations,
+        outcome.wall_s,
+        args.json.display(),
+        report.display()
+    );
+}
+
+/// A path as one shell word: as it is when it holds only characters no
+/// shell reads specially, else in single quotes.
+fn shell_word(p: &Path) -> String {
+    let s = p.display().to_string();
+    let plain = |c: char| c.is_ascii_alphanumeric() || "-_./+=:,@%".contains(c);
+    if !s.is_empty() && s.chars().all(plain) {
+        s
+    } else {
+        format!("'{}'", s.replace('\'', "'\\''"))
+    }
+}
+
+/// The report's last section: what to run next with what was found — the
+/// torque margins of each mechanism with the diagnosis's resistances
+/// (`margin --from`), and the reliability with them.
+fn next_step(args: &DiagnoseArgs) -> String {
+    let json = shell_word(&args.json);
+    let mut s = String::from(
+        "## Next step\n\nThe torque margins of each mechanism with the resistances found \
+         (friction and damping; `margin` names what it cannot use):\n\n```sh\n",
+    );
+    for m in &args.mechanisms {
+        let _ = writeln!(
+            s,
+            "deploywatch margin --mechanism {} --from {json} --standard ecss-e-st-33-01c",
+            shell_word(m)
+        );
+    }
+    let _ = writeln!(
+        s,
+        "```\n\nThe probability of a failed deployment with them: `deploywatch reliability \
+         MECH.toml --from {json} --vary ... --fail not_latched` (`docs/reliability.md`)."
+    );
+    s
 }
 
 /// Title and headline numbers.
@@ -647,17 +713,14 @@ fn report_tables(md: &mut String, dir: &Path, stem: &str, o: &Outcome) -> Result
             };
             plot::draw(&file, &format!("discovered torque: {what}"), unit, &[panel])
                 .map_err(|e| CliError::failed(e.to_string()))?;
-            let _ = writeln!(md, "![torque vs {what}]({})\n", file_name(&file));
+            let _ = writeln!(
+                md,
+                "{}\n",
+                markdown::image(&format!("torque vs {what}"), &markdown::file_name(&file))
+            );
         }
     }
     Ok(())
-}
-
-/// The file name of a path, for links in the report.
-fn file_name(p: &Path) -> String {
-    p.file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default()
 }
 
 /// Model minus measurement [deg], `[joint][sample]`.
@@ -720,9 +783,9 @@ fn report_run_plots(
     plot::draw(&resid, &title, "time [s]", &pr).map_err(|e| CliError::failed(e.to_string()))?;
     let _ = writeln!(
         md,
-        "### {name}\n\n![angles]({})\n\n![residuals]({})\n",
-        file_name(&angles),
-        file_name(&resid)
+        "### {name}\n\n{}\n\n{}\n",
+        markdown::image("angles", &markdown::file_name(&angles)),
+        markdown::image("residuals", &markdown::file_name(&resid))
     );
     Ok(())
 }

@@ -6,6 +6,7 @@
 use super::CliError;
 use crate::analysis::residual_torque::{Bin, JointTorque, TorqueSample};
 use crate::model::findings::diagnosis::{JointResidualTorque, TorqueBin};
+use crate::report::markdown::{file_name, image};
 use crate::report::plot::{self, Mark, Panel, Series, YAxis};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -55,17 +56,19 @@ pub fn torque_json(res: &[JointTorque]) -> Vec<JointResidualTorque> {
         .collect()
 }
 
-/// Bin centres, means and the mean ± 2 se band of one axis.
-fn bin_lines(bins: &[Bin]) -> [Xy; 3] {
+/// Bin centres, the bin means, and the outline of the mean ± 2 se band
+/// ([`plot::band`]) of one axis.
+fn bin_lines(bins: &[Bin]) -> [Xy; 2] {
     let used: Vec<&Bin> = bins.iter().filter(|b| b.n > 0).collect();
     let x: Vec<f64> = used
         .iter()
         .map(|b| 0.5 * (b.range[0] + b.range[1]))
         .collect();
     let m = used.iter().map(|b| b.mean_nm).collect();
-    let lo = used.iter().map(|b| b.mean_nm - 2.0 * b.se_nm).collect();
-    let hi = used.iter().map(|b| b.mean_nm + 2.0 * b.se_nm).collect();
-    [(x.clone(), m), (x.clone(), lo), (x, hi)]
+    let lo: Vec<f64> = used.iter().map(|b| b.mean_nm - 2.0 * b.se_nm).collect();
+    let hi: Vec<f64> = used.iter().map(|b| b.mean_nm + 2.0 * b.se_nm).collect();
+    let band = plot::band(&x, &lo, &hi);
+    [(x, m), band]
 }
 
 /// The samples of one axis, thinned to [`MAX_DOTS`].
@@ -77,63 +80,79 @@ fn dots(s: &[TorqueSample], key: fn(&TorqueSample) -> f64) -> Xy {
         .unzip()
 }
 
-/// One joint's figure: residual torque against angle and against rate,
-/// samples as dots, bin means with their ±2 se band as lines.
-fn joint_figure(path: &Path, label: &str, t: &JointTorque) -> Result<(), CliError> {
-    let axes: [Axis; 2] = [
+/// The points of a joint's figure, per axis (angle, rate): the samples,
+/// the bin means, the ±2 se band's outline.
+type FigureData = Vec<(Xy, [Xy; 2])>;
+
+/// The two axes of a joint's figure: angle and rate.
+fn axes(t: &JointTorque) -> [Axis<'_>; 2] {
+    [
         ("angle [deg]", |s| s.phi_deg, &t.by_angle),
         ("rate [deg/s]", |s| s.rate_deg_s, &t.by_rate),
-    ];
-    let data: Vec<(Xy, [Xy; 3])> = axes
+    ]
+}
+
+/// The points drawn in a joint's figure ([`torque_panels`]).
+fn figure_data(t: &JointTorque) -> FigureData {
+    axes(t)
         .iter()
         .map(|(_, key, bins)| (dots(&t.samples, *key), bin_lines(bins)))
-        .collect();
-    let panels: Vec<Panel> = axes
-        .iter()
-        .zip(&data)
-        .map(|((what, _, _), (d, b))| Panel {
-            title: format!("joint {}: residual torque vs {what}", t.joint),
-            y_label: "torque [N·m]".into(),
-            series: vec![
-                Series {
-                    label: "samples".into(),
-                    x: &d.0,
-                    y: &d.1,
-                    mark: Mark::Dots,
-                    color: 5,
-                },
-                Series {
-                    label: "bin mean".into(),
-                    x: &b[0].0,
-                    y: &b[0].1,
-                    mark: Mark::Line,
-                    color: 0,
-                },
-                Series {
-                    label: "−2 se".into(),
-                    x: &b[1].0,
-                    y: &b[1].1,
-                    mark: Mark::Line,
-                    color: 6,
-                },
-                Series {
-                    label: "+2 se".into(),
-                    x: &b[2].0,
-                    y: &b[2].1,
-                    mark: Mark::Line,
-                    color: 6,
-                },
-            ],
-            markers: Vec::new(),
-        })
-        .collect();
+        .collect()
+}
+
+/// One joint's figure: residual torque against angle and against rate,
+/// each panel over its own x axis; samples as dots, the bin means as a
+/// line, their ±2 se band filled, the zero line unlabelled.
+fn torque_panels<'a>(
+    t: &JointTorque,
+    data: &'a FigureData,
+) -> Vec<(Panel<'a>, YAxis, &'static str)> {
     let axis = YAxis {
         limits: Some(y_limits(t)),
         lines: vec![(0.0, String::new())],
     };
-    let with_axes: Vec<(Panel, YAxis)> = panels.into_iter().map(|p| (p, axis.clone())).collect();
+    let names = [("angle", "angle [deg]"), ("rate", "rate [deg/s]")];
+    data.iter()
+        .zip(names)
+        .map(|((d, b), (what, x_label))| {
+            let panel = Panel {
+                title: format!("joint {}: residual torque vs {what}", t.joint),
+                y_label: "torque [N·m]".into(),
+                series: vec![
+                    Series {
+                        label: "samples".into(),
+                        x: &d.0,
+                        y: &d.1,
+                        mark: Mark::Dots,
+                        color: 5,
+                    },
+                    Series {
+                        label: "±2 se of the bin mean".into(),
+                        x: &b[1].0,
+                        y: &b[1].1,
+                        mark: Mark::Band,
+                        color: 6,
+                    },
+                    Series {
+                        label: "bin mean".into(),
+                        x: &b[0].0,
+                        y: &b[0].1,
+                        mark: Mark::Line,
+                        color: 0,
+                    },
+                ],
+                markers: Vec::new(),
+            };
+            (panel, axis.clone(), x_label)
+        })
+        .collect()
+}
+
+/// Draws one joint's figure ([`torque_panels`]) to `path`.
+fn joint_figure(path: &Path, label: &str, t: &JointTorque) -> Result<(), CliError> {
+    let data = figure_data(t);
     let title = format!("residual torque at joint {} ({label})", t.joint);
-    plot::draw_with_axes(path, &title, "angle [deg] / rate [deg/s]", &with_axes)
+    plot::draw_panels(path, &title, &torque_panels(t, &data))
         .map_err(|e| CliError::failed(e.to_string()))
 }
 
@@ -175,16 +194,57 @@ pub fn report_torque(
         for t in res.iter().filter(|t| !t.samples.is_empty()) {
             let file = dir.join(format!("{stem}_torque_{label}_j{}.png", t.joint));
             joint_figure(&file, label, t)?;
-            let name = file
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default();
-            let _ = writeln!(
-                md,
-                "![residual torque at joint {} ({label})]({name})\n",
-                t.joint
-            );
+            let alt = format!("residual torque at joint {} ({label})", t.joint);
+            let _ = writeln!(md, "{}\n", image(&alt, &file_name(&file)));
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bin(range: [f64; 2], mean_nm: f64) -> Bin {
+        Bin {
+            range,
+            n: 10,
+            mean_nm,
+            se_nm: 0.01,
+        }
+    }
+
+    /// The figure a reader sees: each panel over its own axis, a legend
+    /// without an empty entry, the ±2 se band one filled entry.
+    #[test]
+    fn the_torque_figure_labels_each_axis_and_draws_the_band_as_one_area() {
+        let t = JointTorque {
+            joint: 2,
+            stowed_deg: 90.0,
+            samples: Vec::new(),
+            by_angle: vec![bin([0.0, 10.0], 0.1), bin([10.0, 20.0], 0.2)],
+            by_rate: vec![bin([-5.0, 0.0], 0.0), bin([0.0, 5.0], 0.3)],
+            chi2: 0.0,
+            max_z: 0.0,
+            significant: false,
+            rms_nm: 0.0,
+        };
+        let data = figure_data(&t);
+        let panels = torque_panels(&t, &data);
+        let x_labels: Vec<&str> = panels.iter().map(|p| p.2).collect();
+        assert_eq!(x_labels, ["angle [deg]", "rate [deg/s]"]);
+        for (panel, axis, _) in &panels {
+            let legend = plot::legend_entries(panel, axis);
+            assert_eq!(legend, ["±2 se of the bin mean", "bin mean", "samples"]);
+            let band = &panel.series[1];
+            assert_eq!(band.mark, Mark::Band);
+            // The outline: lower edge forward, upper edge back.
+            assert_eq!(band.x.len(), 4);
+            assert!(
+                band.y[0] < band.y[3] && band.y[1] < band.y[2],
+                "{:?}",
+                band.y
+            );
+        }
+    }
 }

@@ -16,6 +16,7 @@ use crate::analysis::identify::{
     self, DirectOptions, Identification, Method, ParseNameError, RsmOptions, RsmResponse,
 };
 use crate::data::campaign::{Campaign, CampaignRun};
+use crate::report::files::Outputs;
 use crate::report::plot::{self, Mark, Panel, Series, YAxis};
 use crate::report::text::list;
 use crate::simulate::deployment::{self, Trajectory};
@@ -159,19 +160,21 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
         console.warn(w);
     }
     let id = identify_with(args, &campaign, &joints, &console)?;
-    print!("{}", report(&campaign, &id));
+    super::print_out(format_args!("{}", report(&campaign, &id)));
     warn_residuals(&campaign, &id, &console);
+    let mut outs = Outputs::new();
     if let Some(path) = &args.json {
-        std::fs::write(path, id.to_json() + "\n").map_err(|e| {
-            CliError::input(format!("--json {}: cannot write: {e}", path.display()))
-        })?;
+        outs.write(path, id.to_json() + "\n")?;
+    }
+    if let Some(png) = &png {
+        plot_fit(&outs.path(png)?, &campaign, &id).map_err(|e| CliError::failed(e.to_string()))?;
+    }
+    outs.commit()?;
+    if let Some(path) = &args.json {
         console.say(format_args!("json: {}", path.display()));
     }
     match png {
-        Some(png) => {
-            plot_fit(&png, &campaign, &id).map_err(|e| CliError::failed(e.to_string()))?;
-            console.say(format_args!("plot: {}", png.display()));
-        }
+        Some(png) => console.say(format_args!("plot: {}", png.display())),
         None => console
             .say("plot: none (give --plot OUT.png, or --json OUT.json to draw OUT.png beside it)"),
     }

@@ -20,6 +20,7 @@ use crate::analysis::design_margin::{
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::findings::{Diagnosis, Findings, FindingsError, Identification};
 use crate::model::mechanism::Mechanism;
+use crate::report::files::Outputs;
 use crate::simulate::deployment::{self, SimOptions};
 use clap::builder::PossibleValue;
 use serde_json::{json, Value};
@@ -490,13 +491,17 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         factors.set(*kind, *value);
     }
     let rows = margins(&mech, &args.mechanism, &resist, args.standard, &factors)?;
-    print!("{}", table(args, &mech, &resist, &factors, &rows));
+    super::print_out(format_args!(
+        "{}",
+        table(args, &mech, &resist, &factors, &rows)
+    ));
     if let Some(out) = &args.json {
         let doc = to_json(args, &mech, &resist, &factors, &rows);
         let text =
             serde_json::to_string_pretty(&doc).map_err(|e| CliError::failed(e.to_string()))?;
-        std::fs::write(out, text + "\n")
-            .map_err(|e| CliError::input(format!("--json {}: cannot write: {e}", out.display())))?;
+        let mut outs = Outputs::new();
+        outs.write(out, text + "\n")?;
+        outs.commit()?;
         console.say(format_args!("json: {}", out.display()));
     }
     Ok(())

@@ -11,7 +11,12 @@
 //!   `replay --keep` names) and a file must be creatable there;
 //! - `--quiet` ([`Console`]): no progress and no chatter (which file was
 //!   written where); the result a command prints on stdout, errors and
-//!   warnings stay, and the result files are written.
+//!   warnings stay, and the result files are written;
+//! - outputs are written all or none through
+//!   [`crate::report::files::Outputs`] (staged, then renamed into place);
+//! - the result goes to stdout through [`outln!`](outln), never `println!`:
+//!   a closed stdout (`deploywatch simulate … | head -1`) does not stop the
+//!   work; the files are still written and the command exits quietly.
 
 pub mod diagnose;
 pub mod diagnose_torque;
@@ -25,7 +30,52 @@ pub mod simulate_truss;
 
 use crate::report::progress::{self, Progress};
 use clap::{Parser, Subcommand};
+use std::io::Write as _;
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::OnceLock;
+
+/// Set once stdout is found closed (a broken pipe): later lines are dropped.
+static STDOUT_CLOSED: AtomicBool = AtomicBool::new(false);
+
+/// The first error writing stdout other than a broken pipe (a full disk).
+static STDOUT_ERROR: OnceLock<String> = OnceLock::new();
+
+/// Writes `text` to stdout. A closed stdout (`BrokenPipe`: the reader of a
+/// pipe is gone) is not an error: the line is dropped, as every later one,
+/// and the command goes on to write its files. Any other write error is
+/// kept for [`stdout_error`].
+pub fn print_out(text: std::fmt::Arguments) {
+    if STDOUT_CLOSED.load(Ordering::Relaxed) {
+        return;
+    }
+    if let Err(e) = std::io::stdout().lock().write_fmt(text) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            STDOUT_CLOSED.store(true, Ordering::Relaxed);
+        } else {
+            let _ = STDOUT_ERROR.set(e.to_string());
+            STDOUT_CLOSED.store(true, Ordering::Relaxed);
+        }
+    }
+}
+
+/// The error that stopped stdout, other than a closed pipe: `main` reports
+/// it (exit 1) after the work is done and the files are written.
+pub fn stdout_error() -> Option<&'static str> {
+    STDOUT_ERROR.get().map(String::as_str)
+}
+
+/// `println!` for a command's result: through [`print_out`], so that a
+/// closed stdout neither panics nor stops the work.
+macro_rules! outln {
+    () => {
+        $crate::cli::print_out(format_args!("\n"))
+    };
+    ($($arg:tt)*) => {
+        $crate::cli::print_out(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+pub(crate) use outln;
 
 /// deploywatch: simulate, identify and diagnose spacecraft panel deployments.
 #[derive(Debug, Parser)]
@@ -94,6 +144,13 @@ impl std::fmt::Display for CliError {
 
 impl std::error::Error for CliError {}
 
+impl From<crate::report::files::FileError> for CliError {
+    /// An output that cannot be written is input the user can fix (exit 2).
+    fn from(e: crate::report::files::FileError) -> Self {
+        CliError::input(e.to_string())
+    }
+}
+
 /// Checks, before any work, that the output `path` (given with `flag`,
 /// e.g. `--plot`) can be written: its folder exists (it is never created),
 /// the path is not a folder, and a file can be created or opened for
@@ -148,7 +205,7 @@ impl Console {
     /// `--quiet`.
     pub fn say(&self, line: impl std::fmt::Display) {
         if !self.quiet {
-            println!("{line}");
+            outln!("{line}");
         }
     }
 

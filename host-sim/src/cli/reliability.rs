@@ -2,7 +2,7 @@
 //! the uncertainty of its parameters (crude Monte-Carlo or subset
 //! simulation, docs/reliability.md).
 
-use super::{check_output, CliError, Console};
+use super::{check_output, outln, CliError, Console};
 use crate::analysis::reliability::correlation::Correlation;
 use crate::analysis::reliability::criteria::Criterion;
 use crate::analysis::reliability::identified;
@@ -12,6 +12,7 @@ use crate::analysis::reliability::subset::{self, SubsetSettings};
 use crate::analysis::reliability::{Estimate, Problem, ReliabilityError};
 use crate::model::effect::EffectKind;
 use crate::model::mechanism::Mechanism;
+use crate::report::files::Outputs;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -171,8 +172,9 @@ pub fn run(args: &ReliabilityArgs) -> Result<(), CliError> {
     if let Some(j) = &args.json {
         let text = serde_json::to_string_pretty(&est.to_json(&problem, args.seed))
             .map_err(|e| CliError::failed(e.to_string()))?;
-        std::fs::write(j, text + "\n")
-            .map_err(|e| CliError::input(format!("--json {}: {e}", j.display())))?;
+        let mut outs = Outputs::new();
+        outs.write(j, text + "\n")?;
+        outs.commit()?;
         console.say(format_args!("  json: {}", j.display()));
     }
     Ok(())
@@ -181,7 +183,7 @@ pub fn run(args: &ReliabilityArgs) -> Result<(), CliError> {
 /// The result on stdout.
 fn print_estimate(problem: &Problem, est: &Estimate, wall_s: f64) {
     let fails: Vec<String> = problem.fail.iter().map(|c| c.to_string()).collect();
-    println!(
+    outln!(
         "{}: P({}) by {}, {} parameter(s)",
         problem.mech.name,
         fails.join(" or "),
@@ -189,21 +191,24 @@ fn print_estimate(problem: &Problem, est: &Estimate, wall_s: f64) {
         problem.vary.len()
     );
     for v in &problem.vary {
-        println!("  {v}");
+        outln!("  {v}");
     }
     for (k, l) in est.levels.iter().enumerate() {
-        println!(
+        outln!(
             "  level {k}: threshold {:.6e}, p = {:.4}, c.o.v. {:.3}, {} deployments",
-            l.threshold, l.p, l.cov, l.simulations
+            l.threshold,
+            l.p,
+            l.cov,
+            l.simulations
         );
     }
     if est.converged {
-        println!(
+        outln!(
             "p_fail = {:.4e}  c.o.v. {:.3}  95 % [{:.4e}, {:.4e}]  {} deployments, {} failed, {wall_s:.2} s wall",
             est.p_fail, est.cov, est.ci95.0, est.ci95.1, est.simulations, est.failures
         );
     } else {
-        println!(
+        outln!(
             "p_fail < {:.4e} (the last threshold, {:.6e}, is still above 0: the probability \
              of reaching it bounds p_fail)  {} deployments, {wall_s:.2} s wall",
             est.p_fail,
@@ -212,7 +217,7 @@ fn print_estimate(problem: &Problem, est: &Estimate, wall_s: f64) {
         );
     }
     if let Some(f) = &est.most_likely_failure {
-        println!(
+        outln!(
             "most likely failure (beta {:.3}): {}",
             f.beta(),
             problem.describe(&f.x)

@@ -2,9 +2,10 @@
 //! host (`f32`) or on the example firmware under QEMU, with the check that
 //! QEMU's statuses are bit-identical with the host's.
 
-use super::{check_output, CliError, Console};
+use super::{check_output, outln, CliError, Console};
 use crate::model::mechanism::Mechanism;
 use crate::onboard::replay::{self, Prepared, ReplayError};
+use crate::report::files::Outputs;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
@@ -147,7 +148,7 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     ));
     let (statuses, mismatch) = target_statuses(args, elf, &prepared, &dir, &console)?;
     for s in replay::summary(&statuses) {
-        println!("  {s}");
+        outln!("  {s}");
     }
     write_outputs(args, &mech.name, &statuses, &console)?;
     if args.keep.is_some() {
@@ -221,14 +222,21 @@ fn write_outputs(
     statuses: &[replay::StatusRow],
     console: &Console,
 ) -> Result<(), CliError> {
+    let mut outs = Outputs::new();
     if let Some(out) = &args.out {
         let bad = |e: std::io::Error| CliError::input(format!("--out {}: {e}", out.display()));
-        let file = std::fs::File::create(out).map_err(bad)?;
+        let file = std::fs::File::create(outs.path(out)?).map_err(bad)?;
         replay::write_status_csv(std::io::BufWriter::new(file), statuses).map_err(bad)?;
+    }
+    if let Some(png) = &args.plot {
+        replay::plot(&outs.path(png)?, name, statuses)
+            .map_err(|e| CliError::failed(e.to_string()))?;
+    }
+    outs.commit()?;
+    if let Some(out) = &args.out {
         console.say(format_args!("  status CSV: {}", out.display()));
     }
     if let Some(png) = &args.plot {
-        replay::plot(png, name, statuses).map_err(|e| CliError::failed(e.to_string()))?;
         console.say(format_args!("  plot: {}", png.display()));
     }
     Ok(())
@@ -239,7 +247,7 @@ fn write_outputs(
 fn check(prepared: &Prepared, target: &[u8], name: &str) -> Option<String> {
     match replay::compare(&prepared.host_frames, target, prepared.joints) {
         Ok(n) => {
-            println!(
+            outln!(
                 "{name}: {n} status frames, bit-identical with the host's f32 run ({} bytes)",
                 target.len()
             );

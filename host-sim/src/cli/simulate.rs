@@ -2,9 +2,10 @@
 
 use super::simulate_args::measure;
 pub use super::simulate_args::{effect_help, SimulateArgs};
-use super::{check_output, CliError, Console};
+use super::{check_output, outln, CliError, Console};
 use crate::data::run::Run;
 use crate::model::mechanism::Mechanism;
+use crate::report::files::Outputs;
 use crate::report::plot::{self, Mark, Panel, Series};
 use crate::simulate::deployment::{self, SimOptions};
 use crate::simulate::fault_injection;
@@ -44,9 +45,10 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     let mut run = measure(args, &mech, &traj);
     let reports = fault_injection::apply(&mut run, &args.faults, args.seed)
         .map_err(|m| CliError::input(format!("--fault: {m}")))?;
-    run.write(&args.out)
+    let mut outs = Outputs::new();
+    run.write(&outs.path(&args.out)?)
         .map_err(|e| CliError::input(e.to_string()))?;
-    println!(
+    outln!(
         "{}: {} samples at {} Hz to {} ({} steps, {} evaluations)",
         mech.name,
         run.len(),
@@ -57,8 +59,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     );
     for (j, l) in traj.latch_s.iter().enumerate() {
         match l {
-            Some(t) => println!("  joint {}: latched at {t:.6} s", j + 1),
-            None => println!(
+            Some(t) => outln!("  joint {}: latched at {t:.6} s", j + 1),
+            None => outln!(
                 "  joint {}: NOT latched by {:.3} s (at {:.2} deg)",
                 j + 1,
                 traj.end_s,
@@ -70,11 +72,14 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         print_latches(&mech, &args.effects, run);
     }
     for r in &reports {
-        println!("  fault {r}");
+        outln!("  fault {r}");
     }
     if let Some(png) = &args.plot {
-        plot_run(png, &mech.name, &run, &traj.latch_s)
+        plot_run(&outs.path(png)?, &mech.name, &run, &traj.latch_s)
             .map_err(|e| CliError::failed(e.to_string()))?;
+    }
+    outs.commit()?;
+    if let Some(png) = &args.plot {
         console.say(format_args!("  plot: {}", png.display()));
     }
     Ok(())
@@ -90,7 +95,7 @@ fn print_latches(mech: &Mechanism, effects: &[crate::model::effect::Effect], run
         let (p, m) = w.get(j).copied().unwrap_or((1.0, 1.0));
         let latch = spec.to_core(joint.stowed_deg, p, m);
         if let Some(o) = run.outcome(j + 1, &latch) {
-            println!(
+            outln!(
                 "  joint {} physical latch: {} impacts, {} engagements over the crest, {} escapes, \
                  switch closed {} times; ends {:?} at {:.4} deg from the stop",
                 j + 1,
@@ -104,7 +109,7 @@ fn print_latches(mech: &Mechanism, effects: &[crate::model::effect::Effect], run
         }
     }
     let e = &run.energy;
-    println!(
+    outln!(
         "  energy [J]: stored {:.6}; at the end kinetic {:.6}, springs {:.6}, latches {:.6}; \
          dissipated by friction/hysteresis {:.6}, by the stops {:.6}, by ideal impacts {:.6}; \
          worst drift {:.3e} ({:.2e} of stored)",

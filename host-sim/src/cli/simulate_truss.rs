@@ -11,7 +11,7 @@
 //! rank after each lock.
 
 use super::simulate_args::{measure, SimulateArgs};
-use super::CliError;
+use super::{outln, CliError};
 use crate::data::run::{ExtraColumn, ExtraKind, Run};
 use crate::model::kinematics::{planar_mobility, truss_bodies_and_joints};
 use crate::model::mechanism::Mechanism;
@@ -62,8 +62,10 @@ pub fn run(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
     let mut out = measure(args, mech, &traj);
     out.set_meta("source", "deploywatch simulate (multibody, truss)");
     add_extra(&mut out, &wing);
-    out.write(&args.out)
+    let mut outs = crate::report::files::Outputs::new();
+    out.write(&outs.path(&args.out)?)
         .map_err(|e| CliError::input(e.to_string()))?;
+    outs.commit()?;
     report(mech, &wing, (bodies, joints, gruebler), args);
     Ok(())
 }
@@ -105,7 +107,7 @@ pub fn add_extra(run: &mut Run, wing: &WingRun) {
 /// `--quiet`, as the chain's `simulate` does).
 fn report(mech: &Mechanism, wing: &WingRun, count: (u32, u32, i64), args: &SimulateArgs) {
     let (bodies, joints, gruebler) = count;
-    println!(
+    outln!(
         "{}: {} samples to {} ({} steps, {} evaluations)",
         mech.name,
         wing.run.t_s.len(),
@@ -114,17 +116,17 @@ fn report(mech: &Mechanism, wing: &WingRun, count: (u32, u32, i64), args: &Simul
         wing.run.stats.evaluations
     );
     let jacobian = wing.run.mobility.first().copied().unwrap_or(0);
-    println!(
+    outln!(
         "  mobility: Gruebler 3({bodies} - 1) - 2·{joints} = {gruebler}; constraint Jacobian n - rank = {jacobian} ({})",
         if jacobian as i64 == gruebler { "agree" } else { "DIFFER: redundant constraints" }
     );
     let seq: Vec<String> = wing.run.mobility.iter().map(|m| m.to_string()).collect();
-    println!("  mobility as the locks close: {}", seq.join(" -> "));
+    outln!("  mobility as the locks close: {}", seq.join(" -> "));
     for (p, name) in wing.pins.iter().enumerate() {
         if let Some(t) = wing.run.lock_s[p] {
-            println!("  {name}: locked at {t:.6} s");
+            outln!("  {name}: locked at {t:.6} s");
         } else if wing.series(name).is_some() && !name.contains(':') {
-            println!("  {name}: NOT locked by {:.3} s", wing.run.end_s);
+            outln!("  {name}: NOT locked by {:.3} s", wing.run.end_s);
         }
     }
 }

@@ -44,6 +44,14 @@ const START_SAMPLES: usize = 5;
 /// horizons long is no one deployment, and milliseconds make it a thousand.
 const MAX_DURATION_FACTOR: f64 = 100.0;
 
+/// How many times the mechanism's sample interval (`1 / sample_hz`) a run's
+/// median interval may be, in a run that outlasts `duration_s`, before its
+/// times are taken for milliseconds: a rig sampling at 100 Hz to 1 kHz
+/// writes intervals of 10 to 1 "s" in milliseconds, 1000 to 100 times a
+/// 100 Hz mechanism's 0.01 s; a run in seconds sampled ten times slower
+/// than its mechanism is too coarse to diagnose anyway.
+const MS_RATE_FACTOR: f64 = 10.0;
+
 /// Fewest samples over the mechanism's `duration_s` that show a
 /// deployment's shape; coarser sampling is a warning.
 const MIN_SAMPLES_PER_HORIZON: f64 = 10.0;
@@ -61,7 +69,10 @@ const MIN_SAMPLES_PER_HORIZON: f64 = 10.0;
 ///   away from 0: [`RunErrorKind::AnglesFromStowed`]; otherwise more than
 ///   [`START_OFFSET_WARN_DEG`] from the stowed angle: a warning;
 /// - the run lasts more than [`MAX_DURATION_FACTOR`] × `duration_s`:
-///   [`RunErrorKind::TimeInMilliseconds`];
+///   [`RunErrorKind::TimeInMilliseconds`]; or it lasts more than
+///   `duration_s` with samples more than
+///   [`MS_RATE_FACTOR`] times the mechanism's sample interval apart:
+///   [`RunErrorKind::TimeInMillisecondsBySampleRate`] (a long `duration_s`);
 /// - warnings: fewer than [`MIN_SAMPLES_PER_HORIZON`] samples over
 ///   `duration_s`; a latch switch closed at the first sample of a joint
 ///   that then moves (a stuck switch or an inverted column), or never
@@ -132,6 +143,21 @@ fn check_time(
                 interval_s,
                 factor: span_s / horizon_s,
                 mechanism: mechanism.name.clone(),
+                duration_s: horizon_s,
+            },
+        ));
+    }
+    let rate_factor = interval_s * mechanism.sample_hz;
+    if span_s > horizon_s && rate_factor > MS_RATE_FACTOR {
+        return Err(RunError::at(
+            file,
+            line_of_sample(run, 1),
+            RunErrorKind::TimeInMillisecondsBySampleRate {
+                span_s,
+                interval_s,
+                rate_factor,
+                mechanism: mechanism.name.clone(),
+                sample_hz: mechanism.sample_hz,
                 duration_s: horizon_s,
             },
         ));

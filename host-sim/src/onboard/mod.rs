@@ -3,3 +3,4 @@
 //! through the monitor on the host or on the example firmware under QEMU.
 pub mod monitor_config;
 pub mod replay;
+pub mod summary_words;

@@ -495,6 +495,10 @@ pub struct JointSummary {
     pub joint: usize,
     /// First time the state is `latched` [s].
     pub latched_s: Option<f32>,
+    /// Time from which the state stays `latched` to the end [s]: later
+    /// than [`JointSummary::latched_s`] when the joint escaped its latch
+    /// and latched again; `None` when it is not latched at the end.
+    pub latched_final_s: Option<f32>,
     /// The state at the end.
     pub final_state: &'static str,
     /// Final Coulomb estimate and its standard deviation [N·m].
@@ -509,45 +513,23 @@ pub struct JointSummary {
     pub faults: String,
 }
 
-impl std::fmt::Display for JointSummary {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let opt = |x: Option<f32>, unit: &str| x.map_or("-".into(), |v| format!("{v:.1}{unit}"));
-        write!(
-            f,
-            "joint {}: {} ({}), Coulomb {:.3} ± {:.3} N·m, viscous {:.4} ± {:.4} N·m·s/rad, \
-             margin min {} last {}, prediction {}, faults {}",
-            self.joint,
-            self.final_state,
-            self.latched_s
-                .map_or("not latched".into(), |t| format!("latched at {t:.3} s")),
-            self.coulomb_nm.0,
-            self.coulomb_nm.1,
-            self.viscous_nms.0,
-            self.viscous_nms.1,
-            opt(self.margin_pct.0, " %"),
-            opt(self.margin_pct.1, " %"),
-            self.prediction,
-            if self.faults.is_empty() {
-                "none"
-            } else {
-                &self.faults
-            },
-        )
-    }
-}
+// Its words: `onboard::summary_words`.
 
 /// The per-joint summary of a status stream.
 pub fn summary(statuses: &[StatusRow]) -> Vec<JointSummary> {
     let joints = statuses.first().map_or(0, |s| s.joints.len());
     (0..joints)
         .map(|j| {
-            let mut latched_s = None;
+            let (mut latched_s, mut latched_final_s) = (None, None);
             let mut min_margin: Option<f32> = None;
             let mut faults = deploywatch_core::FaultFlags::EMPTY;
             for s in statuses {
                 let js = &s.joints[j];
-                if latched_s.is_none() && js.latch == deploywatch_core::LatchState::Latched {
-                    latched_s = Some(s.t_s);
+                if js.latch == deploywatch_core::LatchState::Latched {
+                    latched_s = latched_s.or(Some(s.t_s));
+                    latched_final_s = latched_final_s.or(Some(s.t_s));
+                } else {
+                    latched_final_s = None;
                 }
                 if let Some(m) = js.margin_pct.filter(|m| m.is_finite()) {
                     min_margin = Some(min_margin.map_or(m, |x| x.min(m)));
@@ -558,6 +540,7 @@ pub fn summary(statuses: &[StatusRow]) -> Vec<JointSummary> {
             JointSummary {
                 joint: j + 1,
                 latched_s,
+                latched_final_s,
                 final_state: last.latch.as_str(),
                 coulomb_nm: (last.coulomb_nm, last.coulomb_sd_nm),
                 viscous_nms: (last.viscous_nms, last.viscous_sd_nms),

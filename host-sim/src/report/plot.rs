@@ -27,6 +27,18 @@ pub enum Mark {
     Line,
     /// Small dots (measured samples).
     Dots,
+    /// A filled band (an interval): the points trace its outline, the
+    /// lower edge forward and the upper edge back ([`band`] builds them);
+    /// one legend entry.
+    Band,
+}
+
+/// The outline of the band between `lower` and `upper` over `x`, for a
+/// [`Mark::Band`] series: `x` forward with `lower`, then back with `upper`.
+pub fn band(x: &[f64], lower: &[f64], upper: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let xs = x.iter().chain(x.iter().rev()).copied().collect();
+    let ys = lower.iter().chain(upper.iter().rev()).copied().collect();
+    (xs, ys)
 }
 
 /// One curve of a panel.
@@ -119,14 +131,43 @@ pub fn draw(path: &Path, title: &str, x_label: &str, panels: &[Panel]) -> Result
 }
 
 /// Draws `panels` stacked vertically into a PNG at `path`, each with its
-/// [`YAxis`]. Lines first, measured dots on top (visible even under a
-/// good fit), then the vertical markers with their labels staggered so that
-/// close ones do not overlap, then the reference lines and the legend.
+/// [`YAxis`], all over the x axis `x_label`.
 pub fn draw_with_axes(
     path: &Path,
     title: &str,
     x_label: &str,
     panels: &[(Panel, YAxis)],
+) -> Result<(), PlotError> {
+    let labelled: Vec<(Panel, YAxis, &str)> = panels
+        .iter()
+        .map(|(p, a)| (p.clone(), a.clone(), x_label))
+        .collect();
+    draw_panels(path, title, &labelled)
+}
+
+/// The legend of a panel, in the order drawn: the series, then the
+/// reference lines of its axis; what has an empty label has no entry.
+pub fn legend_entries<'p>(panel: &'p Panel, axis: &'p YAxis) -> Vec<&'p str> {
+    let lines = panel.series.iter().filter(|s| s.mark != Mark::Dots);
+    let dots = panel.series.iter().filter(|s| s.mark == Mark::Dots);
+    lines
+        .chain(dots)
+        .map(|s| s.label.as_str())
+        .chain(axis.lines.iter().map(|(_, l)| l.as_str()))
+        .filter(|l| !l.is_empty())
+        .collect()
+}
+
+/// Draws `panels` stacked vertically into a PNG at `path`, each with its
+/// [`YAxis`] and its own x axis label (`(panel, axis, x label)`). Bands and
+/// lines first, measured dots on top (visible even under a good fit), then
+/// the vertical markers with their labels staggered so that close ones do
+/// not overlap, then the reference lines and the legend
+/// ([`legend_entries`]).
+pub fn draw_panels(
+    path: &Path,
+    title: &str,
+    panels: &[(Panel, YAxis, &str)],
 ) -> Result<(), PlotError> {
     register_font();
     let err = |e: &dyn std::fmt::Display| PlotError {
@@ -140,7 +181,7 @@ pub fn draw_with_axes(
         .titled(title, ("sans-serif", 22))
         .map_err(|e| err(&e))?;
     let areas = root.split_evenly((panels.len().max(1), 1));
-    for ((panel, axis), area) in panels.iter().zip(areas.iter()) {
+    for ((panel, axis, x_label), area) in panels.iter().zip(areas.iter()) {
         draw_panel(area, x_label, panel, axis).map_err(|e| err(&e))?;
     }
     root.present().map_err(|e| err(&e))?;
@@ -176,8 +217,8 @@ fn draw_panel(
         .y_desc(&panel.y_label)
         .label_style(("sans-serif", 13))
         .draw()?;
-    // Lines first, then the measured dots on top of them.
-    let lines = panel.series.iter().filter(|s| s.mark == Mark::Line);
+    // Bands and lines first, then the measured dots on top of them.
+    let lines = panel.series.iter().filter(|s| s.mark != Mark::Dots);
     let dots = panel.series.iter().filter(|s| s.mark == Mark::Dots);
     for s in lines.chain(dots) {
         draw_series(&mut chart, s, (y0, y1))?;
@@ -185,12 +226,14 @@ fn draw_panel(
     draw_markers(&mut chart, &panel.markers, (x0, x1), (y0, y1))?;
     for (y, label) in &axis.lines {
         let style = BLACK.stroke_width(1);
-        chart
-            .draw_series(LineSeries::new([(x0, *y), (x1, *y)], style))?
-            .label(label.clone())
-            .legend(move |(x, y)| PathElement::new([(x, y), (x + 14, y)], style));
+        let drawn = chart.draw_series(LineSeries::new([(x0, *y), (x1, *y)], style))?;
+        if !label.is_empty() {
+            drawn
+                .label(label.clone())
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 14, y)], style));
+        }
     }
-    if !panel.series.is_empty() {
+    if !legend_entries(panel, axis).is_empty() {
         chart
             .configure_series_labels()
             .background_style(WHITE.mix(0.85))
@@ -219,6 +262,16 @@ fn draw_series<'a>(
             .collect();
     let drawn = match s.mark {
         Mark::Line => chart.draw_series(LineSeries::new(pts, c.stroke_width(2)))?,
+        Mark::Band => {
+            let fill = c.mix(0.25).filled();
+            let drawn = chart.draw_series(std::iter::once(Polygon::new(pts, fill)))?;
+            if !s.label.is_empty() {
+                drawn
+                    .label(s.label.clone())
+                    .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], fill));
+            }
+            return Ok(());
+        }
         Mark::Dots => {
             let every = pts.len().div_ceil(MAX_RINGS).max(1);
             let rings = pts
@@ -229,10 +282,13 @@ fn draw_series<'a>(
             chart.draw_series(pts.iter().map(|p| Circle::new(*p, 1, c.filled())))?
         }
     };
+    if s.label.is_empty() {
+        return Ok(());
+    }
     // The legend: a line, or a ring (the other drawn invisible).
     let (line, ring) = match s.mark {
-        Mark::Line => (c.stroke_width(2), TRANSPARENT.stroke_width(0)),
         Mark::Dots => (TRANSPARENT.stroke_width(0), c.stroke_width(1)),
+        _ => (c.stroke_width(2), TRANSPARENT.stroke_width(0)),
     };
     drawn.label(s.label.clone()).legend(move |(x, y)| {
         EmptyElement::at((x, y))

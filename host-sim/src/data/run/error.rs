@@ -308,6 +308,25 @@ pub enum RunErrorKind {
         /// Its `duration_s` [s].
         duration_s: f64,
     },
+    /// Meaning: the run outlasts its mechanism's horizon with samples a
+    /// hundred or a thousand times further apart than the mechanism's
+    /// sample rate: times written in milliseconds, caught when
+    /// `duration_s` is too long for [`RunErrorKind::TimeInMilliseconds`].
+    #[error("column `t_s` (column 1): samples {interval_s} apart over {span_s}, {rate_factor:.0} times the interval of mechanism \"{mechanism}\"'s sample_hz = {sample_hz} Hz, and longer than its duration_s = {duration_s} s: time in milliseconds? expected seconds (divide t_s by 1000: samples {} s apart over {} s)", interval_s / 1000.0, span_s / 1000.0)]
+    TimeInMillisecondsBySampleRate {
+        /// Last minus first time stamp, as written.
+        span_s: f64,
+        /// Median interval between samples, as written.
+        interval_s: f64,
+        /// `interval_s × sample_hz`.
+        rate_factor: f64,
+        /// The mechanism's name.
+        mechanism: String,
+        /// Its `sample_hz` [Hz].
+        sample_hz: f64,
+        /// Its `duration_s` [s].
+        duration_s: f64,
+    },
     /// Pairing: the run and its mechanism have different joint counts.
     #[error("the run has {run_joints} joints but mechanism \"{mechanism}\" has {mechanism_joints}; expected equal joint counts")]
     JointCountMismatch {

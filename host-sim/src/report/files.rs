@@ -1,0 +1,169 @@
+//! The files a command writes, all or none: each output is first written
+//! into a hidden staging folder beside its final place
+//! (`.deploywatch-partial-PID/` in the output's folder, so that the final
+//! move is a rename on one file system), and moved into place only when
+//! every output of the command is written ([`Outputs::commit`]). A command
+//! that fails or is interrupted half-way leaves the old outputs as they
+//! were: never a new JSON and new plots beside an old report. A failure
+//! removes the staging folder; an interrupt (Ctrl-C, a kill) may leave it,
+//! hidden, to be deleted by hand.
+//!
+//! Every command writes through it: `--out`, `--json`, `--plot`, the
+//! diagnosis report and its plots (`docs/spec/formats.md` names them).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Why an output could not be written or moved into place.
+#[derive(Debug, thiserror::Error)]
+#[error("{path}: cannot write: {message}")]
+pub struct FileError {
+    /// The output (its final path).
+    pub path: String,
+    /// What failed.
+    pub message: String,
+}
+
+impl FileError {
+    fn new(path: &Path, message: impl std::fmt::Display) -> Self {
+        FileError {
+            path: path.display().to_string(),
+            message: message.to_string(),
+        }
+    }
+}
+
+/// The outputs of one command, staged until [`Outputs::commit`]. Dropped
+/// without a commit, it removes what it staged.
+#[derive(Debug, Default)]
+pub struct Outputs {
+    /// Final folder → its staging folder.
+    staging: BTreeMap<PathBuf, PathBuf>,
+}
+
+/// The name of the staging folder in an output folder.
+fn staging_name() -> String {
+    format!(".deploywatch-partial-{}", std::process::id())
+}
+
+impl Outputs {
+    /// No output staged yet.
+    pub fn new() -> Self {
+        Outputs::default()
+    }
+
+    /// Where to write the output whose final path is `path`: the same file
+    /// name in the staging folder of `path`'s folder (created on first
+    /// use). Files written beside it in that folder (a report's plots) are
+    /// staged too.
+    pub fn path(&mut self, path: &Path) -> Result<PathBuf, FileError> {
+        let name = path
+            .file_name()
+            .ok_or_else(|| FileError::new(path, "expected a file name"))?;
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        if !self.staging.contains_key(&dir) {
+            let stage = dir.join(staging_name());
+            std::fs::create_dir_all(&stage).map_err(|e| FileError::new(path, e))?;
+            self.staging.insert(dir.clone(), stage);
+        }
+        Ok(self.staging[&dir].join(name))
+    }
+
+    /// Writes `bytes` as the output `path` (staged).
+    pub fn write(&mut self, path: &Path, bytes: impl AsRef<[u8]>) -> Result<(), FileError> {
+        let staged = self.path(path)?;
+        std::fs::write(&staged, bytes).map_err(|e| FileError::new(path, e))
+    }
+
+    /// Moves every staged file to its final place, then removes the
+    /// staging folders. Nothing is moved when a final place is taken by a
+    /// folder; Markdown files (a report) are moved last, after the files
+    /// they link.
+    pub fn commit(mut self) -> Result<(), FileError> {
+        let mut moves = Vec::new();
+        for (dir, stage) in &self.staging {
+            let entries = std::fs::read_dir(stage).map_err(|e| FileError::new(stage, e))?;
+            for entry in entries {
+                let from = entry.map_err(|e| FileError::new(stage, e))?.path();
+                let to = dir.join(from.file_name().unwrap_or_default());
+                if to.is_dir() {
+                    return Err(FileError::new(&to, "is a folder; expected a file name"));
+                }
+                moves.push((from, to));
+            }
+        }
+        let is_md = |p: &Path| p.extension().is_some_and(|e| e == "md");
+        moves.sort_by_key(|(_, to)| (is_md(to), to.clone()));
+        for (from, to) in &moves {
+            std::fs::rename(from, to).map_err(|e| FileError::new(to, e))?;
+        }
+        for stage in std::mem::take(&mut self.staging).values() {
+            let _ = std::fs::remove_dir_all(stage);
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Outputs {
+    fn drop(&mut self) {
+        for stage in self.staging.values() {
+            let _ = std::fs::remove_dir_all(stage);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn temp_dir(name: &str) -> PathBuf {
+        let d =
+            std::env::temp_dir().join(format!("deploywatch-files-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[test]
+    fn nothing_appears_before_the_commit_and_everything_after() {
+        let d = temp_dir("commit");
+        let mut o = Outputs::new();
+        o.write(&d.join("a.json"), "new").unwrap();
+        std::fs::write(
+            o.path(&d.join("r.md")).unwrap().with_file_name("p.png"),
+            "png",
+        )
+        .unwrap();
+        o.write(&d.join("r.md"), "report").unwrap();
+        assert!(!d.join("a.json").exists() && !d.join("p.png").exists());
+        o.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(d.join("a.json")).unwrap(), "new");
+        assert_eq!(std::fs::read_to_string(d.join("p.png")).unwrap(), "png");
+        assert_eq!(std::fs::read_to_string(d.join("r.md")).unwrap(), "report");
+        let left: Vec<_> = std::fs::read_dir(&d).unwrap().collect();
+        assert_eq!(left.len(), 3, "the staging folder is removed");
+    }
+
+    #[test]
+    fn a_dropped_or_failed_set_leaves_the_old_files_untouched() {
+        let d = temp_dir("drop");
+        std::fs::write(d.join("a.json"), "old").unwrap();
+        let mut o = Outputs::new();
+        o.write(&d.join("a.json"), "new").unwrap();
+        drop(o);
+        assert_eq!(std::fs::read_to_string(d.join("a.json")).unwrap(), "old");
+        assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);
+
+        std::fs::create_dir(d.join("b.png")).unwrap();
+        let mut o = Outputs::new();
+        o.write(&d.join("a.json"), "new").unwrap();
+        o.write(&d.join("b.png"), "png").unwrap();
+        let e = o.commit().unwrap_err();
+        assert!(e.to_string().contains("b.png"), "{e}");
+        assert_eq!(std::fs::read_to_string(d.join("a.json")).unwrap(), "old");
+        assert_eq!(std::fs::read_dir(&d).unwrap().count(), 2);
+    }
+}
