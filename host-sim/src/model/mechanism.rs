@@ -234,3 +234,55 @@ impl Mechanism {
         Chain::new(panels, joints, global).ok()
     }
 }
+
+impl Mechanism {
+    /// This mechanism with every physical latch as built: five draws of
+    /// `uniform` (each in [0, 1)) per physical latch, joint by joint, mapped
+    /// to [−1, 1] for [`crate::model::latch::LatchSpec::as_built`]. Ideal latches draw nothing.
+    pub fn as_built(
+        &self,
+        tol: &crate::model::latch::LatchTolerance,
+        uniform: &mut dyn FnMut() -> f64,
+    ) -> Self {
+        let mut m = self.clone();
+        for latch in m.latches.iter_mut().flatten() {
+            let u: [f64; 5] = core::array::from_fn(|_| 2.0 * uniform() - 1.0);
+            *latch = latch.as_built(tol, u);
+        }
+        m
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_mechanism_as_built_draws_only_its_physical_latches() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms");
+        let t = crate::model::latch::LatchTolerance::default();
+        let mut state = 0.0_f64;
+        let mut draws = 0;
+        let mut uniform = || {
+            draws += 1;
+            state = (state + 0.618_033_988_75) % 1.0;
+            state
+        };
+        let ideal = Mechanism::load(&root.join("seed001_T01.toml"));
+        let ideal = ideal.expect("bundled mechanism");
+        assert_eq!(ideal.as_built(&t, &mut uniform), ideal);
+        let drawn = Mechanism::load(&root.join("seed001_T01_physical_latch.toml"))
+            .expect("bundled mechanism");
+        let built = drawn.as_built(&t, &mut uniform);
+        assert_eq!(draws, 15);
+        for j in 0..3 {
+            let (d, b) = (
+                drawn.latch(j).expect("drawn"),
+                built.latch(j).expect("built"),
+            );
+            assert_ne!(d, b, "joint {} unchanged", j + 1);
+            let r = b.plunger.preload_n / d.plunger.preload_n;
+            assert!((0.8..=1.2).contains(&r), "preload ratio {r}");
+        }
+    }
+}
