@@ -9,7 +9,11 @@
 //!                                                                   Latched   |φ| < window_deg
 //!  Fault: shown instead of the motion state while a sensor disagrees
 //!  (switch closed far from the latch, encoder at the latch with the switch
-//!  open, encoder missing for several samples). Latched is final (ideal latch).
+//!  open, encoder missing for several samples). Latched holds (ideal latch)
+//!  until switch and encoder both say the joint is out: the switch open and
+//!  the reading beyond `window_deg` for `debounce_s` is `Escaped`, flagged
+//!  `latch_disagree` (the drawing's latch cannot open) until the latch is
+//!  declared again. Never `Latched` while the tracker's own inputs say out.
 //! ```
 //!
 //! A latch is declared only when the switch says so (so never before the
@@ -62,9 +66,12 @@ pub enum LatchState {
     /// A sensor disagrees; see the joint's fault flags.
     Fault,
     /// The joint went back over the plunger's crest after its switch had
-    /// closed (an escape, physical latch only): not latched until the
+    /// closed (an escape of a physical latch): not latched until the
     /// latch is declared again. An event of the mechanism, not a sensor
-    /// fault.
+    /// fault. With an ideal latch drawn, a joint whose switch opened and
+    /// whose encoder left the latch window for the debounce time after the
+    /// declaration, flagged `latch_disagree` (the drawing's latch cannot
+    /// open).
     Escaped,
     /// At rest on the plunger's ramp, short of the latch, with the switch
     /// open (physical latch only): neither latched nor a mid-stroke stall.
@@ -300,6 +307,12 @@ pub struct LatchTracker {
     flip: Held,
     /// The physical latch's bounce, escape and ramp bookkeeping.
     bounce: Bounce,
+    /// After a declaration: switch open and encoder out of the latch window.
+    out: Held,
+    /// An ideal latch found out of its latch after the declaration (switch
+    /// open, encoder out, both for the debounce time): not latched, and a
+    /// disagreement with the drawing, until the latch is declared again.
+    left_ideal: bool,
 }
 
 impl LatchTracker {
@@ -321,6 +334,8 @@ impl LatchTracker {
             confirm: Held::NEW,
             flip: Held::NEW,
             bounce: Bounce::NEW,
+            out: Held::NEW,
+            left_ideal: false,
         }
     }
 
@@ -374,6 +389,8 @@ impl LatchTracker {
         self.motion = LatchState::Latched;
         self.switch_early = false;
         self.open_at_latch = false;
+        self.left_ideal = false;
+        self.out.stop();
         self.bounce.latched(switch);
         LatchOutput {
             newly_latched: true,
@@ -389,6 +406,9 @@ impl LatchTracker {
         self.missing.update(x.measured_deg.is_none());
         if self.latched {
             return self.step_latched(x, cfg, view.left, faults);
+        }
+        if self.left_ideal {
+            faults.insert(Fault::LatchDisagree);
         }
         if let Some(out) = self.check_switch(x, cfg, votes, view.held, &mut faults) {
             return out;
@@ -495,6 +515,20 @@ impl LatchTracker {
             .is_some_and(|m| libm::fabsf(m) > cfg.window_deg);
         if !x.switch || away {
             faults.insert(Fault::LatchDisagree);
+        }
+        // Never `latched` while the inputs say out: the switch open and a
+        // valid reading out of the window (the ideal drawing's switch
+        // travel), both for the debounce time (longer than any bounce).
+        // With an ideal drawing that is a disagreement with the drawing.
+        self.out.update(!x.switch && away, x.t_s);
+        if cfg.physical.is_none() && self.out.at_least(x.t_s, cfg.debounce_s) {
+            self.latched = false;
+            self.left_ideal = true;
+            self.motion = LatchState::Escaped;
+            return LatchOutput {
+                unlatched: true,
+                ..LatchOutput::state(LatchState::Escaped, faults)
+            };
         }
         LatchOutput::state(LatchState::Latched, faults)
     }
@@ -607,6 +641,7 @@ impl LatchTracker {
         let in_window = libm::fabsf(x.measured_deg.unwrap_or(x.angle_deg)) <= cfg.window_deg;
         self.motion = match (event, self.motion) {
             (Some(event), _) => event.state(),
+            (None, _) if self.left_ideal => LatchState::Escaped,
             (None, LatchState::Stowed) if moved => LatchState::Deploying,
             (None, LatchState::Stowed) => LatchState::Stowed,
             _ if libm::fabsf(x.angle_deg) < cfg.latching_deg || (x.switch && in_window) => {
