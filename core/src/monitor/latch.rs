@@ -11,7 +11,7 @@
 //!  (switch closed far from the latch, encoder at the latch with the switch
 //!  open, encoder missing for several samples). Latched holds (ideal latch)
 //!  until switch and encoder both say the joint is out: the switch open and
-//!  the reading beyond `window_deg` for `debounce_s` is `Escaped`, flagged
+//!  the reading beyond `at_latch_deg` for `debounce_s` is `Escaped`, flagged
 //!  `latch_disagree` (the drawing's latch cannot open) until the latch is
 //!  declared again. Never `Latched` while the tracker's own inputs say out.
 //! ```
@@ -69,7 +69,7 @@ pub enum LatchState {
     /// closed (an escape of a physical latch): not latched until the
     /// latch is declared again. An event of the mechanism, not a sensor
     /// fault. With an ideal latch drawn, a joint whose switch opened and
-    /// whose encoder left the latch window for the debounce time after the
+    /// whose encoder read beyond `at_latch_deg` for the debounce time after the
     /// declaration, flagged `latch_disagree` (the drawing's latch cannot
     /// open).
     Escaped,
@@ -307,7 +307,7 @@ pub struct LatchTracker {
     flip: Held,
     /// The physical latch's bounce, escape and ramp bookkeeping.
     bounce: Bounce,
-    /// After a declaration: switch open and encoder out of the latch window.
+    /// After a declaration: switch open and encoder beyond `at_latch_deg`.
     out: Held,
     /// An ideal latch found out of its latch after the declaration (switch
     /// open, encoder out, both for the debounce time): not latched, and a
@@ -517,10 +517,14 @@ impl LatchTracker {
             faults.insert(Fault::LatchDisagree);
         }
         // Never `latched` while the inputs say out: the switch open and a
-        // valid reading out of the window (the ideal drawing's switch
-        // travel), both for the debounce time (longer than any bounce).
-        // With an ideal drawing that is a disagreement with the drawing.
-        self.out.update(!x.switch && away, x.t_s);
+        // valid reading beyond `at_latch_deg` (the ideal drawing has no
+        // switch travel: the reading that counts as at the latch stands for
+        // it), both for the debounce time (longer than any bounce). With an
+        // ideal drawing that is a disagreement with the drawing.
+        let out = x
+            .measured_deg
+            .is_some_and(|m| libm::fabsf(m) > cfg.at_latch_deg);
+        self.out.update(!x.switch && out, x.t_s);
         if cfg.physical.is_none() && self.out.at_least(x.t_s, cfg.debounce_s) {
             self.latched = false;
             self.left_ideal = true;

@@ -276,7 +276,7 @@ fn physical_latch_config_is_validated() {
 }
 
 /// An ideal latch declared, then the switch opens and the encoder leaves
-/// the window (an as-built latch that escaped): never `latched` once both
+/// the latch (an as-built latch that escaped): never `latched` once both
 /// have said so for the debounce time, flagged as a disagreement with the
 /// drawing, and latched again when it comes back.
 #[test]
@@ -288,16 +288,16 @@ fn given_ideal_latch_when_switch_opens_and_encoder_leaves_then_escaped_not_latch
     let out = run_with(&mut tr, &cfg, &s);
     assert!(out[3].newly_latched, "{out:?}");
     for (i, (o, &(sw, deg))) in out.iter().zip(&s).enumerate().skip(4) {
-        // 0.5° a sample: out of the 2° window from the 5th open sample,
-        // 30 ms (3 samples, one more for the f32 time stamps) later not
-        // latched.
-        let t_out = 4 + 4;
+        // 0.5° a sample: beyond at_latch_deg (0.3°) from the first open
+        // sample, 30 ms (3 samples, one more for the f32 time stamps) later
+        // not latched.
+        let t_out = 4;
         if i >= t_out + 4 {
             assert_eq!(o.state, LatchState::Escaped, "sample {i}: {o:?}");
             assert!(o.faults.contains(Fault::LatchDisagree), "{o:?}");
         }
         if o.state == LatchState::Latched {
-            assert!(sw || deg <= cfg.window_deg || i < t_out + 4, "{i}: {o:?}");
+            assert!(sw || deg <= cfg.at_latch_deg || i < t_out + 4, "{i}: {o:?}");
         }
     }
     assert_eq!(out.iter().filter(|o| o.unlatched).count(), 1);
