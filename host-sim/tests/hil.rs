@@ -53,7 +53,11 @@ fn firmware_loop(bytes: &[u8]) -> (Vec<Vec<u8>>, LinkReport) {
     )
     .expect("the link ends with its input");
     let mut last = frames.pop().expect("the report");
-    assert_eq!(read_report(&mut last), Some(report), "the last frame is the report");
+    assert_eq!(
+        read_report(&mut last),
+        Some(report),
+        "the last frame is the report"
+    );
     (frames, report)
 }
 
@@ -71,7 +75,10 @@ fn rows(frames: &[Vec<u8>], joints: usize) -> Vec<StatusRow> {
 fn a_lossy_link_is_counted_exactly_and_the_monitor_goes_on() {
     let cases = [
         ("data/examples/a_seed001_eft/seed001_T01.csv", "seed001_T01"),
-        ("data/examples/c_seed001_friction_harness/seed001_T02.csv", "seed001_T02"),
+        (
+            "data/examples/c_seed001_friction_harness/seed001_T02.csv",
+            "seed001_T02",
+        ),
         ("data/reference/seed000_case1_eft.csv", "seed000_case1"),
         ("data/reference/seed001_T01_eft.csv", "seed001_T01"),
     ];
@@ -101,11 +108,17 @@ fn a_lossy_link_is_counted_exactly_and_the_monitor_goes_on() {
             assert_eq!(report.corrupted as usize, corrupted, "{run_path}");
             assert_eq!((report.too_long, report.requests), (0, 1), "{run_path}");
             let reference = hil::reference(&mech, &run, &keep).unwrap();
-            assert!(frames == reference, "{run_path}: not the host core's statuses");
+            assert!(
+                frames == reference,
+                "{run_path}: not the host core's statuses"
+            );
             let full = hil::reference(&mech, &run, &vec![true; keep.len()]).unwrap();
             let (false_latch, extra) =
                 hil::against_full(&rows(&full, plan.joints), &rows(&frames, plan.joints));
-            assert!(false_latch.is_empty(), "{run_path}: false latch {false_latch:?}");
+            assert!(
+                false_latch.is_empty(),
+                "{run_path}: false latch {false_latch:?}"
+            );
             assert!(
                 extra
                     .iter()
@@ -122,7 +135,8 @@ fn a_lossy_link_is_counted_exactly_and_the_monitor_goes_on() {
 #[test]
 fn garbage_on_the_link_is_counted_and_skipped() {
     let mech = Mechanism::load(&root().join("data/mechanisms/seed001_T02.toml")).unwrap();
-    let run = replay::load_run(&root().join("data/examples/a_seed001_eft/seed001_T02.csv")).unwrap();
+    let run =
+        replay::load_run(&root().join("data/examples/a_seed001_eft/seed001_T02.csv")).unwrap();
     let plan = hil::plan(&mech, &run).unwrap();
     let mut bytes = plan.config.clone();
     let mut keep = vec![true; plan.samples.len()];
@@ -157,7 +171,10 @@ fn garbage_on_the_link_is_counted_and_skipped() {
         .position(|f| read_report(&mut f.clone()).is_some())
         .expect("a report in the middle");
     frames.remove(mid);
-    assert_eq!((report.corrupted, report.too_long, report.requests), (1, 1, 2));
+    assert_eq!(
+        (report.corrupted, report.too_long, report.requests),
+        (1, 1, 2)
+    );
     let reference = hil::reference(&mech, &run, &keep).unwrap();
     assert_eq!(report.samples as usize, reference.len());
     assert!(frames == reference);
@@ -239,7 +256,11 @@ fn an_escape_is_never_latched_while_out_with_either_drawing() {
         .arg(&khz)
         .output()
         .unwrap();
-    assert!(sim.status.success(), "{}", String::from_utf8_lossy(&sim.stderr));
+    assert!(
+        sim.status.success(),
+        "{}",
+        String::from_utf8_lossy(&sim.stderr)
+    );
     let physical = Mechanism::load(&phys_path).unwrap();
     let ideal = Mechanism::load(&ideal_path).unwrap();
     assert!(ideal.joint_count() == 3 && ideal.name == physical.name);
@@ -254,14 +275,26 @@ fn an_escape_is_never_latched_while_out_with_either_drawing() {
             let st = statuses(mech, &run);
             let (bad, out) = latched_while_out(&run, &st, 0.3, 0.03 + 1.5 * period);
             assert!(out > 0, "{}: no escape to judge", run_path.display());
-            assert_eq!(bad, 0, "{} ({drawing}): latched while out", run_path.display());
+            assert_eq!(
+                bad,
+                0,
+                "{} ({drawing}): latched while out",
+                run_path.display()
+            );
             let was_latched = st.iter().any(|s| s.joints[1].latch == LatchState::Latched);
             if drawing == "ideal" && was_latched {
                 let named = st.iter().any(|s| {
                     s.joints[1].latch == LatchState::Escaped
-                        && s.joints[1].faults.iter().any(|f| f.as_str() == "latch_disagree")
+                        && s.joints[1]
+                            .faults
+                            .iter()
+                            .any(|f| f.as_str() == "latch_disagree")
                 });
-                assert!(named, "{}: the disagreement is not named", run_path.display());
+                assert!(
+                    named,
+                    "{}: the disagreement is not named",
+                    run_path.display()
+                );
             }
         }
     }

@@ -32,6 +32,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::counted::CountedSample;
+use crate::monitor::estimator::{Monitor, Sample};
 use super::replay::{Error, FrameError, Paths, Source, SAMPLE_FRAME_MAX, STATUS_FRAME_MAX};
 use super::sample_frame_max;
 
@@ -151,8 +152,8 @@ where
 /// monitor in place: `update`, the status, then the slices — the reference
 /// a firmware's statuses must equal bit for bit.
 pub fn reference_statuses<const N: usize>(
-    monitor: &mut crate::Monitor<N>,
-    samples: &[crate::Sample<N>],
+    monitor: &mut Monitor<N>,
+    samples: &[Sample<N>],
     mut write: impl FnMut(&[u8]),
 ) -> Result<(), Error> {
     let mut out = [0u8; STATUS_FRAME_MAX];

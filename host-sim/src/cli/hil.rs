@@ -94,7 +94,7 @@ fn parse_delay(s: &str) -> Result<(f64, f64), CliError> {
     let (p, ms) = s.split_once(':').ok_or_else(bad)?;
     let p: f64 = p.trim().parse().map_err(|_| bad())?;
     let ms: f64 = ms.trim().parse().map_err(|_| bad())?;
-    if !(0.0..=1.0).contains(&p) || !(ms.is_finite() && ms >= 0.0) {
+    if !((0.0..=1.0).contains(&p) && ms.is_finite() && ms >= 0.0) {
         return Err(bad());
     }
     Ok((p, ms / 1000.0))
@@ -145,7 +145,9 @@ fn prepare(args: &HilArgs) -> Result<(Mechanism, Run, Plan), CliError> {
     let mut plan = hil::plan(&mech, &run).map_err(cli_error)?;
     if let Some(d) = args.duration {
         if !(d.is_finite() && d > 0.0) {
-            return Err(CliError::input(format!("--duration {d}: a positive time [s]")));
+            return Err(CliError::input(format!(
+                "--duration {d}: a positive time [s]"
+            )));
         }
         let t0 = plan.t_s.first().copied().unwrap_or(0.0);
         let k = plan.t_s.iter().take_while(|t| **t - t0 <= d).count();
@@ -233,8 +235,14 @@ pub fn run(args: &HilArgs) -> Result<(), CliError> {
     write_outputs(args, &mech.name, &a, &console)?;
     if let Some(path) = &args.latency {
         let bad = |e: std::io::Error| CliError::input(format!("--latency {}: {e}", path.display()));
-        hil::write_latency_csv(std::fs::File::create(path).map_err(bad)?, &plan, &out, &got, &a)
-            .map_err(bad)?;
+        hil::write_latency_csv(
+            std::fs::File::create(path).map_err(bad)?,
+            &plan,
+            &out,
+            &got,
+            &a,
+        )
+        .map_err(bad)?;
         console.say(format_args!("  latency CSV: {}", path.display()));
     }
     match problems {
@@ -271,7 +279,11 @@ fn verdict(
                 r.corrupted,
                 r.too_long,
                 r.overrun,
-                if exact { "counted exactly" } else { "NOT as sent" }
+                if exact {
+                    "counted exactly"
+                } else {
+                    "NOT as sent"
+                }
             );
             if !exact || r.too_long > 0 || r.overrun > 0 {
                 problems.push(format!(

@@ -270,12 +270,7 @@ pub struct Assessment {
 
 /// Compares what came back with the host's `reference` (one frame per
 /// delivered sample) and times it against the send times.
-pub fn assess(
-    plan: &Plan,
-    out: &Outgoing,
-    got: &Received,
-    reference: &[Vec<u8>],
-) -> Assessment {
+pub fn assess(plan: &Plan, out: &Outgoing, got: &Received, reference: &[Vec<u8>]) -> Assessment {
     let sent: Vec<Duration> = out
         .fate
         .iter()

@@ -96,7 +96,11 @@ pub fn connect(endpoint: &Endpoint) -> Result<Connection, ReplayError> {
     }
 }
 
-fn start_qemu(elf: &Path, log: Option<&Path>, icount: Option<u8>) -> Result<Connection, ReplayError> {
+fn start_qemu(
+    elf: &Path,
+    log: Option<&Path>,
+    icount: Option<u8>,
+) -> Result<Connection, ReplayError> {
     let setup = |e: io::Error| ReplayError::Setup(format!("a local TCP socket for QEMU: {e}"));
     let listener = TcpListener::bind("127.0.0.1:0").map_err(setup)?;
     let port = listener.local_addr().map_err(setup)?.port();
@@ -112,7 +116,9 @@ fn start_qemu(elf: &Path, log: Option<&Path>, icount: Option<u8>) -> Result<Conn
         .args(["-monitor", "none"])
         .args(["-semihosting-config", "enable=on,target=native"])
         .arg("-chardev")
-        .arg(format!("socket,id=hil,host=127.0.0.1,port={port},nodelay=on"))
+        .arg(format!(
+            "socket,id=hil,host=127.0.0.1,port={port},nodelay=on"
+        ))
         .args(["-serial", "chardev:hil"]);
     if let Some(shift) = icount {
         cmd.arg("-icount").arg(format!("shift={shift},align=on"));
@@ -213,10 +219,8 @@ fn spawn_reader(mut reader: Box<dyn Read + Send>) -> Receiver<(Vec<u8>, Instant)
             let now = Instant::now();
             for &b in &buf[..n] {
                 frame.push(b);
-                if b == 0 {
-                    if tx.send((std::mem::take(&mut frame), now)).is_err() {
-                        return;
-                    }
+                if b == 0 && tx.send((std::mem::take(&mut frame), now)).is_err() {
+                    return;
                 }
             }
         }

@@ -331,6 +331,9 @@ fn given_ideal_latch_when_a_short_rebound_or_a_spike_then_still_latched() {
         (false, 0.1),
     ];
     let out = run_with(&mut tr, &cfg, &s);
-    assert!(out[1..].iter().all(|o| o.state == LatchState::Latched), "{out:?}");
+    assert!(
+        out[1..].iter().all(|o| o.state == LatchState::Latched),
+        "{out:?}"
+    );
     assert!(out.iter().all(|o| !o.unlatched));
 }

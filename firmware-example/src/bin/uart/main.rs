@@ -157,10 +157,7 @@ where
 {
     let header = read_header(src)?;
     configure(&header, src, config, store)?;
-    defmt::info!(
-        "monitor of {=u8} joints; ready",
-        header.joints,
-    );
+    defmt::info!("monitor of {=u8} joints; ready", header.joints,);
     let mut report = LinkReport::READY;
     let mut buf = [0u8; LINK_REPORT_FRAME_MAX];
     let n = report_frame(&report, &mut buf)?;
