@@ -82,14 +82,18 @@ impl Uart {
         Uart
     }
 
-    /// In the receive interrupt: hands every byte waiting to `take`, clears
-    /// the interrupt, and returns whether the UART lost a byte (an overrun:
-    /// a byte came before the previous one was read).
+    /// In the receive interrupt: clears the interrupt, then hands every
+    /// byte waiting to `take`, and returns whether the UART lost a byte (an
+    /// overrun: a byte came before the previous one was read). Clearing
+    /// first: a byte that arrives after the last read raises the interrupt
+    /// again. (Cleared after the reads, a byte arriving in between would
+    /// sit in DATA with its interrupt cleared, and the CMSDK UART, with no
+    /// FIFO, takes no other byte until DATA is read: the link would stall.)
     pub fn drain_rx(&self, mut take: impl FnMut(u8)) -> bool {
+        Self::write(INTSTATUS, INT_RX);
         while Self::read(STATE) & RX_FULL != 0 {
             take((Self::read(DATA) & 0xff) as u8);
         }
-        Self::write(INTSTATUS, INT_RX);
         let overrun = Self::read(STATE) & RX_OVERRUN != 0;
         if overrun {
             Self::write(STATE, RX_OVERRUN);
