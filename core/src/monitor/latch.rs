@@ -307,12 +307,6 @@ pub struct LatchTracker {
     flip: Held,
     /// The physical latch's bounce, escape and ramp bookkeeping.
     bounce: Bounce,
-    /// After a declaration: switch open and encoder beyond `at_latch_deg`.
-    out: Held,
-    /// An ideal latch found out of its latch after the declaration (switch
-    /// open, encoder out, both for the debounce time): not latched, and a
-    /// disagreement with the drawing, until the latch is declared again.
-    left_ideal: bool,
 }
 
 impl LatchTracker {
@@ -334,8 +328,6 @@ impl LatchTracker {
             confirm: Held::NEW,
             flip: Held::NEW,
             bounce: Bounce::NEW,
-            out: Held::NEW,
-            left_ideal: false,
         }
     }
 
@@ -383,14 +375,24 @@ impl LatchTracker {
         self.open_at_latch
     }
 
+    /// True while an ideal latch is out after its declaration (switch open
+    /// and encoder out for the debounce time): not latched, and a
+    /// disagreement with the drawing, until the latch is declared again.
+    /// With an ideal drawing nothing else makes the motion `Escaped`.
+    fn left_ideal(&self, cfg: &LatchConfig) -> bool {
+        cfg.physical.is_none() && self.motion == LatchState::Escaped
+    }
+
     /// Declares the latch (`switch`: the switch's reading now).
-    fn declare(&mut self, switch: bool, faults: FaultFlags) -> LatchOutput {
+    fn declare(&mut self, switch: bool, faults: FaultFlags, cfg: &LatchConfig) -> LatchOutput {
         self.latched = true;
         self.motion = LatchState::Latched;
         self.switch_early = false;
         self.open_at_latch = false;
-        self.left_ideal = false;
-        self.out.stop();
+        if cfg.physical.is_none() {
+            // Reused after the declaration: switch open and encoder out.
+            self.at_latch.stop();
+        }
         self.bounce.latched(switch);
         LatchOutput {
             newly_latched: true,
@@ -407,7 +409,7 @@ impl LatchTracker {
         if self.latched {
             return self.step_latched(x, cfg, view.left, faults);
         }
-        if self.left_ideal {
+        if self.left_ideal(cfg) {
             faults.insert(Fault::LatchDisagree);
         }
         if let Some(out) = self.check_switch(x, cfg, votes, view.held, &mut faults) {
@@ -524,10 +526,15 @@ impl LatchTracker {
         let out = x
             .measured_deg
             .is_some_and(|m| libm::fabsf(m) > cfg.at_latch_deg);
-        self.out.update(!x.switch && out, x.t_s);
-        if cfg.physical.is_none() && self.out.at_least(x.t_s, cfg.debounce_s) {
+        // (`at_latch` times it: unused while latched; the monitor's RAM
+        // budget has no byte for another timer.)
+        if cfg.physical.is_some() {
+            return LatchOutput::state(LatchState::Latched, faults);
+        }
+        self.at_latch.update(!x.switch && out, x.t_s);
+        if self.at_latch.at_least(x.t_s, cfg.debounce_s) {
             self.latched = false;
-            self.left_ideal = true;
+            self.at_latch.stop();
             self.motion = LatchState::Escaped;
             return LatchOutput {
                 unlatched: true,
@@ -566,7 +573,7 @@ impl LatchTracker {
             None => closed_long,
         };
         if closed && agrees && held && !self.switch_suspect {
-            return Some(self.declare(x.switch, *faults));
+            return Some(self.declare(x.switch, *faults, cfg));
         }
         self.switch_early = closed && !agrees;
         if self.switch_early {
@@ -602,7 +609,7 @@ impl LatchTracker {
             if !x.switch {
                 faults.insert(Fault::SwitchOpenAtLatch);
             }
-            return Some(self.declare(x.switch, *faults));
+            return Some(self.declare(x.switch, *faults, cfg));
         }
         None
     }
@@ -645,7 +652,7 @@ impl LatchTracker {
         let in_window = libm::fabsf(x.measured_deg.unwrap_or(x.angle_deg)) <= cfg.window_deg;
         self.motion = match (event, self.motion) {
             (Some(event), _) => event.state(),
-            (None, _) if self.left_ideal => LatchState::Escaped,
+            (None, _) if self.left_ideal(cfg) => LatchState::Escaped,
             (None, LatchState::Stowed) if moved => LatchState::Deploying,
             (None, LatchState::Stowed) => LatchState::Stowed,
             _ if libm::fabsf(x.angle_deg) < cfg.latching_deg || (x.switch && in_window) => {

@@ -32,9 +32,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::counted::CountedSample;
-use crate::monitor::estimator::{Monitor, Sample};
 use super::replay::{Error, FrameError, Paths, Source, SAMPLE_FRAME_MAX, STATUS_FRAME_MAX};
 use super::sample_frame_max;
+use crate::monitor::estimator::{Monitor, Sample};
 
 /// First field of a [`LinkReport`]: "DWL1" as a little-endian word. A
 /// status frame starts with its time stamp, and these bits as an `f32` are
