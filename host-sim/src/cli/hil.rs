@@ -11,6 +11,15 @@ use crate::onboard::replay::{self, ReplayError};
 use std::path::PathBuf;
 use std::time::Duration;
 
+/// Where the serial-link firmware runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum HilTarget {
+    /// QEMU's mps2-an386, started here, UART0 over a local TCP socket.
+    Qemu,
+    /// A board on a serial device (`--port`).
+    Serial,
+}
+
 /// Arguments of `deploywatch hil`.
 #[derive(Debug, clap::Args)]
 pub struct HilArgs {
@@ -20,8 +29,12 @@ pub struct HilArgs {
     /// The run's mechanism (TOML).
     #[arg(long)]
     pub mechanism: PathBuf,
+    /// Where the firmware runs: `qemu` (started here) or `serial` (a board
+    /// on `--port`; the default when `--port` is given).
+    #[arg(long, value_enum)]
+    pub target: Option<HilTarget>,
     /// A serial device to a board running the serial-link firmware (e.g.
-    /// /dev/ttyACM0); without it QEMU is started (`--target qemu`).
+    /// /dev/ttyACM0).
     #[arg(long, value_name = "DEVICE")]
     pub port: Option<String>,
     /// The serial device's rate [baud] (the firmware's board.rs BAUD).
@@ -193,17 +206,26 @@ pub fn run(args: &HilArgs) -> Result<(), CliError> {
             check_output(flag, p)?;
         }
     }
-    let endpoint = match &args.port {
-        Some(port) => Endpoint::Serial {
-            port: port.clone(),
-            baud: args.baud,
-        },
-        None => Endpoint::Qemu {
-            elf: hil_link::find_uart_elf(args.elf.as_deref()).map_err(cli_error)?,
-            log: args.log.clone(),
-            icount: args.icount,
-        },
-    };
+    let endpoint =
+        match (args.target, &args.port) {
+            (Some(HilTarget::Qemu), Some(_)) => return Err(CliError::input(
+                "--port names a serial device: use it with --target serial (or without --target)",
+            )),
+            (Some(HilTarget::Serial), None) => {
+                return Err(CliError::input(
+                    "--target serial needs --port DEVICE (e.g. --port /dev/ttyACM0)",
+                ))
+            }
+            (_, Some(port)) => Endpoint::Serial {
+                port: port.clone(),
+                baud: args.baud,
+            },
+            (_, None) => Endpoint::Qemu {
+                elf: hil_link::find_uart_elf(args.elf.as_deref()).map_err(cli_error)?,
+                log: args.log.clone(),
+                icount: args.icount,
+            },
+        };
     let console = Console::new(args.quiet);
     let out = hil::inject(&plan, &inject);
     let keep: Vec<bool> = out.fate.iter().map(|f| f.delivered()).collect();
