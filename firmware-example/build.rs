@@ -1,17 +1,37 @@
-//! Puts the workspace's `memory.x` (the board's memory map, shared by every
-//! firmware of the project) where `cortex-m-rt`'s `link.x` looks for it.
+//! Puts each binary's memory map where `cortex-m-rt`'s `link.x` looks for
+//! `memory.x`: the workspace's `memory.x` (60 KiB of flash) for the replay
+//! firmware, `memory-uart.x` (64 KiB) for the serial-link firmware, each
+//! in its own folder on that binary's link search path.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::{env, fs};
+
+/// Copies `src` to `dir/memory.x` and links `bin` with it.
+fn memory_for(bin: &str, src: &Path, dir: &Path) {
+    fs::create_dir_all(dir).unwrap_or_else(|e| panic!("cannot create {}: {e}", dir.display()));
+    fs::copy(src, dir.join("memory.x"))
+        .unwrap_or_else(|e| panic!("cannot copy {}: {e}", src.display()));
+    // The folder first, then cortex-m-rt's link.x, which INCLUDEs memory.x:
+    // GNU ld reads a script when it meets its -T, with the -L paths given
+    // before it.
+    println!("cargo:rustc-link-arg-bin={bin}=-L{}", dir.display());
+    println!("cargo:rustc-link-arg-bin={bin}=-Tlink.x");
+    println!("cargo:rerun-if-changed={}", src.display());
+}
 
 fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
-    let src =
-        PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"))
-            .join("../memory.x");
-    fs::copy(&src, out.join("memory.x"))
-        .unwrap_or_else(|e| panic!("cannot copy {}: {e}", src.display()));
-    println!("cargo:rustc-link-search={}", out.display());
-    println!("cargo:rerun-if-changed={}", src.display());
+    let here =
+        PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
+    memory_for(
+        "deploywatch-firmware-example",
+        &here.join("../memory.x"),
+        &out.join("replay"),
+    );
+    memory_for(
+        "deploywatch-firmware-uart",
+        &here.join("memory-uart.x"),
+        &out.join("uart"),
+    );
     println!("cargo:rerun-if-changed=build.rs");
 }

@@ -2,7 +2,8 @@
 # Builds the example firmware (firmware-example/) and replays recorded runs
 # through it on QEMU's Cortex-M4 board with `deploywatch replay --target qemu`,
 # which checks that the MCU's statuses are bit-identical with the host
-# simulator's f32 run of the same monitor.
+# simulator's f32 run of the same monitor; and streams a run in real time to
+# its serial-link build with `deploywatch hil` (hardware in the loop).
 #
 # Usage:
 #   scripts/firmware.sh build                 firmware ELF + deploywatch, prints the sizes
@@ -14,16 +15,22 @@
 #   scripts/firmware.sh replay RUN.csv MECH.toml [DIR]
 #                                             deploywatch replay --target qemu, frames kept
 #                                             in DIR (default target/replay/<set>-<run>)
-#   scripts/firmware.sh test                  replay every reference mechanism (CI)
+#   scripts/firmware.sh hil RUN.csv MECH.toml [ARGS...]
+#                                             deploywatch hil over TCP to QEMU (real time)
+#   scripts/firmware.sh test                  replay every reference mechanism, then the
+#                                             real-time serial link on one short run (CI)
 #
 # The toolchain comes from scripts/embedded-toolchain.sh (run it first);
 # scripts/embedded-env.sh picks the rustup or the Debian route.
-# Environment: QEMU_TIMEOUT (seconds, default 300).
+# Environment: QEMU_TIMEOUT (seconds, default 300); DW_HIL_DEADLINES=1 or 0
+# (the real-time run of `test` fails on a deadline miss, or only reports it;
+# by default it fails when the load average is below the core count).
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 fw="$root/firmware-example"
 elf="$fw/target/thumbv7em-none-eabihf/release/deploywatch-firmware-example"
+uart_elf="$fw/target/thumbv7em-none-eabihf/release/deploywatch-firmware-uart"
 deploywatch=  # set by build_host_tool
 # The regions memory.x declares (the link fails beyond them; this check
 # reports the margin): 60 KiB of flash for the monitors of 2 and 3 joints
@@ -39,6 +46,8 @@ UPDATE_BUDGET=4400
 UPDATE_BUDGET_PHYSICAL=5000
 SLICE_BUDGET=17350
 STACK_BUDGET=$((8 * 1024))
+# The serial-link build (firmware-example/memory-uart.x): 64 KiB of flash.
+UART_FLASH_BUDGET=$((64 * 1024))
 
 die() { echo "firmware.sh: $*" >&2; exit 1; }
 
@@ -61,19 +70,27 @@ build_host_tool() {
     [ -x "$deploywatch" ] || die "no $deploywatch after the build"
 }
 
-size_report() {
-    [ -f "$elf" ] || die "no firmware ELF: run scripts/firmware.sh build"
+# size_of ELF FLASH_BUDGET: flash and RAM of one ELF against its budget.
+size_of() {
+    local elf=$1 budget=$2
+    [ -f "$elf" ] || die "no firmware ELF $elf: run scripts/firmware.sh build"
     # Berkeley format: text (flash code + constants), data (flash and RAM),
     # bss (RAM). The stack takes the rest of RAM.
     local text data bss
     read -r text data bss _ < <(arm-none-eabi-size "$elf" | sed -n 2p)
     local flash=$((text + data)) ram=$((data + bss))
+    flash_of_last=$flash ram_of_last=$ram
     echo "firmware: $elf"
-    printf '  flash %6d B of %6d B (%3d %%)\n' "$flash" "$FLASH_BUDGET" $((100 * flash / FLASH_BUDGET))
+    printf '  flash %6d B of %6d B (%3d %%)\n' "$flash" "$budget" $((100 * flash / budget))
     printf '  RAM   %6d B of %6d B (%3d %%), static data only; the stack uses the rest\n' \
         "$ram" "$RAM_BUDGET" $((100 * ram / RAM_BUDGET))
-    python3 "$root/scripts/measured.py" firmware-size "$flash" "$ram" "$FLASH_BUDGET" "$RAM_BUDGET"
-    [ "$flash" -le "$FLASH_BUDGET" ] && [ "$ram" -le "$RAM_BUDGET" ] || die "over the budget"
+    [ "$flash" -le "$budget" ] && [ "$ram" -le "$RAM_BUDGET" ] || die "over the budget"
+}
+
+size_report() {
+    size_of "$elf" "$FLASH_BUDGET"
+    python3 "$root/scripts/measured.py" firmware-size "$flash_of_last" "$ram_of_last" "$FLASH_BUDGET" "$RAM_BUDGET"
+    size_of "$uart_elf" "$UART_FLASH_BUDGET"
 }
 
 # panic_check: the firmware ELF must link no panic path from the project's
@@ -85,6 +102,7 @@ size_report() {
 # (semihosting, cobs, postcard, defmt's reentrancy checks) are counted and
 # named, not failed: their panics are theirs to prove.
 panic_check() {
+    local elf=${1:-$elf}
     [ -f "$elf" ] || die "no firmware ELF: run scripts/firmware.sh build"
     local dis
     dis=$(arm-none-eabi-objdump -d -C --no-show-raw-insn "$elf")
@@ -118,7 +136,7 @@ panic_check() {
         fi
     done
     [ "$ours" -eq 0 ] || die "$ours panic path(s) linked from core/src or firmware-example/src"
-    echo "  panic paths: none from core/src or firmware-example/src; $theirs call site(s) in dependencies: ${!deps[*]}"
+    echo "  panic paths ($(basename "$elf")): none from core/src or firmware-example/src; $theirs call site(s) in dependencies: ${!deps[*]}"
 }
 
 # qemu_exec IN OUT: runs the firmware on IN, writes OUT and returns
@@ -177,6 +195,15 @@ replay() {
         || die "replay of $csv failed"
 }
 
+# hil RUN.csv MECH.toml [ARGS...]: deploywatch hil over TCP to QEMU (the
+# serial-link firmware), in real time.
+hil() {
+    local csv=$1 mech=$2
+    shift 2
+    "$deploywatch" hil "$csv" --mechanism "$mech" --elf "$uart_elf" "$@" \
+        || die "hil of $csv failed"
+}
+
 cmd=${1:-}
 case "$cmd" in
     build)
@@ -184,12 +211,21 @@ case "$cmd" in
         build_host_tool
         size_report
         panic_check
+        panic_check "$uart_elf"
         ;;
     size)
         size_report
         ;;
     panic-check)
         panic_check
+        panic_check "$uart_elf"
+        ;;
+    hil)
+        [ $# -ge 3 ] || die "usage: scripts/firmware.sh hil RUN.csv MECH.toml [ARGS...]"
+        build_firmware
+        build_host_tool
+        shift
+        hil "$@"
         ;;
     run)
         [ $# -eq 3 ] || die "usage: scripts/firmware.sh run IN.bin OUT.bin"
@@ -207,8 +243,10 @@ case "$cmd" in
         build_host_tool
         size_report
         panic_check
-        # The replay protocol and the firmware's loop, on the host.
-        (cd "$root" && cargo test --quiet --release -p deploywatch-sim --test replay)
+        panic_check "$uart_elf"
+        # The replay protocol and the firmware's loop, on the host; the
+        # serial link's loop on lossy streams and the latch escapes.
+        (cd "$root" && cargo test --quiet --release -p deploywatch-sim --test replay --test hil)
         # Every reference mechanism (data/mechanisms/: seed 000 cases 1 and 3,
         # 2 joints; seed 001 T01 and T02, 3 joints), nominal and with friction
         # (data/reference/), then measured-like runs (noise, quantisation,
@@ -241,6 +279,26 @@ case "$cmd" in
         python3 "$root/scripts/measured.py" firmware-replays "$root/target/replay" \
             "$UPDATE_BUDGET" "$UPDATE_BUDGET_PHYSICAL" "$SLICE_BUDGET" "$STACK_BUDGET"
         echo "measured figures: docs/measured.md"
+        # Hardware in the loop over TCP, in real time, on one short 100 Hz
+        # run: every status bit-identical with the host core, 0 deadline
+        # misses (exit 1 otherwise); then 1 % of the frames dropped and 1 %
+        # corrupted on the way in: counted exactly, the statuses those of
+        # the host core on the samples that arrived.
+        t01="$root/data/examples/a_seed001_eft/seed001_T01.csv"
+        # Deadlines are required when the host has a core to spare (load
+        # average below the core count) or DW_HIL_DEADLINES=1; reported
+        # without failing on a busier host or with DW_HIL_DEADLINES=0.
+        deadlines=(--require-deadlines)
+        if [ -z "${DW_HIL_DEADLINES:-}" ]; then
+            if ! awk -v c="$(nproc)" '{ exit !($1 < c) }' /proc/loadavg; then
+                echo "hil: load average $(cut -d' ' -f1 /proc/loadavg) on $(nproc) cores: deadline misses reported, not failed (DW_HIL_DEADLINES=1 to require them)"
+                deadlines=()
+            fi
+        elif [ "$DW_HIL_DEADLINES" = 0 ]; then
+            deadlines=()
+        fi
+        hil "$t01" "$root/data/mechanisms/seed001_T01.toml" --duration 2 "${deadlines[@]}"
+        hil "$t01" "$root/data/mechanisms/seed001_T01.toml" --drop 0.01 --corrupt 0.01 --seed 3 -q
         ;;
     *)
         sed -n '2,20p' "$0" >&2

@@ -19,6 +19,7 @@
 
 pub mod config;
 pub mod counted;
+pub mod link;
 pub mod replay;
 
 use postcard::ser_flavors::crc::CrcModifier;

@@ -9,7 +9,11 @@
 //!                                                                   Latched   |φ| < window_deg
 //!  Fault: shown instead of the motion state while a sensor disagrees
 //!  (switch closed far from the latch, encoder at the latch with the switch
-//!  open, encoder missing for several samples). Latched is final (ideal latch).
+//!  open, encoder missing for several samples). Latched holds (ideal latch)
+//!  until switch and encoder both say the joint is out: the switch open and
+//!  the reading beyond `at_latch_deg` for `debounce_s` is `Escaped`, flagged
+//!  `latch_disagree` (the drawing's latch cannot open) until the latch is
+//!  declared again. Never `Latched` while the tracker's own inputs say out.
 //! ```
 //!
 //! A latch is declared only when the switch says so (so never before the
@@ -62,9 +66,12 @@ pub enum LatchState {
     /// A sensor disagrees; see the joint's fault flags.
     Fault,
     /// The joint went back over the plunger's crest after its switch had
-    /// closed (an escape, physical latch only): not latched until the
+    /// closed (an escape of a physical latch): not latched until the
     /// latch is declared again. An event of the mechanism, not a sensor
-    /// fault.
+    /// fault. With an ideal latch drawn, a joint whose switch opened and
+    /// whose encoder read beyond `at_latch_deg` for the debounce time after the
+    /// declaration, flagged `latch_disagree` (the drawing's latch cannot
+    /// open).
     Escaped,
     /// At rest on the plunger's ramp, short of the latch, with the switch
     /// open (physical latch only): neither latched nor a mid-stroke stall.
@@ -368,12 +375,24 @@ impl LatchTracker {
         self.open_at_latch
     }
 
+    /// True while an ideal latch is out after its declaration (switch open
+    /// and encoder out for the debounce time): not latched, and a
+    /// disagreement with the drawing, until the latch is declared again.
+    /// With an ideal drawing nothing else makes the motion `Escaped`.
+    fn left_ideal(&self, cfg: &LatchConfig) -> bool {
+        cfg.physical.is_none() && self.motion == LatchState::Escaped
+    }
+
     /// Declares the latch (`switch`: the switch's reading now).
-    fn declare(&mut self, switch: bool, faults: FaultFlags) -> LatchOutput {
+    fn declare(&mut self, switch: bool, faults: FaultFlags, cfg: &LatchConfig) -> LatchOutput {
         self.latched = true;
         self.motion = LatchState::Latched;
         self.switch_early = false;
         self.open_at_latch = false;
+        if cfg.physical.is_none() {
+            // Reused after the declaration: switch open and encoder out.
+            self.at_latch.stop();
+        }
         self.bounce.latched(switch);
         LatchOutput {
             newly_latched: true,
@@ -389,6 +408,9 @@ impl LatchTracker {
         self.missing.update(x.measured_deg.is_none());
         if self.latched {
             return self.step_latched(x, cfg, view.left, faults);
+        }
+        if self.left_ideal(cfg) {
+            faults.insert(Fault::LatchDisagree);
         }
         if let Some(out) = self.check_switch(x, cfg, votes, view.held, &mut faults) {
             return out;
@@ -496,6 +518,29 @@ impl LatchTracker {
         if !x.switch || away {
             faults.insert(Fault::LatchDisagree);
         }
+        // Never `latched` while the inputs say out: the switch open and a
+        // valid reading beyond `at_latch_deg` (the ideal drawing has no
+        // switch travel: the reading that counts as at the latch stands for
+        // it), both for the debounce time (longer than any bounce). With an
+        // ideal drawing that is a disagreement with the drawing.
+        let out = x
+            .measured_deg
+            .is_some_and(|m| libm::fabsf(m) > cfg.at_latch_deg);
+        // (`at_latch` times it: unused while latched; the monitor's RAM
+        // budget has no byte for another timer.)
+        if cfg.physical.is_some() {
+            return LatchOutput::state(LatchState::Latched, faults);
+        }
+        self.at_latch.update(!x.switch && out, x.t_s);
+        if self.at_latch.at_least(x.t_s, cfg.debounce_s) {
+            self.latched = false;
+            self.at_latch.stop();
+            self.motion = LatchState::Escaped;
+            return LatchOutput {
+                unlatched: true,
+                ..LatchOutput::state(LatchState::Escaped, faults)
+            };
+        }
         LatchOutput::state(LatchState::Latched, faults)
     }
 
@@ -528,7 +573,7 @@ impl LatchTracker {
             None => closed_long,
         };
         if closed && agrees && held && !self.switch_suspect {
-            return Some(self.declare(x.switch, *faults));
+            return Some(self.declare(x.switch, *faults, cfg));
         }
         self.switch_early = closed && !agrees;
         if self.switch_early {
@@ -564,7 +609,7 @@ impl LatchTracker {
             if !x.switch {
                 faults.insert(Fault::SwitchOpenAtLatch);
             }
-            return Some(self.declare(x.switch, *faults));
+            return Some(self.declare(x.switch, *faults, cfg));
         }
         None
     }
@@ -607,6 +652,7 @@ impl LatchTracker {
         let in_window = libm::fabsf(x.measured_deg.unwrap_or(x.angle_deg)) <= cfg.window_deg;
         self.motion = match (event, self.motion) {
             (Some(event), _) => event.state(),
+            (None, _) if self.left_ideal(cfg) => LatchState::Escaped,
             (None, LatchState::Stowed) if moved => LatchState::Deploying,
             (None, LatchState::Stowed) => LatchState::Stowed,
             _ if libm::fabsf(x.angle_deg) < cfg.latching_deg || (x.switch && in_window) => {

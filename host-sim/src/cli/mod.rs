@@ -20,6 +20,7 @@
 
 pub mod diagnose;
 pub mod diagnose_torque;
+pub mod hil;
 pub mod identify;
 pub mod margin;
 pub mod reliability;
@@ -105,6 +106,10 @@ pub enum Command {
     /// example firmware under QEMU (bit-identical with the host): per-joint
     /// summary, status CSV, PNG.
     Replay(replay::ReplayArgs),
+    /// Hardware in the loop: stream a run in real time to the serial-link
+    /// firmware (QEMU over TCP, or a board on a serial device) and report
+    /// latency, deadline misses, lost/corrupted frames and bit-identity.
+    Hil(hil::HilArgs),
     /// The probability that a deployment fails from the uncertainty of its
     /// parameters: crude Monte-Carlo or subset simulation (JSON).
     Reliability(reliability::ReliabilityArgs),
@@ -233,6 +238,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Identify(a) => identify::run(&a),
         Command::Margin(a) => margin::run(&a),
         Command::Replay(a) => replay::run(&a),
+        Command::Hil(a) => hil::run(&a),
         Command::Reliability(a) => reliability::run(&a),
     }
 }

@@ -274,3 +274,66 @@ fn physical_latch_config_is_validated() {
         assert!(!cfg.is_valid(), "{bad:?}");
     }
 }
+
+/// An ideal latch declared, then the switch opens and the encoder leaves
+/// the latch (an as-built latch that escaped): never `latched` once both
+/// have said so for the debounce time, flagged as a disagreement with the
+/// drawing, and latched again when it comes back.
+#[test]
+fn given_ideal_latch_when_switch_opens_and_encoder_leaves_then_escaped_not_latched() {
+    let cfg = LatchConfig::default();
+    let mut tr = LatchTracker::new();
+    let mut s = vec![(false, 3.0), (false, 1.2), (true, 0.0), (true, 0.0)];
+    s.extend((1..=20).map(|k| (false, 0.5 * k as f32)));
+    let out = run_with(&mut tr, &cfg, &s);
+    assert!(out[3].newly_latched, "{out:?}");
+    for (i, (o, &(sw, deg))) in out.iter().zip(&s).enumerate().skip(4) {
+        // 0.5° a sample: beyond at_latch_deg (0.3°) from the first open
+        // sample, 30 ms (3 samples, one more for the f32 time stamps) later
+        // not latched.
+        let t_out = 4;
+        if i >= t_out + 4 {
+            assert_eq!(o.state, LatchState::Escaped, "sample {i}: {o:?}");
+            assert!(o.faults.contains(Fault::LatchDisagree), "{o:?}");
+        }
+        if o.state == LatchState::Latched {
+            assert!(sw || deg <= cfg.at_latch_deg || i < t_out + 4, "{i}: {o:?}");
+        }
+    }
+    assert_eq!(out.iter().filter(|o| o.unlatched).count(), 1);
+    // Back in with the switch closed: latched again, no flag.
+    let t0 = s.len() as f32 * 0.01;
+    let mut last = None;
+    for k in 0..4 {
+        last = Some(tr.step(&input(t0 + 0.01 * k as f32, true, 0.0), &cfg));
+    }
+    let last = last.unwrap();
+    assert_eq!(last.state, LatchState::Latched);
+    assert!(last.faults.is_empty(), "{last:?}");
+}
+
+/// A rebound shorter than the debounce time, or an encoder spike with the
+/// switch closed, does not undo an ideal latch.
+#[test]
+fn given_ideal_latch_when_a_short_rebound_or_a_spike_then_still_latched() {
+    let cfg = LatchConfig::default();
+    let mut tr = LatchTracker::new();
+    let s = [
+        (true, 0.0),
+        (true, 0.0),
+        (false, 3.0),
+        (false, 2.5),
+        (true, 0.0),
+        (true, 9.0),
+        (true, 9.0),
+        (true, 9.0),
+        (true, 9.0),
+        (false, 0.1),
+    ];
+    let out = run_with(&mut tr, &cfg, &s);
+    assert!(
+        out[1..].iter().all(|o| o.state == LatchState::Latched),
+        "{out:?}"
+    );
+    assert!(out.iter().all(|o| !o.unlatched));
+}
