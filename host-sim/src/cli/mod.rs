@@ -14,6 +14,7 @@
 //!   warnings stay, and the result files are written.
 
 pub mod diagnose;
+pub mod diagnose_latch;
 pub mod diagnose_torque;
 pub mod identify;
 pub mod margin;

@@ -71,10 +71,19 @@ impl Search<'_, '_> {
             .map(|c| (reduced.clone(), c))
             .collect();
         moves.extend(self.named_pairs_at(&reduced, joint));
+        // An alternative exchanges the joint's effects: a set that keeps
+        // them all (and adds one more, near zero) is the same explanation.
+        let here: Vec<Candidate> = self
+            .current
+            .set
+            .iter()
+            .copied()
+            .filter(|c| named_at(c, joint))
+            .collect();
         moves.retain(|(base, c)| {
             let mut s = base.set.clone();
             s.push(*c);
-            !same_set(&s, &self.current.set)
+            !same_set(&s, &self.current.set) && !here.iter().all(|h| s.contains(h))
         });
         if moves.is_empty() {
             return None;

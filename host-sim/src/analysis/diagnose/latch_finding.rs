@@ -7,7 +7,10 @@
 use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::latch_events::{events, travel_deg, LatchEvents};
 use crate::data::campaign::Campaign;
-use crate::model::effect::Effect;
+use crate::model::effect::{Effect, EffectKind};
+use crate::model::latch::LatchTolerance;
+use crate::simulate::deployment::Trajectory;
+use rayon::prelude::*;
 
 /// Slack on the crest for an escape [deg]: about the encoder's resolution
 /// (0.022°), so that noise at the crest does not count as an escape.
@@ -19,10 +22,6 @@ const MIN_IMPACT_RATE_DEG_S: f64 = 20.0;
 
 /// Fewest impacts for a restitution with an interval.
 const MIN_RESTITUTION_IMPACTS: usize = 3;
-
-/// A restitution differs from the drawing's when its interval excludes the
-/// drawing's value and they differ by more than this share [1].
-const RESTITUTION_SHARE: f64 = 0.1;
 
 /// The stop's apparent restitution over a joint's impacts: the rate out
 /// over the rate in, from the samples either side of each switch closing.
@@ -44,13 +43,16 @@ pub struct LatchFinding {
     pub joint: usize,
     /// The measured events, run by run.
     pub measured: Vec<LatchEvents>,
-    /// The drawing's latch with the effects found, run by run (`None`
-    /// where the simulation failed).
+    /// The drawing's latch itself with the effects found, run by run.
     pub drawing: Vec<Option<LatchEvents>>,
     /// The measured restitution, when enough impacts give one.
     pub restitution: Option<Restitution>,
-    /// The drawing's, likewise.
-    pub drawing_restitution: Option<Restitution>,
+    /// What the drawing's latch gives within its tolerances.
+    pub spread: Spread,
+    /// The plunger weakenings [1] that give the measured escapes, when the
+    /// joint escapes more than the drawing's spread allows (a magnet
+    /// weakening may do the same: the runs do not tell them apart).
+    pub weakening: Option<Range<f64>>,
     /// What differs from the drawing's latch, one phrase each (empty: the
     /// events are the drawing's, within what their statistics tell).
     pub differs: Vec<String>,
@@ -94,121 +96,263 @@ fn ratios(t: &[f64], u: &[f64], switch: &[bool]) -> Vec<f64> {
     out
 }
 
+/// As-built draws of each drawing simulated beside the drawing itself: the
+/// spread of a latch's statistics that its tolerances give
+/// ([`LatchTolerance::default`]).
+pub const ENSEMBLE: usize = 8;
+
+/// Seed of the ensemble's draws (fixed: the same runs give the same report).
+const ENSEMBLE_SEED: u64 = 0x1a7c4;
+
+/// Plunger weakenings tried when a joint escapes more than its drawing's
+/// spread allows [1].
+const WEAKENINGS: [f64; 4] = [0.2, 0.4, 0.6, 0.8];
+
+/// The range over an ensemble of one count or value: `[least, most]`.
+pub type Range<T> = [T; 2];
+
+/// What the drawing's latch gives over its ensemble ([`ENSEMBLE`] as-built
+/// draws and the drawing), summed over the campaign's runs.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Spread {
+    /// Impacts.
+    pub impacts: Range<usize>,
+    /// Escapes.
+    pub escapes: Range<usize>,
+    /// Runs that end within the crest (held or still bouncing in).
+    pub held: Range<usize>,
+    /// Median restitution of each member.
+    pub restitution: Option<Range<f64>>,
+}
+
+/// A joint's statistics over the runs of one simulated or measured set.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Tally {
+    impacts: usize,
+    escapes: usize,
+    held: usize,
+    restitution: Option<f64>,
+}
+
+fn widen<T: PartialOrd + Copy>(r: Option<Range<T>>, x: T) -> Range<T> {
+    match r {
+        None => [x, x],
+        Some([a, b]) => [if x < a { x } else { a }, if x > b { x } else { b }],
+    }
+}
+
+/// The campaign's runs simulated on `members` as-built draws of their
+/// mechanisms (member 0 the drawing itself) with `effects`: `[member][run]`.
+fn ensemble(c: &Campaign, effects: &[Effect], members: usize) -> Vec<Vec<Option<Trajectory>>> {
+    use rand::{Rng, SeedableRng};
+    (0..members)
+        .into_par_iter()
+        .map(|k| {
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(ENSEMBLE_SEED + k as u64);
+            let mut uniform = || rng.gen::<f64>();
+            let tol = LatchTolerance::default();
+            let mut built = c.clone();
+            for r in built.runs.iter_mut() {
+                if k > 0 {
+                    r.mechanism = r.mechanism.as_built(&tol, &mut uniform);
+                }
+            }
+            (0..built.runs.len())
+                .map(|i| built.simulate(i, effects).ok())
+                .collect()
+        })
+        .collect()
+}
+
 /// One joint's series of one run: times, travel [deg], switch.
 type Series<'a> = (&'a [f64], Vec<f64>, &'a [bool]);
 
+/// The tally of joint `j` over the runs `runs` of `c`, from `series(i)`.
+fn tally<'a>(
+    c: &Campaign,
+    j: usize,
+    series: impl Fn(usize) -> Option<(&'a [f64], &'a [f64], &'a [bool])>,
+) -> Option<(Tally, Vec<LatchEvents>)> {
+    let mut t = Tally::default();
+    let mut all = Vec::new();
+    let mut ratios_all = Vec::new();
+    for (i, cr) in c.runs.iter().enumerate() {
+        let (Some(latch), Some(spec)) = (cr.mechanism.latch(j), cr.mechanism.joints.get(j)) else {
+            continue;
+        };
+        let (ts, phi, sw) = series(i)?;
+        let s: Series = (
+            ts,
+            phi.iter().map(|&p| travel_deg(spec.stowed_deg, p)).collect(),
+            sw,
+        );
+        let crest = latch.plunger.crest_deg;
+        let e = events(s.0, &s.1, s.2, crest, ESCAPE_SLACK_DEG);
+        ratios_all.extend(ratios(s.0, &s.1, s.2));
+        t.impacts += e.impacts;
+        t.escapes += e.escapes;
+        t.held += usize::from(e.first_contact_s.is_some() && e.end_travel_deg <= crest);
+        all.push(e);
+    }
+    t.restitution = median_ci(ratios_all).map(|r| r.median);
+    Some((t, all))
+}
+
 /// The latch findings of a campaign, joint by joint for every joint with a
-/// physical latch in some run: the measured events against the drawing's
-/// latch simulated over each whole run with `effects` (the effects found).
+/// physical latch in some run: the measured events against the spread the
+/// drawing's latch gives with `effects` (the effects found) over
+/// [`ENSEMBLE`] as-built draws, each simulated over the whole runs; where a
+/// joint escapes more than that spread allows, the plunger weakenings that
+/// give its escapes.
 pub fn latch_findings(c: &Campaign, effects: &[Effect]) -> Vec<LatchFinding> {
-    let sims: Vec<_> = (0..c.runs.len())
-        .map(|i| c.simulate(i, effects).ok())
-        .collect();
-    let joints = c.max_joints();
-    (0..joints)
+    let sims = ensemble(c, effects, ENSEMBLE + 1);
+    (0..c.max_joints())
         .filter_map(|j| {
-            let runs: Vec<usize> = (0..c.runs.len())
-                .filter(|&i| c.runs[i].mechanism.latch(j).is_some())
-                .collect();
-            if runs.is_empty() {
+            if !c.runs.iter().any(|r| r.mechanism.latch(j).is_some()) {
                 return None;
             }
-            let mut f = LatchFinding {
-                joint: j + 1,
-                measured: Vec::new(),
-                drawing: Vec::new(),
-                restitution: None,
-                drawing_restitution: None,
-                differs: Vec::new(),
-                cause: None,
+            let run = |i: usize| -> Option<(&[f64], &[f64], &[bool])> {
+                let r = &c.runs[i].run;
+                Some((&r.t_s, r.phi_deg.get(j)?, r.latch.get(j)?))
             };
-            let (mut r_meas, mut r_draw) = (Vec::new(), Vec::new());
-            for &i in &runs {
-                let cr = &c.runs[i];
-                let (Some(latch), Some(spec)) = (cr.mechanism.latch(j), cr.mechanism.joints.get(j))
-                else {
+            let (meas, measured) = tally(c, j, run)?;
+            let mut spread: Option<(Range<usize>, Range<usize>, Range<usize>)> = None;
+            let mut rest: Option<Range<f64>> = None;
+            let mut drawing = Vec::new();
+            for (k, member) in sims.iter().enumerate() {
+                let sim = |i: usize| -> Option<(&[f64], &[f64], &[bool])> {
+                    let t = member.get(i)?.as_ref()?;
+                    Some((&t.t_s, t.phi_deg.get(j)?, t.latched.get(j)?))
+                };
+                let Some((t, evs)) = tally(c, j, sim) else {
                     continue;
                 };
-                let crest = latch.plunger.crest_deg;
-                let stowed = spec.stowed_deg;
-                let tr = |phi: &[f64]| phi.iter().map(|&p| travel_deg(stowed, p)).collect();
-                let meas: Series = (&cr.run.t_s, tr(&cr.run.phi_deg[j]), &cr.run.latch[j]);
-                f.measured
-                    .push(events(meas.0, &meas.1, meas.2, crest, ESCAPE_SLACK_DEG));
-                r_meas.extend(ratios(meas.0, &meas.1, meas.2));
-                let drawn = sims[i].as_ref().map(|tj| {
-                    let s: Series = (&tj.t_s, tr(&tj.phi_deg[j]), &tj.latched[j]);
-                    r_draw.extend(ratios(s.0, &s.1, s.2));
-                    events(s.0, &s.1, s.2, crest, ESCAPE_SLACK_DEG)
+                if k == 0 {
+                    drawing = evs.into_iter().map(Some).collect();
+                }
+                spread = Some(match spread {
+                    None => ([t.impacts; 2], [t.escapes; 2], [t.held; 2]),
+                    Some((a, b, h)) => (
+                        widen(Some(a), t.impacts),
+                        widen(Some(b), t.escapes),
+                        widen(Some(h), t.held),
+                    ),
                 });
-                f.drawing.push(drawn);
+                if let Some(r) = t.restitution {
+                    rest = Some(widen(rest, r));
+                }
             }
-            f.restitution = median_ci(r_meas);
-            f.drawing_restitution = median_ci(r_draw);
-            compare(&mut f);
+            let (impacts, escapes, held) = spread?;
+            let mut f = LatchFinding {
+                joint: j + 1,
+                measured,
+                drawing,
+                restitution: None,
+                spread: Spread {
+                    impacts,
+                    escapes,
+                    held,
+                    restitution: rest,
+                },
+                differs: Vec::new(),
+                cause: None,
+                weakening: None,
+            };
+            f.restitution = measured_restitution(c, j);
+            compare(&mut f, &meas);
+            if meas.escapes > f.spread.escapes[1] {
+                f.weakening = weakening_range(c, effects, j, meas.escapes);
+            }
             Some(f)
         })
         .collect()
 }
 
-/// Fills `differs` and `cause`: escapes where the drawing holds (or the
-/// reverse), a hold at the end that the drawing does not give (or the
-/// reverse), and a restitution whose interval excludes the drawing's.
-fn compare(f: &mut LatchFinding) {
-    let touched = |e: &LatchEvents| e.first_contact_s.is_some();
-    let meas_touch = f.measured.iter().filter(|e| touched(e)).count();
-    let drawn: Vec<&LatchEvents> = f.drawing.iter().flatten().collect();
-    let draw_touch = drawn.iter().filter(|e| touched(e)).count();
-    if meas_touch == 0 && draw_touch == 0 {
-        return;
+/// The measured restitution of joint `j` with its interval.
+fn measured_restitution(c: &Campaign, j: usize) -> Option<Restitution> {
+    let mut r = Vec::new();
+    for cr in &c.runs {
+        let (Some(_), Some(spec)) = (cr.mechanism.latch(j), cr.mechanism.joints.get(j)) else {
+            continue;
+        };
+        let u: Vec<f64> = cr.run.phi_deg[j]
+            .iter()
+            .map(|&p| travel_deg(spec.stowed_deg, p))
+            .collect();
+        r.extend(ratios(&cr.run.t_s, &u, &cr.run.latch[j]));
     }
-    let esc_m: usize = f.measured.iter().map(|e| e.escapes).sum();
-    let esc_d: usize = drawn.iter().map(|e| e.escapes).sum();
-    let held_m = f.measured.iter().filter(|e| e.hold_s.is_some()).count();
-    let held_d = drawn.iter().filter(|e| e.hold_s.is_some()).count();
-    let mut weaker = false;
-    let mut stronger = false;
-    if (esc_m > 0) != (esc_d > 0) && meas_touch > 0 && draw_touch > 0 {
+    median_ci(r)
+}
+
+/// The plunger weakenings of [`WEAKENINGS`] whose ensemble's escapes at
+/// joint `j` (0-based) include `escapes`: `[least, most]`, `None` when
+/// none does.
+fn weakening_range(c: &Campaign, effects: &[Effect], j: usize, escapes: usize) -> Option<Range<f64>> {
+    let mut ok: Option<Range<f64>> = None;
+    for w in WEAKENINGS {
+        let mut with = effects.to_vec();
+        with.push(Effect::joint(EffectKind::PlungerWeakening, j + 1, w));
+        let sims = ensemble(c, &with, ENSEMBLE / 2 + 1);
+        let mut range: Option<Range<usize>> = None;
+        for member in &sims {
+            let sim = |i: usize| -> Option<(&[f64], &[f64], &[bool])> {
+                let t = member.get(i)?.as_ref()?;
+                Some((&t.t_s, t.phi_deg.get(j)?, t.latched.get(j)?))
+            };
+            if let Some((t, _)) = tally(c, j, sim) {
+                range = Some(widen(range, t.escapes));
+            }
+        }
+        if range.is_some_and(|[a, b]| a <= escapes && escapes <= b) {
+            ok = Some(widen(ok, w));
+        }
+    }
+    ok
+}
+
+/// Fills `differs` and `cause`: escapes, runs ending held, or a
+/// restitution outside what the drawing's spread gives.
+fn compare(f: &mut LatchFinding, m: &Tally) {
+    let sp = f.spread.clone();
+    let outside = |x: usize, r: Range<usize>| x < r[0] || x > r[1];
+    let n = f.measured.len();
+    let (mut weaker, mut stronger) = (false, false);
+    if outside(m.escapes, sp.escapes) {
         f.differs.push(format!(
-            "{esc_m} escape(s) over the plunger in the runs, {esc_d} with the drawing's latch"
+            "{} escape(s) over the plunger in the runs, {}..{} with the drawing's latch within its tolerances",
+            m.escapes, sp.escapes[0], sp.escapes[1]
         ));
-        weaker |= esc_m > esc_d;
-        stronger |= esc_m < esc_d;
+        weaker |= m.escapes > sp.escapes[1];
+        stronger |= m.escapes < sp.escapes[0];
     }
-    if held_m != held_d {
+    if outside(m.held, sp.held) {
         f.differs.push(format!(
-            "held at the end of {held_m} of {} run(s), {held_d} with the drawing's latch",
-            f.measured.len()
+            "ends within the crest in {} of {n} run(s), {}..{} with the drawing's latch within its tolerances",
+            m.held, sp.held[0], sp.held[1]
         ));
-        weaker |= held_m < held_d && meas_touch >= draw_touch;
-        stronger |= held_m > held_d && draw_touch >= meas_touch;
+        weaker |= m.held < sp.held[0];
+        stronger |= m.held > sp.held[1];
     }
-    if let (Some(m), Some(d)) = (f.restitution, f.drawing_restitution) {
-        let outside = d.median < m.ci95[0] || d.median > m.ci95[1];
-        if outside && (m.median - d.median).abs() > RESTITUTION_SHARE * d.median.abs() {
+    if let (Some(r), Some([lo, hi])) = (f.restitution, sp.restitution) {
+        if r.ci95[1] < lo || r.ci95[0] > hi {
             f.differs.push(format!(
-                "the stop's restitution {:.2} (95 % CI {:.2} .. {:.2}, {} impacts), {:.2} with the drawing's stop: it damps {} than drawn",
-                m.median,
-                m.ci95[0],
-                m.ci95[1],
-                m.impacts,
-                d.median,
-                if m.median < d.median { "more" } else { "less" }
+                "the stop's apparent restitution {:.2} (95 % CI {:.2} .. {:.2}, {} impacts), {lo:.2}..{hi:.2} with the drawing's stop within its tolerances: it damps {} than drawn",
+                r.median, r.ci95[0], r.ci95[1], r.impacts,
+                if r.ci95[1] < lo { "more" } else { "less" }
             ));
         }
     }
     f.cause = match (weaker, stronger) {
         (true, false) => Some(
-            "the latch holds less than drawn: a weaker plunger or magnet (plunger_weakening or magnet_weakening at this joint; these runs do not determine which, nor by how much: the escapes are a chaotic sequence)".into(),
+            "the latch holds less than drawn: a weaker plunger or magnet (plunger_weakening or magnet_weakening at this joint; the runs do not tell which)".into(),
         ),
         (false, true) => Some(
-            "the latch holds more than drawn: a stronger plunger or magnet, or a stop that damps more (these runs do not determine which, nor by how much)".into(),
+            "the latch holds more than drawn: a stronger plunger or magnet, or a stop that damps more (these runs do not tell which, nor by how much)".into(),
         ),
-        (true, true) => Some("the latch differs from the drawing in both directions over the runs: within the spread a chaotic impact sequence gives".into()),
+        (true, true) => Some("the latch differs from the drawing both ways over the runs".into()),
         (false, false) => None,
     };
 }
-
 /// The events in words: `touched at 1.84 s, 26 impacts, 6 escapes, largest
 /// rebound that stayed in 0.35°, held from 8.63 s`.
 pub fn events_words(e: &LatchEvents) -> String {
