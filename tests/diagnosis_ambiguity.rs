@@ -11,7 +11,7 @@
 //! the set found, or a set of an ambiguity group (kinds and joints exact,
 //! values within 20 %). The test prints how many reported an ambiguity.
 //!
-//! `DEPLOYWATCH_FULL=1` runs the 24 campaigns of the measured result; the
+//! `DEPLOYWATCH_FULL=1` runs the 40 campaigns of the measured result; the
 //! CI runs 3.
 
 use deploywatch_sim::analysis::diagnose::{diagnose, DiagnoseOptions, FittedSet, Outcome};
@@ -130,8 +130,7 @@ fn is_truth(truth: &[Effect], f: &FittedSet) -> bool {
 
 fn within(truth: &[Effect], o: &Outcome) -> bool {
     is_truth(truth, &o.extended)
-        || o
-            .ambiguities
+        || o.ambiguities
             .iter()
             .any(|g| g.sets.iter().any(|s| is_truth(truth, s)))
 }
@@ -139,7 +138,7 @@ fn within(truth: &[Effect], o: &Outcome) -> bool {
 #[test]
 fn the_truth_lies_within_what_one_configuration_reports() {
     let n = if std::env::var_os("DEPLOYWATCH_FULL").is_some() {
-        24
+        40
     } else {
         3
     };
@@ -173,8 +172,17 @@ fn the_truth_lies_within_what_one_configuration_reports() {
             "case {i} {}: {} truth [{}] found [{}] RMS {:.4}; ambiguity [{}] ({:.1} s)",
             m.name,
             if ok { "ok  " } else { "MISS" },
-            truth.iter().map(|e| e.to_string()).collect::<Vec<_>>().join("; "),
-            o.extended.effects().iter().map(|e| e.to_string()).collect::<Vec<_>>().join("; "),
+            truth
+                .iter()
+                .map(|e| e.to_string())
+                .collect::<Vec<_>>()
+                .join("; "),
+            o.extended
+                .effects()
+                .iter()
+                .map(|e| e.to_string())
+                .collect::<Vec<_>>()
+                .join("; "),
             o.extended.rms(),
             groups.join(" ; "),
             o.wall_s

@@ -83,7 +83,9 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
         );
     }
     if args.max_seconds.is_some_and(|s| !(s > 0.0)) {
-        return Err(CliError::input("--max-seconds: expected a positive number of seconds"));
+        return Err(CliError::input(
+            "--max-seconds: expected a positive number of seconds",
+        ));
     }
     let stop = diagnose::StopFlag::default();
     let on_signal = stop.clone();

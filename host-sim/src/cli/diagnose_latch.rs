@@ -49,7 +49,11 @@ pub fn latches_json(o: &Outcome) -> Vec<LatchReport> {
         .map(|f| LatchReport {
             joint: f.joint,
             measured: f.measured.iter().map(events_json).collect(),
-            drawing: f.drawing.iter().map(|e| e.as_ref().map(events_json)).collect(),
+            drawing: f
+                .drawing
+                .iter()
+                .map(|e| e.as_ref().map(events_json))
+                .collect(),
             drawing_spread: serde_json::json!({
                 "impacts": f.spread.impacts,
                 "escapes": f.spread.escapes,
@@ -160,7 +164,10 @@ fn latch_line(f: &LatchFinding) -> String {
         let _ = write!(s, "; differs from the drawing: {}", f.differs.join("; "));
     }
     if let Some([lo, hi]) = f.weakening {
-        let _ = write!(s, "; plunger weakening {lo:.1} .. {hi:.1} gives its escapes");
+        let _ = write!(
+            s,
+            "; plunger weakening {lo:.1} .. {hi:.1} gives its escapes"
+        );
     }
     s
 }

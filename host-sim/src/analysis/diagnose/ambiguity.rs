@@ -11,8 +11,9 @@
 
 use super::candidate::Candidate;
 use super::outcome::FittedSet;
-use super::{labels, new_members_clear, Search, MIN_DELTA_BIC};
+use super::{labels, Search, MIN_DELTA_BIC};
 use crate::analysis::residual_named;
+use crate::model::effect::EffectKind;
 
 /// Sets of causes that explain the runs alike at one joint.
 #[derive(Clone, Debug, PartialEq)]
@@ -37,55 +38,87 @@ fn same_set(a: &[Candidate], b: &[Candidate]) -> bool {
 }
 
 impl Search<'_, '_> {
-    /// The ambiguity groups of the current set ([`Ambiguity`]).
+    /// The ambiguity groups of the current set ([`Ambiguity`]), one per
+    /// joint where another set explains the runs alike.
     pub(super) fn ambiguities(&self) -> Vec<Ambiguity> {
-        let mut joints: Vec<usize> = self
-            .current
-            .set
-            .iter()
-            .filter_map(|c| c.joint.filter(|&j| named_at(c, j)))
+        let joints = self.eng.campaign.max_joints();
+        (1..=joints).filter_map(|j| self.ambiguity_at(j)).collect()
+    }
+
+    /// `f` without the members `drop` selects (the others' values kept).
+    fn reduced_by(f: &FittedSet, drop: impl Fn(&Candidate) -> bool) -> FittedSet {
+        let mut r = f.clone();
+        while let Some(k) = r.set.iter().position(&drop) {
+            r = r.without(k);
+        }
+        r
+    }
+
+    /// The moves that exchange what the set holds at `joint` (its named
+    /// effects and table) for each single and pair of named joint effects
+    /// there, beside the rest of the set and, when the set holds a global
+    /// effect (rig tilt, air drag), beside the rest without it too (a
+    /// global effect may stand in for a joint torque).
+    fn exchanges_at(&self, joint: usize) -> Vec<(FittedSet, Candidate)> {
+        let at = |c: &Candidate| c.joint == Some(joint) && c.kind != EffectKind::EncoderOffset;
+        let rest = Self::reduced_by(&self.current, at);
+        let mut bases = vec![rest.clone()];
+        if rest.set.iter().any(|c| c.joint.is_none()) {
+            bases.push(Self::reduced_by(&rest, |c| c.joint.is_none()));
+        }
+        let mut moves = Vec::new();
+        for base in bases {
+            moves.extend(
+                residual_named::KINDS
+                    .iter()
+                    .map(|&kind| Candidate {
+                        kind,
+                        joint: Some(joint),
+                        table: None,
+                    })
+                    .filter(|c| self.candidates.contains(c))
+                    .map(|c| (base.clone(), c)),
+            );
+            moves.extend(self.named_pairs_at(&base, joint));
+        }
+        // An alternative exchanges the joint's effects: a set that keeps
+        // them all (and adds one more, near zero) is the same explanation.
+        let here: Vec<Candidate> = self.current.set.iter().copied().filter(at).collect();
+        moves.retain(|(base, c)| {
+            let mut s = base.set.clone();
+            s.push(*c);
+            !same_set(&s, &self.current.set)
+                && (here.is_empty() || !here.iter().all(|h| s.contains(h)))
+        });
+        moves
+    }
+
+    /// A fitted alternative without the members whose interval holds zero
+    /// (refitted once), when that still fits alike.
+    fn trimmed(&self, f: FittedSet, best: f64) -> FittedSet {
+        let keep: Vec<usize> = (0..f.set.len())
+            .filter(|&k| {
+                let ([lo, hi], _) = f.effect_ci(k);
+                lo > 0.0 || hi < 0.0
+            })
             .collect();
-        joints.dedup();
-        joints.sort_unstable();
-        joints.dedup();
-        joints
-            .into_iter()
-            .filter_map(|j| self.ambiguity_at(j))
-            .collect()
+        if keep.len() == f.set.len() || keep.is_empty() {
+            return f;
+        }
+        let mut r = f.clone();
+        for k in (0..f.set.len()).rev().filter(|k| !keep.contains(k)) {
+            r = r.without(k);
+        }
+        match self.eng.fit(self.eng.campaign, &r.set, &r.params) {
+            Some(t) if t.bic() - best < MIN_DELTA_BIC => t,
+            _ => f,
+        }
     }
 
     /// The ambiguity group at `joint`, when there is one.
     fn ambiguity_at(&self, joint: usize) -> Option<Ambiguity> {
-        let mut reduced = self.current.clone();
-        while let Some(k) = reduced.set.iter().position(|c| named_at(c, joint)) {
-            reduced = reduced.without(k);
-        }
-        let mut moves: Vec<(FittedSet, Candidate)> = residual_named::KINDS
-            .iter()
-            .map(|&kind| Candidate {
-                kind,
-                joint: Some(joint),
-                table: None,
-            })
-            .filter(|c| self.candidates.contains(c))
-            .map(|c| (reduced.clone(), c))
-            .collect();
-        moves.extend(self.named_pairs_at(&reduced, joint));
-        // An alternative exchanges the joint's effects: a set that keeps
-        // them all (and adds one more, near zero) is the same explanation.
-        let here: Vec<Candidate> = self
-            .current
-            .set
-            .iter()
-            .copied()
-            .filter(|c| named_at(c, joint))
-            .collect();
-        moves.retain(|(base, c)| {
-            let mut s = base.set.clone();
-            s.push(*c);
-            !same_set(&s, &self.current.set) && !here.iter().all(|h| s.contains(h))
-        });
-        if moves.is_empty() {
+        let moves = self.exchanges_at(joint);
+        if moves.is_empty() || self.eng.halt.now() {
             return None;
         }
         self.eng.say(format!(
@@ -93,14 +126,32 @@ impl Search<'_, '_> {
             moves.len()
         ));
         let best = self.current.bic();
-        let mut alike: Vec<FittedSet> = self
+        let fits: Vec<FittedSet> = self
             .eng
             .fit_moves_sharing(self.eng.campaign, &moves)
             .into_iter()
             .filter(|(_, _, screened_out)| !screened_out)
             .filter_map(|(_, f, _)| f)
-            .filter(|f| f.bic() - best < MIN_DELTA_BIC && new_members_clear(f, &reduced))
+            .filter(|f| f.bic() - best < MIN_DELTA_BIC)
             .collect();
+        let mut alike: Vec<FittedSet> = Vec::new();
+        for f in fits {
+            let f = self.trimmed(f, best);
+            let clear = (0..f.set.len())
+                .filter(|&k| f.set[k].table.is_none())
+                .all(|k| {
+                    let ([lo, hi], _) = f.effect_ci(k);
+                    lo > 0.0 || hi < 0.0
+                });
+            let named_here = f.set.iter().any(|c| named_at(c, joint));
+            if clear
+                && named_here
+                && !same_set(&f.set, &self.current.set)
+                && !alike.iter().any(|a| same_set(&a.set, &f.set))
+            {
+                alike.push(f);
+            }
+        }
         if alike.is_empty() {
             return None;
         }
