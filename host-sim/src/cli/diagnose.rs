@@ -67,6 +67,27 @@ fn load_campaign(args: &DiagnoseArgs) -> Result<Campaign, CliError> {
     Ok(campaign)
 }
 
+/// The search's options: `--max-effects`, `--max-seconds`, and a stop
+/// flag raised by Ctrl-C (the best set so far is then written, marked).
+fn options(args: &DiagnoseArgs) -> Result<DiagnoseOptions, CliError> {
+    if args.max_seconds.is_some_and(|s| !(s > 0.0)) {
+        return Err(CliError::input(
+            "--max-seconds: expected a positive number of seconds",
+        ));
+    }
+    let stop = diagnose::StopFlag::default();
+    let on_signal = stop.clone();
+    // A second handler cannot be set (a test harness calling `run` twice):
+    // Ctrl-C then ends the process as usual.
+    let _ = ctrlc::set_handler(move || on_signal.raise());
+    Ok(DiagnoseOptions {
+        max_effects: args.max_effects,
+        max_seconds: args.max_seconds,
+        stop: Some(stop),
+        ..DiagnoseOptions::default()
+    })
+}
+
 /// Runs `deploywatch diagnose`.
 pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     if args.max_effects == 0 || args.max_effects > 3 {
@@ -82,22 +103,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
             rayon::current_num_threads()
         );
     }
-    if args.max_seconds.is_some_and(|s| !(s > 0.0)) {
-        return Err(CliError::input(
-            "--max-seconds: expected a positive number of seconds",
-        ));
-    }
-    let stop = diagnose::StopFlag::default();
-    let on_signal = stop.clone();
-    // A second handler cannot be set (a test harness calling `run` twice):
-    // Ctrl-C then ends the process as usual.
-    let _ = ctrlc::set_handler(move || on_signal.raise());
-    let opts = DiagnoseOptions {
-        max_effects: args.max_effects,
-        max_seconds: args.max_seconds,
-        stop: Some(stop),
-        ..DiagnoseOptions::default()
-    };
+    let opts = options(args)?;
     let bar = diagnose_latch::Spinner::new(args.quiet);
     let sink = |line: &str| bar.line(line);
     let outcome = diagnose::diagnose(&campaign, &opts, &sink);

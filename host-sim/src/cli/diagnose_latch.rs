@@ -163,11 +163,8 @@ fn latch_line(f: &LatchFinding) -> String {
     } else {
         let _ = write!(s, "; differs from the drawing: {}", f.differs.join("; "));
     }
-    if let Some([lo, hi]) = f.weakening {
-        let _ = write!(
-            s,
-            "; plunger weakening {lo:.1} .. {hi:.1} gives its escapes"
-        );
+    if let Some(w) = f.weakening {
+        let _ = write!(s, "; {}", weakening_words(w));
     }
     s
 }
@@ -205,6 +202,15 @@ pub fn report(md: &mut String, c: &Campaign, o: &Outcome) {
         }
     }
     report_ambiguity(md, o);
+}
+
+/// The plunger weakenings that give the measured escapes, in words.
+fn weakening_words([lo, hi]: [f64; 2]) -> String {
+    if lo <= 0.2 && hi >= 0.8 {
+        "the runs do not determine how much: every plunger weakening tried (0.2 to 0.8) gives the measured escapes".into()
+    } else {
+        format!("a plunger weakening of {lo:.1} .. {hi:.1} (of 0.2, 0.4, 0.6, 0.8 tried) gives the measured escapes")
+    }
 }
 
 fn report_latch(md: &mut String, c: &Campaign, f: &LatchFinding) {
@@ -248,11 +254,8 @@ fn report_latch(md: &mut String, c: &Campaign, f: &LatchFinding) {
     if let Some(cause) = &f.cause {
         let _ = writeln!(md, "{cause}.");
     }
-    if let Some([lo, hi]) = f.weakening {
-        let _ = writeln!(
-            md,
-            "A plunger weakening of {lo:.1} .. {hi:.1} (of the tried 0.2, 0.4, 0.6, 0.8) gives the measured escapes."
-        );
+    if let Some(w) = f.weakening {
+        let _ = writeln!(md, "{}.", weakening_words(w));
     }
     let _ = writeln!(md);
 }
