@@ -117,7 +117,11 @@ fn generate(seed: u64, family: usize, kind: Option<EffectKind>, refused: &mut us
     let twins: Vec<Mechanism> = FAMILIES[family].iter().map(|(_, t)| load(t)).collect();
     let joints = drawings[0].joint_count();
     let mut truth = Vec::new();
-    if let Some(k) = kind {
+    if kind == Some(EffectKind::PlungerWeakening) {
+        // The latch as built beyond its tolerance: no size to reach.
+        let j = rng.gen_range(1..=joints);
+        truth.push(Effect::joint(EffectKind::PlungerWeakening, j, 0.7));
+    } else if let Some(k) = kind {
         let mut e = draw_effect(&mut rng, k, joints);
         for _ in 0..40 {
             if effect_size(&twins, &e) >= 0.3 {
@@ -281,4 +285,68 @@ fn hidden_effects_are_named_on_runs_of_physical_latches() {
         "{ok}/{} named exactly, expected ≥ 90 %",
         specs.len()
     );
+}
+
+/// A plunger weakened by 70 % at one joint, nothing else hidden: never an
+/// effect (no joint friction, table or global stand-in); the test prints
+/// how often the latch finding names that joint. `DEPLOYWATCH_FULL=1`: 8
+/// campaigns, the CI 2.
+#[test]
+fn a_weakened_plunger_is_a_latch_finding_never_an_effect() {
+    let n = if std::env::var_os("DEPLOYWATCH_FULL").is_some() {
+        8
+    } else {
+        2
+    };
+    let (mut clean, mut flagged, mut refused) = (0, 0, 0usize);
+    for i in 0..n {
+        let family = i % 2;
+        let seed = 7500 + i as u64;
+        let case = generate(
+            seed,
+            family,
+            Some(EffectKind::PlungerWeakening),
+            &mut refused,
+        );
+        let o = diagnose(&campaign_of(&case), &DiagnoseOptions::default(), sink());
+        let joint = case.truth[0].joint;
+        let named = o.extended.effects();
+        let at = o
+            .latches
+            .iter()
+            .any(|l| Some(l.joint) == joint && !l.differs.is_empty());
+        clean += usize::from(named.is_empty() && o.unexplained.is_none());
+        flagged += usize::from(at);
+        let latch: Vec<String> = o
+            .latches
+            .iter()
+            .filter(|l| Some(l.joint) == joint)
+            .map(|l| {
+                let esc: usize = l.measured.iter().map(|e| e.escapes).sum();
+                let held = l
+                    .measured
+                    .iter()
+                    .filter(|e| e.first_contact_s.is_some() && e.hold_s.is_some())
+                    .count();
+                format!(
+                    "joint {}: {esc} escapes, {held} held; drawing {:?}; {}",
+                    l.joint,
+                    l.spread,
+                    l.differs.join("; ")
+                )
+            })
+            .collect();
+        eprintln!(
+            "seed {seed}: plunger weakened at joint {:?}: effects [{}] latch [{}]",
+            joint,
+            named
+                .iter()
+                .map(|e| e.to_string())
+                .collect::<Vec<_>>()
+                .join("; "),
+            latch.join(" | ")
+        );
+    }
+    println!("weakened plunger: no effect named in {clean}/{n}; latch finding at its joint in {flagged}/{n}; refused draws {refused}");
+    assert_eq!(clean, n, "a weakened plunger was named as an effect");
 }
