@@ -16,6 +16,9 @@
 //! CI runs the first 2 of each family (`DEPLOYWATCH_TRACE=1` prints every
 //! round).
 
+// Per-joint series are indexed in lockstep with their offsets.
+#![allow(clippy::needless_range_loop)]
+
 use deploywatch_sim::analysis::diagnose::{diagnose, DiagnoseOptions, Outcome};
 use deploywatch_sim::data::campaign::Campaign;
 use deploywatch_sim::data::run::Run;

@@ -10,22 +10,11 @@
 //! temperature) tell them apart.
 
 use super::candidate::Candidate;
+pub use super::outcome::Ambiguity;
 use super::outcome::FittedSet;
 use super::{labels, Search, MIN_DELTA_BIC};
 use crate::analysis::residual_named;
 use crate::model::effect::EffectKind;
-
-/// Sets of causes that explain the runs alike at one joint.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Ambiguity {
-    /// The joint (1-based) whose named effects the sets exchange.
-    pub joint: usize,
-    /// The set found, then each alternative, fitted (BIC within
-    /// [`MIN_DELTA_BIC`] of the set found).
-    pub sets: Vec<FittedSet>,
-    /// The test that would separate them, in words.
-    pub separating_test: String,
-}
 
 /// True when `c` is a named joint effect at `joint` (not a table).
 fn named_at(c: &Candidate, joint: usize) -> bool {

@@ -1,7 +1,6 @@
 //! What a diagnosis finds: fitted sets of effects, the scores of each
 //! round's candidates, the options, and the outcome.
 
-use super::ambiguity::Ambiguity;
 use super::candidate::{effects_of, Candidate};
 use super::discover;
 use super::latch_finding::LatchFinding;
@@ -221,4 +220,17 @@ pub struct Outcome {
     /// Why the search stopped before its end, when it did (a time limit,
     /// Ctrl-C): the effects are then the best found so far.
     pub partial: Option<String>,
+}
+
+/// Sets of causes that explain the runs alike at one joint
+/// ([`super::ambiguity`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ambiguity {
+    /// The joint (1-based) whose named effects the sets exchange.
+    pub joint: usize,
+    /// The set found, then each alternative, fitted (BIC within
+    /// `MIN_DELTA_BIC` of the set found).
+    pub sets: Vec<FittedSet>,
+    /// The test that would separate them, in words.
+    pub separating_test: String,
 }
