@@ -9,6 +9,7 @@ pub mod diagnose;
 pub mod evidence;
 pub mod fit;
 pub mod identify;
+pub mod latch_events;
 pub mod metrics;
 pub mod reliability;
 pub mod residual_named;

@@ -2,7 +2,7 @@
 //! the named cause, the extended model and its gain — as the diagnosis JSON
 //! of `docs/spec/formats.md` and a Markdown report with plots beside it.
 
-use super::{diagnose_torque, outln, CliError};
+use super::{diagnose_latch, diagnose_torque, outln, CliError};
 use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::diagnose::{self, Candidate, DiagnoseOptions, Outcome, MIN_DELTA_BIC};
 use crate::analysis::evidence::{self, JointEvidence, CORRELATES};
@@ -19,7 +19,6 @@ use crate::model::torque_table::{HostTable, HostTorqueTable};
 use crate::report::files::Outputs;
 use crate::report::markdown;
 use crate::report::plot::{self, Mark, Panel, Series};
-use crate::report::progress;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -40,6 +39,10 @@ pub struct DiagnoseArgs {
     /// No progress on the terminal.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Stop the search after this many seconds and write the best model
+    /// found so far, marked as such (Ctrl-C does the same).
+    #[arg(long)]
+    pub max_seconds: Option<f64>,
     /// The measured runs (CSV), one test campaign: the effects found are
     /// common to all of them.
     #[arg(required = true)]
@@ -66,6 +69,27 @@ fn load_campaign(args: &DiagnoseArgs) -> Result<Campaign, CliError> {
     Ok(campaign)
 }
 
+/// The search's options: `--max-effects`, `--max-seconds`, and a stop
+/// flag raised by Ctrl-C (the best set so far is then written, marked).
+fn options(args: &DiagnoseArgs) -> Result<DiagnoseOptions, CliError> {
+    if args.max_seconds.is_some_and(|s| !(s > 0.0)) {
+        return Err(CliError::input(
+            "--max-seconds: expected a positive number of seconds",
+        ));
+    }
+    let stop = diagnose::StopFlag::default();
+    let on_signal = stop.clone();
+    // A second handler cannot be set (a test harness calling `run` twice):
+    // Ctrl-C then ends the process as usual.
+    let _ = ctrlc::set_handler(move || on_signal.raise());
+    Ok(DiagnoseOptions {
+        max_effects: args.max_effects,
+        max_seconds: args.max_seconds,
+        stop: Some(stop),
+        ..DiagnoseOptions::default()
+    })
+}
+
 /// Runs `deploywatch diagnose`.
 pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     if args.max_effects == 0 || args.max_effects > 3 {
@@ -81,19 +105,17 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
             rayon::current_num_threads()
         );
     }
-    let opts = DiagnoseOptions {
-        max_effects: args.max_effects,
-        ..DiagnoseOptions::default()
+    let opts = options(args)?;
+    let bar = diagnose_latch::Spinner::new(args.quiet);
+    let sink = |line: &str| bar.line(line);
+    let outcome = diagnose::diagnose(&campaign, &opts, &sink);
+    bar.finish();
+    // Runs of a physical latch: everything below is of the free motion the
+    // effects were fitted on; the latch findings are of the whole runs.
+    let campaign = match &outcome.free_window {
+        Some(w) => diagnose::latch_window::apply(&campaign, w),
+        None => campaign,
     };
-    let outcome = diagnose::diagnose(
-        &campaign,
-        &opts,
-        if args.quiet {
-            &progress::quiet
-        } else {
-            &progress::stderr
-        },
-    );
     if !outcome.baseline.sse.is_finite() {
         return Err(CliError::failed(
             "the mechanisms as given cannot be simulated against these runs",
@@ -451,6 +473,10 @@ pub fn to_json(c: &Campaign, o: &Outcome, before: &[JointEvidence]) -> Diagnosis
         simulations: o.simulations,
         wall_s: rounded(o.wall_s),
         residual_torque: None,
+        partial: o.partial.clone(),
+        free_window: diagnose_latch::windows_json(c, o),
+        latches: diagnose_latch::latches_json(o),
+        ambiguities: diagnose_latch::ambiguities_json(o),
     }
 }
 
@@ -492,6 +518,7 @@ fn write_report(
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut md = String::new();
     report_header(&mut md, c, o);
+    diagnose_latch::report(&mut md, c, o);
     report_causes(&mut md, o);
     report_tables(&mut md, &dir, &stem, o)?;
     report_evidence(&mut md, before, after);
@@ -527,6 +554,9 @@ fn print_outcome(args: &DiagnoseArgs, outcome: &Outcome, exports: &[TableExport]
     }
     if let Some(u) = &outcome.unexplained {
         outln!("  unexplained: {u}");
+    }
+    for line in diagnose_latch::summary_lines(outcome) {
+        outln!("  {line}");
     }
     for x in exports {
         outln!("  {}", export_line(x));

@@ -19,6 +19,7 @@
 //!   work; the files are still written and the command exits quietly.
 
 pub mod diagnose;
+pub mod diagnose_latch;
 pub mod diagnose_torque;
 pub mod hil;
 pub mod identify;

@@ -277,7 +277,11 @@ impl Search<'_, '_> {
 
     /// The pairs of named joint effects at `joint` beside `reduced`
     /// ([`Search::named_pairs_for`]).
-    fn named_pairs_at(&self, reduced: &FittedSet, joint: usize) -> Vec<(FittedSet, Candidate)> {
+    pub(super) fn named_pairs_at(
+        &self,
+        reduced: &FittedSet,
+        joint: usize,
+    ) -> Vec<(FittedSet, Candidate)> {
         let res = residual_torque(self.eng.campaign, &reduced.effects());
         let Some(jt) = res.iter().find(|r| r.joint == joint) else {
             return Vec::new();

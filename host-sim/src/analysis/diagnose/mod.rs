@@ -23,9 +23,13 @@
 //!    a name. Where a global effect stands in for a joint torque, a table
 //!    at that joint in its place is tried first (`stand_in`).
 
+pub mod ambiguity;
 mod candidate;
 pub mod discover;
 mod evidence_search;
+mod halt;
+pub mod latch_finding;
+pub mod latch_window;
 mod outcome;
 mod refine;
 mod screen;
@@ -35,7 +39,7 @@ mod table_form;
 
 pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
-pub use outcome::{CandidateScore, DiagnoseOptions, FittedSet, Outcome, Round};
+pub use outcome::{CandidateScore, DiagnoseOptions, FittedSet, Outcome, Round, StopFlag};
 pub use table_form::{PlacedKnots, TableForm};
 
 use crate::analysis::campaign_sim::CampaignSim;
@@ -44,6 +48,7 @@ use crate::analysis::fit::{self, FitOptions};
 use crate::data::campaign::{Campaign, CampaignRun};
 use crate::model::effect::EffectKind;
 use crate::report::progress::Progress;
+use halt::Halt;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -80,6 +85,8 @@ struct Engine<'a> {
     sims: std::sync::atomic::AtomicUsize,
     /// Start values of the tables shaped by the residual torque.
     starts: std::sync::Mutex<std::collections::HashMap<TableForm, Vec<f64>>>,
+    /// When and on what the search stops early ([`Halt`]).
+    halt: Halt,
 }
 
 impl Engine<'_> {
@@ -105,6 +112,9 @@ impl Engine<'_> {
     }
 
     fn residuals(&self, c: &Campaign, set: &[Candidate], p: &[f64]) -> Option<Vec<f64>> {
+        if self.halt.now() {
+            return None;
+        }
         self.sims.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         c.residual_vector(&effects_of(set, p))
     }
@@ -405,6 +415,11 @@ impl Search<'_, '_> {
     /// earns its keep.
     fn run(&mut self) {
         for _ in 0..MAX_STEPS {
+            if self.eng.halt.now() {
+                self.eng
+                    .say("search stopped early: the best set so far is kept");
+                return;
+            }
             if self.current.rms() <= self.floor_deg {
                 self.eng.say(format!(
                     "residual {:.4} deg is down to the noise floor: stop",
@@ -699,15 +714,48 @@ fn unexplained_text(campaign: &Campaign, extended: &FittedSet, sigma: f64) -> Op
 }
 
 /// Diagnoses a campaign: baseline, noise floor, stepwise search
-/// ([`Search`]), then the effects strongest first and what stays
-/// unexplained.
+/// ([`Search`]), then the effects strongest first, the sets that explain
+/// the runs alike ([`ambiguity`]) and what stays unexplained. Runs of a
+/// physical latch are fitted on their free motion ([`latch_window`]) and
+/// their latch events compared by their statistics ([`latch_finding`]).
 pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress) -> Outcome {
     let t0 = Instant::now();
+    let free = latch_window::free_campaign(campaign);
+    if let Some((_, windows)) = &free {
+        for (cr, w) in campaign.runs.iter().zip(windows) {
+            if let (Some(t), Some(j)) = (w.end_s, w.joint) {
+                progress(&format!(
+                    "{}: free motion to {t:.2} s ({} of {} samples), where joint {j} enters its latch's reach",
+                    cr.name(),
+                    w.kept,
+                    w.of
+                ));
+            }
+        }
+    }
+    let fitted_on = free.as_ref().map_or(campaign, |(c, _)| c);
+    let mut out = search_campaign(fitted_on, opts, progress, t0);
+    if let Some((_, windows)) = free {
+        out.free_window = Some(windows);
+        out.latches = latch_finding::latch_findings(campaign, &out.extended.effects());
+    }
+    out.wall_s = t0.elapsed().as_secs_f64();
+    out
+}
+
+/// The search of [`diagnose`] on the samples it fits.
+fn search_campaign(
+    campaign: &Campaign,
+    opts: &DiagnoseOptions,
+    progress: Progress,
+    t0: Instant,
+) -> Outcome {
     let eng = Engine {
         campaign,
         progress,
         sims: std::sync::atomic::AtomicUsize::new(0),
         starts: Default::default(),
+        halt: Halt::new(opts, t0),
     };
     let sigma = noise_sigma_deg(campaign);
     let baseline = eng.baseline();
@@ -717,25 +765,10 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         campaign.runs.len(),
         sigma
     ));
-    // A wing with a truss: the effects its simulator models, at the hinges
-    // (`crate::simulate::truss_deployment`); no torque-table discovery.
-    // Its friction nodes (joint n + k, e.g. 3 = the pins at F) are
-    // coulomb_friction candidates too: the paper's EFT3.
     let truss = campaign.runs.iter().any(|r| r.mechanism.truss.is_some());
-    let nodes = (campaign.max_joints() + 1)..=campaign.effect_joints();
-    let node_friction = nodes.map(|j| Candidate {
-        kind: EffectKind::CoulombFriction,
-        joint: Some(j),
-        table: None,
-    });
     let mut search = Search {
         eng: &eng,
-        candidates: Candidate::all(campaign.max_joints())
-            .into_iter()
-            .chain(node_friction)
-            .filter(|c| opts.kinds.contains(&c.kind))
-            .filter(|c| !truss || crate::simulate::truss_deployment::models(c.kind))
-            .collect(),
+        candidates: candidates(campaign, opts, truss),
         max_effects: opts.max_effects,
         floor_deg: NOISE_FLOOR_FACTOR * sigma,
         current_held: eng.held_out(&baseline),
@@ -747,11 +780,18 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         paired: false,
     };
     search.run();
-    if opts.discover && !truss {
+    if opts.discover && !truss && !eng.halt.now() {
         search.discover(sigma);
         search.replace_stand_in(sigma);
     }
+    let ambiguities = if eng.halt.now() {
+        Vec::new()
+    } else {
+        search.ambiguities()
+    };
+    let partial = eng.halt.finish();
     let (extended, strength_rms_deg) = eng.strongest_first(&search.current);
+    let extended = ambiguity::widened(&extended, &ambiguities);
     let held_out_rms_deg = match search.current_held {
         None if !extended.set.is_empty() => eng.held_out(&extended),
         h => h,
@@ -767,5 +807,28 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         rounds: search.rounds,
         simulations: eng.sims.load(std::sync::atomic::Ordering::Relaxed),
         wall_s: t0.elapsed().as_secs_f64(),
+        free_window: None,
+        latches: Vec::new(),
+        ambiguities,
+        partial,
     }
+}
+
+/// The candidates of a campaign. A wing with a truss: the effects its
+/// simulator models, at the hinges (`crate::simulate::truss_deployment`);
+/// its friction nodes (joint n + k, e.g. 3 = the pins at F) are
+/// coulomb_friction candidates too: the paper's EFT3.
+fn candidates(campaign: &Campaign, opts: &DiagnoseOptions, truss: bool) -> Vec<Candidate> {
+    let nodes = (campaign.max_joints() + 1)..=campaign.effect_joints();
+    let node_friction = nodes.map(|j| Candidate {
+        kind: EffectKind::CoulombFriction,
+        joint: Some(j),
+        table: None,
+    });
+    Candidate::all(campaign.max_joints())
+        .into_iter()
+        .chain(node_friction)
+        .filter(|c| opts.kinds.contains(&c.kind))
+        .filter(|c| !truss || crate::simulate::truss_deployment::models(c.kind))
+        .collect()
 }

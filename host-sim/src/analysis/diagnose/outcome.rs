@@ -3,6 +3,8 @@
 
 use super::candidate::{effects_of, Candidate};
 use super::discover;
+use super::latch_finding::LatchFinding;
+use super::latch_window::RunWindow;
 use super::table_form::TableForm;
 use crate::model::effect::{Effect, EffectKind};
 
@@ -143,6 +145,34 @@ pub struct DiagnoseOptions {
     /// Whether to look for a torque no named effect describes
     /// ([`discover`]) when the named effects leave a residual.
     pub discover: bool,
+    /// Stop the search after this wall time [s] and report the best set
+    /// found so far, marked as such (`None`: no limit).
+    pub max_seconds: Option<f64>,
+    /// Stop the search when this flag is raised (Ctrl-C), likewise.
+    pub stop: Option<StopFlag>,
+}
+
+/// A flag another thread raises to stop a diagnosis early (the command
+/// line's Ctrl-C handler); two flags are equal when they are the same flag.
+#[derive(Clone, Debug, Default)]
+pub struct StopFlag(pub std::sync::Arc<std::sync::atomic::AtomicBool>);
+
+impl StopFlag {
+    /// True once raised.
+    pub fn raised(&self) -> bool {
+        self.0.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Raises it.
+    pub fn raise(&self) {
+        self.0.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+}
+
+impl PartialEq for StopFlag {
+    fn eq(&self, other: &Self) -> bool {
+        std::sync::Arc::ptr_eq(&self.0, &other.0)
+    }
 }
 
 impl Default for DiagnoseOptions {
@@ -151,6 +181,8 @@ impl Default for DiagnoseOptions {
             max_effects: 3,
             kinds: EffectKind::ALL.to_vec(),
             discover: true,
+            max_seconds: None,
+            stop: None,
         }
     }
 }
@@ -178,4 +210,27 @@ pub struct Outcome {
     pub simulations: usize,
     /// Wall time [s].
     pub wall_s: f64,
+    /// Runs of a physical latch: where each run's free motion ends, the
+    /// window the effects were fitted on (`None`: the whole runs).
+    pub free_window: Option<Vec<RunWindow>>,
+    /// Each physical latch's events against the drawing's.
+    pub latches: Vec<LatchFinding>,
+    /// Sets of causes that explain the runs alike ([`super::ambiguity`]).
+    pub ambiguities: Vec<Ambiguity>,
+    /// Why the search stopped before its end, when it did (a time limit,
+    /// Ctrl-C): the effects are then the best found so far.
+    pub partial: Option<String>,
+}
+
+/// Sets of causes that explain the runs alike at one joint
+/// ([`super::ambiguity`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ambiguity {
+    /// The joint (1-based) whose named effects the sets exchange.
+    pub joint: usize,
+    /// The set found, then each alternative, fitted (BIC within
+    /// `MIN_DELTA_BIC` of the set found).
+    pub sets: Vec<FittedSet>,
+    /// The test that would separate them, in words.
+    pub separating_test: String,
 }

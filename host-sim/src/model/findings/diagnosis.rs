@@ -51,6 +51,107 @@ pub struct Diagnosis {
     /// data").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub residual_torque: Option<ResidualTorque>,
+    /// Why the search stopped before its end (a time limit, Ctrl-C): the
+    /// effects are then the best found so far. Absent for a search that
+    /// ran to its end.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub partial: Option<String>,
+    /// Runs of a physical latch: the free motion each run was fitted on.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub free_window: Vec<FreeWindow>,
+    /// Each physical latch's events against its drawing's.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub latches: Vec<LatchReport>,
+    /// Sets of causes that explain the runs alike.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ambiguities: Vec<AmbiguityGroup>,
+}
+
+/// The free motion of one run of a physical latch.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FreeWindow {
+    /// The run's file name.
+    pub run: String,
+    /// Samples fitted (from the release).
+    pub samples: usize,
+    /// Samples in the run.
+    pub of: usize,
+    /// End of the window [s] (`null`: the whole run).
+    #[serde(default)]
+    pub end_s: Option<f64>,
+    /// The joint whose latch ends it.
+    #[serde(default)]
+    pub joint: Option<usize>,
+}
+
+/// One joint's latch events in one run.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct LatchEventsJson {
+    /// First impact [s].
+    #[serde(default)]
+    pub first_contact_s: Option<f64>,
+    /// Impacts (switch closings).
+    pub impacts: usize,
+    /// Escapes back over the crest.
+    pub escapes: usize,
+    /// Largest rebound that stayed inside the crest [deg].
+    #[serde(default)]
+    pub largest_rebound_deg: Option<f64>,
+    /// Held from [s] (`null`: not held at the end).
+    #[serde(default)]
+    pub hold_s: Option<f64>,
+    /// Travel from the stop at the end [deg].
+    #[serde(default)]
+    pub end_travel_deg: Option<f64>,
+}
+
+/// A physical latch as built against its drawing.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct LatchReport {
+    /// Joint, from 1.
+    pub joint: usize,
+    /// Measured events, run by run.
+    pub measured: Vec<LatchEventsJson>,
+    /// The drawing's latch with the effects found, run by run.
+    pub drawing: Vec<Option<LatchEventsJson>>,
+    /// What the drawing gives within its tolerances: `[least, most]` of
+    /// impacts, escapes, runs ending within the crest, restitution.
+    pub drawing_spread: serde_json::Value,
+    /// Measured apparent restitution: median and 95 % interval.
+    #[serde(default)]
+    pub restitution: Option<[Option<f64>; 3]>,
+    /// What differs from the drawing (empty: nothing its tolerances do not give).
+    pub differs: Vec<String>,
+    /// What that says of the latch as built.
+    #[serde(default)]
+    pub cause: Option<String>,
+    /// Plunger weakenings that give the measured escapes `[least, most]`.
+    #[serde(default)]
+    pub plunger_weakening: Option<[Option<f64>; 2]>,
+}
+
+/// Sets of causes that explain the runs alike.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct AmbiguityGroup {
+    /// The joint whose named effects the sets exchange.
+    pub joint: usize,
+    /// The set found first, then the alternatives.
+    pub sets: Vec<AmbiguousSet>,
+    /// The test that would separate them.
+    pub separating_test: String,
+}
+
+/// One set of an ambiguity group with its fit.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct AmbiguousSet {
+    /// Its effects (`name`, `joint`, `value`, `ci95`).
+    pub effects: Vec<serde_json::Value>,
+    /// RMS of its fit [deg].
+    #[serde(default)]
+    pub rms_deg: Option<f64>,
+    /// Its BIC minus the set found's.
+    #[serde(default)]
+    pub delta_bic: Option<f64>,
 }
 
 /// The residual torque against the baseline and against the extended model.

@@ -1,0 +1,215 @@
+//! When the runs cannot decide (`docs/diagnosis.md`, "Ambiguity"): at each
+//! joint where the set found holds named joint effects (Coulomb, viscous,
+//! softening, harness), every other single and pair of them is fitted in
+//! their place; the sets that explain the runs alike — BIC within
+//! [`MIN_DELTA_BIC`] of the set found, every effect they add clear of zero
+//! — form an ambiguity group. The report lists them with their fits, the
+//! intervals of the set found are widened to cover them, and the test that
+//! would separate them is named. Friction and a softened spring resist
+//! alike over a stroke; only runs with another spring (or at another
+//! temperature) tell them apart.
+
+use super::candidate::Candidate;
+pub use super::outcome::Ambiguity;
+use super::outcome::FittedSet;
+use super::{labels, Search, MIN_DELTA_BIC};
+use crate::analysis::residual_named;
+use crate::model::effect::EffectKind;
+
+/// True when `c` is a named joint effect at `joint` (not a table).
+fn named_at(c: &Candidate, joint: usize) -> bool {
+    c.joint == Some(joint) && c.table.is_none() && residual_named::KINDS.contains(&c.kind)
+}
+
+/// True when `a` and `b` hold the same candidates, in any order.
+fn same_set(a: &[Candidate], b: &[Candidate]) -> bool {
+    a.len() == b.len() && a.iter().all(|c| b.contains(c))
+}
+
+impl Search<'_, '_> {
+    /// The ambiguity groups of the current set ([`Ambiguity`]), one per
+    /// joint where another set explains the runs alike.
+    pub(super) fn ambiguities(&self) -> Vec<Ambiguity> {
+        let joints = self.eng.campaign.max_joints();
+        (1..=joints).filter_map(|j| self.ambiguity_at(j)).collect()
+    }
+
+    /// `f` without the members `drop` selects (the others' values kept).
+    fn reduced_by(f: &FittedSet, drop: impl Fn(&Candidate) -> bool) -> FittedSet {
+        let mut r = f.clone();
+        while let Some(k) = r.set.iter().position(&drop) {
+            r = r.without(k);
+        }
+        r
+    }
+
+    /// The moves that exchange what the set holds at `joint` (its named
+    /// effects and table) for each single and pair of named joint effects
+    /// there, beside the rest of the set and, when the set holds a global
+    /// effect (rig tilt, air drag), beside the rest without it too (a
+    /// global effect may stand in for a joint torque).
+    fn exchanges_at(&self, joint: usize) -> Vec<(FittedSet, Candidate)> {
+        let at = |c: &Candidate| c.joint == Some(joint) && c.kind != EffectKind::EncoderOffset;
+        let rest = Self::reduced_by(&self.current, at);
+        let mut bases = vec![rest.clone()];
+        if rest.set.iter().any(|c| c.joint.is_none()) {
+            bases.push(Self::reduced_by(&rest, |c| c.joint.is_none()));
+        }
+        let mut moves = Vec::new();
+        for base in bases {
+            moves.extend(
+                residual_named::KINDS
+                    .iter()
+                    .map(|&kind| Candidate {
+                        kind,
+                        joint: Some(joint),
+                        table: None,
+                    })
+                    .filter(|c| self.candidates.contains(c))
+                    .map(|c| (base.clone(), c)),
+            );
+            moves.extend(self.named_pairs_at(&base, joint));
+        }
+        // An alternative exchanges the joint's effects: a set that keeps
+        // them all (and adds one more, near zero) is the same explanation.
+        let here: Vec<Candidate> = self.current.set.iter().copied().filter(at).collect();
+        moves.retain(|(base, c)| {
+            let mut s = base.set.clone();
+            s.push(*c);
+            !same_set(&s, &self.current.set)
+                && (here.is_empty() || !here.iter().all(|h| s.contains(h)))
+        });
+        moves
+    }
+
+    /// A fitted alternative without the members whose interval holds zero
+    /// (refitted once), when that still fits alike.
+    fn trimmed(&self, f: FittedSet, best: f64) -> FittedSet {
+        let keep: Vec<usize> = (0..f.set.len())
+            .filter(|&k| {
+                let ([lo, hi], _) = f.effect_ci(k);
+                lo > 0.0 || hi < 0.0
+            })
+            .collect();
+        if keep.len() == f.set.len() || keep.is_empty() {
+            return f;
+        }
+        let mut r = f.clone();
+        for k in (0..f.set.len()).rev().filter(|k| !keep.contains(k)) {
+            r = r.without(k);
+        }
+        match self.eng.fit(self.eng.campaign, &r.set, &r.params) {
+            Some(t) if t.bic() - best < MIN_DELTA_BIC => t,
+            _ => f,
+        }
+    }
+
+    /// The ambiguity group at `joint`, when there is one.
+    fn ambiguity_at(&self, joint: usize) -> Option<Ambiguity> {
+        let moves = self.exchanges_at(joint);
+        if moves.is_empty() || self.eng.halt.now() {
+            return None;
+        }
+        self.eng.say(format!(
+            "ambiguity: fitting {} other sets of named effects at joint {joint}",
+            moves.len()
+        ));
+        let best = self.current.bic();
+        let fits: Vec<FittedSet> = self
+            .eng
+            .fit_moves_sharing(self.eng.campaign, &moves)
+            .into_iter()
+            .filter(|(_, _, screened_out)| !screened_out)
+            .filter_map(|(_, f, _)| f)
+            .filter(|f| f.bic() - best < MIN_DELTA_BIC)
+            .collect();
+        let mut alike: Vec<FittedSet> = Vec::new();
+        for f in fits {
+            let f = self.trimmed(f, best);
+            let clear = (0..f.set.len())
+                .filter(|&k| f.set[k].table.is_none())
+                .all(|k| {
+                    let ([lo, hi], _) = f.effect_ci(k);
+                    lo > 0.0 || hi < 0.0
+                });
+            let named_here = f.set.iter().any(|c| named_at(c, joint));
+            if clear
+                && named_here
+                && !same_set(&f.set, &self.current.set)
+                && !alike.iter().any(|a| same_set(&a.set, &f.set))
+            {
+                alike.push(f);
+            }
+        }
+        if alike.is_empty() {
+            return None;
+        }
+        alike.sort_by(|a, b| a.bic().total_cmp(&b.bic()));
+        for f in &alike {
+            self.eng.say(format!(
+                "  explains the runs alike: {} (RMS {:.4} deg, BIC {:+.1})",
+                labels(&f.set),
+                f.rms(),
+                f.bic() - best
+            ));
+        }
+        let one_config = {
+            let names: Vec<&str> = self
+                .eng
+                .campaign
+                .runs
+                .iter()
+                .map(|r| r.mechanism.name.as_str())
+                .collect();
+            names.windows(2).all(|w| w[0] == w[1])
+        };
+        let separating_test = if one_config {
+            format!(
+                "the runs are of one configuration: runs with another spring at joint {joint} (softening scales with the spring's torque, friction and a harness do not), or at another temperature, would separate them"
+            )
+        } else {
+            format!(
+                "runs that move joint {joint} over another range of angle and rate (another spring or stowed angle at that joint), or at another temperature, would separate them"
+            )
+        };
+        let mut sets = vec![self.current.clone()];
+        sets.extend(alike);
+        Some(Ambiguity {
+            joint,
+            sets,
+            separating_test,
+        })
+    }
+}
+
+/// The set found with the interval of each named effect at an ambiguous
+/// joint widened to cover its fits in every set of the group (and zero
+/// when a set of the group does without it).
+pub fn widened(found: &FittedSet, groups: &[Ambiguity]) -> FittedSet {
+    let mut out = found.clone();
+    let mut off = 0;
+    for c in &found.set {
+        let n = c.params();
+        for g in groups.iter().filter(|g| c.joint == Some(g.joint) && n == 1) {
+            let Some(ci) = out.ci95.get_mut(off) else {
+                continue;
+            };
+            for s in &g.sets {
+                match s.set.iter().position(|x| x == c) {
+                    Some(k) => {
+                        if let Some((p, band)) = s.effect_params(k) {
+                            ci[0] = ci[0].min(p[0]).min(band[0][0]);
+                            ci[1] = ci[1].max(p[0]).max(band[0][1]);
+                        }
+                    }
+                    None => {
+                        ci[0] = ci[0].min(0.0);
+                        ci[1] = ci[1].max(0.0);
+                    }
+                }
+            }
+        }
+        off += n;
+    }
+    out
+}

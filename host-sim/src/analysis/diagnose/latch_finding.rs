@@ -1,0 +1,396 @@
+//! The latch as built, a finding of its own (`docs/diagnosis.md`, "Runs of
+//! a physical latch"): each joint's latch events in the runs against those
+//! of the drawing's latch, simulated with the effects found, compared by
+//! their statistics — impacts, escapes, the largest rebound that stayed in,
+//! the hold, and the stop's restitution — never by their phase.
+
+use crate::analysis::campaign_sim::CampaignSim;
+use crate::analysis::latch_events::{events, travel_deg, LatchEvents};
+use crate::data::campaign::Campaign;
+use crate::model::effect::{Effect, EffectKind};
+use crate::model::latch::LatchTolerance;
+use crate::simulate::deployment::Trajectory;
+use rayon::prelude::*;
+
+/// Slack on the crest for an escape [deg]: about the encoder's resolution
+/// (0.022°), so that noise at the crest does not count as an escape.
+const ESCAPE_SLACK_DEG: f64 = 0.03;
+
+/// Impacts slower than this [deg/s] give no restitution: at 100 Hz and
+/// 0.02° of noise a rate from two samples has an error of about 3 deg/s.
+const MIN_IMPACT_RATE_DEG_S: f64 = 20.0;
+
+/// Fewest impacts for a restitution with an interval.
+const MIN_RESTITUTION_IMPACTS: usize = 3;
+
+/// The stop's apparent restitution over a joint's impacts: the rate out
+/// over the rate in, from the samples either side of each switch closing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Restitution {
+    /// Median over the impacts [1].
+    pub median: f64,
+    /// 95 % interval of the median (order statistics) [1].
+    pub ci95: [f64; 2],
+    /// Impacts used.
+    pub impacts: usize,
+}
+
+/// One joint's latch: its events run by run, measured and as the drawing
+/// predicts them, and what differs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LatchFinding {
+    /// Joint, from 1.
+    pub joint: usize,
+    /// The measured events, run by run.
+    pub measured: Vec<LatchEvents>,
+    /// The drawing's latch itself with the effects found, run by run.
+    pub drawing: Vec<Option<LatchEvents>>,
+    /// The measured restitution, when enough impacts give one.
+    pub restitution: Option<Restitution>,
+    /// What the drawing's latch gives within its tolerances.
+    pub spread: Spread,
+    /// The plunger weakenings [1] that give the measured escapes, when the
+    /// joint escapes more than the drawing's spread allows (a magnet
+    /// weakening may do the same: the runs do not tell them apart).
+    pub weakening: Option<Range<f64>>,
+    /// What differs from the drawing's latch, one phrase each (empty: the
+    /// events are the drawing's, within what their statistics tell).
+    pub differs: Vec<String>,
+    /// What the runs tell of the latch as built, in words.
+    pub cause: Option<String>,
+}
+
+/// The median of `x` and its 95 % interval from order statistics (ranks
+/// `n/2 ∓ 1.96 √n / 2`).
+fn median_ci(mut x: Vec<f64>) -> Option<Restitution> {
+    if x.len() < MIN_RESTITUTION_IMPACTS {
+        return None;
+    }
+    x.sort_by(f64::total_cmp);
+    let n = x.len();
+    let h = 0.98 * (n as f64).sqrt();
+    let lo = ((n as f64 / 2.0 - h).floor().max(0.0)) as usize;
+    let hi = ((n as f64 / 2.0 + h).ceil() as usize).min(n - 1);
+    Some(Restitution {
+        median: x[n / 2],
+        ci95: [x[lo], x[hi]],
+        impacts: n,
+    })
+}
+
+/// Rate ratios out/in at each closing of the switch, `t` the times [s],
+/// `u` the travel [deg].
+fn ratios(t: &[f64], u: &[f64], switch: &[bool]) -> Vec<f64> {
+    let n = t.len().min(u.len()).min(switch.len());
+    let mut out = Vec::new();
+    for i in 2..n.saturating_sub(1) {
+        if !switch[i] || switch[i - 1] || switch[i + 1] {
+            continue;
+        }
+        let v_in = (u[i - 2] - u[i - 1]) / (t[i - 1] - t[i - 2]);
+        let v_out = (u[i + 1] - u[i]) / (t[i + 1] - t[i]);
+        if v_in > MIN_IMPACT_RATE_DEG_S && v_out > 0.0 {
+            out.push(v_out / v_in);
+        }
+    }
+    out
+}
+
+/// As-built draws of each drawing simulated beside the drawing itself: the
+/// spread of a latch's statistics that its tolerances give
+/// ([`LatchTolerance::default`]).
+pub const ENSEMBLE: usize = 8;
+
+/// Seed of the ensemble's draws (fixed: the same runs give the same report).
+const ENSEMBLE_SEED: u64 = 0x1a7c4;
+
+/// Plunger weakenings tried when a joint escapes more than its drawing's
+/// spread allows [1].
+const WEAKENINGS: [f64; 4] = [0.2, 0.4, 0.6, 0.8];
+
+/// The range over an ensemble of one count or value: `[least, most]`.
+pub type Range<T> = [T; 2];
+
+/// What the drawing's latch gives over its ensemble ([`ENSEMBLE`] as-built
+/// draws and the drawing), summed over the campaign's runs.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Spread {
+    /// Impacts.
+    pub impacts: Range<usize>,
+    /// Escapes.
+    pub escapes: Range<usize>,
+    /// Runs that end within the crest (held or still bouncing in).
+    pub held: Range<usize>,
+    /// Median restitution of each member.
+    pub restitution: Option<Range<f64>>,
+}
+
+/// A joint's statistics over the runs of one simulated or measured set.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Tally {
+    impacts: usize,
+    escapes: usize,
+    held: usize,
+    restitution: Option<f64>,
+}
+
+fn widen<T: PartialOrd + Copy>(r: Option<Range<T>>, x: T) -> Range<T> {
+    match r {
+        None => [x, x],
+        Some([a, b]) => [if x < a { x } else { a }, if x > b { x } else { b }],
+    }
+}
+
+/// The campaign's runs simulated on `members` as-built draws of their
+/// mechanisms (member 0 the drawing itself) with `effects`: `[member][run]`.
+fn ensemble(c: &Campaign, effects: &[Effect], members: usize) -> Vec<Vec<Option<Trajectory>>> {
+    use rand::{Rng, SeedableRng};
+    (0..members)
+        .into_par_iter()
+        .map(|k| {
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(ENSEMBLE_SEED + k as u64);
+            let mut uniform = || rng.gen::<f64>();
+            let tol = LatchTolerance::default();
+            let mut built = c.clone();
+            for r in built.runs.iter_mut() {
+                if k > 0 {
+                    r.mechanism = r.mechanism.as_built(&tol, &mut uniform);
+                }
+            }
+            (0..built.runs.len())
+                .map(|i| built.simulate(i, effects).ok())
+                .collect()
+        })
+        .collect()
+}
+
+/// One joint's series of one run: times, travel [deg], switch.
+type Series<'a> = (&'a [f64], Vec<f64>, &'a [bool]);
+
+/// The tally of joint `j` over the runs `runs` of `c`, from `series(i)`.
+fn tally<'a>(
+    c: &Campaign,
+    j: usize,
+    series: impl Fn(usize) -> Option<(&'a [f64], &'a [f64], &'a [bool])>,
+) -> Option<(Tally, Vec<LatchEvents>)> {
+    let mut t = Tally::default();
+    let mut all = Vec::new();
+    let mut ratios_all = Vec::new();
+    for (i, cr) in c.runs.iter().enumerate() {
+        let (Some(latch), Some(spec)) = (cr.mechanism.latch(j), cr.mechanism.joints.get(j)) else {
+            continue;
+        };
+        let (ts, phi, sw) = series(i)?;
+        let s: Series = (
+            ts,
+            phi.iter()
+                .map(|&p| travel_deg(spec.stowed_deg, p))
+                .collect(),
+            sw,
+        );
+        let crest = latch.plunger.crest_deg;
+        let e = events(s.0, &s.1, s.2, crest, ESCAPE_SLACK_DEG);
+        ratios_all.extend(ratios(s.0, &s.1, s.2));
+        t.impacts += e.impacts;
+        t.escapes += e.escapes;
+        t.held += usize::from(e.first_contact_s.is_some() && e.end_travel_deg <= crest);
+        all.push(e);
+    }
+    t.restitution = median_ci(ratios_all).map(|r| r.median);
+    Some((t, all))
+}
+
+/// The latch findings of a campaign, joint by joint for every joint with a
+/// physical latch in some run: the measured events against the spread the
+/// drawing's latch gives with `effects` (the effects found) over
+/// [`ENSEMBLE`] as-built draws, each simulated over the whole runs; where a
+/// joint escapes more than that spread allows, the plunger weakenings that
+/// give its escapes.
+pub fn latch_findings(c: &Campaign, effects: &[Effect]) -> Vec<LatchFinding> {
+    let sims = ensemble(c, effects, ENSEMBLE + 1);
+    (0..c.max_joints())
+        .filter_map(|j| {
+            if !c.runs.iter().any(|r| r.mechanism.latch(j).is_some()) {
+                return None;
+            }
+            let run = |i: usize| -> Option<(&[f64], &[f64], &[bool])> {
+                let r = &c.runs[i].run;
+                Some((&r.t_s, r.phi_deg.get(j)?, r.latch.get(j)?))
+            };
+            let (meas, measured) = tally(c, j, run)?;
+            let mut spread: Option<(Range<usize>, Range<usize>, Range<usize>)> = None;
+            let mut rest: Option<Range<f64>> = None;
+            let mut drawing = Vec::new();
+            for (k, member) in sims.iter().enumerate() {
+                let sim = |i: usize| -> Option<(&[f64], &[f64], &[bool])> {
+                    let t = member.get(i)?.as_ref()?;
+                    Some((&t.t_s, t.phi_deg.get(j)?, t.latched.get(j)?))
+                };
+                let Some((t, evs)) = tally(c, j, sim) else {
+                    continue;
+                };
+                if k == 0 {
+                    drawing = evs.into_iter().map(Some).collect();
+                }
+                spread = Some(match spread {
+                    None => ([t.impacts; 2], [t.escapes; 2], [t.held; 2]),
+                    Some((a, b, h)) => (
+                        widen(Some(a), t.impacts),
+                        widen(Some(b), t.escapes),
+                        widen(Some(h), t.held),
+                    ),
+                });
+                if let Some(r) = t.restitution {
+                    rest = Some(widen(rest, r));
+                }
+            }
+            let (impacts, escapes, held) = spread?;
+            let mut f = LatchFinding {
+                joint: j + 1,
+                measured,
+                drawing,
+                restitution: None,
+                spread: Spread {
+                    impacts,
+                    escapes,
+                    held,
+                    restitution: rest,
+                },
+                differs: Vec::new(),
+                cause: None,
+                weakening: None,
+            };
+            f.restitution = measured_restitution(c, j);
+            compare(&mut f, &meas);
+            if f.cause
+                .as_deref()
+                .is_some_and(|c| c.contains("less than drawn"))
+            {
+                f.weakening = weakening_range(c, effects, j, meas.escapes);
+            }
+            Some(f)
+        })
+        .collect()
+}
+
+/// The measured restitution of joint `j` with its interval.
+fn measured_restitution(c: &Campaign, j: usize) -> Option<Restitution> {
+    let mut r = Vec::new();
+    for cr in &c.runs {
+        let (Some(_), Some(spec)) = (cr.mechanism.latch(j), cr.mechanism.joints.get(j)) else {
+            continue;
+        };
+        let u: Vec<f64> = cr.run.phi_deg[j]
+            .iter()
+            .map(|&p| travel_deg(spec.stowed_deg, p))
+            .collect();
+        r.extend(ratios(&cr.run.t_s, &u, &cr.run.latch[j]));
+    }
+    median_ci(r)
+}
+
+/// The plunger weakenings of [`WEAKENINGS`] whose ensemble's escapes at
+/// joint `j` (0-based) include `escapes`: `[least, most]`, `None` when
+/// none does.
+fn weakening_range(
+    c: &Campaign,
+    effects: &[Effect],
+    j: usize,
+    escapes: usize,
+) -> Option<Range<f64>> {
+    let mut ok: Option<Range<f64>> = None;
+    for w in WEAKENINGS {
+        let mut with = effects.to_vec();
+        with.push(Effect::joint(EffectKind::PlungerWeakening, j + 1, w));
+        let sims = ensemble(c, &with, ENSEMBLE / 2 + 1);
+        let mut range: Option<Range<usize>> = None;
+        for member in &sims {
+            let sim = |i: usize| -> Option<(&[f64], &[f64], &[bool])> {
+                let t = member.get(i)?.as_ref()?;
+                Some((&t.t_s, t.phi_deg.get(j)?, t.latched.get(j)?))
+            };
+            if let Some((t, _)) = tally(c, j, sim) {
+                range = Some(widen(range, t.escapes));
+            }
+        }
+        if range.is_some_and(|[a, b]| a <= escapes && escapes <= b) {
+            ok = Some(widen(ok, w));
+        }
+    }
+    ok
+}
+
+/// Fills `differs` and `cause`: escapes, runs ending held, or a
+/// restitution outside what the drawing's spread gives.
+fn compare(f: &mut LatchFinding, m: &Tally) {
+    let sp = f.spread.clone();
+    let outside = |x: usize, r: Range<usize>| x < r[0] || x > r[1];
+    // Escapes are counts of a chaotic sequence: beyond the ensemble's
+    // range by more than twice a Poisson spread (and one), not merely out
+    // of a range [`ENSEMBLE`] draws happened to span.
+    let far = |x: usize, r: Range<usize>| {
+        let (x, lo, hi) = (x as f64, r[0] as f64, r[1] as f64);
+        let gap = if x > hi { x - hi } else { lo - x };
+        gap > 2.0 * x.max(if x > hi { hi } else { lo }).sqrt() + 1.0
+    };
+    let n = f.measured.len();
+    let (mut weaker, mut stronger) = (false, false);
+    if outside(m.escapes, sp.escapes) && far(m.escapes, sp.escapes) {
+        f.differs.push(format!(
+            "{} escape(s) over the plunger in the runs, {}..{} with the drawing's latch within its tolerances",
+            m.escapes, sp.escapes[0], sp.escapes[1]
+        ));
+        weaker |= m.escapes > sp.escapes[1];
+        stronger |= m.escapes < sp.escapes[0];
+    }
+    if outside(m.held, sp.held) {
+        f.differs.push(format!(
+            "ends within the crest in {} of {n} run(s), {}..{} with the drawing's latch within its tolerances",
+            m.held, sp.held[0], sp.held[1]
+        ));
+        weaker |= m.held < sp.held[0];
+        stronger |= m.held > sp.held[1];
+    }
+    if let (Some(r), Some([lo, hi])) = (f.restitution, sp.restitution) {
+        if r.ci95[1] < lo || r.ci95[0] > hi {
+            f.differs.push(format!(
+                "the stop's apparent restitution {:.2} (95 % CI {:.2} .. {:.2}, {} impacts), {lo:.2}..{hi:.2} with the drawing's stop within its tolerances: it damps {} than drawn",
+                r.median, r.ci95[0], r.ci95[1], r.impacts,
+                if r.ci95[1] < lo { "more" } else { "less" }
+            ));
+        }
+    }
+    f.cause = match (weaker, stronger) {
+        (true, false) => Some(
+            "the latch holds less than drawn: a weaker plunger or magnet (plunger_weakening or magnet_weakening at this joint; the runs do not tell which)".into(),
+        ),
+        (false, true) => Some(
+            "the latch holds more than drawn: a stronger plunger or magnet, or a stop that damps more (these runs do not tell which, nor by how much)".into(),
+        ),
+        (true, true) => Some("the latch differs from the drawing both ways over the runs".into()),
+        (false, false) => None,
+    };
+}
+/// The events in words: `touched at 1.84 s, 26 impacts, 6 escapes, largest
+/// rebound that stayed in 0.35°, held from 8.63 s`.
+pub fn events_words(e: &LatchEvents) -> String {
+    let Some(t0) = e.first_contact_s else {
+        return format!(
+            "never closed its switch ({:.2}° from the stop at the end)",
+            e.end_travel_deg
+        );
+    };
+    let hold = match e.hold_s {
+        Some(t) => format!("held from {t:.2} s"),
+        None => format!(
+            "not held at the end ({:.2}° from the stop)",
+            e.end_travel_deg
+        ),
+    };
+    format!(
+        "first impact at {t0:.2} s, {} impact(s), {} escape(s), largest rebound that stayed in {:.2}°, {hold}",
+        e.impacts,
+        e.escapes,
+        e.largest_rebound_deg()
+    )
+}
