@@ -17,6 +17,7 @@ pub mod diagnose;
 pub mod diagnose_torque;
 pub mod identify;
 pub mod margin;
+pub mod margin_from;
 pub mod reliability;
 pub mod replay;
 pub mod simulate;
