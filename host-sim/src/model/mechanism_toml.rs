@@ -95,6 +95,7 @@ const TOP_KEYS: &[&str] = &[
     "tape",
     "run",
     "truss",
+    "rig",
 ];
 const PANEL_KEYS: &[&str] = &["length_m", "mass_kg", "com_m", "inertia_kgm2"];
 const JOINT_KEYS: &[&str] = &["stowed_deg", "spring", "friction", "latch"];
@@ -194,6 +195,10 @@ impl Cx<'_> {
             .get("truss")
             .map(|sp| crate::model::truss_toml::read(self, sp, panels.len()))
             .transpose()?;
+        let rig = top
+            .get("rig")
+            .map(|sp| crate::model::rig_toml::read(self, sp, &panels))
+            .transpose()?;
         Ok(Mechanism {
             name,
             description,
@@ -204,6 +209,7 @@ impl Cx<'_> {
             settle_s,
             truss,
             latches,
+            rig,
         })
     }
 
