@@ -22,6 +22,7 @@ pub mod reliability;
 pub mod replay;
 pub mod simulate;
 pub mod simulate_args;
+pub mod simulate_rig;
 pub mod simulate_truss;
 
 use crate::report::progress::{self, Progress};

@@ -77,6 +77,10 @@ pub struct Rig {
     pub static_mu: f64,
     /// Dynamic friction coefficient [1].
     pub dynamic_mu: f64,
+    /// The share of the carried weight that presses the bearings on their
+    /// rails [1] (default 1: the whole carried load; an air bearing that
+    /// floats most of it takes less).
+    pub friction_load_fraction: f64,
     /// The speed below which the friction rises from dynamic to static
     /// (the Stribeck speed of the law) [m/s].
     pub stick_speed_m_s: f64,
@@ -178,10 +182,11 @@ impl Rig {
             * (v / self.slip_speed_m_s).tanh()
     }
 
-    /// The rail's friction force [N] on a carriage with normal load
-    /// `load_n` [N] slipping at `v` [m/s], signed like `v`: `N μ(v)`.
+    /// The rail's friction force [N] on a carriage carrying `load_n` [N]
+    /// slipping at `v` [m/s], signed like `v`: `f N μ(v)`, `f` the
+    /// [`Rig::friction_load_fraction`].
     pub fn rail_force(&self, load_n: f64, v: f64) -> f64 {
-        load_n * self.mu(v)
+        self.friction_load_fraction * load_n * self.mu(v)
     }
 
     /// The wire's effective pendulum length [m]: its length plus the

@@ -31,6 +31,7 @@ const RIG_KEYS: &[&str] = &[
     "gravity_m_s2",
     "static_mu",
     "dynamic_mu",
+    "friction_load_fraction",
     "stick_speed_m_s",
     "slip_speed_m_s",
     "contact_stiffness_n_per_mm1_5",
@@ -96,6 +97,7 @@ pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, panels: &[Panel<f64>]) -> Res<Rig> {
         )?,
         static_mu: num("static_mu", Bound::NonNegative, "", PAPER_STATIC_MU)?,
         dynamic_mu: num("dynamic_mu", Bound::NonNegative, "", PAPER_DYNAMIC_MU)?,
+        friction_load_fraction: num("friction_load_fraction", Bound::NonNegative, "", 1.0)?,
         stick_speed_m_s: num("stick_speed_m_s", Bound::Positive, "m/s", 0.01)?,
         slip_speed_m_s: num("slip_speed_m_s", Bound::Positive, "m/s", 1e-3)?,
         contact_stiffness: num(

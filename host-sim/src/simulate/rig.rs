@@ -506,7 +506,7 @@ pub fn drag_trolley(
     let g = rig.gravity_m_s2;
     let kappa = carried_kg * g / wire_m;
     let load = (carried_kg + trolley_kg) * g;
-    let (mut x, mut v) = (-rig.dynamic_mu * load / kappa, speed_m_s);
+    let (mut x, mut v) = (-rig.rail_force(load, 1e9) / kappa, speed_m_s);
     let steps = (duration_s / dt_s).round() as usize;
     let mut out = Vec::with_capacity(steps);
     for k in 1..=steps {
