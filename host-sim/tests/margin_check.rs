@@ -242,3 +242,33 @@ fn check_exits_1_when_a_joint_fails_and_0_when_all_pass() {
     ]);
     fails(&out, 1, &["joint(s) 3"]);
 }
+
+#[test]
+fn flight_leaves_out_what_only_the_rig_has() {
+    let dir = tempfile::tempdir().unwrap();
+    let drag = found(EffectKind::AirDrag);
+    let tilt = found(EffectKind::RigTilt);
+    let harness = found(EffectKind::HarnessStiffness);
+    let file = diagnosis(dir.path(), "rig.json", &[drag, tilt, harness]);
+    let ground = margins(&file, dir.path(), &[]);
+    let flight = margins(&file, dir.path(), &["--flight"]);
+    let counted = |m: &Value, j: usize| -> Vec<String> {
+        m["joints"][j]["counted"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c["effect"].as_str().unwrap().to_string())
+            .collect()
+    };
+    assert!(counted(&ground, 0).contains(&"air_drag".to_string()));
+    assert_eq!(counted(&flight, 0), Vec::<String>::new());
+    assert_eq!(counted(&flight, 1), vec!["harness_stiffness".to_string()]);
+    assert!(flight["resistances_from"]
+        .as_str()
+        .unwrap()
+        .contains("rig-only: air_drag, rig_tilt"));
+    // What flies is the same; the rig's share is gone from the margin.
+    let (g, f) = (pcts(&ground), pcts(&flight));
+    assert!(g.iter().zip(&f).all(|(g, f)| f.1 >= g.1 && f.0 >= g.0));
+    assert!(g.iter().zip(&f).any(|(g, f)| f.1 > g.1));
+}

@@ -179,3 +179,32 @@ at_m = -0.3
     assert!(!run.contacts.is_empty(), "the frame is struck");
     assert!(worst <= 1e-6 * stored);
 }
+
+#[test]
+fn flight_is_the_mechanism_without_its_rig() {
+    use deploywatch_sim::model::effect::{Effect, EffectKind};
+    use deploywatch_sim::simulate::deployment;
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms");
+    let on_rig = Mechanism::load(&data.join("seed001_T01_rig.toml")).expect("rig example");
+    assert!(on_rig.active_rig().is_some());
+    let bare = Mechanism::load(&data.join("seed001_T01.toml")).expect("T01");
+    let eft: Vec<Effect> = [2.63, 1.7, 0.001]
+        .iter()
+        .enumerate()
+        .map(|(j, v)| Effect::joint(EffectKind::CoulombFriction, j + 1, *v))
+        .collect();
+    let opts = SimOptions::default();
+    let flight = deployment::simulate(&on_rig.flight(), &[], &opts).expect("flight");
+    let nominal = deployment::simulate(&bare, &eft, &opts).expect("nominal");
+    assert_eq!(flight.latch_s, nominal.latch_s);
+    // On the rig the rails' friction slows joint 1 and a panel meets a frame.
+    let grid = deployment::sample_grid(&on_rig, &opts).unwrap();
+    let times: Vec<f64> = (0..).map_while(|k| grid.get(k)).collect();
+    let rig = simulate_rig(&on_rig, &[], &opts, &times).expect("rig");
+    println!(
+        "latch on the rig {:?}, in flight {:?}; contacts {:?}",
+        rig.traj.latch_s, flight.latch_s, rig.contacts
+    );
+    assert!(rig.traj.latch_s[0].unwrap() > flight.latch_s[0].unwrap());
+    assert!(!rig.contacts.is_empty());
+}

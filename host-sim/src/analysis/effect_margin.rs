@@ -70,6 +70,13 @@ pub fn kind_of(k: EffectKind) -> Option<Resistance> {
     }
 }
 
+/// True for the effects that exist only on a ground rig (air in the
+/// room, a rig that is not level): none of them flies, so `--flight`
+/// leaves them out.
+pub fn rig_only(k: EffectKind) -> bool {
+    matches!(k, EffectKind::AirDrag | EffectKind::RigTilt)
+}
+
 /// True when the effect's energy comes from the simulated deployment
 /// (rate-dependent or distributed over the panels).
 pub fn needs_simulation(k: EffectKind) -> bool {

@@ -67,6 +67,12 @@ pub struct MarginArgs {
     #[arg(long, short)]
     pub quiet: bool,
 
+    /// The margin on orbit: the mechanism's `[rig]` taken out and the
+    /// effects that exist only on the ground rig (`air_drag`, `rig_tilt`)
+    /// left out of what `--from` found.
+    #[arg(long)]
+    pub flight: bool,
+
     /// Exit 1 when a joint fails either margin (after printing the table
     /// and writing the JSON); without it the exit code says only whether
     /// the margins could be computed.
@@ -334,6 +340,26 @@ fn margins(
     Ok(rows)
 }
 
+/// `--flight`: leaves out the effects that exist only on the ground rig
+/// ([`effect_margin::rig_only`]), naming them in the source.
+fn take_out_the_rig(r: &mut Resistances) {
+    let (rig, flies): (Vec<Effect>, Vec<Effect>) = r
+        .others
+        .iter()
+        .partition(|e| effect_margin::rig_only(e.kind));
+    r.others = flies;
+    let names: Vec<String> = rig.iter().map(|e| e.kind.to_string()).collect();
+    r.source = if names.is_empty() {
+        format!("{}; flight: the rig taken out", r.source)
+    } else {
+        format!(
+            "{}; flight: the rig taken out, left out as rig-only: {}",
+            r.source,
+            names.join(", ")
+        )
+    };
+}
+
 /// The engagement of joint `j`'s physical latch (0-based) as a resistance,
 /// from the core's law in `f64` (`physics.md` §10.3); zero for the ideal
 /// latch.
@@ -352,11 +378,15 @@ pub fn latch_resistance(mech: &Mechanism, j: usize) -> LatchResistance {
 pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     // The loader's errors name the file, the key and what was expected.
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
-    let resist = match &args.from {
+    let mech = if args.flight { mech.flight() } else { mech };
+    let mut resist = match &args.from {
         Some(path) => read_found(path, &mech)
             .map_err(|e| CliError::input(format!("--from {}: {e}", path.display())))?,
         None => given_resistances(args, &mech)?,
     };
+    if args.flight {
+        take_out_the_rig(&mut resist);
+    }
     if let Some(out) = &args.json {
         check_output("--json", out)?;
     }
@@ -653,6 +683,7 @@ mod tests {
             json: None,
             quiet: true,
             check: false,
+            flight: false,
         }
     }
 
