@@ -190,15 +190,7 @@ impl Cx<'_> {
             None => (DEFAULT_DURATION_S, DEFAULT_SAMPLE_HZ, DEFAULT_SETTLE_S),
         };
 
-        // Each further table is read by its own module, on the same tree.
-        let truss = top
-            .get("truss")
-            .map(|sp| crate::model::truss_toml::read(self, sp, panels.len()))
-            .transpose()?;
-        let rig = top
-            .get("rig")
-            .map(|sp| crate::model::rig_toml::read(self, sp, &panels))
-            .transpose()?;
+        let (truss, rig) = self.extensions(&top, &panels)?;
         Ok(Mechanism {
             name,
             description,
@@ -211,6 +203,28 @@ impl Cx<'_> {
             latches,
             rig,
         })
+    }
+
+    /// `[truss]` and `[rig]`: each further table is read by its own module,
+    /// on the same tree.
+    #[allow(clippy::type_complexity)]
+    fn extensions(
+        &self,
+        top: &Table<'_>,
+        panels: &[Panel<f64>],
+    ) -> Res<(
+        Option<crate::model::truss::Truss>,
+        Option<crate::model::rig::Rig>,
+    )> {
+        let truss = top
+            .get("truss")
+            .map(|sp| crate::model::truss_toml::read(self, sp, panels.len()))
+            .transpose()?;
+        let rig = top
+            .get("rig")
+            .map(|sp| crate::model::rig_toml::read(self, sp, panels))
+            .transpose()?;
+        Ok((truss, rig))
     }
 
     /// `[run]`: `(duration_s, sample_hz, settle_s)`, each defaulted on its own.
