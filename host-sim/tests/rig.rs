@@ -208,3 +208,28 @@ fn flight_is_the_mechanism_without_its_rig() {
     assert!(rig.traj.latch_s[0].unwrap() > flight.latch_s[0].unwrap());
     assert!(!rig.contacts.is_empty());
 }
+
+#[test]
+fn a_written_rig_mechanism_reads_back_the_same() {
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms");
+    for f in ["seed001_T01_rig.toml", "seed001_T02_rig.toml"] {
+        let m = Mechanism::load(&data.join(f)).expect("example");
+        let back =
+            Mechanism::from_toml_str(&m.to_toml_string(), "written.toml").expect("reads back");
+        assert_eq!(back.rig, m.rig, "{f}");
+    }
+    // Bad input names the key.
+    let bad = "name = \"x\"\n[[panel]]\nlength_m = 1.0\nmass_kg = 1.0\ncom_m = 0.5\ninertia_kgm2 = 0.1\n[[joint]]\nstowed_deg = 90.0\nspring = { kind = \"linear\", preload_nm = 1.0, stiffness_nm_per_rad = 0.0, count = 1 }\n[rig]\nstatic_mu = 0.1\ndynamic_mu = 0.2\n";
+    let e = Mechanism::from_toml_str(bad, "bad.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("rig") && e.contains("dynamic_mu"), "{e}");
+    let bad = bad.replace(
+        "static_mu = 0.1\ndynamic_mu = 0.2\n",
+        "[[rig.trolley]]\npanel = 2\nbar = 1\nmass_kg = 1.0\nwire_m = 1.0\n",
+    );
+    let e = Mechanism::from_toml_str(&bad, "bad.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("panel 2"), "{e}");
+}

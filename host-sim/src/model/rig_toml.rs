@@ -188,3 +188,55 @@ fn frame(cx: &Cx<'_>, sp: &Sp, path: &str) -> Res<Frame> {
         at_m: cx.req_number(&t, "at_m", Bound::Finite, "m")?,
     })
 }
+
+/// Appends `[rig]` as [`read`] takes it (every key written, so that a
+/// written mechanism reads back to the same rig).
+pub(crate) fn write(r: &Rig, out: &mut String) {
+    use crate::model::toml_tree::{num, toml_str};
+    use std::fmt::Write as _;
+    let _ = write!(
+        out,
+        "\n[rig]\nenabled = {}\ngravity_m_s2 = {}\nstatic_mu = {}\ndynamic_mu = {}\n\
+         friction_load_fraction = {}\nstick_speed_m_s = {}\nslip_speed_m_s = {}\n\
+         contact_stiffness_n_per_mm1_5 = {}\ncontact_damping_ns_per_mm1_25 = {}\n",
+        r.enabled,
+        num(r.gravity_m_s2),
+        num(r.static_mu),
+        num(r.dynamic_mu),
+        num(r.friction_load_fraction),
+        num(r.stick_speed_m_s),
+        num(r.slip_speed_m_s),
+        num(r.contact_stiffness),
+        num(r.contact_damping)
+    );
+    for b in &r.bars {
+        let _ = write!(out, "\n[[rig.bar]]\nmass_kg = {}\n", num(b.mass_kg));
+    }
+    for t in &r.trolleys {
+        let _ = write!(
+            out,
+            "\n[[rig.trolley]]\npanel = {}\nbar = {}\nmass_kg = {}\nwire_m = {}\noffload_m = {}\n",
+            t.panel,
+            t.bar,
+            num(t.mass_kg),
+            num(t.wire_m),
+            num(t.offload_m)
+        );
+        if let Some(k) = t.wire_spring_n_per_m {
+            let _ = writeln!(out, "wire_spring_n_per_m = {}", num(k));
+        }
+        if let Some([x, y]) = t.start_m {
+            let _ = writeln!(out, "start_m = [{}, {}]", num(x), num(y));
+        }
+    }
+    for f in &r.frames {
+        let _ = write!(
+            out,
+            "\n[[rig.frame]]\nname = {}\nnormal = [{}, {}]\nat_m = {}\n",
+            toml_str(&f.name),
+            num(f.normal[0]),
+            num(f.normal[1]),
+            num(f.at_m)
+        );
+    }
+}
