@@ -29,11 +29,13 @@ fn mechanisms() -> Vec<Mechanism> {
     // The truss wings (`*_truss*.toml`) are tested in tests/truss.rs and
     // host-sim/tests/truss_cli.rs; the project's own
     // `reliability_one_panel.toml` (not a seed mechanism) in tests/reliability.rs;
-    // the physical-latch examples (`*_physical_latch.toml`) in tests/physical_latch.rs.
+    // the physical-latch examples (`*_physical_latch.toml`) in tests/physical_latch.rs;
+    // the rig examples (`*_rig.toml`) in host-sim/tests/rig.rs.
     files(&data().join("mechanisms"), "toml")
         .iter()
         .filter(|p| !p.to_string_lossy().contains("_truss"))
         .filter(|p| !p.to_string_lossy().contains("_physical_latch"))
+        .filter(|p| !p.to_string_lossy().ends_with("_rig.toml"))
         .filter(|p| {
             p.file_name()
                 .is_some_and(|f| f.to_string_lossy().starts_with("seed"))

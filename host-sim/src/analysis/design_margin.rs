@@ -351,6 +351,19 @@ pub struct JointMargin {
     pub latch_factor: f64,
     /// Required minimum margin [%] (`MoS_required · 100`).
     pub required_pct: f64,
+    /// Resistances of a diagnosis besides the friction and the latch
+    /// ([`crate::analysis::effect_margin`]), summed per kind and already
+    /// multiplied by their kind's factor: torque [N·m], energy [J].
+    pub factored_extra: FactoredExtra,
+}
+
+/// The factored sum `Σ_i FoS_i · R_i` of extra resistances, both forms.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct FactoredExtra {
+    /// In the torque form [N·m].
+    pub torque_nm: f64,
+    /// In the energy form [J].
+    pub energy_j: f64,
 }
 
 impl JointMargin {
@@ -360,6 +373,28 @@ impl JointMargin {
         self
     }
 
+    /// Adds a resistance of `kind`, `torque_nm` in the torque form and
+    /// `energy_j` in the energy form, each multiplied by `factors`' factor
+    /// of its kind.
+    pub fn add_resistance(
+        &mut self,
+        kind: Resistance,
+        torque_nm: f64,
+        energy_j: f64,
+        factors: &Factors,
+    ) {
+        let f = factors.get(kind);
+        self.factored_extra.torque_nm += f * torque_nm;
+        self.factored_extra.energy_j += f * energy_j;
+    }
+
+    /// Scales the driving spring by `scale` (a softened spring, `1 − s`):
+    /// both `T_D` and `E_D`.
+    pub fn scale_driving(&mut self, scale: f64) {
+        self.driving_torque_nm *= scale;
+        self.driving_energy_j *= scale;
+    }
+
     /// The torque-form margin with the factors,
     /// `(T_D / (FoS_f · T_R + FoS_l · T_e) − 1) · 100` [%] (seed 001 Eq. 7
     /// when the factors are 1 and the latch ideal, `T_e = 0`).
@@ -367,7 +402,8 @@ impl JointMargin {
         margin_pct(
             self.driving_torque_nm,
             self.friction_factor * self.resisting_torque_nm
-                + self.latch_factor * self.latch.entry_torque_nm,
+                + self.latch_factor * self.latch.entry_torque_nm
+                + self.factored_extra.torque_nm,
         )
     }
 
@@ -378,7 +414,8 @@ impl JointMargin {
         margin_pct(
             self.driving_energy_j,
             self.friction_factor * self.resisting_energy_j
-                + self.latch_factor * self.latch.engagement_energy_j,
+                + self.latch_factor * self.latch.engagement_energy_j
+                + self.factored_extra.energy_j,
         )
     }
 
@@ -418,6 +455,7 @@ pub fn joint_margin(
         latch: LatchResistance::default(),
         latch_factor: f.get(LATCH_KIND),
         required_pct: standard.required_margin() * 100.0,
+        factored_extra: FactoredExtra::default(),
     }
 }
 

@@ -6,6 +6,7 @@
 pub mod campaign_sim;
 pub mod design_margin;
 pub mod diagnose;
+pub mod effect_margin;
 pub mod evidence;
 pub mod fit;
 pub mod identify;

@@ -2,7 +2,7 @@
 //! serial-link firmware (QEMU over TCP, or a board on a serial device),
 //! with the statuses timed and checked against the host core.
 
-use super::{check_output, CliError, Console};
+use super::{check_output, outln, CliError, Console};
 use crate::data::run::Run;
 use crate::model::mechanism::Mechanism;
 use crate::onboard::hil::{self, Assessment, Fate, Inject, Outgoing, Plan, Received};
@@ -252,7 +252,7 @@ pub fn run(args: &HilArgs) -> Result<(), CliError> {
         against_full(&mech, &run, &plan, &a)?;
     }
     for s in replay::summary(&a.rows) {
-        println!("  {s}");
+        outln!("  {s}");
     }
     write_outputs(args, &mech.name, &a, &console)?;
     if let Some(path) = &args.latency {
@@ -288,14 +288,14 @@ fn verdict(
         out.count(Fate::Delayed),
     );
     let delivered = out.fate.iter().filter(|f| f.delivered()).count();
-    println!(
+    outln!(
         "sent: {} sample frames ({dropped} dropped, {corrupted} corrupted, {delayed} delayed on purpose)",
         out.fate.len() - dropped
     );
     match &got.report {
         Some(r) => {
             let exact = r.samples as usize == delivered && r.corrupted as usize == corrupted;
-            println!(
+            outln!(
                 "firmware: {} samples used, {} corrupted, {} too long, {} bytes overrun: {}",
                 r.samples,
                 r.corrupted,
@@ -317,7 +317,7 @@ fn verdict(
         }
         None => problems.push("no link report from the firmware".to_string()),
     }
-    println!(
+    outln!(
         "statuses: {} back ({} lost, {} corrupted on the way back); {} of {} bit-identical with \
          the host core on the same input",
         got.statuses.len(),
@@ -333,7 +333,7 @@ fn verdict(
         });
     }
     let ms = |x: f64| x * 1e3;
-    println!(
+    outln!(
         "latency (sample sent -> status received): median {:.3} ms, p99 {:.3} ms, worst {:.3} ms \
          over {} statuses",
         ms(hil::quantile(&a.latency_s, 0.5)),
@@ -341,7 +341,7 @@ fn verdict(
         ms(a.latency_s.iter().copied().fold(0.0, f64::max)),
         a.latency_s.len()
     );
-    println!(
+    outln!(
         "deadline misses (status later than the period, {:.3} ms): {} of {}",
         ms(plan.period_s),
         a.misses,
@@ -367,7 +367,7 @@ fn against_full(mech: &Mechanism, run: &Run, plan: &Plan, a: &Assessment) -> Res
         .flatten()
         .collect();
     let (false_latch, extra) = hil::against_full(&full_rows, &a.rows);
-    println!(
+    outln!(
         "against the whole run on the host: false latches at joints {:?}; flags it never raises: {}",
         false_latch,
         if extra.is_empty() {

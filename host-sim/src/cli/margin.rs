@@ -12,16 +12,16 @@
 //! as a resistance, factored as [`LATCH_KIND`]: its entry torque in the
 //! torque form, its engagement energy in the energy form, each printed on
 //! a line of its own. `--json` writes the same table.
+pub use super::margin_from::{read_found, resistances_with, FromError, Resistances};
 use super::{check_output, CliError, Console};
 use crate::analysis::design_margin::{
     joint_margin, Factors, JointMargin, LatchResistance, NameError, Resistance, Standard,
     LATCH_KIND,
 };
+use crate::analysis::effect_margin::{self, Counted, EffectWork};
 use crate::model::effect::{Effect, EffectKind};
-use crate::model::findings::{Diagnosis, Findings, FindingsError, Identification};
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;
-use crate::simulate::deployment::{self, SimOptions};
 use clap::builder::PossibleValue;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -67,6 +67,18 @@ pub struct MarginArgs {
     /// written as usual.
     #[arg(long, short)]
     pub quiet: bool,
+
+    /// The margin on orbit: the mechanism's `[rig]` taken out and the
+    /// effects that exist only on the ground rig (`air_drag`, `rig_tilt`)
+    /// left out of what `--from` found.
+    #[arg(long)]
+    pub flight: bool,
+
+    /// Exit 1 when a joint fails either margin (after printing the table
+    /// and writing the JSON); without it the exit code says only whether
+    /// the margins could be computed.
+    #[arg(long)]
+    pub check: bool,
 }
 
 /// `--standard` takes the names of [`Standard::ALL`], each with its
@@ -155,172 +167,6 @@ fn verdict(m: &JointMargin) -> &'static str {
     }
 }
 
-/// The resistances of each joint the margins use, and where they come from.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Resistances {
-    /// Coulomb friction (EFT) per joint [N·m].
-    pub coulomb_nm: Vec<f64>,
-    /// Viscous damping per joint [N·m·s/rad].
-    pub viscous_nms: Vec<f64>,
-    /// Where the values come from, in words.
-    pub source: String,
-    /// Effects of a diagnosis that no margin here accounts for.
-    pub ignored: Vec<String>,
-    /// The mechanisms the file was found on (empty if it does not say).
-    pub found_on: Vec<String>,
-}
-
-/// Why a `--from` file cannot be used.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum FromError {
-    /// The file cannot be read.
-    #[error("cannot read: {0}")]
-    Read(#[from] std::io::Error),
-    /// Not the JSON of identify or diagnose.
-    #[error("{0}")]
-    Findings(#[from] FindingsError),
-    /// A field missing or of the wrong kind.
-    #[error("{at}: expected \"{key}\", {expected}")]
-    Field {
-        /// Where in the file, e.g. `joints[0]`.
-        at: String,
-        /// The key.
-        key: &'static str,
-        /// What it should hold.
-        expected: &'static str,
-    },
-    /// A joint the mechanism does not have.
-    #[error("{effect} at joint {joint}, but {mechanism} has joints 1 to {joints}")]
-    Joint {
-        /// The effect found.
-        effect: EffectKind,
-        /// Its joint (1-based).
-        joint: usize,
-        /// The mechanism's name.
-        mechanism: String,
-        /// Its joint count.
-        joints: usize,
-    },
-}
-
-/// What an identify or diagnose JSON found.
-struct Found {
-    /// Which command wrote it.
-    command: &'static str,
-    /// The friction and damping effects.
-    effects: Vec<Effect>,
-    /// Other effects, in words (not in the margins).
-    ignored: Vec<String>,
-    /// The mechanisms it was found on.
-    found_on: Vec<String>,
-}
-
-/// Reads `--from`: an identify JSON (`"method"` and `"joints"`) or a
-/// diagnose JSON (`"effects"`) ([`Findings`]), for a mechanism of `mech`
-/// (whose own friction the found values add to, as the effects do in
-/// `physics.md` 6).
-pub fn read_found(path: &Path, mech: &Mechanism) -> Result<Resistances, FromError> {
-    let found = match Findings::from_json_str(&std::fs::read_to_string(path)?)? {
-        Findings::Identify(id) => identify_effects(&id)?,
-        Findings::Diagnosis(d) => diagnose_effects(&d)?,
-    };
-    let n = mech.joint_count();
-    let mut r = Resistances {
-        coulomb_nm: mech.joints.iter().map(|j| j.friction.coulomb_nm).collect(),
-        viscous_nms: mech.joints.iter().map(|j| j.friction.viscous_nms).collect(),
-        source: format!(
-            "{} ({}) + the mechanism's friction",
-            found.command,
-            path.display()
-        ),
-        ignored: found.ignored,
-        found_on: found.found_on,
-    };
-    for e in found.effects {
-        let j = e.joint.unwrap_or(0);
-        if j == 0 || j > n {
-            return Err(FromError::Joint {
-                effect: e.kind,
-                joint: j,
-                mechanism: mech.name.clone(),
-                joints: n,
-            });
-        }
-        match e.kind {
-            EffectKind::CoulombFriction => r.coulomb_nm[j - 1] += e.value,
-            _ => r.viscous_nms[j - 1] += e.value,
-        }
-    }
-    Ok(r)
-}
-
-/// `x` if it is a finite number ≥ 0.
-fn nonneg(x: Option<f64>, key: &'static str, at: &str) -> Result<f64, FromError> {
-    x.filter(|x| x.is_finite() && *x >= 0.0)
-        .ok_or_else(|| FromError::Field {
-            at: at.to_string(),
-            key,
-            expected: "a number ≥ 0",
-        })
-}
-
-/// `joint` if it is a joint number (from 1).
-fn joint_of(joint: Option<usize>, at: &str) -> Result<usize, FromError> {
-    joint.filter(|j| *j >= 1).ok_or_else(|| FromError::Field {
-        at: at.to_string(),
-        key: "joint",
-        expected: "a joint number from 1",
-    })
-}
-
-/// The EFTs of an identify JSON, and the mechanisms of its runs.
-fn identify_effects(id: &Identification) -> Result<Found, FromError> {
-    let mut effects = Vec::new();
-    for (i, j) in id.joints.iter().enumerate() {
-        let at = format!("joints[{i}]");
-        let joint = joint_of(Some(j.joint), &at)?;
-        let value = nonneg(Some(j.coulomb_nm), "coulomb_nm", &at)?;
-        effects.push(Effect::joint(EffectKind::CoulombFriction, joint, value));
-    }
-    let mut found_on: Vec<String> = id.after.runs.iter().map(|r| r.mechanism.clone()).collect();
-    found_on.dedup();
-    Ok(Found {
-        command: "identify",
-        effects,
-        ignored: Vec::new(),
-        found_on,
-    })
-}
-
-/// The friction and damping effects of a diagnose JSON, the other effects
-/// (named, not used), and the mechanisms it was found on.
-fn diagnose_effects(d: &Diagnosis) -> Result<Found, FromError> {
-    let (mut effects, mut ignored) = (Vec::new(), Vec::new());
-    for (i, e) in d.effects.iter().enumerate() {
-        let at = format!("effects[{i}] ({})", e.name);
-        let kind = match e.name.as_str() {
-            "coulomb_friction" => EffectKind::CoulombFriction,
-            "viscous_damping" => EffectKind::ViscousDamping,
-            other => {
-                ignored.push(
-                    e.joint
-                        .map_or(other.to_string(), |j| format!("{other} at joint {j}")),
-                );
-                continue;
-            }
-        };
-        let joint = joint_of(e.joint, &at)?;
-        effects.push(Effect::joint(kind, joint, nonneg(e.value, "value", &at)?));
-    }
-    Ok(Found {
-        command: "diagnose",
-        effects,
-        ignored,
-        found_on: d.found_on(),
-    })
-}
-
 /// The resistances from `--friction`, or the mechanism's own friction.
 fn given_resistances(args: &MarginArgs, mech: &Mechanism) -> Result<Resistances, CliError> {
     let n = mech.joint_count();
@@ -331,6 +177,7 @@ fn given_resistances(args: &MarginArgs, mech: &Mechanism) -> Result<Resistances,
             viscous_nms,
             source: "the mechanism's friction".into(),
             ignored: Vec::new(),
+            others: Vec::new(),
             found_on: Vec::new(),
         });
     };
@@ -351,20 +198,17 @@ fn given_resistances(args: &MarginArgs, mech: &Mechanism) -> Result<Resistances,
         viscous_nms,
         source: "--friction".into(),
         ignored: Vec::new(),
+        others: Vec::new(),
         found_on: Vec::new(),
     })
 }
 
-/// The energy [J] each joint's viscous damping dissipates on the
-/// deployment simulated with those resistances: `∫ f · φ̇² dt` up to the
-/// latch (rectangle rule on the sample grid). Zero where `f = 0`.
-fn viscous_energy_j(mech: &Mechanism, r: &Resistances) -> Result<Vec<f64>, CliError> {
+/// What was found, as effects on top of the mechanism (which already
+/// holds its own friction): the differences of the friction and damping
+/// lists, and every other effect.
+fn found_effects(mech: &Mechanism, r: &Resistances) -> Vec<Effect> {
     let n = mech.joint_count();
-    if r.viscous_nms.iter().all(|f| *f == 0.0) {
-        return Ok(vec![0.0; n]);
-    }
-    // The mechanism already holds its own friction: add only what was found.
-    let effects: Vec<Effect> = (0..n)
+    (0..n)
         .flat_map(|j| {
             let own = &mech.joints[j].friction;
             [
@@ -380,11 +224,33 @@ fn viscous_energy_j(mech: &Mechanism, r: &Resistances) -> Result<Vec<f64>, CliEr
                 ),
             ]
         })
-        .collect();
-    let traj = deployment::simulate(mech, &effects, &SimOptions::default())
-        .map_err(|e| CliError::failed(format!("the deployment with the found damping: {e}")))?;
+        .chain(r.others.iter().copied())
+        .collect()
+}
+
+/// What the simulated deployment gives the margins: each joint's viscous
+/// energy `∫ f · φ̇² dt` [J] (rectangle rule on the sample grid, zero where
+/// `f = 0`), and per effect of `r.others` its resisting work and its
+/// generalised torque at the stowed state
+/// ([`effect_margin::resisting_work`]). No simulation when nothing needs it.
+fn simulated(mech: &Mechanism, r: &Resistances) -> Result<(Vec<f64>, EffectWork), CliError> {
+    let n = mech.joint_count();
+    let zero_others = vec![vec![0.0; n]; r.others.len()];
+    let needed = r.viscous_nms.iter().any(|f| *f != 0.0)
+        || r.others
+            .iter()
+            .any(|e| effect_margin::needs_simulation(e.kind));
+    if !needed {
+        let work = EffectWork {
+            work_j: zero_others.clone(),
+            stowed_torque_nm: zero_others,
+        };
+        return Ok((vec![0.0; n], work));
+    }
+    let traj = effect_margin::deployment(mech, &found_effects(mech, r))
+        .map_err(|e| CliError::failed(format!("the deployment with what was found: {e}")))?;
     let dt = traj.t_s.windows(2).map(|w| w[1] - w[0]);
-    Ok((0..n)
+    let viscous = (0..n)
         .map(|j| {
             let rate = &traj.rate_deg_s[j];
             dt.clone()
@@ -392,7 +258,11 @@ fn viscous_energy_j(mech: &Mechanism, r: &Resistances) -> Result<Vec<f64>, CliEr
                 .map(|(dt, w)| r.viscous_nms[j] * w.to_radians().powi(2) * dt)
                 .sum()
         })
-        .collect())
+        .collect();
+    Ok((
+        viscous,
+        effect_margin::resisting_work(mech, &r.others, &traj),
+    ))
 }
 
 /// One row of the table.
@@ -409,6 +279,9 @@ pub struct Row {
     pub viscous_energy_j: f64,
     /// The margins.
     pub margin: JointMargin,
+    /// Each other effect found on this joint (or global) and how it is
+    /// counted.
+    pub counted: Vec<(Effect, Counted)>,
 }
 
 /// The margins of every joint with the resistances `r` and `factors`.
@@ -419,7 +292,7 @@ fn margins(
     standard: Standard,
     factors: &Factors,
 ) -> Result<Vec<Row>, CliError> {
-    let viscous = viscous_energy_j(mech, r)?;
+    let (viscous, w) = simulated(mech, r)?;
     let mut rows = Vec::with_capacity(mech.joint_count());
     for (j, joint) in mech.joints.iter().enumerate() {
         let spring = joint.spring.to_spring().map_err(|e| {
@@ -437,16 +310,55 @@ fn margins(
             Some(factors),
         );
         m.resisting_energy_j += viscous[j];
-        let m = m.with_latch(latch_resistance(mech, j));
+        let mut m = m.with_latch(latch_resistance(mech, j));
+        let mut counted = Vec::new();
+        for (i, e) in r.others.iter().enumerate() {
+            let Some(c) =
+                effect_margin::counted(mech, j, e, w.work_j[i][j], w.stowed_torque_nm[i][j])
+            else {
+                continue;
+            };
+            match c {
+                Counted::Resistance {
+                    kind,
+                    torque_nm,
+                    energy_j,
+                } => m.add_resistance(kind, torque_nm, energy_j, factors),
+                Counted::Driving { scale } => m.scale_driving(scale),
+                Counted::Sensor => {}
+            }
+            counted.push((*e, c));
+        }
         rows.push(Row {
             joint: j + 1,
             stowed_deg: joint.stowed_deg,
             viscous_nms: r.viscous_nms[j],
             viscous_energy_j: viscous[j],
             margin: m,
+            counted,
         });
     }
     Ok(rows)
+}
+
+/// `--flight`: leaves out the effects that exist only on the ground rig
+/// ([`effect_margin::rig_only`]), naming them in the source.
+fn take_out_the_rig(r: &mut Resistances) {
+    let (rig, flies): (Vec<Effect>, Vec<Effect>) = r
+        .others
+        .iter()
+        .partition(|e| effect_margin::rig_only(e.kind));
+    r.others = flies;
+    let names: Vec<String> = rig.iter().map(|e| e.kind.to_string()).collect();
+    r.source = if names.is_empty() {
+        format!("{}; flight: the rig taken out", r.source)
+    } else {
+        format!(
+            "{}; flight: the rig taken out, left out as rig-only: {}",
+            r.source,
+            names.join(", ")
+        )
+    };
 }
 
 /// The engagement of joint `j`'s physical latch (0-based) as a resistance,
@@ -467,11 +379,15 @@ pub fn latch_resistance(mech: &Mechanism, j: usize) -> LatchResistance {
 pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     // The loader's errors name the file, the key and what was expected.
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
-    let resist = match &args.from {
+    let mech = if args.flight { mech.flight() } else { mech };
+    let mut resist = match &args.from {
         Some(path) => read_found(path, &mech)
             .map_err(|e| CliError::input(format!("--from {}: {e}", path.display())))?,
         None => given_resistances(args, &mech)?,
     };
+    if args.flight {
+        take_out_the_rig(&mut resist);
+    }
     if let Some(out) = &args.json {
         check_output("--json", out)?;
     }
@@ -504,6 +420,18 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         outs.commit()?;
         console.say(format_args!("json: {}", out.display()));
     }
+    let failed: Vec<String> = rows
+        .iter()
+        .filter(|r| !(r.margin.torque_pass() && r.margin.energy_pass()))
+        .map(|r| r.joint.to_string())
+        .collect();
+    if args.check && !failed.is_empty() {
+        return Err(CliError::failed(format!(
+            "margin --check: joint(s) {} of `{}` FAIL",
+            failed.join(", "),
+            mech.name
+        )));
+    }
     Ok(())
 }
 
@@ -522,7 +450,7 @@ fn table_header(args: &MarginArgs, mech: &Mechanism, r: &Resistances, factors: &
     if !r.ignored.is_empty() {
         let _ = writeln!(
             s,
-            "not in these margins (no resistance form here): {}",
+            "not a named effect, not in these margins: {}",
             r.ignored.join(", ")
         );
     }
@@ -560,6 +488,12 @@ fn table_header(args: &MarginArgs, mech: &Mechanism, r: &Resistances, factors: &
         let _ = writeln!(
             s,
             "R includes a physical latch's engagement (T_e in the torque form, E_eng in the energy form)"
+        );
+    }
+    if !r.others.is_empty() {
+        let _ = writeln!(
+            s,
+            "R includes every other effect found, each with its kind's factor (a line under its joint); a spring_softening scales D"
         );
     }
     if r.viscous_nms.iter().any(|f| *f != 0.0) {
@@ -611,6 +545,9 @@ fn table(
             pct(m.energy_margin_pct()),
             verdict(m)
         );
+        for (e, c) in &row.counted {
+            let _ = writeln!(s, "{:>5} {}", "", counted_line(e, c, factors));
+        }
         if m.latch != LatchResistance::default() {
             let _ = writeln!(
                 s,
@@ -623,6 +560,48 @@ fn table(
         }
     }
     s
+}
+
+/// How an effect found is counted, for the table: e.g. `harness_stiffness
+/// 0.5 N·m/rad (harness, factor 3): 1.5708 N·m in the torque form, 1.2337 J
+/// in the energy form`.
+fn counted_line(e: &Effect, c: &Counted, factors: &Factors) -> String {
+    let what = format!("{} {} {}", e.kind, e.value, e.kind.unit());
+    match c {
+        Counted::Resistance {
+            kind,
+            torque_nm,
+            energy_j,
+        } => format!(
+            "{what} ({kind}, factor {}): {torque_nm:.4} N·m in the torque form, {energy_j:.4} J in the energy form",
+            factors.get(*kind)
+        ),
+        Counted::Driving { scale } => {
+            format!("{what}: the driving spring × {scale:.4} (T_D and E_D above)")
+        }
+        Counted::Sensor => format!("{what}: a sensor effect, no torque (0 in both forms)"),
+    }
+}
+
+/// How an effect found is counted, for `--json`.
+fn counted_json(e: &Effect, c: &Counted) -> Value {
+    let (counts_as, torque, energy, scale) = match c {
+        Counted::Resistance {
+            kind,
+            torque_nm,
+            energy_j,
+        } => (kind.name(), *torque_nm, *energy_j, 1.0),
+        Counted::Driving { scale } => ("driving", 0.0, 0.0, *scale),
+        Counted::Sensor => ("sensor", 0.0, 0.0, 1.0),
+    };
+    json!({
+        "effect": e.kind.name(),
+        "value": e.value,
+        "counts_as": counts_as,
+        "torque_nm": torque,
+        "energy_j": energy,
+        "driving_scale": scale,
+    })
 }
 
 /// The margins as JSON (`--json`); an infinite margin (no resistance) is
@@ -661,6 +640,7 @@ fn to_json(
                 "latch_entry_torque_nm": m.latch.entry_torque_nm,
                 "latch_engagement_energy_j": m.latch.engagement_energy_j,
                 "energy_margin_pct": finite(m.energy_margin_pct()),
+                "counted": row.counted.iter().map(|(e, c)| counted_json(e, c)).collect::<Vec<_>>(),
                 "pass": m.torque_pass() && m.energy_pass(),
             })
         }).collect::<Vec<_>>(),
@@ -707,6 +687,8 @@ mod tests {
             factors: vec![(Resistance::Friction, 2.5)],
             json: None,
             quiet: true,
+            check: false,
+            flight: false,
         }
     }
 

@@ -24,10 +24,12 @@ pub mod diagnose_torque;
 pub mod hil;
 pub mod identify;
 pub mod margin;
+pub mod margin_from;
 pub mod reliability;
 pub mod replay;
 pub mod simulate;
 pub mod simulate_args;
+pub mod simulate_rig;
 pub mod simulate_truss;
 
 use crate::report::progress::{self, Progress};

@@ -71,6 +71,10 @@ pub struct ReliabilityArgs {
     /// No progress and no chatter: the result, errors and warnings only.
     #[arg(long, short)]
     pub quiet: bool,
+    /// The flight unit: the mechanism's `[rig]` taken out (only what
+    /// flies; `docs/simulator.md`, "Rig").
+    #[arg(long)]
+    pub flight: bool,
 }
 
 /// The laws of `--from` (the identify JSON), skipping the joints whose
@@ -97,6 +101,7 @@ fn from_file(path: &Path, given: &[Vary]) -> Result<Vec<Vary>, CliError> {
 /// The problem of the command line.
 pub fn problem(args: &ReliabilityArgs) -> Result<Problem, CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
+    let mech = if args.flight { mech.flight() } else { mech };
     let mut vary = args.vary.clone();
     if let Some(f) = &args.from {
         vary.extend(from_file(f, &args.vary)?);

@@ -15,6 +15,8 @@ use std::path::Path;
 /// Runs `deploywatch simulate`.
 pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
+    // `--flight`: the rig taken out, only what flies.
+    let mech = if args.flight { mech.flight() } else { mech };
     check_args(args, &mech)?;
     for w in crate::model::plausibility::warnings(&mech, &args.mechanism) {
         Console::new(args.quiet).warn(w);
@@ -74,7 +76,14 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     for r in &reports {
         outln!("  fault {r}");
     }
-    if let Some(png) = &args.plot {
+    let rig = match mech.active_rig() {
+        Some(_) => Some(super::simulate_rig::report(&mech, &args.effects, &opts)?),
+        None => None,
+    };
+    if let (Some(png), Some(rig)) = (&args.plot, &rig) {
+        super::simulate_rig::plot(&outs.path(png)?, &mech.name, &run, rig)
+            .map_err(|e| CliError::failed(e.to_string()))?;
+    } else if let Some(png) = &args.plot {
         plot_run(&outs.path(png)?, &mech.name, &run, &traj.latch_s)
             .map_err(|e| CliError::failed(e.to_string()))?;
     }

@@ -44,6 +44,10 @@ pub struct SimulateArgs {
     /// too, nothing else; the run (and the plot) are written as usual.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Simulate the flight unit: the mechanism's `[rig]` taken out (only
+    /// what flies; `docs/simulator.md`, "Rig").
+    #[arg(long)]
+    pub flight: bool,
 }
 
 /// The help of `--effect`, generated from the effect table

@@ -164,6 +164,9 @@ pub struct Mechanism {
     /// `[joint.latch]` of each joint (`None`, or an empty list: the ideal
     /// latch of `physics.md` section 5; [`crate::model::latch`]).
     pub latches: Vec<Option<crate::model::latch::LatchSpec>>,
+    /// `[rig]`: the zero-g rig the panels are tested on (`None`: no rig;
+    /// [`crate::model::rig`], this project's extension).
+    pub rig: Option<crate::model::rig::Rig>,
 }
 
 impl Mechanism {
@@ -175,6 +178,19 @@ impl Mechanism {
     /// The physical latch of joint `j` (0-based), `None` for the ideal one.
     pub fn latch(&self, j: usize) -> Option<&crate::model::latch::LatchSpec> {
         self.latches.get(j).and_then(Option::as_ref)
+    }
+
+    /// The rig, when the file has one and it is enabled.
+    pub fn active_rig(&self) -> Option<&crate::model::rig::Rig> {
+        self.rig.as_ref().filter(|r| r.enabled)
+    }
+
+    /// The same mechanism as it flies: the rig taken out (`--flight`).
+    pub fn flight(&self) -> Mechanism {
+        Mechanism {
+            rig: None,
+            ..self.clone()
+        }
     }
 
     /// True when some joint has a physical latch.

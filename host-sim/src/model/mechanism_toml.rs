@@ -95,6 +95,7 @@ const TOP_KEYS: &[&str] = &[
     "tape",
     "run",
     "truss",
+    "rig",
 ];
 const PANEL_KEYS: &[&str] = &["length_m", "mass_kg", "com_m", "inertia_kgm2"];
 const JOINT_KEYS: &[&str] = &["stowed_deg", "spring", "friction", "latch"];
@@ -189,11 +190,7 @@ impl Cx<'_> {
             None => (DEFAULT_DURATION_S, DEFAULT_SAMPLE_HZ, DEFAULT_SETTLE_S),
         };
 
-        // Each further table is read by its own module, on the same tree.
-        let truss = top
-            .get("truss")
-            .map(|sp| crate::model::truss_toml::read(self, sp, panels.len()))
-            .transpose()?;
+        let (truss, rig) = self.extensions(&top, &panels)?;
         Ok(Mechanism {
             name,
             description,
@@ -204,7 +201,30 @@ impl Cx<'_> {
             settle_s,
             truss,
             latches,
+            rig,
         })
+    }
+
+    /// `[truss]` and `[rig]`: each further table is read by its own module,
+    /// on the same tree.
+    #[allow(clippy::type_complexity)]
+    fn extensions(
+        &self,
+        top: &Table<'_>,
+        panels: &[Panel<f64>],
+    ) -> Res<(
+        Option<crate::model::truss::Truss>,
+        Option<crate::model::rig::Rig>,
+    )> {
+        let truss = top
+            .get("truss")
+            .map(|sp| crate::model::truss_toml::read(self, sp, panels.len()))
+            .transpose()?;
+        let rig = top
+            .get("rig")
+            .map(|sp| crate::model::rig_toml::read(self, sp, panels))
+            .transpose()?;
+        Ok((truss, rig))
     }
 
     /// `[run]`: `(duration_s, sample_hz, settle_s)`, each defaulted on its own.

@@ -86,6 +86,9 @@ impl Mechanism {
         if let Some(t) = &self.truss {
             crate::model::truss_toml::write(t, &mut out);
         }
+        if let Some(r) = &self.rig {
+            crate::model::rig_toml::write(r, &mut out);
+        }
         out
     }
 

@@ -13,6 +13,8 @@ pub mod mechanism_error;
 pub mod mechanism_toml;
 pub mod mechanism_write;
 pub mod plausibility;
+pub mod rig;
+pub mod rig_toml;
 pub mod toml_tree;
 pub mod torque_table;
 pub mod truss;

@@ -106,6 +106,11 @@ fn simulate_samples(
         return crate::simulate::latch_deployment::simulate_physical(mech, effects, opts, times)
             .map(|run| run.traj);
     }
+    if mech.active_rig().is_some() {
+        // On the zero-g rig (`[rig]`, physics.md §11): the rig simulator.
+        let list: Vec<f64> = (0..).map_while(|k| times.get(k)).collect();
+        return crate::simulate::rig::simulate_rig(mech, effects, opts, &list).map(|r| r.traj);
+    }
     if mech.truss.is_some() {
         // The one truss simulator (multibody), with the effects on its pins.
         return crate::simulate::truss_deployment::simulate_truss(mech, effects, opts, times)

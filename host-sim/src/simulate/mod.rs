@@ -12,6 +12,8 @@ pub mod latch_deployment;
 pub mod latch_run;
 pub mod multibody;
 pub mod ode;
+pub mod rig;
+pub mod rig_ode;
 pub mod sensor;
 pub mod trajectory;
 pub mod truss_deployment;
