@@ -41,17 +41,32 @@ fn effect(rng: &mut ChaCha8Rng, joints: usize) -> Option<Effect> {
     let j = rng.gen_range(1..=joints);
     let s = match rng.gen_range(0..8) {
         0 => return None,
-        1 => format!("coulomb_friction:joint={j}:value={}", rng.gen_range(0.02..0.6)),
-        2 => format!("viscous_damping:joint={j}:value={}", rng.gen_range(0.02..0.6)),
-        3 => format!("harness_stiffness:joint={j}:value={}", rng.gen_range(0.02..0.5)),
-        4 => format!("spring_softening:joint={j}:value={}", rng.gen_range(0.02..0.3)),
+        1 => format!(
+            "coulomb_friction:joint={j}:value={}",
+            rng.gen_range(0.02..0.6)
+        ),
+        2 => format!(
+            "viscous_damping:joint={j}:value={}",
+            rng.gen_range(0.02..0.6)
+        ),
+        3 => format!(
+            "harness_stiffness:joint={j}:value={}",
+            rng.gen_range(0.02..0.5)
+        ),
+        4 => format!(
+            "spring_softening:joint={j}:value={}",
+            rng.gen_range(0.02..0.3)
+        ),
         5 => format!("air_drag:value={}", rng.gen_range(0.05..1.5)),
         6 => format!(
             "rig_tilt:value={}:alpha_deg={}",
             rng.gen_range(-0.3..0.3),
             rng.gen_range(0.0..360.0)
         ),
-        _ => format!("encoder_offset:joint={j}:value={}", rng.gen_range(-3.0..3.0)),
+        _ => format!(
+            "encoder_offset:joint={j}:value={}",
+            rng.gen_range(-3.0..3.0)
+        ),
     };
     Some(s.parse().unwrap_or_else(|e| panic!("{s}: {e}")))
 }
@@ -96,7 +111,11 @@ fn as_built_latches_are_never_refused() {
         with_effect += usize::from(!effects.is_empty());
         match r {
             Ok(run) => {
-                sticks += run.events.iter().filter(|e| e.kind == LatchEventKind::Stick).count();
+                sticks += run
+                    .events
+                    .iter()
+                    .filter(|e| e.kind == LatchEventKind::Stick)
+                    .count();
                 latched += usize::from(run.traj.latch_s.iter().all(|l| l.is_some()));
             }
             Err(e) => {
@@ -152,8 +171,15 @@ fn energy_closes_on_every_stick() {
     assert!(checked.len() >= 5, "too few draws stick: {}", checked.len());
     for (i, n, drift, taken) in checked {
         let (name, _, fx) = draw(i);
+        let fx: Vec<String> = fx.iter().map(|e| e.to_string()).collect();
         println!("draw {i} {name} {fx:?}: {n} sticks, worst drift {drift:.2e}, taken by sticks {taken:.2e} of the stored energy");
-        assert!(drift <= 1e-6, "draw {i}: drift {drift:.3e} of the stored energy");
-        assert!(taken <= 1e-6, "draw {i}: sticks took {taken:.3e} of the stored energy");
+        assert!(
+            drift <= 1e-6,
+            "draw {i}: drift {drift:.3e} of the stored energy"
+        );
+        assert!(
+            taken <= 1e-6,
+            "draw {i}: sticks took {taken:.3e} of the stored energy"
+        );
     }
 }

@@ -453,7 +453,8 @@ impl<const N: usize> Sim<'_, N> {
             let Some((a, b)) = bracket.or_else(|| {
                 // A stuck joint whose torque left its band by the step's
                 // start slips there.
-                let slips = matches!(ev, Ev::Slip(_)) && inside(self, ev, &dense.at(dense.t0)) <= 0.0;
+                let slips =
+                    matches!(ev, Ev::Slip(_)) && inside(self, ev, &dense.at(dense.t0)) <= 0.0;
                 slips.then_some((dense.t0, dense.t0))
             }) else {
                 continue;

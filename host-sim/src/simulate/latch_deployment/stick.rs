@@ -21,15 +21,13 @@ impl<const N: usize> Sim<'_, N> {
         held[j] = true;
         let (m, rhs) = self.system(y, &held);
         let r = holding_torques(&m, &rhs, &held).ok()?[j];
-        r.is_finite()
-            .then(|| (r, self.chain.stick_band(j, y.q[j])))
+        r.is_finite().then(|| (r, self.chain.stick_band(j, y.q[j])))
     }
 
     /// How far a stuck joint's holding torque is inside its band (the
     /// event function of [`super::Ev::Slip`]).
     pub(super) fn slip_margin(&self, j: usize, y: &State<N>) -> f64 {
-        self.holding(j, y)
-            .map_or(-1.0, |(r, band)| band.margin(r))
+        self.holding(j, y).map_or(-1.0, |(r, band)| band.margin(r))
     }
 
     /// The event function of [`super::Ev::Turn`]: the rate on the side the
