@@ -78,6 +78,12 @@ pub fn effect_help() -> String {
          and/or rate [deg/s], 2 to 24 points each (per joint, joint=J, no value)",
         EffectKind::TorqueTable.name()
     );
+    s += &format!(
+        "\n  {:<18} V = kinetic T_C in N·m, excess_nm=E: break-away T_brk − T_C in N·m, \
+         stribeck_rad_s=W: Stribeck velocity in rad/s, e.g. \
+         stribeck_friction:joint=2:value=0.3:excess_nm=0.4:stribeck_rad_s=0.05 (per joint, joint=J)",
+        EffectKind::StribeckFriction.name()
+    );
     for k in EffectKind::LATCH {
         s += &format!(
             "\n  {:<18} V dimensionless, a fraction 0 to 1 (per joint, joint=J; a joint \

@@ -15,6 +15,15 @@ pub enum EffectKind {
     CoulombFriction,
     /// `viscous_damping`: `f` [N·m·s/rad] at a joint.
     ViscousDamping,
+    /// `quadratic_damping`: `c` [N·m·s²/rad²] at a joint, the torque
+    /// `−c φ̇|φ̇|` (this project's own, `physics.md` §6).
+    QuadraticDamping,
+    /// `stribeck_friction`: the kinetic `T_C` [N·m] at a joint with a
+    /// break-away excess `excess_nm` and Stribeck velocity `stribeck_rad_s`
+    /// (the friction law of `physics.md` §4; this project's own effect, §6).
+    /// Simulated, not in [`EffectKind::ALL`]: its three parameters are not
+    /// yet a diagnosis candidate's.
+    StribeckFriction,
     /// `spring_softening`: `s` [1], the spring is scaled by `1 − s`.
     SpringSoftening,
     /// `harness_stiffness`: `k_h` [N·m/rad] about the stowed angle.
@@ -48,9 +57,10 @@ impl EffectKind {
     pub const LATCH: [EffectKind; 2] = [EffectKind::PlungerWeakening, EffectKind::MagnetWeakening];
 
     /// Every effect, in the order of `physics.md` section 6.
-    pub const ALL: [EffectKind; 8] = [
+    pub const ALL: [EffectKind; 9] = [
         EffectKind::CoulombFriction,
         EffectKind::ViscousDamping,
+        EffectKind::QuadraticDamping,
         EffectKind::SpringSoftening,
         EffectKind::HarnessStiffness,
         EffectKind::LatchDetent,
@@ -64,6 +74,8 @@ impl EffectKind {
         match self {
             EffectKind::CoulombFriction => "coulomb_friction",
             EffectKind::ViscousDamping => "viscous_damping",
+            EffectKind::QuadraticDamping => "quadratic_damping",
+            EffectKind::StribeckFriction => "stribeck_friction",
             EffectKind::SpringSoftening => "spring_softening",
             EffectKind::HarnessStiffness => "harness_stiffness",
             EffectKind::LatchDetent => "latch_detent",
@@ -83,6 +95,8 @@ impl EffectKind {
                 "N·m"
             }
             EffectKind::ViscousDamping => "N·m·s/rad",
+            EffectKind::QuadraticDamping => "N·m·s²/rad²",
+            EffectKind::StribeckFriction => "N·m",
             EffectKind::SpringSoftening
             | EffectKind::PlungerWeakening
             | EffectKind::MagnetWeakening => "1",
@@ -102,6 +116,8 @@ impl EffectKind {
         match self {
             EffectKind::CoulombFriction
             | EffectKind::ViscousDamping
+            | EffectKind::QuadraticDamping
+            | EffectKind::StribeckFriction
             | EffectKind::HarnessStiffness
             | EffectKind::LatchDetent
             | EffectKind::AirDrag
@@ -279,7 +295,7 @@ impl FromStr for EffectKind {
         EffectKind::ALL
             .iter()
             .copied()
-            .chain([EffectKind::TorqueTable])
+            .chain([EffectKind::TorqueTable, EffectKind::StribeckFriction])
             .chain(EffectKind::LATCH)
             .find(|k| k.name() == s)
             .ok_or_else(|| EffectError::UnknownName {
@@ -299,6 +315,10 @@ pub struct Effect {
     pub value: f64,
     /// `rig_tilt` only: direction of the tilt gravity [deg].
     pub alpha_deg: f64,
+    /// `stribeck_friction` only: the break-away excess `T_brk − T_C` [N·m].
+    pub excess_nm: f64,
+    /// `stribeck_friction` only: the Stribeck velocity `ω_st` [rad/s].
+    pub stribeck_rad_s: f64,
     /// `torque_table` only: the tables (`value` is then their largest
     /// absolute torque [N·m]).
     pub table: HostTorqueTable,
@@ -385,6 +405,13 @@ impl fmt::Display for Effect {
         if self.kind == EffectKind::RigTilt {
             write!(f, ":alpha_deg={}", self.alpha_deg)?;
         }
+        if self.kind == EffectKind::StribeckFriction {
+            write!(
+                f,
+                ":excess_nm={}:stribeck_rad_s={}",
+                self.excess_nm, self.stribeck_rad_s
+            )?;
+        }
         if self.kind == EffectKind::TorqueTable {
             f.write_str(&torque_table::to_keys(&self.table))?;
         }
@@ -401,6 +428,7 @@ impl FromStr for Effect {
         let mut joint = None;
         let mut value = None;
         let mut alpha_deg = 0.0;
+        let (mut excess_nm, mut stribeck_rad_s) = (None, None);
         let mut points = TablePoints::default();
         let table_error = |source| EffectError::Table {
             text: s.to_string(),
@@ -428,6 +456,14 @@ impl FromStr for Effect {
                 }
                 "value" => value = Some(num(v)?),
                 "alpha_deg" => alpha_deg = num(v)?,
+                "excess_nm" if kind == EffectKind::StribeckFriction => {
+                    excess_nm = Some(num(v)?).filter(|x| *x >= 0.0 && x.is_finite());
+                    excess_nm.ok_or_else(|| bad("a number >= 0"))?;
+                }
+                "stribeck_rad_s" if kind == EffectKind::StribeckFriction => {
+                    stribeck_rad_s = Some(num(v)?).filter(|x| *x > 0.0 && x.is_finite());
+                    stribeck_rad_s.ok_or_else(|| bad("a number > 0"))?;
+                }
                 other if points.take(other, v).map_err(table_error)? => {}
                 other => {
                     return Err(EffectError::UnknownKey {
@@ -456,11 +492,24 @@ impl FromStr for Effect {
         let value = value.ok_or_else(|| EffectError::MissingValue {
             text: s.to_string(),
         })?;
+        let stribeck = kind == EffectKind::StribeckFriction;
+        let (excess_nm, stribeck_rad_s) = match (excess_nm, stribeck_rad_s) {
+            (Some(e), Some(w)) => (e, w),
+            _ if stribeck => {
+                return Err(EffectError::UnknownKey {
+                    key: "(excess_nm and stribeck_rad_s are both required)".into(),
+                    text: s.to_string(),
+                })
+            }
+            _ => (0.0, 0.0),
+        };
         Ok(Effect {
             kind,
             joint,
             value,
             alpha_deg,
+            excess_nm,
+            stribeck_rad_s,
             ..Effect::default()
         })
     }
@@ -479,6 +528,14 @@ pub fn to_core(effects: &[Effect], joints: usize) -> (Vec<HostJointEffects>, Glo
         match (e.kind, j) {
             (EffectKind::CoulombFriction, Some(j)) => je[j].coulomb_nm += e.value,
             (EffectKind::ViscousDamping, Some(j)) => je[j].viscous_nms += e.value,
+            (EffectKind::QuadraticDamping, Some(j)) => je[j].quadratic_nms2_per_rad2 += e.value,
+            (EffectKind::StribeckFriction, Some(j)) => {
+                // The kinetic level is Coulomb friction; the excess and its
+                // velocity are the law's Stribeck term (the last one given).
+                je[j].coulomb_nm += e.value;
+                je[j].stribeck_excess_nm += e.excess_nm;
+                je[j].stribeck_rad_s = e.stribeck_rad_s;
+            }
             (EffectKind::SpringSoftening, Some(j)) => {
                 // Two softenings compose: (1 − s1)(1 − s2).
                 let s = je[j].spring_softening;
