@@ -176,4 +176,23 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn stribeck_effect_peaks_at_its_excess_and_raises_the_static_level() {
+        let mut c = one(0.0, 0.0);
+        if let Some(jt) = c.joint_mut(0) {
+            jt.effects.coulomb_nm = 0.3;
+            jt.effects.stribeck_excess_nm = 0.4;
+            jt.effects.stribeck_rad_s = 0.05;
+            jt.effects.quadratic_nms2_per_rad2 = 2.0;
+        }
+        let w = 0.05 / 2f64.sqrt();
+        let t = c.joint_torque(0, 0.5, w, Branch::Fold);
+        let expect = 0.3 * (w / 0.01).tanh() + 0.4 + 2.0 * w * w;
+        assert!((t + expect).abs() < 1e-9, "{t} vs {}", -expect);
+        // Far past ω_st the excess is gone: kinetic + quadratic only.
+        let t = c.joint_torque(0, 0.5, 1.0, Branch::Fold);
+        assert!((t + 0.3 + 2.0).abs() < 1e-6, "{t}");
+        assert!((c.static_friction_nm(0) - 0.7).abs() < 1e-12);
+    }
 }

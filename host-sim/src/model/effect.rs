@@ -618,4 +618,33 @@ mod tests {
             .parse::<Effect>()
             .is_err());
     }
+
+    #[test]
+    fn stribeck_and_quadratic_effects_parse_print_and_reach_the_core() {
+        let text = "stribeck_friction:joint=2:value=0.3:excess_nm=0.4:stribeck_rad_s=0.05";
+        let e: Effect = text.parse().unwrap();
+        assert_eq!((e.value, e.excess_nm, e.stribeck_rad_s), (0.3, 0.4, 0.05));
+        assert_eq!(e.to_string(), text);
+        assert!("stribeck_friction:joint=2:value=0.3"
+            .parse::<Effect>()
+            .is_err());
+        assert!(
+            "stribeck_friction:joint=2:value=0.3:excess_nm=0.4:stribeck_rad_s=0"
+                .parse::<Effect>()
+                .is_err()
+        );
+        assert!("coulomb_friction:joint=2:value=0.3:excess_nm=0.4"
+            .parse::<Effect>()
+            .is_err());
+        let q: Effect = "quadratic_damping:joint=1:value=0.5".parse().unwrap();
+        let (je, _) = to_core(&[e, q], 2);
+        assert_eq!(je[1].coulomb_nm, 0.3);
+        assert_eq!(
+            (je[1].stribeck_excess_nm, je[1].stribeck_rad_s),
+            (0.4, 0.05)
+        );
+        assert_eq!(je[0].quadratic_nms2_per_rad2, 0.5);
+        assert!(EffectKind::ALL.contains(&EffectKind::QuadraticDamping));
+        assert!(!EffectKind::ALL.contains(&EffectKind::StribeckFriction));
+    }
 }
