@@ -55,7 +55,10 @@ pub fn effect_help() -> String {
          (docs/spec/physics.md section 6), e.g. coulomb_friction:joint=1:value=2.63. \
          NAME and the unit of V:",
     );
-    for k in EffectKind::ALL {
+    for k in EffectKind::ALL
+        .into_iter()
+        .chain([EffectKind::QuadraticDamping])
+    {
         let unit = match k.unit() {
             "1" => "V dimensionless, a fraction".to_string(),
             u => format!("V in {u}"),

@@ -16,7 +16,10 @@ pub enum EffectKind {
     /// `viscous_damping`: `f` [N·m·s/rad] at a joint.
     ViscousDamping,
     /// `quadratic_damping`: `c` [N·m·s²/rad²] at a joint, the torque
-    /// `−c φ̇|φ̇|` (this project's own, `physics.md` §6).
+    /// `−c φ̇|φ̇|` (this project's own, `physics.md` §6). Simulated, not in
+    /// [`EffectKind::ALL`]: as a candidate it took the place of air drag and
+    /// friction in the bundled `b_seed000_eft_air_drag` diagnosis
+    /// (`docs/simulator.md`).
     QuadraticDamping,
     /// `stribeck_friction`: the kinetic `T_C` [N·m] at a joint with a
     /// break-away excess `excess_nm` and Stribeck velocity `stribeck_rad_s`
@@ -57,10 +60,9 @@ impl EffectKind {
     pub const LATCH: [EffectKind; 2] = [EffectKind::PlungerWeakening, EffectKind::MagnetWeakening];
 
     /// Every effect, in the order of `physics.md` section 6.
-    pub const ALL: [EffectKind; 9] = [
+    pub const ALL: [EffectKind; 8] = [
         EffectKind::CoulombFriction,
         EffectKind::ViscousDamping,
-        EffectKind::QuadraticDamping,
         EffectKind::SpringSoftening,
         EffectKind::HarnessStiffness,
         EffectKind::LatchDetent,
@@ -295,7 +297,11 @@ impl FromStr for EffectKind {
         EffectKind::ALL
             .iter()
             .copied()
-            .chain([EffectKind::TorqueTable, EffectKind::StribeckFriction])
+            .chain([
+                EffectKind::TorqueTable,
+                EffectKind::StribeckFriction,
+                EffectKind::QuadraticDamping,
+            ])
             .chain(EffectKind::LATCH)
             .find(|k| k.name() == s)
             .ok_or_else(|| EffectError::UnknownName {
@@ -644,7 +650,7 @@ mod tests {
             (0.4, 0.05)
         );
         assert_eq!(je[0].quadratic_nms2_per_rad2, 0.5);
-        assert!(EffectKind::ALL.contains(&EffectKind::QuadraticDamping));
+        assert!(!EffectKind::ALL.contains(&EffectKind::QuadraticDamping));
         assert!(!EffectKind::ALL.contains(&EffectKind::StribeckFriction));
     }
 }
