@@ -463,12 +463,10 @@ impl FromStr for Effect {
                 "value" => value = Some(num(v)?),
                 "alpha_deg" => alpha_deg = num(v)?,
                 "excess_nm" if kind == EffectKind::StribeckFriction => {
-                    excess_nm = Some(num(v)?).filter(|x| *x >= 0.0 && x.is_finite());
-                    excess_nm.ok_or_else(|| bad("a number >= 0"))?;
+                    excess_nm = Some(Some(num(v)?).filter(|x| *x >= 0.0).ok_or(bad("≥ 0"))?)
                 }
                 "stribeck_rad_s" if kind == EffectKind::StribeckFriction => {
-                    stribeck_rad_s = Some(num(v)?).filter(|x| *x > 0.0 && x.is_finite());
-                    stribeck_rad_s.ok_or_else(|| bad("a number > 0"))?;
+                    stribeck_rad_s = Some(Some(num(v)?).filter(|x| *x > 0.0).ok_or(bad("> 0"))?)
                 }
                 other if points.take(other, v).map_err(table_error)? => {}
                 other => {
@@ -498,17 +496,7 @@ impl FromStr for Effect {
         let value = value.ok_or_else(|| EffectError::MissingValue {
             text: s.to_string(),
         })?;
-        let stribeck = kind == EffectKind::StribeckFriction;
-        let (excess_nm, stribeck_rad_s) = match (excess_nm, stribeck_rad_s) {
-            (Some(e), Some(w)) => (e, w),
-            _ if stribeck => {
-                return Err(EffectError::UnknownKey {
-                    key: "(excess_nm and stribeck_rad_s are both required)".into(),
-                    text: s.to_string(),
-                })
-            }
-            _ => (0.0, 0.0),
-        };
+        let (excess_nm, stribeck_rad_s) = stribeck_keys(kind, excess_nm, stribeck_rad_s, s)?;
         Ok(Effect {
             kind,
             joint,
@@ -518,6 +506,24 @@ impl FromStr for Effect {
             stribeck_rad_s,
             ..Effect::default()
         })
+    }
+}
+
+/// `stribeck_friction`'s `excess_nm` and `stribeck_rad_s` (both required
+/// there; `(0, 0)` for any other effect).
+fn stribeck_keys(
+    kind: EffectKind,
+    excess_nm: Option<f64>,
+    stribeck_rad_s: Option<f64>,
+    text: &str,
+) -> Result<(f64, f64), EffectError> {
+    match (excess_nm, stribeck_rad_s) {
+        (Some(e), Some(w)) => Ok((e, w)),
+        _ if kind == EffectKind::StribeckFriction => Err(EffectError::UnknownKey {
+            key: "(excess_nm and stribeck_rad_s are both required)".into(),
+            text: text.to_string(),
+        }),
+        _ => Ok((0.0, 0.0)),
     }
 }
 
