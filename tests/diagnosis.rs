@@ -62,6 +62,8 @@ fn draw_effect(rng: &mut ChaCha8Rng, kind: EffectKind, joints: usize) -> Effect 
     match kind {
         EffectKind::CoulombFriction => Effect::joint(kind, j, u(rng, 0.05, 1.0)),
         EffectKind::ViscousDamping => Effect::joint(kind, j, u(rng, 0.05, 1.5)),
+        // Not candidates (not in `EffectKind::ALL`).
+        EffectKind::QuadraticDamping | EffectKind::StribeckFriction => Effect::joint(kind, j, 0.0),
         EffectKind::SpringSoftening => Effect::joint(kind, j, u(rng, 0.05, 0.35)),
         EffectKind::HarnessStiffness => Effect::joint(kind, j, u(rng, 0.03, 0.5)),
         EffectKind::AirDrag => Effect::global(kind, u(rng, 0.05, 1.0)),

@@ -51,6 +51,15 @@ pub struct JointEffects<T, const K: usize = TABLE_MAX_KNOTS> {
     pub coulomb_nm: T,
     /// `viscous_damping`: adds `−f φ̇` [N·m·s/rad].
     pub viscous_nms: T,
+    /// `stribeck_friction`'s excess `ΔT = T_brk − T_C` [N·m] (its `T_C` adds
+    /// to `coulomb_nm`): adds the Stribeck term of
+    /// [`crate::physics::friction::stribeck_excess`].
+    pub stribeck_excess_nm: T,
+    /// `stribeck_friction`'s Stribeck velocity `ω_st` [rad/s] (used while
+    /// `stribeck_excess_nm ≠ 0`).
+    pub stribeck_rad_s: T,
+    /// `quadratic_damping`: adds `−c φ̇|φ̇|` [N·m·s²/rad²].
+    pub quadratic_nms2_per_rad2: T,
     /// `spring_softening`: the spring torque is scaled by `(1 − s)` [1].
     pub spring_softening: T,
     /// `harness_stiffness`: adds `k_h (φ_stowed − φ)` [N·m/rad].
@@ -582,7 +591,15 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
         if e.coulomb_nm != T::ZERO {
             t += crate::physics::friction::Friction::coulomb(e.coulomb_nm).torque(phi_dot);
         }
+        if e.stribeck_excess_nm != T::ZERO && e.stribeck_rad_s > T::ZERO {
+            t -= crate::physics::friction::stribeck_excess(
+                e.stribeck_excess_nm,
+                phi_dot,
+                e.stribeck_rad_s,
+            );
+        }
         t -= e.viscous_nms * phi_dot;
+        t -= e.quadratic_nms2_per_rad2 * phi_dot * phi_dot.abs();
         t += e.harness_nm_per_rad * (jt.stowed_rad - phi);
         if e.detent_nm != T::ZERO {
             let delta = T::of(DETENT_ZONE_DEG).to_radians();

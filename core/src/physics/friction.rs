@@ -60,13 +60,31 @@ impl<T: Real> Friction<T> {
         }
         let peak = self.breakaway_nm - self.coulomb_nm;
         if peak != T::ZERO && self.stribeck_rad_s > T::ZERO {
-            // √(2e) = 2.331643981597124
-            let r = omega / self.stribeck_rad_s;
-            t += T::of(2.331_643_981_597_124) * peak * (-(r * r)).exp() * r;
+            t += stribeck_excess(peak, omega, self.stribeck_rad_s);
         }
         t += self.viscous_nms * omega;
         -t
     }
+
+    /// The static level `T_s` [N·m] of the law at rest (`physics.md` §4a):
+    /// the larger of the Coulomb and break-away torques.
+    pub fn static_nm(&self) -> T {
+        self.coulomb_nm.abs().max(self.breakaway_nm.abs())
+    }
+}
+
+/// The Stribeck excess of the friction law (`physics.md` §4), resisting
+/// magnitude [N·m]: `√(2e) ΔT exp(−(ω/ω_st)²) (ω/ω_st)` for the excess
+/// `ΔT = T_brk − T_C` [N·m] at rate `omega` [rad/s] with the Stribeck
+/// velocity `omega_st` [rad/s] (> 0): zero at rest, `ΔT` at
+/// `ω = ω_st/√2`, falling back to zero with rate. The one place it is
+/// written: the joint's law ([`Friction::torque`]) and the
+/// `stribeck_friction` effect (`physics.md` §6) both call it.
+#[inline]
+pub fn stribeck_excess<T: Real>(excess_nm: T, omega: T, omega_st: T) -> T {
+    // √(2e) = 2.331643981597124
+    let r = omega / omega_st;
+    T::of(2.331_643_981_597_124) * excess_nm * (-(r * r)).exp() * r
 }
 
 /// The shape of the Coulomb part of the friction law (`physics.md` §4):

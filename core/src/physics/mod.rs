@@ -12,5 +12,6 @@ pub mod latch_contact;
 pub mod linalg;
 pub mod real;
 pub mod spring;
+pub mod stick;
 pub mod torque_table;
 pub mod trig;

@@ -58,7 +58,10 @@ pub enum Counted {
 /// effect does not compile until it is given one.
 pub fn kind_of(k: EffectKind) -> Option<Resistance> {
     match k {
-        EffectKind::CoulombFriction | EffectKind::ViscousDamping => Some(Resistance::Friction),
+        EffectKind::CoulombFriction
+        | EffectKind::ViscousDamping
+        | EffectKind::StribeckFriction
+        | EffectKind::QuadraticDamping => Some(Resistance::Friction),
         EffectKind::HarnessStiffness => Some(Resistance::Harness),
         EffectKind::LatchDetent
         | EffectKind::TorqueTable
@@ -83,6 +86,8 @@ pub fn needs_simulation(k: EffectKind) -> bool {
     matches!(
         k,
         EffectKind::ViscousDamping
+            | EffectKind::StribeckFriction
+            | EffectKind::QuadraticDamping
             | EffectKind::TorqueTable
             | EffectKind::AirDrag
             | EffectKind::RigTilt
@@ -123,7 +128,12 @@ pub fn counted(
     };
     match e.kind {
         EffectKind::CoulombFriction => res(e.value, e.value * stroke),
-        EffectKind::ViscousDamping | EffectKind::AirDrag => res(0.0, simulated_j),
+        EffectKind::ViscousDamping | EffectKind::QuadraticDamping | EffectKind::AirDrag => {
+            res(0.0, simulated_j)
+        }
+        // Breakaway torque at rest (kinetic level plus the static excess);
+        // the work of the whole rate-dependent law along the deployment.
+        EffectKind::StribeckFriction => res(e.value + e.excess_nm, simulated_j),
         EffectKind::SpringSoftening => Some(Counted::Driving {
             scale: 1.0 - e.value,
         }),

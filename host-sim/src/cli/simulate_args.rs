@@ -59,7 +59,10 @@ pub fn effect_help() -> String {
          (docs/spec/physics.md section 6), e.g. coulomb_friction:joint=1:value=2.63. \
          NAME and the unit of V:",
     );
-    for k in EffectKind::ALL {
+    for k in EffectKind::ALL
+        .into_iter()
+        .chain([EffectKind::QuadraticDamping])
+    {
         let unit = match k.unit() {
             "1" => "V dimensionless, a fraction".to_string(),
             u => format!("V in {u}"),
@@ -81,6 +84,12 @@ pub fn effect_help() -> String {
          [:rate_deg_s=R1,R2,..:rate_torque_nm=G1,G2,..]: torque in N·m vs angle [deg] \
          and/or rate [deg/s], 2 to 24 points each (per joint, joint=J, no value)",
         EffectKind::TorqueTable.name()
+    );
+    s += &format!(
+        "\n  {:<18} V = kinetic T_C in N·m, excess_nm=E: break-away T_brk − T_C in N·m, \
+         stribeck_rad_s=W: Stribeck velocity in rad/s, e.g. \
+         stribeck_friction:joint=2:value=0.3:excess_nm=0.4:stribeck_rad_s=0.05 (per joint, joint=J)",
+        EffectKind::StribeckFriction.name()
     );
     for k in EffectKind::LATCH {
         s += &format!(

@@ -15,6 +15,18 @@ pub enum EffectKind {
     CoulombFriction,
     /// `viscous_damping`: `f` [N·m·s/rad] at a joint.
     ViscousDamping,
+    /// `quadratic_damping`: `c` [N·m·s²/rad²] at a joint, the torque
+    /// `−c φ̇|φ̇|` (this project's own, `physics.md` §6). Simulated, not in
+    /// [`EffectKind::ALL`]: as a candidate it took the place of air drag and
+    /// friction in the bundled `b_seed000_eft_air_drag` diagnosis
+    /// (`docs/simulator.md`).
+    QuadraticDamping,
+    /// `stribeck_friction`: the kinetic `T_C` [N·m] at a joint with a
+    /// break-away excess `excess_nm` and Stribeck velocity `stribeck_rad_s`
+    /// (the friction law of `physics.md` §4; this project's own effect, §6).
+    /// Simulated, not in [`EffectKind::ALL`]: its three parameters are not
+    /// yet a diagnosis candidate's.
+    StribeckFriction,
     /// `spring_softening`: `s` [1], the spring is scaled by `1 − s`.
     SpringSoftening,
     /// `harness_stiffness`: `k_h` [N·m/rad] about the stowed angle.
@@ -64,6 +76,8 @@ impl EffectKind {
         match self {
             EffectKind::CoulombFriction => "coulomb_friction",
             EffectKind::ViscousDamping => "viscous_damping",
+            EffectKind::QuadraticDamping => "quadratic_damping",
+            EffectKind::StribeckFriction => "stribeck_friction",
             EffectKind::SpringSoftening => "spring_softening",
             EffectKind::HarnessStiffness => "harness_stiffness",
             EffectKind::LatchDetent => "latch_detent",
@@ -83,6 +97,8 @@ impl EffectKind {
                 "N·m"
             }
             EffectKind::ViscousDamping => "N·m·s/rad",
+            EffectKind::QuadraticDamping => "N·m·s²/rad²",
+            EffectKind::StribeckFriction => "N·m",
             EffectKind::SpringSoftening
             | EffectKind::PlungerWeakening
             | EffectKind::MagnetWeakening => "1",
@@ -102,6 +118,8 @@ impl EffectKind {
         match self {
             EffectKind::CoulombFriction
             | EffectKind::ViscousDamping
+            | EffectKind::QuadraticDamping
+            | EffectKind::StribeckFriction
             | EffectKind::HarnessStiffness
             | EffectKind::LatchDetent
             | EffectKind::AirDrag
@@ -279,7 +297,11 @@ impl FromStr for EffectKind {
         EffectKind::ALL
             .iter()
             .copied()
-            .chain([EffectKind::TorqueTable])
+            .chain([
+                EffectKind::TorqueTable,
+                EffectKind::StribeckFriction,
+                EffectKind::QuadraticDamping,
+            ])
             .chain(EffectKind::LATCH)
             .find(|k| k.name() == s)
             .ok_or_else(|| EffectError::UnknownName {
@@ -299,6 +321,10 @@ pub struct Effect {
     pub value: f64,
     /// `rig_tilt` only: direction of the tilt gravity [deg].
     pub alpha_deg: f64,
+    /// `stribeck_friction` only: the break-away excess `T_brk − T_C` [N·m].
+    pub excess_nm: f64,
+    /// `stribeck_friction` only: the Stribeck velocity `ω_st` [rad/s].
+    pub stribeck_rad_s: f64,
     /// `torque_table` only: the tables (`value` is then their largest
     /// absolute torque [N·m]).
     pub table: HostTorqueTable,
@@ -385,6 +411,13 @@ impl fmt::Display for Effect {
         if self.kind == EffectKind::RigTilt {
             write!(f, ":alpha_deg={}", self.alpha_deg)?;
         }
+        if self.kind == EffectKind::StribeckFriction {
+            write!(
+                f,
+                ":excess_nm={}:stribeck_rad_s={}",
+                self.excess_nm, self.stribeck_rad_s
+            )?;
+        }
         if self.kind == EffectKind::TorqueTable {
             f.write_str(&torque_table::to_keys(&self.table))?;
         }
@@ -401,6 +434,7 @@ impl FromStr for Effect {
         let mut joint = None;
         let mut value = None;
         let mut alpha_deg = 0.0;
+        let (mut excess_nm, mut stribeck_rad_s) = (None, None);
         let mut points = TablePoints::default();
         let table_error = |source| EffectError::Table {
             text: s.to_string(),
@@ -428,6 +462,12 @@ impl FromStr for Effect {
                 }
                 "value" => value = Some(num(v)?),
                 "alpha_deg" => alpha_deg = num(v)?,
+                "excess_nm" if kind == EffectKind::StribeckFriction => {
+                    excess_nm = Some(Some(num(v)?).filter(|x| *x >= 0.0).ok_or(bad("≥ 0"))?)
+                }
+                "stribeck_rad_s" if kind == EffectKind::StribeckFriction => {
+                    stribeck_rad_s = Some(Some(num(v)?).filter(|x| *x > 0.0).ok_or(bad("> 0"))?)
+                }
                 other if points.take(other, v).map_err(table_error)? => {}
                 other => {
                     return Err(EffectError::UnknownKey {
@@ -456,13 +496,34 @@ impl FromStr for Effect {
         let value = value.ok_or_else(|| EffectError::MissingValue {
             text: s.to_string(),
         })?;
+        let (excess_nm, stribeck_rad_s) = stribeck_keys(kind, excess_nm, stribeck_rad_s, s)?;
         Ok(Effect {
             kind,
             joint,
             value,
             alpha_deg,
+            excess_nm,
+            stribeck_rad_s,
             ..Effect::default()
         })
+    }
+}
+
+/// `stribeck_friction`'s `excess_nm` and `stribeck_rad_s` (both required
+/// there; `(0, 0)` for any other effect).
+fn stribeck_keys(
+    kind: EffectKind,
+    excess_nm: Option<f64>,
+    stribeck_rad_s: Option<f64>,
+    text: &str,
+) -> Result<(f64, f64), EffectError> {
+    match (excess_nm, stribeck_rad_s) {
+        (Some(e), Some(w)) => Ok((e, w)),
+        _ if kind == EffectKind::StribeckFriction => Err(EffectError::UnknownKey {
+            key: "(excess_nm and stribeck_rad_s are both required)".into(),
+            text: text.to_string(),
+        }),
+        _ => Ok((0.0, 0.0)),
     }
 }
 
@@ -479,6 +540,14 @@ pub fn to_core(effects: &[Effect], joints: usize) -> (Vec<HostJointEffects>, Glo
         match (e.kind, j) {
             (EffectKind::CoulombFriction, Some(j)) => je[j].coulomb_nm += e.value,
             (EffectKind::ViscousDamping, Some(j)) => je[j].viscous_nms += e.value,
+            (EffectKind::QuadraticDamping, Some(j)) => je[j].quadratic_nms2_per_rad2 += e.value,
+            (EffectKind::StribeckFriction, Some(j)) => {
+                // The kinetic level is Coulomb friction; the excess and its
+                // velocity are the law's Stribeck term (the last one given).
+                je[j].coulomb_nm += e.value;
+                je[j].stribeck_excess_nm += e.excess_nm;
+                je[j].stribeck_rad_s = e.stribeck_rad_s;
+            }
             (EffectKind::SpringSoftening, Some(j)) => {
                 // Two softenings compose: (1 − s1)(1 − s2).
                 let s = je[j].spring_softening;
@@ -560,5 +629,34 @@ mod tests {
         assert!("air_drag:value=1:angle_deg=0,1:torque_nm=1,1"
             .parse::<Effect>()
             .is_err());
+    }
+
+    #[test]
+    fn stribeck_and_quadratic_effects_parse_print_and_reach_the_core() {
+        let text = "stribeck_friction:joint=2:value=0.3:excess_nm=0.4:stribeck_rad_s=0.05";
+        let e: Effect = text.parse().unwrap();
+        assert_eq!((e.value, e.excess_nm, e.stribeck_rad_s), (0.3, 0.4, 0.05));
+        assert_eq!(e.to_string(), text);
+        assert!("stribeck_friction:joint=2:value=0.3"
+            .parse::<Effect>()
+            .is_err());
+        assert!(
+            "stribeck_friction:joint=2:value=0.3:excess_nm=0.4:stribeck_rad_s=0"
+                .parse::<Effect>()
+                .is_err()
+        );
+        assert!("coulomb_friction:joint=2:value=0.3:excess_nm=0.4"
+            .parse::<Effect>()
+            .is_err());
+        let q: Effect = "quadratic_damping:joint=1:value=0.5".parse().unwrap();
+        let (je, _) = to_core(&[e, q], 2);
+        assert_eq!(je[1].coulomb_nm, 0.3);
+        assert_eq!(
+            (je[1].stribeck_excess_nm, je[1].stribeck_rad_s),
+            (0.4, 0.05)
+        );
+        assert_eq!(je[0].quadratic_nms2_per_rad2, 0.5);
+        assert!(!EffectKind::ALL.contains(&EffectKind::QuadraticDamping));
+        assert!(!EffectKind::ALL.contains(&EffectKind::StribeckFriction));
     }
 }

@@ -17,6 +17,7 @@ use crate::simulate::trajectory::SAMPLE_TIME_SLACK_S;
 pub use crate::simulate::trajectory::{
     Samples, SimError, SimOptions, SimStats, Trajectory, MAX_SAMPLES, MAX_STEPS,
 };
+use deploywatch_core::physics::stick::{holding_torques, StickBand};
 use deploywatch_core::{Branch, Mode};
 
 /// Most branch events one joint may have within [`BRANCH_BURST_WINDOW_S`]
@@ -41,6 +42,10 @@ pub const SAME_INSTANT_S: f64 = 1e-12;
 /// with the joint whose event fired: a located event leaves the angle a
 /// rounding error from 0.
 pub const LATCH_REACHED_RAD: f64 = 1e-12;
+
+/// A rate below this [rad/s] at a branch event is a turning point, where
+/// the stick rule (`physics.md` §4a) applies.
+const TURNING_RATE_RAD_S: f64 = 1e-6;
 
 /// Simulates a mechanism with extra effects (sensor effects are ignored
 /// here: see [`crate::simulate::sensor`]).
@@ -147,6 +152,8 @@ fn simulate_samples(
 enum Event {
     Latch(usize),
     Branch(usize),
+    /// A stuck joint's holding torque leaves its band (`physics.md` §4a).
+    Slip(usize),
 }
 
 /// The integrator's discrete bookkeeping.
@@ -159,16 +166,64 @@ struct Integrator<'a, const N: usize> {
     hyst: [Option<f64>; N],
     /// The step-size controller ([`ode::CHAIN_CONTROL`]).
     step_control: ode::StepController,
+    /// Joints held by the stick rule (`physics.md` §4a).
+    stuck: [bool; N],
     evaluations: usize,
 }
 
 impl<const N: usize> Integrator<'_, N> {
+    /// The mode with the stuck joints held like latched ones.
+    fn held(&self) -> Mode<N> {
+        let mut m = self.mode;
+        for j in 0..N {
+            m.latched[j] |= self.stuck[j];
+        }
+        m
+    }
+
+    /// Joint `j`'s holding torque with it held too, and its band, at `y`.
+    fn holding(&self, j: usize, y: &State<N>) -> Option<(f64, StickBand<f64>)> {
+        let mut mode = self.held();
+        mode.latched[j] = true;
+        let (m, rhs) = self.chain.equations(&y.chain(), &mode);
+        let r = holding_torques(&m, &rhs, &mode.latched).ok()?[j];
+        r.is_finite().then(|| (r, self.chain.stick_band(j, y.q[j])))
+    }
+
+    /// Joint `j` at a turning point sticks when its band holds it (its
+    /// rate to zero by the impulse of that joint alone).
+    fn try_stick(&mut self, j: usize, y: &mut State<N>) -> bool {
+        if y.v[j].abs() > TURNING_RATE_RAD_S || !self.chain.can_stick(j) {
+            return false;
+        }
+        let Some((r, band)) = self.holding(j, y) else {
+            return false;
+        };
+        if !(band.margin(r) > 0.0) {
+            return false;
+        }
+        let mut mode = self.held();
+        mode.latched[j] = true;
+        let Ok(v) = self.chain.latch_impulse(&y.chain(), &mode.latched) else {
+            return false;
+        };
+        y.v = v;
+        for k in 0..N {
+            if mode.latched[k] {
+                y.v[k] = 0.0;
+            }
+        }
+        self.stuck[j] = true;
+        true
+    }
+
     fn deriv(&mut self, y: &State<N>) -> Option<State<N>> {
         self.evaluations += 1;
-        let a = self.chain.acceleration(&y.chain(), &self.mode).ok()?;
+        let held = self.held();
+        let a = self.chain.acceleration(&y.chain(), &held).ok()?;
         let mut v = y.v;
         for (j, vj) in v.iter_mut().enumerate() {
-            if self.mode.latched[j] {
+            if held.latched[j] {
                 *vj = 0.0;
             }
         }
@@ -203,6 +258,7 @@ impl<const N: usize> Integrator<'_, N> {
     fn g(&self, ev: Event, y: &State<N>) -> f64 {
         match ev {
             Event::Latch(j) => self.side[j] * y.q[j],
+            Event::Slip(j) => self.holding(j, y).map_or(-1.0, |(r, b)| b.margin(r)),
             Event::Branch(j) => {
                 let opening = -self.side[j] * y.v[j];
                 match self.mode.branch[j] {
@@ -224,6 +280,12 @@ impl<const N: usize> Integrator<'_, N> {
         let mut out = small_list::List::new();
         for j in 0..N {
             if self.mode.latched[j] {
+                continue;
+            }
+            if self.stuck[j] {
+                if self.g(Event::Slip(j), y1) <= 0.0 {
+                    out.push(Event::Slip(j));
+                }
                 continue;
             }
             if self.side[j] * y0.q[j] > 0.0 && self.side[j] * y1.q[j] <= 0.0 {
@@ -477,6 +539,7 @@ impl<'a, const N: usize> Integrator<'a, N> {
             side: [0.0; N],
             hyst: [None; N],
             step_control: ode::StepController::new(ode::CHAIN_CONTROL),
+            stuck: [false; N],
             evaluations: 0,
         };
         let mut y = State::<N>::ZERO;
@@ -539,7 +602,7 @@ impl<'a, const N: usize> Integrator<'a, N> {
             // rate does there.
             let earlier = match ev {
                 Event::Latch(_) => te <= t_end,
-                Event::Branch(_) => te < t_end - SAME_INSTANT_S,
+                Event::Branch(_) | Event::Slip(_) => te < t_end - SAME_INSTANT_S,
             };
             if first.is_none() || earlier {
                 t_end = te;
@@ -568,8 +631,17 @@ impl<'a, const N: usize> Integrator<'a, N> {
                 self.mode.branch[j] = self.choose_branch(ye, j);
             }
             Event::Branch(j) => {
-                events.branch(j, t_e)?;
                 self.mode.branch[j] = self.choose_branch(ye, j);
+                if !self.try_stick(j, ye) {
+                    events.branch(j, t_e)?;
+                }
+            }
+            Event::Slip(j) => {
+                let dir = self
+                    .holding(j, ye)
+                    .map_or(1.0, |(r, b)| b.slip_direction(r));
+                self.stuck[j] = false;
+                self.mode.branch[j] = deploywatch_core::Branch::select(ye.q[j], dir);
             }
         }
         Ok(false)

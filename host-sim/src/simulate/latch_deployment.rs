@@ -32,6 +32,8 @@ use deploywatch_core::linalg::solve_spd_masked;
 use deploywatch_core::physics::latch_contact::{LatchMark, PhysicalLatch, PlungerSegment};
 use deploywatch_core::{Branch, Mode};
 
+mod stick;
+
 pub use crate::simulate::latch_run::{
     Energy, LatchEnd, LatchEvent, LatchEventKind, LatchOutcome, LatchRun,
 };
@@ -133,6 +135,11 @@ struct Sim<'a, const N: usize> {
     /// `sign(φ_stowed)` of the joints with an ideal latch.
     side: [f64; N],
     hyst: [Option<f64>; N],
+    /// Joints held by the stick rule (`physics.md` §4a).
+    stuck: [bool; N],
+    /// Per joint, the sign of its rate at the step's start and the rest
+    /// rate its turn event fires at ([`stick`]).
+    turn: [(f64, f64); N],
     evaluations: usize,
 }
 
@@ -145,6 +152,10 @@ enum Ev {
     Switch(usize),
     Ideal(usize),
     Branch(usize),
+    /// The joint's rate reaches rest (`physics.md` §4a): it may stick.
+    Turn(usize),
+    /// A stuck joint's holding torque leaves its band: it slips.
+    Slip(usize),
 }
 
 impl Ev {
@@ -156,7 +167,9 @@ impl Ev {
             | Ev::Contact(j)
             | Ev::Switch(j)
             | Ev::Ideal(j)
-            | Ev::Branch(j) => j,
+            | Ev::Branch(j)
+            | Ev::Turn(j)
+            | Ev::Slip(j) => j,
         }
     }
 }
@@ -175,6 +188,8 @@ impl<'a, const N: usize> Sim<'a, N> {
             mode: Mode::default(),
             side: [1.0; N],
             hyst: [None; N],
+            stuck: [false; N],
+            turn: [(0.0, 0.0); N],
             evaluations: 0,
         };
         for (j, jt) in chain.joints().iter().enumerate() {
@@ -218,19 +233,36 @@ impl<'a, const N: usize> Sim<'a, N> {
         (cons + l.stop_torque(f), f)
     }
 
-    fn deriv(&mut self, y: &State<N>) -> Option<State<N>> {
-        self.evaluations += 1;
-        let (m, mut rhs) = self.chain.equations(&y.chain(), &self.mode);
+    /// The joints out of the coordinates: latched (ideal) or stuck.
+    fn held(&self) -> [bool; N] {
+        core::array::from_fn(|j| self.mode.latched[j] || self.stuck[j])
+    }
+
+    /// Mass matrix and right-hand side with the `held` joints' own torques
+    /// left out (their latches' torques kept).
+    fn system(&self, y: &State<N>, held: &[bool; N]) -> ([[f64; N]; N], [f64; N]) {
+        let mode = Mode {
+            latched: *held,
+            branch: self.mode.branch,
+        };
+        let (m, mut rhs) = self.chain.equations(&y.chain(), &mode);
         for j in 0..N {
             if self.latch[j].is_some() {
                 rhs[j] += self.latch_torque(j, y.q[j], y.v[j]).0
                     + self.spring_extension(j, y.q[j], self.mode.branch[j]);
             }
         }
-        let a = solve_spd_masked(&m, &rhs, &self.mode.latched).ok()?;
+        (m, rhs)
+    }
+
+    fn deriv(&mut self, y: &State<N>) -> Option<State<N>> {
+        self.evaluations += 1;
+        let held = self.held();
+        let (m, rhs) = self.system(y, &held);
+        let a = solve_spd_masked(&m, &rhs, &held).ok()?;
         let mut v = y.v;
         for (j, vj) in v.iter_mut().enumerate() {
-            if self.mode.latched[j] {
+            if held[j] {
                 *vj = 0.0;
             }
         }
@@ -277,6 +309,12 @@ fn inside<const N: usize>(sim: &Sim<'_, N>, ev: Ev, y: &State<N>) -> f64 {
     let (phi, rate) = (y.q[j], y.v[j]);
     if let Ev::Ideal(_) = ev {
         return sim.side[j] * phi;
+    }
+    if let Ev::Turn(_) = ev {
+        return sim.turn_g(j, y);
+    }
+    if let Ev::Slip(_) = ev {
+        return sim.slip_margin(j, y);
     }
     if let Ev::Branch(_) = ev {
         let g = phi * rate;
@@ -343,11 +381,16 @@ impl<const N: usize> Sim<'_, N> {
                 dense.at(dense.t0 + s * dense.h)
             }
         });
+        self.arm_turns(&dense.at(dense.t0));
         for j in 0..N {
             if self.mode.latched[j] {
                 continue;
             }
-            let mut evs = [None; 5];
+            if self.stuck[j] {
+                out.push(Ev::Slip(j));
+                continue;
+            }
+            let mut evs = [None; 6];
             if let Some(l) = &self.latch[j] {
                 let magnet = (l.magnet.force_n > 0.0).then_some(Ev::Magnet(j));
                 evs = [
@@ -355,6 +398,7 @@ impl<const N: usize> Sim<'_, N> {
                     magnet,
                     Some(Ev::Contact(j)),
                     Some(Ev::Switch(j)),
+                    None,
                     None,
                 ];
             } else {
@@ -367,11 +411,14 @@ impl<const N: usize> Sim<'_, N> {
                 if want != self.mode.branch[j] && !near {
                     self.mode.branch[j] = want; // F = U out there: no restart.
                 } else {
-                    evs[4] = Some(Ev::Branch(j));
+                    evs[5] = Some(Ev::Branch(j));
                 }
             }
+            if self.turn[j].0 != 0.0 {
+                evs[4] = Some(Ev::Turn(j));
+            }
             for ev in evs.into_iter().flatten() {
-                if probes.iter().any(|p| inside(self, ev, p) <= 0.0) {
+                if matches!(ev, Ev::Slip(_)) || probes.iter().any(|p| inside(self, ev, p) <= 0.0) {
                     out.push(ev);
                 }
             }
@@ -403,7 +450,13 @@ impl<const N: usize> Sim<'_, N> {
                     _ => {}
                 }
             }
-            let Some((a, b)) = bracket else {
+            let Some((a, b)) = bracket.or_else(|| {
+                // A stuck joint whose torque left its band by the step's
+                // start slips there.
+                let slips =
+                    matches!(ev, Ev::Slip(_)) && inside(self, ev, &dense.at(dense.t0)) <= 0.0;
+                slips.then_some((dense.t0, dense.t0))
+            }) else {
                 continue;
             };
             let te = locate(|y| inside(self, ev, y), dense, a, b);
@@ -587,6 +640,7 @@ pub fn run_from<const N: usize>(
     run.ledger.start_j = k + s + l;
     run.ledger.energy.stored_j = k + s + l;
     sim.close_ledger(&mut run.ledger, &y0);
+    sim.stick_at_rest(&y0);
     run.out.push_while(&sim, |tk| tk <= 0.0, |_| y0)?;
     let t_end = run.integrate(&mut sim, y0, times.last(), opts)?;
     run.out.traj.end_s = t_end;
@@ -727,7 +781,16 @@ impl Runner<'_> {
             }
             Ev::Branch(_) => {
                 sim.mode.branch[j] = branch_at(y.q[j], y.v[j]);
-                LatchEventKind::Branch
+                // A branch event at a turning point is a turn too.
+                match self.turn_at_rest(sim, j, y) {
+                    Some(kind) => kind,
+                    None => LatchEventKind::Branch,
+                }
+            }
+            Ev::Turn(_) => self.turn(sim, j, y),
+            Ev::Slip(_) => {
+                sim.slip(j, y);
+                LatchEventKind::Slip
             }
             _ => self.cross(sim, ev, j, y),
         };

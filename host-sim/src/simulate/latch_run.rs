@@ -18,6 +18,13 @@ pub enum LatchEventKind {
     IdealLatch,
     /// A tape spring changed branch.
     Branch,
+    /// The joint came to rest inside the band of its set-valued laws and
+    /// sticks (`physics.md` §4a).
+    Stick,
+    /// The joint's rate reached rest outside its band: it moves on.
+    Turn,
+    /// A stuck joint's holding torque left its band: it slips.
+    Slip,
 }
 
 /// One event of a physical-latch run.
@@ -56,6 +63,12 @@ pub struct Energy {
     pub contact_j: f64,
     /// Lost in the plastic impacts of ideal latches.
     pub impact_j: f64,
+    /// Of `friction_j`, the kinetic energy the stick rule's impulses took
+    /// when joints stuck (`physics.md` §4a: a located zero crossing leaves
+    /// next to none).
+    pub stick_j: f64,
+    /// Joints that stuck over the run.
+    pub sticks: usize,
     /// Largest `|total − stored|` over the step ends of the run.
     pub worst_drift_j: f64,
 }

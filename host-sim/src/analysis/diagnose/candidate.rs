@@ -10,6 +10,9 @@ pub const MAX_COULOMB_NM: f64 = 20.0;
 /// Largest viscous coefficient [N·m·s/rad]: at 1 rad/s it would stop any
 /// seed hinge spring several times over.
 pub const MAX_VISCOUS_NMS: f64 = 50.0;
+/// Largest quadratic damping a diagnosis fits [N·m·s²/rad²]: a deployment
+/// at 1 rad/s with this coefficient meets the viscous bound's torque.
+pub const MAX_QUADRATIC_NMS2: f64 = 50.0;
 
 /// Spring softening range [1]: from a spring twice as stiff (−1) to one at
 /// 1 % of its torque (0.99, not 1: a spring of no torque cannot deploy).
@@ -106,6 +109,10 @@ impl Candidate {
         match self.kind {
             EffectKind::CoulombFriction => vec![b(0.0, MAX_COULOMB_NM, 1e-4)],
             EffectKind::ViscousDamping => vec![b(0.0, MAX_VISCOUS_NMS, 1e-4)],
+            EffectKind::QuadraticDamping => vec![b(0.0, MAX_QUADRATIC_NMS2, 1e-4)],
+            // Not a candidate (not in `EffectKind::ALL`); its value's bounds
+            // for completeness.
+            EffectKind::StribeckFriction => vec![b(0.0, MAX_COULOMB_NM, 1e-4)],
             EffectKind::SpringSoftening => {
                 vec![b(SOFTENING_RANGE[0], SOFTENING_RANGE[1], 1e-5)]
             }
@@ -136,6 +143,8 @@ impl Candidate {
         match self.kind {
             EffectKind::CoulombFriction => one(&[0.03, 0.1, 0.3, 1.0, 3.0]),
             EffectKind::ViscousDamping => one(&[0.03, 0.1, 0.3, 1.0, 3.0]),
+            EffectKind::QuadraticDamping => one(&[0.03, 0.1, 0.3, 1.0, 3.0]),
+            EffectKind::StribeckFriction => one(&[0.1, 0.3, 1.0]),
             EffectKind::SpringSoftening => one(&[-0.2, 0.05, 0.2, 0.45]),
             EffectKind::HarnessStiffness => one(&[0.03, 0.1, 0.3, 1.0]),
             EffectKind::LatchDetent => one(&[0.3, 1.0, 3.0]),

@@ -1,0 +1,154 @@
+//! The stick rule of `docs/spec/physics.md` §4a in the physical-latch
+//! simulator: a joint whose rate reaches rest with its holding torque
+//! inside the band of its set-valued laws (tape-spring branches, static
+//! friction) is held until the torque leaves the band
+//! ([`deploywatch_core::physics::stick`]).
+
+use super::{branch_at, Runner, Sim};
+use crate::simulate::latch_run::LatchEventKind;
+use crate::simulate::ode::State;
+use deploywatch_core::physics::stick::{holding_torques, StickBand};
+
+/// A rate below this [rad/s] is a turning point (a branch event there is
+/// a turn too).
+const TURNING_RATE_RAD_S: f64 = 1e-6;
+
+impl<const N: usize> Sim<'_, N> {
+    /// Joint `j`'s holding torque [N·m] with it and the joints already
+    /// held out of the coordinates, and its band, at `y`.
+    fn holding(&self, j: usize, y: &State<N>) -> Option<(f64, StickBand<f64>)> {
+        let mut held = self.held();
+        held[j] = true;
+        let (m, rhs) = self.system(y, &held);
+        let r = holding_torques(&m, &rhs, &held).ok()?[j];
+        r.is_finite().then(|| (r, self.chain.stick_band(j, y.q[j])))
+    }
+
+    /// How far a stuck joint's holding torque is inside its band (the
+    /// event function of [`super::Ev::Slip`]).
+    pub(super) fn slip_margin(&self, j: usize, y: &State<N>) -> f64 {
+        self.holding(j, y).map_or(-1.0, |(r, band)| band.margin(r))
+    }
+
+    /// The event function of [`super::Ev::Turn`]: the rate on the side the
+    /// step started on.
+    pub(super) fn turn_g(&self, j: usize, y: &State<N>) -> f64 {
+        let (sign, rest) = self.turn[j];
+        if sign == 0.0 {
+            return 1.0;
+        }
+        sign * y.v[j] - rest
+    }
+
+    /// Arms each free joint's turn event for a step from `y0`: fires where
+    /// its rate crosses zero.
+    pub(super) fn arm_turns(&mut self, y0: &State<N>) {
+        for j in 0..N {
+            self.turn[j] = (0.0, 0.0);
+            if self.mode.latched[j] || self.stuck[j] || !self.chain.can_stick(j) {
+                continue;
+            }
+            let v = y0.v[j];
+            let sign = if v > 0.0 {
+                1.0
+            } else if v < 0.0 {
+                -1.0
+            } else {
+                0.0
+            };
+            self.turn[j] = (sign, 0.0);
+        }
+    }
+
+    /// Joint `j` at rest at `y` sticks when its band holds it: its rate
+    /// goes to zero in a plastic impulse on it alone (the other joints'
+    /// momenta kept). Returns the kinetic energy that took [J].
+    fn try_stick(&mut self, j: usize, y: &mut State<N>) -> Option<f64> {
+        if self.mode.latched[j] || self.stuck[j] || !self.chain.can_stick(j) {
+            return None;
+        }
+        let (r, band) = self.holding(j, y)?;
+        if !(band.margin(r) > 0.0) {
+            return None;
+        }
+        let before = self.chain.kinetic_energy(&y.chain());
+        let mut held = self.held();
+        held[j] = true;
+        let v = self.chain.latch_impulse(&y.chain(), &held).ok()?;
+        y.v = v;
+        for k in 0..N {
+            if held[k] {
+                y.v[k] = 0.0;
+            }
+        }
+        self.stuck[j] = true;
+        Some(before - self.chain.kinetic_energy(&y.chain()))
+    }
+
+    /// A stuck joint slips: free again, on the spring branch of the
+    /// direction its holding torque left the band by.
+    pub(super) fn slip(&mut self, j: usize, y: &State<N>) {
+        let dir = self
+            .holding(j, y)
+            .map_or(1.0, |(r, band)| band.slip_direction(r));
+        self.stuck[j] = false;
+        self.mode.branch[j] = branch_at(y.q[j], dir);
+    }
+
+    /// At the start of a run at rest: each joint the band holds sticks
+    /// (in joint order).
+    pub(super) fn stick_at_rest(&mut self, y: &State<N>) {
+        for j in 0..N {
+            if y.v[j] == 0.0 {
+                let mut y = *y;
+                self.try_stick(j, &mut y);
+            }
+        }
+    }
+}
+
+impl Runner<'_> {
+    /// A turn of joint `j`: it sticks, or moves on.
+    pub(super) fn turn<const N: usize>(
+        &mut self,
+        sim: &mut Sim<'_, N>,
+        j: usize,
+        y: &mut State<N>,
+    ) -> LatchEventKind {
+        match sim.try_stick(j, y) {
+            Some(lost) => {
+                self.booked_stick(lost);
+                LatchEventKind::Stick
+            }
+            None => {
+                sim.mode.branch[j] = branch_at(y.q[j], y.v[j]);
+                LatchEventKind::Turn
+            }
+        }
+    }
+
+    /// A branch event of joint `j` at a turning point: the stick rule
+    /// there (`None`: not at rest, or not held).
+    pub(super) fn turn_at_rest<const N: usize>(
+        &mut self,
+        sim: &mut Sim<'_, N>,
+        j: usize,
+        y: &mut State<N>,
+    ) -> Option<LatchEventKind> {
+        if y.v[j].abs() > TURNING_RATE_RAD_S {
+            return None;
+        }
+        let lost = sim.try_stick(j, y)?;
+        self.booked_stick(lost);
+        Some(LatchEventKind::Stick)
+    }
+
+    /// Books the kinetic energy a stick took as the set-valued law's
+    /// dissipation.
+    fn booked_stick(&mut self, lost_j: f64) {
+        let e = &mut self.ledger.energy;
+        e.friction_j += lost_j;
+        e.stick_j += lost_j;
+        e.sticks += 1;
+    }
+}
