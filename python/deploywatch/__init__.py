@@ -5,7 +5,7 @@
   deployment per row of ``params`` (the hot loop in Rust on every core, the
   GIL released): the limit state ``g`` and per joint latch instant, latch
   rate and end angle.
-- ``reliability(mechanism, vary=..., fail=..., method="subset", ...)``: the
+- ``reliability(mechanism, vary=..., fail=..., method="auto", ...)``: the
   options of ``deploywatch reliability`` as keyword arguments, the result as
   the CLI's JSON (a dict). ``executor=``: any ``concurrent.futures.Executor``
   or a ``dask.distributed.Client``; the batches of deployments are submitted
@@ -68,8 +68,9 @@ def simulate_batch(mechanism, vary, params, fail=("not_latched",), from_=None):
 
 
 def _g_chunk(text, source, vary, fail, from_json, rows):
-    """The limit states of a chunk of rows: the task an executor runs."""
-    return _native.simulate_batch(text, source, vary, fail, rows, from_json)["g"]
+    """The margins of every failure mode of a chunk of rows: the task an
+    executor runs."""
+    return _native.simulate_batch(text, source, vary, fail, rows, from_json)["margins"]
 
 
 def _evaluator(executor, text, source, vary, fail, from_json, chunk):
@@ -97,7 +98,7 @@ def reliability(
     mechanism,
     vary=(),
     fail=("not_latched",),
-    method="subset",
+    method="auto",
     samples=None,
     target_cov=None,
     seed=0,

@@ -8,9 +8,8 @@
 use deploywatch_sim::analysis::reliability::correlation::Correlation;
 use deploywatch_sim::analysis::reliability::criteria::{Criterion, Outcome};
 use deploywatch_sim::analysis::reliability::identified;
-use deploywatch_sim::analysis::reliability::mc::{self, McSettings};
+use deploywatch_sim::analysis::reliability::auto::{estimate, Method};
 use deploywatch_sim::analysis::reliability::params::Vary;
-use deploywatch_sim::analysis::reliability::subset::{self, SubsetSettings};
 use deploywatch_sim::analysis::reliability::{Evaluate, Problem, ReliabilityError};
 use deploywatch_sim::model::effect::Effect;
 use deploywatch_sim::model::mechanism::Mechanism;
@@ -185,6 +184,14 @@ fn simulate_batch<'py>(
     let g: Vec<f64> = outs.iter().map(|o| o.g(&p.fail)).collect();
     let g: Bound<'py, PyArray1<f64>> = g.into_pyarray(py);
     d.set_item("g", g)?;
+    let modes = p.modes();
+    let flat: Vec<f64> = outs.iter().flat_map(|o| o.margins(&modes)).collect();
+    d.set_item(
+        "margins",
+        numpy::ndarray::Array2::from_shape_vec((n, modes.len()), flat)
+            .map_err(value_err)?
+            .into_pyarray(py),
+    )?;
     d.set_item("latch_s", grid(&|o, k| o.latch_s[k].unwrap_or(f64::NAN))?)?;
     d.set_item(
         "latch_rate_deg_s",
@@ -216,33 +223,12 @@ fn reliability(
     corr: Vec<String>,
 ) -> PyResult<String> {
     let p = problem(mechanism_toml, source, vary, fail, from_json, &corr)?;
-    let run = |eval: Evaluate<'_>| match method {
-        "mc" => mc::run(
-            &p,
-            &McSettings {
-                samples: samples.unwrap_or(100_000),
-                target_cov,
-                seed,
-            },
-            eval,
-            &progress::quiet,
-        ),
-        "subset" => subset::run(
-            &p,
-            &SubsetSettings {
-                samples: samples.unwrap_or(SubsetSettings::default().samples),
-                seed,
-                ..SubsetSettings::default()
-            },
-            eval,
-            &progress::quiet,
-        ),
-        other => Err(ReliabilityError::Invalid(format!(
-            "method `{other}`: expected \"mc\" or \"subset\""
-        ))),
+    let method: Method = method.parse().map_err(value_err)?;
+    let run = |eval: Evaluate<'_>| {
+        estimate(&p, method, samples, target_cov, seed, eval, &progress::quiet)
     };
     let est = match evaluate {
-        None => py.allow_threads(|| run(&mut |xs: &[Vec<f64>]| p.g_batch(xs))),
+        None => py.allow_threads(|| run(&mut |xs: &[Vec<f64>]| p.margins_batch(xs))),
         Some(f) => {
             let d = p.vary.len();
             run(&mut |xs: &[Vec<f64>]| {
@@ -251,7 +237,7 @@ fn reliability(
                     .map_err(|e| ReliabilityError::Evaluator(e.to_string()))?;
                 let out = f
                     .call1(py, (m.into_pyarray(py),))
-                    .and_then(|g| g.extract::<Vec<f64>>(py))
+                    .and_then(|g| g.extract::<Vec<Vec<f64>>>(py))
                     .map_err(|e| ReliabilityError::Evaluator(e.to_string()))?;
                 Ok(out)
             })
