@@ -163,7 +163,7 @@ fn combine(
     best: Option<FailurePoint>,
 ) -> Estimate {
     let reached = modes.iter().filter(|r| r.converged);
-    let p: f64 = reached.clone().map(|r| r.p * r.counted).sum();
+    let p = reached.clone().fold(0.0, |a, r| a + r.p * r.counted);
     let var: f64 = reached.map(|r| (r.p * r.counted * r.cov).powi(2)).sum();
     let cov = if p > 0.0 {
         var.sqrt() / p
