@@ -184,12 +184,12 @@ mod tests {
             duration_s: 10.0,
         };
         let ms = modes(&[Criterion::NotLatched], 2);
-        assert_eq!(o.margins(&ms), vec![9.0, -10.0 * 4.0 / 180.0]);
-        assert_eq!(o.g(&[Criterion::NotLatched]), -10.0 * 4.0 / 180.0);
+        assert_eq!(o.margins(&ms), vec![9.0, -10.0 * (4.0 / 180.0)]);
+        assert_eq!(o.g(&[Criterion::NotLatched]), -10.0 * (4.0 / 180.0));
         assert_eq!(o.g(&[Criterion::LatchRateAbove(40.0)]), 10.0);
         assert_eq!(
             o.g(&[Criterion::TimeAbove(5.0)]),
-            5.0 - 10.0 - 10.0 * 4.0 / 180.0
+            5.0 - 10.0 - 10.0 * (4.0 / 180.0)
         );
         let ok = Outcome {
             latch_s: vec![Some(1.0), Some(2.0)],

@@ -165,6 +165,11 @@ pub fn run(
     }
     ray_roots(problem, eval, &mut s, k)?;
     sims += s.iter().map(|m| m.sims).sum::<usize>();
+    Ok(finish(problem, &modes, &s, sims))
+}
+
+/// The design points of the searches, and the modes not reached.
+fn finish(problem: &Problem, modes: &[Mode], s: &[Search], sims: usize) -> Form {
     let mut points = Vec::new();
     let mut unreached = Vec::new();
     for (mi, m) in s.iter().enumerate() {
@@ -180,11 +185,11 @@ pub fn run(
             simulations: m.sims,
         });
     }
-    Ok(Form {
+    Form {
         points,
         unreached,
         simulations: sims,
-    })
+    }
 }
 
 /// For every mode still searching: the first root of its margin along its
