@@ -20,8 +20,9 @@
 
 use deploywatch_sim::analysis::reliability::auto::{self, estimate, Method};
 use deploywatch_sim::analysis::reliability::criteria::Criterion;
+use deploywatch_sim::analysis::reliability::estimate::Estimate;
 use deploywatch_sim::analysis::reliability::normal;
-use deploywatch_sim::analysis::reliability::{Estimate, Problem};
+use deploywatch_sim::analysis::reliability::Problem;
 use deploywatch_sim::model::effect::{Effect, EffectKind};
 use deploywatch_sim::model::mechanism::Mechanism;
 use deploywatch_sim::report::progress;

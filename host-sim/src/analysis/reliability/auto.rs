@@ -7,10 +7,11 @@
 //! whether the two agree: `|ln p₁ − ln p₂| ≤ 1.96 √(s₁² + s₂²)`, `s =
 //! √ln(1 + c.o.v.²)` (their 95 % intervals as lognormal estimators).
 
+use super::estimate::Estimate;
 use super::importance::{self, IsSettings};
 use super::mc::{self, McSettings};
 use super::subset::{self, SubsetSettings};
-use super::{Estimate, Evaluate, Problem, ReliabilityError};
+use super::{Evaluate, Problem, ReliabilityError};
 use crate::analysis::fit::Z_975;
 use crate::report::progress::Progress;
 

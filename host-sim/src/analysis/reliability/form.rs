@@ -15,8 +15,9 @@
 //! *unreached*: its failure probability, if any, is not found this way.
 
 use super::criteria::Mode;
+use super::estimate::DesignPoint;
 use super::mc::check_rows;
-use super::{DesignPoint, Evaluate, Problem, ReliabilityError};
+use super::{Evaluate, Problem, ReliabilityError};
 use crate::report::progress::Progress;
 
 /// Forward-difference step of the gradient [standard deviations].

@@ -16,9 +16,10 @@
 //! Reliability Analysis and Prediction*, §5.4.
 
 use super::estimate::lognormal_ci95;
+use super::estimate::{Estimate, FailurePoint};
 use super::form::{self, Form};
 use super::mc::{check_rows, system};
-use super::{stream, Estimate, Evaluate, FailurePoint, Problem, ReliabilityError};
+use super::{stream, Evaluate, Problem, ReliabilityError};
 use crate::report::progress::Progress;
 use rand::Rng;
 use rand_distr::StandardNormal;

@@ -1,7 +1,8 @@
 //! Crude Monte-Carlo: `p = n_f / n`, c.o.v. `√((1 − p)/(n p))`, the 95 %
 //! interval of Wilson (1927), which stays meaningful with no failure.
 
-use super::{stream, Estimate, Evaluate, FailurePoint, Problem, ReliabilityError};
+use super::estimate::{Estimate, FailurePoint};
+use super::{stream, Evaluate, Problem, ReliabilityError};
 use crate::analysis::fit::Z_975;
 use crate::report::progress::Progress;
 use rand::Rng;

@@ -29,8 +29,6 @@ pub mod normal;
 pub mod params;
 pub mod subset;
 
-pub use estimate::{DesignPoint, Estimate, FailurePoint, Level, ModeResult};
-
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::{self, SimError, SimOptions, Trajectory};

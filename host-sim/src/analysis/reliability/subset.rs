@@ -28,10 +28,9 @@
 //! chains), summed over the levels as if they were independent; the modes
 //! are independent runs beyond their shared first level.
 
+use super::estimate::{Estimate, FailurePoint, Level, ModeResult};
 use super::mc::{check_rows, draw, system};
-use super::{
-    stream, Estimate, Evaluate, FailurePoint, Level, ModeResult, Problem, ReliabilityError,
-};
+use super::{stream, Evaluate, Problem, ReliabilityError};
 use crate::report::progress::Progress;
 use rand::Rng;
 use rand_distr::StandardNormal;
