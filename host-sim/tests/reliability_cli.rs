@@ -52,6 +52,11 @@ fn bad_input_exits_2_and_says_what_is_wrong() {
         &["duration_s (10 s)"],
     );
     fails(
+        &run(&["--vary", v, "--fail", "not_latched", "--method", "form"]),
+        2,
+        &["expected auto, is, subset or mc"],
+    );
+    fails(
         &run(&["--vary", v, "--fail", "landed"]),
         2,
         &["not_latched, latch_rate>X"],
@@ -137,13 +142,61 @@ fn the_same_seed_gives_the_same_file_on_1_or_2_threads() {
         "cov",
         "ci95",
         "simulations",
-        "levels",
+        "estimates",
+        "agree",
         "most_likely_failure",
     ] {
         assert!(v.get(key).is_some(), "{key} missing:\n{one}");
     }
     let p = v["p_fail"].as_f64().unwrap();
     assert!(p > 0.0 && p < 1.0, "{p}");
+    // auto: importance sampling around FORM's design points, then subset
+    // simulation with one run per mode (criterion x joint).
+    assert_eq!(v["method"], "auto");
+    assert!(v["estimates"]["is"]["design_points"].is_array(), "{one}");
+    assert_eq!(
+        v["estimates"]["subset"]["modes"].as_array().unwrap().len(),
+        2
+    );
+}
+
+/// The case of issue 29: T01 with joint 2's friction `lognormal(1.7,
+/// 0.02)` failed at 3.6e-8, where the old subset printed `p_fail <
+/// 1.06e-20` as a bound. Now both methods find joint 2's failures, agree,
+/// and nothing printed is a bound.
+#[test]
+fn the_false_bound_of_t01_joint_2_is_gone() {
+    let mech = data().join("mechanisms/seed001_T01.toml");
+    let out = deploywatch(&[
+        "reliability",
+        s(&mech),
+        "--vary",
+        "coulomb_friction:joint=1:normal(2.63,1e-9)",
+        "--vary",
+        "coulomb_friction:joint=2:lognormal(1.7,0.02)",
+        "--vary",
+        "coulomb_friction:joint=3:normal(0.001,1e-9)",
+        "--fail",
+        "not_latched",
+        "-q",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(!text.contains("p_fail <"), "{text}");
+    assert!(text.contains("auto: is and subset agree"), "{text}");
+    let line = text
+        .lines()
+        .rev()
+        .find(|l| l.starts_with("p_fail"))
+        .unwrap();
+    let p: f64 = line
+        .split_whitespace()
+        .nth(if line.contains("only") { 5 } else { 2 })
+        .unwrap()
+        .parse()
+        .unwrap();
+    // Exact: Φ(−ln(1.89327/1.7)/0.02) = 3.64e-8.
+    assert!((3.64e-8 / 2.0..3.64e-8 * 2.0).contains(&p), "{line}");
 }
 
 #[test]

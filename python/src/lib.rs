@@ -15,7 +15,7 @@ mod steps;
 use deploywatch_sim::analysis::reliability::correlation::Correlation;
 use deploywatch_sim::analysis::reliability::criteria::{Criterion, Outcome};
 use deploywatch_sim::analysis::reliability::identified;
-use deploywatch_sim::analysis::reliability::mc::{self, McSettings};
+use deploywatch_sim::analysis::reliability::auto::{estimate, Method};
 use deploywatch_sim::analysis::reliability::params::Vary;
 use deploywatch_sim::analysis::reliability::subset::{self, SubsetSettings};
 use deploywatch_sim::analysis::reliability::{Estimate, Evaluate, Problem, ReliabilityError};

@@ -1,29 +1,22 @@
 //! `deploywatch reliability`: the probability that a deployment fails, from
-//! the uncertainty of its parameters (crude Monte-Carlo or subset
-//! simulation, docs/reliability.md).
+//! the uncertainty of its parameters (crude Monte-Carlo, subset simulation,
+//! importance sampling around FORM's design points, or the last two
+//! compared: docs/reliability.md).
 
 use super::{check_output, outln, CliError, Console};
+use crate::analysis::reliability::auto::{estimate, Method};
 use crate::analysis::reliability::correlation::Correlation;
 use crate::analysis::reliability::criteria::Criterion;
+use crate::analysis::reliability::estimate::Estimate;
 use crate::analysis::reliability::identified;
-use crate::analysis::reliability::mc::{self, McSettings};
 use crate::analysis::reliability::params::{Target, Vary};
-use crate::analysis::reliability::subset::{self, SubsetSettings};
-use crate::analysis::reliability::{Estimate, Problem, ReliabilityError};
+use crate::analysis::reliability::{form, normal};
+use crate::analysis::reliability::{Problem, ReliabilityError};
 use crate::model::effect::EffectKind;
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-/// The estimator.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Method {
-    /// Crude Monte-Carlo.
-    Mc,
-    /// Subset simulation (Au & Beck 2001), p0 = 0.1.
-    Subset,
-}
 
 /// Arguments of `deploywatch reliability`.
 #[derive(Debug, clap::Args)]
@@ -46,14 +39,15 @@ pub struct ReliabilityArgs {
     /// copula), repeatable.
     #[arg(long = "corr", value_name = "I,J,RHO")]
     pub corr: Vec<Correlation>,
-    /// The estimator.
-    #[arg(long, value_enum, default_value_t = Method::Subset)]
+    /// The estimator: auto runs is and subset and compares them.
+    #[arg(long, default_value = "auto", value_name = "auto|is|subset|mc")]
     pub method: Method,
     /// mc: most deployments (default 100000); subset: samples per level
-    /// (default 2000, a multiple of 10).
+    /// (default 2000, a multiple of 10); is: draws (default 2000); auto:
+    /// both of the last two.
     #[arg(long)]
     pub samples: Option<usize>,
-    /// mc: stop once the c.o.v. is at or below C; subset: warn if the
+    /// mc, is: stop once the c.o.v. is at or below C; subset: warn if the
     /// reported c.o.v. is above C.
     #[arg(long, value_name = "C")]
     pub target_cov: Option<f64>,
@@ -133,46 +127,24 @@ pub fn run(args: &ReliabilityArgs) -> Result<(), CliError> {
     }
     let console = Console::new(args.quiet);
     let start = Instant::now();
-    let mut eval = |xs: &[Vec<f64>]| problem.g_batch(xs);
-    let est = match args.method {
-        Method::Mc => mc::run(
-            &problem,
-            &McSettings {
-                samples: args.samples.unwrap_or(100_000),
-                target_cov: args.target_cov,
-                seed: args.seed,
-            },
-            &mut eval,
-            console.progress(),
-        ),
-        Method::Subset => subset::run(
-            &problem,
-            &SubsetSettings {
-                samples: args.samples.unwrap_or(SubsetSettings::default().samples),
-                seed: args.seed,
-                ..SubsetSettings::default()
-            },
-            &mut eval,
-            console.progress(),
-        ),
-    }
+    let mut eval = |xs: &[Vec<f64>]| problem.margins_batch(xs);
+    let est = estimate(
+        &problem,
+        args.method,
+        args.samples,
+        args.target_cov,
+        args.seed,
+        &mut eval,
+        console.progress(),
+    )
     .map_err(|e| match e {
         ReliabilityError::Invalid(m) => CliError::input(m),
         other => CliError::failed(other.to_string()),
     })?;
     let wall = start.elapsed().as_secs_f64();
     print_estimate(&problem, &est, wall);
-    if !est.converged {
-        console.warn(format_args!(
-            "the thresholds did not reach the failure domain in {} levels: p_fail is an upper bound",
-            est.levels.len()
-        ));
-    }
-    if let Some(c) = args.target_cov.filter(|&c| est.cov > c) {
-        console.warn(format_args!(
-            "c.o.v. {:.3} is above --target-cov {c}",
-            est.cov
-        ));
+    for w in warnings(&est, args.target_cov) {
+        console.warn(format_args!("{w}"));
     }
     if let Some(j) = &args.json {
         let text = serde_json::to_string_pretty(&est.to_json(&problem, args.seed))
@@ -185,47 +157,124 @@ pub fn run(args: &ReliabilityArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// What the reader must not miss: modes not reached, methods that
+/// disagree, a c.o.v. above the target.
+fn warnings(est: &Estimate, target_cov: Option<f64>) -> Vec<String> {
+    let mut w = Vec::new();
+    if est.agree == Some(false) {
+        w.push(
+            "importance sampling and subset simulation DISAGREE beyond their 95 % intervals: \
+             neither is settled; run --method mc with enough deployments (docs/reliability.md §8)"
+                .to_string(),
+        );
+    }
+    if !est.converged {
+        w.push(format!(
+            "{}: not every failure mode was reached (above): p_fail counts the modes reached \
+             only and is not a bound; settle it with --method mc (or auto, which checks is \
+             against subset)",
+            est.method
+        ));
+    }
+    if let Some(c) = target_cov.filter(|&c| est.cov > c) {
+        w.push(format!("c.o.v. {:.3} is above --target-cov {c}", est.cov));
+    }
+    w
+}
+
 /// The result on stdout.
 fn print_estimate(problem: &Problem, est: &Estimate, wall_s: f64) {
     let fails: Vec<String> = problem.fail.iter().map(|c| c.to_string()).collect();
     outln!(
-        "{}: P({}) by {}, {} parameter(s)",
+        "{}: P({}) by {}, {} parameter(s), {} failure mode(s)",
         problem.mech.name,
         fails.join(" or "),
         est.method,
-        problem.vary.len()
+        problem.vary.len(),
+        problem.modes().len()
     );
     for v in &problem.vary {
         outln!("  {v}");
     }
-    for (k, l) in est.levels.iter().enumerate() {
+    if est.checks.is_empty() {
+        print_detail(problem, est);
+    }
+    for c in &est.checks {
+        print_detail(problem, c);
+        outln!("{}: {}", c.method, summary(c));
+    }
+    if let Some(agree) = est.agree {
         outln!(
-            "  level {k}: threshold {:.6e}, p = {:.4}, c.o.v. {:.3}, {} deployments",
-            l.threshold,
-            l.p,
-            l.cov,
-            l.simulations
+            "auto: is and subset {} within their 95 % intervals",
+            if agree { "agree" } else { "DISAGREE" }
         );
     }
-    if est.converged {
-        outln!(
-            "p_fail = {:.4e}  c.o.v. {:.3}  95 % [{:.4e}, {:.4e}]  {} deployments, {} failed, {wall_s:.2} s wall",
-            est.p_fail, est.cov, est.ci95.0, est.ci95.1, est.simulations, est.failures
-        );
-    } else {
-        outln!(
-            "p_fail < {:.4e} (the last threshold, {:.6e}, is still above 0: the probability \
-             of reaching it bounds p_fail)  {} deployments, {wall_s:.2} s wall",
-            est.p_fail,
-            est.levels.last().map_or(f64::NAN, |l| l.threshold),
-            est.simulations
-        );
-    }
+    outln!("{}, {wall_s:.2} s wall", summary(est));
     if let Some(f) = &est.most_likely_failure {
         outln!(
-            "most likely failure (beta {:.3}): {}",
+            "most likely failure seen (beta {:.3}): {}",
             f.beta(),
             problem.describe(&f.x)
         );
+    }
+}
+
+/// `p_fail = … c.o.v. … 95 % […] n deployments, k failed`.
+fn summary(est: &Estimate) -> String {
+    let head = if est.converged {
+        "p_fail ="
+    } else {
+        "p_fail (modes reached only) ="
+    };
+    format!(
+        "{head} {:.4e}  c.o.v. {:.3}  95 % [{:.4e}, {:.4e}]  {} deployments, {} failed",
+        est.p_fail, est.cov, est.ci95.0, est.ci95.1, est.simulations, est.failures
+    )
+}
+
+/// The design points (is) or the levels of each mode (subset).
+fn print_detail(problem: &Problem, est: &Estimate) {
+    for d in &est.design_points {
+        outln!(
+            "  form: {}: beta {:.4} (first order: {:.3e}), {}",
+            d.mode,
+            d.beta,
+            normal::tail(d.beta),
+            problem.describe(&d.x)
+        );
+    }
+    for m in &est.unreached {
+        outln!(
+            "  form: {m}: not reached (no failure along the steepest descent within beta {}): \
+             sampled around the origin too",
+            form::BETA_MAX
+        );
+    }
+    for r in &est.modes {
+        for (k, l) in r.levels.iter().enumerate() {
+            outln!(
+                "  subset: {}: level {k}: threshold {:.6e}, p = {:.4}, c.o.v. {:.3}, {} deployments",
+                r.mode, l.threshold, l.p, l.cov, l.simulations
+            );
+        }
+        let b = r.levels.last().map_or(f64::NAN, |l| l.threshold);
+        if r.converged {
+            outln!(
+                "  subset: {}: P = {:.4e}, c.o.v. {:.3}, {:.3} of it not failing an earlier mode",
+                r.mode, r.p, r.cov, r.counted
+            );
+        } else {
+            let why = match r.stop {
+                "negligible" => "its last level is below 1 % of the modes reached",
+                "stalled" => "the thresholds stopped falling",
+                _ => "the most levels",
+            };
+            outln!(
+                "  subset: {}: not reached ({why}): margin <= {b:.6e} has P about {:.3e} \
+                 (an estimate of that level, not a bound on the mode: the chains may not \
+                 have entered all of its failures)",
+                r.mode, r.p
+            );
+        }
     }
 }

@@ -1,23 +1,32 @@
-//! Failure criteria and their continuous limit-state values `g` (failure
-//! iff `g ≤ 0`), from the [`Outcome`] of one deployment.
+//! Failure criteria, their failure modes (one per criterion and joint) and
+//! the margin of each mode (failure iff margin ≤ 0), from the [`Outcome`]
+//! of one deployment.
 //!
-//! Subset simulation needs `g` to decrease continuously into the failure
-//! domain, not a pass/fail flag:
+//! A wing is a series system: it fails when any joint fails any criterion.
+//! Each (criterion, joint) pair is a [`Mode`] with its own margin, which
+//! falls as *that joint's* deployment gets worse; the estimators search the
+//! failure domain of every mode (the levels of subset simulation follow one
+//! mode at a time, FORM finds one design point per mode). A single
+//! `min` over the joints is not used to steer the search: on seed 001 T01
+//! more friction at joint 2 makes joint 1 latch *earlier*, so a minimum of
+//! time slacks rises first and the levels went the wrong way
+//! (docs/reliability.md §8).
 //!
-//! - `not_latched`: per joint, latched at `t_j`: `g_j = T − t_j` [s], the
-//!   time left of `duration_s = T` (→ 0 when it latches just at `T`); not
-//!   latched: `g_j = −T |φ_j(T)| / |φ_j(0)|` [s], minus the fraction of its
-//!   stroke still to go, scaled by `T` (→ 0 when it stops just at the latch).
-//!   `g = min_j g_j`. Time slack puts every joint on the same scale, so that
-//!   the levels of subset simulation follow whichever joint comes closest to
-//!   failing (a margin in angle or rate would let the fast joints hide the
-//!   slow one).
-//! - `latch_rate>X`: `g = X − max_j |ω_j|` [deg/s] over the latched joints
-//!   (`X` when none latched).
-//! - `time>X`: `g = X − t_last` [s], `t_last` the last latch, `T` when some
-//!   joint did not latch (then `X − T < 0`: `X` must be below `T`).
+//! Margins, `T` the mechanism's `duration_s`, `t_e` where the run stopped:
 //!
-//! With several criteria `g` is the smallest (any one fails).
+//! - `not_latched`, joint j: latched at `t_j`: `m = T − t_j` [s], the time
+//!   still left (→ 0 when it latches just at `T`); not latched:
+//!   `m = −T |φ_j(t_e)| / |φ_j(0)|`, minus the fraction of its stroke still
+//!   to go, in seconds of the run (→ 0 when it stops just at the latch). It
+//!   falls monotonically with the joint's friction, or with a weaker
+//!   spring: the joint latches later, then stops further from its latch.
+//! - `time>X`, joint j: latched at `t_j`: `m = X − t_j`; not latched by
+//!   `t_e`: `m = X − t_e − t_e |φ_j(t_e)| / |φ_j(0)|` (continuous at a latch
+//!   just at `t_e`).
+//! - `latch_rate>X`, joint j: latched: `m = X − |ω_j|` [deg/s], `ω_j` the
+//!   rate just before its latch; not latched: `X` (no impact).
+//!
+//! The system's margin is the smallest of its modes'.
 
 use std::fmt;
 use std::str::FromStr;
@@ -71,62 +80,86 @@ impl fmt::Display for Criterion {
     }
 }
 
+/// One failure mode: a criterion at one joint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mode {
+    /// The criterion.
+    pub criterion: Criterion,
+    /// The joint, 0-based.
+    pub joint: usize,
+}
+
+impl fmt::Display for Mode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} at joint {}", self.criterion, self.joint + 1)
+    }
+}
+
+/// The modes of some criteria on a mechanism of `joints` joints, criterion
+/// by criterion, joint by joint.
+pub fn modes(criteria: &[Criterion], joints: usize) -> Vec<Mode> {
+    criteria
+        .iter()
+        .flat_map(|&criterion| (0..joints).map(move |joint| Mode { criterion, joint }))
+        .collect()
+}
+
 /// What one deployment did, per joint.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Outcome {
-    /// Latch instant [s], `None` if not latched by `duration_s`.
+    /// Latch instant [s], `None` if not latched when the run stopped.
     pub latch_s: Vec<Option<f64>>,
     /// Angular rate just before the latch [deg/s] (extrapolated from the
-    /// last two samples before it to the latch instant), `None` if not latched.
+    /// last two samples before it to the latch instant), `None` if not
+    /// latched or not sampled (no `latch_rate>X` criterion).
     pub latch_rate_deg_s: Vec<Option<f64>>,
-    /// Angle at the end [deg] (0 when latched).
+    /// Angle where the run stopped [deg] (0 when latched).
     pub end_deg: Vec<f64>,
-    /// Angle at the start [deg] (the stowed angle).
+    /// Stowed angle [deg].
     pub stowed_deg: Vec<f64>,
-    /// `duration_s` of the run [s].
+    /// Where the run stopped [s] (`t_e`).
+    pub end_s: f64,
+    /// The mechanism's `duration_s` [s] (`T`).
     pub duration_s: f64,
 }
 
 impl Outcome {
-    /// The limit-state value of one criterion.
-    pub fn g_of(&self, c: Criterion) -> f64 {
-        let t_end = self.duration_s;
-        match c {
-            Criterion::NotLatched => self
-                .latch_s
-                .iter()
-                .zip(&self.end_deg)
-                .zip(&self.stowed_deg)
-                .map(|((l, end), stowed)| match l {
-                    Some(t) => (t_end - t).max(0.0),
-                    None => -t_end * end.abs() / stowed.abs().max(f64::MIN_POSITIVE),
-                })
-                .fold(f64::INFINITY, f64::min),
-            Criterion::LatchRateAbove(x) => {
-                let w = self
-                    .latch_rate_deg_s
-                    .iter()
-                    .flatten()
-                    .map(|w| w.abs())
-                    .fold(0.0, f64::max);
-                x - w
-            }
-            Criterion::TimeAbove(x) => {
-                let last = if self.latch_s.iter().all(Option::is_some) {
-                    self.latch_s.iter().flatten().copied().fold(0.0, f64::max)
-                } else {
-                    t_end
-                };
-                x - last
-            }
+    /// The fraction of joint `j`'s stroke still to go.
+    fn to_go(&self, j: usize) -> f64 {
+        self.end_deg[j].abs() / self.stowed_deg[j].abs().max(f64::MIN_POSITIVE)
+    }
+
+    /// The margin of one mode (failed iff ≤ 0), module doc.
+    pub fn margin(&self, m: Mode) -> f64 {
+        let j = m.joint;
+        let latched = self.latch_s[j];
+        match m.criterion {
+            Criterion::NotLatched => match latched {
+                Some(t) => (self.duration_s - t).max(0.0),
+                None => -self.duration_s * self.to_go(j),
+            },
+            Criterion::TimeAbove(x) => match latched {
+                Some(t) => x - t,
+                None => x - self.end_s - self.end_s * self.to_go(j),
+            },
+            Criterion::LatchRateAbove(x) => match (latched, self.latch_rate_deg_s[j]) {
+                (Some(_), Some(w)) => x - w.abs(),
+                _ => x,
+            },
         }
     }
 
-    /// `g = min` over the criteria: failed iff `g ≤ 0`.
+    /// The margins of the modes, in order.
+    pub fn margins(&self, modes: &[Mode]) -> Vec<f64> {
+        modes.iter().map(|&m| self.margin(m)).collect()
+    }
+
+    /// The system's margin: the smallest over the modes of the criteria
+    /// (any one fails).
     pub fn g(&self, criteria: &[Criterion]) -> f64 {
-        criteria
-            .iter()
-            .map(|&c| self.g_of(c))
+        modes(criteria, self.latch_s.len())
+            .into_iter()
+            .map(|m| self.margin(m))
             .fold(f64::INFINITY, f64::min)
     }
 }
@@ -147,23 +180,57 @@ mod tests {
             latch_rate_deg_s: vec![Some(30.0), None],
             end_deg: vec![0.0, -4.0],
             stowed_deg: vec![90.0, -180.0],
+            end_s: 10.0,
             duration_s: 10.0,
         };
-        assert_eq!(o.g_of(Criterion::NotLatched), -10.0 * 4.0 / 180.0);
-        assert_eq!(o.g_of(Criterion::LatchRateAbove(40.0)), 10.0);
-        assert_eq!(o.g_of(Criterion::TimeAbove(5.0)), -5.0);
+        let ms = modes(&[Criterion::NotLatched], 2);
+        assert_eq!(o.margins(&ms), vec![9.0, -10.0 * (4.0 / 180.0)]);
+        assert_eq!(o.g(&[Criterion::NotLatched]), -10.0 * (4.0 / 180.0));
+        assert_eq!(o.g(&[Criterion::LatchRateAbove(40.0)]), 10.0);
+        assert_eq!(
+            o.g(&[Criterion::TimeAbove(5.0)]),
+            5.0 - 10.0 - 10.0 * (4.0 / 180.0)
+        );
         let ok = Outcome {
             latch_s: vec![Some(1.0), Some(2.0)],
             latch_rate_deg_s: vec![Some(30.0), Some(-50.0)],
             end_deg: vec![0.0, 0.0],
             stowed_deg: vec![90.0, -180.0],
+            end_s: 2.0,
             duration_s: 10.0,
         };
-        assert_eq!(ok.g_of(Criterion::NotLatched), 8.0);
+        assert_eq!(ok.g(&[Criterion::NotLatched]), 8.0);
         assert_eq!(
             ok.g(&[Criterion::NotLatched, Criterion::LatchRateAbove(40.0)]),
             -10.0
         );
-        assert_eq!(ok.g_of(Criterion::TimeAbove(5.0)), 3.0);
+        assert_eq!(ok.g(&[Criterion::TimeAbove(5.0)]), 3.0);
+        let m = modes(&[Criterion::NotLatched, Criterion::TimeAbove(5.0)], 2);
+        assert_eq!(m.len(), 4);
+        assert_eq!(m[3].to_string(), "time>5 at joint 2");
+    }
+
+    #[test]
+    fn a_latch_just_before_the_end_and_a_stop_just_short_meet_at_zero() {
+        let at = |latch: Option<f64>, end: f64| Outcome {
+            latch_s: vec![latch],
+            latch_rate_deg_s: vec![None],
+            end_deg: vec![end],
+            stowed_deg: vec![90.0],
+            end_s: 4.0,
+            duration_s: 4.0,
+        };
+        let nl = Mode {
+            criterion: Criterion::NotLatched,
+            joint: 0,
+        };
+        let tm = Mode {
+            criterion: Criterion::TimeAbove(3.0),
+            joint: 0,
+        };
+        let (a, b) = (at(Some(4.0 - 1e-9), 0.0), at(None, 1e-7));
+        assert!(a.margin(nl) > 0.0 && b.margin(nl) < 0.0);
+        assert!((a.margin(nl) - b.margin(nl)).abs() < 1e-8);
+        assert!((a.margin(tm) - b.margin(tm)).abs() < 1e-8);
     }
 }

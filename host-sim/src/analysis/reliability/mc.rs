@@ -1,7 +1,8 @@
 //! Crude Monte-Carlo: `p = n_f / n`, c.o.v. `√((1 − p)/(n p))`, the 95 %
 //! interval of Wilson (1927), which stays meaningful with no failure.
 
-use super::{stream, Estimate, Evaluate, FailurePoint, Problem, ReliabilityError};
+use super::estimate::{Estimate, FailurePoint};
+use super::{stream, Evaluate, Problem, ReliabilityError};
 use crate::analysis::fit::Z_975;
 use crate::report::progress::Progress;
 use rand::Rng;
@@ -60,9 +61,10 @@ pub fn run(
         let m = BATCH.min(s.samples - n);
         let us: Vec<Vec<f64>> = (n..n + m).map(|i| draw(s.seed, 0, i as u64, d)).collect();
         let xs: Vec<Vec<f64>> = us.iter().map(|u| problem.x_of(u)).collect();
-        let gs = eval(&xs)?;
-        check_len(&gs, m)?;
-        for ((u, x), &g) in us.iter().zip(&xs).zip(&gs) {
+        let ms = eval(&xs)?;
+        check_rows(&ms, m, problem.modes().len())?;
+        for ((u, x), row) in us.iter().zip(&xs).zip(&ms) {
+            let g = system(row);
             if g <= 0.0 {
                 nf += 1;
             }
@@ -80,16 +82,17 @@ pub fn run(
         }
     }
     Ok(Estimate {
-        method: "mc",
-        p_fail: nf as f64 / n as f64,
-        cov: cov(nf, n),
         ci95: wilson95(nf, n),
-        simulations: n,
         failures: nf,
-        levels: Vec::new(),
-        converged: true,
         most_likely_failure: best,
+        ..Estimate::plain("mc", nf as f64 / n as f64, cov(nf, n), n)
     })
+}
+
+/// The system's margin of a row of mode margins: the smallest (any mode
+/// fails the wing).
+pub fn system(row: &[f64]) -> f64 {
+    row.iter().copied().fold(f64::INFINITY, f64::min)
 }
 
 /// `√((1 − p)/(n p))`, infinite with no failure.
@@ -102,8 +105,24 @@ fn cov(nf: usize, n: usize) -> f64 {
     }
 }
 
+/// The evaluator answered every point with one margin per mode.
+pub(super) fn check_rows(
+    rows: &[Vec<f64>],
+    m: usize,
+    modes: usize,
+) -> Result<(), ReliabilityError> {
+    check_len(rows, m)?;
+    match rows.iter().find(|r| r.len() != modes) {
+        Some(r) => Err(ReliabilityError::Evaluator(format!(
+            "a row of {} margins; expected one per failure mode ({modes})",
+            r.len()
+        ))),
+        None => Ok(()),
+    }
+}
+
 /// The evaluator answered every point.
-pub(super) fn check_len(gs: &[f64], m: usize) -> Result<(), ReliabilityError> {
+pub(super) fn check_len<T>(gs: &[T], m: usize) -> Result<(), ReliabilityError> {
     if gs.len() == m {
         Ok(())
     } else {
