@@ -261,7 +261,10 @@ fn print_detail(problem: &Problem, est: &Estimate) {
         if r.converged {
             outln!(
                 "  subset: {}: P = {:.4e}, c.o.v. {:.3}, {:.3} of it not failing an earlier mode",
-                r.mode, r.p, r.cov, r.counted
+                r.mode,
+                r.p,
+                r.cov,
+                r.counted
             );
         } else {
             let why = match r.stop {
@@ -273,7 +276,8 @@ fn print_detail(problem: &Problem, est: &Estimate) {
                 "  subset: {}: not reached ({why}): margin <= {b:.6e} has P about {:.3e} \
                  (an estimate of that level, not a bound on the mode: the chains may not \
                  have entered all of its failures)",
-                r.mode, r.p
+                r.mode,
+                r.p
             );
         }
     }
