@@ -225,7 +225,7 @@ fn margin_from_an_identify_json_uses_the_identified_friction() {
 }
 
 #[test]
-fn margin_from_a_diagnose_json_takes_friction_and_damping_and_names_the_rest() {
+fn margin_from_a_diagnose_json_takes_friction_and_damping_and_counts_the_rest() {
     let dir = tempfile::tempdir().expect("tempdir");
     // The diagnosis format of docs/spec/formats.md.
     let diagnosis = dir.path().join("diagnosis.json");
@@ -246,7 +246,11 @@ fn margin_from_a_diagnose_json_takes_friction_and_damping_and_names_the_rest() {
     )
     .expect("write");
     let (text, m) = margin_from(&diagnosis, &["--quiet"]);
-    assert!(text.contains("harness_stiffness at joint 3"), "{text}");
+    // The harness is a resistance: counted under its joint with its factor.
+    assert!(
+        text.contains("harness_stiffness 0.1 N·m/rad (harness"),
+        "{text}"
+    );
     let j = &m["joints"];
     assert_eq!(j[0]["coulomb_nm"].as_f64(), Some(0.8));
     assert_eq!(j[1]["viscous_nms"].as_f64(), Some(0.05));

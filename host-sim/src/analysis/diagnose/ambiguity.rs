@@ -111,7 +111,7 @@ impl Search<'_, '_> {
             return None;
         }
         self.eng.say(format!(
-            "ambiguity: fitting {} other sets of named effects at joint {joint}",
+            "ambiguity: at joint {joint}, fitting {} other sets of named effects",
             moves.len()
         ));
         let best = self.current.bic();
