@@ -4,13 +4,13 @@
   of numpy arrays.
 - ``simulate_batch(mechanism, vary, params, fail=("not_latched",))``: one
   deployment per row of ``params`` (the loop in Rust on every core, the GIL
-  released), a :class:`Batch`: the limit state ``g`` and per joint latch
-  instant, latch rate and end angle.
-- ``reliability(mechanism, vary=..., fail=..., method="subset", ...)``: the
+  released), a :class:`Batch`: the limit state ``g``, the margin of each
+  failure mode, and per joint latch instant, latch rate and end angle.
+- ``reliability(mechanism, vary=..., fail=..., method="auto", ...)``: the
   options of ``deploywatch reliability`` as keyword arguments, a
   :class:`Reliability` (``.to_dict()`` is the CLI's JSON). ``executor=``:
   any ``concurrent.futures.Executor`` or a ``dask.distributed.Client``; the
-  batches of deployments are submitted there, the levels run here. The
+  batches of deployments are submitted there, the analysis runs here. The
   result equals the local one bit for bit.
 - ``parameters(...)``: the column order of ``params``.
 
@@ -34,7 +34,17 @@ from ._errors import (
     MechanismError,
     SimulationError,
 )
-from ._results import Batch, FailurePoint, FloatArray, Level, Reliability, Trajectory
+from ._results import (
+    Batch,
+    DesignPoint,
+    Estimate,
+    FailurePoint,
+    FloatArray,
+    Level,
+    ModeResult,
+    Reliability,
+    Trajectory,
+)
 
 __version__: str = _native.__version__
 """The package's version (that of the Rust crates it is built from)."""
@@ -47,7 +57,10 @@ __all__ = [
     "Trajectory",
     "Batch",
     "Reliability",
+    "Estimate",
+    "ModeResult",
     "Level",
+    "DesignPoint",
     "FailurePoint",
     "FloatArray",
     "PathLike",

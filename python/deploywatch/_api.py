@@ -160,7 +160,9 @@ def simulate_batch(
     loop runs in Rust on every core with the GIL released; Ctrl-C stops it.
 
     Returns a :class:`Batch`: ``g`` (n,) (failure iff ``g <= 0``),
-    ``latch_s``, ``latch_rate_deg_s`` (n, joints; NaN where not latched),
+    ``margins`` (n, modes: one per ``fail`` criterion and joint, failed iff
+    ``<= 0``), ``latch_s``, ``latch_rate_deg_s`` (n, joints; NaN where not
+    latched; the rate only with a ``latch_rate>X`` criterion in ``fail``),
     ``end_deg`` (n, joints).
 
     Raises ``InputError`` naming the argument (a ``vary``/``fail`` string,
@@ -178,8 +180,9 @@ def simulate_batch(
 def _g_chunk(
     text: str, source: str, vary: List[str], fail: List[str], from_json: Optional[str], rows: FloatArray
 ) -> FloatArray:
-    """The limit states of a chunk of rows: the task an executor runs."""
-    return _native.simulate_batch(text, source, vary, fail, rows, from_json)[0]
+    """The margins of every failure mode (n, modes) of a chunk of rows: the
+    task an executor runs."""
+    return _native.simulate_batch(text, source, vary, fail, rows, from_json)[1]
 
 
 def _workers(executor: Executor, workers: Optional[int]) -> int:
@@ -196,8 +199,8 @@ def _workers(executor: Executor, workers: Optional[int]) -> int:
 
 def _evaluator(
     executor: Executor, chunk: Optional[int], workers: int, task: "tuple[Any, ...]"
-) -> Callable[[FloatArray], List[float]]:
-    def evaluate(xs: FloatArray) -> List[float]:
+) -> Callable[[FloatArray], List[List[float]]]:
+    def evaluate(xs: FloatArray) -> List[List[float]]:
         n = xs.shape[0]
         size = chunk or max(1, -(-n // workers // 4))
         futures = [executor.submit(_g_chunk, *task, xs[i : i + size]) for i in range(0, n, size)]
@@ -218,7 +221,7 @@ def reliability(
     mechanism: PathLike,
     vary: Sequence[str] = (),
     fail: Sequence[str] = ("not_latched",),
-    method: str = "subset",
+    method: str = "auto",
     samples: Optional[int] = None,
     target_cov: Optional[float] = None,
     seed: int = 0,
@@ -234,8 +237,9 @@ def reliability(
 
     ``vary``: ``--vary`` strings (e.g.
     ``"coulomb_friction:joint=1:lognormal(2.63,0.05)"``); ``fail``:
-    ``--fail`` criteria; ``method``: ``"subset"`` or ``"mc"``; ``samples``,
-    ``target_cov``, ``seed`` as the CLI's; ``from_``: an ``identify --json``
+    ``--fail`` criteria; ``method``: ``"auto"`` (importance sampling and
+    subset simulation, checked against each other), ``"is"``, ``"subset"``
+    or ``"mc"``; ``samples``, ``target_cov``, ``seed`` as the CLI's; ``from_``: an ``identify --json``
     file; ``corr``: ``"I,J,RHO"`` strings, as ``--corr``.
 
     ``executor``: ``None`` for every local core (rayon, the GIL released),
@@ -245,7 +249,8 @@ def reliability(
     chunks of ``chunk`` rows (default: about four per worker; ``workers``
     tells how many tasks run at once, default the Dask client's workers or
     this machine's cores) and submitted there. The result equals the local
-    one bit for bit. An error raised by a task (e.g. a ``SimulationError``
+    one bit for bit (each task returns the margins of every failure mode
+    of its rows). An error raised by a task (e.g. a ``SimulationError``
     on a Dask worker) is raised here as it is.
 
     Ctrl-C stops the analysis between batches (``KeyboardInterrupt``).
@@ -257,7 +262,7 @@ def reliability(
     from_json = _from_text(from_)
     vs, fs, cs = _strings("vary", vary), _strings("fail", fail), _strings("corr", corr)
     if not isinstance(method, str):
-        raise InputError(f"method: expected \"subset\" or \"mc\", got {type(method).__name__}")
+        raise InputError(f"method: expected \"auto\", \"is\", \"subset\" or \"mc\", got {type(method).__name__}")
     n = None if samples is None else _int("samples", samples, 1)
     cov = None if target_cov is None else _positive("target_cov", target_cov)
     sd = _int("seed", seed, 0, 2**64 - 1)

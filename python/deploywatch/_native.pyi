@@ -20,7 +20,7 @@ def simulate_batch(
     fail: List[str],
     params: _F,
     from_json: Optional[str] = None,
-) -> Tuple[_F, _F, _F, _F]: ...
+) -> Tuple[_F, _F, _F, _F, _F]: ...
 def parameters(
     mechanism_toml: str, source: str, vary: List[str], fail: List[str], from_json: Optional[str] = None
 ) -> List[str]: ...
@@ -34,6 +34,6 @@ def reliability(
     target_cov: Optional[float],
     seed: int,
     from_json: Optional[str] = None,
-    evaluate: Optional[Callable[[_F], List[float]]] = None,
+    evaluate: Optional[Callable[[_F], List[List[float]]]] = None,
     corr: List[str] = ...,
 ) -> Dict[str, Any]: ...

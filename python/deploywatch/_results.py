@@ -41,12 +41,18 @@ class Batch:
     """A batch of deployments, one per row of ``params``
     (:func:`deploywatch.simulate_batch`).
 
-    ``g`` (n,): the limit state, failure iff ``g <= 0``; ``latch_s`` [s] and
-    ``latch_rate_deg_s`` [deg/s] (n, joints), NaN where not latched;
+    ``g`` (n,): the limit state, failure iff ``g <= 0``; ``margins``
+    (n, modes): the margin of each failure mode (one per ``fail`` criterion
+    and joint, the modes of the reliability analysis; a mode failed iff
+    its margin ``<= 0``, ``g`` is their minimum); ``latch_s`` [s] and
+    ``latch_rate_deg_s`` [deg/s] (n, joints), NaN where not latched (the
+    rate: NaN everywhere unless a ``latch_rate>X`` criterion is in
+    ``fail``, the only one that needs it sampled);
     ``end_deg`` (n, joints) [deg]: the angle at the end of the run.
     """
 
     g: FloatArray
+    margins: FloatArray
     latch_s: FloatArray
     latch_rate_deg_s: FloatArray
     end_deg: FloatArray
@@ -59,13 +65,48 @@ class Batch:
 
 @dataclass(frozen=True)
 class Level:
-    """One level of subset simulation: its threshold ``b_k`` of ``g``
-    (0 for the last), the conditional probability ``p``, its coefficient of
-    variation ``cov``, and the deployments it took."""
+    """One level of subset simulation of a mode: its threshold ``b_k`` of
+    the mode's margin (0 for the last level of a mode reached), the
+    conditional probability ``p``, its coefficient of variation ``cov``,
+    and the deployments it took."""
 
     threshold: float
     p: float
     cov: float
+    simulations: int
+
+
+@dataclass(frozen=True)
+class ModeResult:
+    """Subset simulation of one failure mode (``mode``, e.g.
+    ``"not_latched at joint 1"``): ``p`` the estimate of its probability
+    (reached) or of its last level's (not reached), ``cov``, ``converged``
+    (its thresholds reached 0), ``stop`` (why its levels stopped:
+    ``reached``, ``stalled``, ``negligible`` or ``levels``), ``counted``
+    (the share of its failures no earlier mode has: the system counts
+    ``p * counted``), ``simulations``, ``levels``."""
+
+    mode: str
+    p: float
+    cov: float
+    converged: bool
+    stop: str
+    counted: float
+    simulations: int
+    levels: Tuple[Level, ...]
+
+
+@dataclass(frozen=True)
+class DesignPoint:
+    """A design point of FORM (importance sampling): the most likely point
+    of the failure domain of ``mode``, its ``beta = |u|``, standard normal
+    point ``u``, ``parameters`` (label -> value) and the deployments the
+    search took."""
+
+    mode: str
+    beta: float
+    u: Tuple[float, ...]
+    parameters: Mapping[str, float]
     simulations: int
 
 
@@ -82,17 +123,52 @@ class FailurePoint:
 
 
 @dataclass(frozen=True)
+class Estimate:
+    """One method's estimate inside an ``auto`` result
+    (:attr:`Reliability.estimates`): the fields of :class:`Reliability`
+    that the method gives, without the problem's."""
+
+    method: str
+    p_fail: float
+    cov: float
+    ci95: Tuple[float, float]
+    simulations: int
+    failures: int
+    converged: bool
+    most_likely_failure: Optional[FailurePoint]
+    modes: Tuple[ModeResult, ...] = ()
+    design_points: Tuple[DesignPoint, ...] = ()
+    unreached: Tuple[str, ...] = ()
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "Estimate":
+        """The estimate from its JSON object (``estimates.is`` or
+        ``estimates.subset`` of the CLI's file)."""
+        return cls(**_body(d))
+
+    def to_dict(self) -> Dict[str, Any]:
+        """Its JSON object, as the CLI writes it."""
+        return _body_json(self)
+
+
+@dataclass(frozen=True)
 class Reliability:
     """The result of :func:`deploywatch.reliability`, field for field the
     JSON of ``deploywatch reliability --json`` (``to_dict()`` gives that
     JSON's dict back; ``from_dict`` reads it).
 
-    ``p_fail`` the failure probability, ``cov`` its coefficient of
-    variation, ``ci95`` its 95 % interval, ``simulations`` the deployments
-    run, ``failures`` the failed ones (mc) or those of the last level
-    (subset), ``converged``, ``most_likely_failure`` (None if none failed),
-    ``levels`` (subset only; empty for mc). ``extra``: any field of the JSON
-    this version does not know, kept as it came.
+    ``method``: ``auto``, ``is``, ``subset`` or ``mc``; ``p_fail`` the
+    failure probability, ``cov`` its coefficient of variation, ``ci95`` its
+    95 % interval, ``simulations`` the deployments run, ``failures`` the
+    failed ones among the samples (mc, is) or in the modes' last levels
+    (subset), ``converged``, ``most_likely_failure`` (None if none failed);
+    ``modes``: subset simulation of each failure mode (subset; empty
+    otherwise); ``design_points`` and ``unreached`` (is: the design points
+    sampled around, the modes whose boundary FORM did not find);
+    ``estimates`` and ``agree`` (auto: the :class:`Estimate` of ``is`` and
+    of ``subset``, and whether they agree within their 95 % intervals;
+    ``{}`` and None otherwise). ``extra``: any field of the JSON this
+    version does not know, kept as it came.
     """
 
     mechanism: str
@@ -108,53 +184,42 @@ class Reliability:
     failures: int
     converged: bool
     most_likely_failure: Optional[FailurePoint]
-    levels: Tuple[Level, ...] = ()
+    modes: Tuple[ModeResult, ...] = ()
+    design_points: Tuple[DesignPoint, ...] = ()
+    unreached: Tuple[str, ...] = ()
+    estimates: Mapping[str, Estimate] = field(default_factory=dict)
+    agree: Optional[bool] = None
     extra: Mapping[str, Any] = field(default_factory=dict)
 
     _KNOWN = (
         "mechanism", "method", "seed", "vary", "fail", "corr", "p_fail", "cov",
         "ci95", "simulations", "failures", "converged", "most_likely_failure",
-        "levels",
+        "modes", "design_points", "unreached", "estimates", "agree",
     )
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> "Reliability":
         """The result from the JSON object of ``deploywatch reliability
         --json`` (as ``json.load`` gives it) or from the extension."""
-        point = d.get("most_likely_failure")
-        lo, hi = d["ci95"]
+        checks = d.get("estimates") or {}
+        agree = d.get("agree")
         return cls(
             mechanism=str(d["mechanism"]),
-            method=str(d["method"]),
             seed=int(d["seed"]),
             vary=tuple(d["vary"]),
             fail=tuple(d["fail"]),
             corr=tuple(d.get("corr", ())),
-            p_fail=_num(d["p_fail"]),
-            cov=_num(d["cov"], none=math.inf),
-            ci95=(_num(lo), _num(hi)),
-            simulations=int(d["simulations"]),
-            failures=int(d["failures"]),
-            converged=bool(d["converged"]),
-            most_likely_failure=None if point is None else FailurePoint(
-                parameters={str(k): float(v) for k, v in point["parameters"].items()},
-                u=tuple(float(x) for x in point["u"]),
-                beta=_num(point["beta"]),
-                g=_num(point["g"]),
-            ),
-            levels=tuple(
-                Level(_num(lv["threshold"]), _num(lv["p"]),
-                      _num(lv["cov"], none=math.inf), int(lv["simulations"]))
-                for lv in d.get("levels", ())
-            ),
+            estimates={str(k): Estimate.from_dict(v) for k, v in checks.items()},
+            agree=None if agree is None else bool(agree),
             extra={k: v for k, v in d.items() if k not in cls._KNOWN},
+            **_body(d),
         )
 
     def to_dict(self) -> Dict[str, Any]:
         """The JSON object ``deploywatch reliability --json`` writes for the
-        same analysis (the same keys in the same order, ``levels`` for
-        subset only)."""
-        point = self.most_likely_failure
+        same analysis (the same keys in the same order: ``modes`` when
+        there are some, ``design_points`` and ``unreached`` for is,
+        ``estimates`` and ``agree`` for auto)."""
         out: Dict[str, Any] = {
             "mechanism": self.mechanism,
             "method": self.method,
@@ -162,27 +227,100 @@ class Reliability:
             "vary": list(self.vary),
             "fail": list(self.fail),
             "corr": list(self.corr),
-            "p_fail": _json(self.p_fail),
-            "cov": _json(self.cov),
-            "ci95": [_json(x) for x in self.ci95],
-            "simulations": self.simulations,
-            "failures": self.failures,
-            "converged": self.converged,
-            "most_likely_failure": None if point is None else {
-                "parameters": dict(point.parameters),
-                "u": list(point.u),
-                "beta": _json(point.beta),
-                "g": _json(point.g),
-            },
         }
-        if self.levels or self.method == "subset":
-            out["levels"] = [
-                {"threshold": _json(lv.threshold), "p": _json(lv.p), "cov": _json(lv.cov),
-                 "simulations": lv.simulations}
-                for lv in self.levels
-            ]
+        out.update(_body_json(self))
+        if self.estimates:
+            out["estimates"] = {k: e.to_dict() for k, e in self.estimates.items()}
+            out["agree"] = self.agree
         out.update(self.extra)
         return out
+
+
+def _params(d: Mapping[str, Any]) -> Dict[str, float]:
+    return {str(k): float(v) for k, v in d.items()}
+
+
+def _body(d: Mapping[str, Any]) -> Dict[str, Any]:
+    """The fields every method's JSON object has, as keyword arguments of
+    :class:`Estimate` (and of :class:`Reliability`)."""
+    point = d.get("most_likely_failure")
+    lo, hi = d["ci95"]
+    return {
+        "method": str(d["method"]),
+        "p_fail": _num(d["p_fail"]),
+        "cov": _num(d["cov"], none=math.inf),
+        "ci95": (_num(lo), _num(hi)),
+        "simulations": int(d["simulations"]),
+        "failures": int(d["failures"]),
+        "converged": bool(d["converged"]),
+        "most_likely_failure": None if point is None else FailurePoint(
+            parameters=_params(point["parameters"]),
+            u=tuple(float(x) for x in point["u"]),
+            beta=_num(point["beta"]),
+            g=_num(point["g"]),
+        ),
+        "modes": tuple(
+            ModeResult(
+                mode=str(m["mode"]), p=_num(m["p"]), cov=_num(m["cov"], none=math.inf),
+                converged=bool(m["converged"]), stop=str(m["stop"]), counted=_num(m["counted"]),
+                simulations=int(m["simulations"]),
+                levels=tuple(
+                    Level(_num(lv["threshold"]), _num(lv["p"]),
+                          _num(lv["cov"], none=math.inf), int(lv["simulations"]))
+                    for lv in m["levels"]
+                ),
+            )
+            for m in d.get("modes", ())
+        ),
+        "design_points": tuple(
+            DesignPoint(
+                mode=str(p["mode"]), beta=_num(p["beta"], none=math.inf),
+                u=tuple(float(x) for x in p["u"]), parameters=_params(p["parameters"]),
+                simulations=int(p["simulations"]),
+            )
+            for p in d.get("design_points", ())
+        ),
+        "unreached": tuple(str(m) for m in d.get("unreached", ())),
+    }
+
+
+def _body_json(e: "Estimate | Reliability") -> Dict[str, Any]:
+    """The method's part of the CLI's JSON object, in its key order."""
+    point = e.most_likely_failure
+    out: Dict[str, Any] = {
+        "method": e.method,
+        "p_fail": _json(e.p_fail),
+        "cov": _json(e.cov),
+        "ci95": [_json(x) for x in e.ci95],
+        "simulations": e.simulations,
+        "failures": e.failures,
+        "converged": e.converged,
+        "most_likely_failure": None if point is None else {
+            "parameters": dict(point.parameters),
+            "u": list(point.u),
+            "beta": _json(point.beta),
+            "g": _json(point.g),
+        },
+    }
+    if e.modes:
+        out["modes"] = [
+            {"mode": m.mode, "p": _json(m.p), "cov": _json(m.cov), "converged": m.converged,
+             "stop": m.stop, "counted": _json(m.counted), "simulations": m.simulations,
+             "levels": [
+                 {"threshold": _json(lv.threshold), "p": _json(lv.p), "cov": _json(lv.cov),
+                  "simulations": lv.simulations}
+                 for lv in m.levels
+             ]}
+            for m in e.modes
+        ]
+    if e.method == "is":
+        out["design_points"] = [
+            {"mode": p.mode, "beta": _json(p.beta), "u": list(p.u),
+             "parameters": dict(p.parameters), "simulations": p.simulations}
+            for p in e.design_points
+        ]
+        out["unreached"] = list(e.unreached)
+    return out
 
 
 def _num(x: Any, none: float = math.nan) -> float:

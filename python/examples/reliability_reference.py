@@ -40,15 +40,16 @@ CASES = {
 }
 
 
-def main():
+def main() -> None:
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 10_000_000
-    workers = int(sys.argv[2]) if len(sys.argv) > 2 else os.cpu_count()
+    workers = int(sys.argv[2]) if len(sys.argv) > 2 else (os.cpu_count() or 1)
     mech, vary = CASES[sys.argv[3] if len(sys.argv) > 3 else "two_modes"]
     env = {"RAYON_NUM_THREADS": "1"}
-    with LocalCluster(
+    # dask.distributed's constructors carry no annotations.
+    with LocalCluster(  # type: ignore[no-untyped-call]
         n_workers=workers, threads_per_worker=1, processes=True,
         dashboard_address=None, env=env,
-    ) as cluster, Client(cluster) as client:
+    ) as cluster, Client(cluster) as client:  # type: ignore[no-untyped-call]
         t = time.perf_counter()
         r = deploywatch.reliability(
             mech, vary=vary, fail=["not_latched"], method="mc", samples=n, seed=0,
@@ -56,11 +57,11 @@ def main():
         )
         wall = time.perf_counter() - t
         cpu = sum(client.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_utime).values())
-    lo, hi = r["ci95"]
+    lo, hi = r.ci95
     print(
-        f"mc: p_fail = {r['p_fail']:.4e}, 95 % [{lo:.4e}, {hi:.4e}], c.o.v. {r['cov']:.3f}, "
-        f"{r['simulations']} deployments, {r['failures']} failed; {wall:.1f} s wall, "
-        f"{cpu:.1f} s of the workers' CPU: {r['simulations'] / cpu:.0f} deployments per core-second"
+        f"mc: p_fail = {r.p_fail:.4e}, 95 % [{lo:.4e}, {hi:.4e}], c.o.v. {r.cov:.3f}, "
+        f"{r.simulations} deployments, {r.failures} failed; {wall:.1f} s wall, "
+        f"{cpu:.1f} s of the workers' CPU: {r.simulations / cpu:.0f} deployments per core-second"
     )
 
 

@@ -12,13 +12,12 @@ mod convert;
 mod errors;
 mod steps;
 
+use deploywatch_sim::analysis::reliability::auto::{estimate, Method};
 use deploywatch_sim::analysis::reliability::correlation::Correlation;
 use deploywatch_sim::analysis::reliability::criteria::{Criterion, Outcome};
 use deploywatch_sim::analysis::reliability::identified;
-use deploywatch_sim::analysis::reliability::auto::{estimate, Method};
 use deploywatch_sim::analysis::reliability::params::Vary;
-use deploywatch_sim::analysis::reliability::subset::{self, SubsetSettings};
-use deploywatch_sim::analysis::reliability::{Estimate, Evaluate, Problem, ReliabilityError};
+use deploywatch_sim::analysis::reliability::{Problem, ReliabilityError};
 use deploywatch_sim::model::effect::Effect;
 use deploywatch_sim::model::mechanism::Mechanism;
 use deploywatch_sim::report::progress;
@@ -104,6 +103,15 @@ fn grid<'py>(py: Python<'py>, n: usize, j: usize, f: impl Fn(usize, usize) -> f6
 type Vector<'py> = Bound<'py, PyArray1<f64>>;
 /// A numpy matrix of float64.
 type Matrix<'py> = Bound<'py, PyArray2<f64>>;
+/// What `simulate_batch` returns: `g`, the margins, latch instants, latch
+/// rates, end angles.
+type Outcomes<'py> = (
+    Vector<'py>,
+    Matrix<'py>,
+    Matrix<'py>,
+    Matrix<'py>,
+    Matrix<'py>,
+);
 
 /// One deployment: `(t_s, phi_deg, rate_deg_s, latch_s, end_s)`, numpy
 /// arrays of shapes (n,), (n, joints), (n, joints), (joints,) (NaN where
@@ -139,10 +147,13 @@ fn simulate<'py>(
 
 /// A batch of deployments, one per row of `params` (float64, C order;
 /// columns: the `vary` parameters, then those of `from_json`):
-/// `(g, latch_s, latch_rate_deg_s, end_deg)`, the limit state (n,) and per
-/// joint latch instant, latch rate (NaN when not latched) and end angle
-/// (n, joints). The GIL is released while it runs; Ctrl-C stops it between
-/// steps.
+/// `(g, margins, latch_s, latch_rate_deg_s, end_deg)`: the limit state
+/// (n,), the margin of each failure mode (n, modes; the modes of
+/// `Problem::modes`, each failed iff its margin ≤ 0, `g` their minimum),
+/// and per joint latch instant, latch rate (NaN when not latched, or with
+/// no `latch_rate>X` criterion: only that one has the rate sampled) and
+/// end angle (n, joints). The GIL is released while it runs; Ctrl-C stops
+/// it between steps.
 #[pyfunction]
 #[pyo3(signature = (mechanism_toml, source, vary, fail, params, from_json=None))]
 fn simulate_batch<'py>(
@@ -153,7 +164,7 @@ fn simulate_batch<'py>(
     fail: Vec<String>,
     params: PyReadonlyArray2<'py, f64>,
     from_json: Option<&str>,
-) -> PyResult<(Vector<'py>, Matrix<'py>, Matrix<'py>, Matrix<'py>)> {
+) -> PyResult<Outcomes<'py>> {
     let p = problem(mechanism_toml, source, &vary, &fail, from_json, &[])?;
     let a = params.as_array();
     if a.ncols() != p.vary.len() {
@@ -174,62 +185,29 @@ fn simulate_batch<'py>(
         .map_err(Stop::into_py)?;
     let (n, j) = (outs.len(), p.mech.joint_count());
     let g: Vec<f64> = outs.iter().map(|o| o.g(&p.fail)).collect();
+    let modes = p.modes();
+    let margins: Vec<Vec<f64>> = outs.iter().map(|o| o.margins(&modes)).collect();
     let at = |v: Option<f64>| v.unwrap_or(f64::NAN);
     Ok((
         g.into_pyarray(py),
+        grid(py, n, modes.len(), |i, m| margins[i][m]),
         grid(py, n, j, |i, k| at(outs[i].latch_s[k])),
         grid(py, n, j, |i, k| at(outs[i].latch_rate_deg_s[k])),
         grid(py, n, j, |i, k| outs[i].end_deg[k]),
     ))
 }
 
-/// The settings of `reliability` that pick and tune the method.
-struct Settings<'a> {
-    method: &'a str,
-    samples: Option<usize>,
-    target_cov: Option<f64>,
-    seed: u64,
-}
-
-/// Runs the method of `s` on `p` with the evaluator `eval`.
-fn run(p: &Problem, s: &Settings<'_>, eval: Evaluate<'_>) -> Result<Estimate, ReliabilityError> {
-    match s.method {
-        "mc" => mc::run(
-            p,
-            &McSettings {
-                samples: s.samples.unwrap_or(100_000),
-                target_cov: s.target_cov,
-                seed: s.seed,
-            },
-            eval,
-            &progress::quiet,
-        ),
-        "subset" => subset::run(
-            p,
-            &SubsetSettings {
-                samples: s.samples.unwrap_or(SubsetSettings::default().samples),
-                seed: s.seed,
-                ..SubsetSettings::default()
-            },
-            eval,
-            &progress::quiet,
-        ),
-        other => Err(ReliabilityError::Invalid(format!(
-            "method `{other}`: expected \"mc\" or \"subset\""
-        ))),
-    }
-}
-
-/// The `g` of a batch from the Python evaluator, called with the GIL taken
-/// for the call (and a look at the signals before it).
-fn call_evaluator(f: &PyObject, xs: &[Vec<f64>], d: usize) -> Result<Vec<f64>, Stop> {
+/// The margins of a batch (one per failure mode per row) from the Python
+/// evaluator, called with the GIL taken for the call (and a look at the
+/// signals before it).
+fn call_evaluator(f: &PyObject, xs: &[Vec<f64>], d: usize) -> Result<Vec<Vec<f64>>, Stop> {
     Python::with_gil(|py| {
         py.check_signals()?;
         let m = Array2::from_shape_fn((xs.len(), d), |(i, k)| xs[i][k]);
         let out = f.call1(py, (m.into_pyarray(py),))?;
-        out.extract::<Vec<f64>>(py).map_err(|e| {
+        out.extract::<Vec<Vec<f64>>>(py).map_err(|e| {
             Stop::Rel(ReliabilityError::Evaluator(format!(
-                "the executor's answer: expected a list of floats ({e})"
+                "the executor's answer: expected a list of rows of floats, one margin per failure mode ({e})"
             )))
         })
     })
@@ -238,7 +216,8 @@ fn call_evaluator(f: &PyObject, xs: &[Vec<f64>], d: usize) -> Result<Vec<f64>, S
 /// The reliability analysis; returns the CLI's JSON object as Python
 /// objects (a dict, no text in between). `evaluate`: `None` for every
 /// local core, or a callable taking a float64 matrix (one row per point)
-/// and returning the `g` of each row (the package sends the rows to an
+/// and returning the margins of each row, one per failure mode (the
+/// `margins` of `simulate_batch`; the package sends the rows to an
 /// executor); an exception it raises is raised here as it is. The GIL is
 /// released while the analysis runs (taken back for each call of
 /// `evaluate`); Ctrl-C stops it between batches (`KeyboardInterrupt`).
@@ -260,20 +239,15 @@ fn reliability<'py>(
     corr: Vec<String>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let p = problem(mechanism_toml, source, &vary, &fail, from_json, &corr)?;
-    let s = Settings {
-        method,
-        samples,
-        target_cov,
-        seed,
-    };
+    let method: Method = method.parse().map_err(|e| errors::reliability(&e))?;
     // A Python exception (Ctrl-C, an executor's task) stops the run through
     // the analysis' error path and is kept here to be raised as it is.
     let mut stopped: Option<PyErr> = None;
     let est = py.allow_threads(|| {
         let d = p.vary.len();
-        let mut eval = |xs: &[Vec<f64>]| -> Result<Vec<f64>, ReliabilityError> {
+        let mut eval = |xs: &[Vec<f64>]| -> Result<Vec<Vec<f64>>, ReliabilityError> {
             let got = match &evaluate {
-                None => steps::in_steps(xs, |rows| p.g_batch(rows)),
+                None => steps::in_steps(xs, |rows| p.margins_batch(rows)),
                 Some(f) => call_evaluator(f, xs, d),
             };
             got.map_err(|stop| match stop {
@@ -284,7 +258,8 @@ fn reliability<'py>(
                 }
             })
         };
-        run(&p, &s, &mut eval)
+        let quiet = &progress::quiet;
+        estimate(&p, method, samples, target_cov, seed, &mut eval, quiet)
     });
     let est = match (est, stopped) {
         (_, Some(e)) => return Err(e),

@@ -63,6 +63,11 @@ def test_simulate_batch_rows_are_deployments(cli, root, tmp_path):
     b = deploywatch.simulate_batch(root / MECH, VARY, params, fail=FAIL)
     assert isinstance(b, deploywatch.Batch)
     assert b.g.shape == (3,)
+    # One margin per failure mode (not_latched, time>4 at joint 1); g is
+    # the smallest, the system fails when any mode does.
+    assert b.margins.shape == (3, 2) and b.margins.dtype == np.float64
+    assert np.array_equal(b.g, b.margins.min(axis=1))
+    assert b.margins[2, 0] < 0 and b.margins[0, 0] > 0 and b.margins[0, 1] > 0
     for a in (b.latch_s, b.latch_rate_deg_s, b.end_deg):
         assert a.shape == (3, 1) and a.dtype == np.float64
     # Row 0 is the mechanism with that friction and its own inertia.
@@ -70,7 +75,12 @@ def test_simulate_batch_rows_are_deployments(cli, root, tmp_path):
     assert b.latch_s[0, 0] == pytest.approx(want, abs=1e-6)
     # Friction 1.6 N·m stops the panel short of the latch: failed, g < 0.
     assert np.isnan(b.latch_s[2, 0]) and b.g[2] < 0 and b.end_deg[2, 0] > 0
-    assert b.g[0] > 0 and b.latch_rate_deg_s[0, 0] < 0
+    # The rate before the latch is sampled only for a latch_rate criterion.
+    assert b.g[0] > 0 and np.isnan(b.latch_rate_deg_s).all()
+    rated = deploywatch.simulate_batch(root / MECH, VARY, params, fail=FAIL + ["latch_rate>1000"])
+    assert rated.latch_rate_deg_s[0, 0] < 0 and np.isnan(rated.latch_rate_deg_s[2, 0])
+    assert rated.margins.shape == (3, 3)
+    assert rated.margins[0, 2] == pytest.approx(1000 + rated.latch_rate_deg_s[0, 0])
     assert b.failed.tolist() == [False, False, True]
     # Integers and a list of lists are numbers too: the same bits.
     same = deploywatch.simulate_batch(root / MECH, VARY, params.tolist(), fail=FAIL)
@@ -83,25 +93,63 @@ def local(root):
     return deploywatch.reliability(root / MECH, vary=VARY, fail=FAIL, samples=1000, seed=3)
 
 
-def test_reliability_equals_the_cli(cli, root, tmp_path, local):
-    want = cli_json(cli, root, tmp_path, "--method", "subset", "--samples", "1000", "--seed", "3")
-    assert isinstance(local, deploywatch.Reliability)
-    assert local.to_dict() == want and local == deploywatch.Reliability.from_dict(want)
-    assert 0 < local.p_fail < 1 and local.converged and local.method == "subset"
-    assert len(local.levels) >= 2 and local.levels[-1].threshold == 0.0
-    point = local.most_likely_failure
+def equals_the_cli(got, want):
+    """The typed result is the CLI's JSON object, both ways."""
+    assert isinstance(got, deploywatch.Reliability)
+    assert got.to_dict() == want and got == deploywatch.Reliability.from_dict(want)
+    assert json.dumps(got.to_dict()) == json.dumps(want)  # the same keys in the same order
+    assert got.extra == {}
+
+
+def test_auto_equals_the_cli(cli, root, tmp_path, local):
+    want = cli_json(cli, root, tmp_path, "--samples", "1000", "--seed", "3")
+    equals_the_cli(local, want)
+    assert local.method == "auto" and set(local.estimates) == {"is", "subset"}
+    assert local.agree is not None and 0 < local.p_fail < 1
+    imp, sub = local.estimates["is"], local.estimates["subset"]
+    assert isinstance(imp, deploywatch.Estimate) and imp.method == "is" and sub.method == "subset"
+    assert [m.mode for m in sub.modes] == ["not_latched at joint 1", "time>4 at joint 1"]
+    assert all(p.beta > 0 and list(p.parameters) == [
+        "coulomb_friction:joint=1", "panel_inertia:joint=1"] for p in imp.design_points)
+    assert local.simulations == imp.simulations + sub.simulations
+
+
+def test_subset_equals_the_cli(cli, root, tmp_path):
+    got = deploywatch.reliability(root / MECH, vary=VARY, fail=FAIL, method="subset", samples=1000, seed=3)
+    equals_the_cli(got, cli_json(cli, root, tmp_path, "--method", "subset", "--samples", "1000", "--seed", "3"))
+    assert 0 < got.p_fail < 1 and got.method == "subset" and got.estimates == {} and got.agree is None
+    assert len(got.modes) == 2 and got.design_points == ()
+    reached = [m for m in got.modes if m.converged]
+    assert reached and all(m.levels[-1].threshold == 0.0 and m.stop == "reached" for m in reached)
+    point = got.most_likely_failure
     assert point is not None and point.g <= 0 and list(point.parameters) == [
         "coulomb_friction:joint=1", "panel_inertia:joint=1"]
+
+
+def test_is_and_mc_equal_the_cli(cli, root, tmp_path):
+    got = deploywatch.reliability(root / MECH, vary=VARY, fail=FAIL, method="is", samples=1000, seed=3)
+    equals_the_cli(got, cli_json(cli, root, tmp_path, "--method", "is", "--samples", "1000", "--seed", "3"))
+    assert got.modes == () and len(got.design_points) + len(got.unreached) >= 1
+    assert "design_points" in got.to_dict() and "modes" not in got.to_dict()
     mc = deploywatch.reliability(root / MECH, vary=VARY, fail=FAIL, method="mc", samples=3000, seed=3)
-    want = cli_json(cli, root, tmp_path, "--method", "mc", "--samples", "3000", "--seed", "3")
-    assert mc.to_dict() == want and mc == deploywatch.Reliability.from_dict(want)
-    assert mc.levels == () and "levels" not in mc.to_dict()
+    equals_the_cli(mc, cli_json(cli, root, tmp_path, "--method", "mc", "--samples", "3000", "--seed", "3"))
+    assert mc.modes == () and mc.design_points == () and mc.estimates == {}
+    assert not {"modes", "design_points", "unreached", "estimates", "agree"} & set(mc.to_dict())
+
+
+def test_correlation_equals_the_cli(cli, root, tmp_path, local):
     corr = deploywatch.reliability(
         root / MECH, vary=VARY, fail=FAIL, samples=1000, seed=3, corr=["1,2,-0.6"]
     )
     want = cli_json(cli, root, tmp_path, "--samples", "1000", "--seed", "3", "--corr", "1,2,-0.6")
-    assert corr.to_dict() == want
+    equals_the_cli(corr, want)
     assert corr.corr == ("1,2,-0.6",) and corr.p_fail != local.p_fail
+
+
+def test_an_unknown_field_is_kept(local):
+    d = local.to_dict()
+    d["wall_s"] = 1.5
+    assert deploywatch.Reliability.from_dict(d).to_dict() == d
 
 
 def test_a_thread_pool_gives_the_same_bits(root, local):

@@ -189,8 +189,9 @@ def test_params_of_one_column_as_a_vector(mech):
 @pytest.mark.parametrize(
     "kwargs, pattern",
     [
-        ({"method": "foo"}, r'^method `foo`: expected "mc" or "subset"$'),
-        ({"method": 3}, r'^method: expected "subset" or "mc", got int$'),
+        ({"method": "foo"}, r"^method `foo`: expected auto, is, subset or mc$"),
+        ({"method": "levels"}, r"^method `levels`: expected auto, is, subset or mc$"),
+        ({"method": 3}, r'^method: expected "auto", "is", "subset" or "mc", got int$'),
         ({"samples": 0}, r"^samples: expected an integer of at least 1, got 0$"),
         ({"samples": 1.5}, r"^samples: expected an integer, got float 1\.5$"),
         ({"samples": True}, r"^samples: expected an integer, got bool True$"),
@@ -262,6 +263,36 @@ def test_an_executor_that_answers_too_few_values(mech):
 
     with pytest.raises(EvaluatorError, match=r"values for a batch of \d+ points"):
         deploywatch.reliability(mech, vary=VARY, samples=1000, executor=Short(), chunk=10**6)
+
+
+def _answering(change):
+    """An executor whose tasks' answers pass through `change`."""
+
+    class Changed(_Immediate):
+        def submit(self, fn, *args):
+            f = super().submit(fn, *args)
+            f2 = type(f)()
+            f2.set_result(change(f.result()))
+            return f2
+
+    return Changed()
+
+
+def test_an_executor_that_answers_too_few_margins_per_row(mech):
+    # Two failure modes (not_latched, time>4 at joint 1): rows of one margin
+    # are an unusable answer, not a shorter problem.
+    pattern = r"^the evaluation of a batch failed: a row of 1 margins; expected one per failure mode \(2\)$"
+    with pytest.raises(EvaluatorError, match=pattern):
+        deploywatch.reliability(mech, vary=VARY, fail=["not_latched", "time>4"], method="mc",
+                                samples=1000, executor=_answering(lambda m: m[:, :1]))
+
+
+def test_an_executor_that_answers_one_g_per_row(mech):
+    # The former protocol (one limit state per row) is refused, with what
+    # the answer should be.
+    pattern = r"^the evaluation of a batch failed: the executor's answer: expected a list of rows of floats"
+    with pytest.raises(EvaluatorError, match=pattern):
+        deploywatch.reliability(mech, vary=VARY, samples=1000, executor=_answering(lambda m: m.min(axis=1)))
 
 
 def test_an_executor_whose_task_fails_raises_that_error(mech):

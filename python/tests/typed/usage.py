@@ -15,7 +15,15 @@ from typing import List, Optional
 import numpy as np
 
 import deploywatch
-from deploywatch import Batch, FloatArray, Reliability, Trajectory
+from deploywatch import (
+    Batch,
+    DesignPoint,
+    Estimate,
+    FloatArray,
+    ModeResult,
+    Reliability,
+    Trajectory,
+)
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 MECH = ROOT / "data/mechanisms/reliability_one_panel.toml"
@@ -29,17 +37,31 @@ def latch_instants() -> FloatArray:
 
 def failed_rows() -> List[int]:
     batch: Batch = deploywatch.simulate_batch(MECH, VARY, np.array([[1.0], [1.6]]))
+    margins: FloatArray = batch.margins
+    assert margins.shape == (2, 1)
     return [int(i) for i in np.flatnonzero(batch.failed)]
 
 
 def probability(executor: Optional[ThreadPoolExecutor] = None) -> float:
     r: Reliability = deploywatch.reliability(
-        MECH, vary=VARY, fail=["not_latched"], samples=1000, seed=1, executor=executor
+        MECH, vary=VARY, fail=["not_latched"], method="subset", samples=1000, seed=1,
+        executor=executor,
     )
     point = r.most_likely_failure
     beta: float = point.beta if point is not None else float("inf")
-    assert beta > 0 and all(level.p > 0 for level in r.levels)
+    modes: tuple[ModeResult, ...] = r.modes
+    assert beta > 0 and all(level.p > 0 for m in modes for level in m.levels)
     return r.p_fail
+
+
+def checked(executor: Optional[ThreadPoolExecutor] = None) -> Optional[bool]:
+    r: Reliability = deploywatch.reliability(
+        MECH, vary=VARY, fail=["not_latched"], samples=500, seed=1, executor=executor
+    )
+    subset: Optional[Estimate] = r.estimates.get("subset")
+    points: tuple[DesignPoint, ...] = r.estimates["is"].design_points
+    assert r.method == "auto" and subset is not None and len(points) == 1
+    return r.agree
 
 
 def main() -> None:
@@ -51,6 +73,7 @@ def main() -> None:
         assert message.startswith("params:") and causes == ()
     with ThreadPoolExecutor(max_workers=2) as ex:
         assert probability(ex) == probability()
+        assert checked(ex) == checked()
     print(deploywatch.__version__, latch_instants(), failed_rows())
 
 
