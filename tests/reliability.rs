@@ -9,7 +9,7 @@
 //!   and 3 at their identified friction): joint 2 fails to latch above a
 //!   critical friction (about 1.89327 N·m, bisection here too), where
 //!   more friction at joint 2 makes joint 1 latch *earlier* (the case that
-//!   made subset simulation print a false bound, issue 29).
+//!   makes a minimum over the joints a misleading performance function).
 //! - Two panels (`reliability_two_modes.toml`) failing in two directions:
 //!   joint 1 with more friction, joint 2 with less spring preload, against
 //!   crude Monte-Carlo.

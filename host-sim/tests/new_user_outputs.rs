@@ -542,7 +542,7 @@ fn simulate_and_replay_write_their_plots_quietly() {
     assert_eq!(png_height(&status_png), 40 + 3 * 300);
 }
 
-// What a new user hit on the release binary (issue 32, item 8).
+// What a new user hits on the release binary.
 
 /// `deploywatch simulate … --plot x.png | true`: the reader of stdout is
 /// gone before the first line. The command neither panics nor stops: the

@@ -160,7 +160,7 @@ fn the_same_seed_gives_the_same_file_on_1_or_2_threads() {
     );
 }
 
-/// The case of issue 29: T01 with joint 2's friction `lognormal(1.7,
+/// The false-bound case: T01 with joint 2's friction `lognormal(1.7,
 /// 0.02)` failed at 3.6e-8, where the old subset printed `p_fail <
 /// 1.06e-20` as a bound. Now both methods find joint 2's failures, agree,
 /// and nothing printed is a bound.
