@@ -140,15 +140,7 @@ pub fn median_step(t: &[f64]) -> f64 {
 /// The frames of `run` on `mech` (1 to 4 joints on the host; the firmware
 /// takes 2 and 3).
 pub fn plan(mech: &Mechanism, run: &Run) -> Result<Plan, ReplayError> {
-    if let Some(name) = run.mechanism() {
-        if name != mech.name {
-            return Err(ReplayError::Input(format!(
-                "the run is of mechanism `{name}`, the mechanism file is `{}`",
-                mech.name
-            )));
-        }
-    }
-    let n = mech.joint_count();
+    let n = crate::onboard::replay::run_of(mech, run)?;
     with_joints!(n, N => plan_n::<N>(mech, run), else Err(ReplayError::Input(format!(
         "{}: {n} joints; the monitor is built for 1 to 4",
         mech.name

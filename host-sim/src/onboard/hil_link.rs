@@ -66,26 +66,11 @@ impl Drop for Connection {
 /// The serial-link ELF: `elf` when given, else [`DEFAULT_UART_ELF`] under
 /// the current directory, else under the source tree.
 pub fn find_uart_elf(elf: Option<&Path>) -> Result<PathBuf, ReplayError> {
-    let candidates: Vec<PathBuf> = match elf {
-        Some(e) => vec![e.to_path_buf()],
-        None => vec![
-            PathBuf::from(DEFAULT_UART_ELF),
-            Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("..")
-                .join(DEFAULT_UART_ELF),
-        ],
-    };
-    candidates
-        .iter()
-        .find(|p| p.is_file())
-        .cloned()
-        .ok_or_else(|| {
-            ReplayError::Setup(format!(
-                "no serial-link firmware at {}: run scripts/embedded-toolchain.sh (once per \
-                 machine), then scripts/firmware.sh build",
-                candidates[0].display()
-            ))
-        })
+    crate::onboard::replay::find_firmware(
+        elf,
+        DEFAULT_UART_ELF,
+        "run scripts/embedded-toolchain.sh (once per machine), then scripts/firmware.sh build",
+    )
 }
 
 /// Opens the link to `endpoint`.

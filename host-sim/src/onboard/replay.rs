@@ -309,10 +309,9 @@ fn prepare_n<const N: usize>(mech: &Mechanism, run: &Run) -> Result<Prepared, Re
     })
 }
 
-/// The input frames of `run` on `mech` and the host's `f32` monitor run.
-/// The run must be of the mechanism (its `mechanism` metadata, when given)
-/// and have 1 to 4 joints.
-pub fn prepare(mech: &Mechanism, run: &Run) -> Result<Prepared, ReplayError> {
+/// Checks that `run` is of `mech` (its `mechanism` metadata, when given)
+/// and returns the mechanism's joint count.
+pub(crate) fn run_of(mech: &Mechanism, run: &Run) -> Result<usize, ReplayError> {
     if let Some(name) = run.mechanism() {
         if name != mech.name {
             return Err(ReplayError::Input(format!(
@@ -321,7 +320,14 @@ pub fn prepare(mech: &Mechanism, run: &Run) -> Result<Prepared, ReplayError> {
             )));
         }
     }
-    let n = mech.joint_count();
+    Ok(mech.joint_count())
+}
+
+/// The input frames of `run` on `mech` and the host's `f32` monitor run.
+/// The run must be of the mechanism (its `mechanism` metadata, when given)
+/// and have 1 to 4 joints.
+pub fn prepare(mech: &Mechanism, run: &Run) -> Result<Prepared, ReplayError> {
+    let n = run_of(mech, run)?;
     with_joints!(n, N => prepare_n::<N>(mech, run), else Err(ReplayError::Input(format!(
         "{}: {n} joints; the monitor is built for 1 to 4",
         mech.name
@@ -709,13 +715,24 @@ pub fn firmware_joint_counts() -> String {
 /// The firmware ELF: `elf` when given, else [`DEFAULT_ELF`] under the
 /// current directory, else under the source tree this program was built from.
 pub fn find_elf(elf: Option<&Path>) -> Result<PathBuf, ReplayError> {
+    find_firmware(elf, DEFAULT_ELF, SETUP_HINT)
+}
+
+/// A firmware ELF: `elf` when given, else `default` (a path relative to
+/// the repository) under the current directory, else under the source tree
+/// this program was built from; the error names the paths tried and `hint`.
+pub(crate) fn find_firmware(
+    elf: Option<&Path>,
+    default: &str,
+    hint: &str,
+) -> Result<PathBuf, ReplayError> {
     let candidates: Vec<PathBuf> = match elf {
         Some(e) => vec![e.to_path_buf()],
         None => vec![
-            PathBuf::from(DEFAULT_ELF),
+            PathBuf::from(default),
             Path::new(env!("CARGO_MANIFEST_DIR"))
                 .join("..")
-                .join(DEFAULT_ELF),
+                .join(default),
         ],
     };
     candidates
@@ -724,7 +741,7 @@ pub fn find_elf(elf: Option<&Path>) -> Result<PathBuf, ReplayError> {
         .cloned()
         .ok_or_else(|| {
             ReplayError::Setup(format!(
-                "no firmware ELF at {}: {SETUP_HINT}",
+                "no firmware ELF at {}: {hint}",
                 candidates
                     .iter()
                     .map(|p| p.display().to_string())
