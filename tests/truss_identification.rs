@@ -147,13 +147,13 @@ fn diagnose_accepts_truss_wings_and_a_clean_run_raises_no_claim() {
         "clean truss runs: baseline {:.4} deg, noise {:.4} deg, effects {:?}, unexplained {:?}",
         outcome.baseline.rms(),
         outcome.noise_sigma_deg,
-        outcome.extended.set,
+        outcome.extended.candidates(),
         outcome.unexplained
     );
     assert!(
-        outcome.extended.set.is_empty(),
+        outcome.extended.candidates().is_empty(),
         "{:?}",
-        outcome.extended.set
+        outcome.extended.candidates()
     );
     assert!(outcome.unexplained.is_none(), "{:?}", outcome.unexplained);
     assert!(outcome.baseline.rms() < 0.03);

@@ -5,6 +5,7 @@
 //! latch) or a dynamic one (zero at release, growing with the motion).
 
 use crate::analysis::campaign_sim::CampaignSim;
+use crate::analysis::smoothing::third_difference_sigma;
 use crate::data::campaign::Campaign;
 use crate::model::effect::Effect;
 
@@ -26,6 +27,10 @@ pub const SENSOR_CHANGE_SHARE: f64 = 0.25;
 /// Correlations weaker than this are not worth a word [1] (|r| ≤ 0.3 is
 /// "weak" on Cohen's scale).
 pub const MIN_CORRELATION: f64 = 0.3;
+
+/// A series gives a noise estimate with at least this many third
+/// differences [1] ([`noise_sigma_deg`]).
+pub const MIN_NOISE_DIFFERENCES: usize = 10;
 
 /// A latch lead or lag shorter than this is within a sample's timing [s]
 /// (half a sample at 100 Hz).
@@ -305,22 +310,12 @@ pub fn locate(evidence: &[JointEvidence]) -> Option<String> {
 /// (`Var Δ³e = 20 σ²`, MAD → σ by 1.4826); smooth motion contributes only
 /// `φ⃛·Δt³`, and latch instants are outliers the median ignores.
 pub fn noise_sigma_deg(campaign: &Campaign) -> f64 {
-    let mut est = Vec::new();
-    for r in &campaign.runs {
-        for phi in &r.run.phi_deg {
-            let mut d3: Vec<f64> = phi
-                .windows(4)
-                .map(|w| (w[3] - 3.0 * w[2] + 3.0 * w[1] - w[0]).abs())
-                .filter(|x| x.is_finite())
-                .collect();
-            if d3.len() < 10 {
-                continue;
-            }
-            d3.sort_by(f64::total_cmp);
-            let mad = d3[d3.len() / 2];
-            est.push(1.4826 * mad / 20f64.sqrt());
-        }
-    }
+    let mut est: Vec<f64> = campaign
+        .runs
+        .iter()
+        .flat_map(|r| &r.run.phi_deg)
+        .filter_map(|phi| third_difference_sigma(phi, MIN_NOISE_DIFFERENCES))
+        .collect();
     if est.is_empty() {
         return 0.0;
     }

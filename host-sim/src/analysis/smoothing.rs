@@ -152,18 +152,26 @@ pub fn smooth_segment(y: &[f64], dt: f64, sigma_floor: f64) -> Option<Smoothed> 
 /// The white-noise σ of a series from its third differences: the median
 /// absolute `Δ³y`, scaled for white noise (`Var Δ³e = 20 σ²`, MAD → σ by
 /// 1.4826). Smooth motion adds only `y⃛ Δt³`; a latch instant is an
-/// outlier the median ignores.
+/// outlier the median ignores. 0 for a series of fewer than four samples.
 pub fn noise_sigma(y: &[f64]) -> f64 {
+    third_difference_sigma(y, 1).unwrap_or(0.0)
+}
+
+/// [`noise_sigma`] of a series with at least `min_differences` finite
+/// third differences; `None` for a shorter one. The one estimate of the
+/// sensor noise: the diagnosis's σ̂ ([`crate::analysis::evidence::noise_sigma_deg`])
+/// and the smoother's floor ([`crate::analysis::residual_torque`]) both use it.
+pub fn third_difference_sigma(y: &[f64], min_differences: usize) -> Option<f64> {
     let mut d3: Vec<f64> = y
         .windows(4)
         .map(|w| (w[3] - 3.0 * w[2] + 3.0 * w[1] - w[0]).abs())
         .filter(|x| x.is_finite())
         .collect();
-    if d3.is_empty() {
-        return 0.0;
+    if d3.len() < min_differences.max(1) {
+        return None;
     }
     d3.sort_by(f64::total_cmp);
-    1.4826 * d3[d3.len() / 2] / 20f64.sqrt()
+    Some(1.4826 * d3[d3.len() / 2] / 20f64.sqrt())
 }
 
 #[cfg(test)]

@@ -116,7 +116,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
         Some(w) => diagnose::latch_window::apply(&campaign, w),
         None => campaign,
     };
-    if !outcome.baseline.sse.is_finite() {
+    if !outcome.baseline.sse().is_finite() {
         return Err(CliError::failed(
             "the mechanisms as given cannot be simulated against these runs",
         ));
@@ -197,7 +197,7 @@ fn ci_of(o: &Outcome, k: usize) -> (f64, f64) {
 /// [`MIN_DELTA_BIC`] of the chosen one) in the round that chose `c`.
 fn alternatives(o: &Outcome, c: Candidate) -> Vec<(Candidate, f64)> {
     for r in &o.rounds {
-        if let Some(win) = r.scores.iter().find(|s| s.accepted && s.candidate == c) {
+        if let Some(win) = r.scores.iter().find(|s| s.accepted() && s.candidate == c) {
             return r
                 .scores
                 .iter()
@@ -212,7 +212,7 @@ fn alternatives(o: &Outcome, c: Candidate) -> Vec<(Candidate, f64)> {
 fn evidence_of(o: &Outcome, k: usize, c: Candidate) -> String {
     let mut s = String::new();
     for r in &o.rounds {
-        if let Some(win) = r.scores.iter().find(|s| s.accepted && s.candidate == c) {
+        if let Some(win) = r.scores.iter().find(|s| s.accepted() && s.candidate == c) {
             let _ = write!(
                 s,
                 "{}: RMS {:.4} -> {:.4} deg, BIC gain {:.1}",
@@ -351,7 +351,7 @@ fn candidates_json(o: &Outcome) -> Vec<Round> {
                     rms_deg: rounded(s.fitted.rms()),
                     delta_bic: rounded(s.delta_bic),
                     held_out_rms_deg: s.held_out_rms_deg.and_then(rounded),
-                    verdict: s.verdict.clone(),
+                    verdict: s.verdict.to_string(),
                 })
                 .collect(),
         })
@@ -399,7 +399,7 @@ fn effects_json(o: &Outcome, before: &[JointEvidence]) -> Vec<FoundEffect> {
                 value: rounded(e.value),
                 unit: Some(e.kind.unit().to_string()),
                 ci95: Some([rounded(lo), rounded(hi)]),
-                evidence: evidence_of(o, k, o.extended.set[k]),
+                evidence: evidence_of(o, k, o.extended.members[k].candidate),
                 ..FoundEffect::default()
             };
             if let Some((_, shape, t)) = o.extended.table_of(k) {
@@ -658,7 +658,7 @@ fn report_causes(md: &mut String, o: &Outcome) {
                 extra,
                 lo,
                 hi,
-                evidence_of(o, k, o.extended.set[k])
+                evidence_of(o, k, o.extended.members[k].candidate)
             );
         }
         md.push('\n');
@@ -703,14 +703,14 @@ fn table_series(tables: &[Option<&HostTable>; 3]) -> Option<[(Vec<f64>, Vec<f64>
 /// Discovered torques: the shape in words, and a plot of the torque against
 /// angle and rate with its 95 % band.
 fn report_tables(md: &mut String, dir: &Path, stem: &str, o: &Outcome) -> Result<(), CliError> {
-    for k in 0..o.extended.set.len() {
+    for k in 0..o.extended.members.len() {
         let Some((_, shape, t)) = o.extended.table_of(k) else {
             continue;
         };
         let _ = writeln!(
             md,
             "## Discovered torque at joint {}\n\n{shape}.\n",
-            o.extended.set[k].joint.unwrap_or(0)
+            o.extended.members[k].candidate.joint.unwrap_or(0)
         );
         let angle = table_series(&[
             t[0].angle.as_ref(),
@@ -848,7 +848,7 @@ fn report_rounds(md: &mut String, o: &Outcome) {
             let _ = writeln!(
                 md,
                 "| {} | {:.4} | {:.1} | {} | {} |",
-                labels_of(&s.fitted.set),
+                labels_of(&s.fitted.candidates()),
                 s.fitted.rms(),
                 s.delta_bic,
                 s.held_out_rms_deg

@@ -37,7 +37,7 @@ impl Search<'_, '_> {
     /// `f` without the members `drop` selects (the others' values kept).
     fn reduced_by(f: &FittedSet, drop: impl Fn(&Candidate) -> bool) -> FittedSet {
         let mut r = f.clone();
-        while let Some(k) = r.set.iter().position(&drop) {
+        while let Some(k) = r.members.iter().position(|m| drop(&m.candidate)) {
             r = r.without(k);
         }
         r
@@ -52,7 +52,7 @@ impl Search<'_, '_> {
         let at = |c: &Candidate| c.joint == Some(joint) && c.kind != EffectKind::EncoderOffset;
         let rest = Self::reduced_by(&self.current, at);
         let mut bases = vec![rest.clone()];
-        if rest.set.iter().any(|c| c.joint.is_none()) {
+        if rest.members.iter().any(|m| m.candidate.joint.is_none()) {
             bases.push(Self::reduced_by(&rest, |c| c.joint.is_none()));
         }
         let mut moves = Vec::new();
@@ -72,12 +72,12 @@ impl Search<'_, '_> {
         }
         // An alternative exchanges the joint's effects: a set that keeps
         // them all (and adds one more, near zero) is the same explanation.
-        let here: Vec<Candidate> = self.current.set.iter().copied().filter(at).collect();
+        let now = self.current.candidates();
+        let here: Vec<Candidate> = now.iter().copied().filter(at).collect();
         moves.retain(|(base, c)| {
-            let mut s = base.set.clone();
+            let mut s = base.candidates();
             s.push(*c);
-            !same_set(&s, &self.current.set)
-                && (here.is_empty() || !here.iter().all(|h| s.contains(h)))
+            !same_set(&s, &now) && (here.is_empty() || !here.iter().all(|h| s.contains(h)))
         });
         moves
     }
@@ -85,20 +85,17 @@ impl Search<'_, '_> {
     /// A fitted alternative without the members whose interval holds zero
     /// (refitted once), when that still fits alike.
     fn trimmed(&self, f: FittedSet, best: f64) -> FittedSet {
-        let keep: Vec<usize> = (0..f.set.len())
-            .filter(|&k| {
-                let ([lo, hi], _) = f.effect_ci(k);
-                lo > 0.0 || hi < 0.0
-            })
+        let keep: Vec<usize> = (0..f.members.len())
+            .filter(|&k| f.members[k].clear_of_zero())
             .collect();
-        if keep.len() == f.set.len() || keep.is_empty() {
+        if keep.len() == f.members.len() || keep.is_empty() {
             return f;
         }
         let mut r = f.clone();
-        for k in (0..f.set.len()).rev().filter(|k| !keep.contains(k)) {
+        for k in (0..f.members.len()).rev().filter(|k| !keep.contains(k)) {
             r = r.without(k);
         }
-        match self.eng.fit(self.eng.campaign, &r.set, &r.params) {
+        match self.eng.refit(self.eng.campaign, &r) {
             Some(t) if t.bic() - best < MIN_DELTA_BIC => t,
             _ => f,
         }
@@ -126,17 +123,17 @@ impl Search<'_, '_> {
         let mut alike: Vec<FittedSet> = Vec::new();
         for f in fits {
             let f = self.trimmed(f, best);
-            let clear = (0..f.set.len())
-                .filter(|&k| f.set[k].table.is_none())
-                .all(|k| {
-                    let ([lo, hi], _) = f.effect_ci(k);
-                    lo > 0.0 || hi < 0.0
-                });
-            let named_here = f.set.iter().any(|c| named_at(c, joint));
+            let clear = f
+                .members
+                .iter()
+                .filter(|m| m.candidate.table.is_none())
+                .all(|m| m.clear_of_zero());
+            let set = f.candidates();
+            let named_here = set.iter().any(|c| named_at(c, joint));
             if clear
                 && named_here
-                && !same_set(&f.set, &self.current.set)
-                && !alike.iter().any(|a| same_set(&a.set, &f.set))
+                && !same_set(&set, &self.current.candidates())
+                && !alike.iter().any(|a| same_set(&a.candidates(), &set))
             {
                 alike.push(f);
             }
@@ -148,7 +145,7 @@ impl Search<'_, '_> {
         for f in &alike {
             self.eng.say(format!(
                 "  explains the runs alike: {} (RMS {:.4} deg, BIC {:+.1})",
-                labels(&f.set),
+                labels(&f.candidates()),
                 f.rms(),
                 f.bic() - best
             ));
@@ -187,15 +184,17 @@ impl Search<'_, '_> {
 /// when a set of the group does without it).
 pub fn widened(found: &FittedSet, groups: &[Ambiguity]) -> FittedSet {
     let mut out = found.clone();
-    let mut off = 0;
-    for c in &found.set {
-        let n = c.params();
-        for g in groups.iter().filter(|g| c.joint == Some(g.joint) && n == 1) {
-            let Some(ci) = out.ci95.get_mut(off) else {
+    for m in out.members.iter_mut() {
+        let c = m.candidate;
+        if m.params.len() != 1 {
+            continue;
+        }
+        for g in groups.iter().filter(|g| c.joint == Some(g.joint)) {
+            let Some(ci) = m.ci95.as_mut().and_then(|v| v.first_mut()) else {
                 continue;
             };
             for s in &g.sets {
-                match s.set.iter().position(|x| x == c) {
+                match s.members.iter().position(|x| x.candidate == c) {
                     Some(k) => {
                         if let Some((p, band)) = s.effect_params(k) {
                             ci[0] = ci[0].min(p[0]).min(band[0][0]);
@@ -209,7 +208,6 @@ pub fn widened(found: &FittedSet, groups: &[Ambiguity]) -> FittedSet {
                 }
             }
         }
-        off += n;
     }
     out
 }

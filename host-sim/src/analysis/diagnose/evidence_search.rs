@@ -13,12 +13,10 @@
 
 use super::candidate::Candidate;
 use super::discover;
-use super::outcome::FittedSet;
+use super::moves::{Attempt, Move, Proposal};
+use super::outcome::{FittedEffect, FittedSet};
 use super::table_form::PlacedKnots;
-use super::{
-    above_noise, labels, new_members_clear, Engine, Search, HELD_OUT_SHARE, MAX_TABLES,
-    MIN_DELTA_BIC, NOISE_FLOOR_FACTOR,
-};
+use super::{above_noise, labels, Engine, Search, MAX_TABLES, NOISE_FLOOR_FACTOR};
 use crate::analysis::residual_named::{self, propose_pair};
 use crate::analysis::residual_shape::best_shape;
 use crate::analysis::residual_torque::{residual_torque, JointTorque};
@@ -31,41 +29,27 @@ const CLAIM_RMS_SHARE: f64 = 1.1;
 
 impl Search<'_, '_> {
     /// Discovery: while the residual stays above the noise floor, fit torque
-    /// tables at the joints whose residual torque is significant, judge
-    /// them like any candidate, and after one is added let the named search
-    /// go on beside it. At most [`MAX_TABLES`] tables, at different joints.
-    pub(super) fn discover(&mut self, sigma: f64) {
+    /// tables at the joints whose residual torque is significant
+    /// ([`Move::Table`]; the even tables at every joint for the first,
+    /// [`Move::EvenTable`]), judge them like any candidate, let a named
+    /// effect that explains the data replace a table
+    /// ([`Move::NamedForTable`]), and after one is added let the named
+    /// search go on beside it. At most [`MAX_TABLES`] tables, at different
+    /// joints; then refinement and the check of every claim.
+    pub(super) fn discover(&mut self) {
         for _ in 0..MAX_TABLES {
-            if self.current.rms() <= self.floor_deg {
+            if self.current.rms() <= self.floor() {
                 break;
             }
-            let moves = self.table_moves();
-            if moves.is_empty() {
-                break;
+            match self.attempt(Move::Table) {
+                Attempt::NotTried => break,
+                Attempt::Judged if self.attempt(Move::EvenTable) != Attempt::Moved => break,
+                _ => {}
             }
-            self.eng.say(format!(
-                "discovery: the residual stays at {:.4} deg; fitting {} torque tables beside {}",
-                self.current.rms(),
-                moves.len(),
-                labels(&self.current.set)
-            ));
-            let what = format!("discover a torque beside {}", labels(&self.current.set));
-            if !self.step(&moves, what.clone(), "discovered:") {
-                let first = self.current.set.iter().all(|c| c.table.is_none());
-                let even = self.even_moves();
-                if !first || even.iter().all(|m| moves.contains(m)) {
-                    break;
-                }
-                self.eng
-                    .say("  no table at the evidence's joints earns its keep: even tables at every joint");
-                if !self.step(&even, what, "discovered:") {
-                    break;
-                }
-            }
-            if self.prefer_named(sigma) {
+            if self.attempt(Move::NamedForTable) == Attempt::Moved {
                 continue;
             }
-            if above_noise(&self.current, sigma) {
+            if above_noise(&self.current, self.sigma) {
                 self.swaps = 0;
                 self.run();
             }
@@ -74,18 +58,75 @@ impl Search<'_, '_> {
         self.check_claims();
     }
 
+    /// [`Move::Table`]: beside the current set and in place of each of its
+    /// named effects, a table at each joint without one whose residual
+    /// torque beside that set is significant (the even tables at every
+    /// joint when no joint's is and the set holds no table).
+    pub(super) fn propose_tables(&mut self) -> Option<Proposal> {
+        let moves = self.table_moves();
+        self.table_tried = moves.clone();
+        if moves.is_empty() {
+            return None;
+        }
+        self.eng.say(format!(
+            "discovery: the residual stays at {:.4} deg; fitting {} torque tables beside {}",
+            self.current.rms(),
+            moves.len(),
+            labels(&self.current.candidates())
+        ));
+        Some((moves, self.discover_what()))
+    }
+
+    /// What a discovery round tries, in words.
+    fn discover_what(&self) -> String {
+        format!(
+            "discover a torque beside {}",
+            labels(&self.current.candidates())
+        )
+    }
+
+    /// [`Move::EvenTable`]: for the first table, when the tables at the
+    /// evidence's joints were not kept, the even forms at every joint that
+    /// they did not hold.
+    pub(super) fn propose_even_tables(&mut self) -> Option<Proposal> {
+        let first = self
+            .current
+            .members
+            .iter()
+            .all(|m| m.candidate.table.is_none());
+        let even = self.even_moves();
+        if !first || even.iter().all(|m| self.table_tried.contains(m)) {
+            return None;
+        }
+        self.eng
+            .say("  no table at the evidence's joints earns its keep: even tables at every joint");
+        Some((even, self.discover_what()))
+    }
+
+    /// [`Move::NamedForTable`]: each table of the set replaced by every
+    /// named candidate in turn and by the pairs of named effects at its
+    /// joint ([`Search::named_pairs_for`], screened also where the two
+    /// share their torque, [`super::Engine::fit_moves_sharing`]).
+    pub(super) fn named_for_tables(&self) -> Vec<(FittedSet, Candidate)> {
+        let named: Vec<Candidate> = self.outside();
+        let mut moves = Vec::new();
+        for (k, m) in self.current.members.iter().enumerate() {
+            if m.candidate.table.is_some() {
+                let reduced = self.current.without(k);
+                moves.extend(named.iter().map(|&n| (reduced.clone(), n)));
+                moves.extend(self.named_pairs_for(&reduced, m.candidate));
+            }
+        }
+        moves
+    }
+
     /// The discovery moves: beside the current set and in place of each of
     /// its named effects, a table at each joint without one whose residual
     /// torque beside that set is significant.
     fn table_moves(&self) -> Vec<(FittedSet, Candidate)> {
-        let taken: Vec<Option<usize>> = self
-            .current
-            .set
-            .iter()
-            .filter(|c| c.table.is_some())
-            .map(|c| c.joint)
-            .collect();
-        let named = (0..self.current.set.len()).filter(|&k| self.current.set[k].table.is_none());
+        let taken = self.table_joints();
+        let named = (0..self.current.members.len())
+            .filter(|&k| self.current.members[k].candidate.table.is_none());
         let bases: Vec<FittedSet> = std::iter::once(self.current.clone())
             .chain(named.map(|k| self.current.without(k)))
             .collect();
@@ -109,19 +150,23 @@ impl Search<'_, '_> {
         moves
     }
 
+    /// The joints of the set's tables.
+    fn table_joints(&self) -> Vec<Option<usize>> {
+        self.current
+            .members
+            .iter()
+            .filter(|m| m.candidate.table.is_some())
+            .map(|m| m.candidate.joint)
+            .collect()
+    }
+
     /// The even forms at every joint without a table, beside the current
     /// set: for the first table, when the evidence finds no joint or its
     /// joints' tables do not earn their keep, although the angles say a
     /// torque is missing (one too fast for the smoother, say). A second
     /// table needs the evidence. Each claim is checked at the end.
     fn even_moves(&self) -> Vec<(FittedSet, Candidate)> {
-        let taken: Vec<Option<usize>> = self
-            .current
-            .set
-            .iter()
-            .filter(|c| c.table.is_some())
-            .map(|c| c.joint)
-            .collect();
+        let taken = self.table_joints();
         discover::table_candidates(self.eng.campaign)
             .into_iter()
             .filter(|c| !taken.contains(&c.joint))
@@ -171,8 +216,8 @@ impl Search<'_, '_> {
     /// a joint that holds nothing.
     fn check_claims(&mut self) {
         loop {
-            let weak = (0..self.current.set.len()).find(|&k| {
-                let c = self.current.set[k];
+            let weak = (0..self.current.members.len()).find(|&k| {
+                let c = self.current.members[k].candidate;
                 let Some(j) = c.joint else { return false };
                 if c.kind == EffectKind::EncoderOffset || j > self.eng.campaign.max_joints() {
                     return false;
@@ -182,17 +227,13 @@ impl Search<'_, '_> {
                 res.iter().any(|r| r.joint == j && !r.significant)
             });
             let Some(k) = weak else { return };
-            let gone = self.current.set[k];
-            let reduced = self.current.without(k);
-            let Some(f) = self
-                .eng
-                .fit(self.eng.campaign, &reduced.set, &reduced.params)
-            else {
+            let gone = self.current.members[k].candidate;
+            let Some(f) = self.eng.refit(self.eng.campaign, &self.current.without(k)) else {
                 return;
             };
             // The evidence may miss a torque the fit needs: a claim goes
             // only when the fit hardly notices (the data hold nothing there).
-            if f.rms() > CLAIM_RMS_SHARE * self.current.rms().max(self.floor_deg) {
+            if f.rms() > CLAIM_RMS_SHARE * self.current.rms().max(self.floor()) {
                 return;
             }
             self.eng.say(format!(
@@ -206,13 +247,13 @@ impl Search<'_, '_> {
         }
     }
 
-    /// When the stepwise search ends above the noise: the pairs of named
-    /// effects at one joint that the baseline's residual torque proposes
-    /// ([`propose_pair`]), fitted through the simulator in place of the
-    /// current set and judged like any move. True when one was taken.
-    pub(super) fn try_proposed(&mut self) -> bool {
-        if std::mem::replace(&mut self.proposed, true) {
-            return false;
+    /// [`Move::Proposed`], when the stepwise search ends above the noise:
+    /// the pairs of named effects at one joint that the baseline's residual
+    /// torque proposes ([`propose_pair`]), fitted through the simulator in
+    /// place of the current set and judged like any move. Once.
+    pub(super) fn propose_proposed(&mut self) -> Option<Proposal> {
+        if !self.first_time(Move::Proposed) {
+            return None;
         }
         let res = residual_torque(self.eng.campaign, &[]);
         let mut moves = Vec::new();
@@ -229,12 +270,8 @@ impl Search<'_, '_> {
                 continue;
             }
             let base = FittedSet {
-                set: vec![cand(a)],
-                params: vec![va],
-                ci95: vec![[f64::NEG_INFINITY, f64::INFINITY]],
-                sse: f64::NAN,
-                m: self.current.m,
-                evaluations: 0,
+                members: vec![FittedEffect::start(cand(a), vec![va])],
+                stats: None,
             };
             self.eng.say(format!(
                 "  the residual torque at joint {} looks like {} and {}",
@@ -245,13 +282,13 @@ impl Search<'_, '_> {
             moves.push((base, cand(b)));
         }
         if moves.is_empty() {
-            return false;
+            return None;
         }
         let what = format!(
             "replace {} by a pair the residual torque proposes",
-            labels(&self.current.set)
+            labels(&self.current.candidates())
         );
-        self.step(&moves, what, "proposed by the residual torque:")
+        Some((moves, what))
     }
 }
 
@@ -309,11 +346,7 @@ impl Search<'_, '_> {
                 else {
                     continue;
                 };
-                let mut base = reduced.clone();
-                base.set.push(ca);
-                base.params.push(v[0]);
-                base.ci95.push([f64::NEG_INFINITY, f64::INFINITY]);
-                moves.push((base, cb));
+                moves.push((reduced.with(FittedEffect::start(ca, vec![v[0]])), cb));
             }
         }
         moves
@@ -335,13 +368,13 @@ impl Engine<'_> {
     /// offsets aside) — the joint torque the global effect stands in for.
     pub(super) fn hidden_by_globals(&self, f: &FittedSet) -> Vec<(usize, JointTorque)> {
         let claimed: Vec<usize> = f
-            .set
+            .candidates()
             .iter()
             .filter(|c| c.kind != EffectKind::EncoderOffset)
             .filter_map(|c| c.joint)
             .collect();
-        (0..f.set.len())
-            .filter(|&k| f.set[k].joint.is_none())
+        (0..f.members.len())
+            .filter(|&k| f.members[k].candidate.joint.is_none())
             .filter_map(|k| {
                 residual_torque(self.campaign, &f.without(k).effects())
                     .into_iter()
@@ -381,27 +414,24 @@ impl Engine<'_> {
 }
 
 impl Search<'_, '_> {
-    /// When the stepwise search stalls with the residual clearly above the
-    /// noise: at each joint where the set holds named joint effects with a
-    /// torque signature, every pair of them in place of those effects
-    /// ([`Search::named_pairs_at`], screened also where the two share their
-    /// torque, [`super::Engine::fit_moves_sharing`]). The best by BIC is
-    /// taken when it gains more than [`MIN_DELTA_BIC`], its intervals clear
-    /// zero, its held-out RMS beats the set's by [`HELD_OUT_SHARE`] and it
-    /// explains the data (its residual not above the noise): two causes at
-    /// one joint where the search settled on stand-ins. Tried once; true
-    /// when a pair was taken.
-    pub(super) fn try_joint_pairs(&mut self) -> bool {
-        let sigma = self.floor_deg / NOISE_FLOOR_FACTOR;
-        if !above_noise(&self.current, sigma) || std::mem::replace(&mut self.paired, true) {
-            return false;
+    /// [`Move::JointPairs`], when the stepwise search stalls with the
+    /// residual clearly above the noise: at each joint where the set holds
+    /// named joint effects with a torque signature, every pair of them in
+    /// place of those effects ([`Search::named_pairs_at`], screened also
+    /// where the two share their torque,
+    /// [`super::Engine::fit_moves_sharing`]): two causes at one joint where
+    /// the search settled on stand-ins. Once (counted from the first time
+    /// the residual is above the noise here).
+    pub(super) fn propose_joint_pairs(&mut self) -> Option<Proposal> {
+        if !above_noise(&self.current, self.sigma) || !self.first_time(Move::JointPairs) {
+            return None;
         }
         let named_at = |c: &Candidate, j: usize| {
             c.joint == Some(j) && c.table.is_none() && residual_named::KINDS.contains(&c.kind)
         };
         let mut joints: Vec<usize> = self
             .current
-            .set
+            .candidates()
             .iter()
             .filter(|c| c.table.is_none() && residual_named::KINDS.contains(&c.kind))
             .filter_map(|c| c.joint)
@@ -411,40 +441,18 @@ impl Search<'_, '_> {
         let mut moves = Vec::new();
         for j in joints {
             let mut base = self.current.clone();
-            while let Some(k) = base.set.iter().position(|c| named_at(c, j)) {
+            while let Some(k) = base.members.iter().position(|m| named_at(&m.candidate, j)) {
                 base = base.without(k);
             }
             moves.extend(self.named_pairs_at(&base, j));
         }
         if moves.is_empty() {
-            return false;
+            return None;
         }
         self.eng.say(format!(
             "  named pairs at a joint in place of its named effects: fitting {}",
             moves.len()
         ));
-        let fits = self.eng.fit_moves_sharing(self.eng.campaign, &moves);
-        let current = self.current.clone();
-        let best = fits
-            .into_iter()
-            .filter(|(_, _, screened_out)| !screened_out)
-            .filter_map(|(_, f, _)| f)
-            .filter(|f| current.bic() - f.bic() > MIN_DELTA_BIC)
-            .filter(|f| new_members_clear(f, &current) && !above_noise(f, sigma))
-            .min_by(|a, b| a.bic().total_cmp(&b.bic()));
-        let Some(f) = best else {
-            return false;
-        };
-        let held = self.eng.held_out(&f);
-        if let (Some(h), Some(c)) = (held, self.current_held) {
-            if h >= HELD_OUT_SHARE * c {
-                return false;
-            }
-        }
-        if self.seen.contains(&f.set) {
-            return false;
-        }
-        self.take("named pair at a joint:", f, held);
-        true
+        Some((moves, String::new()))
     }
 }

@@ -7,14 +7,17 @@
 //! 3. Candidates: every effect, per joint where it has one. Each is fitted to
 //!    all runs at once: a coarse scan for a start, then Levenberg–Marquardt
 //!    ([`crate::analysis::fit`]); candidates are fitted in parallel.
-//! 4. Stepwise selection: the move (an addition; when none passes, a pair
-//!    fitted jointly; then a swap, and a swap for a pair) with the best BIC
-//!    is taken if it earns its keep — BIC better by more than
-//!    [`MIN_DELTA_BIC`], every added effect's 95 % interval excludes zero,
-//!    and (with two or more runs) the held-out RMS of the resulting set
-//!    (fit on all runs but one, predict that one) improves; effects that no
-//!    longer earn their keep are dropped again. At most three named
-//!    effects; stop at the noise floor.
+//! 4. Stepwise selection: a loop over the moves of [`moves::STEPWISE`]
+//!    (an addition; when none passes, a pair fitted jointly; then a swap,
+//!    and a swap for a pair; the named pairs the residual torque proposes
+//!    and those at a joint), each judged by the one acceptance policy
+//!    ([`policy`]: BIC better by more than [`MIN_DELTA_BIC`], every added
+//!    effect's 95 % interval excludes zero, and, with two or more runs, the
+//!    held-out RMS of the resulting set — fit on all runs but one, predict
+//!    that one — improves), which returns a typed [`Verdict`]; effects that
+//!    no longer earn their keep are dropped again. At most three named
+//!    effects; stop at the noise floor 1.2 σ̂ (σ̂ estimated once and
+//!    carried).
 //! 5. Discovery ([`discover`]): when the named effects leave a residual
 //!    above the noise floor, a `torque_table` fitted at each joint is judged
 //!    like any candidate; a named effect that fits as well replaces it.
@@ -30,7 +33,9 @@ mod evidence_search;
 mod halt;
 pub mod latch_finding;
 pub mod latch_window;
+mod moves;
 mod outcome;
+mod policy;
 mod refine;
 mod screen;
 mod shared_torque;
@@ -39,7 +44,10 @@ mod table_form;
 
 pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
-pub use outcome::{CandidateScore, DiagnoseOptions, FittedSet, Outcome, Round, StopFlag};
+pub use outcome::{
+    CandidateScore, DiagnoseOptions, FitStats, FittedEffect, FittedSet, Outcome, Round, StopFlag,
+};
+pub use policy::{Kept, Rejection, Verdict};
 pub use table_form::{PlacedKnots, TableForm};
 
 use crate::analysis::campaign_sim::CampaignSim;
@@ -129,12 +137,12 @@ impl Engine<'_> {
         if set.is_empty() {
             let (sse, m) = self.sse(c, set, &[])?;
             return Some(FittedSet {
-                set: Vec::new(),
-                params: Vec::new(),
-                ci95: Vec::new(),
-                sse,
-                m,
-                evaluations: 1,
+                members: Vec::new(),
+                stats: Some(FitStats {
+                    sse,
+                    m,
+                    evaluations: 1,
+                }),
             });
         }
         let b: Vec<ParamBound> = set.iter().flat_map(|c| c.bounds()).collect();
@@ -146,14 +154,27 @@ impl Engine<'_> {
         };
         let model = |p: &[f64]| self.residuals(c, set, p);
         let r = fit::least_squares(&model, p0, &opts).ok()?;
-        Some(FittedSet {
-            set: set.to_vec(),
-            params: r.params,
-            ci95: r.ci95,
+        let stats = FitStats {
             sse: r.sse,
             m: r.residuals,
             evaluations: r.evaluations,
-        })
+        };
+        Some(FittedSet::from_flat(
+            set,
+            &r.params,
+            Some(&r.ci95),
+            Some(stats),
+        ))
+    }
+
+    /// Refits `start` on campaign `c` from its parameters.
+    fn refit(&self, c: &Campaign, start: &FittedSet) -> Option<FittedSet> {
+        self.fit(c, &start.candidates(), &start.params())
+    }
+
+    /// SSE and number of residuals of `f` at its parameters on `c`.
+    fn sse_of(&self, c: &Campaign, f: &FittedSet) -> Option<(f64, usize)> {
+        self.sse(c, &f.candidates(), &f.params())
     }
 
     /// Held-out RMS [deg] of a set: fit on all runs but one (from the
@@ -168,12 +189,12 @@ impl Engine<'_> {
             .map(|k| {
                 let train = sub_campaign(self.campaign, |i| i != k);
                 let test = sub_campaign(self.campaign, |i| i == k);
-                let p = if fitted.set.is_empty() {
+                let p = if fitted.members.is_empty() {
                     Vec::new()
                 } else {
-                    self.fit(&train, &fitted.set, &fitted.params)?.params
+                    self.refit(&train, fitted)?.params()
                 };
-                self.sse(&test, &fitted.set, &p)
+                self.sse(&test, &fitted.candidates(), &p)
             })
             .collect();
         let (mut sse, mut m) = (0.0, 0usize);
@@ -187,129 +208,12 @@ impl Engine<'_> {
 }
 
 impl Engine<'_> {
-    /// Scores fitted candidates against `current` and picks the best by BIC
-    /// that earns its keep: BIC gain > [`MIN_DELTA_BIC`], a 95 % interval
-    /// clear of zero, and a held-out RMS at least 5 % better than the
-    /// current set's (with two or more runs).
-    fn judge(
-        &self,
-        current: &FittedSet,
-        current_held: Option<f64>,
-        fits: impl Iterator<Item = (Candidate, Option<FittedSet>, bool)>,
-        what: String,
-    ) -> (Round, Option<(FittedSet, Option<f64>)>) {
-        let mut scores: Vec<CandidateScore> = fits
-            .filter_map(|(cand, f, screened_out)| {
-                let f = f?;
-                Some(CandidateScore {
-                    candidate: cand,
-                    delta_bic: current.bic() - f.bic(),
-                    fitted: f,
-                    held_out_rms_deg: None,
-                    accepted: false,
-                    verdict: if screened_out {
-                        "screened out by the coarse scan".into()
-                    } else {
-                        String::new()
-                    },
-                })
-            })
-            .collect();
-        scores.sort_by(|a, b| b.delta_bic.total_cmp(&a.delta_bic));
-        self.show_scores(&scores);
-        let mut chosen = None;
-        let mut tried = 0;
-        for s in scores.iter_mut() {
-            if !s.verdict.is_empty() {
-                continue;
-            }
-            tried += 1;
-            if chosen.is_some() || tried > 3 {
-                if s.verdict.is_empty() {
-                    s.verdict = format!("dBIC {:.1}, not the best", s.delta_bic);
-                }
-                continue;
-            }
-            if self.verdict(s, current, current_held) {
-                chosen = Some(s.candidate);
-            }
-        }
-        if std::env::var_os("DEPLOYWATCH_TRACE").is_some() {
-            for s in scores.iter().filter(|s| !s.verdict.is_empty()).take(4) {
-                self.say(format!("    {}: {}", labels(&s.fitted.set), s.verdict));
-            }
-        }
-        let next = chosen.and_then(|c| {
-            scores
-                .iter()
-                .find(|s| s.accepted && s.candidate == c)
-                .map(|s| (s.fitted.clone(), s.held_out_rms_deg))
-        });
-        (
-            Round {
-                start: current.set.clone(),
-                start_rms_deg: current.rms(),
-                what,
-                scores,
-            },
-            next,
-        )
-    }
-
-    /// Prints the five best scores of a round (all with `DEPLOYWATCH_TRACE`).
-    fn show_scores(&self, scores: &[CandidateScore]) {
-        let show = if std::env::var_os("DEPLOYWATCH_TRACE").is_some() {
-            usize::MAX
-        } else {
-            5
-        };
-        for s in scores.iter().take(show) {
-            self.say(format!(
-                "  {:<40} RMS {:.4} deg  dBIC {:>10.1}",
-                labels(&s.fitted.set),
-                s.fitted.rms(),
-                s.delta_bic
-            ));
-        }
-    }
-
-    /// Whether a move earns its keep: BIC gain > [`MIN_DELTA_BIC`], every
-    /// added effect's interval clear of zero, and a held-out RMS at least
-    /// 5 % better than the current set's. Writes the verdict into `s`.
-    fn verdict(
-        &self,
-        s: &mut CandidateScore,
-        current: &FittedSet,
-        current_held: Option<f64>,
-    ) -> bool {
-        s.verdict = if s.delta_bic <= MIN_DELTA_BIC {
-            format!("BIC gain {:.1} ≤ {MIN_DELTA_BIC}", s.delta_bic)
-        } else if !new_members_clear(&s.fitted, current) {
-            "a 95 % interval contains zero".into()
-        } else {
-            s.held_out_rms_deg = self.held_out(&s.fitted);
-            match (s.held_out_rms_deg, current_held) {
-                (Some(h), Some(c)) if h >= HELD_OUT_SHARE * c => {
-                    format!("held-out RMS {h:.4} deg does not beat {c:.4} deg")
-                }
-                _ => {
-                    s.accepted = true;
-                    "earns its keep: added".into()
-                }
-            }
-        };
-        s.accepted
-    }
-
     /// Drops effects that no longer earn their keep beside the others.
     fn backward(&self, mut f: FittedSet, mut held: Option<f64>) -> (FittedSet, Option<f64>) {
-        while f.set.len() > 1 {
-            let reduced: Vec<Option<FittedSet>> = (0..f.set.len())
+        while f.members.len() > 1 {
+            let reduced: Vec<Option<FittedSet>> = (0..f.members.len())
                 .into_par_iter()
-                .map(|k| {
-                    let r = f.without(k);
-                    self.fit(self.campaign, &r.set, &r.params)
-                })
+                .map(|k| self.refit(self.campaign, &f.without(k)))
                 .collect();
             let best = reduced
                 .into_iter()
@@ -318,9 +222,9 @@ impl Engine<'_> {
             match best {
                 Some(r) if r.bic() - f.bic() < MIN_DELTA_BIC => {
                     let gone: Vec<String> = f
-                        .set
+                        .candidates()
                         .iter()
-                        .filter(|c| !r.set.contains(c))
+                        .filter(|c| !r.contains(c))
                         .map(|c| c.words())
                         .collect();
                     self.say(format!(
@@ -358,26 +262,6 @@ fn sub_campaign(c: &Campaign, keep: impl Fn(usize) -> bool) -> Campaign {
     }
 }
 
-/// True when the 95 % interval of the value of every member of `f` that is
-/// not in `current` excludes zero (a pair move adds two).
-fn new_members_clear(f: &FittedSet, current: &FittedSet) -> bool {
-    let mut off = 0;
-    for c in &f.set {
-        let n = c.params();
-        if !current.set.contains(c) {
-            let (Some(p), Some(ci)) = (f.params.get(off..off + n), f.ci95.get(off..off + n)) else {
-                return false;
-            };
-            let (v, _) = c.value_ci(p, ci);
-            if !(v[0] > 0.0 || v[1] < 0.0) {
-                return false;
-            }
-        }
-        off += n;
-    }
-    true
-}
-
 /// How many of a round's best single candidates seed pair moves.
 pub const PAIR_SEEDS: usize = 4;
 
@@ -390,294 +274,61 @@ pub const MAX_TABLES: usize = 2;
 /// Most swap rounds of one diagnosis.
 const MAX_SWAPS: usize = 2;
 
-/// The state of the stepwise search: the current set, its held-out RMS, the
-/// rounds tried so far and the sets already visited.
+/// The state of the search: the current set, its held-out RMS, the noise
+/// σ̂ it was judged against, the rounds tried so far and the sets already
+/// visited.
 struct Search<'e, 'a> {
     eng: &'e Engine<'a>,
     candidates: Vec<Candidate>,
     max_effects: usize,
-    floor_deg: f64,
+    /// The noise σ̂ of the runs [deg], estimated once
+    /// ([`evidence::noise_sigma_deg`]).
+    sigma: f64,
     current: FittedSet,
     current_held: Option<f64>,
     rounds: Vec<Round>,
     seen: Vec<Vec<Candidate>>,
     swaps: usize,
-    /// Whether the pairs the residual torque proposes were tried.
-    proposed: bool,
-    /// Whether the named pairs at the set's joints were tried
-    /// ([`Search::try_joint_pairs`]).
-    paired: bool,
+    /// The moves tried once per diagnosis that were
+    /// ([`Search::first_time`]).
+    tried_once: std::collections::HashSet<moves::Move>,
+    /// The table moves of the last [`moves::Move::Table`] (the even tables
+    /// are tried after them only when they add some).
+    table_tried: Vec<(FittedSet, Candidate)>,
 }
 
 impl Search<'_, '_> {
-    /// Runs the search to its end: at each step an addition, else a pair
-    /// addition, else a swap; stop at the noise floor or when nothing
-    /// earns its keep.
-    fn run(&mut self) {
-        for _ in 0..MAX_STEPS {
-            if self.eng.halt.now() {
-                self.eng
-                    .say("search stopped early: the best set so far is kept");
-                return;
-            }
-            if self.current.rms() <= self.floor_deg {
-                self.eng.say(format!(
-                    "residual {:.4} deg is down to the noise floor: stop",
-                    self.current.rms()
-                ));
-                return;
-            }
-            if self.try_add() || self.try_pair() {
-                continue;
-            }
-            // A swap, else a pair swap seeded by the swap round (one effect
-            // replaced by two that only work together).
-            let before = self.rounds.len();
-            if self.try_swap() {
-                continue;
-            }
-            if (self.rounds.len() == before || !self.try_pair())
-                && !self.try_proposed()
-                && !self.try_joint_pairs()
-            {
-                return;
-            }
-        }
-    }
-
-    /// Named effects in the current set (discovered tables do not count
-    /// against `max_effects`).
-    fn named_len(&self) -> usize {
-        self.current
-            .set
-            .iter()
-            .filter(|c| c.table.is_none())
-            .count()
-    }
-
-    /// A named effect that explains the data wins over a table: each table
-    /// of the set is replaced by every named candidate in turn (and by the
-    /// pairs of named effects at its joint, [`Search::named_pairs_for`],
-    /// screened also where the two share their torque,
-    /// [`Engine::fit_moves_sharing`]), and the best replacement by BIC is
-    /// taken when its BIC is better than the table's set, its RMS within
-    /// [`NAMED_RMS_SHARE`] of the table set's (or of the noise floor: as
-    /// good a fit, with fewer parameters), its residual not above the noise
-    /// σ̂ (it explains the data: a coarse table is left to the refinement
-    /// instead) and its intervals clear of zero. True when a table was
-    /// replaced.
-    fn prefer_named(&mut self, sigma: f64) -> bool {
-        let named: Vec<Candidate> = self.outside();
-        let mut moves = Vec::new();
-        for (k, c) in self.current.set.iter().enumerate() {
-            if c.table.is_some() {
-                let reduced = self.current.without(k);
-                moves.extend(named.iter().map(|&n| (reduced.clone(), n)));
-                moves.extend(self.named_pairs_for(&reduced, *c));
-            }
-        }
-        let fits = self.eng.fit_moves_sharing(self.eng.campaign, &moves);
-        let best = fits
-            .into_iter()
-            .filter(|(_, _, screened_out)| !screened_out)
-            .filter_map(|(_, f, _)| f)
-            .filter(|f| f.bic() < self.current.bic() && new_members_clear(f, &self.current))
-            .filter(|f| f.rms() <= NAMED_RMS_SHARE * self.current.rms().max(self.floor_deg))
-            .filter(|f| !above_noise(f, sigma))
-            .min_by(|a, b| a.bic().total_cmp(&b.bic()));
-        let Some(f) = best else {
-            return false;
-        };
-        self.eng.say(format!(
-            "  a named effect explains it as well: {} (RMS {:.4} deg)",
-            labels(&f.set),
-            f.rms()
-        ));
-        self.current_held = self.eng.held_out(&f);
-        self.seen.push(f.set.clone());
-        self.current = f;
-        true
-    }
-
-    /// Takes `f` (held-out RMS `held`) as the current set, saying `done`,
-    /// then drops what no longer earns its keep.
-    fn take(&mut self, done: &str, f: FittedSet, held: Option<f64>) {
-        self.eng.say(format!(
-            "  {done} {} (RMS {:.4} deg)",
-            labels(&f.set),
-            f.rms()
-        ));
-        let (f, held) = self.eng.backward(f, held);
-        self.seen.push(f.set.clone());
-        self.current = f;
-        self.current_held = held;
-    }
-
-    /// Candidates not in the current set.
-    fn outside(&self) -> Vec<Candidate> {
-        self.candidates
-            .iter()
-            .copied()
-            .filter(|c| !self.current.set.contains(c))
-            .collect()
-    }
-
-    /// Judges `moves` against the current set, records the round and, when
-    /// a move earns its keep and leads to a set not yet visited, takes it
-    /// (then drops what no longer earns its keep). True when it moved.
-    fn step(&mut self, moves: &[(FittedSet, Candidate)], what: String, done: &str) -> bool {
-        let fits = self.eng.fit_moves(self.eng.campaign, moves);
-        let (round, next) =
-            self.eng
-                .judge(&self.current, self.current_held, fits.into_iter(), what);
-        self.rounds.push(round);
-        match next {
-            Some((f, held)) if !self.seen.contains(&f.set) => {
-                self.take(done, f, held);
-                true
-            }
-            _ => false,
-        }
-    }
-
-    /// Forward step: the best single candidate that earns its keep.
-    fn try_add(&mut self) -> bool {
-        if self.named_len() >= self.max_effects {
-            return false;
-        }
-        let todo = self.outside();
-        self.eng.say(format!(
-            "round {}: fitting {} candidates beside {} (RMS {:.4} deg)",
-            self.rounds.len() + 1,
-            todo.len(),
-            labels(&self.current.set),
-            self.current.rms()
-        ));
-        let moves: Vec<(FittedSet, Candidate)> =
-            todo.iter().map(|&c| (self.current.clone(), c)).collect();
-        let what = format!("add to {}", labels(&self.current.set));
-        self.step(&moves, what, "added:")
-    }
-
-    /// Pair step, when no single move earned its keep: two causes that act
-    /// together may each fail the held-out test alone (one effect cannot
-    /// predict a run the other shapes). The [`PAIR_SEEDS`] best moves of the
-    /// last round (an addition or a swap) by BIC, the training criterion,
-    /// are each completed with every other candidate, the sets fitted
-    /// jointly, and the held-out check applied to the set as a whole.
-    fn try_pair(&mut self) -> bool {
-        let Some(last) = self.rounds.last() else {
-            return false;
-        };
-        let room =
-            |f: &FittedSet| f.set.iter().filter(|c| c.table.is_none()).count() < self.max_effects;
-        let seeds: Vec<FittedSet> = last
-            .scores
-            .iter()
-            .filter(|s| !s.verdict.starts_with("screened") && room(&s.fitted))
-            .take(PAIR_SEEDS)
-            .map(|s| s.fitted.clone())
-            .collect();
-        if seeds.is_empty() {
-            return false;
-        }
-        let mut moves = Vec::new();
-        for (a, seed) in seeds.iter().enumerate() {
-            let first = seed.set[seed.set.len() - 1];
-            for c in self.outside() {
-                let earlier = seeds[..a].iter().any(|s| s.set.last() == Some(&c));
-                if c != first && !earlier {
-                    moves.push((seed.clone(), c));
-                }
-            }
-        }
-        self.eng.say(format!(
-            "pairs: fitting {} sets of two, seeded by the last round, beside {}",
-            moves.len(),
-            labels(&self.current.set)
-        ));
-        let what = format!("add a pair to {}", labels(&self.current.set));
-        self.step(&moves, what, "added the pair:")
-    }
-
-    /// Swap step: replace one effect by another candidate when the residual
-    /// is still above the noise floor (greedy steps can take a wrong turn
-    /// when two effects act together). Every candidate may swap in: the
-    /// moves are prescreened by their coarse scan.
-    fn try_swap(&mut self) -> bool {
-        if self.current.set.is_empty() || self.swaps >= MAX_SWAPS {
-            return false;
-        }
-        self.swaps += 1;
-        let outside = self.outside();
-        let mut moves = Vec::new();
-        for k in 0..self.current.set.len() {
-            let reduced = self.current.without(k);
-            for c in &outside {
-                moves.push((reduced.clone(), *c));
-            }
-        }
-        self.eng.say(format!(
-            "swap {}: trying {} replacements in {}",
-            self.swaps,
-            moves.len(),
-            labels(&self.current.set)
-        ));
-        let what = format!("swap one of {}", labels(&self.current.set));
-        let moved = self.step(&moves, what, "swapped to");
-        if !moved {
-            self.eng.say("  no swap earns its keep: stop");
-        }
-        moved
+    /// The noise floor [deg]: [`NOISE_FLOOR_FACTOR`] σ̂.
+    fn floor(&self) -> f64 {
+        NOISE_FLOOR_FACTOR * self.sigma
     }
 }
 
 impl Engine<'_> {
-    /// The baseline: the mechanisms as given, no effect.
+    /// The baseline: the mechanisms as given, no effect (without
+    /// statistics when they cannot be simulated).
     fn baseline(&self) -> FittedSet {
         self.fit(self.campaign, &[], &[]).unwrap_or(FittedSet {
-            set: Vec::new(),
-            params: Vec::new(),
-            ci95: Vec::new(),
-            sse: f64::INFINITY,
-            m: self.campaign.samples(),
-            evaluations: 0,
+            members: Vec::new(),
+            stats: None,
         })
     }
 
     /// The set reordered strongest first, with each effect's strength: the
     /// RMS [deg] of the set without it (the others' values kept).
     fn strongest_first(&self, current: &FittedSet) -> (FittedSet, Vec<f64>) {
-        let strength: Vec<f64> = (0..current.set.len())
+        let strength: Vec<f64> = (0..current.members.len())
             .map(|k| {
-                let r = current.without(k);
-                self.sse(self.campaign, &r.set, &r.params)
+                self.sse_of(self.campaign, &current.without(k))
                     .map(|(s, m)| (s / m.max(1) as f64).sqrt())
                     .unwrap_or(f64::INFINITY)
             })
             .collect();
-        let mut order: Vec<usize> = (0..current.set.len()).collect();
+        let mut order: Vec<usize> = (0..current.members.len()).collect();
         order.sort_by(|&a, &b| strength[b].total_cmp(&strength[a]));
-        let mut offs = Vec::new();
-        let mut off = 0;
-        for c in &current.set {
-            offs.push(off);
-            off += c.params();
-        }
-        let pick = |v: &[f64], i: usize| v[offs[i]..offs[i] + current.set[i].params()].to_vec();
-        let pick_ci =
-            |v: &[[f64; 2]], i: usize| v[offs[i]..offs[i] + current.set[i].params()].to_vec();
         let extended = FittedSet {
-            set: order.iter().map(|&i| current.set[i]).collect(),
-            params: order
-                .iter()
-                .flat_map(|&i| pick(&current.params, i))
-                .collect(),
-            ci95: order
-                .iter()
-                .flat_map(|&i| pick_ci(&current.ci95, i))
-                .collect(),
-            ..current.clone()
+            members: order.iter().map(|&i| current.members[i].clone()).collect(),
+            stats: current.stats,
         };
         (extended, order.iter().map(|&i| strength[i]).collect())
     }
@@ -687,7 +338,7 @@ impl Engine<'_> {
 /// set's RMS (or of the noise floor) [1]: a better BIC alone would let a
 /// pair of named stand-ins, with fewer parameters, replace a coarse table
 /// that the refinement would have brought to the noise.
-const NAMED_RMS_SHARE: f64 = 1.05;
+pub(super) const NAMED_RMS_SHARE: f64 = 1.05;
 
 /// True when the residual of a set stays clearly above the noise floor σ̂
 /// [deg]: above [`ABOVE_NOISE_FACTOR`] σ̂ and above σ̂ +
@@ -770,19 +421,19 @@ fn search_campaign(
         eng: &eng,
         candidates: candidates(campaign, opts, truss),
         max_effects: opts.max_effects,
-        floor_deg: NOISE_FLOOR_FACTOR * sigma,
+        sigma,
         current_held: eng.held_out(&baseline),
         current: baseline.clone(),
         rounds: Vec::new(),
         seen: vec![Vec::new()],
         swaps: 0,
-        proposed: false,
-        paired: false,
+        tried_once: Default::default(),
+        table_tried: Vec::new(),
     };
     search.run();
     if opts.discover && !truss && !eng.halt.now() {
-        search.discover(sigma);
-        search.replace_stand_in(sigma);
+        search.discover();
+        search.replace_stand_in();
     }
     let ambiguities = if eng.halt.now() {
         Vec::new()
@@ -793,7 +444,7 @@ fn search_campaign(
     let (extended, strength_rms_deg) = eng.strongest_first(&search.current);
     let extended = ambiguity::widened(&extended, &ambiguities);
     let held_out_rms_deg = match search.current_held {
-        None if !extended.set.is_empty() => eng.held_out(&extended),
+        None if !extended.members.is_empty() => eng.held_out(&extended),
         h => h,
     };
     Outcome {

@@ -1,82 +1,175 @@
 //! What a diagnosis finds: fitted sets of effects, the scores of each
 //! round's candidates, the options, and the outcome.
 
-use super::candidate::{effects_of, Candidate};
+use super::candidate::Candidate;
 use super::discover;
 use super::latch_finding::LatchFinding;
 use super::latch_window::RunWindow;
+pub use super::policy::Verdict;
 use super::table_form::TableForm;
 use crate::model::effect::{Effect, EffectKind};
 
-/// A fitted set of effects.
+/// One effect of a fitted set: the candidate, its parameters and, once
+/// fitted, their 95 % intervals.
 #[derive(Clone, Debug, PartialEq)]
-pub struct FittedSet {
-    /// The candidates, in selection order.
-    pub set: Vec<Candidate>,
-    /// Their parameters, concatenated.
+pub struct FittedEffect {
+    /// The candidate.
+    pub candidate: Candidate,
+    /// Its parameters ([`Candidate::params`] of them), in its unit.
     pub params: Vec<f64>,
-    /// 95 % intervals of the parameters.
-    pub ci95: Vec<[f64; 2]>,
+    /// 95 % interval of each parameter, from the fit's Jacobian; `None`
+    /// for a point not fitted (a start, a screen's best scan point).
+    pub ci95: Option<Vec<[f64; 2]>>,
+}
+
+impl FittedEffect {
+    /// An effect at `params`, not fitted (no intervals).
+    pub fn start(candidate: Candidate, params: Vec<f64>) -> FittedEffect {
+        FittedEffect {
+            candidate,
+            params,
+            ci95: None,
+        }
+    }
+
+    /// The value interval (and a tilt's direction interval); unbounded when
+    /// not fitted.
+    pub fn value_ci(&self) -> ([f64; 2], Option<[f64; 2]>) {
+        match &self.ci95 {
+            Some(ci) => self.candidate.value_ci(&self.params, ci),
+            None => ([f64::NEG_INFINITY, f64::INFINITY], None),
+        }
+    }
+
+    /// True when the value's 95 % interval excludes zero (never for an
+    /// effect not fitted).
+    pub fn clear_of_zero(&self) -> bool {
+        let ([lo, hi], _) = self.value_ci();
+        lo > 0.0 || hi < 0.0
+    }
+}
+
+/// What a set's residuals over all runs came to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitStats {
     /// Sum of squared residuals over all runs [deg²].
     pub sse: f64,
     /// Number of residuals.
     pub m: usize,
-    /// Simulations used to fit it (per run).
+    /// Simulations used to fit it (per run); 0 for a point not fitted.
     pub evaluations: usize,
 }
 
+/// A set of effects with their parameters and, once simulated, its fit
+/// statistics.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FittedSet {
+    /// The effects, in selection order.
+    pub members: Vec<FittedEffect>,
+    /// Its residuals' statistics; `None` when not simulated at these
+    /// parameters (a set with a member taken out, say).
+    pub stats: Option<FitStats>,
+}
+
 impl FittedSet {
+    /// The set of `set` at the concatenated parameters `params` (and
+    /// intervals `ci95`, when fitted), with `stats`.
+    pub fn from_flat(
+        set: &[Candidate],
+        params: &[f64],
+        ci95: Option<&[[f64; 2]]>,
+        stats: Option<FitStats>,
+    ) -> FittedSet {
+        let mut members = Vec::with_capacity(set.len());
+        let mut off = 0;
+        for c in set {
+            let n = c.params();
+            members.push(FittedEffect {
+                candidate: *c,
+                params: params.get(off..off + n).unwrap_or_default().to_vec(),
+                ci95: ci95.and_then(|ci| ci.get(off..off + n)).map(<[_]>::to_vec),
+            });
+            off += n;
+        }
+        FittedSet { members, stats }
+    }
+
+    /// The candidates, in selection order.
+    pub fn candidates(&self) -> Vec<Candidate> {
+        self.members.iter().map(|m| m.candidate).collect()
+    }
+
+    /// Whether `c` is a member.
+    pub fn contains(&self, c: &Candidate) -> bool {
+        self.members.iter().any(|m| m.candidate == *c)
+    }
+
+    /// All parameters, concatenated in member order (a fit's vector).
+    pub fn params(&self) -> Vec<f64> {
+        self.members
+            .iter()
+            .flat_map(|m| m.params.iter().copied())
+            .collect()
+    }
+
+    /// Sum of squared residuals [deg²]; infinite when not simulated.
+    pub fn sse(&self) -> f64 {
+        self.stats.map_or(f64::INFINITY, |s| s.sse)
+    }
+
     /// The effects.
     pub fn effects(&self) -> Vec<Effect> {
-        effects_of(&self.set, &self.params)
+        self.members
+            .iter()
+            .map(|m| m.candidate.effect(&m.params))
+            .collect()
     }
 
-    /// RMS of the residuals [deg].
+    /// RMS of the residuals [deg]; infinite when not simulated.
     pub fn rms(&self) -> f64 {
-        (self.sse / self.m.max(1) as f64).sqrt()
+        match self.stats {
+            Some(s) => (s.sse / s.m.max(1) as f64).sqrt(),
+            None => f64::INFINITY,
+        }
     }
 
-    /// The set without its `k`-th effect, the others' parameters kept (not
-    /// refitted).
+    /// The set without its `k`-th effect, the others' parameters and
+    /// intervals kept (not refitted, so without statistics).
     pub fn without(&self, k: usize) -> FittedSet {
-        let mut set = Vec::new();
-        let mut params = Vec::new();
-        let mut ci95 = Vec::new();
-        let mut off = 0;
-        for (i, c) in self.set.iter().enumerate() {
-            if i != k {
-                set.push(*c);
-                params.extend_from_slice(&self.params[off..off + c.params()]);
-                ci95.extend_from_slice(&self.ci95[off..(off + c.params()).min(self.ci95.len())]);
-            }
-            off += c.params();
+        let mut members = self.members.clone();
+        if k < members.len() {
+            members.remove(k);
         }
         FittedSet {
-            set,
-            params,
-            ci95,
-            sse: f64::NAN,
-            m: self.m,
-            evaluations: 0,
+            members,
+            stats: None,
+        }
+    }
+
+    /// The set with `e` added (not refitted, so without statistics).
+    pub fn with(&self, e: FittedEffect) -> FittedSet {
+        let mut members = self.members.clone();
+        members.push(e);
+        FittedSet {
+            members,
+            stats: None,
         }
     }
 
     /// The value interval (and a tilt's direction interval) of the `k`-th
-    /// effect.
+    /// effect; unbounded when not fitted.
     pub fn effect_ci(&self, k: usize) -> ([f64; 2], Option<[f64; 2]>) {
-        let off: usize = self.set[..k].iter().map(|c| c.params()).sum();
-        let n = self.set[k].params();
-        match (self.params.get(off..off + n), self.ci95.get(off..off + n)) {
-            (Some(p), Some(ci)) => self.set[k].value_ci(p, ci),
-            _ => ([f64::NEG_INFINITY, f64::INFINITY], None),
+        match self.members.get(k) {
+            Some(m) => m.value_ci(),
+            None => ([f64::NEG_INFINITY, f64::INFINITY], None),
         }
     }
 
-    /// The parameters and their 95 % intervals of the `k`-th effect.
+    /// The parameters and their 95 % intervals of the `k`-th effect, when
+    /// fitted.
     pub fn effect_params(&self, k: usize) -> Option<(&[f64], &[[f64; 2]])> {
-        let off: usize = self.set.get(..k)?.iter().map(|c| c.params()).sum();
-        let n = self.set.get(k)?.params();
-        Some((self.params.get(off..off + n)?, self.ci95.get(off..off + n)?))
+        let m = self.members.get(k)?;
+        Some((&m.params, m.ci95.as_deref()?))
     }
 
     /// A discovered table at the `k`-th place: its form, the one-sentence
@@ -89,7 +182,7 @@ impl FittedSet {
         String,
         [crate::model::torque_table::HostTorqueTable; 3],
     )> {
-        let c = self.set.get(k)?;
+        let c = self.members.get(k)?.candidate;
         let form = c.table?;
         let (p, ci) = self.effect_params(k)?;
         let tables = discover::band(&form, p, ci);
@@ -98,10 +191,14 @@ impl FittedSet {
     }
 
     /// Bayesian information criterion of the Gaussian likelihood,
-    /// `m ln(SSE/m) + k ln m`.
+    /// `m ln(SSE/m) + k ln m`; infinite when not simulated.
     pub fn bic(&self) -> f64 {
-        let m = self.m.max(1) as f64;
-        m * (self.sse.max(1e-300) / m).ln() + self.params.len() as f64 * m.ln()
+        let Some(s) = self.stats else {
+            return f64::INFINITY;
+        };
+        let m = s.m.max(1) as f64;
+        let k: usize = self.members.iter().map(|e| e.params.len()).sum();
+        m * (s.sse.max(1e-300) / m).ln() + k as f64 * m.ln()
     }
 }
 
@@ -116,10 +213,16 @@ pub struct CandidateScore {
     pub delta_bic: f64,
     /// Held-out RMS with it [deg], when computed.
     pub held_out_rms_deg: Option<f64>,
-    /// Whether it was added.
-    pub accepted: bool,
-    /// Why it was or was not added.
-    pub verdict: String,
+    /// Why it was or was not taken ([`Verdict`]; its `Display` is the
+    /// sentence the report and the JSON give).
+    pub verdict: Verdict,
+}
+
+impl CandidateScore {
+    /// Whether the move was accepted.
+    pub fn accepted(&self) -> bool {
+        matches!(self.verdict, Verdict::Accepted(_))
+    }
 }
 
 /// One round of the stepwise search.

@@ -10,14 +10,15 @@
 //! so that a rate law peaked a few deg/s from rest is representable), and
 //! both. Each starts from the table as fitted (evaluated at the new knots;
 //! a new rate table from 0) and is refined through the simulator and
-//! judged by BIC and the held-out RMS ([`Search::refined`]). Up to
+//! judged by BIC and the held-out RMS ([`Move::Refine`]). Up to
 //! [`HOST_TABLE_MAX_KNOTS`] knots per axis, the host's table size; the
 //! monitor gets a compressed export ([`crate::analysis::table_export`]).
 
 use super::candidate::Candidate;
-use super::outcome::{CandidateScore, FittedSet, Round};
+use super::moves::{Attempt, Move, Proposal};
+use super::outcome::FittedSet;
 use super::table_form::{PlacedKnots, TableForm};
-use super::{labels, Search, HELD_OUT_SHARE, MIN_DELTA_BIC};
+use super::{labels, Search};
 use crate::analysis::residual_shape::{Shape, MIN_ANGLE_SPACING_DEG, MIN_RATE_SPACING_DEG_S};
 use crate::model::effect::EffectKind;
 use crate::model::torque_table::{HostTorqueTable, HOST_TABLE_MAX_KNOTS};
@@ -25,8 +26,9 @@ use crate::model::torque_table::{HostTorqueTable, HOST_TABLE_MAX_KNOTS};
 /// Refinement rounds at most: each may double a table's angle knots once.
 const REFINE_ROUNDS: usize = 2;
 
-/// Finer forms judged per round, best BIC first (as many as a round tries).
-const REFINE_TRIES: usize = 3;
+/// Finer forms judged per round, best BIC first (as many as a round tries:
+/// [`super::policy::Policy::tries`]).
+pub(super) const REFINE_TRIES: usize = 3;
 
 /// Rate knots of a refined rate table at most (0 among them): halving from
 /// the largest rate, eight reach 1/64 of it.
@@ -35,104 +37,48 @@ const RATE_KNOTS: usize = 8;
 impl Search<'_, '_> {
     /// While the residual stays above the noise floor, tries the finer
     /// forms of every table in the set and takes the best that earns its
-    /// keep ([`Search::refined`]).
+    /// keep ([`Move::Refine`]: of the [`REFINE_TRIES`] best by BIC, the
+    /// first that gains more than [`super::MIN_DELTA_BIC`] and whose
+    /// held-out RMS beats the current set's by [`super::HELD_OUT_SHARE`]; a
+    /// refinement reshapes a table already kept, so its knots' intervals
+    /// are not asked to be clear of zero: more knots share the torque, and
+    /// the largest may be near-collinear with a knot of the other axis).
     pub(super) fn refine_tables(&mut self) {
         for _ in 0..REFINE_ROUNDS {
-            if self.current.rms() <= self.floor_deg {
+            if self.current.rms() <= self.floor() {
                 return;
             }
-            let moves = self.refine_moves();
-            if moves.is_empty() {
-                return;
-            }
-            self.eng.say(format!(
-                "refinement: the residual stays at {:.4} deg; fitting {} finer tables in {}",
-                self.current.rms(),
-                moves.len(),
-                labels(&self.current.set)
-            ));
-            if !self.refined(&moves) {
+            if self.attempt(Move::Refine) != Attempt::Moved {
                 return;
             }
         }
     }
 
-    /// Judges the finer forms: of the [`REFINE_TRIES`] best by BIC, the
-    /// first that gains more than [`MIN_DELTA_BIC`] and whose held-out RMS
-    /// beats the current set's by [`HELD_OUT_SHARE`] is taken. A refinement reshapes a table already kept,
-    /// so its knots' intervals are not asked to be clear of zero (more
-    /// knots share the torque, and the largest may be near-collinear with
-    /// a knot of the other axis). True when one was taken.
-    fn refined(&mut self, moves: &[(FittedSet, Candidate)]) -> bool {
-        let fits = self.eng.fit_moves(self.eng.campaign, moves);
-        let current = self.current.clone();
-        let mut scores: Vec<CandidateScore> = fits
-            .into_iter()
-            .filter(|(_, _, screened_out)| !screened_out)
-            .filter_map(|(candidate, f, _)| {
-                let fitted = f?;
-                Some(CandidateScore {
-                    candidate,
-                    delta_bic: current.bic() - fitted.bic(),
-                    fitted,
-                    held_out_rms_deg: None,
-                    accepted: false,
-                    verdict: String::new(),
-                })
-            })
-            .collect();
-        scores.sort_by(|a, b| b.delta_bic.total_cmp(&a.delta_bic));
-        for s in &scores {
-            self.eng.say(format!(
-                "  {:<40} RMS {:.4} deg  dBIC {:>10.1}",
-                labels(&s.fitted.set),
-                s.fitted.rms(),
-                s.delta_bic
-            ));
+    /// [`Move::Refine`]: each table of the set in its finer forms, in place
+    /// of itself.
+    pub(super) fn propose_refine(&mut self) -> Option<Proposal> {
+        let moves = self.refine_moves();
+        if moves.is_empty() {
+            return None;
         }
-        let mut taken = None;
-        for s in scores.iter_mut().take(REFINE_TRIES) {
-            if taken.is_some() {
-                s.verdict = format!("dBIC {:.1}, not the best", s.delta_bic);
-                continue;
-            }
-            s.verdict = if s.delta_bic <= MIN_DELTA_BIC {
-                format!("BIC gain {:.1} ≤ {MIN_DELTA_BIC}", s.delta_bic)
-            } else {
-                s.held_out_rms_deg = self.eng.held_out(&s.fitted);
-                match (s.held_out_rms_deg, self.current_held) {
-                    (Some(h), Some(c)) if h >= HELD_OUT_SHARE * c => {
-                        format!("held-out RMS {h:.4} deg does not beat {c:.4} deg")
-                    }
-                    _ => {
-                        s.accepted = true;
-                        taken = Some((s.fitted.clone(), s.held_out_rms_deg));
-                        "earns its keep: refined".into()
-                    }
-                }
-            };
-        }
-        self.rounds.push(Round {
-            what: format!("refine a table of {}", labels(&current.set)),
-            start: current.set.clone(),
-            start_rms_deg: current.rms(),
-            scores,
-        });
-        let Some((f, held)) = taken else {
-            return false;
-        };
-        self.take("refined:", f, held);
-        true
+        self.eng.say(format!(
+            "refinement: the residual stays at {:.4} deg; fitting {} finer tables in {}",
+            self.current.rms(),
+            moves.len(),
+            labels(&self.current.candidates())
+        ));
+        let what = format!("refine a table of {}", labels(&self.current.candidates()));
+        Some((moves, what))
     }
 
     /// Each table of the set in its finer forms, in place of itself.
     fn refine_moves(&self) -> Vec<(FittedSet, Candidate)> {
         let mut moves = Vec::new();
-        for (k, c) in self.current.set.iter().enumerate() {
-            let (Some(form), Some((p, _))) = (c.table, self.current.effect_params(k)) else {
+        for (k, m) in self.current.members.iter().enumerate() {
+            let Some(form) = m.candidate.table else {
                 continue;
             };
-            let table = form.table(p);
+            let table = form.table(&m.params);
             let base = self.current.without(k);
             for shape in finer_shapes(&form, &table) {
                 let Some(placed) = PlacedKnots::form(&shape, form.from_deg, form.rate_max_deg_s)
@@ -141,7 +87,7 @@ impl Search<'_, '_> {
                 };
                 let cand = Candidate {
                     kind: EffectKind::TorqueTable,
-                    joint: c.joint,
+                    joint: m.candidate.joint,
                     table: Some(placed),
                 };
                 if self.seen.iter().any(|s| s.contains(&cand)) {

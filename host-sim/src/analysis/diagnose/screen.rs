@@ -3,7 +3,7 @@
 //! promising are fitted fully through the simulator.
 
 use super::candidate::Candidate;
-use super::outcome::FittedSet;
+use super::outcome::{FitStats, FittedSet};
 use super::{Engine, SCREEN_KEEP};
 use crate::data::campaign::Campaign;
 use rayon::prelude::*;
@@ -16,8 +16,8 @@ enum Starts {
     Held,
     /// Also where the candidate shares its torque with a named effect of
     /// the base at its joint ([`Engine::screen_shared`]): named pairs at
-    /// one joint in place of a table ([`super::Search::prefer_named`]) or
-    /// of the named effects there ([`super::Search::try_joint_pairs`]).
+    /// one joint in place of a table ([`super::moves::Move::NamedForTable`]) or
+    /// of the named effects there ([`super::moves::Move::JointPairs`]).
     /// Measured in the stepwise rounds too, where it let named pairs stand
     /// in for unnamed torques (`docs/diagnosis.md`, "Two causes at one
     /// joint").
@@ -29,7 +29,7 @@ impl Engine<'_> {
     /// parameters held; the best point by SSE.
     fn screen(&self, c: &Campaign, base: &FittedSet, cand: Candidate) -> Option<FittedSet> {
         let held = self.scan_of(&cand).into_iter().map(|start| {
-            let mut p = base.params.clone();
+            let mut p = base.params();
             p.extend(start);
             p
         });
@@ -45,7 +45,7 @@ impl Engine<'_> {
         cand: Candidate,
         points: impl Iterator<Item = Vec<f64>>,
     ) -> Option<FittedSet> {
-        let mut set = base.set.clone();
+        let mut set = base.candidates();
         set.push(cand);
         let mut best: Option<(f64, usize, Vec<f64>)> = None;
         for p in points {
@@ -56,17 +56,12 @@ impl Engine<'_> {
             }
         }
         let (sse, m, params) = best?;
-        Some(FittedSet {
-            ci95: params
-                .iter()
-                .map(|_| [f64::NEG_INFINITY, f64::INFINITY])
-                .collect(),
-            set,
-            params,
+        let stats = FitStats {
             sse,
             m,
             evaluations: 0,
-        })
+        };
+        Some(FittedSet::from_flat(&set, &params, None, Some(stats)))
     }
 
     /// Screens every move (a base set plus a candidate) by its coarse scan
@@ -112,7 +107,7 @@ impl Engine<'_> {
                 (self.screen(c, base, *cand), shared)
             })
             .collect();
-        let sse_of = |f: &Option<FittedSet>| f.as_ref().map_or(f64::INFINITY, |f| f.sse);
+        let sse_of = |f: &Option<FittedSet>| f.as_ref().map_or(f64::INFINITY, FittedSet::sse);
         let mut order: Vec<usize> = (0..moves.len())
             .filter(|&i| screened[i].0.is_some())
             .collect();
@@ -136,7 +131,7 @@ impl Engine<'_> {
         }
         let fitted: Vec<(usize, Option<FittedSet>)> = starts
             .par_iter()
-            .map(|&(i, s)| (i, self.fit(c, &s.set, &s.params)))
+            .map(|&(i, s)| (i, self.refit(c, s)))
             .collect();
         let mut out: Vec<(Candidate, Option<FittedSet>, bool)> = moves
             .iter()
@@ -146,7 +141,7 @@ impl Engine<'_> {
         for (i, f) in fitted {
             let better = match (&out[i], &f) {
                 ((_, _, true), _) => true,
-                ((_, Some(a), false), Some(b)) => b.sse < a.sse,
+                ((_, Some(a), false), Some(b)) => b.sse() < a.sse(),
                 ((_, None, false), _) => true,
                 _ => false,
             };

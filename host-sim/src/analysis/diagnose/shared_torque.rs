@@ -7,8 +7,8 @@
 //! first held over-resists: the move looks poor in the coarse scan and is
 //! never fitted, where the two would share the torque. When named pairs
 //! are tried at one joint (in place of a table,
-//! [`super::Search::prefer_named`], or of the named effects there,
-//! [`super::Search::try_joint_pairs`]), the screen therefore also starts
+//! [`super::moves::Move::NamedForTable`], or of the named effects there,
+//! [`super::moves::Move::JointPairs`]), the screen therefore also starts
 //! such a move on the line that keeps their summed torque over the measured
 //! states fixed: the candidate at a share of the value that would replace
 //! the base effect entirely, the base effect lowered by what the candidate
@@ -86,10 +86,8 @@ impl Engine<'_> {
             return Vec::new();
         }
         let mut out = Vec::new();
-        let mut off = 0;
-        for (k, b) in base.set.iter().enumerate() {
-            let at = off;
-            off += b.params();
+        for (k, member) in base.members.iter().enumerate() {
+            let b = &member.candidate;
             let same_joint = b.joint == Some(joint) && b.table.is_none();
             if !same_joint || b.kind == cand.kind || !kinds.contains(&b.kind) {
                 continue;
@@ -102,7 +100,7 @@ impl Engine<'_> {
             let samples = thin(&jt.samples);
             let (ab, aa, bb) = products(&samples, b.kind, cand.kind);
             let cosine = ab / (aa * bb).sqrt().max(1e-300);
-            let vb = base.params.get(at).copied().unwrap_or(0.0);
+            let vb = member.params.first().copied().unwrap_or(0.0);
             if !(cosine >= MIN_SHARED_COSINE) || !(vb > 0.0) {
                 continue;
             }
@@ -120,10 +118,11 @@ impl Engine<'_> {
                     let r = c.bounds()[0];
                     x.clamp(r.lower, r.upper)
                 };
-                let mut p = base.params.clone();
-                if let Some(x) = p.get_mut(at) {
+                let mut start = base.clone();
+                if let Some(x) = start.members[k].params.first_mut() {
                     *x = clamp(xb, b);
                 }
+                let mut p = start.params();
                 p.push(clamp(xc, cand));
                 out.push(p);
             }

@@ -8,28 +8,39 @@
 //! [`Search::joint_tables`]), fitted jointly, judged like any move and
 //! refined like the other tables ([`Search::refine_tables`]). It is kept
 //! only when it also explains the data: its BIC better than the stand-in
-//! set's by more than [`MIN_DELTA_BIC`], its held-out RMS better by
-//! [`HELD_OUT_SHARE`], its residual not above the noise and no global
+//! set's by more than [`super::MIN_DELTA_BIC`], its held-out RMS better by
+//! [`super::HELD_OUT_SHARE`], its residual not above the noise and no global
 //! stand-in left ([`super::Engine::unexplained_torque`] silent).
 
 use super::candidate::Candidate;
 use super::discover;
 use super::evidence_search::near_noise;
+use super::moves::{Attempt, Move, Proposal};
 use super::outcome::FittedSet;
-use super::{above_noise, labels, Search, HELD_OUT_SHARE, MIN_DELTA_BIC};
+use super::policy::{Policy, Verdict};
+use super::{labels, Search};
+
+/// Whether the set after [`Move::StandIn`] (and its refinement) is kept in
+/// place of the set with the stand-in: the one policy with a BIC gain over
+/// [`super::MIN_DELTA_BIC`] and a held-out RMS better by
+/// [`super::HELD_OUT_SHARE`] against that set, a residual not above the
+/// noise and no global stand-in left; its tables' intervals were judged
+/// when they were taken.
+const KEEP: Policy = Policy {
+    intervals_clear: false,
+    explains: true,
+    no_stand_in: true,
+    ..Policy::STEPWISE
+};
 
 impl Search<'_, '_> {
     /// Tries a table at the joint a global stand-in hides (see the module
     /// doc); keeps the search's state when the result does not explain the
     /// data better. True when the table was kept.
-    pub(super) fn replace_stand_in(&mut self, sigma: f64) -> bool {
+    pub(super) fn replace_stand_in(&mut self) -> bool {
         // Where `unexplained_torque` fires: within the noise's bounds, with
         // a joint torque hidden by a global effect.
-        if !near_noise(&self.current, sigma) {
-            return false;
-        }
-        let moves = self.stand_in_moves();
-        if moves.is_empty() {
+        if !near_noise(&self.current, self.sigma) {
             return false;
         }
         let saved = (
@@ -38,52 +49,51 @@ impl Search<'_, '_> {
             self.seen.clone(),
             self.swaps,
         );
-        let what = format!(
-            "a table in place of a global stand-in in {}",
-            labels(&saved.0.set)
-        );
-        self.eng.say(format!(
-            "stand-in: the residual stays at {:.4} deg beside a global effect; fitting {} tables in its place",
-            self.current.rms(),
-            moves.len()
-        ));
-        if self.step(&moves, what, "a table in place of a global stand-in:") {
-            self.refine_tables();
+        match self.attempt(Move::StandIn) {
+            Attempt::NotTried => return false,
+            Attempt::Moved => self.refine_tables(),
+            Attempt::Judged => {}
         }
-        let gain = saved.0.bic() - self.current.bic();
-        let held_better = match (self.current_held, saved.1) {
-            (Some(h), Some(c)) => h < HELD_OUT_SHARE * c,
-            _ => true,
-        };
-        if self.current.set != saved.0.set
-            && gain > MIN_DELTA_BIC
-            && held_better
-            && !above_noise(&self.current, sigma)
-            && self.eng.unexplained_torque(&self.current, sigma).is_none()
-        {
-            return true;
+        if self.current.candidates() != saved.0.candidates() {
+            let mut held = Some(self.current_held);
+            let verdict = self.accept((&saved.0, saved.1), &self.current, &mut held, &KEEP);
+            if matches!(verdict, Verdict::Accepted(_)) {
+                return true;
+            }
         }
         self.eng.say(format!(
             "  the stand-in stays: {} (RMS {:.4} deg) does not explain the data better",
-            labels(&self.current.set),
+            labels(&self.current.candidates()),
             self.current.rms()
         ));
         (self.current, self.current_held, self.seen, self.swaps) = saved;
         false
     }
 
-    /// For each global effect of the set that hides a joint torque
-    /// ([`super::Engine::hidden_by_globals`]): the set without it, with the
-    /// tables at that joint.
-    fn stand_in_moves(&self) -> Vec<(FittedSet, Candidate)> {
+    /// [`Move::StandIn`]: for each global effect of the set that hides a
+    /// joint torque ([`super::Engine::hidden_by_globals`]), the set without
+    /// it, with the tables at that joint.
+    pub(super) fn propose_stand_in(&mut self) -> Option<Proposal> {
         let even = discover::table_candidates(self.eng.campaign);
-        let mut moves = Vec::new();
+        let mut moves: Vec<(FittedSet, Candidate)> = Vec::new();
         for (k, jt) in self.eng.hidden_by_globals(&self.current) {
             let base = self.current.without(k);
             for c in self.joint_tables(&jt, &even) {
                 moves.push((base.clone(), c));
             }
         }
-        moves
+        if moves.is_empty() {
+            return None;
+        }
+        let what = format!(
+            "a table in place of a global stand-in in {}",
+            labels(&self.current.candidates())
+        );
+        self.eng.say(format!(
+            "stand-in: the residual stays at {:.4} deg beside a global effect; fitting {} tables in its place",
+            self.current.rms(),
+            moves.len()
+        ));
+        Some((moves, what))
     }
 }
