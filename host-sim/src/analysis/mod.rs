@@ -7,14 +7,13 @@ pub mod campaign_sim;
 pub mod design_margin;
 pub mod diagnose;
 pub mod effect_margin;
-pub mod evidence;
 pub mod fit;
 pub mod identify;
 pub mod latch_events;
 pub mod metrics;
 pub mod reliability;
-pub mod residual_named;
-pub mod residual_shape;
-pub mod residual_torque;
-pub mod smoothing;
-pub mod table_export;
+/// The evidence modules of the diagnosis (in `analysis/diagnose/`), also
+/// reachable as `analysis::evidence`, `analysis::residual_torque`, ….
+pub use diagnose::{
+    evidence, residual_named, residual_shape, residual_torque, smoothing, table_export,
+};

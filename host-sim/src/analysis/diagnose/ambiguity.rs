@@ -13,7 +13,7 @@ use super::candidate::Candidate;
 pub use super::outcome::Ambiguity;
 use super::outcome::FittedSet;
 use super::{labels, Search, MIN_DELTA_BIC};
-use crate::analysis::residual_named;
+use crate::analysis::diagnose::residual_named;
 use crate::model::effect::EffectKind;
 
 /// True when `c` is a named joint effect at `joint` (not a table).

@@ -189,7 +189,7 @@ pub fn rate_words(xs: &[f64], ys: &[f64], motion: f64) -> String {
             y_end.abs()
         );
     }
-    let mid = crate::analysis::residual_shape::interp(
+    let mid = crate::analysis::diagnose::residual_shape::interp(
         &pts.iter().map(|p| p.0).collect::<Vec<_>>(),
         &pts.iter().map(|p| p.1).collect::<Vec<_>>(),
         0.5 * r_end,

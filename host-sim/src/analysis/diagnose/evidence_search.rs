@@ -1,11 +1,11 @@
 //! Discovery guided by the residual torque from the data
-//! ([`crate::analysis::residual_torque`]).
+//! ([`crate::analysis::diagnose::residual_torque`]).
 //!
 //! Tables are tried at the joints whose residual torque is significant
 //! beside the set they would join (at every joint, in the even forms, only
 //! when no joint's is), and besides the even forms of
 //! [`super::discover`], in the shape the residual torque itself has
-//! ([`crate::analysis::residual_shape`]: knots placed where it bends, their
+//! ([`crate::analysis::diagnose::residual_shape`]: knots placed where it bends, their
 //! number by BIC), which starts the fit through the simulator. Each claim
 //! is checked against the same evidence at the end: a table or a named
 //! joint effect whose joint shows no significant residual torque without
@@ -13,13 +13,13 @@
 
 use super::candidate::Candidate;
 use super::discover;
-use super::moves::{Attempt, Move, Proposal};
 use super::outcome::{FittedEffect, FittedSet};
+use super::policy::{Attempt, Move};
 use super::table_form::PlacedKnots;
-use super::{above_noise, labels, Engine, Search, MAX_TABLES, NOISE_FLOOR_FACTOR};
-use crate::analysis::residual_named::{self, propose_pair};
-use crate::analysis::residual_shape::best_shape;
-use crate::analysis::residual_torque::{residual_torque, JointTorque};
+use super::{above_noise, labels, Engine, Proposal, Search, MAX_TABLES, NOISE_FLOOR_FACTOR};
+use crate::analysis::diagnose::residual_named::{self, propose_pair};
+use crate::analysis::diagnose::residual_shape::best_shape;
+use crate::analysis::diagnose::residual_torque::{residual_torque, JointTorque};
 use crate::model::effect::EffectKind;
 
 /// A claim at a joint without significant residual torque is dropped only
@@ -323,7 +323,7 @@ impl Search<'_, '_> {
         let Some(jt) = res.iter().find(|r| r.joint == joint) else {
             return Vec::new();
         };
-        let samples = crate::analysis::residual_shape::thin(&jt.samples);
+        let samples = crate::analysis::diagnose::residual_shape::thin(&jt.samples);
         let cand = |kind| Candidate {
             kind,
             joint: Some(joint),

@@ -29,6 +29,7 @@
 pub mod ambiguity;
 mod candidate;
 pub mod discover;
+pub mod evidence;
 mod evidence_search;
 mod halt;
 pub mod latch_finding;
@@ -37,9 +38,14 @@ mod moves;
 mod outcome;
 mod policy;
 mod refine;
+pub mod residual_named;
+pub mod residual_shape;
+pub mod residual_torque;
 mod screen;
 mod shared_torque;
+pub mod smoothing;
 mod stand_in;
+pub mod table_export;
 mod table_form;
 
 pub use candidate::Candidate;
@@ -47,29 +53,22 @@ use candidate::{effects_of, ParamBound};
 pub use outcome::{
     CandidateScore, DiagnoseOptions, FitStats, FittedEffect, FittedSet, Outcome, Round, StopFlag,
 };
-pub use policy::{Kept, Rejection, Verdict};
+use policy::Move;
+pub use policy::{Kept, Rejection, Verdict, HELD_OUT_SHARE, MIN_DELTA_BIC};
 pub use table_form::{PlacedKnots, TableForm};
 
 use crate::analysis::campaign_sim::CampaignSim;
-use crate::analysis::evidence::{self, noise_sigma_deg};
 use crate::analysis::fit::{self, FitOptions};
 use crate::data::campaign::{Campaign, CampaignRun};
 use crate::model::effect::EffectKind;
 use crate::report::progress::Progress;
+use evidence::noise_sigma_deg;
 use halt::Halt;
 use rayon::prelude::*;
 use std::time::Instant;
 
-/// ΔBIC an effect must gain to be kept ("very strong" evidence on the
-/// Kass & Raftery 1995 scale).
-pub const MIN_DELTA_BIC: f64 = 10.0;
-
 /// The residual is "down to the sensor noise" below this multiple of σ̂.
 pub const NOISE_FLOOR_FACTOR: f64 = 1.2;
-
-/// A move must lower the held-out RMS below this share of the current
-/// set's [1] (5 % better: a gain the noise of two runs does not give).
-pub const HELD_OUT_SHARE: f64 = 0.95;
 
 /// A residual is "clearly above the noise" beyond this multiple of σ̂ [1]
 /// (and beyond [`ABOVE_NOISE_MARGIN_DEG`] over σ̂).
@@ -274,6 +273,10 @@ pub const MAX_TABLES: usize = 2;
 /// Most swap rounds of one diagnosis.
 const MAX_SWAPS: usize = 2;
 
+/// The sets a move proposes (each a base set plus a candidate) and what its
+/// round tried, in words.
+type Proposal = (Vec<(FittedSet, Candidate)>, String);
+
 /// The state of the search: the current set, its held-out RMS, the noise
 /// σ̂ it was judged against, the rounds tried so far and the sets already
 /// visited.
@@ -291,8 +294,8 @@ struct Search<'e, 'a> {
     swaps: usize,
     /// The moves tried once per diagnosis that were
     /// ([`Search::first_time`]).
-    tried_once: std::collections::HashSet<moves::Move>,
-    /// The table moves of the last [`moves::Move::Table`] (the even tables
+    tried_once: std::collections::HashSet<Move>,
+    /// The table moves of the last [`Move::Table`] (the even tables
     /// are tried after them only when they add some).
     table_tried: Vec<(FittedSet, Candidate)>,
 }
@@ -333,12 +336,6 @@ impl Engine<'_> {
         (extended, order.iter().map(|&i| strength[i]).collect())
     }
 }
-
-/// A named replacement of a table must fit within this share of the table
-/// set's RMS (or of the noise floor) [1]: a better BIC alone would let a
-/// pair of named stand-ins, with fewer parameters, replace a coarse table
-/// that the refinement would have brought to the noise.
-pub(super) const NAMED_RMS_SHARE: f64 = 1.05;
 
 /// True when the residual of a set stays clearly above the noise floor σ̂
 /// [deg]: above [`ABOVE_NOISE_FACTOR`] σ̂ and above σ̂ +

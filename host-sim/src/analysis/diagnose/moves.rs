@@ -4,159 +4,200 @@
 //! the one acceptance policy ([`super::policy`]) with the move's
 //! [`Policy`], and the choice is taken. The stepwise search is one loop
 //! over [`STEPWISE`]; discovery, refinement and the stand-in check make
-//! their moves through the same [`Search::attempt`].
+//! their moves through the same [`Search::attempt`]. The one acceptance
+//! rule is [`Search::accept`], with the move's [`Policy`]
+//! ([`super::policy`] states the checks and their order).
 
 use super::candidate::Candidate;
-use super::outcome::FittedSet;
-use super::policy::{Kept, PastTries, Policy, Verdict};
-use super::{labels, Search, MAX_STEPS, MAX_SWAPS, PAIR_SEEDS};
+use super::outcome::{CandidateScore, FittedSet, Round};
+use super::policy::{
+    Attempt, Move, PastTries, Policy, Record, Rejection, Verdict, HELD_OUT_SHARE, STEPWISE,
+};
+use super::{above_noise, labels, Proposal, Search, MAX_STEPS, MAX_SWAPS, PAIR_SEEDS};
 
-/// A move of the search.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub(super) enum Move {
-    /// Add the best single candidate.
-    Add,
-    /// Complete the [`PAIR_SEEDS`] best sets of the last round with every
-    /// other candidate (two causes that only earn their keep together).
-    Pair,
-    /// Replace one effect by another candidate.
-    Swap,
-    /// [`Move::Pair`] seeded by the swap round (one effect replaced by two).
-    PairAfterSwap,
-    /// The pairs of named effects at one joint the baseline's residual
-    /// torque proposes, in place of the set (once).
-    Proposed,
-    /// Named pairs at a joint in place of its named effects (once).
-    JointPairs,
-    /// A torque table at the joints whose residual torque is significant.
-    Table,
-    /// The even tables at every joint (the first table, when the evidence's
-    /// were not kept).
-    EvenTable,
-    /// A named effect (or a pair at its joint) in place of a table.
-    NamedForTable,
-    /// A table in a finer form ([`super::refine`]).
-    Refine,
-    /// A table in place of a global stand-in ([`super::stand_in`]).
-    StandIn,
-}
+impl Search<'_, '_> {
+    /// The one acceptance rule: judges the move from `current` (held-out
+    /// RMS `current_held`) to `to` under `policy` (see the module doc).
+    /// `held` caches the move's held-out RMS: computed here when needed and
+    /// not yet known.
+    pub(super) fn accept(
+        &self,
+        (current, current_held): (&FittedSet, Option<f64>),
+        to: &FittedSet,
+        held: &mut Option<Option<f64>>,
+        policy: &Policy,
+    ) -> Verdict {
+        let delta_bic = current.bic() - to.bic();
+        let rms = to.rms();
+        if !(delta_bic > policy.min_delta_bic) {
+            return Verdict::Rejected(Rejection::BicGain {
+                delta_bic,
+                min: policy.min_delta_bic,
+            });
+        }
+        if policy.intervals_clear && !new_members_clear(to, current) {
+            return Verdict::Rejected(Rejection::IntervalHoldsZero);
+        }
+        if let Some(share) = policy.rms_share {
+            let limit_deg = share * current.rms().max(self.floor());
+            if !(rms <= limit_deg) {
+                return Verdict::Rejected(Rejection::RmsShare {
+                    rms_deg: rms,
+                    limit_deg,
+                });
+            }
+        }
+        if policy.explains && above_noise(to, self.sigma) {
+            return Verdict::Rejected(Rejection::AboveNoise { rms_deg: rms });
+        }
+        if policy.held_out {
+            let h = *held.get_or_insert_with(|| self.eng.held_out(to));
+            if let (Some(h), Some(c)) = (h, current_held) {
+                if h >= HELD_OUT_SHARE * c {
+                    return Verdict::Rejected(Rejection::HeldOut {
+                        held_deg: h,
+                        current_deg: c,
+                    });
+                }
+            }
+        }
+        if policy.no_stand_in && self.eng.unexplained_torque(to, self.sigma).is_some() {
+            return Verdict::Rejected(Rejection::StandInLeft);
+        }
+        Verdict::Accepted(policy.kept)
+    }
 
-/// The stepwise moves in the order tried: the first that moves ends the
-/// step ([`Search::run`]).
-pub(super) const STEPWISE: [Move; 6] = [
-    Move::Add,
-    Move::Pair,
-    Move::Swap,
-    Move::PairAfterSwap,
-    Move::Proposed,
-    Move::JointPairs,
-];
+    /// Scores the fitted moves against the current set, best BIC first,
+    /// and judges them under `policy` ([`Search::accept`]): the first
+    /// accepted is the choice. With `round`, the round is recorded (its
+    /// description, whether moves screened out are listed, and how many
+    /// scores to print first). Returns the chosen set and its held-out RMS.
+    pub(super) fn judge(
+        &mut self,
+        fits: Vec<(Candidate, Option<FittedSet>, bool)>,
+        policy: &Policy,
+        round: Option<(String, Record)>,
+    ) -> Option<(FittedSet, Option<f64>)> {
+        let keep_screened = round.as_ref().is_some_and(|(_, r)| r.screened);
+        let current = self.current.clone();
+        let mut scores: Vec<CandidateScore> = fits
+            .into_iter()
+            .filter(|(_, _, screened_out)| keep_screened || !screened_out)
+            .filter_map(|(candidate, f, screened_out)| {
+                let f = f?;
+                Some(CandidateScore {
+                    candidate,
+                    delta_bic: current.bic() - f.bic(),
+                    fitted: f,
+                    held_out_rms_deg: None,
+                    verdict: if screened_out {
+                        Verdict::Screened
+                    } else {
+                        Verdict::NotJudged
+                    },
+                })
+            })
+            .collect();
+        scores.sort_by(|a, b| b.delta_bic.total_cmp(&a.delta_bic));
+        if let Some((_, r)) = &round {
+            self.show_scores(&scores, r.show);
+        }
+        let chosen = self.choose(&mut scores, &current, policy);
+        if round.as_ref().is_some_and(|(_, r)| r.screened) && trace() {
+            for s in scores
+                .iter()
+                .filter(|s| s.verdict != Verdict::NotJudged)
+                .take(4)
+            {
+                self.eng.say(format!(
+                    "    {}: {}",
+                    labels(&s.fitted.candidates()),
+                    s.verdict
+                ));
+            }
+        }
+        let next = chosen.map(|i| (scores[i].fitted.clone(), scores[i].held_out_rms_deg));
+        if let Some((what, _)) = round {
+            self.rounds.push(Round {
+                start: current.candidates(),
+                start_rms_deg: current.rms(),
+                what,
+                scores,
+            });
+        }
+        next
+    }
 
-/// How a move's round is recorded in [`super::Outcome::rounds`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) struct Record {
-    /// Moves screened out are listed (as [`Verdict::Screened`]).
-    pub screened: bool,
-    /// How many scores are printed first.
-    pub show: usize,
-}
+    /// Judges `scores` (best first) under `policy`, writing each verdict;
+    /// the index of the first accepted.
+    fn choose(
+        &self,
+        scores: &mut [CandidateScore],
+        current: &FittedSet,
+        policy: &Policy,
+    ) -> Option<usize> {
+        let (mut chosen, mut tried, mut held_checks) = (None, 0usize, 0usize);
+        for (i, s) in scores.iter_mut().enumerate() {
+            if s.verdict == Verdict::Screened {
+                continue;
+            }
+            tried += 1;
+            if tried > policy.tries {
+                s.verdict = match policy.past_tries {
+                    PastTries::NotTheBest => Verdict::NotTheBest {
+                        delta_bic: s.delta_bic,
+                    },
+                    PastTries::NotJudged => Verdict::NotJudged,
+                };
+                continue;
+            }
+            if chosen.is_some() || held_checks >= policy.held_out_tries {
+                s.verdict = Verdict::NotTheBest {
+                    delta_bic: s.delta_bic,
+                };
+                continue;
+            }
+            let mut held = None;
+            s.verdict = self.accept((current, self.current_held), &s.fitted, &mut held, policy);
+            if held.is_some() {
+                held_checks += 1;
+            }
+            s.held_out_rms_deg = held.flatten();
+            if s.accepted() {
+                chosen = Some(i);
+            }
+        }
+        chosen
+    }
 
-/// What became of an attempted move.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Attempt {
-    /// Its conditions did not hold: nothing was fitted.
-    NotTried,
-    /// Fitted and judged; nothing taken.
-    Judged,
-    /// Taken.
-    Moved,
-}
-
-impl Move {
-    /// The acceptance policy of the move ([`Search::accept`]).
-    pub(super) fn policy(self) -> Policy {
-        let s = Policy::STEPWISE;
-        match self {
-            // As good a fit with fewer parameters, that explains the data:
-            // a better BIC (not by 10), its RMS within `NAMED_RMS_SHARE` of
-            // the table set's, its residual not above the noise; no
-            // held-out check; the set found may be one visited before.
-            Move::NamedForTable => Policy {
-                min_delta_bic: 0.0,
-                rms_share: Some(super::NAMED_RMS_SHARE),
-                explains: true,
-                held_out: false,
-                tries: usize::MAX,
-                revisit: true,
-                ..s
-            },
-            // The best by BIC that passes the others, whose held-out RMS
-            // is checked alone; it must explain the data.
-            Move::JointPairs => Policy {
-                explains: true,
-                tries: usize::MAX,
-                held_out_tries: 1,
-                ..s
-            },
-            // A refinement reshapes a table already kept: its knots'
-            // intervals are not asked to be clear of zero.
-            Move::Refine => Policy {
-                intervals_clear: false,
-                tries: super::refine::REFINE_TRIES,
-                past_tries: PastTries::NotJudged,
-                kept: Kept::Refined,
-                ..s
-            },
-            _ => s,
+    /// Prints the best scores of a round (`show` of them; all with
+    /// `DEPLOYWATCH_TRACE`).
+    fn show_scores(&self, scores: &[CandidateScore], show: usize) {
+        let show = if trace() { usize::MAX } else { show };
+        for s in scores.iter().take(show) {
+            self.eng.say(format!(
+                "  {:<40} RMS {:.4} deg  dBIC {:>10.1}",
+                labels(&s.fitted.candidates()),
+                s.fitted.rms(),
+                s.delta_bic
+            ));
         }
     }
-
-    /// Whether the screen also starts the move where two named effects at
-    /// a joint share their torque ([`super::Engine::fit_moves_sharing`]).
-    fn shares_torque(self) -> bool {
-        matches!(self, Move::NamedForTable | Move::JointPairs)
-    }
-
-    /// How its round is recorded; `None`: not recorded.
-    fn record(self) -> Option<Record> {
-        match self {
-            Move::NamedForTable | Move::JointPairs => None,
-            Move::Refine => Some(Record {
-                screened: false,
-                show: usize::MAX,
-            }),
-            _ => Some(Record {
-                screened: true,
-                show: 5,
-            }),
-        }
-    }
-
-    /// Whether effects that no longer earn their keep are dropped after it
-    /// ([`super::Engine::backward`]).
-    fn drops_after(self) -> bool {
-        self != Move::NamedForTable
-    }
-
-    /// What the progress line says when it is taken.
-    fn done(self) -> &'static str {
-        match self {
-            Move::Add => "added:",
-            Move::Pair | Move::PairAfterSwap => "added the pair:",
-            Move::Swap => "swapped to",
-            Move::Proposed => "proposed by the residual torque:",
-            Move::JointPairs => "named pair at a joint:",
-            Move::Table | Move::EvenTable => "discovered:",
-            Move::NamedForTable => "a named effect explains it as well:",
-            Move::Refine => "refined:",
-            Move::StandIn => "a table in place of a global stand-in:",
-        }
-    }
 }
 
-/// The sets a move proposes (each a base set plus a candidate) and what its
-/// round tried, in words.
-pub(super) type Proposal = (Vec<(FittedSet, Candidate)>, String);
+/// Whether `DEPLOYWATCH_TRACE` asks for every score and verdict.
+fn trace() -> bool {
+    std::env::var_os("DEPLOYWATCH_TRACE").is_some()
+}
+
+/// True when the 95 % interval of the value of every member of `f` that is
+/// not in `current` excludes zero (a pair move adds two).
+pub(super) fn new_members_clear(f: &FittedSet, current: &FittedSet) -> bool {
+    f.members
+        .iter()
+        .filter(|m| !current.contains(&m.candidate))
+        .all(|m| m.clear_of_zero())
+}
 
 impl Search<'_, '_> {
     /// Makes move `mv`: proposes its sets ([`Search::propose`]), screens

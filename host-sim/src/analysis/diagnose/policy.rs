@@ -1,8 +1,8 @@
 //! The one acceptance policy of the diagnosis (`docs/diagnosis.md`,
 //! "Method", 5): whether a move earns its keep, as a typed [`Verdict`].
 //!
-//! Every move of the search ([`super::moves::Move`]) is judged here, by
-//! [`Search::accept`] with the move's [`Policy`]. The checks, in the order
+//! Every move of the search ([`Move`]) is judged by one rule,
+//! `Search::accept` ([`super::moves`]), with the move's [`Policy`]. The checks, in the order
 //! they run (the held-out RMS, which costs a refit per run, and the
 //! residual torque of the stand-in check only when the cheaper ones pass):
 //! 1. the BIC gain over the current set exceeds [`Policy::min_delta_bic`];
@@ -18,12 +18,31 @@
 //!    ([`Policy::no_stand_in`], [`super::Engine::unexplained_torque`]).
 //!
 //! Where the moves differ, the difference is a field of [`Policy`], set per
-//! move in [`super::moves::Move::policy`].
+//! move in [`Move::policy`].
+//!
+//! This module holds the rules as data (the verdicts, the [`Policy`], the
+//! moves and each move's settings) and names no other module of the
+//! diagnosis; [`super::moves`] applies them.
 
-use super::candidate::Candidate;
-use super::outcome::{CandidateScore, FittedSet, Round};
-use super::{above_noise, labels, Search, HELD_OUT_SHARE, MIN_DELTA_BIC};
 use std::fmt;
+
+/// ΔBIC an effect must gain to be kept ("very strong" evidence on the
+/// Kass & Raftery 1995 scale).
+pub const MIN_DELTA_BIC: f64 = 10.0;
+
+/// A move must lower the held-out RMS below this share of the current
+/// set's [1] (5 % better: a gain the noise of two runs does not give).
+pub const HELD_OUT_SHARE: f64 = 0.95;
+
+/// A named replacement of a table must fit within this share of the table
+/// set's RMS (or of the noise floor) [1]: a better BIC alone would let a
+/// pair of named stand-ins, with fewer parameters, replace a coarse table
+/// that the refinement would have brought to the noise.
+pub const NAMED_RMS_SHARE: f64 = 1.05;
+
+/// Finer forms of a table judged per refinement round, best BIC first (as
+/// many as a stepwise round judges).
+pub const REFINE_TRIES: usize = 3;
 
 /// Why a move was taken.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -188,186 +207,145 @@ impl Policy {
     };
 }
 
-impl Search<'_, '_> {
-    /// The one acceptance rule: judges the move from `current` (held-out
-    /// RMS `current_held`) to `to` under `policy` (see the module doc).
-    /// `held` caches the move's held-out RMS: computed here when needed and
-    /// not yet known.
-    pub(super) fn accept(
-        &self,
-        (current, current_held): (&FittedSet, Option<f64>),
-        to: &FittedSet,
-        held: &mut Option<Option<f64>>,
-        policy: &Policy,
-    ) -> Verdict {
-        let delta_bic = current.bic() - to.bic();
-        let rms = to.rms();
-        if !(delta_bic > policy.min_delta_bic) {
-            return Verdict::Rejected(Rejection::BicGain {
-                delta_bic,
-                min: policy.min_delta_bic,
-            });
-        }
-        if policy.intervals_clear && !new_members_clear(to, current) {
-            return Verdict::Rejected(Rejection::IntervalHoldsZero);
-        }
-        if let Some(share) = policy.rms_share {
-            let limit_deg = share * current.rms().max(self.floor());
-            if !(rms <= limit_deg) {
-                return Verdict::Rejected(Rejection::RmsShare {
-                    rms_deg: rms,
-                    limit_deg,
-                });
-            }
-        }
-        if policy.explains && above_noise(to, self.sigma) {
-            return Verdict::Rejected(Rejection::AboveNoise { rms_deg: rms });
-        }
-        if policy.held_out {
-            let h = *held.get_or_insert_with(|| self.eng.held_out(to));
-            if let (Some(h), Some(c)) = (h, current_held) {
-                if h >= HELD_OUT_SHARE * c {
-                    return Verdict::Rejected(Rejection::HeldOut {
-                        held_deg: h,
-                        current_deg: c,
-                    });
-                }
-            }
-        }
-        if policy.no_stand_in && self.eng.unexplained_torque(to, self.sigma).is_some() {
-            return Verdict::Rejected(Rejection::StandInLeft);
-        }
-        Verdict::Accepted(policy.kept)
-    }
-
-    /// Scores the fitted moves against the current set, best BIC first,
-    /// and judges them under `policy` ([`Search::accept`]): the first
-    /// accepted is the choice. With `round`, the round is recorded (its
-    /// description, whether moves screened out are listed, and how many
-    /// scores to print first). Returns the chosen set and its held-out RMS.
-    pub(super) fn judge(
-        &mut self,
-        fits: Vec<(Candidate, Option<FittedSet>, bool)>,
-        policy: &Policy,
-        round: Option<(String, super::moves::Record)>,
-    ) -> Option<(FittedSet, Option<f64>)> {
-        let keep_screened = round.as_ref().is_some_and(|(_, r)| r.screened);
-        let current = self.current.clone();
-        let mut scores: Vec<CandidateScore> = fits
-            .into_iter()
-            .filter(|(_, _, screened_out)| keep_screened || !screened_out)
-            .filter_map(|(candidate, f, screened_out)| {
-                let f = f?;
-                Some(CandidateScore {
-                    candidate,
-                    delta_bic: current.bic() - f.bic(),
-                    fitted: f,
-                    held_out_rms_deg: None,
-                    verdict: if screened_out {
-                        Verdict::Screened
-                    } else {
-                        Verdict::NotJudged
-                    },
-                })
-            })
-            .collect();
-        scores.sort_by(|a, b| b.delta_bic.total_cmp(&a.delta_bic));
-        if let Some((_, r)) = &round {
-            self.show_scores(&scores, r.show);
-        }
-        let chosen = self.choose(&mut scores, &current, policy);
-        if round.as_ref().is_some_and(|(_, r)| r.screened) && trace() {
-            for s in scores
-                .iter()
-                .filter(|s| s.verdict != Verdict::NotJudged)
-                .take(4)
-            {
-                self.eng.say(format!(
-                    "    {}: {}",
-                    labels(&s.fitted.candidates()),
-                    s.verdict
-                ));
-            }
-        }
-        let next = chosen.map(|i| (scores[i].fitted.clone(), scores[i].held_out_rms_deg));
-        if let Some((what, _)) = round {
-            self.rounds.push(Round {
-                start: current.candidates(),
-                start_rms_deg: current.rms(),
-                what,
-                scores,
-            });
-        }
-        next
-    }
-
-    /// Judges `scores` (best first) under `policy`, writing each verdict;
-    /// the index of the first accepted.
-    fn choose(
-        &self,
-        scores: &mut [CandidateScore],
-        current: &FittedSet,
-        policy: &Policy,
-    ) -> Option<usize> {
-        let (mut chosen, mut tried, mut held_checks) = (None, 0usize, 0usize);
-        for (i, s) in scores.iter_mut().enumerate() {
-            if s.verdict == Verdict::Screened {
-                continue;
-            }
-            tried += 1;
-            if tried > policy.tries {
-                s.verdict = match policy.past_tries {
-                    PastTries::NotTheBest => Verdict::NotTheBest {
-                        delta_bic: s.delta_bic,
-                    },
-                    PastTries::NotJudged => Verdict::NotJudged,
-                };
-                continue;
-            }
-            if chosen.is_some() || held_checks >= policy.held_out_tries {
-                s.verdict = Verdict::NotTheBest {
-                    delta_bic: s.delta_bic,
-                };
-                continue;
-            }
-            let mut held = None;
-            s.verdict = self.accept((current, self.current_held), &s.fitted, &mut held, policy);
-            if held.is_some() {
-                held_checks += 1;
-            }
-            s.held_out_rms_deg = held.flatten();
-            if s.accepted() {
-                chosen = Some(i);
-            }
-        }
-        chosen
-    }
-
-    /// Prints the best scores of a round (`show` of them; all with
-    /// `DEPLOYWATCH_TRACE`).
-    fn show_scores(&self, scores: &[CandidateScore], show: usize) {
-        let show = if trace() { usize::MAX } else { show };
-        for s in scores.iter().take(show) {
-            self.eng.say(format!(
-                "  {:<40} RMS {:.4} deg  dBIC {:>10.1}",
-                labels(&s.fitted.candidates()),
-                s.fitted.rms(),
-                s.delta_bic
-            ));
-        }
-    }
+/// A move of the search.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Move {
+    /// Add the best single candidate.
+    Add,
+    /// Complete the [`PAIR_SEEDS`] best sets of the last round with every
+    /// other candidate (two causes that only earn their keep together).
+    Pair,
+    /// Replace one effect by another candidate.
+    Swap,
+    /// [`Move::Pair`] seeded by the swap round (one effect replaced by two).
+    PairAfterSwap,
+    /// The pairs of named effects at one joint the baseline's residual
+    /// torque proposes, in place of the set (once).
+    Proposed,
+    /// Named pairs at a joint in place of its named effects (once).
+    JointPairs,
+    /// A torque table at the joints whose residual torque is significant.
+    Table,
+    /// The even tables at every joint (the first table, when the evidence's
+    /// were not kept).
+    EvenTable,
+    /// A named effect (or a pair at its joint) in place of a table.
+    NamedForTable,
+    /// A table in a finer form ([`super::refine`]).
+    Refine,
+    /// A table in place of a global stand-in ([`super::stand_in`]).
+    StandIn,
 }
 
-/// Whether `DEPLOYWATCH_TRACE` asks for every score and verdict.
-fn trace() -> bool {
-    std::env::var_os("DEPLOYWATCH_TRACE").is_some()
+/// The stepwise moves in the order tried: the first that moves ends the
+/// step ([`Search::run`]).
+pub const STEPWISE: [Move; 6] = [
+    Move::Add,
+    Move::Pair,
+    Move::Swap,
+    Move::PairAfterSwap,
+    Move::Proposed,
+    Move::JointPairs,
+];
+
+/// How a move's round is recorded in [`super::Outcome::rounds`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Record {
+    /// Moves screened out are listed (as [`Verdict::Screened`]).
+    pub screened: bool,
+    /// How many scores are printed first.
+    pub show: usize,
 }
 
-/// True when the 95 % interval of the value of every member of `f` that is
-/// not in `current` excludes zero (a pair move adds two).
-pub(super) fn new_members_clear(f: &FittedSet, current: &FittedSet) -> bool {
-    f.members
-        .iter()
-        .filter(|m| !current.contains(&m.candidate))
-        .all(|m| m.clear_of_zero())
+/// What became of an attempted move.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Attempt {
+    /// Its conditions did not hold: nothing was fitted.
+    NotTried,
+    /// Fitted and judged; nothing taken.
+    Judged,
+    /// Taken.
+    Moved,
+}
+
+impl Move {
+    /// The acceptance policy of the move ([`Search::accept`]).
+    pub fn policy(self) -> Policy {
+        let s = Policy::STEPWISE;
+        match self {
+            // As good a fit with fewer parameters, that explains the data:
+            // a better BIC (not by 10), its RMS within `NAMED_RMS_SHARE` of
+            // the table set's, its residual not above the noise; no
+            // held-out check; the set found may be one visited before.
+            Move::NamedForTable => Policy {
+                min_delta_bic: 0.0,
+                rms_share: Some(NAMED_RMS_SHARE),
+                explains: true,
+                held_out: false,
+                tries: usize::MAX,
+                revisit: true,
+                ..s
+            },
+            // The best by BIC that passes the others, whose held-out RMS
+            // is checked alone; it must explain the data.
+            Move::JointPairs => Policy {
+                explains: true,
+                tries: usize::MAX,
+                held_out_tries: 1,
+                ..s
+            },
+            // A refinement reshapes a table already kept: its knots'
+            // intervals are not asked to be clear of zero.
+            Move::Refine => Policy {
+                intervals_clear: false,
+                tries: REFINE_TRIES,
+                past_tries: PastTries::NotJudged,
+                kept: Kept::Refined,
+                ..s
+            },
+            _ => s,
+        }
+    }
+
+    /// Whether the screen also starts the move where two named effects at
+    /// a joint share their torque ([`super::Engine::fit_moves_sharing`]).
+    pub fn shares_torque(self) -> bool {
+        matches!(self, Move::NamedForTable | Move::JointPairs)
+    }
+
+    /// How its round is recorded; `None`: not recorded.
+    pub fn record(self) -> Option<Record> {
+        match self {
+            Move::NamedForTable | Move::JointPairs => None,
+            Move::Refine => Some(Record {
+                screened: false,
+                show: usize::MAX,
+            }),
+            _ => Some(Record {
+                screened: true,
+                show: 5,
+            }),
+        }
+    }
+
+    /// Whether effects that no longer earn their keep are dropped after it
+    /// ([`super::Engine::backward`]).
+    pub fn drops_after(self) -> bool {
+        self != Move::NamedForTable
+    }
+
+    /// What the progress line says when it is taken.
+    pub fn done(self) -> &'static str {
+        match self {
+            Move::Add => "added:",
+            Move::Pair | Move::PairAfterSwap => "added the pair:",
+            Move::Swap => "swapped to",
+            Move::Proposed => "proposed by the residual torque:",
+            Move::JointPairs => "named pair at a joint:",
+            Move::Table | Move::EvenTable => "discovered:",
+            Move::NamedForTable => "a named effect explains it as well:",
+            Move::Refine => "refined:",
+            Move::StandIn => "a table in place of a global stand-in:",
+        }
+    }
 }

@@ -12,23 +12,21 @@
 //! a new rate table from 0) and is refined through the simulator and
 //! judged by BIC and the held-out RMS ([`Move::Refine`]). Up to
 //! [`HOST_TABLE_MAX_KNOTS`] knots per axis, the host's table size; the
-//! monitor gets a compressed export ([`crate::analysis::table_export`]).
+//! monitor gets a compressed export ([`crate::analysis::diagnose::table_export`]).
 
 use super::candidate::Candidate;
-use super::moves::{Attempt, Move, Proposal};
 use super::outcome::FittedSet;
+use super::policy::{Attempt, Move};
 use super::table_form::{PlacedKnots, TableForm};
-use super::{labels, Search};
-use crate::analysis::residual_shape::{Shape, MIN_ANGLE_SPACING_DEG, MIN_RATE_SPACING_DEG_S};
+use super::{labels, Proposal, Search};
+use crate::analysis::diagnose::residual_shape::{
+    Shape, MIN_ANGLE_SPACING_DEG, MIN_RATE_SPACING_DEG_S,
+};
 use crate::model::effect::EffectKind;
 use crate::model::torque_table::{HostTorqueTable, HOST_TABLE_MAX_KNOTS};
 
 /// Refinement rounds at most: each may double a table's angle knots once.
 const REFINE_ROUNDS: usize = 2;
-
-/// Finer forms judged per round, best BIC first (as many as a round tries:
-/// [`super::policy::Policy::tries`]).
-pub(super) const REFINE_TRIES: usize = 3;
 
 /// Rate knots of a refined rate table at most (0 among them): halving from
 /// the largest rate, eight reach 1/64 of it.
@@ -37,7 +35,7 @@ const RATE_KNOTS: usize = 8;
 impl Search<'_, '_> {
     /// While the residual stays above the noise floor, tries the finer
     /// forms of every table in the set and takes the best that earns its
-    /// keep ([`Move::Refine`]: of the [`REFINE_TRIES`] best by BIC, the
+    /// keep ([`Move::Refine`]: of the [`super::policy::REFINE_TRIES`] best by BIC, the
     /// first that gains more than [`super::MIN_DELTA_BIC`] and whose
     /// held-out RMS beats the current set's by [`super::HELD_OUT_SHARE`]; a
     /// refinement reshapes a table already kept, so its knots' intervals

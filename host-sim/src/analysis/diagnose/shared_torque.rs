@@ -13,7 +13,7 @@
 //! states fixed: the candidate at a share of the value that would replace
 //! the base effect entirely, the base effect lowered by what the candidate
 //! takes over. Both come from the residual torque's samples
-//! ([`crate::analysis::residual_torque`]: the measured rates and angles,
+//! ([`crate::analysis::diagnose::residual_torque`]: the measured rates and angles,
 //! weighted by the torque's standard errors) and the effects' signatures
 //! ([`residual_named::signature`]); where the residual torque separates the
 //! two, its regression on both signatures ([`residual_named::fit`]) is a
@@ -22,9 +22,9 @@
 use super::candidate::Candidate;
 use super::outcome::FittedSet;
 use super::Engine;
-use crate::analysis::residual_named::{self, signature};
-use crate::analysis::residual_shape::thin;
-use crate::analysis::residual_torque::{residual_torque, TorqueSample};
+use crate::analysis::diagnose::residual_named::{self, signature};
+use crate::analysis::diagnose::residual_shape::thin;
+use crate::analysis::diagnose::residual_torque::{residual_torque, TorqueSample};
 use crate::data::campaign::Campaign;
 use crate::model::effect::EffectKind;
 

@@ -15,10 +15,9 @@
 use super::candidate::Candidate;
 use super::discover;
 use super::evidence_search::near_noise;
-use super::moves::{Attempt, Move, Proposal};
 use super::outcome::FittedSet;
-use super::policy::{Policy, Verdict};
-use super::{labels, Search};
+use super::policy::{Attempt, Move, Policy, Verdict};
+use super::{labels, Proposal, Search};
 
 /// Whether the set after [`Move::StandIn`] (and its refinement) is kept in
 /// place of the set with the stand-in: the one policy with a BIC gain over

@@ -1,6 +1,6 @@
 //! The form of a torque table a diagnosis may fit at one joint.
 
-use crate::analysis::residual_shape::Shape;
+use crate::analysis::diagnose::residual_shape::Shape;
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::torque_table::{
     max_abs_nm, HostTable, HostTorqueTable, HOST_TABLE_MAX_KNOTS as MAX_KNOTS,
@@ -20,7 +20,7 @@ pub struct TableForm {
     /// deployment [deg/s]; the knots are spread from 0 to it.
     pub rate_max_deg_s: i32,
     /// Knots placed where the residual torque bends
-    /// ([`crate::analysis::residual_shape`]); `None`: the even knots above.
+    /// ([`crate::analysis::diagnose::residual_shape`]); `None`: the even knots above.
     pub placed: Option<PlacedKnots>,
 }
 

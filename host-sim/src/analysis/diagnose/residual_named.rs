@@ -15,8 +15,8 @@
 //! better than either alone, where a stepwise search through the simulator
 //! may settle on stand-ins.
 
-use crate::analysis::residual_shape::{bic, thin};
-use crate::analysis::residual_torque::{JointTorque, TorqueSample};
+use crate::analysis::diagnose::residual_shape::{bic, thin};
+use crate::analysis::diagnose::residual_torque::{JointTorque, TorqueSample};
 use crate::model::effect::EffectKind;
 
 /// The named joint effects with a torque signature.

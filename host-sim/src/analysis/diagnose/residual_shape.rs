@@ -1,6 +1,6 @@
 //! The shape of a residual torque at the resolution the data supports.
 //!
-//! A joint's residual torque samples ([`crate::analysis::residual_torque`])
+//! A joint's residual torque samples ([`crate::analysis::diagnose::residual_torque`])
 //! are fitted by least squares — no simulation — as `f(φ)`, `g(φ̇)` or
 //! `f(φ) + g(φ̇)`, each piecewise linear through its knots and held
 //! constant beyond its end knots (the `torque_table` of `physics.md`
@@ -12,7 +12,7 @@
 //! `n_eff ln(RSS/n) + k ln n_eff`, with `n_eff` counting one independent
 //! value per smoothing window (neighbouring samples' errors correlate).
 
-use crate::analysis::residual_torque::TorqueSample;
+use crate::analysis::diagnose::residual_torque::TorqueSample;
 
 /// Most knots of one fitted table (angle or rate): the host's table size.
 pub const MAX_KNOTS: usize = crate::model::torque_table::HOST_TABLE_MAX_KNOTS;

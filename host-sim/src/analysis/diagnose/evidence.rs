@@ -5,7 +5,7 @@
 //! latch) or a dynamic one (zero at release, growing with the motion).
 
 use crate::analysis::campaign_sim::CampaignSim;
-use crate::analysis::smoothing::third_difference_sigma;
+use crate::analysis::diagnose::smoothing::third_difference_sigma;
 use crate::data::campaign::Campaign;
 use crate::model::effect::Effect;
 

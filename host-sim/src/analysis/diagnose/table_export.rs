@@ -10,7 +10,7 @@
 //! data cover, weighted by the time spent there), each axis with more
 //! points (`f(φ)` or `g(φ̇)`) is evaluated there and an 8-point table is
 //! fitted to it by least squares on the torques
-//! ([`crate::analysis::residual_shape::fit_shape_with`] with
+//! ([`crate::analysis::diagnose::residual_shape::fit_shape_with`] with
 //! [`KnotScore::Rss`]: greedy knot insertion, each step adding the knot
 //! that lowers the squared torque error most, `g(0) = 0` kept); an axis
 //! that fits is kept as it is. The loss is
@@ -21,8 +21,8 @@
 //! with no loss.
 
 use crate::analysis::campaign_sim::CampaignSim;
-use crate::analysis::residual_shape::{fit_shape_with, Axis, KnotScore};
-use crate::analysis::residual_torque::TorqueSample;
+use crate::analysis::diagnose::residual_shape::{fit_shape_with, Axis, KnotScore};
+use crate::analysis::diagnose::residual_torque::TorqueSample;
 use crate::data::campaign::Campaign;
 use crate::model::effect::{encoder_offsets_deg, Effect, EffectKind};
 use crate::model::torque_table::{HostTable, HostTorqueTable};

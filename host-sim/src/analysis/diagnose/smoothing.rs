@@ -159,8 +159,8 @@ pub fn noise_sigma(y: &[f64]) -> f64 {
 
 /// [`noise_sigma`] of a series with at least `min_differences` finite
 /// third differences; `None` for a shorter one. The one estimate of the
-/// sensor noise: the diagnosis's σ̂ ([`crate::analysis::evidence::noise_sigma_deg`])
-/// and the smoother's floor ([`crate::analysis::residual_torque`]) both use it.
+/// sensor noise: the diagnosis's σ̂ ([`crate::analysis::diagnose::evidence::noise_sigma_deg`])
+/// and the smoother's floor ([`crate::analysis::diagnose::residual_torque`]) both use it.
 pub fn third_difference_sigma(y: &[f64], min_differences: usize) -> Option<f64> {
     let mut d3: Vec<f64> = y
         .windows(4)

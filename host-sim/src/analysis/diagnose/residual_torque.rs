@@ -1,7 +1,7 @@
 //! The torque the model lacks, from the data itself.
 //!
 //! Each run is simulated with the model, and the measured angles' difference
-//! from it is smoothed ([`crate::analysis::smoothing`]: a local cubic, its
+//! from it is smoothed ([`crate::analysis::diagnose::smoothing`]: a local cubic, its
 //! window chosen by GCV) into `φ, φ̇, φ̈` (the model's, exact, plus the
 //! smoothed difference's) with standard errors, segment by segment between
 //! the latch instants of run and model (a latch is an impact: the free
@@ -25,7 +25,7 @@
 //! rates.
 
 use crate::analysis::campaign_sim::CampaignSim;
-use crate::analysis::smoothing::{noise_sigma, smooth_segment, CubicWeights, Smoothed};
+use crate::analysis::diagnose::smoothing::{noise_sigma, smooth_segment, CubicWeights, Smoothed};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{self, Effect};
 use crate::model::mechanism::{with_joints, Mechanism};
