@@ -27,6 +27,7 @@ pub mod ambiguity;
 mod candidate;
 pub mod discover;
 mod evidence_search;
+mod friction_forms;
 mod halt;
 pub mod latch_finding;
 pub mod latch_window;
@@ -407,6 +408,8 @@ struct Search<'e, 'a> {
     /// Whether the named pairs at the set's joints were tried
     /// ([`Search::try_joint_pairs`]).
     paired: bool,
+    /// Whether the friction forms were tried ([`Search::try_friction_forms`]).
+    formed: bool,
 }
 
 impl Search<'_, '_> {
@@ -439,6 +442,7 @@ impl Search<'_, '_> {
             if (self.rounds.len() == before || !self.try_pair())
                 && !self.try_proposed()
                 && !self.try_joint_pairs()
+                && !self.try_friction_forms()
             {
                 return;
             }
@@ -778,6 +782,7 @@ fn search_campaign(
         swaps: 0,
         proposed: false,
         paired: false,
+        formed: false,
     };
     search.run();
     if opts.discover && !truss && !eng.halt.now() {
