@@ -8,11 +8,16 @@
 //! viscous damping over a narrow range of rates, so offered in every round
 //! they take the evidence a simpler named effect explains. They are tried
 //! once, when the stepwise search stalls with the residual above the noise
-//! floor (the simpler vocabulary does not explain the runs), and only at a
-//! joint whose residual torque from the data has their rate shape
-//! ([`evidence_starts`]): beside a set `B` (the current set, or the current
-//! set without one of its members, which the form may replace), the torque
-//! `B` lacks at the joint, regressed by weighted least squares on
+//! floor (the simpler vocabulary does not explain the runs), and only where
+//! the data point to them:
+//! - a Stribeck law in place of a Coulomb friction the set holds (the
+//!   search found friction there; the break-away acts at release, in the
+//!   samples the residual torque leaves out, so the angles decide);
+//! - either form at a joint whose residual torque from the data has its
+//!   rate shape ([`evidence_starts`]): beside a set `B` (the current set,
+//!   or the current set without one of its members, which the form may
+//!   replace), the torque `B` lacks at the joint, regressed by weighted
+//!   least squares on
 //!
 //! ```text
 //! stribeck_friction   −tanh(φ̇/0.01) T_C − √(2e) ΔT (φ̇/ω_st) e^{−(φ̇/ω_st)²}   (ω_st on a grid)
@@ -159,6 +164,31 @@ pub fn evidence_starts(
             out.push((EffectKind::QuadraticDamping, vec![c]));
         }
     }
+    if std::env::var_os("DEPLOYWATCH_TRACE_FORMS").is_some() {
+        let st = OMEGA_GRID
+            .iter()
+            .filter_map(|&w| {
+                let h = move |x: &TorqueSample| hump(x.rate_deg_s.to_radians(), w);
+                let (v, rss) = lsq(&s, &[&coulomb, &h])?;
+                Some(format!(
+                    "{w}:{:.0}({:.3},{:.3})",
+                    bic(&s, rss, 3),
+                    v[0],
+                    v[1]
+                ))
+            })
+            .collect::<Vec<_>>()
+            .join(" ");
+        eprintln!(
+            "    forms evidence: n {} coulomb {:.0} viscous {:.0} quad {:?} visc+quad {:?} stribeck [{st}] -> {:?}",
+            s.len(),
+            bic_of(&s, &[&coulomb]),
+            bic_of(&s, &[&viscous]),
+            q,
+            vq,
+            out
+        );
+    }
     out
 }
 
@@ -191,6 +221,8 @@ impl Search<'_, '_> {
         {
             return false;
         }
+        self.eng
+            .say("friction forms: the residual torque's rate shape at each joint");
         let moves = self.form_moves();
         if moves.is_empty() {
             return false;
@@ -235,13 +267,23 @@ impl Search<'_, '_> {
         for base in bases {
             let res = residual_torque(self.eng.campaign, &base.effects());
             for jt in &res {
+                if std::env::var_os("DEPLOYWATCH_TRACE_FORMS").is_some() {
+                    eprintln!("  beside {} at joint {}:", labels(&base.set), jt.joint);
+                }
                 let at = |k| Candidate {
                     kind: k,
                     joint: Some(jt.joint),
                     table: None,
                 };
                 let free = !base.set.contains(&at(EffectKind::CoulombFriction));
-                for (kind, start) in evidence_starts(&jt.samples, free) {
+                let mut starts = evidence_starts(&jt.samples, free);
+                // In place of the Coulomb friction the set holds here.
+                if let Some(tc) = swapped_coulomb(cur, &base, jt.joint) {
+                    if !starts.iter().any(|s| s.0 == EffectKind::StribeckFriction) {
+                        starts.push((EffectKind::StribeckFriction, vec![tc, 0.5 * tc, 0.05]));
+                    }
+                }
+                for (kind, start) in starts {
                     if !base.set.contains(&at(kind)) {
                         moves.push((base.clone(), at(kind), start));
                     }
@@ -334,6 +376,24 @@ impl Search<'_, '_> {
         }
         (f, held)
     }
+}
+
+/// The value of the Coulomb friction at `joint` that `cur` holds and
+/// `base` (`cur` without one member) does not: the member a Stribeck law
+/// may replace.
+fn swapped_coulomb(cur: &FittedSet, base: &FittedSet, joint: usize) -> Option<f64> {
+    let c = named(EffectKind::CoulombFriction, Some(joint));
+    if base.set.contains(&c) {
+        return None;
+    }
+    let mut off = 0;
+    for m in &cur.set {
+        if *m == c {
+            return cur.params.get(off).copied();
+        }
+        off += m.params();
+    }
+    None
 }
 
 /// A named candidate.
