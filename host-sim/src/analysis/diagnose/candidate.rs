@@ -183,12 +183,29 @@ impl Candidate {
             EffectKind::EncoderOffset => one(&[0.0]),
             // A constant torque of either sign and a few sizes: the scan
             // ranks the joints and forms, the fit shapes the table.
+            // A narrow table ([`super::discover::snag_candidates`]): its
+            // middle knot raised, either sign, the others at zero.
+            EffectKind::TorqueTable if self.is_snag() => [-0.3, -0.08, 0.08, 0.3]
+                .iter()
+                .map(|&v| {
+                    let mut p = vec![0.0; self.params()];
+                    p[2] = v;
+                    p
+                })
+                .collect(),
             EffectKind::TorqueTable => [-0.3, -0.05, 0.0, 0.05, 0.3]
                 .iter()
                 .map(|&v| vec![v; self.params()])
                 .collect(),
             EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => one(&[0.3]),
         }
+    }
+
+    /// A narrow placed angle table of five knots without a rate table (the
+    /// form of [`super::discover::snag_candidates`]).
+    fn is_snag(&self) -> bool {
+        self.table
+            .is_some_and(|t| t.placed.is_some() && t.angle_knots == 5 && t.rate_knots == 0)
     }
 
     /// The effect with parameters `p`.
