@@ -203,7 +203,7 @@ impl Candidate {
 
     /// A narrow placed angle table of five knots without a rate table (the
     /// form of [`super::discover::snag_candidates`]).
-    fn is_snag(&self) -> bool {
+    pub(super) fn is_snag(&self) -> bool {
         self.table
             .is_some_and(|t| t.placed.is_some() && t.angle_knots == 5 && t.rate_knots == 0)
     }
