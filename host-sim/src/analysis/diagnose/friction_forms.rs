@@ -15,9 +15,9 @@
 //!   samples the residual torque leaves out, so the angles decide);
 //! - either form at a joint whose residual torque from the data has its
 //!   rate shape ([`evidence_starts`]): beside a set `B` (the current set,
-//!   or the current set without one of its members, which the form may
-//!   replace), the torque `B` lacks at the joint, regressed by weighted
-//!   least squares on
+//!   or the current set without one of its joint effects at that joint,
+//!   which the form may replace), the torque `B` lacks at the joint,
+//!   regressed by weighted least squares on
 //!
 //! ```text
 //! stribeck_friction   −tanh(φ̇/0.01) T_C − √(2e) ΔT (φ̇/ω_st) e^{−(φ̇/ω_st)²}   (ω_st on a grid)
@@ -250,23 +250,31 @@ impl Search<'_, '_> {
     }
 
     /// The moves: at each joint, each form the residual torque beside the
-    /// base supports, beside the current set (when it has room) and in
-    /// place of each member (sensor offsets aside).
+    /// base supports, beside the current set (when it has room), and at a
+    /// joint in place of a joint effect there (sensor offsets aside; a
+    /// global effect is never replaced: the stand-in rule of step 8 and
+    /// the ambiguity groups judge those).
     fn form_moves(&self) -> Vec<FormMove> {
         let cur = &self.current;
         let mut bases = Vec::new();
         if self.named_len() < self.max_effects {
             bases.push(cur.clone());
         }
+        // `None`: beside the whole set, at any joint; `Some(j)`: in place of
+        // a joint effect at `j`, at `j` only (a form replaces what it
+        // extends at its joint, never a global effect nor a sensor offset).
+        let mut bases: Vec<(FittedSet, Option<usize>)> =
+            bases.into_iter().map(|b| (b, None)).collect();
         for k in 0..cur.set.len() {
-            if cur.set[k].kind != EffectKind::EncoderOffset {
-                bases.push(cur.without(k));
+            let m = cur.set[k];
+            if m.kind != EffectKind::EncoderOffset && m.joint.is_some() {
+                bases.push((cur.without(k), m.joint));
             }
         }
         let mut moves = Vec::new();
-        for base in bases {
+        for (base, only) in bases {
             let res = residual_torque(self.eng.campaign, &base.effects());
-            for jt in &res {
+            for jt in res.iter().filter(|jt| only.is_none_or(|j| j == jt.joint)) {
                 if std::env::var_os("DEPLOYWATCH_TRACE_FORMS").is_some() {
                     eprintln!("  beside {} at joint {}:", labels(&base.set), jt.joint);
                 }
