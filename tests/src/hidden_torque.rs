@@ -9,8 +9,20 @@
 //!   of the stroke (the spring weaker there);
 //! - `hump`: a resisting rate law peaked at a low rate (a breakaway /
 //!   Stribeck-like hump), `c (v/r) e^{1 − v/r}`;
-//! - `quadratic`: a resisting rate law `c (v/R)²`;
-//! - `beside named`: one of the above beside one or two named effects;
+//! - `quadratic`: quadratic damping `−c φ̇|φ̇|`, over both signs of the
+//!   rate, sampled on knots that halve towards rest (so that the table is
+//!   quadratic, not linear, near rest);
+//! - `breakaway`: friction a tribologist expects, static above kinetic and
+//!   falling with rate, in forms that are not the simulator's Stribeck law:
+//!   Coulomb friction at the break-away level `T_s` (a named effect) with a
+//!   table that takes the excess `ΔT` off as the rate grows, by
+//!   `1 − e^{−v/v_s}`, `1 − 1/(1 + (v/v_s)²)` or `1 − e^{−(v/v_s)^δ}`
+//!   (δ 0.6–1.8), half of them with viscous damping in the table too;
+//! - `snag`: one or two narrow resisting snags, each over a twentieth to a
+//!   tenth of the stroke, Gaussian, triangular or flat-topped;
+//! - `beside named`: one of the first four beside one or two named effects;
+//! - `<form> beside named`: a breakaway, a snag or quadratic damping beside
+//!   one or two named effects;
 //! - `two joints`: two of the above at two joints;
 //! - `null`: nothing hidden.
 
@@ -43,18 +55,38 @@ pub enum Form {
     SpringDip,
     /// A resisting rate law peaked at a low rate.
     Hump,
-    /// A resisting rate law quadratic in the rate.
+    /// Quadratic damping `−c φ̇|φ̇|`.
     Quadratic,
+    /// Static friction above kinetic, falling with rate.
+    Breakaway,
+    /// One or two narrow resisting snags.
+    Snag,
 }
 
-/// The forms, in the order the families cycle through them.
+/// The forms the `beside named` and `two joints` families draw from.
 pub const FORMS: [Form; 4] = [Form::Narrow, Form::SpringDip, Form::Hump, Form::Quadratic];
+
+/// The forms of the `alone` families, by index.
+pub const ALONE_FORMS: [Form; 6] = [
+    Form::Narrow,
+    Form::SpringDip,
+    Form::Hump,
+    Form::Quadratic,
+    Form::Breakaway,
+    Form::Snag,
+];
+
+/// The friction forms a tribologist names, each also beside named effects.
+pub const FRICTION_FORMS: [Form; 3] = [Form::Breakaway, Form::Snag, Form::Quadratic];
 
 /// A campaign family.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Family {
-    /// One unnamed torque of one form alone.
+    /// One unnamed torque of one form ([`ALONE_FORMS`]) alone.
     Alone(usize),
+    /// One friction form ([`FRICTION_FORMS`]) beside one or two named
+    /// effects.
+    FrictionBeside(usize),
     /// One unnamed torque beside one or two named effects.
     BesideNamed,
     /// Two unnamed torques at two joints.
@@ -67,7 +99,13 @@ impl Family {
     /// The family in words.
     pub fn name(&self) -> String {
         match self {
-            Family::Alone(k) => format!("{:?} alone", FORMS[*k % FORMS.len()]),
+            Family::Alone(k) => format!("{:?} alone", ALONE_FORMS[*k % ALONE_FORMS.len()]),
+            Family::FrictionBeside(k) => {
+                format!(
+                    "{:?} beside named",
+                    FRICTION_FORMS[*k % FRICTION_FORMS.len()]
+                )
+            }
             Family::BesideNamed => "beside named".into(),
             Family::TwoJoints => "two joints".into(),
             Family::Null => "null".into(),
@@ -163,18 +201,96 @@ fn draw_table(rng: &mut ChaCha8Rng, form: Form, m: &Mechanism, j: usize, amp: f6
             }
         }
         Form::Quadratic => {
-            let big = rng.gen_range(100.0..300.0);
-            let xs: Vec<f64> = if motion > 0.0 {
-                even(0.0, big)
-            } else {
-                even(-big, 0.0)
-            };
-            let rate = table_at(&xs, move |x| -motion * amp * (x / big).powi(2));
+            // Knots halving from 800 deg/s towards rest, both signs.
+            let mut xs: Vec<f64> = (0..9).map(|k| 800.0 / 2f64.powi(k)).collect();
+            xs.extend(xs.clone().iter().map(|v| -v));
+            xs.push(0.0);
+            xs.sort_by(f64::total_cmp);
+            let r = 100.0; // the torque is `amp` at 100 deg/s
+            let rate = table_at(&xs, move |x| -amp * x * x.abs() / (r * r));
             TorqueTable {
                 angle: None,
                 rate: Some(rate),
             }
         }
+        Form::Breakaway => breakaway_table(rng, amp).0,
+        Form::Snag => snag_table(rng, m, j, amp),
+    }
+}
+
+/// The rate table of a break-away (module docs) with excess `amp` [N·m]:
+/// `+sign(v) ΔT (1 − s(|v|/v_s)) − f v`, zero at rest, so that beside
+/// Coulomb friction at the break-away level `T_s` the friction is
+/// `T_s − ΔT (1 − s)`: `T_s` at rest, falling to the kinetic `T_s − ΔT`.
+/// Returns the table, the ratio `T_s / ΔT` (static over excess, 1.6–3:
+/// static 1.5–2.7 times kinetic) and the viscous part `f` [N·m·s/rad].
+fn breakaway_table(rng: &mut ChaCha8Rng, amp: f64) -> (TorqueTable, f64, f64) {
+    let vs = rng.gen_range(2.0..20.0); // deg/s
+    let law = rng.gen_range(0..3);
+    let delta = rng.gen_range(0.6..1.8);
+    let viscous = if rng.gen::<bool>() {
+        amp * rng.gen_range(0.3..1.0) / 100.0 // N·m per deg/s: `amp`·0.3–1 at 100 deg/s
+    } else {
+        0.0
+    };
+    let ratio = rng.gen_range(1.6..3.0);
+    let s = move |x: f64| match law {
+        0 => (-x).exp(),
+        1 => 1.0 / (1.0 + x * x),
+        _ => (-x.powf(delta)).exp(),
+    };
+    let mut xs: Vec<f64> = (0..10).map(|k| vs * 2f64.powi(k - 3)).collect();
+    xs.extend(xs.clone().iter().map(|v| -v));
+    xs.push(0.0);
+    xs.sort_by(f64::total_cmp);
+    let rate = table_at(&xs, move |x| {
+        x.signum() * amp * (1.0 - s(x.abs() / vs)) - viscous * x
+    });
+    (
+        TorqueTable {
+            angle: None,
+            rate: Some(rate),
+        },
+        ratio,
+        viscous.to_degrees(),
+    )
+}
+
+/// One or two narrow resisting snags at 0-based joint `j` of `m`, each over
+/// a twentieth to a tenth of the stroke, of peak `amp` [N·m].
+fn snag_table(rng: &mut ChaCha8Rng, m: &Mechanism, j: usize, amp: f64) -> TorqueTable {
+    let stowed = m.joints[j].stowed_deg;
+    let motion = -stowed.signum();
+    let at = |f: f64| stowed * (1.0 - f);
+    let count = if rng.gen_bool(0.3) { 2 } else { 1 };
+    let mut pts: Vec<(f64, f64)> = Vec::new();
+    let mut taken: Vec<f64> = Vec::new();
+    for _ in 0..count {
+        let mut f = rng.gen_range(0.1..0.9);
+        while taken.iter().any(|t| (t - f).abs() < 0.2) {
+            f = rng.gen_range(0.1..0.9);
+        }
+        taken.push(f);
+        let c = at(f);
+        let half = 0.5 * stowed.abs() * rng.gen_range(0.05..0.1);
+        let shape = rng.gen_range(0..3);
+        let y = move |u: f64| match shape {
+            0 => (-(2.0 * u).powi(2)).exp(),              // Gaussian
+            1 => (1.0 - u.abs()).max(0.0),                // triangular
+            _ => ((1.0 - u.abs()) * 3.0).clamp(0.0, 1.0), // flat-topped
+        };
+        let a = amp * rng.gen_range(0.6..1.0);
+        for i in 0..7 {
+            let u = -1.0 + 2.0 * i as f64 / 6.0;
+            pts.push((c + u * half, -motion * a * y(u)));
+        }
+    }
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let xs: Vec<f64> = pts.iter().map(|p| p.0).collect();
+    let ys: Vec<f64> = pts.iter().map(|p| p.1).collect();
+    TorqueTable {
+        angle: Some(Table::new(&xs, &ys).unwrap()),
+        rate: None,
     }
 }
 
@@ -203,22 +319,66 @@ pub fn effect_size(mechs: &[Mechanism], effects: &[Effect]) -> f64 {
     (sse / n.max(1) as f64).sqrt()
 }
 
+/// How far `b` moves the pair of runs from `a` [deg RMS], noise-free.
+pub fn effect_size_between(mechs: &[Mechanism], a: &[Effect], b: &[Effect]) -> f64 {
+    let opts = SimOptions {
+        stop_when_deployed: false,
+        ..SimOptions::default()
+    };
+    let (mut sse, mut n) = (0.0, 0usize);
+    for m in mechs {
+        let (Ok(x), Ok(y)) = (
+            deployment::simulate(m, a, &opts),
+            deployment::simulate(m, b, &opts),
+        ) else {
+            return 0.0;
+        };
+        for j in 0..m.joint_count() {
+            for (p, q) in x.phi_deg[j].iter().zip(&y.phi_deg[j]) {
+                sse += (p - q).powi(2);
+                n += 1;
+            }
+        }
+    }
+    (sse / n.max(1) as f64).sqrt()
+}
+
 /// One hidden torque of `form` at 1-based joint `j`, its amplitude raised
-/// until it moves the runs by at least 0.3° RMS.
-pub fn hidden_torque(seed: u64, form: Form, mechs: &[Mechanism], j: usize) -> Effect {
+/// until it moves the runs by at least 0.3° RMS. A break-away is two
+/// effects at the joint (Coulomb friction at its static level and the
+/// table that takes the excess off with rate), raised until it moves the
+/// runs by 0.3° from the same friction without its break-away (Coulomb at
+/// the kinetic level, the same viscous part): the fall with rate must
+/// show, not only the friction.
+pub fn hidden_torque(seed: u64, form: Form, mechs: &[Mechanism], j: usize) -> Vec<Effect> {
     let mut amp = if form == Form::SpringDip { 0.05 } else { 0.03 };
     loop {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let table = draw_table(&mut rng, form, &mechs[0], j - 1, amp);
-        let e = Effect {
+        let table = |table| Effect {
             kind: EffectKind::TorqueTable,
             joint: Some(j),
             value: amp,
             table,
             ..Effect::default()
         };
-        if effect_size(mechs, &[e]) >= 0.3 || amp > 2.0 {
-            return e;
+        if form == Form::Breakaway {
+            let (t, ratio, viscous) = breakaway_table(&mut rng, amp);
+            let coulomb = Effect::joint(EffectKind::CoulombFriction, j, ratio * amp);
+            // The same friction without its break-away: Coulomb at the
+            // kinetic level with the same viscous part.
+            let kinetic = [
+                Effect::joint(EffectKind::CoulombFriction, j, (ratio - 1.0) * amp),
+                Effect::joint(EffectKind::ViscousDamping, j, viscous),
+            ];
+            let both = vec![coulomb, table(t)];
+            if effect_size_between(mechs, &kinetic, &both) >= 0.3 || amp > 2.0 {
+                return both;
+            }
+        } else {
+            let e = table(draw_table(&mut rng, form, &mechs[0], j - 1, amp));
+            if effect_size(mechs, &[e]) >= 0.3 || amp > 2.0 {
+                return vec![e];
+            }
         }
         amp *= 1.4;
     }
@@ -308,9 +468,13 @@ pub fn case(family: Family, k: u64) -> Case {
     let j = rng.gen_range(1..=joints);
     let form = FORMS[rng.gen_range(0..FORMS.len())];
     let truth = match family {
-        Family::Alone(f) => vec![hidden_torque(seed, FORMS[f % FORMS.len()], &mechs, j)],
-        Family::BesideNamed => {
-            let mut t = vec![hidden_torque(seed, form, &mechs, j)];
+        Family::Alone(f) => hidden_torque(seed, ALONE_FORMS[f % ALONE_FORMS.len()], &mechs, j),
+        Family::BesideNamed | Family::FrictionBeside(_) => {
+            let form = match family {
+                Family::FrictionBeside(f) => FRICTION_FORMS[f % FRICTION_FORMS.len()],
+                _ => form,
+            };
+            let mut t = hidden_torque(seed, form, &mechs, j);
             for _ in 0..rng.gen_range(1..=2) {
                 let e = named(&mut rng, &mechs, joints);
                 if !t.iter().any(|x| x.kind == e.kind && x.joint == e.joint) {
@@ -322,10 +486,9 @@ pub fn case(family: Family, k: u64) -> Case {
         Family::TwoJoints => {
             let other = 1 + j % joints;
             let form2 = FORMS[rng.gen_range(0..FORMS.len())];
-            vec![
-                hidden_torque(seed, form, &mechs, j),
-                hidden_torque(seed + 1, form2, &mechs, other),
-            ]
+            let mut t = hidden_torque(seed, form, &mechs, j);
+            t.extend(hidden_torque(seed + 1, form2, &mechs, other));
+            t
         }
         Family::Null => Vec::new(),
     };
@@ -334,18 +497,35 @@ pub fn case(family: Family, k: u64) -> Case {
 
 fn family_index(f: Family) -> u64 {
     match f {
-        Family::Alone(k) => k as u64,
+        Family::Alone(k) if k < FORMS.len() => k as u64,
+        Family::Alone(k) => 7 + k as u64,
+        Family::FrictionBeside(k) => 20 + k as u64,
         Family::BesideNamed => 4,
         Family::TwoJoints => 5,
         Family::Null => 6,
     }
 }
 
-/// Every family: the four forms alone, beside named, two joints, null.
+/// Every family: the six forms alone, beside named, the three friction
+/// forms beside named, two joints, null.
 pub fn families() -> Vec<Family> {
-    let mut v: Vec<Family> = (0..FORMS.len()).map(Family::Alone).collect();
-    v.extend([Family::BesideNamed, Family::TwoJoints, Family::Null]);
+    let mut v: Vec<Family> = (0..ALONE_FORMS.len()).map(Family::Alone).collect();
+    v.push(Family::BesideNamed);
+    v.extend((0..FRICTION_FORMS.len()).map(Family::FrictionBeside));
+    v.extend([Family::TwoJoints, Family::Null]);
     v
+}
+
+/// The friction form of a family (alone or beside named), if any: what the
+/// tribology criteria count.
+pub fn friction_form(f: Family) -> Option<Form> {
+    match f {
+        Family::Alone(k) => {
+            Some(ALONE_FORMS[k % ALONE_FORMS.len()]).filter(|x| FRICTION_FORMS.contains(x))
+        }
+        Family::FrictionBeside(k) => Some(FRICTION_FORMS[k % FRICTION_FORMS.len()]),
+        _ => None,
+    }
 }
 
 /// The joints (1-based) that hold a per-joint effect of `effects`.

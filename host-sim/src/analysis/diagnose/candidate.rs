@@ -14,6 +14,12 @@ pub const MAX_VISCOUS_NMS: f64 = 50.0;
 /// at 1 rad/s with this coefficient meets the viscous bound's torque.
 pub const MAX_QUADRATIC_NMS2: f64 = 50.0;
 
+/// The Stribeck velocity's range a diagnosis fits [rad/s]: from 0.3 deg/s
+/// (below it the law is a stiff damper at rest, as steep as Coulomb's
+/// `ω_coul = 0.01 rad/s` regularisation) to 115 deg/s (beyond it the
+/// "break-away" hump is a rate law over the whole deployment).
+pub const STRIBECK_RATE_RANGE: [f64; 2] = [0.005, 2.0];
+
 /// Spring softening range [1]: from a spring twice as stiff (−1) to one at
 /// 1 % of its torque (0.99, not 1: a spring of no torque cannot deploy).
 pub const SOFTENING_RANGE: [f64; 2] = [-1.0, 0.99];
@@ -92,10 +98,11 @@ impl Candidate {
         if let Some(t) = self.table {
             return t.params();
         }
-        if self.kind == EffectKind::RigTilt {
-            2
-        } else {
-            1
+        match self.kind {
+            EffectKind::RigTilt => 2,
+            // T_C, the break-away excess ΔT and the Stribeck velocity ω_st.
+            EffectKind::StribeckFriction => 3,
+            _ => 1,
         }
     }
 
@@ -110,9 +117,13 @@ impl Candidate {
             EffectKind::CoulombFriction => vec![b(0.0, MAX_COULOMB_NM, 1e-4)],
             EffectKind::ViscousDamping => vec![b(0.0, MAX_VISCOUS_NMS, 1e-4)],
             EffectKind::QuadraticDamping => vec![b(0.0, MAX_QUADRATIC_NMS2, 1e-4)],
-            // Not a candidate (not in `EffectKind::ALL`); its value's bounds
-            // for completeness.
-            EffectKind::StribeckFriction => vec![b(0.0, MAX_COULOMB_NM, 1e-4)],
+            // T_C [N·m], ΔT [N·m], ω_st [rad/s]: entered by the friction-form
+            // step ([`super::friction_forms`]), not the stepwise rounds.
+            EffectKind::StribeckFriction => vec![
+                b(0.0, MAX_COULOMB_NM, 1e-4),
+                b(0.0, MAX_COULOMB_NM, 1e-4),
+                b(STRIBECK_RATE_RANGE[0], STRIBECK_RATE_RANGE[1], 1e-5),
+            ],
             EffectKind::SpringSoftening => {
                 vec![b(SOFTENING_RANGE[0], SOFTENING_RANGE[1], 1e-5)]
             }
@@ -144,7 +155,17 @@ impl Candidate {
             EffectKind::CoulombFriction => one(&[0.03, 0.1, 0.3, 1.0, 3.0]),
             EffectKind::ViscousDamping => one(&[0.03, 0.1, 0.3, 1.0, 3.0]),
             EffectKind::QuadraticDamping => one(&[0.03, 0.1, 0.3, 1.0, 3.0]),
-            EffectKind::StribeckFriction => one(&[0.1, 0.3, 1.0]),
+            EffectKind::StribeckFriction => {
+                let mut v = Vec::new();
+                for tc in [0.05, 0.3] {
+                    for dt in [0.1, 0.4] {
+                        for w in [0.03, 0.2] {
+                            v.push(vec![tc, dt, w]);
+                        }
+                    }
+                }
+                v
+            }
             EffectKind::SpringSoftening => one(&[-0.2, 0.05, 0.2, 0.45]),
             EffectKind::HarnessStiffness => one(&[0.03, 0.1, 0.3, 1.0]),
             EffectKind::LatchDetent => one(&[0.3, 1.0, 3.0]),
@@ -162,12 +183,29 @@ impl Candidate {
             EffectKind::EncoderOffset => one(&[0.0]),
             // A constant torque of either sign and a few sizes: the scan
             // ranks the joints and forms, the fit shapes the table.
+            // A narrow table ([`super::discover::snag_candidates`]): its
+            // middle knot raised, either sign, the others at zero.
+            EffectKind::TorqueTable if self.is_snag() => [-0.3, -0.08, 0.08, 0.3]
+                .iter()
+                .map(|&v| {
+                    let mut p = vec![0.0; self.params()];
+                    p[2] = v;
+                    p
+                })
+                .collect(),
             EffectKind::TorqueTable => [-0.3, -0.05, 0.0, 0.05, 0.3]
                 .iter()
                 .map(|&v| vec![v; self.params()])
                 .collect(),
             EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => one(&[0.3]),
         }
+    }
+
+    /// A narrow placed angle table of five knots without a rate table (the
+    /// form of [`super::discover::snag_candidates`]).
+    pub(super) fn is_snag(&self) -> bool {
+        self.table
+            .is_some_and(|t| t.placed.is_some() && t.angle_knots == 5 && t.rate_knots == 0)
     }
 
     /// The effect with parameters `p`.
@@ -183,6 +221,16 @@ impl Candidate {
                 joint: None,
                 value: x.hypot(y),
                 alpha_deg: y.atan2(x).to_degrees().rem_euclid(360.0),
+                ..Effect::default()
+            };
+        }
+        if self.kind == EffectKind::StribeckFriction {
+            return Effect {
+                kind: self.kind,
+                joint: self.joint,
+                value: x,
+                excess_nm: p.get(1).copied().unwrap_or(0.0),
+                stribeck_rad_s: p.get(2).copied().unwrap_or(STRIBECK_RATE_RANGE[1]),
                 ..Effect::default()
             };
         }

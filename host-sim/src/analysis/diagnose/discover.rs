@@ -14,10 +14,10 @@
 //! (BIC gain, an interval clear of zero, the held-out RMS of the set).
 
 use super::candidate::Candidate;
-use super::table_form::TableForm;
+use super::table_form::{PlacedKnots, TableForm};
 use crate::data::campaign::Campaign;
 use crate::model::effect::EffectKind;
-use crate::model::torque_table::HostTorqueTable;
+use crate::model::torque_table::{HostTorqueTable, HOST_TABLE_MAX_KNOTS};
 
 /// The farthest angle from the latch [deg] and the largest rate with the
 /// sign of the motion [deg/s] that the runs reach at 0-based joint `j`
@@ -44,7 +44,8 @@ fn spans(campaign: &Campaign, j: usize) -> (f64, f64) {
 }
 
 /// Every table candidate of a campaign: at each joint that moves, an angle
-/// table, a rate table and both.
+/// table, a rate table and both, and the narrow tables of
+/// [`snag_candidates`].
 pub fn table_candidates(campaign: &Campaign) -> Vec<Candidate> {
     let mut out = Vec::new();
     for j in 0..campaign.max_joints() {
@@ -71,6 +72,56 @@ pub fn table_candidates(campaign: &Campaign) -> Vec<Candidate> {
                     rate_knots: r,
                     rate_max_deg_s,
                     placed: None,
+                }),
+            });
+        }
+    }
+    out.extend(snag_candidates(campaign));
+    out
+}
+
+/// Centres of the narrow tables [`snag_candidates`] tries over a stroke.
+pub const SNAG_CENTRES: usize = 14;
+
+/// Narrow angle tables at each joint that moves: knots at the stroke's
+/// ends and a triangle of half-width a fifteenth of the stroke at each of
+/// [`SNAG_CENTRES`] centres spread evenly over it (five knots, all
+/// fitted). A snag over a twentieth to a tenth of the stroke is crossed in
+/// a few samples, too fast for the residual torque's smoother and too
+/// narrow for the even five-knot table, whose knots are a quarter of the
+/// stroke apart; the triangle's peak starts the fit there (its scan,
+/// [`Candidate::scan`]) and the refinement doubles its knots.
+pub fn snag_candidates(campaign: &Campaign) -> Vec<Candidate> {
+    let mut out = Vec::new();
+    for j in 0..campaign.max_joints() {
+        let (from, rate) = spans(campaign, j);
+        if from.abs() < 10.0 || rate.abs() < 1.0 {
+            continue;
+        }
+        let (lo, hi) = (from.min(0.0), from.max(0.0));
+        let w = (hi - lo) / 15.0;
+        for k in 0..SNAG_CENTRES {
+            let c = lo + (hi - lo) * (k as f64 + 1.0) / (SNAG_CENTRES as f64 + 1.0);
+            let xs = [lo, (c - w).max(lo + 0.5), c, (c + w).min(hi - 0.5), hi];
+            let mut angle_cdeg = [0; HOST_TABLE_MAX_KNOTS];
+            for (d, x) in angle_cdeg.iter_mut().zip(xs) {
+                *d = (x * 100.0).round() as i32;
+            }
+            if angle_cdeg.windows(2).take(4).any(|p| p[1] <= p[0]) {
+                continue;
+            }
+            out.push(Candidate {
+                kind: EffectKind::TorqueTable,
+                joint: Some(j + 1),
+                table: Some(TableForm {
+                    angle_knots: 5,
+                    from_deg: from.round() as i32,
+                    rate_knots: 0,
+                    rate_max_deg_s: rate.round() as i32,
+                    placed: Some(PlacedKnots {
+                        angle_cdeg,
+                        rate_cdeg_s: [0; HOST_TABLE_MAX_KNOTS],
+                    }),
                 }),
             });
         }

@@ -31,6 +31,7 @@ mod candidate;
 pub mod discover;
 pub mod evidence;
 mod evidence_search;
+mod friction_forms;
 mod halt;
 pub mod latch_finding;
 pub mod latch_window;

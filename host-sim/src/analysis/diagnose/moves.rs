@@ -244,6 +244,9 @@ impl Search<'_, '_> {
             Move::NamedForTable => Some((self.named_for_tables(), String::new())),
             Move::Refine => self.propose_refine(),
             Move::StandIn => self.propose_stand_in(),
+            // Made by `Search::try_friction_forms` (its own screen from the
+            // residual torque's starts, then the simpler-law exchange).
+            Move::FrictionForms => None,
         }
     }
 
@@ -251,7 +254,7 @@ impl Search<'_, '_> {
     /// then (unless the move keeps its set as found) drops what no longer
     /// earns its keep. A move whose policy asks no held-out RMS gets it
     /// computed here.
-    fn take(&mut self, mv: Move, f: FittedSet, held: Option<f64>) {
+    pub(super) fn take(&mut self, mv: Move, f: FittedSet, held: Option<f64>) {
         self.eng.say(format!(
             "  {} {} (RMS {:.4} deg)",
             mv.done(),
@@ -303,7 +306,7 @@ impl Search<'_, '_> {
                     break;
                 }
             }
-            if !moved {
+            if !moved && !self.try_friction_forms() {
                 return;
             }
         }
@@ -311,7 +314,7 @@ impl Search<'_, '_> {
 
     /// Named effects in the current set (discovered tables do not count
     /// against `max_effects`).
-    fn named_len(&self) -> usize {
+    pub(super) fn named_len(&self) -> usize {
         self.current
             .members
             .iter()

@@ -235,6 +235,11 @@ pub enum Move {
     Refine,
     /// A table in place of a global stand-in ([`super::stand_in`]).
     StandIn,
+    /// A Stribeck law or quadratic damping where the residual torque has
+    /// its rate shape, once the stepwise moves stall above the noise
+    /// ([`super::friction_forms`]; its own screen, and the simpler law
+    /// kept when as good).
+    FrictionForms,
 }
 
 /// The stepwise moves in the order tried: the first that moves ends the
@@ -346,6 +351,7 @@ impl Move {
             Move::NamedForTable => "a named effect explains it as well:",
             Move::Refine => "refined:",
             Move::StandIn => "a table in place of a global stand-in:",
+            Move::FrictionForms => "a friction form:",
         }
     }
 }

@@ -24,6 +24,10 @@ enum Starts {
     AlsoShared,
 }
 
+/// How many narrow tables ([`Candidate::is_snag`]) of a round, best by
+/// their scan, are fitted fully beside the [`SCREEN_KEEP`] best others.
+const SNAG_KEEP: usize = 2;
+
 impl Engine<'_> {
     /// Screens `base ∪ {cand}`: scans the candidate's value with the base's
     /// parameters held; the best point by SSE.
@@ -118,7 +122,17 @@ impl Engine<'_> {
                 .map_or(f64::INFINITY, |&i| sse_of(&screened[i].0)),
             None => f64::INFINITY,
         };
-        let keep: Vec<usize> = order.iter().copied().take(SCREEN_KEEP).collect();
+        // Narrow tables (snags) have their own few places: their raised
+        // start fits the scan better than the even tables' constant one,
+        // and would otherwise crowd out the forms the fit needs.
+        let (snags, others): (Vec<usize>, Vec<usize>) =
+            order.iter().partition(|&&i| moves[i].1.is_snag());
+        let keep: Vec<usize> = others
+            .iter()
+            .copied()
+            .take(SCREEN_KEEP)
+            .chain(snags.iter().copied().take(SNAG_KEEP))
+            .collect();
         let mut starts: Vec<(usize, &FittedSet)> = keep
             .iter()
             .filter_map(|&i| Some((i, screened[i].0.as_ref()?)))

@@ -1,0 +1,492 @@
+//! The friction forms a tribologist names — `stribeck_friction` (a
+//! break-away above the kinetic level, falling with rate) and
+//! `quadratic_damping` (`−c φ̇|φ̇|`), `docs/spec/physics.md` section 6 —
+//! entered where the data's evidence says so.
+//!
+//! They are not stepwise candidates: a Stribeck law holds Coulomb friction
+//! (`ΔT = 0`), quadratic damping acts like air drag at one joint and like
+//! viscous damping over a narrow range of rates, so offered in every round
+//! they take the evidence a simpler named effect explains. They are tried
+//! once, when the stepwise search stalls with the residual above the noise
+//! floor (the simpler vocabulary does not explain the runs), and only where
+//! the data point to them:
+//! - a Stribeck law in place of a Coulomb friction the set holds (the
+//!   search found friction there; the break-away acts at release, in the
+//!   samples the residual torque leaves out, so the angles decide);
+//! - either form at a joint whose residual torque from the data has its
+//!   rate shape ([`evidence_starts`]): beside a set `B` (the current set,
+//!   or the current set without one of its joint effects at that joint,
+//!   which the form may replace), the torque `B` lacks at the joint,
+//!   regressed by weighted least squares on
+//!
+//! ```text
+//! stribeck_friction   −tanh(φ̇/0.01) T_C − √(2e) ΔT (φ̇/ω_st) e^{−(φ̇/ω_st)²}   (ω_st on a grid)
+//! quadratic_damping   −φ̇|φ̇| c           (alone, or beside −φ̇ f)
+//! ```
+//!
+//! must beat the simpler law of the same family — Coulomb alone for the
+//! break-away, viscous alone for the quadratic — by ΔBIC >
+//! [`MIN_DELTA_BIC`]. The regression's values start the fit through the
+//! simulator (with the candidate's own scan), and the move is judged like
+//! any other (ΔBIC, intervals clear of zero — a Stribeck law's excess too —
+//! and the held-out RMS). A form taken is then exchanged for the simpler
+//! effect (Coulomb for Stribeck; viscous or air drag for quadratic), which
+//! is kept instead when its BIC is within [`MIN_DELTA_BIC`] of the form's:
+//! the simpler named effect wins when it explains the runs as well.
+
+use super::candidate::{Candidate, STRIBECK_RATE_RANGE};
+use super::outcome::FittedSet;
+use super::policy::Move;
+use super::{labels, Search, MIN_DELTA_BIC, SCREEN_KEEP};
+use crate::analysis::residual_shape::{bic, thin};
+use crate::analysis::residual_torque::{residual_torque, TorqueSample};
+use crate::model::effect::EffectKind;
+use rayon::prelude::*;
+
+/// The forms this step enters.
+pub const FORMS: [EffectKind; 2] = [EffectKind::StribeckFriction, EffectKind::QuadraticDamping];
+
+/// `ω_coul` of Coulomb friction [rad/s] (`physics.md` section 4).
+const OMEGA_COUL_RAD_S: f64 = 0.01;
+
+/// Stribeck velocities the residual-torque regression tries [rad/s]
+/// (0.6 to 57 deg/s).
+const OMEGA_GRID: [f64; 8] = [0.01, 0.02, 0.04, 0.07, 0.12, 0.2, 0.4, 1.0];
+
+/// The Stribeck term's torque per N·m of excess at `rate` [rad/s] for
+/// `ω_st` [rad/s]: `−√(2e) (ω/ω_st) e^{−(ω/ω_st)²}` (peak 1 at `ω_st/√2`).
+fn hump(rate: f64, w: f64) -> f64 {
+    let x = rate / w;
+    -(2.0 * std::f64::consts::E).sqrt() * x * (-(x * x)).exp()
+}
+
+/// The rate signatures [N·m per unit of value] at a sample.
+fn coulomb(s: &TorqueSample) -> f64 {
+    -(s.rate_deg_s.to_radians() / OMEGA_COUL_RAD_S).tanh()
+}
+fn viscous(s: &TorqueSample) -> f64 {
+    -s.rate_deg_s.to_radians()
+}
+fn quadratic(s: &TorqueSample) -> f64 {
+    let w = s.rate_deg_s.to_radians();
+    -w * w.abs()
+}
+
+/// Weighted least squares of the samples' torque on one or two columns:
+/// the values and the weighted RSS; `None` when singular or a value is not
+/// positive (every law here resists).
+fn lsq(
+    samples: &[TorqueSample],
+    cols: &[&dyn Fn(&TorqueSample) -> f64],
+) -> Option<(Vec<f64>, f64)> {
+    let k = cols.len();
+    let (mut a, mut b) = ([[0.0; 2]; 2], [0.0; 2]);
+    for s in samples {
+        let w = 1.0 / s.se_nm.max(1e-9).powi(2);
+        let x: Vec<f64> = cols.iter().map(|c| c(s)).collect();
+        for i in 0..k {
+            b[i] += w * x[i] * s.torque_nm;
+            for j in 0..k {
+                a[i][j] += w * x[i] * x[j];
+            }
+        }
+    }
+    let v = match k {
+        1 if a[0][0] > 0.0 => vec![b[0] / a[0][0]],
+        2 => {
+            let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+            if det.abs() <= 1e-12 * a[0][0] * a[1][1] {
+                return None;
+            }
+            vec![
+                (b[0] * a[1][1] - b[1] * a[0][1]) / det,
+                (b[1] * a[0][0] - b[0] * a[1][0]) / det,
+            ]
+        }
+        _ => return None,
+    };
+    if v.iter().any(|x| !(*x > 0.0)) {
+        return None;
+    }
+    let rss = samples
+        .iter()
+        .map(|s| {
+            let m: f64 = cols.iter().zip(&v).map(|(c, x)| x * c(s)).sum();
+            ((s.torque_nm - m) / s.se_nm.max(1e-9)).powi(2)
+        })
+        .sum();
+    Some((v, rss))
+}
+
+/// The BIC of a regression on `cols`, `+∞` when it fails.
+fn bic_of(samples: &[TorqueSample], cols: &[&dyn Fn(&TorqueSample) -> f64]) -> f64 {
+    lsq(samples, cols).map_or(f64::INFINITY, |(_, rss)| bic(samples, rss, cols.len()))
+}
+
+/// The forms whose rate shape the residual torque at one joint has, each
+/// with its start values from the regression (module docs): a Stribeck
+/// law `[T_C, ΔT, ω_st]` when `coulomb_free` (the base holds no Coulomb
+/// friction at that joint, which the law would double), and quadratic
+/// damping `[c]`.
+pub fn evidence_starts(
+    samples: &[TorqueSample],
+    coulomb_free: bool,
+) -> Vec<(EffectKind, Vec<f64>)> {
+    let s = thin(samples);
+    if s.len() < 8 {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    let simple = bic_of(&s, &[&coulomb]).min(bic_of(&s, &[&viscous]));
+    if coulomb_free {
+        let best = OMEGA_GRID
+            .iter()
+            .filter_map(|&w| {
+                let h = move |x: &TorqueSample| hump(x.rate_deg_s.to_radians(), w);
+                let (v, rss) = lsq(&s, &[&coulomb, &h])?;
+                Some((bic(&s, rss, 3), v, w))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((b, v, w)) = best {
+            if b + MIN_DELTA_BIC < bic_of(&s, &[&coulomb]) {
+                let w = w.clamp(STRIBECK_RATE_RANGE[0], STRIBECK_RATE_RANGE[1]);
+                out.push((EffectKind::StribeckFriction, vec![v[0], v[1], w]));
+            }
+        }
+    }
+    let q = lsq(&s, &[&quadratic]).map(|(v, rss)| (bic(&s, rss, 1), v[0]));
+    let vq = lsq(&s, &[&viscous, &quadratic]).map(|(v, rss)| (bic(&s, rss, 2), v[1]));
+    let best_q = [q, vq]
+        .into_iter()
+        .flatten()
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    if let Some((b, c)) = best_q {
+        if b + MIN_DELTA_BIC < bic_of(&s, &[&viscous]) && b < simple {
+            out.push((EffectKind::QuadraticDamping, vec![c]));
+        }
+    }
+    if std::env::var_os("DEPLOYWATCH_TRACE_FORMS").is_some() {
+        let st = OMEGA_GRID
+            .iter()
+            .filter_map(|&w| {
+                let h = move |x: &TorqueSample| hump(x.rate_deg_s.to_radians(), w);
+                let (v, rss) = lsq(&s, &[&coulomb, &h])?;
+                Some(format!(
+                    "{w}:{:.0}({:.3},{:.3})",
+                    bic(&s, rss, 3),
+                    v[0],
+                    v[1]
+                ))
+            })
+            .collect::<Vec<_>>()
+            .join(" ");
+        eprintln!(
+            "    forms evidence: n {} coulomb {:.0} viscous {:.0} quad {:?} visc+quad {:?} stribeck [{st}] -> {:?}",
+            s.len(),
+            bic_of(&s, &[&coulomb]),
+            bic_of(&s, &[&viscous]),
+            q,
+            vq,
+            out
+        );
+    }
+    out
+}
+
+/// One move of this step: a base set, the form's candidate, its start.
+type FormMove = (FittedSet, Candidate, Vec<f64>);
+
+impl Search<'_, '_> {
+    /// Whether the campaign's candidates allow the forms (the simpler
+    /// laws they extend are candidates; not on a truss wing, whose
+    /// simulator models neither).
+    fn forms_allowed(&self) -> bool {
+        let truss = self
+            .eng
+            .campaign
+            .runs
+            .iter()
+            .any(|r| r.mechanism.truss.is_some());
+        let has = |k| self.candidates.iter().any(|c| c.kind == k);
+        !truss && has(EffectKind::CoulombFriction) && has(EffectKind::ViscousDamping)
+    }
+
+    /// When the stepwise search stalls above the noise floor: the friction
+    /// forms at the joints whose residual torque has their shape, beside
+    /// the current set or in place of one of its members (module docs).
+    /// Tried once; true when a form was taken.
+    pub(super) fn try_friction_forms(&mut self) -> bool {
+        if !self.forms_allowed()
+            || self.current.rms() <= self.floor()
+            || !self.first_time(Move::FrictionForms)
+        {
+            return false;
+        }
+        self.eng
+            .say("friction forms: the residual torque's rate shape at each joint");
+        let moves = self.form_moves();
+        if moves.is_empty() {
+            return false;
+        }
+        self.eng.say(format!(
+            "friction forms: the residual torque has a break-away or quadratic shape; fitting {} moves beside {}",
+            moves.len(),
+            labels(&self.current.candidates())
+        ));
+        let fits = self.fit_form_moves(&moves);
+        let what = format!("a friction form in {}", labels(&self.current.candidates()));
+        let mv = Move::FrictionForms;
+        let round = mv.record().map(|r| (what, r));
+        let Some((f, held)) = self.judge(fits, &mv.policy(), round) else {
+            return false;
+        };
+        let (f, held) = self.simpler_than(f, held);
+        if self.seen.contains(&f.candidates()) {
+            return false;
+        }
+        self.take(mv, f, held);
+        true
+    }
+
+    /// The moves: at each joint, each form the residual torque beside the
+    /// base supports, beside the current set (when it has room), and at a
+    /// joint in place of a joint effect there (sensor offsets aside; a
+    /// global effect is never replaced: the stand-in rule of step 8 and
+    /// the ambiguity groups judge those).
+    fn form_moves(&self) -> Vec<FormMove> {
+        let cur = &self.current;
+        let mut bases = Vec::new();
+        if self.named_len() < self.max_effects {
+            bases.push(cur.clone());
+        }
+        // `None`: beside the whole set, at any joint; `Some(j)`: in place of
+        // a joint effect at `j`, at `j` only (a form replaces what it
+        // extends at its joint, never a global effect nor a sensor offset).
+        let mut bases: Vec<(FittedSet, Option<usize>)> =
+            bases.into_iter().map(|b| (b, None)).collect();
+        for (k, m) in cur.members.iter().enumerate() {
+            let m = m.candidate;
+            if m.kind != EffectKind::EncoderOffset && m.joint.is_some() {
+                bases.push((cur.without(k), m.joint));
+            }
+        }
+        let mut moves = Vec::new();
+        for (base, only) in bases {
+            let res = residual_torque(self.eng.campaign, &base.effects());
+            for jt in res.iter().filter(|jt| only.is_none_or(|j| j == jt.joint)) {
+                if std::env::var_os("DEPLOYWATCH_TRACE_FORMS").is_some() {
+                    eprintln!(
+                        "  beside {} at joint {}:",
+                        labels(&base.candidates()),
+                        jt.joint
+                    );
+                }
+                let at = |k| Candidate {
+                    kind: k,
+                    joint: Some(jt.joint),
+                    table: None,
+                };
+                let free = !base.contains(&at(EffectKind::CoulombFriction));
+                let mut starts = evidence_starts(&jt.samples, free);
+                // In place of the Coulomb friction the set holds here.
+                if let Some(tc) = swapped_coulomb(cur, &base, jt.joint) {
+                    if !starts.iter().any(|s| s.0 == EffectKind::StribeckFriction) {
+                        starts.push((EffectKind::StribeckFriction, vec![tc, 0.5 * tc, 0.05]));
+                    }
+                }
+                for (kind, start) in starts {
+                    if !base.contains(&at(kind)) {
+                        moves.push((base.clone(), at(kind), start));
+                    }
+                }
+            }
+        }
+        moves
+    }
+
+    /// Screens the moves (the evidence's start and the candidate's scan,
+    /// the base's values held) and fits the [`SCREEN_KEEP`] best through
+    /// the simulator; a Stribeck law whose excess's interval holds zero is
+    /// Coulomb friction and is screened out.
+    fn fit_form_moves(&self, moves: &[FormMove]) -> Vec<(Candidate, Option<FittedSet>, bool)> {
+        let c = self.eng.campaign;
+        let screened: Vec<Option<FittedSet>> = moves
+            .par_iter()
+            .map(|(base, cand, start)| {
+                let pts = std::iter::once(start.clone())
+                    .chain(cand.scan())
+                    .map(|s| base.params().into_iter().chain(s).collect());
+                self.eng.best_point(c, base, *cand, pts)
+            })
+            .collect();
+        let sse = |f: &Option<FittedSet>| f.as_ref().map_or(f64::INFINITY, FittedSet::sse);
+        let mut order: Vec<usize> = (0..moves.len()).collect();
+        order.sort_by(|&a, &b| sse(&screened[a]).total_cmp(&sse(&screened[b])));
+        let keep: Vec<usize> = order.into_iter().take(SCREEN_KEEP).collect();
+        let fitted: Vec<(usize, Option<FittedSet>)> = keep
+            .par_iter()
+            .filter_map(|&i| screened[i].as_ref().map(|s| (i, s)))
+            .map(|(i, s)| (i, self.eng.fit(c, &s.candidates(), &s.params())))
+            .collect();
+        let mut out: Vec<(Candidate, Option<FittedSet>, bool)> = moves
+            .iter()
+            .zip(screened)
+            .map(|((_, cand, _), s)| (*cand, s, true))
+            .collect();
+        for (i, f) in fitted {
+            if let Some(f) = f.filter(excess_clear) {
+                out[i] = (moves[i].1, Some(f), false);
+            }
+        }
+        out
+    }
+
+    /// The simpler named effect in place of each form of `f` (Coulomb for
+    /// Stribeck; viscous damping or air drag for quadratic damping), kept
+    /// instead when its BIC is within [`MIN_DELTA_BIC`] of `f`'s.
+    fn simpler_than(&self, mut f: FittedSet, mut held: Option<f64>) -> (FittedSet, Option<f64>) {
+        let c = self.eng.campaign;
+        for k in (0..f.members.len()).rev() {
+            let form = f.members[k].candidate;
+            let Some(j) = form.joint.filter(|_| FORMS.contains(&form.kind)) else {
+                continue;
+            };
+            let simple: Vec<Candidate> = match form.kind {
+                EffectKind::StribeckFriction => vec![named(EffectKind::CoulombFriction, Some(j))],
+                _ => vec![
+                    named(EffectKind::ViscousDamping, Some(j)),
+                    named(EffectKind::AirDrag, None),
+                ],
+            };
+            let base = f.without(k);
+            let options: Vec<FittedSet> = simple
+                .par_iter()
+                .filter(|s| !base.contains(s) && self.candidates.contains(s))
+                .filter_map(|s| {
+                    let pts = s
+                        .scan()
+                        .into_iter()
+                        .map(|p| base.params().into_iter().chain(p).collect());
+                    let p = self.eng.best_point(c, &base, *s, pts)?;
+                    self.eng.fit(c, &p.candidates(), &p.params())
+                })
+                .collect();
+            let best = options
+                .into_iter()
+                .filter(|s| s.bic() < f.bic() + MIN_DELTA_BIC)
+                .min_by(|a, b| a.bic().total_cmp(&b.bic()));
+            if let Some(s) = best {
+                self.eng.say(format!(
+                    "  {} explains the runs as well as {} (BIC within {MIN_DELTA_BIC}): the simpler is kept",
+                    labels(&s.candidates()),
+                    form.words()
+                ));
+                held = self.eng.held_out(&s);
+                f = s;
+            }
+        }
+        (f, held)
+    }
+}
+
+/// The value of the Coulomb friction at `joint` that `cur` holds and
+/// `base` (`cur` without one member) does not: the member a Stribeck law
+/// may replace.
+fn swapped_coulomb(cur: &FittedSet, base: &FittedSet, joint: usize) -> Option<f64> {
+    let c = named(EffectKind::CoulombFriction, Some(joint));
+    if base.contains(&c) {
+        return None;
+    }
+    cur.members
+        .iter()
+        .find(|m| m.candidate == c)
+        .and_then(|m| m.params.first().copied())
+}
+
+/// A named candidate.
+fn named(kind: EffectKind, joint: Option<usize>) -> Candidate {
+    Candidate {
+        kind,
+        joint,
+        table: None,
+    }
+}
+
+/// False when a Stribeck law of `f` has an excess whose 95 % interval holds
+/// zero (then it is Coulomb friction with two idle parameters).
+fn excess_clear(f: &FittedSet) -> bool {
+    f.members
+        .iter()
+        .filter(|m| m.candidate.kind == EffectKind::StribeckFriction)
+        .all(|m| {
+            m.ci95
+                .as_ref()
+                .and_then(|ci| ci.get(1))
+                .is_some_and(|ci| ci[0] > 0.0)
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample(rate_deg_s: f64, torque_nm: f64) -> TorqueSample {
+        TorqueSample {
+            run: 0,
+            index: 0,
+            t_s: 0.0,
+            phi_deg: 0.0,
+            rate_deg_s,
+            torque_nm,
+            se_nm: 0.01,
+            spring_nm: 0.0,
+            from_stowed_rad: 0.0,
+            window: 1,
+        }
+    }
+
+    fn samples(law: impl Fn(f64) -> f64) -> Vec<TorqueSample> {
+        // Rates from 0.2 to 200 deg/s, as a deployment sweeps them.
+        (0..300)
+            .map(|i| {
+                let r = 0.2 * 1.0235f64.powi(i);
+                let noise = 0.004 * ((i * 7919 % 13) as f64 / 6.0 - 1.0);
+                sample(r, law(r.to_radians()) + noise)
+            })
+            .collect()
+    }
+
+    fn kinds(v: &[(EffectKind, Vec<f64>)]) -> Vec<EffectKind> {
+        v.iter().map(|x| x.0).collect()
+    }
+
+    #[test]
+    fn a_torque_falling_from_a_static_peak_is_a_stribeck_law() {
+        // Kinetic 0.2 N·m, a break-away 0.3 N·m above it decaying
+        // exponentially (not the simulator's law) over 0.05 rad/s.
+        let s = samples(|w| {
+            -(0.2 * (w / 0.01).tanh() + 0.3 * (1.0 - (-w / 0.02).exp()) * (-w / 0.05).exp())
+        });
+        let e = evidence_starts(&s, true);
+        assert_eq!(kinds(&e), vec![EffectKind::StribeckFriction], "{e:?}");
+        let p = &e[0].1;
+        assert!(p[0] > 0.1 && p[0] < 0.3 && p[1] > 0.1, "{p:?}");
+        // Beside a Coulomb friction already at the joint it is not offered.
+        assert!(evidence_starts(&s, false).is_empty());
+    }
+
+    #[test]
+    fn a_torque_growing_as_the_square_of_the_rate_is_quadratic() {
+        let s = samples(|w| -0.1 * w * w.abs());
+        assert_eq!(
+            kinds(&evidence_starts(&s, true)),
+            vec![EffectKind::QuadraticDamping]
+        );
+    }
+
+    #[test]
+    fn coulomb_and_viscous_torques_offer_no_form() {
+        assert!(evidence_starts(&samples(|w| -0.3 * (w / 0.01).tanh()), true).is_empty());
+        assert!(evidence_starts(&samples(|w| -0.2 * w), true).is_empty());
+    }
+}
