@@ -19,18 +19,16 @@
 //!   work; the files are still written and the command exits quietly.
 
 pub mod diagnose;
-pub mod diagnose_latch;
-pub mod diagnose_torque;
 pub mod hil;
 pub mod identify;
 pub mod margin;
-pub mod margin_from;
 pub mod reliability;
 pub mod replay;
 pub mod simulate;
 pub mod simulate_args;
 pub mod simulate_rig;
 pub mod simulate_truss;
+pub mod spinner;
 
 use crate::report::progress::{self, Progress};
 use clap::{Parser, Subcommand};
