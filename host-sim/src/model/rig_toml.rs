@@ -59,14 +59,7 @@ pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, panels: &[Panel<f64>]) -> Res<Rig> {
     let num = |key: &str, bound: Bound, unit: &str, default: f64| -> Res<f64> {
         Ok(cx.opt_number(&t, key, bound, unit)?.unwrap_or(default))
     };
-    let enabled = match t.get("enabled") {
-        None => true,
-        Some(Sp {
-            node: Node::Bool(b),
-            ..
-        }) => *b,
-        Some(s) => return Err(cx.wrong_type(s, &t.key("enabled"), "true or false")),
-    };
+    let enabled = cx.opt_bool(&t, "enabled", true)?;
     let bars = tables(cx, &t, "bar")?
         .iter()
         .enumerate()

@@ -406,6 +406,18 @@ impl Cx<'_> {
             .transpose()
     }
 
+    /// `key` of `t` as `true` or `false`; `default` when absent.
+    pub(crate) fn opt_bool(&self, t: &Table<'_>, key: &str, default: bool) -> Res<bool> {
+        match t.get(key) {
+            None => Ok(default),
+            Some(Sp {
+                node: Node::Bool(b),
+                ..
+            }) => Ok(*b),
+            Some(s) => Err(self.wrong_type(s, &t.key(key), "true or false")),
+        }
+    }
+
     pub(crate) fn string<'s>(&self, sp: &'s Sp, key: &str) -> Res<&'s str> {
         match &sp.node {
             Node::Str(s) => Ok(s),

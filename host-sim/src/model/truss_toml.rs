@@ -112,14 +112,7 @@ fn point(cx: &Cx<'_>, sp: &Sp, key: &str) -> Res<TrussPoint> {
             }
         },
     };
-    let knee = match t.get("knee") {
-        None => false,
-        Some(Sp {
-            node: Node::Bool(b),
-            ..
-        }) => *b,
-        Some(k) => return Err(cx.wrong_type(k, &t.key("knee"), "true or false")),
-    };
+    let knee = cx.opt_bool(&t, "knee", false)?;
     let reference_link = match t.get("reference_link") {
         None => None,
         Some(_) => Some(name(cx, &t, "reference_link")?.to_string()),

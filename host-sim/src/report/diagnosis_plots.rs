@@ -157,11 +157,5 @@ pub fn report_run_plots(
 
 /// A line series.
 fn line<'a>(label: &str, x: &'a [f64], y: &'a [f64], color: usize) -> Series<'a> {
-    Series {
-        label: label.into(),
-        x,
-        y,
-        mark: Mark::Line,
-        color,
-    }
+    Series::new(label, x, y, Mark::Line, color)
 }

@@ -118,27 +118,9 @@ fn torque_panels<'a>(
                 title: format!("joint {}: residual torque vs {what}", t.joint),
                 y_label: "torque [N·m]".into(),
                 series: vec![
-                    Series {
-                        label: "samples".into(),
-                        x: &d.0,
-                        y: &d.1,
-                        mark: Mark::Dots,
-                        color: 5,
-                    },
-                    Series {
-                        label: "±2 se of the bin mean".into(),
-                        x: &b[1].0,
-                        y: &b[1].1,
-                        mark: Mark::Band,
-                        color: 6,
-                    },
-                    Series {
-                        label: "bin mean".into(),
-                        x: &b[0].0,
-                        y: &b[0].1,
-                        mark: Mark::Line,
-                        color: 0,
-                    },
+                    Series::new("samples", &d.0, &d.1, Mark::Dots, 5),
+                    Series::new("±2 se of the bin mean", &b[1].0, &b[1].1, Mark::Band, 6),
+                    Series::new("bin mean", &b[0].0, &b[0].1, Mark::Line, 0),
                 ],
                 markers: Vec::new(),
             };

@@ -14,20 +14,8 @@ pub fn plot_run(
     run: &Run,
     latch_s: &[Option<f64>],
 ) -> Result<(), plot::PlotError> {
-    let series: Vec<Series> = (0..run.joints())
-        .map(|j| Series {
-            label: format!("joint {}", j + 1),
-            x: &run.t_s,
-            y: &run.phi_deg[j],
-            mark: Mark::Line,
-            color: j,
-        })
-        .collect();
-    let markers = latch_s
-        .iter()
-        .enumerate()
-        .filter_map(|(j, l)| l.map(|t| (t, format!("latch {}", j + 1))))
-        .collect();
+    let series = joint_angles(run);
+    let markers = latch_markers(latch_s);
     plot::draw(
         png,
         &format!("{title}: joint angles"),
@@ -49,15 +37,7 @@ pub fn plot_rig_run(
     run: &Run,
     rig: &RigRun,
 ) -> Result<(), plot::PlotError> {
-    let angles: Vec<Series> = (0..run.joints())
-        .map(|j| Series {
-            label: format!("joint {}", j + 1),
-            x: &run.t_s,
-            y: &run.phi_deg[j],
-            mark: Mark::Line,
-            color: j,
-        })
-        .collect();
+    let angles = joint_angles(run);
     let lateral: Vec<Vec<f64>> = rig
         .tip_xy
         .iter()
@@ -74,13 +54,7 @@ pub fn plot_rig_run(
             color: p,
         })
         .collect();
-    let latches = rig
-        .traj
-        .latch_s
-        .iter()
-        .enumerate()
-        .filter_map(|(j, l)| l.map(|t| (t, format!("latch {}", j + 1))))
-        .collect();
+    let latches = latch_markers(&rig.traj.latch_s);
     let contacts = rig
         .contacts
         .iter()
@@ -105,4 +79,28 @@ pub fn plot_rig_run(
             },
         ],
     )
+}
+
+/// Each joint's angle over time, a line each.
+fn joint_angles(run: &Run) -> Vec<Series<'_>> {
+    (0..run.joints())
+        .map(|j| {
+            Series::new(
+                format!("joint {}", j + 1),
+                &run.t_s,
+                &run.phi_deg[j],
+                Mark::Line,
+                j,
+            )
+        })
+        .collect()
+}
+
+/// The latch instant of each joint that latched, as a marker.
+fn latch_markers(latch_s: &[Option<f64>]) -> Vec<(f64, String)> {
+    latch_s
+        .iter()
+        .enumerate()
+        .filter_map(|(j, l)| l.map(|t| (t, format!("latch {}", j + 1))))
+        .collect()
 }
