@@ -34,10 +34,10 @@ pub fn gain_ratio(o: &Outcome) -> f64 {
 /// The joints of `before` whose residual is above the noise
 /// ([`UNEXPLAINED_NOISE_FACTOR`] × σ̂): what an `"unexplained"` effect
 /// points at.
-pub fn above_noise<'a>(
-    before: &'a [JointEvidence],
+pub fn above_noise(
+    before: &[JointEvidence],
     noise_sigma_deg: f64,
-) -> impl Iterator<Item = &'a JointEvidence> {
+) -> impl Iterator<Item = &JointEvidence> {
     before
         .iter()
         .filter(move |e| e.rms_deg > UNEXPLAINED_NOISE_FACTOR * noise_sigma_deg)

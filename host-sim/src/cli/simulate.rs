@@ -1,7 +1,7 @@
 //! `deploywatch simulate`: one deployment of a mechanism, written as a run CSV.
 
 use super::simulate_args::measure;
-pub use super::simulate_args::{effect_help, SimulateArgs};
+pub use super::simulate_args::SimulateArgs;
 use super::{check_output, outln, CliError, Console};
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;

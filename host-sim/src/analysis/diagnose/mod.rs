@@ -40,7 +40,7 @@ mod table_form;
 pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
 pub use outcome::{CandidateScore, DiagnoseOptions, FittedSet, Outcome, Round, StopFlag};
-pub use table_form::{PlacedKnots, TableForm};
+pub use table_form::TableForm;
 
 use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::evidence::{self, noise_sigma_deg};
