@@ -837,3 +837,34 @@ fn checker_finds_report_writing_and_a_threshold_in_cli() {
         "{found:?}"
     );
 }
+
+/// The layers of `deploywatch-sim` are private to the crate (`mod
+/// analysis;`): what others use is the curated root of `lib.rs`
+/// (`ARCHITECTURE.md`, "The public API of `deploywatch-sim`"). The one
+/// public file module is `cli`, which the binary runs.
+#[test]
+fn host_sim_layers_are_private_behind_the_public_api() {
+    let lib = Path::new(env!("CARGO_MANIFEST_DIR")).join("../host-sim/src/lib.rs");
+    let code = strip(&std::fs::read_to_string(lib).unwrap());
+    let public: Vec<&str> = code
+        .lines()
+        .map(str::trim)
+        .filter_map(|l| l.strip_prefix("pub mod ")?.strip_suffix(';'))
+        .filter(|m| *m != "cli")
+        .collect();
+    assert!(
+        public.is_empty(),
+        "public layers {public:?}: declare them `mod x;` and re-export what is used"
+    );
+    let layers = layers_of("host-sim");
+    for (entry, _) in layers.layer.iter().filter(|(e, _)| e.len() == 1) {
+        let name = &entry[0];
+        if name == "cli" {
+            continue;
+        }
+        assert!(
+            code.lines().any(|l| l.trim() == format!("mod {name};")),
+            "lib.rs: expected `mod {name};`"
+        );
+    }
+}

@@ -6,9 +6,9 @@
 //! invariants, the data flow of each command — is `ARCHITECTURE.md` at the
 //! repository root; its `layers` block is the layer order that
 //! `tests/structure.rs` checks. In short, lowest first: the leaf utilities
-//! ([`paper`], [`report::plot`], [`report::files`], [`report::progress`],
-//! …) ← [`model`] ← [`data`] ← [`simulate`] ← [`analysis`] ∥ [`onboard`] ←
-//! [`report`] (the report writers) ← [`cli`].
+//! (`paper`, `report::plot`, `report::files`, `report::progress`, …) ←
+//! `model` ← `data` ← `simulate` ← `analysis` ∥ `onboard` ← `report` (the
+//! report writers) ← [`cli`].
 //!
 //! The chain equations are not written here: they live in
 //! [`deploywatch_core::chain`], evaluated in `f64`.
