@@ -13,14 +13,14 @@
 // Per-joint series are indexed in lockstep with their offsets.
 #![allow(clippy::needless_range_loop)]
 
-use deploywatch_sim::analysis::diagnose::{diagnose, DiagnoseOptions};
-use deploywatch_sim::data::campaign::Campaign;
-use deploywatch_sim::data::run::Run;
-use deploywatch_sim::model::effect::{self, Effect, EffectKind};
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::report::progress::quiet;
-use deploywatch_sim::simulate::deployment::{self, SimOptions};
-use deploywatch_sim::simulate::sensor::{self, SensorModel};
+use deploywatch_sim::campaign::Campaign;
+use deploywatch_sim::deployment::{self, SimOptions};
+use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions};
+use deploywatch_sim::effect::{self, Effect, EffectKind};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::progress::quiet;
+use deploywatch_sim::run::Run;
+use deploywatch_sim::sensor::{self, SensorModel};
 use deploywatch_tests::data_dir;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -209,9 +209,9 @@ fn campaign_of(case: &Case, keep: impl Fn(usize) -> bool) -> Campaign {
 
 /// The progress sink of a test's diagnoses: every round on standard error
 /// with `DEPLOYWATCH_TRACE`, nothing otherwise.
-fn trace_sink() -> deploywatch_sim::report::progress::Progress<'static> {
+fn trace_sink() -> deploywatch_sim::progress::Progress<'static> {
     if std::env::var_os("DEPLOYWATCH_TRACE").is_some() {
-        &deploywatch_sim::report::progress::stderr
+        &deploywatch_sim::progress::stderr
     } else {
         &quiet
     }
@@ -517,7 +517,7 @@ fn a_campaign_is_never_worse_than_its_runs_alone() {
             &DiagnoseOptions::default(),
             &quiet,
         );
-        let names = |o: &deploywatch_sim::analysis::diagnose::Outcome| {
+        let names = |o: &deploywatch_sim::diagnose::Outcome| {
             let mut k: Vec<_> = o.extended.effects().iter().map(key).collect();
             k.sort();
             k

@@ -19,15 +19,15 @@
 // Per-joint series are indexed in lockstep with their offsets.
 #![allow(clippy::needless_range_loop)]
 
-use deploywatch_sim::analysis::diagnose::{diagnose, DiagnoseOptions, Outcome};
-use deploywatch_sim::data::campaign::Campaign;
-use deploywatch_sim::data::run::Run;
-use deploywatch_sim::model::effect::{self, Effect, EffectKind};
-use deploywatch_sim::model::latch::LatchTolerance;
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::report::progress::{quiet, stderr, Progress};
-use deploywatch_sim::simulate::deployment::{self, SimOptions};
-use deploywatch_sim::simulate::sensor::{self, SensorModel};
+use deploywatch_sim::campaign::Campaign;
+use deploywatch_sim::deployment::{self, SimOptions};
+use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions, Outcome};
+use deploywatch_sim::effect::{self, Effect, EffectKind};
+use deploywatch_sim::latch::LatchTolerance;
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::progress::{quiet, stderr, Progress};
+use deploywatch_sim::run::Run;
+use deploywatch_sim::sensor::{self, SensorModel};
 use deploywatch_tests::data_dir;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

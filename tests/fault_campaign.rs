@@ -1,5 +1,5 @@
 //! Fault-injection campaign of the on-board monitor:
-//! every sensor fault of `deploywatch_sim::simulate::fault_injection` × the four reference
+//! every sensor fault of `deploywatch_sim::fault_injection` × the four reference
 //! mechanisms (nominal and with the papers' friction) × 3 sensor seeds.
 //!
 //! Each run is simulated, measured with the reference sensor, faulted, and
@@ -16,13 +16,13 @@
 
 use deploywatch_core::monitor::{Monitor, MonitorConfig, Prediction, Status};
 use deploywatch_core::LatchState;
-use deploywatch_sim::data::run::Run;
-use deploywatch_sim::model::effect::{Effect, EffectKind};
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::onboard::monitor_config::{monitor_config, samples};
-use deploywatch_sim::simulate::deployment::{simulate, SimOptions, Trajectory};
-use deploywatch_sim::simulate::fault_injection::{apply, DropoutMode, SensorFault};
-use deploywatch_sim::simulate::sensor::{measure, SensorModel};
+use deploywatch_sim::deployment::{simulate, SimOptions, Trajectory};
+use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::fault_injection::{apply, DropoutMode, SensorFault};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::monitor_config::{monitor_config, samples};
+use deploywatch_sim::run::Run;
+use deploywatch_sim::sensor::{measure, SensorModel};
 use deploywatch_tests::data_dir;
 
 /// The papers' identified friction, seed 001 (N·m at joints 1–3).

@@ -7,10 +7,10 @@
 //! latching without friction but not with the paper's friction.
 
 use deploywatch_core::ChainState;
-use deploywatch_sim::data::run::Run;
-use deploywatch_sim::model::effect::{self, Effect};
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::simulate::deployment::{self, SimOptions};
+use deploywatch_sim::deployment::{self, SimOptions};
+use deploywatch_sim::effect::{self, Effect};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::run::Run;
 use deploywatch_tests::data_dir;
 
 /// The golden case `name_variant` (`seed001_T01`, `nominal`|`eft`).

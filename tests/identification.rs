@@ -8,16 +8,16 @@
 //! intervals contain the truth; `rsm` returns EFTs inside its design box,
 //! reports R² for every response and lowers the trajectory RMS.
 
-use deploywatch_sim::analysis::identify::by_rsm::identify_rsm;
-use deploywatch_sim::analysis::identify::direct::identify_direct;
-use deploywatch_sim::analysis::identify::{
+use deploywatch_sim::campaign::Campaign;
+use deploywatch_sim::cli::identify::{run as run_cli, IdentifyArgs};
+use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::identify::by_rsm::identify_rsm;
+use deploywatch_sim::identify::direct::identify_direct;
+use deploywatch_sim::identify::{
     self, DirectOptions, Identification, Method, RsmOptions, RsmResponse,
 };
-use deploywatch_sim::cli::identify::{run as run_cli, IdentifyArgs};
-use deploywatch_sim::data::campaign::Campaign;
-use deploywatch_sim::model::effect::{Effect, EffectKind};
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::report::progress::quiet;
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::progress::quiet;
 use deploywatch_tests::data_dir;
 use std::path::{Path, PathBuf};
 

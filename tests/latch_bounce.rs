@@ -34,12 +34,12 @@
 use deploywatch_core::latch::PhysicalLatch;
 use deploywatch_core::monitor::{Monitor, MonitorConfig, Status};
 use deploywatch_core::LatchState;
-use deploywatch_sim::data::run::Run;
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::onboard::monitor_config::{monitor_config, samples};
-use deploywatch_sim::simulate::deployment::{simulate, SimOptions, Trajectory};
-use deploywatch_sim::simulate::fault_injection::{apply, SensorFault};
-use deploywatch_sim::simulate::sensor::{measure, SensorModel};
+use deploywatch_sim::deployment::{simulate, SimOptions, Trajectory};
+use deploywatch_sim::fault_injection::{apply, SensorFault};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::monitor_config::{monitor_config, samples};
+use deploywatch_sim::run::Run;
+use deploywatch_sim::sensor::{measure, SensorModel};
 use deploywatch_tests::{data_dir, SplitMix};
 
 /// Switch travel of the test latch [deg].
@@ -306,8 +306,8 @@ fn mechanism(name: &str) -> Mechanism {
 fn simulate_ideal(mech: &Mechanism, scale: f64) -> Trajectory {
     let effects: Vec<_> = (0..mech.joint_count())
         .map(|j| {
-            deploywatch_sim::model::effect::Effect::joint(
-                deploywatch_sim::model::effect::EffectKind::CoulombFriction,
+            deploywatch_sim::effect::Effect::joint(
+                deploywatch_sim::effect::EffectKind::CoulombFriction,
                 j + 1,
                 0.3 * scale,
             )

@@ -5,11 +5,11 @@
 
 use deploywatch_core::monitor::{Monitor, MonitorConfig, Prediction, Sample, Status};
 use deploywatch_core::LatchState;
-use deploywatch_sim::analysis::design_margin::{joint_margin, Standard};
-use deploywatch_sim::cli::margin::latch_resistance;
-use deploywatch_sim::data::run::Run;
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::onboard::monitor_config::{monitor_config, samples};
+use deploywatch_sim::design_margin::{joint_margin, Standard};
+use deploywatch_sim::joint_margins::latch_resistance;
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::monitor_config::{monitor_config, samples};
+use deploywatch_sim::run::Run;
 use deploywatch_tests::data_dir;
 
 fn mechanism(name: &str) -> Mechanism {

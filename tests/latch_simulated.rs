@@ -37,12 +37,12 @@
 use deploywatch_core::monitor::{Monitor, MonitorConfig, Status};
 use deploywatch_core::physics::latch_contact::LatchMark;
 use deploywatch_core::{Fault, LatchState};
-use deploywatch_sim::model::effect::Effect;
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::onboard::monitor_config::{monitor_config, samples};
-use deploywatch_sim::simulate::deployment::{self, SimOptions};
-use deploywatch_sim::simulate::latch_deployment::{self, LatchEnd, LatchEventKind, LatchRun};
-use deploywatch_sim::simulate::sensor::{measure, SensorModel};
+use deploywatch_sim::deployment::{self, SimOptions};
+use deploywatch_sim::effect::Effect;
+use deploywatch_sim::latch_deployment::{self, LatchEnd, LatchEventKind, LatchRun};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::monitor_config::{monitor_config, samples};
+use deploywatch_sim::sensor::{measure, SensorModel};
 use deploywatch_tests::{data_dir, SplitMix};
 
 /// A latch must be declared within this of the switch's last closing [s].
@@ -135,7 +135,7 @@ fn truth(mech: &Mechanism, effects: &[Effect], run: &LatchRun, j: usize) -> Opti
 
 fn replay<const N: usize>(
     cfg: &MonitorConfig<N>,
-    run: &deploywatch_sim::data::run::Run,
+    run: &deploywatch_sim::run::Run,
 ) -> Vec<Status<N>> {
     let mut m = Monitor::new(cfg).expect("monitor config");
     samples::<N>(run)

@@ -6,13 +6,13 @@ use deploywatch_core::monitor::{
 };
 use deploywatch_core::Fault;
 use deploywatch_core::LatchState;
-use deploywatch_sim::data::run::Run;
-use deploywatch_sim::model::effect::{Effect, EffectKind};
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::onboard::monitor_config::{monitor_config, samples};
-use deploywatch_sim::simulate::deployment::{simulate, SimOptions, Trajectory};
-use deploywatch_sim::simulate::fault_injection::{apply, SensorFault};
-use deploywatch_sim::simulate::sensor::{measure, SensorModel};
+use deploywatch_sim::deployment::{simulate, SimOptions, Trajectory};
+use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::fault_injection::{apply, SensorFault};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::monitor_config::{monitor_config, samples};
+use deploywatch_sim::run::Run;
+use deploywatch_sim::sensor::{measure, SensorModel};
 use deploywatch_tests::{data_dir, SplitMix};
 
 /// The papers' identified friction, seed 001 (N·m at joints 1–3).

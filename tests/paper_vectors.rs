@@ -5,16 +5,14 @@
 //! (`cargo test -p deploywatch-tests --test paper_vectors -- --nocapture`).
 
 use deploywatch_core::spring::{Branch, Spring};
-use deploywatch_sim::analysis::design_margin::{joint_margin, margin_pct, Standard};
-use deploywatch_sim::analysis::identify::rsm::{
-    fit_quadratic, Ccd, CcdKind, Coding, Fit, Quadratic,
-};
-use deploywatch_sim::analysis::identify::rsm_box::{minimize_in_box, minimize_in_box_projected};
-use deploywatch_sim::model::kinematics::{
+use deploywatch_sim::design_margin::{joint_margin, margin_pct, Standard};
+use deploywatch_sim::identify::rsm::{fit_quadratic, Ccd, CcdKind, Coding, Fit, Quadratic};
+use deploywatch_sim::identify::rsm_box::{minimize_in_box, minimize_in_box_projected};
+use deploywatch_sim::kinematics::{
     planar_mobility, spatial_mobility, FIXED_CONSTRAINTS, REVOLUTE_CONSTRAINTS,
 };
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::paper::truss_synthesis::{synthesize, TrussInput};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::truss_synthesis::{synthesize, TrussInput};
 use deploywatch_tests::data_dir;
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -47,8 +45,8 @@ fn gruebler_mobility_seed000_table1() {
 /// from the truss file and confirmed by the constraint Jacobian's rank.
 #[test]
 fn gruebler_mobility_seed000_table1_corrected_from_the_truss_file() {
-    use deploywatch_sim::model::kinematics::truss_bodies_and_joints;
-    use deploywatch_sim::simulate::multibody::wing_model;
+    use deploywatch_sim::kinematics::truss_bodies_and_joints;
+    use deploywatch_sim::multibody::wing_model;
     let m = load("seed000_case2_truss.toml");
     let (bodies, joints) = truss_bodies_and_joints(m.truss.as_ref().unwrap(), m.panels.len());
     assert_eq!((bodies, joints), (10, 12));
@@ -414,7 +412,7 @@ fn table9_paper_optimum_is_a_weighted_minimum() {
     let mut best = (f64::INFINITY, 0.0, Vec::new());
     for step in 0..=100 {
         let w = step as f64 / 100.0;
-        let m = deploywatch_sim::analysis::identify::rsm_box::minimize_weighted_in_box(
+        let m = deploywatch_sim::identify::rsm_box::minimize_weighted_in_box(
             &[(w, &te1), (1.0 - w, &te2)],
             &lo,
             &hi,

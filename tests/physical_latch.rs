@@ -8,13 +8,13 @@ use deploywatch_core::physics::latch_contact::{
     HertzStop, LatchMark, Magnet, PhysicalLatch, Plunger,
 };
 use deploywatch_core::{Chain, Friction, GlobalEffects, Joint, JointEffects, Panel, Spring};
-use deploywatch_sim::model::effect::Effect;
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::model::torque_table::HostChain;
-use deploywatch_sim::simulate::deployment::{self, SimOptions};
-use deploywatch_sim::simulate::latch_deployment::{self, LatchEnd, LatchEventKind, LatchRun};
-use deploywatch_sim::simulate::ode::State;
-use deploywatch_sim::simulate::trajectory::Samples;
+use deploywatch_sim::deployment::{self, SimOptions};
+use deploywatch_sim::effect::Effect;
+use deploywatch_sim::latch_deployment::{self, LatchEnd, LatchEventKind, LatchRun};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::ode::State;
+use deploywatch_sim::torque_table::HostChain;
+use deploywatch_sim::trajectory::Samples;
 use std::path::Path;
 
 fn mechanism(name: &str) -> Mechanism {
@@ -323,8 +323,8 @@ const BUNDLED: [(&str, &str, &str, &[&str]); 4] = [
 
 #[test]
 fn bundled_latch_runs_are_what_their_commands_make() {
-    use deploywatch_sim::data::run::Run;
-    use deploywatch_sim::simulate::sensor::{self, SensorModel};
+    use deploywatch_sim::run::Run;
+    use deploywatch_sim::sensor::{self, SensorModel};
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data");
     for (dir, file, mech_file, effects) in BUNDLED {
         let run = Run::load(&data.join("examples").join(dir).join(file)).unwrap();

@@ -18,15 +18,15 @@
 //! behind `#[ignore]` print the tables of docs/reliability.md:
 //! `cargo test --release -p deploywatch-tests --test reliability -- --ignored --nocapture`
 
-use deploywatch_sim::analysis::reliability::auto::{self, estimate, Method};
-use deploywatch_sim::analysis::reliability::criteria::Criterion;
-use deploywatch_sim::analysis::reliability::estimate::Estimate;
-use deploywatch_sim::analysis::reliability::normal;
-use deploywatch_sim::analysis::reliability::Problem;
-use deploywatch_sim::model::effect::{Effect, EffectKind};
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::report::progress;
-use deploywatch_sim::simulate::deployment::{self, SimOptions};
+use deploywatch_sim::deployment::{self, SimOptions};
+use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::progress;
+use deploywatch_sim::reliability::auto::{self, estimate, Method};
+use deploywatch_sim::reliability::criteria::Criterion;
+use deploywatch_sim::reliability::estimate::Estimate;
+use deploywatch_sim::reliability::normal;
+use deploywatch_sim::reliability::Problem;
 use deploywatch_tests::data_dir;
 
 const SD: f64 = 0.1;

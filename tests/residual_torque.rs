@@ -6,9 +6,9 @@
 //! diagnosis re-estimates it beside each table it takes.) The test sees the
 //! truth only after the estimate.
 
-use deploywatch_sim::analysis::residual_torque::residual_torque;
-use deploywatch_sim::data::campaign::Campaign;
-use deploywatch_sim::model::effect::EffectKind;
+use deploywatch_sim::campaign::Campaign;
+use deploywatch_sim::effect::EffectKind;
+use deploywatch_sim::residual_torque::residual_torque;
 use deploywatch_tests::hidden_torque::{case, mechanisms, Case, Family};
 use std::path::Path;
 

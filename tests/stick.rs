@@ -11,11 +11,11 @@
 //!   `DEPLOYWATCH_STICK_DRAWS=1000 cargo test --release -p deploywatch-tests --test stick -- --nocapture`.
 //! - the energy ledger closes on every stick.
 
-use deploywatch_sim::model::effect::{Effect, EffectKind};
-use deploywatch_sim::model::latch::LatchTolerance;
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::simulate::deployment::{self, SimOptions};
-use deploywatch_sim::simulate::latch_deployment::{self, LatchEventKind, LatchRun};
+use deploywatch_sim::deployment::{self, SimOptions};
+use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::latch::LatchTolerance;
+use deploywatch_sim::latch_deployment::{self, LatchEventKind, LatchRun};
+use deploywatch_sim::mechanism::Mechanism;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;

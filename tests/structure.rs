@@ -20,13 +20,21 @@
 //!   [`MAX_FN_LINES`] lines (from its `fn` line to its closing brace);
 //! - **stdout**: no `print!`/`println!` in `host-sim/src`: the library
 //!   never prints, and the command line prints its result through
-//!   `cli::outln!`, which a closed stdout does not stop.
+//!   `cli::outln!`, which a closed stdout does not stop;
+//! - **the command line parses, calls, writes**: no `write!`/`writeln!`
+//!   (report text), no `report::plot`/`report::markdown`/`plotters`
+//!   (figures) and no numeric `const` (a threshold) in `host-sim/src/cli`:
+//!   reports are written in `report/`, thresholds live in `analysis/`.
 //!
 //! `#[cfg(test)]` modules (inline, or files declared `#[cfg(test)] mod x;`)
 //! are left out of the graph; the sizes count them.
 //!
 //! `cargo test -p deploywatch-tests --test structure`
 
+#[path = "structure/lexer.rs"]
+mod lexer;
+
+use lexer::{drop_test_modules, matching_brace, strip};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
@@ -158,171 +166,6 @@ fn module_of(rel: &Path) -> ModPath {
         parts.push(stem.to_string());
     }
     parts
-}
-
-/// The text with comments, strings and char literals blanked (newlines
-/// kept, so line numbers hold).
-fn strip(text: &str) -> String {
-    let b: Vec<char> = text.chars().collect();
-    let mut out = String::with_capacity(b.len());
-    let mut i = 0;
-    while i < b.len() {
-        let c = b[i];
-        let next = b.get(i + 1).copied().unwrap_or(' ');
-        if c == '/' && next == '/' {
-            while i < b.len() && b[i] != '\n' {
-                i += 1;
-            }
-        } else if c == '/' && next == '*' {
-            let mut depth = 0;
-            while i < b.len() {
-                if b[i] == '/' && b.get(i + 1) == Some(&'*') {
-                    depth += 1;
-                    i += 2;
-                } else if b[i] == '*' && b.get(i + 1) == Some(&'/') {
-                    depth -= 1;
-                    i += 2;
-                    if depth == 0 {
-                        break;
-                    }
-                } else {
-                    if b[i] == '\n' {
-                        out.push('\n');
-                    }
-                    i += 1;
-                }
-            }
-        } else if c == '"' || (c == 'r' && (next == '"' || next == '#') && raw_start(&b, i)) {
-            i = skip_string(&b, i, &mut out);
-        } else if c == '\'' && is_char_literal(&b, i) {
-            i = skip_char(&b, i);
-            out.push(' ');
-        } else {
-            out.push(c);
-            i += 1;
-        }
-    }
-    out
-}
-
-/// True when `r` at `i` opens a raw string (`r"…"`, `r#"…"#`), not an
-/// identifier ending in `r`.
-fn raw_start(b: &[char], i: usize) -> bool {
-    let prev_ident = i > 0 && (b[i - 1].is_alphanumeric() || b[i - 1] == '_');
-    if prev_ident {
-        return false;
-    }
-    let mut j = i + 1;
-    while j < b.len() && b[j] == '#' {
-        j += 1;
-    }
-    j < b.len() && b[j] == '"'
-}
-
-/// Skips a (raw) string literal from `i`, keeping its newlines.
-fn skip_string(b: &[char], mut i: usize, out: &mut String) -> usize {
-    let mut hashes = 0;
-    let raw = b[i] == 'r';
-    if raw {
-        i += 1;
-        while b[i] == '#' {
-            hashes += 1;
-            i += 1;
-        }
-    }
-    i += 1;
-    while i < b.len() {
-        if b[i] == '\n' {
-            out.push('\n');
-        }
-        if !raw && b[i] == '\\' {
-            i += 2;
-            continue;
-        }
-        if b[i] == '"' && (0..hashes).all(|k| b.get(i + 1 + k) == Some(&'#')) {
-            return i + 1 + hashes;
-        }
-        i += 1;
-    }
-    i
-}
-
-/// True when `'` at `i` opens a char literal rather than a lifetime.
-fn is_char_literal(b: &[char], i: usize) -> bool {
-    matches!(
-        (b.get(i + 1), b.get(i + 2)),
-        (Some('\\'), _) | (Some(_), Some('\''))
-    )
-}
-
-fn skip_char(b: &[char], mut i: usize) -> usize {
-    i += 1;
-    if b.get(i) == Some(&'\\') {
-        i += 1;
-    }
-    while i < b.len() && b[i] != '\'' {
-        i += 1;
-    }
-    i + 1
-}
-
-/// Removes `#[cfg(test)]` inline modules from stripped text (lines kept)
-/// and returns the names of `#[cfg(test)] mod x;` file modules.
-fn drop_test_modules(stripped: &str) -> (String, Vec<String>) {
-    let mut out = stripped.to_string();
-    let mut test_files = Vec::new();
-    let mut from = 0;
-    while let Some(at) = out[from..].find("#[cfg(test)]") {
-        let start = from + at;
-        let rest = &out[start + 12..];
-        let trimmed = rest.trim_start();
-        let Some(after_mod) = trimmed
-            .strip_prefix("mod ")
-            .or_else(|| trimmed.strip_prefix("pub mod "))
-            .or_else(|| trimmed.strip_prefix("pub(crate) mod "))
-        else {
-            from = start + 12;
-            continue;
-        };
-        let name: String = after_mod
-            .trim_start()
-            .chars()
-            .take_while(|c| c.is_alphanumeric() || *c == '_')
-            .collect();
-        let after_name = after_mod.trim_start()[name.len()..].trim_start();
-        if after_name.starts_with(';') {
-            test_files.push(name);
-            from = start + 12;
-            continue;
-        }
-        let open = start + out[start..].find('{').unwrap();
-        let close = matching_brace(&out, open);
-        let blanked: String = out[start..close]
-            .chars()
-            .map(|c| if c == '\n' { '\n' } else { ' ' })
-            .collect();
-        out.replace_range(start..close, &blanked);
-        from = close;
-    }
-    (out, test_files)
-}
-
-/// The index just past the `}` that closes the `{` at `open`.
-fn matching_brace(s: &str, open: usize) -> usize {
-    let mut depth = 0i32;
-    for (k, c) in s[open..].char_indices() {
-        match c {
-            '{' => depth += 1,
-            '}' => {
-                depth -= 1;
-                if depth == 0 {
-                    return open + k + 1;
-                }
-            }
-            _ => {}
-        }
-    }
-    s.len()
 }
 
 /// Every path a file's code names, with the byte offset naming it: `use`
@@ -692,6 +535,76 @@ fn long_functions(code: &str) -> Vec<(String, usize, usize)> {
     out
 }
 
+/// Numeric primitive types: a `const` of one of them in `cli/` is a
+/// threshold or a limit.
+const NUMERIC: &[&str] = &[
+    "f32", "f64", "u8", "u16", "u32", "u64", "u128", "usize", "i8", "i16", "i32", "i64", "i128",
+    "isize",
+];
+
+/// What `host-sim/src/cli` must not hold (`ARCHITECTURE.md`, `cli/`: parse,
+/// call the library, write its outputs, print its result): text built
+/// with `write!`/`writeln!` (a report or a table: written in `report/`), a
+/// module that draws or links figures named (`report::plot`,
+/// `report::markdown`: figures are drawn in `report/`), a numeric `const`
+/// (a threshold or a limit: it belongs to the analysis).
+fn cli_violations(g: &Graph, sources: &[Source], root: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for (from, tos) in g
+        .edges
+        .iter()
+        .filter(|(m, _)| m.first().is_some_and(|f| f == "cli"))
+    {
+        for (to, line) in tos {
+            if to.starts_with(&["report".to_string(), "plot".to_string()])
+                || to.starts_with(&["report".to_string(), "markdown".to_string()])
+            {
+                out.push(format!(
+                    "{root}/{}:{line}: names `{}`: figures and report text are written in report/",
+                    g.files[from].display(),
+                    to.join("::")
+                ));
+            }
+        }
+    }
+    for s in sources.iter().filter(|s| s.rel.starts_with("cli")) {
+        let (code, _) = drop_test_modules(&strip(&s.text));
+        for (i, line) in code.lines().enumerate() {
+            let at = |what: &str| {
+                line.match_indices(what).any(|(k, _)| {
+                    line[..k]
+                        .chars()
+                        .next_back()
+                        .is_none_or(|c| !(c.is_alphanumeric() || c == '_'))
+                })
+            };
+            let why = if at("write!") || at("writeln!") || at("plotters") {
+                "builds report text or draws: that is written in report/"
+            } else if at("const ") && numeric_const(line) {
+                "a numeric constant (a threshold or a limit): it belongs to analysis/"
+            } else {
+                continue;
+            };
+            out.push(format!("{root}/{}:{}: {why}", s.rel.display(), i + 1));
+        }
+    }
+    out
+}
+
+/// True when the `const` item on `line` has a numeric type (`const X: f64`,
+/// `const X: [usize; 3]`).
+fn numeric_const(line: &str) -> bool {
+    let Some(k) = line.find("const ") else {
+        return false;
+    };
+    let rest = &line[k + 6..];
+    let ty = rest
+        .split_once(':')
+        .map_or("", |(_, t)| t.split('=').next().unwrap_or(""));
+    ty.split(|c: char| !(c.is_alphanumeric() || c == '_'))
+        .any(|w| NUMERIC.contains(&w))
+}
+
 fn check_crate(root: &str, rule: &Layers) -> Vec<String> {
     let src = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("..")
@@ -704,6 +617,7 @@ fn check_crate(root: &str, rule: &Layers) -> Vec<String> {
     out.extend(size_violations(&sources, root));
     if root == "host-sim" {
         out.extend(stdout_prints(&sources, root));
+        out.extend(cli_violations(&g, &sources, root));
     }
     out
 }
@@ -891,4 +805,66 @@ fn checker_finds_a_leaf_utility_naming_its_higher_parent_and_a_print() {
     let prints = stdout_prints(&t, "host-sim");
     assert_eq!(prints.len(), 1, "{prints:?}");
     assert!(prints[0].starts_with("host-sim/cli.rs:1"), "{prints:?}");
+}
+
+#[test]
+fn checker_finds_report_writing_and_a_threshold_in_cli() {
+    let t = tree(&[
+        ("lib.rs", "pub mod report; pub mod cli;\n"),
+        ("report/mod.rs", "pub mod plot;\npub mod files;\n"),
+        ("report/plot.rs", "pub fn draw() {}\n"),
+        ("report/files.rs", "pub struct Outputs;\n"),
+        (
+            "cli/mod.rs",
+            "use crate::report::files::Outputs;\nuse crate::report::plot;\n\
+             const LIMIT: f64 = 3.0;\nconst NAME: &str = \"x\";\n\
+             fn f(md: &mut String) { let _ = writeln!(md, \"# title\"); }\n\
+             #[cfg(test)]\nmod tests { const N: usize = 3; }\n",
+        ),
+    ]);
+    let found = cli_violations(&graph(&t), &t, "host-sim");
+    assert_eq!(found.len(), 3, "{found:?}");
+    assert!(
+        found[0].starts_with("host-sim/cli/mod.rs:2: names `report::plot`"),
+        "{found:?}"
+    );
+    assert!(
+        found[1].starts_with("host-sim/cli/mod.rs:3: a numeric constant"),
+        "{found:?}"
+    );
+    assert!(
+        found[2].starts_with("host-sim/cli/mod.rs:5: builds report text"),
+        "{found:?}"
+    );
+}
+
+/// The layers of `deploywatch-sim` are private to the crate (`mod
+/// analysis;`): what others use is the curated root of `lib.rs`
+/// (`ARCHITECTURE.md`, "The public API of `deploywatch-sim`"). The one
+/// public file module is `cli`, which the binary runs.
+#[test]
+fn host_sim_layers_are_private_behind_the_public_api() {
+    let lib = Path::new(env!("CARGO_MANIFEST_DIR")).join("../host-sim/src/lib.rs");
+    let code = strip(&std::fs::read_to_string(lib).unwrap());
+    let public: Vec<&str> = code
+        .lines()
+        .map(str::trim)
+        .filter_map(|l| l.strip_prefix("pub mod ")?.strip_suffix(';'))
+        .filter(|m| *m != "cli")
+        .collect();
+    assert!(
+        public.is_empty(),
+        "public layers {public:?}: declare them `mod x;` and re-export what is used"
+    );
+    let layers = layers_of("host-sim");
+    for (entry, _) in layers.layer.iter().filter(|(e, _)| e.len() == 1) {
+        let name = &entry[0];
+        if name == "cli" {
+            continue;
+        }
+        assert!(
+            code.lines().any(|l| l.trim() == format!("mod {name};")),
+            "lib.rs: expected `mod {name};`"
+        );
+    }
 }

@@ -3,9 +3,9 @@
 //! copied from `shared/reference/truss/`): hinge angles within 0.01° RMS,
 //! ψ and the knee angles within 0.05° RMS, every lock instant within 1 ms.
 
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::simulate::deployment::SimOptions;
-use deploywatch_sim::simulate::multibody::{
+use deploywatch_sim::deployment::SimOptions;
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::multibody::{
     simulate_wing, wing_options, WingRun, GOLDEN_COLUMNS, GOLDEN_LOCKS,
 };
 use deploywatch_tests::data_dir;
@@ -136,7 +136,7 @@ fn truss_mechanisms_round_trip() {
 
 // ------------------------------------------------------------- four-bar
 
-use deploywatch_sim::simulate::multibody::{self, Body, Model, Pin, PointSpring, System};
+use deploywatch_sim::multibody::{self, Body, Model, Pin, PointSpring, System};
 
 /// Ground pivots 0.5 m apart, crank 0.15 m, coupler 0.45 m, rocker 0.30 m
 /// (Grashof crank-rocker: no dead point).
@@ -448,7 +448,7 @@ fn andrews_squeezer_matches_the_test_set_reference_at_30_ms() {
 #[test]
 fn lock_up_mode_finds_the_second_locked_pose() {
     let m = Mechanism::load(&data_dir().join("mechanisms/seed000_case2_truss.toml")).unwrap();
-    let mut model = deploywatch_sim::simulate::multibody::wing_model(&m).unwrap();
+    let mut model = deploywatch_sim::multibody::wing_model(&m).unwrap();
     let hold = &mut model.sys.pins[1];
     assert_eq!(hold.name, "hinge 2");
     hold.lock_at_rad = Some(hold.offset_rad);
@@ -493,8 +493,8 @@ fn lock_up_mode_finds_the_second_locked_pose() {
 /// (`data/reference/seed000_case1_*`) like the chain simulator does.
 #[test]
 fn multibody_reproduces_the_chain_goldens_without_a_truss() {
-    use deploywatch_sim::data::run::Run;
-    use deploywatch_sim::simulate::multibody::build::open_chain_system;
+    use deploywatch_sim::multibody::build::open_chain_system;
+    use deploywatch_sim::run::Run;
     // Latch instants of the golden JSON files.
     let cases = [
         ("nominal", [0.0, 0.0], [2.302428, 1.571546]),

@@ -9,15 +9,13 @@
 //! TE1 and TE2 of the two hinges) runs, reports its R² and lowers the RMS
 //! (its accuracy is reported in docs/identification.md, not asserted).
 
-use deploywatch_sim::analysis::identify::by_rsm::identify_rsm;
-use deploywatch_sim::analysis::identify::direct::identify_direct;
-use deploywatch_sim::analysis::identify::{
-    self, DirectOptions, Identification, RsmOptions, RsmResponse,
-};
-use deploywatch_sim::data::campaign::Campaign;
-use deploywatch_sim::model::effect::{Effect, EffectKind};
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::report::progress::quiet;
+use deploywatch_sim::campaign::Campaign;
+use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::identify::by_rsm::identify_rsm;
+use deploywatch_sim::identify::direct::identify_direct;
+use deploywatch_sim::identify::{self, DirectOptions, Identification, RsmOptions, RsmResponse};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::progress::quiet;
 use deploywatch_tests::data_dir;
 use std::path::Path;
 
@@ -137,7 +135,7 @@ fn sequential_response_surface_from_table9s_design_recovers_the_efts() {
 
 #[test]
 fn diagnose_accepts_truss_wings_and_a_clean_run_raises_no_claim() {
-    use deploywatch_sim::analysis::diagnose::{diagnose, DiagnoseOptions};
+    use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions};
     // The nominal truss wings as given, read by the reference sensor: the
     // diagnosis simulates them with the one truss simulator and finds
     // nothing to explain.

@@ -12,11 +12,11 @@
 
 use deploywatch_core::monitor::Monitor;
 use deploywatch_core::LatchState;
-use deploywatch_sim::analysis::identify::residual_check::synthetic_run;
-use deploywatch_sim::data::run::Run;
-use deploywatch_sim::model::effect::{Effect, EffectKind};
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::onboard::monitor_config::{monitor_config, replay};
+use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::identify::residual_check::synthetic_run;
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::monitor_config::{monitor_config, replay};
+use deploywatch_sim::run::Run;
 use deploywatch_tests::data_dir;
 
 const EFT: [f64; 3] = [0.54, 0.472, 0.065];

@@ -20,14 +20,14 @@
 //! noise RMS; every other case must be reported `unexplained`, naming the
 //! joint and the stroke region. The share found as tables is printed.
 
-use deploywatch_sim::analysis::diagnose::{diagnose, DiagnoseOptions};
-use deploywatch_sim::data::campaign::Campaign;
-use deploywatch_sim::model::effect::{Effect, EffectKind};
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::model::torque_table::{HostTable as Table, HostTorqueTable as TorqueTable};
-use deploywatch_sim::report::progress::quiet;
-use deploywatch_sim::simulate::deployment::{self, SimOptions};
-use deploywatch_sim::simulate::sensor::{self, SensorModel};
+use deploywatch_sim::campaign::Campaign;
+use deploywatch_sim::deployment::{self, SimOptions};
+use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions};
+use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::progress::quiet;
+use deploywatch_sim::sensor::{self, SensorModel};
+use deploywatch_sim::torque_table::{HostTable as Table, HostTorqueTable as TorqueTable};
 use deploywatch_tests::data_dir;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -152,7 +152,7 @@ fn hidden_torque(seed: u64, form: Form, mechs: &[Mechanism], j: usize) -> Effect
 struct Case {
     pair: usize,
     truth: Vec<Effect>,
-    runs: Vec<deploywatch_sim::data::run::Run>,
+    runs: Vec<deploywatch_sim::run::Run>,
     noise_rms_deg: f64,
 }
 
@@ -334,9 +334,9 @@ fn judge_family_case(c: &deploywatch_tests::hidden_torque::Case) -> Verdict {
             .unwrap();
     }
     // `DEPLOYWATCH_TRACE` shows the search's progress.
-    let sink: deploywatch_sim::report::progress::Progress =
+    let sink: deploywatch_sim::progress::Progress =
         if std::env::var_os("DEPLOYWATCH_TRACE").is_some() {
-            &deploywatch_sim::report::progress::stderr
+            &deploywatch_sim::progress::stderr
         } else {
             &quiet
         };
@@ -383,7 +383,7 @@ fn judge_family_case(c: &deploywatch_tests::hidden_torque::Case) -> Verdict {
 /// loss [deg] of each compressed one.
 fn monitor_exports(campaign: &Campaign, found: &[Effect]) -> Vec<f64> {
     use deploywatch_core::torque_table::TABLE_MAX_KNOTS;
-    use deploywatch_sim::analysis::table_export::export_tables;
+    use deploywatch_sim::table_export::export_tables;
     let mut out = Vec::new();
     for x in export_tables(campaign, found) {
         for t in [&x.table.angle, &x.table.rate].into_iter().flatten() {

@@ -6,8 +6,8 @@
 #![no_main]
 
 use deploywatch_core::monitor::Monitor;
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::onboard::monitor_config::monitor_config;
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::monitor_config::monitor_config;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

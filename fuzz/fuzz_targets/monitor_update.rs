@@ -24,8 +24,8 @@ use deploywatch_core::latch::LatchState;
 use deploywatch_core::monitor::{Monitor, Sample, Status};
 use deploywatch_core::telemetry::{self, status_frame_max};
 use deploywatch_core::Fault;
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::onboard::monitor_config::monitor_config;
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::monitor_config::monitor_config;
 use libfuzzer_sys::fuzz_target;
 use std::sync::OnceLock;
 

@@ -5,7 +5,7 @@
 //! again gives the same text (the writer's documented round trip).
 #![no_main]
 
-use deploywatch_sim::data::run::{ReadOptions, Run};
+use deploywatch_sim::run::{ReadOptions, Run};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

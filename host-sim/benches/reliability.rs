@@ -6,9 +6,9 @@
 //! --bench reliability`; the median is recorded in docs/reliability.md §6.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use deploywatch_sim::analysis::reliability::mc::draw;
-use deploywatch_sim::analysis::reliability::Problem;
-use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::reliability::mc::draw;
+use deploywatch_sim::reliability::Problem;
 use std::hint::black_box;
 use std::path::PathBuf;
 

@@ -4,9 +4,9 @@
 //! the median is recorded in docs/performance.md.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use deploywatch_sim::data::run::Run;
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::simulate::deployment::{simulate, SimOptions};
+use deploywatch_sim::deployment::{simulate, SimOptions};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::run::Run;
 use std::hint::black_box;
 use std::path::PathBuf;
 

@@ -10,8 +10,8 @@
 //! that is not accurate fails here instead of being timed.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::simulate::multibody::{
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::multibody::{
     simulate_wing, wing_options, WingRun, GOLDEN_COLUMNS, GOLDEN_LOCKS,
 };
 use std::hint::black_box;

@@ -25,14 +25,12 @@
 //!
 //! Prints Markdown tables on stdout (progress on stderr).
 
-use deploywatch_sim::analysis::identify::by_rsm::identify_rsm;
-use deploywatch_sim::analysis::identify::direct::identify_direct;
-use deploywatch_sim::analysis::identify::{
-    self, DirectOptions, Identification, RsmOptions, RsmResponse,
-};
-use deploywatch_sim::data::campaign::Campaign;
-use deploywatch_sim::model::effect::{Effect, EffectKind};
-use deploywatch_sim::model::mechanism::Mechanism;
+use deploywatch_sim::campaign::Campaign;
+use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::identify::by_rsm::identify_rsm;
+use deploywatch_sim::identify::direct::identify_direct;
+use deploywatch_sim::identify::{self, DirectOptions, Identification, RsmOptions, RsmResponse};
+use deploywatch_sim::mechanism::Mechanism;
 use std::path::{Path, PathBuf};
 
 fn data() -> PathBuf {
@@ -80,7 +78,7 @@ fn example_truth(dir: &Path, joints: usize) -> Vec<f64> {
     t
 }
 
-fn cell(j: Option<&deploywatch_sim::analysis::identify::JointEft>, truth: &[f64]) -> String {
+fn cell(j: Option<&deploywatch_sim::identify::JointEft>, truth: &[f64]) -> String {
     let Some(j) = j else { return "–".into() };
     let t = truth[j.joint - 1];
     let err = if t >= 0.1 {

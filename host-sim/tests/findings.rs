@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use deploywatch_sim::model::findings::{Findings, FindingsError};
+use deploywatch_sim::findings::{Findings, FindingsError};
 use serde_json::Value;
 
 fn here(rel: &str) -> PathBuf {

@@ -6,9 +6,9 @@
 use std::path::{Path, PathBuf};
 
 use deploywatch_core::spring::Interp;
-use deploywatch_sim::data::run::{pair_runs, Run, RunError, RunErrorKind};
-use deploywatch_sim::model::mechanism::{Mechanism, SpringSpec};
-use deploywatch_sim::model::mechanism_toml::{MechanismError, MechanismErrorKind};
+use deploywatch_sim::mechanism::{Mechanism, SpringSpec};
+use deploywatch_sim::mechanism_toml::{MechanismError, MechanismErrorKind};
+use deploywatch_sim::run::{pair_runs, Run, RunError, RunErrorKind};
 
 fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../data")
@@ -1189,7 +1189,7 @@ fn mutated_inputs_are_accepted_or_rejected_with_a_located_error_never_a_panic() 
 
 #[test]
 fn run_settle_s_defaults_to_two_tenths_is_read_checked_and_written_back() {
-    use deploywatch_sim::model::mechanism_toml::DEFAULT_SETTLE_S;
+    use deploywatch_sim::mechanism_toml::DEFAULT_SETTLE_S;
     let m = Mechanism::from_toml_str(&t01_text(), "t01.toml").expect("T01");
     assert_eq!(m.settle_s, DEFAULT_SETTLE_S);
     assert_eq!(DEFAULT_SETTLE_S, 0.2);

@@ -13,9 +13,9 @@ use deploywatch_core::telemetry::replay::{
     configure, read_header, ConfigStore, Direct, MonitorStore, Source,
 };
 use deploywatch_core::LatchState;
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::onboard::hil::{self, Fate, Inject};
-use deploywatch_sim::onboard::replay::{self, StatusRow};
+use deploywatch_sim::hil::{self, Fate, Inject};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::replay::{self, StatusRow};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -199,7 +199,7 @@ fn ideal(physical: &str) -> String {
 }
 
 /// The joints' statuses of `run` on `mech` (the host's replay).
-fn statuses(mech: &Mechanism, run: &deploywatch_sim::data::run::Run) -> Vec<StatusRow> {
+fn statuses(mech: &Mechanism, run: &deploywatch_sim::run::Run) -> Vec<StatusRow> {
     replay::prepare(mech, run).expect("replays").host
 }
 
@@ -207,7 +207,7 @@ fn statuses(mech: &Mechanism, run: &deploywatch_sim::data::run::Run) -> Vec<Stat
 /// been open and its reading beyond `travel_deg` for longer than
 /// `grace_s` after a closure; returns (such samples, samples out).
 fn latched_while_out(
-    run: &deploywatch_sim::data::run::Run,
+    run: &deploywatch_sim::run::Run,
     st: &[StatusRow],
     travel_deg: f64,
     grace_s: f64,

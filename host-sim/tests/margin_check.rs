@@ -4,7 +4,7 @@
 mod common;
 
 use common::{deploywatch, fails, s, t01_mechanism, write};
-use deploywatch_sim::model::effect::EffectKind;
+use deploywatch_sim::effect::EffectKind;
 use serde_json::{json, Value};
 use std::path::Path;
 

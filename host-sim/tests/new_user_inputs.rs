@@ -11,7 +11,7 @@ use std::process::Output;
 
 use common::{data, deploywatch, fails, s, t01_mechanism, t01_run_text, write};
 
-use deploywatch_sim::data::run::Run;
+use deploywatch_sim::run::Run;
 
 fn t01_text() -> String {
     std::fs::read_to_string(t01_mechanism()).expect("bundled mechanism")

@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use deploywatch_sim::model::effect::EffectKind;
+use deploywatch_sim::effect::EffectKind;
 use serde_json::Value;
 
 fn data(rel: &str) -> PathBuf {

@@ -8,8 +8,8 @@ use std::process::Command;
 
 use deploywatch_core::telemetry;
 use deploywatch_core::{LatchState, Status};
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::onboard::replay::{self, ReplayError};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::replay::{self, ReplayError};
 
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -1,9 +1,9 @@
 //! The zero-g rig (`physics.md` §11, `docs/simulator.md` "Rig"): the
 //! trolley's friction, the wire pendulum's period and the energy balance
 //! with frame contacts, measured on the simulator itself.
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::simulate::deployment::SimOptions;
-use deploywatch_sim::simulate::rig::{drag_trolley, simulate_rig};
+use deploywatch_sim::deployment::SimOptions;
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::rig::{drag_trolley, simulate_rig};
 
 /// One panel on a linear spring (preload `t0`), hanging from one trolley.
 fn one_panel(rig: &str, stowed_deg: f64, t0: f64, inertia: f64) -> Mechanism {
@@ -182,8 +182,8 @@ at_m = -0.3
 
 #[test]
 fn flight_is_the_mechanism_without_its_rig() {
-    use deploywatch_sim::model::effect::{Effect, EffectKind};
-    use deploywatch_sim::simulate::deployment;
+    use deploywatch_sim::deployment;
+    use deploywatch_sim::effect::{Effect, EffectKind};
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms");
     let on_rig = Mechanism::load(&data.join("seed001_T01_rig.toml")).expect("rig example");
     assert!(on_rig.active_rig().is_some());

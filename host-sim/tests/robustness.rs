@@ -13,13 +13,13 @@ use std::path::Path;
 
 use common::{data, deploywatch, fails, s, t01_mechanism, t01_run_text, write};
 
-use deploywatch_sim::data::run::{
+use deploywatch_sim::deployment::{simulate, SimOptions};
+use deploywatch_sim::fault_injection::{self, SensorFault};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::run::{
     check_analysable, ReadOptions, Run, RunErrorKind, MAX_ANGLE_DEG, MISSING_SAMPLES_KEY,
 };
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::simulate::deployment::{simulate, SimOptions};
-use deploywatch_sim::simulate::fault_injection::{self, SensorFault};
-use deploywatch_sim::simulate::sensor::{measure, SensorModel};
+use deploywatch_sim::sensor::{measure, SensorModel};
 
 /// `diagnose` and `identify` on one run of seed001 T01: both must refuse it
 /// with exit code 2 and the same message parts.
@@ -292,7 +292,7 @@ fn the_bundled_runs_are_analysable() {
             let p = e.expect("entry").path();
             if p.extension().is_some_and(|x| x == "csv") {
                 let run = Run::load(&p).expect("bundled run");
-                let m = deploywatch_sim::data::run::pair_runs(&mechs, &run, s(&p)).expect("paired");
+                let m = deploywatch_sim::run::pair_runs(&mechs, &run, s(&p)).expect("paired");
                 check_analysable(&run, m, s(&p)).unwrap_or_else(|e| panic!("{e}"));
                 seen += 1;
             }

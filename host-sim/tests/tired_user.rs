@@ -19,10 +19,10 @@ use std::process::Output;
 
 use common::{data, deploywatch, fails, s, t01_mechanism, write};
 
-use deploywatch_sim::data::consistency;
-use deploywatch_sim::data::run::Run;
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::model::plausibility;
+use deploywatch_sim::consistency;
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::plausibility;
+use deploywatch_sim::run::Run;
 
 /// A bundled run of seed 001's trials (example campaign c).
 fn bundled_run() -> PathBuf {

@@ -64,7 +64,7 @@ fn a_truss_wing_deploys_and_prints_its_mobility() {
     );
     assert!(!dir.path().join("run_truss.csv").exists());
     // Every reader of runs reads it; the extra columns come back.
-    let run = deploywatch_sim::data::run::Run::load(&path).unwrap();
+    let run = deploywatch_sim::run::Run::load(&path).unwrap();
     assert_eq!(run.joints(), 2);
     let knee_b = run.extra("kneeB").expect("kneeB switch");
     let latch1 = &run.latch[0];
@@ -103,7 +103,7 @@ fn a_truss_run_with_effects_is_the_eft_mechanism() {
             "{}",
             String::from_utf8_lossy(&o.stderr)
         );
-        let r = deploywatch_sim::data::run::Run::load(&dir.path().join(out)).unwrap();
+        let r = deploywatch_sim::run::Run::load(&dir.path().join(out)).unwrap();
         (r.t_s, r.phi_deg, r.latch, r.extra)
     };
     let eft = run("seed000_case2_truss_eft.toml", "eft.csv", &[]);

@@ -3,7 +3,7 @@
 //! being seen only when it returns. Each row is a deterministic deployment,
 //! so the steps change no bit of the result.
 
-use deploywatch_sim::analysis::reliability::ReliabilityError;
+use deploywatch_sim::reliability::ReliabilityError;
 use pyo3::prelude::*;
 
 /// Why a batch stopped: Python (a signal, an error raised by Python code),

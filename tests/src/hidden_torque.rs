@@ -31,12 +31,12 @@
 
 use crate::data_dir;
 use deploywatch_core::Branch;
-use deploywatch_sim::data::run::Run;
-use deploywatch_sim::model::effect::{self, Effect, EffectKind};
-use deploywatch_sim::model::mechanism::Mechanism;
-use deploywatch_sim::model::torque_table::{HostTable as Table, HostTorqueTable as TorqueTable};
-use deploywatch_sim::simulate::deployment::{self, SimOptions};
-use deploywatch_sim::simulate::sensor::{self, SensorModel};
+use deploywatch_sim::deployment::{self, SimOptions};
+use deploywatch_sim::effect::{self, Effect, EffectKind};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::run::Run;
+use deploywatch_sim::sensor::{self, SensorModel};
+use deploywatch_sim::torque_table::{HostTable as Table, HostTorqueTable as TorqueTable};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

@@ -275,16 +275,6 @@ impl FromStr for Standard {
     }
 }
 
-/// One resistance of a joint: its kind and its value (a torque [N·m] or an
-/// energy [J], the same unit as the driving term it is compared with).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Term {
-    /// The kind, which selects the factor.
-    pub kind: Resistance,
-    /// The value [N·m] or [J], ≥ 0.
-    pub value: f64,
-}
-
 /// `(driving / resisting − 1) · 100` [%]: seed 001 Eq. 7 with torques, seed
 /// 000 Eq. 21 with energies. `+∞` when `resisting = 0 < driving`.
 pub fn margin_pct(driving: f64, resisting: f64) -> f64 {
@@ -299,18 +289,6 @@ fn ratio(driving: f64, resisting: f64) -> f64 {
     } else {
         driving / resisting
     }
-}
-
-/// `Σ_i FoS_i · R_i`: the factored resistance, in the unit of the terms.
-pub fn factored_resistance(terms: &[Term], factors: &Factors) -> f64 {
-    terms.iter().map(|t| factors.get(t.kind) * t.value).sum()
-}
-
-/// The standards' margin of safety `D / Σ_i (FoS_i · R_i) − 1` [1] (a
-/// fraction, not %): `driving` and the terms both torques [N·m] or both
-/// energies [J]. `+∞` when there is no resistance.
-pub fn factored_margin(driving: f64, terms: &[Term], factors: &Factors) -> f64 {
-    ratio(driving, factored_resistance(terms, factors)) - 1.0
 }
 
 /// The kind a physical latch's engagement counts as: the standards'
@@ -469,26 +447,6 @@ mod tests {
         assert!((margin_pct(3.0, 1.5) - 100.0).abs() < 1e-12);
         assert!((margin_pct(1.0, 2.0) + 50.0).abs() < 1e-12);
         assert_eq!(margin_pct(1.0, 0.0), f64::INFINITY);
-    }
-
-    #[test]
-    fn factored_margin_weighs_each_kind() {
-        let terms = [
-            Term {
-                kind: Resistance::Friction,
-                value: 1.0,
-            },
-            Term {
-                kind: Resistance::Inertia,
-                value: 2.0,
-            },
-        ];
-        let f = Standard::EcssEST3301C.factors();
-        // 3·1 + 1.1·2 = 5.2
-        assert!((factored_resistance(&terms, &f) - 5.2).abs() < 1e-12);
-        assert!((factored_margin(10.4, &terms, &f) - 1.0).abs() < 1e-12);
-        assert!((factored_margin(3.0, &terms, &Factors::UNITY)).abs() < 1e-12);
-        assert_eq!(factored_margin(1.0, &[], &f), f64::INFINITY);
     }
 
     #[test]

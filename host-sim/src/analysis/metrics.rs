@@ -92,6 +92,7 @@ impl TimeWindow {
 
     /// `[0, seconds]`: e.g. `first(2.0)` is seed 001's window (Eq. 6, i = 0..200
     /// at Δt = 0.01 s), `first(4.0)` seed 000's (Eq. 14, "four seconds").
+    #[cfg(test)]
     pub fn first(seconds: f64) -> Self {
         TimeWindow {
             start_s: 0.0,

@@ -6,14 +6,17 @@
 pub mod campaign_sim;
 pub mod design_margin;
 pub mod diagnose;
+pub mod diagnosis_details;
 pub mod effect_margin;
 pub mod fit;
 pub mod identify;
+pub mod identify_edge;
+pub mod joint_margins;
 pub mod latch_events;
 pub mod metrics;
 pub mod reliability;
-/// The evidence modules of the diagnosis (in `analysis/diagnose/`), also
-/// reachable as `analysis::evidence`, `analysis::residual_torque`, ….
-pub use diagnose::{
-    evidence, residual_named, residual_shape, residual_torque, smoothing, table_export,
-};
+pub mod resistances;
+/// The evidence modules of the diagnosis (in `analysis/diagnose/`) that
+/// identify and the reports use, reachable as `analysis::evidence`,
+/// `analysis::residual_torque`, ….
+pub use diagnose::{evidence, residual_shape, residual_torque, table_export};

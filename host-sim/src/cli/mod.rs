@@ -18,19 +18,17 @@
 //!   a closed stdout (`deploywatch simulate … | head -1`) does not stop the
 //!   work; the files are still written and the command exits quietly.
 
-pub mod diagnose;
-pub mod diagnose_latch;
-pub mod diagnose_torque;
-pub mod hil;
+pub(crate) mod diagnose;
+pub(crate) mod hil;
 pub mod identify;
-pub mod margin;
-pub mod margin_from;
-pub mod reliability;
-pub mod replay;
-pub mod simulate;
-pub mod simulate_args;
-pub mod simulate_rig;
-pub mod simulate_truss;
+pub(crate) mod margin;
+pub(crate) mod reliability;
+pub(crate) mod replay;
+pub(crate) mod simulate;
+pub(crate) mod simulate_args;
+pub(crate) mod simulate_rig;
+pub(crate) mod simulate_truss;
+pub(crate) mod spinner;
 
 use crate::report::progress::{self, Progress};
 use clap::{Parser, Subcommand};

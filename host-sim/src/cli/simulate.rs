@@ -1,16 +1,14 @@
 //! `deploywatch simulate`: one deployment of a mechanism, written as a run CSV.
 
 use super::simulate_args::measure;
-pub use super::simulate_args::{effect_help, SimulateArgs};
+pub use super::simulate_args::SimulateArgs;
 use super::{check_output, outln, CliError, Console};
-use crate::data::run::Run;
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;
-use crate::report::plot::{self, Mark, Panel, Series};
+use crate::report::run_plot::{plot_rig_run, plot_run};
 use crate::simulate::deployment::{self, SimOptions};
 use crate::simulate::fault_injection;
 use crate::simulate::latch_deployment::{self, LatchRun};
-use std::path::Path;
 
 /// Runs `deploywatch simulate`.
 pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
@@ -81,7 +79,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         None => None,
     };
     if let (Some(png), Some(rig)) = (&args.plot, &rig) {
-        super::simulate_rig::plot(&outs.path(png)?, &mech.name, &run, rig)
+        plot_rig_run(&outs.path(png)?, &mech.name, &run, rig)
             .map_err(|e| CliError::failed(e.to_string()))?;
     } else if let Some(png) = &args.plot {
         plot_run(&outs.path(png)?, &mech.name, &run, &traj.latch_s)
@@ -159,38 +157,4 @@ fn check_args(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
         check_output("--plot", png)?;
     }
     Ok(())
-}
-
-/// Draws a run's joint angles with its latch events.
-pub fn plot_run(
-    png: &Path,
-    title: &str,
-    run: &Run,
-    latch_s: &[Option<f64>],
-) -> Result<(), plot::PlotError> {
-    let series: Vec<Series> = (0..run.joints())
-        .map(|j| Series {
-            label: format!("joint {}", j + 1),
-            x: &run.t_s,
-            y: &run.phi_deg[j],
-            mark: Mark::Line,
-            color: j,
-        })
-        .collect();
-    let markers = latch_s
-        .iter()
-        .enumerate()
-        .filter_map(|(j, l)| l.map(|t| (t, format!("latch {}", j + 1))))
-        .collect();
-    plot::draw(
-        png,
-        &format!("{title}: joint angles"),
-        "time [s]",
-        &[Panel {
-            title: "joint angle φ_j".into(),
-            y_label: "angle [deg]".into(),
-            series,
-            markers,
-        }],
-    )
 }

@@ -1,16 +1,14 @@
 //! `deploywatch simulate` on a mechanism with a zero-g rig (`[rig]`,
 //! `physics.md` §11): what the rig did — each panel's lateral drift, the
-//! frame contacts, the energy balance — and, with `--plot`, the lateral
-//! positions and the contacts beside the joint angles.
+//! frame contacts, the energy balance. With `--plot`, the lateral positions
+//! and the contacts beside the joint angles
+//! ([`crate::report::run_plot::plot_rig_run`]).
 
 use super::{outln, CliError};
-use crate::data::run::Run;
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
-use crate::report::plot::{self, Mark, Panel, Series};
 use crate::simulate::deployment::{self, SimOptions};
 use crate::simulate::rig::{simulate_rig, RigRun};
-use std::path::Path;
 
 /// Simulates `mech` on its rig on `opts`' grid and prints what the rig did.
 pub fn report(mech: &Mechanism, effects: &[Effect], opts: &SimOptions) -> Result<RigRun, CliError> {
@@ -41,65 +39,4 @@ pub fn report(mech: &Mechanism, effects: &[Effect], opts: &SimOptions) -> Result
         );
     }
     Ok(rig)
-}
-
-/// Draws the joint angles and each panel tip's lateral position, with the
-/// latches and the frame contacts marked.
-pub fn plot(png: &Path, title: &str, run: &Run, rig: &RigRun) -> Result<(), plot::PlotError> {
-    let angles: Vec<Series> = (0..run.joints())
-        .map(|j| Series {
-            label: format!("joint {}", j + 1),
-            x: &run.t_s,
-            y: &run.phi_deg[j],
-            mark: Mark::Line,
-            color: j,
-        })
-        .collect();
-    let lateral: Vec<Vec<f64>> = rig
-        .tip_xy
-        .iter()
-        .map(|tip| tip.iter().map(|q| q[1] * 1e3).collect())
-        .collect();
-    let drift: Vec<Series> = lateral
-        .iter()
-        .enumerate()
-        .map(|(p, y)| Series {
-            label: format!("panel {} tip", p + 1),
-            x: &rig.traj.t_s,
-            y,
-            mark: Mark::Line,
-            color: p,
-        })
-        .collect();
-    let latches = rig
-        .traj
-        .latch_s
-        .iter()
-        .enumerate()
-        .filter_map(|(j, l)| l.map(|t| (t, format!("latch {}", j + 1))))
-        .collect();
-    let contacts = rig
-        .contacts
-        .iter()
-        .map(|c| (c.first_s, format!("panel {} hits {}", c.panel, c.frame)))
-        .collect();
-    plot::draw(
-        png,
-        &format!("{title}: on the zero-g rig"),
-        "time [s]",
-        &[
-            Panel {
-                title: "joint angle φ_j".into(),
-                y_label: "angle [deg]".into(),
-                series: angles,
-                markers: latches,
-            },
-            Panel {
-                title: "lateral drift of each panel tip (frame contacts marked)".into(),
-                y_label: "y [mm]".into(),
-                series: drift,
-                markers: contacts,
-            },
-        ],
-    )
 }

@@ -28,7 +28,7 @@ impl Default for FrictionSpec {
 
 impl FrictionSpec {
     /// The core friction law.
-    pub fn to_friction(&self) -> Friction<f64> {
+    pub fn to_friction(self) -> Friction<f64> {
         let (breakaway_nm, stribeck_rad_s) = self.stribeck.unwrap_or((self.coulomb_nm, 1.0));
         Friction {
             coulomb_nm: self.coulomb_nm,

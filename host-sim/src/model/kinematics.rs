@@ -15,8 +15,10 @@ pub const FIXED_CONSTRAINTS: u32 = 6;
 /// Constraints a revolute joint removes in space (seed 001 Table 4).
 pub const REVOLUTE_CONSTRAINTS: u32 = 5;
 /// Constraints a translational (prismatic) joint removes in space (seed 001 Table 4).
+#[cfg(test)]
 pub const TRANSLATIONAL_CONSTRAINTS: u32 = 5;
 /// Constraints a spherical joint removes in space (seed 001 Table 4).
+#[cfg(test)]
 pub const SPHERICAL_CONSTRAINTS: u32 = 3;
 
 /// Planar Gruebler mobility `3 (L − 1) − 2 J1 − J2` (seed 000 Eq. 1).
@@ -38,6 +40,7 @@ pub fn spatial_mobility(bodies: u32, constraints: &[u32]) -> i64 {
 /// Mobility of the project's planar open chain of `n` panels hinged in series
 /// to a fixed bus: `n` bodies + bus, `n` revolute joints, so `n` DOF (one per
 /// joint angle `φ_j`, `physics.md` 1).
+#[cfg(test)]
 pub fn open_chain_mobility(n: u32) -> i64 {
     planar_mobility(n + 1, n, 0)
 }

@@ -59,15 +59,9 @@ pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, panels: &[Panel<f64>]) -> Res<Rig> {
     let num = |key: &str, bound: Bound, unit: &str, default: f64| -> Res<f64> {
         Ok(cx.opt_number(&t, key, bound, unit)?.unwrap_or(default))
     };
-    let enabled = match t.get("enabled") {
-        None => true,
-        Some(Sp {
-            node: Node::Bool(b),
-            ..
-        }) => *b,
-        Some(s) => return Err(cx.wrong_type(s, &t.key("enabled"), "true or false")),
-    };
-    let bars = tables(cx, &t, "bar")?
+    let enabled = cx.opt_bool(&t, "enabled", true)?;
+    let bars = cx
+        .tables(&t, "bar")?
         .iter()
         .enumerate()
         .map(|(i, b)| {
@@ -77,12 +71,14 @@ pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, panels: &[Panel<f64>]) -> Res<Rig> {
             })
         })
         .collect::<Res<Vec<_>>>()?;
-    let trolleys = tables(cx, &t, "trolley")?
+    let trolleys = cx
+        .tables(&t, "trolley")?
         .iter()
         .enumerate()
         .map(|(i, s)| trolley(cx, s, &format!("rig.trolley[{}]", i + 1), panels))
         .collect::<Res<Vec<_>>>()?;
-    let frames = tables(cx, &t, "frame")?
+    let frames = cx
+        .tables(&t, "frame")?
         .iter()
         .enumerate()
         .map(|(i, s)| frame(cx, s, &format!("rig.frame[{}]", i + 1)))
@@ -119,17 +115,6 @@ pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, panels: &[Panel<f64>]) -> Res<Rig> {
     rig.check(panels.len())
         .map_err(|e| cx.invalid(sp, "rig", &format!("a consistent rig ({e})")))?;
     Ok(rig)
-}
-
-/// `[[rig.NAME]]`: the tables of an array of tables (none when absent).
-fn tables<'s>(cx: &Cx<'_>, t: &Table<'s>, name: &str) -> Res<&'s [Sp]> {
-    match t.get(name) {
-        None => Ok(&[]),
-        Some(sp) => match &sp.node {
-            Node::Array(items) => Ok(items),
-            _ => Err(cx.wrong_type(sp, &t.key(name), "an array of tables [[...]]")),
-        },
-    }
 }
 
 /// A required integer ≥ 1.

@@ -406,6 +406,30 @@ impl Cx<'_> {
             .transpose()
     }
 
+    /// `[[T.name]]`: the tables of an array of tables in `t` (none when
+    /// absent).
+    pub(crate) fn tables<'s>(&self, t: &Table<'s>, name: &str) -> Res<&'s [Sp]> {
+        match t.get(name) {
+            None => Ok(&[]),
+            Some(sp) => match &sp.node {
+                Node::Array(items) => Ok(items),
+                _ => Err(self.wrong_type(sp, &t.key(name), "an array of tables [[...]]")),
+            },
+        }
+    }
+
+    /// `key` of `t` as `true` or `false`; `default` when absent.
+    pub(crate) fn opt_bool(&self, t: &Table<'_>, key: &str, default: bool) -> Res<bool> {
+        match t.get(key) {
+            None => Ok(default),
+            Some(Sp {
+                node: Node::Bool(b),
+                ..
+            }) => Ok(*b),
+            Some(s) => Err(self.wrong_type(s, &t.key(key), "true or false")),
+        }
+    }
+
     pub(crate) fn string<'s>(&self, sp: &'s Sp, key: &str) -> Res<&'s str> {
         match &sp.node {
             Node::Str(s) => Ok(s),

@@ -45,12 +45,14 @@ pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, panels: usize) -> Res<Truss> {
         .enumerate()
         .map(|(i, v)| xy_mm(cx, v, &format!("truss.hinges_mm[{}]", i + 1)))
         .collect::<Res<_>>()?;
-    let points = tables(cx, &t, "point")?
+    let points = cx
+        .tables(&t, "point")?
         .iter()
         .enumerate()
         .map(|(i, p)| point(cx, p, &format!("truss.point[{}]", i + 1)))
         .collect::<Res<_>>()?;
-    let links = tables(cx, &t, "link")?
+    let links = cx
+        .tables(&t, "link")?
         .iter()
         .enumerate()
         .map(|(i, l)| link(cx, l, &format!("truss.link[{}]", i + 1)))
@@ -71,17 +73,6 @@ pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, panels: usize) -> Res<Truss> {
 fn xy_mm(cx: &Cx<'_>, sp: &Sp, key: &str) -> Res<[f64; 2]> {
     let (x, y) = cx.pair(sp, key, "[x, y] in mm")?;
     Ok([x, y])
-}
-
-/// `[[truss.NAME]]`: the tables of an array of tables (none when absent).
-fn tables<'s>(cx: &Cx<'_>, t: &Table<'s>, name: &str) -> Res<&'s [Sp]> {
-    match t.get(name) {
-        None => Ok(&[]),
-        Some(sp) => match &sp.node {
-            Node::Array(items) => Ok(items),
-            _ => Err(cx.wrong_type(sp, &t.key(name), "an array of tables [[...]]")),
-        },
-    }
 }
 
 /// A required non-empty string.
@@ -112,14 +103,7 @@ fn point(cx: &Cx<'_>, sp: &Sp, key: &str) -> Res<TrussPoint> {
             }
         },
     };
-    let knee = match t.get("knee") {
-        None => false,
-        Some(Sp {
-            node: Node::Bool(b),
-            ..
-        }) => *b,
-        Some(k) => return Err(cx.wrong_type(k, &t.key("knee"), "true or false")),
-    };
+    let knee = cx.opt_bool(&t, "knee", false)?;
     let reference_link = match t.get("reference_link") {
         None => None,
         Some(_) => Some(name(cx, &t, "reference_link")?.to_string()),

@@ -39,9 +39,6 @@ use crate::model::mechanism::{with_joints, Mechanism, SpringSpec};
 use crate::onboard::monitor_config::{monitor_config, samples, spring_f32};
 use crate::report::plot::{self, Mark, Panel, Series};
 
-/// Joint counts the host side replays (`Monitor<N>` for each).
-pub const HOST_JOINTS: std::ops::RangeInclusive<usize> = 1..=4;
-
 /// The firmware ELF, relative to the repository root.
 pub const DEFAULT_ELF: &str =
     "firmware-example/target/thumbv7em-none-eabihf/release/deploywatch-firmware-example";

@@ -1,9 +1,23 @@
-//! What people look at, and the files it is written to: PNG plots shared
-//! by every command that draws, Markdown links, the progress lines of long
-//! work, numbers written for people, and [`files::Outputs`], through which
-//! every command writes its outputs all or none.
+//! What people look at, and the files it is written to. The leaf
+//! utilities, usable from every layer: PNG plots shared by every command
+//! that draws ([`plot`]), Markdown links ([`markdown`]), the progress lines
+//! of long work ([`progress`]), numbers written for people ([`text`]), and
+//! [`files::Outputs`], through which every command writes its outputs all
+//! or none. Above the analysis, the report writers: the diagnosis report,
+//! its plots and its JSON ([`diagnosis`] and the `diagnosis_*` modules),
+//! the margin table and its JSON ([`margin`]), the identification's summary
+//! and plot ([`identify`]), a simulated run's plot ([`run_plot`]).
+pub mod diagnosis;
+pub mod diagnosis_json;
+pub mod diagnosis_latch;
+pub mod diagnosis_plots;
+pub mod diagnosis_torque;
+pub mod diagnosis_words;
 pub mod files;
+pub mod identify;
+pub mod margin;
 pub mod markdown;
 pub mod plot;
 pub mod progress;
+pub mod run_plot;
 pub mod text;

@@ -56,6 +56,25 @@ pub struct Series<'a> {
     pub color: usize,
 }
 
+impl<'a> Series<'a> {
+    /// A curve of `y` over `x` drawn as `mark` in palette colour `color`.
+    pub fn new(
+        label: impl Into<String>,
+        x: &'a [f64],
+        y: &'a [f64],
+        mark: Mark,
+        color: usize,
+    ) -> Self {
+        Series {
+            label: label.into(),
+            x,
+            y,
+            mark,
+            color,
+        }
+    }
+}
+
 /// One stacked panel of a figure.
 #[derive(Clone, Debug, Default)]
 pub struct Panel<'a> {

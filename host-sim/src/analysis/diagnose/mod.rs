@@ -51,12 +51,10 @@ mod table_form;
 
 pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
-pub use outcome::{
-    CandidateScore, DiagnoseOptions, FitStats, FittedEffect, FittedSet, Outcome, Round, StopFlag,
-};
+pub use outcome::{DiagnoseOptions, FitStats, FittedSet, Outcome, Round, StopFlag};
 use policy::Move;
-pub use policy::{Kept, Rejection, Verdict, HELD_OUT_SHARE, MIN_DELTA_BIC};
-pub use table_form::{PlacedKnots, TableForm};
+pub use policy::MIN_DELTA_BIC;
+pub use table_form::TableForm;
 
 use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::fit::{self, FitOptions};

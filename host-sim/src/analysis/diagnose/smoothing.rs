@@ -11,10 +11,6 @@
 //! segment's ends get no estimate: the window would have to reach over a
 //! release, a latch or an impact, where the motion is not smooth.
 
-/// Smallest half-width of the local cubic [samples]: 7 points for 4
-/// coefficients.
-pub const MIN_HALF_WINDOW: usize = 3;
-
 /// Largest half-width of the local cubic [samples]: 0.15 s at 100 Hz. GCV
 /// chooses the window for the angle; its second derivative, the torque,
 /// needs a narrower one to resolve a feature over a tenth of the stroke.

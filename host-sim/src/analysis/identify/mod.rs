@@ -492,16 +492,6 @@ pub struct Scan {
 /// The start scan: the same EFT at every identified joint, for each value
 /// of [`SCAN_GRID_NM`] (simulated in parallel); keeps the best value for the
 /// whole campaign and, per joint, the value that fits that joint best.
-pub fn scan(
-    campaign: &Campaign,
-    joints: &[usize],
-    progress: Progress,
-) -> Result<Scan, IdentifyError> {
-    check_joints(campaign, joints)?;
-    let model = Model::new(campaign, joints);
-    scan_with(&model, progress)
-}
-
 fn scan_with(model: &Model, progress: Progress) -> Result<Scan, IdentifyError> {
     progress(&format!(
         "scan: the same EFT at joints {} ({} values from 0 to {} N·m)",

@@ -15,6 +15,6 @@ mod validate;
 pub use error::{RunError, RunErrorKind};
 pub use pair::{check_analysable, check_run_of, pair_runs};
 pub use record::{
-    run_header, valid_knee_name, ExtraColumn, ExtraKind, ReadOptions, Run, EXTRA_COLUMNS,
-    MAX_ANGLE_DEG, MAX_CHAIN_JOINTS, MIN_MOTION_DEG, MISSING_SAMPLES_KEY, MISSING_SAMPLES_VALUE,
+    ExtraColumn, ExtraKind, ReadOptions, Run, MAX_ANGLE_DEG, MIN_MOTION_DEG, MISSING_SAMPLES_KEY,
+    MISSING_SAMPLES_VALUE,
 };

@@ -23,7 +23,7 @@ pub mod numbers;
 
 pub use diagnosis::Diagnosis;
 pub use identify::Identification;
-pub use numbers::{nan_if_null, nans_if_null, not_given, rounded, ROUNDING};
+pub use numbers::rounded;
 
 use serde::Deserialize;
 

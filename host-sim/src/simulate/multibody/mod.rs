@@ -25,13 +25,10 @@ pub mod solve;
 pub mod system;
 pub mod wing;
 
-pub use integrate::{run, MbTrajectory, CAPTURE_RAD};
+pub use integrate::{run, MbTrajectory};
 pub use kin::Model;
 pub use system::{Body, Pin, PointSpring, System, SystemError};
-pub use wing::{
-    simulate_wing, wing_model, wing_options, WingRun, GOLDEN_COLUMNS, GOLDEN_LOCKS, WING_ATOL,
-    WING_RTOL,
-};
+pub use wing::{simulate_wing, wing_model, wing_options, WingRun, GOLDEN_COLUMNS, GOLDEN_LOCKS};
 
 impl Model {
     /// Builds the spanning tree of a system.

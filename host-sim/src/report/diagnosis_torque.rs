@@ -3,7 +3,6 @@
 //! baseline and the extended model lack, against angle and against rate,
 //! with its band, and whether it is significant.
 
-use super::CliError;
 use crate::analysis::residual_torque::{Bin, JointTorque, TorqueSample};
 use crate::model::findings::diagnosis::{JointResidualTorque, TorqueBin};
 use crate::report::markdown::{file_name, image};
@@ -119,27 +118,9 @@ fn torque_panels<'a>(
                 title: format!("joint {}: residual torque vs {what}", t.joint),
                 y_label: "torque [N·m]".into(),
                 series: vec![
-                    Series {
-                        label: "samples".into(),
-                        x: &d.0,
-                        y: &d.1,
-                        mark: Mark::Dots,
-                        color: 5,
-                    },
-                    Series {
-                        label: "±2 se of the bin mean".into(),
-                        x: &b[1].0,
-                        y: &b[1].1,
-                        mark: Mark::Band,
-                        color: 6,
-                    },
-                    Series {
-                        label: "bin mean".into(),
-                        x: &b[0].0,
-                        y: &b[0].1,
-                        mark: Mark::Line,
-                        color: 0,
-                    },
+                    Series::new("samples", &d.0, &d.1, Mark::Dots, 5),
+                    Series::new("±2 se of the bin mean", &b[1].0, &b[1].1, Mark::Band, 6),
+                    Series::new("bin mean", &b[0].0, &b[0].1, Mark::Line, 0),
                 ],
                 markers: Vec::new(),
             };
@@ -149,11 +130,10 @@ fn torque_panels<'a>(
 }
 
 /// Draws one joint's figure ([`torque_panels`]) to `path`.
-fn joint_figure(path: &Path, label: &str, t: &JointTorque) -> Result<(), CliError> {
+fn joint_figure(path: &Path, label: &str, t: &JointTorque) -> Result<(), plot::PlotError> {
     let data = figure_data(t);
     let title = format!("residual torque at joint {} ({label})", t.joint);
     plot::draw_panels(path, &title, &torque_panels(t, &data))
-        .map_err(|e| CliError::failed(e.to_string()))
 }
 
 /// The y range of a joint's figure [N·m]: the 5th to 95th percentile of
@@ -180,7 +160,7 @@ pub fn report_torque(
     stem: &str,
     before: &[JointTorque],
     after: &[JointTorque],
-) -> Result<(), CliError> {
+) -> Result<(), plot::PlotError> {
     let _ = writeln!(
         md,
         "## Residual torque from the data\n\nThe torque each model lacks, from the smoothed runs and the chain equations (inverse dynamics), against angle and rate; the band is ±2 standard errors of the bin means.\n"

@@ -1,8 +1,9 @@
-//! `deploywatch margin --from`: what `identify` or `diagnose` found, read
-//! from their `--json` file, as the resistances of the margins
-//! (`docs/margin.md`): the friction and damping per joint, and every other
-//! named effect of a diagnosis, counted by
-//! [`crate::analysis::effect_margin`].
+//! The resistances of the margins (`docs/margin.md`): a mechanism's own
+//! friction, `--friction` values, or what `identify` or `diagnose` found,
+//! read from their `--json` file (`margin --from`): the friction and
+//! damping per joint, and every other named effect of a diagnosis, counted
+//! by [`crate::analysis::effect_margin`].
+use crate::analysis::effect_margin;
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::findings::diagnosis::FoundEffect;
 use crate::model::findings::{Diagnosis, Findings, FindingsError, Identification};
@@ -28,6 +29,65 @@ pub struct Resistances {
     pub others: Vec<Effect>,
     /// The mechanisms the file was found on (empty if it does not say).
     pub found_on: Vec<String>,
+}
+
+impl Resistances {
+    /// The mechanism's own friction and damping, named `source`.
+    pub fn of_mechanism(mech: &Mechanism, source: String) -> Self {
+        Resistances {
+            coulomb_nm: mech.joints.iter().map(|j| j.friction.coulomb_nm).collect(),
+            viscous_nms: mech.joints.iter().map(|j| j.friction.viscous_nms).collect(),
+            source,
+            ignored: Vec::new(),
+            others: Vec::new(),
+            found_on: Vec::new(),
+        }
+    }
+
+    /// What was found, as effects on top of `mech` (which already holds its
+    /// own friction): the differences of the friction and damping lists,
+    /// and every other effect.
+    pub fn found_effects(&self, mech: &Mechanism) -> Vec<Effect> {
+        (0..mech.joint_count())
+            .flat_map(|j| {
+                let own = &mech.joints[j].friction;
+                [
+                    Effect::joint(
+                        EffectKind::CoulombFriction,
+                        j + 1,
+                        self.coulomb_nm[j] - own.coulomb_nm,
+                    ),
+                    Effect::joint(
+                        EffectKind::ViscousDamping,
+                        j + 1,
+                        self.viscous_nms[j] - own.viscous_nms,
+                    ),
+                ]
+            })
+            .chain(self.others.iter().copied())
+            .collect()
+    }
+
+    /// The margin on orbit (`--flight`): leaves out the effects that exist
+    /// only on the ground rig ([`effect_margin::rig_only`]), naming them
+    /// in the source.
+    pub fn take_out_the_rig(&mut self) {
+        let (rig, flies): (Vec<Effect>, Vec<Effect>) = self
+            .others
+            .iter()
+            .partition(|e| effect_margin::rig_only(e.kind));
+        self.others = flies;
+        let names: Vec<String> = rig.iter().map(|e| e.kind.to_string()).collect();
+        self.source = if names.is_empty() {
+            format!("{}; flight: the rig taken out", self.source)
+        } else {
+            format!(
+                "{}; flight: the rig taken out, left out as rig-only: {}",
+                self.source,
+                names.join(", ")
+            )
+        };
+    }
 }
 
 /// Why a `--from` file cannot be used.
@@ -105,14 +165,7 @@ pub fn resistances_with(
     source: String,
 ) -> Result<Resistances, FromError> {
     let n = mech.joint_count();
-    let mut r = Resistances {
-        coulomb_nm: mech.joints.iter().map(|j| j.friction.coulomb_nm).collect(),
-        viscous_nms: mech.joints.iter().map(|j| j.friction.viscous_nms).collect(),
-        source,
-        ignored: Vec::new(),
-        others: Vec::new(),
-        found_on: Vec::new(),
-    };
+    let mut r = Resistances::of_mechanism(mech, source);
     for e in effects {
         if e.validate_joint(n).is_err() {
             return Err(FromError::Joint {
