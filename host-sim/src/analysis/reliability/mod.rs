@@ -18,12 +18,14 @@
 //! order, so the same seed gives the same bits on any number of workers.
 
 pub mod auto;
+mod chains;
 pub mod correlation;
 pub mod criteria;
 pub mod estimate;
 pub mod form;
 pub mod identified;
 pub mod importance;
+mod lineage;
 pub mod mc;
 pub mod normal;
 pub mod params;
