@@ -30,6 +30,7 @@ pub mod mc;
 pub mod normal;
 pub mod params;
 pub mod subset;
+pub mod text;
 
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
@@ -142,13 +143,17 @@ impl Problem {
             .collect()
     }
 
-    /// The parameters in words, `name = value, ...`.
+    /// The parameters in words, `name = value unit, ...`, every digit kept
+    /// (to rerun a deployment that failed).
     pub fn describe(&self, x: &[f64]) -> String {
         let parts: Vec<String> = self
             .vary
             .iter()
             .zip(x)
-            .map(|(v, x)| format!("{} = {x}", v.label()))
+            .map(|(v, x)| match v.unit() {
+                "1" => format!("{} = {x}", v.label()),
+                unit => format!("{} = {x} {unit}", v.label()),
+            })
             .collect();
         parts.join(", ")
     }

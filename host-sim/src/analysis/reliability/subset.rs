@@ -34,6 +34,7 @@ use super::chains::{self, Grow, Population};
 use super::estimate::{Estimate, FailurePoint, Level, ModeResult};
 use super::lineage::{self, Trace};
 use super::mc::{check_rows, draw, system};
+use super::text::quantity;
 use super::{Evaluate, Problem, ReliabilityError};
 use crate::report::progress::Progress;
 
@@ -307,7 +308,8 @@ impl ModeRun {
             simulations: self.level_sims,
         });
         progress(&format!(
-            "subset: {mode}: level {k}: threshold {threshold:.6e}, p = {pk:.3}, {} deployments",
+            "subset: {mode}: level {k}: threshold {}, p = {pk:.3}, {} deployments",
+            quantity(threshold, mode.criterion.margin_unit()),
             self.level_sims
         ));
         self.stop = if b <= 0.0 {
