@@ -143,17 +143,15 @@ impl Problem {
             .collect()
     }
 
-    /// The parameters in words, `name = value unit, ...`, every digit kept
-    /// (to rerun a deployment that failed).
+    /// The parameters in words, `name = value, ...`, every digit kept (to
+    /// rerun a deployment that failed; the CLI prints its results with
+    /// units and fewer digits).
     pub fn describe(&self, x: &[f64]) -> String {
         let parts: Vec<String> = self
             .vary
             .iter()
             .zip(x)
-            .map(|(v, x)| match v.unit() {
-                "1" => format!("{} = {x}", v.label()),
-                unit => format!("{} = {x} {unit}", v.label()),
-            })
+            .map(|(v, x)| format!("{} = {x}", v.label()))
             .collect();
         parts.join(", ")
     }
