@@ -9,7 +9,8 @@ use crate::analysis::reliability::correlation::Correlation;
 use crate::analysis::reliability::criteria::Criterion;
 use crate::analysis::reliability::estimate::Estimate;
 use crate::analysis::reliability::identified;
-use crate::analysis::reliability::params::{Target, Vary};
+use crate::analysis::reliability::params::{Dist, Target, Vary};
+use crate::analysis::reliability::text::{quantity, sig};
 use crate::analysis::reliability::{form, normal};
 use crate::analysis::reliability::{Problem, ReliabilityError};
 use crate::model::effect::EffectKind;
@@ -194,7 +195,7 @@ fn print_estimate(problem: &Problem, est: &Estimate, wall_s: f64) {
         problem.modes().len()
     );
     for v in &problem.vary {
-        outln!("  {v}");
+        outln!("  {}", law(v));
     }
     if est.checks.is_empty() {
         print_detail(problem, est);
@@ -214,7 +215,7 @@ fn print_estimate(problem: &Problem, est: &Estimate, wall_s: f64) {
         outln!(
             "most likely failure seen (beta {:.3}): {}",
             f.beta(),
-            problem.describe(&f.x)
+            parameters(problem, &f.x)
         );
     }
 }
@@ -240,7 +241,7 @@ fn print_detail(problem: &Problem, est: &Estimate) {
             d.mode,
             d.beta,
             normal::tail(d.beta),
-            problem.describe(&d.x)
+            parameters(problem, &d.x)
         );
     }
     for m in &est.unreached {
@@ -251,13 +252,18 @@ fn print_detail(problem: &Problem, est: &Estimate) {
         );
     }
     for r in &est.modes {
+        let unit = r.mode.criterion.margin_unit();
         for (k, l) in r.levels.iter().enumerate() {
             outln!(
-                "  subset: {}: level {k}: threshold {:.6e}, p = {:.4}, c.o.v. {:.3}, {} deployments",
-                r.mode, l.threshold, l.p, l.cov, l.simulations
+                "  subset: {}: level {k}: threshold {}, p = {:.4}, c.o.v. {:.3}, {} deployments",
+                r.mode,
+                quantity(l.threshold, unit),
+                l.p,
+                l.cov,
+                l.simulations
             );
         }
-        let b = r.levels.last().map_or(f64::NAN, |l| l.threshold);
+        let b = quantity(r.levels.last().map_or(f64::NAN, |l| l.threshold), unit);
         if r.converged {
             outln!(
                 "  subset: {}: P = {:.4e}, c.o.v. {:.3}, {:.3} of it not failing an earlier mode",
@@ -273,7 +279,7 @@ fn print_detail(problem: &Problem, est: &Estimate) {
                 _ => "the most levels",
             };
             outln!(
-                "  subset: {}: not reached ({why}): margin <= {b:.6e} has P about {:.3e} \
+                "  subset: {}: not reached ({why}): margin <= {b} has P about {:.3e} \
                  (an estimate of that level, not a bound on the mode: the chains may not \
                  have entered all of its failures)",
                 r.mode,
@@ -281,4 +287,33 @@ fn print_detail(problem: &Problem, est: &Estimate) {
             );
         }
     }
+}
+
+/// The parameters in words, `name = value unit, ...` ([`quantity`]).
+fn parameters(problem: &Problem, x: &[f64]) -> String {
+    let parts: Vec<String> = problem
+        .vary
+        .iter()
+        .zip(x)
+        .map(|(v, &x)| format!("{} = {}", v.label(), quantity(x, v.unit())))
+        .collect();
+    parts.join(", ")
+}
+
+/// A parameter and its law, `name:law(a,b), in unit` ([`sig`]).
+fn law(v: &Vary) -> String {
+    let args: Vec<f64> = match v.dist {
+        Dist::Normal { mean, sd } => vec![mean, sd],
+        Dist::LogNormal { median, sigma_ln } => vec![median, sigma_ln],
+        Dist::Uniform { lo, hi } => vec![lo, hi],
+        Dist::TruncNormal { mean, sd, lo, hi } => vec![mean, sd, lo, hi],
+    };
+    let name = v.dist.to_string();
+    let name = name.split('(').next().unwrap_or_default();
+    let args: Vec<String> = args.into_iter().map(sig).collect();
+    let unit = match v.unit() {
+        "1" => String::new(),
+        u => format!(", in {u}"),
+    };
+    format!("{}:{name}({}){unit}", v.label(), args.join(","))
 }

@@ -70,6 +70,17 @@ impl FromStr for Criterion {
     }
 }
 
+impl Criterion {
+    /// The unit of its modes' margins: `s` (`not_latched`, `time>X`) or
+    /// `deg/s` (`latch_rate>X`).
+    pub fn margin_unit(self) -> &'static str {
+        match self {
+            Criterion::NotLatched | Criterion::TimeAbove(_) => "s",
+            Criterion::LatchRateAbove(_) => "deg/s",
+        }
+    }
+}
+
 impl fmt::Display for Criterion {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

@@ -18,16 +18,19 @@
 //! order, so the same seed gives the same bits on any number of workers.
 
 pub mod auto;
+mod chains;
 pub mod correlation;
 pub mod criteria;
 pub mod estimate;
 pub mod form;
 pub mod identified;
 pub mod importance;
+mod lineage;
 pub mod mc;
 pub mod normal;
 pub mod params;
 pub mod subset;
+pub mod text;
 
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
@@ -140,7 +143,9 @@ impl Problem {
             .collect()
     }
 
-    /// The parameters in words, `name = value, ...`.
+    /// The parameters in words, `name = value, ...`, every digit kept (to
+    /// rerun a deployment that failed; the CLI prints its results with
+    /// units and fewer digits).
     pub fn describe(&self, x: &[f64]) -> String {
         let parts: Vec<String> = self
             .vary

@@ -193,6 +193,20 @@ impl Vary {
         }
     }
 
+    /// The unit of its value: the effect's ([`EffectKind::unit`]; `1` for
+    /// a dimensionless one) or the mechanism parameter's.
+    pub fn unit(&self) -> &'static str {
+        match self.target {
+            Target::Effect { kind, .. } => kind.unit(),
+            Target::Mech(p, _) => match p {
+                MechParam::SpringPreload => "N·m",
+                MechParam::SpringStiffness => "N·m/rad",
+                MechParam::PanelMass => "kg",
+                MechParam::PanelInertia => "kg·m²",
+            },
+        }
+    }
+
     /// Checks the target against a mechanism.
     pub fn check(&self, mech: &Mechanism) -> Result<(), VaryError> {
         let bad = |m: String| VaryError::Mechanism(format!("--vary {}: {m}", self.label()));

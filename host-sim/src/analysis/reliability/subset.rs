@@ -2,9 +2,9 @@
 //! = Π_k P(F_k | F_{k−1})` over nested domains `F_k = {m ≤ b_k}` of the
 //! mode's margin `m`, each threshold `b_k` the `p0`-quantile of the level's
 //! samples, the samples of the next level grown from the `p0 N` seeds below
-//! it by the modified Metropolis algorithm in the standard normal space
-//! (component-wise proposals `N(u_i, 1)`, accepted with `min(1,
-//! φ(ξ)/φ(u_i))`, the candidate kept iff `m ≤ b_k`).
+//! it by Markov chains in the standard normal space, adaptive conditional
+//! sampling ([`super::chains`]: Papaioannou et al. 2015), the candidate
+//! kept iff `m ≤ b_k`.
 //!
 //! Every mode's levels start from the same first level (`N` independent
 //! draws, simulated once) and follow that mode's margin only, so a joint
@@ -23,17 +23,20 @@
 //! the chains never entered is missing from it). The system's estimate then
 //! counts the modes reached only and says so (`converged = false`).
 //!
-//! The c.o.v. of a mode is Au & Beck's Eq. 28–29 (`δ_k² = (1 − p_k)/(N
+//! The c.o.v. of a level is Au & Beck's Eq. 28–29 (`δ_k² = (1 − p_k)/(N
 //! p_k)(1 + γ_k)`, `γ_k` from the correlation of the indicators along the
-//! chains), summed over the levels as if they were independent; the modes
-//! are independent runs beyond their shared first level.
+//! chains); that of a mode and of the system counts the correlation
+//! between levels and between modes too, from the lineage of the samples:
+//! each descends from one independent draw of the shared first level
+//! ([`super::lineage`]).
 
+use super::chains::{self, Grow, Population};
 use super::estimate::{Estimate, FailurePoint, Level, ModeResult};
+use super::lineage::{self, Trace};
 use super::mc::{check_rows, draw, system};
-use super::{stream, Evaluate, Problem, ReliabilityError};
+use super::text::quantity;
+use super::{Evaluate, Problem, ReliabilityError};
 use crate::report::progress::Progress;
-use rand::Rng;
-use rand_distr::StandardNormal;
 
 /// A threshold that falls by less than this fraction of itself, two levels
 /// running, has stalled: the margin has a floor there.
@@ -64,16 +67,6 @@ impl Default for SubsetSettings {
     }
 }
 
-/// One level's population, chain-major (sample `c · len + s` is step `s`
-/// of chain `c`), with every mode's margin of each sample.
-#[derive(Clone)]
-struct Population {
-    u: Vec<Vec<f64>>,
-    x: Vec<Vec<f64>>,
-    m: Vec<Vec<f64>>,
-    chains: usize,
-}
-
 /// Runs subset simulation, one run per mode, the modes a level at a time
 /// in turn (so that a mode already negligible against those reached stops).
 pub fn run(
@@ -97,7 +90,13 @@ pub fn run(
     let x: Vec<Vec<f64>> = u.iter().map(|u| problem.x_of(u)).collect();
     let m = eval(&x)?;
     check_rows(&m, n, modes.len())?;
-    let first = Population { u, x, m, chains: n };
+    let first = Population {
+        u,
+        x,
+        m,
+        chains: n,
+        parent: Vec::new(),
+    };
     let mut runs: Vec<ModeRun> = (0..modes.len())
         .map(|mi| ModeRun::new(mi, first.clone(), n))
         .collect();
@@ -110,14 +109,27 @@ pub fn run(
                 }
                 continue;
             };
-            let level = r.mi as u32 * 64 + k + 1;
-            let (next, used) = grow(problem, s, level, r.mi, &r.pop, &seeds, b, eval)?;
+            let g = Grow {
+                pop: &r.pop,
+                seeds: &seeds,
+                mode: r.mi,
+                b,
+                level: r.mi as u32 * 64 + k + 1,
+                seed: s.seed,
+            };
+            let (next, used) = chains::grow(problem, &g, &mut r.lambda, eval)?;
             r.pop = next;
             r.sims += used;
             r.level_sims = used;
         }
     }
+    Ok(finish(runs, &modes, n))
+}
+
+/// The modes' results and the system's estimate from their runs.
+fn finish(runs: Vec<ModeRun>, modes: &[super::criteria::Mode], n: usize) -> Estimate {
     let mut results: Vec<ModeResult> = Vec::new();
+    let mut shares: Vec<Option<Vec<f64>>> = Vec::new();
     let mut best = None;
     let mut failures = 0;
     for r in runs {
@@ -134,14 +146,18 @@ pub fn run(
         if stop == Stop::Reached {
             failures += fails.len();
         }
-        let cov = r.levels.iter().map(|l| l.cov * l.cov).sum::<f64>().sqrt();
+        let mut levels = r.levels;
+        for (l, c) in levels.iter_mut().zip(lineage::level_covs(&r.traces)) {
+            l.cov = c;
+        }
+        shares.push(lineage::influence(&r.traces));
         results.push(ModeResult {
             mode: modes[mi],
             p: r.p,
-            cov,
+            cov: lineage::cov(&r.traces),
             converged: stop == Stop::Reached,
             stop: stop.name(),
-            levels: r.levels,
+            levels,
             counted: if fails.is_empty() {
                 1.0
             } else {
@@ -151,19 +167,39 @@ pub fn run(
         });
     }
     let sims = n + results.iter().map(|r| r.simulations).sum::<usize>();
-    Ok(combine(results, sims, failures, best))
+    combine(results, &shares, sims, failures, best)
 }
 
-/// The system's estimate from its modes' (those reached).
+/// The system's estimate from its modes' (those reached): `P = Σ_m P_m
+/// c_m`, `c_m` the share counted; its c.o.v. from the families of the
+/// shared first level, `Z_r = Σ_m P_m c_m Z_{m,r} / P` ([`lineage`]),
+/// never below the modes' taken as independent.
 fn combine(
     modes: Vec<ModeResult>,
+    shares: &[Option<Vec<f64>>],
     sims: usize,
     failures: usize,
     best: Option<FailurePoint>,
 ) -> Estimate {
-    let reached = modes.iter().filter(|r| r.converged);
-    let p = reached.clone().fold(0.0, |a, r| a + r.p * r.counted);
-    let var: f64 = reached.map(|r| (r.p * r.counted * r.cov).powi(2)).sum();
+    let reached: Vec<(&ModeResult, &Option<Vec<f64>>)> = modes
+        .iter()
+        .zip(shares)
+        .filter(|(r, _)| r.converged)
+        .collect();
+    let p: f64 = reached.iter().map(|(r, _)| r.p * r.counted).sum();
+    let independent: f64 = reached
+        .iter()
+        .map(|(r, _)| (r.p * r.counted * r.cov).powi(2))
+        .sum();
+    let mut z: Vec<f64> = Vec::new();
+    for (r, share) in &reached {
+        let Some(share) = share else { continue };
+        z.resize(share.len(), 0.0);
+        for (a, b) in z.iter_mut().zip(share) {
+            *a += r.p * r.counted * b;
+        }
+    }
+    let var = z.iter().map(|z| z * z).sum::<f64>().max(independent);
     let cov = if p > 0.0 {
         var.sqrt() / p
     } else {
@@ -218,6 +254,10 @@ struct ModeRun {
     sims: usize,
     level_sims: usize,
     stop: Option<Stop>,
+    /// The scale of the chains' proposals ([`chains`]).
+    lambda: f64,
+    /// The closed levels' hits and lineage ([`lineage`]).
+    traces: Vec<Trace>,
 }
 
 impl ModeRun {
@@ -230,6 +270,8 @@ impl ModeRun {
             sims: 0,
             level_sims: n,
             stop: None,
+            lambda: chains::START_SCALE,
+            traces: Vec::new(),
         }
     }
 
@@ -253,16 +295,21 @@ impl ModeRun {
         let threshold = b.max(0.0);
         let hits = pop.m.iter().filter(|r| r[mi] <= threshold).count();
         let pk = hits as f64 / n as f64;
-        let cov = level_cov(pop, mi, threshold, pk);
+        self.traces.push(Trace {
+            hit: pop.m.iter().map(|r| r[mi] <= threshold).collect(),
+            len: n / pop.chains,
+            parent: pop.parent.clone(),
+        });
         self.p *= pk;
         self.levels.push(Level {
             threshold,
             p: pk,
-            cov,
+            cov: f64::NAN,
             simulations: self.level_sims,
         });
         progress(&format!(
-            "subset: {mode}: level {k}: threshold {threshold:.6e}, p = {pk:.3}, {} deployments",
+            "subset: {mode}: level {k}: threshold {}, p = {pk:.3}, {} deployments",
+            quantity(threshold, mode.criterion.margin_unit()),
             self.level_sims
         ));
         self.stop = if b <= 0.0 {
@@ -292,107 +339,84 @@ fn stalled(levels: &[Level]) -> bool {
     }
 }
 
-/// Au & Beck's c.o.v. of a level's conditional probability `pk` of mode
-/// `mi`'s margin `≤ b` (Eq. 28–29), `γ = 0` for the independent samples of
-/// the first level.
-fn level_cov(pop: &Population, mi: usize, b: f64, pk: f64) -> f64 {
-    let n = pop.m.len();
-    let nf = n as f64;
-    if pk <= 0.0 {
-        return f64::INFINITY;
-    }
-    let base = (1.0 - pk) / (nf * pk);
-    if pop.chains == n || pk >= 1.0 {
-        return base.sqrt();
-    }
-    let len = n / pop.chains;
-    let ind: Vec<f64> = pop
-        .m
-        .iter()
-        .map(|r| f64::from(u8::from(r[mi] <= b)))
-        .collect();
-    let r0 = pk * (1.0 - pk);
-    let mut gamma = 0.0;
-    for tau in 1..len {
-        let mut sum = 0.0;
-        for c in 0..pop.chains {
-            for s in 0..len - tau {
-                sum += ind[c * len + s] * ind[c * len + s + tau];
-            }
-        }
-        let r = sum / (n - tau * pop.chains) as f64 - pk * pk;
-        gamma += 2.0 * (1.0 - (tau * pop.chains) as f64 / nf) * r / r0;
-    }
-    (base * (1.0 + gamma)).sqrt()
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::reliability::criteria::Criterion;
+    use crate::analysis::reliability::normal;
+    use crate::model::mechanism::Mechanism;
 
-/// The next level of mode `mi`: from each seed a chain of `N / N_c` states
-/// (the seed first) by the modified Metropolis algorithm; the draws of
-/// step `s` of chain `c` come from stream (seed, level, `c · len + s`), the
-/// candidates of one step go to the evaluator together.
-#[allow(clippy::too_many_arguments)]
-fn grow(
-    problem: &Problem,
-    s: &SubsetSettings,
-    level: u32,
-    mi: usize,
-    pop: &Population,
-    seeds: &[usize],
-    b: f64,
-    eval: Evaluate<'_>,
-) -> Result<(Population, usize), ReliabilityError> {
-    let n = pop.m.len();
-    let chains = seeds.len();
-    let len = n / chains;
-    let width = pop.m[0].len();
-    let mut next = Population {
-        u: vec![Vec::new(); n],
-        x: vec![Vec::new(); n],
-        m: vec![Vec::new(); n],
-        chains,
-    };
-    for (c, &i) in seeds.iter().enumerate() {
-        next.u[c * len] = pop.u[i].clone();
-        next.x[c * len] = pop.x[i].clone();
-        next.m[c * len] = pop.m[i].clone();
-    }
-    let mut used = 0;
-    for step in 1..len {
-        let mut moved: Vec<(usize, Vec<f64>)> = Vec::new();
-        for c in 0..chains {
-            let (cur, at) = (c * len + step - 1, c * len + step);
-            let mut rng = stream(s.seed, level, at as u64);
-            let mut cand = next.u[cur].clone();
-            for ui in cand.iter_mut() {
-                let xi: f64 = *ui + rng.sample::<f64, _>(StandardNormal);
-                let ratio = (0.5 * (*ui * *ui - xi * xi)).exp();
-                if rng.gen::<f64>() < ratio {
-                    *ui = xi;
-                }
-            }
-            if cand != next.u[cur] {
-                moved.push((c, cand));
-            }
-            next.u[at] = next.u[cur].clone();
-            next.x[at] = next.x[cur].clone();
-            next.m[at] = next.m[cur].clone();
-        }
-        let xs: Vec<Vec<f64>> = moved.iter().map(|(_, c)| problem.x_of(c)).collect();
-        let ms = if xs.is_empty() {
-            Vec::new()
-        } else {
-            eval(&xs)?
-        };
-        check_rows(&ms, xs.len(), width)?;
-        used += xs.len();
-        for (((c, cu), cx), cm) in moved.into_iter().zip(xs).zip(ms) {
-            if cm[mi] <= b {
-                let at = c * len + step;
-                next.u[at] = cu;
-                next.x[at] = cx;
-                next.m[at] = cm;
-            }
+    /// `d` standard normal parameters (the mechanism is not simulated:
+    /// the margins below are functions of `x`).
+    fn problem(d: usize) -> Problem {
+        let mech = Mechanism::load(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../data/mechanisms/reliability_one_panel.toml"
+        )))
+        .unwrap();
+        Problem {
+            mech,
+            vary: (0..d)
+                .map(|_| "coulomb_friction:joint=1:normal(0,1)".parse().unwrap())
+                .collect(),
+            fail: vec![Criterion::NotLatched],
+            corr: Vec::new(),
         }
     }
-    Ok((next, used))
+
+    /// Subset simulation over `seeds` seeds of a linear margin `β − a·u`
+    /// (`a` the unit diagonal in `d` parameters): the ratios to the exact
+    /// `Φ(−β)` and the printed c.o.v.s.
+    fn sweep(d: usize, p: f64, seeds: u64) -> (Vec<f64>, Vec<f64>) {
+        let beta = -normal::inverse_cdf(p);
+        let pr = problem(d);
+        let mut ratios = Vec::new();
+        let mut covs = Vec::new();
+        for seed in 0..seeds {
+            let mut eval = |xs: &[Vec<f64>]| -> Result<Vec<Vec<f64>>, ReliabilityError> {
+                Ok(xs
+                    .iter()
+                    .map(|x| vec![beta - x.iter().sum::<f64>() / (d as f64).sqrt()])
+                    .collect())
+            };
+            let s = SubsetSettings {
+                seed,
+                ..SubsetSettings::default()
+            };
+            let e = run(&pr, &s, &mut eval, &crate::report::progress::quiet).unwrap();
+            assert!(e.converged);
+            ratios.push(e.p_fail / normal::tail(beta));
+            covs.push(e.cov);
+        }
+        (ratios, covs)
+    }
+
+    /// The spread over seeds (sample c.o.v.) and the mean printed c.o.v.
+    fn spread(ratios: &[f64], covs: &[f64]) -> (f64, f64) {
+        let n = ratios.len() as f64;
+        let mean = ratios.iter().sum::<f64>() / n;
+        let var = ratios.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / (n - 1.0);
+        (var.sqrt() / mean, covs.iter().sum::<f64>() / n)
+    }
+
+    /// At 1e-6 on one parameter, where the levels are thin shells: no bias,
+    /// and the printed c.o.v. is the spread over seeds (within 25 %).
+    #[test]
+    fn one_parameter_at_1e_6_is_unbiased_and_its_cov_is_the_spread() {
+        let (mut ratios, covs) = sweep(1, 1e-6, 60);
+        let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
+        let (spread, printed) = spread(&ratios, &covs);
+        ratios.sort_by(f64::total_cmp);
+        let median = ratios[ratios.len() / 2];
+        assert!((0.85..1.15).contains(&mean), "mean {mean}");
+        assert!((0.8..1.25).contains(&median), "median {median}");
+        assert!(
+            ratios[0] > 1.0 / 3.0 && ratios[ratios.len() - 1] < 3.0,
+            "{ratios:?}"
+        );
+        assert!(
+            printed > spread / 1.25 && printed < spread * 1.25,
+            "printed {printed} vs spread {spread}"
+        );
+    }
 }
