@@ -16,5 +16,6 @@ pub mod reliability;
 pub mod residual_named;
 pub mod residual_shape;
 pub mod residual_torque;
+pub mod rig_margin;
 pub mod smoothing;
 pub mod table_export;

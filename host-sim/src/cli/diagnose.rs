@@ -150,9 +150,21 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
         &torque,
         &next_step(args),
     )?;
+    // On the zero-g rig: the hinge friction with the rig taken out, the
+    // margin on orbit beside the margin on the rig (`docs/margin.md`).
+    let quiet = crate::report::progress::quiet;
+    let rig = crate::analysis::rig_margin::split(&campaign, &ext_effects, &quiet)
+        .map(|s| crate::report::rig_split::section(&s));
+    if let Some(sec) = &rig {
+        crate::report::rig_split::append(&staged, sec)
+            .map_err(|e| CliError::failed(e.to_string()))?;
+    }
     outs.commit()?;
 
     print_outcome(args, &outcome, &exports, &report);
+    if let Some(sec) = &rig {
+        super::print_out(format_args!("\n{sec}"));
+    }
     Ok(())
 }
 
@@ -183,6 +195,9 @@ fn effect_line(e: &Effect, o: &Outcome, k: usize) -> String {
     }
     if let Some((_, shape, _)) = o.extended.table_of(k) {
         s += &format!(" (largest torque; {shape})");
+    }
+    if e.kind.is_rig() {
+        s += " — of the test rig, not of the flight unit";
     }
     s
 }

@@ -161,6 +161,11 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
     }
     let id = identify_with(args, &campaign, &joints, &console)?;
     super::print_out(format_args!("{}", report(&campaign, &id)));
+    // On the zero-g rig: the margin on orbit beside the margin on the rig.
+    let quiet = crate::report::progress::quiet;
+    if let Some(s) = crate::analysis::rig_margin::split(&campaign, &id.effects(), &quiet) {
+        super::print_out(format_args!("\n{}", crate::report::rig_split::section(&s)));
+    }
     warn_residuals(&campaign, &id, &console);
     let mut outs = Outputs::new();
     if let Some(path) = &args.json {

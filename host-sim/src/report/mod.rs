@@ -6,4 +6,5 @@ pub mod files;
 pub mod markdown;
 pub mod plot;
 pub mod progress;
+pub mod rig_split;
 pub mod text;

@@ -257,7 +257,9 @@ pub fn simulate_rig(
 ) -> Result<RigRun, SimError> {
     let rig = mech
         .active_rig()
-        .ok_or_else(|| SimError::Invalid(format!("`{}` has no rig", mech.name)))?;
+        .ok_or_else(|| SimError::Invalid(format!("`{}` has no rig", mech.name)))?
+        .with_effects(effects);
+    let rig = &rig;
     let n = mech.joint_count();
     let (je, g) = effect::to_core(effects, n);
     let bad = || SimError::Invalid(format!("mechanism `{}` cannot be built", mech.name));
@@ -265,6 +267,19 @@ pub fn simulate_rig(
         let chain = mech.chain::<N>(&je, g).ok_or_else(bad)?;
         run::<N>(model::<N>(mech, rig, chain), opts, times, mech)
     }, else Err(bad()))
+}
+
+/// Refuses a rig cause (`rig_friction`, `wire_length`) on a mechanism
+/// without an active rig: there is nothing for it to act on (a flight
+/// unit, `--flight`, has no rig).
+pub fn check_rig_effects(mech: &Mechanism, effects: &[Effect]) -> Result<(), SimError> {
+    match effects.iter().find(|e| e.kind.is_rig()) {
+        Some(e) if mech.active_rig().is_none() => Err(SimError::Invalid(format!(
+            "{}: `{}` has no active [rig] for it to act on (a rig cause; the flight unit has none)",
+            e.kind, mech.name
+        ))),
+        _ => Ok(()),
+    }
 }
 
 /// The rig's model of `mech` with its chain.
