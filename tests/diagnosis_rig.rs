@@ -94,13 +94,19 @@ fn draw(seed: u64, hidden: Hidden, mechs: &[Mechanism]) -> Vec<Effect> {
     truth
 }
 
+/// The sample times of a measured run: 6 s at 100 Hz (T01 has deployed by
+/// then; T02, whose two inner joints stall on the rig, is recorded as long).
+fn times() -> Vec<f64> {
+    (0..=600).map(|i| f64::from(i) / 100.0).collect()
+}
+
 /// The two measured runs of `truth`, with the reference sensor noise.
 fn measured(mechs: &[Mechanism], truth: &[Effect], seed: u64) -> Vec<Run> {
     mechs
         .iter()
         .enumerate()
         .map(|(r, m)| {
-            let traj = deployment::simulate(m, truth, &SimOptions::default()).unwrap();
+            let traj = deployment::simulate_at(m, truth, &SimOptions::default(), &times()).unwrap();
             let n = m.joint_count();
             let mut run = sensor::measure(
                 &traj,

@@ -54,10 +54,10 @@ pub enum EffectKind {
     /// `rig_friction`: `Δμ` [1] added to the dynamic friction coefficient
     /// of every rail of the mechanism's `[rig]` (trolleys and bars), the
     /// static one raised in the drawing's ratio `μ_s/μ_d` (`physics.md`
-    /// §11.5, this project's own). A rig cause: never flies.
+    /// §11.7, this project's own). A rig cause: never flies.
     RigFriction,
     /// `wire_length`: `ΔL` [m] added to every suspension wire of the
-    /// `[rig]` (`physics.md` §11.5, this project's own). A rig cause.
+    /// `[rig]` (`physics.md` §11.7, this project's own). A rig cause.
     WireLength,
 }
 
@@ -67,7 +67,7 @@ impl EffectKind {
     /// diagnosis candidate (they are not in [`EffectKind::ALL`]).
     pub const LATCH: [EffectKind; 2] = [EffectKind::PlungerWeakening, EffectKind::MagnetWeakening];
 
-    /// The causes of the zero-g rig (`[rig]`, `physics.md` §11.5): parsed,
+    /// The causes of the zero-g rig (`[rig]`, `physics.md` §11.7): parsed,
     /// simulated by the rig simulator, diagnosis candidates only when the
     /// mechanism has an active rig (they are not in [`EffectKind::ALL`]).
     pub const RIG: [EffectKind; 2] = [EffectKind::RigFriction, EffectKind::WireLength];

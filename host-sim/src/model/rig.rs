@@ -204,7 +204,7 @@ impl Rig {
     }
 
     /// The rig with the rig causes among `effects` applied
-    /// (`physics.md` §11.5; every other effect is left to the chain):
+    /// (`physics.md` §11.7; every other effect is left to the chain):
     /// `rig_friction` `Δμ` adds to the dynamic coefficient of every rail
     /// and `Δμ · μ_s/μ_d` (the drawing's ratio; the papers' 3 when the
     /// drawing has no friction) to the static one; `wire_length` `ΔL` adds
