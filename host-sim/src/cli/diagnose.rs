@@ -150,15 +150,9 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
         &torque,
         &next_step(args),
     )?;
-    // On the zero-g rig: the hinge friction with the rig taken out, the
-    // margin on orbit beside the margin on the rig (`docs/margin.md`).
-    let quiet = crate::report::progress::quiet;
-    let rig = crate::analysis::rig_margin::split(&campaign, &ext_effects, &quiet)
-        .map(|s| crate::report::rig_split::section(&s));
-    if let Some(sec) = &rig {
-        crate::report::rig_split::append(&staged, sec)
-            .map_err(|e| CliError::failed(e.to_string()))?;
-    }
+    // On the zero-g rig: the margin on orbit beside the margin on the rig.
+    let rig = crate::report::rig_split::add_to_report(&campaign, &ext_effects, &staged)
+        .map_err(|e| CliError::failed(e.to_string()))?;
     outs.commit()?;
 
     print_outcome(args, &outcome, &exports, &report);

@@ -3,7 +3,9 @@
 //! section that `diagnose` and `identify` print and `diagnose` adds to its
 //! report.
 
-use crate::analysis::rig_margin::RigSplit;
+use crate::analysis::rig_margin::{self, RigSplit};
+use crate::data::campaign::Campaign;
+use crate::model::effect::Effect;
 use std::fmt::Write as _;
 
 /// A margin for people: `123.4 %`, `inf`.
@@ -70,4 +72,21 @@ pub fn append(path: &std::path::Path, section: &str) -> std::io::Result<()> {
     use std::io::Write as _;
     let mut f = std::fs::OpenOptions::new().append(true).open(path)?;
     write!(f, "\n{section}")
+}
+
+/// On a campaign with a rig: the section of the effects `found`
+/// ([`rig_margin::split`]) appended to the report at `path`, and returned
+/// for the terminal; `None` without a rig.
+pub fn add_to_report(
+    campaign: &Campaign,
+    found: &[Effect],
+    path: &std::path::Path,
+) -> std::io::Result<Option<String>> {
+    let quiet = crate::report::progress::quiet;
+    let Some(s) = rig_margin::split(campaign, found, &quiet) else {
+        return Ok(None);
+    };
+    let sec = section(&s);
+    append(path, &sec)?;
+    Ok(Some(sec))
 }
