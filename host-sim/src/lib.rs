@@ -169,6 +169,14 @@ pub mod joint_margins {
     pub use crate::analysis::joint_margins::latch_resistance;
 }
 
+/// The rig's share of the friction: the margin on orbit beside the margin
+/// on the rig.
+pub mod rig_margin {
+    pub use crate::analysis::rig_margin::{
+        split, torque_margin_pct, MechanismMargins, RigJoint, RigSplit,
+    };
+}
+
 /// The equivalent friction torque (EFT) of each joint from measured runs.
 pub mod identify {
     pub use crate::analysis::identify::{

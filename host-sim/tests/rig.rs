@@ -233,3 +233,44 @@ fn a_written_rig_mechanism_reads_back_the_same() {
         .to_string();
     assert!(e.contains("panel 2"), "{e}");
 }
+
+#[test]
+fn the_rig_causes_act_on_the_rig_the_simulator_integrates() {
+    use deploywatch_sim::deployment;
+    use deploywatch_sim::effect::{Effect, EffectKind};
+    // wire_length: the pendulum of a 1.0 m wire made 1.5 m swings with the
+    // period of 1.5 m.
+    let rig = "[rig]\nstatic_mu = 0.0\ndynamic_mu = 0.0\n[[rig.bar]]\nmass_kg = 1e9\n[[rig.trolley]]\npanel = 1\nbar = 1\nmass_kg = 1e9\nwire_m = 1.0\nstart_m = [0.5, 0.0]\n";
+    let mech = one_panel(rig, 3.0, 0.0, 1e-6);
+    let (opts, times) = free_run(4.0, 1000.0);
+    let longer = Effect::global(EffectKind::WireLength, 0.5);
+    let run = simulate_rig(&mech, &[longer], &opts, &times).expect("pendulum");
+    let phi = &run.traj.phi_deg[0];
+    let ups: Vec<f64> = (1..phi.len())
+        .filter(|&i| (phi[i - 1] < 0.0) != (phi[i] < 0.0))
+        .map(|i| times[i - 1] + (times[i] - times[i - 1]) * -phi[i - 1] / (phi[i] - phi[i - 1]))
+        .collect();
+    let period = 2.0 * (ups[ups.len() - 1] - ups[0]) / (ups.len() - 1) as f64;
+    let want = 2.0 * std::f64::consts::PI * (1.5 / 9.80665f64).sqrt();
+    assert!((period - want).abs() < 0.005 * want, "{period} vs {want}");
+    // rig_friction: the rails of the drawing (0.3 / 0.1) raised by Δμ in
+    // the drawing's ratio, and the seed 001 T01 deployment slowed by it.
+    let drawn = Mechanism::load(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../data/mechanisms/seed001_T01_rig.toml"),
+    )
+    .unwrap();
+    let more = Effect::global(EffectKind::RigFriction, 0.1);
+    let r = drawn.rig.as_ref().unwrap().with_effects(&[more]);
+    assert!((r.dynamic_mu - 0.2).abs() < 1e-12 && (r.static_mu - 0.6).abs() < 1e-12);
+    let o = SimOptions::default();
+    let t0 = deployment::simulate(&drawn, &[], &o).unwrap().latch_s[0].unwrap();
+    let t1 = deployment::simulate(&drawn, &[more], &o).unwrap().latch_s[0].unwrap();
+    assert!(
+        t1 > t0 + 0.05,
+        "joint 1 latched at {t0} s, with more rail friction {t1} s"
+    );
+    // A rig cause on the flight unit (no rig) is refused, not ignored.
+    let err = deployment::simulate(&drawn.flight(), &[more], &o).unwrap_err();
+    assert!(err.to_string().contains("rig_friction"), "{err}");
+}

@@ -36,6 +36,8 @@ pub trait CampaignSim {
     fn residuals(&self, i: usize, effects: &[Effect]) -> Option<Vec<Vec<f64>>>;
     /// All residuals of all runs, flattened (runs simulated in parallel).
     fn residual_vector(&self, effects: &[Effect]) -> Option<Vec<f64>>;
+    /// RMS of the residuals of all runs [deg], `None` if a simulation fails.
+    fn rms(&self, effects: &[Effect]) -> Option<f64>;
 }
 
 impl CampaignSim for Campaign {
@@ -85,5 +87,10 @@ impl CampaignSim for Campaign {
             }
         }
         Some(out)
+    }
+
+    fn rms(&self, effects: &[Effect]) -> Option<f64> {
+        let r = self.residual_vector(effects)?;
+        Some((r.iter().map(|x| x * x).sum::<f64>() / r.len().max(1) as f64).sqrt())
     }
 }

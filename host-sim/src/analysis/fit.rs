@@ -76,6 +76,13 @@ pub struct FitResult {
     pub termination: String,
 }
 
+impl FitResult {
+    /// Root mean square of the residuals.
+    pub fn rms(&self) -> f64 {
+        (self.sse / self.residuals.max(1) as f64).sqrt()
+    }
+}
+
 /// Why a fit failed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]

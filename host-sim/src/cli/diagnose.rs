@@ -12,6 +12,7 @@ use crate::report::diagnosis::{markdown, next_step};
 use crate::report::diagnosis_json::json_text;
 use crate::report::diagnosis_words::summary;
 use crate::report::files::Outputs;
+use crate::report::rig_split;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `deploywatch diagnose`.
@@ -131,10 +132,19 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
         &next_step(&args.json, &args.mechanisms),
     )
     .map_err(|e| CliError::failed(e.to_string()))?;
+    // On the zero-g rig: the margin on orbit beside the margin on the rig.
+    let rig = rig_split::for_campaign(&campaign, &outcome.extended.effects());
+    let md = match &rig {
+        Some(sec) => format!("{md}\n{sec}"),
+        None => md,
+    };
     outs.write(&report, md)?;
     outs.commit()?;
     for line in summary(&outcome, &details, &args.json, &report) {
         outln!("{line}");
+    }
+    if let Some(sec) = &rig {
+        outln!("\n{sec}");
     }
     Ok(())
 }

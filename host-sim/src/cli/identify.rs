@@ -143,6 +143,10 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
     }
     let id = identify_with(args, &campaign, &joints, &console)?;
     super::print_out(format_args!("{}", summary(&campaign, &id)));
+    // On the zero-g rig: the margin on orbit beside the margin on the rig.
+    if let Some(sec) = crate::report::rig_split::for_campaign(&campaign, &id.effects()) {
+        super::print_out(format_args!("\n{sec}"));
+    }
     warn_residuals(&campaign, &id, &console);
     let mut outs = Outputs::new();
     if let Some(path) = &args.json {

@@ -98,6 +98,13 @@ pub fn effect_help() -> String {
             k.name()
         );
     }
+    s += &format!(
+        "\n  {:<18} V = Δμ added to every rail's dynamic friction coefficient, dimensionless \
+         (global, no joint; a mechanism with a [rig], physics.md §11.7)\n  {:<18} V = ΔL in m \
+         added to every wire (global, no joint; a mechanism with a [rig])",
+        EffectKind::RigFriction.name(),
+        EffectKind::WireLength.name()
+    );
     s
 }
 

@@ -51,6 +51,14 @@ pub enum EffectKind {
     /// has its force scaled by `1 − w` (this project's own, not in
     /// [`EffectKind::ALL`]).
     MagnetWeakening,
+    /// `rig_friction`: `Δμ` [1] added to the dynamic friction coefficient
+    /// of every rail of the mechanism's `[rig]` (trolleys and bars), the
+    /// static one raised in the drawing's ratio `μ_s/μ_d` (`physics.md`
+    /// §11.7, this project's own). A rig cause: never flies.
+    RigFriction,
+    /// `wire_length`: `ΔL` [m] added to every suspension wire of the
+    /// `[rig]` (`physics.md` §11.7, this project's own). A rig cause.
+    WireLength,
 }
 
 impl EffectKind {
@@ -58,6 +66,16 @@ impl EffectKind {
     /// ([`crate::model::latch_toml`]): parsed and simulated, never a
     /// diagnosis candidate (they are not in [`EffectKind::ALL`]).
     pub const LATCH: [EffectKind; 2] = [EffectKind::PlungerWeakening, EffectKind::MagnetWeakening];
+
+    /// The causes of the zero-g rig (`[rig]`, `physics.md` §11.7): parsed,
+    /// simulated by the rig simulator, diagnosis candidates only when the
+    /// mechanism has an active rig (they are not in [`EffectKind::ALL`]).
+    pub const RIG: [EffectKind; 2] = [EffectKind::RigFriction, EffectKind::WireLength];
+
+    /// True for the causes of the rig ([`EffectKind::RIG`]).
+    pub fn is_rig(self) -> bool {
+        EffectKind::RIG.contains(&self)
+    }
 
     /// Every effect, in the order of `physics.md` section 6.
     pub const ALL: [EffectKind; 8] = [
@@ -87,6 +105,8 @@ impl EffectKind {
             EffectKind::TorqueTable => "torque_table",
             EffectKind::PlungerWeakening => "plunger_weakening",
             EffectKind::MagnetWeakening => "magnet_weakening",
+            EffectKind::RigFriction => "rig_friction",
+            EffectKind::WireLength => "wire_length",
         }
     }
 
@@ -101,7 +121,9 @@ impl EffectKind {
             EffectKind::StribeckFriction => "N·m",
             EffectKind::SpringSoftening
             | EffectKind::PlungerWeakening
-            | EffectKind::MagnetWeakening => "1",
+            | EffectKind::MagnetWeakening
+            | EffectKind::RigFriction => "1",
+            EffectKind::WireLength => "m",
             EffectKind::HarnessStiffness => "N·m/rad",
             EffectKind::AirDrag => "kg/m²",
             EffectKind::RigTilt => "m/s²",
@@ -123,16 +145,25 @@ impl EffectKind {
             | EffectKind::HarnessStiffness
             | EffectKind::LatchDetent
             | EffectKind::AirDrag
-            | EffectKind::TorqueTable => ValueRange::NonNegative,
+            | EffectKind::TorqueTable
+            | EffectKind::RigFriction => ValueRange::NonNegative,
             EffectKind::SpringSoftening => ValueRange::BelowOne,
             EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => ValueRange::Fraction,
-            EffectKind::RigTilt | EffectKind::EncoderOffset => ValueRange::Finite,
+            EffectKind::RigTilt | EffectKind::EncoderOffset | EffectKind::WireLength => {
+                ValueRange::Finite
+            }
         }
     }
 
     /// True for effects that act on one joint (`joint` is required).
     pub fn per_joint(self) -> bool {
-        !matches!(self, EffectKind::AirDrag | EffectKind::RigTilt)
+        !matches!(
+            self,
+            EffectKind::AirDrag
+                | EffectKind::RigTilt
+                | EffectKind::RigFriction
+                | EffectKind::WireLength
+        )
     }
 
     /// True for effects on the sensor only (the motion is unchanged).
@@ -280,6 +311,7 @@ fn effect_names() -> String {
     let names: Vec<_> = EffectKind::ALL
         .iter()
         .chain(&EffectKind::LATCH)
+        .chain(&EffectKind::RIG)
         .map(|k| k.name())
         .collect();
     names.join(", ")
@@ -303,6 +335,7 @@ impl FromStr for EffectKind {
                 EffectKind::QuadraticDamping,
             ])
             .chain(EffectKind::LATCH)
+            .chain(EffectKind::RIG)
             .find(|k| k.name() == s)
             .ok_or_else(|| EffectError::UnknownName {
                 name: s.to_string(),

@@ -9,6 +9,8 @@
 //! freedom per trolley (along its bar, x) and one per bar (the bar sliding
 //! laterally on its air bearings, y), and their forces on the panels.
 
+use crate::model::effect::{Effect, EffectKind};
+
 /// Standard gravity [m/s²], the default of `[rig] gravity_m_s2`.
 pub const STANDARD_GRAVITY_M_S2: f64 = 9.80665;
 
@@ -23,6 +25,10 @@ pub const PAPER_STATIC_MU: f64 = 0.3;
 
 /// The papers' dynamic friction coefficient of air bearing on rail [1].
 pub const PAPER_DYNAMIC_MU: f64 = 0.1;
+
+/// The shortest wire a `wire_length` cause leaves [m]: a wire shortened
+/// further would no longer hang its panel.
+pub const MIN_WIRE_M: f64 = 0.05;
 
 /// One trolley: it runs along its bar (x) and carries panel `panel` by a
 /// wire from the panel's offload point.
@@ -195,5 +201,46 @@ impl Rig {
         t.wire_m
             + t.wire_spring_n_per_m
                 .map_or(0.0, |k| carried_kg * self.gravity_m_s2 / k)
+    }
+
+    /// The rig with the rig causes among `effects` applied
+    /// (`physics.md` §11.7; every other effect is left to the chain):
+    /// `rig_friction` `Δμ` adds to the dynamic coefficient of every rail
+    /// and `Δμ · μ_s/μ_d` (the drawing's ratio; the papers' 3 when the
+    /// drawing has no friction) to the static one; `wire_length` `ΔL` adds
+    /// to every wire (never below [`MIN_WIRE_M`]).
+    pub fn with_effects(&self, effects: &[Effect]) -> Rig {
+        let mut r = self.clone();
+        let ratio = if self.dynamic_mu > 0.0 {
+            self.static_mu / self.dynamic_mu
+        } else {
+            PAPER_STATIC_MU / PAPER_DYNAMIC_MU
+        };
+        for e in effects {
+            match e.kind {
+                EffectKind::RigFriction => {
+                    r.dynamic_mu = (r.dynamic_mu + e.value).max(0.0);
+                    r.static_mu = (r.static_mu + ratio * e.value).max(r.dynamic_mu);
+                }
+                EffectKind::WireLength => {
+                    for t in &mut r.trolleys {
+                        t.wire_m = (t.wire_m + e.value).max(MIN_WIRE_M);
+                    }
+                }
+                _ => {}
+            }
+        }
+        r
+    }
+
+    /// The same rig on frictionless rails (`μ_s = μ_d = 0`): the rig whose
+    /// friction an equivalent friction torque at the hinges lumps
+    /// (`docs/margin.md`, "The margin in flight").
+    pub fn frictionless(&self) -> Rig {
+        Rig {
+            static_mu: 0.0,
+            dynamic_mu: 0.0,
+            ..self.clone()
+        }
     }
 }

@@ -39,6 +39,9 @@ fn effect_line(e: &Effect, o: &Outcome, k: usize) -> String {
     if let Some((_, shape, _)) = o.extended.table_of(k) {
         s += &format!(" (largest torque; {shape})");
     }
+    if e.kind.is_rig() {
+        s += " — of the test rig, not of the flight unit";
+    }
     s
 }
 

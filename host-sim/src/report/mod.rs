@@ -19,5 +19,6 @@ pub mod margin;
 pub mod markdown;
 pub mod plot;
 pub mod progress;
+pub mod rig_split;
 pub mod run_plot;
 pub mod text;

@@ -107,6 +107,7 @@ fn simulate_samples(
 ) -> Result<Trajectory, SimError> {
     // A joint with a physical latch: the latch simulator (`[joint.latch]`).
     crate::simulate::latch_deployment::check_latch_effects(mech, effects)?;
+    crate::simulate::rig::check_rig_effects(mech, effects)?;
     if mech.has_physical_latch() {
         return crate::simulate::latch_deployment::simulate_physical(mech, effects, opts, times)
             .map(|run| run.traj);

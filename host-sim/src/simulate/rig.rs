@@ -96,7 +96,17 @@ fn trig<const N: usize>(phi: &[f64]) -> ([f64; N], [f64; N]) {
 impl<const N: usize> Model<'_, N> {
     /// Position and velocity of the point `s` along panel `i`.
     fn point(&self, i: usize, s: f64, phi: &[f64], rate: &[f64]) -> ([f64; 2], [f64; 2]) {
-        let (c, sn) = trig::<N>(phi);
+        self.point_at(i, s, &trig::<N>(phi), rate)
+    }
+
+    /// [`Model::point`] with the absolute angles' `(cos θ, sin θ)` given.
+    fn point_at(
+        &self,
+        i: usize,
+        s: f64,
+        (c, sn): &([f64; N], [f64; N]),
+        rate: &[f64],
+    ) -> ([f64; 2], [f64; 2]) {
         let (mut p, mut v) = ([0.0; 2], [0.0; 2]);
         let mut thd = 0.0;
         for k in 0..=i {
@@ -112,8 +122,15 @@ impl<const N: usize> Model<'_, N> {
 
     /// Adds to `q` (joint space) the generalised force of `f` at the point
     /// `s` along panel `i`.
-    fn add_force(&self, q: &mut [f64; N], i: usize, s: f64, f: [f64; 2], phi: &[f64]) {
-        let (c, sn) = trig::<N>(phi);
+    fn add_force(
+        &self,
+        q: &mut [f64; N],
+        i: usize,
+        s: f64,
+        f: [f64; 2],
+        cs: &([f64; N], [f64; N]),
+    ) {
+        let (c, sn) = cs;
         let mut qt = [0.0; N];
         for k in 0..=i {
             let l = if k < i { self.lengths[k] } else { s };
@@ -172,25 +189,26 @@ impl<const N: usize> Model<'_, N> {
         }
         let x = ChainState { phi, phi_dot: rate };
         let (m, mut rhs) = self.chain.equations(&x, &mode);
+        let cs = trig::<N>(&phi);
         let mut q = [0.0; N];
         let mut dissipated = 0.0;
         let mut trolley_force = vec![[0.0; 2]; nt];
         for (t, &(i, s, _, kappa, _, _)) in self.trolleys.iter().enumerate() {
-            let (o, _) = self.point(i, s, &phi, &rate);
+            let (o, _) = self.point_at(i, s, &cs, &rate);
             let (p, _) = self.trolley(t, y, nq);
             let f = [-kappa * (o[0] - p[0]), -kappa * (o[1] - p[1])];
-            self.add_force(&mut q, i, s, f, &phi);
+            self.add_force(&mut q, i, s, f, &cs);
             trolley_force[t] = [-f[0], -f[1]];
         }
         for i in 0..N {
-            let (p, v) = self.point(i, self.lengths[i], &phi, &rate);
+            let (p, v) = self.point_at(i, self.lengths[i], &cs, &rate);
             for fr in &self.rig.frames {
                 let d = fr.at_m - (fr.normal[0] * p[0] + fr.normal[1] * p[1]);
                 let dd = -(fr.normal[0] * v[0] + fr.normal[1] * v[1]);
                 let (f, loss, _) = self.contact(d, dd);
                 if f > 0.0 || loss != 0.0 {
                     let force = [f * fr.normal[0], f * fr.normal[1]];
-                    self.add_force(&mut q, i, self.lengths[i], force, &phi);
+                    self.add_force(&mut q, i, self.lengths[i], force, &cs);
                     dissipated += loss;
                 }
             }
@@ -257,7 +275,9 @@ pub fn simulate_rig(
 ) -> Result<RigRun, SimError> {
     let rig = mech
         .active_rig()
-        .ok_or_else(|| SimError::Invalid(format!("`{}` has no rig", mech.name)))?;
+        .ok_or_else(|| SimError::Invalid(format!("`{}` has no rig", mech.name)))?
+        .with_effects(effects);
+    let rig = &rig;
     let n = mech.joint_count();
     let (je, g) = effect::to_core(effects, n);
     let bad = || SimError::Invalid(format!("mechanism `{}` cannot be built", mech.name));
@@ -265,6 +285,19 @@ pub fn simulate_rig(
         let chain = mech.chain::<N>(&je, g).ok_or_else(bad)?;
         run::<N>(model::<N>(mech, rig, chain), opts, times, mech)
     }, else Err(bad()))
+}
+
+/// Refuses a rig cause (`rig_friction`, `wire_length`) on a mechanism
+/// without an active rig: there is nothing for it to act on (a flight
+/// unit, `--flight`, has no rig).
+pub fn check_rig_effects(mech: &Mechanism, effects: &[Effect]) -> Result<(), SimError> {
+    match effects.iter().find(|e| e.kind.is_rig()) {
+        Some(e) if mech.active_rig().is_none() => Err(SimError::Invalid(format!(
+            "{}: `{}` has no active [rig] for it to act on (a rig cause; the flight unit has none)",
+            e.kind, mech.name
+        ))),
+        _ => Ok(()),
+    }
 }
 
 /// The rig's model of `mech` with its chain.

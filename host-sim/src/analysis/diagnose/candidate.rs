@@ -42,6 +42,14 @@ pub const MAX_TILT_M_S2: f64 = 5.0;
 /// offset but a wrong mechanism.
 pub const MAX_ENCODER_OFFSET_DEG: f64 = 30.0;
 
+/// Largest `rig_friction` excess of the rails' dynamic coefficient [1]:
+/// ten times the papers' air bearing on rail (0.1, seed 001 §4.2).
+pub const MAX_RIG_FRICTION: f64 = 1.0;
+
+/// Largest `wire_length` error [m] either way: a third of the seed 001
+/// rig's 1.5 m wires.
+pub const MAX_WIRE_ERROR_M: f64 = 0.5;
+
 /// One candidate cause: an effect kind and, for per-joint effects, a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Candidate {
@@ -91,6 +99,20 @@ impl Candidate {
             }
         }
         out
+    }
+
+    /// The rig's causes ([`EffectKind::RIG`], global): candidates of a
+    /// campaign whose mechanisms have an active `[rig]`, none otherwise.
+    pub fn rig(has_rig: bool) -> Vec<Candidate> {
+        EffectKind::RIG
+            .into_iter()
+            .filter(|_| has_rig)
+            .map(|kind| Candidate {
+                kind,
+                joint: None,
+                table: None,
+            })
+            .collect()
     }
 
     /// Number of parameters (rig tilt: magnitude and direction).
@@ -145,6 +167,8 @@ impl Candidate {
             // Physical-latch effects are never candidates (not in
             // `EffectKind::ALL`); bounds for completeness.
             EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => vec![b(0.0, 1.0, 1e-4)],
+            EffectKind::RigFriction => vec![b(0.0, MAX_RIG_FRICTION, 1e-5)],
+            EffectKind::WireLength => vec![b(-MAX_WIRE_ERROR_M, MAX_WIRE_ERROR_M, 1e-5)],
         }
     }
 
@@ -198,6 +222,8 @@ impl Candidate {
                 .map(|&v| vec![v; self.params()])
                 .collect(),
             EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => one(&[0.3]),
+            EffectKind::RigFriction => one(&[0.02, 0.05, 0.1, 0.2, 0.5]),
+            EffectKind::WireLength => one(&[-0.3, -0.1, 0.1, 0.3]),
         }
     }
 

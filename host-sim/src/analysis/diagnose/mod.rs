@@ -472,9 +472,14 @@ fn candidates(campaign: &Campaign, opts: &DiagnoseOptions, truss: bool) -> Vec<C
         joint: Some(j),
         table: None,
     });
+    let rig = campaign
+        .runs
+        .iter()
+        .any(|r| r.mechanism.active_rig().is_some());
     Candidate::all(campaign.max_joints())
         .into_iter()
         .chain(node_friction)
+        .chain(Candidate::rig(rig))
         .filter(|c| opts.kinds.contains(&c.kind))
         .filter(|c| !truss || crate::simulate::truss_deployment::models(c.kind))
         .collect()

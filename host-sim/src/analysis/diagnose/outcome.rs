@@ -282,7 +282,8 @@ impl Default for DiagnoseOptions {
     fn default() -> Self {
         DiagnoseOptions {
             max_effects: 3,
-            kinds: EffectKind::ALL.to_vec(),
+            // The rig's causes are candidates only on a campaign with a rig.
+            kinds: EffectKind::ALL.into_iter().chain(EffectKind::RIG).collect(),
             discover: true,
             max_seconds: None,
             stop: None,
