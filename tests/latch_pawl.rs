@@ -40,11 +40,15 @@ fn mechanism(name: &str) -> Mechanism {
     Mechanism::load(&data_dir().join("mechanisms").join(name)).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// Tight tolerances: the ledger closes to the integration's accuracy.
+/// Tight tolerances: the ledger closes to the integration's accuracy. The
+/// 5 kg panel's 40 hard impacts on stop and pawl drift 2e-5 of the stored
+/// energy at `simulate`'s default `rtol` 1e-8, 7e-7 at 1e-11 and 6e-7 at
+/// 1e-12 (measured by this test); the click and the break are booked
+/// exactly (`pawl_j` is `E_click` to 1e-12).
 fn tight() -> SimOptions {
     SimOptions {
-        rtol: 1e-11,
-        atol: 1e-13,
+        rtol: 1e-12,
+        atol: 1e-14,
         ..SimOptions::default()
     }
 }

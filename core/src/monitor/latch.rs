@@ -32,6 +32,11 @@
 //! the plunger's crest is [`LatchState::Escaped`] (not latched, also after a
 //! declaration, until the latch is declared again) and a joint at rest on the
 //! ramp with the switch open is [`LatchState::StoppedShort`].
+//!
+//! A pawl ([`LockKind::Pawl`], `physics.md` §10.5) cannot open: once
+//! declared, a rebound within its notch keeps the joint latched, and an
+//! escape (out beyond the notch and the contact's give) is a broken pawl,
+//! [`LatchState::Escaped`] flagged `latch_disagree`.
 
 use crate::monitor::bounce::{Bounce, LatchEvent, StopLimits, StopReading};
 use crate::monitor::faults::{Fault, FaultFlags};
