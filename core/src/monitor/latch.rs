@@ -386,7 +386,8 @@ impl LatchTracker {
     /// the drawing, until the latch is declared again. With an ideal
     /// drawing nothing else makes the motion `Escaped`.
     fn left_ideal(&self, cfg: &LatchConfig) -> bool {
-        cfg.physical.is_none_or(|p| p.lock == LockKind::Pawl) && self.motion == LatchState::Escaped
+        // The motion first: it is rarely `Escaped` (the sample path's cost).
+        self.motion == LatchState::Escaped && cfg.physical.is_none_or(|p| p.lock == LockKind::Pawl)
     }
 
     /// Declares the latch (`switch`: the switch's reading now).

@@ -60,7 +60,6 @@
 //! parameter set that [`PhysicalLatch::check`] refuses gives finite or NaN
 //! numbers, never a panic).
 
-use crate::physics::pawl::Lock;
 use crate::physics::real::Real;
 
 /// Millimetres per metre: the papers give the stop in mm, the chain is in m.
@@ -140,6 +139,25 @@ pub struct Magnet<T> {
     pub radius_m: T,
 }
 
+/// A pawl's figure beyond its spring and cam (those are the latch's
+/// [`Plunger`]; `physics::pawl` holds its law).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pawl<T> {
+    /// `T_b`: the torque the pawl carries at which it breaks [N·m].
+    pub breaking_torque_nm: T,
+}
+
+/// What holds a physical latch's joint against a return.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Lock<T> {
+    /// The ball plunger's hold ramp: a detent, climbable back over the
+    /// crest (section 10.3).
+    Detent,
+    /// A pawl in its notch: a positive lock until it breaks (section 10.5,
+    /// `physics::pawl`).
+    Pawl(Pawl<T>),
+}
+
 /// The physical latch of one joint.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PhysicalLatch<T> {
@@ -155,8 +173,7 @@ pub struct PhysicalLatch<T> {
     pub switch_travel_rad: T,
     /// What holds the joint against a return: the ball plunger's hold ramp
     /// (a detent, climbable back) or a pawl in its notch (a positive lock;
-    /// the plunger is then the pawl's spring on its cam,
-    /// [`crate::physics::pawl`]).
+    /// the plunger is then the pawl's spring on its cam, `physics::pawl`).
     pub lock: Lock<T>,
 }
 

@@ -35,26 +35,10 @@
 //! Everything here is a pure function of the state, the pawl's
 //! [`PawlState`] and the frozen plunger segment; it never panics.
 
+pub use crate::physics::latch_contact::{Lock, Pawl};
+
 use crate::physics::latch_contact::{PhysicalLatch, PlungerSegment, StopForce, MM_PER_M};
 use crate::physics::real::Real;
-
-/// A pawl's figure beyond its spring and cam (those are the latch's
-/// [`Plunger`](crate::physics::latch_contact::Plunger)).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Pawl<T> {
-    /// `T_b`: the torque the pawl carries at which it breaks [N·m].
-    pub breaking_torque_nm: T,
-}
-
-/// What holds a physical latch's joint against a return.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Lock<T> {
-    /// The ball plunger's hold ramp: a detent, climbable back over the
-    /// crest (section 10.3).
-    Detent,
-    /// A pawl in its notch: a positive lock until it breaks (section 10.5).
-    Pawl(Pawl<T>),
-}
 
 /// Where a pawl is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,8 +55,8 @@ impl<T: Real> PhysicalLatch<T> {
     /// The pawl, `None` for a ball plunger's detent.
     pub fn pawl(&self) -> Option<&Pawl<T>> {
         match &self.lock {
-            crate::physics::pawl::Lock::Pawl(p) => Some(p),
-            crate::physics::pawl::Lock::Detent => None,
+            Lock::Pawl(p) => Some(p),
+            Lock::Detent => None,
         }
     }
 

@@ -37,8 +37,6 @@ mod ledger;
 mod pawl;
 mod stick;
 
-use ledger::Ledger;
-
 pub use crate::simulate::latch_run::{
     Energy, LatchEnd, LatchEvent, LatchEventKind, LatchOutcome, LatchRun,
 };
@@ -347,7 +345,7 @@ fn classify(l: &PhysicalLatch<f64>, phi: f64, phi_dot: f64, was: Segments) -> Se
         contact,
         switch: l.switch_closed(ahead),
         pawl: was.pawl,
-        notch: pawl::notch_contact(l, ahead, phi_dot, was),
+        notch: was.notch_after(l, ahead, phi_dot),
     }
 }
 
@@ -523,6 +521,14 @@ impl<const N: usize> Sim<'_, N> {
         }
         best
     }
+}
+
+/// The ledger's running sums (kept by `ledger.rs`).
+#[derive(Clone, Copy, Debug, Default)]
+struct Ledger {
+    energy: Energy,
+    /// Total at the start [J].
+    start_j: f64,
 }
 
 /// Samples of the run.

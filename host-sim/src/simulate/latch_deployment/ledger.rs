@@ -3,19 +3,10 @@
 //! dissipative torques integrated on Gauss–Legendre nodes of each step, and
 //! the drift.
 
-use super::{Sim, GAUSS3};
-use crate::simulate::latch_run::Energy;
+use super::{Ledger, Sim, GAUSS3};
 use crate::simulate::ode::{Dense, State};
 use deploywatch_core::physics::pawl::PawlState;
 use deploywatch_core::Branch;
-
-/// The ledger's running sums.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct Ledger {
-    pub(super) energy: Energy,
-    /// Total at the start [J].
-    pub(super) start_j: f64,
-}
 
 impl<const N: usize> Sim<'_, N> {
     /// Kinetic, chain and latch potential at a state [J].

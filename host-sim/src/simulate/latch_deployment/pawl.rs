@@ -12,27 +12,24 @@ use crate::simulate::ode::State;
 use deploywatch_core::physics::latch_contact::PhysicalLatch;
 use deploywatch_core::physics::pawl::PawlState;
 
-/// The notch contact of a latch at `phi` (read a moment ahead) with rate
-/// `phi_dot`, from the segments before `was`: open unless the pawl is
-/// engaged and the joint is beyond the notch; a compressed contact that
-/// let go stays released until its force rises again.
-pub(super) fn notch_contact(
-    l: &PhysicalLatch<f64>,
-    phi: f64,
-    phi_dot: f64,
-    was: Segments,
-) -> Contact {
-    if l.pawl().is_none() || was.pawl != PawlState::Engaged {
-        return Contact::Open;
-    }
-    if l.travel(phi) <= l.plunger.crest_rad {
-        return Contact::Open;
-    }
-    let raw = l.notch_force(phi, phi_dot).raw_n;
-    if was.notch == Contact::Open || raw > 0.0 {
-        Contact::Pressing
-    } else {
-        Contact::Released
+impl Segments {
+    /// The notch contact of latch `l` at `phi` (read a moment ahead) with
+    /// rate `phi_dot`, from these segments before: open unless the pawl is
+    /// engaged and the joint is beyond the notch; a compressed contact that
+    /// let go stays released until its force rises again.
+    pub(super) fn notch_after(&self, l: &PhysicalLatch<f64>, phi: f64, phi_dot: f64) -> Contact {
+        if l.pawl().is_none() || self.pawl != PawlState::Engaged {
+            return Contact::Open;
+        }
+        if l.travel(phi) <= l.plunger.crest_rad {
+            return Contact::Open;
+        }
+        let raw = l.notch_force(phi, phi_dot).raw_n;
+        if self.notch == Contact::Open || raw > 0.0 {
+            Contact::Pressing
+        } else {
+            Contact::Released
+        }
     }
 }
 
