@@ -31,7 +31,7 @@
 //! Rerun: `cargo test --release -p deploywatch-tests --test latch_bounce --
 //! --nocapture` (the counts are printed).
 
-use deploywatch_core::latch::PhysicalLatch;
+use deploywatch_core::latch::{LockKind, PhysicalLatch};
 use deploywatch_core::monitor::{Monitor, MonitorConfig, Status};
 use deploywatch_core::LatchState;
 use deploywatch_sim::deployment::{simulate, SimOptions, Trajectory};
@@ -51,6 +51,7 @@ const LATCH: PhysicalLatch = PhysicalLatch {
     crest_deg: 1.5,
     ramp_deg: 0.6,
     bounce_window_s: 0.03,
+    lock: LockKind::Detent,
 };
 /// A latch must be declared within this of the last rebound [s].
 const DECLARE_LIMIT_S: f64 = 0.05;

@@ -76,7 +76,7 @@ pub mod kinematics {
 
 /// A physical latch's tolerances.
 pub mod latch {
-    pub use crate::model::latch::LatchTolerance;
+    pub use crate::model::latch::{LatchTolerance, PlungerSpec};
 }
 
 /// Warnings about a mechanism that loads but is implausible.

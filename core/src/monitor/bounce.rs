@@ -78,6 +78,20 @@ pub enum LatchEvent {
     Rebound,
 }
 
+/// What holds a physical latch's joint against a return, as the monitor
+/// needs it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum LockKind {
+    /// A ball plunger: the joint can escape back over its crest.
+    Detent,
+    /// A pawl (`physics.md` §10.5): once latched the joint cannot leave by
+    /// more than the notch (`crest_deg`) unless the pawl breaks, so a
+    /// rebound within it keeps the latch and an escape is a broken pawl,
+    /// flagged `latch_disagree`.
+    Pawl,
+}
+
 /// The latch as built, in the monitor's configuration
 /// (`LatchConfig::physical`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -96,6 +110,9 @@ pub struct PhysicalLatch {
     /// the stop, for the latch to be declared [s]: longer than the joint
     /// stays in contact between two rebounds.
     pub bounce_window_s: f32,
+    /// A ball plunger or a pawl (with a pawl, `crest_deg` is the farthest
+    /// its notch lets the joint go back, the contact's give included).
+    pub lock: LockKind,
 }
 
 impl PhysicalLatch {

@@ -32,13 +32,18 @@
 //! the plunger's crest is [`LatchState::Escaped`] (not latched, also after a
 //! declaration, until the latch is declared again) and a joint at rest on the
 //! ramp with the switch open is [`LatchState::StoppedShort`].
+//!
+//! A pawl ([`LockKind::Pawl`], `physics.md` §10.5) cannot open: once
+//! declared, a rebound within its notch keeps the joint latched, and an
+//! escape (out beyond the notch and the contact's give) is a broken pawl,
+//! [`LatchState::Escaped`] flagged `latch_disagree`.
 
 use crate::monitor::bounce::{Bounce, LatchEvent, StopLimits, StopReading};
 use crate::monitor::faults::{Fault, FaultFlags};
 use crate::monitor::held::{Held, HeldSamples};
 use serde::{Deserialize, Serialize};
 
-pub use crate::monitor::bounce::PhysicalLatch;
+pub use crate::monitor::bounce::{LockKind, PhysicalLatch};
 
 /// Slack on the bounce window of a physical latch [s]: the time stamps'
 /// `f32` rounding (a few µs at 10 s) must not cost a sample; far below the
@@ -375,12 +380,14 @@ impl LatchTracker {
         self.open_at_latch
     }
 
-    /// True while an ideal latch is out after its declaration (switch open
-    /// and encoder out for the debounce time): not latched, and a
-    /// disagreement with the drawing, until the latch is declared again.
-    /// With an ideal drawing nothing else makes the motion `Escaped`.
+    /// True while a latch that cannot open is out after its declaration
+    /// (an ideal latch: switch open and encoder out for the debounce time;
+    /// a pawl: escaped, i.e. broken): not latched, and a disagreement with
+    /// the drawing, until the latch is declared again. With an ideal
+    /// drawing nothing else makes the motion `Escaped`.
     fn left_ideal(&self, cfg: &LatchConfig) -> bool {
-        cfg.physical.is_none() && self.motion == LatchState::Escaped
+        // The motion first: it is rarely `Escaped` (the sample path's cost).
+        self.motion == LatchState::Escaped && cfg.physical.is_none_or(|p| p.lock == LockKind::Pawl)
     }
 
     /// Declares the latch (`switch`: the switch's reading now).
@@ -504,9 +511,17 @@ impl LatchTracker {
         mut faults: FaultFlags,
     ) -> LatchOutput {
         if let Some(event) = left {
+            let pawl = cfg.physical.is_some_and(|p| p.lock == LockKind::Pawl);
+            if pawl && event == LatchEvent::Rebound {
+                // Within the notch: the pawl holds.
+                return LatchOutput::state(LatchState::Latched, faults);
+            }
             let state = event.state();
             self.latched = false;
             self.motion = state;
+            if pawl {
+                faults.insert(Fault::LatchDisagree);
+            }
             return LatchOutput {
                 unlatched: true,
                 ..LatchOutput::state(state, faults)

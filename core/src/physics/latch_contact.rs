@@ -63,7 +63,7 @@
 use crate::physics::real::Real;
 
 /// Millimetres per metre: the papers give the stop in mm, the chain is in m.
-const MM_PER_M: f64 = 1000.0;
+pub(crate) const MM_PER_M: f64 = 1000.0;
 
 /// Smallest `1 + g/g0` the magnet law is evaluated at, where a frozen
 /// segment is extended past its bounds (a step that crosses a mark).
@@ -78,6 +78,33 @@ pub struct HertzStop<T> {
     pub damping_ns_per_mm1_25: T,
     /// `r_c`: distance of the contact from the hinge axis [m].
     pub radius_m: T,
+}
+
+impl<T: Real> HertzStop<T> {
+    /// The force of this contact law at penetration `δ` [mm] and its rate
+    /// `δ̇` [mm/s]: zero while `δ ≤ 0`.
+    pub fn force(&self, delta_mm: T, delta_dot_mm_s: T) -> StopForce<T> {
+        if !(delta_mm > T::ZERO) {
+            return StopForce {
+                elastic_n: T::ZERO,
+                raw_n: T::ZERO,
+            };
+        }
+        let q = delta_mm.sqrt();
+        let elastic_n = self.stiffness_n_per_mm1_5 * delta_mm * q;
+        let raw_n = elastic_n + self.damping_ns_per_mm1_25 * q.sqrt() * delta_dot_mm_s;
+        StopForce { elastic_n, raw_n }
+    }
+
+    /// The elastic energy `k δ^2.5 / 2.5` [J] at penetration `δ` [mm]
+    /// (zero while `δ ≤ 0`).
+    pub fn energy(&self, delta_mm: T) -> T {
+        if !(delta_mm > T::ZERO) {
+            return T::ZERO;
+        }
+        self.stiffness_n_per_mm1_5 * delta_mm * delta_mm * delta_mm.sqrt()
+            / (T::of(2.5) * T::of(MM_PER_M))
+    }
 }
 
 /// The ball plunger: a spring-loaded ball the protrusion climbs over.
@@ -112,6 +139,25 @@ pub struct Magnet<T> {
     pub radius_m: T,
 }
 
+/// A pawl's figure beyond its spring and cam (those are the latch's
+/// [`Plunger`]; `physics::pawl` holds its law).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pawl<T> {
+    /// `T_b`: the torque the pawl carries at which it breaks [N·m].
+    pub breaking_torque_nm: T,
+}
+
+/// What holds a physical latch's joint against a return.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Lock<T> {
+    /// The ball plunger's hold ramp: a detent, climbable back over the
+    /// crest (section 10.3).
+    Detent,
+    /// A pawl in its notch: a positive lock until it breaks (section 10.5,
+    /// `physics::pawl`).
+    Pawl(Pawl<T>),
+}
+
 /// The physical latch of one joint.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PhysicalLatch<T> {
@@ -125,6 +171,10 @@ pub struct PhysicalLatch<T> {
     pub magnet: Magnet<T>,
     /// `u_s`: the switch closes at this travel from the stop [rad].
     pub switch_travel_rad: T,
+    /// What holds the joint against a return: the ball plunger's hold ramp
+    /// (a detent, climbable back) or a pawl in its notch (a positive lock;
+    /// the plunger is then the pawl's spring on its cam, `physics::pawl`).
+    pub lock: Lock<T>,
 }
 
 /// What is wrong with a latch's parameters.
@@ -243,6 +293,12 @@ impl<T: Real> PhysicalLatch<T> {
             }
         }
         let right = T::PI * T::of(0.5);
+        if let Lock::Pawl(pawl) = &self.lock {
+            let b = pawl.breaking_torque_nm;
+            if !(b > T::ZERO && b.is_finite()) {
+                return Err(LatchError::NotPositive("pawl breaking torque"));
+            }
+        }
         for (a, name) in [
             (p.entry_ramp_rad, "entry ramp"),
             (p.hold_ramp_rad, "hold ramp"),
@@ -294,12 +350,13 @@ impl<T: Real> PhysicalLatch<T> {
         ]
     }
 
-    /// The plunger's segment at travel `u` [rad].
+    /// The plunger's segment at travel `u` [rad] (a pawl's cam has no
+    /// hold ramp: the pawl drops off the crest into its notch).
     pub fn plunger_segment(&self, u: T) -> PlungerSegment {
         let c = self.plunger.crest_rad;
         if u > c && u <= c + self.entry_width_rad() {
             PlungerSegment::Entry
-        } else if u <= c && u >= c - self.hold_width_rad() {
+        } else if u <= c && u >= c - self.hold_width_rad() && matches!(self.lock, Lock::Detent) {
             PlungerSegment::Hold
         } else {
             PlungerSegment::Clear
@@ -308,7 +365,7 @@ impl<T: Real> PhysicalLatch<T> {
 
     /// The ball's depression `x` [mm] and `dx/du` [mm/rad] on a segment,
     /// its formula extended beyond the segment's bounds.
-    fn depression_on(&self, seg: PlungerSegment, u: T) -> (T, T) {
+    pub(crate) fn depression_on(&self, seg: PlungerSegment, u: T) -> (T, T) {
         let c = self.plunger.crest_rad;
         match seg {
             PlungerSegment::Clear => (T::ZERO, T::ZERO),
@@ -324,7 +381,7 @@ impl<T: Real> PhysicalLatch<T> {
     }
 
     /// The plunger's energy `P0 x + ½ k_p x²` [J] at depression `x` [mm].
-    fn plunger_energy_at(&self, x: T) -> T {
+    pub(crate) fn plunger_energy_at(&self, x: T) -> T {
         let p = &self.plunger;
         (p.preload_n * x + T::of(0.5) * p.stiffness_n_per_mm * x * x) / T::of(MM_PER_M)
     }
@@ -379,20 +436,10 @@ impl<T: Real> PhysicalLatch<T> {
 
     /// The stop's force at `(φ, φ̇)` (zero while `u ≥ 0`).
     pub fn stop_force(&self, phi: T, phi_dot: T) -> StopForce<T> {
-        let st = &self.stop;
-        let r_mm = st.radius_m * T::of(MM_PER_M);
+        let r_mm = self.stop.radius_m * T::of(MM_PER_M);
         let delta = -self.travel(phi) * r_mm;
-        if !(delta > T::ZERO) {
-            return StopForce {
-                elastic_n: T::ZERO,
-                raw_n: T::ZERO,
-            };
-        }
         let delta_dot = -self.travel(phi_dot) * r_mm;
-        let q = delta.sqrt();
-        let elastic_n = st.stiffness_n_per_mm1_5 * delta * q;
-        let raw_n = elastic_n + st.damping_ns_per_mm1_25 * q.sqrt() * delta_dot;
-        StopForce { elastic_n, raw_n }
+        self.stop.force(delta, delta_dot)
     }
 
     /// The joint torque `τ_φ` [N·m] of a stop force `force_n` [N].
@@ -402,12 +449,8 @@ impl<T: Real> PhysicalLatch<T> {
 
     /// The stop's elastic energy `k δ^2.5 / 2.5` [J] at `φ`.
     pub fn stop_energy(&self, phi: T) -> T {
-        let delta = -self.travel(phi) * self.stop.radius_m * T::of(MM_PER_M);
-        if !(delta > T::ZERO) {
-            return T::ZERO;
-        }
-        self.stop.stiffness_n_per_mm1_5 * delta * delta * delta.sqrt()
-            / (T::of(2.5) * T::of(MM_PER_M))
+        self.stop
+            .energy(-self.travel(phi) * self.stop.radius_m * T::of(MM_PER_M))
     }
 
     /// The conservative joint torque `τ_φ` [N·m] of plunger and magnet at
@@ -456,8 +499,12 @@ impl<T: Real> PhysicalLatch<T> {
     }
 
     /// The largest torque the hold ramp opposes to a return,
-    /// `(P0 + k_p h) r_p tan α_h` [N·m] (at the crest).
+    /// `(P0 + k_p h) r_p tan α_h` [N·m] (at the crest); a pawl's is its
+    /// breaking torque.
     pub fn holding_torque(&self) -> T {
+        if let Lock::Pawl(pawl) = &self.lock {
+            return pawl.breaking_torque_nm;
+        }
         let p = &self.plunger;
         (p.preload_n + p.stiffness_n_per_mm * p.stroke_mm) * self.ramp_rate(p.hold_ramp_rad)
             / T::of(MM_PER_M)
@@ -501,6 +548,7 @@ mod tests {
                 radius_m: 0.03,
             },
             switch_travel_rad: 0.05f64.to_radians(),
+            lock: Lock::Detent,
         }
     }
 
@@ -641,6 +689,7 @@ mod tests {
                 radius_m: 0.03,
             },
             switch_travel_rad: m(l.switch_travel_rad),
+            lock: Lock::Detent,
         };
         for phi in [-0.002, 0.005, 0.02, 0.04] {
             let a = l.torque(phi, 0.3);

@@ -2,7 +2,8 @@
 //! generic over the float type ([`real::Real`]: `f32` on board, `f64` in the
 //! host simulator): the chain's mass matrix and equations of motion
 //! ([`chain`]), the hinge springs ([`spring`]), the friction law
-//! ([`friction`]), tabulated joint torques ([`torque_table`]), and the
+//! ([`friction`]), the physical latch ([`latch_contact`]) and its pawl
+//! ([`pawl`]), tabulated joint torques ([`torque_table`]), and the
 //! arithmetic they need ([`linalg`], [`trig`]). Nothing here knows about
 //! sensors or the monitor.
 
@@ -10,6 +11,7 @@ pub mod chain;
 pub mod friction;
 pub mod latch_contact;
 pub mod linalg;
+pub mod pawl;
 pub mod real;
 pub mod spring;
 pub mod stick;

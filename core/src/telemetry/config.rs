@@ -49,7 +49,7 @@ const fn largest(mut counts: &[u8]) -> usize {
 }
 
 /// Version of the configuration frames; the firmware refuses another.
-pub const CONFIG_VERSION: u8 = 2;
+pub const CONFIG_VERSION: u8 = 3;
 
 /// The first frame of a replay input.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -322,8 +322,8 @@ fn build<const N: usize>(
 }
 
 /// Largest frame of a [`ConfigHeader`], `0x00` included [bytes]
-/// (payload: 1 + 1 + 4, and the latch: 1 + 4·4).
-pub const CONFIG_HEADER_FRAME_MAX: usize = framed(23);
+/// (payload: 1 + 1 + 4, and the latch: 1 + 4·4 + its lock 1).
+pub const CONFIG_HEADER_FRAME_MAX: usize = framed(24);
 
 /// Largest postcard payload of a [`JointFrame`]: five `f32` of panel and
 /// stowed angle (20), the spring (tag 1 + count 4 + the curve variant's

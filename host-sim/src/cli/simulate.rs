@@ -102,9 +102,15 @@ fn print_latches(mech: &Mechanism, effects: &[crate::model::effect::Effect], run
         let (p, m) = w.get(j).copied().unwrap_or((1.0, 1.0));
         let latch = spec.to_core(joint.stowed_deg, p, m);
         if let Some(o) = run.outcome(j + 1, &latch) {
+            let pawl = match (spec.pawl, o.pawl_broke_s) {
+                (None, _) => String::new(),
+                (Some(_), Some(t)) => format!("; its pawl BROKE at {t:.6} s"),
+                (Some(_), None) if o.pawl_drops > 0 => "; its pawl dropped in and holds".into(),
+                (Some(_), None) => "; its pawl never reached its notch".into(),
+            };
             outln!(
                 "  joint {} physical latch: {} impacts, {} engagements over the crest, {} escapes, \
-                 switch closed {} times; ends {:?} at {:.4} deg from the stop",
+                 switch closed {} times; ends {:?} at {:.4} deg from the stop{pawl}",
                 j + 1,
                 o.impacts,
                 o.engagements,
@@ -118,7 +124,7 @@ fn print_latches(mech: &Mechanism, effects: &[crate::model::effect::Effect], run
     let e = &run.energy;
     outln!(
         "  energy [J]: stored {:.6}; at the end kinetic {:.6}, springs {:.6}, latches {:.6}; \
-         dissipated by friction/hysteresis {:.6}, by the stops {:.6}, by ideal impacts {:.6}; \
+         dissipated by friction/hysteresis {:.6}, by the stops {:.6}, by ideal impacts and pawls {:.6}; \
          worst drift {:.3e} ({:.2e} of stored)",
         e.stored_j,
         e.kinetic_j,

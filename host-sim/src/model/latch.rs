@@ -5,6 +5,7 @@
 //! Read and written by [`crate::model::latch_toml`].
 
 use deploywatch_core::physics::latch_contact::{HertzStop, Magnet, PhysicalLatch, Plunger};
+use deploywatch_core::physics::pawl::{Lock, Pawl};
 use deploywatch_core::Real;
 
 /// The papers' contact stiffness `k` [N/mm^1.5] (seed 000 §4.2, seed 001
@@ -65,10 +66,16 @@ pub struct LatchSpec {
     pub switch_travel_deg: f64,
     /// `stop`.
     pub stop: StopSpec,
-    /// `plunger`.
+    /// `plunger`; with a pawl, the pawl's spring on its cam as the core
+    /// takes it (`pawl.preload_n`, `stiffness_n_per_mm`, `radius_mm`; the
+    /// stroke is `lift_mm`, the crest `notch_deg`, the entry ramp
+    /// `cam_ramp_deg`; the hold ramp, unused, the cam's angle).
     pub plunger: PlungerSpec,
     /// `magnet`, `None` without one.
     pub magnet: Option<MagnetSpec>,
+    /// `pawl.breaking_torque_nm` [N·m] of a latch written with a `pawl`
+    /// table (a positive lock, `physics.md` §10.5); `None`: a ball plunger.
+    pub pawl: Option<Pawl<f64>>,
 }
 
 /// Millimetres per metre.
@@ -120,6 +127,12 @@ impl LatchSpec {
             },
             magnet,
             switch_travel_rad: rad(self.switch_travel_deg),
+            lock: match self.pawl {
+                Some(p) => Lock::Pawl(Pawl {
+                    breaking_torque_nm: T::of(p.breaking_torque_nm),
+                }),
+                None => Lock::Detent,
+            },
         }
     }
 }
@@ -132,7 +145,10 @@ impl LatchSpec {
 /// plunger and a small NdFeB magnet as bought (a vendor's preload and rate
 /// ±20 %, a magnet's pull ±30 % with grade and gap, the stop's damping ±30 %)
 /// and a crest machined to ±0.1°: deploywatch's own figures, the ones the
-/// physical-latch campaigns of `docs/diagnosis.md` draw from.
+/// physical-latch campaigns of `docs/diagnosis.md` draw from. A pawl's
+/// spring takes the plunger's spreads, its notch the crest's, and its
+/// breaking torque ±15 % (the scatter of a machined part's strength,
+/// deploywatch's own figure).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LatchTolerance {
     /// Relative spread of the plunger's preload [1].
@@ -145,6 +161,8 @@ pub struct LatchTolerance {
     pub stop_damping: f64,
     /// Absolute spread of the crest's position [deg].
     pub crest_deg: f64,
+    /// Relative spread of a pawl's breaking torque [1].
+    pub breaking_torque: f64,
 }
 
 impl Default for LatchTolerance {
@@ -155,6 +173,7 @@ impl Default for LatchTolerance {
             magnet_force: 0.3,
             stop_damping: 0.3,
             crest_deg: 0.1,
+            breaking_torque: 0.15,
         }
     }
 }
@@ -173,6 +192,23 @@ impl LatchSpec {
         }
         b.stop.damping_ns_per_mm1_25 *= 1.0 + tol.stop_damping * u[3];
         b.plunger.crest_deg = (b.plunger.crest_deg + tol.crest_deg * u[4]).max(0.0);
+        b
+    }
+
+    /// This latch as built from draws of `uniform` (each in [0, 1), mapped
+    /// to [−1, 1]): five for [`LatchSpec::as_built`], and a sixth for a
+    /// pawl's breaking torque (a ball plunger draws five, as before).
+    pub fn draw_as_built(
+        &self,
+        tol: &LatchTolerance,
+        uniform: &mut dyn FnMut() -> f64,
+    ) -> LatchSpec {
+        let u: [f64; 5] = core::array::from_fn(|_| 2.0 * uniform() - 1.0);
+        let mut b = self.as_built(tol, u);
+        if let Some(p) = b.pawl.as_mut() {
+            let v = (2.0 * uniform() - 1.0).clamp(-1.0, 1.0);
+            p.breaking_torque_nm *= 1.0 + tol.breaking_torque * v;
+        }
         b
     }
 }
@@ -204,6 +240,7 @@ mod tests {
                 reach_mm: 2.0,
                 radius_mm: 40.0,
             }),
+            pawl: None,
         }
     }
 
@@ -224,5 +261,31 @@ mod tests {
         // What is not toleranced stays as drawn.
         assert_eq!(hi.stop.stiffness_n_per_mm1_5, d.stop.stiffness_n_per_mm1_5);
         assert_eq!(hi.switch_travel_deg, d.switch_travel_deg);
+    }
+
+    #[test]
+    fn a_pawl_draws_a_sixth_figure_for_its_breaking_torque_a_plunger_five() {
+        let t = LatchTolerance::default();
+        let mut n = 0;
+        let mut one = || {
+            n += 1;
+            1.0 - 1e-12
+        };
+        let d = drawing();
+        let _ = d.draw_as_built(&t, &mut one);
+        assert_eq!(n, 5);
+        let mut p = drawing();
+        p.pawl = Some(Pawl {
+            breaking_torque_nm: 200.0,
+        });
+        let mut n = 0;
+        let mut one = || {
+            n += 1;
+            1.0 - 1e-12
+        };
+        let b = p.draw_as_built(&t, &mut one);
+        assert_eq!(n, 6);
+        let bt = b.pawl.map_or(0.0, |p| p.breaking_torque_nm);
+        assert!((bt - 230.0).abs() < 1e-6, "{bt}");
     }
 }

@@ -16,6 +16,14 @@
 //! magnet = { force_n = 15.0, decay_mm = 0.5, reach_mm = 2.0, radius_mm = 40.0 }   # optional
 //! ```
 //!
+//! A positive lock has a `pawl` table in place of `plunger` (`physics.md`
+//! §10.5):
+//!
+//! ```toml
+//! pawl = { preload_n = 5.0, stiffness_n_per_mm = 2.0, radius_mm = 40.0, lift_mm = 1.0,
+//!          notch_deg = 0.2, cam_ramp_deg = 20.0, breaking_torque_nm = 250.0 }
+//! ```
+//!
 //! Read on the mechanism file's one TOML tree ([`crate::model::toml_tree`]):
 //! errors name the file, the line, the key path
 //! (`joint[1].latch.plunger.preload_n`) and what was expected.
@@ -27,8 +35,16 @@ use crate::model::latch::{
     PAPER_STIFFNESS_N_PER_MM1_5,
 };
 use crate::model::toml_tree::{Bound, Cx, Res, Sp, Table};
+use deploywatch_core::physics::pawl::Pawl;
 
-const LATCH_KEYS: &[&str] = &["model", "switch_travel_deg", "stop", "plunger", "magnet"];
+const LATCH_KEYS: &[&str] = &[
+    "model",
+    "switch_travel_deg",
+    "stop",
+    "plunger",
+    "pawl",
+    "magnet",
+];
 const STOP_KEYS: &[&str] = &[
     "radius_mm",
     "stiffness_n_per_mm1_5",
@@ -42,6 +58,15 @@ const PLUNGER_KEYS: &[&str] = &[
     "crest_deg",
     "entry_ramp_deg",
     "hold_ramp_deg",
+];
+const PAWL_KEYS: &[&str] = &[
+    "preload_n",
+    "stiffness_n_per_mm",
+    "radius_mm",
+    "lift_mm",
+    "notch_deg",
+    "cam_ramp_deg",
+    "breaking_torque_nm",
 ];
 const MAGNET_KEYS: &[&str] = &["force_n", "decay_mm", "reach_mm", "radius_mm"];
 
@@ -67,10 +92,12 @@ pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, path: &str) -> Res<Option<LatchSpec>> {
         "physical" => {}
         _ => return Err(cx.invalid(model, &t.key("model"), expected)),
     }
+    let (plunger, pawl) = detent_spec(cx, &t)?;
     let spec = LatchSpec {
         switch_travel_deg: cx.req_number(&t, "switch_travel_deg", Bound::NonNegative, "deg")?,
         stop: stop_spec(cx, &t)?,
-        plunger: plunger_spec(cx, &t)?,
+        plunger,
+        pawl,
         magnet: t
             .get("magnet")
             .map(|m| magnet_spec(cx, m, &t.key("magnet")))
@@ -102,12 +129,45 @@ fn stop_spec(cx: &Cx<'_>, latch: &Table<'_>) -> Res<StopSpec> {
     })
 }
 
-/// `plunger = { preload_n = ..., ... }` of the latch table `latch`.
-fn plunger_spec(cx: &Cx<'_>, latch: &Table<'_>) -> Res<PlungerSpec> {
-    let Some(sp) = latch.get("plunger") else {
-        return Err(cx.missing(latch, "plunger", "a table { preload_n = ..., ... }"));
+/// The latch's `plunger` or its `pawl` (exactly one of them): the plunger
+/// (for a pawl, its spring on its cam) and the pawl's breaking torque.
+fn detent_spec(cx: &Cx<'_>, latch: &Table<'_>) -> Res<(PlungerSpec, Option<Pawl<f64>>)> {
+    match (latch.get("plunger"), latch.get("pawl")) {
+        (Some(sp), None) => Ok((plunger_spec(cx, sp, &latch.key("plunger"))?, None)),
+        (None, Some(sp)) => pawl_spec(cx, sp, &latch.key("pawl")).map(|(p, b)| (p, Some(b))),
+        (Some(_), Some(sp)) => {
+            Err(cx.invalid(sp, &latch.key("pawl"), "a plunger or a pawl, not both"))
+        }
+        (None, None) => Err(cx.missing(
+            latch,
+            "plunger",
+            "a table { preload_n = ..., ... } (or a `pawl` table)",
+        )),
+    }
+}
+
+/// `pawl = { preload_n = ..., ... }` at `path`: the pawl's spring on its
+/// cam as the core's plunger, and its breaking torque.
+fn pawl_spec(cx: &Cx<'_>, sp: &Sp, path: &str) -> Res<(PlungerSpec, Pawl<f64>)> {
+    let t = cx.table(sp, path, PAWL_KEYS)?;
+    let n = |key: &str, range: Bound, unit: &str| cx.req_number(&t, key, range, unit);
+    let cam = ramp(cx, &t, "cam_ramp_deg")?;
+    let spring = PlungerSpec {
+        preload_n: n("preload_n", Bound::NonNegative, "N")?,
+        stiffness_n_per_mm: n("stiffness_n_per_mm", Bound::NonNegative, "N/mm")?,
+        radius_mm: n("radius_mm", Bound::Positive, "mm")?,
+        stroke_mm: n("lift_mm", Bound::NonNegative, "mm")?,
+        crest_deg: n("notch_deg", Bound::NonNegative, "deg")?,
+        entry_ramp_deg: cam,
+        hold_ramp_deg: cam,
     };
-    let t = cx.table(sp, &latch.key("plunger"), PLUNGER_KEYS)?;
+    let breaking_torque_nm = n("breaking_torque_nm", Bound::Positive, "N·m")?;
+    Ok((spring, Pawl { breaking_torque_nm }))
+}
+
+/// `plunger = { preload_n = ..., ... }` at `path`.
+fn plunger_spec(cx: &Cx<'_>, sp: &Sp, path: &str) -> Res<PlungerSpec> {
+    let t = cx.table(sp, path, PLUNGER_KEYS)?;
     let n = |key: &str, range: Bound, unit: &str| cx.req_number(&t, key, range, unit);
     Ok(PlungerSpec {
         preload_n: n("preload_n", Bound::NonNegative, "N")?,
@@ -120,7 +180,7 @@ fn plunger_spec(cx: &Cx<'_>, latch: &Table<'_>) -> Res<PlungerSpec> {
     })
 }
 
-/// A ramp angle of the plunger table `t`: within (0, 90) degrees.
+/// A ramp angle of the plunger (or pawl) table `t`: within (0, 90) degrees.
 fn ramp(cx: &Cx<'_>, t: &Table<'_>, key: &str) -> Res<f64> {
     const EXPECTED: &str = "an angle in (0, 90) [deg]";
     let x = cx.req_number(t, key, Bound::Positive, "deg")?;
@@ -150,21 +210,39 @@ pub fn write(spec: &LatchSpec) -> String {
     let _ = write!(
         out,
         "[joint.latch]\nmodel = \"physical\"\nswitch_travel_deg = {:?}\n\
-         stop = {{ radius_mm = {:?}, stiffness_n_per_mm1_5 = {:?}, damping_ns_per_mm1_25 = {:?} }}\n\
-         plunger = {{ preload_n = {:?}, stiffness_n_per_mm = {:?}, radius_mm = {:?}, stroke_mm = {:?}, \
-         crest_deg = {:?}, entry_ramp_deg = {:?}, hold_ramp_deg = {:?} }}\n",
-        spec.switch_travel_deg,
-        s.radius_mm,
-        s.stiffness_n_per_mm1_5,
-        s.damping_ns_per_mm1_25,
-        p.preload_n,
-        p.stiffness_n_per_mm,
-        p.radius_mm,
-        p.stroke_mm,
-        p.crest_deg,
-        p.entry_ramp_deg,
-        p.hold_ramp_deg
+         stop = {{ radius_mm = {:?}, stiffness_n_per_mm1_5 = {:?}, damping_ns_per_mm1_25 = {:?} }}\n",
+        spec.switch_travel_deg, s.radius_mm, s.stiffness_n_per_mm1_5, s.damping_ns_per_mm1_25,
     );
+    match &spec.pawl {
+        Some(pawl) => {
+            let _ = writeln!(
+                out,
+                "pawl = {{ preload_n = {:?}, stiffness_n_per_mm = {:?}, radius_mm = {:?}, lift_mm = {:?}, \
+                 notch_deg = {:?}, cam_ramp_deg = {:?}, breaking_torque_nm = {:?} }}",
+                p.preload_n,
+                p.stiffness_n_per_mm,
+                p.radius_mm,
+                p.stroke_mm,
+                p.crest_deg,
+                p.entry_ramp_deg,
+                pawl.breaking_torque_nm
+            );
+        }
+        None => {
+            let _ = writeln!(
+                out,
+                "plunger = {{ preload_n = {:?}, stiffness_n_per_mm = {:?}, radius_mm = {:?}, stroke_mm = {:?}, \
+                 crest_deg = {:?}, entry_ramp_deg = {:?}, hold_ramp_deg = {:?} }}",
+                p.preload_n,
+                p.stiffness_n_per_mm,
+                p.radius_mm,
+                p.stroke_mm,
+                p.crest_deg,
+                p.entry_ramp_deg,
+                p.hold_ramp_deg
+            );
+        }
+    }
     if let Some(m) = &spec.magnet {
         let _ = writeln!(
             out,

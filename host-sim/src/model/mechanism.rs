@@ -254,7 +254,10 @@ impl Mechanism {
 impl Mechanism {
     /// This mechanism with every physical latch as built: five draws of
     /// `uniform` (each in [0, 1)) per physical latch, joint by joint, mapped
-    /// to [−1, 1] for [`crate::model::latch::LatchSpec::as_built`]. Ideal latches draw nothing.
+    /// to [−1, 1] for [`crate::model::latch::LatchSpec::as_built`], and a
+    /// sixth for a pawl's breaking torque
+    /// ([`crate::model::latch::LatchSpec::draw_as_built`]). Ideal latches
+    /// draw nothing.
     pub fn as_built(
         &self,
         tol: &crate::model::latch::LatchTolerance,
@@ -262,8 +265,7 @@ impl Mechanism {
     ) -> Self {
         let mut m = self.clone();
         for latch in m.latches.iter_mut().flatten() {
-            let u: [f64; 5] = core::array::from_fn(|_| 2.0 * uniform() - 1.0);
-            *latch = latch.as_built(tol, u);
+            *latch = latch.draw_as_built(tol, uniform);
         }
         m
     }

@@ -10,7 +10,7 @@
 //! physical latch (`[joint.latch]`) carries the three figures of its plunger
 //! the margin needs ([`engagement`]).
 
-use deploywatch_core::latch::PhysicalLatch;
+use deploywatch_core::latch::{LockKind, PhysicalLatch};
 use deploywatch_core::monitor::latch_margin::Engagement;
 use deploywatch_core::monitor::{JointConfig, Monitor, MonitorConfig, Sample, Status};
 use deploywatch_core::observer::FrictionPrior;
@@ -68,7 +68,9 @@ pub const BOUNCE_WINDOW_S: f64 = 0.03;
 /// §5) when it has none. The switch travel and the crest are the file's;
 /// the ramp reaches from the stop to the outer end of the plunger's entry
 /// ramp (crest + its width), where a joint that arrives with too little
-/// energy comes to rest.
+/// energy comes to rest. A pawl (`physics.md` §10.5) is
+/// [`LockKind::Pawl`], its crest the farthest its notch lets the joint back
+/// (the notch and the contact's give under the breaking torque).
 pub fn physical_latch(mech: &Mechanism) -> Option<PhysicalLatch> {
     let (j, spec) = mech
         .latches
@@ -78,11 +80,18 @@ pub fn physical_latch(mech: &Mechanism) -> Option<PhysicalLatch> {
     let stowed = mech.joints.get(j).map_or(0.0, |jt| jt.stowed_deg);
     let core = spec.to_core::<f64>(stowed, 1.0, 1.0);
     let crest_deg = spec.plunger.crest_deg;
+    let (lock, back_deg) = match spec.pawl {
+        // A pawl holds up to its notch and the contact's give under its
+        // breaking torque: beyond that it has broken.
+        Some(_) => (LockKind::Pawl, core.breaking_travel_rad().to_degrees()),
+        None => (LockKind::Detent, crest_deg),
+    };
     Some(PhysicalLatch {
         switch_travel_deg: spec.switch_travel_deg as f32,
-        crest_deg: crest_deg as f32,
+        crest_deg: back_deg as f32,
         ramp_deg: (crest_deg + core.entry_width_rad().to_degrees()) as f32,
         bounce_window_s: BOUNCE_WINDOW_S as f32,
+        lock,
     })
 }
 

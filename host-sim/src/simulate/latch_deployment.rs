@@ -30,8 +30,11 @@ use crate::simulate::trajectory::{
 };
 use deploywatch_core::linalg::solve_spd_masked;
 use deploywatch_core::physics::latch_contact::{LatchMark, PhysicalLatch, PlungerSegment};
+use deploywatch_core::physics::pawl::PawlState;
 use deploywatch_core::{Branch, Mode};
 
+mod ledger;
+mod pawl;
 mod stick;
 
 pub use crate::simulate::latch_run::{
@@ -70,6 +73,25 @@ struct Segments {
     magnet: bool,
     contact: Contact,
     switch: bool,
+    /// A pawl's state (`Riding` for a detent): changed only by its own
+    /// events ([`pawl`]).
+    pawl: PawlState,
+    /// The engaged pawl's contact with its notch's wall.
+    notch: Contact,
+}
+
+impl Segments {
+    /// Before the first reading: off the stop, a pawl where `u` puts it.
+    fn start(l: &PhysicalLatch<f64>, u: f64) -> Self {
+        Segments {
+            plunger: PlungerSegment::Clear,
+            magnet: false,
+            contact: Contact::Open,
+            switch: false,
+            pawl: l.pawl_state_at(u),
+            notch: Contact::Open,
+        }
+    }
 }
 
 /// The latch scales `(plunger, magnet)` of each joint from the
@@ -156,6 +178,10 @@ enum Ev {
     Turn(usize),
     /// A stuck joint's holding torque leaves its band: it slips.
     Slip(usize),
+    /// An engaged pawl's contact with its notch's wall changes.
+    Notch(usize),
+    /// The torque an engaged pawl carries reaches its breaking torque.
+    Break(usize),
 }
 
 impl Ev {
@@ -169,7 +195,9 @@ impl Ev {
             | Ev::Ideal(j)
             | Ev::Branch(j)
             | Ev::Turn(j)
-            | Ev::Slip(j) => j,
+            | Ev::Slip(j)
+            | Ev::Notch(j)
+            | Ev::Break(j) => j,
         }
     }
 }
@@ -184,6 +212,8 @@ impl<'a, const N: usize> Sim<'a, N> {
                 magnet: false,
                 contact: Contact::Open,
                 switch: false,
+                pawl: PawlState::Riding,
+                notch: Contact::Open,
             }; N],
             mode: Mode::default(),
             side: [1.0; N],
@@ -197,7 +227,8 @@ impl<'a, const N: usize> Sim<'a, N> {
             sim.hyst[j] = jt.spring.hysteresis_below_rad();
             sim.mode.branch[j] = branch_at(y.q[j], y.v[j]);
             if let Some(l) = &sim.latch[j] {
-                sim.seg[j] = classify(l, y.q[j], y.v[j], Contact::Open);
+                let was = Segments::start(l, l.travel(y.q[j]));
+                sim.seg[j] = classify(l, y.q[j], y.v[j], was);
             }
         }
         sim
@@ -217,11 +248,11 @@ impl<'a, const N: usize> Sim<'a, N> {
         soft * (at_stop - jt.spring.torque(phi, branch))
     }
 
-    /// The latch torque of joint `j` on its frozen segments [N·m] and the
-    /// stop's force applied [N].
-    fn latch_torque(&self, j: usize, phi: f64, phi_dot: f64) -> (f64, f64) {
+    /// The latch torque of joint `j` on its frozen segments [N·m], the
+    /// stop's force applied and an engaged pawl's notch force applied [N].
+    fn latch_torque(&self, j: usize, phi: f64, phi_dot: f64) -> (f64, f64, f64) {
         let Some(l) = &self.latch[j] else {
-            return (0.0, 0.0);
+            return (0.0, 0.0, 0.0);
         };
         let s = &self.seg[j];
         let u = l.travel(phi);
@@ -230,7 +261,15 @@ impl<'a, const N: usize> Sim<'a, N> {
             Contact::Pressing => l.stop_force(phi, phi_dot).raw_n,
             Contact::Open | Contact::Released => 0.0,
         };
-        (cons + l.stop_torque(f), f)
+        let f_notch = match (s.pawl, s.notch) {
+            (PawlState::Engaged, Contact::Pressing) => l.notch_force(phi, phi_dot).raw_n,
+            _ => 0.0,
+        };
+        (
+            cons + l.stop_torque(f) + l.notch_torque(f_notch),
+            f,
+            f_notch,
+        )
     }
 
     /// The joints out of the coordinates: latched (ideal) or stuck.
@@ -281,25 +320,32 @@ fn branch_at(phi: f64, phi_dot: f64) -> Branch {
     }
 }
 
-/// The segments of a latch at `(φ, φ̇)`, read a moment ahead; `was` is the
-/// contact before (a compressed stop that let go stays released until its
-/// force rises again).
-fn classify(l: &PhysicalLatch<f64>, phi: f64, phi_dot: f64, was: Contact) -> Segments {
+/// The segments of a latch at `(φ, φ̇)`, read a moment ahead; `was` are
+/// the segments before (a compressed stop that let go stays released until
+/// its force rises again; a pawl keeps its state).
+fn classify(l: &PhysicalLatch<f64>, phi: f64, phi_dot: f64, was: Segments) -> Segments {
     let ahead = phi + phi_dot * PROBE_S;
     let u = l.travel(ahead);
     let raw = l.stop_force(ahead, phi_dot).raw_n;
     let contact = if u >= 0.0 {
         Contact::Open
-    } else if was == Contact::Open || raw > 0.0 {
+    } else if was.contact == Contact::Open || raw > 0.0 {
         Contact::Pressing
     } else {
         Contact::Released
     };
+    let riding = l.pawl().is_none() || was.pawl == PawlState::Riding;
     Segments {
-        plunger: l.plunger_segment(u),
+        plunger: if riding {
+            l.plunger_segment(u)
+        } else {
+            PlungerSegment::Clear
+        },
         magnet: l.magnet_within(u),
         contact,
         switch: l.switch_closed(ahead),
+        pawl: was.pawl,
+        notch: was.notch_after(l, ahead, phi_dot),
     }
 }
 
@@ -315,6 +361,9 @@ fn inside<const N: usize>(sim: &Sim<'_, N>, ev: Ev, y: &State<N>) -> f64 {
     }
     if let Ev::Slip(_) = ev {
         return sim.slip_margin(j, y);
+    }
+    if let Ev::Notch(_) | Ev::Break(_) = ev {
+        return sim.pawl_margin(ev, y);
     }
     if let Ev::Branch(_) = ev {
         let g = phi * rate;
@@ -351,9 +400,12 @@ fn inside<const N: usize>(sim: &Sim<'_, N>, ev: Ev, y: &State<N>) -> f64 {
     }
 }
 
+/// The most events one joint can have in a step.
+const EVENTS_PER_JOINT: usize = 8;
+
 /// Fixed-capacity list of the events that may fire in a step.
 struct Candidates {
-    items: [Option<Ev>; 6 * 4],
+    items: [Option<Ev>; EVENTS_PER_JOINT * 4],
     len: usize,
 }
 
@@ -371,7 +423,7 @@ impl<const N: usize> Sim<'_, N> {
     /// its ends and at interior points of the dense output).
     fn candidates(&mut self, dense: &Dense<N>, y1: &State<N>) -> Candidates {
         let mut out = Candidates {
-            items: [None; 24],
+            items: [None; EVENTS_PER_JOINT * 4],
             len: 0,
         };
         let probes: [State<N>; 4] = [0.25, 0.5, 0.75, 1.0].map(|s| {
@@ -390,16 +442,19 @@ impl<const N: usize> Sim<'_, N> {
                 out.push(Ev::Slip(j));
                 continue;
             }
-            let mut evs = [None; 6];
+            let mut evs = [None; EVENTS_PER_JOINT];
             if let Some(l) = &self.latch[j] {
                 let magnet = (l.magnet.force_n > 0.0).then_some(Ev::Magnet(j));
+                let (plunger, notch, brk) = self.pawl_events(j);
                 evs = [
-                    Some(Ev::Plunger(j)),
+                    plunger,
                     magnet,
                     Some(Ev::Contact(j)),
                     Some(Ev::Switch(j)),
                     None,
                     None,
+                    notch,
+                    brk,
                 ];
             } else {
                 evs[0] = Some(Ev::Ideal(j));
@@ -468,84 +523,12 @@ impl<const N: usize> Sim<'_, N> {
     }
 }
 
-/// The ledger's running sums.
+/// The ledger's running sums (kept by `ledger.rs`).
 #[derive(Clone, Copy, Debug, Default)]
 struct Ledger {
     energy: Energy,
     /// Total at the start [J].
     start_j: f64,
-}
-
-impl<const N: usize> Sim<'_, N> {
-    /// Kinetic, chain and latch potential at a state [J].
-    fn energies(&self, y: &State<N>) -> (f64, f64, f64) {
-        let mut spring = self.chain.potential_energy(&y.q);
-        let mut latch = 0.0;
-        for (j, l) in self.latch.iter().enumerate() {
-            let (Some(l), Some(jt)) = (l, self.chain.joints().get(j)) else {
-                continue;
-            };
-            latch += l.potential_energy(y.q[j]);
-            let u = l.travel(y.q[j]);
-            if u < 0.0 {
-                // The spring continued into the stop with its torque at 0⁺.
-                let soft = 1.0 - jt.effects.spring_softening;
-                let t0 = jt
-                    .spring
-                    .torque(l.side * f64::MIN_POSITIVE, Branch::Unfold)
-                    .abs();
-                spring += soft * (t0 * u - jt.spring.release(0.0, y.q[j].abs()));
-            }
-        }
-        (self.chain.kinetic_energy(&y.chain()), spring, latch)
-    }
-
-    /// Power of the non-conservative joint torques and of the stops'
-    /// damping at a state [W] (both ≤ 0 for a passive mechanism).
-    fn power(&self, y: &State<N>) -> (f64, f64) {
-        let (mut joints, mut contact) = (0.0, 0.0);
-        for (j, jt) in self.chain.joints().iter().enumerate() {
-            if self.mode.latched[j] {
-                continue;
-            }
-            let (phi, rate, branch) = (y.q[j], y.v[j], self.mode.branch[j]);
-            let soft = 1.0 - jt.effects.spring_softening;
-            let ext = self.spring_extension(j, phi, branch);
-            let total = self.chain.joint_torque(j, phi, rate, branch) + ext;
-            let ext_unfold = self.spring_extension(j, phi, Branch::Unfold);
-            let cons = soft * jt.spring.torque(phi, Branch::Unfold)
-                + ext_unfold
-                + jt.effects.harness_nm_per_rad * (jt.stowed_rad - phi);
-            joints += (total - cons) * rate;
-            if let Some(l) = &self.latch[j] {
-                let (_, f) = self.latch_torque(j, phi, rate);
-                let elastic = l.stop_force(phi, rate).elastic_n;
-                contact += l.stop_torque(f - elastic) * rate;
-            }
-        }
-        (joints, contact)
-    }
-
-    /// Adds the dissipation over `[t0, t1]` of a step and checks the drift
-    /// at `y1`.
-    fn account(&self, ledger: &mut Ledger, dense: &Dense<N>, t1: f64, y1: &State<N>) {
-        let h = t1 - dense.t0;
-        for (s, w) in GAUSS3 {
-            let (pj, pc) = self.power(&dense.at(dense.t0 + s * h));
-            ledger.energy.friction_j -= w * h * pj;
-            ledger.energy.contact_j -= w * h * pc;
-        }
-        self.close_ledger(ledger, y1);
-    }
-
-    /// The ledger's state terms at `y` and the drift there.
-    fn close_ledger(&self, ledger: &mut Ledger, y: &State<N>) {
-        let (k, s, l) = self.energies(y);
-        let e = &mut ledger.energy;
-        (e.kinetic_j, e.spring_j, e.latch_j) = (k, s, l);
-        let total = k + s + l + e.friction_j + e.contact_j + e.impact_j;
-        e.worst_drift_j = e.worst_drift_j.max((total - ledger.start_j).abs());
-    }
 }
 
 /// Samples of the run.
@@ -792,13 +775,14 @@ impl Runner<'_> {
                 sim.slip(j, y);
                 LatchEventKind::Slip
             }
+            Ev::Notch(_) | Ev::Break(_) => self.pawl_event(sim, ev, j, y),
             _ => self.cross(sim, ev, j, y),
         };
         // Every other latch read again from the state: an event of one kind
         // can coincide with a mark of another (a branch switch at the stop).
         for k in 0..N {
             if let (Some(l), false) = (sim.latch[k], k == j && !matches!(ev, Ev::Branch(_))) {
-                sim.seg[k] = classify(&l, y.q[k], y.v[k], sim.seg[k].contact);
+                sim.seg[k] = classify(&l, y.q[k], y.v[k], sim.seg[k]);
             }
         }
         let (u, du) = match &sim.latch[j] {
@@ -827,7 +811,10 @@ impl Runner<'_> {
             return LatchEventKind::Branch;
         };
         let before = sim.seg[j];
-        let after = classify(&l, y.q[j], y.v[j], before.contact);
+        if let Some(kind) = self.pawl_drop(sim, ev, j, y) {
+            return kind;
+        }
+        let after = classify(&l, y.q[j], y.v[j], before);
         sim.seg[j] = after;
         let mark = |m| LatchEventKind::Mark(m);
         match ev {

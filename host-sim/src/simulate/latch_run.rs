@@ -25,6 +25,15 @@ pub enum LatchEventKind {
     Turn,
     /// A stuck joint's holding torque left its band: it slips.
     Slip,
+    /// A pawl riding its cam reached the notch's edge and dropped into its
+    /// notch (`physics.md` §10.5): the latch is locked.
+    PawlDrop,
+    /// An engaged pawl's contact with its notch's wall began, let go or
+    /// ended.
+    Notch,
+    /// The torque a pawl carried reached its breaking torque: it broke, the
+    /// joint is free of it (a failed latch).
+    PawlBreak,
 }
 
 /// One event of a physical-latch run.
@@ -61,8 +70,13 @@ pub struct Energy {
     pub friction_j: f64,
     /// Dissipated by the stops' damping.
     pub contact_j: f64,
-    /// Lost in the plastic impacts of ideal latches.
+    /// Lost in the plastic impacts of ideal latches and by pawls (their
+    /// clicks and breaks, `pawl_j`).
     pub impact_j: f64,
+    /// Of `impact_j`, what the pawls took: the cam's energy at each drop
+    /// into the notch (the click), the notch contact's elastic energy at a
+    /// break.
+    pub pawl_j: f64,
     /// Of `friction_j`, the kinetic energy the stick rule's impulses took
     /// when joints stuck (`physics.md` §4a: a located zero crossing leaves
     /// next to none).
@@ -107,8 +121,12 @@ pub struct LatchOutcome {
     pub engagements: usize,
     /// Closings of the switch.
     pub switch_closings: usize,
-    /// Where the joint ended.
+    /// Where the joint ended (a pawl engaged at the end: `Held`).
     pub end: LatchEnd,
+    /// Drops of a pawl into its notch (0 or 1; 0 for a ball plunger).
+    pub pawl_drops: usize,
+    /// When a pawl broke [s], `None` if it did not.
+    pub pawl_broke_s: Option<f64>,
     /// The travel from the stop at the end [deg].
     pub end_travel_deg: f64,
 }
@@ -125,7 +143,14 @@ impl LatchRun {
                 .count()
         };
         let u = latch.travel(phi_deg.to_radians());
+        let pawl_drops = mine()
+            .filter(|e| e.kind == LatchEventKind::PawlDrop)
+            .count();
+        let pawl_broke_s = mine()
+            .find(|e| e.kind == LatchEventKind::PawlBreak)
+            .map(|e| e.t_s);
         let end = match latch.plunger_segment(u) {
+            _ if pawl_drops > 0 && pawl_broke_s.is_none() => LatchEnd::Held,
             _ if u <= latch.plunger.crest_rad => LatchEnd::Held,
             PlungerSegment::Entry => LatchEnd::OnRamp,
             _ => LatchEnd::ShortOfPlunger,
@@ -136,6 +161,8 @@ impl LatchRun {
             engagements: count(LatchMark::Crest, true),
             switch_closings: count(LatchMark::Switch, true),
             end,
+            pawl_drops,
+            pawl_broke_s,
             end_travel_deg: u.to_degrees(),
         })
     }

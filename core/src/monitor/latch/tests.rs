@@ -147,6 +147,7 @@ fn physical() -> LatchConfig {
             crest_deg: 1.5,
             ramp_deg: 0.6,
             bounce_window_s: 0.03,
+            lock: LockKind::Detent,
         }),
         ..LatchConfig::default()
     }

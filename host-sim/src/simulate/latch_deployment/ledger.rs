@@ -1,0 +1,90 @@
+//! The energy ledger of a physical-latch run (`docs/simulator.md`,
+//! "Energy bookkeeping"): the state's energies, the power of the
+//! dissipative torques integrated on Gauss–Legendre nodes of each step, and
+//! the drift.
+
+use super::{Ledger, Sim, GAUSS3};
+use crate::simulate::ode::{Dense, State};
+use deploywatch_core::physics::pawl::PawlState;
+use deploywatch_core::Branch;
+
+impl<const N: usize> Sim<'_, N> {
+    /// Kinetic, chain and latch potential at a state [J].
+    pub(super) fn energies(&self, y: &State<N>) -> (f64, f64, f64) {
+        let mut spring = self.chain.potential_energy(&y.q);
+        let mut latch = 0.0;
+        for (j, l) in self.latch.iter().enumerate() {
+            let (Some(l), Some(jt)) = (l, self.chain.joints().get(j)) else {
+                continue;
+            };
+            latch += match l.pawl() {
+                // A pawl's cam energy jumps at the drop: on its state.
+                Some(_) => l.potential_energy_on(self.seg[j].plunger, self.seg[j].pawl, y.q[j]),
+                None => l.potential_energy(y.q[j]),
+            };
+            let u = l.travel(y.q[j]);
+            if u < 0.0 {
+                // The spring continued into the stop with its torque at 0⁺.
+                let soft = 1.0 - jt.effects.spring_softening;
+                let t0 = jt
+                    .spring
+                    .torque(l.side * f64::MIN_POSITIVE, Branch::Unfold)
+                    .abs();
+                spring += soft * (t0 * u - jt.spring.release(0.0, y.q[j].abs()));
+            }
+        }
+        (self.chain.kinetic_energy(&y.chain()), spring, latch)
+    }
+
+    /// Power of the non-conservative joint torques and of the stops' (and
+    /// pawls' notches') damping at a state [W] (both ≤ 0 for a passive
+    /// mechanism).
+    fn power(&self, y: &State<N>) -> (f64, f64) {
+        let (mut joints, mut contact) = (0.0, 0.0);
+        for (j, jt) in self.chain.joints().iter().enumerate() {
+            if self.mode.latched[j] {
+                continue;
+            }
+            let (phi, rate, branch) = (y.q[j], y.v[j], self.mode.branch[j]);
+            let soft = 1.0 - jt.effects.spring_softening;
+            let ext = self.spring_extension(j, phi, branch);
+            let total = self.chain.joint_torque(j, phi, rate, branch) + ext;
+            let ext_unfold = self.spring_extension(j, phi, Branch::Unfold);
+            let cons = soft * jt.spring.torque(phi, Branch::Unfold)
+                + ext_unfold
+                + jt.effects.harness_nm_per_rad * (jt.stowed_rad - phi);
+            joints += (total - cons) * rate;
+            if let Some(l) = &self.latch[j] {
+                let (_, f, f_notch) = self.latch_torque(j, phi, rate);
+                let elastic = l.stop_force(phi, rate).elastic_n;
+                contact += l.stop_torque(f - elastic) * rate;
+                if self.seg[j].pawl == PawlState::Engaged {
+                    let elastic = l.notch_force(phi, rate).elastic_n;
+                    contact += l.notch_torque(f_notch - elastic) * rate;
+                }
+            }
+        }
+        (joints, contact)
+    }
+
+    /// Adds the dissipation over `[t0, t1]` of a step and checks the drift
+    /// at `y1`.
+    pub(super) fn account(&self, ledger: &mut Ledger, dense: &Dense<N>, t1: f64, y1: &State<N>) {
+        let h = t1 - dense.t0;
+        for (s, w) in GAUSS3 {
+            let (pj, pc) = self.power(&dense.at(dense.t0 + s * h));
+            ledger.energy.friction_j -= w * h * pj;
+            ledger.energy.contact_j -= w * h * pc;
+        }
+        self.close_ledger(ledger, y1);
+    }
+
+    /// The ledger's state terms at `y` and the drift there.
+    pub(super) fn close_ledger(&self, ledger: &mut Ledger, y: &State<N>) {
+        let (k, s, l) = self.energies(y);
+        let e = &mut ledger.energy;
+        (e.kinetic_j, e.spring_j, e.latch_j) = (k, s, l);
+        let total = k + s + l + e.friction_j + e.contact_j + e.impact_j;
+        e.worst_drift_j = e.worst_drift_j.max((total - ledger.start_j).abs());
+    }
+}
