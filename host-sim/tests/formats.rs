@@ -30,12 +30,14 @@ fn mechanisms() -> Vec<Mechanism> {
     // host-sim/tests/truss_cli.rs; the project's own
     // `reliability_one_panel.toml` (not a seed mechanism) in tests/reliability.rs;
     // the physical-latch examples (`*_physical_latch.toml`) in tests/physical_latch.rs;
-    // the rig examples (`*_rig.toml`) in host-sim/tests/rig.rs.
+    // the rig examples (`*_rig.toml`) in host-sim/tests/rig.rs;
+    // the pawl examples (`*_pawl.toml`) in tests/latch_pawl.rs.
     files(&data().join("mechanisms"), "toml")
         .iter()
         .filter(|p| !p.to_string_lossy().contains("_truss"))
         .filter(|p| !p.to_string_lossy().contains("_physical_latch"))
         .filter(|p| !p.to_string_lossy().ends_with("_rig.toml"))
+        .filter(|p| !p.to_string_lossy().ends_with("_pawl.toml"))
         .filter(|p| {
             p.file_name()
                 .is_some_and(|f| f.to_string_lossy().starts_with("seed"))
