@@ -44,7 +44,7 @@ pub struct ReliabilityArgs {
     #[arg(long, default_value = "auto", value_name = "auto|is|subset|mc")]
     pub method: Method,
     /// mc: most deployments (default 100000); subset: samples per level
-    /// (default 2000, a multiple of 10); is: draws (default 2000); auto:
+    /// (default 2000, a multiple of 10); is: draws (default 8000); auto:
     /// both of the last two.
     #[arg(long)]
     pub samples: Option<usize>,

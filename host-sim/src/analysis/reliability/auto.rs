@@ -87,7 +87,7 @@ impl std::str::FromStr for Method {
 /// Default `--samples`: mc's most deployments.
 pub const MC_SAMPLES: usize = 100_000;
 /// Default `--samples`: importance sampling's draws.
-pub const IS_SAMPLES: usize = 2000;
+pub const IS_SAMPLES: usize = 8000;
 
 /// Runs `method` on `problem` with the batch evaluator `eval` (`samples`:
 /// mc its most deployments, subset its samples per level, is its draws,

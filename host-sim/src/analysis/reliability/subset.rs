@@ -186,7 +186,8 @@ fn combine(
         .zip(shares)
         .filter(|(r, _)| r.converged)
         .collect();
-    let p: f64 = reached.iter().map(|(r, _)| r.p * r.counted).sum();
+    // `+ 0.0`: an empty sum of f64 is −0, printed `-0.0000e0`.
+    let p: f64 = reached.iter().map(|(r, _)| r.p * r.counted).sum::<f64>() + 0.0;
     let independent: f64 = reached
         .iter()
         .map(|(r, _)| (r.p * r.counted * r.cov).powi(2))
