@@ -14,7 +14,8 @@
 //! "Right" means: the set of (effect, joint) named is the hidden one, each
 //! value within 20 %, nothing unexplained; a clean campaign names nothing.
 //! CI diagnoses the clean case and the first with the rig friction alone; `DEPLOYWATCH_FULL=1` all 24 (the
-//! result and its command are in `docs/diagnosis.md`, "Rig causes").
+//! result and its command are in `docs/diagnosis.md`, "Rig causes"); with
+//! `DEPLOYWATCH_FROM=k` as well, the cases from the k-th (0-based) on.
 
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions};
@@ -165,6 +166,15 @@ fn rig_and_hinge_friction_are_told_apart() {
     if !full {
         // The clean campaign and the first with the rig friction alone.
         specs = specs[1..3].to_vec();
+    }
+    // `DEPLOYWATCH_FROM=k`: the cases from the k-th on (a run cut short
+    // resumed).
+    if let Some(k) = std::env::var("DEPLOYWATCH_FROM")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+    {
+        specs = specs.split_off(k.min(specs.len()));
+        assert!(!specs.is_empty(), "DEPLOYWATCH_FROM={k}: no case left");
     }
     let mechs = mechanisms();
     let (mut right, mut total) = (0usize, 0usize);
