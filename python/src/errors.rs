@@ -4,8 +4,8 @@
 //! chain. The classes are plain Python classes, so they pickle and cross a
 //! Dask worker's boundary as themselves.
 
-use deploywatch_sim::reliability::ReliabilityError;
 use deploywatch_sim::deployment::SimError;
+use deploywatch_sim::reliability::ReliabilityError;
 use pyo3::prelude::*;
 use std::error::Error;
 

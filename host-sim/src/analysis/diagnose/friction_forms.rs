@@ -37,6 +37,7 @@
 use super::candidate::{Candidate, STRIBECK_RATE_RANGE};
 use super::outcome::FittedSet;
 use super::policy::Move;
+use super::residual_named::lsq;
 use super::{labels, Search, MIN_DELTA_BIC, SCREEN_KEEP};
 use crate::analysis::residual_shape::{bic, thin};
 use crate::analysis::residual_torque::{residual_torque, TorqueSample};
@@ -70,52 +71,6 @@ fn viscous(s: &TorqueSample) -> f64 {
 fn quadratic(s: &TorqueSample) -> f64 {
     let w = s.rate_deg_s.to_radians();
     -w * w.abs()
-}
-
-/// Weighted least squares of the samples' torque on one or two columns:
-/// the values and the weighted RSS; `None` when singular or a value is not
-/// positive (every law here resists).
-fn lsq(
-    samples: &[TorqueSample],
-    cols: &[&dyn Fn(&TorqueSample) -> f64],
-) -> Option<(Vec<f64>, f64)> {
-    let k = cols.len();
-    let (mut a, mut b) = ([[0.0; 2]; 2], [0.0; 2]);
-    for s in samples {
-        let w = 1.0 / s.se_nm.max(1e-9).powi(2);
-        let x: Vec<f64> = cols.iter().map(|c| c(s)).collect();
-        for i in 0..k {
-            b[i] += w * x[i] * s.torque_nm;
-            for j in 0..k {
-                a[i][j] += w * x[i] * x[j];
-            }
-        }
-    }
-    let v = match k {
-        1 if a[0][0] > 0.0 => vec![b[0] / a[0][0]],
-        2 => {
-            let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
-            if det.abs() <= 1e-12 * a[0][0] * a[1][1] {
-                return None;
-            }
-            vec![
-                (b[0] * a[1][1] - b[1] * a[0][1]) / det,
-                (b[1] * a[0][0] - b[0] * a[1][0]) / det,
-            ]
-        }
-        _ => return None,
-    };
-    if v.iter().any(|x| !(*x > 0.0)) {
-        return None;
-    }
-    let rss = samples
-        .iter()
-        .map(|s| {
-            let m: f64 = cols.iter().zip(&v).map(|(c, x)| x * c(s)).sum();
-            ((s.torque_nm - m) / s.se_nm.max(1e-9)).powi(2)
-        })
-        .sum();
-    Some((v, rss))
 }
 
 /// The BIC of a regression on `cols`, `+∞` when it fails.

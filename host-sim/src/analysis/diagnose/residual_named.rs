@@ -62,29 +62,46 @@ pub struct Proposal {
 /// the values and the weighted RSS. `None` when singular or a value is not
 /// positive (every named effect here has a positive value).
 pub fn fit(samples: &[TorqueSample], kinds: &[EffectKind]) -> Option<(Vec<f64>, f64)> {
-    let k = kinds.len();
-    let mut ata = [[0.0; 2]; 2];
-    let mut atb = [0.0; 2];
+    let cols: Vec<Box<dyn Fn(&TorqueSample) -> f64>> = kinds
+        .iter()
+        .map(|&kd| {
+            Box::new(move |s: &TorqueSample| signature(kd, s)) as Box<dyn Fn(&TorqueSample) -> f64>
+        })
+        .collect();
+    let refs: Vec<&dyn Fn(&TorqueSample) -> f64> = cols.iter().map(|c| c.as_ref()).collect();
+    lsq(samples, &refs)
+}
+
+/// Weighted least squares (weights `1/se²`) of the samples' torque on one
+/// or two columns (a column: a sample's torque per unit of value): the
+/// values and the weighted RSS; `None` when singular or a value is not
+/// positive (every law fitted this way resists).
+pub fn lsq(
+    samples: &[TorqueSample],
+    cols: &[&dyn Fn(&TorqueSample) -> f64],
+) -> Option<(Vec<f64>, f64)> {
+    let k = cols.len();
+    let (mut a, mut b) = ([[0.0; 2]; 2], [0.0; 2]);
     for s in samples {
         let w = 1.0 / s.se_nm.max(1e-9).powi(2);
-        let x: Vec<f64> = kinds.iter().map(|&kd| signature(kd, s)).collect();
-        for a in 0..k {
-            atb[a] += w * x[a] * s.torque_nm;
-            for b in 0..k {
-                ata[a][b] += w * x[a] * x[b];
+        let x: Vec<f64> = cols.iter().map(|c| c(s)).collect();
+        for i in 0..k {
+            b[i] += w * x[i] * s.torque_nm;
+            for j in 0..k {
+                a[i][j] += w * x[i] * x[j];
             }
         }
     }
     let v = match k {
-        1 => vec![atb[0] / ata[0][0]],
+        1 if a[0][0] > 0.0 => vec![b[0] / a[0][0]],
         2 => {
-            let det = ata[0][0] * ata[1][1] - ata[0][1] * ata[1][0];
-            if det.abs() <= 1e-12 * ata[0][0] * ata[1][1] {
+            let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+            if det.abs() <= 1e-12 * a[0][0] * a[1][1] {
                 return None;
             }
             vec![
-                (atb[0] * ata[1][1] - atb[1] * ata[0][1]) / det,
-                (atb[1] * ata[0][0] - atb[0] * ata[1][0]) / det,
+                (b[0] * a[1][1] - b[1] * a[0][1]) / det,
+                (b[1] * a[0][0] - b[0] * a[1][0]) / det,
             ]
         }
         _ => return None,
@@ -95,11 +112,7 @@ pub fn fit(samples: &[TorqueSample], kinds: &[EffectKind]) -> Option<(Vec<f64>, 
     let rss = samples
         .iter()
         .map(|s| {
-            let m: f64 = kinds
-                .iter()
-                .zip(&v)
-                .map(|(&kd, c)| c * signature(kd, s))
-                .sum();
+            let m: f64 = cols.iter().zip(&v).map(|(c, x)| x * c(s)).sum();
             ((s.torque_nm - m) / s.se_nm.max(1e-9)).powi(2)
         })
         .sum();

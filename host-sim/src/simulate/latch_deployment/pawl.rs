@@ -101,15 +101,7 @@ impl Runner<'_> {
         if !drops {
             return None;
         }
-        let v_before = sim.latch_potential(j, PawlState::Riding, y.q[j]);
-        let was = Segments {
-            pawl: PawlState::Engaged,
-            notch: Contact::Open,
-            ..before
-        };
-        sim.seg[j] = classify(&l, y.q[j], y.v[j], was);
-        let v_after = sim.latch_potential(j, PawlState::Engaged, y.q[j]);
-        self.book_pawl(v_before - v_after);
+        self.pawl_to(sim, j, y, PawlState::Riding, PawlState::Engaged);
         Some(LatchEventKind::PawlDrop)
     }
 
@@ -127,25 +119,38 @@ impl Runner<'_> {
         };
         let before = sim.seg[j];
         if let Ev::Break(_) = ev {
-            let v_before = sim.latch_potential(j, PawlState::Engaged, y.q[j]);
-            let was = Segments {
-                pawl: PawlState::Broken,
-                notch: Contact::Open,
-                ..before
-            };
-            sim.seg[j] = classify(&l, y.q[j], y.v[j], was);
-            let v_after = sim.latch_potential(j, PawlState::Broken, y.q[j]);
-            self.book_pawl(v_before - v_after);
+            self.pawl_to(sim, j, y, PawlState::Engaged, PawlState::Broken);
             return LatchEventKind::PawlBreak;
         }
         sim.seg[j] = classify(&l, y.q[j], y.v[j], before);
         LatchEventKind::Notch
     }
 
-    /// Books the potential a pawl's drop or break took [J] as lost.
-    fn book_pawl(&mut self, lost_j: f64) {
+    /// Joint `j`'s pawl goes from `from` to `to` (a drop or a break): its
+    /// segments reclassified with the notch contact open, and the latch
+    /// potential it took booked as lost [J] (the click; the contact's
+    /// elastic energy at a break).
+    fn pawl_to<const N: usize>(
+        &mut self,
+        sim: &mut Sim<'_, N>,
+        j: usize,
+        y: &State<N>,
+        from: PawlState,
+        to: PawlState,
+    ) {
+        let Some(l) = sim.latch[j] else {
+            return;
+        };
+        let v_before = sim.latch_potential(j, from, y.q[j]);
+        let was = Segments {
+            pawl: to,
+            notch: Contact::Open,
+            ..sim.seg[j]
+        };
+        sim.seg[j] = classify(&l, y.q[j], y.v[j], was);
+        let v_after = sim.latch_potential(j, to, y.q[j]);
         let e = &mut self.ledger.energy;
-        e.impact_j += lost_j;
-        e.pawl_j += lost_j;
+        e.impact_j += v_before - v_after;
+        e.pawl_j += v_before - v_after;
     }
 }
