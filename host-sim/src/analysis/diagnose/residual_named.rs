@@ -62,15 +62,16 @@ pub struct Proposal {
 /// the values and the weighted RSS. `None` when singular or a value is not
 /// positive (every named effect here has a positive value).
 pub fn fit(samples: &[TorqueSample], kinds: &[EffectKind]) -> Option<(Vec<f64>, f64)> {
-    let cols: Vec<Box<dyn Fn(&TorqueSample) -> f64>> = kinds
+    let cols: Vec<Column> = kinds
         .iter()
-        .map(|&kd| {
-            Box::new(move |s: &TorqueSample| signature(kd, s)) as Box<dyn Fn(&TorqueSample) -> f64>
-        })
+        .map(|&kd| Box::new(move |s: &TorqueSample| signature(kd, s)) as Column)
         .collect();
     let refs: Vec<&dyn Fn(&TorqueSample) -> f64> = cols.iter().map(|c| c.as_ref()).collect();
     lsq(samples, &refs)
 }
+
+/// A column of [`lsq`]: a sample's torque per unit of value.
+type Column = Box<dyn Fn(&TorqueSample) -> f64>;
 
 /// Weighted least squares (weights `1/se²`) of the samples' torque on one
 /// or two columns (a column: a sample's torque per unit of value): the
