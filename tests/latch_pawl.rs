@@ -1,7 +1,7 @@
 //! The pawl, a positive lock (`docs/spec/physics.md` §10.5,
 //! `docs/simulator.md` "A pawl"), in the full simulator and the monitor:
 //!
-//! - issue 28's new user: a 5 kg panel whose ball plunger (15 N, then
+//! - a new user's 5 kg panel whose ball plunger (15 N, then
 //!   300 N) lets the rebound climb back out is held by a pawl on the same
 //!   stop;
 //! - a pawl whose breaking torque is below the rebound's peak load breaks,
