@@ -133,7 +133,10 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     )
     .map_err(|e| CliError::failed(e.to_string()))?;
     // On the zero-g rig: the margin on orbit beside the margin on the rig.
-    let rig = rig_split::for_campaign(&campaign, &outcome.extended.effects());
+    let bar = Spinner::new(args.quiet);
+    let sink = |line: &str| bar.line(line);
+    let rig = rig_split::for_campaign(&campaign, &outcome.extended.effects(), &sink);
+    bar.finish();
     let md = match &rig {
         Some(sec) => format!("{md}\n{sec}"),
         None => md,

@@ -144,7 +144,9 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
     let id = identify_with(args, &campaign, &joints, &console)?;
     super::print_out(format_args!("{}", summary(&campaign, &id)));
     // On the zero-g rig: the margin on orbit beside the margin on the rig.
-    if let Some(sec) = crate::report::rig_split::for_campaign(&campaign, &id.effects()) {
+    if let Some(sec) =
+        crate::report::rig_split::for_campaign(&campaign, &id.effects(), console.progress())
+    {
         super::print_out(format_args!("\n{sec}"));
     }
     warn_residuals(&campaign, &id, &console);

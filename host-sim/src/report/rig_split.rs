@@ -67,9 +67,12 @@ pub fn section(s: &RigSplit) -> String {
 }
 
 /// On a campaign with a rig: the section of the effects `found`
-/// ([`rig_margin::split`]), for the report and the terminal; `None`
-/// without a rig.
-pub fn for_campaign(campaign: &Campaign, found: &[Effect]) -> Option<String> {
-    let quiet = crate::report::progress::quiet;
-    rig_margin::split(campaign, found, &quiet).map(|s| section(&s))
+/// ([`rig_margin::split`], its fit reporting to `progress`), for the report
+/// and the terminal; `None` without a rig.
+pub fn for_campaign(
+    campaign: &Campaign,
+    found: &[Effect],
+    progress: crate::report::progress::Progress,
+) -> Option<String> {
+    rig_margin::split(campaign, found, progress).map(|s| section(&s))
 }
