@@ -82,6 +82,20 @@ pub struct LatchSpec {
 const MM_PER_M: f64 = 1000.0;
 
 impl LatchSpec {
+    /// How far back from the stop the joint may go and still be held [deg
+    /// of travel], for a joint stowed at `stowed_deg`: the plunger's crest,
+    /// or for a pawl its notch plus the contact's give under its breaking
+    /// torque (beyond that the pawl has broken; `physics.md` §10.5).
+    pub fn hold_limit_deg(&self, stowed_deg: f64) -> f64 {
+        match self.pawl {
+            Some(_) => self
+                .to_core::<f64>(stowed_deg, 1.0, 1.0)
+                .breaking_travel_rad()
+                .to_degrees(),
+            None => self.plunger.crest_deg,
+        }
+    }
+
     /// The core's latch, in `f64` for the simulator or `f32` for the
     /// on-board monitor, for a joint stowed at `stowed_deg`, with the
     /// plunger's preload and rate scaled by `plunger_scale` and the magnet's

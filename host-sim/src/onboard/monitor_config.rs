@@ -80,12 +80,11 @@ pub fn physical_latch(mech: &Mechanism) -> Option<PhysicalLatch> {
     let stowed = mech.joints.get(j).map_or(0.0, |jt| jt.stowed_deg);
     let core = spec.to_core::<f64>(stowed, 1.0, 1.0);
     let crest_deg = spec.plunger.crest_deg;
-    let (lock, back_deg) = match spec.pawl {
-        // A pawl holds up to its notch and the contact's give under its
-        // breaking torque: beyond that it has broken.
-        Some(_) => (LockKind::Pawl, core.breaking_travel_rad().to_degrees()),
-        None => (LockKind::Detent, crest_deg),
+    let lock = match spec.pawl {
+        Some(_) => LockKind::Pawl,
+        None => LockKind::Detent,
     };
+    let back_deg = spec.hold_limit_deg(stowed);
     Some(PhysicalLatch {
         switch_travel_deg: spec.switch_travel_deg as f32,
         crest_deg: back_deg as f32,

@@ -188,7 +188,8 @@ fn tally<'a>(
                 .collect(),
             sw,
         );
-        let crest = latch.plunger.crest_deg;
+        // The crest, or a pawl's notch and give: beyond it the joint is out.
+        let crest = latch.hold_limit_deg(spec.stowed_deg);
         let e = events(s.0, &s.1, s.2, crest, ESCAPE_SLACK_DEG);
         ratios_all.extend(ratios(s.0, &s.1, s.2));
         t.impacts += e.impacts;
