@@ -42,6 +42,7 @@ mod refine;
 pub mod residual_named;
 pub mod residual_shape;
 pub mod residual_torque;
+mod restart;
 mod screen;
 mod shared_torque;
 pub mod smoothing;
@@ -422,6 +423,7 @@ fn search_campaign(
         table_tried: Vec::new(),
     };
     search.run();
+    search.restart_without_first(&baseline);
     if opts.discover && !truss && !eng.halt.now() {
         search.discover();
         search.replace_stand_in();
