@@ -217,12 +217,14 @@ def diagnose_times(log):
             median = m.group(1)
     if not rows or median is None:
         sys.exit(f"measured.py: no wall times in {log}")
-    body = """## Diagnose: wall time
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    body = f"""## Diagnose: wall time
 
 `deploywatch diagnose` (release build, wall time of the whole command,
-report plots included) on the campaigns of `scripts/bench-diagnose.sh`;
-targets: median of the two-run campaigns ≤ 10 s, the 10-run campaign
-≤ 60 s.
+report plots included) on the campaigns of `scripts/bench-diagnose.sh`,
+load average {load:.1f} on this machine's cores when written (times are
+upper bounds on a shared machine); targets: median of the two-run
+campaigns ≤ 10 s, the 10-run campaign ≤ 60 s.
 
 | campaign | wall time | first line of the output |
 |---|---|---|

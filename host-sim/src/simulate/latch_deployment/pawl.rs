@@ -81,6 +81,23 @@ impl<const N: usize> Sim<'_, N> {
     }
 }
 
+impl<const N: usize> Sim<'_, N> {
+    /// Joint `j`'s latch segments classified again at `y` (the one rule
+    /// after every latch event): its latch and the segments before and
+    /// after, or `None` for a joint without a physical latch.
+    pub(super) fn reclassify(
+        &mut self,
+        j: usize,
+        y: &State<N>,
+    ) -> Option<(PhysicalLatch<f64>, Segments, Segments)> {
+        let l = self.latch[j]?;
+        let before = self.seg[j];
+        let after = classify(&l, y.q[j], y.v[j], before);
+        self.seg[j] = after;
+        Some((l, before, after))
+    }
+}
+
 impl Runner<'_> {
     /// A pawl riding its cam reaches the notch's edge moving in (`ev` the
     /// plunger's event): it drops, the cam's energy goes into the click.
@@ -114,15 +131,11 @@ impl Runner<'_> {
         j: usize,
         y: &State<N>,
     ) -> LatchEventKind {
-        let Some(l) = sim.latch[j] else {
-            return LatchEventKind::Notch;
-        };
-        let before = sim.seg[j];
-        if let Ev::Break(_) = ev {
+        if sim.latch[j].is_some() && matches!(ev, Ev::Break(_)) {
             self.pawl_to(sim, j, y, PawlState::Engaged, PawlState::Broken);
             return LatchEventKind::PawlBreak;
         }
-        sim.seg[j] = classify(&l, y.q[j], y.v[j], before);
+        sim.reclassify(j, y);
         LatchEventKind::Notch
     }
 
