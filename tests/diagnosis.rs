@@ -444,7 +444,10 @@ fn bundled_examples_are_diagnosed_correctly() {
         );
         let list = |v: &[Effect]| {
             v.iter()
-                .map(|e| e.to_string())
+                .map(|e| match e.joint {
+                    Some(j) => format!("{} j{j} {:.5}", e.kind.name(), e.value),
+                    None => format!("{} {:.5}", e.kind.name(), e.value),
+                })
                 .collect::<Vec<_>>()
                 .join(", ")
         };
