@@ -142,14 +142,15 @@ budgets are those of `scripts/firmware.sh`.
         sys.exit("measured.py: a budget of the monitor is not met (docs/measured.md)")
 
 
+# bench: (section, heading, target, deployments per iteration or None)
 BENCHES = {
-    "simulate": ("bench-simulate", "Bench: one chain deployment", "≤ 1 ms median"),
-    "truss": ("bench-truss", "Bench: truss wing", "≤ 5 ms median"),
-    "reliability": ("bench-reliability", "Bench: reliability deployments", "(reported)"),
+    "simulate": ("bench-simulate", "Bench: one chain deployment", "≤ 1 ms median", None),
+    "truss": ("bench-truss", "Bench: truss wing", "≤ 5 ms median", None),
+    "reliability": ("bench-reliability", "Bench: reliability deployments", "(reported)", 200),
 }
 CRITERION_NOISE = re.compile(
-    r"^(Benchmarking|Gnuplot|Found \d+ outliers|\s+\d+ \(|\s+time:|\s+change:|\s+thrpt:|Performance has|"
-    r"No change in|Change within|Warning|WARNING|\s*$|Running|\s+Running|Compiling|Finished|running \d+ tests|test result)"
+    r"^\s*(Benchmarking|Gnuplot|Found \d+ outliers|\s+\d+ \(|\s+time:|\s+change:|\s+thrpt:|Performance has|"
+    r"No change in|Change within|Warning|WARNING|\s*$|\s*Running|\s*Compiling|\s*Finished|\s*Blocking|running \d+ tests|test result)"
 )
 
 
@@ -177,7 +178,7 @@ def criterion_estimates(root, full_id):
 def bench(name, log):
     if name not in BENCHES:
         sys.exit(f"measured.py: no bench {name!r} (one of {', '.join(BENCHES)})")
-    section, title, target = BENCHES[name]
+    section, title, target, per = BENCHES[name]
     lines = open(log, encoding="utf-8", errors="replace").read().splitlines()
     ids = []
     for line in lines:
@@ -189,20 +190,24 @@ def bench(name, log):
         got = criterion_estimates(os.path.join(ROOT, "target", "criterion"), full_id)
         if got:
             med, lo, hi = got
-            rows.append(f"| {full_id} | {target} | **{human_time(med)}** (95 % CI {human_time(lo)}–{human_time(hi)}) |")
+            rate = f"; {per / (med * 1e-9):,.0f} deployments per core-second" if per else ""
+            rows.append(f"| {full_id} | {target} | **{human_time(med)}** (95 % CI {human_time(lo)}–{human_time(hi)}){rate} |")
     if not rows:
         sys.exit(f"measured.py: no criterion estimate for the benchmarks of {log}")
-    printed = [line for line in lines if not CRITERION_NOISE.match(line)]
+    printed = [line for line in lines if not CRITERION_NOISE.match(line) and line.strip() not in ids]
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     body = f"""## {title}
 
 Criterion's median (`cargo bench -p deploywatch-sim --bench {name}`), load
-average {load:.1f} on this machine's cores when written; what the bench
-printed before timing (its check against the golden files) below.
+average {load:.1f} on this machine's cores when written (times are upper
+bounds on a shared machine); below the table, what the bench printed before
+timing (its check against the golden files), if anything.
 
 | benchmark | target | median |
 |---|---|---|
-""" + "\n".join(rows) + "\n\n```text\n" + "\n".join(printed).strip() + "\n```\n"
+""" + "\n".join(rows) + "\n"
+    if "\n".join(printed).strip():
+        body += "\n```text\n" + "\n".join(printed).strip() + "\n```\n"
     write_section(section, f"scripts/bench.sh {name}", body)
 
 

@@ -775,7 +775,7 @@ impl Runner<'_> {
                 sim.slip(j, y);
                 LatchEventKind::Slip
             }
-            Ev::Notch(_) | Ev::Break(_) => self.pawl_event(sim, ev, j, y),
+            Ev::Notch(_) | Ev::Break(_) => self.pawl_event(sim, j, y, matches!(ev, Ev::Break(_))),
             _ => self.cross(sim, ev, j, y),
         };
         // Every other latch read again from the state: an event of one kind

@@ -122,16 +122,17 @@ impl Runner<'_> {
         Some(LatchEventKind::PawlDrop)
     }
 
-    /// An engaged pawl's event: its notch contact changes, or it breaks
-    /// (the contact's elastic energy lost with it; the joint free of it).
+    /// An engaged pawl's event at joint `j`: its notch contact changes, or
+    /// (`breaks`) it breaks (the contact's elastic energy lost with it; the
+    /// joint free of it).
     pub(super) fn pawl_event<const N: usize>(
         &mut self,
         sim: &mut Sim<'_, N>,
-        ev: Ev,
         j: usize,
         y: &State<N>,
+        breaks: bool,
     ) -> LatchEventKind {
-        if sim.latch[j].is_some() && matches!(ev, Ev::Break(_)) {
+        if sim.latch[j].is_some() && breaks {
             self.pawl_to(sim, j, y, PawlState::Engaged, PawlState::Broken);
             return LatchEventKind::PawlBreak;
         }
