@@ -6,7 +6,8 @@
 # - an unnamed torque (a rub at joint 2 of T01 + T02; torque discovery runs);
 # - a 10-run campaign (five T01 and five T02 runs with other noise seeds,
 #   Coulomb friction 0.5 N·m at joint 1 and a harness 0.15 N·m/rad at joint 2).
-# Prints each wall time and the median of the two-run campaigns.
+# Prints each wall time and the median of the two-run campaigns, and
+# writes them into docs/measured.md (scripts/measured.py diagnose-times).
 # Usage: scripts/bench-diagnose.sh   (builds the release binary first)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -28,7 +29,7 @@ time_diagnose() {
     "$bin" diagnose --quiet "${args[@]}" --json "$out/$name.json" "$@" > "$out/$name.txt"
     end=$(date +%s.%N)
     t=$(python3 -c "print(f'{$end - $start:.2f}')")
-    echo "$name: $t s ($(head -1 "$out/$name.txt"))"
+    echo "$name: $t s ($(head -1 "$out/$name.txt"))" | tee -a "$out/times.log"
     last=$t
 }
 
@@ -70,5 +71,6 @@ for k in 1 2 3 4 5; do
 done
 time_diagnose ten_runs "$mech/seed001_T01.toml" "$mech/seed001_T02.toml" -- "${ten[@]}"
 
-python3 -c "import statistics,sys; print(f'median of the two-run campaigns: {statistics.median(map(float, sys.argv[1:])):.2f} s')" "${times[@]}"
+python3 -c "import statistics,sys; print(f'median of the two-run campaigns: {statistics.median(map(float, sys.argv[1:])):.2f} s')" "${times[@]}" | tee -a "$out/times.log"
+python3 scripts/measured.py diagnose-times "$out/times.log"
 rm -rf "$out"

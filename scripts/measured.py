@@ -11,9 +11,23 @@ no other doc repeats its figures (they link to it).
     scripts/measured.py firmware-replays DIR UPDATE_BUDGET UPDATE_BUDGET_PHYSICAL SLICE_BUDGET STACK_BUDGET
         (called by scripts/firmware.sh test: DIR/*/replay.log, the
         firmware's log of each replay; exits 1 when a budget is not met)
+    scripts/measured.py bench NAME LOG
+        (called by scripts/bench.sh NAME: criterion's estimates under
+        target/criterion of the benchmarks LOG names, and the lines the
+        bench printed before timing — its accuracy check)
+    scripts/measured.py diagnose-times LOG
+        (called by scripts/bench-diagnose.sh: its printed wall times)
+    scripts/measured.py run NAME "TITLE" -- COMMAND...
+        (any experiment that prints its figures: runs COMMAND, exits with
+        its status on failure, else writes its stdout as section NAME,
+        headed TITLE, the command beside it)
+    scripts/measured.py check
+        (every section has its command and its date; every link to
+        measured.md#ANCHOR from another doc names a heading of it)
 """
 import datetime
 import glob
+import json
 import os
 import re
 import sys
@@ -128,6 +142,161 @@ budgets are those of `scripts/firmware.sh`.
         sys.exit("measured.py: a budget of the monitor is not met (docs/measured.md)")
 
 
+# bench: (section, heading, target, deployments per iteration or None)
+BENCHES = {
+    "simulate": ("bench-simulate", "Bench: one chain deployment", "≤ 1 ms median", None),
+    "truss": ("bench-truss", "Bench: truss wing", "≤ 5 ms median", None),
+    "reliability": ("bench-reliability", "Bench: reliability deployments", "(reported)", 200),
+}
+CRITERION_NOISE = re.compile(
+    r"^\s*(Benchmarking|Gnuplot|Found \d+ outliers|\s+\d+ \(|\s+time:|\s+change:|\s+thrpt:|Performance has|"
+    r"No change in|Change within|Warning|WARNING|\s*$|\s*Running|\s*Compiling|\s*Finished|\s*Blocking|running \d+ tests|test result)"
+)
+
+
+def human_time(ns):
+    """A criterion time [ns] with its unit."""
+    for unit, scale in (("s", 1e9), ("ms", 1e6), ("µs", 1e3)):
+        if ns >= scale:
+            return f"{ns / scale:.3g} {unit}"
+    return f"{ns:.3g} ns"
+
+
+def criterion_estimates(root, full_id):
+    """(median, lower, upper) [ns] of the benchmark `full_id` under `root`."""
+    for bj in glob.glob(os.path.join(root, "**", "new", "benchmark.json"), recursive=True):
+        with open(bj, encoding="utf-8") as f:
+            if json.load(f).get("full_id") != full_id:
+                continue
+        with open(os.path.join(os.path.dirname(bj), "estimates.json"), encoding="utf-8") as f:
+            med = json.load(f)["median"]
+        ci = med["confidence_interval"]
+        return med["point_estimate"], ci["lower_bound"], ci["upper_bound"]
+    return None
+
+
+def bench(name, log):
+    if name not in BENCHES:
+        sys.exit(f"measured.py: no bench {name!r} (one of {', '.join(BENCHES)})")
+    section, title, target, per = BENCHES[name]
+    lines = open(log, encoding="utf-8", errors="replace").read().splitlines()
+    ids = []
+    for line in lines:
+        m = re.match(r"^Benchmarking (.+): Analyzing", line)
+        if m and m.group(1) not in ids:
+            ids.append(m.group(1))
+    rows = []
+    for full_id in ids:
+        got = criterion_estimates(os.path.join(ROOT, "target", "criterion"), full_id)
+        if got:
+            med, lo, hi = got
+            rate = f"; {per / (med * 1e-9):,.0f} deployments per core-second" if per else ""
+            rows.append(f"| {full_id} | {target} | **{human_time(med)}** (95 % CI {human_time(lo)}–{human_time(hi)}){rate} |")
+    if not rows:
+        sys.exit(f"measured.py: no criterion estimate for the benchmarks of {log}")
+    printed = [line for line in lines if not CRITERION_NOISE.match(line) and line.strip() not in ids]
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    body = f"""## {title}
+
+Criterion's median (`cargo bench -p deploywatch-sim --bench {name}`), load
+average {load:.1f} on this machine's cores when written (times are upper
+bounds on a shared machine); below the table, what the bench printed before
+timing (its check against the golden files), if anything.
+
+| benchmark | target | median |
+|---|---|---|
+""" + "\n".join(rows) + "\n"
+    if "\n".join(printed).strip():
+        body += "\n```text\n" + "\n".join(printed).strip() + "\n```\n"
+    write_section(section, f"scripts/bench.sh {name}", body)
+
+
+def diagnose_times(log):
+    rows, median = [], None
+    for line in open(log, encoding="utf-8"):
+        m = re.match(r"^(\S+): ([\d.]+) s \((.*)\)$", line.strip())
+        if m:
+            rows.append(f"| {m.group(1)} | {m.group(2)} s | {m.group(3)} |")
+        m = re.match(r"^median of the two-run campaigns: ([\d.]+) s", line.strip())
+        if m:
+            median = m.group(1)
+    if not rows or median is None:
+        sys.exit(f"measured.py: no wall times in {log}")
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    body = f"""## Diagnose: wall time
+
+`deploywatch diagnose` (release build, wall time of the whole command,
+report plots included) on the campaigns of `scripts/bench-diagnose.sh`,
+load average {load:.1f} on this machine's cores when written (times are
+upper bounds on a shared machine); targets: median of the two-run
+campaigns ≤ 10 s, the 10-run campaign ≤ 60 s.
+
+| campaign | wall time | first line of the output |
+|---|---|---|
+""" + "\n".join(rows) + f"\n\nMedian of the two-run campaigns: **{median} s**.\n"
+    write_section("diagnose-wall-time", "scripts/bench-diagnose.sh", body)
+
+
+def slug(heading):
+    """GitHub's anchor of a heading."""
+    s = heading.strip().lower()
+    s = re.sub(r"[^\w\- ]", "", s)
+    return s.replace(" ", "-")
+
+
+def check():
+    """Each section carries its command and date; links into measured.md resolve."""
+    text = open(DOC, encoding="utf-8").read()
+    problems = []
+    opens = re.findall(r"<!-- measured:([\w-]+) \((.+?)\) -->", text)
+    for name, command in opens:
+        end = f"<!-- /measured:{name} -->"
+        if end not in text:
+            problems.append(f"section {name}: no end marker")
+            continue
+        block = text[text.index(f"<!-- measured:{name} "):text.index(end)]
+        if not re.search(rf"_Measured \d{{4}}-\d\d-\d\d by `{re.escape(command)}`", block):
+            problems.append(f"section {name}: no line `_Measured DATE by `{command}`._`")
+        if "\n## " not in block:
+            problems.append(f"section {name}: no `## ` heading")
+    if len({n for n, _ in opens}) != len(opens):
+        problems.append("a section name is used twice")
+    anchors = {slug(h) for h in re.findall(r"^## (.+)$", text, re.M)}
+    docs = [os.path.join(ROOT, "README.md"), os.path.join(ROOT, "ARCHITECTURE.md")]
+    docs += glob.glob(os.path.join(ROOT, "docs", "*.md")) + glob.glob(os.path.join(ROOT, "docs", "decisions", "*.md"))
+    docs += glob.glob(os.path.join(ROOT, "*", "README.md"))
+    for d in docs:
+        for anchor in re.findall(r"measured\.md#([\w-]+)", open(d, encoding="utf-8").read()):
+            if anchor not in anchors:
+                problems.append(f"{os.path.relpath(d, ROOT)}: measured.md#{anchor} names no heading of docs/measured.md")
+    for p in problems:
+        print(f"measured.py check: {p}", file=sys.stderr)
+    if problems:
+        sys.exit(1)
+    print(f"docs/measured.md: {len(opens)} sections, each with its command and date; every link resolves")
+
+
+def run(name, title, command):
+    """Runs `command` (a list) and writes its stdout as section `name`."""
+    import shlex
+    import subprocess
+
+    r = subprocess.run(command, cwd=ROOT, stdout=subprocess.PIPE, text=True)
+    sys.stdout.write(r.stdout)
+    if r.returncode != 0:
+        sys.exit(f"measured.py: `{shlex.join(command)}` exited {r.returncode}; docs/measured.md left as it is")
+    shown = shlex.join(command)
+    body = f"""## {title}
+
+The output of `{shown}`:
+
+```text
+{r.stdout.strip()}
+```
+"""
+    write_section(name, f"scripts/measured.py run {name} \"{title}\" -- {shown}", body)
+
+
 def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
@@ -136,6 +305,14 @@ def main():
         firmware_size(*args)
     elif cmd == "firmware-replays" and len(args) == 5:
         firmware_replays(*args)
+    elif cmd == "bench" and len(args) == 2:
+        bench(*args)
+    elif cmd == "diagnose-times" and len(args) == 1:
+        diagnose_times(*args)
+    elif cmd == "run" and len(args) >= 4 and args[2] == "--":
+        run(args[0], args[1], args[3:])
+    elif cmd == "check" and not args:
+        check()
     else:
         sys.exit(__doc__)
 

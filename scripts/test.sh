@@ -15,6 +15,11 @@
 #     then every command shown in README.md and docs/*.md run with today's
 #     release binary and its shown output compared (synopses checked against
 #     --help; slow ones marked in the doc and skipped, with the reason)
+#  2a'. the docs' figures (scripts/doc-figures.py): its self-test, then no
+#     measured figure in README.md, docs/*.md, the crates' READMEs and
+#     manifests outside docs/measured.md and the compared example outputs;
+#     every section of docs/measured.md with its command and date, every
+#     link to it resolving (scripts/measured.py check)
 #  2b. the Python package (python/, its own workspace): .venv/ made or
 #     updated by scripts/python-env.sh (the extension built once, in
 #     release), then pytest, with a real Dask LocalCluster of 2 processes,
@@ -48,6 +53,11 @@ cargo test --workspace --locked
 step "docs: every shown command run, its output compared"
 python3 scripts/doc-examples.py --self-test
 python3 scripts/doc-examples.py --check
+
+step "docs: no measured figure outside docs/measured.md"
+python3 scripts/doc-figures.py --self-test
+python3 scripts/doc-figures.py --check
+python3 scripts/measured.py check
 
 step "python package: build, pytest (Dask LocalCluster)"
 cargo fmt --manifest-path python/Cargo.toml -- --check

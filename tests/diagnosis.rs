@@ -330,6 +330,26 @@ fn hidden_effects_are_named_and_measured() {
     );
     let min_gain = gains.iter().map(|g| g.1).fold(f64::INFINITY, f64::min);
     println!("RMS gain: smallest x{min_gain:.1}");
+    let body = format!(
+        "## Diagnosis: the hidden-set suite\n\n\
+         {total} seeded campaigns of `tests/diagnosis.rs` (`docs/diagnosis.md`, \
+         \"How well it works\"): every effect alone, two causes, null campaigns; \
+         reference sensor noise.\n\n\
+         | criterion | required | measured |\n|---|---|---|\n\
+         | exact set of names and joints | ≥ 95 % | {correct}/{total} ({:.1} %) |\n\
+         | of which two-cause campaigns | (reported) | {correct2}/{total2} |\n\
+         | value error of every effect named right | ≤ 5 % | worst {:.2} % |\n\
+         | RMS gain whenever an effect was hidden | ≥ 5× | smallest {min_gain:.1}× |\n\
+         | effects claimed in null campaigns | 0 | {false_claims_in_null} |\n",
+        100.0 * correct as f64 / total.max(1) as f64,
+        100.0 * worst_value,
+    );
+    deploywatch_tests::record::record(
+        "diagnosis-hidden-set",
+        "DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test diagnosis hidden_effects -- --nocapture",
+        &body,
+    )
+    .expect("docs/measured.md written");
 
     assert!(
         correct * 100 >= total * 95,
@@ -368,6 +388,7 @@ fn bundled_examples_are_diagnosed_correctly() {
         ("b_seed000_eft_air_drag", ["seed000_case1", "seed000_case3"]),
         ("c_seed001_friction_harness", ["seed001_T01", "seed001_T02"]),
     ];
+    let mut rows = Vec::new();
     for (dir, mechs) in examples {
         let mech_paths: Vec<_> = mechs
             .iter()
@@ -421,6 +442,22 @@ fn bundled_examples_are_diagnosed_correctly() {
             outcome.baseline.rms(),
             outcome.extended.rms()
         );
+        let list = |v: &[Effect]| {
+            v.iter()
+                .map(|e| match e.joint {
+                    Some(j) => format!("{} j{j} {:.5}", e.kind.name(), e.value),
+                    None => format!("{} {:.5}", e.kind.name(), e.value),
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        rows.push(format!(
+            "| {dir} | {} | {} | {:.2}° → {:.4}° ({floor:.4}°) |",
+            list(&truth),
+            list(&found),
+            outcome.baseline.rms(),
+            outcome.extended.rms()
+        ));
         for t in &truth {
             let others: Vec<Effect> = truth.iter().filter(|o| *o != t).copied().collect();
             let full = effect_size_between(&mechanisms, &others, &truth);
@@ -459,6 +496,20 @@ fn bundled_examples_are_diagnosed_correctly() {
             outcome.extended.rms()
         );
     }
+    let body = format!(
+        "## Diagnosis: the bundled examples\n\n\
+         `data/examples/` diagnosed from the runs and the nominal mechanisms \
+         (`bundled_examples_are_diagnosed_correctly`; `truth.json` read after the \
+         diagnosis; the floor is its noise RMS).\n\n\
+         | example | truth | found | RMS before → after (floor) |\n|---|---|---|---|\n{}\n",
+        rows.join("\n")
+    );
+    deploywatch_tests::record::record(
+        "diagnosis-bundled-examples",
+        "DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test diagnosis bundled_examples -- --nocapture",
+        &body,
+    )
+    .expect("docs/measured.md written");
 }
 
 /// RMS difference [deg] between two effect sets on the mechanisms, noise-free.
@@ -651,5 +702,26 @@ fn two_causes_at_one_joint_are_named_and_measured() {
         "two causes at one joint: {ok}/{total} named with values within 5 % (worst {:.2} %)",
         100.0 * worst
     );
+    let body = format!(
+        "## Diagnosis: two causes at one joint\n\n\
+         {total} seeded campaigns of `two_causes_at_one_joint_are_named_and_measured` \
+         (`docs/diagnosis.md`, \"How well it works\"): two causes at one drawn joint, \
+         each near the detectability bar.\n\n\
+         | criterion | required | measured |\n|---|---|---|\n\
+         | exact names and joints, values within 5 % | ≥ 7/8 (test) | {ok}/{total} (worst value error {:.2} %) |\n\
+         | misses (seeds) | (reported) | {} |\n",
+        100.0 * worst,
+        if misses.is_empty() {
+            "none".to_string()
+        } else {
+            format!("{misses:?}")
+        },
+    );
+    deploywatch_tests::record::record(
+        "diagnosis-two-causes",
+        "DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test diagnosis two_causes -- --nocapture",
+        &body,
+    )
+    .expect("docs/measured.md written");
     assert!(ok * 8 >= total * 7, "{ok}/{total}; misses: {misses:?}");
 }

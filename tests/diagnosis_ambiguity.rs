@@ -196,6 +196,21 @@ fn the_truth_lies_within_what_one_configuration_reports() {
     println!(
         "truth within the reported set: {inside}/{ran}; ambiguity reported: {reported}/{ran}, with the truth inside: {reported_inside}"
     );
+    let body = format!(
+        "## Diagnosis: the truth within the reported ambiguity\n\n\
+         {ran} campaigns of `tests/diagnosis_ambiguity.rs` (`docs/diagnosis.md`, \
+         \"Ambiguity\"): two runs of one ideal-latch configuration, a cause at the \
+         detectability bar, half of them beside a harness at another joint.\n\n\
+         | criterion | required | measured |\n|---|---|---|\n\
+         | the truth is the set found or a set of an ambiguity group | all | {inside}/{ran} |\n\
+         | an ambiguity reported | (reported) | {reported}/{ran}, the truth inside in {reported_inside} |\n"
+    );
+    deploywatch_tests::record::record(
+        "diagnosis-ambiguity",
+        "DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test diagnosis_ambiguity -- --nocapture",
+        &body,
+    )
+    .expect("docs/measured.md written");
     assert!(ran > 0, "DEPLOYWATCH_CASE matches no case: zero cases ran");
     assert_eq!(inside, ran, "the truth outside what the report gives");
 }

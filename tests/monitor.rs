@@ -939,29 +939,31 @@ const REFRESH_LIMIT_S: f64 = 0.5;
 /// when the one before it ends). The full prediction must be refreshed
 /// ≤ 0.5 s after any change of estimate ([`REFRESH_LIMIT_S`]):
 /// the test asserts it of the worst delay, which bounds the time between
-/// two refreshes too. The printout is the figure in docs/performance.md.
+/// two refreshes too. A whole run (`DEPLOYWATCH_FULL=1`) writes its table
+/// into docs/measured.md.
 #[test]
 fn full_prediction_refresh_cycle() {
+    let mut rows = Vec::new();
     for seed in 1..=3 {
         for name in ["seed001_T01", "seed001_T02"] {
             let mech = mechanism(name);
             let (traj, run) = simulate_run(&mech, &coulomb(&SEED001_FRICTION), seed);
-            check_refresh::<3>(
+            rows.push(check_refresh::<3>(
                 &format!("{name} seed {seed}"),
                 &mech,
                 &run,
                 refresh_end(&mech, &traj),
-            );
+            ));
         }
         for name in ["seed000_case1", "seed000_case3"] {
             let mech = mechanism(name);
             let (traj, run) = simulate_run(&mech, &coulomb(&[0.54, 0.472]), seed);
-            check_refresh::<2>(
+            rows.push(check_refresh::<2>(
                 &format!("{name} seed {seed}"),
                 &mech,
                 &run,
                 refresh_end(&mech, &traj),
-            );
+            ));
         }
     }
     // The T02 reference run with the papers' friction, sampled at 1 kHz.
@@ -970,12 +972,29 @@ fn full_prediction_refresh_cycle() {
     let run = Run::load(&path).unwrap();
     let mut truth = simulate_truth(&mech, &coulomb(&SEED001_FRICTION));
     hold(&mut truth, 0.0, 1.0 / mech.sample_hz);
-    check_refresh::<3>(
+    rows.push(check_refresh::<3>(
         "seed001_T02_eft reference",
         &mech,
         &run,
         refresh_end(&mech, &truth),
+    ));
+    let body = format!(
+        "## Monitor: full prediction refresh\n\n\
+         Replays at 100 Hz (the T02 reference at 1 kHz) on the replay schedule \
+         (`docs/monitor.md` §6, `docs/performance.md`), the papers' friction, \
+         3 sensor seeds; from the first full prediction to the last latch (the \
+         deadline when a joint stalls). Required: a full prediction refreshed \
+         ≤ {REFRESH_LIMIT_S} s after any change of estimate (the worst delay).\n\n\
+         | run | full predictions | first [s] | longest between two [s] | worst delay of a change of estimate [s] |\n\
+         |---|---|---|---|---|\n{}\n",
+        rows.join("\n")
     );
+    deploywatch_tests::record::record(
+        "monitor-refresh",
+        "DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test monitor full_prediction -- --nocapture",
+        &body,
+    )
+    .expect("docs/measured.md written");
 }
 
 /// The end of the span the refresh is measured over: the last latch, or
@@ -989,8 +1008,9 @@ fn refresh_end(mech: &Mechanism, traj: &Trajectory) -> f64 {
 }
 
 /// Replays `run` on the replay schedule, prints the refresh figures of
-/// [`full_prediction_refresh_cycle`] up to `end` [s] and asserts them.
-fn check_refresh<const N: usize>(label: &str, mech: &Mechanism, run: &Run, end: f64) {
+/// [`full_prediction_refresh_cycle`] up to `end` [s], asserts them and
+/// returns them as a row of its table.
+fn check_refresh<const N: usize>(label: &str, mech: &Mechanism, run: &Run, end: f64) -> String {
     let cfg = monitor_config::<N>(mech).unwrap();
     let slices = cfg.margin.rollout.slices_per_sample;
     let mut m = Monitor::new(&cfg).unwrap();
@@ -1030,6 +1050,11 @@ fn check_refresh<const N: usize>(label: &str, mech: &Mechanism, run: &Run, end: 
         delay <= REFRESH_LIMIT_S,
         "{label}: a change of estimate waits up to {delay:.2} s for a full prediction"
     );
+    format!(
+        "| {label} | {} | {:.2} | {worst:.2} | {delay:.2} |",
+        cycles.len(),
+        cycles.first().copied().unwrap_or(f64::NAN)
+    )
 }
 
 /// seed001_T01 with the papers' friction and a viscous damping of

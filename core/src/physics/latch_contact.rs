@@ -524,30 +524,33 @@ impl<T: Real> PhysicalLatch<T> {
 mod tests {
     use super::*;
 
-    fn latch(side: f64) -> PhysicalLatch<f64> {
+    /// The latch of these tests in either float (`T::of` of the same
+    /// `f64` values, so the `f32` latch is the `f64` one rounded).
+    fn latch<T: Real>(side: T) -> PhysicalLatch<T> {
+        let v = T::of;
         PhysicalLatch {
             side,
             stop: HertzStop {
-                stiffness_n_per_mm1_5: 37_000.0,
-                damping_ns_per_mm1_25: 3.7,
-                radius_m: 0.03,
+                stiffness_n_per_mm1_5: v(37_000.0),
+                damping_ns_per_mm1_25: v(3.7),
+                radius_m: v(0.03),
             },
             plunger: Plunger {
-                preload_n: 20.0,
-                stiffness_n_per_mm: 10.0,
-                radius_m: 0.03,
-                stroke_mm: 1.0,
-                crest_rad: 1f64.to_radians(),
-                entry_ramp_rad: 30f64.to_radians(),
-                hold_ramp_rad: 50f64.to_radians(),
+                preload_n: v(20.0),
+                stiffness_n_per_mm: v(10.0),
+                radius_m: v(0.03),
+                stroke_mm: v(1.0),
+                crest_rad: v(1f64.to_radians()),
+                entry_ramp_rad: v(30f64.to_radians()),
+                hold_ramp_rad: v(50f64.to_radians()),
             },
             magnet: Magnet {
-                force_n: 10.0,
-                decay_mm: 0.5,
-                reach_mm: 2.0,
-                radius_m: 0.03,
+                force_n: v(10.0),
+                decay_mm: v(0.5),
+                reach_mm: v(2.0),
+                radius_m: v(0.03),
             },
-            switch_travel_rad: 0.05f64.to_radians(),
+            switch_travel_rad: v(0.05f64.to_radians()),
             lock: Lock::Detent,
         }
     }
@@ -664,33 +667,8 @@ mod tests {
 
     #[test]
     fn f32_agrees_with_f64() {
-        let l = latch(1.0);
-        let m = |x: f64| x as f32;
-        let l32 = PhysicalLatch::<f32> {
-            side: 1.0,
-            stop: HertzStop {
-                stiffness_n_per_mm1_5: 37_000.0,
-                damping_ns_per_mm1_25: 3.7,
-                radius_m: 0.03,
-            },
-            plunger: Plunger {
-                preload_n: 20.0,
-                stiffness_n_per_mm: 10.0,
-                radius_m: 0.03,
-                stroke_mm: 1.0,
-                crest_rad: m(l.plunger.crest_rad),
-                entry_ramp_rad: m(l.plunger.entry_ramp_rad),
-                hold_ramp_rad: m(l.plunger.hold_ramp_rad),
-            },
-            magnet: Magnet {
-                force_n: 10.0,
-                decay_mm: 0.5,
-                reach_mm: 2.0,
-                radius_m: 0.03,
-            },
-            switch_travel_rad: m(l.switch_travel_rad),
-            lock: Lock::Detent,
-        };
+        let l = latch(1.0f64);
+        let l32 = latch(1.0f32);
         for phi in [-0.002, 0.005, 0.02, 0.04] {
             let a = l.torque(phi, 0.3);
             let b = l32.torque(phi as f32, 0.3) as f64;

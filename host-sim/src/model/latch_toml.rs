@@ -206,49 +206,64 @@ fn magnet_spec(cx: &Cx<'_>, sp: &Sp, path: &str) -> Res<MagnetSpec> {
 /// (what [`read`] reads back as the same spec).
 pub fn write(spec: &LatchSpec) -> String {
     let (s, p) = (&spec.stop, &spec.plunger);
-    let mut out = String::new();
-    let _ = write!(
-        out,
-        "[joint.latch]\nmodel = \"physical\"\nswitch_travel_deg = {:?}\n\
-         stop = {{ radius_mm = {:?}, stiffness_n_per_mm1_5 = {:?}, damping_ns_per_mm1_25 = {:?} }}\n",
-        spec.switch_travel_deg, s.radius_mm, s.stiffness_n_per_mm1_5, s.damping_ns_per_mm1_25,
+    let mut out = format!(
+        "[joint.latch]\nmodel = \"physical\"\nswitch_travel_deg = {:?}\n",
+        spec.switch_travel_deg
     );
-    match &spec.pawl {
-        Some(pawl) => {
-            let _ = writeln!(
-                out,
-                "pawl = {{ preload_n = {:?}, stiffness_n_per_mm = {:?}, radius_mm = {:?}, lift_mm = {:?}, \
-                 notch_deg = {:?}, cam_ramp_deg = {:?}, breaking_torque_nm = {:?} }}",
-                p.preload_n,
-                p.stiffness_n_per_mm,
-                p.radius_mm,
-                p.stroke_mm,
-                p.crest_deg,
-                p.entry_ramp_deg,
-                pawl.breaking_torque_nm
-            );
-        }
-        None => {
-            let _ = writeln!(
-                out,
-                "plunger = {{ preload_n = {:?}, stiffness_n_per_mm = {:?}, radius_mm = {:?}, stroke_mm = {:?}, \
-                 crest_deg = {:?}, entry_ramp_deg = {:?}, hold_ramp_deg = {:?} }}",
-                p.preload_n,
-                p.stiffness_n_per_mm,
-                p.radius_mm,
-                p.stroke_mm,
-                p.crest_deg,
-                p.entry_ramp_deg,
-                p.hold_ramp_deg
-            );
-        }
-    }
+    inline_table(
+        &mut out,
+        "stop",
+        &[
+            ("radius_mm", s.radius_mm),
+            ("stiffness_n_per_mm1_5", s.stiffness_n_per_mm1_5),
+            ("damping_ns_per_mm1_25", s.damping_ns_per_mm1_25),
+        ],
+    );
+    // A pawl is the plunger's geometry under the pawl's names (lift,
+    // notch, cam ramp) and its breaking torque in place of the hold ramp.
+    let (key, names, last) = match &spec.pawl {
+        Some(pawl) => (
+            "pawl",
+            ["lift_mm", "notch_deg", "cam_ramp_deg"],
+            ("breaking_torque_nm", pawl.breaking_torque_nm),
+        ),
+        None => (
+            "plunger",
+            ["stroke_mm", "crest_deg", "entry_ramp_deg"],
+            ("hold_ramp_deg", p.hold_ramp_deg),
+        ),
+    };
+    inline_table(
+        &mut out,
+        key,
+        &[
+            ("preload_n", p.preload_n),
+            ("stiffness_n_per_mm", p.stiffness_n_per_mm),
+            ("radius_mm", p.radius_mm),
+            (names[0], p.stroke_mm),
+            (names[1], p.crest_deg),
+            (names[2], p.entry_ramp_deg),
+            last,
+        ],
+    );
     if let Some(m) = &spec.magnet {
-        let _ = writeln!(
-            out,
-            "magnet = {{ force_n = {:?}, decay_mm = {:?}, reach_mm = {:?}, radius_mm = {:?} }}",
-            m.force_n, m.decay_mm, m.reach_mm, m.radius_mm
+        inline_table(
+            &mut out,
+            "magnet",
+            &[
+                ("force_n", m.force_n),
+                ("decay_mm", m.decay_mm),
+                ("reach_mm", m.reach_mm),
+                ("radius_mm", m.radius_mm),
+            ],
         );
     }
     out
+}
+
+/// `key = { name = value, ... }` and a newline, each value written so that
+/// it reads back to the same `f64` (`{:?}`).
+fn inline_table(out: &mut String, key: &str, fields: &[(&str, f64)]) {
+    let body: Vec<String> = fields.iter().map(|(k, v)| format!("{k} = {v:?}")).collect();
+    let _ = writeln!(out, "{key} = {{ {} }}", body.join(", "));
 }

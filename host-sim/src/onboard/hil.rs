@@ -31,8 +31,9 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::data::run::Run;
 use crate::model::mechanism::{with_joints, Mechanism};
-use crate::onboard::monitor_config::{monitor_config, samples};
-use crate::onboard::replay::{config_frames, decode_statuses, ReplayError, StatusRow};
+use crate::onboard::replay::{
+    config_and_samples, config_frames, decode_statuses, ReplayError, StatusRow,
+};
 
 /// A run ready to stream: the frames and their time stamps.
 #[derive(Clone, Debug)]
@@ -106,14 +107,7 @@ impl Outgoing {
 }
 
 fn plan_n<const N: usize>(mech: &Mechanism, run: &Run) -> Result<Plan, ReplayError> {
-    let config =
-        monitor_config::<N>(mech).map_err(|e| ReplayError::Input(format!("{}: {e}", mech.name)))?;
-    let s: Vec<Sample<N>> = samples::<N>(run).ok_or_else(|| {
-        ReplayError::Input(format!(
-            "the run has {} joints, the mechanism {N}",
-            run.joints()
-        ))
-    })?;
+    let (config, s) = config_and_samples::<N>(mech, run)?;
     let mut frames = Vec::with_capacity(s.len());
     let mut buf = [0u8; 256];
     for (i, x) in s.iter().enumerate() {
@@ -203,10 +197,8 @@ fn reference_n<const N: usize>(
     run: &Run,
     keep: &[bool],
 ) -> Result<Vec<Vec<u8>>, ReplayError> {
-    let config =
-        monitor_config::<N>(mech).map_err(|e| ReplayError::Input(format!("{}: {e}", mech.name)))?;
-    let s: Vec<Sample<N>> = samples::<N>(run)
-        .ok_or_else(|| ReplayError::Input("the run's joints".into()))?
+    let (config, all) = config_and_samples::<N>(mech, run)?;
+    let s: Vec<Sample<N>> = all
         .into_iter()
         .zip(keep)
         .filter_map(|(s, k)| k.then_some(s))

@@ -275,15 +275,22 @@ pub fn config_frames<const N: usize>(
     Ok(out)
 }
 
-fn prepare_n<const N: usize>(mech: &Mechanism, run: &Run) -> Result<Prepared, ReplayError> {
+/// The monitor's configuration of `mech` and the samples of `run` for a
+/// monitor of `N` joints (what every replay and the serial link start from).
+pub(crate) fn config_and_samples<const N: usize>(
+    mech: &Mechanism,
+    run: &Run,
+) -> Result<(MonitorConfig<N>, Vec<Sample<N>>), ReplayError> {
     let config =
         monitor_config::<N>(mech).map_err(|e| ReplayError::Input(format!("{}: {e}", mech.name)))?;
-    let samples: Vec<Sample<N>> = samples::<N>(run).ok_or_else(|| {
-        ReplayError::Input(format!(
-            "the run has {} joints, the mechanism {N}",
-            run.joints()
-        ))
-    })?;
+    let n = run.joints();
+    let samples = samples::<N>(run)
+        .ok_or_else(|| ReplayError::Input(format!("the run has {n} joints, the mechanism {N}")))?;
+    Ok((config, samples))
+}
+
+fn prepare_n<const N: usize>(mech: &Mechanism, run: &Run) -> Result<Prepared, ReplayError> {
+    let (config, samples) = config_and_samples::<N>(mech, run)?;
     let mut input = config_frames::<N>(mech, &config)?;
     for (i, s) in samples.iter().enumerate() {
         encode_into(s, &mut input, &format!("sample {i}"))?;

@@ -775,15 +775,13 @@ impl Runner<'_> {
                 sim.slip(j, y);
                 LatchEventKind::Slip
             }
-            Ev::Notch(_) | Ev::Break(_) => self.pawl_event(sim, ev, j, y),
+            Ev::Notch(_) | Ev::Break(_) => self.pawl_event(sim, j, y, matches!(ev, Ev::Break(_))),
             _ => self.cross(sim, ev, j, y),
         };
         // Every other latch read again from the state: an event of one kind
         // can coincide with a mark of another (a branch switch at the stop).
-        for k in 0..N {
-            if let (Some(l), false) = (sim.latch[k], k == j && !matches!(ev, Ev::Branch(_))) {
-                sim.seg[k] = classify(&l, y.q[k], y.v[k], sim.seg[k]);
-            }
+        for k in (0..N).filter(|&k| k != j || matches!(ev, Ev::Branch(_))) {
+            sim.reclassify(k, y);
         }
         let (u, du) = match &sim.latch[j] {
             Some(l) => (l.travel(y.q[j]), l.travel(y.v[j])),
@@ -807,15 +805,12 @@ impl Runner<'_> {
         j: usize,
         y: &State<N>,
     ) -> LatchEventKind {
-        let Some(l) = sim.latch[j] else {
-            return LatchEventKind::Branch;
-        };
-        let before = sim.seg[j];
         if let Some(kind) = self.pawl_drop(sim, ev, j, y) {
             return kind;
         }
-        let after = classify(&l, y.q[j], y.v[j], before);
-        sim.seg[j] = after;
+        let Some((l, before, after)) = sim.reclassify(j, y) else {
+            return LatchEventKind::Branch;
+        };
         let mark = |m| LatchEventKind::Mark(m);
         match ev {
             Ev::Plunger(_)

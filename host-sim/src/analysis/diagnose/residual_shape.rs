@@ -472,26 +472,9 @@ pub fn best_shape(samples: &[TorqueSample], motion: f64) -> Option<Shape> {
 mod tests {
     use super::*;
 
+    /// 2000 samples of a stroke, the rate peaking at 4e+02 deg/s.
     fn samples(f: impl Fn(f64, f64) -> f64) -> Vec<TorqueSample> {
-        (0..2000)
-            .map(|i| {
-                let t = i as f64 / 2000.0;
-                let phi = 180.0 * (1.0 - t);
-                let rate = -400.0 * (std::f64::consts::PI * t).sin().max(0.0);
-                TorqueSample {
-                    run: 0,
-                    index: i,
-                    t_s: t,
-                    phi_deg: phi,
-                    rate_deg_s: rate,
-                    torque_nm: f(phi, rate),
-                    se_nm: 0.01,
-                    spring_nm: 0.0,
-                    from_stowed_rad: 0.0,
-                    window: 5,
-                }
-            })
-            .collect()
+        crate::analysis::diagnose::residual_torque::synthetic_stroke(2000, 400.0, 0.01, 5, f)
     }
 
     #[test]

@@ -85,6 +85,39 @@ pub struct TorqueSample {
     pub window: usize,
 }
 
+/// A synthetic stroke for the tests of the evidence modules: `n` samples
+/// from 180° to 0° in 1 s, the rate a half sine peaking at `peak_deg_s`
+/// (negative: closing), the torque `f(φ, φ̇)` with standard error `se_nm`
+/// and smoothing half-width `window`.
+#[cfg(test)]
+pub(crate) fn synthetic_stroke(
+    n: usize,
+    peak_deg_s: f64,
+    se_nm: f64,
+    window: usize,
+    f: impl Fn(f64, f64) -> f64,
+) -> Vec<TorqueSample> {
+    (0..n)
+        .map(|i| {
+            let t = i as f64 / n as f64;
+            let phi = 180.0 * (1.0 - t);
+            let rate = -peak_deg_s * (std::f64::consts::PI * t).sin();
+            TorqueSample {
+                run: 0,
+                index: i,
+                t_s: t,
+                phi_deg: phi,
+                rate_deg_s: rate,
+                torque_nm: f(phi, rate),
+                se_nm,
+                spring_nm: 0.0,
+                from_stowed_rad: 0.0,
+                window,
+            }
+        })
+        .collect()
+}
+
 /// The residual torque averaged over one bin of angle or rate.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bin {

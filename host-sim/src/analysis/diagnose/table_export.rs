@@ -239,26 +239,9 @@ fn angle_loss(
 mod tests {
     use super::*;
 
+    /// 1500 samples of a stroke, the rate peaking at 3e+02 deg/s.
     fn samples(f: impl Fn(f64, f64) -> f64) -> Vec<TorqueSample> {
-        (0..1500)
-            .map(|i| {
-                let t = i as f64 / 1500.0;
-                let phi = 180.0 * (1.0 - t);
-                let rate = -300.0 * (std::f64::consts::PI * t).sin();
-                TorqueSample {
-                    run: 0,
-                    index: i,
-                    t_s: t,
-                    phi_deg: phi,
-                    rate_deg_s: rate,
-                    torque_nm: f(phi, rate),
-                    se_nm: 1.0,
-                    spring_nm: 0.0,
-                    from_stowed_rad: 0.0,
-                    window: 1,
-                }
-            })
-            .collect()
+        crate::analysis::diagnose::residual_torque::synthetic_stroke(1500, 300.0, 1.0, 1, f)
     }
 
     fn host_table(n: usize) -> HostTorqueTable {

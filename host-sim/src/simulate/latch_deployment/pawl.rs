@@ -81,6 +81,23 @@ impl<const N: usize> Sim<'_, N> {
     }
 }
 
+impl<const N: usize> Sim<'_, N> {
+    /// Joint `j`'s latch segments classified again at `y` (the one rule
+    /// after every latch event): its latch and the segments before and
+    /// after, or `None` for a joint without a physical latch.
+    pub(super) fn reclassify(
+        &mut self,
+        j: usize,
+        y: &State<N>,
+    ) -> Option<(PhysicalLatch<f64>, Segments, Segments)> {
+        let l = self.latch[j]?;
+        let before = self.seg[j];
+        let after = classify(&l, y.q[j], y.v[j], before);
+        self.seg[j] = after;
+        Some((l, before, after))
+    }
+}
+
 impl Runner<'_> {
     /// A pawl riding its cam reaches the notch's edge moving in (`ev` the
     /// plunger's event): it drops, the cam's energy goes into the click.
@@ -105,24 +122,21 @@ impl Runner<'_> {
         Some(LatchEventKind::PawlDrop)
     }
 
-    /// An engaged pawl's event: its notch contact changes, or it breaks
-    /// (the contact's elastic energy lost with it; the joint free of it).
+    /// An engaged pawl's event at joint `j`: its notch contact changes, or
+    /// (`breaks`) it breaks (the contact's elastic energy lost with it; the
+    /// joint free of it).
     pub(super) fn pawl_event<const N: usize>(
         &mut self,
         sim: &mut Sim<'_, N>,
-        ev: Ev,
         j: usize,
         y: &State<N>,
+        breaks: bool,
     ) -> LatchEventKind {
-        let Some(l) = sim.latch[j] else {
-            return LatchEventKind::Notch;
-        };
-        let before = sim.seg[j];
-        if let Ev::Break(_) = ev {
+        if sim.latch[j].is_some() && breaks {
             self.pawl_to(sim, j, y, PawlState::Engaged, PawlState::Broken);
             return LatchEventKind::PawlBreak;
         }
-        sim.seg[j] = classify(&l, y.q[j], y.v[j], before);
+        sim.reclassify(j, y);
         LatchEventKind::Notch
     }
 
