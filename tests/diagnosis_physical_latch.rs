@@ -332,8 +332,9 @@ fn a_weakened_plunger_is_a_latch_finding_never_an_effect() {
                     .filter(|e| e.first_contact_s.is_some() && e.hold_s.is_some())
                     .count();
                 format!(
-                    "joint {}: {esc} escapes, {held} held; drawing {:?}; {}",
+                    "joint {}: {esc} escapes, {held} held, accel {:?}; drawing {:?}; {}",
                     l.joint,
+                    l.hold_accel.map(|a| (a.median, a.ci95, a.impacts)),
                     l.spread,
                     l.differs.join("; ")
                 )
@@ -352,4 +353,113 @@ fn a_weakened_plunger_is_a_latch_finding_never_an_effect() {
     }
     println!("weakened plunger: no effect named in {clean}/{n}; latch finding at its joint in {flagged}/{n}; refused draws {refused}");
     assert_eq!(clean, n, "a weakened plunger was named as an effect");
+}
+
+/// Exploration (temporary): statistics of a joint's latch events, drawing
+/// vs weakened.
+#[test]
+#[ignore]
+fn explore_latch_statistics() {
+    let tol = LatchTolerance::default();
+    for family in 0..2 {
+        let drawings: Vec<Mechanism> = FAMILIES[family].iter().map(|(d, _)| load(d)).collect();
+        for j in 0..drawings[0].joint_count() {
+            for (kind, w) in [
+                (EffectKind::PlungerWeakening, 0.0),
+                (EffectKind::PlungerWeakening, 0.7),
+                (EffectKind::MagnetWeakening, 0.7),
+            ] {
+                let mut rows: Vec<Vec<f64>> = Vec::new();
+                for k in 0..12u64 {
+                    let mut rng = ChaCha8Rng::seed_from_u64(900 + k);
+                    let mut uniform = || rng.gen::<f64>();
+                    let eff = vec![Effect::joint(kind, j + 1, w)];
+                    let mut st = vec![0.0; 12];
+                    for d in &drawings {
+                        let m = d.as_built(&tol, &mut uniform);
+                        let traj = deployment::simulate(&m, &eff, &SimOptions::default()).unwrap();
+                        let run = sensor::measure(
+                            &traj,
+                            &[0.0; 3][..m.joint_count()],
+                            &SensorModel::REFERENCE,
+                            k,
+                        );
+                        let s = if m.joints[j].stowed_deg >= 0.0 {
+                            1.0
+                        } else {
+                            -1.0
+                        };
+                        let u: Vec<f64> = run.phi_deg[j].iter().map(|p| s * p).collect();
+                        let sw = &run.latch[j];
+                        let t = &run.t_s;
+                        let Some(i0) = sw.iter().position(|&b| b) else {
+                            continue;
+                        };
+                        let crest = 0.6;
+                        let n = t.len();
+                        let mut imp = 0.0;
+                        let mut cross = 0.0;
+                        for i in i0.max(1)..n {
+                            if sw[i] && !sw[i - 1] {
+                                imp += 1.0
+                            }
+                            if (u[i] > crest) != (u[i - 1] > crest) {
+                                cross += 1.0
+                            }
+                        }
+                        let hold = (0..n)
+                            .rev()
+                            .take_while(|&i| sw[i])
+                            .last()
+                            .map(|i| t[i] - t[i0])
+                            .unwrap_or(f64::NAN);
+                        let w1 = (i0 + 100).min(n);
+                        let w05 = (i0 + 50).min(n);
+                        let mean1 = u[i0..w1].iter().map(|x| x.clamp(0.0, 3.0)).sum::<f64>()
+                            / (w1 - i0) as f64;
+                        let mean05 = u[i0..w05].iter().map(|x| x.clamp(0.0, 3.0)).sum::<f64>()
+                            / (w05 - i0) as f64;
+                        let open1 =
+                            sw[i0..w1].iter().filter(|&&b| !b).count() as f64 / (w1 - i0) as f64;
+                        let max1 = u[i0..w1].iter().cloned().fold(0.0, f64::max);
+                        let increst: Vec<f64> = (i0..n)
+                            .filter(|&i| !sw[i] && u[i] < crest)
+                            .map(|i| u[i])
+                            .collect();
+                        let mean_in = increst.iter().sum::<f64>() / increst.len().max(1) as f64;
+                        let nin = increst.len() as f64;
+                        let outtime = (i0..n).filter(|&i| u[i] > crest).count() as f64 * 0.01;
+                        let hold_i = (0..n).rev().take_while(|&i| sw[i]).last().unwrap_or(n);
+                        let rest_from = hold_i + 20;
+                        let end = if rest_from + 50 < n {
+                            u[rest_from..].iter().sum::<f64>() / (n - rest_from) as f64 * 1000.0
+                        } else {
+                            f64::NAN
+                        };
+                        for (a, b) in st.iter_mut().zip([
+                            imp, cross, hold, mean1, mean05, open1, max1, mean_in, nin, outtime,
+                            end, t[i0],
+                        ]) {
+                            *a += b
+                        }
+                    }
+                    rows.push(st);
+                }
+                let names = [
+                    "imp", "cross", "hold", "mean1", "mean05", "open1", "max1", "mean_in", "n_in",
+                    "out_s", "end", "t0",
+                ];
+                let mut line = format!("fam {family} j{} {kind:?} {w}:", j + 1);
+                for (c, nm) in names.iter().enumerate() {
+                    let v: Vec<f64> = rows.iter().map(|r| r[c]).collect();
+                    let m = v.iter().sum::<f64>() / v.len() as f64;
+                    let sd = (v.iter().map(|x| (x - m).powi(2)).sum::<f64>()
+                        / (v.len() - 1) as f64)
+                        .sqrt();
+                    line += &format!(" {nm} {m:.3}±{sd:.3}");
+                }
+                println!("{line}");
+            }
+        }
+    }
 }

@@ -59,9 +59,13 @@ pub fn latches_json(o: &Outcome) -> Vec<LatchReport> {
                 "escapes": f.spread.escapes,
                 "runs_ending_within_crest": f.spread.held,
                 "restitution": f.spread.restitution.map(|r| r.map(rounded)),
+                "hold_deceleration_deg_s2": f.spread.hold_accel.map(|r| r.map(rounded)),
             }),
             restitution: f
                 .restitution
+                .map(|r| [rounded(r.median), rounded(r.ci95[0]), rounded(r.ci95[1])]),
+            hold_deceleration_deg_s2: f
+                .hold_accel
                 .map(|r| [rounded(r.median), rounded(r.ci95[0]), rounded(r.ci95[1])]),
             differs: f.differs.clone(),
             cause: f.cause.clone(),
@@ -221,7 +225,7 @@ fn report_latch(md: &mut String, c: &Campaign, f: &LatchFinding) {
     let sp = &f.spread;
     let _ = writeln!(
         md,
-        "- the drawing's latch within its tolerances, with the effects found: {}..{} impacts, {}..{} escapes, ends within the crest in {}..{} run(s){}",
+        "- the drawing's latch within its tolerances, with the effects found: {}..{} impacts, {}..{} escapes, ends within the crest in {}..{} run(s){}{}",
         sp.impacts[0],
         sp.impacts[1],
         sp.escapes[0],
@@ -230,6 +234,11 @@ fn report_latch(md: &mut String, c: &Campaign, f: &LatchFinding) {
         sp.held[1],
         sp.restitution
             .map(|[a, b]| format!(", apparent restitution {a:.2}..{b:.2}"))
+            .unwrap_or_default(),
+        sp.hold_accel
+            .map(|[a, b]| format!(
+                ", rebounds that stayed in decelerating at {a:.0}..{b:.0} deg/s²"
+            ))
             .unwrap_or_default()
     );
     if let Some(r) = f.restitution {
@@ -237,6 +246,13 @@ fn report_latch(md: &mut String, c: &Campaign, f: &LatchFinding) {
             md,
             "- measured apparent restitution {:.2} (95 % CI {:.2} .. {:.2}, {} impacts)",
             r.median, r.ci95[0], r.ci95[1], r.impacts
+        );
+    }
+    if let Some(a) = f.hold_accel {
+        let _ = writeln!(
+            md,
+            "- measured deceleration of the rebounds that stayed in {:.0} deg/s² (95 % CI {:.0} .. {:.0}, {} rebounds of 5 samples or more)",
+            a.median, a.ci95[0], a.ci95[1], a.impacts
         );
     }
     if f.differs.is_empty() {

@@ -23,15 +23,17 @@ const MIN_IMPACT_RATE_DEG_S: f64 = 20.0;
 /// Fewest impacts for a restitution with an interval.
 const MIN_RESTITUTION_IMPACTS: usize = 3;
 
-/// The stop's apparent restitution over a joint's impacts: the rate out
-/// over the rate in, from the samples either side of each switch closing.
+/// A median over a joint's impacts or rebounds with its interval: the
+/// stop's apparent restitution (the rate out over the rate in, from the
+/// samples either side of each switch closing [1]), or the rebounds' hold
+/// deceleration ([`crate::analysis::latch_events::Flight`], [deg/s²]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Restitution {
-    /// Median over the impacts [1].
+    /// Median over the impacts or rebounds.
     pub median: f64,
-    /// 95 % interval of the median (order statistics) [1].
+    /// 95 % interval of the median (order statistics).
     pub ci95: [f64; 2],
-    /// Impacts used.
+    /// Impacts (or rebounds) used.
     pub impacts: usize,
 }
 
@@ -58,6 +60,10 @@ pub struct LatchFinding {
     pub differs: Vec<String>,
     /// What the runs tell of the latch as built, in words.
     pub cause: Option<String>,
+    /// The measured hold deceleration, when enough rebounds that stayed in
+    /// give one (median over the rebounds' parabolas, [deg/s²]; `impacts`
+    /// counts the rebounds).
+    pub hold_accel: Option<Restitution>,
 }
 
 /// The median of `x` and its 95 % interval from order statistics (ranks
@@ -123,6 +129,8 @@ pub struct Spread {
     pub held: Range<usize>,
     /// Median restitution of each member.
     pub restitution: Option<Range<f64>>,
+    /// Median hold deceleration of each member [deg/s²].
+    pub hold_accel: Option<Range<f64>>,
 }
 
 /// A joint's statistics over the runs of one simulated or measured set.
@@ -132,6 +140,7 @@ struct Tally {
     escapes: usize,
     held: usize,
     restitution: Option<f64>,
+    accel: Option<f64>,
 }
 
 fn widen<T: PartialOrd + Copy>(r: Option<Range<T>>, x: T) -> Range<T> {
@@ -176,6 +185,7 @@ fn tally<'a>(
     let mut t = Tally::default();
     let mut all = Vec::new();
     let mut ratios_all = Vec::new();
+    let mut accels = Vec::new();
     for (i, cr) in c.runs.iter().enumerate() {
         let (Some(latch), Some(spec)) = (cr.mechanism.latch(j), cr.mechanism.joints.get(j)) else {
             continue;
@@ -192,12 +202,14 @@ fn tally<'a>(
         let crest = latch.hold_limit_deg(spec.stowed_deg);
         let e = events(s.0, &s.1, s.2, crest, ESCAPE_SLACK_DEG);
         ratios_all.extend(ratios(s.0, &s.1, s.2));
+        accels.extend(e.flights.iter().map(|f| f.accel_deg_s2));
         t.impacts += e.impacts;
         t.escapes += e.escapes;
         t.held += usize::from(e.first_contact_s.is_some() && e.end_travel_deg <= crest);
         all.push(e);
     }
     t.restitution = median_ci(ratios_all).map(|r| r.median);
+    t.accel = median_ci(accels).map(|r| r.median);
     Some((t, all))
 }
 
@@ -221,6 +233,7 @@ pub fn latch_findings(c: &Campaign, effects: &[Effect]) -> Vec<LatchFinding> {
             let (meas, measured) = tally(c, j, run)?;
             let mut spread: Option<(Range<usize>, Range<usize>, Range<usize>)> = None;
             let mut rest: Option<Range<f64>> = None;
+            let mut acc: Option<Range<f64>> = None;
             let mut drawing = Vec::new();
             for (k, member) in sims.iter().enumerate() {
                 let sim = |i: usize| -> Option<(&[f64], &[f64], &[bool])> {
@@ -244,6 +257,9 @@ pub fn latch_findings(c: &Campaign, effects: &[Effect]) -> Vec<LatchFinding> {
                 if let Some(r) = t.restitution {
                     rest = Some(widen(rest, r));
                 }
+                if let Some(a) = t.accel {
+                    acc = Some(widen(acc, a));
+                }
             }
             let (impacts, escapes, held) = spread?;
             let mut f = LatchFinding {
@@ -256,12 +272,20 @@ pub fn latch_findings(c: &Campaign, effects: &[Effect]) -> Vec<LatchFinding> {
                     escapes,
                     held,
                     restitution: rest,
+                    hold_accel: acc,
                 },
+                hold_accel: None,
                 differs: Vec::new(),
                 cause: None,
                 weakening: None,
             };
             f.restitution = measured_restitution(c, j);
+            f.hold_accel = median_ci(
+                f.measured
+                    .iter()
+                    .flat_map(|e| e.flights.iter().map(|x| x.accel_deg_s2))
+                    .collect(),
+            );
             compare(&mut f, &meas);
             if f.cause
                 .as_deref()
@@ -359,6 +383,20 @@ fn compare(f: &mut LatchFinding, m: &Tally) {
                 r.median, r.ci95[0], r.ci95[1], r.impacts,
                 if r.ci95[1] < lo { "more" } else { "less" }
             ));
+        }
+    }
+    if let (Some(a), Some([lo, hi])) = (f.hold_accel, sp.hold_accel) {
+        // The rebounds' deceleration: what holds the joint against the
+        // stop (plunger on its hold ramp, magnet, spring) per inertia.
+        if a.ci95[1] < lo || a.ci95[0] > hi {
+            let less = a.ci95[1] < lo;
+            f.differs.push(format!(
+                "the rebounds that stayed in decelerate at {:.0} deg/s² (95 % CI {:.0} .. {:.0}, {} rebounds), {lo:.0}..{hi:.0} with the drawing's latch within its tolerances: it pulls back {} than drawn",
+                a.median, a.ci95[0], a.ci95[1], a.impacts,
+                if less { "less" } else { "more" }
+            ));
+            weaker |= less;
+            stronger |= !less;
         }
     }
     f.cause = match (weaker, stronger) {

@@ -120,6 +120,11 @@ pub struct LatchReport {
     /// Measured apparent restitution: median and 95 % interval.
     #[serde(default)]
     pub restitution: Option<[Option<f64>; 3]>,
+    /// Measured deceleration of the rebounds that stayed in [deg/s²]:
+    /// median and 95 % interval (`null` with fewer than 3 rebounds of 5
+    /// samples or more).
+    #[serde(default)]
+    pub hold_deceleration_deg_s2: Option<[Option<f64>; 3]>,
     /// What differs from the drawing (empty: nothing its tolerances do not give).
     pub differs: Vec<String>,
     /// What that says of the latch as built.
