@@ -40,7 +40,7 @@ pub struct LatchEvents {
 
 /// Fewest samples of a rebound (switch open) for a parabola (at 100 Hz,
 /// 50 ms: a rebound of about 0.05° at the latches' hold accelerations).
-pub const MIN_FLIGHT_SAMPLES: usize = 5;
+pub const MIN_FLIGHT_SAMPLES: usize = 4;
 
 /// One rebound off the stop that stayed inside the crest, as a parabola:
 /// between two closings of the switch the joint flies against the torque

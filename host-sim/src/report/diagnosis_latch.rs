@@ -208,12 +208,14 @@ pub fn report(md: &mut String, c: &Campaign, o: &Outcome) {
     report_ambiguity(md, o);
 }
 
-/// The plunger weakenings that give the measured escapes, in words.
+/// The plunger weakenings consistent with the measured events, in words.
 fn weakening_words([lo, hi]: [f64; 2]) -> String {
-    if lo <= 0.2 && hi >= 0.8 {
-        "the runs do not determine how much: every plunger weakening tried (0.2 to 0.8) gives the measured escapes".into()
+    let tried = &crate::analysis::diagnose::latch_finding::WEAKENINGS;
+    let (first, last) = (tried[0], tried[tried.len() - 1]);
+    if lo <= first && hi >= last {
+        format!("the runs do not determine how much: every plunger weakening tried ({first:.1} to {last:.1}) gives the measured events")
     } else {
-        format!("a plunger weakening of {lo:.1} .. {hi:.1} (of 0.2, 0.4, 0.6, 0.8 tried) gives the measured escapes")
+        format!("a plunger weakening of {lo:.1} .. {hi:.1} (of {first:.1} to {last:.1} in steps of 0.1 tried) gives the measured events (escapes, runs ending within the crest, hold deceleration)")
     }
 }
 

@@ -130,7 +130,7 @@ pub struct LatchReport {
     /// What that says of the latch as built.
     #[serde(default)]
     pub cause: Option<String>,
-    /// Plunger weakenings that give the measured escapes `[least, most]`.
+    /// Plunger weakenings consistent with the measured events `[least, most]`.
     #[serde(default)]
     pub plunger_weakening: Option<[Option<f64>; 2]>,
 }
