@@ -303,6 +303,18 @@ enum LatchFault {
     StopDamping,
 }
 
+/// The simulator's options for the weakened-latch runs: the mechanisms'
+/// own sample rate (100 Hz), or `DEPLOYWATCH_LATCH_HZ` to ask what a
+/// faster rig would show.
+fn latch_sim_options() -> SimOptions {
+    SimOptions {
+        sample_hz: std::env::var("DEPLOYWATCH_LATCH_HZ")
+            .ok()
+            .and_then(|v| v.parse().ok()),
+        ..SimOptions::default()
+    }
+}
+
 /// A campaign of `family` whose latch at one drawn joint differs by
 /// `fault` (every latch also as built within its tolerances); the truth is
 /// that joint.
@@ -338,7 +350,7 @@ fn generate_latch(seed: u64, family: usize, fault: LatchFault) -> (Case, usize) 
         .iter()
         .enumerate()
         .map(|(r, m)| {
-            let traj = deployment::simulate(m, &effects, &SimOptions::default())
+            let traj = deployment::simulate(m, &effects, &latch_sim_options())
                 .expect("an as-built draw the simulator runs");
             let mut run = sensor::measure(
                 &traj,
@@ -432,8 +444,12 @@ fn a_weakened_latch_is_a_latch_finding_never_an_effect() {
     );
 }
 
-/// Exploration (temporary): statistics of a joint's latch events, drawing
-/// vs weakened.
+/// The experiment behind `docs/diagnosis.md`'s weakened-latch paragraph:
+/// what a plunger or magnet at 30 % does to a joint's latch statistics,
+/// against the spread of 12 as-built draws of the drawing (mean ± standard
+/// deviation of each, per family and joint, with the reference sensor
+/// noise). Prints only: `cargo test -p deploywatch-tests --test
+/// diagnosis_physical_latch explore -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn explore_latch_statistics() {
@@ -523,8 +539,18 @@ fn explore_latch_statistics() {
                     rows.push(st);
                 }
                 let names = [
-                    "imp", "cross", "hold", "mean1", "mean05", "open1", "max1", "mean_in", "n_in",
-                    "out_s", "end", "t0",
+                    "imp",
+                    "cross",
+                    "hold",
+                    "mean1",
+                    "mean05",
+                    "open1",
+                    "max1",
+                    "mean_in",
+                    "n_in",
+                    "out_s",
+                    "rest_mdeg",
+                    "t0",
                 ];
                 let mut line = format!("fam {family} j{} {kind:?} {w}:", j + 1);
                 for (c, nm) in names.iter().enumerate() {

@@ -38,9 +38,16 @@ pub struct LatchEvents {
     pub flights: Vec<Flight>,
 }
 
-/// Fewest samples of a rebound (switch open) for a parabola (at 100 Hz,
-/// 50 ms: a rebound of about 0.05° at the latches' hold accelerations).
+/// Fewest samples of a rebound (switch open) for a parabola: one more than
+/// its three coefficients, so that the noise shows in the scatter of the
+/// rebounds' decelerations (at 100 Hz, 40 ms: a rebound of about 0.03° at
+/// the bundled latches' 120 deg/s²).
 pub const MIN_FLIGHT_SAMPLES: usize = 4;
+
+/// Shortest span of a rebound's samples for a parabola [s]: over a shorter
+/// span the sensor's noise (0.02°) swamps the curvature (at 100 Hz, the
+/// span of [`MIN_FLIGHT_SAMPLES`]; at 500 Hz, 16 samples).
+pub const MIN_FLIGHT_SPAN_S: f64 = 0.0295;
 
 /// One rebound off the stop that stayed inside the crest, as a parabola:
 /// between two closings of the switch the joint flies against the torque
@@ -83,7 +90,7 @@ pub fn parabola(t: &[f64], u: &[f64]) -> Option<(f64, f64, f64)> {
 
 /// The flight over the open samples `idx` (indices into `t_s`, `travel`).
 fn flight(t_s: &[f64], travel: &[f64], idx: std::ops::Range<usize>) -> Option<Flight> {
-    if idx.len() < MIN_FLIGHT_SAMPLES {
+    if idx.len() < MIN_FLIGHT_SAMPLES || t_s[idx.end - 1] - t_s[idx.start] < MIN_FLIGHT_SPAN_S {
         return None;
     }
     let (t, u) = (&t_s[idx.clone()], &travel[idx.clone()]);

@@ -253,8 +253,8 @@ fn report_latch(md: &mut String, c: &Campaign, f: &LatchFinding) {
     if let Some(a) = f.hold_accel {
         let _ = writeln!(
             md,
-            "- measured deceleration of the rebounds that stayed in {:.0} deg/s² (95 % CI {:.0} .. {:.0}, {} rebounds of 5 samples or more)",
-            a.median, a.ci95[0], a.ci95[1], a.impacts
+            "- measured deceleration of the rebounds that stayed in {:.0} deg/s² (95 % CI {:.0} .. {:.0}, {} rebounds of {} samples or more)",
+            a.median, a.ci95[0], a.ci95[1], a.impacts, crate::analysis::latch_events::MIN_FLIGHT_SAMPLES
         );
     }
     if f.differs.is_empty() {
