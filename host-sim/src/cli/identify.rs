@@ -10,6 +10,7 @@
 //! (both written by [`crate::report::identify`]).
 
 use super::{check_output, CliError, Console};
+use crate::analysis::diagnose::latch_window::free_campaign;
 use crate::analysis::identify::by_rsm::identify_rsm;
 use crate::analysis::identify::direct::identify_direct;
 use crate::analysis::identify::{
@@ -141,6 +142,19 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
     for w in crate::data::inputs::campaign_warnings(&args.mechanisms, &campaign) {
         console.warn(w);
     }
+    // Runs of a physical latch are fitted on their free motion: after the
+    // first contact the impact sequence is chaotic (docs/identification.md).
+    let campaign = match free_campaign(&campaign) {
+        Some((free, windows)) => {
+            for (cr, w) in campaign.runs.iter().zip(&windows) {
+                if let Some(words) = w.words(&cr.name()) {
+                    console.say(words);
+                }
+            }
+            free
+        }
+        None => campaign,
+    };
     let id = identify_with(args, &campaign, &joints, &console)?;
     super::print_out(format_args!("{}", summary(&campaign, &id)));
     // On the zero-g rig: the margin on orbit beside the margin on the rig.

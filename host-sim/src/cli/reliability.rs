@@ -204,11 +204,15 @@ fn print_estimate(problem: &Problem, est: &Estimate, wall_s: f64) {
         print_detail(problem, c);
         outln!("{}: {}", c.method, summary(c));
     }
-    if let Some(agree) = est.agree {
-        outln!(
+    match est.agree {
+        Some(agree) => outln!(
             "auto: is and subset {} within their 95 % intervals",
             if agree { "agree" } else { "DISAGREE" }
-        );
+        ),
+        None if est.checks.len() > 1 => {
+            outln!("auto: neither is nor subset saw a failure: nothing to compare")
+        }
+        None => {}
     }
     outln!("{}, {wall_s:.2} s wall", summary(est));
     if let Some(f) = &est.most_likely_failure {

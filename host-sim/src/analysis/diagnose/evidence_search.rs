@@ -17,15 +17,22 @@ use super::outcome::{FittedEffect, FittedSet};
 use super::policy::{Attempt, Move};
 use super::table_form::PlacedKnots;
 use super::{above_noise, labels, Engine, Proposal, Search, MAX_TABLES, NOISE_FLOOR_FACTOR};
+use crate::analysis::diagnose::evidence::{analyse, CLEAR_SIGMAS};
 use crate::analysis::diagnose::residual_named::{self, propose_pair};
 use crate::analysis::diagnose::residual_shape::best_shape;
 use crate::analysis::diagnose::residual_torque::{residual_torque, JointTorque};
-use crate::model::effect::EffectKind;
+use crate::data::campaign::Campaign;
+use crate::model::effect::{Effect, EffectKind};
 
 /// A claim at a joint without significant residual torque is dropped only
 /// when the set without it fits within this share of the set's RMS (or of
 /// the noise floor) [1]: what the fit needs stays.
 const CLAIM_RMS_SHARE: f64 = 1.1;
+
+/// Without residual-torque evidence, the first table is tried at the joints
+/// whose residual angle RMS is at least this share of the largest joint's
+/// [1].
+const ANGLE_EVIDENCE_SHARE: f64 = 0.5;
 
 impl Search<'_, '_> {
     /// Discovery: while the residual stays above the noise floor, fit torque
@@ -86,21 +93,69 @@ impl Search<'_, '_> {
     }
 
     /// [`Move::EvenTable`]: for the first table, when the tables at the
-    /// evidence's joints were not kept, the even forms at every joint that
-    /// they did not hold.
+    /// evidence's joints were not kept, the even forms beside the current
+    /// set that they did not hold — at the joints whose residual torque
+    /// beside the current set is significant when there are any (the
+    /// evidence says where; only the shape failed), at every joint when
+    /// there are none. (A joint significant only beside a smaller set is
+    /// not evidence beside this one: a large torque missing at one joint
+    /// reaches the others through the mass matrix.)
     pub(super) fn propose_even_tables(&mut self) -> Option<Proposal> {
         let first = self
             .current
             .members
             .iter()
             .all(|m| m.candidate.table.is_none());
-        let even = self.even_moves();
+        let evidence: Vec<Option<usize>> = self
+            .table_tried
+            .iter()
+            .filter(|(base, _)| *base == self.current)
+            .map(|(_, c)| c.joint)
+            .collect();
+        let evidence = if evidence.is_empty() {
+            self.angle_joints()
+        } else {
+            evidence
+        };
+        let even: Vec<_> = self
+            .even_moves()
+            .into_iter()
+            .filter(|(_, c)| evidence.is_empty() || evidence.contains(&c.joint))
+            .collect();
         if !first || even.iter().all(|m| self.table_tried.contains(m)) {
             return None;
         }
-        self.eng
-            .say("  no table at the evidence's joints earns its keep: even tables at every joint");
+        self.eng.say(format!(
+            "  no table at the evidence's joints earns its keep: even tables at joints {}",
+            evidence
+                .iter()
+                .flatten()
+                .map(|j| j.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
         Some((even, self.discover_what()))
+    }
+
+    /// Where the angles say a torque is missing when the residual torque
+    /// names no joint: the joints whose residual angle RMS (the largest
+    /// over the runs, beside the current set) is at least
+    /// [`ANGLE_EVIDENCE_SHARE`] of the largest joint's. A torque moves its
+    /// own joint's angle most; the others follow through the chain.
+    fn angle_joints(&self) -> Vec<Option<usize>> {
+        let ev = analyse(self.eng.campaign, &self.current.effects(), self.sigma);
+        let joints = ev.iter().map(|e| e.joint).max().unwrap_or(0);
+        let rms = |j: usize| {
+            ev.iter()
+                .filter(|e| e.joint == j)
+                .map(|e| e.rms_deg)
+                .fold(0.0, f64::max)
+        };
+        let top = (1..=joints).map(rms).fold(0.0, f64::max);
+        (1..=joints)
+            .filter(|&j| rms(j) >= ANGLE_EVIDENCE_SHARE * top)
+            .map(Some)
+            .collect()
     }
 
     /// [`Move::NamedForTable`]: each table of the set replaced by every
@@ -210,20 +265,26 @@ impl Search<'_, '_> {
         out
     }
 
-    /// Drops every table and named joint effect (sensor effects aside)
-    /// whose joint shows no significant residual torque without it and
-    /// whose loss the fit hardly notices ([`CLAIM_RMS_SHARE`]): a claim at
-    /// a joint that holds nothing.
+    /// Drops every table and named joint effect whose joint shows no
+    /// evidence of it without it and whose loss the fit hardly notices
+    /// ([`CLAIM_RMS_SHARE`]): a claim at a joint that holds nothing. The
+    /// evidence of a torque is a significant residual torque at its joint;
+    /// that of an encoder offset, a residual already clear at release in
+    /// some run ([`offset_evidence`]: an offset reads the stowed panel off
+    /// by itself before anything has moved).
     fn check_claims(&mut self) {
         loop {
             let weak = (0..self.current.members.len()).find(|&k| {
                 let c = self.current.members[k].candidate;
                 let Some(j) = c.joint else { return false };
-                if c.kind == EffectKind::EncoderOffset || j > self.eng.campaign.max_joints() {
+                if j > self.eng.campaign.max_joints() {
                     return false;
                 }
-                let without = self.current.without(k);
-                let res = residual_torque(self.eng.campaign, &without.effects());
+                let without = self.current.without(k).effects();
+                if c.kind == EffectKind::EncoderOffset {
+                    return !offset_evidence(self.eng.campaign, &without, j, self.sigma);
+                }
+                let res = residual_torque(self.eng.campaign, &without);
                 res.iter().any(|r| r.joint == j && !r.significant)
             });
             let Some(k) = weak else { return };
@@ -236,8 +297,13 @@ impl Search<'_, '_> {
             if f.rms() > CLAIM_RMS_SHARE * self.current.rms().max(self.floor()) {
                 return;
             }
+            let evidence = if gone.kind == EffectKind::EncoderOffset {
+                "no residual at release"
+            } else {
+                "no significant residual torque"
+            };
             self.eng.say(format!(
-                "  dropped {}: joint {} shows no significant residual torque without it (RMS {:.4} deg)",
+                "  dropped {}: joint {} shows {evidence} without it (RMS {:.4} deg)",
                 gone.words(),
                 gone.joint.unwrap_or(0),
                 f.rms()
@@ -357,6 +423,16 @@ impl Search<'_, '_> {
 /// ([`above_noise`]) but not down to it either (above
 /// [`NOISE_FLOOR_FACTOR`] σ̂): where a global effect may stand in for a
 /// joint torque.
+/// Whether `effects` leave a residual at joint `joint` (1-based) already
+/// clear of the noise at release in some run: the mean over the first
+/// [`crate::analysis::diagnose::evidence::RELEASE_WINDOW_S`] beyond [`CLEAR_SIGMAS`] σ̂ — the evidence an
+/// encoder offset leaves (`evidence::analyse`'s sensor effect).
+fn offset_evidence(campaign: &Campaign, effects: &[Effect], joint: usize, sigma: f64) -> bool {
+    analyse(campaign, effects, sigma)
+        .iter()
+        .any(|e| e.joint == joint && e.at_release_mean_deg.abs() > CLEAR_SIGMAS * sigma)
+}
+
 pub(super) fn near_noise(f: &FittedSet, sigma: f64) -> bool {
     !above_noise(f, sigma) && f.rms() > NOISE_FLOOR_FACTOR * sigma
 }

@@ -38,6 +38,19 @@ pub struct RunWindow {
     pub joint: Option<usize>,
 }
 
+impl RunWindow {
+    /// The window in words, for the run named `run` (`None` when the run is
+    /// kept whole): `"T01.csv: free motion to 2.15 s (215 of 601 samples),
+    /// where joint 3 enters its latch's reach"`.
+    pub fn words(&self, run: &str) -> Option<String> {
+        let (t, j) = (self.end_s?, self.joint?);
+        Some(format!(
+            "{run}: free motion to {t:.2} s ({} of {} samples), where joint {j} enters its latch's reach",
+            self.kept, self.of
+        ))
+    }
+}
+
 /// The first sample of run `cr` at which a joint with a physical latch is
 /// within its latch's reach plus [`FREE_MARGIN_DEG`] or has its switch
 /// closed, and that joint (1-based).

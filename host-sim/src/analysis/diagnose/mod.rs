@@ -370,13 +370,8 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
     let free = latch_window::free_campaign(campaign);
     if let Some((_, windows)) = &free {
         for (cr, w) in campaign.runs.iter().zip(windows) {
-            if let (Some(t), Some(j)) = (w.end_s, w.joint) {
-                progress(&format!(
-                    "{}: free motion to {t:.2} s ({} of {} samples), where joint {j} enters its latch's reach",
-                    cr.name(),
-                    w.kept,
-                    w.of
-                ));
+            if let Some(words) = w.words(&cr.name()) {
+                progress(&words);
             }
         }
     }

@@ -15,20 +15,22 @@ use super::{Evaluate, Problem, ReliabilityError};
 use crate::analysis::fit::Z_975;
 use crate::report::progress::Progress;
 
-/// Whether two estimates agree within their intervals (module doc); two
-/// that found no failure agree, one that did and one that did not do not.
-pub fn agree(a: &Estimate, b: &Estimate) -> bool {
+/// Whether two estimates agree within their intervals (module doc): `None`
+/// when neither found a failure (two zeros are no evidence of agreement:
+/// nothing was estimated to compare); one that did and one that did not
+/// do not agree.
+pub fn agree(a: &Estimate, b: &Estimate) -> Option<bool> {
     match (a.p_fail > 0.0, b.p_fail > 0.0) {
-        (false, false) => true,
+        (false, false) => None,
         (true, true) => {
             let s = |c: f64| (1.0 + c * c).ln();
             let (sa, sb) = (s(a.cov), s(b.cov));
             if !(sa + sb).is_finite() {
-                return true;
+                return Some(true);
             }
-            (a.p_fail.ln() - b.p_fail.ln()).abs() <= Z_975 * (sa + sb).sqrt()
+            Some((a.p_fail.ln() - b.p_fail.ln()).abs() <= Z_975 * (sa + sb).sqrt())
         }
-        _ => false,
+        _ => Some(false),
     }
 }
 
@@ -47,7 +49,7 @@ pub fn run(
         method: "auto",
         simulations: a.simulations + b.simulations,
         converged: a.converged || b.converged,
-        agree: Some(agree(&a, &b)),
+        agree: agree(&a, &b),
         modes: Vec::new(),
         design_points: Vec::new(),
         unreached: Vec::new(),
@@ -126,5 +128,21 @@ pub fn estimate(
         Method::Subset => subset::run(problem, &ss, eval, progress),
         Method::Is => importance::run(problem, &is, eval, progress),
         Method::Auto => run(problem, &is, &ss, eval, progress),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn two_estimates_without_a_failure_have_nothing_to_compare() {
+        let zero = Estimate::plain("is", 0.0, f64::INFINITY, 100);
+        let some = Estimate::plain("subset", 1e-3, 0.2, 100);
+        assert_eq!(agree(&zero, &zero), None);
+        assert_eq!(agree(&zero, &some), Some(false));
+        assert_eq!(agree(&some, &some), Some(true));
+        let far = Estimate::plain("is", 1e-6, 0.2, 100);
+        assert_eq!(agree(&far, &some), Some(false));
     }
 }

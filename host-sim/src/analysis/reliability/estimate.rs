@@ -130,7 +130,8 @@ pub struct Estimate {
     pub unreached: Vec<Mode>,
     /// `auto`: the estimates of importance sampling and subset simulation.
     pub checks: Vec<Estimate>,
-    /// `auto`: whether they agree within their 95 % intervals.
+    /// `auto`: whether they agree within their 95 % intervals (`None`
+    /// when neither saw a failure: nothing to compare).
     pub agree: Option<bool>,
 }
 
