@@ -59,9 +59,13 @@ pub fn latches_json(o: &Outcome) -> Vec<LatchReport> {
                 "escapes": f.spread.escapes,
                 "runs_ending_within_crest": f.spread.held,
                 "restitution": f.spread.restitution.map(|r| r.map(rounded)),
+                "hold_deceleration_deg_s2": f.spread.hold_accel.map(|r| r.map(rounded)),
             }),
             restitution: f
                 .restitution
+                .map(|r| [rounded(r.median), rounded(r.ci95[0]), rounded(r.ci95[1])]),
+            hold_deceleration_deg_s2: f
+                .hold_accel
                 .map(|r| [rounded(r.median), rounded(r.ci95[0]), rounded(r.ci95[1])]),
             differs: f.differs.clone(),
             cause: f.cause.clone(),
@@ -204,12 +208,14 @@ pub fn report(md: &mut String, c: &Campaign, o: &Outcome) {
     report_ambiguity(md, o);
 }
 
-/// The plunger weakenings that give the measured escapes, in words.
+/// The plunger weakenings consistent with the measured events, in words.
 fn weakening_words([lo, hi]: [f64; 2]) -> String {
-    if lo <= 0.2 && hi >= 0.8 {
-        "the runs do not determine how much: every plunger weakening tried (0.2 to 0.8) gives the measured escapes".into()
+    let tried = &crate::analysis::diagnose::latch_finding::WEAKENINGS;
+    let (first, last) = (tried[0], tried[tried.len() - 1]);
+    if lo <= first && hi >= last {
+        format!("the runs do not determine how much: every plunger weakening tried ({first:.1} to {last:.1}) gives the measured events")
     } else {
-        format!("a plunger weakening of {lo:.1} .. {hi:.1} (of 0.2, 0.4, 0.6, 0.8 tried) gives the measured escapes")
+        format!("a plunger weakening of {lo:.1} .. {hi:.1} (of {first:.1} to {last:.1} in steps of 0.1 tried) gives the measured events (escapes, runs ending within the crest, hold deceleration)")
     }
 }
 
@@ -221,7 +227,7 @@ fn report_latch(md: &mut String, c: &Campaign, f: &LatchFinding) {
     let sp = &f.spread;
     let _ = writeln!(
         md,
-        "- the drawing's latch within its tolerances, with the effects found: {}..{} impacts, {}..{} escapes, ends within the crest in {}..{} run(s){}",
+        "- the drawing's latch within its tolerances, with the effects found: {}..{} impacts, {}..{} escapes, ends within the crest in {}..{} run(s){}{}",
         sp.impacts[0],
         sp.impacts[1],
         sp.escapes[0],
@@ -230,6 +236,11 @@ fn report_latch(md: &mut String, c: &Campaign, f: &LatchFinding) {
         sp.held[1],
         sp.restitution
             .map(|[a, b]| format!(", apparent restitution {a:.2}..{b:.2}"))
+            .unwrap_or_default(),
+        sp.hold_accel
+            .map(|[a, b]| format!(
+                ", rebounds that stayed in decelerating at {a:.0}..{b:.0} deg/s²"
+            ))
             .unwrap_or_default()
     );
     if let Some(r) = f.restitution {
@@ -237,6 +248,13 @@ fn report_latch(md: &mut String, c: &Campaign, f: &LatchFinding) {
             md,
             "- measured apparent restitution {:.2} (95 % CI {:.2} .. {:.2}, {} impacts)",
             r.median, r.ci95[0], r.ci95[1], r.impacts
+        );
+    }
+    if let Some(a) = f.hold_accel {
+        let _ = writeln!(
+            md,
+            "- measured deceleration of the rebounds that stayed in {:.0} deg/s² (95 % CI {:.0} .. {:.0}, {} rebounds of {} samples or more)",
+            a.median, a.ci95[0], a.ci95[1], a.impacts, crate::analysis::latch_events::MIN_FLIGHT_SAMPLES
         );
     }
     if f.differs.is_empty() {

@@ -23,15 +23,17 @@ const MIN_IMPACT_RATE_DEG_S: f64 = 20.0;
 /// Fewest impacts for a restitution with an interval.
 const MIN_RESTITUTION_IMPACTS: usize = 3;
 
-/// The stop's apparent restitution over a joint's impacts: the rate out
-/// over the rate in, from the samples either side of each switch closing.
+/// A median over a joint's impacts or rebounds with its interval: the
+/// stop's apparent restitution (the rate out over the rate in, from the
+/// samples either side of each switch closing [1]), or the rebounds' hold
+/// deceleration ([`crate::analysis::latch_events::Flight`], [deg/s²]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Restitution {
-    /// Median over the impacts [1].
+    /// Median over the impacts or rebounds.
     pub median: f64,
-    /// 95 % interval of the median (order statistics) [1].
+    /// 95 % interval of the median (order statistics).
     pub ci95: [f64; 2],
-    /// Impacts used.
+    /// Impacts (or rebounds) used.
     pub impacts: usize,
 }
 
@@ -49,15 +51,20 @@ pub struct LatchFinding {
     pub restitution: Option<Restitution>,
     /// What the drawing's latch gives within its tolerances.
     pub spread: Spread,
-    /// The plunger weakenings [1] that give the measured escapes, when the
-    /// joint escapes more than the drawing's spread allows (a magnet
-    /// weakening may do the same: the runs do not tell them apart).
+    /// The plunger weakenings [1] consistent with the measured events
+    /// (escapes, runs ending within the crest, hold deceleration), when the
+    /// latch holds less than drawn (a magnet weakening may do the same: the
+    /// runs do not tell them apart).
     pub weakening: Option<Range<f64>>,
     /// What differs from the drawing's latch, one phrase each (empty: the
     /// events are the drawing's, within what their statistics tell).
     pub differs: Vec<String>,
     /// What the runs tell of the latch as built, in words.
     pub cause: Option<String>,
+    /// The measured hold deceleration, when enough rebounds that stayed in
+    /// give one (median over the rebounds' parabolas, [deg/s²]; `impacts`
+    /// counts the rebounds).
+    pub hold_accel: Option<Restitution>,
 }
 
 /// The median of `x` and its 95 % interval from order statistics (ranks
@@ -96,6 +103,13 @@ fn ratios(t: &[f64], u: &[f64], switch: &[bool]) -> Vec<f64> {
     out
 }
 
+/// Relative margin on the ensemble's range of hold decelerations: each
+/// member's median comes from a handful of rebounds itself, so 9 members
+/// under-cover the spread (on the 48 campaigns of `docs/diagnosis.md` a
+/// clean campaign's measured interval came within 3 % of the range's edge;
+/// a plunger at 30 % lies 32 % below it).
+const ACCEL_MARGIN: f64 = 0.25;
+
 /// As-built draws of each drawing simulated beside the drawing itself: the
 /// spread of a latch's statistics that its tolerances give
 /// ([`LatchTolerance::default`]).
@@ -106,7 +120,7 @@ const ENSEMBLE_SEED: u64 = 0x1a7c4;
 
 /// Plunger weakenings tried when a joint escapes more than its drawing's
 /// spread allows [1].
-const WEAKENINGS: [f64; 4] = [0.2, 0.4, 0.6, 0.8];
+pub const WEAKENINGS: [f64; 8] = [0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9];
 
 /// The range over an ensemble of one count or value: `[least, most]`.
 pub type Range<T> = [T; 2];
@@ -123,6 +137,8 @@ pub struct Spread {
     pub held: Range<usize>,
     /// Median restitution of each member.
     pub restitution: Option<Range<f64>>,
+    /// Median hold deceleration of each member [deg/s²].
+    pub hold_accel: Option<Range<f64>>,
 }
 
 /// A joint's statistics over the runs of one simulated or measured set.
@@ -132,6 +148,7 @@ struct Tally {
     escapes: usize,
     held: usize,
     restitution: Option<f64>,
+    accel: Option<f64>,
 }
 
 fn widen<T: PartialOrd + Copy>(r: Option<Range<T>>, x: T) -> Range<T> {
@@ -176,6 +193,7 @@ fn tally<'a>(
     let mut t = Tally::default();
     let mut all = Vec::new();
     let mut ratios_all = Vec::new();
+    let mut accels = Vec::new();
     for (i, cr) in c.runs.iter().enumerate() {
         let (Some(latch), Some(spec)) = (cr.mechanism.latch(j), cr.mechanism.joints.get(j)) else {
             continue;
@@ -192,12 +210,14 @@ fn tally<'a>(
         let crest = latch.hold_limit_deg(spec.stowed_deg);
         let e = events(s.0, &s.1, s.2, crest, ESCAPE_SLACK_DEG);
         ratios_all.extend(ratios(s.0, &s.1, s.2));
+        accels.extend(e.flights.iter().map(|f| f.accel_deg_s2));
         t.impacts += e.impacts;
         t.escapes += e.escapes;
         t.held += usize::from(e.first_contact_s.is_some() && e.end_travel_deg <= crest);
         all.push(e);
     }
     t.restitution = median_ci(ratios_all).map(|r| r.median);
+    t.accel = median_ci(accels).map(|r| r.median);
     Some((t, all))
 }
 
@@ -221,6 +241,7 @@ pub fn latch_findings(c: &Campaign, effects: &[Effect]) -> Vec<LatchFinding> {
             let (meas, measured) = tally(c, j, run)?;
             let mut spread: Option<(Range<usize>, Range<usize>, Range<usize>)> = None;
             let mut rest: Option<Range<f64>> = None;
+            let (mut acc, mut acc_members): (Option<Range<f64>>, usize) = (None, 0);
             let mut drawing = Vec::new();
             for (k, member) in sims.iter().enumerate() {
                 let sim = |i: usize| -> Option<(&[f64], &[f64], &[bool])> {
@@ -244,6 +265,10 @@ pub fn latch_findings(c: &Campaign, effects: &[Effect]) -> Vec<LatchFinding> {
                 if let Some(r) = t.restitution {
                     rest = Some(widen(rest, r));
                 }
+                if let Some(a) = t.accel {
+                    acc = Some(widen(acc, a));
+                    acc_members += 1;
+                }
             }
             let (impacts, escapes, held) = spread?;
             let mut f = LatchFinding {
@@ -256,18 +281,27 @@ pub fn latch_findings(c: &Campaign, effects: &[Effect]) -> Vec<LatchFinding> {
                     escapes,
                     held,
                     restitution: rest,
+                    // A spread of a few members' medians is no spread.
+                    hold_accel: acc.filter(|_| 2 * acc_members > ENSEMBLE),
                 },
+                hold_accel: None,
                 differs: Vec::new(),
                 cause: None,
                 weakening: None,
             };
             f.restitution = measured_restitution(c, j);
+            f.hold_accel = median_ci(
+                f.measured
+                    .iter()
+                    .flat_map(|e| e.flights.iter().map(|x| x.accel_deg_s2))
+                    .collect(),
+            );
             compare(&mut f, &meas);
             if f.cause
                 .as_deref()
                 .is_some_and(|c| c.contains("less than drawn"))
             {
-                f.weakening = weakening_range(c, effects, j, meas.escapes);
+                f.weakening = weakening_range(c, effects, j, &meas, f.hold_accel);
             }
             Some(f)
         })
@@ -290,35 +324,52 @@ fn measured_restitution(c: &Campaign, j: usize) -> Option<Restitution> {
     median_ci(r)
 }
 
-/// The plunger weakenings of [`WEAKENINGS`] whose ensemble's escapes at
-/// joint `j` (0-based) include `escapes`: `[least, most]`, `None` when
-/// none does.
+/// The plunger weakenings of [`WEAKENINGS`] whose simulated runs at joint
+/// `j` (0-based; [`ENSEMBLE`]` / 2 + 1` members each) are consistent with
+/// the measured `m`: their range of escapes and of runs ending within the
+/// crest includes the measured count, and, when the rebounds give a hold
+/// deceleration `accel`, their range of it (widened by [`ACCEL_MARGIN`])
+/// meets its interval. `[least, most]`, `None` when none is.
 fn weakening_range(
     c: &Campaign,
     effects: &[Effect],
     j: usize,
-    escapes: usize,
+    m: &Tally,
+    accel: Option<Restitution>,
 ) -> Option<Range<f64>> {
-    let mut ok: Option<Range<f64>> = None;
-    for w in WEAKENINGS {
-        let mut with = effects.to_vec();
-        with.push(Effect::joint(EffectKind::PlungerWeakening, j + 1, w));
-        let sims = ensemble(c, &with, ENSEMBLE / 2 + 1);
-        let mut range: Option<Range<usize>> = None;
-        for member in &sims {
-            let sim = |i: usize| -> Option<(&[f64], &[f64], &[bool])> {
-                let t = member.get(i)?.as_ref()?;
-                Some((&t.t_s, t.phi_deg.get(j)?, t.latched.get(j)?))
-            };
-            if let Some((t, _)) = tally(c, j, sim) {
-                range = Some(widen(range, t.escapes));
+    let consistent: Vec<f64> = WEAKENINGS
+        .par_iter()
+        .filter(|&&w| {
+            let mut with = effects.to_vec();
+            with.push(Effect::joint(EffectKind::PlungerWeakening, j + 1, w));
+            let sims = ensemble(c, &with, ENSEMBLE / 2 + 1);
+            let (mut esc, mut held, mut acc) = (None, None, None);
+            for member in &sims {
+                let sim = |i: usize| -> Option<(&[f64], &[f64], &[bool])> {
+                    let t = member.get(i)?.as_ref()?;
+                    Some((&t.t_s, t.phi_deg.get(j)?, t.latched.get(j)?))
+                };
+                if let Some((t, _)) = tally(c, j, sim) {
+                    esc = Some(widen(esc, t.escapes));
+                    held = Some(widen(held, t.held));
+                    if let Some(a) = t.accel {
+                        acc = Some(widen(acc, a));
+                    }
+                }
             }
-        }
-        if range.is_some_and(|[a, b]| a <= escapes && escapes <= b) {
-            ok = Some(widen(ok, w));
-        }
-    }
-    ok
+            let within =
+                |x: usize, r: Option<Range<usize>>| r.is_some_and(|[a, b]| a <= x && x <= b);
+            let accel_ok = match (accel, acc) {
+                (Some(a), Some([lo, hi])) => {
+                    a.ci95[1] >= lo * (1.0 - ACCEL_MARGIN) && a.ci95[0] <= hi * (1.0 + ACCEL_MARGIN)
+                }
+                _ => true,
+            };
+            within(m.escapes, esc) && within(m.held, held) && accel_ok
+        })
+        .copied()
+        .collect();
+    Some([*consistent.first()?, *consistent.last()?])
 }
 
 /// Fills `differs` and `cause`: escapes, runs ending held, or a
@@ -359,6 +410,21 @@ fn compare(f: &mut LatchFinding, m: &Tally) {
                 r.median, r.ci95[0], r.ci95[1], r.impacts,
                 if r.ci95[1] < lo { "more" } else { "less" }
             ));
+        }
+    }
+    if let (Some(a), Some([lo, hi])) = (f.hold_accel, sp.hold_accel) {
+        // The rebounds' deceleration: what holds the joint against the
+        // stop (plunger on its hold ramp, magnet, spring) per inertia.
+        let (lo_w, hi_w) = (lo * (1.0 - ACCEL_MARGIN), hi * (1.0 + ACCEL_MARGIN));
+        if a.ci95[1] < lo_w || a.ci95[0] > hi_w {
+            let less = a.ci95[1] < lo_w;
+            f.differs.push(format!(
+                "the rebounds that stayed in decelerate at {:.0} deg/s² (95 % CI {:.0} .. {:.0}, {} rebounds), {lo:.0}..{hi:.0} with the drawing's latch within its tolerances: it pulls back {} than drawn",
+                a.median, a.ci95[0], a.ci95[1], a.impacts,
+                if less { "less" } else { "more" }
+            ));
+            weaker |= less;
+            stronger |= !less;
         }
     }
     f.cause = match (weaker, stronger) {

@@ -120,12 +120,17 @@ pub struct LatchReport {
     /// Measured apparent restitution: median and 95 % interval.
     #[serde(default)]
     pub restitution: Option<[Option<f64>; 3]>,
+    /// Measured deceleration of the rebounds that stayed in [deg/s²]:
+    /// median and 95 % interval (`null` with fewer than 3 rebounds of 5
+    /// samples or more).
+    #[serde(default)]
+    pub hold_deceleration_deg_s2: Option<[Option<f64>; 3]>,
     /// What differs from the drawing (empty: nothing its tolerances do not give).
     pub differs: Vec<String>,
     /// What that says of the latch as built.
     #[serde(default)]
     pub cause: Option<String>,
-    /// Plunger weakenings that give the measured escapes `[least, most]`.
+    /// Plunger weakenings consistent with the measured events `[least, most]`.
     #[serde(default)]
     pub plunger_weakening: Option<[Option<f64>; 2]>,
 }
