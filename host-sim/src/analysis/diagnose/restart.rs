@@ -4,10 +4,12 @@
 //! alike), and the effects added beside it then fill the set with stand-ins
 //! that no later move undoes. The search is run again from the baseline
 //! without that first effect; the set it reaches is kept when its BIC is
-//! better by more than [`RESTART_BIC_GAIN`], and the search goes on from
-//! there with every candidate.
+//! better by more than [`RESTART_BIC_GAIN`] and, with two or more runs, its
+//! held-out RMS beats the first set's by [`HELD_OUT_SHARE`] (the policy of
+//! every move), and the search goes on from there with every candidate.
 
 use super::candidate::Candidate;
+use super::policy::HELD_OUT_SHARE;
 use super::{above_noise, labels, Search};
 
 /// A restart's set replaces the first one only when its BIC is lower by
@@ -58,11 +60,19 @@ impl Search<'_, '_> {
         };
         other.run();
         let (a, b) = (self.current.bic(), other.current.bic());
-        if !(b < a - RESTART_BIC_GAIN) {
+        // Judged as every move is: a better BIC, and a better prediction
+        // of the runs left out (more effects can buy a BIC, not that).
+        let predicts = match (other.current_held, self.current_held) {
+            (Some(h), Some(c)) => h <= HELD_OUT_SHARE * c,
+            _ => true,
+        };
+        if !(b < a - RESTART_BIC_GAIN) || !predicts {
             self.eng.say(format!(
-                "restart: {} (BIC {b:.1}) does not beat {} (BIC {a:.1}): kept",
+                "restart: {} (BIC {b:.1}, held-out RMS {}) does not beat {} (BIC {a:.1}, held-out RMS {}): kept",
                 labels(&other.current.candidates()),
-                labels(&self.current.candidates())
+                held_words(other.current_held),
+                labels(&self.current.candidates()),
+                held_words(self.current_held)
             ));
             return;
         }
@@ -80,4 +90,9 @@ impl Search<'_, '_> {
         self.swaps = other.swaps;
         self.run();
     }
+}
+
+/// A held-out RMS in words (`n/a` with one run).
+fn held_words(h: Option<f64>) -> String {
+    h.map_or_else(|| "n/a".to_string(), |h| format!("{h:.4} deg"))
 }
