@@ -11,6 +11,7 @@ use crate::analysis::evidence::JointEvidence;
 use crate::data::campaign::Campaign;
 use crate::model::effect::EffectKind;
 use crate::report::diagnosis_words::{ci_of, evidence_of};
+use crate::report::markdown::table;
 use crate::report::plot::PlotError;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -108,33 +109,29 @@ fn report_causes(md: &mut String, o: &Outcome) {
             "None: the mechanisms as given explain the runs down to the sensor noise.\n"
         );
     } else {
-        let _ = writeln!(
-            md,
-            "| effect | joint | value | 95 % CI | evidence |\n|---|---|---|---|---|"
-        );
-        for (k, e) in ext.iter().enumerate() {
+        let rows = ext.iter().enumerate().map(|(k, e)| {
             let (lo, hi) = ci_of(o, k);
             let extra = match (e.kind, o.extended.table_of(k)) {
                 (EffectKind::RigTilt, _) => format!(" (α = {:.1}°)", e.alpha_deg),
                 (_, Some((_, shape, _))) => format!(" (largest; {shape})"),
                 _ => String::new(),
             };
-            let _ = writeln!(
-                md,
-                "| `{}` | {} | {:.5} {}{} | {:.5} … {:.5} | {} |",
-                e.kind,
+            let unit = match e.kind.unit() {
+                "1" => "(dimensionless)",
+                u => u,
+            };
+            vec![
+                format!("`{}`", e.kind),
                 e.joint.map(|j| j.to_string()).unwrap_or_else(|| "—".into()),
-                e.value,
-                match e.kind.unit() {
-                    "1" => "(dimensionless)",
-                    u => u,
-                },
-                extra,
-                lo,
-                hi,
-                evidence_of(o, k, o.extended.members[k].candidate)
-            );
-        }
+                format!("{:.5} {unit}{extra}", e.value),
+                format!("{lo:.5} … {hi:.5}"),
+                evidence_of(o, k, o.extended.members[k].candidate),
+            ]
+        });
+        md.push_str(&table(
+            &["effect", "joint", "value", "95 % CI", "evidence"],
+            rows,
+        ));
         md.push('\n');
     }
     if let Some(u) = &o.unexplained {
@@ -163,23 +160,26 @@ fn report_rounds(md: &mut String, o: &Outcome) {
     );
     for r in &o.rounds {
         let _ = writeln!(md, "### {} (start RMS {:.4}°)\n", r.what, r.start_rms_deg);
-        let _ = writeln!(
-            md,
-            "| candidate | RMS [°] | ΔBIC | held-out RMS [°] | verdict |\n|---|---|---|---|---|"
-        );
-        for s in &r.scores {
-            let _ = writeln!(
-                md,
-                "| {} | {:.4} | {:.1} | {} | {} |",
-                labels_of(&s.fitted.candidates()),
-                s.fitted.rms(),
-                s.delta_bic,
-                s.held_out_rms_deg
-                    .map(|h| format!("{h:.4}"))
-                    .unwrap_or_else(|| "—".into()),
-                s.verdict
-            );
-        }
+        md.push_str(&table(
+            &[
+                "candidate",
+                "RMS [°]",
+                "ΔBIC",
+                "held-out RMS [°]",
+                "verdict",
+            ],
+            r.scores.iter().map(|s| {
+                vec![
+                    labels_of(&s.fitted.candidates()),
+                    format!("{:.4}", s.fitted.rms()),
+                    format!("{:.1}", s.delta_bic),
+                    s.held_out_rms_deg
+                        .map(|h| format!("{h:.4}"))
+                        .unwrap_or_else(|| "—".into()),
+                    s.verdict.to_string(),
+                ]
+            }),
+        ));
         md.push('\n');
     }
 }

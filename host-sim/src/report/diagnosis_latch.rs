@@ -11,6 +11,7 @@ use crate::model::findings::diagnosis::{
     AmbiguityGroup, AmbiguousSet, FreeWindow, LatchEventsJson, LatchReport,
 };
 use crate::model::findings::rounded;
+use crate::report::markdown::table;
 use std::fmt::Write as _;
 
 /// The free window of each run, for the JSON.
@@ -289,17 +290,17 @@ fn report_ambiguity(md: &mut String, o: &Outcome) {
             "At joint {} these sets explain the runs alike (BIC within 10 of the set found); the intervals above are widened to cover them. {}.\n",
             g.joint, g.separating_test
         );
-        let _ = writeln!(md, "| set | RMS [deg] | ΔBIC |\n|---|---|---|");
         let first = g.sets.first().map_or(0.0, FittedSet::bic);
-        for s in &g.sets {
-            let _ = writeln!(
-                md,
-                "| {} | {:.4} | {:+.1} |",
-                set_words(s),
-                s.rms(),
-                s.bic() - first
-            );
-        }
+        md.push_str(&table(
+            &["set", "RMS [deg]", "ΔBIC"],
+            g.sets.iter().map(|s| {
+                vec![
+                    set_words(s),
+                    format!("{:.4}", s.rms()),
+                    format!("{:+.1}", s.bic() - first),
+                ]
+            }),
+        ));
         let _ = writeln!(md);
     }
 }

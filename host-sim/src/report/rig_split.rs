@@ -6,6 +6,7 @@
 use crate::analysis::rig_margin::{self, RigSplit};
 use crate::data::campaign::Campaign;
 use crate::model::effect::Effect;
+use crate::report::markdown::table;
 use std::fmt::Write as _;
 
 /// A margin for people: `123.4 %`, `inf`.
@@ -39,30 +40,38 @@ pub fn section(s: &RigSplit) -> String {
         "\nThe hinge friction with the rig modelled (RMS {:.4} deg) against the EFT fitted with the rig's rails frictionless, which lumps their friction into the hinges as the papers' EFT does (RMS {:.4} deg):\n",
         s.found_rms_deg, s.lumped_rms_deg
     );
-    out.push_str("| joint | hinge friction, rig taken out [N·m] | EFT lumping the rig [N·m] | rig's share [N·m] |\n|---|---|---|---|\n");
-    for j in &s.joints {
-        let _ = writeln!(
-            out,
-            "| {} | {:.4} | {:.4} | {:+.4} |",
-            j.joint,
-            j.hinge_nm,
-            j.lumped_nm,
-            j.rig_share_nm()
-        );
-    }
-    out.push_str("\nTorque margin (seed 001 Eq. 7, no factors; `deploywatch margin` applies the standards):\n\n| mechanism | joint | on orbit (rig taken out) | on the rig (lumped) |\n|---|---|---|---|\n");
-    for m in &s.margins {
-        for (k, (o, r)) in m.orbit_pct.iter().zip(&m.rig_pct).enumerate() {
-            let _ = writeln!(
-                out,
-                "| {} | {} | {} | {} |",
-                m.mechanism,
-                k + 1,
-                pct(*o),
-                pct(*r)
-            );
-        }
-    }
+    out.push_str(&table(
+        &[
+            "joint",
+            "hinge friction, rig taken out [N·m]",
+            "EFT lumping the rig [N·m]",
+            "rig's share [N·m]",
+        ],
+        s.joints.iter().map(|j| {
+            vec![
+                j.joint.to_string(),
+                format!("{:.4}", j.hinge_nm),
+                format!("{:.4}", j.lumped_nm),
+                format!("{:+.4}", j.rig_share_nm()),
+            ]
+        }),
+    ));
+    out.push_str("\nTorque margin (seed 001 Eq. 7, no factors; `deploywatch margin` applies the standards):\n\n");
+    out.push_str(&table(
+        &[
+            "mechanism",
+            "joint",
+            "on orbit (rig taken out)",
+            "on the rig (lumped)",
+        ],
+        s.margins.iter().flat_map(|m| {
+            m.orbit_pct
+                .iter()
+                .zip(&m.rig_pct)
+                .enumerate()
+                .map(|(k, (o, r))| vec![m.mechanism.clone(), (k + 1).to_string(), pct(*o), pct(*r)])
+        }),
+    ));
     out
 }
 

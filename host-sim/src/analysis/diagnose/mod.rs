@@ -409,19 +409,13 @@ fn search_campaign(
         sigma
     ));
     let truss = campaign.runs.iter().any(|r| r.mechanism.truss.is_some());
-    let mut search = Search {
-        eng: &eng,
-        candidates: candidates(campaign, opts, truss),
-        max_effects: opts.max_effects,
+    let mut search = Search::new(
+        &eng,
+        candidates(campaign, opts, truss),
+        opts.max_effects,
         sigma,
-        current_held: eng.held_out(&baseline),
-        current: baseline.clone(),
-        rounds: Vec::new(),
-        seen: vec![Vec::new()],
-        swaps: 0,
-        tried_once: Default::default(),
-        table_tried: Vec::new(),
-    };
+        &baseline,
+    );
     search.run();
     search.restart_without_first(&baseline);
     if opts.discover && !truss && !eng.halt.now() {
@@ -455,6 +449,32 @@ fn search_campaign(
         latches: Vec::new(),
         ambiguities,
         partial,
+    }
+}
+
+impl<'e, 'a> Search<'e, 'a> {
+    /// A search of `candidates` (at most `max_effects` named) from
+    /// `baseline`, against the noise σ̂ `sigma` [deg], nothing tried yet.
+    fn new(
+        eng: &'e Engine<'a>,
+        candidates: Vec<Candidate>,
+        max_effects: usize,
+        sigma: f64,
+        baseline: &FittedSet,
+    ) -> Self {
+        Search {
+            eng,
+            candidates,
+            max_effects,
+            sigma,
+            current_held: eng.held_out(baseline),
+            current: baseline.clone(),
+            rounds: Vec::new(),
+            seen: vec![Vec::new()],
+            swaps: 0,
+            tried_once: Default::default(),
+            table_tried: Vec::new(),
+        }
     }
 }
 

@@ -40,24 +40,14 @@ impl Search<'_, '_> {
             self.current.rms(),
             first.words()
         ));
-        let mut other = Search {
-            eng: self.eng,
-            candidates: self
-                .candidates
-                .iter()
-                .copied()
-                .filter(|c| *c != first)
-                .collect(),
-            max_effects: self.max_effects,
-            sigma: self.sigma,
-            current_held: self.eng.held_out(baseline),
-            current: baseline.clone(),
-            rounds: Vec::new(),
-            seen: vec![Vec::new()],
-            swaps: 0,
-            tried_once: Default::default(),
-            table_tried: Vec::new(),
-        };
+        let others = self.candidates.iter().copied().filter(|c| *c != first);
+        let mut other = Search::new(
+            self.eng,
+            others.collect(),
+            self.max_effects,
+            self.sigma,
+            baseline,
+        );
         other.run();
         let (a, b) = (self.current.bic(), other.current.bic());
         // Judged as every move is: a better BIC, and a better prediction
