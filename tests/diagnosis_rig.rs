@@ -2,7 +2,9 @@
 //! `physics.md` §11): campaigns of two runs (seed 001 T01 and T02 on the
 //! rig, `data/mechanisms/seed001_T0{1,2}_rig.toml`) with a hidden rail
 //! friction of the rig (`rig_friction`), a hidden hinge friction
-//! (`coulomb_friction` at a drawn joint), both, or nothing.
+//! (`coulomb_friction` at a drawn joint), both, or nothing; and with a
+//! hidden wire length (`wire_length`) or frame offset (`frame_offset`),
+//! alone, with a hinge friction, or (the frame) with the rig friction.
 //!
 //! A seeded generator draws each case (values log-uniform, raised until the
 //! effect alone moves the runs by ≥ 0.3° RMS, as `tests/diagnosis.rs`) and
@@ -13,9 +15,11 @@
 //!
 //! "Right" means: the set of (effect, joint) named is the hidden one, each
 //! value within 20 %, nothing unexplained; a clean campaign names nothing.
-//! CI diagnoses the clean case and the first with the rig friction alone; `DEPLOYWATCH_FULL=1` all 24 (the
-//! result and its command are in `docs/diagnosis.md`, "Rig causes"); with
-//! `DEPLOYWATCH_FROM=k` as well, the cases from the k-th (0-based) on.
+//! CI diagnoses the clean case and the first with the rig friction alone;
+//! `DEPLOYWATCH_FULL=1` all 34, and a whole run writes its table into
+//! `docs/measured.md` ("diagnosis-rig", [`record`]); with
+//! `DEPLOYWATCH_FROM=k` as well, the cases from the k-th (0-based) on,
+//! with `DEPLOYWATCH_CASE=s1,s2` only the cases of those seeds.
 
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions};
@@ -26,7 +30,7 @@ use deploywatch_sim::progress::quiet;
 use deploywatch_sim::rig_margin;
 use deploywatch_sim::run::Run;
 use deploywatch_sim::sensor::{self, SensorModel};
-use deploywatch_tests::data_dir;
+use deploywatch_tests::{data_dir, record};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
@@ -241,6 +245,12 @@ fn rig_and_hinge_friction_are_told_apart() {
         specs = specs.split_off(k.min(specs.len()));
         assert!(!specs.is_empty(), "DEPLOYWATCH_FROM={k}: no case left");
     }
+    // `DEPLOYWATCH_CASE=s1,s2`: only the cases of those seeds.
+    if let Ok(v) = std::env::var("DEPLOYWATCH_CASE") {
+        let seeds: Vec<u64> = v.split(',').filter_map(|s| s.trim().parse().ok()).collect();
+        specs.retain(|(s, _)| seeds.contains(s));
+        assert!(!specs.is_empty(), "DEPLOYWATCH_CASE={v}: no such seed");
+    }
     let mechs = mechanisms();
     let (mut right, mut total) = (0usize, 0usize);
     let mut misses = Vec::new();
@@ -310,7 +320,7 @@ fn rig_and_hinge_friction_are_told_apart() {
         100.0 * right as f64 / total.max(1) as f64,
         rows.join("\n")
     );
-    deploywatch_tests::record::record("diagnosis-rig", COMMAND, &body).unwrap();
+    record::record("diagnosis-rig", COMMAND, &body).unwrap();
     assert!(
         right * 100 >= total * 85,
         "only {right}/{total} right:\n{}",
