@@ -218,6 +218,46 @@ fn key(e: &Effect) -> (EffectKind, Option<usize>) {
     (e.kind, e.joint)
 }
 
+/// What the diagnosis found, each value with its 95 % interval.
+fn found_text(o: &deploywatch_sim::diagnose::Outcome) -> String {
+    let v: Vec<String> = o
+        .extended
+        .effects()
+        .iter()
+        .enumerate()
+        .map(|(k, e)| {
+            let ([lo, hi], _) = o.extended.effect_ci(k);
+            format!("{e} (95 %: {lo:.4e} to {hi:.4e})")
+        })
+        .collect();
+    if v.is_empty() {
+        "nothing".into()
+    } else {
+        v.join("; ")
+    }
+}
+
+/// `effects` for the table: `` `name` jJ value `` (4 decimals, or 4
+/// significant digits under 0.01).
+fn short(effects: &[Effect]) -> String {
+    let v: Vec<String> = effects
+        .iter()
+        .map(|e| {
+            let j = e.joint.map(|j| format!(" j{j}")).unwrap_or_default();
+            if e.value.abs() < 0.01 {
+                format!("`{}`{j} {:.3e}", e.kind, e.value)
+            } else {
+                format!("`{}`{j} {:.4}", e.kind, e.value)
+            }
+        })
+        .collect();
+    if v.is_empty() {
+        "nothing".into()
+    } else {
+        v.join(", ")
+    }
+}
+
 fn text(effects: &[Effect]) -> String {
     let v: Vec<String> = effects.iter().map(|e| e.to_string()).collect();
     if v.is_empty() {
@@ -281,7 +321,7 @@ fn rig_and_hinge_friction_are_told_apart() {
         let line = format!(
             "seed {seed} {hidden:?}: truth [{}] found [{}] RMS {:.3} -> {:.4} ({} sims, {:.0} s){}",
             text(&truth),
-            text(&found),
+            found_text(&outcome),
             outcome.baseline.rms(),
             outcome.extended.rms(),
             outcome.simulations,
@@ -295,9 +335,9 @@ fn rig_and_hinge_friction_are_told_apart() {
         println!("{} {line}", if ok { "ok  " } else { "MISS" });
         rows.push(format!(
             "| {seed} | {} | {}{}{} | {:.3} → {:.4} | {}, {:.0} s |",
-            text(&truth),
+            short(&truth),
             if ok { "" } else { "MISS: " },
-            text(&found),
+            short(&found),
             if outcome.unexplained.is_some() {
                 ", the rest unexplained"
             } else {
