@@ -478,4 +478,23 @@ fn rig_causes_sizes() {
             );
         }
     }
+    // The wire's pendulum without the frames: what the wire length does
+    // apart from the contact it moves.
+    let frameless: Vec<Mechanism> = mechs
+        .iter()
+        .map(|m| {
+            let mut m = m.clone();
+            if let Some(r) = m.rig.as_mut() {
+                r.frames.clear();
+            }
+            m
+        })
+        .collect();
+    for v in [-0.5, -0.3, -0.1, 0.1, 0.3, 0.5] {
+        let e = [Effect::global(EffectKind::WireLength, v)];
+        println!(
+            "wire_length {v} without the frames: {:.4} deg",
+            effect_size(&frameless, &e)
+        );
+    }
 }

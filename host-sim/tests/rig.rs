@@ -280,6 +280,7 @@ fn the_rig_causes_act_on_the_rig_the_simulator_integrates() {
 
 #[test]
 fn a_frame_offset_moves_every_frame_toward_the_panels() {
+    use deploywatch_sim::effect::{Effect, EffectKind};
     let drawn = Mechanism::load(
         &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../data/mechanisms/seed001_T01_rig.toml"),
@@ -294,21 +295,32 @@ fn a_frame_offset_moves_every_frame_toward_the_panels() {
         assert!((b.at_m - a.at_m - 0.02).abs() < 1e-12, "{}", a.name);
         assert_eq!(a.normal, b.normal);
     }
-    // Seed 001 T01 on the rig: panel 3 meets `lateral -y`; the frame 20 mm
-    // nearer is met earlier and harder, 20 mm farther later.
-    let (opts, times) = free_run(6.0, 100.0);
+    // Seed 001 T01 on the rig: panel 3 meets `lateral -y` (0.25 mm deep, a
+    // few mm before it would have turned back);
+    // the frame 20 mm nearer is met earlier, 2 mm farther later, and 20 mm
+    // farther not at all (no evidence of where it stands).
+    let opts = SimOptions::default();
+    let grid = deploywatch_sim::deployment::sample_grid(&drawn, &opts).unwrap();
+    let times: Vec<f64> = (0..).map_while(|k| grid.get(k)).collect();
     let contact = |d: f64| {
         let e = [Effect::global(EffectKind::FrameOffset, d)];
         let run = simulate_rig(&drawn, &e, &opts, &times).expect("rig");
-        run.contacts
-            .into_iter()
-            .find(|c| c.frame == "lateral -y")
-            .expect("a contact with lateral -y")
+        run.contacts.into_iter().find(|c| c.frame == "lateral -y")
     };
-    let (near, nominal, far) = (contact(0.02), contact(0.0), contact(-0.02));
+    let (near, nominal, far) = (
+        contact(0.02).expect("met 20 mm nearer"),
+        contact(0.0).expect("met"),
+        contact(-0.002).expect("met 2 mm farther"),
+    );
     println!(
-        "lateral -y met at {} s (20 mm nearer), {} s, {} s (20 mm farther)",
-        near.first_s, nominal.first_s, far.first_s
+        "lateral -y met at {} s ({} mm deep) 20 mm nearer, {} s ({} mm), {} s ({} mm) 2 mm farther",
+        near.first_s,
+        near.max_depth_mm,
+        nominal.first_s,
+        nominal.max_depth_mm,
+        far.first_s,
+        far.max_depth_mm
     );
     assert!(near.first_s < nominal.first_s && nominal.first_s < far.first_s);
+    assert!(contact(-0.02).is_none());
 }
