@@ -81,7 +81,9 @@ fn draw_effect(rng: &mut ChaCha8Rng, kind: EffectKind, joints: usize) -> Effect 
         // Never drawn: they act only on a physical latch (`EffectKind::LATCH`).
         EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => Effect::joint(kind, j, 0.0),
         // Never drawn here: they act only on a rig (tests/diagnosis_rig.rs).
-        EffectKind::RigFriction | EffectKind::WireLength => Effect::global(kind, 0.0),
+        EffectKind::RigFriction | EffectKind::WireLength | EffectKind::FrameOffset => {
+            Effect::global(kind, 0.0)
+        }
     }
 }
 

@@ -272,3 +272,29 @@ fn flight_leaves_out_what_only_the_rig_has() {
     assert!(g.iter().zip(&f).all(|(g, f)| f.1 >= g.1 && f.0 >= g.0));
     assert!(g.iter().zip(&f).any(|(g, f)| f.1 > g.1));
 }
+
+#[test]
+fn the_rig_causes_are_left_to_the_rig_and_out_of_flight() {
+    // `rig_friction`, `wire_length`, `frame_offset` (physics.md §11.7): a
+    // diagnosis's rig causes are read, not dropped as unknown; they add
+    // nothing to a hinge's margin (their share is the rig split's) and
+    // `--flight` names them as rig-only.
+    let dir = tempfile::tempdir().unwrap();
+    let rig: Vec<Value> = EffectKind::RIG.into_iter().map(found).collect();
+    let file = diagnosis(dir.path(), "rig.json", &rig);
+    let ground = margins(&file, dir.path(), &[]);
+    let flight = margins(&file, dir.path(), &["--flight"]);
+    let base = margins(&diagnosis(dir.path(), "base.json", &[]), dir.path(), &[]);
+    assert_eq!(
+        ground["not_included"].as_array().unwrap().len(),
+        0,
+        "{}",
+        ground["not_included"]
+    );
+    let from = flight["resistances_from"].as_str().unwrap();
+    for k in EffectKind::RIG {
+        assert!(from.contains(k.name()), "{k}: {from}");
+    }
+    assert_eq!(pcts(&ground), pcts(&base));
+    assert_eq!(pcts(&flight), pcts(&base));
+}

@@ -273,4 +273,54 @@ fn the_rig_causes_act_on_the_rig_the_simulator_integrates() {
     // A rig cause on the flight unit (no rig) is refused, not ignored.
     let err = deployment::simulate(&drawn.flight(), &[more], &o).unwrap_err();
     assert!(err.to_string().contains("rig_friction"), "{err}");
+    let nearer = Effect::global(EffectKind::FrameOffset, 0.02);
+    let err = deployment::simulate(&drawn.flight(), &[nearer], &o).unwrap_err();
+    assert!(err.to_string().contains("frame_offset"), "{err}");
+}
+
+#[test]
+fn a_frame_offset_moves_every_frame_toward_the_panels() {
+    use deploywatch_sim::effect::{Effect, EffectKind};
+    let drawn = Mechanism::load(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../data/mechanisms/seed001_T01_rig.toml"),
+    )
+    .unwrap();
+    let rig = drawn.rig.as_ref().unwrap();
+    let nearer = Effect::global(EffectKind::FrameOffset, 0.02);
+    let moved = rig.with_effects(&[nearer]);
+    for (a, b) in rig.frames.iter().zip(&moved.frames) {
+        // a ← a + Δd along the unit normal (into the allowed side, toward
+        // the panels): 20 mm less clearance on either side.
+        assert!((b.at_m - a.at_m - 0.02).abs() < 1e-12, "{}", a.name);
+        assert_eq!(a.normal, b.normal);
+    }
+    // Seed 001 T01 on the rig: panel 3 meets `lateral -y` (0.25 mm deep, a
+    // few mm before it would have turned back);
+    // the frame 20 mm nearer is met earlier, 2 mm farther later, and 20 mm
+    // farther not at all (no evidence of where it stands).
+    let opts = SimOptions::default();
+    let grid = deploywatch_sim::deployment::sample_grid(&drawn, &opts).unwrap();
+    let times: Vec<f64> = (0..).map_while(|k| grid.get(k)).collect();
+    let contact = |d: f64| {
+        let e = [Effect::global(EffectKind::FrameOffset, d)];
+        let run = simulate_rig(&drawn, &e, &opts, &times).expect("rig");
+        run.contacts.into_iter().find(|c| c.frame == "lateral -y")
+    };
+    let (near, nominal, far) = (
+        contact(0.02).expect("met 20 mm nearer"),
+        contact(0.0).expect("met"),
+        contact(-0.002).expect("met 2 mm farther"),
+    );
+    println!(
+        "lateral -y met at {} s ({} mm deep) 20 mm nearer, {} s ({} mm), {} s ({} mm) 2 mm farther",
+        near.first_s,
+        near.max_depth_mm,
+        nominal.first_s,
+        nominal.max_depth_mm,
+        far.first_s,
+        far.max_depth_mm
+    );
+    assert!(near.first_s < nominal.first_s && nominal.first_s < far.first_s);
+    assert!(contact(-0.02).is_none());
 }

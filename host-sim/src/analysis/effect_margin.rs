@@ -14,7 +14,7 @@
 //! | `air_drag` `k` | other | 0 (at rest) | resisting work on the deployment |
 //! | `rig_tilt` `g_t` | other | resisting generalised force at the stowed state | resisting work on the deployment |
 //! | `encoder_offset` `b` | nothing (sensor) | 0 | 0 |
-//! | `rig_friction`, `wire_length` | other (rig only: `--flight` leaves them out) | 0 (in `analysis::rig_margin`'s rig line) | 0 |
+//! | `rig_friction`, `wire_length`, `frame_offset` | other (rig only: `--flight` leaves them out) | 0 (in `analysis::rig_margin`'s rig line) | 0 |
 //!
 //! `S = |φ_stowed|` [rad] the stroke. "Resisting work on the deployment":
 //! `∫ max(0, −τ_e,j φ̇_j) dt` along the deployment simulated with every
@@ -71,13 +71,14 @@ pub fn kind_of(k: EffectKind) -> Option<Resistance> {
         | EffectKind::PlungerWeakening
         | EffectKind::MagnetWeakening
         | EffectKind::RigFriction
-        | EffectKind::WireLength => Some(Resistance::Other),
+        | EffectKind::WireLength
+        | EffectKind::FrameOffset => Some(Resistance::Other),
         EffectKind::SpringSoftening | EffectKind::EncoderOffset => None,
     }
 }
 
 /// True for the effects that exist only on a ground rig (air in the
-/// room, a rig that is not level, the rig's rails and wires): none of them flies, so `--flight`
+/// room, a rig that is not level, the rig's rails, wires and frames): none of them flies, so `--flight`
 /// leaves them out.
 pub fn rig_only(k: EffectKind) -> bool {
     matches!(k, EffectKind::AirDrag | EffectKind::RigTilt) || k.is_rig()
@@ -154,7 +155,7 @@ pub fn counted(
         // A rig cause acts on the trolleys, not through the chain's
         // equations: its share of each joint's friction is the rig line of
         // `diagnose` and `identify` (`crate::analysis::rig_margin`).
-        EffectKind::RigFriction | EffectKind::WireLength => res(0.0, 0.0),
+        EffectKind::RigFriction | EffectKind::WireLength | EffectKind::FrameOffset => res(0.0, 0.0),
     }
 }
 

@@ -60,7 +60,8 @@ pub struct MechanismMargins {
 pub struct RigSplit {
     /// Per hinge.
     pub joints: Vec<RigJoint>,
-    /// The rig's causes found (`rig_friction`, `wire_length`): rig
+    /// The rig's causes found (`rig_friction`, `wire_length`,
+    /// `frame_offset`): rig
     /// findings, not flight ones.
     pub rig_causes: Vec<Effect>,
     /// Per mechanism of the campaign, the margins.
@@ -90,7 +91,7 @@ pub fn torque_margin_pct(mech: &Mechanism, j: usize, friction_nm: f64) -> f64 {
 }
 
 /// The campaign with every run's rig on frictionless rails, the rig's
-/// other causes found (`wire_length`) built into it.
+/// other causes found (`wire_length`, `frame_offset`) built into it.
 fn lumped_campaign(campaign: &Campaign, rig_causes: &[Effect]) -> Campaign {
     let mut c = campaign.clone();
     for r in &mut c.runs {

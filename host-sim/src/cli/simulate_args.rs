@@ -101,9 +101,12 @@ pub fn effect_help() -> String {
     s += &format!(
         "\n  {:<18} V = Δμ added to every rail's dynamic friction coefficient, dimensionless \
          (global, no joint; a mechanism with a [rig], physics.md §11.7)\n  {:<18} V = ΔL in m \
-         added to every wire (global, no joint; a mechanism with a [rig])",
+         added to every wire (global, no joint; a mechanism with a [rig])\n  {:<18} V = Δd in m \
+         by which every test frame stands nearer the panels (global, no joint; a mechanism with \
+         a [rig])",
         EffectKind::RigFriction.name(),
-        EffectKind::WireLength.name()
+        EffectKind::WireLength.name(),
+        EffectKind::FrameOffset.name()
     );
     s
 }

@@ -59,6 +59,10 @@ pub enum EffectKind {
     /// `wire_length`: `ΔL` [m] added to every suspension wire of the
     /// `[rig]` (`physics.md` §11.7, this project's own). A rig cause.
     WireLength,
+    /// `frame_offset`: `Δd` [m] by which every test frame of the `[rig]`
+    /// stands nearer the panels along its normal (positive: less
+    /// clearance; `physics.md` §11.7, this project's own). A rig cause.
+    FrameOffset,
 }
 
 impl EffectKind {
@@ -70,7 +74,11 @@ impl EffectKind {
     /// The causes of the zero-g rig (`[rig]`, `physics.md` §11.7): parsed,
     /// simulated by the rig simulator, diagnosis candidates only when the
     /// mechanism has an active rig (they are not in [`EffectKind::ALL`]).
-    pub const RIG: [EffectKind; 2] = [EffectKind::RigFriction, EffectKind::WireLength];
+    pub const RIG: [EffectKind; 3] = [
+        EffectKind::RigFriction,
+        EffectKind::WireLength,
+        EffectKind::FrameOffset,
+    ];
 
     /// True for the causes of the rig ([`EffectKind::RIG`]).
     pub fn is_rig(self) -> bool {
@@ -107,6 +115,7 @@ impl EffectKind {
             EffectKind::MagnetWeakening => "magnet_weakening",
             EffectKind::RigFriction => "rig_friction",
             EffectKind::WireLength => "wire_length",
+            EffectKind::FrameOffset => "frame_offset",
         }
     }
 
@@ -123,7 +132,7 @@ impl EffectKind {
             | EffectKind::PlungerWeakening
             | EffectKind::MagnetWeakening
             | EffectKind::RigFriction => "1",
-            EffectKind::WireLength => "m",
+            EffectKind::WireLength | EffectKind::FrameOffset => "m",
             EffectKind::HarnessStiffness => "N·m/rad",
             EffectKind::AirDrag => "kg/m²",
             EffectKind::RigTilt => "m/s²",
@@ -149,9 +158,10 @@ impl EffectKind {
             | EffectKind::RigFriction => ValueRange::NonNegative,
             EffectKind::SpringSoftening => ValueRange::BelowOne,
             EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => ValueRange::Fraction,
-            EffectKind::RigTilt | EffectKind::EncoderOffset | EffectKind::WireLength => {
-                ValueRange::Finite
-            }
+            EffectKind::RigTilt
+            | EffectKind::EncoderOffset
+            | EffectKind::WireLength
+            | EffectKind::FrameOffset => ValueRange::Finite,
         }
     }
 
@@ -163,6 +173,7 @@ impl EffectKind {
                 | EffectKind::RigTilt
                 | EffectKind::RigFriction
                 | EffectKind::WireLength
+                | EffectKind::FrameOffset
         )
     }
 

@@ -208,7 +208,9 @@ impl Rig {
     /// `rig_friction` `Δμ` adds to the dynamic coefficient of every rail
     /// and `Δμ · μ_s/μ_d` (the drawing's ratio; the papers' 3 when the
     /// drawing has no friction) to the static one; `wire_length` `ΔL` adds
-    /// to every wire (never below [`MIN_WIRE_M`]).
+    /// to every wire (never below [`MIN_WIRE_M`]); `frame_offset` `Δd`
+    /// moves every frame's face along its normal toward the panels
+    /// (`a ← a + Δd |n|`: positive leaves less clearance).
     pub fn with_effects(&self, effects: &[Effect]) -> Rig {
         let mut r = self.clone();
         let ratio = if self.dynamic_mu > 0.0 {
@@ -225,6 +227,11 @@ impl Rig {
                 EffectKind::WireLength => {
                     for t in &mut r.trolleys {
                         t.wire_m = (t.wire_m + e.value).max(MIN_WIRE_M);
+                    }
+                }
+                EffectKind::FrameOffset => {
+                    for f in &mut r.frames {
+                        f.at_m += e.value * f.normal[0].hypot(f.normal[1]);
                     }
                 }
                 _ => {}

@@ -287,7 +287,7 @@ pub fn simulate_rig(
     }, else Err(bad()))
 }
 
-/// Refuses a rig cause (`rig_friction`, `wire_length`) on a mechanism
+/// Refuses a rig cause (`rig_friction`, `wire_length`, `frame_offset`) on a mechanism
 /// without an active rig: there is nothing for it to act on (a flight
 /// unit, `--flight`, has no rig).
 pub fn check_rig_effects(mech: &Mechanism, effects: &[Effect]) -> Result<(), SimError> {

@@ -2,6 +2,7 @@
 
 use super::table_form::TableForm;
 use crate::model::effect::{Effect, EffectKind};
+use crate::model::rig::Rig;
 /// Largest Coulomb torque a fit may take [N·m]: above any hinge spring of
 /// the seed mechanisms (2.4–3.6 N·m at the stowed angle), so a wing with it
 /// would not deploy; never active on a real cause.
@@ -49,6 +50,12 @@ pub const MAX_RIG_FRICTION: f64 = 1.0;
 /// Largest `wire_length` error [m] either way: a third of the seed 001
 /// rig's 1.5 m wires.
 pub const MAX_WIRE_ERROR_M: f64 = 0.5;
+
+/// Largest `frame_offset` [m] either way: the seed 001 rig's `lateral -y`
+/// frame stands 80 mm beyond the stowed stack, so a frame 50 mm nearer
+/// still leaves the stowed panels clear of it (and a frame 50 mm farther
+/// is one no panel of that rig reaches).
+pub const MAX_FRAME_OFFSET_M: f64 = 0.05;
 
 /// One candidate cause: an effect kind and, for per-joint effects, a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -102,11 +109,15 @@ impl Candidate {
     }
 
     /// The rig's causes ([`EffectKind::RIG`], global): candidates of a
-    /// campaign whose mechanisms have an active `[rig]`, none otherwise.
-    pub fn rig(has_rig: bool) -> Vec<Candidate> {
+    /// campaign whose mechanisms have an active `[rig]` (`rigs`, one per
+    /// run that has one), none otherwise; `frame_offset` only when a rig
+    /// has a frame.
+    pub fn rig<'a>(rigs: impl IntoIterator<Item = &'a Rig>) -> Vec<Candidate> {
+        let rigs: Vec<&Rig> = rigs.into_iter().collect();
+        let frames = rigs.iter().any(|r| !r.frames.is_empty());
         EffectKind::RIG
             .into_iter()
-            .filter(|_| has_rig)
+            .filter(|&k| !rigs.is_empty() && (k != EffectKind::FrameOffset || frames))
             .map(|kind| Candidate {
                 kind,
                 joint: None,
@@ -169,6 +180,11 @@ impl Candidate {
             EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => vec![b(0.0, 1.0, 1e-4)],
             EffectKind::RigFriction => vec![b(0.0, MAX_RIG_FRICTION, 1e-5)],
             EffectKind::WireLength => vec![b(-MAX_WIRE_ERROR_M, MAX_WIRE_ERROR_M, 1e-5)],
+            // A step of 0.05 mm: the contact's onset resolved by the
+            // integrator, not its tolerance.
+            EffectKind::FrameOffset => {
+                vec![b(-MAX_FRAME_OFFSET_M, MAX_FRAME_OFFSET_M, 5e-5)]
+            }
         }
     }
 
@@ -224,6 +240,10 @@ impl Candidate {
             EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => one(&[0.3]),
             EffectKind::RigFriction => one(&[0.02, 0.05, 0.1, 0.2, 0.5]),
             EffectKind::WireLength => one(&[-0.3, -0.1, 0.1, 0.3]),
+            // Either way, a few millimetres to centimetres: a frame nearer
+            // is met earlier and harder, one farther later or not at all
+            // (no contact, a flat objective: no gain, never kept).
+            EffectKind::FrameOffset => one(&[-0.02, -0.005, 0.005, 0.02]),
         }
     }
 

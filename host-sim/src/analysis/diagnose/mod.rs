@@ -489,14 +489,14 @@ fn candidates(campaign: &Campaign, opts: &DiagnoseOptions, truss: bool) -> Vec<C
         joint: Some(j),
         table: None,
     });
-    let rig = campaign
+    let rigs = campaign
         .runs
         .iter()
-        .any(|r| r.mechanism.active_rig().is_some());
+        .filter_map(|r| r.mechanism.active_rig());
     Candidate::all(campaign.max_joints())
         .into_iter()
         .chain(node_friction)
-        .chain(Candidate::rig(rig))
+        .chain(Candidate::rig(rigs))
         .filter(|c| opts.kinds.contains(&c.kind))
         .filter(|c| !truss || crate::simulate::truss_deployment::models(c.kind))
         .collect()
