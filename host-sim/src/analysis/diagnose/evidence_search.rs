@@ -265,52 +265,66 @@ impl Search<'_, '_> {
         out
     }
 
-    /// Drops every table and named joint effect whose joint shows no
-    /// evidence of it without it and whose loss the fit hardly notices
-    /// ([`CLAIM_RMS_SHARE`]): a claim at a joint that holds nothing. The
-    /// evidence of a torque is a significant residual torque at its joint;
-    /// that of an encoder offset, a residual already clear at release in
-    /// some run ([`offset_evidence`]: an offset reads the stowed panel off
-    /// by itself before anything has moved).
+    /// Drops every claim the data do not support whose loss the fit hardly
+    /// notices ([`CLAIM_RMS_SHARE`]): a named effect whose 95 % interval
+    /// contains zero (a move can leave one behind: a named effect in place
+    /// of a table is not followed by the backward drop), and a table or
+    /// named joint effect whose joint shows no evidence of it without it —
+    /// a claim at a joint that holds nothing. The evidence of a torque is a
+    /// significant residual torque at its joint; that of an encoder offset,
+    /// a residual already clear at release in some run
+    /// ([`offset_evidence`]: an offset reads the stowed panel off by itself
+    /// before anything has moved).
     fn check_claims(&mut self) {
         loop {
-            let weak = (0..self.current.members.len()).find(|&k| {
-                let c = self.current.members[k].candidate;
-                let Some(j) = c.joint else { return false };
-                if j > self.eng.campaign.max_joints() {
-                    return false;
+            let weak: Vec<(usize, &str)> = (0..self.current.members.len())
+                .filter_map(|k| self.unsupported(k).map(|why| (k, why)))
+                .collect();
+            let mut dropped = false;
+            for (k, why) in weak {
+                let gone = self.current.members[k].candidate;
+                let Some(f) = self.eng.refit(self.eng.campaign, &self.current.without(k)) else {
+                    continue;
+                };
+                // The evidence may miss a torque the fit needs: a claim goes
+                // only when the fit hardly notices (the data hold nothing there).
+                if f.rms() > CLAIM_RMS_SHARE * self.current.rms().max(self.floor()) {
+                    continue;
                 }
-                let without = self.current.without(k).effects();
-                if c.kind == EffectKind::EncoderOffset {
-                    return !offset_evidence(self.eng.campaign, &without, j, self.sigma);
-                }
-                let res = residual_torque(self.eng.campaign, &without);
-                res.iter().any(|r| r.joint == j && !r.significant)
-            });
-            let Some(k) = weak else { return };
-            let gone = self.current.members[k].candidate;
-            let Some(f) = self.eng.refit(self.eng.campaign, &self.current.without(k)) else {
-                return;
-            };
-            // The evidence may miss a torque the fit needs: a claim goes
-            // only when the fit hardly notices (the data hold nothing there).
-            if f.rms() > CLAIM_RMS_SHARE * self.current.rms().max(self.floor()) {
+                self.eng.say(format!(
+                    "  dropped {}: {why} (RMS without it {:.4} deg)",
+                    gone.words(),
+                    f.rms()
+                ));
+                self.current_held = self.eng.held_out(&f);
+                self.current = f;
+                dropped = true;
+                break;
+            }
+            if !dropped {
                 return;
             }
-            let evidence = if gone.kind == EffectKind::EncoderOffset {
-                "no residual at release"
-            } else {
-                "no significant residual torque"
-            };
-            self.eng.say(format!(
-                "  dropped {}: joint {} shows {evidence} without it (RMS {:.4} deg)",
-                gone.words(),
-                gone.joint.unwrap_or(0),
-                f.rms()
-            ));
-            self.current_held = self.eng.held_out(&f);
-            self.current = f;
         }
+    }
+
+    /// Why member `k` of the current set is a claim the data do not
+    /// support ([`Search::check_claims`]), or `None`.
+    fn unsupported(&self, k: usize) -> Option<&'static str> {
+        let m = self.current.members.get(k)?;
+        let c = m.candidate;
+        if c.table.is_none() && m.ci95.is_some() && !m.clear_of_zero() {
+            return Some("its 95 % interval contains zero");
+        }
+        let j = c.joint.filter(|&j| j <= self.eng.campaign.max_joints())?;
+        let without = self.current.without(k).effects();
+        if c.kind == EffectKind::EncoderOffset {
+            return (!offset_evidence(self.eng.campaign, &without, j, self.sigma))
+                .then_some("its joint shows no residual at release without it");
+        }
+        residual_torque(self.eng.campaign, &without)
+            .iter()
+            .any(|r| r.joint == j && !r.significant)
+            .then_some("its joint shows no significant residual torque without it")
     }
 
     /// [`Move::Proposed`], when the stepwise search ends above the noise:

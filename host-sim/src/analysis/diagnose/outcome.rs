@@ -9,6 +9,9 @@ pub use super::policy::Verdict;
 use super::table_form::TableForm;
 use crate::model::effect::{Effect, EffectKind};
 
+/// The 95 % quantile of χ² with two degrees of freedom (`−2 ln 0.05`).
+pub const CHI2_2DOF_95: f64 = 5.991_464_547_107_979;
+
 /// One effect of a fitted set: the candidate, its parameters and, once
 /// fitted, their 95 % intervals.
 #[derive(Clone, Debug, PartialEq)]
@@ -42,8 +45,28 @@ impl FittedEffect {
     }
 
     /// True when the value's 95 % interval excludes zero (never for an
-    /// effect not fitted).
+    /// effect not fitted). A rig tilt is the in-plane gravity vector
+    /// `(g_x, g_y)`: it is clear of zero when the vector is, by the joint
+    /// test `(g_x/s_x)² + (g_y/s_y)² > χ²₂(0.95)` ([`CHI2_2DOF_95`]; `s` the
+    /// components' standard errors, half their 95 % intervals over 1.96) —
+    /// the magnitude's interval by first-order propagation is too narrow
+    /// near zero, where a vector of noise still has a length.
     pub fn clear_of_zero(&self) -> bool {
+        if self.candidate.kind == EffectKind::RigTilt && self.candidate.table.is_none() {
+            let Some(ci) = &self.ci95 else { return false };
+            let z = |k: usize| {
+                let (Some(p), Some(c)) = (self.params.get(k), ci.get(k)) else {
+                    return 0.0;
+                };
+                let s = 0.5 * (c[1] - c[0]) / crate::analysis::fit::Z_975;
+                if s > 0.0 {
+                    (p / s).powi(2)
+                } else {
+                    f64::INFINITY
+                }
+            };
+            return z(0) + z(1) > CHI2_2DOF_95;
+        }
         let ([lo, hi], _) = self.value_ci();
         lo > 0.0 || hi < 0.0
     }
