@@ -166,8 +166,8 @@ class Reliability:
     otherwise); ``design_points`` and ``unreached`` (is: the design points
     sampled around, the modes whose boundary FORM did not find);
     ``estimates`` and ``agree`` (auto: the :class:`Estimate` of ``is`` and
-    of ``subset``, and whether they agree within their 95 % intervals;
-    ``{}`` and None otherwise). ``extra``: any field of the JSON this
+    of ``subset``, and whether they agree within their 95 % intervals,
+    None when neither saw a failure; ``{}`` and None otherwise). ``extra``: any field of the JSON this
     version does not know, kept as it came.
     """
 
