@@ -94,6 +94,23 @@ fn parse_response(s: &str) -> Result<RsmResponse, ParseNameError> {
     s.parse()
 }
 
+/// The campaign to fit: runs of a physical latch cut to their free motion
+/// (after the first contact the impact sequence is chaotic,
+/// docs/identification.md), each run's window said; others as they are.
+fn free_motion(campaign: Campaign, console: &Console) -> Campaign {
+    match free_campaign(&campaign) {
+        Some((free, windows)) => {
+            for (cr, w) in campaign.runs.iter().zip(&windows) {
+                if let Some(words) = w.words(&cr.name()) {
+                    console.say(words);
+                }
+            }
+            free
+        }
+        None => campaign,
+    }
+}
+
 /// Runs `deploywatch identify`.
 pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
     // The loaders' errors name the file, the line or key, and what was expected.
@@ -142,19 +159,7 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
     for w in crate::data::inputs::campaign_warnings(&args.mechanisms, &campaign) {
         console.warn(w);
     }
-    // Runs of a physical latch are fitted on their free motion: after the
-    // first contact the impact sequence is chaotic (docs/identification.md).
-    let campaign = match free_campaign(&campaign) {
-        Some((free, windows)) => {
-            for (cr, w) in campaign.runs.iter().zip(&windows) {
-                if let Some(words) = w.words(&cr.name()) {
-                    console.say(words);
-                }
-            }
-            free
-        }
-        None => campaign,
-    };
+    let campaign = free_motion(campaign, &console);
     let id = identify_with(args, &campaign, &joints, &console)?;
     super::print_out(format_args!("{}", summary(&campaign, &id)));
     // On the zero-g rig: the margin on orbit beside the margin on the rig.
