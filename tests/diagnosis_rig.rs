@@ -445,8 +445,9 @@ fn the_flight_margin_differs_from_the_rig_lumped_by_the_rig_friction() {
 }
 
 /// How far each geometric rig cause alone moves the two runs [deg RMS]
-/// (`docs/diagnosis.md`, "Rig causes"): `cargo test -p deploywatch-tests
-/// --test diagnosis_rig rig_causes_sizes -- --ignored --nocapture`.
+/// (`docs/diagnosis.md`, "Rig causes"): `DEPLOYWATCH_FULL=1 cargo test -p
+/// deploywatch-tests --test diagnosis_rig rig_causes_sizes -- --ignored
+/// --nocapture` (writes its section of `docs/measured.md`).
 #[test]
 #[ignore]
 fn rig_causes_sizes() {
@@ -458,25 +459,6 @@ fn rig_causes_sizes() {
             text(&truth),
             effect_size(&mechs, &truth)
         );
-    }
-    for (k, vals) in [
-        (
-            EffectKind::WireLength,
-            vec![-0.5, -0.3, -0.1, 0.1, 0.3, 0.5],
-        ),
-        (
-            EffectKind::FrameOffset,
-            vec![
-                -0.05, -0.02, -0.01, -0.005, -0.002, 0.002, 0.005, 0.01, 0.02, 0.05,
-            ],
-        ),
-    ] {
-        for v in vals {
-            println!(
-                "{k} {v}: {:.4} deg",
-                effect_size(&mechs, &[Effect::global(k, v)])
-            );
-        }
     }
     // The wire's pendulum without the frames: what the wire length does
     // apart from the contact it moves.
@@ -490,11 +472,40 @@ fn rig_causes_sizes() {
             m
         })
         .collect();
+    let size = |ms: &[Mechanism], k: EffectKind, v: f64| {
+        let deg = effect_size(ms, &[Effect::global(k, v)]);
+        println!("{k} {v}: {deg:.4} deg");
+        format!("{deg:.3}")
+    };
+    let mut rows = Vec::new();
     for v in [-0.5, -0.3, -0.1, 0.1, 0.3, 0.5] {
-        let e = [Effect::global(EffectKind::WireLength, v)];
-        println!(
-            "wire_length {v} without the frames: {:.4} deg",
-            effect_size(&frameless, &e)
-        );
+        rows.push(format!(
+            "| `wire_length` {v:+} m | {} | {} |",
+            size(&mechs, EffectKind::WireLength, v),
+            size(&frameless, EffectKind::WireLength, v)
+        ));
     }
+    for v in [
+        -0.05, -0.02, -0.01, -0.005, -0.002, 0.002, 0.005, 0.01, 0.02, 0.05,
+    ] {
+        rows.push(format!(
+            "| `frame_offset` {:+} mm | {} | |",
+            v * 1000.0,
+            size(&mechs, EffectKind::FrameOffset, v)
+        ));
+    }
+    let body = format!(
+        "## Diagnosis on the zero-g rig: how far each geometric cause moves the runs\n\n\
+         Seed 001 T01 + T02 with the rig (`data/mechanisms/seed001_T0{{1,2}}_rig.toml`), \
+         noise-free, RMS of the angle change over both runs [deg] (`docs/diagnosis.md`, \
+         \"Rig causes\").\n\n\
+         | cause | with the frames | frames removed |\n|---|---|---|\n{}\n",
+        rows.join("\n")
+    );
+    deploywatch_tests::record::record(
+        "diagnosis-rig-sizes",
+        "DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test diagnosis_rig rig_causes_sizes -- --ignored --nocapture",
+        &body,
+    )
+    .expect("docs/measured.md written");
 }
