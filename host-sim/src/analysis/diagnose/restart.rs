@@ -4,17 +4,13 @@
 //! alike), and the effects added beside it then fill the set with stand-ins
 //! that no later move undoes. The search is run again from the baseline
 //! without that first effect; the set it reaches is kept when its BIC is
-//! better by more than [`RESTART_BIC_GAIN`] and, with two or more runs, its
+//! better by more than [`MIN_DELTA_BIC`] and, with two or more runs, its
 //! held-out RMS beats the first set's by [`HELD_OUT_SHARE`] (the policy of
 //! every move), and the search goes on from there with every candidate.
 
 use super::candidate::Candidate;
 use super::policy::HELD_OUT_SHARE;
-use super::{above_noise, labels, Search};
-
-/// A restart's set replaces the first one only when its BIC is lower by
-/// more than this ("very strong" on the Kass–Raftery scale, as every move).
-pub(super) const RESTART_BIC_GAIN: f64 = 10.0;
+use super::{above_noise, labels, Search, MIN_DELTA_BIC};
 
 impl Search<'_, '_> {
     /// The first effect the search took (the one set of one visited first).
@@ -27,7 +23,7 @@ impl Search<'_, '_> {
 
     /// When the stepwise search ended above the noise: the search again
     /// from `baseline` without its first step; the better set by BIC
-    /// (by more than [`RESTART_BIC_GAIN`]) is kept, with its rounds. Once.
+    /// (by more than [`MIN_DELTA_BIC`]) is kept, with its rounds. Once.
     pub(super) fn restart_without_first(&mut self, baseline: &super::FittedSet) {
         if !above_noise(&self.current, self.sigma) || self.eng.halt.now() {
             return;
@@ -56,7 +52,7 @@ impl Search<'_, '_> {
             (Some(h), Some(c)) => h <= HELD_OUT_SHARE * c,
             _ => true,
         };
-        if !(b < a - RESTART_BIC_GAIN) || !predicts {
+        if !(b < a - MIN_DELTA_BIC) || !predicts {
             self.eng.say(format!(
                 "restart: {} (BIC {b:.1}, held-out RMS {}) does not beat {} (BIC {a:.1}, held-out RMS {}): kept",
                 labels(&other.current.candidates()),
