@@ -10,7 +10,6 @@
 
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::cli::identify::{run as run_cli, IdentifyArgs};
-use deploywatch_sim::effect::{Effect, EffectKind};
 use deploywatch_sim::identify::by_rsm::identify_rsm;
 use deploywatch_sim::identify::direct::identify_direct;
 use deploywatch_sim::identify::{
@@ -32,19 +31,7 @@ fn synthetic(names: &[&str], truth: &[f64], seeds: &[u64]) -> Campaign {
         .iter()
         .map(|n| Mechanism::load(&mechanism_path(n)).expect("bundled mechanism"))
         .collect();
-    let effects: Vec<Effect> = truth
-        .iter()
-        .enumerate()
-        .map(|(j, &v)| Effect::joint(EffectKind::CoulombFriction, j + 1, v))
-        .collect();
-    let mut c = Campaign::default();
-    for ((m, name), seed) in mechs.iter().zip(names).zip(seeds) {
-        let run = identify::residual_check::synthetic_run(m, &effects, *seed)
-            .expect("simulate the truth");
-        c.push(&mechs, run, Path::new(&format!("{name}.csv")))
-            .expect("pair run");
-    }
-    c
+    identify::residual_check::synthetic_campaign(&mechs, truth, seeds).expect("simulate the truth")
 }
 
 /// Every EFT ≥ 0.1 N·m within 2 %, every interval contains the truth, the

@@ -10,14 +10,12 @@
 //! (its accuracy is reported in docs/identification.md, not asserted).
 
 use deploywatch_sim::campaign::Campaign;
-use deploywatch_sim::effect::{Effect, EffectKind};
 use deploywatch_sim::identify::by_rsm::identify_rsm;
 use deploywatch_sim::identify::direct::identify_direct;
 use deploywatch_sim::identify::{self, DirectOptions, Identification, RsmOptions, RsmResponse};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;
 use deploywatch_tests::data_dir;
-use std::path::Path;
 
 const CASES: [&str; 2] = ["seed000_case2_truss", "seed000_case3_truss"];
 
@@ -29,17 +27,12 @@ fn synthetic(truth: [f64; 3], seeds: [u64; 2]) -> Campaign {
         .map(|n| Mechanism::load(&data_dir().join(format!("mechanisms/{n}.toml"))).unwrap())
         .collect();
     assert!(mechs.iter().all(|m| m.effect_joints() == 3));
-    let effects: Vec<Effect> = (0..3)
-        .map(|j| Effect::joint(EffectKind::CoulombFriction, j + 1, truth[j]))
-        .collect();
-    let mut c = Campaign::default();
-    for ((m, name), seed) in mechs.iter().zip(CASES).zip(seeds) {
-        let run =
-            identify::residual_check::synthetic_run(m, &effects, seed).expect("simulate the truth");
-        assert_eq!(run.joints(), 2, "the run measures the two hinges");
-        c.push(&mechs, run, Path::new(&format!("{name}.csv")))
-            .unwrap();
-    }
+    let c = identify::residual_check::synthetic_campaign(&mechs, &truth, &seeds)
+        .expect("simulate the truth");
+    assert!(
+        c.runs.iter().all(|r| r.run.joints() == 2),
+        "the runs measure the two hinges"
+    );
     c
 }
 

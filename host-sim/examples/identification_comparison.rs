@@ -26,7 +26,6 @@
 //! Prints Markdown tables on stdout (progress on stderr).
 
 use deploywatch_sim::campaign::Campaign;
-use deploywatch_sim::effect::{Effect, EffectKind};
 use deploywatch_sim::identify::by_rsm::identify_rsm;
 use deploywatch_sim::identify::direct::identify_direct;
 use deploywatch_sim::identify::{self, DirectOptions, Identification, RsmOptions, RsmResponse};
@@ -49,19 +48,8 @@ fn mechanisms(names: &[&str]) -> Vec<Mechanism> {
 
 /// Runs simulated here with the truth and the reference sensor.
 fn synthetic(names: &[&str], truth: &[f64], seeds: &[u64]) -> Campaign {
-    let mechs = mechanisms(names);
-    let effects: Vec<Effect> = truth
-        .iter()
-        .enumerate()
-        .map(|(j, &v)| Effect::joint(EffectKind::CoulombFriction, j + 1, v))
-        .collect();
-    let mut c = Campaign::default();
-    for (m, (name, seed)) in mechs.iter().zip(names.iter().zip(seeds)) {
-        let run = identify::residual_check::synthetic_run(m, &effects, *seed).expect("simulation");
-        c.push(&mechs, run, Path::new(&format!("{name}.csv")))
-            .expect("pairing");
-    }
-    c
+    identify::residual_check::synthetic_campaign(&mechanisms(names), truth, seeds)
+        .expect("simulation")
 }
 
 /// The truth of an example folder: the `coulomb_friction` values by joint.

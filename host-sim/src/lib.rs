@@ -193,7 +193,9 @@ pub mod identify {
     }
     /// The residuals an identification leaves.
     pub mod residual_check {
-        pub use crate::analysis::identify::residual_check::synthetic_run;
+        pub use crate::analysis::identify::residual_check::{
+            synthetic_campaign, synthetic_run, SyntheticError,
+        };
     }
     /// Central composite designs and quadratic surfaces.
     pub mod rsm {

@@ -125,8 +125,8 @@ class FailurePoint:
 @dataclass(frozen=True)
 class Estimate:
     """One method's estimate inside an ``auto`` result
-    (:attr:`Reliability.estimates`): the fields of :class:`Reliability`
-    that the method gives, without the problem's."""
+    (:attr:`Reliability.estimates`), and the part of every
+    :class:`Reliability` that its method gives."""
 
     method: str
     p_fail: float
@@ -151,11 +151,12 @@ class Estimate:
         return _body_json(self)
 
 
-@dataclass(frozen=True)
-class Reliability:
+@dataclass(frozen=True, kw_only=True)
+class Reliability(Estimate):
     """The result of :func:`deploywatch.reliability`, field for field the
     JSON of ``deploywatch reliability --json`` (``to_dict()`` gives that
-    JSON's dict back; ``from_dict`` reads it).
+    JSON's dict back; ``from_dict`` reads it): the :class:`Estimate` of its
+    method and the problem it answers.
 
     ``method``: ``auto``, ``is``, ``subset`` or ``mc``; ``p_fail`` the
     failure probability, ``cov`` its coefficient of variation, ``ci95`` its
@@ -165,28 +166,19 @@ class Reliability:
     ``modes``: subset simulation of each failure mode (subset; empty
     otherwise); ``design_points`` and ``unreached`` (is: the design points
     sampled around, the modes whose boundary FORM did not find);
-    ``estimates`` and ``agree`` (auto: the :class:`Estimate` of ``is`` and
-    of ``subset``, and whether they agree within their 95 % intervals,
-    None when neither saw a failure; ``{}`` and None otherwise). ``extra``: any field of the JSON this
-    version does not know, kept as it came.
+    ``mechanism``, ``seed``, ``vary``, ``fail`` and ``corr``: the problem
+    (keyword-only); ``estimates`` and ``agree`` (auto: the :class:`Estimate`
+    of ``is`` and of ``subset``, and whether they agree within their 95 %
+    intervals, None when neither saw a failure; ``{}`` and None otherwise).
+    ``extra``: any field of the JSON this version does not know, kept as it
+    came.
     """
 
     mechanism: str
-    method: str
     seed: int
     vary: Tuple[str, ...]
     fail: Tuple[str, ...]
     corr: Tuple[str, ...]
-    p_fail: float
-    cov: float
-    ci95: Tuple[float, float]
-    simulations: int
-    failures: int
-    converged: bool
-    most_likely_failure: Optional[FailurePoint]
-    modes: Tuple[ModeResult, ...] = ()
-    design_points: Tuple[DesignPoint, ...] = ()
-    unreached: Tuple[str, ...] = ()
     estimates: Mapping[str, Estimate] = field(default_factory=dict)
     agree: Optional[bool] = None
     extra: Mapping[str, Any] = field(default_factory=dict)
@@ -284,7 +276,7 @@ def _body(d: Mapping[str, Any]) -> Dict[str, Any]:
     }
 
 
-def _body_json(e: "Estimate | Reliability") -> Dict[str, Any]:
+def _body_json(e: Estimate) -> Dict[str, Any]:
     """The method's part of the CLI's JSON object, in its key order."""
     point = e.most_likely_failure
     out: Dict[str, Any] = {

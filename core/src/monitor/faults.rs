@@ -4,46 +4,49 @@
 
 use serde::{Deserialize, Serialize};
 
-/// One fault condition. Its bit in [`FaultFlags`] is `1 << (self as u16)`.
+/// One fault condition. Its bit in [`FaultFlags`] is `1 << (self as u16)`:
+/// the variants are numbered from 0 in the order declared here, and the
+/// numbers are part of the telemetry (`faults<j>` of the status frame), so a
+/// new fault goes at the end.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[repr(u16)]
 #[non_exhaustive]
 pub enum Fault {
     /// The encoder reading is NaN or infinite (a missing measurement).
-    EncoderMissing = 0,
+    EncoderMissing,
     /// The encoder reading is finite but outside ±720°.
-    EncoderRange = 1,
+    EncoderRange,
     /// The reading failed the innovation gate (a spike) and was not used.
-    EncoderOutlier = 2,
+    EncoderOutlier,
     /// The time stamp is NaN or infinite; the sample was not used.
-    TimeInvalid = 3,
+    TimeInvalid,
     /// The time stamp did not increase; the sample was not used (after
     /// three consecutive such samples the monitor re-synchronises to them).
-    TimeBackwards = 4,
+    TimeBackwards,
     /// The time stamp jumped by more than the gap limit: the observers were
     /// restarted.
-    TimeGap = 5,
+    TimeGap,
     /// The latch switch is closed while the encoder is far from the latch
     /// angle: not a latch.
-    SwitchEarly = 6,
+    SwitchEarly,
     /// The encoder has sat at the latch angle while the switch stayed open:
     /// not a latch.
-    SwitchOpenAtLatch = 7,
+    SwitchOpenAtLatch,
     /// The switch reading toggled within the debounce window.
-    SwitchChatter = 8,
+    SwitchChatter,
     /// After a confirmed latch the switch opened or the encoder left the
     /// latch window (the latch is kept).
-    LatchDisagree = 9,
+    LatchDisagree,
     /// An estimate went non-finite or lost track and was re-initialised.
-    EstimatorReset = 10,
+    EstimatorReset,
     /// The encoder has repeated the exact same reading for longer than its
     /// noise allows (a frozen or stuck sensor): its readings are not used
     /// until they change.
-    EncoderStuck = 11,
+    EncoderStuck,
     /// The sample interval differs from the running mean of the intervals
     /// by more than 20 % (time-stamp jitter); the sample is used.
-    TimeJitter = 12,
+    TimeJitter,
 }
 
 impl Fault {
@@ -181,5 +184,8 @@ mod tests {
         for (i, fault) in Fault::ALL.iter().enumerate() {
             assert_eq!(fault.bit(), 1 << i);
         }
+        // The telemetry's numbering: the first and the last fault.
+        assert_eq!(Fault::EncoderMissing.bit(), 1);
+        assert_eq!(Fault::TimeJitter.bit(), 1 << 12);
     }
 }

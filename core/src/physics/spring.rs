@@ -439,14 +439,10 @@ impl<T: Real> Spring<T> {
         match self {
             Spring::None => T::ZERO,
             Spring::Linear {
-                preload_nm,
-                stiffness_nm_per_rad,
-                count,
-            } => {
-                *count
-                    * (*preload_nm * (b_rad - a_rad)
-                        + T::of(0.5) * *stiffness_nm_per_rad * (b_rad * b_rad - a_rad * a_rad))
-            }
+                preload_nm: t0,
+                stiffness_nm_per_rad: k,
+                count: n,
+            } => *n * (*t0 * (b_rad - a_rad) + T::of(0.5) * *k * (b_rad * b_rad - a_rad * a_rad)),
             Spring::Curve { unfold, count, .. } => {
                 let deg_to_rad = T::PI / T::of(180.0);
                 *count * unfold.integral(a_rad.to_degrees(), b_rad.to_degrees()) * deg_to_rad

@@ -108,10 +108,10 @@ where
     W: FnMut(&[u8]) -> Result<(), ()>,
     P: Paths,
 {
-    let mut frame = [0u8; SAMPLE_FRAME_MAX];
-    let mut out = [0u8; STATUS_FRAME_MAX];
     let joints = paths.joints()?;
     let slices = paths.slices_per_sample()?;
+    let mut frame = [0u8; SAMPLE_FRAME_MAX];
+    let mut out = [0u8; STATUS_FRAME_MAX];
     let buf = frame
         .get_mut(..sample_frame_max(joints))
         .ok_or(Error::Config)?;

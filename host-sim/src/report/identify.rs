@@ -116,14 +116,11 @@ fn fit_quality(id: &Identification) -> String {
             .join("/")
     };
     for (b, a) in id.before.runs.iter().zip(&id.after.runs) {
+        let (run, rms_b, rms_a) = (&a.run, b.rms_deg, a.rms_deg);
+        let (te_b, te_a) = (te(&b.trajectory_error_pct), te(&a.trajectory_error_pct));
         let _ = writeln!(
             s,
-            "  {}: RMS {:.4} -> {:.4} deg; trajectory error per joint [%] {} -> {}",
-            a.run,
-            b.rms_deg,
-            a.rms_deg,
-            te(&b.trajectory_error_pct),
-            te(&a.trajectory_error_pct)
+            "  {run}: RMS {rms_b:.4} -> {rms_a:.4} deg; trajectory error per joint [%] {te_b} -> {te_a}"
         );
     }
     s

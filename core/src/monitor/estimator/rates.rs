@@ -12,41 +12,54 @@ use crate::monitor::faults::{Fault, FaultFlags};
 use crate::monitor::observer::{Fusion, RateFilter};
 use crate::monitor::status::Sample;
 
-/// Rate uncertainty of a rate filter restarted after repeated rejections or
-/// a numerical failure [rad/s]: the joint may be anywhere in its stroke.
-const RESET_RATE_SD: f32 = 1.0;
-/// Acceleration uncertainty of such a restarted filter [rad/s²].
-const RESET_ACC_SD: f32 = 10.0;
+/// A rate filter restarted after repeated rejections or a numerical
+/// failure: the joint may be anywhere in its stroke.
+mod reset {
+    /// Consecutive gate rejections after which the rate filter restarts at
+    /// the measurement.
+    pub(super) const MAX_REJECTS: u8 = 3;
+    /// Rate uncertainty of the restarted filter [rad/s].
+    pub(super) const RATE_SD: f32 = 1.0;
+    /// Acceleration uncertainty of the restarted filter [rad/s²].
+    pub(super) const ACC_SD: f32 = 10.0;
+}
+
 /// Variance added to an acceleration after a latch impulse, an impact or a
 /// gap [rad²/s⁴].
 pub(super) const ACC_SHOCK_VAR: f32 = 100.0;
-/// Variance added to a rate over a gap [rad²/s²] (the joint may have
-/// changed its rate by ≈ 1 rad/s while unobserved).
-const GAP_RATE_VAR: f32 = 1.0;
-/// Variance added to the first reading after a gap [rad²].
-const GAP_MEAS_VAR: f32 = 1.0;
-/// Consecutive gate rejections after which the rate filter restarts at the
-/// measurement.
-const MAX_REJECTS: u8 = 3;
-/// Time after a latch switch closes during which a reading the rate filter
-/// rejects is the latch impact, not an outlier [s]: the impact is within a
-/// sample of the closing at 100 Hz, and a chattering switch (≤ 20 ms)
-/// closes again inside it.
-const IMPACT_WINDOW_S: f32 = 0.03;
-/// Samples, from the one where a switch closes, whose prediction is widened
-/// for the impact.
-const IMPACT_INFLATE_SAMPLES: u8 = 2;
-/// Rate variance added to every free joint at an impact [rad²/s²]: the
-/// plastic impulse changes the rates by up to about 2 rad/s.
-const IMPACT_RATE_VAR: f32 = 4.0;
+
+/// A gap in the time stamps.
+mod gap {
+    /// Variance added to a rate over a gap [rad²/s²] (the joint may have
+    /// changed its rate by ≈ 1 rad/s while unobserved).
+    pub(super) const RATE_VAR: f32 = 1.0;
+    /// Variance added to the first reading after a gap [rad²].
+    pub(super) const MEAS_VAR: f32 = 1.0;
+}
+
+/// The latch impact when a switch closes.
+mod impact {
+    /// Time after a latch switch closes during which a reading the rate
+    /// filter rejects is the latch impact, not an outlier [s]: the impact
+    /// is within a sample of the closing at 100 Hz, and a chattering switch
+    /// (≤ 20 ms) closes again inside it.
+    pub(super) const WINDOW_S: f32 = 0.03;
+    /// Samples, from the one where a switch closes, whose prediction is
+    /// widened for the impact.
+    pub(super) const INFLATE_SAMPLES: u8 = 2;
+    /// Rate variance added to every free joint at an impact [rad²/s²]: the
+    /// plastic impulse changes the rates by up to about 2 rad/s.
+    pub(super) const RATE_VAR: f32 = 4.0;
+    /// Rate uncertainty of a filter restarted at an impact [rad/s].
+    pub(super) const RATE_SD: f32 = 1.0;
+}
+
 /// Innovations up to this many gates are a manoeuvre (the filter restarts
 /// at the reading, keeping its rate), beyond it a spike (flagged). At
 /// σ ≈ 0.03° a gate is 0.17° and this 0.5°: a joint stopping under its
 /// friction at 5 rad/s² misses the prediction by ½·a·t² ≈ 0.06° over 20 ms,
 /// while a spike is degrees off.
 const MANOEUVRE_GATE: f32 = 3.0;
-/// Rate uncertainty of a filter restarted at an impact [rad/s].
-const IMPACT_RATE_SD: f32 = 1.0;
 
 /// What the rate filters of one sample share (see [`JointState::track_rate`]).
 struct RateContext<'a> {
@@ -112,16 +125,16 @@ impl JointState {
             0.0
         };
         if ctx.inflate && !latched {
-            kf.inflate(IMPACT_RATE_VAR, ACC_SHOCK_VAR);
+            kf.inflate(impact::RATE_VAR, ACC_SHOCK_VAR);
         }
         kf.predict(ctx.clock.dt, q_floor);
         if gap {
-            kf.inflate(GAP_RATE_VAR, ACC_SHOCK_VAR);
+            kf.inflate(gap::RATE_VAR, ACC_SHOCK_VAR);
         }
         let Some(z) = reading else {
             return RateOutcome::Used;
         };
-        let r = if gap { r_meas + GAP_MEAS_VAR } else { r_meas };
+        let r = if gap { r_meas + gap::MEAS_VAR } else { r_meas };
         // A reading beyond the gate but within `MANOEUVRE_GATE` gates of
         // the prediction is a manoeuvre the white-jerk model did not
         // foresee (a joint that sticks under its friction stops with a
@@ -135,7 +148,7 @@ impl JointState {
             }
             Fusion::Rejected if ctx.impact || manoeuvre => {
                 let rate = if ctx.impact { 0.0 } else { kf.rate() };
-                *kf = RateFilter::new(z, sd, IMPACT_RATE_SD, START_ACC_SD);
+                *kf = RateFilter::new(z, sd, impact::RATE_SD, START_ACC_SD);
                 kf.set_rate(rate, 0.0);
                 kf.set_jerk_psd(observer.jerk_psd);
                 self.rejects = 0;
@@ -148,8 +161,8 @@ impl JointState {
             Fusion::Rejected => {
                 faults.insert(Fault::EncoderOutlier);
                 self.rejects = self.rejects.saturating_add(1);
-                if self.rejects >= MAX_REJECTS {
-                    *kf = RateFilter::new(z, sd, RESET_RATE_SD, RESET_ACC_SD);
+                if self.rejects >= reset::MAX_REJECTS {
+                    *kf = RateFilter::new(z, sd, reset::RATE_SD, reset::ACC_SD);
                     kf.set_jerk_psd(observer.jerk_psd);
                     faults.insert(Fault::EstimatorReset);
                     self.rejects = 0;
@@ -188,12 +201,12 @@ impl<const N: usize> Monitor<N> {
             // coming within its crest) announces an impact: the latching
             // joint stops within a sample and the plastic impulse changes
             // the other joints' rates (physics.md §5). Over the next
-            // `IMPACT_WINDOW_S` the rate filters widen their gates, and a
+            // `impact::WINDOW_S` the rate filters widen their gates, and a
             // reading they still cannot reconcile restarts the filter at
             // the reading: expected, not an outlier.
             if announced {
-                self.windows.impact_until = t + IMPACT_WINDOW_S;
-                self.windows.impact_samples = IMPACT_INFLATE_SAMPLES;
+                self.windows.impact_until = t + impact::WINDOW_S;
+                self.windows.impact_samples = impact::INFLATE_SAMPLES;
             }
             let impact = t <= self.windows.impact_until;
             let inflate = self.windows.impact_samples > 0;
@@ -232,7 +245,7 @@ impl<const N: usize> Monitor<N> {
         for j in 0..N {
             if !self.joints[j].kf.is_healthy() {
                 let phi0 = readings[j].used.unwrap_or(self.joints[j].stowed_deg * DEG);
-                self.joints[j].kf = fresh_filter(phi0, sd, RESET_RATE_SD, RESET_ACC_SD, jerk_psd);
+                self.joints[j].kf = fresh_filter(phi0, sd, reset::RATE_SD, reset::ACC_SD, jerk_psd);
                 readings[j].faults.insert(Fault::EstimatorReset);
             }
         }

@@ -15,21 +15,33 @@ use cortex_m::interrupt::InterruptNumber;
 
 /// UART0's registers [address].
 const UART0: usize = 0x4000_4000;
-/// Offsets of the CMSDK APB UART's registers [bytes].
-const DATA: usize = 0x00;
-const STATE: usize = 0x04;
-const CTRL: usize = 0x08;
-const INTSTATUS: usize = 0x0c;
-const BAUDDIV: usize = 0x10;
-/// STATE bits.
-const TX_FULL: u32 = 1 << 0;
-const RX_FULL: u32 = 1 << 1;
-const RX_OVERRUN: u32 = 1 << 3;
-/// CTRL bits: transmitter and receiver on, receive interrupt on.
-const TX_EN: u32 = 1 << 0;
-const RX_EN: u32 = 1 << 1;
-const RX_INTEN: u32 = 1 << 3;
-/// INTSTATUS bit of the receive interrupt (write 1 to clear).
+
+/// The CMSDK APB UART's registers, each its offset from [`UART0`] [bytes].
+#[derive(Clone, Copy)]
+#[repr(usize)]
+enum Reg {
+    Data = 0x00,
+    State = 0x04,
+    Ctrl = 0x08,
+    IntStatus = 0x0c,
+    BaudDiv = 0x10,
+}
+
+/// Bits of STATE.
+mod state {
+    pub const TX_FULL: u32 = 1 << 0;
+    pub const RX_FULL: u32 = 1 << 1;
+    pub const RX_OVERRUN: u32 = 1 << 3;
+}
+
+/// Bits of CTRL: transmitter and receiver on, receive interrupt on.
+mod ctrl {
+    pub const TX_EN: u32 = 1 << 0;
+    pub const RX_EN: u32 = 1 << 1;
+    pub const RX_INTEN: u32 = 1 << 3;
+}
+
+/// The bit of the receive interrupt in INTSTATUS (write 1 to clear).
 const INT_RX: u32 = 1 << 1;
 
 /// The UART's clock [Hz] (mps2-an386's SYSCLK).
@@ -59,26 +71,26 @@ unsafe impl InterruptNumber for RxIrq {
 pub struct Uart;
 
 impl Uart {
-    fn read(reg: usize) -> u32 {
+    fn read(reg: Reg) -> u32 {
         // SAFETY: an aligned register of UART0, readable at any time.
-        unsafe { core::ptr::read_volatile((UART0 + reg) as *const u32) }
+        unsafe { core::ptr::read_volatile((UART0 + reg as usize) as *const u32) }
     }
 
-    fn write(reg: usize, value: u32) {
+    fn write(reg: Reg, value: u32) {
         // SAFETY: an aligned register of UART0; the values written are the
         // ones its manual defines.
-        unsafe { core::ptr::write_volatile((UART0 + reg) as *mut u32, value) }
+        unsafe { core::ptr::write_volatile((UART0 + reg as usize) as *mut u32, value) }
     }
 
     /// Sets the rate, clears stale state, and turns on the transmitter,
     /// the receiver and the receive interrupt (the NVIC line is the
     /// caller's).
     pub fn init() -> Self {
-        Self::write(CTRL, 0);
-        Self::write(BAUDDIV, (PCLK_HZ / BAUD).max(16));
-        Self::write(STATE, RX_OVERRUN);
-        Self::write(INTSTATUS, INT_RX);
-        Self::write(CTRL, TX_EN | RX_EN | RX_INTEN);
+        Self::write(Reg::Ctrl, 0);
+        Self::write(Reg::BaudDiv, (PCLK_HZ / BAUD).max(16));
+        Self::write(Reg::State, state::RX_OVERRUN);
+        Self::write(Reg::IntStatus, INT_RX);
+        Self::write(Reg::Ctrl, ctrl::TX_EN | ctrl::RX_EN | ctrl::RX_INTEN);
         Uart
     }
 
@@ -90,13 +102,13 @@ impl Uart {
     /// sit in DATA with its interrupt cleared, and the CMSDK UART, with no
     /// FIFO, takes no other byte until DATA is read: the link would stall.)
     pub fn drain_rx(&self, mut take: impl FnMut(u8)) -> bool {
-        Self::write(INTSTATUS, INT_RX);
-        while Self::read(STATE) & RX_FULL != 0 {
-            take((Self::read(DATA) & 0xff) as u8);
+        Self::write(Reg::IntStatus, INT_RX);
+        while Self::read(Reg::State) & state::RX_FULL != 0 {
+            take((Self::read(Reg::Data) & 0xff) as u8);
         }
-        let overrun = Self::read(STATE) & RX_OVERRUN != 0;
+        let overrun = Self::read(Reg::State) & state::RX_OVERRUN != 0;
         if overrun {
-            Self::write(STATE, RX_OVERRUN);
+            Self::write(Reg::State, state::RX_OVERRUN);
         }
         overrun
     }
@@ -104,8 +116,8 @@ impl Uart {
     /// Sends `bytes`, waiting for room before each.
     pub fn write_all(&self, bytes: &[u8]) {
         for &b in bytes {
-            while Self::read(STATE) & TX_FULL != 0 {}
-            Self::write(DATA, u32::from(b));
+            while Self::read(Reg::State) & state::TX_FULL != 0 {}
+            Self::write(Reg::Data, u32::from(b));
         }
     }
 }

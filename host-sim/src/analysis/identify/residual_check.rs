@@ -104,3 +104,38 @@ pub fn synthetic_run(
     );
     Ok(run)
 }
+
+/// Why [`synthetic_campaign`] failed.
+#[derive(Debug, thiserror::Error)]
+pub enum SyntheticError {
+    /// A run's simulation failed.
+    #[error(transparent)]
+    Simulation(#[from] crate::simulate::deployment::SimError),
+    /// A run did not join the campaign.
+    #[error(transparent)]
+    Campaign(#[from] crate::data::campaign::CampaignError),
+}
+
+/// A synthetic campaign with known friction: run `i` is `mechanisms[i]`
+/// simulated with `coulomb_friction` of `coulomb_nm[j]` N·m at joint
+/// `j + 1` and read as [`synthetic_run`] reads it with noise seed
+/// `seeds[i]` (one run per mechanism and seed, as many as the shorter of
+/// the two), its source named `<mechanism name>.csv`.
+pub fn synthetic_campaign(
+    mechanisms: &[crate::model::mechanism::Mechanism],
+    coulomb_nm: &[f64],
+    seeds: &[u64],
+) -> Result<Campaign, SyntheticError> {
+    let effects: Vec<Effect> = coulomb_nm
+        .iter()
+        .enumerate()
+        .map(|(j, &v)| Effect::joint(EffectKind::CoulombFriction, j + 1, v))
+        .collect();
+    let mut campaign = Campaign::default();
+    for (mech, &seed) in mechanisms.iter().zip(seeds) {
+        let run = synthetic_run(mech, &effects, seed)?;
+        let source = format!("{}.csv", mech.name);
+        campaign.push(mechanisms, run, std::path::Path::new(&source))?;
+    }
+    Ok(campaign)
+}
