@@ -13,7 +13,7 @@
 
 use super::candidate::Candidate;
 use super::discover;
-use super::outcome::{FittedEffect, FittedSet};
+use super::outcome::{CandidateScore, FittedEffect, FittedSet};
 use super::policy::{Attempt, Move};
 use super::table_form::PlacedKnots;
 use super::{above_noise, labels, Engine, Proposal, Search, MAX_TABLES, NOISE_FLOOR_FACTOR};
@@ -34,6 +34,10 @@ const CLAIM_RMS_SHARE: f64 = 1.1;
 /// [1].
 const ANGLE_EVIDENCE_SHARE: f64 = 0.5;
 
+/// Table forms per joint that [`Move::TablePair`] pairs, best by BIC
+/// first: two pairs of forms for two joints, four fits each way.
+const TABLE_PAIR_FORMS: usize = 2;
+
 impl Search<'_, '_> {
     /// Discovery: while the residual stays above the noise floor, fit torque
     /// tables at the joints whose residual torque is significant
@@ -50,7 +54,12 @@ impl Search<'_, '_> {
             }
             match self.attempt(Move::Table) {
                 Attempt::NotTried => break,
-                Attempt::Judged if self.attempt(Move::EvenTable) != Attempt::Moved => break,
+                Attempt::Judged
+                    if self.attempt(Move::EvenTable) != Attempt::Moved
+                        && self.attempt(Move::TablePair) != Attempt::Moved =>
+                {
+                    break
+                }
                 _ => {}
             }
             if self.attempt(Move::NamedForTable) == Attempt::Moved {
@@ -135,6 +144,59 @@ impl Search<'_, '_> {
                 .join(", ")
         ));
         Some((even, self.discover_what()))
+    }
+
+    /// [`Move::TablePair`]: for the first tables, when no single table
+    /// was kept, two tables at two joints together: the
+    /// [`TABLE_PAIR_FORMS`] best forms by BIC at each joint of the table
+    /// rounds beside the current set, each fitted with each of the other
+    /// joints' (its fitted single as the start).
+    pub(super) fn propose_table_pairs(&mut self) -> Option<Proposal> {
+        let start = self.current.candidates();
+        if self
+            .current
+            .members
+            .iter()
+            .any(|m| m.candidate.table.is_some())
+        {
+            return None;
+        }
+        let mut singles: Vec<&CandidateScore> = self
+            .rounds
+            .iter()
+            .filter(|r| r.start == start)
+            .flat_map(|r| &r.scores)
+            .filter(|s| s.candidate.table.is_some() && s.fitted.members.len() == start.len() + 1)
+            .collect();
+        singles.sort_by(|a, b| b.delta_bic.total_cmp(&a.delta_bic));
+        let mut per_joint: Vec<&CandidateScore> = Vec::new();
+        for s in singles {
+            let at = per_joint
+                .iter()
+                .filter(|p| p.candidate.joint == s.candidate.joint)
+                .count();
+            if at < TABLE_PAIR_FORMS && !per_joint.iter().any(|p| p.candidate == s.candidate) {
+                per_joint.push(s);
+            }
+        }
+        let moves: Vec<(FittedSet, Candidate)> = per_joint
+            .iter()
+            .flat_map(|a| {
+                per_joint
+                    .iter()
+                    .filter(move |b| b.candidate.joint != a.candidate.joint)
+                    .map(move |b| (a.fitted.clone(), b.candidate))
+            })
+            .collect();
+        if moves.is_empty() {
+            return None;
+        }
+        self.eng.say(format!(
+            "  no single table earns its keep: fitting {} pairs of tables at two joints beside {}",
+            moves.len(),
+            labels(&start)
+        ));
+        Some((moves, self.discover_what()))
     }
 
     /// Where the angles say a torque is missing when the residual torque

@@ -421,6 +421,7 @@ fn search_campaign(
     if opts.discover && !truss && !eng.halt.now() {
         search.discover();
         search.replace_stand_in();
+        search.restart_from_tables(&baseline);
     }
     let ambiguities = if eng.halt.now() {
         Vec::new()

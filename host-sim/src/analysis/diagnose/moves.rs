@@ -241,6 +241,7 @@ impl Search<'_, '_> {
             Move::JointPairs => self.propose_joint_pairs(),
             Move::Table => self.propose_tables(),
             Move::EvenTable => self.propose_even_tables(),
+            Move::TablePair => self.propose_table_pairs(),
             Move::NamedForTable => Some((self.named_for_tables(), String::new())),
             Move::Refine => self.propose_refine(),
             Move::StandIn => self.propose_stand_in(),

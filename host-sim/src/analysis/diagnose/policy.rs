@@ -229,6 +229,11 @@ pub enum Move {
     /// The even tables at every joint (the first table, when the evidence's
     /// were not kept).
     EvenTable,
+    /// Two tables at two joints together (the first tables, when no
+    /// single table was kept): torques missing at two joints, where a
+    /// table fitted at one of them alone takes a shape that does not
+    /// predict the runs left out.
+    TablePair,
     /// A named effect (or a pair at its joint) in place of a table.
     NamedForTable,
     /// A table in a finer form ([`super::refine`]).
@@ -348,6 +353,7 @@ impl Move {
             Move::Proposed => "proposed by the residual torque:",
             Move::JointPairs => "named pair at a joint:",
             Move::Table | Move::EvenTable => "discovered:",
+            Move::TablePair => "discovered the pair:",
             Move::NamedForTable => "a named effect explains it as well:",
             Move::Refine => "refined:",
             Move::StandIn => "a table in place of a global stand-in:",

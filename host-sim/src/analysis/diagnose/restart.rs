@@ -1,12 +1,17 @@
-//! A second start for a stepwise search that ended above the noise: the
-//! greedy first step can take a wrong turn (Coulomb friction for a harness
-//! at one joint, from runs of one configuration where the two resist
-//! alike), and the effects added beside it then fill the set with stand-ins
-//! that no later move undoes. The search is run again from the baseline
-//! without that first effect; the set it reaches is kept when its BIC is
+//! Second starts for a search that ended above the noise. The greedy first
+//! step can take a wrong turn (Coulomb friction for a harness at one joint,
+//! from runs of one configuration where the two resist alike), and the
+//! effects added beside it then fill the set with stand-ins that no later
+//! move undoes: the search is run again from the baseline without that
+//! first effect ([`Search::restart_without_first`]). Torques that no named
+//! effect describes, at two joints, pull the stepwise search to global
+//! effects that spread over every joint (a rig tilt and air drag, say); a
+//! table beside them, or in place of one of them, cannot undo the other:
+//! discovery is run again from the baseline, tables first
+//! ([`Search::restart_from_tables`]). Either set is kept when its BIC is
 //! better by more than [`MIN_DELTA_BIC`] and, with two or more runs, its
 //! held-out RMS beats the first set's by [`HELD_OUT_SHARE`] (the policy of
-//! every move), and the search goes on from there with every candidate.
+//! every move).
 
 use super::candidate::Candidate;
 use super::policy::HELD_OUT_SHARE;
@@ -45,9 +50,43 @@ impl Search<'_, '_> {
             baseline,
         );
         other.run();
+        if self.take_if_better(other) {
+            self.run();
+        }
+    }
+}
+
+impl<'e, 'a> Search<'e, 'a> {
+    /// When the search with discovery still ends above the noise:
+    /// discovery again from `baseline` (a table at the joints the residual
+    /// torque names, then the named effects beside it, then a second
+    /// table); its set is kept when it beats the current one. Once.
+    pub(super) fn restart_from_tables(&mut self, baseline: &super::FittedSet) {
+        if !above_noise(&self.current, self.sigma) || self.eng.halt.now() {
+            return;
+        }
+        self.eng.say(format!(
+            "restart: the search ended above the noise at {:.4} deg; discovery again from the baseline, tables first",
+            self.current.rms()
+        ));
+        let mut other = Search::new(
+            self.eng,
+            self.candidates.clone(),
+            self.max_effects,
+            self.sigma,
+            baseline,
+        );
+        other.discover();
+        other.replace_stand_in();
+        self.take_if_better(other);
+    }
+
+    /// Takes `other`'s set, rounds and state when it beats the current set
+    /// as every move must: a BIC better by more than [`MIN_DELTA_BIC`] and
+    /// a better prediction of the runs left out (more effects can buy a
+    /// BIC, not that). Says which, and returns whether it took it.
+    fn take_if_better(&mut self, mut other: Search<'e, 'a>) -> bool {
         let (a, b) = (self.current.bic(), other.current.bic());
-        // Judged as every move is: a better BIC, and a better prediction
-        // of the runs left out (more effects can buy a BIC, not that).
         let predicts = match (other.current_held, self.current_held) {
             (Some(h), Some(c)) => h <= HELD_OUT_SHARE * c,
             _ => true,
@@ -60,7 +99,7 @@ impl Search<'_, '_> {
                 labels(&self.current.candidates()),
                 held_words(self.current_held)
             ));
-            return;
+            return false;
         }
         self.eng.say(format!(
             "restart: {} (RMS {:.4} deg, BIC {b:.1}) beats {} (BIC {a:.1}): taken",
@@ -74,7 +113,8 @@ impl Search<'_, '_> {
         self.current_held = other.current_held;
         self.tried_once = other.tried_once;
         self.swaps = other.swaps;
-        self.run();
+        self.table_tried = other.table_tried;
+        true
     }
 }
 
