@@ -7,7 +7,8 @@
 #                            no QEMU, no fuzzing
 #
 # Steps (each prints a header; the first failure stops the run):
-#  1. cargo fmt --check, clippy -D warnings on every target of the workspace
+#  1. cargo fmt --check, clippy -D warnings on every target of the workspace,
+#     cargo doc -D warnings (private items too: every intra-doc link resolves)
 #  2. cargo test --workspace (the test profile is optimised, see Cargo.toml):
 #     unit tests, golden trajectories, paper vectors, monitor, identification,
 #     the hidden-effect diagnosis suite, black-box CLI tests
@@ -46,6 +47,9 @@ cargo fmt --all -- --check
 
 step "clippy (all targets, -D warnings)"
 cargo clippy --workspace --all-targets --locked -- -D warnings
+
+step "cargo doc (-D warnings, private items: every intra-doc link resolves)"
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace --locked --document-private-items
 
 step "cargo test --workspace"
 cargo test --workspace --locked

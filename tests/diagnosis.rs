@@ -514,7 +514,7 @@ fn bundled_examples_are_diagnosed_correctly() {
     .expect("docs/measured.md written");
 }
 
-/// RMS difference [deg] between two effect sets on the mechanisms, noise-free.
+/// RMS difference \[deg\] between two effect sets on the mechanisms, noise-free.
 fn effect_size_between(mechs: &[Mechanism], a: &[Effect], b: &[Effect]) -> f64 {
     let (mut sse, mut n) = (0.0, 0usize);
     for m in mechs {

@@ -563,12 +563,12 @@ fn explore_latch_statistics() {
 }
 
 /// A joint's latch statistics in one run (times `t`, travel from the stop
-/// `u` [deg], switch `sw`; crest 0.6°): impacts, crest crossings, time
-/// from first impact to hold [s], mean travel in the first 1 s and 0.5 s
-/// after it, time open in the first second [s], deepest excursion in it,
+/// `u` \[deg\], switch `sw`; crest 0.6°): impacts, crest crossings, time
+/// from first impact to hold \[s\], mean travel in the first 1 s and 0.5 s
+/// after it, time open in the first second \[s\], deepest excursion in it,
 /// mean travel of the open samples within the crest, their count, time
-/// out of the crest [s], mean travel at rest after the hold [millidegrees],
-/// first impact [s]. `None` when the switch never closes.
+/// out of the crest \[s\], mean travel at rest after the hold [millidegrees],
+/// first impact \[s\]. `None` when the switch never closes.
 fn latch_statistics(t: &[f64], u: &[f64], sw: &[bool]) -> Option<[f64; 12]> {
     let i0 = sw.iter().position(|&b| b)?;
     let crest = 0.6;

@@ -61,7 +61,7 @@ enum Hidden {
 /// The command that runs the whole experiment (`docs/measured.md`).
 const COMMAND: &str = "DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test diagnosis_rig rig_and_hinge -- --nocapture";
 
-/// The diagnosis's bounds of `wire_length` and `frame_offset` [m]
+/// The diagnosis's bounds of `wire_length` and `frame_offset` \[m\]
 /// (`MAX_WIRE_ERROR_M`, `MAX_FRAME_OFFSET_M` of its candidates): a hidden
 /// value is never raised past them.
 const MAX_WIRE_ERROR_M: f64 = 0.5;

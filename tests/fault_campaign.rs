@@ -31,7 +31,7 @@ const SEED001_FRICTION: [f64; 3] = [2.63, 1.7, 0.001];
 const SEED000_FRICTION: [f64; 2] = [0.54, 0.472];
 /// Sensor seeds per scenario.
 const SEEDS: [u64; 3] = [1, 2, 3];
-/// Samples the monitor keeps receiving after the end of the simulation [s]
+/// Samples the monitor keeps receiving after the end of the simulation \[s\]
 /// (a monitor keeps sampling; the encoder-only latch confirmation of a
 /// switch stuck open needs a few tenths of a second).
 const HOLD_S: f64 = 0.6;

@@ -42,7 +42,7 @@ use deploywatch_sim::run::Run;
 use deploywatch_sim::sensor::{measure, SensorModel};
 use deploywatch_tests::{data_dir, SplitMix};
 
-/// Switch travel of the test latch [deg].
+/// Switch travel of the test latch \[deg\].
 const TRAVEL_DEG: f64 = 0.02;
 /// The latch the monitor is configured with: 0.02° switch travel, crest
 /// 1.5° from the stop, ramp 0.6° short of it, 30 ms bounce window.
@@ -53,7 +53,7 @@ const LATCH: PhysicalLatch = PhysicalLatch {
     bounce_window_s: 0.03,
     lock: LockKind::Detent,
 };
-/// A latch must be declared within this of the last rebound [s].
+/// A latch must be declared within this of the last rebound \[s\].
 const DECLARE_LIMIT_S: f64 = 0.05;
 /// Monte-Carlo runs per mechanism and sample rate (three mechanisms: 210
 /// runs per rate).
@@ -62,7 +62,7 @@ const RUNS_PER_MECHANISM: usize = 70;
 /// scale); the Monte-Carlo runs share them, each with its own latches and
 /// sensor noise.
 const SIMULATIONS: usize = 3;
-/// Samples after the end of the simulation [s]: longer than the stall time
+/// Samples after the end of the simulation \[s\]: longer than the stall time
 /// (1 s), so a ramp stop has come to rest.
 const HOLD_S: f64 = 1.5;
 
@@ -81,14 +81,14 @@ impl Flight {
             .contains(&x)
             .then_some(4.0 * self.height_deg * x * (1.0 - x))
     }
-    /// The instant the joint comes back within the switch travel [s].
+    /// The instant the joint comes back within the switch travel \[s\].
     fn back_within_travel(&self) -> f64 {
         let x = 0.5 * (1.0 + (1.0 - TRAVEL_DEG / self.height_deg).max(0.0).sqrt());
         self.start_s + x * self.duration_s
     }
 }
 
-/// A damped series of rebounds starting at `t0` [s]: flights while they
+/// A damped series of rebounds starting at `t0` \[s\]: flights while they
 /// rise above a tenth of the travel, then the settling tail.
 #[derive(Clone, Debug)]
 struct Bounces {
@@ -118,7 +118,7 @@ impl Bounces {
             tail_start_s: t,
         }
     }
-    /// Distance from the stop at `t` [deg] (`t` after the series started).
+    /// Distance from the stop at `t` \[deg\] (`t` after the series started).
     fn off(&self, t: f64) -> f64 {
         if let Some(h) = self.flights.iter().find_map(|f| f.off(t)) {
             return h;
@@ -131,7 +131,7 @@ impl Bounces {
         }
         0.0
     }
-    /// The last return to the stop from beyond the switch travel [s].
+    /// The last return to the stop from beyond the switch travel \[s\].
     fn last_return_s(&self) -> Option<f64> {
         self.flights
             .iter()
@@ -174,7 +174,7 @@ impl Case {
             Case::Ramp { .. } => "ramp stop",
         }
     }
-    /// Distance from the stop at `t` [deg], `None` where the ideal run
+    /// Distance from the stop at `t` \[deg\], `None` where the ideal run
     /// holds.
     fn off(&self, t: f64) -> Option<f64> {
         match self {
@@ -206,7 +206,7 @@ impl Case {
             } => (t >= *t0).then(|| rest_deg + (from_deg - rest_deg) * (-(t - t0) / tau_s).exp()),
         }
     }
-    /// The last return to the stop before the latch holds [s], `None` when
+    /// The last return to the stop before the latch holds \[s\], `None` when
     /// the joint does not latch.
     fn last_return_s(&self) -> Option<f64> {
         match self {
@@ -222,7 +222,7 @@ impl Case {
     }
 }
 
-/// Draws the case of a joint whose ideal latch is at `t_latch` [s]
+/// Draws the case of a joint whose ideal latch is at `t_latch` \[s\]
 /// (`i_latch` its first sample at or after it).
 fn draw_case(traj: &Trajectory, j: usize, rng: &mut SplitMix) -> Case {
     let Some(t_latch) = traj.latch_s[j] else {

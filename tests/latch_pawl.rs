@@ -65,7 +65,7 @@ fn outcome(mech: &Mechanism, run: &LatchRun, j: usize) -> LatchOutcome {
     run.outcome(j + 1, &core_latch(mech, j)).expect("outcome")
 }
 
-/// The one-panel pawl mechanism with a ball plunger of preload `p0` [N]
+/// The one-panel pawl mechanism with a ball plunger of preload `p0` \[N\]
 /// (rate `p0 / 6` N/mm) in place of its pawl, on the same stop.
 fn with_plunger(p0: f64) -> Mechanism {
     let mut m = mechanism("one_panel_pawl.toml");

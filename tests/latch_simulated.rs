@@ -45,23 +45,23 @@ use deploywatch_sim::monitor_config::{monitor_config, samples};
 use deploywatch_sim::sensor::{measure, SensorModel};
 use deploywatch_tests::{data_dir, SplitMix};
 
-/// A latch must be declared within this of the switch's last closing [s].
+/// A latch must be declared within this of the switch's last closing \[s\].
 const DECLARE_LIMIT_S: f64 = 0.05;
 /// Runs per mechanism and sample rate.
 const RUNS: usize = 30;
 /// An escape counts as visible when the joint is beyond the crest by more
-/// than this [deg] (4σ of the reference encoder and its quantisation, and
+/// than this \[deg\] (4σ of the reference encoder and its quantisation, and
 /// a little) ...
 const SEEN_BEYOND_DEG: f64 = 0.15;
 /// ... at this many samples.
 const SEEN_SAMPLES: usize = 3;
 /// Largest share of the runs with a reading-check flag (`encoder_stuck`,
-/// `encoder_outlier`) [1]: a rebound off a Hertz stop jerks the other
+/// `encoder_outlier`) \[1\]: a rebound off a Hertz stop jerks the other
 /// joints of the chain, and a joint turned round by it mid-stroke repeats
 /// its reading at the turn as a stale encoder does (`docs/monitor.md`
 /// §4.1, limits).
 const MAX_READING_FLAG_SHARE: f64 = 0.05;
-/// Samples the estimator may take to report a visible escape [1].
+/// Samples the estimator may take to report a visible escape \[1\].
 const ESCAPE_LAG_SAMPLES: usize = 3;
 
 fn mechanism(name: &str) -> Mechanism {
@@ -89,9 +89,9 @@ struct Tally {
 struct Truth {
     end: LatchEnd,
     escapes: usize,
-    /// The switch's closings [s].
+    /// The switch's closings \[s\].
     closings: Vec<f64>,
-    /// Outward passes over the crest, each with the next inward one [s].
+    /// Outward passes over the crest, each with the next inward one \[s\].
     out: Vec<(f64, f64)>,
     crest_deg: f64,
     travel_deg: f64,

@@ -52,7 +52,7 @@ fn simulate_truth(mech: &Mechanism, effects: &[Effect]) -> Trajectory {
     simulate(mech, effects, &opts).expect("simulation")
 }
 
-/// Samples the monitor keeps receiving after the last latch [s].
+/// Samples the monitor keeps receiving after the last latch \[s\].
 const HOLD_S: f64 = 0.2;
 
 fn hold(traj: &mut Trajectory, hold_s: f64, dt: f64) {
@@ -370,12 +370,12 @@ fn rollout_from_the_true_state_predicts_the_simulation() {
 }
 
 /// How much the glide's lengthened steps may add to the mean and the 95th
-/// percentile of the rollout's latch-time error against the simulation [s].
+/// percentile of the rollout's latch-time error against the simulation \[s\].
 const GLIDE_TOLERANCE_S: f64 = 0.005;
 
 /// The rollout of `cfg` with schedule `rc` from the simulated true state at
 /// sample `i` (true friction and springs), run to the end: joint `j`'s
-/// latch instant [s], if it latches (before or after the deadline).
+/// latch instant \[s\], if it latches (before or after the deadline).
 fn rollout_from_truth(
     cfg: &MonitorConfig<3>,
     mut rc: deploywatch_core::rollout::RolloutConfig,
@@ -412,7 +412,7 @@ fn rollout_from_truth(
 }
 
 /// How close to the deadline a latch may fall for the rollout and the
-/// simulator to disagree [s].
+/// simulator to disagree \[s\].
 const DEADLINE_EDGE_S: f64 = 0.1;
 
 /// Seeds of the sensor noise the single-run tests are repeated over.
@@ -587,7 +587,7 @@ fn latched_within_30_ms_of_the_latch_never_before_never_falsely() {
     check_latch_timing::<3>("seed001_T02", &SEED001_FRICTION);
 }
 
-/// The RAM one `Monitor<3>` may take [bytes]: 4 KiB, the physical latch's
+/// The RAM one `Monitor<3>` may take \[bytes\]: 4 KiB, the physical latch's
 /// bookkeeping of its three joints (the tracker's bounce state and the
 /// plunger's engagement, `docs/monitor.md` §4.1), and the three
 /// rate-dependent terms of the core's one friction law (Stribeck excess and
@@ -922,7 +922,7 @@ fn clean_monte_carlo_at_1_khz_raises_no_fault_flag() {
 }
 
 /// The required bound on the delay before a change of estimate is in a
-/// completed full prediction [s].
+/// completed full prediction \[s\].
 const REFRESH_LIMIT_S: f64 = 0.5;
 
 /// How fresh the prediction is: replaying seed001 T01 and T02 with the
@@ -998,7 +998,7 @@ fn full_prediction_refresh_cycle() {
 }
 
 /// The end of the span the refresh is measured over: the last latch, or
-/// the deadline when a joint stalls [s].
+/// the deadline when a joint stalls \[s\].
 fn refresh_end(mech: &Mechanism, traj: &Trajectory) -> f64 {
     if traj.latch_s.iter().all(Option::is_some) {
         traj.latch_s.iter().flatten().fold(0.0f64, |a, &b| a.max(b))
@@ -1008,7 +1008,7 @@ fn refresh_end(mech: &Mechanism, traj: &Trajectory) -> f64 {
 }
 
 /// Replays `run` on the replay schedule, prints the refresh figures of
-/// [`full_prediction_refresh_cycle`] up to `end` [s], asserts them and
+/// [`full_prediction_refresh_cycle`] up to `end` \[s\], asserts them and
 /// returns them as a row of its table.
 fn check_refresh<const N: usize>(label: &str, mech: &Mechanism, run: &Run, end: f64) -> String {
     let cfg = monitor_config::<N>(mech).unwrap();

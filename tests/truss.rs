@@ -152,7 +152,7 @@ fn circles(p: [f64; 2], r: f64, q: [f64; 2], s: f64) -> [f64; 2] {
     [m[0] - h * d[1] / l, m[1] + h * d[0] / l]
 }
 
-/// Closed-form rocker angle [rad] at crank angle `t2` [rad].
+/// Closed-form rocker angle \[rad\] at crank angle `t2` \[rad\].
 fn rocker_angle(t2: f64) -> f64 {
     let [d, a, b, c] = FOUR_BAR;
     let pa = [a * t2.cos(), a * t2.sin()];

@@ -363,7 +363,7 @@ struct Verdict {
     honest: bool,
     /// A claim at a joint that holds nothing.
     spurious: bool,
-    /// The re-simulated angle RMS difference [deg] of each table that had
+    /// The re-simulated angle RMS difference \[deg\] of each table that had
     /// to be compressed for the monitor.
     export_loss_deg: Vec<f64>,
 }
@@ -417,7 +417,7 @@ fn judge_family_case(c: &deploywatch_tests::hidden_torque::Case) -> Verdict {
 
 /// The monitor's export of every table found: at most the monitor's
 /// points per axis; prints the fit loss and returns the re-simulated angle
-/// loss [deg] of each compressed one.
+/// loss \[deg\] of each compressed one.
 fn monitor_exports(campaign: &Campaign, found: &[Effect]) -> Vec<f64> {
     use deploywatch_core::torque_table::TABLE_MAX_KNOTS;
     use deploywatch_sim::table_export::export_tables;

@@ -1,6 +1,10 @@
 #![doc = include_str!("../README.md")]
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
+// The docs name the constants and helpers behind a figure, private ones
+// too: they are built with `--document-private-items` (scripts/test.sh),
+// where those links resolve.
+#![allow(rustdoc::private_intra_doc_links)]
 #![forbid(unsafe_code)]
 // `!(x > 0.0)` is deliberate throughout the core: unlike `x <= 0.0` it is
 // true for NaN, which is how a NaN input becomes "missing" instead of

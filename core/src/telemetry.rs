@@ -107,7 +107,7 @@ pub const fn sample_payload_max(n: usize) -> usize {
     4 + 5 * n
 }
 
-/// Largest frame of a `Sample<n>` [bytes].
+/// Largest frame of a `Sample<n>` \[bytes\].
 pub const fn sample_frame_max(n: usize) -> usize {
     framed(sample_payload_max(n))
 }
@@ -124,7 +124,7 @@ pub const fn status_payload_max(n: usize) -> usize {
     4 + 5 + n * JOINT_STATUS_PAYLOAD_MAX
 }
 
-/// Largest frame of a `Status<n>` [bytes].
+/// Largest frame of a `Status<n>` \[bytes\].
 pub const fn status_frame_max(n: usize) -> usize {
     framed(status_payload_max(n))
 }

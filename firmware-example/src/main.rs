@@ -59,7 +59,7 @@ use semihosting::fs::File;
 use semihosting::io::{Read, Write};
 use semihosting::process;
 
-/// Longest accepted path argument, NUL excluded [bytes].
+/// Longest accepted path argument, NUL excluded \[bytes\].
 const MAX_PATH: usize = 127;
 
 /// SysTick's period, the replay's sample clock [core clock ticks]: 8192
@@ -444,7 +444,7 @@ mod stack {
         )
     }
 
-    /// Size of the stack region [bytes].
+    /// Size of the stack region \[bytes\].
     pub fn size() -> usize {
         let (bottom, top) = bounds();
         top - bottom
@@ -463,7 +463,7 @@ mod stack {
         }
     }
 
-    /// Deepest stack use since [`paint`] [bytes].
+    /// Deepest stack use since [`paint`] \[bytes\].
     pub fn peak() -> usize {
         let (bottom, top) = bounds();
         let mut p = bottom;

@@ -24,6 +24,10 @@
 //! [`cli`], the command line the `deploywatch` binary runs
 //! (`ARCHITECTURE.md`, "The public API").
 #![deny(missing_docs)]
+// The docs name the constants and helpers behind a figure, private ones
+// too: they are built with `--document-private-items` (scripts/test.sh),
+// where those links resolve.
+#![allow(rustdoc::private_intra_doc_links)]
 // `!(x > 0.0)` is deliberate: unlike `x <= 0.0` it is true for NaN, so bad
 // numbers are rejected instead of slipping through a comparison.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]

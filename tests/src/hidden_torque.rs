@@ -418,7 +418,7 @@ pub struct Case {
     pub truth: Vec<Effect>,
     /// The measured runs (reference sensor).
     pub runs: Vec<Run>,
-    /// RMS of the noise the sensor added [deg].
+    /// RMS of the noise the sensor added \[deg\].
     pub noise_rms_deg: f64,
 }
 

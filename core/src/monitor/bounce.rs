@@ -40,29 +40,29 @@ use serde::{Deserialize, Serialize};
 
 /// Standard deviations of one reading beyond the switch travel (or the
 /// crest) at which the encoder says the joint is off the stop (or over the
-/// crest) [1]: a reading of a joint at the stop exceeds it with
+/// crest) \[1\]: a reading of a joint at the stop exceeds it with
 /// probability 3·10⁻⁵.
 pub const STOP_SIGMAS: f32 = 4.0;
 /// Time constant of the low-pass of the encoder's distance from the stop
-/// by which the rest position is judged [s]: its noise is `σ √(Δt/2τ)`,
+/// by which the rest position is judged \[s\]: its noise is `σ √(Δt/2τ)`,
 /// a fifth of `σ` at 100 Hz.
 pub const REST_FILTER_S: f32 = 0.1;
-/// How much later than its speed allows a joint may reach the stop [1]:
+/// How much later than its speed allows a joint may reach the stop \[1\]:
 /// off the stop after `t + 1.5 d/v` (`d`, `v` where it came within the
 /// crest's reach), it has bounced.
 pub const ARRIVAL_SLACK: f32 = 1.5;
-/// Longest bounce window accepted [s]: a latch must be declared within
+/// Longest bounce window accepted \[s\]: a latch must be declared within
 /// 50 ms of the last rebound, one sample interval after the window.
 pub const MAX_BOUNCE_WINDOW_S: f32 = 0.04;
 
 /// One sample as the physical-latch rule sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StopReading {
-    /// Time stamp [s].
+    /// Time stamp \[s\].
     pub t_s: f32,
     /// The latch switch (true = closed).
     pub switch: bool,
-    /// The encoder's distance from the stop `|φ|` [deg], `None` when the
+    /// The encoder's distance from the stop `|φ|` \[deg\], `None` when the
     /// reading is missing or rejected.
     pub off_deg: Option<f32>,
 }
@@ -97,17 +97,17 @@ pub enum LockKind {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PhysicalLatch {
-    /// Switch travel [deg]: the switch reads closed while the joint is
+    /// Switch travel \[deg\]: the switch reads closed while the joint is
     /// within this of its stop.
     pub switch_travel_deg: f32,
-    /// Angle of the plunger's crest from the stop [deg]: a joint that goes
+    /// Angle of the plunger's crest from the stop \[deg\]: a joint that goes
     /// back beyond it after its switch closed has escaped.
     pub crest_deg: f32,
-    /// Angular span of the plunger's ramp short of the latch [deg]: a joint
+    /// Angular span of the plunger's ramp short of the latch \[deg\]: a joint
     /// at rest within it with the switch open has stopped short.
     pub ramp_deg: f32,
     /// How long the switch must stay closed without a break, the encoder on
-    /// the stop, for the latch to be declared [s]: longer than the joint
+    /// the stop, for the latch to be declared \[s\]: longer than the joint
     /// stays in contact between two rebounds.
     pub bounce_window_s: f32,
     /// A ball plunger or a pawl (with a pawl, `crest_deg` is the farthest
@@ -133,24 +133,24 @@ impl PhysicalLatch {
 }
 
 /// The thresholds of [`PhysicalLatch`] for an encoder of a given noise
-/// [deg].
+/// \[deg\].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StopLimits {
-    /// A reading within this of the stop is on it [deg].
+    /// A reading within this of the stop is on it \[deg\].
     pub on_stop_deg: f32,
     /// A joint at rest whose smoothed reading is within this is on the stop
-    /// [deg].
+    /// \[deg\].
     pub at_rest_deg: f32,
-    /// A reading beyond this is over the crest [deg].
+    /// A reading beyond this is over the crest \[deg\].
     pub escape_deg: f32,
-    /// A reading within this is past the crest, towards the stop [deg].
+    /// A reading within this is past the crest, towards the stop \[deg\].
     pub inside_deg: f32,
     /// A joint at rest whose smoothed reading is within this (and off the
-    /// stop) is on the ramp [deg].
+    /// stop) is on the ramp \[deg\].
     pub ramp_deg: f32,
-    /// The switch travel [deg].
+    /// The switch travel \[deg\].
     pub travel_deg: f32,
-    /// Standard deviation of one reading [deg].
+    /// Standard deviation of one reading \[deg\].
     pub sd_deg: f32,
 }
 
@@ -190,29 +190,29 @@ pub struct Bounce {
     /// The latch was declared with the switch closed (the switch may then
     /// undo it).
     switch_declared: bool,
-    /// Distance of the previous reading from the stop [deg] (NaN: none).
+    /// Distance of the previous reading from the stop \[deg\] (NaN: none).
     prev_off: f32,
     /// Where the previous reading put the joint by the next one at its
-    /// speed then, `2 d − d_prev` [deg] (NaN: none).
+    /// speed then, `2 d − d_prev` \[deg\] (NaN: none).
     lead_prev: f32,
-    /// Low-pass of the distance from the stop [deg] (NaN: none yet).
+    /// Low-pass of the distance from the stop \[deg\] (NaN: none yet).
     smooth_off: f32,
-    /// Time of the previous reading [s].
+    /// Time of the previous reading \[s\].
     t_prev: f32,
     /// The switch open and the low-pass on the ramp, off the stop.
     ramp: Held,
     /// Samples in a row with the switch open and the reading off the stop.
     off_stop: HeldSamples,
-    /// The crest's reach [deg] ([`StopLimits::escape_deg`]; NaN before the
+    /// The crest's reach \[deg\] ([`StopLimits::escape_deg`]; NaN before the
     /// first reading).
     zone_deg: f32,
     /// The joint came within the crest's reach fast enough to cross the
     /// crest before the next reading.
     through: bool,
     /// When the joint reaches the stop at the speed it came within the
-    /// crest's reach with [s].
+    /// crest's reach with \[s\].
     arrive_by: f32,
-    /// `Σ (d − s)` over the switch's current open stretch [deg].
+    /// `Σ (d − s)` over the switch's current open stretch \[deg\].
     open_sum: f32,
     /// Readings in it.
     open_n: u16,
@@ -250,15 +250,15 @@ impl Bounce {
         self.escaped
     }
 
-    /// True when a reading `off_deg` [deg] from the stop puts the joint
+    /// True when a reading `off_deg` \[deg\] from the stop puts the joint
     /// within the crest's reach by the next reading ([`Bounce::lead`]) and
     /// the previous one did not (false when no physical latch is tracked).
     pub fn enters_zone(&self, off_deg: f32) -> bool {
         self.lead(off_deg) <= self.zone_deg && !self.in_zone()
     }
 
-    /// Where a reading `off_deg` [deg] puts the joint by the next reading
-    /// at the speed since the previous one, `2 d − d_prev` [deg] (NaN
+    /// Where a reading `off_deg` \[deg\] puts the joint by the next reading
+    /// at the speed since the previous one, `2 d − d_prev` \[deg\] (NaN
     /// without a previous reading): a joint fast enough to pass the crest
     /// and hit the stop between two readings is within the crest's reach
     /// one reading early.
@@ -272,14 +272,14 @@ impl Bounce {
         self.lead_prev <= self.zone_deg
     }
 
-    /// The low-pass of the reading's distance from the stop [deg] (NaN
+    /// The low-pass of the reading's distance from the stop \[deg\] (NaN
     /// before the first reading).
     pub fn smoothed_off_deg(&self) -> f32 {
         self.smooth_off
     }
 
     /// Takes one sample (before the latch decision); `window_deg` is the
-    /// latch window of a closed switch [deg].
+    /// latch window of a closed switch \[deg\].
     pub fn observe(&mut self, x: &StopReading, lim: &StopLimits, window_deg: f32) {
         let Some(off) = x.off_deg else {
             self.prev_off = f32::NAN;
@@ -327,7 +327,7 @@ impl Bounce {
         self.t_prev = x.t_s;
     }
 
-    /// The low-pass of the distance `off` [deg] at `t_s` [s].
+    /// The low-pass of the distance `off` \[deg\] at `t_s` \[s\].
     fn smooth(&mut self, off: f32, t_s: f32) {
         let dt = t_s - self.t_prev;
         if !self.smooth_off.is_finite() || !(dt > 0.0) {
@@ -338,11 +338,11 @@ impl Bounce {
         self.smooth_off += a * (off - self.smooth_off);
     }
 
-    /// A reading `off` [deg] at `t_s` [s] within the crest's reach (or
+    /// A reading `off` \[deg\] at `t_s` \[s\] within the crest's reach (or
     /// one reading from it): at the speed since the previous reading the
     /// joint reaches the stop by `arrive_by`, the earliest such time of the
     /// approach (with [`ARRIVAL_SLACK`] on the time from the crest's
-    /// reach); off the stop later, it has bounced. `inside_deg` [deg]: past
+    /// reach); off the stop later, it has bounced. `inside_deg` \[deg\]: past
     /// the crest within it ([`StopLimits`]); the joint crosses it before
     /// the next reading at this speed when `off − fall` is within it. A
     /// reading that does not come closer changes nothing.
@@ -416,7 +416,7 @@ impl Bounce {
     }
 
     /// What a physical latch reports when no latch is declared at `t_s`
-    /// [s]: `StoppedShort` after `rest_s` [s] on the ramp with the switch
+    /// \[s\]: `StoppedShort` after `rest_s` \[s\] on the ramp with the switch
     /// open, `Escaped` after an escape, otherwise `None` (the motion
     /// state).
     pub fn event(&self, t_s: f32, rest_s: f32) -> Option<LatchEvent> {

@@ -10,17 +10,17 @@ use crate::monitor::rollout::RolloutConfig;
 use crate::physics::chain::{ChainError, Panel};
 use crate::physics::spring::Spring;
 
-/// Largest encoder reading accepted [deg]; beyond it a reading is a fault.
+/// Largest encoder reading accepted \[deg\]; beyond it a reading is a fault.
 pub const ENCODER_RANGE_DEG: f32 = 720.0;
 
 /// One joint of the monitored mechanism.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointConfig {
-    /// Stowed angle [deg]; the latch angle is 0.
+    /// Stowed angle \[deg\]; the latch angle is 0.
     pub stowed_deg: f32,
     /// The hinge spring (all hinges of the joint), as in the mechanism.
     pub spring: Spring<f32>,
-    /// Capture angle `x_c` [deg]: below it the spring completes the latch
+    /// Capture angle `x_c` \[deg\]: below it the spring completes the latch
     /// whatever the friction (a tape spring's θ_B; 0 for a linear spring).
     pub capture_deg: f32,
     /// Prior of the friction parameters.
@@ -33,9 +33,9 @@ pub struct JointConfig {
 /// The encoder.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SensorConfig {
-    /// White noise before quantisation, σ [deg].
+    /// White noise before quantisation, σ \[deg\].
     pub encoder_sd_deg: f32,
-    /// Quantisation step [deg] (360/16384 for 14 bits).
+    /// Quantisation step \[deg\] (360/16384 for 14 bits).
     pub encoder_step_deg: f32,
     /// Consecutive identical readings after which the encoder is stuck
     /// (flag `encoder_stuck`, readings not used until they change); 0
@@ -64,18 +64,18 @@ pub struct ObserverConfig {
     pub jerk_adaptation: JerkAdaptation,
     /// The same inside the snap zone of a tape spring [rad²/s⁵].
     pub zone_jerk_psd: f32,
-    /// `|φ|` below which a free joint is in its snap zone [deg]: the spring
+    /// `|φ|` below which a free joint is in its snap zone \[deg\]: the spring
     /// torque is too steep there for the model, so friction learning pauses.
     pub snap_zone_deg: f32,
-    /// Innovation gate of the encoder [σ].
+    /// Innovation gate of the encoder \[σ\].
     pub gate_sigma: f32,
     /// Disturbance observer and RLS.
     pub tuning: ObserverTuning,
-    /// Pause of the friction learning after a snap, latch or gap [s].
+    /// Pause of the friction learning after a snap, latch or gap \[s\].
     pub settle_s: f32,
-    /// Time step above which the samples around it are a gap [s].
+    /// Time step above which the samples around it are a gap \[s\].
     pub max_gap_s: f32,
-    /// Smallest time step accepted [s].
+    /// Smallest time step accepted \[s\].
     pub min_dt_s: f32,
 }
 
@@ -117,14 +117,14 @@ pub struct MarginConfig {
     pub confidence: f32,
     /// The forward simulations of the prediction.
     pub rollout: RolloutConfig,
-    /// The deployment's deadline, from the first sample [s]: a joint that
+    /// The deployment's deadline, from the first sample \[s\]: a joint that
     /// latches later counts as stalled (the mechanism file's `duration_s`).
     pub deadline_s: f32,
-    /// Relative standard deviation of the spring torques [1]: how far the
+    /// Relative standard deviation of the spring torques \[1\]: how far the
     /// hinges may be from their curves. The prior spread of the friction
     /// observer's spring-scale estimate `κ` (`docs/monitor.md` §3.2).
     pub spring_sd_rel: f32,
-    /// Floor of the energy standard deviation [J].
+    /// Floor of the energy standard deviation \[J\].
     pub energy_sd_floor_j: f32,
 }
 

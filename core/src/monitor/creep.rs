@@ -8,10 +8,10 @@ use crate::physics::spring::Branch;
 /// Sub-intervals of the creep quadrature.
 const CREEP_PANELS: usize = 8;
 
-/// Step of the one-joint snap-through integration [s].
+/// Step of the one-joint snap-through integration \[s\].
 const SNAP_DT_S: f32 = 0.002;
 
-/// Longest snap-through from a creep the quadrature integrates [s]; a
+/// Longest snap-through from a creep the quadrature integrates \[s\]; a
 /// longer one is left to the rollout.
 const SNAP_LIMIT_S: f32 = 0.5;
 
@@ -19,10 +19,10 @@ const SNAP_LIMIT_S: f32 = 0.5;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Creep {
     /// The joint creeps to its capture angle and snaps through to the latch
-    /// in this time [s] (past the horizon: in no less).
+    /// in this time \[s\] (past the horizon: in no less).
     Covers(f32),
     /// The spring overcomes the Coulomb torque before the capture angle
-    /// after this time [s] of creep (the joint breaks free and
+    /// after this time \[s\] of creep (the joint breaks free and
     /// accelerates), or the snap-through takes longer than
     /// [`SNAP_LIMIT_S`]: the rollout has to go on.
     BreaksFree(f32),
@@ -33,11 +33,11 @@ pub enum Creep {
 /// One creeping joint, for [`creep`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CreepJoint {
-    /// `|φ|` now [rad].
+    /// `|φ|` now \[rad\].
     pub from_rad: f32,
-    /// Capture angle [rad] (0 without a snap-through).
+    /// Capture angle \[rad\] (0 without a snap-through).
     pub capture_rad: f32,
-    /// Factor on the spring torque [1].
+    /// Factor on the spring torque \[1\].
     pub spring_scale: f32,
     /// Coulomb torque `T_C` [N·m].
     pub coulomb_nm: f32,
@@ -67,7 +67,7 @@ pub struct CreepJoint {
 /// articulated inertia, in steps of [`SNAP_DT_S`] linearly implicit in the
 /// friction.
 ///
-/// `horizon_s` is the time that matters [s]: the integration stops once it
+/// `horizon_s` is the time that matters \[s\]: the integration stops once it
 /// is passed (the joint does not latch within it either way).
 pub fn creep(
     spring: &crate::physics::spring::Spring<f32>,
@@ -97,10 +97,10 @@ pub struct CreepRun {
 /// Where a [`CreepRun`] is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum CreepStage {
-    /// Panel `k` of the quadrature next, `t` [s] of creep so far.
+    /// Panel `k` of the quadrature next, `t` \[s\] of creep so far.
     Quadrature { k: u8, t: f32 },
-    /// The snap-through: creep time `t` [s], `|φ|` [rad], rate `w`
-    /// [rad/s] and time of the snap so far [s].
+    /// The snap-through: creep time `t` \[s\], `|φ|` \[rad\], rate `w`
+    /// [rad/s] and time of the snap so far \[s\].
     Snap { t: f32, abs: f32, w: f32, snap: f32 },
 }
 
@@ -137,7 +137,7 @@ impl CreepRun {
         }
     }
 
-    /// Panel `k` of the quadrature after `t` [s] of creep, or, past the
+    /// Panel `k` of the quadrature after `t` \[s\] of creep, or, past the
     /// last panel, the start of the snap-through from the capture angle at
     /// the creep rate there. `Some` once the outcome is known.
     fn quadrature(
@@ -182,8 +182,8 @@ impl CreepRun {
         None
     }
 
-    /// One step of the snap-through after `t` [s] of creep, at `|φ|` =
-    /// `abs` [rad] with rate `w` [rad/s], `snap` [s] into it. `Some` once
+    /// One step of the snap-through after `t` \[s\] of creep, at `|φ|` =
+    /// `abs` \[rad\] with rate `w` [rad/s], `snap` \[s\] into it. `Some` once
     /// the outcome is known.
     fn snap(
         &mut self,

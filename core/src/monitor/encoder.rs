@@ -1,5 +1,5 @@
 //! The AS5047P's 14-bit angle and its SPI frame check: pure functions, with
-//! no bus and no feature gate, shared by the driver ([`crate::hal`], feature
+//! no bus and no feature gate, shared by the driver (`crate::hal`, feature
 //! `hal`), the monitor's sensor model ([`crate::monitor::estimator::SensorConfig`]) and
 //! the host's sensor simulation and fault injection.
 //!
@@ -14,7 +14,7 @@
 /// Counts per mechanical turn of the 14-bit angle.
 pub const COUNTS_PER_TURN: u16 = 1 << 14;
 
-/// One count of the 14-bit angle [deg]: 360/16384 = 0.02197265625 (exact
+/// One count of the 14-bit angle \[deg\]: 360/16384 = 0.02197265625 (exact
 /// in binary), the quantisation step of the reference encoder
 /// (`physics.md` section 7).
 pub const STEP_DEG: f64 = 360.0 / COUNTS_PER_TURN as f64;

@@ -2,11 +2,11 @@
 //! ([`crate::monitor::latch`]) as two small types instead of hand-made
 //! `since`/`run` pairs.
 //!
-//! - [`Held`]: a condition held since a time stamp [s] (the start of its
+//! - [`Held`]: a condition held since a time stamp \[s\] (the start of its
 //!   current unbroken stretch), or the time of the last event.
 //! - [`HeldSamples`]: a condition held for a number of consecutive samples.
 
-/// A condition held since a time stamp [s]: the start of its current
+/// A condition held since a time stamp \[s\]: the start of its current
 /// unbroken stretch (or the time of the last event), or none while it does
 /// not hold.
 ///
@@ -15,7 +15,7 @@
 /// timer costs no flag beside its time stamp.
 #[derive(Clone, Copy, Debug)]
 pub struct Held {
-    /// Start of the current stretch [s], NaN while the condition does not
+    /// Start of the current stretch \[s\], NaN while the condition does not
     /// hold.
     since: f32,
 }
@@ -38,7 +38,7 @@ impl Held {
     /// A condition that does not hold.
     pub const NEW: Held = Held { since: f32::NAN };
 
-    /// Starts a stretch at `t_s` [s] unless one is under way.
+    /// Starts a stretch at `t_s` \[s\] unless one is under way.
     #[inline(always)]
     pub fn start(&mut self, t_s: f32) {
         if self.since.is_nan() {
@@ -46,7 +46,7 @@ impl Held {
         }
     }
 
-    /// Starts a new stretch at `t_s` [s], ending any under way (an event:
+    /// Starts a new stretch at `t_s` \[s\], ending any under way (an event:
     /// the time of the last one).
     #[inline(always)]
     pub fn restart(&mut self, t_s: f32) {
@@ -59,7 +59,7 @@ impl Held {
         self.since = f32::NAN;
     }
 
-    /// Records the condition at time `t_s` [s]: a stretch starts at the
+    /// Records the condition at time `t_s` \[s\]: a stretch starts at the
     /// first sample that holds and ends at the first that does not.
     #[inline(always)]
     pub fn update(&mut self, holds: bool, t_s: f32) {
@@ -76,15 +76,15 @@ impl Held {
         !self.since.is_nan()
     }
 
-    /// True when the condition has held for at least `duration_s` [s] at
-    /// time `t_s` [s].
+    /// True when the condition has held for at least `duration_s` \[s\] at
+    /// time `t_s` \[s\].
     #[inline(always)]
     pub fn at_least(&self, t_s: f32, duration_s: f32) -> bool {
         t_s - self.since >= duration_s
     }
 
-    /// True when the condition holds and started at most `duration_s` [s]
-    /// before `t_s` [s] (the last event was that recent).
+    /// True when the condition holds and started at most `duration_s` \[s\]
+    /// before `t_s` \[s\] (the last event was that recent).
     #[inline(always)]
     pub fn within(&self, t_s: f32, duration_s: f32) -> bool {
         t_s - self.since <= duration_s

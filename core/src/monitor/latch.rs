@@ -45,7 +45,7 @@ use serde::{Deserialize, Serialize};
 
 pub use crate::monitor::bounce::{LockKind, PhysicalLatch};
 
-/// Slack on the bounce window of a physical latch [s]: the time stamps'
+/// Slack on the bounce window of a physical latch \[s\]: the time stamps'
 /// `f32` rounding (a few µs at 10 s) must not cost a sample; far below the
 /// smallest time step the monitor accepts (0.1 ms).
 const HOLD_ROUNDING_S: f32 = 1e-5;
@@ -127,29 +127,29 @@ impl core::fmt::Display for LatchState {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LatchConfig {
     /// The encoder must read within this of the latch angle for a closed
-    /// switch to be a latch [deg].
+    /// switch to be a latch \[deg\].
     pub window_deg: f32,
     /// Closed switch samples needed among the last three (2 or 3).
     pub closed_votes: u8,
-    /// Movement from the stowed angle that starts `Deploying` [deg].
+    /// Movement from the stowed angle that starts `Deploying` \[deg\].
     pub start_deg: f32,
-    /// `|φ|` below which a deploying joint is `Latching` [deg].
+    /// `|φ|` below which a deploying joint is `Latching` \[deg\].
     pub latching_deg: f32,
     /// Rate below which a deploying joint counts as stopped [deg/s].
     pub stall_rate_deg_s: f32,
-    /// How long it must stay stopped to be `Stalled` [s].
+    /// How long it must stay stopped to be `Stalled` \[s\].
     pub stall_time_s: f32,
     /// Encoder reading that counts as "at the latch" for the switch-open
-    /// check [deg] (ideal latch; a physical latch uses its switch travel
+    /// check \[deg\] (ideal latch; a physical latch uses its switch travel
     /// and the encoder noise instead).
     pub at_latch_deg: f32,
     /// How long the encoder may sit at the latch with the switch open
-    /// before that is a fault [s].
+    /// before that is a fault \[s\].
     pub switch_timeout_s: f32,
     /// Consecutive missing encoder samples that make the joint `Fault`.
     pub missing_samples: u8,
     /// How long the switch must stay closed without a break to count on its
-    /// own [s]: for a latch while the encoder is unavailable (missing or
+    /// own \[s\]: for a latch while the encoder is unavailable (missing or
     /// stuck), and for a switch closed far from the latch angle to be
     /// distrusted. Longer than the longest bounce (20 ms). Also the bounce
     /// window: two changes of the switch's state within it are chatter
@@ -158,7 +158,7 @@ pub struct LatchConfig {
     pub debounce_s: f32,
     /// How long a healthy encoder must read within `at_latch_deg` of the
     /// latch angle, while the switch stays open or is distrusted, for the
-    /// latch to be confirmed by the encoder alone [s] (flagged). Longer
+    /// latch to be confirmed by the encoder alone \[s\] (flagged). Longer
     /// than the stuck-encoder detection, so a reading frozen at the latch
     /// angle is caught first.
     pub encoder_confirm_s: f32,
@@ -215,23 +215,23 @@ impl LatchConfig {
 /// What the estimator sees of a joint at one sample.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LatchInput {
-    /// Time stamp [s].
+    /// Time stamp \[s\].
     pub t_s: f32,
     /// The latch switch (true = closed).
     pub switch: bool,
-    /// The encoder reading [deg], `None` when missing or rejected.
+    /// The encoder reading \[deg\], `None` when missing or rejected.
     pub measured_deg: Option<f32>,
-    /// The filtered angle [deg].
+    /// The filtered angle \[deg\].
     pub angle_deg: f32,
     /// The filtered rate [deg/s].
     pub rate_deg_s: f32,
-    /// The stowed angle [deg].
+    /// The stowed angle \[deg\].
     pub stowed_deg: f32,
     /// True while the encoder is known to be stuck (its readings are then
     /// `None` in `measured_deg`): a switch that disagreed with it is
     /// trusted again.
     pub encoder_stuck: bool,
-    /// Standard deviation of one encoder reading [deg] (noise and
+    /// Standard deviation of one encoder reading \[deg\] (noise and
     /// quantisation): how far "on the stop" reaches with a physical latch.
     pub noise_sd_deg: f32,
 }
@@ -347,7 +347,7 @@ impl LatchTracker {
         self.latched
     }
 
-    /// True when a reading `z_deg` [deg] brings the joint, not latched,
+    /// True when a reading `z_deg` \[deg\] brings the joint, not latched,
     /// within the crest of a physical latch's stop (it was beyond it at the
     /// previous reading): it may hit the stop before the next sample.
     pub fn enters_stop_zone(&self, z_deg: f32) -> bool {

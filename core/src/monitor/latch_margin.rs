@@ -35,11 +35,11 @@
 /// the ideal latch of `physics.md` §5).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Engagement {
-    /// `E_eng = P0 h + ½ k_p h²`: energy to climb the entry ramp [J].
+    /// `E_eng = P0 h + ½ k_p h²`: energy to climb the entry ramp \[J\].
     pub energy_j: f32,
-    /// `u_c`: travel from the stop of the crest [rad].
+    /// `u_c`: travel from the stop of the crest \[rad\].
     pub crest_rad: f32,
-    /// `w_e`: angular width of the entry ramp [rad].
+    /// `w_e`: angular width of the entry ramp \[rad\].
     pub ramp_rad: f32,
 }
 
@@ -64,13 +64,13 @@ impl Engagement {
             .all(|v| v.is_finite() && *v >= 0.0)
     }
 
-    /// `u_c + w_e`: travel of the entry ramp's foot [rad].
+    /// `u_c + w_e`: travel of the entry ramp's foot \[rad\].
     pub fn foot_rad(&self) -> f32 {
         self.crest_rad + self.ramp_rad
     }
 
     /// Work of the entry ramp against a joint going from travel `hi` to
-    /// `lo < hi` [J]: `E_eng` times the share of the ramp's width in
+    /// `lo < hi` \[J\]: `E_eng` times the share of the ramp's width in
     /// `[lo, hi]` (all of it when `[lo, hi]` spans the ramp). 0 for the
     /// ideal latch (a ramp of no width).
     pub fn work_j(&self, lo: f32, hi: f32) -> f32 {
@@ -89,7 +89,7 @@ impl Engagement {
         self.energy_j * (b - a) / self.ramp_rad
     }
 
-    /// Where the energy march of the remaining stroke ends [rad]: the
+    /// Where the energy march of the remaining stroke ends \[rad\]: the
     /// capture angle `x_c`, or the crest when it lies further out.
     /// The same capture angle for the ideal latch (crest 0, `x_c ≥ 0`).
     pub fn march_end(&self, capture_rad: f32) -> f32 {

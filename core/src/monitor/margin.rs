@@ -2,7 +2,7 @@
 //! prediction (`physics.md` §9, energy form of seed 000 Eqs. 17–21).
 //!
 //! # Energy balance of the remaining stroke
-//! For a joint at `x₀ = |φ|` [rad] moving with kinetic energy `K` [J], the
+//! For a joint at `x₀ = |φ|` \[rad\] moving with kinetic energy `K` \[J\], the
 //! energy left when it reaches `x < x₀` is, in a one-joint model,
 //!
 //! ```text
@@ -72,15 +72,15 @@ pub const MARGIN_CAP_PCT: f32 = 10_000.0;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct UncertaintyFactors {
-    /// Divides the spring (driving) energy [1].
+    /// Divides the spring (driving) energy \[1\].
     pub spring: f32,
-    /// Divides the kinetic energy already in the joint [1].
+    /// Divides the kinetic energy already in the joint \[1\].
     pub kinetic: f32,
-    /// Multiplies the Coulomb friction energy [1].
+    /// Multiplies the Coulomb friction energy \[1\].
     pub coulomb: f32,
-    /// Multiplies the viscous friction energy [1].
+    /// Multiplies the viscous friction energy \[1\].
     pub viscous: f32,
-    /// Multiplies the physical latch's engagement energy still ahead [1]
+    /// Multiplies the physical latch's engagement energy still ahead \[1\]
     /// ([`crate::monitor::latch_margin`]; the standards' "variable" /
     /// "other forces" factor in the presets, `docs/margin.md`).
     pub latch: f32,
@@ -142,7 +142,7 @@ impl Default for UncertaintyFactors {
 /// The state of one joint the margin is computed from.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MarginInput {
-    /// `x₀ = |φ|` [rad].
+    /// `x₀ = |φ|` \[rad\].
     pub angle_abs_rad: f32,
     /// `|ω|` [rad/s].
     pub rate_abs_rad_s: f32,
@@ -152,7 +152,7 @@ pub struct MarginInput {
     pub inertia_kgm2: f32,
     /// Variance of the rate [rad²/s²].
     pub rate_var: f32,
-    /// Capture angle `x_c` [rad].
+    /// Capture angle `x_c` \[rad\].
     pub capture_rad: f32,
     /// Friction estimate `T_C` [N·m].
     pub coulomb_nm: f32,
@@ -163,9 +163,9 @@ pub struct MarginInput {
     /// A lower bound of `T_C` from the friction torque seen now [N·m]
     /// (0 for none): the estimate's distribution is truncated there.
     pub coulomb_lower_nm: f32,
-    /// Factor on the nominal spring curve, `1 + κ̂` [1].
+    /// Factor on the nominal spring curve, `1 + κ̂` \[1\].
     pub spring_scale: f32,
-    /// Standard deviation of that factor [1].
+    /// Standard deviation of that factor \[1\].
     pub spring_sd_rel: f32,
     /// Variance of `f`.
     pub viscous_var: f32,
@@ -180,7 +180,7 @@ pub struct MarginInput {
 pub struct MarginSettings {
     /// Uncertainty factors of the reported margin.
     pub factors: UncertaintyFactors,
-    /// Floor of the energy standard deviation [J].
+    /// Floor of the energy standard deviation \[J\].
     pub energy_sd_floor_j: f32,
 }
 
@@ -192,7 +192,7 @@ pub struct MarginResult {
     pub margin_pct: f32,
     /// Probability that the joint reaches its capture angle [0, 1].
     pub latch_probability: f32,
-    /// Predicted time to the capture angle [s], `None` when the best
+    /// Predicted time to the capture angle \[s\], `None` when the best
     /// estimate stalls.
     pub time_to_latch_s: Option<f32>,
     /// The best estimate reaches a physical latch's crest without the
@@ -296,7 +296,7 @@ pub fn evaluate(spring: &Spring<f32>, x: &MarginInput, s: &MarginSettings) -> Ma
 }
 
 /// `K_eff` of a joint moving away from the latch with kinetic energy `k`
-/// [J] against the Coulomb torque `tc` [N·m]: it first travels
+/// \[J\] against the Coulomb torque `tc` [N·m]: it first travels
 /// `Δ = K/(T_s + T_C)` further out and comes back, which leaves
 /// `K (T_s − T_C)/(T_s + T_C)`.
 fn moving_away(spring: &Spring<f32>, x: &MarginInput, k: f32, tc: f32) -> f32 {
@@ -311,7 +311,7 @@ fn moving_away(spring: &Spring<f32>, x: &MarginInput, k: f32, tc: f32) -> f32 {
 
 /// The remaining stroke of a joint, as [`evaluate`] marches it.
 struct Stroke {
-    /// `x₀` and `x_c` [rad].
+    /// `x₀` and `x_c` \[rad\].
     x0: f32,
     xc: f32,
     /// `T_C` [N·m] and `f` [N·m·s/rad], not negative.
@@ -319,31 +319,31 @@ struct Stroke {
     fv: f32,
     /// `I` [kg·m²].
     inertia: f32,
-    /// `K_eff` [J] and the variance of `K` [J²].
+    /// `K_eff` \[J\] and the variance of `K` \[J²\].
     k_eff: f32,
     var_k: f32,
 }
 
 /// What the march over the remaining stroke adds up.
 struct March {
-    /// Spring energy released `E_s` [J].
+    /// Spring energy released `E_s` \[J\].
     e_s: f32,
-    /// `W_C = x₀ − x_c` [rad] and `W_v = ∫ ω dθ` [rad²/s].
+    /// `W_C = x₀ − x_c` \[rad\] and `W_v = ∫ ω dθ` [rad²/s].
     w_c: f32,
     w_v: f32,
     /// The most demanding node's threshold `T*` [N·m] and its variance.
     t_star: f32,
     t_star_var: f32,
-    /// Time to the capture angle [s] (over the steps the joint moves).
+    /// Time to the capture angle \[s\] (over the steps the joint moves).
     t_total: f32,
     /// The energy ran out before the capture angle.
     stalled: bool,
-    /// `E` left at the end of the march [J].
+    /// `E` left at the end of the march \[J\].
     e_end: f32,
 }
 
 impl March {
-    /// Takes a physical latch's entry-ramp work still ahead `w_eng` [J]
+    /// Takes a physical latch's entry-ramp work still ahead `w_eng` \[J\]
     /// off at the end of the march (`latch_margin`), `tc` the Coulomb
     /// torque [N·m]; true when the joint stops on the ramp: the march
     /// reaches the crest without the ramp's work and not with it, or the

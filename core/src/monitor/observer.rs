@@ -92,8 +92,8 @@ pub struct JerkAdaptation {
 }
 
 impl RateFilter {
-    /// Starts at angle `phi_rad` [rad] at rest, with standard deviations
-    /// `sd_phi_rad` [rad], `sd_rate` [rad/s] and `sd_acc` [rad/s²].
+    /// Starts at angle `phi_rad` \[rad\] at rest, with standard deviations
+    /// `sd_phi_rad` \[rad\], `sd_rate` [rad/s] and `sd_acc` [rad/s²].
     pub fn new(phi_rad: f32, sd_phi_rad: f32, sd_rate: f32, sd_acc: f32) -> Self {
         RateFilter {
             q: 1.0,
@@ -110,7 +110,7 @@ impl RateFilter {
         }
     }
 
-    /// The angle estimate [rad].
+    /// The angle estimate \[rad\].
     pub fn angle(&self) -> f32 {
         self.x[0]
     }
@@ -125,7 +125,7 @@ impl RateFilter {
         self.x[2]
     }
 
-    /// Variance of the angle estimate [rad²].
+    /// Variance of the angle estimate \[rad²\].
     pub fn angle_var(&self) -> f32 {
         self.p[0]
     }
@@ -185,7 +185,7 @@ impl RateFilter {
         sum.is_finite() && self.p[0] > 0.0 && self.p[3] > 0.0 && self.p[5] > 0.0
     }
 
-    /// Time update over `dt` [s] with the adapted jerk spectral density, or
+    /// Time update over `dt` \[s\] with the adapted jerk spectral density, or
     /// `q_floor` [rad²/s⁵] if that is larger.
     pub fn predict(&mut self, dt: f32, q_floor: f32) {
         let q = self.q.max(q_floor);
@@ -212,7 +212,7 @@ impl RateFilter {
         ];
     }
 
-    /// Measurement update with angle `z` [rad] of variance `r` [rad²].
+    /// Measurement update with angle `z` \[rad\] of variance `r` \[rad²\].
     /// Rejected when the normalised innovation squared exceeds `gate2`.
     pub fn update(&mut self, z: f32, r: f32, gate2: f32, adapt: &JerkAdaptation) -> Fusion {
         let nu = z - self.x[0];
@@ -256,7 +256,7 @@ pub struct MomentumTerms<const N: usize> {
 }
 
 /// Mass matrix `M(φ)` [kg·m²], `β = ∂T/∂φ` and the Coriolis/centrifugal
-/// torques `−Sᵀ C` [N·m] of the chain at angles `phi` [rad] and rates
+/// torques `−Sᵀ C` [N·m] of the chain at angles `phi` \[rad\] and rates
 /// `omega` [rad/s], from one evaluation of the panel angles' sines and
 /// cosines.
 ///
@@ -384,7 +384,7 @@ pub struct FrictionEstimate {
     /// Covariance of `T_C` and `f`.
     pub cov: f32,
     /// Relative error of the spring curve `κ` (the spring torque is
-    /// `(1 + κ) τ_s`) [1].
+    /// `(1 + κ) τ_s`) \[1\].
     pub spring_scale_err: f32,
     /// Variance of `κ`.
     pub spring_scale_var: f32,
@@ -438,7 +438,7 @@ pub struct FrictionObserver {
     /// `K dt` of the last step.
     kdt: f32,
     prior: FrictionPrior,
-    /// Prior standard deviation of `κ` [1].
+    /// Prior standard deviation of `κ` \[1\].
     spring_sd_rel: f32,
 }
 
@@ -455,7 +455,7 @@ pub struct ObserverInput {
     pub rate_rad_s: f32,
     /// Variance of the rate estimate [rad²/s²].
     pub rate_var: f32,
-    /// Time step [s] (> 0).
+    /// Time step \[s\] (> 0).
     pub dt_s: f32,
     /// Whether the parameters may be updated with this step.
     pub learn: bool,

@@ -39,13 +39,13 @@ use crate::monitor::observer::RateFilter;
 pub const STALE_MOTION_STEPS: f32 = 5.0;
 /// Consecutive repeats (while moving) that make a reading stale.
 pub const STALE_REPEATS: u16 = 2;
-/// Departure from the filter's extrapolation that may start a spike [rad]
+/// Departure from the filter's extrapolation that may start a spike \[rad\]
 /// (0.2°: 7 σ of the reference encoder; a departure alone flags nothing).
 pub const DEPART_RAD: f32 = 0.2 * core::f32::consts::PI / 180.0;
 /// Samples, from the first that departs, a spike may last.
 pub const SPIKE_SAMPLES: u8 = 2;
 /// A reading back within this fraction of the jump from the old
-/// trajectory has returned [1].
+/// trajectory has returned \[1\].
 pub const RETURN_FRACTION: f32 = 0.3;
 
 /// Readings of the line a spike is judged against.
@@ -55,9 +55,9 @@ const LINE_READINGS: usize = 3;
 /// going.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Course {
-    /// Time of the previous sample [s].
+    /// Time of the previous sample \[s\].
     pub t_s: f32,
-    /// Angle [rad].
+    /// Angle \[rad\].
     pub angle: f32,
     /// Rate [rad/s].
     pub rate: f32,
@@ -66,7 +66,7 @@ pub struct Course {
 }
 
 impl Course {
-    /// The course of `filter`, whose last sample was at `t_s` [s].
+    /// The course of `filter`, whose last sample was at `t_s` \[s\].
     pub fn of(filter: &RateFilter, t_s: f32) -> Self {
         Course {
             t_s,
@@ -76,7 +76,7 @@ impl Course {
         }
     }
 
-    /// The angle extrapolated to `t` [rad].
+    /// The angle extrapolated to `t` \[rad\].
     fn at(&self, t: f32) -> f32 {
         let tau = t - self.t_s;
         self.angle + tau * (self.rate + 0.5 * tau * self.acc)
@@ -86,13 +86,13 @@ impl Course {
 /// One encoder reading as the checks see it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Reading {
-    /// Time stamp [s].
+    /// Time stamp \[s\].
     pub t_s: f32,
-    /// The reading [rad], in range and finite; `None` when missing.
+    /// The reading \[rad\], in range and finite; `None` when missing.
     pub angle: Option<f32>,
     /// How many samples in a row have repeated it exactly.
     pub repeats: u16,
-    /// The encoder's quantisation step [rad].
+    /// The encoder's quantisation step \[rad\].
     pub step: f32,
     /// False where motion checks do not apply: the joint is latched, its
     /// switch closed or an impact is under way (the joint may stop dead),
@@ -129,7 +129,7 @@ impl Verdict {
 struct Departure {
     /// The course before it.
     course: Course,
-    /// Its size [rad].
+    /// Its size \[rad\].
     jump: f32,
     /// Samples since it started, the departing one included.
     samples: u8,
@@ -139,7 +139,7 @@ struct Departure {
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct ReadingCheck {
     pending: Option<Departure>,
-    /// The last readings, (time [s], angle [rad]), newest last; the last
+    /// The last readings, (time \[s\], angle \[rad\]), newest last; the last
     /// `seen` of them valid.
     last: [(f32, f32); LINE_READINGS],
     seen: u8,
@@ -161,7 +161,7 @@ impl ReadingCheck {
     }
 
     /// Checks `reading` against the joint's rate filter as it stood after
-    /// the previous sample, at `t_prev` [s]. Out of line: one copy for
+    /// the previous sample, at `t_prev` \[s\]. Out of line: one copy for
     /// every joint count.
     #[inline(never)]
     pub fn check_filter(&mut self, reading: &Reading, filter: &RateFilter, t_prev: f32) -> Verdict {

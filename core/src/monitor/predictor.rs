@@ -90,9 +90,9 @@ pub struct FrictionBelief {
     pub viscous_nms: f32,
     /// Variance of `f̂` [N²·m²·s²/rad²].
     pub viscous_var: f32,
-    /// Spring-scale error `κ̂` [1] (springs at `1 + κ̂`).
+    /// Spring-scale error `κ̂` \[1\] (springs at `1 + κ̂`).
     pub spring_scale_err: f32,
-    /// Variance of `κ̂` [1].
+    /// Variance of `κ̂` \[1\].
     pub spring_scale_var: f32,
     /// Lower bound on `T_C` from the friction torque the observer sees now
     /// [N·m] (used by the optimistic bracket).
@@ -103,10 +103,10 @@ pub struct FrictionBelief {
 /// ([`ROLLOUT_MAX_JOINTS`]).
 const R: usize = ROLLOUT_MAX_JOINTS;
 
-/// A finished rollout's outcome per joint, with its start time [s].
+/// A finished rollout's outcome per joint, with its start time \[s\].
 type Finished = Option<([JointOutcome; R], f32)>;
 
-/// Where the next rollout starts: time [s], joint state and locked joints.
+/// Where the next rollout starts: time \[s\], joint state and locked joints.
 pub(crate) type Start<const M: usize> = (f32, ChainState<f32, M>, [bool; M]);
 
 /// The rollout cycle of the latch / stall prediction of an `N`-joint
@@ -124,7 +124,7 @@ pub struct Predictor<const N: usize> {
 pub(crate) struct Cycle {
     /// Joints in use.
     n: u8,
-    /// The rollout in progress, its bracket and start time [s].
+    /// The rollout in progress, its bracket and start time \[s\].
     rollout: Option<(Stepper, Bracket, f32)>,
     /// The next rollout of the cycle and the joints it watches.
     next: (Bracket, [bool; R]),
@@ -134,7 +134,7 @@ pub(crate) struct Cycle {
     /// Completed cycles (full predictions).
     refreshes: u32,
     /// Last finished nominal, pessimistic and optimistic outcomes, with
-    /// their start times [s].
+    /// their start times \[s\].
     nominal: Finished,
     pessimistic: Finished,
     optimistic: Finished,
@@ -146,7 +146,7 @@ pub(crate) struct Cycle {
     energy_stall: [bool; R],
     /// `z = Φ⁻¹(confidence)`.
     z: f32,
-    /// Where the next rollout starts: time [s], state and locked joints
+    /// Where the next rollout starts: time \[s\], state and locked joints
     /// (set by the sample path; the joints past `n` locked).
     start: Option<Start<R>>,
 }
@@ -166,7 +166,7 @@ impl<const N: usize> Predictor<N> {
         }
     }
 
-    /// Where the next rollout starts: time [s], joint state and locked
+    /// Where the next rollout starts: time \[s\], joint state and locked
     /// joints; `None` while no settled state is at hand (a rollout in
     /// progress goes on, a finished one is kept).
     pub fn set_start(&mut self, start: Option<(f32, ChainState<f32, N>, [bool; N])>) {
@@ -188,8 +188,8 @@ impl<const N: usize> Predictor<N> {
         }));
     }
 
-    /// The rollout in progress: its bracket, start time [s] and the time
-    /// it has simulated [s] (for diagnostics).
+    /// The rollout in progress: its bracket, start time \[s\] and the time
+    /// it has simulated \[s\] (for diagnostics).
     pub fn in_progress(&self) -> Option<(Bracket, f32, f32)> {
         self.cycle.rollout.map(|(r, b, t0)| (b, t0, r.elapsed_s()))
     }
@@ -204,7 +204,7 @@ impl<const N: usize> Predictor<N> {
     /// `cfg.steps_per_slice` units of work; when it ends, stores its outcome
     /// and starts the next rollout of the cycle from the last start handed
     /// over, with `belief(j)` for each joint. `deadline_s` is the absolute
-    /// deadline [s]: only the time left to it is simulated. Returns true
+    /// deadline \[s\]: only the time left to it is simulated. Returns true
     /// when a rollout finished.
     pub fn slice(
         &mut self,
@@ -223,7 +223,7 @@ impl<const N: usize> Predictor<N> {
         self.cycle.slice(&chain, cfg, deadline_s, &capture, &belief)
     }
 
-    /// The latch / stall prediction of joint `j` at time `t` [s] from the
+    /// The latch / stall prediction of joint `j` at time `t` \[s\] from the
     /// last finished rollouts and what `query` says of the joint
     /// ([`Cycle::prediction`]).
     pub fn prediction(
@@ -378,10 +378,10 @@ impl Cycle {
         finished
     }
 
-    /// The latch / stall prediction of joint `j` at time `t` [s] from the
+    /// The latch / stall prediction of joint `j` at time `t` \[s\] from the
     /// last finished rollouts and what `query` says of the joint (its
     /// latch, its one-joint energy balance, the deadline): the prediction,
-    /// its confidence and the time to the latch [s]. A joint whose balance
+    /// its confidence and the time to the latch \[s\]. A joint whose balance
     /// stops it on a physical latch's entry ramp is predicted to stop there
     /// ([`crate::monitor::latch_margin`]).
     pub(crate) fn prediction(
@@ -476,7 +476,7 @@ fn stall_kind(energy: Option<MarginResult>) -> Prediction {
 }
 
 /// Latch probability of the one-joint energy balance at which its call of a
-/// stall (`P ≤ 1 − confidence`) is lifted [1]: the hysteresis of the
+/// stall (`P ≤ 1 − confidence`) is lifted \[1\]: the hysteresis of the
 /// override (`docs/monitor.md` §6).
 pub const ENERGY_STALL_CLEAR: f32 = 0.5;
 
@@ -488,16 +488,16 @@ pub struct PredictionQuery {
     pub latched: bool,
     /// The one-joint energy balance of the joint, if evaluated.
     pub energy: Option<MarginResult>,
-    /// The deployment's deadline, absolute [s]: a latch after it is a stall.
+    /// The deployment's deadline, absolute \[s\]: a latch after it is a stall.
     pub deadline_s: f32,
-    /// Confidence level `Φ(z)` [1].
+    /// Confidence level `Φ(z)` \[1\].
     pub confidence: f32,
     /// False when the rollouts are switched off.
     pub rollouts: bool,
 }
 
 /// One joint's Coulomb torque [N·m], viscous coefficient [N·m·s/rad] and
-/// spring scale [1] in a rollout whose friction is `shift` standard
+/// spring scale \[1\] in a rollout whose friction is `shift` standard
 /// deviations above the belief `e` (below for a negative `shift`; more
 /// friction goes with weaker springs, and less with stronger); with
 /// `floor`, the Coulomb torque is never below the friction torque the joint

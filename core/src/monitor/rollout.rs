@@ -58,11 +58,11 @@ pub const ROLLOUT_MAX_JOINTS: usize = 4;
 const R: usize = ROLLOUT_MAX_JOINTS;
 
 /// Predicted time every free joint must creep before the rollout settles
-/// the outcome by the creep quadrature, and between two tries [s].
+/// the outcome by the creep quadrature, and between two tries \[s\].
 pub const STALL_HOLD_S: f32 = 0.2;
 
 /// Longest snap-through from the capture angle to the latch the rollout
-/// allows for [s].
+/// allows for \[s\].
 const MAX_SNAP_S: f32 = 0.05;
 
 /// Which friction a rollout assumes.
@@ -80,7 +80,7 @@ pub enum Bracket {
 /// Where a rollout starts from.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RolloutStart<const N: usize> {
-    /// Joint angles [rad] and rates [rad/s].
+    /// Joint angles \[rad\] and rates [rad/s].
     pub state: ChainState<f32, N>,
     /// Joints latched already.
     pub latched: [bool; N],
@@ -88,22 +88,22 @@ pub struct RolloutStart<const N: usize> {
     pub coulomb_nm: [f32; N],
     /// Viscous coefficient of each joint [N·m·s/rad].
     pub viscous_nms: [f32; N],
-    /// Factor on each joint's spring torque [1].
+    /// Factor on each joint's spring torque \[1\].
     pub spring_scale: [f32; N],
-    /// Capture angle of each joint [rad].
+    /// Capture angle of each joint \[rad\].
     pub capture_rad: [f32; N],
 }
 
 /// Settings of the rollouts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RolloutConfig {
-    /// Integration step of the nominal rollout (the prediction) [s].
+    /// Integration step of the nominal rollout (the prediction) \[s\].
     pub dt_s: f32,
-    /// Integration step of the pessimistic and optimistic brackets [s]:
+    /// Integration step of the pessimistic and optimistic brackets \[s\]:
     /// they only confirm the nominal rollout's verdicts (its confidence),
     /// and may be coarser.
     pub bracket_dt_s: f32,
-    /// Longest integration step [s]: while every free joint glides or
+    /// Longest integration step \[s\]: while every free joint glides or
     /// creeps slowly and smoothly, far from its capture angle, the step
     /// grows from `dt_s` (or `bracket_dt_s`) up to this
     /// ([`GLIDE_TURN_RAD`], [`GLIDE_RATE_CHANGE`]); below two steps the
@@ -120,7 +120,7 @@ pub struct RolloutConfig {
     /// a replay is deterministic.
     pub slices_per_sample: u8,
     /// Predicted time after which the joints not latched count as stalled
-    /// [s] (the monitor shortens it to the deployment's deadline).
+    /// \[s\] (the monitor shortens it to the deployment's deadline).
     pub horizon_s: f32,
     /// `ω_c` of the friction law [rad/s].
     pub coulomb_threshold_rad_s: f32,
@@ -131,7 +131,7 @@ pub struct RolloutConfig {
 pub struct JointOutcome {
     /// True when the joint latched in the rollout (or had latched).
     pub latches: bool,
-    /// Predicted time from the rollout's start to the latch [s].
+    /// Predicted time from the rollout's start to the latch \[s\].
     pub latch_after_s: f32,
 }
 
@@ -177,9 +177,9 @@ struct Assumed {
     coulomb_nm: [f32; R],
     /// Viscous coefficient of each joint [N·m·s/rad].
     viscous_nms: [f32; R],
-    /// Factor on each joint's spring torque [1].
+    /// Factor on each joint's spring torque \[1\].
     spring_scale: [f32; R],
-    /// Capture angle of each joint [rad].
+    /// Capture angle of each joint \[rad\].
     capture_rad: [f32; R],
 }
 
@@ -187,11 +187,11 @@ struct Assumed {
 /// one joint after the other, resumable.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Settle {
-    /// Time left to the horizon when the quadrature started [s].
+    /// Time left to the horizon when the quadrature started \[s\].
     time_left: f32,
     /// Articulated inertia of each joint then [kg·m²].
     inertia: [f32; R],
-    /// Creep time of each joint settled so far [s] (∞: no latch).
+    /// Creep time of each joint settled so far \[s\] (∞: no latch).
     after: [f32; R],
     /// The joint in progress.
     joint: u8,
@@ -253,7 +253,7 @@ impl<const N: usize> Rollout<N> {
         unpad(&self.core.watch(), false)
     }
 
-    /// Time simulated so far [s].
+    /// Time simulated so far \[s\].
     pub fn elapsed_s(&self) -> f32 {
         self.core.elapsed_s()
     }
@@ -347,7 +347,7 @@ impl Stepper {
         self.watch
     }
 
-    /// Time simulated so far [s].
+    /// Time simulated so far \[s\].
     pub(crate) fn elapsed_s(&self) -> f32 {
         self.t_s
     }
@@ -452,7 +452,7 @@ impl Stepper {
         }
     }
 
-    /// Length of the next step [s]: `cfg.dt_s`, or longer, up to
+    /// Length of the next step \[s\]: `cfg.dt_s`, or longer, up to
     /// `cfg.glide_dt_s`, while every free joint glides or creeps slowly
     /// and smoothly (`docs/monitor.md` §6, the glide): over the step each
     /// free joint turns by at most [`GLIDE_TURN_RAD`], its rate changes by
@@ -509,7 +509,7 @@ impl Stepper {
         h
     }
 
-    /// Integrates the free joints over `dt` [s] by the midpoint rule, each
+    /// Integrates the free joints over `dt` \[s\] by the midpoint rule, each
     /// stage linearly implicit in the friction (`ω_c` = `wc` [rad/s]).
     /// Returns the joints that reached their capture angle moving inwards,
     /// or `None` when the equations could not be solved.
@@ -547,7 +547,7 @@ impl Stepper {
         Some(crossed)
     }
 
-    /// Latches the `crossed` joints (reached in a step of `dt` [s]).
+    /// Latches the `crossed` joints (reached in a step of `dt` \[s\]).
     ///
     /// The joint covers the rest of its stroke (the snap-through) in a few
     /// milliseconds; over that time the generalised momenta of the other
@@ -690,20 +690,20 @@ impl Stepper {
     }
 }
 
-/// Most a free joint may turn in one lengthened step of the glide [rad]
+/// Most a free joint may turn in one lengthened step of the glide \[rad\]
 /// (2°: the spring torque changes little over it).
 pub const GLIDE_TURN_RAD: f32 = 0.035;
 
 /// Most a free joint's rate may change in one lengthened step of the
-/// glide, relative to the rate (to `ω_c` when slower) [1].
+/// glide, relative to the rate (to `ω_c` when slower) \[1\].
 pub const GLIDE_RATE_CHANGE: f32 = 0.1;
 
-/// Fewest base steps a lengthened step spans [1]: below, the base step.
+/// Fewest base steps a lengthened step spans \[1\]: below, the base step.
 pub const GLIDE_MIN_STEPS: f32 = 2.0;
 
 /// Most a free joint's spring torque may change over one lengthened step
 /// of the glide, relative to the larger of its spring and Coulomb torques
-/// [1].
+/// \[1\].
 pub const GLIDE_TORQUE_CHANGE: f32 = 0.05;
 
 /// Spring evaluations of the creep quadrature and snap-through that count

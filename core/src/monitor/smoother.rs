@@ -37,11 +37,11 @@ const RESIDUAL_LIMIT: f32 = 40.0;
 /// The angle and rate of every joint at the middle of the window.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Centre<const N: usize> {
-    /// Time of the middle sample [s].
+    /// Time of the middle sample \[s\].
     pub t_s: f32,
-    /// Time since the previous middle sample [s].
+    /// Time since the previous middle sample \[s\].
     pub dt_s: f32,
-    /// Joint angles [rad] (0 for a locked joint).
+    /// Joint angles \[rad\] (0 for a locked joint).
     pub phi: [f32; N],
     /// Joint rates [rad/s] (0 for a locked joint).
     pub rate: [f32; N],
@@ -55,7 +55,7 @@ pub struct Centre<const N: usize> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Slot<const N: usize> {
     t_s: f32,
-    /// Readings [rad]; NaN where missing or rejected.
+    /// Readings \[rad\]; NaN where missing or rejected.
     phi: [f32; N],
     /// Whether the monitor found the sample fit to learn from.
     clean: bool,
@@ -107,7 +107,7 @@ impl<const N: usize> CentredFit<N> {
         *self = Self::new();
     }
 
-    /// Adds a sample: time [s], readings [rad] (NaN where missing or
+    /// Adds a sample: time \[s\], readings \[rad\] (NaN where missing or
     /// rejected), whether it is fit to learn from, and the locked joints.
     pub fn push(&mut self, t_s: f32, phi: &[f32; N], clean: bool, locked: &[bool; N]) {
         let slot = Slot {
@@ -135,7 +135,7 @@ impl<const N: usize> CentredFit<N> {
     }
 
     /// The fit at the middle of the window, with `meas_var` the variance of
-    /// one reading [rad²]; `None` unless the window is full, every sample in
+    /// one reading \[rad²\]; `None` unless the window is full, every sample in
     /// it is clean, no joint latched or unlatched inside it, every free
     /// joint has every reading, and each fit's residual is that of noise.
     pub fn centre(&self, meas_var: f32) -> Option<Centre<N>> {

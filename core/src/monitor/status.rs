@@ -10,9 +10,9 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Sample<const N: usize> {
-    /// Time stamp [s].
+    /// Time stamp \[s\].
     pub t_s: f32,
-    /// Encoder angle of each joint [deg]; NaN for a missing reading.
+    /// Encoder angle of each joint \[deg\]; NaN for a missing reading.
     #[serde(with = "crate::monitor::serde_array")]
     pub phi_deg: [f32; N],
     /// Latch switch of each joint (true = closed).
@@ -80,7 +80,7 @@ impl Observability {
 }
 
 /// Largest share of the prior variance left once the data determine a
-/// parameter [1]: the data then carry at least three times the prior's
+/// parameter \[1\]: the data then carry at least three times the prior's
 /// information.
 pub const OBSERVED_PRIOR_SHARE: f32 = 0.25;
 
@@ -93,7 +93,7 @@ pub const VISCOUS_RESOLVED_SD: f32 = 0.1;
 #[derive(Clone, Copy, Debug, PartialEq, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct JointStatus {
-    /// Estimated angle [deg].
+    /// Estimated angle \[deg\].
     pub phi_deg: f32,
     /// Estimated rate [deg/s].
     pub rate_deg_s: f32,
@@ -127,7 +127,7 @@ pub struct JointStatus {
     /// the bracketing rollout confirms it, 0.5 when it does not (the best
     /// estimate only), 1 once latched, 0 when unknown.
     pub confidence: f32,
-    /// Predicted time until the latch [s], from the nominal rollout; `None`
+    /// Predicted time until the latch \[s\], from the nominal rollout; `None`
     /// for a stall, once latched, or before the first rollout.
     pub time_to_latch_s: Option<f32>,
     /// Faults raised at this sample.
@@ -138,7 +138,7 @@ pub struct JointStatus {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Status<const N: usize> {
-    /// Time stamp of the last sample used [s].
+    /// Time stamp of the last sample used \[s\].
     pub t_s: f32,
     /// Samples used so far.
     pub samples: u32,

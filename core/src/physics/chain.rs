@@ -26,17 +26,17 @@ use crate::physics::real::Real;
 use crate::physics::spring::{Branch, Spring};
 use crate::physics::torque_table::{TorqueTable, TABLE_MAX_KNOTS};
 
-/// Half-width δ of the `latch_detent` zone [deg] (`physics.md` section 6).
+/// Half-width δ of the `latch_detent` zone \[deg\] (`physics.md` section 6).
 pub const DETENT_ZONE_DEG: f64 = 3.0;
 
 /// One rigid panel (`physics.md` section 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Panel<T> {
-    /// `L_i`: inboard to outboard hinge [m].
+    /// `L_i`: inboard to outboard hinge \[m\].
     pub length_m: T,
-    /// `m_i` [kg].
+    /// `m_i` \[kg\].
     pub mass_kg: T,
-    /// `c_i`: centre of mass from the inboard hinge, along the panel [m].
+    /// `c_i`: centre of mass from the inboard hinge, along the panel \[m\].
     pub com_m: T,
     /// `I_i`: inertia about the centre of mass, axis ∥ z [kg·m²].
     pub inertia_kgm2: T,
@@ -60,7 +60,7 @@ pub struct JointEffects<T, const K: usize = TABLE_MAX_KNOTS> {
     pub stribeck_rad_s: T,
     /// `quadratic_damping`: adds `−c φ̇|φ̇|` [N·m·s²/rad²].
     pub quadratic_nms2_per_rad2: T,
-    /// `spring_softening`: the spring torque is scaled by `(1 − s)` [1].
+    /// `spring_softening`: the spring torque is scaled by `(1 − s)` \[1\].
     pub spring_softening: T,
     /// `harness_stiffness`: adds `k_h (φ_stowed − φ)` [N·m/rad].
     pub harness_nm_per_rad: T,
@@ -77,14 +77,14 @@ pub struct GlobalEffects<T> {
     pub air_drag_kg_m2: T,
     /// `rig_tilt`: in-plane gravity component `g_t` [m/s²].
     pub tilt_m_s2: T,
-    /// Direction α of the tilt gravity, counter-clockwise from the bus x axis [rad].
+    /// Direction α of the tilt gravity, counter-clockwise from the bus x axis \[rad\].
     pub tilt_alpha_rad: T,
 }
 
 /// One joint: what drives and resists it (`K` as in [`JointEffects`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Joint<T, const K: usize = TABLE_MAX_KNOTS> {
-    /// Stowed (initial) angle `φ_j(0)` [rad]; the latch angle is 0.
+    /// Stowed (initial) angle `φ_j(0)` \[rad\]; the latch angle is 0.
     pub stowed_rad: T,
     /// The hinge spring(s).
     pub spring: Spring<T>,
@@ -133,7 +133,7 @@ impl From<SolveError> for ChainError {
 /// The state of the chain in joint coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ChainState<T, const N: usize> {
-    /// Joint angles `φ` [rad].
+    /// Joint angles `φ` \[rad\].
     pub phi: [T; N],
     /// Joint rates `φ̇` [rad/s].
     pub phi_dot: [T; N],
@@ -330,7 +330,7 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
         &self.a
     }
 
-    /// Absolute panel angles `θ = S φ` [rad].
+    /// Absolute panel angles `θ = S φ` \[rad\].
     #[inline]
     pub fn absolute(phi: &[T; N]) -> [T; N] {
         absolute(N, phi)
@@ -395,7 +395,7 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
     }
 
     /// Torque on joint `j` [N·m] from its spring, friction and joint effects,
-    /// at angle `phi` [rad] and rate `phi_dot` [rad/s] on `branch`.
+    /// at angle `phi` \[rad\] and rate `phi_dot` [rad/s] on `branch`.
     #[inline]
     pub fn joint_torque(&self, j: usize, phi: T, phi_dot: T, branch: Branch) -> T {
         self.counted().joint_torque(j, phi, phi_dot, branch)
@@ -467,7 +467,7 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
         mat_vec(&self.mass_matrix(&x.phi), &x.phi_dot)
     }
 
-    /// Kinetic energy `½ φ̇ᵀ M φ̇` [J].
+    /// Kinetic energy `½ φ̇ᵀ M φ̇` \[J\].
     pub fn kinetic_energy(&self, x: &ChainState<T, N>) -> T {
         let m = self.mass_matrix(&x.phi);
         let p = mat_vec(&m, &x.phi_dot);
@@ -478,7 +478,7 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
         T::of(0.5) * e
     }
 
-    /// Potential energy of the conservative forces [J]: the springs (on their
+    /// Potential energy of the conservative forces \[J\]: the springs (on their
     /// unfolding branch, scaled by any softening), harnesses and rig tilt.
     pub fn potential_energy(&self, phi: &[T; N]) -> T {
         let mut v = T::ZERO;
@@ -575,7 +575,7 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
     }
 
     /// Torque on joint `j` [N·m] from its spring, friction and joint effects,
-    /// at angle `phi` [rad] and rate `phi_dot` [rad/s] on `branch`.
+    /// at angle `phi` \[rad\] and rate `phi_dot` [rad/s] on `branch`.
     #[inline(always)]
     pub fn joint_torque(&self, j: usize, phi: T, phi_dot: T, branch: Branch) -> T {
         let Some(jt) = self.joints.get(j) else {
@@ -612,7 +612,7 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
         t + e.table.torque(phi, phi_dot)
     }
 
-    /// Length `L_k` of panel `k` [m] (0 past the panels).
+    /// Length `L_k` of panel `k` \[m\] (0 past the panels).
     #[inline(always)]
     fn length(&self, k: usize) -> T {
         self.panels.get(k).map_or(T::ZERO, |p| p.length_m)
@@ -693,7 +693,7 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
     }
 }
 
-/// Absolute panel angles `θ = S φ` [rad] of the first `n ≤ M` joints.
+/// Absolute panel angles `θ = S φ` \[rad\] of the first `n ≤ M` joints.
 #[inline(always)]
 fn absolute<T: Real, const M: usize>(n: usize, phi: &[T; M]) -> [T; M] {
     let n = n.min(M);

@@ -88,7 +88,7 @@ pub fn stribeck_excess<T: Real>(excess_nm: T, omega: T, omega_st: T) -> T {
 }
 
 /// The shape of the Coulomb part of the friction law (`physics.md` §4):
-/// `tanh(ω/ω_c)` [1] at relative rate `omega` [rad/s] for the threshold
+/// `tanh(ω/ω_c)` \[1\] at relative rate `omega` [rad/s] for the threshold
 /// `omega_c` [rad/s]. The one place the law's smoothing is written: the
 /// simulator's [`Friction::torque`], the observer's regressor and the
 /// rollout's linearly implicit step all call it.

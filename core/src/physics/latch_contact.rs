@@ -4,12 +4,12 @@
 //!
 //! # Travel and torques
 //! The joint arrives from the side of its stowed angle, `s = sign(φ_stowed)`.
-//! The latch works on the **travel** `u = s φ` [rad]: positive while the
+//! The latch works on the **travel** `u = s φ` \[rad\]: positive while the
 //! protrusion is short of the stop, 0 at the stop, negative inside it. A
 //! torque `τ_u` that increases `u` is the joint torque `τ_φ = s τ_u`.
 //!
 //! # The stop (Hertz with Hunt–Crossley-type damping)
-//! At radius `r_c` from the hinge the penetration is `δ = −u r_c` [mm]
+//! At radius `r_c` from the hinge the penetration is `δ = −u r_c` \[mm\]
 //! (positive inside the stop) and
 //!
 //! ```text
@@ -22,7 +22,7 @@
 //! part stores `V_c = k δ^2.5 / 2.5` [N·mm]; the rest dissipates.
 //!
 //! # The ball plunger
-//! A ball pressed by a spring (`P = P0 + k_p x`, `x` its depression [mm])
+//! A ball pressed by a spring (`P = P0 + k_p x`, `x` its depression \[mm\])
 //! sits on the protrusion's path at radius `r_p`. Coming in, the protrusion
 //! pushes the ball in along the entry ramp (angle `α_e`) until the crest
 //! `u_c`, where the ball is in by the stroke `h`; past the crest the ball
@@ -42,7 +42,7 @@
 //! [`PhysicalLatch::holding_torque`].
 //!
 //! # The magnet
-//! Over the last gap `g = u r_m` [mm] below its reach `g_r`, with the force
+//! Over the last gap `g = u r_m` \[mm\] below its reach `g_r`, with the force
 //! `F_m` at contact and decay length `g0`,
 //!
 //! ```text
@@ -76,12 +76,12 @@ pub struct HertzStop<T> {
     pub stiffness_n_per_mm1_5: T,
     /// `c` [N·s/mm^1.25] (seed 000 §4.2, seed 001 §4.2: 3.7).
     pub damping_ns_per_mm1_25: T,
-    /// `r_c`: distance of the contact from the hinge axis [m].
+    /// `r_c`: distance of the contact from the hinge axis \[m\].
     pub radius_m: T,
 }
 
 impl<T: Real> HertzStop<T> {
-    /// The force of this contact law at penetration `δ` [mm] and its rate
+    /// The force of this contact law at penetration `δ` \[mm\] and its rate
     /// `δ̇` [mm/s]: zero while `δ ≤ 0`.
     pub fn force(&self, delta_mm: T, delta_dot_mm_s: T) -> StopForce<T> {
         if !(delta_mm > T::ZERO) {
@@ -96,7 +96,7 @@ impl<T: Real> HertzStop<T> {
         StopForce { elastic_n, raw_n }
     }
 
-    /// The elastic energy `k δ^2.5 / 2.5` [J] at penetration `δ` [mm]
+    /// The elastic energy `k δ^2.5 / 2.5` \[J\] at penetration `δ` \[mm\]
     /// (zero while `δ ≤ 0`).
     pub fn energy(&self, delta_mm: T) -> T {
         if !(delta_mm > T::ZERO) {
@@ -110,32 +110,32 @@ impl<T: Real> HertzStop<T> {
 /// The ball plunger: a spring-loaded ball the protrusion climbs over.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plunger<T> {
-    /// `P0`: the ball's spring force with the ball out [N].
+    /// `P0`: the ball's spring force with the ball out \[N\].
     pub preload_n: T,
     /// `k_p`: the ball's spring rate [N/mm].
     pub stiffness_n_per_mm: T,
-    /// `r_p`: distance of the ball from the hinge axis [m].
+    /// `r_p`: distance of the ball from the hinge axis \[m\].
     pub radius_m: T,
-    /// `h`: how far the ball is pushed in at the crest [mm].
+    /// `h`: how far the ball is pushed in at the crest \[mm\].
     pub stroke_mm: T,
-    /// `u_c`: travel from the stop at which the ball is on the crest [rad].
+    /// `u_c`: travel from the stop at which the ball is on the crest \[rad\].
     pub crest_rad: T,
-    /// `α_e`: angle of the entry ramp to the direction of travel [rad].
+    /// `α_e`: angle of the entry ramp to the direction of travel \[rad\].
     pub entry_ramp_rad: T,
-    /// `α_h`: angle of the hold ramp to the direction of travel [rad].
+    /// `α_h`: angle of the hold ramp to the direction of travel \[rad\].
     pub hold_ramp_rad: T,
 }
 
 /// The magnet that pulls the protrusion over the last gap.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Magnet<T> {
-    /// `F_m0`: attraction at contact [N].
+    /// `F_m0`: attraction at contact \[N\].
     pub force_n: T,
-    /// `g0`: decay length of the attraction [mm].
+    /// `g0`: decay length of the attraction \[mm\].
     pub decay_mm: T,
-    /// `g_r`: gap beyond which the magnet does nothing [mm].
+    /// `g_r`: gap beyond which the magnet does nothing \[mm\].
     pub reach_mm: T,
-    /// `r_m`: distance of the magnet from the hinge axis [m].
+    /// `r_m`: distance of the magnet from the hinge axis \[m\].
     pub radius_m: T,
 }
 
@@ -169,7 +169,7 @@ pub struct PhysicalLatch<T> {
     pub plunger: Plunger<T>,
     /// The magnet.
     pub magnet: Magnet<T>,
-    /// `u_s`: the switch closes at this travel from the stop [rad].
+    /// `u_s`: the switch closes at this travel from the stop \[rad\].
     pub switch_travel_rad: T,
     /// What holds the joint against a return: the ball plunger's hold ramp
     /// (a detent, climbable back) or a pawl in its notch (a positive lock;
@@ -237,15 +237,15 @@ pub enum PlungerSegment {
 /// The contact force of the stop, split for bookkeeping.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StopForce<T> {
-    /// `k δ^1.5` [N]: the elastic part.
+    /// `k δ^1.5` \[N\]: the elastic part.
     pub elastic_n: T,
-    /// `k δ^1.5 + c δ^0.25 δ̇` [N], not clamped: negative when the stop
+    /// `k δ^1.5 + c δ^0.25 δ̇` \[N\], not clamped: negative when the stop
     /// would pull.
     pub raw_n: T,
 }
 
 impl<T: Real> StopForce<T> {
-    /// The force applied, `max(raw, 0)` [N].
+    /// The force applied, `max(raw, 0)` \[N\].
     pub fn applied_n(&self) -> T {
         self.raw_n.max(T::ZERO)
     }
@@ -310,7 +310,7 @@ impl<T: Real> PhysicalLatch<T> {
         Ok(())
     }
 
-    /// The travel from the stop `u = s φ` [rad].
+    /// The travel from the stop `u = s φ` \[rad\].
     #[inline]
     pub fn travel(&self, phi: T) -> T {
         self.side * phi
@@ -326,17 +326,17 @@ impl<T: Real> PhysicalLatch<T> {
         self.plunger.radius_m * T::of(MM_PER_M) * tan(angle)
     }
 
-    /// `w_e`: angular width of the entry ramp [rad].
+    /// `w_e`: angular width of the entry ramp \[rad\].
     pub fn entry_width_rad(&self) -> T {
         self.plunger.stroke_mm / self.ramp_rate(self.plunger.entry_ramp_rad)
     }
 
-    /// `w_h`: angular width of the hold ramp [rad].
+    /// `w_h`: angular width of the hold ramp \[rad\].
     pub fn hold_width_rad(&self) -> T {
         self.plunger.stroke_mm / self.ramp_rate(self.plunger.hold_ramp_rad)
     }
 
-    /// The travel of each [`LatchMark`] [rad].
+    /// The travel of each [`LatchMark`] \[rad\].
     pub fn marks(&self) -> [(LatchMark, T); 6] {
         let c = self.plunger.crest_rad;
         let reach = self.magnet.reach_mm / (self.magnet.radius_m * T::of(MM_PER_M));
@@ -350,7 +350,7 @@ impl<T: Real> PhysicalLatch<T> {
         ]
     }
 
-    /// The plunger's segment at travel `u` [rad] (a pawl's cam has no
+    /// The plunger's segment at travel `u` \[rad\] (a pawl's cam has no
     /// hold ramp: the pawl drops off the crest into its notch).
     pub fn plunger_segment(&self, u: T) -> PlungerSegment {
         let c = self.plunger.crest_rad;
@@ -363,7 +363,7 @@ impl<T: Real> PhysicalLatch<T> {
         }
     }
 
-    /// The ball's depression `x` [mm] and `dx/du` [mm/rad] on a segment,
+    /// The ball's depression `x` \[mm\] and `dx/du` [mm/rad] on a segment,
     /// its formula extended beyond the segment's bounds.
     pub(crate) fn depression_on(&self, seg: PlungerSegment, u: T) -> (T, T) {
         let c = self.plunger.crest_rad;
@@ -380,7 +380,7 @@ impl<T: Real> PhysicalLatch<T> {
         }
     }
 
-    /// The plunger's energy `P0 x + ½ k_p x²` [J] at depression `x` [mm].
+    /// The plunger's energy `P0 x + ½ k_p x²` \[J\] at depression `x` \[mm\].
     pub(crate) fn plunger_energy_at(&self, x: T) -> T {
         let p = &self.plunger;
         (p.preload_n * x + T::of(0.5) * p.stiffness_n_per_mm * x * x) / T::of(MM_PER_M)
@@ -394,7 +394,7 @@ impl<T: Real> PhysicalLatch<T> {
         -(p.preload_n + p.stiffness_n_per_mm * x) * dx / T::of(MM_PER_M)
     }
 
-    /// The magnet's force [N] at travel `u`, on the segment inside
+    /// The magnet's force \[N\] at travel `u`, on the segment inside
     /// (`within`) or beyond its reach.
     pub fn magnet_force_on(&self, within: bool, u: T) -> T {
         let m = &self.magnet;
@@ -418,7 +418,7 @@ impl<T: Real> PhysicalLatch<T> {
         u * self.magnet.radius_m * T::of(MM_PER_M) < self.magnet.reach_mm
     }
 
-    /// The magnet's potential energy [J] at travel `u` (0 beyond the
+    /// The magnet's potential energy \[J\] at travel `u` (0 beyond the
     /// reach, negative inside it).
     pub fn magnet_energy(&self, u: T) -> T {
         let m = &self.magnet;
@@ -442,12 +442,12 @@ impl<T: Real> PhysicalLatch<T> {
         self.stop.force(delta, delta_dot)
     }
 
-    /// The joint torque `τ_φ` [N·m] of a stop force `force_n` [N].
+    /// The joint torque `τ_φ` [N·m] of a stop force `force_n` \[N\].
     pub fn stop_torque(&self, force_n: T) -> T {
         self.side * force_n * self.stop.radius_m
     }
 
-    /// The stop's elastic energy `k δ^2.5 / 2.5` [J] at `φ`.
+    /// The stop's elastic energy `k δ^2.5 / 2.5` \[J\] at `φ`.
     pub fn stop_energy(&self, phi: T) -> T {
         self.stop
             .energy(-self.travel(phi) * self.stop.radius_m * T::of(MM_PER_M))
@@ -475,7 +475,7 @@ impl<T: Real> PhysicalLatch<T> {
         self.conservative_torque(phi) + self.stop_torque(f)
     }
 
-    /// Potential energy of the conservative parts at `φ` [J]: plunger,
+    /// Potential energy of the conservative parts at `φ` \[J\]: plunger,
     /// magnet and the stop's elastic energy.
     pub fn potential_energy(&self, phi: T) -> T {
         let u = self.travel(phi);
@@ -483,14 +483,14 @@ impl<T: Real> PhysicalLatch<T> {
         self.plunger_energy_at(x) + self.magnet_energy(u) + self.stop_energy(phi)
     }
 
-    /// Energy to climb the entry ramp to the crest, `P0 h + ½ k_p h²` [J]:
+    /// Energy to climb the entry ramp to the crest, `P0 h + ½ k_p h²` \[J\]:
     /// the latch's engagement, a resistance of the stroke's last part.
     pub fn engagement_energy(&self) -> T {
         self.plunger_energy_at(self.plunger.stroke_mm)
     }
 
     /// Energy to take the joint from rest at the stop back over the crest
-    /// against plunger and magnet alone [J] (the hinge spring not counted).
+    /// against plunger and magnet alone \[J\] (the hinge spring not counted).
     pub fn escape_energy(&self) -> T {
         let crest = self.plunger.crest_rad;
         let at_crest = self.plunger_energy_at(self.plunger.stroke_mm) + self.magnet_energy(crest);

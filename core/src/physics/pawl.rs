@@ -60,7 +60,7 @@ impl<T: Real> PhysicalLatch<T> {
         }
     }
 
-    /// A pawl's state at travel `u` [rad] at the start of a run: engaged
+    /// A pawl's state at travel `u` \[rad\] at the start of a run: engaged
     /// at or inside its notch (`u ≤ u_n`), riding beyond it.
     pub fn pawl_state_at(&self, u: T) -> PawlState {
         if self.pawl().is_some() && u <= self.plunger.crest_rad {
@@ -70,7 +70,7 @@ impl<T: Real> PhysicalLatch<T> {
         }
     }
 
-    /// `r_p` [mm].
+    /// `r_p` \[mm\].
     fn pawl_radius_mm(&self) -> T {
         self.plunger.radius_m * T::of(MM_PER_M)
     }
@@ -86,19 +86,19 @@ impl<T: Real> PhysicalLatch<T> {
         self.stop.force(delta, self.travel(phi_dot) * r)
     }
 
-    /// The joint torque `τ_φ` [N·m] of a notch force `force_n` [N]: towards
+    /// The joint torque `τ_φ` [N·m] of a notch force `force_n` \[N\]: towards
     /// the stop.
     pub fn notch_torque(&self, force_n: T) -> T {
         -self.side * force_n * self.plunger.radius_m
     }
 
-    /// The torque the pawl carries under a notch force `force_n` [N],
+    /// The torque the pawl carries under a notch force `force_n` \[N\],
     /// `F_n r_p` [N·m].
     pub fn carried_torque(&self, force_n: T) -> T {
         force_n * self.plunger.radius_m
     }
 
-    /// The notch contact's elastic energy `k δ_n^2.5 / 2.5` [J] at `φ`.
+    /// The notch contact's elastic energy `k δ_n^2.5 / 2.5` \[J\] at `φ`.
     pub fn notch_energy(&self, phi: T) -> T {
         if self.pawl().is_none() {
             return T::ZERO;
@@ -107,14 +107,14 @@ impl<T: Real> PhysicalLatch<T> {
         self.stop.energy(delta)
     }
 
-    /// The click of a pawl's drop, `P0 h + ½ k_p h²` [J]: its spring's
+    /// The click of a pawl's drop, `P0 h + ½ k_p h²` \[J\]: its spring's
     /// energy at the notch's edge, lost.
     pub fn click_energy(&self) -> T {
         self.engagement_energy()
     }
 
     /// The farthest travel a pawl that carries less than its breaking
-    /// torque reaches [rad]: the notch plus the contact's compression at
+    /// torque reaches \[rad\]: the notch plus the contact's compression at
     /// `T_b` (`u_n` for a detent).
     pub fn breaking_travel_rad(&self) -> T {
         let Some(p) = self.pawl() else {
@@ -126,7 +126,7 @@ impl<T: Real> PhysicalLatch<T> {
         self.plunger.crest_rad + delta_mm / self.pawl_radius_mm()
     }
 
-    /// Potential energy of the latch's conservative parts at `φ` [J] with
+    /// Potential energy of the latch's conservative parts at `φ` \[J\] with
     /// the plunger on segment `seg` and a pawl in `pawl` (ignored for a
     /// detent): the plunger or the riding pawl's spring, the engaged pawl's
     /// notch contact, magnet and stop.

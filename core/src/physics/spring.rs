@@ -288,7 +288,7 @@ pub enum Fold<T> {
     Knee {
         /// (0, 0), (θ_A, A), (θ_B', U(θ_B')), linear.
         knee: Curve<T>,
-        /// θ_B' [deg].
+        /// θ_B' \[deg\].
         above_deg: T,
     },
 }
@@ -374,7 +374,7 @@ impl<T: Real> Spring<T> {
         )
     }
 
-    /// The angle [rad] below which folding and unfolding differ: `None`
+    /// The angle \[rad\] below which folding and unfolding differ: `None`
     /// without hysteresis, θ_B' for a tape spring, `T::MAX` for a curve with
     /// a fold branch of its own. Above it a branch switch is smooth.
     pub fn hysteresis_below_rad(&self) -> Option<T> {
@@ -430,7 +430,7 @@ impl<T: Real> Spring<T> {
     }
 
     /// Energy the spring releases on the unfolding branch between `|φ| = a`
-    /// and `|φ| = b` radians (0 ≤ a ≤ b): `∫_a^b count·T(θ) dθ` [J].
+    /// and `|φ| = b` radians (0 ≤ a ≤ b): `∫_a^b count·T(θ) dθ` \[J\].
     /// `E_D` of seed 000 Eq. 17 is `release(0, stroke)`.
     pub fn release(&self, a_rad: T, b_rad: T) -> T {
         if !(b_rad > a_rad) {

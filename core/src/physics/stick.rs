@@ -89,7 +89,7 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
                 .is_some_and(|jt| jt.spring.has_hysteresis())
     }
 
-    /// The band of joint `j` at rest at angle `phi` [rad] (module doc).
+    /// The band of joint `j` at rest at angle `phi` \[rad\] (module doc).
     pub fn stick_band(&self, j: usize, phi: T) -> StickBand<T> {
         let a = self.joint_torque(j, phi, T::ZERO, Branch::Fold);
         let b = self.joint_torque(j, phi, T::ZERO, Branch::Unfold);

@@ -128,7 +128,7 @@ impl<T: Real, const K: usize> Table<T, K> {
 /// points.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TorqueTable<T, const K: usize = TABLE_MAX_KNOTS> {
-    /// `f`: torque [N·m] against the joint angle [deg].
+    /// `f`: torque [N·m] against the joint angle \[deg\].
     pub angle: Option<Table<T, K>>,
     /// `g`: torque [N·m] against the joint rate [deg/s].
     pub rate: Option<Table<T, K>>,
@@ -145,7 +145,7 @@ impl<T, const K: usize> Default for TorqueTable<T, K> {
 }
 
 impl<T: Real, const K: usize> TorqueTable<T, K> {
-    /// `f(φ) + g(φ̇)` [N·m] at angle `phi` [rad] and rate `phi_dot` [rad/s].
+    /// `f(φ) + g(φ̇)` [N·m] at angle `phi` \[rad\] and rate `phi_dot` [rad/s].
     #[inline]
     pub fn torque(&self, phi: T, phi_dot: T) -> T {
         let mut t = T::ZERO;

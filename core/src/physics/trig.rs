@@ -27,13 +27,13 @@
 
 use core::f32::consts::FRAC_2_PI;
 
-/// First part of π/2 (8 significant bits) [rad].
+/// First part of π/2 (8 significant bits) \[rad\].
 const PIO2_1: f32 = 1.570_312_5;
-/// Second part of π/2 (11 significant bits) [rad].
+/// Second part of π/2 (11 significant bits) \[rad\].
 const PIO2_2: f32 = 4.837_513e-4;
-/// Third part of π/2, the rest rounded to `f32` [rad].
+/// Third part of π/2, the rest rounded to `f32` \[rad\].
 const PIO2_3: f32 = 7.549_79e-8;
-/// Largest `|x|` reduced exactly: `2¹³ · π/2` [rad].
+/// Largest `|x|` reduced exactly: `2¹³ · π/2` \[rad\].
 pub const MAX_ARG: f32 = 8192.0 * PIO2_1;
 /// Sine kernel coefficients (Cephes `sinf`).
 const S1: f32 = -0.166_666_55;

@@ -59,7 +59,7 @@ pub struct ConfigHeader {
     /// Joints of the mechanism (the firmware takes those in
     /// [`JOINT_COUNTS`]); as many [`JointFrame`]s follow.
     pub joints: u8,
-    /// The deployment's deadline (`MarginConfig::deadline_s`) [s].
+    /// The deployment's deadline (`MarginConfig::deadline_s`) \[s\].
     pub deadline_s: f32,
     /// The latch as built (`LatchConfig::physical`), `None` for the ideal
     /// latch.
@@ -71,7 +71,7 @@ pub struct ConfigHeader {
 pub struct Knots {
     /// Knots used (at most [`MAX_KNOTS`]).
     pub len: u8,
-    /// Angles [deg].
+    /// Angles \[deg\].
     pub x: [f32; MAX_KNOTS],
     /// Moments per hinge [N·m].
     pub y: [f32; MAX_KNOTS],
@@ -222,11 +222,11 @@ pub const PRIOR_FIELDS: usize = 4;
 /// One joint and the panel it drives: frames 1 to `joints` of the input.
 #[derive(Clone, Copy, Debug, PartialEq, Default, Serialize, Deserialize)]
 pub struct JointFrame {
-    /// Panel length [m].
+    /// Panel length \[m\].
     pub length_m: f32,
-    /// Panel mass [kg].
+    /// Panel mass \[kg\].
     pub mass_kg: f32,
-    /// Panel centre of mass from the hinge [m].
+    /// Panel centre of mass from the hinge \[m\].
     pub com_m: f32,
     /// Panel inertia about its centre of mass [kg·m²].
     pub inertia_kgm2: f32,
@@ -240,12 +240,12 @@ pub struct JointFrame {
     /// [N·m], viscous mean and sd [N·m·s/rad].
     pub prior: [f32; PRIOR_FIELDS],
     /// `JointConfig::latch` (`Engagement`, all 0 for the ideal latch):
-    /// engagement energy [J] (three plain `f32` fields rather than an array:
+    /// engagement energy \[J\] (three plain `f32` fields rather than an array:
     /// one deserializer fewer in flash).
     pub latch_energy_j: f32,
-    /// Its crest [rad].
+    /// Its crest \[rad\].
     pub latch_crest_rad: f32,
-    /// Its entry ramp's width [rad].
+    /// Its entry ramp's width \[rad\].
     pub latch_ramp_rad: f32,
 }
 
@@ -321,7 +321,7 @@ fn build<const N: usize>(
     Ok(config)
 }
 
-/// Largest frame of a [`ConfigHeader`], `0x00` included [bytes]
+/// Largest frame of a [`ConfigHeader`], `0x00` included \[bytes\]
 /// (payload: 1 + 1 + 4, and the latch: 1 + 4·4 + its lock 1).
 pub const CONFIG_HEADER_FRAME_MAX: usize = framed(24);
 
@@ -332,7 +332,7 @@ pub const CONFIG_HEADER_FRAME_MAX: usize = framed(24);
 pub const JOINT_FRAME_PAYLOAD_MAX: usize =
     20 + (1 + 4 + 1 + 2 * (1 + 8 * MAX_KNOTS) + 1) + 4 + 4 * PRIOR_FIELDS + 4 * LATCH_FIELDS;
 
-/// Largest frame of a [`JointFrame`], `0x00` included [bytes].
+/// Largest frame of a [`JointFrame`], `0x00` included \[bytes\].
 pub const JOINT_FRAME_MAX: usize = framed(JOINT_FRAME_PAYLOAD_MAX);
 
 /// The core's framing overhead (see `crate::telemetry`).

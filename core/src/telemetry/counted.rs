@@ -27,9 +27,9 @@ use crate::monitor::status::JointStatus;
 /// count known at run time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CountedSample {
-    /// Time stamp [s].
+    /// Time stamp \[s\].
     pub t_s: f32,
-    /// Encoder angle of each joint [deg], the first `joints` in use (the
+    /// Encoder angle of each joint \[deg\], the first `joints` in use (the
     /// others 0).
     pub phi_deg: [f32; FIRMWARE_MAX_JOINTS],
     /// Latch switch of each joint (true = closed), the first `joints` in
@@ -130,7 +130,7 @@ fn word_at(bytes: &[u8], at: usize) -> Option<u32> {
 /// `Status<N>` it views.
 #[derive(Clone, Copy, Debug)]
 pub struct StatusView<'a> {
-    /// Time stamp of the last sample used [s].
+    /// Time stamp of the last sample used \[s\].
     pub t_s: f32,
     /// Samples used so far.
     pub samples: u32,

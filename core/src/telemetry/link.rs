@@ -41,7 +41,7 @@ use crate::monitor::estimator::{Monitor, Sample};
 /// 5.4·10⁷ s: no status is ever read as a report.
 pub const LINK_MAGIC: u32 = u32::from_le_bytes(*b"DWL1");
 
-/// Largest [`LinkReport`] frame [bytes]: the magic (4) and five varint
+/// Largest [`LinkReport`] frame \[bytes\]: the magic (4) and five varint
 /// `u32` (5 each), the CRC, COBS and the `0x00`.
 pub const LINK_REPORT_FRAME_MAX: usize = 4 + 5 * 5 + 4 + 2;
 

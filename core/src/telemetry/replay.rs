@@ -1,5 +1,5 @@
 //! The replay protocol the firmware speaks: a recorded run, sample by
-//! sample, through the on-board [`Monitor`](crate::Monitor), with the
+//! sample, through the on-board [`Monitor`], with the
 //! statuses written back.
 //!
 //! It lives in the core so that the host (`deploywatch replay`) and the
@@ -32,10 +32,10 @@ pub use super::config::{ConfigHeader, JointFrame, FIRMWARE_MAX_JOINTS, JOINT_COU
 use super::config::{CONFIG_HEADER_FRAME_MAX, CONFIG_VERSION, JOINT_FRAME_MAX};
 
 /// Largest input sample frame of any joint count the firmware takes, `0x00`
-/// included [bytes].
+/// included \[bytes\].
 pub const SAMPLE_FRAME_MAX: usize = sample_frame_max(FIRMWARE_MAX_JOINTS);
 
-/// Largest output frame of any joint count, `0x00` included [bytes].
+/// Largest output frame of any joint count, `0x00` included \[bytes\].
 pub const STATUS_FRAME_MAX: usize = status_frame_max(FIRMWARE_MAX_JOINTS);
 
 /// Bytes read from the input at a time.
@@ -46,7 +46,7 @@ pub const READ_CHUNK: usize = 256;
 #[non_exhaustive]
 pub enum Error {
     /// The configuration frames are missing, do not decode, are of another
-    /// [`CONFIG_VERSION`](super::config::CONFIG_VERSION) or give a joint count not in
+    /// [`CONFIG_VERSION`] or give a joint count not in
     /// [`JOINT_COUNTS`].
     ConfigFrame,
     /// The monitor (or the core's spring constructor) rejects the

@@ -31,12 +31,12 @@ pub trait CampaignSim {
     /// Simulates run `i` with `effects`, sampled at the run's own time stamps
     /// over its whole length (encoder offsets applied to the angles).
     fn simulate(&self, i: usize, effects: &[Effect]) -> Result<Trajectory, deployment::SimError>;
-    /// Model minus measurement [deg] of run `i`, joint by joint
+    /// Model minus measurement \[deg\] of run `i`, joint by joint
     /// (`[joint][sample]`).
     fn residuals(&self, i: usize, effects: &[Effect]) -> Option<Vec<Vec<f64>>>;
     /// All residuals of all runs, flattened (runs simulated in parallel).
     fn residual_vector(&self, effects: &[Effect]) -> Option<Vec<f64>>;
-    /// RMS of the residuals of all runs [deg], `None` if a simulation fails.
+    /// RMS of the residuals of all runs \[deg\], `None` if a simulation fails.
     fn rms(&self, effects: &[Effect]) -> Option<f64>;
 }
 

@@ -10,7 +10,7 @@
 //! - **Energy form**, seed 000 Eqs. 17–21: `TM = (E_D / E_R − 1) · 100 %` with
 //!   `E_D = ∫_0^stroke T_D dθ` the energy the spring releases over the joint's
 //!   stroke and `E_R = ∫_0^stroke T_R dθ = T_R · stroke` for a constant
-//!   friction [J].
+//!   friction \[J\].
 //!
 //! A joint passes when its margin is ≥ 0 (the papers: "if the torque margin
 //! value was negative, then the deployment … would not be achieved").
@@ -25,7 +25,7 @@
 //! MoS = D_min / Σ_i (FoS_i · R_i) − 1 ≥ MoS_required
 //! ```
 //!
-//! with `D` and `R_i` torques [N·m] or energies [J]. [`Standard`] gives each
+//! with `D` and `R_i` torques [N·m] or energies \[J\]. [`Standard`] gives each
 //! standard's default [`Factors`] and required minimum; both are plain data
 //! and can be changed (`deploywatch margin --factor friction=2.5`). Which
 //! numbers are confirmed and which are assumed is recorded on
@@ -118,7 +118,7 @@ impl FromStr for Resistance {
     }
 }
 
-/// Uncertainty factors `FoS_i` [1] per kind of resistance.
+/// Uncertainty factors `FoS_i` \[1\] per kind of resistance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Factors {
     /// On inertia (acceleration) torques.
@@ -247,7 +247,7 @@ impl Standard {
         }
     }
 
-    /// The required minimum margin of safety `MoS_required` [1] (0: the
+    /// The required minimum margin of safety `MoS_required` \[1\] (0: the
     /// reserve lies in the factors). The same for every standard here.
     pub fn required_margin(self) -> f64 {
         0.0
@@ -303,7 +303,7 @@ pub struct LatchResistance {
     /// The entry torque `(P0 + k_p h) r_p tan α_e` [N·m]: the torque form's
     /// resistance.
     pub entry_torque_nm: f64,
-    /// The engagement energy `P0 h + ½ k_p h²` [J]: the energy form's.
+    /// The engagement energy `P0 h + ½ k_p h²` \[J\]: the energy form's.
     pub engagement_energy_j: f64,
 }
 
@@ -311,15 +311,15 @@ pub struct LatchResistance {
 /// and, with a physical latch, its engagement.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointMargin {
-    /// The stroke `|φ_stowed|` [rad].
+    /// The stroke `|φ_stowed|` \[rad\].
     pub stroke_rad: f64,
     /// `T_D`: the spring torque at the stowed angle, unfolding branch [N·m].
     pub driving_torque_nm: f64,
     /// `T_R`: the friction (EFT) [N·m].
     pub resisting_torque_nm: f64,
-    /// `E_D = ∫_0^stroke T dθ` on the unfolding branch [J].
+    /// `E_D = ∫_0^stroke T dθ` on the unfolding branch \[J\].
     pub driving_energy_j: f64,
-    /// `E_R = T_R · stroke` [J].
+    /// `E_R = T_R · stroke` \[J\].
     pub resisting_energy_j: f64,
     /// The factors applied to the friction.
     pub friction_factor: f64,
@@ -331,7 +331,7 @@ pub struct JointMargin {
     pub required_pct: f64,
     /// Resistances of a diagnosis besides the friction and the latch
     /// ([`crate::analysis::effect_margin`]), summed per kind and already
-    /// multiplied by their kind's factor: torque [N·m], energy [J].
+    /// multiplied by their kind's factor: torque [N·m], energy \[J\].
     pub factored_extra: FactoredExtra,
 }
 
@@ -340,7 +340,7 @@ pub struct JointMargin {
 pub struct FactoredExtra {
     /// In the torque form [N·m].
     pub torque_nm: f64,
-    /// In the energy form [J].
+    /// In the energy form \[J\].
     pub energy_j: f64,
 }
 

@@ -21,7 +21,7 @@ use crate::simulate::deployment::Trajectory;
 /// deviations (ratio): above what noise alone leaves.
 pub const UNEXPLAINED_NOISE_FACTOR: f64 = 3.0;
 
-/// Smallest extended RMS the gain's ratio divides by [deg]: a perfect fit
+/// Smallest extended RMS the gain's ratio divides by \[deg\]: a perfect fit
 /// gives a large finite ratio, not infinity.
 pub const MIN_RMS_DEG: f64 = 1e-12;
 

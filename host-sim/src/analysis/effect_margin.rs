@@ -3,7 +3,7 @@
 //! resistance of one of the standards' kinds, a smaller driving spring, or
 //! nothing (a sensor effect moves no joint).
 //!
-//! | effect | counts as | torque form [N·m] | energy form [J] |
+//! | effect | counts as | torque form [N·m] | energy form \[J\] |
 //! |---|---|---|---|
 //! | `coulomb_friction` `T_C` | friction | `T_C` | `T_C · S` |
 //! | `viscous_damping` `f` | friction | 0 (at rest) | `∫ f φ̇² dt` on the deployment |
@@ -16,7 +16,7 @@
 //! | `encoder_offset` `b` | nothing (sensor) | 0 | 0 |
 //! | `rig_friction`, `wire_length`, `frame_offset` | other (rig only: `--flight` leaves them out) | 0 (in `analysis::rig_margin`'s rig line) | 0 |
 //!
-//! `S = |φ_stowed|` [rad] the stroke. "Resisting work on the deployment":
+//! `S = |φ_stowed|` \[rad\] the stroke. "Resisting work on the deployment":
 //! `∫ max(0, −τ_e,j φ̇_j) dt` along the deployment simulated with every
 //! effect found, `τ_e,j` the generalised torque of effect `e` alone on joint
 //! `j` (the chain's right-hand side with the effect minus without it, so the
@@ -41,13 +41,13 @@ pub enum Counted {
         kind: Resistance,
         /// [N·m].
         torque_nm: f64,
-        /// [J].
+        /// \[J\].
         energy_j: f64,
     },
     /// The driving spring scaled by `scale` (`1 − s` of a softening): the
     /// worst-case driving torque `D_min` of the standards, unfactored.
     Driving {
-        /// [1].
+        /// \[1\].
         scale: f64,
     },
     /// A sensor effect: no torque, nothing to count.
@@ -179,13 +179,13 @@ pub fn deployment(mech: &Mechanism, effects: &[Effect]) -> Result<Trajectory, Si
 /// Per effect (rows) and joint (columns) of [`resisting_work`].
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct EffectWork {
-    /// The work the effect resists the joint with on the deployment [J].
+    /// The work the effect resists the joint with on the deployment \[J\].
     pub work_j: Vec<Vec<f64>>,
     /// Its generalised torque on the joint at the stowed state at rest [N·m].
     pub stowed_torque_nm: Vec<Vec<f64>>,
 }
 
-/// Per effect, per joint: the work `∫ max(0, −τ_e,j φ̇_j) dt` [J] effect
+/// Per effect, per joint: the work `∫ max(0, −τ_e,j φ̇_j) dt` \[J\] effect
 /// `e` alone resists joint `j` with along `traj` (rectangle rule on its
 /// sample grid), and its generalised torque at the stowed state at rest
 /// [N·m]. Zero rows for effects that do not [`needs_simulation`].

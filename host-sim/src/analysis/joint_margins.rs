@@ -19,11 +19,11 @@ use deploywatch_core::spring::CurveError;
 pub struct Row {
     /// 1-based joint.
     pub joint: usize,
-    /// Stowed angle [deg].
+    /// Stowed angle \[deg\].
     pub stowed_deg: f64,
     /// Viscous damping [N·m·s/rad].
     pub viscous_nms: f64,
-    /// The energy the viscous damping dissipates on the deployment [J],
+    /// The energy the viscous damping dissipates on the deployment \[J\],
     /// included in `margin.resisting_energy_j`.
     pub viscous_energy_j: f64,
     /// The margins.
@@ -51,7 +51,7 @@ pub enum MarginsError {
 }
 
 /// What the simulated deployment gives the margins: each joint's viscous
-/// energy `∫ f · φ̇² dt` [J] (rectangle rule on the sample grid, zero where
+/// energy `∫ f · φ̇² dt` \[J\] (rectangle rule on the sample grid, zero where
 /// `f = 0`), and per effect of `r.others` its resisting work and its
 /// generalised torque at the stowed state
 /// ([`effect_margin::resisting_work`]). No simulation when nothing needs it.

@@ -18,20 +18,20 @@ use crate::model::latch::LatchSpec;
 /// A joint's latch events in one run (measured or simulated).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LatchEvents {
-    /// First closing of the switch [s], `None` if it never closed.
+    /// First closing of the switch \[s\], `None` if it never closed.
     pub first_contact_s: Option<f64>,
     /// Closings of the switch: impacts on the stop (a rebound within the
-    /// switch's travel is not seen) [1].
+    /// switch's travel is not seen) \[1\].
     pub impacts: usize,
-    /// Excursions after the first impact that went back over the crest [1].
+    /// Excursions after the first impact that went back over the crest \[1\].
     pub escapes: usize,
     /// Peak travel of each excursion after the first impact that stayed
     /// inside the crest [deg from the stop], in time order.
     pub rebounds_deg: Vec<f64>,
-    /// The last closing of the switch [s] when it stays closed to the end
+    /// The last closing of the switch \[s\] when it stays closed to the end
     /// of the run, `None` when the joint does not hold at the end.
     pub hold_s: Option<f64>,
-    /// Travel from the stop at the end of the run [deg].
+    /// Travel from the stop at the end of the run \[deg\].
     pub end_travel_deg: f64,
     /// The rebounds that stayed in, each a free flight off the stop with
     /// [`MIN_FLIGHT_SAMPLES`] samples or more: the parabola fitted to it.
@@ -44,7 +44,7 @@ pub struct LatchEvents {
 /// the bundled latches' 120 deg/s²).
 pub const MIN_FLIGHT_SAMPLES: usize = 4;
 
-/// Shortest span of a rebound's samples for a parabola [s]: over a shorter
+/// Shortest span of a rebound's samples for a parabola \[s\]: over a shorter
 /// span the sensor's noise (0.02°) swamps the curvature (at 100 Hz, the
 /// span of [`MIN_FLIGHT_SAMPLES`]; at 500 Hz, 16 samples).
 pub const MIN_FLIGHT_SPAN_S: f64 = 0.0295;
@@ -57,7 +57,7 @@ pub const MIN_FLIGHT_SPAN_S: f64 = 0.0295;
 /// the samples with the switch open; the sensor's noise averages out).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Flight {
-    /// Time of the switch opening [s].
+    /// Time of the switch opening \[s\].
     pub start_s: f64,
     /// Peak of the fitted parabola [deg from the stop].
     pub peak_deg: f64,
@@ -105,13 +105,13 @@ fn flight(t_s: &[f64], travel: &[f64], idx: std::ops::Range<usize>) -> Option<Fl
 }
 
 impl LatchEvents {
-    /// The largest rebound that stayed in [deg], 0 without one.
+    /// The largest rebound that stayed in \[deg\], 0 without one.
     pub fn largest_rebound_deg(&self) -> f64 {
         self.rebounds_deg.iter().copied().fold(0.0, f64::max)
     }
 }
 
-/// The travel from the stop [deg] of an angle `phi_deg` of a joint stowed at
+/// The travel from the stop \[deg\] of an angle `phi_deg` of a joint stowed at
 /// `stowed_deg`: the stop is at 0, the stowed side positive
 /// (`deploywatch_core::physics::latch_contact`).
 pub fn travel_deg(stowed_deg: f64, phi_deg: f64) -> f64 {
@@ -135,7 +135,7 @@ pub fn zone_deg(latch: &LatchSpec) -> f64 {
     (p.crest_deg + entry).max(magnet)
 }
 
-/// The events in a series: times `t_s`, travel from the stop `travel` [deg]
+/// The events in a series: times `t_s`, travel from the stop `travel` \[deg\]
 /// and the switch `switch`, with the crest `crest_deg` [deg of travel]
 /// (an excursion is an escape when its peak passes the crest by more than
 /// `slack_deg`, the sensor's resolution).

@@ -3,7 +3,7 @@
 //! Everything here works on plain slices so that any two runs sampled at the
 //! same instants can be compared, whatever produced them:
 //!
-//! - `t_s: &[f64]`: the common sample times [s], strictly increasing;
+//! - `t_s: &[f64]`: the common sample times \[s\], strictly increasing;
 //! - angles `&[f64]` (one joint) or `&[Vec<f64>]` (`[joint][sample]`), in
 //!   **degrees**, the unit of the run CSV (`phi<j>_deg`);
 //! - latch switches `&[bool]` / `&[Vec<bool>]` of the **measured** run.
@@ -24,11 +24,11 @@
 
 use std::fmt;
 
-/// Samples with `|φe|` below this are left out of a trajectory error [deg].
+/// Samples with `|φe|` below this are left out of a trajectory error \[deg\].
 pub const TE_MIN_ANGLE_DEG: f64 = 1.0;
 
 /// Slack on the window bounds, so that a sample printed as `2.000` s is in a
-/// window ending at 2 s whatever its floating-point rounding [s].
+/// window ending at 2 s whatever its floating-point rounding \[s\].
 pub const WINDOW_SLACK_S: f64 = 1e-9;
 
 /// Why two runs could not be compared.
@@ -74,12 +74,12 @@ impl fmt::Display for MetricError {
 
 impl std::error::Error for MetricError {}
 
-/// A closed time window `[start_s, end_s]` [s].
+/// A closed time window `[start_s, end_s]` \[s\].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TimeWindow {
-    /// First instant included [s].
+    /// First instant included \[s\].
     pub start_s: f64,
-    /// Last instant included [s].
+    /// Last instant included \[s\].
     pub end_s: f64,
 }
 
@@ -141,9 +141,9 @@ pub fn latch_index(latch: &[bool]) -> usize {
 /// run (`measured_latch`, see [`latch_index`]) and with `|φe(t_i)| ≥ 1°`;
 /// `n` is the number of such samples.
 ///
-/// - `t_s`: sample times [s];
-/// - `model_deg`: `φa`, the model's angle of the joint [deg];
-/// - `measured_deg`: `φe`, the measured angle [deg];
+/// - `t_s`: sample times \[s\];
+/// - `model_deg`: `φa`, the model's angle of the joint \[deg\];
+/// - `measured_deg`: `φe`, the measured angle \[deg\];
 /// - `measured_latch`: the measured latch switch of the joint.
 ///
 /// Returns [`MetricError::NoSamples`] when no sample qualifies. NaN samples
@@ -226,7 +226,7 @@ pub fn trajectory_errors_pct(
 /// A sum of squared angle differences and how many samples it is over.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sse {
-    /// `Σ_j Σ_i (φa_j(t_i) − φe_j(t_i))²` [deg²] (seed 001 Eq. 6).
+    /// `Σ_j Σ_i (φa_j(t_i) − φe_j(t_i))²` \[deg²\] (seed 001 Eq. 6).
     pub sse_deg2: f64,
     /// Number of sample instants `n` in the window (each counts every joint).
     pub samples: usize,
@@ -235,15 +235,15 @@ pub struct Sse {
 }
 
 impl Sse {
-    /// `sqrt(SSE / (n · joints))` [deg] (`physics.md` 8); NaN when empty.
+    /// `sqrt(SSE / (n · joints))` \[deg\] (`physics.md` 8); NaN when empty.
     pub fn rms_deg(&self) -> f64 {
         rms_deg(self.sse_deg2, self.samples, self.joints)
     }
 }
 
 /// Seed 001 Eq. 6: the sum over joints and over the samples in `window` of
-/// `(φa_j(t_i) − φe_j(t_i))²` [deg²]; `model_deg[j]` and `measured_deg[j]` are
-/// joint j+1's angles [deg] at the instants `t_s` [s].
+/// `(φa_j(t_i) − φe_j(t_i))²` \[deg²\]; `model_deg[j]` and `measured_deg[j]` are
+/// joint j+1's angles \[deg\] at the instants `t_s` \[s\].
 ///
 /// All samples in the window count, latched or not (a model that latches late
 /// or never is penalised after the measured latch too). An instant at which
@@ -298,8 +298,8 @@ pub fn sse_deg2(
     })
 }
 
-/// RMS angle error `sqrt(SSE / (n · joints))` [deg] from a sum of squares
-/// [deg²] over `n` instants and `joints` joints; NaN if `n · joints = 0`.
+/// RMS angle error `sqrt(SSE / (n · joints))` \[deg\] from a sum of squares
+/// \[deg²\] over `n` instants and `joints` joints; NaN if `n · joints = 0`.
 pub fn rms_deg(sse_deg2: f64, samples: usize, joints: usize) -> f64 {
     let m = samples * joints;
     if m == 0 {

@@ -66,9 +66,9 @@ pub struct RigSplit {
     pub rig_causes: Vec<Effect>,
     /// Per mechanism of the campaign, the margins.
     pub margins: Vec<MechanismMargins>,
-    /// RMS of the lumped fit [deg] (the rig's friction in the hinges).
+    /// RMS of the lumped fit \[deg\] (the rig's friction in the hinges).
     pub lumped_rms_deg: f64,
-    /// RMS with what was found, the rig modelled [deg].
+    /// RMS with what was found, the rig modelled \[deg\].
     pub found_rms_deg: f64,
 }
 

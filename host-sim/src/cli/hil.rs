@@ -37,7 +37,7 @@ pub struct HilArgs {
     /// /dev/ttyACM0).
     #[arg(long, value_name = "DEVICE")]
     pub port: Option<String>,
-    /// The serial device's rate [baud] (the firmware's board.rs BAUD).
+    /// The serial device's rate in baud (the firmware's board.rs BAUD).
     #[arg(long, default_value_t = 921_600)]
     pub baud: u32,
     /// The serial-link firmware ELF for QEMU (`scripts/firmware.sh build`);

@@ -9,7 +9,7 @@
 //! energy-form margin (seed 000 Eq. 21), with the chosen standard's friction
 //! factor applied, and pass/fail against its required minimum. A joint with
 //! a physical latch (`[joint.latch]`) also counts the plunger's engagement
-//! as a resistance, factored as [`LATCH_KIND`]: its entry torque in the
+//! as a resistance, factored as [`crate::analysis::design_margin::LATCH_KIND`]: its entry torque in the
 //! torque form, its engagement energy in the energy form, each printed on
 //! a line of its own. `--json` writes the same table. The margins are
 //! computed by [`crate::analysis::joint_margins`], the table written by

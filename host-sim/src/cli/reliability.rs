@@ -32,7 +32,7 @@ pub struct ReliabilityArgs {
     #[arg(long = "vary", value_name = "SPEC")]
     pub vary: Vec<Vary>,
     /// A failure criterion, repeatable (any one fails): `not_latched`,
-    /// `latch_rate>X` [deg/s], `time>X` [s].
+    /// `latch_rate>X` in deg/s, `time>X` in s.
     #[arg(long = "fail", value_name = "CRITERION", required = true)]
     pub fail: Vec<Criterion>,
     /// A correlation `I,J,RHO` of the standard normals behind parameters I

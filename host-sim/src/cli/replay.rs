@@ -51,7 +51,7 @@ pub struct ReplayArgs {
     /// Without it they go to a temporary directory, removed afterwards.
     #[arg(long, value_name = "DIR")]
     pub keep: Option<PathBuf>,
-    /// Longest QEMU run [s].
+    /// Longest QEMU run in seconds.
     #[arg(long, default_value_t = 300)]
     pub timeout: u64,
     /// No progress and no chatter (QEMU's log, which file was written

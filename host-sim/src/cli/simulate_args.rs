@@ -34,7 +34,7 @@ pub struct SimulateArgs {
     /// Write the true angles: no noise, no quantisation.
     #[arg(long)]
     pub no_noise: bool,
-    /// Sample rate [Hz]; the mechanism's `[run] sample_hz` by default.
+    /// Sample rate in Hz; the mechanism's `[run] sample_hz` by default.
     #[arg(long)]
     pub rate: Option<f64>,
     /// Also draw the joint angles and latch events into this PNG.

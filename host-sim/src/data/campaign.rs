@@ -56,7 +56,7 @@ pub enum CampaignError {
         file: String,
         /// Line of its first sample in the file.
         line: usize,
-        /// Its first time stamp [s].
+        /// Its first time stamp \[s\].
         t0: f64,
     },
 }

@@ -19,7 +19,7 @@ use crate::model::mechanism::Mechanism;
 const DEG_PER_RAD: f64 = 180.0 / std::f64::consts::PI;
 
 /// Smallest stowed angle whose reading tells degrees from radians, and a
-/// sign flip from the stowed pose [deg]: ten times [`MIN_MOTION_DEG`], so
+/// sign flip from the stowed pose \[deg\]: ten times [`MIN_MOTION_DEG`], so
 /// the hypotheses (φ₀, φ₀/57.3, −φ₀) are at least 9.8 deg apart, far beyond
 /// encoder noise (0.02 deg) and a typical encoder offset.
 const MIN_STOWED_FOR_UNITS_DEG: f64 = 10.0 * MIN_MOTION_DEG;
@@ -30,7 +30,7 @@ const MIN_STOWED_FOR_UNITS_DEG: f64 = 10.0 * MIN_MOTION_DEG;
 const MAX_RADIAN_READING: f64 = 4.0 * std::f64::consts::PI;
 
 /// Largest distance of a joint's reading at the start from its stowed angle
-/// that needs no word [deg]: ten times [`MIN_MOTION_DEG`], beyond encoder
+/// that needs no word \[deg\]: ten times [`MIN_MOTION_DEG`], beyond encoder
 /// noise (0.02 deg) and the encoder offsets a mounting leaves (a few
 /// tenths of a degree).
 const START_OFFSET_WARN_DEG: f64 = 10.0 * MIN_MOTION_DEG;

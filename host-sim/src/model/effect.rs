@@ -27,7 +27,7 @@ pub enum EffectKind {
     /// Simulated, not in [`EffectKind::ALL`]: its three parameters are not
     /// yet a diagnosis candidate's.
     StribeckFriction,
-    /// `spring_softening`: `s` [1], the spring is scaled by `1 − s`.
+    /// `spring_softening`: `s` \[1\], the spring is scaled by `1 − s`.
     SpringSoftening,
     /// `harness_stiffness`: `k_h` [N·m/rad] about the stowed angle.
     HarnessStiffness,
@@ -37,29 +37,29 @@ pub enum EffectKind {
     AirDrag,
     /// `rig_tilt`: `g_t` [m/s²] in direction `alpha_deg`, global.
     RigTilt,
-    /// `encoder_offset`: `b` [deg] added to a joint's reading (sensor only).
+    /// `encoder_offset`: `b` \[deg\] added to a joint's reading (sensor only).
     EncoderOffset,
     /// `torque_table`: tables `f(φ) + g(φ̇)` [N·m] at a joint; not in
     /// [`EffectKind::ALL`] (it has tables, not one value: a diagnosis fits it
     /// only when no named effect explains the data).
     TorqueTable,
-    /// `plunger_weakening`: `w` [1], the ball plunger of a joint's physical
+    /// `plunger_weakening`: `w` \[1\], the ball plunger of a joint's physical
     /// latch has its preload and rate scaled by `1 − w` (this project's
     /// own; not in [`EffectKind::ALL`]: only a physical latch has one).
     PlungerWeakening,
-    /// `magnet_weakening`: `w` [1], the magnet of a joint's physical latch
+    /// `magnet_weakening`: `w` \[1\], the magnet of a joint's physical latch
     /// has its force scaled by `1 − w` (this project's own, not in
     /// [`EffectKind::ALL`]).
     MagnetWeakening,
-    /// `rig_friction`: `Δμ` [1] added to the dynamic friction coefficient
+    /// `rig_friction`: `Δμ` \[1\] added to the dynamic friction coefficient
     /// of every rail of the mechanism's `[rig]` (trolleys and bars), the
     /// static one raised in the drawing's ratio `μ_s/μ_d` (`physics.md`
     /// §11.7, this project's own). A rig cause: never flies.
     RigFriction,
-    /// `wire_length`: `ΔL` [m] added to every suspension wire of the
+    /// `wire_length`: `ΔL` \[m\] added to every suspension wire of the
     /// `[rig]` (`physics.md` §11.7, this project's own). A rig cause.
     WireLength,
-    /// `frame_offset`: `Δd` [m] by which every test frame of the `[rig]`
+    /// `frame_offset`: `Δd` \[m\] by which every test frame of the `[rig]`
     /// stands nearer the panels along its normal (positive: less
     /// clearance; `physics.md` §11.7, this project's own). A rig cause.
     FrameOffset,
@@ -363,7 +363,7 @@ pub struct Effect {
     pub joint: Option<usize>,
     /// The value, in [`EffectKind::unit`].
     pub value: f64,
-    /// `rig_tilt` only: direction of the tilt gravity [deg].
+    /// `rig_tilt` only: direction of the tilt gravity \[deg\].
     pub alpha_deg: f64,
     /// `stribeck_friction` only: the break-away excess `T_brk − T_C` [N·m].
     pub excess_nm: f64,
@@ -611,7 +611,7 @@ pub fn to_core(effects: &[Effect], joints: usize) -> (Vec<HostJointEffects>, Glo
     (je, g)
 }
 
-/// The `encoder_offset` of each joint [deg].
+/// The `encoder_offset` of each joint \[deg\].
 pub fn encoder_offsets_deg(effects: &[Effect], joints: usize) -> Vec<f64> {
     let mut b = vec![0.0; joints];
     for e in effects {

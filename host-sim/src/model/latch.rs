@@ -19,7 +19,7 @@ pub const PAPER_DAMPING_NS_PER_MM1_25: f64 = 3.7;
 /// The stop as written: Hertz contact at a radius.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StopSpec {
-    /// `radius_mm`: contact distance from the hinge axis [mm].
+    /// `radius_mm`: contact distance from the hinge axis \[mm\].
     pub radius_mm: f64,
     /// `stiffness_n_per_mm1_5` [N/mm^1.5].
     pub stiffness_n_per_mm1_5: f64,
@@ -30,39 +30,39 @@ pub struct StopSpec {
 /// The ball plunger as written.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlungerSpec {
-    /// `preload_n` [N].
+    /// `preload_n` \[N\].
     pub preload_n: f64,
     /// `stiffness_n_per_mm` [N/mm].
     pub stiffness_n_per_mm: f64,
-    /// `radius_mm` [mm].
+    /// `radius_mm` \[mm\].
     pub radius_mm: f64,
-    /// `stroke_mm`: ball depression at the crest [mm].
+    /// `stroke_mm`: ball depression at the crest \[mm\].
     pub stroke_mm: f64,
-    /// `crest_deg`: travel from the stop of the crest [deg].
+    /// `crest_deg`: travel from the stop of the crest \[deg\].
     pub crest_deg: f64,
-    /// `entry_ramp_deg` [deg].
+    /// `entry_ramp_deg` \[deg\].
     pub entry_ramp_deg: f64,
-    /// `hold_ramp_deg` [deg].
+    /// `hold_ramp_deg` \[deg\].
     pub hold_ramp_deg: f64,
 }
 
 /// The magnet as written.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MagnetSpec {
-    /// `force_n`: attraction at contact [N].
+    /// `force_n`: attraction at contact \[N\].
     pub force_n: f64,
-    /// `decay_mm` [mm].
+    /// `decay_mm` \[mm\].
     pub decay_mm: f64,
-    /// `reach_mm` [mm].
+    /// `reach_mm` \[mm\].
     pub reach_mm: f64,
-    /// `radius_mm` [mm].
+    /// `radius_mm` \[mm\].
     pub radius_mm: f64,
 }
 
 /// A joint's physical latch as written in `[joint.latch]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LatchSpec {
-    /// `switch_travel_deg` [deg].
+    /// `switch_travel_deg` \[deg\].
     pub switch_travel_deg: f64,
     /// `stop`.
     pub stop: StopSpec,
@@ -165,17 +165,17 @@ impl LatchSpec {
 /// deploywatch's own figure).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LatchTolerance {
-    /// Relative spread of the plunger's preload [1].
+    /// Relative spread of the plunger's preload \[1\].
     pub plunger_preload: f64,
-    /// Relative spread of the plunger's rate [1].
+    /// Relative spread of the plunger's rate \[1\].
     pub plunger_stiffness: f64,
-    /// Relative spread of the magnet's force at contact [1].
+    /// Relative spread of the magnet's force at contact \[1\].
     pub magnet_force: f64,
-    /// Relative spread of the stop's contact damping [1].
+    /// Relative spread of the stop's contact damping \[1\].
     pub stop_damping: f64,
-    /// Absolute spread of the crest's position [deg].
+    /// Absolute spread of the crest's position \[deg\].
     pub crest_deg: f64,
-    /// Relative spread of a pawl's breaking torque [1].
+    /// Relative spread of a pawl's breaking torque \[1\].
     pub breaking_torque: f64,
 }
 

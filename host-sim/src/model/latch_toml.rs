@@ -70,7 +70,7 @@ const PAWL_KEYS: &[&str] = &[
 ];
 const MAGNET_KEYS: &[&str] = &["force_n", "decay_mm", "reach_mm", "radius_mm"];
 
-/// A ramp steeper than this [deg] would not be a ramp.
+/// A ramp steeper than this \[deg\] would not be a ramp.
 const RIGHT_ANGLE_DEG: f64 = 90.0;
 
 /// The `[joint.latch]` of one `[[joint]]`, read on the mechanism file's tree

@@ -133,7 +133,7 @@ impl SpringSpec {
 /// One joint as written in the file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct JointSpec {
-    /// `stowed_deg`: the initial angle [deg]; the latch angle is 0.
+    /// `stowed_deg`: the initial angle \[deg\]; the latch angle is 0.
     pub stowed_deg: f64,
     /// The hinge spring(s).
     pub spring: SpringSpec,
@@ -152,12 +152,12 @@ pub struct Mechanism {
     pub panels: Vec<Panel<f64>>,
     /// `[[joint]]` tables; joint j drives panel j.
     pub joints: Vec<JointSpec>,
-    /// `[run] duration_s`: simulate until every joint latched or this time [s].
+    /// `[run] duration_s`: simulate until every joint latched or this time \[s\].
     pub duration_s: f64,
-    /// `[run] sample_hz` [Hz].
+    /// `[run] sample_hz` \[Hz\].
     pub sample_hz: f64,
     /// `[run] settle_s`: how long a run goes on recording after the first
-    /// sample at or after the last latch [s] (`formats.md`).
+    /// sample at or after the last latch \[s\] (`formats.md`).
     pub settle_s: f64,
     /// `[truss]`: links on the panels (`None`: the open chain).
     pub truss: Option<crate::model::truss::Truss>,

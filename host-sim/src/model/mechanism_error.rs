@@ -7,8 +7,8 @@ use deploywatch_core::spring::CurveError;
 /// Why a mechanism file was rejected: where (`file`, `line`) and what
 /// ([`MechanismErrorKind`]).
 ///
-/// `file` is the `source` given to [`Mechanism::from_toml_str`] or the path
-/// given to [`Mechanism::load`]; `line` is the 1-based line of the offending
+/// `file` is the `source` given to [`crate::model::mechanism::Mechanism::from_toml_str`] or the path
+/// given to [`crate::model::mechanism::Mechanism::load`]; `line` is the 1-based line of the offending
 /// value when the TOML parser reports a position for it. Displayed as
 /// `file:line: what was wrong; expected ...` (`file: ...` without a line).
 pub type MechanismError = Located<MechanismErrorKind>;

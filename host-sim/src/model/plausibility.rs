@@ -31,11 +31,11 @@ pub const MIN_INERTIA_RATIO: f64 = 0.1;
 /// far edge (`m·L²`); a body within the panel's length cannot exceed it.
 pub const MAX_INERTIA_RATIO: f64 = 3.0;
 
-/// Shortest plausible deployment [s]: a tenth of a second, below which the
+/// Shortest plausible deployment \[s\]: a tenth of a second, below which the
 /// latch impact would break a real panel.
 pub const MIN_DEPLOY_S: f64 = 0.1;
 
-/// Longest plausible deployment [s]: ten minutes, beyond which the spring
+/// Longest plausible deployment \[s\]: ten minutes, beyond which the spring
 /// could not overcome any real hinge's friction.
 pub const MAX_DEPLOY_S: f64 = 600.0;
 
@@ -67,7 +67,7 @@ fn quarter_turns_in_radians(stowed_deg: f64) -> Option<i32> {
 }
 
 /// The deployment time of joint `j` (0-based) estimated without simulation
-/// [s]: the spring's energy `E` over the stroke `Δφ` (its unfolding branch,
+/// \[s\]: the spring's energy `E` over the stroke `Δφ` (its unfolding branch,
 /// [`deploywatch_core::Spring::release`]) as a constant torque `E/Δφ`
 /// turning the outboard panels, straight, about the joint: `t = Δφ·√(2I/E)`.
 /// `None` when the spring releases no energy or the spring is invalid.

@@ -20,13 +20,13 @@ pub const PAPER_CONTACT_STIFFNESS: f64 = 37_000.0;
 /// The papers' contact damping `c` [N·s/mm^1.25] (seed 001 §4.2).
 pub const PAPER_CONTACT_DAMPING: f64 = 3.7;
 
-/// The papers' static friction coefficient of air bearing on rail [1].
+/// The papers' static friction coefficient of air bearing on rail \[1\].
 pub const PAPER_STATIC_MU: f64 = 0.3;
 
-/// The papers' dynamic friction coefficient of air bearing on rail [1].
+/// The papers' dynamic friction coefficient of air bearing on rail \[1\].
 pub const PAPER_DYNAMIC_MU: f64 = 0.1;
 
-/// The shortest wire a `wire_length` cause leaves [m]: a wire shortened
+/// The shortest wire a `wire_length` cause leaves \[m\]: a wire shortened
 /// further would no longer hang its panel.
 pub const MIN_WIRE_M: f64 = 0.05;
 
@@ -37,17 +37,17 @@ pub struct Trolley {
     /// The panel it carries (1-based).
     pub panel: usize,
     /// The offload point: distance from the panel's inboard hinge along
-    /// the panel [m] (default its centre of mass).
+    /// the panel \[m\] (default its centre of mass).
     pub offload_m: f64,
-    /// The trolley's mass [kg] (moves along the bar).
+    /// The trolley's mass \[kg\] (moves along the bar).
     pub mass_kg: f64,
     /// The bar it runs on (1-based).
     pub bar: usize,
-    /// The suspension wire's length [m].
+    /// The suspension wire's length \[m\].
     pub wire_m: f64,
     /// The wire's spring [N/m] (`None`: an inextensible wire).
     pub wire_spring_n_per_m: Option<f64>,
-    /// Where the trolley starts [m] (`None`: above the offload point of
+    /// Where the trolley starts \[m\] (`None`: above the offload point of
     /// the stowed panel).
     pub start_m: Option<[f64; 2]>,
 }
@@ -56,7 +56,7 @@ pub struct Trolley {
 /// its trolleys.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Bar {
-    /// The bar's own mass [kg] (moves laterally with its trolleys).
+    /// The bar's own mass \[kg\] (moves laterally with its trolleys).
     pub mass_kg: f64,
 }
 
@@ -65,9 +65,9 @@ pub struct Bar {
 pub struct Frame {
     /// Its name in reports (e.g. `"lateral -y"`).
     pub name: String,
-    /// Unit normal pointing into the allowed side [1].
+    /// Unit normal pointing into the allowed side \[1\].
     pub normal: [f64; 2],
-    /// Offset of the frame's face along the normal [m].
+    /// Offset of the frame's face along the normal \[m\].
     pub at_m: f64,
 }
 
@@ -79,12 +79,12 @@ pub struct Rig {
     pub enabled: bool,
     /// Gravity [m/s²], which the wires offload.
     pub gravity_m_s2: f64,
-    /// Static friction coefficient of the air bearings on their rails [1].
+    /// Static friction coefficient of the air bearings on their rails \[1\].
     pub static_mu: f64,
-    /// Dynamic friction coefficient [1].
+    /// Dynamic friction coefficient \[1\].
     pub dynamic_mu: f64,
     /// The share of the carried weight that presses the bearings on their
-    /// rails [1] (default 1: the whole carried load; an air bearing that
+    /// rails \[1\] (default 1: the whole carried load; an air bearing that
     /// floats most of it takes less).
     pub friction_load_fraction: f64,
     /// The speed below which the friction rises from dynamic to static
@@ -188,14 +188,14 @@ impl Rig {
             * (v / self.slip_speed_m_s).tanh()
     }
 
-    /// The rail's friction force [N] on a carriage carrying `load_n` [N]
+    /// The rail's friction force \[N\] on a carriage carrying `load_n` \[N\]
     /// slipping at `v` [m/s], signed like `v`: `f N μ(v)`, `f` the
     /// [`Rig::friction_load_fraction`].
     pub fn rail_force(&self, load_n: f64, v: f64) -> f64 {
         self.friction_load_fraction * load_n * self.mu(v)
     }
 
-    /// The wire's effective pendulum length [m]: its length plus the
+    /// The wire's effective pendulum length \[m\]: its length plus the
     /// spring's static stretch under the carried weight.
     pub fn pendulum_m(&self, t: &Trolley, carried_kg: f64) -> f64 {
         t.wire_m

@@ -10,7 +10,7 @@
 use deploywatch_core::{Table, TableError as CoreTableError, TorqueTable};
 use std::fmt::Write as _;
 
-/// Most points of one table on the host [1]: the host simulator and the
+/// Most points of one table on the host \[1\]: the host simulator and the
 /// diagnosis hold tables this large (a hump of a rate law or a dip over
 /// part of the stroke needs more knots than the monitor's
 /// [`deploywatch_core::torque_table::TABLE_MAX_KNOTS`]); a table for the
@@ -80,7 +80,7 @@ pub enum TableError {
 /// are checked and built.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TablePoints {
-    /// `angle_deg`: abscissae of `f` [deg].
+    /// `angle_deg`: abscissae of `f` \[deg\].
     pub angle_deg: Option<Vec<f64>>,
     /// `torque_nm`: `f` at those angles [N·m].
     pub torque_nm: Option<Vec<f64>>,

@@ -34,7 +34,7 @@ pub struct TrussPoint {
     pub name: String,
     /// What it is fixed to.
     pub on: Carrier,
-    /// Position at the stowed pose [mm].
+    /// Position at the stowed pose \[mm\].
     pub at_mm: [f64; 2],
     /// A knee: a node of two links that locks when they are straight.
     pub knee: bool,
@@ -52,16 +52,16 @@ pub struct TrussLink {
     pub name: String,
     /// Its two end points.
     pub ends: [String; 2],
-    /// Mass [kg]; centre of mass at mid-length, inertia `m L²/12`.
+    /// Mass \[kg\]; centre of mass at mid-length, inertia `m L²/12`.
     pub mass_kg: f64,
-    /// Length [mm] (checked against the points).
+    /// Length \[mm\] (checked against the points).
     pub length_mm: f64,
 }
 
 /// The truss of a wing.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Truss {
-    /// Hinge `j` position at the stowed pose [mm], one per joint (O first).
+    /// Hinge `j` position at the stowed pose \[mm\], one per joint (O first).
     pub hinges_mm: Vec<[f64; 2]>,
     /// Named points.
     pub points: Vec<TrussPoint>,
@@ -75,7 +75,7 @@ pub fn valid_knee_name(p: &str) -> bool {
     (1..=16).contains(&p.len()) && p.bytes().all(|b| b.is_ascii_alphanumeric())
 }
 
-/// Largest mismatch between a link's length and its points [mm].
+/// Largest mismatch between a link's length and its points \[mm\].
 pub const LENGTH_TOL_MM: f64 = 0.01;
 
 /// `[x, y]` in mm as metres.
@@ -106,7 +106,7 @@ pub fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [a[0] - b[0], a[1] - b[1]]
 }
 
-/// The direction of `v` [rad].
+/// The direction of `v` \[rad\].
 pub fn angle(v: [f64; 2]) -> f64 {
     v[1].atan2(v[0])
 }

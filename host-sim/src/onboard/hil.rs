@@ -44,9 +44,9 @@ pub struct Plan {
     pub config: Vec<u8>,
     /// One frame per sample, `0x00` included.
     pub samples: Vec<Vec<u8>>,
-    /// Each sample's time stamp [s].
+    /// Each sample's time stamp \[s\].
     pub t_s: Vec<f64>,
-    /// The run's sample period: the median step of its time stamps [s].
+    /// The run's sample period: the median step of its time stamps \[s\].
     pub period_s: f64,
 }
 
@@ -61,7 +61,7 @@ pub struct Inject {
     pub corrupt: f64,
     /// Probability that a frame leaves late by [`Inject::delay_s`].
     pub delay: f64,
-    /// The lateness of a delayed frame [s] (the frames after it wait).
+    /// The lateness of a delayed frame \[s\] (the frames after it wait).
     pub delay_s: f64,
     /// Seed of the choices.
     pub seed: u64,
@@ -93,7 +93,7 @@ impl Fate {
 pub struct Outgoing {
     /// Bytes of each frame as sent (empty: dropped).
     pub bytes: Vec<Vec<u8>>,
-    /// Send time of each, from the stream's start [s].
+    /// Send time of each, from the stream's start \[s\].
     pub at_s: Vec<f64>,
     /// Fate of each.
     pub fate: Vec<Fate>,
@@ -124,7 +124,7 @@ fn plan_n<const N: usize>(mech: &Mechanism, run: &Run) -> Result<Plan, ReplayErr
     })
 }
 
-/// The median of the steps of `t` [s] (0 for fewer than two).
+/// The median of the steps of `t` \[s\] (0 for fewer than two).
 pub fn median_step(t: &[f64]) -> f64 {
     let mut steps: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
     steps.sort_by(f64::total_cmp);
@@ -236,7 +236,7 @@ pub struct Received {
 /// The verdict on a streamed run.
 #[derive(Clone, Debug)]
 pub struct Assessment {
-    /// Latency of each answered sample (sample sent → status received) [s].
+    /// Latency of each answered sample (sample sent → status received) \[s\].
     pub latency_s: Vec<f64>,
     /// Statuses later than one period after their sample.
     pub misses: usize,

@@ -41,7 +41,7 @@ pub enum Endpoint {
     Serial {
         /// The device, e.g. `/dev/ttyACM0`.
         port: String,
-        /// The line's rate [baud].
+        /// The line's rate \[baud\].
         baud: u32,
     },
 }

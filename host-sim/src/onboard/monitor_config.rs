@@ -57,7 +57,7 @@ pub const COULOMB_PRIOR_SD_NM: f64 = 2.0;
 pub const VISCOUS_PRIOR_SD_NMS: f64 = 1.0;
 
 /// How long the switch of a physical latch must stay closed, the encoder
-/// on the stop, for the monitor to declare the latch [s]: ten times the
+/// on the stop, for the monitor to declare the latch \[s\]: ten times the
 /// millisecond contact of a Hertzian impact, and with one 10 ms sample
 /// interval on top within the 50 ms allowed after the last rebound.
 pub const BOUNCE_WINDOW_S: f64 = 0.03;
@@ -120,7 +120,7 @@ pub enum MonitorConfigError {
 }
 
 /// The spring of a joint in `f32` ([`SpringSpec::to_spring`]), and its
-/// capture angle [deg].
+/// capture angle \[deg\].
 ///
 /// The capture angle is where a tape spring's snap-through takes over:
 /// θ_B of its points (seed 001 Table 1), below which the unfolding moment
@@ -138,7 +138,7 @@ pub fn spring_f32(spec: &SpringSpec) -> Result<(Spring<f32>, f64), CurveError> {
 }
 
 /// How far from the latch a curve spring's snap-through peak is looked for
-/// [deg]: a tape spring's peak D lies within a few degrees of the latch
+/// \[deg\]: a tape spring's peak D lies within a few degrees of the latch
 /// (seed 001 Table 1: 1.5° to 3°).
 pub const CAPTURE_WINDOW_DEG: f64 = 5.0;
 
@@ -169,7 +169,7 @@ fn curve_capture_deg(unfold: &[(f64, f64)]) -> f64 {
 
 /// The engagement of joint `j`'s physical latch (0-based) as the monitor's
 /// margin counts it (`core::monitor::latch_margin`): the engagement energy
-/// `P0 h + ½ k_p h²` [J], the crest and the entry ramp's width [rad]
+/// `P0 h + ½ k_p h²` \[J\], the crest and the entry ramp's width \[rad\]
 /// (the entry torque is the host's torque form's), from the core's law
 /// in `f64` (`physics.md` §10.3), rounded to `f32`;
 /// [`Engagement::IDEAL`] for an ideal latch.

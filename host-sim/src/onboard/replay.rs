@@ -13,14 +13,14 @@
 //! [`Sample<N>`] frame per sample; the output one [`Status<N>`] frame per
 //! sample. Frames are the core's telemetry frames
 //! ([`deploywatch_core::telemetry`]). The host's statuses come from the
-//! simulator's own path ([`monitor_config`](crate::onboard::monitor_config::monitor_config)
+//! simulator's own path ([`monitor_config`]
 //! and [`Monitor::update_and_predict`]); the configuration frames are checked to build
 //! the very same [`MonitorConfig`] before any replay, so a difference of the
 //! two sides is one of the target, never of the configuration.
 //!
 //! Everything after the frames works on [`StatusRow`]s, which hold any joint
 //! count: the status CSV ([`write_status_csv`]), the per-joint
-//! [`summary`], the [`plot`] and the field-by-field [`compare`].
+//! [`summary`], the [`plot()`] and the field-by-field [`compare`].
 
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
@@ -101,7 +101,7 @@ impl std::fmt::Display for Mismatch {
 /// One status of any joint count, as the rest of this module uses it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StatusRow {
-    /// Time of the sample [s].
+    /// Time of the sample \[s\].
     pub t_s: f32,
     /// Samples seen.
     pub samples: u32,
@@ -503,9 +503,9 @@ pub fn write_status_csv<W: Write>(out: W, statuses: &[StatusRow]) -> io::Result<
 pub struct JointSummary {
     /// 1-based joint.
     pub joint: usize,
-    /// First time the state is `latched` [s].
+    /// First time the state is `latched` \[s\].
     pub latched_s: Option<f32>,
-    /// Time from which the state stays `latched` to the end [s]: later
+    /// Time from which the state stays `latched` to the end \[s\]: later
     /// than [`JointSummary::latched_s`] when the joint escaped its latch
     /// and latched again; `None` when it is not latched at the end.
     pub latched_final_s: Option<f32>,

@@ -3,7 +3,7 @@
 //! coordinates of the latch points B, E, H and the lengths and angles of the
 //! truss links 2, 3, 5, 7 that all meet at joint F.
 //!
-//! Coordinates are `(x, z)` in the plane of the wing [mm], angles in degrees
+//! Coordinates are `(x, z)` in the plane of the wing \[mm\], angles in degrees
 //! at the interface (radians inside). The equations, as corrected in
 //! `docs/spec/paper-vectors.md`:
 //!
@@ -20,33 +20,33 @@
 //! the supplement (86.89° instead of Table 3's 93.11°); this module follows
 //! the table, i.e. the same form as φ3, φ5, φ7.
 
-/// A point `(x, z)` [mm].
+/// A point `(x, z)` \[mm\].
 pub type Point = (f64, f64);
 
 /// Inputs of the synthesis (seed 000 Table 2, "Input").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrussInput {
-    /// φ1 [deg], angle of link 1 (A→B).
+    /// φ1 \[deg\], angle of link 1 (A→B).
     pub phi1_deg: f64,
-    /// φ4 [deg], angle of link 4 (D→E).
+    /// φ4 \[deg\], angle of link 4 (D→E).
     pub phi4_deg: f64,
-    /// φ6 [deg], angle of link 6 (G→H).
+    /// φ6 \[deg\], angle of link 6 (G→H).
     pub phi6_deg: f64,
-    /// L1 [mm].
+    /// L1 \[mm\].
     pub l1_mm: f64,
-    /// L4 [mm].
+    /// L4 \[mm\].
     pub l4_mm: f64,
-    /// L6 [mm].
+    /// L6 \[mm\].
     pub l6_mm: f64,
-    /// Point A [mm].
+    /// Point A \[mm\].
     pub a: Point,
-    /// Point C [mm].
+    /// Point C \[mm\].
     pub c: Point,
-    /// Point D [mm].
+    /// Point D \[mm\].
     pub d: Point,
-    /// Joint F, where all truss links meet [mm].
+    /// Joint F, where all truss links meet \[mm\].
     pub f: Point,
-    /// Point G [mm].
+    /// Point G \[mm\].
     pub g: Point,
 }
 
@@ -72,27 +72,27 @@ impl TrussInput {
 /// Outputs of the synthesis (seed 000 Table 2, "Output").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrussOutput {
-    /// Latch point B [mm].
+    /// Latch point B \[mm\].
     pub b: Point,
-    /// Latch point E [mm].
+    /// Latch point E \[mm\].
     pub e: Point,
-    /// Latch point H [mm].
+    /// Latch point H \[mm\].
     pub h: Point,
-    /// L2 = |B − F| [mm].
+    /// L2 = |B − F| \[mm\].
     pub l2_mm: f64,
-    /// L3 = |F − C| [mm].
+    /// L3 = |F − C| \[mm\].
     pub l3_mm: f64,
-    /// L5 = |E − F| [mm].
+    /// L5 = |E − F| \[mm\].
     pub l5_mm: f64,
-    /// L7 = |F − H| [mm].
+    /// L7 = |F − H| \[mm\].
     pub l7_mm: f64,
-    /// φ2 [deg].
+    /// φ2 \[deg\].
     pub phi2_deg: f64,
-    /// φ3 [deg].
+    /// φ3 \[deg\].
     pub phi3_deg: f64,
-    /// φ5 [deg].
+    /// φ5 \[deg\].
     pub phi5_deg: f64,
-    /// φ7 [deg].
+    /// φ7 \[deg\].
     pub phi7_deg: f64,
 }
 
@@ -100,7 +100,7 @@ fn dist(p: Point, q: Point) -> f64 {
     (p.0 - q.0).hypot(p.1 - q.1)
 }
 
-/// `acos((xF − xP)/L)` [deg], clamped against rounding past ±1; NaN if `L = 0`.
+/// `acos((xF − xP)/L)` \[deg\], clamped against rounding past ±1; NaN if `L = 0`.
 fn link_angle_deg(f: Point, p: Point, l: f64) -> f64 {
     ((f.0 - p.0) / l).clamp(-1.0, 1.0).acos().to_degrees()
 }

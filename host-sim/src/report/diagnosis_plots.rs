@@ -88,7 +88,7 @@ pub fn report_tables(
     Ok(())
 }
 
-/// Model minus measurement [deg], `[joint][sample]`.
+/// Model minus measurement \[deg\], `[joint][sample]`.
 fn residuals_of(model: &[Vec<f64>], measured: &[Vec<f64>]) -> Vec<Vec<f64>> {
     model
         .iter()

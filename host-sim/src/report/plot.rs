@@ -46,7 +46,7 @@ pub fn band(x: &[f64], lower: &[f64], upper: &[f64]) -> (Vec<f64>, Vec<f64>) {
 pub struct Series<'a> {
     /// Legend text.
     pub label: String,
-    /// Abscissae (usually time [s]).
+    /// Abscissae (usually time \[s\]).
     pub x: &'a [f64],
     /// Ordinates.
     pub y: &'a [f64],
@@ -358,6 +358,6 @@ fn draw_markers<'a>(
 pub const MAX_RINGS: usize = 120;
 
 /// The least distance between two marker labels in one row, as a fraction
-/// of the x range [1]: the width of "latch 1" at 12 px on a 1000 px axis,
+/// of the x range \[1\]: the width of "latch 1" at 12 px on a 1000 px axis,
 /// with a little air.
 pub const MARKER_LABEL_GAP: f64 = 0.06;

@@ -24,7 +24,7 @@ use deploywatch_core::{Branch, Mode};
 /// before the simulation is declared to slide on `φ̇ = 0`.
 pub const MAX_BRANCH_BURST: usize = 10;
 
-/// The window of [`MAX_BRANCH_BURST`] [s]: 1 ms, a tenth of a sample at
+/// The window of [`MAX_BRANCH_BURST`] \[s\]: 1 ms, a tenth of a sample at
 /// 100 Hz; a spring switching branches more often than that is chattering,
 /// not moving.
 pub const BRANCH_BURST_WINDOW_S: f64 = 1e-3;
@@ -34,11 +34,11 @@ pub const BRANCH_BURST_WINDOW_S: f64 = 1e-3;
 /// far more than a latch and a branch switch each.
 pub const MAX_SAME_INSTANT_EVENTS: usize = 20;
 
-/// Events closer than this are at the same instant [s]: the precision to
+/// Events closer than this are at the same instant \[s\]: the precision to
 /// which [`ode::locate`] finds an event time of seconds.
 pub const SAME_INSTANT_S: f64 = 1e-12;
 
-/// A joint this close to its latch angle on the stowed side [rad] latches
+/// A joint this close to its latch angle on the stowed side \[rad\] latches
 /// with the joint whose event fired: a located event leaves the angle a
 /// rounding error from 0.
 pub const LATCH_REACHED_RAD: f64 = 1e-12;
@@ -163,7 +163,7 @@ struct Integrator<'a, const N: usize> {
     mode: Mode<N>,
     /// `sign(φ_stowed)`: the side a latch is reached from.
     side: [f64; N],
-    /// Where each joint's branch matters [rad] (`None`: no hysteresis).
+    /// Where each joint's branch matters \[rad\] (`None`: no hysteresis).
     hyst: [Option<f64>; N],
     /// The step-size controller ([`ode::CHAIN_CONTROL`]).
     step_control: ode::StepController,

@@ -42,11 +42,11 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use std::fmt;
 
-/// Longest switch bounce the chatter fault models [s] (a switch bounces up
+/// Longest switch bounce the chatter fault models \[s\] (a switch bounces up
 /// to 20 ms, `docs/robustness.md`).
 pub const MAX_BOUNCE_S: f64 = 0.02;
 
-/// Time slack when comparing a sample time with a window edge [s]: sample
+/// Time slack when comparing a sample time with a window edge \[s\]: sample
 /// times are written to 1 µs.
 const TIME_EPS_S: f64 = 1e-9;
 
@@ -92,9 +92,9 @@ pub enum SensorFault {
     Dropout {
         /// Joint (1-based).
         joint: usize,
-        /// Start of the dropout [s].
+        /// Start of the dropout \[s\].
         start_s: f64,
-        /// Its length [s].
+        /// Its length \[s\].
         duration_s: f64,
         /// Stale or missing readings.
         mode: DropoutMode,
@@ -104,9 +104,9 @@ pub enum SensorFault {
     Spike {
         /// Joint (1-based).
         joint: usize,
-        /// Time of the spike [s].
+        /// Time of the spike \[s\].
         t_s: f64,
-        /// Added to the reading [deg].
+        /// Added to the reading \[deg\].
         magnitude_deg: f64,
         /// Consecutive samples affected (at least 1).
         samples: usize,
@@ -116,9 +116,9 @@ pub enum SensorFault {
     StuckAt {
         /// Joint (1-based).
         joint: usize,
-        /// When it sticks [s].
+        /// When it sticks \[s\].
         start_s: f64,
-        /// The value it sticks at [deg]; `None`: the last reading before.
+        /// The value it sticks at \[deg\]; `None`: the last reading before.
         value_deg: Option<f64>,
     },
     /// `parity:joint=J:rate=R[:bits=B]` (default 1 bit): a fraction `R` of
@@ -137,7 +137,7 @@ pub enum SensorFault {
     SwitchChatter {
         /// Joint (1-based).
         joint: usize,
-        /// Bounce time [s].
+        /// Bounce time \[s\].
         bounce_s: f64,
     },
     /// `switch_stuck:joint=J:state=open|closed`: the switch reads `state`
@@ -150,14 +150,14 @@ pub enum SensorFault {
     },
     /// `jitter:sigma=S`: time-stamp jitter of σ = `S` seconds.
     TimeJitter {
-        /// Standard deviation [s].
+        /// Standard deviation \[s\].
         sigma_s: f64,
     },
     /// `gap:start=S:duration=D`: no sample in `[S, S + D)`.
     TimeGap {
-        /// Start of the gap [s].
+        /// Start of the gap \[s\].
         start_s: f64,
-        /// Its length [s].
+        /// Its length \[s\].
         duration_s: f64,
     },
 }
@@ -412,9 +412,9 @@ pub enum FaultError {
     AfterEnd {
         /// The fault, in the `--fault` syntax.
         fault: String,
-        /// Its start [s].
+        /// Its start \[s\].
         start_s: f64,
-        /// The run's last sample [s].
+        /// The run's last sample \[s\].
         end_s: f64,
     },
     /// The run has no samples.
@@ -530,7 +530,7 @@ pub fn apply(
         .collect())
 }
 
-/// The time a fault starts [s], `None` for faults that act on the whole run.
+/// The time a fault starts \[s\], `None` for faults that act on the whole run.
 fn start_of(f: &SensorFault) -> Option<f64> {
     match *f {
         SensorFault::Dropout { start_s, .. }

@@ -44,7 +44,7 @@ pub use crate::simulate::latch_run::{
 /// Most events at one instant before the run is declared stuck (Zeno).
 pub const MAX_EVENTS_AT_ONE_INSTANT: usize = 50;
 
-/// Time ahead of an event at which the new segment is read [s]: the state
+/// Time ahead of an event at which the new segment is read \[s\]: the state
 /// is then on the far side of the mark it just reached.
 const PROBE_S: f64 = 1e-9;
 
@@ -249,7 +249,7 @@ impl<'a, const N: usize> Sim<'a, N> {
     }
 
     /// The latch torque of joint `j` on its frozen segments [N·m], the
-    /// stop's force applied and an engaged pawl's notch force applied [N].
+    /// stop's force applied and an engaged pawl's notch force applied \[N\].
     fn latch_torque(&self, j: usize, phi: f64, phi_dot: f64) -> (f64, f64, f64) {
         let Some(l) = &self.latch[j] else {
             return (0.0, 0.0, 0.0);
@@ -527,7 +527,7 @@ impl<const N: usize> Sim<'_, N> {
 #[derive(Clone, Copy, Debug, Default)]
 struct Ledger {
     energy: Energy,
-    /// Total at the start [J].
+    /// Total at the start \[J\].
     start_j: f64,
 }
 

@@ -39,19 +39,19 @@ pub enum LatchEventKind {
 /// One event of a physical-latch run.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LatchEvent {
-    /// Instant [s].
+    /// Instant \[s\].
     pub t_s: f64,
     /// 1-based joint.
     pub joint: usize,
     /// What happened.
     pub kind: LatchEventKind,
-    /// The travel from the stop `u = s φ` there [rad].
+    /// The travel from the stop `u = s φ` there \[rad\].
     pub travel_rad: f64,
     /// The travel's rate `u̇` there [rad/s] (negative: towards the stop).
     pub rate_rad_s: f64,
 }
 
-/// The energy ledger of a run [J]: `kinetic + spring + latch + friction +
+/// The energy ledger of a run \[J\]: `kinetic + spring + latch + friction +
 /// contact + impact` is the energy stored at the start, to the drift.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Energy {
@@ -125,9 +125,9 @@ pub struct LatchOutcome {
     pub end: LatchEnd,
     /// Drops of a pawl into its notch (0 or 1; 0 for a ball plunger).
     pub pawl_drops: usize,
-    /// When a pawl broke [s], `None` if it did not.
+    /// When a pawl broke \[s\], `None` if it did not.
     pub pawl_broke_s: Option<f64>,
-    /// The travel from the stop at the end [deg].
+    /// The travel from the stop at the end \[deg\].
     pub end_travel_deg: f64,
 }
 

@@ -10,7 +10,7 @@ use deploywatch_core::ChainState;
 /// `ChainState` arithmetic the stepper needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct State<const N: usize> {
-    /// `φ` [rad].
+    /// `φ` \[rad\].
     pub q: [f64; N],
     /// `φ̇` [rad/s].
     pub v: [f64; N],
@@ -52,9 +52,9 @@ impl<const N: usize> State<N> {
 /// The step a stepper took, with what it needs to interpolate inside it.
 #[derive(Clone, Copy, Debug)]
 pub struct Dense<const N: usize> {
-    /// Start of the step [s].
+    /// Start of the step \[s\].
     pub t0: f64,
-    /// Step size [s].
+    /// Step size \[s\].
     pub h: f64,
     r: [State<N>; 5],
 }
@@ -244,22 +244,22 @@ fn dense_coefficients<const N: usize>(
     r
 }
 
-/// The first step of an integration [s] (at most the options'
+/// The first step of an integration \[s\] (at most the options'
 /// `max_step_s`): small against the fastest time scale of a deployment (a
 /// latch impact or a knee snap, milliseconds); the controller grows it.
 pub const INITIAL_STEP_S: f64 = 1e-4;
 
 /// The step after a discontinuity (a latch, a branch switch, a lock) is at
-/// most this [s]: the controller's memory of the old smooth regime says
+/// most this \[s\]: the controller's memory of the old smooth regime says
 /// nothing of the new one, so it starts over with a modest step.
 pub const RESTART_STEP_S: f64 = 1e-3;
 
-/// Smallest step before the integration gives up [s]: 10⁻¹³ s is a few
+/// Smallest step before the integration gives up \[s\]: 10⁻¹³ s is a few
 /// hundred ulps of a time of seconds, below which `t + h` stops moving.
 pub const MIN_STEP_S: f64 = 1e-13;
 
 /// How close to the end time a step below [`MIN_STEP_S`] counts as having
-/// arrived rather than as an underflow [s].
+/// arrived rather than as an underflow \[s\].
 pub const END_SLACK_S: f64 = 1e-12;
 
 /// The factor a step shrinks by when its trial state leaves the domain of

@@ -10,7 +10,7 @@
 //!   load `N = (m_t + m_i) g`) and each bar (laterally, its whole load),
 //!   [`Rig::mu`];
 //! - frames: every panel's outboard tip against every frame's face, Hertz
-//!   contact `F = k δ^1.5 + c δ^0.25 δ̇` [N] (δ [mm], δ̇ [mm/s], never pulling,
+//!   contact `F = k δ^1.5 + c δ^0.25 δ̇` \[N\] (δ \[mm\], δ̇ [mm/s], never pulling,
 //!   as the latch stop of `physics.md` §10.2).
 //!
 //! The work every dissipative force does is integrated as a state, so the
@@ -32,11 +32,11 @@ pub struct FrameContact {
     pub panel: usize,
     /// The frame's name.
     pub frame: String,
-    /// First contact [s].
+    /// First contact \[s\].
     pub first_s: f64,
-    /// Largest penetration [mm].
+    /// Largest penetration \[mm\].
     pub max_depth_mm: f64,
-    /// Largest force [N].
+    /// Largest force \[N\].
     pub max_force_n: f64,
 }
 
@@ -45,14 +45,14 @@ pub struct FrameContact {
 pub struct RigRun {
     /// The chain's trajectory, as every simulator gives it.
     pub traj: Trajectory,
-    /// `trolley_xy[t][i]`: trolley t's position at sample i [m].
+    /// `trolley_xy[t][i]`: trolley t's position at sample i \[m\].
     pub trolley_xy: Vec<Vec<[f64; 2]>>,
-    /// `tip_xy[p][i]`: panel p's outboard tip at sample i [m].
+    /// `tip_xy[p][i]`: panel p's outboard tip at sample i \[m\].
     pub tip_xy: Vec<Vec<[f64; 2]>>,
     /// The frame contacts, in order of first contact.
     pub contacts: Vec<FrameContact>,
     /// Total energy (kinetic, springs, wires, contacts) plus the work
-    /// dissipated so far, at each sample [J]: constant up to the
+    /// dissipated so far, at each sample \[J\]: constant up to the
     /// integration error while no latch closes.
     pub energy_j: Vec<f64>,
 }
@@ -63,12 +63,12 @@ struct Model<'a, const N: usize> {
     rig: &'a Rig,
     lengths: [f64; N],
     /// Per trolley: panel index (0-based), offload distance, bar (0-based),
-    /// wire stiffness κ [N/m], x load [N], lateral offset of the trolley on
-    /// its bar [m].
+    /// wire stiffness κ [N/m], x load \[N\], lateral offset of the trolley on
+    /// its bar \[m\].
     trolleys: Vec<(usize, f64, usize, f64, f64, f64)>,
-    /// Per bar: lateral mass [kg] and load [N].
+    /// Per bar: lateral mass \[kg\] and load \[N\].
     bars: Vec<(f64, f64)>,
-    /// Trolley masses [kg].
+    /// Trolley masses \[kg\].
     trolley_mass: Vec<f64>,
     side: [f64; N],
     /// Chain dissipation besides the rig is not tracked: the chain's own
@@ -152,9 +152,9 @@ impl<const N: usize> Model<'_, N> {
         ([x, y0 + yb], [vx, vyb])
     }
 
-    /// The contact force [N] (along the frame's normal) and its
-    /// dissipated power [W] at penetration `d` [m], rate `dd` [m/s]; and its
-    /// stored energy [J].
+    /// The contact force \[N\] (along the frame's normal) and its
+    /// dissipated power \[W\] at penetration `d` \[m\], rate `dd` [m/s]; and its
+    /// stored energy \[J\].
     fn contact(&self, d: f64, dd: f64) -> (f64, f64, f64) {
         if d <= 0.0 {
             return (0.0, 0.0, 0.0);
@@ -238,7 +238,7 @@ impl<const N: usize> Model<'_, N> {
         Some(dy)
     }
 
-    /// Total energy plus the dissipated work [J] at state `y`.
+    /// Total energy plus the dissipated work \[J\] at state `y`.
     fn energy(&self, y: &[f64]) -> f64 {
         let (nq, _, len) = layout(N, self.rig);
         let nt = self.trolleys.len();
@@ -520,7 +520,7 @@ fn run<const N: usize>(
 /// A trolley of `trolley_kg` carrying `carried_kg` by a wire of `wire_m`,
 /// dragged along its rail by an offload point moving at the constant
 /// `speed_m_s`, the trolley started sliding with it and its wire stretched
-/// to pull with the dynamic friction: the wire's force on it [N] at every
+/// to pull with the dynamic friction: the wire's force on it \[N\] at every
 /// step of `dt_s` up to `duration_s` (semi-implicit Euler). The same wire
 /// stiffness, load and rail friction as [`simulate_rig`]: while it slides
 /// steadily the wire pulls with `N μ(v)`, the dynamic friction

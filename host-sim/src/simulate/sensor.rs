@@ -14,19 +14,19 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
-/// Encoder resolution of a 14-bit absolute encoder [deg]: one count of the
+/// Encoder resolution of a 14-bit absolute encoder \[deg\]: one count of the
 /// AS5047P ([`deploywatch_core::encoder::STEP_DEG`]).
 pub const RESOLUTION_DEG: f64 = deploywatch_core::encoder::STEP_DEG;
 
-/// Standard deviation of the reference encoder noise [deg].
+/// Standard deviation of the reference encoder noise \[deg\].
 pub const NOISE_SIGMA_DEG: f64 = 0.02;
 
 /// The encoder and switch model.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SensorModel {
-    /// White noise σ added before quantisation [deg]; 0 for none.
+    /// White noise σ added before quantisation \[deg\]; 0 for none.
     pub noise_sigma_deg: f64,
-    /// Quantisation step [deg]; 0 for none.
+    /// Quantisation step \[deg\]; 0 for none.
     pub resolution_deg: f64,
 }
 

@@ -10,11 +10,11 @@ pub struct SimOptions {
     pub rtol: f64,
     /// Absolute tolerance [rad, rad/s].
     pub atol: f64,
-    /// Largest step [s].
+    /// Largest step \[s\].
     pub max_step_s: f64,
-    /// Simulated time limit [s]; the mechanism's `duration_s` when `None`.
+    /// Simulated time limit \[s\]; the mechanism's `duration_s` when `None`.
     pub duration_s: Option<f64>,
-    /// Output rate [Hz]; the mechanism's `sample_hz` when `None`.
+    /// Output rate \[Hz\]; the mechanism's `sample_hz` when `None`.
     pub sample_hz: Option<f64>,
     /// Latch joints at `φ = 0` (the reference). When false, joints swing
     /// through and the simulation runs the whole duration (energy checks).
@@ -22,7 +22,7 @@ pub struct SimOptions {
     /// End `settle_s` after the first sample at or after the last latch
     /// (formats.md); when false, hold the deployed state to the last sample.
     pub stop_when_deployed: bool,
-    /// Recording after the last latch [s]; the mechanism's `settle_s` when
+    /// Recording after the last latch \[s\]; the mechanism's `settle_s` when
     /// `None` (0: end at the first sample at or after the last latch, as
     /// the golden files do).
     pub settle_s: Option<f64>,
@@ -38,14 +38,14 @@ pub const DEFAULT_RTOL: f64 = 1e-8;
 /// (an AS5047P count is 3.8·10⁻⁴ rad).
 pub const DEFAULT_ATOL: f64 = 1e-10;
 
-/// Default longest step [s] ([`SimOptions::max_step_s`]): an event is found
+/// Default longest step \[s\] ([`SimOptions::max_step_s`]): an event is found
 /// by a sign change of its function over a step, and a step much shorter
 /// than a deployment's swings (seconds) cannot hide a crossing and its
 /// return.
 pub const DEFAULT_MAX_STEP_S: f64 = 0.05;
 
 /// Slack on a sample time when deciding whether it is at or before a time
-/// of the run [s]: far below the µs resolution of `t_s` in a run CSV, far
+/// of the run \[s\]: far below the µs resolution of `t_s` in a run CSV, far
 /// above the rounding of sums of seconds.
 pub const SAMPLE_TIME_SLACK_S: f64 = 1e-9;
 
@@ -80,17 +80,17 @@ pub struct SimStats {
 /// A simulated deployment, sampled at the output rate.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Trajectory {
-    /// Sample times [s].
+    /// Sample times \[s\].
     pub t_s: Vec<f64>,
-    /// `phi_deg[j][i]`: joint j+1 at sample i [deg] (true angle, no sensor).
+    /// `phi_deg[j][i]`: joint j+1 at sample i \[deg\] (true angle, no sensor).
     pub phi_deg: Vec<Vec<f64>>,
     /// `rate_deg_s[j][i]`: joint j+1's rate [deg/s].
     pub rate_deg_s: Vec<Vec<f64>>,
     /// `latched[j][i]`: joint j+1 latched at sample i.
     pub latched: Vec<Vec<bool>>,
-    /// Latch instant of each joint [s], `None` if it never latched.
+    /// Latch instant of each joint \[s\], `None` if it never latched.
     pub latch_s: Vec<Option<f64>>,
-    /// Where the simulation stopped [s].
+    /// Where the simulation stopped \[s\].
     pub end_s: f64,
     /// Work done.
     pub stats: SimStats,
@@ -119,25 +119,25 @@ pub enum SimError {
     /// that is not finite).
     #[error("the equations of motion failed at t = {t_s:.6} s (singular mass matrix or non-finite state)")]
     Singular {
-        /// Simulated time [s].
+        /// Simulated time \[s\].
         t_s: f64,
     },
     /// The step size fell below 1e-13 s: the model is too stiff or discontinuous.
     #[error("step size underflow at t = {t_s:.6} s: the model is too stiff here")]
     StepUnderflow {
-        /// Simulated time [s].
+        /// Simulated time \[s\].
         t_s: f64,
     },
     /// The integration took more than [`MAX_STEPS`] steps.
     #[error("more than {MAX_STEPS} steps by t = {t_s:.6} s: the model is too stiff")]
     TooManySteps {
-        /// Simulated time [s].
+        /// Simulated time \[s\].
         t_s: f64,
     },
     /// The run would hold more than [`MAX_SAMPLES`] samples.
     #[error("the run would hold more than {MAX_SAMPLES} samples by t = {t_s:.3} s; expected a shorter [run] duration_s or a lower sample rate")]
     TooManySamples {
-        /// Simulated time [s].
+        /// Simulated time \[s\].
         t_s: f64,
     },
     /// A tape-spring joint sticks at `φ̇ = 0` where neither branch is
@@ -148,7 +148,7 @@ pub enum SimError {
     Sliding {
         /// 1-based joint.
         joint: usize,
-        /// Simulated time [s].
+        /// Simulated time \[s\].
         t_s: f64,
     },
 }
@@ -170,7 +170,7 @@ pub enum Samples<'a> {
     Listed(&'a [f64]),
     /// `k / rate_hz` for `k = 0 .. count`.
     Grid {
-        /// Sample rate [Hz].
+        /// Sample rate \[Hz\].
         rate_hz: f64,
         /// Number of samples.
         count: usize,
@@ -184,7 +184,7 @@ pub enum Samples<'a> {
 /// saturated conversion, and the time of the refusal in range.
 pub const GRID_COUNT_CAP: usize = MAX_SAMPLES + 1;
 
-/// Slack on `duration × rate` when counting a grid's samples [samples]: a
+/// Slack on `duration × rate` when counting a grid's samples \[samples\]: a
 /// duration that is a whole number of sample periods keeps its last sample
 /// although the product rounds below it (0.29 s × 100 Hz = 28.999999999999996).
 pub const GRID_ROUNDING_SAMPLES: f64 = 1e-9;
@@ -210,7 +210,7 @@ impl Samples<'_> {
         }
     }
 
-    /// Sample `k` [s], `None` past the end.
+    /// Sample `k` \[s\], `None` past the end.
     pub fn get(&self, k: usize) -> Option<f64> {
         match *self {
             Samples::Listed(t) => t.get(k).copied(),
@@ -218,7 +218,7 @@ impl Samples<'_> {
         }
     }
 
-    /// The last sample [s] (0 for none).
+    /// The last sample \[s\] (0 for none).
     pub fn last(&self) -> f64 {
         match *self {
             Samples::Listed(t) => t.last().copied().unwrap_or(0.0),

@@ -22,7 +22,7 @@ use crate::simulate::trajectory::{
 };
 use deploywatch_core::Spring;
 
-/// True for the effects the truss wing models ([`apply_effects`]).
+/// True for the effects the truss wing models ([`system_with_effects`]).
 pub fn models(kind: EffectKind) -> bool {
     matches!(
         kind,

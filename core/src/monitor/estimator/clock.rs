@@ -5,12 +5,12 @@
 use crate::monitor::config::ObserverConfig;
 use crate::monitor::faults::{Fault, FaultFlags};
 
-/// Longest time step the filters propagate over a gap [s].
+/// Longest time step the filters propagate over a gap \[s\].
 const MAX_GAP_STEP_S: f32 = 1.0;
 /// Relative departure of a sample interval from the running mean beyond
-/// which the time stamp is flagged `time_jitter` [1].
+/// which the time stamp is flagged `time_jitter` \[1\].
 const JITTER_TOL: f32 = 0.2;
-/// Weight of a new interval in the running mean [1].
+/// Weight of a new interval in the running mean \[1\].
 const JITTER_WEIGHT: f32 = 0.05;
 /// Consecutive non-increasing time stamps after which the monitor adopts them.
 const RESYNC_SAMPLES: u8 = 3;
@@ -21,24 +21,24 @@ const RESYNC_SAMPLES: u8 = 3;
 pub(super) struct Timeline {
     /// A first sample has been used.
     pub(super) started: bool,
-    /// Time stamp of the first sample [s].
+    /// Time stamp of the first sample \[s\].
     pub(super) t_start: f32,
-    /// Time stamp of the last sample used [s].
+    /// Time stamp of the last sample used \[s\].
     pub(super) t_prev: f32,
     /// Consecutive time stamps that did not increase, and the last of them
-    /// [s] (three in a row are adopted as the new time base).
+    /// \[s\] (three in a row are adopted as the new time base).
     back_run: u8,
     t_back: f32,
-    /// Running mean of the sample intervals [s] (0 before the first).
+    /// Running mean of the sample intervals \[s\] (0 before the first).
     dt_mean: f32,
 }
 
 /// The clock's verdict on a sample's time stamp.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Clock {
-    /// Time stamp [s].
+    /// Time stamp \[s\].
     pub(super) t: f32,
-    /// Time step used by the filters [s] (0 at the first sample).
+    /// Time step used by the filters \[s\] (0 at the first sample).
     pub(super) dt: f32,
     /// A gap (or a newly adopted time base) before this sample.
     pub(super) gap: bool,
@@ -57,7 +57,7 @@ impl Timeline {
         dt_mean: 0.0,
     };
 
-    /// Checks the time stamp `t` [s] with the limits of `observer`: the
+    /// Checks the time stamp `t` \[s\] with the limits of `observer`: the
     /// time step and the time faults, or `Err` with the faults of a sample
     /// that is not used (not finite, or backwards until [`RESYNC_SAMPLES`]
     /// in a row adopt the new time base). Inlined into the sample path of

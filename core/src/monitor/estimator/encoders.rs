@@ -16,10 +16,10 @@ use crate::monitor::status::Sample;
 pub(super) struct JointReading {
     /// Faults raised so far.
     pub(super) faults: FaultFlags,
-    /// The reading the rate filter used [rad]: `None` when missing, out of
+    /// The reading the rate filter used \[rad\]: `None` when missing, out of
     /// range, stuck or gated out.
     pub(super) used: Option<f32>,
-    /// The reading as it came, range-checked [rad]: the latch estimator
+    /// The reading as it came, range-checked \[rad\]: the latch estimator
     /// compares it with the switch even when the rate filter gated it out
     /// (a joint stopping dead at its latch looks like a spike to it; the
     /// switch must agree anyway).
@@ -34,10 +34,10 @@ pub(super) type Readings<const N: usize> = [JointReading; N];
 /// What the encoder checks of one sample share (see
 /// [`JointState::read_encoder`]).
 struct ReadingContext {
-    /// Time stamp of this sample and of the last one used [s].
+    /// Time stamp of this sample and of the last one used \[s\].
     t: f32,
     t_prev: f32,
-    /// Encoder quantisation step [rad].
+    /// Encoder quantisation step \[rad\].
     step_rad: f32,
     /// Repeats of one value that make an encoder stuck (0: never).
     stuck_limit: u16,
@@ -46,10 +46,10 @@ struct ReadingContext {
 }
 
 impl JointState {
-    /// Checks one encoder reading `z` [deg] (the joint's latch switch
+    /// Checks one encoder reading `z` \[deg\] (the joint's latch switch
     /// `switch`): missing, out of range, stuck or stale readings are flagged
     /// and not used, a spike that returned is flagged (`plausibility.rs`).
-    /// Returns the reading to use [rad], the faults and whether the encoder
+    /// Returns the reading to use \[rad\], the faults and whether the encoder
     /// is frozen. Not generic over the joint count (one copy in flash).
     #[inline(never)]
     fn read_encoder(

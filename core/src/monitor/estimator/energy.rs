@@ -49,7 +49,7 @@ impl<const N: usize> Monitor<N> {
 
 /// The energy margin of joint `jm` of `joints` (stored in its state) when
 /// it is free and settled: not `locked`, `quiet` (no snap, latch or gap
-/// within the settling time) and out of its snap zone (`zone_rad` [rad]
+/// within the settling time) and out of its snap zone (`zone_rad` \[rad\]
 /// from the latch). The rates there are the rate filter's wide-open
 /// transient, and the margin computed on entry stands. Not generic over
 /// the joint count: one copy in flash for every monitor.

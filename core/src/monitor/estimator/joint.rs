@@ -12,7 +12,7 @@ use crate::monitor::plausibility::ReadingCheck;
 use crate::monitor::predictor::Prediction;
 use crate::monitor::status::{JointStatus, Observability, VISCOUS_RESOLVED_SD};
 
-/// One degree [rad].
+/// One degree \[rad\].
 pub(super) const DEG: f32 = core::f32::consts::PI / 180.0;
 
 /// Rate uncertainty at the first sample [rad/s]: a deployment starts from
@@ -24,9 +24,9 @@ pub(super) const START_ACC_SD: f32 = 1.0;
 /// What the monitor tracks about one joint from sample to sample.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct JointState {
-    /// Stowed angle [deg] (the latch is at 0).
+    /// Stowed angle \[deg\] (the latch is at 0).
     pub(super) stowed_deg: f32,
-    /// Capture angle `x_c` [rad] (below it the spring completes the latch).
+    /// Capture angle `x_c` \[rad\] (below it the spring completes the latch).
     pub(super) capture_rad: f32,
     /// The physical latch's engagement (the margin's resistance).
     pub(super) engagement: Engagement,
@@ -41,7 +41,7 @@ pub(super) struct JointState {
     pub(super) margin: Option<MarginResult>,
     /// Consecutive readings the rate filter's gate rejected.
     pub(super) rejects: u8,
-    /// Last in-range reading of the encoder [deg].
+    /// Last in-range reading of the encoder \[deg\].
     pub(super) last_raw: f32,
     /// How many samples in a row repeated `last_raw` exactly.
     pub(super) same_run: u16,
@@ -61,9 +61,9 @@ pub(super) struct JointState {
 /// placeholder joint is built on the stack).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct JointStart {
-    /// Stowed angle [deg].
+    /// Stowed angle \[deg\].
     pub(super) stowed_deg: f32,
-    /// Capture angle [deg].
+    /// Capture angle \[deg\].
     pub(super) capture_deg: f32,
     /// Prior of the friction parameters.
     pub(super) prior: FrictionPrior,
@@ -113,14 +113,14 @@ impl CachedSqrt {
 pub(super) struct Forecast {
     pub(super) prediction: Prediction,
     pub(super) confidence: f32,
-    /// Time to the latch [s].
+    /// Time to the latch \[s\].
     pub(super) time_to_latch_s: Option<f32>,
 }
 
 impl JointState {
     /// A joint at its stowed angle, waiting for the first sample: `joint`
     /// without its spring (the chain holds it), `sd` the encoder's standard
-    /// deviation [rad].
+    /// deviation \[rad\].
     #[inline(never)]
     pub(super) fn new(
         joint: &JointStart,
@@ -148,7 +148,7 @@ impl JointState {
         }
     }
 
-    /// True when the joint's switch `switch` and reading `z_deg` [deg]
+    /// True when the joint's switch `switch` and reading `z_deg` \[deg\]
     /// announce an impact: its switch closes (with a physical latch: the
     /// first time since the joint came in, not again at each rebound), or
     /// (physical latch) its encoder comes within the plunger's crest of the

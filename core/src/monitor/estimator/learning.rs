@@ -6,7 +6,7 @@ use crate::monitor::rollout::ROLLOUT_MAX_JOINTS;
 use crate::monitor::smoother::{Centre, CentredFit};
 use heapless::Deque;
 
-/// Samples the learning queue holds [1]: at 100 Hz, 80 ms of a slow path
+/// Samples the learning queue holds \[1\]: at 100 Hz, 80 ms of a slow path
 /// kept from running (at the replay's schedule it is emptied after every
 /// sample).
 pub const LEARNING_QUEUE: usize = 4;
@@ -15,7 +15,7 @@ pub const LEARNING_QUEUE: usize = 4;
 /// queued by [`crate::Monitor::update`] for [`crate::Monitor::predict`].
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Learning<const N: usize> {
-    /// Time stamp [s].
+    /// Time stamp \[s\].
     pub(super) t: f32,
     /// The sample is fit to learn from: settled (no snap, latch or gap
     /// within `settle_s`), no gap, a positive time step.
@@ -30,7 +30,7 @@ pub(super) struct Learning<const N: usize> {
 /// the reading's alignment).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct JointLearning {
-    /// The reading the rate filter used [rad], NaN where none (missing,
+    /// The reading the rate filter used \[rad\], NaN where none (missing,
     /// out of range, stuck or gated out).
     pub(super) used: f32,
     /// The model sits the joint at 0.
@@ -41,7 +41,7 @@ pub(super) struct JointLearning {
 }
 
 impl<const N: usize> Learning<N> {
-    /// The readings the rate filters used [rad], NaN where none.
+    /// The readings the rate filters used \[rad\], NaN where none.
     pub(super) fn used(&self) -> [f32; N] {
         core::array::from_fn(|j| self.joints[j].used)
     }
@@ -72,11 +72,11 @@ pub(super) const R: usize = ROLLOUT_MAX_JOINTS;
 /// form their code written once for every joint count takes.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Fitted {
-    /// Time of the middle sample [s].
+    /// Time of the middle sample \[s\].
     pub(super) t_s: f32,
-    /// Time since the previous middle sample [s].
+    /// Time since the previous middle sample \[s\].
     pub(super) dt_s: f32,
-    /// Joint angles [rad].
+    /// Joint angles \[rad\].
     pub(super) phi: [f32; R],
     /// Joint rates [rad/s].
     pub(super) rate: [f32; R],
@@ -123,7 +123,7 @@ pub(super) struct Learner<const N: usize> {
     /// Whether the previous sample gave a centred fit (the observers run
     /// on without a restart).
     pub(super) fit_run: bool,
-    /// Time of the last centred fit [s].
+    /// Time of the last centred fit \[s\].
     pub(super) t_centre: f32,
     /// The joint whose energy margin is evaluated at the next learned
     /// sample.

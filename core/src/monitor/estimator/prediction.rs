@@ -12,7 +12,7 @@ use crate::monitor::status::JointStatus;
 use crate::physics::chain::{ChainRef, ChainState};
 
 /// Time without a centred fit after which a rollout starts from the rate
-/// filter instead [s].
+/// filter instead \[s\].
 const CENTRE_WAIT_S: f32 = 0.5;
 
 impl<const N: usize> Monitor<N> {
@@ -44,7 +44,7 @@ impl<const N: usize> Monitor<N> {
     }
 
     /// The learned part of every joint's status: friction, margin and the
-    /// latch / stall prediction as of time `t` [s] ([`refresh`]).
+    /// latch / stall prediction as of time `t` \[s\] ([`refresh`]).
     pub(super) fn refresh_estimates(&mut self, t: f32) {
         let cfg = &self.tuning.margin;
         refresh(
@@ -79,8 +79,8 @@ impl<const N: usize> Monitor<N> {
 }
 
 /// [`Monitor::hand_over_to_prediction`] to `cycle`: the fit `fit` when
-/// there is one (its time kept in `t_centre` [s]), else, once no fit has
-/// come for [`CENTRE_WAIT_S`] and the sample (its time [s], whether it is
+/// there is one (its time kept in `t_centre` \[s\]), else, once no fit has
+/// come for [`CENTRE_WAIT_S`] and the sample (its time \[s\], whether it is
 /// quiet, its locked joints) is quiet, the rate filters of `joints` (0 for
 /// a locked joint). Not generic over the joint count: one copy in flash
 /// for every monitor.
@@ -126,9 +126,9 @@ fn hand_over(
 /// What the prediction of every joint is asked against: the deadline, the
 /// confidence and whether the rollouts run.
 struct Horizon {
-    /// The deployment's deadline, absolute [s].
+    /// The deployment's deadline, absolute \[s\].
     deadline_s: f32,
-    /// Confidence level `Φ(z)` [1].
+    /// Confidence level `Φ(z)` \[1\].
     confidence: f32,
     /// False when the rollouts are switched off.
     rollouts: bool,
@@ -136,7 +136,7 @@ struct Horizon {
 
 /// The learned part of the status line `out` of each joint of `joints`:
 /// friction, margin and the latch / stall prediction of `cycle` as of time
-/// `t` [s]. Not generic over the joint count: one copy in flash for every
+/// `t` \[s\]. Not generic over the joint count: one copy in flash for every
 /// monitor.
 #[inline(never)]
 fn refresh(
@@ -160,8 +160,8 @@ fn refresh(
 }
 
 /// The latch / stall prediction of joint `j` (its state `js`) at time `t`
-/// [s] from the last finished rollouts of `cycle` and the energy balance:
-/// the prediction, its confidence and the time to the latch [s]. A stall
+/// \[s\] from the last finished rollouts of `cycle` and the energy balance:
+/// the prediction, its confidence and the time to the latch \[s\]. A stall
 /// of a joint the latch tracker sees at rest on a physical latch's ramp
 /// ([`crate::monitor::latch::LatchState::StoppedShort`]) is a ramp stop.
 fn forecast(

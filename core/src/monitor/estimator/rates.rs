@@ -33,14 +33,14 @@ mod gap {
     /// Variance added to a rate over a gap [rad²/s²] (the joint may have
     /// changed its rate by ≈ 1 rad/s while unobserved).
     pub(super) const RATE_VAR: f32 = 1.0;
-    /// Variance added to the first reading after a gap [rad²].
+    /// Variance added to the first reading after a gap \[rad²\].
     pub(super) const MEAS_VAR: f32 = 1.0;
 }
 
 /// The latch impact when a switch closes.
 mod impact {
     /// Time after a latch switch closes during which a reading the rate
-    /// filter rejects is the latch impact, not an outlier [s]: the impact
+    /// filter rejects is the latch impact, not an outlier \[s\]: the impact
     /// is within a sample of the closing at 100 Hz, and a chattering switch
     /// (≤ 20 ms) closes again inside it.
     pub(super) const WINDOW_S: f32 = 0.03;
@@ -69,7 +69,7 @@ struct RateContext<'a> {
     impact: bool,
     /// Widen the rate filter's prediction for the impact.
     inflate: bool,
-    /// Variance of one reading [rad²] and its square root [rad].
+    /// Variance of one reading \[rad²\] and its square root \[rad\].
     meas_var: f32,
     meas_sd: f32,
     /// The observer's tuning.
@@ -88,8 +88,8 @@ enum RateOutcome {
     Restarted,
 }
 
-/// A rate filter started at `phi_rad` [rad] with angle, rate and
-/// acceleration deviations `sd` [rad], `sd_rate` [rad/s] and `sd_acc`
+/// A rate filter started at `phi_rad` \[rad\] with angle, rate and
+/// acceleration deviations `sd` \[rad\], `sd_rate` [rad/s] and `sd_acc`
 /// [rad/s²], and the jerk spectral density `jerk_psd` [rad²/s⁵].
 fn fresh_filter(phi_rad: f32, sd: f32, sd_rate: f32, sd_acc: f32, jerk_psd: f32) -> RateFilter {
     let mut f = RateFilter::new(phi_rad, sd, sd_rate, sd_acc);

@@ -81,7 +81,7 @@ impl<const N: usize> Monitor<N> {
     }
 
     /// Composes the sample-rate part of every joint's status at time `t`
-    /// [s]; the learned part is [`Monitor::refresh_estimates`]'.
+    /// \[s\]; the learned part is [`Monitor::refresh_estimates`]'.
     fn compose_status(&mut self, t: f32, readings: &Readings<N>, latches: &Latches<N>) {
         for j in 0..N {
             let (faults, state) = (readings[j].faults, latches[j].state);

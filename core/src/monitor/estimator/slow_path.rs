@@ -168,7 +168,7 @@ fn learn_joints(
 
 /// One joint's friction observer on the centred fit: restarted first when
 /// `restart` (the run of fits broke), then stepped on `input` with the
-/// spring torque of `spring` at `phi` [rad] (on the branch of the fit's
+/// spring torque of `spring` at `phi` \[rad\] (on the branch of the fit's
 /// rate) filled in; an observer that fails restarts at its prior. Returns
 /// whether it was healthy. Not generic over the joint count: one copy in
 /// flash for every monitor.

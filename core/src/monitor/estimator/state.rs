@@ -44,9 +44,9 @@ pub struct Monitor<const N: usize> {
 /// The configuration's tuning, as the monitor uses it.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Tuning {
-    /// Variance of one encoder reading [rad²] (noise and quantisation).
+    /// Variance of one encoder reading \[rad²\] (noise and quantisation).
     pub(super) meas_var: f32,
-    /// Its square root [rad].
+    /// Its square root \[rad\].
     pub(super) meas_sd: f32,
     pub(super) sensor: SensorConfig,
     pub(super) observer: ObserverConfig,
@@ -54,14 +54,14 @@ pub(super) struct Tuning {
     pub(super) margin: MarginConfig,
 }
 
-/// The windows that events open on the time line [s].
+/// The windows that events open on the time line \[s\].
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Windows {
-    /// End of the settling after a snap, latch or gap [s]: the friction
+    /// End of the settling after a snap, latch or gap \[s\]: the friction
     /// learning and the margin wait until then.
     pub(super) blank_until: f32,
     /// End of the window after a switch closed in which a reading the rate
-    /// filter rejects is the impact, not an outlier [s].
+    /// filter rejects is the impact, not an outlier \[s\].
     pub(super) impact_until: f32,
     /// Samples left whose prediction is widened for the impact.
     pub(super) impact_samples: u8,
@@ -102,7 +102,7 @@ fn reset_tuning_and_joints(tuning: &mut Tuning, states: &mut [JointState], confi
     }
 }
 
-/// Measurement variance of one encoder reading [rad²]: noise and
+/// Measurement variance of one encoder reading \[rad²\]: noise and
 /// quantisation, `σ² + Δ²/12`.
 fn meas_var(sensor: &SensorConfig) -> f32 {
     let sd = sensor.encoder_sd_deg * DEG;

@@ -34,7 +34,7 @@ fn bad_time_stamps_are_flagged_and_resynchronised() {
     assert!(st.joints[0].faults.is_empty(), "{}", st.joints[0].faults);
 }
 
-/// A 1-joint deployment at 100 Hz: `φ = 90° − 20 t²` [deg].
+/// A 1-joint deployment at 100 Hz: `φ = 90° − 20 t²` \[deg\].
 fn swing(k: usize) -> Sample<1> {
     let t = 0.01 * k as f32;
     Sample::new(t, [90.0 - 20.0 * t * t], [false])

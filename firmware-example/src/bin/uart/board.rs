@@ -16,7 +16,7 @@ use cortex_m::interrupt::InterruptNumber;
 /// UART0's registers [address].
 const UART0: usize = 0x4000_4000;
 
-/// The CMSDK APB UART's registers, each its offset from [`UART0`] [bytes].
+/// The CMSDK APB UART's registers, each its offset from [`UART0`] \[bytes\].
 #[derive(Clone, Copy)]
 #[repr(usize)]
 enum Reg {
@@ -44,9 +44,9 @@ mod ctrl {
 /// The bit of the receive interrupt in INTSTATUS (write 1 to clear).
 const INT_RX: u32 = 1 << 1;
 
-/// The UART's clock [Hz] (mps2-an386's SYSCLK).
+/// The UART's clock \[Hz\] (mps2-an386's SYSCLK).
 const PCLK_HZ: u32 = 25_000_000;
-/// The line's rate [baud]. QEMU passes the bytes at the speed of its
+/// The line's rate \[baud\]. QEMU passes the bytes at the speed of its
 /// character back-end whatever the divider; on a board it is the wire's
 /// rate (8N1: 10 bits a byte).
 pub const BAUD: u32 = 921_600;

@@ -52,7 +52,7 @@ use heapless::spsc::{Consumer, Producer, Queue};
 
 use board::{RxIrq, Uart};
 
-/// Receive queue [bytes]: 20 sample frames of 3 joints (25 bytes each),
+/// Receive queue \[bytes\]: 20 sample frames of 3 joints (25 bytes each),
 /// so a main loop busy with the prediction's slices loses nothing.
 const RX_QUEUE: usize = 512;
 

@@ -21,7 +21,7 @@ pub const MAX_QUADRATIC_NMS2: f64 = 50.0;
 /// "break-away" hump is a rate law over the whole deployment).
 pub const STRIBECK_RATE_RANGE: [f64; 2] = [0.005, 2.0];
 
-/// Spring softening range [1]: from a spring twice as stiff (−1) to one at
+/// Spring softening range \[1\]: from a spring twice as stiff (−1) to one at
 /// 1 % of its torque (0.99, not 1: a spring of no torque cannot deploy).
 pub const SOFTENING_RANGE: [f64; 2] = [-1.0, 0.99];
 
@@ -39,19 +39,19 @@ pub const MAX_AIR_DRAG_KG_M2: f64 = 20.0;
 /// Largest rig-tilt component [m/s²]: a rig tilted by 30° has 4.9 m/s².
 pub const MAX_TILT_M_S2: f64 = 5.0;
 
-/// Largest encoder offset [deg]: beyond it a mounting error is no longer an
+/// Largest encoder offset \[deg\]: beyond it a mounting error is no longer an
 /// offset but a wrong mechanism.
 pub const MAX_ENCODER_OFFSET_DEG: f64 = 30.0;
 
-/// Largest `rig_friction` excess of the rails' dynamic coefficient [1]:
+/// Largest `rig_friction` excess of the rails' dynamic coefficient \[1\]:
 /// ten times the papers' air bearing on rail (0.1, seed 001 §4.2).
 pub const MAX_RIG_FRICTION: f64 = 1.0;
 
-/// Largest `wire_length` error [m] either way: a third of the seed 001
+/// Largest `wire_length` error \[m\] either way: a third of the seed 001
 /// rig's 1.5 m wires.
 pub const MAX_WIRE_ERROR_M: f64 = 0.5;
 
-/// Largest `frame_offset` [m] either way: the seed 001 rig's `lateral -y`
+/// Largest `frame_offset` \[m\] either way: the seed 001 rig's `lateral -y`
 /// frame stands 80 mm beyond the stowed stack, so a frame 50 mm nearer
 /// still leaves the stowed panels clear of it (and a frame 50 mm farther
 /// is one no panel of that rig reaches).
@@ -80,7 +80,7 @@ pub struct ParamBound {
     /// Largest value the fit may take.
     pub upper: f64,
     /// Smallest finite-difference step of the Jacobian (the step is
-    /// `max(min_step, 1e-4·|p|)`, see [`FitOptions::min_step`]).
+    /// `max(min_step, 1e-4·|p|)`, see [`crate::analysis::fit::FitOptions::min_step`]).
     pub min_step: f64,
 }
 
@@ -289,7 +289,7 @@ impl Candidate {
     }
 
     /// The 95 % interval of the effect's value, and for a rig tilt of its
-    /// direction [deg], from the intervals of its parameters (first-order
+    /// direction \[deg\], from the intervals of its parameters (first-order
     /// propagation for the tilt's magnitude and angle).
     pub fn value_ci(&self, p: &[f64], ci: &[[f64; 2]]) -> ([f64; 2], Option<[f64; 2]>) {
         let half = |k: usize| ci.get(k).map_or(f64::INFINITY, |c| 0.5 * (c[1] - c[0]));

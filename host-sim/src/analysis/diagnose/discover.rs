@@ -19,7 +19,7 @@ use crate::data::campaign::Campaign;
 use crate::model::effect::EffectKind;
 use crate::model::torque_table::{HostTorqueTable, HOST_TABLE_MAX_KNOTS};
 
-/// The farthest angle from the latch [deg] and the largest rate with the
+/// The farthest angle from the latch \[deg\] and the largest rate with the
 /// sign of the motion [deg/s] that the runs reach at 0-based joint `j`
 /// (rates from 5-sample differences, which average the sensor noise down).
 fn spans(campaign: &Campaign, j: usize) -> (f64, f64) {
@@ -201,12 +201,12 @@ pub fn shape_sentence(form: &TableForm, joint: usize, t: &HostTorqueTable) -> St
 }
 
 /// Below this share of its peak, a rate law's value at the largest rate
-/// makes it "peaked" (it falls back after a peak) [1].
+/// makes it "peaked" (it falls back after a peak) \[1\].
 const PEAK_FALL: f64 = 0.6;
 
 /// A monotone rate law is "faster than linear (about quadratic)" when its
 /// value at half the largest rate is below this share of its end value,
-/// "saturating" when above `1 − QUADRATIC_MID` [1] (linear: ½).
+/// "saturating" when above `1 − QUADRATIC_MID` \[1\] (linear: ½).
 const QUADRATIC_MID: f64 = 0.35;
 
 /// How a rate table depends on the rate, in words: peaked near a rate,

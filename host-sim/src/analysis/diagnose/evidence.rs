@@ -9,30 +9,30 @@ use crate::analysis::diagnose::smoothing::third_difference_sigma;
 use crate::data::campaign::Campaign;
 use crate::model::effect::Effect;
 
-/// "Near the latch": within this angle of it [deg] (the detent zone is 3°,
+/// "Near the latch": within this angle of it \[deg\] (the detent zone is 3°,
 /// the tape springs snap within about 1.3°; 5° holds both with room).
 pub const NEAR_LATCH_DEG: f64 = 5.0;
 
-/// "At release": the first this many seconds of a run [s], before the panel
+/// "At release": the first this many seconds of a run \[s\], before the panel
 /// has moved by more than the sensor noise.
 pub const RELEASE_WINDOW_S: f64 = 0.05;
 
-/// A residual is "clear" beyond this many noise floors σ̂ [1].
+/// A residual is "clear" beyond this many noise floors σ̂ \[1\].
 pub const CLEAR_SIGMAS: f64 = 3.0;
 
 /// A residual at release that changes by less than this share of itself
-/// after the latch is a sensor effect (an offset) [1].
+/// after the latch is a sensor effect (an offset) \[1\].
 pub const SENSOR_CHANGE_SHARE: f64 = 0.25;
 
-/// Correlations weaker than this are not worth a word [1] (|r| ≤ 0.3 is
+/// Correlations weaker than this are not worth a word \[1\] (|r| ≤ 0.3 is
 /// "weak" on Cohen's scale).
 pub const MIN_CORRELATION: f64 = 0.3;
 
 /// A series gives a noise estimate with at least this many third
-/// differences [1] ([`noise_sigma_deg`]).
+/// differences \[1\] ([`noise_sigma_deg`]).
 pub const MIN_NOISE_DIFFERENCES: usize = 10;
 
-/// A latch lead or lag shorter than this is within a sample's timing [s]
+/// A latch lead or lag shorter than this is within a sample's timing \[s\]
 /// (half a sample at 100 Hz).
 pub const LATCH_LEAD_S: f64 = 0.005;
 
@@ -43,19 +43,19 @@ pub struct JointEvidence {
     pub run: String,
     /// 1-based joint.
     pub joint: usize,
-    /// RMS over the whole run [deg].
+    /// RMS over the whole run \[deg\].
     pub rms_deg: f64,
     /// RMS over the first, middle and last third of the stroke, by the
     /// measured angle's distance to the latch (`|φ| > ⅔|φ_s|`, between,
-    /// `< ⅓|φ_s|`) [deg]; NaN where no sample falls.
+    /// `< ⅓|φ_s|`) \[deg\]; NaN where no sample falls.
     pub stroke_thirds_rms_deg: [f64; 3],
-    /// RMS within [`NEAR_LATCH_DEG`] of the latch angle, before the latch [deg].
+    /// RMS within [`NEAR_LATCH_DEG`] of the latch angle, before the latch \[deg\].
     pub near_latch_rms_deg: f64,
-    /// Mean residual after the joint latched in both model and run [deg].
+    /// Mean residual after the joint latched in both model and run \[deg\].
     pub after_latch_mean_deg: f64,
-    /// Mean residual over the first [`RELEASE_WINDOW_S`] (the panel has hardly moved) [deg].
+    /// Mean residual over the first [`RELEASE_WINDOW_S`] (the panel has hardly moved) \[deg\].
     pub at_release_mean_deg: f64,
-    /// Model latch time minus measured latch time [s] (None if either never latched).
+    /// Model latch time minus measured latch time \[s\] (None if either never latched).
     pub latch_lead_s: Option<f64>,
     /// Pearson correlation of the residual, before the measured latch, with
     /// rate, rate², angle, distance from stowed, latch proximity.
@@ -139,7 +139,7 @@ fn correlations(t: &[f64], meas: &[f64], r: &[f64], end: usize, stowed: f64) -> 
 }
 
 /// The residual evidence of a model (`effects` on the campaign's
-/// mechanisms) against every run and joint. `sigma` is the noise floor [deg].
+/// mechanisms) against every run and joint. `sigma` is the noise floor \[deg\].
 pub fn analyse(campaign: &Campaign, effects: &[Effect], sigma: f64) -> Vec<JointEvidence> {
     let mut out = Vec::new();
     for (i, cr) in campaign.runs.iter().enumerate() {
@@ -305,7 +305,7 @@ pub fn locate(evidence: &[JointEvidence]) -> Option<String> {
     Some(format!("joint {worst}, mostly in {region}"))
 }
 
-/// Estimates the sensor noise σ [deg] from the runs alone: the median
+/// Estimates the sensor noise σ \[deg\] from the runs alone: the median
 /// absolute third difference of each angle series, scaled for white noise
 /// (`Var Δ³e = 20 σ²`, MAD → σ by 1.4826); smooth motion contributes only
 /// `φ⃛·Δt³`, and latch instants are outliers the median ignores.

@@ -26,12 +26,12 @@ use crate::model::effect::{Effect, EffectKind};
 
 /// A claim at a joint without significant residual torque is dropped only
 /// when the set without it fits within this share of the set's RMS (or of
-/// the noise floor) [1]: what the fit needs stays.
+/// the noise floor) \[1\]: what the fit needs stays.
 const CLAIM_RMS_SHARE: f64 = 1.1;
 
 /// Without residual-torque evidence, the first table is tried at the joints
 /// whose residual angle RMS is at least this share of the largest joint's
-/// [1].
+/// \[1\].
 const ANGLE_EVIDENCE_SHARE: f64 = 0.5;
 
 /// Table forms per joint that [`Move::TablePair`] pairs, best by BIC

@@ -12,7 +12,7 @@ use crate::model::latch::LatchTolerance;
 use crate::simulate::deployment::Trajectory;
 use rayon::prelude::*;
 
-/// Slack on the crest for an escape [deg]: about the encoder's resolution
+/// Slack on the crest for an escape \[deg\]: about the encoder's resolution
 /// (0.022°), so that noise at the crest does not count as an escape.
 const ESCAPE_SLACK_DEG: f64 = 0.03;
 
@@ -25,7 +25,7 @@ const MIN_RESTITUTION_IMPACTS: usize = 3;
 
 /// A median over a joint's impacts or rebounds with its interval: the
 /// stop's apparent restitution (the rate out over the rate in, from the
-/// samples either side of each switch closing [1]), or the rebounds' hold
+/// samples either side of each switch closing \[1\]), or the rebounds' hold
 /// deceleration ([`crate::analysis::latch_events::Flight`], [deg/s²]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Restitution {
@@ -51,7 +51,7 @@ pub struct LatchFinding {
     pub restitution: Option<Restitution>,
     /// What the drawing's latch gives within its tolerances.
     pub spread: Spread,
-    /// The plunger weakenings [1] consistent with the measured events
+    /// The plunger weakenings \[1\] consistent with the measured events
     /// (escapes, runs ending within the crest, hold deceleration), when the
     /// latch holds less than drawn (a magnet weakening may do the same: the
     /// runs do not tell them apart).
@@ -85,8 +85,8 @@ fn median_ci(mut x: Vec<f64>) -> Option<Restitution> {
     })
 }
 
-/// Rate ratios out/in at each closing of the switch, `t` the times [s],
-/// `u` the travel [deg].
+/// Rate ratios out/in at each closing of the switch, `t` the times \[s\],
+/// `u` the travel \[deg\].
 fn ratios(t: &[f64], u: &[f64], switch: &[bool]) -> Vec<f64> {
     let n = t.len().min(u.len()).min(switch.len());
     let mut out = Vec::new();
@@ -119,7 +119,7 @@ pub const ENSEMBLE: usize = 8;
 const ENSEMBLE_SEED: u64 = 0x1a7c4;
 
 /// Plunger weakenings tried when a joint escapes more than its drawing's
-/// spread allows [1].
+/// spread allows \[1\].
 pub const WEAKENINGS: [f64; 8] = [0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9];
 
 /// The range over an ensemble of one count or value: `[least, most]`.
@@ -181,7 +181,7 @@ fn ensemble(c: &Campaign, effects: &[Effect], members: usize) -> Vec<Vec<Option<
         .collect()
 }
 
-/// One joint's series of one run: times, travel [deg], switch.
+/// One joint's series of one run: times, travel \[deg\], switch.
 type Series<'a> = (&'a [f64], Vec<f64>, &'a [bool]);
 
 /// The tally of joint `j` over the runs `runs` of `c`, from `series(i)`.

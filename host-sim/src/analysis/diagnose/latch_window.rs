@@ -32,7 +32,7 @@ pub struct RunWindow {
     pub kept: usize,
     /// Samples in the run.
     pub of: usize,
-    /// Time of the first sample left out [s] (`None`: the whole run kept).
+    /// Time of the first sample left out \[s\] (`None`: the whole run kept).
     pub end_s: Option<f64>,
     /// The joint (1-based) whose latch ends the window.
     pub joint: Option<usize>,

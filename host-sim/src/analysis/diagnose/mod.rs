@@ -7,14 +7,14 @@
 //! 3. Candidates: every effect, per joint where it has one. Each is fitted to
 //!    all runs at once: a coarse scan for a start, then Levenberg–Marquardt
 //!    ([`crate::analysis::fit`]); candidates are fitted in parallel.
-//! 4. Stepwise selection: a loop over the moves of [`moves::STEPWISE`]
+//! 4. Stepwise selection: a loop over the moves of [`policy::STEPWISE`]
 //!    (an addition; when none passes, a pair fitted jointly; then a swap,
 //!    and a swap for a pair; the named pairs the residual torque proposes
 //!    and those at a joint), each judged by the one acceptance policy
 //!    ([`policy`]: BIC better by more than [`MIN_DELTA_BIC`], every added
 //!    effect's 95 % interval excludes zero, and, with two or more runs, the
 //!    held-out RMS of the resulting set — fit on all runs but one, predict
-//!    that one — improves), which returns a typed [`Verdict`]; effects that
+//!    that one — improves), which returns a typed [`policy::Verdict`]; effects that
 //!    no longer earn their keep are dropped again. At most three named
 //!    effects; stop at the noise floor 1.2 σ̂ (σ̂ estimated once and
 //!    carried).
@@ -70,11 +70,11 @@ use std::time::Instant;
 /// The residual is "down to the sensor noise" below this multiple of σ̂.
 pub const NOISE_FLOOR_FACTOR: f64 = 1.2;
 
-/// A residual is "clearly above the noise" beyond this multiple of σ̂ [1]
+/// A residual is "clearly above the noise" beyond this multiple of σ̂ \[1\]
 /// (and beyond [`ABOVE_NOISE_MARGIN_DEG`] over σ̂).
 pub const ABOVE_NOISE_FACTOR: f64 = 1.5;
 
-/// A residual clearly above the noise also exceeds σ̂ by this [deg] (the encoder's step, 0.022°,
+/// A residual clearly above the noise also exceeds σ̂ by this \[deg\] (the encoder's step, 0.022°,
 /// rounded down: below it a residual is quantisation).
 pub const ABOVE_NOISE_MARGIN_DEG: f64 = 0.01;
 
@@ -176,7 +176,7 @@ impl Engine<'_> {
         self.sse(c, &f.candidates(), &f.params())
     }
 
-    /// Held-out RMS [deg] of a set: fit on all runs but one (from the
+    /// Held-out RMS \[deg\] of a set: fit on all runs but one (from the
     /// all-run parameters), predict the one left out; pooled over folds.
     fn held_out(&self, fitted: &FittedSet) -> Option<f64> {
         let n = self.campaign.runs.len();
@@ -284,7 +284,7 @@ struct Search<'e, 'a> {
     eng: &'e Engine<'a>,
     candidates: Vec<Candidate>,
     max_effects: usize,
-    /// The noise σ̂ of the runs [deg], estimated once
+    /// The noise σ̂ of the runs \[deg\], estimated once
     /// ([`evidence::noise_sigma_deg`]).
     sigma: f64,
     current: FittedSet,
@@ -301,7 +301,7 @@ struct Search<'e, 'a> {
 }
 
 impl Search<'_, '_> {
-    /// The noise floor [deg]: [`NOISE_FLOOR_FACTOR`] σ̂.
+    /// The noise floor \[deg\]: [`NOISE_FLOOR_FACTOR`] σ̂.
     fn floor(&self) -> f64 {
         NOISE_FLOOR_FACTOR * self.sigma
     }
@@ -318,7 +318,7 @@ impl Engine<'_> {
     }
 
     /// The set reordered strongest first, with each effect's strength: the
-    /// RMS [deg] of the set without it (the others' values kept).
+    /// RMS \[deg\] of the set without it (the others' values kept).
     fn strongest_first(&self, current: &FittedSet) -> (FittedSet, Vec<f64>) {
         let strength: Vec<f64> = (0..current.members.len())
             .map(|k| {
@@ -338,7 +338,7 @@ impl Engine<'_> {
 }
 
 /// True when the residual of a set stays clearly above the noise floor σ̂
-/// [deg]: above [`ABOVE_NOISE_FACTOR`] σ̂ and above σ̂ +
+/// \[deg\]: above [`ABOVE_NOISE_FACTOR`] σ̂ and above σ̂ +
 /// [`ABOVE_NOISE_MARGIN_DEG`].
 fn above_noise(f: &FittedSet, sigma: f64) -> bool {
     let rms = f.rms();
@@ -455,7 +455,7 @@ fn search_campaign(
 
 impl<'e, 'a> Search<'e, 'a> {
     /// A search of `candidates` (at most `max_effects` named) from
-    /// `baseline`, against the noise σ̂ `sigma` [deg], nothing tried yet.
+    /// `baseline`, against the noise σ̂ `sigma` \[deg\], nothing tried yet.
     fn new(
         eng: &'e Engine<'a>,
         candidates: Vec<Candidate>,

@@ -75,7 +75,7 @@ impl FittedEffect {
 /// What a set's residuals over all runs came to.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitStats {
-    /// Sum of squared residuals over all runs [deg²].
+    /// Sum of squared residuals over all runs \[deg²\].
     pub sse: f64,
     /// Number of residuals.
     pub m: usize,
@@ -135,7 +135,7 @@ impl FittedSet {
             .collect()
     }
 
-    /// Sum of squared residuals [deg²]; infinite when not simulated.
+    /// Sum of squared residuals \[deg²\]; infinite when not simulated.
     pub fn sse(&self) -> f64 {
         self.stats.map_or(f64::INFINITY, |s| s.sse)
     }
@@ -148,7 +148,7 @@ impl FittedSet {
             .collect()
     }
 
-    /// RMS of the residuals [deg]; infinite when not simulated.
+    /// RMS of the residuals \[deg\]; infinite when not simulated.
     pub fn rms(&self) -> f64 {
         match self.stats {
             Some(s) => (s.sse / s.m.max(1) as f64).sqrt(),
@@ -234,7 +234,7 @@ pub struct CandidateScore {
     pub fitted: FittedSet,
     /// BIC gain over the current set (positive is better).
     pub delta_bic: f64,
-    /// Held-out RMS with it [deg], when computed.
+    /// Held-out RMS with it \[deg\], when computed.
     pub held_out_rms_deg: Option<f64>,
     /// Why it was or was not taken ([`Verdict`]; its `Display` is the
     /// sentence the report and the JSON give).
@@ -255,7 +255,7 @@ pub struct Round {
     pub what: String,
     /// The set the round started from.
     pub start: Vec<Candidate>,
-    /// RMS of that set [deg].
+    /// RMS of that set \[deg\].
     pub start_rms_deg: f64,
     /// Every candidate, best BIC first.
     pub scores: Vec<CandidateScore>,
@@ -271,7 +271,7 @@ pub struct DiagnoseOptions {
     /// Whether to look for a torque no named effect describes
     /// ([`discover`]) when the named effects leave a residual.
     pub discover: bool,
-    /// Stop the search after this wall time [s] and report the best set
+    /// Stop the search after this wall time \[s\] and report the best set
     /// found so far, marked as such (`None`: no limit).
     pub max_seconds: Option<f64>,
     /// Stop the search when this flag is raised (Ctrl-C), likewise.
@@ -317,25 +317,25 @@ impl Default for DiagnoseOptions {
 /// What a diagnosis concluded.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Outcome {
-    /// The noise floor σ̂ estimated from the runs [deg].
+    /// The noise floor σ̂ estimated from the runs \[deg\].
     pub noise_sigma_deg: f64,
     /// The baseline (no effect).
     pub baseline: FittedSet,
     /// The selected effects, fitted together.
     pub extended: FittedSet,
-    /// Each selected effect's strength: the RMS [deg] of the extended model
+    /// Each selected effect's strength: the RMS \[deg\] of the extended model
     /// without it (values of the others kept).
     pub strength_rms_deg: Vec<f64>,
-    /// Held-out RMS of the extended model [deg] (two or more runs).
+    /// Held-out RMS of the extended model \[deg\] (two or more runs).
     pub held_out_rms_deg: Option<f64>,
-    /// Held-out RMS of the baseline [deg] (the baseline fits nothing, so this
+    /// Held-out RMS of the baseline \[deg\] (the baseline fits nothing, so this
     /// is its plain RMS).
     pub rounds: Vec<Round>,
     /// A description of a clear residual no candidate explains.
     pub unexplained: Option<String>,
     /// Simulations used in all (each over all runs).
     pub simulations: usize,
-    /// Wall time [s].
+    /// Wall time \[s\].
     pub wall_s: f64,
     /// Runs of a physical latch: where each run's free motion ends, the
     /// window the effects were fitted on (`None`: the whole runs).

@@ -31,11 +31,11 @@ use std::fmt;
 pub const MIN_DELTA_BIC: f64 = 10.0;
 
 /// A move must lower the held-out RMS below this share of the current
-/// set's [1] (5 % better: a gain the noise of two runs does not give).
+/// set's \[1\] (5 % better: a gain the noise of two runs does not give).
 pub const HELD_OUT_SHARE: f64 = 0.95;
 
 /// A named replacement of a table must fit within this share of the table
-/// set's RMS (or of the noise floor) [1]: a better BIC alone would let a
+/// set's RMS (or of the noise floor) \[1\]: a better BIC alone would let a
 /// pair of named stand-ins, with fewer parameters, replace a coarse table
 /// that the refinement would have brought to the noise.
 pub const NAMED_RMS_SHARE: f64 = 1.05;
@@ -65,25 +65,25 @@ pub enum Rejection {
     },
     /// An added effect's 95 % interval contains zero.
     IntervalHoldsZero,
-    /// Its RMS [deg] is above the share of the current set's the policy
-    /// allows [deg].
+    /// Its RMS \[deg\] is above the share of the current set's the policy
+    /// allows \[deg\].
     RmsShare {
-        /// Its RMS [deg].
+        /// Its RMS \[deg\].
         rms_deg: f64,
-        /// The largest allowed [deg].
+        /// The largest allowed \[deg\].
         limit_deg: f64,
     },
     /// Its residual [deg RMS] stays clearly above the noise.
     AboveNoise {
-        /// Its RMS [deg].
+        /// Its RMS \[deg\].
         rms_deg: f64,
     },
     /// Its held-out RMS does not beat the current set's by
     /// [`HELD_OUT_SHARE`].
     HeldOut {
-        /// Its held-out RMS [deg].
+        /// Its held-out RMS \[deg\].
         held_deg: f64,
-        /// The current set's [deg].
+        /// The current set's \[deg\].
         current_deg: f64,
     },
     /// A global effect of it still stands in for a joint torque.
@@ -156,7 +156,7 @@ pub enum PastTries {
     NotJudged,
 }
 
-/// How a move is judged: the one rule ([`Search::accept`]) with the
+/// How a move is judged: the one rule ([`super::Search::accept`]) with the
 /// differences between moves as explicit settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Policy {
@@ -167,7 +167,7 @@ pub struct Policy {
     /// of a refinement, whose finer knots share the torque).
     pub intervals_clear: bool,
     /// The RMS must be within this share of the current set's (or of the
-    /// noise floor, when larger) [1].
+    /// noise floor, when larger) \[1\].
     pub rms_share: Option<f64>,
     /// The residual must not stay clearly above the noise (the move
     /// explains the data).
@@ -212,7 +212,7 @@ impl Policy {
 pub enum Move {
     /// Add the best single candidate.
     Add,
-    /// Complete the [`PAIR_SEEDS`] best sets of the last round with every
+    /// Complete the [`super::PAIR_SEEDS`] best sets of the last round with every
     /// other candidate (two causes that only earn their keep together).
     Pair,
     /// Replace one effect by another candidate.
@@ -248,7 +248,7 @@ pub enum Move {
 }
 
 /// The stepwise moves in the order tried: the first that moves ends the
-/// step ([`Search::run`]).
+/// step ([`super::Search::run`]).
 pub const STEPWISE: [Move; 6] = [
     Move::Add,
     Move::Pair,
@@ -279,7 +279,7 @@ pub enum Attempt {
 }
 
 impl Move {
-    /// The acceptance policy of the move ([`Search::accept`]).
+    /// The acceptance policy of the move ([`super::Search::accept`]).
     pub fn policy(self) -> Policy {
         let s = Policy::STEPWISE;
         match self {

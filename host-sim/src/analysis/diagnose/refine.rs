@@ -37,7 +37,7 @@ impl Search<'_, '_> {
     /// forms of every table in the set and takes the best that earns its
     /// keep ([`Move::Refine`]: of the [`super::policy::REFINE_TRIES`] best by BIC, the
     /// first that gains more than [`super::MIN_DELTA_BIC`] and whose
-    /// held-out RMS beats the current set's by [`super::HELD_OUT_SHARE`]; a
+    /// held-out RMS beats the current set's by [`super::policy::HELD_OUT_SHARE`]; a
     /// refinement reshapes a table already kept, so its knots' intervals
     /// are not asked to be clear of zero: more knots share the torque, and
     /// the largest may be near-collinear with a knot of the other axis).

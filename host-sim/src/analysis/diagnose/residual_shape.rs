@@ -23,7 +23,7 @@ const GRID: usize = 48;
 /// Knot insertion stops after this many steps without a better BIC.
 const STALE_STEPS: usize = 3;
 
-/// Smallest spacing of two angle knots [deg]: a feature a tenth of a 90°
+/// Smallest spacing of two angle knots \[deg\]: a feature a tenth of a 90°
 /// stroke wide spans 9°, resolved by knots 2° apart.
 pub const MIN_ANGLE_SPACING_DEG: f64 = 2.0;
 
@@ -34,7 +34,7 @@ pub const MIN_RATE_SPACING_DEG_S: f64 = 3.0;
 /// Which axis a knot is on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Axis {
-    /// The joint angle [deg].
+    /// The joint angle \[deg\].
     Angle,
     /// The joint rate [deg/s]; its knot at 0 is held at 0 N·m.
     Rate,
@@ -43,7 +43,7 @@ pub enum Axis {
 /// A fitted shape: knots and values of `f` and `g`, and the fit's scores.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shape {
-    /// Angle knots [deg], increasing (empty: no `f`).
+    /// Angle knots \[deg\], increasing (empty: no `f`).
     pub angle_deg: Vec<f64>,
     /// `f` at those knots [N·m].
     pub angle_nm: Vec<f64>,
@@ -65,7 +65,7 @@ impl Shape {
         self.angle_nm.len() + self.rate_nm.len().saturating_sub(1)
     }
 
-    /// The fitted torque at angle `phi` [deg] and rate `rate` [deg/s] [N·m].
+    /// The fitted torque at angle `phi` \[deg\] and rate `rate` [deg/s] [N·m].
     pub fn eval(&self, phi: f64, rate: f64) -> f64 {
         interp(&self.angle_deg, &self.angle_nm, phi) + interp(&self.rate_deg_s, &self.rate_nm, rate)
     }

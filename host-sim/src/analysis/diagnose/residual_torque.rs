@@ -34,7 +34,7 @@ use crate::simulate::deployment::Trajectory;
 use deploywatch_core::{Branch, ChainState, Mode};
 use rayon::prelude::*;
 
-/// Samples within this angle of the latch [deg] are left out: the tape
+/// Samples within this angle of the latch \[deg\] are left out: the tape
 /// springs' snap-through (within about 1.3°) and the detent zone (3°) make
 /// the torque change faster than any window resolves.
 pub const LATCH_GUARD_DEG: f64 = 2.0;
@@ -64,9 +64,9 @@ pub struct TorqueSample {
     pub run: usize,
     /// Index of the sample in the run.
     pub index: usize,
-    /// Time [s].
+    /// Time \[s\].
     pub t_s: f64,
-    /// Smoothed angle [deg].
+    /// Smoothed angle \[deg\].
     pub phi_deg: f64,
     /// Smoothed rate [deg/s].
     pub rate_deg_s: f64,
@@ -77,10 +77,10 @@ pub struct TorqueSample {
     /// The hinge spring's torque at the sample [N·m] (before any
     /// softening): what a softened spring's missing torque is a share of.
     pub spring_nm: f64,
-    /// The angle from the stowed angle, `φ_stowed − φ` [rad]: what a
+    /// The angle from the stowed angle, `φ_stowed − φ` \[rad\]: what a
     /// harness's torque is proportional to.
     pub from_stowed_rad: f64,
-    /// Half-width of the smoothing window at this sample [samples]: about
+    /// Half-width of the smoothing window at this sample \[samples\]: about
     /// the distance over which neighbouring samples' errors correlate.
     pub window: usize,
 }
@@ -137,7 +137,7 @@ pub struct Bin {
 pub struct JointTorque {
     /// 1-based joint.
     pub joint: usize,
-    /// The stowed angle of the first run's mechanism [deg] (the stroke runs
+    /// The stowed angle of the first run's mechanism \[deg\] (the stroke runs
     /// from it to 0).
     pub stowed_deg: f64,
     /// Every sample kept.
@@ -236,7 +236,7 @@ pub struct RunMotion {
     pub relative: Vec<Vec<bool>>,
     /// `[joint][sample]`: their standard errors.
     pub se: Vec<Vec<[f64; 3]>>,
-    /// `[joint][sample]`: the window half-width [samples].
+    /// `[joint][sample]`: the window half-width \[samples\].
     pub window: Vec<Vec<usize>>,
 }
 

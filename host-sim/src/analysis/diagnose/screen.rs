@@ -16,8 +16,8 @@ enum Starts {
     Held,
     /// Also where the candidate shares its torque with a named effect of
     /// the base at its joint ([`Engine::screen_shared`]): named pairs at
-    /// one joint in place of a table ([`super::moves::Move::NamedForTable`]) or
-    /// of the named effects there ([`super::moves::Move::JointPairs`]).
+    /// one joint in place of a table ([`super::policy::Move::NamedForTable`]) or
+    /// of the named effects there ([`super::policy::Move::JointPairs`]).
     /// Measured in the stepwise rounds too, where it let named pairs stand
     /// in for unnamed torques (`docs/diagnosis.md`, "Two causes at one
     /// joint").

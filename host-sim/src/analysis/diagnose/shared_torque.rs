@@ -7,8 +7,8 @@
 //! first held over-resists: the move looks poor in the coarse scan and is
 //! never fitted, where the two would share the torque. When named pairs
 //! are tried at one joint (in place of a table,
-//! [`super::moves::Move::NamedForTable`], or of the named effects there,
-//! [`super::moves::Move::JointPairs`]), the screen therefore also starts
+//! [`super::policy::Move::NamedForTable`], or of the named effects there,
+//! [`super::policy::Move::JointPairs`]), the screen therefore also starts
 //! such a move on the line that keeps their summed torque over the measured
 //! states fixed: the candidate at a share of the value that would replace
 //! the base effect entirely, the base effect lowered by what the candidate
@@ -29,12 +29,12 @@ use crate::data::campaign::Campaign;
 use crate::model::effect::EffectKind;
 
 /// Shares of the candidate's value on the line of fixed summed torque at
-/// which the screen starts it [1] (of the value that would take over the
+/// which the screen starts it \[1\] (of the value that would take over the
 /// base effect's whole torque).
 const LINE_SHARES: [f64; 3] = [0.25, 0.5, 0.75];
 
 /// Two effects share their torque when their signatures' weighted cosine
-/// over the measured states is at least this [1].
+/// over the measured states is at least this \[1\].
 pub const MIN_SHARED_COSINE: f64 = 0.5;
 
 /// `(⟨a, b⟩, ⟨a, a⟩, ⟨b, b⟩)` of two signatures over the samples, weighted

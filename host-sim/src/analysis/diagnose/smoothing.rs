@@ -11,12 +11,12 @@
 //! segment's ends get no estimate: the window would have to reach over a
 //! release, a latch or an impact, where the motion is not smooth.
 
-/// Largest half-width of the local cubic [samples]: 0.15 s at 100 Hz. GCV
+/// Largest half-width of the local cubic \[samples\]: 0.15 s at 100 Hz. GCV
 /// chooses the window for the angle; its second derivative, the torque,
 /// needs a narrower one to resolve a feature over a tenth of the stroke.
 pub const MAX_HALF_WINDOW: usize = 15;
 
-/// The half-widths [samples] GCV chooses from (about 25 % apart: finer
+/// The half-widths \[samples\] GCV chooses from (about 25 % apart: finer
 /// steps change the estimates by less than their standard error).
 const HALF_WINDOWS: [usize; 8] = [3, 4, 5, 6, 8, 10, 12, MAX_HALF_WINDOW];
 
@@ -25,7 +25,7 @@ const HALF_WINDOWS: [usize; 8] = [3, 4, 5, 6, 8, 10, 12, MAX_HALF_WINDOW];
 /// hat-matrix diagonal `w₀`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CubicWeights {
-    /// Half-width [samples].
+    /// Half-width \[samples\].
     pub h: usize,
     /// Weights of the value, `k = −h..=h`.
     pub value: Vec<f64>,
@@ -78,7 +78,7 @@ impl CubicWeights {
 /// segment (`None` within `h` of its ends) and their standard errors.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Smoothed {
-    /// The half-width GCV chose [samples].
+    /// The half-width GCV chose \[samples\].
     pub h: usize,
     /// Smoothed value, rate [per s] and acceleration [per s²], one entry per
     /// sample of the segment.

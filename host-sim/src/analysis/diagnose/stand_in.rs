@@ -9,7 +9,7 @@
 //! refined like the other tables ([`Search::refine_tables`]). It is kept
 //! only when it also explains the data: its BIC better than the stand-in
 //! set's by more than [`super::MIN_DELTA_BIC`], its held-out RMS better by
-//! [`super::HELD_OUT_SHARE`], its residual not above the noise and no global
+//! [`super::policy::HELD_OUT_SHARE`], its residual not above the noise and no global
 //! stand-in left ([`super::Engine::unexplained_torque`] silent).
 
 use super::candidate::Candidate;
@@ -22,7 +22,7 @@ use super::{labels, Proposal, Search};
 /// Whether the set after [`Move::StandIn`] (and its refinement) is kept in
 /// place of the set with the stand-in: the one policy with a BIC gain over
 /// [`super::MIN_DELTA_BIC`] and a held-out RMS better by
-/// [`super::HELD_OUT_SHARE`] against that set, a residual not above the
+/// [`super::policy::HELD_OUT_SHARE`] against that set, a residual not above the
 /// noise and no global stand-in left; its tables' intervals were judged
 /// when they were taken.
 const KEEP: Policy = Policy {

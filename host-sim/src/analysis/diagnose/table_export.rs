@@ -15,7 +15,7 @@
 //! that lowers the squared torque error most, `g(0) = 0` kept); an axis
 //! that fits is kept as it is. The loss is
 //! reported three ways: the RMS and the largest torque difference over
-//! those samples [N·m], and the RMS difference of the angles [deg] between
+//! those samples [N·m], and the RMS difference of the angles \[deg\] between
 //! the model with the host table and with the compressed one, re-simulated
 //! on the campaign's runs. A table that fits already is exported as it is,
 //! with no loss.
@@ -44,7 +44,7 @@ pub struct TableExport {
     /// Largest absolute difference of the two torques there [N·m].
     pub torque_max_nm: f64,
     /// RMS difference of the re-simulated angles over all runs and joints
-    /// [deg]; `None` when a simulation failed.
+    /// \[deg\]; `None` when a simulation failed.
     pub angle_rms_deg: Option<f64>,
     /// Samples the torque difference is taken over.
     pub samples: usize,
@@ -204,7 +204,7 @@ fn torque_loss(
     (rms, d.iter().fold(0.0, |m, x| m.max(x.abs())))
 }
 
-/// RMS difference of the angles [deg] over every run and joint between the
+/// RMS difference of the angles \[deg\] over every run and joint between the
 /// model as fitted and the model with effect `k`'s table replaced by
 /// `export`.
 fn angle_loss(

@@ -11,7 +11,7 @@ use crate::model::torque_table::{
 pub struct TableForm {
     /// Knots of `f(φ)` (0: no angle table).
     pub angle_knots: u8,
-    /// The stroke end farthest from the latch [deg]; the knots are spread
+    /// The stroke end farthest from the latch \[deg\]; the knots are spread
     /// from it to 0 (the latch).
     pub from_deg: i32,
     /// Free knots of `g(φ̇)` (0: no rate table).
@@ -112,7 +112,7 @@ impl TableForm {
         }
     }
 
-    /// The angle knots [deg], increasing.
+    /// The angle knots \[deg\], increasing.
     pub fn angle_xs(&self) -> Vec<f64> {
         let k = usize::from(self.angle_knots);
         if let Some(p) = &self.placed {

@@ -25,7 +25,7 @@ fn responses(score: &CampaignScore, mse: f64, joints: &[usize]) -> Vec<f64> {
 /// at 0). The result is checked by one more simulation.
 ///
 /// Default design: the centre is the per-joint best of the start scan
-/// ([`scan`], at least 0.025 N·m), the half-ranges half the centre (the
+/// ([`super::SCAN_GRID_NM`], at least 0.025 N·m), the half-ranges half the centre (the
 /// relative ranges of seed 000 Table 9), so that a rotatable design spans
 /// `centre × (1 ± 0.84)`. A design point below 0 N·m is an error.
 pub fn identify_rsm(

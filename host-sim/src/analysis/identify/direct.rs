@@ -14,7 +14,7 @@ use super::*;
 /// fixed at 0 and the others refitted, until none is negative. (The
 /// projection of the bounds inside [`crate::analysis::fit::least_squares`] can stall a
 /// parameter at its bound, so it is not used here.) The start is
-/// `opts.start_nm`, or the per-joint best of the start scan ([`scan`]). The
+/// `opts.start_nm`, or the per-joint best of the start scan ([`super::SCAN_GRID_NM`]). The
 /// 95 % intervals come from the Jacobian at the solution ([`crate::analysis::fit`]);
 /// a joint fixed at 0 gets `[0, upper end of its interval when last free]`.
 pub fn identify_direct(
@@ -101,7 +101,7 @@ struct ActiveSetFit {
     ci: Vec<[f64; 2]>,
     /// Standard deviations [N·m].
     sd: Vec<f64>,
-    /// Sum of squared residuals [deg²].
+    /// Sum of squared residuals \[deg²\].
     sse: f64,
     /// Number of residuals.
     residuals: usize,
@@ -170,7 +170,7 @@ fn active_set_fit(
 
 /// One Levenberg–Marquardt fit of the joints `idx` (indices into the
 /// identified joints), the others held at `p`; reports each better RMS
-/// (`best` [deg], shared by the rounds) as progress.
+/// (`best` \[deg\], shared by the rounds) as progress.
 fn fit_free_joints(
     model: &Model,
     p: &[f64],

@@ -5,14 +5,14 @@
 //!
 //! Two methods, both over simulations of every run of the campaign:
 //!
-//! - **direct** ([`identify_direct`]): minimise the sum of squared angle
+//! - **direct** ([`direct::identify_direct`]): minimise the sum of squared angle
 //!   residuals of all runs at once (seed 001 Eq. 6 over the whole runs,
 //!   model minus measurement at every sample) over the EFTs with a
 //!   derivative-based least-squares solver ([`crate::analysis::fit::least_squares`],
 //!   Levenberg–Marquardt, finite-difference Jacobian with one parallel
 //!   simulation per column), lower bound 0, 95 % confidence intervals from
 //!   the Jacobian at the solution.
-//! - **rsm** ([`identify_rsm`]): the method of seed 000 (section 4.3,
+//! - **rsm** ([`by_rsm::identify_rsm`]): the method of seed 000 (section 4.3,
 //!   Eqs. 14–16, Table 9): a central composite design (CCD) of EFTs around a
 //!   centre, every design point simulated (in parallel), a full quadratic
 //!   (Eq. 15) fitted to each response with its R², and the fitted surface
@@ -187,11 +187,11 @@ pub enum IdentifyError {
     Rsm(#[from] rsm::RsmError),
 }
 
-/// Settings of [`identify_direct`].
+/// Settings of [`direct::identify_direct`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct DirectOptions {
     /// Start [N·m], one value per identified joint; `None`: the per-joint
-    /// best of the start scan ([`scan`]).
+    /// best of the start scan ([`SCAN_GRID_NM`]).
     pub start_nm: Option<Vec<f64>>,
     /// Smallest finite-difference step [N·m] (the step is
     /// `max(min_step, JACOBIAN_REL_STEP·|T_C|)`, `analysis::fit`).
@@ -221,7 +221,7 @@ pub enum RsmResponse {
     /// with equal weights (the paper does not say how it combined them).
     TeSum,
     /// The mean squared angle residual over every sample, joint and run
-    /// [deg²] (seed 001 Eq. 6 divided by the number of residuals).
+    /// \[deg²\] (seed 001 Eq. 6 divided by the number of residuals).
     Mse,
 }
 
@@ -250,17 +250,17 @@ impl std::str::FromStr for RsmResponse {
     }
 }
 
-/// Settings of [`identify_rsm`].
+/// Settings of [`by_rsm::identify_rsm`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct RsmOptions {
     /// Design centre [N·m] per identified joint; `None`: the per-joint best
-    /// of the start scan ([`scan`]), at least 0.025 N·m.
+    /// of the start scan ([`SCAN_GRID_NM`]), at least 0.025 N·m.
     pub centre_nm: Option<Vec<f64>>,
     /// Half-ranges [N·m] per identified joint (coded ±1); `None`:
     /// `half_range_fraction × centre`.
     pub half_range_nm: Option<Vec<f64>>,
     /// Half-range as a fraction of the centre when `half_range_nm` is
-    /// `None` [1]. Default 0.5, the relative half-ranges of seed 000
+    /// `None` \[1\]. Default 0.5, the relative half-ranges of seed 000
     /// Table 9 for EFT2 and EFT3 (0.3 of 0.6, 0.05 of 0.1): with α = 1.682
     /// the design spans `centre × (1 ± 0.84)`.
     pub half_range_fraction: f64,
@@ -271,7 +271,7 @@ pub struct RsmOptions {
     pub centre_runs: usize,
     /// The response minimised.
     pub response: RsmResponse,
-    /// Rounds of the design [1]: 1 is seed 000's single CCD; each further
+    /// Rounds of the design \[1\]: 1 is seed 000's single CCD; each further
     /// round re-centres the design on the last surface minimum and halves
     /// its half-ranges ([`RSM_ROUND_SHRINK`]), the sequential
     /// response-surface method of Box and Wilson (1951) (Myers,
@@ -287,7 +287,7 @@ pub struct RsmOptions {
 pub const DEFAULT_MIN_STEP_NM: f64 = 1e-4;
 
 /// Factor on the half-ranges from one round of a sequential response-surface
-/// design to the next [1].
+/// design to the next \[1\].
 pub const RSM_ROUND_SHRINK: f64 = 0.5;
 
 /// A later round's half-range stays below this fraction of the distance
@@ -365,7 +365,7 @@ impl<'a> Model<'a> {
 }
 
 /// Simulates every run of `campaign` with `effects` (in parallel) and scores
-/// them: RMS [deg] (`physics.md` 8) and the trajectory error of every joint
+/// them: RMS \[deg\] (`physics.md` 8) and the trajectory error of every joint
 /// (seed 000 Eq. 14, whole run). `None` if a simulation fails.
 pub fn score(campaign: &Campaign, effects: &[Effect]) -> Option<(CampaignScore, Vec<Trajectory>)> {
     let trajs: Vec<Option<Trajectory>> = (0..campaign.runs.len())
@@ -482,7 +482,7 @@ pub struct Scan {
     /// The uniform EFT (the same at every identified joint) with the lowest
     /// campaign RMS [N·m].
     pub uniform_best_nm: f64,
-    /// Its campaign RMS [deg].
+    /// Its campaign RMS \[deg\].
     pub uniform_best_rms_deg: f64,
     /// Per identified joint, the grid value whose uniform EFT gives that
     /// joint's lowest RMS (over the runs) [N·m]: a separable first guess.

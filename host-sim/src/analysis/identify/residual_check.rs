@@ -5,12 +5,12 @@
 use super::*;
 
 /// `identify` warns when a joint's residual after the fit exceeds this
-/// multiple of the noise RMS [1]: the EFT alone then leaves a systematic
+/// multiple of the noise RMS \[1\]: the EFT alone then leaves a systematic
 /// error, as [`crate::analysis::evidence`] calls a residual "clear"
 /// of the noise above 3 σ.
 pub const RESIDUAL_WARN_FACTOR: f64 = 3.0;
 
-/// The least noise RMS the warning threshold assumes [deg]: runs of true
+/// The least noise RMS the warning threshold assumes \[deg\]: runs of true
 /// angles (`simulate --no-noise`) have none, and a fit is never warned
 /// about for residuals of a few thousandths of a degree.
 pub const RESIDUAL_WARN_NOISE_FLOOR_DEG: f64 = 0.001;
@@ -23,9 +23,9 @@ pub struct ResidualWarning {
     pub run: String,
     /// 1-based joint.
     pub joint: usize,
-    /// RMS of the residual after the fit [deg].
+    /// RMS of the residual after the fit \[deg\].
     pub rms_deg: f64,
-    /// The noise RMS estimated from the runs [deg].
+    /// The noise RMS estimated from the runs \[deg\].
     pub noise_deg: f64,
     /// Where in the stroke the residual is largest, in words: the first,
     /// middle or last third of the measured angle's way to the latch.

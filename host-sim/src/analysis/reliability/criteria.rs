@@ -14,7 +14,7 @@
 //!
 //! Margins, `T` the mechanism's `duration_s`, `t_e` where the run stopped:
 //!
-//! - `not_latched`, joint j: latched at `t_j`: `m = T − t_j` [s], the time
+//! - `not_latched`, joint j: latched at `t_j`: `m = T − t_j` \[s\], the time
 //!   still left (→ 0 when it latches just at `T`); not latched:
 //!   `m = −T |φ_j(t_e)| / |φ_j(0)|`, minus the fraction of its stroke still
 //!   to go, in seconds of the run (→ 0 when it stops just at the latch). It
@@ -38,7 +38,7 @@ pub enum Criterion {
     NotLatched,
     /// `latch_rate>X`: some joint's rate at its latch above `X` [deg/s].
     LatchRateAbove(f64),
-    /// `time>X`: the deployment (last latch) later than `X` [s].
+    /// `time>X`: the deployment (last latch) later than `X` \[s\].
     TimeAbove(f64),
 }
 
@@ -118,19 +118,19 @@ pub fn modes(criteria: &[Criterion], joints: usize) -> Vec<Mode> {
 /// What one deployment did, per joint.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Outcome {
-    /// Latch instant [s], `None` if not latched when the run stopped.
+    /// Latch instant \[s\], `None` if not latched when the run stopped.
     pub latch_s: Vec<Option<f64>>,
     /// Angular rate just before the latch [deg/s] (extrapolated from the
     /// last two samples before it to the latch instant), `None` if not
     /// latched or not sampled (no `latch_rate>X` criterion).
     pub latch_rate_deg_s: Vec<Option<f64>>,
-    /// Angle where the run stopped [deg] (0 when latched).
+    /// Angle where the run stopped \[deg\] (0 when latched).
     pub end_deg: Vec<f64>,
-    /// Stowed angle [deg].
+    /// Stowed angle \[deg\].
     pub stowed_deg: Vec<f64>,
-    /// Where the run stopped [s] (`t_e`).
+    /// Where the run stopped \[s\] (`t_e`).
     pub end_s: f64,
-    /// The mechanism's `duration_s` [s] (`T`).
+    /// The mechanism's `duration_s` \[s\] (`T`).
     pub duration_s: f64,
 }
 

@@ -43,7 +43,7 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 /// Output rate of the reliability deployments that need the latch rate
-/// (`latch_rate>X`) [Hz]: it is extrapolated from the last two samples
+/// (`latch_rate>X`) \[Hz\]: it is extrapolated from the last two samples
 /// before the latch, 1 ms apart. The others are not sampled at all.
 pub const SAMPLE_HZ: f64 = 1000.0;
 
@@ -161,7 +161,7 @@ impl Problem {
         criteria::modes(&self.fail, self.mech.joint_count())
     }
 
-    /// How long a deployment must run for the verdict [s]: `duration_s`,
+    /// How long a deployment must run for the verdict \[s\]: `duration_s`,
     /// or with only `time>X` criteria the largest `X` (decided then).
     pub fn run_end_s(&self) -> f64 {
         let times = self.fail.iter().map(|c| match c {

@@ -15,7 +15,7 @@ pub enum MechParam {
     SpringPreload,
     /// `spring_stiffness`: `stiffness_nm_per_rad` of a linear spring [N·m/rad].
     SpringStiffness,
-    /// `panel_mass`: `mass_kg` of the panel the joint drives [kg].
+    /// `panel_mass`: `mass_kg` of the panel the joint drives \[kg\].
     PanelMass,
     /// `panel_inertia`: `inertia_kgm2` of the panel the joint drives [kg·m²].
     PanelInertia,
@@ -51,7 +51,7 @@ pub enum Target {
         kind: EffectKind,
         /// Its 1-based joint, `None` for a global effect.
         joint: Option<usize>,
-        /// `rig_tilt` only: the direction [deg].
+        /// `rig_tilt` only: the direction \[deg\].
         alpha_deg: f64,
     },
     /// A mechanism parameter of a 1-based joint, replaced by the draw.

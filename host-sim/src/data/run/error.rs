@@ -8,8 +8,8 @@ use super::record::{run_header, EXTRA_COLUMNS};
 /// Why a run file was rejected, or a run could not be paired or written:
 /// where (`file`, `line`) and what ([`RunErrorKind`]).
 ///
-/// `file` is the `source` given to [`Run::parse`] or the path given to
-/// [`Run::load`]; `line` is 1-based and counts every line of the file,
+/// `file` is the `source` given to [`super::Run::parse`] or the path given to
+/// [`super::Run::load`]; `line` is 1-based and counts every line of the file,
 /// metadata lines included (`None` for what concerns the whole file).
 /// Displayed as `file:line: what was wrong; expected ...`.
 pub type RunError = Located<RunErrorKind>;
@@ -171,7 +171,7 @@ pub enum RunErrorKind {
         /// The time of the previous row, as written.
         previous: String,
     },
-    /// An angle beyond ±[`MAX_ANGLE_DEG`].
+    /// An angle beyond ±[`super::MAX_ANGLE_DEG`].
     #[error("column `{column}`: expected an angle within ±720 deg, found {found}")]
     AngleRange {
         /// The column's name.
@@ -228,12 +228,12 @@ pub enum RunErrorKind {
         /// How many mechanisms carry it.
         count: usize,
     },
-    /// Analysis: no joint moves by [`MIN_MOTION_DEG`] or more over the run.
+    /// Analysis: no joint moves by [`super::MIN_MOTION_DEG`] or more over the run.
     #[error("the run never moves (no joint's angle changes by more than {motion_deg:.3} deg over {duration_s:.3} s): nothing to analyse; expected a deployment, at least one joint moving by 1 deg or more (did the release fire, do the encoders read?)")]
     NeverMoves {
-        /// The largest change of any joint's angle [deg].
+        /// The largest change of any joint's angle \[deg\].
         motion_deg: f64,
-        /// The run's length [s].
+        /// The run's length \[s\].
         duration_s: f64,
     },
     /// Analysis: the run stops before every joint latched and before its
@@ -241,9 +241,9 @@ pub enum RunErrorKind {
     /// early).
     #[error("the run ends at {end_s} s with joint(s) {} not latched, before the mechanism's duration_s = {duration_s} s: truncated? expected a run to go on until every joint latched or to duration_s (docs/spec/formats.md)", joint_list(unlatched))]
     EndsEarly {
-        /// Time of the last sample [s].
+        /// Time of the last sample \[s\].
         end_s: f64,
-        /// The mechanism's `duration_s` [s].
+        /// The mechanism's `duration_s` \[s\].
         duration_s: f64,
         /// Joints (1-based) whose switch is open at the last sample.
         unlatched: Vec<usize>,
@@ -256,7 +256,7 @@ pub enum RunErrorKind {
         joint: usize,
         /// Its first reading, as written.
         found: f64,
-        /// Its stowed angle [deg].
+        /// Its stowed angle \[deg\].
         stowed_deg: f64,
     },
     /// Meaning: a joint's first sample is minus its stowed angle.
@@ -264,9 +264,9 @@ pub enum RunErrorKind {
     MirroredEncoder {
         /// The joint (1-based).
         joint: usize,
-        /// Its first reading [deg].
+        /// Its first reading \[deg\].
         found: f64,
-        /// Its stowed angle [deg].
+        /// Its stowed angle \[deg\].
         stowed_deg: f64,
     },
     /// Meaning: a joint's readings start at 0 deg and move away from it by
@@ -276,9 +276,9 @@ pub enum RunErrorKind {
     AnglesFromStowed {
         /// The joint (1-based).
         joint: usize,
-        /// Its reading at the start [deg].
+        /// Its reading at the start \[deg\].
         found: f64,
-        /// Its stowed angle [deg].
+        /// Its stowed angle \[deg\].
         stowed_deg: f64,
     },
     /// Meaning: a joint's readings are its angles shifted by whole turns
@@ -287,9 +287,9 @@ pub enum RunErrorKind {
     AnglesWholeTurnsOff {
         /// The joint (1-based).
         joint: usize,
-        /// Its reading at the start [deg].
+        /// Its reading at the start \[deg\].
         found: f64,
-        /// Its stowed angle [deg].
+        /// Its stowed angle \[deg\].
         stowed_deg: f64,
         /// Whole turns between the reading and the stowed angle (signed).
         turns: f64,
@@ -305,7 +305,7 @@ pub enum RunErrorKind {
         factor: f64,
         /// The mechanism's name.
         mechanism: String,
-        /// Its `duration_s` [s].
+        /// Its `duration_s` \[s\].
         duration_s: f64,
     },
     /// Meaning: the run outlasts its mechanism's horizon with samples a
@@ -322,9 +322,9 @@ pub enum RunErrorKind {
         rate_factor: f64,
         /// The mechanism's name.
         mechanism: String,
-        /// Its `sample_hz` [Hz].
+        /// Its `sample_hz` \[Hz\].
         sample_hz: f64,
-        /// Its `duration_s` [s].
+        /// Its `duration_s` \[s\].
         duration_s: f64,
     },
     /// Pairing: the run and its mechanism have different joint counts.

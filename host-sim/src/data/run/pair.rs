@@ -93,10 +93,10 @@ pub fn check_run_of(mechanism: &Mechanism, run: &Run, file: &str) -> Result<(), 
 /// Checks that a run, paired with its mechanism, holds something to analyse
 /// (identification, diagnosis), beyond what the format requires:
 /// - some joint moves by [`MIN_MOTION_DEG`] or more
-///   ([`RunError::NeverMoves`]);
+///   ([`RunErrorKind::NeverMoves`]);
 /// - the run goes on until every latch switch reads closed, or to the
 ///   mechanism's `duration_s` within one and a half sample intervals
-///   ([`RunError::EndsEarly`]: a file truncated at a line end, which the
+///   ([`RunErrorKind::EndsEarly`]: a file truncated at a line end, which the
 ///   reader cannot tell from a short run).
 ///
 /// `file` names the run in the error. The monitor does not need this: a

@@ -351,8 +351,8 @@ impl Run {
     /// [`Run::parse`] with options: with [`ReadOptions::allow_missing`], an
     /// angle field `NaN` is a missing reading in a run that declares
     /// `# missing_samples = "NaN"`. Without the option such a field is a
-    /// [`RunError::MissingSample`]; without the declaration, a
-    /// [`RunError::BadNumber`] whatever the option.
+    /// [`RunErrorKind::MissingSample`]; without the declaration, a
+    /// [`RunErrorKind::BadNumber`] whatever the option.
     pub fn parse_with(text: &str, source: &str, options: ReadOptions) -> Result<Run, RunError> {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let text = super::dialect::to_comma_dialect(text, source)?;

@@ -3,7 +3,7 @@
 
 pub use crate::model::mechanism::MAX_CHAIN_JOINTS;
 
-/// Largest joint angle a run file may hold [deg], either sign: a hinge
+/// Largest joint angle a run file may hold \[deg\], either sign: a hinge
 /// angle beyond two turns is no reading of a deploying joint (the monitor's
 /// `ENCODER_RANGE_DEG` flags the same bound on board).
 pub const MAX_ANGLE_DEG: f64 = 720.0;
@@ -18,7 +18,7 @@ pub const MISSING_SAMPLES_KEY: &str = "missing_samples";
 /// reading.
 pub const MISSING_SAMPLES_VALUE: &str = "NaN";
 
-/// Smallest change of a joint angle over a run that counts as motion [deg]:
+/// Smallest change of a joint angle over a run that counts as motion \[deg\]:
 /// fifty times the reference encoder noise, a hundredth of the shortest
 /// stroke of the bundled mechanisms.
 pub const MIN_MOTION_DEG: f64 = 1.0;
@@ -55,9 +55,9 @@ pub struct Run {
 /// "Run: extra columns"): the truss wing's link angle and knees.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ExtraKind {
-    /// `psi_deg`: link 3 against the inner panel [deg] (`truss-link.md`).
+    /// `psi_deg`: link 3 against the inner panel \[deg\] (`truss-link.md`).
     Psi,
-    /// `knee<P>_deg`: interior angle of knee `P` [deg] (180 when straight).
+    /// `knee<P>_deg`: interior angle of knee `P` \[deg\] (180 when straight).
     KneeAngle,
     /// `knee<P>`: knee `P`'s lock switch, 0 or 1.
     KneeSwitch,
@@ -149,7 +149,7 @@ impl Run {
 }
 
 impl Run {
-    /// The largest change of any joint's angle over the run [deg]: max − min
+    /// The largest change of any joint's angle over the run \[deg\]: max − min
     /// of its readings, missing ones (`NaN`) left out; 0 for no reading.
     pub fn motion_deg(&self) -> f64 {
         self.phi_deg

@@ -20,7 +20,7 @@ pub struct Diagnosis {
     /// The runs' file names.
     #[serde(default)]
     pub runs: Vec<String>,
-    /// The noise floor: standard deviation of the angle noise [deg].
+    /// The noise floor: standard deviation of the angle noise \[deg\].
     #[serde(default)]
     pub noise_sigma_deg: Option<f64>,
     /// The mechanisms as given.
@@ -43,7 +43,7 @@ pub struct Diagnosis {
     /// Campaign simulations the diagnosis took.
     #[serde(default)]
     pub simulations: usize,
-    /// Its wall-clock time [s].
+    /// Its wall-clock time \[s\].
     #[serde(default)]
     pub wall_s: Option<f64>,
     /// The joint torque the baseline and the extended model lack, estimated
@@ -76,7 +76,7 @@ pub struct FreeWindow {
     pub samples: usize,
     /// Samples in the run.
     pub of: usize,
-    /// End of the window [s] (`null`: the whole run).
+    /// End of the window \[s\] (`null`: the whole run).
     #[serde(default)]
     pub end_s: Option<f64>,
     /// The joint whose latch ends it.
@@ -87,20 +87,20 @@ pub struct FreeWindow {
 /// One joint's latch events in one run.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct LatchEventsJson {
-    /// First impact [s].
+    /// First impact \[s\].
     #[serde(default)]
     pub first_contact_s: Option<f64>,
     /// Impacts (switch closings).
     pub impacts: usize,
     /// Escapes back over the crest.
     pub escapes: usize,
-    /// Largest rebound that stayed inside the crest [deg].
+    /// Largest rebound that stayed inside the crest \[deg\].
     #[serde(default)]
     pub largest_rebound_deg: Option<f64>,
-    /// Held from [s] (`null`: not held at the end).
+    /// Held from \[s\] (`null`: not held at the end).
     #[serde(default)]
     pub hold_s: Option<f64>,
-    /// Travel from the stop at the end [deg].
+    /// Travel from the stop at the end \[deg\].
     #[serde(default)]
     pub end_travel_deg: Option<f64>,
 }
@@ -151,7 +151,7 @@ pub struct AmbiguityGroup {
 pub struct AmbiguousSet {
     /// Its effects (`name`, `joint`, `value`, `ci95`).
     pub effects: Vec<serde_json::Value>,
-    /// RMS of its fit [deg].
+    /// RMS of its fit \[deg\].
     #[serde(default)]
     pub rms_deg: Option<f64>,
     /// Its BIC minus the set found's.
@@ -191,7 +191,7 @@ pub struct JointResidualTorque {
     /// One sentence: where in the stroke, at which rates, resisting or driving.
     #[serde(default)]
     pub description: String,
-    /// Bins over the angle [deg].
+    /// Bins over the angle \[deg\].
     #[serde(default)]
     pub by_angle_deg: Vec<TorqueBin>,
     /// Bins over the rate [deg/s].
@@ -233,7 +233,7 @@ impl Diagnosis {
 /// How well a model reproduces the runs.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Fit {
-    /// RMS of model minus measurement over all runs [deg].
+    /// RMS of model minus measurement over all runs \[deg\].
     #[serde(default)]
     pub rms_deg: Option<f64>,
     /// Trajectory error of each joint, mean over the runs [%].
@@ -247,7 +247,7 @@ pub struct Gain {
     /// Baseline RMS over extended RMS.
     #[serde(default)]
     pub rms_ratio: Option<f64>,
-    /// The extended model's RMS on runs it was not fitted on [deg] (`null`
+    /// The extended model's RMS on runs it was not fitted on \[deg\] (`null`
     /// with one run).
     #[serde(default)]
     pub held_out_rms_deg: Option<f64>,
@@ -276,7 +276,7 @@ pub struct FoundEffect {
     /// Why it was chosen, in words.
     #[serde(default)]
     pub evidence: String,
-    /// A `torque_table`'s angle knots [deg].
+    /// A `torque_table`'s angle knots \[deg\].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub angle_deg: Option<Vec<Option<f64>>>,
     /// Its torque at each angle knot [N·m].
@@ -301,10 +301,10 @@ pub struct FoundEffect {
     /// monitor's 8 points per table, with the fit loss of the compression.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub monitor_table: Option<MonitorTable>,
-    /// `rig_tilt`'s direction α [deg].
+    /// `rig_tilt`'s direction α \[deg\].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alpha_deg: Option<f64>,
-    /// Its 95 % interval [deg].
+    /// Its 95 % interval \[deg\].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alpha_ci95_deg: Option<[Option<f64>; 2]>,
 }
@@ -314,7 +314,7 @@ pub struct FoundEffect {
 /// what compressing the host's table to it cost.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct MonitorTable {
-    /// Angle knots [deg].
+    /// Angle knots \[deg\].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub angle_deg: Option<Vec<Option<f64>>>,
     /// The torque at each angle knot [N·m].
@@ -337,7 +337,7 @@ pub struct MonitorTable {
     #[serde(default)]
     pub torque_max_diff_nm: Option<f64>,
     /// RMS difference of the angles re-simulated on the campaign's runs
-    /// with the host's and with the exported table [deg].
+    /// with the host's and with the exported table \[deg\].
     #[serde(default)]
     pub angle_rms_diff_deg: Option<f64>,
 }
@@ -348,7 +348,7 @@ pub struct Round {
     /// What the round tried, in words.
     #[serde(default)]
     pub round: String,
-    /// The RMS it started from [deg].
+    /// The RMS it started from \[deg\].
     #[serde(default)]
     pub start_rms_deg: Option<f64>,
     /// Each candidate's score.
@@ -362,13 +362,13 @@ pub struct Score {
     /// The candidate, e.g. `coulomb_friction at joint 2`.
     #[serde(default)]
     pub candidate: String,
-    /// RMS with it fitted [deg].
+    /// RMS with it fitted \[deg\].
     #[serde(default)]
     pub rms_deg: Option<f64>,
     /// Its BIC gain.
     #[serde(default)]
     pub delta_bic: Option<f64>,
-    /// Its RMS on runs it was not fitted on [deg].
+    /// Its RMS on runs it was not fitted on \[deg\].
     #[serde(default)]
     pub held_out_rms_deg: Option<f64>,
     /// What became of it, in words.
@@ -385,22 +385,22 @@ pub struct Evidence {
     /// 1-based joint.
     #[serde(default)]
     pub joint: usize,
-    /// RMS of the residual [deg].
+    /// RMS of the residual \[deg\].
     #[serde(default)]
     pub rms_deg: Option<f64>,
-    /// RMS over each third of the stroke [deg].
+    /// RMS over each third of the stroke \[deg\].
     #[serde(default)]
     pub stroke_thirds_rms_deg: Vec<Option<f64>>,
-    /// RMS near the latch [deg].
+    /// RMS near the latch \[deg\].
     #[serde(default)]
     pub near_latch_rms_deg: Option<f64>,
-    /// Mean residual at release [deg].
+    /// Mean residual at release \[deg\].
     #[serde(default)]
     pub at_release_mean_deg: Option<f64>,
-    /// Mean residual after the latch [deg].
+    /// Mean residual after the latch \[deg\].
     #[serde(default)]
     pub after_latch_mean_deg: Option<f64>,
-    /// How much earlier the model latches than the run [s].
+    /// How much earlier the model latches than the run \[s\].
     #[serde(default)]
     pub latch_lead_s: Option<f64>,
     /// Correlation of the residual with each quantity, by name.

@@ -42,7 +42,7 @@ pub struct RunScore {
     /// The mechanism it was paired with.
     #[serde(default)]
     pub mechanism: String,
-    /// RMS of model minus measurement over every sample and joint [deg]
+    /// RMS of model minus measurement over every sample and joint \[deg\]
     /// (`physics.md` 8).
     #[serde(deserialize_with = "nan_if_null")]
     pub rms_deg: f64,
@@ -50,7 +50,7 @@ pub struct RunScore {
     /// whole run); `null` where no sample qualifies.
     #[serde(default)]
     pub trajectory_error_pct: Vec<Option<f64>>,
-    /// Sum of squared residuals of each joint over the run [deg²].
+    /// Sum of squared residuals of each joint over the run \[deg²\].
     #[serde(skip)]
     pub joint_sse_deg2: Vec<f64>,
     /// Samples of the run.
@@ -61,7 +61,7 @@ pub struct RunScore {
 /// A model's fit to the whole campaign.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct CampaignScore {
-    /// RMS over every sample, joint and run [deg].
+    /// RMS over every sample, joint and run \[deg\].
     #[serde(default = "not_given", deserialize_with = "nan_if_null")]
     pub rms_deg: f64,
     /// Per run.
@@ -76,7 +76,7 @@ pub struct DirectDetails {
     pub start_nm: Vec<f64>,
     /// How the start was chosen.
     pub start_rule: String,
-    /// Sum of squared residuals at the solution [deg²] (seed 001 Eq. 6 over
+    /// Sum of squared residuals at the solution \[deg²\] (seed 001 Eq. 6 over
     /// the whole runs).
     #[serde(deserialize_with = "nan_if_null")]
     pub sse_deg2: f64,
@@ -146,10 +146,10 @@ pub struct Identification {
     pub method: Method,
     /// The EFT per identified joint.
     pub joints: Vec<JointEft>,
-    /// RMS of the mechanisms as given (no extra friction) against the runs [deg].
+    /// RMS of the mechanisms as given (no extra friction) against the runs \[deg\].
     #[serde(default = "not_given", deserialize_with = "nan_if_null")]
     pub rms_deg_before: f64,
-    /// RMS with the identified EFTs [deg].
+    /// RMS with the identified EFTs \[deg\].
     #[serde(default = "not_given", deserialize_with = "nan_if_null")]
     pub rms_deg_after: f64,
     /// Model evaluations on the whole campaign (each one deployment of every
@@ -159,7 +159,7 @@ pub struct Identification {
     /// Single deployments simulated (`simulations × runs`).
     #[serde(default)]
     pub deployments: usize,
-    /// Wall-clock time of the identification [s].
+    /// Wall-clock time of the identification \[s\].
     #[serde(default = "not_given", deserialize_with = "nan_if_null")]
     pub wall_s: f64,
     /// Before: the mechanisms as given, per run.

@@ -13,7 +13,7 @@
 //! `effects` of a diagnosis); everything else defaults, so that the minimal
 //! files of `formats.md` and files of earlier versions read. serde_json
 //! writes a number that is not finite as `null`; where a result may be one,
-//! it reads `null` back as NaN ([`nan_if_null`]). A field added to either
+//! it reads `null` back as NaN ([`numbers::nan_if_null`]). A field added to either
 //! schema is `#[serde(default, skip_serializing_if = ...)]`: absent from the
 //! files that have nothing to say there, and from every older file.
 

@@ -9,7 +9,7 @@ use deploywatch_core::physics::pawl::PawlState;
 use deploywatch_core::Branch;
 
 impl<const N: usize> Sim<'_, N> {
-    /// Kinetic, chain and latch potential at a state [J].
+    /// Kinetic, chain and latch potential at a state \[J\].
     pub(super) fn energies(&self, y: &State<N>) -> (f64, f64, f64) {
         let mut spring = self.chain.potential_energy(&y.q);
         let mut latch = 0.0;
@@ -37,7 +37,7 @@ impl<const N: usize> Sim<'_, N> {
     }
 
     /// Power of the non-conservative joint torques and of the stops' (and
-    /// pawls' notches') damping at a state [W] (both ≤ 0 for a passive
+    /// pawls' notches') damping at a state \[W\] (both ≤ 0 for a passive
     /// mechanism).
     fn power(&self, y: &State<N>) -> (f64, f64) {
         let (mut joints, mut contact) = (0.0, 0.0);

@@ -73,7 +73,7 @@ impl<const N: usize> Sim<'_, N> {
         }
     }
 
-    /// Joint `j`'s latch potential [J] on its segments, a pawl in `pawl`.
+    /// Joint `j`'s latch potential \[J\] on its segments, a pawl in `pawl`.
     fn latch_potential(&self, j: usize, pawl: PawlState, phi: f64) -> f64 {
         self.latch[j].map_or(0.0, |l| {
             l.potential_energy_on(self.seg[j].plunger, pawl, phi)
@@ -142,7 +142,7 @@ impl Runner<'_> {
 
     /// Joint `j`'s pawl goes from `from` to `to` (a drop or a break): its
     /// segments reclassified with the notch contact open, and the latch
-    /// potential it took booked as lost [J] (the click; the contact's
+    /// potential it took booked as lost \[J\] (the click; the contact's
     /// elastic energy at a break).
     fn pawl_to<const N: usize>(
         &mut self,

@@ -62,7 +62,7 @@ impl<const N: usize> Sim<'_, N> {
 
     /// Joint `j` at rest at `y` sticks when its band holds it: its rate
     /// goes to zero in a plastic impulse on it alone (the other joints'
-    /// momenta kept). Returns the kinetic energy that took [J].
+    /// momenta kept). Returns the kinetic energy that took \[J\].
     fn try_stick(&mut self, j: usize, y: &mut State<N>) -> Option<f64> {
         if self.mode.latched[j] || self.stuck[j] || !self.chain.can_stick(j) {
             return None;

@@ -21,7 +21,7 @@ use crate::simulate::ode::locate;
 use crate::simulate::ode::{self, State};
 use crate::simulate::trajectory::{SimError, SimOptions, SimStats, MAX_STEPS};
 
-/// Capture window of the simultaneous-capture rule: 0.5° [rad].
+/// Capture window of the simultaneous-capture rule: 0.5° \[rad\].
 pub const CAPTURE_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 /// Largest number of coordinates the integrator is instantiated for.
@@ -32,25 +32,25 @@ pub const MAX_COORDS: usize = 12;
 pub struct MbTrajectory {
     /// Work done.
     pub stats: SimStats,
-    /// Where the simulation stopped [s].
+    /// Where the simulation stopped \[s\].
     pub end_s: f64,
     /// Mobility `n − rank C` after each lock event, starting with the
     /// initial one.
     pub mobility: Vec<usize>,
-    /// Tree coordinates where the simulation stopped [rad].
+    /// Tree coordinates where the simulation stopped \[rad\].
     pub final_q: Vec<f64>,
     /// Largest constraint error after any projection [m or rad].
     pub max_constraint_error: f64,
-    /// Lock instant of each pin [s].
+    /// Lock instant of each pin \[s\].
     pub lock_s: Vec<Option<f64>>,
-    /// Sample times [s].
+    /// Sample times \[s\].
     pub t_s: Vec<f64>,
-    /// `angle_deg[p][i]`: angle `α` of pin `p` at sample `i` [deg] (its lock
+    /// `angle_deg[p][i]`: angle `α` of pin `p` at sample `i` \[deg\] (its lock
     /// angle once locked).
     pub angle_deg: Vec<Vec<f64>>,
     /// `locked[p][i]`: pin `p` locked at sample `i`.
     pub locked: Vec<Vec<bool>>,
-    /// Mechanical energy at each sample [J] ([`Model::energy`]).
+    /// Mechanical energy at each sample \[J\] ([`Model::energy`]).
     pub energy_j: Vec<f64>,
     /// Constraint error `max |g|` at each sample [m or rad].
     pub constraint_error: Vec<f64>,

@@ -46,15 +46,15 @@ pub struct Model {
 /// Positions and velocities of every body at one state.
 #[derive(Clone, Debug, Default)]
 pub struct Kin {
-    /// Absolute rotation of each body from its reference pose [rad].
+    /// Absolute rotation of each body from its reference pose \[rad\].
     pub theta: Vec<f64>,
     /// `(cos θ_b, sin θ_b)` of each body.
     pub rot: Vec<[f64; 2]>,
-    /// Translation `t_b` of each body [m].
+    /// Translation `t_b` of each body \[m\].
     pub trans: Vec<[f64; 2]>,
     /// Angular velocity of each body [rad/s].
     pub omega: Vec<f64>,
-    /// World position of the pin of each coordinate [m].
+    /// World position of the pin of each coordinate \[m\].
     pub pin_pos: Vec<[f64; 2]>,
     /// Velocity of that pin [m/s].
     pub pin_vel: Vec<[f64; 2]>,
@@ -162,7 +162,7 @@ impl Model {
         }
     }
 
-    /// Angle `α` [rad] and rate `α̇` [rad/s] of pin `p`.
+    /// Angle `α` \[rad\] and rate `α̇` [rad/s] of pin `p`.
     pub fn pin_angle(&self, k: &Kin, p: usize) -> (f64, f64) {
         let pin = &self.sys.pins[p];
         let (a, b) = pin.bodies;
@@ -172,7 +172,7 @@ impl Model {
         )
     }
 
-    /// Angle `α` [rad] of pin `p` at coordinates `q` (no kinematics needed:
+    /// Angle `α` \[rad\] of pin `p` at coordinates `q` (no kinematics needed:
     /// `θ_b` is the sum of the coordinates on the path to `b`).
     pub fn pin_angle_at(&self, q: &[f64], p: usize) -> f64 {
         let pin = &self.sys.pins[p];
@@ -332,7 +332,7 @@ impl Model {
         r
     }
 
-    /// Mechanical energy [J]: kinetic `½ q̇ᵀ M q̇`, plus the pin springs'
+    /// Mechanical energy \[J\]: kinetic `½ q̇ᵀ M q̇`, plus the pin springs'
     /// `∫₀^|α| T` (`Spring::release`), plus `½ c (ℓ − ℓ0)²` of the point
     /// springs, minus the work potential `τ α` of the applied torques.
     /// Conserved without friction and locks.

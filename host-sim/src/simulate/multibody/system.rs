@@ -23,17 +23,17 @@ use deploywatch_core::{Friction, Spring};
 pub struct Body {
     /// Name used in messages and output.
     pub name: String,
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass_kg: f64,
     /// Moment of inertia about the centre of mass, axis z [kg·m²].
     pub inertia_kgm2: f64,
-    /// Centre of mass at the reference pose, world frame [m].
+    /// Centre of mass at the reference pose, world frame \[m\].
     pub com_m: [f64; 2],
 }
 
 /// A revolute pin between bodies `a` and `b` at a point.
 ///
-/// Its angle is `α = offset + sign · (θ_b − θ_a)` [rad]: for a hinge the
+/// Its angle is `α = offset + sign · (θ_b − θ_a)` \[rad\]: for a hinge the
 /// joint angle `φ` of `physics.md`, for a knee its interior angle. Spring,
 /// friction and applied torque act on `α` (a torque `τ` on `α` is the
 /// generalised force `τ ∂α/∂q`).
@@ -43,9 +43,9 @@ pub struct Pin {
     pub name: String,
     /// The two bodies (indices into [`System::bodies`]).
     pub bodies: (usize, usize),
-    /// Pin position at the reference pose, world frame [m].
+    /// Pin position at the reference pose, world frame \[m\].
     pub at_m: [f64; 2],
-    /// `α` at the reference pose [rad].
+    /// `α` at the reference pose \[rad\].
     pub offset_rad: f64,
     /// `±1`: the sense of `α` against `θ_b − θ_a`.
     pub sign: f64,
@@ -55,7 +55,7 @@ pub struct Pin {
     pub friction: Friction<f64>,
     /// Constant applied torque on `α` [N·m].
     pub torque_nm: f64,
-    /// The pin locks when `α` reaches this angle [rad] (`None`: never).
+    /// The pin locks when `α` reaches this angle \[rad\] (`None`: never).
     pub lock_at_rad: Option<f64>,
 }
 
@@ -80,13 +80,13 @@ impl Pin {
 /// force `c (ℓ − ℓ0)` pulling the points together when `ℓ > ℓ0`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PointSpring {
-    /// First body and its point at the reference pose [m].
+    /// First body and its point at the reference pose \[m\].
     pub a: (usize, [f64; 2]),
-    /// Second body and its point at the reference pose [m].
+    /// Second body and its point at the reference pose \[m\].
     pub b: (usize, [f64; 2]),
     /// Stiffness `c` [N/m].
     pub stiffness_n_m: f64,
-    /// Rest length `ℓ0` [m].
+    /// Rest length `ℓ0` \[m\].
     pub rest_m: f64,
 }
 

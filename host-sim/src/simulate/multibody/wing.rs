@@ -18,13 +18,13 @@ pub struct WingRun {
 }
 
 impl WingRun {
-    /// The series of the pin called `name`: angles [deg] and lock flags.
+    /// The series of the pin called `name`: angles \[deg\] and lock flags.
     pub fn series(&self, name: &str) -> Option<(&[f64], &[bool])> {
         let p = self.pins.iter().position(|n| n == name)?;
         Some((&self.run.angle_deg[p], &self.run.locked[p]))
     }
 
-    /// Lock instant of the pin called `name` [s].
+    /// Lock instant of the pin called `name` \[s\].
     pub fn lock_s(&self, name: &str) -> Option<f64> {
         let p = self.pins.iter().position(|n| n == name)?;
         self.run.lock_s[p]
@@ -89,7 +89,7 @@ pub fn simulate_wing(mech: &Mechanism, opts: &SimOptions) -> Result<WingRun, Sim
 
 /// The golden trajectories of the truss wing (`data/reference/truss/`,
 /// `truss-link.md`): each angle column, the simulator's pin it is compared
-/// with and the RMS bound [deg] it must meet.
+/// with and the RMS bound \[deg\] it must meet.
 pub const GOLDEN_COLUMNS: [(&str, &str, f64); 6] = [
     ("phi1_deg", "hinge 1", 0.01),
     ("phi2_deg", "hinge 2", 0.01),
