@@ -248,6 +248,8 @@ impl Search<'_, '_> {
             // Made by `Search::try_friction_forms` (its own screen from the
             // residual torque's starts, then the simpler-law exchange).
             Move::FrictionForms => None,
+            // Made by a second start of the search (`super::restart`).
+            Move::Restart => None,
         }
     }
 

@@ -245,6 +245,9 @@ pub enum Move {
     /// ([`super::friction_forms`]; its own screen, and the simpler law
     /// kept when as good).
     FrictionForms,
+    /// The set a second start of the search reached, in place of the
+    /// current one ([`super::restart`]).
+    Restart,
 }
 
 /// The stepwise moves in the order tried: the first that moves ends the
@@ -304,6 +307,13 @@ impl Move {
                 held_out_tries: 1,
                 ..s
             },
+            // A second start's set is judged whole: a better BIC and a
+            // better held-out RMS; its members were judged by the moves
+            // that made it.
+            Move::Restart => Policy {
+                intervals_clear: false,
+                ..s
+            },
             // A refinement reshapes a table already kept: its knots'
             // intervals are not asked to be clear of zero.
             Move::Refine => Policy {
@@ -358,6 +368,7 @@ impl Move {
             Move::Refine => "refined:",
             Move::StandIn => "a table in place of a global stand-in:",
             Move::FrictionForms => "a friction form:",
+            Move::Restart => "a second start reached",
         }
     }
 }

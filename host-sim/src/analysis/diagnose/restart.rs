@@ -1,21 +1,20 @@
-//! Second starts for a search that ended above the noise. The greedy first
-//! step can take a wrong turn (Coulomb friction for a harness at one joint,
-//! from runs of one configuration where the two resist alike), and the
-//! effects added beside it then fill the set with stand-ins that no later
-//! move undoes: the search is run again from the baseline without that
-//! first effect ([`Search::restart_without_first`]). Torques that no named
-//! effect describes, at two joints, pull the stepwise search to global
-//! effects that spread over every joint (a rig tilt and air drag, say); a
-//! table beside them, or in place of one of them, cannot undo the other:
-//! discovery is run again from the baseline, tables first
-//! ([`Search::restart_from_tables`]). Either set is kept when its BIC is
-//! better by more than [`MIN_DELTA_BIC`] and, with two or more runs, its
-//! held-out RMS beats the first set's by [`HELD_OUT_SHARE`] (the policy of
-//! every move).
+//! Second starts for a search that ended above the noise. The greedy first step
+//! can take a wrong turn (Coulomb friction for a harness at one joint, from
+//! runs of one configuration where the two resist alike), and the effects added
+//! beside it then fill the set with stand-ins that no later move undoes: the
+//! search is run again from the baseline without that first effect
+//! ([`Search::restart_without_first`]). Torques that no named effect describes,
+//! at two joints, pull the stepwise search to global effects that spread over
+//! every joint (a rig tilt and air drag, say); a table beside them, or in place
+//! of one of them, cannot undo the other: discovery is run again from the
+//! baseline, tables first ([`Search::restart_from_tables`]). Either set is kept
+//! when its BIC is better by more than [`super::MIN_DELTA_BIC`] and, with two
+//! or more runs, its held-out RMS beats the first set's by
+//! [`super::policy::HELD_OUT_SHARE`] (the policy of every move).
 
 use super::candidate::Candidate;
-use super::policy::HELD_OUT_SHARE;
-use super::{above_noise, labels, Search, MIN_DELTA_BIC};
+use super::policy::{Move, Verdict};
+use super::{above_noise, labels, Search};
 
 impl Search<'_, '_> {
     /// The first effect the search took (the one set of one visited first).
@@ -28,7 +27,7 @@ impl Search<'_, '_> {
 
     /// When the stepwise search ended above the noise: the search again
     /// from `baseline` without its first step; the better set by BIC
-    /// (by more than [`MIN_DELTA_BIC`]) is kept, with its rounds. Once.
+    /// (by more than [`super::MIN_DELTA_BIC`]) is kept, with its rounds. Once.
     pub(super) fn restart_without_first(&mut self, baseline: &super::FittedSet) {
         if !above_noise(&self.current, self.sigma) || self.eng.halt.now() {
             return;
@@ -82,18 +81,23 @@ impl<'e, 'a> Search<'e, 'a> {
     }
 
     /// Takes `other`'s set, rounds and state when it beats the current set
-    /// as every move must: a BIC better by more than [`MIN_DELTA_BIC`] and
-    /// a better prediction of the runs left out (more effects can buy a
-    /// BIC, not that). Says which, and returns whether it took it.
+    /// by the one acceptance rule ([`Search::accept`] with
+    /// [`Move::Restart`]'s policy: a BIC better by more than
+    /// [`super::MIN_DELTA_BIC`] and a better prediction of the runs left out; more
+    /// effects can buy a BIC, not that). Says which, and returns whether it
+    /// took it.
     fn take_if_better(&mut self, mut other: Search<'e, 'a>) -> bool {
         let (a, b) = (self.current.bic(), other.current.bic());
-        let predicts = match (other.current_held, self.current_held) {
-            (Some(h), Some(c)) => h <= HELD_OUT_SHARE * c,
-            _ => true,
-        };
-        if !(b < a - MIN_DELTA_BIC) || !predicts {
+        let mut held = Some(other.current_held);
+        let verdict = self.accept(
+            (&self.current, self.current_held),
+            &other.current,
+            &mut held,
+            &Move::Restart.policy(),
+        );
+        if !matches!(verdict, Verdict::Accepted(_)) {
             self.eng.say(format!(
-                "restart: {} (BIC {b:.1}, held-out RMS {}) does not beat {} (BIC {a:.1}, held-out RMS {}): kept",
+                "restart: {} (BIC {b:.1}, held-out RMS {}) does not beat {} (BIC {a:.1}, held-out RMS {}): {verdict}; kept",
                 labels(&other.current.candidates()),
                 held_words(other.current_held),
                 labels(&self.current.candidates()),
