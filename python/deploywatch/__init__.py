@@ -1,5 +1,13 @@
 """deploywatch from Python: spring-driven deployments of spacecraft panels.
 
+- ``Mechanism.from_toml(path)`` / ``Mechanism.from_str(text)``: a mechanism
+  parsed once, its panels, joints, latches and rig as typed attributes;
+  ``mech.simulate(effects=[Coulomb(joint=2, torque_nm=0.5)])``. Effects,
+  distributions (``Vary``) and failure criteria are typed classes whose
+  ``str()`` is the CLI's syntax; strings are accepted too, and both are
+  checked by the CLI's own validator (same refusals, same words, the
+  Python argument named where the CLI names its flag).
+
 - ``simulate(mechanism, effects=())``: one deployment, a :class:`Trajectory`
   of numpy arrays.
 - ``simulate_batch(mechanism, vary, params, fail=("not_latched",))``: one
@@ -26,7 +34,43 @@ machine and on a Dask cluster.
 """
 
 from . import _native
-from ._api import Executor, Future, PathLike, parameters, reliability, simulate, simulate_batch
+from ._api import Executor, Future, MechanismLike, parameters, reliability, simulate, simulate_batch
+from ._model import (
+    AirDrag,
+    Coulomb,
+    Criterion,
+    CriterionLike,
+    Distribution,
+    Effect,
+    EffectLike,
+    EncoderOffset,
+    Harness,
+    Joint,
+    Latch,
+    LatchDetent,
+    LatchRate,
+    LatchTime,
+    LogNormal,
+    MagnetWeakening,
+    Mechanism,
+    Normal,
+    NotLatched,
+    Panel,
+    PathLike,
+    PlungerWeakening,
+    QuadraticDamping,
+    Rig,
+    RigTilt,
+    SpringSoftening,
+    Stribeck,
+    Trolley,
+    TruncNormal,
+    Uniform,
+    Vary,
+    VaryLike,
+    Viscous,
+)
+from ._commands import CommandResult, Diagnosis, Identification, Margins, Replay, diagnose, identify, margin, replay
 from ._errors import (
     DeploywatchError,
     EvaluatorError,
@@ -50,8 +94,50 @@ __version__: str = _native.__version__
 """The package's version (that of the Rust crates it is built from)."""
 
 __all__ = [
+    "Mechanism",
+    "Panel",
+    "Joint",
+    "Latch",
+    "Rig",
+    "Trolley",
+    "Effect",
+    "EffectLike",
+    "Coulomb",
+    "Viscous",
+    "QuadraticDamping",
+    "Stribeck",
+    "SpringSoftening",
+    "Harness",
+    "LatchDetent",
+    "AirDrag",
+    "RigTilt",
+    "EncoderOffset",
+    "PlungerWeakening",
+    "MagnetWeakening",
+    "Distribution",
+    "Normal",
+    "LogNormal",
+    "Uniform",
+    "TruncNormal",
+    "Vary",
+    "VaryLike",
+    "Criterion",
+    "CriterionLike",
+    "NotLatched",
+    "LatchRate",
+    "LatchTime",
+    "MechanismLike",
     "simulate",
     "simulate_batch",
+    "diagnose",
+    "identify",
+    "margin",
+    "replay",
+    "CommandResult",
+    "Diagnosis",
+    "Identification",
+    "Margins",
+    "Replay",
     "reliability",
     "parameters",
     "Trajectory",

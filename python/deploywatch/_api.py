@@ -13,10 +13,12 @@ import numpy.typing as _npt
 
 from . import _native
 from ._errors import InputError
+from ._model import CriterionLike, EffectLike, Mechanism, PathLike, VaryLike, strings
 from ._results import Batch, FloatArray, Reliability, Trajectory
 
-PathLike = Union[str, "_os.PathLike[str]"]
-"""A file name: ``str`` or ``pathlib.Path``."""
+MechanismLike = Union[PathLike, Mechanism]
+"""A mechanism: a file name (``str`` or ``pathlib.Path``) or a parsed
+:class:`Mechanism`."""
 
 
 class Future(Protocol):
@@ -35,7 +37,10 @@ class Executor(Protocol):
 
 
 def _text(name: str, path: Any) -> "tuple[str, str]":
-    """The text and the name of a file given by path."""
+    """The text and the name of a file given by path (or of a parsed
+    :class:`Mechanism`)."""
+    if isinstance(path, Mechanism):
+        return path.toml, path.source
     if not isinstance(path, (str, _os.PathLike)):
         raise InputError(f"{name}: expected a file name (str or pathlib.Path), got {type(path).__name__}")
     p = _os.fspath(path)
@@ -108,13 +113,14 @@ def _matrix(name: str, value: Any, labels: Sequence[str]) -> FloatArray:
 
 
 def simulate(
-    mechanism: PathLike,
-    effects: Sequence[str] = (),
+    mechanism: MechanismLike,
+    effects: Sequence[EffectLike] = (),
     sample_hz: Optional[float] = None,
 ) -> Trajectory:
-    """One deployment of the mechanism file (``deploywatch simulate``), with
-    extra effects in the ``--effect`` syntax (e.g.
-    ``"coulomb_friction:joint=1:value=1.2"``), sampled at ``sample_hz`` [Hz]
+    """One deployment of the mechanism (``deploywatch simulate``), with
+    extra effects, typed (``Coulomb(joint=1, torque_nm=1.2)``) or in the
+    ``--effect`` syntax (``"coulomb_friction:joint=1:value=1.2"``), checked
+    as the CLI checks ``--effect``, sampled at ``sample_hz`` [Hz]
     (default: the file's rate).
 
     Returns a :class:`Trajectory`: ``t_s`` (n,), ``phi_deg`` and
@@ -125,17 +131,16 @@ def simulate(
     effect or rate, ``SimulationError`` if the equations cannot be
     integrated.
     """
-    text, source = _text("mechanism", mechanism)
-    effs = _strings("effects", effects)
-    hz = None if sample_hz is None else _positive("sample_hz", sample_hz)
-    t_s, phi, rate, latch, end_s = _native.simulate(text, source, effs, hz)
-    return Trajectory(t_s=t_s, phi_deg=phi, rate_deg_s=rate, latch_s=latch, end_s=end_s)
+    if not isinstance(mechanism, Mechanism):
+        text, source = _text("mechanism", mechanism)
+        mechanism = Mechanism.from_str(text, source)
+    return mechanism.simulate(effects, sample_hz)
 
 
 def parameters(
-    mechanism: PathLike,
-    vary: Sequence[str] = (),
-    fail: Sequence[str] = ("not_latched",),
+    mechanism: MechanismLike,
+    vary: Sequence[VaryLike] = (),
+    fail: Sequence[CriterionLike] = ("not_latched",),
     from_: Optional[PathLike] = None,
 ) -> List[str]:
     """The parameters of the problem (``vary``, then those of ``from_``,
@@ -143,15 +148,15 @@ def parameters(
     :func:`simulate_batch`."""
     text, source = _text("mechanism", mechanism)
     return _native.parameters(
-        text, source, _strings("vary", vary), _strings("fail", fail), _from_text(from_)
+        text, source, strings("vary", vary), strings("fail", fail), _from_text(from_)
     )
 
 
 def simulate_batch(
-    mechanism: PathLike,
-    vary: Sequence[str],
+    mechanism: MechanismLike,
+    vary: Sequence[VaryLike],
     params: _npt.ArrayLike,
-    fail: Sequence[str] = ("not_latched",),
+    fail: Sequence[CriterionLike] = ("not_latched",),
     from_: Optional[PathLike] = None,
 ) -> Batch:
     """One deployment per row of ``params`` (numbers, shape (n, parameters):
@@ -171,7 +176,7 @@ def simulate_batch(
     simulated (with its parameters).
     """
     text, source = _text("mechanism", mechanism)
-    vs, fs, fj = _strings("vary", vary), _strings("fail", fail), _from_text(from_)
+    vs, fs, fj = strings("vary", vary), strings("fail", fail), _from_text(from_)
     labels = _native.parameters(text, source, vs, fs, fj)
     rows = _matrix("params", params, labels)
     return Batch(*_native.simulate_batch(text, source, vs, fs, rows, fj))
@@ -218,9 +223,9 @@ def _evaluator(
 
 
 def reliability(
-    mechanism: PathLike,
-    vary: Sequence[str] = (),
-    fail: Sequence[str] = ("not_latched",),
+    mechanism: MechanismLike,
+    vary: Sequence[VaryLike] = (),
+    fail: Sequence[CriterionLike] = ("not_latched",),
     method: str = "auto",
     samples: Optional[int] = None,
     target_cov: Optional[float] = None,
@@ -260,7 +265,7 @@ def reliability(
     """
     text, source = _text("mechanism", mechanism)
     from_json = _from_text(from_)
-    vs, fs, cs = _strings("vary", vary), _strings("fail", fail), _strings("corr", corr)
+    vs, fs, cs = strings("vary", vary), strings("fail", fail), _strings("corr", corr)
     if not isinstance(method, str):
         raise InputError(f"method: expected \"auto\", \"is\", \"subset\" or \"mc\", got {type(method).__name__}")
     n = None if samples is None else _int("samples", samples, 1)

@@ -10,8 +10,15 @@ _F = npt.NDArray[np.float64]
 
 __version__: str
 
+class Model:
+    text: str
+    source: str
+    def __init__(self, text: str, source: str) -> None: ...
+    def check_effects(self, arg: str, items: List[str]) -> List[str]: ...
+    def describe(self) -> Dict[str, Any]: ...
+
 def simulate(
-    mechanism_toml: str, source: str, effects: List[str], sample_hz: Optional[float] = None
+    model: Model, effects: List[str], sample_hz: Optional[float] = None
 ) -> Tuple[_F, _F, _F, _F, float]: ...
 def simulate_batch(
     mechanism_toml: str,
@@ -37,3 +44,4 @@ def reliability(
     evaluate: Optional[Callable[[_F], List[List[float]]]] = None,
     corr: List[str] = ...,
 ) -> Dict[str, Any]: ...
+def run_command(args: List[str]) -> None: ...

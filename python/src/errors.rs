@@ -36,8 +36,11 @@ impl Kind {
         }
     }
 
-    /// The exception for a message with the given causes (outermost first).
+    /// The exception for a message with the given causes (outermost first),
+    /// the CLI's flags in them named as the Python arguments ([`pythonic`]).
     pub(crate) fn raise(self, message: String, causes: Vec<String>) -> PyErr {
+        let message = pythonic(&message);
+        let causes: Vec<String> = causes.iter().map(|c| pythonic(c)).collect();
         Python::with_gil(|py| {
             let made = py
                 .import("deploywatch._errors")
@@ -65,6 +68,44 @@ impl Kind {
         }
         self.raise(format!("{arg}{e}"), causes)
     }
+}
+
+/// The CLI's option names and the Python arguments that take their values
+/// (the library's messages name the CLI's options).
+const ARGUMENTS: [(&str, &str); 8] = [
+    ("--effect", "effects"),
+    ("--vary", "vary"),
+    ("--fail", "fail"),
+    ("--corr", "corr"),
+    ("--method", "method"),
+    ("--samples", "samples"),
+    ("--target-cov", "target_cov"),
+    ("--from", "from_"),
+];
+
+/// A message of the library with each CLI option (`--vary`) named as the
+/// Python argument (`vary`): the words are the CLI's, the names Python's.
+pub(crate) fn pythonic(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    'scan: while let Some(at) = rest.find("--") {
+        let (head, tail) = rest.split_at(at);
+        out.push_str(head);
+        for (flag, arg) in ARGUMENTS {
+            let end = tail.as_bytes().get(flag.len()).copied();
+            let whole =
+                !matches!(end, Some(b) if b.is_ascii_alphanumeric() || b == b'-' || b == b'_');
+            if tail.starts_with(flag) && whole {
+                out.push_str(arg);
+                rest = &tail[flag.len()..];
+                continue 'scan;
+            }
+        }
+        out.push_str("--");
+        rest = &tail[2..];
+    }
+    out.push_str(rest);
+    out
 }
 
 /// The exception of a reliability error: `Invalid` is the user's input,

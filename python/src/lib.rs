@@ -8,12 +8,13 @@
 //! the package's exceptions ([`errors`]).
 #![deny(missing_docs)]
 
+mod commands;
 mod convert;
 mod errors;
+mod model;
 mod steps;
 
-use deploywatch_sim::deployment::{self, SimOptions};
-use deploywatch_sim::effect::Effect;
+use deploywatch_sim::deployment::SimOptions;
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress;
 use deploywatch_sim::reliability::auto::{estimate, Method};
@@ -28,7 +29,9 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use steps::Stop;
 
-fn mechanism(text: &str, source: &str) -> PyResult<Mechanism> {
+/// The mechanism of a TOML text; `MechanismError` naming the file, line and
+/// key.
+pub(crate) fn mechanism(text: &str, source: &str) -> PyResult<Mechanism> {
     Mechanism::from_toml_str(text, source).map_err(|e| Kind::Mechanism.of(&e))
 }
 
@@ -113,26 +116,29 @@ type Outcomes<'py> = (
     Matrix<'py>,
 );
 
-/// One deployment: `(t_s, phi_deg, rate_deg_s, latch_s, end_s)`, numpy
-/// arrays of shapes (n,), (n, joints), (n, joints), (joints,) (NaN where
-/// not latched) and a float. The GIL is released while it runs.
+/// One deployment of a mechanism parsed once (`model`), as the CLI's
+/// `simulate` runs it (the physical latches' contact model when it has
+/// one): `(t_s, phi_deg, rate_deg_s, latch_s, end_s)`, numpy arrays of
+/// shapes (n,), (n, joints), (n, joints), (joints,) (NaN where not latched)
+/// and a float. The effect strings are checked as the CLI checks
+/// `--effect` (the errors name `effects[i]`). The GIL is released while it
+/// runs.
 #[pyfunction]
-#[pyo3(signature = (mechanism_toml, source, effects, sample_hz=None))]
+#[pyo3(signature = (model, effects, sample_hz=None))]
 fn simulate<'py>(
     py: Python<'py>,
-    mechanism_toml: &str,
-    source: &str,
+    model: &model::Model,
     effects: Vec<String>,
     sample_hz: Option<f64>,
 ) -> PyResult<(Vector<'py>, Matrix<'py>, Matrix<'py>, Vector<'py>, f64)> {
-    let mech = mechanism(mechanism_toml, source)?;
-    let effects: Vec<Effect> = parse_all("effects", &effects)?;
+    let mech = &model.mech;
+    let effects = model::effects(mech, "effects", &effects)?;
     let opts = SimOptions {
         sample_hz,
         ..SimOptions::default()
     };
     let traj = py
-        .allow_threads(|| deployment::simulate(&mech, &effects, &opts))
+        .allow_threads(|| model::deploy(mech, &effects, &opts))
         .map_err(|e| errors::simulation(&e))?;
     let (n, j) = (traj.t_s.len(), traj.joints());
     let latch: Vec<f64> = traj.latch_s.iter().map(|l| l.unwrap_or(f64::NAN)).collect();
@@ -273,6 +279,8 @@ fn reliability<'py>(
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<model::Model>()?;
+    m.add_function(wrap_pyfunction!(commands::run_command, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
     m.add_function(wrap_pyfunction!(reliability, m)?)?;

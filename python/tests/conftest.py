@@ -17,12 +17,14 @@ def root():
 
 @pytest.fixture(scope="session")
 def cli():
-    """The CLI binary: $DEPLOYWATCH_BIN, else target/debug/deploywatch (built
-    by `cargo test` in scripts/test.sh), else built here."""
+    """The CLI binary: $DEPLOYWATCH_BIN, else debug/deploywatch of
+    $CARGO_TARGET_DIR (default target/; built by `cargo test` in
+    scripts/test.sh), else built here."""
     env = os.environ.get("DEPLOYWATCH_BIN")
     if env:
         return env
-    exe = ROOT / "target" / "debug" / "deploywatch"
+    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    exe = target / "debug" / "deploywatch"
     if not exe.exists():
         subprocess.run(
             ["cargo", "build", "-q", "-p", "deploywatch-sim", "--bin", "deploywatch"],

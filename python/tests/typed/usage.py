@@ -64,7 +64,22 @@ def checked(executor: Optional[ThreadPoolExecutor] = None) -> Optional[bool]:
     return r.agree
 
 
+def typed_model() -> float:
+    m: deploywatch.Mechanism = deploywatch.Mechanism.from_toml(MECH)
+    panel: deploywatch.Panel = m.panels[0]
+    latch: Optional[deploywatch.Latch] = m.latches[0]
+    effects: List[deploywatch.EffectLike] = [deploywatch.Coulomb(joint=1, torque_nm=0.5), "viscous_damping:joint=1:value=0.01"]
+    run: Trajectory = m.simulate(effects=effects)
+    vary = [deploywatch.Vary("coulomb_friction", 1, deploywatch.Normal(1.1, 0.1))]
+    r = deploywatch.reliability(m, vary=vary, fail=[deploywatch.NotLatched()], method="mc", samples=50)
+    margins: deploywatch.Margins = deploywatch.margin(m)
+    torque: FloatArray = margins.joints["torque_margin_pct"]
+    assert latch is None and panel.mass_kg > 0 and r.p_fail >= 0 and torque.shape == (1,)
+    return float(run.end_s)
+
+
 def main() -> None:
+    typed_model()
     try:
         deploywatch.simulate_batch(MECH, VARY, np.zeros((1, 2)))
     except deploywatch.InputError as e:

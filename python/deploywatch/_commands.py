@@ -1,0 +1,234 @@
+"""``diagnose``, ``identify``, ``margin`` and ``replay`` (host) from Python:
+each runs the CLI's own command in this process (its parser, its checks,
+its numbers; the GIL released), from keyword arguments, into a temporary
+folder (or the ``json``/``out`` path given), and returns its JSON as a
+typed result with numpy columns. Errors: ``InputError`` where the binary
+exits 2, ``DeploywatchError`` where it exits 1, each naming the Python
+argument where the CLI names its flag."""
+
+from __future__ import annotations
+
+import csv as _csv
+import json as _json
+import os as _os
+import tempfile as _tempfile
+from dataclasses import dataclass
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+
+import numpy as _np
+
+from . import _native
+from ._errors import InputError
+from ._model import Mechanism, PathLike
+from ._results import FloatArray
+
+MechanismLike = Union[PathLike, Mechanism]
+
+
+def _path(name: str, value: Any) -> str:
+    if not isinstance(value, (str, _os.PathLike)):
+        raise InputError(f"{name}: expected a file name (str or pathlib.Path), got {type(value).__name__}")
+    p = _os.fspath(value)
+    if not isinstance(p, str):
+        raise InputError(f"{name}: expected a file name as text, got {type(p).__name__}")
+    return p
+
+
+def _paths(name: str, value: Any) -> List[str]:
+    if isinstance(value, (str, _os.PathLike)):
+        return [_path(name, value)]
+    try:
+        items = list(value)
+    except TypeError:
+        raise InputError(f"{name}: expected file names, got {type(value).__name__}") from None
+    if not items:
+        raise InputError(f"{name}: expected at least one file name")
+    return [_path(f"{name}[{i}]", v) for i, v in enumerate(items)]
+
+
+def _mechanism_file(name: str, value: Any, folder: str, i: int = 0) -> str:
+    """A mechanism's file: its own when it was read from one and is
+    unchanged, else its text written into ``folder``."""
+    if isinstance(value, Mechanism):
+        src = value.source
+        if _os.path.isfile(src):
+            with open(src, encoding="utf-8") as f:
+                if f.read() == value.toml:
+                    return src
+        p = _os.path.join(folder, f"mechanism{i}.toml")
+        with open(p, "w", encoding="utf-8") as f:
+            f.write(value.toml)
+        return p
+    return _path(name, value)
+
+
+def _columns(rows: Sequence[Mapping[str, Any]]) -> Dict[str, FloatArray]:
+    """The numeric fields of a list of records as float64 columns (``None``,
+    the JSON of a non-finite value, as NaN)."""
+    out: Dict[str, FloatArray] = {}
+    if not rows:
+        return out
+    for key, v in rows[0].items():
+        if isinstance(v, bool) or not isinstance(v, (int, float, type(None))):
+            continue
+        col = [r.get(key) for r in rows]
+        if all(x is None or (isinstance(x, (int, float)) and not isinstance(x, bool)) for x in col):
+            out[key] = _np.array([_np.nan if x is None else float(x) for x in col], dtype=_np.float64)
+    return out
+
+
+@dataclass(frozen=True)
+class CommandResult:
+    """A command's result: ``json``, the CLI's JSON as it wrote it (a dict;
+    equal to the file the binary writes with the same arguments)."""
+
+    json: Dict[str, Any]
+
+    def table(self, key: str) -> Dict[str, FloatArray]:
+        """The list of records under ``key`` as numpy columns (numbers
+        only, NaN for a non-finite value)."""
+        rows = self.json.get(key)
+        if not isinstance(rows, list):
+            raise KeyError(f"{key}: not a list of records in this result (keys: {', '.join(self.json)})")
+        return _columns([r for r in rows if isinstance(r, dict)])
+
+
+@dataclass(frozen=True)
+class Margins(CommandResult):
+    """``deploywatch margin``: ``joints`` the per-joint table as numpy
+    columns (``torque_margin_pct``, ``energy_margin_pct``, ...)."""
+
+    joints: Dict[str, FloatArray]
+
+
+@dataclass(frozen=True)
+class Identification(CommandResult):
+    """``deploywatch identify``: the JSON (the EFT per joint with its
+    interval, as the CLI writes it)."""
+
+
+@dataclass(frozen=True)
+class Diagnosis(CommandResult):
+    """``deploywatch diagnose``: the findings JSON; ``report`` the path of
+    the Markdown report written beside it (with its plots)."""
+
+    report: str
+
+
+@dataclass(frozen=True)
+class Replay:
+    """``deploywatch replay --target host``: the monitor's status stream,
+    one numpy column per column of the status CSV the CLI writes."""
+
+    columns: Dict[str, FloatArray]
+
+
+def _run(args: List[str]) -> None:
+    _native.run_command(args)
+
+
+def _read_json(path: str) -> Dict[str, Any]:
+    with open(path, encoding="utf-8") as f:
+        out = _json.load(f)
+    if not isinstance(out, dict):
+        raise InputError(f"{path}: expected a JSON object")
+    return out
+
+
+def margin(
+    mechanism: MechanismLike,
+    friction: Optional[Sequence[float]] = None,
+    from_: Optional[PathLike] = None,
+    standard: str = "none",
+    factors: Mapping[str, float] = {},
+    flight: bool = False,
+    json: Optional[PathLike] = None,
+) -> Margins:
+    """``deploywatch margin`` (the options as keyword arguments: ``friction``
+    [N·m] per joint, ``from_`` an ``identify``/``diagnose`` JSON,
+    ``standard`` ``"none"``, ``"nasa"`` or ``"ecss"``, ``factors``
+    ``{kind: value}``, ``flight``; ``json`` keeps the file)."""
+    with _tempfile.TemporaryDirectory() as tmp:
+        out = _path("json", json) if json is not None else _os.path.join(tmp, "margin.json")
+        args = ["margin", "--mechanism", _mechanism_file("mechanism", mechanism, tmp), "--quiet", "--json", out]
+        if friction is not None:
+            args += ["--friction", ",".join(repr(float(x)) for x in friction)]
+        if from_ is not None:
+            args += ["--from", _path("from_", from_)]
+        args += ["--standard", str(standard)]
+        for k, v in factors.items():
+            args += ["--factor", f"{k}={float(v)!r}"]
+        if flight:
+            args.append("--flight")
+        _run(args)
+        doc = _read_json(out)
+    rows = doc.get("joints", [])
+    return Margins(json=doc, joints=_columns(rows if isinstance(rows, list) else []))
+
+
+def identify(
+    runs: Union[PathLike, Sequence[PathLike]],
+    mechanisms: Union[MechanismLike, Sequence[MechanismLike]],
+    method: str = "direct",
+    json: Optional[PathLike] = None,
+) -> Identification:
+    """``deploywatch identify`` of measured runs (CSV) on their mechanisms
+    (``method`` ``"direct"`` or ``"rsm"``; ``json`` keeps the file)."""
+    with _tempfile.TemporaryDirectory() as tmp:
+        out = _path("json", json) if json is not None else _os.path.join(tmp, "identify.json")
+        args = ["identify", "--method", str(method), "--quiet", "--json", out, "--plot", _os.path.join(tmp, "i.png")]
+        for i, m in enumerate(_mechanism_list(mechanisms)):
+            args += ["--mechanism", _mechanism_file(f"mechanisms[{i}]", m, tmp, i)]
+        args += _paths("runs", runs)
+        _run(args)
+        return Identification(json=_read_json(out))
+
+
+def _mechanism_list(value: Any) -> List[Any]:
+    if isinstance(value, (str, _os.PathLike, Mechanism)):
+        return [value]
+    return list(value)
+
+
+def diagnose(
+    runs: Union[PathLike, Sequence[PathLike]],
+    mechanisms: Union[MechanismLike, Sequence[MechanismLike]],
+    json: PathLike,
+    max_effects: int = 3,
+    max_seconds: Optional[float] = None,
+) -> Diagnosis:
+    """``deploywatch diagnose``: the named causes of what the model gets
+    wrong in the measured runs; the findings JSON written to ``json``, the
+    report (``.md``) and plots beside it. ``max_seconds`` stops the search
+    and writes the best model found so far, marked as such."""
+    out = _path("json", json)
+    with _tempfile.TemporaryDirectory() as tmp:
+        args = ["diagnose", "--json", out, "--quiet", "--max-effects", str(max_effects)]
+        if max_seconds is not None:
+            args += ["--max-seconds", repr(float(max_seconds))]
+        for i, m in enumerate(_mechanism_list(mechanisms)):
+            args += ["--mechanism", _mechanism_file(f"mechanisms[{i}]", m, tmp, i)]
+        args += _paths("runs", runs)
+        _run(args)
+    return Diagnosis(json=_read_json(out), report=_os.path.splitext(out)[0] + ".md")
+
+
+def replay(run: PathLike, mechanism: MechanismLike, out: Optional[PathLike] = None) -> Replay:
+    """``deploywatch replay --target host``: the run through the on-board
+    monitor (the core's ``f32`` code on the host); its status stream as
+    numpy columns (``out`` keeps the CSV)."""
+    with _tempfile.TemporaryDirectory() as tmp:
+        path = _path("out", out) if out is not None else _os.path.join(tmp, "status.csv")
+        args = ["replay", _path("run", run), "--mechanism", _mechanism_file("mechanism", mechanism, tmp)]
+        args += ["--target", "host", "--quiet", "--out", path]
+        _run(args)
+        with open(path, encoding="utf-8") as f:
+            rows = [r for r in _csv.reader(line for line in f if not line.startswith("#"))]
+    head, body = rows[0], rows[1:]
+    cols: Dict[str, FloatArray] = {}
+    for k, name in enumerate(head):
+        try:
+            cols[name] = _np.array([float(r[k]) for r in body], dtype=_np.float64)
+        except ValueError:
+            continue
+    return Replay(columns=cols)

@@ -1,0 +1,500 @@
+"""A mechanism parsed once (:class:`Mechanism`) and the typed forms of the
+strings the CLI takes: effects (``--effect``), distributions and varied
+parameters (``--vary``), failure criteria (``--fail``).
+
+Each typed object's ``str()`` is the CLI's syntax; strings are still
+accepted wherever a typed object is, and both are checked by the Rust
+validator the CLI uses (the same refusals, the same words, the Python
+argument named where the CLI names its flag)."""
+
+from __future__ import annotations
+
+import os as _os
+from dataclasses import dataclass
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+from . import _native
+from ._errors import InputError
+from ._results import Trajectory
+
+
+def _num(x: float) -> str:
+    """A number as the CLI's parser reads it (``repr`` of the float)."""
+    return repr(float(x))
+
+
+# ---- effects (docs/spec/physics.md section 6) -----------------------------
+
+
+@dataclass(frozen=True)
+class Coulomb:
+    """``coulomb_friction``: an extra Coulomb friction ``torque_nm`` [N·m]
+    at ``joint`` (1-based)."""
+
+    joint: int
+    torque_nm: float
+
+    def __str__(self) -> str:
+        return f"coulomb_friction:joint={self.joint}:value={_num(self.torque_nm)}"
+
+
+@dataclass(frozen=True)
+class Viscous:
+    """``viscous_damping``: ``nms_per_rad`` [N·m·s/rad] at ``joint``."""
+
+    joint: int
+    nms_per_rad: float
+
+    def __str__(self) -> str:
+        return f"viscous_damping:joint={self.joint}:value={_num(self.nms_per_rad)}"
+
+
+@dataclass(frozen=True)
+class QuadraticDamping:
+    """``quadratic_damping``: ``c`` [N·m·s²/rad²] at ``joint``, the torque
+    ``-c φ̇|φ̇|``."""
+
+    joint: int
+    c: float
+
+    def __str__(self) -> str:
+        return f"quadratic_damping:joint={self.joint}:value={_num(self.c)}"
+
+
+@dataclass(frozen=True)
+class Stribeck:
+    """``stribeck_friction``: kinetic ``torque_nm`` [N·m] at ``joint`` with a
+    break-away ``excess_nm`` [N·m] and Stribeck velocity ``stribeck_rad_s``
+    [rad/s]."""
+
+    joint: int
+    torque_nm: float
+    excess_nm: float
+    stribeck_rad_s: float
+
+    def __str__(self) -> str:
+        return (
+            f"stribeck_friction:joint={self.joint}:value={_num(self.torque_nm)}"
+            f":excess_nm={_num(self.excess_nm)}:stribeck_rad_s={_num(self.stribeck_rad_s)}"
+        )
+
+
+@dataclass(frozen=True)
+class SpringSoftening:
+    """``spring_softening``: the spring of ``joint`` scaled by ``1 - fraction``
+    (``fraction`` [1], below 1)."""
+
+    joint: int
+    fraction: float
+
+    def __str__(self) -> str:
+        return f"spring_softening:joint={self.joint}:value={_num(self.fraction)}"
+
+
+@dataclass(frozen=True)
+class Harness:
+    """``harness_stiffness``: ``nm_per_rad`` [N·m/rad] about the stowed angle
+    of ``joint``."""
+
+    joint: int
+    nm_per_rad: float
+
+    def __str__(self) -> str:
+        return f"harness_stiffness:joint={self.joint}:value={_num(self.nm_per_rad)}"
+
+
+@dataclass(frozen=True)
+class LatchDetent:
+    """``latch_detent``: ``torque_nm`` [N·m] within 3° of the latch of
+    ``joint``."""
+
+    joint: int
+    torque_nm: float
+
+    def __str__(self) -> str:
+        return f"latch_detent:joint={self.joint}:value={_num(self.torque_nm)}"
+
+
+@dataclass(frozen=True)
+class AirDrag:
+    """``air_drag``: ``k_kg_m2`` [kg/m²], the whole wing."""
+
+    k_kg_m2: float
+
+    def __str__(self) -> str:
+        return f"air_drag:value={_num(self.k_kg_m2)}"
+
+
+@dataclass(frozen=True)
+class RigTilt:
+    """``rig_tilt``: gravity ``g_m_s2`` [m/s²] in direction ``alpha_deg``
+    [deg], the whole wing."""
+
+    g_m_s2: float
+    alpha_deg: float = 0.0
+
+    def __str__(self) -> str:
+        return f"rig_tilt:value={_num(self.g_m_s2)}:alpha_deg={_num(self.alpha_deg)}"
+
+
+@dataclass(frozen=True)
+class EncoderOffset:
+    """``encoder_offset``: ``deg`` [deg] added to the reading of ``joint``
+    (the sensor only)."""
+
+    joint: int
+    deg: float
+
+    def __str__(self) -> str:
+        return f"encoder_offset:joint={self.joint}:value={_num(self.deg)}"
+
+
+@dataclass(frozen=True)
+class PlungerWeakening:
+    """``plunger_weakening``: the ball plunger of the physical latch of
+    ``joint`` scaled by ``1 - fraction`` [1]."""
+
+    joint: int
+    fraction: float
+
+    def __str__(self) -> str:
+        return f"plunger_weakening:joint={self.joint}:value={_num(self.fraction)}"
+
+
+@dataclass(frozen=True)
+class MagnetWeakening:
+    """``magnet_weakening``: the magnet of the physical latch of ``joint``
+    scaled by ``1 - fraction`` [1]."""
+
+    joint: int
+    fraction: float
+
+    def __str__(self) -> str:
+        return f"magnet_weakening:joint={self.joint}:value={_num(self.fraction)}"
+
+
+Effect = Union[
+    Coulomb,
+    Viscous,
+    QuadraticDamping,
+    Stribeck,
+    SpringSoftening,
+    Harness,
+    LatchDetent,
+    AirDrag,
+    RigTilt,
+    EncoderOffset,
+    PlungerWeakening,
+    MagnetWeakening,
+]
+"""A typed effect; its ``str()`` is the ``--effect`` syntax."""
+
+EFFECT_TYPES: Tuple[type, ...] = (
+    Coulomb,
+    Viscous,
+    QuadraticDamping,
+    Stribeck,
+    SpringSoftening,
+    Harness,
+    LatchDetent,
+    AirDrag,
+    RigTilt,
+    EncoderOffset,
+    PlungerWeakening,
+    MagnetWeakening,
+)
+
+# ---- distributions, varied parameters, failure criteria -------------------
+
+
+@dataclass(frozen=True)
+class Normal:
+    """``normal(mean, sd)``."""
+
+    mean: float
+    sd: float
+
+    def __str__(self) -> str:
+        return f"normal({_num(self.mean)},{_num(self.sd)})"
+
+
+@dataclass(frozen=True)
+class LogNormal:
+    """``lognormal(median, sigma_ln)``."""
+
+    median: float
+    sigma_ln: float
+
+    def __str__(self) -> str:
+        return f"lognormal({_num(self.median)},{_num(self.sigma_ln)})"
+
+
+@dataclass(frozen=True)
+class Uniform:
+    """``uniform(lo, hi)``."""
+
+    lo: float
+    hi: float
+
+    def __str__(self) -> str:
+        return f"uniform({_num(self.lo)},{_num(self.hi)})"
+
+
+@dataclass(frozen=True)
+class TruncNormal:
+    """``truncnormal(mean, sd, lo, hi)``."""
+
+    mean: float
+    sd: float
+    lo: float
+    hi: float
+
+    def __str__(self) -> str:
+        return f"truncnormal({_num(self.mean)},{_num(self.sd)},{_num(self.lo)},{_num(self.hi)})"
+
+
+Distribution = Union[Normal, LogNormal, Uniform, TruncNormal]
+"""A typed distribution; its ``str()`` is the law of ``--vary``."""
+
+
+@dataclass(frozen=True)
+class Vary:
+    """A varied parameter: ``name`` an effect (``"coulomb_friction"``) or a
+    mechanism parameter (``"panel_mass"``, ``"panel_inertia"``,
+    ``"spring_preload"``, ``"spring_stiffness"``), at ``joint`` (``None``
+    for a global effect), drawn from ``law``. ``str()``: ``--vary``'s
+    syntax."""
+
+    name: str
+    joint: Optional[int]
+    law: Distribution
+
+    def __str__(self) -> str:
+        at = "" if self.joint is None else f":joint={self.joint}"
+        return f"{self.name}{at}:{self.law}"
+
+
+@dataclass(frozen=True)
+class NotLatched:
+    """``not_latched``: a joint not latched by the end of the run fails."""
+
+    def __str__(self) -> str:
+        return "not_latched"
+
+
+@dataclass(frozen=True)
+class LatchRate:
+    """``latch_rate>X``: a joint latching faster than ``above_deg_s``
+    [deg/s] fails."""
+
+    above_deg_s: float
+
+    def __str__(self) -> str:
+        return f"latch_rate>{_num(self.above_deg_s)}"
+
+
+@dataclass(frozen=True)
+class LatchTime:
+    """``time>X``: a joint latching later than ``above_s`` [s] fails."""
+
+    above_s: float
+
+    def __str__(self) -> str:
+        return f"time>{_num(self.above_s)}"
+
+
+Criterion = Union[NotLatched, LatchRate, LatchTime]
+"""A typed failure criterion; its ``str()`` is ``--fail``'s syntax."""
+
+EffectLike = Union[str, Effect]
+VaryLike = Union[str, Vary]
+CriterionLike = Union[str, Criterion]
+
+_TYPED: Dict[str, Tuple[type, ...]] = {
+    "effects": EFFECT_TYPES,
+    "vary": (Vary,),
+    "fail": (NotLatched, LatchRate, LatchTime),
+}
+
+
+def strings(name: str, value: Any) -> List[str]:
+    """The items of argument ``name`` (strings or typed objects) as the
+    CLI's strings; refuses a single string (which Python would iterate
+    character by character) and other types, naming ``name[i]``."""
+    typed = _TYPED.get(name, ())
+    if isinstance(value, (str, bytes)):
+        raise InputError(f"{name}: expected a list of strings, e.g. [{value!r}], got a single string")
+    if isinstance(value, typed):
+        raise InputError(f"{name}: expected a list, e.g. [{value!r}], got a single {type(value).__name__}")
+    try:
+        items = list(value)
+    except TypeError:
+        raise InputError(f"{name}: expected a list of strings, got {type(value).__name__}") from None
+    out = []
+    for i, v in enumerate(items):
+        if isinstance(v, typed):
+            out.append(str(v))
+        elif isinstance(v, str):
+            out.append(v)
+        else:
+            kinds = " or ".join(["a string"] + [t.__name__ for t in typed][:3] + (["..."] if len(typed) > 3 else []))
+            raise InputError(f"{name}[{i}]: expected {kinds}, got {type(v).__name__} {v!r}")
+    return out
+
+
+# ---- the mechanism ---------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Panel:
+    """``[[panel]]``: length [m], mass [kg], centre of mass from the hinge
+    [m], inertia about the centre of mass [kg·m²]."""
+
+    length_m: float
+    mass_kg: float
+    com_m: float
+    inertia_kgm2: float
+
+
+@dataclass(frozen=True)
+class Joint:
+    """``[[joint]]``: the stowed angle [deg] (the latch at 0), the spring's
+    kind (``"linear"``, ``"tape"``, ``"curve"``) and count, the friction
+    of the file: Coulomb [N·m], viscous [N·m·s/rad]."""
+
+    stowed_deg: float
+    spring: str
+    spring_count: int
+    coulomb_nm: float
+    viscous_nms: float
+
+
+@dataclass(frozen=True)
+class Latch:
+    """``[joint.latch]`` of a physical latch: the switch's travel [deg],
+    a magnet or not, the pawl's breaking torque [N·m] (``None``: a ball
+    plunger)."""
+
+    switch_travel_deg: float
+    magnet: bool
+    pawl_breaking_torque_nm: Optional[float]
+
+
+@dataclass(frozen=True)
+class Trolley:
+    """A rig trolley: the panel it carries (1-based), its offload point [m],
+    mass [kg], wire length [m]."""
+
+    panel: int
+    offload_m: float
+    mass_kg: float
+    wire_m: float
+
+
+@dataclass(frozen=True)
+class Rig:
+    """``[rig]``: enabled or not, gravity [m/s²], static and dynamic
+    friction coefficients [1], the trolleys."""
+
+    enabled: bool
+    gravity_m_s2: float
+    static_mu: float
+    dynamic_mu: float
+    trolleys: Tuple[Trolley, ...]
+
+
+PathLike = Union[str, "_os.PathLike[str]"]
+"""A file name: ``str`` or ``pathlib.Path``."""
+
+
+class Mechanism:
+    """A mechanism file parsed once (``docs/spec/formats.md``), its parts as
+    typed attributes; ``simulate`` runs it without reading the file again.
+    Pickles as its text (what a Dask worker is sent)."""
+
+    name: str
+    description: str
+    duration_s: float
+    sample_hz: float
+    settle_s: float
+    panels: Tuple[Panel, ...]
+    joints: Tuple[Joint, ...]
+    latches: Tuple[Optional[Latch], ...]
+    """One per joint; ``None`` for the ideal latch."""
+    rig: Optional[Rig]
+    truss: bool
+    """True for a wing with a ``[truss]`` (closed loops)."""
+
+    def __init__(self, model: _native.Model) -> None:
+        self._model = model
+        d = model.describe()
+        self.name = d["name"]
+        self.description = d["description"]
+        self.duration_s = d["duration_s"]
+        self.sample_hz = d["sample_hz"]
+        self.settle_s = d["settle_s"]
+        self.truss = d["truss"]
+        self.panels = tuple(Panel(**p) for p in d["panels"])
+        self.joints = tuple(Joint(**j) for j in d["joints"])
+        self.latches = tuple(None if l is None else Latch(**l) for l in d["latches"])
+        r = d["rig"]
+        self.rig = None if r is None else Rig(
+            enabled=r["enabled"],
+            gravity_m_s2=r["gravity_m_s2"],
+            static_mu=r["static_mu"],
+            dynamic_mu=r["dynamic_mu"],
+            trolleys=tuple(Trolley(*t) for t in r["trolleys"]),
+        )
+
+    @classmethod
+    def from_toml(cls, path: PathLike) -> "Mechanism":
+        """The mechanism of a TOML file (``MechanismError`` naming the file,
+        line and key)."""
+        if not isinstance(path, (str, _os.PathLike)):
+            raise InputError(f"path: expected a file name (str or pathlib.Path), got {type(path).__name__}")
+        p = _os.fspath(path)
+        if not isinstance(p, str):
+            raise InputError(f"path: expected a file name as text, got {type(p).__name__}")
+        with open(p, encoding="utf-8") as f:
+            return cls(_native.Model(f.read(), p))
+
+    @classmethod
+    def from_str(cls, text: str, source: str = "<string>") -> "Mechanism":
+        """The mechanism of TOML ``text``; ``source`` names it in errors."""
+        if not isinstance(text, str):
+            raise InputError(f"text: expected the TOML text as str, got {type(text).__name__}")
+        return cls(_native.Model(text, str(source)))
+
+    @property
+    def toml(self) -> str:
+        """The file's text."""
+        return self._model.text
+
+    @property
+    def source(self) -> str:
+        """The file's name (or ``"<string>"``)."""
+        return self._model.source
+
+    def __reduce__(self) -> Tuple[Any, ...]:
+        return (Mechanism.from_str, (self.toml, self.source))
+
+    def __repr__(self) -> str:
+        return f"Mechanism({self.name!r}, {len(self.panels)} panels, source={self.source!r})"
+
+    def check_effects(self, effects: Sequence[EffectLike]) -> List[str]:
+        """The effects checked against this mechanism as the CLI checks
+        ``--effect``, in the CLI's syntax; ``InputError`` naming
+        ``effects[i]`` and saying what is wrong."""
+        return self._model.check_effects("effects", strings("effects", effects))
+
+    def simulate(self, effects: Sequence[EffectLike] = (), sample_hz: Optional[float] = None) -> Trajectory:
+        """One deployment (``deploywatch simulate``), with extra effects
+        (typed, e.g. ``Coulomb(joint=2, torque_nm=0.5)``, or ``--effect``
+        strings), sampled at ``sample_hz`` [Hz] (default: the file's).
+        See :func:`deploywatch.simulate`."""
+        from ._api import _positive
+
+        effs = strings("effects", effects)
+        hz = None if sample_hz is None else _positive("sample_hz", sample_hz)
+        t_s, phi, rate, latch, end_s = _native.simulate(self._model, effs, hz)
+        return Trajectory(t_s=t_s, phi_deg=phi, rate_deg_s=rate, latch_s=latch, end_s=end_s)

@@ -1,0 +1,38 @@
+//! The CLI's commands run in this process (`diagnose`, `identify`,
+//! `margin`, `replay`): the arguments parsed by the CLI's own parser, the
+//! work done by the CLI's own `run` (same validation, same numbers, the
+//! same files written), with the GIL released. The package's Python layer
+//! builds the arguments from its keyword arguments and reads the JSON the
+//! command wrote; errors name the Python arguments ([`crate::errors`]).
+
+use crate::errors::Kind;
+use clap::Parser;
+use deploywatch_sim::cli::{self, Cli};
+use pyo3::prelude::*;
+
+/// The first line of clap's message without its `error: ` (what the
+/// binary prints first).
+fn clap_message(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let first = text.lines().next().unwrap_or_default();
+    first.strip_prefix("error: ").unwrap_or(first).to_string()
+}
+
+/// Runs `deploywatch ARGS...` in this process: `InputError` for what the
+/// binary exits 2 on (a bad argument, file or path), `DeploywatchError`
+/// for what it exits 1 on (the work failed). The GIL is released while it
+/// runs.
+#[pyfunction]
+pub(crate) fn run_command(py: Python<'_>, args: Vec<String>) -> PyResult<()> {
+    let argv = std::iter::once("deploywatch".to_string()).chain(args);
+    let parsed =
+        Cli::try_parse_from(argv).map_err(|e| Kind::Input.raise(clap_message(&e), Vec::new()))?;
+    py.allow_threads(|| cli::run(parsed)).map_err(|e| {
+        let kind = if e.code == 2 {
+            Kind::Input
+        } else {
+            Kind::Other
+        };
+        kind.raise(e.message, Vec::new())
+    })
+}
