@@ -2,7 +2,8 @@
 each runs the CLI's own command in this process (its parser, its checks,
 its numbers; the GIL released), from keyword arguments, into a temporary
 folder (or the ``json``/``out`` path given), and returns its JSON as a
-typed result with numpy columns. Errors: ``InputError`` where the binary
+typed result with numpy columns (``echo=True`` lets the command print
+its table on stdout too). Errors: ``InputError`` where the binary
 exits 2, ``DeploywatchError`` where it exits 1, each naming the Python
 argument where the CLI names its flag."""
 
@@ -11,7 +12,10 @@ from __future__ import annotations
 import csv as _csv
 import json as _json
 import os as _os
+import signal as _signal
+import sys as _sys
 import tempfile as _tempfile
+import threading as _threading
 from dataclasses import dataclass
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
@@ -123,8 +127,22 @@ class Replay:
     columns: Dict[str, FloatArray]
 
 
-def _run(args: List[str]) -> None:
-    _native.run_command(args)
+def _run(args: List[str], echo: bool) -> None:
+    """Runs the command; what it prints on stdout (its table, which the
+    result holds too) is dropped unless ``echo``. The process's stdout is
+    redirected for the call: not for concurrent threads that print."""
+    if echo:
+        _native.run_command(args)
+        return
+    _sys.stdout.flush()
+    saved = _os.dup(1)
+    try:
+        with open(_os.devnull, "wb") as null:
+            _os.dup2(null.fileno(), 1)
+            _native.run_command(args)
+    finally:
+        _os.dup2(saved, 1)
+        _os.close(saved)
 
 
 def _read_json(path: str) -> Dict[str, Any]:
@@ -143,6 +161,7 @@ def margin(
     factors: Mapping[str, float] = {},
     flight: bool = False,
     json: Optional[PathLike] = None,
+    echo: bool = False,
 ) -> Margins:
     """``deploywatch margin`` (the options as keyword arguments: ``friction``
     [N·m] per joint, ``from_`` an ``identify``/``diagnose`` JSON,
@@ -160,7 +179,7 @@ def margin(
             args += ["--factor", f"{k}={float(v)!r}"]
         if flight:
             args.append("--flight")
-        _run(args)
+        _run(args, echo)
         doc = _read_json(out)
     rows = doc.get("joints", [])
     return Margins(json=doc, joints=_columns(rows if isinstance(rows, list) else []))
@@ -171,6 +190,7 @@ def identify(
     mechanisms: Union[MechanismLike, Sequence[MechanismLike]],
     method: str = "direct",
     json: Optional[PathLike] = None,
+    echo: bool = False,
 ) -> Identification:
     """``deploywatch identify`` of measured runs (CSV) on their mechanisms
     (``method`` ``"direct"`` or ``"rsm"``; ``json`` keeps the file)."""
@@ -180,7 +200,7 @@ def identify(
         for i, m in enumerate(_mechanism_list(mechanisms)):
             args += ["--mechanism", _mechanism_file(f"mechanisms[{i}]", m, tmp, i)]
         args += _paths("runs", runs)
-        _run(args)
+        _run(args, echo)
         return Identification(json=_read_json(out))
 
 
@@ -196,11 +216,15 @@ def diagnose(
     json: PathLike,
     max_effects: int = 3,
     max_seconds: Optional[float] = None,
+    echo: bool = False,
 ) -> Diagnosis:
     """``deploywatch diagnose``: the named causes of what the model gets
     wrong in the measured runs; the findings JSON written to ``json``, the
     report (``.md``) and plots beside it. ``max_seconds`` stops the search
-    and writes the best model found so far, marked as such."""
+    and writes the best model found so far, marked as such; so does Ctrl-C
+    (as the CLI's), in the first ``diagnose`` of the process (the signal
+    handler of the Rust crate it uses can be set once; in later calls
+    Ctrl-C is seen when the call returns: use ``max_seconds``)."""
     out = _path("json", json)
     with _tempfile.TemporaryDirectory() as tmp:
         args = ["diagnose", "--json", out, "--quiet", "--max-effects", str(max_effects)]
@@ -209,11 +233,20 @@ def diagnose(
         for i, m in enumerate(_mechanism_list(mechanisms)):
             args += ["--mechanism", _mechanism_file(f"mechanisms[{i}]", m, tmp, i)]
         args += _paths("runs", runs)
-        _run(args)
+        # The command takes Ctrl-C (its handler replaces Python's for the
+        # call: the search stops and the best model so far is written,
+        # marked, as the CLI does); Python's handler is put back after.
+        main = _threading.current_thread() is _threading.main_thread()
+        python_handler = _signal.getsignal(_signal.SIGINT) if main else None
+        try:
+            _run(args, echo)
+        finally:
+            if python_handler is not None:
+                _signal.signal(_signal.SIGINT, python_handler)
     return Diagnosis(json=_read_json(out), report=_os.path.splitext(out)[0] + ".md")
 
 
-def replay(run: PathLike, mechanism: MechanismLike, out: Optional[PathLike] = None) -> Replay:
+def replay(run: PathLike, mechanism: MechanismLike, out: Optional[PathLike] = None, echo: bool = False) -> Replay:
     """``deploywatch replay --target host``: the run through the on-board
     monitor (the core's ``f32`` code on the host); its status stream as
     numpy columns (``out`` keeps the CSV)."""
@@ -221,7 +254,7 @@ def replay(run: PathLike, mechanism: MechanismLike, out: Optional[PathLike] = No
         path = _path("out", out) if out is not None else _os.path.join(tmp, "status.csv")
         args = ["replay", _path("run", run), "--mechanism", _mechanism_file("mechanism", mechanism, tmp)]
         args += ["--target", "host", "--quiet", "--out", path]
-        _run(args)
+        _run(args, echo)
         with open(path, encoding="utf-8") as f:
             rows = [r for r in _csv.reader(line for line in f if not line.startswith("#"))]
     head, body = rows[0], rows[1:]

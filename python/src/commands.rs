@@ -12,10 +12,19 @@ use pyo3::prelude::*;
 
 /// The first line of clap's message without its `error: ` (what the
 /// binary prints first).
+/// With the values clap lists as possible, when it lists them.
 fn clap_message(e: &clap::Error) -> String {
     let text = e.render().to_string();
     let first = text.lines().next().unwrap_or_default();
-    first.strip_prefix("error: ").unwrap_or(first).to_string()
+    let mut m = first.strip_prefix("error: ").unwrap_or(first).to_string();
+    if let Some(values) = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("[possible values:"))
+    {
+        m.push(' ');
+        m.push_str(values.trim());
+    }
+    m
 }
 
 /// Runs `deploywatch ARGS...` in this process: `InputError` for what the

@@ -72,7 +72,7 @@ impl Kind {
 
 /// The CLI's option names and the Python arguments that take their values
 /// (the library's messages name the CLI's options).
-const ARGUMENTS: [(&str, &str); 8] = [
+const ARGUMENTS: [(&str, &str); 17] = [
     ("--effect", "effects"),
     ("--vary", "vary"),
     ("--fail", "fail"),
@@ -81,10 +81,20 @@ const ARGUMENTS: [(&str, &str); 8] = [
     ("--samples", "samples"),
     ("--target-cov", "target_cov"),
     ("--from", "from_"),
+    ("--rate", "sample_hz"),
+    ("--friction", "friction"),
+    ("--standard", "standard"),
+    ("--factor", "factors"),
+    ("--json", "json"),
+    ("--out", "out"),
+    ("--mechanism", "mechanism"),
+    ("--max-effects", "max_effects"),
+    ("--max-seconds", "max_seconds"),
 ];
 
-/// A message of the library with each CLI option (`--vary`) named as the
-/// Python argument (`vary`): the words are the CLI's, the names Python's.
+/// A message of the library with each CLI option (`--vary`, clap's
+/// `--vary <VARY>`) named as the Python argument (`vary`): the words are
+/// the CLI's, the names Python's.
 pub(crate) fn pythonic(message: &str) -> String {
     let mut out = String::with_capacity(message.len());
     let mut rest = message;
@@ -98,6 +108,12 @@ pub(crate) fn pythonic(message: &str) -> String {
             if tail.starts_with(flag) && whole {
                 out.push_str(arg);
                 rest = &tail[flag.len()..];
+                // clap's value name after the flag: ` <VARY>`.
+                if let Some(after) = rest.strip_prefix(" <") {
+                    if let Some(close) = after.find('>') {
+                        rest = &after[close + 1..];
+                    }
+                }
                 continue 'scan;
             }
         }

@@ -87,7 +87,7 @@ def test_a_single_string_where_a_list_is_expected(mech, arg):
 
 
 def test_a_list_holding_a_number(mech):
-    with pytest.raises(InputError, match=r"^vary\[1\]: expected a string, got float 1\.5"):
+    with pytest.raises(InputError, match=r"^vary\[1\]: expected a string or Vary, got float 1\.5"):
         deploywatch.reliability(mech, vary=[VARY[0], 1.5])
 
 
@@ -127,7 +127,7 @@ def test_a_bad_correlation(mech):
 
 
 def test_no_parameter_to_vary(mech):
-    with pytest.raises(InputError, match=r"expected at least one --vary"):
+    with pytest.raises(InputError, match=r"^expected at least one vary$"):
         deploywatch.reliability(mech)
 
 

@@ -1,0 +1,101 @@
+"""Every CLI command has its Python twin, with the CLI's numbers on the
+bundled examples: ``margin``, ``identify``, ``diagnose`` and ``replay``
+(host) run from Python and by the binary; their JSON (the status CSV for
+replay) equal, apart from the wall-clock times they record.
+
+    bash scripts/python-env.sh && .venv/bin/pytest python/tests/test_commands.py -q
+"""
+
+import csv
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import deploywatch as dw
+from deploywatch import InputError
+
+T01 = "data/mechanisms/seed001_T01.toml"
+T02 = "data/mechanisms/seed001_T02.toml"
+EFT = ["data/examples/a_seed001_eft/seed001_T01.csv", "data/examples/a_seed001_eft/seed001_T02.csv"]
+HARNESS = [
+    "data/examples/c_seed001_friction_harness/seed001_T01.csv",
+    "data/examples/c_seed001_friction_harness/seed001_T02.csv",
+]
+TIMES = {"wall_s", "seconds", "elapsed_s"}
+
+
+def untimed(v):
+    """A JSON value without the wall-clock times it records."""
+    if isinstance(v, dict):
+        return {k: untimed(x) for k, x in v.items() if k not in TIMES}
+    if isinstance(v, list):
+        return [untimed(x) for x in v]
+    return v
+
+
+def run_cli(cli, root, *args):
+    out = subprocess.run([cli, *args], cwd=root, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    return out
+
+
+def test_margin_gives_the_clis_json(root, cli, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    run_cli(cli, root, "margin", "--mechanism", T02, "--friction", "0.5,1.7,0.01", "--standard", "ecss-e-st-33-01c",
+            "--json", str(tmp_path / "m.json"), "-q")
+    want = json.loads((tmp_path / "m.json").read_text())
+    got = dw.margin(T02, friction=[0.5, 1.7, 0.01], standard="ecss-e-st-33-01c")
+    assert got.json == want
+    rows = want["joints"]
+    assert got.joints["torque_margin_pct"].tolist() == [r["torque_margin_pct"] for r in rows]
+    # A parsed mechanism, read from its file, gives the same.
+    assert dw.margin(dw.Mechanism.from_toml(T02), friction=[0.5, 1.7, 0.01], standard="ecss-e-st-33-01c").json == want
+
+
+def test_identify_gives_the_clis_json(root, cli, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    run_cli(cli, root, "identify", "--mechanism", T01, "--mechanism", T02, *EFT, "--method", "direct",
+            "--json", str(tmp_path / "eft.json"), "-q")
+    want = json.loads((tmp_path / "eft.json").read_text())
+    got = dw.identify(EFT, [T01, dw.Mechanism.from_toml(T02)], method="direct")
+    assert untimed(got.json) == untimed(want)
+    assert got.json["joints"][0]["coulomb_nm"] == pytest.approx(2.63, abs=1e-3)
+
+
+def test_diagnose_gives_the_clis_json(root, cli, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    run_cli(cli, root, "diagnose", "--mechanism", T01, "--mechanism", T02, "--json", str(tmp_path / "cli.json"),
+            *HARNESS, "-q")
+    want = json.loads((tmp_path / "cli.json").read_text())
+    got = dw.diagnose(HARNESS, [T01, T02], json=tmp_path / "py.json")
+    assert untimed(got.json) == untimed(want)
+    assert (tmp_path / "py.md").exists() and got.report == str(tmp_path / "py.md")
+
+
+def test_replay_gives_the_clis_status_stream(root, cli, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    run_cli(cli, root, "replay", EFT[0], "--mechanism", T01, "--target", "host", "--out", str(tmp_path / "s.csv"), "-q")
+    with open(tmp_path / "s.csv") as f:
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))
+    got = dw.replay(EFT[0], T01)
+    head = rows[0]
+    assert set(got.columns) <= set(head) and "t_s" in got.columns
+    for name, col in got.columns.items():
+        k = head.index(name)
+        want = np.array([float(r[k]) for r in rows[1:]])
+        np.testing.assert_array_equal(col, want, err_msg=name)
+
+
+def test_command_errors_name_the_python_arguments(root, monkeypatch):
+    monkeypatch.chdir(root)
+    with pytest.raises(InputError) as e:
+        dw.margin(T02, friction=[0.5])
+    assert str(e.value).startswith("friction has 1 values") and "--" not in str(e.value)
+    with pytest.raises(InputError) as e:
+        dw.margin(T02, standard="nasa-std-0")
+    assert "standard" in str(e.value) and "--" not in str(e.value) and "possible values" in str(e.value)
+    with pytest.raises(InputError) as e:
+        dw.margin(T02, json="/no/such/folder/m.json")
+    assert str(e.value).startswith("json") and "--" not in str(e.value)
