@@ -245,7 +245,9 @@ fn reliability<'py>(
     corr: Vec<String>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let p = problem(mechanism_toml, source, &vary, &fail, from_json, &corr)?;
-    let method: Method = method.parse().map_err(|e| errors::reliability(&e))?;
+    let method: Method = method
+        .parse()
+        .map_err(|e| Kind::Input.prefixed("method: ", &e))?;
     // A Python exception (Ctrl-C, an executor's task) stops the run through
     // the analysis' error path and is kept here to be raised as it is.
     let mut stopped: Option<PyErr> = None;

@@ -37,7 +37,9 @@ EFFECTS = [
     (T01, "coulomb_friction:joint=1"),
     (T01, "coulomb_friction:joint=1:value=nan"),
     (T01, "plunger_weakening:joint=1:value=0.1"),
-    (LATCH, "magnet_weakening:joint=3:value=0.1"),
+    (LATCH, "plunger_weakening:joint=4:value=0.1"),
+    (T01, "magnet_weakening:joint=2:value=0.1"),
+    (LATCH, "plunger_weakening:joint=1:value=1.5"),
 ]
 
 # (option, value, Python argument, more CLI options): `reliability` on the
@@ -65,14 +67,22 @@ def cli_error(cli, args):
     return first[len("error: ") :]
 
 
+# The CLI's options and the Python arguments that take their values.
+NAMES = {"--effect": "effects", "--vary": "vary", "--fail": "fail", "--corr": "corr", "--method": "method",
+         "--from": "from_", "--samples": "samples"}
+
+
 def as_python(message, flag, arg):
-    """The CLI's message with its flag named as Python names the argument:
-    clap's `invalid value 'V' for '--flag <X>': MSG` is `arg: MSG`;
-    the command's `--flag ...` is `arg ...`."""
-    m = re.fullmatch(r"invalid value '.*' for '" + flag + r" <[A-Z_]+>': (.*)", message, re.S)
+    """The CLI's message with its options named as Python names the
+    arguments: clap's `invalid value 'V' for '--flag <X>': MSG` is
+    `arg: MSG`; the command's `--flag ...` is `arg ...` (`flag` as `arg`,
+    every other option as its argument)."""
+    m = re.fullmatch(r"invalid value '.*' for '" + flag + r" <[^>]+>': (.*)", message, re.S)
     if m:
-        return f"{arg}: {m.group(1)}"
-    return message.replace(flag, arg)
+        message = f"{arg}: {m.group(1)}"
+    else:
+        message = re.sub(re.escape(flag) + r"\b", arg, message)
+    return re.sub(r"--[a-z-]+\b", lambda f: NAMES.get(f.group(0), f.group(0)), message)
 
 
 @pytest.mark.parametrize("mech,effect", EFFECTS)
