@@ -78,6 +78,7 @@ from ._errors import (
     MechanismError,
     SimulationError,
 )
+from ._monitor import Monitor, MonitorStatus, Sample
 from ._results import (
     Batch,
     DesignPoint,
@@ -95,6 +96,9 @@ __version__: str = _native.__version__
 
 __all__ = [
     "Mechanism",
+    "Monitor",
+    "MonitorStatus",
+    "Sample",
     "Panel",
     "Joint",
     "Latch",

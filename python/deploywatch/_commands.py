@@ -17,7 +17,7 @@ import sys as _sys
 import tempfile as _tempfile
 import threading as _threading
 from dataclasses import dataclass
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as _np
 
@@ -122,9 +122,12 @@ class Diagnosis(CommandResult):
 @dataclass(frozen=True)
 class Replay:
     """``deploywatch replay --target host``: the monitor's status stream,
-    one numpy column per column of the status CSV the CLI writes."""
+    one numpy column per numeric column of the status CSV the CLI writes
+    (NaN where it is empty), and the text columns (latch state,
+    prediction, faults) in ``states``."""
 
     columns: Dict[str, FloatArray]
+    states: Dict[str, Tuple[str, ...]]
 
 
 def _run(args: List[str], echo: bool) -> None:
@@ -259,9 +262,11 @@ def replay(run: PathLike, mechanism: MechanismLike, out: Optional[PathLike] = No
             rows = [r for r in _csv.reader(line for line in f if not line.startswith("#"))]
     head, body = rows[0], rows[1:]
     cols: Dict[str, FloatArray] = {}
+    states: Dict[str, Tuple[str, ...]] = {}
     for k, name in enumerate(head):
+        texts = [r[k] for r in body]
         try:
-            cols[name] = _np.array([float(r[k]) for r in body], dtype=_np.float64)
+            cols[name] = _np.array([_np.nan if x == "" else float(x) for x in texts], dtype=_np.float64)
         except ValueError:
-            continue
-    return Replay(columns=cols)
+            states[name] = tuple(texts)
+    return Replay(columns=cols, states=states)

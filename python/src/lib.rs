@@ -12,6 +12,7 @@ mod commands;
 mod convert;
 mod errors;
 mod model;
+mod monitor;
 mod steps;
 
 use deploywatch_sim::deployment::SimOptions;
@@ -245,9 +246,7 @@ fn reliability<'py>(
     corr: Vec<String>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let p = problem(mechanism_toml, source, &vary, &fail, from_json, &corr)?;
-    let method: Method = method
-        .parse()
-        .map_err(|e| Kind::Input.prefixed("method: ", &e))?;
+    let method: Method = method.parse().map_err(|e| errors::reliability(&e))?;
     // A Python exception (Ctrl-C, an executor's task) stops the run through
     // the analysis' error path and is kept here to be raised as it is.
     let mut stopped: Option<PyErr> = None;
@@ -282,6 +281,7 @@ fn reliability<'py>(
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<model::Model>()?;
+    m.add_class::<monitor::Monitor>()?;
     m.add_function(wrap_pyfunction!(commands::run_command, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;

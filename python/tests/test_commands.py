@@ -84,7 +84,7 @@ def test_replay_gives_the_clis_status_stream(root, cli, tmp_path, monkeypatch):
     assert set(got.columns) <= set(head) and "t_s" in got.columns
     for name, col in got.columns.items():
         k = head.index(name)
-        want = np.array([float(r[k]) for r in rows[1:]])
+        want = np.array([np.nan if r[k] == "" else float(r[k]) for r in rows[1:]])
         np.testing.assert_array_equal(col, want, err_msg=name)
 
 
@@ -99,3 +99,33 @@ def test_command_errors_name_the_python_arguments(root, monkeypatch):
     with pytest.raises(InputError) as e:
         dw.margin(T02, json="/no/such/folder/m.json")
     assert str(e.value).startswith("json") and "--" not in str(e.value)
+
+
+def test_the_monitor_sample_by_sample_gives_replays_statuses(root, monkeypatch):
+    monkeypatch.chdir(root)
+    mech = dw.Mechanism.from_toml(T01)
+    status = dw.replay(EFT[0], mech)
+    with open(EFT[0]) as f:
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))
+    head, body = rows[0], rows[1:]
+    monitor = dw.Monitor(mech)
+    assert monitor.joints == 3
+    got = []
+    for r in body:
+        v = dict(zip(head, r))
+        sample = dw.Sample(
+            t_s=float(v["t_s"]),
+            phi_deg=[float(v[f"phi{j}_deg"]) for j in (1, 2, 3)],
+            latch=[v[f"latch{j}"] == "1" for j in (1, 2, 3)],
+        )
+        got.append(monitor.update(sample))
+    assert len(got) == len(status.columns["t_s"])
+    for j in range(3):
+        for name, key in (("phi", "phi_deg"), ("coulomb", "coulomb_nm"), ("margin", "margin_pct")):
+            col = f"{name}{j + 1}_{key.split('_', 1)[1]}"
+            want = status.columns[col]
+            have = np.array([getattr(s, key)[j] for s in got])
+            # The monitor computes in f32: the same f32 values.
+            np.testing.assert_array_equal(have.astype(np.float32), want.astype(np.float32), err_msg=col)
+    with pytest.raises(InputError, match=r"^sample: expected 3 angles"):
+        monitor.update(dw.Sample(t_s=0.0, phi_deg=[0.0], latch=[False]))

@@ -79,7 +79,10 @@ def as_python(message, flag, arg):
     every other option as its argument)."""
     m = re.fullmatch(r"invalid value '.*' for '" + flag + r" <[^>]+>': (.*)", message, re.S)
     if m:
-        message = f"{arg}: {m.group(1)}"
+        # A message that names the argument itself (`method `form`: ...`)
+        # is not prefixed with it again.
+        said = m.group(1)
+        message = said if said.startswith(arg + " ") else f"{arg}: {said}"
     else:
         message = re.sub(re.escape(flag) + r"\b", arg, message)
     return re.sub(r"--[a-z-]+\b", lambda f: NAMES.get(f.group(0), f.group(0)), message)

@@ -74,7 +74,10 @@ def typed_model() -> float:
     r = deploywatch.reliability(m, vary=vary, fail=[deploywatch.NotLatched()], method="mc", samples=50)
     margins: deploywatch.Margins = deploywatch.margin(m)
     torque: FloatArray = margins.joints["torque_margin_pct"]
-    assert latch is None and panel.mass_kg > 0 and r.p_fail >= 0 and torque.shape == (1,)
+    monitor = deploywatch.Monitor(m)
+    status: deploywatch.MonitorStatus = monitor.update(deploywatch.Sample(t_s=0.0, phi_deg=[m.joints[0].stowed_deg], latch=[False]))
+    coulomb: FloatArray = status.coulomb_nm
+    assert latch is None and panel.mass_kg > 0 and r.p_fail >= 0 and torque.shape == (1,) and coulomb.shape == (1,)
     return float(run.end_s)
 
 
