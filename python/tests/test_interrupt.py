@@ -48,3 +48,46 @@ def test_ctrl_c_stops_a_long_reliability(root, where):
         pytest.fail("reliability() ignored SIGINT: still running after 120 s")
     assert done.stdout.strip() == "KeyboardInterrupt", done.stderr
     assert done.returncode == 0
+
+
+DIAGNOSE = """
+import json, os, signal, sys, threading, time
+import deploywatch
+
+def interrupt():
+    time.sleep(1.0)
+    os.kill(os.getpid(), signal.SIGINT)
+
+runs = ["data/examples/c_seed001_friction_harness/seed001_T01.csv",
+        "data/examples/c_seed001_friction_harness/seed001_T02.csv"]
+mechs = ["data/mechanisms/seed001_T01.toml", "data/mechanisms/seed001_T02.toml"]
+threading.Thread(target=interrupt, daemon=True).start()
+d = deploywatch.diagnose(runs, mechs, json=sys.argv[1])
+print(json.dumps({"partial": d.json.get("partial"), "report": os.path.exists(d.report)}))
+# Python's own Ctrl-C is back: the next SIGINT is a KeyboardInterrupt.
+assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+try:
+    os.kill(os.getpid(), signal.SIGINT)
+    time.sleep(5)
+except KeyboardInterrupt:
+    print("KeyboardInterrupt")
+"""
+
+
+def test_ctrl_c_in_diagnose_writes_the_best_so_far_as_the_cli_does(root, tmp_path):
+    out = tmp_path / "d.json"
+    try:
+        done = subprocess.run(
+            [sys.executable, "-c", DIAGNOSE, str(out)],
+            cwd=root, capture_output=True, text=True, timeout=300,
+        )
+    except subprocess.TimeoutExpired:
+        pytest.fail("diagnose() ignored SIGINT")
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.strip().splitlines()
+    assert lines[-1] == "KeyboardInterrupt", done.stdout
+    import json
+
+    said = json.loads(lines[0])
+    assert said["report"] and said["partial"] is not None and "Ctrl-C" in said["partial"], said
+    assert json.loads(out.read_text())["partial"] == said["partial"]
