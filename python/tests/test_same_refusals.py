@@ -157,3 +157,26 @@ def test_a_bad_mechanism_file_is_refused_with_the_clis_words(root, cli, tmp_path
     with pytest.raises(MechanismError) as e:
         dw.Mechanism.from_str(text, str(bad))
     assert str(e.value) == said
+
+
+@pytest.mark.parametrize(
+    "arg,typed",
+    [
+        ("vary", dw.Vary("coulomb_friction", 2, dw.Normal(1, 0.1))),
+        ("vary", dw.Vary("panel_mass", 1, dw.Uniform(2, 1))),
+        ("vary", dw.Vary("coulomb_friction", 1, dw.TruncNormal(1, 0.1, 3, 2))),
+        ("fail", dw.LatchTime(above_s=20)),
+        ("fail", dw.LatchRate(above_deg_s=-1)),
+    ],
+)
+def test_a_bad_typed_law_or_criterion_is_refused_as_its_string(root, cli, arg, typed):
+    flag = "--" + arg
+    args = ["reliability", str(root / ONE), flag, str(typed)]
+    args += ["--fail", "not_latched"] if arg == "vary" else ["--vary", VARY]
+    said = cli_error(cli, args)
+    kw = {"vary": [VARY], "fail": [dw.NotLatched()]}
+    kw[arg] = [typed]
+    with pytest.raises(InputError) as e:
+        dw.reliability(dw.Mechanism.from_toml(root / ONE), **kw)  # type: ignore[arg-type]
+    got = re.sub(r"^(\w+)\[0\]:", r"\1:", str(e.value))
+    assert got == as_python(said, flag, arg), (str(e.value), said)
