@@ -136,10 +136,10 @@ pub mod fault_injection {
 
 /// Deployments with physical latches (`physics.md` §10).
 pub mod latch_deployment {
+    pub use crate::simulate::latch_deployment::check_latch_effects;
     pub use crate::simulate::latch_deployment::{
         latches, run_from, simulate_physical, LatchEnd, LatchEventKind, LatchOutcome, LatchRun,
     };
-    pub use crate::simulate::latch_deployment::check_latch_effects;
 }
 
 /// Closed-loop (truss) deployments.
