@@ -334,6 +334,30 @@ fn a_mass_in_grams_is_a_warning_naming_the_key_and_line_even_with_quiet() {
 }
 
 #[test]
+fn a_run_missing_an_angle_column_is_refused_naming_that_column() {
+    // The bundled three-joint run saved without its `phi2_deg` column: the
+    // message names the missing angle, not the last latch column as extra.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (meta, header, rows) = run_parts();
+    let drop_second = |fields: Vec<String>| {
+        let mut kept = fields;
+        kept.remove(2);
+        kept.join(",")
+    };
+    let header = drop_second(header.split(',').map(String::from).collect());
+    let mut text = meta.join("\n") + "\n" + &header + "\n";
+    for r in rows {
+        text.push_str(&drop_second(r));
+        text.push('\n');
+    }
+    let run = write(dir.path(), "no_phi2.csv", text);
+    let out = identify(&run, &t01_mechanism());
+    let at = format!("no_phi2.csv:{}:", first_row_line() - 1);
+    refused_before_work(&out, &[&at, "missing column `phi2_deg`"]);
+    assert!(!stderr(&out).contains("extra column"), "{}", stderr(&out));
+}
+
+#[test]
 fn a_run_of_another_mechanism_is_refused_naming_the_header_line() {
     let dir = tempfile::tempdir().expect("temp dir");
     let text = std::fs::read_to_string(bundled_run())

@@ -11,17 +11,22 @@
 //! model = "physical"                 # or "ideal" (no other keys)
 //! switch_travel_deg = 0.05           # the switch closes this far from the stop
 //! stop = { radius_mm = 40.0 }        # optional: stiffness_n_per_mm1_5 (37000), damping_ns_per_mm1_25 (3.7)
-//! plunger = { preload_n = 20.0, stiffness_n_per_mm = 10.0, radius_mm = 40.0, stroke_mm = 0.8,
-//!             crest_deg = 0.6, entry_ramp_deg = 30.0, hold_ramp_deg = 50.0 }
 //! magnet = { force_n = 15.0, decay_mm = 0.5, reach_mm = 2.0, radius_mm = 40.0 }   # optional
+//! [joint.latch.plunger]              # or inline on one line: plunger = { ... }
+//! preload_n = 20.0
+//! stiffness_n_per_mm = 10.0
+//! radius_mm = 40.0
+//! stroke_mm = 0.8
+//! crest_deg = 0.6
+//! entry_ramp_deg = 30.0
+//! hold_ramp_deg = 50.0
 //! ```
 //!
 //! A positive lock has a `pawl` table in place of `plunger` (`physics.md`
 //! §10.5):
 //!
 //! ```toml
-//! pawl = { preload_n = 5.0, stiffness_n_per_mm = 2.0, radius_mm = 40.0, lift_mm = 1.0,
-//!          notch_deg = 0.2, cam_ramp_deg = 20.0, breaking_torque_nm = 250.0 }
+//! pawl = { preload_n = 5.0, stiffness_n_per_mm = 2.0, radius_mm = 40.0, lift_mm = 1.0, notch_deg = 0.2, cam_ramp_deg = 20.0, breaking_torque_nm = 250.0 }
 //! ```
 //!
 //! Read on the mechanism file's one TOML tree ([`crate::model::toml_tree`]):

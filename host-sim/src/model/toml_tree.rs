@@ -254,6 +254,11 @@ pub(crate) fn join(path: &str, key: &str) -> String {
     }
 }
 
+/// What a syntax error in an inline table adds: TOML 1.0, which the reader
+/// follows, closes an inline table on the line that opens it (several lines
+/// are TOML 1.1).
+const INLINE_TABLE_HINT: &str = " (an inline table `{ ... }` must close on the line it opens, TOML 1.0: write a longer one as a sub-table, e.g. `[joint.latch.plunger]` with one key a line)";
+
 impl Cx<'_> {
     /// The text parsed into a tree of values with their spans; a syntax
     /// error names its line and column.
@@ -267,11 +272,14 @@ impl Cx<'_> {
                 .map(str::trim)
                 .filter(|l| !l.is_empty())
                 .collect();
-            let message = if message.is_empty() {
+            let mut message = if message.is_empty() {
                 "expected a value or a key here".to_string()
             } else {
                 message.join("; ")
             };
+            if message.contains("inline table") {
+                message.push_str(INLINE_TABLE_HINT);
+            }
             let column = e.span().map(|s| cx.column_of(s.start));
             cx.err(
                 e.span().map(|s| cx.line_of(s.start)),

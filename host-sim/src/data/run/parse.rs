@@ -470,7 +470,24 @@ impl Run {
         // its latch columns, or its width, whichever says more (a misspelt
         // column must not change the count).
         let half = (names.len().saturating_sub(1) / 2).min(MAX_CHAIN_JOINTS);
-        let n = match n_phi.max(n_latch.min(half)) {
+        // Angle columns numbered past their count (`phi4_deg` among three
+        // angles) say a lower one is missing: the run is for that many
+        // joints, and the missing angle is what the message names.
+        let highest_phi = cols
+            .iter()
+            .filter_map(|c| match c {
+                Col::Phi(j) => Some(*j),
+                _ => None,
+            })
+            .max()
+            .unwrap_or(0);
+        // A number far past the columns is a misspelling, not a count.
+        let highest_phi = if highest_phi <= n_latch.max(n_phi + 1) {
+            highest_phi.min(MAX_CHAIN_JOINTS)
+        } else {
+            0
+        };
+        let n = match n_phi.max(n_latch.min(half)).max(highest_phi) {
             0 => half.max(1),
             n => n,
         };
@@ -529,6 +546,34 @@ mod tests {
         t_s,phi1_deg,latch1,psi_deg,kneeB_deg,kneeB\n\
         0.000,90.0,0,-10.5,150.25,0\n\
         0.010,0.0,1,-20.0,180.0,1\n";
+
+    #[test]
+    fn a_missing_angle_column_is_named_whatever_its_place() {
+        // Four joints without `phi3_deg`; three joints without `phi1_deg`.
+        for (header, missing) in [
+            (
+                "t_s,phi1_deg,phi2_deg,phi4_deg,latch1,latch2,latch3,latch4",
+                "phi3_deg",
+            ),
+            ("t_s,phi2_deg,phi3_deg,latch1,latch2,latch3", "phi1_deg"),
+            ("t_s,phi1_deg,phi3_deg,latch1,latch2", "phi2_deg"),
+        ] {
+            let width = header.split(',').count();
+            let row = vec!["0.0"; width].join(",");
+            let e = Run::parse(&format!("{header}\n{row}\n"), "m.csv")
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(&format!("missing column `{missing}`")),
+                "{header}: {e}"
+            );
+        }
+        // A number far past the columns stays a misspelt column.
+        let e = Run::parse("t_s,phi1_deg,phi9_deg,latch1,latch2\n0,0,0,0,0\n", "m.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains("missing column `phi3_deg`"), "{e}");
+    }
 
     #[test]
     fn documented_extra_columns_are_read_kept_and_written_back() {
