@@ -158,7 +158,7 @@ impl<const N: usize> Predictor<N> {
         const {
             assert!(
                 N <= ROLLOUT_MAX_JOINTS,
-                "a predictor holds at most 4 joints"
+                "a predictor holds at most 8 joints"
             )
         };
         Predictor {

@@ -47,12 +47,12 @@ use crate::physics::spring::Branch;
 
 pub use crate::monitor::creep::{creep, Creep, CreepJoint, CreepRun};
 
-/// The most joints a rollout holds: the longest chain of `physics.md`
-/// section 1 (`n = 1..4`). The rollout's stepping is written once over
-/// arrays of this capacity with the joint count known at run time
+/// The most joints a rollout holds: the most a monitor has
+/// (`telemetry::config::MAX_JOINTS`). The rollout's stepping is written
+/// once over arrays of this capacity with the joint count known at run time
 /// ([`ChainRef`]), so the monitors of every joint count share one copy
 /// of it.
-pub const ROLLOUT_MAX_JOINTS: usize = 4;
+pub const ROLLOUT_MAX_JOINTS: usize = 8;
 
 /// Capacity of a rollout's per-joint arrays.
 const R: usize = ROLLOUT_MAX_JOINTS;
@@ -217,7 +217,7 @@ fn unpad<T: Copy, const N: usize>(v: &[T; R], fill: T) -> [T; N] {
 impl<const N: usize> Rollout<N> {
     /// A rollout from `start`, not yet advanced.
     pub fn new(start: RolloutStart<N>) -> Self {
-        const { assert!(N <= ROLLOUT_MAX_JOINTS, "a rollout holds at most 4 joints") };
+        const { assert!(N <= ROLLOUT_MAX_JOINTS, "a rollout holds at most 8 joints") };
         let start = RolloutStart {
             state: ChainState {
                 phi: pad(&start.state.phi, 0.0),
