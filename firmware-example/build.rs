@@ -1,6 +1,6 @@
 //! Puts each binary's memory map where `cortex-m-rt`'s `link.x` looks for
 //! `memory.x`: the workspace's `memory.x` (60 KiB of flash) for the replay
-//! firmware, `memory-uart.x` (64 KiB) for the serial-link firmware, each
+//! firmwares (one per joint count), `memory-uart.x` (64 KiB) for the serial-link firmware, each
 //! in its own folder on that binary's link search path.
 
 use std::path::{Path, PathBuf};
@@ -28,6 +28,12 @@ fn main() {
         &here.join("../memory.x"),
         &out.join("replay"),
     );
+    for bin in [
+        "deploywatch-firmware-example-2",
+        "deploywatch-firmware-example-6",
+    ] {
+        memory_for(bin, &here.join("../memory.x"), &out.join(bin));
+    }
     memory_for(
         "deploywatch-firmware-uart",
         &here.join("memory-uart.x"),

@@ -29,8 +29,18 @@ set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 fw="$root/firmware-example"
-elf="$fw/target/thumbv7em-none-eabihf/release/deploywatch-firmware-example"
-uart_elf="$fw/target/thumbv7em-none-eabihf/release/deploywatch-firmware-uart"
+# The firmware's own target directory (its own workspace): firmware-example/target,
+# or DW_FIRMWARE_TARGET_DIR.
+fw_target=${DW_FIRMWARE_TARGET_DIR:-$fw/target}
+fw_bin="$fw_target/thumbv7em-none-eabihf/release"
+# One replay firmware per joint count (the monitor's N is the binary's):
+# 3 joints is the default, -2 and -6 the others (firmware-example/Cargo.toml).
+elf="$fw_bin/deploywatch-firmware-example"
+uart_elf="$fw_bin/deploywatch-firmware-uart"
+# elf_for JOINTS: the replay firmware of that joint count.
+elf_for() {
+    if [ "$1" = 3 ]; then echo "$elf"; else echo "$elf-$1"; fi
+}
 deploywatch=  # set by build_host_tool
 # The regions memory.x declares (the link fails beyond them; this check
 # reports the margin): 60 KiB of flash for the monitors of 2 and 3 joints
@@ -57,7 +67,7 @@ die() { echo "firmware.sh: $*" >&2; exit 1; }
 build_firmware() {
     # cargo reads firmware-example/.cargo/config.toml only when run from there.
     # shellcheck disable=SC2086 # DW_BUILD_STD is a list of arguments
-    (cd "$fw" && dw_cargo build --release $DW_BUILD_STD)
+    (cd "$fw" && CARGO_TARGET_DIR="$fw_target" dw_cargo build --release $DW_BUILD_STD)
 }
 
 build_host_tool() {

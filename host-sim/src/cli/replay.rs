@@ -166,18 +166,20 @@ fn qemu_elf(args: &ReplayArgs, mech: &Mechanism) -> Result<Option<PathBuf>, CliE
     if args.target == Target::Host {
         return Ok(None);
     }
-    if !replay::firmware_supports(mech.joint_count()) {
+    if args.elf.is_none() && !replay::firmware_supports(mech.joint_count()) {
         return Err(CliError::input(format!(
-            "{}: {} joints; the example firmware has monitors of {} joints only \
-             (deploywatch_core::telemetry::config::JOINT_COUNTS: the 64 KiB flash budget); \
-             --target host replays 1 to 4",
+            "{}: {} joints; the example firmware is built for {} joints \
+             (one binary per joint count, firmware-example/Cargo.toml; give --elf \
+             for a firmware built for {} joints); --target host replays 1 to {}",
             mech.name,
             mech.joint_count(),
-            replay::firmware_joint_counts()
+            replay::firmware_joint_counts(),
+            mech.joint_count(),
+            deploywatch_core::telemetry::config::MAX_JOINTS
         )));
     }
     Ok(Some(
-        replay::find_elf(args.elf.as_deref()).map_err(cli_error)?,
+        replay::find_elf(args.elf.as_deref(), mech.joint_count()).map_err(cli_error)?,
     ))
 }
 
@@ -201,7 +203,7 @@ fn target_statuses(
         return Ok((statuses, m));
     }
     if args.compare {
-        let fw = replay::firmware_loop_on_host(&prepared.input).map_err(cli_error)?;
+        let fw = replay::firmware_loop_on_host(&prepared.input, prepared.joints).map_err(cli_error)?;
         if args.keep.is_some() {
             write(&dir.join("firmware-loop.bin"), &fw)?;
         }
