@@ -21,7 +21,7 @@
 //!   `docs/simulator.md` runs 1,000:
 //!   `DEPLOYWATCH_PAWL_DRAWS=1000 cargo test --release -p deploywatch-tests --test latch_pawl -- --nocapture`).
 
-use deploywatch_core::monitor::{Monitor, Status};
+use deploywatch_core::monitor::{Monitor, Sample, Status};
 use deploywatch_core::physics::latch_contact::PhysicalLatch;
 use deploywatch_core::{Fault, LatchState};
 use deploywatch_sim::deployment::{self, SimOptions};
@@ -319,6 +319,58 @@ fn the_monitor_flags_a_broken_pawl() {
             .all(|s| f64::from(s.t_s) > broke || s.joints[0].latch != LatchState::Escaped),
         "never escaped before the break"
     );
+}
+
+/// The monitor's statuses on `samples` of a pawl mechanism.
+fn statuses<const N: usize>(mech: &Mechanism, samples: &[Sample<N>]) -> Vec<Status<N>> {
+    let cfg = monitor_config::<N>(mech).expect("monitor config");
+    let mut m = Monitor::new(&cfg).expect("monitor");
+    samples.iter().map(|s| m.update_and_predict(s)).collect()
+}
+
+/// Issue 38: a latched pawl joint rebounds within its notch (0.2 to 0.8°
+/// over a few samples, the switch opening with it) — motion the lock
+/// allows, never `encoder_outlier`; a real spike of the encoder at a
+/// latched joint, beyond the notch, still is.
+#[test]
+fn a_pawl_rebound_is_no_encoder_outlier_a_spike_still_is() {
+    let mech = mechanism("seed001_T01_pawl.toml");
+    let run = simulate(&mech, &[], &SimOptions::default()).expect("run");
+    let mut rebounds = 0;
+    for seed in 0..3 {
+        let measured = measure(&run.traj, &[], &SensorModel::REFERENCE, seed);
+        let mut samples = samples::<3>(&measured).expect("joint count");
+        let st = statuses(&mech, &samples);
+        let mut latched_at = [None; 3];
+        for (k, s) in st.iter().enumerate() {
+            for (j, js) in s.joints.iter().enumerate() {
+                if latched_at[j].is_some() {
+                    let at = format!("seed {seed} joint {} t {}", j + 1, s.t_s);
+                    assert!(!js.faults.contains(Fault::EncoderOutlier), "{at}");
+                    rebounds += usize::from(!samples[k].latch[j]);
+                }
+                if js.latch == LatchState::Latched && latched_at[j].is_none() {
+                    latched_at[j] = Some(k);
+                }
+            }
+        }
+        // A spike of 5° at each joint, 20 samples after its latch.
+        for (j, at) in latched_at.iter().enumerate() {
+            let k = at.expect("latched") + 20;
+            let mut spiked = samples.clone();
+            spiked[k].phi_deg[j] += 5.0;
+            let st = statuses(&mech, &spiked);
+            assert!(
+                st[k].joints[j].faults.contains(Fault::EncoderOutlier),
+                "seed {seed} joint {}: the spike at t {} is not flagged",
+                j + 1,
+                st[k].t_s
+            );
+        }
+        samples.clear();
+    }
+    // The runs do rebound once latched: samples with the switch open.
+    assert!(rebounds > 0, "no rebound after a latch: the test tests nothing");
 }
 
 /// One named effect at a plausible value, or none.

@@ -598,10 +598,7 @@ pub fn plot(png: &Path, title: &str, statuses: &[StatusRow]) -> Result<(), plot:
     let margin = col(|s| s.margin_pct.map_or(f64::NAN, f64::from));
     let markers: Vec<(f64, String)> = summary(statuses)
         .iter()
-        .filter_map(|s| {
-            s.latched_s
-                .map(|t| (f64::from(t), format!("latch {}", s.joint)))
-        })
+        .flat_map(JointSummary::latch_marks)
         .collect();
     let upper = margin_axis_top_pct(&margin);
     plot::draw_with_axes(
