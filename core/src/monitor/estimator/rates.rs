@@ -153,7 +153,11 @@ impl JointState {
                 RateOutcome::Used
             }
             Fusion::Rejected if ctx.impact || rebound || manoeuvre => {
-                let rate = if ctx.impact || rebound { 0.0 } else { kf.rate() };
+                let rate = if ctx.impact || rebound {
+                    0.0
+                } else {
+                    kf.rate()
+                };
                 *kf = RateFilter::new(z, sd, impact::RATE_SD, START_ACC_SD);
                 kf.set_rate(rate, 0.0);
                 kf.set_jerk_psd(observer.jerk_psd);
