@@ -203,7 +203,8 @@ fn target_statuses(
         return Ok((statuses, m));
     }
     if args.compare {
-        let fw = replay::firmware_loop_on_host(&prepared.input, prepared.joints).map_err(cli_error)?;
+        let fw =
+            replay::firmware_loop_on_host(&prepared.input, prepared.joints).map_err(cli_error)?;
         if args.keep.is_some() {
             write(&dir.join("firmware-loop.bin"), &fw)?;
         }

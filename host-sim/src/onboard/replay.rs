@@ -732,11 +732,7 @@ pub fn firmware_supports(joints: usize) -> bool {
 /// The firmware's joint counts, for messages.
 pub fn firmware_joint_counts() -> String {
     let n: Vec<String> = FIRMWARE_JOINTS.iter().map(|n| n.to_string()).collect();
-    format!(
-        "{} and {}",
-        n[..n.len() - 1].join(", "),
-        n[n.len() - 1]
-    )
+    format!("{} and {}", n[..n.len() - 1].join(", "), n[n.len() - 1])
 }
 
 /// The firmware ELF of `joints` joints: `elf` when given, else
