@@ -190,6 +190,47 @@ fn the_firmware_loop_on_the_host_is_bit_identical_for_every_reference_mechanism(
     }
 }
 
+/// Wings of 4 and 6 panels (issue 38): the firmware's loop with a monitor
+/// of the run's joint count gives the host's statuses bit for bit; with a
+/// monitor of another count it refuses the configuration by name.
+#[test]
+fn the_firmware_loop_takes_any_joint_count_it_is_built_for_and_refuses_another() {
+    for (run, mech, joints) in [
+        (
+            "examples/wing6/wing6_ideal.csv",
+            "mechanisms/wing6_ideal.toml",
+            6,
+        ),
+        (
+            "examples/wing6/wing6_plunger.csv",
+            "mechanisms/wing6_plunger.toml",
+            6,
+        ),
+        (
+            "examples/wing4/wing4_ideal.csv",
+            "mechanisms/wing4_ideal.toml",
+            4,
+        ),
+    ] {
+        let p = prepared(run, mech);
+        assert_eq!(p.joints, joints, "{run}");
+        assert_eq!(replay::firmware_supports(joints), joints == 6, "{run}");
+        let fw = replay::firmware_loop_on_host(&p.input, joints).unwrap();
+        assert_eq!(
+            replay::compare(&p.host_frames, &fw, joints),
+            Ok(p.samples),
+            "{run}"
+        );
+        let err = replay::firmware_loop_on_host(&p.input, 3).unwrap_err();
+        assert!(
+            err.to_string().contains(&format!(
+                "the configuration is of {joints} joints, the monitor of 3"
+            )),
+            "{run}: {err}"
+        );
+    }
+}
+
 #[test]
 fn compare_names_the_first_differing_frame_joint_and_field() {
     let p = prepared(
