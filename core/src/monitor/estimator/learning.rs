@@ -61,13 +61,9 @@ impl<const N: usize> Learning<N> {
     }
 }
 
-/// Capacity of the slow path's per-joint arrays written once for every
-/// joint count: a rollout's.
-
-/// The centred fit ([`Centre`]) over arrays of capacity
-/// `R` (the rollout's capacity, the monitor's `N`), the joints past the monitor's locked at 0: what
-/// the learning and the hand-over to the prediction read of it, in the
-/// form their code written once for every joint count takes.
+/// The centred fit ([`Centre`]) over arrays of capacity `R` (the
+/// rollout's, the monitor's `N`), the joints past the monitor's locked at
+/// 0: what the learning and the hand-over to the prediction read of it.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Fitted<const R: usize> {
     /// Time of the middle sample \[s\].
