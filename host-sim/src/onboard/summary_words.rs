@@ -36,6 +36,32 @@ impl JointSummary {
     }
 }
 
+impl std::fmt::Display for JointSummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let opt = |x: Option<f32>, unit: &str| x.map_or("-".into(), |v| format!("{v:.1}{unit}"));
+        write!(
+            f,
+            "joint {}: {} ({}), Coulomb {:.3} ± {:.3} N·m, viscous {:.4} ± {:.4} N·m·s/rad, \
+             margin min {} last {}, prediction {}, faults {}",
+            self.joint,
+            self.final_state,
+            self.latch_words(),
+            self.coulomb_nm.0,
+            self.coulomb_nm.1,
+            self.viscous_nms.0,
+            self.viscous_nms.1,
+            opt(self.margin_pct.0, " %"),
+            opt(self.margin_pct.1, " %"),
+            self.prediction,
+            if self.faults.is_empty() {
+                "none"
+            } else {
+                &self.faults
+            },
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -72,31 +98,5 @@ mod tests {
             ]
         );
         assert!(joint(None, None).latch_marks().is_empty());
-    }
-}
-
-impl std::fmt::Display for JointSummary {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let opt = |x: Option<f32>, unit: &str| x.map_or("-".into(), |v| format!("{v:.1}{unit}"));
-        write!(
-            f,
-            "joint {}: {} ({}), Coulomb {:.3} ± {:.3} N·m, viscous {:.4} ± {:.4} N·m·s/rad, \
-             margin min {} last {}, prediction {}, faults {}",
-            self.joint,
-            self.final_state,
-            self.latch_words(),
-            self.coulomb_nm.0,
-            self.coulomb_nm.1,
-            self.viscous_nms.0,
-            self.viscous_nms.1,
-            opt(self.margin_pct.0, " %"),
-            opt(self.margin_pct.1, " %"),
-            self.prediction,
-            if self.faults.is_empty() {
-                "none"
-            } else {
-                &self.faults
-            },
-        )
     }
 }
