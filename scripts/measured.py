@@ -323,7 +323,7 @@ def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
     cmd, args = sys.argv[1], sys.argv[2:]
-    if cmd == "firmware-size" and len(args) == 4:
+    if cmd == "firmware-size" and args:
         firmware_size(*args)
     elif cmd == "firmware-replays" and len(args) == 5:
         firmware_replays(*args)
