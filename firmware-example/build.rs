@@ -1,6 +1,7 @@
 //! Puts each binary's memory map where `cortex-m-rt`'s `link.x` looks for
 //! `memory.x`: the workspace's `memory.x` (60 KiB of flash) for the replay
-//! firmware, `memory-uart.x` (64 KiB) for the serial-link firmware, each
+//! firmwares of 2 and 3 joints, `memory-6.x` (60 KiB, 32 KiB of RAM) for
+//! that of 6, `memory-uart.x` (64 KiB) for the serial-link firmware, each
 //! in its own folder on that binary's link search path.
 
 use std::path::{Path, PathBuf};
@@ -27,6 +28,16 @@ fn main() {
         "deploywatch-firmware-example",
         &here.join("../memory.x"),
         &out.join("replay"),
+    );
+    memory_for(
+        "deploywatch-firmware-example-2",
+        &here.join("../memory.x"),
+        &out.join("replay-2"),
+    );
+    memory_for(
+        "deploywatch-firmware-example-6",
+        &here.join("memory-6.x"),
+        &out.join("replay-6"),
     );
     memory_for(
         "deploywatch-firmware-uart",

@@ -29,19 +29,32 @@ set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 fw="$root/firmware-example"
-elf="$fw/target/thumbv7em-none-eabihf/release/deploywatch-firmware-example"
-uart_elf="$fw/target/thumbv7em-none-eabihf/release/deploywatch-firmware-uart"
+# The firmware's own target directory (its own workspace): firmware-example/target,
+# or DW_FIRMWARE_TARGET_DIR.
+fw_target=${DW_FIRMWARE_TARGET_DIR:-$fw/target}
+fw_bin="$fw_target/thumbv7em-none-eabihf/release"
+# One replay firmware per joint count (the monitor's N is the binary's):
+# 3 joints is the default, -2 and -6 the others (firmware-example/Cargo.toml).
+elf="$fw_bin/deploywatch-firmware-example"
+uart_elf="$fw_bin/deploywatch-firmware-uart"
+# elf_for JOINTS: the replay firmware of that joint count.
+elf_for() {
+    if [ "$1" = 3 ]; then echo "$elf"; else echo "$elf-$1"; fi
+}
 deploywatch=  # set by build_host_tool
 # The regions memory.x declares (the link fails beyond them; this check
-# reports the margin): 60 KiB of flash for the monitors of 2 and 3 joints
-# (docs/performance.md, "Flash, stack and RAM").
+# reports the margin): 60 KiB of flash and 16 KiB of RAM for the replay
+# firmware of 2 or 3 joints (docs/performance.md, "Flash, stack and RAM");
+# the one of 6 joints has 32 KiB of RAM (firmware-example/memory-6.x).
 FLASH_BUDGET=$((60 * 1024))
 RAM_BUDGET=$((16 * 1024))
+RAM_BUDGET_6=$((32 * 1024))
 # The monitor's budgets on the Cortex-M4F (docs/monitor.md §6.1): instructions
 # of the sample path Monitor::update (ideal latches / a physical latch), of
 # one predict slice (17 slices within 30 % of a 100 MHz M4F at 100 Hz), and
-# the stack. `test` writes the measured figures against them into
-# docs/measured.md (scripts/measured.py) and fails when one is not met.
+# the stack, for the monitors of up to 3 joints. `test` writes the measured
+# figures against them into docs/measured.md (scripts/measured.py) and fails
+# when one is not met; those of 6 joints are measured and stated there.
 UPDATE_BUDGET=4400
 UPDATE_BUDGET_PHYSICAL=5000
 SLICE_BUDGET=17350
@@ -57,7 +70,7 @@ die() { echo "firmware.sh: $*" >&2; exit 1; }
 build_firmware() {
     # cargo reads firmware-example/.cargo/config.toml only when run from there.
     # shellcheck disable=SC2086 # DW_BUILD_STD is a list of arguments
-    (cd "$fw" && dw_cargo build --release $DW_BUILD_STD)
+    (cd "$fw" && CARGO_TARGET_DIR="$fw_target" dw_cargo build --release $DW_BUILD_STD)
 }
 
 build_host_tool() {
@@ -70,9 +83,9 @@ build_host_tool() {
     [ -x "$deploywatch" ] || die "no $deploywatch after the build"
 }
 
-# size_of ELF FLASH_BUDGET: flash and RAM of one ELF against its budget.
+# size_of ELF FLASH_BUDGET [RAM_BUDGET]: flash and RAM of one ELF against its budget.
 size_of() {
-    local elf=$1 budget=$2
+    local elf=$1 budget=$2 ram_budget=${3:-$RAM_BUDGET}
     [ -f "$elf" ] || die "no firmware ELF $elf: run scripts/firmware.sh build"
     # Berkeley format: text (flash code + constants), data (flash and RAM),
     # bss (RAM). The stack takes the rest of RAM.
@@ -83,14 +96,25 @@ size_of() {
     echo "firmware: $elf"
     printf '  flash %6d B of %6d B (%3d %%)\n' "$flash" "$budget" $((100 * flash / budget))
     printf '  RAM   %6d B of %6d B (%3d %%), static data only; the stack uses the rest\n' \
-        "$ram" "$RAM_BUDGET" $((100 * ram / RAM_BUDGET))
-    [ "$flash" -le "$budget" ] && [ "$ram" -le "$RAM_BUDGET" ] || die "over the budget"
+        "$ram" "$ram_budget" $((100 * ram / ram_budget))
+    [ "$flash" -le "$budget" ] && [ "$ram" -le "$ram_budget" ] || die "over the budget"
 }
 
 size_report() {
-    size_of "$elf" "$FLASH_BUDGET"
-    python3 "$root/scripts/measured.py" firmware-size "$flash_of_last" "$ram_of_last" "$FLASH_BUDGET" "$RAM_BUDGET"
+    local rows=() n ram_budget
+    for n in 3 2 6; do
+        ram_budget=$RAM_BUDGET
+        [ "$n" = 6 ] && ram_budget=$RAM_BUDGET_6
+        size_of "$(elf_for $n)" "$FLASH_BUDGET" "$ram_budget"
+        rows+=("$n:$flash_of_last:$ram_of_last:$FLASH_BUDGET:$ram_budget")
+    done
+    python3 "$root/scripts/measured.py" firmware-size "${rows[@]}"
     size_of "$uart_elf" "$UART_FLASH_BUDGET"
+}
+
+# joints_of MECH.toml: the mechanism's joint count (its [[panel]] tables).
+joints_of() {
+    grep -c '^\[\[panel\]\]' "$1"
 }
 
 # panic_check: the firmware ELF must link no panic path from the project's
@@ -103,7 +127,7 @@ size_report() {
 # named, not failed: their panics are theirs to prove.
 panic_check() {
     local elf=${1:-$elf}
-    [ -f "$elf" ] || die "no firmware ELF: run scripts/firmware.sh build"
+    [ -f "$elf" ] || die "no firmware ELF $elf: run scripts/firmware.sh build"
     local dis
     dis=$(arm-none-eabi-objdump -d -C --no-show-raw-insn "$elf")
     # Panic entries, then the outlined stubs that branch into one.
@@ -139,11 +163,11 @@ panic_check() {
     echo "  panic paths ($(basename "$elf")): none from core/src or firmware-example/src; $theirs call site(s) in dependencies: ${!deps[*]}"
 }
 
-# qemu_exec IN OUT: runs the firmware on IN, writes OUT and returns
+# qemu_exec IN OUT [ELF]: runs the firmware (of 3 joints unless ELF) on IN, writes OUT and returns
 # QEMU's exit status (the firmware's); the defmt log goes to stdout, decoded
 # by defmt-print when it is installed.
 qemu_exec() {
-    local in out
+    local in out elf=${3:-$elf}
     in=$(realpath "$1")
     out=$(realpath -m "$2")
     [ -f "$in" ] || die "no input file $1"
@@ -189,7 +213,8 @@ replay() {
     mkdir -p "$dir"
     # The firmware's log (instruction counts, stack) goes to stderr and to
     # DIR/replay.log, which scripts/measured.py reads.
-    "$deploywatch" replay "$csv" --mechanism "$mech" --target qemu --elf "$elf" \
+    # The replay firmware built for the mechanism's joint count.
+    "$deploywatch" replay "$csv" --mechanism "$mech" --target qemu --elf "$(elf_for "$(joints_of "$mech")")" \
         --keep "$dir" --out "$dir/status.csv" --timeout "${QEMU_TIMEOUT:-300}" \
         2> >(tee "$dir/replay.log" >&2) \
         || die "replay of $csv failed"
@@ -210,14 +235,14 @@ case "$cmd" in
         build_firmware
         build_host_tool
         size_report
-        panic_check
+        for n in 3 2 6; do panic_check "$(elf_for $n)"; done
         panic_check "$uart_elf"
         ;;
     size)
         size_report
         ;;
     panic-check)
-        panic_check
+        for n in 3 2 6; do panic_check "$(elf_for $n)"; done
         panic_check "$uart_elf"
         ;;
     hil)
@@ -242,13 +267,14 @@ case "$cmd" in
         build_firmware
         build_host_tool
         size_report
-        panic_check
+        for n in 3 2 6; do panic_check "$(elf_for $n)"; done
         panic_check "$uart_elf"
         # The replay protocol and the firmware's loop, on the host; the
         # serial link's loop on lossy streams and the latch escapes.
         (cd "$root" && cargo test --quiet --release -p deploywatch-sim --test replay --test hil)
         # Every reference mechanism (data/mechanisms/: seed 000 cases 1 and 3,
-        # 2 joints; seed 001 T01 and T02, 3 joints), nominal and with friction
+        # 2 joints, on the firmware of 2; seed 001 T01 and T02, 3 joints, on
+        # that of 3), nominal and with friction
         # (data/reference/), then measured-like runs (noise, quantisation,
         # friction) of the seed 001 mechanisms, and the physical-latch runs.
         for ref in "$root"/data/reference/*.csv; do
@@ -266,6 +292,23 @@ case "$cmd" in
             "$root/data/mechanisms/seed001_T02_physical_latch.toml"
         replay "$root/data/examples/latch_escape_never/seed001_T01.csv" \
             "$root/data/mechanisms/seed001_T01_physical_latch.toml"
+        # Wings of 4 and 6 panels (data/mechanisms/wing4_*, wing6_*): the
+        # 6-joint runs on the firmware built for 6 joints; the 4-joint run on
+        # the firmware of 3, which must refuse it (exit 1, the joint count named).
+        for run in "$root"/data/examples/wing6/*.csv; do
+            replay "$run" "$root/data/mechanisms/$(basename "${run%.csv}").toml"
+        done
+        w4="$root/data/examples/wing4/wing4_ideal.csv"
+        wrong="$root/target/replay/wrong-joint-count"
+        mkdir -p "$wrong"
+        "$deploywatch" replay "$w4" --mechanism "$root/data/mechanisms/wing4_ideal.toml" \
+            --target host --keep "$wrong" -q >/dev/null
+        status=0
+        qemu_exec "$wrong/input.bin" "$wrong/qemu.bin" >"$wrong/qemu.log" 2>&1 || status=$?
+        [ "$status" -eq 1 ] || die "a 4-joint input to the 3-joint firmware gave QEMU exit $status, expected 1"
+        grep -q "this firmware is built for 3" "$wrong/qemu.log" \
+            || die "the 3-joint firmware did not name the joint count of a 4-joint input"
+        echo "4-joint input to the 3-joint firmware: refused by name, exit 1, as it should"
         # A damaged input must fail the firmware with exit 1, not hang or
         # write a partial file as if all were well.
         bad="$root/target/replay/truncated"

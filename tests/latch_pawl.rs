@@ -21,7 +21,7 @@
 //!   `docs/simulator.md` runs 1,000:
 //!   `DEPLOYWATCH_PAWL_DRAWS=1000 cargo test --release -p deploywatch-tests --test latch_pawl -- --nocapture`).
 
-use deploywatch_core::monitor::{Monitor, Status};
+use deploywatch_core::monitor::{Monitor, Sample, Status};
 use deploywatch_core::physics::latch_contact::PhysicalLatch;
 use deploywatch_core::{Fault, LatchState};
 use deploywatch_sim::deployment::{self, SimOptions};
@@ -318,6 +318,84 @@ fn the_monitor_flags_a_broken_pawl() {
         st.iter()
             .all(|s| f64::from(s.t_s) > broke || s.joints[0].latch != LatchState::Escaped),
         "never escaped before the break"
+    );
+}
+
+/// The monitor's statuses on `samples` of a pawl mechanism.
+fn statuses<const N: usize>(mech: &Mechanism, samples: &[Sample<N>]) -> Vec<Status<N>> {
+    let cfg = monitor_config::<N>(mech).expect("monitor config");
+    let mut m = Monitor::new(&cfg).expect("monitor");
+    samples.iter().map(|s| m.update_and_predict(s)).collect()
+}
+
+/// Issue 38: a latched pawl joint rebounds within its notch (0.2 to 0.8°
+/// over a few samples, the switch opening with it) — motion the lock
+/// allows, never `encoder_outlier`; a real spike of the encoder mid-swing
+/// still is, and one at a latched joint beyond the pawl's reach is flagged
+/// (`encoder_outlier` or `latch_disagree`). A spike within the reach of a
+/// latched pawl joint is a rebound to the monitor: it cannot tell them apart.
+#[test]
+fn a_pawl_rebound_is_no_encoder_outlier_a_spike_still_is() {
+    let mech = mechanism("seed001_T01_pawl.toml");
+    let run = simulate(&mech, &[], &SimOptions::default()).expect("run");
+    let mut rebounds = 0;
+    for seed in 0..3 {
+        let measured = measure(&run.traj, &[], &SensorModel::REFERENCE, seed);
+        let mut samples = samples::<3>(&measured).expect("joint count");
+        let st = statuses(&mech, &samples);
+        let mut latched_at = [None; 3];
+        for (k, s) in st.iter().enumerate() {
+            for (j, js) in s.joints.iter().enumerate() {
+                if latched_at[j].is_some() {
+                    let at = format!("seed {seed} joint {} t {}", j + 1, s.t_s);
+                    assert!(!js.faults.contains(Fault::EncoderOutlier), "{at}");
+                    rebounds += usize::from(!samples[k].latch[j]);
+                }
+                if js.latch == LatchState::Latched && latched_at[j].is_none() {
+                    latched_at[j] = Some(k);
+                }
+            }
+        }
+        // A spike 2° beyond the latch's reach (the farthest the pawl lets
+        // the joint back: its notch and the contact's give under the
+        // breaking torque) at each joint, 20 samples after its latch.
+        let reach = monitor_config::<3>(&mech)
+            .expect("monitor config")
+            .latch
+            .physical
+            .expect("a pawl")
+            .crest_deg;
+        for (j, at) in latched_at.iter().enumerate() {
+            let latched = at.expect("latched");
+            // Mid-swing (the first reading within 45° of the latch): a
+            // spike of 5°, flagged `encoder_outlier` as before.
+            let k = samples
+                .iter()
+                .position(|x| x.phi_deg[j].abs() < 45.0)
+                .expect("mid-swing");
+            let mut spiked = samples.clone();
+            spiked[k].phi_deg[j] += 5.0;
+            let js = statuses(&mech, &spiked)[k].joints[j];
+            let at = format!("seed {seed} joint {} sample {k}", j + 1);
+            assert!(js.faults.contains(Fault::EncoderOutlier), "{at}: {js:?}");
+            // Latched: beyond the reach it is no rebound, and flagged.
+            let k = latched + 20;
+            let mut spiked = samples.clone();
+            spiked[k].phi_deg[j] = -(reach + 2.0) * spiked[k].phi_deg[j].signum();
+            let js = statuses(&mech, &spiked)[k].joints[j];
+            let at = format!("seed {seed} joint {} sample {k}", j + 1);
+            assert!(
+                js.faults.contains(Fault::EncoderOutlier)
+                    || js.faults.contains(Fault::LatchDisagree),
+                "{at}: {js:?}"
+            );
+        }
+        samples.clear();
+    }
+    // The runs do rebound once latched: samples with the switch open.
+    assert!(
+        rebounds > 0,
+        "no rebound after a latch: the test tests nothing"
     );
 }
 

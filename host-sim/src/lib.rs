@@ -275,9 +275,10 @@ pub mod monitor_config {
 
 /// A run replayed through the on-board monitor, on the host or under QEMU.
 pub mod replay {
+    pub use crate::onboard::firmware::{firmware_loop_on_host, firmware_supports};
     pub use crate::onboard::replay::{
-        compare, decode_statuses, firmware_loop_on_host, firmware_supports, frames, load_run,
-        prepare, summary, Prepared, ReplayError, StatusRow,
+        compare, decode_statuses, frames, load_run, prepare, summary, Prepared, ReplayError,
+        StatusRow,
     };
 }
 

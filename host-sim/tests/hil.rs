@@ -21,9 +21,30 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
+/// A source over `bytes`.
+fn source(mut rest: &[u8]) -> Source<impl FnMut(&mut [u8]) -> Result<usize, ()> + '_> {
+    Source::new(move |buf: &mut [u8]| {
+        let k = buf.len().min(rest.len());
+        buf[..k].copy_from_slice(&rest[..k]);
+        rest = &rest[k..];
+        Ok(k)
+    })
+}
+
 /// The frames the firmware's loop writes for `bytes` (configuration,
-/// samples, then one report request), and its last report.
+/// samples, then one report request), and its last report: a firmware
+/// built for the joint count of the configuration's header.
 fn firmware_loop(bytes: &[u8]) -> (Vec<Vec<u8>>, LinkReport) {
+    let joints = read_header(&mut source(bytes)).expect("header").joints;
+    match joints {
+        2 => firmware_loop_n::<2>(bytes),
+        3 => firmware_loop_n::<3>(bytes),
+        n => panic!("no firmware loop of {n} joints in this test"),
+    }
+}
+
+/// [`firmware_loop`] of a firmware built for `N` joints.
+fn firmware_loop_n<const N: usize>(bytes: &[u8]) -> (Vec<Vec<u8>>, LinkReport) {
     let mut rest = bytes;
     let mut src = Source::new(|buf: &mut [u8]| {
         let k = buf.len().min(rest.len());
@@ -32,8 +53,8 @@ fn firmware_loop(bytes: &[u8]) -> (Vec<Vec<u8>>, LinkReport) {
         Ok(k)
     });
     let header = read_header(&mut src).expect("header");
-    let mut config = ConfigStore::Empty;
-    let mut store = MonitorStore::Empty;
+    let mut config = ConfigStore::<N>::Empty;
+    let mut store = MonitorStore::<N>::Empty;
     configure(&header, &mut src, &mut config, &mut store).expect("configuration");
     let mut frames = Vec::new();
     let mut report = LinkReport::READY;

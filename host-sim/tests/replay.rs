@@ -179,7 +179,7 @@ fn the_firmware_loop_on_the_host_is_bit_identical_for_every_reference_mechanism(
     ] {
         let p = prepared(run, mech);
         assert!(replay::firmware_supports(p.joints), "{run}");
-        let fw = replay::firmware_loop_on_host(&p.input).unwrap();
+        let fw = replay::firmware_loop_on_host(&p.input, p.joints).unwrap();
         assert_eq!(
             replay::compare(&p.host_frames, &fw, p.joints),
             Ok(p.samples),
@@ -187,6 +187,47 @@ fn the_firmware_loop_on_the_host_is_bit_identical_for_every_reference_mechanism(
         );
         let decoded = replay::decode_statuses(&fw, p.joints).unwrap();
         assert!(decoded == p.host, "{run}");
+    }
+}
+
+/// Wings of 4 and 6 panels (issue 38): the firmware's loop with a monitor
+/// of the run's joint count gives the host's statuses bit for bit; with a
+/// monitor of another count it refuses the configuration by name.
+#[test]
+fn the_firmware_loop_takes_any_joint_count_it_is_built_for_and_refuses_another() {
+    for (run, mech, joints) in [
+        (
+            "examples/wing6/wing6_ideal.csv",
+            "mechanisms/wing6_ideal.toml",
+            6,
+        ),
+        (
+            "examples/wing6/wing6_plunger.csv",
+            "mechanisms/wing6_plunger.toml",
+            6,
+        ),
+        (
+            "examples/wing4/wing4_ideal.csv",
+            "mechanisms/wing4_ideal.toml",
+            4,
+        ),
+    ] {
+        let p = prepared(run, mech);
+        assert_eq!(p.joints, joints, "{run}");
+        assert_eq!(replay::firmware_supports(joints), joints == 6, "{run}");
+        let fw = replay::firmware_loop_on_host(&p.input, joints).unwrap();
+        assert_eq!(
+            replay::compare(&p.host_frames, &fw, joints),
+            Ok(p.samples),
+            "{run}"
+        );
+        let err = replay::firmware_loop_on_host(&p.input, 3).unwrap_err();
+        assert!(
+            err.to_string().contains(&format!(
+                "the configuration is of {joints} joints, the monitor of 3"
+            )),
+            "{run}: {err}"
+        );
     }
 }
 
@@ -222,13 +263,13 @@ fn damaged_inputs_stop_the_firmware_loop() {
         "mechanisms/seed000_case1.toml",
     );
     // Truncated inside the last frame.
-    let err = replay::firmware_loop_on_host(&p.input[..p.input.len() - 2]).unwrap_err();
+    let err = replay::firmware_loop_on_host(&p.input[..p.input.len() - 2], p.joints).unwrap_err();
     assert!(err.to_string().contains("ends inside a frame"), "{err}");
     // A flipped bit in a late sample frame: its CRC fails, with its index.
     let mut bad = p.input.clone();
     let at = bad.len() - 10;
     bad[at] ^= 0x10;
-    let err = replay::firmware_loop_on_host(&bad).unwrap_err();
+    let err = replay::firmware_loop_on_host(&bad, p.joints).unwrap_err();
     assert!(
         err.to_string()
             .contains(&format!("sample frame {}", p.samples - 1)),
@@ -236,11 +277,11 @@ fn damaged_inputs_stop_the_firmware_loop() {
     );
     // No configuration: the samples alone.
     let config_len: usize = replay::frames(&p.input).take(3).map(<[u8]>::len).sum();
-    let err = replay::firmware_loop_on_host(&p.input[config_len..]).unwrap_err();
+    let err = replay::firmware_loop_on_host(&p.input[config_len..], p.joints).unwrap_err();
     assert!(err.to_string().contains("configuration"), "{err}");
     // An empty input has no configuration either.
     assert!(matches!(
-        replay::firmware_loop_on_host(&[]),
+        replay::firmware_loop_on_host(&[], p.joints),
         Err(ReplayError::Target(_))
     ));
 }

@@ -266,6 +266,14 @@ impl Bounce {
         2.0 * off_deg - self.prev_off
     }
 
+    /// True when a reading `off_deg` \[deg\] from the stop is within the
+    /// crest's reach ([`StopLimits::escape_deg`]: the crest, or a pawl's
+    /// notch, and the encoder's noise); false when no physical latch is
+    /// tracked.
+    pub fn within_reach(&self, off_deg: f32) -> bool {
+        off_deg <= self.zone_deg
+    }
+
     /// True while the previous reading put the joint within the crest's
     /// reach by this one.
     pub fn in_zone(&self) -> bool {

@@ -181,7 +181,7 @@ impl<const N: usize> MonitorConfig<N> {
     }
 }
 
-/// Why a configuration was rejected.
+/// Why a configuration was rejected: matchable, every parameter a variant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum ConfigError {
@@ -192,10 +192,128 @@ pub enum ConfigError {
         /// 0-based joint index.
         index: usize,
         /// Which parameter.
-        what: &'static str,
+        what: JointParam,
     },
     /// A tuning parameter is out of range.
-    Parameter(&'static str),
+    Parameter(TuningParam),
+    /// The configuration has `found` joints where the monitor has
+    /// `expected` (the joint count is the monitor's type, `Monitor<N>`).
+    JointCount {
+        /// The monitor's joint count `N`.
+        expected: usize,
+        /// The configuration's.
+        found: usize,
+    },
+}
+
+/// A parameter of one joint ([`JointConfig`]), as [`ConfigError::Joint`]
+/// names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum JointParam {
+    /// [`JointConfig::stowed_deg`].
+    StowedDeg,
+    /// [`JointConfig::capture_deg`].
+    CaptureDeg,
+    /// The Coulomb prior's mean.
+    CoulombPrior,
+    /// The Coulomb prior's standard deviation.
+    CoulombPriorSd,
+    /// The viscous prior's mean.
+    ViscousPrior,
+    /// The viscous prior's standard deviation.
+    ViscousPriorSd,
+    /// [`JointConfig::latch`], the latch's engagement.
+    LatchEngagement,
+}
+
+impl JointParam {
+    /// The parameter's name.
+    pub const fn name(self) -> &'static str {
+        match self {
+            JointParam::StowedDeg => "stowed_deg",
+            JointParam::CaptureDeg => "capture_deg",
+            JointParam::CoulombPrior => "coulomb prior",
+            JointParam::CoulombPriorSd => "coulomb prior sd",
+            JointParam::ViscousPrior => "viscous prior",
+            JointParam::ViscousPriorSd => "viscous prior sd",
+            JointParam::LatchEngagement => "latch engagement",
+        }
+    }
+}
+
+/// A tuning parameter of [`MonitorConfig`], as [`ConfigError::Parameter`]
+/// names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum TuningParam {
+    /// `SensorConfig::encoder_sd_deg`.
+    EncoderSdDeg,
+    /// `SensorConfig::encoder_step_deg`.
+    EncoderStepDeg,
+    /// `ObserverConfig::jerk_psd`.
+    JerkPsd,
+    /// `ObserverConfig::jerk_adaptation`.
+    JerkAdaptation,
+    /// `ObserverConfig::zone_jerk_psd`.
+    ZoneJerkPsd,
+    /// `ObserverConfig::snap_zone_deg`.
+    SnapZoneDeg,
+    /// `ObserverConfig::gate_sigma`.
+    GateSigma,
+    /// The friction observer's bandwidth.
+    BandwidthPerS,
+    /// The friction observer's Coulomb threshold.
+    CoulombThreshold,
+    /// The friction observer's random walks.
+    FrictionWalk,
+    /// The friction observer's residual variance floor.
+    ResidualVarFloor,
+    /// `ObserverConfig::settle_s`.
+    SettleS,
+    /// `ObserverConfig::min_dt_s` and `max_gap_s`.
+    TimeStepLimits,
+    /// `MarginConfig::factors`.
+    UncertaintyFactors,
+    /// `MarginConfig::confidence`.
+    Confidence,
+    /// `MarginConfig::rollout`.
+    Rollout,
+    /// `MarginConfig::deadline_s`.
+    DeadlineS,
+    /// `MarginConfig::spring_sd_rel` and `energy_sd_floor_j`.
+    MarginSpread,
+    /// `LatchConfig`'s thresholds.
+    LatchThresholds,
+}
+
+impl TuningParam {
+    /// The parameter's name.
+    pub const fn name(self) -> &'static str {
+        match self {
+            TuningParam::EncoderSdDeg => "encoder_sd_deg",
+            TuningParam::EncoderStepDeg => "encoder_step_deg",
+            TuningParam::JerkPsd => "jerk_psd",
+            TuningParam::JerkAdaptation => "jerk_adaptation",
+            TuningParam::ZoneJerkPsd => "zone_jerk_psd",
+            TuningParam::SnapZoneDeg => "snap_zone_deg",
+            TuningParam::GateSigma => "gate_sigma",
+            TuningParam::BandwidthPerS => "bandwidth_per_s",
+            TuningParam::CoulombThreshold => "coulomb_threshold_rad_s",
+            TuningParam::FrictionWalk => "friction walk",
+            TuningParam::ResidualVarFloor => "residual_var_floor",
+            TuningParam::SettleS => "settle_s",
+            TuningParam::TimeStepLimits => "time step limits",
+            TuningParam::UncertaintyFactors => "uncertainty factors",
+            TuningParam::Confidence => "confidence",
+            TuningParam::Rollout => "rollout",
+            TuningParam::DeadlineS => "deadline_s",
+            TuningParam::MarginSpread => "margin spread",
+            TuningParam::LatchThresholds => "latch thresholds",
+        }
+    }
 }
 
 impl core::fmt::Display for ConfigError {
@@ -205,11 +323,18 @@ impl core::fmt::Display for ConfigError {
             ConfigError::Joint { index, what } => {
                 write!(
                     f,
-                    "monitor joint {}: {what} must be a finite number in range",
-                    index + 1
+                    "monitor joint {}: {} must be a finite number in range",
+                    index + 1,
+                    what.name()
                 )
             }
-            ConfigError::Parameter(what) => write!(f, "monitor tuning: {what} is out of range"),
+            ConfigError::Parameter(what) => {
+                write!(f, "monitor tuning: {} is out of range", what.name())
+            }
+            ConfigError::JointCount { expected, found } => write!(
+                f,
+                "monitor of {expected} joints given a configuration of {found}"
+            ),
         }
     }
 }
@@ -230,7 +355,7 @@ fn non_negative(v: f32) -> bool {
 
 /// `Err(what)` unless `ok`: one check, in a sequence that stops at the
 /// first that fails.
-fn require(ok: bool, what: &'static str) -> Result<(), &'static str> {
+fn require<P>(ok: bool, what: P) -> Result<(), P> {
     if ok {
         Ok(())
     } else {
@@ -241,17 +366,23 @@ fn require(ok: bool, what: &'static str) -> Result<(), &'static str> {
 impl JointConfig {
     /// Checks the joint's parameters; `Err` names the first one out of
     /// range.
-    fn check(&self) -> Result<(), &'static str> {
+    fn check(&self) -> Result<(), JointParam> {
         require(
             self.stowed_deg.is_finite() && libm::fabsf(self.stowed_deg) <= ENCODER_RANGE_DEG,
-            "stowed_deg",
+            JointParam::StowedDeg,
         )?;
-        require(non_negative(self.capture_deg), "capture_deg")?;
-        require(self.prior.coulomb_nm.is_finite(), "coulomb prior")?;
-        require(positive(self.prior.coulomb_sd_nm), "coulomb prior sd")?;
-        require(self.prior.viscous_nms.is_finite(), "viscous prior")?;
-        require(positive(self.prior.viscous_sd_nms), "viscous prior sd")?;
-        require(self.latch.is_valid(), "latch engagement")?;
+        require(non_negative(self.capture_deg), JointParam::CaptureDeg)?;
+        require(self.prior.coulomb_nm.is_finite(), JointParam::CoulombPrior)?;
+        require(
+            positive(self.prior.coulomb_sd_nm),
+            JointParam::CoulombPriorSd,
+        )?;
+        require(self.prior.viscous_nms.is_finite(), JointParam::ViscousPrior)?;
+        require(
+            positive(self.prior.viscous_sd_nms),
+            JointParam::ViscousPriorSd,
+        )?;
+        require(self.latch.is_valid(), JointParam::LatchEngagement)?;
         Ok(())
     }
 }
@@ -259,9 +390,12 @@ impl JointConfig {
 impl SensorConfig {
     /// Checks the encoder's parameters; `Err` names the first one out of
     /// range.
-    fn check(&self) -> Result<(), &'static str> {
-        require(positive(self.encoder_sd_deg), "encoder_sd_deg")?;
-        require(non_negative(self.encoder_step_deg), "encoder_step_deg")?;
+    fn check(&self) -> Result<(), TuningParam> {
+        require(positive(self.encoder_sd_deg), TuningParam::EncoderSdDeg)?;
+        require(
+            non_negative(self.encoder_step_deg),
+            TuningParam::EncoderStepDeg,
+        )?;
         Ok(())
     }
 }
@@ -282,27 +416,33 @@ fn jerk_adaptation_ok(a: &JerkAdaptation) -> bool {
 impl ObserverConfig {
     /// Checks the rate filter's and the friction observer's tuning; `Err`
     /// names the first parameter out of range.
-    fn check(&self) -> Result<(), &'static str> {
+    fn check(&self) -> Result<(), TuningParam> {
         let t = &self.tuning;
-        require(positive(self.jerk_psd), "jerk_psd")?;
-        require(jerk_adaptation_ok(&self.jerk_adaptation), "jerk_adaptation")?;
-        require(positive(self.zone_jerk_psd), "zone_jerk_psd")?;
-        require(non_negative(self.snap_zone_deg), "snap_zone_deg")?;
-        require(positive(self.gate_sigma), "gate_sigma")?;
-        require(positive(t.bandwidth_per_s), "bandwidth_per_s")?;
+        require(positive(self.jerk_psd), TuningParam::JerkPsd)?;
+        require(
+            jerk_adaptation_ok(&self.jerk_adaptation),
+            TuningParam::JerkAdaptation,
+        )?;
+        require(positive(self.zone_jerk_psd), TuningParam::ZoneJerkPsd)?;
+        require(non_negative(self.snap_zone_deg), TuningParam::SnapZoneDeg)?;
+        require(positive(self.gate_sigma), TuningParam::GateSigma)?;
+        require(positive(t.bandwidth_per_s), TuningParam::BandwidthPerS)?;
         require(
             positive(t.coulomb_threshold_rad_s),
-            "coulomb_threshold_rad_s",
+            TuningParam::CoulombThreshold,
         )?;
         require(
             non_negative(t.coulomb_walk) && non_negative(t.viscous_walk),
-            "friction walk",
+            TuningParam::FrictionWalk,
         )?;
-        require(positive(t.residual_var_floor), "residual_var_floor")?;
-        require(non_negative(self.settle_s), "settle_s")?;
+        require(
+            positive(t.residual_var_floor),
+            TuningParam::ResidualVarFloor,
+        )?;
+        require(non_negative(self.settle_s), TuningParam::SettleS)?;
         require(
             positive(self.min_dt_s) && positive(self.max_gap_s) && self.max_gap_s > self.min_dt_s,
-            "time step limits",
+            TuningParam::TimeStepLimits,
         )?;
         Ok(())
     }
@@ -311,22 +451,25 @@ impl ObserverConfig {
 impl MarginConfig {
     /// Checks the margin's and the prediction's settings; `Err` names the
     /// first one out of range.
-    fn check(&self) -> Result<(), &'static str> {
+    fn check(&self) -> Result<(), TuningParam> {
         let r = &self.rollout;
-        require(self.factors.is_valid(), "uncertainty factors")?;
-        require(self.confidence > 0.5 && self.confidence < 1.0, "confidence")?;
+        require(self.factors.is_valid(), TuningParam::UncertaintyFactors)?;
+        require(
+            self.confidence > 0.5 && self.confidence < 1.0,
+            TuningParam::Confidence,
+        )?;
         require(
             positive(r.dt_s)
                 && positive(r.bracket_dt_s)
                 && positive(r.glide_dt_s)
                 && positive(r.horizon_s)
                 && positive(r.coulomb_threshold_rad_s),
-            "rollout",
+            TuningParam::Rollout,
         )?;
-        require(positive(self.deadline_s), "deadline_s")?;
+        require(positive(self.deadline_s), TuningParam::DeadlineS)?;
         require(
             non_negative(self.spring_sd_rel) && positive(self.energy_sd_floor_j),
-            "margin spread",
+            TuningParam::MarginSpread,
         )?;
         Ok(())
     }
@@ -374,16 +517,6 @@ impl<'a> ConfigRef<'a> {
         }
     }
 
-    /// The first `n` panels and joints of `config`, with its tuning;
-    /// `None` when it has fewer.
-    pub(crate) fn first<const N: usize>(config: &'a MonitorConfig<N>, n: usize) -> Option<Self> {
-        Some(ConfigRef {
-            panels: config.panels.get(..n)?,
-            joints: config.joints.get(..n)?,
-            ..ConfigRef::of(config)
-        })
-    }
-
     /// [`MonitorConfig::validate`]: one copy for every joint count (the
     /// checks take 1.4 KiB of the firmware's flash).
     #[inline(never)]
@@ -398,7 +531,7 @@ impl<'a> ConfigRef<'a> {
             .and_then(|()| self.margin.check())
             .map_err(ConfigError::Parameter)?;
         if !self.latch.is_valid() {
-            return Err(ConfigError::Parameter("latch thresholds"));
+            return Err(ConfigError::Parameter(TuningParam::LatchThresholds));
         }
         Ok(())
     }

@@ -52,8 +52,8 @@ mod state;
 pub use self::learning::LEARNING_QUEUE;
 pub use self::state::Monitor;
 pub use crate::monitor::config::{
-    ConfigError, JointConfig, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
-    ENCODER_RANGE_DEG,
+    ConfigError, JointConfig, JointParam, MarginConfig, MonitorConfig, ObserverConfig,
+    SensorConfig, TuningParam, ENCODER_RANGE_DEG,
 };
 pub use crate::monitor::predictor::Prediction;
 pub use crate::monitor::status::{

@@ -354,6 +354,15 @@ impl LatchTracker {
         !self.latched && self.bounce.enters_zone(libm::fabsf(z_deg))
     }
 
+    /// True when a reading `z_deg` \[deg\] of a latched joint with a
+    /// physical latch lies within the crest's reach (a pawl's notch): the
+    /// joint may rebound there off its stop, held by its lock, so the
+    /// reading is motion the lock allows, not an encoder spike. False for
+    /// the ideal latch and before the latch.
+    pub fn rebounds_within_lock(&self, z_deg: f32) -> bool {
+        self.latched && self.bounce.within_reach(libm::fabsf(z_deg))
+    }
+
     /// True while a physical latch's joint is out over the crest after an
     /// escape (not latched again yet).
     pub fn escaped(&self) -> bool {

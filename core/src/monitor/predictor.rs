@@ -99,33 +99,30 @@ pub struct FrictionBelief {
     pub coulomb_lower_nm: f32,
 }
 
-/// Capacity of the cycle's per-joint arrays: a rollout's
-/// ([`ROLLOUT_MAX_JOINTS`]).
-const R: usize = ROLLOUT_MAX_JOINTS;
-
 /// A finished rollout's outcome per joint, with its start time \[s\].
-type Finished = Option<([JointOutcome; R], f32)>;
+type Finished<const R: usize> = Option<([JointOutcome; R], f32)>;
 
 /// Where the next rollout starts: time \[s\], joint state and locked joints.
 pub(crate) type Start<const M: usize> = (f32, ChainState<f32, M>, [bool; M]);
 
 /// The rollout cycle of the latch / stall prediction of an `N`-joint
 /// monitor: a shell over the cycle written once for every joint count
-/// (`Cycle`, over arrays of capacity [`ROLLOUT_MAX_JOINTS`]).
+/// (`Cycle<N>`, over arrays of capacity `N`).
 #[derive(Clone, Copy, Debug)]
 pub struct Predictor<const N: usize> {
-    cycle: Cycle,
+    cycle: Cycle<N>,
 }
 
-/// The rollout cycle over arrays of capacity [`ROLLOUT_MAX_JOINTS`], the
+/// The rollout cycle over arrays of capacity `R` (at most
+/// [`ROLLOUT_MAX_JOINTS`]), the
 /// first `n` joints in use: one copy of the code for the monitors of
 /// every joint count ([`Predictor`] is its shell).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Cycle {
+pub(crate) struct Cycle<const R: usize> {
     /// Joints in use.
     n: u8,
     /// The rollout in progress, its bracket and start time \[s\].
-    rollout: Option<(Stepper, Bracket, f32)>,
+    rollout: Option<(Stepper<R>, Bracket, f32)>,
     /// The next rollout of the cycle and the joints it watches.
     next: (Bracket, [bool; R]),
     /// The nominal rollout's verdicts in this cycle: the joints it latches
@@ -135,9 +132,9 @@ pub(crate) struct Cycle {
     refreshes: u32,
     /// Last finished nominal, pessimistic and optimistic outcomes, with
     /// their start times \[s\].
-    nominal: Finished,
-    pessimistic: Finished,
-    optimistic: Finished,
+    nominal: Finished<R>,
+    pessimistic: Finished<R>,
+    optimistic: Finished<R>,
     /// The joints each bracket watched (only those it confirms or not).
     pessimistic_watch: [bool; R],
     optimistic_watch: [bool; R],
@@ -158,7 +155,7 @@ impl<const N: usize> Predictor<N> {
         const {
             assert!(
                 N <= ROLLOUT_MAX_JOINTS,
-                "a predictor holds at most 4 joints"
+                "a predictor holds at most 8 joints"
             )
         };
         Predictor {
@@ -174,12 +171,12 @@ impl<const N: usize> Predictor<N> {
             let mut padded = (
                 t,
                 ChainState {
-                    phi: [0.0; R],
-                    phi_dot: [0.0; R],
+                    phi: [0.0; N],
+                    phi_dot: [0.0; N],
                 },
-                [true; R],
+                [true; N],
             );
-            for j in 0..N.min(R) {
+            for j in 0..N.min(N) {
                 padded.1.phi[j] = x.phi[j];
                 padded.1.phi_dot[j] = x.phi_dot[j];
                 padded.2[j] = locked[j];
@@ -215,7 +212,7 @@ impl<const N: usize> Predictor<N> {
         belief: impl Fn(usize) -> FrictionBelief,
     ) -> bool {
         let store = chain.coefficients();
-        let mut capture = [0.0f32; R];
+        let mut capture = [0.0f32; N];
         for (c, x) in capture.iter_mut().zip(capture_rad.iter()) {
             *c = *x;
         }
@@ -237,12 +234,12 @@ impl<const N: usize> Predictor<N> {
 
     /// The cycle itself, for the monitor's slow path written once for
     /// every joint count.
-    pub(crate) fn cycle_mut(&mut self) -> &mut Cycle {
+    pub(crate) fn cycle_mut(&mut self) -> &mut Cycle<N> {
         &mut self.cycle
     }
 }
 
-impl Cycle {
+impl<const R: usize> Cycle<R> {
     /// A cycle of `n` joints (at most [`ROLLOUT_MAX_JOINTS`]) whose
     /// brackets are at confidence `confidence` (`Φ(z)`), with no rollout
     /// yet.
@@ -393,7 +390,7 @@ impl Cycle {
         let conf = query.confidence;
         let deadline = query.deadline_s;
         let used = j < self.count();
-        let pick = |o: Finished| {
+        let pick = |o: Finished<R>| {
             o.filter(|_| used).and_then(|(x, t0)| {
                 x.get(j).map(|x| {
                     let mut x = *x;

@@ -47,15 +47,13 @@ use crate::physics::spring::Branch;
 
 pub use crate::monitor::creep::{creep, Creep, CreepJoint, CreepRun};
 
-/// The most joints a rollout holds: the longest chain of `physics.md`
-/// section 1 (`n = 1..4`). The rollout's stepping is written once over
-/// arrays of this capacity with the joint count known at run time
-/// ([`ChainRef`]), so the monitors of every joint count share one copy
-/// of it.
-pub const ROLLOUT_MAX_JOINTS: usize = 4;
-
-/// Capacity of a rollout's per-joint arrays.
-const R: usize = ROLLOUT_MAX_JOINTS;
+/// The most joints a rollout holds: the most a monitor has
+/// (`telemetry::config::MAX_JOINTS`). The rollout's stepping (`Stepper<R>`)
+/// is written over arrays of a capacity `R` with the joint count known at
+/// run time ([`ChainRef`]); a monitor of `N` joints runs it with `R = N`,
+/// so a firmware (one `N`) carries one copy sized for its joints and pays
+/// nothing for the capacity of a longer chain.
+pub const ROLLOUT_MAX_JOINTS: usize = 8;
 
 /// Predicted time every free joint must creep before the rollout settles
 /// the outcome by the creep quadrature, and between two tries \[s\].
@@ -136,21 +134,21 @@ pub struct JointOutcome {
 }
 
 /// One forward simulation in progress: a shell over the stepping written
-/// once for every joint count (`Stepper`, [`ROLLOUT_MAX_JOINTS`]).
+/// over arrays of capacity `N` (`Stepper<N>`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rollout<const N: usize> {
-    core: Stepper,
+    core: Stepper<N>,
 }
 
-/// A rollout's state over arrays of capacity [`ROLLOUT_MAX_JOINTS`], the
-/// first `n` joints in use (the others latched, watched by none): the
-/// rollout of every joint count, and the one the predictor's cycle runs
+/// A rollout's state over arrays of capacity `R` (at most
+/// [`ROLLOUT_MAX_JOINTS`]), the first `n` joints in use (the others
+/// latched, watched by none): the one the predictor's cycle runs
 /// ([`crate::monitor::predictor`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Stepper {
+pub(crate) struct Stepper<const R: usize> {
     /// Joints in use.
     n: u8,
-    start: Assumed,
+    start: Assumed<R>,
     x: ChainState<f32, R>,
     latched: [bool; R],
     latch_after_s: [f32; R],
@@ -164,13 +162,13 @@ pub(crate) struct Stepper {
     /// them have latched (every joint unless [`Rollout::watching`]).
     watch: [bool; R],
     /// The creep quadrature in progress, resumed slice by slice.
-    settle: Option<Settle>,
+    settle: Option<Settle<R>>,
 }
 
 /// What a rollout assumes of each joint ([`RolloutStart`] without the
 /// state, which the rollout moves on from).
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Assumed {
+struct Assumed<const R: usize> {
     /// Joints latched at the start.
     latched: [bool; R],
     /// Coulomb torque of each joint [N·m].
@@ -186,7 +184,7 @@ struct Assumed {
 /// The creep quadrature of a rollout in progress (`Stepper::settle_creep`),
 /// one joint after the other, resumable.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Settle {
+struct Settle<const R: usize> {
     /// Time left to the horizon when the quadrature started \[s\].
     time_left: f32,
     /// Articulated inertia of each joint then [kg·m²].
@@ -201,7 +199,7 @@ struct Settle {
 
 /// `v` of `N` joints in an array of capacity [`ROLLOUT_MAX_JOINTS`], the
 /// rest `fill`.
-fn pad<T: Copy, const N: usize>(v: &[T; N], fill: T) -> [T; R] {
+fn pad<T: Copy, const N: usize, const R: usize>(v: &[T; N], fill: T) -> [T; R] {
     let mut out = [fill; R];
     for (o, x) in out.iter_mut().zip(v.iter()) {
         *o = *x;
@@ -210,14 +208,14 @@ fn pad<T: Copy, const N: usize>(v: &[T; N], fill: T) -> [T; R] {
 }
 
 /// The first `N` of `v`, the rest (none unless `N > R`) `fill`.
-fn unpad<T: Copy, const N: usize>(v: &[T; R], fill: T) -> [T; N] {
+fn unpad<T: Copy, const N: usize, const R: usize>(v: &[T; R], fill: T) -> [T; N] {
     core::array::from_fn(|j| v.get(j).copied().unwrap_or(fill))
 }
 
 impl<const N: usize> Rollout<N> {
     /// A rollout from `start`, not yet advanced.
     pub fn new(start: RolloutStart<N>) -> Self {
-        const { assert!(N <= ROLLOUT_MAX_JOINTS, "a rollout holds at most 4 joints") };
+        const { assert!(N <= ROLLOUT_MAX_JOINTS, "a rollout holds at most 8 joints") };
         let start = RolloutStart {
             state: ChainState {
                 phi: pad(&start.state.phi, 0.0),
@@ -280,13 +278,13 @@ impl<const N: usize> Rollout<N> {
 }
 
 /// The chain as the rollout evaluates it.
-type Model<'a> = ChainRef<'a, f32, R>;
+type Model<'a, const R: usize> = ChainRef<'a, f32, R>;
 
 /// The mass matrix `M(φ)` of the joints in use ([`ChainRef::mass_matrix`]),
 /// out of line: one copy for the rollout's three uses and the slow path's
 /// energy margin, for every joint count.
 #[inline(never)]
-pub(crate) fn mass_matrix(chain: &Model<'_>, phi: &[f32; R]) -> [[f32; R]; R] {
+pub(crate) fn mass_matrix<const R: usize>(chain: &Model<'_, R>, phi: &[f32; R]) -> [[f32; R]; R] {
     chain.mass_matrix(phi)
 }
 
@@ -294,11 +292,16 @@ pub(crate) fn mass_matrix(chain: &Model<'_>, phi: &[f32; R]) -> [[f32; R]; R] {
 /// ([`solve_spd_masked_n`]), out of line: one copy for the rollout's two
 /// uses. `None` when the free block is not positive definite.
 #[inline(never)]
-fn solve(n: usize, m: &[[f32; R]; R], b: &[f32; R], locked: &[bool; R]) -> Option<[f32; R]> {
+fn solve<const R: usize>(
+    n: usize,
+    m: &[[f32; R]; R],
+    b: &[f32; R],
+    locked: &[bool; R],
+) -> Option<[f32; R]> {
     solve_spd_masked_n(n, m, b, locked).ok()
 }
 
-impl Stepper {
+impl<const R: usize> Stepper<R> {
     /// A rollout of the first `n` joints (at most [`ROLLOUT_MAX_JOINTS`])
     /// from `start`, not yet advanced, watching every joint in use; the
     /// joints past `n` count as latched and watched by none.
@@ -373,7 +376,7 @@ impl Stepper {
 
     /// [`Rollout::advance`], one copy for every joint count.
     #[inline(never)]
-    pub(crate) fn advance(&mut self, chain: &Model<'_>, cfg: &RolloutConfig) {
+    pub(crate) fn advance(&mut self, chain: &Model<'_, R>, cfg: &RolloutConfig) {
         for _ in 0..cfg.steps_per_slice {
             if self.done {
                 return;
@@ -390,7 +393,7 @@ impl Stepper {
     /// `(M + h C) a = τ_s + τ_f − SᵀC_cor`.
     fn acceleration(
         &self,
-        chain: &Model<'_>,
+        chain: &Model<'_, R>,
         x: &ChainState<f32, R>,
         h: f32,
         wc: f32,
@@ -422,7 +425,7 @@ impl Stepper {
     /// One step: the midpoint rule (second order), each stage linearly
     /// implicit in the stiff friction; then the latches the step reached,
     /// and the end of the rollout or the start of the creep quadrature.
-    fn step(&mut self, chain: &Model<'_>, cfg: &RolloutConfig) {
+    fn step(&mut self, chain: &Model<'_, R>, cfg: &RolloutConfig) {
         let n = self.count();
         let dt = self.step_length(chain, cfg);
         let wc = cfg.coulomb_threshold_rad_s;
@@ -464,7 +467,7 @@ impl Stepper {
     /// covers at most half of what is left to its capture angle (the latch
     /// too). A step is lengthened only when these allow at least
     /// [`GLIDE_MIN_STEPS`] base steps at once.
-    fn step_length(&self, chain: &Model<'_>, cfg: &RolloutConfig) -> f32 {
+    fn step_length(&self, chain: &Model<'_, R>, cfg: &RolloutConfig) -> f32 {
         let n = self.count();
         let base = cfg.dt_s;
         let wc = cfg.coulomb_threshold_rad_s;
@@ -513,7 +516,7 @@ impl Stepper {
     /// stage linearly implicit in the friction (`ω_c` = `wc` [rad/s]).
     /// Returns the joints that reached their capture angle moving inwards,
     /// or `None` when the equations could not be solved.
-    fn integrate(&mut self, chain: &Model<'_>, dt: f32, wc: f32) -> Option<[bool; R]> {
+    fn integrate(&mut self, chain: &Model<'_, R>, dt: f32, wc: f32) -> Option<[bool; R]> {
         let n = self.count();
         let a1 = self.acceleration(chain, &self.x, 0.5 * dt, wc)?;
         let mut mid = self.x;
@@ -555,7 +558,7 @@ impl Stepper {
     /// joint's torque), so they are taken at the capture angle and kept
     /// through the jump to the latch angle and the plastic impact
     /// (physics.md §5).
-    fn latch_crossed(&mut self, chain: &Model<'_>, crossed: &[bool; R], dt: f32) {
+    fn latch_crossed(&mut self, chain: &Model<'_, R>, crossed: &[bool; R], dt: f32) {
         let n = self.count();
         // `p = M(φ) φ̇` (`Chain::momentum`) over the joints in use.
         let m = mass_matrix(chain, &self.x.phi);
@@ -612,7 +615,7 @@ impl Stepper {
     /// and looks again after another hold, not at every step (the
     /// quadrature and the snap-through cost up to a few hundred spring
     /// evaluations).
-    fn begin_settle(&mut self, chain: &Model<'_>, cfg: &RolloutConfig) {
+    fn begin_settle(&mut self, chain: &Model<'_, R>, cfg: &RolloutConfig) {
         let m = mass_matrix(chain, &self.x.phi);
         let inertia = articulated_inertias_n(self.count(), &m, &self.latched);
         self.settle = Some(Settle {
@@ -630,7 +633,7 @@ impl Stepper {
     /// then its [`creep`] time against the time left. Runs at most `evals`
     /// spring evaluations and resumes at the next call; when some joint may
     /// still break free, drops the quadrature (the integration goes on).
-    fn settle_creep(&mut self, chain: &Model<'_>, cfg: &RolloutConfig, evals: u16) {
+    fn settle_creep(&mut self, chain: &Model<'_, R>, cfg: &RolloutConfig, evals: u16) {
         let Some(mut settle) = self.settle.take() else {
             return;
         };

@@ -1,6 +1,7 @@
 //! The monitor configuration as telemetry frames: the host sends the
 //! mechanism first, so the firmware needs no table of mechanisms compiled in
-//! and replays any mechanism whose joint count is in [`JOINT_COUNTS`].
+//! and replays any mechanism of its monitor's joint count (at most
+//! [`MAX_JOINTS`]).
 //!
 //! ```text
 //! input = ConfigHeader ‖ JointFrame × joints ‖ Sample<joints> × samples
@@ -24,29 +25,13 @@ use crate::physics::spring::{Curve, Spring, TapePoints};
 use crate::physics::spring::{CurveError, Fold, Interp, MAX_KNOTS};
 use serde::{Deserialize, Serialize};
 
-/// The joint counts the firmware has a monitor for (`Monitor<N>` is
-/// monomorphised per `N`, and each size costs about 17 KiB of flash: 2 and 3,
-/// the bundled mechanisms, fill the 64 KiB budget).
-pub const JOINT_COUNTS: [u8; 2] = [2, 3];
-
-/// The most joints of a monitor the firmware carries: the largest of
-/// [`JOINT_COUNTS`]. It sizes the replay's frame buffers. The host simulates
-/// longer chains (up to `deploywatch_sim::model::mechanism::MAX_CHAIN_JOINTS`,
-/// the `n = 1..4` of `physics.md` section 1), which the firmware refuses: a
-/// monitor size costs flash, a simulated joint does not.
-pub const FIRMWARE_MAX_JOINTS: usize = largest(&JOINT_COUNTS);
-
-/// The largest of `counts` (0 for none), at compile time.
-const fn largest(mut counts: &[u8]) -> usize {
-    let mut max = 0;
-    while let [first, rest @ ..] = counts {
-        if *first as usize > max {
-            max = *first as usize;
-        }
-        counts = rest;
-    }
-    max
-}
+/// The most joints the configuration and sample frames carry, and so the
+/// most a firmware's monitor may have. The joint count itself is the
+/// firmware's: it builds one `Monitor<N>` (`N` in `1..=MAX_JOINTS`, a const
+/// generic of [`super::replay::MonitorStore`]) and refuses a configuration of
+/// another count ([`super::replay::Error::JointCount`]). It sizes the
+/// replay's frame buffers.
+pub const MAX_JOINTS: usize = crate::monitor::rollout::ROLLOUT_MAX_JOINTS;
 
 /// Version of the configuration frames; the firmware refuses another.
 pub const CONFIG_VERSION: u8 = 3;
@@ -56,8 +41,8 @@ pub const CONFIG_VERSION: u8 = 3;
 pub struct ConfigHeader {
     /// [`CONFIG_VERSION`].
     pub version: u8,
-    /// Joints of the mechanism (the firmware takes those in
-    /// [`JOINT_COUNTS`]); as many [`JointFrame`]s follow.
+    /// Joints of the mechanism, 1 to [`MAX_JOINTS`] (a firmware takes its
+    /// monitor's count); as many [`JointFrame`]s follow.
     pub joints: u8,
     /// The deployment's deadline (`MarginConfig::deadline_s`) \[s\].
     pub deadline_s: f32,

@@ -1,7 +1,7 @@
 //! The replay's sample and status frames for a joint count known at run
-//! time: read and written by one copy of the code for every joint count
-//! (the firmware links the monitors of 2 and 3 joints, and its flash is
-//! short), with the bytes of [`Sample<N>`] and [`Status<N>`] on the wire.
+//! time, up to [`MAX_JOINTS`]: the replay loop and the serial link read
+//! and write them without being generic over the joint count, with the
+//! bytes of [`Sample<N>`] and [`Status<N>`] on the wire.
 //!
 //! postcard writes a struct as its fields in order and a tuple (the
 //! arrays, `crate::monitor::serde_array`) as its elements, neither with a
@@ -18,12 +18,12 @@
 use serde::ser::{SerializeStruct, SerializeTuple, Serializer};
 use serde::Serialize;
 
-use super::config::FIRMWARE_MAX_JOINTS;
+use super::config::MAX_JOINTS;
 use super::{TelemetryError, CRC};
 use crate::monitor::estimator::{Sample, Status};
 use crate::monitor::status::JointStatus;
 
-/// A [`Sample`] of `joints` joints, at most [`FIRMWARE_MAX_JOINTS`], the
+/// A [`Sample`] of `joints` joints, at most [`MAX_JOINTS`], the
 /// count known at run time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CountedSample {
@@ -31,17 +31,17 @@ pub struct CountedSample {
     pub t_s: f32,
     /// Encoder angle of each joint \[deg\], the first `joints` in use (the
     /// others 0).
-    pub phi_deg: [f32; FIRMWARE_MAX_JOINTS],
+    pub phi_deg: [f32; MAX_JOINTS],
     /// Latch switch of each joint (true = closed), the first `joints` in
     /// use (the others open).
-    pub latch: [bool; FIRMWARE_MAX_JOINTS],
+    pub latch: [bool; MAX_JOINTS],
     /// Joints in use.
     pub joints: usize,
 }
 
 impl CountedSample {
     /// `sample` as a counted sample; `None` when it has more than
-    /// [`FIRMWARE_MAX_JOINTS`] joints.
+    /// [`MAX_JOINTS`] joints.
     pub fn of<const N: usize>(sample: &Sample<N>) -> Option<Self> {
         let mut counted = CountedSample::empty(N)?;
         counted
@@ -77,7 +77,7 @@ impl CountedSample {
     /// switch byte other than 0 or 1: [`TelemetryError::BadPayload`]; then
     /// a CRC that does not match: [`TelemetryError::BadCrc`]; bytes after
     /// the CRC are ignored). `frame` is decoded in place. A `joints` over
-    /// [`FIRMWARE_MAX_JOINTS`] is [`TelemetryError::BadPayload`].
+    /// [`MAX_JOINTS`] is [`TelemetryError::BadPayload`].
     #[inline(never)]
     pub fn decode(frame: &mut [u8], joints: usize) -> super::Result<Self> {
         let payload = super::cobs_payload(frame)?;
@@ -108,12 +108,12 @@ impl CountedSample {
     }
 
     /// A sample of `joints` joints at time 0, every reading 0 and every
-    /// switch open; `None` over [`FIRMWARE_MAX_JOINTS`].
+    /// switch open; `None` over [`MAX_JOINTS`].
     fn empty(joints: usize) -> Option<Self> {
-        (joints <= FIRMWARE_MAX_JOINTS).then_some(CountedSample {
+        (joints <= MAX_JOINTS).then_some(CountedSample {
             t_s: 0.0,
-            phi_deg: [0.0; FIRMWARE_MAX_JOINTS],
-            latch: [false; FIRMWARE_MAX_JOINTS],
+            phi_deg: [0.0; MAX_JOINTS],
+            latch: [false; MAX_JOINTS],
             joints,
         })
     }
@@ -356,9 +356,14 @@ mod tests {
         assert!(s.to_sample::<2>().is_some());
         assert!(s.to_sample::<3>().is_none());
         assert_eq!(
-            CountedSample::decode(&mut frame::<2>(0).0[..n], FIRMWARE_MAX_JOINTS + 1),
+            CountedSample::decode(&mut frame::<2>(0).0[..n], MAX_JOINTS + 1),
             Err(TelemetryError::BadPayload)
         );
-        assert!(CountedSample::of(&Sample::new(0.0, [0.0; 4], [false; 4])).is_none());
+        let eight = CountedSample::of(&Sample::new(1.0, [2.0; MAX_JOINTS], [true; MAX_JOINTS]));
+        assert_eq!(
+            eight.and_then(|s| s.to_sample::<MAX_JOINTS>()),
+            Some(Sample::new(1.0, [2.0; MAX_JOINTS], [true; MAX_JOINTS]))
+        );
+        assert!(CountedSample::of(&Sample::new(0.0, [0.0; 9], [false; 9])).is_none());
     }
 }

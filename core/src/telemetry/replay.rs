@@ -12,7 +12,15 @@
 //! - Input: the monitor configuration ([`super::config`]: a [`ConfigHeader`] frame,
 //!   then one [`JointFrame`] per joint), then one frame per sample, a
 //!   [`Sample<N>`](crate::Sample) each, in time order, `N` the
-//!   header's joint count (one of [`JOINT_COUNTS`]).
+//!   header's joint count (at most [`MAX_JOINTS`]).
+//!
+//! # Joint count and storage
+//! The joint count is the caller's: a firmware builds one monitor,
+//! `Monitor<N>` in a [`MonitorStore<N>`] with its configuration in a
+//! [`ConfigStore<N>`] (both in its static memory), and [`configure`]
+//! refuses a header of another count with [`Error::JointCount`]. The loop
+//! ([`run_paths`]) and the sample decoder are not generic: they take the
+//! count at run time, up to [`MAX_JOINTS`].
 //! - Output: one frame per input sample, the
 //!   [`Status<N>`](crate::Status) that
 //!   [`Monitor::update`](crate::Monitor::update) returned.
@@ -28,15 +36,16 @@ use crate::monitor::estimator::MonitorConfig;
 use crate::telemetry::counted::{CountedSample, StatusView};
 use crate::telemetry::{self, sample_frame_max, status_frame_max};
 
-pub use super::config::{ConfigHeader, JointFrame, FIRMWARE_MAX_JOINTS, JOINT_COUNTS};
+pub use super::config::{ConfigHeader, JointFrame, MAX_JOINTS};
 use super::config::{CONFIG_HEADER_FRAME_MAX, CONFIG_VERSION, JOINT_FRAME_MAX};
 
-/// Largest input sample frame of any joint count the firmware takes, `0x00`
-/// included \[bytes\].
-pub const SAMPLE_FRAME_MAX: usize = sample_frame_max(FIRMWARE_MAX_JOINTS);
+/// Largest input sample frame of any joint count up to [`MAX_JOINTS`],
+/// `0x00` included \[bytes\].
+pub const SAMPLE_FRAME_MAX: usize = sample_frame_max(MAX_JOINTS);
 
-/// Largest output frame of any joint count, `0x00` included \[bytes\].
-pub const STATUS_FRAME_MAX: usize = status_frame_max(FIRMWARE_MAX_JOINTS);
+/// Largest output frame of any joint count up to [`MAX_JOINTS`], `0x00`
+/// included \[bytes\].
+pub const STATUS_FRAME_MAX: usize = status_frame_max(MAX_JOINTS);
 
 /// Bytes read from the input at a time.
 pub const READ_CHUNK: usize = 256;
@@ -46,9 +55,17 @@ pub const READ_CHUNK: usize = 256;
 #[non_exhaustive]
 pub enum Error {
     /// The configuration frames are missing, do not decode, are of another
-    /// [`CONFIG_VERSION`] or give a joint count not in
-    /// [`JOINT_COUNTS`].
+    /// [`CONFIG_VERSION`] or give a joint count outside `1..=`[`MAX_JOINTS`].
     ConfigFrame,
+    /// The configuration is of `found` joints where the monitor's store
+    /// ([`MonitorStore<N>`]) has `expected`: the firmware was built for
+    /// another joint count.
+    JointCount {
+        /// The monitor's joint count `N`.
+        expected: u8,
+        /// The header's.
+        found: u8,
+    },
     /// The monitor (or the core's spring constructor) rejects the
     /// configuration.
     Config,
@@ -73,6 +90,7 @@ impl Error {
     pub fn as_str(&self) -> &'static str {
         match self {
             Error::ConfigFrame => "the configuration frames are missing or do not decode",
+            Error::JointCount { .. } => "the configuration is of another joint count",
             Error::Config => "the monitor rejects the configuration",
             Error::Read => "cannot read the input",
             Error::Write => "cannot write the output",
@@ -89,6 +107,10 @@ impl core::fmt::Display for Error {
             Error::Frame { index } => {
                 write!(f, "sample frame {index} does not decode")
             }
+            Error::JointCount { expected, found } => write!(
+                f,
+                "the configuration is of {found} joints, the monitor of {expected}"
+            ),
             other => f.write_str(other.as_str()),
         }
     }
@@ -185,116 +207,55 @@ where
         Err(FrameError::Read) => return Err(Error::Read),
         _ => return Err(Error::ConfigFrame),
     };
-    if header.version != CONFIG_VERSION || !JOINT_COUNTS.contains(&header.joints) {
+    let joints = usize::from(header.joints);
+    if header.version != CONFIG_VERSION || !(1..=MAX_JOINTS).contains(&joints) {
         return Err(Error::ConfigFrame);
     }
     Ok(header)
 }
 
-/// Where the monitor configuration is built: the firmware gives static
-/// storage (a configuration of 3 joints is about 1.5 KiB: on the stack,
-/// under the monitor's construction, it would set the stack's peak), the
-/// host anything. One slot serves every joint count.
+/// Where the monitor configuration of `N` joints is built: the firmware
+/// gives static storage (a configuration of 3 joints is about 1.5 KiB: on
+/// the stack, under the monitor's construction, it would set the stack's
+/// peak), the host anything.
 // `repr(u8)`: the tag comes first and `Empty` is 0, so an empty store is
 // all zeros and a static one goes to .bss, not to .data (whose image
 // would take its size in flash).
 #[derive(Default)]
 #[allow(clippy::large_enum_variant)]
 #[repr(u8)]
-pub enum ConfigStore {
+pub enum ConfigStore<const N: usize> {
     /// No configuration yet.
     #[default]
     Empty,
-    /// A configuration of `joints` joints: the first `joints` panels and
-    /// joints of `config` (the others are placeholders, never read). One
-    /// configuration type for every joint count, so that the code that
-    /// reads it is compiled once.
-    Counted {
-        /// Joints configured, one of [`JOINT_COUNTS`].
-        joints: usize,
-        /// The configuration.
-        config: MonitorConfig<FIRMWARE_MAX_JOINTS>,
-    },
+    /// A configuration.
+    Held(MonitorConfig<N>),
 }
 
-/// The monitor of one of the [`JOINT_COUNTS`] in a [`MonitorStore`].
-pub(crate) trait Stored<const N: usize>: Sized {
-    /// The monitor of this joint count in `store`, if that is what it holds.
-    fn get(store: &mut MonitorStore) -> Option<&mut Self>;
-    /// A store holding a vacant monitor of this joint count, for
-    /// [`Monitor::reset`] to configure in place. Out of line and returned
-    /// by value: the monitor is written straight into the returned store,
-    /// which the caller copies into its slot once (one monitor on the
-    /// stack, not the two or three that building it there takes).
-    fn vacant(config: ConfigRef<'_>) -> MonitorStore;
-    /// The monitor of this joint count in `store`: the one it holds, or a
-    /// vacant one put there first.
-    fn slot<'s>(store: &'s mut MonitorStore, config: ConfigRef<'_>) -> Option<&'s mut Self> {
-        if Self::get(store).is_none() {
-            *store = Self::vacant(config);
-        }
-        Self::get(store)
-    }
-}
-
-impl Stored<2> for Monitor<2> {
-    fn get(store: &mut MonitorStore) -> Option<&mut Self> {
-        match store {
-            MonitorStore::Two(m) => Some(m),
-            _ => None,
-        }
-    }
-
-    #[inline(never)]
-    fn vacant(config: ConfigRef<'_>) -> MonitorStore {
-        MonitorStore::Two(Monitor::vacant(config))
-    }
-}
-
-impl Stored<3> for Monitor<3> {
-    fn get(store: &mut MonitorStore) -> Option<&mut Self> {
-        match store {
-            MonitorStore::Three(m) => Some(m),
-            _ => None,
-        }
-    }
-
-    #[inline(never)]
-    fn vacant(config: ConfigRef<'_>) -> MonitorStore {
-        MonitorStore::Three(Monitor::vacant(config))
-    }
-}
-
-/// Puts a configuration of `joints` joints with placeholder joints (the
-/// first `joints` overwritten by the joint frames) and the default tuning
-/// in `store`, and returns it. Out of line: the placeholder leaves the
-/// stack before the joint frames are read.
+/// Puts a configuration of `N` placeholder joints (overwritten by the
+/// joint frames) and the default tuning in `store`, and returns it. Out of
+/// line: the placeholder leaves the stack before the joint frames are read.
 #[inline(never)]
-fn placeholder_config(
-    store: &mut ConfigStore,
-    joints: usize,
-) -> Result<&mut MonitorConfig<FIRMWARE_MAX_JOINTS>, Error> {
+fn placeholder_config<const N: usize>(
+    store: &mut ConfigStore<N>,
+) -> Result<&mut MonitorConfig<N>, Error> {
     let (panel, joint, tuning) = placeholder()?;
-    *store = ConfigStore::Counted {
-        joints,
-        config: MonitorConfig {
-            panels: [panel; FIRMWARE_MAX_JOINTS],
-            joints: [joint; FIRMWARE_MAX_JOINTS],
-            sensor: tuning.sensor,
-            observer: tuning.observer,
-            latch: tuning.latch,
-            margin: tuning.margin,
-        },
-    };
+    *store = ConfigStore::Held(MonitorConfig {
+        panels: [panel; N],
+        joints: [joint; N],
+        sensor: tuning.sensor,
+        observer: tuning.observer,
+        latch: tuning.latch,
+        margin: tuning.margin,
+    });
     match store {
-        ConfigStore::Counted { config, .. } => Ok(config),
+        ConfigStore::Held(config) => Ok(config),
         ConfigStore::Empty => Err(Error::Config),
     }
 }
 
 /// A placeholder joint (a spring of `None` always builds) and the default
-/// tuning ([`MonitorConfig::new`]'s), built once for every joint count:
-/// flash is short.
+/// tuning ([`MonitorConfig::new`]'s).
 #[inline(never)]
 fn placeholder() -> Result<
     (
@@ -326,9 +287,8 @@ where
 
 /// Reads the `joints` joint frames that follow the header into the first
 /// `joints` panels and joints of `config`, and the header's deadline and
-/// latch into its tuning; [`Error::ConfigFrame`] unless the header gives
-/// `joints` joints and `config` has as many. One copy for every joint
-/// count.
+/// latch into its tuning; [`Error::JointCount`] unless the header gives
+/// `joints` joints, [`Error::ConfigFrame`] unless `config` has as many.
 #[inline(never)]
 fn read_joints<const M: usize, R>(
     header: &ConfigHeader,
@@ -339,10 +299,15 @@ fn read_joints<const M: usize, R>(
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
 {
-    let (Some(panels), Some(frames), true) = (
+    if usize::from(header.joints) != joints {
+        return Err(Error::JointCount {
+            expected: u8::try_from(joints).unwrap_or(u8::MAX),
+            found: header.joints,
+        });
+    }
+    let (Some(panels), Some(frames)) = (
         config.panels.get_mut(..joints),
         config.joints.get_mut(..joints),
-        usize::from(header.joints) == joints,
     ) else {
         return Err(Error::ConfigFrame);
     };
@@ -394,31 +359,29 @@ where
 }
 
 /// The configuration phase of a replay, after [`read_header`]: reads the
-/// joint frames into `config` and builds the monitor of the header's joint
-/// count in `store`. With both stores in static memory the stack holds, in
-/// turn, one joint frame, then the monitor's construction — never the
-/// configuration or two of them at once.
-pub fn configure<R>(
+/// joint frames into `config` and builds the monitor in `store`;
+/// [`Error::JointCount`] when the header's joint count is not `N`. With
+/// both stores in static memory the stack holds, in turn, one joint frame,
+/// then the monitor's construction — never the configuration or two of
+/// them at once.
+pub fn configure<const N: usize, R>(
     header: &ConfigHeader,
     src: &mut Source<R>,
-    config: &mut ConfigStore,
-    store: &mut MonitorStore,
+    config: &mut ConfigStore<N>,
+    store: &mut MonitorStore<N>,
 ) -> Result<(), Error>
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
 {
-    if !JOINT_COUNTS.contains(&header.joints) {
-        return Err(Error::ConfigFrame);
+    if usize::from(header.joints) != N {
+        return Err(Error::JointCount {
+            expected: u8::try_from(N).unwrap_or(u8::MAX),
+            found: header.joints,
+        });
     }
-    let joints = usize::from(header.joints);
-    let c = placeholder_config(config, joints)?;
-    read_joints(header, src, c, joints)?;
-    let c = ConfigRef::first(c, joints).ok_or(Error::ConfigFrame)?;
-    match joints {
-        2 => build_from::<2>(c, store),
-        3 => build_from::<3>(c, store),
-        _ => Err(Error::ConfigFrame),
-    }
+    let c = placeholder_config(config)?;
+    read_joints(header, src, c, N)?;
+    build_from(ConfigRef::of(c), store)
 }
 
 /// The two kinds of work [`run`] does, each metered on its own.
@@ -445,31 +408,54 @@ impl Meter for () {
     fn stop(&mut self, _: Work) {}
 }
 
-/// Where the monitor lives: the firmware gives static storage (a monitor is
-/// kilobytes; on the stack it would double the stack's peak), the host
-/// anything. One slot serves every joint count.
+/// Where the monitor of `N` joints lives: the firmware gives static
+/// storage (a monitor is kilobytes; on the stack it would double the
+/// stack's peak), the host anything.
 // `repr(u8)`: an empty store is all zeros (.bss), as for [`ConfigStore`].
 #[derive(Default)]
 #[allow(clippy::large_enum_variant)]
 #[repr(u8)]
-pub enum MonitorStore {
+pub enum MonitorStore<const N: usize> {
     /// No monitor yet.
     #[default]
     Empty,
-    /// The 2-joint monitor.
-    Two(Monitor<2>),
-    /// The 3-joint monitor.
-    Three(Monitor<3>),
+    /// The monitor.
+    Held(Monitor<N>),
 }
 
-impl MonitorStore {
+impl<const N: usize> MonitorStore<N> {
     /// Joints of the monitor held (0 when empty).
     pub fn joints(&self) -> usize {
         match self {
             MonitorStore::Empty => 0,
-            MonitorStore::Two(_) => 2,
-            MonitorStore::Three(_) => 3,
+            MonitorStore::Held(_) => N,
         }
+    }
+
+    /// The monitor held.
+    pub fn monitor(&mut self) -> Option<&mut Monitor<N>> {
+        match self {
+            MonitorStore::Empty => None,
+            MonitorStore::Held(m) => Some(m),
+        }
+    }
+
+    /// A store holding a vacant monitor, for [`Monitor::reset`] to
+    /// configure in place. Out of line and returned by value: the monitor
+    /// is written straight into the returned store, which the caller copies
+    /// into its slot once (one monitor on the stack, not the two or three
+    /// that building it there takes).
+    #[inline(never)]
+    fn vacant(config: ConfigRef<'_>) -> Self {
+        MonitorStore::Held(Monitor::vacant(config))
+    }
+
+    /// The monitor held, or a vacant one put there first.
+    fn slot(&mut self, config: ConfigRef<'_>) -> Option<&mut Monitor<N>> {
+        if matches!(self, MonitorStore::Empty) {
+            *self = Self::vacant(config);
+        }
+        self.monitor()
     }
 
     /// Slices of [`Monitor::predict`] after each sample
@@ -477,8 +463,7 @@ impl MonitorStore {
     pub fn slices_per_sample(&self) -> Option<u8> {
         match self {
             MonitorStore::Empty => None,
-            MonitorStore::Two(m) => Some(m.config_slices_per_sample()),
-            MonitorStore::Three(m) => Some(m.config_slices_per_sample()),
+            MonitorStore::Held(m) => Some(m.config_slices_per_sample()),
         }
     }
 
@@ -486,19 +471,12 @@ impl MonitorStore {
     /// sample's conversion stays outside them). [`Error::Config`] when the
     /// sample is not of the monitor's joint count or the store is empty.
     pub fn update<M: Meter>(&mut self, sample: &CountedSample, meter: &mut M) -> Result<(), Error> {
-        match self {
-            MonitorStore::Empty => return Err(Error::Config),
-            MonitorStore::Two(m) => {
-                let s = sample.to_sample().ok_or(Error::Config)?;
-                meter.start();
-                m.update(&s);
-            }
-            MonitorStore::Three(m) => {
-                let s = sample.to_sample().ok_or(Error::Config)?;
-                meter.start();
-                m.update(&s);
-            }
-        }
+        let MonitorStore::Held(m) = self else {
+            return Err(Error::Config);
+        };
+        let s = sample.to_sample().ok_or(Error::Config)?;
+        meter.start();
+        m.update(&s);
         meter.stop(Work::Update);
         Ok(())
     }
@@ -506,17 +484,11 @@ impl MonitorStore {
     /// One slice of [`Monitor::predict`], inside `meter`'s brackets;
     /// [`Error::Config`] when the store is empty.
     pub fn predict<M: Meter>(&mut self, meter: &mut M) -> Result<(), Error> {
-        match self {
-            MonitorStore::Empty => return Err(Error::Config),
-            MonitorStore::Two(m) => {
-                meter.start();
-                m.predict();
-            }
-            MonitorStore::Three(m) => {
-                meter.start();
-                m.predict();
-            }
-        }
+        let MonitorStore::Held(m) = self else {
+            return Err(Error::Config);
+        };
+        meter.start();
+        m.predict();
         meter.stop(Work::Predict);
         Ok(())
     }
@@ -524,12 +496,10 @@ impl MonitorStore {
     /// The frame of the monitor's current [`Status`](crate::Status) in `out`; its length.
     /// [`Error::Config`] when the store is empty.
     pub fn status_frame(&self, out: &mut [u8]) -> Result<usize, Error> {
-        let view = match self {
-            MonitorStore::Empty => return Err(Error::Config),
-            MonitorStore::Two(m) => StatusView::of(m.status()),
-            MonitorStore::Three(m) => StatusView::of(m.status()),
-        };
-        view.encode(out).map_err(|_| Error::Encode)
+        match self {
+            MonitorStore::Empty => Err(Error::Config),
+            MonitorStore::Held(m) => status_frame(m, out),
+        }
     }
 }
 
@@ -538,7 +508,7 @@ impl MonitorStore {
 /// only says *where* each path runs: [`Direct`] calls the monitor in
 /// place (the host), the firmware hands each sample to its timer
 /// interrupt and runs the prediction slices in its idle loop. Not generic
-/// over the joint count: the loop is one copy for every monitor.
+/// over the joint count: the loop takes it at run time.
 pub trait Paths {
     /// Joints of the monitor, which the sample frames carry.
     fn joints(&mut self) -> Result<usize, Error>;
@@ -557,14 +527,14 @@ pub trait Paths {
 
 /// Both paths called in place on the monitor in a store the caller holds,
 /// each inside `meter`'s brackets.
-pub struct Direct<'a, M> {
+pub struct Direct<'a, const N: usize, M> {
     /// The monitor.
-    pub store: &'a mut MonitorStore,
+    pub store: &'a mut MonitorStore<N>,
     /// Its meter.
     pub meter: &'a mut M,
 }
 
-impl<M: Meter> Paths for Direct<'_, M> {
+impl<const N: usize, M: Meter> Paths for Direct<'_, N, M> {
     fn joints(&mut self) -> Result<usize, Error> {
         Ok(self.store.joints())
     }
@@ -595,8 +565,8 @@ pub fn status_frame<const N: usize>(monitor: &Monitor<N>, out: &mut [u8]) -> Res
 
 /// Replays the sample frames left in `src` through the monitor in `store`
 /// in place ([`Direct`]): [`run_paths`]'s loop.
-pub fn run<R, W, M>(
-    store: &mut MonitorStore,
+pub fn run<const N: usize, R, W, M>(
+    store: &mut MonitorStore<N>,
     src: &mut Source<R>,
     write: W,
     meter: &mut M,
@@ -654,16 +624,16 @@ where
 }
 
 /// The whole replay of an input stream, in place: the configuration frames,
-/// then the samples through a monitor of the header's joint count, built in
-/// `store` ([`Direct`]). Returns the joint count and the number of samples.
+/// then the samples through the monitor of `N` joints built in `store`
+/// ([`Direct`]); [`Error::JointCount`] for a header of another count. Returns the joint count and the number of samples.
 /// `on_config` is called with the header once it is read. The configuration
 /// is built on the stack here (the host's way); the firmware runs the same
 /// steps with static stores and its own [`Paths`].
-pub fn replay<R, W, M>(
+pub fn replay<const N: usize, R, W, M>(
     read: R,
     write: W,
     meter: &mut M,
-    store: &mut MonitorStore,
+    store: &mut MonitorStore<N>,
     on_config: impl FnOnce(&ConfigHeader),
 ) -> Result<(u8, u32), Error>
 where
@@ -682,31 +652,31 @@ where
 
 /// [`build_from`] of a whole configuration.
 #[cfg(test)]
-fn build<const N: usize>(config: &MonitorConfig<N>, store: &mut MonitorStore) -> Result<(), Error>
-where
-    Monitor<N>: Stored<N>,
-{
+fn build<const N: usize>(
+    config: &MonitorConfig<N>,
+    store: &mut MonitorStore<N>,
+) -> Result<(), Error> {
     build_from(ConfigRef::of(config), store)
 }
 
-/// Builds the monitor of `config` (of `N` joints) in `store`, in place
-/// ([`Monitor::reset`]'s `reset_from` on the store's slot): neither a monitor nor a
-/// `Result` of one is ever on the stack, which sets the firmware's stack
-/// peak otherwise (`docs/performance.md`).
+/// Builds the monitor of `config` in `store`, in place ([`Monitor::reset`]'s
+/// `reset_from` on the store's slot): neither a monitor nor a `Result` of
+/// one is ever on the stack, which sets the firmware's stack peak otherwise
+/// (`docs/performance.md`).
 #[inline(never)]
-fn build_from<const N: usize>(config: ConfigRef<'_>, store: &mut MonitorStore) -> Result<(), Error>
-where
-    Monitor<N>: Stored<N>,
-{
-    let monitor = Monitor::<N>::slot(store, config).ok_or(Error::Config)?;
+fn build_from<const N: usize>(
+    config: ConfigRef<'_>,
+    store: &mut MonitorStore<N>,
+) -> Result<(), Error> {
+    let monitor = store.slot(config).ok_or(Error::Config)?;
     monitor.reset_from(config).map_err(|_| Error::Config)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::monitor::estimator::ConfigError;
     use crate::monitor::estimator::Sample;
+    use crate::monitor::estimator::{ConfigError, JointParam, TuningParam};
     use crate::ChainError;
 
     /// A chain of `N` equal panels on linear springs, stowed at 90°, 100°, …
@@ -746,56 +716,80 @@ mod tests {
         all
     }
 
-    #[test]
-    fn a_monitor_built_in_its_slot_answers_as_a_new_one() {
-        let (c2, c3) = (config::<2>(), config::<3>());
-        let fresh3 = frames(&mut Monitor::new(&c3).expect("config"), &c3, 0, 200);
-        let fresh2 = frames(&mut Monitor::new(&c2).expect("config"), &c2, 0, 200);
-        let mut store = MonitorStore::Empty;
-        // Built in an empty slot, in a slot holding a used monitor of
-        // another joint count, and in one holding a used monitor of its own
-        // (used for an odd number of samples: stopped mid-way through the
-        // joints' turns).
-        build(&c3, &mut store).expect("build");
-        let m = Monitor::<3>::get(&mut store).expect("3 joints");
-        assert_eq!(frames(m, &c3, 0, 200), fresh3);
-        build(&c2, &mut store).expect("build");
-        let m = Monitor::<2>::get(&mut store).expect("2 joints");
-        assert_eq!(frames(m, &c2, 0, 200), fresh2);
-        for (used, c) in [(137, &c3), (91, &c3)] {
-            let m = Monitor::<3>::slot(&mut store, ConfigRef::of(c)).expect("3 joints");
-            frames(m, c, 0, used);
-            build(c, &mut store).expect("build");
-            let m = Monitor::<3>::get(&mut store).expect("3 joints");
-            assert_eq!(frames(m, c, 0, 200), fresh3);
-        }
+    /// The frames of a fresh monitor of `c`, and of one built in `store`
+    /// after it held a used monitor (used for `used` samples).
+    fn rebuilt<const N: usize>(
+        c: &MonitorConfig<N>,
+        store: &mut MonitorStore<N>,
+        used: usize,
+    ) -> (Vec<u8>, Vec<u8>) {
+        let fresh = frames(&mut Monitor::new(c).expect("config"), c, 0, 200);
+        let m = store.slot(ConfigRef::of(c)).expect("a monitor");
+        frames(m, c, 0, used);
+        build(c, store).expect("build");
+        let m = store.monitor().expect("built");
+        (frames(m, c, 0, 200), fresh)
     }
 
     #[test]
-    fn a_monitor_built_from_the_first_joints_of_a_configuration_answers_as_one_of_them() {
-        // The example's joint j is the same in every joint count.
-        let (c2, mut c3) = (config::<2>(), config::<3>());
-        c3.joints[2].stowed_deg = f32::NAN;
-        let fresh2 = frames(&mut Monitor::new(&c2).expect("config"), &c2, 0, 200);
-        let mut store = MonitorStore::Empty;
-        let first = ConfigRef::first(&c3, 2).expect("2 of 3 joints");
-        build_from::<2>(first, &mut store).expect("the third joint is not read");
-        let m = Monitor::<2>::get(&mut store).expect("2 joints");
-        assert_eq!(frames(m, &c2, 0, 200), fresh2);
-        // A configuration of another joint count is refused, the monitor
-        // as it was.
+    fn a_monitor_built_in_its_slot_answers_as_a_new_one() {
+        // Built in an empty slot, and in one holding a used monitor
+        // (used for an odd number of samples: stopped mid-way through the
+        // joints' turns), for several joint counts up to the most.
+        let c3 = config::<3>();
+        let mut store = MonitorStore::<3>::Empty;
+        build(&c3, &mut store).expect("build");
+        let fresh3 = frames(&mut Monitor::new(&c3).expect("config"), &c3, 0, 200);
+        let m = store.monitor().expect("3 joints");
+        assert_eq!(m.clone().status().joints.len(), 3);
+        assert_eq!(frames(m, &c3, 0, 200), fresh3);
+        for used in [137, 91] {
+            let (built, fresh) = rebuilt(&c3, &mut store, used);
+            assert_eq!(built, fresh);
+        }
+        let (built, fresh) = rebuilt(&config::<1>(), &mut MonitorStore::Empty, 77);
+        assert_eq!(built, fresh);
+        let (built, fresh) = rebuilt(&config::<6>(), &mut MonitorStore::Empty, 137);
+        assert_eq!(built, fresh);
+        let (built, fresh) = rebuilt(&config::<MAX_JOINTS>(), &mut MonitorStore::Empty, 91);
+        assert_eq!(built, fresh);
+    }
+
+    #[test]
+    fn a_configuration_of_another_joint_count_is_refused_by_name() {
+        let c2 = config::<2>();
         let mut m = Monitor::new(&c2).expect("config");
         frames(&mut m, &c2, 0, 80);
         let mut before = m.clone();
         assert_eq!(
             m.reset_from(ConfigRef::of(&config::<3>())),
-            Err(ConfigError::Parameter("joint count"))
+            Err(ConfigError::JointCount {
+                expected: 2,
+                found: 3
+            })
         );
         assert_eq!(
             frames(&mut m, &c2, 80, 200),
             frames(&mut before, &c2, 80, 200)
         );
-        assert!(ConfigRef::first(&c3, 4).is_none());
+        // The replay's configuration: a header of 3 joints to a store of 6.
+        let header = ConfigHeader {
+            version: CONFIG_VERSION,
+            joints: 3,
+            deadline_s: 20.0,
+            latch: None,
+        };
+        let mut src = Source::new(|_: &mut [u8]| Ok(0));
+        let mut config = ConfigStore::<6>::Empty;
+        let mut store = MonitorStore::<6>::Empty;
+        assert_eq!(
+            configure(&header, &mut src, &mut config, &mut store),
+            Err(Error::JointCount {
+                expected: 6,
+                found: 3
+            })
+        );
+        assert_eq!(store.joints(), 0);
     }
 
     #[test]
@@ -816,14 +810,14 @@ mod tests {
             m.reset(&bad_joint),
             Err(ConfigError::Joint {
                 index: 2,
-                what: "coulomb prior sd"
+                what: JointParam::CoulombPriorSd
             })
         );
         let mut bad_tuning = c;
         bad_tuning.sensor.encoder_sd_deg = -1.0;
         assert_eq!(
             m.reset(&bad_tuning),
-            Err(ConfigError::Parameter("encoder_sd_deg"))
+            Err(ConfigError::Parameter(TuningParam::EncoderSdDeg))
         );
         assert_eq!(
             frames(&mut m, &c, 80, 200),

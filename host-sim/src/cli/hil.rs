@@ -147,12 +147,14 @@ fn prepare(args: &HilArgs) -> Result<(Mechanism, Run, Plan), CliError> {
     if args.every > 1 {
         decimate(&mut run, args.every);
     }
-    if args.port.is_none() && !replay::firmware_supports(mech.joint_count()) {
+    if args.port.is_none() && args.elf.is_none() && mech.joint_count() != hil_link::UART_JOINTS {
         return Err(CliError::input(format!(
-            "{}: {} joints; the firmware has monitors of {} joints only",
+            "{}: {} joints; the serial-link firmware is built for {} joints \
+             (give --elf for one built for {}, or --port for a board)",
             mech.name,
             mech.joint_count(),
-            replay::firmware_joint_counts()
+            hil_link::UART_JOINTS,
+            mech.joint_count()
         )));
     }
     let mut plan = hil::plan(&mech, &run).map_err(cli_error)?;

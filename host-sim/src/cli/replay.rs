@@ -4,6 +4,7 @@
 
 use super::{check_output, outln, CliError, Console};
 use crate::model::mechanism::Mechanism;
+use crate::onboard::firmware;
 use crate::onboard::replay::{self, Prepared, ReplayError};
 use crate::report::files::Outputs;
 use std::path::{Path, PathBuf};
@@ -166,18 +167,20 @@ fn qemu_elf(args: &ReplayArgs, mech: &Mechanism) -> Result<Option<PathBuf>, CliE
     if args.target == Target::Host {
         return Ok(None);
     }
-    if !replay::firmware_supports(mech.joint_count()) {
+    if args.elf.is_none() && !firmware::firmware_supports(mech.joint_count()) {
         return Err(CliError::input(format!(
-            "{}: {} joints; the example firmware has monitors of {} joints only \
-             (deploywatch_core::telemetry::config::JOINT_COUNTS: the 64 KiB flash budget); \
-             --target host replays 1 to 4",
+            "{}: {} joints; the example firmware is built for {} joints \
+             (one binary per joint count, firmware-example/Cargo.toml; give --elf \
+             for a firmware built for {} joints); --target host replays 1 to {}",
             mech.name,
             mech.joint_count(),
-            replay::firmware_joint_counts()
+            firmware::firmware_joint_counts(),
+            mech.joint_count(),
+            deploywatch_core::telemetry::config::MAX_JOINTS
         )));
     }
     Ok(Some(
-        replay::find_elf(args.elf.as_deref()).map_err(cli_error)?,
+        firmware::find_elf(args.elf.as_deref(), mech.joint_count()).map_err(cli_error)?,
     ))
 }
 
@@ -201,7 +204,8 @@ fn target_statuses(
         return Ok((statuses, m));
     }
     if args.compare {
-        let fw = replay::firmware_loop_on_host(&prepared.input).map_err(cli_error)?;
+        let fw =
+            firmware::firmware_loop_on_host(&prepared.input, prepared.joints).map_err(cli_error)?;
         if args.keep.is_some() {
             write(&dir.join("firmware-loop.bin"), &fw)?;
         }

@@ -1,5 +1,5 @@
 //! A mechanism as the host sees it: what a mechanism TOML file
-//! (`docs/spec/formats.md`) describes, sized at run time (1 to 4 joints),
+//! (`docs/spec/formats.md`) describes, sized at run time (1 to 8 joints),
 //! and its conversion into the core's fixed-size [`Chain`].
 //!
 //! Reading and validating the TOML lives in [`crate::model::mechanism_toml`].
@@ -9,15 +9,13 @@ use crate::model::torque_table::{HostChain, HostJointEffects};
 use deploywatch_core::spring::{CurveError, Fold, Interp, TapePoints};
 use deploywatch_core::{Chain, Curve, Friction, GlobalEffects, Joint, Panel, Real, Spring};
 
-/// Most joints a mechanism, and so a run, may have: the longest chain the
-/// simulator models (`physics.md` section 1: n = 1..4). The on-board monitor
-/// is carried by the firmware for fewer
-/// ([`deploywatch_core::telemetry::config::FIRMWARE_MAX_JOINTS`], checked
-/// below to be no more): every mechanism the firmware monitors can be
-/// simulated, not every simulated one monitored on the target.
-pub const MAX_CHAIN_JOINTS: usize = 4;
+/// Most joints a mechanism, and so a run, may have: the most the on-board
+/// monitor's frames carry ([`deploywatch_core::telemetry::config::MAX_JOINTS`],
+/// checked below to be the same), so that every mechanism simulated can be
+/// monitored (a firmware is built for one joint count of them).
+pub const MAX_CHAIN_JOINTS: usize = 8;
 
-const _: () = assert!(deploywatch_core::telemetry::config::FIRMWARE_MAX_JOINTS <= MAX_CHAIN_JOINTS);
+const _: () = assert!(deploywatch_core::telemetry::config::MAX_JOINTS == MAX_CHAIN_JOINTS);
 
 /// Calls `$body` with `const $n: usize` set to `$joints` (1 to
 /// [`MAX_CHAIN_JOINTS`]), `$other` for any other count: the one dispatch from a
@@ -29,7 +27,7 @@ const _: () = assert!(deploywatch_core::telemetry::config::FIRMWARE_MAX_JOINTS <
 /// ```
 macro_rules! with_joints {
     ($joints:expr, $n:ident => $body:expr, else $other:expr) => {
-        $crate::model::mechanism::with_joints!(@arms $joints; $n; $body; $other; 1 2 3 4)
+        $crate::model::mechanism::with_joints!(@arms $joints; $n; $body; $other; 1 2 3 4 5 6 7 8)
     };
     (@arms $joints:expr; $n:ident; $body:expr; $other:expr; $($k:literal)*) => {
         match $joints {
@@ -44,7 +42,7 @@ macro_rules! with_joints {
 pub(crate) use with_joints;
 
 // `with_joints!` has one arm per joint count up to `MAX_CHAIN_JOINTS`.
-const _: () = assert!(MAX_CHAIN_JOINTS == 4);
+const _: () = assert!(MAX_CHAIN_JOINTS == 8);
 
 /// One hinge spring as written in the file.
 #[derive(Clone, Debug, PartialEq)]

@@ -15,6 +15,10 @@ use deploywatch_core::telemetry::link::{read_report, LinkReport};
 use crate::onboard::hil::{Outgoing, Received};
 use crate::onboard::replay::{ReplayError, QEMU};
 
+/// Joints of the serial-link firmware's monitor (its `JOINTS`: the
+/// firmware chooses the joint count; it refuses a configuration of another).
+pub const UART_JOINTS: usize = 3;
+
 /// The serial-link firmware ELF, relative to the repository root.
 pub const DEFAULT_UART_ELF: &str =
     "firmware-example/target/thumbv7em-none-eabihf/release/deploywatch-firmware-uart";

@@ -3,6 +3,7 @@
 //! through the monitor on the host or on the example firmware under QEMU,
 //! and the run streamed to the firmware's serial link in real time
 //! (hardware in the loop).
+pub mod firmware;
 pub mod hil;
 pub mod hil_link;
 pub mod monitor_config;

@@ -31,7 +31,7 @@ use deploywatch_core::monitor::{JointStatus, Monitor, MonitorConfig, Sample, Sta
 use deploywatch_core::spring::Interp;
 use deploywatch_core::telemetry;
 use deploywatch_core::telemetry::config::{
-    ConfigHeader, JointFrame, Knots, SpringFrame, TapeFrame, CONFIG_VERSION, JOINT_COUNTS,
+    ConfigHeader, JointFrame, Knots, SpringFrame, TapeFrame, CONFIG_VERSION,
 };
 
 use crate::data::run::Run;
@@ -39,15 +39,11 @@ use crate::model::mechanism::{with_joints, Mechanism, SpringSpec};
 use crate::onboard::monitor_config::{monitor_config, samples, spring_f32};
 use crate::report::plot::{self, Mark, Panel, Series};
 
-/// The firmware ELF, relative to the repository root.
-pub const DEFAULT_ELF: &str =
-    "firmware-example/target/thumbv7em-none-eabihf/release/deploywatch-firmware-example";
-
 /// The QEMU program the firmware runs on.
 pub const QEMU: &str = "qemu-system-arm";
 
 /// What to run when the firmware ELF or QEMU is missing.
-const SETUP_HINT: &str =
+pub(crate) const SETUP_HINT: &str =
     "run scripts/embedded-toolchain.sh (once per machine), then scripts/firmware.sh build";
 
 /// Why a replay failed.
@@ -581,10 +577,7 @@ pub fn plot(png: &Path, title: &str, statuses: &[StatusRow]) -> Result<(), plot:
     let margin = col(|s| s.margin_pct.map_or(f64::NAN, f64::from));
     let markers: Vec<(f64, String)> = summary(statuses)
         .iter()
-        .filter_map(|s| {
-            s.latched_s
-                .map(|t| (f64::from(t), format!("latch {}", s.joint)))
-        })
+        .flat_map(JointSummary::latch_marks)
         .collect();
     let upper = margin_axis_top_pct(&margin);
     plot::draw_with_axes(
@@ -675,51 +668,6 @@ fn panel<'a>(
             .collect(),
         markers: markers.to_vec(),
     }
-}
-
-/// The firmware's own replay loop (`deploywatch_core::telemetry::replay`), run on
-/// the host over `input`: against the host's statuses it tells a
-/// difference of code path from one of target.
-pub fn firmware_loop_on_host(input: &[u8]) -> Result<Vec<u8>, ReplayError> {
-    let mut rest = input;
-    let mut out = Vec::new();
-    deploywatch_core::telemetry::replay::replay(
-        |buf| {
-            let k = buf.len().min(rest.len());
-            buf[..k].copy_from_slice(&rest[..k]);
-            rest = &rest[k..];
-            Ok(k)
-        },
-        |frame| {
-            out.extend_from_slice(frame);
-            Ok(())
-        },
-        &mut (),
-        &mut deploywatch_core::telemetry::replay::MonitorStore::Empty,
-        |_| {},
-    )
-    .map_err(|e| ReplayError::Target(format!("the firmware's loop on the host: {e}")))?;
-    Ok(out)
-}
-
-/// Whether the firmware has a monitor of `joints` joints.
-pub fn firmware_supports(joints: usize) -> bool {
-    JOINT_COUNTS.iter().any(|&n| usize::from(n) == joints)
-}
-
-/// The firmware's joint counts, for messages.
-pub fn firmware_joint_counts() -> String {
-    JOINT_COUNTS
-        .iter()
-        .map(|n| n.to_string())
-        .collect::<Vec<_>>()
-        .join(" and ")
-}
-
-/// The firmware ELF: `elf` when given, else [`DEFAULT_ELF`] under the
-/// current directory, else under the source tree this program was built from.
-pub fn find_elf(elf: Option<&Path>) -> Result<PathBuf, ReplayError> {
-    find_firmware(elf, DEFAULT_ELF, SETUP_HINT)
 }
 
 /// A firmware ELF: `elf` when given, else `default` (a path relative to

@@ -16,6 +16,24 @@ impl JointSummary {
             (Some(a), None) => format!("latched first at {a:.3} s, not at the end"),
         }
     }
+
+    /// The plot's marks of the joint's latch, \[s\] and label: `latch J`
+    /// when it latched once and stayed; `latch J, first` and `latch J, for
+    /// good` when it left the latched state in between; `latch J, lost`
+    /// when it did not stay latched to the end (a pawl that broke, a
+    /// plunger it escaped over): never a plain `latch J` for a latch lost.
+    pub fn latch_marks(&self) -> Vec<(f64, String)> {
+        let j = self.joint;
+        match (self.latched_s, self.latched_final_s) {
+            (None, _) => Vec::new(),
+            (Some(a), Some(b)) if a == b => vec![(f64::from(a), format!("latch {j}"))],
+            (Some(a), Some(b)) => vec![
+                (f64::from(a), format!("latch {j}, first")),
+                (f64::from(b), format!("latch {j}, for good")),
+            ],
+            (Some(a), None) => vec![(f64::from(a), format!("latch {j}, lost"))],
+        }
+    }
 }
 
 impl std::fmt::Display for JointSummary {
@@ -41,5 +59,44 @@ impl std::fmt::Display for JointSummary {
                 &self.faults
             },
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn joint(latched_s: Option<f32>, latched_final_s: Option<f32>) -> JointSummary {
+        JointSummary {
+            joint: 2,
+            latched_s,
+            latched_final_s,
+            final_state: "escaped",
+            coulomb_nm: (0.0, 0.0),
+            viscous_nms: (0.0, 0.0),
+            margin_pct: (None, None),
+            prediction: "latch",
+            faults: String::new(),
+        }
+    }
+
+    #[test]
+    fn a_lost_latch_is_never_marked_as_a_latch() {
+        assert_eq!(
+            joint(Some(3.5), None).latch_marks(),
+            vec![(3.5, "latch 2, lost".to_string())]
+        );
+        assert_eq!(
+            joint(Some(3.5), Some(3.5)).latch_marks(),
+            vec![(3.5, "latch 2".to_string())]
+        );
+        assert_eq!(
+            joint(Some(1.5), Some(3.5)).latch_marks(),
+            vec![
+                (1.5, "latch 2, first".to_string()),
+                (3.5, "latch 2, for good".to_string())
+            ]
+        );
+        assert!(joint(None, None).latch_marks().is_empty());
     }
 }

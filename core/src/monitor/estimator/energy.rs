@@ -3,7 +3,7 @@
 //! filter, friction estimate and articulated inertia).
 
 use super::joint::{JointState, DEG};
-use super::learning::{Learning, R};
+use super::learning::Learning;
 use super::state::Monitor;
 use crate::monitor::config::MarginConfig;
 use crate::monitor::margin::{self, MarginInput, MarginResult, MarginSettings};
@@ -30,8 +30,8 @@ impl<const N: usize> Monitor<N> {
     pub(super) fn evaluate_margin(
         &mut self,
         sample: &Learning<N>,
-        store: &Coefficients<f32, R>,
-        locked: &[bool; R],
+        store: &Coefficients<f32, N>,
+        locked: &[bool; N],
     ) {
         let jm = usize::from(self.learner.next_margin) % N.max(1);
         self.learner.next_margin = ((jm + 1) % N.max(1)) as u8;
@@ -54,7 +54,7 @@ impl<const N: usize> Monitor<N> {
 /// transient, and the margin computed on entry stands. Not generic over
 /// the joint count: one copy in flash for every monitor.
 #[inline(never)]
-fn margin_of(
+fn margin_of<const R: usize>(
     chain: &ChainRef<'_, f32, R>,
     joints: &mut [JointState],
     jm: usize,

@@ -2,7 +2,6 @@
 //! friction learning, and the state the learning keeps between them (the
 //! centred fit's window, whose turn the energy margin is).
 
-use crate::monitor::rollout::ROLLOUT_MAX_JOINTS;
 use crate::monitor::smoother::{Centre, CentredFit};
 use heapless::Deque;
 
@@ -52,8 +51,8 @@ impl<const N: usize> Learning<N> {
     }
 
     /// [`Learning::locked`] over an array of capacity
-    /// [`ROLLOUT_MAX_JOINTS`], the joints past the monitor's locked.
-    pub(super) fn locked_padded(&self) -> [bool; R] {
+    /// `R` (the rollout's capacity, the monitor's `N`), the joints past the monitor's locked.
+    pub(super) fn locked_padded<const R: usize>(&self) -> [bool; R] {
         let mut locked = [true; R];
         for (l, joint) in locked.iter_mut().zip(self.joints.iter()) {
             *l = joint.locked;
@@ -62,16 +61,11 @@ impl<const N: usize> Learning<N> {
     }
 }
 
-/// Capacity of the slow path's per-joint arrays written once for every
-/// joint count: a rollout's.
-pub(super) const R: usize = ROLLOUT_MAX_JOINTS;
-
-/// The centred fit ([`Centre`]) over arrays of capacity
-/// [`ROLLOUT_MAX_JOINTS`], the joints past the monitor's locked at 0: what
-/// the learning and the hand-over to the prediction read of it, in the
-/// form their code written once for every joint count takes.
+/// The centred fit ([`Centre`]) over arrays of capacity `R` (the
+/// rollout's, the monitor's `N`), the joints past the monitor's locked at
+/// 0: what the learning and the hand-over to the prediction read of it.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Fitted {
+pub(super) struct Fitted<const R: usize> {
     /// Time of the middle sample \[s\].
     pub(super) t_s: f32,
     /// Time since the previous middle sample \[s\].
@@ -86,7 +80,7 @@ pub(super) struct Fitted {
     pub(super) locked: [bool; R],
 }
 
-impl Fitted {
+impl<const R: usize> Fitted<R> {
     /// The fit `c` of `N` joints, padded.
     pub(super) fn of<const N: usize>(c: &Centre<N>) -> Self {
         let mut f = Fitted {

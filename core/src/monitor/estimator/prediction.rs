@@ -4,10 +4,10 @@
 //! into the status.
 
 use super::joint::{Forecast, JointState};
-use super::learning::{Fitted, Learning, R};
+use super::learning::{Fitted, Learning};
 use super::state::Monitor;
 use crate::monitor::predictor::{Cycle, FrictionBelief, Prediction, PredictionQuery};
-use crate::monitor::rollout::{RolloutConfig, ROLLOUT_MAX_JOINTS};
+use crate::monitor::rollout::RolloutConfig;
 use crate::monitor::status::JointStatus;
 use crate::physics::chain::{ChainRef, ChainState};
 
@@ -28,8 +28,8 @@ impl<const N: usize> Monitor<N> {
     pub(super) fn hand_over_to_prediction(
         &mut self,
         sample: &Learning<N>,
-        locked: &[bool; R],
-        fit: Option<&Fitted>,
+        locked: &[bool; N],
+        fit: Option<&Fitted<N>>,
     ) {
         if self.tuning.margin.rollout.steps_per_slice == 0 {
             return;
@@ -85,10 +85,10 @@ impl<const N: usize> Monitor<N> {
 /// a locked joint). Not generic over the joint count: one copy in flash
 /// for every monitor.
 #[inline(never)]
-fn hand_over(
-    cycle: &mut Cycle,
+fn hand_over<const R: usize>(
+    cycle: &mut Cycle<R>,
     joints: &[JointState],
-    fit: Option<&Fitted>,
+    fit: Option<&Fitted<R>>,
     (t, quiet, locked): (f32, bool, &[bool; R]),
     t_centre: &mut f32,
 ) {
@@ -139,8 +139,8 @@ struct Horizon {
 /// `t` \[s\]. Not generic over the joint count: one copy in flash for every
 /// monitor.
 #[inline(never)]
-fn refresh(
-    cycle: &mut Cycle,
+fn refresh<const R: usize>(
+    cycle: &mut Cycle<R>,
     joints: &mut [JointState],
     out: &mut [JointStatus],
     horizon: &Horizon,
@@ -164,8 +164,8 @@ fn refresh(
 /// the prediction, its confidence and the time to the latch \[s\]. A stall
 /// of a joint the latch tracker sees at rest on a physical latch's ramp
 /// ([`crate::monitor::latch::LatchState::StoppedShort`]) is a ramp stop.
-fn forecast(
-    cycle: &mut Cycle,
+fn forecast<const R: usize>(
+    cycle: &mut Cycle<R>,
     j: usize,
     js: &JointState,
     horizon: &Horizon,
@@ -193,14 +193,14 @@ fn forecast(
 /// capture angles and friction beliefs taken from `joints`. Not generic
 /// over the joint count: one copy in flash for every monitor.
 #[inline(never)]
-fn advance(
-    cycle: &mut Cycle,
-    chain: &ChainRef<'_, f32, ROLLOUT_MAX_JOINTS>,
+fn advance<const R: usize>(
+    cycle: &mut Cycle<R>,
+    chain: &ChainRef<'_, f32, R>,
     cfg: &RolloutConfig,
     deadline_s: f32,
     joints: &[JointState],
 ) -> bool {
-    let mut capture_rad = [0.0f32; ROLLOUT_MAX_JOINTS];
+    let mut capture_rad = [0.0f32; R];
     for (c, js) in capture_rad.iter_mut().zip(joints.iter()) {
         *c = js.capture_rad;
     }

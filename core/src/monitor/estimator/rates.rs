@@ -140,19 +140,29 @@ impl JointState {
         // foresee (a joint that sticks under its friction stops with a
         // step in acceleration), not a spike.
         let nu = z - kf.angle();
+        // A latched joint's reading within the reach of its physical
+        // latch's crest (a pawl's notch) is a rebound the lock allows: the
+        // joint leaves its stop and comes back within a few samples, the
+        // switch opening with it. Restarted at the reading like an impact,
+        // not flagged; a spike beyond the reach still is.
+        let rebound = self.lt.rebounds_within_lock(z / DEG);
         let manoeuvre = nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r);
         match kf.update(z, r, gate2, &observer.jerk_adaptation) {
             Fusion::Accepted => {
                 self.rejects = 0;
                 RateOutcome::Used
             }
-            Fusion::Rejected if ctx.impact || manoeuvre => {
-                let rate = if ctx.impact { 0.0 } else { kf.rate() };
+            Fusion::Rejected if ctx.impact || rebound || manoeuvre => {
+                let rate = if ctx.impact || rebound {
+                    0.0
+                } else {
+                    kf.rate()
+                };
                 *kf = RateFilter::new(z, sd, impact::RATE_SD, START_ACC_SD);
                 kf.set_rate(rate, 0.0);
                 kf.set_jerk_psd(observer.jerk_psd);
                 self.rejects = 0;
-                if ctx.impact {
+                if ctx.impact || rebound {
                     RateOutcome::Restarted
                 } else {
                     RateOutcome::Used

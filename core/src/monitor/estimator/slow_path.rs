@@ -5,7 +5,7 @@
 //! stall prediction by one unit of rollout work.
 
 use super::joint::JointState;
-use super::learning::{Fitted, Learning, R};
+use super::learning::{Fitted, Learning};
 use super::state::Monitor;
 use crate::monitor::faults::Fault;
 use crate::monitor::observer::{momentum_terms_n, FrictionObserver, ObserverInput, ObserverTuning};
@@ -92,8 +92,8 @@ impl<const N: usize> Monitor<N> {
     fn learn_friction(
         &mut self,
         sample: &Learning<N>,
-        store: &Coefficients<f32, R>,
-    ) -> Option<Fitted> {
+        store: &Coefficients<f32, N>,
+    ) -> Option<Fitted<N>> {
         let learner = &mut self.learner;
         learner
             .fit
@@ -121,9 +121,9 @@ impl<const N: usize> Monitor<N> {
 /// its status line of `out`. Not generic over the joint count: one copy in
 /// flash for every monitor.
 #[inline(never)]
-fn learn_joints(
+fn learn_joints<const R: usize>(
     chain: &ChainRef<'_, f32, R>,
-    c: &Fitted,
+    c: &Fitted<R>,
     restart: bool,
     joints: &mut [JointState],
     out: &mut [JointStatus],

@@ -175,15 +175,18 @@ impl<const N: usize> Monitor<N> {
 
     /// [`Monitor::reset`] on a configuration borrowed as slices (the
     /// replay's, of a joint count known at run time):
-    /// [`ConfigError::Parameter`] `"joint count"` unless it has `N` panels
-    /// and `N` joints.
+    /// [`ConfigError::JointCount`] unless it has `N` panels and `N`
+    /// joints.
     #[inline(never)]
     pub(crate) fn reset_from(&mut self, config: ConfigRef<'_>) -> Result<(), ConfigError> {
         let (Ok(panels), true) = (
             <&[Panel<f32>; N]>::try_from(config.panels),
             config.joints.len() == N,
         ) else {
-            return Err(ConfigError::Parameter("joint count"));
+            return Err(ConfigError::JointCount {
+                expected: N,
+                found: config.panels.len().max(config.joints.len()),
+            });
         };
         config.validate()?;
         // Every field by name: a field added to `Monitor` must be set here.

@@ -88,14 +88,14 @@ fn config_errors_name_the_parameter() {
         Monitor::new(&c).err(),
         Some(ConfigError::Joint {
             index: 0,
-            what: "coulomb prior sd"
+            what: JointParam::CoulombPriorSd
         })
     );
     let mut c = config();
     c.margin.confidence = 1.5;
     assert_eq!(
         Monitor::new(&c).err(),
-        Some(ConfigError::Parameter("confidence"))
+        Some(ConfigError::Parameter(TuningParam::Confidence))
     );
     let mut c = config();
     c.panels[0].mass_kg = 0.0;

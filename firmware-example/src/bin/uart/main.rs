@@ -52,6 +52,10 @@ use heapless::spsc::{Consumer, Producer, Queue};
 
 use board::{RxIrq, Uart};
 
+/// Joints of this build's monitor (the joint count is the firmware's
+/// choice; the serial-link build carries one of 3 joints).
+const JOINTS: usize = 3;
+
 /// Receive queue \[bytes\]: 20 sample frames of 3 joints (25 bytes each),
 /// so a main loop busy with the prediction's slices loses nothing.
 const RX_QUEUE: usize = 512;
@@ -101,10 +105,10 @@ fn main() -> ! {
     let (producer, consumer) = queue.split();
     interrupt::free(|cs| RX.borrow(cs).replace(Some(producer)));
     // Static memory for the configuration and the monitor (kilobytes).
-    let Some(config) = cortex_m::singleton!(: ConfigStore = ConfigStore::Empty) else {
+    let Some(config) = cortex_m::singleton!(: ConfigStore<JOINTS> = ConfigStore::Empty) else {
         halt("the configuration storage is already taken")
     };
-    let Some(store) = cortex_m::singleton!(: MonitorStore = MonitorStore::Empty) else {
+    let Some(store) = cortex_m::singleton!(: MonitorStore<JOINTS> = MonitorStore::Empty) else {
         halt("the monitor storage is already taken")
     };
     let uart = Uart::init();
@@ -148,8 +152,8 @@ fn receiver(mut rx: Consumer<'static, u8>) -> impl FnMut(&mut [u8]) -> Result<us
 /// it or a frame of the configuration fails.
 fn session<R>(
     src: &mut Source<R>,
-    config: &mut ConfigStore,
-    store: &mut MonitorStore,
+    config: &mut ConfigStore<JOINTS>,
+    store: &mut MonitorStore<JOINTS>,
     uart: Uart,
 ) -> Result<(), Error>
 where
