@@ -35,11 +35,11 @@ import numpy as np
 
 import deploywatch
 
-DT_S = 1e-4
+DT_S = 2e-4
 """MuJoCo's step [s] (RK4): the latch crossings are located inside it."""
 SAMPLE_HZ = 200.0
 """Both runs are compared at this rate [Hz]."""
-DURATION_S = 12.0
+DURATION_S = 6.0
 """The runs' `[run] duration_s` [s]."""
 W_COUL = 0.01
 """The Coulomb law's regularisation ω_coul [rad/s] (physics.md §4)."""
@@ -178,24 +178,13 @@ class Run:
     latch_s: np.ndarray
 
 
-class _Coulomb:
-    """MuJoCo's passive-force callback: ``−T_C tanh(φ̇/ω_coul)`` on every
-    free joint (physics.md §4), added at every RK4 stage."""
-
-    def __init__(self, coulomb: np.ndarray) -> None:
-        self.coulomb = coulomb
-
-    def __call__(self, m: "mujoco.MjModel", d: "mujoco.MjData") -> None:
-        d.qfrc_passive[:] -= self.coulomb * np.tanh(d.qvel / W_COUL)
-
-
 def _latch_impulse(m: "mujoco.MjModel", d: "mujoco.MjData", free: np.ndarray, hit: List[int]) -> None:
     """physics.md §5: φ̇⁺ = φ̇⁻ − M⁻¹E (EᵀM⁻¹E)⁻¹ Eᵀ φ̇⁻ on the joints
     still free (``free``, those latching now among them), ``M`` MuJoCo's
     mass matrix at this instant; then the latched joints are at 0."""
     mujoco.mj_forward(m, d)
     full = np.zeros((m.nv, m.nv))
-    mujoco.mj_fullM(m, full, d.qM)
+    mujoco.mj_fullM(m, d, full)
     idx = np.flatnonzero(free)
     mm = full[np.ix_(idx, idx)]
     v = d.qvel[idx].copy()
@@ -221,22 +210,20 @@ def run_mujoco(w: Wing, end_s: float) -> Run:
     d.qpos[:] = np.radians([j.stowed_deg for j in w.joints])
     # The preload T0 of each free joint, of the stowed side's sign.
     preload = np.array([-s * j.preload_nm * j.count for s, j in zip(side, w.joints)])
-    d.qfrc_applied[:] = preload
+    coulomb = np.array([j.coulomb_nm for j in w.joints])
     free = np.ones(n, dtype=bool)
     latch = np.full(n, np.nan)
     per_sample = int(round(1.0 / (SAMPLE_HZ * DT_S)))
     samples = int(round(end_s * SAMPLE_HZ)) + 1
     phi = np.zeros((samples, n))
-    mujoco.set_mjcb_passive(_Coulomb(np.array([j.coulomb_nm for j in w.joints])))
-    try:
-        phi[0] = np.degrees(d.qpos)
-        for k in range(1, samples):
-            for step in range(per_sample):
-                t0 = (k - 1) * per_sample + step
-                _step(m, d, side, free, latch, t0 * DT_S)
-            phi[k] = np.degrees(d.qpos)
-    finally:
-        mujoco.set_mjcb_passive(None)
+    phi[0] = np.degrees(d.qpos)
+    for k in range(1, samples):
+        for step in range(per_sample):
+            t0 = (k - 1) * per_sample + step
+            # Spring preload and Coulomb friction of the free joints, held over the step.
+            d.qfrc_applied[:] = np.where(free, preload - coulomb * np.tanh(d.qvel / W_COUL), 0.0)
+            _step(m, d, side, free, latch, t0 * DT_S)
+        phi[k] = np.degrees(d.qpos)
     return Run(phi_deg=phi, latch_s=latch)
 
 
