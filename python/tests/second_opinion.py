@@ -35,7 +35,7 @@ import numpy as np
 
 import deploywatch
 
-DT_S = 2e-4
+DT_S = 5e-4
 """MuJoCo's step [s] (RK4): the latch crossings are located inside it."""
 SAMPLE_HZ = 200.0
 """Both runs are compared at this rate [Hz]."""
