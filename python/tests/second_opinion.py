@@ -23,7 +23,6 @@ section ``second-opinion-mujoco``).
 from __future__ import annotations
 
 import dataclasses
-import math
 import os
 import sys
 import tempfile
