@@ -311,10 +311,16 @@ class Comparison:
         )
 
 
-def compare(seed: int, workdir: Optional[str] = None) -> Comparison:
+def compare(seed: int) -> Comparison:
     """Runs the wing of ``seed`` in deploywatch and in MuJoCo and compares
     them over deploywatch's run (to its last sample)."""
-    w = random_wing(seed)
+    return compare_wing(random_wing(seed))
+
+
+def compare_wing(w: Wing, workdir: Optional[str] = None) -> Comparison:
+    """Runs ``w`` in deploywatch and in MuJoCo and compares them over
+    deploywatch's run (to its last sample)."""
+    seed = w.seed
     with tempfile.TemporaryDirectory(dir=workdir) as tmp:
         path = os.path.join(tmp, f"wing{seed}.toml")
         with open(path, "w", encoding="utf-8") as f:
