@@ -46,8 +46,5 @@ def test_without_coulomb_friction_the_engines_agree_closely():
     to 1e-4 deg RMS and the latch instants to 0.01 ms, soft joint
     equality and all."""
     for seed in range(3):
-        w = so.random_wing(seed)
-        for j in w.joints:
-            j.coulomb_nm = 0.0
-        r = so.compare_wing(w)
+        r = so.compare_wing(so.without_coulomb(so.random_wing(seed)))
         assert r.rms_deg < 1e-4 and r.latch_diff_s < 1e-5 and not r.latch_mismatch, r.line()
