@@ -8,8 +8,11 @@ each hinge's linear spring as MuJoCo's joint stiffness (``k |phi|``) plus a
 constant applied torque (the preload ``T0``, of the stowed side's sign: an
 ideal latch stops a joint at 0, so the sign never changes while it is
 free), viscous friction as MuJoCo's joint damping, the Coulomb friction
-``T_C tanh(w / w_coul)`` (§4) in the passive-force callback (evaluated at
-every RK4 stage), and the latch of §5: at the crossing, located by
+``T_C tanh(w / w_coul)`` (§4) as an applied torque set before each step
+from the rate at its start and held over it (MuJoCo's passive-force
+callback would evaluate it at every RK4 stage, at a Python call per
+stage: this is the difference between the engines, docs/simulator.md),
+and the latch of §5: at the crossing, located by
 re-stepping to it, the plastic impulse on the free joints' mass matrix
 (MuJoCo's ``mj_fullM``), then the joint held at 0 by a joint equality
 switched on (``eq_active``).
