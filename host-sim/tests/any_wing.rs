@@ -1,0 +1,54 @@
+//! Issue 38: a wing nobody tuned the simulator for. The four-panel wing of
+//! the issue (`data/mechanisms/issue38_four_panel.toml`) and a `[rig]` on a
+//! wing with physical latches, run through the `deploywatch` binary.
+mod common;
+
+use common::{data, deploywatch, fails};
+
+/// The four-panel wing's text with `extra` appended.
+fn four_panel_with(extra: &str) -> String {
+    let path = data().join("mechanisms/issue38_four_panel.toml");
+    let text = std::fs::read_to_string(path).expect("bundled four-panel wing");
+    format!("{text}\n{extra}")
+}
+
+const RIG: &str = "[rig]\nstatic_mu = 0.3\ndynamic_mu = 0.1\n[[rig.bar]]\nmass_kg = 1.0\n\
+                   [[rig.trolley]]\npanel = 1\nbar = 1\nmass_kg = 0.5\nwire_m = 1.5\n";
+
+#[test]
+fn a_rig_on_a_wing_with_physical_latches_is_refused_naming_the_joints() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mech = dir.path().join("wing_rig.toml");
+    std::fs::write(&mech, four_panel_with(RIG)).expect("write mechanism");
+    let out_csv = dir.path().join("run.csv");
+    let out = deploywatch(&[
+        "simulate",
+        mech.to_str().expect("utf-8 path"),
+        "--out",
+        out_csv.to_str().expect("utf-8 path"),
+        "--no-noise",
+    ]);
+    let err = fails(&out, 2, &["rig", "joint(s) 2, 4", "physical latch"]);
+    assert!(err.contains("wing_rig.toml"), "names the file:\n{err}");
+    assert!(!out_csv.exists(), "nothing written on a refusal");
+}
+
+#[test]
+fn a_disabled_rig_on_a_wing_with_physical_latches_is_the_flight_unit() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mech = dir.path().join("wing_rig_off.toml");
+    let rig_off = RIG.replace("[rig]\n", "[rig]\nenabled = false\n");
+    std::fs::write(&mech, four_panel_with(&rig_off)).expect("write mechanism");
+    let out_csv = dir.path().join("run.csv");
+    let out = deploywatch(&[
+        "simulate",
+        mech.to_str().expect("utf-8 path"),
+        "--out",
+        out_csv.to_str().expect("utf-8 path"),
+        "--no-noise",
+        "--quiet",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "stderr:\n{err}");
+    assert!(out_csv.exists());
+}
