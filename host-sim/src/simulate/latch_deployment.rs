@@ -508,8 +508,11 @@ impl<const N: usize> Sim<'_, N> {
             let Some((a, b)) = bracket.or_else(|| {
                 // A stuck joint whose torque left its band by the step's
                 // start slips there.
-                let slips =
-                    matches!(ev, Ev::Slip(_)) && inside(self, ev, &dense.at(dense.t0)) <= 0.0;
+                // So does an ideal joint found at or past its latch angle
+                // (issue 38: a crossing at the instant of another event,
+                // a tape branch switch at φ = 0, was never bracketed).
+                let slips = matches!(ev, Ev::Slip(_) | Ev::Ideal(_))
+                    && inside(self, ev, &dense.at(dense.t0)) <= 0.0;
                 slips.then_some((dense.t0, dense.t0))
             }) else {
                 continue;
@@ -629,6 +632,14 @@ pub fn run_from<const N: usize>(
     run.out.traj.end_s = t_end;
     run.out.traj.stats.evaluations = sim.evaluations;
     run.out.traj.latch_s = latch_instants(&sim, &run.events, &run.out.traj);
+    let e = &run.ledger.energy;
+    if e.worst_drift_j > crate::simulate::latch_run::MAX_LEDGER_DRIFT * e.stored_j.abs() {
+        return Err(SimError::EnergyDrift {
+            t_s: e.worst_drift_t_s,
+            drift_j: e.worst_drift_j,
+            stored_j: e.stored_j,
+        });
+    }
     Ok(LatchRun {
         traj: run.out.traj,
         events: run.events,
@@ -759,7 +770,7 @@ impl Runner<'_> {
         }
         let kind = match ev {
             Ev::Ideal(_) => {
-                self.ideal_latch(sim, y, t)?;
+                self.ideal_latch(sim, y, t, j)?;
                 LatchEventKind::IdealLatch
             }
             Ev::Branch(_) => {
@@ -837,17 +848,20 @@ impl Runner<'_> {
         }
     }
 
-    /// An ideal latch at `t`: every free ideal joint at its latch angle
-    /// locks in one plastic impulse (`physics.md` section 5).
+    /// An ideal latch of joint `fired` at `t`: it and every other free ideal
+    /// joint at its latch angle lock in one plastic impulse (`physics.md`
+    /// section 5).
     fn ideal_latch<const N: usize>(
         &mut self,
         sim: &mut Sim<'_, N>,
         y: &mut State<N>,
         t: f64,
+        fired: usize,
     ) -> Result<(), SimError> {
         let mut after = sim.mode.latched;
         for j in 0..N {
-            if sim.latch[j].is_none() && !after[j] && sim.side[j] * y.q[j] <= 1e-12 {
+            let at_latch = j == fired || sim.side[j] * y.q[j] <= 1e-12;
+            if sim.latch[j].is_none() && !after[j] && at_latch {
                 after[j] = true;
             }
         }
