@@ -137,7 +137,8 @@ pub mod fault_injection {
 /// Deployments with physical latches (`physics.md` §10).
 pub mod latch_deployment {
     pub use crate::simulate::latch_deployment::{
-        latches, run_from, simulate_physical, LatchEnd, LatchEventKind, LatchOutcome, LatchRun,
+        latches, run_from, simulate_physical, simulate_with, Keep, LatchEnd, LatchEventKind,
+        LatchOutcome, LatchRun,
     };
 }
 

@@ -35,6 +35,8 @@ pub mod text;
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::{self, SimError, SimOptions, Trajectory};
+use crate::simulate::latch_deployment::{self, Keep};
+use crate::simulate::trajectory::Samples;
 use correlation::Correlation;
 use criteria::{Criterion, Mode, Outcome};
 use params::Vary;
@@ -199,18 +201,15 @@ impl Problem {
             .fail
             .iter()
             .any(|c| matches!(c, Criterion::LatchRateAbove(_)));
-        let traj = if rate {
-            let opts = SimOptions {
-                sample_hz: Some(SAMPLE_HZ),
-                ..opts
-            };
-            deployment::simulate(&mech, &effects, &opts)
-        } else {
-            deployment::simulate_at(&mech, &effects, &opts, &[end])
-        }
-        .map_err(|source| ReliabilityError::Simulation {
-            at: self.describe(x),
-            source,
+        let opts = SimOptions {
+            sample_hz: rate.then_some(SAMPLE_HZ),
+            ..opts
+        };
+        let traj = simulate_verdict(&mech, &effects, &opts, rate, end).map_err(|source| {
+            ReliabilityError::Simulation {
+                at: self.describe(x),
+                source,
+            }
         })?;
         Ok(outcome(&traj, &mech, rate))
     }
@@ -243,6 +242,34 @@ impl Problem {
     /// `g` of a batch on every core (rayon), in the order of `xs`.
     pub fn g_batch(&self, xs: &[Vec<f64>]) -> Result<Vec<f64>, ReliabilityError> {
         xs.par_iter().map(|x| self.g(x)).collect()
+    }
+}
+
+/// The one simulation of a verdict: sampled on `opts`' grid (`rate`) or
+/// once at `end` \[s\]. A wing with physical latches runs without its
+/// energy ledger ([`Keep::Trajectory`]: the same trajectory and events,
+/// bit for bit, without the Gauss–Legendre power sums and energies of
+/// every step); every other wing as `deployment` simulates it.
+fn simulate_verdict(
+    mech: &Mechanism,
+    effects: &[Effect],
+    opts: &SimOptions,
+    rate: bool,
+    end: f64,
+) -> Result<Trajectory, SimError> {
+    let end = [end];
+    if mech.has_physical_latch() {
+        crate::simulate::rig::check_rig_effects(mech, effects)?;
+        let times = match rate {
+            true => deployment::sample_grid(mech, opts)?,
+            false => Samples::Listed(&end),
+        };
+        return latch_deployment::simulate_with(mech, effects, opts, times, Keep::Trajectory)
+            .map(|run| run.traj);
+    }
+    match rate {
+        true => deployment::simulate(mech, effects, opts),
+        false => deployment::simulate_at(mech, effects, opts, &end),
     }
 }
 
