@@ -234,6 +234,7 @@ pub mod table_export {
 /// The probability that a deployment fails.
 pub mod reliability {
     pub use crate::analysis::reliability::{Problem, ReliabilityError};
+    pub use crate::simulate::latch_deployment::Keep;
     /// The method chosen and its result.
     pub mod auto {
         pub use crate::analysis::reliability::auto::{agree, estimate, Method};

@@ -111,11 +111,22 @@ struct Sim<'a, const N: usize> {
     /// Per joint, the sign of its rate at the step's start and the rest
     /// rate its turn event fires at ([`stick`]).
     turn: [(f64, f64); N],
-    /// Per latch, the travels of its marks and the ramp rates of its
-    /// plunger segments (`PhysicalLatch::ramp_rate_on`, indexed by
-    /// [`segment_index`]): constants, computed once, not per evaluation.
-    consts: [([f64; 6], [f64; 3]); N],
+    /// Per latch, its constants, computed once, not per evaluation.
+    consts: [Consts; N],
     evaluations: usize,
+}
+
+/// A latch's figures that do not change over a run.
+#[derive(Clone, Copy, Debug, Default)]
+struct Consts {
+    /// The travels of its marks \[rad\] (`PhysicalLatch::marks`).
+    marks: [f64; 6],
+    /// The ramp rates of its plunger segments [mm/rad]
+    /// (`PhysicalLatch::ramp_rate_on`, indexed by [`segment_index`]).
+    ramp: [f64; 3],
+    /// The spring's torque at the stop, `T(0⁺)` [N·m], on the unfolding
+    /// and the folding branch ([`Sim::spring_extension`]).
+    at_stop: [f64; 2],
 }
 
 /// The index of a plunger segment in `Sim::consts`' ramp rates.
@@ -182,7 +193,7 @@ impl<'a, const N: usize> Sim<'a, N> {
             hyst: [None; N],
             stuck: [false; N],
             turn: [(0.0, 0.0); N],
-            consts: [([0.0; 6], [0.0; 3]); N],
+            consts: [Consts::default(); N],
             evaluations: 0,
         };
         for (j, jt) in chain.joints().iter().enumerate() {
@@ -195,7 +206,12 @@ impl<'a, const N: usize> Sim<'a, N> {
                     PlungerSegment::Entry,
                     PlungerSegment::Hold,
                 ];
-                sim.consts[j] = (l.marks().map(|(_, m)| m), segs.map(|g| l.ramp_rate_on(g)));
+                let at_stop = |b| jt.spring.torque(l.side * f64::MIN_POSITIVE, b);
+                sim.consts[j] = Consts {
+                    marks: l.marks().map(|(_, m)| m),
+                    ramp: segs.map(|g| l.ramp_rate_on(g)),
+                    at_stop: [Branch::Unfold, Branch::Fold].map(at_stop),
+                };
                 let was = Segments::start(l, l.travel(y.q[j]));
                 sim.seg[j] = classify(l, y.q[j], y.v[j], was);
             }
@@ -213,7 +229,7 @@ impl<'a, const N: usize> Sim<'a, N> {
             return 0.0;
         }
         let soft = 1.0 - jt.effects.spring_softening;
-        let at_stop = jt.spring.torque(l.side * f64::MIN_POSITIVE, branch);
+        let at_stop = self.consts[j].at_stop[usize::from(branch == Branch::Fold)];
         soft * (at_stop - jt.spring.torque(phi, branch))
     }
 
@@ -225,7 +241,7 @@ impl<'a, const N: usize> Sim<'a, N> {
         };
         let s = &self.seg[j];
         let u = l.travel(phi);
-        let rate = self.consts[j].1[segment_index(s.plunger)];
+        let rate = self.consts[j].ramp[segment_index(s.plunger)];
         let cons = l.side * l.conservative_torque_rated(s.plunger, s.magnet, u, rate);
         let f = match s.contact {
             Contact::Pressing => l.stop_force(phi, phi_dot).raw_n,
@@ -347,7 +363,7 @@ fn inside<const N: usize>(sim: &Sim<'_, N>, ev: Ev, y: &State<N>) -> f64 {
     };
     let s = &sim.seg[j];
     let u = l.travel(phi);
-    let [_, crest, entry, hold_end, reach, switch] = sim.consts[j].0;
+    let [_, crest, entry, hold_end, reach, switch] = sim.consts[j].marks;
     match ev {
         Ev::Plunger(_) => match s.plunger {
             PlungerSegment::Entry => (u - crest).min(entry - u),

@@ -183,6 +183,15 @@ impl Problem {
     /// latch, and the run stops at [`Problem::run_end_s`] or when every
     /// joint latched.
     pub fn deploy(&self, x: &[f64]) -> Result<Outcome, ReliabilityError> {
+        self.deploy_keeping(x, Keep::Trajectory)
+    }
+
+    /// [`Problem::deploy`] keeping what `keep` says of a physical-latch
+    /// run: [`Keep::Ledger`] is the run as `deploy` made it before its
+    /// runs dropped the energy ledger, for the check that the verdicts are
+    /// the same (`tests/physical_verdicts.rs`,
+    /// `examples/physical_verdicts.rs`).
+    pub fn deploy_keeping(&self, x: &[f64], keep: Keep) -> Result<Outcome, ReliabilityError> {
         let mut mech = self.mech.clone();
         let mut effects: Vec<Effect> = Vec::new();
         for (v, &x) in self.vary.iter().zip(x) {
@@ -205,12 +214,13 @@ impl Problem {
             sample_hz: rate.then_some(SAMPLE_HZ),
             ..opts
         };
-        let traj = simulate_verdict(&mech, &effects, &opts, rate, end).map_err(|source| {
-            ReliabilityError::Simulation {
-                at: self.describe(x),
-                source,
-            }
-        })?;
+        let traj =
+            simulate_verdict(&mech, &effects, &opts, (rate, end), keep).map_err(|source| {
+                ReliabilityError::Simulation {
+                    at: self.describe(x),
+                    source,
+                }
+            })?;
         Ok(outcome(&traj, &mech, rate))
     }
 
@@ -246,16 +256,16 @@ impl Problem {
 }
 
 /// The one simulation of a verdict: sampled on `opts`' grid (`rate`) or
-/// once at `end` \[s\]. A wing with physical latches runs without its
-/// energy ledger ([`Keep::Trajectory`]: the same trajectory and events,
-/// bit for bit, without the Gauss–Legendre power sums and energies of
+/// once at `end` \[s\]. A wing with physical latches keeps what `keep`
+/// says ([`Keep::Trajectory`]: the same trajectory and events, bit for
+/// bit, without the ledger's Gauss–Legendre power sums and energies of
 /// every step); every other wing as `deployment` simulates it.
 fn simulate_verdict(
     mech: &Mechanism,
     effects: &[Effect],
     opts: &SimOptions,
-    rate: bool,
-    end: f64,
+    (rate, end): (bool, f64),
+    keep: Keep,
 ) -> Result<Trajectory, SimError> {
     let end = [end];
     if mech.has_physical_latch() {
@@ -264,7 +274,7 @@ fn simulate_verdict(
             true => deployment::sample_grid(mech, opts)?,
             false => Samples::Listed(&end),
         };
-        return latch_deployment::simulate_with(mech, effects, opts, times, Keep::Trajectory)
+        return latch_deployment::simulate_with(mech, effects, opts, times, keep)
             .map(|run| run.traj);
     }
     match rate {
