@@ -38,6 +38,8 @@ mod pawl;
 mod setup;
 mod stick;
 
+use setup::{segment_index, Consts};
+
 pub use setup::{check_latch_effects, latches, weakenings};
 
 pub use crate::simulate::latch_run::{
@@ -114,28 +116,6 @@ struct Sim<'a, const N: usize> {
     /// Per latch, its constants, computed once, not per evaluation.
     consts: [Consts; N],
     evaluations: usize,
-}
-
-/// A latch's figures that do not change over a run.
-#[derive(Clone, Copy, Debug, Default)]
-struct Consts {
-    /// The travels of its marks \[rad\] (`PhysicalLatch::marks`).
-    marks: [f64; 6],
-    /// The ramp rates of its plunger segments [mm/rad]
-    /// (`PhysicalLatch::ramp_rate_on`, indexed by [`segment_index`]).
-    ramp: [f64; 3],
-    /// The spring's torque at the stop, `T(0⁺)` [N·m], on the unfolding
-    /// and the folding branch ([`Sim::spring_extension`]).
-    at_stop: [f64; 2],
-}
-
-/// The index of a plunger segment in `Sim::consts`' ramp rates.
-fn segment_index(seg: PlungerSegment) -> usize {
-    match seg {
-        PlungerSegment::Clear => 0,
-        PlungerSegment::Entry => 1,
-        PlungerSegment::Hold => 2,
-    }
 }
 
 /// What can fire in a step.

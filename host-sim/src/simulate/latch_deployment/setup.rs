@@ -1,11 +1,12 @@
 //! Setting up a physical-latch run: the core latches of a mechanism's
 //! joints with the latch effects' weakenings, and the check that latch
-//! effects name joints that have a physical latch.
+//! effects name joints that have a physical latch; the latch's constants
+//! a run computes once.
 
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::mechanism::Mechanism;
 use crate::simulate::trajectory::SimError;
-use deploywatch_core::physics::latch_contact::PhysicalLatch;
+use deploywatch_core::physics::latch_contact::{PhysicalLatch, PlungerSegment};
 
 /// The latch scales `(plunger, magnet)` of each joint from the
 /// `plunger_weakening` / `magnet_weakening` effects (`1 − w`, composed).
@@ -59,4 +60,26 @@ pub fn latches<const N: usize>(
         let stowed = mech.joints.get(j).map_or(1.0, |s| s.stowed_deg);
         mech.latch(j).map(|l| l.to_core(stowed, p, m))
     })
+}
+
+/// A latch's figures that do not change over a run.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Consts {
+    /// The travels of its marks \[rad\] (`PhysicalLatch::marks`).
+    pub(super) marks: [f64; 6],
+    /// The ramp rates of its plunger segments [mm/rad]
+    /// (`PhysicalLatch::ramp_rate_on`, indexed by [`segment_index`]).
+    pub(super) ramp: [f64; 3],
+    /// The spring's torque at the stop, `T(0⁺)` [N·m], on the unfolding
+    /// and the folding branch (`Sim::spring_extension`).
+    pub(super) at_stop: [f64; 2],
+}
+
+/// The index of a plunger segment in `Sim::consts`' ramp rates.
+pub(super) fn segment_index(seg: PlungerSegment) -> usize {
+    match seg {
+        PlungerSegment::Clear => 0,
+        PlungerSegment::Entry => 1,
+        PlungerSegment::Hold => 2,
+    }
 }
