@@ -182,14 +182,17 @@ impl Problem {
     /// end) unless a `latch_rate>X` criterion needs the rate before the
     /// latch, and the run stops at [`Problem::run_end_s`] or when every
     /// joint latched.
+    ///
+    /// A physical-latch run keeps its energy ledger and checks it (a drift
+    /// fails the run, `docs/simulator.md`): every run checks itself.
     pub fn deploy(&self, x: &[f64]) -> Result<Outcome, ReliabilityError> {
-        self.deploy_keeping(x, Keep::Trajectory)
+        self.deploy_keeping(x, Keep::Ledger)
     }
 
     /// [`Problem::deploy`] keeping what `keep` says of a physical-latch
-    /// run: [`Keep::Ledger`] is the run as `deploy` made it before its
-    /// runs dropped the energy ledger, for the check that the verdicts are
-    /// the same (`tests/physical_verdicts.rs`,
+    /// run: [`Keep::Trajectory`] drops the energy ledger (and so its
+    /// check), for the measurement of what the ledger costs and the check
+    /// that it changes no verdict (`tests/physical_verdicts.rs`,
     /// `examples/physical_verdicts.rs`).
     pub fn deploy_keeping(&self, x: &[f64], keep: Keep) -> Result<Outcome, ReliabilityError> {
         let mut mech = self.mech.clone();
