@@ -138,7 +138,8 @@ pub mod fault_injection {
 pub mod latch_deployment {
     pub use crate::simulate::latch_deployment::check_latch_effects;
     pub use crate::simulate::latch_deployment::{
-        latches, run_from, simulate_physical, LatchEnd, LatchEventKind, LatchOutcome, LatchRun,
+        latches, run_from, simulate_physical, simulate_with, Keep, LatchEnd, LatchEventKind,
+        LatchOutcome, LatchRun,
     };
 }
 
@@ -234,6 +235,7 @@ pub mod table_export {
 /// The probability that a deployment fails.
 pub mod reliability {
     pub use crate::analysis::reliability::{Problem, ReliabilityError};
+    pub use crate::simulate::latch_deployment::Keep;
     /// The method chosen and its result.
     pub mod auto {
         pub use crate::analysis::reliability::auto::{agree, estimate, Method};

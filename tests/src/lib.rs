@@ -19,6 +19,7 @@ pub fn data_dir() -> PathBuf {
 
 pub mod hidden_torque;
 pub mod record;
+pub mod wing_gen;
 
 /// splitmix64 (Steele, Lea and Flood 2014): a small deterministic generator
 /// for the tests' Monte-Carlo draws; the state is the seed.

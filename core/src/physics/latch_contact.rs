@@ -366,17 +366,31 @@ impl<T: Real> PhysicalLatch<T> {
     /// The ball's depression `x` \[mm\] and `dx/du` [mm/rad] on a segment,
     /// its formula extended beyond the segment's bounds.
     pub(crate) fn depression_on(&self, seg: PlungerSegment, u: T) -> (T, T) {
+        self.depression_rated(seg, u, self.ramp_rate_on(seg))
+    }
+
+    /// The ramp rate `r = r_p tan α` [mm/rad] of segment `seg` (the entry
+    /// or the hold ramp's; zero when clear): a constant of the latch, which
+    /// the simulator computes once per segment instead of at every
+    /// evaluation ([`Self::conservative_torque_rated`]).
+    pub fn ramp_rate_on(&self, seg: PlungerSegment) -> T {
+        match seg {
+            PlungerSegment::Clear => T::ZERO,
+            PlungerSegment::Entry => self.ramp_rate(self.plunger.entry_ramp_rad),
+            PlungerSegment::Hold => self.ramp_rate(self.plunger.hold_ramp_rad),
+        }
+    }
+
+    /// [`Self::depression_on`] with the segment's ramp rate `r` given
+    /// ([`Self::ramp_rate_on`]): the same operations, so the same bits.
+    fn depression_rated(&self, seg: PlungerSegment, u: T, r: T) -> (T, T) {
         let c = self.plunger.crest_rad;
         match seg {
             PlungerSegment::Clear => (T::ZERO, T::ZERO),
-            PlungerSegment::Entry => {
-                let r = self.ramp_rate(self.plunger.entry_ramp_rad);
-                ((c + self.entry_width_rad() - u) * r, -r)
-            }
-            PlungerSegment::Hold => {
-                let r = self.ramp_rate(self.plunger.hold_ramp_rad);
-                ((u - c + self.hold_width_rad()) * r, r)
-            }
+            // w_e = stroke / r_e, as `entry_width_rad`.
+            PlungerSegment::Entry => ((c + self.plunger.stroke_mm / r - u) * r, -r),
+            // w_h = stroke / r_h, as `hold_width_rad`.
+            PlungerSegment::Hold => ((u - c + self.plunger.stroke_mm / r) * r, r),
         }
     }
 
@@ -389,7 +403,13 @@ impl<T: Real> PhysicalLatch<T> {
     /// The plunger's torque `τ_u = −dV_p/du` [N·m] on a segment (see
     /// [`Self::plunger_segment`]), its formula extended beyond the bounds.
     pub fn plunger_torque_on(&self, seg: PlungerSegment, u: T) -> T {
-        let (x, dx) = self.depression_on(seg, u);
+        self.plunger_torque_rated(seg, u, self.ramp_rate_on(seg))
+    }
+
+    /// [`Self::plunger_torque_on`] with the segment's ramp rate `r`
+    /// [mm/rad] given ([`Self::ramp_rate_on`]).
+    fn plunger_torque_rated(&self, seg: PlungerSegment, u: T, r: T) -> T {
+        let (x, dx) = self.depression_rated(seg, u, r);
         let p = &self.plunger;
         -(p.preload_n + p.stiffness_n_per_mm * x) * dx / T::of(MM_PER_M)
     }
@@ -464,8 +484,15 @@ impl<T: Real> PhysicalLatch<T> {
 
     /// `τ_u` [N·m] of plunger and magnet on given segments.
     pub fn conservative_torque_u(&self, seg: PlungerSegment, within: bool, u: T) -> T {
+        self.conservative_torque_rated(seg, within, u, self.ramp_rate_on(seg))
+    }
+
+    /// [`Self::conservative_torque_u`] with the plunger segment's ramp rate
+    /// `r` [mm/rad] given ([`Self::ramp_rate_on`], computed once): the same
+    /// operations, so the same bits, without a tangent per evaluation.
+    pub fn conservative_torque_rated(&self, seg: PlungerSegment, within: bool, u: T, r: T) -> T {
         let magnet = self.magnet_force_on(within, u) * self.magnet.radius_m;
-        self.plunger_torque_on(seg, u) - magnet
+        self.plunger_torque_rated(seg, u, r) - magnet
     }
 
     /// The latch's whole joint torque `τ_φ(φ, φ̇)` [N·m]: stop (clamped at

@@ -83,6 +83,18 @@ pub enum MechanismErrorKind {
         /// The value found, as written back in TOML.
         found: String,
     },
+    /// An enabled `[rig]` on a wing with a physical latch (`[joint.latch]`):
+    /// the rig is simulated with ideal latches only (`formats.md`, "Rig").
+    #[error(
+        "`rig`: a [rig] is simulated with ideal latches only, but joint(s) {} have a \
+         physical latch ([joint.latch]); expected `rig.enabled = false`, no [rig], or \
+         ideal latches",
+        join_joints(joints)
+    )]
+    RigWithPhysicalLatch {
+        /// The joints (1-based) with a physical latch.
+        joints: Vec<usize>,
+    },
     /// `spring.kind` is not one of the known kinds.
     #[error(
         "`{key}`: unknown spring kind \"{found}\" for joint {joint}; expected one of \"linear\", \"tape\", \"curve\""
@@ -172,4 +184,13 @@ pub(crate) fn list_or_none(names: &[String]) -> String {
             .collect::<Vec<_>>()
             .join(", ")
     }
+}
+
+/// `[2, 4]` as `2, 4`.
+fn join_joints(joints: &[usize]) -> String {
+    joints
+        .iter()
+        .map(usize::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
 }

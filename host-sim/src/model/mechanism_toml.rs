@@ -190,7 +190,7 @@ impl Cx<'_> {
             None => (DEFAULT_DURATION_S, DEFAULT_SAMPLE_HZ, DEFAULT_SETTLE_S),
         };
 
-        let (truss, rig) = self.extensions(&top, &panels)?;
+        let (truss, rig) = self.extensions(&top, &panels, &latches)?;
         Ok(Mechanism {
             name,
             description,
@@ -206,12 +206,15 @@ impl Cx<'_> {
     }
 
     /// `[truss]` and `[rig]`: each further table is read by its own module,
-    /// on the same tree.
+    /// on the same tree. An enabled rig with a physical latch is refused
+    /// (`formats.md`, "Rig": the rig is simulated with ideal latches only),
+    /// never dropped silently.
     #[allow(clippy::type_complexity)]
     fn extensions(
         &self,
         top: &Table<'_>,
         panels: &[Panel<f64>],
+        latches: &[Option<crate::model::latch::LatchSpec>],
     ) -> Res<(
         Option<crate::model::truss::Truss>,
         Option<crate::model::rig::Rig>,
@@ -224,6 +227,19 @@ impl Cx<'_> {
             .get("rig")
             .map(|sp| crate::model::rig_toml::read(self, sp, panels))
             .transpose()?;
+        let physical: Vec<usize> = (1..=latches.len())
+            .filter(|&j| latches.get(j - 1).is_some_and(Option::is_some))
+            .collect();
+        if let (Some(sp), Some(true), false) = (
+            top.get("rig"),
+            rig.as_ref().map(|r| r.enabled),
+            physical.is_empty(),
+        ) {
+            return Err(self.err(
+                self.line(sp),
+                MechanismErrorKind::RigWithPhysicalLatch { joints: physical },
+            ));
+        }
         Ok((truss, rig))
     }
 

@@ -21,7 +21,7 @@
 //! switch is closed at the end. An energy ledger ([`Energy`]) is kept along
 //! the run on Gauss–Legendre nodes of every step.
 
-use crate::model::effect::{Effect, EffectKind};
+use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
 use crate::model::torque_table::HostChain;
 use crate::simulate::ode::{self, locate, Dense, State};
@@ -35,7 +35,12 @@ use deploywatch_core::{Branch, Mode};
 
 mod ledger;
 mod pawl;
+mod setup;
 mod stick;
+
+use setup::{segment_index, Consts};
+
+pub use setup::{check_latch_effects, latches, weakenings};
 
 pub use crate::simulate::latch_run::{
     Energy, LatchEnd, LatchEvent, LatchEventKind, LatchOutcome, LatchRun,
@@ -94,60 +99,6 @@ impl Segments {
     }
 }
 
-/// The latch scales `(plunger, magnet)` of each joint from the
-/// `plunger_weakening` / `magnet_weakening` effects (`1 − w`, composed).
-pub fn weakenings(effects: &[Effect], joints: usize) -> Vec<(f64, f64)> {
-    let mut out = vec![(1.0, 1.0); joints];
-    for e in effects {
-        let Some(j) = e
-            .joint
-            .and_then(|j| j.checked_sub(1))
-            .filter(|&j| j < joints)
-        else {
-            continue;
-        };
-        match e.kind {
-            EffectKind::PlungerWeakening => out[j].0 *= 1.0 - e.value,
-            EffectKind::MagnetWeakening => out[j].1 *= 1.0 - e.value,
-            _ => {}
-        }
-    }
-    out
-}
-
-/// Refuses latch effects on joints without a physical latch (they would
-/// do nothing, silently).
-pub fn check_latch_effects(mech: &Mechanism, effects: &[Effect]) -> Result<(), SimError> {
-    for e in effects {
-        if !EffectKind::LATCH.contains(&e.kind) {
-            continue;
-        }
-        let has = e
-            .joint
-            .and_then(|j| j.checked_sub(1))
-            .is_some_and(|j| mech.latch(j).is_some());
-        if !has || mech.truss.is_some() {
-            return Err(SimError::Invalid(format!(
-                "{e}: the joint has no physical latch ([joint.latch] model = \"physical\" in the mechanism file)"
-            )));
-        }
-    }
-    Ok(())
-}
-
-/// The core latches of a mechanism's joints with the effects' weakenings.
-pub fn latches<const N: usize>(
-    mech: &Mechanism,
-    effects: &[Effect],
-) -> [Option<PhysicalLatch<f64>>; N] {
-    let w = weakenings(effects, N);
-    core::array::from_fn(|j| {
-        let (p, m) = w.get(j).copied().unwrap_or((1.0, 1.0));
-        let stowed = mech.joints.get(j).map_or(1.0, |s| s.stowed_deg);
-        mech.latch(j).map(|l| l.to_core(stowed, p, m))
-    })
-}
-
 /// The integrator's state besides `(φ, φ̇)`.
 struct Sim<'a, const N: usize> {
     chain: &'a HostChain<N>,
@@ -162,6 +113,8 @@ struct Sim<'a, const N: usize> {
     /// Per joint, the sign of its rate at the step's start and the rest
     /// rate its turn event fires at ([`stick`]).
     turn: [(f64, f64); N],
+    /// Per latch, its constants, computed once, not per evaluation.
+    consts: [Consts; N],
     evaluations: usize,
 }
 
@@ -220,6 +173,7 @@ impl<'a, const N: usize> Sim<'a, N> {
             hyst: [None; N],
             stuck: [false; N],
             turn: [(0.0, 0.0); N],
+            consts: [Consts::default(); N],
             evaluations: 0,
         };
         for (j, jt) in chain.joints().iter().enumerate() {
@@ -227,6 +181,17 @@ impl<'a, const N: usize> Sim<'a, N> {
             sim.hyst[j] = jt.spring.hysteresis_below_rad();
             sim.mode.branch[j] = branch_at(y.q[j], y.v[j]);
             if let Some(l) = &sim.latch[j] {
+                let segs = [
+                    PlungerSegment::Clear,
+                    PlungerSegment::Entry,
+                    PlungerSegment::Hold,
+                ];
+                let at_stop = |b| jt.spring.torque(l.side * f64::MIN_POSITIVE, b);
+                sim.consts[j] = Consts {
+                    marks: l.marks().map(|(_, m)| m),
+                    ramp: segs.map(|g| l.ramp_rate_on(g)),
+                    at_stop: [Branch::Unfold, Branch::Fold].map(at_stop),
+                };
                 let was = Segments::start(l, l.travel(y.q[j]));
                 sim.seg[j] = classify(l, y.q[j], y.v[j], was);
             }
@@ -244,7 +209,7 @@ impl<'a, const N: usize> Sim<'a, N> {
             return 0.0;
         }
         let soft = 1.0 - jt.effects.spring_softening;
-        let at_stop = jt.spring.torque(l.side * f64::MIN_POSITIVE, branch);
+        let at_stop = self.consts[j].at_stop[usize::from(branch == Branch::Fold)];
         soft * (at_stop - jt.spring.torque(phi, branch))
     }
 
@@ -256,7 +221,8 @@ impl<'a, const N: usize> Sim<'a, N> {
         };
         let s = &self.seg[j];
         let u = l.travel(phi);
-        let cons = l.side * l.conservative_torque_u(s.plunger, s.magnet, u);
+        let rate = self.consts[j].ramp[segment_index(s.plunger)];
+        let cons = l.side * l.conservative_torque_rated(s.plunger, s.magnet, u, rate);
         let f = match s.contact {
             Contact::Pressing => l.stop_force(phi, phi_dot).raw_n,
             Contact::Open | Contact::Released => 0.0,
@@ -377,7 +343,7 @@ fn inside<const N: usize>(sim: &Sim<'_, N>, ev: Ev, y: &State<N>) -> f64 {
     };
     let s = &sim.seg[j];
     let u = l.travel(phi);
-    let [_, crest, entry, hold_end, reach, switch] = l.marks().map(|(_, m)| m);
+    let [_, crest, entry, hold_end, reach, switch] = sim.consts[j].marks;
     match ev {
         Ev::Plunger(_) => match s.plunger {
             PlungerSegment::Entry => (u - crest).min(entry - u),
@@ -508,8 +474,11 @@ impl<const N: usize> Sim<'_, N> {
             let Some((a, b)) = bracket.or_else(|| {
                 // A stuck joint whose torque left its band by the step's
                 // start slips there.
-                let slips =
-                    matches!(ev, Ev::Slip(_)) && inside(self, ev, &dense.at(dense.t0)) <= 0.0;
+                // So does an ideal joint found at or past its latch angle
+                // (issue 38: a crossing at the instant of another event,
+                // a tape branch switch at φ = 0, was never bracketed).
+                let slips = matches!(ev, Ev::Slip(_) | Ev::Ideal(_))
+                    && inside(self, ev, &dense.at(dense.t0)) <= 0.0;
                 slips.then_some((dense.t0, dense.t0))
             }) else {
                 continue;
@@ -529,6 +498,8 @@ struct Ledger {
     energy: Energy,
     /// Total at the start \[J\].
     start_j: f64,
+    /// Not kept ([`Keep::Trajectory`]): nothing accounted.
+    off: bool,
 }
 
 /// Samples of the run.
@@ -573,6 +544,27 @@ pub fn simulate_physical(
     opts: &SimOptions,
     times: Samples<'_>,
 ) -> Result<LatchRun, SimError> {
+    simulate_with(mech, effects, opts, times, Keep::Ledger)
+}
+
+/// What a run keeps besides its trajectory and events.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Keep {
+    /// The energy ledger ([`Energy`]), on Gauss–Legendre nodes of every step.
+    Ledger,
+    /// Nothing more: a verdict's run (`reliability`), whose trajectory and
+    /// events are the same bits; its [`LatchRun::energy`] is all zero.
+    Trajectory,
+}
+
+/// [`simulate_physical`], keeping what `keep` says.
+pub fn simulate_with(
+    mech: &Mechanism,
+    effects: &[Effect],
+    opts: &SimOptions,
+    times: Samples<'_>,
+    keep: Keep,
+) -> Result<LatchRun, SimError> {
     if mech.truss.is_some() {
         return Err(SimError::Invalid(format!(
             "mechanism `{}`: physical latches are simulated on open chains only, not on truss wings",
@@ -589,7 +581,7 @@ pub fn simulate_physical(
             q: core::array::from_fn(|j| chain.joints()[j].stowed_rad),
             v: [0.0; N],
         };
-        run_from(&chain, latches::<N>(mech, effects), y0, times, opts)
+        run_keeping(&chain, latches::<N>(mech, effects), y0, times, opts, keep)
     }, else Err(bad()))
 }
 
@@ -601,6 +593,18 @@ pub fn run_from<const N: usize>(
     y0: State<N>,
     times: Samples<'_>,
     opts: &SimOptions,
+) -> Result<LatchRun, SimError> {
+    run_keeping(chain, latch, y0, times, opts, Keep::Ledger)
+}
+
+/// [`run_from`], keeping what `keep` says.
+fn run_keeping<const N: usize>(
+    chain: &HostChain<N>,
+    latch: [Option<PhysicalLatch<f64>>; N],
+    y0: State<N>,
+    times: Samples<'_>,
+    opts: &SimOptions,
+    keep: Keep,
 ) -> Result<LatchRun, SimError> {
     let mut sim = Sim::new(chain, latch, &y0);
     let mut run = Runner {
@@ -616,7 +620,10 @@ pub fn run_from<const N: usize>(
             },
         },
         events: Vec::new(),
-        ledger: Ledger::default(),
+        ledger: Ledger {
+            off: keep == Keep::Trajectory,
+            ..Ledger::default()
+        },
         same_instant: 0,
     };
     let (k, s, l) = sim.energies(&y0);
@@ -629,10 +636,21 @@ pub fn run_from<const N: usize>(
     run.out.traj.end_s = t_end;
     run.out.traj.stats.evaluations = sim.evaluations;
     run.out.traj.latch_s = latch_instants(&sim, &run.events, &run.out.traj);
+    let e = &run.ledger.energy;
+    if e.worst_drift_j > crate::simulate::latch_run::MAX_LEDGER_DRIFT * e.stored_j.abs() {
+        return Err(SimError::EnergyDrift {
+            t_s: e.worst_drift_t_s,
+            drift_j: e.worst_drift_j,
+            stored_j: e.stored_j,
+        });
+    }
     Ok(LatchRun {
         traj: run.out.traj,
         events: run.events,
-        energy: run.ledger.energy,
+        energy: match keep {
+            Keep::Ledger => run.ledger.energy,
+            Keep::Trajectory => Energy::default(),
+        },
     })
 }
 
@@ -759,7 +777,7 @@ impl Runner<'_> {
         }
         let kind = match ev {
             Ev::Ideal(_) => {
-                self.ideal_latch(sim, y, t)?;
+                self.ideal_latch(sim, y, t, j)?;
                 LatchEventKind::IdealLatch
             }
             Ev::Branch(_) => {
@@ -837,17 +855,20 @@ impl Runner<'_> {
         }
     }
 
-    /// An ideal latch at `t`: every free ideal joint at its latch angle
-    /// locks in one plastic impulse (`physics.md` section 5).
+    /// An ideal latch of joint `fired` at `t`: it and every other free ideal
+    /// joint at its latch angle lock in one plastic impulse (`physics.md`
+    /// section 5).
     fn ideal_latch<const N: usize>(
         &mut self,
         sim: &mut Sim<'_, N>,
         y: &mut State<N>,
         t: f64,
+        fired: usize,
     ) -> Result<(), SimError> {
         let mut after = sim.mode.latched;
         for j in 0..N {
-            if sim.latch[j].is_none() && !after[j] && sim.side[j] * y.q[j] <= 1e-12 {
+            let at_latch = j == fired || sim.side[j] * y.q[j] <= 1e-12;
+            if sim.latch[j].is_none() && !after[j] && at_latch {
                 after[j] = true;
             }
         }

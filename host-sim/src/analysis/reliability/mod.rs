@@ -35,6 +35,8 @@ pub mod text;
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::{self, SimError, SimOptions, Trajectory};
+use crate::simulate::latch_deployment::{self, Keep};
+use crate::simulate::trajectory::Samples;
 use correlation::Correlation;
 use criteria::{Criterion, Mode, Outcome};
 use params::Vary;
@@ -180,7 +182,19 @@ impl Problem {
     /// end) unless a `latch_rate>X` criterion needs the rate before the
     /// latch, and the run stops at [`Problem::run_end_s`] or when every
     /// joint latched.
+    ///
+    /// A physical-latch run keeps its energy ledger and checks it (a drift
+    /// fails the run, `docs/simulator.md`): every run checks itself.
     pub fn deploy(&self, x: &[f64]) -> Result<Outcome, ReliabilityError> {
+        self.deploy_keeping(x, Keep::Ledger)
+    }
+
+    /// [`Problem::deploy`] keeping what `keep` says of a physical-latch
+    /// run: [`Keep::Trajectory`] drops the energy ledger (and so its
+    /// check), for the measurement of what the ledger costs and the check
+    /// that it changes no verdict (`tests/physical_verdicts.rs`,
+    /// `examples/physical_verdicts.rs`).
+    pub fn deploy_keeping(&self, x: &[f64], keep: Keep) -> Result<Outcome, ReliabilityError> {
         let mut mech = self.mech.clone();
         let mut effects: Vec<Effect> = Vec::new();
         for (v, &x) in self.vary.iter().zip(x) {
@@ -199,19 +213,17 @@ impl Problem {
             .fail
             .iter()
             .any(|c| matches!(c, Criterion::LatchRateAbove(_)));
-        let traj = if rate {
-            let opts = SimOptions {
-                sample_hz: Some(SAMPLE_HZ),
-                ..opts
-            };
-            deployment::simulate(&mech, &effects, &opts)
-        } else {
-            deployment::simulate_at(&mech, &effects, &opts, &[end])
-        }
-        .map_err(|source| ReliabilityError::Simulation {
-            at: self.describe(x),
-            source,
-        })?;
+        let opts = SimOptions {
+            sample_hz: rate.then_some(SAMPLE_HZ),
+            ..opts
+        };
+        let traj =
+            simulate_verdict(&mech, &effects, &opts, (rate, end), keep).map_err(|source| {
+                ReliabilityError::Simulation {
+                    at: self.describe(x),
+                    source,
+                }
+            })?;
         Ok(outcome(&traj, &mech, rate))
     }
 
@@ -243,6 +255,34 @@ impl Problem {
     /// `g` of a batch on every core (rayon), in the order of `xs`.
     pub fn g_batch(&self, xs: &[Vec<f64>]) -> Result<Vec<f64>, ReliabilityError> {
         xs.par_iter().map(|x| self.g(x)).collect()
+    }
+}
+
+/// The one simulation of a verdict: sampled on `opts`' grid (`rate`) or
+/// once at `end` \[s\]. A wing with physical latches keeps what `keep`
+/// says ([`Keep::Trajectory`]: the same trajectory and events, bit for
+/// bit, without the ledger's Gauss–Legendre power sums and energies of
+/// every step); every other wing as `deployment` simulates it.
+fn simulate_verdict(
+    mech: &Mechanism,
+    effects: &[Effect],
+    opts: &SimOptions,
+    (rate, end): (bool, f64),
+    keep: Keep,
+) -> Result<Trajectory, SimError> {
+    let end = [end];
+    if mech.has_physical_latch() {
+        crate::simulate::rig::check_rig_effects(mech, effects)?;
+        let times = match rate {
+            true => deployment::sample_grid(mech, opts)?,
+            false => Samples::Listed(&end),
+        };
+        return latch_deployment::simulate_with(mech, effects, opts, times, keep)
+            .map(|run| run.traj);
+    }
+    match rate {
+        true => deployment::simulate(mech, effects, opts),
+        false => deployment::simulate_at(mech, effects, opts, &end),
     }
 }
 

@@ -70,13 +70,20 @@ impl<const N: usize> Sim<'_, N> {
     /// Adds the dissipation over `[t0, t1]` of a step and checks the drift
     /// at `y1`.
     pub(super) fn account(&self, ledger: &mut Ledger, dense: &Dense<N>, t1: f64, y1: &State<N>) {
+        if ledger.off {
+            return;
+        }
         let h = t1 - dense.t0;
         for (s, w) in GAUSS3 {
             let (pj, pc) = self.power(&dense.at(dense.t0 + s * h));
             ledger.energy.friction_j -= w * h * pj;
             ledger.energy.contact_j -= w * h * pc;
         }
+        let was = ledger.energy.worst_drift_j;
         self.close_ledger(ledger, y1);
+        if ledger.energy.worst_drift_j > was {
+            ledger.energy.worst_drift_t_s = t1;
+        }
     }
 
     /// The ledger's state terms at `y` and the drift there.

@@ -1,0 +1,131 @@
+//! Physical-latch verdicts before and after the reliability runs dropped
+//! the energy ledger (issue 42): seed 001 T01 with its ball plungers and
+//! with its pawls, the identified friction of the mechanism files given a
+//! 5 % normal dispersion (`coulomb_friction:joint=J:normal(0, 0.05 T_J)`
+//! added to `T_J`), `--fail not_latched`, the crude Monte-Carlo draws of
+//! seed 0. Each draw is simulated the way `reliability` did before
+//! (`Keep::Ledger`) and does now (`Keep::Trajectory`), on one thread; the
+//! table gives the failures of each, the draws whose margins differ by a
+//! bit, and the deployments per core-second of each (CPU time of the
+//! process, `/proc/self/stat`).
+//!
+//! `cargo run --release -p deploywatch-sim --example physical_verdicts -- [DRAWS]`
+//! (default 20,000); `scripts/measured.py run physical-verdicts ...` records
+//! it in docs/measured.md.
+
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::reliability::mc::draw;
+use deploywatch_sim::reliability::{Keep, Problem};
+use rayon::prelude::*;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// The wings and the 5 % dispersions of their friction [N·m] (0.05 × the
+/// identified 2.63, 1.7 and 0.001 N·m of the mechanism files).
+const WINGS: [(&str, [f64; 3]); 2] = [
+    ("seed001_T01_physical_latch", [0.1315, 0.085, 0.00005]),
+    ("seed001_T01_pawl", [0.1315, 0.085, 0.00005]),
+];
+
+/// CPU seconds of the process so far (user + system, `/proc/self/stat`).
+fn cpu_s() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let after = stat.rsplit_once(") ").map_or("", |(_, rest)| rest);
+    let fields: Vec<f64> = after
+        .split_whitespace()
+        .map(|f| f.parse().unwrap_or(0.0))
+        .collect();
+    // Fields 14 and 15 of stat(5), in clock ticks (100 per second).
+    (fields.get(11).unwrap_or(&0.0) + fields.get(12).unwrap_or(&0.0)) / 100.0
+}
+
+/// The margins of every draw kept as `keep` says, and the CPU seconds.
+fn run(problem: &Problem, xs: &[Vec<f64>], keep: Keep) -> Result<(Vec<Vec<f64>>, f64), String> {
+    let modes = problem.modes();
+    let t0 = cpu_s();
+    let out: Result<Vec<Vec<f64>>, String> = xs
+        .par_iter()
+        .map(|x| {
+            let o = problem.deploy_keeping(x, keep).map_err(|e| e.to_string())?;
+            Ok(o.margins(&modes))
+        })
+        .collect();
+    Ok((out?, cpu_s() - t0))
+}
+
+fn main() -> ExitCode {
+    let draws: usize = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(20_000);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a thread pool");
+    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+    println!(
+        "{draws} draws a wing (seed 0), one thread; load average at the start {}.\n",
+        load.split_whitespace()
+            .take(3)
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    println!("| wing | failed, ledger kept (before) | failed, verdict run (now) | draws whose margins differ | per core-second, before | per core-second, now |");
+    println!("|---|---|---|---|---|---|");
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms");
+    let mut same = true;
+    for (name, sd) in WINGS {
+        let mech = Mechanism::load(&root.join(format!("{name}.toml"))).expect("bundled mechanism");
+        let problem = Problem {
+            mech,
+            vary: (0..3)
+                .map(|j| {
+                    let v = format!("coulomb_friction:joint={}:normal(0,{})", j + 1, sd[j]);
+                    v.parse().expect("vary")
+                })
+                .collect(),
+            fail: vec!["not_latched".parse().expect("criterion")],
+            corr: Vec::new(),
+        };
+        let xs: Vec<Vec<f64>> = (0..draws as u64)
+            .map(|i| problem.x_of(&draw(0, 0, i, 3)))
+            .collect();
+        let both = pool.install(|| {
+            Ok::<_, String>((
+                run(&problem, &xs, Keep::Ledger)?,
+                run(&problem, &xs, Keep::Trajectory)?,
+            ))
+        });
+        let ((before, cpu_before), (now, cpu_now)) = match both {
+            Ok(b) => b,
+            Err(e) => {
+                eprintln!("{name}: {e}");
+                return ExitCode::FAILURE;
+            }
+        };
+        let failed = |m: &[Vec<f64>]| m.iter().filter(|r| r.iter().any(|&g| g <= 0.0)).count();
+        let differ = before
+            .iter()
+            .zip(&now)
+            .filter(|(a, b)| {
+                a.iter()
+                    .zip(b.iter())
+                    .any(|(x, y)| x.to_bits() != y.to_bits())
+            })
+            .count();
+        same &= differ == 0;
+        println!(
+            "| {name} | {} | {} | {differ} | {:.0} | {:.0} |",
+            failed(&before),
+            failed(&now),
+            draws as f64 / cpu_before,
+            draws as f64 / cpu_now
+        );
+    }
+    if same {
+        ExitCode::SUCCESS
+    } else {
+        eprintln!("the verdicts differ");
+        ExitCode::FAILURE
+    }
+}

@@ -1,0 +1,69 @@
+//! The reliability analysis's physical-latch runs give the same verdicts
+//! without the energy ledger as with it (issue 42): on a fixed sample of
+//! crude Monte-Carlo draws (seed 0) of seed 001 T01 with its ball plungers
+//! and with its pawls, each mode's margin is the same to the bit whether
+//! the run keeps its ledger (`Keep::Ledger`, as `reliability` ran before)
+//! or not (`Keep::Trajectory`, as it runs now). The 2,000-draw figures:
+//! `examples/physical_verdicts.rs`, recorded in docs/measured.md.
+
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::reliability::mc::draw;
+use deploywatch_sim::reliability::{Keep, Problem};
+use std::path::PathBuf;
+
+/// Draws of the fixed sample, per wing.
+const DRAWS: u64 = 6;
+
+/// seed 001 T01 `name` with its friction given a 5 % normal dispersion.
+fn problem(name: &str) -> Problem {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../data/mechanisms")
+        .join(format!("{name}.toml"));
+    let sd = [0.1315, 0.085, 0.00005];
+    Problem {
+        mech: Mechanism::load(&path).expect("bundled mechanism"),
+        vary: (0..3)
+            .map(|j| {
+                format!("coulomb_friction:joint={}:normal(0,{})", j + 1, sd[j])
+                    .parse()
+                    .expect("vary")
+            })
+            .collect(),
+        fail: vec!["not_latched".parse().expect("criterion")],
+        corr: Vec::new(),
+    }
+}
+
+fn same_margins(name: &str) {
+    let p = problem(name);
+    let modes = p.modes();
+    for i in 0..DRAWS {
+        let x = p.x_of(&draw(0, 0, i, 3));
+        let before = p
+            .deploy_keeping(&x, Keep::Ledger)
+            .expect("run")
+            .margins(&modes);
+        let now = p.deploy(&x).expect("run").margins(&modes);
+        let bits = |m: &[f64]| m.iter().map(|g| g.to_bits()).collect::<Vec<_>>();
+        assert_eq!(
+            bits(&before),
+            bits(&now),
+            "{name}, draw {i}: {before:?} vs {now:?}"
+        );
+        assert_eq!(
+            before.iter().any(|&g| g <= 0.0),
+            now.iter().any(|&g| g <= 0.0),
+            "{name}, draw {i}: the verdicts differ"
+        );
+    }
+}
+
+#[test]
+fn plunger_verdicts_are_the_same_without_the_ledger() {
+    same_margins("seed001_T01_physical_latch");
+}
+
+#[test]
+fn pawl_verdicts_are_the_same_without_the_ledger() {
+    same_margins("seed001_T01_pawl");
+}
