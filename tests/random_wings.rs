@@ -57,7 +57,11 @@ fn check(w: &Wing) -> Result<(), TestCaseError> {
         let ideal = !w.physical.contains(&(j + 1));
         let pass = if ideal { 1e-6 } else { 1.0 };
         let worst = phi.iter().map(|p| -side * p).fold(f64::MIN, f64::max);
-        prop_assert!(worst <= pass, "joint {} passes its latch by {worst} deg", j + 1);
+        prop_assert!(
+            worst <= pass,
+            "joint {} passes its latch by {worst} deg",
+            j + 1
+        );
         if !ideal {
             continue;
         }
@@ -67,7 +71,12 @@ fn check(w: &Wing) -> Result<(), TestCaseError> {
                 for (i, (&ts, &l)) in traj.t_s.iter().zip(latched).enumerate() {
                     if ts >= t + 1e-9 {
                         prop_assert!(l, "joint {} latched at {t} s, switch open at {ts} s", j + 1);
-                        prop_assert!(phi[i].abs() <= 1e-6, "joint {} latched at {} deg", j + 1, phi[i]);
+                        prop_assert!(
+                            phi[i].abs() <= 1e-6,
+                            "joint {} latched at {} deg",
+                            j + 1,
+                            phi[i]
+                        );
                     }
                 }
             }

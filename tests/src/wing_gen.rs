@@ -44,7 +44,11 @@ fn spring(r: &mut SplitMix) -> String {
             2 + pick(r, 2)
         ),
         _ => {
-            let (a, b, c) = (uniform(r, 0.8, 1.5), uniform(r, 1.5, 2.5), uniform(r, 2.5, 3.5));
+            let (a, b, c) = (
+                uniform(r, 0.8, 1.5),
+                uniform(r, 1.5, 2.5),
+                uniform(r, 2.5, 3.5),
+            );
             format!(
                 "{{ kind = \"curve\", unfold = [[0.0, {a:.4}], [60.0, {b:.4}], [120.0, {c:.4}], [180.0, {c:.4}]], interp = \"akima\", count = 1 }}"
             )
@@ -103,9 +107,15 @@ pub fn wing_toml(seed: u64, physical_share: f64) -> Wing {
             _ if j % 2 == 0 => 180.0,
             _ => -180.0,
         };
-        t += &format!("[[joint]]\nstowed_deg = {stowed:.1}\nspring = {}\n", spring(&mut r));
+        t += &format!(
+            "[[joint]]\nstowed_deg = {stowed:.1}\nspring = {}\n",
+            spring(&mut r)
+        );
         if r.next_f64() < 0.7 {
-            t += &format!("friction = {{ coulomb_nm = {:.3} }}\n", uniform(&mut r, 0.0, 0.3));
+            t += &format!(
+                "friction = {{ coulomb_nm = {:.3} }}\n",
+                uniform(&mut r, 0.0, 0.3)
+            );
         }
         if r.next_f64() < physical_share {
             t += &latch(&mut r);
@@ -119,5 +129,10 @@ pub fn wing_toml(seed: u64, physical_share: f64) -> Wing {
         t += "\n[rig]\n[[rig.bar]]\nmass_kg = 2.0\n[[rig.trolley]]\npanel = 1\nbar = 1\nmass_kg = 0.3\nwire_m = 1.5\n";
     }
     t += "\n[run]\nduration_s = 8.0\nsample_hz = 100.0\n";
-    Wing { toml: t, joints, physical, rig }
+    Wing {
+        toml: t,
+        joints,
+        physical,
+        rig,
+    }
 }
