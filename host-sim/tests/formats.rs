@@ -501,15 +501,15 @@ fn panel_and_joint_counts_are_checked() {
     );
 
     let panel = "[[panel]]\nlength_m = 0.8\nmass_kg = 3.5\ncom_m = 0.4\ninertia_kgm2 = 0.27\n\n";
-    let five = t01_with("[[panel]]", &format!("{panel}{panel}[[panel]]"));
-    let e = bad_mech(&five);
+    let nine = t01_with("[[panel]]", &format!("{}[[panel]]", panel.repeat(6)));
+    let e = bad_mech(&nine);
     assert!(
-        matches!(e.kind, MechanismErrorKind::PanelCount { found: 5, .. }),
+        matches!(e.kind, MechanismErrorKind::PanelCount { found: 9, .. }),
         "{e}"
     );
     assert!(
         e.to_string()
-            .contains("expected 1 to 4 [[panel]] tables, found 5"),
+            .contains("expected 1 to 8 [[panel]] tables, found 9"),
         "{e}"
     );
 
@@ -617,7 +617,7 @@ fn mechanism_file_errors_name_the_path() {
 #[test]
 fn bundled_runs_round_trip() {
     let runs = bundled_runs();
-    assert_eq!(runs.len(), 14, "8 reference + 6 example runs: {runs:?}");
+    assert_eq!(runs.len(), 17, "8 reference + 9 example runs: {runs:?}");
     for path in runs {
         let text = std::fs::read_to_string(&path).expect("read");
         let run = Run::load(&path).unwrap_or_else(|e| panic!("{e}"));
@@ -659,7 +659,17 @@ fn reference_run_content() {
 
 #[test]
 fn runs_pair_with_their_mechanisms() {
-    let ms = mechanisms();
+    // The seed mechanisms and the four- and six-panel test wings.
+    let mut ms = mechanisms();
+    ms.extend(
+        files(&data().join("mechanisms"), "toml")
+            .iter()
+            .filter(|p| {
+                p.file_name()
+                    .is_some_and(|f| f.to_string_lossy().starts_with("wing"))
+            })
+            .map(|p| Mechanism::load(p).unwrap_or_else(|e| panic!("{e}"))),
+    );
     for path in bundled_runs() {
         let run = Run::load(&path).unwrap_or_else(|e| panic!("{e}"));
         let m = pair_runs(&ms, &run, &path.display().to_string()).unwrap_or_else(|e| panic!("{e}"));
@@ -842,19 +852,21 @@ fn extra_and_duplicate_columns() {
 
 #[test]
 fn too_many_joints() {
-    let header =
-        "t_s,phi1_deg,phi2_deg,phi3_deg,phi4_deg,phi5_deg,latch1,latch2,latch3,latch4,latch5";
-    let e = bad_run(&format!("{header}\n0.0,1,1,1,1,1,0,0,0,0,0\n"));
+    let phi: Vec<String> = (1..=9).map(|j| format!("phi{j}_deg")).collect();
+    let latch: Vec<String> = (1..=9).map(|j| format!("latch{j}")).collect();
+    let header = format!("t_s,{},{}", phi.join(","), latch.join(","));
+    let row = format!("0.0,{},{}", ["1"; 9].join(","), ["0"; 9].join(","));
+    let e = bad_run(&format!("{header}\n{row}\n"));
     assert!(
         matches!(e.kind, RunErrorKind::TooManyJoints {
-                found: 5,
+                found: 9,
                 ..
             } if e.line == Some(1)),
         "{e}"
     );
     assert_eq!(
         e.to_string(),
-        "bad.csv:1: 5 joints in the header; expected 1 to 4"
+        "bad.csv:1: 9 joints in the header; expected 1 to 8"
     );
 }
 
