@@ -636,14 +636,6 @@ fn run_keeping<const N: usize>(
     run.out.traj.end_s = t_end;
     run.out.traj.stats.evaluations = sim.evaluations;
     run.out.traj.latch_s = latch_instants(&sim, &run.events, &run.out.traj);
-    let e = &run.ledger.energy;
-    if e.worst_drift_j > crate::simulate::latch_run::MAX_LEDGER_DRIFT * e.stored_j.abs() {
-        return Err(SimError::EnergyDrift {
-            t_s: e.worst_drift_t_s,
-            drift_j: e.worst_drift_j,
-            stored_j: e.stored_j,
-        });
-    }
     Ok(LatchRun {
         traj: run.out.traj,
         events: run.events,

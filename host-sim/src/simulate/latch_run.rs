@@ -85,17 +85,7 @@ pub struct Energy {
     pub sticks: usize,
     /// Largest `|total − stored|` over the step ends of the run.
     pub worst_drift_j: f64,
-    /// The step end where `worst_drift_j` was reached \[s\].
-    pub worst_drift_t_s: f64,
 }
-
-/// Largest drift of a run's energy ledger, relative to the energy stored at
-/// the start, that a run may end with (`docs/simulator.md`, "Energy ledger
-/// self-check"): the bundled physical-latch runs drift at most 1.2e-6 at
-/// `simulate`'s default tolerances, so a drift beyond this is a wrong run
-/// (issue 38's four-panel wing drifted 8.6e-2 unflagged), not integration
-/// error.
-pub const MAX_LEDGER_DRIFT: f64 = 1e-3;
 
 /// A physical-latch run: the trajectory, the events and the ledger.
 #[derive(Clone, Debug, PartialEq)]

@@ -140,23 +140,6 @@ pub enum SimError {
         /// Simulated time \[s\].
         t_s: f64,
     },
-    /// The run's energy ledger does not close: its drift exceeds
-    /// [`crate::simulate::latch_run::MAX_LEDGER_DRIFT`] of the stored energy
-    /// (a wrong run, never written).
-    #[error(
-        "the energy ledger does not close: drift {drift_j:.3e} J ({:.2e} of the {stored_j:.6} J stored, \
-         more than {:.0e}) at t = {t_s:.6} s; the run is wrong and was not written",
-        drift_j / stored_j.abs().max(f64::MIN_POSITIVE),
-        crate::simulate::latch_run::MAX_LEDGER_DRIFT
-    )]
-    EnergyDrift {
-        /// Where the drift was largest \[s\].
-        t_s: f64,
-        /// The drift there \[J\].
-        drift_j: f64,
-        /// The energy stored at the start \[J\].
-        stored_j: f64,
-    },
     /// A tape-spring joint sticks at `φ̇ = 0` where neither branch is
     /// consistent (the reference reports this as an error too).
     #[error(

@@ -79,11 +79,7 @@ impl<const N: usize> Sim<'_, N> {
             ledger.energy.friction_j -= w * h * pj;
             ledger.energy.contact_j -= w * h * pc;
         }
-        let was = ledger.energy.worst_drift_j;
         self.close_ledger(ledger, y1);
-        if ledger.energy.worst_drift_j > was {
-            ledger.energy.worst_drift_t_s = t1;
-        }
     }
 
     /// The ledger's state terms at `y` and the drift there.
