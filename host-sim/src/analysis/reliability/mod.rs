@@ -183,8 +183,7 @@ impl Problem {
     /// latch, and the run stops at [`Problem::run_end_s`] or when every
     /// joint latched.
     ///
-    /// A physical-latch run keeps its energy ledger and checks it (a drift
-    /// fails the run, `docs/simulator.md`): every run checks itself.
+    /// A physical-latch run keeps its energy ledger (`docs/simulator.md`).
     pub fn deploy(&self, x: &[f64]) -> Result<Outcome, ReliabilityError> {
         self.deploy_keeping(x, Keep::Ledger)
     }
