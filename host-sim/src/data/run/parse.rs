@@ -308,6 +308,34 @@ fn unknown_column(cols: &[Col], names: &[&str], n: usize) -> Option<RunErrorKind
 /// does not declare missing samples.
 const MISSING_HINT: &str = "; a missing reading may be written `NaN` only in a file that declares it: add the line `# missing_samples = \"NaN\"` before the header (docs/spec/formats.md)";
 
+/// The joint count a header seems to be for: its angle columns, its latch
+/// columns, or its width, whichever says more (a misspelt column must not
+/// change the count).
+fn header_joint_count(cols: &[Col], width: usize, n_phi: usize, n_latch: usize) -> usize {
+    let half = (width.saturating_sub(1) / 2).min(MAX_CHAIN_JOINTS);
+    // Angle columns numbered past their count (`phi4_deg` among three
+    // angles) say a lower one is missing: the run is for that many
+    // joints, and the missing angle is what the message names.
+    let highest_phi = cols
+        .iter()
+        .filter_map(|c| match c {
+            Col::Phi(j) => Some(*j),
+            _ => None,
+        })
+        .max()
+        .unwrap_or(0);
+    // A number far past the columns is a misspelling, not a count.
+    let highest_phi = if highest_phi <= n_latch.max(n_phi + 1) {
+        highest_phi.min(MAX_CHAIN_JOINTS)
+    } else {
+        0
+    };
+    match n_phi.max(n_latch.min(half)).max(highest_phi) {
+        0 => half.max(1),
+        n => n,
+    }
+}
+
 impl Run {
     /// Reads and validates a run CSV file.
     pub fn load(path: &Path) -> Result<Run, RunError> {
@@ -466,31 +494,7 @@ impl Run {
                 },
             ));
         }
-        // The joint count the header seems to be for: its angle columns,
-        // its latch columns, or its width, whichever says more (a misspelt
-        // column must not change the count).
-        let half = (names.len().saturating_sub(1) / 2).min(MAX_CHAIN_JOINTS);
-        // Angle columns numbered past their count (`phi4_deg` among three
-        // angles) say a lower one is missing: the run is for that many
-        // joints, and the missing angle is what the message names.
-        let highest_phi = cols
-            .iter()
-            .filter_map(|c| match c {
-                Col::Phi(j) => Some(*j),
-                _ => None,
-            })
-            .max()
-            .unwrap_or(0);
-        // A number far past the columns is a misspelling, not a count.
-        let highest_phi = if highest_phi <= n_latch.max(n_phi + 1) {
-            highest_phi.min(MAX_CHAIN_JOINTS)
-        } else {
-            0
-        };
-        let n = match n_phi.max(n_latch.min(half)).max(highest_phi) {
-            0 => half.max(1),
-            n => n,
-        };
+        let n = header_joint_count(&cols, names.len(), n_phi, n_latch);
         let expected_header = run_header(n);
         let expected = run_columns(n);
         for (i, c) in cols.iter().enumerate() {
