@@ -2,7 +2,9 @@
 batches) instead of being seen only when the run ends: a crude Monte-Carlo
 of 10⁹ deployments (days of work) in a child process that sends itself
 SIGINT one second in. The child must end with KeyboardInterrupt; the
-timeout only bounds a run that ignores the signal.
+timeout only bounds a run that ignores the signal. Ctrl-C in `diagnose()`
+writes the best model so far, marked, as the CLI does, and Python's own
+handler is back when the call returns.
 
     bash scripts/python-env.sh && .venv/bin/pytest python/tests/test_interrupt.py -q
 """
@@ -54,23 +56,37 @@ DIAGNOSE = """
 import json, os, signal, sys, threading, time
 import deploywatch
 
+# Python's handler for the test: it counts. SIGINT is sent every 5 ms from
+# the start of the call until it returns, so the command's own handler (set
+# when the search starts) sees one within 5 ms however fast this machine
+# diagnoses; before that and after, this handler takes them.
+seen = []
+def count(signum, frame):
+    seen.append(signum)
+signal.signal(signal.SIGINT, count)
+done = threading.Event()
 def interrupt():
-    time.sleep(1.0)
-    os.kill(os.getpid(), signal.SIGINT)
+    while not done.is_set():
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(0.005)
 
 runs = ["data/examples/c_seed001_friction_harness/seed001_T01.csv",
         "data/examples/c_seed001_friction_harness/seed001_T02.csv"]
 mechs = ["data/mechanisms/seed001_T01.toml", "data/mechanisms/seed001_T02.toml"]
-threading.Thread(target=interrupt, daemon=True).start()
-d = deploywatch.diagnose(runs, mechs, json=sys.argv[1])
-print(json.dumps({"partial": d.json.get("partial"), "report": os.path.exists(d.report)}))
-# Python's own Ctrl-C is back: the next SIGINT is a KeyboardInterrupt.
-assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+sender = threading.Thread(target=interrupt, daemon=True)
+sender.start()
 try:
-    os.kill(os.getpid(), signal.SIGINT)
-    time.sleep(5)
-except KeyboardInterrupt:
-    print("KeyboardInterrupt")
+    d = deploywatch.diagnose(runs, mechs, json=sys.argv[1])
+finally:
+    done.set()
+    sender.join()
+print(json.dumps({"partial": d.json.get("partial"), "report": os.path.exists(d.report)}))
+# Python's handler is back: the next SIGINT reaches it.
+assert signal.getsignal(signal.SIGINT) is count
+before = len(seen)
+os.kill(os.getpid(), signal.SIGINT)
+time.sleep(0.2)
+print("python handler" if len(seen) == before + 1 else f"python handler not called: {len(seen) - before}")
 """
 
 
@@ -85,7 +101,7 @@ def test_ctrl_c_in_diagnose_writes_the_best_so_far_as_the_cli_does(root, tmp_pat
         pytest.fail("diagnose() ignored SIGINT")
     assert done.returncode == 0, done.stderr
     lines = done.stdout.strip().splitlines()
-    assert lines[-1] == "KeyboardInterrupt", done.stdout
+    assert lines[-1] == "python handler", done.stdout
     import json
 
     said = json.loads(lines[0])
