@@ -1,27 +1,41 @@
 //! Issue 38: invariants of the simulator on random valid wings
 //! (`deploywatch_tests::wing_gen`), checked by proptest. Each case is one
 //! wing drawn from a seed (printed by proptest on failure with the wing's
-//! TOML); the wing is loaded from its TOML text as a user's file:
+//! TOML and its effects); the wing is loaded from its TOML text as a user's
+//! file and simulated with its drawn named effects:
 //!
 //! - an enabled `[rig]` on a wing with a physical latch is refused naming
 //!   the rig, never dropped silently;
-//! - a run ends normally;
+//! - the run ends normally: its energy ledger closes (a drift over 1e-6 of
+//!   the stored energy would stop it with `SimError::EnergyDrift`), and a
+//!   physical-latch run's reported worst drift is within that too;
 //! - an ideal joint never passes its latch angle (it latches there), and a
 //!   joint latched at the end is at its latch angle;
-//! - the latch instants (the summary) and the per-sample switch (the CSV)
-//!   agree: a joint with a latch instant is latched at every later sample,
-//!   one without is latched at none (ideal joints);
-//! - a physical joint never passes its stop by more than 1°;
-//! - the run is deterministic (two runs are identical).
+//! - the latch instants (the summary), the per-sample switch (the CSV) and
+//!   the events agree: an ideal joint with a latch instant is latched at
+//!   every later sample and has its latch event then, one without is
+//!   latched at none; a physical joint has a latch instant exactly when its
+//!   switch is closed at the end, the instant is its last switch-closing
+//!   event (or 0), and the switch stays closed from then on;
+//! - no physical joint passes its stop: the stop's elastic energy at the
+//!   deepest sample is at most the energy stored at the start;
+//! - the run is deterministic (two runs are identical);
+//! - the core's `f32` chain (the monitor's, `deploywatch_core::Chain<f32>`)
+//!   and the simulator's `f64` chain agree on the mass matrix and the
+//!   spring torques at three states of the wing.
 //!
-//! Ignored in the default run until its first whole run is clean (issue
-//! 38): `cargo test --release -p deploywatch-tests --test random_wings -- --ignored`.
-//! Cases: `DEPLOYWATCH_WINGS` (default 500). The larger run of
-//! `docs/simulator.md`:
-//! `DEPLOYWATCH_WINGS=5000 cargo test --release -p deploywatch-tests --test random_wings`.
+//! `cargo test --release -p deploywatch-tests --test random_wings`; cases:
+//! `DEPLOYWATCH_WINGS` (default 500). The larger run of `docs/simulator.md`
+//! (recorded in `docs/measured.md` with `DEPLOYWATCH_FULL=1`):
+//! `DEPLOYWATCH_WINGS=5000 DEPLOYWATCH_FULL=1 cargo test --release -p deploywatch-tests --test random_wings`.
 
-use deploywatch_sim::deployment::{self, SimOptions};
+use deploywatch_core::monitor::Monitor;
+use deploywatch_core::physics::latch_contact::LatchMark;
+use deploywatch_core::Branch;
+use deploywatch_sim::deployment::{self, SimOptions, Trajectory};
+use deploywatch_sim::latch_deployment::{simulate_physical, LatchEventKind, LatchRun};
 use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::monitor_config::monitor_config;
 use deploywatch_tests::wing_gen::{wing_toml, Wing};
 use proptest::prelude::*;
 
@@ -35,6 +49,10 @@ fn cases() -> u32 {
 /// Share of physical latches among the drawn joints.
 const PHYSICAL_SHARE: f64 = 0.25;
 
+/// The ledger's closure asked of every run (issue 38), relative to the
+/// stored energy.
+const LEDGER_CLOSURE: f64 = 1e-6;
+
 fn check(w: &Wing) -> Result<(), TestCaseError> {
     let mech = Mechanism::from_toml_str(&w.toml, "random.toml");
     if w.rig && !w.physical.is_empty() {
@@ -44,47 +62,151 @@ fn check(w: &Wing) -> Result<(), TestCaseError> {
     }
     let mech = mech.map_err(|e| TestCaseError::fail(e.to_string()))?;
     let opts = SimOptions::default();
-    let run = deployment::simulate(&mech, &[], &opts);
-    let again = deployment::simulate(&mech, &[], &opts);
+    let run = deployment::simulate(&mech, &w.effects, &opts);
+    let again = deployment::simulate(&mech, &w.effects, &opts);
     prop_assert_eq!(&run, &again, "not deterministic");
-    let traj = match run {
-        Ok(t) => t,
-        Err(e) => return Err(TestCaseError::fail(format!("run failed: {e}"))),
-    };
-    for j in 0..w.joints {
-        let side = mech.joints[j].stowed_deg.signum();
-        let phi = &traj.phi_deg[j];
-        let ideal = !w.physical.contains(&(j + 1));
-        let pass = if ideal { 1e-6 } else { 1.0 };
-        let worst = phi.iter().map(|p| -side * p).fold(f64::MIN, f64::max);
-        prop_assert!(
-            worst <= pass,
-            "joint {} passes its latch by {worst} deg",
-            j + 1
-        );
-        if !ideal {
-            continue;
-        }
-        let latched = &traj.latched[j];
-        match traj.latch_s[j] {
-            Some(t) => {
-                for (i, (&ts, &l)) in traj.t_s.iter().zip(latched).enumerate() {
-                    if ts >= t + 1e-9 {
-                        prop_assert!(l, "joint {} latched at {t} s, switch open at {ts} s", j + 1);
-                        prop_assert!(
-                            phi[i].abs() <= 1e-6,
-                            "joint {} latched at {} deg",
-                            j + 1,
-                            phi[i]
-                        );
-                    }
+    let traj = run.map_err(|e| TestCaseError::fail(format!("run failed: {e}")))?;
+    if !w.physical.is_empty() {
+        let grid = deployment::sample_grid(&mech, &opts).map_err(fail)?;
+        let lr = simulate_physical(&mech, &w.effects, &opts, grid).map_err(fail)?;
+        prop_assert_eq!(&lr.traj, &traj, "the latch run differs from the run");
+        check_physical(w, &mech, &lr)?;
+    }
+    for j in (0..w.joints).filter(|j| !w.physical.contains(&(j + 1))) {
+        check_ideal(&mech, &traj, j)?;
+    }
+    check_f32(&mech)
+}
+
+fn fail(e: impl std::fmt::Display) -> TestCaseError {
+    TestCaseError::fail(e.to_string())
+}
+
+/// An ideal joint: never past its latch; the summary's instant, the CSV's
+/// switch and the angle agree.
+fn check_ideal(mech: &Mechanism, traj: &Trajectory, j: usize) -> Result<(), TestCaseError> {
+    let side = mech.joints[j].stowed_deg.signum();
+    let phi = &traj.phi_deg[j];
+    let worst = phi.iter().map(|p| -side * p).fold(f64::MIN, f64::max);
+    prop_assert!(worst <= 1e-6, "joint {} passes its latch by {worst} deg", j + 1);
+    let latched = &traj.latched[j];
+    match traj.latch_s[j] {
+        Some(t) => {
+            for (i, (&ts, &l)) in traj.t_s.iter().zip(latched).enumerate() {
+                if ts >= t + 1e-9 {
+                    prop_assert!(l, "joint {} latched at {t} s, switch open at {ts} s", j + 1);
+                    prop_assert!(phi[i].abs() <= 1e-6, "joint {} latched at {} deg", j + 1, phi[i]);
                 }
             }
-            None => prop_assert!(
-                latched.iter().all(|l| !l),
-                "joint {}: no latch instant, but the switch closes",
-                j + 1
-            ),
+        }
+        None => prop_assert!(
+            latched.iter().all(|l| !l),
+            "joint {}: no latch instant, but the switch closes",
+            j + 1
+        ),
+    }
+    Ok(())
+}
+
+/// A physical-latch run: its ledger, and each physical joint's stop, latch
+/// instant, switch and events.
+fn check_physical(w: &Wing, mech: &Mechanism, lr: &LatchRun) -> Result<(), TestCaseError> {
+    let e = &lr.energy;
+    prop_assert!(
+        e.worst_drift_j <= LEDGER_CLOSURE * e.stored_j.abs(),
+        "ledger drift {:.3e} of the {} J stored",
+        e.worst_drift_j,
+        e.stored_j
+    );
+    let traj = &lr.traj;
+    for &jj in &w.physical {
+        let j = jj - 1;
+        let (Some(spec), Some(joint)) = (&mech.latches[j], mech.joints.get(j)) else {
+            return Err(fail(format!("joint {jj}: no physical latch read")));
+        };
+        let l = spec.to_core::<f64>(joint.stowed_deg, 1.0, 1.0);
+        let deepest = traj.phi_deg[j]
+            .iter()
+            .map(|p| l.stop_energy(p.to_radians()))
+            .fold(0.0, f64::max);
+        prop_assert!(
+            deepest <= e.stored_j * (1.0 + LEDGER_CLOSURE),
+            "joint {jj} passes its stop: {deepest} J in the stop, {} J stored",
+            e.stored_j
+        );
+        let closed_end = traj.latched[j].last().copied().unwrap_or(false);
+        prop_assert_eq!(traj.latch_s[j].is_some(), closed_end, "joint {}: summary vs CSV", jj);
+        let Some(t) = traj.latch_s[j] else { continue };
+        let last_close = lr
+            .events
+            .iter()
+            .rev()
+            .find(|ev| {
+                ev.joint == jj
+                    && ev.kind == LatchEventKind::Mark(LatchMark::Switch)
+                    && ev.rate_rad_s < 0.0
+            })
+            .map_or(0.0, |ev| ev.t_s);
+        prop_assert_eq!(t, last_close, "joint {}: summary vs events", jj);
+        for (&ts, &closed) in traj.t_s.iter().zip(&traj.latched[j]) {
+            prop_assert!(
+                ts < t + 1e-6 || closed,
+                "joint {jj} latched at {t} s, switch open at {ts} s"
+            );
+        }
+    }
+    Ok(())
+}
+
+/// The monitor's `f32` chain against the simulator's `f64` chain of the
+/// wing (no effects) at the stowed, half-way and deployed states: mass
+/// matrices within 1e-5 of the largest entry, spring torques within 1e-4
+/// of the largest torque plus 1e-6 N·m. Wings the monitor does not take
+/// (its configuration refuses them) are skipped.
+fn check_f32(mech: &Mechanism) -> Result<(), TestCaseError> {
+    macro_rules! by_count {
+        ($($n:literal)*) => {
+            match mech.joint_count() {
+                $($n => compare::<$n>(mech),)*
+                n => Err(fail(format!("{n} joints"))),
+            }
+        };
+    }
+    by_count!(2 3 4 5 6 7 8)
+}
+
+fn compare<const N: usize>(mech: &Mechanism) -> Result<(), TestCaseError> {
+    let Ok(cfg) = monitor_config::<N>(mech) else {
+        return Ok(());
+    };
+    let Ok(monitor) = Monitor::new(&cfg) else {
+        return Ok(());
+    };
+    let lo = *monitor.chain();
+    let je = vec![Default::default(); N];
+    let hi = mech
+        .chain::<N>(&je, Default::default())
+        .ok_or_else(|| fail("the host chain"))?;
+    for s in [1.0, 0.5, 0.0] {
+        let phi: [f64; N] = std::array::from_fn(|j| s * mech.joints[j].stowed_deg.to_radians());
+        let m64 = hi.mass_matrix(&phi);
+        let m32 = lo.mass_matrix(&phi.map(|p| p as f32));
+        let scale = m64.iter().flatten().fold(0.0_f64, |a, x| a.max(x.abs()));
+        for (r64, r32) in m64.iter().zip(&m32) {
+            for (a, b) in r64.iter().zip(r32) {
+                prop_assert!((a - f64::from(*b)).abs() <= 1e-5 * scale, "mass matrix {a} vs {b} at {s}");
+            }
+        }
+        for j in 0..N {
+            let t64 = hi.joints()[j].spring.torque(phi[j], Branch::Unfold);
+            let t32 = lo.joints()[j].spring.torque(phi[j] as f32, Branch::Unfold);
+            let scale = t64.abs().max(1.0);
+            prop_assert!(
+                (t64 - f64::from(t32)).abs() <= 1e-4 * scale + 1e-6,
+                "joint {} spring torque {t64} (f64) vs {t32} (f32) at {:.3} rad",
+                j + 1,
+                phi[j]
+            );
         }
     }
     Ok(())
@@ -93,9 +215,10 @@ fn check(w: &Wing) -> Result<(), TestCaseError> {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(cases()))]
     #[test]
-    #[ignore = "not yet run whole: the invariants and the generator are issue 38's open work (docs/simulator.md)"]
     fn random_wings_keep_the_invariants(seed in any::<u64>()) {
         let w = wing_toml(seed, PHYSICAL_SHARE);
-        check(&w).map_err(|e| TestCaseError::fail(format!("seed {seed}: {e}\n{}", w.toml)))?;
+        check(&w).map_err(|e| {
+            TestCaseError::fail(format!("seed {seed}: {e}\neffects: {:?}\n{}", w.effects, w.toml))
+        })?;
     }
 }

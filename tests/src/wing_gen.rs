@@ -1,11 +1,13 @@
 //! A generator of random valid wings (issue 38): 2–8 panels; linear, tape
 //! and curve (Akima) springs; ideal, plunger + magnet and pawl latches mixed
-//! in one wing; with and without a `[rig]`; friction drawn. It writes the
+//! in one wing; with and without a `[rig]`; friction and named effects
+//! (Coulomb friction, viscous damping at a joint; air drag) drawn. It writes the
 //! mechanism TOML text (`docs/spec/formats.md`), so a test loads it as a
 //! user's file and the parser is exercised too. The wing is a function of
 //! its seed only: a failing seed reproduces the wing.
 
 use crate::SplitMix;
+use deploywatch_sim::effect::{Effect, EffectKind};
 
 /// What [`wing_toml`] drew besides the text.
 #[derive(Clone, Debug, PartialEq)]
@@ -18,6 +20,9 @@ pub struct Wing {
     pub physical: Vec<usize>,
     /// True when an enabled `[rig]` was written.
     pub rig: bool,
+    /// Named effects to simulate the wing with (`--effect`), none on most
+    /// wings.
+    pub effects: Vec<Effect>,
 }
 
 fn uniform(r: &mut SplitMix, lo: f64, hi: f64) -> f64 {
@@ -129,10 +134,27 @@ pub fn wing_toml(seed: u64, physical_share: f64) -> Wing {
         t += "\n[rig]\n[[rig.bar]]\nmass_kg = 2.0\n[[rig.trolley]]\npanel = 1\nbar = 1\nmass_kg = 0.3\nwire_m = 1.5\n";
     }
     t += "\n[run]\nduration_s = 8.0\nsample_hz = 100.0\n";
+    let effects = effects(&mut r, joints);
     Wing {
         toml: t,
         joints,
         physical,
         rig,
+        effects,
     }
+}
+
+/// Named effects drawn for a wing of `joints` joints: none on half the
+/// wings; otherwise Coulomb friction \[N·m\] or viscous damping
+/// \[N·m·s/rad\] at a drawn joint, or air drag \[kg/m²\].
+fn effects(r: &mut SplitMix, joints: usize) -> Vec<Effect> {
+    if r.next_f64() < 0.5 {
+        return Vec::new();
+    }
+    let joint = 1 + pick(r, joints);
+    vec![match pick(r, 3) {
+        0 => Effect::joint(EffectKind::CoulombFriction, joint, uniform(r, 0.05, 0.5)),
+        1 => Effect::joint(EffectKind::ViscousDamping, joint, uniform(r, 0.05, 1.0)),
+        _ => Effect::global(EffectKind::AirDrag, uniform(r, 0.05, 0.5)),
+    }]
 }

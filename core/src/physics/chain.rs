@@ -401,6 +401,11 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
         self.counted().joint_torque(j, phi, phi_dot, branch)
     }
 
+    /// Power of the air drag at the state `x` \[W\] ([`ChainRef::drag_power`]).
+    pub fn drag_power(&self, x: &ChainState<T, N>) -> T {
+        self.counted().drag_power(x)
+    }
+
     /// Mass matrix and right-hand side `τ + Sᵀ(Q_ext − C)` of Lagrange's
     /// equations in joint coordinates.
     pub fn equations(&self, x: &ChainState<T, N>, mode: &Mode<N>) -> ([[T; N]; N], [T; N]) {
@@ -633,30 +638,62 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
             }
         }
         if g.air_drag_kg_m2 != T::ZERO {
-            let half = T::of(0.5);
-            for i in 0..n {
-                // v_n(s) = Σ_{k<i} L_k θ̇_k cos(θ_i − θ_k) + s θ̇_i
-                let mut base = T::ZERO;
-                for k in 0..i {
-                    base += self.length(k) * theta_dot[k] * (c[i] * c[k] + s[i] * s[k]);
-                }
-                let len = self.length(i);
-                let (mut f0, mut f1) = (T::ZERO, T::ZERO);
-                for &(x, w) in GAUSS8.iter() {
-                    let sp = half * len * (T::ONE + T::of(x));
-                    let wp = half * len * T::of(w);
-                    let vn = base + sp * theta_dot[i];
-                    let f = -g.air_drag_kg_m2 * vn * vn.abs();
-                    f0 += wp * f;
-                    f1 += wp * f * sp;
-                }
-                for k in 0..i {
-                    q[k] += self.length(k) * (c[i] * c[k] + s[i] * s[k]) * f0;
-                }
-                q[i] += f1;
+            let d = self.drag(c, s, theta_dot);
+            for k in 0..n {
+                q[k] += d[k];
             }
         }
         q
+    }
+
+    /// The air drag's generalised forces conjugate to the absolute angles
+    /// [N·m] (`physics.md` section 6, `air_drag`).
+    #[inline(always)]
+    fn drag(&self, c: &[T; M], s: &[T; M], theta_dot: &[T; M]) -> [T; M] {
+        let n = self.joint_count();
+        let mut q = [T::ZERO; M];
+        let g = self.global;
+        let half = T::of(0.5);
+        for i in 0..n {
+            // v_n(s) = Σ_{k<i} L_k θ̇_k cos(θ_i − θ_k) + s θ̇_i
+            let mut base = T::ZERO;
+            for k in 0..i {
+                base += self.length(k) * theta_dot[k] * (c[i] * c[k] + s[i] * s[k]);
+            }
+            let len = self.length(i);
+            let (mut f0, mut f1) = (T::ZERO, T::ZERO);
+            for &(x, w) in GAUSS8.iter() {
+                let sp = half * len * (T::ONE + T::of(x));
+                let wp = half * len * T::of(w);
+                let vn = base + sp * theta_dot[i];
+                let f = -g.air_drag_kg_m2 * vn * vn.abs();
+                f0 += wp * f;
+                f1 += wp * f * sp;
+            }
+            for k in 0..i {
+                q[k] += self.length(k) * (c[i] * c[k] + s[i] * s[k]) * f0;
+            }
+            q[i] += f1;
+        }
+        q
+    }
+
+    /// Power of the air drag at the state `x` \[W\] (`Q_drag · θ̇`, ≤ 0): the
+    /// work an energy ledger books as dissipated; 0 without drag.
+    pub fn drag_power(&self, x: &ChainState<T, M>) -> T {
+        if self.global.air_drag_kg_m2 == T::ZERO {
+            return T::ZERO;
+        }
+        let n = self.joint_count();
+        let th = absolute(n, &x.phi);
+        let thd = absolute(n, &x.phi_dot);
+        let (c, s) = trig(n, &th);
+        let q = self.drag(&c, &s, &thd);
+        let mut p = T::ZERO;
+        for k in 0..n {
+            p += q[k] * thd[k];
+        }
+        p
     }
 
     /// Mass matrix and right-hand side `τ + Sᵀ(Q_ext − C)` of Lagrange's

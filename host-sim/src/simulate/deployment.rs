@@ -12,6 +12,7 @@
 use crate::model::effect::{self, Effect};
 use crate::model::mechanism::{with_joints, Mechanism, MAX_CHAIN_JOINTS};
 use crate::model::torque_table::HostChain;
+use crate::simulate::chain_ledger::{self, ChainLedger};
 use crate::simulate::ode::{self, locate, State};
 use crate::simulate::trajectory::SAMPLE_TIME_SLACK_S;
 pub use crate::simulate::trajectory::{
@@ -155,6 +156,15 @@ enum Event {
     Branch(usize),
     /// A stuck joint's holding torque leaves its band (`physics.md` §4a).
     Slip(usize),
+}
+
+impl Event {
+    /// The joint (0-based).
+    fn joint(self) -> usize {
+        match self {
+            Event::Latch(j) | Event::Branch(j) | Event::Slip(j) => j,
+        }
+    }
 }
 
 /// The integrator's discrete bookkeeping.
@@ -352,6 +362,7 @@ pub fn run_chain<const N: usize>(
 ) -> Result<Trajectory, SimError> {
     let duration = times.last();
     let (mut it, mut y) = Integrator::at_rest(chain);
+    let mut ledger = ChainLedger::start(chain, &y);
     let mut out = Sampler {
         times,
         k: 0,
@@ -391,10 +402,10 @@ pub fn run_chain<const N: usize>(
             |tk| att.dense.at(tk),
             &it.mode.latched,
         )?;
+        let y_end = if cut { att.dense.at(t_end) } else { att.y1 };
+        ledger.step(it.chain, &it.mode, &att.dense, t_end, &y_end)?;
         let Some(ev) = first else {
-            t = t1;
-            y = att.y1;
-            k1 = att.k7;
+            (t, y, k1) = (t1, att.y1, att.k7);
             h = it.step_control.accept(h, att.err);
             events.same_instant = 0;
             continue;
@@ -405,8 +416,10 @@ pub fn run_chain<const N: usize>(
         } else {
             0
         };
-        y = att.dense.at(t_end);
+        y = y_end;
+        let before = chain_ledger::state_energy(it.chain, &y);
         done = it.apply_event(ev, &mut y, t_end, opts, &mut events, &mut out.out)?;
+        ledger.event(it.chain, before, &y, t_end, ev.joint() + 1)?;
         t = t_end;
         k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
         // Restart with a modest step after a discontinuity.

@@ -498,8 +498,6 @@ struct Ledger {
     energy: Energy,
     /// Total at the start \[J\].
     start_j: f64,
-    /// Not kept ([`Keep::Trajectory`]): nothing accounted.
-    off: bool,
 }
 
 /// Samples of the run.
@@ -553,7 +551,9 @@ pub enum Keep {
     /// The energy ledger ([`Energy`]), on Gauss–Legendre nodes of every step.
     Ledger,
     /// Nothing more: a verdict's run (`reliability`), whose trajectory and
-    /// events are the same bits; its [`LatchRun::energy`] is all zero.
+    /// events are the same bits; its [`LatchRun::energy`] is all zero. The
+    /// ledger is kept and checked all the same: every run stops with
+    /// [`SimError::EnergyDrift`] when it does not close.
     Trajectory,
 }
 
@@ -620,10 +620,7 @@ fn run_keeping<const N: usize>(
             },
         },
         events: Vec::new(),
-        ledger: Ledger {
-            off: keep == Keep::Trajectory,
-            ..Ledger::default()
-        },
+        ledger: Ledger::default(),
         same_instant: 0,
     };
     let (k, s, l) = sim.energies(&y0);
@@ -729,7 +726,7 @@ impl Runner<'_> {
                 |tk| att.dense.at(tk),
             )?;
             let y_end = if cut { att.dense.at(t_end) } else { att.y1 };
-            sim.account(&mut self.ledger, &att.dense, t_end, &y_end);
+            sim.account(&mut self.ledger, &att.dense, t_end, &y_end)?;
             let Some(ev) = first else {
                 (t, y, k1, h) = (t_end, att.y1, att.k7, control.accept(h, att.err));
                 self.same_instant = 0;
@@ -742,6 +739,11 @@ impl Runner<'_> {
             };
             y = y_end;
             self.apply(sim, ev, &mut y, t_end)?;
+            sim.close_ledger(&mut self.ledger, &y);
+            if let Some(e) = self.events.last() {
+                self.ledger
+                    .check(t_end, e.joint, || format!("its event {:?}", e.kind))?;
+            }
             t = t_end;
             k1 = sim.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
             h = h.min(ode::RESTART_STEP_S);

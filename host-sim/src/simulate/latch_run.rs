@@ -87,6 +87,12 @@ pub struct Energy {
     pub worst_drift_j: f64,
 }
 
+/// Largest drift of a run's energy ledger from the energy stored at the
+/// start, relative to it, that a run may reach (`docs/simulator.md`,
+/// "Energy ledger self-check"); beyond it the run stops with
+/// [`crate::simulate::trajectory::SimError::EnergyDrift`].
+pub const MAX_LEDGER_DRIFT: f64 = 1e-6;
+
 /// A physical-latch run: the trajectory, the events and the ledger.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LatchRun {

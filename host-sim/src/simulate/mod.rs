@@ -5,6 +5,7 @@
 //! [`deployment`] is the one entry point: it integrates an open chain
 //! itself and hands a truss wing to [`truss_deployment`] (the multibody
 //! simulator of [`multibody`]); both fill a [`trajectory::Trajectory`].
+pub mod chain_ledger;
 pub mod deployment;
 pub mod fault_injection;
 pub mod fault_syntax;

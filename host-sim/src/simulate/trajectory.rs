@@ -140,6 +140,30 @@ pub enum SimError {
         /// Simulated time \[s\].
         t_s: f64,
     },
+    /// The run's energy ledger does not close: its drift from the energy
+    /// stored at the start exceeds [`crate::simulate::latch_run::MAX_LEDGER_DRIFT`]
+    /// of it (`docs/simulator.md`, "Energy ledger self-check"). The run is
+    /// wrong and is not written.
+    #[error(
+        "the energy ledger does not close at joint {joint} ({cause}) at t = {t_s:.6} s: \
+         drift {drift_j:.3e} J, {:.2e} of the {stored_j:.6} J stored (more than {:.0e}); \
+         the run is wrong and was not written",
+        drift_j / stored_j.abs().max(f64::MIN_POSITIVE),
+        crate::simulate::latch_run::MAX_LEDGER_DRIFT
+    )]
+    EnergyDrift {
+        /// 1-based joint: the one at whose event the drift jumped, or whose
+        /// work term was largest over the step where it did.
+        joint: usize,
+        /// What happened there (an event's kind, or "its work over a step").
+        cause: String,
+        /// Where the drift first exceeded the tolerance \[s\].
+        t_s: f64,
+        /// The drift there \[J\].
+        drift_j: f64,
+        /// The energy stored at the start \[J\].
+        stored_j: f64,
+    },
     /// A tape-spring joint sticks at `φ̇ = 0` where neither branch is
     /// consistent (the reference reports this as an error too).
     #[error(

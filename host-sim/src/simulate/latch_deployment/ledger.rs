@@ -4,7 +4,9 @@
 //! the drift.
 
 use super::{Ledger, Sim, GAUSS3};
+use crate::simulate::latch_run::MAX_LEDGER_DRIFT;
 use crate::simulate::ode::{Dense, State};
+use crate::simulate::trajectory::SimError;
 use deploywatch_core::physics::pawl::PawlState;
 use deploywatch_core::Branch;
 
@@ -39,8 +41,8 @@ impl<const N: usize> Sim<'_, N> {
     /// Power of the non-conservative joint torques and of the stops' (and
     /// pawls' notches') damping at a state \[W\] (both ≤ 0 for a passive
     /// mechanism).
-    fn power(&self, y: &State<N>) -> (f64, f64) {
-        let (mut joints, mut contact) = (0.0, 0.0);
+    fn power(&self, y: &State<N>) -> ([f64; N], [f64; N]) {
+        let (mut joints, mut contact) = ([0.0; N], [0.0; N]);
         for (j, jt) in self.chain.joints().iter().enumerate() {
             if self.mode.latched[j] {
                 continue;
@@ -53,33 +55,48 @@ impl<const N: usize> Sim<'_, N> {
             let cons = soft * jt.spring.torque(phi, Branch::Unfold)
                 + ext_unfold
                 + jt.effects.harness_nm_per_rad * (jt.stowed_rad - phi);
-            joints += (total - cons) * rate;
+            joints[j] = (total - cons) * rate;
             if let Some(l) = &self.latch[j] {
                 let (_, f, f_notch) = self.latch_torque(j, phi, rate);
                 let elastic = l.stop_force(phi, rate).elastic_n;
-                contact += l.stop_torque(f - elastic) * rate;
+                contact[j] = l.stop_torque(f - elastic) * rate;
                 if self.seg[j].pawl == PawlState::Engaged {
                     let elastic = l.notch_force(phi, rate).elastic_n;
-                    contact += l.notch_torque(f_notch - elastic) * rate;
+                    contact[j] += l.notch_torque(f_notch - elastic) * rate;
                 }
             }
         }
         (joints, contact)
     }
 
-    /// Adds the dissipation over `[t0, t1]` of a step and checks the drift
-    /// at `y1`.
-    pub(super) fn account(&self, ledger: &mut Ledger, dense: &Dense<N>, t1: f64, y1: &State<N>) {
-        if ledger.off {
-            return;
-        }
+    /// Adds the dissipation over `[t0, t1]` of a step (the joints' and the
+    /// stops' work, and the air drag's, `Chain::drag_power`) to the ledger
+    /// and checks the drift at `y1`: an error naming the joint whose work
+    /// over the step was largest when it exceeds [`MAX_LEDGER_DRIFT`].
+    pub(super) fn account(
+        &self,
+        ledger: &mut Ledger,
+        dense: &Dense<N>,
+        t1: f64,
+        y1: &State<N>,
+    ) -> Result<(), SimError> {
         let h = t1 - dense.t0;
+        let mut work = [0.0; N];
         for (s, w) in GAUSS3 {
-            let (pj, pc) = self.power(&dense.at(dense.t0 + s * h));
-            ledger.energy.friction_j -= w * h * pj;
-            ledger.energy.contact_j -= w * h * pc;
+            let y = dense.at(dense.t0 + s * h);
+            let (pj, pc) = self.power(&y);
+            let drag = self.chain.drag_power(&y.chain());
+            ledger.energy.friction_j -= w * h * (pj.iter().sum::<f64>() + drag);
+            ledger.energy.contact_j -= w * h * pc.iter().sum::<f64>();
+            for j in 0..N {
+                work[j] += w * h * (pj[j] + pc[j]).abs();
+            }
         }
         self.close_ledger(ledger, y1);
+        let joint = (0..N).fold(0, |b, j| if work[j] > work[b] { j } else { b });
+        ledger.check(t1, joint + 1, || {
+            format!("its friction and contact work over the step from {:.6} s", dense.t0)
+        })
     }
 
     /// The ledger's state terms at `y` and the drift there.
@@ -89,5 +106,30 @@ impl<const N: usize> Sim<'_, N> {
         (e.kinetic_j, e.spring_j, e.latch_j) = (k, s, l);
         let total = k + s + l + e.friction_j + e.contact_j + e.impact_j;
         e.worst_drift_j = e.worst_drift_j.max((total - ledger.start_j).abs());
+    }
+}
+
+impl Ledger {
+    /// The ledger's check after a step or an event at `t`: a
+    /// [`SimError::EnergyDrift`] at `joint` (1-based, `cause` says why that
+    /// joint) when the drift exceeds [`MAX_LEDGER_DRIFT`] of the stored
+    /// energy.
+    pub(super) fn check(
+        &self,
+        t: f64,
+        joint: usize,
+        cause: impl FnOnce() -> String,
+    ) -> Result<(), SimError> {
+        let e = &self.energy;
+        if e.worst_drift_j <= MAX_LEDGER_DRIFT * e.stored_j.abs() {
+            return Ok(());
+        }
+        Err(SimError::EnergyDrift {
+            joint,
+            cause: cause(),
+            t_s: t,
+            drift_j: e.worst_drift_j,
+            stored_j: e.stored_j,
+        })
     }
 }

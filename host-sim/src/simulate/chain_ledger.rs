@@ -1,0 +1,135 @@
+//! The energy ledger of an ideal-latch chain run (`docs/simulator.md`,
+//! "Energy ledger self-check"): kinetic energy plus the chain's potential
+//! ([`deploywatch_core::Chain::potential_energy`]: springs on their
+//! unfolding branch, harness, rig tilt) plus the work of every other torque
+//! (friction, the tape springs' hysteresis, joint effects, air drag),
+//! integrated on 3-point Gauss–Legendre nodes of each step's dense output,
+//! plus the energy the events took (the latches' plastic impacts, the stick
+//! rule's impulses) is the energy stored at the start, to the drift. A drift
+//! beyond [`MAX_LEDGER_DRIFT`] of the stored energy stops the run with
+//! [`SimError::EnergyDrift`].
+
+use crate::model::torque_table::HostChain;
+use crate::simulate::latch_run::MAX_LEDGER_DRIFT;
+use crate::simulate::ode::{Dense, State};
+use crate::simulate::trajectory::SimError;
+use deploywatch_core::{Branch, Mode};
+
+/// 3-point Gauss–Legendre nodes and weights on [0, 1] (exact to degree 5).
+const GAUSS3: [(f64, f64); 3] = [
+    (0.112_701_665_379_258_31, 5.0 / 18.0),
+    (0.5, 8.0 / 18.0),
+    (0.887_298_334_620_741_7, 5.0 / 18.0),
+];
+
+/// The running sums of an ideal-latch run's ledger \[J\].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ChainLedger {
+    /// Kinetic plus potential energy at the start.
+    pub stored_j: f64,
+    /// Dissipated by the non-conservative torques so far.
+    pub dissipated_j: f64,
+    /// Taken by the events (plastic latch impacts, sticks) so far.
+    pub events_j: f64,
+    /// Largest `|total − stored|` so far.
+    pub worst_drift_j: f64,
+}
+
+impl ChainLedger {
+    /// The ledger of a run starting at `y0`.
+    pub fn start<const N: usize>(chain: &HostChain<N>, y0: &State<N>) -> Self {
+        ChainLedger {
+            stored_j: state_energy(chain, y0),
+            ..ChainLedger::default()
+        }
+    }
+
+    /// Books the work of the non-conservative torques over the step ending
+    /// at `t1` in the state `y1` (joints free in `mode`), then checks the
+    /// drift: an error naming the joint whose work over the step was
+    /// largest.
+    pub fn step<const N: usize>(
+        &mut self,
+        chain: &HostChain<N>,
+        mode: &Mode<N>,
+        dense: &Dense<N>,
+        t1: f64,
+        y1: &State<N>,
+    ) -> Result<(), SimError> {
+        let h = t1 - dense.t0;
+        let mut work = [0.0; N];
+        for (s, w) in GAUSS3 {
+            let y = dense.at(dense.t0 + s * h);
+            let x = y.chain();
+            self.dissipated_j -= w * h * chain.drag_power(&x);
+            for (j, jt) in chain.joints().iter().enumerate() {
+                if mode.latched[j] {
+                    continue;
+                }
+                let (phi, rate) = (y.q[j], y.v[j]);
+                let total = chain.joint_torque(j, phi, rate, mode.branch[j]);
+                let soft = 1.0 - jt.effects.spring_softening;
+                let cons = soft * jt.spring.torque(phi, Branch::Unfold)
+                    + jt.effects.harness_nm_per_rad * (jt.stowed_rad - phi);
+                let p = (total - cons) * rate;
+                self.dissipated_j -= w * h * p;
+                work[j] += w * h * p.abs();
+            }
+        }
+        let joint = (0..N).fold(0, |b, j| if work[j] > work[b] { j } else { b });
+        self.check(chain, y1, t1, joint + 1, || {
+            format!(
+                "its friction and effects' work over the step from {:.6} s",
+                dense.t0
+            )
+        })
+    }
+
+    /// Books what an event of joint `joint` (1-based) at `t` took from the
+    /// state (`before` its energy there), then checks the drift.
+    pub fn event<const N: usize>(
+        &mut self,
+        chain: &HostChain<N>,
+        before: f64,
+        y: &State<N>,
+        t: f64,
+        joint: usize,
+    ) -> Result<(), SimError> {
+        let taken = before - state_energy(chain, y);
+        self.events_j += taken;
+        if taken < -MAX_LEDGER_DRIFT * self.stored_j.abs() {
+            // An event that gives energy is wrong whatever the ledger says.
+            self.worst_drift_j = self.worst_drift_j.max(-taken);
+        }
+        self.check(chain, y, t, joint, || format!("its event, which took {taken:.3e} J"))
+    }
+
+    /// The drift at `y` (time `t`), and the error when it exceeds the
+    /// tolerance.
+    fn check<const N: usize>(
+        &mut self,
+        chain: &HostChain<N>,
+        y: &State<N>,
+        t: f64,
+        joint: usize,
+        cause: impl FnOnce() -> String,
+    ) -> Result<(), SimError> {
+        let total = state_energy(chain, y) + self.dissipated_j + self.events_j;
+        self.worst_drift_j = self.worst_drift_j.max((total - self.stored_j).abs());
+        if self.worst_drift_j <= MAX_LEDGER_DRIFT * self.stored_j.abs() {
+            return Ok(());
+        }
+        Err(SimError::EnergyDrift {
+            joint,
+            cause: cause(),
+            t_s: t,
+            drift_j: self.worst_drift_j,
+            stored_j: self.stored_j,
+        })
+    }
+}
+
+/// Kinetic plus potential energy of the chain at `y` \[J\].
+pub fn state_energy<const N: usize>(chain: &HostChain<N>, y: &State<N>) -> f64 {
+    chain.kinetic_energy(&y.chain()) + chain.potential_energy(&y.q)
+}
