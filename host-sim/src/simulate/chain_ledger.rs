@@ -7,9 +7,11 @@
 //! plus the energy the events took (the latches' plastic impacts, the stick
 //! rule's impulses) is the energy stored at the start, to the drift. A drift
 //! beyond [`MAX_LEDGER_DRIFT`] of the stored energy stops the run with
-//! [`SimError::EnergyDrift`].
+//! [`SimError::EnergyDrift`]; a step over which the drift moves by more than
+//! [`STEP_DRIFT`] of it is taken again shorter.
 
 use crate::model::torque_table::HostChain;
+use crate::simulate::latch_deployment::{LEDGER_MIN_STEP_S, STEP_DRIFT};
 use crate::simulate::latch_run::MAX_LEDGER_DRIFT;
 use crate::simulate::ode::{Dense, State};
 use crate::simulate::trajectory::SimError;
@@ -33,6 +35,8 @@ pub struct ChainLedger {
     pub events_j: f64,
     /// Largest `|total − stored|` so far.
     pub worst_drift_j: f64,
+    /// `total − stored` at the last check.
+    pub now_j: f64,
 }
 
 impl ChainLedger {
@@ -45,9 +49,12 @@ impl ChainLedger {
     }
 
     /// Books the work of the non-conservative torques over the step ending
-    /// at `t1` in the state `y1` (joints free in `mode`), then checks the
-    /// drift: an error naming the joint whose work over the step was
-    /// largest.
+    /// at `t1` in the state `y1` (joints free in `mode`). False when the
+    /// drift moved by more than [`STEP_DRIFT`] of the stored energy over the
+    /// step and it is longer than [`LEDGER_MIN_STEP_S`]: the step is to be
+    /// taken again, shorter (the ledger as before). An error naming the
+    /// joint whose work over the step was largest when the drift exceeds
+    /// [`MAX_LEDGER_DRIFT`].
     pub fn step<const N: usize>(
         &mut self,
         chain: &HostChain<N>,
@@ -55,13 +62,14 @@ impl ChainLedger {
         dense: &Dense<N>,
         t1: f64,
         y1: &State<N>,
-    ) -> Result<(), SimError> {
+    ) -> Result<bool, SimError> {
         let h = t1 - dense.t0;
+        let mut trial = *self;
         let mut work = [0.0; N];
         for (s, w) in GAUSS3 {
             let y = dense.at(dense.t0 + s * h);
             let x = y.chain();
-            self.dissipated_j -= w * h * chain.drag_power(&x);
+            trial.dissipated_j -= w * h * chain.drag_power(&x);
             for (j, jt) in chain.joints().iter().enumerate() {
                 if mode.latched[j] {
                     continue;
@@ -72,17 +80,23 @@ impl ChainLedger {
                 let cons = soft * jt.spring.torque(phi, Branch::Unfold)
                     + jt.effects.harness_nm_per_rad * (jt.stowed_rad - phi);
                 let p = (total - cons) * rate;
-                self.dissipated_j -= w * h * p;
+                trial.dissipated_j -= w * h * p;
                 work[j] += w * h * p.abs();
             }
         }
+        let now = state_energy(chain, y1) + trial.dissipated_j + trial.events_j - self.stored_j;
+        if (now - self.now_j).abs() > STEP_DRIFT * self.stored_j.abs() && h > LEDGER_MIN_STEP_S {
+            return Ok(false);
+        }
+        *self = trial;
         let joint = (0..N).fold(0, |b, j| if work[j] > work[b] { j } else { b });
         self.check(chain, y1, t1, joint + 1, || {
             format!(
                 "its friction and effects' work over the step from {:.6} s",
                 dense.t0
             )
-        })
+        })?;
+        Ok(true)
     }
 
     /// Books what an event of joint `joint` (1-based) at `t` took from the
@@ -115,7 +129,8 @@ impl ChainLedger {
         cause: impl FnOnce() -> String,
     ) -> Result<(), SimError> {
         let total = state_energy(chain, y) + self.dissipated_j + self.events_j;
-        self.worst_drift_j = self.worst_drift_j.max((total - self.stored_j).abs());
+        self.now_j = total - self.stored_j;
+        self.worst_drift_j = self.worst_drift_j.max(self.now_j.abs());
         if self.worst_drift_j <= MAX_LEDGER_DRIFT * self.stored_j.abs() {
             return Ok(());
         }

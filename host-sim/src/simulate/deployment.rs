@@ -397,13 +397,18 @@ pub fn run_chain<const N: usize>(
         // Samples up to the end of this (possibly cut) step. A sample at the
         // event instant itself is taken after the event is applied.
         let cut = first.is_some();
+        let y_end = if cut { att.dense.at(t_end) } else { att.y1 };
+        if !ledger.step(it.chain, &it.mode, &att.dense, t_end, &y_end)? {
+            h = (t_end - t) * ode::FAILED_STEP_SHRINK;
+            (out.out.stats.steps, out.out.stats.rejected) =
+                (out.out.stats.steps - 1, out.out.stats.rejected + 1);
+            continue;
+        }
         out.push_while(
             |tk| if cut { tk < t_end } else { tk <= t_end },
             |tk| att.dense.at(tk),
             &it.mode.latched,
         )?;
-        let y_end = if cut { att.dense.at(t_end) } else { att.y1 };
-        ledger.step(it.chain, &it.mode, &att.dense, t_end, &y_end)?;
         let Some(ev) = first else {
             (t, y, k1) = (t1, att.y1, att.k7);
             h = it.step_control.accept(h, att.err);
