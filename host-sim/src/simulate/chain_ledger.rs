@@ -8,10 +8,10 @@
 //! rule's impulses) is the energy stored at the start, to the drift. A drift
 //! beyond [`MAX_LEDGER_DRIFT`] of the stored energy stops the run with
 //! [`SimError::EnergyDrift`]; a step over which the drift moves by more than
-//! [`STEP_DRIFT`] of it is taken again shorter.
+//! its [`step_budget`] is taken again shorter.
 
 use crate::model::torque_table::HostChain;
-use crate::simulate::latch_deployment::{LEDGER_MIN_STEP_S, STEP_DRIFT};
+use crate::simulate::latch_deployment::{step_budget, LEDGER_MIN_STEP_S};
 use crate::simulate::latch_run::MAX_LEDGER_DRIFT;
 use crate::simulate::ode::{Dense, State};
 use crate::simulate::trajectory::SimError;
@@ -37,21 +37,24 @@ pub struct ChainLedger {
     pub worst_drift_j: f64,
     /// `total − stored` at the last check.
     pub now_j: f64,
+    /// The run's duration \[s\] ([`step_budget`]).
+    pub duration_s: f64,
 }
 
 impl ChainLedger {
-    /// The ledger of a run starting at `y0`.
-    pub fn start<const N: usize>(chain: &HostChain<N>, y0: &State<N>) -> Self {
+    /// The ledger of a run of `duration_s` \[s\] starting at `y0`.
+    pub fn start<const N: usize>(chain: &HostChain<N>, y0: &State<N>, duration_s: f64) -> Self {
         ChainLedger {
             stored_j: state_energy(chain, y0),
+            duration_s,
             ..ChainLedger::default()
         }
     }
 
     /// Books the work of the non-conservative torques over the step ending
     /// at `t1` in the state `y1` (joints free in `mode`). False when the
-    /// drift moved by more than [`STEP_DRIFT`] of the stored energy over the
-    /// step and it is longer than [`LEDGER_MIN_STEP_S`]: the step is to be
+    /// drift moved by more than its [`step_budget`] over the step and it is
+    /// longer than [`LEDGER_MIN_STEP_S`]: the step is to be
     /// taken again, shorter (the ledger as before). An error naming the
     /// joint whose work over the step was largest when the drift exceeds
     /// [`MAX_LEDGER_DRIFT`].
@@ -85,7 +88,8 @@ impl ChainLedger {
             }
         }
         let now = state_energy(chain, y1) + trial.dissipated_j + trial.events_j - self.stored_j;
-        if (now - self.now_j).abs() > STEP_DRIFT * self.stored_j.abs() && h > LEDGER_MIN_STEP_S {
+        let budget = step_budget(self.stored_j, h, self.duration_s);
+        if (now - self.now_j).abs() > budget && h > LEDGER_MIN_STEP_S {
             return Ok(false);
         }
         *self = trial;

@@ -362,7 +362,7 @@ pub fn run_chain<const N: usize>(
 ) -> Result<Trajectory, SimError> {
     let duration = times.last();
     let (mut it, mut y) = Integrator::at_rest(chain);
-    let mut ledger = ChainLedger::start(chain, &y);
+    let mut ledger = ChainLedger::start(chain, &y, duration);
     let mut out = Sampler {
         times,
         k: 0,
@@ -399,9 +399,7 @@ pub fn run_chain<const N: usize>(
         let cut = first.is_some();
         let y_end = if cut { att.dense.at(t_end) } else { att.y1 };
         if !ledger.step(it.chain, &it.mode, &att.dense, t_end, &y_end)? {
-            h = (t_end - t) * ode::FAILED_STEP_SHRINK;
-            (out.out.stats.steps, out.out.stats.rejected) =
-                (out.out.stats.steps - 1, out.out.stats.rejected + 1);
+            h = out.out.stats.retake(t_end - t);
             continue;
         }
         out.push_while(

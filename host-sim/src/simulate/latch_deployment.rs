@@ -38,6 +38,8 @@ mod pawl;
 mod setup;
 mod stick;
 
+use ledger::Ledger;
+pub use ledger::{step_budget, LEDGER_MIN_STEP_S};
 use setup::{segment_index, Consts};
 
 pub use setup::{check_latch_effects, latches, weakenings};
@@ -48,17 +50,6 @@ pub use crate::simulate::latch_run::{
 
 /// Most events at one instant before the run is declared stuck (Zeno).
 pub const MAX_EVENTS_AT_ONE_INSTANT: usize = 50;
-
-/// Largest move of the energy ledger's drift over one step, relative to
-/// the stored energy, before the step is taken again shorter: the ledger is
-/// an error estimate of its own beside DOPRI5's, and on a stiff stop contact
-/// the default tolerances alone let a run drift past [`MAX_LEDGER_DRIFT`]
-/// (issue 38's four-panel wing: 1.07e-6 at its pawl's stop at 1.469 s).
-pub const STEP_DRIFT: f64 = 1e-8;
-
-/// Steps at most this long \[s\] are not taken again for the ledger (an
-/// event located a rounding error after the step's start).
-pub const LEDGER_MIN_STEP_S: f64 = 1e-9;
 
 /// Time ahead of an event at which the new segment is read \[s\]: the state
 /// is then on the far side of the mark it just reached.
@@ -503,16 +494,6 @@ impl<const N: usize> Sim<'_, N> {
     }
 }
 
-/// The ledger's running sums (kept by `ledger.rs`).
-#[derive(Clone, Copy, Debug, Default)]
-struct Ledger {
-    energy: Energy,
-    /// Total at the start \[J\].
-    start_j: f64,
-    /// The drift at the last closing, `total − start` \[J\].
-    now_j: f64,
-}
-
 /// Samples of the run.
 struct Out<'t> {
     times: Samples<'t>,
@@ -638,6 +619,7 @@ fn run_keeping<const N: usize>(
     };
     let (k, s, l) = sim.energies(&y0);
     run.ledger.start_j = k + s + l;
+    run.ledger.duration_s = times.last();
     run.ledger.energy.stored_j = k + s + l;
     sim.close_ledger(&mut run.ledger, &y0);
     sim.stick_at_rest(&y0);
@@ -735,9 +717,7 @@ impl Runner<'_> {
             let cut = first.is_some();
             let y_end = if cut { att.dense.at(t_end) } else { att.y1 };
             if !self.book(sim, &att.dense, t_end, &y_end)? {
-                h = (t_end - t) * ode::FAILED_STEP_SHRINK;
-                self.out.traj.stats.steps -= 1;
-                self.out.traj.stats.rejected += 1;
+                h = self.out.traj.stats.retake(t_end - t);
                 continue;
             }
             self.out.push_while(
@@ -769,31 +749,6 @@ impl Runner<'_> {
         }
         self.out.push_while(sim, |tk| tk <= t + 1e-9, |_| y)?;
         Ok(t.min(duration))
-    }
-
-    /// Books the step `[dense.t0, t1]` ending in `y1` on the ledger. False
-    /// when the ledger's drift moved by more than [`STEP_DRIFT`] of the
-    /// stored energy over it and it is longer than [`LEDGER_MIN_STEP_S`]:
-    /// the step is to be taken again, shorter (the ledger as before). An
-    /// error when the drift exceeds [`MAX_LEDGER_DRIFT`].
-    fn book<const N: usize>(
-        &mut self,
-        sim: &Sim<'_, N>,
-        dense: &Dense<N>,
-        t1: f64,
-        y1: &State<N>,
-    ) -> Result<bool, SimError> {
-        let mut trial = self.ledger;
-        let joint = sim.account(&mut trial, dense, t1, y1);
-        let moved = (trial.now_j - self.ledger.now_j).abs();
-        if moved > STEP_DRIFT * trial.energy.stored_j.abs() && t1 - dense.t0 > LEDGER_MIN_STEP_S {
-            return Ok(false);
-        }
-        self.ledger = trial;
-        self.ledger.check(t1, joint + 1, || {
-            format!("its friction and contact work over the step from {:.6} s", dense.t0)
-        })?;
-        Ok(true)
     }
 
     /// Applies event `ev` at `t` to the state `y` there.

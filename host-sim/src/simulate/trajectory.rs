@@ -77,6 +77,18 @@ pub struct SimStats {
     pub events: usize,
 }
 
+impl SimStats {
+    /// An accepted step taken back because the energy ledger moved too
+    /// much over it (`docs/simulator.md`, "Energy ledger self-check"):
+    /// counted as rejected; the step \[s\] to try next, a quarter of
+    /// `taken` ([`crate::simulate::ode::FAILED_STEP_SHRINK`]).
+    pub fn retake(&mut self, taken: f64) -> f64 {
+        self.steps -= 1;
+        self.rejected += 1;
+        taken * crate::simulate::ode::FAILED_STEP_SHRINK
+    }
+}
+
 /// A simulated deployment, sampled at the output rate.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Trajectory {

@@ -3,12 +3,49 @@
 //! dissipative torques integrated on Gauss–Legendre nodes of each step, and
 //! the drift.
 
-use super::{Ledger, Sim, GAUSS3};
-use crate::simulate::latch_run::MAX_LEDGER_DRIFT;
+use super::{Runner, Sim, GAUSS3};
+use crate::simulate::latch_run::{Energy, MAX_LEDGER_DRIFT};
 use crate::simulate::ode::{Dense, State};
 use crate::simulate::trajectory::SimError;
 use deploywatch_core::physics::pawl::PawlState;
 use deploywatch_core::Branch;
+
+/// The floor of [`step_budget`], relative to the stored energy.
+pub const STEP_DRIFT: f64 = 1e-10;
+
+/// The share of [`MAX_LEDGER_DRIFT`] that [`step_budget`] spreads over a
+/// run's duration.
+pub const DRIFT_RATE_SHARE: f64 = 0.25;
+
+/// Largest move of the energy ledger's drift over one step of `h` \[s\] in a
+/// run of `duration_s` \[s\] storing `stored_j` \[J\] before the step is taken
+/// again shorter: [`STEP_DRIFT`] plus [`DRIFT_RATE_SHARE`] of
+/// [`MAX_LEDGER_DRIFT`] in proportion to `h / duration_s` (of `stored_j`).
+/// The ledger is an error estimate of its own beside DOPRI5's: on a stiff
+/// stop contact the default tolerances alone let a run drift past
+/// [`MAX_LEDGER_DRIFT`] in a few steps (issue 38's four-panel wing: 1.07e-6
+/// at its pawl's stop at 1.469 s), and over a long run of many joints the
+/// smooth steps' errors add up to it (an eight-panel wing: 1.0e-6 at 8 s).
+pub fn step_budget(stored_j: f64, h: f64, duration_s: f64) -> f64 {
+    let share = DRIFT_RATE_SHARE * MAX_LEDGER_DRIFT * h / duration_s.max(h);
+    stored_j.abs() * (STEP_DRIFT + share)
+}
+
+/// Steps at most this long \[s\] are not taken again for the ledger (an
+/// event located a rounding error after the step's start).
+pub const LEDGER_MIN_STEP_S: f64 = 1e-9;
+
+/// The ledger's running sums (kept by `ledger.rs`).
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Ledger {
+    pub(super) energy: Energy,
+    /// Total at the start \[J\].
+    pub(super) start_j: f64,
+    /// The drift at the last closing, `total − start` \[J\].
+    pub(super) now_j: f64,
+    /// The run's duration \[s\] ([`step_budget`]).
+    pub(super) duration_s: f64,
+}
 
 impl<const N: usize> Sim<'_, N> {
     /// Kinetic, chain and latch potential at a state \[J\].
@@ -130,4 +167,33 @@ impl Ledger {
             stored_j: e.stored_j,
         })
     }
+}
+
+impl Runner<'_> {
+    /// Books the step `[dense.t0, t1]` ending in `y1` on the ledger. False
+    /// when the ledger's drift moved by more than its [`step_budget`] of the
+    /// stored energy over it and it is longer than [`LEDGER_MIN_STEP_S`]:
+    /// the step is to be taken again, shorter (the ledger as before). An
+    /// error when the drift exceeds [`MAX_LEDGER_DRIFT`].
+    pub(super) fn book<const N: usize>(
+        &mut self,
+        sim: &Sim<'_, N>,
+        dense: &Dense<N>,
+        t1: f64,
+        y1: &State<N>,
+    ) -> Result<bool, SimError> {
+        let mut trial = self.ledger;
+        let joint = sim.account(&mut trial, dense, t1, y1);
+        let moved = (trial.now_j - self.ledger.now_j).abs();
+        let budget = step_budget(trial.energy.stored_j, t1 - dense.t0, trial.duration_s);
+        if moved > budget && t1 - dense.t0 > LEDGER_MIN_STEP_S {
+            return Ok(false);
+        }
+        self.ledger = trial;
+        self.ledger.check(t1, joint + 1, || {
+            format!("its friction and contact work over the step from {:.6} s", dense.t0)
+        })?;
+        Ok(true)
+    }
+
 }
