@@ -65,8 +65,8 @@ pub struct Energy {
     /// Potential of the latches at the end: plunger, magnet, the stops'
     /// elastic energy.
     pub latch_j: f64,
-    /// Dissipated by the joint torques that are not conservative: friction,
-    /// the tape springs' hysteresis, joint effects.
+    /// Dissipated by the joint torques that are not conservative (friction,
+    /// the tape springs' hysteresis, joint effects) and by air drag.
     pub friction_j: f64,
     /// Dissipated by the stops' damping.
     pub contact_j: f64,
