@@ -97,14 +97,23 @@ fn check_ideal(mech: &Mechanism, traj: &Trajectory, j: usize) -> Result<(), Test
     let side = mech.joints[j].stowed_deg.signum();
     let phi = &traj.phi_deg[j];
     let worst = phi.iter().map(|p| -side * p).fold(f64::MIN, f64::max);
-    prop_assert!(worst <= 1e-6, "joint {} passes its latch by {worst} deg", j + 1);
+    prop_assert!(
+        worst <= 1e-6,
+        "joint {} passes its latch by {worst} deg",
+        j + 1
+    );
     let latched = &traj.latched[j];
     match traj.latch_s[j] {
         Some(t) => {
             for (i, (&ts, &l)) in traj.t_s.iter().zip(latched).enumerate() {
                 if ts >= t + 1e-9 {
                     prop_assert!(l, "joint {} latched at {t} s, switch open at {ts} s", j + 1);
-                    prop_assert!(phi[i].abs() <= 1e-6, "joint {} latched at {} deg", j + 1, phi[i]);
+                    prop_assert!(
+                        phi[i].abs() <= 1e-6,
+                        "joint {} latched at {} deg",
+                        j + 1,
+                        phi[i]
+                    );
                 }
             }
         }
@@ -144,7 +153,12 @@ fn check_physical(w: &Wing, mech: &Mechanism, lr: &LatchRun) -> Result<(), TestC
             e.stored_j
         );
         let closed_end = traj.latched[j].last().copied().unwrap_or(false);
-        prop_assert_eq!(traj.latch_s[j].is_some(), closed_end, "joint {}: summary vs CSV", jj);
+        prop_assert_eq!(
+            traj.latch_s[j].is_some(),
+            closed_end,
+            "joint {}: summary vs CSV",
+            jj
+        );
         let Some(t) = traj.latch_s[j] else { continue };
         let last_close = lr
             .events
@@ -203,7 +217,10 @@ fn compare<const N: usize>(mech: &Mechanism) -> Result<(), TestCaseError> {
         let scale = m64.iter().flatten().fold(0.0_f64, |a, x| a.max(x.abs()));
         for (r64, r32) in m64.iter().zip(&m32) {
             for (a, b) in r64.iter().zip(r32) {
-                prop_assert!((a - f64::from(*b)).abs() <= 1e-5 * scale, "mass matrix {a} vs {b} at {s}");
+                prop_assert!(
+                    (a - f64::from(*b)).abs() <= 1e-5 * scale,
+                    "mass matrix {a} vs {b} at {s}"
+                );
             }
         }
         for j in 0..N {
@@ -245,7 +262,10 @@ fn random_wings_keep_the_invariants() {
     let result = runner.run(&any::<u64>(), |seed| {
         let w = wing_toml(seed, PHYSICAL_SHARE);
         let drift = check(&w).map_err(|e| {
-            TestCaseError::fail(format!("seed {seed}: {e}\neffects: {:?}\n{}", w.effects, w.toml))
+            TestCaseError::fail(format!(
+                "seed {seed}: {e}\neffects: {:?}\n{}",
+                w.effects, w.toml
+            ))
         })?;
         let mut t = tally.borrow_mut();
         t.wings += 1;

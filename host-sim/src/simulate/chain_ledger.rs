@@ -119,7 +119,9 @@ impl ChainLedger {
             // An event that gives energy is wrong whatever the ledger says.
             self.worst_drift_j = self.worst_drift_j.max(-taken);
         }
-        self.check(chain, y, t, joint, || format!("its event, which took {taken:.3e} J"))
+        self.check(chain, y, t, joint, || {
+            format!("its event, which took {taken:.3e} J")
+        })
     }
 
     /// The drift at `y` (time `t`), and the error when it exceeds the

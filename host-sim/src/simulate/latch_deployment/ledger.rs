@@ -191,9 +191,11 @@ impl Runner<'_> {
         }
         self.ledger = trial;
         self.ledger.check(t1, joint + 1, || {
-            format!("its friction and contact work over the step from {:.6} s", dense.t0)
+            format!(
+                "its friction and contact work over the step from {:.6} s",
+                dense.t0
+            )
         })?;
         Ok(true)
     }
-
 }
