@@ -223,15 +223,18 @@ fn compare<const N: usize>(mech: &Mechanism) -> Result<(), TestCaseError> {
                 );
             }
         }
-        for j in 0..N {
-            let t64 = hi.joints()[j].spring.torque(phi[j], Branch::Unfold);
-            let t32 = lo.joints()[j].spring.torque(phi[j] as f32, Branch::Unfold);
+        for (j, (&p, (a, b))) in phi
+            .iter()
+            .zip(hi.joints().iter().zip(lo.joints()))
+            .enumerate()
+        {
+            let t64 = a.spring.torque(p, Branch::Unfold);
+            let t32 = b.spring.torque(p as f32, Branch::Unfold);
             let scale = t64.abs().max(1.0);
             prop_assert!(
                 (t64 - f64::from(t32)).abs() <= 1e-4 * scale + 1e-6,
-                "joint {} spring torque {t64} (f64) vs {t32} (f32) at {:.3} rad",
-                j + 1,
-                phi[j]
+                "joint {} spring torque {t64} (f64) vs {t32} (f32) at {p:.3} rad",
+                j + 1
             );
         }
     }

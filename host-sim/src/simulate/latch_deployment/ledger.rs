@@ -19,7 +19,7 @@ pub const DRIFT_RATE_SHARE: f64 = 0.25;
 
 /// Largest move of the energy ledger's drift over one step of `h` \[s\] in a
 /// run of `duration_s` \[s\] storing `stored_j` \[J\] before the step is taken
-/// again shorter: [`STEP_DRIFT`] plus [`DRIFT_RATE_SHARE`] of
+/// again shorter: `STEP_DRIFT` plus `DRIFT_RATE_SHARE` of
 /// [`MAX_LEDGER_DRIFT`] in proportion to `h / duration_s` (of `stored_j`).
 /// The ledger is an error estimate of its own beside DOPRI5's: on a stiff
 /// stop contact the default tolerances alone let a run drift past
