@@ -11,10 +11,9 @@
 //! its [`step_budget`] is taken again shorter.
 
 use crate::model::torque_table::HostChain;
-use crate::simulate::latch_deployment::{step_budget, LEDGER_MIN_STEP_S};
-use crate::simulate::latch_run::MAX_LEDGER_DRIFT;
+use crate::simulate::latch_run::{step_budget, LEDGER_MIN_STEP_S};
 use crate::simulate::ode::{Dense, State};
-use crate::simulate::trajectory::SimError;
+use crate::simulate::trajectory::{SimError, MAX_LEDGER_DRIFT};
 use deploywatch_core::{Branch, Mode};
 
 /// 3-point Gauss–Legendre nodes and weights on [0, 1] (exact to degree 5).

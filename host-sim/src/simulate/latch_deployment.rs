@@ -38,8 +38,6 @@ mod pawl;
 mod setup;
 mod stick;
 
-use ledger::Ledger;
-pub use ledger::{step_budget, LEDGER_MIN_STEP_S};
 use setup::{segment_index, Consts};
 
 pub use setup::{check_latch_effects, latches, weakenings};
@@ -492,6 +490,18 @@ impl<const N: usize> Sim<'_, N> {
         }
         best
     }
+}
+
+/// The ledger's running sums (kept by `ledger.rs`).
+#[derive(Clone, Copy, Debug, Default)]
+struct Ledger {
+    energy: Energy,
+    /// Total at the start \[J\].
+    start_j: f64,
+    /// The drift at the last closing, `total − start` \[J\].
+    now_j: f64,
+    /// The run's duration \[s\] ([`step_budget`]).
+    duration_s: f64,
 }
 
 /// Samples of the run.

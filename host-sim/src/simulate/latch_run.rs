@@ -1,7 +1,7 @@
 //! What a physical-latch run gives (`crate::simulate::latch_deployment`):
 //! its events, its energy ledger, and what each latch did.
 
-use crate::simulate::trajectory::Trajectory;
+use crate::simulate::trajectory::{Trajectory, MAX_LEDGER_DRIFT};
 use deploywatch_core::physics::latch_contact::{LatchMark, PhysicalLatch, PlungerSegment};
 
 /// What happened at an event.
@@ -87,11 +87,30 @@ pub struct Energy {
     pub worst_drift_j: f64,
 }
 
-/// Largest drift of a run's energy ledger from the energy stored at the
-/// start, relative to it, that a run may reach (`docs/simulator.md`,
-/// "Energy ledger self-check"); beyond it the run stops with
-/// [`crate::simulate::trajectory::SimError::EnergyDrift`].
-pub const MAX_LEDGER_DRIFT: f64 = 1e-6;
+/// The floor of [`step_budget`], relative to the stored energy.
+pub const STEP_DRIFT: f64 = 1e-10;
+
+/// The share of [`MAX_LEDGER_DRIFT`] that [`step_budget`] spreads over a
+/// run's duration.
+pub const DRIFT_RATE_SHARE: f64 = 0.25;
+
+/// Largest move of the energy ledger's drift over one step of `h` \[s\] in a
+/// run of `duration_s` \[s\] storing `stored_j` \[J\] before the step is taken
+/// again shorter: `STEP_DRIFT` plus `DRIFT_RATE_SHARE` of
+/// [`MAX_LEDGER_DRIFT`] in proportion to `h / duration_s` (of `stored_j`).
+/// The ledger is an error estimate of its own beside DOPRI5's: on a stiff
+/// stop contact the default tolerances alone let a run drift past
+/// [`MAX_LEDGER_DRIFT`] in a few steps (issue 38's four-panel wing: 1.07e-6
+/// at its pawl's stop at 1.469 s), and over a long run of many joints the
+/// smooth steps' errors add up to it (an eight-panel wing: 1.0e-6 at 8 s).
+pub fn step_budget(stored_j: f64, h: f64, duration_s: f64) -> f64 {
+    let share = DRIFT_RATE_SHARE * MAX_LEDGER_DRIFT * h / duration_s.max(h);
+    stored_j.abs() * (STEP_DRIFT + share)
+}
+
+/// Steps at most this long \[s\] are not taken again for the ledger (an
+/// event located a rounding error after the step's start).
+pub const LEDGER_MIN_STEP_S: f64 = 1e-9;
 
 /// A physical-latch run: the trajectory, the events and the ledger.
 #[derive(Clone, Debug, PartialEq)]

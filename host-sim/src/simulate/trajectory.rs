@@ -120,6 +120,12 @@ impl Trajectory {
     }
 }
 
+/// Largest drift of a run's energy ledger from the energy stored at the
+/// start, relative to it, that a run may reach (`docs/simulator.md`,
+/// "Energy ledger self-check"); beyond it the run stops with
+/// [`SimError::EnergyDrift`].
+pub const MAX_LEDGER_DRIFT: f64 = 1e-6;
+
 /// Why a simulation failed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -153,7 +159,7 @@ pub enum SimError {
         t_s: f64,
     },
     /// The run's energy ledger does not close: its drift from the energy
-    /// stored at the start exceeds [`crate::simulate::latch_run::MAX_LEDGER_DRIFT`]
+    /// stored at the start exceeds [`MAX_LEDGER_DRIFT`]
     /// of it (`docs/simulator.md`, "Energy ledger self-check"). The run is
     /// wrong and is not written.
     #[error(
@@ -161,7 +167,7 @@ pub enum SimError {
          drift {drift_j:.3e} J, {:.2e} of the {stored_j:.6} J stored (more than {:.0e}); \
          the run is wrong and was not written",
         drift_j / stored_j.abs().max(f64::MIN_POSITIVE),
-        crate::simulate::latch_run::MAX_LEDGER_DRIFT
+        MAX_LEDGER_DRIFT
     )]
     EnergyDrift {
         /// 1-based joint: the one at whose event the drift jumped, or whose

@@ -3,49 +3,12 @@
 //! dissipative torques integrated on Gauss–Legendre nodes of each step, and
 //! the drift.
 
-use super::{Runner, Sim, GAUSS3};
-use crate::simulate::latch_run::{Energy, MAX_LEDGER_DRIFT};
+use super::{Ledger, Runner, Sim, GAUSS3};
+use crate::simulate::latch_run::{step_budget, LEDGER_MIN_STEP_S};
 use crate::simulate::ode::{Dense, State};
-use crate::simulate::trajectory::SimError;
+use crate::simulate::trajectory::{SimError, MAX_LEDGER_DRIFT};
 use deploywatch_core::physics::pawl::PawlState;
 use deploywatch_core::Branch;
-
-/// The floor of [`step_budget`], relative to the stored energy.
-pub const STEP_DRIFT: f64 = 1e-10;
-
-/// The share of [`MAX_LEDGER_DRIFT`] that [`step_budget`] spreads over a
-/// run's duration.
-pub const DRIFT_RATE_SHARE: f64 = 0.25;
-
-/// Largest move of the energy ledger's drift over one step of `h` \[s\] in a
-/// run of `duration_s` \[s\] storing `stored_j` \[J\] before the step is taken
-/// again shorter: `STEP_DRIFT` plus `DRIFT_RATE_SHARE` of
-/// [`MAX_LEDGER_DRIFT`] in proportion to `h / duration_s` (of `stored_j`).
-/// The ledger is an error estimate of its own beside DOPRI5's: on a stiff
-/// stop contact the default tolerances alone let a run drift past
-/// [`MAX_LEDGER_DRIFT`] in a few steps (issue 38's four-panel wing: 1.07e-6
-/// at its pawl's stop at 1.469 s), and over a long run of many joints the
-/// smooth steps' errors add up to it (an eight-panel wing: 1.0e-6 at 8 s).
-pub fn step_budget(stored_j: f64, h: f64, duration_s: f64) -> f64 {
-    let share = DRIFT_RATE_SHARE * MAX_LEDGER_DRIFT * h / duration_s.max(h);
-    stored_j.abs() * (STEP_DRIFT + share)
-}
-
-/// Steps at most this long \[s\] are not taken again for the ledger (an
-/// event located a rounding error after the step's start).
-pub const LEDGER_MIN_STEP_S: f64 = 1e-9;
-
-/// The ledger's running sums (kept by `ledger.rs`).
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct Ledger {
-    pub(super) energy: Energy,
-    /// Total at the start \[J\].
-    pub(super) start_j: f64,
-    /// The drift at the last closing, `total − start` \[J\].
-    pub(super) now_j: f64,
-    /// The run's duration \[s\] ([`step_budget`]).
-    pub(super) duration_s: f64,
-}
 
 impl<const N: usize> Sim<'_, N> {
     /// Kinetic, chain and latch potential at a state \[J\].
