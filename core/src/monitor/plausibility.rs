@@ -5,7 +5,13 @@
 //!   last value): the same reading, to the bit, as the previous one while
 //!   the readings before had the joint moving by more than
 //!   [`STALE_MOTION_STEPS`] quantisation steps per interval when the
-//!   repeats began (the slope of the last three readings). A healthy
+//!   repeats began (the slope of the last three readings) and the rate
+//!   filter's course (angle, rate and acceleration at the first reading of
+//!   the repeats) has since taken it more than that far from where it
+//!   was: a joint decelerating to a turn comes back to the code it left
+//!   (a rebound off a stop elsewhere in the chain turns a joint round
+//!   mid-stroke; the line through the readings before it does not see
+//!   the turn). A healthy
 //!   encoder moving that far cannot repeat its code: with the encoder's
 //!   noise σ ≈ 0.9 step, the difference of two readings is
 //!   `N(m, (0.9·√2)²)` steps for a motion of `m` steps, and it rounds to
@@ -147,6 +153,10 @@ pub struct ReadingCheck {
     /// the first repeat is fused as a stop, so the later ones are judged
     /// against the motion before it.
     repeat_rate: f32,
+    /// The rate filter's course at the first reading of the current run of
+    /// repeats: a joint whose own course turns it round (or slows it to
+    /// under [`STALE_MOTION_STEPS`]) since then may repeat its code.
+    repeat_course: Course,
 }
 
 impl ReadingCheck {
@@ -157,6 +167,12 @@ impl ReadingCheck {
             last: [(0.0, 0.0); LINE_READINGS],
             seen: 0,
             repeat_rate: 0.0,
+            repeat_course: Course {
+                t_s: 0.0,
+                angle: 0.0,
+                rate: 0.0,
+                acc: 0.0,
+            },
         }
     }
 
@@ -190,9 +206,17 @@ impl ReadingCheck {
             // rate is widened and may be far from the readings': a joint
             // at rest would read stale).
             self.repeat_rate = line.map_or(0.0, |l| l.rate);
+            self.repeat_course = *course;
         }
         let motion = libm::fabsf(self.repeat_rate) * dt;
-        if reading.repeats >= STALE_REPEATS && motion > STALE_MOTION_STEPS * reading.step {
+        // Where the filter's course (angle, rate, acceleration at the first
+        // reading of the repeats) has taken the joint since: a joint
+        // decelerating to a turn (a rebound elsewhere in the chain turns it
+        // round mid-stroke) comes back to the code it left.
+        let c = &self.repeat_course;
+        let path = libm::fabsf(c.at(reading.t_s) - c.angle);
+        let limit = STALE_MOTION_STEPS * reading.step;
+        if reading.repeats >= STALE_REPEATS && motion > limit && path > limit {
             self.pending = None;
             return Verdict::Stale;
         }
