@@ -293,9 +293,12 @@ fn classify(l: &PhysicalLatch<f64>, phi: f64, phi_dot: f64, was: Segments) -> Se
     let ahead = phi + phi_dot * PROBE_S;
     let u = l.travel(ahead);
     let raw = l.stop_force(ahead, phi_dot).raw_n;
+    // A released stop presses again as soon as its law pushes, here or a
+    // moment ahead (the event's root function reads it here).
+    let pushes_now = was.contact == Contact::Released && l.stop_force(phi, phi_dot).raw_n > 0.0;
     let contact = if u >= 0.0 {
         Contact::Open
-    } else if was.contact == Contact::Open || raw > 0.0 {
+    } else if was.contact == Contact::Open || raw > 0.0 || pushes_now {
         Contact::Pressing
     } else {
         Contact::Released
@@ -477,8 +480,13 @@ impl<const N: usize> Sim<'_, N> {
                 // So does an ideal joint found at or past its latch angle
                 // (issue 38: a crossing at the instant of another event,
                 // a tape branch switch at φ = 0, was never bracketed).
-                let slips = matches!(ev, Ev::Slip(_) | Ev::Ideal(_))
-                    && inside(self, ev, &dense.at(dense.t0)) <= 0.0;
+                // So does a stop contact whose law has left its state by
+                // the start (a released stop whose force is pushing again:
+                // never bracketed, the joint sank into the stop with no
+                // force, its elastic energy booked as negative damping).
+                let g0 = inside(self, ev, &dense.at(dense.t0));
+                let slips = (matches!(ev, Ev::Slip(_) | Ev::Ideal(_)) && g0 <= 0.0)
+                    || (matches!(ev, Ev::Contact(_)) && g0 < 0.0);
                 slips.then_some((dense.t0, dense.t0))
             }) else {
                 continue;
