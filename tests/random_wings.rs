@@ -316,3 +316,43 @@ fn random_wings_keep_the_invariants() {
     )
     .expect("docs/measured.md written");
 }
+
+/// The wing of seed 2854563807019586449 (five panels, pawls at joints 4
+/// and 5), with its drawn air drag and without: a released stop whose law
+/// pushed again at a step's start was never re-engaged, so joint 5 sank
+/// 3.5° into its stop with no force, its elastic energy booked as negative
+/// contact damping (−52 J), and was thrown out past its stowed angle at
+/// 177 rad/s (without drag: `EnergyDrift` 1.01e-6). Asserted: the contact
+/// work is dissipated (≥ 0), the ledger closes, and no joint leaves the
+/// range between its stowed angle and its stop's reach.
+#[test]
+fn a_released_stop_that_pushes_again_presses() {
+    let w = wing_toml(2_854_563_807_019_586_449, PHYSICAL_SHARE);
+    let mech = Mechanism::from_toml_str(&w.toml, "random.toml").expect("wing");
+    let opts = SimOptions::default();
+    let no_drag: Vec<_> = w
+        .effects
+        .iter()
+        .filter(|e| !e.to_string().starts_with("air_drag"))
+        .cloned()
+        .collect();
+    assert!(no_drag.len() < w.effects.len(), "the wing has its air drag");
+    for effects in [&w.effects, &no_drag] {
+        let grid = deployment::sample_grid(&mech, &opts).expect("grid");
+        let lr = simulate_physical(&mech, effects, &opts, grid).expect("run");
+        let e = &lr.energy;
+        assert!(e.contact_j >= 0.0, "contact work {} J", e.contact_j);
+        assert!(e.worst_drift_j <= LEDGER_CLOSURE * e.stored_j, "{e:?}");
+        for (j, joint) in mech.joints.iter().enumerate() {
+            let side = joint.stowed_deg.signum();
+            for p in &lr.traj.phi_deg[j] {
+                let u = side * p;
+                assert!(
+                    u <= joint.stowed_deg.abs() + 1e-9 && u > -1.0,
+                    "joint {} at {p}°",
+                    j + 1
+                );
+            }
+        }
+    }
+}
