@@ -356,3 +356,21 @@ fn a_released_stop_that_pushes_again_presses() {
         }
     }
 }
+
+/// The wing of seed 4396247749337846826 (three panels, a pawl at joint 3
+/// on tape springs): joint 3 stuck by its friction band when joints 1 and
+/// 2 latched (ideal) in one plastic impulse; the impulse gave it a rate
+/// but it stayed held, its friction and contact work booked on a rate it
+/// did not move at, until the ledger stopped the run (`EnergyDrift`
+/// 1.00e-6 at 1.95 s). An impulse frees a stuck joint.
+#[test]
+fn an_ideal_latch_impulse_frees_a_stuck_joint() {
+    let w = wing_toml(4_396_247_749_337_846_826, PHYSICAL_SHARE);
+    let mech = Mechanism::from_toml_str(&w.toml, "random.toml").expect("wing");
+    let opts = SimOptions::default();
+    let grid = deployment::sample_grid(&mech, &opts).expect("grid");
+    let lr = simulate_physical(&mech, &w.effects, &opts, grid).expect("run");
+    let e = &lr.energy;
+    assert!(e.sticks > 0, "{e:?}");
+    assert!(e.worst_drift_j <= LEDGER_CLOSURE * e.stored_j, "{e:?}");
+}

@@ -890,6 +890,12 @@ impl Runner<'_> {
         for j in 0..N {
             if after[j] {
                 y.v[j] = 0.0;
+            } else if sim.stuck[j] {
+                // An impulsive torque is beyond any static band: a stuck
+                // joint moves with the impulse (was: kept frozen at the
+                // rate the impulse gave it, its friction booked on it).
+                sim.stuck[j] = false;
+                sim.mode.branch[j] = branch_at(y.q[j], y.v[j]);
             }
         }
         // The locked joints' springs keep their energy at φ = 0 (none).
