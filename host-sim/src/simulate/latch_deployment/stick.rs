@@ -2,11 +2,13 @@
 //! simulator: a joint whose rate reaches rest with its holding torque
 //! inside the band of its set-valued laws (tape-spring branches, static
 //! friction) is held until the torque leaves the band
-//! ([`deploywatch_core::physics::stick`]).
+//! ([`deploywatch_core::physics::stick`]); an ideal latch's plastic
+//! impulse (`physics.md` section 5), which frees a stuck joint.
 
 use super::{branch_at, Runner, Sim};
 use crate::simulate::latch_run::LatchEventKind;
 use crate::simulate::ode::State;
+use crate::simulate::trajectory::SimError;
 use deploywatch_core::physics::stick::{holding_torques, StickBand};
 
 /// A rate below this [rad/s] is a turning point (a branch event there is
@@ -150,5 +152,49 @@ impl Runner<'_> {
         e.friction_j += lost_j;
         e.stick_j += lost_j;
         e.sticks += 1;
+    }
+
+    /// An ideal latch of joint `fired` at `t`: it and every other free ideal
+    /// joint at its latch angle lock in one plastic impulse (`physics.md`
+    /// section 5).
+    pub(super) fn ideal_latch<const N: usize>(
+        &mut self,
+        sim: &mut Sim<'_, N>,
+        y: &mut State<N>,
+        t: f64,
+        fired: usize,
+    ) -> Result<(), SimError> {
+        let mut after = sim.mode.latched;
+        for j in 0..N {
+            let at_latch = j == fired || sim.side[j] * y.q[j] <= 1e-12;
+            if sim.latch[j].is_none() && !after[j] && at_latch {
+                after[j] = true;
+            }
+        }
+        let before = sim.chain.kinetic_energy(&y.chain());
+        y.v = sim
+            .chain
+            .latch_impulse(&y.chain(), &after)
+            .map_err(|_| SimError::Singular { t_s: t })?;
+        for j in 0..N {
+            if after[j] {
+                y.v[j] = 0.0;
+            } else if sim.stuck[j] {
+                // An impulsive torque is beyond any static band: a stuck
+                // joint moves with the impulse (was: kept frozen at the
+                // rate the impulse gave it, its friction booked on it).
+                sim.stuck[j] = false;
+                sim.mode.branch[j] = branch_at(y.q[j], y.v[j]);
+            }
+        }
+        // The locked joints' springs keep their energy at φ = 0 (none).
+        for j in 0..N {
+            if after[j] && !sim.mode.latched[j] {
+                y.q[j] = 0.0;
+            }
+        }
+        sim.mode.latched = after;
+        self.ledger.energy.impact_j += before - sim.chain.kinetic_energy(&y.chain());
+        Ok(())
     }
 }
