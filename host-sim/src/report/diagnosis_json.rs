@@ -130,19 +130,14 @@ fn effects_json(o: &Outcome, before: &[JointEvidence]) -> Vec<FoundEffect> {
         .map(|(k, e)| {
             let (lo, hi) = ci_of(o, k);
             let mut v = FoundEffect {
-                name: e.kind.name().to_string(),
-                joint: e.joint,
-                value: rounded(e.value),
-                unit: Some(e.kind.unit().to_string()),
                 ci95: Some([rounded(lo), rounded(hi)]),
                 evidence: evidence_of(o, k, o.extended.members[k].candidate),
-                ..FoundEffect::default()
+                ..FoundEffect::of_effect(e)
             };
             if let Some((_, shape, t)) = o.extended.table_of(k) {
                 add_tables(&mut v, &shape, &t);
             }
             if e.kind == EffectKind::RigTilt {
-                v.alpha_deg = rounded(e.alpha_deg);
                 if let (_, Some(ci)) = o.extended.effect_ci(k) {
                     v.alpha_ci95_deg = Some([rounded(ci[0]), rounded(ci[1])]);
                 }
