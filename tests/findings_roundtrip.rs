@@ -9,10 +9,9 @@
 //! decimals). Every key the entry carries is named in `docs/spec/formats.md`'s
 //! "Diagnosis: JSON" section.
 
-use deploywatch_sim::model::effect::{Effect, EffectKind};
-use deploywatch_sim::model::findings::diagnosis::FoundEffect;
-use deploywatch_sim::model::findings::{Diagnosis, Findings};
-use deploywatch_sim::model::torque_table::TablePoints;
+use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::findings::{Diagnosis, Findings, FoundEffect};
+use deploywatch_sim::torque_table::TablePoints;
 use proptest::prelude::*;
 
 /// Every kind the effect syntax knows.

@@ -67,7 +67,8 @@ pub mod effect {
 
 /// The findings JSON that `identify` and `diagnose` write.
 pub mod findings {
-    pub use crate::model::findings::{Findings, FindingsError};
+    pub use crate::model::findings::diagnosis::FoundEffect;
+    pub use crate::model::findings::{Diagnosis, Findings, FindingsError};
 }
 
 /// Mobility counts of planar and spatial linkages (seed 000).
@@ -90,7 +91,7 @@ pub mod plausibility {
 
 /// Torque tables in `f64` (`torque_table` effect).
 pub mod torque_table {
-    pub use crate::model::torque_table::{HostChain, HostTable, HostTorqueTable};
+    pub use crate::model::torque_table::{HostChain, HostTable, HostTorqueTable, TablePoints};
 }
 
 /// A measured or simulated run (the run CSV of `docs/spec/formats.md`).
