@@ -253,9 +253,9 @@ pub mod reliability {
     pub mod estimate {
         pub use crate::analysis::reliability::estimate::Estimate;
     }
-    /// Parameters from an identification.
+    /// Parameters from what identify or diagnose found.
     pub mod identified {
-        pub use crate::analysis::reliability::identified::from_identify_json;
+        pub use crate::analysis::reliability::identified::from_findings_json;
     }
     /// Crude Monte-Carlo.
     pub mod mc {
@@ -267,7 +267,7 @@ pub mod reliability {
     }
     /// The parameters varied.
     pub mod params {
-        pub use crate::analysis::reliability::params::Vary;
+        pub use crate::analysis::reliability::params::{Dist, Target, Vary};
     }
 }
 

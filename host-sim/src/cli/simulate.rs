@@ -15,7 +15,20 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
     // `--flight`: the rig taken out, only what flies.
     let mech = if args.flight { mech.flight() } else { mech };
+    let found = match &args.from {
+        Some(path) => Some(super::simulate_from::read(path)?),
+        None => None,
+    };
+    let mut with_found = args.clone();
+    if let Some(f) = &found {
+        with_found.effects.extend(f.effects.iter().cloned());
+    }
+    let args = &with_found;
     check_args(args, &mech)?;
+    if let Some(at) = &args.at {
+        let d = found.as_ref().and_then(|f| f.diagnosis.as_ref());
+        return super::simulate_from::run_at(args, &mech, d, at);
+    }
     for w in crate::model::plausibility::warnings(&mech, &args.mechanism) {
         Console::new(args.quiet).warn(w);
     }

@@ -5,7 +5,7 @@
 //! finding read back is checked as a user's `--effect` is.
 
 use super::diagnosis::{Diagnosis, FoundEffect};
-use super::rounded;
+use super::numbers::exact;
 use crate::model::effect::{Effect, EffectError, EffectKind};
 
 /// Why an entry of `effects` is not an effect the simulator can replay.
@@ -38,21 +38,21 @@ impl FoundEffect {
     /// The entry of `effect` without interval or evidence: name, joint,
     /// value, unit and every parameter its kind carries (`rig_tilt`'s
     /// `alpha_deg`, `stribeck_friction`'s `excess_nm` and `stribeck_rad_s`,
-    /// a `torque_table`'s tables), each [`rounded`].
+    /// a `torque_table`'s tables), each in full ([`exact`]: read back, it is the same `f64`).
     pub fn of_effect(e: &Effect) -> FoundEffect {
-        let all = |x: &[f64]| x.iter().map(|y| rounded(*y)).collect::<Vec<_>>();
+        let all = |x: &[f64]| x.iter().map(|y| exact(*y)).collect::<Vec<_>>();
         let mut v = FoundEffect {
             name: e.kind.name().to_string(),
             joint: e.joint,
-            value: rounded(e.value),
+            value: exact(e.value),
             unit: Some(e.kind.unit().to_string()),
             ..FoundEffect::default()
         };
         match e.kind {
-            EffectKind::RigTilt => v.alpha_deg = rounded(e.alpha_deg),
+            EffectKind::RigTilt => v.alpha_deg = exact(e.alpha_deg),
             EffectKind::StribeckFriction => {
-                v.excess_nm = rounded(e.excess_nm);
-                v.stribeck_rad_s = rounded(e.stribeck_rad_s);
+                v.excess_nm = exact(e.excess_nm);
+                v.stribeck_rad_s = exact(e.stribeck_rad_s);
             }
             EffectKind::TorqueTable => {
                 if let Some(f) = &e.table.angle {
