@@ -51,6 +51,20 @@ pub fn read(path: &Path) -> Result<FoundModel, CliError> {
     }
 }
 
+/// The arguments with the effects of `--from` added to the `--effect`s,
+/// and what `--from` found (`None` without `--from`).
+pub fn with_found(args: &SimulateArgs) -> Result<(SimulateArgs, Option<FoundModel>), CliError> {
+    let mut with = args.clone();
+    let found = match &args.from {
+        Some(path) => Some(read(path)?),
+        None => None,
+    };
+    if let Some(f) = &found {
+        with.effects.extend(f.effects.iter().cloned());
+    }
+    Ok((with, found))
+}
+
 /// `--at RUN.csv`: the mechanism with `args.effects` (the `--from` ones
 /// among them) simulated as the diagnosis simulates a run, written to
 /// `--out` (the model's angles, no noise) and its RMS against the run
@@ -58,10 +72,11 @@ pub fn read(path: &Path) -> Result<FoundModel, CliError> {
 pub fn run_at(
     args: &SimulateArgs,
     mech: &Mechanism,
-    found: Option<&Diagnosis>,
+    found: Option<&FoundModel>,
     at: &Path,
 ) -> Result<(), CliError> {
-    let mut campaign = Campaign::load(&[args.mechanism.clone()], &[at.to_path_buf()])
+    let found = found.and_then(|f| f.diagnosis.as_ref());
+    let mut campaign = Campaign::load(std::slice::from_ref(&args.mechanism), &[at.to_path_buf()])
         .map_err(|e| CliError::input(format!("--at: {e}")))?;
     let name = campaign.runs[0].name();
     campaign.runs[0].mechanism = mech.clone();
