@@ -15,7 +15,12 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
     // `--flight`: the rig taken out, only what flies.
     let mech = if args.flight { mech.flight() } else { mech };
+    let (args, found) = super::simulate_from::with_found(args)?;
+    let args = &args;
     check_args(args, &mech)?;
+    if let Some(at) = &args.at {
+        return super::simulate_from::run_at(args, &mech, found.as_ref(), at);
+    }
     for w in crate::model::plausibility::warnings(&mech, &args.mechanism) {
         Console::new(args.quiet).warn(w);
     }
@@ -57,17 +62,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         traj.stats.steps,
         traj.stats.evaluations
     );
-    for (j, l) in traj.latch_s.iter().enumerate() {
-        match l {
-            Some(t) => outln!("  joint {}: latched at {t:.6} s", j + 1),
-            None => outln!(
-                "  joint {}: NOT latched by {:.3} s (at {:.2} deg)",
-                j + 1,
-                traj.end_s,
-                traj.phi_deg[j].last().copied().unwrap_or(f64::NAN)
-            ),
-        }
-    }
+    print_latch_instants(&traj);
     if let Some(run) = &physical {
         print_latches(&mech, &args.effects, run);
     }
@@ -90,6 +85,21 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         console.say(format_args!("  plot: {}", png.display()));
     }
     Ok(())
+}
+
+/// When each joint latched, or where it is at the end when it did not.
+fn print_latch_instants(traj: &deployment::Trajectory) {
+    for (j, l) in traj.latch_s.iter().enumerate() {
+        match l {
+            Some(t) => outln!("  joint {}: latched at {t:.6} s", j + 1),
+            None => outln!(
+                "  joint {}: NOT latched by {:.3} s (at {:.2} deg)",
+                j + 1,
+                traj.end_s,
+                traj.phi_deg[j].last().copied().unwrap_or(f64::NAN)
+            ),
+        }
+    }
 }
 
 /// What each physical latch did, and the run's energy ledger.
