@@ -291,6 +291,7 @@ fn round_trip(kind: EffectKind, dir: &Path) -> Result<(), String> {
     if code != 0 {
         return Err(format!("simulate --from --at: exit {code}"));
     }
+    intervals_bracket_the_values(&d)?;
     let joints = d.extended.trajectory_error_pct.len();
     let measured = angles(&run, joints);
     let samples = d
@@ -307,6 +308,29 @@ fn round_trip(kind: EffectKind, dir: &Path) -> Result<(), String> {
     }
     margin_uses_the_fitted(&mech, &json, &d, dir)?;
     reliability_uses_the_fitted(&body, &d)
+}
+
+/// Every parameter of a finding comes with its 95 % interval around it
+/// (formats.md): the value's `ci95`, and `stribeck_friction`'s two others.
+fn intervals_bracket_the_values(d: &Diagnosis) -> Result<(), String> {
+    let inside = |x: Option<f64>, ci: Option<[Option<f64>; 2]>, key: &str| match (x, ci) {
+        (Some(x), Some([Some(lo), Some(hi)])) if lo <= x + 1e-6 && x <= hi + 1e-6 => Ok(()),
+        other => Err(format!(
+            "{key}: {other:?} is not a value inside its interval"
+        )),
+    };
+    for e in d
+        .effects
+        .iter()
+        .filter(|e| e.name != "unexplained" && e.name != "torque_table")
+    {
+        inside(e.value, e.ci95, &format!("{} value", e.name))?;
+        if e.name == EffectKind::StribeckFriction.name() {
+            inside(e.excess_nm, e.excess_ci95_nm, "excess_nm")?;
+            inside(e.stribeck_rad_s, e.stribeck_ci95_rad_s, "stribeck_rad_s")?;
+        }
+    }
+    Ok(())
 }
 
 fn names(d: &Diagnosis) -> Vec<String> {

@@ -148,6 +148,17 @@ fn effects_json(o: &Outcome, before: &[JointEvidence]) -> Vec<FoundEffect> {
                     v.alpha_ci95_deg = Some([rounded(ci[0]), rounded(ci[1])]);
                 }
             }
+            if e.kind == EffectKind::StribeckFriction {
+                // Parameters T_C, ΔT, ω_st (candidate.rs): the intervals of
+                // the last two.
+                let ci = o.extended.effect_params(k).map(|(_, ci)| ci);
+                let band = |i: usize| {
+                    ci.and_then(|c| c.get(i))
+                        .map(|c| [rounded(c[0]), rounded(c[1])])
+                };
+                v.excess_ci95_nm = band(1);
+                v.stribeck_ci95_rad_s = band(2);
+            }
             v
         })
         .collect();
