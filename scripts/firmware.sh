@@ -342,6 +342,14 @@ case "$cmd" in
         fi
         hil "$t01" "$root/data/mechanisms/seed001_T01.toml" --duration 2 "${deadlines[@]}"
         hil "$t01" "$root/data/mechanisms/seed001_T01.toml" --drop 0.01 --corrupt 0.01 --seed 3 -q
+        # The Python twin (`deploywatch.hil`) on the same firmware, when the
+        # package's environment is made (scripts/python-env.sh; scripts/test.sh
+        # makes it before this step).
+        if [ -x "$root/.venv/bin/pytest" ]; then
+            (cd "$root" && DW_HIL_ELF="$uart_elf" .venv/bin/pytest -q python/tests/test_hil.py)
+        else
+            echo "hil: no .venv (scripts/python-env.sh): the Python twin not run"
+        fi
         ;;
     *)
         sed -n '2,20p' "$0" >&2
