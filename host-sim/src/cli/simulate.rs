@@ -15,7 +15,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
     // `--flight`: the rig taken out, only what flies.
     let mech = if args.flight { mech.flight() } else { mech };
-    let (args, found) = super::simulate_from::with_found(args)?;
+    let (args, found) = super::simulate_from::with_found(args, &mech)?;
     let args = &args;
     check_args(args, &mech)?;
     if let Some(at) = &args.at {

@@ -9,7 +9,7 @@
 //! diagnosis gives as the extended model's (`docs/diagnosis.md`).
 
 use super::simulate_args::SimulateArgs;
-use super::{outln, CliError};
+use super::{outln, CliError, Console};
 use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::diagnose::latch_window::{self, RunWindow};
 use crate::data::campaign::Campaign;
@@ -52,8 +52,12 @@ pub fn read(path: &Path) -> Result<FoundModel, CliError> {
 }
 
 /// The arguments with the effects of `--from` added to the `--effect`s,
-/// and what `--from` found (`None` without `--from`).
-pub fn with_found(args: &SimulateArgs) -> Result<(SimulateArgs, Option<FoundModel>), CliError> {
+/// and what `--from` found (`None` without `--from`). A diagnosis found on
+/// other mechanisms than `mech` is warned of (its effects still added).
+pub fn with_found(
+    args: &SimulateArgs,
+    mech: &Mechanism,
+) -> Result<(SimulateArgs, Option<FoundModel>), CliError> {
     let mut with = args.clone();
     let found = match &args.from {
         Some(path) => Some(read(path)?),
@@ -61,6 +65,18 @@ pub fn with_found(args: &SimulateArgs) -> Result<(SimulateArgs, Option<FoundMode
     };
     if let Some(f) = &found {
         with.effects.extend(f.effects.iter().cloned());
+        let on = f
+            .diagnosis
+            .as_ref()
+            .map(|d| d.found_on())
+            .unwrap_or_default();
+        if !on.is_empty() && !on.contains(&mech.name) {
+            Console::new(args.quiet).warn(format_args!(
+                "--from: found on {}, not on {}: its effects are added all the same",
+                on.join(", "),
+                mech.name
+            ));
+        }
     }
     Ok((with, found))
 }
