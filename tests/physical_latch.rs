@@ -194,7 +194,9 @@ fn t02_joint_2_bounces_and_holds_joint_3_escapes_and_relatches() {
     );
     let j3 = outcome(&mech, &out, 3, &[]);
     assert!(
-        j3.escapes >= 1 && j3.engagements == j3.escapes + 1 && j3.end == LatchEnd::Plunger(PlungerEnd::Held),
+        j3.escapes >= 1
+            && j3.engagements == j3.escapes + 1
+            && j3.end == LatchEnd::Plunger(PlungerEnd::Held),
         "{j3:?}"
     );
     assert!(out.traj.latched[1].last() == Some(&true) && out.traj.latched[2].last() == Some(&true));
@@ -210,7 +212,10 @@ fn t01_joint_2_escapes_and_never_relatches() {
         "{j2:?}"
     );
     assert_eq!(out.traj.latch_s[1], None);
-    assert_eq!(outcome(&mech, &out, 1, &[]).end, LatchEnd::Plunger(PlungerEnd::Held));
+    assert_eq!(
+        outcome(&mech, &out, 1, &[]).end,
+        LatchEnd::Plunger(PlungerEnd::Held)
+    );
 }
 
 #[test]
@@ -239,7 +244,10 @@ fn one_panel_stops_on_the_ramp_with_the_switch_open_and_relatches_with_a_weak_pl
     let weak = ["plunger_weakening:joint=1:value=0.5"];
     let out = run(&mech, &weak, &SimOptions::default());
     let o = outcome(&mech, &out, 1, &weak);
-    assert!(o.escapes >= 1 && o.end == LatchEnd::Plunger(PlungerEnd::Held), "{o:?}");
+    assert!(
+        o.escapes >= 1 && o.end == LatchEnd::Plunger(PlungerEnd::Held),
+        "{o:?}"
+    );
     assert!(out.traj.latch_s[0].is_some());
 }
 

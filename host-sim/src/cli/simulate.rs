@@ -96,7 +96,10 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
 /// its kind: a ball plunger's engagements and escapes over its crest, a
 /// pawl's drop into its notch (or its break).
 fn latch_line(joint: usize, o: &LatchOutcome) -> String {
-    let end = format!("ends {} at {:.4} deg from the stop", o.end, o.end_travel_deg);
+    let end = format!(
+        "ends {} at {:.4} deg from the stop",
+        o.end, o.end_travel_deg
+    );
     match o.end {
         LatchEnd::Plunger(_) => format!(
             "joint {joint} ball plunger: {} impacts, {} engagements over the crest, {} escapes, \
