@@ -223,7 +223,8 @@ pub fn run(args: &HilArgs) -> Result<(), CliError> {
                 baud: args.baud,
             },
             (_, None) => Endpoint::Qemu {
-                elf: hil_link::find_uart_elf(args.elf.as_deref(), joints).map_err(cli_error)?,
+                elf: hil_link::find_uart_elf(args.elf.as_deref(), mech.joint_count())
+                    .map_err(cli_error)?,
                 log: args.log.clone(),
                 icount: args.icount,
             },
