@@ -190,10 +190,22 @@ fn the_ideal_wing_on_its_rig_goes_through_every_command() {
     );
 }
 
+/// The mixed wing on the rig of `wing6_ideal_rig.toml`, written to
+/// `dir/wing6_mixed_rig.toml` (not bundled: every bundled mechanism loads).
+fn mixed_on_a_rig(dir: &Path) -> PathBuf {
+    let read = |name: &str| std::fs::read_to_string(wing(name)).expect("bundled wing");
+    let on_rig = read("wing6_ideal_rig");
+    let rig =
+        &on_rig[on_rig.find("\n[rig]").expect("[rig]")..on_rig.find("\n[run]").expect("[run]")];
+    let path = dir.join("wing6_mixed_rig.toml");
+    std::fs::write(&path, format!("{}\n{rig}\n", read("wing6_mixed"))).expect("write wing");
+    path
+}
+
 #[test]
 fn the_mixed_wing_on_a_rig_is_refused_by_every_command() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let mech = wing("wing6_mixed_rig");
+    let mech = mixed_on_a_rig(dir.path());
     let m = s(&mech);
     // A run of six joints (the refusal comes before the run is read).
     let run = data().join("examples/wing6/wing6_ideal.csv");
