@@ -193,6 +193,12 @@ fn decimate(run: &mut Run, k: usize) {
     run.extra.clear();
 }
 
+/// The serial-link ELF for QEMU: `--elf`, or the one built for the
+/// mechanism's joint count.
+fn uart_elf(args: &HilArgs, mech: &Mechanism) -> Result<PathBuf, CliError> {
+    hil_link::find_uart_elf(args.elf.as_deref(), mech.joint_count()).map_err(cli_error)
+}
+
 /// Runs `deploywatch hil`.
 pub fn run(args: &HilArgs) -> Result<(), CliError> {
     let inject = injection(args)?;
@@ -223,8 +229,7 @@ pub fn run(args: &HilArgs) -> Result<(), CliError> {
                 baud: args.baud,
             },
             (_, None) => Endpoint::Qemu {
-                elf: hil_link::find_uart_elf(args.elf.as_deref(), mech.joint_count())
-                    .map_err(cli_error)?,
+                elf: uart_elf(args, &mech)?,
                 log: args.log.clone(),
                 icount: args.icount,
             },
