@@ -182,6 +182,21 @@ fn the_ideal_wing_on_its_rig_goes_through_every_command() {
             "the rig's drift of panel {p}:\n{said}"
         );
     }
+    // The rig acts: the flight unit (the rig taken out) runs otherwise.
+    let flight = dir.path().join("flight.csv");
+    let out = deploywatch(&[
+        "simulate",
+        s(&mech),
+        "--seed",
+        "1",
+        "--flight",
+        "--out",
+        s(&flight),
+        "-q",
+    ]);
+    works(&out, "simulate --flight");
+    let text = |p: &Path| std::fs::read_to_string(p).expect("run CSV");
+    assert_ne!(text(&csv), text(&flight), "the rig changes the run");
     every_command_works(
         &mech,
         &csv,
