@@ -140,7 +140,7 @@ pub mod latch_deployment {
     pub use crate::simulate::latch_deployment::check_latch_effects;
     pub use crate::simulate::latch_deployment::{
         latches, run_from, simulate_physical, simulate_with, Keep, LatchEnd, LatchEventKind,
-        LatchOutcome, LatchRun,
+        LatchOutcome, LatchRun, PawlEnd, PlungerEnd,
     };
 }
 

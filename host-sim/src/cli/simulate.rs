@@ -8,7 +8,7 @@ use crate::report::files::Outputs;
 use crate::report::run_plot::{plot_rig_run, plot_run};
 use crate::simulate::deployment::{self, SimOptions};
 use crate::simulate::fault_injection;
-use crate::simulate::latch_deployment::{self, LatchRun};
+use crate::simulate::latch_deployment::{self, LatchEnd, LatchOutcome, LatchRun};
 
 /// Runs `deploywatch simulate`.
 pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
@@ -102,6 +102,34 @@ fn print_latch_instants(traj: &deployment::Trajectory) {
     }
 }
 
+/// What the physical latch of joint `joint` (1-based) did, in the words of
+/// its kind: a ball plunger's engagements and escapes over its crest, a
+/// pawl's drop into its notch (or its break).
+fn latch_line(joint: usize, o: &LatchOutcome) -> String {
+    let end = format!(
+        "ends {} at {:.4} deg from the stop",
+        o.end, o.end_travel_deg
+    );
+    match o.end {
+        LatchEnd::Plunger(_) => format!(
+            "joint {joint} ball plunger: {} impacts, {} engagements over the crest, {} escapes, \
+             switch closed {} times; {end}",
+            o.impacts, o.engagements, o.escapes, o.switch_closings
+        ),
+        LatchEnd::Pawl(_) => {
+            let broke = o
+                .pawl_broke_s
+                .map(|t| format!(" (it BROKE at {t:.6} s)"))
+                .unwrap_or_default();
+            format!(
+                "joint {joint} pawl: {} impacts, dropped into its notch {} time(s), \
+                 switch closed {} times; {end}{broke}",
+                o.impacts, o.pawl_drops, o.switch_closings
+            )
+        }
+    }
+}
+
 /// What each physical latch did, and the run's energy ledger.
 fn print_latches(mech: &Mechanism, effects: &[crate::model::effect::Effect], run: &LatchRun) {
     let w = latch_deployment::weakenings(effects, mech.joint_count());
@@ -112,23 +140,7 @@ fn print_latches(mech: &Mechanism, effects: &[crate::model::effect::Effect], run
         let (p, m) = w.get(j).copied().unwrap_or((1.0, 1.0));
         let latch = spec.to_core(joint.stowed_deg, p, m);
         if let Some(o) = run.outcome(j + 1, &latch) {
-            let pawl = match (spec.pawl, o.pawl_broke_s) {
-                (None, _) => String::new(),
-                (Some(_), Some(t)) => format!("; its pawl BROKE at {t:.6} s"),
-                (Some(_), None) if o.pawl_drops > 0 => "; its pawl dropped in and holds".into(),
-                (Some(_), None) => "; its pawl never reached its notch".into(),
-            };
-            outln!(
-                "  joint {} physical latch: {} impacts, {} engagements over the crest, {} escapes, \
-                 switch closed {} times; ends {:?} at {:.4} deg from the stop{pawl}",
-                j + 1,
-                o.impacts,
-                o.engagements,
-                o.escapes,
-                o.switch_closings,
-                o.end,
-                o.end_travel_deg
-            );
+            outln!("  {}", latch_line(j + 1, &o));
         }
     }
     let e = &run.energy;
