@@ -105,6 +105,10 @@ fn effect_size(twins: &[Mechanism], e: &Effect) -> f64 {
     (sse / n.max(1) as f64).sqrt()
 }
 
+/// As-built draws tried per campaign before the generator gives up: a draw
+/// the simulator refuses is redrawn, never without end.
+const MAX_DRAWS: usize = 20;
+
 /// One campaign: the drawings, the runs, the truth.
 struct Case {
     drawings: Vec<Mechanism>,
@@ -112,8 +116,10 @@ struct Case {
     truth: Vec<Effect>,
 }
 
-/// Draws a campaign of `family` with `kind` hidden (or none); `None` when
-/// the simulator refused every as-built draw (`refused` counts them).
+/// Draws a campaign of `family` with `kind` hidden (or none), redrawing an
+/// as-built draw the simulator refuses (`refused` counts them) at most
+/// [`MAX_DRAWS`] times; panics naming the seed and the last refusal when
+/// every draw was refused.
 fn generate(seed: u64, family: usize, kind: Option<EffectKind>, refused: &mut usize) -> Case {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let drawings: Vec<Mechanism> = FAMILIES[family].iter().map(|(d, _)| load(d)).collect();
@@ -135,7 +141,8 @@ fn generate(seed: u64, family: usize, kind: Option<EffectKind>, refused: &mut us
         truth.push(e);
     }
     let tol = LatchTolerance::default();
-    loop {
+    let mut last = String::new();
+    for _ in 0..MAX_DRAWS {
         let mut uniform = || rng.gen::<f64>();
         // One as-built latch set per drawing: seed 000's two runs are of one
         // wing.
@@ -172,9 +179,11 @@ fn generate(seed: u64, family: usize, kind: Option<EffectKind>, refused: &mut us
             Err(e) => {
                 *refused += 1;
                 eprintln!("seed {seed}: the simulator refused an as-built draw: {e}");
+                last = e.to_string();
             }
         }
     }
+    panic!("seed {seed}: the simulator refused all {MAX_DRAWS} as-built draws; the last: {last}")
 }
 
 fn campaign_of(case: &Case) -> Campaign {
