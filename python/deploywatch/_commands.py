@@ -24,7 +24,7 @@ import numpy as _np
 from . import _native
 from ._errors import InputError
 from ._model import Mechanism, PathLike
-from ._results import FloatArray
+from ._results import FloatArray, _pandas
 
 MechanismLike = Union[PathLike, Mechanism]
 
@@ -104,6 +104,10 @@ class Margins(CommandResult):
 
     joints: Dict[str, FloatArray]
 
+    def to_pandas(self) -> Any:
+        """A ``pandas.DataFrame`` view of ``joints``, one row per joint."""
+        return _pandas().DataFrame(self.joints)
+
 
 @dataclass(frozen=True)
 class Identification(CommandResult):
@@ -128,6 +132,13 @@ class Replay:
 
     columns: Dict[str, FloatArray]
     states: Dict[str, Tuple[str, ...]]
+
+    def to_pandas(self) -> Any:
+        """A ``pandas.DataFrame`` view indexed by ``t_s``: the numeric
+        columns, then the text ones."""
+        pd = _pandas()
+        frame = pd.DataFrame({**self.columns, **{k: list(v) for k, v in self.states.items()}})
+        return frame.set_index("t_s") if "t_s" in frame else frame
 
 
 def _run(args: List[str], echo: bool) -> None:
