@@ -23,9 +23,10 @@
 #
 # The toolchain comes from scripts/embedded-toolchain.sh (run it first);
 # scripts/embedded-env.sh picks the rustup or the Debian route.
-# Environment: QEMU_TIMEOUT (seconds, default 300); DW_HIL_DEADLINES=1 or 0
-# (the real-time run of `test` fails on a deadline miss, or only reports it;
-# by default it fails when the load average is below the core count).
+# Environment: QEMU_TIMEOUT (seconds, default 300); DW_HIL_DEADLINES=1
+# (the real-time run of `test` fails on a deadline miss; by default it
+# reports the misses: on a shared machine they measure the host's
+# scheduling of QEMU, not the firmware — docs/firmware.md).
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -333,22 +334,17 @@ case "$cmd" in
             "$UPDATE_BUDGET" "$UPDATE_BUDGET_PHYSICAL" "$SLICE_BUDGET" "$STACK_BUDGET"
         echo "measured figures: docs/measured.md"
         # Hardware in the loop over TCP, in real time, on one short 100 Hz
-        # run: every status bit-identical with the host core, 0 deadline
-        # misses (exit 1 otherwise); then 1 % of the frames dropped and 1 %
+        # run: every status bit-identical with the host core (exit 1
+        # otherwise), deadline misses reported; then 1 % of the frames dropped and 1 %
         # corrupted on the way in: counted exactly, the statuses those of
         # the host core on the samples that arrived.
         t01="$root/data/examples/a_seed001_eft/seed001_T01.csv"
-        # Deadlines are required when the host has a core to spare (load
-        # average below the core count) or DW_HIL_DEADLINES=1; reported
-        # without failing on a busier host or with DW_HIL_DEADLINES=0.
-        deadlines=(--require-deadlines)
-        if [ -z "${DW_HIL_DEADLINES:-}" ]; then
-            if ! awk -v c="$(nproc)" '{ exit !($1 < c) }' /proc/loadavg; then
-                echo "hil: load average $(cut -d' ' -f1 /proc/loadavg) on $(nproc) cores: deadline misses reported, not failed (DW_HIL_DEADLINES=1 to require them)"
-                deadlines=()
-            fi
-        elif [ "$DW_HIL_DEADLINES" = 0 ]; then
-            deadlines=()
+        # Deadline misses are reported; DW_HIL_DEADLINES=1 fails on one (a
+        # quiet host or a board: on a shared CI machine a miss measures its
+        # scheduling of QEMU, and a timed check there is not a test).
+        deadlines=()
+        if [ "${DW_HIL_DEADLINES:-0}" = 1 ]; then
+            deadlines=(--require-deadlines)
         fi
         hil "$t01" "$root/data/mechanisms/seed001_T01.toml" --duration 2 "${deadlines[@]}"
         hil "$t01" "$root/data/mechanisms/seed001_T01.toml" --drop 0.01 --corrupt 0.01 --seed 3 -q
