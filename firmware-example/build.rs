@@ -1,7 +1,8 @@
 //! Puts each binary's memory map where `cortex-m-rt`'s `link.x` looks for
 //! `memory.x`: the workspace's `memory.x` (60 KiB of flash) for the replay
 //! firmwares of 2 and 3 joints, `memory-6.x` (60 KiB, 32 KiB of RAM) for
-//! that of 6, `memory-uart.x` (64 KiB) for the serial-link firmware, each
+//! that of 6, `memory-uart.x` (64 KiB) for the serial-link firmware of 3 joints,
+//! `memory-uart-6.x` (64 KiB, 32 KiB of RAM) for that of 6, each
 //! in its own folder on that binary's link search path.
 
 use std::path::{Path, PathBuf};
@@ -43,6 +44,11 @@ fn main() {
         "deploywatch-firmware-uart",
         &here.join("memory-uart.x"),
         &out.join("uart"),
+    );
+    memory_for(
+        "deploywatch-firmware-uart-6",
+        &here.join("memory-uart-6.x"),
+        &out.join("uart-6"),
     );
     println!("cargo:rerun-if-changed=build.rs");
 }

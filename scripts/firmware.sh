@@ -18,13 +18,15 @@
 #   scripts/firmware.sh hil RUN.csv MECH.toml [ARGS...]
 #                                             deploywatch hil over TCP to QEMU (real time)
 #   scripts/firmware.sh test                  replay every reference mechanism, then the
-#                                             real-time serial link on one short run (CI)
+#                                             real-time serial link on short runs of 3 and
+#                                             6 joints (CI)
 #
 # The toolchain comes from scripts/embedded-toolchain.sh (run it first);
 # scripts/embedded-env.sh picks the rustup or the Debian route.
-# Environment: QEMU_TIMEOUT (seconds, default 300); DW_HIL_DEADLINES=1 or 0
-# (the real-time run of `test` fails on a deadline miss, or only reports it;
-# by default it fails when the load average is below the core count).
+# Environment: QEMU_TIMEOUT (seconds, default 300); DW_HIL_DEADLINES=1
+# (the real-time run of `test` fails on a deadline miss; by default it
+# reports the misses: on a shared machine they measure the host's
+# scheduling of QEMU, not the firmware — docs/firmware.md).
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -40,6 +42,10 @@ uart_elf="$fw_bin/deploywatch-firmware-uart"
 # elf_for JOINTS: the replay firmware of that joint count.
 elf_for() {
     if [ "$1" = 3 ]; then echo "$elf"; else echo "$elf-$1"; fi
+}
+# uart_elf_for JOINTS: the serial-link firmware of that joint count (3 or 6).
+uart_elf_for() {
+    if [ "$1" = 3 ]; then echo "$uart_elf"; else echo "$uart_elf-$1"; fi
 }
 deploywatch=  # set by build_host_tool
 # The regions memory.x declares (the link fails beyond them; this check
@@ -59,7 +65,8 @@ UPDATE_BUDGET=4400
 UPDATE_BUDGET_PHYSICAL=5000
 SLICE_BUDGET=17350
 STACK_BUDGET=$((8 * 1024))
-# The serial-link build (firmware-example/memory-uart.x): 64 KiB of flash.
+# The serial-link build (firmware-example/memory-uart.x): 64 KiB of flash;
+# that of 6 joints (memory-uart-6.x) 32 KiB of RAM.
 UART_FLASH_BUDGET=$((64 * 1024))
 
 die() { echo "firmware.sh: $*" >&2; exit 1; }
@@ -110,6 +117,7 @@ size_report() {
     done
     python3 "$root/scripts/measured.py" firmware-size "${rows[@]}"
     size_of "$uart_elf" "$UART_FLASH_BUDGET"
+    size_of "$(uart_elf_for 6)" "$UART_FLASH_BUDGET" "$RAM_BUDGET_6"
 }
 
 # joints_of MECH.toml: the mechanism's joint count (its [[panel]] tables).
@@ -225,7 +233,7 @@ replay() {
 hil() {
     local csv=$1 mech=$2
     shift 2
-    "$deploywatch" hil "$csv" --mechanism "$mech" --elf "$uart_elf" "$@" \
+    "$deploywatch" hil "$csv" --mechanism "$mech" --elf "$(uart_elf_for "$(joints_of "$mech")")" "$@" \
         || die "hil of $csv failed"
 }
 
@@ -237,6 +245,7 @@ case "$cmd" in
         size_report
         for n in 3 2 6; do panic_check "$(elf_for $n)"; done
         panic_check "$uart_elf"
+        panic_check "$(uart_elf_for 6)"
         ;;
     size)
         size_report
@@ -244,6 +253,7 @@ case "$cmd" in
     panic-check)
         for n in 3 2 6; do panic_check "$(elf_for $n)"; done
         panic_check "$uart_elf"
+        panic_check "$(uart_elf_for 6)"
         ;;
     hil)
         [ $# -ge 3 ] || die "usage: scripts/firmware.sh hil RUN.csv MECH.toml [ARGS...]"
@@ -269,6 +279,7 @@ case "$cmd" in
         size_report
         for n in 3 2 6; do panic_check "$(elf_for $n)"; done
         panic_check "$uart_elf"
+        panic_check "$(uart_elf_for 6)"
         # The replay protocol and the firmware's loop, on the host; the
         # serial link's loop on lossy streams and the latch escapes.
         (cd "$root" && cargo test --quiet --release -p deploywatch-sim --test replay --test hil)
@@ -323,25 +334,33 @@ case "$cmd" in
             "$UPDATE_BUDGET" "$UPDATE_BUDGET_PHYSICAL" "$SLICE_BUDGET" "$STACK_BUDGET"
         echo "measured figures: docs/measured.md"
         # Hardware in the loop over TCP, in real time, on one short 100 Hz
-        # run: every status bit-identical with the host core, 0 deadline
-        # misses (exit 1 otherwise); then 1 % of the frames dropped and 1 %
+        # run: every status bit-identical with the host core (exit 1
+        # otherwise), deadline misses reported; then 1 % of the frames dropped and 1 %
         # corrupted on the way in: counted exactly, the statuses those of
         # the host core on the samples that arrived.
         t01="$root/data/examples/a_seed001_eft/seed001_T01.csv"
-        # Deadlines are required when the host has a core to spare (load
-        # average below the core count) or DW_HIL_DEADLINES=1; reported
-        # without failing on a busier host or with DW_HIL_DEADLINES=0.
-        deadlines=(--require-deadlines)
-        if [ -z "${DW_HIL_DEADLINES:-}" ]; then
-            if ! awk -v c="$(nproc)" '{ exit !($1 < c) }' /proc/loadavg; then
-                echo "hil: load average $(cut -d' ' -f1 /proc/loadavg) on $(nproc) cores: deadline misses reported, not failed (DW_HIL_DEADLINES=1 to require them)"
-                deadlines=()
-            fi
-        elif [ "$DW_HIL_DEADLINES" = 0 ]; then
-            deadlines=()
+        # Deadline misses are reported; DW_HIL_DEADLINES=1 fails on one (a
+        # quiet host or a board: on a shared CI machine a miss measures its
+        # scheduling of QEMU, and a timed check there is not a test).
+        deadlines=()
+        if [ "${DW_HIL_DEADLINES:-0}" = 1 ]; then
+            deadlines=(--require-deadlines)
         fi
         hil "$t01" "$root/data/mechanisms/seed001_T01.toml" --duration 2 "${deadlines[@]}"
         hil "$t01" "$root/data/mechanisms/seed001_T01.toml" --drop 0.01 --corrupt 0.01 --seed 3 -q
+        # Six joints on the serial-link build of 6: the six-panel wing's
+        # whole run, every status bit-identical with the host core's and
+        # the frames counted exactly (exit 1 otherwise); its deadline
+        # misses are reported, not required, until measured on a quiet host.
+        hil "$root/data/examples/wing6/wing6_ideal.csv" "$root/data/mechanisms/wing6_ideal.toml"
+        # The Python twin (`deploywatch.hil`) on the same firmware, when the
+        # package's environment is made (scripts/python-env.sh; scripts/test.sh
+        # makes it before this step).
+        if [ -x "$root/.venv/bin/pytest" ]; then
+            (cd "$root" && DW_HIL_ELF="$uart_elf" .venv/bin/pytest -q python/tests/test_hil.py)
+        else
+            echo "hil: no .venv (scripts/python-env.sh): the Python twin not run"
+        fi
         ;;
     *)
         sed -n '2,20p' "$0" >&2

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The Python environment of deploywatch: `.venv/` at the repository root
-# with pinned maturin, numpy, pytest, dask[distributed], mypy and mujoco (the second
+# with pinned maturin, numpy, pytest, dask[distributed], mypy, pandas (the
+# `to_pandas()` views) and mujoco (the second
 # opinion engine of python/tests/test_second_opinion.py) from PyPI, and the
 # `deploywatch` package (python/, PyO3 + maturin) built in release and
 # installed. Idempotent: a second run with nothing changed takes a second.
@@ -10,7 +11,7 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
 
-pins="maturin==1.16.0 numpy==2.4.6 pytest==9.2.0 dask[distributed]==2026.8.0 mypy==2.4.1 mujoco==4.0.0"
+pins="maturin==1.16.0 numpy==2.4.6 pytest==9.2.0 dask[distributed]==2026.8.0 mypy==2.4.1 mujoco==4.0.0 pandas==3.1.1"
 venv=.venv
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 if [ "$(cat "$venv/.deploywatch-pins" 2>/dev/null)" != "$pins" ]; then

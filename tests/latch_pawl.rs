@@ -27,7 +27,9 @@ use deploywatch_core::{Fault, LatchState};
 use deploywatch_sim::deployment::{self, SimOptions};
 use deploywatch_sim::effect::Effect;
 use deploywatch_sim::latch::{LatchTolerance, PlungerSpec};
-use deploywatch_sim::latch_deployment::{self, LatchEnd, LatchEventKind, LatchOutcome, LatchRun};
+use deploywatch_sim::latch_deployment::{
+    self, LatchEnd, LatchEventKind, LatchOutcome, LatchRun, PawlEnd,
+};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::monitor_config::{monitor_config, samples};
 use deploywatch_sim::sensor::{measure, SensorModel};
@@ -107,7 +109,7 @@ fn a_plunger_lets_the_5_kg_panel_climb_back_out_a_pawl_on_the_same_stop_holds_it
     let o = outcome(&m, &run, 0);
     println!("pawl: {o:?}");
     assert_eq!((o.pawl_drops, o.pawl_broke_s), (1, None), "{o:?}");
-    assert_eq!(o.end, LatchEnd::Held);
+    assert_eq!(o.end, LatchEnd::Pawl(PawlEnd::InNotch));
     assert!(o.impacts >= 2, "it rebounds: {o:?}");
     let drop_t = run
         .events
@@ -172,6 +174,8 @@ fn a_pawl_weaker_than_the_rebound_breaks_and_the_run_says_when() {
     let o = outcome(&weak, &run, 0);
     println!("pawl of {:.1} N·m: {o:?}", 0.5 * peak);
     let t = o.pawl_broke_s.expect("the weak pawl breaks");
+    assert_eq!(o.end, LatchEnd::Pawl(PawlEnd::Broken), "{o:?}");
+    assert_eq!(o.end.to_string(), "free, its pawl broken");
     assert!(
         (first_onset..first_onset + 0.01).contains(&t),
         "breaks in the first rebound on it ({first_onset} s): {t}"

@@ -39,7 +39,9 @@ use deploywatch_core::physics::latch_contact::LatchMark;
 use deploywatch_core::{Fault, LatchState};
 use deploywatch_sim::deployment::{self, SimOptions};
 use deploywatch_sim::effect::Effect;
-use deploywatch_sim::latch_deployment::{self, LatchEnd, LatchEventKind, LatchRun};
+use deploywatch_sim::latch_deployment::{
+    self, LatchEnd, LatchEventKind, LatchRun, PawlEnd, PlungerEnd,
+};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::monitor_config::{monitor_config, samples};
 use deploywatch_sim::sensor::{measure, SensorModel};
@@ -206,7 +208,7 @@ fn score<const N: usize>(
         }
     }
     match t.end {
-        LatchEnd::Held if !t.closings.is_empty() => {
+        end if end.holds() && !t.closings.is_empty() => {
             tally.held += 1;
             let ret = t.closings.last().copied().unwrap_or(0.0);
             let after = st.iter().find(|s| {
@@ -228,13 +230,16 @@ fn score<const N: usize>(
                 fail(format!("final state {last:?}"));
             }
         }
-        LatchEnd::OnRamp => {
+        LatchEnd::Plunger(PlungerEnd::OnRamp) | LatchEnd::Pawl(PawlEnd::OnCam) => {
             tally.on_ramp += 1;
             if last != Some(LatchState::StoppedShort) {
                 fail(format!("final state {last:?}"));
             }
         }
-        LatchEnd::ShortOfPlunger if t.escapes > 0 => {
+        LatchEnd::Plunger(PlungerEnd::ShortOfPlunger)
+        | LatchEnd::Pawl(PawlEnd::ShortOfCam | PawlEnd::Broken)
+            if t.escapes > 0 =>
+        {
             tally.escaped_for_good += 1;
             if last != Some(LatchState::Escaped) {
                 fail(format!("final state {last:?}"));

@@ -10,7 +10,7 @@ use deploywatch_core::physics::latch_contact::{
 use deploywatch_core::{Chain, Friction, GlobalEffects, Joint, JointEffects, Panel, Spring};
 use deploywatch_sim::deployment::{self, SimOptions};
 use deploywatch_sim::effect::Effect;
-use deploywatch_sim::latch_deployment::{self, LatchEnd, LatchEventKind, LatchRun};
+use deploywatch_sim::latch_deployment::{self, LatchEnd, LatchEventKind, LatchRun, PlungerEnd};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::ode::State;
 use deploywatch_sim::torque_table::HostChain;
@@ -185,7 +185,7 @@ fn t02_joint_2_bounces_and_holds_joint_3_escapes_and_relatches() {
     let out = run(&mech, &[], &SimOptions::default());
     let j2 = outcome(&mech, &out, 2, &[]);
     assert!(
-        j2.impacts >= 5 && j2.escapes == 0 && j2.end == LatchEnd::Held,
+        j2.impacts >= 5 && j2.escapes == 0 && j2.end == LatchEnd::Plunger(PlungerEnd::Held),
         "{j2:?}"
     );
     assert!(
@@ -194,7 +194,9 @@ fn t02_joint_2_bounces_and_holds_joint_3_escapes_and_relatches() {
     );
     let j3 = outcome(&mech, &out, 3, &[]);
     assert!(
-        j3.escapes >= 1 && j3.engagements == j3.escapes + 1 && j3.end == LatchEnd::Held,
+        j3.escapes >= 1
+            && j3.engagements == j3.escapes + 1
+            && j3.end == LatchEnd::Plunger(PlungerEnd::Held),
         "{j3:?}"
     );
     assert!(out.traj.latched[1].last() == Some(&true) && out.traj.latched[2].last() == Some(&true));
@@ -206,11 +208,14 @@ fn t01_joint_2_escapes_and_never_relatches() {
     let out = run(&mech, &[], &SimOptions::default());
     let j2 = outcome(&mech, &out, 2, &[]);
     assert!(
-        j2.escapes >= 1 && j2.end == LatchEnd::ShortOfPlunger,
+        j2.escapes >= 1 && j2.end == LatchEnd::Plunger(PlungerEnd::ShortOfPlunger),
         "{j2:?}"
     );
     assert_eq!(out.traj.latch_s[1], None);
-    assert_eq!(outcome(&mech, &out, 1, &[]).end, LatchEnd::Held);
+    assert_eq!(
+        outcome(&mech, &out, 1, &[]).end,
+        LatchEnd::Plunger(PlungerEnd::Held)
+    );
 }
 
 #[test]
@@ -218,7 +223,7 @@ fn one_panel_stops_on_the_ramp_with_the_switch_open_and_relatches_with_a_weak_pl
     let mech = mechanism("one_panel_physical_latch.toml");
     let out = run(&mech, &[], &SimOptions::default());
     let o = outcome(&mech, &out, 1, &[]);
-    assert_eq!(o.end, LatchEnd::OnRamp, "{o:?}");
+    assert_eq!(o.end, LatchEnd::Plunger(PlungerEnd::OnRamp), "{o:?}");
     let crest = mech.latch(0).unwrap().plunger.crest_deg;
     assert!(
         o.end_travel_deg > crest && o.end_travel_deg < crest + 1.0,
@@ -239,7 +244,10 @@ fn one_panel_stops_on_the_ramp_with_the_switch_open_and_relatches_with_a_weak_pl
     let weak = ["plunger_weakening:joint=1:value=0.5"];
     let out = run(&mech, &weak, &SimOptions::default());
     let o = outcome(&mech, &out, 1, &weak);
-    assert!(o.escapes >= 1 && o.end == LatchEnd::Held, "{o:?}");
+    assert!(
+        o.escapes >= 1 && o.end == LatchEnd::Plunger(PlungerEnd::Held),
+        "{o:?}"
+    );
     assert!(out.traj.latch_s[0].is_some());
 }
 

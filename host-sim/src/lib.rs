@@ -67,7 +67,8 @@ pub mod effect {
 
 /// The findings JSON that `identify` and `diagnose` write.
 pub mod findings {
-    pub use crate::model::findings::{Findings, FindingsError};
+    pub use crate::model::findings::diagnosis::FoundEffect;
+    pub use crate::model::findings::{Diagnosis, Findings, FindingsError};
 }
 
 /// Mobility counts of planar and spatial linkages (seed 000).
@@ -90,7 +91,7 @@ pub mod plausibility {
 
 /// Torque tables in `f64` (`torque_table` effect).
 pub mod torque_table {
-    pub use crate::model::torque_table::{HostChain, HostTable, HostTorqueTable};
+    pub use crate::model::torque_table::{HostChain, HostTable, HostTorqueTable, TablePoints};
 }
 
 /// A measured or simulated run (the run CSV of `docs/spec/formats.md`).
@@ -139,7 +140,7 @@ pub mod latch_deployment {
     pub use crate::simulate::latch_deployment::check_latch_effects;
     pub use crate::simulate::latch_deployment::{
         latches, run_from, simulate_physical, simulate_with, Keep, LatchEnd, LatchEventKind,
-        LatchOutcome, LatchRun,
+        LatchOutcome, LatchRun, PawlEnd, PlungerEnd,
     };
 }
 
@@ -252,9 +253,9 @@ pub mod reliability {
     pub mod estimate {
         pub use crate::analysis::reliability::estimate::Estimate;
     }
-    /// Parameters from an identification.
+    /// Parameters from what identify or diagnose found.
     pub mod identified {
-        pub use crate::analysis::reliability::identified::from_identify_json;
+        pub use crate::analysis::reliability::identified::from_findings_json;
     }
     /// Crude Monte-Carlo.
     pub mod mc {
@@ -266,7 +267,7 @@ pub mod reliability {
     }
     /// The parameters varied.
     pub mod params {
-        pub use crate::analysis::reliability::params::Vary;
+        pub use crate::analysis::reliability::params::{Dist, Target, Vary};
     }
 }
 

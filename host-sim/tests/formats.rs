@@ -617,7 +617,7 @@ fn mechanism_file_errors_name_the_path() {
 #[test]
 fn bundled_runs_round_trip() {
     let runs = bundled_runs();
-    assert_eq!(runs.len(), 17, "8 reference + 9 example runs: {runs:?}");
+    assert_eq!(runs.len(), 18, "8 reference + 10 example runs: {runs:?}");
     for path in runs {
         let text = std::fs::read_to_string(&path).expect("read");
         let run = Run::load(&path).unwrap_or_else(|e| panic!("{e}"));

@@ -74,11 +74,17 @@ fn bad_input_exits_2_and_says_what_is_wrong() {
         &["does not exist"],
     );
     let dir = tempfile::tempdir().unwrap();
-    let not_identify = write(dir.path(), "x.json", "{\"effects\": []}");
+    let not_findings = write(dir.path(), "x.json", "{\"rms\": 1}");
     fails(
-        &run(&["--from", s(&not_identify), "--fail", "not_latched"]),
+        &run(&["--from", s(&not_findings), "--fail", "not_latched"]),
         2,
-        &["deploywatch identify"],
+        &["deploywatch identify", "deploywatch diagnose"],
+    );
+    let nothing_found = write(dir.path(), "d.json", "{\"effects\": []}");
+    fails(
+        &run(&["--from", s(&nothing_found), "--fail", "not_latched"]),
+        2,
+        &["at least one --vary"],
     );
     // A normal law that reaches a negative mass: the simulation fails (1)
     // and the message gives the parameters.

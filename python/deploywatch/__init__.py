@@ -70,7 +70,7 @@ from ._model import (
     VaryLike,
     Viscous,
 )
-from ._commands import CommandResult, Diagnosis, Identification, Margins, Replay, diagnose, identify, margin, replay
+from ._commands import CommandResult, Diagnosis, Hil, Identification, Margins, Replay, diagnose, hil, identify, margin, replay
 from ._errors import (
     DeploywatchError,
     EvaluatorError,
@@ -137,11 +137,13 @@ __all__ = [
     "identify",
     "margin",
     "replay",
+    "hil",
     "CommandResult",
     "Diagnosis",
     "Identification",
     "Margins",
     "Replay",
+    "Hil",
     "reliability",
     "parameters",
     "Trajectory",

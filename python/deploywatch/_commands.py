@@ -24,7 +24,7 @@ import numpy as _np
 from . import _native
 from ._errors import InputError
 from ._model import Mechanism, PathLike
-from ._results import FloatArray
+from ._results import FloatArray, _pandas
 
 MechanismLike = Union[PathLike, Mechanism]
 
@@ -104,6 +104,10 @@ class Margins(CommandResult):
 
     joints: Dict[str, FloatArray]
 
+    def to_pandas(self) -> Any:
+        """A ``pandas.DataFrame`` view of ``joints``, one row per joint."""
+        return _pandas().DataFrame(self.joints)
+
 
 @dataclass(frozen=True)
 class Identification(CommandResult):
@@ -128,6 +132,13 @@ class Replay:
 
     columns: Dict[str, FloatArray]
     states: Dict[str, Tuple[str, ...]]
+
+    def to_pandas(self) -> Any:
+        """A ``pandas.DataFrame`` view indexed by ``t_s``: the numeric
+        columns, then the text ones."""
+        pd = _pandas()
+        frame = pd.DataFrame({**self.columns, **{k: list(v) for k, v in self.states.items()}})
+        return frame.set_index("t_s") if "t_s" in frame else frame
 
 
 def _run(args: List[str], echo: bool) -> None:
@@ -258,8 +269,14 @@ def replay(run: PathLike, mechanism: MechanismLike, out: Optional[PathLike] = No
         args = ["replay", _path("run", run), "--mechanism", _mechanism_file("mechanism", mechanism, tmp)]
         args += ["--target", "host", "--quiet", "--out", path]
         _run(args, echo)
-        with open(path, encoding="utf-8") as f:
-            rows = [r for r in _csv.reader(line for line in f if not line.startswith("#"))]
+        return _read_columns(path)
+
+
+def _read_columns(path: str) -> Replay:
+    """A CSV the CLI wrote (comment lines skipped): each numeric column as
+    numpy (NaN where empty), the text columns as tuples."""
+    with open(path, encoding="utf-8") as f:
+        rows = [r for r in _csv.reader(line for line in f if not line.startswith("#"))]
     head, body = rows[0], rows[1:]
     cols: Dict[str, FloatArray] = {}
     states: Dict[str, Tuple[str, ...]] = {}
@@ -270,3 +287,62 @@ def replay(run: PathLike, mechanism: MechanismLike, out: Optional[PathLike] = No
         except ValueError:
             states[name] = tuple(texts)
     return Replay(columns=cols, states=states)
+
+
+@dataclass(frozen=True)
+class Hil:
+    """``deploywatch hil``: ``statuses`` the statuses the firmware sent
+    back (the columns of ``replay``), ``latency`` each sample's fate, send
+    time and latency (the columns of ``--latency``)."""
+
+    statuses: Replay
+    latency: Replay
+
+
+def hil(
+    run: PathLike,
+    mechanism: MechanismLike,
+    elf: Optional[PathLike] = None,
+    port: Optional[str] = None,
+    baud: int = 921_600,
+    duration: Optional[float] = None,
+    every: int = 1,
+    drop: float = 0.0,
+    corrupt: float = 0.0,
+    delay: Optional[str] = None,
+    seed: int = 1,
+    icount: Optional[int] = None,
+    require_deadlines: bool = False,
+    out: Optional[PathLike] = None,
+    latency: Optional[PathLike] = None,
+    echo: bool = False,
+) -> Hil:
+    """``deploywatch hil``: the run sent sample by sample, in real time, to
+    the serial-link firmware — under QEMU (``elf``, by default the one
+    ``scripts/firmware.sh build`` makes) or on a board on ``port`` — and
+    its statuses checked against the core's on the host, as the CLI does
+    (a mismatch raises ``DeploywatchError``; ``require_deadlines``: a late
+    status too). ``drop``, ``corrupt``, ``delay`` inject link faults."""
+    with _tempfile.TemporaryDirectory() as tmp:
+        status = _path("out", out) if out is not None else _os.path.join(tmp, "status.csv")
+        lat = _path("latency", latency) if latency is not None else _os.path.join(tmp, "latency.csv")
+        args = ["hil", _path("run", run), "--mechanism", _mechanism_file("mechanism", mechanism, tmp)]
+        args += ["--quiet", "--out", status, "--latency", lat, "--baud", str(int(baud))]
+        args += ["--every", str(int(every)), "--drop", repr(float(drop)), "--corrupt", repr(float(corrupt))]
+        args += ["--seed", str(int(seed))]
+        if port is not None:
+            args += ["--target", "serial", "--port", str(port)]
+        else:
+            args += ["--target", "qemu"]
+        if elf is not None:
+            args += ["--elf", _path("elf", elf)]
+        if duration is not None:
+            args += ["--duration", repr(float(duration))]
+        if delay is not None:
+            args += ["--delay", str(delay)]
+        if icount is not None:
+            args += ["--icount", str(int(icount))]
+        if require_deadlines:
+            args.append("--require-deadlines")
+        _run(args, echo)
+        return Hil(statuses=_read_columns(status), latency=_read_columns(lat))

@@ -62,8 +62,8 @@ def _name(v: Any) -> str:
 
 
 class Monitor:
-    """The on-board monitor of a mechanism (1 to 4 joints: what the core's
-    predictor holds today)."""
+    """The on-board monitor of a mechanism (1 to 8 joints: what the core's
+    predictor holds)."""
 
     def __init__(self, mechanism: Mechanism) -> None:
         if not isinstance(mechanism, Mechanism):

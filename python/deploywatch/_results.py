@@ -15,6 +15,17 @@ FloatArray = _npt.NDArray[_np.float64]
 """A numpy array of float64."""
 
 
+def _pandas() -> Any:
+    """pandas, imported when a ``to_pandas()`` view is asked for (it is not
+    a dependency of the package: ``pip install pandas``)."""
+    import importlib
+
+    try:
+        return importlib.import_module("pandas")
+    except ImportError:
+        raise ImportError("to_pandas(): pandas is not installed (pip install pandas)") from None
+
+
 @dataclass(frozen=True, eq=False)
 class Trajectory:
     """One simulated deployment (``deploywatch simulate``).
@@ -34,6 +45,17 @@ class Trajectory:
     def joints(self) -> int:
         """The number of joints."""
         return int(self.latch_s.shape[0])
+
+    def to_pandas(self) -> Any:
+        """A ``pandas.DataFrame`` view: indexed by ``t_s``, one column per
+        joint of angle (``phiJ_deg``) and rate (``rateJ_deg_s``), the run
+        CSV's names."""
+        pd = _pandas()
+        cols: Dict[str, FloatArray] = {}
+        for j in range(self.joints):
+            cols[f"phi{j + 1}_deg"] = self.phi_deg[:, j]
+            cols[f"rate{j + 1}_deg_s"] = self.rate_deg_s[:, j]
+        return pd.DataFrame(cols, index=pd.Index(self.t_s, name="t_s"))
 
 
 @dataclass(frozen=True, eq=False)

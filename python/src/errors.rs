@@ -72,7 +72,7 @@ impl Kind {
 
 /// The CLI's option names and the Python arguments that take their values
 /// (the library's messages name the CLI's options).
-const ARGUMENTS: [(&str, &str); 17] = [
+const ARGUMENTS: [(&str, &str); 29] = [
     ("--effect", "effects"),
     ("--vary", "vary"),
     ("--fail", "fail"),
@@ -90,6 +90,18 @@ const ARGUMENTS: [(&str, &str); 17] = [
     ("--mechanism", "mechanism"),
     ("--max-effects", "max_effects"),
     ("--max-seconds", "max_seconds"),
+    ("--elf", "elf"),
+    ("--port", "port"),
+    ("--baud", "baud"),
+    ("--duration", "duration"),
+    ("--every", "every"),
+    ("--drop", "drop"),
+    ("--corrupt", "corrupt"),
+    ("--delay", "delay"),
+    ("--seed", "seed"),
+    ("--icount", "icount"),
+    ("--latency", "latency"),
+    ("--require-deadlines", "require_deadlines"),
 ];
 
 /// A message of the library with each CLI option (`--vary`, clap's

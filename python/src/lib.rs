@@ -65,7 +65,7 @@ fn problem(
     let mut vs: Vec<Vary> = parse_all("vary", vary)?;
     if let Some(text) = from_json {
         let given = vs.clone();
-        let found = identified::from_identify_json(text)
+        let found = identified::from_findings_json(text)
             .map_err(|m| Kind::Input.raise(format!("from_: {m}"), Vec::new()))?;
         vs.extend(
             found

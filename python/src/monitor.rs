@@ -16,7 +16,7 @@ macro_rules! sized {
         enum Sized { $($v(Box<CoreMonitor<$n>>)),* }
 
         impl Sized {
-            /// The monitor of a mechanism of 1 to 4 joints.
+            /// The monitor of a mechanism of 1 to 8 joints.
             fn of(mech: &deploywatch_sim::mechanism::Mechanism) -> PyResult<Sized> {
                 let bad = |m: String| Kind::Input.raise(m, Vec::new());
                 match mech.joint_count() {
@@ -25,7 +25,7 @@ macro_rules! sized {
                         let m = CoreMonitor::<$n>::new(&cfg).map_err(|e| bad(e.to_string()))?;
                         Ok(Sized::$v(Box::new(m)))
                     })*
-                    n => Err(bad(format!("the monitor takes 1 to 4 joints (the core's predictor holds at most 4), the mechanism has {n}"))),
+                    n => Err(bad(format!("the monitor takes 1 to 8 joints (the core's predictor holds at most 8), the mechanism has {n}"))),
                 }
             }
 
@@ -51,8 +51,17 @@ macro_rules! sized {
     };
 }
 
-// The core's predictor holds at most 4 joints today (`ROLLOUT_MAX_JOINTS`).
-sized!(One = 1, Two = 2, Three = 3, Four = 4);
+// The core's predictor holds at most 8 joints (`ROLLOUT_MAX_JOINTS`).
+sized!(
+    One = 1,
+    Two = 2,
+    Three = 3,
+    Four = 4,
+    Five = 5,
+    Six = 6,
+    Seven = 7,
+    Eight = 8
+);
 
 /// The core's monitor of a parsed mechanism.
 #[pyclass(module = "deploywatch._native")]

@@ -101,31 +101,40 @@ def test_command_errors_name_the_python_arguments(root, monkeypatch):
     assert str(e.value).startswith("json") and "--" not in str(e.value)
 
 
-def test_the_monitor_sample_by_sample_gives_replays_statuses(root, monkeypatch):
+@pytest.mark.parametrize(
+    "mech_path, run_path",
+    [
+        (T01, EFT[0]),
+        ("data/mechanisms/wing6_ideal.toml", "data/examples/wing6/wing6_ideal.csv"),
+    ],
+)
+def test_the_monitor_sample_by_sample_gives_replays_statuses(root, monkeypatch, mech_path, run_path):
     monkeypatch.chdir(root)
-    mech = dw.Mechanism.from_toml(T01)
-    status = dw.replay(EFT[0], mech)
-    with open(EFT[0]) as f:
+    mech = dw.Mechanism.from_toml(mech_path)
+    status = dw.replay(run_path, mech)
+    with open(run_path) as f:
         rows = list(csv.reader(line for line in f if not line.startswith("#")))
     head, body = rows[0], rows[1:]
+    n = len(mech.joints)
     monitor = dw.Monitor(mech)
-    assert monitor.joints == 3
+    assert monitor.joints == n
+    joints = range(1, n + 1)
     got = []
     for r in body:
         v = dict(zip(head, r))
         sample = dw.Sample(
             t_s=float(v["t_s"]),
-            phi_deg=[float(v[f"phi{j}_deg"]) for j in (1, 2, 3)],
-            latch=[v[f"latch{j}"] == "1" for j in (1, 2, 3)],
+            phi_deg=[float(v[f"phi{j}_deg"]) for j in joints],
+            latch=[v[f"latch{j}"] == "1" for j in joints],
         )
         got.append(monitor.update(sample))
     assert len(got) == len(status.columns["t_s"])
-    for j in range(3):
+    for j in range(n):
         for name, key in (("phi", "phi_deg"), ("coulomb", "coulomb_nm"), ("margin", "margin_pct")):
             col = f"{name}{j + 1}_{key.split('_', 1)[1]}"
             want = status.columns[col]
             have = np.array([getattr(s, key)[j] for s in got])
             # The monitor computes in f32: the same f32 values.
             np.testing.assert_array_equal(have.astype(np.float32), want.astype(np.float32), err_msg=col)
-    with pytest.raises(InputError, match=r"^sample: expected 3 angles"):
+    with pytest.raises(InputError, match=rf"^sample: expected {n} angles"):
         monitor.update(dw.Sample(t_s=0.0, phi_deg=[0.0], latch=[False]))

@@ -5,10 +5,9 @@
 //! by [`crate::analysis::effect_margin`].
 use crate::analysis::effect_margin;
 use crate::model::effect::{Effect, EffectKind};
-use crate::model::findings::diagnosis::FoundEffect;
+use crate::model::findings::effects::FoundEffectError;
 use crate::model::findings::{Diagnosis, Findings, FindingsError, Identification};
 use crate::model::mechanism::Mechanism;
-use crate::model::torque_table::TablePoints;
 use std::path::Path;
 
 /// The resistances of each joint the margins use, and where they come from.
@@ -100,6 +99,9 @@ pub enum FromError {
     /// Not the JSON of identify or diagnose.
     #[error("{0}")]
     Findings(#[from] FindingsError),
+    /// A diagnosis entry that is not the effect its name says.
+    #[error("{0}")]
+    Found(#[from] FoundEffectError),
     /// A field missing or of the wrong kind.
     #[error("{at}: expected \"{key}\", {expected}")]
     Field {
@@ -222,84 +224,24 @@ fn identify_effects(id: &Identification) -> Result<Found, FromError> {
     })
 }
 
-/// The named effects of a diagnose JSON, what is not a named effect (in
+/// The named effects of a diagnose JSON (read by the one reader of its
+/// entries, [`FoundEffect::to_effect`](crate::model::findings::diagnosis::FoundEffect::to_effect)), what is not a named effect (in
 /// words), and the mechanisms it was found on.
 fn diagnose_effects(d: &Diagnosis) -> Result<Found, FromError> {
     let (mut effects, mut ignored) = (Vec::new(), Vec::new());
     for (i, e) in d.effects.iter().enumerate() {
-        let at = format!("effects[{i}] ({})", e.name);
-        let Ok(kind) = e.name.parse::<EffectKind>() else {
-            ignored.push(
+        match e.to_effect(i)? {
+            Some(effect) => effects.push(effect),
+            None => ignored.push(
                 e.joint
                     .map_or(e.name.clone(), |j| format!("{} at joint {j}", e.name)),
-            );
-            continue;
-        };
-        effects.push(found_effect(kind, e, &at)?);
+            ),
+        }
     }
     Ok(Found {
         command: "diagnose",
         effects,
         ignored,
         found_on: d.found_on(),
-    })
-}
-
-/// One named effect of a diagnosis as an [`Effect`]: its joint (where it
-/// has one), value in its allowed range, `rig_tilt`'s direction, a
-/// `torque_table`'s tables.
-fn found_effect(kind: EffectKind, e: &FoundEffect, at: &str) -> Result<Effect, FromError> {
-    let joint = if kind.per_joint() {
-        Some(joint_of(e.joint, at)?)
-    } else {
-        None
-    };
-    if kind == EffectKind::TorqueTable {
-        let list = |v: &Option<Vec<Option<f64>>>, key: &'static str| match v {
-            None => Ok(None),
-            Some(v) => v
-                .iter()
-                .map(|x| x.filter(|x| x.is_finite()))
-                .collect::<Option<Vec<f64>>>()
-                .map(Some)
-                .ok_or_else(|| FromError::Field {
-                    at: at.to_string(),
-                    key,
-                    expected: "a list of numbers",
-                }),
-        };
-        let points = TablePoints {
-            angle_deg: list(&e.angle_deg, "angle_deg")?,
-            torque_nm: list(&e.torque_nm, "torque_nm")?,
-            rate_deg_s: list(&e.rate_deg_s, "rate_deg_s")?,
-            rate_torque_nm: list(&e.rate_torque_nm, "rate_torque_nm")?,
-        };
-        let table = points.build().map_err(|_| FromError::Field {
-            at: at.to_string(),
-            key: "angle_deg",
-            expected: "a torque table (angle_deg/torque_nm and/or rate_deg_s/rate_torque_nm)",
-        })?;
-        return Ok(Effect {
-            kind,
-            joint,
-            value: crate::model::torque_table::max_abs_nm(&table),
-            table,
-            ..Effect::default()
-        });
-    }
-    let value = e
-        .value
-        .filter(|v| kind.allowed().contains(*v))
-        .ok_or_else(|| FromError::Field {
-            at: at.to_string(),
-            key: "value",
-            expected: kind.allowed().describe(),
-        })?;
-    Ok(Effect {
-        kind,
-        joint,
-        value,
-        alpha_deg: e.alpha_deg.unwrap_or(0.0),
-        ..Effect::default()
     })
 }

@@ -41,7 +41,8 @@ pub struct HilArgs {
     #[arg(long, default_value_t = 921_600)]
     pub baud: u32,
     /// The serial-link firmware ELF for QEMU (`scripts/firmware.sh build`);
-    /// by default firmware-example/target/thumbv7em-none-eabihf/release/deploywatch-firmware-uart.
+    /// by default firmware-example/target/thumbv7em-none-eabihf/release/deploywatch-firmware-uart
+    /// for 3 joints, `deploywatch-firmware-uart-6` for 6.
     #[arg(long, value_name = "ELF")]
     pub elf: Option<PathBuf>,
     /// QEMU's `-icount shift=N,align=on` (guest time aligned to the wall
@@ -147,14 +148,13 @@ fn prepare(args: &HilArgs) -> Result<(Mechanism, Run, Plan), CliError> {
     if args.every > 1 {
         decimate(&mut run, args.every);
     }
-    if args.port.is_none() && args.elf.is_none() && mech.joint_count() != hil_link::UART_JOINTS {
+    let joints = mech.joint_count();
+    if args.port.is_none() && args.elf.is_none() && !hil_link::UART_JOINTS.contains(&joints) {
         return Err(CliError::input(format!(
-            "{}: {} joints; the serial-link firmware is built for {} joints \
-             (give --elf for one built for {}, or --port for a board)",
+            "{}: {joints} joints; the serial-link firmware is built for {:?} joints \
+             (give --elf for one built for {joints}, or --port for a board)",
             mech.name,
-            mech.joint_count(),
             hil_link::UART_JOINTS,
-            mech.joint_count()
         )));
     }
     let mut plan = hil::plan(&mech, &run).map_err(cli_error)?;
@@ -193,6 +193,12 @@ fn decimate(run: &mut Run, k: usize) {
     run.extra.clear();
 }
 
+/// The serial-link ELF for QEMU: `--elf`, or the one built for the
+/// mechanism's joint count.
+fn uart_elf(args: &HilArgs, mech: &Mechanism) -> Result<PathBuf, CliError> {
+    hil_link::find_uart_elf(args.elf.as_deref(), mech.joint_count()).map_err(cli_error)
+}
+
 /// Runs `deploywatch hil`.
 pub fn run(args: &HilArgs) -> Result<(), CliError> {
     let inject = injection(args)?;
@@ -223,7 +229,7 @@ pub fn run(args: &HilArgs) -> Result<(), CliError> {
                 baud: args.baud,
             },
             (_, None) => Endpoint::Qemu {
-                elf: hil_link::find_uart_elf(args.elf.as_deref()).map_err(cli_error)?,
+                elf: uart_elf(args, &mech)?,
                 log: args.log.clone(),
                 icount: args.icount,
             },

@@ -26,6 +26,7 @@ pub(crate) mod reliability;
 pub(crate) mod replay;
 pub(crate) mod simulate;
 pub(crate) mod simulate_args;
+pub(crate) mod simulate_from;
 pub(crate) mod simulate_rig;
 pub(crate) mod simulate_truss;
 pub(crate) mod spinner;

@@ -13,7 +13,6 @@ use crate::analysis::reliability::params::{Dist, Target, Vary};
 use crate::analysis::reliability::text::{quantity, sig};
 use crate::analysis::reliability::{form, normal};
 use crate::analysis::reliability::{Problem, ReliabilityError};
-use crate::model::effect::EffectKind;
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;
 use std::path::{Path, PathBuf};
@@ -59,9 +58,10 @@ pub struct ReliabilityArgs {
     /// Write the result as JSON here.
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
-    /// The identified friction of `deploywatch identify --json` as normal
-    /// laws (mean and the 95 % interval), one `--vary` per joint.
-    #[arg(long, value_name = "IDENTIFY.json")]
+    /// What `deploywatch identify --json` or `deploywatch diagnose --json`
+    /// found, as normal laws (the value fitted and its 95 % interval), one
+    /// `--vary` per effect; a `--vary` of the same effect and joint wins.
+    #[arg(long, value_name = "FINDINGS.json")]
     pub from: Option<PathBuf>,
     /// No progress and no chatter: the result, errors and warnings only.
     #[arg(long, short)]
@@ -72,20 +72,16 @@ pub struct ReliabilityArgs {
     pub flight: bool,
 }
 
-/// The laws of `--from` (the identify JSON), skipping the joints whose
-/// friction a `--vary` already names.
+/// The laws of `--from` (an identify or a diagnose JSON), leaving out
+/// the effects a `--vary` already names (same effect, same joint).
 fn from_file(path: &Path, given: &[Vary]) -> Result<Vec<Vary>, CliError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| CliError::input(format!("--from {}: cannot read: {e}", path.display())))?;
-    let found = identified::from_identify_json(&text)
+    let found = identified::from_findings_json(&text)
         .map_err(|m| CliError::input(format!("--from {}: {m}", path.display())))?;
     let named = |v: &Vary| match v.target {
-        Target::Effect {
-            kind: EffectKind::CoulombFriction,
-            joint,
-            ..
-        } => joint,
-        _ => None,
+        Target::Effect { kind, joint, .. } => Some((kind, joint)),
+        Target::Mech(..) => None,
     };
     Ok(found
         .into_iter()

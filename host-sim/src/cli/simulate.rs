@@ -8,14 +8,19 @@ use crate::report::files::Outputs;
 use crate::report::run_plot::{plot_rig_run, plot_run};
 use crate::simulate::deployment::{self, SimOptions};
 use crate::simulate::fault_injection;
-use crate::simulate::latch_deployment::{self, LatchRun};
+use crate::simulate::latch_deployment::{self, LatchEnd, LatchOutcome, LatchRun};
 
 /// Runs `deploywatch simulate`.
 pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
     // `--flight`: the rig taken out, only what flies.
     let mech = if args.flight { mech.flight() } else { mech };
+    let (args, found) = super::simulate_from::with_found(args, &mech)?;
+    let args = &args;
     check_args(args, &mech)?;
+    if let Some(at) = &args.at {
+        return super::simulate_from::run_at(args, &mech, found.as_ref(), at);
+    }
     for w in crate::model::plausibility::warnings(&mech, &args.mechanism) {
         Console::new(args.quiet).warn(w);
     }
@@ -57,17 +62,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         traj.stats.steps,
         traj.stats.evaluations
     );
-    for (j, l) in traj.latch_s.iter().enumerate() {
-        match l {
-            Some(t) => outln!("  joint {}: latched at {t:.6} s", j + 1),
-            None => outln!(
-                "  joint {}: NOT latched by {:.3} s (at {:.2} deg)",
-                j + 1,
-                traj.end_s,
-                traj.phi_deg[j].last().copied().unwrap_or(f64::NAN)
-            ),
-        }
-    }
+    print_latch_instants(&traj);
     if let Some(run) = &physical {
         print_latches(&mech, &args.effects, run);
     }
@@ -92,6 +87,49 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// When each joint latched, or where it is at the end when it did not.
+fn print_latch_instants(traj: &deployment::Trajectory) {
+    for (j, l) in traj.latch_s.iter().enumerate() {
+        match l {
+            Some(t) => outln!("  joint {}: latched at {t:.6} s", j + 1),
+            None => outln!(
+                "  joint {}: NOT latched by {:.3} s (at {:.2} deg)",
+                j + 1,
+                traj.end_s,
+                traj.phi_deg[j].last().copied().unwrap_or(f64::NAN)
+            ),
+        }
+    }
+}
+
+/// What the physical latch of joint `joint` (1-based) did, in the words of
+/// its kind: a ball plunger's engagements and escapes over its crest, a
+/// pawl's drop into its notch (or its break).
+fn latch_line(joint: usize, o: &LatchOutcome) -> String {
+    let end = format!(
+        "ends {} at {:.4} deg from the stop",
+        o.end, o.end_travel_deg
+    );
+    match o.end {
+        LatchEnd::Plunger(_) => format!(
+            "joint {joint} ball plunger: {} impacts, {} engagements over the crest, {} escapes, \
+             switch closed {} times; {end}",
+            o.impacts, o.engagements, o.escapes, o.switch_closings
+        ),
+        LatchEnd::Pawl(_) => {
+            let broke = o
+                .pawl_broke_s
+                .map(|t| format!(" (it BROKE at {t:.6} s)"))
+                .unwrap_or_default();
+            format!(
+                "joint {joint} pawl: {} impacts, dropped into its notch {} time(s), \
+                 switch closed {} times; {end}{broke}",
+                o.impacts, o.pawl_drops, o.switch_closings
+            )
+        }
+    }
+}
+
 /// What each physical latch did, and the run's energy ledger.
 fn print_latches(mech: &Mechanism, effects: &[crate::model::effect::Effect], run: &LatchRun) {
     let w = latch_deployment::weakenings(effects, mech.joint_count());
@@ -102,23 +140,7 @@ fn print_latches(mech: &Mechanism, effects: &[crate::model::effect::Effect], run
         let (p, m) = w.get(j).copied().unwrap_or((1.0, 1.0));
         let latch = spec.to_core(joint.stowed_deg, p, m);
         if let Some(o) = run.outcome(j + 1, &latch) {
-            let pawl = match (spec.pawl, o.pawl_broke_s) {
-                (None, _) => String::new(),
-                (Some(_), Some(t)) => format!("; its pawl BROKE at {t:.6} s"),
-                (Some(_), None) if o.pawl_drops > 0 => "; its pawl dropped in and holds".into(),
-                (Some(_), None) => "; its pawl never reached its notch".into(),
-            };
-            outln!(
-                "  joint {} physical latch: {} impacts, {} engagements over the crest, {} escapes, \
-                 switch closed {} times; ends {:?} at {:.4} deg from the stop{pawl}",
-                j + 1,
-                o.impacts,
-                o.engagements,
-                o.escapes,
-                o.switch_closings,
-                o.end,
-                o.end_travel_deg
-            );
+            outln!("  {}", latch_line(j + 1, &o));
         }
     }
     let e = &run.energy;

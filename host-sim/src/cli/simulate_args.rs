@@ -11,7 +11,7 @@ use crate::simulate::sensor::{self, SensorModel};
 use std::path::PathBuf;
 
 /// Arguments of `deploywatch simulate`.
-#[derive(Debug, clap::Args)]
+#[derive(Clone, Debug, clap::Args)]
 pub struct SimulateArgs {
     /// The mechanism (TOML, see docs/spec/formats.md).
     pub mechanism: PathBuf,
@@ -48,6 +48,17 @@ pub struct SimulateArgs {
     /// what flies; `docs/simulator.md`, "Rig").
     #[arg(long)]
     pub flight: bool,
+    /// Add the model a diagnosis (or an identification) found: the effects
+    /// of `deploywatch diagnose --json` (or `identify --json`), read from
+    /// the file alone, added to the `--effect`s.
+    #[arg(long, value_name = "FINDINGS.json")]
+    pub from: Option<PathBuf>,
+    /// Simulate as the diagnosis does, at this run's own time stamps (with
+    /// the fit's integration settings, over the free motion it fitted when
+    /// `--from` gives one), write the model's angles (no noise) and print
+    /// its RMS against the run.
+    #[arg(long, value_name = "RUN.csv", conflicts_with_all = ["faults", "rate", "plot"])]
+    pub at: Option<PathBuf>,
 }
 
 /// The help of `--effect`, generated from the effect table

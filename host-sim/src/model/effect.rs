@@ -97,6 +97,29 @@ impl EffectKind {
         EffectKind::EncoderOffset,
     ];
 
+    /// The whole vocabulary: every kind the effect syntax reads (its
+    /// `FromStr` searches this list), the ones of [`EffectKind::ALL`], the
+    /// friction forms, the latch's and the rig's. A test over the
+    /// vocabulary iterates this (`tests/findings_roundtrip.rs`).
+    pub const EVERY: [EffectKind; 16] = [
+        EffectKind::CoulombFriction,
+        EffectKind::ViscousDamping,
+        EffectKind::SpringSoftening,
+        EffectKind::HarnessStiffness,
+        EffectKind::LatchDetent,
+        EffectKind::AirDrag,
+        EffectKind::RigTilt,
+        EffectKind::EncoderOffset,
+        EffectKind::TorqueTable,
+        EffectKind::StribeckFriction,
+        EffectKind::QuadraticDamping,
+        EffectKind::PlungerWeakening,
+        EffectKind::MagnetWeakening,
+        EffectKind::RigFriction,
+        EffectKind::WireLength,
+        EffectKind::FrameOffset,
+    ];
+
     /// The name used in files and reports.
     pub fn name(self) -> &'static str {
         match self {
@@ -337,16 +360,9 @@ impl fmt::Display for EffectKind {
 impl FromStr for EffectKind {
     type Err = EffectError;
     fn from_str(s: &str) -> Result<Self, EffectError> {
-        EffectKind::ALL
+        EffectKind::EVERY
             .iter()
             .copied()
-            .chain([
-                EffectKind::TorqueTable,
-                EffectKind::StribeckFriction,
-                EffectKind::QuadraticDamping,
-            ])
-            .chain(EffectKind::LATCH)
-            .chain(EffectKind::RIG)
             .find(|k| k.name() == s)
             .ok_or_else(|| EffectError::UnknownName {
                 name: s.to_string(),
@@ -627,6 +643,36 @@ pub fn encoder_offsets_deg(effects: &[Effect], joints: usize) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `EVERY` is the vocabulary: each kind once, and a kind added to the
+    /// enum does not compile here until it is listed (the match is
+    /// exhaustive) — so every test over `EVERY` covers it.
+    #[test]
+    fn every_lists_each_kind_once() {
+        use EffectKind as K;
+        let listed = |k: K| match k {
+            K::CoulombFriction
+            | K::ViscousDamping
+            | K::QuadraticDamping
+            | K::StribeckFriction
+            | K::SpringSoftening
+            | K::HarnessStiffness
+            | K::LatchDetent
+            | K::AirDrag
+            | K::RigTilt
+            | K::EncoderOffset
+            | K::TorqueTable
+            | K::PlungerWeakening
+            | K::MagnetWeakening
+            | K::RigFriction
+            | K::WireLength
+            | K::FrameOffset => K::EVERY.iter().filter(|e| **e == k).count(),
+        };
+        for k in K::EVERY {
+            assert_eq!(listed(k), 1, "{k}");
+            assert_eq!(k.name().parse::<K>().ok(), Some(k));
+        }
+    }
 
     #[test]
     fn parses_the_cli_syntax() {

@@ -15,13 +15,26 @@ use deploywatch_core::telemetry::link::{read_report, LinkReport};
 use crate::onboard::hil::{Outgoing, Received};
 use crate::onboard::replay::{ReplayError, QEMU};
 
-/// Joints of the serial-link firmware's monitor (its `JOINTS`: the
-/// firmware chooses the joint count; it refuses a configuration of another).
-pub const UART_JOINTS: usize = 3;
+/// The joint counts the serial-link firmware is built for, one binary each
+/// (its `JOINTS`, `firmware-example/Cargo.toml`: the firmware chooses the
+/// joint count; it refuses a configuration of another).
+pub const UART_JOINTS: [usize; 2] = [3, 6];
 
-/// The serial-link firmware ELF, relative to the repository root.
+/// The serial-link firmware ELF of 3 joints, relative to the repository
+/// root; that of `N` other joints is this path with `-N` appended
+/// ([`default_uart_elf`]).
 pub const DEFAULT_UART_ELF: &str =
     "firmware-example/target/thumbv7em-none-eabihf/release/deploywatch-firmware-uart";
+
+/// The serial-link firmware ELF of `joints` joints, relative to the
+/// repository root ([`DEFAULT_UART_ELF`] for 3).
+pub fn default_uart_elf(joints: usize) -> String {
+    if joints == 3 {
+        DEFAULT_UART_ELF.to_string()
+    } else {
+        format!("{DEFAULT_UART_ELF}-{joints}")
+    }
+}
 
 /// How long the firmware may take to come up and answer the configuration.
 const READY_TIMEOUT: Duration = Duration::from_secs(20);
@@ -67,12 +80,13 @@ impl Drop for Connection {
     }
 }
 
-/// The serial-link ELF: `elf` when given, else [`DEFAULT_UART_ELF`] under
+/// The serial-link ELF: `elf` when given, else that of `joints` joints
+/// ([`default_uart_elf`]) under
 /// the current directory, else under the source tree.
-pub fn find_uart_elf(elf: Option<&Path>) -> Result<PathBuf, ReplayError> {
+pub fn find_uart_elf(elf: Option<&Path>, joints: usize) -> Result<PathBuf, ReplayError> {
     crate::onboard::replay::find_firmware(
         elf,
-        DEFAULT_UART_ELF,
+        &default_uart_elf(joints),
         "run scripts/embedded-toolchain.sh (once per machine), then scripts/firmware.sh build",
     )
 }

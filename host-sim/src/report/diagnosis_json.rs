@@ -13,6 +13,7 @@ use crate::model::effect::EffectKind;
 use crate::model::findings::diagnosis::{
     Diagnosis, Evidence, Fit, FoundEffect, Gain, MonitorTable, Named, ResidualTorque, Round, Score,
 };
+use crate::model::findings::numbers::exact;
 use crate::model::findings::rounded;
 use crate::model::torque_table::HostTorqueTable;
 
@@ -27,6 +28,11 @@ pub fn json_text(c: &Campaign, o: &Outcome, d: &Details) -> Result<String, serde
     Ok(serde_json::to_string_pretty(&doc)? + "\n")
 }
 
+/// A table's knots for the JSON, each in full ([`exact`]): the model.
+fn exact_all(x: &[f64]) -> Vec<Option<f64>> {
+    x.iter().map(|y| exact(*y)).collect()
+}
+
 /// A list of numbers for the JSON, each [`rounded`].
 fn rounded_all(x: &[f64]) -> Vec<Option<f64>> {
     x.iter().map(|y| rounded(*y)).collect()
@@ -36,13 +42,13 @@ fn rounded_all(x: &[f64]) -> Vec<Option<f64>> {
 /// tables, the 95 % band of each knot, and the shape in one sentence.
 fn add_tables(v: &mut FoundEffect, shape: &str, t: &[HostTorqueTable; 3]) {
     if let (Some(f), Some(lo), Some(hi)) = (&t[0].angle, &t[1].angle, &t[2].angle) {
-        v.angle_deg = Some(rounded_all(f.xs()));
-        v.torque_nm = Some(rounded_all(f.ys()));
+        v.angle_deg = Some(exact_all(f.xs()));
+        v.torque_nm = Some(exact_all(f.ys()));
         v.torque_ci95_nm = Some([rounded_all(lo.ys()), rounded_all(hi.ys())]);
     }
     if let (Some(g), Some(lo), Some(hi)) = (&t[0].rate, &t[1].rate, &t[2].rate) {
-        v.rate_deg_s = Some(rounded_all(g.xs()));
-        v.rate_torque_nm = Some(rounded_all(g.ys()));
+        v.rate_deg_s = Some(exact_all(g.xs()));
+        v.rate_torque_nm = Some(exact_all(g.ys()));
         v.rate_torque_ci95_nm = Some([rounded_all(lo.ys()), rounded_all(hi.ys())]);
     }
     v.shape = Some(shape.to_string());
@@ -130,22 +136,28 @@ fn effects_json(o: &Outcome, before: &[JointEvidence]) -> Vec<FoundEffect> {
         .map(|(k, e)| {
             let (lo, hi) = ci_of(o, k);
             let mut v = FoundEffect {
-                name: e.kind.name().to_string(),
-                joint: e.joint,
-                value: rounded(e.value),
-                unit: Some(e.kind.unit().to_string()),
                 ci95: Some([rounded(lo), rounded(hi)]),
                 evidence: evidence_of(o, k, o.extended.members[k].candidate),
-                ..FoundEffect::default()
+                ..FoundEffect::of_effect(e)
             };
             if let Some((_, shape, t)) = o.extended.table_of(k) {
                 add_tables(&mut v, &shape, &t);
             }
             if e.kind == EffectKind::RigTilt {
-                v.alpha_deg = rounded(e.alpha_deg);
                 if let (_, Some(ci)) = o.extended.effect_ci(k) {
                     v.alpha_ci95_deg = Some([rounded(ci[0]), rounded(ci[1])]);
                 }
+            }
+            if e.kind == EffectKind::StribeckFriction {
+                // Parameters T_C, ΔT, ω_st (candidate.rs): the intervals of
+                // the last two.
+                let ci = o.extended.effect_params(k).map(|(_, ci)| ci);
+                let band = |i: usize| {
+                    ci.and_then(|c| c.get(i))
+                        .map(|c| [rounded(c[0]), rounded(c[1])])
+                };
+                v.excess_ci95_nm = band(1);
+                v.stribeck_ci95_rad_s = band(2);
             }
             v
         })

@@ -43,7 +43,7 @@ use setup::{segment_index, Consts};
 pub use setup::{check_latch_effects, latches, weakenings};
 
 pub use crate::simulate::latch_run::{
-    Energy, LatchEnd, LatchEvent, LatchEventKind, LatchOutcome, LatchRun,
+    Energy, LatchEnd, LatchEvent, LatchEventKind, LatchOutcome, LatchRun, PawlEnd, PlungerEnd,
 };
 
 /// Most events at one instant before the run is declared stuck (Zeno).

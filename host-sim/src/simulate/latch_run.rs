@@ -123,9 +123,20 @@ pub struct LatchRun {
     pub energy: Energy,
 }
 
-/// Where a joint with a physical latch ended.
+/// Where a joint with a physical latch ended: the verdict names the latch
+/// that holds it (a ball plunger's detent or a pawl, `physics.md` §10.3
+/// and §10.5), in the words of that latch (its `Display`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LatchEnd {
+    /// A joint held by a ball plunger (and magnet).
+    Plunger(PlungerEnd),
+    /// A joint locked by a pawl.
+    Pawl(PawlEnd),
+}
+
+/// Where a joint with a ball plunger ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlungerEnd {
     /// Short of the plunger: the protrusion never touched the ball, or left it.
     ShortOfPlunger,
     /// On the entry ramp, short of the crest: the switch is open unless its
@@ -133,6 +144,45 @@ pub enum LatchEnd {
     OnRamp,
     /// Past the crest, held by the plunger (and magnet) towards the stop.
     Held,
+}
+
+/// Where a joint with a pawl ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PawlEnd {
+    /// Short of the pawl's cam: the pawl never rode it, or the joint went
+    /// back off it, and never dropped into its notch.
+    ShortOfCam,
+    /// Riding the cam, short of the notch: the pawl did not drop in.
+    OnCam,
+    /// The pawl in its notch: the joint is locked between stop and pawl.
+    InNotch,
+    /// The pawl broke (its breaking torque reached): the joint is free of it.
+    Broken,
+}
+
+impl LatchEnd {
+    /// Whether the latch holds the joint at the end: a plunger past its
+    /// crest, a pawl in its notch.
+    pub fn holds(self) -> bool {
+        matches!(
+            self,
+            LatchEnd::Plunger(PlungerEnd::Held) | LatchEnd::Pawl(PawlEnd::InNotch)
+        )
+    }
+}
+
+impl core::fmt::Display for LatchEnd {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            LatchEnd::Plunger(PlungerEnd::ShortOfPlunger) => "short of its ball plunger",
+            LatchEnd::Plunger(PlungerEnd::OnRamp) => "on its ball plunger's entry ramp",
+            LatchEnd::Plunger(PlungerEnd::Held) => "held past its ball plunger's crest",
+            LatchEnd::Pawl(PawlEnd::ShortOfCam) => "short of its pawl's cam",
+            LatchEnd::Pawl(PawlEnd::OnCam) => "on its pawl's cam, short of the notch",
+            LatchEnd::Pawl(PawlEnd::InNotch) => "locked by its pawl in the notch",
+            LatchEnd::Pawl(PawlEnd::Broken) => "free, its pawl broken",
+        })
+    }
 }
 
 /// What a physical latch did over a run.
@@ -146,7 +196,7 @@ pub struct LatchOutcome {
     pub engagements: usize,
     /// Closings of the switch.
     pub switch_closings: usize,
-    /// Where the joint ended (a pawl engaged at the end: `Held`).
+    /// Where the joint ended, in the words of its latch.
     pub end: LatchEnd,
     /// Drops of a pawl into its notch (0 or 1; 0 for a ball plunger).
     pub pawl_drops: usize,
@@ -174,11 +224,19 @@ impl LatchRun {
         let pawl_broke_s = mine()
             .find(|e| e.kind == LatchEventKind::PawlBreak)
             .map(|e| e.t_s);
-        let end = match latch.plunger_segment(u) {
-            _ if pawl_drops > 0 && pawl_broke_s.is_none() => LatchEnd::Held,
-            _ if u <= latch.plunger.crest_rad => LatchEnd::Held,
-            PlungerSegment::Entry => LatchEnd::OnRamp,
-            _ => LatchEnd::ShortOfPlunger,
+        let segment = latch.plunger_segment(u);
+        let end = match latch.pawl() {
+            Some(_) => LatchEnd::Pawl(match pawl_broke_s {
+                Some(_) => PawlEnd::Broken,
+                None if pawl_drops > 0 || u <= latch.plunger.crest_rad => PawlEnd::InNotch,
+                None if segment == PlungerSegment::Entry => PawlEnd::OnCam,
+                None => PawlEnd::ShortOfCam,
+            }),
+            None => LatchEnd::Plunger(match segment {
+                _ if u <= latch.plunger.crest_rad => PlungerEnd::Held,
+                PlungerSegment::Entry => PlungerEnd::OnRamp,
+                _ => PlungerEnd::ShortOfPlunger,
+            }),
         };
         Some(LatchOutcome {
             impacts: count(LatchMark::Stop, true),

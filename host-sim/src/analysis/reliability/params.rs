@@ -53,9 +53,28 @@ pub enum Target {
         joint: Option<usize>,
         /// `rig_tilt` only: the direction \[deg\].
         alpha_deg: f64,
+        /// `stribeck_friction` only: the break-away excess `T_brk − T_C`
+        /// \[N·m\] (`physics.md` §4); its value is the Coulomb level drawn.
+        excess_nm: f64,
+        /// `stribeck_friction` only: the Stribeck velocity `ω_st` \[rad/s\].
+        stribeck_rad_s: f64,
     },
     /// A mechanism parameter of a 1-based joint, replaced by the draw.
     Mech(MechParam, usize),
+}
+
+impl Target {
+    /// The target that varies the value of `e`, its other parameters
+    /// (joint, `rig_tilt`'s direction, the Stribeck shape) kept.
+    pub fn of_effect(e: &Effect) -> Target {
+        Target::Effect {
+            kind: e.kind,
+            joint: e.joint,
+            alpha_deg: e.alpha_deg,
+            excess_nm: e.excess_nm,
+            stribeck_rad_s: e.stribeck_rad_s,
+        }
+    }
 }
 
 /// A probability law of one parameter.
@@ -241,11 +260,15 @@ impl Vary {
                 kind,
                 joint,
                 alpha_deg,
+                excess_nm,
+                stribeck_rad_s,
             } => Effect {
                 kind,
                 joint,
                 value: x,
                 alpha_deg,
+                excess_nm,
+                stribeck_rad_s,
                 ..Effect::default()
             },
             Target::Mech(..) => Effect::default(),
@@ -387,11 +410,7 @@ impl FromStr for Vary {
                     "`{s}`: torque_table has tables, not one value to vary"
                 )));
             }
-            Target::Effect {
-                kind: effect.kind,
-                joint: effect.joint,
-                alpha_deg: effect.alpha_deg,
-            }
+            Target::of_effect(&effect)
         };
         Ok(Vary { target, dist })
     }

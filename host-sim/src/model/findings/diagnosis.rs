@@ -307,6 +307,20 @@ pub struct FoundEffect {
     /// Its 95 % interval \[deg\].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alpha_ci95_deg: Option<[Option<f64>; 2]>,
+    /// `stribeck_friction`'s break-away excess `T_brk − T_C` [N·m]
+    /// (`physics.md` §4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub excess_nm: Option<f64>,
+    /// `stribeck_friction`'s Stribeck velocity `ω_st` \[rad/s\]
+    /// (`physics.md` §4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stribeck_rad_s: Option<f64>,
+    /// The 95 % interval of `excess_nm` [N·m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub excess_ci95_nm: Option<[Option<f64>; 2]>,
+    /// The 95 % interval of `stribeck_rad_s` \[rad/s\].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stribeck_ci95_rad_s: Option<[Option<f64>; 2]>,
 }
 
 /// A discovered table as the on-board monitor holds it (at most

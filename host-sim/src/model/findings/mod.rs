@@ -7,6 +7,8 @@
 //!   joint and how well the runs are reproduced before and after.
 //! - [`diagnosis`]: the diagnosis ([`Diagnosis`]): the effects found, the
 //!   baseline and extended fits, the candidates of every round, the evidence.
+//! - [`effects`]: one effect to its JSON entry and back, the one writer and
+//!   reader of every parameter an effect kind carries.
 //!
 //! Both are written by serde and read by serde. On reading, only what tells
 //! the file's kind is required (`method` and `joints` of an identification,
@@ -18,6 +20,7 @@
 //! files that have nothing to say there, and from every older file.
 
 pub mod diagnosis;
+pub mod effects;
 pub mod identify;
 pub mod numbers;
 

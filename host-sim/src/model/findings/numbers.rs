@@ -1,4 +1,5 @@
-//! The numbers of the findings JSON: rounding for writing, and `null` (a
+//! The numbers of the findings JSON: rounding for writing (the model's
+//! parameters in full), and `null` (a
 //! number that was not finite) read back as NaN.
 
 use serde::{Deserialize, Deserializer};
@@ -24,6 +25,15 @@ pub fn not_given() -> f64 {
 
 /// Decimals of the numbers of a diagnosis: 6 ([`rounded`]).
 pub const ROUNDING: f64 = 1e6;
+
+/// `x` as it is, `None` (written as `null`) when it is not finite: a
+/// parameter of the model a diagnosis found (an effect's value, a table's
+/// knots), written in full (serde_json writes the shortest decimal that
+/// reads back to the same `f64`), so that the model read back from the
+/// file is the one fitted, bit for bit.
+pub fn exact(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
 
 /// `x` rounded to 6 decimals ([`ROUNDING`]) for a findings file, `None`
 /// (written as `null`) when it is not finite.

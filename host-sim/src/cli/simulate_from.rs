@@ -1,0 +1,142 @@
+//! `deploywatch simulate --from FINDINGS.json [--at RUN.csv]`: the model a
+//! diagnosis (or an identification) found, simulated from its JSON alone.
+//! `--from` adds the effects the file names to the `--effect`s (read by the
+//! findings' one reader, `FoundEffect::to_effect`); `--at` simulates them
+//! as the diagnosis did — at the run's own time stamps, with the fit's
+//! integration settings, the encoder offsets applied, over the free motion
+//! the diagnosis fitted when its runs have a physical latch — writes the
+//! model's true angles and prints its RMS against the run, the number the
+//! diagnosis gives as the extended model's (`docs/diagnosis.md`).
+
+use super::simulate_args::SimulateArgs;
+use super::{outln, CliError, Console};
+use crate::analysis::campaign_sim::CampaignSim;
+use crate::analysis::diagnose::latch_window::{self, RunWindow};
+use crate::data::campaign::Campaign;
+use crate::model::effect::{Effect, EffectKind};
+use crate::model::findings::{Diagnosis, Findings};
+use crate::model::mechanism::Mechanism;
+use crate::report::files::Outputs;
+use crate::simulate::sensor::{self, SensorModel};
+use std::path::Path;
+
+/// What `--from` names: the effects of the model it found, and the
+/// diagnosis itself (`None` for an identification) for its free windows.
+pub struct FoundModel {
+    /// The effects, in the file's order.
+    pub effects: Vec<Effect>,
+    /// The diagnosis, when the file is one.
+    pub diagnosis: Option<Diagnosis>,
+}
+
+/// Reads `--from`: a diagnose JSON (its named effects; `"unexplained"` is
+/// no effect and is left out) or an identify JSON (one `coulomb_friction`
+/// per joint identified).
+pub fn read(path: &Path) -> Result<FoundModel, CliError> {
+    let at = |m: String| CliError::input(format!("--from {}: {m}", path.display()));
+    let text = std::fs::read_to_string(path).map_err(|e| at(format!("cannot read: {e}")))?;
+    match Findings::from_json_str(&text).map_err(|e| at(e.to_string()))? {
+        Findings::Diagnosis(d) => Ok(FoundModel {
+            effects: d.extended_effects().map_err(|e| at(e.to_string()))?,
+            diagnosis: Some(*d),
+        }),
+        Findings::Identify(id) => Ok(FoundModel {
+            effects: id
+                .joints
+                .iter()
+                .map(|j| Effect::joint(EffectKind::CoulombFriction, j.joint, j.coulomb_nm))
+                .collect(),
+            diagnosis: None,
+        }),
+    }
+}
+
+/// The arguments with the effects of `--from` added to the `--effect`s,
+/// and what `--from` found (`None` without `--from`). A diagnosis found on
+/// other mechanisms than `mech` is warned of (its effects still added).
+pub fn with_found(
+    args: &SimulateArgs,
+    mech: &Mechanism,
+) -> Result<(SimulateArgs, Option<FoundModel>), CliError> {
+    let mut with = args.clone();
+    let found = match &args.from {
+        Some(path) => Some(read(path)?),
+        None => None,
+    };
+    if let Some(f) = &found {
+        with.effects.extend(f.effects.iter().cloned());
+        let on = f
+            .diagnosis
+            .as_ref()
+            .map(|d| d.found_on())
+            .unwrap_or_default();
+        if !on.is_empty() && !on.contains(&mech.name) {
+            Console::new(args.quiet).warn(format_args!(
+                "--from: found on {}, not on {}: its effects are added all the same",
+                on.join(", "),
+                mech.name
+            ));
+        }
+    }
+    Ok((with, found))
+}
+
+/// `--at RUN.csv`: the mechanism with `args.effects` (the `--from` ones
+/// among them) simulated as the diagnosis simulates a run, written to
+/// `--out` (the model's angles, no noise) and its RMS against the run
+/// printed.
+pub fn run_at(
+    args: &SimulateArgs,
+    mech: &Mechanism,
+    found: Option<&FoundModel>,
+    at: &Path,
+) -> Result<(), CliError> {
+    let found = found.and_then(|f| f.diagnosis.as_ref());
+    let mut campaign = Campaign::load(std::slice::from_ref(&args.mechanism), &[at.to_path_buf()])
+        .map_err(|e| CliError::input(format!("--at: {e}")))?;
+    let name = campaign.runs[0].name();
+    campaign.runs[0].mechanism = mech.clone();
+    let window = found.and_then(|d| d.free_window.iter().find(|w| w.run == name));
+    if let Some(w) = window {
+        let cut = RunWindow {
+            kept: w.samples,
+            of: w.of,
+            end_s: w.end_s,
+            joint: w.joint,
+        };
+        campaign = latch_window::apply(&campaign, &[cut]);
+    }
+    let traj = campaign
+        .simulate(0, &args.effects)
+        .map_err(|e| CliError::failed(e.to_string()))?;
+    let rms = campaign
+        .rms(&args.effects)
+        .ok_or_else(|| CliError::failed(format!("{name}: the model's run does not cover it")))?;
+    let zero = vec![0.0; mech.joint_count()];
+    let mut run = sensor::measure(&traj, &zero, &SensorModel::IDEAL, 0);
+    run.set_meta("mechanism", &mech.name);
+    run.set_meta("source", "deploywatch simulate --at");
+    let effects: Vec<String> = args.effects.iter().map(|e| e.to_string()).collect();
+    run.set_meta("effects", &effects.join("; "));
+    run.set_meta("sensor", "ideal (true angles)");
+    let mut outs = Outputs::new();
+    run.write(&outs.path(&args.out)?)
+        .map_err(|e| CliError::input(e.to_string()))?;
+    outs.commit()?;
+    outln!(
+        "{}: the model at the {} time stamps of {}{} to {}",
+        mech.name,
+        run.len(),
+        at.display(),
+        window.map_or(String::new(), |w| format!(
+            " (the free motion the diagnosis fitted, {} of {} samples)",
+            w.samples, w.of
+        )),
+        args.out.display()
+    );
+    for e in &args.effects {
+        outln!("  effect {e}");
+    }
+    outln!("  RMS against {name}: {rms:.9} deg");
+    Ok(())
+}

@@ -1,0 +1,279 @@
+//! Issue 38, "Done when" third bullet: a six-panel wing with mixed latches
+//! (ideal at joints 1, 3, 4, 6, a pawl at 2, a ball plunger at 5) through
+//! every command of the `deploywatch` binary. With a `[rig]` it is refused
+//! by each one (exit 2, the rig, the joints and the file named); without
+//! the rig, and the ideal-latch wing on its rig, each command works and its
+//! output is that of six joints. `replay --target qemu` and `hil` of six
+//! joints run in `scripts/firmware.sh test` (they need the firmware).
+mod common;
+
+use common::{data, deploywatch, fails, s};
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+/// A bundled six-panel mechanism.
+fn wing(name: &str) -> PathBuf {
+    data().join(format!("mechanisms/{name}.toml"))
+}
+
+/// Stdout of a run that must succeed (exit 0, no panic).
+fn works(out: &Output, what: &str) -> String {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{what}: panic:\n{err}");
+    assert_eq!(out.status.code(), Some(0), "{what}: stderr:\n{err}");
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Simulates `mech` with the sensor model (seed 1) to `dir/run.csv`:
+/// the run's path and the summary.
+fn simulate(mech: &Path, dir: &Path) -> (PathBuf, String) {
+    let csv = dir.join("run.csv");
+    let out = deploywatch(&["simulate", s(mech), "--seed", "1", "--out", s(&csv)]);
+    let said = works(&out, "simulate");
+    (csv, said)
+}
+
+/// The run CSV's header and rows, comment lines skipped.
+fn read_run(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(path).expect("run CSV");
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let split = |l: &str| l.split(',').map(str::to_string).collect::<Vec<_>>();
+    let header = split(lines.next().expect("header"));
+    (header, lines.map(split).collect())
+}
+
+/// The run has six angle and six switch columns, every joint latched in
+/// the summary at a time its switch column agrees with at the end.
+fn six_joints_latched(csv: &Path, said: &str) {
+    let (header, rows) = read_run(csv);
+    let angles: Vec<&String> = header
+        .iter()
+        .filter(|h| h.starts_with("phi") && h.ends_with("_deg"))
+        .collect();
+    assert_eq!(angles.len(), 6, "angle columns: {header:?}");
+    for j in 1..=6 {
+        let line = said
+            .lines()
+            .find(|l| l.trim_start().starts_with(&format!("joint {j}: ")))
+            .unwrap_or_else(|| panic!("no summary line for joint {j}:\n{said}"));
+        assert!(line.contains("latched at"), "joint {j}: {line}\n{said}");
+        let col = header
+            .iter()
+            .position(|h| *h == format!("latch{j}"))
+            .expect("latch column");
+        let last = rows.last().expect("rows");
+        assert_eq!(last[col], "1", "joint {j}'s switch at the end");
+    }
+}
+
+/// Runs `identify`, `diagnose`, `margin`, `reliability` and `replay --target
+/// host` of `mech` on `csv`, each required to work; `identify_args` bound
+/// the fit (a wing on its rig is slow to fit in full).
+fn every_command_works(mech: &Path, csv: &Path, dir: &Path, identify_args: &[&str]) {
+    let id_json = dir.join("identify.json");
+    let mut args = vec![
+        "identify",
+        "--mechanism",
+        s(mech),
+        s(csv),
+        "--json",
+        s(&id_json),
+        "-q",
+    ];
+    args.extend_from_slice(identify_args);
+    let said = works(&deploywatch(&args), "identify");
+    assert!(id_json.exists(), "identify wrote its JSON:\n{said}");
+
+    let dg_json = dir.join("diagnosis.json");
+    let out = deploywatch(&[
+        "diagnose",
+        "--mechanism",
+        s(mech),
+        "--json",
+        s(&dg_json),
+        "--max-seconds",
+        "5",
+        "--max-effects",
+        "1",
+        "-q",
+        s(csv),
+    ]);
+    let said = works(&out, "diagnose");
+    assert!(dg_json.exists(), "diagnose wrote its JSON:\n{said}");
+
+    let said = works(
+        &deploywatch(&["margin", "--mechanism", s(mech), "-q"]),
+        "margin",
+    );
+    let rows: Vec<&str> = said
+        .lines()
+        .filter(|l| l.trim_end().ends_with("pass") || l.trim_end().ends_with("FAIL"))
+        .collect();
+    assert_eq!(rows.len(), 6, "one margin row per joint:\n{said}");
+
+    let out = deploywatch(&[
+        "reliability",
+        s(mech),
+        "--fail",
+        "not_latched",
+        "--method",
+        "mc",
+        "--samples",
+        "20",
+        "--vary",
+        "coulomb_friction:joint=1:uniform(0,0.2)",
+        "-q",
+    ]);
+    let said = works(&out, "reliability");
+    assert!(said.contains("6 failure mode(s)"), "{said}");
+    assert!(said.contains("20 deployments"), "{said}");
+
+    let said = works(
+        &deploywatch(&["replay", "--mechanism", s(mech), s(csv), "--target", "host"]),
+        "replay",
+    );
+    assert!(said.contains("of 6 joints"), "{said}");
+    for j in 1..=6 {
+        assert!(
+            said.contains(&format!("joint {j}: latched (latched at")),
+            "the monitor declares joint {j} latched:\n{said}"
+        );
+    }
+}
+
+#[test]
+fn the_mixed_wing_goes_through_every_command() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mech = wing("wing6_mixed");
+    let (csv, said) = simulate(&mech, dir.path());
+    six_joints_latched(&csv, &said);
+    // Each physical latch in its own words: joint 2's pawl is locked in its
+    // notch, joint 5's ball plunger holds it past its crest.
+    let line = |start: &str| {
+        said.lines()
+            .find(|l| l.trim_start().starts_with(start))
+            .unwrap_or_else(|| panic!("no {start:?} line:\n{said}"))
+            .to_string()
+    };
+    let pawl = line("joint 2 pawl:");
+    assert!(
+        pawl.contains("ends locked by its pawl in the notch"),
+        "{pawl}"
+    );
+    assert!(!pawl.to_lowercase().contains("plunger"), "{pawl}");
+    let plunger = line("joint 5 ball plunger:");
+    assert!(
+        plunger.contains("ends held past its ball plunger's crest"),
+        "{plunger}"
+    );
+    assert!(!plunger.contains("pawl"), "{plunger}");
+    every_command_works(&mech, &csv, dir.path(), &[]);
+}
+
+#[test]
+fn the_ideal_wing_on_its_rig_goes_through_every_command() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mech = wing("wing6_ideal_rig");
+    let (csv, said) = simulate(&mech, dir.path());
+    six_joints_latched(&csv, &said);
+    for p in 1..=6 {
+        assert!(
+            said.contains(&format!("panel {p} tip lateral (y) drift")),
+            "the rig's drift of panel {p}:\n{said}"
+        );
+    }
+    // The rig acts: the flight unit (the rig taken out) runs otherwise.
+    let flight = dir.path().join("flight.csv");
+    let out = deploywatch(&[
+        "simulate",
+        s(&mech),
+        "--seed",
+        "1",
+        "--flight",
+        "--out",
+        s(&flight),
+        "-q",
+    ]);
+    works(&out, "simulate --flight");
+    let text = |p: &Path| std::fs::read_to_string(p).expect("run CSV");
+    assert_ne!(text(&csv), text(&flight), "the rig changes the run");
+    every_command_works(
+        &mech,
+        &csv,
+        dir.path(),
+        &["--joints", "6", "--start", "0.1"],
+    );
+}
+
+/// The mixed wing on the rig of `wing6_ideal_rig.toml`, written to
+/// `dir/wing6_mixed_rig.toml` (not bundled: every bundled mechanism loads).
+fn mixed_on_a_rig(dir: &Path) -> PathBuf {
+    let read = |name: &str| std::fs::read_to_string(wing(name)).expect("bundled wing");
+    let on_rig = read("wing6_ideal_rig");
+    let rig =
+        &on_rig[on_rig.find("\n[rig]").expect("[rig]")..on_rig.find("\n[run]").expect("[run]")];
+    let path = dir.join("wing6_mixed_rig.toml");
+    std::fs::write(&path, format!("{}\n{rig}\n", read("wing6_mixed"))).expect("write wing");
+    path
+}
+
+#[test]
+fn the_mixed_wing_on_a_rig_is_refused_by_every_command() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mech = mixed_on_a_rig(dir.path());
+    let m = s(&mech);
+    // A run of six joints (the refusal comes before the run is read).
+    let run = data().join("examples/wing6/wing6_ideal.csv");
+    let r = s(&run);
+    let json = dir.path().join("out.json");
+    let j = s(&json);
+    let csv = dir.path().join("out.csv");
+    let commands: [&[&str]; 8] = [
+        &["simulate", m, "--out", s(&csv), "--no-noise"],
+        &["identify", "--mechanism", m, r, "--json", j],
+        &["diagnose", "--mechanism", m, "--json", j, r],
+        &["margin", "--mechanism", m],
+        &[
+            "reliability",
+            m,
+            "--fail",
+            "not_latched",
+            "--method",
+            "mc",
+            "--samples",
+            "20",
+            "--vary",
+            "coulomb_friction:joint=1:uniform(0,0.2)",
+        ],
+        &["replay", "--mechanism", m, r, "--target", "host"],
+        &["replay", "--mechanism", m, r, "--target", "qemu"],
+        &[
+            "hil",
+            "--mechanism",
+            m,
+            r,
+            "--target",
+            "qemu",
+            "--duration",
+            "1",
+        ],
+    ];
+    for args in commands {
+        let out = deploywatch(args);
+        let err = fails(
+            &out,
+            2,
+            &[
+                "wing6_mixed_rig.toml",
+                "[rig]",
+                "joint(s) 2, 5",
+                "physical latch",
+            ],
+        );
+        assert!(err.starts_with("error: "), "{args:?}: {err}");
+    }
+    assert!(
+        !csv.exists() && !json.exists(),
+        "nothing written on a refusal"
+    );
+}

@@ -1,0 +1,459 @@
+//! Every finding survives its JSON (`docs/spec/formats.md`, "Diagnosis:
+//! JSON"), for every kind of the effect vocabulary ([`EffectKind::EVERY`]:
+//! a kind added to it is covered here without editing this file; a kind
+//! needs a line in [`sample`], whose match is exhaustive).
+//!
+//! - `every_kind_survives_its_json` (proptest): an effect with generated
+//!   parameters written as `deploywatch diagnose --json` writes it
+//!   ([`FoundEffect::of_effect`]) and read back as `simulate --from`,
+//!   `margin --from` and `reliability --from` read it
+//!   ([`Diagnosis::extended_effects`]) is the same effect, bit for bit
+//!   (the model's parameters are written in full).
+//! - `simulate_diagnose_resimulate_every_kind`: for each kind, a run
+//!   simulated with the effect, diagnosed, the extended model re-simulated
+//!   from the JSON alone (`simulate --from d.json --at run.csv`): its RMS
+//!   against the run, recomputed here from the two CSVs, equals the
+//!   extended RMS the diagnosis wrote within 1e-6 deg (the JSON's RMS has
+//!   6 decimals and the CSV's angles too: at most 5e-7 deg each);
+//!   `margin --from` counts each effect at the value fitted, and
+//!   `reliability --from` centres each law on it (a table refused, exit 2).
+//! - `formats_md_names_every_key_of_every_kind`: every key an entry
+//!   carries is named in formats.md's "Diagnosis: JSON" section.
+//!
+//!     cargo test --release -p deploywatch-tests --test findings_roundtrip
+
+use clap::Parser;
+use deploywatch_sim::cli::{self, Cli};
+use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::findings::{Diagnosis, Findings, FoundEffect};
+use deploywatch_sim::reliability::identified::from_findings_json;
+use deploywatch_sim::reliability::params::{Dist, Target};
+use deploywatch_sim::torque_table::TablePoints;
+use proptest::prelude::*;
+use std::path::{Path, PathBuf};
+
+/// Every kind the effect syntax knows.
+fn kinds() -> Vec<EffectKind> {
+    EffectKind::EVERY.to_vec()
+}
+
+/// An effect of `kind` from generated numbers `u` (each in 0..1).
+fn sample(kind: EffectKind, joint: usize, u: [f64; 4]) -> Effect {
+    let mut e = if kind.per_joint() {
+        Effect::joint(kind, joint, 0.0)
+    } else {
+        Effect::global(kind, 0.0)
+    };
+    e.value = match kind {
+        EffectKind::CoulombFriction
+        | EffectKind::ViscousDamping
+        | EffectKind::QuadraticDamping
+        | EffectKind::HarnessStiffness
+        | EffectKind::LatchDetent
+        | EffectKind::AirDrag
+        | EffectKind::RigFriction => 2.0 * u[0],
+        EffectKind::SpringSoftening
+        | EffectKind::PlungerWeakening
+        | EffectKind::MagnetWeakening => 0.9 * u[0],
+        EffectKind::RigTilt | EffectKind::EncoderOffset => 4.0 * u[0] - 2.0,
+        EffectKind::WireLength | EffectKind::FrameOffset => 0.02 * u[0] - 0.01,
+        EffectKind::StribeckFriction => {
+            e.excess_nm = u[1];
+            e.stribeck_rad_s = 0.01 + u[2];
+            u[0]
+        }
+        EffectKind::TorqueTable => {
+            let points = TablePoints {
+                angle_deg: Some(vec![0.0, 45.0 + 40.0 * u[1], 180.0]),
+                torque_nm: Some(vec![u[0], -u[2], 0.5 * u[3]]),
+                rate_deg_s: Some(vec![0.0, 10.0 + u[3]]),
+                rate_torque_nm: Some(vec![0.0, u[1]]),
+            };
+            e.table = points.build().expect("increasing knots");
+            0.0
+        }
+    };
+    if kind == EffectKind::RigTilt {
+        e.alpha_deg = 360.0 * u[3] - 180.0;
+    }
+    if kind == EffectKind::TorqueTable {
+        // The syntax's value of a table is its largest absolute torque.
+        e = e.to_string().parse().expect("a table effect reparses");
+    }
+    e
+}
+
+/// The diagnosis JSON of one effect, as `diagnose --json` writes it.
+fn json_of(e: &Effect) -> String {
+    let d = Diagnosis {
+        effects: vec![FoundEffect::of_effect(e)],
+        ..Diagnosis::default()
+    };
+    serde_json::to_string_pretty(&d).expect("serialises")
+}
+
+fn close(a: f64, b: f64) -> bool {
+    a == b || (a.is_nan() && b.is_nan())
+}
+
+fn same_tables(a: &Effect, b: &Effect) -> bool {
+    let knots = |e: &Effect| {
+        let mut k: Vec<Vec<f64>> = Vec::new();
+        for t in [&e.table.angle, &e.table.rate].into_iter().flatten() {
+            k.push(t.xs().to_vec());
+            k.push(t.ys().to_vec());
+        }
+        (e.table.angle.is_some(), e.table.rate.is_some(), k)
+    };
+    knots(a) == knots(b)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 64,
+        failure_persistence: None,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(20_261_129),
+        ..ProptestConfig::default()
+    })]
+
+    /// Every kind, generated parameters: the effect read back from the JSON
+    /// alone is the effect written, bit for bit.
+    #[test]
+    fn every_kind_survives_its_json(joint in 1usize..4, u in proptest::array::uniform4(0.0f64..1.0)) {
+        for kind in kinds() {
+            let e = sample(kind, joint, u);
+            let text = json_of(&e);
+            let Ok(Findings::Diagnosis(d)) = Findings::from_json_str(&text) else {
+                panic!("{kind}: not read back as a diagnosis:\n{text}");
+            };
+            let back = d.extended_effects().map_err(|x| TestCaseError::fail(format!("{kind}: {x}")))?;
+            prop_assert_eq!(back.len(), 1, "{}: {}", kind, text);
+            let b = &back[0];
+            prop_assert_eq!(b.kind, e.kind);
+            prop_assert_eq!(b.joint, e.joint);
+            prop_assert!(close(b.value, e.value), "{}: value {} vs {}", kind, b.value, e.value);
+            prop_assert!(close(b.alpha_deg, e.alpha_deg), "{}: alpha_deg", kind);
+            prop_assert!(close(b.excess_nm, e.excess_nm), "{}: excess_nm", kind);
+            prop_assert!(close(b.stribeck_rad_s, e.stribeck_rad_s), "{}: stribeck_rad_s", kind);
+            prop_assert!(same_tables(b, &e), "{}: tables", kind);
+        }
+    }
+}
+
+/// The "Diagnosis: JSON" section of formats.md.
+fn formats_diagnosis_section() -> String {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/spec/formats.md");
+    let text = std::fs::read_to_string(path).expect("docs/spec/formats.md");
+    let start = text
+        .find("## Diagnosis: JSON")
+        .expect("a Diagnosis: JSON section");
+    let rest = &text[start + 3..];
+    let end = rest.find("\n## ").unwrap_or(rest.len());
+    rest[..end].to_string()
+}
+
+/// Every key an effect entry carries, for every kind, is named in
+/// formats.md's diagnosis section (as `"key"` or in the JSON example), and
+/// its `name` in physics.md (formats.md: "a name from `physics.md` section 6").
+#[test]
+fn formats_md_names_every_key_of_every_kind() {
+    let doc = formats_diagnosis_section();
+    let physics = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../docs/spec/physics.md"
+    ))
+    .expect("docs/spec/physics.md");
+    for kind in kinds() {
+        let e = sample(kind, 1, [0.3, 0.4, 0.5, 0.6]);
+        let v: serde_json::Value = serde_json::from_str(&json_of(&e)).expect("JSON");
+        let entry = v["effects"][0].as_object().expect("an effect entry");
+        for key in entry.keys() {
+            assert!(
+                doc.contains(&format!("\"{key}\"")),
+                "{kind}: key \"{key}\" of its JSON entry is not in formats.md's Diagnosis: JSON section"
+            );
+        }
+        assert!(
+            physics.contains(&format!("`{}`", kind.name())),
+            "{kind}: the entry's name is not in physics.md, where formats.md says the names are"
+        );
+    }
+}
+
+/// `deploywatch ARGS...` in this process (the CLI's own parser and `run`):
+/// its exit code, 0 on success.
+fn deploywatch(args: &[&str]) -> i32 {
+    let argv = std::iter::once("deploywatch").chain(args.iter().copied());
+    match Cli::try_parse_from(argv) {
+        Ok(parsed) => cli::run(parsed).map_or_else(|e| i32::from(e.code), |()| 0),
+        Err(e) => panic!("deploywatch {args:?}: {e}"),
+    }
+}
+
+fn data(rel: &str) -> String {
+    format!("{}/../data/{rel}", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn text(p: &Path) -> &str {
+    p.to_str().expect("a UTF-8 path")
+}
+
+/// A wing on which `kind` acts: the rig's causes need a `[rig]`, the
+/// latch's a physical latch, every other kind seed 001's T01.
+fn wing_for(kind: EffectKind) -> String {
+    if kind.is_rig() {
+        data("mechanisms/seed001_T01_rig.toml")
+    } else if EffectKind::LATCH.contains(&kind) {
+        data("mechanisms/seed001_T01_physical_latch.toml")
+    } else {
+        data("mechanisms/seed001_T01.toml")
+    }
+}
+
+/// The angle columns of a run CSV, `[joint][sample]` (comment lines and
+/// the header skipped; `t_s` first, then one `phiJ_deg` per joint).
+fn angles(path: &Path, joints: usize) -> Vec<Vec<f64>> {
+    let body = std::fs::read_to_string(path).expect("a run CSV");
+    let mut out = vec![Vec::new(); joints];
+    for line in body.lines().filter(|l| !l.starts_with('#')).skip(1) {
+        let cells: Vec<&str> = line.split(',').collect();
+        for (j, col) in out.iter_mut().enumerate() {
+            col.push(cells[1 + j].parse::<f64>().expect("an angle"));
+        }
+    }
+    out
+}
+
+/// RMS of model minus run over the first `samples` samples of each joint.
+fn rms(model: &[Vec<f64>], run: &[Vec<f64>], samples: usize) -> f64 {
+    let (mut sse, mut m) = (0.0, 0usize);
+    for (a, b) in model.iter().zip(run) {
+        for (x, y) in a.iter().zip(b).take(samples) {
+            sse += (x - y) * (x - y);
+            m += 1;
+        }
+    }
+    (sse / m.max(1) as f64).sqrt()
+}
+
+/// One kind through simulate, diagnose, `simulate --from --at`, `margin
+/// --from` and `reliability --from`; `Err` says what differs.
+fn round_trip(kind: EffectKind, dir: &Path) -> Result<(), String> {
+    let effect = sample(kind, 2, [0.05, 0.4, 0.3, 0.6]);
+    let mech = wing_for(kind);
+    let (run, json, model) = (
+        dir.join("run.csv"),
+        dir.join("d.json"),
+        dir.join("model.csv"),
+    );
+    let e = effect.to_string();
+    let code = deploywatch(&[
+        "simulate",
+        &mech,
+        "--out",
+        text(&run),
+        "--effect",
+        &e,
+        "--quiet",
+    ]);
+    if code != 0 {
+        return Err(format!("simulate with {e}: exit {code}"));
+    }
+    let code = deploywatch(&[
+        "diagnose",
+        "--quiet",
+        "--max-effects",
+        "1",
+        "--json",
+        text(&json),
+        "--mechanism",
+        &mech,
+        text(&run),
+    ]);
+    if code != 0 {
+        return Err(format!("diagnose: exit {code}"));
+    }
+    let body = std::fs::read_to_string(&json).map_err(|x| x.to_string())?;
+    let Ok(Findings::Diagnosis(d)) = Findings::from_json_str(&body) else {
+        return Err(format!("not a diagnosis:\n{body}"));
+    };
+    let code = deploywatch(&[
+        "simulate",
+        &mech,
+        "--from",
+        text(&json),
+        "--at",
+        text(&run),
+        "--out",
+        text(&model),
+        "--quiet",
+    ]);
+    if code != 0 {
+        return Err(format!("simulate --from --at: exit {code}"));
+    }
+    intervals_bracket_the_values(&d)?;
+    let joints = d.extended.trajectory_error_pct.len();
+    let measured = angles(&run, joints);
+    let samples = d
+        .free_window
+        .first()
+        .map_or(measured[0].len(), |w| w.samples);
+    let again = rms(&angles(&model, joints), &measured, samples);
+    let said = d.extended.rms_deg.ok_or("no extended RMS in the JSON")?;
+    if (again - said).abs() > 1e-6 {
+        return Err(format!(
+            "found {:?}: re-simulated RMS {again} deg, the diagnosis said {said}",
+            names(&d)
+        ));
+    }
+    margin_uses_the_fitted(&mech, &json, &d, dir)?;
+    reliability_uses_the_fitted(&body, &d)
+}
+
+/// Every parameter of a finding comes with its 95 % interval around it
+/// (formats.md): the value's `ci95`, and `stribeck_friction`'s two others.
+fn intervals_bracket_the_values(d: &Diagnosis) -> Result<(), String> {
+    let inside = |x: Option<f64>, ci: Option<[Option<f64>; 2]>, key: &str| match (x, ci) {
+        (Some(x), Some([Some(lo), Some(hi)])) if lo <= x + 1e-6 && x <= hi + 1e-6 => Ok(()),
+        other => Err(format!(
+            "{key}: {other:?} is not a value inside its interval"
+        )),
+    };
+    for e in d
+        .effects
+        .iter()
+        .filter(|e| e.name != "unexplained" && e.name != "torque_table")
+    {
+        inside(e.value, e.ci95, &format!("{} value", e.name))?;
+        if e.name == EffectKind::StribeckFriction.name() {
+            inside(e.excess_nm, e.excess_ci95_nm, "excess_nm")?;
+            inside(e.stribeck_rad_s, e.stribeck_ci95_rad_s, "stribeck_rad_s")?;
+        }
+    }
+    Ok(())
+}
+
+fn names(d: &Diagnosis) -> Vec<String> {
+    d.effects
+        .iter()
+        .map(|e| format!("{}@{:?}", e.name, e.joint))
+        .collect()
+}
+
+/// `margin --from`: every named effect counted at the value fitted (the
+/// friction and damping added to their joint's own).
+fn margin_uses_the_fitted(
+    mech: &str,
+    json: &Path,
+    d: &Diagnosis,
+    dir: &Path,
+) -> Result<(), String> {
+    let out = dir.join("margin.json");
+    let code = deploywatch(&[
+        "margin",
+        "--quiet",
+        "--mechanism",
+        mech,
+        "--from",
+        text(json),
+        "--json",
+        text(&out),
+    ]);
+    if code != 0 {
+        return Err(format!("margin --from: exit {code}"));
+    }
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).map_err(|x| x.to_string())?)
+            .map_err(|x| x.to_string())?;
+    let base: serde_json::Value = {
+        let plain = dir.join("margin0.json");
+        if deploywatch(&[
+            "margin",
+            "--quiet",
+            "--mechanism",
+            mech,
+            "--json",
+            text(&plain),
+        ]) != 0
+        {
+            return Err("margin without --from failed".into());
+        }
+        serde_json::from_str(&std::fs::read_to_string(&plain).map_err(|x| x.to_string())?)
+            .map_err(|x| x.to_string())?
+    };
+    for e in d.extended_effects().map_err(|x| x.to_string())? {
+        let j = e.joint.unwrap_or(1) - 1;
+        let at =
+            |v: &serde_json::Value, key: &str| v["joints"][j][key].as_f64().unwrap_or(f64::NAN);
+        let ok = match e.kind {
+            EffectKind::CoulombFriction => {
+                at(&m, "coulomb_nm") == at(&base, "coulomb_nm") + e.value
+            }
+            EffectKind::ViscousDamping => {
+                at(&m, "viscous_nms") == at(&base, "viscous_nms") + e.value
+            }
+            _ => m["joints"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .flat_map(|jt| jt["counted"].as_array().into_iter().flatten())
+                .chain(m["not_included"].as_array().into_iter().flatten())
+                .any(|c| {
+                    c["effect"].as_str() == Some(e.kind.name())
+                        && (c["value"].as_f64() == Some(e.value) || c["value"].is_null())
+                }),
+        };
+        if !ok {
+            return Err(format!(
+                "margin --from: {e} not counted at the value fitted:\n{m:#}"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `reliability --from`: a law centred on each effect's value fitted, its
+/// other parameters as fitted; a table refused.
+fn reliability_uses_the_fitted(body: &str, d: &Diagnosis) -> Result<(), String> {
+    let effects = d.extended_effects().map_err(|x| x.to_string())?;
+    let laws = from_findings_json(body);
+    if effects.iter().any(|e| e.kind == EffectKind::TorqueTable) {
+        return match laws {
+            Err(m) if m.contains("torque table") => Ok(()),
+            other => Err(format!("reliability --from of a table: {other:?}")),
+        };
+    }
+    let laws = laws?;
+    if laws.len() != effects.len() {
+        return Err(format!("{} laws for {} effects", laws.len(), effects.len()));
+    }
+    for (v, e) in laws.iter().zip(&effects) {
+        let Dist::Normal { mean, .. } = v.dist else {
+            return Err(format!("{}: not a normal law", v.label()));
+        };
+        let same = matches!(v.target, Target::Effect { kind, joint, alpha_deg, excess_nm, stribeck_rad_s }
+            if kind == e.kind && joint == e.joint && alpha_deg == e.alpha_deg
+                && excess_nm == e.excess_nm && stribeck_rad_s == e.stribeck_rad_s);
+        if mean != e.value || !same {
+            return Err(format!("reliability --from: {v} for {e}"));
+        }
+    }
+    Ok(())
+}
+
+/// Every kind of the vocabulary through the whole chain; every kind that
+/// fails is named before the test fails.
+#[test]
+fn simulate_diagnose_resimulate_every_kind() {
+    let root = std::env::temp_dir().join(format!("dw-roundtrip-{}", std::process::id()));
+    let mut failed = Vec::new();
+    for kind in kinds() {
+        let dir: PathBuf = root.join(kind.name());
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        if let Err(m) = round_trip(kind, &dir) {
+            failed.push(format!("{kind}: {m}"));
+        }
+    }
+    let _ = std::fs::remove_dir_all(&root);
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}
