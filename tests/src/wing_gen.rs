@@ -1,4 +1,4 @@
-//! A generator of random valid wings (issue 38): 2–8 panels; linear, tape
+//! A generator of random valid wings: 2–8 panels; linear, tape
 //! and curve (Akima) springs; ideal, plunger + magnet and pawl latches mixed
 //! in one wing; with and without a `[rig]`; friction drawn. It writes the
 //! mechanism TOML text (`docs/spec/formats.md`), so a test loads it as a

@@ -475,8 +475,8 @@ impl<const N: usize> Sim<'_, N> {
                 // A stuck joint whose torque left its band by the step's
                 // start slips there.
                 // So does an ideal joint found at or past its latch angle
-                // (issue 38: a crossing at the instant of another event,
-                // a tape branch switch at φ = 0, was never bracketed).
+                // (a crossing at the instant of another event, a tape
+                // branch switch at φ = 0, is not bracketed by the search).
                 let slips = matches!(ev, Ev::Slip(_) | Ev::Ideal(_))
                     && inside(self, ev, &dense.at(dense.t0)) <= 0.0;
                 slips.then_some((dense.t0, dense.t0))
