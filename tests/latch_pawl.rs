@@ -332,7 +332,7 @@ fn statuses<const N: usize>(mech: &Mechanism, samples: &[Sample<N>]) -> Vec<Stat
     samples.iter().map(|s| m.update_and_predict(s)).collect()
 }
 
-/// Issue 38: a latched pawl joint rebounds within its notch (0.2 to 0.8°
+/// A latched pawl joint rebounds within its notch (0.2 to 0.8°
 /// over a few samples, the switch opening with it) — motion the lock
 /// allows, never `encoder_outlier`; a real spike of the encoder mid-swing
 /// still is, and one at a latched joint beyond the pawl's reach is flagged

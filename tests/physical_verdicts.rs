@@ -1,5 +1,5 @@
 //! The reliability analysis's physical-latch runs give the same verdicts
-//! without the energy ledger as with it (issue 42): on a fixed sample of
+//! without the energy ledger as with it: on a fixed sample of
 //! crude Monte-Carlo draws (seed 0) of seed 001 T01 with its ball plungers
 //! and with its pawls, each mode's margin is the same to the bit whether
 //! the run keeps its ledger (`Keep::Ledger`, as `reliability` ran before)

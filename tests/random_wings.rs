@@ -1,4 +1,4 @@
-//! Issue 38: invariants of the simulator on random valid wings
+//! Invariants of the simulator on random valid wings
 //! (`deploywatch_tests::wing_gen`), checked by proptest. Each case is one
 //! wing drawn from a seed (printed by proptest on failure with the wing's
 //! TOML and its effects); the wing is loaded from its TOML text as a user's
@@ -54,7 +54,7 @@ fn cases() -> u32 {
 /// Share of physical latches among the drawn joints.
 const PHYSICAL_SHARE: f64 = 0.25;
 
-/// The ledger's closure asked of every run (issue 38), relative to the
+/// The ledger's closure asked of every run, relative to the
 /// stored energy.
 const LEDGER_CLOSURE: f64 = 1e-6;
 

@@ -1,5 +1,5 @@
 //! Physical-latch verdicts before and after the reliability runs dropped
-//! the energy ledger (issue 42): seed 001 T01 with its ball plungers and
+//! the energy ledger: seed 001 T01 with its ball plungers and
 //! with its pawls, the identified friction of the mechanism files given a
 //! 5 % normal dispersion (`coulomb_friction:joint=J:normal(0, 0.05 T_J)`
 //! added to `T_J`), `--fail not_latched`, the crude Monte-Carlo draws of

@@ -1,5 +1,5 @@
-//! Issue 38: a wing nobody tuned the simulator for. The four-panel wing of
-//! the issue (`data/mechanisms/issue38_four_panel.toml`) and a `[rig]` on a
+//! A wing nobody tuned the simulator for. A new user's four-panel wing
+//! (`data/mechanisms/issue38_four_panel.toml`) and a `[rig]` on a
 //! wing with physical latches, run through the `deploywatch` binary.
 mod common;
 

@@ -190,7 +190,7 @@ fn the_firmware_loop_on_the_host_is_bit_identical_for_every_reference_mechanism(
     }
 }
 
-/// Wings of 4 and 6 panels (issue 38): the firmware's loop with a monitor
+/// Wings of 4 and 6 panels: the firmware's loop with a monitor
 /// of the run's joint count gives the host's statuses bit for bit; with a
 /// monitor of another count it refuses the configuration by name.
 #[test]

@@ -1,4 +1,4 @@
-//! Issue 38, "Done when" third bullet: a six-panel wing with mixed latches
+//! A six-panel wing with mixed latches
 //! (ideal at joints 1, 3, 4, 6, a pawl at 2, a ball plunger at 5) through
 //! every command of the `deploywatch` binary. With a `[rig]` it is refused
 //! by each one (exit 2, the rig, the joints and the file named); without

@@ -1,4 +1,4 @@
-//! A generator of random valid wings (issue 38): 2–8 panels; linear, tape
+//! A generator of random valid wings: 2–8 panels; linear, tape
 //! and curve (Akima) springs; ideal, plunger + magnet and pawl latches mixed
 //! in one wing; with and without a `[rig]`; friction and named effects
 //! (Coulomb friction, viscous damping at a joint; air drag) drawn. It writes the

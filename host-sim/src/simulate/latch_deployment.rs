@@ -478,8 +478,8 @@ impl<const N: usize> Sim<'_, N> {
                 // A stuck joint whose torque left its band by the step's
                 // start slips there.
                 // So does an ideal joint found at or past its latch angle
-                // (issue 38: a crossing at the instant of another event,
-                // a tape branch switch at φ = 0, was never bracketed).
+                // (a crossing at the instant of another event, a tape
+                // branch switch at φ = 0, is not bracketed by the search).
                 // So does a stop contact whose law has left its state by
                 // the start (a released stop whose force is pushing again:
                 // never bracketed, the joint sank into the stop with no
