@@ -40,7 +40,9 @@ export CARGO_INCREMENTAL=0
 host_only=false
 [ "${1:-}" = "--host" ] && host_only=true
 
-step() { printf '\n=== %s\n' "$*"; }
+# Each header gives the minutes since the start (CI's budget is per run).
+start=$SECONDS
+step() { printf '\n=== %s  [%d:%02d]\n' "$*" $(((SECONDS - start) / 60)) $(((SECONDS - start) % 60)); }
 
 step "format"
 cargo fmt --all -- --check
@@ -93,4 +95,4 @@ if [ -x scripts/fuzz.sh ] || [ -f scripts/fuzz.sh ]; then
 fi
 
 echo
-echo "all checks passed"
+echo "all checks passed in $(((SECONDS - start) / 60)) min $(((SECONDS - start) % 60)) s"
