@@ -508,7 +508,7 @@ struct Ledger {
     start_j: f64,
     /// The drift at the last closing, `total − start` \[J\].
     now_j: f64,
-    /// The run's duration \[s\] ([`step_budget`]).
+    /// The run's duration \[s\] ([`step_budget`](super::latch_run::step_budget)).
     duration_s: f64,
 }
 
