@@ -23,14 +23,16 @@ fi
 
 # Rebuild the extension only when a source it is built from changed.
 stamp="$venv/.deploywatch-built"
-if [ -f "$stamp" ] && [ -z "$(find python/src python/deploywatch python/Cargo.toml python/Cargo.lock \
-        python/pyproject.toml host-sim/src host-sim/Cargo.toml core/src core/Cargo.toml \
+if [ -f "$stamp" ] && [ -z "$(find python/src python/deploywatch python/Cargo.toml Cargo.lock \
+        python/pyproject.toml Cargo.toml host-sim/src host-sim/Cargo.toml core/src core/Cargo.toml \
         -newer "$stamp" -print -quit)" ]; then
     echo "python-env: deploywatch is up to date in $venv"
     exit 0
 fi
 echo "python-env: building the deploywatch extension (release)"
-export CARGO_TARGET_DIR="$root/target/python"
+# The workspace's target directory: the release build of the `deploywatch`
+# binary (scripts/doc-examples.py) and this one share their dependencies.
+export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}"
 wheels="$CARGO_TARGET_DIR/wheels"
 rm -f "$wheels"/deploywatch-*.whl
 "$venv/bin/maturin" build --release --locked -q -m python/Cargo.toml -i "$venv/bin/python" --out "$wheels"

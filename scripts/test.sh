@@ -21,7 +21,7 @@
 #     manifests outside docs/measured.md and the compared example outputs;
 #     every section of docs/measured.md with its command and date, every
 #     link to it resolving (scripts/measured.py check)
-#  2b. the Python package (python/, its own workspace): .venv/ made or
+#  2b. the Python package (python/, a member of the workspace): .venv/ made or
 #     updated by scripts/python-env.sh (the extension built once, in
 #     release), then pytest, with a real Dask LocalCluster of 2 processes,
 #     then mypy --strict on the package and on a program using its stubs
@@ -66,7 +66,6 @@ python3 scripts/doc-figures.py --check
 python3 scripts/measured.py check
 
 step "python package: build, pytest (Dask LocalCluster)"
-cargo fmt --manifest-path python/Cargo.toml -- --check
 bash scripts/python-env.sh
 # pytest exits 5 when it collects no test: a failure here, like any other.
 .venv/bin/pytest python/tests -q || { rc=$?; [ "$rc" = 5 ] && echo "pytest collected no test"; exit "$rc"; }
