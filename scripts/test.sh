@@ -8,7 +8,8 @@
 #
 # Steps (each prints a header; the first failure stops the run):
 #  1. cargo fmt --check, clippy -D warnings on every target of the workspace,
-#     cargo doc -D warnings (private items too: every intra-doc link resolves)
+#     cargo doc -D warnings (private items too: every intra-doc link resolves;
+#     the Python extension crate left out, see the step)
 #  2. cargo test --workspace (the test profile is optimised, see Cargo.toml):
 #     unit tests, golden trajectories, paper vectors, monitor, identification,
 #     the hidden-effect diagnosis suite, black-box CLI tests
@@ -51,7 +52,10 @@ step "clippy (all targets, -D warnings)"
 cargo clippy --workspace --all-targets --locked -- -D warnings
 
 step "cargo doc (-D warnings, private items: every intra-doc link resolves)"
-RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace --locked --document-private-items
+# deploywatch-py is left out: its Rust side is not an API (the package's
+# reference is docs/python.md), and rustdoc stops with an internal compiler
+# error on numpy 0.23's `ToPyArray` when it documents any crate using it.
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace --exclude deploywatch-py --locked --document-private-items
 
 step "cargo test --workspace"
 cargo test --workspace --locked

@@ -5,7 +5,7 @@
 //! steps), and the reliability analysis with an optional Python batch
 //! evaluator (the package's `executor=`). Mechanisms and identify results
 //! are passed as text, so that remote workers need no files. Errors are
-//! the package's exceptions ([`errors`]).
+//! the package's exceptions (module `errors`).
 #![deny(missing_docs)]
 
 mod commands;
