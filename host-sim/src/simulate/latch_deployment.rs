@@ -567,6 +567,36 @@ pub enum Keep {
     /// ledger is kept and checked all the same: every run stops with
     /// [`SimError::EnergyDrift`] when it does not close.
     Trajectory,
+    /// [`Keep::Trajectory`] with the steps sized by the ledger as well as
+    /// by DOPRI5's error ([`ledger_step_factor`]): the reliability's
+    /// verdict runs. Fewer steps are taken again for the ledger; the step
+    /// sequence differs from [`Keep::Ledger`]'s, so the bits do; the
+    /// verdicts on a fixed sample are compared by
+    /// `examples/physical_verdicts.rs` and `tests/physical_verdicts.rs`.
+    Verdict,
+}
+
+/// Safety factor of [`ledger_step_factor`].
+const LEDGER_SAFETY: f64 = 0.8;
+
+/// The exponent of the ledger's drift over a step against its length: the
+/// drift of a step on a stiff contact grows as `h⁵` (DOPRI5's local error)
+/// while the budget there is its floor ([`crate::simulate::latch_run::STEP_DRIFT`]).
+const LEDGER_EXPONENT: f64 = 0.2;
+
+/// Least and largest factor [`ledger_step_factor`] gives.
+const LEDGER_FACTOR_RANGE: (f64, f64) = (0.1, 5.0);
+
+/// The factor on a step's length \[1\] that brings the ledger's drift over
+/// it to [`LEDGER_SAFETY`] of its budget, from `ratio` = the drift's move
+/// over the step / its budget (`Runner::book`): `0.8 ratio^(−1/5)`,
+/// within [0.1, 5]. Below 1 (shrink) when the step was over budget.
+pub fn ledger_step_factor(ratio: f64) -> f64 {
+    let (lo, hi) = LEDGER_FACTOR_RANGE;
+    if ratio <= 0.0 || !ratio.is_finite() {
+        return if ratio > 0.0 { lo } else { hi };
+    }
+    (LEDGER_SAFETY * ratio.powf(-LEDGER_EXPONENT)).clamp(lo, hi)
 }
 
 /// [`simulate_physical`], keeping what `keep` says.
@@ -634,6 +664,7 @@ fn run_keeping<const N: usize>(
         events: Vec::new(),
         ledger: Ledger::default(),
         same_instant: 0,
+        size_by_ledger: keep == Keep::Verdict,
     };
     let (k, s, l) = sim.energies(&y0);
     run.ledger.start_j = k + s + l;
@@ -651,7 +682,7 @@ fn run_keeping<const N: usize>(
         events: run.events,
         energy: match keep {
             Keep::Ledger => run.ledger.energy,
-            Keep::Trajectory => Energy::default(),
+            Keep::Trajectory | Keep::Verdict => Energy::default(),
         },
     })
 }
@@ -692,6 +723,8 @@ struct Runner<'t> {
     events: Vec<LatchEvent>,
     ledger: Ledger,
     same_instant: usize,
+    /// Steps sized by the ledger too ([`Keep::Verdict`]).
+    size_by_ledger: bool,
 }
 
 impl Runner<'_> {
@@ -734,8 +767,13 @@ impl Runner<'_> {
             let (t_end, first) = sim.first_event(&att.dense, &att.y1);
             let cut = first.is_some();
             let y_end = if cut { att.dense.at(t_end) } else { att.y1 };
-            if !self.book(sim, &att.dense, t_end, &y_end)? {
+            let (booked, ratio) = self.book(sim, &att.dense, t_end, &y_end)?;
+            let ledger_h = (t_end - t) * ledger_step_factor(ratio);
+            if !booked {
                 h = self.out.traj.stats.retake(t_end - t);
+                if self.size_by_ledger {
+                    h = ledger_h;
+                }
                 continue;
             }
             self.out.push_while(
@@ -743,8 +781,16 @@ impl Runner<'_> {
                 |tk| if cut { tk < t_end } else { tk <= t_end },
                 |tk| att.dense.at(tk),
             )?;
+            // A step cut short by an event, or booked over its budget (one
+            // under `LEDGER_MIN_STEP_S`: its drift is the rounding's), caps
+            // nothing.
+            let cap = match self.size_by_ledger && !cut && ratio <= 1.0 {
+                true => ledger_h,
+                false => f64::INFINITY,
+            };
             let Some(ev) = first else {
-                (t, y, k1, h) = (t_end, att.y1, att.k7, control.accept(h, att.err));
+                let next = control.accept(h, att.err).min(cap);
+                (t, y, k1, h) = (t_end, att.y1, att.k7, next);
                 self.same_instant = 0;
                 continue;
             };
@@ -762,7 +808,7 @@ impl Runner<'_> {
             }
             t = t_end;
             k1 = sim.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
-            h = h.min(ode::RESTART_STEP_S);
+            h = h.min(ode::RESTART_STEP_S).min(cap);
             control.restart();
         }
         self.out.push_while(sim, |tk| tk <= t + 1e-9, |_| y)?;
