@@ -76,7 +76,8 @@ fn main() -> Result<(), String> {
     println!("|---|---|---|---|---|---|---|---|");
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms");
     for (name, sd) in WINGS {
-        let mech = Mechanism::load(&root.join(format!("{name}.toml"))).map_err(|e| e.to_string())?;
+        let mech =
+            Mechanism::load(&root.join(format!("{name}.toml"))).map_err(|e| e.to_string())?;
         let duration = mech.duration_s;
         let p = Problem {
             mech,

@@ -24,6 +24,7 @@
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
 use crate::model::torque_table::HostChain;
+use crate::simulate::latch_run::ledger_step_factor;
 use crate::simulate::ode::{self, locate, Dense, State};
 use crate::simulate::trajectory::{
     Samples, SimError, SimOptions, Trajectory, MAX_SAMPLES, MAX_STEPS,
@@ -568,35 +569,12 @@ pub enum Keep {
     /// [`SimError::EnergyDrift`] when it does not close.
     Trajectory,
     /// [`Keep::Trajectory`] with the steps sized by the ledger as well as
-    /// by DOPRI5's error ([`ledger_step_factor`]): the reliability's
+    /// by DOPRI5's error ([`crate::simulate::latch_run::ledger_step_factor`]): the reliability's
     /// verdict runs. Fewer steps are taken again for the ledger; the step
     /// sequence differs from [`Keep::Ledger`]'s, so the bits do; the
     /// verdicts on a fixed sample are compared by
     /// `examples/physical_verdicts.rs` and `tests/physical_verdicts.rs`.
     Verdict,
-}
-
-/// Safety factor of [`ledger_step_factor`].
-const LEDGER_SAFETY: f64 = 0.8;
-
-/// The exponent of the ledger's drift over a step against its length: the
-/// drift of a step on a stiff contact grows as `h⁵` (DOPRI5's local error)
-/// while the budget there is its floor ([`crate::simulate::latch_run::STEP_DRIFT`]).
-const LEDGER_EXPONENT: f64 = 0.2;
-
-/// Least and largest factor [`ledger_step_factor`] gives.
-const LEDGER_FACTOR_RANGE: (f64, f64) = (0.1, 5.0);
-
-/// The factor on a step's length \[1\] that brings the ledger's drift over
-/// it to [`LEDGER_SAFETY`] of its budget, from `ratio` = the drift's move
-/// over the step / its budget (`Runner::book`): `0.8 ratio^(−1/5)`,
-/// within [0.1, 5]. Below 1 (shrink) when the step was over budget.
-pub fn ledger_step_factor(ratio: f64) -> f64 {
-    let (lo, hi) = LEDGER_FACTOR_RANGE;
-    if ratio <= 0.0 || !ratio.is_finite() {
-        return if ratio > 0.0 { lo } else { hi };
-    }
-    (LEDGER_SAFETY * ratio.powf(-LEDGER_EXPONENT)).clamp(lo, hi)
 }
 
 /// [`simulate_physical`], keeping what `keep` says.
