@@ -759,15 +759,10 @@ impl Runner<'_> {
                 |tk| if cut { tk < t_end } else { tk <= t_end },
                 |tk| att.dense.at(tk),
             )?;
-            // A step cut short by an event, or booked over its budget (one
-            // under `LEDGER_MIN_STEP_S`: its drift is the rounding's), caps
-            // nothing.
-            let cap = match self.size_by_ledger && !cut && ratio <= 1.0 {
-                true => ledger_h,
-                false => f64::INFINITY,
-            };
             let Some(ev) = first else {
-                let next = control.accept(h, att.err).min(cap);
+                let next = control
+                    .accept(h, att.err)
+                    .min(self.ledger_cap(ledger_h, ratio));
                 (t, y, k1, h) = (t_end, att.y1, att.k7, next);
                 self.same_instant = 0;
                 continue;
@@ -786,11 +781,22 @@ impl Runner<'_> {
             }
             t = t_end;
             k1 = sim.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
-            h = h.min(ode::RESTART_STEP_S).min(cap);
+            h = h.min(ode::RESTART_STEP_S);
             control.restart();
         }
         self.out.push_while(sim, |tk| tk <= t + 1e-9, |_| y)?;
         Ok(t.min(duration))
+    }
+
+    /// The most the step after an uncut step booked with `ratio` may be
+    /// \[s\]: `ledger_h` with [`Keep::Verdict`], unless the step was
+    /// booked over its budget (one under `LEDGER_MIN_STEP_S`: its drift is
+    /// the rounding's); a step cut short by an event caps nothing.
+    fn ledger_cap(&self, ledger_h: f64, ratio: f64) -> f64 {
+        match self.size_by_ledger && ratio <= 1.0 {
+            true => ledger_h,
+            false => f64::INFINITY,
+        }
     }
 
     /// Applies event `ev` at `t` to the state `y` there.
