@@ -3,12 +3,19 @@
 //! crude Monte-Carlo draws (seed 0) of seed 001 T01 with its ball plungers
 //! and with its pawls, each mode's margin is the same to the bit whether
 //! the run keeps its ledger (`Keep::Ledger`, as `reliability` ran before)
-//! or not (`Keep::Trajectory`, as it runs now). The 2,000-draw figures:
-//! `examples/physical_verdicts.rs`, recorded in docs/measured.md.
+//! or not (`Keep::Trajectory`). With the steps sized by the ledger too
+//! (`Keep::Verdict`) the runs close their ledger with fewer evaluations of
+//! the equations of motion; their verdicts are not asserted here (another
+//! step sequence: `examples/physical_verdicts.rs` and
+//! `examples/physical_tolerance.rs` count the verdicts that differ, recorded
+//! in docs/measured.md).
 
+use deploywatch_sim::deployment::SimOptions;
+use deploywatch_sim::latch_deployment::simulate_with;
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::reliability::mc::draw;
 use deploywatch_sim::reliability::{Keep, Problem};
+use deploywatch_sim::trajectory::Samples;
 use std::path::PathBuf;
 
 /// Draws of the fixed sample, per wing.
@@ -66,4 +73,46 @@ fn plunger_verdicts_are_the_same_without_the_ledger() {
 #[test]
 fn pawl_verdicts_are_the_same_without_the_ledger() {
     same_margins("seed001_T01_pawl");
+}
+
+/// The evaluations of the equations of motion over the fixed sample's runs
+/// of `name` kept as `keep`, at the reliability's tolerances (1e-6); each
+/// run closes its ledger (an `EnergyDrift` would fail it).
+fn evaluations(name: &str, keep: Keep) -> usize {
+    let p = problem(name);
+    (0..DRAWS)
+        .map(|i| {
+            let x = p.x_of(&draw(0, 0, i, 3));
+            let mut mech = p.mech.clone();
+            let mut effects = Vec::new();
+            for (v, &x) in p.vary.iter().zip(&x) {
+                v.apply(x, &mut mech, &mut effects);
+            }
+            let end = [mech.duration_s];
+            let opts = SimOptions {
+                duration_s: Some(mech.duration_s),
+                settle_s: Some(0.0),
+                rtol: 1e-6,
+                atol: 1e-6,
+                ..SimOptions::default()
+            };
+            let run = simulate_with(&mech, &effects, &opts, Samples::Listed(&end), keep)
+                .unwrap_or_else(|e| panic!("{name}, draw {i}, {keep:?}: {e}"));
+            run.traj.stats.evaluations
+        })
+        .sum()
+}
+
+#[test]
+fn ledger_sized_steps_take_fewer_evaluations() {
+    for name in ["seed001_T01_physical_latch", "seed001_T01_pawl"] {
+        let (ledger, sized) = (
+            evaluations(name, Keep::Ledger),
+            evaluations(name, Keep::Verdict),
+        );
+        assert!(
+            sized < ledger,
+            "{name}: {sized} evaluations with ledger-sized steps, {ledger} without"
+        );
+    }
 }

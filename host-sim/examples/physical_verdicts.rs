@@ -1,13 +1,15 @@
-//! Physical-latch verdicts before and after the reliability runs dropped
-//! the energy ledger: seed 001 T01 with its ball plungers and
-//! with its pawls, the identified friction of the mechanism files given a
-//! 5 % normal dispersion (`coulomb_friction:joint=J:normal(0, 0.05 T_J)`
+//! Physical-latch verdicts three ways: seed 001 T01 with its ball plungers
+//! and with its pawls, the identified friction of the mechanism files given
+//! a 5 % normal dispersion (`coulomb_friction:joint=J:normal(0, 0.05 T_J)`
 //! added to `T_J`), `--fail not_latched`, the crude Monte-Carlo draws of
-//! seed 0. Each draw is simulated the way `reliability` did before
-//! (`Keep::Ledger`) and does now (`Keep::Trajectory`), on one thread; the
-//! table gives the failures of each, the draws whose margins differ by a
-//! bit, and the deployments per core-second of each (CPU time of the
-//! process, `/proc/self/stat`).
+//! seed 0. Each draw is simulated the way `reliability` does
+//! (`Keep::Ledger`), without the ledger in the output
+//! (`Keep::Trajectory`: the same bits, it exits 1 on a draw whose margins
+//! differ by one) and with the steps sized by the ledger too
+//! (`Keep::Verdict`: another step sequence), on one thread; the table gives
+//! the failures of each, the draws whose verdict (failed or not) differs
+//! from `Keep::Ledger`'s, and the deployments per core-second of each (CPU
+//! time of the process, `/proc/self/stat`).
 //!
 //! `cargo run --release -p deploywatch-sim --example physical_verdicts -- [DRAWS]`
 //! (default 20,000); `scripts/measured.py run physical-verdicts ...` records
@@ -53,6 +55,26 @@ fn run(problem: &Problem, xs: &[Vec<f64>], keep: Keep) -> Result<(Vec<Vec<f64>>,
     Ok((out?, cpu_s() - t0))
 }
 
+/// A draw failed: some mode's margin ≤ 0.
+fn failed(margins: &[f64]) -> bool {
+    margins.iter().any(|&g| g <= 0.0)
+}
+
+/// The reliability problem of wing `mech`, its friction dispersed by `sd`.
+fn problem(mech: Mechanism, sd: [f64; 3]) -> Problem {
+    Problem {
+        mech,
+        vary: (0..3)
+            .map(|j| {
+                let v = format!("coulomb_friction:joint={}:normal(0,{})", j + 1, sd[j]);
+                v.parse().expect("vary")
+            })
+            .collect(),
+        fail: vec!["not_latched".parse().expect("criterion")],
+        corr: Vec::new(),
+    }
+}
+
 fn main() -> ExitCode {
     let draws: usize = std::env::args()
         .nth(1)
@@ -70,62 +92,63 @@ fn main() -> ExitCode {
             .collect::<Vec<_>>()
             .join(", ")
     );
-    println!("| wing | failed, ledger kept (before) | failed, verdict run (now) | draws whose margins differ | per core-second, before | per core-second, now |");
-    println!("|---|---|---|---|---|---|");
+    println!("| wing | failed, `Ledger` | failed, `Trajectory` | margins differ by a bit | failed, `Verdict` | verdicts differ | per core-second: `Ledger` | `Trajectory` | `Verdict` |");
+    println!("|---|---|---|---|---|---|---|---|---|");
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms");
     let mut same = true;
     for (name, sd) in WINGS {
         let mech = Mechanism::load(&root.join(format!("{name}.toml"))).expect("bundled mechanism");
-        let problem = Problem {
-            mech,
-            vary: (0..3)
-                .map(|j| {
-                    let v = format!("coulomb_friction:joint={}:normal(0,{})", j + 1, sd[j]);
-                    v.parse().expect("vary")
-                })
-                .collect(),
-            fail: vec!["not_latched".parse().expect("criterion")],
-            corr: Vec::new(),
-        };
+        let problem = problem(mech, sd);
         let xs: Vec<Vec<f64>> = (0..draws as u64)
             .map(|i| problem.x_of(&draw(0, 0, i, 3)))
             .collect();
-        let both = pool.install(|| {
-            Ok::<_, String>((
-                run(&problem, &xs, Keep::Ledger)?,
-                run(&problem, &xs, Keep::Trajectory)?,
-            ))
+        let runs = pool.install(|| {
+            [Keep::Ledger, Keep::Trajectory, Keep::Verdict]
+                .into_iter()
+                .map(|keep| run(&problem, &xs, keep))
+                .collect::<Result<Vec<_>, String>>()
         });
-        let ((before, cpu_before), (now, cpu_now)) = match both {
-            Ok(b) => b,
+        let runs = match runs {
+            Ok(r) => r,
             Err(e) => {
                 eprintln!("{name}: {e}");
                 return ExitCode::FAILURE;
             }
         };
-        let failed = |m: &[Vec<f64>]| m.iter().filter(|r| r.iter().any(|&g| g <= 0.0)).count();
+        let [(before, cpu_before), (now, cpu_now), (sized, cpu_sized)] = &runs[..] else {
+            return ExitCode::FAILURE;
+        };
         let differ = before
             .iter()
-            .zip(&now)
+            .zip(now)
             .filter(|(a, b)| {
                 a.iter()
                     .zip(b.iter())
                     .any(|(x, y)| x.to_bits() != y.to_bits())
             })
             .count();
+        let flips = before
+            .iter()
+            .zip(sized)
+            .filter(|(a, b)| failed(a) != failed(b))
+            .count();
         same &= differ == 0;
+        let count = |m: &[Vec<f64>]| m.iter().filter(|r| failed(r)).count();
+        let rate = |cpu: f64| draws as f64 / cpu;
         println!(
-            "| {name} | {} | {} | {differ} | {:.0} | {:.0} |",
-            failed(&before),
-            failed(&now),
-            draws as f64 / cpu_before,
-            draws as f64 / cpu_now
+            "| {name} | {} | {} | {differ} | {} | {flips} | {:.0} | {:.0} | {:.0} |",
+            count(before),
+            count(now),
+            count(sized),
+            rate(*cpu_before),
+            rate(*cpu_now),
+            rate(*cpu_sized)
         );
     }
     if same {
         ExitCode::SUCCESS
     } else {
-        eprintln!("the verdicts differ");
+        eprintln!("the margins with and without the ledger in the output differ");
         ExitCode::FAILURE
     }
 }

@@ -24,6 +24,7 @@
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
 use crate::model::torque_table::HostChain;
+use crate::simulate::latch_run::ledger_step_factor;
 use crate::simulate::ode::{self, locate, Dense, State};
 use crate::simulate::trajectory::{
     Samples, SimError, SimOptions, Trajectory, MAX_SAMPLES, MAX_STEPS,
@@ -567,6 +568,13 @@ pub enum Keep {
     /// ledger is kept and checked all the same: every run stops with
     /// [`SimError::EnergyDrift`] when it does not close.
     Trajectory,
+    /// [`Keep::Trajectory`] with the steps sized by the ledger as well as
+    /// by DOPRI5's error ([`crate::simulate::latch_run::ledger_step_factor`]): the reliability's
+    /// verdict runs. Fewer steps are taken again for the ledger; the step
+    /// sequence differs from [`Keep::Ledger`]'s, so the bits do; the
+    /// verdicts on a fixed sample are compared by
+    /// `examples/physical_verdicts.rs` and `tests/physical_verdicts.rs`.
+    Verdict,
 }
 
 /// [`simulate_physical`], keeping what `keep` says.
@@ -634,6 +642,7 @@ fn run_keeping<const N: usize>(
         events: Vec::new(),
         ledger: Ledger::default(),
         same_instant: 0,
+        size_by_ledger: keep == Keep::Verdict,
     };
     let (k, s, l) = sim.energies(&y0);
     run.ledger.start_j = k + s + l;
@@ -651,7 +660,7 @@ fn run_keeping<const N: usize>(
         events: run.events,
         energy: match keep {
             Keep::Ledger => run.ledger.energy,
-            Keep::Trajectory => Energy::default(),
+            Keep::Trajectory | Keep::Verdict => Energy::default(),
         },
     })
 }
@@ -692,6 +701,8 @@ struct Runner<'t> {
     events: Vec<LatchEvent>,
     ledger: Ledger,
     same_instant: usize,
+    /// Steps sized by the ledger too ([`Keep::Verdict`]).
+    size_by_ledger: bool,
 }
 
 impl Runner<'_> {
@@ -734,8 +745,13 @@ impl Runner<'_> {
             let (t_end, first) = sim.first_event(&att.dense, &att.y1);
             let cut = first.is_some();
             let y_end = if cut { att.dense.at(t_end) } else { att.y1 };
-            if !self.book(sim, &att.dense, t_end, &y_end)? {
+            let (booked, ratio) = self.book(sim, &att.dense, t_end, &y_end)?;
+            let ledger_h = (t_end - t) * ledger_step_factor(ratio);
+            if !booked {
                 h = self.out.traj.stats.retake(t_end - t);
+                if self.size_by_ledger {
+                    h = ledger_h;
+                }
                 continue;
             }
             self.out.push_while(
@@ -744,7 +760,10 @@ impl Runner<'_> {
                 |tk| att.dense.at(tk),
             )?;
             let Some(ev) = first else {
-                (t, y, k1, h) = (t_end, att.y1, att.k7, control.accept(h, att.err));
+                let next = control
+                    .accept(h, att.err)
+                    .min(self.ledger_cap(ledger_h, ratio));
+                (t, y, k1, h) = (t_end, att.y1, att.k7, next);
                 self.same_instant = 0;
                 continue;
             };
@@ -767,6 +786,17 @@ impl Runner<'_> {
         }
         self.out.push_while(sim, |tk| tk <= t + 1e-9, |_| y)?;
         Ok(t.min(duration))
+    }
+
+    /// The most the step after an uncut step booked with `ratio` may be
+    /// \[s\]: `ledger_h` with [`Keep::Verdict`], unless the step was
+    /// booked over its budget (one under `LEDGER_MIN_STEP_S`: its drift is
+    /// the rounding's); a step cut short by an event caps nothing.
+    fn ledger_cap(&self, ledger_h: f64, ratio: f64) -> f64 {
+        match self.size_by_ledger && ratio <= 1.0 {
+            true => ledger_h,
+            false => f64::INFINITY,
+        }
     }
 
     /// Applies event `ev` at `t` to the state `y` there.

@@ -112,6 +112,29 @@ pub fn step_budget(stored_j: f64, h: f64, duration_s: f64) -> f64 {
 /// event located a rounding error after the step's start).
 pub const LEDGER_MIN_STEP_S: f64 = 1e-9;
 
+/// Safety factor of [`ledger_step_factor`].
+const LEDGER_SAFETY: f64 = 0.8;
+
+/// The exponent of the ledger's drift over a step against its length: the
+/// drift of a step on a stiff contact grows as `h⁵` (DOPRI5's local error)
+/// while the budget there is its floor ([`STEP_DRIFT`]).
+const LEDGER_EXPONENT: f64 = 0.2;
+
+/// Least and largest factor [`ledger_step_factor`] gives.
+const LEDGER_FACTOR_RANGE: (f64, f64) = (0.1, 5.0);
+
+/// The factor on a step's length \[1\] that brings the ledger's drift over
+/// it to [`LEDGER_SAFETY`] of its budget, from `ratio` = the drift's move
+/// over the step / its budget (`latch_deployment`'s `Runner::book`): `0.8 ratio^(−1/5)`,
+/// within [0.1, 5]. Below 1 (shrink) when the step was over budget.
+pub fn ledger_step_factor(ratio: f64) -> f64 {
+    let (lo, hi) = LEDGER_FACTOR_RANGE;
+    if ratio <= 0.0 || !ratio.is_finite() {
+        return if ratio > 0.0 { lo } else { hi };
+    }
+    (LEDGER_SAFETY * ratio.powf(-LEDGER_EXPONENT)).clamp(lo, hi)
+}
+
 /// A physical-latch run: the trajectory, the events and the ledger.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LatchRun {
@@ -248,5 +271,29 @@ impl LatchRun {
             pawl_broke_s,
             end_travel_deg: u.to_degrees(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_ledger_step_factor_brings_the_drift_to_its_safety_share() {
+        // A step whose drift is the budget times 0.8⁵ is kept as long.
+        let at_safety = LEDGER_SAFETY.powf(1.0 / LEDGER_EXPONENT);
+        assert!((ledger_step_factor(at_safety) - 1.0).abs() < 1e-12);
+        // Over budget: shorter; under: longer; the further, the more.
+        assert!(ledger_step_factor(2.0) < 1.0);
+        assert!(ledger_step_factor(32.0) < ledger_step_factor(2.0));
+        assert!(ledger_step_factor(0.01) > 1.0);
+        // Within its range, whatever the ratio.
+        let (lo, hi) = LEDGER_FACTOR_RANGE;
+        for r in [0.0, 1e-30, 1e30, f64::INFINITY, f64::NAN] {
+            let f = ledger_step_factor(r);
+            assert!((lo..=hi).contains(&f), "ratio {r}: {f}");
+        }
+        assert_eq!(ledger_step_factor(1e30), lo);
+        assert_eq!(ledger_step_factor(0.0), hi);
     }
 }

@@ -137,20 +137,22 @@ impl Runner<'_> {
     /// when the ledger's drift moved by more than its [`step_budget`] of the
     /// stored energy over it and it is longer than [`LEDGER_MIN_STEP_S`]:
     /// the step is to be taken again, shorter (the ledger as before). An
-    /// error when the drift exceeds [`MAX_LEDGER_DRIFT`].
+    /// error when the drift exceeds [`MAX_LEDGER_DRIFT`]. With it, the
+    /// drift's move over the step / its budget \[1\].
     pub(super) fn book<const N: usize>(
         &mut self,
         sim: &Sim<'_, N>,
         dense: &Dense<N>,
         t1: f64,
         y1: &State<N>,
-    ) -> Result<bool, SimError> {
+    ) -> Result<(bool, f64), SimError> {
         let mut trial = self.ledger;
         let joint = sim.account(&mut trial, dense, t1, y1);
         let moved = (trial.now_j - self.ledger.now_j).abs();
         let budget = step_budget(trial.energy.stored_j, t1 - dense.t0, trial.duration_s);
+        let ratio = moved / budget;
         if moved > budget && t1 - dense.t0 > LEDGER_MIN_STEP_S {
-            return Ok(false);
+            return Ok((false, ratio));
         }
         self.ledger = trial;
         self.ledger.check(t1, joint + 1, || {
@@ -159,6 +161,6 @@ impl Runner<'_> {
                 dense.t0
             )
         })?;
-        Ok(true)
+        Ok((true, ratio))
     }
 }
