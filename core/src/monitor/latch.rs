@@ -234,6 +234,11 @@ pub struct LatchInput {
     /// Standard deviation of one encoder reading \[deg\] (noise and
     /// quantisation): how far "on the stop" reaches with a physical latch.
     pub noise_sd_deg: f32,
+    /// Another joint announced a latch impact at this sample or the
+    /// previous one: its impulse may have changed this joint's rate between
+    /// the two readings, so their speed says nothing of when this joint
+    /// reaches its stop (`docs/monitor.md` §6.2).
+    pub neighbour_impact: bool,
 }
 
 impl LatchInput {
@@ -243,6 +248,7 @@ impl LatchInput {
             t_s: self.t_s,
             switch: self.switch,
             off_deg: self.measured_deg.map(libm::fabsf),
+            speed_known: !self.neighbour_impact,
         }
     }
 }
