@@ -274,6 +274,14 @@ impl Bounce {
     }
 
     /// True when a reading `off_deg` \[deg\] from the stop is within the
+    /// crest's reach and the previous reading was not (or was missing): the
+    /// joint has come to its stop since, and may have hit it (a pawl's or
+    /// plunger's impact, whose impulse changes the other joints' rates).
+    pub fn reaches(&self, off_deg: f32) -> bool {
+        self.within_reach(off_deg) && !self.within_reach(self.prev_off)
+    }
+
+    /// True when a reading `off_deg` \[deg\] from the stop is within the
     /// crest's reach ([`StopLimits::escape_deg`]: the crest, or a pawl's
     /// notch, and the encoder's noise); false when no physical latch is
     /// tracked.

@@ -355,9 +355,11 @@ impl LatchTracker {
 
     /// True when a reading `z_deg` \[deg\] brings the joint, not latched,
     /// within the crest of a physical latch's stop (it was beyond it at the
-    /// previous reading): it may hit the stop before the next sample.
+    /// previous reading, or its speed put it there by this one): it may hit
+    /// the stop before the next sample, or has just hit it.
     pub fn enters_stop_zone(&self, z_deg: f32) -> bool {
-        !self.latched && self.bounce.enters_zone(libm::fabsf(z_deg))
+        let off = libm::fabsf(z_deg);
+        !self.latched && (self.bounce.enters_zone(off) || self.bounce.reaches(off))
     }
 
     /// True when a reading `z_deg` \[deg\] of a latched joint with a

@@ -157,6 +157,9 @@ pub struct ReadingCheck {
     /// repeats: a joint whose own course turns it round (or slows it to
     /// under [`STALE_MOTION_STEPS`]) since then may repeat its code.
     repeat_course: Course,
+    /// The readings' own next step at the first reading of the repeats
+    /// ([`ReadingCheck::step_ahead`]) \[rad\].
+    repeat_ahead: f32,
 }
 
 impl ReadingCheck {
@@ -173,6 +176,7 @@ impl ReadingCheck {
                 rate: 0.0,
                 acc: 0.0,
             },
+            repeat_ahead: 0.0,
         }
     }
 
@@ -207,6 +211,7 @@ impl ReadingCheck {
             // at rest would read stale).
             self.repeat_rate = line.map_or(0.0, |l| l.rate);
             self.repeat_course = *course;
+            self.repeat_ahead = self.step_ahead();
         }
         let motion = libm::fabsf(self.repeat_rate) * dt;
         // Where the filter's course (angle, rate, acceleration at the first
@@ -216,7 +221,11 @@ impl ReadingCheck {
         let c = &self.repeat_course;
         let path = libm::fabsf(c.at(reading.t_s) - c.angle);
         let limit = STALE_MOTION_STEPS * reading.step;
-        if reading.repeats >= STALE_REPEATS && motion > limit && path > limit {
+        if reading.repeats >= STALE_REPEATS
+            && motion > limit
+            && path > limit
+            && self.repeat_ahead > limit
+        {
             self.pending = None;
             return Verdict::Stale;
         }
@@ -244,6 +253,27 @@ impl ReadingCheck {
         }
         self.push(reading.t_s, z);
         Verdict::Plausible
+    }
+
+    /// The step the last three readings' own parabola makes next, in the
+    /// direction they were moving \[rad\]: `d₁ + (d₁ − d₀)` with `d₀`, `d₁`
+    /// their two steps; at most 0 when they were braking to a stop within
+    /// an interval (a joint stopped dead elsewhere than at its latch, by a
+    /// plunger's ramp or a neighbour's impulse, then repeats its code;
+    /// a frozen encoder in steady motion does not). 0 before three
+    /// readings.
+    fn step_ahead(&self) -> f32 {
+        if usize::from(self.seen) < LINE_READINGS {
+            return 0.0;
+        }
+        let [(_, z0), (_, z1), (_, z2)] = self.last;
+        let (d0, d1) = (z1 - z0, z2 - z1);
+        let ahead = d1 + (d1 - d0);
+        if d1 < 0.0 {
+            -ahead
+        } else {
+            ahead
+        }
     }
 
     /// The line through the last three readings: the slope of the outer

@@ -56,10 +56,13 @@ mod impact {
 
 /// Innovations up to this many gates are a manoeuvre (the filter restarts
 /// at the reading, keeping its rate), beyond it a spike (flagged). At
-/// σ ≈ 0.03° a gate is 0.17° and this 0.5°: a joint stopping under its
+/// σ ≈ 0.03° a gate is 0.17° and this 1°: a joint stopping under its
 /// friction at 5 rad/s² misses the prediction by ½·a·t² ≈ 0.06° over 20 ms,
-/// while a spike is degrees off.
-const MANOEUVRE_GATE: f32 = 3.0;
+/// and the whip of a long chain (neighbours snapping to their latches
+/// double an outer joint's rate within 45 ms, `docs/monitor.md` §6.2) by
+/// 0.75°, while a spike is degrees off; a smaller spike that returns is
+/// flagged by `plausibility.rs`.
+const MANOEUVRE_GATE: f32 = 6.0;
 
 /// What the rate filters of one sample share (see [`JointState::track_rate`]).
 struct RateContext<'a> {
