@@ -157,6 +157,9 @@ pub struct ReadingCheck {
     /// repeats: a joint whose own course turns it round (or slows it to
     /// under [`STALE_MOTION_STEPS`]) since then may repeat its code.
     repeat_course: Course,
+    /// Where the parabola through the three readings before this one puts
+    /// this one \[rad\] (NaN: fewer than three, or the checks are off).
+    parabola: f32,
     /// The readings' own next step at the first reading of the repeats
     /// ([`ReadingCheck::step_ahead`]) \[rad\].
     repeat_ahead: f32,
@@ -177,7 +180,32 @@ impl ReadingCheck {
                 acc: 0.0,
             },
             repeat_ahead: 0.0,
+            parabola: f32::NAN,
         }
+    }
+
+    /// True when a reading `z` \[rad\] lies within `tol` \[rad\] of where
+    /// the parabola through the three readings before it puts it: the
+    /// joint's own accelerating motion (a tape spring's snap of a light
+    /// panel, the whip of a chain), which a spike leaves by its size. False
+    /// without three readings.
+    pub fn follows_readings(&self, z: f32, tol: f32) -> bool {
+        libm::fabsf(z - self.parabola) <= tol
+    }
+
+    /// The parabola through the last three readings at `t` \[s\]
+    /// (Lagrange), NaN before three or with time stamps not increasing.
+    fn parabola_at(&self, t: f32) -> f32 {
+        if usize::from(self.seen) < LINE_READINGS {
+            return f32::NAN;
+        }
+        let [(t0, z0), (t1, z1), (t2, z2)] = self.last;
+        let (a, b, c) = (t1 - t0, t2 - t1, t2 - t0);
+        if !(a > 0.0 && b > 0.0) {
+            return f32::NAN;
+        }
+        let (u0, u1, u2) = (t - t0, t - t1, t - t2);
+        z0 * u1 * u2 / (a * c) - z1 * u0 * u2 / (a * b) + z2 * u0 * u1 / (c * b)
     }
 
     /// Checks `reading` against the joint's rate filter as it stood after
@@ -191,6 +219,7 @@ impl ReadingCheck {
     /// Checks `reading` against `course`, the rate filter's state at the
     /// previous sample.
     pub fn check(&mut self, reading: &Reading, course: &Course) -> Verdict {
+        self.parabola = f32::NAN;
         if !reading.moving_checks {
             self.pending = None;
             self.seen = 0;
@@ -204,6 +233,7 @@ impl ReadingCheck {
         };
         let dt = reading.t_s - course.t_s;
         let line = self.line();
+        self.parabola = self.parabola_at(reading.t_s);
         if reading.repeats <= 1 {
             // The readings' own rate when the repeats began; none before
             // three readings (after a gap or an impact the rate filter's

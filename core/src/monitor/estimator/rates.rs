@@ -64,6 +64,14 @@ mod impact {
 /// flagged by `plausibility.rs`.
 const MANOEUVRE_GATE: f32 = 6.0;
 
+/// A reading beyond the manoeuvre gate but within this of the parabola
+/// through the joint's last three readings is its own accelerating motion
+/// (a light outer panel's tape spring snapping at hundreds of rad/s²
+/// outruns the white-jerk model by degrees), not a spike \[rad\]: 1°, 11 σ
+/// of the parabola's extrapolation (`σ √19` for the reference encoder),
+/// where a spike is degrees off.
+const PARABOLA_TOL_RAD: f32 = 1.0 * DEG;
+
 /// What the rate filters of one sample share (see [`JointState::track_rate`]).
 struct RateContext<'a> {
     /// The clock's verdict on this sample.
@@ -149,7 +157,8 @@ impl JointState {
         // switch opening with it. Restarted at the reading like an impact,
         // not flagged; a spike beyond the reach still is.
         let rebound = self.lt.rebounds_within_lock(z / DEG);
-        let manoeuvre = nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r);
+        let manoeuvre = nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r)
+            || self.plausibility.follows_readings(z, PARABOLA_TOL_RAD);
         match kf.update(z, r, gate2, &observer.jerk_adaptation) {
             Fusion::Accepted => {
                 self.rejects = 0;
