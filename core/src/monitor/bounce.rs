@@ -16,9 +16,10 @@
 //!   came within the crest's reach at `d₀` with speed `v₀`, or was at the
 //!   speed of its last two readings to come within it by the next reading
 //!   (it would have reached the stop by then: it has been there and left,
-//!   so it has also been past the crest); not when another joint's latch
-//!   impact fell between the readings (its impulse changes this joint's
-//!   speed: a neighbour's latch can halve it within a sample). Once seen,
+//!   so it has also been past the crest, but not when another joint's
+//!   latch impact fell between the readings: its impulse changes this
+//!   joint's speed, a neighbour's latch can cut it by half within a
+//!   sample). Once seen,
 //!   changes of the switch are rebounds until the latch is declared;
 //!   without it, they are chatter (judged when the switch closes again);
 //! - **latched**: the switch closed without a break for the bounce window,
@@ -70,7 +71,7 @@ pub struct StopReading {
     /// The joint's speed between the previous reading and this one was
     /// its own: false when another joint's latch impact (its impulse
     /// changes every rate, `physics.md` §5) fell between them, and the
-    /// arrival-time evidence is then dropped.
+    /// arrival time then does not put the joint past the crest.
     pub speed_known: bool,
 }
 
@@ -328,13 +329,13 @@ impl Bounce {
             self.arrive_by = f32::INFINITY;
             self.through = false;
         }
+        if self.lead(off) <= self.zone_deg {
+            self.arrival(off, x.t_s, lim.inside_deg);
+        }
         if !x.speed_known {
             // A neighbour's impulse: the readings' speed is not the
-            // joint's own, no arrival time follows from it.
-            self.arrive_by = f32::INFINITY;
+            // joint's own, and does not put it past the crest.
             self.through = false;
-        } else if self.lead(off) <= self.zone_deg {
-            self.arrival(off, x.t_s, lim.inside_deg);
         }
         let left = !x.switch && off > lim.on_stop_deg;
         self.off_stop.update(left);

@@ -254,7 +254,7 @@ impl ReadingCheck {
         if reading.repeats >= STALE_REPEATS
             && motion > limit
             && path > limit
-            && self.repeat_ahead > limit
+            && self.repeat_ahead > 0.0
         {
             self.pending = None;
             return Verdict::Stale;
@@ -287,8 +287,8 @@ impl ReadingCheck {
 
     /// The step the last three readings' own parabola makes next, in the
     /// direction they were moving \[rad\]: `d₁ + (d₁ − d₀)` with `d₀`, `d₁`
-    /// their two steps; at most 0 when they were braking to a stop within
-    /// an interval (a joint stopped dead elsewhere than at its latch, by a
+    /// their two steps; at most 0 (a repeat is then not stale) when they
+    /// were braking to a stop within an interval (a joint stopped dead elsewhere than at its latch, by a
     /// plunger's ramp or a neighbour's impulse, then repeats its code;
     /// a frozen encoder in steady motion does not). 0 before three
     /// readings.
