@@ -22,7 +22,11 @@ fn wing(j: usize) -> Mechanism {
     let ideal = std::fs::read_to_string(data().join("wing6_ideal.toml")).expect("wing6_ideal");
     let mixed = std::fs::read_to_string(data().join("wing6_mixed.toml")).expect("wing6_mixed");
     // The plunger's table: the second `[joint.latch]` of the mixed wing.
-    let start = mixed.match_indices("[joint.latch]").nth(1).expect("plunger").0;
+    let start = mixed
+        .match_indices("[joint.latch]")
+        .nth(1)
+        .expect("plunger")
+        .0;
     let end = mixed[start..]
         .find("\n\n")
         .map_or(mixed.len(), |e| start + e);
@@ -43,13 +47,22 @@ fn check_ideal(mech: &Mechanism, traj: &Trajectory, j: usize, what: &str) {
     let side = mech.joints[j].stowed_deg.signum();
     let phi = &traj.phi_deg[j];
     let past = phi.iter().map(|p| -side * p).fold(f64::MIN, f64::max);
-    assert!(past <= 1e-6, "{what}: joint {} passes its latch by {past} deg", j + 1);
+    assert!(
+        past <= 1e-6,
+        "{what}: joint {} passes its latch by {past} deg",
+        j + 1
+    );
     match traj.latch_s[j] {
         Some(t) => {
             for (i, &ts) in traj.t_s.iter().enumerate() {
                 if ts >= t + 1e-9 {
                     assert!(traj.latched[j][i], "{what}: joint {} open at {ts} s", j + 1);
-                    assert!(phi[i].abs() <= 1e-6, "{what}: joint {} at {} deg", j + 1, phi[i]);
+                    assert!(
+                        phi[i].abs() <= 1e-6,
+                        "{what}: joint {} at {} deg",
+                        j + 1,
+                        phi[i]
+                    );
                 }
             }
         }
@@ -60,7 +73,10 @@ fn check_ideal(mech: &Mechanism, traj: &Trajectory, j: usize, what: &str) {
                 "{what}: joint {} reaches its latch ({closest} deg) and is not latched",
                 j + 1
             );
-            assert!(traj.latched[j].iter().all(|l| !l), "{what}: switch without a latch");
+            assert!(
+                traj.latched[j].iter().all(|l| !l),
+                "{what}: switch without a latch"
+            );
         }
     }
 }

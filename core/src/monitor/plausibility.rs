@@ -193,19 +193,15 @@ impl ReadingCheck {
         libm::fabsf(z - self.parabola) <= tol
     }
 
-    /// The parabola through the last three readings at `t` \[s\]
-    /// (Lagrange), NaN before three or with time stamps not increasing.
-    fn parabola_at(&self, t: f32) -> f32 {
+    /// The parabola through the last three readings one sample interval
+    /// after the newest (`z₀ − 3 z₁ + 3 z₂`, readings equally spaced:
+    /// three operations on the sample path), NaN before three readings.
+    fn parabola_next(&self) -> f32 {
         if usize::from(self.seen) < LINE_READINGS {
             return f32::NAN;
         }
-        let [(t0, z0), (t1, z1), (t2, z2)] = self.last;
-        let (a, b, c) = (t1 - t0, t2 - t1, t2 - t0);
-        if !(a > 0.0 && b > 0.0) {
-            return f32::NAN;
-        }
-        let (u0, u1, u2) = (t - t0, t - t1, t - t2);
-        z0 * u1 * u2 / (a * c) - z1 * u0 * u2 / (a * b) + z2 * u0 * u1 / (c * b)
+        let [(_, z0), (_, z1), (_, z2)] = self.last;
+        z0 + 3.0 * (z2 - z1)
     }
 
     /// Checks `reading` against the joint's rate filter as it stood after
@@ -233,7 +229,7 @@ impl ReadingCheck {
         };
         let dt = reading.t_s - course.t_s;
         let line = self.line();
-        self.parabola = self.parabola_at(reading.t_s);
+        self.parabola = self.parabola_next();
         if reading.repeats <= 1 {
             // The readings' own rate when the repeats began; none before
             // three readings (after a gap or an impact the rate filter's
