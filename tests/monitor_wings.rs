@@ -70,7 +70,7 @@ fn replay<const N: usize>(mech: &Mechanism, run: &Run) -> Result<Vec<Status<N>>,
     let cfg = monitor_config::<N>(mech).map_err(|e| e.to_string())?;
     let mut m = Monitor::new(&cfg).map_err(|e| format!("{e:?}"))?;
     let s = samples::<N>(run).ok_or("joint count")?;
-    Ok(s.iter().map(|s| *m.update_and_predict(s)).collect())
+    Ok(s.iter().map(|s| m.update_and_predict(s)).collect())
 }
 
 /// Every fault flag of a replay: (time \[s\], joint 1-based, flags).
