@@ -365,8 +365,9 @@ fn a_pawl_rebound_is_no_encoder_outlier_a_spike_still_is() {
         // breaking torque) at each joint, 20 samples after its latch.
         let reach = monitor_config::<3>(&mech)
             .expect("monitor config")
-            .latch
-            .physical
+            .joints
+            .iter()
+            .find_map(|j| j.physical)
             .expect("a pawl")
             .crest_deg;
         for (j, at) in latched_at.iter().enumerate() {

@@ -821,6 +821,8 @@ fn clean_reference_and_example_runs_raise_no_fault_flag() {
         "examples/a_seed001_eft",
         "examples/b_seed000_eft_air_drag",
         "examples/c_seed001_friction_harness",
+        "examples/wing4",
+        "examples/wing6",
     ] {
         for e in std::fs::read_dir(data.join(dir)).unwrap() {
             let p = e.unwrap().path();
@@ -830,7 +832,7 @@ fn clean_reference_and_example_runs_raise_no_fault_flag() {
         }
     }
     files.sort();
-    assert!(files.len() >= 14, "{files:?}");
+    assert!(files.len() >= 18, "{files:?}");
     for p in &files {
         let run = Run::load(p).unwrap();
         let name = run.mechanism().unwrap().replace('-', "_");
@@ -840,6 +842,8 @@ fn clean_reference_and_example_runs_raise_no_fault_flag() {
         match mech.joint_count() {
             2 => assert_clean::<2>(&label, &mech, &run),
             3 => assert_clean::<3>(&label, &mech, &run),
+            4 => assert_clean::<4>(&label, &mech, &run),
+            6 => assert_clean::<6>(&label, &mech, &run),
             n => panic!("{label}: {n} joints"),
         }
         println!("{label}: no fault flag");

@@ -16,7 +16,10 @@
 //!   came within the crest's reach at `d₀` with speed `v₀`, or was at the
 //!   speed of its last two readings to come within it by the next reading
 //!   (it would have reached the stop by then: it has been there and left,
-//!   so it has also been past the crest). Once seen,
+//!   so it has also been past the crest, but not when another joint's
+//!   latch impact fell between the readings: its impulse changes this
+//!   joint's speed, a neighbour's latch can cut it by half within a
+//!   sample). Once seen,
 //!   changes of the switch are rebounds until the latch is declared;
 //!   without it, they are chatter (judged when the switch closes again);
 //! - **latched**: the switch closed without a break for the bounce window,
@@ -65,6 +68,11 @@ pub struct StopReading {
     /// The encoder's distance from the stop `|φ|` \[deg\], `None` when the
     /// reading is missing or rejected.
     pub off_deg: Option<f32>,
+    /// The joint's speed between the previous reading and this one was
+    /// its own: false when another joint's latch impact (its impulse
+    /// changes every rate, `physics.md` §5) fell between them, and the
+    /// arrival time then does not put the joint past the crest.
+    pub speed_known: bool,
 }
 
 /// What a physical latch reports instead of the motion state.
@@ -267,6 +275,14 @@ impl Bounce {
     }
 
     /// True when a reading `off_deg` \[deg\] from the stop is within the
+    /// crest's reach and the previous reading was not (or was missing): the
+    /// joint has come to its stop since, and may have hit it (a pawl's or
+    /// plunger's impact, whose impulse changes the other joints' rates).
+    pub fn reaches(&self, off_deg: f32) -> bool {
+        self.within_reach(off_deg) && !self.within_reach(self.prev_off)
+    }
+
+    /// True when a reading `off_deg` \[deg\] from the stop is within the
     /// crest's reach ([`StopLimits::escape_deg`]: the crest, or a pawl's
     /// notch, and the encoder's noise); false when no physical latch is
     /// tracked.
@@ -315,6 +331,11 @@ impl Bounce {
         }
         if self.lead(off) <= self.zone_deg {
             self.arrival(off, x.t_s, lim.inside_deg);
+        }
+        if !x.speed_known {
+            // A neighbour's impulse: the readings' speed is not the
+            // joint's own, and does not put it past the crest.
+            self.through = false;
         }
         let left = !x.switch && off > lim.on_stop_deg;
         self.off_stop.update(left);

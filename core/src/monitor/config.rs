@@ -2,7 +2,7 @@
 //! priors, the margin's factors and the prediction's settings, and their
 //! checks.
 
-use crate::monitor::latch::LatchConfig;
+use crate::monitor::latch::{LatchConfig, PhysicalLatch};
 use crate::monitor::latch_margin::Engagement;
 use crate::monitor::margin::UncertaintyFactors;
 use crate::monitor::observer::{FrictionPrior, JerkAdaptation, ObserverTuning};
@@ -28,6 +28,12 @@ pub struct JointConfig {
     /// The physical latch's engagement the margin counts
     /// ([`Engagement::IDEAL`] for the ideal latch of `physics.md` §5).
     pub latch: Engagement,
+    /// The joint's physical latch as the latch tracker sees it (stop,
+    /// plunger or pawl, ramp); `None`: the wing-wide
+    /// [`LatchConfig::physical`],
+    /// and with none there the ideal latch. A wing with mixed latches gives
+    /// each joint its own (`docs/monitor.md` §4.1).
+    pub physical: Option<PhysicalLatch>,
 }
 
 /// The encoder.
@@ -226,6 +232,8 @@ pub enum JointParam {
     ViscousPriorSd,
     /// [`JointConfig::latch`], the latch's engagement.
     LatchEngagement,
+    /// [`JointConfig::physical`], the joint's physical latch.
+    PhysicalLatch,
 }
 
 impl JointParam {
@@ -239,6 +247,7 @@ impl JointParam {
             JointParam::ViscousPrior => "viscous prior",
             JointParam::ViscousPriorSd => "viscous prior sd",
             JointParam::LatchEngagement => "latch engagement",
+            JointParam::PhysicalLatch => "physical latch",
         }
     }
 }
@@ -383,6 +392,10 @@ impl JointConfig {
             JointParam::ViscousPriorSd,
         )?;
         require(self.latch.is_valid(), JointParam::LatchEngagement)?;
+        require(
+            self.physical.is_none_or(|p| p.is_valid()),
+            JointParam::PhysicalLatch,
+        )?;
         Ok(())
     }
 }

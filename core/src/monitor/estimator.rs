@@ -87,6 +87,7 @@ pub(crate) fn example_config<const N: usize>() -> MonitorConfig<N> {
                 viscous_sd_nms: 0.05,
             },
             latch: crate::monitor::latch_margin::Engagement::IDEAL,
+            physical: None,
         }),
     )
 }

@@ -234,6 +234,11 @@ pub struct LatchInput {
     /// Standard deviation of one encoder reading \[deg\] (noise and
     /// quantisation): how far "on the stop" reaches with a physical latch.
     pub noise_sd_deg: f32,
+    /// Another joint announced a latch impact at this sample or the
+    /// previous one: its impulse may have changed this joint's rate between
+    /// the two readings, so their speed says nothing of when this joint
+    /// reaches its stop (`docs/monitor.md` §6.2).
+    pub neighbour_impact: bool,
 }
 
 impl LatchInput {
@@ -243,6 +248,7 @@ impl LatchInput {
             t_s: self.t_s,
             switch: self.switch,
             off_deg: self.measured_deg.map(libm::fabsf),
+            speed_known: !self.neighbour_impact,
         }
     }
 }
@@ -349,9 +355,11 @@ impl LatchTracker {
 
     /// True when a reading `z_deg` \[deg\] brings the joint, not latched,
     /// within the crest of a physical latch's stop (it was beyond it at the
-    /// previous reading): it may hit the stop before the next sample.
+    /// previous reading, or its speed put it there by this one): it may hit
+    /// the stop before the next sample, or has just hit it.
     pub fn enters_stop_zone(&self, z_deg: f32) -> bool {
-        !self.latched && self.bounce.enters_zone(libm::fabsf(z_deg))
+        let off = libm::fabsf(z_deg);
+        !self.latched && (self.bounce.enters_zone(off) || self.bounce.reaches(off))
     }
 
     /// True when a reading `z_deg` \[deg\] of a latched joint with a

@@ -157,6 +157,12 @@ pub struct ReadingCheck {
     /// repeats: a joint whose own course turns it round (or slows it to
     /// under [`STALE_MOTION_STEPS`]) since then may repeat its code.
     repeat_course: Course,
+    /// Where the parabola through the three readings before this one puts
+    /// this one \[rad\] (NaN: fewer than three, or the checks are off).
+    parabola: f32,
+    /// The readings' own next step at the first reading of the repeats
+    /// ([`ReadingCheck::step_ahead`]) \[rad\].
+    repeat_ahead: f32,
 }
 
 impl ReadingCheck {
@@ -173,7 +179,29 @@ impl ReadingCheck {
                 rate: 0.0,
                 acc: 0.0,
             },
+            repeat_ahead: 0.0,
+            parabola: f32::NAN,
         }
+    }
+
+    /// True when a reading `z` \[rad\] lies within `tol` \[rad\] of where
+    /// the parabola through the three readings before it puts it: the
+    /// joint's own accelerating motion (a tape spring's snap of a light
+    /// panel, the whip of a chain), which a spike leaves by its size. False
+    /// without three readings.
+    pub fn follows_readings(&self, z: f32, tol: f32) -> bool {
+        libm::fabsf(z - self.parabola) <= tol
+    }
+
+    /// The parabola through the last three readings one sample interval
+    /// after the newest (`z₀ − 3 z₁ + 3 z₂`, readings equally spaced:
+    /// three operations on the sample path), NaN before three readings.
+    fn parabola_next(&self) -> f32 {
+        if usize::from(self.seen) < LINE_READINGS {
+            return f32::NAN;
+        }
+        let [(_, z0), (_, z1), (_, z2)] = self.last;
+        z0 + 3.0 * (z2 - z1)
     }
 
     /// Checks `reading` against the joint's rate filter as it stood after
@@ -187,6 +215,7 @@ impl ReadingCheck {
     /// Checks `reading` against `course`, the rate filter's state at the
     /// previous sample.
     pub fn check(&mut self, reading: &Reading, course: &Course) -> Verdict {
+        self.parabola = f32::NAN;
         if !reading.moving_checks {
             self.pending = None;
             self.seen = 0;
@@ -200,6 +229,7 @@ impl ReadingCheck {
         };
         let dt = reading.t_s - course.t_s;
         let line = self.line();
+        self.parabola = self.parabola_next();
         if reading.repeats <= 1 {
             // The readings' own rate when the repeats began; none before
             // three readings (after a gap or an impact the rate filter's
@@ -207,6 +237,7 @@ impl ReadingCheck {
             // at rest would read stale).
             self.repeat_rate = line.map_or(0.0, |l| l.rate);
             self.repeat_course = *course;
+            self.repeat_ahead = self.step_ahead();
         }
         let motion = libm::fabsf(self.repeat_rate) * dt;
         // Where the filter's course (angle, rate, acceleration at the first
@@ -216,7 +247,11 @@ impl ReadingCheck {
         let c = &self.repeat_course;
         let path = libm::fabsf(c.at(reading.t_s) - c.angle);
         let limit = STALE_MOTION_STEPS * reading.step;
-        if reading.repeats >= STALE_REPEATS && motion > limit && path > limit {
+        if reading.repeats >= STALE_REPEATS
+            && motion > limit
+            && path > limit
+            && self.repeat_ahead > 0.0
+        {
             self.pending = None;
             return Verdict::Stale;
         }
@@ -244,6 +279,27 @@ impl ReadingCheck {
         }
         self.push(reading.t_s, z);
         Verdict::Plausible
+    }
+
+    /// The step the last three readings' own parabola makes next, in the
+    /// direction they were moving \[rad\]: `d₁ + (d₁ − d₀)` with `d₀`, `d₁`
+    /// their two steps; at most 0 (a repeat is then not stale) when they
+    /// were braking to a stop within an interval (a joint stopped dead elsewhere than at its latch, by a
+    /// plunger's ramp or a neighbour's impulse, then repeats its code;
+    /// a frozen encoder in steady motion does not). 0 before three
+    /// readings.
+    fn step_ahead(&self) -> f32 {
+        if usize::from(self.seen) < LINE_READINGS {
+            return 0.0;
+        }
+        let [(_, z0), (_, z1), (_, z2)] = self.last;
+        let (d0, d1) = (z1 - z0, z2 - z1);
+        let ahead = d1 + (d1 - d0);
+        if d1 < 0.0 {
+            -ahead
+        } else {
+            ahead
+        }
     }
 
     /// The line through the last three readings: the slope of the outer

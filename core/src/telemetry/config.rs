@@ -34,7 +34,7 @@ use serde::{Deserialize, Serialize};
 pub const MAX_JOINTS: usize = crate::monitor::rollout::ROLLOUT_MAX_JOINTS;
 
 /// Version of the configuration frames; the firmware refuses another.
-pub const CONFIG_VERSION: u8 = 3;
+pub const CONFIG_VERSION: u8 = 4;
 
 /// The first frame of a replay input.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -46,8 +46,9 @@ pub struct ConfigHeader {
     pub joints: u8,
     /// The deployment's deadline (`MarginConfig::deadline_s`) \[s\].
     pub deadline_s: f32,
-    /// The latch as built (`LatchConfig::physical`), `None` for the ideal
-    /// latch.
+    /// The latch as built of every joint without its own
+    /// ([`JointFrame::physical`]; `LatchConfig::physical`), `None` for the
+    /// ideal latch.
     pub latch: Option<PhysicalLatch>,
 }
 
@@ -232,6 +233,10 @@ pub struct JointFrame {
     pub latch_crest_rad: f32,
     /// Its entry ramp's width \[rad\].
     pub latch_ramp_rad: f32,
+    /// `JointConfig::physical`: the joint's own physical latch (`None`:
+    /// the header's [`ConfigHeader::latch`], and with none there the ideal
+    /// latch).
+    pub physical: Option<PhysicalLatch>,
 }
 
 /// Fields of the core's `Engagement` (all `f32`): when it changes, the
@@ -265,6 +270,7 @@ impl JointFrame {
                     crest_rad: self.latch_crest_rad,
                     ramp_rad: self.latch_ramp_rad,
                 },
+                physical: self.physical,
             },
         ))
     }
@@ -313,9 +319,14 @@ pub const CONFIG_HEADER_FRAME_MAX: usize = framed(24);
 /// Largest postcard payload of a [`JointFrame`]: five `f32` of panel and
 /// stowed angle (20), the spring (tag 1 + count 4 + the curve variant's
 /// flag 1, knots 1 + 2·4·[`MAX_KNOTS`] and optional knots 1 + the same),
-/// the capture angle (4), the prior and the latch (4 each).
-pub const JOINT_FRAME_PAYLOAD_MAX: usize =
-    20 + (1 + 4 + 1 + 2 * (1 + 8 * MAX_KNOTS) + 1) + 4 + 4 * PRIOR_FIELDS + 4 * LATCH_FIELDS;
+/// the capture angle (4), the prior and the latch (4 each), and the
+/// joint's physical latch (1 + 4·4 + its lock 1).
+pub const JOINT_FRAME_PAYLOAD_MAX: usize = 20
+    + (1 + 4 + 1 + 2 * (1 + 8 * MAX_KNOTS) + 1)
+    + 4
+    + 4 * PRIOR_FIELDS
+    + 4 * LATCH_FIELDS
+    + (1 + 4 * 4 + 1);
 
 /// Largest frame of a [`JointFrame`], `0x00` included \[bytes\].
 pub const JOINT_FRAME_MAX: usize = framed(JOINT_FRAME_PAYLOAD_MAX);

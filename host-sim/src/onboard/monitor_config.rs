@@ -62,21 +62,18 @@ pub const VISCOUS_PRIOR_SD_NMS: f64 = 1.0;
 /// interval on top within the 50 ms allowed after the last rebound.
 pub const BOUNCE_WINDOW_S: f64 = 0.03;
 
-/// The monitor's [`PhysicalLatch`] of a mechanism: that of its first joint
-/// with a physical latch (`[joint.latch]`; the monitor has one for every
-/// joint, `docs/monitor.md` §4.1), `None` (the ideal latch of `physics.md`
-/// §5) when it has none. The switch travel and the crest are the file's;
-/// the ramp reaches from the stop to the outer end of the plunger's entry
-/// ramp (crest + its width), where a joint that arrives with too little
-/// energy comes to rest. A pawl (`physics.md` §10.5) is
-/// [`LockKind::Pawl`], its crest the farthest its notch lets the joint back
-/// (the notch and the contact's give under the breaking torque).
-pub fn physical_latch(mech: &Mechanism) -> Option<PhysicalLatch> {
-    let (j, spec) = mech
-        .latches
-        .iter()
-        .enumerate()
-        .find_map(|(j, l)| l.as_ref().map(|l| (j, l)))?;
+/// The monitor's [`PhysicalLatch`] of joint `j` (0-based) of a mechanism
+/// (`docs/monitor.md` §4.1): `None` (the ideal latch of `physics.md` §5)
+/// when its `[joint.latch]` is ideal; a wing may mix ideal, plunger and
+/// pawl latches, and each joint's tracker gets its own. The switch travel
+/// and the crest are the file's; the ramp reaches from the stop to the
+/// outer end of the plunger's entry ramp (crest + its width), where a joint
+/// that arrives with too little energy comes to rest. A pawl
+/// (`physics.md` §10.5) is [`LockKind::Pawl`], its crest the farthest its
+/// notch lets the joint back (the notch and the contact's give under the
+/// breaking torque).
+pub fn joint_physical_latch(mech: &Mechanism, j: usize) -> Option<PhysicalLatch> {
+    let spec = mech.latches.get(j)?.as_ref()?;
     let stowed = mech.joints.get(j).map_or(0.0, |jt| jt.stowed_deg);
     let core = spec.to_core::<f64>(stowed, 1.0, 1.0);
     let crest_deg = spec.plunger.crest_deg;
@@ -193,8 +190,9 @@ pub fn monitor_config<const N: usize>(
     monitor_config_with::<N>(mech, &PriorSpread::default())
 }
 
-/// [`monitor_config`] with a chosen spread of the friction prior. The latch
-/// tracker gets the mechanism's [`physical_latch`] (`None`: ideal latches).
+/// [`monitor_config`] with a chosen spread of the friction prior. Each
+/// joint's latch tracker gets that joint's [`joint_physical_latch`] (`None`:
+/// its ideal latch).
 pub fn monitor_config_with<const N: usize>(
     mech: &Mechanism,
     spread: &PriorSpread,
@@ -232,6 +230,7 @@ pub fn monitor_config_with<const N: usize>(
                 viscous_sd_nms: spread.viscous_sd_nms as f32,
             },
             latch: engagement(mech, i),
+            physical: joint_physical_latch(mech, i),
         });
     }
     let joints: [JointConfig; N] =
@@ -243,7 +242,6 @@ pub fn monitor_config_with<const N: usize>(
             })?;
     let mut cfg = MonitorConfig::new(panels, joints);
     cfg.margin.deadline_s = mech.duration_s as f32;
-    cfg.latch.physical = physical_latch(mech);
     cfg.validate().map_err(MonitorConfigError::Config)?;
     Ok(cfg)
 }

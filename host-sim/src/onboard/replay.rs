@@ -217,6 +217,7 @@ pub fn joint_frame(mech: &Mechanism, j: usize) -> Result<JointFrame, ReplayError
         latch_energy_j: latch.energy_j,
         latch_crest_rad: latch.crest_rad,
         latch_ramp_rad: latch.ramp_rad,
+        physical: crate::onboard::monitor_config::joint_physical_latch(mech, j),
     })
 }
 

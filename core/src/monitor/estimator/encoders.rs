@@ -153,10 +153,17 @@ impl<const N: usize> Monitor<N> {
         readings
     }
 
-    /// True when a joint announces an impact at `sample`
-    /// ([`super::joint::JointState::announces_impact`]: a latch switch
-    /// closes, or a reading comes within a physical latch's crest).
-    pub(super) fn impact_announced(&self, sample: &Sample<N>) -> bool {
-        (0..N).any(|j| self.joints[j].announces_impact(sample.latch[j], sample.phi_deg[j]))
+    /// The joints that announce an impact at `sample`, bit `j` for joint
+    /// `j` (0-based; [`super::joint::JointState::announces_impact`]: a latch
+    /// switch closes, or a reading comes within a physical latch's crest);
+    /// 0 when none does.
+    pub(super) fn impact_announced(&self, sample: &Sample<N>) -> u32 {
+        let mut mask = 0u32;
+        for j in 0..N {
+            if self.joints[j].announces_impact(sample.latch[j], sample.phi_deg[j]) {
+                mask |= 1u32.wrapping_shl(j as u32);
+            }
+        }
+        mask
     }
 }

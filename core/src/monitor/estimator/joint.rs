@@ -4,7 +4,7 @@
 
 use crate::monitor::config::{JointConfig, ObserverConfig};
 use crate::monitor::faults::FaultFlags;
-use crate::monitor::latch::{LatchState, LatchTracker};
+use crate::monitor::latch::{LatchConfig, LatchState, LatchTracker, PhysicalLatch};
 use crate::monitor::latch_margin::Engagement;
 use crate::monitor::margin::MarginResult;
 use crate::monitor::observer::{FrictionEstimate, FrictionObserver, FrictionPrior, RateFilter};
@@ -37,6 +37,9 @@ pub(super) struct JointState {
     pub(super) fo: FrictionObserver,
     /// Latch-state estimator, switch fused with encoder (§4).
     pub(super) lt: LatchTracker,
+    /// Its thresholds, with this joint's latch as built (a wing may mix
+    /// ideal, plunger and pawl latches).
+    pub(super) latch_cfg: LatchConfig,
     /// Last energy margin and one-joint latch probability (§5).
     pub(super) margin: Option<MarginResult>,
     /// Consecutive readings the rate filter's gate rejected.
@@ -69,6 +72,8 @@ pub(super) struct JointStart {
     pub(super) prior: FrictionPrior,
     /// The physical latch's engagement.
     pub(super) engagement: Engagement,
+    /// The joint's own physical latch (`JointConfig::physical`).
+    pub(super) physical: Option<PhysicalLatch>,
 }
 
 impl JointStart {
@@ -79,6 +84,7 @@ impl JointStart {
             capture_deg: joint.capture_deg,
             prior: joint.prior,
             engagement: joint.latch,
+            physical: joint.physical,
         }
     }
 }
@@ -120,12 +126,14 @@ pub(super) struct Forecast {
 impl JointState {
     /// A joint at its stowed angle, waiting for the first sample: `joint`
     /// without its spring (the chain holds it), `sd` the encoder's standard
-    /// deviation \[rad\].
+    /// deviation \[rad\], `latch` the tracker's thresholds (the joint's
+    /// own physical latch, if any, replaces theirs).
     #[inline(never)]
     pub(super) fn new(
         joint: &JointStart,
         sd: f32,
         observer: &ObserverConfig,
+        latch: &LatchConfig,
         spring_sd_rel: f32,
     ) -> Self {
         let mut kf = RateFilter::new(joint.stowed_deg * DEG, sd, START_RATE_SD, START_ACC_SD);
@@ -137,6 +145,10 @@ impl JointState {
             kf,
             fo: FrictionObserver::new(joint.prior, spring_sd_rel),
             lt: LatchTracker::new(),
+            latch_cfg: LatchConfig {
+                physical: joint.physical.or(latch.physical),
+                ..*latch
+            },
             margin: None,
             rejects: 0,
             last_raw: f32::NAN,

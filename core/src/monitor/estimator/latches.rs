@@ -30,14 +30,20 @@ pub(super) type Latches<const N: usize> = [JointLatch; N];
 
 impl<const N: usize> Monitor<N> {
     /// Tracks the latch states (switch fused with encoder), and applies the
-    /// plastic latch impulse to the rates when a joint latches.
+    /// plastic latch impulse to the rates when a joint latches. `impacts`:
+    /// the joints announcing an impact at this sample, bit `j` for joint
+    /// `j` ([`Monitor::impact_announced`]).
     pub(super) fn track_latches(
         &mut self,
         sample: &Sample<N>,
         clock: &Clock,
+        impacts: u32,
         readings: &mut Readings<N>,
     ) -> Latches<N> {
         let t = clock.t;
+        // A neighbour's impact at this sample or the previous one.
+        let recent = impacts | self.windows.impacts_prev;
+        self.windows.impacts_prev = impacts;
         let mut states = [LatchState::Stowed; N];
         let mut newly = [false; N];
         let mut unlatched = false;
@@ -53,8 +59,9 @@ impl<const N: usize> Monitor<N> {
                     stowed_deg: js.stowed_deg,
                     encoder_stuck: readings[j].stuck,
                     noise_sd_deg,
+                    neighbour_impact: recent & !1u32.wrapping_shl(j as u32) != 0,
                 },
-                &self.tuning.latch,
+                &js.latch_cfg,
             );
             states[j] = out.state;
             newly[j] = out.newly_latched;

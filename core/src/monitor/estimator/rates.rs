@@ -56,10 +56,21 @@ mod impact {
 
 /// Innovations up to this many gates are a manoeuvre (the filter restarts
 /// at the reading, keeping its rate), beyond it a spike (flagged). At
-/// σ ≈ 0.03° a gate is 0.17° and this 0.5°: a joint stopping under its
+/// σ ≈ 0.03° a gate is 0.17° and this 1°: a joint stopping under its
 /// friction at 5 rad/s² misses the prediction by ½·a·t² ≈ 0.06° over 20 ms,
-/// while a spike is degrees off.
-const MANOEUVRE_GATE: f32 = 3.0;
+/// and the whip of a long chain (neighbours snapping to their latches
+/// double an outer joint's rate within 45 ms, `docs/monitor.md` §6.2) by
+/// 0.75°, while a spike is degrees off; a smaller spike that returns is
+/// flagged by `plausibility.rs`.
+const MANOEUVRE_GATE: f32 = 6.0;
+
+/// A reading beyond the manoeuvre gate but within this of the parabola
+/// through the joint's last three readings is its own accelerating motion
+/// (a light outer panel's tape spring snapping at hundreds of rad/s²
+/// outruns the white-jerk model by degrees), not a spike \[rad\]: 1°, 11 σ
+/// of the parabola's extrapolation (`σ √19` for the reference encoder),
+/// where a spike is degrees off.
+const PARABOLA_TOL_RAD: f32 = 1.0 * DEG;
 
 /// What the rate filters of one sample share (see [`JointState::track_rate`]).
 struct RateContext<'a> {
@@ -146,7 +157,8 @@ impl JointState {
         // switch opening with it. Restarted at the reading like an impact,
         // not flagged; a spike beyond the reach still is.
         let rebound = self.lt.rebounds_within_lock(z / DEG);
-        let manoeuvre = nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r);
+        let manoeuvre = nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r)
+            || self.plausibility.follows_readings(z, PARABOLA_TOL_RAD);
         match kf.update(z, r, gate2, &observer.jerk_adaptation) {
             Fusion::Accepted => {
                 self.rejects = 0;

@@ -30,10 +30,11 @@ impl<const N: usize> Monitor<N> {
         };
         // An impact under way: a latch switch closing, or a joint within a
         // physical latch's crest.
-        let announced = self.impact_announced(sample);
+        let impacts = self.impact_announced(sample);
+        let announced = impacts != 0;
         let mut readings = self.read_encoders(sample, &clock, announced);
         self.track_rates(sample, &clock, announced, &mut readings);
-        let latches = self.track_latches(sample, &clock, &mut readings);
+        let latches = self.track_latches(sample, &clock, impacts, &mut readings);
         self.check_health(&mut readings);
         self.queue_for_learning(&clock, &readings, &latches);
         self.compose_status(clock.t, &readings, &latches);

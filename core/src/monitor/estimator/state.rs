@@ -8,7 +8,6 @@ use super::learning::{Learner, LearningQueue};
 use crate::monitor::config::{
     ConfigError, ConfigRef, JointConfig, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
 };
-use crate::monitor::latch::LatchConfig;
 use crate::monitor::latch_margin::Engagement;
 use crate::monitor::observer::{FrictionObserver, FrictionPrior, RateFilter};
 use crate::monitor::predictor::Predictor;
@@ -50,7 +49,6 @@ pub(super) struct Tuning {
     pub(super) meas_sd: f32,
     pub(super) sensor: SensorConfig,
     pub(super) observer: ObserverConfig,
-    pub(super) latch: LatchConfig,
     pub(super) margin: MarginConfig,
 }
 
@@ -65,6 +63,9 @@ pub(super) struct Windows {
     pub(super) impact_until: f32,
     /// Samples left whose prediction is widened for the impact.
     pub(super) impact_samples: u8,
+    /// The joints that announced an impact at the previous sample, bit `j`
+    /// for joint `j` ([`Monitor::impact_announced`]).
+    pub(super) impacts_prev: u32,
 }
 
 impl Windows {
@@ -73,6 +74,7 @@ impl Windows {
         blank_until: f32::NEG_INFINITY,
         impact_until: f32::NEG_INFINITY,
         impact_samples: 0,
+        impacts_prev: 0,
     };
 }
 
@@ -88,7 +90,6 @@ fn reset_tuning_and_joints(tuning: &mut Tuning, states: &mut [JointState], confi
         meas_sd: crate::physics::real::sqrtf(meas_var),
         sensor: *config.sensor,
         observer: *config.observer,
-        latch: *config.latch,
         margin: *config.margin,
     };
     let sd = config.sensor.encoder_sd_deg * DEG;
@@ -97,6 +98,7 @@ fn reset_tuning_and_joints(tuning: &mut Tuning, states: &mut [JointState], confi
             &JointStart::of(c),
             sd,
             config.observer,
+            config.latch,
             config.margin.spring_sd_rel,
         );
     }
@@ -140,8 +142,9 @@ impl<const N: usize> Monitor<N> {
                 viscous_sd_nms: 1.0,
             },
             engagement: Engagement::IDEAL,
+            physical: None,
         };
-        let state = JointState::new(&joint, 1.0, config.observer, 0.0);
+        let state = JointState::new(&joint, 1.0, config.observer, config.latch, 0.0);
         // The large parts last: each is written in place only if nothing
         // is built after it (LLVM's call-slot forwarding).
         Monitor {
@@ -150,7 +153,6 @@ impl<const N: usize> Monitor<N> {
                 meas_sd: 0.0,
                 sensor: *config.sensor,
                 observer: *config.observer,
-                latch: *config.latch,
                 margin: *config.margin,
             },
             timeline: Timeline::START,

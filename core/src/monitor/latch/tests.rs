@@ -12,6 +12,7 @@ fn input(t: f32, switch: bool, deg: f32) -> LatchInput {
         stowed_deg: 90.0,
         encoder_stuck: false,
         noise_sd_deg: 0.02,
+        neighbour_impact: false,
     }
 }
 
