@@ -305,6 +305,10 @@ pub struct LatchResistance {
     pub entry_torque_nm: f64,
     /// The engagement energy `P0 h + ½ k_p h²` \[J\]: the energy form's.
     pub engagement_energy_j: f64,
+    /// Where the entry ramp starts, the crest's travel from the stop \[rad\].
+    pub entry_from_rad: f64,
+    /// Where it ends, crest plus the ramp's width \[rad\].
+    pub entry_to_rad: f64,
 }
 
 /// Both margins of one spring-driven joint against a constant friction

@@ -18,6 +18,7 @@ use super::{check_output, CliError, Console};
 use crate::analysis::design_margin::{NameError, Resistance, Standard};
 use crate::analysis::joint_margins::{margins, MarginsError};
 use crate::analysis::resistances::{read_found, Resistances};
+use crate::analysis::stroke_margin::Allowance;
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;
 use crate::report::margin::{table, to_json, MarginReport};
@@ -56,6 +57,16 @@ pub struct MarginArgs {
     /// friction, hysteresis, harness, adhesion, other); may be repeated.
     #[arg(long = "factor", value_name = "KIND=VALUE", value_parser = parse_factor)]
     pub factors: Vec<(Resistance, f64)>,
+
+    /// The driving springs' torque tolerance [%]: the minimum spring is
+    /// this much below the file's nominal (the file does not give it).
+    #[arg(long, value_name = "PCT", default_value_t = 0.0, value_parser = parse_pct)]
+    pub spring_tolerance: f64,
+
+    /// The loss of the driving springs' torque at end of life [%]
+    /// (relaxation, creep; the file does not give it).
+    #[arg(long, value_name = "PCT", default_value_t = 0.0, value_parser = parse_pct)]
+    pub end_of_life: f64,
 
     /// Also write the margins as JSON here.
     #[arg(long, value_name = "OUT.json")]
@@ -147,6 +158,14 @@ fn parse_factor(s: &str) -> Result<(Resistance, f64), FactorError> {
     Ok((kind, value))
 }
 
+/// A percentage in `[0, 100)`.
+fn parse_pct(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if (0.0..100.0).contains(&v) => Ok(v),
+        _ => Err(format!("`{s}`: expected a percentage from 0 to below 100")),
+    }
+}
+
 /// The resistances from `--friction`, or the mechanism's own friction.
 fn given_resistances(args: &MarginArgs, mech: &Mechanism) -> Result<Resistances, CliError> {
     let n = mech.joint_count();
@@ -204,12 +223,17 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     for (kind, value) in &args.factors {
         factors.set(*kind, *value);
     }
-    let rows = margins(&mech, &resist, args.standard, &factors).map_err(|e| match e {
-        MarginsError::Spring { .. } => {
-            CliError::input(format!("{}: {e}", args.mechanism.display()))
-        }
-        other => CliError::failed(other.to_string()),
-    })?;
+    let allowance = Allowance {
+        spring_tolerance_pct: args.spring_tolerance,
+        end_of_life_pct: args.end_of_life,
+    };
+    let rows =
+        margins(&mech, &resist, args.standard, &factors, &allowance).map_err(|e| match e {
+            MarginsError::Spring { .. } => {
+                CliError::input(format!("{}: {e}", args.mechanism.display()))
+            }
+            other => CliError::failed(other.to_string()),
+        })?;
     let report = MarginReport {
         file: &args.mechanism,
         mech: &mech,
@@ -217,6 +241,7 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         factors: &factors,
         resistances: &resist,
         rows: &rows,
+        allowance: &allowance,
     };
     super::print_out(format_args!("{}", table(&report)));
     if let Some(out) = &args.json {
@@ -230,7 +255,7 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     }
     let failed: Vec<String> = rows
         .iter()
-        .filter(|r| !(r.margin.torque_pass() && r.margin.energy_pass()))
+        .filter(|r| !(r.margin.torque_pass() && r.margin.energy_pass() && r.stroke.pass()))
         .map(|r| r.joint.to_string())
         .collect();
     if args.check && !failed.is_empty() {
@@ -279,6 +304,8 @@ mod tests {
             quiet: true,
             check: false,
             flight: false,
+            spring_tolerance: 0.0,
+            end_of_life: 0.0,
         }
     }
 

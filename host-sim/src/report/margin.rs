@@ -3,13 +3,13 @@
 //! factors), one row per joint with its margins and verdict, a line per
 //! effect counted and per latch engagement.
 
-use crate::analysis::design_margin::{
-    Factors, JointMargin, LatchResistance, Resistance, Standard, LATCH_KIND,
-};
+use crate::analysis::design_margin::{Factors, LatchResistance, Resistance, Standard, LATCH_KIND};
 use crate::analysis::effect_margin::Counted;
 use crate::analysis::joint_margins::Row;
 use crate::analysis::resistances::Resistances;
+use crate::analysis::stroke_margin::{Allowance, Profile};
 use crate::model::effect::Effect;
+use crate::model::effect::EffectKind;
 use crate::model::mechanism::Mechanism;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
@@ -30,6 +30,8 @@ pub struct MarginReport<'a> {
     pub resistances: &'a Resistances,
     /// The margins of each joint.
     pub rows: &'a [Row],
+    /// The reductions of the driving springs applied.
+    pub allowance: &'a Allowance,
 }
 
 /// A margin [%] for the table: `inf` when there is no resistance.
@@ -41,13 +43,62 @@ fn pct(v: f64) -> String {
     }
 }
 
-fn verdict(m: &JointMargin) -> &'static str {
-    match (m.torque_pass(), m.energy_pass()) {
-        (true, true) => "pass",
-        (false, true) => "FAIL (torque)",
-        (true, false) => "FAIL (energy)",
-        (false, false) => "FAIL",
+fn verdict(row: &Row) -> &'static str {
+    let m = &row.margin;
+    match (m.torque_pass(), m.energy_pass(), row.stroke.pass()) {
+        (true, true, true) => "pass",
+        (true, true, false) => "FAIL (along the stroke)",
+        (false, true, _) => "FAIL (torque)",
+        (true, false, _) => "FAIL (energy)",
+        (false, false, _) => "FAIL",
     }
+}
+
+/// The sign of deployment's stowed side, to give a position as a joint angle.
+fn joint_angle_deg(row: &Row, from_latch_rad: f64) -> f64 {
+    row.stowed_deg.signum() * from_latch_rad.to_degrees() + 0.0
+}
+
+/// The line of a joint's worst position along the stroke.
+fn stroke_line(row: &Row) -> String {
+    let Some(w) = row.stroke.worst_point() else {
+        return "along the stroke: no position".into();
+    };
+    format!(
+        "along the stroke (static, {} positions): worst at φ = {:.2}° ({:.2}° from the latch): D_min {:.4} N·m against factored R {:.4} N·m, margin {} % ({})",
+        row.stroke.points.len(),
+        joint_angle_deg(row, w.from_latch_rad),
+        w.from_latch_rad.to_degrees(),
+        w.driving_nm,
+        w.resisting_nm,
+        pct(w.margin_pct),
+        if row.stroke.pass() { "pass at every position" } else { "FAIL" }
+    )
+}
+
+/// The lines of the terms along the stroke, unfactored, with their factor.
+fn term_lines(row: &Row, factors: &Factors) -> Vec<String> {
+    row.terms
+        .iter()
+        .map(|t| {
+            let how = match t.profile {
+                Profile::Constant => format!("{:.4} N·m everywhere", t.torque_nm),
+                Profile::FromStowed {
+                    stiffness_nm_per_rad,
+                } => format!(
+                    "{stiffness_nm_per_rad} N·m/rad × the angle from stowed ({:.4} N·m at the latch)",
+                    t.at(0.0, row.stroke.stroke_rad)
+                ),
+                Profile::Band { from_rad, to_rad } => format!(
+                    "{:.4} N·m from {:.2}° to {:.2}° from the latch",
+                    t.torque_nm,
+                    from_rad.to_degrees(),
+                    to_rad.to_degrees()
+                ),
+            };
+            format!("  R: {} ({}, factor {}): {how}", t.name, t.kind, factors.get(t.kind))
+        })
+        .collect()
 }
 
 /// The header lines: mechanism, source of the resistances, standard.
@@ -99,6 +150,15 @@ fn table_header(m: &MarginReport) -> String {
             "margins below: D / R − 1 (seed 001 Eq. 7, seed 000 Eq. 21); pass at ≥ 0 %"
         );
     }
+    let a = m.allowance;
+    let _ = writeln!(
+        s,
+        "along the stroke: D_min(θ) = {:.4} × the spring's unfolding branch (its hysteresis included); spring tolerance {} %, end of life {} % (--spring-tolerance, --end-of-life: the mechanism file gives neither){}",
+        a.scale(),
+        a.spring_tolerance_pct,
+        a.end_of_life_pct,
+        if r.others.iter().any(|e| e.kind == EffectKind::SpringSoftening) { ", × a softening found" } else { "" }
+    );
     if mech.has_physical_latch() {
         let _ = writeln!(
             s,
@@ -152,8 +212,12 @@ pub fn table(report: &MarginReport) -> String {
             row.viscous_energy_j,
             m.resisting_energy_j,
             pct(m.energy_margin_pct()),
-            verdict(m)
+            verdict(row)
         );
+        let _ = writeln!(s, "{:>5} {}", "", stroke_line(row));
+        for line in term_lines(row, factors) {
+            let _ = writeln!(s, "{:>5} {line}", "");
+        }
         for (e, c) in &row.counted {
             let _ = writeln!(s, "{:>5} {}", "", counted_line(e, c, factors));
         }
@@ -213,6 +277,33 @@ fn counted_json(e: &Effect, c: &Counted) -> Value {
     })
 }
 
+/// The margin along the stroke for `--json`: the worst position and every
+/// position's angle [deg], driving and factored resisting torque [N·m] and
+/// margin [%].
+fn stroke_json(row: &Row) -> Value {
+    let finite = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
+    let w = row.stroke.worst_point();
+    json!({
+        "driving_scale": row.stroke.driving_scale,
+        "worst_angle_deg": w.map(|w| joint_angle_deg(row, w.from_latch_rad)),
+        "worst_from_latch_deg": w.map(|w| w.from_latch_rad.to_degrees()),
+        "worst_margin_pct": w.map(|w| finite(w.margin_pct)),
+        "pass": row.stroke.pass(),
+        "terms": row.terms.iter().map(|t| json!({
+            "name": t.name,
+            "kind": t.kind.name(),
+            "torque_nm": t.torque_nm,
+            "at_latch_nm": t.at(0.0, row.stroke.stroke_rad),
+        })).collect::<Vec<_>>(),
+        "points": row.stroke.points.iter().map(|p| json!({
+            "angle_deg": joint_angle_deg(row, p.from_latch_rad),
+            "driving_nm": p.driving_nm,
+            "resisting_nm": p.resisting_nm,
+            "margin_pct": finite(p.margin_pct),
+        })).collect::<Vec<_>>(),
+    })
+}
+
 /// The margins as JSON (`--json`); an infinite margin (no resistance) is
 /// `null`.
 pub fn to_json(report: &MarginReport) -> Value {
@@ -235,6 +326,8 @@ pub fn to_json(report: &MarginReport) -> Value {
             .map(|k| (k.name().to_string(), json!(factors.get(*k))))
             .collect::<serde_json::Map<_, _>>(),
         "required_margin_pct": m.standard.required_margin() * 100.0,
+        "spring_tolerance_pct": m.allowance.spring_tolerance_pct,
+        "end_of_life_pct": m.allowance.end_of_life_pct,
         "joints": rows.iter().map(|row| {
             let m = &row.margin;
             json!({
@@ -251,7 +344,8 @@ pub fn to_json(report: &MarginReport) -> Value {
                 "latch_engagement_energy_j": m.latch.engagement_energy_j,
                 "energy_margin_pct": finite(m.energy_margin_pct()),
                 "counted": row.counted.iter().map(|(e, c)| counted_json(e, c)).collect::<Vec<_>>(),
-                "pass": m.torque_pass() && m.energy_pass(),
+                "stroke": stroke_json(row),
+                "pass": m.torque_pass() && m.energy_pass() && row.stroke.pass(),
             })
         }).collect::<Vec<_>>(),
     })
