@@ -13,8 +13,8 @@ use crate::analysis::stroke_margin::{self, Allowance, Profile, StrokeMargin, Ter
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::SimError;
-use deploywatch_core::spring::Branch;
 use deploywatch_core::spring::CurveError;
+use deploywatch_core::spring::{Branch, Spring};
 
 /// One joint's margins with what counts in them.
 #[derive(Clone, Debug)]
@@ -179,6 +179,7 @@ pub fn margins(
         }
         let stroke = stroke_margin::along_stroke(
             |theta| spring.magnitude(theta, Branch::Unfold),
+            &unfold_knots_rad(&spring),
             m.stroke_rad,
             scale,
             &terms,
@@ -197,6 +198,18 @@ pub fn margins(
         });
     }
     Ok(rows)
+}
+
+/// The angles \[rad\] of a tabulated spring's unfolding points (none for a
+/// linear spring).
+fn unfold_knots_rad(spring: &Spring<f64>) -> Vec<f64> {
+    match spring {
+        Spring::Curve { unfold, .. } => (0..unfold.len())
+            .filter_map(|i| unfold.knot(i))
+            .map(|(deg, _)| deg.to_radians())
+            .collect(),
+        _ => Vec::new(),
+    }
 }
 
 /// The resistances of joint `j` (0-based) along the stroke besides the

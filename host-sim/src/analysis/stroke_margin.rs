@@ -161,9 +161,11 @@ pub const STEPS: usize = 360;
 /// torque at `θ` \[rad\] from the latch is `driving(θ)` [N·m], scaled by
 /// `driving_scale`, against `terms` each multiplied by its kind's factor in
 /// `factors`: at [`STEPS`]` + 1` evenly spaced positions from the latch to
-/// `stroke_rad`, and at the edges of every band inside the stroke.
+/// `stroke_rad`, at the edges of every band and at `knots_rad` (a tabulated
+/// spring's points) inside the stroke.
 pub fn along_stroke(
     driving: impl Fn(f64) -> f64,
+    knots_rad: &[f64],
     stroke_rad: f64,
     driving_scale: f64,
     terms: &[Term],
@@ -178,6 +180,7 @@ pub fn along_stroke(
                 .iter()
                 .flat_map(Term::edges)
                 .flatten()
+                .chain(knots_rad.iter().copied())
                 .filter(|t| *t >= 0.0 && *t <= stroke),
         )
         .collect();
@@ -241,7 +244,7 @@ mod tests {
         ];
         let mut f = Factors::UNITY;
         f.set(Resistance::Other, 2.0);
-        let m = along_stroke(|_| 1.0, 1.0, 0.9, &terms, &f, 0.0);
+        let m = along_stroke(|_| 1.0, &[], 1.0, 0.9, &terms, &f, 0.0);
         assert!(m.points.iter().any(|p| p.from_latch_rad == 0.05));
         let at = |theta: f64| {
             m.points
@@ -257,7 +260,7 @@ mod tests {
         assert!((at(0.0).margin_pct - (0.9 / 0.6 - 1.0) * 100.0).abs() < 1e-9);
         assert_eq!(m.worst, 0);
         assert!(m.pass());
-        let weak = along_stroke(|_| 0.5, 1.0, 1.0, &terms, &f, 0.0);
+        let weak = along_stroke(|_| 0.5, &[], 1.0, 1.0, &terms, &f, 0.0);
         assert!(!weak.pass());
     }
 }
