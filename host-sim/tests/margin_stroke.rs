@@ -128,11 +128,12 @@ fn hand_positions(doc: &DocumentMut, j: usize) -> Vec<(f64, f64)> {
         }
         "tape" => {
             // The unfolding branch passes through (0, 0), D, B, (90, M),
-            // (180, C) (physics.md 3.2).
+            // (180, C) (physics.md 3.2); below D its torque falls to 0 at
+            // the latch, where the latching margin applies instead.
             let ty = spring["type"].as_str().unwrap();
             let t = &doc["tape"][ty];
             let pt = |k: &str| (num(&t[k][0]), num(&t[k][1]));
-            let mut knots = vec![(0.0, 0.0), pt("d"), pt("b")];
+            let mut knots = vec![pt("d"), pt("b")];
             knots.push((90.0, num(&t["m_90"])));
             knots.push((180.0, num(&t["c_180"])));
             knots
@@ -187,6 +188,13 @@ fn every_bundled_mechanism_agrees_with_a_hand_calculation_at_three_positions() {
             let positions = hand_positions(&doc, j);
             assert_eq!(positions.len(), 3, "{}: joint {}", file.display(), j + 1);
             let latch = hand_latch(&doc, j);
+            let stroke = &m["joints"][j]["stroke"];
+            let from = stroke["static_from_deg"].as_f64().unwrap();
+            let first = stroke["points"][0]["angle_deg"].as_f64().unwrap().abs();
+            assert_eq!(first, from);
+            let tape = doc["joint"][j]["spring"]["kind"].as_str() == Some("tape");
+            let d = positions[0].0.abs();
+            assert_eq!(from, if tape { d } else { 0.0 }, "{}", file.display());
             for (deg, driving) in positions {
                 let entry = match latch {
                     Some((t, from, to)) if deg.abs() >= from && deg.abs() <= to => t,

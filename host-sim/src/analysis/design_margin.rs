@@ -401,6 +401,36 @@ impl JointMargin {
         )
     }
 
+    /// The kinetic energy the joint has left at the latch in the worst
+    /// case, `E_D − (FoS_f · E_R + Σ FoS_i · E_i)` \[J\]: the driving
+    /// release less the factored resisting work, the latch's not included.
+    pub fn arriving_energy_j(&self) -> f64 {
+        self.driving_energy_j
+            - self.friction_factor * self.resisting_energy_j
+            - self.factored_extra.energy_j
+    }
+
+    /// The latching margin at the end of the stroke,
+    /// `(E_arrive / (FoS_l · E_eng) − 1) · 100` [%]
+    /// (an energy balance, this project's form, not a standard's clause:
+    /// energy passed between the joints of a chain is not counted); `None`
+    /// for the ideal latch (nothing to engage).
+    pub fn latching_margin_pct(&self) -> Option<f64> {
+        (self.latch.engagement_energy_j > 0.0).then(|| {
+            margin_pct(
+                self.arriving_energy_j(),
+                self.latch_factor * self.latch.engagement_energy_j,
+            )
+        })
+    }
+
+    /// True when the latching margin is at least the required minimum (or
+    /// the latch is ideal).
+    pub fn latching_pass(&self) -> bool {
+        self.latching_margin_pct()
+            .is_none_or(|m| m >= self.required_pct)
+    }
+
     /// True when the torque-form margin is at least the required minimum.
     pub fn torque_pass(&self) -> bool {
         self.torque_margin_pct() >= self.required_pct

@@ -148,6 +148,7 @@ pub fn margins(
         let latch = latch_resistance(mech, j);
         let mut m = m.with_latch(latch);
         let mut terms = base_terms(r, j, sim.peak_rate_rad_s[j], &latch);
+        m.scale_driving(allowance.scale());
         let mut scale = allowance.scale();
         let mut counted = Vec::new();
         for (i, e) in r.others.iter().enumerate() {
@@ -180,6 +181,7 @@ pub fn margins(
         let stroke = stroke_margin::along_stroke(
             |theta| spring.magnitude(theta, Branch::Unfold),
             &unfold_knots_rad(&spring),
+            static_from_rad(&spring),
             m.stroke_rad,
             scale,
             &terms,
@@ -210,6 +212,20 @@ fn unfold_knots_rad(spring: &Spring<f64>) -> Vec<f64> {
             .collect(),
         _ => Vec::new(),
     }
+}
+
+/// Where the static margin starts \[rad\] from the latch: 0, or for a
+/// spring whose unfolding torque is zero at the latch (a tape spring
+/// through `(0, 0)`) its first point past the latch, below which the
+/// torque falls to zero and the latching margin applies.
+fn static_from_rad(spring: &Spring<f64>) -> f64 {
+    if spring.magnitude(0.0, Branch::Unfold) > 0.0 {
+        return 0.0;
+    }
+    unfold_knots_rad(spring)
+        .into_iter()
+        .find(|t| *t > 0.0)
+        .unwrap_or(0.0)
 }
 
 /// The resistances of joint `j` (0-based) along the stroke besides the

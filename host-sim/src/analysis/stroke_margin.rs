@@ -127,6 +127,10 @@ pub struct PositionMargin {
 /// The margin of one joint along its whole stroke.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StrokeMargin {
+    /// Where the static margin starts \[rad\] from the latch: 0, or for a
+    /// spring whose torque falls to zero at the latch (a tape spring) its
+    /// first point past it; below it the latching margin applies.
+    pub from_rad: f64,
     /// The stroke `S` \[rad\].
     pub stroke_rad: f64,
     /// The positions, from the latch (`θ = 0`) to the stowed angle.
@@ -162,10 +166,14 @@ pub const STEPS: usize = 360;
 /// `driving_scale`, against `terms` each multiplied by its kind's factor in
 /// `factors`: at [`STEPS`]` + 1` evenly spaced positions from the latch to
 /// `stroke_rad`, at the edges of every band and at `knots_rad` (a tabulated
-/// spring's points) inside the stroke.
+/// spring's points) inside the stroke, those from `from_rad` on (the end of
+/// the stroke below it is the latching margin's,
+/// [`crate::analysis::design_margin::JointMargin::latching_margin_pct`]).
+#[allow(clippy::too_many_arguments)]
 pub fn along_stroke(
     driving: impl Fn(f64) -> f64,
     knots_rad: &[f64],
+    from_rad: f64,
     stroke_rad: f64,
     driving_scale: f64,
     terms: &[Term],
@@ -181,9 +189,11 @@ pub fn along_stroke(
                 .flat_map(Term::edges)
                 .flatten()
                 .chain(knots_rad.iter().copied())
+                .chain([from_rad])
                 .filter(|t| *t >= 0.0 && *t <= stroke),
         )
         .collect();
+    thetas.retain(|t| *t >= from_rad);
     thetas.sort_by(f64::total_cmp);
     thetas.dedup();
     let points: Vec<PositionMargin> = thetas
@@ -208,6 +218,7 @@ pub fn along_stroke(
         .min_by(|a, b| a.1.margin_pct.total_cmp(&b.1.margin_pct))
         .map_or(0, |(i, _)| i);
     StrokeMargin {
+        from_rad,
         stroke_rad: stroke,
         points,
         worst,
@@ -244,7 +255,7 @@ mod tests {
         ];
         let mut f = Factors::UNITY;
         f.set(Resistance::Other, 2.0);
-        let m = along_stroke(|_| 1.0, &[], 1.0, 0.9, &terms, &f, 0.0);
+        let m = along_stroke(|_| 1.0, &[], 0.0, 1.0, 0.9, &terms, &f, 0.0);
         assert!(m.points.iter().any(|p| p.from_latch_rad == 0.05));
         let at = |theta: f64| {
             m.points
@@ -260,7 +271,7 @@ mod tests {
         assert!((at(0.0).margin_pct - (0.9 / 0.6 - 1.0) * 100.0).abs() < 1e-9);
         assert_eq!(m.worst, 0);
         assert!(m.pass());
-        let weak = along_stroke(|_| 0.5, &[], 1.0, 1.0, &terms, &f, 0.0);
+        let weak = along_stroke(|_| 0.5, &[], 0.0, 1.0, 1.0, &terms, &f, 0.0);
         assert!(!weak.pass());
     }
 }

@@ -255,7 +255,12 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     }
     let failed: Vec<String> = rows
         .iter()
-        .filter(|r| !(r.margin.torque_pass() && r.margin.energy_pass() && r.stroke.pass()))
+        .filter(|r| {
+            !(r.margin.torque_pass()
+                && r.margin.energy_pass()
+                && r.stroke.pass()
+                && r.margin.latching_pass())
+        })
         .map(|r| r.joint.to_string())
         .collect();
     if args.check && !failed.is_empty() {

@@ -46,7 +46,8 @@ fn pct(v: f64) -> String {
 fn verdict(row: &Row) -> &'static str {
     let m = &row.margin;
     match (m.torque_pass(), m.energy_pass(), row.stroke.pass()) {
-        (true, true, true) => "pass",
+        (true, true, true) if m.latching_pass() => "pass",
+        (true, true, true) => "FAIL (latching)",
         (true, true, false) => "FAIL (along the stroke)",
         (false, true, _) => "FAIL (torque)",
         (true, false, _) => "FAIL (energy)",
@@ -64,8 +65,16 @@ fn stroke_line(row: &Row) -> String {
     let Some(w) = row.stroke.worst_point() else {
         return "along the stroke: no position".into();
     };
+    let from = if row.stroke.from_rad > 0.0 {
+        format!(
+            "from {:.2}° from the latch: nearer, the spring's torque falls to 0 and the latching margin applies; ",
+            row.stroke.from_rad.to_degrees()
+        )
+    } else {
+        String::new()
+    };
     format!(
-        "along the stroke (static, {} positions): worst at φ = {:.2}° ({:.2}° from the latch): D_min {:.4} N·m against factored R {:.4} N·m, margin {} % ({})",
+        "along the stroke (static, {from}{} positions): worst at φ = {:.2}° ({:.2}° from the latch): D_min {:.4} N·m against factored R {:.4} N·m, margin {} % ({})",
         row.stroke.points.len(),
         joint_angle_deg(row, w.from_latch_rad),
         w.from_latch_rad.to_degrees(),
@@ -230,6 +239,14 @@ pub fn table(report: &MarginReport) -> String {
                 m.latch.entry_torque_nm,
                 m.latch.engagement_energy_j,
             );
+            let _ = writeln!(
+                s,
+                "{:>5} latching margin (an energy balance, not a standard's clause): E_arrive = E_D − factored E_R = {:.4} J against {} × E_eng: {} %",
+                "",
+                m.arriving_energy_j(),
+                m.latch_factor,
+                m.latching_margin_pct().map_or("-".into(), pct),
+            );
         }
     }
     s
@@ -285,6 +302,7 @@ fn stroke_json(row: &Row) -> Value {
     let w = row.stroke.worst_point();
     json!({
         "driving_scale": row.stroke.driving_scale,
+        "static_from_deg": row.stroke.from_rad.to_degrees(),
         "worst_angle_deg": w.map(|w| joint_angle_deg(row, w.from_latch_rad)),
         "worst_from_latch_deg": w.map(|w| w.from_latch_rad.to_degrees()),
         "worst_margin_pct": w.map(|w| finite(w.margin_pct)),
@@ -345,7 +363,9 @@ pub fn to_json(report: &MarginReport) -> Value {
                 "energy_margin_pct": finite(m.energy_margin_pct()),
                 "counted": row.counted.iter().map(|(e, c)| counted_json(e, c)).collect::<Vec<_>>(),
                 "stroke": stroke_json(row),
-                "pass": m.torque_pass() && m.energy_pass() && row.stroke.pass(),
+                "arriving_energy_j": m.arriving_energy_j(),
+                "latching_margin_pct": m.latching_margin_pct().map(finite),
+                "pass": m.torque_pass() && m.energy_pass() && row.stroke.pass() && m.latching_pass(),
             })
         }).collect::<Vec<_>>(),
     })
