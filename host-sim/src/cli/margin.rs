@@ -15,7 +15,7 @@
 //! computed by [`crate::analysis::joint_margins`], the table written by
 //! [`crate::report::margin`].
 use super::{check_output, CliError, Console};
-use crate::analysis::design_margin::{NameError, Resistance, Standard};
+use crate::analysis::design_margin::{DataSource, NameError, Resistance, Standard};
 use crate::analysis::joint_margins::{margins, MarginsError};
 use crate::analysis::resistances::{read_found, Resistances};
 use crate::analysis::stroke_margin::Allowance;
@@ -52,6 +52,11 @@ pub struct MarginArgs {
     /// Flight standard whose uncertainty factors and minimum margin apply.
     #[arg(long, value_enum, ignore_case = true, default_value_t = Standard::None)]
     pub standard: Standard,
+
+    /// Where the resistances' values come from (the standard's row of
+    /// factors): analysis, test, or acceptance-extremes.
+    #[arg(long, value_name = "SOURCE", default_value = "analysis", value_parser = parse_source)]
+    pub data_source: DataSource,
 
     /// Override one uncertainty factor, KIND=VALUE (kinds: inertia, spring,
     /// friction, hysteresis, harness, adhesion, other); may be repeated.
@@ -102,6 +107,7 @@ impl clap::ValueEnum for Standard {
             Standard::None => &[],
             Standard::NasaStd5017 => &["nasa-std-5017b", "nasa"],
             Standard::EcssEST3301C => &["ecss"],
+            Standard::AiaaS114 => &["aiaa"],
         };
         Some(
             PossibleValue::new(self.name())
@@ -156,6 +162,14 @@ fn parse_factor(s: &str) -> Result<(Resistance, f64), FactorError> {
         });
     }
     Ok((kind, value))
+}
+
+/// A [`DataSource`] by its name.
+fn parse_source(s: &str) -> Result<DataSource, String> {
+    DataSource::ALL
+        .into_iter()
+        .find(|d| d.name().eq_ignore_ascii_case(s.trim()))
+        .ok_or_else(|| format!("`{s}`: expected analysis, test or acceptance-extremes"))
 }
 
 /// A percentage in `[0, 100)`.
@@ -219,7 +233,7 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
             mech.name
         ));
     }
-    let mut factors = args.standard.factors();
+    let mut factors = args.standard.factors_for(args.data_source);
     for (kind, value) in &args.factors {
         factors.set(*kind, *value);
     }
@@ -242,6 +256,7 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         resistances: &resist,
         rows: &rows,
         allowance: &allowance,
+        data_source: args.data_source,
     };
     super::print_out(format_args!("{}", table(&report)));
     if let Some(out) = &args.json {
@@ -311,6 +326,7 @@ mod tests {
             flight: false,
             spring_tolerance: 0.0,
             end_of_life: 0.0,
+            data_source: DataSource::Analysis,
         }
     }
 

@@ -3,7 +3,9 @@
 //! factors), one row per joint with its margins and verdict, a line per
 //! effect counted and per latch engagement.
 
-use crate::analysis::design_margin::{Factors, LatchResistance, Resistance, Standard, LATCH_KIND};
+use crate::analysis::design_margin::{
+    DataSource, Factors, LatchResistance, Resistance, Standard, LATCH_KIND,
+};
 use crate::analysis::effect_margin::Counted;
 use crate::analysis::joint_margins::Row;
 use crate::analysis::resistances::Resistances;
@@ -32,6 +34,8 @@ pub struct MarginReport<'a> {
     pub rows: &'a [Row],
     /// The reductions of the driving springs applied.
     pub allowance: &'a Allowance,
+    /// Where the resistances' values come from (the row of factors).
+    pub data_source: DataSource,
 }
 
 /// A margin [%] for the table: `inf` when there is no resistance.
@@ -114,7 +118,7 @@ fn term_lines(row: &Row, factors: &Factors) -> Vec<String> {
 fn table_header(m: &MarginReport) -> String {
     let (mech, r, factors) = (m.mech, m.resistances, m.factors);
     let mut s = String::new();
-    let custom = *factors != m.standard.factors();
+    let custom = *factors != m.standard.factors_for(m.data_source);
     let _ = writeln!(
         s,
         "torque margins of `{}` ({})",
@@ -134,6 +138,12 @@ fn table_header(m: &MarginReport) -> String {
         "standard: {}{}",
         m.standard.reference(),
         if custom { " (factors overridden)" } else { "" }
+    );
+    let _ = writeln!(
+        s,
+        "source of the standard: {}; data source: {}",
+        m.standard.confirmation(),
+        m.data_source.name()
     );
     if m.standard != Standard::None || custom {
         let list: Vec<String> = Resistance::ALL
@@ -339,6 +349,9 @@ pub fn to_json(report: &MarginReport) -> Value {
         "resistances_from": r.source,
         "not_included": r.ignored,
         "standard": m.standard.name(),
+        "standard_reference": m.standard.reference(),
+        "standard_confirmation": m.standard.confirmation(),
+        "data_source": m.data_source.name(),
         "factors": Resistance::ALL
             .iter()
             .map(|k| (k.name().to_string(), json!(factors.get(*k))))
