@@ -130,13 +130,11 @@ pub fn margins(
     let sim = simulated(mech, r)?;
     let mut rows = Vec::with_capacity(mech.joint_count());
     for (j, joint) in mech.joints.iter().enumerate() {
-        let spring = joint
-            .spring
-            .to_spring()
-            .map_err(|source| MarginsError::Spring {
-                joint: j + 1,
-                source,
-            })?;
+        let spring = joint.spring.to_spring();
+        let spring = spring.map_err(|source| MarginsError::Spring {
+            joint: j + 1,
+            source,
+        })?;
         let mut m = joint_margin(
             &spring,
             joint.stowed_deg.to_radians(),
@@ -152,8 +150,8 @@ pub fn margins(
         let mut scale = allowance.scale();
         let mut counted = Vec::new();
         for (i, e) in r.others.iter().enumerate() {
-            let (work, stowed_q) = (sim.work.work_j[i][j], sim.work.stowed_torque_nm[i][j]);
-            let Some(c) = effect_margin::counted(mech, j, e, work, stowed_q) else {
+            let w = (sim.work.work_j[i][j], sim.work.stowed_torque_nm[i][j]);
+            let Some(c) = effect_margin::counted(mech, j, e, w.0, w.1) else {
                 continue;
             };
             match c {

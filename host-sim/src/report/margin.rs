@@ -114,6 +114,23 @@ fn term_lines(row: &Row, factors: &Factors) -> Vec<String> {
         .collect()
 }
 
+/// The line saying what the driving springs are reduced by.
+fn allowance_line(m: &MarginReport) -> String {
+    let a = m.allowance;
+    let softened = m
+        .resistances
+        .others
+        .iter()
+        .any(|e| e.kind == EffectKind::SpringSoftening);
+    format!(
+        "along the stroke: D_min(θ) = {:.4} × the spring's unfolding branch (its hysteresis included); spring tolerance {} %, end of life {} % (--spring-tolerance, --end-of-life: the mechanism file gives neither){}",
+        a.scale(),
+        a.spring_tolerance_pct,
+        a.end_of_life_pct,
+        if softened { ", × a softening found" } else { "" }
+    )
+}
+
 /// The header lines: mechanism, source of the resistances, standard.
 fn table_header(m: &MarginReport) -> String {
     let (mech, r, factors) = (m.mech, m.resistances, m.factors);
@@ -169,15 +186,7 @@ fn table_header(m: &MarginReport) -> String {
             "margins below: D / R − 1 (seed 001 Eq. 7, seed 000 Eq. 21); pass at ≥ 0 %"
         );
     }
-    let a = m.allowance;
-    let _ = writeln!(
-        s,
-        "along the stroke: D_min(θ) = {:.4} × the spring's unfolding branch (its hysteresis included); spring tolerance {} %, end of life {} % (--spring-tolerance, --end-of-life: the mechanism file gives neither){}",
-        a.scale(),
-        a.spring_tolerance_pct,
-        a.end_of_life_pct,
-        if r.others.iter().any(|e| e.kind == EffectKind::SpringSoftening) { ", × a softening found" } else { "" }
-    );
+    let _ = writeln!(s, "{}", allowance_line(m));
     if mech.has_physical_latch() {
         let _ = writeln!(
             s,
