@@ -210,22 +210,35 @@ fn check_exits_1_when_a_joint_fails_and_0_when_all_pass() {
     let out = deploywatch(&with_check);
     fails(&out, 1, &["joint(s) 1", "FAIL"]);
     assert!(String::from_utf8_lossy(&out.stdout).contains("FAIL"));
-    // T01 passes unfactored.
+    // T01 with seed 001's friction passes unfactored at the stowed angle
+    // and in the energy form, but not along the stroke: joint 2's unfolding
+    // branch (2 × TS-2, an Akima spline through B and M) dips below its
+    // 1.7 N·m of friction in mid-stroke.
     let t01 = t01_mechanism();
-    let ok = deploywatch(&[
+    let json_out = dir.path().join("t01.json");
+    let args = [
         "margin",
         "--mechanism",
         s(&t01),
         "--friction",
         "2.63,1.7,0.001",
+        "--json",
+        s(&json_out),
         "--check",
-    ]);
-    assert_eq!(
-        ok.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&ok.stderr)
-    );
+    ];
+    fails(&deploywatch(&args), 1, &["joint(s) 2 of"]);
+    let m: Value = serde_json::from_str(&std::fs::read_to_string(&json_out).unwrap()).unwrap();
+    for j in m["joints"].as_array().unwrap() {
+        assert!(j["torque_margin_pct"].as_f64().unwrap() > 0.0);
+        assert!(j["energy_margin_pct"].as_f64().unwrap() > 0.0);
+        let worst = j["stroke"]["worst_margin_pct"].as_f64().unwrap();
+        let stroke_deg = j["stowed_deg"].as_f64().unwrap().abs();
+        let at = j["stroke"]["worst_angle_deg"].as_f64().unwrap().abs();
+        assert_eq!(j["stroke"]["pass"], worst >= 0.0);
+        if j["joint"] == 2 {
+            assert!(worst < 0.0 && at > 1.0 && at < stroke_deg, "{j}");
+        }
+    }
     // A harness found by a diagnosis can tip a passing joint into a FAIL.
     let file = diagnosis(
         dir.path(),

@@ -99,7 +99,9 @@ pub enum NameError {
         name: String,
     },
     /// Not a standard.
-    #[error("unknown standard `{name}`: expected none, nasa-std-5017 or ecss-e-st-33-01c")]
+    #[error(
+        "unknown standard `{name}`: expected none, nasa-std-5017, ecss-e-st-33-01c or aiaa-s-114"
+    )]
     Standard {
         /// The name given.
         name: String,
@@ -188,14 +190,51 @@ pub enum Standard {
     /// ECSS-E-ST-33-01C, Space engineering — Mechanisms, motorisation
     /// margin (clause 4.7.5).
     EcssEST3301C,
+    /// AIAA S-114-2005 (as NASA-STD-5017, 2006): a 100 % static torque
+    /// margin at any position (available ≥ 2 × resisting, detent and
+    /// backdrive included) and a 25 % dynamic margin.
+    AiaaS114,
+}
+
+/// Where a resistance's value comes from: the standards' factors fall as
+/// the knowledge grows (NASA-STD-5017B Table 1 rows).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum DataSource {
+    /// Theory or analysis (initial sizing).
+    #[default]
+    Analysis,
+    /// Development, qualification or lot-acceptance test, or acceptance
+    /// test at ambient.
+    Test,
+    /// Acceptance test of the flight hardware at environmental extremes.
+    AcceptanceExtremes,
+}
+
+impl DataSource {
+    /// Every data source.
+    pub const ALL: [DataSource; 3] = [
+        DataSource::Analysis,
+        DataSource::Test,
+        DataSource::AcceptanceExtremes,
+    ];
+
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            DataSource::Analysis => "analysis",
+            DataSource::Test => "test",
+            DataSource::AcceptanceExtremes => "acceptance-extremes",
+        }
+    }
 }
 
 impl Standard {
     /// Every standard.
-    pub const ALL: [Standard; 3] = [
+    pub const ALL: [Standard; 4] = [
         Standard::None,
         Standard::NasaStd5017,
         Standard::EcssEST3301C,
+        Standard::AiaaS114,
     ];
 
     /// The name on the command line: `none`, `nasa-std-5017`, `ecss-e-st-33-01c`.
@@ -204,6 +243,25 @@ impl Standard {
             Standard::None => "none",
             Standard::NasaStd5017 => "nasa-std-5017",
             Standard::EcssEST3301C => "ecss-e-st-33-01c",
+            Standard::AiaaS114 => "aiaa-s-114",
+        }
+    }
+
+    /// What of [`Standard::reference`] and [`Standard::factors_for`] is
+    /// confirmed from the standard's text, printed with every margin
+    /// (`docs/margin.md`, "What is confirmed and what is assumed").
+    pub fn confirmation(self) -> &'static str {
+        match self {
+            Standard::None => "the seeds' own equations (seed 001 Eq. 7, seed 000 Eqs. 17-21)",
+            Standard::NasaStd5017 => {
+                "Eq. 4-1 and the Table 1 factors from a secondary source (a transcription): not confirmed from the text of NASA-STD-5017B"
+            }
+            Standard::EcssEST3301C => {
+                "the ratio of clause 4.7.5 from a secondary source; the factor values as commonly quoted, from memory: not confirmed from the text of ECSS-E-ST-33-01C (Rev. 2); the test rows are NASA-STD-5017B's"
+            }
+            Standard::AiaaS114 => {
+                "checked in the Aerospace Corporation's Mission Assurance Baseline item 4.4.4.5-6 citing AIAA S-114-2005; not confirmed from the text of AIAA S-114 itself"
+            }
         }
     }
 
@@ -217,6 +275,46 @@ impl Standard {
             Standard::EcssEST3301C => {
                 "ECSS-E-ST-33-01C, clause 4.7.5 motorisation, table of minimum uncertainty factors"
             }
+            Standard::AiaaS114 => {
+                "AIAA S-114-2005 via Mission Assurance Baseline item 4.4.4.5-6: 100 % static torque margin at any position (factor 2 on every resistance), 25 % dynamic (inertia 1.25)"
+            }
+        }
+    }
+
+    /// The factors with resistances known from `source`: the standard's
+    /// row of NASA-STD-5017B Table 1 (fixed, variable, acceleration:
+    /// analysis 1.5/3.0/1.25, tests 1.35/2.5/1.15, acceptance at
+    /// environmental extremes 1.25/2.0/1.10) on its kinds; ECSS-E-ST-33-01C
+    /// its analysis factors, and for tests friction-like kinds halved to
+    /// 1.5 with the NASA rows' spring and inertia; AIAA S-114 and `None`
+    /// do not depend on the source.
+    pub fn factors_for(self, source: DataSource) -> Factors {
+        let analysis = self.factors();
+        let (fixed, variable, accel) = match source {
+            DataSource::Analysis => return analysis,
+            DataSource::Test => (1.35, 2.5, 1.15),
+            DataSource::AcceptanceExtremes => (1.25, 2.0, 1.10),
+        };
+        match self {
+            Standard::None | Standard::AiaaS114 => analysis,
+            Standard::NasaStd5017 => Factors {
+                inertia: accel,
+                spring: fixed,
+                friction: variable,
+                hysteresis: variable,
+                harness: variable,
+                adhesion: variable,
+                other: variable,
+            },
+            Standard::EcssEST3301C => Factors {
+                inertia: accel,
+                spring: fixed,
+                friction: 1.5,
+                hysteresis: 1.5,
+                harness: 1.5,
+                adhesion: 1.5,
+                other: 1.5,
+            },
         }
     }
 
@@ -244,6 +342,15 @@ impl Standard {
                 adhesion: standards::ECSS_E_ST_33_01C_ADHESION,
                 other: standards::ECSS_E_ST_33_01C_OTHER,
             },
+            Standard::AiaaS114 => Factors {
+                inertia: 1.25,
+                spring: 2.0,
+                friction: 2.0,
+                hysteresis: 2.0,
+                harness: 2.0,
+                adhesion: 2.0,
+                other: 2.0,
+            },
         }
     }
 
@@ -268,6 +375,7 @@ impl FromStr for Standard {
             "none" => Ok(Standard::None),
             "nasa-std-5017" | "nasa-std-5017b" | "nasa" => Ok(Standard::NasaStd5017),
             "ecss-e-st-33-01c" | "ecss" => Ok(Standard::EcssEST3301C),
+            "aiaa-s-114" | "aiaa" => Ok(Standard::AiaaS114),
             _ => Err(NameError::Standard {
                 name: s.to_string(),
             }),
@@ -305,6 +413,10 @@ pub struct LatchResistance {
     pub entry_torque_nm: f64,
     /// The engagement energy `P0 h + ½ k_p h²` \[J\]: the energy form's.
     pub engagement_energy_j: f64,
+    /// Where the entry ramp starts, the crest's travel from the stop \[rad\].
+    pub entry_from_rad: f64,
+    /// Where it ends, crest plus the ramp's width \[rad\].
+    pub entry_to_rad: f64,
 }
 
 /// Both margins of one spring-driven joint against a constant friction
@@ -397,6 +509,36 @@ impl JointMargin {
         )
     }
 
+    /// The kinetic energy the joint has left at the latch in the worst
+    /// case, `E_D − (FoS_f · E_R + Σ FoS_i · E_i)` \[J\]: the driving
+    /// release less the factored resisting work, the latch's not included.
+    pub fn arriving_energy_j(&self) -> f64 {
+        self.driving_energy_j
+            - self.friction_factor * self.resisting_energy_j
+            - self.factored_extra.energy_j
+    }
+
+    /// The latching margin at the end of the stroke,
+    /// `(E_arrive / (FoS_l · E_eng) − 1) · 100` [%]
+    /// (an energy balance, this project's form, not a standard's clause:
+    /// energy passed between the joints of a chain is not counted); `None`
+    /// for the ideal latch (nothing to engage).
+    pub fn latching_margin_pct(&self) -> Option<f64> {
+        (self.latch.engagement_energy_j > 0.0).then(|| {
+            margin_pct(
+                self.arriving_energy_j(),
+                self.latch_factor * self.latch.engagement_energy_j,
+            )
+        })
+    }
+
+    /// True when the latching margin is at least the required minimum (or
+    /// the latch is ideal).
+    pub fn latching_pass(&self) -> bool {
+        self.latching_margin_pct()
+            .is_none_or(|m| m >= self.required_pct)
+    }
+
     /// True when the torque-form margin is at least the required minimum.
     pub fn torque_pass(&self) -> bool {
         self.torque_margin_pct() >= self.required_pct
@@ -471,6 +613,27 @@ mod tests {
             assert_eq!(f.get(r), 7.0);
         }
         assert!("glue".parse::<Resistance>().is_err());
+    }
+
+    #[test]
+    fn the_data_source_selects_the_row_and_every_standard_says_its_source() {
+        let n = Standard::NasaStd5017;
+        assert_eq!(n.factors_for(DataSource::Analysis), n.factors());
+        let t = n.factors_for(DataSource::Test);
+        assert_eq!((t.spring, t.friction, t.inertia), (1.35, 2.5, 1.15));
+        let x = n.factors_for(DataSource::AcceptanceExtremes);
+        assert_eq!((x.spring, x.harness, x.inertia), (1.25, 2.0, 1.10));
+        let a = Standard::AiaaS114;
+        assert_eq!("aiaa".parse::<Standard>().unwrap(), a);
+        assert_eq!(a.factors_for(DataSource::Test), a.factors());
+        assert_eq!((a.factors().friction, a.factors().inertia), (2.0, 1.25));
+        for s in Standard::ALL {
+            let c = s.confirmation();
+            assert!(
+                s == Standard::None || c.contains("not confirmed"),
+                "{s}: {c}"
+            );
+        }
     }
 
     #[test]

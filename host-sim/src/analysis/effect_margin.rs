@@ -24,6 +24,7 @@
 //! part that helps is not credited.
 
 use crate::analysis::design_margin::Resistance;
+use crate::analysis::stroke_margin::{Profile, Term};
 use crate::model::effect::{self, Effect, EffectKind};
 use crate::model::mechanism::{with_joints, Mechanism};
 use crate::model::torque_table::HostJointEffects;
@@ -156,6 +157,46 @@ pub fn counted(
         // equations: its share of each joint's friction is the rig line of
         // `diagnose` and `identify` (`crate::analysis::rig_margin`).
         EffectKind::RigFriction | EffectKind::WireLength | EffectKind::FrameOffset => res(0.0, 0.0),
+    }
+}
+
+/// Effect `e`, counted as a resistance of `kind` with `torque_nm` in the
+/// torque form, as a term of the margin along the stroke: a harness
+/// relaxed at the stowed angle grows towards the latch, a detent acts in
+/// its zone, a quadratic damping at the deployment's peak rate
+/// `peak_rate_rad_s`; every other effect with its torque-form value
+/// everywhere (a table: its worst value, a Stribeck law: its breakaway).
+pub fn stroke_term(e: &Effect, kind: Resistance, torque_nm: f64, peak_rate_rad_s: f64) -> Term {
+    let name = e.kind.to_string();
+    match e.kind {
+        EffectKind::HarnessStiffness => Term {
+            name,
+            kind,
+            torque_nm,
+            profile: Profile::FromStowed {
+                stiffness_nm_per_rad: e.value,
+            },
+        },
+        EffectKind::LatchDetent => Term {
+            name,
+            kind,
+            torque_nm,
+            profile: Profile::Band {
+                from_rad: 0.0,
+                to_rad: DETENT_ZONE_DEG.to_radians(),
+            },
+        },
+        EffectKind::QuadraticDamping => Term::constant(
+            format!("{name} at the run's peak rate {peak_rate_rad_s:.3} rad/s"),
+            kind,
+            e.value * peak_rate_rad_s * peak_rate_rad_s,
+        ),
+        EffectKind::ViscousDamping => Term::constant(
+            format!("{name} at the run's peak rate {peak_rate_rad_s:.3} rad/s"),
+            kind,
+            e.value * peak_rate_rad_s,
+        ),
+        _ => Term::constant(name, kind, torque_nm),
     }
 }
 

@@ -5,14 +5,16 @@
 //! other effect found, each counted by [`effect_margin::counted`].
 
 use crate::analysis::design_margin::{
-    joint_margin, Factors, JointMargin, LatchResistance, Standard,
+    joint_margin, Factors, JointMargin, LatchResistance, Resistance, Standard, LATCH_KIND,
 };
 use crate::analysis::effect_margin::{self, Counted, EffectWork};
 use crate::analysis::resistances::Resistances;
+use crate::analysis::stroke_margin::{self, Allowance, Profile, StrokeMargin, Term};
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::SimError;
 use deploywatch_core::spring::CurveError;
+use deploywatch_core::spring::{Branch, Spring};
 
 /// One joint's margins with what counts in them.
 #[derive(Clone, Debug)]
@@ -31,6 +33,10 @@ pub struct Row {
     /// Each other effect found on this joint (or global) and how it is
     /// counted.
     pub counted: Vec<(Effect, Counted)>,
+    /// The static torque margin at every position of the stroke.
+    pub stroke: StrokeMargin,
+    /// The resistances of `stroke`, unfactored.
+    pub terms: Vec<Term>,
 }
 
 /// Why the margins cannot be computed.
@@ -55,7 +61,7 @@ pub enum MarginsError {
 /// `f = 0`), and per effect of `r.others` its resisting work and its
 /// generalised torque at the stowed state
 /// ([`effect_margin::resisting_work`]). No simulation when nothing needs it.
-fn simulated(mech: &Mechanism, r: &Resistances) -> Result<(Vec<f64>, EffectWork), SimError> {
+fn simulated(mech: &Mechanism, r: &Resistances) -> Result<Simulated, SimError> {
     let n = mech.joint_count();
     let zero_others = vec![vec![0.0; n]; r.others.len()];
     let needed = r.viscous_nms.iter().any(|f| *f != 0.0)
@@ -67,7 +73,11 @@ fn simulated(mech: &Mechanism, r: &Resistances) -> Result<(Vec<f64>, EffectWork)
             work_j: zero_others.clone(),
             stowed_torque_nm: zero_others,
         };
-        return Ok((vec![0.0; n], work));
+        return Ok(Simulated {
+            viscous_j: vec![0.0; n],
+            peak_rate_rad_s: vec![0.0; n],
+            work,
+        });
     }
     let traj = effect_margin::deployment(mech, &r.found_effects(mech))?;
     let dt = traj.t_s.windows(2).map(|w| w[1] - w[0]);
@@ -80,29 +90,51 @@ fn simulated(mech: &Mechanism, r: &Resistances) -> Result<(Vec<f64>, EffectWork)
                 .sum()
         })
         .collect();
-    Ok((
-        viscous,
-        effect_margin::resisting_work(mech, &r.others, &traj),
-    ))
+    let peak_rate_rad_s = traj
+        .rate_deg_s
+        .iter()
+        .map(|rate| {
+            rate.iter()
+                .fold(0.0, |m: f64, w| m.max(w.abs()))
+                .to_radians()
+        })
+        .collect();
+    Ok(Simulated {
+        viscous_j: viscous,
+        peak_rate_rad_s,
+        work: effect_margin::resisting_work(mech, &r.others, &traj),
+    })
 }
 
-/// The margins of every joint with the resistances `r` and `factors`.
+/// What the simulated deployment gives the margins (all zero when no
+/// simulation is needed).
+struct Simulated {
+    /// Per joint, the energy its viscous damping dissipates \[J\].
+    viscous_j: Vec<f64>,
+    /// Per joint, the largest `|φ̇|` the deployment reaches \[rad/s\].
+    peak_rate_rad_s: Vec<f64>,
+    /// Per effect and joint, its resisting work and stowed torque.
+    work: EffectWork,
+}
+
+/// The margins of every joint with the resistances `r` and `factors`, the
+/// driving springs reduced by `allowance`, along the stroke as well
+/// ([`stroke_margin`]).
 pub fn margins(
     mech: &Mechanism,
     r: &Resistances,
     standard: Standard,
     factors: &Factors,
+    allowance: &Allowance,
 ) -> Result<Vec<Row>, MarginsError> {
-    let (viscous, w) = simulated(mech, r)?;
+    let sim = simulated(mech, r)?;
     let mut rows = Vec::with_capacity(mech.joint_count());
     for (j, joint) in mech.joints.iter().enumerate() {
-        let spring = joint
-            .spring
-            .to_spring()
-            .map_err(|source| MarginsError::Spring {
-                joint: j + 1,
-                source,
-            })?;
+        let spring = joint.spring.to_spring();
+        let spring = spring.map_err(|source| MarginsError::Spring {
+            joint: j + 1,
+            source,
+        })?;
         let mut m = joint_margin(
             &spring,
             joint.stowed_deg.to_radians(),
@@ -110,13 +142,16 @@ pub fn margins(
             standard,
             Some(factors),
         );
-        m.resisting_energy_j += viscous[j];
-        let mut m = m.with_latch(latch_resistance(mech, j));
+        m.resisting_energy_j += sim.viscous_j[j];
+        let latch = latch_resistance(mech, j);
+        let mut m = m.with_latch(latch);
+        let mut terms = base_terms(r, j, sim.peak_rate_rad_s[j], &latch);
+        m.scale_driving(allowance.scale());
+        let mut scale = allowance.scale();
         let mut counted = Vec::new();
         for (i, e) in r.others.iter().enumerate() {
-            let Some(c) =
-                effect_margin::counted(mech, j, e, w.work_j[i][j], w.stowed_torque_nm[i][j])
-            else {
+            let w = (sim.work.work_j[i][j], sim.work.stowed_torque_nm[i][j]);
+            let Some(c) = effect_margin::counted(mech, j, e, w.0, w.1) else {
                 continue;
             };
             match c {
@@ -124,22 +159,107 @@ pub fn margins(
                     kind,
                     torque_nm,
                     energy_j,
-                } => m.add_resistance(kind, torque_nm, energy_j, factors),
-                Counted::Driving { scale } => m.scale_driving(scale),
+                } => {
+                    m.add_resistance(kind, torque_nm, energy_j, factors);
+                    terms.push(effect_margin::stroke_term(
+                        e,
+                        kind,
+                        torque_nm,
+                        sim.peak_rate_rad_s[j],
+                    ));
+                }
+                Counted::Driving { scale: s } => {
+                    m.scale_driving(s);
+                    scale *= s;
+                }
                 Counted::Sensor => {}
             }
             counted.push((*e, c));
         }
+        let stroke = stroke_margin::along_stroke(
+            |theta| spring.magnitude(theta, Branch::Unfold),
+            &unfold_knots_rad(&spring),
+            static_from_rad(&spring),
+            m.stroke_rad,
+            scale,
+            &terms,
+            factors,
+            m.required_pct,
+        );
         rows.push(Row {
             joint: j + 1,
             stowed_deg: joint.stowed_deg,
             viscous_nms: r.viscous_nms[j],
-            viscous_energy_j: viscous[j],
+            viscous_energy_j: sim.viscous_j[j],
             margin: m,
             counted,
+            stroke,
+            terms,
         });
     }
     Ok(rows)
+}
+
+/// The angles \[rad\] of a tabulated spring's unfolding points (none for a
+/// linear spring).
+fn unfold_knots_rad(spring: &Spring<f64>) -> Vec<f64> {
+    match spring {
+        Spring::Curve { unfold, .. } => (0..unfold.len())
+            .filter_map(|i| unfold.knot(i))
+            .map(|(deg, _)| deg.to_radians())
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// Where the static margin starts \[rad\] from the latch: 0, or for a
+/// spring whose unfolding torque is zero at the latch (a tape spring
+/// through `(0, 0)`) its first point past the latch, below which the
+/// torque falls to zero and the latching margin applies.
+fn static_from_rad(spring: &Spring<f64>) -> f64 {
+    if spring.magnitude(0.0, Branch::Unfold) > 0.0 {
+        return 0.0;
+    }
+    unfold_knots_rad(spring)
+        .into_iter()
+        .find(|t| *t > 0.0)
+        .unwrap_or(0.0)
+}
+
+/// The resistances of joint `j` (0-based) along the stroke besides the
+/// effects found: its Coulomb friction, its viscous damping at the
+/// deployment's peak rate `peak_rate_rad_s`, and a physical latch's entry
+/// ramp over its width.
+fn base_terms(
+    r: &Resistances,
+    j: usize,
+    peak_rate_rad_s: f64,
+    latch: &LatchResistance,
+) -> Vec<Term> {
+    let mut terms = vec![Term::constant(
+        "coulomb_friction",
+        Resistance::Friction,
+        r.coulomb_nm[j],
+    )];
+    if r.viscous_nms[j] != 0.0 {
+        terms.push(Term::constant(
+            format!("viscous_damping at the run's peak rate {peak_rate_rad_s:.3} rad/s"),
+            Resistance::Friction,
+            r.viscous_nms[j] * peak_rate_rad_s,
+        ));
+    }
+    if latch.entry_torque_nm != 0.0 {
+        terms.push(Term {
+            name: "latch entry ramp".into(),
+            kind: LATCH_KIND,
+            torque_nm: latch.entry_torque_nm,
+            profile: Profile::Band {
+                from_rad: latch.entry_from_rad,
+                to_rad: latch.entry_to_rad,
+            },
+        });
+    }
+    terms
 }
 
 /// The engagement of joint `j`'s physical latch (0-based) as a resistance,
@@ -150,7 +270,10 @@ pub fn latch_resistance(mech: &Mechanism, j: usize) -> LatchResistance {
         return LatchResistance::default();
     };
     let l = spec.to_core::<f64>(joint.stowed_deg, 1.0, 1.0);
+    let crest = l.plunger.crest_rad;
     LatchResistance {
+        entry_from_rad: crest,
+        entry_to_rad: crest + l.entry_width_rad(),
         entry_torque_nm: l.entry_torque(),
         engagement_energy_j: l.engagement_energy(),
     }

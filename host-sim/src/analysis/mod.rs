@@ -17,6 +17,7 @@ pub mod metrics;
 pub mod reliability;
 pub mod resistances;
 pub mod rig_margin;
+pub mod stroke_margin;
 /// The evidence modules of the diagnosis (in `analysis/diagnose/`) that
 /// identify and the reports use, reachable as `analysis::evidence`,
 /// `analysis::residual_torque`, ….

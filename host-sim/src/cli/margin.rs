@@ -15,9 +15,10 @@
 //! computed by [`crate::analysis::joint_margins`], the table written by
 //! [`crate::report::margin`].
 use super::{check_output, CliError, Console};
-use crate::analysis::design_margin::{NameError, Resistance, Standard};
+use crate::analysis::design_margin::{DataSource, NameError, Resistance, Standard};
 use crate::analysis::joint_margins::{margins, MarginsError};
 use crate::analysis::resistances::{read_found, Resistances};
+use crate::analysis::stroke_margin::Allowance;
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;
 use crate::report::margin::{table, to_json, MarginReport};
@@ -52,10 +53,25 @@ pub struct MarginArgs {
     #[arg(long, value_enum, ignore_case = true, default_value_t = Standard::None)]
     pub standard: Standard,
 
+    /// Where the resistances' values come from (the standard's row of
+    /// factors): analysis, test, or acceptance-extremes.
+    #[arg(long, value_name = "SOURCE", default_value = "analysis", value_parser = parse_source)]
+    pub data_source: DataSource,
+
     /// Override one uncertainty factor, KIND=VALUE (kinds: inertia, spring,
     /// friction, hysteresis, harness, adhesion, other); may be repeated.
     #[arg(long = "factor", value_name = "KIND=VALUE", value_parser = parse_factor)]
     pub factors: Vec<(Resistance, f64)>,
+
+    /// The driving springs' torque tolerance [%]: the minimum spring is
+    /// this much below the file's nominal (the file does not give it).
+    #[arg(long, value_name = "PCT", default_value_t = 0.0, value_parser = parse_pct)]
+    pub spring_tolerance: f64,
+
+    /// The loss of the driving springs' torque at end of life [%]
+    /// (relaxation, creep; the file does not give it).
+    #[arg(long, value_name = "PCT", default_value_t = 0.0, value_parser = parse_pct)]
+    pub end_of_life: f64,
 
     /// Also write the margins as JSON here.
     #[arg(long, value_name = "OUT.json")]
@@ -91,6 +107,7 @@ impl clap::ValueEnum for Standard {
             Standard::None => &[],
             Standard::NasaStd5017 => &["nasa-std-5017b", "nasa"],
             Standard::EcssEST3301C => &["ecss"],
+            Standard::AiaaS114 => &["aiaa"],
         };
         Some(
             PossibleValue::new(self.name())
@@ -147,6 +164,22 @@ fn parse_factor(s: &str) -> Result<(Resistance, f64), FactorError> {
     Ok((kind, value))
 }
 
+/// A [`DataSource`] by its name.
+fn parse_source(s: &str) -> Result<DataSource, String> {
+    DataSource::ALL
+        .into_iter()
+        .find(|d| d.name().eq_ignore_ascii_case(s.trim()))
+        .ok_or_else(|| format!("`{s}`: expected analysis, test or acceptance-extremes"))
+}
+
+/// A percentage in `[0, 100)`.
+fn parse_pct(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if (0.0..100.0).contains(&v) => Ok(v),
+        _ => Err(format!("`{s}`: expected a percentage from 0 to below 100")),
+    }
+}
+
 /// The resistances from `--friction`, or the mechanism's own friction.
 fn given_resistances(args: &MarginArgs, mech: &Mechanism) -> Result<Resistances, CliError> {
     let n = mech.joint_count();
@@ -200,16 +233,21 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
             mech.name
         ));
     }
-    let mut factors = args.standard.factors();
+    let mut factors = args.standard.factors_for(args.data_source);
     for (kind, value) in &args.factors {
         factors.set(*kind, *value);
     }
-    let rows = margins(&mech, &resist, args.standard, &factors).map_err(|e| match e {
-        MarginsError::Spring { .. } => {
-            CliError::input(format!("{}: {e}", args.mechanism.display()))
-        }
-        other => CliError::failed(other.to_string()),
-    })?;
+    let allowance = Allowance {
+        spring_tolerance_pct: args.spring_tolerance,
+        end_of_life_pct: args.end_of_life,
+    };
+    let rows =
+        margins(&mech, &resist, args.standard, &factors, &allowance).map_err(|e| match e {
+            MarginsError::Spring { .. } => {
+                CliError::input(format!("{}: {e}", args.mechanism.display()))
+            }
+            other => CliError::failed(other.to_string()),
+        })?;
     let report = MarginReport {
         file: &args.mechanism,
         mech: &mech,
@@ -217,6 +255,8 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         factors: &factors,
         resistances: &resist,
         rows: &rows,
+        allowance: &allowance,
+        data_source: args.data_source,
     };
     super::print_out(format_args!("{}", table(&report)));
     if let Some(out) = &args.json {
@@ -230,7 +270,12 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     }
     let failed: Vec<String> = rows
         .iter()
-        .filter(|r| !(r.margin.torque_pass() && r.margin.energy_pass()))
+        .filter(|r| {
+            !(r.margin.torque_pass()
+                && r.margin.energy_pass()
+                && r.stroke.pass()
+                && r.margin.latching_pass())
+        })
         .map(|r| r.joint.to_string())
         .collect();
     if args.check && !failed.is_empty() {
@@ -279,6 +324,9 @@ mod tests {
             quiet: true,
             check: false,
             flight: false,
+            spring_tolerance: 0.0,
+            end_of_life: 0.0,
+            data_source: DataSource::Analysis,
         }
     }
 

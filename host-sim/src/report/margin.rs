@@ -4,12 +4,14 @@
 //! effect counted and per latch engagement.
 
 use crate::analysis::design_margin::{
-    Factors, JointMargin, LatchResistance, Resistance, Standard, LATCH_KIND,
+    DataSource, Factors, LatchResistance, Resistance, Standard, LATCH_KIND,
 };
 use crate::analysis::effect_margin::Counted;
 use crate::analysis::joint_margins::Row;
 use crate::analysis::resistances::Resistances;
+use crate::analysis::stroke_margin::{Allowance, Profile};
 use crate::model::effect::Effect;
+use crate::model::effect::EffectKind;
 use crate::model::mechanism::Mechanism;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
@@ -30,6 +32,10 @@ pub struct MarginReport<'a> {
     pub resistances: &'a Resistances,
     /// The margins of each joint.
     pub rows: &'a [Row],
+    /// The reductions of the driving springs applied.
+    pub allowance: &'a Allowance,
+    /// Where the resistances' values come from (the row of factors).
+    pub data_source: DataSource,
 }
 
 /// A margin [%] for the table: `inf` when there is no resistance.
@@ -41,20 +47,95 @@ fn pct(v: f64) -> String {
     }
 }
 
-fn verdict(m: &JointMargin) -> &'static str {
-    match (m.torque_pass(), m.energy_pass()) {
-        (true, true) => "pass",
-        (false, true) => "FAIL (torque)",
-        (true, false) => "FAIL (energy)",
-        (false, false) => "FAIL",
+fn verdict(row: &Row) -> &'static str {
+    let m = &row.margin;
+    match (m.torque_pass(), m.energy_pass(), row.stroke.pass()) {
+        (true, true, true) if m.latching_pass() => "pass",
+        (true, true, true) => "FAIL (latching)",
+        (true, true, false) => "FAIL (along the stroke)",
+        (false, true, _) => "FAIL (torque)",
+        (true, false, _) => "FAIL (energy)",
+        (false, false, _) => "FAIL",
     }
+}
+
+/// The sign of deployment's stowed side, to give a position as a joint angle.
+fn joint_angle_deg(row: &Row, from_latch_rad: f64) -> f64 {
+    row.stowed_deg.signum() * from_latch_rad.to_degrees() + 0.0
+}
+
+/// The line of a joint's worst position along the stroke.
+fn stroke_line(row: &Row) -> String {
+    let Some(w) = row.stroke.worst_point() else {
+        return "along the stroke: no position".into();
+    };
+    let from = if row.stroke.from_rad > 0.0 {
+        format!(
+            "from {:.2}° from the latch: nearer, the spring's torque falls to 0 and the latching margin applies; ",
+            row.stroke.from_rad.to_degrees()
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        "along the stroke (static, {from}{} positions): worst at φ = {:.2}° ({:.2}° from the latch): D_min {:.4} N·m against factored R {:.4} N·m, margin {} % ({})",
+        row.stroke.points.len(),
+        joint_angle_deg(row, w.from_latch_rad),
+        w.from_latch_rad.to_degrees(),
+        w.driving_nm,
+        w.resisting_nm,
+        pct(w.margin_pct),
+        if row.stroke.pass() { "pass at every position" } else { "FAIL" }
+    )
+}
+
+/// The lines of the terms along the stroke, unfactored, with their factor.
+fn term_lines(row: &Row, factors: &Factors) -> Vec<String> {
+    row.terms
+        .iter()
+        .map(|t| {
+            let how = match t.profile {
+                Profile::Constant => format!("{:.4} N·m everywhere", t.torque_nm),
+                Profile::FromStowed {
+                    stiffness_nm_per_rad,
+                } => format!(
+                    "{stiffness_nm_per_rad} N·m/rad × the angle from stowed ({:.4} N·m at the latch)",
+                    t.at(0.0, row.stroke.stroke_rad)
+                ),
+                Profile::Band { from_rad, to_rad } => format!(
+                    "{:.4} N·m from {:.2}° to {:.2}° from the latch",
+                    t.torque_nm,
+                    from_rad.to_degrees(),
+                    to_rad.to_degrees()
+                ),
+            };
+            format!("  R: {} ({}, factor {}): {how}", t.name, t.kind, factors.get(t.kind))
+        })
+        .collect()
+}
+
+/// The line saying what the driving springs are reduced by.
+fn allowance_line(m: &MarginReport) -> String {
+    let a = m.allowance;
+    let softened = m
+        .resistances
+        .others
+        .iter()
+        .any(|e| e.kind == EffectKind::SpringSoftening);
+    format!(
+        "along the stroke: D_min(θ) = {:.4} × the spring's unfolding branch (its hysteresis included); spring tolerance {} %, end of life {} % (--spring-tolerance, --end-of-life: the mechanism file gives neither){}",
+        a.scale(),
+        a.spring_tolerance_pct,
+        a.end_of_life_pct,
+        if softened { ", × a softening found" } else { "" }
+    )
 }
 
 /// The header lines: mechanism, source of the resistances, standard.
 fn table_header(m: &MarginReport) -> String {
     let (mech, r, factors) = (m.mech, m.resistances, m.factors);
     let mut s = String::new();
-    let custom = *factors != m.standard.factors();
+    let custom = *factors != m.standard.factors_for(m.data_source);
     let _ = writeln!(
         s,
         "torque margins of `{}` ({})",
@@ -74,6 +155,12 @@ fn table_header(m: &MarginReport) -> String {
         "standard: {}{}",
         m.standard.reference(),
         if custom { " (factors overridden)" } else { "" }
+    );
+    let _ = writeln!(
+        s,
+        "source of the standard: {}; data source: {}",
+        m.standard.confirmation(),
+        m.data_source.name()
     );
     if m.standard != Standard::None || custom {
         let list: Vec<String> = Resistance::ALL
@@ -99,6 +186,7 @@ fn table_header(m: &MarginReport) -> String {
             "margins below: D / R − 1 (seed 001 Eq. 7, seed 000 Eq. 21); pass at ≥ 0 %"
         );
     }
+    let _ = writeln!(s, "{}", allowance_line(m));
     if mech.has_physical_latch() {
         let _ = writeln!(
             s,
@@ -152,8 +240,12 @@ pub fn table(report: &MarginReport) -> String {
             row.viscous_energy_j,
             m.resisting_energy_j,
             pct(m.energy_margin_pct()),
-            verdict(m)
+            verdict(row)
         );
+        let _ = writeln!(s, "{:>5} {}", "", stroke_line(row));
+        for line in term_lines(row, factors) {
+            let _ = writeln!(s, "{:>5} {line}", "");
+        }
         for (e, c) in &row.counted {
             let _ = writeln!(s, "{:>5} {}", "", counted_line(e, c, factors));
         }
@@ -165,6 +257,14 @@ pub fn table(report: &MarginReport) -> String {
                 m.latch_factor,
                 m.latch.entry_torque_nm,
                 m.latch.engagement_energy_j,
+            );
+            let _ = writeln!(
+                s,
+                "{:>5} latching margin (an energy balance, not a standard's clause): E_arrive = E_D − factored E_R = {:.4} J against {} × E_eng: {} %",
+                "",
+                m.arriving_energy_j(),
+                m.latch_factor,
+                m.latching_margin_pct().map_or("-".into(), pct),
             );
         }
     }
@@ -213,6 +313,34 @@ fn counted_json(e: &Effect, c: &Counted) -> Value {
     })
 }
 
+/// The margin along the stroke for `--json`: the worst position and every
+/// position's angle [deg], driving and factored resisting torque [N·m] and
+/// margin [%].
+fn stroke_json(row: &Row) -> Value {
+    let finite = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
+    let w = row.stroke.worst_point();
+    json!({
+        "driving_scale": row.stroke.driving_scale,
+        "static_from_deg": row.stroke.from_rad.to_degrees(),
+        "worst_angle_deg": w.map(|w| joint_angle_deg(row, w.from_latch_rad)),
+        "worst_from_latch_deg": w.map(|w| w.from_latch_rad.to_degrees()),
+        "worst_margin_pct": w.map(|w| finite(w.margin_pct)),
+        "pass": row.stroke.pass(),
+        "terms": row.terms.iter().map(|t| json!({
+            "name": t.name,
+            "kind": t.kind.name(),
+            "torque_nm": t.torque_nm,
+            "at_latch_nm": t.at(0.0, row.stroke.stroke_rad),
+        })).collect::<Vec<_>>(),
+        "points": row.stroke.points.iter().map(|p| json!({
+            "angle_deg": joint_angle_deg(row, p.from_latch_rad),
+            "driving_nm": p.driving_nm,
+            "resisting_nm": p.resisting_nm,
+            "margin_pct": finite(p.margin_pct),
+        })).collect::<Vec<_>>(),
+    })
+}
+
 /// The margins as JSON (`--json`); an infinite margin (no resistance) is
 /// `null`.
 pub fn to_json(report: &MarginReport) -> Value {
@@ -230,11 +358,16 @@ pub fn to_json(report: &MarginReport) -> Value {
         "resistances_from": r.source,
         "not_included": r.ignored,
         "standard": m.standard.name(),
+        "standard_reference": m.standard.reference(),
+        "standard_confirmation": m.standard.confirmation(),
+        "data_source": m.data_source.name(),
         "factors": Resistance::ALL
             .iter()
             .map(|k| (k.name().to_string(), json!(factors.get(*k))))
             .collect::<serde_json::Map<_, _>>(),
         "required_margin_pct": m.standard.required_margin() * 100.0,
+        "spring_tolerance_pct": m.allowance.spring_tolerance_pct,
+        "end_of_life_pct": m.allowance.end_of_life_pct,
         "joints": rows.iter().map(|row| {
             let m = &row.margin;
             json!({
@@ -251,7 +384,10 @@ pub fn to_json(report: &MarginReport) -> Value {
                 "latch_engagement_energy_j": m.latch.engagement_energy_j,
                 "energy_margin_pct": finite(m.energy_margin_pct()),
                 "counted": row.counted.iter().map(|(e, c)| counted_json(e, c)).collect::<Vec<_>>(),
-                "pass": m.torque_pass() && m.energy_pass(),
+                "stroke": stroke_json(row),
+                "arriving_energy_j": m.arriving_energy_j(),
+                "latching_margin_pct": m.latching_margin_pct().map(finite),
+                "pass": m.torque_pass() && m.energy_pass() && row.stroke.pass() && m.latching_pass(),
             })
         }).collect::<Vec<_>>(),
     })
