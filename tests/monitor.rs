@@ -592,8 +592,10 @@ fn latched_within_30_ms_of_the_latch_never_before_never_falsely() {
 /// plunger's engagement, `docs/monitor.md` §4.1), and the three
 /// rate-dependent terms of the core's one friction law (Stribeck excess and
 /// rate, quadratic damping: 3 × `f32`) in each joint of the monitor's chain,
-/// held at 0 on board.
-const MONITOR_3_BUDGET_B: usize = 4096 + 3 * 64 + 3 * 12;
+/// held at 0 on board, and each joint's own latch thresholds (a wing may
+/// mix ideal, plunger and pawl latches: a `LatchConfig` of at most 60 B
+/// per joint).
+const MONITOR_3_BUDGET_B: usize = 4096 + 3 * 64 + 3 * 12 + 3 * 60;
 
 #[test]
 fn monitor_fits_in_its_ram_budget() {
@@ -607,6 +609,8 @@ fn monitor_fits_in_its_ram_budget() {
         "size_of::<Status<3>>() = {} bytes",
         std::mem::size_of::<Status<3>>()
     );
+    let latch = std::mem::size_of::<deploywatch_core::monitor::latch::LatchConfig>();
+    assert!(latch <= 60, "LatchConfig: {latch} bytes");
     assert!(size <= MONITOR_3_BUDGET_B, "{size} bytes");
 }
 

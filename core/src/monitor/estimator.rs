@@ -25,8 +25,9 @@
 //! — or, with the queue empty, advances the latch / stall prediction by one
 //! unit of rollout work ([`crate::monitor::predictor`]).
 //!
-//! Everything is `f32`, fixed-size and heap-free; `size_of::<Monitor<3>>()`
-//! is under 4 KiB. `docs/monitor.md` has the equations and the tuning.
+//! Everything is `f32`, fixed-size and heap-free; the RAM of
+//! `Monitor<3>` is held to its budget by `monitor_fits_in_its_ram_budget`
+//! (`tests/monitor.rs`). `docs/monitor.md` has the equations and the tuning.
 //!
 //! The files, one concern each: the [`Monitor`]'s state and its
 //! construction (`state.rs`), one joint's state and status lines
