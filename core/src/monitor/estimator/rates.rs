@@ -121,8 +121,7 @@ impl JointState {
         ctx: &RateContext<'_>,
     ) -> RateOutcome {
         let (r_meas, sd) = (ctx.meas_var, ctx.meas_sd);
-        let observer = ctx.observer;
-        let gap = ctx.clock.gap;
+        let (observer, gap) = (ctx.observer, ctx.clock.gap);
         let gate2 = observer.gate_sigma * observer.gate_sigma;
         let zone = observer.snap_zone_deg * DEG;
         let latched = self.lt.is_latched();
