@@ -314,7 +314,7 @@ fn counted_json(e: &Effect, c: &Counted) -> Value {
 }
 
 /// The margin along the stroke for `--json`: the worst position and every
-/// position's angle [deg], driving and factored resisting torque [N·m] and
+/// position's angle \[deg\], driving and factored resisting torque \[N·m\] and
 /// margin [%].
 fn stroke_json(row: &Row) -> Value {
     let finite = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
