@@ -305,7 +305,7 @@ fn random_wings_keep_the_invariants() {
     let t = tally.into_inner();
     let per_count: Vec<String> = (2..=8).map(|k| format!("{k}: {}", t.panels[k])).collect();
     let body = format!(
-        "## Simulator: random wings (issue 38)\n\n\
+        "## Simulator: random wings\n\n\
          {} random valid wings of `tests/src/wing_gen.rs` (seeds drawn by proptest), each \
          simulated twice with its drawn named effects and checked against the invariants \
          of `tests/random_wings.rs` (`docs/simulator.md`, \"Random wings\").\n\n\

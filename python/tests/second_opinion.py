@@ -1,6 +1,6 @@
 """A second opinion on the simulator: random ideal-latch wings run by
 deploywatch and by MuJoCo (an engine the project did not write), compared
-(issue 38 item 2; docs/simulator.md, "A second opinion: MuJoCo").
+(docs/simulator.md, "A second opinion: MuJoCo").
 
 The MuJoCo side is the reference physics of docs/spec/physics.md built from
 MuJoCo's own parts: a planar chain of hinge bodies (gravity off, flight),

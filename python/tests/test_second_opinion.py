@@ -1,4 +1,4 @@
-"""deploywatch against MuJoCo on random ideal-latch wings (issue 38 item 2;
+"""deploywatch against MuJoCo on random ideal-latch wings (
 docs/simulator.md, "A second opinion: MuJoCo"): each wing's angles within
 0.05 deg RMS and its latch instants within 2 ms, and the same joints
 latched, in at least 99 % of the wings.
