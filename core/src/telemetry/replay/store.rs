@@ -1,0 +1,214 @@
+//! Where the monitor lives and how it is metered: the [`MonitorStore`]
+//! (static memory on the firmware), the [`Meter`] around each call of its
+//! two paths, the monitor built in place, and its status as a frame.
+
+use super::error::Error;
+use crate::monitor::config::ConfigRef;
+use crate::monitor::estimator::Monitor;
+#[cfg(test)]
+use crate::monitor::estimator::MonitorConfig;
+use crate::telemetry::counted::{CountedSample, StatusView};
+
+/// The two kinds of work [`run`] does, each metered on its own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Work {
+    /// [`Monitor::update`]: the sample-rate path.
+    Update,
+    /// One slice of [`Monitor::predict`]: the low-priority prediction.
+    Predict,
+}
+
+/// Brackets every [`Monitor::update`] and [`Monitor::predict`] call of
+/// [`run`]: the firmware counts the instructions each takes; `()` does
+/// nothing.
+pub trait Meter {
+    /// Just before the call.
+    fn start(&mut self);
+    /// Just after it.
+    fn stop(&mut self, work: Work);
+}
+
+impl Meter for () {
+    fn start(&mut self) {}
+    fn stop(&mut self, _: Work) {}
+}
+
+/// Where the monitor of `N` joints lives: the firmware gives static
+/// storage (a monitor is kilobytes; on the stack it would double the
+/// stack's peak), the host anything.
+// `repr(u8)`: an empty store is all zeros (.bss), as for [`ConfigStore`].
+#[derive(Default)]
+#[allow(clippy::large_enum_variant)]
+#[repr(u8)]
+pub enum MonitorStore<const N: usize> {
+    /// No monitor yet.
+    #[default]
+    Empty,
+    /// The monitor.
+    Held(Monitor<N>),
+}
+
+impl<const N: usize> MonitorStore<N> {
+    /// Joints of the monitor held (0 when empty).
+    pub fn joints(&self) -> usize {
+        match self {
+            MonitorStore::Empty => 0,
+            MonitorStore::Held(_) => N,
+        }
+    }
+
+    /// The monitor held.
+    pub fn monitor(&mut self) -> Option<&mut Monitor<N>> {
+        match self {
+            MonitorStore::Empty => None,
+            MonitorStore::Held(m) => Some(m),
+        }
+    }
+
+    /// A store holding a vacant monitor, for [`Monitor::reset`] to
+    /// configure in place. Out of line and returned by value: the monitor
+    /// is written straight into the returned store, which the caller copies
+    /// into its slot once (one monitor on the stack, not the two or three
+    /// that building it there takes).
+    #[inline(never)]
+    fn vacant(config: ConfigRef<'_>) -> Self {
+        MonitorStore::Held(Monitor::vacant(config))
+    }
+
+    /// The monitor held, or a vacant one put there first.
+    fn slot(&mut self, config: ConfigRef<'_>) -> Option<&mut Monitor<N>> {
+        if matches!(self, MonitorStore::Empty) {
+            *self = Self::vacant(config);
+        }
+        self.monitor()
+    }
+
+    /// Slices of [`Monitor::predict`] after each sample
+    /// ([`Monitor::config_slices_per_sample`]); `None` when empty.
+    pub fn slices_per_sample(&self) -> Option<u8> {
+        match self {
+            MonitorStore::Empty => None,
+            MonitorStore::Held(m) => Some(m.config_slices_per_sample()),
+        }
+    }
+
+    /// [`Monitor::update`] on `sample`, inside `meter`'s brackets (the
+    /// sample's conversion stays outside them). [`Error::Config`] when the
+    /// sample is not of the monitor's joint count or the store is empty.
+    pub fn update<M: Meter>(&mut self, sample: &CountedSample, meter: &mut M) -> Result<(), Error> {
+        let MonitorStore::Held(m) = self else {
+            return Err(Error::Config);
+        };
+        let s = sample.to_sample().ok_or(Error::Config)?;
+        meter.start();
+        m.update(&s);
+        meter.stop(Work::Update);
+        Ok(())
+    }
+
+    /// One slice of [`Monitor::predict`], inside `meter`'s brackets;
+    /// [`Error::Config`] when the store is empty.
+    pub fn predict<M: Meter>(&mut self, meter: &mut M) -> Result<(), Error> {
+        let MonitorStore::Held(m) = self else {
+            return Err(Error::Config);
+        };
+        meter.start();
+        m.predict();
+        meter.stop(Work::Predict);
+        Ok(())
+    }
+
+    /// The frame of the monitor's current [`Status`](crate::Status) in `out`; its length.
+    /// [`Error::Config`] when the store is empty.
+    pub fn status_frame(&self, out: &mut [u8]) -> Result<usize, Error> {
+        match self {
+            MonitorStore::Empty => Err(Error::Config),
+            MonitorStore::Held(m) => status_frame(m, out),
+        }
+    }
+}
+
+/// How [`run_paths`] reaches the monitor's two paths. The loop (what runs,
+/// in which order, how often) is [`run_paths`]'s alone; an implementation
+/// only says *where* each path runs: [`Direct`] calls the monitor in
+/// place (the host), the firmware hands each sample to its timer
+/// interrupt and runs the prediction slices in its idle loop. Not generic
+/// over the joint count: the loop takes it at run time.
+pub trait Paths {
+    /// Joints of the monitor, which the sample frames carry.
+    fn joints(&mut self) -> Result<usize, Error>;
+    /// Slices of [`Monitor::predict`] after each sample
+    /// ([`Monitor::config_slices_per_sample`]).
+    fn slices_per_sample(&mut self) -> Result<u8, Error>;
+    /// Runs [`Monitor::update`] on `sample` (the sample-rate path) and
+    /// returns once it has.
+    fn update(&mut self, sample: &CountedSample) -> Result<(), Error>;
+    /// Runs one slice of [`Monitor::predict`] (the low-priority path).
+    fn predict(&mut self) -> Result<(), Error>;
+    /// Writes the frame of the monitor's current [`Status`](crate::Status) into `out`
+    /// ([`telemetry::encode`]) and returns its length.
+    fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error>;
+}
+
+/// Both paths called in place on the monitor in a store the caller holds,
+/// each inside `meter`'s brackets.
+pub struct Direct<'a, const N: usize, M> {
+    /// The monitor.
+    pub store: &'a mut MonitorStore<N>,
+    /// Its meter.
+    pub meter: &'a mut M,
+}
+
+impl<const N: usize, M: Meter> Paths for Direct<'_, N, M> {
+    fn joints(&mut self) -> Result<usize, Error> {
+        Ok(self.store.joints())
+    }
+
+    fn slices_per_sample(&mut self) -> Result<u8, Error> {
+        self.store.slices_per_sample().ok_or(Error::Config)
+    }
+
+    fn update(&mut self, sample: &CountedSample) -> Result<(), Error> {
+        self.store.update(sample, self.meter)
+    }
+
+    fn predict(&mut self) -> Result<(), Error> {
+        self.store.predict(self.meter)
+    }
+
+    fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error> {
+        self.store.status_frame(out)
+    }
+}
+
+/// The frame of `monitor`'s current status in `out`; its length.
+pub fn status_frame<const N: usize>(monitor: &Monitor<N>, out: &mut [u8]) -> Result<usize, Error> {
+    StatusView::of(monitor.status())
+        .encode(out)
+        .map_err(|_| Error::Encode)
+}
+
+/// [`build_from`] of a whole configuration.
+#[cfg(test)]
+fn build<const N: usize>(
+    config: &MonitorConfig<N>,
+    store: &mut MonitorStore<N>,
+) -> Result<(), Error> {
+    build_from(ConfigRef::of(config), store)
+}
+
+/// Builds the monitor of `config` in `store`, in place ([`Monitor::reset`]'s
+/// `reset_from` on the store's slot): neither a monitor nor a `Result` of
+/// one is ever on the stack, which sets the firmware's stack peak otherwise
+/// (`docs/performance.md`).
+#[inline(never)]
+pub(super) fn build_from<const N: usize>(
+    config: ConfigRef<'_>,
+    store: &mut MonitorStore<N>,
+) -> Result<(), Error> {
+    let monitor = store.slot(config).ok_or(Error::Config)?;
+    monitor.reset_from(config).map_err(|_| Error::Config)
+}
+
+#[cfg(test)]
+mod tests;
