@@ -18,7 +18,8 @@
 //! `τ` are the joint torques (spring, friction, joint effects) and `Q_ext`
 //! the generalised forces of distributed effects (air drag, rig tilt),
 //! conjugate to the absolute angles. Locked joints are removed from the
-//! coordinates ([`crate::physics::linalg::solve_spd_masked`]).//!
+//! coordinates ([`crate::physics::linalg::solve_spd_masked`]).
+//!
 //! One module per part: `parts` (panels, joints, effects, state, mode and
 //! errors), the owned [`Chain`] here, `counted` (its equations over a joint
 //! count known at run time, [`ChainRef`]), `distributed` (rig tilt and air

@@ -28,7 +28,8 @@
 //! Every frame is the core's telemetry frame
 //! ([`crate::telemetry`]): postcard, CRC-32C, COBS, then `0x00`.
 //! A frame that does not decode stops the replay with its index: a replay
-//! input comes from a file, so a bad frame is a bad file, not line noise.//!
+//! input comes from a file, so a bad frame is a bad file, not line noise.
+//!
 //! One module per step: `frames` (the input split into frames), `configure`
 //! (the header and the joint frames), `store` (where the monitor lives, its
 //! meter, the monitor built in place), `run_loop` (the schedule of the two
