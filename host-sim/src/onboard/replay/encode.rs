@@ -137,8 +137,8 @@ pub fn config_frames<const N: usize>(
         _ => {
             return Err(ReplayError::Input(format!(
                 "{}: the configuration frames do not rebuild the host's monitor configuration \
-                 (core/src/telemetry/config.rs and host-sim/src/onboard/replay.rs are out of step \
-                 with deploywatch_sim::onboard::monitor_config)",
+                 (core/src/telemetry/config.rs and host-sim/src/onboard/replay/encode.rs are out \
+                 of step with deploywatch_sim::onboard::monitor_config)",
                 mech.name
             )))
         }
