@@ -1,17 +1,14 @@
 //! Why a replay stopped.
 
-use super::frames::STATUS_FRAME_MAX;
-use crate::telemetry::config::{CONFIG_VERSION, MAX_JOINTS};
-
 /// Why a replay stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Error {
     /// The configuration frames are missing, do not decode, are of another
-    /// [`CONFIG_VERSION`] or give a joint count outside `1..=`[`MAX_JOINTS`].
+    /// [`CONFIG_VERSION`](crate::telemetry::config::CONFIG_VERSION) or give a joint count outside `1..=`[`MAX_JOINTS`](crate::telemetry::config::MAX_JOINTS).
     ConfigFrame,
     /// The configuration is of `found` joints where the monitor's store
-    /// ([`MonitorStore<N>`]) has `expected`: the firmware was built for
+    /// ([`MonitorStore<N>`](super::MonitorStore)) has `expected`: the firmware was built for
     /// another joint count.
     JointCount {
         /// The monitor's joint count `N`.
@@ -34,7 +31,7 @@ pub enum Error {
     },
     /// The input ends inside a frame (no `0x00` after its last bytes).
     Truncated,
-    /// A status did not fit its frame (a bug: [`STATUS_FRAME_MAX`] is the bound).
+    /// A status did not fit its frame (a bug: [`STATUS_FRAME_MAX`](super::STATUS_FRAME_MAX) is the bound).
     Encode,
 }
 

@@ -128,59 +128,6 @@ impl<const N: usize> MonitorStore<N> {
     }
 }
 
-/// How [`run_paths`] reaches the monitor's two paths. The loop (what runs,
-/// in which order, how often) is [`run_paths`]'s alone; an implementation
-/// only says *where* each path runs: [`Direct`] calls the monitor in
-/// place (the host), the firmware hands each sample to its timer
-/// interrupt and runs the prediction slices in its idle loop. Not generic
-/// over the joint count: the loop takes it at run time.
-pub trait Paths {
-    /// Joints of the monitor, which the sample frames carry.
-    fn joints(&mut self) -> Result<usize, Error>;
-    /// Slices of [`Monitor::predict`] after each sample
-    /// ([`Monitor::config_slices_per_sample`]).
-    fn slices_per_sample(&mut self) -> Result<u8, Error>;
-    /// Runs [`Monitor::update`] on `sample` (the sample-rate path) and
-    /// returns once it has.
-    fn update(&mut self, sample: &CountedSample) -> Result<(), Error>;
-    /// Runs one slice of [`Monitor::predict`] (the low-priority path).
-    fn predict(&mut self) -> Result<(), Error>;
-    /// Writes the frame of the monitor's current [`Status`](crate::Status) into `out`
-    /// ([`telemetry::encode`]) and returns its length.
-    fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error>;
-}
-
-/// Both paths called in place on the monitor in a store the caller holds,
-/// each inside `meter`'s brackets.
-pub struct Direct<'a, const N: usize, M> {
-    /// The monitor.
-    pub store: &'a mut MonitorStore<N>,
-    /// Its meter.
-    pub meter: &'a mut M,
-}
-
-impl<const N: usize, M: Meter> Paths for Direct<'_, N, M> {
-    fn joints(&mut self) -> Result<usize, Error> {
-        Ok(self.store.joints())
-    }
-
-    fn slices_per_sample(&mut self) -> Result<u8, Error> {
-        self.store.slices_per_sample().ok_or(Error::Config)
-    }
-
-    fn update(&mut self, sample: &CountedSample) -> Result<(), Error> {
-        self.store.update(sample, self.meter)
-    }
-
-    fn predict(&mut self) -> Result<(), Error> {
-        self.store.predict(self.meter)
-    }
-
-    fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error> {
-        self.store.status_frame(out)
-    }
-}
-
 /// The frame of `monitor`'s current status in `out`; its length.
 pub fn status_frame<const N: usize>(monitor: &Monitor<N>, out: &mut [u8]) -> Result<usize, Error> {
     StatusView::of(monitor.status())
