@@ -41,13 +41,13 @@ mod summary;
 
 pub use compare::compare;
 pub use decode::{decode_statuses, frames};
-pub use encode::{config_frames, joint_frame};
-pub use error::{Mismatch, ReplayError};
+pub use encode::config_frames;
+pub use error::ReplayError;
 pub use figure::plot;
 pub(crate) use prepare::{config_and_samples, run_of};
 pub use prepare::{load_run, prepare, Prepared};
 pub(crate) use qemu::{find_firmware, SETUP_HINT};
-pub use qemu::{run_qemu, QemuRun, QEMU};
+pub use qemu::{run_qemu, QEMU};
 pub use status::StatusRow;
-pub use status_csv::{status_header, write_status_csv, JOINT_COLUMNS};
+pub use status_csv::write_status_csv;
 pub use summary::{summary, JointSummary};

@@ -43,8 +43,7 @@ mod readings;
 mod validate;
 
 pub use error::FaultError;
-pub use fault::{DropoutMode, FaultTarget, SensorFault, KINDS, MAX_BOUNCE_S};
-pub use readings::corrupt_word;
+pub use fault::{DropoutMode, SensorFault, KINDS};
 
 use crate::data::run::{Run, MISSING_SAMPLES_KEY, MISSING_SAMPLES_VALUE};
 use fault::TIME_EPS_S;

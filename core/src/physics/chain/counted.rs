@@ -119,7 +119,7 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
         t + e.table.torque(phi, phi_dot)
     }
 
-    /// Length `L_k` of panel `k` \[m\] (0 past the panels).
+    /// Mass matrix and right-hand side `τ + Sᵀ(Q_ext − C)` of Lagrange's
     /// equations in joint coordinates.
     #[inline(always)]
     pub fn equations(&self, x: &ChainState<T, M>, mode: &Mode<M>) -> ([[T; M]; M], [T; M]) {

@@ -100,6 +100,4 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
         }
         p
     }
-
-    /// Mass matrix and right-hand side `τ + Sᵀ(Q_ext − C)` of Lagrange's
 }

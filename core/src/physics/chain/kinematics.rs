@@ -5,7 +5,7 @@ use crate::physics::real::Real;
 
 /// Absolute panel angles `θ = S φ` \[rad\] of the first `n ≤ M` joints.
 #[inline(always)]
-fn absolute<T: Real, const M: usize>(n: usize, phi: &[T; M]) -> [T; M] {
+pub(super) fn absolute<T: Real, const M: usize>(n: usize, phi: &[T; M]) -> [T; M] {
     let n = n.min(M);
     let mut th = [T::ZERO; M];
     let mut acc = T::ZERO;
@@ -18,7 +18,7 @@ fn absolute<T: Real, const M: usize>(n: usize, phi: &[T; M]) -> [T; M] {
 
 /// `(cos θ_k, sin θ_k)` for the first `n ≤ M` panels.
 #[inline(always)]
-fn trig<T: Real, const M: usize>(n: usize, theta: &[T; M]) -> ([T; M], [T; M]) {
+pub(super) fn trig<T: Real, const M: usize>(n: usize, theta: &[T; M]) -> ([T; M], [T; M]) {
     let n = n.min(M);
     let mut c = [T::ZERO; M];
     let mut s = [T::ZERO; M];
@@ -30,7 +30,7 @@ fn trig<T: Real, const M: usize>(n: usize, theta: &[T; M]) -> ([T; M], [T; M]) {
 
 /// `Sᵀ x`: `(Sᵀ x)_j = Σ_{j ≤ k < n} x_k`.
 #[inline(always)]
-fn st<T: Real, const M: usize>(n: usize, x: &[T; M]) -> [T; M] {
+pub(super) fn st<T: Real, const M: usize>(n: usize, x: &[T; M]) -> [T; M] {
     let n = n.min(M);
     let mut y = [T::ZERO; M];
     let mut acc = T::ZERO;
@@ -46,7 +46,7 @@ fn st<T: Real, const M: usize>(n: usize, x: &[T; M]) -> [T; M] {
 /// it is overwritten, so the sums are those of separate matrices; one
 /// matrix fewer to clear and copy on the MCU).
 #[inline(always)]
-fn congruence<T: Real, const M: usize>(n: usize, d: &mut [[T; M]; M]) {
+pub(super) fn congruence<T: Real, const M: usize>(n: usize, d: &mut [[T; M]; M]) {
     let n = n.min(M);
     // R = D S (suffix sums along columns), M = Sᵀ R (suffix sums along rows).
     for row in d.iter_mut().take(n) {

@@ -201,7 +201,7 @@ pub(super) fn in_window(t: f64, start_s: f64, duration_s: f64) -> bool {
 }
 
 /// Equal readings, `NaN` equal to `NaN`.
-fn same(a: f64, b: f64) -> bool {
+pub(super) fn same(a: f64, b: f64) -> bool {
     a == b || (a.is_nan() && b.is_nan())
 }
 

@@ -1,5 +1,6 @@
 //! Tests of `fault_injection`.
 
+use super::readings::{corrupt_word, same};
 use super::*;
 use deploywatch_core::encoder::{ERROR_FLAG_BIT, PARITY_BIT};
 
