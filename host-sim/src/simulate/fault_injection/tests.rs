@@ -1,6 +1,7 @@
 //! Tests of `fault_injection`.
 
 use super::readings::{corrupt_word, same};
+use crate::simulate::sensor::RESOLUTION_DEG;
 use super::*;
 use deploywatch_core::encoder::{ERROR_FLAG_BIT, PARITY_BIT};
 
