@@ -6,7 +6,7 @@
 //! mechanism as built around it (`Mechanism::as_built` with the default
 //! `LatchTolerance`: preload and rate ±20 %, magnet ±30 %, stop damping
 //! ±30 %, crest ±0.1°), and zero or one named effect (kind, joint and value
-//! drawn as in `tests/diagnosis.rs`, the value raised until it moves the
+//! drawn as in `tests/diagnosis/`, the value raised until it moves the
 //! ideal-latch twin's runs by ≥ 0.3° RMS). The runs get the reference
 //! sensor noise. The diagnosis sees only the runs and the drawings; the
 //! truth stays here until it has answered. Draws the simulator refuses are

@@ -7,7 +7,7 @@
 //! alone, with a hinge friction, or (the frame) with the rig friction.
 //!
 //! A seeded generator draws each case (values log-uniform, raised until the
-//! effect alone moves the runs by ≥ 0.3° RMS, as `tests/diagnosis.rs`) and
+//! effect alone moves the runs by ≥ 0.3° RMS, as `tests/diagnosis/`) and
 //! simulates both runs with the reference sensor noise. The diagnosis gets
 //! only the two runs and the nominal rig mechanisms, with its default
 //! options (every candidate of the vocabulary, the rig's causes among

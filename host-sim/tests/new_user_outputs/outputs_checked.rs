@@ -1,0 +1,162 @@
+//! Outputs are checked before the work, and written all or none; a closed
+//! stdout stops neither.
+
+use super::*;
+
+#[test]
+fn simulate_plot_into_a_missing_folder_is_refused_before_the_run_is_written() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let csv = dir.path().join("t01.csv");
+    let png = dir.path().join("no_such_folder").join("t01.png");
+    let out = deploywatch(&[
+        "simulate",
+        s(&data(T01)),
+        "--out",
+        s(&csv),
+        "--plot",
+        s(&png),
+    ]);
+    fails(
+        &out,
+        2,
+        &[
+            "--plot",
+            "no_such_folder",
+            "does not exist",
+            "create it first",
+        ],
+    );
+    assert!(!stderr(&out).contains("ImageError"));
+    assert!(
+        !csv.exists(),
+        "the run was written although the plot cannot be"
+    );
+    assert!(
+        !png.parent().expect("folder").exists(),
+        "a folder was created"
+    );
+}
+
+#[test]
+fn every_command_refuses_an_output_in_a_missing_folder_before_any_work() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let missing = dir.path().join("missing");
+    let cases = [
+        ("--out", "simulate M1 --out DIR/r.csv"),
+        (
+            "--json",
+            "identify --mechanism M1 --mechanism M2 R1 R2 --json DIR/eft.json",
+        ),
+        ("--json", "margin --mechanism M1 --json DIR/m.json"),
+        (
+            "--json",
+            "diagnose --mechanism M1 --mechanism M2 --json DIR/d.json R1 R2",
+        ),
+        ("--plot", "replay R1 --mechanism M1 --plot DIR/r.png"),
+    ];
+    for (flag, line) in cases {
+        // The paths (data/ and the temporary folder) hold no spaces.
+        let line = line
+            .replace("M1", s(&data(T01)))
+            .replace("M2", s(&data(T02)))
+            .replace("R1", s(&data("examples/a_seed001_eft/seed001_T01.csv")))
+            .replace("R2", s(&data("examples/a_seed001_eft/seed001_T02.csv")))
+            .replace("DIR", s(&missing));
+        let args: Vec<&str> = line.split_whitespace().collect();
+        let out = deploywatch(&args);
+        let err = fails(&out, 2, &[flag, "missing", "does not exist"]);
+        assert!(
+            stdout(&out).is_empty(),
+            "{}: worked before refusing its output:\n{}\n{err}",
+            args[0],
+            stdout(&out)
+        );
+        assert!(!missing.exists(), "{}: created the folder", args[0]);
+    }
+}
+
+#[test]
+fn an_output_that_is_a_folder_is_refused_with_its_name() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = deploywatch(&["simulate", s(&data(T01)), "--out", s(dir.path())]);
+    fails(&out, 2, &["--out", "is a folder"]);
+}
+
+// What a new user hits on the release binary.
+
+/// `deploywatch simulate … --plot x.png | true`: the reader of stdout is
+/// gone before the first line. The command neither panics nor stops: the
+/// run and the plot are written and it exits 0.
+#[test]
+fn a_closed_stdout_neither_panics_nor_stops_the_outputs() {
+    use std::process::Stdio;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (csv, png) = (dir.path().join("t02.csv"), dir.path().join("t02.png"));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_deploywatch"))
+        .args([
+            "simulate",
+            s(&data(T02)),
+            "--out",
+            s(&csv),
+            "--plot",
+            s(&png),
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run deploywatch");
+    // Close the pipe's reading end at once, as `| true` does.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("wait");
+    let err = stderr(&out);
+    assert!(!err.contains("panicked"), "panic:\n{err}");
+    assert_eq!(out.status.code(), Some(0), "stderr:\n{err}");
+    assert!(csv.is_file(), "the run is not written");
+    assert!(png_height(&png) > 0, "the plot is not written");
+}
+
+/// The bundled run of example c at T01, diagnosed alone (about a second).
+fn diagnose_t01(json: &Path) -> Output {
+    let run = data("examples/c_seed001_friction_harness/seed001_T01.csv");
+    deploywatch(&[
+        "diagnose",
+        "-q",
+        "--mechanism",
+        s(&data(T01)),
+        "--json",
+        s(json),
+        s(&run),
+    ])
+}
+
+/// A `diagnose` that fails half-way through its outputs (here a plot's
+/// name is taken by a folder, found only when the plots are written)
+/// leaves the old JSON and report as they were, not a new JSON beside an
+/// old report, and no staging folder.
+#[test]
+fn a_diagnose_that_fails_half_way_leaves_the_old_outputs_as_they_were() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let json = dir.path().join("diagnosis.json");
+    std::fs::write(&json, "old json").unwrap();
+    std::fs::write(dir.path().join("diagnosis.md"), "old report").unwrap();
+    let blocker = dir.path().join("diagnosis_seed001_T01_residuals.png");
+    std::fs::create_dir(&blocker).unwrap();
+    let out = diagnose_t01(&json);
+    fails(&out, 2, &["diagnosis_seed001_T01_residuals.png", "folder"]);
+    assert_eq!(std::fs::read_to_string(&json).unwrap(), "old json");
+    let md = std::fs::read_to_string(dir.path().join("diagnosis.md")).unwrap();
+    assert_eq!(md, "old report");
+    let mut left: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(
+        left,
+        [
+            "diagnosis.json",
+            "diagnosis.md",
+            "diagnosis_seed001_T01_residuals.png"
+        ]
+    );
+}
