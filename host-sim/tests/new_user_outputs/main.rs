@@ -95,3 +95,35 @@ fn png_height(path: &Path) -> u32 {
     assert_eq!(&bytes[1..4], b"PNG", "{} is not a PNG", path.display());
     u32::from_be_bytes(bytes[20..24].try_into().expect("IHDR"))
 }
+
+/// Runs `margin --mechanism seed001_T01 --from FILE --json margins.json`
+/// (beside FILE).
+fn run_margin_from(file: &Path, extra: &[&str]) -> Output {
+    let margins = file.with_file_name("margins.json");
+    let mech = data(T01);
+    let mut args = vec![
+        "margin",
+        "--mechanism",
+        s(&mech),
+        "--from",
+        s(file),
+        "--json",
+        s(&margins),
+    ];
+    args.extend_from_slice(extra);
+    deploywatch(&args)
+}
+
+/// The bundled run of example c at T01, diagnosed alone (about a second).
+fn diagnose_t01(json: &Path) -> Output {
+    let run = data("examples/c_seed001_friction_harness/seed001_T01.csv");
+    deploywatch(&[
+        "diagnose",
+        "-q",
+        "--mechanism",
+        s(&data(T01)),
+        "--json",
+        s(json),
+        s(&run),
+    ])
+}

@@ -12,24 +12,6 @@ fn margin_from(file: &Path, extra: &[&str]) -> (String, Value) {
     (text, m)
 }
 
-/// Runs `margin --mechanism seed001_T01 --from FILE --json margins.json`
-/// (beside FILE).
-fn run_margin_from(file: &Path, extra: &[&str]) -> Output {
-    let margins = file.with_file_name("margins.json");
-    let mech = data(T01);
-    let mut args = vec![
-        "margin",
-        "--mechanism",
-        s(&mech),
-        "--from",
-        s(file),
-        "--json",
-        s(&margins),
-    ];
-    args.extend_from_slice(extra);
-    deploywatch(&args)
-}
-
 #[test]
 fn margin_from_an_identify_json_uses_the_identified_friction() {
     let dir = tempfile::tempdir().expect("tempdir");

@@ -115,20 +115,6 @@ fn a_closed_stdout_neither_panics_nor_stops_the_outputs() {
     assert!(png_height(&png) > 0, "the plot is not written");
 }
 
-/// The bundled run of example c at T01, diagnosed alone (about a second).
-fn diagnose_t01(json: &Path) -> Output {
-    let run = data("examples/c_seed001_friction_harness/seed001_T01.csv");
-    deploywatch(&[
-        "diagnose",
-        "-q",
-        "--mechanism",
-        s(&data(T01)),
-        "--json",
-        s(json),
-        s(&run),
-    ])
-}
-
 /// A `diagnose` that fails half-way through its outputs (here a plot's
 /// name is taken by a folder, found only when the plots are written)
 /// leaves the old JSON and report as they were, not a new JSON beside an
