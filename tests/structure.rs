@@ -31,16 +31,16 @@
 //!
 //! `cargo test -p deploywatch-tests --test structure`
 
-#[path = "structure/lexer.rs"]
-mod lexer;
+#[path = "structure/checker_tests.rs"]
+mod checker_tests;
 #[path = "structure/graph.rs"]
 mod graph;
 #[path = "structure/layers.rs"]
 mod layers;
+#[path = "structure/lexer.rs"]
+mod lexer;
 #[path = "structure/rules.rs"]
 mod rules;
-#[path = "structure/checker_tests.rs"]
-mod checker_tests;
 
 use graph::{cycles, graph, read_tree};
 use layers::{layers_of, Layers};

@@ -52,7 +52,6 @@ use rand_chacha::ChaCha8Rng;
 use readings::{apply_sensor_fault, drop_rows, in_window, jitter};
 use std::fmt;
 
-
 /// What one fault did to a run.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FaultReport {

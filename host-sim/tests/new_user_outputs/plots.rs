@@ -41,7 +41,6 @@ fn simulate_and_replay_write_their_plots_quietly() {
     assert_eq!(png_height(&status_png), 40 + 3 * 300);
 }
 
-
 /// The image links of a Markdown report: the targets of `![alt](target)`.
 fn image_links(md: &str) -> Vec<String> {
     md.split("![")

@@ -213,7 +213,6 @@ fn identify_warns_when_friction_alone_leaves_residuals_above_the_noise() {
     assert!(!stderr(&out).contains("warning"), "{}", stderr(&out));
 }
 
-
 /// A joint the monitor saw latch, leave the latched state and latch again
 /// (example `latch_escape_never`, joints 1 and 3): replay names the first
 /// latch and the one for good, as the status stream it wrote shows them.

@@ -16,7 +16,12 @@ const MAX_JITTER_FRACTION: f64 = 0.45;
 
 /// Applies one encoder or switch fault (the clock faults are applied
 /// after: [`jitter`], [`drop_rows`]); returns the number of samples changed.
-pub(super) fn apply_sensor_fault(run: &mut Run, t0: &[f64], f: &SensorFault, rng: &mut ChaCha8Rng) -> usize {
+pub(super) fn apply_sensor_fault(
+    run: &mut Run,
+    t0: &[f64],
+    f: &SensorFault,
+    rng: &mut ChaCha8Rng,
+) -> usize {
     match *f {
         SensorFault::Dropout {
             joint,

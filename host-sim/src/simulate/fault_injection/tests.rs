@@ -1,8 +1,8 @@
 //! Tests of `fault_injection`.
 
 use super::readings::{corrupt_word, same};
-use crate::simulate::sensor::RESOLUTION_DEG;
 use super::*;
+use crate::simulate::sensor::RESOLUTION_DEG;
 use deploywatch_core::encoder::{ERROR_FLAG_BIT, PARITY_BIT};
 
 /// A 2-joint run at 100 Hz over 1 s: joint 1 moves from -90 to 0 and

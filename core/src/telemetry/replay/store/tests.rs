@@ -1,10 +1,10 @@
 //! Tests of the monitor built in its store, and of configurations refused.
 
 use super::*;
-use crate::telemetry::config::{ConfigHeader, CONFIG_VERSION, MAX_JOINTS};
-use crate::telemetry::replay::{configure, ConfigStore, Source, STATUS_FRAME_MAX};
 use crate::monitor::estimator::Sample;
 use crate::monitor::estimator::{ConfigError, JointParam, TuningParam};
+use crate::telemetry::config::{ConfigHeader, CONFIG_VERSION, MAX_JOINTS};
+use crate::telemetry::replay::{configure, ConfigStore, Source, STATUS_FRAME_MAX};
 use crate::ChainError;
 
 /// A chain of `N` equal panels on linear springs, stowed at 90°, 100°, …
