@@ -1,5 +1,5 @@
 //! The replay protocol the firmware speaks: a recorded run, sample by
-//! sample, through the on-board [`Monitor`], with the
+//! sample, through the on-board [`Monitor`](crate::monitor::estimator::Monitor), with the
 //! statuses written back.
 //!
 //! It lives in the core so that the host (`deploywatch replay`) and the
@@ -17,7 +17,7 @@
 //! # Joint count and storage
 //! The joint count is the caller's: a firmware builds one monitor,
 //! `Monitor<N>` in a [`MonitorStore<N>`] with its configuration in a
-//! [`ConfigStore<N>`] (both in its static memory), and [`configure`]
+//! [`ConfigStore<N>`] (both in its static memory), and [`configure()`]
 //! refuses a header of another count with [`Error::JointCount`]. The loop
 //! ([`run_paths`]) and the sample decoder are not generic: they take the
 //! count at run time, up to [`MAX_JOINTS`].

@@ -20,7 +20,7 @@
 //!
 //! Everything after the frames works on [`StatusRow`]s, which hold any joint
 //! count: the status CSV ([`write_status_csv`]), the per-joint
-//! [`summary`], the [`plot()`] and the field-by-field [`compare`].
+//! [`summary()`], the [`plot()`] and the field-by-field [`compare()`].
 //!
 //! One module per responsibility: `encode` (configuration frames), `prepare`
 //! (a run made ready: input frames and the host's statuses), `decode`

@@ -9,8 +9,8 @@ use crate::physics::spring::Branch;
 use crate::physics::torque_table::TABLE_MAX_KNOTS;
 
 /// The inertia coefficients and mass moments of a chain, zero-padded to a
-/// capacity of `M` joints ([`Chain::coefficients`]), for
-/// [`Chain::counted_with`].
+/// capacity of `M` joints ([`Chain::coefficients`](super::Chain::coefficients)), for
+/// [`Chain::counted_with`](super::Chain::counted_with).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Coefficients<T, const M: usize> {
     /// `A_kl` [kg·m²].
@@ -28,10 +28,10 @@ impl<T: Real, const M: usize> Coefficients<T, M> {
 }
 
 /// A chain's equations over arrays of capacity `M` holding `n ≤ M` joints,
-/// the count known at run time ([`Chain::counted`], [`Chain::counted_with`]).
+/// the count known at run time ([`Chain::counted`](super::Chain::counted), [`Chain::counted_with`](super::Chain::counted_with)).
 /// Every loop runs over the first `n` joints in the order of the fixed-size
-/// chain, so the arithmetic is that of [`Chain`] bit for bit; entries past
-/// `n` of the arrays it returns are zero. The methods of [`Chain`] are
+/// chain, so the arithmetic is that of [`Chain`](super::Chain) bit for bit; entries past
+/// `n` of the arrays it returns are zero. The methods of [`Chain`](super::Chain) are
 /// shells over these (with `n = N`), and a caller written once over `M`
 /// serves chains of every joint count up to `M` with one copy of the code.
 #[derive(Clone, Copy, Debug)]

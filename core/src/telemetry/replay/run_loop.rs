@@ -19,16 +19,16 @@ use crate::telemetry::sample_frame_max;
 pub trait Paths {
     /// Joints of the monitor, which the sample frames carry.
     fn joints(&mut self) -> Result<usize, Error>;
-    /// Slices of [`Monitor::predict`] after each sample
-    /// ([`Monitor::config_slices_per_sample`]).
+    /// Slices of [`Monitor::predict`](crate::monitor::estimator::Monitor::predict) after each sample
+    /// ([`Monitor::config_slices_per_sample`](crate::monitor::estimator::Monitor::config_slices_per_sample)).
     fn slices_per_sample(&mut self) -> Result<u8, Error>;
-    /// Runs [`Monitor::update`] on `sample` (the sample-rate path) and
+    /// Runs [`Monitor::update`](crate::monitor::estimator::Monitor::update) on `sample` (the sample-rate path) and
     /// returns once it has.
     fn update(&mut self, sample: &CountedSample) -> Result<(), Error>;
-    /// Runs one slice of [`Monitor::predict`] (the low-priority path).
+    /// Runs one slice of [`Monitor::predict`](crate::monitor::estimator::Monitor::predict) (the low-priority path).
     fn predict(&mut self) -> Result<(), Error>;
     /// Writes the frame of the monitor's current [`Status`](crate::Status) into `out`
-    /// ([`telemetry::encode`]) and returns its length.
+    /// ([`telemetry::encode`](crate::telemetry::encode)) and returns its length.
     fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error>;
 }
 
@@ -81,11 +81,11 @@ where
 
 /// The replay loop: the sample frames left in `src`, through the monitor's
 /// two paths as a flight application schedules them —
-/// [`Monitor::update`] on every sample (the sample-rate path), then
-/// `margin.rollout.slices_per_sample` slices of [`Monitor::predict`] (the
+/// [`Monitor::update`](crate::monitor::estimator::Monitor::update) on every sample (the sample-rate path), then
+/// `margin.rollout.slices_per_sample` slices of [`Monitor::predict`](crate::monitor::estimator::Monitor::predict) (the
 /// idle time before the next sample; fixed, so that the replay is
 /// deterministic and the same as the host's
-/// [`Monitor::update_and_predict`]). Hands each status frame, as of the end
+/// [`Monitor::update_and_predict`](crate::monitor::estimator::Monitor::update_and_predict)). Hands each status frame, as of the end
 /// of the slices, to `write`. Returns the number of samples. The one
 /// definition of the schedule: the host and the firmware both run it.
 #[inline(never)]

@@ -9,7 +9,7 @@ use crate::monitor::estimator::Monitor;
 use crate::monitor::estimator::MonitorConfig;
 use crate::telemetry::counted::{CountedSample, StatusView};
 
-/// The two kinds of work [`run`] does, each metered on its own.
+/// The two kinds of work [`run`](super::run) does, each metered on its own.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Work {
     /// [`Monitor::update`]: the sample-rate path.
@@ -19,7 +19,7 @@ pub enum Work {
 }
 
 /// Brackets every [`Monitor::update`] and [`Monitor::predict`] call of
-/// [`run`]: the firmware counts the instructions each takes; `()` does
+/// [`run`](super::run): the firmware counts the instructions each takes; `()` does
 /// nothing.
 pub trait Meter {
     /// Just before the call.

@@ -245,7 +245,7 @@ impl fmt::Display for EffectKind {
 
 impl Default for EffectKind {
     /// `coulomb_friction`, the first of the vocabulary (for `Default` of
-    /// [`Effect`] only).
+    /// [`Effect`](super::Effect) only).
     fn default() -> Self {
         EffectKind::CoulombFriction
     }
