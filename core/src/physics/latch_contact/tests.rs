@@ -45,8 +45,7 @@ fn conservative_torque_is_minus_the_gradient_of_the_potential() {
             let near = l.marks().iter().any(|&(_, m)| (u - m).abs() < 1e-5);
             if !near {
                 let e = 1e-8;
-                let grad =
-                    (l.potential_energy(phi + e) - l.potential_energy(phi - e)) / (2.0 * e);
+                let grad = (l.potential_energy(phi + e) - l.potential_energy(phi - e)) / (2.0 * e);
                 let f = l.stop_force(phi, 0.0).elastic_n;
                 let tau = l.conservative_torque(phi) + l.stop_torque(f);
                 assert!(
