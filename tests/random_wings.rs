@@ -428,7 +428,7 @@ fn an_ideal_latch_impulse_frees_a_stuck_joint() {
 
 /// Why the random wings swing a joint back past its stowed angle
 /// (`docs/simulator.md`, "The stowed side"): wings of seeds 0 to
-/// `DEPLOYWATCH_WINGS − 1` (default 500; refused rigs left out) simulated
+/// `DEPLOYWATCH_WINGS − 1` (default 2000; refused rigs left out) simulated
 /// with their drawn effects, and per joint the run reports past its stowed
 /// angle: root or inner; kicked back by a neighbour's ideal-latch impulse
 /// (its outward rate not positive at the sample before the latch, positive
@@ -441,7 +441,10 @@ fn an_ideal_latch_impulse_frees_a_stuck_joint() {
 #[test]
 #[ignore = "a census, minutes; the command is in docs/simulator.md"]
 fn stowed_side_census() {
-    let n = u64::from(cases());
+    let n = std::env::var("DEPLOYWATCH_WINGS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(2000u64);
     let mut c = Census::default();
     for seed in 0..n {
         let w = wing_toml(seed, PHYSICAL_SHARE);
@@ -453,6 +456,7 @@ fn stowed_side_census() {
             .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
         c.wing(&mech, &traj);
     }
+    c.seeds = n;
     let mut bundled = Vec::new();
     let dir = deploywatch_tests::data_dir().join("mechanisms");
     let mut files: Vec<_> = std::fs::read_dir(&dir)
@@ -489,6 +493,7 @@ fn stowed_side_census() {
 /// The counts of [`stowed_side_census`].
 #[derive(Default)]
 struct Census {
+    seeds: u64,
     wings: usize,
     wings_past: usize,
     joints: usize,
@@ -557,7 +562,7 @@ impl Census {
              | with a physical latch | {} |\n\
              | how far | {} |\n\
              | bundled mechanisms (`data/mechanisms`, no effect) | {} |\n",
-            self.wings.max(1) - 1,
+            self.seeds.max(1) - 1,
             self.wings,
             share(self.wings_past, self.wings),
             self.past,
