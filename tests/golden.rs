@@ -112,10 +112,16 @@ fn check_past_stowed(mech: &Mechanism, traj: &Trajectory, golden: &Run, case: &s
             .map(|p| side * p - joint.stowed_deg.abs())
             .fold(0.0f64, f64::max);
         let reported = traj.past_stowed.iter().find(|p| p.joint == j + 1);
-        println!("{case}: joint {}: golden {past:.4} deg past, ours {reported:?}", j + 1);
+        println!(
+            "{case}: joint {}: golden {past:.4} deg past, ours {reported:?}",
+            j + 1
+        );
         if past >= STOWED_TOLERANCE_DEG + CLOSE_DEG {
             let r = reported.unwrap_or_else(|| panic!("{case}: joint {} unreported", j + 1));
-            assert!((r.past_deg() - past).abs() <= CLOSE_DEG, "{case}: {r} vs {past}");
+            assert!(
+                (r.past_deg() - past).abs() <= CLOSE_DEG,
+                "{case}: {r} vs {past}"
+            );
         } else if past <= STOWED_TOLERANCE_DEG - CLOSE_DEG {
             assert!(reported.is_none(), "{case}: {reported:?}");
         }

@@ -127,7 +127,10 @@ fn check_stowed(mech: &Mechanism, traj: &Trajectory) -> Result<f64, TestCaseErro
             (first, Some(r)) => {
                 prop_assert_eq!(r.stowed_deg, joint.stowed_deg);
                 prop_assert!(r.past_deg() > STOWED_TOLERANCE_DEG, "{r}");
-                prop_assert!(r.past_deg() >= farthest - 1e-9, "{r}: samples {farthest} deg past");
+                prop_assert!(
+                    r.past_deg() >= farthest - 1e-9,
+                    "{r}: samples {farthest} deg past"
+                );
                 prop_assert!(r.first_s <= r.farthest_s, "{r}");
                 if let Some(t) = first {
                     prop_assert!(r.first_s <= t + 1e-9, "{r}: a sample past at {t} s");
@@ -135,7 +138,11 @@ fn check_stowed(mech: &Mechanism, traj: &Trajectory) -> Result<f64, TestCaseErro
             }
         }
     }
-    Ok(traj.past_stowed.iter().map(|p| p.past_deg()).fold(0.0, f64::max))
+    Ok(traj
+        .past_stowed
+        .iter()
+        .map(|p| p.past_deg())
+        .fold(0.0, f64::max))
 }
 
 /// An ideal joint: never past its latch; the summary's instant, the CSV's
@@ -477,7 +484,11 @@ fn stowed_side_census() {
             .map(|p| format!("joint {} {:.2}° past", p.joint, p.past_deg()))
             .collect();
         if !said.is_empty() {
-            bundled.push(format!("`{}`: {}", name.unwrap_or_default(), said.join(", ")));
+            bundled.push(format!(
+                "`{}`: {}",
+                name.unwrap_or_default(),
+                said.join(", ")
+            ));
         }
     }
     let body = c.body(&bundled);
@@ -517,9 +528,9 @@ impl Census {
             .joints
             .iter()
             .map(|j| {
-                j.spring
-                    .to_spring::<f64>()
-                    .map_or(0.0, |s| s.magnitude(j.stowed_deg.to_radians().abs(), Branch::Unfold))
+                j.spring.to_spring::<f64>().map_or(0.0, |s| {
+                    s.magnitude(j.stowed_deg.to_radians().abs(), Branch::Unfold)
+                })
             })
             .collect();
         let weaker = |j: usize| at_stowed[j + 1..].iter().any(|&t| t > at_stowed[j]);
@@ -539,7 +550,8 @@ impl Census {
     }
 
     fn body(&self, bundled: &[String]) -> String {
-        let share = |k: usize, of: usize| format!("{k} ({:.0} %)", 100.0 * k as f64 / of.max(1) as f64);
+        let share =
+            |k: usize, of: usize| format!("{k} ({:.0} %)", 100.0 * k as f64 / of.max(1) as f64);
         let over: Vec<String> = self
             .over
             .iter()

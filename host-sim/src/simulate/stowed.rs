@@ -9,8 +9,8 @@
 //! ([`crate::simulate::trajectory::Trajectory::past_stowed`]), which
 //! `simulate` prints (`docs/simulator.md`, "The stowed side").
 
-use crate::simulate::ode::{Dense, State};
 use crate::model::torque_table::HostChain;
+use crate::simulate::ode::{Dense, State};
 use std::fmt;
 
 /// How far past its stowed angle a joint may go unreported \[deg\]: half a

@@ -355,7 +355,11 @@ mod tests {
                 .expect("the verdict's run");
             let past: Vec<_> = traj.past_stowed.iter().map(|p| p.joint).collect();
             assert_eq!(past, [1], "{:?}", traj.past_stowed);
-            assert!(traj.past_stowed[0].past_deg() > 9.0, "{:?}", traj.past_stowed);
+            assert!(
+                traj.past_stowed[0].past_deg() > 9.0,
+                "{:?}",
+                traj.past_stowed
+            );
             let o = outcome(&traj, &mech, rate);
             let fail = [Criterion::NotLatched, Criterion::TimeAbove(8.0)];
             assert!(o.g(&fail) > 0.0, "{o:?}");
