@@ -103,7 +103,8 @@ fn fail(e: impl std::fmt::Display) -> TestCaseError {
 /// No joint passes its stowed angle silently: every joint whose samples
 /// go more than [`STOWED_TOLERANCE_DEG`] past it is in the run's
 /// `past_stowed`, with its stowed angle, first past no later than its first
-/// such sample and at least as far as its farthest sample (the run watches
+/// such sample and at least as far as its farthest sample, within 1e-6°
+/// (the turning point is located on the dense output; the run watches
 /// every step, not only the samples); every joint reported is past by more
 /// than the tolerance. The farthest reported \[deg\] (0 if none).
 fn check_stowed(mech: &Mechanism, traj: &Trajectory) -> Result<f64, TestCaseError> {
@@ -128,7 +129,7 @@ fn check_stowed(mech: &Mechanism, traj: &Trajectory) -> Result<f64, TestCaseErro
                 prop_assert_eq!(r.stowed_deg, joint.stowed_deg);
                 prop_assert!(r.past_deg() > STOWED_TOLERANCE_DEG, "{r}");
                 prop_assert!(
-                    r.past_deg() >= farthest - 1e-9,
+                    r.past_deg() >= farthest - 1e-6,
                     "{r}: samples {farthest} deg past"
                 );
                 prop_assert!(r.first_s <= r.farthest_s, "{r}");
