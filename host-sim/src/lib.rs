@@ -120,6 +120,11 @@ pub mod deployment {
     };
 }
 
+/// A joint that swung back past its stowed angle, as a run reports it.
+pub mod stowed {
+    pub use crate::simulate::stowed::{PastStowed, STOWED_TOLERANCE_DEG};
+}
+
 /// The sample grid of a trajectory.
 pub mod trajectory {
     pub use crate::simulate::trajectory::Samples;

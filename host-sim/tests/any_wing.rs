@@ -1,6 +1,7 @@
 //! A wing nobody tuned the simulator for. A new user's four-panel wing
 //! (`data/mechanisms/issue38_four_panel.toml`) and a `[rig]` on a
-//! wing with physical latches, run through the `deploywatch` binary.
+//! wing with physical latches, and seed 001 T02's joint 1 swinging back past
+//! its stowed angle, run through the `deploywatch` binary.
 mod common;
 
 use common::{data, deploywatch, fails};
@@ -111,5 +112,64 @@ fn the_four_panel_wing_latches_its_ideal_joints_and_the_csv_agrees() {
                 "joint {j} at {ts} s: CSV vs summary {t} s"
             );
         }
+    }
+}
+
+/// Seed 001 T02 (the contract's own case, `physics.md` §5): joint 1 is
+/// pushed back past its stowed angle (−90°) by the stronger outer hinges.
+/// The summary says so, naming the joint, the time and the farthest angle,
+/// and the CSV (no noise) agrees: its farthest sample is that angle within
+/// 0.01° (100 Hz samples around a turning point); no other joint is named,
+/// and the CSV shows none of them past its stowed angle.
+#[test]
+fn a_joint_past_its_stowed_angle_is_reported_and_the_csv_agrees() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mech = data().join("mechanisms/seed001_T02.toml");
+    let csv = dir.path().join("run.csv");
+    let out = deploywatch(&[
+        "simulate",
+        mech.to_str().expect("utf-8 path"),
+        "--no-noise",
+        "--out",
+        csv.to_str().expect("utf-8 path"),
+    ]);
+    let said = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert_eq!(out.status.code(), Some(0), "{said}");
+    let lines: Vec<&str> = said
+        .lines()
+        .filter(|l| l.contains("stowed side: "))
+        .collect();
+    assert_eq!(lines.len(), 1, "{said}");
+    let line = lines[0];
+    assert!(
+        line.contains("joint 1 swung back past its stowed angle -90.00 deg at "),
+        "{line}"
+    );
+    let farthest: f64 = line
+        .split("farthest ")
+        .nth(1)
+        .and_then(|s| s.split(" deg").next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no farthest angle: {line}"));
+    let (header, rows) = read_run(&csv);
+    let col = |name: &str| header.iter().position(|h| h == name).expect(name);
+    let column = |j: usize| -> Vec<f64> {
+        rows.iter()
+            .map(|r| r[col(&format!("phi{j}_deg"))].parse().unwrap())
+            .collect()
+    };
+    let lowest = column(1).into_iter().fold(f64::INFINITY, f64::min);
+    assert!(lowest < -90.01, "the CSV shows joint 1 past -90: {lowest}");
+    assert!(
+        (lowest - farthest).abs() <= 0.01,
+        "summary {farthest} deg, CSV {lowest} deg"
+    );
+    for (j, stowed) in [(2, 180.0), (3, -180.0)] {
+        let side: f64 = f64::signum(stowed);
+        let past = column(j)
+            .into_iter()
+            .map(|p| side * p - 180.0)
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert!(past <= 0.01, "joint {j} {past} deg past in the CSV");
     }
 }

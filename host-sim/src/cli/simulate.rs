@@ -87,7 +87,9 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// When each joint latched, or where it is at the end when it did not.
+/// When each joint latched, or where it is at the end when it did not;
+/// then each joint that swung back past its stowed angle (never silent:
+/// `docs/simulator.md`, "The stowed side").
 fn print_latch_instants(traj: &deployment::Trajectory) {
     for (j, l) in traj.latch_s.iter().enumerate() {
         match l {
@@ -99,6 +101,9 @@ fn print_latch_instants(traj: &deployment::Trajectory) {
                 traj.phi_deg[j].last().copied().unwrap_or(f64::NAN)
             ),
         }
+    }
+    for p in &traj.past_stowed {
+        outln!("  stowed side: {p}");
     }
 }
 

@@ -14,6 +14,7 @@ use crate::model::mechanism::{with_joints, Mechanism, MAX_CHAIN_JOINTS};
 use crate::model::torque_table::HostChain;
 use crate::simulate::chain_ledger::{self, ChainLedger};
 use crate::simulate::ode::{self, locate, State};
+use crate::simulate::stowed::StowedWatch;
 use crate::simulate::trajectory::SAMPLE_TIME_SLACK_S;
 pub use crate::simulate::trajectory::{
     Samples, SimError, SimOptions, SimStats, Trajectory, MAX_SAMPLES, MAX_STEPS,
@@ -363,16 +364,11 @@ pub fn run_chain<const N: usize>(
     let duration = times.last();
     let (mut it, mut y) = Integrator::at_rest(chain);
     let mut ledger = ChainLedger::start(chain, &y, duration);
+    let mut watch = StowedWatch::new(chain);
     let mut out = Sampler {
         times,
         k: 0,
-        out: Trajectory {
-            phi_deg: vec![Vec::new(); N],
-            rate_deg_s: vec![Vec::new(); N],
-            latched: vec![Vec::new(); N],
-            latch_s: vec![None; N],
-            ..Trajectory::default()
-        },
+        out: Trajectory::with_joints(N),
     };
     out.push_while(|tk| tk <= 0.0, |_| y, &it.mode.latched)?;
 
@@ -402,6 +398,7 @@ pub fn run_chain<const N: usize>(
             h = out.out.stats.retake(t_end - t);
             continue;
         }
+        watch.step(&att.dense, t, t_end, &it.mode.latched);
         out.push_while(
             |tk| if cut { tk < t_end } else { tk <= t_end },
             |tk| att.dense.at(tk),
@@ -430,6 +427,7 @@ pub fn run_chain<const N: usize>(
         it.step_control.restart();
     }
     out.out.end_s = t.min(duration);
+    out.out.past_stowed = watch.found();
     out.close(t, &y, &it.mode.latched, done, opts)?;
     out.out.stats.evaluations = it.evaluations;
     Ok(out.out)

@@ -26,6 +26,7 @@ use crate::model::mechanism::Mechanism;
 use crate::model::torque_table::HostChain;
 use crate::simulate::latch_run::ledger_step_factor;
 use crate::simulate::ode::{self, locate, Dense, State};
+use crate::simulate::stowed::StowedWatch;
 use crate::simulate::trajectory::{
     Samples, SimError, SimOptions, Trajectory, MAX_SAMPLES, MAX_STEPS,
 };
@@ -117,6 +118,8 @@ struct Sim<'a, const N: usize> {
     /// Per latch, its constants, computed once, not per evaluation.
     consts: [Consts; N],
     evaluations: usize,
+    /// The joints' passages of their stowed angles, over the booked steps.
+    watch: StowedWatch<N>,
 }
 
 /// What can fire in a step.
@@ -176,6 +179,7 @@ impl<'a, const N: usize> Sim<'a, N> {
             turn: [(0.0, 0.0); N],
             consts: [Consts::default(); N],
             evaluations: 0,
+            watch: StowedWatch::new(chain),
         };
         for (j, jt) in chain.joints().iter().enumerate() {
             sim.side[j] = if jt.stowed_rad >= 0.0 { 1.0 } else { -1.0 };
@@ -631,13 +635,7 @@ fn run_keeping<const N: usize>(
         out: Out {
             times,
             k: 0,
-            traj: Trajectory {
-                phi_deg: vec![Vec::new(); N],
-                rate_deg_s: vec![Vec::new(); N],
-                latched: vec![Vec::new(); N],
-                latch_s: vec![None; N],
-                ..Trajectory::default()
-            },
+            traj: Trajectory::with_joints(N),
         },
         events: Vec::new(),
         ledger: Ledger::default(),
@@ -655,6 +653,7 @@ fn run_keeping<const N: usize>(
     run.out.traj.end_s = t_end;
     run.out.traj.stats.evaluations = sim.evaluations;
     run.out.traj.latch_s = latch_instants(&sim, &run.events, &run.out.traj);
+    run.out.traj.past_stowed = sim.watch.found();
     Ok(LatchRun {
         traj: run.out.traj,
         events: run.events,

@@ -16,5 +16,6 @@ pub mod ode;
 pub mod rig;
 pub mod rig_ode;
 pub mod sensor;
+pub mod stowed;
 pub mod trajectory;
 pub mod truss_deployment;

@@ -21,6 +21,7 @@ use crate::model::mechanism::{with_joints, Mechanism};
 use crate::model::rig::Rig;
 use crate::model::torque_table::HostChain;
 use crate::simulate::rig_ode;
+use crate::simulate::stowed::StowedWatch;
 use crate::simulate::trajectory::{SimError, SimOptions, SimStats, Trajectory};
 use deploywatch_core::linalg::solve_spd_masked;
 use deploywatch_core::{Branch, ChainState, Mode};
@@ -464,6 +465,7 @@ fn run<const N: usize>(
     let (mut t, mut h): (f64, f64) = (0.0, 1e-4);
     let settle = opts.settle_s.unwrap_or(mech.settle_s);
     let mut deployed_at: Option<f64> = None;
+    let mut watch = StowedWatch::stowed_at(core::array::from_fn(|j| y[j]));
     for &target in times {
         while t < target - 1e-12 {
             if rec.stats.steps + rec.stats.rejected > crate::simulate::trajectory::MAX_STEPS {
@@ -494,12 +496,14 @@ fn run<const N: usize>(
                 latch(&mut m, &mut y, j)
                     .ok_or_else(|| SimError::Invalid("a singular latch impulse".into()))?;
                 rec.run.traj.latch_s[j] = Some(t);
+                watch.point(t, &core::array::from_fn(|j| y[j]), &m.latched);
                 rec.stats.events += 1;
                 h = (hs * a).max(1e-6);
                 continue;
             }
             y = y1;
             t += hs;
+            watch.point(t, &core::array::from_fn(|j| y[j]), &m.latched);
             rec.stats.steps += 1;
             rec.contacts(&m, t, &y);
             h = hs * grow;
@@ -514,6 +518,7 @@ fn run<const N: usize>(
     }
     rec.run.traj.end_s = t;
     rec.run.traj.stats = rec.stats;
+    rec.run.traj.past_stowed = watch.found();
     Ok(rec.run)
 }
 

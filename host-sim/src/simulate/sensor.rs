@@ -107,6 +107,7 @@ mod tests {
             latch_s: vec![None],
             end_s: 0.02,
             stats: Default::default(),
+            past_stowed: Vec::new(),
         };
         let a = measure(&traj, &[0.0], &SensorModel::REFERENCE, 7);
         let b = measure(&traj, &[0.0], &SensorModel::REFERENCE, 7);

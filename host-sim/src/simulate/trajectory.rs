@@ -3,6 +3,8 @@
 //! ([`crate::simulate::truss_deployment`]) alike: the settings, the
 //! sample times, the trajectory, the counters and the errors.
 
+use crate::simulate::stowed::PastStowed;
+
 /// Integration and output settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SimOptions {
@@ -106,9 +108,25 @@ pub struct Trajectory {
     pub end_s: f64,
     /// Work done.
     pub stats: SimStats,
+    /// The joints that swung back past their stowed angle by more than
+    /// [`crate::simulate::stowed::STOWED_TOLERANCE_DEG`], in joint order
+    /// (found on every accepted step, not only at the samples; empty for a
+    /// truss wing, whose hinges are not watched).
+    pub past_stowed: Vec<PastStowed>,
 }
 
 impl Trajectory {
+    /// An empty trajectory of `n` joints, to be filled sample by sample.
+    pub fn with_joints(n: usize) -> Self {
+        Trajectory {
+            phi_deg: vec![Vec::new(); n],
+            rate_deg_s: vec![Vec::new(); n],
+            latched: vec![Vec::new(); n],
+            latch_s: vec![None; n],
+            ..Trajectory::default()
+        }
+    }
+
     /// Number of joints.
     pub fn joints(&self) -> usize {
         self.phi_deg.len()

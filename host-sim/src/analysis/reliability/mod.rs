@@ -200,22 +200,11 @@ impl Problem {
             v.apply(x, &mut mech, &mut effects);
         }
         let end = self.run_end_s();
-        let opts = SimOptions {
-            duration_s: Some(end),
-            settle_s: Some(0.0),
-            stop_when_deployed: true,
-            rtol: VERDICT_RTOL,
-            atol: VERDICT_ATOL,
-            ..SimOptions::default()
-        };
         let rate = self
             .fail
             .iter()
             .any(|c| matches!(c, Criterion::LatchRateAbove(_)));
-        let opts = SimOptions {
-            sample_hz: rate.then_some(SAMPLE_HZ),
-            ..opts
-        };
+        let opts = verdict_options(end, rate);
         let traj =
             simulate_verdict(&mech, &effects, &opts, (rate, end), keep).map_err(|source| {
                 ReliabilityError::Simulation {
@@ -254,6 +243,21 @@ impl Problem {
     /// `g` of a batch on every core (rayon), in the order of `xs`.
     pub fn g_batch(&self, xs: &[Vec<f64>]) -> Result<Vec<f64>, ReliabilityError> {
         xs.par_iter().map(|x| self.g(x)).collect()
+    }
+}
+
+/// The settings of a verdict's deployment: to `end` \[s\] or the last
+/// latch, at [`VERDICT_RTOL`], sampled at [`SAMPLE_HZ`] when the latch
+/// rate is needed (`rate`).
+fn verdict_options(end: f64, rate: bool) -> SimOptions {
+    SimOptions {
+        duration_s: Some(end),
+        settle_s: Some(0.0),
+        stop_when_deployed: true,
+        rtol: VERDICT_RTOL,
+        atol: VERDICT_ATOL,
+        sample_hz: rate.then_some(SAMPLE_HZ),
+        ..SimOptions::default()
     }
 }
 
@@ -328,4 +332,38 @@ pub fn stream(seed: u64, level: u32, index: u64) -> ChaCha8Rng {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     rng.set_stream(((level as u64) << 40) | (index & ((1 << 40) - 1)));
     rng
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A draw whose joint swings back past its stowed angle is counted by
+    /// its criteria like any other, neither a failure nor an error
+    /// (`docs/reliability.md` §8): seed 001 T02 without friction, the
+    /// contract's own deployment, pushes joint 1 about 9.7° past −90° and
+    /// deploys at 7.33 s. The verdict's run, sampled once at its end, still
+    /// carries the passage (watched on every step).
+    #[test]
+    fn a_draw_past_its_stowed_angle_is_counted_by_its_criteria() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../data/mechanisms/seed001_T02.toml");
+        let mech = Mechanism::load(&path).expect("seed 001 T02");
+        for rate in [false, true] {
+            let opts = verdict_options(mech.duration_s, rate);
+            let traj = simulate_verdict(&mech, &[], &opts, (rate, mech.duration_s), Keep::Ledger)
+                .expect("the verdict's run");
+            let past: Vec<_> = traj.past_stowed.iter().map(|p| p.joint).collect();
+            assert_eq!(past, [1], "{:?}", traj.past_stowed);
+            assert!(
+                traj.past_stowed[0].past_deg() > 9.0,
+                "{:?}",
+                traj.past_stowed
+            );
+            let o = outcome(&traj, &mech, rate);
+            let fail = [Criterion::NotLatched, Criterion::TimeAbove(8.0)];
+            assert!(o.g(&fail) > 0.0, "{o:?}");
+            assert!(o.g(&[Criterion::TimeAbove(7.0)]) < 0.0, "{o:?}");
+        }
+    }
 }

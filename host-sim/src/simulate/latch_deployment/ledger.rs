@@ -138,10 +138,12 @@ impl Runner<'_> {
     /// stored energy over it and it is longer than [`LEDGER_MIN_STEP_S`]:
     /// the step is to be taken again, shorter (the ledger as before). An
     /// error when the drift exceeds [`MAX_LEDGER_DRIFT`]. With it, the
-    /// drift's move over the step / its budget \[1\].
+    /// drift's move over the step / its budget \[1\]. A step booked is
+    /// also shown to the joints' stowed-side watch
+    /// ([`crate::simulate::stowed::StowedWatch`]).
     pub(super) fn book<const N: usize>(
         &mut self,
-        sim: &Sim<'_, N>,
+        sim: &mut Sim<'_, N>,
         dense: &Dense<N>,
         t1: f64,
         y1: &State<N>,
@@ -161,6 +163,7 @@ impl Runner<'_> {
                 dense.t0
             )
         })?;
+        sim.watch.step(dense, dense.t0, t1, &sim.mode.latched);
         Ok((true, ratio))
     }
 }
