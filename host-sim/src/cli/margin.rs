@@ -22,6 +22,7 @@ use crate::analysis::stroke_margin::Allowance;
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;
 use crate::report::margin::{table, to_json, MarginReport};
+use crate::report::margin_plot::plot_margins;
 use clap::builder::PossibleValue;
 use std::path::PathBuf;
 
@@ -76,6 +77,11 @@ pub struct MarginArgs {
     /// Also write the margins as JSON here.
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
+
+    /// Also draw the static margin along the stroke, one panel per joint,
+    /// the required minimum and the worst position marked, as a PNG here.
+    #[arg(long, value_name = "FILE.png")]
+    pub plot: Option<PathBuf>,
 
     /// No chatter: the table, errors and warnings only; the JSON is
     /// written as usual.
@@ -206,6 +212,38 @@ fn given_resistances(args: &MarginArgs, mech: &Mechanism) -> Result<Resistances,
     })
 }
 
+/// Writes `--json` and `--plot`, all or none ([`Outputs`]).
+fn write_outputs(
+    args: &MarginArgs,
+    report: &MarginReport,
+    console: &Console,
+) -> Result<(), CliError> {
+    let mut outs = Outputs::new();
+    if let Some(out) = &args.json {
+        let doc = to_json(report);
+        let text =
+            serde_json::to_string_pretty(&doc).map_err(|e| CliError::failed(e.to_string()))?;
+        outs.write(out, text + "\n")?;
+    }
+    if let Some(png) = &args.plot {
+        plot_margins(
+            &outs.path(png)?,
+            &report.mech.name,
+            report.standard.name(),
+            report.rows,
+        )
+        .map_err(|e| CliError::failed(e.to_string()))?;
+    }
+    outs.commit()?;
+    if let Some(out) = &args.json {
+        console.say(format_args!("json: {}", out.display()));
+    }
+    if let Some(png) = &args.plot {
+        console.say(format_args!("plot: {}", png.display()));
+    }
+    Ok(())
+}
+
 /// Runs `deploywatch margin`.
 pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     // The loader's errors name the file, the key and what was expected.
@@ -221,6 +259,9 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     }
     if let Some(out) = &args.json {
         check_output("--json", out)?;
+    }
+    if let Some(png) = &args.plot {
+        check_output("--plot", png)?;
     }
     let console = Console::new(args.quiet);
     for w in crate::model::plausibility::warnings(&mech, &args.mechanism) {
@@ -259,15 +300,7 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         data_source: args.data_source,
     };
     super::print_out(format_args!("{}", table(&report)));
-    if let Some(out) = &args.json {
-        let doc = to_json(&report);
-        let text =
-            serde_json::to_string_pretty(&doc).map_err(|e| CliError::failed(e.to_string()))?;
-        let mut outs = Outputs::new();
-        outs.write(out, text + "\n")?;
-        outs.commit()?;
-        console.say(format_args!("json: {}", out.display()));
-    }
+    write_outputs(args, &report, &console)?;
     let failed: Vec<String> = rows
         .iter()
         .filter(|r| {
@@ -321,6 +354,7 @@ mod tests {
             standard: Standard::EcssEST3301C,
             factors: vec![(Resistance::Friction, 2.5)],
             json: None,
+            plot: None,
             quiet: true,
             check: false,
             flight: false,

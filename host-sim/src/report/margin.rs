@@ -59,8 +59,9 @@ fn verdict(row: &Row) -> &'static str {
     }
 }
 
-/// The sign of deployment's stowed side, to give a position as a joint angle.
-fn joint_angle_deg(row: &Row, from_latch_rad: f64) -> f64 {
+/// A position `from_latch_rad` \[rad\] from the latch as joint `row`'s
+/// angle \[deg\] (the sign of its stowed side).
+pub fn joint_angle_deg(row: &Row, from_latch_rad: f64) -> f64 {
     row.stowed_deg.signum() * from_latch_rad.to_degrees() + 0.0
 }
 
