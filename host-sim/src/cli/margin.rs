@@ -15,14 +15,15 @@
 //! computed by [`crate::analysis::joint_margins`], the table written by
 //! [`crate::report::margin`].
 use super::{check_output, CliError, Console};
-use crate::analysis::design_margin::{DataSource, NameError, Resistance, Standard};
-use crate::analysis::joint_margins::{margins, MarginsError};
+use crate::analysis::design_margin::{DataSource, Factors, NameError, Resistance, Standard};
+use crate::analysis::joint_margins::{margins, MarginsError, Row};
 use crate::analysis::resistances::{read_found, Resistances};
 use crate::analysis::stroke_margin::Allowance;
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;
 use crate::report::margin::{table, to_json, MarginReport};
 use crate::report::margin_plot::plot_margins;
+use crate::report::margin_standards::side_by_side;
 use clap::builder::PossibleValue;
 use std::path::PathBuf;
 
@@ -93,6 +94,12 @@ pub struct MarginArgs {
     /// left out of what `--from` found.
     #[arg(long)]
     pub flight: bool,
+
+    /// Print the margins under every standard side by side (torque form
+    /// at the stowed angle, energy form, worst along the stroke) instead
+    /// of one standard's table.
+    #[arg(long, conflicts_with_all = ["json", "plot", "check"])]
+    pub all_standards: bool,
 
     /// Exit 1 when a joint fails either margin (after printing the table
     /// and writing the JSON); without it the exit code says only whether
@@ -212,6 +219,47 @@ fn given_resistances(args: &MarginArgs, mech: &Mechanism) -> Result<Resistances,
     })
 }
 
+/// The factors of `standard` (its row for `--data-source`, with the
+/// `--factor` overrides) and every joint's margins with them.
+fn rows_for(
+    args: &MarginArgs,
+    mech: &Mechanism,
+    resist: &Resistances,
+    standard: Standard,
+    allowance: &Allowance,
+) -> Result<(Factors, Vec<Row>), CliError> {
+    let mut factors = standard.factors_for(args.data_source);
+    for (kind, value) in &args.factors {
+        factors.set(*kind, *value);
+    }
+    let rows = margins(mech, resist, standard, &factors, allowance).map_err(|e| match e {
+        MarginsError::Spring { .. } => CliError::input(format!("{}: {e}", args.mechanism.display())),
+        other => CliError::failed(other.to_string()),
+    })?;
+    Ok((factors, rows))
+}
+
+/// `--all-standards`: the margins under every standard side by side.
+fn print_all_standards(
+    args: &MarginArgs,
+    mech: &Mechanism,
+    resist: &Resistances,
+    allowance: &Allowance,
+) -> Result<(), CliError> {
+    let by_standard = Standard::ALL
+        .into_iter()
+        .map(|std| Ok((std, rows_for(args, mech, resist, std, allowance)?.1)))
+        .collect::<Result<Vec<_>, CliError>>()?;
+    let title = format!(
+        "margins of `{}` ({}) under each standard; resistances from: {}",
+        mech.name,
+        args.mechanism.display(),
+        resist.source
+    );
+    super::print_out(format_args!("{}", side_by_side(&title, &by_standard)));
+    Ok(())
+}
+
 /// Writes `--json` and `--plot`, all or none ([`Outputs`]).
 fn write_outputs(
     args: &MarginArgs,
@@ -274,21 +322,14 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
             mech.name
         ));
     }
-    let mut factors = args.standard.factors_for(args.data_source);
-    for (kind, value) in &args.factors {
-        factors.set(*kind, *value);
-    }
     let allowance = Allowance {
         spring_tolerance_pct: args.spring_tolerance,
         end_of_life_pct: args.end_of_life,
     };
-    let rows =
-        margins(&mech, &resist, args.standard, &factors, &allowance).map_err(|e| match e {
-            MarginsError::Spring { .. } => {
-                CliError::input(format!("{}: {e}", args.mechanism.display()))
-            }
-            other => CliError::failed(other.to_string()),
-        })?;
+    if args.all_standards {
+        return print_all_standards(args, &mech, &resist, &allowance);
+    }
+    let (factors, rows) = rows_for(args, &mech, &resist, args.standard, &allowance)?;
     let report = MarginReport {
         file: &args.mechanism,
         mech: &mech,
@@ -355,6 +396,7 @@ mod tests {
             factors: vec![(Resistance::Friction, 2.5)],
             json: None,
             plot: None,
+            all_standards: false,
             quiet: true,
             check: false,
             flight: false,

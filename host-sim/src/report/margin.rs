@@ -144,6 +144,15 @@ fn table_header(m: &MarginReport) -> String {
         m.file.display()
     );
     let _ = writeln!(s, "resistances from: {}", r.source);
+    if !r.taken_at.is_empty() {
+        let _ = writeln!(
+            s,
+            "each effect found at the end of its 95 % interval that lowers the margin:"
+        );
+        for t in &r.taken_at {
+            let _ = writeln!(s, "  {t}");
+        }
+    }
     if !r.ignored.is_empty() {
         let _ = writeln!(
             s,
@@ -358,6 +367,7 @@ pub fn to_json(report: &MarginReport) -> Value {
         "mechanism_file": m.file.display().to_string(),
         "resistances_from": r.source,
         "not_included": r.ignored,
+        "taken_at": r.taken_at,
         "standard": m.standard.name(),
         "standard_reference": m.standard.reference(),
         "standard_confirmation": m.standard.confirmation(),

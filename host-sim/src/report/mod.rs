@@ -6,7 +6,8 @@
 //! or none. Above the analysis, the report writers: the diagnosis report,
 //! its plots and its JSON ([`diagnosis`] and the `diagnosis_*` modules),
 //! the margin table and its JSON ([`margin`]) and its plot along the
-//! stroke ([`margin_plot`]), the identification's summary
+//! stroke ([`margin_plot`]), every standard side by side
+//! ([`margin_standards`]), the identification's summary
 //! and plot ([`identify`]), a simulated run's plot ([`run_plot`]).
 pub mod diagnosis;
 pub mod diagnosis_json;
@@ -18,6 +19,7 @@ pub mod files;
 pub mod identify;
 pub mod margin;
 pub mod margin_plot;
+pub mod margin_standards;
 pub mod markdown;
 pub mod plot;
 pub mod progress;
