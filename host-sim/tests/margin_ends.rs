@@ -8,12 +8,14 @@
 //! - `margin --from` gives the margins of the end of the interval that
 //!   lowers them: the same margins as a file giving that end as the
 //!   estimate (no interval), and the lower of the two ends' (both ends are
-//!   run here, so which end is worse is found, not listed); a kind that
-//!   moves a margin moves it below the estimate's;
+//!   run here, so which end is worse is found, not listed; where the two
+//!   ends move joints in opposite directions, as a global `rig_tilt` does,
+//!   the end with the lowest margin of the wing); a kind that moves a
+//!   margin moves none above the estimate's and some below;
 //! - where the torque form is a hand calculation (`coulomb_friction`,
 //!   `harness_stiffness`, `latch_detent`, `stribeck_friction`,
-//!   `spring_softening`), the torque-form margin at joint 2 equals it at
-//!   the end taken;
+//!   `spring_softening`: the driving torque), the torque-form margin at
+//!   joint 2 equals it at the end taken;
 //! - `reliability --from` draws the effect from the normal law of its
 //!   interval, `normal(estimate, (hi − lo) / (2 · 1.96))`, or refuses with
 //!   exit 2 naming the kind (a `torque_table`: tables, not one value).
@@ -168,6 +170,15 @@ fn pcts(m: &Value) -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// The lowest margin of the wing [%].
+fn lowest(m: &Value) -> f64 {
+    pcts(m)
+        .iter()
+        .flatten()
+        .copied()
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// True when `x` and `y` are the same margin [%] (to rounding).
 fn close(x: f64, y: f64) -> bool {
     x == y || (x - y).abs() <= 1e-9 * x.abs().max(1.0)
@@ -193,17 +204,15 @@ fn no_higher(a: &Value, b: &Value) -> bool {
     pairs(a, b).iter().all(|(x, y)| *x <= *y || close(*x, *y))
 }
 
-/// The torque-form margin [%] at joint 2 by hand at the end taken (`hi`:
+/// The torque-form margin [%] at joint 2 by hand at the end taken (a
+/// softening: the driving torque [N·m]; `hi`:
 /// every kind with a hand form resists more, or drives less, when larger),
 /// from the joint's driving torque `D` and friction `c0` without the
 /// effect and NASA-STD-5017B's factor 3 on friction, harness and other;
 /// `None` where the torque form needs the simulated deployment.
 fn by_hand(kind: EffectKind, base: &Value) -> Option<f64> {
     let j = &base["joints"][1];
-    let (d, c0) = (
-        j["driving_torque_nm"].as_f64()?,
-        j["coulomb_nm"].as_f64()?,
-    );
+    let (d, c0) = (j["driving_torque_nm"].as_f64()?, j["coulomb_nm"].as_f64()?);
     let stroke = j["stowed_deg"].as_f64()?.abs().to_radians();
     let (_, _, hi) = estimate(kind);
     let pct = |d: f64, r: f64| (d / r - 1.0) * 100.0;
@@ -213,7 +222,8 @@ fn by_hand(kind: EffectKind, base: &Value) -> Option<f64> {
         EffectKind::LatchDetent => Some(pct(d, 3.0 * c0 + 3.0 * hi)),
         // Breakaway: the kinetic level plus the excess, each at its upper end.
         EffectKind::StribeckFriction => Some(pct(d, 3.0 * c0 + 3.0 * (hi + 0.15))),
-        EffectKind::SpringSoftening => Some(pct(d * (1.0 - hi), 3.0 * c0)),
+        // Joint 2 has no friction of its own: the driving torque shows it.
+        EffectKind::SpringSoftening => Some(d * (1.0 - hi)),
         _ => None,
     }
 }
@@ -227,18 +237,21 @@ fn margin_takes_the_worst_end(kind: EffectKind, dir: &Path) -> Result<(), String
         _ => "seed001-T01",
     };
     let run = |at| margins(&mech, Some(&diagnosis(dir, name, kind, at)), dir);
-    let (taken, est, lo, hi) = (run(At::Interval), run(At::Estimate), run(At::Lo), run(At::Hi));
+    let (taken, est, lo, hi) = (
+        run(At::Interval),
+        run(At::Estimate),
+        run(At::Lo),
+        run(At::Hi),
+    );
     let base = margins(&mech, None, dir);
+    // The end whose margins are nowhere higher; where the ends move joints
+    // in opposite directions (a global rig tilt resists one joint and
+    // drives another), the end with the lowest margin of the wing.
     let worse = match (no_higher(&hi, &lo), no_higher(&lo, &hi)) {
         (true, _) => &hi,
         (false, true) => &lo,
-        (false, false) => {
-            return Err(format!(
-                "neither end is worse at every joint: lo {:?}, hi {:?}",
-                pcts(&lo),
-                pcts(&hi)
-            ))
-        }
+        (false, false) if lowest(&hi) <= lowest(&lo) => &hi,
+        (false, false) => &lo,
     };
     if !same(&taken, worse) {
         return Err(format!(
@@ -250,7 +263,13 @@ fn margin_takes_the_worst_end(kind: EffectKind, dir: &Path) -> Result<(), String
         ));
     }
     let moves = !same(&lo, &hi);
-    if moves && (same(&taken, &est) || !no_higher(&taken, &est)) {
+    let one_way = no_higher(&hi, &lo) || no_higher(&lo, &hi);
+    let lowered = if one_way {
+        !same(&taken, &est) && no_higher(&taken, &est)
+    } else {
+        lowest(&taken) < lowest(&est)
+    };
+    if moves && !lowered {
         return Err(format!(
             "the worst end does not lower the margin: {:?} vs estimate {:?}",
             pcts(&taken),
@@ -265,9 +284,14 @@ fn margin_takes_the_worst_end(kind: EffectKind, dir: &Path) -> Result<(), String
         ));
     }
     if let Some(want) = by_hand(kind, &base) {
-        let got = pcts(&taken)[1][0];
-        if (got - want).abs() > 1e-6 * want.abs().max(1.0) {
-            return Err(format!("torque form at joint 2: {got} %, by hand {want} %"));
+        let got = match kind {
+            EffectKind::SpringSoftening => taken["joints"][1]["driving_torque_nm"]
+                .as_f64()
+                .unwrap_or(f64::NAN),
+            _ => pcts(&taken)[1][0],
+        };
+        if !want.is_finite() || (got - want).abs() > 1e-6 * want.abs().max(1.0) {
+            return Err(format!("torque form at joint 2: {got}, by hand {want}"));
         }
     }
     if taken["taken_at"].as_array().map_or(0, Vec::len) != 1 {
@@ -318,8 +342,11 @@ fn reliability_draws_it(kind: EffectKind, dir: &Path) -> Result<(), String> {
     let (x, lo, hi) = estimate(kind);
     let (mean, sd) = law(&out, kind).ok_or(format!("no normal law of {kind} in:\n{out}"))?;
     let want_sd = (hi - lo) / (2.0 * 1.959_963_985);
-    if mean != x || (sd - want_sd).abs() > 1e-6 * want_sd {
-        return Err(format!("normal({mean},{sd}), expected normal({x},{want_sd})"));
+    // The law is printed with 6 significant digits.
+    if mean != x || (sd - want_sd).abs() > 1e-5 * want_sd {
+        return Err(format!(
+            "normal({mean},{sd}), expected normal({x},{want_sd})"
+        ));
     }
     Ok(())
 }
@@ -356,7 +383,14 @@ fn an_identified_friction_counts_at_the_upper_end() {
     let m = margins(&mech, Some(&file), dir.path());
     let c = |v: &Value, j: usize| v["joints"][j]["coulomb_nm"].as_f64().unwrap();
     assert_eq!(c(&m, 0), c(&base, 0) + 2.7, "joint 1: the upper end");
-    assert_eq!(c(&m, 1), c(&base, 1) + 1.7, "joint 2: no interval, the estimate");
+    assert_eq!(
+        c(&m, 1),
+        c(&base, 1) + 1.7,
+        "joint 2: no interval, the estimate"
+    );
     let taken = m["taken_at"].to_string();
-    assert!(taken.contains("upper end") && taken.contains("its estimate"), "{taken}");
+    assert!(
+        taken.contains("upper end") && taken.contains("its estimate"),
+        "{taken}"
+    );
 }

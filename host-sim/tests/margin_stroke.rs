@@ -269,7 +269,11 @@ fn plot_writes_the_margin_along_the_stroke() {
         "--plot",
         s(&png),
     ]);
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     let bytes = std::fs::read(&png).expect("the plot is written");
     assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "a PNG");
     let missing = dir.path().join("no_such_folder/margin.png");

@@ -244,11 +244,17 @@ fn identify_effects(id: &Identification) -> Result<Found, FromError> {
 fn diagnose_effects(d: &Diagnosis, mech: &Mechanism) -> Result<Found, FromError> {
     let (mut effects, mut ignored, mut taken_at) = (Vec::new(), Vec::new(), Vec::new());
     for (i, e) in d.effects.iter().enumerate() {
-        let worst = e.name.parse::<EffectKind>().ok().map(|k| at_worst_end(e, k, mech));
+        let worst = e
+            .name
+            .parse::<EffectKind>()
+            .ok()
+            .map(|k| at_worst_end(e, k, mech));
         let entry = worst.as_ref().map_or(e, |w| &w.0);
         match entry.to_effect(i)? {
             Some(effect) => {
-                let joint = effect.joint.map_or(String::new(), |j| format!(" at joint {j}"));
+                let joint = effect
+                    .joint
+                    .map_or(String::new(), |j| format!(" at joint {j}"));
                 let words = worst.map(|w| w.1).unwrap_or_default();
                 taken_at.push(format!("{}{joint}: {words}", effect.kind));
                 effects.push(effect);
@@ -282,7 +288,9 @@ fn end_of(kind: EffectKind, estimate: f64, ci: Option<[Option<f64>; 2]>) -> (f64
     };
     let (value, end) = match effect_margin::worst_end(kind) {
         WorstEnd::Upper => (hi.max(estimate), "the upper end"),
-        WorstEnd::LargerMagnitude if hi.abs() >= lo.abs() => (hi, "the end of the larger magnitude"),
+        WorstEnd::LargerMagnitude if hi.abs() >= lo.abs() => {
+            (hi, "the end of the larger magnitude")
+        }
         WorstEnd::LargerMagnitude => (lo, "the end of the larger magnitude"),
         WorstEnd::Resisting => (estimate, "its estimate"),
         WorstEnd::Estimate(why) => {

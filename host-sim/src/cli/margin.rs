@@ -233,7 +233,9 @@ fn rows_for(
         factors.set(*kind, *value);
     }
     let rows = margins(mech, resist, standard, &factors, allowance).map_err(|e| match e {
-        MarginsError::Spring { .. } => CliError::input(format!("{}: {e}", args.mechanism.display())),
+        MarginsError::Spring { .. } => {
+            CliError::input(format!("{}: {e}", args.mechanism.display()))
+        }
         other => CliError::failed(other.to_string()),
     })?;
     Ok((factors, rows))

@@ -135,8 +135,8 @@ mod tests {
     /// the lowest margin it draws.
     #[test]
     fn the_plotted_worst_is_the_printed_worst() {
-        let file = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../data/mechanisms/seed000_case1.toml");
+        let file =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms/seed000_case1.toml");
         let mech = Mechanism::load(&file).unwrap();
         let mut r = Resistances::of_mechanism(&mech, "--friction".into());
         r.coulomb_nm = vec![0.54, 0.472];
@@ -160,7 +160,11 @@ mod tests {
         for c in &plotted {
             let (angle, margin) = c.worst.unwrap();
             let lowest = c.margin_pct.iter().copied().fold(f64::INFINITY, f64::min);
-            assert_eq!(margin, lowest, "joint {}: the mark is the lowest drawn", c.joint);
+            assert_eq!(
+                margin, lowest,
+                "joint {}: the mark is the lowest drawn",
+                c.joint
+            );
             let i = c.margin_pct.iter().position(|m| *m == lowest).unwrap();
             assert_eq!(angle, c.angle_deg[i]);
             let line = format!("worst at φ = {angle:.2}°");
@@ -168,7 +172,11 @@ mod tests {
             let row = printed
                 .lines()
                 .find(|l| l.contains(&line) && l.contains(&with));
-            assert!(row.is_some(), "joint {}: {line} … {with} not in\n{printed}", c.joint);
+            assert!(
+                row.is_some(),
+                "joint {}: {line} … {with} not in\n{printed}",
+                c.joint
+            );
             assert!(margin < 0.0, "joint {}: fails at the latch end", c.joint);
         }
         let dir = tempfile::tempdir().unwrap();
