@@ -99,9 +99,11 @@ pub fn plot_margins(
                 y_label: "margin [%]".into(),
                 series: vec![
                     Series::new("static margin", &c.angle_deg, &c.margin_pct, Mark::Line, 0),
-                    Series::new(label.clone(), wx, wy, Mark::Dots, 1),
+                    Series::new(label, wx, wy, Mark::Dots, 1),
                 ],
-                markers: c.worst.map(|w| (w.0, label)).into_iter().collect(),
+                // A vertical line through the worst position, labelled in
+                // the legend (a label at the frame would be cut).
+                markers: c.worst.map(|w| (w.0, String::new())).into_iter().collect(),
             };
             let axis = YAxis {
                 limits: Some(y_limits(c)),
