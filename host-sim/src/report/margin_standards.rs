@@ -31,6 +31,9 @@ fn worst(row: &Row) -> String {
     })
 }
 
+/// How one form's cell is written from a joint's row.
+type Cell = fn(&Row) -> String;
+
 /// The side-by-side table of `by_standard` (each standard with its rows,
 /// the same joints in each), headed by `title`.
 pub fn side_by_side(title: &str, by_standard: &[(Standard, Vec<Row>)]) -> String {
@@ -52,7 +55,7 @@ pub fn side_by_side(title: &str, by_standard: &[(Standard, Vec<Row>)]) -> String
     }
     let _ = writeln!(s);
     let joints = by_standard.first().map_or(0, |(_, rows)| rows.len());
-    let forms: [(&str, fn(&Row) -> String); 3] = [
+    let forms: [(&str, Cell); 3] = [
         ("torque, stowed (Eq. 7)", |r| {
             pct(r.margin.torque_margin_pct())
         }),
