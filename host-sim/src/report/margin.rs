@@ -132,6 +132,20 @@ fn allowance_line(m: &MarginReport) -> String {
     )
 }
 
+/// The lines saying at which end of its interval each effect found is
+/// taken (none without `--from`).
+fn taken_at_lines(r: &Resistances) -> String {
+    if r.taken_at.is_empty() {
+        return String::new();
+    }
+    let mut s =
+        "each effect found at the end of its 95 % interval that lowers the margin:\n".to_string();
+    for t in &r.taken_at {
+        let _ = writeln!(s, "  {t}");
+    }
+    s
+}
+
 /// The header lines: mechanism, source of the resistances, standard.
 fn table_header(m: &MarginReport) -> String {
     let (mech, r, factors) = (m.mech, m.resistances, m.factors);
@@ -144,15 +158,7 @@ fn table_header(m: &MarginReport) -> String {
         m.file.display()
     );
     let _ = writeln!(s, "resistances from: {}", r.source);
-    if !r.taken_at.is_empty() {
-        let _ = writeln!(
-            s,
-            "each effect found at the end of its 95 % interval that lowers the margin:"
-        );
-        for t in &r.taken_at {
-            let _ = writeln!(s, "  {t}");
-        }
-    }
+    s += &taken_at_lines(r);
     if !r.ignored.is_empty() {
         let _ = writeln!(
             s,
