@@ -247,3 +247,36 @@ fn a_plunger_entry_ramp_counts_on_its_width_only() {
         "at the stop",
     );
 }
+
+/// `--plot FILE.png` writes the margin along the stroke as a PNG beside
+/// the JSON (the data it draws is held against the table in
+/// `report::margin_plot`'s unit test); a folder that does not exist is
+/// refused before anything is computed (exit 2).
+#[test]
+fn plot_writes_the_margin_along_the_stroke() {
+    let file = data().join("mechanisms/seed000_case1.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("margin.png");
+    let run = deploywatch(&[
+        "margin",
+        "--quiet",
+        "--mechanism",
+        s(&file),
+        "--friction",
+        "0.54,0.472",
+        "--standard",
+        "ecss",
+        "--plot",
+        s(&png),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let bytes = std::fs::read(&png).expect("the plot is written");
+    assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "a PNG");
+    let missing = dir.path().join("no_such_folder/margin.png");
+    let run = deploywatch(&["margin", "--mechanism", s(&file), "--plot", s(&missing)]);
+    fails(&run, 2, &["--plot", "does not exist"]);
+}

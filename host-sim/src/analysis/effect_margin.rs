@@ -78,6 +78,51 @@ pub fn kind_of(k: EffectKind) -> Option<Resistance> {
     }
 }
 
+/// Which end of a found effect's 95 % interval the margins take: the end
+/// that lowers them (`docs/margin.md`, "Each effect at the worst end of
+/// its interval").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WorstEnd {
+    /// The upper end: a larger value resists more (or, for a softening,
+    /// drives less).
+    Upper,
+    /// The end of the larger magnitude: the sign says whether it resists
+    /// or helps, a larger one does more of what the estimate does.
+    LargerMagnitude,
+    /// Per knot of a table, the end of its band that resists the
+    /// deployment more (the lower end on a joint deploying towards
+    /// positive angles, the upper end otherwise).
+    Resisting,
+    /// The estimate: no end lowers the margins; the reason in words.
+    Estimate(&'static str),
+}
+
+/// The end of its interval each effect kind counts at in the margins.
+/// Every kind is named here: a new effect does not compile until it is
+/// given one.
+pub fn worst_end(k: EffectKind) -> WorstEnd {
+    match k {
+        EffectKind::CoulombFriction
+        | EffectKind::ViscousDamping
+        | EffectKind::StribeckFriction
+        | EffectKind::QuadraticDamping
+        | EffectKind::HarnessStiffness
+        | EffectKind::LatchDetent
+        | EffectKind::AirDrag
+        | EffectKind::RigFriction
+        | EffectKind::SpringSoftening => WorstEnd::Upper,
+        EffectKind::RigTilt => WorstEnd::LargerMagnitude,
+        EffectKind::TorqueTable => WorstEnd::Resisting,
+        EffectKind::EncoderOffset => WorstEnd::Estimate("a sensor effect moves no joint"),
+        EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => WorstEnd::Estimate(
+            "the latch's line takes the nominal plunger and magnet, stronger than any weakened one",
+        ),
+        EffectKind::WireLength | EffectKind::FrameOffset => {
+            WorstEnd::Estimate("the rig's geometry, not in the hinges' margins")
+        }
+    }
+}
+
 /// True for the effects that exist only on a ground rig (air in the
 /// room, a rig that is not level, the rig's rails, wires and frames): none of them flies, so `--flight`
 /// leaves them out.

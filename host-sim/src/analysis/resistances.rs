@@ -3,8 +3,9 @@
 //! read from their `--json` file (`margin --from`): the friction and
 //! damping per joint, and every other named effect of a diagnosis, counted
 //! by [`crate::analysis::effect_margin`].
-use crate::analysis::effect_margin;
+use crate::analysis::effect_margin::{self, WorstEnd};
 use crate::model::effect::{Effect, EffectKind};
+use crate::model::findings::diagnosis::FoundEffect;
 use crate::model::findings::effects::FoundEffectError;
 use crate::model::findings::{Diagnosis, Findings, FindingsError, Identification};
 use crate::model::mechanism::Mechanism;
@@ -28,6 +29,10 @@ pub struct Resistances {
     pub others: Vec<Effect>,
     /// The mechanisms the file was found on (empty if it does not say).
     pub found_on: Vec<String>,
+    /// Per effect read from a findings file, in words: the value the
+    /// margins take, the worst end of its 95 % interval
+    /// ([`effect_margin::worst_end`]), or its estimate and why.
+    pub taken_at: Vec<String>,
 }
 
 impl Resistances {
@@ -40,6 +45,7 @@ impl Resistances {
             ignored: Vec::new(),
             others: Vec::new(),
             found_on: Vec::new(),
+            taken_at: Vec::new(),
         }
     }
 
@@ -136,6 +142,8 @@ struct Found {
     ignored: Vec<String>,
     /// The mechanisms it was found on.
     found_on: Vec<String>,
+    /// Per effect, the value taken, in words.
+    taken_at: Vec<String>,
 }
 
 /// Reads `--from`: an identify JSON (`"method"` and `"joints"`) or a
@@ -145,7 +153,7 @@ struct Found {
 pub fn read_found(path: &Path, mech: &Mechanism) -> Result<Resistances, FromError> {
     let found = match Findings::from_json_str(&std::fs::read_to_string(path)?)? {
         Findings::Identify(id) => identify_effects(&id)?,
-        Findings::Diagnosis(d) => diagnose_effects(&d)?,
+        Findings::Diagnosis(d) => diagnose_effects(&d, mech)?,
     };
     let source = format!(
         "{} ({}) + the mechanism's friction",
@@ -155,6 +163,7 @@ pub fn read_found(path: &Path, mech: &Mechanism) -> Result<Resistances, FromErro
     let mut r = resistances_with(mech, found.effects, source)?;
     r.ignored = found.ignored;
     r.found_on = found.found_on;
+    r.taken_at = found.taken_at;
     Ok(r)
 }
 
@@ -207,12 +216,16 @@ fn joint_of(joint: Option<usize>, at: &str) -> Result<usize, FromError> {
 
 /// The EFTs of an identify JSON, and the mechanisms of its runs.
 fn identify_effects(id: &Identification) -> Result<Found, FromError> {
-    let mut effects = Vec::new();
+    let (mut effects, mut taken_at) = (Vec::new(), Vec::new());
     for (i, j) in id.joints.iter().enumerate() {
         let at = format!("joints[{i}]");
         let joint = joint_of(Some(j.joint), &at)?;
-        let value = nonneg(Some(j.coulomb_nm), "coulomb_nm", &at)?;
-        effects.push(Effect::joint(EffectKind::CoulombFriction, joint, value));
+        let estimate = nonneg(Some(j.coulomb_nm), "coulomb_nm", &at)?;
+        let kind = EffectKind::CoulombFriction;
+        let ci = j.ci95.map(|[lo, hi]| [Some(lo), Some(hi)]);
+        let (value, words) = end_of(kind, estimate, ci);
+        taken_at.push(format!("{kind} at joint {joint}: {words}"));
+        effects.push(Effect::joint(kind, joint, value));
     }
     let mut found_on: Vec<String> = id.after.runs.iter().map(|r| r.mechanism.clone()).collect();
     found_on.dedup();
@@ -221,17 +234,31 @@ fn identify_effects(id: &Identification) -> Result<Found, FromError> {
         effects,
         ignored: Vec::new(),
         found_on,
+        taken_at,
     })
 }
 
 /// The named effects of a diagnose JSON (read by the one reader of its
 /// entries, [`FoundEffect::to_effect`](crate::model::findings::diagnosis::FoundEffect::to_effect)), what is not a named effect (in
 /// words), and the mechanisms it was found on.
-fn diagnose_effects(d: &Diagnosis) -> Result<Found, FromError> {
-    let (mut effects, mut ignored) = (Vec::new(), Vec::new());
+fn diagnose_effects(d: &Diagnosis, mech: &Mechanism) -> Result<Found, FromError> {
+    let (mut effects, mut ignored, mut taken_at) = (Vec::new(), Vec::new(), Vec::new());
     for (i, e) in d.effects.iter().enumerate() {
-        match e.to_effect(i)? {
-            Some(effect) => effects.push(effect),
+        let worst = e
+            .name
+            .parse::<EffectKind>()
+            .ok()
+            .map(|k| at_worst_end(e, k, mech));
+        let entry = worst.as_ref().map_or(e, |w| &w.0);
+        match entry.to_effect(i)? {
+            Some(effect) => {
+                let joint = effect
+                    .joint
+                    .map_or(String::new(), |j| format!(" at joint {j}"));
+                let words = worst.map(|w| w.1).unwrap_or_default();
+                taken_at.push(format!("{}{joint}: {words}", effect.kind));
+                effects.push(effect);
+            }
             None => ignored.push(
                 e.joint
                     .map_or(e.name.clone(), |j| format!("{} at joint {j}", e.name)),
@@ -243,5 +270,83 @@ fn diagnose_effects(d: &Diagnosis) -> Result<Found, FromError> {
         effects,
         ignored,
         found_on: d.found_on(),
+        taken_at,
     })
+}
+
+/// The value of an effect of `kind` estimated at `estimate` that the
+/// margins take, at the end of its 95 % interval `ci` that
+/// [`effect_margin::worst_end`] names (never on the estimate's kinder
+/// side), and what was taken in words.
+fn end_of(kind: EffectKind, estimate: f64, ci: Option<[Option<f64>; 2]>) -> (f64, String) {
+    let unit = kind.unit();
+    let Some([Some(lo), Some(hi)]) = ci else {
+        return (
+            estimate,
+            format!("{estimate} {unit}, its estimate (no 95 % interval in the file)"),
+        );
+    };
+    let (value, end) = match effect_margin::worst_end(kind) {
+        WorstEnd::Upper => (hi.max(estimate), "the upper end"),
+        WorstEnd::LargerMagnitude if hi.abs() >= lo.abs() => {
+            (hi, "the end of the larger magnitude")
+        }
+        WorstEnd::LargerMagnitude => (lo, "the end of the larger magnitude"),
+        WorstEnd::Resisting => (estimate, "its estimate"),
+        WorstEnd::Estimate(why) => {
+            return (estimate, format!("{estimate} {unit}, its estimate ({why})"));
+        }
+    };
+    (
+        value,
+        format!("{value} {unit}, {end} of its 95 % interval [{lo}, {hi}] (estimate {estimate})"),
+    )
+}
+
+/// A diagnosis entry of `kind` with its value (a Stribeck law's excess
+/// too) at the worst end of its 95 % interval ([`end_of`]), or for a
+/// table each knot's torque at the end of its band that resists joint's
+/// deployment on `mech` more; and what was taken, in words.
+fn at_worst_end(f: &FoundEffect, kind: EffectKind, mech: &Mechanism) -> (FoundEffect, String) {
+    let mut w = f.clone();
+    if kind != EffectKind::TorqueTable {
+        let (value, words) = end_of(kind, f.value.unwrap_or(f64::NAN), f.ci95);
+        w.value = f.value.map(|_| value);
+        if kind == EffectKind::StribeckFriction {
+            if let (Some(x), Some([Some(_), Some(hi)])) = (f.excess_nm, f.excess_ci95_nm) {
+                w.excess_nm = Some(hi.max(x));
+            }
+        }
+        return (w, words);
+    }
+    // A joint deploying towards positive angles (stowed below 0) is
+    // resisted by a negative torque: the lower end of each band.
+    let towards_positive = f
+        .joint
+        .and_then(|j| mech.joints.get(j.wrapping_sub(1)))
+        .is_some_and(|jt| jt.stowed_deg < 0.0);
+    let side = usize::from(!towards_positive);
+    let mut banded = false;
+    for (knots, band) in [
+        (&mut w.torque_nm, &f.torque_ci95_nm),
+        (&mut w.rate_torque_nm, &f.rate_torque_ci95_nm),
+    ] {
+        if let (Some(k), Some(b)) = (knots.as_mut(), band) {
+            for (y, end) in k.iter_mut().zip(&b[side]) {
+                if end.is_some() {
+                    *y = *end;
+                    banded = true;
+                }
+            }
+        }
+    }
+    let words = if banded {
+        format!(
+            "each knot at the {} end of its 95 % band (the end that resists the deployment)",
+            if towards_positive { "lower" } else { "upper" }
+        )
+    } else {
+        "its estimate (no 95 % band in the file)".to_string()
+    };
+    (w, words)
 }

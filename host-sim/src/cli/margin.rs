@@ -15,13 +15,15 @@
 //! computed by [`crate::analysis::joint_margins`], the table written by
 //! [`crate::report::margin`].
 use super::{check_output, CliError, Console};
-use crate::analysis::design_margin::{DataSource, NameError, Resistance, Standard};
-use crate::analysis::joint_margins::{margins, MarginsError};
+use crate::analysis::design_margin::{DataSource, Factors, NameError, Resistance, Standard};
+use crate::analysis::joint_margins::{margins, MarginsError, Row};
 use crate::analysis::resistances::{read_found, Resistances};
 use crate::analysis::stroke_margin::Allowance;
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;
 use crate::report::margin::{table, to_json, MarginReport};
+use crate::report::margin_plot::plot_margins;
+use crate::report::margin_standards::side_by_side;
 use clap::builder::PossibleValue;
 use std::path::PathBuf;
 
@@ -77,6 +79,11 @@ pub struct MarginArgs {
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
 
+    /// Also draw the static margin along the stroke, one panel per joint,
+    /// the required minimum and the worst position marked, as a PNG here.
+    #[arg(long, value_name = "FILE.png")]
+    pub plot: Option<PathBuf>,
+
     /// No chatter: the table, errors and warnings only; the JSON is
     /// written as usual.
     #[arg(long, short)]
@@ -87,6 +94,12 @@ pub struct MarginArgs {
     /// left out of what `--from` found.
     #[arg(long)]
     pub flight: bool,
+
+    /// Print the margins under every standard side by side (torque form
+    /// at the stowed angle, energy form, worst along the stroke) instead
+    /// of one standard's table.
+    #[arg(long, conflicts_with_all = ["json", "plot", "check"])]
+    pub all_standards: bool,
 
     /// Exit 1 when a joint fails either margin (after printing the table
     /// and writing the JSON); without it the exit code says only whether
@@ -206,6 +219,81 @@ fn given_resistances(args: &MarginArgs, mech: &Mechanism) -> Result<Resistances,
     })
 }
 
+/// The factors of `standard` (its row for `--data-source`, with the
+/// `--factor` overrides) and every joint's margins with them.
+fn rows_for(
+    args: &MarginArgs,
+    mech: &Mechanism,
+    resist: &Resistances,
+    standard: Standard,
+    allowance: &Allowance,
+) -> Result<(Factors, Vec<Row>), CliError> {
+    let mut factors = standard.factors_for(args.data_source);
+    for (kind, value) in &args.factors {
+        factors.set(*kind, *value);
+    }
+    let rows = margins(mech, resist, standard, &factors, allowance).map_err(|e| match e {
+        MarginsError::Spring { .. } => {
+            CliError::input(format!("{}: {e}", args.mechanism.display()))
+        }
+        other => CliError::failed(other.to_string()),
+    })?;
+    Ok((factors, rows))
+}
+
+/// `--all-standards`: the margins under every standard side by side.
+fn print_all_standards(
+    args: &MarginArgs,
+    mech: &Mechanism,
+    resist: &Resistances,
+    allowance: &Allowance,
+) -> Result<(), CliError> {
+    let by_standard = Standard::ALL
+        .into_iter()
+        .map(|std| Ok((std, rows_for(args, mech, resist, std, allowance)?.1)))
+        .collect::<Result<Vec<_>, CliError>>()?;
+    let title = format!(
+        "margins of `{}` ({}) under each standard; resistances from: {}",
+        mech.name,
+        args.mechanism.display(),
+        resist.source
+    );
+    super::print_out(format_args!("{}", side_by_side(&title, &by_standard)));
+    Ok(())
+}
+
+/// Writes `--json` and `--plot`, all or none ([`Outputs`]).
+fn write_outputs(
+    args: &MarginArgs,
+    report: &MarginReport,
+    console: &Console,
+) -> Result<(), CliError> {
+    let mut outs = Outputs::new();
+    if let Some(out) = &args.json {
+        let doc = to_json(report);
+        let text =
+            serde_json::to_string_pretty(&doc).map_err(|e| CliError::failed(e.to_string()))?;
+        outs.write(out, text + "\n")?;
+    }
+    if let Some(png) = &args.plot {
+        plot_margins(
+            &outs.path(png)?,
+            &report.mech.name,
+            report.standard.name(),
+            report.rows,
+        )
+        .map_err(|e| CliError::failed(e.to_string()))?;
+    }
+    outs.commit()?;
+    if let Some(out) = &args.json {
+        console.say(format_args!("json: {}", out.display()));
+    }
+    if let Some(png) = &args.plot {
+        console.say(format_args!("plot: {}", png.display()));
+    }
+    Ok(())
+}
+
 /// Runs `deploywatch margin`.
 pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     // The loader's errors name the file, the key and what was expected.
@@ -222,6 +310,9 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     if let Some(out) = &args.json {
         check_output("--json", out)?;
     }
+    if let Some(png) = &args.plot {
+        check_output("--plot", png)?;
+    }
     let console = Console::new(args.quiet);
     for w in crate::model::plausibility::warnings(&mech, &args.mechanism) {
         console.warn(w);
@@ -233,21 +324,14 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
             mech.name
         ));
     }
-    let mut factors = args.standard.factors_for(args.data_source);
-    for (kind, value) in &args.factors {
-        factors.set(*kind, *value);
-    }
     let allowance = Allowance {
         spring_tolerance_pct: args.spring_tolerance,
         end_of_life_pct: args.end_of_life,
     };
-    let rows =
-        margins(&mech, &resist, args.standard, &factors, &allowance).map_err(|e| match e {
-            MarginsError::Spring { .. } => {
-                CliError::input(format!("{}: {e}", args.mechanism.display()))
-            }
-            other => CliError::failed(other.to_string()),
-        })?;
+    if args.all_standards {
+        return print_all_standards(args, &mech, &resist, &allowance);
+    }
+    let (factors, rows) = rows_for(args, &mech, &resist, args.standard, &allowance)?;
     let report = MarginReport {
         file: &args.mechanism,
         mech: &mech,
@@ -259,15 +343,7 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         data_source: args.data_source,
     };
     super::print_out(format_args!("{}", table(&report)));
-    if let Some(out) = &args.json {
-        let doc = to_json(&report);
-        let text =
-            serde_json::to_string_pretty(&doc).map_err(|e| CliError::failed(e.to_string()))?;
-        let mut outs = Outputs::new();
-        outs.write(out, text + "\n")?;
-        outs.commit()?;
-        console.say(format_args!("json: {}", out.display()));
-    }
+    write_outputs(args, &report, &console)?;
     let failed: Vec<String> = rows
         .iter()
         .filter(|r| {
@@ -321,6 +397,8 @@ mod tests {
             standard: Standard::EcssEST3301C,
             factors: vec![(Resistance::Friction, 2.5)],
             json: None,
+            plot: None,
+            all_standards: false,
             quiet: true,
             check: false,
             flight: false,

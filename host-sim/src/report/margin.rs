@@ -59,8 +59,9 @@ fn verdict(row: &Row) -> &'static str {
     }
 }
 
-/// The sign of deployment's stowed side, to give a position as a joint angle.
-fn joint_angle_deg(row: &Row, from_latch_rad: f64) -> f64 {
+/// A position `from_latch_rad` \[rad\] from the latch as joint `row`'s
+/// angle \[deg\] (the sign of its stowed side).
+pub fn joint_angle_deg(row: &Row, from_latch_rad: f64) -> f64 {
     row.stowed_deg.signum() * from_latch_rad.to_degrees() + 0.0
 }
 
@@ -131,6 +132,20 @@ fn allowance_line(m: &MarginReport) -> String {
     )
 }
 
+/// The lines saying at which end of its interval each effect found is
+/// taken (none without `--from`).
+fn taken_at_lines(r: &Resistances) -> String {
+    if r.taken_at.is_empty() {
+        return String::new();
+    }
+    let mut s =
+        "each effect found at the end of its 95 % interval that lowers the margin:\n".to_string();
+    for t in &r.taken_at {
+        let _ = writeln!(s, "  {t}");
+    }
+    s
+}
+
 /// The header lines: mechanism, source of the resistances, standard.
 fn table_header(m: &MarginReport) -> String {
     let (mech, r, factors) = (m.mech, m.resistances, m.factors);
@@ -143,6 +158,7 @@ fn table_header(m: &MarginReport) -> String {
         m.file.display()
     );
     let _ = writeln!(s, "resistances from: {}", r.source);
+    s += &taken_at_lines(r);
     if !r.ignored.is_empty() {
         let _ = writeln!(
             s,
@@ -357,6 +373,7 @@ pub fn to_json(report: &MarginReport) -> Value {
         "mechanism_file": m.file.display().to_string(),
         "resistances_from": r.source,
         "not_included": r.ignored,
+        "taken_at": r.taken_at,
         "standard": m.standard.name(),
         "standard_reference": m.standard.reference(),
         "standard_confirmation": m.standard.confirmation(),

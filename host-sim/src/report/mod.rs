@@ -5,7 +5,9 @@
 //! [`files::Outputs`], through which every command writes its outputs all
 //! or none. Above the analysis, the report writers: the diagnosis report,
 //! its plots and its JSON ([`diagnosis`] and the `diagnosis_*` modules),
-//! the margin table and its JSON ([`margin`]), the identification's summary
+//! the margin table and its JSON ([`margin`]) and its plot along the
+//! stroke ([`margin_plot`]), every standard side by side
+//! ([`margin_standards`]), the identification's summary
 //! and plot ([`identify`]), a simulated run's plot ([`run_plot`]).
 pub mod diagnosis;
 pub mod diagnosis_json;
@@ -16,6 +18,8 @@ pub mod diagnosis_words;
 pub mod files;
 pub mod identify;
 pub mod margin;
+pub mod margin_plot;
+pub mod margin_standards;
 pub mod markdown;
 pub mod plot;
 pub mod progress;
