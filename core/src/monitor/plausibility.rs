@@ -16,15 +16,27 @@
 //!   noise σ ≈ 0.9 step, the difference of two readings is
 //!   `N(m, (0.9·√2)²)` steps for a motion of `m` steps, and it rounds to
 //!   the same code with probability `Φ((0.5 − m)/1.27)`, 2·10⁻⁴ for
-//!   `m = 5`; [`STALE_REPEATS`] = 2 repeats in a row make it about 4·10⁻⁸ per
-//!   sample. The gate cannot see it: a stale value is within half a degree
+//!   `m = 5`; [`STALE_REPEATS`] = 3 repeats in a row make it about 10⁻¹¹ per
+//!   sample. Three, not two: a joint turned round mid-stroke (by a
+//!   neighbour's rebound, a pawl's rattle or its own spring) after moving
+//!   faster than that sits within a code or two of its turning point for
+//!   two intervals (at 700°/s² it moves 0.04° in the 10 ms either side of
+//!   the turn), and the readings before the turn, noisy, can hide the
+//!   braking; three readings in a row repeating their code where it
+//!   would have moved on are beyond a turn at any braking that stopped
+//!   it from that speed. The gate cannot see it: a stale value is within half a degree
 //!   of a slow joint's prediction, and the stuck-encoder count
 //!   (`SensorConfig::stuck_samples`, 20 repeats) is for a joint at rest.
 //! - **A spike that returns**: a reading that leaves the prediction by more
 //!   than [`DEPART_RAD`] and, within [`SPIKE_SAMPLES`] samples, comes back
 //!   to within [`RETURN_FRACTION`] of that jump of where the joint was
 //!   going before it left: the line through the three readings before the
-//!   jump, extrapolated (the readings themselves, not the rate filter,
+//!   jump, extrapolated. A departure counts only when it is larger than
+//!   the change of step of those three readings (`|z₀ − 2 z₁ + z₂|`): a
+//!   joint shaken near the Nyquist frequency (a pawl rattling in its notch
+//!   next to it) leaves and rejoins its line by as much every sample, and
+//!   a spike of that size there cannot be told from its motion at this
+//!   sampling rate; one on a smooth course stands out of it (the readings themselves, not the rate filter,
 //!   whose gate near a latch is wide open and whose rate there follows
 //!   every reading). Inside a tape spring's
 //!   snap zone the filter's gate is wide open (the model cannot follow the
@@ -44,7 +56,7 @@ use crate::monitor::observer::RateFilter;
 /// reading is stale [quantisation steps].
 pub const STALE_MOTION_STEPS: f32 = 5.0;
 /// Consecutive repeats (while moving) that make a reading stale.
-pub const STALE_REPEATS: u16 = 2;
+pub const STALE_REPEATS: u16 = 3;
 /// Departure from the filter's extrapolation that may start a spike \[rad\]
 /// (0.2°: 7 σ of the reference encoder; a departure alone flags nothing).
 pub const DEPART_RAD: f32 = 0.2 * core::f32::consts::PI / 180.0;
@@ -56,6 +68,9 @@ pub const RETURN_FRACTION: f32 = 0.3;
 
 /// Readings of the line a spike is judged against.
 const LINE_READINGS: usize = 3;
+/// A departure counts only when it exceeds this many times the change of
+/// step of the three readings before it \[1\].
+const DEPART_OVER_CURVATURE: f32 = 1.0;
 
 /// The rate filter's state at the previous sample: where the joint was
 /// going.
@@ -160,6 +175,10 @@ pub struct ReadingCheck {
     /// Where the parabola through the three readings before this one puts
     /// this one \[rad\] (NaN: fewer than three, or the checks are off).
     parabola: f32,
+    /// The previous reading's miss from its own parabola \[rad\]: the third
+    /// difference of the four readings up to it (NaN: none). The cubic
+    /// through those four puts this reading at `parabola + third`.
+    third: f32,
     /// The readings' own next step at the first reading of the repeats
     /// ([`ReadingCheck::step_ahead`]) \[rad\].
     repeat_ahead: f32,
@@ -181,16 +200,22 @@ impl ReadingCheck {
             },
             repeat_ahead: 0.0,
             parabola: f32::NAN,
+            third: f32::NAN,
         }
     }
 
     /// True when a reading `z` \[rad\] lies within `tol` \[rad\] of where
-    /// the parabola through the three readings before it puts it: the
-    /// joint's own accelerating motion (a tape spring's snap of a light
-    /// panel, the whip of a chain), which a spike leaves by its size. False
-    /// without three readings.
+    /// the parabola through the three readings before it puts it, or the
+    /// cubic through the four before it: the joint's own accelerating
+    /// motion (a tape spring's snap of a light panel, the whip of a chain
+    /// whose neighbour is about to latch, where the acceleration itself
+    /// doubles within a few samples), which a spike leaves by its size.
+    /// False without three readings (the cubic: four).
     pub fn follows_readings(&self, z: f32, tol: f32) -> bool {
-        libm::fabsf(z - self.parabola) <= tol
+        if libm::fabsf(z - self.parabola) <= tol {
+            return true;
+        }
+        libm::fabsf(z - self.parabola - self.third) <= tol
     }
 
     /// The parabola through the last three readings one sample interval
@@ -215,6 +240,9 @@ impl ReadingCheck {
     /// Checks `reading` against `course`, the rate filter's state at the
     /// previous sample.
     pub fn check(&mut self, reading: &Reading, course: &Course) -> Verdict {
+        // The previous reading's miss from its parabola (NaN when it had
+        // none: it was not taken, or the run of readings broke).
+        self.third = self.last[LINE_READINGS - 1].1 - self.parabola;
         self.parabola = f32::NAN;
         if !reading.moving_checks {
             self.pending = None;
@@ -253,6 +281,8 @@ impl ReadingCheck {
             && self.repeat_ahead > 0.0
         {
             self.pending = None;
+            // Not taken: no parabola to carry to the next reading.
+            self.parabola = f32::NAN;
             return Verdict::Stale;
         }
         if let Some(d) = self.pending {
@@ -269,7 +299,7 @@ impl ReadingCheck {
         }
         if let Some(line) = line {
             let jump = z - line.at(reading.t_s);
-            if libm::fabsf(jump) > DEPART_RAD {
+            if libm::fabsf(jump) > DEPART_RAD && self.stands_out(jump) {
                 self.pending = Some(Departure {
                     course: line,
                     jump,
@@ -322,6 +352,14 @@ impl ReadingCheck {
             rate,
             acc: 0.0,
         })
+    }
+
+    /// True when a departure `jump` \[rad\] exceeds
+    /// [`DEPART_OVER_CURVATURE`] times the change of step of the three
+    /// readings before it: it stands out of the joint's own motion.
+    fn stands_out(&self, jump: f32) -> bool {
+        let [(_, z0), (_, z1), (_, z2)] = self.last;
+        libm::fabsf(jump) > DEPART_OVER_CURVATURE * libm::fabsf(z0 - 2.0 * z1 + z2)
     }
 
     fn push(&mut self, t: f32, z: f32) {
@@ -393,6 +431,48 @@ mod tests {
     }
 
     #[test]
+    fn a_rattle_at_the_nyquist_frequency_is_no_spike_a_spike_on_it_still_is() {
+        // 100°/s with ±0.2° alternating every sample: the readings leave
+        // and rejoin their line by 0.4° at every sample.
+        let rattle = |k: usize| 10.0 - k as f32 + if k % 2 == 0 { 0.2 } else { -0.2 };
+        let mut c = ReadingCheck::new();
+        for k in 1..40 {
+            let t = 0.01 * k as f32;
+            let v = c.check(&reading(t, rattle(k), 0), &course(t - 0.01));
+            assert_eq!(v, Verdict::Plausible, "sample {k}");
+        }
+        // The same departure on a smooth course is a spike when it returns.
+        let mut c = ReadingCheck::new();
+        let mut v = Vec::new();
+        for k in 1..10 {
+            let t = 0.01 * k as f32;
+            let deg = 10.0 - k as f32 + if k == 6 { 0.4 } else { 0.0 };
+            v.push(c.check(&reading(t, deg, 0), &course(t - 0.01)));
+        }
+        assert_eq!(v[6], Verdict::SpikeReturned, "{v:?}");
+    }
+
+    #[test]
+    fn a_whip_follows_the_cubic_through_four_readings_a_spike_does_not() {
+        // The angle of a joint whose acceleration doubles every two samples.
+        let whip = |k: f32| 0.2 * libm::powf(2.0, 0.5 * k) * DEG;
+        let mut c = ReadingCheck::new();
+        for k in 0..6 {
+            let t = 0.01 * (k + 1) as f32;
+            c.check(&reading(t, whip(k as f32) / DEG, 0), &course(t - 0.01));
+        }
+        let (next, tol) = (whip(6.0), 0.02 * DEG);
+        let mut spiked = c;
+        // The monitor asks after the reading's own checks.
+        c.check(&reading(0.07, next / DEG, 0), &course(0.06));
+        assert!(libm::fabsf(next - c.parabola) > tol, "the parabola lags");
+        assert!(c.follows_readings(next, tol));
+        let spike = next + 3.0 * DEG;
+        spiked.check(&reading(0.07, spike / DEG, 0), &course(0.06));
+        assert!(!spiked.follows_readings(spike, tol));
+    }
+
+    #[test]
     fn a_stop_does_not_return_and_is_not_flagged() {
         let mut c = ReadingCheck::new();
         // The joint stops dead at 8° at 0.02 s and stays.
@@ -425,7 +505,13 @@ mod tests {
             rate: -DEG,
             ..course(0.04)
         };
-        assert_eq!(c.check(&reading(0.05, 9.0, 2), &slowed), Verdict::Stale);
+        // Two repeats may be a turn; the third is stale.
+        assert_eq!(c.check(&reading(0.05, 9.0, 2), &slowed), Verdict::Plausible);
+        let slowed = Course {
+            t_s: 0.05,
+            ..slowed
+        };
+        assert_eq!(c.check(&reading(0.06, 9.0, 3), &slowed), Verdict::Stale);
         // Before three readings there is no motion to judge a repeat by.
         let mut c = ReadingCheck::new();
         c.check(&reading(0.01, 9.0, 0), &course(0.0));
