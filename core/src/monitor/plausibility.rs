@@ -32,11 +32,12 @@
 //!   to within [`RETURN_FRACTION`] of that jump of where the joint was
 //!   going before it left: the line through the three readings before the
 //!   jump, extrapolated. A departure counts only when it is larger than
-//!   the change of step of those three readings (`|z₀ − 2 z₁ + z₂|`): a
-//!   joint shaken near the Nyquist frequency (a pawl rattling in its notch
-//!   next to it) leaves and rejoins its line by as much every sample, and
-//!   a spike of that size there cannot be told from its motion at this
-//!   sampling rate; one on a smooth course stands out of it (the readings themselves, not the rate filter,
+//!   the joint's recent changes of step (`|z₀ − 2 z₁ + z₂|` of each three
+//!   readings in a row, their peak decaying by [`WIGGLE_DECAY`] per
+//!   sample): a joint shaken near the Nyquist frequency (a pawl rattling
+//!   in its notch next to it) leaves and rejoins its line by as much every
+//!   sample or two, and a spike of that size there cannot be told from its
+//!   motion at this sampling rate; one on a smooth course stands out (the readings themselves, not the rate filter,
 //!   whose gate near a latch is wide open and whose rate there follows
 //!   every reading). Inside a tape spring's
 //!   snap zone the filter's gate is wide open (the model cannot follow the
@@ -68,9 +69,12 @@ pub const RETURN_FRACTION: f32 = 0.3;
 
 /// Readings of the line a spike is judged against.
 const LINE_READINGS: usize = 3;
-/// A departure counts only when it exceeds this many times the change of
-/// step of the three readings before it \[1\].
+/// A departure counts only when it exceeds this many times the joint's
+/// recent peak change of step ([`ReadingCheck`]'s `wiggle`) \[1\].
 const DEPART_OVER_CURVATURE: f32 = 1.0;
+/// Decay per sample of the peak change of step (a time constant of about
+/// ten samples) \[1\].
+pub const WIGGLE_DECAY: f32 = 0.9;
 
 /// The rate filter's state at the previous sample: where the joint was
 /// going.
@@ -182,6 +186,9 @@ pub struct ReadingCheck {
     /// The readings' own next step at the first reading of the repeats
     /// ([`ReadingCheck::step_ahead`]) \[rad\].
     repeat_ahead: f32,
+    /// The recent peak of the readings' change of step `|z₀ − 2 z₁ + z₂|`
+    /// \[rad\], decaying by [`WIGGLE_DECAY`] per reading.
+    wiggle: f32,
 }
 
 impl ReadingCheck {
@@ -201,6 +208,7 @@ impl ReadingCheck {
             repeat_ahead: 0.0,
             parabola: f32::NAN,
             third: f32::NAN,
+            wiggle: 0.0,
         }
     }
 
@@ -278,7 +286,7 @@ impl ReadingCheck {
         if reading.repeats >= STALE_REPEATS
             && motion > limit
             && path > limit
-            && self.repeat_ahead > 0.0
+            && self.repeat_ahead > limit
         {
             self.pending = None;
             // Not taken: no parabola to carry to the next reading.
@@ -313,7 +321,10 @@ impl ReadingCheck {
 
     /// The step the last three readings' own parabola makes next, in the
     /// direction they were moving \[rad\]: `d₁ + (d₁ − d₀)` with `d₀`, `d₁`
-    /// their two steps; at most 0 (a repeat is then not stale) when they
+    /// their two steps; a repeat is stale only when it is over
+    /// [`STALE_MOTION_STEPS`] (a joint braking hard enough to turn within
+    /// a few intervals, as a pawl's rattle or a neighbour's rebound turns
+    /// it, may repeat its code at the turn); at most 0 when they
     /// were braking to a stop within an interval (a joint stopped dead elsewhere than at its latch, by a
     /// plunger's ramp or a neighbour's impulse, then repeats its code;
     /// a frozen encoder in steady motion does not). 0 before three
@@ -355,17 +366,23 @@ impl ReadingCheck {
     }
 
     /// True when a departure `jump` \[rad\] exceeds
-    /// [`DEPART_OVER_CURVATURE`] times the change of step of the three
-    /// readings before it: it stands out of the joint's own motion.
+    /// [`DEPART_OVER_CURVATURE`] times the joint's recent peak change of
+    /// step: it stands out of the joint's own motion.
     fn stands_out(&self, jump: f32) -> bool {
-        let [(_, z0), (_, z1), (_, z2)] = self.last;
-        libm::fabsf(jump) > DEPART_OVER_CURVATURE * libm::fabsf(z0 - 2.0 * z1 + z2)
+        libm::fabsf(jump) > DEPART_OVER_CURVATURE * self.wiggle
     }
 
     fn push(&mut self, t: f32, z: f32) {
         self.last.rotate_left(1);
         self.last[LINE_READINGS - 1] = (t, z);
         self.seen = self.seen.saturating_add(1).min(LINE_READINGS as u8);
+        let [(_, z0), (_, z1), (_, z2)] = self.last;
+        let bend = if usize::from(self.seen) >= LINE_READINGS {
+            libm::fabsf(z0 - 2.0 * z1 + z2)
+        } else {
+            0.0
+        };
+        self.wiggle = bend.max(WIGGLE_DECAY * self.wiggle);
     }
 
     /// One more sample without a return; past [`SPIKE_SAMPLES`] the
