@@ -222,7 +222,11 @@ fn spike_site(mech: &Mechanism, traj: &Trajectory, physical: &[usize]) -> Option
 }
 
 /// The joints (1-based) whose pawl breaks in the simulated run.
-fn broken_pawls(mech: &Mechanism, effects: &[Effect], opts: &SimOptions) -> Result<Vec<usize>, String> {
+fn broken_pawls(
+    mech: &Mechanism,
+    effects: &[Effect],
+    opts: &SimOptions,
+) -> Result<Vec<usize>, String> {
     if !mech.has_physical_latch() {
         return Ok(Vec::new());
     }
@@ -403,7 +407,9 @@ fn random_wings(physical_share: f64) -> Mix {
     let mut rng = SplitMix(first);
     let mut mix = Mix::default();
     // `MONITOR_WING=seed`: that wing alone (a failing seed reproduces it).
-    let only: Option<u64> = std::env::var("MONITOR_WING").ok().and_then(|s| s.parse().ok());
+    let only: Option<u64> = std::env::var("MONITOR_WING")
+        .ok()
+        .and_then(|s| s.parse().ok());
     let seeds: Vec<u64> = match only {
         Some(seed) => vec![seed],
         None => (0..cases())
@@ -465,7 +471,9 @@ fn mixes() -> &'static (Vec<Mix>, f64) {
 /// Writes the figures into `docs/measured.md` (only a whole run from the
 /// default first seed, with `DEPLOYWATCH_FULL=1`: `tests/src/record.rs`).
 fn record(mixes: &[Mix], secs: f64) {
-    if std::env::var_os("MONITOR_WINGS_SEED").is_some() || std::env::var_os("MONITOR_WING").is_some() {
+    if std::env::var_os("MONITOR_WINGS_SEED").is_some()
+        || std::env::var_os("MONITOR_WING").is_some()
+    {
         return;
     }
     let rows: Vec<String> = SHARES

@@ -122,7 +122,11 @@ impl JointState {
     /// started mid-motion) at 0 as before.
     fn start_filter(&mut self, phi0_rad: f32, sd: f32, jerk_psd: f32) {
         let released = libm::fabsf(phi0_rad - self.stowed_deg * DEG) <= RELEASE_NEAR_RAD;
-        let acc = if released { self.kf.acceleration() } else { 0.0 };
+        let acc = if released {
+            self.kf.acceleration()
+        } else {
+            0.0
+        };
         let sd_acc = START_ACC_SD + libm::fabsf(acc);
         self.kf = fresh_filter(phi0_rad, sd, START_RATE_SD, sd_acc, jerk_psd);
         self.kf.set_acceleration(acc);

@@ -13,8 +13,8 @@ use crate::monitor::observer::{FrictionObserver, FrictionPrior, RateFilter};
 use crate::monitor::predictor::Predictor;
 use crate::monitor::status::Status;
 use crate::physics::chain::{Chain, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel};
-use crate::physics::spring::Branch;
 use crate::physics::friction::Friction;
+use crate::physics::spring::Branch;
 
 /// The on-board monitor of an `N`-joint deployment.
 #[derive(Clone, Debug)]
