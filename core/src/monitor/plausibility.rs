@@ -17,7 +17,9 @@
 //!   `N(m, (0.9·√2)²)` steps for a motion of `m` steps, and it rounds to
 //!   the same code with probability `Φ((0.5 − m)/1.27)`, 2·10⁻⁴ for
 //!   `m = 5`; [`STALE_REPEATS`] = 3 repeats in a row make it about 10⁻¹¹ per
-//!   sample. Three, not two: a joint turned round mid-stroke (by a
+//!   sample ([`STALE_REPEATS_FAST`] = 2 when the readings moved, and their
+//!   parabola still steps on, by more than twice that: then 10⁻²⁷). Three,
+//!   not two, at the limit: a joint turned round mid-stroke (by a
 //!   neighbour's rebound, a pawl's rattle or its own spring) after moving
 //!   faster than that sits within a code or two of its turning point for
 //!   two intervals (at 700°/s² it moves 0.04° in the 10 ms either side of
@@ -58,6 +60,11 @@ use crate::monitor::observer::RateFilter;
 pub const STALE_MOTION_STEPS: f32 = 5.0;
 /// Consecutive repeats (while moving) that make a reading stale.
 pub const STALE_REPEATS: u16 = 3;
+/// Consecutive repeats that make a reading stale while the joint moves by
+/// more than twice [`STALE_MOTION_STEPS`] per interval and its readings'
+/// parabola still steps on by that much (a stale stretch just before a
+/// latch has few samples before the impact turns the checks off).
+pub const STALE_REPEATS_FAST: u16 = 2;
 /// Departure from the filter's extrapolation that may start a spike \[rad\]
 /// (0.2°: 7 σ of the reference encoder; a departure alone flags nothing).
 pub const DEPART_RAD: f32 = 0.2 * core::f32::consts::PI / 180.0;
@@ -283,7 +290,15 @@ impl ReadingCheck {
         let c = &self.repeat_course;
         let path = libm::fabsf(c.at(reading.t_s) - c.angle);
         let limit = STALE_MOTION_STEPS * reading.step;
-        if reading.repeats >= STALE_REPEATS
+        // Fast (twice the limit by every measure): a turn within two
+        // intervals would have shown as braking; two repeats are stale.
+        let fast = motion > 2.0 * limit && self.repeat_ahead > 2.0 * limit;
+        let needed = if fast {
+            STALE_REPEATS_FAST
+        } else {
+            STALE_REPEATS
+        };
+        if reading.repeats >= needed
             && motion > limit
             && path > limit
             && self.repeat_ahead > limit
@@ -522,13 +537,24 @@ mod tests {
             rate: -DEG,
             ..course(0.04)
         };
-        // Two repeats may be a turn; the third is stale.
-        assert_eq!(c.check(&reading(0.05, 9.0, 2), &slowed), Verdict::Plausible);
-        let slowed = Course {
-            t_s: 0.05,
-            ..slowed
+        // Fast (45 steps per sample): the second repeat is stale.
+        assert_eq!(c.check(&reading(0.05, 9.0, 2), &slowed), Verdict::Stale);
+        // 0.15° (7 steps) per sample: two repeats may be a turn, the third
+        // is stale.
+        let mut c = ReadingCheck::new();
+        let slow = |t: f32| Course {
+            t_s: t,
+            angle: (10.0 - 15.0 * t) * DEG,
+            rate: -15.0 * DEG,
+            acc: 0.0,
         };
-        assert_eq!(c.check(&reading(0.06, 9.0, 3), &slowed), Verdict::Stale);
+        for (k, deg) in [9.85, 9.70, 9.55].iter().enumerate() {
+            let t = 0.01 * (k + 1) as f32;
+            assert_eq!(c.check(&reading(t, *deg, 0), &slow(t - 0.01)), Verdict::Plausible);
+        }
+        assert_eq!(c.check(&reading(0.04, 9.55, 1), &slow(0.03)), Verdict::Plausible);
+        assert_eq!(c.check(&reading(0.05, 9.55, 2), &slow(0.03)), Verdict::Plausible);
+        assert_eq!(c.check(&reading(0.06, 9.55, 3), &slow(0.03)), Verdict::Stale);
         // Before three readings there is no motion to judge a repeat by.
         let mut c = ReadingCheck::new();
         c.check(&reading(0.01, 9.0, 0), &course(0.0));
