@@ -193,6 +193,9 @@ pub struct ReadingCheck {
     /// The readings' own next step at the first reading of the repeats
     /// ([`ReadingCheck::step_ahead`]) \[rad\].
     repeat_ahead: f32,
+    /// The rate filter's course has taken the joint more than
+    /// [`STALE_MOTION_STEPS`] from where the current run of repeats began.
+    repeat_moved: bool,
     /// The recent peak of the readings' change of step `|z₀ − 2 z₁ + z₂|`
     /// \[rad\], decaying by [`WIGGLE_DECAY`] per reading.
     wiggle: f32,
@@ -216,6 +219,7 @@ impl ReadingCheck {
             parabola: f32::NAN,
             third: f32::NAN,
             wiggle: 0.0,
+            repeat_moved: false,
         }
     }
 
@@ -281,6 +285,7 @@ impl ReadingCheck {
             self.repeat_rate = line.map_or(0.0, |l| l.rate);
             self.repeat_course = *course;
             self.repeat_ahead = self.step_ahead();
+            self.repeat_moved = false;
         }
         let motion = libm::fabsf(self.repeat_rate) * dt;
         // Where the filter's course (angle, rate, acceleration at the first
@@ -290,6 +295,10 @@ impl ReadingCheck {
         let c = &self.repeat_course;
         let path = libm::fabsf(c.at(reading.t_s) - c.angle);
         let limit = STALE_MOTION_STEPS * reading.step;
+        // Once the course has taken the joint that far during the repeats
+        // it has moved on (a course noisy in a snap zone may bend back
+        // later: the third repeat is judged by the farthest it went).
+        self.repeat_moved |= path > limit;
         // Fast (twice the limit by every measure): a turn within two
         // intervals would have shown as braking; two repeats are stale.
         let fast = motion > 2.0 * limit && self.repeat_ahead > 2.0 * limit;
@@ -300,8 +309,8 @@ impl ReadingCheck {
         };
         if reading.repeats >= needed
             && motion > limit
-            && path > limit
-            && self.repeat_ahead > limit
+            && self.repeat_moved
+            && self.repeat_ahead > limit - 0.5 * reading.step
         {
             self.pending = None;
             // Not taken: no parabola to carry to the next reading.
