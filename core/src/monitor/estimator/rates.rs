@@ -65,12 +65,15 @@ mod impact {
 const MANOEUVRE_GATE: f32 = 6.0;
 
 /// A reading beyond the manoeuvre gate but within this of the parabola
-/// through the joint's last three readings is its own accelerating motion
-/// (a light outer panel's tape spring snapping at hundreds of rad/s²
-/// outruns the white-jerk model by degrees), not a spike \[rad\]: 1°, 11 σ
-/// of the parabola's extrapolation (`σ √19` for the reference encoder),
-/// where a spike is degrees off.
-const PARABOLA_TOL_RAD: f32 = 1.0 * DEG;
+/// through the joint's last three readings, or of the cubic through its
+/// last four, is its own accelerating motion (a light outer panel's tape
+/// spring snapping at hundreds of rad/s² outruns the white-jerk model by
+/// degrees; a joint whose neighbour is about to latch, or nearing its own
+/// latch at 1,800°/s, sees its acceleration double within a sample), not a
+/// spike \[rad\]: 1.5°, 8 σ of the cubic's extrapolation (`σ √69` for the
+/// reference encoder), where a spike is degrees off (one that comes back
+/// is flagged by `plausibility.rs`).
+const PARABOLA_TOL_RAD: f32 = 1.5 * DEG;
 
 /// What the rate filters of one sample share (see [`JointState::track_rate`]).
 struct RateContext<'a> {
