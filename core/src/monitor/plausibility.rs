@@ -287,31 +287,7 @@ impl ReadingCheck {
             self.repeat_ahead = self.step_ahead();
             self.repeat_moved = false;
         }
-        let motion = libm::fabsf(self.repeat_rate) * dt;
-        // Where the filter's course (angle, rate, acceleration at the first
-        // reading of the repeats) has taken the joint since: a joint
-        // decelerating to a turn (a rebound elsewhere in the chain turns it
-        // round mid-stroke) comes back to the code it left.
-        let c = &self.repeat_course;
-        let path = libm::fabsf(c.at(reading.t_s) - c.angle);
-        let limit = STALE_MOTION_STEPS * reading.step;
-        // Once the course has taken the joint that far during the repeats
-        // it has moved on (a course noisy in a snap zone may bend back
-        // later: the third repeat is judged by the farthest it went).
-        self.repeat_moved |= path > limit;
-        // Fast (twice the limit by every measure): a turn within two
-        // intervals would have shown as braking; two repeats are stale.
-        let fast = motion > 2.0 * limit && self.repeat_ahead > 2.0 * limit;
-        let needed = if fast {
-            STALE_REPEATS_FAST
-        } else {
-            STALE_REPEATS
-        };
-        if reading.repeats >= needed
-            && motion > limit
-            && self.repeat_moved
-            && self.repeat_ahead > limit - 0.5 * reading.step
-        {
+        if self.stale(reading, dt) {
             self.pending = None;
             // Not taken: no parabola to carry to the next reading.
             self.parabola = f32::NAN;
@@ -341,6 +317,38 @@ impl ReadingCheck {
         }
         self.push(reading.t_s, z);
         Verdict::Plausible
+    }
+
+    /// True when `reading`, `dt` \[s\] after the previous sample, repeats
+    /// a stale value: repeated [`STALE_REPEATS`] times (or
+    /// [`STALE_REPEATS_FAST`]) while the readings before the repeats, the
+    /// rate filter's course since their start and the readings' own next
+    /// step all had the joint moving more than [`STALE_MOTION_STEPS`].
+    fn stale(&mut self, reading: &Reading, dt: f32) -> bool {
+        let motion = libm::fabsf(self.repeat_rate) * dt;
+        // Where the filter's course (angle, rate, acceleration at the first
+        // reading of the repeats) has taken the joint since: a joint
+        // decelerating to a turn (a rebound elsewhere in the chain turns it
+        // round mid-stroke) comes back to the code it left.
+        let c = &self.repeat_course;
+        let path = libm::fabsf(c.at(reading.t_s) - c.angle);
+        let limit = STALE_MOTION_STEPS * reading.step;
+        // Once the course has taken the joint that far during the repeats
+        // it has moved on (a course noisy in a snap zone may bend back
+        // later: the third repeat is judged by the farthest it went).
+        self.repeat_moved |= path > limit;
+        // Fast (twice the limit by every measure): a turn within two
+        // intervals would have shown as braking; two repeats are stale.
+        let fast = motion > 2.0 * limit && self.repeat_ahead > 2.0 * limit;
+        let needed = if fast {
+            STALE_REPEATS_FAST
+        } else {
+            STALE_REPEATS
+        };
+        reading.repeats >= needed
+            && motion > limit
+            && self.repeat_moved
+            && self.repeat_ahead > limit - 0.5 * reading.step
     }
 
     /// The step the last three readings' own parabola makes next, in the
@@ -559,11 +567,23 @@ mod tests {
         };
         for (k, deg) in [9.85, 9.70, 9.55].iter().enumerate() {
             let t = 0.01 * (k + 1) as f32;
-            assert_eq!(c.check(&reading(t, *deg, 0), &slow(t - 0.01)), Verdict::Plausible);
+            assert_eq!(
+                c.check(&reading(t, *deg, 0), &slow(t - 0.01)),
+                Verdict::Plausible
+            );
         }
-        assert_eq!(c.check(&reading(0.04, 9.55, 1), &slow(0.03)), Verdict::Plausible);
-        assert_eq!(c.check(&reading(0.05, 9.55, 2), &slow(0.03)), Verdict::Plausible);
-        assert_eq!(c.check(&reading(0.06, 9.55, 3), &slow(0.03)), Verdict::Stale);
+        assert_eq!(
+            c.check(&reading(0.04, 9.55, 1), &slow(0.03)),
+            Verdict::Plausible
+        );
+        assert_eq!(
+            c.check(&reading(0.05, 9.55, 2), &slow(0.03)),
+            Verdict::Plausible
+        );
+        assert_eq!(
+            c.check(&reading(0.06, 9.55, 3), &slow(0.03)),
+            Verdict::Stale
+        );
         // Before three readings there is no motion to judge a repeat by.
         let mut c = ReadingCheck::new();
         c.check(&reading(0.01, 9.0, 0), &course(0.0));
