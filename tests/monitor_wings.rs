@@ -18,7 +18,7 @@
 //! experiment, recorded in `docs/measured.md`:
 //!
 //! ```sh
-//! MONITOR_WINGS=1000 DEPLOYWATCH_FULL=1 cargo test --release -p deploywatch-tests --test monitor_wings -- --nocapture
+//! MONITOR_WINGS=300 DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test monitor_wings -- --nocapture
 //! ```
 
 use deploywatch_core::monitor::{Monitor, Status};
@@ -501,12 +501,12 @@ fn record(mixes: &[Mix], secs: f64) {
          mid-stroke (`docs/monitor.md` §6.2, \"Random wings\").\n\n\
          | physical share | wings | with a physical latch | clean runs with a flag | clean runs flagged only at joints shaken beyond 100 Hz (> {SHAKEN_DEG_S} °/s change of rate within a sample) | spikes flagged within {FLAG_SAMPLES} samples |\n\
          |---|---|---|---|---|---|\n{}\n\n\
-         Wall time (release build, this machine): {secs:.0} s.\n",
+         Wall time (test profile, this machine, shared with other builds): {secs:.0} s.\n",
         rows.join("\n")
     );
     deploywatch_tests::record::record(
         "monitor-wings",
-        "MONITOR_WINGS=1000 DEPLOYWATCH_FULL=1 cargo test --release -p deploywatch-tests --test monitor_wings -- --nocapture",
+        "MONITOR_WINGS=300 DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test monitor_wings -- --nocapture",
         &body,
     )
     .expect("docs/measured.md written");
