@@ -158,6 +158,11 @@ impl RateFilter {
         self.p[3] += var;
     }
 
+    /// Sets the acceleration estimate [rad/s²] (its variance unchanged).
+    pub fn set_acceleration(&mut self, acc: f32) {
+        self.x[2] = acc;
+    }
+
     /// Pins the joint: angle `phi_rad`, rate and acceleration zero (a
     /// latched joint).
     pub fn pin(&mut self, phi_rad: f32) {

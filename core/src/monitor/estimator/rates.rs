@@ -65,12 +65,15 @@ mod impact {
 const MANOEUVRE_GATE: f32 = 6.0;
 
 /// A reading beyond the manoeuvre gate but within this of the parabola
-/// through the joint's last three readings is its own accelerating motion
-/// (a light outer panel's tape spring snapping at hundreds of rad/s²
-/// outruns the white-jerk model by degrees), not a spike \[rad\]: 1°, 11 σ
-/// of the parabola's extrapolation (`σ √19` for the reference encoder),
-/// where a spike is degrees off.
-const PARABOLA_TOL_RAD: f32 = 1.0 * DEG;
+/// through the joint's last three readings, or of the cubic through its
+/// last four, is its own accelerating motion (a light outer panel's tape
+/// spring snapping at hundreds of rad/s² outruns the white-jerk model by
+/// degrees; a joint whose neighbour is about to latch, or nearing its own
+/// latch at 1,800°/s, sees its acceleration double within a sample), not a
+/// spike \[rad\]: 1.5°, 8 σ of the cubic's extrapolation (`σ √69` for the
+/// reference encoder), where a spike is degrees off (one that comes back
+/// is flagged by `plausibility.rs`).
+const PARABOLA_TOL_RAD: f32 = 1.5 * DEG;
 
 /// What the rate filters of one sample share (see [`JointState::track_rate`]).
 struct RateContext<'a> {
@@ -108,7 +111,30 @@ fn fresh_filter(phi_rad: f32, sd: f32, sd_rate: f32, sd_acc: f32, jerk_psd: f32)
     f
 }
 
+/// A first reading within this of the stowed angle is a deployment
+/// starting from its release \[rad\] (1°: 40 σ of the reference encoder).
+const RELEASE_NEAR_RAD: f32 = 1.0 * DEG;
+
 impl JointState {
+    /// The rate filter at the first sample, at rest at its reading
+    /// `phi0_rad` \[rad\] (deviation `sd` \[rad\], jerk spectral density
+    /// `jerk_psd` [rad²/s⁵]). At the stowed angle the joint is released:
+    /// its acceleration starts at the springs' release acceleration
+    /// (seeded at configuration, `state.rs`), with that size as its
+    /// deviation (friction may take any part of it); elsewhere (a monitor
+    /// started mid-motion) at 0 as before.
+    fn start_filter(&mut self, phi0_rad: f32, sd: f32, jerk_psd: f32) {
+        let released = libm::fabsf(phi0_rad - self.stowed_deg * DEG) <= RELEASE_NEAR_RAD;
+        let acc = if released {
+            self.kf.acceleration()
+        } else {
+            0.0
+        };
+        let sd_acc = START_ACC_SD + libm::fabsf(acc);
+        self.kf = fresh_filter(phi0_rad, sd, START_RATE_SD, sd_acc, jerk_psd);
+        self.kf.set_acceleration(acc);
+    }
+
     /// The joint's rate filter at one sample: prediction and fusion of its
     /// reading (see [`Monitor::track_rates`]; `docs/monitor.md` §2, §6.2).
     /// Not generic over the joint count, so the monitors of 2 and 3 joints
@@ -120,7 +146,7 @@ impl JointState {
         faults: &mut FaultFlags,
         ctx: &RateContext<'_>,
     ) -> RateOutcome {
-        let (r_meas, sd) = (ctx.meas_var, ctx.meas_sd);
+        let r_meas = ctx.meas_var;
         let (observer, gap) = (ctx.observer, ctx.clock.gap);
         let gate2 = observer.gate_sigma * observer.gate_sigma;
         let zone = observer.snap_zone_deg * DEG;
@@ -145,10 +171,35 @@ impl JointState {
             return RateOutcome::Used;
         };
         let r = if gap { r_meas + gap::MEAS_VAR } else { r_meas };
+        match kf.update(z, r, gate2, &observer.jerk_adaptation) {
+            Fusion::Accepted => {
+                self.rejects = 0;
+                RateOutcome::Used
+            }
+            Fusion::Rejected => self.rejected(z, r, faults, ctx),
+        }
+    }
+
+    /// A reading `z` \[rad\] (variance `r` \[rad²\]) the rate filter's
+    /// gate rejected: an impact, a rebound within the lock or a manoeuvre
+    /// restarts the filter at it, anything else is an outlier (flagged; the
+    /// filter restarts after [`reset::MAX_REJECTS`] in a row). Judged only
+    /// on a rejection: the filter is as it was predicted.
+    fn rejected(
+        &mut self,
+        z: f32,
+        r: f32,
+        faults: &mut FaultFlags,
+        ctx: &RateContext<'_>,
+    ) -> RateOutcome {
+        let (sd, observer) = (ctx.meas_sd, ctx.observer);
+        let gate2 = observer.gate_sigma * observer.gate_sigma;
+        let kf = &mut self.kf;
         // A reading beyond the gate but within `MANOEUVRE_GATE` gates of
         // the prediction is a manoeuvre the white-jerk model did not
         // foresee (a joint that sticks under its friction stops with a
-        // step in acceleration), not a spike.
+        // step in acceleration), not a spike; so is one that follows the
+        // readings' own course (`plausibility.rs`).
         let nu = z - kf.angle();
         // A latched joint's reading within the reach of its physical
         // latch's crest (a pawl's notch) is a rebound the lock allows: the
@@ -158,40 +209,32 @@ impl JointState {
         let rebound = self.lt.rebounds_within_lock(z / DEG);
         let manoeuvre = nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r)
             || self.plausibility.follows_readings(z, PARABOLA_TOL_RAD);
-        match kf.update(z, r, gate2, &observer.jerk_adaptation) {
-            Fusion::Accepted => {
-                self.rejects = 0;
+        if ctx.impact || rebound || manoeuvre {
+            let rate = if ctx.impact || rebound {
+                0.0
+            } else {
+                kf.rate()
+            };
+            *kf = RateFilter::new(z, sd, impact::RATE_SD, START_ACC_SD);
+            kf.set_rate(rate, 0.0);
+            kf.set_jerk_psd(observer.jerk_psd);
+            self.rejects = 0;
+            return if ctx.impact || rebound {
+                RateOutcome::Restarted
+            } else {
                 RateOutcome::Used
-            }
-            Fusion::Rejected if ctx.impact || rebound || manoeuvre => {
-                let rate = if ctx.impact || rebound {
-                    0.0
-                } else {
-                    kf.rate()
-                };
-                *kf = RateFilter::new(z, sd, impact::RATE_SD, START_ACC_SD);
-                kf.set_rate(rate, 0.0);
-                kf.set_jerk_psd(observer.jerk_psd);
-                self.rejects = 0;
-                if ctx.impact || rebound {
-                    RateOutcome::Restarted
-                } else {
-                    RateOutcome::Used
-                }
-            }
-            Fusion::Rejected => {
-                faults.insert(Fault::EncoderOutlier);
-                self.rejects = self.rejects.saturating_add(1);
-                if self.rejects >= reset::MAX_REJECTS {
-                    *kf = RateFilter::new(z, sd, reset::RATE_SD, reset::ACC_SD);
-                    kf.set_jerk_psd(observer.jerk_psd);
-                    faults.insert(Fault::EstimatorReset);
-                    self.rejects = 0;
-                    RateOutcome::Restarted
-                } else {
-                    RateOutcome::GatedOut
-                }
-            }
+            };
+        }
+        faults.insert(Fault::EncoderOutlier);
+        self.rejects = self.rejects.saturating_add(1);
+        if self.rejects >= reset::MAX_REJECTS {
+            *kf = RateFilter::new(z, sd, reset::RATE_SD, reset::ACC_SD);
+            kf.set_jerk_psd(observer.jerk_psd);
+            faults.insert(Fault::EstimatorReset);
+            self.rejects = 0;
+            RateOutcome::Restarted
+        } else {
+            RateOutcome::GatedOut
         }
     }
 }
@@ -213,7 +256,7 @@ impl<const N: usize> Monitor<N> {
             let (sd, jerk_psd) = (self.tuning.meas_sd, self.tuning.observer.jerk_psd);
             for j in 0..N {
                 let phi0 = readings[j].used.unwrap_or(self.joints[j].stowed_deg * DEG);
-                self.joints[j].kf = fresh_filter(phi0, sd, START_RATE_SD, START_ACC_SD, jerk_psd);
+                self.joints[j].start_filter(phi0, sd, jerk_psd);
             }
             self.timeline.started = true;
             self.timeline.t_start = t;

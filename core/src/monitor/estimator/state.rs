@@ -12,8 +12,9 @@ use crate::monitor::latch_margin::Engagement;
 use crate::monitor::observer::{FrictionObserver, FrictionPrior, RateFilter};
 use crate::monitor::predictor::Predictor;
 use crate::monitor::status::Status;
-use crate::physics::chain::{Chain, GlobalEffects, Joint, JointEffects, Panel};
+use crate::physics::chain::{Chain, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel};
 use crate::physics::friction::Friction;
+use crate::physics::spring::Branch;
 
 /// The on-board monitor of an `N`-joint deployment.
 #[derive(Clone, Debug)]
@@ -206,6 +207,7 @@ impl<const N: usize> Monitor<N> {
         // The only check that can fail after `validate`: before any write.
         configure_chain(chain, panels, config.joints)?;
         reset_tuning_and_joints(tuning, joints, config);
+        release_accelerations(chain, joints);
         *timeline = Timeline::START;
         *windows = Windows::CLOSED;
         queue.clear();
@@ -252,6 +254,33 @@ impl<const N: usize> Monitor<N> {
     /// replay schedule.
     pub fn learning_overruns(&self) -> u32 {
         self.learner.overruns
+    }
+}
+
+/// Seeds each joint's rate filter with the acceleration the springs give
+/// the chain at release (`docs/monitor.md` §2): at its stowed angles, at
+/// rest, on the unfolding branch, with no friction, `φ̈ = M⁻¹ τ`
+/// (`physics.md` §2, [`Chain::acceleration`]) \[rad/s²\]. The first sample
+/// starts the filter from it ([`super::joint::JointState::start_filter`]): a
+/// light outer panel on a tape spring reaches hundreds of rad/s² at release
+/// and covers degrees in the first sample interval, which a filter started
+/// at rest took for a spike. Left at 0 when the chain cannot be solved.
+/// Configuration time, not the sample path.
+fn release_accelerations<const N: usize>(chain: &Chain<f32, N>, joints: &mut [JointState; N]) {
+    let start = ChainState {
+        phi: core::array::from_fn(|j| joints[j].stowed_deg * DEG),
+        phi_dot: [0.0; N],
+    };
+    let mode = Mode {
+        latched: [false; N],
+        branch: [Branch::Unfold; N],
+    };
+    if let Ok(acc) = chain.acceleration(&start, &mode) {
+        for (js, a) in joints.iter_mut().zip(acc) {
+            if a.is_finite() {
+                js.kf.set_acceleration(a);
+            }
+        }
     }
 }
 
