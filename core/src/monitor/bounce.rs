@@ -25,8 +25,9 @@
 //! - **latched**: the switch closed without a break for the bounce window,
 //!   the reading on the stop;
 //! - **escaped**: after the joint was past the crest (a reading `d ≤
-//!   crest − 4σ`, the switch closed at the latch, or the arrival time's
-//!   evidence above), or after the latch
+//!   crest − 4σ` — not with a pawl, which may ride its cam there before it
+//!   drops into its notch —, the switch closed at the latch, or the
+//!   arrival time's evidence above), or after the latch
 //!   was declared, the switch open and `d > crest + 4σ`; until the latch is
 //!   declared again;
 //! - **left the stop after the latch**: the switch opens (a latch declared
@@ -160,6 +161,12 @@ pub struct StopLimits {
     pub travel_deg: f32,
     /// Standard deviation of one reading \[deg\].
     pub sd_deg: f32,
+    /// The lock is a pawl: a reading within the crest's reach (its notch
+    /// and the contact's give) does not put the joint past it, the pawl
+    /// may still ride its cam there; it is in its notch only once the
+    /// joint has been at the stop (the switch closed, or the arrival
+    /// time's evidence).
+    pub pawl: bool,
 }
 
 impl StopLimits {
@@ -178,6 +185,7 @@ impl StopLimits {
             ramp_deg: latch.ramp_deg + sd,
             travel_deg: latch.switch_travel_deg,
             sd_deg: sd,
+            pawl: latch.lock == LockKind::Pawl,
         }
     }
 }
@@ -321,7 +329,7 @@ impl Bounce {
             self.contact = true;
             self.inside = true;
         }
-        if off <= lim.inside_deg {
+        if off <= lim.inside_deg && !lim.pawl {
             self.inside = true;
         }
         if self.enters_zone(off) {
