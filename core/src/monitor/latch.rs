@@ -242,7 +242,8 @@ pub struct LatchInput {
     /// trusted again.
     pub encoder_stuck: bool,
     /// Standard deviation of one encoder reading \[deg\] (noise and
-    /// quantisation): how far "on the stop" reaches with a physical latch.
+    /// quantisation): how far "on the stop" reaches with a physical latch,
+    /// and "at the latch" with the ideal one (`AT_LATCH_SIGMAS`).
     pub noise_sd_deg: f32,
     /// Another joint announced a latch impact at this sample or the
     /// previous one: its impulse may have changed this joint's rate between
