@@ -26,7 +26,9 @@
 //!   the reading on the stop;
 //! - **escaped**: after the joint was past the crest (a reading `d ≤
 //!   crest − 4σ`, the switch closed at the latch, or the arrival time's
-//!   evidence above), or after the latch
+//!   evidence above; with a pawl only the switch closed at the latch: its
+//!   joint may ride the cam within the crest's reach, slowed by it, before
+//!   the pawl drops into its notch), or after the latch
 //!   was declared, the switch open and `d > crest + 4σ`; until the latch is
 //!   declared again;
 //! - **left the stop after the latch**: the switch opens (a latch declared
@@ -160,6 +162,12 @@ pub struct StopLimits {
     pub travel_deg: f32,
     /// Standard deviation of one reading \[deg\].
     pub sd_deg: f32,
+    /// The lock is a pawl: neither a reading within the crest's reach (its
+    /// notch and the contact's give) nor the arrival time's evidence puts
+    /// the joint past it, the pawl may still ride its cam there (the cam
+    /// slows the joint down); it is in its notch once the switch has
+    /// closed at the latch.
+    pub pawl: bool,
 }
 
 impl StopLimits {
@@ -178,6 +186,7 @@ impl StopLimits {
             ramp_deg: latch.ramp_deg + sd,
             travel_deg: latch.switch_travel_deg,
             sd_deg: sd,
+            pawl: latch.lock == LockKind::Pawl,
         }
     }
 }
@@ -321,7 +330,7 @@ impl Bounce {
             self.contact = true;
             self.inside = true;
         }
-        if off <= lim.inside_deg {
+        if off <= lim.inside_deg && !lim.pawl {
             self.inside = true;
         }
         if self.enters_zone(off) {
@@ -345,7 +354,9 @@ impl Bounce {
                 // It has been on the stop between two readings, and past
                 // the crest when it came fast enough to cross it within one.
                 self.seen = true;
-                self.inside |= self.through;
+                // (A pawl not so: it may be riding its cam, short of its
+                // notch.)
+                self.inside |= self.through && !lim.pawl;
             }
             if self.inside && off > lim.escape_deg {
                 self.escape();

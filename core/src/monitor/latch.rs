@@ -50,6 +50,14 @@ pub use crate::monitor::bounce::{LockKind, PhysicalLatch};
 /// smallest time step the monitor accepts (0.1 ms).
 const HOLD_ROUNDING_S: f32 = 1e-5;
 
+/// Standard deviations of one encoder reading (noise and quantisation)
+/// within which an ideal latch's joint reads "at the latch" for the
+/// switch-open checks \[1\]: a reading of a joint held at the latch exceeds
+/// it with probability 6·10⁻⁷, and a joint that friction stopped further
+/// short (0.27° with σ = 0.02°) is resolved as not latched, its open switch
+/// agreeing (`docs/monitor.md` §6.2).
+const AT_LATCH_SIGMAS: f32 = 5.0;
+
 /// The latch state of a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -140,8 +148,10 @@ pub struct LatchConfig {
     /// How long it must stay stopped to be `Stalled` \[s\].
     pub stall_time_s: f32,
     /// Encoder reading that counts as "at the latch" for the switch-open
-    /// check \[deg\] (ideal latch; a physical latch uses its switch travel
-    /// and the encoder noise instead).
+    /// check \[deg\] (ideal latch, at most: before the latch the window is
+    /// narrowed to 5 σ of one encoder reading when that is smaller; a
+    /// physical latch uses its switch travel and the encoder noise
+    /// instead).
     pub at_latch_deg: f32,
     /// How long the encoder may sit at the latch with the switch open
     /// before that is a fault \[s\].
@@ -232,7 +242,8 @@ pub struct LatchInput {
     /// trusted again.
     pub encoder_stuck: bool,
     /// Standard deviation of one encoder reading \[deg\] (noise and
-    /// quantisation): how far "on the stop" reaches with a physical latch.
+    /// quantisation): how far "on the stop" reaches with a physical latch,
+    /// and "at the latch" with the ideal one (`AT_LATCH_SIGMAS`).
     pub noise_sd_deg: f32,
     /// Another joint announced a latch impact at this sample or the
     /// previous one: its impulse may have changed this joint's rate between
@@ -453,11 +464,13 @@ impl LatchTracker {
     fn view(&mut self, x: &LatchInput, cfg: &LatchConfig) -> LatchView {
         self.closed.update(x.switch, x.t_s);
         let Some(p) = cfg.physical else {
+            // The encoder resolves a stop short of the latch beyond its
+            // noise: the window is the narrower of the configured one and
+            // `AT_LATCH_SIGMAS` readings' σ.
+            let window = cfg.at_latch_deg.min(AT_LATCH_SIGMAS * x.noise_sd_deg);
             return LatchView {
                 physical: false,
-                at_latch: x
-                    .measured_deg
-                    .is_some_and(|m| libm::fabsf(m) <= cfg.at_latch_deg),
+                at_latch: x.measured_deg.is_some_and(|m| libm::fabsf(m) <= window),
                 held: true,
                 left: None,
                 event: None,

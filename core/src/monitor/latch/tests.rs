@@ -339,3 +339,62 @@ fn given_ideal_latch_when_a_short_rebound_or_a_spike_then_still_latched() {
     );
     assert!(out.iter().all(|o| !o.unlatched));
 }
+
+/// An ideal latch's joint that friction stops 0.27° short (readings of
+/// σ = 0.02° around it) with its switch open is not at the latch: the
+/// encoder resolves the stop, switch and encoder agree, nothing is
+/// flagged; one at rest within 5 σ (0.05°) with the switch open still is.
+#[test]
+fn given_ideal_latch_when_joint_stops_short_beyond_the_encoder_noise_then_no_switch_fault() {
+    let wobble = |k: usize| 0.02 * [0.0, 1.0, -1.0, 0.5, -0.5][k % 5];
+    let mut tr = LatchTracker::new();
+    let mut s = vec![(false, 30.0), (false, 10.0), (false, 2.0)];
+    s.extend((0..100).map(|k| (false, -0.27 + wobble(k))));
+    let out = run_with(&mut tr, &LatchConfig::default(), &s);
+    assert!(
+        out.iter().all(|o| o.faults.is_empty() && !o.newly_latched),
+        "{out:?}"
+    );
+    assert!(!tr.is_latched() && !tr.held_at_latch());
+    let mut tr = LatchTracker::new();
+    s.truncate(3);
+    s.extend((0..100).map(|k| (false, 0.05 + wobble(k))));
+    let out = run_with(&mut tr, &LatchConfig::default(), &s);
+    assert!(
+        out.iter()
+            .any(|o| o.faults.contains(Fault::SwitchOpenAtLatch)),
+        "{out:?}"
+    );
+}
+
+/// A pawl's joint that comes within its notch's reach and goes back out
+/// over it with the switch never closed was riding the cam, the pawl not
+/// yet in its notch: not an escape, no flag. The same motion after the
+/// switch closed at the stop is a broken pawl: escaped and flagged.
+#[test]
+fn given_pawl_when_joint_rides_the_cam_without_engaging_then_no_escape() {
+    let cfg = LatchConfig {
+        physical: Some(PhysicalLatch {
+            lock: LockKind::Pawl,
+            ..physical().physical.unwrap()
+        }),
+        ..LatchConfig::default()
+    };
+    let mut s = vec![(false, 3.0), (false, 2.0)];
+    s.extend([1.6, 1.3, 1.1, 1.0, 1.1, 1.3, 1.6].map(|d| (false, d)));
+    s.extend((1..=40).map(|k| (false, 1.6 + 0.1 * k as f32)));
+    let mut tr = LatchTracker::new();
+    let out = run_with(&mut tr, &cfg, &s);
+    assert!(
+        out.iter()
+            .all(|o| o.faults.is_empty() && o.state != LatchState::Escaped),
+        "{out:?}"
+    );
+    let mut s = vec![(false, 3.0), (false, 1.2), (true, 0.0)];
+    s.extend((1..=20).map(|k| (false, 0.3 * k as f32)));
+    let mut tr = LatchTracker::new();
+    let out = run_with(&mut tr, &cfg, &s);
+    let last = out.last().unwrap();
+    assert_eq!(last.state, LatchState::Escaped, "{last:?}");
+    assert!(last.faults.contains(Fault::LatchDisagree), "{last:?}");
+}
