@@ -15,8 +15,8 @@
 //! computed by [`crate::analysis::joint_margins`], the table written by
 //! [`crate::report::margin`].
 use super::{check_output, CliError, Console};
-use crate::analysis::dynamic_margin::DynamicMargins;
 use crate::analysis::design_margin::{DataSource, Factors, NameError, Resistance, Standard};
+use crate::analysis::dynamic_margin::DynamicMargins;
 use crate::analysis::joint_margins::{margins, MarginsError, Row};
 use crate::analysis::resistances::{read_found, Resistances};
 use crate::analysis::stroke_margin::Allowance;
