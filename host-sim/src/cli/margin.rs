@@ -106,7 +106,7 @@ pub struct MarginArgs {
     /// Print the margins under every standard side by side (torque form
     /// at the stowed angle, energy form, worst along the stroke) instead
     /// of one standard's table.
-    #[arg(long, conflicts_with_all = ["json", "plot", "check"])]
+    #[arg(long, conflicts_with_all = ["json", "plot", "check", "deploy_time"])]
     pub all_standards: bool,
 
     /// Exit 1 when a joint fails either margin (after printing the table
@@ -310,6 +310,22 @@ fn write_outputs(
     Ok(())
 }
 
+/// The joints (1-based, as text) that fail any margin: either form, along
+/// the stroke, latching, or dynamic.
+fn failed_joints(rows: &[Row], dynamic: &DynamicMargins) -> Vec<String> {
+    rows.iter()
+        .enumerate()
+        .filter(|(i, r)| {
+            !(r.margin.torque_pass()
+                && r.margin.energy_pass()
+                && r.stroke.pass()
+                && r.margin.latching_pass()
+                && dynamic.pass(*i))
+        })
+        .map(|(_, r)| r.joint.to_string())
+        .collect()
+}
+
 /// Runs `deploywatch margin`.
 pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     // The loader's errors name the file, the key and what was expected.
@@ -368,19 +384,7 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     };
     super::print_out(format_args!("{}", table(&report)));
     write_outputs(args, &report, &console)?;
-    let failed: Vec<String> = rows
-        .iter()
-        .enumerate()
-        .filter(|(i, r)| {
-            !(r.margin.torque_pass()
-                && r.margin.energy_pass()
-                && r.stroke.pass()
-                && r.margin.latching_pass()
-                && dynamic.pass(*i))
-        })
-        .map(|(_, r)| r)
-        .map(|r| r.joint.to_string())
-        .collect();
+    let failed = failed_joints(&rows, &dynamic);
     if args.check && !failed.is_empty() {
         return Err(CliError::failed(format!(
             "margin --check: joint(s) {} of `{}` FAIL",
