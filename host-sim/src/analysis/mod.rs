@@ -7,6 +7,7 @@ pub mod campaign_sim;
 pub mod design_margin;
 pub mod diagnose;
 pub mod diagnosis_details;
+pub mod dynamic_margin;
 pub mod effect_margin;
 pub mod fit;
 pub mod identify;

@@ -16,6 +16,7 @@
 //! [`crate::report::margin`].
 use super::{check_output, CliError, Console};
 use crate::analysis::design_margin::{DataSource, Factors, NameError, Resistance, Standard};
+use crate::analysis::dynamic_margin::DynamicMargins;
 use crate::analysis::joint_margins::{margins, MarginsError, Row};
 use crate::analysis::resistances::{read_found, Resistances};
 use crate::analysis::stroke_margin::Allowance;
@@ -75,6 +76,13 @@ pub struct MarginArgs {
     #[arg(long, value_name = "PCT", default_value_t = 0.0, value_parser = parse_pct)]
     pub end_of_life: f64,
 
+    /// The required time to complete each joint's stroke from rest [s]:
+    /// the dynamic margin's acceleration α = 2 S / T² (constant
+    /// acceleration over the stroke S); without it the dynamic margin is
+    /// not computed.
+    #[arg(long, value_name = "T", value_parser = parse_time)]
+    pub deploy_time: Option<f64>,
+
     /// Also write the margins as JSON here.
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
@@ -98,7 +106,7 @@ pub struct MarginArgs {
     /// Print the margins under every standard side by side (torque form
     /// at the stowed angle, energy form, worst along the stroke) instead
     /// of one standard's table.
-    #[arg(long, conflicts_with_all = ["json", "plot", "check"])]
+    #[arg(long, conflicts_with_all = ["json", "plot", "check", "deploy_time"])]
     pub all_standards: bool,
 
     /// Exit 1 when a joint fails either margin (after printing the table
@@ -183,6 +191,14 @@ fn parse_source(s: &str) -> Result<DataSource, String> {
         .into_iter()
         .find(|d| d.name().eq_ignore_ascii_case(s.trim()))
         .ok_or_else(|| format!("`{s}`: expected analysis, test or acceptance-extremes"))
+}
+
+/// A time > 0 \[s\].
+fn parse_time(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("`{s}`: expected a time in s greater than 0")),
+    }
 }
 
 /// A percentage in `[0, 100)`.
@@ -294,6 +310,22 @@ fn write_outputs(
     Ok(())
 }
 
+/// The joints (1-based, as text) that fail any margin: either form, along
+/// the stroke, latching, or dynamic.
+fn failed_joints(rows: &[Row], dynamic: &DynamicMargins) -> Vec<String> {
+    rows.iter()
+        .enumerate()
+        .filter(|(i, r)| {
+            !(r.margin.torque_pass()
+                && r.margin.energy_pass()
+                && r.stroke.pass()
+                && r.margin.latching_pass()
+                && dynamic.pass(*i))
+        })
+        .map(|(_, r)| r.joint.to_string())
+        .collect()
+}
+
 /// Runs `deploywatch margin`.
 pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     // The loader's errors name the file, the key and what was expected.
@@ -332,6 +364,13 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         return print_all_standards(args, &mech, &resist, &allowance);
     }
     let (factors, rows) = rows_for(args, &mech, &resist, args.standard, &allowance)?;
+    let dynamic = DynamicMargins::of(&mech, &rows, args.deploy_time, args.standard, &factors)
+        .ok_or_else(|| {
+            CliError::input(format!(
+                "{}: the dynamic margin needs the chain of at most 8 joints",
+                args.mechanism.display()
+            ))
+        })?;
     let report = MarginReport {
         file: &args.mechanism,
         mech: &mech,
@@ -341,19 +380,11 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         rows: &rows,
         allowance: &allowance,
         data_source: args.data_source,
+        dynamic: &dynamic,
     };
     super::print_out(format_args!("{}", table(&report)));
     write_outputs(args, &report, &console)?;
-    let failed: Vec<String> = rows
-        .iter()
-        .filter(|r| {
-            !(r.margin.torque_pass()
-                && r.margin.energy_pass()
-                && r.stroke.pass()
-                && r.margin.latching_pass())
-        })
-        .map(|r| r.joint.to_string())
-        .collect();
+    let failed = failed_joints(&rows, &dynamic);
     if args.check && !failed.is_empty() {
         return Err(CliError::failed(format!(
             "margin --check: joint(s) {} of `{}` FAIL",
@@ -404,6 +435,7 @@ mod tests {
             flight: false,
             spring_tolerance: 0.0,
             end_of_life: 0.0,
+            deploy_time: None,
             data_source: DataSource::Analysis,
         }
     }

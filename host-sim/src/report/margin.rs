@@ -6,6 +6,7 @@
 use crate::analysis::design_margin::{
     DataSource, Factors, LatchResistance, Resistance, Standard, LATCH_KIND,
 };
+use crate::analysis::dynamic_margin::{clause, DynamicMargins};
 use crate::analysis::effect_margin::Counted;
 use crate::analysis::joint_margins::Row;
 use crate::analysis::resistances::Resistances;
@@ -36,6 +37,8 @@ pub struct MarginReport<'a> {
     pub allowance: &'a Allowance,
     /// Where the resistances' values come from (the row of factors).
     pub data_source: DataSource,
+    /// The dynamic margins (`--deploy-time`), or that they are not computed.
+    pub dynamic: &'a DynamicMargins,
 }
 
 /// A margin [%] for the table: `inf` when there is no resistance.
@@ -47,11 +50,13 @@ fn pct(v: f64) -> String {
     }
 }
 
-fn verdict(row: &Row) -> &'static str {
+/// A joint's verdict; `dynamic_pass` false when its dynamic margin fails.
+fn verdict(row: &Row, dynamic_pass: bool) -> &'static str {
     let m = &row.margin;
     match (m.torque_pass(), m.energy_pass(), row.stroke.pass()) {
-        (true, true, true) if m.latching_pass() => "pass",
-        (true, true, true) => "FAIL (latching)",
+        (true, true, true) if !m.latching_pass() => "FAIL (latching)",
+        (true, true, true) if !dynamic_pass => "FAIL (dynamic)",
+        (true, true, true) => "pass",
         (true, true, false) => "FAIL (along the stroke)",
         (false, true, _) => "FAIL (torque)",
         (true, false, _) => "FAIL (energy)",
@@ -88,6 +93,59 @@ fn stroke_line(row: &Row) -> String {
         pct(w.margin_pct),
         if row.stroke.pass() { "pass at every position" } else { "FAIL" }
     )
+}
+
+/// The header line of the dynamic margin: its requirement and clause, or
+/// why it is not computed.
+fn dynamic_header(m: &MarginReport) -> String {
+    match m.dynamic {
+        DynamicMargins::NotComputed => "dynamic margin: not computed (no required deploy time: give --deploy-time T in s)".into(),
+        DynamicMargins::Computed { deploy_time_s, .. } => format!(
+            "dynamic margin: the stroke S from rest in {deploy_time_s} s (--deploy-time) at constant acceleration, α = 2 S / T²; I = the largest M_jj of the chain over the stroke (all joints at the same fraction of their stroke); {}",
+            clause(m.standard)
+        ),
+    }
+}
+
+/// The line of joint `index`'s (0-based) dynamic margin at its worst
+/// position, if computed.
+fn dynamic_line(m: &MarginReport, index: usize, row: &Row) -> Option<String> {
+    let d = m.dynamic.joint(index)?;
+    Some(format!(
+        "dynamic ({}): I {:.4} kg·m², α {:.5} rad/s², I α {:.4} N·m × {}; worst at φ = {:.2}°: D {:.4} N·m, factored R {:.4} N·m, margin {} % (required {:.0} %, {})",
+        m.standard.name(),
+        d.inertia_kgm2,
+        d.accel_rad_s2,
+        d.inertia_torque_nm(),
+        d.inertia_factor,
+        joint_angle_deg(row, d.from_latch_rad),
+        d.driving_nm,
+        d.resisting_nm,
+        pct(d.margin_pct),
+        d.required_pct,
+        if d.pass() { "pass" } else { "FAIL" }
+    ))
+}
+
+/// Joint `index`'s (0-based) dynamic margin for `--json` (`null` when not
+/// computed).
+fn dynamic_json(m: &MarginReport, index: usize, row: &Row) -> Value {
+    let finite = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
+    m.dynamic.joint(index).map_or(Value::Null, |d| {
+        json!({
+            "clause": clause(m.standard),
+            "inertia_kgm2": d.inertia_kgm2,
+            "accel_rad_s2": d.accel_rad_s2,
+            "inertia_torque_nm": d.inertia_torque_nm(),
+            "inertia_factor": d.inertia_factor,
+            "worst_angle_deg": joint_angle_deg(row, d.from_latch_rad),
+            "driving_nm": d.driving_nm,
+            "resisting_nm": d.resisting_nm,
+            "margin_pct": finite(d.margin_pct),
+            "required_pct": d.required_pct,
+            "pass": d.pass(),
+        })
+    })
 }
 
 /// The lines of the terms along the stroke, unfactored, with their factor.
@@ -203,6 +261,7 @@ fn table_header(m: &MarginReport) -> String {
         );
     }
     let _ = writeln!(s, "{}", allowance_line(m));
+    let _ = writeln!(s, "{}", dynamic_header(m));
     if mech.has_physical_latch() {
         let _ = writeln!(
             s,
@@ -242,7 +301,7 @@ pub fn table(report: &MarginReport) -> String {
         "E_R_J",
         "TM_energy_%",
     );
-    for row in rows {
+    for (index, row) in rows.iter().enumerate() {
         let m = &row.margin;
         let _ = writeln!(
             s,
@@ -256,9 +315,12 @@ pub fn table(report: &MarginReport) -> String {
             row.viscous_energy_j,
             m.resisting_energy_j,
             pct(m.energy_margin_pct()),
-            verdict(row)
+            verdict(row, report.dynamic.pass(index))
         );
         let _ = writeln!(s, "{:>5} {}", "", stroke_line(row));
+        if let Some(line) = dynamic_line(report, index, row) {
+            let _ = writeln!(s, "{:>5} {line}", "");
+        }
         for line in term_lines(row, factors) {
             let _ = writeln!(s, "{:>5} {line}", "");
         }
@@ -385,7 +447,11 @@ pub fn to_json(report: &MarginReport) -> Value {
         "required_margin_pct": m.standard.required_margin() * 100.0,
         "spring_tolerance_pct": m.allowance.spring_tolerance_pct,
         "end_of_life_pct": m.allowance.end_of_life_pct,
-        "joints": rows.iter().map(|row| {
+        "deploy_time_s": match report.dynamic {
+            DynamicMargins::NotComputed => Value::Null,
+            DynamicMargins::Computed { deploy_time_s, .. } => json!(deploy_time_s),
+        },
+        "joints": rows.iter().enumerate().map(|(index, row)| {
             let m = &row.margin;
             json!({
                 "joint": row.joint,
@@ -404,7 +470,8 @@ pub fn to_json(report: &MarginReport) -> Value {
                 "stroke": stroke_json(row),
                 "arriving_energy_j": m.arriving_energy_j(),
                 "latching_margin_pct": m.latching_margin_pct().map(finite),
-                "pass": m.torque_pass() && m.energy_pass() && row.stroke.pass() && m.latching_pass(),
+                "dynamic": dynamic_json(report, index, row),
+                "pass": m.torque_pass() && m.energy_pass() && row.stroke.pass() && m.latching_pass() && report.dynamic.pass(index),
             })
         }).collect::<Vec<_>>(),
     })

@@ -155,6 +155,7 @@ mod tests {
             rows: &rows,
             allowance: &allowance,
             data_source: DataSource::Analysis,
+            dynamic: &crate::analysis::dynamic_margin::DynamicMargins::NotComputed,
         };
         let printed = table(&report);
         let plotted = curves(&rows);
