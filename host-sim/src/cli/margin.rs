@@ -76,7 +76,7 @@ pub struct MarginArgs {
     #[arg(long, value_name = "PCT", default_value_t = 0.0, value_parser = parse_pct)]
     pub end_of_life: f64,
 
-    /// The required time to complete each joint's stroke from rest [s]:
+    /// The required time, in s, to complete each joint's stroke from rest:
     /// the dynamic margin's acceleration α = 2 S / T² (constant
     /// acceleration over the stroke S); without it the dynamic margin is
     /// not computed.
