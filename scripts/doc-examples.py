@@ -333,8 +333,11 @@ class Checker:
                     errors.append(f"{tok}: no such file in the repository")
             nxt = toks[n + 1] if n + 1 < len(toks) else ""
             kinds = {"--test": "tests", "--bench": "benches", "--example": "examples"}
-            if tok in kinds and not glob.glob(str(ROOT / "**" / kinds[tok] / f"{nxt}.rs"), recursive=True):
-                errors.append(f"{tok} {nxt}: no {kinds[tok]}/{nxt}.rs in the repository")
+            if tok in kinds and not (
+                glob.glob(str(ROOT / "**" / kinds[tok] / f"{nxt}.rs"), recursive=True)
+                or glob.glob(str(ROOT / "**" / kinds[tok] / nxt / "main.rs"), recursive=True)
+            ):
+                errors.append(f"{tok} {nxt}: no {kinds[tok]}/{nxt}.rs or {kinds[tok]}/{nxt}/main.rs in the repository")
             if tok == "-p" and nxt not in self.packages:
                 errors.append(f"-p {nxt}: no such package")
         return errors
