@@ -8,7 +8,8 @@
     python3 scripts/doc-examples.py --list        what would be run, checked or skipped; runs nothing
     python3 scripts/doc-examples.py [...] FILE.md only these files
 
-The binary is built once (`cargo build --release -p deploywatch-sim`).
+The binary is the one `cargo test --workspace` builds (scripts/deploywatch-bin.py
+prints its path, building what is missing).
 
 What is a command, and what is done with it:
 
@@ -343,7 +344,12 @@ class Checker:
         return errors
 
     def run(self, cmd, workdir, bindir):
-        env = dict(os.environ, PATH=f"{bindir}{os.pathsep}{os.environ['PATH']}")
+        env = dict(
+            os.environ,
+            PATH=f"{bindir}{os.pathsep}{os.environ['PATH']}",
+            # scripts that would otherwise build a release binary use this one
+            DEPLOYWATCH=str(Path(bindir) / "deploywatch"),
+        )
         t0 = time.monotonic()
         try:
             r = subprocess.run(
@@ -450,15 +456,15 @@ def check_doc(checker, path, update, report):
 
 
 def build():
-    target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
-    if not target.is_absolute():
-        target = ROOT / target
-    subprocess.run(
-        ["cargo", "build", "--release", "--locked", "-q", "-p", "deploywatch-sim", "--bin", "deploywatch"],
+    """The test build's `deploywatch` (scripts/deploywatch-bin.py builds what is missing)."""
+    out = subprocess.run(
+        [sys.executable, str(ROOT / "scripts" / "deploywatch-bin.py")],
         cwd=ROOT,
         check=True,
-    )
-    return target / "release" / "deploywatch"
+        stdout=subprocess.PIPE,
+        text=True,
+    ).stdout
+    return Path(out.strip())
 
 
 def run_docs(checker, paths, update):

@@ -147,7 +147,7 @@ def firmware_replays(folder, update_budget, update_budget_physical, slice_budget
         for j, (u, p, st) in sorted(larger.items()))
     body = f"""## Monitor on the Cortex-M4F: instructions and stack
 
-Instructions counted under QEMU (`-icount shift=0`, SysTick read around
+Instructions counted under QEMU (`-icount shift=3`: 5 instructions a SysTick tick, read around
 each call) over whole replays, checked bit-identical with the host; the
 budgets are those of `scripts/firmware.sh`, for monitors of up to 3 joints;
 larger ones are measured and stated.

@@ -8,6 +8,9 @@
 #   scripts/reliability-closed-form.sh [P] [METHOD] [SAMPLES] [SEED]
 #   scripts/reliability-closed-form.sh 1e-6 subset 2000 0
 #   scripts/reliability-closed-form.sh 1e-2 mc 20000 0
+#
+# The binary is $DEPLOYWATCH when set (scripts/doc-examples.py sets it to the
+# test build's, which is optimised too), else the release build, built first.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
@@ -15,8 +18,12 @@ p=${1:-1e-6}
 method=${2:-subset}
 samples=${3:-2000}
 seed=${4:-0}
-cargo build -q --release --locked -p deploywatch-sim --bin deploywatch
-dw=${CARGO_TARGET_DIR:-target}/release/deploywatch
+if [ -n "${DEPLOYWATCH:-}" ]; then
+    dw=$DEPLOYWATCH
+else
+    cargo build -q --release --locked -p deploywatch-sim --bin deploywatch
+    dw=${CARGO_TARGET_DIR:-target}/release/deploywatch
+fi
 mech=data/mechanisms/reliability_one_panel.toml
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

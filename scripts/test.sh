@@ -6,17 +6,20 @@
 #                            docs' examples, Python): no embedded toolchain,
 #                            no QEMU, no fuzzing
 #
-# Steps (each prints a header; the first failure stops the run):
+# Steps (each prints a header; the first failure stops the run, or its lane):
 #  1. cargo fmt --check, clippy -D warnings on every target of the workspace,
 #     cargo doc -D warnings (private items too: every intra-doc link resolves;
 #     the Python extension crate left out, see the step)
 #  2. cargo test --workspace (the test profile is optimised, see Cargo.toml):
 #     unit tests, golden trajectories, paper vectors, monitor, identification,
 #     the hidden-effect diagnosis suite, black-box CLI tests
+# Then two lanes side by side, each with its own log (target/lane-*.log,
+# printed when the lane ends): docs + Python (2a-2b) and embedded (3-5).
 #  2a. the docs' examples (scripts/doc-examples.py): the checker's self-test,
-#     then every command shown in README.md and docs/*.md run with today's
-#     release binary and its shown output compared (synopses checked against
-#     --help; slow ones marked in the doc and skipped, with the reason)
+#     then every command shown in README.md and docs/*.md run with the
+#     binary the tests built (scripts/deploywatch-bin.py) and its shown
+#     output compared (synopses checked against --help; slow ones marked in
+#     the doc and skipped, with the reason)
 #  2a'. the docs' figures (scripts/doc-figures.py): its self-test, then no
 #     measured figure in README.md, docs/*.md, the crates' READMEs and
 #     manifests outside docs/measured.md and the compared example outputs;
@@ -32,6 +35,9 @@
 #  4. the firmware under QEMU replaying every reference mechanism, checked
 #     bit-identical with the host's f32 run of the same core code
 #  5. a short run of every fuzz target on its kept corpus
+# After both lanes:
+#  6. python/tests/test_hil.py, the Python twin of `hil`, on the firmware step
+#     4 built and the package step 2b installed (it needs both)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
@@ -60,42 +66,75 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace --exclude deploywatch
 step "cargo test --workspace"
 cargo test --workspace --locked
 
-step "docs: every shown command run, its output compared"
-python3 scripts/doc-examples.py --self-test
-python3 scripts/doc-examples.py --check
+# After cargo test, two lanes run side by side, each on its own log: the
+# docs and Python (mostly one process at a time: the shown commands, pytest)
+# and the embedded checks (toolchain, no_std, firmware on QEMU, fuzzing).
+# Each lane stops at its first failure; the run fails if either does, and
+# prints each lane's log when it ends.
+docs_and_python() {
+    step "docs: every shown command run, its output compared"
+    python3 scripts/doc-examples.py --self-test
+    python3 scripts/doc-examples.py --check
 
-step "docs: no measured figure outside docs/measured.md"
-python3 scripts/doc-figures.py --self-test
-python3 scripts/doc-figures.py --check
-python3 scripts/measured.py check
+    step "docs: no measured figure outside docs/measured.md"
+    python3 scripts/doc-figures.py --self-test
+    python3 scripts/doc-figures.py --check
+    python3 scripts/measured.py check
 
-step "python package: build, pytest (Dask LocalCluster)"
-bash scripts/python-env.sh
-# pytest exits 5 when it collects no test: a failure here, like any other.
-.venv/bin/pytest python/tests -q || { rc=$?; [ "$rc" = 5 ] && echo "pytest collected no test"; exit "$rc"; }
-# The types: the package's own sources, then a program using the installed
-# package (its py.typed and stubs; run from a folder without the sources).
-.venv/bin/mypy --strict --cache-dir target/mypy python/deploywatch python/examples
-(cd python/tests/typed && "$root/.venv/bin/mypy" --strict --cache-dir "$root/target/mypy" usage.py)
+    step "python package: build, pytest (Dask LocalCluster)"
+    bash scripts/python-env.sh
+    # pytest exits 5 when it collects no test: a failure here, like any other.
+    # test_hil.py needs the serial-link firmware the other lane builds: it
+    # runs whole after both lanes (step 6), never racing that build.
+    .venv/bin/pytest python/tests -q --ignore=python/tests/test_hil.py || { rc=$?; [ "$rc" = 5 ] && echo "pytest collected no test"; return "$rc"; }
+    # The types: the package's own sources, then a program using the installed
+    # package (its py.typed and stubs; run from a folder without the sources).
+    .venv/bin/mypy --strict --cache-dir target/mypy python/deploywatch python/examples
+    (cd python/tests/typed && "$root/.venv/bin/mypy" --strict --cache-dir "$root/target/mypy" usage.py)
+}
+
+embedded() {
+    step "embedded toolchain"
+    bash scripts/embedded-toolchain.sh
+
+    step "no_std: deploywatch-core for thumbv7em-none-eabihf, each feature"
+    bash scripts/check-no-std.sh
+
+    step "firmware on QEMU: replay and bit-exact comparison"
+    # The Python twin of `hil` runs after both lanes (step 6): the other
+    # lane may still be making .venv.
+    DW_HIL_PYTHON=0 bash scripts/firmware.sh test
+
+    step "fuzzing (short run of every target)"
+    bash scripts/fuzz.sh "${FUZZ_SECONDS:-20}"
+}
 
 if $host_only; then
+    docs_and_python
     echo "host checks passed (--host: embedded, QEMU and fuzz steps skipped)"
     exit 0
 fi
 
-step "embedded toolchain"
-bash scripts/embedded-toolchain.sh
+# lane NAME FUNCTION: runs FUNCTION in a subshell with `set -e`, its output in
+# target/lane-NAME.log.
+lanes="$root/target"
+mkdir -p "$lanes"
+lane() { (set -euo pipefail; "$2") >"$lanes/lane-$1.log" 2>&1; }
+step "two lanes: docs + Python, and embedded + firmware + fuzzing (logs in target/lane-*.log)"
+lane docs docs_and_python & docs_pid=$!
+lane embedded embedded & embedded_pid=$!
+failed=()
+for name in docs embedded; do
+    pid_var=${name}_pid
+    if wait "${!pid_var}"; then status=passed; else status=FAILED; failed+=("$name"); fi
+    printf '\n----- lane %s: %s -----\n' "$name" "$status"
+    cat "$lanes/lane-$name.log"
+done
+[ ${#failed[@]} -eq 0 ] || { echo; echo "FAILED lane(s): ${failed[*]}"; exit 1; }
 
-step "no_std: deploywatch-core for thumbv7em-none-eabihf, each feature"
-bash scripts/check-no-std.sh
-
-step "firmware on QEMU: replay and bit-exact comparison"
-bash scripts/firmware.sh test
-
-if [ -x scripts/fuzz.sh ] || [ -f scripts/fuzz.sh ]; then
-    step "fuzzing (short run of every target)"
-    bash scripts/fuzz.sh "${FUZZ_SECONDS:-20}"
-fi
+step "Python twin of hil: the serial-link firmware under QEMU from deploywatch.hil"
+DW_HIL_ELF="${DW_FIRMWARE_TARGET_DIR:-$root/firmware-example/target}/thumbv7em-none-eabihf/release/deploywatch-firmware-uart" \
+    .venv/bin/pytest python/tests/test_hil.py -q
 
 echo
 echo "all checks passed in $(((SECONDS - start) / 60)) min $(((SECONDS - start) % 60)) s"

@@ -6,9 +6,9 @@
 //! mechanism as built around it (`Mechanism::as_built` with the default
 //! `LatchTolerance`: preload and rate ±20 %, magnet ±30 %, stop damping
 //! ±30 %, crest ±0.1°), and zero or one named effect (kind, joint and value
-//! drawn as in `tests/diagnosis/`, the value raised until it moves the
-//! ideal-latch twin's runs by ≥ 0.3° RMS). The runs get the reference
-//! sensor noise. The diagnosis sees only the runs and the drawings; the
+//! drawn by `deploywatch_tests::hidden_effect`, as in `tests/diagnosis/`;
+//! the value raised until it moves the ideal-latch twin's runs by ≥ 0.3°
+//! RMS). The runs get the reference sensor noise. The diagnosis sees only the runs and the drawings; the
 //! truth stays here until it has answered. Draws the simulator refuses are
 //! skipped and counted.
 //!
@@ -29,6 +29,7 @@ use deploywatch_sim::progress::{quiet, stderr, Progress};
 use deploywatch_sim::run::Run;
 use deploywatch_sim::sensor::{self, SensorModel};
 use deploywatch_tests::data_dir;
+use deploywatch_tests::hidden_effect::{draw_effect, kinds};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
@@ -45,38 +46,8 @@ const FAMILIES: [[(&str, &str); 2]; 2] = [
     ],
 ];
 
-const KINDS: [EffectKind; 7] = [
-    EffectKind::CoulombFriction,
-    EffectKind::ViscousDamping,
-    EffectKind::SpringSoftening,
-    EffectKind::HarnessStiffness,
-    EffectKind::AirDrag,
-    EffectKind::RigTilt,
-    EffectKind::EncoderOffset,
-];
-
 fn load(name: &str) -> Mechanism {
     Mechanism::load(&data_dir().join(format!("mechanisms/{name}.toml"))).expect("bundled")
-}
-
-fn draw_effect(rng: &mut ChaCha8Rng, kind: EffectKind, joints: usize) -> Effect {
-    let u = |rng: &mut ChaCha8Rng, lo: f64, hi: f64| lo * (hi / lo).powf(rng.gen::<f64>());
-    let j = rng.gen_range(1..=joints);
-    match kind {
-        EffectKind::CoulombFriction => Effect::joint(kind, j, u(rng, 0.05, 1.0)),
-        EffectKind::ViscousDamping => Effect::joint(kind, j, u(rng, 0.05, 1.5)),
-        EffectKind::SpringSoftening => Effect::joint(kind, j, u(rng, 0.05, 0.35)),
-        EffectKind::HarnessStiffness => Effect::joint(kind, j, u(rng, 0.03, 0.5)),
-        EffectKind::AirDrag => Effect::global(kind, u(rng, 0.05, 1.0)),
-        EffectKind::RigTilt => Effect {
-            alpha_deg: rng.gen_range(0.0..360.0),
-            ..Effect::global(kind, u(rng, 0.01, 0.2))
-        },
-        _ => {
-            let s = if rng.gen::<bool>() { 1.0 } else { -1.0 };
-            Effect::joint(EffectKind::EncoderOffset, j, s * u(rng, 0.3, 2.0))
-        }
-    }
 }
 
 /// How far `e` moves the ideal-latch twins' runs [deg RMS], noise-free.
@@ -229,7 +200,7 @@ fn specs(full: bool) -> Vec<(u64, usize, Option<EffectKind>)> {
     for family in 0..2 {
         let mut list: Vec<Option<EffectKind>> = Vec::new();
         for rep in 0..3 {
-            for (k, kind) in KINDS.iter().enumerate() {
+            for (k, kind) in kinds().iter().enumerate() {
                 if full || (rep == 0 && k % 4 == family) {
                     list.push(Some(*kind));
                 }

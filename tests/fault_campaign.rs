@@ -17,13 +17,12 @@
 use deploywatch_core::monitor::{Monitor, MonitorConfig, Prediction, Status};
 use deploywatch_core::LatchState;
 use deploywatch_sim::deployment::{simulate, SimOptions, Trajectory};
-use deploywatch_sim::effect::{Effect, EffectKind};
 use deploywatch_sim::fault_injection::{apply, DropoutMode, SensorFault};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::monitor_config::{monitor_config, samples};
 use deploywatch_sim::run::Run;
 use deploywatch_sim::sensor::{measure, SensorModel};
-use deploywatch_tests::data_dir;
+use deploywatch_tests::{coulomb, mechanism};
 
 /// The papers' identified friction, seed 001 (N·m at joints 1–3).
 const SEED001_FRICTION: [f64; 3] = [2.63, 1.7, 0.001];
@@ -119,19 +118,6 @@ fn variants() -> Vec<(&'static str, Builder)> {
             }
         }),
     ]
-}
-
-fn mechanism(name: &str) -> Mechanism {
-    Mechanism::load(&data_dir().join("mechanisms").join(format!("{name}.toml")))
-        .expect("mechanism file")
-}
-
-fn coulomb(values: &[f64]) -> Vec<Effect> {
-    values
-        .iter()
-        .enumerate()
-        .map(|(j, &v)| Effect::joint(EffectKind::CoulombFriction, j + 1, v))
-        .collect()
 }
 
 /// Extends a trajectory by `hold_s` at its rest state.

@@ -17,7 +17,8 @@
 //!   6 decimals and the CSV's angles too: at most 5e-7 deg each);
 //!   `margin --from` counts each effect at the value fitted or an end of
 //!   its interval (which end: `host-sim/tests/margin_ends.rs`), and
-//!   `reliability --from` centres each law on it (a table refused, exit 2).
+//!   `reliability --from` centres each law on it (a table fixed, each
+//!   knot as fitted or at an end of its band).
 //! - `formats_md_names_every_key_of_every_kind`: every key an entry
 //!   carries is named in formats.md's "Diagnosis: JSON" section.
 //!
@@ -27,6 +28,7 @@ use clap::Parser;
 use deploywatch_sim::cli::{self, Cli};
 use deploywatch_sim::effect::{Effect, EffectKind};
 use deploywatch_sim::findings::{Diagnosis, Findings, FoundEffect};
+use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::reliability::identified::from_findings_json;
 use deploywatch_sim::reliability::params::{Dist, Target};
 use deploywatch_sim::torque_table::TablePoints;
@@ -308,7 +310,8 @@ fn round_trip(kind: EffectKind, dir: &Path) -> Result<(), String> {
         ));
     }
     margin_uses_the_fitted(&mech, &json, &d, dir)?;
-    reliability_uses_the_fitted(&body, &d)
+    let wing = Mechanism::load(Path::new(&mech)).map_err(|x| x.to_string())?;
+    reliability_uses_the_fitted(&body, &d, &wing)
 }
 
 /// Every parameter of a finding comes with its 95 % interval around it
@@ -426,18 +429,65 @@ fn margin_uses_the_fitted(
     Ok(())
 }
 
+/// True when the table `fixed` is the fitted `t` (same kind, joint and
+/// knots), each knot's torque the fitted one or an end of its band in the
+/// diagnosis's `entry`.
+fn table_as_fitted(fixed: &Effect, t: &Effect, entry: &FoundEffect) -> bool {
+    let knots = |a: &Effect| {
+        [&a.table.angle, &a.table.rate]
+            .map(|x| x.as_ref().map(|x| (x.xs().to_vec(), x.ys().to_vec())))
+    };
+    let bands = [&entry.torque_ci95_nm, &entry.rate_torque_ci95_nm];
+    let on_band = |band: &Option<[Vec<Option<f64>>; 2]>, i: usize, y: f64| {
+        band.as_ref()
+            .is_some_and(|b| b.iter().any(|end| end.get(i) == Some(&Some(y))))
+    };
+    fixed.kind == t.kind
+        && fixed.joint == t.joint
+        && knots(fixed)
+            .into_iter()
+            .zip(knots(t))
+            .zip(bands)
+            .all(|((a, b), band)| match (a, b) {
+                (Some((ax, ay)), Some((bx, by))) => {
+                    ax == bx
+                        && ay
+                            .iter()
+                            .zip(&by)
+                            .enumerate()
+                            .all(|(i, (y, fitted))| y == fitted || on_band(band, i, *y))
+                }
+                (a, b) => a.is_none() && b.is_none(),
+            })
+}
+
 /// `reliability --from`: a law centred on each effect's value fitted, its
-/// other parameters as fitted; a table refused.
-fn reliability_uses_the_fitted(body: &str, d: &Diagnosis) -> Result<(), String> {
-    let effects = d.extended_effects().map_err(|x| x.to_string())?;
-    let laws = from_findings_json(body);
-    if effects.iter().any(|e| e.kind == EffectKind::TorqueTable) {
-        return match laws {
-            Err(m) if m.contains("torque table") => Ok(()),
-            other => Err(format!("reliability --from of a table: {other:?}")),
-        };
+/// other parameters as fitted; a table fixed as fitted, each knot's torque
+/// the fitted one or an end of its band (which end:
+/// `host-sim/tests/margin_ends.rs`).
+fn reliability_uses_the_fitted(body: &str, d: &Diagnosis, mech: &Mechanism) -> Result<(), String> {
+    let found = from_findings_json(body, mech)?;
+    let (tables, effects): (Vec<Effect>, Vec<Effect>) = d
+        .extended_effects()
+        .map_err(|x| x.to_string())?
+        .into_iter()
+        .partition(|e| e.kind == EffectKind::TorqueTable);
+    let entries = d.effects.iter().filter(|f| f.name == "torque_table");
+    if found.fixed.len() != tables.len() {
+        return Err(format!(
+            "{} fixed for {} tables",
+            found.fixed.len(),
+            tables.len()
+        ));
     }
-    let laws = laws?;
+    for ((f, t), entry) in found.fixed.iter().zip(&tables).zip(entries) {
+        let fixed = &f.effect;
+        let ok = table_as_fitted(fixed, t, entry);
+        if !ok {
+            return Err(format!("reliability --from: {fixed} fixed for {t}"));
+        }
+    }
+    let laws = found.vary;
     if laws.len() != effects.len() {
         return Err(format!("{} laws for {} effects", laws.len(), effects.len()));
     }

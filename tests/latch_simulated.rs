@@ -45,7 +45,7 @@ use deploywatch_sim::latch_deployment::{
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::monitor_config::{monitor_config, samples};
 use deploywatch_sim::sensor::{measure, SensorModel};
-use deploywatch_tests::{data_dir, SplitMix};
+use deploywatch_tests::{mechanism, SplitMix};
 
 /// A latch must be declared within this of the switch's last closing \[s\].
 const DECLARE_LIMIT_S: f64 = 0.05;
@@ -65,11 +65,6 @@ const SEEN_SAMPLES: usize = 3;
 const MAX_READING_FLAG_SHARE: f64 = 0.05;
 /// Samples the estimator may take to report a visible escape \[1\].
 const ESCAPE_LAG_SAMPLES: usize = 3;
-
-fn mechanism(name: &str) -> Mechanism {
-    Mechanism::load(&data_dir().join("mechanisms").join(format!("{name}.toml")))
-        .expect("mechanism file")
-}
 
 /// Counts over the runs.
 #[derive(Default, Debug)]

@@ -3,8 +3,10 @@
 //! mixed in one wing, simulated with the named effects drawn for the wing,
 //! read by the reference sensor with its noise): a clean run raises no
 //! fault flag (but `latch_disagree` at a joint whose pawl breaks: a failed
-//! latch), and a spike injected mid-stroke into it is flagged
-//! (`docs/monitor.md` §6.2, "Random wings").
+//! latch), not even at a joint the monitor reports `unresolved` (shaken
+//! faster than 100 Hz resolves: the monitor says so instead of raising a
+//! fault; those statuses are counted), and a spike injected mid-stroke
+//! into it is flagged (`docs/monitor.md` §6.2, "Random wings").
 //!
 //! ```sh
 //! cargo test --release -p deploywatch-tests --test monitor_wings -- --nocapture
@@ -21,7 +23,7 @@
 //! MONITOR_WINGS=300 DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test monitor_wings -- --nocapture
 //! ```
 
-use deploywatch_core::monitor::{Monitor, Status};
+use deploywatch_core::monitor::{Monitor, Resolution, Status};
 use deploywatch_sim::deployment::{self, SimOptions, Trajectory};
 use deploywatch_sim::effect::Effect;
 use deploywatch_sim::fault_injection::{apply, SensorFault};
@@ -55,17 +57,6 @@ const IMPACT_REACH_DEG: f64 = 1.0;
 /// returning-spike check decides at the next reading).
 const FLAG_SAMPLES: usize = 3;
 
-/// A change of a joint's true rate from one sample to the next above this
-/// [deg/s] moves it off the line of its readings by more than the
-/// returning-spike check's departure (0.2° at 100 Hz, `plausibility.rs`):
-/// a joint shaken that hard and back (a rattling pawl or a bouncing
-/// plunger next to it) cannot be told from a spike that returns, nor its
-/// readings from outliers, at this sampling rate.
-const SHAKEN_DEG_S: f64 = 20.0;
-
-/// Samples before a flag in which the shaking is looked for.
-const SHAKEN_SAMPLES: usize = 4;
-
 /// The latch mixes: the share of joints drawn with a physical latch.
 const SHARES: [f64; 2] = [0.0, 0.5];
 
@@ -97,13 +88,15 @@ fn hold(traj: &mut Trajectory, dt: f64) {
 }
 
 /// What the monitor said of one joint at one sample: estimated angle
-/// \[deg\], rate [deg/s], latch state and fault flags (empty: none).
+/// \[deg\], rate [deg/s], latch state, fault flags (empty: none) and
+/// whether its readings resolve its motion.
 #[derive(Clone, Debug)]
 struct View {
     phi_deg: f32,
     rate_deg_s: f32,
     latch: String,
     faults: String,
+    resolution: Resolution,
 }
 
 /// The statuses of `run` replayed through the monitor of `mech`, per
@@ -120,6 +113,7 @@ fn replay<const N: usize>(mech: &Mechanism, run: &Run) -> Result<Vec<Vec<View>>,
                 rate_deg_s: js.rate_deg_s,
                 latch: js.latch.to_string(),
                 faults: js.faults.to_string(),
+                resolution: js.resolution,
             })
             .collect()
     };
@@ -168,13 +162,14 @@ fn sample_line(traj: &Trajectory, run: &Run, views: &[Vec<View>], i: usize, j: u
     };
     let v = &views[i][j];
     format!(
-        "t {:.3} s: {truth}; read {:.3}° switch {}; monitor {:.3}° {:.1}°/s {} [{}]",
+        "t {:.3} s: {truth}; read {:.3}° switch {}; monitor {:.3}° {:.1}°/s {} {} [{}]",
         run.t_s[i],
         run.phi_deg[j][i],
         u8::from(run.latch[j][i]),
         v.phi_deg,
         v.rate_deg_s,
         v.latch,
+        v.resolution.as_str(),
         v.faults
     )
 }
@@ -242,17 +237,23 @@ fn broken_pawls(
     Ok(joints)
 }
 
-/// True when joint `j` (0-based) of a wing with a physical latch was shaken
-/// beyond what 100 Hz resolves ([`SHAKEN_DEG_S`]) within
-/// [`SHAKEN_SAMPLES`] before sample `i`: the verdicts the monitor draws
-/// from that joint's readings there (the reading checks, a physical
-/// latch's arrival and escape evidence) are on motion it cannot observe
-/// (`docs/monitor.md` §6.2, "Random wings").
-fn shaken(traj: &Trajectory, i: usize, j: usize) -> bool {
-    let rate = &traj.rate_deg_s[j];
-    let end = i.min(rate.len().saturating_sub(1));
-    (end.saturating_sub(SHAKEN_SAMPLES).max(1)..=end)
-        .any(|k| (rate[k] - rate[k - 1]).abs() > SHAKEN_DEG_S)
+/// Statuses of a replay in which a joint is unresolved, and the joints
+/// (1-based) that ever are.
+fn unresolved(views: &[Vec<View>]) -> (usize, Vec<usize>) {
+    let mut joints = Vec::new();
+    let mut n = 0;
+    for s in views {
+        for (j, v) in s.iter().enumerate() {
+            if v.resolution == Resolution::Unresolved {
+                n += 1;
+                if !joints.contains(&(j + 1)) {
+                    joints.push(j + 1);
+                }
+            }
+        }
+    }
+    joints.sort_unstable();
+    (n, joints)
 }
 
 /// What one wing did: its joints (0: a rig with physical latches, refused
@@ -261,8 +262,8 @@ fn shaken(traj: &Trajectory, i: usize, j: usize) -> bool {
 struct WingResult {
     joints: usize,
     physical: bool,
-    /// Flagged statuses at joints shaken beyond what 100 Hz resolves.
-    shaken: usize,
+    /// Statuses of the clean run with a joint unresolved (joint-samples).
+    unresolved: usize,
     clean: Option<String>,
     spike: Option<Result<(), String>>,
 }
@@ -274,7 +275,7 @@ fn check_wing(seed: u64, physical_share: f64) -> Result<WingResult, String> {
         return Ok(WingResult {
             joints: 0,
             physical: true,
-            shaken: 0,
+            unresolved: 0,
             clean: None,
             spike: None,
         });
@@ -293,13 +294,19 @@ fn check_wing(seed: u64, physical_share: f64) -> Result<WingResult, String> {
     let views = replay_views(&mech, &run)?;
     // A broken pawl is a failed latch, flagged `latch_disagree` (the
     // drawing's lock cannot open, `docs/monitor.md` §4.1): the only flag a
-    // clean run may raise, and only at that joint.
-    // On a wing with a physical latch, a flag at a joint shaken beyond
-    // what 100 Hz resolves is counted and recorded, not failed.
-    let (excused, flagged): (Vec<_>, Vec<_>) = flags(&views)
+    // clean run may raise, and only at that joint. A joint the monitor
+    // reports unresolved is no excuse: it says so instead of a fault.
+    let flagged: Vec<_> = flags(&views)
         .into_iter()
         .filter(|(_, j, f)| !(broken.contains(j) && f == "latch_disagree"))
-        .partition(|(i, j, _)| !w.physical.is_empty() && shaken(&traj, *i, j - 1));
+        .collect();
+    let (unresolved, unresolved_joints) = unresolved(&views);
+    if unresolved > 0 {
+        println!(
+            "seed {seed}: unresolved at joints {unresolved_joints:?} in {unresolved} statuses (physical {:?})",
+            w.physical
+        );
+    }
     trace(&traj, &run, &views, &flagged);
     let clean = match flagged.first() {
         None => None,
@@ -325,7 +332,7 @@ fn check_wing(seed: u64, physical_share: f64) -> Result<WingResult, String> {
     Ok(WingResult {
         joints: w.joints,
         physical: !w.physical.is_empty(),
-        shaken: excused.len(),
+        unresolved,
         clean,
         spike,
     })
@@ -388,10 +395,10 @@ struct Mix {
     refused: usize,
     /// Clean runs with a flag, each naming its wing.
     noisy: Vec<String>,
-    /// Wings with flags at joints shaken beyond what 100 Hz resolves, and
-    /// those flagged statuses.
-    shaken_wings: usize,
-    shaken: usize,
+    /// Wings with a joint unresolved in their clean run, and those
+    /// statuses (joint-samples).
+    unresolved_wings: usize,
+    unresolved: usize,
     /// Spikes injected, and those not flagged, each naming its wing.
     spiked: usize,
     missed: Vec<String>,
@@ -427,8 +434,8 @@ fn random_wings(physical_share: f64) -> Mix {
         }
         mix.wings += 1;
         mix.physical += usize::from(r.physical);
-        mix.shaken_wings += usize::from(r.shaken > 0);
-        mix.shaken += r.shaken;
+        mix.unresolved_wings += usize::from(r.unresolved > 0);
+        mix.unresolved += r.unresolved;
         if let Some(c) = r.clean {
             println!("FLAGS {c}");
             mix.noisy.push(c);
@@ -444,11 +451,11 @@ fn random_wings(physical_share: f64) -> Mix {
         }
     }
     println!(
-        "physical share {physical_share}: {} wings, {} clean runs with flags, {} with flags at shaken joints ({} statuses), {} spikes, {} missed",
+        "physical share {physical_share}: {} wings, {} clean runs with flags, {} with a joint unresolved ({} statuses), {} spikes, {} missed",
         mix.wings,
         mix.noisy.len(),
-        mix.shaken_wings,
-        mix.shaken,
+        mix.unresolved_wings,
+        mix.unresolved,
         mix.spiked,
         mix.missed.len()
     );
@@ -486,8 +493,8 @@ fn record(mixes: &[Mix], secs: f64) {
                 m.refused,
                 m.physical,
                 m.noisy.len(),
-                m.shaken_wings,
-                m.shaken,
+                m.unresolved_wings,
+                m.unresolved,
                 m.spiked - m.missed.len(),
                 m.spiked
             )
@@ -499,7 +506,7 @@ fn record(mixes: &[Mix], secs: f64) {
          with its drawn named effects, read by the reference sensor (σ = 0.02°, 14 bits) and \
          replayed through the monitor of its joint count; then a {SPIKE_DEG}° spike injected \
          mid-stroke (`docs/monitor.md` §6.2, \"Random wings\").\n\n\
-         | physical share | wings | with a physical latch | clean runs with a flag | clean runs flagged only at joints shaken beyond 100 Hz (> {SHAKEN_DEG_S} °/s change of rate within a sample) | spikes flagged within {FLAG_SAMPLES} samples |\n\
+         | physical share | wings | with a physical latch | clean runs with a flag | clean runs with a joint `unresolved` (joint-statuses) | spikes flagged within {FLAG_SAMPLES} samples |\n\
          |---|---|---|---|---|---|\n{}\n\n\
          Wall time (test profile, this machine, shared with other builds): {secs:.0} s.\n",
         rows.join("\n")
@@ -522,10 +529,10 @@ fn random_wings_a_spike_is_flagged() {
 }
 
 /// Clean runs of random wings, ideal or mixed latches, raise no fault
-/// flag (but `latch_disagree` where a pawl breaks, and, on a wing with a
-/// physical latch, a flag at a joint shaken beyond what 100 Hz resolves:
-/// counted and recorded, [`shaken`]); every flagged wing
-/// is listed with its seed, the truth at its first flag and its TOML file.
+/// flag (but `latch_disagree` where a pawl breaks), at a joint reported
+/// `unresolved` or not; the unresolved statuses are counted and
+/// recorded. Every flagged wing is listed with its seed, the truth at its
+/// first flag and its TOML file.
 #[test]
 fn random_wings_clean_runs_raise_no_flag() {
     let noisy: Vec<&String> = mixes().0.iter().flat_map(|m| &m.noisy).collect();

@@ -162,6 +162,19 @@ fn energy_ledger_closes_to_1e_6_of_the_stored_energy() {
         );
         assert!(rel < 1e-6, "{name}: drift {rel:e}");
         assert!(e.contact_j > 0.0, "the stops dissipate");
+        // Each event carries the evaluations made by then: they grow along
+        // the run and stay within its total.
+        let counts: Vec<usize> = out.events.iter().map(|ev| ev.evaluations).collect();
+        assert!(!counts.is_empty(), "{name}: no event");
+        assert!(
+            counts.windows(2).all(|w| w[0] <= w[1]),
+            "{name}: {counts:?}"
+        );
+        let total = out.traj.stats.evaluations;
+        assert!(
+            counts.iter().all(|&c| 0 < c && c <= total),
+            "{name}: {counts:?} of {total}"
+        );
     }
 }
 

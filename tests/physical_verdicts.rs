@@ -9,6 +9,11 @@
 //! step sequence: `examples/physical_verdicts.rs` and
 //! `examples/physical_tolerance.rs` count the verdicts that differ, recorded
 //! in docs/measured.md).
+//!
+//! The runs ended once every latch is held for good (`Keep::Settled`, what
+//! `reliability` runs) give every mode the margin of the run to `T`, to the
+//! bit, on a larger fixed sample of both wings, and of the one-panel pawl
+//! wing, where some of them do end early.
 
 use deploywatch_sim::deployment::SimOptions;
 use deploywatch_sim::latch_deployment::simulate_with;
@@ -36,6 +41,7 @@ fn problem(name: &str) -> Problem {
                     .expect("vary")
             })
             .collect(),
+        fixed: Vec::new(),
         fail: vec!["not_latched".parse().expect("criterion")],
         corr: Vec::new(),
     }
@@ -115,4 +121,59 @@ fn ledger_sized_steps_take_fewer_evaluations() {
             "{name}: {sized} evaluations with ledger-sized steps, {ledger} without"
         );
     }
+}
+
+/// Draws of the fixed sample of the held-for-good check, per wing.
+const SETTLED_DRAWS: u64 = 40;
+
+/// The draws of `p` (wing `name`) whose runs `Keep::Settled` ended before
+/// `T`; panics on a draw whose margins or latch instants differ by a bit
+/// from the run to `T` (`Keep::Ledger`).
+fn settled_early(name: &str, p: &Problem) -> usize {
+    let modes = p.modes();
+    let mut early = 0;
+    for i in 0..SETTLED_DRAWS {
+        let x = p.x_of(&draw(0, 0, i, p.vary.len()));
+        let full = p.deploy_keeping(&x, Keep::Ledger).expect("run to T");
+        let settled = p.deploy_keeping(&x, Keep::Settled).expect("run");
+        let (a, b) = (full.margins(&modes), settled.margins(&modes));
+        let bits = |m: &[f64]| m.iter().map(|g| g.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&a), bits(&b), "{name}, draw {i}: {a:?} vs {b:?}");
+        assert_eq!(full.latch_s, settled.latch_s, "{name}, draw {i}");
+        assert!(settled.end_s <= full.end_s, "{name}, draw {i}");
+        early += usize::from(settled.end_s < full.end_s);
+    }
+    early
+}
+
+#[test]
+fn plunger_runs_held_for_good_keep_every_margin() {
+    let name = "seed001_T01_physical_latch";
+    settled_early(name, &problem(name));
+}
+
+#[test]
+fn pawl_runs_held_for_good_keep_every_margin() {
+    let name = "seed001_T01_pawl";
+    settled_early(name, &problem(name));
+}
+
+/// On a wing whose spring is passive (the one-panel pawl, a linear
+/// spring, its 0.3 N·m friction given a 5 % dispersion) the runs that
+/// pass do end early, with the same margins.
+#[test]
+fn passive_pawl_runs_end_early_with_every_margin_kept() {
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms/one_panel_pawl.toml");
+    let p = Problem {
+        mech: Mechanism::load(&path).expect("bundled mechanism"),
+        vary: vec!["coulomb_friction:joint=1:normal(0,0.015)"
+            .parse()
+            .expect("vary")],
+        fixed: Vec::new(),
+        fail: vec!["not_latched".parse().expect("criterion")],
+        corr: Vec::new(),
+    };
+    let early = settled_early("one_panel_pawl", &p);
+    assert!(early > 0, "no run of {SETTLED_DRAWS} ended early");
 }

@@ -39,6 +39,7 @@ fn problem(mech: Mechanism, vary: &[String]) -> Problem {
     Problem {
         mech,
         vary: vary.iter().map(|v| v.parse().unwrap()).collect(),
+        fixed: Vec::new(),
         fail: vec![Criterion::NotLatched],
         corr: Vec::new(),
     }

@@ -26,8 +26,8 @@ pub mod telemetry;
 // The modules under their short paths (`deploywatch_core::chain`,
 // `deploywatch_core::observer`, ...), as the firmware and host use them.
 pub use monitor::{
-    encoder, faults, latch, latch_margin, margin, observer, plausibility, predictor, rollout,
-    smoother, standards,
+    encoder, faults, latch, latch_margin, margin, observer, plausibility, predictor, resolution,
+    rollout, smoother, standards,
 };
 pub use physics::{chain, friction, linalg, real, spring, torque_table, trig};
 
@@ -42,5 +42,6 @@ pub use physics::torque_table::{Table, TableError, TorqueTable};
 pub use monitor::faults::{Fault, FaultFlags};
 pub use monitor::latch::LatchState;
 pub use monitor::{
-    JointConfig, JointStatus, Monitor, MonitorConfig, Observability, Prediction, Sample, Status,
+    JointConfig, JointStatus, Monitor, MonitorConfig, Observability, Prediction, Resolution,
+    Sample, Status,
 };

@@ -114,9 +114,9 @@ pub const fn sample_frame_max(n: usize) -> usize {
 
 /// Largest postcard payload of one `JointStatus`: seven `f32` (28), the
 /// viscous observability, latch state and prediction (1 each), the
-/// confidence (4), two `Option<f32>` (5 each) and the fault flags (varint
-/// `u16`, ≤ 3).
-pub const JOINT_STATUS_PAYLOAD_MAX: usize = 7 * 4 + 1 + 1 + 1 + 4 + 2 * 5 + 3;
+/// confidence (4), two `Option<f32>` (5 each), the fault flags (varint
+/// `u16`, ≤ 3) and the resolution (1).
+pub const JOINT_STATUS_PAYLOAD_MAX: usize = 7 * 4 + 1 + 1 + 1 + 4 + 2 * 5 + 3 + 1;
 
 /// Largest postcard payload of a `Status<n>`: time (4), sample count
 /// (varint `u32`, ≤ 5), then `n` joints.

@@ -38,7 +38,7 @@
 //! panic, 134 on a fault.
 //!
 //! ```text
-//! qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic -icount shift=0 \
+//! qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic -icount shift=3,sleep=off \
 //!   -semihosting-config enable=on,target=native,arg=fw,arg=IN.bin,arg=OUT.bin \
 //!   -kernel ELF | defmt-print -e ELF
 //! ```

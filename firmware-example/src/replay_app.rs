@@ -26,14 +26,15 @@ use semihosting::process;
 /// Longest accepted path argument, NUL excluded \[bytes\].
 const MAX_PATH: usize = 127;
 
-/// SysTick's period, the replay's sample clock [core clock ticks]: 8192
-/// ticks, 327,680 instructions under `-icount shift=0` (0.33 ms of virtual
-/// time), several times the longest `update` or `predict` slice, which the
-/// meter needs (it measures modulo the period). In flight it is the sample
-/// interval (250,000 ticks for 100 Hz at 25 MHz); in the replay the samples
-/// come from a file as fast as the main loop reads them, and the period only
-/// paces the handover (QEMU idles the `wfi` in real time).
-const SAMPLE_TICKS: u32 = 8192;
+/// SysTick's period, the replay's sample clock [core clock ticks]: 16,384
+/// ticks, 81,920 instructions under `-icount shift=3` (0.66 ms of virtual
+/// time), nearly three times the longest `predict` slice of 6 joints
+/// (29,120), which the meter needs (it measures modulo the period). In
+/// flight it is the sample interval (250,000 ticks for 100 Hz at 25 MHz);
+/// in the replay the samples come from a file as fast as the main loop
+/// reads them, and the period only paces the handover (QEMU's
+/// `sleep=off` skips the `wfi` to the next tick at once).
+const SAMPLE_TICKS: u32 = 16_384;
 
 /// What the sample interrupt and the main loop share.
 struct Shared {
@@ -273,7 +274,7 @@ impl Tally {
         }
         let mean = self.sum / self.calls;
         defmt::info!(
-            "{=str}: {=u32} calls, mean {=u32} max {=u32} instructions ({=u32} per SysTick tick; QEMU -icount shift=0)",
+            "{=str}: {=u32} calls, mean {=u32} max {=u32} instructions ({=u32} per SysTick tick; QEMU -icount shift=3)",
             what,
             self.calls,
             mean * per_tick,
@@ -285,9 +286,9 @@ impl Tally {
 
 /// Counts the instructions of every `Monitor::update` and every slice of
 /// `Monitor::predict` with SysTick on the core clock. QEMU's mps2-an386
-/// clocks the core at 25 MHz of virtual time, and `-icount shift=0` makes
-/// every instruction 1 ns of it, so one tick is 40 instructions: each call is
-/// measured to ±40, the mean far better. SysTick runs with the period
+/// clocks the core at 25 MHz of virtual time (a tick is 40 ns), and
+/// `-icount shift=3` makes every instruction 2³ = 8 ns of it, so one tick
+/// is 5 instructions: each call is measured to ±5, the mean far better. SysTick runs with the period
 /// [`SAMPLE_TICKS`], so a call is measured modulo it (every call is far
 /// shorter). Without `-icount` the figures follow the host's speed and mean
 /// nothing.
@@ -352,8 +353,8 @@ fn calibrate(syst: &mut SYST) -> u32 {
     m.start();
     m.overhead = m.elapsed();
     // `asm::delay(n)` runs n + 1 turns of a two-instruction loop
-    // (subs, bne; cortex-m 0.7.10): 200,000 instructions, under a period.
-    const TURNS: u32 = 100_000;
+    // (subs, bne; cortex-m 0.7.10): 20,000 instructions, under a period.
+    const TURNS: u32 = 10_000;
     m.start();
     cortex_m::asm::delay(TURNS - 1);
     let ticks = m.elapsed().max(1);

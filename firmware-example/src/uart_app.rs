@@ -24,6 +24,13 @@ static RX: Mutex<RefCell<Option<Producer<'static, u8>>>> = Mutex::new(RefCell::n
 /// Bytes lost on reception: the queue full or the UART overrun.
 static OVERRUN: AtomicU32 = AtomicU32::new(0);
 
+/// Bytes the receive interrupt put into the queue (wrapping).
+static QUEUED: AtomicU32 = AtomicU32::new(0);
+
+/// Bytes the main loop took from the queue (wrapping): the queue holds
+/// bytes while it differs from [`QUEUED`].
+static TAKEN: AtomicU32 = AtomicU32::new(0);
+
 /// Every interrupt without a handler of its own comes here (no device
 /// crate: cortex-m-rt's vector table points all of them to it); the
 /// UART's receive interrupt is served, any other is ignored.
@@ -34,9 +41,11 @@ unsafe fn DefaultHandler(irqn: i16) {
     }
     interrupt::free(|cs| {
         let mut rx = RX.borrow(cs).borrow_mut();
-        let mut lost = 0u32;
+        let (mut lost, mut queued) = (0u32, 0u32);
         let overrun = Uart.drain_rx(|b| {
-            if !rx.as_mut().is_some_and(|p| p.enqueue(b).is_ok()) {
+            if rx.as_mut().is_some_and(|p| p.enqueue(b).is_ok()) {
+                queued += 1;
+            } else {
                 lost += 1;
             }
         });
@@ -44,6 +53,7 @@ unsafe fn DefaultHandler(irqn: i16) {
         if lost > 0 {
             OVERRUN.fetch_add(lost, Ordering::Relaxed);
         }
+        QUEUED.fetch_add(queued, Ordering::Release);
     });
 }
 
@@ -93,6 +103,7 @@ fn receiver(mut rx: Consumer<'static, u8>) -> impl FnMut(&mut [u8]) -> Result<us
             n += 1;
         }
         if n > 0 {
+            TAKEN.fetch_add(n as u32, Ordering::Relaxed);
             return Ok(n);
         }
         // Interrupts masked between the check and the sleep: a byte that
@@ -132,9 +143,16 @@ where
         uart.write_all(frame);
         Ok(())
     };
-    serve(&mut paths, src, write, &mut report, || {
-        OVERRUN.load(Ordering::Relaxed)
-    })
+    // The prediction's slices yield to a frame that is waiting.
+    let pending = || QUEUED.load(Ordering::Acquire) != TAKEN.load(Ordering::Relaxed);
+    serve(
+        &mut paths,
+        src,
+        write,
+        &mut report,
+        || OVERRUN.load(Ordering::Relaxed),
+        pending,
+    )
 }
 
 #[panic_handler]

@@ -30,6 +30,7 @@ fn bench(c: &mut Criterion) {
         .iter()
         .map(|v| v.parse().expect("vary"))
         .collect(),
+        fixed: Vec::new(),
         fail: vec!["not_latched".parse().expect("criterion")],
         corr: Vec::new(),
     };

@@ -85,6 +85,7 @@ fn main() -> Result<(), String> {
                 .map(|j| format!("coulomb_friction:joint={}:normal(0,{})", j + 1, sd[j]).parse())
                 .collect::<Result<_, _>>()
                 .map_err(|e| format!("{e}"))?,
+            fixed: Vec::new(),
             fail: vec!["not_latched".parse().map_err(|e| format!("{e}"))?],
             corr: Vec::new(),
         };

@@ -29,17 +29,9 @@ const WINGS: [(&str, [f64; 3]); 2] = [
     ("seed001_T01_pawl", [0.1315, 0.085, 0.00005]),
 ];
 
-/// CPU seconds of the process so far (user + system, `/proc/self/stat`).
-fn cpu_s() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let after = stat.rsplit_once(") ").map_or("", |(_, rest)| rest);
-    let fields: Vec<f64> = after
-        .split_whitespace()
-        .map(|f| f.parse().unwrap_or(0.0))
-        .collect();
-    // Fields 14 and 15 of stat(5), in clock ticks (100 per second).
-    (fields.get(11).unwrap_or(&0.0) + fields.get(12).unwrap_or(&0.0)) / 100.0
-}
+#[path = "common/cpu.rs"]
+mod cpu;
+use cpu::cpu_s;
 
 /// The margins of every draw kept as `keep` says, and the CPU seconds.
 fn run(problem: &Problem, xs: &[Vec<f64>], keep: Keep) -> Result<(Vec<Vec<f64>>, f64), String> {
@@ -70,6 +62,7 @@ fn problem(mech: Mechanism, sd: [f64; 3]) -> Problem {
                 v.parse().expect("vary")
             })
             .collect(),
+        fixed: Vec::new(),
         fail: vec!["not_latched".parse().expect("criterion")],
         corr: Vec::new(),
     }

@@ -225,7 +225,9 @@ pub mod identify {
 
 /// The diagnosis: the named causes of what the model gets wrong.
 pub mod diagnose {
-    pub use crate::analysis::diagnose::{diagnose, DiagnoseOptions, FittedSet, Outcome};
+    pub use crate::analysis::diagnose::{
+        diagnose, DiagnoseOptions, FittedSet, Outcome, MIN_DELTA_BIC,
+    };
 }
 
 /// The residual torque of each joint against a model.
@@ -260,7 +262,7 @@ pub mod reliability {
     }
     /// Parameters from what identify or diagnose found.
     pub mod identified {
-        pub use crate::analysis::reliability::identified::from_findings_json;
+        pub use crate::analysis::reliability::identified::{from_findings_json, FromFindings};
     }
     /// Crude Monte-Carlo.
     pub mod mc {
@@ -272,7 +274,7 @@ pub mod reliability {
     }
     /// The parameters varied.
     pub mod params {
-        pub use crate::analysis::reliability::params::{Dist, Target, Vary};
+        pub use crate::analysis::reliability::params::{Dist, Fixed, Target, Vary};
     }
 }
 

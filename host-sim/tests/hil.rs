@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use deploywatch_core::telemetry::link::{read_report, serve, LinkReport};
+use deploywatch_core::telemetry::link::{read_report, read_shed, serve, LinkReport, Shed};
 use deploywatch_core::telemetry::replay::{
     configure, read_header, ConfigStore, Direct, MonitorStore, Source,
 };
@@ -31,23 +31,58 @@ fn source(mut rest: &[u8]) -> Source<impl FnMut(&mut [u8]) -> Result<usize, ()> 
     })
 }
 
+/// How the bytes reach the firmware's loop: each read of the source
+/// brings `frames(r)` whole frames (read `r`, counted from 0; 1: a link
+/// whose frames come one by one, as on a firmware that keeps up; more: a
+/// burst, the frames that queued while it was busy), and `pending(c)` says
+/// whether the receiver holds bytes at the `c`-th check (the firmware's
+/// receive queue).
+struct Arrival<'a> {
+    frames: &'a dyn Fn(usize) -> usize,
+    pending: &'a dyn Fn(usize) -> bool,
+}
+
+/// Frames one by one, nothing else waiting.
+const PACED: Arrival<'static> = Arrival {
+    frames: &|_| 1,
+    pending: &|_| false,
+};
+
+/// What the firmware's loop writes: the statuses (and mid-stream reports),
+/// the shed frames, and its last report.
+struct Written {
+    frames: Vec<Vec<u8>>,
+    sheds: Vec<Shed>,
+    report: LinkReport,
+}
+
 /// The frames the firmware's loop writes for `bytes` (configuration,
-/// samples, then one report request), and its last report: a firmware
-/// built for the joint count of the configuration's header.
-fn firmware_loop(bytes: &[u8]) -> (Vec<Vec<u8>>, LinkReport) {
+/// samples, then one report request), arriving as `arrival` says: a
+/// firmware built for the joint count of the configuration's header.
+fn firmware_loop(bytes: &[u8], arrival: &Arrival) -> Written {
     let joints = read_header(&mut source(bytes)).expect("header").joints;
     match joints {
-        2 => firmware_loop_n::<2>(bytes),
-        3 => firmware_loop_n::<3>(bytes),
+        2 => firmware_loop_n::<2>(bytes, arrival),
+        3 => firmware_loop_n::<3>(bytes, arrival),
         n => panic!("no firmware loop of {n} joints in this test"),
     }
 }
 
 /// [`firmware_loop`] of a firmware built for `N` joints.
-fn firmware_loop_n<const N: usize>(bytes: &[u8]) -> (Vec<Vec<u8>>, LinkReport) {
+fn firmware_loop_n<const N: usize>(bytes: &[u8], arrival: &Arrival) -> Written {
     let mut rest = bytes;
+    let mut read = 0;
     let mut src = Source::new(|buf: &mut [u8]| {
-        let k = buf.len().min(rest.len());
+        // Whole frames: up to the `frames(read)`-th 0x00 (within `buf`).
+        let mut k = 0;
+        for _ in 0..(arrival.frames)(read).max(1) {
+            match rest[k..].iter().position(|b| *b == 0) {
+                Some(z) => k += z + 1,
+                None => k = rest.len(),
+            }
+        }
+        let k = k.min(buf.len());
+        read += 1;
         buf[..k].copy_from_slice(&rest[..k]);
         rest = &rest[k..];
         Ok(k)
@@ -56,30 +91,46 @@ fn firmware_loop_n<const N: usize>(bytes: &[u8]) -> (Vec<Vec<u8>>, LinkReport) {
     let mut config = ConfigStore::<N>::Empty;
     let mut store = MonitorStore::<N>::Empty;
     configure(&header, &mut src, &mut config, &mut store).expect("configuration");
-    let mut frames = Vec::new();
+    let mut out = Vec::new();
     let mut report = LinkReport::READY;
     let mut paths = Direct {
         store: &mut store,
         meter: &mut (),
     };
+    let checks = std::cell::Cell::new(0);
     serve(
         &mut paths,
         &mut src,
         |f| {
-            frames.push(f.to_vec());
+            out.push(f.to_vec());
             Ok(())
         },
         &mut report,
         || 0,
+        || {
+            checks.set(checks.get() + 1);
+            (arrival.pending)(checks.get() - 1)
+        },
     )
     .expect("the link ends with its input");
-    let mut last = frames.pop().expect("the report");
+    let mut last = out.pop().expect("the report");
     assert_eq!(
         read_report(&mut last),
         Some(report),
         "the last frame is the report"
     );
-    (frames, report)
+    let (mut frames, mut sheds) = (Vec::new(), Vec::new());
+    for f in out {
+        match read_shed(&mut f.clone()) {
+            Some(s) => sheds.push(s),
+            None => frames.push(f),
+        }
+    }
+    Written {
+        frames,
+        sheds,
+        report,
+    }
 }
 
 fn rows(frames: &[Vec<u8>], joints: usize) -> Vec<StatusRow> {
@@ -122,18 +173,23 @@ fn a_lossy_link_is_counted_exactly_and_the_monitor_goes_on() {
             let mut bytes = plan.config.clone();
             out.bytes.iter().for_each(|f| bytes.extend_from_slice(f));
             bytes.push(0);
-            let (frames, report) = firmware_loop(&bytes);
+            let Written {
+                frames,
+                sheds,
+                report,
+            } = firmware_loop(&bytes, &PACED);
+            assert!(sheds.is_empty() && report.shed == 0, "{run_path}: shed");
             let keep: Vec<bool> = out.fate.iter().map(|f| f.delivered()).collect();
             let delivered = keep.iter().filter(|k| **k).count();
             assert_eq!(report.samples as usize, delivered, "{run_path}");
             assert_eq!(report.corrupted as usize, corrupted, "{run_path}");
             assert_eq!((report.too_long, report.requests), (0, 1), "{run_path}");
-            let reference = hil::reference(&mech, &run, &keep).unwrap();
+            let reference = hil::reference(&mech, &run, &keep, &[]).unwrap();
             assert!(
                 frames == reference,
                 "{run_path}: not the host core's statuses"
             );
-            let full = hil::reference(&mech, &run, &vec![true; keep.len()]).unwrap();
+            let full = hil::reference(&mech, &run, &vec![true; keep.len()], &[]).unwrap();
             let (false_latch, extra) =
                 hil::against_full(&rows(&full, plan.joints), &rows(&frames, plan.joints));
             assert!(
@@ -185,7 +241,9 @@ fn garbage_on_the_link_is_counted_and_skipped() {
         bytes.extend_from_slice(f);
     }
     bytes.push(0);
-    let (mut frames, report) = firmware_loop(&bytes);
+    let Written {
+        mut frames, report, ..
+    } = firmware_loop(&bytes, &PACED);
     // The report asked for in the middle.
     let mid = frames
         .iter()
@@ -196,9 +254,79 @@ fn garbage_on_the_link_is_counted_and_skipped() {
         (report.corrupted, report.too_long, report.requests),
         (1, 1, 2)
     );
-    let reference = hil::reference(&mech, &run, &keep).unwrap();
+    let reference = hil::reference(&mech, &run, &keep, &[]).unwrap();
     assert_eq!(report.samples as usize, reference.len());
     assert!(frames == reference);
+}
+
+/// A firmware that falls behind: the frames come in bursts (several at
+/// one read, as they queue while the firmware is busy) or the receiver
+/// holds bytes when a slice is due. The prediction's slices yield to every
+/// waiting frame: each sample is answered before any slice runs while
+/// another waits, every cut is reported (a shed frame, counted in the
+/// report), and the statuses are the host core's with the reported slices
+/// — and not those of the full schedule, which the firmware did not run.
+#[test]
+fn a_firmware_behind_its_input_sheds_slices_and_says_which() {
+    let mech = Mechanism::load(&root().join("data/mechanisms/seed001_T01.toml")).unwrap();
+    let run =
+        replay::load_run(&root().join("data/examples/a_seed001_eft/seed001_T01.csv")).unwrap();
+    let plan = hil::plan(&mech, &run).unwrap();
+    let mut bytes = plan.config.clone();
+    plan.samples.iter().for_each(|f| bytes.extend_from_slice(f));
+    bytes.push(0);
+    let n = plan.samples.len();
+    // A hash of the index: bursts of 2 to 4 frames at about one read in
+    // five after the configuration; the receiver busy at one check in 13.
+    let mix = |i: usize| (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 59;
+    let bursts = |r: usize| {
+        if r > 4 && mix(r) < 6 {
+            2 + mix(r) as usize % 3
+        } else {
+            1
+        }
+    };
+    let busy = |c: usize| c % 13 == 7;
+    let cases: [(&str, Arrival); 2] = [
+        (
+            "bursts",
+            Arrival {
+                frames: &bursts,
+                pending: &|_| false,
+            },
+        ),
+        (
+            "receiver busy",
+            Arrival {
+                frames: &|_| 1,
+                pending: &busy,
+            },
+        ),
+    ];
+    for (name, arrival) in cases {
+        let w = firmware_loop(&bytes, &arrival);
+        assert_eq!(w.report.samples as usize, n, "{name}");
+        assert!(w.report.shed > 0, "{name}: nothing shed");
+        assert_eq!(w.sheds.len(), w.report.shed as usize, "{name}");
+        // Each cut after its own sample, in order, fewer than configured.
+        assert!(
+            w.sheds.windows(2).all(|p| p[0].sample < p[1].sample),
+            "{name}: {:?}",
+            w.sheds
+        );
+        assert!(w.sheds.iter().all(|s| s.slices < 17), "{name}");
+        let keep = vec![true; n];
+        let reference = hil::reference(&mech, &run, &keep, &w.sheds).unwrap();
+        assert!(
+            w.frames == reference,
+            "{name}: not the host core's statuses with the reported slices"
+        );
+        let full = hil::reference(&mech, &run, &keep, &[]).unwrap();
+        assert!(
+            w.frames != full,
+            "{name}: the shed slices changed no status (the test would not see a wrong schedule)"
+        );
+    }
 }
 
 /// `mech` with its `[joint.latch]` tables removed: the same mechanism with

@@ -8,6 +8,7 @@ mod common;
 use common::{data, deploywatch, fails, s};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
+use std::process::Output;
 use toml_edit::{DocumentMut, Item};
 
 /// `margin --json` of `mech` with `args`; its JSON.
@@ -31,6 +32,24 @@ fn margin_json(mech: &Path, args: &[&str]) -> Value {
         String::from_utf8_lossy(&run.stderr)
     );
     serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap()
+}
+
+/// `deploywatch margin --quiet` of seed 000 case 1 with its identified
+/// friction (0.54 and 0.472 N·m) by ECSS, and the `more` arguments.
+fn case1_ecss(more: &[&str]) -> Output {
+    let file = data().join("mechanisms/seed000_case1.toml");
+    let mut args = vec![
+        "margin",
+        "--quiet",
+        "--mechanism",
+        s(&file),
+        "--friction",
+        "0.54,0.472",
+        "--standard",
+        "ecss",
+    ];
+    args.extend(more);
+    deploywatch(&args)
 }
 
 fn toml(path: &Path) -> DocumentMut {
@@ -90,17 +109,7 @@ fn seed000_case1_fails_at_the_latch_end_with_its_identified_friction() {
         // The stowed-angle margin passes: only the stroke shows the failure.
         assert!(m["joints"][j]["torque_margin_pct"].as_f64().unwrap() > 0.0);
     }
-    let run = deploywatch(&[
-        "margin",
-        "--quiet",
-        "--mechanism",
-        s(&file),
-        "--friction",
-        "0.54,0.472",
-        "--standard",
-        "ecss",
-        "--check",
-    ]);
+    let run = case1_ecss(&["--check"]);
     fails(&run, 1, &["margin --check", "FAIL"]);
     let out = String::from_utf8_lossy(&run.stdout);
     assert!(out.contains("worst at φ = 0.00°"), "{out}");
@@ -257,18 +266,7 @@ fn plot_writes_the_margin_along_the_stroke() {
     let file = data().join("mechanisms/seed000_case1.toml");
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("margin.png");
-    let run = deploywatch(&[
-        "margin",
-        "--quiet",
-        "--mechanism",
-        s(&file),
-        "--friction",
-        "0.54,0.472",
-        "--standard",
-        "ecss",
-        "--plot",
-        s(&png),
-    ]);
+    let run = case1_ecss(&["--plot", s(&png)]);
     assert!(
         run.status.success(),
         "{}",

@@ -80,11 +80,13 @@ fn bad_input_exits_2_and_says_what_is_wrong() {
         2,
         &["deploywatch identify", "deploywatch diagnose"],
     );
+    // A diagnosis that found nothing: nothing to carry, said so
+    // (`docs/reliability.md`, "From a diagnosis").
     let nothing_found = write(dir.path(), "d.json", "{\"effects\": []}");
     fails(
         &run(&["--from", s(&nothing_found), "--fail", "not_latched"]),
         2,
-        &["at least one --vary"],
+        &["names no effect", "no effect found"],
     );
     // A normal law that reaches a negative mass: the simulation fails (1)
     // and the message gives the parameters.

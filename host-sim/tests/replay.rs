@@ -78,6 +78,7 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
             "margin{j}_pct",
             "prediction{j}",
             "faults{j}",
+            "resolution{j}",
         ] {
             want.push(c.replace("{j}", &j.to_string()));
         }
@@ -106,7 +107,7 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
         rows += 1;
         let _: f32 = rec[0].parse().unwrap();
         for j in 0..3 {
-            let col = |k: usize| &rec[1 + 11 * j + k];
+            let col = |k: usize| &rec[1 + 12 * j + k];
             for k in [0, 1, 2, 3, 4, 5] {
                 assert!(col(k).parse::<f32>().is_ok(), "{}", col(k));
             }
@@ -127,6 +128,11 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
                 col(10).is_empty() || col(10).split('|').all(|f| fault_names.contains(&f)),
                 "faults {}",
                 col(10)
+            );
+            assert!(
+                deploywatch_core::Resolution::from_name(col(11)).is_some(),
+                "resolution {}",
+                col(11)
             );
         }
     }

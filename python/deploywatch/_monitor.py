@@ -34,8 +34,10 @@ class MonitorStatus:
     ``phi_deg`` [deg], the rate ``rate_deg_s`` [deg/s], the friction
     estimates ``coulomb_nm`` [N·m] and ``viscous_nms`` [N·m·s/rad], the
     margin of the remaining stroke ``margin_pct`` [%], the predicted time
-    to latch ``time_to_latch_s`` [s]; ``latch`` and ``prediction`` the
-    states' names; ``raw`` the core's status as a dict."""
+    to latch ``time_to_latch_s`` [s]; ``latch``, ``prediction`` and
+    ``resolution`` the states' names (``resolution``: ``Resolved``, or
+    ``Unresolved`` where the readings change faster than 100 Hz resolves,
+    docs/monitor.md §6.2); ``raw`` the core's status as a dict."""
 
     t_s: float
     samples: int
@@ -47,6 +49,7 @@ class MonitorStatus:
     time_to_latch_s: FloatArray
     latch: Tuple[str, ...]
     prediction: Tuple[str, ...]
+    resolution: Tuple[str, ...]
     raw: Dict[str, Any]
 
 
@@ -97,6 +100,7 @@ class Monitor:
             time_to_latch_s=_column(joints, "time_to_latch_s"),
             latch=tuple(_name(j.get("latch")) for j in joints),
             prediction=tuple(_name(j.get("prediction")) for j in joints),
+            resolution=tuple(_name(j.get("resolution")) for j in joints),
             raw=raw,
         )
 

@@ -145,6 +145,18 @@ class FailurePoint:
 
 
 @dataclass(frozen=True)
+class FixedEffect:
+    """An effect every deployment carries as found, not drawn (a
+    diagnosis's ``torque_table`` read by ``from_``): ``effect`` in the
+    ``--effect`` syntax, ``source`` where it comes from and which values
+    were taken (each knot at the end of its band that resists the
+    deployment)."""
+
+    effect: str
+    source: str
+
+
+@dataclass(frozen=True)
 class Estimate:
     """One method's estimate inside an ``auto`` result
     (:attr:`Reliability.estimates`), and the part of every
@@ -188,8 +200,8 @@ class Reliability(Estimate):
     ``modes``: subset simulation of each failure mode (subset; empty
     otherwise); ``design_points`` and ``unreached`` (is: the design points
     sampled around, the modes whose boundary FORM did not find);
-    ``mechanism``, ``seed``, ``vary``, ``fail`` and ``corr``: the problem
-    (keyword-only); ``estimates`` and ``agree`` (auto: the :class:`Estimate`
+    ``mechanism``, ``seed``, ``vary``, ``fail``, ``corr`` and ``fixed``
+    (the :class:`FixedEffect` s of ``from_``): the problem (keyword-only); ``estimates`` and ``agree`` (auto: the :class:`Estimate`
     of ``is`` and of ``subset``, and whether they agree within their 95 %
     intervals, None when neither saw a failure; ``{}`` and None otherwise).
     ``extra``: any field of the JSON this version does not know, kept as it
@@ -201,12 +213,13 @@ class Reliability(Estimate):
     vary: Tuple[str, ...]
     fail: Tuple[str, ...]
     corr: Tuple[str, ...]
+    fixed: Tuple[FixedEffect, ...] = ()
     estimates: Mapping[str, Estimate] = field(default_factory=dict)
     agree: Optional[bool] = None
     extra: Mapping[str, Any] = field(default_factory=dict)
 
     _KNOWN = (
-        "mechanism", "method", "seed", "vary", "fail", "corr", "p_fail", "cov",
+        "mechanism", "method", "seed", "vary", "fail", "corr", "fixed", "p_fail", "cov",
         "ci95", "simulations", "failures", "converged", "most_likely_failure",
         "modes", "design_points", "unreached", "estimates", "agree",
     )
@@ -223,6 +236,9 @@ class Reliability(Estimate):
             vary=tuple(d["vary"]),
             fail=tuple(d["fail"]),
             corr=tuple(d.get("corr", ())),
+            fixed=tuple(
+                FixedEffect(str(f["effect"]), str(f["source"])) for f in d.get("fixed", ())
+            ),
             estimates={str(k): Estimate.from_dict(v) for k, v in checks.items()},
             agree=None if agree is None else bool(agree),
             extra={k: v for k, v in d.items() if k not in cls._KNOWN},
@@ -241,6 +257,7 @@ class Reliability(Estimate):
             "vary": list(self.vary),
             "fail": list(self.fail),
             "corr": list(self.corr),
+            "fixed": [{"effect": f.effect, "source": f.source} for f in self.fixed],
         }
         out.update(_body_json(self))
         if self.estimates:

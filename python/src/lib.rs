@@ -63,19 +63,29 @@ fn problem(
 ) -> PyResult<Problem> {
     let mech = mechanism(mech_toml, source)?;
     let mut vs: Vec<Vary> = parse_all("vary", vary)?;
+    let mut fixed = Vec::new();
     if let Some(text) = from_json {
         let given = vs.clone();
-        let found = identified::from_findings_json(text)
+        let found = identified::from_findings_json(text, &mech)
             .map_err(|m| Kind::Input.raise(format!("from_: {m}"), Vec::new()))?;
+        if let Some(why) = &found.no_effect {
+            return Err(Kind::Input.raise(format!("from_: {why}"), Vec::new()));
+        }
         vs.extend(
             found
+                .vary
                 .into_iter()
                 .filter(|f| !given.iter().any(|g| g.label() == f.label())),
         );
+        fixed = found.fixed;
+        for f in &mut fixed {
+            f.source = format!("from_: {}", f.source);
+        }
     }
     let p = Problem {
         mech,
         vary: vs,
+        fixed,
         fail: parse_all::<Criterion>("fail", fail)?,
         corr: parse_all::<Correlation>("corr", corr)?,
     };

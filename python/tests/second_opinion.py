@@ -50,9 +50,9 @@ takes any number."""
 W_COUL = 0.01
 """The Coulomb law's regularisation ω_coul [rad/s] (physics.md §4)."""
 RMS_DEG = 0.05
-"""Target: RMS of the angle difference over the run [deg] (issue 38)."""
+"""Target: RMS of the angle difference over the run [deg] (docs/simulator.md, "A second opinion: MuJoCo")."""
 LATCH_S = 2e-3
-"""Target: difference of each latch instant [s] (issue 38)."""
+"""Target: difference of each latch instant [s] (docs/simulator.md, "A second opinion: MuJoCo")."""
 
 
 @dataclasses.dataclass
@@ -308,7 +308,7 @@ class Comparison:
 
     @property
     def ok(self) -> bool:
-        """Within the targets of issue 38."""
+        """Within both targets above."""
         return self.rms_deg <= RMS_DEG and self.latch_diff_s <= LATCH_S and not self.latch_mismatch
 
     def line(self) -> str:

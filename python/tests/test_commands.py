@@ -136,5 +136,7 @@ def test_the_monitor_sample_by_sample_gives_replays_statuses(root, monkeypatch, 
             have = np.array([getattr(s, key)[j] for s in got])
             # The monitor computes in f32: the same f32 values.
             np.testing.assert_array_equal(have.astype(np.float32), want.astype(np.float32), err_msg=col)
+    # Ideal latches: the monitor follows no resolution, every joint resolved.
+    assert all(s.resolution == ("Resolved",) * n for s in got)
     with pytest.raises(InputError, match=rf"^sample: expected {n} angles"):
         monitor.update(dw.Sample(t_s=0.0, phi_deg=[0.0], latch=[False]))

@@ -127,7 +127,7 @@ def test_a_bad_correlation(mech):
 
 
 def test_no_parameter_to_vary(mech):
-    with pytest.raises(InputError, match=r"^expected at least one vary$"):
+    with pytest.raises(InputError, match=r"^expected at least one vary, or a from_ effect with an interval$"):
         deploywatch.reliability(mech)
 
 

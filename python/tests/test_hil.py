@@ -3,8 +3,8 @@ real time to the serial-link firmware under QEMU, every sample delivered
 on a clean link, every status back and bit-identical with the host core's
 (the command's own check), the samples echoed as sent. It needs the firmware ELF that
 `scripts/firmware.sh build` makes: `scripts/firmware.sh test` runs this
-file after building it; without the ELF (the Python step of
-`scripts/test.sh`, which runs before the firmware is built) the QEMU test
+file after building it, and `scripts/test.sh` after both its lanes (one
+builds the firmware, the other the package); without the ELF the QEMU test
 is skipped and says why. The refusals need no firmware.
 
     bash scripts/firmware.sh build && .venv/bin/pytest python/tests/test_hil.py -q

@@ -1,4 +1,4 @@
-"""One validator for every entry point (issue 38 item 5, issue 43): one
+"""One validator for every entry point: one
 list of bad inputs, each run through the CLI binary and through Python.
 The CLI exits 2; Python raises ``InputError`` (a ``MechanismError`` for the
 file); the two messages are the same words, the CLI's flag (``--effect``,
@@ -22,7 +22,7 @@ LATCH = "data/mechanisms/seed001_T01_physical_latch.toml"
 VARY = "coulomb_friction:joint=1:normal(1,0.1)"
 
 # (mechanism, bad --effect): the CLI's `simulate --effect` refusals
-# (host-sim/tests/new_user_inputs.rs) and those of issue 38 item 5.
+# (host-sim/tests/new_user_inputs.rs) and the new user's out-of-range values.
 EFFECTS = [
     (T01, "coulomb_friction:joint=9:value=0.4"),
     (T01, "coulomb_friction:joint=0:value=0.4"),

@@ -12,7 +12,8 @@
 //! 0.01°, below the sensor noise (`physics.md` section 6).//!
 //! One module per suite: `hidden` (the generated cases), `bundled` (the
 //! example campaigns), `campaign` (a campaign against its runs alone),
-//! `one_joint` (two causes at one joint); the generator is here.
+//! `one_joint` (two causes at one joint); the generator is here (the kinds
+//! and each effect's joint and value from `deploywatch_tests::hidden_effect`).
 // Per-joint series are indexed in lockstep with their offsets.
 #![allow(clippy::needless_range_loop)]
 mod bundled;
@@ -29,6 +30,7 @@ use deploywatch_sim::progress::quiet;
 use deploywatch_sim::run::Run;
 use deploywatch_sim::sensor::{self, SensorModel};
 use deploywatch_tests::data_dir;
+use deploywatch_tests::hidden_effect::{draw_effect, kinds};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeMap;
@@ -37,17 +39,6 @@ use std::path::Path;
 const PAIRS: [[&str; 2]; 2] = [
     ["seed001_T01", "seed001_T02"],
     ["seed000_case1", "seed000_case3"],
-];
-
-/// The kinds drawn (all but latch_detent).
-const KINDS: [EffectKind; 7] = [
-    EffectKind::CoulombFriction,
-    EffectKind::ViscousDamping,
-    EffectKind::SpringSoftening,
-    EffectKind::HarnessStiffness,
-    EffectKind::AirDrag,
-    EffectKind::RigTilt,
-    EffectKind::EncoderOffset,
 ];
 
 struct Case {
@@ -61,37 +52,6 @@ fn mechanisms(pair: usize) -> Vec<Mechanism> {
         .iter()
         .map(|m| Mechanism::load(&data_dir().join(format!("mechanisms/{m}.toml"))).unwrap())
         .collect()
-}
-
-fn draw_effect(rng: &mut ChaCha8Rng, kind: EffectKind, joints: usize) -> Effect {
-    let u = |rng: &mut ChaCha8Rng, lo: f64, hi: f64| lo * (hi / lo).powf(rng.gen::<f64>());
-    let j = rng.gen_range(1..=joints);
-    match kind {
-        EffectKind::CoulombFriction => Effect::joint(kind, j, u(rng, 0.05, 1.0)),
-        EffectKind::ViscousDamping => Effect::joint(kind, j, u(rng, 0.05, 1.5)),
-        // Not candidates (not in `EffectKind::ALL`).
-        EffectKind::QuadraticDamping | EffectKind::StribeckFriction => Effect::joint(kind, j, 0.0),
-        EffectKind::SpringSoftening => Effect::joint(kind, j, u(rng, 0.05, 0.35)),
-        EffectKind::HarnessStiffness => Effect::joint(kind, j, u(rng, 0.03, 0.5)),
-        EffectKind::AirDrag => Effect::global(kind, u(rng, 0.05, 1.0)),
-        EffectKind::RigTilt => Effect {
-            alpha_deg: rng.gen_range(0.0..360.0),
-            ..Effect::global(kind, u(rng, 0.01, 0.2))
-        },
-        EffectKind::EncoderOffset => {
-            let s = if rng.gen::<bool>() { 1.0 } else { -1.0 };
-            Effect::joint(kind, j, s * u(rng, 0.3, 2.0))
-        }
-        EffectKind::LatchDetent => Effect::joint(kind, j, u(rng, 0.5, 2.0)),
-        // Not drawn here: tests/unnamed_torque.rs draws its own tables.
-        EffectKind::TorqueTable => Effect::joint(kind, j, 0.0),
-        // Never drawn: they act only on a physical latch (`EffectKind::LATCH`).
-        EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => Effect::joint(kind, j, 0.0),
-        // Never drawn here: they act only on a rig (tests/diagnosis_rig.rs).
-        EffectKind::RigFriction | EffectKind::WireLength | EffectKind::FrameOffset => {
-            Effect::global(kind, 0.0)
-        }
-    }
 }
 
 /// How far an effect moves the pair of runs [deg RMS], noise-free.
@@ -181,20 +141,21 @@ fn cases() -> Vec<(u64, Vec<EffectKind>, usize)> {
     let mut out = Vec::new();
     let mut rng = ChaCha8Rng::seed_from_u64(2026);
     let mut seed = 1000;
+    let kinds = kinds();
     for rep in 0..3 {
-        for (k, kind) in KINDS.iter().enumerate() {
+        for (k, kind) in kinds.iter().enumerate() {
             seed += 1;
             out.push((seed, vec![*kind], (rep + k) % 2));
         }
     }
     for p in 0..30 {
         seed += 1;
-        let a = KINDS[rng.gen_range(0..KINDS.len())];
-        let mut b = KINDS[rng.gen_range(0..KINDS.len())];
+        let a = kinds[rng.gen_range(0..kinds.len())];
+        let mut b = kinds[rng.gen_range(0..kinds.len())];
         // A global effect (air drag, rig tilt) exists once: two of them
         // would be one.
         while b == a && !a.per_joint() {
-            b = KINDS[rng.gen_range(0..KINDS.len())];
+            b = kinds[rng.gen_range(0..kinds.len())];
         }
         out.push((seed, vec![a, b], p % 2));
     }

@@ -17,6 +17,26 @@ pub fn data_dir() -> PathBuf {
     repo_root().join("data")
 }
 
+/// The bundled mechanism `data/mechanisms/NAME.toml` (panics when it does
+/// not load: a test's own data).
+pub fn mechanism(name: &str) -> deploywatch_sim::mechanism::Mechanism {
+    deploywatch_sim::mechanism::Mechanism::load(
+        &data_dir().join("mechanisms").join(format!("{name}.toml")),
+    )
+    .expect("mechanism file")
+}
+
+/// Coulomb friction `values[j]` \[N·m\] at joint `j + 1`, one effect a joint.
+pub fn coulomb(values: &[f64]) -> Vec<deploywatch_sim::effect::Effect> {
+    use deploywatch_sim::effect::{Effect, EffectKind};
+    values
+        .iter()
+        .enumerate()
+        .map(|(j, &v)| Effect::joint(EffectKind::CoulombFriction, j + 1, v))
+        .collect()
+}
+
+pub mod hidden_effect;
 pub mod hidden_torque;
 pub mod record;
 pub mod wing_gen;

@@ -5,7 +5,8 @@
 use crate::monitor::latch::{LatchConfig, PhysicalLatch};
 use crate::monitor::latch_margin::Engagement;
 use crate::monitor::margin::UncertaintyFactors;
-use crate::monitor::observer::{FrictionPrior, JerkAdaptation, ObserverTuning};
+use crate::monitor::observer::{FrictionPrior, ObserverTuning};
+use crate::monitor::rate_filter::JerkAdaptation;
 use crate::monitor::rollout::RolloutConfig;
 use crate::physics::chain::{ChainError, Panel};
 use crate::physics::spring::Spring;

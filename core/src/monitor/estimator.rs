@@ -7,7 +7,7 @@
 //! 1. the time checks (NaN, backwards, gaps: [`crate::monitor::faults::Fault`] flags, never a panic);
 //! 2. the encoder checks and a kinematic Kalman filter per joint: angle and
 //!    rate from the 14-bit encoder, spikes gated out
-//!    ([`crate::monitor::observer::RateFilter`]);
+//!    ([`crate::monitor::rate_filter::RateFilter`]);
 //! 3. the latch-state estimator per joint, switch fused with encoder
 //!    ([`crate::monitor::latch`]), and the plastic latch impulse on the rates;
 //! 4. the sample queued for the friction learning (a bounded queue).
@@ -27,7 +27,7 @@
 //!
 //! Everything is `f32`, fixed-size and heap-free; the RAM of
 //! `Monitor<3>` is held to its budget by `monitor_fits_in_its_ram_budget`
-//! (`tests/monitor.rs`). `docs/monitor.md` has the equations and the tuning.
+//! (`tests/monitor/`). `docs/monitor.md` has the equations and the tuning.
 //!
 //! The files, one concern each: the [`Monitor`]'s state and its
 //! construction (`state.rs`), one joint's state and status lines
@@ -58,7 +58,8 @@ pub use crate::monitor::config::{
 };
 pub use crate::monitor::predictor::Prediction;
 pub use crate::monitor::status::{
-    JointStatus, Observability, Sample, Status, OBSERVED_PRIOR_SHARE, VISCOUS_RESOLVED_SD,
+    JointStatus, Observability, Resolution, Sample, Status, OBSERVED_PRIOR_SHARE,
+    VISCOUS_RESOLVED_SD,
 };
 
 /// A chain of `N` equal panels (0.8 m, 4 kg) on linear springs, stowed at

@@ -53,7 +53,9 @@
 //! the rate filter takes the reading.
 
 use crate::monitor::faults::Fault;
-use crate::monitor::observer::RateFilter;
+use crate::monitor::rate_filter::RateFilter;
+use crate::monitor::resolution::Shaking;
+use crate::monitor::status::Resolution;
 
 /// Predicted motion over one sample interval above which a repeated
 /// reading is stale [quantisation steps].
@@ -130,6 +132,17 @@ pub struct Reading {
     /// switch closed or an impact is under way (the joint may stop dead),
     /// or the sample follows a gap.
     pub moving_checks: bool,
+    /// False where the joint itself is latched, its switch closed or it is
+    /// within its physical latch's reach of the stop: its readings are of
+    /// the latch, and its resolution is not judged (reported resolved).
+    /// True elsewhere, an impact under way included: the resolution
+    /// follows the readings whether or not the checks apply.
+    pub free: bool,
+    /// The resolution is followed at all: on a wing with a physical latch
+    /// (the rattling pawl or bouncing plunger that shakes a joint beyond
+    /// what the samples resolve); on one of ideal latches every joint is
+    /// resolved, at no cost on the sample path.
+    pub follow: bool,
 }
 
 /// What the checks say of one reading.
@@ -199,6 +212,9 @@ pub struct ReadingCheck {
     /// The recent peak of the readings' change of step `|z₀ − 2 z₁ + z₂|`
     /// \[rad\], decaying by [`WIGGLE_DECAY`] per reading.
     wiggle: f32,
+    /// The readings' recent changes of step, signed, and whether they
+    /// leave the joint unresolved (`resolution.rs`).
+    shaking: Shaking,
 }
 
 impl ReadingCheck {
@@ -220,6 +236,7 @@ impl ReadingCheck {
             third: f32::NAN,
             wiggle: 0.0,
             repeat_moved: false,
+            shaking: Shaking::NEW,
         }
     }
 
@@ -250,38 +267,96 @@ impl ReadingCheck {
 
     /// Checks `reading` against the joint's rate filter as it stood after
     /// the previous sample, at `t_prev` \[s\]. Out of line: one copy for
-    /// every joint count.
+    /// every joint count. Where the checks are off, the filter's course is
+    /// not even read.
     #[inline(never)]
     pub fn check_filter(&mut self, reading: &Reading, filter: &RateFilter, t_prev: f32) -> Verdict {
+        if !reading.moving_checks {
+            self.pass(reading);
+            return Verdict::Plausible;
+        }
         self.check(reading, &Course::of(filter, t_prev))
     }
 
-    /// Checks `reading` against `course`, the rate filter's state at the
-    /// previous sample.
-    pub fn check(&mut self, reading: &Reading, course: &Course) -> Verdict {
-        // The previous reading's miss from its parabola (NaN when it had
-        // none: it was not taken, or the run of readings broke).
-        self.third = self.last[LINE_READINGS - 1].1 - self.parabola;
+    /// A reading lost (missing or out of range) or a gap in the time
+    /// stamps: the resolution's change of step waits for two readings in
+    /// a row again.
+    pub fn lose_reading(&mut self) {
+        self.shaking.lose();
+    }
+
+    /// A reading the checks do not apply to (`Reading::moving_checks`
+    /// false): the line, a departure and a run of repeats start afresh
+    /// (the resolution follows the readings all the same).
+    #[inline(always)]
+    fn pass(&mut self, reading: &Reading) {
+        // No parabola: `follows_readings` is false (the miss `third` is
+        // NaN again at the next reading checked).
         self.parabola = f32::NAN;
+        self.pending = None;
+        self.seen = 0;
+        // A run of repeats that begins here is not judged as stale.
+        self.repeat_rate = 0.0;
+        if !reading.follow {
+            return;
+        }
+        match reading.angle {
+            Some(z) if reading.free => {
+                self.shaking.judge();
+                self.shaking.read(z, true);
+            }
+            _ => {
+                self.shaking.pause();
+                self.shaking.lose();
+            }
+        }
+    }
+
+    /// Whether the joint's readings resolve its motion, as judged at the
+    /// last reading, on the readings before it ([`Resolution::Unresolved`]: a departure that
+    /// returns is not flagged, and the rate filter takes a reading its gate
+    /// rejects as a manoeuvre).
+    #[inline(always)]
+    pub fn resolution(&self) -> Resolution {
+        self.shaking.resolution()
+    }
+
+    /// True when [`ReadingCheck::resolution`] is unresolved.
+    #[inline(always)]
+    pub fn unresolved(&self) -> bool {
+        self.shaking.unresolved()
+    }
+
+    /// Checks `reading` against `course`, the rate filter's state at the
+    /// previous sample. On an unresolved joint (judged on the readings
+    /// before this one) a spike that returns is not flagged: its readings
+    /// cannot tell one from the joint's motion.
+    ///
+    /// The previous reading's miss from its parabola is kept (NaN when it
+    /// had none: it was not taken, or the run of readings broke). When the
+    /// repeats begin, the readings' own rate is kept; none before three
+    /// readings (after a gap or an impact the rate filter's rate is widened
+    /// and may be far from the readings': a joint at rest would read
+    /// stale). A stale reading is not taken: no parabola to carry to the
+    /// next reading, no change of step.
+    pub fn check(&mut self, reading: &Reading, course: &Course) -> Verdict {
         if !reading.moving_checks {
-            self.pending = None;
-            self.seen = 0;
-            // A run of repeats that begins here is not judged as stale.
-            self.repeat_rate = 0.0;
+            self.pass(reading);
             return Verdict::Plausible;
         }
+        self.third = self.last[LINE_READINGS - 1].1 - self.parabola;
+        self.parabola = f32::NAN;
+        let follow = reading.follow;
+        let unresolved = follow && self.shaking.judge();
         let Some(z) = reading.angle else {
             self.age();
+            self.shaking.lose();
             return Verdict::Plausible;
         };
         let dt = reading.t_s - course.t_s;
         let line = self.line();
         self.parabola = self.parabola_next();
         if reading.repeats <= 1 {
-            // The readings' own rate when the repeats began; none before
-            // three readings (after a gap or an impact the rate filter's
-            // rate is widened and may be far from the readings': a joint
-            // at rest would read stale).
             self.repeat_rate = line.map_or(0.0, |l| l.rate);
             self.repeat_course = *course;
             self.repeat_ahead = self.step_ahead();
@@ -289,22 +364,41 @@ impl ReadingCheck {
         }
         if self.stale(reading, dt) {
             self.pending = None;
-            // Not taken: no parabola to carry to the next reading.
             self.parabola = f32::NAN;
+            self.shaking.lose();
             return Verdict::Stale;
         }
         if let Some(d) = self.pending {
             let off = libm::fabsf(z - d.course.at(reading.t_s));
+            // A departure's readings stay out of the history of a quiet
+            // joint (a spike does not make its own joint unresolved), not
+            // of one already shaken.
+            let record = unresolved || self.shaking.shaken();
             self.push(reading.t_s, z);
             if off <= RETURN_FRACTION * libm::fabsf(d.jump) {
                 self.pending = None;
                 // Start the line afresh from the good reading.
                 self.seen = 1;
+                // On a joint that is not quiet, the departure and its
+                // return are judged with the rest of its motion: bent both
+                // ways, they are motion the samples do not resolve.
+                if follow && record {
+                    self.shaking.read(z, true);
+                    if self.shaking.judge() {
+                        return Verdict::Plausible;
+                    }
+                }
+                // The spike's readings leave the history with it.
+                self.shaking.restart(z);
                 return Verdict::SpikeReturned;
+            }
+            if follow {
+                self.shaking.read(z, record);
             }
             self.age();
             return Verdict::Plausible;
         }
+        let mut departs = false;
         if let Some(line) = line {
             let jump = z - line.at(reading.t_s);
             if libm::fabsf(jump) > DEPART_RAD && self.stands_out(jump) {
@@ -313,9 +407,14 @@ impl ReadingCheck {
                     jump,
                     samples: 1,
                 });
+                departs = true;
             }
         }
+        let record = !departs || unresolved || self.shaking.shaken();
         self.push(reading.t_s, z);
+        if follow {
+            self.shaking.read(z, record);
+        }
         Verdict::Plausible
     }
 
@@ -430,186 +529,4 @@ impl ReadingCheck {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    const DEG: f32 = core::f32::consts::PI / 180.0;
-    const STEP: f32 = 360.0 / 16384.0 * DEG;
-
-    fn reading(t: f32, deg: f32, repeats: u16) -> Reading {
-        Reading {
-            t_s: t,
-            angle: Some(deg * DEG),
-            repeats,
-            step: STEP,
-            moving_checks: true,
-        }
-    }
-
-    /// A joint at −100°/s from 10° at t = 0.
-    fn course(t: f32) -> Course {
-        Course {
-            t_s: t,
-            angle: (10.0 - 100.0 * t) * DEG,
-            rate: -100.0 * DEG,
-            acc: 0.0,
-        }
-    }
-
-    #[test]
-    fn a_two_sample_spike_that_returns_is_flagged_when_it_returns() {
-        let mut c = ReadingCheck::new();
-        // 0.01–0.03: on course; 0.04, 0.05: at 0° (a spike to the latch
-        // angle); 0.06: back on course (4°).
-        for (t, deg) in [
-            (0.01, 9.0),
-            (0.02, 8.0),
-            (0.03, 7.0),
-            (0.04, 0.0),
-            (0.05, 0.0),
-        ] {
-            assert_eq!(
-                c.check(&reading(t, deg, 0), &course(t - 0.01)),
-                Verdict::Plausible
-            );
-        }
-        assert_eq!(
-            c.check(&reading(0.06, 4.0, 0), &course(0.05)),
-            Verdict::SpikeReturned
-        );
-    }
-
-    #[test]
-    fn a_rattle_at_the_nyquist_frequency_is_no_spike_a_spike_on_it_still_is() {
-        // 100°/s with ±0.2° alternating every sample: the readings leave
-        // and rejoin their line by 0.4° at every sample.
-        let rattle = |k: usize| 10.0 - k as f32 + if k % 2 == 0 { 0.2 } else { -0.2 };
-        let mut c = ReadingCheck::new();
-        for k in 1..40 {
-            let t = 0.01 * k as f32;
-            let v = c.check(&reading(t, rattle(k), 0), &course(t - 0.01));
-            assert_eq!(v, Verdict::Plausible, "sample {k}");
-        }
-        // The same departure on a smooth course is a spike when it returns.
-        let mut c = ReadingCheck::new();
-        let mut v = Vec::new();
-        for k in 1..10 {
-            let t = 0.01 * k as f32;
-            let deg = 10.0 - k as f32 + if k == 6 { 0.4 } else { 0.0 };
-            v.push(c.check(&reading(t, deg, 0), &course(t - 0.01)));
-        }
-        assert_eq!(v[6], Verdict::SpikeReturned, "{v:?}");
-    }
-
-    #[test]
-    fn a_whip_follows_the_cubic_through_four_readings_a_spike_does_not() {
-        // The angle of a joint whose acceleration doubles every two samples.
-        let whip = |k: f32| 0.2 * libm::powf(2.0, 0.5 * k) * DEG;
-        let mut c = ReadingCheck::new();
-        for k in 0..6 {
-            let t = 0.01 * (k + 1) as f32;
-            c.check(&reading(t, whip(k as f32) / DEG, 0), &course(t - 0.01));
-        }
-        let (next, tol) = (whip(6.0), 0.02 * DEG);
-        let mut spiked = c;
-        // The monitor asks after the reading's own checks.
-        c.check(&reading(0.07, next / DEG, 0), &course(0.06));
-        assert!(libm::fabsf(next - c.parabola) > tol, "the parabola lags");
-        assert!(c.follows_readings(next, tol));
-        let spike = next + 3.0 * DEG;
-        spiked.check(&reading(0.07, spike / DEG, 0), &course(0.06));
-        assert!(!spiked.follows_readings(spike, tol));
-    }
-
-    #[test]
-    fn a_stop_does_not_return_and_is_not_flagged() {
-        let mut c = ReadingCheck::new();
-        // The joint stops dead at 8° at 0.02 s and stays.
-        let mut v = Vec::new();
-        for (k, deg) in [9.0, 8.0, 8.01, 7.99, 8.0, 8.02].iter().enumerate() {
-            let t = 0.01 * (k + 1) as f32;
-            v.push(c.check(&reading(t, *deg, 0), &course(t - 0.01)));
-        }
-        assert!(v.iter().all(|x| *x == Verdict::Plausible), "{v:?}");
-    }
-
-    #[test]
-    fn repeats_are_stale_only_while_moving() {
-        // Moving at 100°/s: the first repeat is fused (the filter slows
-        // down), the second is judged against the readings' motion before
-        // it.
-        let mut c = ReadingCheck::new();
-        for (k, deg) in [11.0, 10.0, 9.0].iter().enumerate() {
-            let t = 0.01 * (k + 1) as f32;
-            assert_eq!(
-                c.check(&reading(t, *deg, 0), &course(t - 0.01)),
-                Verdict::Plausible
-            );
-        }
-        assert_eq!(
-            c.check(&reading(0.04, 9.0, 1), &course(0.03)),
-            Verdict::Plausible
-        );
-        let slowed = Course {
-            rate: -DEG,
-            ..course(0.04)
-        };
-        // Fast (45 steps per sample): the second repeat is stale.
-        assert_eq!(c.check(&reading(0.05, 9.0, 2), &slowed), Verdict::Stale);
-        // 0.15° (7 steps) per sample: two repeats may be a turn, the third
-        // is stale.
-        let mut c = ReadingCheck::new();
-        let slow = |t: f32| Course {
-            t_s: t,
-            angle: (10.0 - 15.0 * t) * DEG,
-            rate: -15.0 * DEG,
-            acc: 0.0,
-        };
-        for (k, deg) in [9.85, 9.70, 9.55].iter().enumerate() {
-            let t = 0.01 * (k + 1) as f32;
-            assert_eq!(
-                c.check(&reading(t, *deg, 0), &slow(t - 0.01)),
-                Verdict::Plausible
-            );
-        }
-        assert_eq!(
-            c.check(&reading(0.04, 9.55, 1), &slow(0.03)),
-            Verdict::Plausible
-        );
-        assert_eq!(
-            c.check(&reading(0.05, 9.55, 2), &slow(0.03)),
-            Verdict::Plausible
-        );
-        assert_eq!(
-            c.check(&reading(0.06, 9.55, 3), &slow(0.03)),
-            Verdict::Stale
-        );
-        // Before three readings there is no motion to judge a repeat by.
-        let mut c = ReadingCheck::new();
-        c.check(&reading(0.01, 9.0, 0), &course(0.0));
-        c.check(&reading(0.02, 9.0, 1), &course(0.01));
-        assert_eq!(
-            c.check(&reading(0.03, 9.0, 2), &course(0.02)),
-            Verdict::Plausible
-        );
-        // At rest, repeats are what a quantised encoder does.
-        let rest = Course {
-            t_s: 0.01,
-            angle: 8.0 * DEG,
-            rate: 0.001,
-            acc: 0.0,
-        };
-        let mut c = ReadingCheck::new();
-        for k in 0..5u16 {
-            let t = 0.02 + 0.01 * f32::from(k);
-            let at = Course {
-                t_s: t - 0.01,
-                ..rest
-            };
-            assert_eq!(c.check(&reading(t, 8.0, k), &at), Verdict::Plausible);
-        }
-        let mut off = reading(0.02, 8.0, 2);
-        off.moving_checks = false;
-        assert_eq!(c.check(&off, &course(0.01)), Verdict::Plausible);
-    }
-}
+mod tests;

@@ -79,6 +79,72 @@ impl Observability {
     }
 }
 
+/// Whether the readings resolve a joint's motion at the sampling rate, or
+/// it is shaken faster than the samples can follow (`docs/monitor.md`
+/// §6.2, "What stays outside what the monitor can observe at 100 Hz").
+/// Decided from the readings only (`resolution.rs`): the change of step
+/// `z₀ − 2 z₁ + z₂` of three readings in a row of at least
+/// [`UNRESOLVED_BEND_DEG`] in both signs within the last
+/// [`RESOLUTION_READINGS`] readings makes the joint unresolved; it is
+/// resolved again once they no longer reach [`RESOLVED_BEND_DEG`] both
+/// ways. Followed on a wing with a physical latch only (on one of ideal
+/// latches every joint is resolved).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Resolution {
+    /// The readings follow the joint's motion: every reading check applies.
+    #[default]
+    Resolved,
+    /// The joint is shaken (a rattling pawl or a bouncing plunger next to
+    /// it) faster than the samples resolve: its readings cannot tell a
+    /// spike from its motion, and the checks that would call a reading an
+    /// outlier (`encoder_outlier`) are off for it.
+    Unresolved,
+}
+
+impl Resolution {
+    /// Every value.
+    pub const ALL: [Resolution; 2] = [Resolution::Resolved, Resolution::Unresolved];
+
+    /// The name used in telemetry CSV and reports.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Resolution::Resolved => "resolved",
+            Resolution::Unresolved => "unresolved",
+        }
+    }
+
+    /// The value of a name written by [`Resolution::as_str`].
+    pub fn from_name(name: &str) -> Option<Self> {
+        Resolution::ALL.iter().copied().find(|p| p.as_str() == name)
+    }
+
+    /// `Unresolved` when `unresolved`.
+    pub const fn of(unresolved: bool) -> Self {
+        if unresolved {
+            Resolution::Unresolved
+        } else {
+            Resolution::Resolved
+        }
+    }
+}
+
+/// Change of step of three readings in a row from which on, in both signs
+/// within [`RESOLUTION_READINGS`], a joint is unresolved \[deg\]: a change
+/// of rate of 20°/s within one interval at 100 Hz, the returning-spike
+/// check's departure (`plausibility.rs`, `DEPART_RAD`); 4 σ of the
+/// reference encoder's change of step (σ √6 ≈ 0.05°).
+pub const UNRESOLVED_BEND_DEG: f32 = 0.2;
+
+/// Change of step an unresolved joint's readings must still reach both
+/// ways within [`RESOLUTION_READINGS`] to stay unresolved \[deg\]
+/// (hysteresis; 2 σ of the reference encoder's change of step: a quiet
+/// joint is resolved again within a few samples).
+pub const RESOLVED_BEND_DEG: f32 = 0.1;
+
+/// Readings (changes of step) the resolution looks back over.
+pub const RESOLUTION_READINGS: u32 = 5;
+
 /// Largest share of the prior variance left once the data determine a
 /// parameter \[1\]: the data then carry at least three times the prior's
 /// information.
@@ -132,6 +198,10 @@ pub struct JointStatus {
     pub time_to_latch_s: Option<f32>,
     /// Faults raised at this sample.
     pub faults: FaultFlags,
+    /// Whether the readings resolve the joint's motion at this sample
+    /// ([`Resolution::Unresolved`]: shaken faster than the samples follow;
+    /// the outlier checks are off for it, `docs/monitor.md` §6.2).
+    pub resolution: Resolution,
 }
 
 /// The monitor's answer to one sample.

@@ -97,6 +97,16 @@ pub fn coulomb_shape<T: Real>(omega: T, omega_c: T) -> T {
     (omega / omega_c).tanh()
 }
 
+/// The quadratic damping of the `quadratic_damping` effect (`physics.md`
+/// §6), resisting magnitude [N·m]: `c ω|ω|` for the coefficient `c`
+/// [N·m·s²/rad²] at rate `omega` [rad/s], signed like `omega`. The one place
+/// it is written: the chain's joint torque and the diagnosis's residual
+/// signature both call it.
+#[inline]
+pub fn quadratic_damping<T: Real>(c: T, omega: T) -> T {
+    c * omega * omega.abs()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -121,5 +131,18 @@ mod tests {
         };
         let peak = -f.torque(0.1 / 2f64.sqrt());
         assert!((peak - 1.0).abs() < 1e-9, "{peak}");
+    }
+
+    #[test]
+    fn quadratic_damping_grows_as_the_square_and_keeps_the_sign() {
+        assert_eq!(quadratic_damping(0.5f64, 2.0), 2.0);
+        assert_eq!(quadratic_damping(0.5f64, -2.0), -2.0);
+        assert_eq!(quadratic_damping(0.5f64, 0.0), 0.0);
+        // Doubling the rate quadruples the torque, in f32 as in f64.
+        let (a, b) = (
+            quadratic_damping(0.3f32, 0.7),
+            quadratic_damping(0.3f32, 1.4),
+        );
+        assert!((b / a - 4.0).abs() < 1e-5, "{a} {b}");
     }
 }

@@ -33,8 +33,10 @@ use serde::{Deserialize, Serialize};
 /// replay's frame buffers.
 pub const MAX_JOINTS: usize = crate::monitor::rollout::ROLLOUT_MAX_JOINTS;
 
-/// Version of the configuration frames; the firmware refuses another.
-pub const CONFIG_VERSION: u8 = 4;
+/// Version of the replay's frames: the configuration and the status frames
+/// the firmware answers with (a field added to either is a new version);
+/// the firmware refuses another.
+pub const CONFIG_VERSION: u8 = 5;
 
 /// The first frame of a replay input.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

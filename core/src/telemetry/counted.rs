@@ -187,7 +187,7 @@ mod tests {
     use crate::monitor::faults::{Fault, FaultFlags};
     use crate::monitor::latch::LatchState;
     use crate::monitor::predictor::Prediction;
-    use crate::monitor::status::Observability;
+    use crate::monitor::status::{Observability, Resolution};
     use crate::telemetry::{decode, encode, sample_frame_max, status_frame_max};
 
     /// A status of `N` joints with every field set, distinct per joint.
@@ -214,6 +214,11 @@ mod tests {
                 confidence: 0.9,
                 time_to_latch_s: (j == 1).then_some(0.75),
                 faults: FaultFlags::default(),
+                resolution: if j == 0 {
+                    Resolution::Unresolved
+                } else {
+                    Resolution::Resolved
+                },
             };
             js.faults.insert(Fault::SwitchChatter);
         }

@@ -127,21 +127,47 @@ pub fn worst_end(k: EffectKind) -> WorstEnd {
 /// room, a rig that is not level, the rig's rails, wires and frames): none of them flies, so `--flight`
 /// leaves them out.
 pub fn rig_only(k: EffectKind) -> bool {
-    matches!(k, EffectKind::AirDrag | EffectKind::RigTilt) || k.is_rig()
+    match k {
+        EffectKind::AirDrag
+        | EffectKind::RigTilt
+        | EffectKind::RigFriction
+        | EffectKind::WireLength
+        | EffectKind::FrameOffset => true,
+        EffectKind::CoulombFriction
+        | EffectKind::ViscousDamping
+        | EffectKind::QuadraticDamping
+        | EffectKind::StribeckFriction
+        | EffectKind::SpringSoftening
+        | EffectKind::HarnessStiffness
+        | EffectKind::LatchDetent
+        | EffectKind::EncoderOffset
+        | EffectKind::TorqueTable
+        | EffectKind::PlungerWeakening
+        | EffectKind::MagnetWeakening => false,
+    }
 }
 
 /// True when the effect's energy comes from the simulated deployment
 /// (rate-dependent or distributed over the panels).
 pub fn needs_simulation(k: EffectKind) -> bool {
-    matches!(
-        k,
+    match k {
         EffectKind::ViscousDamping
-            | EffectKind::StribeckFriction
-            | EffectKind::QuadraticDamping
-            | EffectKind::TorqueTable
-            | EffectKind::AirDrag
-            | EffectKind::RigTilt
-    )
+        | EffectKind::StribeckFriction
+        | EffectKind::QuadraticDamping
+        | EffectKind::TorqueTable
+        | EffectKind::AirDrag
+        | EffectKind::RigTilt => true,
+        EffectKind::CoulombFriction
+        | EffectKind::SpringSoftening
+        | EffectKind::HarnessStiffness
+        | EffectKind::LatchDetent
+        | EffectKind::EncoderOffset
+        | EffectKind::PlungerWeakening
+        | EffectKind::MagnetWeakening
+        | EffectKind::RigFriction
+        | EffectKind::WireLength
+        | EffectKind::FrameOffset => false,
+    }
 }
 
 /// True when effect `e` acts on joint `j` (0-based): a per-joint effect at
@@ -241,7 +267,18 @@ pub fn stroke_term(e: &Effect, kind: Resistance, torque_nm: f64, peak_rate_rad_s
             kind,
             e.value * peak_rate_rad_s,
         ),
-        _ => Term::constant(name, kind, torque_nm),
+        EffectKind::CoulombFriction
+        | EffectKind::StribeckFriction
+        | EffectKind::SpringSoftening
+        | EffectKind::AirDrag
+        | EffectKind::RigTilt
+        | EffectKind::EncoderOffset
+        | EffectKind::TorqueTable
+        | EffectKind::PlungerWeakening
+        | EffectKind::MagnetWeakening
+        | EffectKind::RigFriction
+        | EffectKind::WireLength
+        | EffectKind::FrameOffset => Term::constant(name, kind, torque_nm),
     }
 }
 

@@ -118,6 +118,13 @@ pub enum FromError {
         /// What it should hold.
         expected: &'static str,
     },
+    /// A diagnosis whose answer is `unexplained` without a named effect:
+    /// margins of the mechanism as given would not be what it found.
+    #[error(
+        "the diagnosis names no effect, its answer is {0}: margins without it would be the \
+         mechanism's as given, which the runs contradict (docs/margin.md, \"From a diagnosis\")"
+    )]
+    Unexplained(String),
     /// A joint the mechanism does not have.
     #[error("{effect} at joint {joint}, but {mechanism} has joints 1 to {joints}")]
     Joint {
@@ -144,6 +151,8 @@ struct Found {
     found_on: Vec<String>,
     /// Per effect, the value taken, in words.
     taken_at: Vec<String>,
+    /// What the source line adds (a diagnosis that found nothing).
+    note: Option<String>,
 }
 
 /// Reads `--from`: an identify JSON (`"method"` and `"joints"`) or a
@@ -155,11 +164,14 @@ pub fn read_found(path: &Path, mech: &Mechanism) -> Result<Resistances, FromErro
         Findings::Identify(id) => identify_effects(&id)?,
         Findings::Diagnosis(d) => diagnose_effects(&d, mech)?,
     };
-    let source = format!(
-        "{} ({}) + the mechanism's friction",
-        found.command,
-        path.display()
-    );
+    let source = match &found.note {
+        Some(note) => format!("{} ({}): {note}", found.command, path.display()),
+        None => format!(
+            "{} ({}) + the mechanism's friction",
+            found.command,
+            path.display()
+        ),
+    };
     let mut r = resistances_with(mech, found.effects, source)?;
     r.ignored = found.ignored;
     r.found_on = found.found_on;
@@ -186,9 +198,26 @@ pub fn resistances_with(
                 joints: n,
             });
         }
-        match (e.kind, e.joint) {
-            (EffectKind::CoulombFriction, Some(j)) => r.coulomb_nm[j - 1] += e.value,
-            (EffectKind::ViscousDamping, Some(j)) => r.viscous_nms[j - 1] += e.value,
+        let column = match e.kind {
+            EffectKind::CoulombFriction => Some(&mut r.coulomb_nm),
+            EffectKind::ViscousDamping => Some(&mut r.viscous_nms),
+            EffectKind::QuadraticDamping
+            | EffectKind::StribeckFriction
+            | EffectKind::SpringSoftening
+            | EffectKind::HarnessStiffness
+            | EffectKind::LatchDetent
+            | EffectKind::AirDrag
+            | EffectKind::RigTilt
+            | EffectKind::EncoderOffset
+            | EffectKind::TorqueTable
+            | EffectKind::PlungerWeakening
+            | EffectKind::MagnetWeakening
+            | EffectKind::RigFriction
+            | EffectKind::WireLength
+            | EffectKind::FrameOffset => None,
+        };
+        match (column, e.joint) {
+            (Some(column), Some(j)) => column[j - 1] += e.value,
             _ => r.others.push(e),
         }
     }
@@ -235,14 +264,27 @@ fn identify_effects(id: &Identification) -> Result<Found, FromError> {
         ignored: Vec::new(),
         found_on,
         taken_at,
+        note: None,
     })
 }
 
 /// The named effects of a diagnose JSON (read by the one reader of its
 /// entries, [`FoundEffect::to_effect`](crate::model::findings::diagnosis::FoundEffect::to_effect)), what is not a named effect (in
 /// words), and the mechanisms it was found on.
+///
+/// A diagnosis that found nothing (the mechanisms as given explain the
+/// runs) gives the mechanism's own margins, said so in `taken_at`; one
+/// whose only answer is `unexplained` is refused ([`FromError::Unexplained`]).
 fn diagnose_effects(d: &Diagnosis, mech: &Mechanism) -> Result<Found, FromError> {
     let (mut effects, mut ignored, mut taken_at) = (Vec::new(), Vec::new(), Vec::new());
+    let mut note = None;
+    match d.answer_without_effect() {
+        Some(answer) if d.effects.is_empty() => {
+            note = Some(format!("{answer}: the margins of the mechanism as given"));
+        }
+        Some(answer) => return Err(FromError::Unexplained(answer)),
+        None => {}
+    }
     for (i, e) in d.effects.iter().enumerate() {
         let worst = e
             .name
@@ -259,10 +301,9 @@ fn diagnose_effects(d: &Diagnosis, mech: &Mechanism) -> Result<Found, FromError>
                 taken_at.push(format!("{}{joint}: {words}", effect.kind));
                 effects.push(effect);
             }
-            None => ignored.push(
-                e.joint
-                    .map_or(e.name.clone(), |j| format!("{} at joint {j}", e.name)),
-            ),
+            None => ignored.push(e.joint.map_or(e.no_effect_words(), |j| {
+                format!("{} at joint {j}", e.no_effect_words())
+            })),
         }
     }
     Ok(Found {
@@ -271,6 +312,7 @@ fn diagnose_effects(d: &Diagnosis, mech: &Mechanism) -> Result<Found, FromError>
         ignored,
         found_on: d.found_on(),
         taken_at,
+        note,
     })
 }
 
@@ -306,8 +348,10 @@ fn end_of(kind: EffectKind, estimate: f64, ci: Option<[Option<f64>; 2]>) -> (f64
 /// A diagnosis entry of `kind` with its value (a Stribeck law's excess
 /// too) at the worst end of its 95 % interval ([`end_of`]), or for a
 /// table each knot's torque at the end of its band that resists joint's
-/// deployment on `mech` more; and what was taken, in words.
-fn at_worst_end(f: &FoundEffect, kind: EffectKind, mech: &Mechanism) -> (FoundEffect, String) {
+/// deployment on `mech` more; and what was taken, in words. The margins
+/// take it so, and `reliability --from` a table
+/// ([`crate::analysis::reliability::identified`]).
+pub fn at_worst_end(f: &FoundEffect, kind: EffectKind, mech: &Mechanism) -> (FoundEffect, String) {
     let mut w = f.clone();
     if kind != EffectKind::TorqueTable {
         let (value, words) = end_of(kind, f.value.unwrap_or(f64::NAN), f.ci95);

@@ -129,7 +129,11 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
         &campaign,
         &outcome,
         &details,
-        &next_step(&args.json, &args.mechanisms),
+        &next_step(
+            &args.json,
+            &args.mechanisms,
+            !outcome.extended.effects().is_empty(),
+        ),
     )
     .map_err(|e| CliError::failed(e.to_string()))?;
     // On the zero-g rig: the margin on orbit beside the margin on the rig.

@@ -8,6 +8,7 @@ use crate::model::mechanism::Mechanism;
 use crate::onboard::hil::{self, Assessment, Fate, Inject, Outgoing, Plan, Received};
 use crate::onboard::hil_link::{self, Endpoint};
 use crate::onboard::replay::{self, ReplayError};
+use deploywatch_core::telemetry::link::LinkReport;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -237,7 +238,6 @@ pub fn run(args: &HilArgs) -> Result<(), CliError> {
     let console = Console::new(args.quiet);
     let out = hil::inject(&plan, &inject);
     let keep: Vec<bool> = out.fate.iter().map(|f| f.delivered()).collect();
-    let reference = hil::reference(&mech, &run, &keep).map_err(cli_error)?;
     console.say(format_args!(
         "{}: {} samples of {} joints at {:.0} Hz (period {:.3} ms), {:.2} s, to {}",
         args.run.display(),
@@ -254,6 +254,7 @@ pub fn run(args: &HilArgs) -> Result<(), CliError> {
     let conn = hil_link::connect(&endpoint).map_err(cli_error)?;
     let settle = Duration::from_secs_f64((50.0 * plan.period_s).max(0.3));
     let got = hil_link::stream(conn, &plan.config, &out, settle).map_err(cli_error)?;
+    let reference = hil::reference(&mech, &run, &keep, &got.sheds).map_err(cli_error)?;
     let a = hil::assess(&plan, &out, &got, &reference);
     let problems = verdict(&plan, &out, &got, &a, args.require_deadlines);
     if inject.drop > 0.0 || inject.corrupt > 0.0 || inject.delay > 0.0 {
@@ -301,28 +302,7 @@ fn verdict(
         out.fate.len() - dropped
     );
     match &got.report {
-        Some(r) => {
-            let exact = r.samples as usize == delivered && r.corrupted as usize == corrupted;
-            outln!(
-                "firmware: {} samples used, {} corrupted, {} too long, {} bytes overrun: {}",
-                r.samples,
-                r.corrupted,
-                r.too_long,
-                r.overrun,
-                if exact {
-                    "counted exactly"
-                } else {
-                    "NOT as sent"
-                }
-            );
-            if !exact || r.too_long > 0 || r.overrun > 0 {
-                problems.push(format!(
-                    "the firmware counted {} samples and {} corrupted frames ({} too long, {} \
-                     overrun bytes); the host delivered {delivered} and corrupted {corrupted}",
-                    r.samples, r.corrupted, r.too_long, r.overrun
-                ));
-            }
-        }
+        Some(r) => problems.extend(firmware_counts(r, got, delivered, corrupted)),
         None => problems.push("no link report from the firmware".to_string()),
     }
     outln!(
@@ -361,11 +341,57 @@ fn verdict(
     (!problems.is_empty()).then(|| problems.join("; "))
 }
 
+/// Prints the firmware's link report against what the host sent; the
+/// problems it shows (counts not the host's, bytes lost, shed frames lost).
+fn firmware_counts(
+    r: &LinkReport,
+    got: &Received,
+    delivered: usize,
+    corrupted: usize,
+) -> Vec<String> {
+    let mut problems = Vec::new();
+    let exact = r.samples as usize == delivered && r.corrupted as usize == corrupted;
+    outln!(
+        "firmware: {} samples used, {} corrupted, {} too long, {} bytes overrun: {}",
+        r.samples,
+        r.corrupted,
+        r.too_long,
+        r.overrun,
+        if exact {
+            "counted exactly"
+        } else {
+            "NOT as sent"
+        }
+    );
+    if !exact || r.too_long > 0 || r.overrun > 0 {
+        problems.push(format!(
+            "the firmware counted {} samples and {} corrupted frames ({} too long, {} \
+             overrun bytes); the host delivered {delivered} and corrupted {corrupted}",
+            r.samples, r.corrupted, r.too_long, r.overrun
+        ));
+    }
+    outln!(
+        "prediction: slices cut short by a waiting frame after {} of {} samples ({} \
+         shed frames back)",
+        r.shed,
+        r.samples,
+        got.sheds.len()
+    );
+    if r.shed as usize != got.sheds.len() {
+        problems.push(format!(
+            "the firmware shed slices after {} samples; {} shed frames came back",
+            r.shed,
+            got.sheds.len()
+        ));
+    }
+    problems
+}
+
 /// With frames injected: what the loss did against the whole run on the
 /// host (false latches, fault flags the whole run never raises).
 fn against_full(mech: &Mechanism, run: &Run, plan: &Plan, a: &Assessment) -> Result<(), CliError> {
     let all = vec![true; plan.samples.len()];
-    let full = hil::reference(mech, run, &all).map_err(cli_error)?;
+    let full = hil::reference(mech, run, &all, &[]).map_err(cli_error)?;
     let full_rows: Vec<replay::StatusRow> = full
         .iter()
         .map(|f| replay::decode_statuses(f, plan.joints))

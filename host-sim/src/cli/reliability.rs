@@ -8,7 +8,7 @@ use crate::analysis::reliability::auto::{estimate, Method};
 use crate::analysis::reliability::correlation::Correlation;
 use crate::analysis::reliability::criteria::Criterion;
 use crate::analysis::reliability::estimate::Estimate;
-use crate::analysis::reliability::identified;
+use crate::analysis::reliability::identified::{self, FromFindings};
 use crate::analysis::reliability::params::{Dist, Target, Vary};
 use crate::analysis::reliability::text::{quantity, sig};
 use crate::analysis::reliability::{form, normal};
@@ -60,7 +60,9 @@ pub struct ReliabilityArgs {
     pub json: Option<PathBuf>,
     /// What `deploywatch identify --json` or `deploywatch diagnose --json`
     /// found, as normal laws (the value fitted and its 95 % interval), one
-    /// `--vary` per effect; a `--vary` of the same effect and joint wins.
+    /// `--vary` per effect; a `--vary` of the same effect and joint wins. A
+    /// torque table is fixed as found in every deployment, each knot at
+    /// the end of its band that resists the deployment.
     #[arg(long, value_name = "FINDINGS.json")]
     pub from: Option<PathBuf>,
     /// No progress and no chatter: the result, errors and warnings only.
@@ -72,46 +74,75 @@ pub struct ReliabilityArgs {
     pub flight: bool,
 }
 
-/// The laws of `--from` (an identify or a diagnose JSON), leaving out
-/// the effects a `--vary` already names (same effect, same joint).
-fn from_file(path: &Path, given: &[Vary]) -> Result<Vec<Vary>, CliError> {
+/// The laws and fixed effects of `--from` (an identify or a diagnose
+/// JSON) on `mech`, leaving out the laws of the effects a `--vary` already
+/// names (same effect, same joint); each fixed effect's source names the
+/// file.
+fn from_file(path: &Path, given: &[Vary], mech: &Mechanism) -> Result<FromFindings, CliError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| CliError::input(format!("--from {}: cannot read: {e}", path.display())))?;
-    let found = identified::from_findings_json(&text)
+    let mut found = identified::from_findings_json(&text, mech)
         .map_err(|m| CliError::input(format!("--from {}: {m}", path.display())))?;
+    if let Some(why) = &found.no_effect {
+        return Err(CliError::input(format!("--from {}: {why}", path.display())));
+    }
     let named = |v: &Vary| match v.target {
         Target::Effect { kind, joint, .. } => Some((kind, joint)),
         Target::Mech(..) => None,
     };
-    Ok(found
-        .into_iter()
-        .filter(|f| given.iter().all(|g| named(g) != named(f)))
-        .collect())
+    found
+        .vary
+        .retain(|f| given.iter().all(|g| named(g) != named(f)));
+    for f in &mut found.fixed {
+        f.source = format!("--from {}: {}", path.display(), f.source);
+    }
+    Ok(found)
 }
 
-/// The problem of the command line.
-pub fn problem(args: &ReliabilityArgs) -> Result<Problem, CliError> {
+/// The problem of the command line, and what `--from` holds that is no
+/// effect (in words: in no deployment, said so by [`run`]).
+pub fn problem(args: &ReliabilityArgs) -> Result<(Problem, Vec<String>), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
     let mech = if args.flight { mech.flight() } else { mech };
     let mut vary = args.vary.clone();
+    let (mut fixed, mut left_out) = (Vec::new(), Vec::new());
     if let Some(f) = &args.from {
-        vary.extend(from_file(f, &args.vary)?);
+        let mut found = from_file(f, &args.vary, &mech)?;
+        let rig = if args.flight {
+            found.take_out_the_rig()
+        } else {
+            Vec::new()
+        };
+        vary.extend(found.vary);
+        fixed = found.fixed;
+        left_out = found
+            .left_out
+            .into_iter()
+            .map(|w| format!("--from {}: left out, not a named effect: {w}", f.display()))
+            .chain(rig.into_iter().map(|name| {
+                format!(
+                    "--from {}: left out of the flight unit (--flight), on the ground rig only: {name}",
+                    f.display()
+                )
+            }))
+            .collect();
     }
     let problem = Problem {
         mech,
         vary,
+        fixed,
         fail: args.fail.clone(),
         corr: args.corr.clone(),
     };
     problem
         .check()
         .map_err(|e| CliError::input(e.to_string()))?;
-    Ok(problem)
+    Ok((problem, left_out))
 }
 
 /// Runs `deploywatch reliability`.
 pub fn run(args: &ReliabilityArgs) -> Result<(), CliError> {
-    let problem = problem(args)?;
+    let (problem, left_out) = problem(args)?;
     if let Some(j) = &args.json {
         check_output("--json", j)?;
     }
@@ -123,6 +154,9 @@ pub fn run(args: &ReliabilityArgs) -> Result<(), CliError> {
         }
     }
     let console = Console::new(args.quiet);
+    for w in &left_out {
+        console.warn(w);
+    }
     let start = Instant::now();
     let mut eval = |xs: &[Vec<f64>]| problem.margins_batch(xs);
     let est = estimate(
@@ -192,6 +226,13 @@ fn print_estimate(problem: &Problem, est: &Estimate, wall_s: f64) {
     );
     for v in &problem.vary {
         outln!("  {}", law(v));
+    }
+    for f in &problem.fixed {
+        outln!(
+            "  {} fixed as found, in every deployment ({})",
+            f.effect,
+            f.source
+        );
     }
     if est.checks.is_empty() {
         print_detail(problem, est);

@@ -102,36 +102,50 @@ impl Effect {
 pub fn to_core(effects: &[Effect], joints: usize) -> (Vec<HostJointEffects>, GlobalEffects<f64>) {
     let mut je = vec![HostJointEffects::default(); joints];
     let mut g = GlobalEffects::default();
+    // A joint effect whose joint is missing or out of range acts nowhere
+    // ([`Effect::validate_joint`] refuses it before a run): it is written
+    // here and dropped.
+    let mut nowhere = HostJointEffects::default();
     for e in effects {
-        let j = e
+        let at = e
             .joint
             .and_then(|j| j.checked_sub(1))
-            .filter(|&j| j < joints);
-        match (e.kind, j) {
-            (EffectKind::CoulombFriction, Some(j)) => je[j].coulomb_nm += e.value,
-            (EffectKind::ViscousDamping, Some(j)) => je[j].viscous_nms += e.value,
-            (EffectKind::QuadraticDamping, Some(j)) => je[j].quadratic_nms2_per_rad2 += e.value,
-            (EffectKind::StribeckFriction, Some(j)) => {
+            .and_then(|j| je.get_mut(j))
+            .unwrap_or(&mut nowhere);
+        match e.kind {
+            EffectKind::CoulombFriction => at.coulomb_nm += e.value,
+            EffectKind::ViscousDamping => at.viscous_nms += e.value,
+            EffectKind::QuadraticDamping => at.quadratic_nms2_per_rad2 += e.value,
+            EffectKind::StribeckFriction => {
                 // The kinetic level is Coulomb friction; the excess and its
                 // velocity are the law's Stribeck term (the last one given).
-                je[j].coulomb_nm += e.value;
-                je[j].stribeck_excess_nm += e.excess_nm;
-                je[j].stribeck_rad_s = e.stribeck_rad_s;
+                at.coulomb_nm += e.value;
+                at.stribeck_excess_nm += e.excess_nm;
+                at.stribeck_rad_s = e.stribeck_rad_s;
             }
-            (EffectKind::SpringSoftening, Some(j)) => {
+            EffectKind::SpringSoftening => {
                 // Two softenings compose: (1 − s1)(1 − s2).
-                let s = je[j].spring_softening;
-                je[j].spring_softening = 1.0 - (1.0 - s) * (1.0 - e.value);
+                let s = at.spring_softening;
+                at.spring_softening = 1.0 - (1.0 - s) * (1.0 - e.value);
             }
-            (EffectKind::HarnessStiffness, Some(j)) => je[j].harness_nm_per_rad += e.value,
-            (EffectKind::LatchDetent, Some(j)) => je[j].detent_nm += e.value,
-            (EffectKind::TorqueTable, Some(j)) => je[j].table = e.table,
-            (EffectKind::AirDrag, _) => g.air_drag_kg_m2 += e.value,
-            (EffectKind::RigTilt, _) => {
+            EffectKind::HarnessStiffness => at.harness_nm_per_rad += e.value,
+            EffectKind::LatchDetent => at.detent_nm += e.value,
+            EffectKind::TorqueTable => at.table = e.table,
+            EffectKind::AirDrag => g.air_drag_kg_m2 += e.value,
+            EffectKind::RigTilt => {
                 g.tilt_m_s2 = e.value;
                 g.tilt_alpha_rad = e.alpha_deg.to_radians();
             }
-            _ => {}
+            // Not the chain's: the sensor's offset ([`encoder_offsets_deg`]),
+            // the physical latch's weakenings
+            // (`simulate::latch_deployment::setup::weakenings`) and the rig's
+            // causes ([`crate::model::rig::Rig::with_effects`]).
+            EffectKind::EncoderOffset
+            | EffectKind::PlungerWeakening
+            | EffectKind::MagnetWeakening
+            | EffectKind::RigFriction
+            | EffectKind::WireLength
+            | EffectKind::FrameOffset => {}
         }
     }
     (je, g)

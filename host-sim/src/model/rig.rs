@@ -234,7 +234,20 @@ impl Rig {
                         f.at_m += e.value * f.normal[0].hypot(f.normal[1]);
                     }
                 }
-                _ => {}
+                // The chain's, the sensor's and the physical latch's.
+                EffectKind::CoulombFriction
+                | EffectKind::ViscousDamping
+                | EffectKind::QuadraticDamping
+                | EffectKind::StribeckFriction
+                | EffectKind::SpringSoftening
+                | EffectKind::HarnessStiffness
+                | EffectKind::LatchDetent
+                | EffectKind::AirDrag
+                | EffectKind::RigTilt
+                | EffectKind::EncoderOffset
+                | EffectKind::TorqueTable
+                | EffectKind::PlungerWeakening
+                | EffectKind::MagnetWeakening => {}
             }
         }
         r

@@ -8,23 +8,26 @@
 //! Mechanism + Run ──plan──> config frames, sample frames (time stamps)
 //!       inject (seeded): each sample Sent | Dropped | Corrupted | Delayed
 //!       link (hil_link.rs): frames out at their time stamps, statuses back
-//!       reference: link::reference_statuses over the delivered samples
+//!       reference: link::reference_statuses over the delivered samples,
+//!                  with the slices the firmware reports it shed
 //!       assess: latency, misses, counts, bit-identity
 //! ```
 //!
 //! The protocol is the core's live link
 //! ([`deploywatch_core::telemetry::link`]): the firmware answers each
 //! sample that decodes with its status at once (`Monitor::update`), then
-//! runs the prediction's slices; a frame that does not decode is counted
-//! and skipped. The host's reference is the same schedule on the host's
-//! `f32` monitor, fed exactly the samples the firmware could decode, so
-//! every status must be bit-identical even when frames were lost.
+//! runs the prediction's slices until a frame waits (the rest shed, and
+//! said in a shed frame); a frame that does not decode is counted and
+//! skipped. The host's reference is the same schedule on the host's `f32`
+//! monitor, fed exactly the samples the firmware could decode and the
+//! slices it ran, so every status must be bit-identical even when frames
+//! were lost or the firmware fell behind.
 
 use std::io::Write;
 use std::time::Duration;
 
 use deploywatch_core::monitor::{Monitor, Sample};
-use deploywatch_core::telemetry::link::{self, LinkReport};
+use deploywatch_core::telemetry::link::{self, LinkReport, Shed};
 use deploywatch_core::telemetry::{self};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -196,6 +199,7 @@ fn reference_n<const N: usize>(
     mech: &Mechanism,
     run: &Run,
     keep: &[bool],
+    sheds: &[Shed],
 ) -> Result<Vec<Vec<u8>>, ReplayError> {
     let (config, all) = config_and_samples::<N>(mech, run)?;
     let s: Vec<Sample<N>> = all
@@ -206,16 +210,24 @@ fn reference_n<const N: usize>(
     let mut monitor =
         Monitor::new(&config).map_err(|e| ReplayError::Input(format!("{}: {e}", mech.name)))?;
     let mut frames = Vec::with_capacity(s.len());
-    link::reference_statuses(&mut monitor, &s, |f| frames.push(f.to_vec()))
+    let slices = link::slices_after(sheds, monitor.config_slices_per_sample());
+    link::reference_statuses(&mut monitor, &s, slices, |f| frames.push(f.to_vec()))
         .map_err(|e| ReplayError::Input(format!("the host's statuses: {e}")))?;
     Ok(frames)
 }
 
 /// The host core's status frames for the samples of `run` where `keep` is
-/// true, in the link's schedule (`update`, status, slices).
-pub fn reference(mech: &Mechanism, run: &Run, keep: &[bool]) -> Result<Vec<Vec<u8>>, ReplayError> {
+/// true, in the link's schedule (`update`, status, slices), the slices
+/// after a sample those `sheds` report for it (none shed: every sample's
+/// configured slices, the schedule of a firmware that keeps up).
+pub fn reference(
+    mech: &Mechanism,
+    run: &Run,
+    keep: &[bool],
+    sheds: &[Shed],
+) -> Result<Vec<Vec<u8>>, ReplayError> {
     let n = mech.joint_count();
-    with_joints!(n, N => reference_n::<N>(mech, run, keep), else Err(ReplayError::Input(format!(
+    with_joints!(n, N => reference_n::<N>(mech, run, keep, sheds), else Err(ReplayError::Input(format!(
         "{}: {n} joints", mech.name
     ))))
 }
@@ -223,9 +235,12 @@ pub fn reference(mech: &Mechanism, run: &Run, keep: &[bool]) -> Result<Vec<Vec<u
 /// What came back over the link.
 #[derive(Clone, Debug, Default)]
 pub struct Received {
-    /// Every frame that is not a link report, in order, with the time it
-    /// arrived after the stream's start.
+    /// Every frame that is neither a link report nor a shed frame, in
+    /// order, with the time it arrived after the stream's start.
     pub statuses: Vec<(Vec<u8>, Duration)>,
+    /// The shed frames: the samples after which the firmware ran fewer
+    /// slices than configured, a frame waiting.
+    pub sheds: Vec<Shed>,
     /// The last link report (asked for after the stream).
     pub report: Option<LinkReport>,
     /// When each frame was written, after the stream's start (`None`:

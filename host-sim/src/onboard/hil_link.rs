@@ -10,7 +10,7 @@ use std::process::{Child, Command, Stdio};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
-use deploywatch_core::telemetry::link::{read_report, LinkReport};
+use deploywatch_core::telemetry::link::{read_report, read_shed, LinkReport};
 
 use crate::onboard::hil::{Outgoing, Received};
 use crate::onboard::replay::{ReplayError, QEMU};
@@ -293,10 +293,15 @@ pub fn stream(
     std::thread::sleep(settle);
     conn.writer.write_all(&[0]).map_err(fail)?;
     conn.writer.flush().map_err(fail)?;
-    let mut statuses = Vec::new();
+    let (mut statuses, mut sheds) = (Vec::new(), Vec::new());
     got.report = wait_report(&rx, READY_TIMEOUT, |f, at| {
-        statuses.push((f, at.saturating_duration_since(start)));
+        let mut copy = f.clone();
+        match read_shed(&mut copy) {
+            Some(s) => sheds.push(s),
+            None => statuses.push((f, at.saturating_duration_since(start))),
+        }
     });
     got.statuses = statuses;
+    got.sheds = sheds;
     Ok(got)
 }

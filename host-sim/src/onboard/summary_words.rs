@@ -42,7 +42,7 @@ impl std::fmt::Display for JointSummary {
         write!(
             f,
             "joint {}: {} ({}), Coulomb {:.3} ± {:.3} N·m, viscous {:.4} ± {:.4} N·m·s/rad, \
-             margin min {} last {}, prediction {}, faults {}",
+             margin min {} last {}, prediction {}, faults {}, unresolved in {} statuses",
             self.joint,
             self.final_state,
             self.latch_words(),
@@ -58,6 +58,7 @@ impl std::fmt::Display for JointSummary {
             } else {
                 &self.faults
             },
+            self.unresolved,
         )
     }
 }
@@ -77,6 +78,7 @@ mod tests {
             margin_pct: (None, None),
             prediction: "latch",
             faults: String::new(),
+            unresolved: 0,
         }
     }
 

@@ -59,12 +59,33 @@ fn shell_word(p: &Path) -> String {
 /// The report's last section: what to run next with what was found (the
 /// diagnosis JSON `json`) — the torque margins of each of `mechanisms`
 /// with the diagnosis's resistances (`margin --from`), and the reliability
-/// with them.
-pub fn next_step(json: &Path, mechanisms: &[PathBuf]) -> String {
+/// with them (`reliability --from`), each command as it runs. When the
+/// diagnosis names no effect (`named` false: none found, or only what
+/// stays unexplained), the two commands refuse the file or give the
+/// mechanism's own figures (`docs/margin.md`, `docs/reliability.md`, "From
+/// a diagnosis"): the section says so and gives the margins of the
+/// mechanisms as given.
+pub fn next_step(json: &Path, mechanisms: &[PathBuf], named: bool) -> String {
     let json = shell_word(json);
+    if !named {
+        let mut s = String::from(
+            "## Next step\n\nThe diagnosis names no effect, so there is nothing to carry into \
+             the margins or the reliability (`margin --from` and `reliability --from` say so). \
+             The margins of each mechanism as given:\n\n```sh\n",
+        );
+        for m in mechanisms {
+            let _ = writeln!(
+                s,
+                "deploywatch margin --mechanism {} --standard ecss-e-st-33-01c",
+                shell_word(m)
+            );
+        }
+        s.push_str("```\n");
+        return s;
+    }
     let mut s = String::from(
         "## Next step\n\nThe torque margins of each mechanism with the resistances found \
-         (friction and damping; `margin` names what it cannot use):\n\n```sh\n",
+         (every named effect at the end of its 95 % interval that lowers the margin):\n\n```sh\n",
     );
     for m in mechanisms {
         let _ = writeln!(
@@ -73,11 +94,19 @@ pub fn next_step(json: &Path, mechanisms: &[PathBuf]) -> String {
             shell_word(m)
         );
     }
-    let _ = writeln!(
-        s,
-        "```\n\nThe probability of a failed deployment with them: `deploywatch reliability \
-         MECH.toml --from {json} --vary ... --fail not_latched` (`docs/reliability.md`)."
+    s.push_str(
+        "```\n\nThe probability of a failed deployment of each, every effect found drawn from \
+         its 95 % interval (`docs/reliability.md`, \"From a diagnosis\"; add `--vary` for \
+         other uncertain parameters):\n\n```sh\n",
     );
+    for m in mechanisms {
+        let _ = writeln!(
+            s,
+            "deploywatch reliability {} --from {json} --fail not_latched",
+            shell_word(m)
+        );
+    }
+    s.push_str("```\n");
     s
 }
 
@@ -111,10 +140,27 @@ fn report_causes(md: &mut String, o: &Outcome) {
     } else {
         let rows = ext.iter().enumerate().map(|(k, e)| {
             let (lo, hi) = ci_of(o, k);
-            let extra = match (e.kind, o.extended.table_of(k)) {
-                (EffectKind::RigTilt, _) => format!(" (α = {:.1}°)", e.alpha_deg),
-                (_, Some((_, shape, _))) => format!(" (largest; {shape})"),
-                _ => String::new(),
+            let extra = match e.kind {
+                EffectKind::RigTilt => format!(" (α = {:.1}°)", e.alpha_deg),
+                // A fitted table says its shape (any kind may be one).
+                EffectKind::CoulombFriction
+                | EffectKind::ViscousDamping
+                | EffectKind::QuadraticDamping
+                | EffectKind::StribeckFriction
+                | EffectKind::SpringSoftening
+                | EffectKind::HarnessStiffness
+                | EffectKind::LatchDetent
+                | EffectKind::AirDrag
+                | EffectKind::EncoderOffset
+                | EffectKind::TorqueTable
+                | EffectKind::PlungerWeakening
+                | EffectKind::MagnetWeakening
+                | EffectKind::RigFriction
+                | EffectKind::WireLength
+                | EffectKind::FrameOffset => o
+                    .extended
+                    .table_of(k)
+                    .map_or_else(String::new, |(_, shape, _)| format!(" (largest; {shape})")),
             };
             let unit = match e.kind.unit() {
                 "1" => "(dimensionless)",

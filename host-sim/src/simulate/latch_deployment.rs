@@ -24,19 +24,18 @@
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
 use crate::model::torque_table::HostChain;
-use crate::simulate::latch_run::ledger_step_factor;
-use crate::simulate::ode::{self, locate, Dense, State};
+use crate::simulate::ode::{locate, Dense, State};
 use crate::simulate::stowed::StowedWatch;
-use crate::simulate::trajectory::{
-    Samples, SimError, SimOptions, Trajectory, MAX_SAMPLES, MAX_STEPS,
-};
+use crate::simulate::trajectory::{Samples, SimError, SimOptions, Trajectory, MAX_SAMPLES};
 use deploywatch_core::linalg::solve_spd_masked;
-use deploywatch_core::physics::latch_contact::{LatchMark, PhysicalLatch, PlungerSegment};
+use deploywatch_core::physics::latch_contact::{PhysicalLatch, PlungerSegment};
 use deploywatch_core::physics::pawl::PawlState;
 use deploywatch_core::{Branch, Mode};
 
 mod ledger;
 mod pawl;
+mod runner;
+mod settle;
 mod setup;
 mod stick;
 
@@ -120,6 +119,9 @@ struct Sim<'a, const N: usize> {
     evaluations: usize,
     /// The joints' passages of their stowed angles, over the booked steps.
     watch: StowedWatch<N>,
+    /// What the run knows to end once every latch is held for good
+    /// ([`Keep::Settled`]; `None`: it runs to its end).
+    hold: Option<settle::Hold<N>>,
 }
 
 /// What can fire in a step.
@@ -180,6 +182,7 @@ impl<'a, const N: usize> Sim<'a, N> {
             consts: [Consts::default(); N],
             evaluations: 0,
             watch: StowedWatch::new(chain),
+            hold: None,
         };
         for (j, jt) in chain.joints().iter().enumerate() {
             sim.side[j] = if jt.stowed_rad >= 0.0 { 1.0 } else { -1.0 };
@@ -579,6 +582,16 @@ pub enum Keep {
     /// verdicts on a fixed sample are compared by
     /// `examples/physical_verdicts.rs` and `tests/physical_verdicts.rs`.
     Verdict,
+    /// [`Keep::Ledger`], the run ended as soon as every latch is held for
+    /// good: every switch closed and the chain's energy (its ledger's drift
+    /// allowed for) below what could open any of them again or break a
+    /// pawl (`settle.rs`, `docs/simulator.md` "Held for good"). The steps
+    /// up to that instant are [`Keep::Ledger`]'s, bit for bit, and no
+    /// switch changes after it, so every joint's latch instant, and every
+    /// margin of the reliability's criteria, is the full run's; the
+    /// trajectory ends there ([`LatchRun::settled_s`]). A run where some
+    /// latch is never held for good is [`Keep::Ledger`]'s to its end.
+    Settled,
 }
 
 /// [`simulate_physical`], keeping what `keep` says.
@@ -631,6 +644,9 @@ fn run_keeping<const N: usize>(
     keep: Keep,
 ) -> Result<LatchRun, SimError> {
     let mut sim = Sim::new(chain, latch, &y0);
+    if keep == Keep::Settled {
+        sim.hold = Some(settle::Hold::new(sim.passive()));
+    }
     let mut run = Runner {
         out: Out {
             times,
@@ -641,6 +657,7 @@ fn run_keeping<const N: usize>(
         ledger: Ledger::default(),
         same_instant: 0,
         size_by_ledger: keep == Keep::Verdict,
+        settled_s: None,
     };
     let (k, s, l) = sim.energies(&y0);
     run.ledger.start_j = k + s + l;
@@ -652,46 +669,17 @@ fn run_keeping<const N: usize>(
     let t_end = run.integrate(&mut sim, y0, times.last(), opts)?;
     run.out.traj.end_s = t_end;
     run.out.traj.stats.evaluations = sim.evaluations;
-    run.out.traj.latch_s = latch_instants(&sim, &run.events, &run.out.traj);
+    run.out.traj.latch_s = run.latch_instants(&sim);
     run.out.traj.past_stowed = sim.watch.found();
     Ok(LatchRun {
         traj: run.out.traj,
         events: run.events,
+        settled_s: run.settled_s,
         energy: match keep {
-            Keep::Ledger => run.ledger.energy,
+            Keep::Ledger | Keep::Settled => run.ledger.energy,
             Keep::Trajectory | Keep::Verdict => Energy::default(),
         },
     })
-}
-
-/// Each joint's latch instant: the ideal latch's, or the last closing of a
-/// physical latch's switch when it is closed at the end.
-fn latch_instants<const N: usize>(
-    sim: &Sim<'_, N>,
-    events: &[LatchEvent],
-    traj: &Trajectory,
-) -> Vec<Option<f64>> {
-    (0..N)
-        .map(|j| {
-            let closed_at_end = traj.latched[j].last().copied().unwrap_or(false);
-            let mine = events.iter().filter(|e| e.joint == j + 1);
-            if sim.latch[j].is_none() {
-                return mine
-                    .filter(|e| e.kind == LatchEventKind::IdealLatch)
-                    .map(|e| e.t_s)
-                    .next();
-            }
-            let last_close = mine
-                .rev()
-                .find(|e| e.kind == LatchEventKind::Mark(LatchMark::Switch) && e.rate_rad_s < 0.0)
-                .map(|e| e.t_s);
-            if closed_at_end {
-                last_close.or(Some(0.0))
-            } else {
-                None
-            }
-        })
-        .collect()
 }
 
 /// The run in progress.
@@ -702,195 +690,7 @@ struct Runner<'t> {
     same_instant: usize,
     /// Steps sized by the ledger too ([`Keep::Verdict`]).
     size_by_ledger: bool,
-}
-
-impl Runner<'_> {
-    /// Steps from `y` at 0 to `duration`; returns where it stopped.
-    fn integrate<const N: usize>(
-        &mut self,
-        sim: &mut Sim<'_, N>,
-        mut y: State<N>,
-        duration: f64,
-        opts: &SimOptions,
-    ) -> Result<f64, SimError> {
-        let mut t = 0.0;
-        let mut k1 = sim.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
-        let mut h = ode::INITIAL_STEP_S.min(opts.max_step_s);
-        let mut control = ode::StepController::new(ode::CHAIN_CONTROL);
-        while t < duration {
-            h = h.min(opts.max_step_s).min(duration - t);
-            if h < ode::MIN_STEP_S {
-                if duration - t < ode::END_SLACK_S {
-                    break;
-                }
-                return Err(SimError::StepUnderflow { t_s: t });
-            }
-            let stats = &mut self.out.traj.stats;
-            let mut f = |_t: f64, s: &State<N>| sim.deriv(s);
-            let Some(att) = ode::step(&mut f, t, &y, &k1, h, opts.rtol, opts.atol) else {
-                h *= ode::FAILED_STEP_SHRINK;
-                stats.rejected += 1;
-                continue;
-            };
-            if att.err > 1.0 {
-                h = control.reject(h, att.err);
-                stats.rejected += 1;
-                continue;
-            }
-            stats.steps += 1;
-            if stats.steps + stats.rejected > MAX_STEPS {
-                return Err(SimError::TooManySteps { t_s: t });
-            }
-            let (t_end, first) = sim.first_event(&att.dense, &att.y1);
-            let cut = first.is_some();
-            let y_end = if cut { att.dense.at(t_end) } else { att.y1 };
-            let (booked, ratio) = self.book(sim, &att.dense, t_end, &y_end)?;
-            let ledger_h = (t_end - t) * ledger_step_factor(ratio);
-            if !booked {
-                h = self.out.traj.stats.retake(t_end - t);
-                if self.size_by_ledger {
-                    h = ledger_h;
-                }
-                continue;
-            }
-            self.out.push_while(
-                sim,
-                |tk| if cut { tk < t_end } else { tk <= t_end },
-                |tk| att.dense.at(tk),
-            )?;
-            let Some(ev) = first else {
-                let next = control
-                    .accept(h, att.err)
-                    .min(self.ledger_cap(ledger_h, ratio));
-                (t, y, k1, h) = (t_end, att.y1, att.k7, next);
-                self.same_instant = 0;
-                continue;
-            };
-            self.same_instant = if t_end - t < 1e-12 {
-                self.same_instant + 1
-            } else {
-                0
-            };
-            y = y_end;
-            self.apply(sim, ev, &mut y, t_end)?;
-            sim.close_ledger(&mut self.ledger, &y);
-            if let Some(e) = self.events.last() {
-                self.ledger
-                    .check(t_end, e.joint, || format!("its event {:?}", e.kind))?;
-            }
-            t = t_end;
-            k1 = sim.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
-            h = h.min(ode::RESTART_STEP_S);
-            control.restart();
-        }
-        self.out.push_while(sim, |tk| tk <= t + 1e-9, |_| y)?;
-        Ok(t.min(duration))
-    }
-
-    /// The most the step after an uncut step booked with `ratio` may be
-    /// \[s\]: `ledger_h` with [`Keep::Verdict`], unless the step was
-    /// booked over its budget (one under `LEDGER_MIN_STEP_S`: its drift is
-    /// the rounding's); a step cut short by an event caps nothing.
-    fn ledger_cap(&self, ledger_h: f64, ratio: f64) -> f64 {
-        match self.size_by_ledger && ratio <= 1.0 {
-            true => ledger_h,
-            false => f64::INFINITY,
-        }
-    }
-
-    /// Applies event `ev` at `t` to the state `y` there.
-    fn apply<const N: usize>(
-        &mut self,
-        sim: &mut Sim<'_, N>,
-        ev: Ev,
-        y: &mut State<N>,
-        t: f64,
-    ) -> Result<(), SimError> {
-        self.out.traj.stats.events += 1;
-        let j = ev.joint();
-        if self.same_instant > MAX_EVENTS_AT_ONE_INSTANT {
-            return Err(SimError::Sliding {
-                joint: j + 1,
-                t_s: t,
-            });
-        }
-        let kind = match ev {
-            Ev::Ideal(_) => {
-                self.ideal_latch(sim, y, t, j)?;
-                LatchEventKind::IdealLatch
-            }
-            Ev::Branch(_) => {
-                sim.mode.branch[j] = branch_at(y.q[j], y.v[j]);
-                // A branch event at a turning point is a turn too.
-                match self.turn_at_rest(sim, j, y) {
-                    Some(kind) => kind,
-                    None => LatchEventKind::Branch,
-                }
-            }
-            Ev::Turn(_) => self.turn(sim, j, y),
-            Ev::Slip(_) => {
-                sim.slip(j, y);
-                LatchEventKind::Slip
-            }
-            Ev::Notch(_) | Ev::Break(_) => self.pawl_event(sim, j, y, matches!(ev, Ev::Break(_))),
-            _ => self.cross(sim, ev, j, y),
-        };
-        // Every other latch read again from the state: an event of one kind
-        // can coincide with a mark of another (a branch switch at the stop).
-        for k in (0..N).filter(|&k| k != j || matches!(ev, Ev::Branch(_))) {
-            sim.reclassify(k, y);
-        }
-        let (u, du) = match &sim.latch[j] {
-            Some(l) => (l.travel(y.q[j]), l.travel(y.v[j])),
-            None => (sim.side[j] * y.q[j], sim.side[j] * y.v[j]),
-        };
-        self.events.push(LatchEvent {
-            t_s: t,
-            joint: j + 1,
-            kind,
-            travel_rad: u,
-            rate_rad_s: du,
-        });
-        Ok(())
-    }
-
-    /// A latch segment left: the new segments, and what to log.
-    fn cross<const N: usize>(
-        &mut self,
-        sim: &mut Sim<'_, N>,
-        ev: Ev,
-        j: usize,
-        y: &State<N>,
-    ) -> LatchEventKind {
-        if let Some(kind) = self.pawl_drop(sim, ev, j, y) {
-            return kind;
-        }
-        let Some((l, before, after)) = sim.reclassify(j, y) else {
-            return LatchEventKind::Branch;
-        };
-        let mark = |m| LatchEventKind::Mark(m);
-        match ev {
-            Ev::Plunger(_)
-                if before.plunger == PlungerSegment::Entry
-                    && after.plunger == PlungerSegment::Hold =>
-            {
-                mark(LatchMark::Crest)
-            }
-            Ev::Plunger(_)
-                if before.plunger == PlungerSegment::Hold
-                    && after.plunger == PlungerSegment::Entry =>
-            {
-                mark(LatchMark::Crest)
-            }
-            Ev::Plunger(_) if l.travel(y.q[j]) > l.plunger.crest_rad => mark(LatchMark::EntryRamp),
-            Ev::Plunger(_) => mark(LatchMark::HoldRampEnd),
-            Ev::Magnet(_) => mark(LatchMark::MagnetReach),
-            Ev::Switch(_) => mark(LatchMark::Switch),
-            _ => match (before.contact, after.contact) {
-                (_, Contact::Open) | (Contact::Open, _) => mark(LatchMark::Stop),
-                (_, Contact::Released) => LatchEventKind::Release,
-                _ => LatchEventKind::Press,
-            },
-        }
-    }
+    /// Where the run ended because every latch is held for good \[s\]
+    /// ([`Keep::Settled`]).
+    settled_s: Option<f64>,
 }

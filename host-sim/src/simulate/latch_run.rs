@@ -49,6 +49,10 @@ pub struct LatchEvent {
     pub travel_rad: f64,
     /// The travel's rate `u̇` there [rad/s] (negative: towards the stop).
     pub rate_rad_s: f64,
+    /// Evaluations of the equations of motion the run had made by then
+    /// (rejected and retaken steps included): where a run's work goes
+    /// (`examples/physical_profile.rs`).
+    pub evaluations: usize,
 }
 
 /// The energy ledger of a run \[J\]: `kinetic + spring + latch + friction +
@@ -144,6 +148,9 @@ pub struct LatchRun {
     pub events: Vec<LatchEvent>,
     /// The energy ledger at the end.
     pub energy: Energy,
+    /// Where the run ended, before its last sample, because every latch
+    /// was held for good \[s\] ([`Keep::Settled`](crate::simulate::latch_deployment::Keep::Settled); `None`: it ran to its end).
+    pub settled_s: Option<f64>,
 }
 
 /// Where a joint with a physical latch ended: the verdict names the latch

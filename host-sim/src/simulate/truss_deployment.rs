@@ -24,13 +24,24 @@ use deploywatch_core::Spring;
 
 /// True for the effects the truss wing models ([`system_with_effects`]).
 pub fn models(kind: EffectKind) -> bool {
-    matches!(
-        kind,
+    match kind {
         EffectKind::CoulombFriction
-            | EffectKind::ViscousDamping
-            | EffectKind::SpringSoftening
-            | EffectKind::EncoderOffset
-    )
+        | EffectKind::ViscousDamping
+        | EffectKind::SpringSoftening
+        | EffectKind::EncoderOffset => true,
+        EffectKind::QuadraticDamping
+        | EffectKind::StribeckFriction
+        | EffectKind::HarnessStiffness
+        | EffectKind::LatchDetent
+        | EffectKind::AirDrag
+        | EffectKind::RigTilt
+        | EffectKind::TorqueTable
+        | EffectKind::PlungerWeakening
+        | EffectKind::MagnetWeakening
+        | EffectKind::RigFriction
+        | EffectKind::WireLength
+        | EffectKind::FrameOffset => false,
+    }
 }
 
 /// The multibody system of a truss wing with `effects` on its pins (see the
@@ -84,7 +95,21 @@ pub fn system_with_effects(mech: &Mechanism, effects: &[Effect]) -> Result<Syste
                         "spring_softening at joint {j}: a truss node has no spring; expected a hinge joint 1 to {n}"
                     )))
                 }
-                _ => {}
+                // The sensor's: applied to the readings.
+                EffectKind::EncoderOffset => {}
+                // Refused above ([`models`]).
+                EffectKind::QuadraticDamping
+                | EffectKind::StribeckFriction
+                | EffectKind::HarnessStiffness
+                | EffectKind::LatchDetent
+                | EffectKind::AirDrag
+                | EffectKind::RigTilt
+                | EffectKind::TorqueTable
+                | EffectKind::PlungerWeakening
+                | EffectKind::MagnetWeakening
+                | EffectKind::RigFriction
+                | EffectKind::WireLength
+                | EffectKind::FrameOffset => {}
             }
         }
     }

@@ -43,6 +43,8 @@ struct ReadingContext {
     stuck_limit: u16,
     /// The plausibility checks are off (first sample, gap, impact).
     no_checks: bool,
+    /// The joints' resolution is followed (a wing with a physical latch).
+    follow: bool,
 }
 
 impl JointState {
@@ -61,10 +63,12 @@ impl JointState {
         let mut faults = FaultFlags::EMPTY;
         if !z.is_finite() {
             faults.insert(Fault::EncoderMissing);
+            self.plausibility.lose_reading();
             return (None, faults, false);
         }
         if libm::fabsf(z) > ENCODER_RANGE_DEG {
             faults.insert(Fault::EncoderRange);
+            self.plausibility.lose_reading();
             return (None, faults, false);
         }
         // A reading frozen to the same value for longer than the noise
@@ -79,6 +83,9 @@ impl JointState {
         // noise-free or coarse encoder repeats exactly): the check ends
         // with the latch, whose declaration is final.
         let latched = self.lt.is_latched();
+        // The joint's own latch holds it, or may: its readings are the
+        // latch's (`Reading::free`).
+        let free = !latched && !switch && !self.lt.near_stop();
         // Stale while moving (not used) or a spike that returned (flagged):
         // `plausibility.rs`. Runs before the rate filter's step, on its
         // prediction from the last sample.
@@ -88,7 +95,9 @@ impl JointState {
                 angle: Some(z * DEG),
                 repeats: self.same_run,
                 step: ctx.step_rad,
-                moving_checks: !ctx.no_checks && !latched && !switch && !self.lt.near_stop(),
+                moving_checks: !ctx.no_checks && free,
+                free,
+                follow: ctx.follow,
             },
             &self.kf,
             ctx.t_prev,
@@ -131,6 +140,7 @@ impl<const N: usize> Monitor<N> {
             step_rad: self.tuning.sensor.encoder_step_deg * DEG,
             stuck_limit: self.tuning.sensor.stuck_samples,
             no_checks,
+            follow: self.tuning.follow_resolution,
         };
         // Index loops on the sample path: at the firmware's `opt-level =
         // "z"` an iterator adapter is a call per element.
@@ -140,6 +150,13 @@ impl<const N: usize> Monitor<N> {
             raw: None,
             stuck: false,
         }; N];
+        if clock.gap && ctx.follow {
+            // The resolution's changes of step are of equally spaced
+            // readings.
+            for js in self.joints.iter_mut() {
+                js.plausibility.lose_reading();
+            }
+        }
         for (j, js) in self.joints.iter_mut().enumerate() {
             let (z, switch) = (sample.phi_deg[j], sample.latch[j]);
             let (reading, flags, frozen) = js.read_encoder(z, switch, &ctx);

@@ -7,9 +7,10 @@ use crate::monitor::faults::FaultFlags;
 use crate::monitor::latch::{LatchConfig, LatchState, LatchTracker, PhysicalLatch};
 use crate::monitor::latch_margin::Engagement;
 use crate::monitor::margin::MarginResult;
-use crate::monitor::observer::{FrictionEstimate, FrictionObserver, FrictionPrior, RateFilter};
+use crate::monitor::observer::{FrictionEstimate, FrictionObserver, FrictionPrior};
 use crate::monitor::plausibility::ReadingCheck;
 use crate::monitor::predictor::Prediction;
+use crate::monitor::rate_filter::RateFilter;
 use crate::monitor::status::{JointStatus, Observability, VISCOUS_RESOLVED_SD};
 
 /// One degree \[rad\].
@@ -160,6 +161,38 @@ impl JointState {
         }
     }
 
+    /// [`JointState::new`] in place (a joint state of the monitor in
+    /// static memory is reconfigured without a second one on the stack).
+    #[inline(never)]
+    pub(super) fn reset(
+        &mut self,
+        joint: &JointStart,
+        sd: f32,
+        observer: &ObserverConfig,
+        latch: &LatchConfig,
+        spring_sd_rel: f32,
+    ) {
+        self.kf = RateFilter::new(joint.stowed_deg * DEG, sd, START_RATE_SD, START_ACC_SD);
+        self.kf.set_jerk_psd(observer.jerk_psd);
+        self.stowed_deg = joint.stowed_deg;
+        self.capture_rad = joint.capture_deg * DEG;
+        self.engagement = joint.engagement;
+        self.fo = FrictionObserver::new(joint.prior, spring_sd_rel);
+        self.lt = LatchTracker::new();
+        self.latch_cfg = LatchConfig {
+            physical: joint.physical.or(latch.physical),
+            ..*latch
+        };
+        self.margin = None;
+        self.rejects = 0;
+        self.last_raw = f32::NAN;
+        self.same_run = 0;
+        self.plausibility = ReadingCheck::new();
+        self.switch_prev = false;
+        self.coulomb_sd = CachedSqrt::EMPTY;
+        self.viscous_sd = CachedSqrt::EMPTY;
+    }
+
     /// True when the joint's switch `switch` and reading `z_deg` \[deg\]
     /// announce an impact: its switch closes (with a physical latch: the
     /// first time since the joint came in, not again at each rebound), or
@@ -179,7 +212,7 @@ impl JointState {
 
     /// The sample-rate part of the joint's status line (non-finite values
     /// as 0): angle, rate, the latch `state` and the `faults` of this
-    /// sample; no margin once latched.
+    /// sample, the resolution of its readings; no margin once latched.
     #[inline(never)]
     pub(super) fn sample_status(
         &self,
@@ -191,6 +224,7 @@ impl JointState {
         out.rate_deg_s = finite(self.kf.rate() / DEG);
         out.latch = state;
         out.faults = faults;
+        out.resolution = self.plausibility.resolution();
         if self.lt.is_latched() {
             out.margin_pct = None;
         }

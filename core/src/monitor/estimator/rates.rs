@@ -9,7 +9,7 @@ use super::joint::{JointState, DEG, START_ACC_SD, START_RATE_SD};
 use super::state::Monitor;
 use crate::monitor::config::ObserverConfig;
 use crate::monitor::faults::{Fault, FaultFlags};
-use crate::monitor::observer::{Fusion, RateFilter};
+use crate::monitor::rate_filter::{Fusion, RateFilter};
 use crate::monitor::status::Sample;
 
 /// A rate filter restarted after repeated rejections or a numerical
@@ -111,6 +111,23 @@ fn fresh_filter(phi_rad: f32, sd: f32, sd_rate: f32, sd_acc: f32, jerk_psd: f32)
     f
 }
 
+/// The mean rate over the last interval `dt` \[s\] of a joint whose
+/// reading missed the prediction of `kf` by `nu` \[rad\]: from the filter's
+/// angle at the previous sample to the reading, `x₁ + ν/Δt − ½ Δt x₂`
+/// [rad/s] (the prediction's rate when that is not finite). Out of line
+/// and cold: only an escaped joint's manoeuvre takes it, and the sample
+/// path of every other joint does none of its work.
+#[cold]
+#[inline(never)]
+fn readings_rate(kf: &RateFilter, nu: f32, dt: f32) -> f32 {
+    let mean = kf.rate() + nu / dt - 0.5 * dt * kf.acceleration();
+    if mean.is_finite() {
+        mean
+    } else {
+        kf.rate()
+    }
+}
+
 /// A first reading within this of the stowed angle is a deployment
 /// starting from its release \[rad\] (1°: 40 σ of the reference encoder).
 const RELEASE_NEAR_RAD: f32 = 1.0 * DEG;
@@ -207,13 +224,30 @@ impl JointState {
         // switch opening with it. Restarted at the reading like an impact,
         // not flagged; a spike beyond the reach still is.
         let rebound = self.lt.rebounds_within_lock(z / DEG);
+        // On a joint its readings do not resolve (shaken faster than the
+        // samples follow, `resolution.rs`) any reading is taken as a
+        // manoeuvre: a spike cannot be told from its motion there.
         let manoeuvre = nu * nu <= MANOEUVRE_GATE * MANOEUVRE_GATE * gate2 * (kf.angle_var() + r)
-            || self.plausibility.follows_readings(z, PARABOLA_TOL_RAD);
+            || self.plausibility.follows_readings(z, PARABOLA_TOL_RAD)
+            || self.plausibility.unresolved();
         if ctx.impact || rebound || manoeuvre {
+            // A manoeuvre keeps the joint's rate. An escaped joint's, as
+            // the readings give it: the mean rate over the last interval,
+            // from the filter's angle at the previous sample to this
+            // reading (`x₁ + ν/Δt − ½ Δt x₂`, the predicted rate corrected
+            // by the miss). Not the prediction's rate: thrown about
+            // between its plunger and its spring, it bounces off its stop
+            // between two readings, which leaves the filter with the
+            // bounce as an acceleration of thousands of rad/s² and its
+            // predicted rate thousands of degrees per second off. (On a
+            // quiet joint the prediction's rate stays: a spike the
+            // widened gate takes for a manoeuvre must not set it.)
             let rate = if ctx.impact || rebound {
                 0.0
-            } else {
+            } else if !self.lt.escaped() {
                 kf.rate()
+            } else {
+                readings_rate(kf, nu, ctx.clock.dt)
             };
             *kf = RateFilter::new(z, sd, impact::RATE_SD, START_ACC_SD);
             kf.set_rate(rate, 0.0);

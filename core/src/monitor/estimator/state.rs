@@ -9,8 +9,9 @@ use crate::monitor::config::{
     ConfigError, ConfigRef, JointConfig, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
 };
 use crate::monitor::latch_margin::Engagement;
-use crate::monitor::observer::{FrictionObserver, FrictionPrior, RateFilter};
+use crate::monitor::observer::{FrictionObserver, FrictionPrior};
 use crate::monitor::predictor::Predictor;
+use crate::monitor::rate_filter::RateFilter;
 use crate::monitor::status::Status;
 use crate::physics::chain::{Chain, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel};
 use crate::physics::friction::Friction;
@@ -51,6 +52,10 @@ pub(super) struct Tuning {
     pub(super) sensor: SensorConfig,
     pub(super) observer: ObserverConfig,
     pub(super) margin: MarginConfig,
+    /// A joint has a physical latch: the joints' resolution is followed
+    /// (`resolution.rs`; on a wing of ideal latches every joint is
+    /// resolved).
+    pub(super) follow_resolution: bool,
 }
 
 /// The windows that events open on the time line \[s\].
@@ -92,10 +97,12 @@ fn reset_tuning_and_joints(tuning: &mut Tuning, states: &mut [JointState], confi
         sensor: *config.sensor,
         observer: *config.observer,
         margin: *config.margin,
+        follow_resolution: config.latch.physical.is_some()
+            || config.joints.iter().any(|j| j.physical.is_some()),
     };
     let sd = config.sensor.encoder_sd_deg * DEG;
     for (state, c) in states.iter_mut().zip(config.joints) {
-        *state = JointState::new(
+        state.reset(
             &JointStart::of(c),
             sd,
             config.observer,
@@ -155,6 +162,7 @@ impl<const N: usize> Monitor<N> {
                 sensor: *config.sensor,
                 observer: *config.observer,
                 margin: *config.margin,
+                follow_resolution: false,
             },
             timeline: Timeline::START,
             windows: Windows::CLOSED,

@@ -108,3 +108,90 @@ fn prediction_names_round_trip() {
         assert_eq!(Prediction::from_name(p.as_str()), Some(p));
     }
 }
+
+/// [`swing`] shaken from sample 100 to 129 as a rattling neighbour shakes
+/// a joint near the Nyquist frequency: ±0.3° about its course, alternating
+/// every sample (its rate alternates by ±60°/s about the swing's).
+fn shaken(k: usize) -> Sample<1> {
+    let mut s = swing(k);
+    if (100..130).contains(&k) {
+        s.phi_deg[0] += if k % 2 == 0 { 0.3 } else { -0.3 };
+    }
+    s
+}
+
+/// [`config`] with a ball plunger at the joint (a wing with a physical
+/// latch: the resolution is followed).
+fn plunger_config() -> MonitorConfig<1> {
+    let mut c = config();
+    c.joints[0].physical = Some(crate::monitor::latch::PhysicalLatch {
+        switch_travel_deg: 0.02,
+        crest_deg: 1.5,
+        ramp_deg: 0.6,
+        bounce_window_s: 0.03,
+        lock: crate::monitor::bounce::LockKind::Detent,
+    });
+    c
+}
+
+#[test]
+fn a_shaken_joint_is_unresolved_without_a_flag_a_spike_on_a_quiet_one_is_flagged() {
+    let mut m = Monitor::new(&plunger_config()).unwrap();
+    let mut unresolved = Vec::new();
+    for k in 0..200 {
+        let st = m.update(&shaken(k));
+        let j = &st.joints[0];
+        assert!(j.faults.is_empty(), "sample {k}: {}", j.faults);
+        if j.resolution == Resolution::Unresolved {
+            unresolved.push(k);
+        }
+    }
+    // Unresolved while shaken (once the readings have shown the shaking
+    // both ways), resolved again within a few quiet readings after it.
+    let (first, last) = (unresolved[0], unresolved[unresolved.len() - 1]);
+    assert!((101..=106).contains(&first), "{unresolved:?}");
+    assert!((130..=137).contains(&last), "{unresolved:?}");
+    assert_eq!(unresolved.len(), last - first + 1, "{unresolved:?}");
+    assert_eq!(m.status().joints[0].resolution, Resolution::Resolved);
+    // A 3° spike on the joint, quiet again: flagged within three samples.
+    let mut flagged = false;
+    for k in 200..204 {
+        let mut s = swing(k);
+        if k == 201 {
+            s.phi_deg[0] += 3.0;
+        }
+        let j = m.update(&s).joints[0];
+        flagged |= j.faults.contains(Fault::EncoderOutlier);
+        assert_eq!(j.resolution, Resolution::Resolved, "sample {k}");
+    }
+    assert!(flagged);
+    // The same spike during the shaking is not flagged: it cannot be told
+    // from the motion.
+    let mut m = Monitor::new(&plunger_config()).unwrap();
+    for k in 0..120 {
+        let mut s = shaken(k);
+        if k == 115 {
+            s.phi_deg[0] += 3.0;
+        }
+        let j = m.update(&s).joints[0];
+        assert!(j.faults.is_empty(), "sample {k}: {}", j.faults);
+    }
+}
+
+#[test]
+fn resolution_names_round_trip() {
+    for r in Resolution::ALL {
+        assert_eq!(Resolution::from_name(r.as_str()), Some(r));
+    }
+}
+
+#[test]
+fn on_a_wing_of_ideal_latches_every_joint_is_resolved() {
+    // The shaking is not followed there (no physical latch to shake a
+    // joint): the reading checks judge every reading as before.
+    let mut m = Monitor::new(&config()).unwrap();
+    for k in 0..200 {
+        let j = m.update(&shaken(k)).joints[0];
+        assert_eq!(j.resolution, Resolution::Resolved, "sample {k}");
+    }
+}

@@ -1,6 +1,7 @@
 //! Tests of `observer`.
 
 use super::*;
+use crate::monitor::rate_filter::{Fusion, JerkAdaptation, RateFilter};
 use crate::{ChainState, Friction, GlobalEffects, Joint, JointEffects, Panel, Spring};
 
 /// Three identical free panels without springs (also used by the
@@ -260,7 +261,7 @@ fn a_damping_of_zero_under_a_wide_prior_leaves_the_coulomb_estimate_alone() {
     // From rest, no damping: f sits at its bound 0, met in the metric
     // Σ⁻¹, and the Coulomb estimate stays on the truth. (Noisy data
     // press f against the bound much harder: on T01 with the sensor
-    // model, `tests/monitor.rs` viscous, a clamp of f alone let joint
+    // model, `tests/monitor/refresh.rs` viscous, a clamp of f alone let joint
     // 3's Coulomb estimate drift to 21.8 N·m against 0.001.)
     let (o, _) = single_body_with_wide_viscous_prior(1.2, 0.0, 0.0);
     let e = o.estimate();

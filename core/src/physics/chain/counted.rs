@@ -106,7 +106,7 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
             );
         }
         t -= e.viscous_nms * phi_dot;
-        t -= e.quadratic_nms2_per_rad2 * phi_dot * phi_dot.abs();
+        t -= crate::physics::friction::quadratic_damping(e.quadratic_nms2_per_rad2, phi_dot);
         t += e.harness_nm_per_rad * (jt.stowed_rad - phi);
         if e.detent_nm != T::ZERO {
             let delta = T::of(DETENT_ZONE_DEG).to_radians();

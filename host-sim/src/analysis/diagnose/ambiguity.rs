@@ -8,10 +8,21 @@
 //! would separate them is named. Friction and a softened spring resist
 //! alike over a stroke; only runs with another spring (or at another
 //! temperature) tell them apart.
+//!
+//! The best set seen is the answer ([`Search::best_of_alternatives`]):
+//! every set the stage fitted is judged against the set found by the one
+//! acceptance rule ([`Search::accept`] with [`Move::Alternative`]'s
+//! policy, that of a second start: a BIC better by more than
+//! [`MIN_DELTA_BIC`] and a held-out RMS 5 % better); the best by BIC that
+//! passes becomes the set found, and the groups are formed again around
+//! it. At the noise floor, where the search stops adding, a set that only
+//! adds effects to the set found is not judged (the stop rule of
+//! [`Search::run`]).
 
 use super::candidate::Candidate;
 pub use super::outcome::Ambiguity;
 use super::outcome::FittedSet;
+use super::policy::{Move, Verdict};
 use super::{labels, Search, MIN_DELTA_BIC};
 use crate::analysis::diagnose::residual_named;
 use crate::model::effect::EffectKind;
@@ -26,7 +37,85 @@ fn same_set(a: &[Candidate], b: &[Candidate]) -> bool {
     a.len() == b.len() && a.iter().all(|c| b.contains(c))
 }
 
+/// Times an alternative may take the place of the set found (each take
+/// forms the groups again, a fit of every exchange at every joint).
+const MAX_TAKES: usize = 2;
+
 impl Search<'_, '_> {
+    /// The ambiguity groups of the best set seen: the groups of the current
+    /// set; while a set of theirs beats it by the one acceptance rule
+    /// ([`Move::Alternative`]), that set (the best by BIC that passes)
+    /// becomes the current one and the groups are formed again around it
+    /// (at most [`MAX_TAKES`] times).
+    pub(super) fn best_of_alternatives(&mut self) -> Vec<Ambiguity> {
+        let mut groups = self.ambiguities();
+        for _ in 0..MAX_TAKES {
+            if self.eng.halt.now() || !self.take_a_better_alternative(&groups) {
+                break;
+            }
+            groups = self.ambiguities();
+        }
+        groups
+    }
+
+    /// Judges every set of `groups` but the current one (and, at the noise
+    /// floor, but those that only add to it) against it, best BIC first, by [`Search::accept`] with [`Move::Alternative`]'s
+    /// policy; takes the first that passes. Says what it did; returns
+    /// whether it took one.
+    fn take_a_better_alternative(&mut self, groups: &[Ambiguity]) -> bool {
+        let now = self.current.candidates();
+        // The search's own stop: at the noise floor nothing is added, so a
+        // set that only adds to the set found is not judged there.
+        let at_floor = self.current.rms() <= self.floor();
+        let mut others: Vec<&FittedSet> = groups
+            .iter()
+            .flat_map(|g| g.sets.iter())
+            .filter(|s| {
+                let set = s.candidates();
+                let only_adds = at_floor && now.iter().all(|c| set.contains(c));
+                !same_set(&set, &now) && !only_adds
+            })
+            .collect();
+        others.sort_by(|a, b| a.bic().total_cmp(&b.bic()));
+        others.dedup_by(|a, b| same_set(&a.candidates(), &b.candidates()));
+        let Some(best) = others.first() else {
+            return false;
+        };
+        if best.bic() - self.current.bic() >= -MIN_DELTA_BIC {
+            return false;
+        }
+        if self.current_held.is_none() {
+            self.current_held = self.eng.held_out(&self.current);
+        }
+        let policy = Move::Alternative.policy();
+        for f in others {
+            let mut held = None;
+            let verdict = self.accept((&self.current, self.current_held), f, &mut held, &policy);
+            let words = format!(
+                "{} (RMS {:.4} deg, BIC {:+.1}, held-out RMS {})",
+                labels(&f.candidates()),
+                f.rms(),
+                f.bic() - self.current.bic(),
+                held.flatten()
+                    .map_or_else(|| "n/a".to_string(), |h| format!("{h:.4} deg"))
+            );
+            if matches!(verdict, Verdict::Accepted(_)) {
+                self.eng.say(format!(
+                    "{} {words} in place of {} (RMS {:.4} deg)",
+                    Move::Alternative.done(),
+                    labels(&now),
+                    self.current.rms()
+                ));
+                self.current = f.clone();
+                self.current_held = held.flatten();
+                return true;
+            }
+            self.eng
+                .say(format!("  alternative {words}: {verdict}; not taken"));
+        }
+        false
+    }
+
     /// The ambiguity groups of the current set ([`Ambiguity`]), one per
     /// joint where another set explains the runs alike.
     pub(super) fn ambiguities(&self) -> Vec<Ambiguity> {

@@ -135,7 +135,20 @@ impl Candidate {
             EffectKind::RigTilt => 2,
             // T_C, the break-away excess ΔT and the Stribeck velocity ω_st.
             EffectKind::StribeckFriction => 3,
-            _ => 1,
+            EffectKind::CoulombFriction
+            | EffectKind::ViscousDamping
+            | EffectKind::QuadraticDamping
+            | EffectKind::SpringSoftening
+            | EffectKind::HarnessStiffness
+            | EffectKind::LatchDetent
+            | EffectKind::AirDrag
+            | EffectKind::EncoderOffset
+            | EffectKind::TorqueTable
+            | EffectKind::PlungerWeakening
+            | EffectKind::MagnetWeakening
+            | EffectKind::RigFriction
+            | EffectKind::WireLength
+            | EffectKind::FrameOffset => 1,
         }
     }
 
@@ -260,31 +273,45 @@ impl Candidate {
             return t.effect(self.joint, p);
         }
         let x = p.first().copied().unwrap_or(0.0);
-        if self.kind == EffectKind::RigTilt {
-            let y = p.get(1).copied().unwrap_or(0.0);
-            return Effect {
-                kind: self.kind,
-                joint: None,
-                value: x.hypot(y),
-                alpha_deg: y.atan2(x).to_degrees().rem_euclid(360.0),
-                ..Effect::default()
-            };
-        }
-        if self.kind == EffectKind::StribeckFriction {
-            return Effect {
+        match self.kind {
+            EffectKind::RigTilt => {
+                let y = p.get(1).copied().unwrap_or(0.0);
+                Effect {
+                    kind: self.kind,
+                    joint: None,
+                    value: x.hypot(y),
+                    alpha_deg: y.atan2(x).to_degrees().rem_euclid(360.0),
+                    ..Effect::default()
+                }
+            }
+            EffectKind::StribeckFriction => Effect {
                 kind: self.kind,
                 joint: self.joint,
                 value: x,
                 excess_nm: p.get(1).copied().unwrap_or(0.0),
                 stribeck_rad_s: p.get(2).copied().unwrap_or(STRIBECK_RATE_RANGE[1]),
                 ..Effect::default()
-            };
-        }
-        Effect {
-            kind: self.kind,
-            joint: self.joint,
-            value: x,
-            ..Effect::default()
+            },
+            // One value each (a table without its form: the value only).
+            EffectKind::CoulombFriction
+            | EffectKind::ViscousDamping
+            | EffectKind::QuadraticDamping
+            | EffectKind::SpringSoftening
+            | EffectKind::HarnessStiffness
+            | EffectKind::LatchDetent
+            | EffectKind::AirDrag
+            | EffectKind::EncoderOffset
+            | EffectKind::TorqueTable
+            | EffectKind::PlungerWeakening
+            | EffectKind::MagnetWeakening
+            | EffectKind::RigFriction
+            | EffectKind::WireLength
+            | EffectKind::FrameOffset => Effect {
+                kind: self.kind,
+                joint: self.joint,
+                value: x,
+                ..Effect::default()
+            },
         }
     }
 

@@ -42,35 +42,35 @@ use super::{labels, Search, MIN_DELTA_BIC, SCREEN_KEEP};
 use crate::analysis::residual_shape::{bic, thin};
 use crate::analysis::residual_torque::{residual_torque, TorqueSample};
 use crate::model::effect::EffectKind;
+use deploywatch_core::physics::friction::{
+    coulomb_shape, quadratic_damping, stribeck_excess, COULOMB_THRESHOLD_RAD_S,
+};
 use rayon::prelude::*;
 
 /// The forms this step enters.
 pub const FORMS: [EffectKind; 2] = [EffectKind::StribeckFriction, EffectKind::QuadraticDamping];
-
-/// `ω_coul` of Coulomb friction [rad/s] (`physics.md` section 4).
-const OMEGA_COUL_RAD_S: f64 = 0.01;
 
 /// Stribeck velocities the residual-torque regression tries [rad/s]
 /// (0.6 to 57 deg/s).
 const OMEGA_GRID: [f64; 8] = [0.01, 0.02, 0.04, 0.07, 0.12, 0.2, 0.4, 1.0];
 
 /// The Stribeck term's torque per N·m of excess at `rate` [rad/s] for
-/// `ω_st` [rad/s]: `−√(2e) (ω/ω_st) e^{−(ω/ω_st)²}` (peak 1 at `ω_st/√2`).
+/// `ω_st` [rad/s]: `−√(2e) (ω/ω_st) e^{−(ω/ω_st)²}` (peak 1 at `ω_st/√2`;
+/// the core's [`stribeck_excess`]).
 fn hump(rate: f64, w: f64) -> f64 {
-    let x = rate / w;
-    -(2.0 * std::f64::consts::E).sqrt() * x * (-(x * x)).exp()
+    -stribeck_excess(1.0, rate, w)
 }
 
-/// The rate signatures [N·m per unit of value] at a sample.
+/// The rate signatures [N·m per unit of value] at a sample (the core's
+/// laws: [`coulomb_shape`], [`quadratic_damping`]).
 fn coulomb(s: &TorqueSample) -> f64 {
-    -(s.rate_deg_s.to_radians() / OMEGA_COUL_RAD_S).tanh()
+    -coulomb_shape(s.rate_deg_s.to_radians(), COULOMB_THRESHOLD_RAD_S)
 }
 fn viscous(s: &TorqueSample) -> f64 {
     -s.rate_deg_s.to_radians()
 }
 fn quadratic(s: &TorqueSample) -> f64 {
-    let w = s.rate_deg_s.to_radians();
-    -w * w.abs()
+    -quadratic_damping(1.0, s.rate_deg_s.to_radians())
 }
 
 /// The BIC of a regression on `cols`, `+∞` when it fails.

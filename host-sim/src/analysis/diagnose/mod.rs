@@ -426,7 +426,7 @@ fn search_campaign(
     let ambiguities = if eng.halt.now() {
         Vec::new()
     } else {
-        search.ambiguities()
+        search.best_of_alternatives()
     };
     let partial = eng.halt.finish();
     let (extended, strength_rms_deg) = eng.strongest_first(&search.current);

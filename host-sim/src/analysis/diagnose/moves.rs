@@ -250,6 +250,8 @@ impl Search<'_, '_> {
             Move::FrictionForms => None,
             // Made by a second start of the search (`super::restart`).
             Move::Restart => None,
+            // Fitted by the ambiguity stage (`super::ambiguity`).
+            Move::Alternative => None,
         }
     }
 

@@ -248,6 +248,9 @@ pub enum Move {
     /// The set a second start of the search reached, in place of the
     /// current one ([`super::restart`]).
     Restart,
+    /// A set the ambiguity stage fitted in place of what the set holds at
+    /// a joint, in place of the current one ([`super::ambiguity`]).
+    Alternative,
 }
 
 /// The stepwise moves in the order tried: the first that moves ends the
@@ -307,10 +310,11 @@ impl Move {
                 held_out_tries: 1,
                 ..s
             },
-            // A second start's set is judged whole: a better BIC and a
-            // better held-out RMS; its members were judged by the moves
-            // that made it.
-            Move::Restart => Policy {
+            // A second start's set, or an alternative of the ambiguity
+            // stage, is judged whole: a better BIC and a better held-out
+            // RMS; the members of a second start's set were judged by the
+            // moves that made it, an alternative's are clear of zero.
+            Move::Restart | Move::Alternative => Policy {
                 intervals_clear: false,
                 ..s
             },
@@ -369,6 +373,7 @@ impl Move {
             Move::StandIn => "a table in place of a global stand-in:",
             Move::FrictionForms => "a friction form:",
             Move::Restart => "a second start reached",
+            Move::Alternative => "an alternative of the ambiguity stage beats the set found:",
         }
     }
 }

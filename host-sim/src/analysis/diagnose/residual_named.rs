@@ -18,6 +18,7 @@
 use crate::analysis::diagnose::residual_shape::{bic, thin};
 use crate::analysis::diagnose::residual_torque::{JointTorque, TorqueSample};
 use crate::model::effect::EffectKind;
+use deploywatch_core::physics::friction::{coulomb_shape, COULOMB_THRESHOLD_RAD_S};
 
 /// The named joint effects with a torque signature.
 pub const KINDS: [EffectKind; 4] = [
@@ -27,9 +28,6 @@ pub const KINDS: [EffectKind; 4] = [
     EffectKind::HarnessStiffness,
 ];
 
-/// `ω_coul` of `coulomb_friction` [rad/s] (`physics.md` section 4).
-const OMEGA_COUL_RAD_S: f64 = 0.01;
-
 /// A pair is proposed when its BIC beats the best single effect's by more
 /// than this (Kass & Raftery's "very strong").
 pub const MIN_PAIR_GAIN: f64 = 10.0;
@@ -38,11 +36,24 @@ pub const MIN_PAIR_GAIN: f64 = 10.0;
 pub fn signature(kind: EffectKind, s: &TorqueSample) -> f64 {
     let rate = s.rate_deg_s.to_radians();
     match kind {
-        EffectKind::CoulombFriction => -(rate / OMEGA_COUL_RAD_S).tanh(),
+        EffectKind::CoulombFriction => -coulomb_shape(rate, COULOMB_THRESHOLD_RAD_S),
         EffectKind::ViscousDamping => -rate,
         EffectKind::SpringSoftening => -s.spring_nm,
         EffectKind::HarnessStiffness => s.from_stowed_rad,
-        _ => 0.0,
+        // Not in [`KINDS`]: no signature of their own here (the friction
+        // forms have theirs in `friction_forms`).
+        EffectKind::QuadraticDamping
+        | EffectKind::StribeckFriction
+        | EffectKind::LatchDetent
+        | EffectKind::AirDrag
+        | EffectKind::RigTilt
+        | EffectKind::EncoderOffset
+        | EffectKind::TorqueTable
+        | EffectKind::PlungerWeakening
+        | EffectKind::MagnetWeakening
+        | EffectKind::RigFriction
+        | EffectKind::WireLength
+        | EffectKind::FrameOffset => 0.0,
     }
 }
 

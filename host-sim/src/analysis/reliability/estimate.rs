@@ -164,6 +164,9 @@ impl Estimate {
             "vary": problem.vary.iter().map(|v| v.to_string()).collect::<Vec<_>>(),
             "fail": problem.fail.iter().map(|c| c.to_string()).collect::<Vec<_>>(),
             "corr": problem.corr.iter().map(|c| c.to_string()).collect::<Vec<_>>(),
+            "fixed": problem.fixed.iter()
+                .map(|f| json!({"effect": f.effect.to_string(), "source": f.source}))
+                .collect::<Vec<_>>(),
         });
         let body = self.body(problem);
         if let (Value::Object(o), Value::Object(b)) = (&mut out, body) {

@@ -4,21 +4,74 @@
 //! place. A diagnosis's effects are read by the findings' own reader
 //! ([`FoundEffect::to_effect`](crate::model::findings::diagnosis::FoundEffect::to_effect)),
 //! so the law of each is centred on the value fitted, its other parameters
-//! (joint, direction, Stribeck shape) as fitted.
+//! (joint, direction, Stribeck shape) as fitted. A torque table has no
+//! one value to draw: it is a measured fixed resistance, carried as found
+//! by every deployment ([`Fixed`]), each knot at the end of its band that
+//! resists the deployment, as `margin --from` takes it
+//! ([`resistances::at_worst_end`]).
 
-use super::params::{Dist, Target, Vary};
+use super::params::{Dist, Fixed, Target, Vary};
 use crate::analysis::fit::Z_975;
+use crate::analysis::{effect_margin, resistances};
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::findings::{Diagnosis, Findings, FindingsError, Identification};
+use crate::model::mechanism::Mechanism;
 
-/// The laws of an identify or a diagnose JSON ([`from_identification`],
-/// [`from_diagnosis`]).
-pub fn from_findings_json(text: &str) -> Result<Vec<Vary>, String> {
+/// What a findings file gives a reliability analysis: the laws to draw
+/// and the effects every deployment carries as found.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FromFindings {
+    /// One law per effect found with an interval.
+    pub vary: Vec<Vary>,
+    /// The torque tables found, as the margins take them.
+    pub fixed: Vec<Fixed>,
+    /// What the file holds that is no effect (a diagnosis's
+    /// `"unexplained"`), in words: in no deployment, said so by the
+    /// command.
+    pub left_out: Vec<String>,
+    /// A diagnosis that names no effect (none found, or only
+    /// `"unexplained"`): why nothing can be carried, in words. The
+    /// command refuses it (`reliability --from`, exit 2).
+    pub no_effect: Option<String>,
+}
+
+impl FromFindings {
+    /// Takes out the effects that exist only on a ground rig
+    /// ([`effect_margin::rig_only`]: air drag, a tilt, the rig's rails,
+    /// wires and frames): none of them flies, so the flight unit
+    /// (`reliability --flight`) draws none. Their names, in the file's order.
+    pub fn take_out_the_rig(&mut self) -> Vec<String> {
+        let mut names = Vec::new();
+        self.vary.retain(|v| match v.target {
+            Target::Effect { kind, .. } if effect_margin::rig_only(kind) => {
+                names.push(kind.to_string());
+                false
+            }
+            _ => true,
+        });
+        self.fixed.retain(|f| {
+            let rig = effect_margin::rig_only(f.effect.kind);
+            if rig {
+                names.push(f.effect.kind.to_string());
+            }
+            !rig
+        });
+        names
+    }
+}
+
+/// The laws and fixed effects of an identify or a diagnose JSON
+/// ([`from_identification`], [`from_diagnosis`]) for a deployment of
+/// `mech` (a table's resisting end depends on the way its joint deploys).
+pub fn from_findings_json(text: &str, mech: &Mechanism) -> Result<FromFindings, String> {
     let expected = "expected the JSON of `deploywatch identify` (with \"method\" and \"joints\") \
                     or of `deploywatch diagnose` (with \"effects\")";
     match Findings::from_json_str(text) {
-        Ok(Findings::Identify(id)) => from_identification(&id),
-        Ok(Findings::Diagnosis(d)) => from_diagnosis(&d),
+        Ok(Findings::Identify(id)) => Ok(FromFindings {
+            vary: from_identification(&id)?,
+            ..FromFindings::default()
+        }),
+        Ok(Findings::Diagnosis(d)) => from_diagnosis(&d, mech),
         Err(FindingsError::Unknown) => Err(expected.into()),
         Err(e) => Err(e.to_string()),
     }
@@ -54,23 +107,35 @@ pub fn from_identification(id: &Identification) -> Result<Vec<Vary>, String> {
 
 /// The named effects of a diagnosis as normal laws: each effect's value
 /// centred on the value fitted with the standard deviation of its 95 %
-/// interval, `(hi − lo)/(2·1.96)`, every other parameter as fitted. An
-/// entry that is no named effect (`"unexplained"`) has no law and is left
-/// out; a `torque_table` (tables, not one value) or an effect without an
-/// interval is refused, naming it.
-pub fn from_diagnosis(d: &Diagnosis) -> Result<Vec<Vary>, String> {
-    let mut out = Vec::new();
+/// interval, `(hi − lo)/(2·1.96)`, every other parameter as fitted; each
+/// `torque_table` fixed, each knot at the end of its 95 % band that
+/// resists its joint's deployment on `mech` (its estimate without a
+/// band), as `margin --from` takes it. An entry that is no named effect
+/// (`"unexplained"`) is left out and named in [`FromFindings::left_out`];
+/// an effect without an interval, or of a name this version does not know,
+/// is refused, naming it. A diagnosis that names no effect (none found,
+/// or only `"unexplained"`) gives nothing to draw and says why in
+/// [`FromFindings::no_effect`]: there is nothing to carry, and a run of
+/// the mechanism as given would not be what it found.
+pub fn from_diagnosis(d: &Diagnosis, mech: &Mechanism) -> Result<FromFindings, String> {
+    let mut out = FromFindings {
+        no_effect: names_no_effect(d),
+        ..FromFindings::default()
+    };
     for (i, f) in d.effects.iter().enumerate() {
+        let at = format!("effects[{i}] ({})", f.name);
+        if f.name.parse() == Ok(EffectKind::TorqueTable) {
+            let (worst, words) = resistances::at_worst_end(f, EffectKind::TorqueTable, mech);
+            if let Some(effect) = worst.to_effect(i).map_err(|e| e.to_string())? {
+                let source = format!("diagnose {at}: {words}");
+                out.fixed.push(Fixed { effect, source });
+            }
+            continue;
+        }
         let Some(e) = f.to_effect(i).map_err(|e| e.to_string())? else {
+            out.left_out.push(f.no_effect_words());
             continue;
         };
-        let at = format!("effects[{i}] ({})", f.name);
-        if e.kind == EffectKind::TorqueTable {
-            return Err(format!(
-                "{at}: a torque table has no one value to draw; give its joint's friction \
-                 with --vary instead (margin --from takes the table as found)"
-            ));
-        }
         let Some([Some(lo), Some(hi)]) = f.ci95 else {
             return Err(format!(
                 "{at}: expected \"ci95\", [lo, hi] in {}",
@@ -85,10 +150,22 @@ pub fn from_diagnosis(d: &Diagnosis) -> Result<Vec<Vary>, String> {
                 e.value
             )
         })?;
-        out.push(Vary {
+        out.vary.push(Vary {
             target: Target::of_effect(&e),
             dist,
         });
     }
     Ok(out)
+}
+
+/// Why a diagnosis cannot be carried into a model when it names no effect
+/// of the vocabulary ([`Diagnosis::answer_without_effect`]), in words.
+fn names_no_effect(d: &Diagnosis) -> Option<String> {
+    d.answer_without_effect().map(|answer| {
+        format!(
+            "the diagnosis names no effect to carry into the model: its answer is {answer}; \
+             without --from the mechanism is taken as given (docs/reliability.md, \
+             \"From a diagnosis\")"
+        )
+    })
 }

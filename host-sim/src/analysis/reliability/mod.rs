@@ -7,7 +7,8 @@
 //! two and compares them.
 //!
 //! A [`Problem`] is a mechanism, its uncertain parameters ([`params::Vary`],
-//! each mapped from a standard normal `u`) and the failure criteria
+//! each mapped from a standard normal `u`), the effects every deployment
+//! carries as found ([`params::Fixed`]) and the failure criteria
 //! ([`criteria::Criterion`]), each a failure mode per joint with its own
 //! margin (failure iff margin ≤ 0, [`criteria::Mode`]). The algorithms draw
 //! the points and ask an [`Evaluate`] callback for their margins by
@@ -39,7 +40,7 @@ use crate::simulate::latch_deployment::{self, Keep};
 use crate::simulate::trajectory::Samples;
 use correlation::Correlation;
 use criteria::{Criterion, Mode, Outcome};
-use params::Vary;
+use params::{Fixed, Vary};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -66,6 +67,9 @@ pub struct Problem {
     pub mech: Mechanism,
     /// The uncertain parameters (at least one).
     pub vary: Vec<Vary>,
+    /// The effects every deployment carries as found, next to the drawn
+    /// ones (a diagnosis's torque tables, [`identified`]).
+    pub fixed: Vec<Fixed>,
     /// The failure criteria (at least one; any one fails).
     pub fail: Vec<Criterion>,
     /// Correlations of the parameters' standard normals ([`correlation`]).
@@ -104,13 +108,24 @@ impl Problem {
     pub fn check(&self) -> Result<(), ReliabilityError> {
         let bad = |m: String| ReliabilityError::Invalid(m);
         if self.vary.is_empty() {
-            return Err(bad("expected at least one --vary".into()));
+            let fixed = match self.fixed.is_empty() {
+                true => String::new(),
+                false => " (the effects fixed as found are not drawn)".into(),
+            };
+            return Err(bad(format!(
+                "expected at least one --vary, or a --from effect with an interval{fixed}"
+            )));
         }
         if self.fail.is_empty() {
             return Err(bad("expected at least one --fail".into()));
         }
         for v in &self.vary {
             v.check(&self.mech).map_err(|e| bad(e.to_string()))?;
+        }
+        for f in &self.fixed {
+            f.effect
+                .validate_joint(self.mech.effect_joints())
+                .map_err(|e| bad(format!("{} ({}): {e}", f.effect.kind, f.source)))?;
         }
         correlation::cholesky(&self.corr, self.vary.len()).map_err(bad)?;
         for c in &self.fail {
@@ -176,16 +191,19 @@ impl Problem {
             .unwrap_or(self.mech.duration_s)
     }
 
-    /// The mechanism and effects at the parameter point `x`, simulated:
-    /// the one call of the simulator in the reliability analysis. Only
+    /// The mechanism and effects at the parameter point `x` (the fixed
+    /// effects, then the drawn ones), simulated: the one call of the simulator in the reliability analysis. Only
     /// what the verdict needs is computed: no output samples (one at the
     /// end) unless a `latch_rate>X` criterion needs the rate before the
     /// latch, and the run stops at [`Problem::run_end_s`] or when every
     /// joint latched.
     ///
-    /// A physical-latch run keeps its energy ledger (`docs/simulator.md`).
+    /// A physical-latch run keeps its energy ledger (`docs/simulator.md`)
+    /// and ends as soon as every latch is held for good
+    /// ([`Keep::Settled`]: the same margins, to the bit, as the run to the
+    /// end, `tests/physical_verdicts.rs`).
     pub fn deploy(&self, x: &[f64]) -> Result<Outcome, ReliabilityError> {
-        self.deploy_keeping(x, Keep::Ledger)
+        self.deploy_keeping(x, Keep::Settled)
     }
 
     /// [`Problem::deploy`] keeping what `keep` says of a physical-latch
@@ -195,7 +213,7 @@ impl Problem {
     /// `examples/physical_verdicts.rs`).
     pub fn deploy_keeping(&self, x: &[f64], keep: Keep) -> Result<Outcome, ReliabilityError> {
         let mut mech = self.mech.clone();
-        let mut effects: Vec<Effect> = Vec::new();
+        let mut effects: Vec<Effect> = self.fixed.iter().map(|f| f.effect).collect();
         for (v, &x) in self.vary.iter().zip(x) {
             v.apply(x, &mut mech, &mut effects);
         }

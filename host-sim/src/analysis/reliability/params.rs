@@ -310,6 +310,19 @@ impl fmt::Display for Vary {
     }
 }
 
+/// An effect every deployment carries as it was found, not drawn: a
+/// diagnosis's `torque_table` (`reliability --from`), a measured fixed
+/// resistance with no one value to draw (`docs/reliability.md` §2).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fixed {
+    /// The effect, added to every deployment next to the drawn ones.
+    pub effect: Effect,
+    /// Where it comes from and which values were taken, in words (e.g.
+    /// `diagnose effects[0]: each knot at the upper end of its 95 % band
+    /// ...`).
+    pub source: String,
+}
+
 fn parse_dist(text: &str, law: &str) -> Result<Dist, VaryError> {
     let bad = |why: String| VaryError::Law {
         text: text.to_string(),

@@ -360,6 +360,7 @@ mod tests {
             vary: (0..d)
                 .map(|_| "coulomb_friction:joint=1:normal(0,1)".parse().unwrap())
                 .collect(),
+            fixed: Vec::new(),
             fail: vec![Criterion::NotLatched],
             corr: Vec::new(),
         }

@@ -96,24 +96,17 @@ impl EffectKind {
     /// `FromStr` searches this list), the ones of [`EffectKind::ALL`], the
     /// friction forms, the latch's and the rig's. A test over the
     /// vocabulary iterates this (`tests/findings_roundtrip.rs`).
-    pub const EVERY: [EffectKind; 16] = [
-        EffectKind::CoulombFriction,
-        EffectKind::ViscousDamping,
-        EffectKind::SpringSoftening,
-        EffectKind::HarnessStiffness,
-        EffectKind::LatchDetent,
-        EffectKind::AirDrag,
-        EffectKind::RigTilt,
-        EffectKind::EncoderOffset,
-        EffectKind::TorqueTable,
-        EffectKind::StribeckFriction,
-        EffectKind::QuadraticDamping,
-        EffectKind::PlungerWeakening,
-        EffectKind::MagnetWeakening,
-        EffectKind::RigFriction,
-        EffectKind::WireLength,
-        EffectKind::FrameOffset,
-    ];
+    pub const EVERY: [EffectKind; 16] = joined(
+        joined::<8, 3, 11>(
+            EffectKind::ALL,
+            [
+                EffectKind::TorqueTable,
+                EffectKind::StribeckFriction,
+                EffectKind::QuadraticDamping,
+            ],
+        ),
+        joined::<2, 3, 5>(EffectKind::LATCH, EffectKind::RIG),
+    );
 
     /// The name used in files and reports.
     pub fn name(self) -> &'static str {
@@ -185,19 +178,46 @@ impl EffectKind {
 
     /// True for effects that act on one joint (`joint` is required).
     pub fn per_joint(self) -> bool {
-        !matches!(
-            self,
+        match self {
+            EffectKind::CoulombFriction
+            | EffectKind::ViscousDamping
+            | EffectKind::QuadraticDamping
+            | EffectKind::StribeckFriction
+            | EffectKind::SpringSoftening
+            | EffectKind::HarnessStiffness
+            | EffectKind::LatchDetent
+            | EffectKind::EncoderOffset
+            | EffectKind::TorqueTable
+            | EffectKind::PlungerWeakening
+            | EffectKind::MagnetWeakening => true,
             EffectKind::AirDrag
-                | EffectKind::RigTilt
-                | EffectKind::RigFriction
-                | EffectKind::WireLength
-                | EffectKind::FrameOffset
-        )
+            | EffectKind::RigTilt
+            | EffectKind::RigFriction
+            | EffectKind::WireLength
+            | EffectKind::FrameOffset => false,
+        }
     }
 
     /// True for effects on the sensor only (the motion is unchanged).
     pub fn is_sensor(self) -> bool {
-        matches!(self, EffectKind::EncoderOffset)
+        match self {
+            EffectKind::EncoderOffset => true,
+            EffectKind::CoulombFriction
+            | EffectKind::ViscousDamping
+            | EffectKind::QuadraticDamping
+            | EffectKind::StribeckFriction
+            | EffectKind::SpringSoftening
+            | EffectKind::HarnessStiffness
+            | EffectKind::LatchDetent
+            | EffectKind::AirDrag
+            | EffectKind::RigTilt
+            | EffectKind::TorqueTable
+            | EffectKind::PlungerWeakening
+            | EffectKind::MagnetWeakening
+            | EffectKind::RigFriction
+            | EffectKind::WireLength
+            | EffectKind::FrameOffset => false,
+        }
     }
 }
 
@@ -235,6 +255,21 @@ impl ValueRange {
             ValueRange::Fraction => "a fraction from 0 to 1 (1 removes the part)",
         }
     }
+}
+
+/// `a`, then `b` (`K = N + M`, checked when the constant is built).
+const fn joined<const N: usize, const M: usize, const K: usize>(
+    a: [EffectKind; N],
+    b: [EffectKind; M],
+) -> [EffectKind; K] {
+    assert!(N + M == K, "K must be N + M");
+    let mut out = [EffectKind::CoulombFriction; K];
+    let mut i = 0;
+    while i < K {
+        out[i] = if i < N { a[i] } else { b[i - N] };
+        i += 1;
+    }
+    out
 }
 
 impl fmt::Display for EffectKind {

@@ -32,7 +32,25 @@ pub enum FoundEffectError {
         /// What the effect syntax says of it.
         source: EffectError,
     },
+    /// A name that is neither an effect of `physics.md` section 6 nor
+    /// `"unexplained"` (a misspelt or a newer kind): refused, never left
+    /// out in silence.
+    #[error(
+        "effects[{index}] ({name}): not an effect this version knows: expected one of {known}, or \"unexplained\""
+    )]
+    Unknown {
+        /// Position in `effects`, from 0.
+        index: usize,
+        /// The entry's `name`.
+        name: String,
+        /// The names this version reads, comma-separated.
+        known: String,
+    },
 }
+
+/// The `name` of an entry that is no effect: what no effect of the
+/// vocabulary explains (`formats.md`, "Diagnosis: JSON").
+pub const UNEXPLAINED: &str = "unexplained";
 
 impl FoundEffect {
     /// The entry of `effect` without interval or evidence: name, joint,
@@ -64,17 +82,39 @@ impl FoundEffect {
                     v.rate_torque_nm = Some(all(g.ys()));
                 }
             }
-            _ => {}
+            // One value each: `value` holds it.
+            EffectKind::CoulombFriction
+            | EffectKind::ViscousDamping
+            | EffectKind::QuadraticDamping
+            | EffectKind::SpringSoftening
+            | EffectKind::HarnessStiffness
+            | EffectKind::LatchDetent
+            | EffectKind::AirDrag
+            | EffectKind::EncoderOffset
+            | EffectKind::PlungerWeakening
+            | EffectKind::MagnetWeakening
+            | EffectKind::RigFriction
+            | EffectKind::WireLength
+            | EffectKind::FrameOffset => {}
         }
         v
     }
 
     /// The effect this entry names, read from the file alone (`index`: its
-    /// position in `effects`, for the error); `None` for an entry that is
-    /// no effect of the vocabulary (`"unexplained"`).
+    /// position in `effects`, for the error); `None` for the entry that is
+    /// no effect of the vocabulary ([`UNEXPLAINED`]); any other name is
+    /// refused ([`FoundEffectError::Unknown`]).
     pub fn to_effect(&self, index: usize) -> Result<Option<Effect>, FoundEffectError> {
         let Ok(kind) = self.name.parse::<EffectKind>() else {
-            return Ok(None);
+            if self.name == UNEXPLAINED {
+                return Ok(None);
+            }
+            let known: Vec<&str> = EffectKind::EVERY.iter().map(|k| k.name()).collect();
+            return Err(FoundEffectError::Unknown {
+                index,
+                name: self.name.clone(),
+                known: known.join(", "),
+            });
         };
         let missing = |key| FoundEffectError::Missing {
             index,
@@ -123,7 +163,33 @@ impl FoundEffect {
     }
 }
 
+impl FoundEffect {
+    /// An entry that is no effect, in words: `unexplained: DESCRIPTION`.
+    pub fn no_effect_words(&self) -> String {
+        match &self.description {
+            Some(d) => format!("{}: {d}", self.name),
+            None => self.name.clone(),
+        }
+    }
+}
+
 impl Diagnosis {
+    /// The diagnosis's answer in words when it names no effect of the
+    /// vocabulary (none found, or only [`UNEXPLAINED`]); `None` when it
+    /// names one (a name this version does not know counts as one: its
+    /// reader refuses it by name).
+    pub fn answer_without_effect(&self) -> Option<String> {
+        let named =
+            (self.effects.iter().enumerate()).any(|(i, f)| !matches!(f.to_effect(i), Ok(None)));
+        if named {
+            return None;
+        }
+        Some(match self.effects.first() {
+            None => "no effect found (the mechanisms as given explain the runs)".to_string(),
+            Some(f) => f.no_effect_words(),
+        })
+    }
+
     /// The effects of the extended model, read from the file alone, in the
     /// file's order (entries that are no effect, `"unexplained"`, left out):
     /// what `deploywatch simulate --from` replays.

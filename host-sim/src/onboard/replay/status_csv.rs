@@ -23,7 +23,7 @@ fn num(x: f32) -> String {
 type Column = (&'static str, &'static str, fn(&JointStatus) -> String);
 
 /// The per-joint columns, in order (documented in `docs/monitor.md` §1.1).
-pub const JOINT_COLUMNS: [Column; 11] = [
+pub const JOINT_COLUMNS: [Column; 12] = [
     ("phi", "_deg", |s| num(s.phi_deg)),
     ("rate", "_deg_s", |s| num(s.rate_deg_s)),
     ("coulomb", "_nm", |s| num(s.coulomb_nm)),
@@ -37,6 +37,7 @@ pub const JOINT_COLUMNS: [Column; 11] = [
     }),
     ("prediction", "", |s| s.prediction.as_str().into()),
     ("faults", "", |s| fault_names(s)),
+    ("resolution", "", |s| s.resolution.as_str().into()),
 ];
 
 fn fault_names(s: &JointStatus) -> String {

@@ -1,5 +1,6 @@
 //! What a replay says about each joint: first and final latch, final
-//! estimates, margins, prediction and faults.
+//! estimates, margins, prediction, faults and the statuses it was
+//! unresolved in.
 
 use super::status::StatusRow;
 
@@ -26,6 +27,10 @@ pub struct JointSummary {
     pub prediction: &'static str,
     /// Every fault flag raised during the run.
     pub faults: String,
+    /// Statuses in which the joint is
+    /// [`Resolution::Unresolved`](deploywatch_core::Resolution): shaken
+    /// faster than the samples resolve, its outlier checks off.
+    pub unresolved: usize,
 }
 
 // Its words: `onboard::summary_words`.
@@ -38,6 +43,7 @@ pub fn summary(statuses: &[StatusRow]) -> Vec<JointSummary> {
             let (mut latched_s, mut latched_final_s) = (None, None);
             let mut min_margin: Option<f32> = None;
             let mut faults = deploywatch_core::FaultFlags::EMPTY;
+            let mut unresolved = 0;
             for s in statuses {
                 let js = &s.joints[j];
                 if js.latch == deploywatch_core::LatchState::Latched {
@@ -50,6 +56,8 @@ pub fn summary(statuses: &[StatusRow]) -> Vec<JointSummary> {
                     min_margin = Some(min_margin.map_or(m, |x| x.min(m)));
                 }
                 faults = faults.union(js.faults);
+                unresolved +=
+                    usize::from(js.resolution == deploywatch_core::Resolution::Unresolved);
             }
             let last = statuses.last().map(|s| s.joints[j]).unwrap_or_default();
             JointSummary {
@@ -66,6 +74,7 @@ pub fn summary(statuses: &[StatusRow]) -> Vec<JointSummary> {
                     .map(|f| f.as_str())
                     .collect::<Vec<_>>()
                     .join("|"),
+                unresolved,
             }
         })
         .collect()

@@ -23,7 +23,21 @@ pub fn weakenings(effects: &[Effect], joints: usize) -> Vec<(f64, f64)> {
         match e.kind {
             EffectKind::PlungerWeakening => out[j].0 *= 1.0 - e.value,
             EffectKind::MagnetWeakening => out[j].1 *= 1.0 - e.value,
-            _ => {}
+            // The chain's, the sensor's and the rig's.
+            EffectKind::CoulombFriction
+            | EffectKind::ViscousDamping
+            | EffectKind::QuadraticDamping
+            | EffectKind::StribeckFriction
+            | EffectKind::SpringSoftening
+            | EffectKind::HarnessStiffness
+            | EffectKind::LatchDetent
+            | EffectKind::AirDrag
+            | EffectKind::RigTilt
+            | EffectKind::EncoderOffset
+            | EffectKind::TorqueTable
+            | EffectKind::RigFriction
+            | EffectKind::WireLength
+            | EffectKind::FrameOffset => {}
         }
     }
     out

@@ -40,7 +40,10 @@ use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::monitor_config::{monitor_config, samples};
 use deploywatch_sim::run::Run;
 use deploywatch_sim::sensor::{measure, SensorModel};
-use deploywatch_tests::{data_dir, SplitMix};
+use deploywatch_tests::{data_dir, mechanism, SplitMix};
+
+mod bundled;
+mod switch_faults;
 
 /// Switch travel of the test latch \[deg\].
 const TRAVEL_DEG: f64 = 0.02;
@@ -296,11 +299,6 @@ fn hold(traj: &mut Trajectory, hold_s: f64, dt: f64) {
     }
 }
 
-fn mechanism(name: &str) -> Mechanism {
-    Mechanism::load(&data_dir().join("mechanisms").join(format!("{name}.toml")))
-        .expect("mechanism file")
-}
-
 /// The ideal simulation of `mech` with every joint's friction scaled by
 /// `scale` (the mechanism's own friction; the nominal files have none,
 /// so the papers' is added).
@@ -511,192 +509,4 @@ fn physical_latches_at_100_hz() {
 #[test]
 fn physical_latches_at_1_khz() {
     physical_latch_monte_carlo(1000.0, 2222);
-}
-
-/// The switch faults of the fault campaign on the ideal runs, with the
-/// physical latch configured: flagged, no early latch, no latch undone.
-fn switch_faults<const N: usize>(name: &str, tally: &mut Tally) {
-    let mech = mechanism(name);
-    let cfg = physical_config::<N>(&mech);
-    let traj = simulate_ideal(&mech, 1.0);
-    for seed in 1..=3u64 {
-        let target = ((seed as usize - 1) % N) + 1;
-        let faults = [
-            SensorFault::SwitchChatter {
-                joint: target,
-                bounce_s: 0.02,
-            },
-            SensorFault::SwitchStuck {
-                joint: target,
-                closed: false,
-            },
-            SensorFault::SwitchStuck {
-                joint: target,
-                closed: true,
-            },
-        ];
-        let clean = measure(&traj, &[], &SensorModel::REFERENCE, seed);
-        let st = replay(&cfg, &clean);
-        if st.iter().any(|s| !s.is_clean()) {
-            tally
-                .failures
-                .push(format!("{name} seed {seed}: flags on the clean run"));
-        }
-        for fault in faults {
-            let mut run = clean.clone();
-            let touched: usize = apply(&mut run, &[fault], seed)
-                .expect("fault")
-                .iter()
-                .map(|r| r.samples)
-                .sum();
-            let st = replay(&cfg, &run);
-            tally.runs += 1;
-            let label = format!("{name} seed {seed} {fault}");
-            if touched > 0 && st.iter().all(|s| s.is_clean()) {
-                tally.failures.push(format!("{label}: not flagged"));
-            }
-            for j in 0..N {
-                let mut seen = false;
-                for (i, s) in st.iter().enumerate() {
-                    let latched = s.joints[j].latch == LatchState::Latched;
-                    if latched && !traj.latched[j][i] {
-                        tally.failures.push(format!(
-                            "{label}: joint {} declared early at {:.3} s",
-                            j + 1,
-                            s.t_s
-                        ));
-                        break;
-                    }
-                    if seen && !latched {
-                        tally.failures.push(format!(
-                            "{label}: joint {} latch lost at {:.3} s",
-                            j + 1,
-                            s.t_s
-                        ));
-                        break;
-                    }
-                    seen |= latched;
-                }
-                let truly = traj.latch_s[j].is_some();
-                if seen != truly {
-                    tally.failures.push(format!(
-                        "{label}: joint {} latched {seen}, truly {truly}",
-                        j + 1
-                    ));
-                }
-            }
-        }
-    }
-}
-
-#[test]
-fn switch_faults_still_found_with_the_physical_latch() {
-    let mut tally = Tally::default();
-    switch_faults::<3>("seed001_T01", &mut tally);
-    switch_faults::<3>("seed001_T02", &mut tally);
-    switch_faults::<2>("seed000_case1", &mut tally);
-    switch_faults::<2>("seed000_case3", &mut tally);
-    println!(
-        "switch faults with the physical latch: {} faulted runs, {} failures",
-        tally.runs,
-        tally.failures.len()
-    );
-    for f in &tally.failures {
-        println!("FAIL {f}");
-    }
-    assert!(
-        tally.failures.is_empty(),
-        "{} failures",
-        tally.failures.len()
-    );
-}
-
-/// The simulator's bundled physical-latch runs (`data/examples/latch_*`,
-/// their truth in each README) through the monitor configured from their
-/// mechanism files: the final states the truth gives, every escape seen,
-/// never latched while the switch is open. Flags are printed, not asserted
-/// (`docs/monitor.md` §4.1 lists them).
-#[test]
-fn bundled_physical_latch_runs() {
-    let cases: [(&str, &str, &[LatchState]); 4] = [
-        (
-            "latch_clean_bounce",
-            "seed001_T02_physical_latch",
-            &[
-                LatchState::Stalled,
-                LatchState::Latched,
-                LatchState::Latched,
-            ],
-        ),
-        (
-            "latch_escape_never",
-            "seed001_T01_physical_latch",
-            &[
-                LatchState::Latched,
-                LatchState::Escaped,
-                LatchState::Latched,
-            ],
-        ),
-        (
-            "latch_escape_relatch",
-            "one_panel_physical_latch",
-            &[LatchState::Latched],
-        ),
-        (
-            "latch_ramp_stop",
-            "one_panel_physical_latch",
-            &[LatchState::StoppedShort],
-        ),
-    ];
-    for (dir, mech_name, finals) in cases {
-        let path = std::fs::read_dir(data_dir().join("examples").join(dir))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .find(|p| p.extension().is_some_and(|x| x == "csv"))
-            .unwrap();
-        let run = Run::load(&path).unwrap();
-        let mech = mechanism(mech_name);
-        match finals.len() {
-            1 => check_bundled::<1>(dir, &mech, &run, finals),
-            3 => check_bundled::<3>(dir, &mech, &run, finals),
-            n => panic!("{n} joints"),
-        }
-    }
-}
-
-fn check_bundled<const N: usize>(dir: &str, mech: &Mechanism, run: &Run, finals: &[LatchState]) {
-    let cfg = monitor_config::<N>(mech).expect("monitor config");
-    assert!(
-        cfg.joints.iter().any(|j| j.physical.is_some()),
-        "{dir}: no physical latch configured"
-    );
-    let st = replay(&cfg, run);
-    for (j, want) in finals.iter().enumerate() {
-        let last = st.last().unwrap().joints[j].latch;
-        let flags: Vec<String> = st
-            .iter()
-            .filter(|s| !s.joints[j].faults.is_empty())
-            .map(|s| format!("{} at {:.2} s", s.joints[j].faults, s.t_s))
-            .collect();
-        let escapes = st
-            .windows(2)
-            .filter(|w| {
-                w[1].joints[j].latch == LatchState::Escaped
-                    && w[0].joints[j].latch != LatchState::Escaped
-            })
-            .count();
-        println!(
-            "{dir} joint {}: final {last}, {escapes} escapes reported, flags {flags:?}",
-            j + 1
-        );
-        assert_eq!(last, *want, "{dir} joint {}", j + 1);
-        for (i, s) in st.iter().enumerate() {
-            assert!(
-                s.joints[j].latch != LatchState::Latched || run.latch[j][i],
-                "{dir} joint {}: latched at {} s with the switch open",
-                j + 1,
-                s.t_s
-            );
-        }
-    }
 }

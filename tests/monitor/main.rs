@@ -1,0 +1,113 @@
+//! The on-board monitor (`deploywatch_core::monitor`) on runs of the
+//! simulator with its reference sensor model.
+//!
+//! One module per suite: `prediction`, `latch` (latch declarations), `footprint` (RAM and
+//! frames), `properties` (proptest), `clean` (no fault flag on clean runs), `refresh`; the
+//! shared run helpers are here.
+
+mod clean;
+mod footprint;
+mod latch;
+mod prediction;
+mod properties;
+mod refresh;
+
+use deploywatch_core::monitor::{
+    Monitor, MonitorConfig, Observability, Prediction, Sample, Status,
+};
+use deploywatch_core::Fault;
+use deploywatch_core::LatchState;
+use deploywatch_sim::deployment::{simulate, SimOptions, Trajectory};
+use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::fault_injection::{apply, SensorFault};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::monitor_config::{monitor_config, samples};
+use deploywatch_sim::run::Run;
+use deploywatch_sim::sensor::{measure, SensorModel};
+use deploywatch_tests::{coulomb, data_dir, mechanism, SplitMix};
+
+/// The papers' identified friction, seed 001 (N·m at joints 1–3).
+const SEED001_FRICTION: [f64; 3] = [2.63, 1.7, 0.001];
+
+/// Simulates a mechanism with extra effects and measures it with the
+/// reference sensor. The simulator ends a run at the last latch; the run is
+/// extended by `HOLD_S` of samples at the rest state (latched joints at 0,
+/// switches closed, sensor noise going on), as a real monitor keeps sampling.
+fn simulate_run(mech: &Mechanism, effects: &[Effect], seed: u64) -> (Trajectory, Run) {
+    let mut traj = simulate_truth(mech, effects);
+    hold(&mut traj, HOLD_S, 1.0 / mech.sample_hz);
+    let run = measure(&traj, &[], &SensorModel::REFERENCE, seed);
+    (traj, run)
+}
+
+/// The simulated deployment over the whole run (not stopped at the last
+/// latch).
+fn simulate_truth(mech: &Mechanism, effects: &[Effect]) -> Trajectory {
+    let opts = SimOptions {
+        stop_when_deployed: false,
+        ..SimOptions::default()
+    };
+    simulate(mech, effects, &opts).expect("simulation")
+}
+
+/// Samples the monitor keeps receiving after the last latch \[s\].
+const HOLD_S: f64 = 0.2;
+
+fn hold(traj: &mut Trajectory, hold_s: f64, dt: f64) {
+    let Some(&t_last) = traj.t_s.last() else {
+        return;
+    };
+    let n = traj.joints();
+    let mut t = t_last;
+    let mut k = 0;
+    while t < t_last + hold_s - 1e-9 {
+        k += 1;
+        t = t_last + k as f64 * dt;
+        traj.t_s.push(t);
+        for j in 0..n {
+            let latched = traj.latched[j].last().copied().unwrap_or(false);
+            let phi = traj.phi_deg[j].last().copied().unwrap_or(0.0);
+            traj.phi_deg[j].push(if latched { 0.0 } else { phi });
+            traj.latched[j].push(latched);
+            traj.rate_deg_s[j].push(0.0);
+        }
+    }
+}
+
+fn replay<const N: usize>(cfg: &MonitorConfig<N>, run: &Run) -> Vec<Status<N>> {
+    let mut m = Monitor::new(cfg).expect("monitor config");
+    samples::<N>(run)
+        .expect("joint count")
+        .iter()
+        .map(|s| m.update_and_predict(s))
+        .collect()
+}
+
+/// Index of the first sample at which joint `j` has covered half its stroke
+/// (|φ| ≤ ½ |φ_stowed|, true angle).
+fn half_stroke_index(traj: &Trajectory, stowed_deg: f64, j: usize) -> Option<usize> {
+    traj.phi_deg[j]
+        .iter()
+        .position(|p| p.abs() <= 0.5 * stowed_deg.abs())
+}
+
+/// The scatter of one Monte-Carlo run of seed001_T01: the paper's friction
+/// scaled by U(0.5, 1.5) and each spring by U(0.9, 1.1) (as
+/// `spring_softening` s ∈ [−0.1, 0.1]), joint by joint. Effect `2j` is joint
+/// j's Coulomb torque, `2j + 1` its softening.
+fn scatter(rng: &mut SplitMix) -> Vec<Effect> {
+    let mut effects = Vec::new();
+    for (j, base) in SEED001_FRICTION.iter().enumerate() {
+        effects.push(Effect::joint(
+            EffectKind::CoulombFriction,
+            j + 1,
+            base * rng.uniform(0.5, 1.5),
+        ));
+        let soft = rng.uniform(-0.1, 0.1);
+        effects.push(Effect::joint(EffectKind::SpringSoftening, j + 1, soft));
+    }
+    effects
+}
+
+/// Runs in each Monte-Carlo.
+const MC_RUNS: usize = 200;

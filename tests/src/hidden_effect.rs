@@ -1,0 +1,51 @@
+//! Hidden named effects, for the diagnosis tests (`tests/diagnosis/`,
+//! `tests/diagnosis_physical_latch.rs`): which kinds a campaign draws and
+//! how a kind's joint and value are drawn.
+
+use deploywatch_sim::effect::{Effect, EffectKind};
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
+/// The kinds drawn: the diagnosis's candidates ([`EffectKind::ALL`], in
+/// its order) but `latch_detent`.
+pub fn kinds() -> Vec<EffectKind> {
+    EffectKind::ALL
+        .into_iter()
+        .filter(|&k| k != EffectKind::LatchDetent)
+        .collect()
+}
+
+/// One effect of `kind` on a mechanism of `joints` joints: the joint
+/// uniform, the value log-uniform over a range that the kind makes
+/// visible but not absurd (an encoder offset of either sign). Kinds that
+/// are never drawn ([`kinds`] leaves them out) get the value 0.
+pub fn draw_effect(rng: &mut ChaCha8Rng, kind: EffectKind, joints: usize) -> Effect {
+    let u = |rng: &mut ChaCha8Rng, lo: f64, hi: f64| lo * (hi / lo).powf(rng.gen::<f64>());
+    let j = rng.gen_range(1..=joints);
+    match kind {
+        EffectKind::CoulombFriction => Effect::joint(kind, j, u(rng, 0.05, 1.0)),
+        EffectKind::ViscousDamping => Effect::joint(kind, j, u(rng, 0.05, 1.5)),
+        // Not candidates (not in `EffectKind::ALL`).
+        EffectKind::QuadraticDamping | EffectKind::StribeckFriction => Effect::joint(kind, j, 0.0),
+        EffectKind::SpringSoftening => Effect::joint(kind, j, u(rng, 0.05, 0.35)),
+        EffectKind::HarnessStiffness => Effect::joint(kind, j, u(rng, 0.03, 0.5)),
+        EffectKind::AirDrag => Effect::global(kind, u(rng, 0.05, 1.0)),
+        EffectKind::RigTilt => Effect {
+            alpha_deg: rng.gen_range(0.0..360.0),
+            ..Effect::global(kind, u(rng, 0.01, 0.2))
+        },
+        EffectKind::EncoderOffset => {
+            let s = if rng.gen::<bool>() { 1.0 } else { -1.0 };
+            Effect::joint(kind, j, s * u(rng, 0.3, 2.0))
+        }
+        EffectKind::LatchDetent => Effect::joint(kind, j, u(rng, 0.5, 2.0)),
+        // Not drawn here: tests/unnamed_torque.rs draws its own tables.
+        EffectKind::TorqueTable => Effect::joint(kind, j, 0.0),
+        // Never drawn: they act only on a physical latch (`EffectKind::LATCH`).
+        EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => Effect::joint(kind, j, 0.0),
+        // Never drawn here: they act only on a rig (tests/diagnosis_rig.rs).
+        EffectKind::RigFriction | EffectKind::WireLength | EffectKind::FrameOffset => {
+            Effect::global(kind, 0.0)
+        }
+    }
+}
