@@ -25,7 +25,8 @@ too) of the core's own items. One line per public item reachable by a path,
     re-export PATH = SOURCE               (a `pub use` of another crate's item)
 
 An item reachable by two paths gives two lines: the listing shows where the
-surface is not one path per item. Trait implementations (derived or written,
+surface is not one path per item, and `--check` fails on it too (the core's
+rule: one path per item). Trait implementations (derived or written,
 auto traits, blankets) are left out: the listing is of paths, as
 cargo-public-api's items are; rustdoc's pages show the impls. The listing is
 sorted, so it does not depend on the order of the JSON.
@@ -73,6 +74,7 @@ class Walker:
         self.index = doc["index"]
         self.root = doc["root"]
         self.lines = set()
+        self.paths = {}  # item id -> the paths it is reachable by
 
     def item(self, ident):
         return self.index.get(str(ident))
@@ -114,6 +116,7 @@ class Walker:
             self.emit("re-export", f"{path} = {use['source']}")
 
     def walk_item(self, it, path, stack):
+        self.paths.setdefault(it["id"], set()).add(path)
         kind = kind_of(it)
         inner = it["inner"][kind] if isinstance(it["inner"], dict) else None
         if kind == "module":
@@ -189,17 +192,20 @@ class Walker:
 
 
 def listing():
+    """The listing's lines, and the items reachable by more than one path."""
     doc = rustdoc_json()
     w = Walker(doc)
     w.walk_module(doc["root"], CRATE, frozenset())
-    return [f"{kind} {path}" for path, kind in sorted(w.lines)]
+    lines = [f"{kind} {path}" for path, kind in sorted(w.lines)]
+    twice = sorted(sorted(p) for p in w.paths.values() if len(p) > 1)
+    return lines, twice
 
 
 def main(argv):
     modes = {"--count", "--write", "--check"}
     if len(argv) > 1 or (argv and argv[0] not in modes):
         sys.exit(__doc__)
-    lines = listing()
+    lines, twice = listing()
     text = "".join(l + "\n" for l in lines)
     mode = argv[0] if argv else None
     if mode is None:
@@ -212,8 +218,14 @@ def main(argv):
         print(f"public-api.py: wrote {len(lines)} lines to core/public-api.txt")
     else:
         old = open(LISTING, encoding="utf-8").read() if os.path.exists(LISTING) else ""
+        for paths in twice:
+            print("public-api.py: one item, two paths: " + ", ".join(paths), file=sys.stderr)
+        if twice:
+            print("public-api.py: the core gives each public item one path; "
+                  "make one of them private or drop the re-export", file=sys.stderr)
+            return 1
         if old == text:
-            print(f"public-api.py: core/public-api.txt is up to date ({len(lines)} items)")
+            print(f"public-api.py: core/public-api.txt is up to date ({len(lines)} lines)")
             return 0
         sys.stdout.writelines(difflib.unified_diff(
             old.splitlines(True), text.splitlines(True),

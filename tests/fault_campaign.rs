@@ -14,8 +14,8 @@
 //! Rerun: `cargo test -p deploywatch-tests --test fault_campaign -- --nocapture`
 //! (the table is printed as Markdown; `docs/robustness.md` has a copy).
 
+use deploywatch_core::monitor::LatchState;
 use deploywatch_core::monitor::{Monitor, MonitorConfig, Prediction, Status};
-use deploywatch_core::LatchState;
 use deploywatch_sim::deployment::{simulate, SimOptions, Trajectory};
 use deploywatch_sim::fault_injection::{apply, DropoutMode, SensorFault};
 use deploywatch_sim::mechanism::Mechanism;
@@ -277,7 +277,7 @@ fn score<const N: usize>(
     let st: Vec<Status<N>> = samples::<N>(&run)
         .expect("joint count")
         .iter()
-        .map(|s| m.update_and_predict(s))
+        .map(|s| m.replay_step(s))
         .collect();
     tally.runs += 1;
     let flagged = st.iter().any(|s| !s.is_clean());

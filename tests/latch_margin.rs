@@ -3,8 +3,8 @@
 //! from the mechanism file's plunger, and the on-board prediction of a stop
 //! on the plunger's entry ramp on the bundled latch runs.
 
+use deploywatch_core::monitor::LatchState;
 use deploywatch_core::monitor::{Monitor, MonitorConfig, Prediction, Sample, Status};
-use deploywatch_core::LatchState;
 use deploywatch_sim::design_margin::{joint_margin, Standard};
 use deploywatch_sim::joint_margins::latch_resistance;
 use deploywatch_sim::mechanism::Mechanism;
@@ -22,7 +22,7 @@ fn run(path: &str) -> Run {
 
 fn replay<const N: usize>(cfg: &MonitorConfig<N>, samples: &[Sample<N>]) -> Vec<Status<N>> {
     let mut m = Monitor::new(cfg).expect("monitor config");
-    samples.iter().map(|s| m.update_and_predict(s)).collect()
+    samples.iter().map(|s| m.replay_step(s)).collect()
 }
 
 #[test]

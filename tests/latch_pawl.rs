@@ -21,9 +21,9 @@
 //!   `docs/simulator.md` runs 1,000:
 //!   `DEPLOYWATCH_PAWL_DRAWS=1000 cargo test --release -p deploywatch-tests --test latch_pawl -- --nocapture`).
 
+use deploywatch_core::monitor::{Fault, LatchState};
 use deploywatch_core::monitor::{Monitor, Sample, Status};
 use deploywatch_core::physics::latch_contact::PhysicalLatch;
-use deploywatch_core::{Fault, LatchState};
 use deploywatch_sim::deployment::{self, SimOptions};
 use deploywatch_sim::effect::Effect;
 use deploywatch_sim::latch::{LatchTolerance, PlungerSpec};
@@ -253,7 +253,7 @@ fn replay<const N: usize>(mech: &Mechanism, run: &LatchRun, seed: u64) -> Vec<St
     samples::<N>(&measured)
         .expect("joint count")
         .iter()
-        .map(|s| m.update_and_predict(s))
+        .map(|s| m.replay_step(s))
         .collect()
 }
 
@@ -329,7 +329,7 @@ fn the_monitor_flags_a_broken_pawl() {
 fn statuses<const N: usize>(mech: &Mechanism, samples: &[Sample<N>]) -> Vec<Status<N>> {
     let cfg = monitor_config::<N>(mech).expect("monitor config");
     let mut m = Monitor::new(&cfg).expect("monitor");
-    samples.iter().map(|s| m.update_and_predict(s)).collect()
+    samples.iter().map(|s| m.replay_step(s)).collect()
 }
 
 /// A latched pawl joint rebounds within its notch (0.2 to 0.8°

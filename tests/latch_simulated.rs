@@ -34,9 +34,9 @@
 //! Rerun: `cargo test -p deploywatch-tests --test latch_simulated --
 //! --nocapture` (the counts are printed).
 
+use deploywatch_core::monitor::{Fault, LatchState};
 use deploywatch_core::monitor::{Monitor, MonitorConfig, Status};
 use deploywatch_core::physics::latch_contact::LatchMark;
-use deploywatch_core::{Fault, LatchState};
 use deploywatch_sim::deployment::{self, SimOptions};
 use deploywatch_sim::effect::Effect;
 use deploywatch_sim::latch_deployment::{
@@ -138,7 +138,7 @@ fn replay<const N: usize>(
     samples::<N>(run)
         .expect("joint count")
         .iter()
-        .map(|s| m.update_and_predict(s))
+        .map(|s| m.replay_step(s))
         .collect()
 }
 

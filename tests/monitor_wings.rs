@@ -117,7 +117,7 @@ fn replay<const N: usize>(mech: &Mechanism, run: &Run) -> Result<Vec<Vec<View>>,
             })
             .collect()
     };
-    Ok(s.iter().map(|s| view(&m.update_and_predict(s))).collect())
+    Ok(s.iter().map(|s| view(&m.replay_step(s))).collect())
 }
 
 /// `run` replayed with the monitor of its joint count.

@@ -4,7 +4,7 @@
 //! test checks what paper-vectors.md says to check and prints what it found
 //! (`cargo test -p deploywatch-tests --test paper_vectors -- --nocapture`).
 
-use deploywatch_core::spring::{Branch, Spring};
+use deploywatch_core::{Branch, Spring};
 use deploywatch_sim::design_margin::{joint_margin, margin_pct, Standard};
 use deploywatch_sim::identify::rsm::{fit_quadratic, Ccd, CcdKind, Coding, Fit, Quadratic};
 use deploywatch_sim::identify::rsm_box::{minimize_in_box, minimize_in_box_projected};

@@ -79,7 +79,7 @@ fn bare_stop(r_mm: f64) -> (HostChain<1>, PhysicalLatch<f64>) {
             radius_m: 0.04,
         },
         switch_travel_rad: 0.0,
-        lock: deploywatch_core::physics::pawl::Lock::Detent,
+        lock: deploywatch_core::physics::latch_contact::Lock::Detent,
     };
     let chain = Chain::new([panel], [joint], GlobalEffects::default()).unwrap();
     (chain, latch)

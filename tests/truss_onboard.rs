@@ -10,8 +10,8 @@
 //! against the true EFT, and against the same panels deployed as an open
 //! chain with the same EFT (what the reduced model absorbs of the truss).
 
+use deploywatch_core::monitor::LatchState;
 use deploywatch_core::monitor::Monitor;
-use deploywatch_core::LatchState;
 use deploywatch_sim::effect::{Effect, EffectKind};
 use deploywatch_sim::identify::residual_check::synthetic_run;
 use deploywatch_sim::mechanism::Mechanism;

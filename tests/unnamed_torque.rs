@@ -433,7 +433,7 @@ fn judge_family_case(c: &deploywatch_tests::hidden_torque::Case) -> Verdict {
 /// points per axis; prints the fit loss and returns the re-simulated angle
 /// loss \[deg\] of each compressed one.
 fn monitor_exports(campaign: &Campaign, found: &[Effect]) -> Vec<f64> {
-    use deploywatch_core::torque_table::TABLE_MAX_KNOTS;
+    use deploywatch_core::physics::TABLE_MAX_KNOTS;
     use deploywatch_sim::table_export::export_tables;
     let mut out = Vec::new();
     for x in export_tables(campaign, found) {

@@ -19,29 +19,19 @@ mod fmt;
 
 #[cfg(feature = "hal")]
 pub mod hal;
+#[cfg(feature = "internals")]
+pub mod internals;
 pub mod monitor;
 pub mod physics;
 pub mod telemetry;
 
-// The modules under their short paths (`deploywatch_core::chain`,
-// `deploywatch_core::observer`, ...), as the firmware and host use them.
-pub use monitor::{
-    encoder, faults, latch, latch_margin, margin, observer, plausibility, predictor, resolution,
-    rollout, smoother, standards,
-};
-pub use physics::{chain, friction, linalg, real, spring, torque_table, trig};
-
+// The chain model, at the crate root: one path per item. `physics` holds
+// the rest of the physics (the latch hardware, the friction law's shape
+// functions, the solver), `monitor` the on-board monitor.
 pub use physics::chain::{
     Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel,
 };
 pub use physics::friction::Friction;
 pub use physics::real::Real;
-pub use physics::spring::{Branch, Curve, Fold, Interp, Spring, TapePoints};
+pub use physics::spring::{Branch, Curve, CurveError, Fold, Interp, Spring, TapePoints};
 pub use physics::torque_table::{Table, TableError, TorqueTable};
-
-pub use monitor::faults::{Fault, FaultFlags};
-pub use monitor::latch::LatchState;
-pub use monitor::{
-    JointConfig, JointStatus, Monitor, MonitorConfig, Observability, Prediction, Resolution,
-    Sample, Status,
-};

@@ -1,5 +1,5 @@
-//! Telemetry framing of the monitor's [`Sample`](crate::monitor::estimator::Sample) and
-//! [`Status`](crate::monitor::estimator::Status): postcard, then a CRC-32, then COBS.
+//! Telemetry framing of the monitor's [`Sample`](crate::monitor::Sample) and
+//! [`Status`](crate::monitor::Status): postcard, then a CRC-32, then COBS.
 //!
 //! # Frame
 //! ```text
@@ -103,7 +103,7 @@ const fn framed(payload: usize) -> usize {
 
 /// Largest postcard payload of a `Sample<n>`: time (4), `n` angles (4 each),
 /// `n` switches (1 each).
-pub const fn sample_payload_max(n: usize) -> usize {
+pub(crate) const fn sample_payload_max(n: usize) -> usize {
     4 + 5 * n
 }
 
@@ -116,11 +116,11 @@ pub const fn sample_frame_max(n: usize) -> usize {
 /// viscous observability, latch state and prediction (1 each), the
 /// confidence (4), two `Option<f32>` (5 each), the fault flags (varint
 /// `u16`, ≤ 3) and the resolution (1).
-pub const JOINT_STATUS_PAYLOAD_MAX: usize = 7 * 4 + 1 + 1 + 1 + 4 + 2 * 5 + 3 + 1;
+pub(crate) const JOINT_STATUS_PAYLOAD_MAX: usize = 7 * 4 + 1 + 1 + 1 + 4 + 2 * 5 + 3 + 1;
 
 /// Largest postcard payload of a `Status<n>`: time (4), sample count
 /// (varint `u32`, ≤ 5), then `n` joints.
-pub const fn status_payload_max(n: usize) -> usize {
+pub(crate) const fn status_payload_max(n: usize) -> usize {
     4 + 5 + n * JOINT_STATUS_PAYLOAD_MAX
 }
 

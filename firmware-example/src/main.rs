@@ -18,7 +18,7 @@
 //!
 //! - **the sample-rate path** — `Monitor::update` — in the SysTick
 //!   exception, the timer interrupt of the sampling;
-//! - **the prediction** — slices of `Monitor::predict` of bounded cost — in
+//! - **the prediction** — slices of `Monitor::learn_or_predict` of bounded cost — in
 //!   the main (idle) loop, at thread priority.
 //!
 //! The monitor is shared through a `cortex_m::interrupt::Mutex<RefCell<..>>`

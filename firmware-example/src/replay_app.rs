@@ -131,10 +131,10 @@ impl Paths for Application {
         }
     }
 
-    fn predict(&mut self) -> Result<(), Error> {
+    fn learn_or_predict(&mut self) -> Result<(), Error> {
         // One bounded slice per critical section: the sample interrupt
         // waits at most this long.
-        with_shared(|sh| sh.monitor.predict(&mut sh.meter)).ok_or(Error::Config)?
+        with_shared(|sh| sh.monitor.learn_or_predict(&mut sh.meter)).ok_or(Error::Config)?
     }
 
     fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error> {
@@ -285,7 +285,7 @@ impl Tally {
 }
 
 /// Counts the instructions of every `Monitor::update` and every slice of
-/// `Monitor::predict` with SysTick on the core clock. QEMU's mps2-an386
+/// `Monitor::learn_or_predict` with SysTick on the core clock. QEMU's mps2-an386
 /// clocks the core at 25 MHz of virtual time (a tick is 40 ns), and
 /// `-icount shift=3` makes every instruction 2³ = 8 ns of it, so one tick
 /// is 5 instructions: each call is measured to ±5, the mean far better. SysTick runs with the period
@@ -336,7 +336,7 @@ impl Meter for WorkMeter {
         let ticks = self.elapsed();
         match work {
             Work::Update => self.update.add(ticks),
-            Work::Predict => self.predict.add(ticks),
+            Work::LearnOrPredict => self.predict.add(ticks),
         }
     }
 }

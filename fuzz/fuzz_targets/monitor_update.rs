@@ -20,10 +20,10 @@
 //! maximum telemetry frame.
 #![no_main]
 
-use deploywatch_core::latch::LatchState;
+use deploywatch_core::monitor::LatchState;
 use deploywatch_core::monitor::{Monitor, Sample, Status};
 use deploywatch_core::telemetry::{self, status_frame_max};
-use deploywatch_core::Fault;
+use deploywatch_core::monitor::Fault;
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::monitor_config::monitor_config;
 use libfuzzer_sys::fuzz_target;
@@ -82,7 +82,7 @@ fuzz_target!(|data: &[u8]| {
             reading[missing] = f32::NAN;
         }
         let sample = Sample::new(t_s, reading, std::array::from_fn(|j| ctrl & (1 << j) != 0));
-        let status = monitor.update_and_predict(&sample);
+        let status = monitor.replay_step(&sample);
         check(&status, &mut latched);
         telemetry::encode(&status, &mut frame).expect("a status fits status_frame_max");
     }

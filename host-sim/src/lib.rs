@@ -11,7 +11,7 @@
 //! report writers) ← [`cli`].
 //!
 //! The chain equations are not written here: they live in
-//! [`deploywatch_core::chain`], evaluated in `f64`.
+//! [`deploywatch_core::Chain`], evaluated in `f64`.
 //!
 //! # The public API
 //!

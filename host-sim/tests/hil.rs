@@ -8,11 +8,11 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use deploywatch_core::monitor::LatchState;
 use deploywatch_core::telemetry::link::{read_report, read_shed, serve, LinkReport, Shed};
 use deploywatch_core::telemetry::replay::{
     configure, read_header, ConfigStore, Direct, MonitorStore, Source,
 };
-use deploywatch_core::LatchState;
 use deploywatch_sim::hil::{self, Fate, Inject};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::replay::{self, StatusRow};

@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use deploywatch_core::monitor::{LatchState, Status};
 use deploywatch_core::telemetry;
-use deploywatch_core::{LatchState, Status};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::replay::{self, ReplayError};
 
@@ -95,7 +95,7 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
         "fault",
     ];
     let predictions = ["latch", "stall", "unknown", "ramp_stop"];
-    let fault_names: Vec<&str> = deploywatch_core::Fault::ALL
+    let fault_names: Vec<&str> = deploywatch_core::monitor::Fault::ALL
         .iter()
         .map(|f| f.as_str())
         .collect();
@@ -130,7 +130,7 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
                 col(10)
             );
             assert!(
-                deploywatch_core::Resolution::from_name(col(11)).is_some(),
+                deploywatch_core::monitor::Resolution::from_name(col(11)).is_some(),
                 "resolution {}",
                 col(11)
             );

@@ -81,7 +81,7 @@ class Monitor:
         return self._monitor.joints
 
     def update(self, sample: Sample) -> MonitorStatus:
-        """One sample in (``update_and_predict``, as ``replay``), the status
+        """One sample in (``replay_step``, as ``replay``), the status
         out."""
         if not isinstance(sample, Sample):
             raise InputError(f"sample: expected a deploywatch.Sample(t_s, phi_deg, latch), got {type(sample).__name__}")

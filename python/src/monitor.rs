@@ -1,11 +1,11 @@
 //! The on-board monitor from Python (`deploywatch._native.Monitor`): the
 //! core's `Monitor<N>` configured from a parsed mechanism as `replay`
 //! configures it (`monitor_config`), fed one sample at a time
-//! (`update_and_predict`, what `replay` calls), each status returned as
-//! the dict of its serde form (the fields of `deploywatch_core::Status`).
+//! (`replay_step`, what `replay` calls), each status returned as
+//! the dict of its serde form (the fields of `deploywatch_core::monitor::Status`).
 
 use crate::errors::Kind;
-use deploywatch_core::{Monitor as CoreMonitor, Sample};
+use deploywatch_core::monitor::{Monitor as CoreMonitor, Sample};
 use deploywatch_sim::monitor_config::monitor_config;
 use pyo3::prelude::*;
 
@@ -43,7 +43,7 @@ macro_rules! sized {
                             core::array::from_fn(|j| phi[j]),
                             core::array::from_fn(|j| latch[j]),
                         );
-                        serde_json::to_value(m.update_and_predict(&s))
+                        serde_json::to_value(m.replay_step(&s))
                     })*
                 }
             }

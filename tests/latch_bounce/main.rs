@@ -31,9 +31,9 @@
 //! Rerun: `cargo test --release -p deploywatch-tests --test latch_bounce --
 //! --nocapture` (the counts are printed).
 
-use deploywatch_core::latch::{LockKind, PhysicalLatch};
+use deploywatch_core::monitor::LatchState;
+use deploywatch_core::monitor::{LockKind, PhysicalLatch};
 use deploywatch_core::monitor::{Monitor, MonitorConfig, Status};
-use deploywatch_core::LatchState;
 use deploywatch_sim::deployment::{simulate, SimOptions, Trajectory};
 use deploywatch_sim::fault_injection::{apply, SensorFault};
 use deploywatch_sim::mechanism::Mechanism;
@@ -332,7 +332,7 @@ fn replay<const N: usize>(cfg: &MonitorConfig<N>, run: &Run) -> Vec<Status<N>> {
     samples::<N>(run)
         .expect("joint count")
         .iter()
-        .map(|s| m.update_and_predict(s))
+        .map(|s| m.replay_step(s))
         .collect()
 }
 

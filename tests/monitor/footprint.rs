@@ -24,7 +24,7 @@ fn monitor_fits_in_its_ram_budget() {
         "size_of::<Status<3>>() = {} bytes",
         std::mem::size_of::<Status<3>>()
     );
-    let latch = std::mem::size_of::<deploywatch_core::monitor::latch::LatchConfig>();
+    let latch = std::mem::size_of::<deploywatch_core::monitor::LatchConfig>();
     assert!(latch <= 60, "LatchConfig: {latch} bytes");
     assert!(size <= MONITOR_3_BUDGET_B, "{size} bytes");
 }

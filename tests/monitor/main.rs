@@ -12,11 +12,11 @@ mod prediction;
 mod properties;
 mod refresh;
 
+use deploywatch_core::monitor::Fault;
+use deploywatch_core::monitor::LatchState;
 use deploywatch_core::monitor::{
     Monitor, MonitorConfig, Observability, Prediction, Sample, Status,
 };
-use deploywatch_core::Fault;
-use deploywatch_core::LatchState;
 use deploywatch_sim::deployment::{simulate, SimOptions, Trajectory};
 use deploywatch_sim::effect::{Effect, EffectKind};
 use deploywatch_sim::fault_injection::{apply, SensorFault};
@@ -79,7 +79,7 @@ fn replay<const N: usize>(cfg: &MonitorConfig<N>, run: &Run) -> Vec<Status<N>> {
     samples::<N>(run)
         .expect("joint count")
         .iter()
-        .map(|s| m.update_and_predict(s))
+        .map(|s| m.replay_step(s))
         .collect()
 }
 

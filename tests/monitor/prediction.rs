@@ -267,15 +267,15 @@ const GLIDE_TOLERANCE_S: f64 = 0.005;
 /// latch instant \[s\], if it latches (before or after the deadline).
 fn rollout_from_truth(
     cfg: &MonitorConfig<3>,
-    mut rc: deploywatch_core::rollout::RolloutConfig,
+    mut rc: deploywatch_core::monitor::RolloutConfig,
     traj: &Trajectory,
     effects: &[Effect],
     i: usize,
     j: usize,
 ) -> Option<f64> {
-    use deploywatch_core::rollout::{Rollout, RolloutStart};
+    use deploywatch_core::internals::{Rollout, RolloutStart};
     use deploywatch_core::ChainState;
-    let chain = *Monitor::new(cfg).unwrap().chain();
+    let chain = cfg.chain().unwrap();
     rc.horizon_s = (f64::from(cfg.margin.deadline_s) - traj.t_s[i]) as f32;
     rc.steps_per_slice = u8::MAX;
     let mut r = Rollout::new(RolloutStart {

@@ -1,8 +1,8 @@
 //! Properties of the monitor over generated inputs (proptest): never a panic, statuses in range.
 
 use super::*;
+use deploywatch_core::monitor::Fault;
 use deploywatch_core::monitor::JointStatus;
-use deploywatch_core::Fault;
 use proptest::prelude::*;
 
 fn any_f32() -> impl Strategy<Value = f32> {
@@ -73,7 +73,7 @@ proptest! {
         for (dt, phi, latch) in steps {
             t = if dt.is_finite() { t + dt } else { dt };
             let s = Sample::new(t, phi, latch);
-            let st = m.update_and_predict(&s);
+            let st = m.replay_step(&s);
             for (j, js) in st.joints.iter().enumerate() {
                 prop_assert!(finite_status(js), "{js:?}");
                 if !phi[j].is_finite() {
@@ -111,7 +111,7 @@ proptest! {
         let mut m = Monitor::new(&cfg).unwrap();
         let mut latched = [false; 3];
         for s in &ss {
-            let st = m.update_and_predict(s);
+            let st = m.replay_step(s);
             #[allow(clippy::needless_range_loop)]
             for j in 0..3 {
                 let now = st.joints[j].latch == LatchState::Latched;

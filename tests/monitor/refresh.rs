@@ -8,7 +8,7 @@ const REFRESH_LIMIT_S: f64 = 0.5;
 
 /// How fresh the prediction is: replaying seed001 T01 and T02 with the
 /// papers' friction at 100 Hz on the replay schedule
-/// (`Monitor::update_and_predict`: `slices_per_sample` slices of
+/// (`Monitor::replay_step`: `slices_per_sample` slices of
 /// `steps_per_slice` units of rollout work after each sample), the longest
 /// time between two completed full predictions — a cycle of the nominal
 /// rollout and the brackets its verdicts need (`docs/monitor.md` §6) —
@@ -98,11 +98,11 @@ fn check_refresh<const N: usize>(label: &str, mech: &Mechanism, run: &Run, end: 
     let mut done: Vec<f64> = Vec::new();
     for s in samples::<N>(run).unwrap() {
         m.update(&s);
-        let before = m.predictor().refreshes();
+        let before = m.prediction_refreshes();
         for _ in 0..slices {
-            m.predict();
+            m.learn_or_predict();
         }
-        if m.predictor().refreshes() != before {
+        if m.prediction_refreshes() != before {
             done.push(f64::from(s.t_s));
         }
     }

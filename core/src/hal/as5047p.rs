@@ -32,8 +32,10 @@ use embedded_hal::spi::SpiDevice;
 pub use crate::monitor::encoder::COUNTS_PER_TURN;
 use crate::monitor::encoder::{FrameError, DATA_MASK};
 
-/// Register addresses (14 bits).
-pub mod reg {
+/// Register addresses (14 bits): the chip's whole map, of which the
+/// driver reads some.
+#[allow(dead_code)]
+pub(crate) mod reg {
     /// No operation; reading it fetches the previous command's answer.
     pub const NOP: u16 = 0x0000;
     /// Error register: framing, invalid command, parity. Reading clears it.
@@ -79,7 +81,7 @@ impl<E: core::fmt::Debug> core::error::Error for EncoderError<E> {}
 
 /// The ERRFL register: why the encoder raised its error flag.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub struct ErrorFlags(pub u16);
+pub struct ErrorFlags(u16);
 
 impl ErrorFlags {
     /// FRERR: a frame did not have 16 clock cycles.
@@ -88,6 +90,12 @@ impl ErrorFlags {
     pub const INVALID_COMMAND: u16 = 1 << 1;
     /// PARERR: a command frame failed its parity check.
     pub const PARITY: u16 = 1 << 2;
+
+    /// The register's bits (the constants above; others as the chip
+    /// gave them).
+    pub const fn bits(self) -> u16 {
+        self.0
+    }
 
     /// True when `bit` (one of the constants) is set.
     pub const fn contains(self, bit: u16) -> bool {

@@ -11,13 +11,13 @@
 //! - [`LatchSwitch`]: the latch switch of each joint, on a digital input of
 //!   either polarity.
 //!
-//! What the drivers read becomes a [`crate::Sample`]: the encoder angle
+//! What the drivers read becomes a [`crate::monitor::Sample`]: the encoder angle
 //! after the joint's mounting offset, and the switch state. A reading that
 //! fails is a missing measurement for the monitor (NaN angle), not a reason
 //! to stop.
 
-pub mod as5047p;
-pub mod switch;
+mod as5047p;
+mod switch;
 
 pub use as5047p::{As5047p, EncoderError, ErrorFlags};
 pub use switch::{ActiveLevel, LatchSwitch};

@@ -30,7 +30,7 @@ pub enum Creep {
     Stops,
 }
 
-/// One creeping joint, for [`creep`].
+/// One creeping joint, for `creep`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CreepJoint {
     /// `|φ|` now \[rad\].
@@ -69,6 +69,7 @@ pub struct CreepJoint {
 ///
 /// `horizon_s` is the time that matters \[s\]: the integration stops once it
 /// is passed (the joint does not latch within it either way).
+#[cfg(test)]
 pub fn creep(
     spring: &crate::physics::spring::Spring<f32>,
     joint: &CreepJoint,
@@ -84,7 +85,7 @@ pub fn creep(
     }
 }
 
-/// [`creep`] in progress: resumable, a bounded number of spring
+/// `creep` in progress: resumable, a bounded number of spring
 /// evaluations at a time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CreepRun {
@@ -105,7 +106,7 @@ enum CreepStage {
 }
 
 impl CreepRun {
-    /// The creep of `joint` (see [`creep`]), not yet begun.
+    /// The creep of `joint` (see `creep`), not yet begun.
     pub fn new(joint: CreepJoint, wc: f32, horizon_s: f32) -> Self {
         CreepRun {
             joint,

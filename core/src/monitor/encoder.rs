@@ -1,6 +1,6 @@
 //! The AS5047P's 14-bit angle and its SPI frame check: pure functions, with
 //! no bus and no feature gate, shared by the driver (`crate::hal`, feature
-//! `hal`), the monitor's sensor model ([`crate::monitor::estimator::SensorConfig`]) and
+//! `hal`), the monitor's sensor model ([`crate::monitor::SensorConfig`]) and
 //! the host's sensor simulation and fault injection.
 //!
 //! An answer frame (AS5047P datasheet v1-06, "SPI Interface"):

@@ -12,7 +12,7 @@
 //!    ([`crate::monitor::latch`]), and the plastic latch impulse on the rates;
 //! 4. the sample queued for the friction learning (a bounded queue).
 //!
-//! [`Monitor::predict`] is the slow path (the idle loop or a low-priority
+//! [`Monitor::learn_or_predict`] is the slow path (the idle loop or a low-priority
 //! task), in slices of bounded cost. A slice either learns from one queued
 //! sample, oldest first —
 //!
@@ -34,7 +34,7 @@
 //! (`joint.rs`); the sample path [`Monitor::update`] (`sample.rs`) and its
 //! stages: the clock (`clock.rs`), the encoder checks (`encoders.rs`), the
 //! rate filters (`rates.rs`), the latch states and impulse (`latches.rs`);
-//! the slow path [`Monitor::predict`] (`slow_path.rs`): the learning queue
+//! the slow path [`Monitor::learn_or_predict`] (`slow_path.rs`): the learning queue
 //! (`learning.rs`), the energy margin (`energy.rs`) and the hand-over to
 //! the prediction (`prediction.rs`).
 
@@ -52,16 +52,10 @@ mod state;
 
 pub use self::learning::LEARNING_QUEUE;
 pub use self::state::Monitor;
-pub use crate::monitor::config::{
-    ConfigError, JointConfig, JointParam, MarginConfig, MonitorConfig, ObserverConfig,
-    SensorConfig, TuningParam, ENCODER_RANGE_DEG,
-};
-pub use crate::monitor::predictor::Prediction;
-pub use crate::monitor::status::{
-    JointStatus, Observability, Resolution, Sample, Status, OBSERVED_PRIOR_SHARE,
-    VISCOUS_RESOLVED_SD,
-};
 
+// The unit tests (`estimator/tests.rs`) name the monitor's other types.
+#[cfg(test)]
+use crate::monitor::*;
 /// A chain of `N` equal panels (0.8 m, 4 kg) on linear springs, stowed at
 /// 90°, 100°, …, with the default tuning: the unit tests' mechanism.
 #[cfg(test)]

@@ -104,14 +104,31 @@ impl core::fmt::Display for Fault {
 }
 
 /// A set of [`Fault`]s. Displays as the names joined by `|` (empty when
-/// clear), the form of the status CSV's `faults<j>` column.
+/// clear), the form of the status CSV's `faults<j>` column. On the wire
+/// (postcard) it is the `u16` of [`FaultFlags::bits`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct FaultFlags(pub u16);
+pub struct FaultFlags(u16);
 
 impl FaultFlags {
     /// No fault.
     pub const EMPTY: Self = FaultFlags(0);
+
+    /// The set as bits: [`Fault::bit`] of each fault in it.
+    pub const fn bits(self) -> u16 {
+        self.0
+    }
+
+    /// The set of `bits` ([`Fault::bit`] of each fault); `None` when a
+    /// bit names no fault.
+    pub const fn from_bits(bits: u16) -> Option<Self> {
+        let all = (1u16 << Fault::ALL.len()) - 1;
+        if bits & !all == 0 {
+            Some(FaultFlags(bits))
+        } else {
+            None
+        }
+    }
 
     /// True when no flag is set.
     pub const fn is_empty(self) -> bool {
@@ -181,6 +198,8 @@ mod tests {
         assert_eq!(FaultFlags::from_names(&s), Some(f));
         assert_eq!(FaultFlags::from_names(""), Some(FaultFlags::EMPTY));
         assert_eq!(FaultFlags::from_names("nope"), None);
+        assert_eq!(FaultFlags::from_bits(f.bits()), Some(f));
+        assert_eq!(FaultFlags::from_bits(1 << Fault::ALL.len()), None);
         for (i, fault) in Fault::ALL.iter().enumerate() {
             assert_eq!(fault.bit(), 1 << i);
         }

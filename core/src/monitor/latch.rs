@@ -355,6 +355,7 @@ impl LatchTracker {
 
     /// True once the switch has been closed far from the latch angle for
     /// the debounce time: it is then not used for the latch decision.
+    #[cfg(test)]
     pub fn switch_suspect(&self) -> bool {
         self.switch_suspect
     }

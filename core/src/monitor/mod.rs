@@ -6,28 +6,50 @@
 //! tracker ([`latch`]), the reading checks ([`plausibility`], [`faults`],
 //! [`encoder`]) with each joint's [`resolution`], the torque margin ([`margin`], factors of [`standards`], the
 //! physical latch's engagement in [`latch_margin`])
-//! and the latch / stall prediction ([`predictor`] over [`rollout`], which ends in [`creep`]).
+//! and the latch / stall prediction ([`predictor`] over [`rollout`], which ends in `creep`).
 //! `core/README.md` maps the two paths.
 
-pub mod bounce;
-pub mod config;
-pub mod creep;
+pub(crate) mod bounce;
+pub(crate) mod config;
+pub(crate) mod creep;
 pub mod encoder;
-pub mod estimator;
-pub mod faults;
-pub mod held;
-pub mod latch;
-pub mod latch_margin;
-pub mod margin;
-pub mod observer;
-pub mod plausibility;
-pub mod predictor;
-pub mod rate_filter;
-pub mod resolution;
-pub mod rollout;
-pub(crate) mod serde_array;
-pub mod smoother;
+pub(crate) mod estimator;
+pub(crate) mod faults;
+pub(crate) mod held;
+pub(crate) mod latch;
+pub(crate) mod latch_margin;
+pub(crate) mod margin;
+pub(crate) mod observer;
+pub(crate) mod plausibility;
+pub(crate) mod predictor;
+pub(crate) mod rate_filter;
+pub(crate) mod resolution;
+pub(crate) mod rollout;
+mod serde_array;
+pub(crate) mod smoother;
 pub mod standards;
-pub mod status;
+pub(crate) mod status;
 
-pub use estimator::*;
+pub use config::{
+    ConfigError, JointConfig, JointParam, MarginConfig, MonitorConfig, ObserverConfig,
+    SensorConfig, TuningParam, ENCODER_RANGE_DEG,
+};
+pub use estimator::{Monitor, LEARNING_QUEUE};
+pub use faults::{Fault, FaultFlags};
+pub use latch::{LatchConfig, LatchState, LockKind, PhysicalLatch};
+pub use latch_margin::Engagement;
+pub use margin::{UncertaintyFactors, MARGIN_CAP_PCT};
+pub use observer::{FrictionPrior, ObserverTuning};
+pub use predictor::Prediction;
+pub use rate_filter::JerkAdaptation;
+pub use rollout::RolloutConfig;
+pub use status::{
+    JointStatus, Observability, Resolution, Sample, Status, OBSERVED_PRIOR_SHARE,
+    VISCOUS_RESOLVED_SD,
+};
+
+/// The internals [`crate::internals`] shows (feature `internals`).
+#[cfg(feature = "internals")]
+pub(crate) mod internals {
+    pub use super::rollout::{JointOutcome, Rollout, RolloutStart};
+}

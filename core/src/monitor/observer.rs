@@ -26,7 +26,9 @@
 //! Gaussian prior, a random-walk drift and a measurement variance estimated
 //! on line and inflated by the correlation of the filtered residual.
 
-use crate::physics::chain::{Chain, ChainRef};
+#[cfg(test)]
+use crate::physics::chain::Chain;
+use crate::physics::chain::ChainRef;
 use crate::physics::friction::coulomb_shape;
 
 /// The velocity-dependent terms of the chain's equations at one state.
@@ -50,6 +52,7 @@ pub struct MomentumTerms<const N: usize> {
 /// b_k = −θ̇_k Σ_l A_kl sin(θ_k − θ_l) θ̇_l,  β_j = Σ_{k ≥ j} b_k
 /// C_k = Σ_l A_kl sin(θ_k − θ_l) θ̇_l²
 /// ```
+#[cfg(test)]
 pub fn momentum_terms<const N: usize>(
     chain: &Chain<f32, N>,
     phi: &[f32; N],
@@ -58,7 +61,7 @@ pub fn momentum_terms<const N: usize>(
     momentum_terms_n(&chain.counted(), phi, omega)
 }
 
-/// [`momentum_terms`] of the chain's first `n` joints ([`ChainRef`]) over
+/// `momentum_terms` of the chain's first `n` joints ([`ChainRef`]) over
 /// arrays of capacity `M` (zero past `n`): the same arithmetic in the same
 /// order, one copy of the code for every joint count up to `M`.
 #[inline(always)]
@@ -288,12 +291,6 @@ impl FrictionObserver {
             .max(LAG_VAR_START * self.prior.coulomb_sd_nm * self.prior.coulomb_sd_nm);
     }
 
-    /// Mean square of the disturbance estimate's lag `d − r = ṙ/K`
-    /// [N²·m²]: how far `r` may be from the torque now.
-    pub fn lag_var(&self) -> f32 {
-        self.lag_var
-    }
-
     /// A lower bound of the Coulomb torque [N·m] from the friction torque
     /// acting now: `|d| = |T_C tanh(ω/ω_c) + f ω| ≤ T_C + f|ω|`, so
     /// `T_C ≥ |r| − f|ω| − 2σ_r` for the viscous coefficient `viscous_nms`
@@ -312,11 +309,6 @@ impl FrictionObserver {
         } else {
             0.0
         }
-    }
-
-    /// The filtered regressors `y = F[−tanh(ω/ω_c), −ω]`.
-    pub fn regressors(&self) -> [f32; P] {
-        self.y
     }
 
     /// Resets the parameters to the prior (after a numerical failure).

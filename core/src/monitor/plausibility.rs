@@ -49,7 +49,7 @@
 //!   rates — leaves the old trajectory and does not return to it.
 //!
 //! Per joint, a few floating-point operations per sample: the checks run in
-//! the encoder stage of [`Monitor::update`](crate::Monitor::update), before
+//! the encoder stage of [`Monitor::update`](crate::monitor::Monitor::update), before
 //! the rate filter takes the reading.
 
 use crate::monitor::faults::Fault;

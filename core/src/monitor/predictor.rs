@@ -1,13 +1,13 @@
 //! The latch / stall prediction as a resumable computation: the cycle of
-//! rollouts ([`crate::monitor::rollout`]) that [`crate::Monitor::predict`] advances
+//! rollouts ([`crate::monitor::rollout`]) that [`crate::monitor::Monitor::learn_or_predict`] advances
 //! slice by slice, at a lower priority than the sample path.
 //!
-//! The sample path ([`crate::Monitor::update`]) hands the predictor the
-//! last settled state ([`Predictor::set_start`]); each slice
-//! ([`Predictor::slice`]) advances the rollout in progress by a bounded
+//! The sample path ([`crate::monitor::Monitor::update`]) hands the predictor the
+//! last settled state ([`Cycle::set_start`]); each slice
+//! ([`Cycle::slice`]) advances the rollout in progress by a bounded
 //! amount of work and, when it ends, stores its outcome and starts the next
 //! rollout of the cycle from that state, with the friction beliefs the
-//! monitor gives it then. [`Predictor::prediction`] turns the last finished
+//! monitor gives it then. [`Cycle::prediction`] turns the last finished
 //! rollouts into a joint's prediction, confidence and time to the latch.
 //!
 //! A cycle — one *full prediction* — is the nominal rollout (the
@@ -23,7 +23,7 @@ use crate::monitor::rollout::{
     normal_quantile, Bracket, JointOutcome, RolloutConfig, RolloutStart, Stepper,
     ROLLOUT_MAX_JOINTS,
 };
-use crate::physics::chain::{Chain, ChainRef, ChainState};
+use crate::physics::chain::{ChainRef, ChainState};
 use serde::{Deserialize, Serialize};
 /// The latch / stall prediction of a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
@@ -163,73 +163,10 @@ impl<const N: usize> Predictor<N> {
         }
     }
 
-    /// Where the next rollout starts: time \[s\], joint state and locked
-    /// joints; `None` while no settled state is at hand (a rollout in
-    /// progress goes on, a finished one is kept).
-    pub fn set_start(&mut self, start: Option<(f32, ChainState<f32, N>, [bool; N])>) {
-        self.cycle.set_start(start.map(|(t, x, locked)| {
-            let mut padded = (
-                t,
-                ChainState {
-                    phi: [0.0; N],
-                    phi_dot: [0.0; N],
-                },
-                [true; N],
-            );
-            for j in 0..N.min(N) {
-                padded.1.phi[j] = x.phi[j];
-                padded.1.phi_dot[j] = x.phi_dot[j];
-                padded.2[j] = locked[j];
-            }
-            padded
-        }));
-    }
-
-    /// The rollout in progress: its bracket, start time \[s\] and the time
-    /// it has simulated \[s\] (for diagnostics).
-    pub fn in_progress(&self) -> Option<(Bracket, f32, f32)> {
-        self.cycle.rollout.map(|(r, b, t0)| (b, t0, r.elapsed_s()))
-    }
-
     /// Full predictions completed so far: cycles of the nominal rollout and
     /// the brackets its verdicts need.
     pub fn refreshes(&self) -> u32 {
         self.cycle.refreshes
-    }
-
-    /// One slice: advances the rollout in progress by at most
-    /// `cfg.steps_per_slice` units of work; when it ends, stores its outcome
-    /// and starts the next rollout of the cycle from the last start handed
-    /// over, with `belief(j)` for each joint. `deadline_s` is the absolute
-    /// deadline \[s\]: only the time left to it is simulated. Returns true
-    /// when a rollout finished.
-    pub fn slice(
-        &mut self,
-        chain: &Chain<f32, N>,
-        cfg: &RolloutConfig,
-        deadline_s: f32,
-        capture_rad: &[f32; N],
-        belief: impl Fn(usize) -> FrictionBelief,
-    ) -> bool {
-        let store = chain.coefficients();
-        let mut capture = [0.0f32; N];
-        for (c, x) in capture.iter_mut().zip(capture_rad.iter()) {
-            *c = *x;
-        }
-        let chain = chain.counted_with(&store);
-        self.cycle.slice(&chain, cfg, deadline_s, &capture, &belief)
-    }
-
-    /// The latch / stall prediction of joint `j` at time `t` \[s\] from the
-    /// last finished rollouts and what `query` says of the joint
-    /// ([`Cycle::prediction`]).
-    pub fn prediction(
-        &mut self,
-        j: usize,
-        t: f32,
-        query: &PredictionQuery,
-    ) -> (Prediction, f32, Option<f32>) {
-        self.cycle.prediction(j, t, query)
     }
 
     /// The cycle itself, for the monitor's slow path written once for
@@ -266,13 +203,16 @@ impl<const R: usize> Cycle<R> {
         usize::from(self.n).min(R)
     }
 
-    /// [`Predictor::set_start`] over arrays of capacity
-    /// [`ROLLOUT_MAX_JOINTS`] (the joints past the count locked).
+    /// Where the next rollout starts: time \[s\], joint state and locked
+    /// joints, over arrays of capacity [`ROLLOUT_MAX_JOINTS`] (the joints
+    /// past the count locked); `None` while no settled state is at hand (a
+    /// rollout in progress goes on, a finished one is kept).
     pub(crate) fn set_start(&mut self, start: Option<Start<R>>) {
         self.start = start;
     }
 
-    /// [`Predictor::slice`] on the chain's equations over the joints in
+    /// One slice: advances the rollout in progress by a bounded amount of
+    /// work (`RolloutConfig::steps_per_slice`), on the chain's equations over the joints in
     /// use, `capture_rad` and `belief` of each of them: one copy for every
     /// joint count.
     #[inline(never)]
@@ -477,7 +417,7 @@ fn stall_kind(energy: Option<MarginResult>) -> Prediction {
 /// override (`docs/monitor.md` §6).
 pub const ENERGY_STALL_CLEAR: f32 = 0.5;
 
-/// What [`Predictor::prediction`] needs to know of one joint besides the
+/// What [`Cycle::prediction`] needs to know of one joint besides the
 /// rollouts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PredictionQuery {

@@ -108,14 +108,9 @@ impl RateFilter {
     }
 
     /// The jerk spectral density in use [rad²/s⁵].
+    #[cfg(test)]
     pub fn jerk_psd(&self) -> f32 {
         self.q
-    }
-
-    /// Running mean of the normalised innovation squared (≈ 1 when the
-    /// filter follows the joint; larger while it lags a manoeuvre).
-    pub fn nis(&self) -> f32 {
-        self.nis
     }
 
     /// Sets the jerk spectral density [rad²/s⁵].

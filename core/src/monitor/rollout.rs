@@ -26,12 +26,12 @@
 //! (the deployment's deadline), or once every free joint has crept
 //! (|ω| < 2 ω_c) for [`STALL_HOLD_S`] and none can break free: the rest is
 //! then quasi-static creep, whose time to the capture angle is a quadrature
-//! over the spring curve ([`creep`]). The creep speeds up where the spring
+//! over the spring curve (`creep`). The creep speeds up where the spring
 //! stiffens towards the latch (the tape springs of seed 001 do), so the rate
 //! of the moment is no guide to the time it takes.
 //!
 //! It runs up to three times per cycle ([`crate::monitor::predictor`]), a bounded
-//! amount of work per slice of [`crate::Monitor::predict`]: with the
+//! amount of work per slice of [`crate::monitor::Monitor::learn_or_predict`]: with the
 //! estimates `T̂_C`, `f̂`, `κ̂` (nominal: the prediction), with `T̂_C + zσ`,
 //! `f̂ + zσ` and the springs at `1 + κ̂ − zσ_κ` (pessimistic), and with
 //! `max(T̂_C − zσ, L)`, `f̂ − zσ` and `1 + κ̂ + zσ_κ` (optimistic, `L` the
@@ -40,12 +40,16 @@
 //! optimistic one confirms, holds at that confidence for the friction
 //! estimate; one that the bracket does not confirm is the best estimate only.
 
-use crate::physics::chain::{Chain, ChainRef, ChainState, Mode};
+#[cfg(any(test, feature = "internals"))]
+use crate::physics::chain::Chain;
+use crate::physics::chain::{ChainRef, ChainState, Mode};
 use crate::physics::friction::coulomb_shape;
 use crate::physics::linalg::solve_spd_masked_n;
 use crate::physics::spring::Branch;
 
-pub use crate::monitor::creep::{creep, Creep, CreepJoint, CreepRun};
+use crate::monitor::creep::CreepRun;
+#[cfg(test)]
+use crate::monitor::creep::{creep, Creep, CreepJoint};
 
 /// The most joints a rollout holds: the most a monitor has
 /// (`telemetry::config::MAX_JOINTS`). The rollout's stepping (`Stepper<R>`)
@@ -107,13 +111,13 @@ pub struct RolloutConfig {
     /// ([`GLIDE_TURN_RAD`], [`GLIDE_RATE_CHANGE`]); below two steps the
     /// step stays fixed.
     pub glide_dt_s: f32,
-    /// Units of work per slice of [`crate::Monitor::predict`] (a unit: one
+    /// Units of work per slice of [`crate::monitor::Monitor::learn_or_predict`] (a unit: one
     /// step, two chain evaluations, or [`CREEP_EVALS_PER_STEP`] spring
     /// evaluations of the creep quadrature); 0 switches the rollouts off (the prediction then
     /// rests on the one-joint energy balance of [`crate::monitor::margin`] alone).
     pub steps_per_slice: u8,
-    /// Slices of [`crate::Monitor::predict`] a replay runs after each
-    /// sample ([`crate::Monitor::update_and_predict`]): the time the
+    /// Slices of [`crate::monitor::Monitor::learn_or_predict`] a replay runs after each
+    /// sample ([`crate::monitor::Monitor::replay_step`]): the time the
     /// application gives the prediction between two samples, fixed so that
     /// a replay is deterministic.
     pub slices_per_sample: u8,
@@ -134,7 +138,9 @@ pub struct JointOutcome {
 }
 
 /// One forward simulation in progress: a shell over the stepping written
-/// over arrays of capacity `N` (`Stepper<N>`).
+/// over arrays of capacity `N` (`Stepper<N>`), for the tests that check it
+/// against the host simulator (the monitor runs `Stepper` itself).
+#[cfg(any(test, feature = "internals"))]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rollout<const N: usize> {
     core: Stepper<N>,
@@ -159,7 +165,7 @@ pub(crate) struct Stepper<const R: usize> {
     accel: [f32; R],
     done: bool,
     /// The joints whose outcome is wanted: the rollout ends once all of
-    /// them have latched (every joint unless [`Rollout::watching`]).
+    /// them have latched (every joint unless `Rollout::watching`).
     watch: [bool; R],
     /// The creep quadrature in progress, resumed slice by slice.
     settle: Option<Settle<R>>,
@@ -199,6 +205,7 @@ struct Settle<const R: usize> {
 
 /// `v` of `N` joints in an array of capacity [`ROLLOUT_MAX_JOINTS`], the
 /// rest `fill`.
+#[cfg(any(test, feature = "internals"))]
 fn pad<T: Copy, const N: usize, const R: usize>(v: &[T; N], fill: T) -> [T; R] {
     let mut out = [fill; R];
     for (o, x) in out.iter_mut().zip(v.iter()) {
@@ -208,10 +215,16 @@ fn pad<T: Copy, const N: usize, const R: usize>(v: &[T; N], fill: T) -> [T; R] {
 }
 
 /// The first `N` of `v`, the rest (none unless `N > R`) `fill`.
+#[cfg(any(test, feature = "internals"))]
+// The unit tests use part of it; `internals` shows all of it.
+#[cfg_attr(not(feature = "internals"), allow(dead_code))]
 fn unpad<T: Copy, const N: usize, const R: usize>(v: &[T; R], fill: T) -> [T; N] {
     core::array::from_fn(|j| v.get(j).copied().unwrap_or(fill))
 }
 
+#[cfg(any(test, feature = "internals"))]
+// The unit tests use part of it; `internals` shows all of it.
+#[cfg_attr(not(feature = "internals"), allow(dead_code))]
 impl<const N: usize> Rollout<N> {
     /// A rollout from `start`, not yet advanced.
     pub fn new(start: RolloutStart<N>) -> Self {
@@ -246,7 +259,7 @@ impl<const N: usize> Rollout<N> {
         unpad(&self.core.started_latched(), true)
     }
 
-    /// The joints whose outcome the rollout decides ([`Rollout::watching`]).
+    /// The joints whose outcome the rollout decides (`Rollout::watching`).
     pub fn watch(&self) -> [bool; N] {
         unpad(&self.core.watch(), false)
     }
@@ -267,10 +280,8 @@ impl<const N: usize> Rollout<N> {
         core::array::from_fn(|j| out.get(j).copied().unwrap_or_default())
     }
 
-    /// Advances by up to `cfg.steps_per_slice` units of work: a unit is
-    /// one step of the chain, or [`CREEP_EVALS_PER_STEP`] spring
-    /// evaluations of the creep quadrature and snap-through, so that a
-    /// slice costs about the same whatever the rollout is doing.
+    /// Advances by up to `cfg.steps_per_slice` units of work
+    /// ([`Stepper::advance`]).
     pub fn advance(&mut self, chain: &Chain<f32, N>, cfg: &RolloutConfig) {
         let store = chain.coefficients();
         self.core.advance(&chain.counted_with(&store), cfg);
@@ -332,7 +343,7 @@ impl<const R: usize> Stepper<R> {
         }
     }
 
-    /// [`Rollout::watching`]: the joints in use of `watch`.
+    /// `Rollout::watching`: the joints in use of `watch`.
     pub(crate) fn watching(mut self, watch: [bool; R]) -> Self {
         let n = self.count();
         self.watch = core::array::from_fn(|j| j < n && watch[j]);
@@ -351,6 +362,8 @@ impl<const R: usize> Stepper<R> {
     }
 
     /// Time simulated so far \[s\].
+    #[cfg(any(test, feature = "internals"))]
+    #[cfg_attr(not(feature = "internals"), allow(dead_code))]
     pub(crate) fn elapsed_s(&self) -> f32 {
         self.t_s
     }
@@ -374,7 +387,11 @@ impl<const R: usize> Stepper<R> {
         usize::from(self.n).min(R)
     }
 
-    /// [`Rollout::advance`], one copy for every joint count.
+    /// Advances by up to `cfg.steps_per_slice` units of work: a unit is
+    /// one step of the chain, or [`CREEP_EVALS_PER_STEP`] spring
+    /// evaluations of the creep quadrature and snap-through, so that a
+    /// slice costs about the same whatever the rollout is doing. One copy
+    /// for every joint count.
     #[inline(never)]
     pub(crate) fn advance(&mut self, chain: &Model<'_, R>, cfg: &RolloutConfig) {
         for _ in 0..cfg.steps_per_slice {

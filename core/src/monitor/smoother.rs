@@ -102,11 +102,6 @@ impl<const N: usize> CentredFit<N> {
         }
     }
 
-    /// Forgets every sample (after the time base changed).
-    pub fn clear(&mut self) {
-        *self = Self::new();
-    }
-
     /// Adds a sample: time \[s\], readings \[rad\] (NaN where missing or
     /// rejected), whether it is fit to learn from, and the locked joints.
     pub fn push(&mut self, t_s: f32, phi: &[f32; N], clean: bool, locked: &[bool; N]) {
@@ -138,11 +133,12 @@ impl<const N: usize> CentredFit<N> {
     /// one reading \[rad²\]; `None` unless the window is full, every sample in
     /// it is clean, no joint latched or unlatched inside it, every free
     /// joint has every reading, and each fit's residual is that of noise.
+    #[cfg(test)]
     pub fn centre(&self, meas_var: f32) -> Option<Centre<N>> {
         self.centre_with(meas_var, |c| *c)
     }
 
-    /// What `read` makes of the [`CentredFit::centre`], handed to it where
+    /// What `read` makes of the `CentredFit::centre`, handed to it where
     /// it is built (a fit moved into an `Option` is copied byte by byte on
     /// the MCU).
     #[inline(always)]

@@ -113,7 +113,7 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
     /// moments again, as [`Chain::new`] does; the joints and the global
     /// effects stay. On an error the chain is unchanged. Lets a chain in
     /// static memory be configured without a second one on the stack.
-    pub fn set_panels(&mut self, panels: &[Panel<T>; N]) -> Result<(), ChainError> {
+    pub(crate) fn set_panels(&mut self, panels: &[Panel<T>; N]) -> Result<(), ChainError> {
         Self::check_panels(panels)?;
         self.panels = *panels;
         self.precompute();
@@ -182,7 +182,7 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
 
     /// Joint `j` (0-based), mutable: effects and friction can be changed
     /// without rebuilding the chain (they do not enter the inertia).
-    pub fn joint_mut(&mut self, j: usize) -> Option<&mut Joint<T, K>> {
+    pub(crate) fn joint_mut(&mut self, j: usize) -> Option<&mut Joint<T, K>> {
         self.joints.get_mut(j)
     }
 
@@ -192,13 +192,8 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
     }
 
     /// The global effects, mutable.
-    pub fn global_mut(&mut self) -> &mut GlobalEffects<T> {
+    pub(crate) fn global_mut(&mut self) -> &mut GlobalEffects<T> {
         &mut self.global
-    }
-
-    /// The constant inertia coefficients `A_kl` [kg·m²].
-    pub fn inertia_coefficients(&self) -> &[[T; N]; N] {
-        &self.a
     }
 
     /// Absolute panel angles `θ = S φ` \[rad\].
@@ -209,7 +204,7 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
 
     /// The chain's equations over its `N` joints ([`ChainRef`]).
     #[inline]
-    pub fn counted(&self) -> ChainRef<'_, T, N, K> {
+    pub(crate) fn counted(&self) -> ChainRef<'_, T, N, K> {
         ChainRef {
             n: N,
             a: &self.a,
@@ -226,7 +221,7 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
     /// one copy per joint count and capacity: the value returned is
     /// written where the caller keeps it.
     #[inline(never)]
-    pub fn coefficients<const M: usize>(&self) -> Coefficients<T, M> {
+    pub(crate) fn coefficients<const M: usize>(&self) -> Coefficients<T, M> {
         let n = N.min(M);
         // From a constant: built as an array expression, the zeros are
         // copied twice over on the MCU.
@@ -246,7 +241,7 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
     /// evaluates the equations serves chains of every joint count up to
     /// `M`.
     #[inline(always)]
-    pub fn counted_with<'a, const M: usize>(
+    pub(crate) fn counted_with<'a, const M: usize>(
         &'a self,
         store: &'a Coefficients<T, M>,
     ) -> ChainRef<'a, T, M, K> {

@@ -183,22 +183,86 @@ pub struct PhysicalLatch<T> {
 pub enum LatchError {
     /// `side` is not ±1.
     Side,
-    /// A parameter is negative or not finite; names it.
-    Negative(&'static str),
-    /// A length that must be positive (a radius, the magnet's decay, a
-    /// ramp angle) is not; names it.
-    NotPositive(&'static str),
-    /// A ramp angle is not below 90°.
-    Ramp(&'static str),
+    /// A parameter is negative or not finite.
+    Negative(LatchParam),
+    /// A parameter that must be positive (a radius, the magnet's decay,
+    /// the pawl's breaking torque) is not.
+    NotPositive(LatchParam),
+    /// A ramp angle is not in (0°, 90°).
+    Ramp(LatchParam),
+}
+
+/// A parameter of a [`PhysicalLatch`], as [`LatchError`] names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum LatchParam {
+    /// The stop's stiffness (N/mm^1.5).
+    StopStiffness,
+    /// The stop's damping (N·s/mm^1.25).
+    StopDamping,
+    /// The plunger's preload (N).
+    PlungerPreload,
+    /// The plunger's stiffness (N/mm).
+    PlungerStiffness,
+    /// The plunger's stroke (mm).
+    PlungerStroke,
+    /// The plunger's crest (rad).
+    PlungerCrest,
+    /// The magnet's force (N).
+    MagnetForce,
+    /// The magnet's reach (mm).
+    MagnetReach,
+    /// The switch travel (rad).
+    SwitchTravel,
+    /// The stop's radius (m).
+    StopRadius,
+    /// The plunger's radius (m).
+    PlungerRadius,
+    /// The magnet's radius (m).
+    MagnetRadius,
+    /// The magnet's decay length (mm).
+    MagnetDecay,
+    /// The pawl's breaking torque (N·m).
+    PawlBreakingTorque,
+    /// The plunger's entry ramp angle (rad).
+    EntryRamp,
+    /// The plunger's hold ramp angle (rad).
+    HoldRamp,
+}
+
+impl LatchParam {
+    /// The parameter's name in an error message ("stop radius").
+    pub const fn name(self) -> &'static str {
+        match self {
+            LatchParam::StopStiffness => "stop stiffness",
+            LatchParam::StopDamping => "stop damping",
+            LatchParam::PlungerPreload => "plunger preload",
+            LatchParam::PlungerStiffness => "plunger stiffness",
+            LatchParam::PlungerStroke => "plunger stroke",
+            LatchParam::PlungerCrest => "plunger crest",
+            LatchParam::MagnetForce => "magnet force",
+            LatchParam::MagnetReach => "magnet reach",
+            LatchParam::SwitchTravel => "switch travel",
+            LatchParam::StopRadius => "stop radius",
+            LatchParam::PlungerRadius => "plunger radius",
+            LatchParam::MagnetRadius => "magnet radius",
+            LatchParam::MagnetDecay => "magnet decay length",
+            LatchParam::PawlBreakingTorque => "pawl breaking torque",
+            LatchParam::EntryRamp => "entry ramp",
+            LatchParam::HoldRamp => "hold ramp",
+        }
+    }
 }
 
 impl core::fmt::Display for LatchError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             LatchError::Side => f.write_str("side must be +1 or -1"),
-            LatchError::Negative(k) => write!(f, "{k} must be a finite number >= 0"),
-            LatchError::NotPositive(k) => write!(f, "{k} must be a finite number > 0"),
-            LatchError::Ramp(k) => write!(f, "{k} must be an angle between 0 and 90 deg"),
+            LatchError::Negative(k) => write!(f, "{} must be a finite number >= 0", k.name()),
+            LatchError::NotPositive(k) => write!(f, "{} must be a finite number > 0", k.name()),
+            LatchError::Ramp(k) => {
+                write!(f, "{} must be an angle between 0 and 90 deg", k.name())
+            }
         }
     }
 }
@@ -266,15 +330,15 @@ impl<T: Real> PhysicalLatch<T> {
         }
         let (st, p, m) = (&self.stop, &self.plunger, &self.magnet);
         let non_negative = [
-            (st.stiffness_n_per_mm1_5, "stop stiffness"),
-            (st.damping_ns_per_mm1_25, "stop damping"),
-            (p.preload_n, "plunger preload"),
-            (p.stiffness_n_per_mm, "plunger stiffness"),
-            (p.stroke_mm, "plunger stroke"),
-            (p.crest_rad, "plunger crest"),
-            (m.force_n, "magnet force"),
-            (m.reach_mm, "magnet reach"),
-            (self.switch_travel_rad, "switch travel"),
+            (st.stiffness_n_per_mm1_5, LatchParam::StopStiffness),
+            (st.damping_ns_per_mm1_25, LatchParam::StopDamping),
+            (p.preload_n, LatchParam::PlungerPreload),
+            (p.stiffness_n_per_mm, LatchParam::PlungerStiffness),
+            (p.stroke_mm, LatchParam::PlungerStroke),
+            (p.crest_rad, LatchParam::PlungerCrest),
+            (m.force_n, LatchParam::MagnetForce),
+            (m.reach_mm, LatchParam::MagnetReach),
+            (self.switch_travel_rad, LatchParam::SwitchTravel),
         ];
         for (x, name) in non_negative {
             if !(x >= T::ZERO && x.is_finite()) {
@@ -282,10 +346,10 @@ impl<T: Real> PhysicalLatch<T> {
             }
         }
         let positive = [
-            (st.radius_m, "stop radius"),
-            (p.radius_m, "plunger radius"),
-            (m.radius_m, "magnet radius"),
-            (m.decay_mm, "magnet decay length"),
+            (st.radius_m, LatchParam::StopRadius),
+            (p.radius_m, LatchParam::PlungerRadius),
+            (m.radius_m, LatchParam::MagnetRadius),
+            (m.decay_mm, LatchParam::MagnetDecay),
         ];
         for (x, name) in positive {
             if !(x > T::ZERO && x.is_finite()) {
@@ -296,12 +360,12 @@ impl<T: Real> PhysicalLatch<T> {
         if let Lock::Pawl(pawl) = &self.lock {
             let b = pawl.breaking_torque_nm;
             if !(b > T::ZERO && b.is_finite()) {
-                return Err(LatchError::NotPositive("pawl breaking torque"));
+                return Err(LatchError::NotPositive(LatchParam::PawlBreakingTorque));
             }
         }
         for (a, name) in [
-            (p.entry_ramp_rad, "entry ramp"),
-            (p.hold_ramp_rad, "hold ramp"),
+            (p.entry_ramp_rad, LatchParam::EntryRamp),
+            (p.hold_ramp_rad, LatchParam::HoldRamp),
         ] {
             if !(a > T::ZERO && a < right) {
                 return Err(LatchError::Ramp(name));

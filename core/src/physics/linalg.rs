@@ -139,7 +139,9 @@ fn substitute<T: Real, const N: usize>(
 /// joint free to move (Featherstone, *Rigid Body Dynamics Algorithms*,
 /// 2008, §7.1). One factorisation, one substitution per joint. `None` for
 /// a locked joint, and for every joint when the free block is not
-/// positive definite.
+/// positive definite. (The tests' form: the monitor uses
+/// [`articulated_inertias_n`].)
+#[cfg(test)]
 pub fn articulated_inertias<T: Real, const N: usize>(
     m: &[[T; N]; N],
     locked: &[bool; N],
@@ -147,7 +149,7 @@ pub fn articulated_inertias<T: Real, const N: usize>(
     articulated_inertias_n(N, m, locked)
 }
 
-/// [`articulated_inertias`] of the first `n ≤ M` coordinates of arrays of
+/// `articulated_inertias` of the first `n ≤ M` coordinates of arrays of
 /// capacity `M` (`None` past `n`); the same arithmetic as with `M = n`.
 #[inline(always)]
 pub fn articulated_inertias_n<T: Real, const M: usize>(
@@ -171,22 +173,12 @@ pub fn articulated_inertias_n<T: Real, const M: usize>(
     })
 }
 
-/// Articulated inertia `1/(M⁻¹)_jj` of joint `j` alone [kg·m²]: the
-/// same factorisation and substitution as [`articulated_inertias`], for one
+/// Articulated inertia `1/(M⁻¹)_jj` of joint `j` alone [kg·m²], among the
+/// first `n ≤ M` coordinates of arrays of capacity `M`: the same
+/// factorisation and substitution as [`articulated_inertias_n`], for one
 /// joint (the monitor evaluates one joint's margin per sample). `None` for
-/// a locked joint or an index out of range, and when the free block is not
-/// positive definite.
-pub fn articulated_inertia<T: Real, const N: usize>(
-    m: &[[T; N]; N],
-    locked: &[bool; N],
-    j: usize,
-) -> Option<T> {
-    articulated_inertia_n(N, m, locked, j)
-}
-
-/// [`articulated_inertia`] of joint `j` among the first `n ≤ M`
-/// coordinates of arrays of capacity `M` (`None` for `j ≥ n`); the same
-/// arithmetic as with `M = n`.
+/// `j ≥ n`, a locked joint, and when the free block is not positive
+/// definite.
 #[inline(always)]
 pub fn articulated_inertia_n<T: Real, const M: usize>(
     n: usize,

@@ -7,13 +7,19 @@
 //! arithmetic they need ([`linalg`], [`trig`]). Nothing here knows about
 //! sensors or the monitor.
 
-pub mod chain;
-pub mod friction;
+pub(crate) mod chain;
+pub(crate) mod friction;
 pub mod latch_contact;
-pub mod linalg;
+pub(crate) mod linalg;
 pub mod pawl;
-pub mod real;
-pub mod spring;
+pub(crate) mod real;
+pub(crate) mod spring;
 pub mod stick;
-pub mod torque_table;
-pub mod trig;
+pub(crate) mod torque_table;
+pub(crate) mod trig;
+
+pub use chain::DETENT_ZONE_DEG;
+pub use friction::{coulomb_shape, quadratic_damping, stribeck_excess, COULOMB_THRESHOLD_RAD_S};
+pub use linalg::{solve_spd_masked, SolveError};
+pub use spring::MAX_KNOTS;
+pub use torque_table::TABLE_MAX_KNOTS;

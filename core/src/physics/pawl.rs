@@ -35,7 +35,7 @@
 //! Everything here is a pure function of the state, the pawl's
 //! [`PawlState`] and the frozen plunger segment; it never panics.
 
-pub use crate::physics::latch_contact::{Lock, Pawl};
+use crate::physics::latch_contact::{Lock, Pawl};
 
 use crate::physics::latch_contact::{PhysicalLatch, PlungerSegment, StopForce, MM_PER_M};
 use crate::physics::real::Real;

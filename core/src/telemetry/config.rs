@@ -16,10 +16,10 @@
 //! every replay. Everything else of the configuration is the core's default
 //! tuning, the same code on both sides.
 
-use crate::monitor::estimator::{JointConfig, MonitorConfig};
 use crate::monitor::latch::PhysicalLatch;
 use crate::monitor::latch_margin::Engagement;
 use crate::monitor::observer::FrictionPrior;
+use crate::monitor::{JointConfig, MonitorConfig};
 use crate::physics::chain::Panel;
 use crate::physics::spring::{Curve, Spring, TapePoints};
 use crate::physics::spring::{CurveError, Fold, Interp, MAX_KNOTS};
@@ -205,7 +205,7 @@ impl SpringFrame {
 /// changes, this, [`JointFrame::to_config`] and the host's
 /// `deploywatch_sim::replay::joint_frame` change with it (the host's equality
 /// check before every replay fails until they do).
-pub const PRIOR_FIELDS: usize = 4;
+pub(crate) const PRIOR_FIELDS: usize = 4;
 
 /// One joint and the panel it drives: frames 1 to `joints` of the input.
 #[derive(Clone, Copy, Debug, PartialEq, Default, Serialize, Deserialize)]
@@ -244,7 +244,7 @@ pub struct JointFrame {
 /// Fields of the core's `Engagement` (all `f32`): when it changes, the
 /// `latch_*` fields of [`JointFrame`], [`JointFrame::to_config`] and the
 /// host's `deploywatch_sim::replay::joint_frame` change with it.
-pub const LATCH_FIELDS: usize = 3;
+pub(crate) const LATCH_FIELDS: usize = 3;
 
 impl JointFrame {
     /// The panel and joint configuration.
@@ -323,7 +323,7 @@ pub const CONFIG_HEADER_FRAME_MAX: usize = framed(24);
 /// flag 1, knots 1 + 2·4·[`MAX_KNOTS`] and optional knots 1 + the same),
 /// the capture angle (4), the prior and the latch (4 each), and the
 /// joint's physical latch (1 + 4·4 + its lock 1).
-pub const JOINT_FRAME_PAYLOAD_MAX: usize = 20
+pub(crate) const JOINT_FRAME_PAYLOAD_MAX: usize = 20
     + (1 + 4 + 1 + 2 * (1 + 8 * MAX_KNOTS) + 1)
     + 4
     + 4 * PRIOR_FIELDS

@@ -20,8 +20,8 @@ use serde::Serialize;
 
 use super::config::MAX_JOINTS;
 use super::{TelemetryError, CRC};
-use crate::monitor::estimator::{Sample, Status};
 use crate::monitor::status::JointStatus;
+use crate::monitor::{Sample, Status};
 
 /// A [`Sample`] of `joints` joints, at most [`MAX_JOINTS`], the
 /// count known at run time.

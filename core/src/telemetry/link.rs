@@ -12,7 +12,7 @@
 //! its clock). Then every sample frame that decodes goes through the
 //! sample-rate path at once — `Monitor::update`, then its status frame,
 //! written back — and then through the idle time's work, up to
-//! `margin.rollout.slices_per_sample` slices of `Monitor::predict` (the
+//! `margin.rollout.slices_per_sample` slices of `Monitor::learn_or_predict` (the
 //! replay's count, [`run_paths`](super::replay::run_paths), but after the
 //! status: a status answers its sample with the sample-rate path's latency,
 //! and its learned part — friction, margin, prediction — is as of the
@@ -42,7 +42,7 @@ use serde::{Deserialize, Serialize};
 use super::counted::CountedSample;
 use super::replay::{Error, FrameError, Paths, Source, SAMPLE_FRAME_MAX, STATUS_FRAME_MAX};
 use super::sample_frame_max;
-use crate::monitor::estimator::{Monitor, Sample};
+use crate::monitor::{Monitor, Sample};
 
 /// First field of a [`LinkReport`]: "DWL1" as a little-endian word. A
 /// status frame starts with its time stamp, and these bits as an `f32` are
@@ -97,7 +97,7 @@ impl LinkReport {
 
 /// The idle work of one sample cut short: after the `sample`-th sample
 /// frame used (counted from 1, the report's `samples` then) only `slices`
-/// slices of `Monitor::predict` ran, fewer than the configuration's, for a
+/// slices of `Monitor::learn_or_predict` ran, fewer than the configuration's, for a
 /// frame was waiting. Sent after that sample's status.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Shed {
@@ -202,7 +202,7 @@ where
             // The idle time until the next frame: the prediction.
             let mut ran = 0;
             while ran < slices && src.buffered() == 0 && !pending() {
-                paths.predict()?;
+                paths.learn_or_predict()?;
                 ran += 1;
             }
             if ran == slices {
@@ -239,7 +239,7 @@ pub fn reference_statuses<const N: usize>(
         let n = super::replay::status_frame(monitor, &mut out)?;
         write(out.get(..n).ok_or(Error::Encode)?);
         for _ in 0..slices(k) {
-            monitor.predict();
+            monitor.learn_or_predict();
         }
     }
     Ok(())
@@ -263,7 +263,7 @@ mod tests {
         let n = report_frame(&r, &mut buf).expect("fits");
         assert_eq!(read_report(&mut buf[..n]), Some(r));
         // A status frame is neither a report nor a shed frame.
-        let s = crate::monitor::estimator::Status::<2> {
+        let s = crate::monitor::Status::<2> {
             t_s: 1.5,
             ..Default::default()
         };

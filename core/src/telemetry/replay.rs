@@ -1,5 +1,5 @@
 //! The replay protocol the firmware speaks: a recorded run, sample by
-//! sample, through the on-board [`Monitor`](crate::monitor::estimator::Monitor), with the
+//! sample, through the on-board [`Monitor`](crate::monitor::Monitor), with the
 //! statuses written back.
 //!
 //! It lives in the core so that the host (`deploywatch replay`) and the
@@ -9,10 +9,10 @@
 //! can run this very loop itself.
 //!
 //! # Files
-//! - Input: the monitor configuration ([`super::config`]: a [`ConfigHeader`] frame,
-//!   then one [`JointFrame`] per joint), then one frame per sample, a
-//!   [`Sample<N>`](crate::Sample) each, in time order, `N` the
-//!   header's joint count (at most [`MAX_JOINTS`]).
+//! - Input: the monitor configuration ([`super::config`]: a [`ConfigHeader`](super::config::ConfigHeader) frame,
+//!   then one [`JointFrame`](super::config::JointFrame) per joint), then one frame per sample, a
+//!   [`Sample<N>`](crate::monitor::Sample) each, in time order, `N` the
+//!   header's joint count (at most [`MAX_JOINTS`](super::config::MAX_JOINTS)).
 //!
 //! # Joint count and storage
 //! The joint count is the caller's: a firmware builds one monitor,
@@ -20,10 +20,10 @@
 //! [`ConfigStore<N>`] (both in its static memory), and [`configure()`]
 //! refuses a header of another count with [`Error::JointCount`]. The loop
 //! ([`run_paths`]) and the sample decoder are not generic: they take the
-//! count at run time, up to [`MAX_JOINTS`].
+//! count at run time, up to [`MAX_JOINTS`](super::config::MAX_JOINTS).
 //! - Output: one frame per input sample, the
-//!   [`Status<N>`](crate::Status) that
-//!   [`Monitor::update`](crate::Monitor::update) returned.
+//!   [`Status<N>`](crate::monitor::Status) that
+//!   [`Monitor::update`](crate::monitor::Monitor::update) returned.
 //!
 //! Every frame is the core's telemetry frame
 //! ([`crate::telemetry`]): postcard, CRC-32C, COBS, then `0x00`.
@@ -41,8 +41,7 @@ mod frames;
 mod run_loop;
 mod store;
 
-pub use super::config::{ConfigHeader, JointFrame, MAX_JOINTS};
-pub use configure::{configure, read_config, read_config_into, read_header, ConfigStore};
+pub use configure::{configure, read_header, ConfigStore};
 pub use error::Error;
 pub use frames::{FrameError, Source, READ_CHUNK, SAMPLE_FRAME_MAX, STATUS_FRAME_MAX};
 pub use run_loop::{replay, run, run_paths, Direct, Paths};

@@ -32,8 +32,8 @@
 //! [`Standard::factors`] and in `docs/margin.md`: treat the defaults as
 //! configuration, not as a quotation of the standards.
 
-use deploywatch_core::spring::{Branch, Spring};
-use deploywatch_core::standards;
+use deploywatch_core::monitor::standards;
+use deploywatch_core::{Branch, Spring};
 use std::fmt;
 use std::str::FromStr;
 
@@ -319,7 +319,7 @@ impl Standard {
     }
 
     /// The default uncertainty factors: all 1 for `None`, otherwise the
-    /// standard's row in [`deploywatch_core::standards`] (the one source,
+    /// standard's row in [`deploywatch_core::monitor::standards`] (the one source,
     /// with the provenance of each value; `docs/margin.md` lists them).
     pub fn factors(self) -> Factors {
         match self {

@@ -29,7 +29,7 @@ use crate::model::effect::{self, Effect, EffectKind};
 use crate::model::mechanism::{with_joints, Mechanism};
 use crate::model::torque_table::HostJointEffects;
 use crate::simulate::deployment::{self, SimError, SimOptions, Trajectory};
-use deploywatch_core::chain::DETENT_ZONE_DEG;
+use deploywatch_core::physics::DETENT_ZONE_DEG;
 use deploywatch_core::{ChainState, GlobalEffects, Mode};
 
 /// How one effect enters the margins of one joint.

@@ -13,8 +13,8 @@ use crate::analysis::stroke_margin::{self, Allowance, Profile, StrokeMargin, Ter
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::SimError;
-use deploywatch_core::spring::CurveError;
-use deploywatch_core::spring::{Branch, Spring};
+use deploywatch_core::CurveError;
+use deploywatch_core::{Branch, Spring};
 
 /// One joint's margins with what counts in them.
 #[derive(Clone, Debug)]

@@ -20,7 +20,7 @@ impl Default for FrictionSpec {
         FrictionSpec {
             coulomb_nm: 0.0,
             viscous_nms: 0.0,
-            coulomb_threshold_rad_s: deploywatch_core::friction::COULOMB_THRESHOLD_RAD_S,
+            coulomb_threshold_rad_s: deploywatch_core::physics::COULOMB_THRESHOLD_RAD_S,
             stribeck: None,
         }
     }

@@ -5,7 +5,7 @@
 //! Read and written by [`crate::model::latch_toml`].
 
 use deploywatch_core::physics::latch_contact::{HertzStop, Magnet, PhysicalLatch, Plunger};
-use deploywatch_core::physics::pawl::{Lock, Pawl};
+use deploywatch_core::physics::latch_contact::{Lock, Pawl};
 use deploywatch_core::Real;
 
 /// The papers' contact stiffness `k` [N/mm^1.5] (seed 000 §4.2, seed 001

@@ -40,7 +40,7 @@ use crate::model::latch::{
     PAPER_STIFFNESS_N_PER_MM1_5,
 };
 use crate::model::toml_tree::{Bound, Cx, Res, Sp, Table};
-use deploywatch_core::physics::pawl::Pawl;
+use deploywatch_core::physics::latch_contact::Pawl;
 
 const LATCH_KEYS: &[&str] = &[
     "model",

@@ -6,8 +6,8 @@
 
 pub use crate::model::friction_spec::FrictionSpec;
 use crate::model::torque_table::{HostChain, HostJointEffects};
-use deploywatch_core::spring::{CurveError, Fold, Interp, TapePoints};
 use deploywatch_core::{Chain, Curve, Friction, GlobalEffects, Joint, Panel, Real, Spring};
+use deploywatch_core::{CurveError, Fold, Interp, TapePoints};
 
 /// Most joints a mechanism, and so a run, may have: the most the on-board
 /// monitor's frames carry ([`deploywatch_core::telemetry::config::MAX_JOINTS`],

@@ -2,7 +2,7 @@
 
 use crate::model::located::Located;
 use crate::model::mechanism::MAX_CHAIN_JOINTS;
-use deploywatch_core::spring::CurveError;
+use deploywatch_core::CurveError;
 
 /// Why a mechanism file was rejected: where (`file`, `line`) and what
 /// ([`MechanismErrorKind`]).

@@ -33,8 +33,8 @@
 
 use std::path::Path;
 
-use deploywatch_core::spring::{Interp, TapePoints};
 use deploywatch_core::{Curve, Panel, Spring};
+use deploywatch_core::{Interp, TapePoints};
 
 use crate::model::effect::EffectKind;
 use crate::model::mechanism::{FrictionSpec, JointSpec, Mechanism, SpringSpec, MAX_CHAIN_JOINTS};

@@ -4,7 +4,7 @@
 use crate::model::mechanism::{FrictionSpec, Mechanism, SpringSpec};
 use crate::model::mechanism_error::{MechanismError, MechanismErrorKind};
 pub use crate::model::toml_tree::{num, toml_str};
-use deploywatch_core::spring::{Interp, TapePoints};
+use deploywatch_core::{Interp, TapePoints};
 use std::fmt::Write as _;
 use std::path::Path;
 

@@ -1,6 +1,6 @@
 //! The host side of the `torque_table` effect (`docs/spec/physics.md`
 //! section 6; the torque itself is computed once, in
-//! [`deploywatch_core::torque_table`]): its points as written in the
+//! [`deploywatch_core::TorqueTable`]): its points as written in the
 //! `--effect` syntax and in a diagnosis JSON, and a one-sentence description
 //! of its shape.
 //!
@@ -13,7 +13,7 @@ use std::fmt::Write as _;
 /// Most points of one table on the host \[1\]: the host simulator and the
 /// diagnosis hold tables this large (a hump of a rate law or a dip over
 /// part of the stroke needs more knots than the monitor's
-/// [`deploywatch_core::torque_table::TABLE_MAX_KNOTS`]); a table for the
+/// [`deploywatch_core::physics::TABLE_MAX_KNOTS`]); a table for the
 /// monitor is a compressed export of 8 points, made by the diagnosis with
 /// its fit loss (`docs/diagnosis.md`).
 pub const HOST_TABLE_MAX_KNOTS: usize = 24;

@@ -367,7 +367,7 @@ pub fn quantile(x: &[f64], q: f64) -> f64 {
 /// and the fault flags the lossy statuses raise that the whole run's never
 /// do (joint, flag name).
 pub fn against_full(full: &[StatusRow], lossy: &[StatusRow]) -> (Vec<usize>, Vec<(usize, String)>) {
-    use deploywatch_core::LatchState;
+    use deploywatch_core::monitor::LatchState;
     let joints = full.first().map_or(0, |s| s.joints.len());
     let first_latched = |rows: &[StatusRow], j: usize| {
         rows.iter()

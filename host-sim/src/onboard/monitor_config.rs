@@ -10,11 +10,11 @@
 //! physical latch (`[joint.latch]`) carries the three figures of its plunger
 //! the margin needs ([`engagement`]).
 
-use deploywatch_core::latch::{LockKind, PhysicalLatch};
-use deploywatch_core::monitor::latch_margin::Engagement;
+use deploywatch_core::monitor::Engagement;
+use deploywatch_core::monitor::FrictionPrior;
 use deploywatch_core::monitor::{JointConfig, Monitor, MonitorConfig, Sample, Status};
-use deploywatch_core::observer::FrictionPrior;
-use deploywatch_core::spring::CurveError;
+use deploywatch_core::monitor::{LockKind, PhysicalLatch};
+use deploywatch_core::CurveError;
 use deploywatch_core::{Panel, Spring};
 
 use crate::data::run::Run;
@@ -269,7 +269,7 @@ pub fn replay<const N: usize>(monitor: &mut Monitor<N>, run: &Run) -> Option<Vec
     Some(
         samples::<N>(run)?
             .iter()
-            .map(|s| monitor.update_and_predict(s))
+            .map(|s| monitor.replay_step(s))
             .collect(),
     )
 }

@@ -14,7 +14,7 @@
 //! sample. Frames are the core's telemetry frames
 //! ([`deploywatch_core::telemetry`]). The host's statuses come from the
 //! simulator's own path ([`monitor_config`](crate::onboard::monitor_config::monitor_config)
-//! and [`Monitor::update_and_predict`](deploywatch_core::monitor::Monitor::update_and_predict)); the configuration frames are checked to build
+//! and [`Monitor::replay_step`](deploywatch_core::monitor::Monitor::replay_step)); the configuration frames are checked to build
 //! the very same [`MonitorConfig`](deploywatch_core::monitor::MonitorConfig) before any replay, so a difference of the
 //! two sides is one of the target, never of the configuration.
 //!

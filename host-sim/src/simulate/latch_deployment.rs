@@ -27,9 +27,9 @@ use crate::model::torque_table::HostChain;
 use crate::simulate::ode::{locate, Dense, State};
 use crate::simulate::stowed::StowedWatch;
 use crate::simulate::trajectory::{Samples, SimError, SimOptions, Trajectory, MAX_SAMPLES};
-use deploywatch_core::linalg::solve_spd_masked;
 use deploywatch_core::physics::latch_contact::{PhysicalLatch, PlungerSegment};
 use deploywatch_core::physics::pawl::PawlState;
+use deploywatch_core::physics::solve_spd_masked;
 use deploywatch_core::{Branch, Mode};
 
 mod ledger;

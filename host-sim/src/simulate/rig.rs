@@ -23,7 +23,7 @@ use crate::model::torque_table::HostChain;
 use crate::simulate::rig_ode;
 use crate::simulate::stowed::StowedWatch;
 use crate::simulate::trajectory::{SimError, SimOptions, SimStats, Trajectory};
-use deploywatch_core::linalg::solve_spd_masked;
+use deploywatch_core::physics::solve_spd_masked;
 use deploywatch_core::{Branch, ChainState, Mode};
 
 /// A contact of a panel with a frame.

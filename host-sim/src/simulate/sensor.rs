@@ -15,8 +15,8 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
 /// Encoder resolution of a 14-bit absolute encoder \[deg\]: one count of the
-/// AS5047P ([`deploywatch_core::encoder::STEP_DEG`]).
-pub const RESOLUTION_DEG: f64 = deploywatch_core::encoder::STEP_DEG;
+/// AS5047P ([`deploywatch_core::monitor::encoder::STEP_DEG`]).
+pub const RESOLUTION_DEG: f64 = deploywatch_core::monitor::encoder::STEP_DEG;
 
 /// Standard deviation of the reference encoder noise \[deg\].
 pub const NOISE_SIGMA_DEG: f64 = 0.02;

@@ -13,7 +13,7 @@ mod run_files;
 
 use std::path::{Path, PathBuf};
 
-use deploywatch_core::spring::Interp;
+use deploywatch_core::Interp;
 use deploywatch_sim::mechanism::{Mechanism, SpringSpec};
 use deploywatch_sim::mechanism_toml::{MechanismError, MechanismErrorKind};
 use deploywatch_sim::run::{pair_runs, Run, RunError, RunErrorKind};

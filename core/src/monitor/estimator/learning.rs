@@ -11,7 +11,7 @@ use heapless::Deque;
 pub const LEARNING_QUEUE: usize = 4;
 
 /// What the friction learning and the energy margin need of one sample,
-/// queued by [`crate::Monitor::update`] for [`crate::Monitor::predict`].
+/// queued by [`crate::monitor::Monitor::update`] for [`crate::monitor::Monitor::learn_or_predict`].
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Learning<const N: usize> {
     /// Time stamp \[s\].
@@ -101,8 +101,8 @@ impl<const R: usize> Fitted<R> {
     }
 }
 
-/// The queue of samples [`crate::Monitor::update`] hands to
-/// [`crate::Monitor::predict`], oldest first.
+/// The queue of samples [`crate::monitor::Monitor::update`] hands to
+/// [`crate::monitor::Monitor::learn_or_predict`], oldest first.
 pub(super) type LearningQueue<const N: usize> = Deque<Learning<N>, LEARNING_QUEUE>;
 
 /// What the slow path's learning keeps from one learned sample to the

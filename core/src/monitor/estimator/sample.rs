@@ -49,7 +49,7 @@ impl<const N: usize> Monitor<N> {
         &self.status
     }
 
-    /// Queues the sample for the friction learning of [`Monitor::predict`].
+    /// Queues the sample for the friction learning of [`Monitor::learn_or_predict`].
     /// The settling after a snap or a gap starts here, on the sample's own
     /// angles. A full queue drops its oldest sample, counted in
     /// [`Monitor::learning_overruns`].
@@ -87,7 +87,7 @@ impl<const N: usize> Monitor<N> {
         for j in 0..N {
             let (faults, state) = (readings[j].faults, latches[j].state);
             if !faults.is_empty() {
-                debug!("joint {} faults {}", j + 1, faults.0);
+                debug!("joint {} faults {}", j + 1, faults.bits());
             }
             if let (Some(js), Some(out)) = (self.joints.get(j), self.status.joints.get_mut(j)) {
                 js.sample_status(out, faults, state);

@@ -1,4 +1,4 @@
-//! The slow path, [`Monitor::predict`], in slices of bounded cost: a slice
+//! The slow path, [`Monitor::learn_or_predict`], in slices of bounded cost: a slice
 //! learns from one queued sample (the friction observers on the centred
 //! fit, the energy margin of one joint, the start of the next rollout, the
 //! status's learned half) or, with the queue empty, advances the latch /
@@ -21,7 +21,7 @@ impl<const N: usize> Monitor<N> {
     /// margin, prediction). With the queue empty it advances the rollout
     /// in progress by up to `margin.rollout.steps_per_slice` units of work
     /// (a step of the chain, or a bounded piece of the creep quadrature:
-    /// [`crate::monitor::rollout::Rollout::advance`]), starts the next one when it
+    /// [`crate::monitor::rollout::Stepper::advance`]), starts the next one when it
     /// ends, and refreshes the prediction in the status.
     ///
     /// The sample-rate path ([`Monitor::update`]) neither learns nor runs a
@@ -32,7 +32,7 @@ impl<const N: usize> Monitor<N> {
     /// (`docs/performance.md`). Returns true when a rollout finished in
     /// this slice.
     #[inline(never)]
-    pub fn predict(&mut self) -> bool {
+    pub fn learn_or_predict(&mut self) -> bool {
         if !self.timeline.started {
             return false;
         }
@@ -51,13 +51,13 @@ impl<const N: usize> Monitor<N> {
     }
 
     /// [`Monitor::update`], then `margin.rollout.slices_per_sample` slices
-    /// of [`Monitor::predict`]: the schedule of a replay, fixed so that the
+    /// of [`Monitor::learn_or_predict`]: the schedule of a replay, fixed so that the
     /// host and the MCU compute the same statuses. Returns the status after
     /// the slices.
-    pub fn update_and_predict(&mut self, sample: &Sample<N>) -> Status<N> {
+    pub fn replay_step(&mut self, sample: &Sample<N>) -> Status<N> {
         self.update(sample);
         for _ in 0..self.tuning.margin.rollout.slices_per_sample {
-            self.predict();
+            self.learn_or_predict();
         }
         self.status
     }

@@ -9,9 +9,8 @@ use crate::monitor::config::{
     ConfigError, ConfigRef, JointConfig, MarginConfig, MonitorConfig, ObserverConfig, SensorConfig,
 };
 use crate::monitor::latch_margin::Engagement;
-use crate::monitor::observer::{FrictionObserver, FrictionPrior};
+use crate::monitor::observer::FrictionPrior;
 use crate::monitor::predictor::Predictor;
-use crate::monitor::rate_filter::RateFilter;
 use crate::monitor::status::Status;
 use crate::physics::chain::{Chain, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel};
 use crate::physics::friction::Friction;
@@ -31,12 +30,12 @@ pub struct Monitor<const N: usize> {
     /// The windows that events open on the time line.
     pub(super) windows: Windows,
     /// Samples [`Monitor::update`] queued for the friction learning, which
-    /// [`Monitor::predict`] takes oldest first.
+    /// [`Monitor::learn_or_predict`] takes oldest first.
     pub(super) queue: LearningQueue<N>,
     /// What the slow path's learning keeps between samples.
     pub(super) learner: Learner<N>,
     /// The latch / stall prediction (the rollout cycle), advanced by
-    /// [`Monitor::predict`].
+    /// [`Monitor::learn_or_predict`].
     pub(super) predictor: Predictor<N>,
     /// The status after the last sample.
     pub(super) status: Status<N>,
@@ -230,35 +229,23 @@ impl<const N: usize> Monitor<N> {
         &self.status
     }
 
-    /// The friction observer of joint `j` (0-based), for diagnostics.
-    pub fn observer(&self, j: usize) -> Option<&FrictionObserver> {
-        self.joints.get(j).map(|s| &s.fo)
-    }
-
-    /// The rate filter of joint `j` (0-based), for diagnostics.
-    pub fn rate_filter(&self, j: usize) -> Option<&RateFilter> {
-        self.joints.get(j).map(|s| &s.kf)
-    }
-
-    /// Slices of [`Monitor::predict`] a replay runs after each sample
+    /// Slices of [`Monitor::learn_or_predict`] a replay runs after each sample
     /// (`margin.rollout.slices_per_sample`).
     pub fn config_slices_per_sample(&self) -> u8 {
         self.tuning.margin.rollout.slices_per_sample
     }
 
-    /// The latch / stall prediction (its rollout cycle), for diagnostics.
-    pub fn predictor(&self) -> &Predictor<N> {
-        &self.predictor
-    }
-
-    /// The chain model the monitor uses (f32).
-    pub fn chain(&self) -> &Chain<f32, N> {
-        &self.chain
+    /// Full latch / stall predictions completed so far: cycles of the
+    /// nominal rollout and the brackets its verdicts need, each of which
+    /// refreshed the prediction in [`Monitor::status`]. How often that
+    /// happens is the prediction's refresh rate (`tests/monitor/refresh.rs`).
+    pub fn prediction_refreshes(&self) -> u32 {
+        self.predictor.refreshes()
     }
 
     /// Samples dropped so far because the learning queue was full (the
-    /// slow path, [`Monitor::predict`], fell behind by more than
-    /// [`crate::monitor::estimator::LEARNING_QUEUE`] samples). 0 on the
+    /// slow path, [`Monitor::learn_or_predict`], fell behind by more than
+    /// [`crate::monitor::LEARNING_QUEUE`] samples). 0 on the
     /// replay schedule.
     pub fn learning_overruns(&self) -> u32 {
         self.learner.overruns
@@ -289,6 +276,27 @@ fn release_accelerations<const N: usize>(chain: &Chain<f32, N>, joints: &mut [Jo
                 js.kf.set_acceleration(a);
             }
         }
+    }
+}
+
+impl<const N: usize> MonitorConfig<N> {
+    /// The chain model a [`Monitor`] of this configuration runs on (`f32`):
+    /// the panels, and each joint's stowed angle and spring, with no
+    /// friction and no effects (the monitor learns the friction). The same
+    /// model [`Monitor::new`] builds; [`ConfigError::Chain`] when the
+    /// panels do not make a chain.
+    pub fn chain(&self) -> Result<Chain<f32, N>, ConfigError> {
+        let joints = core::array::from_fn(|j| {
+            let mut joint = Joint {
+                stowed_rad: 0.0,
+                spring: self.joints[j].spring,
+                friction: Friction::default(),
+                effects: JointEffects::default(),
+            };
+            configure_joint(&mut joint, &self.joints[j]);
+            joint
+        });
+        Chain::new(self.panels, joints, GlobalEffects::default()).map_err(ConfigError::Chain)
     }
 }
 

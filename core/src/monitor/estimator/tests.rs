@@ -44,7 +44,7 @@ fn swing(k: usize) -> Sample<1> {
 fn a_starved_slow_path_drops_the_oldest_samples_and_says_so() {
     let mut m = Monitor::new(&config()).unwrap();
     for k in 0..100 {
-        m.update_and_predict(&swing(k));
+        m.replay_step(&swing(k));
     }
     assert_eq!(m.learning_overruns(), 0, "the replay schedule keeps up");
     let learned = m.status().samples;
@@ -60,7 +60,7 @@ fn a_starved_slow_path_drops_the_oldest_samples_and_says_so() {
     // then the slow path catches up and learns on, with finite
     // estimates.
     for k in 110..200 {
-        let st = m.update_and_predict(&swing(k));
+        let st = m.replay_step(&swing(k));
         let j = &st.joints[0];
         assert!(j.coulomb_nm.is_finite() && j.coulomb_sd_nm.is_finite());
         assert!(j.faults.is_empty(), "{k}: {}", j.faults);

@@ -1,6 +1,6 @@
 //! The end of a rollout by quadrature: once every free joint creeps
 //! quasi-statically, each joint's outcome is its
-//! [`creep`](crate::monitor::creep::creep) time against the
+//! `creep`(crate::monitor::creep::creep) time against the
 //! time left (`docs/monitor.md` §6), computed a slice at a time.
 
 use super::{mass_matrix, Model, RolloutConfig, Settle, Stepper};
@@ -28,7 +28,7 @@ impl<const R: usize> Stepper<R> {
 
     /// Ends the rollout by quadrature once every free joint creeps
     /// quasi-statically and none can break free: each joint's outcome is
-    /// then its [`creep`](crate::monitor::creep::creep) time against the time left. Runs at most `evals`
+    /// then its `creep`(crate::monitor::creep::creep) time against the time left. Runs at most `evals`
     /// spring evaluations and resumes at the next call; when some joint may
     /// still break free, drops the quadrature (the integration goes on).
     pub(super) fn settle_creep(&mut self, chain: &Model<'_, R>, cfg: &RolloutConfig, evals: u16) {

@@ -130,10 +130,13 @@ fn switch_closes_at_its_travel_and_marks_are_ordered() {
 fn bad_parameters_are_refused_and_never_panic() {
     let mut l = latch(1.0);
     l.plunger.hold_ramp_rad = 2.0;
-    assert_eq!(l.check(), Err(LatchError::Ramp("hold ramp")));
+    assert_eq!(l.check(), Err(LatchError::Ramp(LatchParam::HoldRamp)));
     let mut l = latch(1.0);
     l.stop.radius_m = 0.0;
-    assert_eq!(l.check(), Err(LatchError::NotPositive("stop radius")));
+    assert_eq!(
+        l.check(),
+        Err(LatchError::NotPositive(LatchParam::StopRadius))
+    );
     let mut l = latch(0.5);
     assert_eq!(l.check(), Err(LatchError::Side));
     l.magnet.decay_mm = 0.0;

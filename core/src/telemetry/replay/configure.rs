@@ -6,7 +6,7 @@ use super::error::Error;
 use super::frames::{FrameError, Source};
 use super::store::{build_from, MonitorStore};
 use crate::monitor::config::ConfigRef;
-use crate::monitor::estimator::MonitorConfig;
+use crate::monitor::MonitorConfig;
 use crate::telemetry;
 use crate::telemetry::config::{
     ConfigHeader, JointFrame, CONFIG_HEADER_FRAME_MAX, CONFIG_VERSION, JOINT_FRAME_MAX, MAX_JOINTS,
@@ -76,7 +76,7 @@ fn placeholder_config<const N: usize>(
 fn placeholder() -> Result<
     (
         crate::physics::chain::Panel<f32>,
-        crate::monitor::estimator::JointConfig,
+        crate::monitor::JointConfig,
         MonitorConfig<0>,
     ),
     Error,
@@ -85,20 +85,6 @@ fn placeholder() -> Result<
         .to_config()
         .map_err(|_| Error::Config)?;
     Ok((panel, joint, MonitorConfig::new([], [])))
-}
-
-/// Reads the `N` joint frames that follow the header into `config`, one
-/// frame at a time, each joint written in place (with `config` in static
-/// memory, only one joint frame is ever on the stack).
-pub fn read_config_into<const N: usize, R>(
-    header: &ConfigHeader,
-    src: &mut Source<R>,
-    config: &mut MonitorConfig<N>,
-) -> Result<(), Error>
-where
-    R: FnMut(&mut [u8]) -> Result<usize, ()>,
-{
-    read_joints(header, src, config, N)
 }
 
 /// Reads the `joints` joint frames that follow the header into the first
@@ -141,7 +127,7 @@ where
 fn read_joint<R>(
     src: &mut Source<R>,
     panel: &mut crate::physics::chain::Panel<f32>,
-    joint: &mut crate::monitor::estimator::JointConfig,
+    joint: &mut crate::monitor::JointConfig,
 ) -> Result<(), Error>
 where
     R: FnMut(&mut [u8]) -> Result<usize, ()>,
@@ -154,24 +140,6 @@ where
     };
     (*panel, *joint) = frame.to_config().map_err(|_| Error::Config)?;
     Ok(())
-}
-
-/// Reads the `N` joint frames that follow the header and returns the
-/// monitor configuration (on the caller's stack: the host's way;
-/// the firmware uses [`configure`]).
-pub fn read_config<const N: usize, R>(
-    header: &ConfigHeader,
-    src: &mut Source<R>,
-) -> Result<MonitorConfig<N>, Error>
-where
-    R: FnMut(&mut [u8]) -> Result<usize, ()>,
-{
-    let (panel, joint) = JointFrame::default()
-        .to_config()
-        .map_err(|_| Error::Config)?;
-    let mut config = MonitorConfig::new([panel; N], [joint; N]);
-    read_config_into(header, src, &mut config)?;
-    Ok(config)
 }
 
 /// The configuration phase of a replay, after [`read_header`]: reads the

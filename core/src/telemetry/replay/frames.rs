@@ -62,13 +62,13 @@ impl<R: FnMut(&mut [u8]) -> Result<usize, ()>> Source<R> {
 
     /// Bytes read from the input and not yet taken by a frame (the start of
     /// the next one, when the input brought more than a frame at once).
-    pub fn buffered(&self) -> usize {
+    pub(crate) fn buffered(&self) -> usize {
         self.len.saturating_sub(self.pos)
     }
 
     /// The next frame (its `0x00` included) in `buf`, `Ok(None)` at the end
     /// of the input.
-    pub fn next_frame<'b>(
+    pub(crate) fn next_frame<'b>(
         &mut self,
         buf: &'b mut [u8],
     ) -> Result<Option<&'b mut [u8]>, FrameError> {

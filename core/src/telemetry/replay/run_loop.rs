@@ -19,15 +19,15 @@ use crate::telemetry::sample_frame_max;
 pub trait Paths {
     /// Joints of the monitor, which the sample frames carry.
     fn joints(&mut self) -> Result<usize, Error>;
-    /// Slices of [`Monitor::predict`](crate::monitor::estimator::Monitor::predict) after each sample
-    /// ([`Monitor::config_slices_per_sample`](crate::monitor::estimator::Monitor::config_slices_per_sample)).
+    /// Slices of [`Monitor::learn_or_predict`](crate::monitor::Monitor::learn_or_predict) after each sample
+    /// ([`Monitor::config_slices_per_sample`](crate::monitor::Monitor::config_slices_per_sample)).
     fn slices_per_sample(&mut self) -> Result<u8, Error>;
-    /// Runs [`Monitor::update`](crate::monitor::estimator::Monitor::update) on `sample` (the sample-rate path) and
+    /// Runs [`Monitor::update`](crate::monitor::Monitor::update) on `sample` (the sample-rate path) and
     /// returns once it has.
     fn update(&mut self, sample: &CountedSample) -> Result<(), Error>;
-    /// Runs one slice of [`Monitor::predict`](crate::monitor::estimator::Monitor::predict) (the low-priority path).
-    fn predict(&mut self) -> Result<(), Error>;
-    /// Writes the frame of the monitor's current [`Status`](crate::Status) into `out`
+    /// Runs one slice of [`Monitor::learn_or_predict`](crate::monitor::Monitor::learn_or_predict) (the low-priority path).
+    fn learn_or_predict(&mut self) -> Result<(), Error>;
+    /// Writes the frame of the monitor's current [`Status`](crate::monitor::Status) into `out`
     /// ([`telemetry::encode`](crate::telemetry::encode)) and returns its length.
     fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error>;
 }
@@ -54,8 +54,8 @@ impl<const N: usize, M: Meter> Paths for Direct<'_, N, M> {
         self.store.update(sample, self.meter)
     }
 
-    fn predict(&mut self) -> Result<(), Error> {
-        self.store.predict(self.meter)
+    fn learn_or_predict(&mut self) -> Result<(), Error> {
+        self.store.learn_or_predict(self.meter)
     }
 
     fn status_frame(&mut self, out: &mut [u8]) -> Result<usize, Error> {
@@ -81,11 +81,11 @@ where
 
 /// The replay loop: the sample frames left in `src`, through the monitor's
 /// two paths as a flight application schedules them —
-/// [`Monitor::update`](crate::monitor::estimator::Monitor::update) on every sample (the sample-rate path), then
-/// `margin.rollout.slices_per_sample` slices of [`Monitor::predict`](crate::monitor::estimator::Monitor::predict) (the
+/// [`Monitor::update`](crate::monitor::Monitor::update) on every sample (the sample-rate path), then
+/// `margin.rollout.slices_per_sample` slices of [`Monitor::learn_or_predict`](crate::monitor::Monitor::learn_or_predict) (the
 /// idle time before the next sample; fixed, so that the replay is
 /// deterministic and the same as the host's
-/// [`Monitor::update_and_predict`](crate::monitor::estimator::Monitor::update_and_predict)). Hands each status frame, as of the end
+/// [`Monitor::replay_step`](crate::monitor::Monitor::replay_step)). Hands each status frame, as of the end
 /// of the slices, to `write`. Returns the number of samples. The one
 /// definition of the schedule: the host and the firmware both run it.
 #[inline(never)]
@@ -114,7 +114,7 @@ where
         let sample = CountedSample::decode(f, joints).map_err(|_| Error::Frame { index })?;
         paths.update(&sample)?;
         for _ in 0..slices {
-            paths.predict()?;
+            paths.learn_or_predict()?;
         }
         let n = paths.status_frame(&mut out)?;
         write(out.get(..n).ok_or(Error::Encode)?).map_err(|_| Error::Write)?;

@@ -4,9 +4,9 @@
 
 use super::error::Error;
 use crate::monitor::config::ConfigRef;
-use crate::monitor::estimator::Monitor;
+use crate::monitor::Monitor;
 #[cfg(test)]
-use crate::monitor::estimator::MonitorConfig;
+use crate::monitor::MonitorConfig;
 use crate::telemetry::counted::{CountedSample, StatusView};
 
 /// The two kinds of work [`run`](super::run) does, each metered on its own.
@@ -14,11 +14,11 @@ use crate::telemetry::counted::{CountedSample, StatusView};
 pub enum Work {
     /// [`Monitor::update`]: the sample-rate path.
     Update,
-    /// One slice of [`Monitor::predict`]: the low-priority prediction.
-    Predict,
+    /// One slice of [`Monitor::learn_or_predict`]: the low-priority prediction.
+    LearnOrPredict,
 }
 
-/// Brackets every [`Monitor::update`] and [`Monitor::predict`] call of
+/// Brackets every [`Monitor::update`] and [`Monitor::learn_or_predict`] call of
 /// [`run`](super::run): the firmware counts the instructions each takes; `()` does
 /// nothing.
 pub trait Meter {
@@ -83,7 +83,7 @@ impl<const N: usize> MonitorStore<N> {
         self.monitor()
     }
 
-    /// Slices of [`Monitor::predict`] after each sample
+    /// Slices of [`Monitor::learn_or_predict`] after each sample
     /// ([`Monitor::config_slices_per_sample`]); `None` when empty.
     pub fn slices_per_sample(&self) -> Option<u8> {
         match self {
@@ -106,19 +106,19 @@ impl<const N: usize> MonitorStore<N> {
         Ok(())
     }
 
-    /// One slice of [`Monitor::predict`], inside `meter`'s brackets;
+    /// One slice of [`Monitor::learn_or_predict`], inside `meter`'s brackets;
     /// [`Error::Config`] when the store is empty.
-    pub fn predict<M: Meter>(&mut self, meter: &mut M) -> Result<(), Error> {
+    pub fn learn_or_predict<M: Meter>(&mut self, meter: &mut M) -> Result<(), Error> {
         let MonitorStore::Held(m) = self else {
             return Err(Error::Config);
         };
         meter.start();
-        m.predict();
-        meter.stop(Work::Predict);
+        m.learn_or_predict();
+        meter.stop(Work::LearnOrPredict);
         Ok(())
     }
 
-    /// The frame of the monitor's current [`Status`](crate::Status) in `out`; its length.
+    /// The frame of the monitor's current [`Status`](crate::monitor::Status) in `out`; its length.
     /// [`Error::Config`] when the store is empty.
     pub fn status_frame(&self, out: &mut [u8]) -> Result<usize, Error> {
         match self {

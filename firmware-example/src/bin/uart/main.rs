@@ -14,7 +14,7 @@
 //! - **main loop** (thread mode): frames cut from the queue at their
 //!   `0x00`; a sample frame that decodes goes through `Monitor::update`
 //!   and its status frame is written back at once; then the prediction's
-//!   slices of `Monitor::predict` run in the idle time before the next
+//!   slices of `Monitor::learn_or_predict` run in the idle time before the next
 //!   sample; a frame that does not decode is counted and skipped, and the
 //!   monitor goes on (`docs/robustness.md`); an empty frame asks for the
 //!   link report (counts of samples, corrupted, too long, overruns). With

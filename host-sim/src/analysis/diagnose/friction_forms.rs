@@ -42,7 +42,7 @@ use super::{labels, Search, MIN_DELTA_BIC, SCREEN_KEEP};
 use crate::analysis::residual_shape::{bic, thin};
 use crate::analysis::residual_torque::{residual_torque, TorqueSample};
 use crate::model::effect::EffectKind;
-use deploywatch_core::physics::friction::{
+use deploywatch_core::physics::{
     coulomb_shape, quadratic_damping, stribeck_excess, COULOMB_THRESHOLD_RAD_S,
 };
 use rayon::prelude::*;

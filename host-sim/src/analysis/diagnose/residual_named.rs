@@ -18,7 +18,7 @@
 use crate::analysis::diagnose::residual_shape::{bic, thin};
 use crate::analysis::diagnose::residual_torque::{JointTorque, TorqueSample};
 use crate::model::effect::EffectKind;
-use deploywatch_core::physics::friction::{coulomb_shape, COULOMB_THRESHOLD_RAD_S};
+use deploywatch_core::physics::{coulomb_shape, COULOMB_THRESHOLD_RAD_S};
 
 /// The named joint effects with a torque signature.
 pub const KINDS: [EffectKind; 4] = [

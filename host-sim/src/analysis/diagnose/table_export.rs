@@ -27,7 +27,7 @@ use crate::data::campaign::Campaign;
 use crate::model::effect::{encoder_offsets_deg, Effect, EffectKind};
 use crate::model::torque_table::{HostTable, HostTorqueTable};
 use crate::simulate::deployment::Trajectory;
-use deploywatch_core::torque_table::TABLE_MAX_KNOTS;
+use deploywatch_core::physics::TABLE_MAX_KNOTS;
 use deploywatch_core::{Table, TorqueTable};
 
 /// A table for the monitor and what the compression cost.

@@ -324,7 +324,7 @@ pub struct FoundEffect {
 }
 
 /// A discovered table as the on-board monitor holds it (at most
-/// `deploywatch_core::torque_table::TABLE_MAX_KNOTS` points per table) and
+/// `deploywatch_core::physics::TABLE_MAX_KNOTS` points per table) and
 /// what compressing the host's table to it cost.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct MonitorTable {

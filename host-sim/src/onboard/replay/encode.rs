@@ -3,11 +3,11 @@
 //! and the telemetry frame of any value ([`encode_into`]).
 
 use deploywatch_core::monitor::MonitorConfig;
-use deploywatch_core::spring::Interp;
 use deploywatch_core::telemetry;
 use deploywatch_core::telemetry::config::{
     ConfigHeader, JointFrame, Knots, SpringFrame, TapeFrame, CONFIG_VERSION,
 };
+use deploywatch_core::Interp;
 
 use super::error::ReplayError;
 use crate::model::mechanism::{Mechanism, SpringSpec};

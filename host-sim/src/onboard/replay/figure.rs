@@ -57,7 +57,7 @@ pub fn plot(png: &Path, title: &str, statuses: &[StatusRow]) -> Result<(), plot:
                     &format!(
                         "energy margin of the remaining stroke (axis clipped at {upper:.0} %; \
                          the monitor caps at {:.0} %)",
-                        deploywatch_core::margin::MARGIN_CAP_PCT
+                        deploywatch_core::monitor::MARGIN_CAP_PCT
                     ),
                     "margin [%]",
                     &t,
@@ -82,7 +82,7 @@ const MARGIN_AXIS_BOTTOM_PCT: f64 = -100.0;
 /// inside its capture zone, or no resistance yet) does not flatten the
 /// margins that matter, near 0 %.
 fn margin_axis_top_pct(margin: &[Vec<f64>]) -> f64 {
-    let cap = f64::from(deploywatch_core::margin::MARGIN_CAP_PCT);
+    let cap = f64::from(deploywatch_core::monitor::MARGIN_CAP_PCT);
     let largest = margin
         .iter()
         .flatten()

@@ -61,7 +61,7 @@ fn prepare_n<const N: usize>(mech: &Mechanism, run: &Run) -> Result<Prepared, Re
     let mut host_frames = Vec::new();
     let mut host = Vec::with_capacity(samples.len());
     for (i, s) in samples.iter().enumerate() {
-        let status = monitor.update_and_predict(s);
+        let status = monitor.replay_step(s);
         encode_into(&status, &mut host_frames, &format!("status {i}"))?;
         host.push(StatusRow::from(&status));
     }

@@ -28,7 +28,7 @@ pub struct JointSummary {
     /// Every fault flag raised during the run.
     pub faults: String,
     /// Statuses in which the joint is
-    /// [`Resolution::Unresolved`](deploywatch_core::Resolution): shaken
+    /// [`Resolution::Unresolved`](deploywatch_core::monitor::Resolution): shaken
     /// faster than the samples resolve, its outlier checks off.
     pub unresolved: usize,
 }
@@ -42,11 +42,11 @@ pub fn summary(statuses: &[StatusRow]) -> Vec<JointSummary> {
         .map(|j| {
             let (mut latched_s, mut latched_final_s) = (None, None);
             let mut min_margin: Option<f32> = None;
-            let mut faults = deploywatch_core::FaultFlags::EMPTY;
+            let mut faults = deploywatch_core::monitor::FaultFlags::EMPTY;
             let mut unresolved = 0;
             for s in statuses {
                 let js = &s.joints[j];
-                if js.latch == deploywatch_core::LatchState::Latched {
+                if js.latch == deploywatch_core::monitor::LatchState::Latched {
                     latched_s = latched_s.or(Some(s.t_s));
                     latched_final_s = latched_final_s.or(Some(s.t_s));
                 } else {
@@ -57,7 +57,7 @@ pub fn summary(statuses: &[StatusRow]) -> Vec<JointSummary> {
                 }
                 faults = faults.union(js.faults);
                 unresolved +=
-                    usize::from(js.resolution == deploywatch_core::Resolution::Unresolved);
+                    usize::from(js.resolution == deploywatch_core::monitor::Resolution::Unresolved);
             }
             let last = statuses.last().map(|s| s.joints[j]).unwrap_or_default();
             JointSummary {

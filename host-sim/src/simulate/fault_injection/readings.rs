@@ -6,7 +6,7 @@ use super::error::FaultError;
 use super::fault::{DropoutMode, SensorFault, TIME_EPS_S};
 use crate::data::run::Run;
 use crate::simulate::sensor::RESOLUTION_DEG;
-use deploywatch_core::encoder;
+use deploywatch_core::monitor::encoder;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};

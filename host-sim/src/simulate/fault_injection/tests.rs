@@ -3,7 +3,7 @@
 use super::readings::{corrupt_word, same};
 use super::*;
 use crate::simulate::sensor::RESOLUTION_DEG;
-use deploywatch_core::encoder::{ERROR_FLAG_BIT, PARITY_BIT};
+use deploywatch_core::monitor::encoder::{ERROR_FLAG_BIT, PARITY_BIT};
 
 /// A 2-joint run at 100 Hz over 1 s: joint 1 moves from -90 to 0 and
 /// latches at 0.5 s; joint 2 stays at 45 and never latches.

@@ -45,9 +45,9 @@
 use super::{Ledger, Sim};
 use crate::simulate::ode::State;
 use crate::simulate::trajectory::MAX_LEDGER_DRIFT;
-use deploywatch_core::linalg::solve_spd_masked;
 use deploywatch_core::physics::latch_contact::{PhysicalLatch, PlungerSegment};
 use deploywatch_core::physics::pawl::PawlState;
+use deploywatch_core::physics::solve_spd_masked;
 use deploywatch_core::Branch;
 
 /// Points of the grid the potential's well in the stop is searched on.

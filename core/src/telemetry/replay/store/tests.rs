@@ -1,8 +1,8 @@
 //! Tests of the monitor built in its store, and of configurations refused.
 
 use super::*;
-use crate::monitor::estimator::Sample;
-use crate::monitor::estimator::{ConfigError, JointParam, TuningParam};
+use crate::monitor::Sample;
+use crate::monitor::{ConfigError, JointParam, TuningParam};
 use crate::telemetry::config::{ConfigHeader, CONFIG_VERSION, MAX_JOINTS};
 use crate::telemetry::replay::{configure, ConfigStore, Source, STATUS_FRAME_MAX};
 use crate::ChainError;
@@ -36,8 +36,8 @@ fn frames<const N: usize>(
     let mut out = [0u8; STATUS_FRAME_MAX];
     for k in from..to {
         monitor.update(&sample(config, k));
-        monitor.predict();
-        monitor.predict();
+        monitor.learn_or_predict();
+        monitor.learn_or_predict();
         let n = status_frame(monitor, &mut out).expect("status frame");
         all.extend_from_slice(&out[..n]);
     }
