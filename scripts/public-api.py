@@ -2,7 +2,13 @@
 """The public surface of deploywatch-core, one line per item and path.
 
     scripts/public-api.py            print the listing
-    scripts/public-api.py --count    print the number of lines of the listing
+    scripts/public-api.py --count [--before REV]
+                                     print the number of lines of the listing,
+                                     in all and by kind (a Markdown table);
+                                     with --before, the same of the core at
+                                     git revision REV beside it (REV's tree
+                                     extracted to a temporary folder, listed
+                                     by this script)
     scripts/public-api.py --write    write it to core/public-api.txt
     scripts/public-api.py --check    compare with core/public-api.txt; exit 1
                                      with a diff when they differ
@@ -34,11 +40,14 @@ sorted, so it does not depend on the order of the JSON.
 CARGO_TARGET_DIR is honoured (the JSON is read from $CARGO_TARGET_DIR/doc).
 Python 3, standard library only.
 """
+import collections
 import difflib
 import json
 import os
 import subprocess
 import sys
+import tarfile
+import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LISTING = os.path.join(ROOT, "core", "public-api.txt")
@@ -46,13 +55,14 @@ CRATE = "deploywatch_core"
 FEATURES = "hal,defmt"
 
 
-def rustdoc_json():
-    """Builds the core's rustdoc JSON and returns it parsed."""
+def rustdoc_json(root=ROOT):
+    """Builds the core's rustdoc JSON (of the workspace at `root`) and
+    returns it parsed."""
     env = dict(os.environ, RUSTC_BOOTSTRAP="1")
     cmd = ["cargo", "rustdoc", "-p", "deploywatch-core", "--lib", "--locked",
            "--features", FEATURES, "--",
            "-Z", "unstable-options", "--output-format", "json"]
-    r = subprocess.run(cmd, cwd=ROOT, env=env, stdout=subprocess.DEVNULL,
+    r = subprocess.run(cmd, cwd=root, env=env, stdout=subprocess.DEVNULL,
                        stderr=subprocess.PIPE, text=True)
     if r.returncode != 0:
         sys.stderr.write(r.stderr)
@@ -191,9 +201,9 @@ class Walker:
         self.emit(name, f"{path}::{mi['name']}")
 
 
-def listing():
+def listing(root=ROOT):
     """The listing's lines, and the items reachable by more than one path."""
-    doc = rustdoc_json()
+    doc = rustdoc_json(root)
     w = Walker(doc)
     w.walk_module(doc["root"], CRATE, frozenset())
     lines = [f"{kind} {path}" for path, kind in sorted(w.lines)]
@@ -201,8 +211,50 @@ def listing():
     return lines, twice
 
 
+def listing_at(rev):
+    """The listing of the core at git revision `rev`: its tree extracted
+    with `git archive` to a temporary folder (the checkout is untouched)."""
+    with tempfile.TemporaryDirectory(prefix="public-api-") as tmp:
+        archive = os.path.join(tmp, "tree.tar")
+        subprocess.run(["git", "archive", "--format=tar", "-o", archive, rev],
+                       cwd=ROOT, check=True)
+        tree = os.path.join(tmp, "tree")
+        with tarfile.open(archive) as t:
+            t.extractall(tree, filter="data")
+        if "CARGO_TARGET_DIR" not in os.environ:
+            # The checkout's target folder: the dependencies are built once.
+            os.environ["CARGO_TARGET_DIR"] = os.path.join(ROOT, "target")
+        return listing(tree)[0]
+
+
+def kinds(lines):
+    """Lines of the listing by kind (`assoc const` is one kind)."""
+    return collections.Counter(l.rsplit(" ", 1)[0] if " = " not in l else "re-export"
+                               for l in lines)
+
+
+def count_table(lines, before):
+    """The counts as a Markdown table: by kind, then in all; the listing at
+    revision `before` (a pair: the revision, its lines) in a column first
+    when given."""
+    cols = ([f"at `{before[0]}`"] if before else []) + ["this tree"]
+    counts = ([kinds(before[1])] if before else []) + [kinds(lines)]
+    totals = ([len(before[1])] if before else []) + [len(lines)]
+    rows = [f"Lines of the listing of deploywatch-core's public surface (features "
+            f"{FEATURES}): one per item and path, trait impls left out.", "",
+            "| kind | " + " | ".join(cols) + " |", "|---|" + "---:|" * len(cols)]
+    for k in sorted(set().union(*counts)):
+        rows.append(f"| {k} | " + " | ".join(f"{c[k]:,}" for c in counts) + " |")
+    rows.append("| **all** | " + " | ".join(f"**{t:,}**" for t in totals) + " |")
+    return "\n".join(rows) + "\n"
+
+
 def main(argv):
     modes = {"--count", "--write", "--check"}
+    before = None
+    if len(argv) == 3 and argv[0] == "--count" and argv[1] == "--before":
+        before = argv[2]
+        argv = argv[:1]
     if len(argv) > 1 or (argv and argv[0] not in modes):
         sys.exit(__doc__)
     lines, twice = listing()
@@ -211,7 +263,8 @@ def main(argv):
     if mode is None:
         sys.stdout.write(text)
     elif mode == "--count":
-        print(len(lines))
+        old = (before, listing_at(before)) if before else None
+        sys.stdout.write(count_table(lines, old))
     elif mode == "--write":
         with open(LISTING, "w", encoding="utf-8") as f:
             f.write(text)

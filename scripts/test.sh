@@ -25,6 +25,10 @@
 #     manifests outside docs/measured.md and the compared example outputs;
 #     every section of docs/measured.md with its command and date, every
 #     link to it resolving (scripts/measured.py check)
+#  2a''. the core's public surface (scripts/public-api.py --check): the
+#     listing of every public item by path, from rustdoc's JSON, against
+#     core/public-api.txt; fails with the diff when they differ, and when an
+#     item is reachable by two paths
 #  2b. the Python package (python/, a member of the workspace): .venv/ made or
 #     updated by scripts/python-env.sh (the extension built once, in
 #     release), then pytest, with a real Dask LocalCluster of 2 processes,
@@ -80,6 +84,9 @@ docs_and_python() {
     python3 scripts/doc-figures.py --self-test
     python3 scripts/doc-figures.py --check
     python3 scripts/measured.py check
+
+    step "core: the public surface against core/public-api.txt"
+    python3 scripts/public-api.py --check
 
     step "python package: build, pytest (Dask LocalCluster)"
     bash scripts/python-env.sh
