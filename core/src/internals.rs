@@ -6,4 +6,4 @@
 //! `scripts/public-api.py`) is of the features a firmware or host crate
 //! uses (`hal`, `defmt`), without this one.
 
-pub use crate::monitor::internals::{JointOutcome, Rollout, RolloutStart};
+pub use crate::monitor::rollout::{JointOutcome, Rollout, RolloutStart};

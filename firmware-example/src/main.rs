@@ -22,7 +22,7 @@
 //!   the main (idle) loop, at thread priority.
 //!
 //! The monitor is shared through a `cortex_m::interrupt::Mutex<RefCell<..>>`
-//! (`SHARED`): each `predict` slice runs in a critical section, so the
+//! (`SHARED`): each `learn_or_predict` slice runs in a critical section, so the
 //! sample interrupt waits at most one slice (bounded, `docs/performance.md`)
 //! and never sees a half-advanced rollout. Flight code would read the
 //! sensors in the interrupt; here the sensor is the replay file, which

@@ -28,7 +28,7 @@ const MAX_PATH: usize = 127;
 
 /// SysTick's period, the replay's sample clock [core clock ticks]: 16,384
 /// ticks, 81,920 instructions under `-icount shift=3` (0.66 ms of virtual
-/// time), nearly three times the longest `predict` slice of 6 joints
+/// time), nearly three times the longest `learn_or_predict` slice of 6 joints
 /// (29,120), which the meter needs (it measures modulo the period). In
 /// flight it is the sample interval (250,000 ticks for 100 Hz at 25 MHz);
 /// in the replay the samples come from a file as fast as the main loop
@@ -47,7 +47,7 @@ struct Shared {
 }
 
 /// The one monitor of the application, shared by the SysTick exception
-/// (`update`) and the main loop (`predict`, the status).
+/// (`update`) and the main loop (`learn_or_predict`, the status).
 static SHARED: Mutex<RefCell<Shared>> = Mutex::new(RefCell::new(Shared {
     monitor: MonitorStore::Empty,
     mailbox: Mailbox::Empty,
@@ -98,7 +98,7 @@ fn SysTick() {
 }
 
 /// The main loop's side of the two paths (`telemetry::replay::Paths`):
-/// samples to the interrupt, `predict` slices and the status here. One
+/// samples to the interrupt, `learn_or_predict` slices and the status here. One
 /// copy of the loop; the monitor is the build's (`JOINTS`).
 struct Application;
 
@@ -240,7 +240,7 @@ fn replay() -> Result<u32, Error> {
 /// Calls, total and largest cost of one kind of work [SysTick ticks].
 /// The total is a `u32` (saturating, which the report warns of): 4.3·10⁹
 /// ticks are 172 s of work at 25 MHz, 180 times the longest replay's
-/// (`predict` of seed001_T02_eft, 24·10⁶ ticks), and a 64-bit division
+/// (`learn_or_predict` of seed001_T02_eft, 24·10⁶ ticks), and a 64-bit division
 /// would cost 0.4 KiB of flash.
 #[derive(Clone, Copy)]
 struct Tally {

@@ -55,7 +55,11 @@ pub use self::state::Monitor;
 
 // The unit tests (`estimator/tests.rs`) name the monitor's other types.
 #[cfg(test)]
-use crate::monitor::*;
+use crate::monitor::config::*;
+#[cfg(test)]
+use crate::monitor::predictor::Prediction;
+#[cfg(test)]
+use crate::monitor::status::*;
 /// A chain of `N` equal panels (0.8 m, 4 kg) on linear springs, stowed at
 /// 90°, 100°, …, with the default tuning: the unit tests' mechanism.
 #[cfg(test)]

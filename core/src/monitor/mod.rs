@@ -1,13 +1,23 @@
 //! The on-board monitor: what the sensors say about a deployment while it
-//! runs. [`estimator`] holds the [`Monitor`] (its configuration, the sample
-//! path `update` and the slow path `predict`); it is made of the friction
-//! observer ([`observer`], on the joint rates of [`rate_filter`] and the
-//! centred fit of [`smoother`]), the latch
-//! tracker ([`latch`]), the reading checks ([`plausibility`], [`faults`],
-//! [`encoder`]) with each joint's [`resolution`], the torque margin ([`margin`], factors of [`standards`], the
-//! physical latch's engagement in [`latch_margin`])
-//! and the latch / stall prediction ([`predictor`] over [`rollout`], which ends in `creep`).
-//! `core/README.md` maps the two paths.
+//! runs. The user's side: the [`Monitor`] with its two paths —
+//! [`Monitor::update`], the sample path, and [`Monitor::learn_or_predict`],
+//! one slice of the slow path (learning from a queued sample, or advancing
+//! the latch / stall prediction) —, its configuration ([`MonitorConfig`]
+//! and the structs it is made of; [`ConfigError`] names the parameter),
+//! its input [`Sample`] and output [`Status`] (a [`JointStatus`] per joint:
+//! [`FaultFlags`], [`LatchState`], [`Prediction`], [`Resolution`]), the
+//! uncertainty factors of the standards ([`standards`]) and the encoder's
+//! frame format ([`encoder`]).
+//!
+//! Inside, crate-private: `estimator` holds the monitor (one file per
+//! concern); it is made of the friction observer (`observer`, on the joint
+//! rates of `rate_filter` and the centred fit of `smoother`), the latch
+//! tracker (`latch`, its timers in `held`, the physical latch's rule in
+//! `bounce`), the reading checks (`plausibility`, `faults`, `encoder`) with
+//! each joint's `resolution`, the torque margin (`margin`, the physical
+//! latch's engagement in `latch_margin`) and the latch / stall prediction
+//! (`predictor` over `rollout`, which ends in `creep`). `core/README.md`
+//! maps the two paths.
 
 pub(crate) mod bounce;
 pub(crate) mod config;
@@ -47,9 +57,3 @@ pub use status::{
     JointStatus, Observability, Resolution, Sample, Status, OBSERVED_PRIOR_SHARE,
     VISCOUS_RESOLVED_SD,
 };
-
-/// The internals [`crate::internals`] shows (feature `internals`).
-#[cfg(feature = "internals")]
-pub(crate) mod internals {
-    pub use super::rollout::{JointOutcome, Rollout, RolloutStart};
-}

@@ -1,11 +1,16 @@
 //! The panel chain's physics (`docs/spec/physics.md`), written once and
-//! generic over the float type ([`real::Real`]: `f32` on board, `f64` in the
-//! host simulator): the chain's mass matrix and equations of motion
-//! ([`chain`]), the hinge springs ([`spring`]), the friction law
-//! ([`friction`]), the physical latch ([`latch_contact`]) and its pawl
-//! ([`pawl`]), tabulated joint torques ([`torque_table`]), and the
-//! arithmetic they need ([`linalg`], [`trig`]). Nothing here knows about
-//! sensors or the monitor.
+//! generic over the float type ([`Real`](crate::Real): `f32` on board,
+//! `f64` in the host simulator). Nothing here knows about sensors or the
+//! monitor.
+//!
+//! The chain model itself is at the crate root ([`Chain`](crate::Chain),
+//! [`Spring`](crate::Spring), [`Friction`](crate::Friction), …); this
+//! module holds the rest: the physical latch ([`latch_contact`]) and its
+//! pawl ([`pawl`]), the set-valued rest of a joint ([`stick`]), the
+//! friction law's shape functions, the masked `L D Lᵀ` solve, and the
+//! constants the host shares. Inside, crate-private, one module per
+//! concern: `chain` (mass matrix, equations of motion), `spring`,
+//! `friction`, `torque_table`, `linalg`, `real`, `trig`.
 
 pub(crate) mod chain;
 pub(crate) mod friction;
