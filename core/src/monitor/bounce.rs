@@ -129,7 +129,7 @@ impl PhysicalLatch {
     /// True when every angle is finite, the travel is at least 0 and below
     /// the ramp and the crest, and the bounce window is positive and at
     /// most [`MAX_BOUNCE_WINDOW_S`].
-    pub fn is_valid(&self) -> bool {
+    pub(crate) fn is_valid(&self) -> bool {
         let t = self.switch_travel_deg;
         t.is_finite()
             && t >= 0.0

@@ -199,7 +199,7 @@ impl Default for LatchConfig {
 
 impl LatchConfig {
     /// True when every threshold is finite and in range.
-    pub fn is_valid(&self) -> bool {
+    pub(crate) fn is_valid(&self) -> bool {
         let pos = [
             self.window_deg,
             self.start_deg,

@@ -58,7 +58,7 @@ impl Engagement {
 
     /// True when every figure is finite and ≥ 0 (a ramp of no width adds
     /// no work: [`Engagement::work_j`]).
-    pub fn is_valid(&self) -> bool {
+    pub(crate) fn is_valid(&self) -> bool {
         [self.energy_j, self.crest_rad, self.ramp_rad]
             .iter()
             .all(|v| v.is_finite() && *v >= 0.0)
@@ -73,7 +73,7 @@ impl Engagement {
     /// `lo < hi` \[J\]: `E_eng` times the share of the ramp's width in
     /// `[lo, hi]` (all of it when `[lo, hi]` spans the ramp). 0 for the
     /// ideal latch (a ramp of no width).
-    pub fn work_j(&self, lo: f32, hi: f32) -> f32 {
+    pub(crate) fn work_j(&self, lo: f32, hi: f32) -> f32 {
         // Plain comparisons rather than `f32::max`/`min` (their NaN rules
         // cost flash on the Cortex-M4F): a NaN bound gives 0.
         let foot = self.foot_rad();
@@ -92,7 +92,7 @@ impl Engagement {
     /// Where the energy march of the remaining stroke ends \[rad\]: the
     /// capture angle `x_c`, or the crest when it lies further out.
     /// The same capture angle for the ideal latch (crest 0, `x_c ≥ 0`).
-    pub fn march_end(&self, capture_rad: f32) -> f32 {
+    pub(crate) fn march_end(&self, capture_rad: f32) -> f32 {
         if self.crest_rad > capture_rad {
             self.crest_rad
         } else {

@@ -120,7 +120,7 @@ impl UncertaintyFactors {
     };
 
     /// True when every factor is finite and ≥ 1 is not required, only > 0.
-    pub fn is_valid(&self) -> bool {
+    pub(crate) fn is_valid(&self) -> bool {
         [
             self.spring,
             self.kinetic,

@@ -83,7 +83,7 @@ pub struct HertzStop<T> {
 impl<T: Real> HertzStop<T> {
     /// The force of this contact law at penetration `δ` \[mm\] and its rate
     /// `δ̇` [mm/s]: zero while `δ ≤ 0`.
-    pub fn force(&self, delta_mm: T, delta_dot_mm_s: T) -> StopForce<T> {
+    pub(crate) fn force(&self, delta_mm: T, delta_dot_mm_s: T) -> StopForce<T> {
         if !(delta_mm > T::ZERO) {
             return StopForce {
                 elastic_n: T::ZERO,
@@ -310,7 +310,7 @@ pub struct StopForce<T> {
 
 impl<T: Real> StopForce<T> {
     /// The force applied, `max(raw, 0)` \[N\].
-    pub fn applied_n(&self) -> T {
+    pub(crate) fn applied_n(&self) -> T {
         self.raw_n.max(T::ZERO)
     }
 }
@@ -396,7 +396,7 @@ impl<T: Real> PhysicalLatch<T> {
     }
 
     /// `w_h`: angular width of the hold ramp \[rad\].
-    pub fn hold_width_rad(&self) -> T {
+    pub(crate) fn hold_width_rad(&self) -> T {
         self.plunger.stroke_mm / self.ramp_rate(self.plunger.hold_ramp_rad)
     }
 
@@ -480,7 +480,7 @@ impl<T: Real> PhysicalLatch<T> {
 
     /// The magnet's force \[N\] at travel `u`, on the segment inside
     /// (`within`) or beyond its reach.
-    pub fn magnet_force_on(&self, within: bool, u: T) -> T {
+    pub(crate) fn magnet_force_on(&self, within: bool, u: T) -> T {
         let m = &self.magnet;
         if !within || m.force_n == T::ZERO {
             return T::ZERO;
@@ -539,7 +539,7 @@ impl<T: Real> PhysicalLatch<T> {
 
     /// The conservative joint torque `τ_φ` [N·m] of plunger and magnet at
     /// `φ`, each on the segment its travel is in.
-    pub fn conservative_torque(&self, phi: T) -> T {
+    pub(crate) fn conservative_torque(&self, phi: T) -> T {
         let u = self.travel(phi);
         let seg = self.plunger_segment(u);
         let within = self.magnet_within(u);
@@ -547,7 +547,7 @@ impl<T: Real> PhysicalLatch<T> {
     }
 
     /// `τ_u` [N·m] of plunger and magnet on given segments.
-    pub fn conservative_torque_u(&self, seg: PlungerSegment, within: bool, u: T) -> T {
+    pub(crate) fn conservative_torque_u(&self, seg: PlungerSegment, within: bool, u: T) -> T {
         self.conservative_torque_rated(seg, within, u, self.ramp_rate_on(seg))
     }
 

@@ -99,7 +99,7 @@ impl<T: Real> PhysicalLatch<T> {
     }
 
     /// The notch contact's elastic energy `k δ_n^2.5 / 2.5` \[J\] at `φ`.
-    pub fn notch_energy(&self, phi: T) -> T {
+    pub(crate) fn notch_energy(&self, phi: T) -> T {
         if self.pawl().is_none() {
             return T::ZERO;
         }

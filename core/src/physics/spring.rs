@@ -224,7 +224,7 @@ impl<T: Real> Curve<T> {
 
     /// `∫ T(θ) dθ` from `a` to `b` degrees (a ≤ b), in N·m·deg, with the
     /// curve clamped outside its knots. Exact for both interpolations.
-    pub fn integral(&self, a: T, b: T) -> T {
+    pub(crate) fn integral(&self, a: T, b: T) -> T {
         if !(b > a) {
             return T::ZERO;
         }
@@ -364,7 +364,7 @@ impl<T: Real> Spring<T> {
     }
 
     /// True when folding and unfolding differ (the branch matters).
-    pub fn has_hysteresis(&self) -> bool {
+    pub(crate) fn has_hysteresis(&self) -> bool {
         matches!(
             self,
             Spring::Curve {
