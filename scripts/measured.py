@@ -209,7 +209,7 @@ def bench(name, log):
             ids.append(m.group(1))
     rows = []
     for full_id in ids:
-        got = criterion_estimates(os.path.join(ROOT, "target", "criterion"), full_id)
+        got = criterion_estimates(os.path.join(os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target")), "criterion"), full_id)
         if got:
             med, lo, hi = got
             rate = f"; {per / (med * 1e-9):,.0f} deployments per core-second" if per else ""

@@ -118,6 +118,7 @@ pub mod deployment {
     pub use crate::simulate::deployment::{
         sample_grid, simulate, SimError, SimOptions, Trajectory,
     };
+    pub use crate::simulate::trajectory::MAX_LEDGER_DRIFT;
 }
 
 /// A joint that swung back past its stowed angle, as a run reports it.
@@ -242,7 +243,7 @@ pub mod table_export {
 
 /// The probability that a deployment fails.
 pub mod reliability {
-    pub use crate::analysis::reliability::{Problem, ReliabilityError};
+    pub use crate::analysis::reliability::{Problem, ReliabilityError, VERDICT_LEDGER_DRIFT};
     pub use crate::simulate::latch_deployment::Keep;
     /// The method chosen and its result.
     pub mod auto {

@@ -6,14 +6,17 @@
 //! integrated on 3-point Gauss–Legendre nodes of each step's dense output,
 //! plus the energy the events took (the latches' plastic impacts, the stick
 //! rule's impulses) is the energy stored at the start, to the drift. A drift
-//! beyond [`MAX_LEDGER_DRIFT`] of the stored energy stops the run with
+//! beyond the run's tolerance ([`SimOptions::max_drift`],
+//! [`MAX_LEDGER_DRIFT`] by default) of the stored energy stops the run with
 //! [`SimError::EnergyDrift`]; a step over which the drift moves by more than
 //! its [`step_budget`] is taken again shorter.
 
 use crate::model::torque_table::HostChain;
 use crate::simulate::latch_run::{step_budget, LEDGER_MIN_STEP_S};
 use crate::simulate::ode::{Dense, State};
-use crate::simulate::trajectory::{SimError, MAX_LEDGER_DRIFT};
+#[cfg(doc)]
+use crate::simulate::trajectory::MAX_LEDGER_DRIFT;
+use crate::simulate::trajectory::{SimError, SimOptions};
 use deploywatch_core::{Branch, Mode};
 
 /// 3-point Gauss–Legendre nodes and weights on [0, 1] (exact to degree 5).
@@ -38,14 +41,23 @@ pub struct ChainLedger {
     pub now_j: f64,
     /// The run's duration \[s\] ([`step_budget`]).
     pub duration_s: f64,
+    /// The run's tolerance ([`SimOptions::max_drift`]).
+    pub max_drift: f64,
 }
 
 impl ChainLedger {
-    /// The ledger of a run of `duration_s` \[s\] starting at `y0`.
-    pub fn start<const N: usize>(chain: &HostChain<N>, y0: &State<N>, duration_s: f64) -> Self {
+    /// The ledger of a run of `duration_s` \[s\] starting at `y0`, held
+    /// to `opts`' [`SimOptions::max_drift`].
+    pub fn start<const N: usize>(
+        chain: &HostChain<N>,
+        y0: &State<N>,
+        duration_s: f64,
+        opts: &SimOptions,
+    ) -> Self {
         ChainLedger {
             stored_j: state_energy(chain, y0),
             duration_s,
+            max_drift: opts.max_drift,
             ..ChainLedger::default()
         }
     }
@@ -56,7 +68,7 @@ impl ChainLedger {
     /// longer than [`LEDGER_MIN_STEP_S`]: the step is to be
     /// taken again, shorter (the ledger as before). An error naming the
     /// joint whose work over the step was largest when the drift exceeds
-    /// [`MAX_LEDGER_DRIFT`].
+    /// the run's tolerance ([`SimOptions::max_drift`]).
     pub fn step<const N: usize>(
         &mut self,
         chain: &HostChain<N>,
@@ -86,14 +98,15 @@ impl ChainLedger {
                 work[j] += w * h * p.abs();
             }
         }
-        let now = state_energy(chain, y1) + trial.dissipated_j + trial.events_j - self.stored_j;
-        let budget = step_budget(self.stored_j, h, self.duration_s);
+        let energy = state_energy(chain, y1);
+        let now = energy + trial.dissipated_j + trial.events_j - self.stored_j;
+        let budget = step_budget(self.stored_j, h, self.duration_s, self.max_drift);
         if (now - self.now_j).abs() > budget && h > LEDGER_MIN_STEP_S {
             return Ok(false);
         }
         *self = trial;
         let joint = (0..N).fold(0, |b, j| if work[j] > work[b] { j } else { b });
-        self.check(chain, y1, t1, joint + 1, || {
+        self.check(energy, t1, joint + 1, || {
             format!(
                 "its friction and effects' work over the step from {:.6} s",
                 dense.t0
@@ -112,31 +125,32 @@ impl ChainLedger {
         t: f64,
         joint: usize,
     ) -> Result<(), SimError> {
-        let taken = before - state_energy(chain, y);
+        let energy = state_energy(chain, y);
+        let taken = before - energy;
         self.events_j += taken;
-        if taken < -MAX_LEDGER_DRIFT * self.stored_j.abs() {
+        if taken < -self.max_drift * self.stored_j.abs() {
             // An event that gives energy is wrong whatever the ledger says.
             self.worst_drift_j = self.worst_drift_j.max(-taken);
         }
-        self.check(chain, y, t, joint, || {
+        self.check(energy, t, joint, || {
             format!("its event, which took {taken:.3e} J")
         })
     }
 
-    /// The drift at `y` (time `t`), and the error when it exceeds the
-    /// tolerance.
-    fn check<const N: usize>(
+    /// The drift at a state of energy `energy` \[J\] (kinetic plus
+    /// potential, [`state_energy`]) at time `t`, and the error when it
+    /// exceeds the tolerance.
+    fn check(
         &mut self,
-        chain: &HostChain<N>,
-        y: &State<N>,
+        energy: f64,
         t: f64,
         joint: usize,
         cause: impl FnOnce() -> String,
     ) -> Result<(), SimError> {
-        let total = state_energy(chain, y) + self.dissipated_j + self.events_j;
+        let total = energy + self.dissipated_j + self.events_j;
         self.now_j = total - self.stored_j;
         self.worst_drift_j = self.worst_drift_j.max(self.now_j.abs());
-        if self.worst_drift_j <= MAX_LEDGER_DRIFT * self.stored_j.abs() {
+        if self.worst_drift_j <= self.max_drift * self.stored_j.abs() {
             return Ok(());
         }
         Err(SimError::EnergyDrift {
@@ -145,6 +159,7 @@ impl ChainLedger {
             t_s: t,
             drift_j: self.worst_drift_j,
             stored_j: self.stored_j,
+            limit: self.max_drift,
         })
     }
 }

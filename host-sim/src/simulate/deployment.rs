@@ -363,7 +363,7 @@ pub fn run_chain<const N: usize>(
 ) -> Result<Trajectory, SimError> {
     let duration = times.last();
     let (mut it, mut y) = Integrator::at_rest(chain);
-    let mut ledger = ChainLedger::start(chain, &y, duration);
+    let mut ledger = ChainLedger::start(chain, &y, duration, opts);
     let mut watch = StowedWatch::new(chain);
     let mut out = Sampler {
         times,

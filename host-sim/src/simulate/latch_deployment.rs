@@ -518,6 +518,9 @@ struct Ledger {
     now_j: f64,
     /// The run's duration \[s\] ([`step_budget`](super::latch_run::step_budget)).
     duration_s: f64,
+    /// The run's tolerance, relative to the stored energy
+    /// ([`SimOptions::max_drift`]).
+    max_drift: f64,
 }
 
 /// Samples of the run.
@@ -662,6 +665,7 @@ fn run_keeping<const N: usize>(
     let (k, s, l) = sim.energies(&y0);
     run.ledger.start_j = k + s + l;
     run.ledger.duration_s = times.last();
+    run.ledger.max_drift = opts.max_drift;
     run.ledger.energy.stored_j = k + s + l;
     sim.close_ledger(&mut run.ledger, &y0);
     sim.stick_at_rest(&y0);

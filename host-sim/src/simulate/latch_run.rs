@@ -100,16 +100,18 @@ pub const DRIFT_RATE_SHARE: f64 = 0.25;
 
 /// Largest move of the energy ledger's drift over one step of `h` \[s\] in a
 /// run of `duration_s` \[s\] storing `stored_j` \[J\] before the step is taken
-/// again shorter: `STEP_DRIFT` plus `DRIFT_RATE_SHARE` of
-/// [`MAX_LEDGER_DRIFT`] in proportion to `h / duration_s` (of `stored_j`).
+/// again shorter: `STEP_DRIFT` plus `DRIFT_RATE_SHARE` of the run's
+/// tolerance `max_drift` ([`crate::simulate::trajectory::SimOptions::max_drift`])
+/// in proportion to `h / duration_s`, both scaled by `max_drift /`
+/// [`MAX_LEDGER_DRIFT`] (of `stored_j`).
 /// The ledger is an error estimate of its own beside DOPRI5's: on a stiff
 /// stop contact the default tolerances alone let a run drift past
 /// [`MAX_LEDGER_DRIFT`] in a few steps (the four-panel wing of `data/mechanisms/issue38_four_panel.toml`: 1.07e-6
 /// at its pawl's stop at 1.469 s), and over a long run of many joints the
 /// smooth steps' errors add up to it (an eight-panel wing: 1.0e-6 at 8 s).
-pub fn step_budget(stored_j: f64, h: f64, duration_s: f64) -> f64 {
-    let share = DRIFT_RATE_SHARE * MAX_LEDGER_DRIFT * h / duration_s.max(h);
-    stored_j.abs() * (STEP_DRIFT + share)
+pub fn step_budget(stored_j: f64, h: f64, duration_s: f64, max_drift: f64) -> f64 {
+    let share = DRIFT_RATE_SHARE * max_drift * h / duration_s.max(h);
+    stored_j.abs() * (STEP_DRIFT * max_drift / MAX_LEDGER_DRIFT + share)
 }
 
 /// Steps at most this long \[s\] are not taken again for the ledger (an

@@ -28,6 +28,14 @@ pub struct SimOptions {
     /// `None` (0: end at the first sample at or after the last latch, as
     /// the golden files do).
     pub settle_s: Option<f64>,
+    /// The energy ledger's tolerance (`docs/simulator.md`, "Energy ledger
+    /// self-check"): the largest drift of the run from the energy stored at
+    /// the start, relative to it \[1\]; beyond it the run stops with
+    /// [`SimError::EnergyDrift`], and a step whose drift moves by more than
+    /// its share of it is taken again shorter. [`MAX_LEDGER_DRIFT`] by
+    /// default; a run asked for less accuracy (a reliability verdict) holds
+    /// a looser one.
+    pub max_drift: f64,
 }
 
 /// Default relative tolerance of the DOPRI5 error norm ([`SimOptions::rtol`]):
@@ -62,6 +70,7 @@ impl Default for SimOptions {
             latching: true,
             stop_when_deployed: true,
             settle_s: None,
+            max_drift: MAX_LEDGER_DRIFT,
         }
     }
 }
@@ -139,7 +148,8 @@ impl Trajectory {
 }
 
 /// Largest drift of a run's energy ledger from the energy stored at the
-/// start, relative to it, that a run may reach (`docs/simulator.md`,
+/// start, relative to it, that a run may reach by default
+/// ([`SimOptions::max_drift`]) (`docs/simulator.md`,
 /// "Energy ledger self-check"); beyond it the run stops with
 /// [`SimError::EnergyDrift`].
 pub const MAX_LEDGER_DRIFT: f64 = 1e-6;
@@ -177,15 +187,14 @@ pub enum SimError {
         t_s: f64,
     },
     /// The run's energy ledger does not close: its drift from the energy
-    /// stored at the start exceeds [`MAX_LEDGER_DRIFT`]
+    /// stored at the start exceeds the run's [`SimOptions::max_drift`]
     /// of it (`docs/simulator.md`, "Energy ledger self-check"). The run is
     /// wrong and is not written.
     #[error(
         "the energy ledger does not close at joint {joint} ({cause}) at t = {t_s:.6} s: \
-         drift {drift_j:.3e} J, {:.2e} of the {stored_j:.6} J stored (more than {:.0e}); \
+         drift {drift_j:.3e} J, {:.2e} of the {stored_j:.6} J stored (more than {limit:.0e}); \
          the run is wrong and was not written",
-        drift_j / stored_j.abs().max(f64::MIN_POSITIVE),
-        MAX_LEDGER_DRIFT
+        drift_j / stored_j.abs().max(f64::MIN_POSITIVE)
     )]
     EnergyDrift {
         /// 1-based joint: the one at whose event the drift jumped, or whose
@@ -199,6 +208,9 @@ pub enum SimError {
         drift_j: f64,
         /// The energy stored at the start \[J\].
         stored_j: f64,
+        /// The run's tolerance, relative to `stored_j` \[1\]
+        /// ([`SimOptions::max_drift`]).
+        limit: f64,
     },
     /// A tape-spring joint sticks at `φ̇ = 0` where neither branch is
     /// consistent (the reference reports this as an error too).

@@ -6,7 +6,7 @@
 use super::{Ledger, Runner, Sim, GAUSS3};
 use crate::simulate::latch_run::{step_budget, LEDGER_MIN_STEP_S};
 use crate::simulate::ode::{Dense, State};
-use crate::simulate::trajectory::{SimError, MAX_LEDGER_DRIFT};
+use crate::simulate::trajectory::SimError;
 use deploywatch_core::physics::pawl::PawlState;
 use deploywatch_core::Branch;
 
@@ -110,7 +110,7 @@ impl<const N: usize> Sim<'_, N> {
 impl Ledger {
     /// The ledger's check after a step or an event at `t`: a
     /// [`SimError::EnergyDrift`] at `joint` (1-based, `cause` says why that
-    /// joint) when the drift exceeds [`MAX_LEDGER_DRIFT`] of the stored
+    /// joint) when the drift exceeds the run's tolerance (`max_drift`) of the stored
     /// energy.
     pub(super) fn check(
         &self,
@@ -119,7 +119,7 @@ impl Ledger {
         cause: impl FnOnce() -> String,
     ) -> Result<(), SimError> {
         let e = &self.energy;
-        if e.worst_drift_j <= MAX_LEDGER_DRIFT * e.stored_j.abs() {
+        if e.worst_drift_j <= self.max_drift * e.stored_j.abs() {
             return Ok(());
         }
         Err(SimError::EnergyDrift {
@@ -128,6 +128,7 @@ impl Ledger {
             t_s: t,
             drift_j: e.worst_drift_j,
             stored_j: e.stored_j,
+            limit: self.max_drift,
         })
     }
 }
@@ -137,7 +138,7 @@ impl Runner<'_> {
     /// when the ledger's drift moved by more than its [`step_budget`] of the
     /// stored energy over it and it is longer than [`LEDGER_MIN_STEP_S`]:
     /// the step is to be taken again, shorter (the ledger as before). An
-    /// error when the drift exceeds [`MAX_LEDGER_DRIFT`]. With it, the
+    /// error when the drift exceeds the run's tolerance. With it, the
     /// drift's move over the step / its budget \[1\]. A step booked is
     /// also shown to the joints' stowed-side watch
     /// ([`crate::simulate::stowed::StowedWatch`]).
@@ -151,7 +152,12 @@ impl Runner<'_> {
         let mut trial = self.ledger;
         let joint = sim.account(&mut trial, dense, t1, y1);
         let moved = (trial.now_j - self.ledger.now_j).abs();
-        let budget = step_budget(trial.energy.stored_j, t1 - dense.t0, trial.duration_s);
+        let budget = step_budget(
+            trial.energy.stored_j,
+            t1 - dense.t0,
+            trial.duration_s,
+            trial.max_drift,
+        );
         let ratio = moved / budget;
         if moved > budget && t1 - dense.t0 > LEDGER_MIN_STEP_S {
             return Ok((false, ratio));

@@ -16,10 +16,10 @@
 //!   harness, a detent or torque table, a joint without a physical latch,
 //!   a folding branch under the unfolding one (the tape springs' knee near
 //!   the stop), or booked losses that fall along the run. The integration's own error moves
-//!   `E` by at most the ledger's drift, which every run keeps below
-//!   [`MAX_LEDGER_DRIFT`] of the stored energy or stops with an error; so
-//!   from here on `E ≤ E(y) + slack`, `slack = MAX_LEDGER_DRIFT·|E₀| −
-//!   drift(y)`.
+//!   `E` by at most the ledger's drift, which every run keeps below its
+//!   tolerance `max_drift` ([`SimOptions::max_drift`], [`MAX_LEDGER_DRIFT`]
+//!   by default) of the stored energy or stops with an error; so from here
+//!   on `E ≤ E(y) + slack`, `slack = max_drift·|E₀| − drift(y)`.
 //! - `V` is a sum of one term per joint, `V_j(φ_j)` (no rig tilt, no
 //!   harness, no detent or torque table: those runs never end early). Each
 //!   `V_j` has a lower bound `floor_j` over every angle, so the energy free
@@ -44,7 +44,8 @@
 
 use super::{Ledger, Sim};
 use crate::simulate::ode::State;
-use crate::simulate::trajectory::MAX_LEDGER_DRIFT;
+#[cfg(doc)]
+use crate::simulate::trajectory::{SimOptions, MAX_LEDGER_DRIFT};
 use deploywatch_core::physics::latch_contact::{PhysicalLatch, PlungerSegment};
 use deploywatch_core::physics::pawl::PawlState;
 use deploywatch_core::physics::solve_spd_masked;
@@ -281,7 +282,7 @@ impl<const N: usize> Sim<'_, N> {
             floors += b.floor_j;
             least_barrier = least_barrier.min(b.barrier_j);
         }
-        let slack = (MAX_LEDGER_DRIFT * e.stored_j.abs() - ledger.now_j).max(0.0);
+        let slack = (ledger.max_drift * e.stored_j.abs() - ledger.now_j).max(0.0);
         let free = e.kinetic_j + e.spring_j + e.latch_j + slack - floors;
         free < least_barrier && self.pawls_hold(free.max(0.0), y)
     }
