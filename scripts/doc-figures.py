@@ -33,6 +33,13 @@ A paragraph, list item or table that holds design numbers caught by a rule
 by an HTML comment on the line before it, with the reason:
 
     <!-- doc-figures: not measured (the budgets of scripts/firmware.sh) -->
+
+The comments of the Rust sources (`//`, `///`, `//!` in core/, host-sim/,
+tests/, python/src/, firmware-example/src/, fuzz/fuzz_targets/, outside
+fenced blocks of a doc comment) are scanned by the same rules: a figure a
+run measured is no more true in a comment than in a doc. A design number
+there is marked by a comment line `// doc-figures: not measured (reason)`
+before it, which covers the comment lines after it.
 """
 
 import importlib.util
@@ -52,6 +59,8 @@ _spec.loader.exec_module(doc_examples)
 NUM = r"\d[\d,]*(?:\.\d+)?(?:e-?\d+)?"
 TIME = r"(?:s|ms|µs|us|min|h)"
 UNIT = r"(?:s|ms|µs|us|min|%|°|B|KiB|k?B|instructions|M instructions|deployments|simulations)"
+# A confidence level (`95 % interval`) is a design number, not a result.
+NOT_LEVEL = r"(?!\s+(?:intervals?|confidence|CI)\b)"
 RESULT_WORDS = r"(?:found|right|named|campaigns?|cases?|runs right|clean|exact|correct|passed|met)"
 
 RULES = [
@@ -59,21 +68,23 @@ RULES = [
     (
         "a figure beside `measured`/`median`/`wall`",
         re.compile(
-            rf"\b(?:[Mm]easured|[Mm]edian|wall)\b[^.;|]{{0,40}}?(?<![≤≥<>])\s{NUM}\s?{UNIT}(?!\w)"
+            rf"\b(?:[Mm]easured|[Mm]edian|wall)\b[^.;|]{{0,40}}?(?<![≤≥<>])\s{NUM}\s?{UNIT}(?!\w){NOT_LEVEL}"
             rf"|(?<![≤≥<>]\s){NUM}\s?{TIME}\s+(?:wall|of CPU)\b"
         ),
     ),
     (
         "a time, instruction or byte count a run reported",
         re.compile(
-            rf"\b(?:took|takes|taking|ran in|runs in|peak(?: of)?|used|uses|fastest(?: of \d+ runs)?:?)\s+"
+            rf"\b(?:took|takes|take|taking|costs?|ran in|runs in|peak(?: of)?|used|uses|fastest(?: of \d+ runs)?:?)\s+"
             rf"(?:about |at most |up to )?{NUM}\s?(?:{TIME}|instructions|B|KiB)(?!\w)"
         ),
     ),
     ("an N/M count of a result", re.compile(rf"(?<![\w./-])\d{{1,5}}\s?/\s?\d{{1,5}}(?![\w./])(?=[^.|]{{0,60}}\b{RESULT_WORDS})|\b{RESULT_WORDS}\b[^.|]{{0,30}}(?<![\w./-])\d{{1,5}}\s?/\s?\d{{1,5}}(?![\w./])")),
     (
         "bytes of flash, RAM or stack used",
-        re.compile(rf"(?<![≤<=]\s)(?<![≤<=]){NUM}\s?(?:B|bytes)\s+of\s+(?:the\s+)?(?:flash|static RAM|RAM|stack)\b"),
+        re.compile(
+            rf"(?<![≤<=]\s)(?<![≤<=]){NUM}\s?(?:B|bytes)\s+of\s+(?:the\s+)?(?:firmware's\s+)?(?:flash|static RAM|RAM|stack)\b"
+        ),
     ),
     ("an RMS reached (X → Y)", re.compile(rf"{NUM}\s?°?\s?(?:RMS\s)?→\s?{NUM}")),
     ("a c.o.v. with its value", re.compile(rf"c\.o\.v\.?\s*(?:of\s+|=\s*|:\s*)?(?<![≤<])\s?{NUM}")),
@@ -130,8 +141,41 @@ def strip_inline(line):
     return re.sub(r"<!--.*?-->", "", line)
 
 
+RUST_COMMENT = re.compile(r"^\s*//[/!]?\s?(.*)$")
+RUST_ALLOW = re.compile(r"^\s*//[/!]?\s*doc-figures:\s*not measured\s*\((.+)\)\s*$")
+
+
+def scan_rust(path):
+    """(line, rule, text) of every measured figure in the comments of a Rust
+    source: outside the fenced blocks of its doc comments, and outside the
+    comment lines a `// doc-figures: not measured (reason)` line covers."""
+    hits, fence, allowed = [], False, False
+    for i, raw in enumerate(Path(path).read_text(encoding="utf-8").splitlines()):
+        m = RUST_COMMENT.match(raw)
+        if not m:
+            allowed = False
+            continue
+        if RUST_ALLOW.match(raw):
+            allowed = True
+            continue
+        text = m.group(1)
+        if text.strip().startswith("```"):
+            fence = not fence
+            continue
+        if fence or allowed:
+            continue
+        line = strip_inline(text)
+        for why, rule in RULES:
+            if rule.search(line):
+                hits.append((i + 1, why, text.strip()))
+                break
+    return hits
+
+
 def scan(path):
     """(line, rule, text) of every measured figure outside docs/measured.md's kind of place."""
+    if str(path).endswith(".rs"):
+        return scan_rust(path)
     text = Path(path).read_text(encoding="utf-8")
     lines = text.splitlines()
     md = str(path).endswith(".md")
@@ -174,6 +218,8 @@ def default_files():
     files += sorted(ROOT.glob("*/README.md"))
     files += sorted(ROOT.glob("*/Cargo.toml")) + [ROOT / "Cargo.toml"]
     files += [ROOT / "memory.x"] + sorted(ROOT.glob("firmware-example/*.x"))
+    for d in ("core", "host-sim", "tests", "python/src", "firmware-example/src", "fuzz/fuzz_targets"):
+        files += sorted(p for p in (ROOT / d).rglob("*.rs") if "target" not in p.relative_to(ROOT).parts)
     return [f for f in files if f.exists()]
 
 
@@ -206,6 +252,7 @@ CLEAN = [
     "The measured figures are in [measured.md](measured.md#monitor-refresh).",
     "<!-- doc-figures: not measured (a threshold) -->\nThe CI asserts ≥ 60 % found and 6/6 campaigns.",
     "```text\nmedian 1.43 s wall\n```",
+    "The measured median with its 95 % interval.",
 ]
 
 
@@ -223,6 +270,19 @@ def self_test():
         hits = scan(p)
         if hits and "```text" not in clean:
             problems.append(f"a design number was flagged: {clean!r}: {hits}")
+    # A Rust comment is scanned; a doc comment's fenced block and a marked
+    # comment are not.
+    p = tmp / "planted.rs"
+    p.write_text("//! postcard's reader took 0.7 KiB of flash.\nfn f() {}\n")
+    if not scan(p):
+        problems.append("a figure in a Rust comment passed")
+    p = tmp / "clean.rs"
+    p.write_text(
+        "/// ```text\n/// median 1.43 s\n/// ```\n"
+        "// doc-figures: not measured (a budget)\n// It took 4,400 instructions at most.\nfn f() {}\n"
+    )
+    if scan(p):
+        problems.append(f"a Rust comment's fenced block or marked line was flagged: {scan(p)}")
     # A pasted output (a text block no command produces) is scanned.
     p = tmp / "pasted.md"
     p.write_text("# A doc\n\n```text\nmedian 1.43 s\n```\n")

@@ -22,7 +22,8 @@
 #     the doc and skipped, with the reason)
 #  2a'. the docs' figures (scripts/doc-figures.py): its self-test, then no
 #     measured figure in README.md, docs/*.md, the crates' READMEs and
-#     manifests outside docs/measured.md and the compared example outputs;
+#     manifests, and the comments of the Rust sources, outside
+#     docs/measured.md and the compared example outputs;
 #     every section of docs/measured.md with its command and date, every
 #     link to it resolving (scripts/measured.py check)
 #  2a''. the core's public surface (scripts/public-api.py --check): the

@@ -241,7 +241,7 @@ fn replay() -> Result<u32, Error> {
 /// The total is a `u32` (saturating, which the report warns of): 4.3·10⁹
 /// ticks are 172 s of work at 25 MHz, 180 times the longest replay's
 /// (`learn_or_predict` of seed001_T02_eft, 24·10⁶ ticks), and a 64-bit division
-/// would cost 0.4 KiB of flash.
+/// would take flash the budget does not spare.
 #[derive(Clone, Copy)]
 struct Tally {
     calls: u32,

@@ -10,7 +10,7 @@
 //! `∫₀^A (T_unfold − T_fold) dφ` \[J\] (positive: the law gives energy),
 //! for `A` = the plunger wing's switch travel (0.05°), the pawl's notch
 //! (0.3°) and the pawl wing's switch travel (0.35°); beside it the elastic
-//! energy of the notch's wall compressed by the 0.05° between notch and
+//! energy of the notch's side compressed by the 0.05° between notch and
 //! switch (what a locked joint needs to open its switch).
 //!
 //! `cargo run --release -p deploywatch-sim --example tape_small_loops`

@@ -139,9 +139,9 @@ fn monte_carlo(
 /// predictions are right. Rerun with `cargo test -p deploywatch-tests --test
 /// monitor monte_carlo -- --nocapture` (tables in docs/monitor.md §8;
 /// `MC_STEPS=0` runs the cheap variant, the one-joint energy balance only,
-/// against the same bounds, which it does not meet: 113/200 runs right on
-/// draw 2024, measured with `MC_STEPS=0 cargo test -p deploywatch-tests
-/// --test monitor monte_carlo -- --nocapture`).
+/// against the same bounds, which it does not meet: `MC_STEPS=0 cargo test
+/// -p deploywatch-tests --test monitor monte_carlo -- --nocapture` prints
+/// its table).
 #[test]
 fn monte_carlo_prediction_at_half_stroke() {
     let mech = mechanism("seed001_T01");

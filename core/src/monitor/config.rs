@@ -532,7 +532,8 @@ impl<'a> ConfigRef<'a> {
     }
 
     /// [`MonitorConfig::validate`]: one copy for every joint count (the
-    /// checks take 1.4 KiB of the firmware's flash).
+    /// checks are large enough that a copy per joint count would not fit
+    /// the firmware's flash budget).
     #[inline(never)]
     pub(crate) fn validate(&self) -> Result<(), ConfigError> {
         for (index, j) in self.joints.iter().enumerate() {

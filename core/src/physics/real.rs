@@ -217,9 +217,9 @@ const SQRT_UNSCALE: f32 = 5.960_464_5e-8;
 /// `√x` in `f32` arithmetic only: a first guess from the exponent bits
 /// (`bits/2 + 0x1fbd_1df5`, within 3.5 %), then three Newton steps
 /// `y ← ½ (y + x/y)` (each squares the relative error: 6·10⁻⁴, 2·10⁻⁷,
-/// then rounding), about 20 instructions on a Cortex-M4F against about 140
-/// for libm's correctly rounded `sqrtf`, whose integer Goldschmidt
-/// iteration the M4F has no hardware for. Within 2 ulp of the exact root
+/// then rounding): a few floating-point operations on a Cortex-M4F, where
+/// libm's correctly rounded `sqrtf` runs an integer Goldschmidt iteration
+/// the M4F has no hardware for, several times longer. Within 2 ulp of the exact root
 /// (test `sqrtf_within_2_ulp`), bit-identical on every target (IEEE
 /// `f32` operations only). `√0 = 0`, `√∞ = ∞`, NaN for a negative or NaN
 /// argument.

@@ -301,10 +301,8 @@ const MIN_ERROR_MEMORY: f64 = 1e-4;
 /// The chain's controller (`deployment.rs`): the elementary one, safety
 /// 0.9, growth within [0.2, 5]. The chain integrates from event to event
 /// (latches and spring-branch switches are located and restarted from, see
-/// [`RESTART_STEP_S`]) and takes few steps with it (513 accepted steps for
-/// the 12 s, 3-joint run of `deploywatch simulate
-/// data/mechanisms/seed001_T02.toml --effect
-/// coulomb_friction:joint=1:value=2.63 --seed 1`, 2026-11-25); every
+/// [`RESTART_STEP_S`]) and takes few steps with it (`deploywatch simulate`
+/// prints a run's steps and evaluations); every
 /// trajectory the project ships (golden comparisons, examples, firmware
 /// replays) is computed with it, and the proportional-integral
 /// [`TRUSS_CONTROL`] has not been shown to gain anything here.

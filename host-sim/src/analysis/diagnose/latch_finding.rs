@@ -105,9 +105,10 @@ fn ratios(t: &[f64], u: &[f64], switch: &[bool]) -> Vec<f64> {
 
 /// Relative margin on the ensemble's range of hold decelerations: each
 /// member's median comes from a handful of rebounds itself, so 9 members
-/// under-cover the spread (on the 48 campaigns of `docs/diagnosis.md` a
-/// clean campaign's measured interval came within 3 % of the range's edge;
-/// a plunger at 30 % lies 32 % below it).
+/// under-cover the spread (on the campaigns of `docs/diagnosis.md`, "Runs
+/// of a physical latch", a clean campaign's interval comes close to the
+/// range's edge, a weakened plunger's well below it: their figures are
+/// docs/measured.md's).
 const ACCEL_MARGIN: f64 = 0.25;
 
 /// As-built draws of each drawing simulated beside the drawing itself: the
