@@ -206,7 +206,7 @@ fn to_json(c: &Campaign, o: &Outcome, d: &Details) -> Diagnosis {
         simulations: o.simulations,
         wall_s: rounded(o.wall_s),
         residual_torque: None,
-        partial: o.partial.clone(),
+        partial: o.partial.map(|p| p.to_string()),
         free_window: diagnosis_latch::windows_json(c, o),
         latches: diagnosis_latch::latches_json(o),
         ambiguities: diagnosis_latch::ambiguities_json(o),

@@ -52,7 +52,7 @@ mod table_form;
 
 pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
-pub use outcome::{DiagnoseOptions, FitStats, FittedSet, Outcome, Round, StopFlag};
+pub use outcome::{DiagnoseOptions, FitStats, FittedSet, HaltReason, Outcome, Round, StopFlag};
 use policy::Move;
 pub use policy::MIN_DELTA_BIC;
 pub use table_form::TableForm;

@@ -345,8 +345,22 @@ pub struct Outcome {
     /// Sets of causes that explain the runs alike ([`super::ambiguity`]).
     pub ambiguities: Vec<Ambiguity>,
     /// Why the search stopped before its end, when it did (a time limit,
-    /// Ctrl-C): the effects are then the best found so far.
-    pub partial: Option<String>,
+    /// a raised [`StopFlag`]): the effects are then the best found so far.
+    pub partial: Option<HaltReason>,
+}
+
+/// Why a search stopped before its end; the words are the report's
+/// (`report::diagnosis_outcome`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum HaltReason {
+    /// The [`DiagnoseOptions::stop`] flag was raised (Ctrl-C on the
+    /// command line).
+    Interrupted,
+    /// The wall-time limit [`DiagnoseOptions::max_seconds`] was reached.
+    TimeLimit {
+        /// The limit \[s\].
+        limit_s: f64,
+    },
 }
 
 /// Sets of causes that explain the runs alike at one joint
