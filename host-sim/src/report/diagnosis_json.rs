@@ -165,7 +165,7 @@ fn effects_json(o: &Outcome, before: &[JointEvidence]) -> Vec<FoundEffect> {
     if let Some(u) = &o.unexplained {
         effects.push(FoundEffect {
             name: "unexplained".to_string(),
-            description: Some(u.clone()),
+            description: Some(u.to_string()),
             evidence: above_noise(before, o.noise_sigma_deg)
                 .map(|e| format!("{}: {}", e.run, e.summary))
                 .collect::<Vec<_>>()

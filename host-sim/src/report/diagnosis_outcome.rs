@@ -1,8 +1,10 @@
 //! The words of the diagnosis's typed findings: why a search stopped
-//! before its end ([`HaltReason`]). The analysis decides and holds the
-//! facts; the report, the JSON and the summary say them with these words.
+//! before its end ([`HaltReason`]), what stays unexplained
+//! ([`Unexplained`]). The analysis decides and holds the facts; the
+//! report, the JSON and the summary say them with these words.
 
-use crate::analysis::diagnose::HaltReason;
+use crate::analysis::diagnose::evidence::{ResidualPlace, StrokeThird};
+use crate::analysis::diagnose::{HaltReason, Unexplained, UnexplainedShape};
 use std::fmt;
 
 /// The words of the JSON's `partial`, the report's bold line and the
@@ -18,6 +20,50 @@ impl fmt::Display for HaltReason {
     }
 }
 
+/// A third of the stroke in words.
+pub fn third_words(t: StrokeThird) -> &'static str {
+    match t {
+        StrokeThird::First => "the first third of the stroke (near the stowed angle)",
+        StrokeThird::Middle => "the middle third of the stroke",
+        StrokeThird::Last => "the last third of the stroke (near the latch)",
+    }
+}
+
+/// Where a residual is largest, in words (`"joint 2, mostly in the middle
+/// third of the stroke"`).
+pub fn place_words(p: ResidualPlace) -> String {
+    format!("joint {}, mostly in {}", p.joint, third_words(p.third))
+}
+
+/// The JSON's `unexplained` description, the report's **Unexplained:** and
+/// the summary's `unexplained:`: the residual's RMS against the noise
+/// floor, then what it shows.
+impl fmt::Display for Unexplained {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (rms, sigma) = (self.rms_deg, self.noise_sigma_deg);
+        write!(
+            f,
+            "the residual stays at {rms:.4} deg RMS, {:.1} times the noise floor ({sigma:.4} deg)",
+            rms / sigma.max(1e-9),
+        )?;
+        match &self.shape {
+            UnexplainedShape::AboveNoise { largest_at } => {
+                if let Some(p) = largest_at {
+                    write!(f, ", largest at {}", place_words(*p))?;
+                }
+                f.write_str(", and no further candidate earns its keep")
+            }
+            UnexplainedShape::StandIn { torque } => write!(
+                f,
+                ", and without its global effect the residual torque is significant at joint {}, which holds no effect found, largest in {} ({}); no further candidate earns its keep",
+                torque.joint,
+                torque.stroke_third().map_or("the stroke", third_words),
+                torque.describe()
+            ),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -28,6 +74,70 @@ mod tests {
         assert_eq!(
             HaltReason::TimeLimit { limit_s: 0.3 }.to_string(),
             "stopped at the time limit (--max-seconds)"
+        );
+    }
+
+    fn unexplained(shape: UnexplainedShape) -> Unexplained {
+        Unexplained {
+            rms_deg: 0.826_84,
+            noise_sigma_deg: 0.021_87,
+            shape,
+        }
+    }
+
+    #[test]
+    fn a_residual_above_the_noise_says_its_size_and_where_it_is_largest() {
+        // The words `diagnose --max-seconds 0.3` wrote on the bundled
+        // example (c) before the finding was typed.
+        let u = unexplained(UnexplainedShape::AboveNoise {
+            largest_at: Some(ResidualPlace {
+                joint: 2,
+                third: StrokeThird::Last,
+            }),
+        });
+        assert_eq!(u.joint(), Some(2));
+        assert_eq!(
+            u.to_string(),
+            "the residual stays at 0.8268 deg RMS, 37.8 times the noise floor (0.0219 deg), largest at joint 2, mostly in the last third of the stroke (near the latch), and no further candidate earns its keep"
+        );
+        let nowhere = unexplained(UnexplainedShape::AboveNoise { largest_at: None });
+        assert_eq!(nowhere.joint(), None);
+        assert_eq!(
+            nowhere.to_string(),
+            "the residual stays at 0.8268 deg RMS, 37.8 times the noise floor (0.0219 deg), and no further candidate earns its keep"
+        );
+    }
+
+    #[test]
+    fn a_stand_in_names_the_joint_the_third_and_the_torque() {
+        use crate::analysis::residual_torque::{Bin, JointTorque};
+        let bin = |range: [f64; 2], mean_nm: f64| Bin {
+            range,
+            n: 40,
+            mean_nm,
+            se_nm: 0.002,
+        };
+        let torque = JointTorque {
+            joint: 3,
+            stowed_deg: -90.0,
+            samples: Vec::new(),
+            by_angle: vec![bin([-88.0, -82.0], 0.001), bin([-48.0, -42.0], -0.05)],
+            by_rate: Vec::new(),
+            chi2: 625.0,
+            max_z: 25.0,
+            significant: true,
+            rms_nm: 0.035,
+        };
+        let u = unexplained(UnexplainedShape::StandIn {
+            torque: torque.clone(),
+        });
+        assert_eq!(u.joint(), Some(3));
+        assert_eq!(
+            u.to_string(),
+            format!(
+                "the residual stays at 0.8268 deg RMS, 37.8 times the noise floor (0.0219 deg), and without its global effect the residual torque is significant at joint 3, which holds no effect found, largest in the middle third of the stroke ({}); no further candidate earns its keep",
+                torque.describe()
+            )
         );
     }
 }
