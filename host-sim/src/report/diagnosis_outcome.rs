@@ -1,10 +1,13 @@
 //! The words of the diagnosis's typed findings: why a search stopped
 //! before its end ([`HaltReason`]), what stays unexplained
-//! ([`Unexplained`]). The analysis decides and holds the facts; the
-//! report, the JSON and the summary say them with these words.
+//! ([`Unexplained`]), what became of each candidate of a round
+//! ([`Verdict`]). The analysis decides and holds the facts; the report,
+//! the JSON and the summary say them with these words.
 
 use crate::analysis::diagnose::evidence::{ResidualPlace, StrokeThird};
-use crate::analysis::diagnose::{HaltReason, Unexplained, UnexplainedShape};
+use crate::analysis::diagnose::{
+    HaltReason, Kept, Rejection, Unexplained, UnexplainedShape, Verdict,
+};
 use std::fmt;
 
 /// The words of the JSON's `partial`, the report's bold line and the
@@ -64,6 +67,46 @@ impl fmt::Display for Unexplained {
     }
 }
 
+/// The JSON's `verdict` of a candidate, the report's and the progress's.
+impl fmt::Display for Verdict {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Verdict::Screened => f.write_str("screened out by the coarse scan"),
+            Verdict::NotJudged => Ok(()),
+            Verdict::NotTheBest { delta_bic } => write!(f, "dBIC {delta_bic:.1}, not the best"),
+            Verdict::Rejected(r) => r.fmt(f),
+            Verdict::Accepted(Kept::Added) => f.write_str("earns its keep: added"),
+            Verdict::Accepted(Kept::Refined) => f.write_str("earns its keep: refined"),
+        }
+    }
+}
+
+/// Why a judged move was not taken, in words.
+impl fmt::Display for Rejection {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Rejection::BicGain { delta_bic, min } => write!(f, "BIC gain {delta_bic:.1} ≤ {min}"),
+            Rejection::IntervalHoldsZero => f.write_str("a 95 % interval contains zero"),
+            Rejection::RmsShare { rms_deg, limit_deg } => {
+                write!(f, "RMS {rms_deg:.4} deg above {limit_deg:.4} deg")
+            }
+            Rejection::AboveNoise { rms_deg } => {
+                write!(f, "residual {rms_deg:.4} deg stays above the noise")
+            }
+            Rejection::HeldOut {
+                held_deg,
+                current_deg,
+            } => write!(
+                f,
+                "held-out RMS {held_deg:.4} deg does not beat {current_deg:.4} deg"
+            ),
+            Rejection::StandInLeft => {
+                f.write_str("a global effect still stands in for a joint torque")
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -74,6 +117,33 @@ mod tests {
         assert_eq!(
             HaltReason::TimeLimit { limit_s: 0.3 }.to_string(),
             "stopped at the time limit (--max-seconds)"
+        );
+    }
+
+    #[test]
+    fn verdicts_have_the_words_of_the_json() {
+        // Words of host-sim/tests/data/diagnosis_friction_harness.json.
+        let words = |v: Verdict| v.to_string();
+        assert_eq!(
+            words(Verdict::Accepted(Kept::Added)),
+            "earns its keep: added"
+        );
+        assert_eq!(
+            words(Verdict::Accepted(Kept::Refined)),
+            "earns its keep: refined"
+        );
+        assert_eq!(
+            words(Verdict::NotTheBest { delta_bic: 6181.46 }),
+            "dBIC 6181.5, not the best"
+        );
+        assert_eq!(words(Verdict::Screened), "screened out by the coarse scan");
+        assert_eq!(words(Verdict::NotJudged), "");
+        assert_eq!(
+            words(Verdict::Rejected(Rejection::BicGain {
+                delta_bic: 3.14,
+                min: 10.0
+            })),
+            "BIC gain 3.1 ≤ 10"
         );
     }
 

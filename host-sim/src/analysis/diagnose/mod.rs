@@ -57,7 +57,7 @@ pub use outcome::{
     UnexplainedShape,
 };
 use policy::Move;
-pub use policy::MIN_DELTA_BIC;
+pub use policy::{Kept, Rejection, Verdict, MIN_DELTA_BIC};
 pub use table_form::TableForm;
 
 use crate::analysis::campaign_sim::CampaignSim;

@@ -238,8 +238,9 @@ pub struct CandidateScore {
     pub delta_bic: f64,
     /// Held-out RMS with it \[deg\], when computed.
     pub held_out_rms_deg: Option<f64>,
-    /// Why it was or was not taken ([`Verdict`]; its `Display` is the
-    /// sentence the report and the JSON give).
+    /// Why it was or was not taken ([`Verdict`]; its `Display`, in
+    /// `report::diagnosis_outcome`, is the sentence the report and the
+    /// JSON give).
     pub verdict: Verdict,
 }
 
