@@ -5,6 +5,7 @@
 //! then each parameter to `x_i = F_i⁻¹(Φ(z_i))` (the Nataf model, with `R`
 //! the correlation of the normals, not of the parameters).
 
+use super::{Param, ReliabilityError};
 use nalgebra::DMatrix;
 use std::fmt;
 use std::str::FromStr;
@@ -20,9 +21,9 @@ pub struct Correlation {
     pub rho: f64,
 }
 
-/// Why a `--corr` was rejected.
+/// Why a correlation (`I,J,RHO`) was rejected.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("--corr {0}: expected I,J,RHO: two different parameters (1-based, in the order of the --vary, then --from) and a correlation in (-1, 1)")]
+#[error("{0}: expected I,J,RHO: two different parameters (1-based, in the order of the laws drawn, then the effects carried from findings) and a correlation in (-1, 1)")]
 pub struct CorrelationError(pub String);
 
 impl FromStr for Correlation {
@@ -51,23 +52,31 @@ impl fmt::Display for Correlation {
 
 /// The lower Cholesky factor `L` of the correlation matrix of `d`
 /// parameters (`None` without correlations: `L = I`).
-pub fn cholesky(corr: &[Correlation], d: usize) -> Result<Option<DMatrix<f64>>, String> {
+pub fn cholesky(corr: &[Correlation], d: usize) -> Result<Option<DMatrix<f64>>, ReliabilityError> {
     if corr.is_empty() {
         return Ok(None);
     }
     let mut r = DMatrix::<f64>::identity(d, d);
     for c in corr {
         if c.i > d || c.j > d {
-            return Err(format!(
-                "--corr {c}: there are {d} parameters (1 to {d}, in the order of the --vary, then --from)"
-            ));
+            return Err(ReliabilityError::BadParam {
+                param: Param::Corr,
+                value: Some(c.to_string()),
+                why: format!(
+                    "there are {d} parameters (1 to {d}, in the order of the laws drawn, then the effects carried from findings)"
+                ),
+            });
         }
         r[(c.i - 1, c.j - 1)] = c.rho;
         r[(c.j - 1, c.i - 1)] = c.rho;
     }
     r.cholesky()
         .map(|ch| Some(ch.l()))
-        .ok_or_else(|| "--corr: the correlation matrix is not positive definite".to_string())
+        .ok_or_else(|| ReliabilityError::BadParam {
+            param: Param::Corr,
+            value: None,
+            why: "the correlation matrix is not positive definite".into(),
+        })
 }
 
 /// `z = L u`.
@@ -100,9 +109,15 @@ mod tests {
         assert_eq!(z, vec![1.0, 0.8]);
         let z = correlate(&l, &[0.0, 1.0]);
         assert!((z[1] - 0.6).abs() < 1e-15 && z[0] == 0.0);
-        assert!(cholesky(&[c], 1).is_err());
+        assert!(matches!(
+            cholesky(&[c], 1),
+            Err(ReliabilityError::BadParam {
+                param: Param::Corr,
+                ..
+            })
+        ));
         let three = ["1,2,0.9", "2,3,0.9", "1,3,-0.9"].map(|t| t.parse().unwrap());
         assert!(cholesky(&three, 3).is_err(), "not positive definite");
-        assert_eq!(cholesky(&[], 3), Ok(None));
+        assert!(matches!(cholesky(&[], 3), Ok(None)));
     }
 }
