@@ -140,7 +140,7 @@ mod tests {
         assert_eq!(words(Verdict::NotJudged), "");
         assert_eq!(
             words(Verdict::Rejected(Rejection::BicGain {
-                delta_bic: 3.14,
+                delta_bic: 3.12,
                 min: 10.0
             })),
             "BIC gain 3.1 ≤ 10"
