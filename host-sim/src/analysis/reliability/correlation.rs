@@ -5,7 +5,6 @@
 //! then each parameter to `x_i = F_i⁻¹(Φ(z_i))` (the Nataf model, with `R`
 //! the correlation of the normals, not of the parameters).
 
-use super::{Param, ReliabilityError};
 use nalgebra::DMatrix;
 use std::fmt;
 use std::str::FromStr;
@@ -50,33 +49,37 @@ impl fmt::Display for Correlation {
     }
 }
 
+/// Why the correlations of `d` parameters cannot be used.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CholeskyError {
+    /// A correlation names a parameter beyond the `d` drawn.
+    Beyond {
+        /// The correlation.
+        corr: Correlation,
+        /// The parameters drawn.
+        d: usize,
+    },
+    /// The correlation matrix is not positive definite.
+    NotPositiveDefinite,
+}
+
 /// The lower Cholesky factor `L` of the correlation matrix of `d`
 /// parameters (`None` without correlations: `L = I`).
-pub fn cholesky(corr: &[Correlation], d: usize) -> Result<Option<DMatrix<f64>>, ReliabilityError> {
+pub fn cholesky(corr: &[Correlation], d: usize) -> Result<Option<DMatrix<f64>>, CholeskyError> {
     if corr.is_empty() {
         return Ok(None);
     }
     let mut r = DMatrix::<f64>::identity(d, d);
     for c in corr {
         if c.i > d || c.j > d {
-            return Err(ReliabilityError::BadParam {
-                param: Param::Corr,
-                value: Some(c.to_string()),
-                why: format!(
-                    "there are {d} parameters (1 to {d}, in the order of the laws drawn, then the effects carried from findings)"
-                ),
-            });
+            return Err(CholeskyError::Beyond { corr: *c, d });
         }
         r[(c.i - 1, c.j - 1)] = c.rho;
         r[(c.j - 1, c.i - 1)] = c.rho;
     }
     r.cholesky()
         .map(|ch| Some(ch.l()))
-        .ok_or_else(|| ReliabilityError::BadParam {
-            param: Param::Corr,
-            value: None,
-            why: "the correlation matrix is not positive definite".into(),
-        })
+        .ok_or(CholeskyError::NotPositiveDefinite)
 }
 
 /// `z = L u`.
@@ -109,13 +112,10 @@ mod tests {
         assert_eq!(z, vec![1.0, 0.8]);
         let z = correlate(&l, &[0.0, 1.0]);
         assert!((z[1] - 0.6).abs() < 1e-15 && z[0] == 0.0);
-        assert!(matches!(
+        assert_eq!(
             cholesky(&[c], 1),
-            Err(ReliabilityError::BadParam {
-                param: Param::Corr,
-                ..
-            })
-        ));
+            Err(CholeskyError::Beyond { corr: c, d: 1 })
+        );
         let three = ["1,2,0.9", "2,3,0.9", "1,3,-0.9"].map(|t| t.parse().unwrap());
         assert!(cholesky(&three, 3).is_err(), "not positive definite");
         assert!(matches!(cholesky(&[], 3), Ok(None)));

@@ -203,6 +203,28 @@ impl ReliabilityError {
     }
 }
 
+impl From<correlation::CholeskyError> for ReliabilityError {
+    fn from(e: correlation::CholeskyError) -> Self {
+        let (value, why) = match e {
+            correlation::CholeskyError::Beyond { corr, d } => (
+                Some(corr.to_string()),
+                format!(
+                    "there are {d} parameters (1 to {d}, in the order of the laws drawn, then the effects carried from findings)"
+                ),
+            ),
+            correlation::CholeskyError::NotPositiveDefinite => (
+                None,
+                "the correlation matrix is not positive definite".to_string(),
+            ),
+        };
+        ReliabilityError::BadParam {
+            param: Param::Corr,
+            value,
+            why,
+        }
+    }
+}
+
 /// The margins of a batch of parameter points (`xs[i]` has one value per
 /// [`Problem::vary`]; the answer's row `i` one margin per
 /// [`Problem::modes`]), in order.
