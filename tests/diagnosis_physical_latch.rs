@@ -244,7 +244,7 @@ fn hidden_effects_are_named_on_runs_of_physical_latches() {
             o.extended.effects().iter().map(|e| e.to_string()).collect::<Vec<_>>().join("; "),
             o.baseline.rms(),
             o.extended.rms(),
-            o.unexplained.as_deref().map(|u| format!(" unexplained: {u}")).unwrap_or_default(),
+            o.unexplained.as_ref().map(|u| format!(" unexplained: {u}")).unwrap_or_default(),
             latch.join(" | "),
             o.wall_s
         );

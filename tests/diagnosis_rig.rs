@@ -328,7 +328,7 @@ fn rig_and_hinge_friction_are_told_apart() {
             outcome.wall_s,
             outcome
                 .unexplained
-                .as_deref()
+                .as_ref()
                 .map(|u| format!(", unexplained: {u}"))
                 .unwrap_or_default()
         );

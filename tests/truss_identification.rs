@@ -139,13 +139,17 @@ fn diagnose_accepts_truss_wings_and_a_clean_run_raises_no_claim() {
         outcome.baseline.rms(),
         outcome.noise_sigma_deg,
         outcome.extended.candidates(),
-        outcome.unexplained
+        outcome.unexplained.as_ref().map(ToString::to_string)
     );
     assert!(
         outcome.extended.candidates().is_empty(),
         "{:?}",
         outcome.extended.candidates()
     );
-    assert!(outcome.unexplained.is_none(), "{:?}", outcome.unexplained);
+    assert!(
+        outcome.unexplained.is_none(),
+        "{:?}",
+        outcome.unexplained.as_ref().map(ToString::to_string)
+    );
     assert!(outcome.baseline.rms() < 0.03);
 }

@@ -5,7 +5,7 @@
 //! Dask worker's boundary as themselves.
 
 use deploywatch_sim::deployment::SimError;
-use deploywatch_sim::reliability::ReliabilityError;
+use deploywatch_sim::reliability::{Param, ReliabilityError};
 use pyo3::prelude::*;
 use std::error::Error;
 
@@ -136,11 +136,26 @@ pub(crate) fn pythonic(message: &str) -> String {
     out
 }
 
-/// The exception of a reliability error: `Invalid` is the user's input,
-/// `Simulation` a deployment, `Evaluator` the executor's answer.
+/// The Python argument that sets the library's parameter `p`.
+fn argument(p: Param) -> &'static str {
+    match p {
+        Param::Vary => "vary",
+        Param::Fixed => "from_",
+        Param::Fail => "fail",
+        Param::Corr => "corr",
+        Param::Samples => "samples",
+        other => other.name(),
+    }
+}
+
+/// The exception of a reliability error: the user's input
+/// ([`ReliabilityError::is_input`], each parameter named as its Python
+/// argument), `Simulation` a deployment, `Evaluator` the executor's answer.
 pub(crate) fn reliability(e: &ReliabilityError) -> PyErr {
+    if e.is_input() {
+        return Kind::Input.raise(e.words(&|p| argument(p).to_string()), Vec::new());
+    }
     let kind = match e {
-        ReliabilityError::Invalid(_) => Kind::Input,
         ReliabilityError::Simulation { .. } => Kind::Simulation,
         ReliabilityError::Evaluator(_) => Kind::Evaluator,
         _ => Kind::Other,

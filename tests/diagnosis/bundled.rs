@@ -122,7 +122,7 @@ fn bundled_examples_are_diagnosed_correctly() {
         assert!(
             outcome.unexplained.is_none(),
             "{dir}: {:?}",
-            outcome.unexplained
+            outcome.unexplained.as_ref().map(ToString::to_string)
         );
         assert!(
             outcome.extended.rms() <= 1.2 * floor,

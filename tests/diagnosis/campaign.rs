@@ -52,7 +52,7 @@ fn a_campaign_is_never_worse_than_its_runs_alone() {
             assert!(
                 both.unexplained.is_none(),
                 "seed {seed}: {:?}",
-                both.unexplained
+                both.unexplained.as_ref().map(ToString::to_string)
             );
             assert!(both.extended.rms() <= 1.2 * worst_alone);
         }

@@ -54,7 +54,7 @@ fn hidden_effects_are_named_and_measured() {
                 outcome.extended.rms(),
                 outcome
                     .unexplained
-                    .as_deref()
+                    .as_ref()
                     .map(|u| format!(", unexplained: {u}"))
                     .unwrap_or_default()
             ));

@@ -12,7 +12,7 @@ use crate::analysis::reliability::identified::{self, FromFindings};
 use crate::analysis::reliability::params::{Dist, Target, Vary};
 use crate::analysis::reliability::text::{quantity, sig};
 use crate::analysis::reliability::{form, normal};
-use crate::analysis::reliability::{Problem, ReliabilityError};
+use crate::analysis::reliability::{Param, Problem, ReliabilityError};
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;
 use std::path::{Path, PathBuf};
@@ -134,10 +134,24 @@ pub fn problem(args: &ReliabilityArgs) -> Result<(Problem, Vec<String>), CliErro
         fail: args.fail.clone(),
         corr: args.corr.clone(),
     };
-    problem
-        .check()
-        .map_err(|e| CliError::input(e.to_string()))?;
+    problem.check().map_err(|e| CliError::input(words(&e)))?;
     Ok((problem, left_out))
+}
+
+/// The option of the command line that sets `p`.
+fn option(p: Param) -> &'static str {
+    match p {
+        Param::Vary => "--vary",
+        Param::Fixed => "--from",
+        Param::Fail => "--fail",
+        Param::Corr => "--corr",
+        Param::Samples => "--samples",
+    }
+}
+
+/// A reliability error in words, each parameter named by its option.
+fn words(e: &ReliabilityError) -> String {
+    e.words(&|p| option(p).to_string())
 }
 
 /// Runs `deploywatch reliability`.
@@ -168,9 +182,9 @@ pub fn run(args: &ReliabilityArgs) -> Result<(), CliError> {
         &mut eval,
         console.progress(),
     )
-    .map_err(|e| match e {
-        ReliabilityError::Invalid(m) => CliError::input(m),
-        other => CliError::failed(other.to_string()),
+    .map_err(|e| match e.is_input() {
+        true => CliError::input(words(&e)),
+        false => CliError::failed(words(&e)),
     })?;
     let wall = start.elapsed().as_secs_f64();
     print_estimate(&problem, &est, wall);

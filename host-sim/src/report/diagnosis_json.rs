@@ -165,7 +165,7 @@ fn effects_json(o: &Outcome, before: &[JointEvidence]) -> Vec<FoundEffect> {
     if let Some(u) = &o.unexplained {
         effects.push(FoundEffect {
             name: "unexplained".to_string(),
-            description: Some(u.clone()),
+            description: Some(u.to_string()),
             evidence: above_noise(before, o.noise_sigma_deg)
                 .map(|e| format!("{}: {}", e.run, e.summary))
                 .collect::<Vec<_>>()
@@ -206,7 +206,7 @@ fn to_json(c: &Campaign, o: &Outcome, d: &Details) -> Diagnosis {
         simulations: o.simulations,
         wall_s: rounded(o.wall_s),
         residual_torque: None,
-        partial: o.partial.clone(),
+        partial: o.partial.map(|p| p.to_string()),
         free_window: diagnosis_latch::windows_json(c, o),
         latches: diagnosis_latch::latches_json(o),
         ambiguities: diagnosis_latch::ambiguities_json(o),

@@ -4,7 +4,8 @@
 //! of long work ([`progress`]), numbers written for people ([`text`]), and
 //! [`files::Outputs`], through which every command writes its outputs all
 //! or none. Above the analysis, the report writers: the diagnosis report,
-//! its plots and its JSON ([`diagnosis`] and the `diagnosis_*` modules),
+//! its plots and its JSON ([`diagnosis`] and the `diagnosis_*` modules;
+//! [`diagnosis_outcome`] the words of its typed findings),
 //! the margin table and its JSON ([`margin`]) and its plot along the
 //! stroke ([`margin_plot`]), every standard side by side
 //! ([`margin_standards`]), the identification's summary
@@ -12,6 +13,7 @@
 pub mod diagnosis;
 pub mod diagnosis_json;
 pub mod diagnosis_latch;
+pub mod diagnosis_outcome;
 pub mod diagnosis_plots;
 pub mod diagnosis_torque;
 pub mod diagnosis_words;

@@ -277,10 +277,40 @@ fn describe(
     s
 }
 
-/// Where a residual is largest, in words: the joint with the largest RMS
-/// over the runs, and the third of its stroke where that joint's residual
-/// is largest (`"joint 2, mostly in the middle third of the stroke"`).
-pub fn locate(evidence: &[JointEvidence]) -> Option<String> {
+/// A third of a joint's stroke, from the stowed angle to the latch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StrokeThird {
+    /// The first third (near the stowed angle).
+    First,
+    /// The middle third.
+    Middle,
+    /// The last third (near the latch).
+    Last,
+}
+
+impl StrokeThird {
+    /// The third of index `k` (0, 1, 2 from the stowed angle); `None`
+    /// beyond.
+    pub fn of_index(k: usize) -> Option<StrokeThird> {
+        [StrokeThird::First, StrokeThird::Middle, StrokeThird::Last]
+            .get(k)
+            .copied()
+    }
+}
+
+/// Where a residual is largest: a joint and a third of its stroke.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ResidualPlace {
+    /// 1-based joint.
+    pub joint: usize,
+    /// The third of its stroke.
+    pub third: StrokeThird,
+}
+
+/// Where a residual is largest: the joint with the largest RMS over the
+/// runs, and the third of its stroke where that joint's residual is
+/// largest.
+pub fn locate(evidence: &[JointEvidence]) -> Option<ResidualPlace> {
     let joints = evidence.iter().map(|e| e.joint).max()?;
     let per_joint = |j: usize| evidence.iter().filter(move |e| e.joint == j);
     let worst = (1..=joints).max_by(|&a, &b| {
@@ -297,12 +327,10 @@ pub fn locate(evidence: &[JointEvidence]) -> Option<String> {
         }
     }
     let k = (0..3).max_by(|&a, &b| thirds[a].total_cmp(&thirds[b]))?;
-    let region = [
-        "the first third of the stroke (near the stowed angle)",
-        "the middle third of the stroke",
-        "the last third of the stroke (near the latch)",
-    ][k];
-    Some(format!("joint {worst}, mostly in {region}"))
+    Some(ResidualPlace {
+        joint: worst,
+        third: StrokeThird::of_index(k)?,
+    })
 }
 
 /// Estimates the sensor noise σ \[deg\] from the runs alone: the median

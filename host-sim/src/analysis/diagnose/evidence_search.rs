@@ -13,7 +13,7 @@
 
 use super::candidate::Candidate;
 use super::discover;
-use super::outcome::{CandidateScore, FittedEffect, FittedSet};
+use super::outcome::{CandidateScore, FittedEffect, FittedSet, Unexplained, UnexplainedShape};
 use super::policy::{Attempt, Move};
 use super::table_form::PlacedKnots;
 use super::{above_noise, labels, Engine, Proposal, Search, MAX_TABLES, NOISE_FLOOR_FACTOR};
@@ -537,31 +537,28 @@ impl Engine<'_> {
             .collect()
     }
 
-    /// The `unexplained` description of a set whose residual is not
-    /// clearly above the noise ([`above_noise`]) but not down to it either
-    /// (above [`NOISE_FLOOR_FACTOR`] σ̂), when a global effect of it (rig
-    /// tilt, air drag) stands in for a joint torque: without it, the
-    /// residual torque is significant at a joint where the set claims no
-    /// torque (encoder offsets aside). The data say a torque is missing at
-    /// that joint, which the global effect brought within the noise of the
-    /// angles without holding it. The joint of the largest `χ²`, where in
-    /// the stroke, and its size.
-    pub(super) fn unexplained_torque(&self, f: &FittedSet, sigma: f64) -> Option<String> {
+    /// The `unexplained` residual of a set whose residual is not clearly
+    /// above the noise ([`above_noise`]) but not down to it either (above
+    /// [`NOISE_FLOOR_FACTOR`] σ̂), when a global effect of it (rig tilt,
+    /// air drag) stands in for a joint torque: without it, the residual
+    /// torque is significant at a joint where the set claims no torque
+    /// (encoder offsets aside). The data say a torque is missing at that
+    /// joint, which the global effect brought within the noise of the
+    /// angles without holding it. That joint's torque is the one of the
+    /// largest `χ²`.
+    pub(super) fn unexplained_torque(&self, f: &FittedSet, sigma: f64) -> Option<Unexplained> {
         if !near_noise(f, sigma) {
             return None;
         }
-        let rms = f.rms();
-        let (_, jt) = self
+        let (_, torque) = self
             .hidden_by_globals(f)
             .into_iter()
             .max_by(|a, b| a.1.chi2.total_cmp(&b.1.chi2))?;
-        Some(format!(
-            "the residual stays at {rms:.4} deg RMS, {:.1} times the noise floor ({sigma:.4} deg), and without its global effect the residual torque is significant at joint {}, which holds no effect found, largest in {} ({}); no further candidate earns its keep",
-            rms / sigma.max(1e-9),
-            jt.joint,
-            jt.stroke_region().unwrap_or("the stroke"),
-            jt.describe()
-        ))
+        Some(Unexplained {
+            rms_deg: f.rms(),
+            noise_sigma_deg: sigma,
+            shape: UnexplainedShape::StandIn { torque },
+        })
     }
 }
 

@@ -1,7 +1,8 @@
-//! Stopping a search early: a wall-time limit (`--max-seconds`) or a raised
-//! flag (Ctrl-C); the best set found so far is kept and marked as such.
+//! Stopping a search early: a wall-time limit
+//! ([`DiagnoseOptions::max_seconds`]) or a raised [`StopFlag`] (Ctrl-C);
+//! the best set found so far is kept and marked as such.
 
-use super::outcome::{DiagnoseOptions, StopFlag};
+use super::outcome::{DiagnoseOptions, HaltReason, StopFlag};
 use std::time::Instant;
 
 /// When a search stops before its end: a wall-time limit or a raised flag
@@ -10,10 +11,11 @@ use std::time::Instant;
 /// closing work (strengths, held-out RMS, latch findings) runs after
 /// [`Halt::finish`].
 pub(super) struct Halt {
-    deadline: Option<Instant>,
+    /// The deadline and the limit \[s\] it was set from.
+    deadline: Option<(Instant, f64)>,
     stop: Option<StopFlag>,
     /// Why it fired, once it did.
-    fired: std::sync::Mutex<Option<String>>,
+    fired: std::sync::Mutex<Option<HaltReason>>,
     /// Set by [`Halt::finish`]: the search is over, simulate again.
     finished: std::sync::atomic::AtomicBool,
 }
@@ -23,7 +25,7 @@ impl Halt {
         Halt {
             deadline: opts
                 .max_seconds
-                .map(|s| t0 + std::time::Duration::from_secs_f64(s.max(0.0))),
+                .map(|s| (t0 + std::time::Duration::from_secs_f64(s.max(0.0)), s)),
             stop: opts.stop.clone(),
             fired: std::sync::Mutex::new(None),
             finished: std::sync::atomic::AtomicBool::new(false),
@@ -36,10 +38,9 @@ impl Halt {
             return false;
         }
         let why = if self.stop.as_ref().is_some_and(StopFlag::raised) {
-            "interrupted (Ctrl-C)".to_string()
-        } else if let Some(d) = self.deadline.filter(|d| Instant::now() >= *d) {
-            let _ = d;
-            "stopped at the time limit (--max-seconds)".to_string()
+            HaltReason::Interrupted
+        } else if let Some((_, limit_s)) = self.deadline.filter(|(d, _)| Instant::now() >= *d) {
+            HaltReason::TimeLimit { limit_s }
         } else {
             return false;
         };
@@ -50,9 +51,9 @@ impl Halt {
 
     /// The search is over: simulations are allowed again; why it stopped
     /// early, if it did.
-    pub(super) fn finish(&self) -> Option<String> {
+    pub(super) fn finish(&self) -> Option<HaltReason> {
         self.finished
             .store(true, std::sync::atomic::Ordering::Relaxed);
-        self.fired.lock().unwrap_or_else(|e| e.into_inner()).clone()
+        *self.fired.lock().unwrap_or_else(|e| e.into_inner())
     }
 }

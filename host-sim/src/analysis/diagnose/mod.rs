@@ -52,9 +52,12 @@ mod table_form;
 
 pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
-pub use outcome::{DiagnoseOptions, FitStats, FittedSet, Outcome, Round, StopFlag};
+pub use outcome::{
+    DiagnoseOptions, FitStats, FittedSet, HaltReason, Outcome, Round, StopFlag, Unexplained,
+    UnexplainedShape,
+};
 use policy::Move;
-pub use policy::MIN_DELTA_BIC;
+pub use policy::{Kept, Rejection, Verdict, MIN_DELTA_BIC};
 pub use table_form::TableForm;
 
 use crate::analysis::campaign_sim::CampaignSim;
@@ -345,20 +348,23 @@ fn above_noise(f: &FittedSet, sigma: f64) -> bool {
     rms > ABOVE_NOISE_FACTOR * sigma.max(1e-6) && rms > sigma + ABOVE_NOISE_MARGIN_DEG
 }
 
-/// The `unexplained` description when the residual stays clearly above the
-/// noise floor: how large, at which joint and where in the stroke.
-fn unexplained_text(campaign: &Campaign, extended: &FittedSet, sigma: f64) -> Option<String> {
+/// The `unexplained` residual when it stays clearly above the noise floor:
+/// how large, at which joint and where in the stroke.
+fn unexplained_above_noise(
+    campaign: &Campaign,
+    extended: &FittedSet,
+    sigma: f64,
+) -> Option<Unexplained> {
     if !above_noise(extended, sigma) {
         return None;
     }
-    let rms = extended.rms();
-    let at = evidence::locate(&evidence::analyse(campaign, &extended.effects(), sigma))
-        .map(|w| format!(", largest at {w}"))
-        .unwrap_or_default();
-    Some(format!(
-        "the residual stays at {rms:.4} deg RMS, {:.1} times the noise floor ({sigma:.4} deg){at}, and no further candidate earns its keep",
-        rms / sigma.max(1e-9),
-    ))
+    Some(Unexplained {
+        rms_deg: extended.rms(),
+        noise_sigma_deg: sigma,
+        shape: UnexplainedShape::AboveNoise {
+            largest_at: evidence::locate(&evidence::analyse(campaign, &extended.effects(), sigma)),
+        },
+    })
 }
 
 /// Diagnoses a campaign: baseline, noise floor, stepwise search
@@ -437,7 +443,7 @@ fn search_campaign(
     };
     Outcome {
         noise_sigma_deg: sigma,
-        unexplained: unexplained_text(campaign, &extended, sigma)
+        unexplained: unexplained_above_noise(campaign, &extended, sigma)
             .or_else(|| eng.unexplained_torque(&extended, sigma)),
         baseline,
         extended,

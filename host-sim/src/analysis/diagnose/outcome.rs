@@ -3,9 +3,11 @@
 
 use super::candidate::Candidate;
 use super::discover;
+use super::evidence::ResidualPlace;
 use super::latch_finding::LatchFinding;
 use super::latch_window::RunWindow;
 pub use super::policy::Verdict;
+use super::residual_torque::JointTorque;
 use super::table_form::TableForm;
 use crate::model::effect::{Effect, EffectKind};
 
@@ -236,8 +238,9 @@ pub struct CandidateScore {
     pub delta_bic: f64,
     /// Held-out RMS with it \[deg\], when computed.
     pub held_out_rms_deg: Option<f64>,
-    /// Why it was or was not taken ([`Verdict`]; its `Display` is the
-    /// sentence the report and the JSON give).
+    /// Why it was or was not taken ([`Verdict`]; its `Display`, in
+    /// `report::diagnosis_outcome`, is the sentence the report and the
+    /// JSON give).
     pub verdict: Verdict,
 }
 
@@ -331,8 +334,8 @@ pub struct Outcome {
     /// Held-out RMS of the baseline \[deg\] (the baseline fits nothing, so this
     /// is its plain RMS).
     pub rounds: Vec<Round>,
-    /// A description of a clear residual no candidate explains.
-    pub unexplained: Option<String>,
+    /// A clear residual no candidate explains: its size and what it shows.
+    pub unexplained: Option<Unexplained>,
     /// Simulations used in all (each over all runs).
     pub simulations: usize,
     /// Wall time \[s\].
@@ -345,8 +348,67 @@ pub struct Outcome {
     /// Sets of causes that explain the runs alike ([`super::ambiguity`]).
     pub ambiguities: Vec<Ambiguity>,
     /// Why the search stopped before its end, when it did (a time limit,
-    /// Ctrl-C): the effects are then the best found so far.
-    pub partial: Option<String>,
+    /// a raised [`StopFlag`]): the effects are then the best found so far.
+    pub partial: Option<HaltReason>,
+}
+
+/// Why a search stopped before its end; the words are the report's
+/// (`report::diagnosis_outcome`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum HaltReason {
+    /// The [`DiagnoseOptions::stop`] flag was raised (Ctrl-C on the
+    /// command line).
+    Interrupted,
+    /// The wall-time limit [`DiagnoseOptions::max_seconds`] was reached.
+    TimeLimit {
+        /// The limit \[s\].
+        limit_s: f64,
+    },
+}
+
+/// A residual the effects found leave and no further candidate explains
+/// (`docs/diagnosis.md`, step 6); the words are the report's
+/// (`report::diagnosis_outcome`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Unexplained {
+    /// RMS of the extended model's residuals over all runs \[deg\].
+    pub rms_deg: f64,
+    /// The noise floor σ̂ it is judged against \[deg\].
+    pub noise_sigma_deg: f64,
+    /// What the residual shows.
+    pub shape: UnexplainedShape,
+}
+
+impl Unexplained {
+    /// The joint (1-based) it names: where the residual is largest, or
+    /// where the torque a global effect stands in for is missing; `None`
+    /// when the runs give no joint evidence.
+    pub fn joint(&self) -> Option<usize> {
+        match &self.shape {
+            UnexplainedShape::AboveNoise { largest_at } => largest_at.map(|p| p.joint),
+            UnexplainedShape::StandIn { torque } => Some(torque.joint),
+        }
+    }
+}
+
+/// What an [`Unexplained`] residual shows.
+#[derive(Clone, Debug, PartialEq)]
+pub enum UnexplainedShape {
+    /// The residual stays clearly above the noise: where it is largest
+    /// (`None` when the runs give no joint evidence).
+    AboveNoise {
+        /// The joint and third of the stroke of the largest residual.
+        largest_at: Option<ResidualPlace>,
+    },
+    /// The residual is near the noise but not down to it, and a global
+    /// effect of the set (rig tilt, air drag) stands in for a joint
+    /// torque: without it, the residual torque is significant at a joint
+    /// that holds no effect found.
+    StandIn {
+        /// That joint's residual torque without the global effect (the one
+        /// of the largest `χ²`).
+        torque: JointTorque,
+    },
 }
 
 /// Sets of causes that explain the runs alike at one joint

@@ -22,9 +22,8 @@
 //!
 //! This module holds the rules as data (the verdicts, the [`Policy`], the
 //! moves and each move's settings) and names no other module of the
-//! diagnosis; [`super::moves`] applies them.
-
-use std::fmt;
+//! diagnosis; [`super::moves`] applies them. The verdicts' words are the
+//! report's (`report::diagnosis_outcome`).
 
 /// ΔBIC an effect must gain to be kept ("very strong" evidence on the
 /// Kass & Raftery 1995 scale).
@@ -107,44 +106,6 @@ pub enum Verdict {
     Rejected(Rejection),
     /// Judged and taken.
     Accepted(Kept),
-}
-
-impl fmt::Display for Verdict {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Verdict::Screened => f.write_str("screened out by the coarse scan"),
-            Verdict::NotJudged => Ok(()),
-            Verdict::NotTheBest { delta_bic } => write!(f, "dBIC {delta_bic:.1}, not the best"),
-            Verdict::Rejected(r) => r.fmt(f),
-            Verdict::Accepted(Kept::Added) => f.write_str("earns its keep: added"),
-            Verdict::Accepted(Kept::Refined) => f.write_str("earns its keep: refined"),
-        }
-    }
-}
-
-impl fmt::Display for Rejection {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Rejection::BicGain { delta_bic, min } => write!(f, "BIC gain {delta_bic:.1} ≤ {min}"),
-            Rejection::IntervalHoldsZero => f.write_str("a 95 % interval contains zero"),
-            Rejection::RmsShare { rms_deg, limit_deg } => {
-                write!(f, "RMS {rms_deg:.4} deg above {limit_deg:.4} deg")
-            }
-            Rejection::AboveNoise { rms_deg } => {
-                write!(f, "residual {rms_deg:.4} deg stays above the noise")
-            }
-            Rejection::HeldOut {
-                held_deg,
-                current_deg,
-            } => write!(
-                f,
-                "held-out RMS {held_deg:.4} deg does not beat {current_deg:.4} deg"
-            ),
-            Rejection::StandInLeft => {
-                f.write_str("a global effect still stands in for a joint torque")
-            }
-        }
-    }
 }
 
 /// The verdict of moves past a round's judged ones.

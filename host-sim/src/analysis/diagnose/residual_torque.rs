@@ -25,6 +25,7 @@
 //! rates.
 
 use crate::analysis::campaign_sim::CampaignSim;
+use crate::analysis::diagnose::evidence::StrokeThird;
 use crate::analysis::diagnose::smoothing::{noise_sigma, smooth_segment, CubicWeights, Smoothed};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{self, Effect};
@@ -172,8 +173,8 @@ impl JointTorque {
     }
 
     /// Which third of the stroke (from the stowed angle to 0) holds the
-    /// [`JointTorque::largest_bin`], in words.
-    pub fn stroke_region(&self) -> Option<&'static str> {
+    /// [`JointTorque::largest_bin`].
+    pub fn stroke_third(&self) -> Option<StrokeThird> {
         let b = self.largest_bin()?;
         let mid = 0.5 * (b.range[0] + b.range[1]);
         let share = (mid - self.stowed_deg) / (-self.stowed_deg);
@@ -182,13 +183,7 @@ impl JointTorque {
         } else {
             1
         };
-        [
-            "the first third of the stroke (near the stowed angle)",
-            "the middle third of the stroke",
-            "the last third of the stroke (near the latch)",
-        ]
-        .get(third)
-        .copied()
+        StrokeThird::of_index(third)
     }
 
     /// The part of the stroke where the residual torque is largest, in
@@ -628,17 +623,17 @@ mod tests {
     }
 
     #[test]
-    fn the_stroke_region_is_the_third_of_the_largest_clear_bin() {
+    fn the_stroke_third_is_the_third_of_the_largest_clear_bin() {
         let near_stowed = joint_with_bin(-90.0, [-88.0, -82.0]);
         assert_eq!(
             near_stowed.largest_bin().map(|b| b.range),
             Some([-88.0, -82.0])
         );
-        assert!(near_stowed.stroke_region().unwrap().contains("first third"));
+        assert_eq!(near_stowed.stroke_third(), Some(StrokeThird::First));
         let middle = joint_with_bin(-90.0, [-48.0, -42.0]);
-        assert!(middle.stroke_region().unwrap().contains("middle third"));
+        assert_eq!(middle.stroke_third(), Some(StrokeThird::Middle));
         // A wing stowed at a positive angle deploys downwards to 0.
         let near_latch = joint_with_bin(90.0, [2.0, 8.0]);
-        assert!(near_latch.stroke_region().unwrap().contains("last third"));
+        assert_eq!(near_latch.stroke_third(), Some(StrokeThird::Last));
     }
 }

@@ -20,9 +20,9 @@ pub struct Correlation {
     pub rho: f64,
 }
 
-/// Why a `--corr` was rejected.
+/// Why a correlation (`I,J,RHO`) was rejected.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("--corr {0}: expected I,J,RHO: two different parameters (1-based, in the order of the --vary, then --from) and a correlation in (-1, 1)")]
+#[error("{0}: expected I,J,RHO: two different parameters (1-based, in the order of the laws drawn, then the effects carried from findings) and a correlation in (-1, 1)")]
 pub struct CorrelationError(pub String);
 
 impl FromStr for Correlation {
@@ -49,25 +49,37 @@ impl fmt::Display for Correlation {
     }
 }
 
+/// Why the correlations of `d` parameters cannot be used.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CholeskyError {
+    /// A correlation names a parameter beyond the `d` drawn.
+    Beyond {
+        /// The correlation.
+        corr: Correlation,
+        /// The parameters drawn.
+        d: usize,
+    },
+    /// The correlation matrix is not positive definite.
+    NotPositiveDefinite,
+}
+
 /// The lower Cholesky factor `L` of the correlation matrix of `d`
 /// parameters (`None` without correlations: `L = I`).
-pub fn cholesky(corr: &[Correlation], d: usize) -> Result<Option<DMatrix<f64>>, String> {
+pub fn cholesky(corr: &[Correlation], d: usize) -> Result<Option<DMatrix<f64>>, CholeskyError> {
     if corr.is_empty() {
         return Ok(None);
     }
     let mut r = DMatrix::<f64>::identity(d, d);
     for c in corr {
         if c.i > d || c.j > d {
-            return Err(format!(
-                "--corr {c}: there are {d} parameters (1 to {d}, in the order of the --vary, then --from)"
-            ));
+            return Err(CholeskyError::Beyond { corr: *c, d });
         }
         r[(c.i - 1, c.j - 1)] = c.rho;
         r[(c.j - 1, c.i - 1)] = c.rho;
     }
     r.cholesky()
         .map(|ch| Some(ch.l()))
-        .ok_or_else(|| "--corr: the correlation matrix is not positive definite".to_string())
+        .ok_or(CholeskyError::NotPositiveDefinite)
 }
 
 /// `z = L u`.
@@ -100,9 +112,12 @@ mod tests {
         assert_eq!(z, vec![1.0, 0.8]);
         let z = correlate(&l, &[0.0, 1.0]);
         assert!((z[1] - 0.6).abs() < 1e-15 && z[0] == 0.0);
-        assert!(cholesky(&[c], 1).is_err());
+        assert_eq!(
+            cholesky(&[c], 1),
+            Err(CholeskyError::Beyond { corr: c, d: 1 })
+        );
         let three = ["1,2,0.9", "2,3,0.9", "1,3,-0.9"].map(|t| t.parse().unwrap());
         assert!(cholesky(&three, 3).is_err(), "not positive definite");
-        assert_eq!(cholesky(&[], 3), Ok(None));
+        assert!(matches!(cholesky(&[], 3), Ok(None)));
     }
 }

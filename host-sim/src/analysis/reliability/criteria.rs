@@ -42,11 +42,9 @@ pub enum Criterion {
     TimeAbove(f64),
 }
 
-/// Why a `--fail` was rejected.
+/// Why a failure criterion was rejected.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error(
-    "--fail {0}: expected not_latched, latch_rate>X (deg/s) or time>X (s), X a positive number"
-)]
+#[error("{0}: expected not_latched, latch_rate>X (deg/s) or time>X (s), X a positive number")]
 pub struct CriterionError(pub String);
 
 impl FromStr for Criterion {

@@ -164,7 +164,7 @@ fn names_no_effect(d: &Diagnosis) -> Option<String> {
     d.answer_without_effect().map(|answer| {
         format!(
             "the diagnosis names no effect to carry into the model: its answer is {answer}; \
-             without --from the mechanism is taken as given (docs/reliability.md, \
+             without these findings the mechanism is taken as given (docs/reliability.md, \
              \"From a diagnosis\")"
         )
     })

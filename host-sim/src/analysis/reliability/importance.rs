@@ -19,7 +19,7 @@ use super::estimate::lognormal_ci95;
 use super::estimate::{Estimate, FailurePoint};
 use super::form::{self, Form};
 use super::mc::{check_rows, system};
-use super::{stream, Evaluate, Problem, ReliabilityError};
+use super::{stream, Evaluate, Param, Problem, ReliabilityError};
 use crate::report::progress::Progress;
 use rand::Rng;
 use rand_distr::StandardNormal;
@@ -94,9 +94,11 @@ pub fn run(
     progress: Progress<'_>,
 ) -> Result<Estimate, ReliabilityError> {
     if s.samples < 2 {
-        return Err(ReliabilityError::Invalid(
-            "--samples: expected at least 2 for importance sampling".into(),
-        ));
+        return Err(ReliabilityError::BadParam {
+            param: Param::Samples,
+            value: None,
+            why: "expected at least 2 for importance sampling".into(),
+        });
     }
     let f = form::run(problem, eval, progress)?;
     for p in &f.points {

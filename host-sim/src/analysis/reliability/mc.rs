@@ -2,7 +2,7 @@
 //! interval of Wilson (1927), which stays meaningful with no failure.
 
 use super::estimate::{Estimate, FailurePoint};
-use super::{stream, Evaluate, Problem, ReliabilityError};
+use super::{stream, Evaluate, Param, Problem, ReliabilityError};
 use crate::analysis::fit::Z_975;
 use crate::report::progress::Progress;
 use rand::Rng;
@@ -50,9 +50,11 @@ pub fn run(
     progress: Progress<'_>,
 ) -> Result<Estimate, ReliabilityError> {
     if s.samples == 0 {
-        return Err(ReliabilityError::Invalid(
-            "--samples: expected at least 1".into(),
-        ));
+        return Err(ReliabilityError::BadParam {
+            param: Param::Samples,
+            value: None,
+            why: "expected at least 1".into(),
+        });
     }
     let d = problem.vary.len();
     let (mut n, mut nf) = (0usize, 0usize);

@@ -89,6 +89,38 @@ pub struct Problem {
     pub corr: Vec<Correlation>,
 }
 
+/// A parameter of a reliability analysis that an error names: a field of
+/// [`Problem`] or a method's setting. The library says it by its name
+/// ([`Param::name`]); the command line says it as its option and Python as
+/// its argument ([`ReliabilityError::words`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Param {
+    /// [`Problem::vary`]: the laws of the parameters drawn.
+    Vary,
+    /// [`Problem::fixed`]: the effects carried from findings.
+    Fixed,
+    /// [`Problem::fail`]: the failure criteria.
+    Fail,
+    /// [`Problem::corr`]: the correlations of the parameters drawn.
+    Corr,
+    /// The number of samples a method draws.
+    Samples,
+}
+
+impl Param {
+    /// Its name in the library (the field of [`Problem`], `samples`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Param::Vary => "vary",
+            Param::Fixed => "fixed",
+            Param::Fail => "fail",
+            Param::Corr => "corr",
+            Param::Samples => "samples",
+        }
+    }
+}
+
 /// Why an analysis stopped.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -96,6 +128,27 @@ pub enum ReliabilityError {
     /// The problem or the settings are not usable.
     #[error("{0}")]
     Invalid(String),
+    /// A parameter's value is not usable: `PARAM VALUE: WHY`.
+    #[error("{}", self.words(&|p| p.name().to_string()))]
+    BadParam {
+        /// The parameter.
+        param: Param,
+        /// The value refused, in its own syntax (`None`: the parameter as
+        /// a whole).
+        value: Option<String>,
+        /// What is wrong.
+        why: String,
+    },
+    /// Nothing to draw: no [`Param::Vary`] and no [`Param::Fixed`] effect
+    /// with an interval.
+    #[error("{}", self.words(&|p| p.name().to_string()))]
+    NothingToDraw {
+        /// Effects are fixed as found (they are not drawn).
+        fixed: bool,
+    },
+    /// No failure criterion ([`Param::Fail`]).
+    #[error("{}", self.words(&|p| p.name().to_string()))]
+    NoCriterion,
     /// A deployment could not be simulated.
     #[error("the deployment at {at} failed: {source}")]
     Simulation {
@@ -110,6 +163,68 @@ pub enum ReliabilityError {
     Evaluator(String),
 }
 
+impl ReliabilityError {
+    /// The error in words, each [`Param`] it names said by `name` (the
+    /// command line's option, Python's argument); its `Display` says them
+    /// by [`Param::name`].
+    pub fn words(&self, name: &dyn Fn(Param) -> String) -> String {
+        match self {
+            ReliabilityError::BadParam { param, value, why } => match value {
+                Some(v) => format!("{} {v}: {why}", name(*param)),
+                None => format!("{}: {why}", name(*param)),
+            },
+            ReliabilityError::NothingToDraw { fixed } => format!(
+                "expected at least one {}, or a {} effect with an interval{}",
+                name(Param::Vary),
+                name(Param::Fixed),
+                if *fixed {
+                    " (the effects fixed as found are not drawn)"
+                } else {
+                    ""
+                }
+            ),
+            ReliabilityError::NoCriterion => {
+                format!("expected at least one {}", name(Param::Fail))
+            }
+            other => other.to_string(),
+        }
+    }
+
+    /// True for the user's input: a problem or settings not usable (not a
+    /// deployment or an evaluator that failed).
+    pub fn is_input(&self) -> bool {
+        matches!(
+            self,
+            ReliabilityError::Invalid(_)
+                | ReliabilityError::BadParam { .. }
+                | ReliabilityError::NothingToDraw { .. }
+                | ReliabilityError::NoCriterion
+        )
+    }
+}
+
+impl From<correlation::CholeskyError> for ReliabilityError {
+    fn from(e: correlation::CholeskyError) -> Self {
+        let (value, why) = match e {
+            correlation::CholeskyError::Beyond { corr, d } => (
+                Some(corr.to_string()),
+                format!(
+                    "there are {d} parameters (1 to {d}, in the order of the laws drawn, then the effects carried from findings)"
+                ),
+            ),
+            correlation::CholeskyError::NotPositiveDefinite => (
+                None,
+                "the correlation matrix is not positive definite".to_string(),
+            ),
+        };
+        ReliabilityError::BadParam {
+            param: Param::Corr,
+            value,
+            why,
+        }
+    }
+}
+
 /// The margins of a batch of parameter points (`xs[i]` has one value per
 /// [`Problem::vary`]; the answer's row `i` one margin per
 /// [`Problem::modes`]), in order.
@@ -121,34 +236,39 @@ impl Problem {
     pub fn check(&self) -> Result<(), ReliabilityError> {
         let bad = |m: String| ReliabilityError::Invalid(m);
         if self.vary.is_empty() {
-            let fixed = match self.fixed.is_empty() {
-                true => String::new(),
-                false => " (the effects fixed as found are not drawn)".into(),
-            };
-            return Err(bad(format!(
-                "expected at least one --vary, or a --from effect with an interval{fixed}"
-            )));
+            return Err(ReliabilityError::NothingToDraw {
+                fixed: !self.fixed.is_empty(),
+            });
         }
         if self.fail.is_empty() {
-            return Err(bad("expected at least one --fail".into()));
+            return Err(ReliabilityError::NoCriterion);
         }
         for v in &self.vary {
-            v.check(&self.mech).map_err(|e| bad(e.to_string()))?;
+            v.check(&self.mech)
+                .map_err(|why| ReliabilityError::BadParam {
+                    param: Param::Vary,
+                    value: Some(v.label()),
+                    why: why.to_string(),
+                })?;
         }
         for f in &self.fixed {
             f.effect
                 .validate_joint(self.mech.effect_joints())
                 .map_err(|e| bad(format!("{} ({}): {e}", f.effect.kind, f.source)))?;
         }
-        correlation::cholesky(&self.corr, self.vary.len()).map_err(bad)?;
+        correlation::cholesky(&self.corr, self.vary.len())?;
         for c in &self.fail {
             if let Criterion::TimeAbove(x) = c {
                 if *x >= self.mech.duration_s {
-                    return Err(bad(format!(
-                        "--fail {c}: X must be below the mechanism's duration_s ({} s); \
-                         use not_latched for a deployment that does not finish",
-                        self.mech.duration_s
-                    )));
+                    return Err(ReliabilityError::BadParam {
+                        param: Param::Fail,
+                        value: Some(c.to_string()),
+                        why: format!(
+                            "X must be below the mechanism's duration_s ({} s); \
+                             use not_latched for a deployment that does not finish",
+                            self.mech.duration_s
+                        ),
+                    });
                 }
             }
         }

@@ -186,7 +186,8 @@ pub enum VaryError {
         #[source]
         source: EffectError,
     },
-    /// A joint missing or not in the mechanism, or a spring that is not linear.
+    /// A joint missing or not in the mechanism, or a spring that is not
+    /// linear (the target's label is the caller's to say).
     #[error("{0}")]
     Mechanism(String),
 }
@@ -228,7 +229,7 @@ impl Vary {
 
     /// Checks the target against a mechanism.
     pub fn check(&self, mech: &Mechanism) -> Result<(), VaryError> {
-        let bad = |m: String| VaryError::Mechanism(format!("--vary {}: {m}", self.label()));
+        let bad = VaryError::Mechanism;
         match self.target {
             Target::Effect { .. } => self
                 .effect(0.0)

@@ -385,7 +385,9 @@ pub struct Score {
     /// Its RMS on runs it was not fitted on \[deg\].
     #[serde(default)]
     pub held_out_rms_deg: Option<f64>,
-    /// What became of it, in words.
+    /// What became of it, in words: the search's typed verdict said by
+    /// the report, its numbers in it (`"dBIC 436.5, not the best"`); for
+    /// people, no reader acts on it (`docs/spec/formats.md`).
     #[serde(default)]
     pub verdict: String,
 }

@@ -1,0 +1,213 @@
+//! The words of the diagnosis's typed findings: why a search stopped
+//! before its end ([`HaltReason`]), what stays unexplained
+//! ([`Unexplained`]), what became of each candidate of a round
+//! ([`Verdict`]). The analysis decides and holds the facts; the report,
+//! the JSON and the summary say them with these words.
+
+use crate::analysis::diagnose::evidence::{ResidualPlace, StrokeThird};
+use crate::analysis::diagnose::{
+    HaltReason, Kept, Rejection, Unexplained, UnexplainedShape, Verdict,
+};
+use std::fmt;
+
+/// The words of the JSON's `partial`, the report's bold line and the
+/// summary's `PARTIAL:` (they name the command line's `--max-seconds`).
+impl fmt::Display for HaltReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            HaltReason::Interrupted => f.write_str("interrupted (Ctrl-C)"),
+            HaltReason::TimeLimit { limit_s: _ } => {
+                f.write_str("stopped at the time limit (--max-seconds)")
+            }
+        }
+    }
+}
+
+/// A third of the stroke in words.
+pub fn third_words(t: StrokeThird) -> &'static str {
+    match t {
+        StrokeThird::First => "the first third of the stroke (near the stowed angle)",
+        StrokeThird::Middle => "the middle third of the stroke",
+        StrokeThird::Last => "the last third of the stroke (near the latch)",
+    }
+}
+
+/// Where a residual is largest, in words (`"joint 2, mostly in the middle
+/// third of the stroke"`).
+pub fn place_words(p: ResidualPlace) -> String {
+    format!("joint {}, mostly in {}", p.joint, third_words(p.third))
+}
+
+/// The JSON's `unexplained` description, the report's **Unexplained:** and
+/// the summary's `unexplained:`: the residual's RMS against the noise
+/// floor, then what it shows.
+impl fmt::Display for Unexplained {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (rms, sigma) = (self.rms_deg, self.noise_sigma_deg);
+        write!(
+            f,
+            "the residual stays at {rms:.4} deg RMS, {:.1} times the noise floor ({sigma:.4} deg)",
+            rms / sigma.max(1e-9),
+        )?;
+        match &self.shape {
+            UnexplainedShape::AboveNoise { largest_at } => {
+                if let Some(p) = largest_at {
+                    write!(f, ", largest at {}", place_words(*p))?;
+                }
+                f.write_str(", and no further candidate earns its keep")
+            }
+            UnexplainedShape::StandIn { torque } => write!(
+                f,
+                ", and without its global effect the residual torque is significant at joint {}, which holds no effect found, largest in {} ({}); no further candidate earns its keep",
+                torque.joint,
+                torque.stroke_third().map_or("the stroke", third_words),
+                torque.describe()
+            ),
+        }
+    }
+}
+
+/// The JSON's `verdict` of a candidate, the report's and the progress's.
+impl fmt::Display for Verdict {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Verdict::Screened => f.write_str("screened out by the coarse scan"),
+            Verdict::NotJudged => Ok(()),
+            Verdict::NotTheBest { delta_bic } => write!(f, "dBIC {delta_bic:.1}, not the best"),
+            Verdict::Rejected(r) => r.fmt(f),
+            Verdict::Accepted(Kept::Added) => f.write_str("earns its keep: added"),
+            Verdict::Accepted(Kept::Refined) => f.write_str("earns its keep: refined"),
+        }
+    }
+}
+
+/// Why a judged move was not taken, in words.
+impl fmt::Display for Rejection {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Rejection::BicGain { delta_bic, min } => write!(f, "BIC gain {delta_bic:.1} ≤ {min}"),
+            Rejection::IntervalHoldsZero => f.write_str("a 95 % interval contains zero"),
+            Rejection::RmsShare { rms_deg, limit_deg } => {
+                write!(f, "RMS {rms_deg:.4} deg above {limit_deg:.4} deg")
+            }
+            Rejection::AboveNoise { rms_deg } => {
+                write!(f, "residual {rms_deg:.4} deg stays above the noise")
+            }
+            Rejection::HeldOut {
+                held_deg,
+                current_deg,
+            } => write!(
+                f,
+                "held-out RMS {held_deg:.4} deg does not beat {current_deg:.4} deg"
+            ),
+            Rejection::StandInLeft => {
+                f.write_str("a global effect still stands in for a joint torque")
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_halt_reason_has_the_words_of_the_json() {
+        assert_eq!(HaltReason::Interrupted.to_string(), "interrupted (Ctrl-C)");
+        assert_eq!(
+            HaltReason::TimeLimit { limit_s: 0.3 }.to_string(),
+            "stopped at the time limit (--max-seconds)"
+        );
+    }
+
+    #[test]
+    fn verdicts_have_the_words_of_the_json() {
+        // Words of host-sim/tests/data/diagnosis_friction_harness.json.
+        let words = |v: Verdict| v.to_string();
+        assert_eq!(
+            words(Verdict::Accepted(Kept::Added)),
+            "earns its keep: added"
+        );
+        assert_eq!(
+            words(Verdict::Accepted(Kept::Refined)),
+            "earns its keep: refined"
+        );
+        assert_eq!(
+            words(Verdict::NotTheBest { delta_bic: 6181.46 }),
+            "dBIC 6181.5, not the best"
+        );
+        assert_eq!(words(Verdict::Screened), "screened out by the coarse scan");
+        assert_eq!(words(Verdict::NotJudged), "");
+        assert_eq!(
+            words(Verdict::Rejected(Rejection::BicGain {
+                delta_bic: 3.12,
+                min: 10.0
+            })),
+            "BIC gain 3.1 ≤ 10"
+        );
+    }
+
+    fn unexplained(shape: UnexplainedShape) -> Unexplained {
+        Unexplained {
+            rms_deg: 0.826_84,
+            noise_sigma_deg: 0.021_87,
+            shape,
+        }
+    }
+
+    #[test]
+    fn a_residual_above_the_noise_says_its_size_and_where_it_is_largest() {
+        // The words `diagnose --max-seconds 0.3` wrote on the bundled
+        // example (c) before the finding was typed.
+        let u = unexplained(UnexplainedShape::AboveNoise {
+            largest_at: Some(ResidualPlace {
+                joint: 2,
+                third: StrokeThird::Last,
+            }),
+        });
+        assert_eq!(u.joint(), Some(2));
+        assert_eq!(
+            u.to_string(),
+            "the residual stays at 0.8268 deg RMS, 37.8 times the noise floor (0.0219 deg), largest at joint 2, mostly in the last third of the stroke (near the latch), and no further candidate earns its keep"
+        );
+        let nowhere = unexplained(UnexplainedShape::AboveNoise { largest_at: None });
+        assert_eq!(nowhere.joint(), None);
+        assert_eq!(
+            nowhere.to_string(),
+            "the residual stays at 0.8268 deg RMS, 37.8 times the noise floor (0.0219 deg), and no further candidate earns its keep"
+        );
+    }
+
+    #[test]
+    fn a_stand_in_names_the_joint_the_third_and_the_torque() {
+        use crate::analysis::residual_torque::{Bin, JointTorque};
+        let bin = |range: [f64; 2], mean_nm: f64| Bin {
+            range,
+            n: 40,
+            mean_nm,
+            se_nm: 0.002,
+        };
+        let torque = JointTorque {
+            joint: 3,
+            stowed_deg: -90.0,
+            samples: Vec::new(),
+            by_angle: vec![bin([-88.0, -82.0], 0.001), bin([-48.0, -42.0], -0.05)],
+            by_rate: Vec::new(),
+            chi2: 625.0,
+            max_z: 25.0,
+            significant: true,
+            rms_nm: 0.035,
+        };
+        let u = unexplained(UnexplainedShape::StandIn {
+            torque: torque.clone(),
+        });
+        assert_eq!(u.joint(), Some(3));
+        assert_eq!(
+            u.to_string(),
+            format!(
+                "the residual stays at 0.8268 deg RMS, 37.8 times the noise floor (0.0219 deg), and without its global effect the residual torque is significant at joint 3, which holds no effect found, largest in the middle third of the stroke ({}); no further candidate earns its keep",
+                torque.describe()
+            )
+        );
+    }
+}
