@@ -193,10 +193,10 @@ fn open_serial(port: &str, baud: u32) -> Result<Connection, ReplayError> {
     let p = serialport::new(port, baud)
         .timeout(Duration::from_millis(50))
         .open()
-        .map_err(|e| ReplayError::Input(format!("--port {port}: {e}")))?;
+        .map_err(|e| ReplayError::Input(format!("serial port {port}: {e}")))?;
     let reader = p
         .try_clone()
-        .map_err(|e| ReplayError::Input(format!("--port {port}: {e}")))?;
+        .map_err(|e| ReplayError::Input(format!("serial port {port}: {e}")))?;
     Ok(Connection {
         reader: Box::new(reader),
         writer: Box::new(p),

@@ -67,7 +67,8 @@ pub const VERDICT_ATOL: f64 = 1e-6;
 /// checked in every deployment; held to the reference's, the ledger's
 /// retakes (steps taken again shorter where the drift moves by more than
 /// its share) cost more work than the whole deployment otherwise takes,
-/// and no verdict depends on them (docs/reliability.md §6). A wing with
+/// and no verdict depends on them (docs/reliability.md §6,
+/// docs/decisions/0013-verdict-ledger-tolerance.md). A wing with
 /// physical latches keeps [`MAX_LEDGER_DRIFT`]: there the retakes size
 /// the steps on the stiff contacts and the verdicts move with the
 /// tolerance (docs/performance.md, "Physical latches").

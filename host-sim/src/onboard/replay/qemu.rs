@@ -70,7 +70,7 @@ fn semihosting_args(in_path: &Path, out_path: &Path) -> Result<String, ReplayErr
         if s.chars().any(char::is_whitespace) || s.len() > 127 {
             return Err(ReplayError::Input(format!(
                 "{s}: a semihosting argument may not contain spaces nor exceed 127 bytes \
-                 (choose another --keep directory or TMPDIR)"
+                 (choose another directory to keep the files in, or TMPDIR)"
             )));
         }
         args.push_str(",arg=");
