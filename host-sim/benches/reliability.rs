@@ -6,34 +6,23 @@
 //! --bench reliability`; the median is recorded in docs/reliability.md §6.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::reliability::mc::draw;
-use deploywatch_sim::reliability::Problem;
 use std::hint::black_box;
 use std::path::PathBuf;
+
+#[path = "../examples/common/reliability_case.rs"]
+mod case;
 
 /// Draws per iteration.
 const DRAWS: usize = 200;
 
 fn bench(c: &mut Criterion) {
-    let mech = Mechanism::load(
-        &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms/seed001_T01.toml"),
+    let vary: Vec<String> = case::T01_VARY.iter().map(|v| v.to_string()).collect();
+    let problem = case::problem(
+        &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(case::T01),
+        &vary,
     )
-    .expect("bundled mechanism");
-    let problem = Problem {
-        mech,
-        vary: [
-            "coulomb_friction:joint=1:lognormal(2.63,0.05)",
-            "coulomb_friction:joint=2:lognormal(1.7,0.05)",
-            "coulomb_friction:joint=3:lognormal(0.001,0.05)",
-        ]
-        .iter()
-        .map(|v| v.parse().expect("vary"))
-        .collect(),
-        fixed: Vec::new(),
-        fail: vec!["not_latched".parse().expect("criterion")],
-        corr: Vec::new(),
-    };
+    .expect("the bundled case");
     let xs: Vec<Vec<f64>> = (0..DRAWS as u64)
         .map(|i| problem.x_of(&draw(0, 0, i, 3)))
         .collect();

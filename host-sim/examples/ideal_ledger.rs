@@ -10,18 +10,21 @@
 //! the deployments per core-second (CPU time of the process,
 //! `/proc/self/stat`). Exits 1 when a verdict differs.
 //!
-//! `cargo run --release -p deploywatch-sim --example ideal_ledger -- [DRAWS]`
-//! (default 20,000); `scripts/measured.py run ideal-ledger ...` records it
-//! in docs/measured.md.
+//! `cargo run --release -p deploywatch-sim --example ideal_ledger -- [DRAWS
+//! [MECH.toml VARY...]]` (default 20,000 draws of that case; any
+//! ideal-latch mechanism with laws in the syntax of `--vary` instead);
+//! `scripts/measured.py run ideal-ledger ...` records it in
+//! docs/measured.md.
 
 use deploywatch_sim::deployment::MAX_LEDGER_DRIFT;
-use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::reliability::mc::draw;
 use deploywatch_sim::reliability::{Problem, VERDICT_LEDGER_DRIFT};
 use rayon::prelude::*;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+#[path = "common/reliability_case.rs"]
+mod case;
 #[path = "common/cpu.rs"]
 mod cpu;
 use cpu::cpu_s;
@@ -49,28 +52,33 @@ fn failed(margins: &[f64]) -> bool {
 }
 
 fn main() -> ExitCode {
-    let draws: usize = std::env::args()
-        .nth(1)
-        .and_then(|a| a.parse().ok())
-        .unwrap_or(20_000);
-    let path =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms/seed001_T01.toml");
-    let problem = Problem {
-        mech: Mechanism::load(&path).expect("bundled mechanism"),
-        vary: [
-            "coulomb_friction:joint=1:lognormal(2.63,0.05)",
-            "coulomb_friction:joint=2:lognormal(1.7,0.05)",
-            "coulomb_friction:joint=3:lognormal(0.001,0.05)",
-        ]
-        .iter()
-        .map(|v| v.parse().expect("vary"))
-        .collect(),
-        fixed: Vec::new(),
-        fail: vec!["not_latched".parse().expect("criterion")],
-        corr: Vec::new(),
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let draws: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(20_000);
+    let (path, vary) = match args.get(1) {
+        Some(mech) => (PathBuf::from(mech), args[2..].to_vec()),
+        None => (
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(case::T01),
+            case::T01_VARY.iter().map(|v| v.to_string()).collect(),
+        ),
     };
+    let problem = match case::problem(&path, &vary) {
+        Ok(p) if !p.vary.is_empty() && !p.mech.has_physical_latch() => p,
+        Ok(_) => {
+            eprintln!(
+                "ideal_ledger: a mechanism with ideal latches only and at least one law to vary"
+            );
+            return ExitCode::from(2);
+        }
+        Err(e) => {
+            eprintln!("ideal_ledger: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let name = path
+        .file_stem()
+        .map_or(String::new(), |s| s.to_string_lossy().into_owned());
     let xs: Vec<Vec<f64>> = (0..draws as u64)
-        .map(|i| problem.x_of(&draw(0, 0, i, 3)))
+        .map(|i| problem.x_of(&draw(0, 0, i, problem.vary.len())))
         .collect();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
@@ -78,7 +86,7 @@ fn main() -> ExitCode {
         .expect("a thread pool");
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     println!(
-        "seed001_T01, {draws} draws (seed 0), one thread; load average at the start {}.\n",
+        "{name}, {draws} draws (seed 0), one thread; load average at the start {}.\n",
         load.split_whitespace()
             .take(3)
             .collect::<Vec<_>>()
@@ -99,7 +107,7 @@ fn main() -> ExitCode {
     let runs = match runs {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("seed001_T01: {e}");
+            eprintln!("{name}: {e}");
             return ExitCode::FAILURE;
         }
     };
