@@ -234,7 +234,7 @@ fn hidden_effects_are_named_on_runs_of_physical_latches() {
             .latches
             .iter()
             .filter(|l| !l.differs.is_empty())
-            .map(|l| format!("joint {}: {}", l.joint, l.differs.join("; ")))
+            .map(|l| format!("joint {}: {:?}", l.joint, l.differs))
             .collect();
         latch_found += usize::from(!latch.is_empty());
         eprintln!(
@@ -420,12 +420,12 @@ fn a_weakened_latch_is_a_latch_finding_never_an_effect() {
                 .map(|l| {
                     let esc: usize = l.measured.iter().map(|e| e.escapes).sum();
                     format!(
-                        "joint {}: {esc} escapes, restitution {:?}, deceleration {:?}; drawing {:?}; {}",
+                        "joint {}: {esc} escapes, restitution {:?}, deceleration {:?}; drawing {:?}; {:?}",
                         l.joint,
                         l.restitution.map(|a| (a.median, a.ci95)),
                         l.hold_accel.map(|a| (a.median, a.ci95, a.impacts)),
                         l.spread,
-                        l.differs.join("; ")
+                        l.differs
                     )
                 })
                 .collect();

@@ -11,6 +11,7 @@ use crate::analysis::evidence::JointEvidence;
 use crate::data::campaign::Campaign;
 use crate::model::effect::EffectKind;
 use crate::report::diagnosis_words::{ci_of, evidence_of};
+use crate::report::evidence_words::evidence_words;
 use crate::report::markdown::table;
 use crate::report::plot::PlotError;
 use std::fmt::Write as _;
@@ -189,11 +190,11 @@ fn report_causes(md: &mut String, o: &Outcome) {
 fn report_evidence(md: &mut String, before: &[JointEvidence], after: &[JointEvidence]) {
     let _ = writeln!(md, "## What the baseline gets wrong\n");
     for e in before {
-        let _ = writeln!(md, "- {}: {}", e.run, e.summary);
+        let _ = writeln!(md, "- {}: {}", e.run, evidence_words(e));
     }
     let _ = writeln!(md, "\nAfter the extension:\n");
     for e in after {
-        let _ = writeln!(md, "- {}: {}", e.run, e.summary);
+        let _ = writeln!(md, "- {}: {}", e.run, evidence_words(e));
     }
 }
 

@@ -3,6 +3,7 @@
 //! monitor's tables, latches, ambiguities).
 
 use super::diagnosis_words::{ci_of, evidence_of};
+use super::evidence_words::evidence_words;
 use super::{diagnosis_latch, diagnosis_torque};
 use crate::analysis::diagnose::Outcome;
 use crate::analysis::diagnosis_details::{above_noise, gain_ratio, Details};
@@ -120,7 +121,7 @@ fn evidence_json(before: &[JointEvidence]) -> Vec<Evidence> {
                     .map(|(n, r)| (n.to_string(), rounded(r)))
                     .collect(),
             ),
-            summary: e.summary.clone(),
+            summary: evidence_words(e),
         })
         .collect()
 }
@@ -167,7 +168,7 @@ fn effects_json(o: &Outcome, before: &[JointEvidence]) -> Vec<FoundEffect> {
             name: "unexplained".to_string(),
             description: Some(u.to_string()),
             evidence: above_noise(before, o.noise_sigma_deg)
-                .map(|e| format!("{}: {}", e.run, e.summary))
+                .map(|e| format!("{}: {}", e.run, evidence_words(e)))
                 .collect::<Vec<_>>()
                 .join("; "),
             ..FoundEffect::default()

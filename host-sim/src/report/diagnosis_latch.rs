@@ -3,7 +3,8 @@
 //! stopped early add (`docs/diagnosis.md`, "Runs of a physical
 //! latch", "Ambiguity", "Long searches").
 
-use crate::analysis::diagnose::latch_finding::{events_words, LatchFinding};
+use crate::analysis::diagnose::ambiguity::SeparatingTest;
+use crate::analysis::diagnose::latch_finding::{LatchCause, LatchDifference, LatchFinding, Side};
 use crate::analysis::diagnose::{FittedSet, Outcome};
 use crate::analysis::latch_events::LatchEvents;
 use crate::data::campaign::Campaign;
@@ -68,8 +69,8 @@ pub fn latches_json(o: &Outcome) -> Vec<LatchReport> {
             hold_deceleration_deg_s2: f
                 .hold_accel
                 .map(|r| [rounded(r.median), rounded(r.ci95[0]), rounded(r.ci95[1])]),
-            differs: f.differs.clone(),
-            cause: f.cause.clone(),
+            differs: f.differs.iter().map(difference_words).collect(),
+            cause: f.cause.map(|c| cause_words(c).to_string()),
             plunger_weakening: f.weakening.map(|w| w.map(rounded)),
         })
         .collect()
@@ -109,7 +110,7 @@ pub fn ambiguities_json(o: &Outcome) -> Vec<AmbiguityGroup> {
                         delta_bic: rounded(s.bic() - first),
                     })
                     .collect(),
-                separating_test: g.separating_test.clone(),
+                separating_test: separating_test_words(g.separating_test, g.joint),
             }
         })
         .collect()
@@ -143,7 +144,7 @@ pub fn summary_lines(o: &Outcome) -> Vec<String> {
             "ambiguity at joint {}: {} sets explain the runs alike; {}",
             g.joint,
             g.sets.len(),
-            g.separating_test
+            separating_test_words(g.separating_test, g.joint)
         ));
         for s in &g.sets {
             out.push(format!("    {} (RMS {:.4} deg)", set_words(s), s.rms()));
@@ -166,7 +167,7 @@ fn latch_line(f: &LatchFinding) -> String {
     if f.differs.is_empty() {
         s += "; as the drawing's latch gives within its tolerances";
     } else {
-        let _ = write!(s, "; differs from the drawing: {}", f.differs.join("; "));
+        let _ = write!(s, "; differs from the drawing: {}", differences_words(f));
     }
     if let Some(w) = f.weakening {
         let _ = write!(s, "; {}", weakening_words(w));
@@ -268,10 +269,10 @@ fn report_latch(md: &mut String, c: &Campaign, f: &LatchFinding) {
     let _ = writeln!(
         md,
         "\n**The latch as built differs from its drawing:** {}.",
-        f.differs.join("; ")
+        differences_words(f)
     );
-    if let Some(cause) = &f.cause {
-        let _ = writeln!(md, "{cause}.");
+    if let Some(cause) = f.cause {
+        let _ = writeln!(md, "{}.", cause_words(cause));
     }
     if let Some(w) = f.weakening {
         let _ = writeln!(md, "{}.", weakening_words(w));
@@ -288,7 +289,8 @@ fn report_ambiguity(md: &mut String, o: &Outcome) {
         let _ = writeln!(
             md,
             "At joint {} these sets explain the runs alike (BIC within 10 of the set found); the intervals above are widened to cover them. {}.\n",
-            g.joint, g.separating_test
+            g.joint,
+            separating_test_words(g.separating_test, g.joint)
         );
         let first = g.sets.first().map_or(0.0, FittedSet::bic);
         md.push_str(&table(
@@ -303,4 +305,109 @@ fn report_ambiguity(md: &mut String, o: &Outcome) {
         ));
         let _ = writeln!(md);
     }
+}
+
+/// What differs from the drawing's latch, one phrase per difference joined
+/// by `; `.
+pub fn differences_words(f: &LatchFinding) -> String {
+    f.differs
+        .iter()
+        .map(difference_words)
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// One difference from the drawing's latch in words.
+pub fn difference_words(d: &LatchDifference) -> String {
+    match d {
+        LatchDifference::Escapes { measured, drawing } => format!(
+            "{measured} escape(s) over the plunger in the runs, {}..{} with the drawing's latch within its tolerances",
+            drawing[0], drawing[1]
+        ),
+        LatchDifference::EndsHeld {
+            measured,
+            runs,
+            drawing,
+        } => format!(
+            "ends within the crest in {measured} of {runs} run(s), {}..{} with the drawing's latch within its tolerances",
+            drawing[0], drawing[1]
+        ),
+        LatchDifference::Restitution {
+            measured: r,
+            drawing: [lo, hi],
+            side,
+        } => format!(
+            "the stop's apparent restitution {:.2} (95 % CI {:.2} .. {:.2}, {} impacts), {lo:.2}..{hi:.2} with the drawing's stop within its tolerances: it damps {} than drawn",
+            r.median,
+            r.ci95[0],
+            r.ci95[1],
+            r.impacts,
+            match side {
+                Side::Below => "more",
+                Side::Above => "less",
+            }
+        ),
+        LatchDifference::HoldAccel {
+            measured: a,
+            drawing: [lo, hi],
+            side,
+        } => format!(
+            "the rebounds that stayed in decelerate at {:.0} deg/s² (95 % CI {:.0} .. {:.0}, {} rebounds), {lo:.0}..{hi:.0} with the drawing's latch within its tolerances: it pulls back {} than drawn",
+            a.median,
+            a.ci95[0],
+            a.ci95[1],
+            a.impacts,
+            match side {
+                Side::Below => "less",
+                Side::Above => "more",
+            }
+        ),
+    }
+}
+
+/// What the runs tell of the latch as built, in words (without the final
+/// full stop).
+pub fn cause_words(c: LatchCause) -> &'static str {
+    match c {
+        LatchCause::HoldsLess => "the latch holds less than drawn: a weaker plunger or magnet (plunger_weakening or magnet_weakening at this joint; the runs do not tell which)",
+        LatchCause::HoldsMore => "the latch holds more than drawn: a stronger plunger or magnet, or a stop that damps more (these runs do not tell which, nor by how much)",
+        LatchCause::BothWays => "the latch differs from the drawing both ways over the runs",
+    }
+}
+
+/// The test that would separate the sets of an ambiguity group at `joint`,
+/// in words (without the final full stop).
+pub fn separating_test_words(t: SeparatingTest, joint: usize) -> String {
+    match t {
+        SeparatingTest::AnotherSpring => format!(
+            "the runs are of one configuration: runs with another spring at joint {joint} (softening scales with the spring's torque, friction and a harness do not), or at another temperature, would separate them"
+        ),
+        SeparatingTest::AnotherRange => format!(
+            "runs that move joint {joint} over another range of angle and rate (another spring or stowed angle at that joint), or at another temperature, would separate them"
+        ),
+    }
+}
+
+/// A joint's latch events in one run, in words: `touched at 1.84 s, 26 impacts, 6 escapes, largest
+/// rebound that stayed in 0.35°, held from 8.63 s`.
+pub fn events_words(e: &LatchEvents) -> String {
+    let Some(t0) = e.first_contact_s else {
+        return format!(
+            "never closed its switch ({:.2}° from the stop at the end)",
+            e.end_travel_deg
+        );
+    };
+    let hold = match e.hold_s {
+        Some(t) => format!("held from {t:.2} s"),
+        None => format!(
+            "not held at the end ({:.2}° from the stop)",
+            e.end_travel_deg
+        ),
+    };
+    format!(
+        "first impact at {t0:.2} s, {} impact(s), {} escape(s), largest rebound that stayed in {:.2}°, {hold}",
+        e.impacts,
+        e.escapes,
+        e.largest_rebound_deg()
+    )
 }

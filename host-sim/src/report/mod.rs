@@ -17,6 +17,7 @@ pub mod diagnosis_outcome;
 pub mod diagnosis_plots;
 pub mod diagnosis_torque;
 pub mod diagnosis_words;
+pub mod evidence_words;
 pub mod files;
 pub mod identify;
 pub mod margin;

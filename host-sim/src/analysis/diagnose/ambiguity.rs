@@ -28,6 +28,18 @@ use crate::analysis::diagnose::residual_named;
 use crate::model::effect::EffectKind;
 
 /// True when `c` is a named joint effect at `joint` (not a table).
+/// The runs that would separate the sets of an ambiguity group.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SeparatingTest {
+    /// The runs are of one configuration: runs with another spring at the
+    /// joint (softening scales with the spring's torque, friction and a
+    /// harness do not), or at another temperature.
+    AnotherSpring,
+    /// Runs that move the joint over another range of angle and rate
+    /// (another spring or stowed angle there), or at another temperature.
+    AnotherRange,
+}
+
 fn named_at(c: &Candidate, joint: usize) -> bool {
     c.joint == Some(joint) && c.table.is_none() && residual_named::KINDS.contains(&c.kind)
 }
@@ -250,13 +262,9 @@ impl Search<'_, '_> {
             names.windows(2).all(|w| w[0] == w[1])
         };
         let separating_test = if one_config {
-            format!(
-                "the runs are of one configuration: runs with another spring at joint {joint} (softening scales with the spring's torque, friction and a harness do not), or at another temperature, would separate them"
-            )
+            SeparatingTest::AnotherSpring
         } else {
-            format!(
-                "runs that move joint {joint} over another range of angle and rate (another spring or stowed angle at that joint), or at another temperature, would separate them"
-            )
+            SeparatingTest::AnotherRange
         };
         let mut sets = vec![self.current.clone()];
         sets.extend(alike);

@@ -60,8 +60,8 @@ pub struct JointEvidence {
     /// Pearson correlation of the residual, before the measured latch, with
     /// rate, rate², angle, distance from stowed, latch proximity.
     pub correlation: [f64; 5],
-    /// The reading in words.
-    pub summary: String,
+    /// What the statistics tell (in words by `report::diagnosis_words`).
+    pub reading: Reading,
 }
 
 /// Names of the correlates, in the order of [`JointEvidence::correlation`].
@@ -187,8 +187,7 @@ pub fn analyse(campaign: &Campaign, effects: &[Effect], sigma: f64) -> Vec<Joint
             let stowed = cr.mechanism.joints[j].stowed_deg;
             let correlation = correlations(&run.t_s, meas, &r, end, stowed);
             let total = rms(r.iter().copied());
-            let summary = describe(
-                j + 1,
+            let reading = read(
                 total,
                 &thirds,
                 near,
@@ -208,16 +207,57 @@ pub fn analyse(campaign: &Campaign, effects: &[Effect], sigma: f64) -> Vec<Joint
                 at_release_mean_deg: release,
                 latch_lead_s: lead,
                 correlation,
-                summary,
+                reading,
             });
         }
     }
     out
 }
 
+/// What a joint's residual statistics tell ([`read`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Reading {
+    /// The residual is within [`CLEAR_SIGMAS`] of the noise σ̂.
+    AtNoise {
+        /// The noise σ̂ \[deg\].
+        sigma_deg: f64,
+    },
+    /// Already clear at release and changed by less than
+    /// [`SENSOR_CHANGE_SHARE`] after the latch: a sensor effect (offset),
+    /// not dynamics.
+    Sensor,
+    /// A clear residual of the motion.
+    Dynamic {
+        /// The third of the stroke where it is largest.
+        largest: Option<StrokeThird>,
+        /// It is clear within [`NEAR_LATCH_DEG`] of the latch too.
+        near_latch: bool,
+        /// It is zero at release and grows with the motion.
+        zero_at_release: bool,
+        /// The model latches earlier or later than the run by more than
+        /// [`LATCH_LEAD_S`].
+        latch: Option<LatchTiming>,
+        /// The correlate of [`CORRELATES`] (its index) with the strongest
+        /// correlation, when stronger than [`MIN_CORRELATION`].
+        correlate: Option<usize>,
+    },
+}
+
+/// When the model latches against the run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LatchTiming {
+    /// Early: the model runs ahead.
+    Early,
+    /// Late: the model lags.
+    Late,
+}
+
+/// The reading of a joint's residual statistics against the noise σ̂
+/// `sigma` \[deg\]: `total` RMS, RMS per third of the stroke, near the
+/// latch, mean after the latch and at release \[deg\], the model's latch
+/// lead \[s\] and the correlations.
 #[allow(clippy::too_many_arguments)]
-fn describe(
-    joint: usize,
+fn read(
     total: f64,
     thirds: &[f64; 3],
     near: f64,
@@ -226,55 +266,41 @@ fn describe(
     lead: Option<f64>,
     corr: &[f64; 5],
     sigma: f64,
-) -> String {
+) -> Reading {
     let clear = CLEAR_SIGMAS * sigma.max(1e-6);
     if !(total > clear) {
-        return format!(
-            "joint {joint}: residual {total:.3} deg RMS, at the noise ({sigma:.3} deg)"
-        );
+        return Reading::AtNoise { sigma_deg: sigma };
     }
-    let mut s = format!("joint {joint}: residual {total:.3} deg RMS");
     let sensor = release.abs() > clear
         && after.is_finite()
         && (after - release).abs() < SENSOR_CHANGE_SHARE * release.abs();
     if sensor {
-        s += &format!(
-            "; already {release:+.3} deg at release and {after:+.3} deg after the latch: a sensor effect (offset), not dynamics"
-        );
-        return s;
+        return Reading::Sensor;
     }
-    let names = ["early", "mid", "late"];
-    if let Some((k, v)) = thirds
+    let largest = thirds
         .iter()
         .enumerate()
         .filter(|(_, v)| v.is_finite())
         .max_by(|a, b| a.1.total_cmp(b.1))
-    {
-        s += &format!("; largest {} in the stroke ({v:.3} deg)", names[k]);
-    }
-    if near.is_finite() && near > clear {
-        s += &format!(", {near:.3} deg within 5 deg of the latch");
-    }
-    if release.abs() < clear {
-        s += "; zero at release, grows with the motion: dynamic";
-    }
-    match lead {
-        Some(l) if l < -LATCH_LEAD_S => {
-            s += &format!("; the model latches {:.3} s early (runs ahead)", -l)
-        }
-        Some(l) if l > LATCH_LEAD_S => s += &format!("; the model latches {l:.3} s late (lags)"),
-        _ => {}
-    }
-    if let Some((k, c)) = corr
+        .and_then(|(k, _)| StrokeThird::of_index(k));
+    let latch = match lead {
+        Some(l) if l < -LATCH_LEAD_S => Some(LatchTiming::Early),
+        Some(l) if l > LATCH_LEAD_S => Some(LatchTiming::Late),
+        _ => None,
+    };
+    let correlate = corr
         .iter()
         .enumerate()
         .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
-    {
-        if c.abs() > MIN_CORRELATION {
-            s += &format!("; correlates most with {} (r = {c:+.2})", CORRELATES[k]);
-        }
+        .filter(|(_, c)| c.abs() > MIN_CORRELATION)
+        .map(|(k, _)| k);
+    Reading::Dynamic {
+        largest,
+        near_latch: near.is_finite() && near > clear,
+        zero_at_release: release.abs() < clear,
+        latch,
+        correlate,
     }
-    s
 }
 
 /// A third of a joint's stroke, from the stowed angle to the latch.
@@ -295,6 +321,15 @@ impl StrokeThird {
         [StrokeThird::First, StrokeThird::Middle, StrokeThird::Last]
             .get(k)
             .copied()
+    }
+
+    /// Its index: 0, 1, 2 from the stowed angle.
+    pub fn index(self) -> usize {
+        match self {
+            StrokeThird::First => 0,
+            StrokeThird::Middle => 1,
+            StrokeThird::Last => 2,
+        }
     }
 }
 

@@ -56,15 +56,81 @@ pub struct LatchFinding {
     /// latch holds less than drawn (a magnet weakening may do the same: the
     /// runs do not tell them apart).
     pub weakening: Option<Range<f64>>,
-    /// What differs from the drawing's latch, one phrase each (empty: the
-    /// events are the drawing's, within what their statistics tell).
-    pub differs: Vec<String>,
-    /// What the runs tell of the latch as built, in words.
-    pub cause: Option<String>,
+    /// What differs from the drawing's latch (empty: the events are the
+    /// drawing's, within what their statistics tell); in words by
+    /// `report::diagnosis_latch`.
+    pub differs: Vec<LatchDifference>,
+    /// What the runs tell of the latch as built.
+    pub cause: Option<LatchCause>,
     /// The measured hold deceleration, when enough rebounds that stayed in
     /// give one (median over the rebounds' parabolas, [deg/s²]; `impacts`
     /// counts the rebounds).
     pub hold_accel: Option<Restitution>,
+}
+
+/// Which way a measured statistic lies outside the drawing's spread.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// Below the spread.
+    Below,
+    /// Above the spread.
+    Above,
+}
+
+/// One way a joint's latch events differ from the drawing's.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LatchDifference {
+    /// Escapes over the plunger beyond the drawing's spread (by more than
+    /// its Poisson spread).
+    Escapes {
+        /// Escapes in the runs.
+        measured: usize,
+        /// The drawing's spread within its tolerances.
+        drawing: Range<usize>,
+    },
+    /// Runs ending within the crest outside the drawing's spread.
+    EndsHeld {
+        /// Runs that end within the crest.
+        measured: usize,
+        /// Runs of the campaign.
+        runs: usize,
+        /// The drawing's spread within its tolerances.
+        drawing: Range<usize>,
+    },
+    /// The stop's apparent restitution outside the drawing's spread:
+    /// [`Side::Below`], the stop damps more than drawn.
+    Restitution {
+        /// The measured median and interval \[1\].
+        measured: Restitution,
+        /// The drawing's spread within its tolerances \[1\].
+        drawing: Range<f64>,
+        /// Which way.
+        side: Side,
+    },
+    /// The hold deceleration of the rebounds that stayed in outside the
+    /// drawing's spread widened by [`ACCEL_MARGIN`]: [`Side::Below`], the
+    /// latch pulls back less than drawn.
+    HoldAccel {
+        /// The measured median and interval [deg/s²].
+        measured: Restitution,
+        /// The drawing's spread within its tolerances (not widened) [deg/s²].
+        drawing: Range<f64>,
+        /// Which way.
+        side: Side,
+    },
+}
+
+/// What the runs tell of a joint's latch as built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LatchCause {
+    /// It holds less than drawn: a weaker plunger or magnet (the runs do
+    /// not tell which).
+    HoldsLess,
+    /// It holds more than drawn: a stronger plunger or magnet, or a stop
+    /// that damps more (the runs tell neither which nor by how much).
+    HoldsMore,
+    /// It differs from the drawing both ways over the runs.
+    BothWays,
 }
 
 /// The median of `x` and its 95 % interval from order statistics (ranks
@@ -109,7 +175,7 @@ fn ratios(t: &[f64], u: &[f64], switch: &[bool]) -> Vec<f64> {
 /// of a physical latch", a clean campaign's interval comes close to the
 /// range's edge, a weakened plunger's well below it: their figures are
 /// docs/measured.md's).
-const ACCEL_MARGIN: f64 = 0.25;
+pub const ACCEL_MARGIN: f64 = 0.25;
 
 /// As-built draws of each drawing simulated beside the drawing itself: the
 /// spread of a latch's statistics that its tolerances give
@@ -298,10 +364,7 @@ pub fn latch_findings(c: &Campaign, effects: &[Effect]) -> Vec<LatchFinding> {
                     .collect(),
             );
             compare(&mut f, &meas);
-            if f.cause
-                .as_deref()
-                .is_some_and(|c| c.contains("less than drawn"))
-            {
+            if f.cause == Some(LatchCause::HoldsLess) {
                 f.weakening = weakening_range(c, effects, j, &meas, f.hold_accel);
             }
             Some(f)
@@ -386,31 +449,36 @@ fn compare(f: &mut LatchFinding, m: &Tally) {
         let gap = if x > hi { x - hi } else { lo - x };
         gap > 2.0 * x.max(if x > hi { hi } else { lo }).sqrt() + 1.0
     };
-    let n = f.measured.len();
+    let runs = f.measured.len();
     let (mut weaker, mut stronger) = (false, false);
     if outside(m.escapes, sp.escapes) && far(m.escapes, sp.escapes) {
-        f.differs.push(format!(
-            "{} escape(s) over the plunger in the runs, {}..{} with the drawing's latch within its tolerances",
-            m.escapes, sp.escapes[0], sp.escapes[1]
-        ));
+        f.differs.push(LatchDifference::Escapes {
+            measured: m.escapes,
+            drawing: sp.escapes,
+        });
         weaker |= m.escapes > sp.escapes[1];
         stronger |= m.escapes < sp.escapes[0];
     }
     if outside(m.held, sp.held) {
-        f.differs.push(format!(
-            "ends within the crest in {} of {n} run(s), {}..{} with the drawing's latch within its tolerances",
-            m.held, sp.held[0], sp.held[1]
-        ));
+        f.differs.push(LatchDifference::EndsHeld {
+            measured: m.held,
+            runs,
+            drawing: sp.held,
+        });
         weaker |= m.held < sp.held[0];
         stronger |= m.held > sp.held[1];
     }
     if let (Some(r), Some([lo, hi])) = (f.restitution, sp.restitution) {
         if r.ci95[1] < lo || r.ci95[0] > hi {
-            f.differs.push(format!(
-                "the stop's apparent restitution {:.2} (95 % CI {:.2} .. {:.2}, {} impacts), {lo:.2}..{hi:.2} with the drawing's stop within its tolerances: it damps {} than drawn",
-                r.median, r.ci95[0], r.ci95[1], r.impacts,
-                if r.ci95[1] < lo { "more" } else { "less" }
-            ));
+            f.differs.push(LatchDifference::Restitution {
+                measured: r,
+                drawing: [lo, hi],
+                side: if r.ci95[1] < lo {
+                    Side::Below
+                } else {
+                    Side::Above
+                },
+            });
         }
     }
     if let (Some(a), Some([lo, hi])) = (f.hold_accel, sp.hold_accel) {
@@ -419,46 +487,19 @@ fn compare(f: &mut LatchFinding, m: &Tally) {
         let (lo_w, hi_w) = (lo * (1.0 - ACCEL_MARGIN), hi * (1.0 + ACCEL_MARGIN));
         if a.ci95[1] < lo_w || a.ci95[0] > hi_w {
             let less = a.ci95[1] < lo_w;
-            f.differs.push(format!(
-                "the rebounds that stayed in decelerate at {:.0} deg/s² (95 % CI {:.0} .. {:.0}, {} rebounds), {lo:.0}..{hi:.0} with the drawing's latch within its tolerances: it pulls back {} than drawn",
-                a.median, a.ci95[0], a.ci95[1], a.impacts,
-                if less { "less" } else { "more" }
-            ));
+            f.differs.push(LatchDifference::HoldAccel {
+                measured: a,
+                drawing: [lo, hi],
+                side: if less { Side::Below } else { Side::Above },
+            });
             weaker |= less;
             stronger |= !less;
         }
     }
     f.cause = match (weaker, stronger) {
-        (true, false) => Some(
-            "the latch holds less than drawn: a weaker plunger or magnet (plunger_weakening or magnet_weakening at this joint; the runs do not tell which)".into(),
-        ),
-        (false, true) => Some(
-            "the latch holds more than drawn: a stronger plunger or magnet, or a stop that damps more (these runs do not tell which, nor by how much)".into(),
-        ),
-        (true, true) => Some("the latch differs from the drawing both ways over the runs".into()),
+        (true, false) => Some(LatchCause::HoldsLess),
+        (false, true) => Some(LatchCause::HoldsMore),
+        (true, true) => Some(LatchCause::BothWays),
         (false, false) => None,
     };
-}
-/// The events in words: `touched at 1.84 s, 26 impacts, 6 escapes, largest
-/// rebound that stayed in 0.35°, held from 8.63 s`.
-pub fn events_words(e: &LatchEvents) -> String {
-    let Some(t0) = e.first_contact_s else {
-        return format!(
-            "never closed its switch ({:.2}° from the stop at the end)",
-            e.end_travel_deg
-        );
-    };
-    let hold = match e.hold_s {
-        Some(t) => format!("held from {t:.2} s"),
-        None => format!(
-            "not held at the end ({:.2}° from the stop)",
-            e.end_travel_deg
-        ),
-    };
-    format!(
-        "first impact at {t0:.2} s, {} impact(s), {} escape(s), largest rebound that stayed in {:.2}°, {hold}",
-        e.impacts,
-        e.escapes,
-        e.largest_rebound_deg()
-    )
 }

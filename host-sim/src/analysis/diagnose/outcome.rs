@@ -420,6 +420,7 @@ pub struct Ambiguity {
     /// The set found, then each alternative, fitted (BIC within
     /// `MIN_DELTA_BIC` of the set found).
     pub sets: Vec<FittedSet>,
-    /// The test that would separate them, in words.
-    pub separating_test: String,
+    /// The test that would separate them (in words by
+    /// `report::diagnosis_latch`).
+    pub separating_test: super::ambiguity::SeparatingTest,
 }
