@@ -445,21 +445,18 @@ fn the_flight_margin_differs_from_the_rig_lumped_by_the_rig_friction() {
 }
 
 /// How far each geometric rig cause alone moves the two runs [deg RMS]
-/// (`docs/diagnosis.md`, "Rig causes"): `DEPLOYWATCH_FULL=1 cargo test -p
-/// deploywatch-tests --test diagnosis_rig rig_causes_sizes -- --ignored
-/// --nocapture` (writes its section of `docs/measured.md`).
+/// (`docs/diagnosis.md`, "Rig causes"), and what that paragraph says of
+/// them: without the frames the wire length moves the runs more the longer
+/// or shorter the wire, by more than the encoder's step at 0.1 m; with the
+/// frames a frame farther away loses panel 3's contact and the motion
+/// changes at once (between two offsets the size jumps tenfold), while a
+/// frame nearer moves the runs more the nearer it stands, with no jump.
+/// `DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test
+/// diagnosis_rig rig_causes_sizes -- --nocapture` records the table in
+/// `docs/measured.md`.
 #[test]
-#[ignore]
 fn rig_causes_sizes() {
     let mechs = mechanisms();
-    for (seed, hidden) in cases().into_iter().skip(24) {
-        let truth = draw(seed, hidden, &mechs);
-        println!(
-            "{seed} {hidden:?}: {} ({:.3} deg)",
-            text(&truth),
-            effect_size(&mechs, &truth)
-        );
-    }
     // The wire's pendulum without the frames: what the wire length does
     // apart from the contact it moves.
     let frameless: Vec<Mechanism> = mechs
@@ -475,25 +472,60 @@ fn rig_causes_sizes() {
     let size = |ms: &[Mechanism], k: EffectKind, v: f64| {
         let deg = effect_size(ms, &[Effect::global(k, v)]);
         println!("{k} {v}: {deg:.4} deg");
-        format!("{deg:.3}")
+        deg
     };
-    let mut rows = Vec::new();
-    for v in [-0.5, -0.3, -0.1, 0.1, 0.3, 0.5] {
-        rows.push(format!(
-            "| `wire_length` {v:+} m | {} | {} |",
-            size(&mechs, EffectKind::WireLength, v),
-            size(&frameless, EffectKind::WireLength, v)
-        ));
-    }
-    for v in [
+    let lengths = [-0.5, -0.3, -0.1, 0.1, 0.3, 0.5];
+    let wire: Vec<(f64, f64)> = lengths
+        .iter()
+        .map(|&v| {
+            (
+                size(&mechs, EffectKind::WireLength, v),
+                size(&frameless, EffectKind::WireLength, v),
+            )
+        })
+        .collect();
+    let offsets = [
         -0.05, -0.02, -0.01, -0.005, -0.002, 0.002, 0.005, 0.01, 0.02, 0.05,
-    ] {
-        rows.push(format!(
-            "| `frame_offset` {:+} mm | {} | |",
-            v * 1000.0,
-            size(&mechs, EffectKind::FrameOffset, v)
-        ));
-    }
+    ];
+    let frame: Vec<f64> = offsets
+        .iter()
+        .map(|&v| size(&mechs, EffectKind::FrameOffset, v))
+        .collect();
+    let mut rows: Vec<String> = lengths
+        .iter()
+        .zip(&wire)
+        .map(|(v, (a, b))| format!("| `wire_length` {v:+} m | {a:.3} | {b:.3} |"))
+        .collect();
+    rows.extend(
+        offsets
+            .iter()
+            .zip(&frame)
+            .map(|(v, d)| format!("| `frame_offset` {:+} mm | {d:.3} | |", v * 1000.0)),
+    );
+    // Without the frames, the wire's pendulum alone grows with |ΔL| on each
+    // side and is visible at 0.1 m (the encoder's step is 0.022°).
+    let frameless_at: Vec<f64> = wire.iter().map(|w| w.1).collect();
+    let (shorter, longer) = (&frameless_at[..3], &frameless_at[3..]);
+    assert!(
+        shorter.windows(2).all(|w| w[0] > w[1]) && longer.windows(2).all(|w| w[1] > w[0]),
+        "the wire's pendulum does not grow with |ΔL|: {frameless_at:?}"
+    );
+    assert!(
+        shorter[2] > 0.1 && longer[0] > 0.1,
+        "a wire 0.1 m off is not visible without the frames: {frameless_at:?}"
+    );
+    // With the frames: a frame nearer grows smoothly (no two offsets 5x
+    // apart); one farther away loses panel 3's contact at some offset, and
+    // the size jumps tenfold there.
+    let (farther, nearer) = (&frame[..5], &frame[5..]);
+    assert!(
+        nearer.windows(2).all(|w| w[1] > w[0] && w[1] < 5.0 * w[0]),
+        "a nearer frame: {nearer:?}"
+    );
+    assert!(
+        farther.windows(2).any(|w| w[0] > 10.0 * w[1]),
+        "a farther frame loses no contact: {farther:?}"
+    );
     let body = format!(
         "## Diagnosis on the zero-g rig: how far each geometric cause moves the runs\n\n\
          Seed 001 T01 + T02 with the rig (`data/mechanisms/seed001_T0{{1,2}}_rig.toml`), \
@@ -504,7 +536,7 @@ fn rig_causes_sizes() {
     );
     deploywatch_tests::record::record(
         "diagnosis-rig-sizes",
-        "DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test diagnosis_rig rig_causes_sizes -- --ignored --nocapture",
+        "DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test diagnosis_rig rig_causes_sizes -- --nocapture",
         &body,
     )
     .expect("docs/measured.md written");

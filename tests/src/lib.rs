@@ -36,6 +36,20 @@ pub fn coulomb(values: &[f64]) -> Vec<deploywatch_sim::effect::Effect> {
         .collect()
 }
 
+/// The drawings of the physical-latch campaigns, two families (seed 001
+/// T01 + T02; two runs of seed 000 case 1), each drawing with its
+/// ideal-latch twin: names of `data/mechanisms/NAME.toml`.
+pub const PHYSICAL_LATCH_FAMILIES: [[(&str, &str); 2]; 2] = [
+    [
+        ("seed001_T01_physical_latch", "seed001_T01"),
+        ("seed001_T02_physical_latch", "seed001_T02"),
+    ],
+    [
+        ("seed000_case1_physical_latch", "seed000_case1"),
+        ("seed000_case1_physical_latch", "seed000_case1"),
+    ],
+];
+
 pub mod hidden_effect;
 pub mod hidden_torque;
 pub mod record;

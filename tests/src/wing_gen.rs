@@ -90,6 +90,11 @@ const TAPES: &str = "[tape.\"TS-1\"]\na = [1.10, 69.39]\nb = [1.10, 1.50]\nd = [
 [tape.\"TS-2\"]\na = [1.26, 58.20]\nb = [1.28, 0.86]\nd = [0.65, 26.0]\nm_90 = 0.80\nc_180 = 1.46\n\n\
 [tape.\"TS-3\"]\na = [1.08, 33.43]\nb = [1.15, 0.46]\nd = [0.29, 11.07]\nm_90 = 0.385\nc_180 = 0.74\n";
 
+/// The share of physical latches among the joints the tests draw
+/// (`tests/random_wings.rs` and the census of
+/// `tests/examples/stowed_census.rs`).
+pub const PHYSICAL_SHARE: f64 = 0.25;
+
 /// A random valid wing from `seed`; `physical_share` of its joints (drawn)
 /// get a physical latch, the others the ideal latch.
 pub fn wing_toml(seed: u64, physical_share: f64) -> Wing {
