@@ -22,7 +22,7 @@ use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::monitor_config::{monitor_config, samples};
 use deploywatch_sim::run::Run;
 use deploywatch_sim::sensor::{measure, SensorModel};
-use deploywatch_tests::{coulomb, mechanism};
+use deploywatch_tests::{coulomb, hold_at_rest, mechanism};
 
 /// The papers' identified friction, seed 001 (N·m at joints 1–3).
 const SEED001_FRICTION: [f64; 3] = [2.63, 1.7, 0.001];
@@ -120,28 +120,6 @@ fn variants() -> Vec<(&'static str, Builder)> {
     ]
 }
 
-/// Extends a trajectory by `hold_s` at its rest state.
-fn hold(traj: &mut Trajectory, hold_s: f64, dt: f64) {
-    let Some(&t_last) = traj.t_s.last() else {
-        return;
-    };
-    let n = traj.joints();
-    let mut k = 0;
-    let mut t = t_last;
-    while t < t_last + hold_s - 1e-9 {
-        k += 1;
-        t = t_last + k as f64 * dt;
-        traj.t_s.push(t);
-        for j in 0..n {
-            let latched = traj.latched[j].last().copied().unwrap_or(false);
-            let phi = traj.phi_deg[j].last().copied().unwrap_or(0.0);
-            traj.phi_deg[j].push(if latched { 0.0 } else { phi });
-            traj.latched[j].push(latched);
-            traj.rate_deg_s[j].push(0.0);
-        }
-    }
-}
-
 /// Counts of one fault variant.
 #[derive(Default, Clone)]
 struct Tally {
@@ -192,7 +170,7 @@ fn scenarios() -> Vec<Scenario> {
                 ..SimOptions::default()
             };
             let mut traj = simulate(&mech, &effects, &opts).expect("simulation");
-            hold(&mut traj, HOLD_S, 1.0 / mech.sample_hz);
+            hold_at_rest(&mut traj, HOLD_S, 1.0 / mech.sample_hz);
             let friction = mech
                 .joints
                 .iter()

@@ -35,7 +35,7 @@
 //! --nocapture` (the counts are printed).
 
 use deploywatch_core::monitor::{Fault, LatchState};
-use deploywatch_core::monitor::{Monitor, MonitorConfig, Status};
+use deploywatch_core::monitor::Status;
 use deploywatch_core::physics::latch_contact::LatchMark;
 use deploywatch_sim::deployment::{self, SimOptions};
 use deploywatch_sim::effect::Effect;
@@ -43,9 +43,9 @@ use deploywatch_sim::latch_deployment::{
     self, LatchEnd, LatchEventKind, LatchRun, PawlEnd, PlungerEnd,
 };
 use deploywatch_sim::mechanism::Mechanism;
-use deploywatch_sim::monitor_config::{monitor_config, samples};
+use deploywatch_sim::monitor_config::monitor_config;
 use deploywatch_sim::sensor::{measure, SensorModel};
-use deploywatch_tests::{mechanism, SplitMix};
+use deploywatch_tests::{mechanism, replay, SplitMix};
 
 /// A latch must be declared within this of the switch's last closing \[s\].
 const DECLARE_LIMIT_S: f64 = 0.05;
@@ -128,18 +128,6 @@ fn truth(mech: &Mechanism, effects: &[Effect], run: &LatchRun, j: usize) -> Opti
         travel_deg: mech.latch(j)?.switch_travel_deg,
         side: mech.joints.get(j)?.stowed_deg.signum(),
     })
-}
-
-fn replay<const N: usize>(
-    cfg: &MonitorConfig<N>,
-    run: &deploywatch_sim::run::Run,
-) -> Vec<Status<N>> {
-    let mut m = Monitor::new(cfg).expect("monitor config");
-    samples::<N>(run)
-        .expect("joint count")
-        .iter()
-        .map(|s| m.replay_step(s))
-        .collect()
 }
 
 /// Scores joint `j` of one replay against the simulator's truth.

@@ -33,14 +33,14 @@
 
 use deploywatch_core::monitor::LatchState;
 use deploywatch_core::monitor::{LockKind, PhysicalLatch};
-use deploywatch_core::monitor::{Monitor, MonitorConfig, Status};
+use deploywatch_core::monitor::{MonitorConfig, Status};
 use deploywatch_sim::deployment::{simulate, SimOptions, Trajectory};
 use deploywatch_sim::fault_injection::{apply, SensorFault};
 use deploywatch_sim::mechanism::Mechanism;
-use deploywatch_sim::monitor_config::{monitor_config, samples};
+use deploywatch_sim::monitor_config::monitor_config;
 use deploywatch_sim::run::Run;
 use deploywatch_sim::sensor::{measure, SensorModel};
-use deploywatch_tests::{data_dir, mechanism, SplitMix};
+use deploywatch_tests::{data_dir, hold_at_rest, mechanism, replay, SplitMix};
 
 mod bundled;
 mod switch_faults;
@@ -280,25 +280,6 @@ fn transform(traj: &Trajectory, stowed: &[f64], cases: &[Case]) -> Trajectory {
     out
 }
 
-/// Extends a trajectory by `hold_s` at its last state.
-fn hold(traj: &mut Trajectory, hold_s: f64, dt: f64) {
-    let Some(&t_last) = traj.t_s.last() else {
-        return;
-    };
-    let n = traj.joints();
-    let steps = (hold_s / dt).round() as usize;
-    for k in 1..=steps {
-        traj.t_s.push(t_last + k as f64 * dt);
-        for j in 0..n {
-            let latched = traj.latched[j].last().copied().unwrap_or(false);
-            let phi = traj.phi_deg[j].last().copied().unwrap_or(0.0);
-            traj.phi_deg[j].push(if latched { 0.0 } else { phi });
-            traj.latched[j].push(latched);
-            traj.rate_deg_s[j].push(0.0);
-        }
-    }
-}
-
 /// The ideal simulation of `mech` with every joint's friction scaled by
 /// `scale` (the mechanism's own friction; the nominal files have none,
 /// so the papers' is added).
@@ -317,7 +298,7 @@ fn simulate_ideal(mech: &Mechanism, scale: f64) -> Trajectory {
         ..SimOptions::default()
     };
     let mut traj = simulate(mech, &effects, &opts).expect("simulation");
-    hold(&mut traj, HOLD_S, 1.0 / mech.sample_hz);
+    hold_at_rest(&mut traj, HOLD_S, 1.0 / mech.sample_hz);
     traj
 }
 
@@ -325,15 +306,6 @@ fn physical_config<const N: usize>(mech: &Mechanism) -> MonitorConfig<N> {
     let mut cfg = monitor_config::<N>(mech).expect("monitor config");
     cfg.latch.physical = Some(LATCH);
     cfg
-}
-
-fn replay<const N: usize>(cfg: &MonitorConfig<N>, run: &Run) -> Vec<Status<N>> {
-    let mut m = Monitor::new(cfg).expect("monitor config");
-    samples::<N>(run)
-        .expect("joint count")
-        .iter()
-        .map(|s| m.replay_step(s))
-        .collect()
 }
 
 /// Counts over the Monte-Carlo runs.

@@ -89,7 +89,7 @@ fn clean_monte_carlo(sample_hz: f64, runs: usize, draws: u64, sensor: u64) {
         // ends at duration_s when a joint never latches.
         let mut traj = simulate_truth(&mech, &effects);
         if traj.latch_s.iter().all(Option::is_some) {
-            hold(&mut traj, HOLD_S, 1.0 / mech.sample_hz);
+            hold_at_rest(&mut traj, HOLD_S, 1.0 / mech.sample_hz);
         }
         let run = measure(&traj, &[], &SensorModel::REFERENCE, seed);
         let st = replay(&cfg, &run);

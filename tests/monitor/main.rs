@@ -24,7 +24,7 @@ use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::monitor_config::{monitor_config, samples};
 use deploywatch_sim::run::Run;
 use deploywatch_sim::sensor::{measure, SensorModel};
-use deploywatch_tests::{coulomb, data_dir, mechanism, SplitMix};
+use deploywatch_tests::{coulomb, data_dir, hold_at_rest, mechanism, replay, SplitMix};
 
 /// The papers' identified friction, seed 001 (N·m at joints 1–3).
 const SEED001_FRICTION: [f64; 3] = [2.63, 1.7, 0.001];
@@ -35,7 +35,7 @@ const SEED001_FRICTION: [f64; 3] = [2.63, 1.7, 0.001];
 /// switches closed, sensor noise going on), as a real monitor keeps sampling.
 fn simulate_run(mech: &Mechanism, effects: &[Effect], seed: u64) -> (Trajectory, Run) {
     let mut traj = simulate_truth(mech, effects);
-    hold(&mut traj, HOLD_S, 1.0 / mech.sample_hz);
+    hold_at_rest(&mut traj, HOLD_S, 1.0 / mech.sample_hz);
     let run = measure(&traj, &[], &SensorModel::REFERENCE, seed);
     (traj, run)
 }
@@ -52,36 +52,6 @@ fn simulate_truth(mech: &Mechanism, effects: &[Effect]) -> Trajectory {
 
 /// Samples the monitor keeps receiving after the last latch \[s\].
 const HOLD_S: f64 = 0.2;
-
-fn hold(traj: &mut Trajectory, hold_s: f64, dt: f64) {
-    let Some(&t_last) = traj.t_s.last() else {
-        return;
-    };
-    let n = traj.joints();
-    let mut t = t_last;
-    let mut k = 0;
-    while t < t_last + hold_s - 1e-9 {
-        k += 1;
-        t = t_last + k as f64 * dt;
-        traj.t_s.push(t);
-        for j in 0..n {
-            let latched = traj.latched[j].last().copied().unwrap_or(false);
-            let phi = traj.phi_deg[j].last().copied().unwrap_or(0.0);
-            traj.phi_deg[j].push(if latched { 0.0 } else { phi });
-            traj.latched[j].push(latched);
-            traj.rate_deg_s[j].push(0.0);
-        }
-    }
-}
-
-fn replay<const N: usize>(cfg: &MonitorConfig<N>, run: &Run) -> Vec<Status<N>> {
-    let mut m = Monitor::new(cfg).expect("monitor config");
-    samples::<N>(run)
-        .expect("joint count")
-        .iter()
-        .map(|s| m.replay_step(s))
-        .collect()
-}
 
 /// Index of the first sample at which joint `j` has covered half its stroke
 /// (|φ| ≤ ½ |φ_stowed|, true angle).

@@ -52,7 +52,7 @@ fn full_prediction_refresh_cycle() {
     let path = data_dir().join("reference").join("seed001_T02_eft.csv");
     let run = Run::load(&path).unwrap();
     let mut truth = simulate_truth(&mech, &coulomb(&SEED001_FRICTION));
-    hold(&mut truth, 0.0, 1.0 / mech.sample_hz);
+    hold_at_rest(&mut truth, 0.0, 1.0 / mech.sample_hz);
     rows.push(check_refresh::<3>(
         "seed001_T02_eft reference",
         &mech,

@@ -50,6 +50,46 @@ pub const PHYSICAL_LATCH_FAMILIES: [[(&str, &str); 2]; 2] = [
     ],
 ];
 
+/// Extends a trajectory by `hold_s` \[s\] at its rest state, a sample
+/// every `dt` \[s\]: latched joints at their latch (0°), the others where
+/// they ended, every rate 0 (a monitor keeps sampling after the
+/// deployment).
+pub fn hold_at_rest(traj: &mut deploywatch_sim::deployment::Trajectory, hold_s: f64, dt: f64) {
+    let Some(&t_last) = traj.t_s.last() else {
+        return;
+    };
+    let n = traj.joints();
+    let mut t = t_last;
+    let mut k = 0;
+    while t < t_last + hold_s - 1e-9 {
+        k += 1;
+        t = t_last + k as f64 * dt;
+        traj.t_s.push(t);
+        for j in 0..n {
+            let latched = traj.latched[j].last().copied().unwrap_or(false);
+            let phi = traj.phi_deg[j].last().copied().unwrap_or(0.0);
+            traj.phi_deg[j].push(if latched { 0.0 } else { phi });
+            traj.latched[j].push(latched);
+            traj.rate_deg_s[j].push(0.0);
+        }
+    }
+}
+
+/// The monitor's status at every sample of `run`
+/// ([`deploywatch_core::monitor::Monitor::replay_step`]); panics when the
+/// configuration or the joint count is wrong (a test's own setup).
+pub fn replay<const N: usize>(
+    cfg: &deploywatch_core::monitor::MonitorConfig<N>,
+    run: &deploywatch_sim::run::Run,
+) -> Vec<deploywatch_core::monitor::Status<N>> {
+    let mut m = deploywatch_core::monitor::Monitor::new(cfg).expect("monitor config");
+    deploywatch_sim::monitor_config::samples::<N>(run)
+        .expect("joint count")
+        .iter()
+        .map(|s| m.replay_step(s))
+        .collect()
+}
+
 pub mod hidden_effect;
 pub mod hidden_torque;
 pub mod record;
