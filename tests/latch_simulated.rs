@@ -34,8 +34,8 @@
 //! Rerun: `cargo test -p deploywatch-tests --test latch_simulated --
 //! --nocapture` (the counts are printed).
 
-use deploywatch_core::monitor::{Fault, LatchState};
 use deploywatch_core::monitor::Status;
+use deploywatch_core::monitor::{Fault, LatchState};
 use deploywatch_core::physics::latch_contact::LatchMark;
 use deploywatch_sim::deployment::{self, SimOptions};
 use deploywatch_sim::effect::Effect;

@@ -226,6 +226,7 @@ pub mod identify {
 
 /// The diagnosis: the named causes of what the model gets wrong.
 pub mod diagnose {
+    pub use crate::analysis::diagnose::latch_finding::{LatchCause, LatchDifference};
     pub use crate::analysis::diagnose::{
         diagnose, DiagnoseOptions, FittedSet, Outcome, MIN_DELTA_BIC,
     };

@@ -92,6 +92,7 @@ pub fn replay<const N: usize>(
 
 pub mod hidden_effect;
 pub mod hidden_torque;
+pub mod holds_less;
 pub mod record;
 pub mod wing_gen;
 
