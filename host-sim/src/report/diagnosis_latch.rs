@@ -70,6 +70,7 @@ pub fn latches_json(o: &Outcome) -> Vec<LatchReport> {
                 .hold_accel
                 .map(|r| [rounded(r.median), rounded(r.ci95[0]), rounded(r.ci95[1])]),
             differs: f.differs.iter().map(difference_words).collect(),
+            undecided: f.undecided.iter().map(difference_words).collect(),
             cause: f.cause.map(|c| cause_words(c).to_string()),
             plunger_weakening: f.weakening.map(|w| w.map(rounded)),
         })
@@ -164,7 +165,9 @@ fn latch_line(f: &LatchFinding) -> String {
         f.joint,
         f.measured.len()
     );
-    if f.differs.is_empty() {
+    if f.differs.is_empty() && !f.undecided.is_empty() {
+        let _ = write!(s, "; {}", undecided_words(f));
+    } else if f.differs.is_empty() {
         s += "; as the drawing's latch gives within its tolerances";
     } else {
         let _ = write!(s, "; differs from the drawing: {}", differences_words(f));
@@ -259,6 +262,10 @@ fn report_latch(md: &mut String, c: &Campaign, f: &LatchFinding) {
             a.median, a.ci95[0], a.ci95[1], a.impacts, crate::analysis::latch_events::MIN_FLIGHT_SAMPLES
         );
     }
+    if f.differs.is_empty() && !f.undecided.is_empty() {
+        let _ = writeln!(md, "\n{}.\n", capitalised(&undecided_words(f)));
+        return;
+    }
     if f.differs.is_empty() {
         let _ = writeln!(
             md,
@@ -315,6 +322,28 @@ pub fn differences_words(f: &LatchFinding) -> String {
         .map(difference_words)
         .collect::<Vec<_>>()
         .join("; ")
+}
+
+/// Statistics outside the printed spread that the runs cannot decide, in
+/// words (without the final full stop).
+fn undecided_words(f: &LatchFinding) -> String {
+    let runs = f.measured.len();
+    format!(
+        "outside the drawing's spread but within what chance gives over {runs} run(s): {}; these runs cannot tell this latch from the drawing's within its tolerances (more runs of the wing would)",
+        f.undecided
+            .iter()
+            .map(difference_words)
+            .collect::<Vec<_>>()
+            .join("; ")
+    )
+}
+
+/// `s` with its first letter in upper case.
+fn capitalised(s: &str) -> String {
+    let mut c = s.chars();
+    c.next()
+        .map(|first| first.to_uppercase().chain(c).collect())
+        .unwrap_or_default()
 }
 
 /// One difference from the drawing's latch in words.
@@ -410,4 +439,54 @@ pub fn events_words(e: &LatchEvents) -> String {
         e.escapes,
         e.largest_rebound_deg()
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::diagnose::latch_finding::{compare_for_test, Spread};
+
+    /// A finding of `escapes` measured escapes over two runs, each ending
+    /// held, against a drawing whose spread is `drawing` escapes and both
+    /// runs held.
+    fn finding(escapes: usize, drawing: [usize; 2]) -> LatchFinding {
+        let spread = Spread {
+            impacts: [20, 30],
+            escapes: drawing,
+            held: [2, 2],
+            restitution: None,
+            hold_accel: None,
+        };
+        compare_for_test(2, spread, escapes, 2)
+    }
+
+    #[test]
+    fn escapes_outside_the_printed_spread_are_never_as_the_drawing() {
+        // A new user's 50 % plunger: 23 escapes against 11–17 printed.
+        let f = finding(23, [11, 17]);
+        assert!(f.differs.is_empty(), "{:?}", f.differs);
+        assert_eq!(f.undecided.len(), 1);
+        let line = latch_line(&f);
+        assert!(!line.contains("as the drawing"), "{line}");
+        assert!(line.contains("cannot tell"), "{line}");
+        let mut md = String::new();
+        let c = Campaign::default();
+        report_latch(&mut md, &c, &f);
+        assert!(!md.contains("what the drawing's latch gives"), "{md}");
+    }
+
+    #[test]
+    fn escapes_far_beyond_the_spread_name_a_latch_that_holds_less() {
+        let f = finding(40, [11, 17]);
+        assert_eq!(f.cause, Some(LatchCause::HoldsLess));
+        assert!(f.undecided.is_empty());
+        assert!(latch_line(&f).contains("differs from the drawing"));
+    }
+
+    #[test]
+    fn escapes_within_the_spread_are_as_the_drawing() {
+        let f = finding(14, [11, 17]);
+        assert!(f.differs.is_empty() && f.undecided.is_empty());
+        assert!(latch_line(&f).contains("as the drawing's latch gives"));
+    }
 }
