@@ -25,7 +25,7 @@
 
 use crate::analysis::design_margin::Resistance;
 use crate::analysis::stroke_margin::{Profile, Term};
-use crate::model::effect::{self, Effect, EffectKind};
+use crate::model::effect::{self, Effect, EffectKind, Law};
 use crate::model::mechanism::{with_joints, Mechanism};
 use crate::model::torque_table::HostJointEffects;
 use crate::simulate::deployment::{self, SimError, SimOptions, Trajectory};
@@ -196,27 +196,27 @@ pub fn counted(
     // The direction of deployment: towards 0 from the stowed side.
     let d = -stowed.signum();
     let res = |torque_nm: f64, energy_j: f64| {
-        kind_of(e.kind).map(|kind| Counted::Resistance {
+        kind_of(e.kind()).map(|kind| Counted::Resistance {
             kind,
             torque_nm,
             energy_j,
         })
     };
-    match e.kind {
-        EffectKind::CoulombFriction => res(e.value, e.value * stroke),
+    match e.kind() {
+        EffectKind::CoulombFriction => res(e.value(), e.value() * stroke),
         EffectKind::ViscousDamping | EffectKind::QuadraticDamping | EffectKind::AirDrag => {
             res(0.0, simulated_j)
         }
         // Breakaway torque at rest (kinetic level plus the static excess);
         // the work of the whole rate-dependent law along the deployment.
-        EffectKind::StribeckFriction => res(e.value + e.excess_nm, simulated_j),
+        EffectKind::StribeckFriction => res(breakaway_nm(e), simulated_j),
         EffectKind::SpringSoftening => Some(Counted::Driving {
-            scale: 1.0 - e.value,
+            scale: 1.0 - e.value(),
         }),
-        EffectKind::HarnessStiffness => res(e.value * stroke, 0.5 * e.value * stroke * stroke),
+        EffectKind::HarnessStiffness => res(e.value() * stroke, 0.5 * e.value() * stroke * stroke),
         EffectKind::LatchDetent => {
             let delta = DETENT_ZONE_DEG.to_radians();
-            res(e.value, e.value * delta / core::f64::consts::PI)
+            res(e.value(), e.value() * delta / core::f64::consts::PI)
         }
         EffectKind::TorqueTable => res(table_worst_torque(e, stowed, d), simulated_j),
         EffectKind::RigTilt => res((-d * stowed_q).max(0.0), simulated_j),
@@ -238,14 +238,14 @@ pub fn counted(
 /// `peak_rate_rad_s`; every other effect with its torque-form value
 /// everywhere (a table: its worst value, a Stribeck law: its breakaway).
 pub fn stroke_term(e: &Effect, kind: Resistance, torque_nm: f64, peak_rate_rad_s: f64) -> Term {
-    let name = e.kind.to_string();
-    match e.kind {
+    let name = e.kind().to_string();
+    match e.kind() {
         EffectKind::HarnessStiffness => Term {
             name,
             kind,
             torque_nm,
             profile: Profile::FromStowed {
-                stiffness_nm_per_rad: e.value,
+                stiffness_nm_per_rad: e.value(),
             },
         },
         EffectKind::LatchDetent => Term {
@@ -260,12 +260,12 @@ pub fn stroke_term(e: &Effect, kind: Resistance, torque_nm: f64, peak_rate_rad_s
         EffectKind::QuadraticDamping => Term::constant(
             format!("{name} at the run's peak rate {peak_rate_rad_s:.3} rad/s"),
             kind,
-            e.value * peak_rate_rad_s * peak_rate_rad_s,
+            e.value() * peak_rate_rad_s * peak_rate_rad_s,
         ),
         EffectKind::ViscousDamping => Term::constant(
             format!("{name} at the run's peak rate {peak_rate_rad_s:.3} rad/s"),
             kind,
-            e.value * peak_rate_rad_s,
+            e.value() * peak_rate_rad_s,
         ),
         EffectKind::CoulombFriction
         | EffectKind::StribeckFriction
@@ -282,13 +282,28 @@ pub fn stroke_term(e: &Effect, kind: Resistance, torque_nm: f64, peak_rate_rad_s
     }
 }
 
+/// The break-away torque at rest of a Stribeck law, its kinetic level plus
+/// its excess [N·m] (of another law: its value).
+fn breakaway_nm(e: &Effect) -> f64 {
+    match e.law {
+        Law::StribeckFriction {
+            kinetic_nm,
+            excess_nm,
+            ..
+        } => kinetic_nm + excess_nm,
+        law => law.value(),
+    }
+}
+
 /// The largest torque a table resists with at rest over the stroke,
-/// `max(0, −d (f(φ) + g(0)))` on 1000 points of `[0, φ_stowed]` [N·m].
+/// `max(0, −d (f(φ) + g(0)))` on 1000 points of `[0, φ_stowed]` [N·m]
+/// (0 for an effect that is no table).
 fn table_worst_torque(e: &Effect, stowed: f64, d: f64) -> f64 {
+    let Some(t) = e.table() else { return 0.0 };
     (0..=1000)
         .map(|i| {
             let phi = stowed * f64::from(i) / 1000.0;
-            (-d * e.table.torque(phi, 0.0)).max(0.0)
+            (-d * t.torque(phi, 0.0)).max(0.0)
         })
         .fold(0.0, f64::max)
 }
@@ -340,7 +355,7 @@ fn work<const N: usize>(
     let mut works = Vec::with_capacity(effects.len());
     let mut stowed_q = Vec::with_capacity(effects.len());
     for e in effects {
-        if !needs_simulation(e.kind) {
+        if !needs_simulation(e.kind()) {
             works.push(vec![0.0; N]);
             stowed_q.push(vec![0.0; N]);
             continue;

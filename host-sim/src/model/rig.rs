@@ -219,19 +219,19 @@ impl Rig {
             PAPER_STATIC_MU / PAPER_DYNAMIC_MU
         };
         for e in effects {
-            match e.kind {
+            match e.kind() {
                 EffectKind::RigFriction => {
-                    r.dynamic_mu = (r.dynamic_mu + e.value).max(0.0);
-                    r.static_mu = (r.static_mu + ratio * e.value).max(r.dynamic_mu);
+                    r.dynamic_mu = (r.dynamic_mu + e.value()).max(0.0);
+                    r.static_mu = (r.static_mu + ratio * e.value()).max(r.dynamic_mu);
                 }
                 EffectKind::WireLength => {
                     for t in &mut r.trolleys {
-                        t.wire_m = (t.wire_m + e.value).max(MIN_WIRE_M);
+                        t.wire_m = (t.wire_m + e.value()).max(MIN_WIRE_M);
                     }
                 }
                 EffectKind::FrameOffset => {
                     for f in &mut r.frames {
-                        f.at_m += e.value * f.normal[0].hypot(f.normal[1]);
+                        f.at_m += e.value() * f.normal[0].hypot(f.normal[1]);
                     }
                 }
                 // The chain's, the sensor's and the physical latch's.

@@ -140,8 +140,8 @@ fn report_causes(md: &mut String, o: &Outcome) {
     } else {
         let rows = ext.iter().enumerate().map(|(k, e)| {
             let (lo, hi) = ci_of(o, k);
-            let extra = match e.kind {
-                EffectKind::RigTilt => format!(" (α = {:.1}°)", e.alpha_deg),
+            let extra = match e.kind() {
+                EffectKind::RigTilt => format!(" (α = {:.1}°)", e.tilt_alpha_deg().unwrap_or(0.0)),
                 // A fitted table says its shape (any kind may be one).
                 EffectKind::CoulombFriction
                 | EffectKind::ViscousDamping
@@ -162,14 +162,14 @@ fn report_causes(md: &mut String, o: &Outcome) {
                     .table_of(k)
                     .map_or_else(String::new, |(_, shape, _)| format!(" (largest; {shape})")),
             };
-            let unit = match e.kind.unit() {
+            let unit = match e.kind().unit() {
                 "1" => "(dimensionless)",
                 u => u,
             };
             vec![
-                format!("`{}`", e.kind),
+                format!("`{}`", e.kind()),
                 e.joint.map(|j| j.to_string()).unwrap_or_else(|| "—".into()),
-                format!("{:.5} {unit}{extra}", e.value),
+                format!("{:.5} {unit}{extra}", e.value()),
                 format!("{lo:.5} … {hi:.5}"),
                 evidence_of(o, k, o.extended.members[k].candidate),
             ]

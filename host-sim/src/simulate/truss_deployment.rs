@@ -59,10 +59,10 @@ pub fn system_with_effects(mech: &Mechanism, effects: &[Effect]) -> Result<Syste
     for e in effects {
         e.validate_joint(joints)
             .map_err(|m| SimError::Invalid(m.to_string()))?;
-        if !models(e.kind) {
+        if !models(e.kind()) {
             return Err(SimError::Invalid(format!(
                 "{}: not modelled on a wing with a truss; expected coulomb_friction, viscous_damping, spring_softening or encoder_offset",
-                e.kind
+                e.kind()
             )));
         }
         let Some(j) = e.joint else { continue };
@@ -78,15 +78,15 @@ pub fn system_with_effects(mech: &Mechanism, effects: &[Effect]) -> Result<Syste
         };
         for p in pins {
             let pin = &mut sys.pins[p];
-            match e.kind {
+            match e.kind() {
                 EffectKind::CoulombFriction => {
-                    pin.friction.coulomb_nm += e.value;
-                    pin.friction.breakaway_nm += e.value;
+                    pin.friction.coulomb_nm += e.value();
+                    pin.friction.breakaway_nm += e.value();
                 }
-                EffectKind::ViscousDamping => pin.friction.viscous_nms += e.value,
+                EffectKind::ViscousDamping => pin.friction.viscous_nms += e.value(),
                 EffectKind::SpringSoftening if j <= n => match &mut pin.spring {
                     Spring::Linear { count, .. } | Spring::Curve { count, .. } => {
-                        *count *= 1.0 - e.value
+                        *count *= 1.0 - e.value()
                     }
                     Spring::None => {}
                 },

@@ -1,7 +1,7 @@
 //! One candidate cause of a diagnosis and where its parameters may move.
 
 use super::table_form::TableForm;
-use crate::model::effect::{Effect, EffectKind};
+use crate::model::effect::{Effect, EffectKind, Law};
 use crate::model::rig::Rig;
 /// Largest Coulomb torque a fit may take [N·m]: above any hinge spring of
 /// the seed mechanisms (2.4–3.6 N·m at the stowed angle), so a wing with it
@@ -273,45 +273,39 @@ impl Candidate {
             return t.effect(self.joint, p);
         }
         let x = p.first().copied().unwrap_or(0.0);
-        match self.kind {
-            EffectKind::RigTilt => {
+        let law = match Law::of_value(self.kind, x) {
+            Law::RigTilt { .. } => {
                 let y = p.get(1).copied().unwrap_or(0.0);
-                Effect {
-                    kind: self.kind,
-                    joint: None,
-                    value: x.hypot(y),
+                Law::RigTilt {
+                    g_m_s2: x.hypot(y),
                     alpha_deg: y.atan2(x).to_degrees().rem_euclid(360.0),
-                    ..Effect::default()
                 }
             }
-            EffectKind::StribeckFriction => Effect {
-                kind: self.kind,
-                joint: self.joint,
-                value: x,
+            Law::StribeckFriction { kinetic_nm, .. } => Law::StribeckFriction {
+                kinetic_nm,
                 excess_nm: p.get(1).copied().unwrap_or(0.0),
-                stribeck_rad_s: p.get(2).copied().unwrap_or(STRIBECK_RATE_RANGE[1]),
-                ..Effect::default()
+                rate_rad_s: p.get(2).copied().unwrap_or(STRIBECK_RATE_RANGE[1]),
             },
-            // One value each (a table without its form: the value only).
-            EffectKind::CoulombFriction
-            | EffectKind::ViscousDamping
-            | EffectKind::QuadraticDamping
-            | EffectKind::SpringSoftening
-            | EffectKind::HarnessStiffness
-            | EffectKind::LatchDetent
-            | EffectKind::AirDrag
-            | EffectKind::EncoderOffset
-            | EffectKind::TorqueTable
-            | EffectKind::PlungerWeakening
-            | EffectKind::MagnetWeakening
-            | EffectKind::RigFriction
-            | EffectKind::WireLength
-            | EffectKind::FrameOffset => Effect {
-                kind: self.kind,
-                joint: self.joint,
-                value: x,
-                ..Effect::default()
-            },
+            // One value each (a table without its form: no table).
+            law @ (Law::CoulombFriction(_)
+            | Law::ViscousDamping(_)
+            | Law::QuadraticDamping(_)
+            | Law::SpringSoftening(_)
+            | Law::HarnessStiffness(_)
+            | Law::LatchDetent(_)
+            | Law::AirDrag(_)
+            | Law::EncoderOffset(_)
+            | Law::TorqueTable(_)
+            | Law::PlungerWeakening(_)
+            | Law::MagnetWeakening(_)
+            | Law::RigFriction(_)
+            | Law::WireLength(_)
+            | Law::FrameOffset(_)) => law,
+        };
+        // A global effect's joint is `None` already.
+        Effect {
+            joint: self.joint,
+            law,
         }
     }
 

@@ -277,11 +277,3 @@ impl fmt::Display for EffectKind {
         f.write_str(self.name())
     }
 }
-
-impl Default for EffectKind {
-    /// `coulomb_friction`, the first of the vocabulary (for `Default` of
-    /// [`Effect`](super::Effect) only).
-    fn default() -> Self {
-        EffectKind::CoulombFriction
-    }
-}

@@ -6,7 +6,7 @@
 
 use super::diagnosis::{Diagnosis, FoundEffect};
 use super::numbers::exact;
-use crate::model::effect::{Effect, EffectError, EffectKind};
+use crate::model::effect::{Effect, EffectError, EffectKind, Law};
 
 /// Why an entry of `effects` is not an effect the simulator can replay.
 #[derive(Debug, thiserror::Error)]
@@ -60,42 +60,46 @@ impl FoundEffect {
     pub fn of_effect(e: &Effect) -> FoundEffect {
         let all = |x: &[f64]| x.iter().map(|y| exact(*y)).collect::<Vec<_>>();
         let mut v = FoundEffect {
-            name: e.kind.name().to_string(),
+            name: e.kind().name().to_string(),
             joint: e.joint,
-            value: exact(e.value),
-            unit: Some(e.kind.unit().to_string()),
+            value: exact(e.value()),
+            unit: Some(e.kind().unit().to_string()),
             ..FoundEffect::default()
         };
-        match e.kind {
-            EffectKind::RigTilt => v.alpha_deg = exact(e.alpha_deg),
-            EffectKind::StribeckFriction => {
-                v.excess_nm = exact(e.excess_nm);
-                v.stribeck_rad_s = exact(e.stribeck_rad_s);
+        match &e.law {
+            Law::RigTilt { alpha_deg, .. } => v.alpha_deg = exact(*alpha_deg),
+            Law::StribeckFriction {
+                excess_nm,
+                rate_rad_s,
+                ..
+            } => {
+                v.excess_nm = exact(*excess_nm);
+                v.stribeck_rad_s = exact(*rate_rad_s);
             }
-            EffectKind::TorqueTable => {
-                if let Some(f) = &e.table.angle {
+            Law::TorqueTable(t) => {
+                if let Some(f) = &t.angle {
                     v.angle_deg = Some(all(f.xs()));
                     v.torque_nm = Some(all(f.ys()));
                 }
-                if let Some(g) = &e.table.rate {
+                if let Some(g) = &t.rate {
                     v.rate_deg_s = Some(all(g.xs()));
                     v.rate_torque_nm = Some(all(g.ys()));
                 }
             }
             // One value each: `value` holds it.
-            EffectKind::CoulombFriction
-            | EffectKind::ViscousDamping
-            | EffectKind::QuadraticDamping
-            | EffectKind::SpringSoftening
-            | EffectKind::HarnessStiffness
-            | EffectKind::LatchDetent
-            | EffectKind::AirDrag
-            | EffectKind::EncoderOffset
-            | EffectKind::PlungerWeakening
-            | EffectKind::MagnetWeakening
-            | EffectKind::RigFriction
-            | EffectKind::WireLength
-            | EffectKind::FrameOffset => {}
+            Law::CoulombFriction(_)
+            | Law::ViscousDamping(_)
+            | Law::QuadraticDamping(_)
+            | Law::SpringSoftening(_)
+            | Law::HarnessStiffness(_)
+            | Law::LatchDetent(_)
+            | Law::AirDrag(_)
+            | Law::EncoderOffset(_)
+            | Law::PlungerWeakening(_)
+            | Law::MagnetWeakening(_)
+            | Law::RigFriction(_)
+            | Law::WireLength(_)
+            | Law::FrameOffset(_) => {}
         }
         v
     }

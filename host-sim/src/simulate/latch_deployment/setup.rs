@@ -20,9 +20,9 @@ pub fn weakenings(effects: &[Effect], joints: usize) -> Vec<(f64, f64)> {
         else {
             continue;
         };
-        match e.kind {
-            EffectKind::PlungerWeakening => out[j].0 *= 1.0 - e.value,
-            EffectKind::MagnetWeakening => out[j].1 *= 1.0 - e.value,
+        match e.kind() {
+            EffectKind::PlungerWeakening => out[j].0 *= 1.0 - e.value(),
+            EffectKind::MagnetWeakening => out[j].1 *= 1.0 - e.value(),
             // The chain's, the sensor's and the rig's.
             EffectKind::CoulombFriction
             | EffectKind::ViscousDamping
@@ -47,7 +47,7 @@ pub fn weakenings(effects: &[Effect], joints: usize) -> Vec<(f64, f64)> {
 /// do nothing, silently).
 pub fn check_latch_effects(mech: &Mechanism, effects: &[Effect]) -> Result<(), SimError> {
     for e in effects {
-        if !EffectKind::LATCH.contains(&e.kind) {
+        if !EffectKind::LATCH.contains(&e.kind()) {
             continue;
         }
         let has = e
