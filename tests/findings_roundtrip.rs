@@ -42,22 +42,12 @@ fn kinds() -> Vec<EffectKind> {
 
 /// An effect of `kind` from generated numbers `u` (each in 0..1).
 fn sample(kind: EffectKind, joint: usize, u: [f64; 4]) -> Effect {
-    let value = match kind {
-        EffectKind::CoulombFriction
-        | EffectKind::ViscousDamping
-        | EffectKind::QuadraticDamping
-        | EffectKind::StribeckFriction
-        | EffectKind::HarnessStiffness
-        | EffectKind::LatchDetent
-        | EffectKind::AirDrag
-        | EffectKind::RigFriction => 2.0 * u[0],
-        EffectKind::SpringSoftening
-        | EffectKind::PlungerWeakening
-        | EffectKind::MagnetWeakening => 0.9 * u[0],
-        EffectKind::RigTilt | EffectKind::EncoderOffset => 4.0 * u[0] - 2.0,
-        EffectKind::WireLength | EffectKind::FrameOffset => 0.02 * u[0] - 0.01,
-        EffectKind::TorqueTable => 0.0,
-    };
+    // The first of these values the kind allows ([`EffectKind::allowed`];
+    // every kind allows the last).
+    let value = [4.0 * u[0] - 2.0, 2.0 * u[0], 0.9 * u[0]]
+        .into_iter()
+        .find(|&x| kind.allowed().contains(x))
+        .expect("a fraction below 0.9 is allowed");
     let law = match Law::of_value(kind, value) {
         Law::StribeckFriction { .. } => Law::StribeckFriction {
             kinetic_nm: u[0],

@@ -4,7 +4,7 @@
 //! damping per joint, and every other named effect of a diagnosis, counted
 //! by [`crate::analysis::effect_margin`].
 use crate::analysis::effect_margin::{self, WorstEnd};
-use crate::model::effect::{Effect, EffectKind};
+use crate::model::effect::{Effect, EffectKind, MarginForm};
 use crate::model::findings::diagnosis::FoundEffect;
 use crate::model::findings::effects::FoundEffectError;
 use crate::model::findings::{Diagnosis, Findings, FindingsError, Identification};
@@ -198,23 +198,21 @@ pub fn resistances_with(
                 joints: n,
             });
         }
-        let column = match e.kind() {
-            EffectKind::CoulombFriction => Some(&mut r.coulomb_nm),
-            EffectKind::ViscousDamping => Some(&mut r.viscous_nms),
-            EffectKind::QuadraticDamping
-            | EffectKind::StribeckFriction
-            | EffectKind::SpringSoftening
-            | EffectKind::HarnessStiffness
-            | EffectKind::LatchDetent
-            | EffectKind::AirDrag
-            | EffectKind::RigTilt
-            | EffectKind::EncoderOffset
-            | EffectKind::TorqueTable
-            | EffectKind::PlungerWeakening
-            | EffectKind::MagnetWeakening
-            | EffectKind::RigFriction
-            | EffectKind::WireLength
-            | EffectKind::FrameOffset => None,
+        // The mechanism's own friction forms take their columns.
+        let column = match e.kind().margin() {
+            MarginForm::Coulomb => Some(&mut r.coulomb_nm),
+            MarginForm::Viscous => Some(&mut r.viscous_nms),
+            MarginForm::Quadratic
+            | MarginForm::Breakaway
+            | MarginForm::Driving
+            | MarginForm::Harness
+            | MarginForm::Detent
+            | MarginForm::Distributed
+            | MarginForm::Tilt
+            | MarginForm::Table
+            | MarginForm::Sensor
+            | MarginForm::LatchLine
+            | MarginForm::RigLine => None,
         };
         match (column, e.joint) {
             (Some(column), Some(j)) => column[j - 1] += e.value(),

@@ -1,19 +1,27 @@
 //! The named effects of `docs/spec/physics.md` section 6: the vocabulary a
 //! diagnosis reports, and the extras `deploywatch simulate --effect` adds.
 //!
-//! One module per responsibility: `kind` (the vocabulary), `law` (each
-//! effect's parameters), `error`,
-//! `syntax` (the `--effect` text read and written); here, an [`Effect`] with
-//! its checks and its translation into the core's tables ([`to_core`]).
+//! Everything a kind of effect has is here, each an exhaustive `match`:
+//! `kind` (the vocabulary and the per-kind tables: name, unit, allowed
+//! values, where it acts, its margin form, its residual signature, …),
+//! `law` (each effect's own parameters, its value, its keys and its arm of
+//! [`to_core`]), `fit` (what a diagnosis fits of it), `roles` (the small
+//! enums those tables return, which the rest of the crate matches instead
+//! of the kind), `syntax` (the `--effect` text read and written), `error`;
+//! here, an [`Effect`] with its checks and its translation into the core's
+//! tables ([`to_core`]).
 
 mod error;
+mod fit;
 mod kind;
 mod law;
+mod roles;
 mod syntax;
 
 pub use error::EffectError;
-pub use kind::{EffectKind, ValueRange};
-pub use law::Law;
+pub use fit::*;
+pub use kind::*;
+pub use law::{Key, Law};
 
 use crate::model::torque_table::{HostJointEffects, HostTorqueTable};
 use deploywatch_core::GlobalEffects;
@@ -74,6 +82,8 @@ impl Effect {
             | Law::RigFriction(_)
             | Law::WireLength(_)
             | Law::FrameOffset(_) => None,
+            #[cfg(feature = "demo-effect")]
+            Law::DemoDrag(_) => None,
         }
     }
 
@@ -96,6 +106,8 @@ impl Effect {
             | Law::RigFriction(_)
             | Law::WireLength(_)
             | Law::FrameOffset(_) => None,
+            #[cfg(feature = "demo-effect")]
+            Law::DemoDrag(_) => None,
         }
     }
 

@@ -9,7 +9,6 @@ use crate::analysis::diagnose::{Candidate, Outcome, MIN_DELTA_BIC};
 use crate::analysis::diagnosis_details::{gain_ratio, Details};
 use crate::analysis::evidence::JointEvidence;
 use crate::data::campaign::Campaign;
-use crate::model::effect::EffectKind;
 use crate::report::diagnosis_words::{ci_of, evidence_of};
 use crate::report::markdown::table;
 use crate::report::plot::PlotError;
@@ -140,24 +139,10 @@ fn report_causes(md: &mut String, o: &Outcome) {
     } else {
         let rows = ext.iter().enumerate().map(|(k, e)| {
             let (lo, hi) = ci_of(o, k);
-            let extra = match e.kind() {
-                EffectKind::RigTilt => format!(" (α = {:.1}°)", e.tilt_alpha_deg().unwrap_or(0.0)),
-                // A fitted table says its shape (any kind may be one).
-                EffectKind::CoulombFriction
-                | EffectKind::ViscousDamping
-                | EffectKind::QuadraticDamping
-                | EffectKind::StribeckFriction
-                | EffectKind::SpringSoftening
-                | EffectKind::HarnessStiffness
-                | EffectKind::LatchDetent
-                | EffectKind::AirDrag
-                | EffectKind::EncoderOffset
-                | EffectKind::TorqueTable
-                | EffectKind::PlungerWeakening
-                | EffectKind::MagnetWeakening
-                | EffectKind::RigFriction
-                | EffectKind::WireLength
-                | EffectKind::FrameOffset => o
+            // A tilt says its direction; a fitted table its shape.
+            let extra = match e.tilt_alpha_deg() {
+                Some(alpha_deg) => format!(" (α = {alpha_deg:.1}°)"),
+                None => o
                     .extended
                     .table_of(k)
                     .map_or_else(String::new, |(_, shape, _)| format!(" (largest; {shape})")),

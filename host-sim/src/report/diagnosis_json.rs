@@ -149,7 +149,7 @@ fn effects_json(o: &Outcome, before: &[JointEvidence]) -> Vec<FoundEffect> {
                 }
             }
             if e.kind() == EffectKind::StribeckFriction {
-                // Parameters T_C, ΔT, ω_st (candidate.rs): the intervals of
+                // Parameters T_C, ΔT, ω_st (`EffectKind::bounds`): the intervals of
                 // the last two.
                 let ci = o.extended.effect_params(k).map(|(_, ci)| ci);
                 let band = |i: usize| {

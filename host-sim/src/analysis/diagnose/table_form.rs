@@ -94,7 +94,7 @@ impl TableForm {
     pub const MIN_RATE_SPAN_DEG_S: f64 = 60.0;
     /// Bound on a discovered knot's torque [N·m]: beyond any hinge spring of the
     /// seed mechanisms, so never active on a real torque.
-    pub const BOUND_NM: f64 = 5.0;
+    pub const BOUND_NM: f64 = crate::model::effect::TABLE_BOUND_NM;
 
     /// Number of parameters (knot torques).
     pub fn params(&self) -> usize {

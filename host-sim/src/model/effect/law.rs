@@ -2,6 +2,7 @@
 //! [`EffectKind`], and what depends on the parameters (the value, the
 //! `--effect` keys beyond `value`, the core chain's tables).
 
+use super::fit::STRIBECK_RATE_RANGE;
 use super::kind::EffectKind;
 use crate::model::torque_table::{self, HostJointEffects, HostTorqueTable};
 use deploywatch_core::GlobalEffects;
@@ -58,9 +59,92 @@ pub enum Law {
     WireLength(f64),
     /// `frame_offset`: `Δd` \[m\].
     FrameOffset(f64),
+    /// `demo_drag`: `c` [N·m·s²/rad²] (the `demo-effect` feature's).
+    #[cfg(feature = "demo-effect")]
+    DemoDrag(f64),
+}
+
+/// A parameter of a law beyond its value, as the effect syntax
+/// (`--effect`) and the findings JSON name it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Key {
+    /// `rig_tilt`'s direction \[deg\].
+    AlphaDeg,
+    /// `stribeck_friction`'s break-away excess [N·m].
+    ExcessNm,
+    /// `stribeck_friction`'s Stribeck velocity [rad/s].
+    StribeckRadS,
+    /// A `torque_table`'s angle knots \[deg\].
+    AngleDeg,
+    /// A `torque_table`'s torques at its angle knots [N·m].
+    TorqueNm,
+    /// A `torque_table`'s rate knots [deg/s].
+    RateDegS,
+    /// A `torque_table`'s torques at its rate knots [N·m].
+    RateTorqueNm,
+}
+
+impl Key {
+    /// The key as written.
+    pub fn name(self) -> &'static str {
+        match self {
+            Key::AlphaDeg => "alpha_deg",
+            Key::ExcessNm => "excess_nm",
+            Key::StribeckRadS => "stribeck_rad_s",
+            Key::AngleDeg => "angle_deg",
+            Key::TorqueNm => "torque_nm",
+            Key::RateDegS => "rate_deg_s",
+            Key::RateTorqueNm => "rate_torque_nm",
+        }
+    }
 }
 
 impl Law {
+    /// The law's parameters beyond its value, in the order the effect
+    /// syntax writes them, each with its numbers (one, or a table's knots;
+    /// a table's absent part left out).
+    pub fn keys(&self) -> Vec<(Key, Vec<f64>)> {
+        match self {
+            Law::RigTilt { alpha_deg, .. } => vec![(Key::AlphaDeg, vec![*alpha_deg])],
+            Law::StribeckFriction {
+                excess_nm,
+                rate_rad_s,
+                ..
+            } => vec![
+                (Key::ExcessNm, vec![*excess_nm]),
+                (Key::StribeckRadS, vec![*rate_rad_s]),
+            ],
+            Law::TorqueTable(t) => {
+                let mut out = Vec::new();
+                if let Some(f) = &t.angle {
+                    out.push((Key::AngleDeg, f.xs().to_vec()));
+                    out.push((Key::TorqueNm, f.ys().to_vec()));
+                }
+                if let Some(g) = &t.rate {
+                    out.push((Key::RateDegS, g.xs().to_vec()));
+                    out.push((Key::RateTorqueNm, g.ys().to_vec()));
+                }
+                out
+            }
+            // One value: `value` holds it.
+            Law::CoulombFriction(_)
+            | Law::ViscousDamping(_)
+            | Law::QuadraticDamping(_)
+            | Law::SpringSoftening(_)
+            | Law::HarnessStiffness(_)
+            | Law::LatchDetent(_)
+            | Law::AirDrag(_)
+            | Law::EncoderOffset(_)
+            | Law::PlungerWeakening(_)
+            | Law::MagnetWeakening(_)
+            | Law::RigFriction(_)
+            | Law::WireLength(_)
+            | Law::FrameOffset(_) => Vec::new(),
+            #[cfg(feature = "demo-effect")]
+            Law::DemoDrag(_) => Vec::new(),
+        }
+    }
+
     /// The law of `kind` with the value `x` (in [`EffectKind::unit`]) and
     /// its other parameters at zero: a `rig_tilt` towards 0°, a
     /// `stribeck_friction` without excess (Coulomb friction), a
@@ -90,6 +174,46 @@ impl Law {
             EffectKind::RigFriction => Law::RigFriction(x),
             EffectKind::WireLength => Law::WireLength(x),
             EffectKind::FrameOffset => Law::FrameOffset(x),
+            #[cfg(feature = "demo-effect")]
+            EffectKind::DemoDrag => Law::DemoDrag(x),
+        }
+    }
+
+    /// The law of `kind` made of a diagnosis's fitted parameters `p` (in
+    /// the order of [`EffectKind::bounds`]): a tilt from its Cartesian
+    /// components, a Stribeck law from `T_C`, `ΔT`, `ω_st`, any other law
+    /// from its value (a `torque_table` is made by its table form).
+    pub fn of_params(kind: EffectKind, p: &[f64]) -> Law {
+        let x = p.first().copied().unwrap_or(0.0);
+        match Law::of_value(kind, x) {
+            Law::RigTilt { .. } => {
+                let y = p.get(1).copied().unwrap_or(0.0);
+                Law::RigTilt {
+                    g_m_s2: x.hypot(y),
+                    alpha_deg: y.atan2(x).to_degrees().rem_euclid(360.0),
+                }
+            }
+            Law::StribeckFriction { kinetic_nm, .. } => Law::StribeckFriction {
+                kinetic_nm,
+                excess_nm: p.get(1).copied().unwrap_or(0.0),
+                rate_rad_s: p.get(2).copied().unwrap_or(STRIBECK_RATE_RANGE[1]),
+            },
+            law @ (Law::CoulombFriction(_)
+            | Law::ViscousDamping(_)
+            | Law::QuadraticDamping(_)
+            | Law::SpringSoftening(_)
+            | Law::HarnessStiffness(_)
+            | Law::LatchDetent(_)
+            | Law::AirDrag(_)
+            | Law::EncoderOffset(_)
+            | Law::TorqueTable(_)
+            | Law::PlungerWeakening(_)
+            | Law::MagnetWeakening(_)
+            | Law::RigFriction(_)
+            | Law::WireLength(_)
+            | Law::FrameOffset(_)) => law,
+            #[cfg(feature = "demo-effect")]
+            law @ Law::DemoDrag(_) => law,
         }
     }
 
@@ -125,6 +249,8 @@ impl Law {
             | Law::RigFriction(_)
             | Law::WireLength(_)
             | Law::FrameOffset(_)) => law,
+            #[cfg(feature = "demo-effect")]
+            law @ Law::DemoDrag(_) => law,
         }
     }
 
@@ -147,6 +273,8 @@ impl Law {
             Law::RigFriction(_) => EffectKind::RigFriction,
             Law::WireLength(_) => EffectKind::WireLength,
             Law::FrameOffset(_) => EffectKind::FrameOffset,
+            #[cfg(feature = "demo-effect")]
+            Law::DemoDrag(_) => EffectKind::DemoDrag,
         }
     }
 
@@ -168,6 +296,8 @@ impl Law {
             | Law::RigFriction(x)
             | Law::WireLength(x)
             | Law::FrameOffset(x) => x,
+            #[cfg(feature = "demo-effect")]
+            Law::DemoDrag(x) => x,
             Law::StribeckFriction { kinetic_nm, .. } => kinetic_nm,
             Law::RigTilt { g_m_s2, .. } => g_m_s2,
             Law::TorqueTable(ref t) => torque_table::max_abs_nm(t),
@@ -205,6 +335,8 @@ impl Law {
             Law::RigFriction(_) => Law::RigFriction(x),
             Law::WireLength(_) => Law::WireLength(x),
             Law::FrameOffset(_) => Law::FrameOffset(x),
+            #[cfg(feature = "demo-effect")]
+            Law::DemoDrag(_) => Law::DemoDrag(x),
         }
     }
 
@@ -218,6 +350,9 @@ impl Law {
             Law::CoulombFriction(x) => at.coulomb_nm += x,
             Law::ViscousDamping(x) => at.viscous_nms += x,
             Law::QuadraticDamping(x) => at.quadratic_nms2_per_rad2 += x,
+            // The core's quadratic damping: a new law of existing parameters.
+            #[cfg(feature = "demo-effect")]
+            Law::DemoDrag(x) => at.quadratic_nms2_per_rad2 += x,
             Law::StribeckFriction {
                 kinetic_nm,
                 excess_nm,

@@ -29,29 +29,10 @@ impl fmt::Display for Effect {
             write!(f, ":joint={j}")?;
         }
         write!(f, ":value={}", self.value())?;
-        match &self.law {
-            Law::RigTilt { alpha_deg, .. } => write!(f, ":alpha_deg={alpha_deg}"),
-            Law::StribeckFriction {
-                excess_nm,
-                rate_rad_s,
-                ..
-            } => write!(f, ":excess_nm={excess_nm}:stribeck_rad_s={rate_rad_s}"),
-            Law::TorqueTable(t) => f.write_str(&torque_table::to_keys(t)),
-            // One value: `value` holds it.
-            Law::CoulombFriction(_)
-            | Law::ViscousDamping(_)
-            | Law::QuadraticDamping(_)
-            | Law::SpringSoftening(_)
-            | Law::HarnessStiffness(_)
-            | Law::LatchDetent(_)
-            | Law::AirDrag(_)
-            | Law::EncoderOffset(_)
-            | Law::PlungerWeakening(_)
-            | Law::MagnetWeakening(_)
-            | Law::RigFriction(_)
-            | Law::WireLength(_)
-            | Law::FrameOffset(_) => Ok(()),
+        for (key, xs) in self.law.keys() {
+            write!(f, ":{}={}", key.name(), torque_table::list(&xs))?;
         }
+        Ok(())
     }
 }
 

@@ -25,6 +25,8 @@ fn every_lists_each_kind_once() {
         | K::RigFriction
         | K::WireLength
         | K::FrameOffset => K::EVERY.iter().filter(|e| **e == k).count(),
+        #[cfg(feature = "demo-effect")]
+        K::DemoDrag => K::EVERY.iter().filter(|e| **e == k).count(),
     };
     for k in K::EVERY {
         assert_eq!(listed(k), 1, "{k}");

@@ -6,7 +6,7 @@
 
 use super::diagnosis::{Diagnosis, FoundEffect};
 use super::numbers::exact;
-use crate::model::effect::{Effect, EffectError, EffectKind, Law};
+use crate::model::effect::{Effect, EffectError, EffectKind, Key};
 
 /// Why an entry of `effects` is not an effect the simulator can replay.
 #[derive(Debug, thiserror::Error)]
@@ -66,40 +66,17 @@ impl FoundEffect {
             unit: Some(e.kind().unit().to_string()),
             ..FoundEffect::default()
         };
-        match &e.law {
-            Law::RigTilt { alpha_deg, .. } => v.alpha_deg = exact(*alpha_deg),
-            Law::StribeckFriction {
-                excess_nm,
-                rate_rad_s,
-                ..
-            } => {
-                v.excess_nm = exact(*excess_nm);
-                v.stribeck_rad_s = exact(*rate_rad_s);
+        for (key, xs) in e.law.keys() {
+            let one = xs.first().and_then(|x| exact(*x));
+            match key {
+                Key::AlphaDeg => v.alpha_deg = one,
+                Key::ExcessNm => v.excess_nm = one,
+                Key::StribeckRadS => v.stribeck_rad_s = one,
+                Key::AngleDeg => v.angle_deg = Some(all(&xs)),
+                Key::TorqueNm => v.torque_nm = Some(all(&xs)),
+                Key::RateDegS => v.rate_deg_s = Some(all(&xs)),
+                Key::RateTorqueNm => v.rate_torque_nm = Some(all(&xs)),
             }
-            Law::TorqueTable(t) => {
-                if let Some(f) = &t.angle {
-                    v.angle_deg = Some(all(f.xs()));
-                    v.torque_nm = Some(all(f.ys()));
-                }
-                if let Some(g) = &t.rate {
-                    v.rate_deg_s = Some(all(g.xs()));
-                    v.rate_torque_nm = Some(all(g.ys()));
-                }
-            }
-            // One value each: `value` holds it.
-            Law::CoulombFriction(_)
-            | Law::ViscousDamping(_)
-            | Law::QuadraticDamping(_)
-            | Law::SpringSoftening(_)
-            | Law::HarnessStiffness(_)
-            | Law::LatchDetent(_)
-            | Law::AirDrag(_)
-            | Law::EncoderOffset(_)
-            | Law::PlungerWeakening(_)
-            | Law::MagnetWeakening(_)
-            | Law::RigFriction(_)
-            | Law::WireLength(_)
-            | Law::FrameOffset(_) => {}
         }
         v
     }
