@@ -12,7 +12,8 @@
 #     the Python extension crate left out, see the step)
 #  2. cargo test --workspace (the test profile is optimised, see Cargo.toml):
 #     unit tests, golden trajectories, paper vectors, monitor, identification,
-#     the hidden-effect diagnosis suite, black-box CLI tests
+#     the hidden-effect diagnosis suite, black-box CLI tests; then the
+#     test-only effect of the demo-effect feature (host-sim/tests/demo_effect.rs)
 # Then two lanes side by side, each with its own log (target/lane-*.log,
 # printed when the lane ends): docs + Python (2a-2b) and embedded (3-5).
 #  2a. the docs' examples (scripts/doc-examples.py): the checker's self-test,
@@ -70,6 +71,9 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace --exclude deploywatch
 
 step "cargo test --workspace"
 cargo test --workspace --locked
+# The test-only named effect (feature demo-effect): one variant and its arms
+# in host-sim/src/model/effect/, simulated and diagnosed by name.
+cargo test --locked -p deploywatch-sim --features demo-effect --test demo_effect
 
 # After cargo test, two lanes run side by side, each on its own log: the
 # docs and Python (mostly one process at a time: the shown commands, pytest)

@@ -79,7 +79,7 @@ fn to_the_bar(m: &Mechanism, mut e: Effect) -> Effect {
         if size(m, &[e]) >= 0.3 {
             break;
         }
-        e.value *= 1.25;
+        e = e.with_value(e.value() * 1.25);
     }
     e
 }
@@ -126,9 +126,9 @@ fn is_truth(truth: &[Effect], f: &FittedSet) -> bool {
     e.len() == truth.len()
         && truth.iter().all(|t| {
             e.iter().any(|x| {
-                x.kind == t.kind
+                x.kind() == t.kind()
                     && x.joint == t.joint
-                    && (x.value - t.value).abs() <= 0.2 * t.value.abs()
+                    && (x.value() - t.value()).abs() <= 0.2 * t.value().abs()
             })
         })
 }

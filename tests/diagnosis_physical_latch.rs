@@ -92,7 +92,7 @@ fn generate(seed: u64, family: usize, kind: Option<EffectKind>, refused: &mut us
             if effect_size(&twins, &e) >= 0.3 {
                 break;
             }
-            e.value *= 1.5;
+            e = e.with_value(e.value() * 1.5);
         }
         truth.push(e);
     }
@@ -172,9 +172,9 @@ fn named_exactly(truth: &[Effect], o: &Outcome) -> bool {
     }
     truth.iter().all(|t| {
         found.iter().any(|f| {
-            f.kind == t.kind
+            f.kind() == t.kind()
                 && f.joint == t.joint
-                && (f.value - t.value).abs() <= 0.2 * t.value.abs()
+                && (f.value() - t.value()).abs() <= 0.2 * t.value().abs()
         })
     })
 }

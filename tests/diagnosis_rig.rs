@@ -144,7 +144,7 @@ fn draw(seed: u64, hidden: Hidden, mechs: &[Mechanism]) -> Vec<Effect> {
         truth.push(Effect::joint(EffectKind::CoulombFriction, j, v));
     }
     for i in 0..truth.len() {
-        let bound = match truth[i].kind {
+        let bound = match truth[i].kind() {
             EffectKind::WireLength => MAX_WIRE_ERROR_M,
             EffectKind::FrameOffset => MAX_FRAME_OFFSET_M,
             _ => f64::INFINITY,
@@ -153,7 +153,7 @@ fn draw(seed: u64, hidden: Hidden, mechs: &[Mechanism]) -> Vec<Effect> {
             if effect_size(mechs, &truth[i..=i]) >= 0.3 {
                 break;
             }
-            truth[i].value = (truth[i].value * 1.5).clamp(-bound, bound);
+            truth[i] = truth[i].with_value((truth[i].value() * 1.5).clamp(-bound, bound));
         }
     }
     truth
@@ -215,7 +215,7 @@ fn cases() -> Vec<(u64, Hidden)> {
 }
 
 fn key(e: &Effect) -> (EffectKind, Option<usize>) {
-    (e.kind, e.joint)
+    (e.kind(), e.joint)
 }
 
 /// What the diagnosis found, each value with its 95 % interval.
@@ -244,10 +244,10 @@ fn short(effects: &[Effect]) -> String {
         .iter()
         .map(|e| {
             let j = e.joint.map(|j| format!(" j{j}")).unwrap_or_default();
-            if e.value.abs() < 0.01 {
-                format!("`{}`{j} {:.3e}", e.kind, e.value)
+            if e.value().abs() < 0.01 {
+                format!("`{}`{j} {:.3e}", e.kind(), e.value())
             } else {
-                format!("`{}`{j} {:.4}", e.kind, e.value)
+                format!("`{}`{j} {:.4}", e.kind(), e.value())
             }
         })
         .collect();
@@ -313,7 +313,7 @@ fn rig_and_hinge_friction_are_told_apart() {
             found
                 .iter()
                 .find(|f| key(f) == key(t))
-                .is_some_and(|f| (f.value - t.value).abs() <= 0.2 * t.value.abs())
+                .is_some_and(|f| (f.value() - t.value()).abs() <= 0.2 * t.value().abs())
         });
         let ok = want == got && values_ok && outcome.unexplained.is_none();
         total += 1;

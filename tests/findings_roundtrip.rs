@@ -26,7 +26,7 @@
 
 use clap::Parser;
 use deploywatch_sim::cli::{self, Cli};
-use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::effect::{Effect, EffectKind, Law};
 use deploywatch_sim::findings::{Diagnosis, Findings, FoundEffect};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::reliability::identified::from_findings_json;
@@ -42,48 +42,37 @@ fn kinds() -> Vec<EffectKind> {
 
 /// An effect of `kind` from generated numbers `u` (each in 0..1).
 fn sample(kind: EffectKind, joint: usize, u: [f64; 4]) -> Effect {
-    let mut e = if kind.per_joint() {
-        Effect::joint(kind, joint, 0.0)
-    } else {
-        Effect::global(kind, 0.0)
-    };
-    e.value = match kind {
-        EffectKind::CoulombFriction
-        | EffectKind::ViscousDamping
-        | EffectKind::QuadraticDamping
-        | EffectKind::HarnessStiffness
-        | EffectKind::LatchDetent
-        | EffectKind::AirDrag
-        | EffectKind::RigFriction => 2.0 * u[0],
-        EffectKind::SpringSoftening
-        | EffectKind::PlungerWeakening
-        | EffectKind::MagnetWeakening => 0.9 * u[0],
-        EffectKind::RigTilt | EffectKind::EncoderOffset => 4.0 * u[0] - 2.0,
-        EffectKind::WireLength | EffectKind::FrameOffset => 0.02 * u[0] - 0.01,
-        EffectKind::StribeckFriction => {
-            e.excess_nm = u[1];
-            e.stribeck_rad_s = 0.01 + u[2];
-            u[0]
-        }
-        EffectKind::TorqueTable => {
+    // The first of these values the kind allows ([`EffectKind::allowed`];
+    // every kind allows the last).
+    let value = [4.0 * u[0] - 2.0, 2.0 * u[0], 0.9 * u[0]]
+        .into_iter()
+        .find(|&x| kind.allowed().contains(x))
+        .expect("a fraction below 0.9 is allowed");
+    let law = match Law::of_value(kind, value) {
+        Law::StribeckFriction { .. } => Law::StribeckFriction {
+            kinetic_nm: u[0],
+            excess_nm: u[1],
+            rate_rad_s: 0.01 + u[2],
+        },
+        Law::RigTilt { g_m_s2, .. } => Law::RigTilt {
+            g_m_s2,
+            alpha_deg: 360.0 * u[3] - 180.0,
+        },
+        Law::TorqueTable(_) => {
             let points = TablePoints {
                 angle_deg: Some(vec![0.0, 45.0 + 40.0 * u[1], 180.0]),
                 torque_nm: Some(vec![u[0], -u[2], 0.5 * u[3]]),
                 rate_deg_s: Some(vec![0.0, 10.0 + u[3]]),
                 rate_torque_nm: Some(vec![0.0, u[1]]),
             };
-            e.table = points.build().expect("increasing knots");
-            0.0
+            Law::TorqueTable(points.build().expect("increasing knots"))
         }
+        law => law,
     };
-    if kind == EffectKind::RigTilt {
-        e.alpha_deg = 360.0 * u[3] - 180.0;
+    Effect {
+        joint: kind.per_joint().then_some(joint),
+        law,
     }
-    if kind == EffectKind::TorqueTable {
-        // The syntax's value of a table is its largest absolute torque.
-        e = e.to_string().parse().expect("a table effect reparses");
-    }
-    e
 }
 
 /// The diagnosis JSON of one effect, as `diagnose --json` writes it.
@@ -102,11 +91,12 @@ fn close(a: f64, b: f64) -> bool {
 fn same_tables(a: &Effect, b: &Effect) -> bool {
     let knots = |e: &Effect| {
         let mut k: Vec<Vec<f64>> = Vec::new();
-        for t in [&e.table.angle, &e.table.rate].into_iter().flatten() {
+        let t = e.table().copied().unwrap_or_default();
+        for t in [&t.angle, &t.rate].into_iter().flatten() {
             k.push(t.xs().to_vec());
             k.push(t.ys().to_vec());
         }
-        (e.table.angle.is_some(), e.table.rate.is_some(), k)
+        (t.angle.is_some(), t.rate.is_some(), k)
     };
     knots(a) == knots(b)
 }
@@ -132,12 +122,13 @@ proptest! {
             let back = d.extended_effects().map_err(|x| TestCaseError::fail(format!("{kind}: {x}")))?;
             prop_assert_eq!(back.len(), 1, "{}: {}", kind, text);
             let b = &back[0];
-            prop_assert_eq!(b.kind, e.kind);
+            prop_assert_eq!(b.kind(), e.kind());
             prop_assert_eq!(b.joint, e.joint);
-            prop_assert!(close(b.value, e.value), "{}: value {} vs {}", kind, b.value, e.value);
-            prop_assert!(close(b.alpha_deg, e.alpha_deg), "{}: alpha_deg", kind);
-            prop_assert!(close(b.excess_nm, e.excess_nm), "{}: excess_nm", kind);
-            prop_assert!(close(b.stribeck_rad_s, e.stribeck_rad_s), "{}: stribeck_rad_s", kind);
+            prop_assert!(close(b.value(), e.value()), "{}: value {} vs {}", kind, b.value(), e.value());
+            // Every parameter of the law, bit for bit (a table's knots below).
+            if e.table().is_none() {
+                prop_assert_eq!(b.law, e.law, "{}: parameters", kind);
+            }
             prop_assert!(same_tables(b, &e), "{}: tables", kind);
         }
     }
@@ -394,13 +385,13 @@ fn margin_uses_the_fitted(
         // At the end of its interval that lowers the margin (or its
         // estimate, docs/margin.md): one of the three.
         let ends: Vec<f64> = match f.ci95 {
-            Some([Some(lo), Some(hi)]) => vec![e.value, lo, hi],
-            _ => vec![e.value],
+            Some([Some(lo), Some(hi)]) => vec![e.value(), lo, hi],
+            _ => vec![e.value()],
         };
         let j = e.joint.unwrap_or(1) - 1;
         let at =
             |v: &serde_json::Value, key: &str| v["joints"][j][key].as_f64().unwrap_or(f64::NAN);
-        let ok = match e.kind {
+        let ok = match e.kind() {
             EffectKind::CoulombFriction => ends
                 .iter()
                 .any(|x| at(&m, "coulomb_nm") == at(&base, "coulomb_nm") + x),
@@ -414,8 +405,8 @@ fn margin_uses_the_fitted(
                 .flat_map(|jt| jt["counted"].as_array().into_iter().flatten())
                 .chain(m["not_included"].as_array().into_iter().flatten())
                 .any(|c| {
-                    c["effect"].as_str() == Some(e.kind.name())
-                        && (e.kind == EffectKind::TorqueTable
+                    c["effect"].as_str() == Some(e.kind().name())
+                        && (e.kind() == EffectKind::TorqueTable
                             || c["value"].as_f64().is_some_and(|v| ends.contains(&v))
                             || c["value"].is_null())
                 }),
@@ -434,15 +425,15 @@ fn margin_uses_the_fitted(
 /// diagnosis's `entry`.
 fn table_as_fitted(fixed: &Effect, t: &Effect, entry: &FoundEffect) -> bool {
     let knots = |a: &Effect| {
-        [&a.table.angle, &a.table.rate]
-            .map(|x| x.as_ref().map(|x| (x.xs().to_vec(), x.ys().to_vec())))
+        let t = a.table().copied().unwrap_or_default();
+        [t.angle, t.rate].map(|x| x.as_ref().map(|x| (x.xs().to_vec(), x.ys().to_vec())))
     };
     let bands = [&entry.torque_ci95_nm, &entry.rate_torque_ci95_nm];
     let on_band = |band: &Option<[Vec<Option<f64>>; 2]>, i: usize, y: f64| {
         band.as_ref()
             .is_some_and(|b| b.iter().any(|end| end.get(i) == Some(&Some(y))))
     };
-    fixed.kind == t.kind
+    fixed.kind() == t.kind()
         && fixed.joint == t.joint
         && knots(fixed)
             .into_iter()
@@ -471,7 +462,7 @@ fn reliability_uses_the_fitted(body: &str, d: &Diagnosis, mech: &Mechanism) -> R
         .extended_effects()
         .map_err(|x| x.to_string())?
         .into_iter()
-        .partition(|e| e.kind == EffectKind::TorqueTable);
+        .partition(|e| e.kind() == EffectKind::TorqueTable);
     let entries = d.effects.iter().filter(|f| f.name == "torque_table");
     if found.fixed.len() != tables.len() {
         return Err(format!(
@@ -495,10 +486,8 @@ fn reliability_uses_the_fitted(body: &str, d: &Diagnosis, mech: &Mechanism) -> R
         let Dist::Normal { mean, .. } = v.dist else {
             return Err(format!("{}: not a normal law", v.label()));
         };
-        let same = matches!(v.target, Target::Effect { kind, joint, alpha_deg, excess_nm, stribeck_rad_s }
-            if kind == e.kind && joint == e.joint && alpha_deg == e.alpha_deg
-                && excess_nm == e.excess_nm && stribeck_rad_s == e.stribeck_rad_s);
-        if mean != e.value || !same {
+        let same = matches!(v.target, Target::Effect(t) if t.with_value(0.0) == e.with_value(0.0));
+        if mean != e.value() || !same {
             return Err(format!("reliability --from: {v} for {e}"));
         }
     }

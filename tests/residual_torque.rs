@@ -32,7 +32,7 @@ fn judge(c: &Case) -> (bool, bool) {
     let tables: Vec<usize> = c
         .truth
         .iter()
-        .filter(|e| e.kind == EffectKind::TorqueTable)
+        .filter(|e| e.kind() == EffectKind::TorqueTable)
         .filter_map(|e| e.joint)
         .collect();
     for jt in &res {
@@ -69,7 +69,7 @@ fn residual_torque_is_significant_where_a_torque_is_hidden_and_nowhere_else() {
                 f.name(),
                 c.truth
                     .iter()
-                    .map(|e| format!("{}@{:?}", e.kind, e.joint))
+                    .map(|e| format!("{}@{:?}", e.kind(), e.joint))
                     .collect::<Vec<_>>()
             );
             let (a, b) = judge(&c);

@@ -149,7 +149,7 @@ fn energy_closes_on_every_stick() {
         .into_par_iter()
         .filter_map(|i| {
             let (_, mech, effects) = draw(i);
-            if effects.iter().any(|e| e.kind == EffectKind::AirDrag) {
+            if effects.iter().any(|e| e.kind() == EffectKind::AirDrag) {
                 return None;
             }
             let grid = deployment::sample_grid(&mech, &tight).ok()?;

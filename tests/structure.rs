@@ -167,3 +167,97 @@ fn host_sim_layers_are_private_behind_the_public_api() {
         );
     }
 }
+
+/// The effect code (`ARCHITECTURE.md`, "A new named effect"): the files
+/// whose `match`es give each named effect its arm.
+const EFFECT_CODE: &[&str] = &[
+    "model/effect.rs",
+    "model/effect/",
+    "model/findings/effects.rs",
+    "model/rig.rs",
+    "simulate/truss_deployment.rs",
+    "simulate/latch_deployment/setup.rs",
+    "analysis/effect_margin.rs",
+    "analysis/resistances.rs",
+    "analysis/diagnose/candidate.rs",
+    "analysis/diagnose/residual_named.rs",
+    "analysis/diagnose/friction_forms.rs",
+    "analysis/diagnose/table_form.rs",
+    "report/diagnosis.rs",
+];
+
+/// The catch-all arms that would let a new effect compile with nothing
+/// (`_ => {}`), no torque (`_ => 0.0`) or one parameter (`_ => 1`): the
+/// `rg "_ => \{\}|_ => 0\.0|_ => 1\b"` of issue 39, on the code with its
+/// comments and strings blanked.
+fn catch_all_arms(code: &str) -> Vec<usize> {
+    let mut out = Vec::new();
+    for (i, line) in code.lines().enumerate() {
+        let mut rest = line;
+        while let Some(k) = rest.find("_ =>") {
+            let before = rest[..k].chars().next_back();
+            let after = rest[k + 4..].trim_start();
+            let word = |c: char| c.is_alphanumeric() || c == '_';
+            let body_ends = |b: &str| b.chars().next().is_none_or(|c| !word(c) && c != '.');
+            let silent = after.starts_with("{}")
+                || after
+                    .strip_prefix("0.0")
+                    .is_some_and(|b| !b.starts_with(char::is_numeric))
+                || after.strip_prefix('1').is_some_and(body_ends);
+            if before.is_none_or(|c| !word(c)) && silent {
+                out.push(i + 1);
+                break;
+            }
+            rest = &rest[k + 4..];
+        }
+    }
+    out
+}
+
+/// No catch-all arm in the effect code: every `match` over the effects
+/// is exhaustive, so the compiler lists each place a new effect needs its
+/// arm.
+#[test]
+fn the_effect_code_has_no_catch_all_arm() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../host-sim/src");
+    let mut files = Vec::new();
+    for entry in EFFECT_CODE {
+        let path = src.join(entry);
+        if entry.ends_with('/') {
+            let mut dir: Vec<_> = std::fs::read_dir(&path)
+                .unwrap_or_else(|e| panic!("{entry}: {e}"))
+                .map(|f| f.unwrap().path())
+                .filter(|p| p.extension().is_some_and(|x| x == "rs"))
+                .collect();
+            dir.sort();
+            files.extend(dir);
+        } else {
+            assert!(path.is_file(), "{entry}: no such file");
+            files.push(path);
+        }
+    }
+    let mut found = Vec::new();
+    for f in &files {
+        let code = strip(&std::fs::read_to_string(f).unwrap());
+        for line in catch_all_arms(&code) {
+            found.push(format!("{}:{line}", f.display()));
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "catch-all arms in the effect code: {found:#?}"
+    );
+    // The check finds what it looks for.
+    for bad in ["_ => {}", "x => 2, _ => 0.0,", "_ => 1,", "_ =>   1 }"] {
+        assert_eq!(catch_all_arms(bad), vec![1], "{bad}");
+    }
+    for fine in [
+        "_ => 1.5,",
+        "_ => 10,",
+        "a_ => {}",
+        "_ => 0.05,",
+        "_ => true",
+    ] {
+        assert!(catch_all_arms(fine).is_empty(), "{fine}");
+    }
+}

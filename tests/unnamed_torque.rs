@@ -23,7 +23,7 @@
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions};
 use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions};
-use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::effect::{Effect, EffectKind, Law};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;
 use deploywatch_sim::sensor::{self, SensorModel};
@@ -136,11 +136,8 @@ fn hidden_torque(seed: u64, form: Form, mechs: &[Mechanism], j: usize) -> Effect
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let table = draw_table(&mut rng, form, stowed, amp);
         let e = Effect {
-            kind: EffectKind::TorqueTable,
             joint: Some(j),
-            value: amp,
-            table,
-            ..Effect::default()
+            law: Law::TorqueTable(table),
         };
         if effect_size(mechs, &[e]) >= 0.3 || amp > 2.0 {
             return e;
@@ -207,8 +204,11 @@ fn cases() -> Vec<Case> {
                 0 => Effect::joint(EffectKind::CoulombFriction, rng.gen_range(1..=joints), 0.3),
                 1 => Effect::global(EffectKind::AirDrag, 0.3),
                 _ => Effect {
-                    alpha_deg: rng.gen_range(0.0..360.0),
-                    ..Effect::global(EffectKind::RigTilt, 0.08)
+                    joint: None,
+                    law: Law::RigTilt {
+                        g_m_s2: 0.08,
+                        alpha_deg: rng.gen_range(0.0..360.0),
+                    },
                 },
             }),
             2 => {
@@ -263,7 +263,7 @@ fn unnamed_torques_are_found_at_their_joint_or_reported_unexplained() {
         let table_joints = |v: &[Effect]| {
             let mut j: Vec<_> = v
                 .iter()
-                .filter(|e| e.kind == EffectKind::TorqueTable)
+                .filter(|e| e.kind() == EffectKind::TorqueTable)
                 .map(|e| e.joint)
                 .collect();
             j.sort();
@@ -297,11 +297,11 @@ fn unnamed_torques_are_found_at_their_joint_or_reported_unexplained() {
             "case {k}: truth {:?} found {:?}; RMS {:.4} -> {:.4} (noise {:.4}, {:.1} s){}",
             case.truth
                 .iter()
-                .map(|e| format!("{}@{:?}", e.kind, e.joint))
+                .map(|e| format!("{}@{:?}", e.kind(), e.joint))
                 .collect::<Vec<_>>(),
             found
                 .iter()
-                .map(|e| format!("{}@{:?}", e.kind, e.joint))
+                .map(|e| format!("{}@{:?}", e.kind(), e.joint))
                 .collect::<Vec<_>>(),
             o.baseline.rms(),
             o.extended.rms(),
@@ -404,11 +404,11 @@ fn judge_family_case(c: &deploywatch_tests::hidden_torque::Case) -> Verdict {
         c.family.name(),
         c.truth
             .iter()
-            .map(|e| format!("{}@{:?}", e.kind, e.joint))
+            .map(|e| format!("{}@{:?}", e.kind(), e.joint))
             .collect::<Vec<_>>(),
         found
             .iter()
-            .map(|e| format!("{}@{:?}", e.kind, e.joint))
+            .map(|e| format!("{}@{:?}", e.kind(), e.joint))
             .collect::<Vec<_>>(),
         o.baseline.rms(),
         o.extended.rms(),

@@ -62,7 +62,7 @@ pub mod mechanism_toml {
 
 /// The named effects of `physics.md` §6.
 pub mod effect {
-    pub use crate::model::effect::{encoder_offsets_deg, to_core, Effect, EffectKind};
+    pub use crate::model::effect::{encoder_offsets_deg, to_core, Effect, EffectKind, Law};
 }
 
 /// The findings JSON that `identify` and `diagnose` write.

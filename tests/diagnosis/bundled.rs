@@ -79,8 +79,8 @@ fn bundled_examples_are_diagnosed_correctly() {
         let list = |v: &[Effect]| {
             v.iter()
                 .map(|e| match e.joint {
-                    Some(j) => format!("{} j{j} {:.5}", e.kind.name(), e.value),
-                    None => format!("{} {:.5}", e.kind.name(), e.value),
+                    Some(j) => format!("{} j{j} {:.5}", e.kind().name(), e.value()),
+                    None => format!("{} {:.5}", e.kind().name(), e.value()),
                 })
                 .collect::<Vec<_>>()
                 .join(", ")
@@ -98,14 +98,14 @@ fn bundled_examples_are_diagnosed_correctly() {
             let hit = found.iter().find(|f| key(f) == key(t));
             println!(
                 "  truth {t}: moves the runs by {full:.3} deg; found {:?}",
-                hit.map(|h| h.value)
+                hit.map(|h| h.value())
             );
             if full >= 0.3 {
                 let h = hit.unwrap_or_else(|| panic!("{dir}: {t} not found"));
                 assert!(
-                    (h.value - t.value).abs() <= 0.1 * t.value.abs(),
+                    (h.value() - t.value()).abs() <= 0.1 * t.value().abs(),
                     "{dir}: {t} estimated {}",
-                    h.value
+                    h.value()
                 );
             }
         }

@@ -11,8 +11,11 @@ fn a_campaign_is_never_worse_than_its_runs_alone() {
     for seed in [7u64, 8, 9] {
         let truth = vec![
             Effect {
-                alpha_deg: 30.0,
-                ..Effect::global(EffectKind::RigTilt, 0.05)
+                joint: None,
+                law: Law::RigTilt {
+                    g_m_s2: 0.05,
+                    alpha_deg: 30.0,
+                },
             },
             Effect::joint(EffectKind::CoulombFriction, 1, 0.8),
         ];

@@ -64,14 +64,14 @@ fn hidden_effects_are_named_and_measured() {
         } else {
             case.truth
                 .iter()
-                .map(|e| e.kind.name())
+                .map(|e| e.kind().name())
                 .collect::<Vec<_>>()
                 .join("+")
         };
         let found_name = if found.is_empty() {
             "(none)".to_string()
         } else {
-            let mut f: Vec<_> = found.iter().map(|e| e.kind.name()).collect();
+            let mut f: Vec<_> = found.iter().map(|e| e.kind().name()).collect();
             f.sort();
             f.join("+")
         };
@@ -87,8 +87,8 @@ fn hidden_effects_are_named_and_measured() {
         if ok {
             for t in &case.truth {
                 let f = found.iter().find(|f| key(f) == key(t)).unwrap();
-                let err = (f.value - t.value).abs() / t.value.abs();
-                value_errors.push((seed, t.to_string(), f.value, err));
+                let err = (f.value() - t.value()).abs() / t.value().abs();
+                value_errors.push((seed, t.to_string(), f.value(), err));
             }
         }
     }

@@ -24,7 +24,7 @@ mod one_joint;
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions};
 use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions};
-use deploywatch_sim::effect::{self, Effect, EffectKind};
+use deploywatch_sim::effect::{self, Effect, EffectKind, Law};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;
 use deploywatch_sim::run::Run;
@@ -84,7 +84,10 @@ fn generate(seed: u64, kinds: &[EffectKind], pair: usize) -> Case {
     for &k in kinds {
         let mut e = draw_effect(&mut rng, k, joints);
         // Two effects of one kind go to different joints.
-        while truth.iter().any(|t| t.kind == e.kind && t.joint == e.joint) {
+        while truth
+            .iter()
+            .any(|t| t.kind() == e.kind() && t.joint == e.joint)
+        {
             e = draw_effect(&mut rng, k, joints);
         }
         truth.push(e);
@@ -99,14 +102,17 @@ fn generate(seed: u64, kinds: &[EffectKind], pair: usize) -> Case {
                 break;
             }
             if raises == 6 {
-                let e = draw_effect(&mut rng, truth[i].kind, joints);
-                if !truth.iter().any(|t| t.kind == e.kind && t.joint == e.joint) {
+                let e = draw_effect(&mut rng, truth[i].kind(), joints);
+                if !truth
+                    .iter()
+                    .any(|t| t.kind() == e.kind() && t.joint == e.joint)
+                {
                     truth[i] = e;
                 }
                 raises = 0;
                 continue;
             }
-            truth[i].value *= 1.5;
+            truth[i] = truth[i].with_value(truth[i].value() * 1.5);
             raises += 1;
         }
     }
@@ -190,5 +196,5 @@ fn trace_sink() -> deploywatch_sim::progress::Progress<'static> {
 }
 
 fn key(e: &Effect) -> (EffectKind, Option<usize>) {
-    (e.kind, e.joint)
+    (e.kind(), e.joint)
 }

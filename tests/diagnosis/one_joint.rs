@@ -24,7 +24,7 @@ fn generate_one_joint(seed: u64, kinds: [EffectKind; 2], pair: usize) -> Case {
         .map(|&k| draw_effect(&mut rng, k, joints))
         .collect();
     let joint = truth.iter().find_map(|e| e.joint);
-    for e in truth.iter_mut().filter(|e| e.kind.per_joint()) {
+    for e in truth.iter_mut().filter(|e| e.kind().per_joint()) {
         e.joint = joint;
     }
     // Near the detectability bar: each effect brought to 0.3–0.6° RMS.
@@ -32,9 +32,9 @@ fn generate_one_joint(seed: u64, kinds: [EffectKind; 2], pair: usize) -> Case {
         for _ in 0..20 {
             let size = effect_size(&mechs, &truth[i..=i]);
             if size < 0.3 {
-                truth[i].value *= 1.5;
+                truth[i] = truth[i].with_value(truth[i].value() * 1.5);
             } else if size > 0.6 {
-                truth[i].value /= 1.5;
+                truth[i] = truth[i].with_value(truth[i].value() / 1.5);
             } else {
                 break;
             }
@@ -80,7 +80,7 @@ fn two_causes_at_one_joint_are_named_and_measured() {
                 .iter()
                 .filter_map(|t| {
                     let f = found.iter().find(|f| key(f) == key(t))?;
-                    Some((f.value - t.value).abs() / t.value.abs())
+                    Some((f.value() - t.value()).abs() / t.value().abs())
                 })
                 .fold(0.0, f64::max);
             let right = named && err <= 0.05;

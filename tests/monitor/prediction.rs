@@ -49,8 +49,8 @@ fn monte_carlo_run(
                 s.t_s,
                 js.coulomb_nm,
                 js.coulomb_sd_nm,
-                effects[2 * j].value,
-                1.0 - effects[2 * j + 1].value,
+                effects[2 * j].value(),
+                1.0 - effects[2 * j + 1].value(),
                 js.prediction,
                 js.confidence,
                 js.time_to_latch_s
@@ -284,9 +284,9 @@ fn rollout_from_truth(
             phi_dot: std::array::from_fn(|q| traj.rate_deg_s[q][i].to_radians() as f32),
         },
         latched: std::array::from_fn(|q| traj.latched[q][i]),
-        coulomb_nm: std::array::from_fn(|q| effects[2 * q].value as f32),
+        coulomb_nm: std::array::from_fn(|q| effects[2 * q].value() as f32),
         viscous_nms: [0.0; 3],
-        spring_scale: std::array::from_fn(|q| 1.0 - effects[2 * q + 1].value as f32),
+        spring_scale: std::array::from_fn(|q| 1.0 - effects[2 * q + 1].value() as f32),
         capture_rad: std::array::from_fn(|q| cfg.joints[q].capture_deg.to_radians()),
     });
     for _ in 0..1000 {

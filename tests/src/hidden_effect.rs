@@ -2,7 +2,7 @@
 //! `tests/diagnosis_physical_latch.rs`): which kinds a campaign draws and
 //! how a kind's joint and value are drawn.
 
-use deploywatch_sim::effect::{Effect, EffectKind};
+use deploywatch_sim::effect::{Effect, EffectKind, Law};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
@@ -30,10 +30,14 @@ pub fn draw_effect(rng: &mut ChaCha8Rng, kind: EffectKind, joints: usize) -> Eff
         EffectKind::SpringSoftening => Effect::joint(kind, j, u(rng, 0.05, 0.35)),
         EffectKind::HarnessStiffness => Effect::joint(kind, j, u(rng, 0.03, 0.5)),
         EffectKind::AirDrag => Effect::global(kind, u(rng, 0.05, 1.0)),
-        EffectKind::RigTilt => Effect {
-            alpha_deg: rng.gen_range(0.0..360.0),
-            ..Effect::global(kind, u(rng, 0.01, 0.2))
-        },
+        EffectKind::RigTilt => {
+            let alpha_deg = rng.gen_range(0.0..360.0);
+            let g_m_s2 = u(rng, 0.01, 0.2);
+            Effect {
+                joint: None,
+                law: Law::RigTilt { g_m_s2, alpha_deg },
+            }
+        }
         EffectKind::EncoderOffset => {
             let s = if rng.gen::<bool>() { 1.0 } else { -1.0 };
             Effect::joint(kind, j, s * u(rng, 0.3, 2.0))

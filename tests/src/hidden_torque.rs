@@ -32,7 +32,7 @@
 use crate::data_dir;
 use deploywatch_core::Branch;
 use deploywatch_sim::deployment::{self, SimOptions};
-use deploywatch_sim::effect::{self, Effect, EffectKind};
+use deploywatch_sim::effect::{self, Effect, EffectKind, Law};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::run::Run;
 use deploywatch_sim::sensor::{self, SensorModel};
@@ -355,11 +355,8 @@ pub fn hidden_torque(seed: u64, form: Form, mechs: &[Mechanism], j: usize) -> Ve
     loop {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let table = |table| Effect {
-            kind: EffectKind::TorqueTable,
             joint: Some(j),
-            value: amp,
-            table,
-            ..Effect::default()
+            law: Law::TorqueTable(table),
         };
         if form == Form::Breakaway {
             let (t, ratio, viscous) = breakaway_table(&mut rng, amp);
@@ -394,15 +391,18 @@ fn named(rng: &mut ChaCha8Rng, mechs: &[Mechanism], joints: usize) -> Effect {
         2 => Effect::joint(EffectKind::HarnessStiffness, j, 0.05),
         3 => Effect::global(EffectKind::AirDrag, 0.1),
         _ => Effect {
-            alpha_deg: rng.gen_range(0.0..360.0),
-            ..Effect::global(EffectKind::RigTilt, 0.03)
+            joint: None,
+            law: Law::RigTilt {
+                g_m_s2: 0.03,
+                alpha_deg: rng.gen_range(0.0..360.0),
+            },
         },
     };
     for _ in 0..12 {
         if effect_size(mechs, &[e]) >= 0.3 {
             break;
         }
-        e.value *= 1.5;
+        e = e.with_value(e.value() * 1.5);
     }
     e
 }
@@ -477,7 +477,7 @@ pub fn case(family: Family, k: u64) -> Case {
             let mut t = hidden_torque(seed, form, &mechs, j);
             for _ in 0..rng.gen_range(1..=2) {
                 let e = named(&mut rng, &mechs, joints);
-                if !t.iter().any(|x| x.kind == e.kind && x.joint == e.joint) {
+                if !t.iter().any(|x| x.kind() == e.kind() && x.joint == e.joint) {
                     t.push(e);
                 }
             }
@@ -532,7 +532,7 @@ pub fn friction_form(f: Family) -> Option<Form> {
 pub fn joints_of(effects: &[Effect]) -> Vec<usize> {
     let mut j: Vec<usize> = effects
         .iter()
-        .filter(|e| e.kind != EffectKind::EncoderOffset || e.value != 0.0)
+        .filter(|e| e.kind() != EffectKind::EncoderOffset || e.value() != 0.0)
         .filter_map(|e| e.joint)
         .collect();
     j.sort();

@@ -25,7 +25,8 @@
 
 use crate::analysis::design_margin::Resistance;
 use crate::analysis::stroke_margin::{Profile, Term};
-use crate::model::effect::{self, Effect, EffectKind};
+pub use crate::model::effect::WorstEnd;
+use crate::model::effect::{self, Effect, EffectKind, Law, MarginForm, ResistanceClass};
 use crate::model::mechanism::{with_joints, Mechanism};
 use crate::model::torque_table::HostJointEffects;
 use crate::simulate::deployment::{self, SimError, SimOptions, Trajectory};
@@ -56,118 +57,32 @@ pub enum Counted {
 }
 
 /// The kind of resistance each effect counts as (`None`: a driving
-/// spring's softening or a sensor effect). Every kind is named here: a new
-/// effect does not compile until it is given one.
+/// spring's softening or a sensor effect): the class of its
+/// [`EffectKind::margin`] form.
 pub fn kind_of(k: EffectKind) -> Option<Resistance> {
-    match k {
-        EffectKind::CoulombFriction
-        | EffectKind::ViscousDamping
-        | EffectKind::StribeckFriction
-        | EffectKind::QuadraticDamping => Some(Resistance::Friction),
-        EffectKind::HarnessStiffness => Some(Resistance::Harness),
-        EffectKind::LatchDetent
-        | EffectKind::TorqueTable
-        | EffectKind::AirDrag
-        | EffectKind::RigTilt
-        | EffectKind::PlungerWeakening
-        | EffectKind::MagnetWeakening
-        | EffectKind::RigFriction
-        | EffectKind::WireLength
-        | EffectKind::FrameOffset => Some(Resistance::Other),
-        EffectKind::SpringSoftening | EffectKind::EncoderOffset => None,
-    }
+    k.margin().class().map(|c| match c {
+        ResistanceClass::Friction => Resistance::Friction,
+        ResistanceClass::Harness => Resistance::Harness,
+        ResistanceClass::Other => Resistance::Other,
+    })
 }
 
-/// Which end of a found effect's 95 % interval the margins take: the end
-/// that lowers them (`docs/margin.md`, "Each effect at the worst end of
-/// its interval").
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum WorstEnd {
-    /// The upper end: a larger value resists more (or, for a softening,
-    /// drives less).
-    Upper,
-    /// The end of the larger magnitude: the sign says whether it resists
-    /// or helps, a larger one does more of what the estimate does.
-    LargerMagnitude,
-    /// Per knot of a table, the end of its band that resists the
-    /// deployment more (the lower end on a joint deploying towards
-    /// positive angles, the upper end otherwise).
-    Resisting,
-    /// The estimate: no end lowers the margins; the reason in words.
-    Estimate(&'static str),
-}
-
-/// The end of its interval each effect kind counts at in the margins.
-/// Every kind is named here: a new effect does not compile until it is
-/// given one.
+/// The end of its interval each effect kind counts at in the margins
+/// ([`EffectKind::worst_end`]).
 pub fn worst_end(k: EffectKind) -> WorstEnd {
-    match k {
-        EffectKind::CoulombFriction
-        | EffectKind::ViscousDamping
-        | EffectKind::StribeckFriction
-        | EffectKind::QuadraticDamping
-        | EffectKind::HarnessStiffness
-        | EffectKind::LatchDetent
-        | EffectKind::AirDrag
-        | EffectKind::RigFriction
-        | EffectKind::SpringSoftening => WorstEnd::Upper,
-        EffectKind::RigTilt => WorstEnd::LargerMagnitude,
-        EffectKind::TorqueTable => WorstEnd::Resisting,
-        EffectKind::EncoderOffset => WorstEnd::Estimate("a sensor effect moves no joint"),
-        EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => WorstEnd::Estimate(
-            "the latch's line takes the nominal plunger and magnet, stronger than any weakened one",
-        ),
-        EffectKind::WireLength | EffectKind::FrameOffset => {
-            WorstEnd::Estimate("the rig's geometry, not in the hinges' margins")
-        }
-    }
+    k.worst_end()
 }
 
-/// True for the effects that exist only on a ground rig (air in the
-/// room, a rig that is not level, the rig's rails, wires and frames): none of them flies, so `--flight`
-/// leaves them out.
+/// True for the effects that exist only on a ground rig
+/// ([`EffectKind::rig_only`]): `--flight` leaves them out.
 pub fn rig_only(k: EffectKind) -> bool {
-    match k {
-        EffectKind::AirDrag
-        | EffectKind::RigTilt
-        | EffectKind::RigFriction
-        | EffectKind::WireLength
-        | EffectKind::FrameOffset => true,
-        EffectKind::CoulombFriction
-        | EffectKind::ViscousDamping
-        | EffectKind::QuadraticDamping
-        | EffectKind::StribeckFriction
-        | EffectKind::SpringSoftening
-        | EffectKind::HarnessStiffness
-        | EffectKind::LatchDetent
-        | EffectKind::EncoderOffset
-        | EffectKind::TorqueTable
-        | EffectKind::PlungerWeakening
-        | EffectKind::MagnetWeakening => false,
-    }
+    k.rig_only()
 }
 
 /// True when the effect's energy comes from the simulated deployment
-/// (rate-dependent or distributed over the panels).
+/// (rate-dependent or distributed over the panels; [`MarginForm::needs_simulation`]).
 pub fn needs_simulation(k: EffectKind) -> bool {
-    match k {
-        EffectKind::ViscousDamping
-        | EffectKind::StribeckFriction
-        | EffectKind::QuadraticDamping
-        | EffectKind::TorqueTable
-        | EffectKind::AirDrag
-        | EffectKind::RigTilt => true,
-        EffectKind::CoulombFriction
-        | EffectKind::SpringSoftening
-        | EffectKind::HarnessStiffness
-        | EffectKind::LatchDetent
-        | EffectKind::EncoderOffset
-        | EffectKind::PlungerWeakening
-        | EffectKind::MagnetWeakening
-        | EffectKind::RigFriction
-        | EffectKind::WireLength
-        | EffectKind::FrameOffset => false,
-    }
+    k.margin().needs_simulation()
 }
 
 /// True when effect `e` acts on joint `j` (0-based): a per-joint effect at
@@ -196,38 +111,37 @@ pub fn counted(
     // The direction of deployment: towards 0 from the stowed side.
     let d = -stowed.signum();
     let res = |torque_nm: f64, energy_j: f64| {
-        kind_of(e.kind).map(|kind| Counted::Resistance {
+        kind_of(e.kind()).map(|kind| Counted::Resistance {
             kind,
             torque_nm,
             energy_j,
         })
     };
-    match e.kind {
-        EffectKind::CoulombFriction => res(e.value, e.value * stroke),
-        EffectKind::ViscousDamping | EffectKind::QuadraticDamping | EffectKind::AirDrag => {
+    let v = e.value();
+    match e.kind().margin() {
+        MarginForm::Coulomb => res(v, v * stroke),
+        MarginForm::Viscous | MarginForm::Quadratic | MarginForm::Distributed => {
             res(0.0, simulated_j)
         }
         // Breakaway torque at rest (kinetic level plus the static excess);
         // the work of the whole rate-dependent law along the deployment.
-        EffectKind::StribeckFriction => res(e.value + e.excess_nm, simulated_j),
-        EffectKind::SpringSoftening => Some(Counted::Driving {
-            scale: 1.0 - e.value,
-        }),
-        EffectKind::HarnessStiffness => res(e.value * stroke, 0.5 * e.value * stroke * stroke),
-        EffectKind::LatchDetent => {
+        MarginForm::Breakaway => res(breakaway_nm(e), simulated_j),
+        MarginForm::Driving => Some(Counted::Driving { scale: 1.0 - v }),
+        MarginForm::Harness => res(v * stroke, 0.5 * v * stroke * stroke),
+        MarginForm::Detent => {
             let delta = DETENT_ZONE_DEG.to_radians();
-            res(e.value, e.value * delta / core::f64::consts::PI)
+            res(v, v * delta / core::f64::consts::PI)
         }
-        EffectKind::TorqueTable => res(table_worst_torque(e, stowed, d), simulated_j),
-        EffectKind::RigTilt => res((-d * stowed_q).max(0.0), simulated_j),
-        EffectKind::EncoderOffset => Some(Counted::Sensor),
+        MarginForm::Table => res(table_worst_torque(e, stowed, d), simulated_j),
+        MarginForm::Tilt => res((-d * stowed_q).max(0.0), simulated_j),
+        MarginForm::Sensor => Some(Counted::Sensor),
         // Effects of a physical latch change its plunger or magnet, which
         // the latch's own line counts (`LatchResistance`).
-        EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => res(0.0, 0.0),
+        MarginForm::LatchLine => res(0.0, 0.0),
         // A rig cause acts on the trolleys, not through the chain's
         // equations: its share of each joint's friction is the rig line of
         // `diagnose` and `identify` (`crate::analysis::rig_margin`).
-        EffectKind::RigFriction | EffectKind::WireLength | EffectKind::FrameOffset => res(0.0, 0.0),
+        MarginForm::RigLine => res(0.0, 0.0),
     }
 }
 
@@ -238,17 +152,17 @@ pub fn counted(
 /// `peak_rate_rad_s`; every other effect with its torque-form value
 /// everywhere (a table: its worst value, a Stribeck law: its breakaway).
 pub fn stroke_term(e: &Effect, kind: Resistance, torque_nm: f64, peak_rate_rad_s: f64) -> Term {
-    let name = e.kind.to_string();
-    match e.kind {
-        EffectKind::HarnessStiffness => Term {
+    let name = e.kind().to_string();
+    match e.kind().margin() {
+        MarginForm::Harness => Term {
             name,
             kind,
             torque_nm,
             profile: Profile::FromStowed {
-                stiffness_nm_per_rad: e.value,
+                stiffness_nm_per_rad: e.value(),
             },
         },
-        EffectKind::LatchDetent => Term {
+        MarginForm::Detent => Term {
             name,
             kind,
             torque_nm,
@@ -257,38 +171,50 @@ pub fn stroke_term(e: &Effect, kind: Resistance, torque_nm: f64, peak_rate_rad_s
                 to_rad: DETENT_ZONE_DEG.to_radians(),
             },
         },
-        EffectKind::QuadraticDamping => Term::constant(
+        MarginForm::Quadratic => Term::constant(
             format!("{name} at the run's peak rate {peak_rate_rad_s:.3} rad/s"),
             kind,
-            e.value * peak_rate_rad_s * peak_rate_rad_s,
+            e.value() * peak_rate_rad_s * peak_rate_rad_s,
         ),
-        EffectKind::ViscousDamping => Term::constant(
+        MarginForm::Viscous => Term::constant(
             format!("{name} at the run's peak rate {peak_rate_rad_s:.3} rad/s"),
             kind,
-            e.value * peak_rate_rad_s,
+            e.value() * peak_rate_rad_s,
         ),
-        EffectKind::CoulombFriction
-        | EffectKind::StribeckFriction
-        | EffectKind::SpringSoftening
-        | EffectKind::AirDrag
-        | EffectKind::RigTilt
-        | EffectKind::EncoderOffset
-        | EffectKind::TorqueTable
-        | EffectKind::PlungerWeakening
-        | EffectKind::MagnetWeakening
-        | EffectKind::RigFriction
-        | EffectKind::WireLength
-        | EffectKind::FrameOffset => Term::constant(name, kind, torque_nm),
+        MarginForm::Coulomb
+        | MarginForm::Breakaway
+        | MarginForm::Driving
+        | MarginForm::Distributed
+        | MarginForm::Tilt
+        | MarginForm::Sensor
+        | MarginForm::Table
+        | MarginForm::LatchLine
+        | MarginForm::RigLine => Term::constant(name, kind, torque_nm),
+    }
+}
+
+/// The break-away torque at rest of a Stribeck law, its kinetic level plus
+/// its excess [N·m] (of another law: its value).
+fn breakaway_nm(e: &Effect) -> f64 {
+    match e.law {
+        Law::StribeckFriction {
+            kinetic_nm,
+            excess_nm,
+            ..
+        } => kinetic_nm + excess_nm,
+        law => law.value(),
     }
 }
 
 /// The largest torque a table resists with at rest over the stroke,
-/// `max(0, −d (f(φ) + g(0)))` on 1000 points of `[0, φ_stowed]` [N·m].
+/// `max(0, −d (f(φ) + g(0)))` on 1000 points of `[0, φ_stowed]` [N·m]
+/// (0 for an effect that is no table).
 fn table_worst_torque(e: &Effect, stowed: f64, d: f64) -> f64 {
+    let Some(t) = e.table() else { return 0.0 };
     (0..=1000)
         .map(|i| {
             let phi = stowed * f64::from(i) / 1000.0;
-            (-d * e.table.torque(phi, 0.0)).max(0.0)
+            (-d * t.torque(phi, 0.0)).max(0.0)
         })
         .fold(0.0, f64::max)
 }
@@ -340,7 +266,7 @@ fn work<const N: usize>(
     let mut works = Vec::with_capacity(effects.len());
     let mut stowed_q = Vec::with_capacity(effects.len());
     for e in effects {
-        if !needs_simulation(e.kind) {
+        if !needs_simulation(e.kind()) {
             works.push(vec![0.0; N]);
             stowed_q.push(vec![0.0; N]);
             continue;

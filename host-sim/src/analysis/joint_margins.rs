@@ -67,7 +67,7 @@ fn simulated(mech: &Mechanism, r: &Resistances) -> Result<Simulated, SimError> {
     let needed = r.viscous_nms.iter().any(|f| *f != 0.0)
         || r.others
             .iter()
-            .any(|e| effect_margin::needs_simulation(e.kind));
+            .any(|e| effect_margin::needs_simulation(e.kind()));
     if !needed {
         let work = EffectWork {
             work_j: zero_others.clone(),

@@ -4,7 +4,7 @@
 //! damping per joint, and every other named effect of a diagnosis, counted
 //! by [`crate::analysis::effect_margin`].
 use crate::analysis::effect_margin::{self, WorstEnd};
-use crate::model::effect::{Effect, EffectKind};
+use crate::model::effect::{Effect, EffectKind, MarginForm};
 use crate::model::findings::diagnosis::FoundEffect;
 use crate::model::findings::effects::FoundEffectError;
 use crate::model::findings::{Diagnosis, Findings, FindingsError, Identification};
@@ -80,9 +80,9 @@ impl Resistances {
         let (rig, flies): (Vec<Effect>, Vec<Effect>) = self
             .others
             .iter()
-            .partition(|e| effect_margin::rig_only(e.kind));
+            .partition(|e| effect_margin::rig_only(e.kind()));
         self.others = flies;
-        let names: Vec<String> = rig.iter().map(|e| e.kind.to_string()).collect();
+        let names: Vec<String> = rig.iter().map(|e| e.kind().to_string()).collect();
         self.source = if names.is_empty() {
             format!("{}; flight: the rig taken out", self.source)
         } else {
@@ -192,32 +192,30 @@ pub fn resistances_with(
     for e in effects {
         if e.validate_joint(n).is_err() {
             return Err(FromError::Joint {
-                effect: e.kind,
+                effect: e.kind(),
                 joint: e.joint.unwrap_or(0),
                 mechanism: mech.name.clone(),
                 joints: n,
             });
         }
-        let column = match e.kind {
-            EffectKind::CoulombFriction => Some(&mut r.coulomb_nm),
-            EffectKind::ViscousDamping => Some(&mut r.viscous_nms),
-            EffectKind::QuadraticDamping
-            | EffectKind::StribeckFriction
-            | EffectKind::SpringSoftening
-            | EffectKind::HarnessStiffness
-            | EffectKind::LatchDetent
-            | EffectKind::AirDrag
-            | EffectKind::RigTilt
-            | EffectKind::EncoderOffset
-            | EffectKind::TorqueTable
-            | EffectKind::PlungerWeakening
-            | EffectKind::MagnetWeakening
-            | EffectKind::RigFriction
-            | EffectKind::WireLength
-            | EffectKind::FrameOffset => None,
+        // The mechanism's own friction forms take their columns.
+        let column = match e.kind().margin() {
+            MarginForm::Coulomb => Some(&mut r.coulomb_nm),
+            MarginForm::Viscous => Some(&mut r.viscous_nms),
+            MarginForm::Quadratic
+            | MarginForm::Breakaway
+            | MarginForm::Driving
+            | MarginForm::Harness
+            | MarginForm::Detent
+            | MarginForm::Distributed
+            | MarginForm::Tilt
+            | MarginForm::Table
+            | MarginForm::Sensor
+            | MarginForm::LatchLine
+            | MarginForm::RigLine => None,
         };
         match (column, e.joint) {
-            (Some(column), Some(j)) => column[j - 1] += e.value,
+            (Some(column), Some(j)) => column[j - 1] += e.value(),
             _ => r.others.push(e),
         }
     }
@@ -298,7 +296,7 @@ fn diagnose_effects(d: &Diagnosis, mech: &Mechanism) -> Result<Found, FromError>
                     .joint
                     .map_or(String::new(), |j| format!(" at joint {j}"));
                 let words = worst.map(|w| w.1).unwrap_or_default();
-                taken_at.push(format!("{}{joint}: {words}", effect.kind));
+                taken_at.push(format!("{}{joint}: {words}", effect.kind()));
                 effects.push(effect);
             }
             None => ignored.push(e.joint.map_or(e.no_effect_words(), |j| {

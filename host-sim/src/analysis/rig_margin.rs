@@ -118,15 +118,19 @@ pub fn split(campaign: &Campaign, found: &[Effect], progress: Progress) -> Optio
             first.mechanism.joints[j].friction.coulomb_nm
                 + found
                     .iter()
-                    .filter(|e| e.kind == EffectKind::CoulombFriction && e.joint == Some(j + 1))
-                    .map(|e| e.value)
+                    .filter(|e| e.kind() == EffectKind::CoulombFriction && e.joint == Some(j + 1))
+                    .map(|e| e.value())
                     .sum::<f64>()
         })
         .collect();
-    let rig_causes: Vec<Effect> = found.iter().filter(|e| e.kind.is_rig()).copied().collect();
+    let rig_causes: Vec<Effect> = found
+        .iter()
+        .filter(|e| e.kind().is_rig())
+        .copied()
+        .collect();
     let kept: Vec<Effect> = found
         .iter()
-        .filter(|e| !e.kind.is_rig() && e.kind != EffectKind::CoulombFriction)
+        .filter(|e| !e.kind().is_rig() && e.kind() != EffectKind::CoulombFriction)
         .copied()
         .collect();
     let lumped = lumped_campaign(campaign, &rig_causes);

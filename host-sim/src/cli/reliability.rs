@@ -87,7 +87,7 @@ fn from_file(path: &Path, given: &[Vary], mech: &Mechanism) -> Result<FromFindin
         return Err(CliError::input(format!("--from {}: {why}", path.display())));
     }
     let named = |v: &Vary| match v.target {
-        Target::Effect { kind, joint, .. } => Some((kind, joint)),
+        Target::Effect(e) => Some((e.kind(), e.joint)),
         Target::Mech(..) => None,
     };
     found

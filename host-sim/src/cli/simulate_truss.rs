@@ -30,11 +30,11 @@ pub fn run(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
     if let Some(e) = args
         .effects
         .iter()
-        .find(|e| !crate::simulate::truss_deployment::models(e.kind))
+        .find(|e| !crate::simulate::truss_deployment::models(e.kind()))
     {
         return Err(CliError::input(format!(
             "--effect {e}: {} is not modelled on a wing with a truss; expected coulomb_friction, viscous_damping, spring_softening or encoder_offset",
-            e.kind
+            e.kind()
         )));
     }
     let truss = mech

@@ -1,57 +1,122 @@
 //! The named effects of `docs/spec/physics.md` section 6: the vocabulary a
-//! diagnosis reports, and the extras `deploywatch simulate --effect` adds.//!
-//! One module per responsibility: `kind` (the vocabulary), `error`,
-//! `syntax` (the `--effect` text read and written); here, an [`Effect`] with
-//! its checks and its translation into the core's tables ([`to_core`]).
+//! diagnosis reports, and the extras `deploywatch simulate --effect` adds.
+//!
+//! Everything a kind of effect has is here, each an exhaustive `match`:
+//! `kind` (the vocabulary and the per-kind tables: name, unit, allowed
+//! values, where it acts, its margin form, its residual signature, …),
+//! `law` (each effect's own parameters, its value, its keys and its arm of
+//! [`to_core`]), `fit` (what a diagnosis fits of it), `roles` (the small
+//! enums those tables return, which the rest of the crate matches instead
+//! of the kind), `syntax` (the `--effect` text read and written), `error`;
+//! here, an [`Effect`] with its checks and its translation into the core's
+//! tables ([`to_core`]).
 
 mod error;
+mod fit;
 mod kind;
+mod law;
+mod roles;
 mod syntax;
 
 pub use error::EffectError;
-pub use kind::{EffectKind, ValueRange};
+pub use fit::*;
+pub use kind::*;
+pub use law::{Key, Law};
 
 use crate::model::torque_table::{HostJointEffects, HostTorqueTable};
 use deploywatch_core::GlobalEffects;
 
-/// One effect with its joint and value.
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
+/// One effect: where it acts and its law with the law's own parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Effect {
-    /// Which effect.
-    pub kind: EffectKind,
     /// 1-based joint, `None` for global effects.
     pub joint: Option<usize>,
-    /// The value, in [`EffectKind::unit`].
-    pub value: f64,
-    /// `rig_tilt` only: direction of the tilt gravity \[deg\].
-    pub alpha_deg: f64,
-    /// `stribeck_friction` only: the break-away excess `T_brk − T_C` [N·m].
-    pub excess_nm: f64,
-    /// `stribeck_friction` only: the Stribeck velocity `ω_st` [rad/s].
-    pub stribeck_rad_s: f64,
-    /// `torque_table` only: the tables (`value` is then their largest
-    /// absolute torque [N·m]).
-    pub table: HostTorqueTable,
+    /// The law and its parameters.
+    pub law: Law,
 }
 
 impl Effect {
-    /// A per-joint effect (`joint` is 1-based).
+    /// A per-joint effect of one value (`joint` is 1-based; see
+    /// [`Law::of_value`] for the kinds of more parameters).
     pub fn joint(kind: EffectKind, joint: usize, value: f64) -> Self {
         Effect {
-            kind,
             joint: Some(joint),
-            value,
-            ..Effect::default()
+            law: Law::of_value(kind, value),
         }
     }
 
-    /// A global effect.
+    /// A global effect of one value (see [`Law::of_value`]).
     pub fn global(kind: EffectKind, value: f64) -> Self {
         Effect {
-            kind,
             joint: None,
-            value,
-            ..Effect::default()
+            law: Law::of_value(kind, value),
+        }
+    }
+
+    /// Which effect.
+    pub fn kind(&self) -> EffectKind {
+        self.law.kind()
+    }
+
+    /// The value, in [`EffectKind::unit`] ([`Law::value`]).
+    pub fn value(&self) -> f64 {
+        self.law.value()
+    }
+
+    /// The tables of a `torque_table` (`None` for any other law).
+    pub fn table(&self) -> Option<&HostTorqueTable> {
+        match &self.law {
+            Law::TorqueTable(t) => Some(t),
+            Law::CoulombFriction(_)
+            | Law::ViscousDamping(_)
+            | Law::QuadraticDamping(_)
+            | Law::StribeckFriction { .. }
+            | Law::SpringSoftening(_)
+            | Law::HarnessStiffness(_)
+            | Law::LatchDetent(_)
+            | Law::AirDrag(_)
+            | Law::RigTilt { .. }
+            | Law::EncoderOffset(_)
+            | Law::PlungerWeakening(_)
+            | Law::MagnetWeakening(_)
+            | Law::RigFriction(_)
+            | Law::WireLength(_)
+            | Law::FrameOffset(_) => None,
+            #[cfg(feature = "demo-effect")]
+            Law::DemoDrag(_) => None,
+        }
+    }
+
+    /// The direction of a `rig_tilt` \[deg\] (`None` for any other law).
+    pub fn tilt_alpha_deg(&self) -> Option<f64> {
+        match self.law {
+            Law::RigTilt { alpha_deg, .. } => Some(alpha_deg),
+            Law::CoulombFriction(_)
+            | Law::ViscousDamping(_)
+            | Law::QuadraticDamping(_)
+            | Law::StribeckFriction { .. }
+            | Law::SpringSoftening(_)
+            | Law::HarnessStiffness(_)
+            | Law::LatchDetent(_)
+            | Law::AirDrag(_)
+            | Law::EncoderOffset(_)
+            | Law::TorqueTable(_)
+            | Law::PlungerWeakening(_)
+            | Law::MagnetWeakening(_)
+            | Law::RigFriction(_)
+            | Law::WireLength(_)
+            | Law::FrameOffset(_) => None,
+            #[cfg(feature = "demo-effect")]
+            Law::DemoDrag(_) => None,
+        }
+    }
+
+    /// The effect with its value set to `x`, its joint and other
+    /// parameters kept ([`Law::with_value`]).
+    pub fn with_value(self, x: f64) -> Self {
+        Effect {
+            law: self.law.with_value(x),
+            ..self
         }
     }
 
@@ -60,10 +125,10 @@ impl Effect {
     /// (`--effect`).
     pub fn validate(&self, joints: usize) -> Result<(), EffectError> {
         self.validate_joint(joints)?;
-        if !self.kind.allowed().contains(self.value) {
+        if !self.kind().allowed().contains(self.value()) {
             return Err(EffectError::OutOfRange {
-                kind: self.kind,
-                value: self.value,
+                kind: self.kind(),
+                value: self.value(),
             });
         }
         Ok(())
@@ -73,16 +138,15 @@ impl Effect {
     /// the simulator needs (an identification may try a correction below
     /// the mechanism's own friction, which [`Effect::validate`] refuses).
     pub fn validate_joint(&self, joints: usize) -> Result<(), EffectError> {
-        let kind = self.kind;
-        if !self.value.is_finite() {
-            return Err(EffectError::OutOfRange {
-                kind,
-                value: self.value,
-            });
+        let kind = self.kind();
+        let value = self.value();
+        if !value.is_finite() {
+            return Err(EffectError::OutOfRange { kind, value });
         }
-        if !self.alpha_deg.is_finite() {
-            let alpha_deg = self.alpha_deg;
-            return Err(EffectError::BadAlpha { kind, alpha_deg });
+        if let Law::RigTilt { alpha_deg, .. } = self.law {
+            if !alpha_deg.is_finite() {
+                return Err(EffectError::BadAlpha { kind, alpha_deg });
+            }
         }
         match (kind.per_joint(), self.joint) {
             (true, None) => Err(EffectError::NeedsJoint { kind }),
@@ -92,7 +156,7 @@ impl Effect {
                 joints,
             }),
             (false, Some(_)) => Err(EffectError::GlobalWithJoint { kind }),
-            _ => Ok(()),
+            (true, Some(_)) | (false, None) => Ok(()),
         }
     }
 }
@@ -112,41 +176,7 @@ pub fn to_core(effects: &[Effect], joints: usize) -> (Vec<HostJointEffects>, Glo
             .and_then(|j| j.checked_sub(1))
             .and_then(|j| je.get_mut(j))
             .unwrap_or(&mut nowhere);
-        match e.kind {
-            EffectKind::CoulombFriction => at.coulomb_nm += e.value,
-            EffectKind::ViscousDamping => at.viscous_nms += e.value,
-            EffectKind::QuadraticDamping => at.quadratic_nms2_per_rad2 += e.value,
-            EffectKind::StribeckFriction => {
-                // The kinetic level is Coulomb friction; the excess and its
-                // velocity are the law's Stribeck term (the last one given).
-                at.coulomb_nm += e.value;
-                at.stribeck_excess_nm += e.excess_nm;
-                at.stribeck_rad_s = e.stribeck_rad_s;
-            }
-            EffectKind::SpringSoftening => {
-                // Two softenings compose: (1 − s1)(1 − s2).
-                let s = at.spring_softening;
-                at.spring_softening = 1.0 - (1.0 - s) * (1.0 - e.value);
-            }
-            EffectKind::HarnessStiffness => at.harness_nm_per_rad += e.value,
-            EffectKind::LatchDetent => at.detent_nm += e.value,
-            EffectKind::TorqueTable => at.table = e.table,
-            EffectKind::AirDrag => g.air_drag_kg_m2 += e.value,
-            EffectKind::RigTilt => {
-                g.tilt_m_s2 = e.value;
-                g.tilt_alpha_rad = e.alpha_deg.to_radians();
-            }
-            // Not the chain's: the sensor's offset ([`encoder_offsets_deg`]),
-            // the physical latch's weakenings
-            // (`simulate::latch_deployment::setup::weakenings`) and the rig's
-            // causes ([`crate::model::rig::Rig::with_effects`]).
-            EffectKind::EncoderOffset
-            | EffectKind::PlungerWeakening
-            | EffectKind::MagnetWeakening
-            | EffectKind::RigFriction
-            | EffectKind::WireLength
-            | EffectKind::FrameOffset => {}
-        }
+        e.law.add_to_core(at, &mut g);
     }
     (je, g)
 }
@@ -155,9 +185,9 @@ pub fn to_core(effects: &[Effect], joints: usize) -> (Vec<HostJointEffects>, Glo
 pub fn encoder_offsets_deg(effects: &[Effect], joints: usize) -> Vec<f64> {
     let mut b = vec![0.0; joints];
     for e in effects {
-        if let (EffectKind::EncoderOffset, Some(j)) = (e.kind, e.joint) {
+        if let (Law::EncoderOffset(x), Some(j)) = (e.law, e.joint) {
             if (1..=joints).contains(&j) {
-                b[j - 1] += e.value;
+                b[j - 1] += x;
             }
         }
     }

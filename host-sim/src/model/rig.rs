@@ -9,7 +9,7 @@
 //! freedom per trolley (along its bar, x) and one per bar (the bar sliding
 //! laterally on its air bearings, y), and their forces on the panels.
 
-use crate::model::effect::{Effect, EffectKind};
+use crate::model::effect::{Acts, Effect, RigPart};
 
 /// Standard gravity [m/s²], the default of `[rig] gravity_m_s2`.
 pub const STANDARD_GRAVITY_M_S2: f64 = 9.80665;
@@ -219,35 +219,27 @@ impl Rig {
             PAPER_STATIC_MU / PAPER_DYNAMIC_MU
         };
         for e in effects {
-            match e.kind {
-                EffectKind::RigFriction => {
-                    r.dynamic_mu = (r.dynamic_mu + e.value).max(0.0);
-                    r.static_mu = (r.static_mu + ratio * e.value).max(r.dynamic_mu);
+            // Only the rig's causes ([`Acts::Rig`]): the chain's, the
+            // sensor's and the physical latch's act elsewhere.
+            let Acts::Rig(part) = e.kind().acts() else {
+                continue;
+            };
+            let v = e.value();
+            match part {
+                RigPart::RailFriction => {
+                    r.dynamic_mu = (r.dynamic_mu + v).max(0.0);
+                    r.static_mu = (r.static_mu + ratio * v).max(r.dynamic_mu);
                 }
-                EffectKind::WireLength => {
+                RigPart::WireLength => {
                     for t in &mut r.trolleys {
-                        t.wire_m = (t.wire_m + e.value).max(MIN_WIRE_M);
+                        t.wire_m = (t.wire_m + v).max(MIN_WIRE_M);
                     }
                 }
-                EffectKind::FrameOffset => {
+                RigPart::FrameOffset => {
                     for f in &mut r.frames {
-                        f.at_m += e.value * f.normal[0].hypot(f.normal[1]);
+                        f.at_m += v * f.normal[0].hypot(f.normal[1]);
                     }
                 }
-                // The chain's, the sensor's and the physical latch's.
-                EffectKind::CoulombFriction
-                | EffectKind::ViscousDamping
-                | EffectKind::QuadraticDamping
-                | EffectKind::StribeckFriction
-                | EffectKind::SpringSoftening
-                | EffectKind::HarnessStiffness
-                | EffectKind::LatchDetent
-                | EffectKind::AirDrag
-                | EffectKind::RigTilt
-                | EffectKind::EncoderOffset
-                | EffectKind::TorqueTable
-                | EffectKind::PlungerWeakening
-                | EffectKind::MagnetWeakening => {}
             }
         }
         r

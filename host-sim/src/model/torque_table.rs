@@ -8,7 +8,6 @@
 //! `[:rate_deg_s=R1,R2,..:rate_torque_nm=G1,G2,..]` (either table or both).
 
 use deploywatch_core::{Table, TableError as CoreTableError, TorqueTable};
-use std::fmt::Write as _;
 
 /// Most points of one table on the host \[1\]: the host simulator and the
 /// diagnosis hold tables this large (a hump of a rate law or a dip over
@@ -154,29 +153,13 @@ impl TablePoints {
     }
 }
 
-/// `a,b,c` of a list, shortest round-trip form of each number.
-fn list(v: &[f64]) -> String {
+/// `a,b,c` of a list, shortest round-trip form of each number (the
+/// syntax of a table's keys).
+pub fn list(v: &[f64]) -> String {
     v.iter()
         .map(|x| x.to_string())
         .collect::<Vec<_>>()
         .join(",")
-}
-
-/// The table's keys in the `--effect` syntax, each preceded by `:`.
-pub fn to_keys<const K: usize>(t: &TorqueTable<f64, K>) -> String {
-    let mut s = String::new();
-    if let Some(f) = &t.angle {
-        let _ = write!(s, ":angle_deg={}:torque_nm={}", list(f.xs()), list(f.ys()));
-    }
-    if let Some(g) = &t.rate {
-        let _ = write!(
-            s,
-            ":rate_deg_s={}:rate_torque_nm={}",
-            list(g.xs()),
-            list(g.ys())
-        );
-    }
-    s
 }
 
 /// The largest absolute torque of either table [N·m] (the `value` a
@@ -200,7 +183,11 @@ mod tests {
         assert!(p.take("torque_nm", "0,0.3,-0.1").unwrap());
         assert!(!p.take("joint", "1").unwrap());
         let t = p.build().unwrap();
-        assert_eq!(to_keys(&t), ":angle_deg=-90,-45,0:torque_nm=0,0.3,-0.1");
+        let f = t.angle.as_ref().unwrap();
+        assert_eq!(
+            (list(f.xs()), list(f.ys())),
+            ("-90,-45,0".into(), "0,0.3,-0.1".into())
+        );
         assert_eq!(max_abs_nm(&t), 0.3);
     }
 

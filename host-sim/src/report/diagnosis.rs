@@ -9,7 +9,6 @@ use crate::analysis::diagnose::{Candidate, Outcome, MIN_DELTA_BIC};
 use crate::analysis::diagnosis_details::{gain_ratio, Details};
 use crate::analysis::evidence::JointEvidence;
 use crate::data::campaign::Campaign;
-use crate::model::effect::EffectKind;
 use crate::report::diagnosis_words::{ci_of, evidence_of};
 use crate::report::evidence_words::evidence_words;
 use crate::report::markdown::table;
@@ -141,36 +140,22 @@ fn report_causes(md: &mut String, o: &Outcome) {
     } else {
         let rows = ext.iter().enumerate().map(|(k, e)| {
             let (lo, hi) = ci_of(o, k);
-            let extra = match e.kind {
-                EffectKind::RigTilt => format!(" (α = {:.1}°)", e.alpha_deg),
-                // A fitted table says its shape (any kind may be one).
-                EffectKind::CoulombFriction
-                | EffectKind::ViscousDamping
-                | EffectKind::QuadraticDamping
-                | EffectKind::StribeckFriction
-                | EffectKind::SpringSoftening
-                | EffectKind::HarnessStiffness
-                | EffectKind::LatchDetent
-                | EffectKind::AirDrag
-                | EffectKind::EncoderOffset
-                | EffectKind::TorqueTable
-                | EffectKind::PlungerWeakening
-                | EffectKind::MagnetWeakening
-                | EffectKind::RigFriction
-                | EffectKind::WireLength
-                | EffectKind::FrameOffset => o
+            // A tilt says its direction; a fitted table its shape.
+            let extra = match e.tilt_alpha_deg() {
+                Some(alpha_deg) => format!(" (α = {alpha_deg:.1}°)"),
+                None => o
                     .extended
                     .table_of(k)
                     .map_or_else(String::new, |(_, shape, _)| format!(" (largest; {shape})")),
             };
-            let unit = match e.kind.unit() {
+            let unit = match e.kind().unit() {
                 "1" => "(dimensionless)",
                 u => u,
             };
             vec![
-                format!("`{}`", e.kind),
+                format!("`{}`", e.kind()),
                 e.joint.map(|j| j.to_string()).unwrap_or_else(|| "—".into()),
-                format!("{:.5} {unit}{extra}", e.value),
+                format!("{:.5} {unit}{extra}", e.value()),
                 format!("{lo:.5} … {hi:.5}"),
                 evidence_of(o, k, o.extended.members[k].candidate),
             ]

@@ -144,13 +144,13 @@ fn effects_json(o: &Outcome, before: &[JointEvidence]) -> Vec<FoundEffect> {
             if let Some((_, shape, t)) = o.extended.table_of(k) {
                 add_tables(&mut v, &shape, &t);
             }
-            if e.kind == EffectKind::RigTilt {
+            if e.kind() == EffectKind::RigTilt {
                 if let (_, Some(ci)) = o.extended.effect_ci(k) {
                     v.alpha_ci95_deg = Some([rounded(ci[0]), rounded(ci[1])]);
                 }
             }
-            if e.kind == EffectKind::StribeckFriction {
-                // Parameters T_C, ΔT, ω_st (candidate.rs): the intervals of
+            if e.kind() == EffectKind::StribeckFriction {
+                // Parameters T_C, ΔT, ω_st (`EffectKind::bounds`): the intervals of
                 // the last two.
                 let ci = o.extended.effect_params(k).map(|(_, ci)| ci);
                 let band = |i: usize| {

@@ -85,9 +85,9 @@ fn set_json(f: &FittedSet) -> Vec<serde_json::Value> {
         .map(|(k, e)| {
             let ([lo, hi], _) = f.effect_ci(k);
             serde_json::json!({
-                "name": e.kind.name(),
+                "name": e.kind().name(),
                 "joint": e.joint,
-                "value": rounded(e.value),
+                "value": rounded(e.value()),
                 "ci95": [rounded(lo), rounded(hi)],
             })
         })
@@ -125,8 +125,8 @@ fn set_words(f: &FittedSet) -> String {
     }
     e.iter()
         .map(|e| match e.joint {
-            Some(j) => format!("{} at joint {j} = {:.4}", e.kind, e.value),
-            None => format!("{} = {:.4}", e.kind, e.value),
+            Some(j) => format!("{} at joint {j} = {:.4}", e.kind(), e.value()),
+            None => format!("{} = {:.4}", e.kind(), e.value()),
         })
         .collect::<Vec<_>>()
         .join(", ")

@@ -24,22 +24,22 @@ fn effect_line(e: &Effect, o: &Outcome, k: usize) -> String {
     let (lo, hi) = ci_of(o, k);
     let mut s = format!(
         "{}{} = {:.5}{} (95 % CI {:.5} .. {:.5})",
-        e.kind,
+        e.kind(),
         e.joint
             .map(|j| format!(" at joint {j}"))
             .unwrap_or_default(),
-        e.value,
-        unit_words(e.kind),
+        e.value(),
+        unit_words(e.kind()),
         lo,
         hi
     );
-    if e.kind == EffectKind::RigTilt {
-        s += &format!(", alpha {:.1} deg", e.alpha_deg);
+    if let Some(alpha_deg) = e.tilt_alpha_deg() {
+        s += &format!(", alpha {alpha_deg:.1} deg");
     }
     if let Some((_, shape, _)) = o.extended.table_of(k) {
         s += &format!(" (largest torque; {shape})");
     }
-    if e.kind.is_rig() {
+    if e.kind().is_rig() {
         s += " — of the test rig, not of the flight unit";
     }
     s

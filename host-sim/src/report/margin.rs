@@ -180,7 +180,7 @@ fn allowance_line(m: &MarginReport) -> String {
         .resistances
         .others
         .iter()
-        .any(|e| e.kind == EffectKind::SpringSoftening);
+        .any(|e| e.kind() == EffectKind::SpringSoftening);
     format!(
         "along the stroke: D_min(θ) = {:.4} × the spring's unfolding branch (its hysteresis included); spring tolerance {} %, end of life {} % (--spring-tolerance, --end-of-life: the mechanism file gives neither){}",
         a.scale(),
@@ -353,7 +353,7 @@ pub fn table(report: &MarginReport) -> String {
 /// 0.5 N·m/rad (harness, factor 3): 1.5708 N·m in the torque form, 1.2337 J
 /// in the energy form`.
 fn counted_line(e: &Effect, c: &Counted, factors: &Factors) -> String {
-    let what = format!("{} {} {}", e.kind, e.value, e.kind.unit());
+    let what = format!("{} {} {}", e.kind(), e.value(), e.kind().unit());
     match c {
         Counted::Resistance {
             kind,
@@ -382,8 +382,8 @@ fn counted_json(e: &Effect, c: &Counted) -> Value {
         Counted::Sensor => ("sensor", 0.0, 0.0, 1.0),
     };
     json!({
-        "effect": e.kind.name(),
-        "value": e.value,
+        "effect": e.kind().name(),
+        "value": e.value(),
         "counts_as": counts_as,
         "torque_nm": torque,
         "energy_j": energy,

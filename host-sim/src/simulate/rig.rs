@@ -292,10 +292,11 @@ pub fn simulate_rig(
 /// without an active rig: there is nothing for it to act on (a flight
 /// unit, `--flight`, has no rig).
 pub fn check_rig_effects(mech: &Mechanism, effects: &[Effect]) -> Result<(), SimError> {
-    match effects.iter().find(|e| e.kind.is_rig()) {
+    match effects.iter().find(|e| e.kind().is_rig()) {
         Some(e) if mech.active_rig().is_none() => Err(SimError::Invalid(format!(
             "{}: `{}` has no active [rig] for it to act on (a rig cause; the flight unit has none)",
-            e.kind, mech.name
+            e.kind(),
+            mech.name
         ))),
         _ => Ok(()),
     }

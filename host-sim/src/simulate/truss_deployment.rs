@@ -14,7 +14,7 @@
 //! (harness, detent, torque table, air drag, tilt) are not modelled on the
 //! truss wing yet and are refused with [`SimError::Invalid`].
 
-use crate::model::effect::{Effect, EffectKind};
+use crate::model::effect::{Effect, EffectKind, TrussPart};
 use crate::model::mechanism::Mechanism;
 use crate::simulate::multibody::{self, Model, System, WingRun};
 use crate::simulate::trajectory::{
@@ -22,26 +22,10 @@ use crate::simulate::trajectory::{
 };
 use deploywatch_core::Spring;
 
-/// True for the effects the truss wing models ([`system_with_effects`]).
+/// True for the effects the truss wing models ([`system_with_effects`],
+/// [`EffectKind::on_truss`]).
 pub fn models(kind: EffectKind) -> bool {
-    match kind {
-        EffectKind::CoulombFriction
-        | EffectKind::ViscousDamping
-        | EffectKind::SpringSoftening
-        | EffectKind::EncoderOffset => true,
-        EffectKind::QuadraticDamping
-        | EffectKind::StribeckFriction
-        | EffectKind::HarnessStiffness
-        | EffectKind::LatchDetent
-        | EffectKind::AirDrag
-        | EffectKind::RigTilt
-        | EffectKind::TorqueTable
-        | EffectKind::PlungerWeakening
-        | EffectKind::MagnetWeakening
-        | EffectKind::RigFriction
-        | EffectKind::WireLength
-        | EffectKind::FrameOffset => false,
-    }
+    kind.on_truss().is_some()
 }
 
 /// The multibody system of a truss wing with `effects` on its pins (see the
@@ -59,12 +43,12 @@ pub fn system_with_effects(mech: &Mechanism, effects: &[Effect]) -> Result<Syste
     for e in effects {
         e.validate_joint(joints)
             .map_err(|m| SimError::Invalid(m.to_string()))?;
-        if !models(e.kind) {
+        let Some(part) = e.kind().on_truss() else {
             return Err(SimError::Invalid(format!(
                 "{}: not modelled on a wing with a truss; expected coulomb_friction, viscous_damping, spring_softening or encoder_offset",
-                e.kind
+                e.kind()
             )));
-        }
+        };
         let Some(j) = e.joint else { continue };
         // The pins the effect acts on: hinge j, or every pin at node j − n.
         let pins: Vec<usize> = if j <= n {
@@ -78,38 +62,25 @@ pub fn system_with_effects(mech: &Mechanism, effects: &[Effect]) -> Result<Syste
         };
         for p in pins {
             let pin = &mut sys.pins[p];
-            match e.kind {
-                EffectKind::CoulombFriction => {
-                    pin.friction.coulomb_nm += e.value;
-                    pin.friction.breakaway_nm += e.value;
+            match part {
+                TrussPart::Coulomb => {
+                    pin.friction.coulomb_nm += e.value();
+                    pin.friction.breakaway_nm += e.value();
                 }
-                EffectKind::ViscousDamping => pin.friction.viscous_nms += e.value,
-                EffectKind::SpringSoftening if j <= n => match &mut pin.spring {
+                TrussPart::Viscous => pin.friction.viscous_nms += e.value(),
+                TrussPart::SpringSoftening if j <= n => match &mut pin.spring {
                     Spring::Linear { count, .. } | Spring::Curve { count, .. } => {
-                        *count *= 1.0 - e.value
+                        *count *= 1.0 - e.value()
                     }
                     Spring::None => {}
                 },
-                EffectKind::SpringSoftening => {
+                TrussPart::SpringSoftening => {
                     return Err(SimError::Invalid(format!(
                         "spring_softening at joint {j}: a truss node has no spring; expected a hinge joint 1 to {n}"
                     )))
                 }
                 // The sensor's: applied to the readings.
-                EffectKind::EncoderOffset => {}
-                // Refused above ([`models`]).
-                EffectKind::QuadraticDamping
-                | EffectKind::StribeckFriction
-                | EffectKind::HarnessStiffness
-                | EffectKind::LatchDetent
-                | EffectKind::AirDrag
-                | EffectKind::RigTilt
-                | EffectKind::TorqueTable
-                | EffectKind::PlungerWeakening
-                | EffectKind::MagnetWeakening
-                | EffectKind::RigFriction
-                | EffectKind::WireLength
-                | EffectKind::FrameOffset => {}
+                TrussPart::Sensor => {}
             }
         }
     }

@@ -420,7 +420,8 @@ mod tests {
         // Kinetic 0.2 N·m, a break-away 0.3 N·m above it decaying
         // exponentially (not the simulator's law) over 0.05 rad/s.
         let s = samples(|w| {
-            -(0.2 * (w / 0.01).tanh() + 0.3 * (1.0 - (-w / 0.02).exp()) * (-w / 0.05).exp())
+            let coulomb = 0.2 * coulomb_shape(w, COULOMB_THRESHOLD_RAD_S);
+            -(coulomb + 0.3 * (1.0 - (-w / 0.02).exp()) * (-w / 0.05).exp())
         });
         let e = evidence_starts(&s, true);
         assert_eq!(kinds(&e), vec![EffectKind::StribeckFriction], "{e:?}");
@@ -441,7 +442,8 @@ mod tests {
 
     #[test]
     fn coulomb_and_viscous_torques_offer_no_form() {
-        assert!(evidence_starts(&samples(|w| -0.3 * (w / 0.01).tanh()), true).is_empty());
+        let coulomb = |w: f64| -0.3 * coulomb_shape(w, COULOMB_THRESHOLD_RAD_S);
+        assert!(evidence_starts(&samples(coulomb), true).is_empty());
         assert!(evidence_starts(&samples(|w| -0.2 * w), true).is_empty());
     }
 }

@@ -17,10 +17,10 @@
 
 use crate::analysis::diagnose::residual_shape::{bic, thin};
 use crate::analysis::diagnose::residual_torque::{JointTorque, TorqueSample};
-use crate::model::effect::EffectKind;
-use deploywatch_core::physics::{coulomb_shape, COULOMB_THRESHOLD_RAD_S};
+use crate::model::effect::{EffectKind, Signature};
 
-/// The named joint effects with a torque signature.
+/// The named joint effects with a torque signature
+/// ([`EffectKind::signature`]; a test checks the list against it).
 pub const KINDS: [EffectKind; 4] = [
     EffectKind::CoulombFriction,
     EffectKind::ViscousDamping,
@@ -32,29 +32,12 @@ pub const KINDS: [EffectKind; 4] = [
 /// than this (Kass & Raftery's "very strong").
 pub const MIN_PAIR_GAIN: f64 = 10.0;
 
-/// A named effect's torque per unit of its value at a sample [N·m per unit].
-pub fn signature(kind: EffectKind, s: &TorqueSample) -> f64 {
-    let rate = s.rate_deg_s.to_radians();
-    match kind {
-        EffectKind::CoulombFriction => -coulomb_shape(rate, COULOMB_THRESHOLD_RAD_S),
-        EffectKind::ViscousDamping => -rate,
-        EffectKind::SpringSoftening => -s.spring_nm,
-        EffectKind::HarnessStiffness => s.from_stowed_rad,
-        // Not in [`KINDS`]: no signature of their own here (the friction
-        // forms have theirs in `friction_forms`).
-        EffectKind::QuadraticDamping
-        | EffectKind::StribeckFriction
-        | EffectKind::LatchDetent
-        | EffectKind::AirDrag
-        | EffectKind::RigTilt
-        | EffectKind::EncoderOffset
-        | EffectKind::TorqueTable
-        | EffectKind::PlungerWeakening
-        | EffectKind::MagnetWeakening
-        | EffectKind::RigFriction
-        | EffectKind::WireLength
-        | EffectKind::FrameOffset => 0.0,
-    }
+/// A named effect's torque per unit of its value at a sample [N·m per
+/// unit] ([`EffectKind::signature`]); `None` for an effect without one
+/// (not in [`KINDS`]).
+pub fn signature(kind: EffectKind, s: &TorqueSample) -> Option<f64> {
+    let g = kind.signature()?;
+    Some(g.at(s.rate_deg_s.to_radians(), s.spring_nm, s.from_stowed_rad))
 }
 
 /// Named effects that explain one joint's residual torque, with their
@@ -70,12 +53,18 @@ pub struct Proposal {
 }
 
 /// Weighted least squares of the samples on the signatures of `kinds`:
-/// the values and the weighted RSS. `None` when singular or a value is not
-/// positive (every named effect here has a positive value).
+/// the values and the weighted RSS. `None` when singular, a value is not
+/// positive (every named effect here has a positive value) or a kind has
+/// no signature.
 pub fn fit(samples: &[TorqueSample], kinds: &[EffectKind]) -> Option<(Vec<f64>, f64)> {
-    let cols: Vec<Column> = kinds
-        .iter()
-        .map(|&kd| Box::new(move |s: &TorqueSample| signature(kd, s)) as Column)
+    let sigs: Option<Vec<Signature>> = kinds.iter().map(|k| k.signature()).collect();
+    let cols: Vec<Column> = sigs?
+        .into_iter()
+        .map(|g| {
+            Box::new(move |s: &TorqueSample| {
+                g.at(s.rate_deg_s.to_radians(), s.spring_nm, s.from_stowed_rad)
+            }) as Column
+        })
         .collect();
     let refs: Vec<&dyn Fn(&TorqueSample) -> f64> = cols.iter().map(|c| c.as_ref()).collect();
     lsq(samples, &refs)
@@ -159,5 +148,21 @@ pub fn propose_pair(jt: &JointTorque) -> Option<Proposal> {
     match single {
         Some(s) if s.bic - pair.bic <= MIN_PAIR_GAIN => None,
         _ => Some(pair),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`KINDS`] is every kind of the vocabulary with a signature, in its
+    /// order.
+    #[test]
+    fn kinds_are_the_vocabulary_with_a_signature() {
+        let with: Vec<EffectKind> = EffectKind::EVERY
+            .into_iter()
+            .filter(|k| k.signature().is_some())
+            .collect();
+        assert_eq!(with, KINDS.to_vec());
     }
 }

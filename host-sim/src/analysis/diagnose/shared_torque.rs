@@ -43,7 +43,10 @@ fn products(samples: &[TorqueSample], a: EffectKind, b: EffectKind) -> (f64, f64
     let (mut ab, mut aa, mut bb) = (0.0, 0.0, 0.0);
     for s in samples {
         let w = 1.0 / s.se_nm.max(1e-9).powi(2);
-        let (x, y) = (signature(a, s), signature(b, s));
+        let (Some(x), Some(y)) = (signature(a, s), signature(b, s)) else {
+            // An effect without a signature shares no torque.
+            continue;
+        };
         ab += w * x * y;
         aa += w * x * x;
         bb += w * y * y;

@@ -24,7 +24,7 @@ use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::diagnose::residual_shape::{fit_shape_with, Axis, KnotScore};
 use crate::analysis::diagnose::residual_torque::TorqueSample;
 use crate::data::campaign::Campaign;
-use crate::model::effect::{encoder_offsets_deg, Effect, EffectKind};
+use crate::model::effect::{encoder_offsets_deg, Effect, EffectKind, Law};
 use crate::model::torque_table::{HostTable, HostTorqueTable};
 use crate::simulate::deployment::Trajectory;
 use deploywatch_core::physics::TABLE_MAX_KNOTS;
@@ -56,7 +56,7 @@ pub fn export_tables(campaign: &Campaign, effects: &[Effect]) -> Vec<TableExport
     let tables: Vec<(usize, usize)> = effects
         .iter()
         .enumerate()
-        .filter(|(_, e)| e.kind == EffectKind::TorqueTable)
+        .filter(|(_, e)| e.kind() == EffectKind::TorqueTable)
         .filter_map(|(k, e)| Some((k, e.joint?)))
         .collect();
     if tables.is_empty() {
@@ -68,7 +68,7 @@ pub fn export_tables(campaign: &Campaign, effects: &[Effect]) -> Vec<TableExport
     tables
         .into_iter()
         .filter_map(|(k, joint)| {
-            let host = &effects[k].table;
+            let host = effects[k].table()?;
             let j = joint.checked_sub(1)?;
             let samples = stroke_samples(campaign, &trajectories, effects, j, host);
             let (table, compressed) = compress(host, &samples, motion_of(campaign, j))?;
@@ -217,10 +217,10 @@ fn angle_loss(
     let mut swapped = effects.to_vec();
     let host =
         |t: &Option<Table<f64>>| t.as_ref().and_then(|t| HostTable::new(t.xs(), t.ys()).ok());
-    swapped.get_mut(k)?.table = HostTorqueTable {
+    swapped.get_mut(k)?.law = Law::TorqueTable(HostTorqueTable {
         angle: host(&export.angle),
         rate: host(&export.rate),
-    };
+    });
     let (mut sum, mut n) = (0.0, 0usize);
     for (i, traj) in trajectories.iter().enumerate() {
         let a = traj.as_ref()?;

@@ -1,10 +1,8 @@
 //! The form of a torque table a diagnosis may fit at one joint.
 
 use crate::analysis::diagnose::residual_shape::Shape;
-use crate::model::effect::{Effect, EffectKind};
-use crate::model::torque_table::{
-    max_abs_nm, HostTable, HostTorqueTable, HOST_TABLE_MAX_KNOTS as MAX_KNOTS,
-};
+use crate::model::effect::{Effect, Law};
+use crate::model::torque_table::{HostTable, HostTorqueTable, HOST_TABLE_MAX_KNOTS as MAX_KNOTS};
 /// The form of a candidate table at one joint: which tables, over which
 /// span. Integers so that candidates stay comparable and hashable.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -96,7 +94,7 @@ impl TableForm {
     pub const MIN_RATE_SPAN_DEG_S: f64 = 60.0;
     /// Bound on a discovered knot's torque [N·m]: beyond any hinge spring of the
     /// seed mechanisms, so never active on a real torque.
-    pub const BOUND_NM: f64 = 5.0;
+    pub const BOUND_NM: f64 = crate::model::effect::TABLE_BOUND_NM;
 
     /// Number of parameters (knot torques).
     pub fn params(&self) -> usize {
@@ -213,11 +211,8 @@ impl TableForm {
     pub fn effect(&self, joint: Option<usize>, p: &[f64]) -> Effect {
         let table = self.table(p);
         Effect {
-            kind: EffectKind::TorqueTable,
             joint,
-            value: max_abs_nm(&table),
-            table,
-            ..Effect::default()
+            law: Law::TorqueTable(table),
         }
     }
 }

@@ -43,16 +43,16 @@ impl FromFindings {
     pub fn take_out_the_rig(&mut self) -> Vec<String> {
         let mut names = Vec::new();
         self.vary.retain(|v| match v.target {
-            Target::Effect { kind, .. } if effect_margin::rig_only(kind) => {
-                names.push(kind.to_string());
+            Target::Effect(e) if effect_margin::rig_only(e.kind()) => {
+                names.push(e.kind().to_string());
                 false
             }
             _ => true,
         });
         self.fixed.retain(|f| {
-            let rig = effect_margin::rig_only(f.effect.kind);
+            let rig = effect_margin::rig_only(f.effect.kind());
             if rig {
-                names.push(f.effect.kind.to_string());
+                names.push(f.effect.kind().to_string());
             }
             !rig
         });
@@ -139,15 +139,18 @@ pub fn from_diagnosis(d: &Diagnosis, mech: &Mechanism) -> Result<FromFindings, S
         let Some([Some(lo), Some(hi)]) = f.ci95 else {
             return Err(format!(
                 "{at}: expected \"ci95\", [lo, hi] in {}",
-                e.kind.unit()
+                e.kind().unit()
             ));
         };
         let sd = (hi - lo) / (2.0 * Z_975);
-        let dist = Dist::Normal { mean: e.value, sd };
+        let dist = Dist::Normal {
+            mean: e.value(),
+            sd,
+        };
         dist.check().map_err(|w| {
             format!(
                 "{at}: normal({},{sd}) from the interval: expected {w}",
-                e.value
+                e.value()
             )
         })?;
         out.vary.push(Vary {

@@ -255,7 +255,7 @@ impl Problem {
         for f in &self.fixed {
             f.effect
                 .validate_joint(self.mech.effect_joints())
-                .map_err(|e| bad(format!("{} ({}): {e}", f.effect.kind, f.source)))?;
+                .map_err(|e| bad(format!("{} ({}): {e}", f.effect.kind(), f.source)))?;
         }
         correlation::cholesky(&self.corr, self.vary.len())?;
         for c in &self.fail {

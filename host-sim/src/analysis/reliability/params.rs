@@ -42,23 +42,15 @@ impl MechParam {
 }
 
 /// What a `--vary` sets.
+// The effect inline (a `torque_table`'s tables too): `Copy`, as a `Vary` is.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Target {
-    /// A named effect (as parsed by [`Effect::from_str`], its value the
-    /// draw), added to the mechanism's effects.
-    Effect {
-        /// Which effect.
-        kind: EffectKind,
-        /// Its 1-based joint, `None` for a global effect.
-        joint: Option<usize>,
-        /// `rig_tilt` only: the direction \[deg\].
-        alpha_deg: f64,
-        /// `stribeck_friction` only: the break-away excess `T_brk − T_C`
-        /// \[N·m\] (`physics.md` §4); its value is the Coulomb level drawn.
-        excess_nm: f64,
-        /// `stribeck_friction` only: the Stribeck velocity `ω_st` \[rad/s\].
-        stribeck_rad_s: f64,
-    },
+    /// A named effect (as parsed by [`Effect::from_str`]), its value set
+    /// to the draw ([`Effect::with_value`]: the joint, `rig_tilt`'s
+    /// direction and the Stribeck shape kept), added to the mechanism's
+    /// effects.
+    Effect(Effect),
     /// A mechanism parameter of a 1-based joint, replaced by the draw.
     Mech(MechParam, usize),
 }
@@ -67,13 +59,7 @@ impl Target {
     /// The target that varies the value of `e`, its other parameters
     /// (joint, `rig_tilt`'s direction, the Stribeck shape) kept.
     pub fn of_effect(e: &Effect) -> Target {
-        Target::Effect {
-            kind: e.kind,
-            joint: e.joint,
-            alpha_deg: e.alpha_deg,
-            excess_nm: e.excess_nm,
-            stribeck_rad_s: e.stribeck_rad_s,
-        }
+        Target::Effect(*e)
     }
 }
 
@@ -205,9 +191,9 @@ impl Vary {
     /// The name shown in reports, e.g. `coulomb_friction:joint=1`.
     pub fn label(&self) -> String {
         match self.target {
-            Target::Effect { kind, joint, .. } => match joint {
-                Some(j) => format!("{kind}:joint={j}"),
-                None => kind.to_string(),
+            Target::Effect(e) => match e.joint {
+                Some(j) => format!("{}:joint={j}", e.kind()),
+                None => e.kind().to_string(),
             },
             Target::Mech(p, j) => format!("{}:joint={j}", p.name()),
         }
@@ -217,7 +203,7 @@ impl Vary {
     /// a dimensionless one) or the mechanism parameter's.
     pub fn unit(&self) -> &'static str {
         match self.target {
-            Target::Effect { kind, .. } => kind.unit(),
+            Target::Effect(e) => e.kind().unit(),
             Target::Mech(p, _) => match p {
                 MechParam::SpringPreload => "N·m",
                 MechParam::SpringStiffness => "N·m/rad",
@@ -231,8 +217,8 @@ impl Vary {
     pub fn check(&self, mech: &Mechanism) -> Result<(), VaryError> {
         let bad = VaryError::Mechanism;
         match self.target {
-            Target::Effect { .. } => self
-                .effect(0.0)
+            Target::Effect(e) => e
+                .with_value(0.0)
                 .validate_joint(mech.effect_joints())
                 .map_err(|m| bad(m.to_string())),
             Target::Mech(p, j) => {
@@ -253,34 +239,11 @@ impl Vary {
         }
     }
 
-    /// The effect with value `x` (a mechanism parameter: a
-    /// `coulomb_friction` of 0, never used).
-    fn effect(&self, x: f64) -> Effect {
-        match self.target {
-            Target::Effect {
-                kind,
-                joint,
-                alpha_deg,
-                excess_nm,
-                stribeck_rad_s,
-            } => Effect {
-                kind,
-                joint,
-                value: x,
-                alpha_deg,
-                excess_nm,
-                stribeck_rad_s,
-                ..Effect::default()
-            },
-            Target::Mech(..) => Effect::default(),
-        }
-    }
-
     /// Sets the value `x` into the mechanism (a mechanism parameter) or the
     /// list of effects (an effect, added).
     pub fn apply(&self, x: f64, mech: &mut Mechanism, effects: &mut Vec<Effect>) {
         match self.target {
-            Target::Effect { .. } => effects.push(self.effect(x)),
+            Target::Effect(e) => effects.push(e.with_value(x)),
             Target::Mech(p, j) => {
                 let i = j - 1;
                 match p {
@@ -419,7 +382,7 @@ impl FromStr for Vary {
                         text: s.to_string(),
                         source,
                     })?;
-            if effect.kind == EffectKind::TorqueTable {
+            if effect.kind() == EffectKind::TorqueTable {
                 return Err(VaryError::Mechanism(format!(
                     "`{s}`: torque_table has tables, not one value to vary"
                 )));

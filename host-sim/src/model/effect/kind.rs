@@ -3,6 +3,10 @@
 
 use std::fmt;
 
+pub use super::roles::{
+    Acts, LatchPart, MarginForm, ResistanceClass, RigPart, Signature, TrussPart, WorstEnd,
+};
+
 /// The name of an effect, as written in files and reports.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum EffectKind {
@@ -19,8 +23,9 @@ pub enum EffectKind {
     /// `stribeck_friction`: the kinetic `T_C` [N·m] at a joint with a
     /// break-away excess `excess_nm` and Stribeck velocity `stribeck_rad_s`
     /// (the friction law of `physics.md` §4; this project's own effect, §6).
-    /// Simulated, not in [`EffectKind::ALL`]: its three parameters are not
-    /// yet a diagnosis candidate's.
+    /// Not in [`EffectKind::ALL`]: the diagnosis enters it in its
+    /// friction-form step, where the residual torque has its shape, not in
+    /// its stepwise rounds.
     StribeckFriction,
     /// `spring_softening`: `s` \[1\], the spring is scaled by `1 − s`.
     SpringSoftening,
@@ -58,7 +63,20 @@ pub enum EffectKind {
     /// stands nearer the panels along its normal (positive: less
     /// clearance; `physics.md` §11.7, this project's own). A rig cause.
     FrameOffset,
+    /// `demo_drag`: `c` [N·m·s²/rad²] at a joint, the torque `−c φ̇|φ̇|`
+    /// through the core's quadratic damping: the test-only effect of the
+    /// `demo-effect` feature, a diagnosis candidate there
+    /// (`host-sim/tests/demo_effect.rs`).
+    #[cfg(feature = "demo-effect")]
+    DemoDrag,
 }
+
+/// Number of diagnosis candidates ([`EffectKind::ALL`]).
+#[cfg(not(feature = "demo-effect"))]
+const CANDIDATES: usize = 8;
+/// Number of diagnosis candidates ([`EffectKind::ALL`]).
+#[cfg(feature = "demo-effect")]
+const CANDIDATES: usize = 9;
 
 impl EffectKind {
     /// The effects on a joint's physical latch
@@ -80,8 +98,10 @@ impl EffectKind {
         EffectKind::RIG.contains(&self)
     }
 
-    /// Every effect, in the order of `physics.md` section 6.
-    pub const ALL: [EffectKind; 8] = [
+    /// Every effect a diagnosis proposes in its stepwise rounds, in the
+    /// order of `physics.md` section 6.
+    #[cfg(not(feature = "demo-effect"))]
+    pub const ALL: [EffectKind; CANDIDATES] = [
         EffectKind::CoulombFriction,
         EffectKind::ViscousDamping,
         EffectKind::SpringSoftening,
@@ -91,13 +111,27 @@ impl EffectKind {
         EffectKind::RigTilt,
         EffectKind::EncoderOffset,
     ];
+    /// Every effect a diagnosis proposes in its stepwise rounds, in the
+    /// order of `physics.md` section 6, and the test-only `demo_drag`.
+    #[cfg(feature = "demo-effect")]
+    pub const ALL: [EffectKind; CANDIDATES] = [
+        EffectKind::CoulombFriction,
+        EffectKind::ViscousDamping,
+        EffectKind::SpringSoftening,
+        EffectKind::HarnessStiffness,
+        EffectKind::LatchDetent,
+        EffectKind::AirDrag,
+        EffectKind::RigTilt,
+        EffectKind::EncoderOffset,
+        EffectKind::DemoDrag,
+    ];
 
     /// The whole vocabulary: every kind the effect syntax reads (its
     /// `FromStr` searches this list), the ones of [`EffectKind::ALL`], the
     /// friction forms, the latch's and the rig's. A test over the
     /// vocabulary iterates this (`tests/findings_roundtrip.rs`).
-    pub const EVERY: [EffectKind; 16] = joined(
-        joined::<8, 3, 11>(
+    pub const EVERY: [EffectKind; CANDIDATES + 8] = joined(
+        joined::<CANDIDATES, 3, { CANDIDATES + 3 }>(
             EffectKind::ALL,
             [
                 EffectKind::TorqueTable,
@@ -127,6 +161,8 @@ impl EffectKind {
             EffectKind::RigFriction => "rig_friction",
             EffectKind::WireLength => "wire_length",
             EffectKind::FrameOffset => "frame_offset",
+            #[cfg(feature = "demo-effect")]
+            EffectKind::DemoDrag => "demo_drag",
         }
     }
 
@@ -148,6 +184,8 @@ impl EffectKind {
             EffectKind::AirDrag => "kg/m²",
             EffectKind::RigTilt => "m/s²",
             EffectKind::EncoderOffset => "deg",
+            #[cfg(feature = "demo-effect")]
+            EffectKind::DemoDrag => "N·m·s²/rad²",
         }
     }
 
@@ -167,6 +205,8 @@ impl EffectKind {
             | EffectKind::AirDrag
             | EffectKind::TorqueTable
             | EffectKind::RigFriction => ValueRange::NonNegative,
+            #[cfg(feature = "demo-effect")]
+            EffectKind::DemoDrag => ValueRange::NonNegative,
             EffectKind::SpringSoftening => ValueRange::BelowOne,
             EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => ValueRange::Fraction,
             EffectKind::RigTilt
@@ -190,6 +230,8 @@ impl EffectKind {
             | EffectKind::TorqueTable
             | EffectKind::PlungerWeakening
             | EffectKind::MagnetWeakening => true,
+            #[cfg(feature = "demo-effect")]
+            EffectKind::DemoDrag => true,
             EffectKind::AirDrag
             | EffectKind::RigTilt
             | EffectKind::RigFriction
@@ -200,8 +242,14 @@ impl EffectKind {
 
     /// True for effects on the sensor only (the motion is unchanged).
     pub fn is_sensor(self) -> bool {
+        self.acts() == Acts::Sensor
+    }
+
+    /// Where the effect acts: the chain's equations (its law's arm of
+    /// [`super::to_core`]), the sensor, a joint's physical latch or the
+    /// zero-g rig.
+    pub fn acts(self) -> Acts {
         match self {
-            EffectKind::EncoderOffset => true,
             EffectKind::CoulombFriction
             | EffectKind::ViscousDamping
             | EffectKind::QuadraticDamping
@@ -211,12 +259,146 @@ impl EffectKind {
             | EffectKind::LatchDetent
             | EffectKind::AirDrag
             | EffectKind::RigTilt
+            | EffectKind::TorqueTable => Acts::Chain,
+            EffectKind::EncoderOffset => Acts::Sensor,
+            EffectKind::PlungerWeakening => Acts::Latch(LatchPart::Plunger),
+            EffectKind::MagnetWeakening => Acts::Latch(LatchPart::Magnet),
+            EffectKind::RigFriction => Acts::Rig(RigPart::RailFriction),
+            EffectKind::WireLength => Acts::Rig(RigPart::WireLength),
+            EffectKind::FrameOffset => Acts::Rig(RigPart::FrameOffset),
+            #[cfg(feature = "demo-effect")]
+            EffectKind::DemoDrag => Acts::Chain,
+        }
+    }
+
+    /// What the effect changes on a pin of a wing with a truss (the
+    /// multibody simulator's), `None` where a truss wing does not model it.
+    pub fn on_truss(self) -> Option<TrussPart> {
+        match self {
+            EffectKind::CoulombFriction => Some(TrussPart::Coulomb),
+            EffectKind::ViscousDamping => Some(TrussPart::Viscous),
+            EffectKind::SpringSoftening => Some(TrussPart::SpringSoftening),
+            EffectKind::EncoderOffset => Some(TrussPart::Sensor),
+            EffectKind::QuadraticDamping
+            | EffectKind::StribeckFriction
+            | EffectKind::HarnessStiffness
+            | EffectKind::LatchDetent
+            | EffectKind::AirDrag
+            | EffectKind::RigTilt
             | EffectKind::TorqueTable
             | EffectKind::PlungerWeakening
             | EffectKind::MagnetWeakening
             | EffectKind::RigFriction
             | EffectKind::WireLength
-            | EffectKind::FrameOffset => false,
+            | EffectKind::FrameOffset => None,
+            #[cfg(feature = "demo-effect")]
+            EffectKind::DemoDrag => None,
+        }
+    }
+
+    /// How the effect enters the torque margins (`docs/margin.md`, "Every
+    /// diagnosed cause in the margin"): its form and the standards' kind
+    /// of resistance it counts as.
+    pub fn margin(self) -> MarginForm {
+        match self {
+            EffectKind::CoulombFriction => MarginForm::Coulomb,
+            EffectKind::ViscousDamping => MarginForm::Viscous,
+            EffectKind::QuadraticDamping => MarginForm::Quadratic,
+            EffectKind::StribeckFriction => MarginForm::Breakaway,
+            EffectKind::SpringSoftening => MarginForm::Driving,
+            EffectKind::HarnessStiffness => MarginForm::Harness,
+            EffectKind::LatchDetent => MarginForm::Detent,
+            EffectKind::AirDrag => MarginForm::Distributed,
+            EffectKind::RigTilt => MarginForm::Tilt,
+            EffectKind::EncoderOffset => MarginForm::Sensor,
+            EffectKind::TorqueTable => MarginForm::Table,
+            EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => MarginForm::LatchLine,
+            EffectKind::RigFriction | EffectKind::WireLength | EffectKind::FrameOffset => {
+                MarginForm::RigLine
+            }
+            #[cfg(feature = "demo-effect")]
+            EffectKind::DemoDrag => MarginForm::Quadratic,
+        }
+    }
+
+    /// The end of its 95 % interval a found effect counts at in the
+    /// margins (`docs/margin.md`, "Each effect at the worst end of its
+    /// interval").
+    pub fn worst_end(self) -> WorstEnd {
+        match self {
+            EffectKind::CoulombFriction
+            | EffectKind::ViscousDamping
+            | EffectKind::StribeckFriction
+            | EffectKind::QuadraticDamping
+            | EffectKind::HarnessStiffness
+            | EffectKind::LatchDetent
+            | EffectKind::AirDrag
+            | EffectKind::RigFriction
+            | EffectKind::SpringSoftening => WorstEnd::Upper,
+            EffectKind::RigTilt => WorstEnd::LargerMagnitude,
+            EffectKind::TorqueTable => WorstEnd::Resisting,
+            EffectKind::EncoderOffset => WorstEnd::Estimate("a sensor effect moves no joint"),
+            EffectKind::PlungerWeakening | EffectKind::MagnetWeakening => WorstEnd::Estimate(
+                "the latch's line takes the nominal plunger and magnet, stronger than any weakened one",
+            ),
+            EffectKind::WireLength | EffectKind::FrameOffset => {
+                WorstEnd::Estimate("the rig's geometry, not in the hinges' margins")
+            }
+            #[cfg(feature = "demo-effect")]
+            EffectKind::DemoDrag => WorstEnd::Upper,
+        }
+    }
+
+    /// True for the effects that exist only on a ground rig (air in the
+    /// room, a rig that is not level, the rig's rails, wires and frames):
+    /// none of them flies, so `--flight` leaves them out.
+    pub fn rig_only(self) -> bool {
+        match self {
+            EffectKind::AirDrag
+            | EffectKind::RigTilt
+            | EffectKind::RigFriction
+            | EffectKind::WireLength
+            | EffectKind::FrameOffset => true,
+            EffectKind::CoulombFriction
+            | EffectKind::ViscousDamping
+            | EffectKind::QuadraticDamping
+            | EffectKind::StribeckFriction
+            | EffectKind::SpringSoftening
+            | EffectKind::HarnessStiffness
+            | EffectKind::LatchDetent
+            | EffectKind::EncoderOffset
+            | EffectKind::TorqueTable
+            | EffectKind::PlungerWeakening
+            | EffectKind::MagnetWeakening => false,
+            #[cfg(feature = "demo-effect")]
+            EffectKind::DemoDrag => false,
+        }
+    }
+
+    /// The shape of the effect's torque per unit of its value at a joint,
+    /// which the diagnosis regresses the residual torque on
+    /// (`analysis::diagnose::residual_named`); `None` for an effect without
+    /// one of its own there.
+    pub fn signature(self) -> Option<Signature> {
+        match self {
+            EffectKind::CoulombFriction => Some(Signature::Coulomb),
+            EffectKind::ViscousDamping => Some(Signature::Viscous),
+            EffectKind::SpringSoftening => Some(Signature::Spring),
+            EffectKind::HarnessStiffness => Some(Signature::FromStowed),
+            EffectKind::QuadraticDamping
+            | EffectKind::StribeckFriction
+            | EffectKind::LatchDetent
+            | EffectKind::AirDrag
+            | EffectKind::RigTilt
+            | EffectKind::EncoderOffset
+            | EffectKind::TorqueTable
+            | EffectKind::PlungerWeakening
+            | EffectKind::MagnetWeakening
+            | EffectKind::RigFriction
+            | EffectKind::WireLength
+            | EffectKind::FrameOffset => None,
+            #[cfg(feature = "demo-effect")]
+            EffectKind::DemoDrag => None,
         }
     }
 }
@@ -275,13 +457,5 @@ const fn joined<const N: usize, const M: usize, const K: usize>(
 impl fmt::Display for EffectKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
-    }
-}
-
-impl Default for EffectKind {
-    /// `coulomb_friction`, the first of the vocabulary (for `Default` of
-    /// [`Effect`](super::Effect) only).
-    fn default() -> Self {
-        EffectKind::CoulombFriction
     }
 }

@@ -6,7 +6,7 @@ use std::str::FromStr;
 
 use super::error::EffectError;
 use super::kind::EffectKind;
-use super::Effect;
+use super::{Effect, Law};
 use crate::model::torque_table::{self, TablePoints};
 
 impl FromStr for EffectKind {
@@ -24,23 +24,13 @@ impl FromStr for EffectKind {
 
 impl fmt::Display for Effect {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.kind)?;
+        write!(f, "{}", self.kind())?;
         if let Some(j) = self.joint {
             write!(f, ":joint={j}")?;
         }
-        write!(f, ":value={}", self.value)?;
-        if self.kind == EffectKind::RigTilt {
-            write!(f, ":alpha_deg={}", self.alpha_deg)?;
-        }
-        if self.kind == EffectKind::StribeckFriction {
-            write!(
-                f,
-                ":excess_nm={}:stribeck_rad_s={}",
-                self.excess_nm, self.stribeck_rad_s
-            )?;
-        }
-        if self.kind == EffectKind::TorqueTable {
-            f.write_str(&torque_table::to_keys(&self.table))?;
+        write!(f, ":value={}", self.value())?;
+        for (key, xs) in self.law.keys() {
+            write!(f, ":{}={}", key.name(), torque_table::list(&xs))?;
         }
         Ok(())
     }
@@ -100,13 +90,9 @@ impl FromStr for Effect {
         }
         if kind == EffectKind::TorqueTable {
             let table = points.build().map_err(table_error)?;
-            let value = torque_table::max_abs_nm(&table);
             return Ok(Effect {
-                kind,
                 joint,
-                value,
-                table,
-                ..Effect::default()
+                law: Law::TorqueTable(table),
             });
         }
         if !points.is_empty() {
@@ -117,16 +103,9 @@ impl FromStr for Effect {
         let value = value.ok_or_else(|| EffectError::MissingValue {
             text: s.to_string(),
         })?;
-        let (excess_nm, stribeck_rad_s) = stribeck_keys(kind, excess_nm, stribeck_rad_s, s)?;
-        Ok(Effect {
-            kind,
-            joint,
-            value,
-            alpha_deg,
-            excess_nm,
-            stribeck_rad_s,
-            ..Effect::default()
-        })
+        let (excess_nm, rate_rad_s) = stribeck_keys(kind, excess_nm, stribeck_rad_s, s)?;
+        let law = Law::of_syntax(kind, value, alpha_deg, excess_nm, rate_rad_s);
+        Ok(Effect { joint, law })
     }
 }
 

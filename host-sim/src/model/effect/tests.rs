@@ -25,6 +25,8 @@ fn every_lists_each_kind_once() {
         | K::RigFriction
         | K::WireLength
         | K::FrameOffset => K::EVERY.iter().filter(|e| **e == k).count(),
+        #[cfg(feature = "demo-effect")]
+        K::DemoDrag => K::EVERY.iter().filter(|e| **e == k).count(),
     };
     for k in K::EVERY {
         assert_eq!(listed(k), 1, "{k}");
@@ -37,8 +39,13 @@ fn parses_the_cli_syntax() {
     let e: Effect = "coulomb_friction:joint=2:value=1.7".parse().unwrap();
     assert_eq!(e, Effect::joint(EffectKind::CoulombFriction, 2, 1.7));
     let e: Effect = "rig_tilt:value=0.05:alpha_deg=30".parse().unwrap();
-    assert_eq!(e.kind, EffectKind::RigTilt);
-    assert_eq!(e.alpha_deg, 30.0);
+    assert_eq!(
+        e.law,
+        Law::RigTilt {
+            g_m_s2: 0.05,
+            alpha_deg: 30.0
+        }
+    );
     assert!("friction:joint=1:value=1".parse::<Effect>().is_err());
     assert!("air_drag:value=abc".parse::<Effect>().is_err());
     assert!("air_drag".parse::<Effect>().is_err());
@@ -67,8 +74,8 @@ fn parses_the_cli_syntax() {
 fn parses_and_prints_a_torque_table() {
     let text = "torque_table:joint=2:value=0.3:angle_deg=-90,0:torque_nm=0.3,0:rate_deg_s=0,50:rate_torque_nm=0,-0.1";
     let e: Effect = text.parse().unwrap();
-    assert_eq!(e.kind, EffectKind::TorqueTable);
-    assert_eq!(e.value, 0.3);
+    assert_eq!(e.kind(), EffectKind::TorqueTable);
+    assert_eq!(e.value(), 0.3);
     assert_eq!(e.to_string(), text);
     assert!(e.validate(2).is_ok());
     assert!("torque_table:joint=1:angle_deg=0,1"
@@ -83,7 +90,14 @@ fn parses_and_prints_a_torque_table() {
 fn stribeck_and_quadratic_effects_parse_print_and_reach_the_core() {
     let text = "stribeck_friction:joint=2:value=0.3:excess_nm=0.4:stribeck_rad_s=0.05";
     let e: Effect = text.parse().unwrap();
-    assert_eq!((e.value, e.excess_nm, e.stribeck_rad_s), (0.3, 0.4, 0.05));
+    assert_eq!(
+        e.law,
+        Law::StribeckFriction {
+            kinetic_nm: 0.3,
+            excess_nm: 0.4,
+            rate_rad_s: 0.05
+        }
+    );
     assert_eq!(e.to_string(), text);
     assert!("stribeck_friction:joint=2:value=0.3"
         .parse::<Effect>()

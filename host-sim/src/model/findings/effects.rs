@@ -6,7 +6,7 @@
 
 use super::diagnosis::{Diagnosis, FoundEffect};
 use super::numbers::exact;
-use crate::model::effect::{Effect, EffectError, EffectKind};
+use crate::model::effect::{Effect, EffectError, EffectKind, Key};
 
 /// Why an entry of `effects` is not an effect the simulator can replay.
 #[derive(Debug, thiserror::Error)]
@@ -60,42 +60,23 @@ impl FoundEffect {
     pub fn of_effect(e: &Effect) -> FoundEffect {
         let all = |x: &[f64]| x.iter().map(|y| exact(*y)).collect::<Vec<_>>();
         let mut v = FoundEffect {
-            name: e.kind.name().to_string(),
+            name: e.kind().name().to_string(),
             joint: e.joint,
-            value: exact(e.value),
-            unit: Some(e.kind.unit().to_string()),
+            value: exact(e.value()),
+            unit: Some(e.kind().unit().to_string()),
             ..FoundEffect::default()
         };
-        match e.kind {
-            EffectKind::RigTilt => v.alpha_deg = exact(e.alpha_deg),
-            EffectKind::StribeckFriction => {
-                v.excess_nm = exact(e.excess_nm);
-                v.stribeck_rad_s = exact(e.stribeck_rad_s);
+        for (key, xs) in e.law.keys() {
+            let one = xs.first().and_then(|x| exact(*x));
+            match key {
+                Key::AlphaDeg => v.alpha_deg = one,
+                Key::ExcessNm => v.excess_nm = one,
+                Key::StribeckRadS => v.stribeck_rad_s = one,
+                Key::AngleDeg => v.angle_deg = Some(all(&xs)),
+                Key::TorqueNm => v.torque_nm = Some(all(&xs)),
+                Key::RateDegS => v.rate_deg_s = Some(all(&xs)),
+                Key::RateTorqueNm => v.rate_torque_nm = Some(all(&xs)),
             }
-            EffectKind::TorqueTable => {
-                if let Some(f) = &e.table.angle {
-                    v.angle_deg = Some(all(f.xs()));
-                    v.torque_nm = Some(all(f.ys()));
-                }
-                if let Some(g) = &e.table.rate {
-                    v.rate_deg_s = Some(all(g.xs()));
-                    v.rate_torque_nm = Some(all(g.ys()));
-                }
-            }
-            // One value each: `value` holds it.
-            EffectKind::CoulombFriction
-            | EffectKind::ViscousDamping
-            | EffectKind::QuadraticDamping
-            | EffectKind::SpringSoftening
-            | EffectKind::HarnessStiffness
-            | EffectKind::LatchDetent
-            | EffectKind::AirDrag
-            | EffectKind::EncoderOffset
-            | EffectKind::PlungerWeakening
-            | EffectKind::MagnetWeakening
-            | EffectKind::RigFriction
-            | EffectKind::WireLength
-            | EffectKind::FrameOffset => {}
         }
         v
     }

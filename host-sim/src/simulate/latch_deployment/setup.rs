@@ -3,7 +3,7 @@
 //! effects name joints that have a physical latch; the latch's constants
 //! a run computes once.
 
-use crate::model::effect::{Effect, EffectKind};
+use crate::model::effect::{Acts, Effect, EffectKind, LatchPart};
 use crate::model::mechanism::Mechanism;
 use crate::simulate::trajectory::SimError;
 use deploywatch_core::physics::latch_contact::{PhysicalLatch, PlungerSegment};
@@ -20,24 +20,11 @@ pub fn weakenings(effects: &[Effect], joints: usize) -> Vec<(f64, f64)> {
         else {
             continue;
         };
-        match e.kind {
-            EffectKind::PlungerWeakening => out[j].0 *= 1.0 - e.value,
-            EffectKind::MagnetWeakening => out[j].1 *= 1.0 - e.value,
-            // The chain's, the sensor's and the rig's.
-            EffectKind::CoulombFriction
-            | EffectKind::ViscousDamping
-            | EffectKind::QuadraticDamping
-            | EffectKind::StribeckFriction
-            | EffectKind::SpringSoftening
-            | EffectKind::HarnessStiffness
-            | EffectKind::LatchDetent
-            | EffectKind::AirDrag
-            | EffectKind::RigTilt
-            | EffectKind::EncoderOffset
-            | EffectKind::TorqueTable
-            | EffectKind::RigFriction
-            | EffectKind::WireLength
-            | EffectKind::FrameOffset => {}
+        // Only the latch's weakenings ([`Acts::Latch`]).
+        match e.kind().acts() {
+            Acts::Latch(LatchPart::Plunger) => out[j].0 *= 1.0 - e.value(),
+            Acts::Latch(LatchPart::Magnet) => out[j].1 *= 1.0 - e.value(),
+            Acts::Chain | Acts::Sensor | Acts::Rig(_) => {}
         }
     }
     out
@@ -47,7 +34,7 @@ pub fn weakenings(effects: &[Effect], joints: usize) -> Vec<(f64, f64)> {
 /// do nothing, silently).
 pub fn check_latch_effects(mech: &Mechanism, effects: &[Effect]) -> Result<(), SimError> {
     for e in effects {
-        if !EffectKind::LATCH.contains(&e.kind) {
+        if !EffectKind::LATCH.contains(&e.kind()) {
             continue;
         }
         let has = e
