@@ -189,6 +189,41 @@ mod tests {
         );
     }
 
+    #[test]
+    fn a_round_says_its_move_and_the_set_it_started_from() {
+        // Words of the JSON's `round` the search wrote with the words made
+        // in the analysis.
+        use crate::model::effect::EffectKind;
+        let at = |kind, joint| Candidate {
+            kind,
+            joint: Some(joint),
+            table: None,
+        };
+        let round = |what, start| Round {
+            what,
+            start,
+            start_rms_deg: 0.1,
+            scores: Vec::new(),
+        };
+        assert_eq!(what_words(&round(Move::Add, Vec::new())), "add to nothing");
+        let set = vec![
+            at(EffectKind::ViscousDamping, 1),
+            at(EffectKind::HarnessStiffness, 1),
+        ];
+        assert_eq!(
+            what_words(&round(Move::Swap, set.clone())),
+            "swap one of viscous_damping at joint 1, harness_stiffness at joint 1"
+        );
+        assert_eq!(
+            what_words(&round(Move::PairAfterSwap, set.clone())),
+            "add a pair to viscous_damping at joint 1, harness_stiffness at joint 1"
+        );
+        assert_eq!(
+            what_words(&round(Move::EvenTable, set)),
+            "discover a torque beside viscous_damping at joint 1, harness_stiffness at joint 1"
+        );
+    }
+
     fn unexplained(shape: UnexplainedShape) -> Unexplained {
         Unexplained {
             rms_deg: 0.826_84,
