@@ -23,7 +23,7 @@ use super::candidate::Candidate;
 pub use super::outcome::Ambiguity;
 use super::outcome::FittedSet;
 use super::policy::{Move, Verdict};
-use super::screen::Step;
+use super::step::Step;
 use super::{labels, Search, MIN_DELTA_BIC};
 use crate::analysis::diagnose::residual_named;
 use crate::model::effect::EffectKind;

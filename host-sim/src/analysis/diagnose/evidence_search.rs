@@ -15,7 +15,7 @@ use super::candidate::Candidate;
 use super::discover;
 use super::outcome::{CandidateScore, FittedEffect, FittedSet, Unexplained, UnexplainedShape};
 use super::policy::{Attempt, Move, Verdict};
-use super::screen::Step;
+use super::step::Step;
 use super::table_form::PlacedKnots;
 use super::{above_noise, labels, Engine, Proposal, Search, MAX_TABLES, NOISE_FLOOR_FACTOR};
 use crate::analysis::diagnose::evidence::{analyse, CLEAR_SIGMAS};

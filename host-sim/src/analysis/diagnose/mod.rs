@@ -49,6 +49,7 @@ mod screen;
 mod shared_torque;
 pub mod smoothing;
 mod stand_in;
+mod step;
 pub mod table_export;
 mod table_form;
 
@@ -275,8 +276,8 @@ pub const MAX_TABLES: usize = 2;
 const MAX_SWAPS: usize = 2;
 
 /// The sets a move proposes, each a base set plus a candidate with the
-/// start values of its screen ([`screen::Step`]).
-type Proposal = Vec<screen::Step>;
+/// start values of its screen ([`step::Step`]).
+type Proposal = Vec<step::Step>;
 
 /// The state of the search: the current set, its held-out RMS, the noise
 /// σ̂ it was judged against, the rounds tried so far and the sets already
@@ -298,7 +299,7 @@ struct Search<'e, 'a> {
     tried_once: std::collections::HashSet<Move>,
     /// The table moves of the last [`Move::Table`] (the even tables
     /// are tried after them only when they add some).
-    table_tried: Vec<screen::Step>,
+    table_tried: Vec<step::Step>,
 }
 
 impl Search<'_, '_> {

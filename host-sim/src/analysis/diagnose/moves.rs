@@ -18,7 +18,7 @@ use super::outcome::{CandidateScore, FittedSet, Round};
 use super::policy::{
     Attempt, Move, PastTries, Policy, Record, Rejection, Verdict, HELD_OUT_SHARE, STEPWISE,
 };
-use super::screen::Step;
+use super::step::Step;
 use super::{above_noise, labels, Proposal, Search, MAX_STEPS, MAX_SWAPS, PAIR_SEEDS};
 
 impl Search<'_, '_> {

@@ -16,7 +16,7 @@
 
 use super::candidate::Candidate;
 use super::policy::{Attempt, Move};
-use super::screen::Step;
+use super::step::Step;
 use super::table_form::{PlacedKnots, TableForm};
 use super::{labels, Proposal, Search};
 use crate::analysis::diagnose::residual_shape::{

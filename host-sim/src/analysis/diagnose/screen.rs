@@ -1,56 +1,14 @@
 //! The coarse screen of a round's moves: each move (a base set plus a
-//! candidate, [`Step`]) is scanned from a few start points, and only the
+//! candidate and its start, [`Step`]) is scanned from a few start points, and only the
 //! most promising are fitted fully through the simulator.
 
 use super::candidate::Candidate;
 use super::outcome::{FitStats, FittedSet};
+use super::step::Step;
 use super::table_form::TableForm;
 use super::{Engine, SCREEN_KEEP};
 use crate::data::campaign::Campaign;
 use rayon::prelude::*;
-
-/// One set a move proposes: a base set plus a candidate, and where the
-/// candidate's screen starts.
-#[derive(Clone, Debug, PartialEq)]
-pub(super) struct Step {
-    /// The base set (its values held in the screen).
-    pub base: FittedSet,
-    /// The candidate added to it.
-    pub candidate: Candidate,
-    /// The candidate's start values from the data (a table shaped by the
-    /// residual torque: its knot torques); `None`: its own scan
-    /// ([`Candidate::scan`]).
-    pub start: Option<Vec<f64>>,
-}
-
-impl Step {
-    /// `base` plus `candidate`, screened from the candidate's own scan.
-    pub fn new(base: FittedSet, candidate: Candidate) -> Step {
-        Step {
-            base,
-            candidate,
-            start: None,
-        }
-    }
-
-    /// `base` plus `candidate`, screened from `start` (and half of it).
-    pub fn from(base: FittedSet, candidate: Candidate, start: Option<Vec<f64>>) -> Step {
-        Step {
-            base,
-            candidate,
-            start,
-        }
-    }
-
-    /// The starting points of the candidate's coarse scan: its start from
-    /// the data (and half of it), or its own scan.
-    fn scan(&self) -> Vec<Vec<f64>> {
-        match &self.start {
-            Some(p) => vec![p.clone(), p.iter().map(|x| 0.5 * x).collect()],
-            None => self.candidate.scan(),
-        }
-    }
-}
 
 /// One start per table form and round: a form proposed more than once in a
 /// round (the same knots shaped beside two bases) starts everywhere from

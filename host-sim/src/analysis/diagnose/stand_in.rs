@@ -18,7 +18,7 @@
 use super::discover;
 use super::evidence_search::near_noise;
 use super::policy::{Attempt, Move, Verdict};
-use super::screen::Step;
+use super::step::Step;
 use super::{labels, Proposal, Search};
 
 impl Search<'_, '_> {
