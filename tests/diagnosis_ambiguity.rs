@@ -21,7 +21,7 @@
 
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions};
-use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions, FittedSet, Outcome, MIN_DELTA_BIC};
+use deploywatch_sim::diagnose::{diagnose, FittedSet, Outcome, MIN_DELTA_BIC};
 use deploywatch_sim::effect::{self, Effect, EffectKind};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::{quiet, stderr, Progress};
@@ -154,7 +154,7 @@ fn the_truth_lies_within_what_one_configuration_reports() {
         .and_then(|v| v.parse().ok());
     for i in (0..n).filter(|i| one.is_none_or(|o| o == *i)) {
         let (m, truth, c) = generate(i);
-        let o = diagnose(&c, &DiagnoseOptions::default(), sink());
+        let o = diagnose(&c, &deploywatch_tests::diagnose_options(), sink());
         let ok = within(&truth, &o);
         ran += 1;
         inside += usize::from(ok);
@@ -251,7 +251,7 @@ fn the_best_set_seen_is_the_answer() {
         c.push(&mechs, run, Path::new(&format!("run{r}.csv")))
             .expect("pairs");
     }
-    let o = diagnose(&c, &DiagnoseOptions::default(), sink());
+    let o = diagnose(&c, &deploywatch_tests::diagnose_options(), sink());
     let words = |f: &FittedSet| {
         f.effects()
             .iter()

@@ -21,7 +21,7 @@
 
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions};
-use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions, Outcome};
+use deploywatch_sim::diagnose::{diagnose, Outcome};
 use deploywatch_sim::effect::{self, Effect, EffectKind};
 use deploywatch_sim::latch::LatchTolerance;
 use deploywatch_sim::mechanism::Mechanism;
@@ -212,7 +212,11 @@ fn hidden_effects_are_named_on_runs_of_physical_latches() {
     let mut latch_found = 0usize;
     for (seed, family, kind) in &specs {
         let case = generate(*seed, *family, *kind, &mut refused);
-        let o = diagnose(&campaign_of(&case), &DiagnoseOptions::default(), sink());
+        let o = diagnose(
+            &campaign_of(&case),
+            &deploywatch_tests::diagnose_options(),
+            sink(),
+        );
         let good = named_exactly(&case.truth, &o);
         walls.push(o.wall_s);
         let latch: Vec<String> = o
@@ -385,7 +389,11 @@ fn a_weakened_latch_is_a_latch_finding_never_an_effect() {
         for i in 0..n {
             let seed = 7500 + i as u64;
             let (case, joint) = generate_latch(seed, i % 2, *fault);
-            let o = diagnose(&campaign_of(&case), &DiagnoseOptions::default(), sink());
+            let o = diagnose(
+                &campaign_of(&case),
+                &deploywatch_tests::diagnose_options(),
+                sink(),
+            );
             let named = o.extended.effects();
             let hit = o
                 .latches
@@ -473,7 +481,11 @@ fn a_latch_that_holds_less_is_never_an_effect_nor_another_joint() {
             runs: c.runs,
             truth: Vec::new(),
         };
-        let o = diagnose(&campaign_of(&case), &DiagnoseOptions::default(), sink());
+        let o = diagnose(
+            &campaign_of(&case),
+            &deploywatch_tests::diagnose_options(),
+            sink(),
+        );
         let others: Vec<usize> = o
             .latches
             .iter()

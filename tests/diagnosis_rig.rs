@@ -23,7 +23,7 @@
 
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions};
-use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions};
+use deploywatch_sim::diagnose::diagnose;
 use deploywatch_sim::effect::{Effect, EffectKind};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;
@@ -300,7 +300,7 @@ fn rig_and_hinge_friction_are_told_apart() {
         let runs = measured(&mechs, &truth, seed);
         let outcome = diagnose(
             &campaign(&mechs, &runs),
-            &DiagnoseOptions::default(),
+            &deploywatch_tests::diagnose_options(),
             &quiet,
         );
         let found = outcome.extended.effects();

@@ -128,12 +128,12 @@ fn sequential_response_surface_from_table9s_design_recovers_the_efts() {
 
 #[test]
 fn diagnose_accepts_truss_wings_and_a_clean_run_raises_no_claim() {
-    use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions};
+    use deploywatch_sim::diagnose::diagnose;
     // The nominal truss wings as given, read by the reference sensor: the
     // diagnosis simulates them with the one truss simulator and finds
     // nothing to explain.
     let c = synthetic([0.0; 3], [5, 6]);
-    let outcome = diagnose(&c, &DiagnoseOptions::default(), &quiet);
+    let outcome = diagnose(&c, &deploywatch_tests::diagnose_options(), &quiet);
     eprintln!(
         "clean truss runs: baseline {:.4} deg, noise {:.4} deg, effects {:?}, unexplained {:?}",
         outcome.baseline.rms(),

@@ -22,7 +22,7 @@
 
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions};
-use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions};
+use deploywatch_sim::diagnose::diagnose;
 use deploywatch_sim::effect::{Effect, EffectKind, Law};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;
@@ -257,7 +257,7 @@ fn unnamed_torques_are_found_at_their_joint_or_reported_unexplained() {
                 .push(&mechs, run.clone(), Path::new(&format!("run{r}.csv")))
                 .unwrap();
         }
-        let o = diagnose(&campaign, &DiagnoseOptions::default(), sink());
+        let o = diagnose(&campaign, &deploywatch_tests::diagnose_options(), sink());
         // Only now the truth.
         let found = o.extended.effects();
         let table_joints = |v: &[Effect]| {
@@ -388,7 +388,7 @@ fn judge_family_case(c: &deploywatch_tests::hidden_torque::Case) -> Verdict {
             .push(&mechs, run.clone(), Path::new(&format!("run{r}.csv")))
             .unwrap();
     }
-    let o = diagnose(&campaign, &DiagnoseOptions::default(), sink());
+    let o = diagnose(&campaign, &deploywatch_tests::diagnose_options(), sink());
     // Only now the truth.
     let found = o.extended.effects();
     let (want, got) = (joints_of(&c.truth), joints_of(&found));

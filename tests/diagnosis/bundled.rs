@@ -33,7 +33,11 @@ fn bundled_examples_are_diagnosed_correctly() {
             .map(|m| data_dir().join(format!("examples/{dir}/{m}.csv")))
             .collect();
         let campaign = Campaign::load(&mech_paths, &run_paths).unwrap();
-        let outcome = diagnose(&campaign, &DiagnoseOptions::default(), trace_sink());
+        let outcome = diagnose(
+            &campaign,
+            &deploywatch_tests::diagnose_options(),
+            trace_sink(),
+        );
         let found = outcome.extended.effects();
 
         // Now the truth.

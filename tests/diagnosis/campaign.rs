@@ -28,14 +28,14 @@ fn a_campaign_is_never_worse_than_its_runs_alone() {
             .map(|r| {
                 diagnose(
                     &campaign_of(&case, |i| i == r),
-                    &DiagnoseOptions::default(),
+                    &deploywatch_tests::diagnose_options(),
                     &quiet,
                 )
             })
             .collect();
         let both = diagnose(
             &campaign_of(&case, |_| true),
-            &DiagnoseOptions::default(),
+            &deploywatch_tests::diagnose_options(),
             &quiet,
         );
         let names = |o: &deploywatch_sim::diagnose::Outcome| {

@@ -19,7 +19,11 @@ fn hidden_effects_are_named_and_measured() {
         let case = generate(seed, &kinds, pair);
         eprintln!("seed {seed}: diagnosing ({} hidden)", case.truth.len());
         let campaign = campaign_of(&case, |_| true);
-        let outcome = diagnose(&campaign, &DiagnoseOptions::default(), trace_sink());
+        let outcome = diagnose(
+            &campaign,
+            &deploywatch_tests::diagnose_options(),
+            trace_sink(),
+        );
         let found = outcome.extended.effects();
 
         // Only now compare with the truth.

@@ -23,7 +23,7 @@ mod one_joint;
 
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions};
-use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions};
+use deploywatch_sim::diagnose::diagnose;
 use deploywatch_sim::effect::{self, Effect, EffectKind, Law};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;

@@ -65,7 +65,7 @@ fn two_causes_at_one_joint_are_named_and_measured() {
             let case = generate_one_joint(seed, *kinds, (p + rep as usize) % 2);
             let outcome = diagnose(
                 &campaign_of(&case, |_| true),
-                &DiagnoseOptions::default(),
+                &deploywatch_tests::diagnose_options(),
                 trace_sink(),
             );
             // Only now the truth.

@@ -17,7 +17,7 @@
 
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions};
-use deploywatch_sim::diagnose::{diagnose, DiagnoseOptions, LatchCause};
+use deploywatch_sim::diagnose::{diagnose, LatchCause};
 use deploywatch_sim::progress::quiet;
 use deploywatch_tests::holds_less::{self, as_built, escapes_and_end, HoldsLess};
 use rand::{Rng, SeedableRng};
@@ -71,7 +71,7 @@ fn main() {
                 .push(&c.drawings, run.clone(), Path::new(&format!("run{r}.csv")))
                 .expect("a generated run pairs with its drawing");
         }
-        let o = diagnose(&campaign, &DiagnoseOptions::default(), &quiet);
+        let o = diagnose(&campaign, &deploywatch_tests::diagnose_options(), &quiet);
         let here = o
             .latches
             .iter()

@@ -90,6 +90,18 @@ pub fn replay<const N: usize>(
         .collect()
 }
 
+/// The diagnosis settings of a test: the defaults, with every score and
+/// verdict of each round in the progress when `DEPLOYWATCH_TRACE` is set
+/// and the friction forms' regressions on stderr with
+/// `DEPLOYWATCH_TRACE_FORMS` (as the command line maps them).
+pub fn diagnose_options() -> deploywatch_sim::diagnose::DiagnoseOptions {
+    deploywatch_sim::diagnose::DiagnoseOptions {
+        trace: std::env::var_os("DEPLOYWATCH_TRACE").is_some(),
+        trace_forms: std::env::var_os("DEPLOYWATCH_TRACE_FORMS").is_some(),
+        ..Default::default()
+    }
+}
+
 pub mod hidden_effect;
 pub mod hidden_torque;
 pub mod holds_less;

@@ -62,8 +62,10 @@ fn load_campaign(args: &DiagnoseArgs) -> Result<Campaign, CliError> {
     Ok(campaign)
 }
 
-/// The search's options: `--max-effects`, `--max-seconds`, and a stop
-/// flag raised by Ctrl-C (the best set so far is then written, marked).
+/// The search's options: `--max-effects`, `--max-seconds`, a stop flag
+/// raised by Ctrl-C (the best set so far is then written, marked), and the
+/// traces the environment asks for (`DEPLOYWATCH_TRACE`: every score and
+/// verdict; `DEPLOYWATCH_TRACE_FORMS`: the friction forms' evidence).
 fn options(args: &DiagnoseArgs) -> Result<DiagnoseOptions, CliError> {
     if args.max_seconds.is_some_and(|s| !(s > 0.0)) {
         return Err(CliError::input(
@@ -79,6 +81,8 @@ fn options(args: &DiagnoseArgs) -> Result<DiagnoseOptions, CliError> {
         max_effects: args.max_effects,
         max_seconds: args.max_seconds,
         stop: Some(stop),
+        trace: std::env::var_os("DEPLOYWATCH_TRACE").is_some(),
+        trace_forms: std::env::var_os("DEPLOYWATCH_TRACE_FORMS").is_some(),
         ..DiagnoseOptions::default()
     })
 }

@@ -9,6 +9,7 @@ use crate::analysis::diagnose::{Candidate, Outcome, MIN_DELTA_BIC};
 use crate::analysis::diagnosis_details::{gain_ratio, Details};
 use crate::analysis::evidence::JointEvidence;
 use crate::data::campaign::Campaign;
+use crate::report::diagnosis_outcome::what_words;
 use crate::report::diagnosis_words::{ci_of, evidence_of};
 use crate::report::evidence_words::evidence_words;
 use crate::report::markdown::table;
@@ -191,7 +192,12 @@ fn report_rounds(md: &mut String, o: &Outcome) {
         "An effect is kept only if it improves the BIC by more than {MIN_DELTA_BIC}, its 95 % interval excludes zero, and (with two or more runs) the set it joins predicts held-out runs at least 5 % better. When no single candidate passes, pairs are fitted jointly and the held-out check applies to the pair.\n"
     );
     for r in &o.rounds {
-        let _ = writeln!(md, "### {} (start RMS {:.4}°)\n", r.what, r.start_rms_deg);
+        let _ = writeln!(
+            md,
+            "### {} (start RMS {:.4}°)\n",
+            what_words(r),
+            r.start_rms_deg
+        );
         md.push_str(&table(
             &[
                 "candidate",

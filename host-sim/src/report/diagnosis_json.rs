@@ -2,6 +2,7 @@
 //! project adds (noise floor, candidates, evidence, residual torque, the
 //! monitor's tables, latches, ambiguities).
 
+use super::diagnosis_outcome::what_words;
 use super::diagnosis_words::{ci_of, evidence_of};
 use super::evidence_words::evidence_words;
 use super::{diagnosis_latch, diagnosis_torque};
@@ -84,7 +85,7 @@ fn candidates_json(o: &Outcome) -> Vec<Round> {
     o.rounds
         .iter()
         .map(|r| Round {
-            round: r.what.clone(),
+            round: what_words(r),
             start_rms_deg: rounded(r.start_rms_deg),
             scores: r
                 .scores

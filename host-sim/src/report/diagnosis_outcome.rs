@@ -1,12 +1,13 @@
 //! The words of the diagnosis's typed findings: why a search stopped
 //! before its end ([`HaltReason`]), what stays unexplained
-//! ([`Unexplained`]), what became of each candidate of a round
-//! ([`Verdict`]). The analysis decides and holds the facts; the report,
-//! the JSON and the summary say them with these words.
+//! ([`Unexplained`]), what each round tried ([`what_words`]) and what
+//! became of each of its candidates ([`Verdict`]). The analysis decides
+//! and holds the facts; the report, the JSON and the summary say them with
+//! these words.
 
 use crate::analysis::diagnose::evidence::{ResidualPlace, StrokeThird};
 use crate::analysis::diagnose::{
-    HaltReason, Kept, Rejection, Unexplained, UnexplainedShape, Verdict,
+    Candidate, HaltReason, Kept, Move, Rejection, Round, Unexplained, UnexplainedShape, Verdict,
 };
 use std::fmt;
 
@@ -19,6 +20,46 @@ impl fmt::Display for HaltReason {
             HaltReason::TimeLimit { limit_s: _ } => {
                 f.write_str("stopped at the time limit (--max-seconds)")
             }
+        }
+    }
+}
+
+/// `a, b, c` of a set in words ([`Candidate::words`]); `nothing` for the
+/// empty set.
+fn set_words(set: &[Candidate]) -> String {
+    if set.is_empty() {
+        return "nothing".to_string();
+    }
+    set.iter().map(|c| c.words()).collect::<Vec<_>>().join(", ")
+}
+
+/// What a round tried, in words: its move and the set it started from
+/// (the JSON's `round`, the report's heading of the round, an effect's
+/// evidence).
+pub fn what_words(r: &Round) -> String {
+    let set = set_words(&r.start);
+    match r.what {
+        Move::Add => format!("add to {set}"),
+        Move::Pair | Move::PairAfterSwap => format!("add a pair to {set}"),
+        Move::Swap => format!("swap one of {set}"),
+        Move::Proposed => format!("replace {set} by a pair the residual torque proposes"),
+        Move::JointPairs => {
+            format!("named pairs at a joint in place of its named effects in {set}")
+        }
+        Move::Table | Move::EvenTable | Move::TablePair => {
+            format!("discover a torque beside {set}")
+        }
+        Move::NamedForTable => format!("a named effect in place of a table of {set}"),
+        Move::Refine => format!("refine a table of {set}"),
+        Move::StandInTable => format!("a table in place of a global stand-in in {set}"),
+        Move::StandIn => format!("a table with its refinement in place of the stand-in of {set}"),
+        Move::FrictionForms => format!("a friction form in {set}"),
+        Move::Simpler => format!("a simpler law in place of a friction form of {set}"),
+        Move::Drop => format!("drop an effect of {set}"),
+        Move::DropClaim => format!("drop a claim of {set} the data do not support"),
+        Move::Restart => format!("a second start's set in place of {set}"),
+        Move::Alternative => {
+            format!("an alternative of the ambiguity stage in place of {set}")
         }
     }
 }
@@ -77,6 +118,7 @@ impl fmt::Display for Verdict {
             Verdict::Rejected(r) => r.fmt(f),
             Verdict::Accepted(Kept::Added) => f.write_str("earns its keep: added"),
             Verdict::Accepted(Kept::Refined) => f.write_str("earns its keep: refined"),
+            Verdict::Accepted(Kept::Dropped) => f.write_str("explains the runs as well: taken"),
         }
     }
 }
@@ -144,6 +186,41 @@ mod tests {
                 min: 10.0
             })),
             "BIC gain 3.1 ≤ 10"
+        );
+    }
+
+    #[test]
+    fn a_round_says_its_move_and_the_set_it_started_from() {
+        // Words of the JSON's `round` the search wrote with the words made
+        // in the analysis.
+        use crate::model::effect::EffectKind;
+        let at = |kind, joint| Candidate {
+            kind,
+            joint: Some(joint),
+            table: None,
+        };
+        let round = |what, start| Round {
+            what,
+            start,
+            start_rms_deg: 0.1,
+            scores: Vec::new(),
+        };
+        assert_eq!(what_words(&round(Move::Add, Vec::new())), "add to nothing");
+        let set = vec![
+            at(EffectKind::ViscousDamping, 1),
+            at(EffectKind::HarnessStiffness, 1),
+        ];
+        assert_eq!(
+            what_words(&round(Move::Swap, set.clone())),
+            "swap one of viscous_damping at joint 1, harness_stiffness at joint 1"
+        );
+        assert_eq!(
+            what_words(&round(Move::PairAfterSwap, set.clone())),
+            "add a pair to viscous_damping at joint 1, harness_stiffness at joint 1"
+        );
+        assert_eq!(
+            what_words(&round(Move::EvenTable, set)),
+            "discover a torque beside viscous_damping at joint 1, harness_stiffness at joint 1"
         );
     }
 

@@ -3,6 +3,7 @@
 //! prints on stdout.
 
 use super::diagnosis_latch;
+use super::diagnosis_outcome::what_words;
 use crate::analysis::diagnose::{Candidate, Outcome};
 use crate::analysis::diagnosis_details::{alternatives, gain_ratio, Details};
 use crate::analysis::table_export::TableExport;
@@ -61,7 +62,7 @@ pub fn evidence_of(o: &Outcome, k: usize, c: Candidate) -> String {
             let _ = write!(
                 s,
                 "{}: RMS {:.4} -> {:.4} deg, BIC gain {:.1}",
-                r.what,
+                what_words(r),
                 r.start_rms_deg,
                 win.fitted.rms(),
                 win.delta_bic

@@ -23,6 +23,7 @@ use super::candidate::Candidate;
 pub use super::outcome::Ambiguity;
 use super::outcome::FittedSet;
 use super::policy::{Move, Verdict};
+use super::step::Step;
 use super::{labels, Search, MIN_DELTA_BIC};
 use crate::analysis::diagnose::residual_named;
 use crate::model::effect::EffectKind;
@@ -149,7 +150,7 @@ impl Search<'_, '_> {
     /// there, beside the rest of the set and, when the set holds a global
     /// effect (rig tilt, air drag), beside the rest without it too (a
     /// global effect may stand in for a joint torque).
-    fn exchanges_at(&self, joint: usize) -> Vec<(FittedSet, Candidate)> {
+    fn exchanges_at(&self, joint: usize) -> Vec<Step> {
         let at = |c: &Candidate| c.joint == Some(joint) && c.kind != EffectKind::EncoderOffset;
         let rest = Self::reduced_by(&self.current, at);
         let mut bases = vec![rest.clone()];
@@ -167,7 +168,7 @@ impl Search<'_, '_> {
                         table: None,
                     })
                     .filter(|c| self.candidates.contains(c))
-                    .map(|c| (base.clone(), c)),
+                    .map(|c| Step::new(base.clone(), c)),
             );
             moves.extend(self.named_pairs_at(&base, joint));
         }
@@ -175,9 +176,9 @@ impl Search<'_, '_> {
         // them all (and adds one more, near zero) is the same explanation.
         let now = self.current.candidates();
         let here: Vec<Candidate> = now.iter().copied().filter(at).collect();
-        moves.retain(|(base, c)| {
-            let mut s = base.candidates();
-            s.push(*c);
+        moves.retain(|step| {
+            let mut s = step.base.candidates();
+            s.push(step.candidate);
             !same_set(&s, &now) && (here.is_empty() || !here.iter().all(|h| s.contains(h)))
         });
         moves

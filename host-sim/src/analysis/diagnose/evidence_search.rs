@@ -14,7 +14,8 @@
 use super::candidate::Candidate;
 use super::discover;
 use super::outcome::{CandidateScore, FittedEffect, FittedSet, Unexplained, UnexplainedShape};
-use super::policy::{Attempt, Move};
+use super::policy::{Attempt, Move, Verdict};
+use super::step::Step;
 use super::table_form::PlacedKnots;
 use super::{above_noise, labels, Engine, Proposal, Search, MAX_TABLES, NOISE_FLOOR_FACTOR};
 use crate::analysis::diagnose::evidence::{analyse, CLEAR_SIGMAS};
@@ -23,11 +24,6 @@ use crate::analysis::diagnose::residual_shape::best_shape;
 use crate::analysis::diagnose::residual_torque::{residual_torque, JointTorque};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};
-
-/// A claim at a joint without significant residual torque is dropped only
-/// when the set without it fits within this share of the set's RMS (or of
-/// the noise floor) \[1\]: what the fit needs stays.
-const CLAIM_RMS_SHARE: f64 = 1.1;
 
 /// Without residual-torque evidence, the first table is tried at the joints
 /// whose residual angle RMS is at least this share of the largest joint's
@@ -90,15 +86,7 @@ impl Search<'_, '_> {
             moves.len(),
             labels(&self.current.candidates())
         ));
-        Some((moves, self.discover_what()))
-    }
-
-    /// What a discovery round tries, in words.
-    fn discover_what(&self) -> String {
-        format!(
-            "discover a torque beside {}",
-            labels(&self.current.candidates())
-        )
+        Some(moves)
     }
 
     /// [`Move::EvenTable`]: for the first table, when the tables at the
@@ -118,20 +106,25 @@ impl Search<'_, '_> {
         let evidence: Vec<Option<usize>> = self
             .table_tried
             .iter()
-            .filter(|(base, _)| *base == self.current)
-            .map(|(_, c)| c.joint)
+            .filter(|s| s.base == self.current)
+            .map(|s| s.candidate.joint)
             .collect();
         let evidence = if evidence.is_empty() {
             self.angle_joints()
         } else {
             evidence
         };
-        let even: Vec<_> = self
+        let even: Vec<Step> = self
             .even_moves()
             .into_iter()
-            .filter(|(_, c)| evidence.is_empty() || evidence.contains(&c.joint))
+            .filter(|s| evidence.is_empty() || evidence.contains(&s.candidate.joint))
             .collect();
-        if !first || even.iter().all(|m| self.table_tried.contains(m)) {
+        let tried = |m: &Step| {
+            self.table_tried
+                .iter()
+                .any(|t| t.base == m.base && t.candidate == m.candidate)
+        };
+        if !first || even.iter().all(tried) {
             return None;
         }
         self.eng.say(format!(
@@ -143,14 +136,15 @@ impl Search<'_, '_> {
                 .collect::<Vec<_>>()
                 .join(", ")
         ));
-        Some((even, self.discover_what()))
+        Some(even)
     }
 
     /// [`Move::TablePair`]: for the first tables, when no single table
     /// was kept, two tables at two joints together: the
     /// [`TABLE_PAIR_FORMS`] best forms by BIC at each joint of the table
     /// rounds beside the current set, each fitted with each of the other
-    /// joints' (its fitted single as the start).
+    /// joints' (its fitted single as the base, the other's screen from the
+    /// start its table round gave it, [`Search::table_start`]).
     pub(super) fn propose_table_pairs(&mut self) -> Option<Proposal> {
         let start = self.current.candidates();
         if self
@@ -179,13 +173,16 @@ impl Search<'_, '_> {
                 per_joint.push(s);
             }
         }
-        let moves: Vec<(FittedSet, Candidate)> = per_joint
+        let this = &*self;
+        let moves: Vec<Step> = per_joint
             .iter()
             .flat_map(|a| {
                 per_joint
                     .iter()
                     .filter(move |b| b.candidate.joint != a.candidate.joint)
-                    .map(move |b| (a.fitted.clone(), b.candidate))
+                    .map(move |b| {
+                        Step::from(a.fitted.clone(), b.candidate, this.table_start(b.candidate))
+                    })
             })
             .collect();
         if moves.is_empty() {
@@ -196,7 +193,18 @@ impl Search<'_, '_> {
             moves.len(),
             labels(&start)
         ));
-        Some((moves, self.discover_what()))
+        Some(moves)
+    }
+
+    /// The start a table candidate was given in the last table round
+    /// ([`Move::Table`], the last given to its form); `None`: its own scan.
+    fn table_start(&self, cand: Candidate) -> Option<Vec<f64>> {
+        let form = cand.table?;
+        self.table_tried
+            .iter()
+            .rev()
+            .filter(|s| s.candidate.table == Some(form))
+            .find_map(|s| s.start.clone())
     }
 
     /// Where the angles say a torque is missing when the residual torque
@@ -224,13 +232,13 @@ impl Search<'_, '_> {
     /// named candidate in turn and by the pairs of named effects at its
     /// joint ([`Search::named_pairs_for`], screened also where the two
     /// share their torque, [`super::Engine::fit_moves_sharing`]).
-    pub(super) fn named_for_tables(&self) -> Vec<(FittedSet, Candidate)> {
+    pub(super) fn named_for_tables(&self) -> Vec<Step> {
         let named: Vec<Candidate> = self.outside();
         let mut moves = Vec::new();
         for (k, m) in self.current.members.iter().enumerate() {
             if m.candidate.table.is_some() {
                 let reduced = self.current.without(k);
-                moves.extend(named.iter().map(|&n| (reduced.clone(), n)));
+                moves.extend(named.iter().map(|&n| Step::new(reduced.clone(), n)));
                 moves.extend(self.named_pairs_for(&reduced, m.candidate));
             }
         }
@@ -240,7 +248,7 @@ impl Search<'_, '_> {
     /// The discovery moves: beside the current set and in place of each of
     /// its named effects, a table at each joint without one whose residual
     /// torque beside that set is significant.
-    fn table_moves(&self) -> Vec<(FittedSet, Candidate)> {
+    fn table_moves(&self) -> Vec<Step> {
         let taken = self.table_joints();
         let named = (0..self.current.members.len())
             .filter(|&k| self.current.members[k].candidate.table.is_none());
@@ -255,8 +263,8 @@ impl Search<'_, '_> {
                 .iter()
                 .filter(|j| j.significant && !taken.contains(&Some(j.joint)))
             {
-                for c in self.joint_tables(jt, &even) {
-                    moves.push((base.clone(), c));
+                for (c, start) in self.joint_tables(jt, &even) {
+                    moves.push(Step::from(base.clone(), c, start));
                 }
             }
         }
@@ -282,24 +290,29 @@ impl Search<'_, '_> {
     /// joints' tables do not earn their keep, although the angles say a
     /// torque is missing (one too fast for the smoother, say). A second
     /// table needs the evidence. Each claim is checked at the end.
-    fn even_moves(&self) -> Vec<(FittedSet, Candidate)> {
+    fn even_moves(&self) -> Vec<Step> {
         let taken = self.table_joints();
         discover::table_candidates(self.eng.campaign)
             .into_iter()
             .filter(|c| !taken.contains(&c.joint))
-            .map(|c| (self.current.clone(), c))
+            .map(|c| Step::new(self.current.clone(), c))
             .collect()
     }
 
-    /// The table candidates at one joint: the even forms and the shape the
-    /// residual torque has (its knot torques kept as the fit's start).
-    pub(super) fn joint_tables(&self, jt: &JointTorque, even: &[Candidate]) -> Vec<Candidate> {
+    /// The table candidates at one joint, each with the start of its
+    /// screen: the even forms (their own scan) and the shape the residual
+    /// torque has (its knot torques as the start).
+    pub(super) fn joint_tables(
+        &self,
+        jt: &JointTorque,
+        even: &[Candidate],
+    ) -> Vec<(Candidate, Option<Vec<f64>>)> {
         let mine: Vec<Candidate> = even
             .iter()
             .copied()
             .filter(|c| c.joint == Some(jt.joint))
             .collect();
-        let mut out = mine.clone();
+        let mut out: Vec<(Candidate, Option<Vec<f64>>)> = mine.iter().map(|&c| (c, None)).collect();
         let Some(form) = mine.first().and_then(|c| c.table) else {
             return out;
         };
@@ -318,17 +331,20 @@ impl Search<'_, '_> {
             shape.bic,
             shape.bic_zero
         ));
-        self.eng.set_start(placed, PlacedKnots::start(&shape));
-        out.push(Candidate {
-            kind: EffectKind::TorqueTable,
-            joint: Some(jt.joint),
-            table: Some(placed),
-        });
+        out.push((
+            Candidate {
+                kind: EffectKind::TorqueTable,
+                joint: Some(jt.joint),
+                table: Some(placed),
+            },
+            Some(PlacedKnots::start(&shape)),
+        ));
         out
     }
 
     /// Drops every claim the data do not support whose loss the fit hardly
-    /// notices ([`CLAIM_RMS_SHARE`]): a named effect whose 95 % interval
+    /// notices ([`Move::DropClaim`], judged by [`Search::accept`]: the set
+    /// without it within [`super::policy::CLAIM_RMS_SHARE`] of the set's RMS): a named effect whose 95 % interval
     /// contains zero (a move can leave one behind: a named effect in place
     /// of a table is not followed by the backward drop), and a table or
     /// named joint effect whose joint shows no evidence of it without it —
@@ -350,7 +366,13 @@ impl Search<'_, '_> {
                 };
                 // The evidence may miss a torque the fit needs: a claim goes
                 // only when the fit hardly notices (the data hold nothing there).
-                if f.rms() > CLAIM_RMS_SHARE * self.current.rms().max(self.floor()) {
+                let verdict = self.accept(
+                    (&self.current, self.current_held),
+                    &f,
+                    &mut None,
+                    &Move::DropClaim.policy(),
+                );
+                if !matches!(verdict, Verdict::Accepted(_)) {
                     continue;
                 }
                 self.eng.say(format!(
@@ -421,16 +443,12 @@ impl Search<'_, '_> {
                 cand(a).words(),
                 cand(b).words()
             ));
-            moves.push((base, cand(b)));
+            moves.push(Step::new(base, cand(b)));
         }
         if moves.is_empty() {
             return None;
         }
-        let what = format!(
-            "replace {} by a pair the residual torque proposes",
-            labels(&self.current.candidates())
-        );
-        Some((moves, what))
+        Some(moves)
     }
 }
 
@@ -443,11 +461,7 @@ impl Search<'_, '_> {
     /// value. A table that stands in for two causes at one joint (a
     /// softened spring with friction, say) is replaced when the pair fits
     /// as well with fewer parameters.
-    pub(super) fn named_pairs_for(
-        &self,
-        reduced: &FittedSet,
-        table: Candidate,
-    ) -> Vec<(FittedSet, Candidate)> {
+    pub(super) fn named_pairs_for(&self, reduced: &FittedSet, table: Candidate) -> Vec<Step> {
         match table.joint {
             Some(joint) => self.named_pairs_at(reduced, joint),
             None => Vec::new(),
@@ -456,11 +470,7 @@ impl Search<'_, '_> {
 
     /// The pairs of named joint effects at `joint` beside `reduced`
     /// ([`Search::named_pairs_for`]).
-    pub(super) fn named_pairs_at(
-        &self,
-        reduced: &FittedSet,
-        joint: usize,
-    ) -> Vec<(FittedSet, Candidate)> {
+    pub(super) fn named_pairs_at(&self, reduced: &FittedSet, joint: usize) -> Vec<Step> {
         let res = residual_torque(self.eng.campaign, &reduced.effects());
         let Some(jt) = res.iter().find(|r| r.joint == joint) else {
             return Vec::new();
@@ -488,7 +498,10 @@ impl Search<'_, '_> {
                 else {
                     continue;
                 };
-                moves.push((reduced.with(FittedEffect::start(ca, vec![v[0]])), cb));
+                moves.push(Step::new(
+                    reduced.with(FittedEffect::start(ca, vec![v[0]])),
+                    cb,
+                ));
             }
         }
         moves
@@ -602,6 +615,6 @@ impl Search<'_, '_> {
             "  named pairs at a joint in place of its named effects: fitting {}",
             moves.len()
         ));
-        Some((moves, String::new()))
+        Some(moves)
     }
 }

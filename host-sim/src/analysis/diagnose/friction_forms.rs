@@ -31,12 +31,13 @@
 //! any other (ΔBIC, intervals clear of zero — a Stribeck law's excess too —
 //! and the held-out RMS). A form taken is then exchanged for the simpler
 //! effect (Coulomb for Stribeck; viscous or air drag for quadratic), which
-//! is kept instead when its BIC is within [`MIN_DELTA_BIC`] of the form's:
-//! the simpler named effect wins when it explains the runs as well.
+//! is kept instead when its BIC is within [`MIN_DELTA_BIC`] of the form's
+//! ([`Move::Simpler`], judged by `Search::accept`): the simpler named
+//! effect wins when it explains the runs as well.
 
 use super::candidate::{Candidate, STRIBECK_RATE_RANGE};
 use super::outcome::FittedSet;
-use super::policy::Move;
+use super::policy::{Move, Verdict};
 use super::residual_named::lsq;
 use super::{labels, Search, MIN_DELTA_BIC, SCREEN_KEEP};
 use crate::analysis::residual_shape::{bic, thin};
@@ -120,32 +121,42 @@ pub fn evidence_starts(
             out.push((EffectKind::QuadraticDamping, vec![c]));
         }
     }
-    if std::env::var_os("DEPLOYWATCH_TRACE_FORMS").is_some() {
-        let st = OMEGA_GRID
-            .iter()
-            .filter_map(|&w| {
-                let h = move |x: &TorqueSample| hump(x.rate_deg_s.to_radians(), w);
-                let (v, rss) = lsq(&s, &[&coulomb, &h])?;
-                Some(format!(
-                    "{w}:{:.0}({:.3},{:.3})",
-                    bic(&s, rss, 3),
-                    v[0],
-                    v[1]
-                ))
-            })
-            .collect::<Vec<_>>()
-            .join(" ");
-        eprintln!(
-            "    forms evidence: n {} coulomb {:.0} viscous {:.0} quad {:?} visc+quad {:?} stribeck [{st}] -> {:?}",
-            s.len(),
-            bic_of(&s, &[&coulomb]),
-            bic_of(&s, &[&viscous]),
-            q,
-            vq,
-            out
-        );
-    }
     out
+}
+
+/// The regressions behind [`evidence_starts`] and what it found (`out`), in
+/// one trace line ([`super::DiagnoseOptions::trace_forms`]); `None` where it
+/// has too few samples to regress.
+fn evidence_trace(samples: &[TorqueSample], out: &[(EffectKind, Vec<f64>)]) -> Option<String> {
+    let s = thin(samples);
+    if s.len() < 8 {
+        return None;
+    }
+    let q = lsq(&s, &[&quadratic]).map(|(v, rss)| (bic(&s, rss, 1), v[0]));
+    let vq = lsq(&s, &[&viscous, &quadratic]).map(|(v, rss)| (bic(&s, rss, 2), v[1]));
+    let st = OMEGA_GRID
+        .iter()
+        .filter_map(|&w| {
+            let h = move |x: &TorqueSample| hump(x.rate_deg_s.to_radians(), w);
+            let (v, rss) = lsq(&s, &[&coulomb, &h])?;
+            Some(format!(
+                "{w}:{:.0}({:.3},{:.3})",
+                bic(&s, rss, 3),
+                v[0],
+                v[1]
+            ))
+        })
+        .collect::<Vec<_>>()
+        .join(" ");
+    Some(format!(
+        "    forms evidence: n {} coulomb {:.0} viscous {:.0} quad {:?} visc+quad {:?} stribeck [{st}] -> {:?}",
+        s.len(),
+        bic_of(&s, &[&coulomb]),
+        bic_of(&s, &[&viscous]),
+        q,
+        vq,
+        out
+    ))
 }
 
 /// One move of this step: a base set, the form's candidate, its start.
@@ -189,9 +200,8 @@ impl Search<'_, '_> {
             labels(&self.current.candidates())
         ));
         let fits = self.fit_form_moves(&moves);
-        let what = format!("a friction form in {}", labels(&self.current.candidates()));
         let mv = Move::FrictionForms;
-        let round = mv.record().map(|r| (what, r));
+        let round = mv.record().map(|r| (mv, r));
         let Some((f, held)) = self.judge(fits, &mv.policy(), round) else {
             return false;
         };
@@ -229,7 +239,7 @@ impl Search<'_, '_> {
         for (base, only) in bases {
             let res = residual_torque(self.eng.campaign, &base.effects());
             for jt in res.iter().filter(|jt| only.is_none_or(|j| j == jt.joint)) {
-                if std::env::var_os("DEPLOYWATCH_TRACE_FORMS").is_some() {
+                if self.eng.trace.forms {
                     eprintln!(
                         "  beside {} at joint {}:",
                         labels(&base.candidates()),
@@ -243,6 +253,11 @@ impl Search<'_, '_> {
                 };
                 let free = !base.contains(&at(EffectKind::CoulombFriction));
                 let mut starts = evidence_starts(&jt.samples, free);
+                if self.eng.trace.forms {
+                    if let Some(line) = evidence_trace(&jt.samples, &starts) {
+                        eprintln!("{line}");
+                    }
+                }
                 // In place of the Coulomb friction the set holds here.
                 if let Some(tc) = swapped_coulomb(cur, &base, jt.joint) {
                     if !starts.iter().any(|s| s.0 == EffectKind::StribeckFriction) {
@@ -297,8 +312,10 @@ impl Search<'_, '_> {
     }
 
     /// The simpler named effect in place of each form of `f` (Coulomb for
-    /// Stribeck; viscous damping or air drag for quadratic damping), kept
-    /// instead when its BIC is within [`MIN_DELTA_BIC`] of `f`'s.
+    /// Stribeck; viscous damping or air drag for quadratic damping): the
+    /// best by BIC, judged by [`Search::accept`] against `f` with
+    /// [`Move::Simpler`]'s policy (kept when its BIC is within
+    /// [`MIN_DELTA_BIC`] of `f`'s).
     fn simpler_than(&self, mut f: FittedSet, mut held: Option<f64>) -> (FittedSet, Option<f64>) {
         let c = self.eng.campaign;
         for k in (0..f.members.len()).rev() {
@@ -328,8 +345,11 @@ impl Search<'_, '_> {
                 .collect();
             let best = options
                 .into_iter()
-                .filter(|s| s.bic() < f.bic() + MIN_DELTA_BIC)
-                .min_by(|a, b| a.bic().total_cmp(&b.bic()));
+                .min_by(|a, b| a.bic().total_cmp(&b.bic()))
+                .filter(|s| {
+                    let v = self.accept((&f, held), s, &mut None, &Move::Simpler.policy());
+                    matches!(v, Verdict::Accepted(_))
+                });
             if let Some(s) = best {
                 self.eng.say(format!(
                     "  {} explains the runs as well as {} (BIC within {MIN_DELTA_BIC}): the simpler is kept",

@@ -15,9 +15,11 @@
 //!    effect's 95 % interval excludes zero, and, with two or more runs, the
 //!    held-out RMS of the resulting set — fit on all runs but one, predict
 //!    that one — improves), which returns a typed [`policy::Verdict`]; effects that
-//!    no longer earn their keep are dropped again. At most three named
-//!    effects; stop at the noise floor 1.2 σ̂ (σ̂ estimated once and
-//!    carried).
+//!    no longer earn their keep are dropped again ([`Move::Drop`], judged
+//!    by the same rule). At most three named effects; stop at the noise
+//!    floor 1.2 σ̂ (σ̂ estimated once and carried). Each proposed set
+//!    carries the start values of its screen; the settings come in through
+//!    [`DiagnoseOptions`].
 //! 5. Discovery ([`discover`]): when the named effects leave a residual
 //!    above the noise floor, a `torque_table` fitted at each joint is judged
 //!    like any candidate; a named effect that fits as well replaces it.
@@ -47,6 +49,7 @@ mod screen;
 mod shared_torque;
 pub mod smoothing;
 mod stand_in;
+mod step;
 pub mod table_export;
 mod table_form;
 
@@ -56,9 +59,7 @@ pub use outcome::{
     DiagnoseOptions, FitStats, FittedSet, HaltReason, Outcome, Round, StopFlag, Unexplained,
     UnexplainedShape,
 };
-use policy::Move;
-pub use policy::{Kept, Rejection, Verdict, MIN_DELTA_BIC};
-pub use table_form::TableForm;
+pub use policy::{Kept, Move, Rejection, Verdict, MIN_DELTA_BIC};
 
 use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::fit::{self, FitOptions};
@@ -93,32 +94,26 @@ struct Engine<'a> {
     campaign: &'a Campaign,
     progress: Progress<'a>,
     sims: std::sync::atomic::AtomicUsize,
-    /// Start values of the tables shaped by the residual torque.
-    starts: std::sync::Mutex<std::collections::HashMap<TableForm, Vec<f64>>>,
     /// When and on what the search stops early ([`Halt`]).
     halt: Halt,
+    /// What the progress traces beside its usual lines
+    /// ([`DiagnoseOptions::trace`], [`DiagnoseOptions::trace_forms`]).
+    trace: Trace,
+}
+
+/// What the progress traces beside its usual lines (the search's
+/// settings, from [`DiagnoseOptions`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Trace {
+    /// Every score of a round and the verdicts of the first judged.
+    scores: bool,
+    /// The friction forms' residual-torque evidence, on stderr.
+    forms: bool,
 }
 
 impl Engine<'_> {
     fn say(&self, msg: impl AsRef<str>) {
         (self.progress)(msg.as_ref());
-    }
-
-    /// Remembers the start values of a table shaped by the data.
-    fn set_start(&self, form: TableForm, p: Vec<f64>) {
-        let mut m = self.starts.lock().unwrap_or_else(|e| e.into_inner());
-        m.insert(form, p);
-    }
-
-    /// The starting points of a candidate's coarse scan: a table shaped by
-    /// the data starts from its shape (and half of it); any other from its
-    /// own scan ([`Candidate::scan`]).
-    fn scan_of(&self, cand: &Candidate) -> Vec<Vec<f64>> {
-        let m = self.starts.lock().unwrap_or_else(|e| e.into_inner());
-        match cand.table.and_then(|t| m.get(&t)) {
-            Some(p) => vec![p.clone(), p.iter().map(|x| 0.5 * x).collect()],
-            None => cand.scan(),
-        }
     }
 
     fn residuals(&self, c: &Campaign, set: &[Candidate], p: &[f64]) -> Option<Vec<f64>> {
@@ -209,35 +204,39 @@ impl Engine<'_> {
     }
 }
 
-impl Engine<'_> {
-    /// Drops effects that no longer earn their keep beside the others.
+impl Search<'_, '_> {
+    /// Drops effects that no longer earn their keep beside the others: the
+    /// best set without one of them, by BIC, judged by [`Search::accept`]
+    /// against `f` (held-out RMS `held`) with [`Move::Drop`]'s policy,
+    /// until none is taken.
     fn backward(&self, mut f: FittedSet, mut held: Option<f64>) -> (FittedSet, Option<f64>) {
+        let eng = self.eng;
         while f.members.len() > 1 {
             let reduced: Vec<Option<FittedSet>> = (0..f.members.len())
                 .into_par_iter()
-                .map(|k| self.refit(self.campaign, &f.without(k)))
+                .map(|k| eng.refit(eng.campaign, &f.without(k)))
                 .collect();
             let best = reduced
                 .into_iter()
                 .flatten()
                 .min_by(|a, b| a.bic().total_cmp(&b.bic()));
-            match best {
-                Some(r) if r.bic() - f.bic() < MIN_DELTA_BIC => {
-                    let gone: Vec<String> = f
-                        .candidates()
-                        .iter()
-                        .filter(|c| !r.contains(c))
-                        .map(|c| c.words())
-                        .collect();
-                    self.say(format!(
-                        "  dropped {}: no longer earns its keep",
-                        gone.join(", ")
-                    ));
-                    held = self.held_out(&r);
-                    f = r;
-                }
-                _ => break,
+            let Some(r) = best else { break };
+            let verdict = self.accept((&f, held), &r, &mut None, &Move::Drop.policy());
+            if !matches!(verdict, Verdict::Accepted(_)) {
+                break;
             }
+            let gone: Vec<String> = f
+                .candidates()
+                .iter()
+                .filter(|c| !r.contains(c))
+                .map(|c| c.words())
+                .collect();
+            eng.say(format!(
+                "  dropped {}: no longer earns its keep",
+                gone.join(", ")
+            ));
+            held = eng.held_out(&r);
+            f = r;
         }
         (f, held)
     }
@@ -276,9 +275,9 @@ pub const MAX_TABLES: usize = 2;
 /// Most swap rounds of one diagnosis.
 const MAX_SWAPS: usize = 2;
 
-/// The sets a move proposes (each a base set plus a candidate) and what its
-/// round tried, in words.
-type Proposal = (Vec<(FittedSet, Candidate)>, String);
+/// The sets a move proposes, each a base set plus a candidate with the
+/// start values of its screen ([`step::Step`]).
+type Proposal = Vec<step::Step>;
 
 /// The state of the search: the current set, its held-out RMS, the noise
 /// σ̂ it was judged against, the rounds tried so far and the sets already
@@ -300,7 +299,7 @@ struct Search<'e, 'a> {
     tried_once: std::collections::HashSet<Move>,
     /// The table moves of the last [`Move::Table`] (the even tables
     /// are tried after them only when they add some).
-    table_tried: Vec<(FittedSet, Candidate)>,
+    table_tried: Vec<step::Step>,
 }
 
 impl Search<'_, '_> {
@@ -403,8 +402,11 @@ fn search_campaign(
         campaign,
         progress,
         sims: std::sync::atomic::AtomicUsize::new(0),
-        starts: Default::default(),
         halt: Halt::new(opts, t0),
+        trace: Trace {
+            scores: opts.trace,
+            forms: opts.trace_forms,
+        },
     };
     let sigma = noise_sigma_deg(campaign);
     let baseline = eng.baseline();

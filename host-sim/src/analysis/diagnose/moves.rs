@@ -1,18 +1,24 @@
 //! The moves of the diagnosis search and the one place they are made
 //! ([`Search::attempt`]): each move proposes sets (a base set plus a
-//! candidate), they are screened and fitted ([`super::screen`]), judged by
-//! the one acceptance policy ([`super::policy`]) with the move's
-//! [`Policy`], and the choice is taken. The stepwise search is one loop
-//! over [`STEPWISE`]; discovery, refinement and the stand-in check make
-//! their moves through the same [`Search::attempt`]. The one acceptance
-//! rule is [`Search::accept`], with the move's [`Policy`]
-//! ([`super::policy`] states the checks and their order).
+//! candidate with the start values of its screen, [`Step`]), they are
+//! screened and fitted ([`super::screen`]), judged by the one acceptance
+//! policy ([`super::policy`]) with the move's [`Policy`], and the choice
+//! is taken. The stepwise search is one loop over [`STEPWISE`]; discovery,
+//! refinement and the stand-in's table make their moves through the same
+//! [`Search::attempt`]. The moves that judge one set against the current
+//! one (a drop after a move, a claim dropped, the simpler law in place of
+//! a friction form, the stand-in's table kept, a second start, an
+//! alternative) call the same rule. The one acceptance rule is
+//! [`Search::accept`], with the move's [`Policy`] ([`super::policy`]
+//! states the checks and their order). The search's settings (what the
+//! progress traces) are [`super::DiagnoseOptions`]'s.
 
 use super::candidate::Candidate;
 use super::outcome::{CandidateScore, FittedSet, Round};
 use super::policy::{
     Attempt, Move, PastTries, Policy, Record, Rejection, Verdict, HELD_OUT_SHARE, STEPWISE,
 };
+use super::step::Step;
 use super::{above_noise, labels, Proposal, Search, MAX_STEPS, MAX_SWAPS, PAIR_SEEDS};
 
 impl Search<'_, '_> {
@@ -69,14 +75,14 @@ impl Search<'_, '_> {
 
     /// Scores the fitted moves against the current set, best BIC first,
     /// and judges them under `policy` ([`Search::accept`]): the first
-    /// accepted is the choice. With `round`, the round is recorded (its
-    /// description, whether moves screened out are listed, and how many
+    /// accepted is the choice. With `round`, the round is recorded (the
+    /// move it tried, whether moves screened out are listed, and how many
     /// scores to print first). Returns the chosen set and its held-out RMS.
     pub(super) fn judge(
         &mut self,
         fits: Vec<(Candidate, Option<FittedSet>, bool)>,
         policy: &Policy,
-        round: Option<(String, Record)>,
+        round: Option<(Move, Record)>,
     ) -> Option<(FittedSet, Option<f64>)> {
         let keep_screened = round.as_ref().is_some_and(|(_, r)| r.screened);
         let current = self.current.clone();
@@ -103,7 +109,7 @@ impl Search<'_, '_> {
             self.show_scores(&scores, r.show);
         }
         let chosen = self.choose(&mut scores, &current, policy);
-        if round.as_ref().is_some_and(|(_, r)| r.screened) && trace() {
+        if round.as_ref().is_some_and(|(_, r)| r.screened) && self.eng.trace.scores {
             for s in scores
                 .iter()
                 .filter(|s| s.verdict != Verdict::NotJudged)
@@ -170,10 +176,14 @@ impl Search<'_, '_> {
         chosen
     }
 
-    /// Prints the best scores of a round (`show` of them; all with
-    /// `DEPLOYWATCH_TRACE`).
+    /// Prints the best scores of a round (`show` of them; all when the
+    /// settings trace the scores, [`super::DiagnoseOptions::trace`]).
     fn show_scores(&self, scores: &[CandidateScore], show: usize) {
-        let show = if trace() { usize::MAX } else { show };
+        let show = if self.eng.trace.scores {
+            usize::MAX
+        } else {
+            show
+        };
         for s in scores.iter().take(show) {
             self.eng.say(format!(
                 "  {:<40} RMS {:.4} deg  dBIC {:>10.1}",
@@ -183,11 +193,6 @@ impl Search<'_, '_> {
             ));
         }
     }
-}
-
-/// Whether `DEPLOYWATCH_TRACE` asks for every score and verdict.
-fn trace() -> bool {
-    std::env::var_os("DEPLOYWATCH_TRACE").is_some()
 }
 
 /// True when the 95 % interval of the value of every member of `f` that is
@@ -205,7 +210,7 @@ impl Search<'_, '_> {
     /// choice when it leads to a set not visited (unless the policy allows
     /// it).
     pub(super) fn attempt(&mut self, mv: Move) -> Attempt {
-        let Some((moves, what)) = self.propose(mv) else {
+        let Some(moves) = self.propose(mv) else {
             return Attempt::NotTried;
         };
         let c = self.eng.campaign;
@@ -215,7 +220,7 @@ impl Search<'_, '_> {
             self.eng.fit_moves(c, &moves)
         };
         let policy = mv.policy();
-        let next = self.judge(fits, &policy, mv.record().map(|r| (what, r)));
+        let next = self.judge(fits, &policy, mv.record().map(|r| (mv, r)));
         match next {
             Some((f, held)) if policy.revisit || !self.seen.contains(&f.candidates()) => {
                 self.take(mv, f, held);
@@ -242,12 +247,18 @@ impl Search<'_, '_> {
             Move::Table => self.propose_tables(),
             Move::EvenTable => self.propose_even_tables(),
             Move::TablePair => self.propose_table_pairs(),
-            Move::NamedForTable => Some((self.named_for_tables(), String::new())),
+            Move::NamedForTable => Some(self.named_for_tables()),
             Move::Refine => self.propose_refine(),
-            Move::StandIn => self.propose_stand_in(),
+            Move::StandInTable => self.propose_stand_in(),
             // Made by `Search::try_friction_forms` (its own screen from the
             // residual torque's starts, then the simpler-law exchange).
-            Move::FrictionForms => None,
+            Move::FrictionForms | Move::Simpler => None,
+            // Judged after `Move::StandInTable` and its refinement
+            // (`Search::replace_stand_in`).
+            Move::StandIn => None,
+            // Made after every move that drops (`Search::backward`) and at
+            // the end of discovery (`Search::check_claims`).
+            Move::Drop | Move::DropClaim => None,
             // Made by a second start of the search (`super::restart`).
             Move::Restart => None,
             // Fitted by the ambiguity stage (`super::ambiguity`).
@@ -272,7 +283,7 @@ impl Search<'_, '_> {
             self.eng.held_out(&f)
         };
         let (f, held) = if mv.drops_after() {
-            self.eng.backward(f, held)
+            self.backward(f, held)
         } else {
             (f, held)
         };
@@ -349,9 +360,11 @@ impl Search<'_, '_> {
             labels(&self.current.candidates()),
             self.current.rms()
         ));
-        let moves = todo.iter().map(|&c| (self.current.clone(), c)).collect();
-        let what = format!("add to {}", labels(&self.current.candidates()));
-        Some((moves, what))
+        let moves = todo
+            .iter()
+            .map(|&c| Step::new(self.current.clone(), c))
+            .collect();
+        Some(moves)
     }
 
     /// [`Move::Pair`]: two causes that act together may each fail the
@@ -386,7 +399,7 @@ impl Search<'_, '_> {
             for c in self.outside() {
                 let earlier = seeds[..a].iter().any(|s| last_of(s) == Some(c));
                 if Some(c) != first && !earlier {
-                    moves.push((seed.clone(), c));
+                    moves.push(Step::new(seed.clone(), c));
                 }
             }
         }
@@ -395,7 +408,7 @@ impl Search<'_, '_> {
             "pairs: fitting {} sets of two, seeded by the last round, beside {now}",
             moves.len(),
         ));
-        Some((moves, format!("add a pair to {now}")))
+        Some(moves)
     }
 
     /// [`Move::Swap`]: replace one effect by another candidate (greedy
@@ -412,7 +425,7 @@ impl Search<'_, '_> {
         for k in 0..self.current.members.len() {
             let reduced = self.current.without(k);
             for c in &outside {
-                moves.push((reduced.clone(), *c));
+                moves.push(Step::new(reduced.clone(), *c));
             }
         }
         let now = labels(&self.current.candidates());
@@ -421,7 +434,7 @@ impl Search<'_, '_> {
             self.swaps,
             moves.len(),
         ));
-        Some((moves, format!("swap one of {now}")))
+        Some(moves)
     }
 
     /// A move tried once per diagnosis: true the first time.

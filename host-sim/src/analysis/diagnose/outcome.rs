@@ -6,7 +6,7 @@ use super::discover;
 use super::evidence::ResidualPlace;
 use super::latch_finding::LatchFinding;
 use super::latch_window::RunWindow;
-pub use super::policy::Verdict;
+pub use super::policy::{Move, Verdict};
 use super::residual_torque::JointTorque;
 use super::table_form::TableForm;
 use crate::model::effect::{Effect, EffectKind};
@@ -251,11 +251,14 @@ impl CandidateScore {
     }
 }
 
-/// One round of the stepwise search.
+/// One round of the search: the sets one move proposed, scored and
+/// judged.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Round {
-    /// What the round tried (add a candidate, or swap one).
-    pub what: String,
+    /// The move the round tried (add a candidate to [`Round::start`], swap
+    /// one of it, …); its words are the report's
+    /// (`report::diagnosis_outcome`).
+    pub what: Move,
     /// The set the round started from.
     pub start: Vec<Candidate>,
     /// RMS of that set \[deg\].
@@ -279,6 +282,12 @@ pub struct DiagnoseOptions {
     pub max_seconds: Option<f64>,
     /// Stop the search when this flag is raised (Ctrl-C), likewise.
     pub stop: Option<StopFlag>,
+    /// The progress also lists every score of a round, and the verdicts
+    /// of the first judged (the command line's `DEPLOYWATCH_TRACE`).
+    pub trace: bool,
+    /// The friction forms' residual-torque regressions are written to
+    /// stderr (the command line's `DEPLOYWATCH_TRACE_FORMS`).
+    pub trace_forms: bool,
 }
 
 /// A flag another thread raises to stop a diagnosis early (the command
@@ -313,6 +322,8 @@ impl Default for DiagnoseOptions {
             discover: true,
             max_seconds: None,
             stop: None,
+            trace: false,
+            trace_forms: false,
         }
     }
 }

@@ -1,11 +1,17 @@
 //! The one acceptance policy of the diagnosis (`docs/diagnosis.md`,
 //! "Method", 5): whether a move earns its keep, as a typed [`Verdict`].
 //!
-//! Every move of the search ([`Move`]) is judged by one rule,
-//! `Search::accept` ([`super::moves`]), with the move's [`Policy`]. The checks, in the order
-//! they run (the held-out RMS, which costs a refit per run, and the
-//! residual torque of the stand-in check only when the cheaper ones pass):
-//! 1. the BIC gain over the current set exceeds [`Policy::min_delta_bic`];
+//! The search is a list of moves ([`Move`]); every change of the current
+//! set, the stepwise additions and the drops after them, discovery, the
+//! exchanges of a friction form for a simpler law and of a global stand-in
+//! for a table, a second start and an alternative alike, is judged by one
+//! rule, `Search::accept` ([`super::moves`]), with the move's [`Policy`]
+//! ([`Move::policy`]). The checks, in the order they run (the held-out RMS,
+//! which costs a refit per run, and the residual torque of the stand-in
+//! check only when the cheaper ones pass):
+//! 1. the BIC gain over the current set exceeds [`Policy::min_delta_bic`]
+//!    (negative for a move to a smaller or simpler set: kept unless it
+//!    loses more than that);
 //! 2. every effect the move adds has a 95 % interval clear of zero
 //!    ([`Policy::intervals_clear`]);
 //! 3. its RMS is within [`Policy::rms_share`] of the current set's (or of
@@ -18,12 +24,23 @@
 //!    ([`Policy::no_stand_in`], [`super::Engine::unexplained_torque`]).
 //!
 //! Where the moves differ, the difference is a field of [`Policy`], set per
-//! move in [`Move::policy`].
+//! move in [`Move::policy`]; how many of a round's moves are judged, and
+//! what the others are called, are fields too.
+//!
+//! The proposals are not judged here: which sets a move proposes (and the
+//! start values of their screens) is the move's own
+//! ([`super::moves`]). So is the residual-torque regression's bar for a
+//! proposed pair (`residual_named::MIN_PAIR_GAIN`): it compares two
+//! regressions of one joint's residual torque, without the simulator and
+//! without a current set, to decide which pair is offered at all; the pair
+//! offered is then judged like any move ([`Move::Proposed`]). The friction
+//! forms' evidence ([`super::friction_forms`]) is a proposal rule the
+//! same way.
 //!
 //! This module holds the rules as data (the verdicts, the [`Policy`], the
 //! moves and each move's settings) and names no other module of the
-//! diagnosis; [`super::moves`] applies them. The verdicts' words are the
-//! report's (`report::diagnosis_outcome`).
+//! diagnosis; [`super::moves`] applies them. The verdicts' words and what
+//! a round tried are the report's (`report::diagnosis_outcome`).
 
 /// ΔBIC an effect must gain to be kept ("very strong" evidence on the
 /// Kass & Raftery 1995 scale).
@@ -39,6 +56,11 @@ pub const HELD_OUT_SHARE: f64 = 0.95;
 /// that the refinement would have brought to the noise.
 pub const NAMED_RMS_SHARE: f64 = 1.05;
 
+/// A claim the data do not support ([`Move::DropClaim`]) is dropped only
+/// when the set without it fits within this share of the set's RMS (or of
+/// the noise floor) \[1\]: what the fit needs stays.
+pub const CLAIM_RMS_SHARE: f64 = 1.1;
+
 /// Finer forms of a table judged per refinement round, best BIC first (as
 /// many as a stepwise round judges).
 pub const REFINE_TRIES: usize = 3;
@@ -50,6 +72,8 @@ pub enum Kept {
     Added,
     /// It refined a table already kept ([`super::refine`]).
     Refined,
+    /// It dropped an effect, or exchanged one for a simpler law.
+    Dropped,
 }
 
 /// Why a move that was judged was not taken.
@@ -121,8 +145,11 @@ pub enum PastTries {
 /// differences between moves as explicit settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Policy {
-    /// The BIC gain must exceed this: [`MIN_DELTA_BIC`], or 0 for a named
-    /// effect in place of a table (as good a fit with fewer parameters).
+    /// The BIC gain must exceed this: [`MIN_DELTA_BIC`]; 0 for a named
+    /// effect in place of a table (as good a fit with fewer parameters);
+    /// −[`MIN_DELTA_BIC`] for a move to a smaller or simpler set (taken
+    /// unless the BIC loses [`MIN_DELTA_BIC`] or more); −∞ where the BIC is
+    /// not asked.
     pub min_delta_bic: f64,
     /// Every added effect's 95 % interval must be clear of zero (not asked
     /// of a refinement, whose finer knots share the torque).
@@ -166,6 +193,24 @@ impl Policy {
         revisit: false,
         kept: Kept::Added,
     };
+
+    /// A move to a smaller or simpler set ([`Move::Drop`],
+    /// [`Move::Simpler`]): taken unless its BIC is worse by
+    /// [`MIN_DELTA_BIC`] or more; nothing else is asked (the set it leaves
+    /// passed the other checks); the best by BIC is judged.
+    pub const SMALLER: Policy = Policy {
+        min_delta_bic: -MIN_DELTA_BIC,
+        intervals_clear: false,
+        rms_share: None,
+        explains: false,
+        held_out: false,
+        no_stand_in: false,
+        tries: 1,
+        held_out_tries: usize::MAX,
+        past_tries: PastTries::NotJudged,
+        revisit: true,
+        kept: Kept::Dropped,
+    };
 }
 
 /// A move of the search.
@@ -199,13 +244,31 @@ pub enum Move {
     NamedForTable,
     /// A table in a finer form ([`super::refine`]).
     Refine,
-    /// A table in place of a global stand-in ([`super::stand_in`]).
+    /// A table at the joint a global stand-in hides, in place of that
+    /// global effect ([`super::stand_in`]).
+    StandInTable,
+    /// The set after [`Move::StandInTable`] and its refinement, in place of
+    /// the set with the stand-in ([`super::stand_in`]): it must also
+    /// explain the data and leave no global stand-in.
     StandIn,
     /// A Stribeck law or quadratic damping where the residual torque has
     /// its rate shape, once the stepwise moves stall above the noise
-    /// ([`super::friction_forms`]; its own screen, and the simpler law
-    /// kept when as good).
+    /// ([`super::friction_forms`]; its own screen from the regression's
+    /// start values).
     FrictionForms,
+    /// The simpler law of a friction form just taken in its place (Coulomb
+    /// friction for a Stribeck law; viscous damping or air drag for
+    /// quadratic damping): kept when it explains the runs as well
+    /// ([`Policy::SMALLER`]).
+    Simpler,
+    /// An effect that no longer earns its keep beside the others, dropped
+    /// after a move (the best drop by BIC, [`Policy::SMALLER`]).
+    Drop,
+    /// A claim the data do not support dropped at the end of discovery
+    /// (its joint shows no evidence of it without it, or its interval
+    /// holds zero) when the fit hardly notices: the set without it within
+    /// [`CLAIM_RMS_SHARE`] of the set's RMS, whatever its BIC.
+    DropClaim,
     /// The set a second start of the search reached, in place of the
     /// current one ([`super::restart`]).
     Restart,
@@ -288,7 +351,33 @@ impl Move {
                 kept: Kept::Refined,
                 ..s
             },
-            _ => s,
+            // The table and its refinement against the set with the
+            // stand-in: a better BIC and held-out RMS, a residual not above
+            // the noise and no global stand-in left; its tables' intervals
+            // were judged when they were taken.
+            Move::StandIn => Policy {
+                intervals_clear: false,
+                explains: true,
+                no_stand_in: true,
+                ..s
+            },
+            Move::Drop | Move::Simpler => Policy::SMALLER,
+            // The fit hardly notices: only the RMS is asked.
+            Move::DropClaim => Policy {
+                min_delta_bic: f64::NEG_INFINITY,
+                rms_share: Some(CLAIM_RMS_SHARE),
+                ..Policy::SMALLER
+            },
+            Move::Add
+            | Move::Pair
+            | Move::Swap
+            | Move::PairAfterSwap
+            | Move::Proposed
+            | Move::Table
+            | Move::EvenTable
+            | Move::TablePair
+            | Move::StandInTable
+            | Move::FrictionForms => s,
         }
     }
 
@@ -301,7 +390,12 @@ impl Move {
     /// How its round is recorded; `None`: not recorded.
     pub fn record(self) -> Option<Record> {
         match self {
-            Move::NamedForTable | Move::JointPairs => None,
+            Move::NamedForTable
+            | Move::JointPairs
+            | Move::StandIn
+            | Move::Simpler
+            | Move::Drop
+            | Move::DropClaim => None,
             Move::Refine => Some(Record {
                 screened: false,
                 show: usize::MAX,
@@ -314,9 +408,12 @@ impl Move {
     }
 
     /// Whether effects that no longer earn their keep are dropped after it
-    /// ([`super::Engine::backward`]).
+    /// ([`Move::Drop`], `Search::backward`).
     pub fn drops_after(self) -> bool {
-        self != Move::NamedForTable
+        !matches!(
+            self,
+            Move::NamedForTable | Move::Drop | Move::DropClaim | Move::Simpler | Move::StandIn
+        )
     }
 
     /// What the progress line says when it is taken.
@@ -331,7 +428,11 @@ impl Move {
             Move::TablePair => "discovered the pair:",
             Move::NamedForTable => "a named effect explains it as well:",
             Move::Refine => "refined:",
-            Move::StandIn => "a table in place of a global stand-in:",
+            Move::StandInTable => "a table in place of a global stand-in:",
+            Move::StandIn => "the table explains the data the stand-in held:",
+            Move::Simpler => "the simpler law explains the runs as well:",
+            Move::Drop => "dropped, no longer earns its keep:",
+            Move::DropClaim => "dropped, a claim the data do not support:",
             Move::FrictionForms => "a friction form:",
             Move::Restart => "a second start reached",
             Move::Alternative => "an alternative of the ambiguity stage beats the set found:",

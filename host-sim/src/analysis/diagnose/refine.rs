@@ -15,8 +15,8 @@
 //! monitor gets a compressed export ([`crate::analysis::diagnose::table_export`]).
 
 use super::candidate::Candidate;
-use super::outcome::FittedSet;
 use super::policy::{Attempt, Move};
+use super::step::Step;
 use super::table_form::{PlacedKnots, TableForm};
 use super::{labels, Proposal, Search};
 use crate::analysis::diagnose::residual_shape::{
@@ -65,12 +65,12 @@ impl Search<'_, '_> {
             moves.len(),
             labels(&self.current.candidates())
         ));
-        let what = format!("refine a table of {}", labels(&self.current.candidates()));
-        Some((moves, what))
+        Some(moves)
     }
 
-    /// Each table of the set in its finer forms, in place of itself.
-    fn refine_moves(&self) -> Vec<(FittedSet, Candidate)> {
+    /// Each table of the set in its finer forms, in place of itself, each
+    /// starting from the table as fitted at its knots.
+    fn refine_moves(&self) -> Vec<Step> {
         let mut moves = Vec::new();
         for (k, m) in self.current.members.iter().enumerate() {
             let Some(form) = m.candidate.table else {
@@ -91,8 +91,11 @@ impl Search<'_, '_> {
                 if self.seen.iter().any(|s| s.contains(&cand)) {
                     continue;
                 }
-                self.eng.set_start(placed, PlacedKnots::start(&shape));
-                moves.push((base.clone(), cand));
+                moves.push(Step::from(
+                    base.clone(),
+                    cand,
+                    Some(PlacedKnots::start(&shape)),
+                ));
             }
         }
         moves

@@ -1,12 +1,40 @@
 //! The coarse screen of a round's moves: each move (a base set plus a
-//! candidate) is scanned from a few start points, and only the most
-//! promising are fitted fully through the simulator.
+//! candidate and its start, [`Step`]) is scanned from a few start points, and only the
+//! most promising are fitted fully through the simulator.
 
 use super::candidate::Candidate;
 use super::outcome::{FitStats, FittedSet};
+use super::step::Step;
+use super::table_form::TableForm;
 use super::{Engine, SCREEN_KEEP};
 use crate::data::campaign::Campaign;
 use rayon::prelude::*;
+
+/// One start per table form and round: a form proposed more than once in a
+/// round (the same knots shaped beside two bases) starts everywhere from
+/// the start given to it last.
+fn one_start_per_form(steps: &[Step]) -> Vec<Step> {
+    let mut last: Vec<(TableForm, &Vec<f64>)> = Vec::new();
+    for s in steps {
+        if let (Some(form), Some(p)) = (s.candidate.table, &s.start) {
+            match last.iter_mut().find(|(f, _)| *f == form) {
+                Some(l) => l.1 = p,
+                None => last.push((form, p)),
+            }
+        }
+    }
+    steps
+        .iter()
+        .map(|s| {
+            let start = s
+                .candidate
+                .table
+                .and_then(|form| last.iter().find(|(f, _)| *f == form))
+                .map_or_else(|| s.start.clone(), |(_, p)| Some((*p).clone()));
+            Step::from(s.base.clone(), s.candidate, start)
+        })
+        .collect()
+}
 
 /// Where the screen of a move starts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -29,15 +57,17 @@ enum Starts {
 const SNAG_KEEP: usize = 2;
 
 impl Engine<'_> {
-    /// Screens `base ∪ {cand}`: scans the candidate's value with the base's
-    /// parameters held; the best point by SSE.
-    fn screen(&self, c: &Campaign, base: &FittedSet, cand: Candidate) -> Option<FittedSet> {
-        let held = self.scan_of(&cand).into_iter().map(|start| {
+    /// Screens `base ∪ {cand}` of a step: scans the candidate's value
+    /// ([`Step::scan`]) with the base's parameters held; the best point by
+    /// SSE.
+    fn screen(&self, c: &Campaign, step: &Step) -> Option<FittedSet> {
+        let base = &step.base;
+        let held = step.scan().into_iter().map(|start| {
             let mut p = base.params();
             p.extend(start);
             p
         });
-        self.best_point(c, base, cand, held)
+        self.best_point(c, base, step.candidate, held)
     }
 
     /// The point of `base ∪ {cand}` (all parameters) with the smallest SSE,
@@ -78,7 +108,7 @@ impl Engine<'_> {
     pub(super) fn fit_moves(
         &self,
         c: &Campaign,
-        moves: &[(FittedSet, Candidate)],
+        moves: &[Step],
     ) -> Vec<(Candidate, Option<FittedSet>, bool)> {
         self.fit_moves_from(c, moves, Starts::Held)
     }
@@ -88,27 +118,29 @@ impl Engine<'_> {
     pub(super) fn fit_moves_sharing(
         &self,
         c: &Campaign,
-        moves: &[(FittedSet, Candidate)],
+        moves: &[Step],
     ) -> Vec<(Candidate, Option<FittedSet>, bool)> {
         self.fit_moves_from(c, moves, Starts::AlsoShared)
     }
 
     /// Screens and fits the moves, the screen starting `starts_from`
-    /// ([`Engine::fit_moves`]).
+    /// ([`Engine::fit_moves`]; one start per table form,
+    /// [`one_start_per_form`]).
     fn fit_moves_from(
         &self,
         c: &Campaign,
-        moves: &[(FittedSet, Candidate)],
+        moves: &[Step],
         starts_from: Starts,
     ) -> Vec<(Candidate, Option<FittedSet>, bool)> {
+        let moves = one_start_per_form(moves);
         let screened: Vec<(Option<FittedSet>, Option<FittedSet>)> = moves
             .par_iter()
-            .map(|(base, cand)| {
+            .map(|step| {
                 let shared = match starts_from {
                     Starts::Held => None,
-                    Starts::AlsoShared => self.screen_shared(c, base, *cand),
+                    Starts::AlsoShared => self.screen_shared(c, &step.base, step.candidate),
                 };
-                (self.screen(c, base, *cand), shared)
+                (self.screen(c, step), shared)
             })
             .collect();
         let sse_of = |f: &Option<FittedSet>| f.as_ref().map_or(f64::INFINITY, FittedSet::sse);
@@ -126,7 +158,7 @@ impl Engine<'_> {
         // start fits the scan better than the even tables' constant one,
         // and would otherwise crowd out the forms the fit needs.
         let (snags, others): (Vec<usize>, Vec<usize>) =
-            order.iter().partition(|&&i| moves[i].1.is_snag());
+            order.iter().partition(|&&i| moves[i].candidate.is_snag());
         let keep: Vec<usize> = others
             .iter()
             .copied()
@@ -150,7 +182,7 @@ impl Engine<'_> {
         let mut out: Vec<(Candidate, Option<FittedSet>, bool)> = moves
             .iter()
             .zip(screened)
-            .map(|((_, cand), (held, _))| (*cand, held, true))
+            .map(|(step, (held, _))| (step.candidate, held, true))
             .collect();
         for (i, f) in fitted {
             let better = match (&out[i], &f) {
@@ -160,7 +192,7 @@ impl Engine<'_> {
                 _ => false,
             };
             if better {
-                out[i] = (moves[i].1, f, false);
+                out[i] = (moves[i].candidate, f, false);
             }
         }
         out

@@ -5,32 +5,21 @@
 //! claims nothing), one more move is tried before the `unexplained`
 //! answer: the set without that global effect, plus a torque table at that
 //! joint (the even forms and the shape the residual torque has,
-//! [`Search::joint_tables`]), fitted jointly, judged like any move and
-//! refined like the other tables ([`Search::refine_tables`]). It is kept
-//! only when it also explains the data: its BIC better than the stand-in
-//! set's by more than [`super::MIN_DELTA_BIC`], its held-out RMS better by
-//! [`super::policy::HELD_OUT_SHARE`], its residual not above the noise and no global
-//! stand-in left ([`super::Engine::unexplained_torque`] silent).
+//! [`Search::joint_tables`]), fitted jointly, judged like any move
+//! ([`Move::StandInTable`]) and refined like the other tables
+//! ([`Search::refine_tables`]). The result is then judged against the set
+//! with the stand-in by [`Search::accept`] with [`Move::StandIn`]'s policy:
+//! kept only when it also explains the data: its BIC better than the
+//! stand-in set's by more than [`super::MIN_DELTA_BIC`], its held-out RMS
+//! better by [`super::policy::HELD_OUT_SHARE`], its residual not above the
+//! noise and no global stand-in left ([`super::Engine::unexplained_torque`]
+//! silent); its tables' intervals were judged when they were taken.
 
-use super::candidate::Candidate;
 use super::discover;
 use super::evidence_search::near_noise;
-use super::outcome::FittedSet;
-use super::policy::{Attempt, Move, Policy, Verdict};
+use super::policy::{Attempt, Move, Verdict};
+use super::step::Step;
 use super::{labels, Proposal, Search};
-
-/// Whether the set after [`Move::StandIn`] (and its refinement) is kept in
-/// place of the set with the stand-in: the one policy with a BIC gain over
-/// [`super::MIN_DELTA_BIC`] and a held-out RMS better by
-/// [`super::policy::HELD_OUT_SHARE`] against that set, a residual not above the
-/// noise and no global stand-in left; its tables' intervals were judged
-/// when they were taken.
-const KEEP: Policy = Policy {
-    intervals_clear: false,
-    explains: true,
-    no_stand_in: true,
-    ..Policy::STEPWISE
-};
 
 impl Search<'_, '_> {
     /// Tries a table at the joint a global stand-in hides (see the module
@@ -48,14 +37,19 @@ impl Search<'_, '_> {
             self.seen.clone(),
             self.swaps,
         );
-        match self.attempt(Move::StandIn) {
+        match self.attempt(Move::StandInTable) {
             Attempt::NotTried => return false,
             Attempt::Moved => self.refine_tables(),
             Attempt::Judged => {}
         }
         if self.current.candidates() != saved.0.candidates() {
             let mut held = Some(self.current_held);
-            let verdict = self.accept((&saved.0, saved.1), &self.current, &mut held, &KEEP);
+            let verdict = self.accept(
+                (&saved.0, saved.1),
+                &self.current,
+                &mut held,
+                &Move::StandIn.policy(),
+            );
             if matches!(verdict, Verdict::Accepted(_)) {
                 return true;
             }
@@ -69,30 +63,26 @@ impl Search<'_, '_> {
         false
     }
 
-    /// [`Move::StandIn`]: for each global effect of the set that hides a
+    /// [`Move::StandInTable`]: for each global effect of the set that hides a
     /// joint torque ([`super::Engine::hidden_by_globals`]), the set without
     /// it, with the tables at that joint.
     pub(super) fn propose_stand_in(&mut self) -> Option<Proposal> {
         let even = discover::table_candidates(self.eng.campaign);
-        let mut moves: Vec<(FittedSet, Candidate)> = Vec::new();
+        let mut moves: Vec<Step> = Vec::new();
         for (k, jt) in self.eng.hidden_by_globals(&self.current) {
             let base = self.current.without(k);
-            for c in self.joint_tables(&jt, &even) {
-                moves.push((base.clone(), c));
+            for (c, start) in self.joint_tables(&jt, &even) {
+                moves.push(Step::from(base.clone(), c, start));
             }
         }
         if moves.is_empty() {
             return None;
         }
-        let what = format!(
-            "a table in place of a global stand-in in {}",
-            labels(&self.current.candidates())
-        );
         self.eng.say(format!(
             "stand-in: the residual stays at {:.4} deg beside a global effect; fitting {} tables in its place",
             self.current.rms(),
             moves.len()
         ));
-        Some((moves, what))
+        Some(moves)
     }
 }
