@@ -82,7 +82,7 @@ pub struct CentredFit<const N: usize> {
     /// half of it on a 64-bit host).
     head: u32,
     /// Number of slots filled (up to [`WINDOW`]; a byte, as the monitor
-    /// has to fit in 4 KiB).
+    /// has to fit its RAM budget, `tests/monitor/footprint.rs`).
     len: u8,
 }
 

@@ -20,7 +20,7 @@ use crate::physics::real::Real;
 
 /// Most points of one table on the monitor (the default `K` of [`Table`],
 /// [`TorqueTable`] and the chain): eight keep `JointEffects` small enough
-/// for the monitor's 4 KiB budget.
+/// for the monitor's RAM budget (`tests/monitor/footprint.rs`).
 pub const TABLE_MAX_KNOTS: usize = 8;
 
 /// Why a table was rejected.

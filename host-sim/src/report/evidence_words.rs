@@ -1,7 +1,6 @@
-//! A joint's residual evidence in words: the reading of
-//! [`crate::analysis::diagnose::evidence::read`]'s [`Reading`] with the
-//! numbers of its [`JointEvidence`] (the report's "What the baseline gets
-//! wrong" and the JSON's `summary`).
+//! A joint's residual evidence in words: its [`Reading`] with the numbers
+//! of its [`JointEvidence`] (the report's "What the baseline gets wrong"
+//! and the JSON's `summary`).
 
 use crate::analysis::evidence::{JointEvidence, LatchTiming, Reading, CORRELATES};
 
