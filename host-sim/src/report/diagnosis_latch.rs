@@ -3,8 +3,8 @@
 //! stopped early add (`docs/diagnosis.md`, "Runs of a physical
 //! latch", "Ambiguity", "Long searches").
 
-use crate::analysis::diagnose::ambiguity::SeparatingTest;
 use crate::analysis::diagnose::latch_finding::{LatchCause, LatchDifference, LatchFinding, Side};
+use crate::analysis::diagnose::SeparatingTest;
 use crate::analysis::diagnose::{FittedSet, Outcome};
 use crate::analysis::latch_events::LatchEvents;
 use crate::data::campaign::Campaign;

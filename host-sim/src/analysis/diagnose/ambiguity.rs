@@ -21,7 +21,7 @@
 
 use super::candidate::Candidate;
 pub use super::outcome::Ambiguity;
-use super::outcome::FittedSet;
+use super::outcome::{FittedSet, SeparatingTest};
 use super::policy::{Move, Verdict};
 use super::step::Step;
 use super::{labels, Search, MIN_DELTA_BIC};
@@ -29,18 +29,6 @@ use crate::analysis::diagnose::residual_named;
 use crate::model::effect::EffectKind;
 
 /// True when `c` is a named joint effect at `joint` (not a table).
-/// The runs that would separate the sets of an ambiguity group.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SeparatingTest {
-    /// The runs are of one configuration: runs with another spring at the
-    /// joint (softening scales with the spring's torque, friction and a
-    /// harness do not), or at another temperature.
-    AnotherSpring,
-    /// Runs that move the joint over another range of angle and rate
-    /// (another spring or stowed angle there), or at another temperature.
-    AnotherRange,
-}
-
 fn named_at(c: &Candidate, joint: usize) -> bool {
     c.joint == Some(joint) && c.table.is_none() && residual_named::KINDS.contains(&c.kind)
 }

@@ -56,8 +56,8 @@ mod table_form;
 pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
 pub use outcome::{
-    DiagnoseOptions, FitStats, FittedSet, HaltReason, Outcome, Round, StopFlag, Unexplained,
-    UnexplainedShape,
+    DiagnoseOptions, FitStats, FittedSet, HaltReason, Outcome, Round, SeparatingTest, StopFlag,
+    Unexplained, UnexplainedShape,
 };
 pub use policy::{Kept, Move, Rejection, Verdict, MIN_DELTA_BIC};
 

@@ -422,6 +422,18 @@ pub enum UnexplainedShape {
     },
 }
 
+/// The runs that would separate the sets of an ambiguity group.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SeparatingTest {
+    /// The runs are of one configuration: runs with another spring at the
+    /// joint (softening scales with the spring's torque, friction and a
+    /// harness do not), or at another temperature.
+    AnotherSpring,
+    /// Runs that move the joint over another range of angle and rate
+    /// (another spring or stowed angle there), or at another temperature.
+    AnotherRange,
+}
+
 /// Sets of causes that explain the runs alike at one joint
 /// ([`super::ambiguity`]).
 #[derive(Clone, Debug, PartialEq)]
@@ -433,5 +445,5 @@ pub struct Ambiguity {
     pub sets: Vec<FittedSet>,
     /// The test that would separate them (in words by
     /// `report::diagnosis_latch`).
-    pub separating_test: super::ambiguity::SeparatingTest,
+    pub separating_test: SeparatingTest,
 }
