@@ -188,7 +188,7 @@ const EFFECT_CODE: &[&str] = &[
 
 /// The catch-all arms that would let a new effect compile with nothing
 /// (`_ => {}`), no torque (`_ => 0.0`) or one parameter (`_ => 1`): the
-/// `rg "_ => \{\}|_ => 0\.0|_ => 1\b"` of issue 39, on the code with its
+/// search `rg "_ => \{\}|_ => 0\.0|_ => 1\b"`, on the code with its
 /// comments and strings blanked.
 fn catch_all_arms(code: &str) -> Vec<usize> {
     let mut out = Vec::new();

@@ -1,9 +1,9 @@
-//! Campaigns whose latch at one joint holds less than drawn (issue 40's
-//! population): its plunger, its magnet or both built at 15–50 % of the
-//! drawing, every latch also as built within its tolerances, kept only
-//! where that plainly changes the runs at that joint against the same
-//! latches without the weakening. Used by
-//! `tests/diagnosis_physical_latch.rs` (never an effect, never another
+//! Campaigns whose latch at one joint holds less than drawn, the population
+//! a diagnosis of the latch as built is measured on: its plunger, its
+//! magnet or both built at 15–50 % of the drawing, every latch also as
+//! built within its tolerances, kept only where that plainly changes the
+//! runs at that joint against the same latches without the weakening. Used
+//! by `tests/diagnosis_physical_latch.rs` (never an effect, never another
 //! joint) and `tests/examples/latch_holds_less.rs` (how often the joint is
 //! named, and where its events fall in the drawing's tolerance spread).
 

@@ -63,51 +63,23 @@ impl Effect {
         self.law.value()
     }
 
-    /// The tables of a `torque_table` (`None` for any other law).
+    /// The tables of a `torque_table` (`None` for any other law: a
+    /// projection, which a new law never needs an arm of).
     pub fn table(&self) -> Option<&HostTorqueTable> {
-        match &self.law {
-            Law::TorqueTable(t) => Some(t),
-            Law::CoulombFriction(_)
-            | Law::ViscousDamping(_)
-            | Law::QuadraticDamping(_)
-            | Law::StribeckFriction { .. }
-            | Law::SpringSoftening(_)
-            | Law::HarnessStiffness(_)
-            | Law::LatchDetent(_)
-            | Law::AirDrag(_)
-            | Law::RigTilt { .. }
-            | Law::EncoderOffset(_)
-            | Law::PlungerWeakening(_)
-            | Law::MagnetWeakening(_)
-            | Law::RigFriction(_)
-            | Law::WireLength(_)
-            | Law::FrameOffset(_) => None,
-            #[cfg(feature = "demo-effect")]
-            Law::DemoDrag(_) => None,
+        if let Law::TorqueTable(t) = &self.law {
+            Some(t)
+        } else {
+            None
         }
     }
 
-    /// The direction of a `rig_tilt` \[deg\] (`None` for any other law).
+    /// The direction of a `rig_tilt` \[deg\] (`None` for any other law: a
+    /// projection, as [`Effect::table`]).
     pub fn tilt_alpha_deg(&self) -> Option<f64> {
-        match self.law {
-            Law::RigTilt { alpha_deg, .. } => Some(alpha_deg),
-            Law::CoulombFriction(_)
-            | Law::ViscousDamping(_)
-            | Law::QuadraticDamping(_)
-            | Law::StribeckFriction { .. }
-            | Law::SpringSoftening(_)
-            | Law::HarnessStiffness(_)
-            | Law::LatchDetent(_)
-            | Law::AirDrag(_)
-            | Law::EncoderOffset(_)
-            | Law::TorqueTable(_)
-            | Law::PlungerWeakening(_)
-            | Law::MagnetWeakening(_)
-            | Law::RigFriction(_)
-            | Law::WireLength(_)
-            | Law::FrameOffset(_) => None,
-            #[cfg(feature = "demo-effect")]
-            Law::DemoDrag(_) => None,
+        if let Law::RigTilt { alpha_deg, .. } = self.law {
+            Some(alpha_deg)
+        } else {
+            None
         }
     }
 
