@@ -16,12 +16,19 @@ pub const FIT_RTOL: f64 = 1e-7;
 pub const FIT_ATOL: f64 = 1e-9;
 
 /// The integration settings of a campaign's model runs: [`FIT_RTOL`],
-/// [`FIT_ATOL`], and the whole run length (no stop at the last latch).
+/// [`FIT_ATOL`], the whole run length (no stop at the last latch), and the
+/// energy ledger booked but not enforced (`max_drift` infinite). A fit is
+/// judged by its residuals, at the accuracy `FIT_RTOL` sets: the ledger's
+/// step budget would retake the steps that tolerance relaxes (holding each
+/// model run to the default accuracy, several times the cost), and a run
+/// stopped on drift would leave a hole in the cost the optimiser walks
+/// (`docs/diagnosis.md`, "Method", 1).
 pub fn fit_sim_options() -> SimOptions {
     SimOptions {
         rtol: FIT_RTOL,
         atol: FIT_ATOL,
         stop_when_deployed: false,
+        max_drift: f64::INFINITY,
         ..SimOptions::default()
     }
 }

@@ -145,6 +145,9 @@ impl fmt::Display for Rejection {
             Rejection::StandInLeft => {
                 f.write_str("a global effect still stands in for a joint torque")
             }
+            Rejection::UnsupportedClaim => {
+                f.write_str("it adds a claim its joint shows no evidence of")
+            }
         }
     }
 }

@@ -150,7 +150,9 @@ impl ChainLedger {
         let total = energy + self.dissipated_j + self.events_j;
         self.now_j = total - self.stored_j;
         self.worst_drift_j = self.worst_drift_j.max(self.now_j.abs());
-        if self.worst_drift_j <= self.max_drift * self.stored_j.abs() {
+        if self.max_drift == f64::INFINITY
+            || self.worst_drift_j <= self.max_drift * self.stored_j.abs()
+        {
             return Ok(());
         }
         Err(SimError::EnergyDrift {

@@ -34,7 +34,9 @@ pub struct SimOptions {
     /// [`SimError::EnergyDrift`], and a step whose drift moves by more than
     /// its share of it is taken again shorter. [`MAX_LEDGER_DRIFT`] by
     /// default; a run asked for less accuracy (a reliability verdict) holds
-    /// a looser one.
+    /// a looser one. `f64::INFINITY` books the ledger but never stops the
+    /// run nor retakes a step (the diagnosis's fits,
+    /// [`crate::analysis::campaign_sim::fit_sim_options`]).
     pub max_drift: f64,
 }
 

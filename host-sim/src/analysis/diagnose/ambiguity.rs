@@ -13,8 +13,10 @@
 //! every set the stage fitted is judged against the set found by the one
 //! acceptance rule ([`Search::accept`] with [`Move::Alternative`]'s
 //! policy, that of a second start: a BIC better by more than
-//! [`MIN_DELTA_BIC`] and a held-out RMS 5 % better); the best by BIC that
-//! passes becomes the set found, and the groups are formed again around
+//! [`MIN_DELTA_BIC`] and a held-out RMS 5 % better), and no effect it adds
+//! a claim its joint shows no evidence of ([`Rejection::UnsupportedClaim`],
+//! the rule that drops such claims at the end of discovery); the best by
+//! BIC that passes becomes the set found, and the groups are formed again around
 //! it. At the noise floor, where the search stops adding, a set that only
 //! adds effects to the set found is not judged (the stop rule of
 //! [`Search::run`]).
@@ -22,7 +24,7 @@
 use super::candidate::Candidate;
 pub use super::outcome::Ambiguity;
 use super::outcome::{FittedSet, SeparatingTest};
-use super::policy::{Move, Verdict};
+use super::policy::{Move, Rejection, Verdict};
 use super::step::Step;
 use super::{labels, Search, MIN_DELTA_BIC};
 use crate::analysis::diagnose::residual_named;
@@ -91,7 +93,13 @@ impl Search<'_, '_> {
         let policy = Move::Alternative.policy();
         for f in others {
             let mut held = None;
-            let verdict = self.accept((&self.current, self.current_held), f, &mut held, &policy);
+            let mut verdict =
+                self.accept((&self.current, self.current_held), f, &mut held, &policy);
+            if matches!(verdict, Verdict::Accepted(_))
+                && self.adds_unsupported_claim(&self.current, f, held.flatten())
+            {
+                verdict = Verdict::Rejected(Rejection::UnsupportedClaim);
+            }
             let words = format!(
                 "{} (RMS {:.4} deg, BIC {:+.1}, held-out RMS {})",
                 labels(&f.candidates()),

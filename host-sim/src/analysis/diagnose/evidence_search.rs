@@ -391,16 +391,49 @@ impl Search<'_, '_> {
         }
     }
 
+    /// True when `to` adds to `from` (members not in it) a claim the data do
+    /// not support that the check at the end of discovery
+    /// ([`Search::check_claims`]) would drop: its joint shows no evidence
+    /// of it without it, and `to` refitted without it is accepted by
+    /// [`Move::DropClaim`]'s policy against `to` (held-out RMS `to_held`).
+    /// A move that takes the place of the set found ([`Move::Alternative`])
+    /// may not bring one in.
+    pub(super) fn adds_unsupported_claim(
+        &self,
+        from: &FittedSet,
+        to: &FittedSet,
+        to_held: Option<f64>,
+    ) -> bool {
+        let before = from.candidates();
+        (0..to.members.len()).any(|k| {
+            let c = to.members[k].candidate;
+            if before.contains(&c) || self.unsupported_in(to, k).is_none() {
+                return false;
+            }
+            let Some(f) = self.eng.refit(self.eng.campaign, &to.without(k)) else {
+                return false;
+            };
+            let verdict = self.accept((to, to_held), &f, &mut None, &Move::DropClaim.policy());
+            matches!(verdict, Verdict::Accepted(_))
+        })
+    }
+
     /// Why member `k` of the current set is a claim the data do not
     /// support ([`Search::check_claims`]), or `None`.
     fn unsupported(&self, k: usize) -> Option<&'static str> {
-        let m = self.current.members.get(k)?;
+        self.unsupported_in(&self.current, k)
+    }
+
+    /// Why member `k` of `set` is a claim the data do not support, or
+    /// `None` ([`Search::unsupported`] for any set).
+    fn unsupported_in(&self, set: &FittedSet, k: usize) -> Option<&'static str> {
+        let m = set.members.get(k)?;
         let c = m.candidate;
         if c.table.is_none() && m.ci95.is_some() && !m.clear_of_zero() {
             return Some("its 95 % interval contains zero");
         }
         let j = c.joint.filter(|&j| j <= self.eng.campaign.max_joints())?;
-        let without = self.current.without(k).effects();
+        let without = set.without(k).effects();
         if c.kind == EffectKind::EncoderOffset {
             return (!offset_evidence(self.eng.campaign, &without, j, self.sigma))
                 .then_some("its joint shows no residual at release without it");

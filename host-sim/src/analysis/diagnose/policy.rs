@@ -111,6 +111,12 @@ pub enum Rejection {
     },
     /// A global effect of it still stands in for a joint torque.
     StandInLeft,
+    /// An effect it adds is a claim the data do not support
+    /// ([`Move::DropClaim`]'s rule: its joint shows no evidence of it
+    /// without it, and the set without it explains the runs within
+    /// [`CLAIM_RMS_SHARE`] of its RMS): the check at the end of discovery
+    /// would drop it again.
+    UnsupportedClaim,
 }
 
 /// What the search made of one candidate move.

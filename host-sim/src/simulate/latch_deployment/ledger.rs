@@ -119,7 +119,7 @@ impl Ledger {
         cause: impl FnOnce() -> String,
     ) -> Result<(), SimError> {
         let e = &self.energy;
-        if e.worst_drift_j <= self.max_drift * e.stored_j.abs() {
+        if self.max_drift == f64::INFINITY || e.worst_drift_j <= self.max_drift * e.stored_j.abs() {
             return Ok(());
         }
         Err(SimError::EnergyDrift {
