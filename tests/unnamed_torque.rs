@@ -446,6 +446,25 @@ fn monitor_exports(campaign: &Campaign, found: &[Effect]) -> Vec<f64> {
     out
 }
 
+/// The set the search and the ambiguity stage found is the answer only when
+/// it brings in no claim its joint shows no evidence of
+/// (`Rejection::UnsupportedClaim`): on this narrow snag at one joint the
+/// ambiguity stage fits a set with a harness stiffness beside it at a joint
+/// whose residual torque shows nothing, better by BIC and held out; taking
+/// it would claim an effect where none is. The campaign must be found, with
+/// no claim elsewhere.
+#[test]
+fn an_alternative_brings_in_no_claim_its_joint_does_not_show() {
+    use deploywatch_tests::hidden_torque::{case, families};
+    let snag = families()
+        .into_iter()
+        .find(|f| f.name() == "Snag alone")
+        .expect("the family of a snag alone");
+    let v = judge_family_case(&case(snag, 1));
+    assert!(!v.spurious, "a claim at a joint that holds nothing");
+    assert!(v.found, "the snag not found at its joint");
+}
+
 /// Hidden torques of forms unlike the diagnosis's knots
 /// (`deploywatch_tests::hidden_torque`): narrow features, torques
 /// proportional to the spring's, rate laws peaked at low rate and
