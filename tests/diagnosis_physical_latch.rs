@@ -511,3 +511,64 @@ fn a_latch_that_holds_less_is_never_an_effect_nor_another_joint() {
     }
     panic!("only {kept} campaigns kept of seeds 7701..7900");
 }
+
+/// The whole-run check (`docs/diagnosis.md`, "Runs of a physical latch",
+/// 4) on seed 001 T01 + T02 with the drawing's latches: without a hidden
+/// effect every joint's shots after the first contact are followed by the
+/// model found (no joint above the check's factor); with a harness of
+/// 0.5 N·m/rad hidden at the slow root joint, which acts mostly after the
+/// first contact, either the harness is named at joint 1 or the check
+/// finds a joint the model does not follow.
+#[test]
+fn an_effect_after_the_first_contact_shows_in_the_whole_run() {
+    let drawings: Vec<Mechanism> = FAMILIES[0].iter().map(|(d, _)| load(d)).collect();
+    let harness = vec![Effect::joint(EffectKind::HarnessStiffness, 1, 0.5)];
+    for truth in [Vec::new(), harness] {
+        let runs: Vec<Run> = drawings
+            .iter()
+            .enumerate()
+            .map(|(r, m)| {
+                let traj = deployment::simulate(m, &truth, &SimOptions::default())
+                    .expect("the wing simulates");
+                let mut run = sensor::measure(&traj, &[], &SensorModel::REFERENCE, 77 + r as u64);
+                run.set_meta("mechanism", &m.name);
+                run
+            })
+            .collect();
+        let case = Case {
+            drawings: drawings.clone(),
+            runs,
+            truth: truth.clone(),
+        };
+        let o = diagnose(
+            &campaign_of(&case),
+            &deploywatch_tests::diagnose_options(),
+            sink(),
+        );
+        let w = o
+            .whole_run
+            .as_ref()
+            .expect("runs that go on after their free window are checked whole");
+        assert!(!w.shots.is_empty(), "no shot after the free windows");
+        // Only now the truth.
+        if truth.is_empty() {
+            assert!(
+                w.missed().is_none(),
+                "a clean campaign not followed: {:?}",
+                w.joints
+            );
+        } else {
+            let named = o
+                .extended
+                .effects()
+                .iter()
+                .any(|e| e.kind() == EffectKind::HarnessStiffness && e.joint == Some(1));
+            assert!(
+                named || w.missed().is_some(),
+                "the harness neither named nor the motion after contact missed: {:?}, {:?}",
+                o.extended.effects(),
+                w.joints
+            );
+        }
+    }
+}

@@ -210,6 +210,7 @@ fn to_json(c: &Campaign, o: &Outcome, d: &Details) -> Diagnosis {
         residual_torque: None,
         partial: o.partial.map(|p| p.to_string()),
         free_window: diagnosis_latch::windows_json(c, o),
+        whole_run: diagnosis_latch::whole_run_json(o),
         latches: diagnosis_latch::latches_json(o),
         ambiguities: diagnosis_latch::ambiguities_json(o),
     }

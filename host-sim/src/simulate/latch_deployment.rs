@@ -621,7 +621,65 @@ pub fn simulate_with(
             q: core::array::from_fn(|j| chain.joints()[j].stowed_rad),
             v: [0.0; N],
         };
-        run_keeping(&chain, latches::<N>(mech, effects), y0, times, opts, keep)
+        run_keeping(&chain, latches::<N>(mech, effects), y0, Begin::default(), times, opts, keep)
+    }, else Err(bad()))
+}
+
+/// Where a run of [`simulate_physical_from`] starts: every joint's angle
+/// and rate, and which joints of an ideal latch are held at it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StartState {
+    /// Joint angles \[rad\], one per joint.
+    pub q_rad: Vec<f64>,
+    /// Joint rates \[rad/s\], one per joint.
+    pub v_rad_s: Vec<f64>,
+    /// Joints of an ideal latch held latched from the start (their angle
+    /// and rate are taken as 0).
+    pub held: Vec<bool>,
+    /// The spring branch each joint starts on (`None`: the branch its rate
+    /// gives). A spring with hysteresis (a tape spring's fold) keeps its
+    /// branch over a small loop, which a state alone does not tell.
+    pub branch: Vec<Option<Branch>>,
+}
+
+/// [`simulate_physical`] from `start` at `t = 0` instead of the stowed
+/// rest: a shot of the diagnosis's whole-run check from a measured state
+/// (`analysis::diagnose::whole_run`). `times` count from that start.
+pub fn simulate_physical_from(
+    mech: &Mechanism,
+    effects: &[Effect],
+    opts: &SimOptions,
+    start: &StartState,
+    times: Samples<'_>,
+) -> Result<LatchRun, SimError> {
+    check_latch_effects(mech, effects)?;
+    let n = mech.joint_count();
+    if [
+        start.q_rad.len(),
+        start.v_rad_s.len(),
+        start.held.len(),
+        start.branch.len(),
+    ] != [n; 4]
+    {
+        return Err(SimError::Invalid(format!(
+            "mechanism `{}`: a start state needs {n} angles, rates, held flags and branches",
+            mech.name
+        )));
+    }
+    let (je, g) = crate::model::effect::to_core(effects, n);
+    let bad = || SimError::Invalid(format!("mechanism `{}` cannot be built", mech.name));
+    crate::model::mechanism::with_joints!(n, N => {
+        let chain = mech.chain::<N>(&je, g).ok_or_else(bad)?;
+        let begin = Begin {
+            held: core::array::from_fn(|j| start.held[j]),
+            branch: core::array::from_fn(|j| start.branch[j]),
+        };
+        let held = begin.held;
+        let y0 = State {
+            q: core::array::from_fn(|j| if held[j] { 0.0 } else { start.q_rad[j] }),
+            v: core::array::from_fn(|j| if held[j] { 0.0 } else { start.v_rad_s[j] }),
+        };
+        run_keeping(&chain, latches::<N>(mech, effects), y0, begin, times, opts, Keep::Trajectory)
     }, else Err(bad()))
 }
 
@@ -634,19 +692,52 @@ pub fn run_from<const N: usize>(
     times: Samples<'_>,
     opts: &SimOptions,
 ) -> Result<LatchRun, SimError> {
-    run_keeping(chain, latch, y0, times, opts, Keep::Ledger)
+    run_keeping(
+        chain,
+        latch,
+        y0,
+        Begin::default(),
+        times,
+        opts,
+        Keep::Ledger,
+    )
 }
 
-/// [`run_from`], keeping what `keep` says.
+/// What a run knows of its start besides `(φ, φ̇)` ([`StartState`]): the
+/// joints of an ideal latch held from the start and the springs' branches
+/// (the stowed rest's by default: nothing held, each branch its rate's).
+#[derive(Clone, Copy, Debug)]
+struct Begin<const N: usize> {
+    held: [bool; N],
+    branch: [Option<Branch>; N],
+}
+
+impl<const N: usize> Default for Begin<N> {
+    fn default() -> Self {
+        Begin {
+            held: [false; N],
+            branch: [None; N],
+        }
+    }
+}
+
+/// [`run_from`], keeping what `keep` says, from `begin`.
 fn run_keeping<const N: usize>(
     chain: &HostChain<N>,
     latch: [Option<PhysicalLatch<f64>>; N],
     y0: State<N>,
+    begin: Begin<N>,
     times: Samples<'_>,
     opts: &SimOptions,
     keep: Keep,
 ) -> Result<LatchRun, SimError> {
     let mut sim = Sim::new(chain, latch, &y0);
+    sim.mode.latched = begin.held;
+    for (j, b) in begin.branch.iter().enumerate() {
+        if let Some(b) = b {
+            sim.mode.branch[j] = *b;
+        }
+    }
     if keep == Keep::Settled {
         sim.hold = Some(settle::Hold::new(sim.passive()));
     }

@@ -52,6 +52,7 @@ mod stand_in;
 mod step;
 pub mod table_export;
 mod table_form;
+pub mod whole_run;
 
 pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
@@ -383,9 +384,27 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
     }
     let fitted_on = free.as_ref().map_or(campaign, |(c, _)| c);
     let mut out = search_campaign(fitted_on, opts, progress, t0);
-    if let Some((_, windows)) = free {
-        out.free_window = Some(windows);
-        out.latches = latch_finding::latch_findings(campaign, &out.extended.effects());
+    if let Some((cut, windows)) = &free {
+        let effects = out.extended.effects();
+        out.latches = latch_finding::latch_findings(campaign, &effects);
+        if out.partial.is_none() {
+            out.whole_run = whole_run::check(
+                campaign,
+                windows,
+                &effects,
+                out.noise_sigma_deg,
+                &crate::analysis::campaign_sim::fit_sim_options(),
+                |i| cut.residuals(i, &effects),
+            );
+        }
+        if let Some(m) = out.whole_run.as_ref().and_then(|w| w.missed()) {
+            progress(&format!(
+                "after the first contact the model found does not follow joint {} ({:.4} deg RMS)",
+                m.joint,
+                m.after_rms_deg.unwrap_or(0.0)
+            ));
+        }
+        out.free_window = Some(windows.clone());
     }
     out.wall_s = t0.elapsed().as_secs_f64();
     out
@@ -455,6 +474,7 @@ fn search_campaign(
         simulations: eng.sims.load(std::sync::atomic::Ordering::Relaxed),
         wall_s: t0.elapsed().as_secs_f64(),
         free_window: None,
+        whole_run: None,
         latches: Vec::new(),
         ambiguities,
         partial,

@@ -354,6 +354,11 @@ pub struct Outcome {
     /// Runs of a physical latch: where each run's free motion ends, the
     /// window the effects were fitted on (`None`: the whole runs).
     pub free_window: Option<Vec<RunWindow>>,
+    /// The model found over the whole of runs of a physical latch: the
+    /// motion after the free window, shot from the measured state
+    /// ([`super::whole_run`]); `None` when no run goes on after its free
+    /// window (or the search stopped early).
+    pub whole_run: Option<super::whole_run::WholeRun>,
     /// Each physical latch's events against the drawing's.
     pub latches: Vec<LatchFinding>,
     /// Sets of causes that explain the runs alike ([`super::ambiguity`]).

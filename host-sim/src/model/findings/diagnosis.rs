@@ -59,12 +59,42 @@ pub struct Diagnosis {
     /// Runs of a physical latch: the free motion each run was fitted on.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub free_window: Vec<FreeWindow>,
+    /// Runs of a physical latch: the model found over the whole runs, the
+    /// motion after each free window shot from the measured state
+    /// (`docs/diagnosis.md`, "The whole run").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub whole_run: Option<WholeRunJson>,
     /// Each physical latch's events against its drawing's.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub latches: Vec<LatchReport>,
     /// Sets of causes that explain the runs alike.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub ambiguities: Vec<AmbiguityGroup>,
+}
+
+/// The whole-run check of runs of a physical latch.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct WholeRunJson {
+    /// Stretches after the free windows simulated from the measured state.
+    pub shots: usize,
+    /// Seconds of the runs they cover \[s\].
+    pub shot_s: Option<f64>,
+    /// Each joint's residual over the free windows and over the shots.
+    pub joints: Vec<WholeRunJoint>,
+}
+
+/// One joint's fit over the whole runs.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct WholeRunJoint {
+    /// 1-based joint.
+    pub joint: usize,
+    /// Residual RMS over the free windows \[deg\].
+    pub free_rms_deg: Option<f64>,
+    /// Residual RMS over the shots where it swings clear of its latch
+    /// \[deg\] (`null`: too few samples to judge).
+    pub after_rms_deg: Option<f64>,
+    /// Samples behind `after_rms_deg`.
+    pub after_samples: usize,
 }
 
 /// The free motion of one run of a physical latch.
