@@ -35,7 +35,10 @@ fn reported_intervals_hold_the_truth() {
         let [lo_o, hi_o] = outcome.extended.members[i].search_value_ci();
         let v = truth.value();
         println!("seed {seed}: {truth} in [{lo}, {hi}] (ordinary [{lo_o}, {hi_o}])");
-        assert!(lo <= lo_o && hi_o <= hi, "seed {seed}: narrower than ordinary");
+        assert!(
+            lo <= lo_o && hi_o <= hi,
+            "seed {seed}: narrower than ordinary"
+        );
         found += 1;
         inside += usize::from(lo <= v && v <= hi);
     }
