@@ -12,12 +12,14 @@
 //! 0.01°, below the sensor noise (`physics.md` section 6).//!
 //! One module per suite: `hidden` (the generated cases), `bundled` (the
 //! example campaigns), `campaign` (a campaign against its runs alone),
-//! `one_joint` (two causes at one joint); the generator is here (the kinds
+//! `one_joint` (two causes at one joint), `coverage` (the reported
+//! intervals hold the truth); the generator is here (the kinds
 //! and each effect's joint and value from `deploywatch_tests::hidden_effect`).
 // Per-joint series are indexed in lockstep with their offsets.
 #![allow(clippy::needless_range_loop)]
 mod bundled;
 mod campaign;
+mod coverage;
 mod hidden;
 mod one_joint;
 

@@ -45,6 +45,11 @@ pub trait CampaignSim {
     fn residual_vector(&self, effects: &[Effect]) -> Option<Vec<f64>>;
     /// RMS of the residuals of all runs \[deg\], `None` if a simulation fails.
     fn rms(&self, effects: &[Effect]) -> Option<f64>;
+    /// The lengths of the contiguous time series of
+    /// [`CampaignSim::residual_vector`], in its order: one per joint of each
+    /// run (the run's sample count) — what an autocorrelation-consistent
+    /// interval lags within ([`crate::analysis::fit::Residuals::series`]).
+    fn series_lengths(&self) -> Vec<usize>;
 }
 
 impl CampaignSim for Campaign {
@@ -94,6 +99,13 @@ impl CampaignSim for Campaign {
             }
         }
         Some(out)
+    }
+
+    fn series_lengths(&self) -> Vec<usize> {
+        self.runs
+            .iter()
+            .flat_map(|r| std::iter::repeat_n(r.run.len(), r.run.joints()))
+            .collect()
     }
 
     fn rms(&self, effects: &[Effect]) -> Option<f64> {

@@ -2,14 +2,20 @@
 //! MINPACK algorithm as ported by the `levenberg-marquardt` crate) with a
 //! finite-difference Jacobian whose columns are simulated in parallel
 //! (rayon), bounds by projection, and 95 % confidence intervals from the
-//! Jacobian at the solution:
+//! Jacobian at the solution. The ordinary (white-noise) interval
 //!
 //! ```text
 //! s² = SSE / (m − n),   Cov(p) ≈ s² (JᵀJ)⁻¹,   CI95 = p ± t₀.₉₇₅,ₘ₋ₙ · sd
 //! ```
 //!
-//! (Bates & Watts, *Nonlinear Regression Analysis*, 1988, §2.3.) Used by
+//! (Bates & Watts, *Nonlinear Regression Analysis*, 1988, §2.3), and, when
+//! the model says its residuals are time series ([`Residuals::series`]),
+//! the wider of it and the autocorrelation-consistent interval of [`hac`]
+//! (`p ± c(b) · sd_HAC`, the sandwich of Newey & West 1987 with the fixed-b
+//! critical value `c(b)` of Kiefer & Vogelsang 2005). Used by
 //! `identify --method direct` and by `diagnose`.
+
+pub mod hac;
 
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
 use nalgebra::{DMatrix, DVector, Dyn, Owned};
@@ -21,6 +27,31 @@ pub trait Residuals: Sync {
     /// The residual vector at `p`, `None` where the model cannot be evaluated
     /// (e.g. a simulation failed). Its length must not depend on `p`.
     fn residuals(&self, p: &[f64]) -> Option<Vec<f64>>;
+    /// The lengths of the contiguous time series the residual vector is
+    /// made of, in order (e.g. one joint of one run), summing to its
+    /// length; `None` (the default): the residuals are not series, and the
+    /// fit reports the ordinary intervals only.
+    fn series(&self) -> Option<&[usize]> {
+        None
+    }
+}
+
+/// A model whose residual vector is the concatenation of contiguous time
+/// series of the given lengths ([`Residuals::series`]).
+pub struct InSeries<'a> {
+    /// The model.
+    pub model: &'a dyn Residuals,
+    /// The series' lengths, in the order of the residual vector.
+    pub lengths: Vec<usize>,
+}
+
+impl Residuals for InSeries<'_> {
+    fn residuals(&self, p: &[f64]) -> Option<Vec<f64>> {
+        self.model.residuals(p)
+    }
+    fn series(&self) -> Option<&[usize]> {
+        Some(&self.lengths)
+    }
 }
 
 impl<F: Fn(&[f64]) -> Option<Vec<f64>> + Sync> Residuals for F {
@@ -62,10 +93,21 @@ impl FitOptions {
 pub struct FitResult {
     /// Best parameters.
     pub params: Vec<f64>,
-    /// Standard deviation of each parameter (from the Jacobian).
+    /// Standard deviation of each parameter that [`FitResult::ci95`]
+    /// implies: its half width over `t₀.₉₇₅,ₘ₋ₙ`.
     pub sd: Vec<f64>,
-    /// 95 % confidence interval of each parameter.
+    /// 95 % confidence interval of each parameter: the wider of the
+    /// ordinary one ([`FitResult::ci95_ols`]) and, for residuals in series,
+    /// the autocorrelation-consistent one ([`hac`]).
     pub ci95: Vec<[f64; 2]>,
+    /// The ordinary 95 % interval `p ± t₀.₉₇₅,ₘ₋ₙ s √((JᵀJ)⁺)ᵢᵢ`, which
+    /// holds when the residuals are independent noise of one variance: a
+    /// statistic of the fit (the diagnosis's "clear of zero" rule), not
+    /// what the data say about the parameter when the model is wrong.
+    pub ci95_ols: Vec<[f64; 2]>,
+    /// The Bartlett window of the autocorrelation-consistent interval
+    /// \[samples\]; `None` when only the ordinary one was computed.
+    pub hac_window: Option<usize>,
     /// Sum of squared residuals at the solution.
     pub sse: f64,
     /// Number of residuals `m`.
@@ -304,21 +346,36 @@ pub fn t975(dof: usize) -> f64 {
         + (3.0 * z7 + 19.0 * z5 + 17.0 * z3 - 15.0 * z) / (384.0 * v * v * v)
 }
 
-/// The standard deviations and 95 % intervals of the parameters `p` of a
-/// fit with Jacobian `j` (`None`: unknown, infinite intervals), `sse` the
-/// sum of squares of `m` residuals: `cov = s² (JᵀJ)⁺`, `s² = SSE/(m − n)`,
-/// the interval `p ± t₀.₉₇₅(m − n) · sd`.
-fn intervals(j: Option<DMatrix<f64>>, p: &[f64], sse: f64, m: usize) -> (Vec<f64>, Vec<[f64; 2]>) {
+/// The intervals of a fit ([`intervals`]).
+struct Intervals {
+    sd: Vec<f64>,
+    ci95: Vec<[f64; 2]>,
+    ci95_ols: Vec<[f64; 2]>,
+    hac_window: Option<usize>,
+}
+
+/// The 95 % intervals of the parameters `p` of a fit with Jacobian `j`
+/// (`None`: unknown, infinite intervals) and residuals `r`: the ordinary
+/// `cov = s² (JᵀJ)⁺`, `s² = SSE/(m − n)`, interval `p ± t₀.₉₇₅(m − n) · sd`;
+/// with `series` (the residuals' contiguous series), the reported interval
+/// is the wider of it and `p ± c(b) · sd_HAC` ([`hac::hac`]).
+fn intervals(j: Option<DMatrix<f64>>, p: &[f64], r: &[f64], series: Option<&[usize]>) -> Intervals {
     let n = p.len();
+    let m = r.len();
     let Some(j) = j else {
-        return (
-            vec![f64::INFINITY; n],
-            p.iter()
-                .map(|_| [f64::NEG_INFINITY, f64::INFINITY])
-                .collect(),
-        );
+        let open: Vec<[f64; 2]> = p
+            .iter()
+            .map(|_| [f64::NEG_INFINITY, f64::INFINITY])
+            .collect();
+        return Intervals {
+            sd: vec![f64::INFINITY; n],
+            ci95: open.clone(),
+            ci95_ols: open,
+            hac_window: None,
+        };
     };
     let jtj = j.transpose() * &j;
+    let sse: f64 = r.iter().map(|x| x * x).sum();
     let s2 = sse / (m - n) as f64;
     let t = t975(m - n);
     // Pseudo-inverse: a parameter the data cannot see gets an
@@ -327,21 +384,43 @@ fn intervals(j: Option<DMatrix<f64>>, p: &[f64], sse: f64, m: usize) -> (Vec<f64
         .clone()
         .pseudo_inverse(PINV_REL_TOL * jtj.norm().max(f64::MIN_POSITIVE))
         .unwrap_or_else(|_| DMatrix::from_element(n, n, f64::INFINITY));
-    let sd: Vec<f64> = (0..n)
+    let unseen = |i: usize| jtj[(i, i)] <= 0.0;
+    let sd_ols: Vec<f64> = (0..n)
         .map(|i| {
-            if jtj[(i, i)] <= 0.0 {
+            if unseen(i) {
                 f64::INFINITY
             } else {
                 (s2 * cov[(i, i)]).max(0.0).sqrt()
             }
         })
         .collect();
-    let ci = sd
-        .iter()
-        .zip(p)
-        .map(|(s, x)| [x - t * s, x + t * s])
+    let hac = series.and_then(|lengths| hac::hac(&j, r, &cov, lengths));
+    // Half widths: the ordinary one, widened to the HAC one where wider.
+    let half: Vec<f64> = (0..n)
+        .map(|i| {
+            let ols = t * sd_ols[i];
+            match &hac {
+                Some(h) if !unseen(i) => {
+                    let w = h.critical_975() * h.cov[(i, i)].max(0.0).sqrt();
+                    if w.is_finite() {
+                        ols.max(w)
+                    } else {
+                        ols
+                    }
+                }
+                _ => ols,
+            }
+        })
         .collect();
-    (sd, ci)
+    let band =
+        |h: &[f64]| -> Vec<[f64; 2]> { h.iter().zip(p).map(|(h, x)| [x - h, x + h]).collect() };
+    let ols_half: Vec<f64> = sd_ols.iter().map(|s| t * s).collect();
+    Intervals {
+        sd: half.iter().map(|h| h / t).collect(),
+        ci95: band(&half),
+        ci95_ols: band(&ols_half),
+        hac_window: hac.map(|h| h.window),
+    }
 }
 
 /// Minimises `Σ r(p)²` from `p0` within the bounds of `opts`.
@@ -386,12 +465,14 @@ pub fn least_squares(
         .ok_or_else(|| FitError::BadStart(p.clone()))?;
     let sse: f64 = r.iter().map(|x| x * x).sum();
     let m = problem.m;
-    let (sd, ci95) = intervals(problem.jacobian_at(&p), &p, sse, m);
+    let ci = intervals(problem.jacobian_at(&p), &p, &r, model.series());
     let evaluations = problem.evaluations.lock().map(|e| *e).unwrap_or(0) + 1;
     Ok(FitResult {
         params: p,
-        sd,
-        ci95,
+        sd: ci.sd,
+        ci95: ci.ci95,
+        ci95_ols: ci.ci95_ols,
+        hac_window: ci.hac_window,
         sse,
         residuals: m,
         evaluations,
@@ -476,6 +557,40 @@ mod tests {
             "{:?}",
             fit.params
         );
+    }
+
+    #[test]
+    fn residuals_in_series_widen_the_interval_never_narrow_it() {
+        // y = 1 + AR(1) noise (ρ = 0.9, uniform innovations from
+        // splitmix64) in four series of 2 000: the variance of the mean is
+        // about (1 + ρ)/(1 − ρ) = 19 times the white-noise one.
+        let (mut x, mut state) = (0.0, 11u64);
+        let y: Vec<f64> = (0..8000)
+            .map(|_| {
+                state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+                let mut z = state;
+                z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+                z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+                let u = ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                x = 0.9 * x + 0.01 * u;
+                1.0 + x
+            })
+            .collect();
+        let model = |p: &[f64]| -> Option<Vec<f64>> { Some(y.iter().map(|y| p[0] - y).collect()) };
+        let opts = FitOptions::new(vec![-10.0], vec![1e-6]);
+        let plain = least_squares(&model, &[0.0], &opts).unwrap();
+        assert_eq!(plain.ci95, plain.ci95_ols);
+        assert_eq!(plain.hac_window, None);
+        let in_series = InSeries {
+            model: &model,
+            lengths: vec![2000; 4],
+        };
+        let fit = least_squares(&in_series, &[0.0], &opts).unwrap();
+        let half = |c: [f64; 2]| 0.5 * (c[1] - c[0]);
+        let ratio = half(fit.ci95[0]) / half(fit.ci95_ols[0]);
+        assert!(ratio > 3.0, "widened only {ratio}x");
+        assert_eq!(fit.ci95_ols, plain.ci95_ols);
+        assert!(fit.hac_window.is_some_and(|w| w > 1));
     }
 
     #[test]

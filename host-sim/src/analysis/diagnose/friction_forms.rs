@@ -387,15 +387,17 @@ fn named(kind: EffectKind, joint: Option<usize>) -> Candidate {
     }
 }
 
-/// False when a Stribeck law of `f` has an excess whose 95 % interval holds
-/// zero (then it is Coulomb friction with two idle parameters).
+/// False when a Stribeck law of `f` has an excess whose ordinary 95 %
+/// interval (the search's statistic, [`super::outcome::FittedEffect::ci95_search`])
+/// holds zero (then it is Coulomb friction with two idle parameters).
 fn excess_clear(f: &FittedSet) -> bool {
     f.members
         .iter()
         .filter(|m| m.candidate.kind == EffectKind::StribeckFriction)
         .all(|m| {
-            m.ci95
+            m.ci95_search
                 .as_ref()
+                .or(m.ci95.as_ref())
                 .and_then(|ci| ci.get(1))
                 .is_some_and(|ci| ci[0] > 0.0)
         })

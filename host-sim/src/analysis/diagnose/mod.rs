@@ -151,18 +151,20 @@ impl Engine<'_> {
             patience: FIT_PATIENCE,
         };
         let model = |p: &[f64]| self.residuals(c, set, p);
+        let model = fit::InSeries {
+            model: &model,
+            lengths: c.series_lengths(),
+        };
         let r = fit::least_squares(&model, p0, &opts).ok()?;
         let stats = FitStats {
             sse: r.sse,
             m: r.residuals,
             evaluations: r.evaluations,
         };
-        Some(FittedSet::from_flat(
-            set,
-            &r.params,
-            Some(&r.ci95),
-            Some(stats),
-        ))
+        Some(
+            FittedSet::from_flat(set, &r.params, Some(&r.ci95), Some(stats))
+                .with_search_intervals(&r.ci95_ols),
+        )
     }
 
     /// Refits `start` on campaign `c` from its parameters.

@@ -22,9 +22,16 @@ pub struct FittedEffect {
     pub candidate: Candidate,
     /// Its parameters ([`Candidate::params`] of them), in its unit.
     pub params: Vec<f64>,
-    /// 95 % interval of each parameter, from the fit's Jacobian; `None`
-    /// for a point not fitted (a start, a screen's best scan point).
+    /// 95 % interval of each parameter as reported: the fit's
+    /// autocorrelation-consistent interval, never narrower than the
+    /// ordinary one ([`crate::analysis::fit::FitResult::ci95`]), widened
+    /// over an ambiguity group ([`super::ambiguity::widened`]); `None` for
+    /// a point not fitted (a start, a screen's best scan point).
     pub ci95: Option<Vec<[f64; 2]>>,
+    /// The fit's ordinary (white-noise) 95 % interval of each parameter
+    /// ([`crate::analysis::fit::FitResult::ci95_ols`]): the search's
+    /// statistic ([`FittedEffect::clear_of_zero`]); `None` when not fitted.
+    pub ci95_search: Option<Vec<[f64; 2]>>,
 }
 
 impl FittedEffect {
@@ -34,6 +41,7 @@ impl FittedEffect {
             candidate,
             params,
             ci95: None,
+            ci95_search: None,
         }
     }
 
@@ -46,8 +54,20 @@ impl FittedEffect {
         }
     }
 
-    /// True when the value's 95 % interval excludes zero (never for an
-    /// effect not fitted). A rig tilt is the in-plane gravity vector
+    /// The search's statistic: the value's ordinary 95 % interval
+    /// ([`FittedEffect::ci95_search`]; the reported one where there is
+    /// none), unbounded when not fitted.
+    pub fn search_value_ci(&self) -> [f64; 2] {
+        match self.ci95_search.as_ref().or(self.ci95.as_ref()) {
+            Some(ci) => self.candidate.value_ci(&self.params, ci).0,
+            None => [f64::NEG_INFINITY, f64::INFINITY],
+        }
+    }
+
+    /// True when the value's ordinary 95 % interval excludes zero (never
+    /// for an effect not fitted): the search's rule, on the fit's
+    /// white-noise statistic ([`FittedEffect::ci95_search`]) rather than
+    /// the wider interval it reports. A rig tilt is the in-plane gravity vector
     /// `(g_x, g_y)`: it is clear of zero when the vector is, by the joint
     /// test `(g_x/s_x)² + (g_y/s_y)² > χ²₂(0.95)` ([`CHI2_2DOF_95`]; `s` the
     /// components' standard errors, half their 95 % intervals over 1.96) —
@@ -55,7 +75,9 @@ impl FittedEffect {
     /// near zero, where a vector of noise still has a length.
     pub fn clear_of_zero(&self) -> bool {
         if self.candidate.kind == EffectKind::RigTilt && self.candidate.table.is_none() {
-            let Some(ci) = &self.ci95 else { return false };
+            let Some(ci) = self.ci95_search.as_ref().or(self.ci95.as_ref()) else {
+                return false;
+            };
             let z = |k: usize| {
                 let (Some(p), Some(c)) = (self.params.get(k), ci.get(k)) else {
                     return 0.0;
@@ -69,7 +91,7 @@ impl FittedEffect {
             };
             return z(0) + z(1) > CHI2_2DOF_95;
         }
-        let ([lo, hi], _) = self.value_ci();
+        let [lo, hi] = self.search_value_ci();
         lo > 0.0 || hi < 0.0
     }
 }
@@ -113,10 +135,24 @@ impl FittedSet {
                 candidate: *c,
                 params: params.get(off..off + n).unwrap_or_default().to_vec(),
                 ci95: ci95.and_then(|ci| ci.get(off..off + n)).map(<[_]>::to_vec),
+                ci95_search: None,
             });
             off += n;
         }
         FittedSet { members, stats }
+    }
+
+    /// The set with the fit's ordinary intervals `ci95_ols` (concatenated
+    /// in the set's order) as each member's search statistic
+    /// ([`FittedEffect::ci95_search`]).
+    pub fn with_search_intervals(mut self, ci95_ols: &[[f64; 2]]) -> FittedSet {
+        let mut off = 0;
+        for m in self.members.iter_mut() {
+            let n = m.candidate.params();
+            m.ci95_search = ci95_ols.get(off..off + n).map(<[_]>::to_vec);
+            off += n;
+        }
+        self
     }
 
     /// The candidates, in selection order.
