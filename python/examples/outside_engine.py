@@ -35,7 +35,7 @@ same wing without it.
 
     .venv/bin/python python/examples/outside_engine.py generate DIR N [FIRST_SEED] [--only NUISANCE]
     .venv/bin/python python/examples/outside_engine.py score DIR [DEPLOYWATCH]
-    .venv/bin/python python/examples/outside_engine.py campaigns N [FIRST_SEED] [--only NUISANCE]
+    .venv/bin/python python/examples/outside_engine.py campaigns N [FIRST_SEED] [--only NUISANCE] [--keep DIR]
     .venv/bin/python python/examples/outside_engine.py ablation N [FIRST_SEED]
 
 ``--only`` keeps one nuisance (``flex``, ``freeplay``, ``latency``,
@@ -43,7 +43,9 @@ same wing without it.
 the answer, one at a time. ``score`` runs ``deploywatch diagnose`` on
 every campaign of DIR and prints one line per campaign and the counts;
 ``campaigns`` generates N campaigns in a temporary directory and scores
-them (the command of docs/measured.md); ``ablation`` does so once per
+them (the command of docs/measured.md; ``--keep DIR`` keeps them in DIR
+and resumes: a campaign or diagnosis already there is reused);
+``ablation`` does so once per
 nuisance alone, and once with none. The binary is
 ``$CARGO_TARGET_DIR/release/deploywatch`` (``target/`` by default;
 ``DEPLOYWATCH`` overrides it): ``cargo build --release -p deploywatch-sim``.
@@ -599,9 +601,13 @@ def classify(truth: Dict[str, Any], effects: List[Dict[str, Any]]) -> str:
     return "wrong"
 
 
-def score(out: str, exe: str) -> int:
-    """Diagnoses every campaign of ``out`` and prints the counts."""
+def score(out: str, exe: str, reuse: bool = False, seeds: Optional[range] = None) -> int:
+    """Diagnoses every campaign of ``out`` and prints the counts; with
+    ``reuse``, a campaign that already has its ``diagnosis.json`` is
+    scored from it (its wall time from ``diagnosis.wall``, when there)."""
     cases = sorted(c for c in os.listdir(out) if c.startswith("case"))
+    if seeds is not None:
+        cases = [f"case{s:04d}" for s in seeds]
     counts: Dict[str, int] = {"right": 0, "honest": 0, "hedged": 0, "wrong": 0}
     walls = []
     for c in cases:
@@ -611,11 +617,22 @@ def score(out: str, exe: str) -> int:
         for r in truth["runs"]:
             cmd += ["--mechanism", os.path.join(d, f"{r}.toml")]
         cmd += ["--json", os.path.join(d, "diagnosis.json")] + [os.path.join(d, f"{r}.csv") for r in truth["runs"]]
-        start = time.perf_counter()
-        p = subprocess.run(cmd, capture_output=True, text=True)
-        wall = time.perf_counter() - start
-        walls.append(wall)
-        if p.returncode not in (0,) or not os.path.exists(os.path.join(d, "diagnosis.json")):
+        done = os.path.join(d, "diagnosis.json")
+        if reuse and os.path.exists(done):
+            # A diagnosis of an earlier run of this command on this directory (--keep).
+            p = subprocess.CompletedProcess(cmd, 0, "", "")
+            wall_file = os.path.join(d, "diagnosis.wall")
+            wall = float(open(wall_file).read()) if os.path.exists(wall_file) else math.nan
+        else:
+            start = time.perf_counter()
+            p = subprocess.run(cmd, capture_output=True, text=True)
+            wall = time.perf_counter() - start
+            if p.returncode == 0:
+                with open(os.path.join(d, "diagnosis.wall"), "w", encoding="utf-8") as f:
+                    f.write(f"{wall}\n")
+        if not math.isnan(wall):
+            walls.append(wall)
+        if p.returncode not in (0,) or not os.path.exists(done):
             verdict, found = "wrong", [{"name": f"exit {p.returncode}: {p.stderr.strip()[-200:]}"}]
         else:
             found = json.load(open(os.path.join(d, "diagnosis.json"), encoding="utf-8"))["effects"]
@@ -636,7 +653,10 @@ def score(out: str, exe: str) -> int:
     for k in counts:
         print(f"{k}: {counts[k]} of {total} ({100.0 * counts[k] / max(total, 1):.0f} %)")
     if walls:
-        print(f"diagnose wall time: median {float(np.median(walls)):.1f} s, max {max(walls):.1f} s (load {os.getloadavg()[0]:.1f})")
+        print(
+            f"diagnose wall time over {len(walls)} campaigns: median {float(np.median(walls)):.1f} s, "
+            f"max {max(walls):.1f} s (load average {os.getloadavg()[0]:.1f} at the end, 2 cores)"
+        )
     return 0
 
 
@@ -651,7 +671,11 @@ def main(argv: List[str]) -> int:
     [DEPLOYWATCH]``, ``campaigns N [FIRST_SEED] [--only NUISANCE]``
     (both, in a temporary directory) or ``ablation N [FIRST_SEED]`` (each
     nuisance alone, and none, on the same seeds)."""
-    only = None
+    only, keep = None, None
+    if "--keep" in argv:
+        i = argv.index("--keep")
+        keep = argv[i + 1]
+        argv = argv[:i] + argv[i + 2 :]
     if "--only" in argv:
         i = argv.index("--only")
         only = argv[i + 1]
@@ -668,6 +692,14 @@ def main(argv: List[str]) -> int:
         # Generate and score in a fresh directory: the recorded command.
         count = int(argv[1])
         first = int(argv[2]) if len(argv) > 2 else 0
+        if keep is not None:
+            # Resumable: campaigns and diagnoses already in KEEP are kept.
+            os.makedirs(keep, exist_ok=True)
+            for s in range(first, first + count):
+                if not os.path.exists(os.path.join(keep, f"case{s:04d}", "truth.json")):
+                    generate(keep, s, only)
+            print(f"nuisances: {only or 'all of ' + ', '.join(NUISANCES)}; seeds {first}..{first + count - 1}")
+            return score(keep, default_exe(), reuse=True, seeds=range(first, first + count))
         with tempfile.TemporaryDirectory(prefix="outside-engine-") as out:
             for s in range(first, first + count):
                 generate(out, s, only)
