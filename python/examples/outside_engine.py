@@ -36,7 +36,7 @@ same wing without it.
     .venv/bin/python python/examples/outside_engine.py generate DIR N [FIRST_SEED] [--only NUISANCE]
     .venv/bin/python python/examples/outside_engine.py score DIR [DEPLOYWATCH]
     .venv/bin/python python/examples/outside_engine.py campaigns N [FIRST_SEED] [--only NUISANCE] [--keep DIR]
-    .venv/bin/python python/examples/outside_engine.py ablation N [FIRST_SEED]
+    .venv/bin/python python/examples/outside_engine.py ablation N [FIRST_SEED [STEP]]
 
 ``--only`` keeps one nuisance (``flex``, ``freeplay``, ``latency``,
 ``jitter``, or ``none``) and turns the others off: what each one does to
@@ -644,7 +644,7 @@ def score(out: str, exe: str, reuse: bool = False, seeds: Optional[range] = None
         print(
             f"{c}: hidden {hid} (moves {truth['effect_rms_deg']:.2f} deg; nuisances {truth['nuisance_rms_deg']:.2f} deg, "
             f"mode {nz['mode_hz']:.1f} Hz, play {max(nz['freeplay_deg'], default=0):.2f} deg, "
-            f"latency {nz['latency_samples']:.2f}, jitter {100 * nz['jitter_frac']:.1f} %) -> {said}: {verdict} ({wall:.1f} s)"
+            f"latency {nz['latency_samples']:.2f}, jitter {100 * nz['jitter_frac']:.1f} %) -> {said}: {verdict} ({'diagnosed earlier' if math.isnan(wall) else f'{wall:.1f} s'})"
         )
         sys.stdout.flush()
     total = len(cases)
@@ -669,8 +669,8 @@ def default_exe() -> str:
 def main(argv: List[str]) -> int:
     """``generate DIR N [FIRST_SEED] [--only NUISANCE]``, ``score DIR
     [DEPLOYWATCH]``, ``campaigns N [FIRST_SEED] [--only NUISANCE]``
-    (both, in a temporary directory) or ``ablation N [FIRST_SEED]`` (each
-    nuisance alone, and none, on the same seeds)."""
+    (both, in a temporary directory) or ``ablation N [FIRST_SEED [STEP]]``
+    (each nuisance alone, and none, on the same N seeds, STEP apart)."""
     only, keep = None, None
     if "--keep" in argv:
         i = argv.index("--keep")
@@ -709,11 +709,13 @@ def main(argv: List[str]) -> int:
         # Each nuisance alone on the same cases (and none): which breaks the answer.
         count = int(argv[1])
         first = int(argv[2]) if len(argv) > 2 else 0
+        step = int(argv[3]) if len(argv) > 3 else 1
+        seeds = range(first, first + count * step, step)
         for o in ("none",) + NUISANCES:
             with tempfile.TemporaryDirectory(prefix="outside-engine-") as out:
-                for s in range(first, first + count):
+                for s in seeds:
                     generate(out, s, o)
-                print(f"## only {o}")
+                print(f"## only {o}; seeds {', '.join(map(str, seeds))}")
                 score(out, default_exe())
                 print()
         return 0
