@@ -608,7 +608,7 @@ def score(out: str, exe: str, reuse: bool = False, seeds: Optional[range] = None
     cases = sorted(c for c in os.listdir(out) if c.startswith("case"))
     if seeds is not None:
         cases = [f"case{s:04d}" for s in seeds]
-    counts: Dict[str, int] = {"right": 0, "honest": 0, "hedged": 0, "wrong": 0}
+    counts: Dict[str, int] = {"right": 0, "honest": 0, "hedged": 0, "wrong": 0, "refused": 0}
     walls = []
     for c in cases:
         d = os.path.join(out, c)
@@ -633,7 +633,9 @@ def score(out: str, exe: str, reuse: bool = False, seeds: Optional[range] = None
         if not math.isnan(wall):
             walls.append(wall)
         if p.returncode not in (0,) or not os.path.exists(done):
-            verdict, found = "wrong", [{"name": f"exit {p.returncode}: {p.stderr.strip()[-200:]}"}]
+            # The diagnosis refused the campaign (e.g. an angle beyond the
+            # format's ±720°: a generator fault, not an answer).
+            verdict, found = "refused", [{"name": f"exit {p.returncode}: {p.stderr.strip()[-200:]}"}]
         else:
             found = json.load(open(os.path.join(d, "diagnosis.json"), encoding="utf-8"))["effects"]
             verdict = classify(truth, found)
