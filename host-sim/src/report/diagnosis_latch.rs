@@ -243,6 +243,30 @@ fn report_whole_run(md: &mut String, w: &WholeRun) {
         &rows,
     ));
     let _ = writeln!(md);
+    shots_table(md, w);
+    match w.missed() {
+        Some(m) => {
+            let _ = writeln!(
+                md,
+                "**The model found does not follow joint {} after the first contact** ({:.4} deg RMS, more than {} times the noise floor). Either something acts there that the free windows do not show, or the latches as built move the wing otherwise than the drawing's between contacts (a rattle or an escape the shots start beside); these runs do not tell which, and the diagnosis names no cause for it. Runs with the latches held (or of ideal latches) would.\n",
+                m.joint,
+                m.after_rms_deg.unwrap_or(0.0),
+                whole_run::AFTER_CONTACT_FACTOR
+            );
+        }
+        None => {
+            let _ = writeln!(
+                md,
+                "The model found holds after the first contact too (every joint within {} times the noise floor).\n",
+                whole_run::AFTER_CONTACT_FACTOR
+            );
+        }
+    }
+}
+
+/// The whole-run check's shots: per shot, each joint's residual RMS where
+/// it is clear of its latch.
+fn shots_table(md: &mut String, w: &WholeRun) {
     let shots: Vec<Vec<String>> = w
         .shots
         .iter()
@@ -271,24 +295,6 @@ fn report_whole_run(md: &mut String, w: &WholeRun) {
     );
     md.push_str(&table(&head, &shots));
     let _ = writeln!(md);
-    match w.missed() {
-        Some(m) => {
-            let _ = writeln!(
-                md,
-                "**The model found does not follow joint {} after the first contact** ({:.4} deg RMS, more than {} times the noise floor). Either something acts there that the free windows do not show, or the latches as built move the wing otherwise than the drawing's between contacts (a rattle or an escape the shots start beside); these runs do not tell which, and the diagnosis names no cause for it. Runs with the latches held (or of ideal latches) would.\n",
-                m.joint,
-                m.after_rms_deg.unwrap_or(0.0),
-                whole_run::AFTER_CONTACT_FACTOR
-            );
-        }
-        None => {
-            let _ = writeln!(
-                md,
-                "The model found holds after the first contact too (every joint within {} times the noise floor).\n",
-                whole_run::AFTER_CONTACT_FACTOR
-            );
-        }
-    }
 }
 
 /// The report's sections for these findings: a search stopped early, the

@@ -35,10 +35,12 @@ use deploywatch_core::{Branch, Mode};
 mod ledger;
 mod pawl;
 mod runner;
+mod segments;
 mod settle;
 mod setup;
 mod stick;
 
+use segments::{branch_at, Candidates, Contact, Ev, Segments, EVENTS_PER_JOINT};
 use setup::{segment_index, Consts};
 
 pub use setup::{check_latch_effects, latches, weakenings};
@@ -60,45 +62,6 @@ const GAUSS3: [(f64, f64); 3] = [
     (0.5, 8.0 / 18.0),
     (0.887_298_334_620_741_7, 5.0 / 18.0),
 ];
-
-/// The stop's contact between events.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Contact {
-    /// Off the stop (`u ≥ 0`): no force.
-    Open,
-    /// In the stop with the law's force `k δ^1.5 + c δ^0.25 δ̇ > 0`.
-    Pressing,
-    /// In the stop, but the law would pull: no force (it lets go).
-    Released,
-}
-
-/// The segments a joint's latch law is frozen on between events.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Segments {
-    plunger: PlungerSegment,
-    magnet: bool,
-    contact: Contact,
-    switch: bool,
-    /// A pawl's state (`Riding` for a detent): changed only by its own
-    /// events ([`pawl`]).
-    pawl: PawlState,
-    /// The engaged pawl's contact with its notch's wall.
-    notch: Contact,
-}
-
-impl Segments {
-    /// Before the first reading: off the stop, a pawl where `u` puts it.
-    fn start(l: &PhysicalLatch<f64>, u: f64) -> Self {
-        Segments {
-            plunger: PlungerSegment::Clear,
-            magnet: false,
-            contact: Contact::Open,
-            switch: false,
-            pawl: l.pawl_state_at(u),
-            notch: Contact::Open,
-        }
-    }
-}
 
 /// The integrator's state besides `(φ, φ̇)`.
 struct Sim<'a, const N: usize> {
@@ -122,43 +85,6 @@ struct Sim<'a, const N: usize> {
     /// What the run knows to end once every latch is held for good
     /// ([`Keep::Settled`]; `None`: it runs to its end).
     hold: Option<settle::Hold<N>>,
-}
-
-/// What can fire in a step.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Ev {
-    Plunger(usize),
-    Magnet(usize),
-    Contact(usize),
-    Switch(usize),
-    Ideal(usize),
-    Branch(usize),
-    /// The joint's rate reaches rest (`physics.md` §4a): it may stick.
-    Turn(usize),
-    /// A stuck joint's holding torque leaves its band: it slips.
-    Slip(usize),
-    /// An engaged pawl's contact with its notch's wall changes.
-    Notch(usize),
-    /// The torque an engaged pawl carries reaches its breaking torque.
-    Break(usize),
-}
-
-impl Ev {
-    /// The joint (from 0) the event belongs to.
-    fn joint(self) -> usize {
-        match self {
-            Ev::Plunger(j)
-            | Ev::Magnet(j)
-            | Ev::Contact(j)
-            | Ev::Switch(j)
-            | Ev::Ideal(j)
-            | Ev::Branch(j)
-            | Ev::Turn(j)
-            | Ev::Slip(j)
-            | Ev::Notch(j)
-            | Ev::Break(j) => j,
-        }
-    }
 }
 
 impl<'a, const N: usize> Sim<'a, N> {
@@ -285,15 +211,6 @@ impl<'a, const N: usize> Sim<'a, N> {
     }
 }
 
-/// The spring branch of seed 001 Eq. 1 from the state (`F` at rest).
-fn branch_at(phi: f64, phi_dot: f64) -> Branch {
-    if phi * phi_dot < 0.0 {
-        Branch::Unfold
-    } else {
-        Branch::Fold
-    }
-}
-
 /// The segments of a latch at `(φ, φ̇)`, read a moment ahead; `was` are
 /// the segments before (a compressed stop that let go stays released until
 /// its force rises again; a pawl keeps its state).
@@ -373,24 +290,6 @@ fn inside<const N: usize>(sim: &Sim<'_, N>, ev: Ev, y: &State<N>) -> f64 {
                 Contact::Pressing => (-u).min(raw),
                 Contact::Released => (-u).min(-raw),
             }
-        }
-    }
-}
-
-/// The most events one joint can have in a step.
-const EVENTS_PER_JOINT: usize = 8;
-
-/// Fixed-capacity list of the events that may fire in a step.
-struct Candidates {
-    items: [Option<Ev>; EVENTS_PER_JOINT * 4],
-    len: usize,
-}
-
-impl Candidates {
-    fn push(&mut self, e: Ev) {
-        if let Some(slot) = self.items.get_mut(self.len) {
-            *slot = Some(e);
-            self.len += 1;
         }
     }
 }
