@@ -116,7 +116,7 @@ pub mod consistency {
 /// `f64`).
 pub mod deployment {
     pub use crate::simulate::deployment::{
-        sample_grid, simulate, SimError, SimOptions, Trajectory,
+        sample_grid, simulate, simulate_at, SimError, SimOptions, Trajectory,
     };
     pub use crate::simulate::trajectory::MAX_LEDGER_DRIFT;
 }
@@ -226,6 +226,7 @@ pub mod identify {
 
 /// The diagnosis: the named causes of what the model gets wrong.
 pub mod diagnose {
+    pub use crate::analysis::diagnose::encoder_delay;
     pub use crate::analysis::diagnose::latch_finding::{LatchCause, LatchDifference};
     pub use crate::analysis::diagnose::{
         diagnose, DiagnoseOptions, FittedSet, Outcome, MIN_DELTA_BIC,

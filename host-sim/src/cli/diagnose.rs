@@ -107,6 +107,8 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     let sink = |line: &str| bar.line(line);
     let outcome = diagnose::diagnose(&campaign, &opts, &sink);
     bar.finish();
+    // Encoders late on their switches: the angles as the fit compared them.
+    let campaign = diagnose::encoder_delay::apply(&campaign, outcome.encoder_delay.as_ref());
     // Runs of a physical latch: everything below is of the free motion the
     // effects were fitted on; the latch findings are of the whole runs.
     let campaign = match &outcome.free_window {

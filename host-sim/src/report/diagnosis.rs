@@ -30,6 +30,7 @@ pub fn markdown(
 ) -> Result<String, PlotError> {
     let mut md = String::new();
     report_header(&mut md, c, o);
+    super::diagnosis_delay::report(&mut md, c, o);
     diagnosis_latch::report(&mut md, c, o);
     report_causes(&mut md, o);
     diagnosis_plots::report_tables(&mut md, dir, stem, o)?;

@@ -11,6 +11,7 @@
 //! ([`margin_standards`]), the identification's summary
 //! and plot ([`identify`]), a simulated run's plot ([`run_plot`]).
 pub mod diagnosis;
+pub mod diagnosis_delay;
 pub mod diagnosis_json;
 pub mod diagnosis_latch;
 pub mod diagnosis_outcome;

@@ -31,6 +31,7 @@
 pub mod ambiguity;
 mod candidate;
 pub mod discover;
+pub mod encoder_delay;
 pub mod evidence;
 mod evidence_search;
 mod friction_forms;
@@ -374,8 +375,115 @@ fn unexplained_above_noise(
 /// the runs alike ([`ambiguity`]) and what stays unexplained. Runs of a
 /// physical latch are fitted on their free motion ([`latch_window`]) and
 /// their latch events compared by their statistics ([`latch_finding`]).
+/// Encoders late on their latch switches are compared with the model at
+/// their stamps minus the delay ([`encoder_delay`]) throughout.
 pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress) -> Outcome {
     let t0 = Instant::now();
+    let Some(delay) = encoder_delay::estimate(campaign, noise_sigma_deg(campaign)) else {
+        return diagnose_at(campaign, None, opts, progress, t0);
+    };
+    if !delay.allows_zero && !delay.taken_out() {
+        // The switches late on the encoders: no angle moves.
+        progress(&encoder_delay::words(&delay));
+        return diagnose_at(campaign, Some(delay), opts, progress, t0);
+    }
+    let (first, at) = if delay.allows_zero {
+        (diagnose_at(campaign, None, opts, progress, t0), 0.0)
+    } else {
+        progress(&encoder_delay::words(&delay));
+        let c = encoder_delay::shifted(campaign, delay.delay_s);
+        (
+            diagnose_at(&c, Some(delay.clone()), opts, progress, t0),
+            delay.delay_s,
+        )
+    };
+    let (mut out, mut at, mut sims) = (first, at, 0);
+    for _ in 0..encoder_delay::MAX_PASSES {
+        if out.partial.is_some() {
+            break;
+        }
+        let (refined, used) = refine_delay(campaign, &out, &delay, at, opts, progress, t0);
+        sims += used;
+        let Some(best) = refined else { break };
+        if (best.delay_s - at).abs() <= encoder_delay::REFINED_ALIKE_PERIODS * delay.period_s {
+            out.encoder_delay = Some(best);
+            break;
+        }
+        progress(&format!(
+            "the model found fits best with the encoders {:.2} ms late: searching again at that delay",
+            best.delay_s * 1e3
+        ));
+        at = best.delay_s;
+        sims += out.simulations;
+        out = diagnose_at(
+            &encoder_delay::shifted(campaign, at),
+            Some(best),
+            opts,
+            progress,
+            t0,
+        );
+    }
+    out.simulations += sims;
+    out.wall_s = t0.elapsed().as_secs_f64();
+    out
+}
+
+/// The delay within what the latchings allow (`delay`) at which the set
+/// `first` found (with the angles compared at their stamps minus `at`)
+/// fits best, refitted at each ([`encoder_delay::refine`]); `None` when
+/// the latchings allow zero and that fit does not beat the one at `at` by
+/// [`MIN_DELTA_BIC`] with the delay counted as a parameter. With it, the
+/// simulations it took.
+fn refine_delay(
+    campaign: &Campaign,
+    first: &Outcome,
+    delay: &encoder_delay::EncoderDelay,
+    at: f64,
+    opts: &DiagnoseOptions,
+    progress: Progress,
+    t0: Instant,
+) -> (Option<encoder_delay::EncoderDelay>, usize) {
+    let eng = Engine {
+        campaign,
+        progress,
+        sims: std::sync::atomic::AtomicUsize::new(0),
+        halt: Halt::new(opts, t0),
+        trace: Trace::default(),
+    };
+    let fit_at = |d: f64| {
+        let c = fitted_campaign(&encoder_delay::shifted(campaign, d));
+        eng.refit(&c, &first.extended).and_then(|f| f.stats)
+    };
+    let best = encoder_delay::refine(delay.lo_s.max(0.0), delay.hi_s, delay.period_s, |d| {
+        fit_at(d).map(|s| s.sse)
+    });
+    let named = !delay.allows_zero
+        || match (fit_at(at), fit_at(best)) {
+            (Some(here), Some(there)) if there.sse > 0.0 && here.m > 0 => {
+                let m = here.m as f64;
+                m * (here.sse / there.sse).ln() > MIN_DELTA_BIC + m.ln()
+            }
+            _ => false,
+        };
+    let sims = eng.sims.load(std::sync::atomic::Ordering::Relaxed);
+    ((named && best > 0.0).then(|| delay.refined(best)), sims)
+}
+
+/// The samples a diagnosis fits: runs of a physical latch cut to their
+/// free motion ([`latch_window`]), others whole.
+fn fitted_campaign(campaign: &Campaign) -> Campaign {
+    latch_window::free_campaign(campaign).map_or_else(|| campaign.clone(), |(c, _)| c)
+}
+
+/// [`diagnose`] on `campaign` as its angles are compared (a delay taken
+/// out already), reporting `delay`.
+fn diagnose_at(
+    campaign: &Campaign,
+    delay: Option<encoder_delay::EncoderDelay>,
+    opts: &DiagnoseOptions,
+    progress: Progress,
+    t0: Instant,
+) -> Outcome {
     let free = latch_window::free_campaign(campaign);
     if let Some((_, windows)) = &free {
         for (cr, w) in campaign.runs.iter().zip(windows) {
@@ -408,6 +516,7 @@ pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress)
         }
         out.free_window = Some(windows.clone());
     }
+    out.encoder_delay = delay;
     out.wall_s = t0.elapsed().as_secs_f64();
     out
 }
@@ -475,6 +584,7 @@ fn search_campaign(
         rounds: search.rounds,
         simulations: eng.sims.load(std::sync::atomic::Ordering::Relaxed),
         wall_s: t0.elapsed().as_secs_f64(),
+        encoder_delay: None,
         free_window: None,
         whole_run: None,
         latches: Vec::new(),

@@ -387,6 +387,10 @@ pub struct Outcome {
     pub simulations: usize,
     /// Wall time \[s\].
     pub wall_s: f64,
+    /// The encoders' delay behind their latch switches, when the ideal
+    /// latches' closings agree on one clear of zero ([`super::encoder_delay`]):
+    /// the fit compared the angles with the model at their stamps minus it.
+    pub encoder_delay: Option<super::encoder_delay::EncoderDelay>,
     /// Runs of a physical latch: where each run's free motion ends, the
     /// window the effects were fitted on (`None`: the whole runs).
     pub free_window: Option<Vec<RunWindow>>,

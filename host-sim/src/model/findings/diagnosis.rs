@@ -56,6 +56,11 @@ pub struct Diagnosis {
     /// ran to its end.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub partial: Option<String>,
+    /// The encoders' delay behind their latch switches, when the ideal
+    /// latches' closings name one (`docs/diagnosis.md`, "An encoder late on
+    /// its switch"): a discrepancy, not an effect.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub encoder_delay: Option<EncoderDelayJson>,
     /// Runs of a physical latch: the free motion each run was fitted on.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub free_window: Vec<FreeWindow>,
@@ -70,6 +75,42 @@ pub struct Diagnosis {
     /// Sets of causes that explain the runs alike.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub ambiguities: Vec<AmbiguityGroup>,
+}
+
+/// The encoders' delay behind their latch switches.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct EncoderDelayJson {
+    /// The delay \[s\] (negative: the switches are late on the encoders).
+    pub delay_s: Option<f64>,
+    /// The delays every agreeing latching allows: lower end \[s\].
+    pub lo_s: Option<f64>,
+    /// Upper end \[s\].
+    pub hi_s: Option<f64>,
+    /// The runs' sample period \[s\].
+    pub period_s: Option<f64>,
+    /// True when the angles were compared at their stamps minus the delay.
+    pub taken_out: bool,
+    /// The latchings that agree.
+    pub agreeing: usize,
+    /// Every latching read.
+    pub latchings: Vec<LatchingJson>,
+}
+
+/// One ideal latch closing, as the encoder and the switch saw it.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct LatchingJson {
+    /// The run's file name.
+    pub run: String,
+    /// 1-based joint.
+    pub joint: usize,
+    /// Where the encoder's approach crosses its latched level \[s\].
+    pub crossing_s: Option<f64>,
+    /// The last sample with the switch open \[s\].
+    pub open_s: Option<f64>,
+    /// The first sample with the switch closed \[s\].
+    pub closed_s: Option<f64>,
+    /// The approach rate \[deg/s\].
+    pub rate_deg_s: Option<f64>,
 }
 
 /// The whole-run check of runs of a physical latch.

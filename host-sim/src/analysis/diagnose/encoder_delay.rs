@@ -1,0 +1,404 @@
+//! The encoders' delay behind their latch switches (`docs/diagnosis.md`,
+//! "An encoder late on its switch"): a discrepancy the diagnosis names by
+//! its signature and takes out before it fits any effect.
+//!
+//! An encoder that reports each angle `d` late (a filter, a bus, a
+//! sample-and-hold) reads `φ(t − d)` at the stamp `t`, while the latch
+//! switch reads its contact at `t`. Compared with the model at the stamps,
+//! the whole run looks slow by `d`: on a wing turning at 300 °/s a delay of
+//! one 10 ms sample is 3° of residual, which the search would otherwise
+//! bend named effects (friction, a torque table) to absorb.
+//!
+//! The signature is at each ideal latch (physics.md §5): the switch closes
+//! at the instant `t*` the joint reaches its latched angle, somewhere in
+//! `(t_{L−1}, t_L]` between the last open and the first closed sample; the
+//! encoder's approach, extrapolated to its latched level, crosses it at
+//! `τ = t* + d`. Each latching therefore bounds the delay:
+//! `τ − t_L ≤ d < τ − t_{L−1}`, an interval one sample wide; several
+//! latchings (joints × runs), closing at unrelated phases of the sample
+//! clock, narrow it (set-membership estimation). The delay is named when
+//! the intervals agree on a value and exclude zero.
+//!
+//! The runs are then compared with the model at their stamps minus the
+//! delay ([`shifted`]); a sample the encoder took before the release reads
+//! the stowed rest.
+
+use crate::data::campaign::Campaign;
+
+/// Slack on each latching's interval for time-stamp jitter, in sample
+/// periods: 3 σ of a jitter of 5 % of the period.
+pub const JITTER_SLACK_PERIODS: f64 = 0.15;
+
+/// Slack on each latching's interval for the sensor noise: this many σ̂
+/// of angle over the approach rate, the extrapolated crossing's error
+/// (a three-point extrapolation about doubles the noise, times 3 σ).
+pub const NOISE_SLACK_SIGMAS: f64 = 6.0;
+
+/// An approach sample is clear of the latched level beyond this many σ̂.
+pub const APPROACH_SIGMAS: f64 = 10.0;
+
+/// Fewest latchings before a delay is named.
+pub const MIN_LATCHINGS: usize = 3;
+
+/// The latched level is the median of these samples after the switch
+/// closes, from the third on (a delay of up to two samples left out).
+const LEVEL_SAMPLES: usize = 30;
+
+/// Latest sample after the switch closes still read as the approach (an
+/// encoder up to this many samples late).
+const MAX_LATE_SAMPLES: usize = 3;
+
+/// A refined delay within this many sample periods of the one the search
+/// ran at is taken as that one: the search is not run again. A mismatch
+/// of δ leaves `φ̇ δ` in the residuals, which at 300 °/s and 10 µs is
+/// already a clear share of a 0.02° noise over thousands of samples: the
+/// search would take a small effect to absorb it.
+pub const REFINED_ALIKE_PERIODS: f64 = 1e-4;
+
+/// Most searches of a diagnosis with a delay: each refines the delay
+/// with the set it found, and searches again where it moved.
+pub const MAX_PASSES: usize = 3;
+
+/// [`refine`] stops when its bracket is narrower than this many sample
+/// periods.
+const REFINE_TOLERANCE_PERIODS: f64 = 2e-5;
+
+/// Most golden-section steps of [`refine`] (0.618^60: any bracket).
+const REFINE_STEPS: usize = 60;
+
+/// Where the delay comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DelayFrom {
+    /// The middle of what the latchings allow.
+    Latchings,
+    /// The delay at which the model found fits the runs best, within what
+    /// the latchings allow ([`refine`]); where they allow zero too, named
+    /// only when that fit beats the one without a delay by the search's
+    /// BIC margin, counting the delay as one parameter.
+    Model,
+}
+
+/// One ideal latch closing, as the encoder and the switch saw it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Latching {
+    /// Run (0-based, in the campaign's order).
+    pub run: usize,
+    /// Joint (1-based).
+    pub joint: usize,
+    /// Where the encoder's approach crosses its latched level \[s\].
+    pub crossing_s: f64,
+    /// The last sample with the switch open \[s\].
+    pub open_s: f64,
+    /// The first sample with the switch closed \[s\].
+    pub closed_s: f64,
+    /// The approach rate \[deg/s\].
+    pub rate_deg_s: f64,
+    /// The delay this latching allows, slack included: `[lo, hi]` \[s\].
+    pub lo_s: f64,
+    /// Upper end of the delay this latching allows \[s\].
+    pub hi_s: f64,
+}
+
+/// The delay the latchings agree on.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EncoderDelay {
+    /// The delay taken out \[s\]: the middle of [`EncoderDelay::lo_s`] ..
+    /// [`EncoderDelay::hi_s`]. Negative: the switches are late on the
+    /// encoders (nothing is taken out then: the fit compares angles only).
+    pub delay_s: f64,
+    /// The delays every agreeing latching allows: lower end \[s\].
+    pub lo_s: f64,
+    /// Upper end \[s\].
+    pub hi_s: f64,
+    /// The latchings that agree on `[lo, hi]`.
+    pub agreeing: usize,
+    /// Every latching read.
+    pub latchings: Vec<Latching>,
+    /// The runs' sample period (the first run's median step) \[s\].
+    pub period_s: f64,
+    /// Where [`EncoderDelay::delay_s`] comes from.
+    pub from: DelayFrom,
+    /// True when no delay at all agrees with the latchings as well: zero
+    /// inside `[lo, hi]`, or allowed by as many latchings elsewhere. The
+    /// delay is then named only where the model fits the runs clearly
+    /// better with it ([`DelayFrom::Model`]).
+    pub allows_zero: bool,
+}
+
+impl EncoderDelay {
+    /// The delay in sample periods.
+    pub fn periods(&self) -> f64 {
+        self.delay_s / self.period_s.max(f64::MIN_POSITIVE)
+    }
+
+    /// The delay `delay_s` found by the model ([`DelayFrom::Model`]).
+    pub fn refined(&self, delay_s: f64) -> EncoderDelay {
+        EncoderDelay {
+            delay_s,
+            from: DelayFrom::Model,
+            ..self.clone()
+        }
+    }
+
+    /// True when the angles are compared at their stamps minus the delay
+    /// (the encoders are late; a late switch changes no angle).
+    pub fn taken_out(&self) -> bool {
+        self.delay_s > 0.0
+    }
+}
+
+/// The median of `x` (`None` when empty or not finite).
+fn median(mut x: Vec<f64>) -> Option<f64> {
+    if x.is_empty() || x.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    x.sort_by(f64::total_cmp);
+    Some(x[x.len() / 2])
+}
+
+/// Where the parabola through three samples `(t, y)` reaches zero after
+/// `t[2]` and within `reach` \[s\] of it; the line through the last two when
+/// the parabola does not.
+fn crossing(t: [f64; 3], y: [f64; 3], reach: f64) -> Option<f64> {
+    let (h1, h2) = (t[1] - t[0], t[2] - t[1]);
+    if !(h1 > 0.0 && h2 > 0.0) {
+        return None;
+    }
+    // y(s) = y2 + b s + c s², s = t − t2 (Newton form about the last node).
+    let d1 = (y[1] - y[0]) / h1;
+    let d2 = (y[2] - y[1]) / h2;
+    let c = (d2 - d1) / (h1 + h2);
+    let b = d2 + c * h2;
+    let inside = |s: f64| s.is_finite() && s > 0.0 && s <= reach;
+    let line = -y[2] / d2;
+    let root = if c.abs() * reach * reach < 1e-9 * y[2].abs() {
+        line
+    } else {
+        let disc = b * b - 4.0 * c * y[2];
+        if disc < 0.0 {
+            line
+        } else {
+            let q = -0.5 * (b + b.signum() * disc.sqrt());
+            let roots = [q / c, y[2] / q];
+            roots
+                .into_iter()
+                .filter(|&s| inside(s))
+                .min_by(f64::total_cmp)
+                .unwrap_or(line)
+        }
+    };
+    inside(root).then_some(t[2] + root)
+}
+
+/// The latching of joint `j` (0-based) in run `r` of `campaign`, when its
+/// latch is ideal, closes once for good and the encoder's approach to it
+/// is clear of the noise `sigma_deg`.
+fn latching(campaign: &Campaign, r: usize, j: usize, sigma_deg: f64) -> Option<Latching> {
+    let cr = campaign.runs.get(r)?;
+    let (run, mech) = (&cr.run, &cr.mechanism);
+    if mech.latch(j).is_some() || mech.truss.is_some() {
+        return None;
+    }
+    let (switch, phi) = (run.latch.get(j)?, run.phi_deg.get(j)?);
+    let n = run.len().min(switch.len()).min(phi.len());
+    let closes = switch.iter().take(n).position(|&s| s)?;
+    if closes < 4 || switch[closes..n].iter().any(|&s| !s) {
+        return None;
+    }
+    let level = median(
+        phi.get(closes + 2..(closes + 2 + LEVEL_SAMPLES).min(n))?
+            .to_vec(),
+    )?;
+    if n < closes + 2 + LEVEL_SAMPLES / 3 {
+        return None;
+    }
+    let y = |i: usize| phi[i] - level;
+    let clear = APPROACH_SIGMAS * sigma_deg.max(1e-6);
+    let side = y(closes - 1).signum();
+    if side * y(closes - 1) <= clear {
+        return None;
+    }
+    let mut k = closes - 1;
+    while k + 1 < n && k < closes + MAX_LATE_SAMPLES && side * y(k + 1) > clear {
+        k += 1;
+    }
+    // Another latch closing over the approach changes every rate at once
+    // (the plastic impulse of physics.md §5): no parabola spans it.
+    let others_change = run.latch.iter().enumerate().any(|(o, s)| {
+        o != j && (k - 3..=k + 1).any(|i| s.get(i).zip(s.get(i + 1)).is_some_and(|(a, b)| a != b))
+    });
+    if others_change {
+        return None;
+    }
+    let ts = [run.t_s[k - 2], run.t_s[k - 1], run.t_s[k]];
+    let ys = [y(k - 2), y(k - 1), y(k)];
+    // The approach: every sample clear of the level and closing on it.
+    if ys.iter().any(|v| side * v <= clear)
+        || !(side * ys[0] > side * ys[1] && side * ys[1] > side * ys[2])
+    {
+        return None;
+    }
+    let h = run.t_s.get(k + 1).map_or(ts[2] - ts[1], |t1| t1 - ts[2]);
+    let crossing_s = crossing(ts, ys, 1.5 * h)?;
+    let rate_deg_s = ((ys[2] - ys[1]) / (ts[2] - ts[1])).abs();
+    let (open_s, closed_s) = (run.t_s[closes - 1], run.t_s[closes]);
+    let slack =
+        NOISE_SLACK_SIGMAS * sigma_deg / rate_deg_s + JITTER_SLACK_PERIODS * (closed_s - open_s);
+    Some(Latching {
+        run: r,
+        joint: j + 1,
+        crossing_s,
+        open_s,
+        closed_s,
+        rate_deg_s,
+        lo_s: crossing_s - closed_s - slack,
+        hi_s: crossing_s - open_s + slack,
+    })
+}
+
+/// The run's median sample step \[s\].
+fn period_s(campaign: &Campaign) -> Option<f64> {
+    let t = &campaign.runs.first()?.run.t_s;
+    median(t.windows(2).map(|w| w[1] - w[0]).collect())
+}
+
+/// The delay of the campaign's encoders behind their latch switches, from
+/// every ideal latch that closes once for good, against the noise σ̂
+/// `sigma_deg`; `None` when fewer than [`MIN_LATCHINGS`] latchings are
+/// read or when they do not agree (more than one in five outside the best
+/// value). Where zero delay agrees with them as well as any,
+/// [`EncoderDelay::allows_zero`] says so.
+pub fn estimate(campaign: &Campaign, sigma_deg: f64) -> Option<EncoderDelay> {
+    if !sigma_deg.is_finite() {
+        return None;
+    }
+    let latchings: Vec<Latching> = (0..campaign.runs.len())
+        .flat_map(|r| (0..campaign.runs[r].run.joints()).map(move |j| (r, j)))
+        .filter_map(|(r, j)| latching(campaign, r, j, sigma_deg))
+        .filter(|l| l.lo_s.is_finite() && l.hi_s.is_finite() && l.lo_s <= l.hi_s)
+        .collect();
+    if latchings.len() < MIN_LATCHINGS {
+        return None;
+    }
+    let count = |d: f64| {
+        latchings
+            .iter()
+            .filter(|l| l.lo_s <= d && d <= l.hi_s)
+            .count()
+    };
+    let mut ends: Vec<f64> = latchings.iter().flat_map(|l| [l.lo_s, l.hi_s]).collect();
+    ends.sort_by(f64::total_cmp);
+    // The value most latchings allow: the widest run of gaps between ends
+    // with the highest count.
+    let (mut best, mut lo, mut hi) = (0usize, 0.0, 0.0);
+    for w in ends.windows(2) {
+        let c = count(0.5 * (w[0] + w[1]));
+        if c > best {
+            (best, lo, hi) = (c, w[0], w[1]);
+        } else if c == best && w[0] <= hi {
+            hi = w[1];
+        }
+    }
+    let need = latchings.len() - latchings.len() / 5;
+    if best < need {
+        return None;
+    }
+    Some(EncoderDelay {
+        allows_zero: count(0.0) >= need || (lo <= 0.0 && 0.0 <= hi),
+        delay_s: 0.5 * (lo + hi),
+        lo_s: lo,
+        hi_s: hi,
+        agreeing: best,
+        latchings,
+        period_s: period_s(campaign)?,
+        from: DelayFrom::Latchings,
+    })
+}
+
+/// The campaign compared with the model at its stamps minus `delay_s`:
+/// each sample's time is `t − d`; a sample the encoder took before the
+/// release (`t ≤ d`) reads the stowed rest and is placed just after
+/// `t = 0` (1 ns apart, the times strictly increasing), where the model
+/// has not moved. A delay ≤ 0 leaves the campaign as it is.
+pub fn shifted(campaign: &Campaign, delay_s: f64) -> Campaign {
+    let mut out = campaign.clone();
+    if !(delay_s > 0.0) {
+        return out;
+    }
+    for cr in &mut out.runs {
+        for (i, t) in cr.run.t_s.iter_mut().enumerate() {
+            *t = (*t - delay_s).max(i as f64 * 1e-9);
+        }
+    }
+    out
+}
+
+/// The delay in `[lo, hi]` \[s\] where `sse` (the model's SSE with the
+/// angles compared at their stamps minus the delay) is least, by golden
+/// section down to [`REFINE_TOLERANCE_PERIODS`] of `period_s`; `None` values (a failed fit) count as worst. The middle when
+/// every value fails.
+pub fn refine(lo: f64, hi: f64, period_s: f64, sse: impl Fn(f64) -> Option<f64>) -> f64 {
+    let f = |d: f64| sse(d).filter(|v| v.is_finite()).unwrap_or(f64::INFINITY);
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut a, mut b) = (lo, hi);
+    let (mut x1, mut x2) = (b - r * (b - a), a + r * (b - a));
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..REFINE_STEPS {
+        if b - a < REFINE_TOLERANCE_PERIODS * period_s {
+            break;
+        }
+        if f1 <= f2 {
+            (b, x2, f2) = (x2, x1, f1);
+            x1 = b - r * (b - a);
+            f1 = f(x1);
+        } else {
+            (a, x1, f1) = (x1, x2, f2);
+            x2 = a + r * (b - a);
+            f2 = f(x2);
+        }
+    }
+    match (f1.is_finite(), f2.is_finite()) {
+        (false, false) => 0.5 * (lo + hi),
+        _ if f1 <= f2 => x1,
+        _ => x2,
+    }
+}
+
+/// [`shifted`] by what a diagnosis took out (`None`: the campaign as it is).
+pub fn apply(campaign: &Campaign, delay: Option<&EncoderDelay>) -> Campaign {
+    match delay {
+        Some(d) if d.taken_out() => shifted(campaign, d.delay_s),
+        _ => campaign.clone(),
+    }
+}
+
+/// The delay in words, for the progress and the report.
+pub fn words(d: &EncoderDelay) -> String {
+    let ms = |s: f64| s * 1e3;
+    if d.taken_out() {
+        format!(
+            "the encoders read {:.2} ms ({:.2} samples) behind their latch switches ({} of {} latchings allow {:.1} to {:.1} ms{}): the angles are compared with the model at their stamps minus {:.2} ms",
+            ms(d.delay_s),
+            d.periods(),
+            d.agreeing,
+            d.latchings.len(),
+            ms(d.lo_s),
+            ms(d.hi_s),
+            match d.from {
+                DelayFrom::Latchings => "; their middle taken",
+                DelayFrom::Model => "; the model found fits best there",
+            },
+            ms(d.delay_s)
+        )
+    } else {
+        format!(
+            "the latch switches close {:.1} ms ({:.2} samples; {:.1} to {:.1} ms) after the encoders reach their latched angles, by {} of {} latchings: the angles are compared at their stamps (the fit reads no switch)",
+            ms(-d.delay_s),
+            -d.periods(),
+            ms(-d.hi_s),
+            ms(-d.lo_s),
+            d.agreeing,
+            d.latchings.len()
+        )
+    }
+}

@@ -1,0 +1,236 @@
+//! Encoders late on their latch switches (`docs/diagnosis.md`, "An encoder
+//! late on its switch"): the diagnosis names the delay by its signature at
+//! the ideal latches, takes it out, and finds the hidden effect as if the
+//! encoders were on time; runs without a delay name none.
+//!
+//! The delayed runs are our simulator's: each angle sampled at its stamp
+//! minus the delay (the stowed rest before the release), each switch at its
+//! stamp, then the reference sensor's noise and rounding. The diagnosis is
+//! given the runs and the mechanisms only.
+//!
+//! - `latchings_bound_the_delay_on_random_wings`: over random ideal-latch
+//!   wings (`tests/src/wing_gen.rs`, some with a named effect), on time the
+//!   latchings never exclude zero, and delayed by 0.6 of a sample they
+//!   always allow the delay. `DEPLOYWATCH_WINGS` wings (default 60).
+//! - `a_delay_is_named_and_taken_out_and_the_effect_found`: seed wings with
+//!   an effect hidden at the detectability bar and a delay of 0.3 to 1
+//!   sample, beside the same campaigns on time: right in 85 % at least
+//!   (the CI's 2 cases both). `DEPLOYWATCH_FULL=1` runs 12 cases:
+//!   `DEPLOYWATCH_FULL=1 cargo test --release -p deploywatch-tests --test diagnosis_encoder_delay -- --nocapture`.
+
+use deploywatch_sim::campaign::Campaign;
+use deploywatch_sim::deployment::{self, SimOptions, Trajectory};
+use deploywatch_sim::diagnose::{diagnose, encoder_delay, Outcome};
+use deploywatch_sim::effect::{self, Effect, EffectKind};
+use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::progress::quiet;
+use deploywatch_sim::sensor::{self, SensorModel};
+use deploywatch_tests::data_dir;
+use deploywatch_tests::wing_gen::wing_toml;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::path::Path;
+
+/// The runs of `truth` on `m` as sensors with encoders `delay_s` late give
+/// them: two runs, noise seeds `seed` and `seed + 1`.
+fn campaign(m: &Mechanism, truth: &[Effect], delay_s: f64, seed: u64) -> Option<Campaign> {
+    let opts = SimOptions::default();
+    let on_time = deployment::simulate(m, truth, &opts).ok()?;
+    let late: Vec<f64> = on_time
+        .t_s
+        .iter()
+        .enumerate()
+        .map(|(i, t)| (t - delay_s).max(i as f64 * 1e-9))
+        .collect();
+    let read = if delay_s > 0.0 {
+        deployment::simulate_at(m, truth, &opts, &late).ok()?
+    } else {
+        on_time.clone()
+    };
+    let angles = Trajectory {
+        latched: on_time.latched.clone(),
+        t_s: on_time.t_s.clone(),
+        ..read
+    };
+    let off = effect::encoder_offsets_deg(truth, m.joint_count());
+    let mut c = Campaign::default();
+    for r in 0..2 {
+        let mut run = sensor::measure(&angles, &off, &SensorModel::REFERENCE, seed + r);
+        run.set_meta("mechanism", &m.name);
+        c.push(
+            std::slice::from_ref(m),
+            run,
+            Path::new(&format!("run{r}.csv")),
+        )
+        .ok()?;
+    }
+    Some(c)
+}
+
+fn wings() -> u64 {
+    std::env::var("DEPLOYWATCH_WINGS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(60)
+}
+
+#[test]
+fn latchings_bound_the_delay_on_random_wings() {
+    let sigma = SensorModel::REFERENCE.noise_sigma_deg;
+    let (mut read, mut named) = (0, 0);
+    for seed in 0..wings() {
+        let w = wing_toml(7000 + seed, 0.0);
+        let m = Mechanism::from_toml_str(&w.toml, "random.toml").expect("a valid wing");
+        let period = 1.0 / m.sample_hz;
+        let Some(on_time) = campaign(&m, &w.effects, 0.0, seed) else {
+            continue;
+        };
+        if let Some(d) = encoder_delay::estimate(&on_time, sigma) {
+            assert!(
+                d.allows_zero,
+                "wing {seed}: on time, yet the latchings exclude zero: {:.3} .. {:.3} ms\n{}",
+                d.lo_s * 1e3,
+                d.hi_s * 1e3,
+                w.toml
+            );
+        }
+        let late = 0.6 * period;
+        let Some(c) = campaign(&m, &w.effects, late, seed) else {
+            continue;
+        };
+        if let Some(d) = encoder_delay::estimate(&c, sigma) {
+            read += 1;
+            named += usize::from(!d.allows_zero);
+            assert!(
+                d.lo_s <= late && late <= d.hi_s,
+                "wing {seed}: {:.3} ms late, the latchings allow {:.3} .. {:.3} ms\n{}",
+                late * 1e3,
+                d.lo_s * 1e3,
+                d.hi_s * 1e3,
+                w.toml
+            );
+        }
+    }
+    println!(
+        "{} wings: the latchings read on {read} delayed campaigns, clear of zero on {named}",
+        wings()
+    );
+    assert!(read > 0, "no wing's latchings were read");
+}
+
+const MECHS: [&str; 4] = [
+    "seed001_T01",
+    "seed000_case1",
+    "seed001_T02",
+    "seed000_case3",
+];
+
+const KINDS: [EffectKind; 3] = [
+    EffectKind::CoulombFriction,
+    EffectKind::ViscousDamping,
+    EffectKind::SpringSoftening,
+];
+
+/// RMS \[deg\] by which `e` moves the runs of `m`.
+fn size(m: &Mechanism, e: &[Effect]) -> f64 {
+    let opts = SimOptions {
+        stop_when_deployed: false,
+        ..SimOptions::default()
+    };
+    let (Ok(a), Ok(b)) = (
+        deployment::simulate(m, &[], &opts),
+        deployment::simulate(m, e, &opts),
+    ) else {
+        return 0.0;
+    };
+    let (mut sse, mut n) = (0.0, 0usize);
+    for j in 0..m.joint_count() {
+        for i in 0..a.t_s.len().min(b.t_s.len()) {
+            sse += (b.phi_deg[j][i] - a.phi_deg[j][i]).powi(2);
+            n += 1;
+        }
+    }
+    (sse / n.max(1) as f64).sqrt()
+}
+
+/// Case `i`: a seed wing, one effect raised from a small value until it
+/// moves the runs by ≥ 0.3° RMS, a delay of 0.3 to 1 sample.
+fn case(i: usize) -> (Mechanism, Vec<Effect>, f64) {
+    let mut rng = ChaCha8Rng::seed_from_u64(4100 + i as u64);
+    let m = Mechanism::load(&data_dir().join(format!("mechanisms/{}.toml", MECHS[i % 4])))
+        .expect("bundled");
+    let kind = KINDS[(i / 4) % 3];
+    let j = rng.gen_range(1..=m.joint_count());
+    let mut e = Effect::joint(kind, j, 0.01);
+    for _ in 0..40 {
+        if size(&m, &[e]) >= 0.3 {
+            break;
+        }
+        e = e.with_value(e.value() * 1.25);
+    }
+    let delay = rng.gen_range(0.3..1.0) / m.sample_hz;
+    (m, vec![e], delay)
+}
+
+/// The outcome names exactly `truth`, values within 20 %, nothing
+/// unexplained.
+fn found(truth: &[Effect], o: &Outcome) -> bool {
+    let e = o.extended.effects();
+    o.unexplained.is_none()
+        && e.len() == truth.len()
+        && truth.iter().all(|t| {
+            e.iter().any(|x| {
+                x.kind() == t.kind()
+                    && x.joint == t.joint
+                    && (x.value() - t.value()).abs() <= 0.2 * t.value().abs()
+            })
+        })
+}
+
+fn names(o: &Outcome) -> String {
+    let e: Vec<String> = o.extended.effects().iter().map(|e| e.to_string()).collect();
+    e.join(" + ")
+}
+
+#[test]
+fn a_delay_is_named_and_taken_out_and_the_effect_found() {
+    let n = if std::env::var_os("DEPLOYWATCH_FULL").is_some() {
+        12
+    } else {
+        2
+    };
+    let opts = deploywatch_tests::diagnose_options();
+    let mut failed = Vec::new();
+    for i in 0..n {
+        let (m, truth, delay) = case(i);
+        let period = 1.0 / m.sample_hz;
+        let late = campaign(&m, &truth, delay, 10 * i as u64).expect("simulates");
+        let o = diagnose(&late, &opts, &quiet);
+        let got = o.encoder_delay.as_ref().map(|d| d.delay_s);
+        let on_time = campaign(&m, &truth, 0.0, 10 * i as u64).expect("simulates");
+        let c = diagnose(&on_time, &opts, &quiet);
+        println!(
+            "case {i} {}: {} with {:.2} ms late -> delay {} ms, found [{}]; on time -> delay {:?}, found [{}]",
+            m.name,
+            truth[0],
+            delay * 1e3,
+            got.map_or("none".into(), |d| format!("{:.2}", d * 1e3)),
+            names(&o),
+            c.encoder_delay.as_ref().map(|d| d.delay_s * 1e3),
+            names(&c)
+        );
+        let delay_ok = got.is_some_and(|d| (d - delay).abs() <= 0.05 * period);
+        if !delay_ok || !found(&truth, &o) || c.encoder_delay.is_some() || !found(&truth, &c) {
+            failed.push(i);
+        }
+    }
+    println!(
+        "named within 5 % of a sample and the effect found, on time no delay named: {} of {n}",
+        n - failed.len()
+    );
+    // The issue's bar, 85 %: every case of the CI's two.
+    assert!(
+        100 * failed.len() <= 15 * n,
+        "cases {failed:?} (see the lines above)"
+    );
+}
