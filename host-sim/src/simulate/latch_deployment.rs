@@ -150,10 +150,15 @@ impl<'a, const N: usize> Sim<'a, N> {
     /// The latch torque of joint `j` on its frozen segments [N·m], the
     /// stop's force applied and an engaged pawl's notch force applied \[N\].
     fn latch_torque(&self, j: usize, phi: f64, phi_dot: f64) -> (f64, f64, f64) {
+        self.latch_torque_on(j, &self.seg[j], phi, phi_dot)
+    }
+
+    /// [`Sim::latch_torque`] with the law frozen on `s` instead of the
+    /// joint's own segments.
+    fn latch_torque_on(&self, j: usize, s: &Segments, phi: f64, phi_dot: f64) -> (f64, f64, f64) {
         let Some(l) = &self.latch[j] else {
             return (0.0, 0.0, 0.0);
         };
-        let s = &self.seg[j];
         let u = l.travel(phi);
         let rate = self.consts[j].ramp[segment_index(s.plunger)];
         let cons = l.side * l.conservative_torque_rated(s.plunger, s.magnet, u, rate);

@@ -5,7 +5,7 @@
 //! ([`deploywatch_core::physics::stick`]); an ideal latch's plastic
 //! impulse (`physics.md` section 5), which frees a stuck joint.
 
-use super::{branch_at, Runner, Sim};
+use super::{branch_at, classify, Runner, Sim};
 use crate::simulate::latch_run::LatchEventKind;
 use crate::simulate::ode::State;
 use crate::simulate::trajectory::SimError;
@@ -15,15 +15,54 @@ use deploywatch_core::physics::stick::{holding_torques, StickBand};
 /// a turn too).
 const TURNING_RATE_RAD_S: f64 = 1e-6;
 
+/// A joint at rest within this distance of a mark of its latch's travel
+/// \[rad\] is at the mark for the stick rule ([`Sim::holding_range`]).
+const MARK_NEAR_RAD: f64 = 1e-7;
+
 impl<const N: usize> Sim<'_, N> {
     /// Joint `j`'s holding torque [N·m] with it and the joints already
-    /// held out of the coordinates, and its band, at `y`.
+    /// held out of the coordinates, and its band, at `y`: the torque of the
+    /// range it can take ([`Sim::holding_range`]) the band holds best.
     fn holding(&self, j: usize, y: &State<N>) -> Option<(f64, StickBand<f64>)> {
+        let ([a, b], band) = self.holding_range(j, y)?;
+        let mid = 0.5 * (band.lo + band.hi);
+        Some((mid.clamp(a, b), band))
+    }
+
+    /// The holding torques [N·m] joint `j` can take at `y`, `[low, high]`,
+    /// and its band. Off a mark of its latch's travel this is one torque.
+    /// Within [`MARK_NEAR_RAD`] of a mark where the latch's law jumps (a
+    /// preloaded plunger's ramp, the magnet's reach) it is every torque
+    /// between the two sides' (Filippov's convex hull): a joint at rest
+    /// against the jump is held there by a contact force between the two
+    /// laws', as against a stop, instead of crossing back and forth.
+    fn holding_range(&self, j: usize, y: &State<N>) -> Option<([f64; 2], StickBand<f64>)> {
         let mut held = self.held();
         held[j] = true;
-        let (m, rhs) = self.system(y, &held);
-        let r = holding_torques(&m, &rhs, &held).ok()?[j];
-        r.is_finite().then(|| (r, self.chain.stick_band(j, y.q[j])))
+        let (m, mut rhs) = self.system(y, &held);
+        let band = self.chain.stick_band(j, y.q[j]);
+        let at = |rhs: &[f64; N]| -> Option<f64> {
+            let r = holding_torques(&m, rhs, &held).ok()?[j];
+            r.is_finite().then_some(r)
+        };
+        let r = at(&rhs)?;
+        let mut range = [r, r];
+        if let Some(l) = &self.latch[j] {
+            let (phi, rate) = (y.q[j], y.v[j]);
+            let own = self.latch_torque(j, phi, rate).0;
+            for side in [-1.0, 1.0] {
+                let s = classify(l, phi + side * MARK_NEAR_RAD, 0.0, self.seg[j]);
+                let jump = self.latch_torque_on(j, &s, phi, rate).0 - own;
+                if jump != 0.0 {
+                    let base = rhs[j];
+                    rhs[j] = base + jump;
+                    let r_side = at(&rhs)?;
+                    rhs[j] = base;
+                    range = [range[0].min(r_side), range[1].max(r_side)];
+                }
+            }
+        }
+        Some((range, band))
     }
 
     /// How far a stuck joint's holding torque is inside its band (the
