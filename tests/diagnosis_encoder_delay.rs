@@ -17,11 +17,18 @@
 //!   sample, beside the same campaigns on time: right in 85 % at least
 //!   (the CI's 2 cases both). `DEPLOYWATCH_FULL=1` runs 12 cases:
 //!   `DEPLOYWATCH_FULL=1 cargo test --release -p deploywatch-tests --test diagnosis_encoder_delay -- --nocapture`.
+//! - `simulate_at_compares_as_the_diagnosis_did`: `deploywatch diagnose` on
+//!   a delayed run names the delay in its JSON, and `simulate --from
+//!   d.json --at run.csv` gives back the RMS the diagnosis reported, the
+//!   model written at the run's own stamps.
 
+use clap::Parser;
 use deploywatch_sim::campaign::Campaign;
+use deploywatch_sim::cli::{self, Cli};
 use deploywatch_sim::deployment::{self, SimOptions, Trajectory};
 use deploywatch_sim::diagnose::{diagnose, encoder_delay, Outcome};
 use deploywatch_sim::effect::{self, Effect, EffectKind};
+use deploywatch_sim::findings::Findings;
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;
 use deploywatch_sim::sensor::{self, SensorModel};
@@ -233,4 +240,102 @@ fn a_delay_is_named_and_taken_out_and_the_effect_found() {
         100 * failed.len() <= 15 * n,
         "cases {failed:?} (see the lines above)"
     );
+}
+
+fn deploywatch(args: &[&str]) -> i32 {
+    let argv = std::iter::once("deploywatch").chain(args.iter().copied());
+    match Cli::try_parse_from(argv) {
+        Ok(parsed) => cli::run(parsed).map_or_else(|e| i32::from(e.code), |()| 0),
+        Err(e) => panic!("deploywatch {args:?}: {e}"),
+    }
+}
+
+/// The angles of a run CSV, per joint.
+fn angles(path: &Path, joints: usize) -> Vec<Vec<f64>> {
+    let body = std::fs::read_to_string(path).expect("a run CSV");
+    let mut out = vec![Vec::new(); joints];
+    for line in body.lines().filter(|l| !l.starts_with('#')).skip(1) {
+        let cells: Vec<&str> = line.split(',').collect();
+        for (j, col) in out.iter_mut().enumerate() {
+            col.push(cells[1 + j].parse::<f64>().expect("an angle"));
+        }
+    }
+    out
+}
+
+#[test]
+fn simulate_at_compares_as_the_diagnosis_did() {
+    let (m, truth, delay) = case(0);
+    let c = campaign(&m, &truth, delay, 77).expect("simulates");
+    let dir = std::env::temp_dir().join(format!("dw-delay-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let mech = data_dir().join(format!("mechanisms/{}.toml", MECHS[0]));
+    let runs: Vec<std::path::PathBuf> = (0..2).map(|r| dir.join(format!("run{r}.csv"))).collect();
+    for (cr, p) in c.runs.iter().zip(&runs) {
+        cr.run.write(p).expect("writes");
+    }
+    let (json, model) = (dir.join("d.json"), dir.join("model.csv"));
+    let s = |p: &Path| p.to_str().expect("UTF-8").to_string();
+    let code = deploywatch(&[
+        "diagnose",
+        "--quiet",
+        "--json",
+        &s(&json),
+        "--mechanism",
+        &s(&mech),
+        &s(&runs[0]),
+    ]);
+    assert_eq!(code, 0, "diagnose");
+    let body = std::fs::read_to_string(&json).expect("the JSON");
+    let Ok(Findings::Diagnosis(d)) = Findings::from_json_str(&body) else {
+        panic!("not a diagnosis:\n{body}");
+    };
+    let named = d
+        .encoder_delay
+        .as_ref()
+        .and_then(|e| e.delay_s)
+        .expect("a delay named");
+    assert!(
+        (named - delay).abs() <= 0.05 / m.sample_hz,
+        "{named} s, {delay} s late"
+    );
+    let code = deploywatch(&[
+        "simulate",
+        &s(&mech),
+        "--from",
+        &s(&json),
+        "--at",
+        &s(&runs[0]),
+        "--out",
+        &s(&model),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "simulate --from --at");
+    let (a, b) = (
+        angles(&model, m.joint_count()),
+        angles(&runs[0], m.joint_count()),
+    );
+    let (mut sse, mut n) = (0.0, 0usize);
+    for (x, y) in a.iter().zip(&b) {
+        for (p, q) in x.iter().zip(y) {
+            sse += (p - q) * (p - q);
+            n += 1;
+        }
+    }
+    let again = (sse / n as f64).sqrt();
+    let said = d.extended.rms_deg.expect("an extended RMS");
+    assert!(
+        (again - said).abs() <= 1e-6,
+        "re-simulated {again} deg, the diagnosis said {said}"
+    );
+    let head = std::fs::read_to_string(&model).expect("the model CSV");
+    let first = head
+        .lines()
+        .find(|l| !l.starts_with('#') && !l.starts_with("t_s"))
+        .expect("a sample");
+    assert!(
+        first.starts_with("0.0"),
+        "the model written at the run's stamps: {first}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

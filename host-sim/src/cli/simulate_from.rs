@@ -3,7 +3,8 @@
 //! `--from` adds the effects the file names to the `--effect`s (read by the
 //! findings' one reader, `FoundEffect::to_effect`); `--at` simulates them
 //! as the diagnosis did — at the run's own time stamps, with the fit's
-//! integration settings, the encoder offsets applied, over the free motion
+//! integration settings, the encoder offsets applied, the encoders' delay
+//! taken out where the diagnosis took one out, over the free motion
 //! the diagnosis fitted when its runs have a physical latch — writes the
 //! model's true angles and prints its RMS against the run, the number the
 //! diagnosis gives as the extended model's (`docs/diagnosis.md`).
@@ -11,6 +12,7 @@
 use super::simulate_args::SimulateArgs;
 use super::{outln, CliError, Console};
 use crate::analysis::campaign_sim::CampaignSim;
+use crate::analysis::diagnose::encoder_delay;
 use crate::analysis::diagnose::latch_window::{self, RunWindow};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};
@@ -96,6 +98,17 @@ pub fn run_at(
         .map_err(|e| CliError::input(format!("--at: {e}")))?;
     let name = campaign.runs[0].name();
     campaign.runs[0].mechanism = mech.clone();
+    // Encoders the diagnosis found late on their switches: the model at
+    // each stamp minus the delay, written at the run's own stamps.
+    let stamps = campaign.runs[0].run.t_s.clone();
+    let delay_s = found
+        .and_then(|d| d.encoder_delay.as_ref())
+        .filter(|d| d.taken_out)
+        .and_then(|d| d.delay_s)
+        .filter(|d| d.is_finite() && *d > 0.0);
+    if let Some(d) = delay_s {
+        campaign = encoder_delay::shifted(&campaign, d);
+    }
     let window = found.and_then(|d| d.free_window.iter().find(|w| w.run == name));
     if let Some(w) = window {
         let cut = RunWindow {
@@ -114,6 +127,7 @@ pub fn run_at(
         .ok_or_else(|| CliError::failed(format!("{name}: the model's run does not cover it")))?;
     let zero = vec![0.0; mech.joint_count()];
     let mut run = sensor::measure(&traj, &zero, &SensorModel::IDEAL, 0);
+    run.t_s = stamps.get(..run.t_s.len()).map_or(run.t_s, <[f64]>::to_vec);
     run.set_meta("mechanism", &mech.name);
     run.set_meta("source", "deploywatch simulate --at");
     let effects: Vec<String> = args.effects.iter().map(|e| e.to_string()).collect();
@@ -134,6 +148,12 @@ pub fn run_at(
         )),
         args.out.display()
     );
+    if let Some(d) = delay_s {
+        outln!(
+            "  the encoders {:.3} ms late on their switches, as the diagnosis took out",
+            d * 1e3
+        );
+    }
     for e in &args.effects {
         outln!("  effect {e}");
     }
