@@ -23,7 +23,10 @@ then held by a joint equality) with, drawn per case:
   body of inertia ``SPRING_SIDE_KGM2``) and its panel, a dead band of
   ±0.05–0.2° (a MuJoCo joint limit); the spring and the encoder are on
   the spring side, the latch, the friction and the hidden effect on the
-  panel's angle;
+  panel's angle; the spring side's mass (``SPRING_SIDE_KG``) and inertia
+  are hinge hardware the drawing counts in its panel, taken out of the
+  panel body (``panel_without_spring_side``) so that the wing's mass
+  properties are the drawing's;
 - **encoder latency** of 0 to 1 sample, and **time-stamp jitter**: each
   sample taken at its stamp plus a normal error of 1–5 % of the period
   (σ), the stamp written as nominal; latch switches are not delayed;
@@ -83,6 +86,8 @@ MIN_EFFECT_RMS_DEG = 0.3
 """The hidden effect moves the runs by at least this RMS [deg] (issue 40)."""
 SPRING_SIDE_KGM2 = 1e-3
 """Inertia of a hinge's spring/encoder side about its axis [kg·m²] (with free-play)."""
+SPRING_SIDE_KG = 0.05
+"""Mass of a hinge's spring/encoder side [kg] (with free-play), at the hinge."""
 REL_TOL = 0.2
 """A found value is right within this fraction of the hidden one (issue 40)."""
 NUISANCES = ("flex", "freeplay", "latency", "jitter")
@@ -222,6 +227,16 @@ def mechanism_toml(w: Wing) -> str:
     return "\n".join(out)
 
 
+def panel_without_spring_side(p: Panel) -> Panel:
+    """The panel ``p`` as drawn less its hinge's spring side (mass
+    ``SPRING_SIDE_KG`` at the hinge, inertia ``SPRING_SIDE_KGM2`` about
+    it): what is left, so that the two rigidly together are ``p``."""
+    mass = p.mass_kg - SPRING_SIDE_KG
+    com = p.mass_kg * p.com_m / mass
+    about_hinge = p.inertia_kgm2 + p.mass_kg * p.com_m**2 - SPRING_SIDE_KGM2
+    return Panel(p.length_m, mass, com, about_hinge - mass * com**2)
+
+
 class Model:
     """The wing in MuJoCo: per joint a spring-side hinge ``s`` (with
     free-play, else the panel's own hinge), a dead-band hinge ``d`` (with
@@ -237,11 +252,16 @@ class Model:
         ks, cs = flex_k or [], flex_c or []
         body, close, eqs = [], [], []
         for i, (p, j) in enumerate(zip(w.panels, w.joints)):
+            if fp:
+                # The spring side is hinge hardware the drawing counts in its
+                # panel: the panel body is the rest, so that the two together
+                # have the drawn panel's mass, centre and inertia.
+                p = panel_without_spring_side(p)
             x = 0.0 if i == 0 else (w.panels[i - 1].length_m / 2 if flex else w.panels[i - 1].length_m)
             hinge = f'<joint name="s{i}" type="hinge" axis="0 0 1" stiffness="{j.stiffness_nm_per_rad * j.count!r}" springref="0"/>'
             if fp:
                 b = math.radians(nz.freeplay_deg[i])
-                body.append(f'<body name="sp{i}" pos="{x!r} 0 0">{hinge}<inertial pos="0 0 0" mass="0.05" diaginertia="{SPRING_SIDE_KGM2!r} {SPRING_SIDE_KGM2!r} {SPRING_SIDE_KGM2!r}"/>')
+                body.append(f'<body name="sp{i}" pos="{x!r} 0 0">{hinge}<inertial pos="0 0 0" mass="{SPRING_SIDE_KG!r}" diaginertia="{SPRING_SIDE_KGM2!r} {SPRING_SIDE_KGM2!r} {SPRING_SIDE_KGM2!r}"/>')
                 close.append("</body>")
                 hinge = f'<joint name="d{i}" type="hinge" axis="0 0 1" limited="true" range="{-b!r} {b!r}" solreflimit="{4 * DT_S!r} 1"/>'
                 x = 0.0

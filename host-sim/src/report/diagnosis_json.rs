@@ -214,5 +214,6 @@ fn to_json(c: &Campaign, o: &Outcome, d: &Details) -> Diagnosis {
         whole_run: diagnosis_latch::whole_run_json(o),
         latches: diagnosis_latch::latches_json(o),
         ambiguities: diagnosis_latch::ambiguities_json(o),
+        set_aside: super::diagnosis_set_aside::json(o),
     }
 }

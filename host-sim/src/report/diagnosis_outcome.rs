@@ -57,6 +57,7 @@ pub fn what_words(r: &Round) -> String {
         Move::Simpler => format!("a simpler law in place of a friction form of {set}"),
         Move::Drop => format!("drop an effect of {set}"),
         Move::DropClaim => format!("drop a claim of {set} the data do not support"),
+        Move::SetAside => format!("set aside a claim of {set} within the discrepancy"),
         Move::Restart => format!("a second start's set in place of {set}"),
         Move::Alternative => {
             format!("an alternative of the ambiguity stage in place of {set}")
@@ -148,6 +149,14 @@ impl fmt::Display for Rejection {
             Rejection::UnsupportedClaim => {
                 f.write_str("it adds a claim its joint shows no evidence of")
             }
+            Rejection::BeyondDiscrepancy {
+                explained_deg,
+                discrepancy_deg,
+            } => write!(
+                f,
+                "it accounts for {explained_deg:.4} deg RMS, not less than the \
+                 {discrepancy_deg:.4} deg the set leaves unexplained"
+            ),
         }
     }
 }

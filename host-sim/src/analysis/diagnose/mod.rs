@@ -27,10 +27,15 @@
 //!    (how large, which joint, which part of the stroke), never forced onto
 //!    a name. Where a global effect stands in for a joint torque, a table
 //!    at that joint in its place is tried first (`stand_in`).
+//! 7. Claims within the discrepancy ([`discrepancy`]): while the set found
+//!    stays clearly above the noise, a claim that accounts for less than
+//!    the residual the set leaves above the noise is set aside
+//!    ([`Move::SetAside`]) and reported as such.
 
 pub mod ambiguity;
 mod candidate;
 pub mod discover;
+mod discrepancy;
 pub mod encoder_delay;
 pub mod evidence;
 mod evidence_search;
@@ -58,8 +63,8 @@ pub mod whole_run;
 pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
 pub use outcome::{
-    DiagnoseOptions, FitStats, FittedSet, HaltReason, Outcome, Round, SeparatingTest, StopFlag,
-    Unexplained, UnexplainedShape,
+    DiagnoseOptions, FitStats, FittedSet, HaltReason, Outcome, Round, SeparatingTest, SetAside,
+    StopFlag, Unexplained, UnexplainedShape,
 };
 pub use policy::{Kept, Move, Rejection, Verdict, MIN_DELTA_BIC};
 
@@ -561,11 +566,15 @@ fn search_campaign(
         search.replace_stand_in();
         search.restart_from_tables(&baseline);
     }
-    let ambiguities = if eng.halt.now() {
+    let mut ambiguities = if eng.halt.now() {
         Vec::new()
     } else {
         search.best_of_alternatives()
     };
+    let set_aside = search.set_aside_within_discrepancy();
+    if !set_aside.is_empty() && !eng.halt.now() {
+        ambiguities = search.ambiguities();
+    }
     let partial = eng.halt.finish();
     let (extended, strength_rms_deg) = eng.strongest_first(&search.current);
     let extended = ambiguity::widened(&extended, &ambiguities);
@@ -589,6 +598,7 @@ fn search_campaign(
         whole_run: None,
         latches: Vec::new(),
         ambiguities,
+        set_aside,
         partial,
     }
 }

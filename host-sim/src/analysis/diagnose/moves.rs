@@ -16,7 +16,8 @@
 use super::candidate::Candidate;
 use super::outcome::{CandidateScore, FittedSet, Round};
 use super::policy::{
-    Attempt, Move, PastTries, Policy, Record, Rejection, Verdict, HELD_OUT_SHARE, STEPWISE,
+    Attempt, Move, PastTries, Policy, Record, Rejection, Verdict, DISCREPANCY_SHARE,
+    HELD_OUT_SHARE, STEPWISE,
 };
 use super::step::Step;
 use super::{above_noise, labels, Proposal, Search, MAX_STEPS, MAX_SWAPS, PAIR_SEEDS};
@@ -69,6 +70,17 @@ impl Search<'_, '_> {
         }
         if policy.no_stand_in && self.eng.unexplained_torque(to, self.sigma).is_some() {
             return Verdict::Rejected(Rejection::StandInLeft);
+        }
+        if policy.within_discrepancy {
+            let (explained_deg, discrepancy_deg) = self.discrepancy_of(current, to);
+            if !(explained_deg * explained_deg
+                < DISCREPANCY_SHARE * discrepancy_deg * discrepancy_deg)
+            {
+                return Verdict::Rejected(Rejection::BeyondDiscrepancy {
+                    explained_deg,
+                    discrepancy_deg,
+                });
+            }
         }
         Verdict::Accepted(policy.kept)
     }
@@ -259,6 +271,8 @@ impl Search<'_, '_> {
             // Made after every move that drops (`Search::backward`) and at
             // the end of discovery (`Search::check_claims`).
             Move::Drop | Move::DropClaim => None,
+            // Made at the end, above the noise (`super::discrepancy`).
+            Move::SetAside => None,
             // Made by a second start of the search (`super::restart`).
             Move::Restart => None,
             // Fitted by the ambiguity stage (`super::ambiguity`).

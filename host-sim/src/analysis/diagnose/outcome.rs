@@ -263,6 +263,22 @@ impl FittedSet {
     }
 }
 
+/// A claim set aside because the runs cannot tell it from the
+/// discrepancy its set leaves above the noise ([`super::discrepancy`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SetAside {
+    /// The effect as it was fitted in the set.
+    pub effect: FittedEffect,
+    /// The named effects put in its place (a table's shape beyond a named
+    /// law set aside); empty when it was dropped.
+    pub replaced_by: Vec<Candidate>,
+    /// What it accounted for: the RMS of the SSE its loss added \[deg\].
+    pub explained_deg: f64,
+    /// The discrepancy of the set it was in: the RMS of its SSE above the
+    /// noise, `√((SSE − m σ̂²)/m)` \[deg\].
+    pub discrepancy_deg: f64,
+}
+
 /// How one candidate fared in one round.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CandidateScore {
@@ -403,6 +419,10 @@ pub struct Outcome {
     pub latches: Vec<LatchFinding>,
     /// Sets of causes that explain the runs alike ([`super::ambiguity`]).
     pub ambiguities: Vec<Ambiguity>,
+    /// Claims the search had kept that the runs cannot tell from the
+    /// discrepancy the set leaves, set aside ([`super::discrepancy`]), in
+    /// the order they were.
+    pub set_aside: Vec<SetAside>,
     /// Why the search stopped before its end, when it did (a time limit,
     /// a raised [`StopFlag`]): the effects are then the best found so far.
     pub partial: Option<HaltReason>,

@@ -21,7 +21,11 @@
 //! 5. its held-out RMS beats the current set's by [`HELD_OUT_SHARE`]
 //!    ([`Policy::held_out`], with two or more runs);
 //! 6. no global effect stands in for a joint torque
-//!    ([`Policy::no_stand_in`], [`super::Engine::unexplained_torque`]).
+//!    ([`Policy::no_stand_in`], [`super::Engine::unexplained_torque`]);
+//! 7. a move to a smaller set that sets a claim aside
+//!    ([`Move::SetAside`]): what the claim accounted for is less than the
+//!    discrepancy the current set leaves ([`Policy::within_discrepancy`],
+//!    [`super::discrepancy`]).
 //!
 //! Where the moves differ, the difference is a field of [`Policy`], set per
 //! move in [`Move::policy`]; how many of a round's moves are judged, and
@@ -60,6 +64,12 @@ pub const NAMED_RMS_SHARE: f64 = 1.05;
 /// when the set without it fits within this share of the set's RMS (or of
 /// the noise floor) \[1\]: what the fit needs stays.
 pub const CLAIM_RMS_SHARE: f64 = 1.1;
+
+/// A claim must account for at least this share of the discrepancy its
+/// set leaves above the noise to stay ([`Move::SetAside`],
+/// [`super::discrepancy`]) \[1\]: dropping it must raise the SSE by at
+/// least `DISCREPANCY_SHARE · (SSE − m σ̂²)`.
+pub const DISCREPANCY_SHARE: f64 = 1.0;
 
 /// Finer forms of a table judged per refinement round, best BIC first (as
 /// many as a stepwise round judges).
@@ -117,6 +127,16 @@ pub enum Rejection {
     /// [`CLAIM_RMS_SHARE`] of its RMS): the check at the end of discovery
     /// would drop it again.
     UnsupportedClaim,
+    /// A claim accounts for at least [`DISCREPANCY_SHARE`] of the
+    /// discrepancy its set leaves ([`Move::SetAside`]'s rule): it stays.
+    BeyondDiscrepancy {
+        /// What the claim accounts for: the RMS of the SSE its loss adds
+        /// \[deg\].
+        explained_deg: f64,
+        /// The discrepancy: the RMS of the set's SSE above the noise,
+        /// `√((SSE − m σ̂²)/m)` \[deg\].
+        discrepancy_deg: f64,
+    },
 }
 
 /// What the search made of one candidate move.
@@ -170,6 +190,10 @@ pub struct Policy {
     pub held_out: bool,
     /// No global effect may be left standing in for a joint torque.
     pub no_stand_in: bool,
+    /// A move to a smaller set: what it drops must account for less than
+    /// [`DISCREPANCY_SHARE`] of the discrepancy the current set leaves
+    /// above the noise ([`Move::SetAside`]).
+    pub within_discrepancy: bool,
     /// The best this many moves by BIC are judged.
     pub tries: usize,
     /// Judging stops after this many held-out checks (the costly one).
@@ -193,6 +217,7 @@ impl Policy {
         explains: false,
         held_out: true,
         no_stand_in: false,
+        within_discrepancy: false,
         tries: 3,
         held_out_tries: usize::MAX,
         past_tries: PastTries::NotTheBest,
@@ -211,6 +236,7 @@ impl Policy {
         explains: false,
         held_out: false,
         no_stand_in: false,
+        within_discrepancy: false,
         tries: 1,
         held_out_tries: usize::MAX,
         past_tries: PastTries::NotJudged,
@@ -275,6 +301,11 @@ pub enum Move {
     /// holds zero) when the fit hardly notices: the set without it within
     /// [`CLAIM_RMS_SHARE`] of the set's RMS, whatever its BIC.
     DropClaim,
+    /// A claim set aside at the end, when the set found leaves a residual
+    /// clearly above the noise: the set without it (the others refitted)
+    /// loses less than [`DISCREPANCY_SHARE`] of that discrepancy
+    /// ([`super::discrepancy`]), whatever its BIC.
+    SetAside,
     /// The set a second start of the search reached, in place of the
     /// current one ([`super::restart`]).
     Restart,
@@ -374,6 +405,13 @@ impl Move {
                 rms_share: Some(CLAIM_RMS_SHARE),
                 ..Policy::SMALLER
             },
+            // The runs cannot tell the claim from the discrepancy: only
+            // that is asked.
+            Move::SetAside => Policy {
+                min_delta_bic: f64::NEG_INFINITY,
+                within_discrepancy: true,
+                ..Policy::SMALLER
+            },
             Move::Add
             | Move::Pair
             | Move::Swap
@@ -401,7 +439,8 @@ impl Move {
             | Move::StandIn
             | Move::Simpler
             | Move::Drop
-            | Move::DropClaim => None,
+            | Move::DropClaim
+            | Move::SetAside => None,
             Move::Refine => Some(Record {
                 screened: false,
                 show: usize::MAX,
@@ -418,7 +457,12 @@ impl Move {
     pub fn drops_after(self) -> bool {
         !matches!(
             self,
-            Move::NamedForTable | Move::Drop | Move::DropClaim | Move::Simpler | Move::StandIn
+            Move::NamedForTable
+                | Move::Drop
+                | Move::DropClaim
+                | Move::SetAside
+                | Move::Simpler
+                | Move::StandIn
         )
     }
 
@@ -439,6 +483,7 @@ impl Move {
             Move::Simpler => "the simpler law explains the runs as well:",
             Move::Drop => "dropped, no longer earns its keep:",
             Move::DropClaim => "dropped, a claim the data do not support:",
+            Move::SetAside => "set aside, the runs cannot tell it from the discrepancy:",
             Move::FrictionForms => "a friction form:",
             Move::Restart => "a second start reached",
             Move::Alternative => "an alternative of the ambiguity stage beats the set found:",

@@ -75,6 +75,34 @@ pub struct Diagnosis {
     /// Sets of causes that explain the runs alike.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub ambiguities: Vec<AmbiguityGroup>,
+    /// Claims the runs cannot tell from the discrepancy the set found
+    /// leaves above the noise, set aside (`docs/diagnosis.md`, "Claims
+    /// within the discrepancy"): not effects, not read by `margin --from`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub set_aside: Vec<SetAsideJson>,
+}
+
+/// A claim set aside within the discrepancy.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SetAsideJson {
+    /// Its name (`physics.md` section 6).
+    pub name: String,
+    /// 1-based joint, `null` for a global effect.
+    pub joint: Option<usize>,
+    /// Its value as fitted, in `unit`.
+    pub value: Option<f64>,
+    /// The unit of `value`.
+    pub unit: String,
+    /// 95 % interval of `value` as fitted.
+    pub ci95: [Option<f64>; 2],
+    /// The named effects put in its place, in words (`coulomb_friction at
+    /// joint 2`); empty when it was dropped.
+    #[serde(default)]
+    pub replaced_by: Vec<String>,
+    /// What it accounted for: the RMS of the SSE its loss added \[deg\].
+    pub explained_deg: Option<f64>,
+    /// The residual its set left above the noise, as RMS \[deg\].
+    pub discrepancy_deg: Option<f64>,
 }
 
 /// The encoders' delay behind their latch switches.
