@@ -27,6 +27,7 @@ use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::{quiet, stderr, Progress};
 use deploywatch_sim::sensor::{self, SensorModel};
 use deploywatch_tests::data_dir;
+use deploywatch_tests::hidden_effect::moves_runs_deg;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
@@ -52,31 +53,10 @@ fn sink() -> Progress<'static> {
     }
 }
 
-fn size(m: &Mechanism, e: &[Effect]) -> f64 {
-    let opts = SimOptions {
-        stop_when_deployed: false,
-        ..SimOptions::default()
-    };
-    let (Ok(a), Ok(b)) = (
-        deployment::simulate(m, &[], &opts),
-        deployment::simulate(m, e, &opts),
-    ) else {
-        return 0.0;
-    };
-    let (mut sse, mut n) = (0.0, 0usize);
-    for j in 0..m.joint_count() {
-        for i in 0..a.t_s.len().min(b.t_s.len()) {
-            sse += (b.phi_deg[j][i] - a.phi_deg[j][i]).powi(2);
-            n += 1;
-        }
-    }
-    (sse / n.max(1) as f64).sqrt()
-}
-
 /// Raises `e` from its small start until it moves the runs by ≥ 0.3°.
 fn to_the_bar(m: &Mechanism, mut e: Effect) -> Effect {
     for _ in 0..40 {
-        if size(m, &[e]) >= 0.3 {
+        if moves_runs_deg(m, &[e]) >= 0.3 {
             break;
         }
         e = e.with_value(e.value() * 1.25);

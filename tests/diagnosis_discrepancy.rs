@@ -27,11 +27,12 @@
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions, Trajectory};
 use deploywatch_sim::diagnose::{diagnose, Outcome};
-use deploywatch_sim::effect::{self, Effect, EffectKind};
+use deploywatch_sim::effect::{self, Effect};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;
 use deploywatch_sim::sensor::{self, SensorModel};
 use deploywatch_tests::data_dir;
+use deploywatch_tests::hidden_effect::{moves_runs_deg, SEED_WINGS, STROKE_KINDS};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::PI;
@@ -115,46 +116,11 @@ fn campaign(m: &Mechanism, truth: &[Effect], r: Ringing, seed: u64) -> Option<Ca
     Some(c)
 }
 
-const MECHS: [&str; 4] = [
-    "seed001_T01",
-    "seed000_case1",
-    "seed001_T02",
-    "seed000_case3",
-];
-
-const KINDS: [EffectKind; 3] = [
-    EffectKind::CoulombFriction,
-    EffectKind::ViscousDamping,
-    EffectKind::SpringSoftening,
-];
-
-/// RMS \[deg\] by which `e` moves the runs of `m`.
-fn size(m: &Mechanism, e: &[Effect]) -> f64 {
-    let opts = SimOptions {
-        stop_when_deployed: false,
-        ..SimOptions::default()
-    };
-    let (Ok(a), Ok(b)) = (
-        deployment::simulate(m, &[], &opts),
-        deployment::simulate(m, e, &opts),
-    ) else {
-        return 0.0;
-    };
-    let (mut sse, mut n) = (0.0, 0usize);
-    for j in 0..m.joint_count() {
-        for i in 0..a.t_s.len().min(b.t_s.len()) {
-            sse += (b.phi_deg[j][i] - a.phi_deg[j][i]).powi(2);
-            n += 1;
-        }
-    }
-    (sse / n.max(1) as f64).sqrt()
-}
-
 /// Case `i`: a seed wing and its ringing; the odd cases one effect raised
 /// from a small value until it moves the runs by twice the ringing.
 fn case(i: usize) -> (Mechanism, Vec<Effect>, Ringing) {
     let mut rng = ChaCha8Rng::seed_from_u64(5200 + i as u64);
-    let m = Mechanism::load(&data_dir().join(format!("mechanisms/{}.toml", MECHS[i % 4])))
+    let m = Mechanism::load(&data_dir().join(format!("mechanisms/{}.toml", SEED_WINGS[i % 4])))
         .expect("bundled");
     let r = Ringing {
         hz: rng.gen_range(4.0..15.0),
@@ -164,11 +130,11 @@ fn case(i: usize) -> (Mechanism, Vec<Effect>, Ringing) {
     if i % 2 == 0 {
         return (m, Vec::new(), r);
     }
-    let kind = KINDS[(i / 2) % 3];
+    let kind = STROKE_KINDS[(i / 2) % 3];
     let j = rng.gen_range(1..=m.joint_count());
     let mut e = Effect::joint(kind, j, 0.01);
     for _ in 0..60 {
-        if size(&m, &[e]) >= 2.0 * r.rms_deg {
+        if moves_runs_deg(&m, &[e]) >= 2.0 * r.rms_deg {
             break;
         }
         e = e.with_value(e.value() * 1.25);

@@ -27,12 +27,13 @@ use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::cli::{self, Cli};
 use deploywatch_sim::deployment::{self, SimOptions, Trajectory};
 use deploywatch_sim::diagnose::{diagnose, encoder_delay, Outcome};
-use deploywatch_sim::effect::{self, Effect, EffectKind};
+use deploywatch_sim::effect::{self, Effect};
 use deploywatch_sim::findings::Findings;
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;
 use deploywatch_sim::sensor::{self, SensorModel};
 use deploywatch_tests::data_dir;
+use deploywatch_tests::hidden_effect::{moves_runs_deg, SEED_WINGS, STROKE_KINDS};
 use deploywatch_tests::wing_gen::wing_toml;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -125,52 +126,17 @@ fn latchings_bound_the_delay_on_random_wings() {
     assert!(read > 0, "no wing's latchings were read");
 }
 
-const MECHS: [&str; 4] = [
-    "seed001_T01",
-    "seed000_case1",
-    "seed001_T02",
-    "seed000_case3",
-];
-
-const KINDS: [EffectKind; 3] = [
-    EffectKind::CoulombFriction,
-    EffectKind::ViscousDamping,
-    EffectKind::SpringSoftening,
-];
-
-/// RMS \[deg\] by which `e` moves the runs of `m`.
-fn size(m: &Mechanism, e: &[Effect]) -> f64 {
-    let opts = SimOptions {
-        stop_when_deployed: false,
-        ..SimOptions::default()
-    };
-    let (Ok(a), Ok(b)) = (
-        deployment::simulate(m, &[], &opts),
-        deployment::simulate(m, e, &opts),
-    ) else {
-        return 0.0;
-    };
-    let (mut sse, mut n) = (0.0, 0usize);
-    for j in 0..m.joint_count() {
-        for i in 0..a.t_s.len().min(b.t_s.len()) {
-            sse += (b.phi_deg[j][i] - a.phi_deg[j][i]).powi(2);
-            n += 1;
-        }
-    }
-    (sse / n.max(1) as f64).sqrt()
-}
-
 /// Case `i`: a seed wing, one effect raised from a small value until it
 /// moves the runs by ≥ 0.3° RMS, a delay of 0.3 to 1 sample.
 fn case(i: usize) -> (Mechanism, Vec<Effect>, f64) {
     let mut rng = ChaCha8Rng::seed_from_u64(4100 + i as u64);
-    let m = Mechanism::load(&data_dir().join(format!("mechanisms/{}.toml", MECHS[i % 4])))
+    let m = Mechanism::load(&data_dir().join(format!("mechanisms/{}.toml", SEED_WINGS[i % 4])))
         .expect("bundled");
-    let kind = KINDS[(i / 4) % 3];
+    let kind = STROKE_KINDS[(i / 4) % 3];
     let j = rng.gen_range(1..=m.joint_count());
     let mut e = Effect::joint(kind, j, 0.01);
     for _ in 0..40 {
-        if size(&m, &[e]) >= 0.3 {
+        if moves_runs_deg(&m, &[e]) >= 0.3 {
             break;
         }
         e = e.with_value(e.value() * 1.25);
@@ -269,7 +235,7 @@ fn simulate_at_compares_as_the_diagnosis_did() {
     let c = campaign(&m, &truth, delay, 77).expect("simulates");
     let dir = std::env::temp_dir().join(format!("dw-delay-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("a temporary folder");
-    let mech = data_dir().join(format!("mechanisms/{}.toml", MECHS[0]));
+    let mech = data_dir().join(format!("mechanisms/{}.toml", SEED_WINGS[0]));
     let runs: Vec<std::path::PathBuf> = (0..2).map(|r| dir.join(format!("run{r}.csv"))).collect();
     for (cr, p) in c.runs.iter().zip(&runs) {
         cr.run.write(p).expect("writes");

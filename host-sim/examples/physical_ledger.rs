@@ -1,5 +1,5 @@
 //! Physical-latch wings' verdicts and rates against the energy ledger's
-//! tolerance (issue 42): seed 001 T01 with its ball plungers and with its
+//! tolerance: seed 001 T01 with its ball plungers and with its
 //! pawls, the identified friction given a 5 % normal dispersion,
 //! `--fail not_latched`, the crude Monte-Carlo draws of seed 0, as
 //! `examples/physical_verdicts.rs`; each draw deployed on one thread the

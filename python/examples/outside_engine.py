@@ -1,7 +1,6 @@
 """Campaigns from an engine deploywatch did not write, with what real wings
 have and the reference model lacks, and a scorer of `deploywatch diagnose`
-on them (issue 40, first Done-when; docs/diagnosis.md, "Campaigns of
-another engine").
+on them (docs/diagnosis.md, "Campaigns of another engine").
 
 Each campaign is a directory: two mechanism files (the reference physics
 of docs/spec/physics.md as a designer would draw them), two run CSVs
@@ -83,13 +82,13 @@ RESOLUTION_DEG = 360.0 / 16384.0
 SETTLE_S = 0.2
 """A run ends this long after the first sample at or after its last latch (formats.md)."""
 MIN_EFFECT_RMS_DEG = 0.3
-"""The hidden effect moves the runs by at least this RMS [deg] (issue 40)."""
+"""The hidden effect moves the runs by at least this RMS [deg]."""
 SPRING_SIDE_KGM2 = 1e-3
 """Inertia of a hinge's spring/encoder side about its axis [kg·m²] (with free-play)."""
 SPRING_SIDE_KG = 0.05
 """Mass of a hinge's spring/encoder side [kg] (with free-play), at the hinge."""
 REL_TOL = 0.2
-"""A found value is right within this fraction of the hidden one (issue 40)."""
+"""A found value is right within this fraction of the hidden one."""
 NUISANCES = ("flex", "freeplay", "latency", "jitter")
 """What a real wing has that the reference model lacks, drawn per case."""
 KINDS = ("none", "coulomb_friction", "viscous_damping", "spring_softening")

@@ -2,7 +2,9 @@
 //! `tests/diagnosis_physical_latch.rs`): which kinds a campaign draws and
 //! how a kind's joint and value are drawn.
 
+use deploywatch_sim::deployment::{self, SimOptions};
 use deploywatch_sim::effect::{Effect, EffectKind, Law};
+use deploywatch_sim::mechanism::Mechanism;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
@@ -52,4 +54,45 @@ pub fn draw_effect(rng: &mut ChaCha8Rng, kind: EffectKind, joints: usize) -> Eff
             Effect::global(kind, 0.0)
         }
     }
+}
+
+/// The seed wings of the single-effect diagnosis tests, by file stem in
+/// `data/mechanisms/`.
+pub const SEED_WINGS: [&str; 4] = [
+    "seed001_T01",
+    "seed000_case1",
+    "seed001_T02",
+    "seed000_case3",
+];
+
+/// The named effects that act over the whole stroke, drawn in turn by
+/// those tests.
+pub const STROKE_KINDS: [EffectKind; 3] = [
+    EffectKind::CoulombFriction,
+    EffectKind::ViscousDamping,
+    EffectKind::SpringSoftening,
+];
+
+/// RMS \[deg\] by which the effects `e` move the runs of `m` (every joint,
+/// over the samples both runs have; the runs not stopped when deployed);
+/// 0 when either does not simulate.
+pub fn moves_runs_deg(m: &Mechanism, e: &[Effect]) -> f64 {
+    let opts = SimOptions {
+        stop_when_deployed: false,
+        ..SimOptions::default()
+    };
+    let (Ok(a), Ok(b)) = (
+        deployment::simulate(m, &[], &opts),
+        deployment::simulate(m, e, &opts),
+    ) else {
+        return 0.0;
+    };
+    let (mut sse, mut n) = (0.0, 0usize);
+    for j in 0..m.joint_count() {
+        for i in 0..a.t_s.len().min(b.t_s.len()) {
+            sse += (b.phi_deg[j][i] - a.phi_deg[j][i]).powi(2);
+            n += 1;
+        }
+    }
+    (sse / n.max(1) as f64).sqrt()
 }
