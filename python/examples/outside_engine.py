@@ -25,13 +25,15 @@ then held by a joint equality) with, drawn per case:
   panel's angle; the spring side's mass (``SPRING_SIDE_KG``) and inertia
   are hinge hardware the drawing counts in its panel, taken out of the
   panel body (``panel_without_spring_side``) so that the wing's mass
-  properties are the drawing's;
+  properties are the drawing's; each mechanism file declares the
+  drawing's free-play, ``free_play_deg = DRAWN_FREE_PLAY_DEG`` at every
+  joint (the most any hinge has), as a user's drawing would;
 - **encoder latency** of 0 to 1 sample, and **time-stamp jitter**: each
   sample taken at its stamp plus a normal error of 1–5 % of the period
   (σ), the stamp written as nominal; latch switches are not delayed;
 - the reference sensor of physics.md §7 (σ 0.02°, 14-bit rounding).
 
-The hidden effect is drawn (log-uniform, as tests/src/hidden_effect.rs)
+A wing the nuisances swing past a full turn is drawn again. The hidden effect is drawn (log-uniform, as tests/src/hidden_effect.rs)
 until it moves the runs by at least ``MIN_EFFECT_RMS_DEG`` RMS against the
 same wing without it.
 
@@ -59,6 +61,7 @@ import dataclasses
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -85,6 +88,13 @@ MIN_EFFECT_RMS_DEG = 0.3
 """The hidden effect moves the runs by at least this RMS [deg]."""
 SPRING_SIDE_KGM2 = 1e-3
 """Inertia of a hinge's spring/encoder side about its axis [kg·m²] (with free-play)."""
+DRAWN_FREE_PLAY_DEG = 0.2
+"""The hinges' free-play as their drawing declares it, a half band [deg]:
+the most a hinge of these wings has (``free_play_deg`` of every joint)."""
+MAX_ANGLE_DEG = 360.0
+"""A campaign whose wing swings past this angle [deg] is drawn again."""
+MAX_REDRAWS = 8
+"""Draws of a campaign's wings and nuisances at most."""
 SPRING_SIDE_KG = 0.05
 """Mass of a hinge's spring/encoder side [kg] (with free-play), at the hinge."""
 REL_TOL = 0.2
@@ -210,7 +220,7 @@ def random_pair(rng: np.random.Generator, seed: int) -> List[Wing]:
 def mechanism_toml(w: Wing) -> str:
     """The wing as a deploywatch mechanism file (formats.md)."""
     if w.toml is not None:
-        return w.toml
+        return re.sub(r"^\[\[joint\]\][^\n]*\n", lambda m: f"{m.group(0)}free_play_deg = {DRAWN_FREE_PLAY_DEG!r}\n", w.toml, flags=re.M)
     out = [f'name = "{w.name}"', 'description = "random ideal-latch wing (python/examples/outside_engine.py)"', ""]
     for p in w.panels:
         out += ["[[panel]]", f"length_m = {p.length_m!r}", f"mass_kg = {p.mass_kg!r}", f"com_m = {p.com_m!r}", f"inertia_kgm2 = {p.inertia_kgm2!r}", ""]
@@ -218,6 +228,7 @@ def mechanism_toml(w: Wing) -> str:
         out += [
             "[[joint]]",
             f"stowed_deg = {j.stowed_deg!r}",
+            f"free_play_deg = {DRAWN_FREE_PLAY_DEG!r}",
             f'spring = {{ kind = "linear", preload_nm = {j.preload_nm!r}, stiffness_nm_per_rad = {j.stiffness_nm_per_rad!r}, count = {j.count} }}',
             f"friction = {{ coulomb_nm = {j.coulomb_nm!r}, viscous_nms = {j.viscous_nms!r} }}",
             "",
@@ -493,7 +504,7 @@ def draw_nuisance(rng: np.random.Generator, n: int, only: Optional[str]) -> Nuis
     nz = Nuisance(
         mode_hz=float(rng.uniform(4.0, 15.0)),
         mode_zeta=float(rng.uniform(0.01, 0.03)),
-        freeplay_deg=[float(rng.uniform(0.05, 0.2)) for _ in range(n)],
+        freeplay_deg=[float(rng.uniform(0.05, DRAWN_FREE_PLAY_DEG)) for _ in range(n)],
         latency_samples=float(rng.uniform(0.0, 1.0)),
         jitter_frac=float(rng.uniform(0.01, 0.05)),
     )
@@ -540,11 +551,16 @@ def campaign_wings(seed: int, rng: np.random.Generator) -> List[Wing]:
 def generate(out: str, seed: int, only: Optional[str]) -> Dict[str, Any]:
     """Writes the campaign of ``seed`` under ``out/case<seed>`` and returns its truth."""
     rng = np.random.default_rng(seed)
-    wings = campaign_wings(seed, rng)
-    n = len(wings[0].joints)
-    nz = draw_nuisance(rng, n, only)
+    for _ in range(MAX_REDRAWS):
+        wings = campaign_wings(seed, rng)
+        n = len(wings[0].joints)
+        nz = draw_nuisance(rng, n, only)
+        plain = [simulate(w, nz, Hidden()) for w in wings]
+        # A wing the nuisances swing past a turn is not a deployment (and
+        # outside the run format's range): drawn again.
+        if all(float(np.max(np.abs(tr.enc_deg), initial=0.0)) <= MAX_ANGLE_DEG for tr in plain):
+            break
     kind = KINDS[seed % len(KINDS)]
-    plain = [simulate(w, nz, Hidden()) for w in wings]
     hidden, moved = Hidden(), 0.0
     for attempt in range(12):
         if kind == "none":

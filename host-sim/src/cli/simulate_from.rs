@@ -12,8 +12,8 @@
 use super::simulate_args::SimulateArgs;
 use super::{outln, CliError, Console};
 use crate::analysis::campaign_sim::CampaignSim;
-use crate::analysis::diagnose::encoder_delay;
 use crate::analysis::diagnose::latch_window::{self, RunWindow};
+use crate::analysis::diagnose::{encoder_delay, free_play};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::findings::{Diagnosis, Findings};
@@ -109,6 +109,22 @@ pub fn run_at(
     if let Some(d) = delay_s {
         campaign = encoder_delay::shifted(&campaign, d);
     }
+    // Encoders the diagnosis found trailing their panels within the
+    // declared free-play: the angles with that taken out, as it compared.
+    let lags: Vec<free_play::FreePlayLag> = found
+        .map(|d| &d.free_play[..])
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|f| {
+            Some(free_play::FreePlayLag {
+                joint: f.joint,
+                offset_deg: f.offset_deg?,
+                ci95_deg: [f.ci95[0]?, f.ci95[1]?],
+                play_deg: f.play_deg?,
+            })
+        })
+        .collect();
+    campaign = free_play::apply(&campaign, &lags);
     let window = found.and_then(|d| d.free_window.iter().find(|w| w.run == name));
     if let Some(w) = window {
         let cut = RunWindow {
@@ -152,6 +168,13 @@ pub fn run_at(
         outln!(
             "  the encoders {:.3} ms late on their switches, as the diagnosis took out",
             d * 1e3
+        );
+    }
+    for l in &lags {
+        outln!(
+            "  joint {}'s readings {:+.4} deg off its panel within the declared free-play, as the diagnosis took out",
+            l.joint,
+            l.offset_deg
         );
     }
     for e in &args.effects {

@@ -18,10 +18,11 @@
 //! - `[run] duration_s`: [`DEFAULT_DURATION_S`] (6 s), `[run] sample_hz`:
 //!   [`DEFAULT_SAMPLE_HZ`] (100 Hz) and `[run] settle_s`: [`DEFAULT_SETTLE_S`]
 //!   (0.2 s), each on its own, whether `[run]` is absent or only lacks that
-//!   key.
+//!   key;
+//! - `free_play_deg` of a joint: 0 (no free-play declared).
 //!
 //! Beyond the types, values must describe a mechanism: `com_m` within the
-//! panel (0 to `length_m`), `0 < |stowed_deg| ≤ 360`, friction values as
+//! panel (0 to `length_m`), `0 < |stowed_deg| ≤ 360`, `0 ≤ free_play_deg ≤ 5`, friction values as
 //! the matching effects allow them ([`EffectKind::allowed`]).
 //!
 //! `count` is required (a silently defaulted hinge count would change the
@@ -52,6 +53,10 @@ pub const DEFAULT_SAMPLE_HZ: f64 = 100.0;
 /// latch on 2 of 3 switch samples, so a run needs a few samples past the last
 /// latch (`formats.md`, "Run: CSV").
 pub const DEFAULT_SETTLE_S: f64 = 0.2;
+
+/// Largest `free_play_deg` (deg): a hinge with more play than this is not
+/// a hinge the reduced-order model of `physics.md` describes.
+const MAX_FREE_PLAY_DEG: f64 = 5.0;
 
 /// Largest `|stowed_deg|` (deg): one turn. A hinge folded further than a
 /// full turn is a typing error (radians for degrees, an extra digit).
@@ -98,7 +103,7 @@ const TOP_KEYS: &[&str] = &[
     "rig",
 ];
 const PANEL_KEYS: &[&str] = &["length_m", "mass_kg", "com_m", "inertia_kgm2"];
-const JOINT_KEYS: &[&str] = &["stowed_deg", "spring", "friction", "latch"];
+const JOINT_KEYS: &[&str] = &["stowed_deg", "spring", "friction", "latch", "free_play_deg"];
 const LINEAR_KEYS: &[&str] = &["kind", "preload_nm", "stiffness_nm_per_rad", "count"];
 const TAPE_SPRING_KEYS: &[&str] = &["kind", "type", "count"];
 const CURVE_KEYS: &[&str] = &["kind", "unfold", "fold", "interp", "count"];
@@ -319,10 +324,19 @@ impl Cx<'_> {
             Some(f) => self.friction(f, &t.key("friction"))?,
             None => FrictionSpec::default(),
         };
+        let free_play_deg = self
+            .opt_number(&t, "free_play_deg", Bound::NonNegative, "deg")?
+            .unwrap_or(0.0);
+        if free_play_deg > MAX_FREE_PLAY_DEG {
+            let sp = t.get("free_play_deg").unwrap_or(sp);
+            let expected = "a half band of free-play of at most 5 [deg]";
+            return Err(self.invalid(sp, &t.key("free_play_deg"), expected));
+        }
         Ok(JointSpec {
             stowed_deg,
             spring,
             friction,
+            free_play_deg,
         })
     }
 

@@ -39,6 +39,9 @@ impl Mechanism {
                 num(j.stowed_deg),
                 spring_toml(&j.spring, &mut tapes)
             );
+            if j.free_play_deg > 0.0 {
+                let _ = writeln!(out, "free_play_deg = {}", num(j.free_play_deg));
+            }
             if j.friction != FrictionSpec::default() {
                 let f = &j.friction;
                 let mut s = format!(

@@ -215,5 +215,6 @@ fn to_json(c: &Campaign, o: &Outcome, d: &Details) -> Diagnosis {
         latches: diagnosis_latch::latches_json(o),
         ambiguities: diagnosis_latch::ambiguities_json(o),
         set_aside: super::diagnosis_set_aside::json(o),
+        free_play: super::diagnosis_free_play::json(o),
     }
 }

@@ -135,6 +135,9 @@ pub fn summary(o: &Outcome, d: &Details, json: &Path, report: &Path) -> Vec<Stri
     for line in super::diagnosis_set_aside::summary_lines(o) {
         out.push(format!("  {line}"));
     }
+    for line in super::diagnosis_free_play::summary_lines(o) {
+        out.push(format!("  {line}"));
+    }
     for line in diagnosis_latch::summary_lines(o) {
         out.push(format!("  {line}"));
     }

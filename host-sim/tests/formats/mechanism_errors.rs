@@ -192,6 +192,18 @@ fn non_finite_and_out_of_range_numbers_are_rejected() {
         ),
         ("m_90 = 1.20", "m_90 = -1.20", "tape.TS-1.m_90", "≥ 0"),
         (
+            "stowed_deg = -90.0",
+            "stowed_deg = -90.0\nfree_play_deg = -0.1",
+            "joint[1].free_play_deg",
+            "≥ 0 [deg], found -0.1",
+        ),
+        (
+            "stowed_deg = -90.0",
+            "stowed_deg = -90.0\nfree_play_deg = 12.0",
+            "joint[1].free_play_deg",
+            "at most 5 [deg]",
+        ),
+        (
             "d = [0.52, 37.0]",
             "d = [1.5, 37.0]",
             "tape.TS-1.b",
@@ -207,7 +219,8 @@ fn non_finite_and_out_of_range_numbers_are_rejected() {
         assert_eq!(e.key(), Some(key), "{to}: {e}");
         let msg = e.to_string();
         assert!(msg.contains(expected), "{to}: {msg}");
-        let line = line_of(&text, to.split(" = ").next().unwrap_or(to));
+        let changed = to.lines().last().unwrap_or(to);
+        let line = line_of(&text, changed.split(" = ").next().unwrap_or(changed));
         if key.starts_with("tape") && key.ends_with(".b") {
             assert!(msg.starts_with("bad.toml:"), "{to}: {msg}");
         } else {

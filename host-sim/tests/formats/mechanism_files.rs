@@ -70,6 +70,21 @@ fn bundled_mechanisms_round_trip() {
 }
 
 #[test]
+fn a_declared_free_play_is_read_and_written_back() {
+    let text = t01_text().replacen(
+        "stowed_deg = -90.0",
+        "stowed_deg = -90.0\nfree_play_deg = 0.15",
+        1,
+    );
+    let m = Mechanism::from_toml_str(&text, "play.toml").unwrap_or_else(|e| panic!("{e}"));
+    let plays: Vec<f64> = m.joints.iter().map(|j| j.free_play_deg).collect();
+    assert_eq!(plays[0], 0.15);
+    assert!(plays[1..].iter().all(|&p| p == 0.0), "{plays:?}");
+    let back = Mechanism::from_toml_str(&m.to_toml_string(), "back.toml").expect("written");
+    assert_eq!(back, m);
+}
+
+#[test]
 fn mechanism_with_curve_spring_friction_and_defaults_round_trips() {
     let text = r#"
 name = "one panel"

@@ -13,8 +13,10 @@
 //! sum of squares by at least `SSE − m σ̂²`, the set's excess over the
 //! noise (`m` residuals, noise σ̂ from the third differences). A torque
 //! table's shape beyond a named law is such a claim too: the table
-//! exchanged for a named effect at its joint must lose as much, or the
-//! named law takes its place. A claim that does not is set aside
+//! exchanged for a named torque law at its joint must lose as much, or
+//! the named law takes its place. A named effect beside a table at its
+//! joint is judged after the table, never dropped alone while the table
+//! is there to take up its torque. A claim that does not is set aside
 //! ([`Move::SetAside`], judged by the one acceptance rule,
 //! [`Search::accept`]) and the report lists it with both numbers: the
 //! runs cannot tell it from the discrepancy. At the noise floor nothing is
@@ -103,11 +105,25 @@ impl Search<'_, '_> {
     }
 
     /// Of the smaller and simpler sets (each member dropped, each table
-    /// exchanged for each named effect at its joint), fitted, the one with
-    /// the least SSE.
+    /// exchanged for each named torque law at its joint), fitted, the one
+    /// with the least SSE. A named effect at a joint that also has a table
+    /// is not dropped alone: the table would take up its torque whatever
+    /// it is, so the table is judged first (dropped, or exchanged).
     fn least_loss(&self) -> Option<FittedSet> {
         let c = self.eng.campaign;
-        let drops = (0..self.current.members.len()).filter_map(|k| {
+        let tabled = |joint: Option<usize>| {
+            self.current
+                .members
+                .iter()
+                .any(|m| m.candidate.table.is_some() && m.candidate.joint == joint)
+        };
+        let droppable: Vec<usize> = (0..self.current.members.len())
+            .filter(|&k| {
+                let m = &self.current.members[k].candidate;
+                m.table.is_some() || m.joint.is_none() || !tabled(m.joint)
+            })
+            .collect();
+        let drops = droppable.into_iter().filter_map(|k| {
             let without = self.current.without(k);
             if without.members.is_empty() {
                 Some(self.eng.baseline())
@@ -125,7 +141,9 @@ impl Search<'_, '_> {
             steps.extend(
                 named
                     .iter()
-                    .filter(|n| n.joint == m.candidate.joint && n.table.is_none())
+                    .filter(|n| {
+                        n.joint == m.candidate.joint && n.table.is_none() && !n.kind.is_sensor()
+                    })
                     .map(|&n| Step::new(reduced.clone(), n)),
             );
         }

@@ -39,6 +39,7 @@ mod discrepancy;
 pub mod encoder_delay;
 pub mod evidence;
 mod evidence_search;
+pub mod free_play;
 mod friction_forms;
 mod halt;
 pub mod latch_finding;
@@ -381,8 +382,19 @@ fn unexplained_above_noise(
 /// physical latch are fitted on their free motion ([`latch_window`]) and
 /// their latch events compared by their statistics ([`latch_finding`]).
 /// Encoders late on their latch switches are compared with the model at
-/// their stamps minus the delay ([`encoder_delay`]) throughout.
+/// their stamps minus the delay ([`encoder_delay`]) throughout. An
+/// `encoder_offset` within a joint's declared free-play is reported as
+/// that discrepancy, not claimed ([`free_play`]).
 pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress) -> Outcome {
+    let out = free_play::split(campaign, diagnose_delayed(campaign, opts, progress));
+    for lag in &out.free_play {
+        progress(&free_play::words(lag));
+    }
+    out
+}
+
+/// [`diagnose`] before the free-play split.
+fn diagnose_delayed(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress) -> Outcome {
     let t0 = Instant::now();
     let Some(delay) = encoder_delay::estimate(campaign, noise_sigma_deg(campaign)) else {
         return diagnose_at(campaign, None, opts, progress, t0);
@@ -594,6 +606,7 @@ fn search_campaign(
         simulations: eng.sims.load(std::sync::atomic::Ordering::Relaxed),
         wall_s: t0.elapsed().as_secs_f64(),
         encoder_delay: None,
+        free_play: Vec::new(),
         free_window: None,
         whole_run: None,
         latches: Vec::new(),

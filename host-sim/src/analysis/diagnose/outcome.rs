@@ -407,6 +407,10 @@ pub struct Outcome {
     /// latches' closings agree on one clear of zero ([`super::encoder_delay`]):
     /// the fit compared the angles with the model at their stamps minus it.
     pub encoder_delay: Option<super::encoder_delay::EncoderDelay>,
+    /// Encoder offsets within their joints' declared free-play, taken out
+    /// of the effects ([`super::free_play`]): the angles are compared with
+    /// them taken out ([`super::free_play::apply`]).
+    pub free_play: Vec<super::free_play::FreePlayLag>,
     /// Runs of a physical latch: where each run's free motion ends, the
     /// window the effects were fitted on (`None`: the whole runs).
     pub free_window: Option<Vec<RunWindow>>,

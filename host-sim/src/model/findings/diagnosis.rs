@@ -80,6 +80,28 @@ pub struct Diagnosis {
     /// within the discrepancy"): not effects, not read by `margin --from`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub set_aside: Vec<SetAsideJson>,
+    /// Encoder readings that trail their panels within the joints'
+    /// declared free-play (`docs/diagnosis.md`, "Free-play held to one
+    /// side"): a discrepancy, not an effect; the angles were compared with
+    /// each taken out.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub free_play: Vec<FreePlayJson>,
+}
+
+/// An encoder reading that trails its panel within the hinge's declared
+/// free-play.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FreePlayJson {
+    /// 1-based joint.
+    pub joint: usize,
+    /// The reading's offset from the panel's angle \[deg\] (reading =
+    /// angle + offset), written in full.
+    pub offset_deg: Option<f64>,
+    /// Its 95 % interval \[deg\].
+    pub ci95: [Option<f64>; 2],
+    /// The free-play the mechanisms declare at the joint (the least of
+    /// them), a half band \[deg\].
+    pub play_deg: Option<f64>,
 }
 
 /// A claim set aside within the discrepancy.

@@ -26,7 +26,7 @@ pub mod numbers;
 
 pub use diagnosis::Diagnosis;
 pub use identify::Identification;
-pub use numbers::rounded;
+pub use numbers::{exact, rounded};
 
 use serde::Deserialize;
 

@@ -1,0 +1,205 @@
+//! An encoder that trails its panel by the hinge's free-play
+//! (`docs/diagnosis.md`, "Free-play held to one side").
+//!
+//! A hinge with free-play between its spring side and its panel, whose
+//! encoder reads the spring side, reads the panel's angle plus the play
+//! for the whole deployment: the spring pushes the panel through the
+//! closed band, so its own side trails the panel by the play, farther from
+//! the latch, and after the latching the spring holds the band closed on
+//! the same side. A deployment that never reverses shows that as an
+//! `encoder_offset` of the play's size and sign; no sensor of such a run
+//! tells the two apart.
+//!
+//! When a joint's mechanisms declare a free-play (`free_play_deg`,
+//! `docs/spec/formats.md`, this project's extension), an `encoder_offset`
+//! the search kept at that joint that trails the panel (the sign of
+//! `stowed_deg`) and whose 95 % interval reaches into the declared band is
+//! reported as that discrepancy, named by its signature, and not claimed:
+//! it leaves `effects`, and the angles are compared with it taken out
+//! ([`apply`]), as the fit compared them.
+
+use super::outcome::{FittedEffect, Outcome};
+use crate::data::campaign::Campaign;
+use crate::model::effect::EffectKind;
+
+/// An encoder reading that trails its panel within the hinge's declared
+/// free-play.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FreePlayLag {
+    /// 1-based joint.
+    pub joint: usize,
+    /// The fitted reading's offset from the panel's angle \[deg\] (the
+    /// `encoder_offset` the search kept: reading = angle + offset).
+    pub offset_deg: f64,
+    /// Its 95 % interval \[deg\].
+    pub ci95_deg: [f64; 2],
+    /// The free-play every mechanism of the campaign declares at the
+    /// joint (the least of them), a half band \[deg\].
+    pub play_deg: f64,
+}
+
+/// The free-play every run's mechanism declares at `joint` (1-based), the
+/// least of them \[deg\]; 0 when one declares none.
+pub fn declared_play_deg(campaign: &Campaign, joint: usize) -> f64 {
+    let mut plays = campaign.runs.iter().map(|r| {
+        r.mechanism
+            .joints
+            .get(joint.wrapping_sub(1))
+            .map_or(0.0, |j| j.free_play_deg)
+    });
+    let first = plays.next().unwrap_or(0.0);
+    plays.fold(first, f64::min).max(0.0)
+}
+
+/// The side an encoder on the spring side trails its panel at `joint`
+/// (1-based): the sign of `stowed_deg` when every run's mechanism agrees
+/// (the spring drives the joint toward 0, its side behind the panel).
+fn trailing_side(campaign: &Campaign, joint: usize) -> Option<f64> {
+    let mut sides = campaign.runs.iter().map(|r| {
+        r.mechanism
+            .joints
+            .get(joint.wrapping_sub(1))
+            .map(|j| j.stowed_deg.signum())
+    });
+    let first = sides.next()??;
+    sides.all(|s| s == Some(first)).then_some(first)
+}
+
+/// The lag `m` shows when it is an `encoder_offset` within the declared
+/// free-play at its joint: its value trails the panel and its interval
+/// reaches into `(0, play]` on that side.
+fn lag_of(campaign: &Campaign, m: &FittedEffect) -> Option<FreePlayLag> {
+    if m.candidate.kind != EffectKind::EncoderOffset || m.candidate.table.is_some() {
+        return None;
+    }
+    let joint = m.candidate.joint?;
+    let play_deg = declared_play_deg(campaign, joint);
+    let side = trailing_side(campaign, joint)?;
+    let offset_deg = *m.params.first()?;
+    let ([lo, hi], _) = m.value_ci();
+    let (near, far) = if side > 0.0 { (lo, hi) } else { (-hi, -lo) };
+    let trails = side * offset_deg > 0.0 && far > 0.0;
+    (play_deg > 0.0 && trails && near <= play_deg && offset_deg.is_finite()).then_some(
+        FreePlayLag {
+            joint,
+            offset_deg,
+            ci95_deg: [lo, hi],
+            play_deg,
+        },
+    )
+}
+
+/// `out` with every `encoder_offset` within its joint's declared free-play
+/// moved from the effects found to [`Outcome::free_play`] (with its
+/// strength). The fit's statistics stay: the offset is taken out of the
+/// angles instead ([`apply`]), which compares them alike.
+pub fn split(campaign: &Campaign, mut out: Outcome) -> Outcome {
+    let mut k = 0;
+    while k < out.extended.members.len() {
+        match lag_of(campaign, &out.extended.members[k]) {
+            Some(lag) => {
+                out.extended.members.remove(k);
+                if k < out.strength_rms_deg.len() {
+                    out.strength_rms_deg.remove(k);
+                }
+                out.free_play.push(lag);
+            }
+            None => k += 1,
+        }
+    }
+    out
+}
+
+/// The campaign with each lag taken out of its joint's angles: the angles
+/// as the fit compared them with the effects left.
+pub fn apply(campaign: &Campaign, lags: &[FreePlayLag]) -> Campaign {
+    let mut out = campaign.clone();
+    for lag in lags {
+        for cr in &mut out.runs {
+            if let Some(col) = cr.run.phi_deg.get_mut(lag.joint.wrapping_sub(1)) {
+                for x in col.iter_mut() {
+                    *x -= lag.offset_deg;
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The lag in words, for the progress, the summary and the report.
+pub fn words(l: &FreePlayLag) -> String {
+    format!(
+        "joint {}'s encoder reads {:+.4} deg ({:+.4} .. {:+.4}) off its panel, trailing it, within the hinge's declared free-play of {:.4} deg: the spring holding the play closed on its own side reads so, and a deployment that never reverses cannot tell it from an encoder offset; not claimed, taken out of the angles compared",
+        l.joint, l.offset_deg, l.ci95_deg[0], l.ci95_deg[1], l.play_deg
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::diagnose::candidate::Candidate;
+
+    fn offset(joint: usize, value: f64, ci: [f64; 2]) -> FittedEffect {
+        FittedEffect {
+            candidate: Candidate {
+                kind: EffectKind::EncoderOffset,
+                joint: Some(joint),
+                table: None,
+            },
+            params: vec![value],
+            ci95: Some(vec![ci]),
+            ci95_search: Some(vec![ci]),
+        }
+    }
+
+    fn campaign(stowed_deg: f64, play_deg: f64) -> Campaign {
+        let text = format!(
+            "name = \"m\"\n[[panel]]\nlength_m = 1.0\nmass_kg = 1.0\ncom_m = 0.5\ninertia_kgm2 = 0.1\n[[joint]]\nstowed_deg = {stowed_deg}\nfree_play_deg = {play_deg}\nspring = {{ kind = \"linear\", preload_nm = 1.0, stiffness_nm_per_rad = 0.5, count = 1 }}\n"
+        );
+        let mechanism =
+            crate::model::mechanism::Mechanism::from_toml_str(&text, "m.toml").expect("mechanism");
+        let run = crate::data::run::Run {
+            t_s: vec![0.0, 0.01],
+            phi_deg: vec![vec![stowed_deg, stowed_deg]],
+            latch: vec![vec![false, false]],
+            ..Default::default()
+        };
+        Campaign {
+            runs: vec![crate::data::campaign::CampaignRun {
+                source: "r.csv".into(),
+                run,
+                mechanism,
+            }],
+        }
+    }
+
+    #[test]
+    fn an_offset_trailing_within_the_play_is_the_play() {
+        let c = campaign(105.0, 0.2);
+        assert!(lag_of(&c, &offset(1, 0.16, [0.15, 0.20])).is_some());
+        // Beyond the play, but its interval reaches into it.
+        assert!(lag_of(&c, &offset(1, 0.25, [0.13, 0.31])).is_some());
+        let c = campaign(-90.0, 0.2);
+        assert!(lag_of(&c, &offset(1, -0.16, [-0.20, -0.15])).is_some());
+    }
+
+    #[test]
+    fn an_offset_the_play_cannot_give_stays_a_claim() {
+        let c = campaign(105.0, 0.2);
+        // Leading the panel: the spring side cannot.
+        assert!(lag_of(&c, &offset(1, -0.16, [-0.20, -0.15])).is_none());
+        // Clearly beyond the play.
+        assert!(lag_of(&c, &offset(1, 0.5, [0.45, 0.55])).is_none());
+        // No play declared.
+        let c = campaign(105.0, 0.0);
+        assert!(lag_of(&c, &offset(1, 0.16, [0.15, 0.20])).is_none());
+    }
+
+    #[test]
+    fn apply_takes_the_offset_out_of_its_joint() {
+        let c = campaign(105.0, 0.2);
+        let lag = lag_of(&c, &offset(1, 0.16, [0.15, 0.20])).expect("lag");
+        let a = apply(&c, &[lag]);
+        assert!((a.runs[0].run.phi_deg[0][0] - (105.0 - 0.16)).abs() < 1e-12);
+    }
+}
