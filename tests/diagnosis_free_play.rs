@@ -1,22 +1,23 @@
 //! Free-play held to one side (`docs/diagnosis.md`, "Free-play held to one
-//! side"): an encoder reading that trails its panel within the hinge's
-//! declared free-play is reported as that discrepancy, not claimed, and
-//! the hidden effect beside it is found as without it; the same reading
-//! without a declared play, or leading its panel, stays a claim.
+//! side"): an encoder reading off its panel within the hinge's declared
+//! free-play is reported as that discrepancy, not claimed, and the hidden
+//! effect beside it is found as without it; the same reading without a
+//! declared play, or a reading beyond the play, stays a claim.
 //!
 //! The runs are our simulator's: a seed wing, one effect raised until it
 //! moves the runs by ≥ 0.3° RMS, and at another joint the reading the
 //! spring side of a hinge with free-play gives, the panel's angle plus
-//! 0.06–0.18° on the side away from the latch (an `encoder_offset` of the
-//! sign of `stowed_deg`); the reference sensor's noise and rounding. The
-//! diagnosis is given the runs and the mechanisms, which declare
-//! `free_play_deg = 0.2` at every joint (or none, for the control); it is
-//! not told which joint reads off.
+//! 0.06–0.18° of either sign (an `encoder_offset`), or 0.35–0.6°, beyond
+//! the play; the reference sensor's noise and rounding. The diagnosis is
+//! given the runs and the mechanisms, which declare `free_play_deg = 0.2`
+//! at every joint (or none, for the control); it is not told which joint
+//! reads off.
 //!
 //! - `a_reading_within_the_declared_play_is_not_claimed`: right in 85 % at
 //!   least (the CI's 2 cases both): the hidden effect within 20 %, no
-//!   other effect, the trailing joint in `free_play` within 0.03°; a
-//!   reading that leads its panel is claimed as an `encoder_offset`.
+//!   other effect, the joint in `free_play` within 0.03°; a reading beyond
+//!   the play is claimed as an `encoder_offset` within 0.03° (and how
+//!   often the effect beside it is found alone is printed).
 //!   `DEPLOYWATCH_FULL=1` runs 12 cases:
 //!   `DEPLOYWATCH_FULL=1 cargo test --release -p deploywatch-tests --test diagnosis_free_play -- --nocapture`.
 //! - `without_a_declared_play_the_offset_is_claimed`: the first case's
@@ -72,9 +73,9 @@ fn campaign(m: &Mechanism, truth: &[Effect], seed: u64) -> Campaign {
 }
 
 /// Case `i`: a seed wing, one stroke effect at one joint raised until it
-/// moves the runs by ≥ 0.3° RMS, and a reading 0.06–0.18° off at another
-/// joint, trailing the panel (`trailing`) or leading it.
-fn case(i: usize, trailing: bool) -> (Mechanism, Vec<Effect>) {
+/// moves the runs by ≥ 0.3° RMS, and a reading off at another joint,
+/// 0.06–0.18° of either sign (`within` the play) or 0.35–0.6°.
+fn case(i: usize, within: bool) -> (Mechanism, Vec<Effect>) {
     let mut rng = ChaCha8Rng::seed_from_u64(5200 + i as u64);
     let m = Mechanism::load(&data_dir().join(format!("mechanisms/{}.toml", SEED_WINGS[i % 4])))
         .expect("bundled");
@@ -93,12 +94,13 @@ fn case(i: usize, trailing: bool) -> (Mechanism, Vec<Effect>) {
     } else {
         1 + (j + rng.gen_range(0..n - 1)) % n
     };
-    let side = m.joints[k - 1].stowed_deg.signum() * if trailing { 1.0 } else { -1.0 };
-    let off = Effect::joint(
-        EffectKind::EncoderOffset,
-        k,
-        side * rng.gen_range(0.06..0.18),
-    );
+    let sign = if rng.gen_bool(0.5) { 1.0 } else { -1.0 };
+    let size = if within {
+        rng.gen_range(0.06..0.18)
+    } else {
+        rng.gen_range(0.35..0.6)
+    };
+    let off = Effect::joint(EffectKind::EncoderOffset, k, sign * size);
     (declaring(&m, PLAY_DEG), vec![e, off])
 }
 
@@ -132,25 +134,38 @@ fn a_reading_within_the_declared_play_is_not_claimed() {
     };
     let opts = deploywatch_tests::diagnose_options();
     let mut failed = Vec::new();
+    let mut beside_large = 0;
     for i in 0..n {
-        let trailing = i % 2 == 0;
-        let (m, truth) = case(i, trailing);
+        let within = i % 2 == 0;
+        let (m, truth) = case(i, within);
         let o = diagnose(&campaign(&m, &truth, 10 * i as u64), &opts, &quiet);
         let off = &truth[1];
-        let ok = if trailing {
+        let ok = if within {
             let lag = o.free_play.iter().find(|l| Some(l.joint) == off.joint);
             effect_alone(&truth[0], &o, None)
                 && o.free_play.len() == 1
                 && lag.is_some_and(|l| (l.offset_deg - off.value()).abs() <= 0.03)
         } else {
-            effect_alone(&truth[0], &o, Some(off)) && o.free_play.is_empty()
+            // Beyond the play: the offset is claimed, whatever the search
+            // makes of the effect beside it (printed, not asked).
+            let claimed = o.extended.effects().iter().any(|x| {
+                x.kind() == EffectKind::EncoderOffset
+                    && x.joint == off.joint
+                    && (x.value() - off.value()).abs() <= 0.03
+            });
+            beside_large += usize::from(effect_alone(&truth[0], &o, Some(off)));
+            claimed && o.free_play.is_empty()
         };
         println!(
             "case {i} {}: {} + {} ({}) -> {}: {}",
             m.name,
             truth[0],
             off,
-            if trailing { "trailing" } else { "leading" },
+            if within {
+                "within the play"
+            } else {
+                "beyond it"
+            },
             names(&o),
             if ok { "right" } else { "WRONG" }
         );
@@ -158,7 +173,11 @@ fn a_reading_within_the_declared_play_is_not_claimed() {
             failed.push(i);
         }
     }
-    println!("right: {} of {n}", n - failed.len());
+    println!(
+        "right: {} of {n}; beyond the play, the effect found alone beside the offset in {beside_large} of {}",
+        n - failed.len(),
+        n / 2
+    );
     assert!(
         100 * failed.len() <= 15 * n,
         "cases {failed:?} (see the lines above)"

@@ -109,7 +109,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     bar.finish();
     // Encoders late on their switches: the angles as the fit compared them.
     let campaign = diagnose::encoder_delay::apply(&campaign, outcome.encoder_delay.as_ref());
-    // Encoders trailing their panels within the declared free-play: the
+    // Encoders off their panels within the declared free-play: the
     // angles with that taken out, as the fit compared them.
     let campaign = diagnose::free_play::apply(&campaign, &outcome.free_play);
     // Runs of a physical latch: everything below is of the free motion the

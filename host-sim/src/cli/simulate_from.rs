@@ -109,7 +109,7 @@ pub fn run_at(
     if let Some(d) = delay_s {
         campaign = encoder_delay::shifted(&campaign, d);
     }
-    // Encoders the diagnosis found trailing their panels within the
+    // Encoders the diagnosis found off their panels within the
     // declared free-play: the angles with that taken out, as it compared.
     let lags: Vec<free_play::FreePlayLag> = found
         .map(|d| &d.free_play[..])

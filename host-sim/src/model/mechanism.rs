@@ -139,7 +139,7 @@ pub struct JointSpec {
     pub friction: FrictionSpec,
     /// `free_play_deg`: the hinge's drawn free-play, a half band \[deg\]
     /// (0: none declared; this project's extension, `docs/spec/formats.md`).
-    /// Not simulated: the diagnosis reads an encoder lead within it as the
+    /// Not simulated: the diagnosis reads an encoder offset within it as the
     /// play held to one side by the spring
     /// ([`crate::analysis::diagnose::free_play`]).
     pub free_play_deg: f64,

@@ -1,4 +1,4 @@
-//! Encoder readings that trail their panels within the hinges' declared
+//! Encoder readings off their panels within the hinges' declared
 //! free-play, in the diagnosis summary, report and JSON
 //! (`docs/diagnosis.md`, "Free-play held to one side").
 
@@ -24,7 +24,7 @@ pub fn report(md: &mut String, o: &Outcome) {
     let _ = writeln!(md, "## Free-play held to one side\n");
     let _ = writeln!(
         md,
-        "A hinge with free-play whose encoder reads its spring side reads the panel's angle plus the play for the whole deployment: the spring pushes the panel through the closed band, its own side trailing, and holds the band closed after the latching. A deployment that never reverses cannot tell that from an encoder offset. These offsets trail their panels within the free-play the mechanisms declare at their joints: they are reported as that discrepancy, not claimed, and the angles below are compared with each taken out.\n"
+        "A hinge with free-play whose encoder reads its spring side reads the panel's angle plus the play for as long as the band stays closed on one side: the spring side leads its panel toward the latch while the spring drives it (and after the latching, where the spring goes on pushing), and trails it while the panel is driven back against its spring. Runs that keep one side cannot tell that from an encoder offset. These offsets lie within the free-play the mechanisms declare at their joints: they are reported as that discrepancy, not claimed, and the angles below are compared with each taken out.\n"
     );
     let rows: Vec<Vec<String>> = o
         .free_play

@@ -1,29 +1,28 @@
-//! An encoder that trails its panel by the hinge's free-play
-//! (`docs/diagnosis.md`, "Free-play held to one side").
+//! An encoder off its panel by the hinge's free-play (`docs/diagnosis.md`,
+//! "Free-play held to one side").
 //!
 //! A hinge with free-play between its spring side and its panel, whose
-//! encoder reads the spring side, reads the panel's angle plus the play
-//! for the whole deployment: the spring pushes the panel through the
-//! closed band, so its own side trails the panel by the play, farther from
-//! the latch, and after the latching the spring holds the band closed on
-//! the same side. A deployment that never reverses shows that as an
-//! `encoder_offset` of the play's size and sign; no sensor of such a run
-//! tells the two apart.
+//! encoder reads the spring side, reads the panel's angle plus the play on
+//! one side for as long as the band stays closed on that side: while the
+//! spring drives the panel (and after the latching, where it goes on
+//! pushing) the spring side sits at the front of the band, leading the
+//! panel toward the latch; while the panel is driven back against its
+//! spring it trails. A deployment that keeps one of these shows an
+//! `encoder_offset` of the play's size; no sensor of such a run tells the
+//! two apart.
 //!
 //! When a joint's mechanisms declare a free-play (`free_play_deg`,
 //! `docs/spec/formats.md`, this project's extension), an `encoder_offset`
-//! the search kept at that joint that trails the panel (the sign of
-//! `stowed_deg`) and whose 95 % interval reaches into the declared band is
-//! reported as that discrepancy, named by its signature, and not claimed:
-//! it leaves `effects`, and the angles are compared with it taken out
-//! ([`apply`]), as the fit compared them.
+//! the search kept at that joint whose 95 % interval meets the declared
+//! band `[−play, play]` is reported as that discrepancy, named by its
+//! signature, and not claimed: it leaves `effects`, and the angles are
+//! compared with it taken out ([`apply`]), as the fit compared them.
 
 use super::outcome::{FittedEffect, Outcome};
 use crate::data::campaign::Campaign;
 use crate::model::effect::EffectKind;
 
-/// An encoder reading that trails its panel within the hinge's declared
-/// free-play.
+/// An encoder reading off its panel within the hinge's declared free-play.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FreePlayLag {
     /// 1-based joint.
@@ -51,42 +50,23 @@ pub fn declared_play_deg(campaign: &Campaign, joint: usize) -> f64 {
     plays.fold(first, f64::min).max(0.0)
 }
 
-/// The side an encoder on the spring side trails its panel at `joint`
-/// (1-based): the sign of `stowed_deg` when every run's mechanism agrees
-/// (the spring drives the joint toward 0, its side behind the panel).
-fn trailing_side(campaign: &Campaign, joint: usize) -> Option<f64> {
-    let mut sides = campaign.runs.iter().map(|r| {
-        r.mechanism
-            .joints
-            .get(joint.wrapping_sub(1))
-            .map(|j| j.stowed_deg.signum())
-    });
-    let first = sides.next()??;
-    sides.all(|s| s == Some(first)).then_some(first)
-}
-
 /// The lag `m` shows when it is an `encoder_offset` within the declared
-/// free-play at its joint: its value trails the panel and its interval
-/// reaches into `(0, play]` on that side.
+/// free-play at its joint: its 95 % interval meets `[−play, play]`.
 fn lag_of(campaign: &Campaign, m: &FittedEffect) -> Option<FreePlayLag> {
     if m.candidate.kind != EffectKind::EncoderOffset || m.candidate.table.is_some() {
         return None;
     }
     let joint = m.candidate.joint?;
     let play_deg = declared_play_deg(campaign, joint);
-    let side = trailing_side(campaign, joint)?;
     let offset_deg = *m.params.first()?;
     let ([lo, hi], _) = m.value_ci();
-    let (near, far) = if side > 0.0 { (lo, hi) } else { (-hi, -lo) };
-    let trails = side * offset_deg > 0.0 && far > 0.0;
-    (play_deg > 0.0 && trails && near <= play_deg && offset_deg.is_finite()).then_some(
-        FreePlayLag {
-            joint,
-            offset_deg,
-            ci95_deg: [lo, hi],
-            play_deg,
-        },
-    )
+    let within = lo <= play_deg && hi >= -play_deg;
+    (play_deg > 0.0 && within && offset_deg.is_finite()).then_some(FreePlayLag {
+        joint,
+        offset_deg,
+        ci95_deg: [lo, hi],
+        play_deg,
+    })
 }
 
 /// `out` with every `encoder_offset` within its joint's declared free-play
@@ -129,7 +109,7 @@ pub fn apply(campaign: &Campaign, lags: &[FreePlayLag]) -> Campaign {
 /// The lag in words, for the progress, the summary and the report.
 pub fn words(l: &FreePlayLag) -> String {
     format!(
-        "joint {}'s encoder reads {:+.4} deg ({:+.4} .. {:+.4}) off its panel, trailing it, within the hinge's declared free-play of {:.4} deg: the spring holding the play closed on its own side reads so, and a deployment that never reverses cannot tell it from an encoder offset; not claimed, taken out of the angles compared",
+        "joint {}'s encoder reads {:+.4} deg ({:+.4} .. {:+.4}) off its panel, within the hinge's declared free-play of {:.4} deg: a spring side held at one end of its band reads so, and the runs cannot tell it from an encoder offset; not claimed, taken out of the angles compared",
         l.joint, l.offset_deg, l.ci95_deg[0], l.ci95_deg[1], l.play_deg
     )
 }
@@ -174,22 +154,21 @@ mod tests {
     }
 
     #[test]
-    fn an_offset_trailing_within_the_play_is_the_play() {
+    fn an_offset_within_the_play_is_the_play() {
         let c = campaign(105.0, 0.2);
         assert!(lag_of(&c, &offset(1, 0.16, [0.15, 0.20])).is_some());
+        assert!(lag_of(&c, &offset(1, -0.16, [-0.20, -0.15])).is_some());
         // Beyond the play, but its interval reaches into it.
         assert!(lag_of(&c, &offset(1, 0.25, [0.13, 0.31])).is_some());
-        let c = campaign(-90.0, 0.2);
-        assert!(lag_of(&c, &offset(1, -0.16, [-0.20, -0.15])).is_some());
+        assert!(lag_of(&c, &offset(1, -0.25, [-0.31, -0.19])).is_some());
     }
 
     #[test]
     fn an_offset_the_play_cannot_give_stays_a_claim() {
         let c = campaign(105.0, 0.2);
-        // Leading the panel: the spring side cannot.
-        assert!(lag_of(&c, &offset(1, -0.16, [-0.20, -0.15])).is_none());
-        // Clearly beyond the play.
+        // Clearly beyond the play, either way.
         assert!(lag_of(&c, &offset(1, 0.5, [0.45, 0.55])).is_none());
+        assert!(lag_of(&c, &offset(1, -0.5, [-0.55, -0.45])).is_none());
         // No play declared.
         let c = campaign(105.0, 0.0);
         assert!(lag_of(&c, &offset(1, 0.16, [0.15, 0.20])).is_none());

@@ -80,7 +80,7 @@ pub struct Diagnosis {
     /// within the discrepancy"): not effects, not read by `margin --from`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub set_aside: Vec<SetAsideJson>,
-    /// Encoder readings that trail their panels within the joints'
+    /// Encoder readings off their panels within the joints'
     /// declared free-play (`docs/diagnosis.md`, "Free-play held to one
     /// side"): a discrepancy, not an effect; the angles were compared with
     /// each taken out.
@@ -88,7 +88,7 @@ pub struct Diagnosis {
     pub free_play: Vec<FreePlayJson>,
 }
 
-/// An encoder reading that trails its panel within the hinge's declared
+/// An encoder reading off its panel within the hinge's declared
 /// free-play.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct FreePlayJson {
