@@ -360,13 +360,16 @@ class Panel:
 class Joint:
     """``[[joint]]``: the stowed angle [deg] (the latch at 0), the spring's
     kind (``"linear"``, ``"tape"``, ``"curve"``) and count, the friction
-    of the file: Coulomb [N·m], viscous [N·m·s/rad]."""
+    of the file: Coulomb [N·m], viscous [N·m·s/rad], and the hinge's
+    declared free-play, a half band [deg] (0: none declared;
+    ``docs/diagnosis.md``, "Free-play held to one side")."""
 
     stowed_deg: float
     spring: str
     spring_count: int
     coulomb_nm: float
     viscous_nms: float
+    free_play_deg: float
 
 
 @dataclass(frozen=True)

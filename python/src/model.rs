@@ -121,6 +121,7 @@ fn describe<'py>(py: Python<'py>, m: &Mechanism) -> PyResult<Bound<'py, PyDict>>
         x.set_item("spring_count", count)?;
         x.set_item("coulomb_nm", j.friction.coulomb_nm)?;
         x.set_item("viscous_nms", j.friction.viscous_nms)?;
+        x.set_item("free_play_deg", j.free_play_deg)?;
         joints.push(x);
     }
     d.set_item("joints", joints)?;

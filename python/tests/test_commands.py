@@ -140,3 +140,12 @@ def test_the_monitor_sample_by_sample_gives_replays_statuses(root, monkeypatch, 
     assert all(s.resolution == ("Resolved",) * n for s in got)
     with pytest.raises(InputError, match=rf"^sample: expected {n} angles"):
         monitor.update(dw.Sample(t_s=0.0, phi_deg=[0.0], latch=[False]))
+
+
+def test_a_joint_s_declared_free_play_is_read(root):
+    """``free_play_deg`` of a ``[[joint]]`` reaches ``Joint.free_play_deg``; 0 where none is declared."""
+    text = (root / T01).read_text().replace("stowed_deg = -90.0", "stowed_deg = -90.0\nfree_play_deg = 0.15", 1)
+    mech = dw.Mechanism.from_str(text)
+    assert [j.free_play_deg for j in mech.joints] == [0.15] + [0.0] * (len(mech.joints) - 1)
+    with pytest.raises(dw.MechanismError, match="free_play_deg"):
+        dw.Mechanism.from_str(text.replace("free_play_deg = 0.15", "free_play_deg = -1.0"))
