@@ -111,12 +111,12 @@ pub fn run_at(
     }
     // Encoders the diagnosis found off their panels within the
     // declared free-play: the angles with that taken out, as it compared.
-    let lags: Vec<free_play::FreePlayLag> = found
+    let offsets: Vec<free_play::FreePlayOffset> = found
         .map(|d| &d.free_play[..])
         .unwrap_or_default()
         .iter()
         .filter_map(|f| {
-            Some(free_play::FreePlayLag {
+            Some(free_play::FreePlayOffset {
                 joint: f.joint,
                 offset_deg: f.offset_deg?,
                 ci95_deg: [f.ci95[0]?, f.ci95[1]?],
@@ -124,7 +124,7 @@ pub fn run_at(
             })
         })
         .collect();
-    campaign = free_play::apply(&campaign, &lags);
+    campaign = free_play::apply(&campaign, &offsets);
     let window = found.and_then(|d| d.free_window.iter().find(|w| w.run == name));
     if let Some(w) = window {
         let cut = RunWindow {
@@ -170,7 +170,7 @@ pub fn run_at(
             d * 1e3
         );
     }
-    for l in &lags {
+    for l in &offsets {
         outln!(
             "  joint {}'s readings {:+.4} deg off its panel within the declared free-play, as the diagnosis took out",
             l.joint,

@@ -24,7 +24,7 @@ use crate::model::effect::EffectKind;
 
 /// An encoder reading off its panel within the hinge's declared free-play.
 #[derive(Clone, Debug, PartialEq)]
-pub struct FreePlayLag {
+pub struct FreePlayOffset {
     /// 1-based joint.
     pub joint: usize,
     /// The fitted reading's offset from the panel's angle \[deg\] (the
@@ -50,9 +50,9 @@ pub fn declared_play_deg(campaign: &Campaign, joint: usize) -> f64 {
     plays.fold(first, f64::min).max(0.0)
 }
 
-/// The lag `m` shows when it is an `encoder_offset` within the declared
+/// The offset `m` shows when it is an `encoder_offset` within the declared
 /// free-play at its joint: its 95 % interval meets `[−play, play]`.
-fn lag_of(campaign: &Campaign, m: &FittedEffect) -> Option<FreePlayLag> {
+fn offset_within_play(campaign: &Campaign, m: &FittedEffect) -> Option<FreePlayOffset> {
     if m.candidate.kind != EffectKind::EncoderOffset || m.candidate.table.is_some() {
         return None;
     }
@@ -61,7 +61,7 @@ fn lag_of(campaign: &Campaign, m: &FittedEffect) -> Option<FreePlayLag> {
     let offset_deg = *m.params.first()?;
     let ([lo, hi], _) = m.value_ci();
     let within = lo <= play_deg && hi >= -play_deg;
-    (play_deg > 0.0 && within && offset_deg.is_finite()).then_some(FreePlayLag {
+    (play_deg > 0.0 && within && offset_deg.is_finite()).then_some(FreePlayOffset {
         joint,
         offset_deg,
         ci95_deg: [lo, hi],
@@ -70,19 +70,19 @@ fn lag_of(campaign: &Campaign, m: &FittedEffect) -> Option<FreePlayLag> {
 }
 
 /// `out` with every `encoder_offset` within its joint's declared free-play
-/// moved from the effects found to [`Outcome::free_play`] (with its
-/// strength). The fit's statistics stay: the offset is taken out of the
+/// moved from the effects found to [`Outcome::free_play`] (its strength
+/// with it). The fit's statistics stay: the offset is taken out of the
 /// angles instead ([`apply`]), which compares them alike.
 pub fn split(campaign: &Campaign, mut out: Outcome) -> Outcome {
     let mut k = 0;
     while k < out.extended.members.len() {
-        match lag_of(campaign, &out.extended.members[k]) {
-            Some(lag) => {
+        match offset_within_play(campaign, &out.extended.members[k]) {
+            Some(found) => {
                 out.extended.members.remove(k);
                 if k < out.strength_rms_deg.len() {
                     out.strength_rms_deg.remove(k);
                 }
-                out.free_play.push(lag);
+                out.free_play.push(found);
             }
             None => k += 1,
         }
@@ -90,15 +90,15 @@ pub fn split(campaign: &Campaign, mut out: Outcome) -> Outcome {
     out
 }
 
-/// The campaign with each lag taken out of its joint's angles: the angles
+/// The campaign with each offset taken out of its joint's angles: the angles
 /// as the fit compared them with the effects left.
-pub fn apply(campaign: &Campaign, lags: &[FreePlayLag]) -> Campaign {
+pub fn apply(campaign: &Campaign, offsets: &[FreePlayOffset]) -> Campaign {
     let mut out = campaign.clone();
-    for lag in lags {
+    for found in offsets {
         for cr in &mut out.runs {
-            if let Some(col) = cr.run.phi_deg.get_mut(lag.joint.wrapping_sub(1)) {
+            if let Some(col) = cr.run.phi_deg.get_mut(found.joint.wrapping_sub(1)) {
                 for x in col.iter_mut() {
-                    *x -= lag.offset_deg;
+                    *x -= found.offset_deg;
                 }
             }
         }
@@ -106,8 +106,8 @@ pub fn apply(campaign: &Campaign, lags: &[FreePlayLag]) -> Campaign {
     out
 }
 
-/// The lag in words, for the progress, the summary and the report.
-pub fn words(l: &FreePlayLag) -> String {
+/// The offset in words, for the progress, the summary and the report.
+pub fn words(l: &FreePlayOffset) -> String {
     format!(
         "joint {}'s encoder reads {:+.4} deg ({:+.4} .. {:+.4}) off its panel, within the hinge's declared free-play of {:.4} deg: a spring side held at one end of its band reads so, and the runs cannot tell it from an encoder offset; not claimed, taken out of the angles compared",
         l.joint, l.offset_deg, l.ci95_deg[0], l.ci95_deg[1], l.play_deg
@@ -156,29 +156,30 @@ mod tests {
     #[test]
     fn an_offset_within_the_play_is_the_play() {
         let c = campaign(105.0, 0.2);
-        assert!(lag_of(&c, &offset(1, 0.16, [0.15, 0.20])).is_some());
-        assert!(lag_of(&c, &offset(1, -0.16, [-0.20, -0.15])).is_some());
+        assert!(offset_within_play(&c, &offset(1, 0.16, [0.15, 0.20])).is_some());
+        assert!(offset_within_play(&c, &offset(1, -0.16, [-0.20, -0.15])).is_some());
         // Beyond the play, but its interval reaches into it.
-        assert!(lag_of(&c, &offset(1, 0.25, [0.13, 0.31])).is_some());
-        assert!(lag_of(&c, &offset(1, -0.25, [-0.31, -0.19])).is_some());
+        assert!(offset_within_play(&c, &offset(1, 0.25, [0.13, 0.31])).is_some());
+        assert!(offset_within_play(&c, &offset(1, -0.25, [-0.31, -0.19])).is_some());
     }
 
     #[test]
     fn an_offset_the_play_cannot_give_stays_a_claim() {
         let c = campaign(105.0, 0.2);
         // Clearly beyond the play, either way.
-        assert!(lag_of(&c, &offset(1, 0.5, [0.45, 0.55])).is_none());
-        assert!(lag_of(&c, &offset(1, -0.5, [-0.55, -0.45])).is_none());
+        assert!(offset_within_play(&c, &offset(1, 0.5, [0.45, 0.55])).is_none());
+        assert!(offset_within_play(&c, &offset(1, -0.5, [-0.55, -0.45])).is_none());
         // No play declared.
         let c = campaign(105.0, 0.0);
-        assert!(lag_of(&c, &offset(1, 0.16, [0.15, 0.20])).is_none());
+        assert!(offset_within_play(&c, &offset(1, 0.16, [0.15, 0.20])).is_none());
     }
 
     #[test]
     fn apply_takes_the_offset_out_of_its_joint() {
         let c = campaign(105.0, 0.2);
-        let lag = lag_of(&c, &offset(1, 0.16, [0.15, 0.20])).expect("lag");
-        let a = apply(&c, &[lag]);
+        let found =
+            offset_within_play(&c, &offset(1, 0.16, [0.15, 0.20])).expect("within the play");
+        let a = apply(&c, &[found]);
         assert!((a.runs[0].run.phi_deg[0][0] - (105.0 - 0.16)).abs() < 1e-12);
     }
 }

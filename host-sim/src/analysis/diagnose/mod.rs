@@ -387,8 +387,8 @@ fn unexplained_above_noise(
 /// that discrepancy, not claimed ([`free_play`]).
 pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress) -> Outcome {
     let out = free_play::split(campaign, diagnose_delayed(campaign, opts, progress));
-    for lag in &out.free_play {
-        progress(&free_play::words(lag));
+    for found in &out.free_play {
+        progress(&free_play::words(found));
     }
     out
 }

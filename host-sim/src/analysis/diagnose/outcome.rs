@@ -410,7 +410,7 @@ pub struct Outcome {
     /// Encoder offsets within their joints' declared free-play, taken out
     /// of the effects ([`super::free_play`]): the angles are compared with
     /// them taken out ([`super::free_play::apply`]).
-    pub free_play: Vec<super::free_play::FreePlayLag>,
+    pub free_play: Vec<super::free_play::FreePlayOffset>,
     /// Runs of a physical latch: where each run's free motion ends, the
     /// window the effects were fitted on (`None`: the whole runs).
     pub free_window: Option<Vec<RunWindow>>,
