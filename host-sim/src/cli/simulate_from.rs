@@ -13,7 +13,7 @@ use super::simulate_args::SimulateArgs;
 use super::{outln, CliError, Console};
 use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::diagnose::latch_window::{self, RunWindow};
-use crate::analysis::diagnose::{encoder_delay, free_play};
+use crate::analysis::diagnose::{encoder_delay, free_play, FreePlayOffset};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};
 use crate::model::findings::{Diagnosis, Findings};
@@ -83,6 +83,35 @@ pub fn with_found(
     Ok((with, found))
 }
 
+/// The delay \[s\] a diagnosis took out of the encoders' stamps (its JSON's
+/// `encoder_delay`, when `taken_out` and positive).
+fn delay_taken_out(found: Option<&Diagnosis>) -> Option<f64> {
+    found
+        .and_then(|d| d.encoder_delay.as_ref())
+        .filter(|d| d.taken_out)
+        .and_then(|d| d.delay_s)
+        .filter(|d| d.is_finite() && *d > 0.0)
+}
+
+/// The encoder offsets within the declared free-play a diagnosis took out
+/// of the angles (its JSON's `free_play`; an entry with a number missing
+/// is skipped).
+fn free_play_offsets(found: Option<&Diagnosis>) -> Vec<FreePlayOffset> {
+    found
+        .map(|d| &d.free_play[..])
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|f| {
+            Some(FreePlayOffset {
+                joint: f.joint,
+                offset_deg: f.offset_deg?,
+                ci95_deg: [f.ci95[0]?, f.ci95[1]?],
+                play_deg: f.play_deg?,
+            })
+        })
+        .collect()
+}
+
 /// `--at RUN.csv`: the mechanism with `args.effects` (the `--from` ones
 /// among them) simulated as the diagnosis simulates a run, written to
 /// `--out` (the model's angles, no noise) and its RMS against the run
@@ -101,29 +130,13 @@ pub fn run_at(
     // Encoders the diagnosis found late on their switches: the model at
     // each stamp minus the delay, written at the run's own stamps.
     let stamps = campaign.runs[0].run.t_s.clone();
-    let delay_s = found
-        .and_then(|d| d.encoder_delay.as_ref())
-        .filter(|d| d.taken_out)
-        .and_then(|d| d.delay_s)
-        .filter(|d| d.is_finite() && *d > 0.0);
+    let delay_s = delay_taken_out(found);
     if let Some(d) = delay_s {
         campaign = encoder_delay::shifted(&campaign, d);
     }
     // Encoders the diagnosis found off their panels within the
     // declared free-play: the angles with that taken out, as it compared.
-    let offsets: Vec<free_play::FreePlayOffset> = found
-        .map(|d| &d.free_play[..])
-        .unwrap_or_default()
-        .iter()
-        .filter_map(|f| {
-            Some(free_play::FreePlayOffset {
-                joint: f.joint,
-                offset_deg: f.offset_deg?,
-                ci95_deg: [f.ci95[0]?, f.ci95[1]?],
-                play_deg: f.play_deg?,
-            })
-        })
-        .collect();
+    let offsets = free_play_offsets(found);
     campaign = free_play::apply(&campaign, &offsets);
     let window = found.and_then(|d| d.free_window.iter().find(|w| w.run == name));
     if let Some(w) = window {

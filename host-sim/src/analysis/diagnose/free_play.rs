@@ -18,24 +18,9 @@
 //! signature, and not claimed: it leaves `effects`, and the angles are
 //! compared with it taken out ([`apply`]), as the fit compared them.
 
-use super::outcome::{FittedEffect, Outcome};
+use super::outcome::{FittedEffect, FreePlayOffset, Outcome};
 use crate::data::campaign::Campaign;
 use crate::model::effect::EffectKind;
-
-/// An encoder reading off its panel within the hinge's declared free-play.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FreePlayOffset {
-    /// 1-based joint.
-    pub joint: usize,
-    /// The fitted reading's offset from the panel's angle \[deg\] (the
-    /// `encoder_offset` the search kept: reading = angle + offset).
-    pub offset_deg: f64,
-    /// Its 95 % interval \[deg\].
-    pub ci95_deg: [f64; 2],
-    /// The free-play every mechanism of the campaign declares at the
-    /// joint (the least of them), a half band \[deg\].
-    pub play_deg: f64,
-}
 
 /// The free-play every run's mechanism declares at `joint` (1-based), the
 /// least of them \[deg\]; 0 when one declares none.

@@ -64,8 +64,8 @@ pub mod whole_run;
 pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
 pub use outcome::{
-    DiagnoseOptions, FitStats, FittedSet, HaltReason, Outcome, Round, SeparatingTest, SetAside,
-    StopFlag, Unexplained, UnexplainedShape,
+    DiagnoseOptions, FitStats, FittedSet, FreePlayOffset, HaltReason, Outcome, Round,
+    SeparatingTest, SetAside, StopFlag, Unexplained, UnexplainedShape,
 };
 pub use policy::{Kept, Move, Rejection, Verdict, MIN_DELTA_BIC};
 

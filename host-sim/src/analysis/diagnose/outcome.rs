@@ -380,6 +380,21 @@ impl Default for DiagnoseOptions {
     }
 }
 
+/// An encoder reading off its panel within the hinge's declared free-play.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FreePlayOffset {
+    /// 1-based joint.
+    pub joint: usize,
+    /// The fitted reading's offset from the panel's angle \[deg\] (the
+    /// `encoder_offset` the search kept: reading = angle + offset).
+    pub offset_deg: f64,
+    /// Its 95 % interval \[deg\].
+    pub ci95_deg: [f64; 2],
+    /// The free-play every mechanism of the campaign declares at the
+    /// joint (the least of them), a half band \[deg\].
+    pub play_deg: f64,
+}
+
 /// What a diagnosis concluded.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Outcome {
@@ -408,9 +423,9 @@ pub struct Outcome {
     /// the fit compared the angles with the model at their stamps minus it.
     pub encoder_delay: Option<super::encoder_delay::EncoderDelay>,
     /// Encoder offsets within their joints' declared free-play, taken out
-    /// of the effects ([`super::free_play`]): the angles are compared with
-    /// them taken out ([`super::free_play::apply`]).
-    pub free_play: Vec<super::free_play::FreePlayOffset>,
+    /// of the effects (`diagnose/free_play.rs`): the angles are compared
+    /// with them taken out.
+    pub free_play: Vec<FreePlayOffset>,
     /// Runs of a physical latch: where each run's free motion ends, the
     /// window the effects were fitted on (`None`: the whole runs).
     pub free_window: Option<Vec<RunWindow>>,
