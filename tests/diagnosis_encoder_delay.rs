@@ -22,9 +22,7 @@
 //!   d.json --at run.csv` gives back the RMS the diagnosis reported, the
 //!   model written at the run's own stamps.
 
-use clap::Parser;
 use deploywatch_sim::campaign::Campaign;
-use deploywatch_sim::cli::{self, Cli};
 use deploywatch_sim::deployment::{self, SimOptions, Trajectory};
 use deploywatch_sim::diagnose::{diagnose, encoder_delay, Outcome};
 use deploywatch_sim::effect::{self, Effect};
@@ -32,6 +30,7 @@ use deploywatch_sim::findings::Findings;
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;
 use deploywatch_sim::sensor::{self, SensorModel};
+use deploywatch_tests::cli_run::{angles, deploywatch};
 use deploywatch_tests::data_dir;
 use deploywatch_tests::hidden_effect::{moves_runs_deg, SEED_WINGS, STROKE_KINDS};
 use deploywatch_tests::wing_gen::wing_toml;
@@ -206,27 +205,6 @@ fn a_delay_is_named_and_taken_out_and_the_effect_found() {
         100 * failed.len() <= 15 * n,
         "cases {failed:?} (see the lines above)"
     );
-}
-
-fn deploywatch(args: &[&str]) -> i32 {
-    let argv = std::iter::once("deploywatch").chain(args.iter().copied());
-    match Cli::try_parse_from(argv) {
-        Ok(parsed) => cli::run(parsed).map_or_else(|e| i32::from(e.code), |()| 0),
-        Err(e) => panic!("deploywatch {args:?}: {e}"),
-    }
-}
-
-/// The angles of a run CSV, per joint.
-fn angles(path: &Path, joints: usize) -> Vec<Vec<f64>> {
-    let body = std::fs::read_to_string(path).expect("a run CSV");
-    let mut out = vec![Vec::new(); joints];
-    for line in body.lines().filter(|l| !l.starts_with('#')).skip(1) {
-        let cells: Vec<&str> = line.split(',').collect();
-        for (j, col) in out.iter_mut().enumerate() {
-            col.push(cells[1 + j].parse::<f64>().expect("an angle"));
-        }
-    }
-    out
 }
 
 #[test]

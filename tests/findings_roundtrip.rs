@@ -24,14 +24,13 @@
 //!
 //!     cargo test --release -p deploywatch-tests --test findings_roundtrip
 
-use clap::Parser;
-use deploywatch_sim::cli::{self, Cli};
 use deploywatch_sim::effect::{Effect, EffectKind, Law};
 use deploywatch_sim::findings::{Diagnosis, Findings, FoundEffect};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::reliability::identified::from_findings_json;
 use deploywatch_sim::reliability::params::{Dist, Target};
 use deploywatch_sim::torque_table::TablePoints;
+use deploywatch_tests::cli_run::{angles, deploywatch};
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -176,14 +175,6 @@ fn formats_md_names_every_key_of_every_kind() {
 
 /// `deploywatch ARGS...` in this process (the CLI's own parser and `run`):
 /// its exit code, 0 on success.
-fn deploywatch(args: &[&str]) -> i32 {
-    let argv = std::iter::once("deploywatch").chain(args.iter().copied());
-    match Cli::try_parse_from(argv) {
-        Ok(parsed) => cli::run(parsed).map_or_else(|e| i32::from(e.code), |()| 0),
-        Err(e) => panic!("deploywatch {args:?}: {e}"),
-    }
-}
-
 fn data(rel: &str) -> String {
     format!("{}/../data/{rel}", env!("CARGO_MANIFEST_DIR"))
 }
@@ -206,18 +197,6 @@ fn wing_for(kind: EffectKind) -> String {
 
 /// The angle columns of a run CSV, `[joint][sample]` (comment lines and
 /// the header skipped; `t_s` first, then one `phiJ_deg` per joint).
-fn angles(path: &Path, joints: usize) -> Vec<Vec<f64>> {
-    let body = std::fs::read_to_string(path).expect("a run CSV");
-    let mut out = vec![Vec::new(); joints];
-    for line in body.lines().filter(|l| !l.starts_with('#')).skip(1) {
-        let cells: Vec<&str> = line.split(',').collect();
-        for (j, col) in out.iter_mut().enumerate() {
-            col.push(cells[1 + j].parse::<f64>().expect("an angle"));
-        }
-    }
-    out
-}
-
 /// RMS of model minus run over the first `samples` samples of each joint.
 fn rms(model: &[Vec<f64>], run: &[Vec<f64>], samples: usize) -> f64 {
     let (mut sse, mut m) = (0.0, 0usize);

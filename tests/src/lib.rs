@@ -102,6 +102,7 @@ pub fn diagnose_options() -> deploywatch_sim::diagnose::DiagnoseOptions {
     }
 }
 
+pub mod cli_run;
 pub mod hidden_effect;
 pub mod hidden_torque;
 pub mod holds_less;
