@@ -52,7 +52,7 @@ mod simulate;
 
 /// A mechanism read from its TOML file (`docs/spec/formats.md`).
 pub mod mechanism {
-    pub use crate::model::mechanism::{Mechanism, SpringSpec};
+    pub use crate::model::mechanism::{MassTolerance, Mechanism, SpringSpec};
 }
 
 /// The mechanism loader's errors and defaults.
@@ -229,7 +229,7 @@ pub mod diagnose {
     pub use crate::analysis::diagnose::encoder_delay;
     pub use crate::analysis::diagnose::latch_finding::{LatchCause, LatchDifference};
     pub use crate::analysis::diagnose::{
-        diagnose, DiagnoseOptions, FittedSet, Outcome, MIN_DELTA_BIC,
+        diagnose, DiagnoseOptions, FittedSet, Outcome, ToleranceShare, MIN_DELTA_BIC,
     };
 }
 

@@ -145,6 +145,26 @@ pub struct JointSpec {
     pub free_play_deg: f64,
 }
 
+/// The declared tolerance of one panel's mass properties: half bands of
+/// `mass_kg` and `inertia_kgm2` in percent of their drawn values (0: none
+/// declared; this project's extension, `docs/spec/formats.md`). Not
+/// simulated: the diagnosis carries them into its intervals
+/// ([`crate::analysis::diagnose::mass_tolerance`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MassTolerance {
+    /// `mass_tolerance_pct` \[%\].
+    pub mass_pct: f64,
+    /// `inertia_tolerance_pct` \[%\].
+    pub inertia_pct: f64,
+}
+
+impl MassTolerance {
+    /// True when neither tolerance is declared.
+    pub fn is_none(&self) -> bool {
+        self.mass_pct == 0.0 && self.inertia_pct == 0.0
+    }
+}
+
 /// A mechanism: panels, joints and the run settings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mechanism {
@@ -154,6 +174,10 @@ pub struct Mechanism {
     pub description: String,
     /// `[[panel]]` tables, bus outwards.
     pub panels: Vec<Panel<f64>>,
+    /// Each panel's declared mass-property tolerance, in the order of
+    /// `panels` ([`Mechanism::mass_tolerance`] reads it; a panel beyond the
+    /// list has none).
+    pub mass_tolerances: Vec<MassTolerance>,
     /// `[[joint]]` tables; joint j drives panel j.
     pub joints: Vec<JointSpec>,
     /// `[run] duration_s`: simulate until every joint latched or this time \[s\].
@@ -195,6 +219,12 @@ impl Mechanism {
             rig: None,
             ..self.clone()
         }
+    }
+
+    /// The declared mass-property tolerance of panel `i` (0-based); none
+    /// for a panel the list does not reach.
+    pub fn mass_tolerance(&self, i: usize) -> MassTolerance {
+        self.mass_tolerances.get(i).copied().unwrap_or_default()
     }
 
     /// True when some joint has a physical latch.

@@ -19,10 +19,12 @@
 //!   [`DEFAULT_SAMPLE_HZ`] (100 Hz) and `[run] settle_s`: [`DEFAULT_SETTLE_S`]
 //!   (0.2 s), each on its own, whether `[run]` is absent or only lacks that
 //!   key;
-//! - `free_play_deg` of a joint: 0 (no free-play declared).
+//! - `free_play_deg` of a joint: 0 (no free-play declared);
+//! - `mass_tolerance_pct` and `inertia_tolerance_pct` of a panel: 0 (no
+//!   tolerance declared).
 //!
 //! Beyond the types, values must describe a mechanism: `com_m` within the
-//! panel (0 to `length_m`), `0 < |stowed_deg| ≤ 360`, `0 ≤ free_play_deg ≤ 5`, friction values as
+//! panel (0 to `length_m`), `0 < |stowed_deg| ≤ 360`, `0 ≤ free_play_deg ≤ 5`, tolerances of 0 to 20 %, friction values as
 //! the matching effects allow them ([`EffectKind::allowed`]).
 //!
 //! `count` is required (a silently defaulted hinge count would change the
@@ -38,7 +40,9 @@ use deploywatch_core::{Curve, Panel, Spring};
 use deploywatch_core::{Interp, TapePoints};
 
 use crate::model::effect::EffectKind;
-use crate::model::mechanism::{FrictionSpec, JointSpec, Mechanism, SpringSpec, MAX_CHAIN_JOINTS};
+use crate::model::mechanism::{
+    FrictionSpec, JointSpec, MassTolerance, Mechanism, SpringSpec, MAX_CHAIN_JOINTS,
+};
 pub use crate::model::mechanism_error::{MechanismError, MechanismErrorKind};
 use crate::model::toml_tree::{join, num, Bound, Cx, Node, Res, Sp, Table};
 
@@ -57,6 +61,10 @@ pub const DEFAULT_SETTLE_S: f64 = 0.2;
 /// Largest `free_play_deg` (deg): a hinge with more play than this is not
 /// a hinge the reduced-order model of `physics.md` describes.
 const MAX_FREE_PLAY_DEG: f64 = 5.0;
+
+/// Largest `mass_tolerance_pct` and `inertia_tolerance_pct` (%): a panel
+/// known no better than this is not one the drawing describes.
+const MAX_TOLERANCE_PCT: f64 = 20.0;
 
 /// Largest `|stowed_deg|` (deg): one turn. A hinge folded further than a
 /// full turn is a typing error (radians for degrees, an extra digit).
@@ -102,7 +110,14 @@ const TOP_KEYS: &[&str] = &[
     "truss",
     "rig",
 ];
-const PANEL_KEYS: &[&str] = &["length_m", "mass_kg", "com_m", "inertia_kgm2"];
+const PANEL_KEYS: &[&str] = &[
+    "length_m",
+    "mass_kg",
+    "com_m",
+    "inertia_kgm2",
+    "mass_tolerance_pct",
+    "inertia_tolerance_pct",
+];
 const JOINT_KEYS: &[&str] = &["stowed_deg", "spring", "friction", "latch", "free_play_deg"];
 const LINEAR_KEYS: &[&str] = &["kind", "preload_nm", "stiffness_nm_per_rad", "count"];
 const TAPE_SPRING_KEYS: &[&str] = &["kind", "type", "count"];
@@ -159,8 +174,11 @@ impl Cx<'_> {
 
         let panel_items = self.array_of_tables(&top, "panel")?;
         let mut panels = Vec::with_capacity(panel_items.len());
+        let mut mass_tolerances = Vec::with_capacity(panel_items.len());
         for (i, sp) in panel_items.iter().enumerate() {
-            panels.push(self.panel(sp, &format!("panel[{}]", i + 1))?);
+            let (panel, tolerance) = self.panel(sp, &format!("panel[{}]", i + 1))?;
+            panels.push(panel);
+            mass_tolerances.push(tolerance);
         }
         if panels.is_empty() || panels.len() > MAX_CHAIN_JOINTS {
             return Err(self.err(
@@ -200,6 +218,7 @@ impl Cx<'_> {
             name,
             description,
             panels,
+            mass_tolerances,
             joints,
             duration_s,
             sample_hz,
@@ -280,7 +299,8 @@ impl Cx<'_> {
         }
     }
 
-    fn panel(&self, sp: &Sp, path: &str) -> Res<Panel<f64>> {
+    /// A `[[panel]]` and its declared mass-property tolerance.
+    fn panel(&self, sp: &Sp, path: &str) -> Res<(Panel<f64>, MassTolerance)> {
         let t = self.table(sp, path, PANEL_KEYS)?;
         let length_m = self.req_number(&t, "length_m", Bound::Positive, "m")?;
         let mass_kg = self.req_number(&t, "mass_kg", Bound::Positive, "kg")?;
@@ -293,12 +313,31 @@ impl Cx<'_> {
             let sp = t.get("com_m").unwrap_or(sp);
             return Err(self.invalid(sp, &t.key("com_m"), &expected));
         }
-        Ok(Panel {
+        let panel = Panel {
             length_m,
             mass_kg,
             com_m,
             inertia_kgm2: self.req_number(&t, "inertia_kgm2", Bound::Positive, "kg·m²")?,
-        })
+        };
+        let mut pct = [0.0; 2];
+        for (v, key) in pct
+            .iter_mut()
+            .zip(["mass_tolerance_pct", "inertia_tolerance_pct"])
+        {
+            *v = self
+                .opt_number(&t, key, Bound::NonNegative, "%")?
+                .unwrap_or(0.0);
+            if *v > MAX_TOLERANCE_PCT {
+                let sp = t.get(key).unwrap_or(sp);
+                let expected = "a half band of 0 to 20 [%] of the drawn value";
+                return Err(self.invalid(sp, &t.key(key), expected));
+            }
+        }
+        let tolerance = MassTolerance {
+            mass_pct: pct[0],
+            inertia_pct: pct[1],
+        };
+        Ok((panel, tolerance))
     }
 
     fn joint(&self, sp: &Sp, j: usize, tapes: &[(String, TapePoints<f64>)]) -> Res<JointSpec> {

@@ -21,7 +21,7 @@ impl Mechanism {
         let mut out = String::new();
         let _ = writeln!(out, "name = {}", toml_str(&self.name));
         let _ = writeln!(out, "description = {}", toml_str(&self.description));
-        for p in &self.panels {
+        for (i, p) in self.panels.iter().enumerate() {
             let _ = write!(
                 out,
                 "\n[[panel]]\nlength_m = {}\nmass_kg = {}\ncom_m = {}\ninertia_kgm2 = {}\n",
@@ -30,6 +30,15 @@ impl Mechanism {
                 num(p.com_m),
                 num(p.inertia_kgm2)
             );
+            let tol = self.mass_tolerance(i);
+            for (v, key) in [
+                (tol.mass_pct, "mass_tolerance_pct"),
+                (tol.inertia_pct, "inertia_tolerance_pct"),
+            ] {
+                if v > 0.0 {
+                    let _ = writeln!(out, "{key} = {}", num(v));
+                }
+            }
         }
         let mut tapes: Vec<(String, TapePoints<f64>)> = Vec::new();
         for (i, j) in self.joints.iter().enumerate() {

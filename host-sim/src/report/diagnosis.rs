@@ -35,6 +35,7 @@ pub fn markdown(
     report_causes(&mut md, o);
     super::diagnosis_set_aside::report(&mut md, o);
     super::diagnosis_free_play::report(&mut md, o);
+    super::diagnosis_tolerance::report(&mut md, o);
     diagnosis_plots::report_tables(&mut md, dir, stem, o)?;
     report_evidence(&mut md, &d.before, &d.after);
     diagnosis_torque::report_torque(&mut md, dir, stem, &d.torque[0], &d.torque[1])?;

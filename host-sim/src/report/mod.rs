@@ -18,6 +18,7 @@ pub mod diagnosis_latch;
 pub mod diagnosis_outcome;
 pub mod diagnosis_plots;
 pub mod diagnosis_set_aside;
+pub mod diagnosis_tolerance;
 pub mod diagnosis_torque;
 pub mod diagnosis_words;
 pub mod evidence_words;

@@ -89,7 +89,8 @@ fn unknown_keys_are_rejected_with_the_allowed_ones() {
         e.to_string(),
         format!(
             "bad.toml:{line}: unknown key `panel[1].centre_m`; \
-             expected one of: length_m, mass_kg, com_m, inertia_kgm2"
+             expected one of: length_m, mass_kg, com_m, inertia_kgm2, \
+             mass_tolerance_pct, inertia_tolerance_pct"
         )
     );
 
@@ -202,6 +203,18 @@ fn non_finite_and_out_of_range_numbers_are_rejected() {
             "stowed_deg = -90.0\nfree_play_deg = 12.0",
             "joint[1].free_play_deg",
             "at most 5 [deg]",
+        ),
+        (
+            "inertia_kgm2 = 0.27",
+            "inertia_kgm2 = 0.27\nmass_tolerance_pct = -0.5",
+            "panel[1].mass_tolerance_pct",
+            "≥ 0 [%], found -0.5",
+        ),
+        (
+            "inertia_kgm2 = 0.27",
+            "inertia_kgm2 = 0.27\ninertia_tolerance_pct = 25",
+            "panel[1].inertia_tolerance_pct",
+            "0 to 20 [%]",
         ),
         (
             "d = [0.52, 37.0]",

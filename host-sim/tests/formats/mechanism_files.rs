@@ -85,6 +85,22 @@ fn a_declared_free_play_is_read_and_written_back() {
 }
 
 #[test]
+fn declared_mass_tolerances_are_read_and_written_back() {
+    let text = t01_text().replacen(
+        "inertia_kgm2 = 0.27",
+        "inertia_kgm2 = 0.27\nmass_tolerance_pct = 0.5\ninertia_tolerance_pct = 2",
+        2,
+    );
+    let m = Mechanism::from_toml_str(&text, "tol.toml").unwrap_or_else(|e| panic!("{e}"));
+    let tol: Vec<(f64, f64)> = (0..3)
+        .map(|i| (m.mass_tolerance(i).mass_pct, m.mass_tolerance(i).inertia_pct))
+        .collect();
+    assert_eq!(tol, [(0.5, 2.0), (0.5, 2.0), (0.0, 0.0)]);
+    let back = Mechanism::from_toml_str(&m.to_toml_string(), "back.toml").expect("written");
+    assert_eq!(back, m);
+}
+
+#[test]
 fn mechanism_with_curve_spring_friction_and_defaults_round_trips() {
     let text = r#"
 name = "one panel"

@@ -31,6 +31,8 @@
 //!    stays clearly above the noise, a claim that accounts for less than
 //!    the residual the set leaves above the noise is set aside
 //!    ([`Move::SetAside`]) and reported as such.
+//! 8. The panels' declared mass-property tolerances widen the reported
+//!    intervals by what they move the estimates ([`mass_tolerance`]).
 
 pub mod ambiguity;
 mod candidate;
@@ -44,6 +46,7 @@ mod friction_forms;
 mod halt;
 pub mod latch_finding;
 pub mod latch_window;
+pub mod mass_tolerance;
 mod moves;
 mod outcome;
 mod policy;
@@ -65,7 +68,7 @@ pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
 pub use outcome::{
     DiagnoseOptions, FitStats, FittedSet, FreePlayOffset, HaltReason, Outcome, Round,
-    SeparatingTest, SetAside, StopFlag, Unexplained, UnexplainedShape,
+    SeparatingTest, SetAside, StopFlag, ToleranceShare, Unexplained, UnexplainedShape,
 };
 pub use policy::{Kept, Move, Rejection, Verdict, MIN_DELTA_BIC};
 
@@ -590,6 +593,7 @@ fn search_campaign(
     let partial = eng.halt.finish();
     let (extended, strength_rms_deg) = eng.strongest_first(&search.current);
     let extended = ambiguity::widened(&extended, &ambiguities);
+    let (extended, mass_tolerance) = mass_tolerance::widened(&eng, &extended);
     let held_out_rms_deg = match search.current_held {
         None if !extended.members.is_empty() => eng.held_out(&extended),
         h => h,
@@ -610,6 +614,7 @@ fn search_campaign(
         free_window: None,
         whole_run: None,
         latches: Vec::new(),
+        mass_tolerance,
         ambiguities,
         set_aside,
         partial,

@@ -25,7 +25,9 @@ pub struct FittedEffect {
     /// 95 % interval of each parameter as reported: the fit's
     /// autocorrelation-consistent interval, never narrower than the
     /// ordinary one ([`crate::analysis::fit::FitResult::ci95`]), widened
-    /// over an ambiguity group ([`super::ambiguity::widened`]); `None` for
+    /// over an ambiguity group ([`super::ambiguity::widened`]) and by the
+    /// panels' declared mass-property tolerances
+    /// ([`super::mass_tolerance`]); `None` for
     /// a point not fitted (a start, a screen's best scan point).
     pub ci95: Option<Vec<[f64; 2]>>,
     /// The fit's ordinary (white-noise) 95 % interval of each parameter
@@ -395,6 +397,20 @@ pub struct FreePlayOffset {
     pub play_deg: f64,
 }
 
+/// What the panels' declared mass-property tolerances add to one effect's
+/// reported interval ([`super::mass_tolerance`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToleranceShare {
+    /// The effect ([`Candidate::words`]).
+    pub effect: String,
+    /// The standard uncertainty of each of its parameters from the
+    /// tolerances, in the parameter's unit.
+    pub sd: Vec<f64>,
+    /// The tolerance that moves it most (`panel 2's inertia (±1 %) of
+    /// seed001-T01`).
+    pub largest: String,
+}
+
 /// What a diagnosis concluded.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Outcome {
@@ -436,6 +452,10 @@ pub struct Outcome {
     pub whole_run: Option<super::whole_run::WholeRun>,
     /// Each physical latch's events against the drawing's.
     pub latches: Vec<LatchFinding>,
+    /// What the panels' declared mass-property tolerances add to each
+    /// effect's reported interval (empty: none declared;
+    /// [`super::mass_tolerance`]).
+    pub mass_tolerance: Vec<ToleranceShare>,
     /// Sets of causes that explain the runs alike ([`super::ambiguity`]).
     pub ambiguities: Vec<Ambiguity>,
     /// Claims the search had kept that the runs cannot tell from the

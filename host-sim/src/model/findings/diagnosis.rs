@@ -86,6 +86,25 @@ pub struct Diagnosis {
     /// each taken out.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub free_play: Vec<FreePlayJson>,
+    /// What the panels' declared mass-property tolerances add to each
+    /// effect's interval (`docs/diagnosis.md`, "What the drawing's
+    /// tolerances add"): the `ci95` of `effects` include it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub mass_tolerance: Vec<ToleranceJson>,
+}
+
+/// What the panels' declared mass-property tolerances add to one effect's
+/// interval.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ToleranceJson {
+    /// The effect, in words (`viscous_damping at joint 3`).
+    pub effect: String,
+    /// The standard uncertainty of each of its parameters from the
+    /// tolerances, in the parameter's unit.
+    pub sd: Vec<Option<f64>>,
+    /// The tolerance that moves it most (`panel 2's inertia (±1 %) of
+    /// seed001-T01`).
+    pub largest: String,
 }
 
 /// An encoder reading off its panel within the hinge's declared
