@@ -93,7 +93,12 @@ fn declared_mass_tolerances_are_read_and_written_back() {
     );
     let m = Mechanism::from_toml_str(&text, "tol.toml").unwrap_or_else(|e| panic!("{e}"));
     let tol: Vec<(f64, f64)> = (0..3)
-        .map(|i| (m.mass_tolerance(i).mass_pct, m.mass_tolerance(i).inertia_pct))
+        .map(|i| {
+            (
+                m.mass_tolerance(i).mass_pct,
+                m.mass_tolerance(i).inertia_pct,
+            )
+        })
         .collect();
     assert_eq!(tol, [(0.5, 2.0), (0.5, 2.0), (0.0, 0.0)]);
     let back = Mechanism::from_toml_str(&m.to_toml_string(), "back.toml").expect("written");
