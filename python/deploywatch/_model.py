@@ -348,12 +348,16 @@ def strings(name: str, value: Any) -> List[str]:
 @dataclass(frozen=True)
 class Panel:
     """``[[panel]]``: length [m], mass [kg], centre of mass from the hinge
-    [m], inertia about the centre of mass [kg·m²]."""
+    [m], inertia about the centre of mass [kg·m²], and the declared
+    tolerances of its mass and inertia, half bands [%] (0: none declared;
+    ``docs/diagnosis.md``, "What the drawing's tolerances add")."""
 
     length_m: float
     mass_kg: float
     com_m: float
     inertia_kgm2: float
+    mass_tolerance_pct: float
+    inertia_tolerance_pct: float
 
 
 @dataclass(frozen=True)

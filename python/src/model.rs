@@ -99,12 +99,15 @@ fn describe<'py>(py: Python<'py>, m: &Mechanism) -> PyResult<Bound<'py, PyDict>>
     d.set_item("settle_s", m.settle_s)?;
     d.set_item("truss", m.truss.is_some())?;
     let mut panels = Vec::new();
-    for p in &m.panels {
+    for (i, p) in m.panels.iter().enumerate() {
         let x = PyDict::new(py);
         x.set_item("length_m", p.length_m)?;
         x.set_item("mass_kg", p.mass_kg)?;
         x.set_item("com_m", p.com_m)?;
         x.set_item("inertia_kgm2", p.inertia_kgm2)?;
+        let tol = m.mass_tolerance(i);
+        x.set_item("mass_tolerance_pct", tol.mass_pct)?;
+        x.set_item("inertia_tolerance_pct", tol.inertia_pct)?;
         panels.push(x);
     }
     d.set_item("panels", panels)?;

@@ -142,6 +142,15 @@ def test_the_monitor_sample_by_sample_gives_replays_statuses(root, monkeypatch, 
         monitor.update(dw.Sample(t_s=0.0, phi_deg=[0.0], latch=[False]))
 
 
+def test_a_panel_s_declared_tolerances_are_read(root):
+    """``mass_tolerance_pct`` and ``inertia_tolerance_pct`` of a ``[[panel]]`` reach ``Panel``; 0 where none is declared."""
+    text = (root / T01).read_text().replace("inertia_kgm2 = 0.27", "inertia_kgm2 = 0.27\nmass_tolerance_pct = 0.5\ninertia_tolerance_pct = 1", 1)
+    mech = dw.Mechanism.from_str(text)
+    assert [(p.mass_tolerance_pct, p.inertia_tolerance_pct) for p in mech.panels] == [(0.5, 1.0)] + [(0.0, 0.0)] * (len(mech.panels) - 1)
+    with pytest.raises(dw.MechanismError, match="inertia_tolerance_pct"):
+        dw.Mechanism.from_str(text.replace("inertia_tolerance_pct = 1", "inertia_tolerance_pct = 30"))
+
+
 def test_a_joint_s_declared_free_play_is_read(root):
     """``free_play_deg`` of a ``[[joint]]`` reaches ``Joint.free_play_deg``; 0 where none is declared."""
     text = (root / T01).read_text().replace("stowed_deg = -90.0", "stowed_deg = -90.0\nfree_play_deg = 0.15", 1)
