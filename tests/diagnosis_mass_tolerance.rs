@@ -117,9 +117,16 @@ fn a_panel_at_its_bands_edge_is_inside_the_interval() {
         let c = campaign(&drawn, &built, &[truth], 10 * i as u64);
         let o = diagnose(&c, &opts, &quiet);
         let plain_drawing = declaring(&drawn, MassTolerance::default());
-        let plain = diagnose(&campaign(&plain_drawing, &built, &[truth], 10 * i as u64), &opts, &quiet);
+        let plain = diagnose(
+            &campaign(&plain_drawing, &built, &[truth], 10 * i as u64),
+            &opts,
+            &quiet,
+        );
         let Some(k) = found(&o, &truth) else {
-            failed.push(format!("case {i}: {truth} not found: {:?}", o.extended.effects()));
+            failed.push(format!(
+                "case {i}: {truth} not found: {:?}",
+                o.extended.effects()
+            ));
             continue;
         };
         let ([lo, hi], _) = o.extended.effect_ci(k);

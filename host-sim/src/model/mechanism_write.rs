@@ -1,12 +1,32 @@
 //! A mechanism written back as TOML (`docs/spec/formats.md`): what
 //! `Mechanism::from_toml_str` reads back as the same mechanism.
 
-use crate::model::mechanism::{FrictionSpec, Mechanism, SpringSpec};
+use crate::model::mechanism::{FrictionSpec, MassTolerance, Mechanism, SpringSpec};
 use crate::model::mechanism_error::{MechanismError, MechanismErrorKind};
 pub use crate::model::toml_tree::{num, toml_str};
-use deploywatch_core::{Interp, TapePoints};
+use deploywatch_core::{Interp, Panel, TapePoints};
 use std::fmt::Write as _;
 use std::path::Path;
+
+/// A `[[panel]]` table, its declared tolerances when there are some.
+fn panel_toml(out: &mut String, p: &Panel<f64>, tol: MassTolerance) {
+    let _ = write!(
+        out,
+        "\n[[panel]]\nlength_m = {}\nmass_kg = {}\ncom_m = {}\ninertia_kgm2 = {}\n",
+        num(p.length_m),
+        num(p.mass_kg),
+        num(p.com_m),
+        num(p.inertia_kgm2)
+    );
+    for (v, key) in [
+        (tol.mass_pct, "mass_tolerance_pct"),
+        (tol.inertia_pct, "inertia_tolerance_pct"),
+    ] {
+        if v > 0.0 {
+            let _ = writeln!(out, "{key} = {}", num(v));
+        }
+    }
+}
 
 impl Mechanism {
     /// Writes the mechanism as TOML, in the layout of `formats.md`.
@@ -22,23 +42,7 @@ impl Mechanism {
         let _ = writeln!(out, "name = {}", toml_str(&self.name));
         let _ = writeln!(out, "description = {}", toml_str(&self.description));
         for (i, p) in self.panels.iter().enumerate() {
-            let _ = write!(
-                out,
-                "\n[[panel]]\nlength_m = {}\nmass_kg = {}\ncom_m = {}\ninertia_kgm2 = {}\n",
-                num(p.length_m),
-                num(p.mass_kg),
-                num(p.com_m),
-                num(p.inertia_kgm2)
-            );
-            let tol = self.mass_tolerance(i);
-            for (v, key) in [
-                (tol.mass_pct, "mass_tolerance_pct"),
-                (tol.inertia_pct, "inertia_tolerance_pct"),
-            ] {
-                if v > 0.0 {
-                    let _ = writeln!(out, "{key} = {}", num(v));
-                }
-            }
+            panel_toml(&mut out, p, self.mass_tolerance(i));
         }
         let mut tapes: Vec<(String, TapePoints<f64>)> = Vec::new();
         for (i, j) in self.joints.iter().enumerate() {
