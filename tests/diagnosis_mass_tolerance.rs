@@ -14,14 +14,16 @@
 //!   found at its joint and its reported 95 % interval holds the truth (the
 //!   fit's ordinary interval beside it is printed); the same runs
 //!   diagnosed against the drawing without declared tolerances give the
-//!   same effects at the same values, no share of tolerances, and
-//!   intervals that the declared ones contain. The CI's 2 cases;
+//!   effects found plus those the tolerances alone could make (taken out
+//!   with the tolerances declared), no share of tolerances, and, when none
+//!   was taken out, intervals that the declared ones contain. The CI's 2 cases;
 //!   `DEPLOYWATCH_FULL=1` runs 8:
 //!   `DEPLOYWATCH_FULL=1 cargo test --release -p deploywatch-tests --test diagnosis_mass_tolerance -- --nocapture`.
 //! - `the_json_gives_each_effects_share`: `deploywatch diagnose --json` on
 //!   mechanism files that declare the tolerances writes `mass_tolerance`,
-//!   one entry per effect, with a standard uncertainty that the effect's
-//!   `ci95` holds on either side.
+//!   one entry per named effect, with a standard uncertainty that the
+//!   effect's `ci95` holds on either side, and each effect taken out under
+//!   `within_tolerance`, never under `effects`.
 
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions};
@@ -133,23 +135,41 @@ fn a_panel_at_its_bands_edge_is_inside_the_interval() {
         let [lo_o, hi_o] = o.extended.members[k].search_value_ci();
         let v = truth.value();
         println!(
-            "case {i}: {truth}: {:.5} [{lo:.5}, {hi:.5}] (ordinary [{lo_o:.5}, {hi_o:.5}]); without declared tolerances [{}]",
+            "case {i}: {truth}: {:.5} [{lo:.5}, {hi:.5}] (ordinary [{lo_o:.5}, {hi_o:.5}]); taken out [{}]; without declared tolerances [{}]",
             o.extended.members[k].params[0],
+            o.within_tolerance.iter().map(|w| w.effect.candidate.words()).collect::<Vec<_>>().join("; "),
             plain.extended.effects().iter().map(ToString::to_string).collect::<Vec<_>>().join("; ")
         );
         if !(lo <= v && v <= hi) {
             failed.push(format!("case {i}: {truth} outside [{lo}, {hi}]"));
         }
-        // The tolerances change the intervals only.
-        assert!(plain.mass_tolerance.is_empty(), "case {i}");
+        // The tolerances take effects out and widen intervals; they add
+        // nothing.
+        assert!(
+            plain.mass_tolerance.is_empty() && plain.within_tolerance.is_empty(),
+            "case {i}"
+        );
         assert_eq!(o.mass_tolerance.len(), o.extended.members.len(), "case {i}");
-        assert_eq!(plain.extended.effects(), o.extended.effects(), "case {i}");
-        for (a, b) in o.extended.members.iter().zip(&plain.extended.members) {
-            for (wide, narrow) in a.ci95.iter().flatten().zip(b.ci95.iter().flatten()) {
-                assert!(
-                    wide[0] <= narrow[0] && narrow[1] <= wide[1],
-                    "case {i}: {wide:?} does not contain {narrow:?}"
-                );
+        let plain_set = plain.extended.candidates();
+        let kept = o.extended.candidates();
+        let apart: Vec<_> = o
+            .within_tolerance
+            .iter()
+            .map(|w| w.effect.candidate)
+            .collect();
+        assert!(
+            kept.iter().chain(&apart).all(|c| plain_set.contains(c))
+                && kept.len() + apart.len() == plain_set.len(),
+            "case {i}: {kept:?} + {apart:?} against {plain_set:?}"
+        );
+        if apart.is_empty() {
+            for (a, b) in o.extended.members.iter().zip(&plain.extended.members) {
+                for (wide, narrow) in a.ci95.iter().flatten().zip(b.ci95.iter().flatten()) {
+                    assert!(
+                        wide[0] <= narrow[0] && narrow[1] <= wide[1],
+                        "case {i}: {wide:?} does not contain {narrow:?}"
+                    );
+                }
             }
         }
     }
@@ -185,9 +205,14 @@ fn the_json_gives_each_effects_share() {
     let Ok(Findings::Diagnosis(d)) = Findings::from_json_str(&body) else {
         panic!("not a diagnosis:\n{body}");
     };
-    assert!(!d.effects.is_empty(), "{body}");
-    assert_eq!(d.mass_tolerance.len(), d.effects.len(), "{body}");
-    for (share, e) in d.mass_tolerance.iter().zip(&d.effects) {
+    let named: Vec<_> = d
+        .effects
+        .iter()
+        .filter(|e| e.name != "unexplained")
+        .collect();
+    assert!(!named.is_empty(), "{body}");
+    assert_eq!(d.mass_tolerance.len(), named.len(), "{body}");
+    for (share, e) in d.mass_tolerance.iter().zip(named) {
         assert!(share.effect.starts_with(&e.name), "{share:?} vs {}", e.name);
         let (Some(v), Some(Some(u)), Some([Some(lo), Some(hi)])) =
             (e.value, share.sd.first().copied(), e.ci95)
@@ -201,6 +226,18 @@ fn the_json_gives_each_effects_share() {
             "{e:?} vs ±{u}"
         );
         assert!(share.largest.contains("of "), "{share:?}");
+    }
+    for w in &d.within_tolerance {
+        assert!(
+            d.effects
+                .iter()
+                .all(|e| (&e.name, e.joint) != (&w.name, w.joint)),
+            "{w:?} both taken out and claimed:\n{body}"
+        );
+        assert!(
+            w.tolerance95.iter().all(|t| t.is_some_and(|t| t > 0.0)),
+            "{w:?}"
+        );
     }
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -229,7 +229,8 @@ pub mod diagnose {
     pub use crate::analysis::diagnose::encoder_delay;
     pub use crate::analysis::diagnose::latch_finding::{LatchCause, LatchDifference};
     pub use crate::analysis::diagnose::{
-        diagnose, DiagnoseOptions, FittedSet, Outcome, ToleranceShare, MIN_DELTA_BIC,
+        diagnose, DiagnoseOptions, FittedSet, Outcome, ToleranceShare, WithinTolerance,
+        MIN_DELTA_BIC,
     };
 }
 

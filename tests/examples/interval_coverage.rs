@@ -15,8 +15,9 @@
 //! interval (`Outcome::extended`: after the ambiguity stage, with the
 //! tolerances' share) counts as covered, and so, beside it, for the fit's
 //! ordinary white-noise interval (the search's statistic,
-//! `FittedEffect::search_value_ci`); a table per kind, the median relative
-//! widths, and the total:
+//! `FittedEffect::search_value_ci`); how many of those found it with
+//! nothing else claimed; a table per kind, the median relative widths, and
+//! the total:
 //!
 //! ```text
 //! cargo run --release -p deploywatch-tests --example interval_coverage
@@ -137,6 +138,7 @@ fn measured(mechs: &[Mechanism], truth: &[Effect], seed: u64) -> Vec<Run> {
 struct Tally {
     campaigns: usize,
     found: usize,
+    alone: usize,
     covered: usize,
     covered_ols: usize,
     widths: Vec<f64>,
@@ -156,9 +158,10 @@ fn median(v: &[f64]) -> f64 {
 impl Tally {
     fn row(&self, name: &str) -> String {
         format!(
-            "| {name} | {} | {} | {} ({}) | {:.2} % | {} ({}) | {:.2} % |",
+            "| {name} | {} | {} | {} | {} ({}) | {:.2} % | {} ({}) | {:.2} % |",
             self.campaigns,
             self.found,
+            self.alone,
             self.covered,
             pct(self.covered, self.found),
             100.0 * median(&self.widths),
@@ -216,6 +219,7 @@ fn main() {
             let width = (hi - lo) / v.abs();
             for t in [&mut *row, &mut total] {
                 t.found += 1;
+                t.alone += usize::from(found.len() == 1);
                 t.covered += usize::from(inside);
                 t.covered_ols += usize::from(inside_ols);
                 t.widths.push(width);
@@ -235,12 +239,12 @@ fn main() {
          seed pairs, two runs, reference sensor noise); every panel as built: \
          its mass and inertia drawn within the ±0.5 % and ±1 % its drawing \
          declares (a model error no named effect is). Counted: each effect found at its \
-         true joint with its true kind, and whether its reported 95 % \
+         true joint with its true kind (and with nothing else claimed), and whether its reported 95 % \
          interval holds the true value; beside it, the fit's ordinary \
          (white-noise) interval, the search's statistic.\n\n\
-         | kind | campaigns | found | truth inside reported (coverage) | median width / value | \
+         | kind | campaigns | found | found, nothing else claimed | truth inside reported (coverage) | median width / value | \
          inside ordinary (coverage) | median width / value |\n\
-         |---|---|---|---|---|---|---|\n",
+         |---|---|---|---|---|---|---|---|\n",
     );
     for (name, t) in &rows {
         body += &t.row(name);

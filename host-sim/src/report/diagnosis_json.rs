@@ -217,5 +217,6 @@ fn to_json(c: &Campaign, o: &Outcome, d: &Details) -> Diagnosis {
         set_aside: super::diagnosis_set_aside::json(o),
         free_play: super::diagnosis_free_play::json(o),
         mass_tolerance: super::diagnosis_tolerance::json(o),
+        within_tolerance: super::diagnosis_tolerance::within_json(o),
     }
 }

@@ -2,8 +2,8 @@
 //! intervals, in the diagnosis summary, report and JSON
 //! (`docs/diagnosis.md`, "What the drawing's tolerances add").
 
-use crate::analysis::diagnose::Outcome;
-use crate::model::findings::diagnosis::ToleranceJson;
+use crate::analysis::diagnose::{Outcome, WithinTolerance};
+use crate::model::findings::diagnosis::{ToleranceJson, WithinToleranceJson};
 use crate::model::findings::rounded;
 use crate::report::markdown::table;
 use std::fmt::Write as _;
@@ -16,8 +16,46 @@ fn sds(sd: &[f64]) -> String {
         .join(", ")
 }
 
-/// The summary's line (none without a declared tolerance).
-pub fn summary_line(o: &Outcome) -> Option<String> {
+/// The effect taken out in words: `rig_tilt = 0.00220 m/s²`.
+fn claim_words(w: &WithinTolerance) -> String {
+    let e = w.effect.candidate.effect(&w.effect.params);
+    let unit = match e.kind().unit() {
+        "1" => String::new(),
+        u => format!(" {u}"),
+    };
+    format!("{} = {:.5}{unit}", w.effect.candidate.words(), e.value())
+}
+
+/// What the tolerances alone move an effect's parameters by, at 95 %.
+fn at_95(sd: &[f64]) -> String {
+    sds(&sd
+        .iter()
+        .map(|u| crate::analysis::fit::Z_975 * u)
+        .collect::<Vec<_>>())
+}
+
+/// The summary's lines: one per effect the tolerances alone could make,
+/// then the shares of the effects found (none without a declared
+/// tolerance).
+pub fn summary_lines(o: &Outcome) -> Vec<String> {
+    let mut out: Vec<String> = o
+        .within_tolerance
+        .iter()
+        .map(|w| {
+            format!(
+                "within the drawing's tolerances (not an effect): {}; the panels' declared mass-property tolerances alone move it by {} at 95 % (most: {})",
+                claim_words(w),
+                at_95(&w.share.sd),
+                w.share.largest
+            )
+        })
+        .collect();
+    out.extend(summary_line(o));
+    out
+}
+
+/// The line of the effects' shares (none without one).
+fn summary_line(o: &Outcome) -> Option<String> {
     if o.mass_tolerance.is_empty() {
         return None;
     }
@@ -34,7 +72,7 @@ pub fn summary_line(o: &Outcome) -> Option<String> {
 
 /// The report's section (none without a declared tolerance).
 pub fn report(md: &mut String, o: &Outcome) {
-    if o.mass_tolerance.is_empty() {
+    if o.mass_tolerance.is_empty() && o.within_tolerance.is_empty() {
         return;
     }
     let _ = writeln!(md, "## What the drawing's tolerances add\n");
@@ -47,15 +85,61 @@ pub fn report(md: &mut String, o: &Outcome) {
         .iter()
         .map(|t| vec![t.effect.clone(), sds(&t.sd), t.largest.clone()])
         .collect();
+    if !rows.is_empty() {
+        md.push_str(&table(
+            &[
+                "effect",
+                "standard uncertainty from the tolerances (each parameter, its unit)",
+                "the tolerance that moves it most",
+            ],
+            &rows,
+        ));
+        let _ = writeln!(md);
+    }
+    if o.within_tolerance.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        md,
+        "Named effects the tolerances alone could make: each was found, but its value lies within what the panels' tolerances move it by (its fit's interval widened by 1.96 times its share holds zero), so the runs cannot tell it from panels as built within their drawing. Each was taken out, the rest refitted; they are not claimed:\n"
+    );
+    let rows: Vec<Vec<String>> = o
+        .within_tolerance
+        .iter()
+        .map(|w| vec![claim_words(w), at_95(&w.share.sd), w.share.largest.clone()])
+        .collect();
     md.push_str(&table(
         &[
-            "effect",
-            "standard uncertainty from the tolerances (each parameter, its unit)",
+            "found",
+            "the tolerances alone move it by, at 95 % (each parameter)",
             "the tolerance that moves it most",
         ],
         &rows,
     ));
     let _ = writeln!(md);
+}
+
+/// The effects taken out, in the JSON.
+pub fn within_json(o: &Outcome) -> Vec<WithinToleranceJson> {
+    o.within_tolerance
+        .iter()
+        .map(|w| {
+            let e = w.effect.candidate.effect(&w.effect.params);
+            WithinToleranceJson {
+                name: e.kind().name().to_string(),
+                joint: e.joint,
+                value: rounded(e.value()),
+                unit: e.kind().unit().to_string(),
+                tolerance95: w
+                    .share
+                    .sd
+                    .iter()
+                    .map(|u| rounded(crate::analysis::fit::Z_975 * u))
+                    .collect(),
+                largest: w.share.largest.clone(),
+            }
+        })
+        .collect()
 }
 
 /// The shares in the JSON.

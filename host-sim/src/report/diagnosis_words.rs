@@ -138,7 +138,7 @@ pub fn summary(o: &Outcome, d: &Details, json: &Path, report: &Path) -> Vec<Stri
     for line in super::diagnosis_free_play::summary_lines(o) {
         out.push(format!("  {line}"));
     }
-    if let Some(line) = super::diagnosis_tolerance::summary_line(o) {
+    for line in super::diagnosis_tolerance::summary_lines(o) {
         out.push(format!("  {line}"));
     }
     for line in diagnosis_latch::summary_lines(o) {

@@ -17,8 +17,13 @@
 //! uncertainty `u = √(Σ_k Δ_k² / 3)`, and each side of its reported 95 %
 //! interval is widened to `√(h² + (z₀.₉₇₅ u)²)` (`h`: that side's half
 //! width).
+//!
+//! A named effect whose value the fit's ordinary interval, so widened,
+//! does not hold clear of zero is one the tolerances alone could make: it
+//! is taken out of the set (the least clear first, the rest refitted, the
+//! shares computed again) and reported as such, not claimed ([`settle`]).
 
-use super::outcome::{FittedSet, ToleranceShare};
+use super::outcome::{FittedEffect, FittedSet, ToleranceShare, WithinTolerance};
 use super::Engine;
 use crate::analysis::fit::Z_975;
 use crate::data::campaign::Campaign;
@@ -105,54 +110,163 @@ pub fn widen_side(p: f64, [lo, hi]: [f64; 2], add: f64) -> [f64; 2] {
     [p - side(p - lo), p + side(hi - p)]
 }
 
-/// The set `found` with the tolerances' share in each reported interval,
-/// and that share per effect (empty when no tolerance is declared, the set
-/// is empty, or a refit fails: then the intervals are the fit's).
-pub(super) fn widened(eng: &Engine<'_>, found: &FittedSet) -> (FittedSet, Vec<ToleranceShare>) {
+/// Each member's share of the tolerances, in the set's order; `None`
+/// when no tolerance is declared, the set is empty, the search was
+/// halted, or a refit at a band's edge failed.
+fn shares(eng: &Engine<'_>, found: &FittedSet) -> Option<Vec<ToleranceShare>> {
     let edges = edges(eng.campaign);
     if edges.is_empty() || found.members.is_empty() || eng.halt.now() {
-        return (found.clone(), Vec::new());
+        return None;
     }
     let p0 = found.params();
-    let moves: Option<Vec<Vec<f64>>> = edges
+    let moves: Vec<Vec<f64>> = edges
         .par_iter()
         .map(|e| {
             let p = eng.refit(&e.moved(eng.campaign), found)?.params();
             Some(p.iter().zip(&p0).map(|(a, b)| a - b).collect())
         })
-        .collect();
-    let Some(moves) = moves else {
-        eng.say("the drawing's mass-property tolerances: a refit at a band's edge failed; intervals are the fit's");
-        return (found.clone(), Vec::new());
-    };
-    let mut out = found.clone();
-    let mut shares = Vec::with_capacity(out.members.len());
+        .collect::<Option<_>>()?;
+    let mut out = Vec::with_capacity(found.members.len());
     let mut off = 0;
-    for m in out.members.iter_mut() {
+    for m in &found.members {
         let n = m.params.len();
-        let u: Vec<f64> = (off..off + n)
-            .map(|i| (moves.iter().map(|d| d[i] * d[i]).sum::<f64>() / 3.0).sqrt())
-            .collect();
+        let size = |k: usize| moves[k][off..off + n].iter().map(|x| x * x).sum::<f64>();
         let largest = (0..edges.len())
-            .max_by(|&a, &b| {
-                let size = |k: usize| moves[k][off..off + n].iter().map(|x| x * x).sum::<f64>();
-                size(a).total_cmp(&size(b))
-            })
+            .max_by(|&a, &b| size(a).total_cmp(&size(b)))
             .map(|k| edges[k].words())
             .unwrap_or_default();
-        if let Some(ci) = m.ci95.as_mut() {
-            for ((band, &p), &u) in ci.iter_mut().zip(&m.params).zip(&u) {
-                *band = widen_side(p, *band, Z_975 * u);
-            }
-        }
-        shares.push(ToleranceShare {
+        out.push(ToleranceShare {
+            candidate: m.candidate,
             effect: m.candidate.words(),
-            sd: u,
+            sd: (off..off + n)
+                .map(|i| (moves.iter().map(|d| d[i] * d[i]).sum::<f64>() / 3.0).sqrt())
+                .collect(),
             largest,
         });
         off += n;
     }
-    (out, shares)
+    Some(out)
+}
+
+/// The set `found` with each member's reported interval widened by its
+/// share ([`widen_side`], `1.96 u` per parameter).
+pub(super) fn widen(found: &FittedSet, shares: &[ToleranceShare]) -> FittedSet {
+    let mut out = found.clone();
+    for m in out.members.iter_mut() {
+        let Some(share) = shares.iter().find(|s| s.candidate == m.candidate) else {
+            continue;
+        };
+        if let Some(ci) = m.ci95.as_mut() {
+            for ((band, &p), &u) in ci.iter_mut().zip(&m.params).zip(&share.sd) {
+                *band = widen_side(p, *band, Z_975 * u);
+            }
+        }
+    }
+    out
+}
+
+/// The shares in the order of the set's members.
+pub(super) fn in_order(found: &FittedSet, shares: &[ToleranceShare]) -> Vec<ToleranceShare> {
+    found
+        .members
+        .iter()
+        .filter_map(|m| shares.iter().find(|s| s.candidate == m.candidate).cloned())
+        .collect()
+}
+
+/// How far a named effect stands clear of what the tolerances alone could
+/// make of it: its value over its 95 % half band with its share, the
+/// fit's ordinary interval widened by `1.96 u` per parameter
+/// ([`FittedEffect::clear_of_zero`]'s test on it); `None` for a torque
+/// table (judged by the discrepancy's rules) and an effect clear of it.
+fn within_share(m: &FittedEffect, share: &ToleranceShare) -> Option<f64> {
+    if m.candidate.table.is_some() {
+        return None;
+    }
+    let ci = m.ci95_search.as_ref()?;
+    let widened: Vec<[f64; 2]> = ci
+        .iter()
+        .zip(&m.params)
+        .zip(&share.sd)
+        .map(|((band, &p), &u)| widen_side(p, *band, Z_975 * u))
+        .collect();
+    let probe = FittedEffect {
+        ci95_search: Some(widened),
+        ..m.clone()
+    };
+    if probe.clear_of_zero() {
+        return None;
+    }
+    let [lo, hi] = probe.search_value_ci();
+    let value = 0.5 * (lo + hi);
+    Some(value.abs() / (0.5 * (hi - lo)).max(f64::MIN_POSITIVE))
+}
+
+/// The set found once every named effect the panels' tolerances alone
+/// could make is taken out, and the shares of what is left.
+pub(super) struct Settled {
+    /// The set, refitted without them.
+    pub set: FittedSet,
+    /// Its members' shares (empty: no tolerance declared, or not computed).
+    pub shares: Vec<ToleranceShare>,
+    /// The effects taken out, in the order they were.
+    pub within: Vec<WithinTolerance>,
+}
+
+/// Takes out of `found`, one at a time (the least clear first, the rest
+/// refitted), each named effect whose value the fit's interval widened by
+/// its share of the tolerances does not hold clear of zero: the runs
+/// cannot tell it from panels within their drawing's tolerances.
+pub(super) fn settle(eng: &Engine<'_>, found: FittedSet) -> Settled {
+    let mut set = found;
+    let mut within = Vec::new();
+    loop {
+        let Some(shares) = shares(eng, &set) else {
+            return Settled {
+                set,
+                shares: Vec::new(),
+                within,
+            };
+        };
+        let weakest = set
+            .members
+            .iter()
+            .enumerate()
+            .filter_map(|(k, m)| Some((k, within_share(m, shares.get(k)?)?)))
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        let Some((k, _)) = weakest else {
+            return Settled {
+                set,
+                shares,
+                within,
+            };
+        };
+        let Some(refit) = eng.refit(eng.campaign, &set.without(k)) else {
+            return Settled {
+                set,
+                shares,
+                within,
+            };
+        };
+        let taken = WithinTolerance {
+            effect: set.members[k].clone(),
+            share: shares[k].clone(),
+        };
+        eng.say(format!(
+            "  set apart {}: the panels' declared mass-property tolerances alone could make it (±{} at 95 %, most from {})",
+            taken.effect.candidate.words(),
+            taken
+                .share
+                .sd
+                .iter()
+                .map(|u| format!("{:.4}", Z_975 * u))
+                .collect::<Vec<_>>()
+                .join(", "),
+            taken.share.largest
+        ));
+        within.push(taken);
+        set = refit;
+    }
 }
 
 #[cfg(test)]

@@ -31,8 +31,9 @@
 //!    stays clearly above the noise, a claim that accounts for less than
 //!    the residual the set leaves above the noise is set aside
 //!    ([`Move::SetAside`]) and reported as such.
-//! 8. The panels' declared mass-property tolerances widen the reported
-//!    intervals by what they move the estimates ([`mass_tolerance`]).
+//! 8. The panels' declared mass-property tolerances: a named effect they
+//!    alone could make is taken out, and they widen the reported intervals
+//!    by what they move the estimates ([`mass_tolerance`]).
 
 pub mod ambiguity;
 mod candidate;
@@ -69,6 +70,7 @@ use candidate::{effects_of, ParamBound};
 pub use outcome::{
     DiagnoseOptions, FitStats, FittedSet, FreePlayOffset, HaltReason, Outcome, Round,
     SeparatingTest, SetAside, StopFlag, ToleranceShare, Unexplained, UnexplainedShape,
+    WithinTolerance,
 };
 pub use policy::{Kept, Move, Rejection, Verdict, MIN_DELTA_BIC};
 
@@ -590,11 +592,17 @@ fn search_campaign(
     if !set_aside.is_empty() && !eng.halt.now() {
         ambiguities = search.ambiguities();
     }
+    let settled = mass_tolerance::settle(&eng, search.current.clone());
     let partial = eng.halt.finish();
-    let (extended, strength_rms_deg) = eng.strongest_first(&search.current);
+    let current_held = match settled.within.is_empty() {
+        true => search.current_held,
+        false => None,
+    };
+    let (extended, strength_rms_deg) = eng.strongest_first(&settled.set);
     let extended = ambiguity::widened(&extended, &ambiguities);
-    let (extended, mass_tolerance) = mass_tolerance::widened(&eng, &extended);
-    let held_out_rms_deg = match search.current_held {
+    let extended = mass_tolerance::widen(&extended, &settled.shares);
+    let mass_tolerance = mass_tolerance::in_order(&extended, &settled.shares);
+    let held_out_rms_deg = match current_held {
         None if !extended.members.is_empty() => eng.held_out(&extended),
         h => h,
     };
@@ -615,6 +623,7 @@ fn search_campaign(
         whole_run: None,
         latches: Vec::new(),
         mass_tolerance,
+        within_tolerance: settled.within,
         ambiguities,
         set_aside,
         partial,

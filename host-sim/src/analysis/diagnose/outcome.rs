@@ -401,7 +401,9 @@ pub struct FreePlayOffset {
 /// reported interval ([`super::mass_tolerance`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ToleranceShare {
-    /// The effect ([`Candidate::words`]).
+    /// The effect.
+    pub candidate: Candidate,
+    /// The effect in words ([`Candidate::words`]).
     pub effect: String,
     /// The standard uncertainty of each of its parameters from the
     /// tolerances, in the parameter's unit.
@@ -409,6 +411,16 @@ pub struct ToleranceShare {
     /// The tolerance that moves it most (`panel 2's inertia (±1 %) of
     /// seed001-T01`).
     pub largest: String,
+}
+
+/// A named effect the panels' declared mass-property tolerances alone
+/// could make, taken out of the set found ([`super::mass_tolerance`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct WithinTolerance {
+    /// The effect as it was fitted in the set.
+    pub effect: FittedEffect,
+    /// Its share of the tolerances there.
+    pub share: ToleranceShare,
 }
 
 /// What a diagnosis concluded.
@@ -456,6 +468,9 @@ pub struct Outcome {
     /// effect's reported interval (empty: none declared;
     /// [`super::mass_tolerance`]).
     pub mass_tolerance: Vec<ToleranceShare>,
+    /// Named effects the tolerances alone could make, taken out of the
+    /// set found, in the order they were ([`super::mass_tolerance`]).
+    pub within_tolerance: Vec<WithinTolerance>,
     /// Sets of causes that explain the runs alike ([`super::ambiguity`]).
     pub ambiguities: Vec<Ambiguity>,
     /// Claims the search had kept that the runs cannot tell from the

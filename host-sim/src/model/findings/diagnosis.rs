@@ -91,6 +91,29 @@ pub struct Diagnosis {
     /// tolerances add"): the `ci95` of `effects` include it.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub mass_tolerance: Vec<ToleranceJson>,
+    /// Named effects the panels' declared mass-property tolerances alone
+    /// could make, taken out of the set found (`docs/diagnosis.md`, "What
+    /// the drawing's tolerances add"): not effects, not read by `margin
+    /// --from`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub within_tolerance: Vec<WithinToleranceJson>,
+}
+
+/// A named effect the panels' declared tolerances alone could make.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct WithinToleranceJson {
+    /// Its name (`physics.md` section 6).
+    pub name: String,
+    /// 1-based joint, `null` for a global effect.
+    pub joint: Option<usize>,
+    /// Its value as fitted, in `unit`.
+    pub value: Option<f64>,
+    /// The unit of `value`.
+    pub unit: String,
+    /// What the tolerances alone move each of its parameters by, at 95 %.
+    pub tolerance95: Vec<Option<f64>>,
+    /// The tolerance that moves it most, in words.
+    pub largest: String,
 }
 
 /// What the panels' declared mass-property tolerances add to one effect's
