@@ -583,15 +583,7 @@ fn search_campaign(
         search.replace_stand_in();
         search.restart_from_tables(&baseline);
     }
-    let mut ambiguities = if eng.halt.now() {
-        Vec::new()
-    } else {
-        search.best_of_alternatives()
-    };
-    let set_aside = search.set_aside_within_discrepancy();
-    if !set_aside.is_empty() && !eng.halt.now() {
-        ambiguities = search.ambiguities();
-    }
+    let (ambiguities, set_aside) = search.alternatives_and_set_aside();
     let settled = mass_tolerance::settle(&eng, search.current.clone());
     let partial = eng.halt.finish();
     let current_held = match settled.within.is_empty() {
@@ -627,6 +619,24 @@ fn search_campaign(
         ambiguities,
         set_aside,
         partial,
+    }
+}
+
+impl Search<'_, '_> {
+    /// Once the search is done: the sets that explain the runs alike
+    /// ([`ambiguity`]) and the claims set aside within the discrepancy
+    /// ([`discrepancy`]; the sets alike are listed again when some were).
+    fn alternatives_and_set_aside(&mut self) -> (Vec<ambiguity::Ambiguity>, Vec<SetAside>) {
+        let mut ambiguities = if self.eng.halt.now() {
+            Vec::new()
+        } else {
+            self.best_of_alternatives()
+        };
+        let set_aside = self.set_aside_within_discrepancy();
+        if !set_aside.is_empty() && !self.eng.halt.now() {
+            ambiguities = self.ambiguities();
+        }
+        (ambiguities, set_aside)
     }
 }
 
