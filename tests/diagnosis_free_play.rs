@@ -26,17 +26,14 @@
 //!   writes the reading under `free_play`, not `effects`, and `simulate
 //!   --from d.json --at run.csv` gives back the RMS the diagnosis reported.
 
-use deploywatch_sim::campaign::Campaign;
-use deploywatch_sim::deployment::{self, SimOptions};
 use deploywatch_sim::diagnose::{diagnose, Outcome};
-use deploywatch_sim::effect::{self, Effect, EffectKind};
+use deploywatch_sim::effect::{Effect, EffectKind};
 use deploywatch_sim::findings::Findings;
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;
-use deploywatch_sim::sensor::{self, SensorModel};
 use deploywatch_tests::cli_run::{angles, deploywatch};
 use deploywatch_tests::data_dir;
-use deploywatch_tests::hidden_effect::{moves_runs_deg, SEED_WINGS, STROKE_KINDS};
+use deploywatch_tests::hidden_effect::{moves_runs_deg, two_runs, SEED_WINGS, STROKE_KINDS};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
@@ -51,24 +48,6 @@ fn declaring(m: &Mechanism, play: f64) -> Mechanism {
         j.free_play_deg = play;
     }
     m
-}
-
-/// Two runs of `truth` on `m` (noise seeds `seed`, `seed + 1`).
-fn campaign(m: &Mechanism, truth: &[Effect], seed: u64) -> Campaign {
-    let traj = deployment::simulate(m, truth, &SimOptions::default()).expect("simulates");
-    let off = effect::encoder_offsets_deg(truth, m.joint_count());
-    let mut c = Campaign::default();
-    for r in 0..2 {
-        let mut run = sensor::measure(&traj, &off, &SensorModel::REFERENCE, seed + r);
-        run.set_meta("mechanism", &m.name);
-        c.push(
-            std::slice::from_ref(m),
-            run,
-            Path::new(&format!("run{r}.csv")),
-        )
-        .expect("a campaign");
-    }
-    c
 }
 
 /// Case `i`: a seed wing, one stroke effect at one joint raised until it
@@ -137,7 +116,7 @@ fn a_reading_within_the_declared_play_is_not_claimed() {
     for i in 0..n {
         let within = i % 2 == 0;
         let (m, truth) = case(i, within);
-        let o = diagnose(&campaign(&m, &truth, 10 * i as u64), &opts, &quiet);
+        let o = diagnose(&two_runs(&m, &m, &truth, 10 * i as u64), &opts, &quiet);
         let off = &truth[1];
         let ok = if within {
             let lag = o.free_play.iter().find(|l| Some(l.joint) == off.joint);
@@ -188,7 +167,7 @@ fn without_a_declared_play_the_offset_is_claimed() {
     let (m, truth) = case(0, true);
     let m = declaring(&m, 0.0);
     let o = diagnose(
-        &campaign(&m, &truth, 0),
+        &two_runs(&m, &m, &truth, 0),
         &deploywatch_tests::diagnose_options(),
         &quiet,
     );
@@ -204,7 +183,7 @@ fn without_a_declared_play_the_offset_is_claimed() {
 #[test]
 fn simulate_at_compares_as_the_diagnosis_did() {
     let (m, truth) = case(0, true);
-    let c = campaign(&m, &truth, 77);
+    let c = two_runs(&m, &m, &truth, 77);
     let dir = std::env::temp_dir().join(format!("dw-free-play-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("a temporary folder");
     let mech = dir.join("wing.toml");

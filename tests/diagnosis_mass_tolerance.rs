@@ -25,17 +25,14 @@
 //!   effect's `ci95` holds on either side, and each effect taken out under
 //!   `within_tolerance`, never under `effects`.
 
-use deploywatch_sim::campaign::Campaign;
-use deploywatch_sim::deployment::{self, SimOptions};
 use deploywatch_sim::diagnose::{diagnose, Outcome};
-use deploywatch_sim::effect::{self, Effect};
+use deploywatch_sim::effect::Effect;
 use deploywatch_sim::findings::Findings;
 use deploywatch_sim::mechanism::{MassTolerance, Mechanism};
 use deploywatch_sim::progress::quiet;
-use deploywatch_sim::sensor::{self, SensorModel};
 use deploywatch_tests::cli_run::deploywatch;
 use deploywatch_tests::data_dir;
-use deploywatch_tests::hidden_effect::{moves_runs_deg, SEED_WINGS, STROKE_KINDS};
+use deploywatch_tests::hidden_effect::{moves_runs_deg, two_runs, SEED_WINGS, STROKE_KINDS};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
@@ -51,25 +48,6 @@ fn declaring(m: &Mechanism, tol: MassTolerance) -> Mechanism {
     let mut m = m.clone();
     m.mass_tolerances = vec![tol; m.panels.len()];
     m
-}
-
-/// Two runs of `truth` on `built` (noise seeds `seed`, `seed + 1`), paired
-/// with the drawing `drawn`.
-fn campaign(drawn: &Mechanism, built: &Mechanism, truth: &[Effect], seed: u64) -> Campaign {
-    let traj = deployment::simulate(built, truth, &SimOptions::default()).expect("simulates");
-    let off = effect::encoder_offsets_deg(truth, built.joint_count());
-    let mut c = Campaign::default();
-    for r in 0..2 {
-        let mut run = sensor::measure(&traj, &off, &SensorModel::REFERENCE, seed + r);
-        run.set_meta("mechanism", &drawn.name);
-        c.push(
-            std::slice::from_ref(drawn),
-            run,
-            Path::new(&format!("run{r}.csv")),
-        )
-        .expect("a campaign");
-    }
-    c
 }
 
 /// Case `i`: the drawing, the wing as built (one panel at an edge of its
@@ -116,11 +94,11 @@ fn a_panel_at_its_bands_edge_is_inside_the_interval() {
     let mut failed = Vec::new();
     for i in 0..n {
         let (drawn, built, truth) = case(i);
-        let c = campaign(&drawn, &built, &[truth], 10 * i as u64);
+        let c = two_runs(&drawn, &built, &[truth], 10 * i as u64);
         let o = diagnose(&c, &opts, &quiet);
         let plain_drawing = declaring(&drawn, MassTolerance::default());
         let plain = diagnose(
-            &campaign(&plain_drawing, &built, &[truth], 10 * i as u64),
+            &two_runs(&plain_drawing, &built, &[truth], 10 * i as u64),
             &opts,
             &quiet,
         );
@@ -183,7 +161,7 @@ fn the_json_gives_each_effects_share() {
     std::fs::create_dir_all(&dir).expect("a temporary folder");
     let mech = dir.join("drawn.toml");
     std::fs::write(&mech, drawn.to_toml_string()).expect("writes the mechanism");
-    let c = campaign(&drawn, &built, &[truth], 0);
+    let c = two_runs(&drawn, &built, &[truth], 0);
     let runs: Vec<std::path::PathBuf> = (0..2).map(|r| dir.join(format!("run{r}.csv"))).collect();
     for (cr, p) in c.runs.iter().zip(&runs) {
         cr.run.write(p).expect("writes");

@@ -2,9 +2,11 @@
 //! `tests/diagnosis_physical_latch.rs`): which kinds a campaign draws and
 //! how a kind's joint and value are drawn.
 
+use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions};
-use deploywatch_sim::effect::{Effect, EffectKind, Law};
+use deploywatch_sim::effect::{self, Effect, EffectKind, Law};
 use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::sensor::{self, SensorModel};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
@@ -95,4 +97,24 @@ pub fn moves_runs_deg(m: &Mechanism, e: &[Effect]) -> f64 {
         }
     }
     (sse / n.max(1) as f64).sqrt()
+}
+
+/// Two runs of `truth` made on `built` (the reference sensor, noise seeds
+/// `seed` and `seed + 1`), paired with the drawing `drawn` the diagnosis
+/// is given (`built` itself when the wing is as drawn).
+pub fn two_runs(drawn: &Mechanism, built: &Mechanism, truth: &[Effect], seed: u64) -> Campaign {
+    let traj = deployment::simulate(built, truth, &SimOptions::default()).expect("simulates");
+    let off = effect::encoder_offsets_deg(truth, built.joint_count());
+    let mut c = Campaign::default();
+    for r in 0..2 {
+        let mut run = sensor::measure(&traj, &off, &SensorModel::REFERENCE, seed + r);
+        run.set_meta("mechanism", &drawn.name);
+        c.push(
+            std::slice::from_ref(drawn),
+            run,
+            std::path::Path::new(&format!("run{r}.csv")),
+        )
+        .expect("a campaign");
+    }
+    c
 }

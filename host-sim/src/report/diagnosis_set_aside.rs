@@ -1,20 +1,25 @@
 //! Claims set aside within the discrepancy, in the diagnosis summary,
 //! report and JSON (`docs/diagnosis.md`, "Claims within the discrepancy").
 
-use crate::analysis::diagnose::{Outcome, SetAside};
+use crate::analysis::diagnose::{FittedEffect, Outcome, SetAside};
 use crate::model::findings::diagnosis::SetAsideJson;
 use crate::model::findings::rounded;
 use crate::report::markdown::table;
 use std::fmt::Write as _;
 
-/// The claim in words: `coulomb_friction at joint 1 = 0.03350 N·m`.
-fn claim_words(s: &SetAside) -> String {
-    let e = s.effect.candidate.effect(&s.effect.params);
+/// A fitted effect in words: `coulomb_friction at joint 1 = 0.03350 N·m`.
+pub fn effect_words(f: &FittedEffect) -> String {
+    let e = f.candidate.effect(&f.params);
     let unit = match e.kind().unit() {
         "1" => String::new(),
         u => format!(" {u}"),
     };
-    format!("{} = {:.5}{unit}", s.effect.candidate.words(), e.value())
+    format!("{} = {:.5}{unit}", f.candidate.words(), e.value())
+}
+
+/// The claim set aside in words ([`effect_words`]).
+fn claim_words(s: &SetAside) -> String {
+    effect_words(&s.effect)
 }
 
 /// What took its place, in words: ` for coulomb_friction at joint 2`, or

@@ -18,12 +18,7 @@ fn sds(sd: &[f64]) -> String {
 
 /// The effect taken out in words: `rig_tilt = 0.00220 m/s²`.
 fn claim_words(w: &WithinTolerance) -> String {
-    let e = w.effect.candidate.effect(&w.effect.params);
-    let unit = match e.kind().unit() {
-        "1" => String::new(),
-        u => format!(" {u}"),
-    };
-    format!("{} = {:.5}{unit}", w.effect.candidate.words(), e.value())
+    super::diagnosis_set_aside::effect_words(&w.effect)
 }
 
 /// What the tolerances alone move an effect's parameters by, at 95 %.

@@ -68,7 +68,7 @@ pub mod whole_run;
 pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
 pub use outcome::{
-    DiagnoseOptions, FitStats, FittedSet, FreePlayOffset, HaltReason, Outcome, Round,
+    DiagnoseOptions, FitStats, FittedEffect, FittedSet, FreePlayOffset, HaltReason, Outcome, Round,
     SeparatingTest, SetAside, StopFlag, ToleranceShare, Unexplained, UnexplainedShape,
     WithinTolerance,
 };
