@@ -20,7 +20,7 @@
 //!   `DEPLOYWATCH_FULL=1` runs 8:
 //!   `DEPLOYWATCH_FULL=1 cargo test --release -p deploywatch-tests --test diagnosis_mass_tolerance -- --nocapture`.
 //! - `the_json_gives_each_effects_share`: `deploywatch diagnose --json` on
-//!   mechanism files that declare the tolerances writes `mass_tolerance`,
+//!   mechanism files that declare the tolerances writes `tolerance`,
 //!   one entry per named effect, with a standard uncertainty that the
 //!   effect's `ci95` holds on either side, and each effect taken out under
 //!   `within_tolerance`, never under `effects`.
@@ -124,10 +124,10 @@ fn a_panel_at_its_bands_edge_is_inside_the_interval() {
         // The tolerances take effects out and widen intervals; they add
         // nothing.
         assert!(
-            plain.mass_tolerance.is_empty() && plain.within_tolerance.is_empty(),
+            plain.tolerance.is_empty() && plain.within_tolerance.is_empty(),
             "case {i}"
         );
-        assert_eq!(o.mass_tolerance.len(), o.extended.members.len(), "case {i}");
+        assert_eq!(o.tolerance.len(), o.extended.members.len(), "case {i}");
         let plain_set = plain.extended.candidates();
         let kept = o.extended.candidates();
         let apart: Vec<_> = o
@@ -189,8 +189,8 @@ fn the_json_gives_each_effects_share() {
         .filter(|e| e.name != "unexplained")
         .collect();
     assert!(!named.is_empty(), "{body}");
-    assert_eq!(d.mass_tolerance.len(), named.len(), "{body}");
-    for (share, e) in d.mass_tolerance.iter().zip(named) {
+    assert_eq!(d.tolerance.len(), named.len(), "{body}");
+    for (share, e) in d.tolerance.iter().zip(named) {
         assert!(share.effect.starts_with(&e.name), "{share:?} vs {}", e.name);
         let (Some(v), Some(Some(u)), Some([Some(lo), Some(hi)])) =
             (e.value, share.sd.first().copied(), e.ci95)

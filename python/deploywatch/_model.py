@@ -366,7 +366,9 @@ class Joint:
     kind (``"linear"``, ``"tape"``, ``"curve"``) and count, the friction
     of the file: Coulomb [N·m], viscous [N·m·s/rad], and the hinge's
     declared free-play, a half band [deg] (0: none declared;
-    ``docs/diagnosis.md``, "Free-play held to one side")."""
+    ``docs/diagnosis.md``, "Free-play held to one side"), and the
+    spring's declared torque tolerance, a half band [%] (0: none declared;
+    ``docs/diagnosis.md``, "What the drawing's tolerances add")."""
 
     stowed_deg: float
     spring: str
@@ -374,6 +376,7 @@ class Joint:
     coulomb_nm: float
     viscous_nms: float
     free_play_deg: float
+    spring_tolerance_pct: float
 
 
 @dataclass(frozen=True)

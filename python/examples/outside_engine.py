@@ -28,22 +28,33 @@ then held by a joint equality) with, drawn per case:
   properties are the drawing's; each mechanism file declares the
   drawing's free-play, ``free_play_deg = DRAWN_FREE_PLAY_DEG`` at every
   joint (the most any hinge has), as a user's drawing would;
+- with ``--as-built``, **the wing as built**: each panel's mass and
+  inertia and each joint's spring torque drawn uniformly within the
+  tolerances its drawing declares, one draw for the two runs of a
+  campaign (one wing, a hinge added), from a generator of its own so that
+  the case's other draws do not depend on it (without it the wing is
+  built at its drawing's nominal values, within those tolerances too);
 - **encoder latency** of 0 to 1 sample, and **time-stamp jitter**: each
   sample taken at its stamp plus a normal error of 1–5 % of the period
   (σ), the stamp written as nominal; latch switches are not delayed;
 - the reference sensor of physics.md §7 (σ 0.02°, 14-bit rounding).
 
+Every drawing declares the tolerances of its wing (this project's
+extension of formats.md): ``mass_tolerance_pct = MASS_TOLERANCE_PCT`` and
+``inertia_tolerance_pct = INERTIA_TOLERANCE_PCT`` of every panel,
+``spring_tolerance_pct = SPRING_TOLERANCE_PCT`` of every joint.
+
 A wing the nuisances swing past a full turn is drawn again. The hidden effect is drawn (log-uniform, as tests/src/hidden_effect.rs)
 until it moves the runs by at least ``MIN_EFFECT_RMS_DEG`` RMS against the
 same wing without it.
 
-    .venv/bin/python python/examples/outside_engine.py generate DIR N [FIRST_SEED] [--only NUISANCE]
+    .venv/bin/python python/examples/outside_engine.py generate DIR N [FIRST_SEED] [--only NUISANCE] [--as-built]
     .venv/bin/python python/examples/outside_engine.py score DIR [DEPLOYWATCH]
-    .venv/bin/python python/examples/outside_engine.py campaigns N [FIRST_SEED] [--only NUISANCE] [--keep DIR]
+    .venv/bin/python python/examples/outside_engine.py campaigns N [FIRST_SEED] [--only NUISANCE] [--as-built] [--keep DIR]
     .venv/bin/python python/examples/outside_engine.py ablation N [FIRST_SEED [STEP]]
 
 ``--only`` keeps one nuisance (``flex``, ``freeplay``, ``latency``,
-``jitter``, or ``none``) and turns the others off: what each one does to
+``jitter``, ``asbuilt``, or ``none``) and turns the others off: what each one does to
 the answer, one at a time. ``score`` runs ``deploywatch diagnose`` on
 every campaign of DIR and prints one line per campaign and the counts;
 ``campaigns`` generates N campaigns in a temporary directory and scores
@@ -99,8 +110,15 @@ SPRING_SIDE_KG = 0.05
 """Mass of a hinge's spring/encoder side [kg] (with free-play), at the hinge."""
 REL_TOL = 0.2
 """A found value is right within this fraction of the hidden one."""
+MASS_TOLERANCE_PCT = 0.5
+"""Every panel's mass as its drawing declares it, a half band [%]."""
+INERTIA_TOLERANCE_PCT = 1.0
+"""Every panel's inertia as its drawing declares it, a half band [%]."""
+SPRING_TOLERANCE_PCT = 2.0
+"""Every joint's spring torque as its drawing declares it, a half band [%]."""
 NUISANCES = ("flex", "freeplay", "latency", "jitter")
-"""What a real wing has that the reference model lacks, drawn per case."""
+"""What a real wing has that the reference model lacks, drawn per case
+(the wing as built, ``asbuilt``, only with ``--as-built`` or ``--only asbuilt``)."""
 KINDS = ("none", "coulomb_friction", "viscous_damping", "spring_softening")
 """The hidden effect drawn per case: none, or one of physics.md §6 at one joint."""
 UNITS = {"coulomb_friction": "N·m", "viscous_damping": "N·m·s/rad", "spring_softening": "1"}
@@ -150,13 +168,18 @@ class Nuisance:
     """What the case's wing and sensor have beyond the reference model:
     first deployed mode [Hz] and its damping ratio (0: rigid panels),
     free-play half band per joint [deg] (empty: none), encoder latency
-    [samples], jitter σ [fraction of the period]."""
+    [samples], jitter σ [fraction of the period], and the wing as built:
+    per panel its mass and inertia, per joint its spring torque, each a
+    factor on the drawn value (empty: as drawn)."""
 
     mode_hz: float = 0.0
     mode_zeta: float = 0.0
     freeplay_deg: List[float] = dataclasses.field(default_factory=list)
     latency_samples: float = 0.0
     jitter_frac: float = 0.0
+    mass_scale: List[float] = dataclasses.field(default_factory=list)
+    inertia_scale: List[float] = dataclasses.field(default_factory=list)
+    spring_scale: List[float] = dataclasses.field(default_factory=list)
 
 
 @dataclasses.dataclass
@@ -220,15 +243,23 @@ def random_pair(rng: np.random.Generator, seed: int) -> List[Wing]:
 def mechanism_toml(w: Wing) -> str:
     """The wing as a deploywatch mechanism file (formats.md)."""
     if w.toml is not None:
-        return re.sub(r"^\[\[joint\]\][^\n]*\n", lambda m: f"{m.group(0)}free_play_deg = {DRAWN_FREE_PLAY_DEG!r}\n", w.toml, flags=re.M)
+        text = re.sub(r"^\[\[joint\]\][^\n]*\n", lambda m: f"{m.group(0)}free_play_deg = {DRAWN_FREE_PLAY_DEG!r}\nspring_tolerance_pct = {SPRING_TOLERANCE_PCT!r}\n", w.toml, flags=re.M)
+        return re.sub(
+            r"^\[\[panel\]\][^\n]*\n",
+            lambda m: f"{m.group(0)}mass_tolerance_pct = {MASS_TOLERANCE_PCT!r}\ninertia_tolerance_pct = {INERTIA_TOLERANCE_PCT!r}\n",
+            text,
+            flags=re.M,
+        )
     out = [f'name = "{w.name}"', 'description = "random ideal-latch wing (python/examples/outside_engine.py)"', ""]
     for p in w.panels:
-        out += ["[[panel]]", f"length_m = {p.length_m!r}", f"mass_kg = {p.mass_kg!r}", f"com_m = {p.com_m!r}", f"inertia_kgm2 = {p.inertia_kgm2!r}", ""]
+        out += ["[[panel]]", f"length_m = {p.length_m!r}", f"mass_kg = {p.mass_kg!r}", f"com_m = {p.com_m!r}", f"inertia_kgm2 = {p.inertia_kgm2!r}"]
+        out += [f"mass_tolerance_pct = {MASS_TOLERANCE_PCT!r}", f"inertia_tolerance_pct = {INERTIA_TOLERANCE_PCT!r}", ""]
     for j in w.joints:
         out += [
             "[[joint]]",
             f"stowed_deg = {j.stowed_deg!r}",
             f"free_play_deg = {DRAWN_FREE_PLAY_DEG!r}",
+            f"spring_tolerance_pct = {SPRING_TOLERANCE_PCT!r}",
             f'spring = {{ kind = "linear", preload_nm = {j.preload_nm!r}, stiffness_nm_per_rad = {j.stiffness_nm_per_rad!r}, count = {j.count} }}',
             f"friction = {{ coulomb_nm = {j.coulomb_nm!r}, viscous_nms = {j.viscous_nms!r} }}",
             "",
@@ -273,7 +304,7 @@ class Model:
                 b = math.radians(nz.freeplay_deg[i])
                 body.append(f'<body name="sp{i}" pos="{x!r} 0 0">{hinge}<inertial pos="0 0 0" mass="{SPRING_SIDE_KG!r}" diaginertia="{SPRING_SIDE_KGM2!r} {SPRING_SIDE_KGM2!r} {SPRING_SIDE_KGM2!r}"/>')
                 close.append("</body>")
-                hinge = f'<joint name="d{i}" type="hinge" axis="0 0 1" limited="true" range="{-b!r} {b!r}" solreflimit="{4 * DT_S!r} 1"/>'
+                hinge = f'<joint name="d{i}" type="hinge" axis="0 0 1" limited="true" range="{-b!r} {b!r}" solreflimit="{2 * DT_S!r} 1" solimplimit="0.9999 0.9999 0.001 0.5 2"/>'
                 x = 0.0
                 eqs.append(f'<joint joint1="s{i}" joint2="d{i}" polycoef="0 -1 0 0 0" active="false" solref="{2 * DT_S!r} 1" solimp="0.9999 0.9999 0.001 0.5 2"/>')
             else:
@@ -295,7 +326,8 @@ class Model:
                 body.append(f'<body name="a{i}" pos="{x!r} 0 0">{hinge}<inertial pos="{p.com_m!r} 0 0" mass="{p.mass_kg!r}" diaginertia="{i_c!r} {i_c!r} {i_c!r}"/>')
                 close.append("</body>")
         xml = (
-            '<mujoco model="wing">'
+            # Every angle of the XML (the band's range) in radians.
+            '<mujoco model="wing"><compiler angle="radian"/>'
             f'<option timestep="{DT_S!r}" gravity="0 0 0" integrator="RK4"/>'
             f"<worldbody>{''.join(body)}{''.join(close)}</worldbody>"
             f"<equality>{''.join(eqs)}</equality>"
@@ -373,8 +405,13 @@ def simulate(w: Wing, nz: Nuisance, hidden: Hidden) -> Trace:
     for i, j in enumerate(w.joints):
         d.qpos[md.s[i]] = math.radians(j.stowed_deg)
         if md.dd:
-            # The spring side reads the stowed angle; the panel lags it by the band.
-            d.qpos[md.dd[i]] = side[i] * math.radians(nz.freeplay_deg[i])
+            # The hold-down holds the panel at the drawn stowed angle; the
+            # spring has pushed its own side one band ahead (towards the
+            # latch), where it drags the panel, which trails it by the band
+            # for the whole deployment.
+            b = side[i] * math.radians(nz.freeplay_deg[i])
+            d.qpos[md.s[i]] -= b
+            d.qpos[md.dd[i]] = b
     free = np.ones(n, dtype=bool)
     latch = np.full(n, np.nan)
     steps = int(round(w.duration_s / DT_S))
@@ -498,17 +535,24 @@ def write_csv(path: str, w: Wing, rows: np.ndarray, source: str) -> None:
             f.write(f"{r[0]:.4f}," + ",".join(f"{x:.4f}" for x in r[1 : 1 + n]) + "," + ",".join(str(int(x)) for x in r[1 + n :]) + "\n")
 
 
-def draw_nuisance(rng: np.random.Generator, n: int, only: Optional[str]) -> Nuisance:
+def draw_nuisance(rng: np.random.Generator, n: int, only: Optional[str], built: np.random.Generator, as_built_too: bool) -> Nuisance:
     """Every nuisance drawn (the rng always draws all of them, so a case's
-    wing and effect do not depend on ``only``); ``only`` keeps one."""
+    wing and effect do not depend on ``only``; the wing as built from its
+    own generator ``built``); ``only`` keeps one; without it, the wing as
+    built only when ``as_built_too``."""
     nz = Nuisance(
         mode_hz=float(rng.uniform(4.0, 15.0)),
         mode_zeta=float(rng.uniform(0.01, 0.03)),
         freeplay_deg=[float(rng.uniform(0.05, DRAWN_FREE_PLAY_DEG)) for _ in range(n)],
         latency_samples=float(rng.uniform(0.0, 1.0)),
         jitter_frac=float(rng.uniform(0.01, 0.05)),
+        mass_scale=[1.0 + float(built.uniform(-1.0, 1.0)) * MASS_TOLERANCE_PCT / 100.0 for _ in range(n)],
+        inertia_scale=[1.0 + float(built.uniform(-1.0, 1.0)) * INERTIA_TOLERANCE_PCT / 100.0 for _ in range(n)],
+        spring_scale=[1.0 + float(built.uniform(-1.0, 1.0)) * SPRING_TOLERANCE_PCT / 100.0 for _ in range(n)],
     )
     if only is None:
+        if not as_built_too:
+            nz.mass_scale, nz.inertia_scale, nz.spring_scale = [], [], []
         return nz
     keep = Nuisance()
     if only == "flex":
@@ -519,9 +563,22 @@ def draw_nuisance(rng: np.random.Generator, n: int, only: Optional[str]) -> Nuis
         keep.latency_samples = nz.latency_samples
     elif only == "jitter":
         keep.jitter_frac = nz.jitter_frac
+    elif only == "asbuilt":
+        keep.mass_scale, keep.inertia_scale, keep.spring_scale = nz.mass_scale, nz.inertia_scale, nz.spring_scale
     elif only != "none":
-        raise ValueError(f"--only: one of {NUISANCES} or none, not {only}")
+        raise ValueError(f"--only: one of {NUISANCES}, asbuilt or none, not {only}")
     return keep
+
+
+def as_built(w: Wing, nz: Nuisance) -> Wing:
+    """The wing ``w`` as built: its panels' mass and inertia and its
+    springs' torque (preload and stiffness) times the case's factors (the
+    drawing's file, ``w.toml``, is the drawn wing's)."""
+    if not nz.mass_scale:
+        return w
+    panels = [dataclasses.replace(p, mass_kg=p.mass_kg * a, inertia_kgm2=p.inertia_kgm2 * b) for p, a, b in zip(w.panels, nz.mass_scale, nz.inertia_scale)]
+    joints = [dataclasses.replace(j, preload_nm=j.preload_nm * c, stiffness_nm_per_rad=j.stiffness_nm_per_rad * c) for j, c in zip(w.joints, nz.spring_scale)]
+    return dataclasses.replace(w, panels=panels, joints=joints)
 
 
 def draw_hidden(rng: np.random.Generator, kind: str, n: int) -> Hidden:
@@ -548,14 +605,16 @@ def campaign_wings(seed: int, rng: np.random.Generator) -> List[Wing]:
     return random_pair(rng, seed)
 
 
-def generate(out: str, seed: int, only: Optional[str]) -> Dict[str, Any]:
+def generate(out: str, seed: int, only: Optional[str], as_built_too: bool = False) -> Dict[str, Any]:
     """Writes the campaign of ``seed`` under ``out/case<seed>`` and returns its truth."""
     rng = np.random.default_rng(seed)
+    built_rng = np.random.default_rng([seed, 1])
     for _ in range(MAX_REDRAWS):
         wings = campaign_wings(seed, rng)
         n = len(wings[0].joints)
-        nz = draw_nuisance(rng, n, only)
-        plain = [simulate(w, nz, Hidden()) for w in wings]
+        nz = draw_nuisance(rng, n, only, built_rng, as_built_too)
+        built = [as_built(w, nz) for w in wings]
+        plain = [simulate(w, nz, Hidden()) for w in built]
         # A wing the nuisances swing past a turn is not a deployment (and
         # outside the run format's range): drawn again.
         if all(float(np.max(np.abs(tr.enc_deg), initial=0.0)) <= MAX_ANGLE_DEG for tr in plain):
@@ -566,7 +625,7 @@ def generate(out: str, seed: int, only: Optional[str]) -> Dict[str, Any]:
         if kind == "none":
             break
         hidden = draw_hidden(rng, kind, n)
-        traces = [simulate(w, nz, hidden) for w in wings]
+        traces = [simulate(w, nz, hidden) for w in built]
         moved = effect_rms(plain, traces)
         if moved >= MIN_EFFECT_RMS_DEG:
             break
@@ -709,6 +768,8 @@ def main(argv: List[str]) -> int:
     (both, in a temporary directory) or ``ablation N [FIRST_SEED [STEP]]``
     (each nuisance alone, and none, on the same N seeds, STEP apart)."""
     only, keep = None, None
+    as_built_too = "--as-built" in argv
+    argv = [a for a in argv if a != "--as-built"]
     if "--keep" in argv:
         i = argv.index("--keep")
         keep = argv[i + 1]
@@ -722,7 +783,7 @@ def main(argv: List[str]) -> int:
         first = int(argv[3]) if len(argv) > 3 else 0
         os.makedirs(out, exist_ok=True)
         for s in range(first, first + count):
-            t = generate(out, s, only)
+            t = generate(out, s, only, as_built_too)
             print(f"case{s:04d}: {t['effects']} moves {t['effect_rms_deg']:.2f} deg, nuisances {t['nuisance_rms_deg']:.2f} deg", flush=True)
         return 0
     if len(argv) >= 2 and argv[0] == "campaigns":
@@ -734,13 +795,13 @@ def main(argv: List[str]) -> int:
             os.makedirs(keep, exist_ok=True)
             for s in range(first, first + count):
                 if not os.path.exists(os.path.join(keep, f"case{s:04d}", "truth.json")):
-                    generate(keep, s, only)
-            print(f"nuisances: {only or 'all of ' + ', '.join(NUISANCES)}; seeds {first}..{first + count - 1}")
+                    generate(keep, s, only, as_built_too)
+            print(f"nuisances: {only or 'all of ' + ', '.join(NUISANCES + (('asbuilt',) if as_built_too else ()))}; seeds {first}..{first + count - 1}")
             return score(keep, default_exe(), reuse=True, seeds=range(first, first + count))
         with tempfile.TemporaryDirectory(prefix="outside-engine-") as out:
             for s in range(first, first + count):
-                generate(out, s, only)
-            print(f"nuisances: {only or 'all of ' + ', '.join(NUISANCES)}; seeds {first}..{first + count - 1}")
+                generate(out, s, only, as_built_too)
+            print(f"nuisances: {only or 'all of ' + ', '.join(NUISANCES + (('asbuilt',) if as_built_too else ()))}; seeds {first}..{first + count - 1}")
             return score(out, default_exe())
     if len(argv) >= 2 and argv[0] == "ablation":
         # Each nuisance alone on the same cases (and none): which breaks the answer.

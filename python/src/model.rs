@@ -125,6 +125,7 @@ fn describe<'py>(py: Python<'py>, m: &Mechanism) -> PyResult<Bound<'py, PyDict>>
         x.set_item("coulomb_nm", j.friction.coulomb_nm)?;
         x.set_item("viscous_nms", j.friction.viscous_nms)?;
         x.set_item("free_play_deg", j.free_play_deg)?;
+        x.set_item("spring_tolerance_pct", j.spring_tolerance_pct)?;
         joints.push(x);
     }
     d.set_item("joints", joints)?;

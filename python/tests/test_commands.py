@@ -158,3 +158,12 @@ def test_a_joint_s_declared_free_play_is_read(root):
     assert [j.free_play_deg for j in mech.joints] == [0.15] + [0.0] * (len(mech.joints) - 1)
     with pytest.raises(dw.MechanismError, match="free_play_deg"):
         dw.Mechanism.from_str(text.replace("free_play_deg = 0.15", "free_play_deg = -1.0"))
+
+
+def test_a_spring_s_declared_tolerance_is_read(root):
+    """``spring_tolerance_pct`` of a ``[[joint]]`` reaches ``Joint.spring_tolerance_pct``; 0 where none is declared."""
+    text = (root / T01).read_text().replace("stowed_deg = -90.0", "stowed_deg = -90.0\nspring_tolerance_pct = 2", 1)
+    mech = dw.Mechanism.from_str(text)
+    assert [j.spring_tolerance_pct for j in mech.joints] == [2.0] + [0.0] * (len(mech.joints) - 1)
+    with pytest.raises(dw.MechanismError, match="spring_tolerance_pct"):
+        dw.Mechanism.from_str(text.replace("spring_tolerance_pct = 2", "spring_tolerance_pct = 25"))

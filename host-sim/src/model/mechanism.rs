@@ -128,6 +128,39 @@ impl SpringSpec {
     }
 }
 
+impl SpringSpec {
+    /// The same spring with its torque times `scale` at every angle (the
+    /// preload and stiffness of a linear spring, every moment of a tape
+    /// spring's points, every torque of a curve): the spring as built at
+    /// a tolerance's edge.
+    pub fn scaled(&self, scale: f64) -> SpringSpec {
+        let mut out = self.clone();
+        match &mut out {
+            SpringSpec::Linear {
+                preload_nm,
+                stiffness_nm_per_rad,
+                ..
+            } => {
+                *preload_nm *= scale;
+                *stiffness_nm_per_rad *= scale;
+            }
+            SpringSpec::Tape { points, .. } => {
+                for p in [&mut points.a, &mut points.b, &mut points.d] {
+                    p.1 *= scale;
+                }
+                points.m_90 *= scale;
+                points.c_180 *= scale;
+            }
+            SpringSpec::Curve { unfold, fold, .. } => {
+                for p in unfold.iter_mut().chain(fold.iter_mut().flatten()) {
+                    p.1 *= scale;
+                }
+            }
+        }
+        out
+    }
+}
+
 /// One joint as written in the file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct JointSpec {
@@ -143,13 +176,19 @@ pub struct JointSpec {
     /// play held to one side by the spring
     /// ([`crate::analysis::diagnose::free_play`]).
     pub free_play_deg: f64,
+    /// `spring_tolerance_pct`: the declared half band of the spring's
+    /// torque at every angle, in percent of the drawn torque (0: none
+    /// declared; this project's extension, `docs/spec/formats.md`). Not
+    /// simulated: the diagnosis carries it into its intervals
+    /// ([`crate::analysis::diagnose::tolerance`]).
+    pub spring_tolerance_pct: f64,
 }
 
 /// The declared tolerance of one panel's mass properties: half bands of
 /// `mass_kg` and `inertia_kgm2` in percent of their drawn values (0: none
 /// declared; this project's extension, `docs/spec/formats.md`). Not
 /// simulated: the diagnosis carries them into its intervals
-/// ([`crate::analysis::diagnose::mass_tolerance`]).
+/// ([`crate::analysis::diagnose::tolerance`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MassTolerance {
     /// `mass_tolerance_pct` \[%\].

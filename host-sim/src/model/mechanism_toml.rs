@@ -20,8 +20,8 @@
 //!   (0.2 s), each on its own, whether `[run]` is absent or only lacks that
 //!   key;
 //! - `free_play_deg` of a joint: 0 (no free-play declared);
-//! - `mass_tolerance_pct` and `inertia_tolerance_pct` of a panel: 0 (no
-//!   tolerance declared).
+//! - `mass_tolerance_pct` and `inertia_tolerance_pct` of a panel, and
+//!   `spring_tolerance_pct` of a joint: 0 (no tolerance declared).
 //!
 //! Beyond the types, values must describe a mechanism: `com_m` within the
 //! panel (0 to `length_m`), `0 < |stowed_deg| ≤ 360`, `0 ≤ free_play_deg ≤ 5`, tolerances of 0 to 20 %, friction values as
@@ -62,8 +62,9 @@ pub const DEFAULT_SETTLE_S: f64 = 0.2;
 /// a hinge the reduced-order model of `physics.md` describes.
 const MAX_FREE_PLAY_DEG: f64 = 5.0;
 
-/// Largest `mass_tolerance_pct` and `inertia_tolerance_pct` (%): a panel
-/// known no better than this is not one the drawing describes.
+/// Largest `mass_tolerance_pct`, `inertia_tolerance_pct` and
+/// `spring_tolerance_pct` (%): a panel or spring known no better than this
+/// is not one the drawing describes.
 const MAX_TOLERANCE_PCT: f64 = 20.0;
 
 /// Largest `|stowed_deg|` (deg): one turn. A hinge folded further than a
@@ -118,7 +119,14 @@ const PANEL_KEYS: &[&str] = &[
     "mass_tolerance_pct",
     "inertia_tolerance_pct",
 ];
-const JOINT_KEYS: &[&str] = &["stowed_deg", "spring", "friction", "latch", "free_play_deg"];
+const JOINT_KEYS: &[&str] = &[
+    "stowed_deg",
+    "spring",
+    "friction",
+    "latch",
+    "free_play_deg",
+    "spring_tolerance_pct",
+];
 const LINEAR_KEYS: &[&str] = &["kind", "preload_nm", "stiffness_nm_per_rad", "count"];
 const TAPE_SPRING_KEYS: &[&str] = &["kind", "type", "count"];
 const CURVE_KEYS: &[&str] = &["kind", "unfold", "fold", "interp", "count"];
@@ -371,11 +379,20 @@ impl Cx<'_> {
             let expected = "a half band of free-play of at most 5 [deg]";
             return Err(self.invalid(sp, &t.key("free_play_deg"), expected));
         }
+        let spring_tolerance_pct = self
+            .opt_number(&t, "spring_tolerance_pct", Bound::NonNegative, "%")?
+            .unwrap_or(0.0);
+        if spring_tolerance_pct > MAX_TOLERANCE_PCT {
+            let sp = t.get("spring_tolerance_pct").unwrap_or(sp);
+            let expected = "a half band of 0 to 20 [%] of the drawn spring torque";
+            return Err(self.invalid(sp, &t.key("spring_tolerance_pct"), expected));
+        }
         Ok(JointSpec {
             stowed_deg,
             spring,
             friction,
             free_play_deg,
+            spring_tolerance_pct,
         })
     }
 

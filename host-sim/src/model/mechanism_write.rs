@@ -55,6 +55,13 @@ impl Mechanism {
             if j.free_play_deg > 0.0 {
                 let _ = writeln!(out, "free_play_deg = {}", num(j.free_play_deg));
             }
+            if j.spring_tolerance_pct > 0.0 {
+                let _ = writeln!(
+                    out,
+                    "spring_tolerance_pct = {}",
+                    num(j.spring_tolerance_pct)
+                );
+            }
             if j.friction != FrictionSpec::default() {
                 let f = &j.friction;
                 let mut s = format!(

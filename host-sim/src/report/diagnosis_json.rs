@@ -216,7 +216,7 @@ fn to_json(c: &Campaign, o: &Outcome, d: &Details) -> Diagnosis {
         ambiguities: diagnosis_latch::ambiguities_json(o),
         set_aside: super::diagnosis_set_aside::json(o),
         free_play: super::diagnosis_free_play::json(o),
-        mass_tolerance: super::diagnosis_tolerance::json(o),
+        tolerance: super::diagnosis_tolerance::json(o),
         within_tolerance: super::diagnosis_tolerance::within_json(o),
     }
 }

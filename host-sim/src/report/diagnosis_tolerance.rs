@@ -1,4 +1,4 @@
-//! What the panels' declared mass-property tolerances add to the reported
+//! What the drawing's declared tolerances of mass, inertia and spring torque add to the reported
 //! intervals, in the diagnosis summary, report and JSON
 //! (`docs/diagnosis.md`, "What the drawing's tolerances add").
 
@@ -38,7 +38,7 @@ pub fn summary_lines(o: &Outcome) -> Vec<String> {
         .iter()
         .map(|w| {
             format!(
-                "within the drawing's tolerances (not an effect): {}; the panels' declared mass-property tolerances alone move it by {} at 95 % (most: {})",
+                "within the drawing's tolerances (not an effect): {}; the drawing's declared tolerances of mass, inertia and spring torque alone move it by {} at 95 % (most: {})",
                 claim_words(w),
                 at_95(&w.share.sd),
                 w.share.largest
@@ -51,32 +51,32 @@ pub fn summary_lines(o: &Outcome) -> Vec<String> {
 
 /// The line of the effects' shares (none without one).
 fn summary_line(o: &Outcome) -> Option<String> {
-    if o.mass_tolerance.is_empty() {
+    if o.tolerance.is_empty() {
         return None;
     }
     let parts: Vec<String> = o
-        .mass_tolerance
+        .tolerance
         .iter()
         .map(|t| format!("{} {}", t.effect, sds(&t.sd)))
         .collect();
     Some(format!(
-        "intervals include the panels' declared mass-property tolerances (standard uncertainty from them: {})",
+        "intervals include the drawing's declared tolerances of mass, inertia and spring torque (standard uncertainty from them: {})",
         parts.join("; ")
     ))
 }
 
 /// The report's section (none without a declared tolerance).
 pub fn report(md: &mut String, o: &Outcome) {
-    if o.mass_tolerance.is_empty() && o.within_tolerance.is_empty() {
+    if o.tolerance.is_empty() && o.within_tolerance.is_empty() {
         return;
     }
     let _ = writeln!(md, "## What the drawing's tolerances add\n");
     let _ = writeln!(
         md,
-        "The mechanisms declare their panels' mass and inertia to within a tolerance; the panels as built lie somewhere within it, and the effects' estimates move with them. The set found was fitted again with each declared property at its band's edge; taking each property uniform within its band, the moves give each parameter the standard uncertainty below, and the 95 % intervals above include it (each side widened in quadrature by 1.96 times it).\n"
+        "The mechanisms declare their panels' mass and inertia, or their springs' torque, to within a tolerance; the wing as built lies somewhere within it, and the effects' estimates move with them. The set found was fitted again with each declared property at its band's edge; taking each property uniform within its band, the moves give each parameter the standard uncertainty below, and the 95 % intervals above include it (each side widened in quadrature by 1.96 times it).\n"
     );
     let rows: Vec<Vec<String>> = o
-        .mass_tolerance
+        .tolerance
         .iter()
         .map(|t| vec![t.effect.clone(), sds(&t.sd), t.largest.clone()])
         .collect();
@@ -96,7 +96,7 @@ pub fn report(md: &mut String, o: &Outcome) {
     }
     let _ = writeln!(
         md,
-        "Named effects the tolerances alone could make: each was found, but its value lies within what the panels' tolerances move it by (its fit's interval widened by 1.96 times its share holds zero), so the runs cannot tell it from panels as built within their drawing. Each was taken out, the rest refitted; they are not claimed:\n"
+        "Named effects the tolerances alone could make: each was found, but its value lies within what the drawing's tolerances move it by (its fit's interval widened by 1.96 times its share holds zero), so the runs cannot tell it from a wing built within its drawing. Each was taken out, the rest refitted; they are not claimed:\n"
     );
     let rows: Vec<Vec<String>> = o
         .within_tolerance
@@ -139,7 +139,7 @@ pub fn within_json(o: &Outcome) -> Vec<WithinToleranceJson> {
 
 /// The shares in the JSON.
 pub fn json(o: &Outcome) -> Vec<ToleranceJson> {
-    o.mass_tolerance
+    o.tolerance
         .iter()
         .map(|t| ToleranceJson {
             effect: t.effect.clone(),

@@ -217,6 +217,18 @@ fn non_finite_and_out_of_range_numbers_are_rejected() {
             "0 to 20 [%]",
         ),
         (
+            "stowed_deg = -90.0",
+            "stowed_deg = -90.0\nspring_tolerance_pct = -2",
+            "joint[1].spring_tolerance_pct",
+            "≥ 0 [%], found -2",
+        ),
+        (
+            "stowed_deg = -90.0",
+            "stowed_deg = -90.0\nspring_tolerance_pct = 21",
+            "joint[1].spring_tolerance_pct",
+            "0 to 20 [%] of the drawn spring torque",
+        ),
+        (
             "d = [0.52, 37.0]",
             "d = [1.5, 37.0]",
             "tape.TS-1.b",

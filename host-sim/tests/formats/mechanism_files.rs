@@ -85,6 +85,23 @@ fn a_declared_free_play_is_read_and_written_back() {
 }
 
 #[test]
+fn a_declared_spring_tolerance_is_read_and_written_back() {
+    let text = t01_text().replacen(
+        "stowed_deg = -90.0",
+        "stowed_deg = -90.0\nspring_tolerance_pct = 3",
+        1,
+    );
+    let m = Mechanism::from_toml_str(&text, "spring.toml").unwrap_or_else(|e| panic!("{e}"));
+    let tol: Vec<f64> = m.joints.iter().map(|j| j.spring_tolerance_pct).collect();
+    assert_eq!(tol[0], 3.0);
+    assert!(tol[1..].iter().all(|&p| p == 0.0), "{tol:?}");
+    let written = m.to_toml_string();
+    assert!(written.contains("spring_tolerance_pct = 3"), "{written}");
+    let back = Mechanism::from_toml_str(&written, "back.toml").expect("written");
+    assert_eq!(back, m);
+}
+
+#[test]
 fn declared_mass_tolerances_are_read_and_written_back() {
     let text = t01_text().replacen(
         "inertia_kgm2 = 0.27",
@@ -188,4 +205,37 @@ fn run_settle_s_defaults_to_two_tenths_is_read_checked_and_written_back() {
     assert_eq!(e.line, Some(line_of(&text, "settle_s")));
     assert_eq!(e.key(), Some("run.settle_s"));
     assert!(e.to_string().contains("a finite number ≥ 0 [s]"), "{e}");
+}
+
+#[test]
+fn a_spring_scaled_gives_its_torque_times_the_scale_at_every_angle() {
+    let curve = SpringSpec::Curve {
+        unfold: vec![(0.0, 0.4), (45.0, 0.9), (120.0, 1.3), (180.0, 2.2)],
+        fold: Some(vec![(0.0, 0.3), (60.0, 0.8), (180.0, 1.9)]),
+        interp: Interp::Akima,
+        count: 2,
+    };
+    let springs = mechanisms()
+        .into_iter()
+        .flat_map(|m| m.joints.into_iter().map(|j| j.spring))
+        .chain([curve]);
+    for spec in springs {
+        let scale = 1.03;
+        let drawn = spec.to_spring::<f64>().expect("a spring");
+        let built = spec.scaled(scale).to_spring::<f64>().expect("scaled");
+        assert_eq!(spec.scaled(1.0), spec);
+        for k in 0..=36 {
+            let phi = -(k as f64) * 5.0_f64.to_radians();
+            for branch in [
+                deploywatch_core::Branch::Fold,
+                deploywatch_core::Branch::Unfold,
+            ] {
+                let (a, b) = (drawn.torque(phi, branch), built.torque(phi, branch));
+                assert!(
+                    (b - scale * a).abs() <= 1e-9 * a.abs().max(1.0),
+                    "{spec:?} at {phi} rad {branch:?}: {b} against {scale} × {a}"
+                );
+            }
+        }
+    }
 }

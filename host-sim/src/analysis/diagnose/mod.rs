@@ -31,9 +31,9 @@
 //!    stays clearly above the noise, a claim that accounts for less than
 //!    the residual the set leaves above the noise is set aside
 //!    ([`Move::SetAside`]) and reported as such.
-//! 8. The panels' declared mass-property tolerances: a named effect they
+//! 8. The drawing's declared tolerances of mass, inertia and spring torque: a named effect they
 //!    alone could make is taken out, and they widen the reported intervals
-//!    by what they move the estimates ([`mass_tolerance`]).
+//!    by what they move the estimates ([`tolerance`]).
 
 pub mod ambiguity;
 mod candidate;
@@ -47,7 +47,6 @@ mod friction_forms;
 mod halt;
 pub mod latch_finding;
 pub mod latch_window;
-pub mod mass_tolerance;
 mod moves;
 mod outcome;
 mod policy;
@@ -63,6 +62,7 @@ mod stand_in;
 mod step;
 pub mod table_export;
 mod table_form;
+pub mod tolerance;
 pub mod whole_run;
 
 pub use candidate::Candidate;
@@ -584,7 +584,7 @@ fn search_campaign(
         search.restart_from_tables(&baseline);
     }
     let (ambiguities, set_aside) = search.alternatives_and_set_aside();
-    let settled = mass_tolerance::settle(&eng, search.current.clone());
+    let settled = tolerance::settle(&eng, search.current.clone());
     let partial = eng.halt.finish();
     let current_held = match settled.within.is_empty() {
         true => search.current_held,
@@ -592,8 +592,8 @@ fn search_campaign(
     };
     let (extended, strength_rms_deg) = eng.strongest_first(&settled.set);
     let extended = ambiguity::widened(&extended, &ambiguities);
-    let extended = mass_tolerance::widen(&extended, &settled.shares);
-    let mass_tolerance = mass_tolerance::in_order(&extended, &settled.shares);
+    let extended = tolerance::widen(&extended, &settled.shares);
+    let tolerance = tolerance::in_order(&extended, &settled.shares);
     let held_out_rms_deg = match current_held {
         None if !extended.members.is_empty() => eng.held_out(&extended),
         h => h,
@@ -614,7 +614,7 @@ fn search_campaign(
         free_window: None,
         whole_run: None,
         latches: Vec::new(),
-        mass_tolerance,
+        tolerance,
         within_tolerance: settled.within,
         ambiguities,
         set_aside,

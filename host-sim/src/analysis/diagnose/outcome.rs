@@ -26,8 +26,8 @@ pub struct FittedEffect {
     /// autocorrelation-consistent interval, never narrower than the
     /// ordinary one ([`crate::analysis::fit::FitResult::ci95`]), widened
     /// over an ambiguity group ([`super::ambiguity::widened`]) and by the
-    /// panels' declared mass-property tolerances
-    /// ([`super::mass_tolerance`]); `None` for
+    /// drawing's declared tolerances
+    /// ([`super::tolerance`]); `None` for
     /// a point not fitted (a start, a screen's best scan point).
     pub ci95: Option<Vec<[f64; 2]>>,
     /// The fit's ordinary (white-noise) 95 % interval of each parameter
@@ -397,8 +397,8 @@ pub struct FreePlayOffset {
     pub play_deg: f64,
 }
 
-/// What the panels' declared mass-property tolerances add to one effect's
-/// reported interval ([`super::mass_tolerance`]).
+/// What the drawing's declared tolerances of mass, inertia and spring torque add to one effect's
+/// reported interval ([`super::tolerance`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ToleranceShare {
     /// The effect.
@@ -413,8 +413,8 @@ pub struct ToleranceShare {
     pub largest: String,
 }
 
-/// A named effect the panels' declared mass-property tolerances alone
-/// could make, taken out of the set found ([`super::mass_tolerance`]).
+/// A named effect the drawing's declared tolerances of mass, inertia and spring torque alone
+/// could make, taken out of the set found ([`super::tolerance`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct WithinTolerance {
     /// The effect as it was fitted in the set.
@@ -464,12 +464,12 @@ pub struct Outcome {
     pub whole_run: Option<super::whole_run::WholeRun>,
     /// Each physical latch's events against the drawing's.
     pub latches: Vec<LatchFinding>,
-    /// What the panels' declared mass-property tolerances add to each
+    /// What the drawing's declared tolerances of mass, inertia and spring torque add to each
     /// effect's reported interval (empty: none declared;
-    /// [`super::mass_tolerance`]).
-    pub mass_tolerance: Vec<ToleranceShare>,
+    /// [`super::tolerance`]).
+    pub tolerance: Vec<ToleranceShare>,
     /// Named effects the tolerances alone could make, taken out of the
-    /// set found, in the order they were ([`super::mass_tolerance`]).
+    /// set found, in the order they were ([`super::tolerance`]).
     pub within_tolerance: Vec<WithinTolerance>,
     /// Sets of causes that explain the runs alike ([`super::ambiguity`]).
     pub ambiguities: Vec<Ambiguity>,

@@ -86,12 +86,17 @@ pub struct Diagnosis {
     /// each taken out.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub free_play: Vec<FreePlayJson>,
-    /// What the panels' declared mass-property tolerances add to each
-    /// effect's interval (`docs/diagnosis.md`, "What the drawing's
-    /// tolerances add"): the `ci95` of `effects` include it.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub mass_tolerance: Vec<ToleranceJson>,
-    /// Named effects the panels' declared mass-property tolerances alone
+    /// What the drawing's declared tolerances (panels' mass and inertia,
+    /// springs' torque) add to each effect's interval (`docs/diagnosis.md`,
+    /// "What the drawing's tolerances add"): the `ci95` of `effects`
+    /// include it. Read from `mass_tolerance` too, its earlier name.
+    #[serde(
+        default,
+        alias = "mass_tolerance",
+        skip_serializing_if = "Vec::is_empty"
+    )]
+    pub tolerance: Vec<ToleranceJson>,
+    /// Named effects the drawing's declared tolerances alone
     /// could make, taken out of the set found (`docs/diagnosis.md`, "What
     /// the drawing's tolerances add"): not effects, not read by `margin
     /// --from`.

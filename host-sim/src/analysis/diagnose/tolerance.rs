@@ -1,13 +1,16 @@
-//! The panels' declared mass-property tolerances in the reported intervals
-//! (`docs/diagnosis.md`, "What the drawing's tolerances add").
+//! The drawing's declared tolerances of mass, inertia and spring torque in
+//! the reported intervals (`docs/diagnosis.md`, "What the drawing's
+//! tolerances add").
 //!
-//! The fit compares the runs with the drawing's panels; the panels as built
-//! differ from it within their tolerances (`mass_tolerance_pct`,
-//! `inertia_tolerance_pct` of a `[[panel]]`, this project's extension). An
-//! effect's estimate moves with them, and the fit's own interval, which
-//! only knows the noise and what the fit leaves, does not hold that.
+//! The fit compares the runs with the drawing's wing; the wing as built
+//! differs from it within its tolerances (`mass_tolerance_pct`,
+//! `inertia_tolerance_pct` of a `[[panel]]`, `spring_tolerance_pct` of a
+//! `[[joint]]`: the spring's torque at every angle; this project's
+//! extension). An effect's estimate moves with them, and the fit's own
+//! interval, which only knows the noise and what the fit leaves, does not
+//! hold that.
 //!
-//! For each mechanism of the campaign, each panel and each property with a
+//! For each mechanism of the campaign, each panel or spring and each property with a
 //! declared half band `b` \[%\], the set found is fitted again with that
 //! property at the band's edge (`× (1 + b/100)`, in every run of that
 //! mechanism), from the set's own parameters; `Δ_k` is how far each
@@ -29,29 +32,38 @@ use crate::analysis::fit::Z_975;
 use crate::data::campaign::Campaign;
 use rayon::prelude::*;
 
-/// One property of one panel of one mechanism, moved to its band's edge.
+/// A declared property of a mechanism, 0-based.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Property {
+    /// A panel's mass (`mass_tolerance_pct`).
+    Mass(usize),
+    /// A panel's inertia (`inertia_tolerance_pct`).
+    Inertia(usize),
+    /// A joint's spring torque at every angle (`spring_tolerance_pct`).
+    Spring(usize),
+}
+
+/// One declared property of one mechanism, moved to its band's edge.
 #[derive(Clone, Debug, PartialEq)]
 struct Edge {
     /// The mechanism's name.
     mechanism: String,
-    /// 0-based panel.
-    panel: usize,
-    /// True: the inertia; false: the mass.
-    inertia: bool,
+    /// The property.
+    property: Property,
     /// The declared half band \[%\].
     pct: f64,
 }
 
 impl Edge {
-    /// `panel 2's inertia (±1 %) of seed001-T01`.
+    /// `panel 2's inertia (±1 %) of seed001-T01`, `joint 3's spring (±2 %)
+    /// of seed001-T01`.
     fn words(&self) -> String {
-        format!(
-            "panel {}'s {} (±{} %) of {}",
-            self.panel + 1,
-            if self.inertia { "inertia" } else { "mass" },
-            self.pct,
-            self.mechanism
-        )
+        let what = match self.property {
+            Property::Mass(i) => format!("panel {}'s mass", i + 1),
+            Property::Inertia(i) => format!("panel {}'s inertia", i + 1),
+            Property::Spring(j) => format!("joint {}'s spring", j + 1),
+        };
+        format!("{what} (±{} %) of {}", self.pct, self.mechanism)
     }
 
     /// `campaign` with this property at its band's edge.
@@ -63,11 +75,22 @@ impl Edge {
             .iter_mut()
             .filter(|r| r.mechanism.name == self.mechanism)
         {
-            if let Some(p) = r.mechanism.panels.get_mut(self.panel) {
-                if self.inertia {
-                    p.inertia_kgm2 *= scale;
-                } else {
-                    p.mass_kg *= scale;
+            let m = &mut r.mechanism;
+            match self.property {
+                Property::Mass(i) => {
+                    if let Some(p) = m.panels.get_mut(i) {
+                        p.mass_kg *= scale;
+                    }
+                }
+                Property::Inertia(i) => {
+                    if let Some(p) = m.panels.get_mut(i) {
+                        p.inertia_kgm2 *= scale;
+                    }
+                }
+                Property::Spring(j) => {
+                    if let Some(joint) = m.joints.get_mut(j) {
+                        joint.spring = joint.spring.scaled(scale);
+                    }
                 }
             }
         }
@@ -76,7 +99,7 @@ impl Edge {
 }
 
 /// Every declared tolerance of the campaign's mechanisms, each mechanism
-/// once.
+/// once: the panels' in order, then the springs'.
 fn edges(campaign: &Campaign) -> Vec<Edge> {
     let mut out: Vec<Edge> = Vec::new();
     let mut seen: Vec<&str> = Vec::new();
@@ -86,19 +109,28 @@ fn edges(campaign: &Campaign) -> Vec<Edge> {
             continue;
         }
         seen.push(&m.name);
-        for panel in 0..m.panels.len() {
-            let tol = m.mass_tolerance(panel);
-            for (inertia, pct) in [(false, tol.mass_pct), (true, tol.inertia_pct)] {
-                if pct > 0.0 {
-                    out.push(Edge {
-                        mechanism: m.name.clone(),
-                        panel,
-                        inertia,
-                        pct,
-                    });
-                }
-            }
-        }
+        let panels = (0..m.panels.len()).flat_map(|i| {
+            let tol = m.mass_tolerance(i);
+            [
+                (Property::Mass(i), tol.mass_pct),
+                (Property::Inertia(i), tol.inertia_pct),
+            ]
+        });
+        let springs = m
+            .joints
+            .iter()
+            .enumerate()
+            .map(|(j, joint)| (Property::Spring(j), joint.spring_tolerance_pct));
+        out.extend(
+            panels
+                .chain(springs)
+                .filter(|&(_, pct)| pct > 0.0)
+                .map(|(property, pct)| Edge {
+                    mechanism: m.name.clone(),
+                    property,
+                    pct,
+                }),
+        );
     }
     out
 }
@@ -174,15 +206,44 @@ pub(super) fn in_order(found: &FittedSet, shares: &[ToleranceShare]) -> Vec<Tole
         .collect()
 }
 
+/// The 0.95 quantile of χ² with `k` degrees of freedom, by the cube-root
+/// normal approximation of Wilson & Hilferty (1931),
+/// `k (1 − 2/(9k) + z₀.₉₅ √(2/(9k)))³`: within 1 % of the exact value for
+/// `k ≥ 2` (5.94 for 2 against 5.99, 11.05 for 5 against 11.07).
+fn chi2_95(k: usize) -> f64 {
+    /// The standard normal's 0.95 quantile.
+    const Z_95: f64 = 1.644_853_626_951_472_2;
+    let k = k.max(1) as f64;
+    let a = 2.0 / (9.0 * k);
+    k * (1.0 - a + Z_95 * a.sqrt()).powi(3)
+}
+
+/// How far a torque table's knots stand clear of zero with their
+/// intervals `widened`: `√(Σ (p_i/s_i)² / χ²_k(0.95))` (`s_i` half the
+/// knot's interval over 1.96, the knots taken independent), above 1 when
+/// the table as a whole is clear of zero at 95 %.
+fn table_clearance(params: &[f64], widened: &[[f64; 2]]) -> f64 {
+    let stat: f64 = params
+        .iter()
+        .zip(widened)
+        .map(|(p, [lo, hi])| {
+            let s = 0.5 * (hi - lo) / Z_975;
+            if s > 0.0 {
+                (p / s).powi(2)
+            } else {
+                f64::INFINITY
+            }
+        })
+        .sum();
+    (stat / chi2_95(params.len())).sqrt()
+}
+
 /// How far a named effect stands clear of what the tolerances alone could
-/// make of it: its value over its 95 % half band with its share, the
-/// fit's ordinary interval widened by `1.96 u` per parameter
-/// ([`FittedEffect::clear_of_zero`]'s test on it); `None` for a torque
-/// table (judged by the discrepancy's rules) and an effect clear of it.
+/// make of it, with the fit's ordinary interval widened by `1.96 u` per
+/// parameter: its value over its 95 % half band
+/// ([`FittedEffect::clear_of_zero`]'s test on it), or a torque table's
+/// knots together ([`table_clearance`]); `None` for an effect clear of it.
 fn within_share(m: &FittedEffect, share: &ToleranceShare) -> Option<f64> {
-    if m.candidate.table.is_some() {
-        return None;
-    }
     let ci = m.ci95_search.as_ref()?;
     let widened: Vec<[f64; 2]> = ci
         .iter()
@@ -190,6 +251,10 @@ fn within_share(m: &FittedEffect, share: &ToleranceShare) -> Option<f64> {
         .zip(&share.sd)
         .map(|((band, &p), &u)| widen_side(p, *band, Z_975 * u))
         .collect();
+    if m.candidate.table.is_some() {
+        let clearance = table_clearance(&m.params, &widened);
+        return (clearance <= 1.0).then_some(clearance);
+    }
     let probe = FittedEffect {
         ci95_search: Some(widened),
         ..m.clone()
@@ -202,7 +267,7 @@ fn within_share(m: &FittedEffect, share: &ToleranceShare) -> Option<f64> {
     Some(value.abs() / (0.5 * (hi - lo)).max(f64::MIN_POSITIVE))
 }
 
-/// The set found once every named effect the panels' tolerances alone
+/// The set found once every named effect the drawing's tolerances alone
 /// could make is taken out, and the shares of what is left.
 pub(super) struct Settled {
     /// The set, refitted without them.
@@ -216,7 +281,7 @@ pub(super) struct Settled {
 /// Takes out of `found`, one at a time (the least clear first, the rest
 /// refitted), each named effect whose value the fit's interval widened by
 /// its share of the tolerances does not hold clear of zero: the runs
-/// cannot tell it from panels within their drawing's tolerances.
+/// cannot tell it from a wing built within its drawing's tolerances.
 pub(super) fn settle(eng: &Engine<'_>, found: FittedSet) -> Settled {
     let mut set = found;
     let mut within = Vec::new();
@@ -253,7 +318,7 @@ pub(super) fn settle(eng: &Engine<'_>, found: FittedSet) -> Settled {
             share: shares[k].clone(),
         };
         eng.say(format!(
-            "  set apart {}: the panels' declared mass-property tolerances alone could make it (±{} at 95 %, most from {})",
+            "  set apart {}: the drawing's declared tolerances of mass, inertia and spring torque alone could make it (±{} at 95 %, most from {})",
             taken.effect.candidate.words(),
             taken
                 .share
@@ -272,6 +337,34 @@ pub(super) fn settle(eng: &Engine<'_>, found: FittedSet) -> Settled {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_chi2_quantile_is_within_a_per_cent() {
+        // Exact values: χ²_k(0.95) for k = 2, 5, 10, 24.
+        for (k, exact) in [
+            (2, 5.991_465),
+            (5, 11.070_50),
+            (10, 18.307_04),
+            (24, 36.415_03),
+        ] {
+            let q = chi2_95(k);
+            assert!((q / exact - 1.0).abs() < 0.01, "k {k}: {q} against {exact}");
+        }
+    }
+
+    #[test]
+    fn a_table_is_clear_when_its_knots_together_are() {
+        // Five knots each 1.3 standard errors off zero: χ² 8.45 < 11.07.
+        let s = 1.0;
+        let band = |p: f64| [p - Z_975 * s, p + Z_975 * s];
+        let p = [1.3; 5];
+        let w: Vec<_> = p.iter().map(|&x| band(x)).collect();
+        assert!(table_clearance(&p, &w) < 1.0);
+        // Each 1.6 off: χ² 12.8 > 11.07.
+        let p = [1.6; 5];
+        let w: Vec<_> = p.iter().map(|&x| band(x)).collect();
+        assert!(table_clearance(&p, &w) > 1.0);
+    }
 
     #[test]
     fn a_side_grows_in_quadrature_and_never_shrinks() {
@@ -294,6 +387,7 @@ mod tests {
         declared.name = "t01-declared".into();
         declared.mass_tolerances[1].inertia_pct = 1.0;
         declared.mass_tolerances[2].mass_pct = 0.5;
+        declared.joints[0].spring_tolerance_pct = 2.0;
         let opts = crate::simulate::trajectory::SimOptions::default();
         let noise = &crate::simulate::sensor::SensorModel::REFERENCE;
         let run = crate::simulate::deployment::simulate(&plain, &[], &opts)
@@ -312,12 +406,18 @@ mod tests {
             });
         }
         let e = edges(&c);
-        assert_eq!(e.len(), 2, "{e:?}");
+        assert_eq!(e.len(), 3, "{e:?}");
         assert_eq!(e[0].words(), "panel 2's inertia (±1 %) of t01-declared");
+        assert_eq!(e[2].words(), "joint 1's spring (±2 %) of t01-declared");
         let moved = e[1].moved(&c);
         let mass = |c: &Campaign, r: usize| c.runs[r].mechanism.panels[2].mass_kg;
         assert_eq!(mass(&moved, 0), mass(&c, 0));
         assert_eq!(mass(&moved, 1), mass(&c, 1) * 1.005);
         assert_eq!(mass(&moved, 2), mass(&c, 2) * 1.005);
+        let sprung = e[2].moved(&c);
+        let spring = |c: &Campaign, r: usize| c.runs[r].mechanism.joints[0].spring.clone();
+        assert_eq!(spring(&sprung, 0), spring(&c, 0));
+        assert_eq!(spring(&sprung, 1), spring(&c, 1).scaled(1.02));
+        assert_ne!(spring(&sprung, 1), spring(&c, 1));
     }
 }
