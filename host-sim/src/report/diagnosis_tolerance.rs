@@ -1,6 +1,6 @@
-//! What the drawing's declared tolerances of mass, inertia and spring torque add to the reported
-//! intervals, in the diagnosis summary, report and JSON
-//! (`docs/diagnosis.md`, "What the drawing's tolerances add").
+//! What the drawing's declared tolerances of mass, inertia and spring
+//! torque add to the reported intervals, in the diagnosis summary, report
+//! and JSON (`docs/diagnosis.md`, "What the drawing's tolerances add").
 
 use crate::analysis::diagnose::{Outcome, WithinTolerance};
 use crate::model::findings::diagnosis::{ToleranceJson, WithinToleranceJson};

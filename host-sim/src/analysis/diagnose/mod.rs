@@ -31,9 +31,9 @@
 //!    stays clearly above the noise, a claim that accounts for less than
 //!    the residual the set leaves above the noise is set aside
 //!    ([`Move::SetAside`]) and reported as such.
-//! 8. The drawing's declared tolerances of mass, inertia and spring torque: a named effect they
-//!    alone could make is taken out, and they widen the reported intervals
-//!    by what they move the estimates ([`tolerance`]).
+//! 8. The drawing's declared tolerances of mass, inertia and spring torque:
+//!    a named effect they alone could make is taken out, and they widen the
+//!    reported intervals by what they move the estimates ([`tolerance`]).
 
 pub mod ambiguity;
 mod candidate;

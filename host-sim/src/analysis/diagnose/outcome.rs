@@ -397,8 +397,8 @@ pub struct FreePlayOffset {
     pub play_deg: f64,
 }
 
-/// What the drawing's declared tolerances of mass, inertia and spring torque add to one effect's
-/// reported interval ([`super::tolerance`]).
+/// What the drawing's declared tolerances of mass, inertia and spring
+/// torque add to one effect's reported interval ([`super::tolerance`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ToleranceShare {
     /// The effect.
@@ -413,8 +413,9 @@ pub struct ToleranceShare {
     pub largest: String,
 }
 
-/// A named effect the drawing's declared tolerances of mass, inertia and spring torque alone
-/// could make, taken out of the set found ([`super::tolerance`]).
+/// A named effect the drawing's declared tolerances of mass, inertia and
+/// spring torque alone could make, taken out of the set found
+/// ([`super::tolerance`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct WithinTolerance {
     /// The effect as it was fitted in the set.
@@ -464,8 +465,8 @@ pub struct Outcome {
     pub whole_run: Option<super::whole_run::WholeRun>,
     /// Each physical latch's events against the drawing's.
     pub latches: Vec<LatchFinding>,
-    /// What the drawing's declared tolerances of mass, inertia and spring torque add to each
-    /// effect's reported interval (empty: none declared;
+    /// What the drawing's declared tolerances of mass, inertia and spring
+    /// torque add to each effect's reported interval (empty: none declared;
     /// [`super::tolerance`]).
     pub tolerance: Vec<ToleranceShare>,
     /// Named effects the tolerances alone could make, taken out of the

@@ -10,19 +10,20 @@
 //! interval, which only knows the noise and what the fit leaves, does not
 //! hold that.
 //!
-//! For each mechanism of the campaign, each panel or spring and each property with a
-//! declared half band `b` \[%\], the set found is fitted again with that
-//! property at the band's edge (`× (1 + b/100)`, in every run of that
-//! mechanism), from the set's own parameters; `Δ_k` is how far each
-//! parameter moves. The property as built is taken uniform within its band
-//! (GUM, type B: standard uncertainty `b/√3`), the moves linear in it and
-//! independent, so the tolerances give each parameter the standard
+//! For each mechanism of the campaign and each property of a panel or a
+//! spring with a declared half band `b` \[%\], the set found is fitted
+//! again with that property at the band's edge (`× (1 + b/100)`, in every
+//! run of that mechanism), from the set's own parameters; `Δ_k` is how far
+//! each parameter moves. The property as built is taken uniform within its
+//! band (GUM, type B: standard uncertainty `b/√3`), the moves linear in it
+//! and independent, so the tolerances give each parameter the standard
 //! uncertainty `u = √(Σ_k Δ_k² / 3)`, and each side of its reported 95 %
 //! interval is widened to `√(h² + (z₀.₉₇₅ u)²)` (`h`: that side's half
 //! width).
 //!
 //! A named effect whose value the fit's ordinary interval, so widened,
-//! does not hold clear of zero is one the tolerances alone could make: it
+//! does not hold clear of zero (a torque table: its knots together,
+//! [`table_clearance`]) is one the tolerances alone could make: it
 //! is taken out of the set (the least clear first, the rest refitted, the
 //! shares computed again) and reported as such, not claimed ([`settle`]).
 
