@@ -62,6 +62,15 @@ fn wing(i: usize, seed: u64) -> (Mechanism, usize) {
     (declaring(&m, DECLARED_PCT), j)
 }
 
+/// The effects the tolerances took out, in words.
+fn taken_out(o: &deploywatch_sim::diagnose::Outcome) -> String {
+    o.within_tolerance
+        .iter()
+        .map(|w| w.effect.candidate.words())
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
 /// Effects in words.
 fn words(es: &[Effect]) -> String {
     es.iter()
@@ -93,7 +102,7 @@ fn a_spring_within_its_band_is_not_claimed() {
             drawn.name,
             sign * OFF_PCT,
             words(&claims),
-            o.within_tolerance.iter().map(|w| w.effect.candidate.words()).collect::<Vec<_>>().join("; "),
+            taken_out(&o),
             words(&plain.extended.effects())
         );
         // The runs show the spring off its drawing.
@@ -126,11 +135,7 @@ fn a_softening_beyond_the_band_is_found() {
             "case {i} {}: {truth} -> [{}], taken out [{}]",
             drawn.name,
             words(&claims),
-            o.within_tolerance
-                .iter()
-                .map(|w| w.effect.candidate.words())
-                .collect::<Vec<_>>()
-                .join("; ")
+            taken_out(&o)
         );
         let Some(k) = claims
             .iter()

@@ -307,6 +307,26 @@ impl Cx<'_> {
         }
     }
 
+    /// The optional half band `key` of table `t` \[`unit`\]: 0 when absent,
+    /// `expected` in the error when above `max`.
+    fn half_band(
+        &self,
+        t: &Table,
+        sp: &Sp,
+        (key, unit): (&str, &str),
+        max: f64,
+        expected: &str,
+    ) -> Res<f64> {
+        let v = self
+            .opt_number(t, key, Bound::NonNegative, unit)?
+            .unwrap_or(0.0);
+        if v > max {
+            let sp = t.get(key).unwrap_or(sp);
+            return Err(self.invalid(sp, &t.key(key), expected));
+        }
+        Ok(v)
+    }
+
     /// A `[[panel]]` and its declared mass-property tolerance.
     fn panel(&self, sp: &Sp, path: &str) -> Res<(Panel<f64>, MassTolerance)> {
         let t = self.table(sp, path, PANEL_KEYS)?;
@@ -327,23 +347,22 @@ impl Cx<'_> {
             com_m,
             inertia_kgm2: self.req_number(&t, "inertia_kgm2", Bound::Positive, "kg·m²")?,
         };
-        let mut pct = [0.0; 2];
-        for (v, key) in pct
-            .iter_mut()
-            .zip(["mass_tolerance_pct", "inertia_tolerance_pct"])
-        {
-            *v = self
-                .opt_number(&t, key, Bound::NonNegative, "%")?
-                .unwrap_or(0.0);
-            if *v > MAX_TOLERANCE_PCT {
-                let sp = t.get(key).unwrap_or(sp);
-                let expected = "a half band of 0 to 20 [%] of the drawn value";
-                return Err(self.invalid(sp, &t.key(key), expected));
-            }
-        }
+        let expected = "a half band of 0 to 20 [%] of the drawn value";
         let tolerance = MassTolerance {
-            mass_pct: pct[0],
-            inertia_pct: pct[1],
+            mass_pct: self.half_band(
+                &t,
+                sp,
+                ("mass_tolerance_pct", "%"),
+                MAX_TOLERANCE_PCT,
+                expected,
+            )?,
+            inertia_pct: self.half_band(
+                &t,
+                sp,
+                ("inertia_tolerance_pct", "%"),
+                MAX_TOLERANCE_PCT,
+                expected,
+            )?,
         };
         Ok((panel, tolerance))
     }
@@ -371,22 +390,20 @@ impl Cx<'_> {
             Some(f) => self.friction(f, &t.key("friction"))?,
             None => FrictionSpec::default(),
         };
-        let free_play_deg = self
-            .opt_number(&t, "free_play_deg", Bound::NonNegative, "deg")?
-            .unwrap_or(0.0);
-        if free_play_deg > MAX_FREE_PLAY_DEG {
-            let sp = t.get("free_play_deg").unwrap_or(sp);
-            let expected = "a half band of free-play of at most 5 [deg]";
-            return Err(self.invalid(sp, &t.key("free_play_deg"), expected));
-        }
-        let spring_tolerance_pct = self
-            .opt_number(&t, "spring_tolerance_pct", Bound::NonNegative, "%")?
-            .unwrap_or(0.0);
-        if spring_tolerance_pct > MAX_TOLERANCE_PCT {
-            let sp = t.get("spring_tolerance_pct").unwrap_or(sp);
-            let expected = "a half band of 0 to 20 [%] of the drawn spring torque";
-            return Err(self.invalid(sp, &t.key("spring_tolerance_pct"), expected));
-        }
+        let free_play_deg = self.half_band(
+            &t,
+            sp,
+            ("free_play_deg", "deg"),
+            MAX_FREE_PLAY_DEG,
+            "a half band of free-play of at most 5 [deg]",
+        )?;
+        let spring_tolerance_pct = self.half_band(
+            &t,
+            sp,
+            ("spring_tolerance_pct", "%"),
+            MAX_TOLERANCE_PCT,
+            "a half band of 0 to 20 [%] of the drawn spring torque",
+        )?;
         Ok(JointSpec {
             stowed_deg,
             spring,
