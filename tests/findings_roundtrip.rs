@@ -212,7 +212,14 @@ fn rms(model: &[Vec<f64>], run: &[Vec<f64>], samples: usize) -> f64 {
 /// One kind through simulate, diagnose, `simulate --from --at`, `margin
 /// --from` and `reliability --from`; `Err` says what differs.
 fn round_trip(kind: EffectKind, dir: &Path) -> Result<(), String> {
-    let effect = sample(kind, 2, [0.05, 0.4, 0.3, 0.6]);
+    let mut effect = sample(kind, 2, [0.05, 0.4, 0.3, 0.6]);
+    if kind == EffectKind::RigTilt {
+        // The numbers give a tilt of 1.8 m/s², under which seed 001 T01's
+        // rig never deploys (no joint latched in 6 s) and the search
+        // spends minutes on runs no model here follows; a deploying
+        // wing's tilt is what the round trip is about.
+        effect = effect.with_value(0.1);
+    }
     let mech = wing_for(kind);
     let (run, json, model) = (
         dir.join("run.csv"),
@@ -482,7 +489,10 @@ fn simulate_diagnose_resimulate_every_kind() {
     for kind in kinds() {
         let dir: PathBuf = root.join(kind.name());
         std::fs::create_dir_all(&dir).expect("temp dir");
-        if let Err(m) = round_trip(kind, &dir) {
+        let t0 = std::time::Instant::now();
+        let r = round_trip(kind, &dir);
+        eprintln!("{kind}: {:.1} s", t0.elapsed().as_secs_f64());
+        if let Err(m) = r {
             failed.push(format!("{kind}: {m}"));
         }
     }
