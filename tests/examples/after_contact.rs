@@ -1,8 +1,7 @@
-//! The experiment behind issue 40's "an effect that acts after the first
-//! latch contact" (`docs/diagnosis.md`, "Runs of a physical latch", 4):
-//! how often `diagnose` finds a named effect on wings of four to six
-//! panels with mixed latches where the effect hardly shows before the
-//! first latch contact.
+//! How often `diagnose` finds a named effect that acts after the first
+//! latch contact (`docs/diagnosis.md`, "Runs of a physical latch", 4), on
+//! wings of four to six panels with mixed latches where the effect hardly
+//! shows before that contact.
 //!
 //! Wings of `deploywatch_tests::wing_gen` (seeds from 9301 on) with 4–6
 //! joints, no rig, half of the joints (drawn) with a physical latch and at
