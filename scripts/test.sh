@@ -10,7 +10,8 @@
 #  1. cargo fmt --check, clippy -D warnings on every target of the workspace,
 #     cargo doc -D warnings (private items too: every intra-doc link resolves;
 #     the Python extension crate left out, see the step)
-#  2. cargo test --workspace (the test profile is optimised, see Cargo.toml):
+#  2. cargo test --workspace, by cargo-nextest where the machine has it
+#     (the test profile is optimised, see Cargo.toml):
 #     unit tests, golden trajectories, paper vectors, monitor, identification,
 #     the hidden-effect diagnosis suite, black-box CLI tests; then the
 #     test-only effect of the demo-effect feature (host-sim/tests/demo_effect.rs)
@@ -70,7 +71,18 @@ step "cargo doc (-D warnings, private items: every intra-doc link resolves)"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace --exclude deploywatch-py --locked --document-private-items
 
 step "cargo test --workspace"
-cargo test --workspace --locked
+# cargo-nextest (on every machine of this kind; `cargo test` where it is
+# missing) runs every test of every binary side by side, as many at a time
+# as there are cores: `cargo test` runs the binaries one after the other,
+# and a binary whose one long test runs alone leaves the other core idle.
+# Each test runs in its own process; nextest does not run doc tests, the
+# second command does.
+if cargo nextest --version >/dev/null 2>&1; then
+    cargo nextest run --workspace --locked --no-fail-fast --final-status-level slow
+    cargo test --workspace --locked --doc
+else
+    cargo test --workspace --locked
+fi
 # The test-only named effect (feature demo-effect): one variant and its arms
 # in host-sim/src/model/effect/, simulated and diagnosed by name.
 cargo test --locked -p deploywatch-sim --features demo-effect --test demo_effect
