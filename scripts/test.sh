@@ -15,8 +15,13 @@
 #     unit tests, golden trajectories, paper vectors, monitor, identification,
 #     the hidden-effect diagnosis suite, black-box CLI tests; then the
 #     test-only effect of the demo-effect feature (host-sim/tests/demo_effect.rs)
-# Then two lanes side by side, each with its own log (target/lane-*.log,
-# printed when the lane ends): docs + Python (2a-2b) and embedded (3-5).
+# Lanes run beside that, each with its own log (target/lane-*.log, printed
+# when the lane ends):
+#  - from the start, beside steps 1-2 (they need nothing the host build
+#    makes): the embedded toolchain and the no_std proof (3), and the
+#    fuzzing (5);
+#  - after step 2: docs + Python (2a-2b), and the firmware on QEMU (4),
+#    which needs the test build's host binary and the toolchain.
 #  2a. the docs' examples (scripts/doc-examples.py): the checker's self-test,
 #     then every command shown in README.md and docs/*.md run with the
 #     binary the tests built (scripts/deploywatch-bin.py) and its shown
@@ -42,7 +47,7 @@
 #  4. the firmware under QEMU replaying every reference mechanism, checked
 #     bit-identical with the host's f32 run of the same core code
 #  5. a short run of every fuzz target on its kept corpus
-# After both lanes:
+# After the lanes:
 #  6. python/tests/test_hil.py, the Python twin of `hil`, on the firmware step
 #     4 built and the package step 2b installed (it needs both)
 set -euo pipefail
@@ -57,6 +62,41 @@ host_only=false
 # Each header gives the minutes since the start (CI's budget is per run).
 start=$SECONDS
 step() { printf '\n=== %s  [%d:%02d]\n' "$*" $(((SECONDS - start) / 60)) $(((SECONDS - start) % 60)); }
+
+# lane NAME FUNCTION: runs FUNCTION in a subshell with `set -e`, its output in
+# target/lane-NAME.log.
+lanes="$root/target"
+mkdir -p "$lanes"
+lane() { (set -euo pipefail; "$2") >"$lanes/lane-$1.log" 2>&1; }
+# A lane still running when the run stops early is stopped with it, and
+# what it started (cargo, a fuzzer) too.
+kill_tree() {
+    local child
+    for child in $(pgrep -P "$1" 2>/dev/null); do kill_tree "$child"; done
+    kill "$1" 2>/dev/null || true
+}
+early_pids=()
+trap 'for p in "${early_pids[@]}"; do kill_tree "$p"; done' EXIT
+
+toolchain_and_no_std() {
+    step "embedded toolchain"
+    bash scripts/embedded-toolchain.sh
+
+    step "no_std: deploywatch-core for thumbv7em-none-eabihf, each feature"
+    bash scripts/check-no-std.sh
+}
+
+fuzzing() {
+    step "fuzzing (short run of every target)"
+    bash scripts/fuzz.sh "${FUZZ_SECONDS:-20}"
+}
+
+if ! $host_only; then
+    step "lanes started beside the host checks: embedded toolchain + no_std, fuzzing (logs in target/lane-*.log)"
+    lane toolchain toolchain_and_no_std & toolchain_pid=$!
+    lane fuzz fuzzing & fuzz_pid=$!
+    early_pids=("$toolchain_pid" "$fuzz_pid")
+fi
 
 step "format"
 cargo fmt --all -- --check
@@ -87,11 +127,11 @@ fi
 # in host-sim/src/model/effect/, simulated and diagnosed by name.
 cargo test --locked -p deploywatch-sim --features demo-effect --test demo_effect
 
-# After cargo test, two lanes run side by side, each on its own log: the
-# docs and Python (mostly one process at a time: the shown commands, pytest)
-# and the embedded checks (toolchain, no_std, firmware on QEMU, fuzzing).
-# Each lane stops at its first failure; the run fails if either does, and
-# prints each lane's log when it ends.
+# After cargo test, two more lanes run side by side, each on its own log:
+# the docs and Python (mostly one process at a time: the shown commands,
+# pytest) and the firmware on QEMU (it needs the toolchain lane's QEMU and
+# the test build's host binary). Each lane stops at its first failure; the
+# run fails if any does, and prints each lane's log when it ends.
 docs_and_python() {
     step "docs: every shown command run, its output compared"
     python3 scripts/doc-examples.py --self-test
@@ -109,7 +149,7 @@ docs_and_python() {
     bash scripts/python-env.sh
     # pytest exits 5 when it collects no test: a failure here, like any other.
     # test_hil.py needs the serial-link firmware the other lane builds: it
-    # runs whole after both lanes (step 6), never racing that build.
+    # runs whole after the lanes (step 6), never racing that build.
     .venv/bin/pytest python/tests -q --ignore=python/tests/test_hil.py || { rc=$?; [ "$rc" = 5 ] && echo "pytest collected no test"; return "$rc"; }
     # The types: the package's own sources, then a program using the installed
     # package (its py.typed and stubs; run from a folder without the sources).
@@ -117,20 +157,11 @@ docs_and_python() {
     (cd python/tests/typed && "$root/.venv/bin/mypy" --strict --cache-dir "$root/target/mypy" usage.py)
 }
 
-embedded() {
-    step "embedded toolchain"
-    bash scripts/embedded-toolchain.sh
-
-    step "no_std: deploywatch-core for thumbv7em-none-eabihf, each feature"
-    bash scripts/check-no-std.sh
-
+firmware() {
     step "firmware on QEMU: replay and bit-exact comparison"
-    # The Python twin of `hil` runs after both lanes (step 6): the other
-    # lane may still be making .venv.
+    # The Python twin of `hil` runs after the lanes (step 6): the docs lane
+    # may still be making .venv.
     DW_HIL_PYTHON=0 bash scripts/firmware.sh test
-
-    step "fuzzing (short run of every target)"
-    bash scripts/fuzz.sh "${FUZZ_SECONDS:-20}"
 }
 
 if $host_only; then
@@ -139,21 +170,25 @@ if $host_only; then
     exit 0
 fi
 
-# lane NAME FUNCTION: runs FUNCTION in a subshell with `set -e`, its output in
-# target/lane-NAME.log.
-lanes="$root/target"
-mkdir -p "$lanes"
-lane() { (set -euo pipefail; "$2") >"$lanes/lane-$1.log" 2>&1; }
-step "two lanes: docs + Python, and embedded + firmware + fuzzing (logs in target/lane-*.log)"
-lane docs docs_and_python & docs_pid=$!
-lane embedded embedded & embedded_pid=$!
 failed=()
-for name in docs embedded; do
-    pid_var=${name}_pid
-    if wait "${!pid_var}"; then status=passed; else status=FAILED; failed+=("$name"); fi
-    printf '\n----- lane %s: %s -----\n' "$name" "$status"
-    cat "$lanes/lane-$name.log"
-done
+# finish NAME PID: waits for lane NAME, prints its log, notes a failure.
+finish() {
+    local status
+    if wait "$2"; then status=passed; else status=FAILED; failed+=("$1"); fi
+    printf '\n----- lane %s: %s -----\n' "$1" "$status"
+    cat "$lanes/lane-$1.log"
+}
+finish toolchain "$toolchain_pid"
+step "two lanes: docs + Python, and firmware on QEMU (logs in target/lane-*.log)"
+lane docs docs_and_python & docs_pid=$!
+firmware_pid=
+if [ ${#failed[@]} -eq 0 ]; then
+    lane firmware firmware & firmware_pid=$!
+fi
+finish docs "$docs_pid"
+[ -z "$firmware_pid" ] || finish firmware "$firmware_pid"
+finish fuzz "$fuzz_pid"
+early_pids=()
 [ ${#failed[@]} -eq 0 ] || { echo; echo "FAILED lane(s): ${failed[*]}"; exit 1; }
 
 step "Python twin of hil: the serial-link firmware under QEMU from deploywatch.hil"
