@@ -116,13 +116,14 @@ step "cargo test --workspace"
 # as there are cores: `cargo test` runs the binaries one after the other,
 # and a binary whose one long test runs alone leaves the other core idle.
 # Each test runs in its own process; nextest does not run doc tests, the
-# second command does.
+# second command does. The examples (measurements for docs/measured.md)
+# are not built here: clippy above checks every one of them.
 if cargo nextest --version >/dev/null 2>&1; then
-    cargo nextest run --workspace --locked --no-fail-fast --final-status-level slow
-    cargo test --workspace --locked --doc
+    cargo nextest run --workspace --locked --no-fail-fast --final-status-level slow --lib --bins --tests
 else
-    cargo test --workspace --locked
+    cargo test --workspace --locked --lib --bins --tests
 fi
+cargo test --workspace --locked --doc
 # The test-only named effect (feature demo-effect): one variant and its arms
 # in host-sim/src/model/effect/, simulated and diagnosed by name.
 cargo test --locked -p deploywatch-sim --features demo-effect --test demo_effect

@@ -216,8 +216,8 @@ fn round_trip(kind: EffectKind, dir: &Path) -> Result<(), String> {
     // The numbers give the rig's kinds 1.8 of their unit: a tilt of
     // 1.8 m/s², under which seed 001 T01's rig never deploys, a wire
     // length and a frame offset of -1.8 m — runs no model here follows,
-    // which the search spends minutes on. The round trip is about a rig as tested:
-    // each at a size of the hidden-set suite's campaigns
+    // which the search spends minutes on. The round trip is about a rig
+    // as tested: each at a size of the hidden-set suite's campaigns
     // (`tests/diagnosis_rig.rs`).
     let effect = match kind {
         EffectKind::RigTilt => effect.with_value(0.1),

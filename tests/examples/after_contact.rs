@@ -18,10 +18,9 @@
 //!   as many times with the effect as without it. Where the counts differ,
 //!   the effect changed which impacts happen (a rebound more or less at a
 //!   plunger), and the 0.3° is that split of the runs, not the effect's
-//!   torque: the effect at half or a quarter of its value then moves the
-//!   runs as much or more, as any other small change would (a
-//!   restitution, a latch within its tolerances), and no diagnosis can
-//!   name its cause. The row gives how many draws were left out so.
+//!   torque: any other small change (a restitution, a latch within its
+//!   tolerances) splits them the same way, and no diagnosis can name its
+//!   cause. The row gives how many draws were left out so.
 //!
 //! Counted in each row: the effect claimed at its joint within 20 % with
 //! nothing else claimed (found); claimed at its joint at all; another kind
