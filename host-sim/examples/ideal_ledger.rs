@@ -20,7 +20,6 @@ use deploywatch_sim::deployment::MAX_LEDGER_DRIFT;
 use deploywatch_sim::reliability::mc::draw;
 use deploywatch_sim::reliability::{Problem, VERDICT_LEDGER_DRIFT};
 use rayon::prelude::*;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[path = "common/reliability_case.rs"]
@@ -52,31 +51,13 @@ fn failed(margins: &[f64]) -> bool {
 }
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let draws: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(20_000);
-    let (path, vary) = match args.get(1) {
-        Some(mech) => (PathBuf::from(mech), args[2..].to_vec()),
-        None => (
-            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(case::T01),
-            case::T01_VARY.iter().map(|v| v.to_string()).collect(),
-        ),
-    };
-    let problem = match case::problem(&path, &vary) {
-        Ok(p) if !p.vary.is_empty() && !p.mech.has_physical_latch() => p,
-        Ok(_) => {
-            eprintln!(
-                "ideal_ledger: a mechanism with ideal latches only and at least one law to vary"
-            );
-            return ExitCode::from(2);
-        }
+    let (problem, draws, name) = match case::ideal_from_args(20_000) {
+        Ok(p) => p,
         Err(e) => {
             eprintln!("ideal_ledger: {e}");
             return ExitCode::from(2);
         }
     };
-    let name = path
-        .file_stem()
-        .map_or(String::new(), |s| s.to_string_lossy().into_owned());
     let xs: Vec<Vec<f64>> = (0..draws as u64)
         .map(|i| problem.x_of(&draw(0, 0, i, problem.vary.len())))
         .collect();

@@ -247,7 +247,7 @@ pub mod table_export {
 /// The probability that a deployment fails.
 pub mod reliability {
     pub use crate::analysis::reliability::{
-        Param, Problem, ReliabilityError, VERDICT_LEDGER_DRIFT,
+        verdict_options, Param, Problem, ReliabilityError, VERDICT_LEDGER_DRIFT,
     };
     pub use crate::simulate::latch_deployment::Keep;
     /// The method chosen and its result.

@@ -12,7 +12,7 @@
 //! its [`step_budget`] is taken again shorter.
 
 use crate::model::torque_table::HostChain;
-use crate::simulate::latch_run::{step_budget, LEDGER_MIN_STEP_S};
+use crate::simulate::latch_run::{ledger_step_factor, step_budget, LEDGER_MIN_STEP_S};
 use crate::simulate::ode::{Dense, State};
 #[cfg(doc)]
 use crate::simulate::trajectory::MAX_LEDGER_DRIFT;
@@ -43,6 +43,26 @@ pub struct ChainLedger {
     pub duration_s: f64,
     /// The run's tolerance ([`SimOptions::max_drift`]).
     pub max_drift: f64,
+    /// The last step refused was cut at an event and is being taken again
+    /// up to it ([`ChainLedger::book`]).
+    pub to_event: bool,
+}
+
+/// What the ledger's booking of a step asks of the next attempt.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Booking {
+    /// Booked; the next step is at most `cap` \[s\] (the ledger's own
+    /// size, [`ledger_step_factor`]; unbounded after a step under
+    /// [`LEDGER_MIN_STEP_S`] booked over its budget).
+    Kept {
+        /// The longest next step \[s\].
+        cap: f64,
+    },
+    /// Not booked: the step is to be taken again, `h` \[s\] long.
+    Retake {
+        /// The step to try \[s\].
+        h: f64,
+    },
 }
 
 impl ChainLedger {
@@ -63,12 +83,15 @@ impl ChainLedger {
     }
 
     /// Books the work of the non-conservative torques over the step ending
-    /// at `t1` in the state `y1` (joints free in `mode`). False when the
-    /// drift moved by more than its [`step_budget`] over the step and it is
-    /// longer than [`LEDGER_MIN_STEP_S`]: the step is to be
-    /// taken again, shorter (the ledger as before). An error naming the
-    /// joint whose work over the step was largest when the drift exceeds
-    /// the run's tolerance ([`SimOptions::max_drift`]).
+    /// at `t1` in the state `y1` (joints free in `mode`), and returns
+    /// whether it was booked with the ratio of the drift's move over the
+    /// step to its [`step_budget`] (the step's size for the ledger:
+    /// [`ledger_step_factor`]).
+    /// Not booked when that ratio is over 1 and the step is longer than
+    /// [`LEDGER_MIN_STEP_S`]: the step is to be taken again, shorter (the
+    /// ledger as before). An error naming the joint whose work over the
+    /// step was largest when the drift exceeds the run's tolerance
+    /// ([`SimOptions::max_drift`]).
     pub fn step<const N: usize>(
         &mut self,
         chain: &HostChain<N>,
@@ -76,7 +99,7 @@ impl ChainLedger {
         dense: &Dense<N>,
         t1: f64,
         y1: &State<N>,
-    ) -> Result<bool, SimError> {
+    ) -> Result<(bool, f64), SimError> {
         let h = t1 - dense.t0;
         let mut trial = *self;
         let mut work = [0.0; N];
@@ -101,8 +124,9 @@ impl ChainLedger {
         let energy = state_energy(chain, y1);
         let now = energy + trial.dissipated_j + trial.events_j - self.stored_j;
         let budget = step_budget(self.stored_j, h, self.duration_s, self.max_drift);
-        if (now - self.now_j).abs() > budget && h > LEDGER_MIN_STEP_S {
-            return Ok(false);
+        let ratio = (now - self.now_j).abs() / budget;
+        if ratio > 1.0 && h > LEDGER_MIN_STEP_S {
+            return Ok((false, ratio));
         }
         *self = trial;
         let joint = (0..N).fold(0, |b, j| if work[j] > work[b] { j } else { b });
@@ -112,7 +136,44 @@ impl ChainLedger {
                 dense.t0
             )
         })?;
-        Ok(true)
+        Ok((true, ratio))
+    }
+
+    /// [`ChainLedger::step`] over the step from `dense.t0` to `t_end`, in
+    /// the state `y_end` there (`cut`: the step was cut at an event), and
+    /// the size of the next attempt. A step the ledger refuses is taken
+    /// again as short as its drift asks ([`ledger_step_factor`]), except a
+    /// step cut at an event: it is taken again once up to the event, so
+    /// that its stages stay on this side of it (beyond a latch the spring's
+    /// torque `−sign(φ)·T(|φ|)` is the curve's mirror, whose derivatives
+    /// jump there).
+    /// A step booked caps the next at the ledger's size.
+    pub fn book<const N: usize>(
+        &mut self,
+        chain: &HostChain<N>,
+        mode: &Mode<N>,
+        dense: &Dense<N>,
+        (t_end, y_end): (f64, &State<N>),
+        cut: bool,
+    ) -> Result<Booking, SimError> {
+        let (booked, ratio) = self.step(chain, mode, dense, t_end, y_end)?;
+        let ledger_h = (t_end - dense.t0) * ledger_step_factor(ratio);
+        if !booked {
+            let retake_to_event = cut && !self.to_event;
+            self.to_event = retake_to_event;
+            let h = match retake_to_event {
+                true => t_end - dense.t0,
+                false => ledger_h,
+            };
+            return Ok(Booking::Retake { h });
+        }
+        self.to_event = false;
+        let cap = if ratio <= 1.0 {
+            ledger_h
+        } else {
+            f64::INFINITY
+        };
+        Ok(Booking::Kept { cap })
     }
 
     /// Books what an event of joint `joint` (1-based) at `t` took from the

@@ -12,10 +12,11 @@
 use crate::model::effect::{self, Effect};
 use crate::model::mechanism::{with_joints, Mechanism, MAX_CHAIN_JOINTS};
 use crate::model::torque_table::HostChain;
-use crate::simulate::chain_ledger::{self, ChainLedger};
+use crate::simulate::chain_ledger::{self, Booking, ChainLedger};
+use crate::simulate::chain_sampler::Sampler;
 use crate::simulate::ode::{self, locate, State};
+use crate::simulate::spring_knots::{self, Knots};
 use crate::simulate::stowed::StowedWatch;
-use crate::simulate::trajectory::SAMPLE_TIME_SLACK_S;
 pub use crate::simulate::trajectory::{
     Samples, SimError, SimOptions, SimStats, Trajectory, MAX_SAMPLES, MAX_STEPS,
 };
@@ -157,13 +158,16 @@ enum Event {
     Branch(usize),
     /// A stuck joint's holding torque leaves its band (`physics.md` §4a).
     Slip(usize),
+    /// `|φ_j|` reaches a knot of its spring's curve on its branch
+    /// ([`spring_knots`]): the step ends there, nothing else happens.
+    Knot(usize),
 }
 
 impl Event {
     /// The joint (0-based).
     fn joint(self) -> usize {
         match self {
-            Event::Latch(j) | Event::Branch(j) | Event::Slip(j) => j,
+            Event::Latch(j) | Event::Branch(j) | Event::Slip(j) | Event::Knot(j) => j,
         }
     }
 }
@@ -176,14 +180,31 @@ struct Integrator<'a, const N: usize> {
     side: [f64; N],
     /// Where each joint's branch matters \[rad\] (`None`: no hysteresis).
     hyst: [Option<f64>; N],
-    /// The step-size controller ([`ode::CHAIN_CONTROL`]).
+    /// The step-size controller ([`ode::PI_CONTROL`]).
     step_control: ode::StepController,
     /// Joints held by the stick rule (`physics.md` §4a).
     stuck: [bool; N],
+    /// The piece of each joint's spring curve `|φ|` is on (its knots
+    /// below and above \[rad\]), for [`Event::Knot`].
+    piece: [(f64, f64); N],
     evaluations: usize,
 }
 
 impl<const N: usize> Integrator<'_, N> {
+    /// The derivative at `y`, time `t`, where a step ended on a knot of a
+    /// spring's curve, each joint's piece found again.
+    fn next_piece(&mut self, y: &State<N>, t: f64) -> Result<State<N>, SimError> {
+        self.find_pieces(y);
+        self.deriv(y).ok_or(SimError::Singular { t_s: t })
+    }
+
+    /// Finds the piece of each joint's spring curve at `y` on its branch.
+    fn find_pieces(&mut self, y: &State<N>) {
+        for (j, jt) in self.chain.joints().iter().enumerate() {
+            self.piece[j] = Knots::of(&jt.spring, self.mode.branch[j]).around(y.q[j].abs());
+        }
+    }
+
     /// The mode with the stuck joints held like latched ones.
     fn held(&self) -> Mode<N> {
         let mut m = self.mode;
@@ -271,6 +292,7 @@ impl<const N: usize> Integrator<'_, N> {
         match ev {
             Event::Latch(j) => self.side[j] * y.q[j],
             Event::Slip(j) => self.holding(j, y).map_or(-1.0, |(r, b)| b.margin(r)),
+            Event::Knot(j) => spring_knots::inside(y.q[j].abs(), self.piece[j]),
             Event::Branch(j) => {
                 let opening = -self.side[j] * y.v[j];
                 match self.mode.branch[j] {
@@ -304,6 +326,10 @@ impl<const N: usize> Integrator<'_, N> {
                 // A swing through φ = 0: a latch, or with latching off a kink
                 // of the spring's preload to restart at.
                 out.push(Event::Latch(j));
+            }
+            let knot = Event::Knot(j);
+            if self.g(knot, y0) > 0.0 && self.g(knot, y1) <= 0.0 {
+                out.push(knot);
             }
             if let Some(below) = self.hyst[j] {
                 let want = if -self.side[j] * y1.v[j] > 0.0 {
@@ -365,11 +391,7 @@ pub fn run_chain<const N: usize>(
     let (mut it, mut y) = Integrator::at_rest(chain);
     let mut ledger = ChainLedger::start(chain, &y, duration, opts);
     let mut watch = StowedWatch::new(chain);
-    let mut out = Sampler {
-        times,
-        k: 0,
-        out: Trajectory::with_joints(N),
-    };
+    let mut out = Sampler::new(times, N);
     out.push_while(|tk| tk <= 0.0, |_| y, &it.mode.latched)?;
 
     let mut t = 0.0;
@@ -394,28 +416,35 @@ pub fn run_chain<const N: usize>(
         // event instant itself is taken after the event is applied.
         let cut = first.is_some();
         let y_end = if cut { att.dense.at(t_end) } else { att.y1 };
-        if !ledger.step(it.chain, &it.mode, &att.dense, t_end, &y_end)? {
-            h = out.out.stats.retake(t_end - t);
-            continue;
-        }
+        let cap = match ledger.book(it.chain, &it.mode, &att.dense, (t_end, &y_end), cut)? {
+            Booking::Kept { cap } => cap,
+            Booking::Retake { h: next } => {
+                out.out.stats.retake(t_end - t);
+                h = next;
+                continue;
+            }
+        };
         watch.step(&att.dense, t, t_end, &it.mode.latched);
         out.push_while(
             |tk| if cut { tk < t_end } else { tk <= t_end },
             |tk| att.dense.at(tk),
             &it.mode.latched,
         )?;
+        if let Some(Event::Knot(_)) = first {
+            // The curve's next piece: the torque is continuous, the step
+            // size stands (only the derivative is evaluated again).
+            (t, y) = (t_end, y_end);
+            k1 = it.next_piece(&y, t)?;
+            continue;
+        }
         let Some(ev) = first else {
             (t, y, k1) = (t1, att.y1, att.k7);
-            h = it.step_control.accept(h, att.err);
+            h = it.step_control.accept(h, att.err).min(cap);
             events.same_instant = 0;
             continue;
         };
         out.out.stats.events += 1;
-        events.same_instant = if (t_end - t).abs() < SAME_INSTANT_S {
-            events.same_instant + 1
-        } else {
-            0
-        };
+        events.event(t, t_end);
         y = y_end;
         let before = chain_ledger::state_energy(it.chain, &y);
         done = it.apply_event(ev, &mut y, t_end, opts, &mut events, &mut out.out)?;
@@ -433,81 +462,6 @@ pub fn run_chain<const N: usize>(
     Ok(out.out)
 }
 
-/// The output: the trajectory and the next sample time to fill.
-struct Sampler<'t> {
-    times: Samples<'t>,
-    k: usize,
-    out: Trajectory,
-}
-
-impl Sampler<'_> {
-    /// Appends one sample (latched joints at 0, at rest).
-    fn push<const N: usize>(
-        &mut self,
-        t: f64,
-        s: &State<N>,
-        latched: &[bool; N],
-    ) -> Result<(), SimError> {
-        if self.out.t_s.len() >= MAX_SAMPLES {
-            return Err(SimError::TooManySamples { t_s: t });
-        }
-        self.out.t_s.push(t);
-        for j in 0..N {
-            let (q, v) = if latched[j] {
-                (0.0, 0.0)
-            } else {
-                (s.q[j], s.v[j])
-            };
-            self.out.phi_deg[j].push(q.to_degrees());
-            self.out.rate_deg_s[j].push(v.to_degrees());
-            self.out.latched[j].push(latched[j]);
-        }
-        Ok(())
-    }
-
-    /// Appends the next samples while `inside(t_k)`, the state at `t_k`
-    /// given by `state`.
-    fn push_while<const N: usize>(
-        &mut self,
-        inside: impl Fn(f64) -> bool,
-        state: impl Fn(f64) -> State<N>,
-        latched: &[bool; N],
-    ) -> Result<(), SimError> {
-        while let Some(tk) = self.times.get(self.k).filter(|&tk| inside(tk)) {
-            self.push(tk, &state(tk), latched)?;
-            self.k += 1;
-        }
-        Ok(())
-    }
-
-    /// Closes the run at time `t`, state `y`. Deployed (`done`): the first
-    /// sample at or after the last latch, then `settle_s` more of the
-    /// deployed state (every joint latched: nothing moves), or with
-    /// `stop_when_deployed` off the deployed state to the last sample. Not
-    /// deployed: the samples left up to `t`.
-    fn close<const N: usize>(
-        &mut self,
-        t: f64,
-        y: &State<N>,
-        latched: &[bool; N],
-        done: bool,
-        opts: &SimOptions,
-    ) -> Result<(), SimError> {
-        if !done {
-            return self.push_while(|tk| tk <= t + SAMPLE_TIME_SLACK_S, |_| *y, latched);
-        }
-        let Some(first) = self.times.get(self.k) else {
-            return Ok(());
-        };
-        let end = if opts.stop_when_deployed {
-            first + opts.settle_s.unwrap_or(0.0) + SAMPLE_TIME_SLACK_S
-        } else {
-            f64::INFINITY
-        };
-        self.push_while(|tk| tk <= end, |_| *y, latched)
-    }
-}
-
 /// Events of the run so far that decide whether a joint slides on `φ̇ = 0`.
 struct EventLog<const N: usize> {
     /// Consecutive events at the same instant.
@@ -523,6 +477,16 @@ impl<const N: usize> EventLog<N> {
             same_instant: 0,
             burst: [(f64::NEG_INFINITY, 0usize); N],
         }
+    }
+
+    /// Records an event at `t_end` of a step from `t`: a run of events at
+    /// one instant grows.
+    fn event(&mut self, t: f64, t_end: f64) {
+        self.same_instant = if (t_end - t).abs() < SAME_INSTANT_S {
+            self.same_instant + 1
+        } else {
+            0
+        };
     }
 
     /// Records a branch event of joint `j` at `t`; an error when the joint
@@ -553,8 +517,9 @@ impl<'a, const N: usize> Integrator<'a, N> {
             mode: Mode::default(),
             side: [0.0; N],
             hyst: [None; N],
-            step_control: ode::StepController::new(ode::CHAIN_CONTROL),
+            step_control: ode::StepController::new(ode::PI_CONTROL),
             stuck: [false; N],
+            piece: [(f64::NEG_INFINITY, f64::INFINITY); N],
             evaluations: 0,
         };
         let mut y = State::<N>::ZERO;
@@ -566,6 +531,7 @@ impl<'a, const N: usize> Integrator<'a, N> {
         for j in 0..N {
             it.mode.branch[j] = it.choose_branch(&y, j);
         }
+        it.find_pieces(&y);
         (it, y)
     }
 
@@ -617,7 +583,7 @@ impl<'a, const N: usize> Integrator<'a, N> {
             // rate does there.
             let earlier = match ev {
                 Event::Latch(_) => te <= t_end,
-                Event::Branch(_) | Event::Slip(_) => te < t_end - SAME_INSTANT_S,
+                Event::Branch(_) | Event::Slip(_) | Event::Knot(_) => te < t_end - SAME_INSTANT_S,
             };
             if first.is_none() || earlier {
                 t_end = te;
@@ -639,7 +605,11 @@ impl<'a, const N: usize> Integrator<'a, N> {
         out: &mut Trajectory,
     ) -> Result<bool, SimError> {
         match ev {
-            Event::Latch(_) if opts.latching => return self.latch(ye, t_e, out),
+            Event::Latch(_) if opts.latching => {
+                let done = self.latch(ye, t_e, out)?;
+                self.find_pieces(ye);
+                return Ok(done);
+            }
             Event::Latch(j) => {
                 // Latching off: restart on the other side of the kink.
                 self.side[j] = -self.side[j];
@@ -658,7 +628,10 @@ impl<'a, const N: usize> Integrator<'a, N> {
                 self.stuck[j] = false;
                 self.mode.branch[j] = deploywatch_core::Branch::select(ye.q[j], dir);
             }
+            // The next piece of the spring's curve (found below).
+            Event::Knot(_) => {}
         }
+        self.find_pieces(ye);
         Ok(false)
     }
 

@@ -6,6 +6,7 @@
 //! itself and hands a truss wing to [`truss_deployment`] (the multibody
 //! simulator of [`multibody`]); both fill a [`trajectory::Trajectory`].
 pub mod chain_ledger;
+pub(crate) mod chain_sampler;
 pub mod deployment;
 pub mod fault_injection;
 pub mod fault_syntax;
@@ -16,6 +17,7 @@ pub mod ode;
 pub mod rig;
 pub mod rig_ode;
 pub mod sensor;
+pub mod spring_knots;
 pub mod stowed;
 pub mod trajectory;
 pub mod truss_deployment;

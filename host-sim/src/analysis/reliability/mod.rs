@@ -424,7 +424,7 @@ impl Problem {
 /// latch rate is needed (`rate`); its ledger held to
 /// [`VERDICT_LEDGER_DRIFT`] with ideal latches, to [`MAX_LEDGER_DRIFT`]
 /// with physical ones.
-fn verdict_options(mech: &Mechanism, end: f64, rate: bool) -> SimOptions {
+pub fn verdict_options(mech: &Mechanism, end: f64, rate: bool) -> SimOptions {
     let max_drift = match mech.has_physical_latch() {
         true => MAX_LEDGER_DRIFT,
         false => VERDICT_LEDGER_DRIFT,

@@ -52,7 +52,7 @@ impl Runner<'_> {
         let mut t = 0.0;
         let mut k1 = sim.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
         let mut h = ode::INITIAL_STEP_S.min(opts.max_step_s);
-        let mut control = ode::StepController::new(ode::CHAIN_CONTROL);
+        let mut control = ode::StepController::new(ode::ELEMENTARY_CONTROL);
         while t < duration {
             h = h.min(opts.max_step_s).min(duration - t);
             if h < ode::MIN_STEP_S {

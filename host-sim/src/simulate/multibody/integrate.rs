@@ -285,7 +285,7 @@ impl<'a, const N: usize> Runner<'a, N> {
         let mut k1 = self.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
         let mut h = ode::INITIAL_STEP_S.min(self.opts.max_step_s);
         let mut done = m0 == 0;
-        let mut ctl = ode::StepController::new(ode::TRUSS_CONTROL);
+        let mut ctl = ode::StepController::new(ode::PI_CONTROL);
         while !done && t < duration {
             h = h.min(self.opts.max_step_s).min(duration - t);
             if h < ode::MIN_STEP_S {
