@@ -451,7 +451,7 @@ pub fn differences_words(f: &LatchFinding) -> String {
 fn undecided_words(f: &LatchFinding) -> String {
     let runs = f.measured.len();
     format!(
-        "outside the drawing's spread but within what chance gives over {runs} run(s): {}; these runs cannot tell this latch from the drawing's within its tolerances (more runs of the wing would)",
+        "outside the drawing's spread but within a reading's margin over {runs} run(s): {}; these runs cannot tell this latch from the drawing's within its tolerances (more runs of the wing would)",
         f.undecided
             .iter()
             .map(difference_words)
@@ -584,8 +584,9 @@ mod tests {
 
     #[test]
     fn escapes_outside_the_printed_spread_are_never_as_the_drawing() {
-        // A new user's 50 % plunger: 23 escapes against 11–17 printed.
-        let f = finding(23, [11, 17]);
+        // One escape beyond the most of the drawing's spread: a reading's
+        // margin, neither a finding nor the drawing.
+        let f = finding(18, [11, 17]);
         assert!(f.differs.is_empty(), "{:?}", f.differs);
         assert_eq!(f.undecided.len(), 1);
         let line = latch_line(&f);
@@ -598,11 +599,18 @@ mod tests {
     }
 
     #[test]
-    fn escapes_far_beyond_the_spread_name_a_latch_that_holds_less() {
-        let f = finding(40, [11, 17]);
+    fn escapes_beyond_the_spread_name_a_latch_that_holds_less() {
+        // A new user's 50 % plunger: 23 escapes against 11–17 printed.
+        let f = finding(23, [11, 17]);
         assert_eq!(f.cause, Some(LatchCause::HoldsLess));
         assert!(f.undecided.is_empty());
         assert!(latch_line(&f).contains("differs from the drawing"));
+    }
+
+    #[test]
+    fn fewer_escapes_than_the_spread_name_a_latch_that_holds_more() {
+        assert!(finding(10, [11, 17]).cause.is_none());
+        assert_eq!(finding(9, [11, 17]).cause, Some(LatchCause::HoldsMore));
     }
 
     #[test]

@@ -23,7 +23,8 @@
 //!
 //! A named effect whose value the fit's ordinary interval, so widened,
 //! does not hold clear of zero (a torque table: its knots together,
-//! [`table_clearance`]) is one the tolerances alone could make: it
+//! [`table_clearance`]; a spring softening: clear of its joint's declared
+//! spring band, [`within_spring_band`]) is one the tolerances alone could make: it
 //! is taken out of the set (the least clear first, the rest refitted, the
 //! shares computed again) and reported as such, not claimed ([`settle`]).
 
@@ -31,6 +32,7 @@ use super::outcome::{FittedEffect, FittedSet, ToleranceShare, WithinTolerance};
 use super::Engine;
 use crate::analysis::fit::Z_975;
 use crate::data::campaign::Campaign;
+use crate::model::effect::EffectKind;
 use rayon::prelude::*;
 
 /// A declared property of a mechanism, 0-based.
@@ -239,12 +241,49 @@ fn table_clearance(params: &[f64], widened: &[[f64; 2]]) -> f64 {
     (stat / chi2_95(params.len())).sqrt()
 }
 
+/// The spring tolerance every run's mechanism declares at joint `joint`
+/// (1-based), as a fraction: the least of them; `None` where a run's
+/// mechanism declares none there.
+fn spring_band(campaign: &Campaign, joint: usize) -> Option<f64> {
+    campaign
+        .runs
+        .iter()
+        .map(|r| {
+            let pct = r
+                .mechanism
+                .joints
+                .get(joint.checked_sub(1)?)?
+                .spring_tolerance_pct;
+            (pct > 0.0).then_some(pct / 100.0)
+        })
+        .try_fold(f64::INFINITY, |least, b| Some(least.min(b?)))
+        .filter(|b| b.is_finite())
+}
+
+/// A spring softening `s` at a joint whose drawing declares its spring's
+/// torque within `±b` is that spring built at `1 − s` of its drawing
+/// (physics.md: the softening scales the spring's torque by `1 − s`): where
+/// its interval, widened by its share, meets `[−b, b]`, the wing as built
+/// within its drawing makes it exactly. How far its value stands beyond
+/// the band, over the band (`Some`, ≤ 1 inside it); `None` clear of it.
+fn within_spring_band(m: &FittedEffect, widened: &[[f64; 2]], band: f64) -> Option<f64> {
+    let probe = FittedEffect {
+        ci95_search: Some(widened.to_vec()),
+        ..m.clone()
+    };
+    let [lo, hi] = probe.search_value_ci();
+    let value = m.params.first()?.abs();
+    (lo <= band && hi >= -band).then_some(value / band)
+}
+
 /// How far a named effect stands clear of what the tolerances alone could
 /// make of it, with the fit's ordinary interval widened by `1.96 u` per
 /// parameter: its value over its 95 % half band
-/// ([`FittedEffect::clear_of_zero`]'s test on it), or a torque table's
-/// knots together ([`table_clearance`]); `None` for an effect clear of it.
-fn within_share(m: &FittedEffect, share: &ToleranceShare) -> Option<f64> {
+/// ([`FittedEffect::clear_of_zero`]'s test on it), a spring softening's
+/// value against its joint's declared spring band (`spring_band`,
+/// [`within_spring_band`]), or a torque table's knots together
+/// ([`table_clearance`]); `None` for an effect clear of it.
+fn within_share(m: &FittedEffect, share: &ToleranceShare, spring_band: Option<f64>) -> Option<f64> {
     let ci = m.ci95_search.as_ref()?;
     let widened: Vec<[f64; 2]> = ci
         .iter()
@@ -255,6 +294,11 @@ fn within_share(m: &FittedEffect, share: &ToleranceShare) -> Option<f64> {
     if m.candidate.table.is_some() {
         let clearance = table_clearance(&m.params, &widened);
         return (clearance <= 1.0).then_some(clearance);
+    }
+    if let (EffectKind::SpringSoftening, Some(band)) = (m.candidate.kind, spring_band) {
+        if let Some(c) = within_spring_band(m, &widened, band) {
+            return Some(c);
+        }
     }
     let probe = FittedEffect {
         ci95_search: Some(widened),
@@ -298,7 +342,10 @@ pub(super) fn settle(eng: &Engine<'_>, found: FittedSet) -> Settled {
             .members
             .iter()
             .enumerate()
-            .filter_map(|(k, m)| Some((k, within_share(m, shares.get(k)?)?)))
+            .filter_map(|(k, m)| {
+                let band = m.candidate.joint.and_then(|j| spring_band(eng.campaign, j));
+                Some((k, within_share(m, shares.get(k)?, band)?))
+            })
             .min_by(|a, b| a.1.total_cmp(&b.1));
         let Some((k, _)) = weakest else {
             return Settled {
@@ -338,6 +385,41 @@ pub(super) fn settle(eng: &Engine<'_>, found: FittedSet) -> Settled {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The candidate of a spring softening at joint 1.
+    fn at_joint_1() -> crate::analysis::diagnose::Candidate {
+        crate::analysis::diagnose::Candidate {
+            kind: EffectKind::SpringSoftening,
+            joint: Some(1),
+            table: None,
+        }
+    }
+
+    /// A spring softening at joint 1 of value `s` with the interval `ci`.
+    fn softening(s: f64, ci: [f64; 2]) -> FittedEffect {
+        FittedEffect {
+            ci95_search: Some(vec![ci]),
+            ..FittedEffect::start(at_joint_1(), vec![s])
+        }
+    }
+
+    #[test]
+    fn a_softening_within_the_declared_spring_band_is_the_spring_as_built() {
+        let share = ToleranceShare {
+            candidate: at_joint_1(),
+            effect: String::new(),
+            sd: vec![0.001],
+            largest: String::new(),
+        };
+        // 1.95 % with a narrow interval, clear of zero, within a ±2 % band.
+        let m = softening(0.0195, [0.0180, 0.0210]);
+        assert!(within_share(&m, &share, None).is_none());
+        let c = within_share(&m, &share, Some(0.02)).expect("within the band");
+        assert!((c - 0.975).abs() < 1e-9, "{c}");
+        // 5 % is beyond it, whatever the band's share.
+        let m = softening(0.05, [0.047, 0.053]);
+        assert!(within_share(&m, &share, Some(0.02)).is_none());
+    }
 
     #[test]
     fn the_chi2_quantile_is_within_a_per_cent() {

@@ -295,8 +295,8 @@ pub struct LatchReport {
     pub hold_deceleration_deg_s2: Option<[Option<f64>; 3]>,
     /// What differs from the drawing (empty: nothing its tolerances do not give).
     pub differs: Vec<String>,
-    /// Statistics outside the drawing's spread but within what chance
-    /// gives over the runs: the runs cannot tell (left out when none).
+    /// Statistics outside the drawing's spread but within a reading's
+    /// margin of it: the runs cannot tell (left out when none).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub undecided: Vec<String>,
     /// What that says of the latch as built.
