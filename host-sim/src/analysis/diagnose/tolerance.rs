@@ -241,6 +241,19 @@ fn table_clearance(params: &[f64], widened: &[[f64; 2]]) -> f64 {
     (stat / chi2_95(params.len())).sqrt()
 }
 
+/// The fit's ordinary interval of each of `m`'s parameters, each side
+/// widened by `1.96 u` (its share) in quadrature ([`widen_side`]).
+fn widened(m: &FittedEffect, share: &ToleranceShare) -> Option<Vec<[f64; 2]>> {
+    let ci = m.ci95_search.as_ref()?;
+    Some(
+        ci.iter()
+            .zip(&m.params)
+            .zip(&share.sd)
+            .map(|((band, &p), &u)| widen_side(p, *band, Z_975 * u))
+            .collect(),
+    )
+}
+
 /// The spring tolerance every run's mechanism declares at joint `joint`
 /// (1-based), as a fraction: the least of them; `None` where a run's
 /// mechanism declares none there.
@@ -276,6 +289,34 @@ fn within_spring_band(m: &FittedEffect, widened: &[[f64; 2]], band: f64) -> Opti
     (lo <= band && hi >= -band).then_some(value / band)
 }
 
+/// The share a spring softening at a joint with a declared spring band
+/// `±b` takes from it when the band itself holds it ([`within_spring_band`],
+/// on its fit's interval): the band moves a softening by exactly `±b`, so
+/// that the report's "the tolerances alone move it by ±b at 95 %" is what
+/// sets it apart. `None` for any other effect.
+fn band_share(
+    campaign: &Campaign,
+    m: &FittedEffect,
+    share: &ToleranceShare,
+) -> Option<ToleranceShare> {
+    let joint = m.candidate.joint?;
+    let band = spring_band(campaign, joint)?;
+    if m.candidate.kind != EffectKind::SpringSoftening
+        || within_spring_band(m, &widened(m, share)?, band).is_none()
+    {
+        return None;
+    }
+    Some(ToleranceShare {
+        candidate: m.candidate,
+        effect: m.candidate.words(),
+        sd: vec![band / Z_975],
+        largest: format!(
+            "joint {joint}'s spring (±{} %), whose torque a softening scales",
+            100.0 * band
+        ),
+    })
+}
+
 /// How far a named effect stands clear of what the tolerances alone could
 /// make of it, with the fit's ordinary interval widened by `1.96 u` per
 /// parameter: its value over its 95 % half band
@@ -284,13 +325,7 @@ fn within_spring_band(m: &FittedEffect, widened: &[[f64; 2]], band: f64) -> Opti
 /// [`within_spring_band`]), or a torque table's knots together
 /// ([`table_clearance`]); `None` for an effect clear of it.
 fn within_share(m: &FittedEffect, share: &ToleranceShare, spring_band: Option<f64>) -> Option<f64> {
-    let ci = m.ci95_search.as_ref()?;
-    let widened: Vec<[f64; 2]> = ci
-        .iter()
-        .zip(&m.params)
-        .zip(&share.sd)
-        .map(|((band, &p), &u)| widen_side(p, *band, Z_975 * u))
-        .collect();
+    let widened = widened(m, share)?;
     if m.candidate.table.is_some() {
         let clearance = table_clearance(&m.params, &widened);
         return (clearance <= 1.0).then_some(clearance);
@@ -363,7 +398,8 @@ pub(super) fn settle(eng: &Engine<'_>, found: FittedSet) -> Settled {
         };
         let taken = WithinTolerance {
             effect: set.members[k].clone(),
-            share: shares[k].clone(),
+            share: band_share(eng.campaign, &set.members[k], &shares[k])
+                .unwrap_or_else(|| shares[k].clone()),
         };
         eng.say(format!(
             "  set apart {}: the drawing's declared tolerances of mass, inertia and spring torque alone could make it (±{} at 95 %, most from {})",
