@@ -210,6 +210,7 @@ fn hidden_effects_are_named_on_runs_of_physical_latches() {
     let mut refused = 0usize;
     let mut walls = Vec::new();
     let mut latch_found = 0usize;
+    let (mut latch_joints, mut outside_by_one, mut outside_more) = (0usize, 0usize, 0usize);
     for (seed, family, kind) in &specs {
         let case = generate(*seed, *family, *kind, &mut refused);
         let o = diagnose(
@@ -226,6 +227,16 @@ fn hidden_effects_are_named_on_runs_of_physical_latches() {
             .map(|l| format!("joint {}: {:?}", l.joint, l.differs))
             .collect();
         latch_found += usize::from(!latch.is_empty());
+        // How far each joint's measured escapes lie outside the range the
+        // drawing's latch gives over its ensemble (the finding's margin).
+        for l in &o.latches {
+            let x: usize = l.measured.iter().map(|e| e.escapes).sum();
+            let [lo, hi] = l.spread.escapes;
+            let gap = x.saturating_sub(hi).max(lo.saturating_sub(x));
+            latch_joints += 1;
+            outside_by_one += usize::from(gap == 1);
+            outside_more += usize::from(gap > 1);
+        }
         eprintln!(
             "seed {seed} family {family}: {} truth [{}] found [{}] RMS {:.4} -> {:.4}{} latch [{}] ({:.1} s)",
             if good { "ok  " } else { "MISS" },
@@ -264,6 +275,7 @@ fn hidden_effects_are_named_on_runs_of_physical_latches() {
          | named exactly (within 20 %) | ≥ 90 % | {ok}/{n} ({:.1} %): hidden {hidden_ok}/{hidden}, clean {clean_ok}/{clean} |\n\
          | clean campaign names no joint or global effect | all | {clean_ok}/{clean} |\n\
          | campaigns with a latch finding (as-built latches within tolerance) | (reported) | {latch_found}/{n} |\n\
+         | joints whose measured escapes lie outside the drawing's range over its ensemble | (reported) | {outside_by_one} by one, {outside_more} by more, of {latch_joints} |\n\
          | `diagnose` wall time, two runs | ≤ 30 s median | median {median:.1} s, max {max:.1} s |\n\
          | draws the simulator refused (skipped, redrawn) | (counted) | {refused} |\n",
         pct(ok, specs.len()),

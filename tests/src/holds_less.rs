@@ -137,18 +137,18 @@ pub fn drawing_spread(
 /// of the crest is not one that runs show.
 pub const RESOLUTION_DEG: f64 = 0.03;
 
-/// The escapes over the crest of joint `j` (0-based) in a trajectory, and
+/// The escapes over the crest of joint `j` (0-based) in a measured run, and
 /// whether it ends within the crest: the test's own count from the
 /// samples, read as `docs/diagnosis.md` ("Runs of a physical latch", 2)
 /// defines them (travel from the stop `u = s φ`, `s` the stowed side; an
 /// escape is an excursion between two closings of the switch, or after
 /// the last, whose peak passes the crest by more than [`RESOLUTION_DEG`]).
-pub fn escapes_and_end(m: &Mechanism, traj: &Trajectory, j: usize) -> (usize, bool) {
+pub fn escapes_and_end(m: &Mechanism, run: &Run, j: usize) -> (usize, bool) {
     let (Some(latch), Some(spec), Some(phi), Some(switch)) = (
         m.latch(j),
         m.joints.get(j),
-        traj.phi_deg.get(j),
-        traj.latched.get(j),
+        run.phi_deg.get(j),
+        run.latch.get(j),
     ) else {
         return (0, false);
     };
@@ -176,18 +176,12 @@ fn measure(m: &Mechanism, traj: &Trajectory, seed: u64) -> Run {
 
 /// Joint `j`'s escapes and whether it ends held, as the run the reference
 /// sensor measures of `traj` (noise seeded `seed`) shows them against the
-/// crest of `drawing`, the latch the analyst knows: a rebound that stalls
-/// at the crest counts as an escape or not by the encoder's noise, and an
-/// as-built crest differs from the drawing's, so the counts compared are
-/// those runs show.
+/// crest of `drawing`, the latch the analyst knows ([`escapes_and_end`]):
+/// a rebound that stalls at the crest counts as an escape or not by the
+/// encoder's noise, and an as-built crest differs from the drawing's, so
+/// the counts compared are those runs show.
 pub fn reading(drawing: &Mechanism, traj: &Trajectory, seed: u64, j: usize) -> (usize, bool) {
-    let run = measure(drawing, traj, seed);
-    let shown = Trajectory {
-        phi_deg: run.phi_deg,
-        latched: run.latch,
-        ..traj.clone()
-    };
-    escapes_and_end(drawing, &shown, j)
+    escapes_and_end(drawing, &measure(drawing, traj, seed), j)
 }
 
 /// One as-built latch set per drawing (seed 000's two runs are of one wing).
@@ -237,14 +231,14 @@ pub fn generate(seed: u64, family: usize, opts: &SimOptions) -> Option<HoldsLess
         let seed = noise_seed + r as u64;
         let with = deployment::simulate(m, &effects, opts).ok()?;
         let without = deployment::simulate(m, &[], opts).ok()?;
-        let (e1, held1) = reading(&drawings[r], &with, seed, joint - 1);
+        let mut run = measure(m, &with, seed);
+        let (e1, held1) = escapes_and_end(&drawings[r], &run, joint - 1);
         let (e0, held0) = reading(&drawings[r], &without, seed, joint - 1);
         with_e += e1;
         without_e += e0;
         opened |= held0 && !held1;
         held += usize::from(held1);
         held_without += usize::from(held0);
-        let mut run = measure(m, &with, seed);
         run.set_meta("mechanism", &m.name);
         runs.push(run);
     }

@@ -194,7 +194,9 @@ pub const ENSEMBLE: usize = 39;
 /// count read from measured angles at the encoder's resolution moves by
 /// about one (on the 48 physical-latch campaigns of `docs/diagnosis.md`,
 /// latches as built and nothing weakened, 2 of 120 joints read one
-/// escape outside the range, none more).
+/// escape outside the range, none more: `DEPLOYWATCH_FULL=1 cargo test
+/// -p deploywatch-tests --test diagnosis_physical_latch -- --nocapture`,
+/// docs/measured.md).
 pub const ESCAPE_MARGIN: usize = 1;
 
 /// Members of the ensemble of each plunger weakening tried (the drawing

@@ -280,11 +280,7 @@ fn spring_band(campaign: &Campaign, joint: usize) -> Option<f64> {
 /// within its drawing makes it exactly. How far its value stands beyond
 /// the band, over the band (`Some`, ≤ 1 inside it); `None` clear of it.
 fn within_spring_band(m: &FittedEffect, widened: &[[f64; 2]], band: f64) -> Option<f64> {
-    let probe = FittedEffect {
-        ci95_search: Some(widened.to_vec()),
-        ..m.clone()
-    };
-    let [lo, hi] = probe.search_value_ci();
+    let ([lo, hi], _) = m.candidate.value_ci(&m.params, widened);
     let value = m.params.first()?.abs();
     (lo <= band && hi >= -band).then_some(value / band)
 }
