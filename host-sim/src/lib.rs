@@ -79,6 +79,11 @@ pub mod kinematics {
     };
 }
 
+/// Flexible panels (`physics.md` §12): the first mode of a wing.
+pub mod flex {
+    pub use crate::model::flex::{PanelFlex, DEFAULT_DAMPING_RATIO, MAX_FLEXIBLE_PANELS};
+}
+
 /// A physical latch's tolerances.
 pub mod latch {
     pub use crate::model::latch::{LatchTolerance, PlungerSpec};

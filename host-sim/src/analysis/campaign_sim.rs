@@ -52,11 +52,35 @@ pub trait CampaignSim {
     fn series_lengths(&self) -> Vec<usize>;
 }
 
+/// Relative tolerance of the model runs of a fit on a wing with flexible
+/// panels: their angles are then within about 1e-6 deg of the converged
+/// solution (`cargo run --release -p deploywatch-sim --example
+/// flexible_cost`), closer than a rigid wing's at [`FIT_RTOL`], whose
+/// steps the panels' ringing would otherwise keep short.
+pub const FLEXIBLE_FIT_RTOL: f64 = 1e-6;
+
+/// Absolute tolerance of the model runs of a fit on a flexible wing [rad,
+/// rad/s].
+pub const FLEXIBLE_FIT_ATOL: f64 = 1e-7;
+
+/// [`fit_sim_options`] for `mech`: with flexible panels at
+/// [`FLEXIBLE_FIT_RTOL`] and [`FLEXIBLE_FIT_ATOL`].
+pub fn fit_sim_options_for(mech: &crate::model::mechanism::Mechanism) -> SimOptions {
+    match mech.flexible {
+        Some(_) => SimOptions {
+            rtol: FLEXIBLE_FIT_RTOL,
+            atol: FLEXIBLE_FIT_ATOL,
+            ..fit_sim_options()
+        },
+        None => fit_sim_options(),
+    }
+}
+
 impl CampaignSim for Campaign {
     fn simulate(&self, i: usize, effects: &[Effect]) -> Result<Trajectory, deployment::SimError> {
         let r = &self.runs[i];
-        let mut traj =
-            deployment::simulate_at(&r.mechanism, effects, &fit_sim_options(), &r.run.t_s)?;
+        let opts = fit_sim_options_for(&r.mechanism);
+        let mut traj = deployment::simulate_at(&r.mechanism, effects, &opts, &r.run.t_s)?;
         let offsets = effect::encoder_offsets_deg(effects, r.mechanism.joint_count());
         for (j, b) in offsets.iter().enumerate() {
             if *b != 0.0 {

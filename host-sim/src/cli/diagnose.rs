@@ -107,6 +107,8 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     let sink = |line: &str| bar.line(line);
     let outcome = diagnose::diagnose(&campaign, &opts, &sink);
     bar.finish();
+    // Flexible panels named: the wing as the search compared it.
+    let campaign = diagnose::panel_mode::apply(&campaign, outcome.panel_mode.as_ref());
     // Encoders late on their switches: the angles as the fit compared them.
     let campaign = diagnose::encoder_delay::apply(&campaign, outcome.encoder_delay.as_ref());
     // Encoders off their panels within the declared free-play: the

@@ -16,6 +16,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     // `--flight`: the rig taken out, only what flies.
     let mech = if args.flight { mech.flight() } else { mech };
     let (args, found) = super::simulate_from::with_found(args, &mech)?;
+    // Flexible panels a diagnosis named: the wing as it compared it.
+    let mech = super::simulate_from::with_flexible(mech, found.as_ref(), args.quiet)?;
     let args = &args;
     check_args(args, &mech)?;
     if let Some(at) = &args.at {

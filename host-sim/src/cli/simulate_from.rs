@@ -93,6 +93,43 @@ fn delay_taken_out(found: Option<&Diagnosis>) -> Option<f64> {
         .filter(|d| d.is_finite() && *d > 0.0)
 }
 
+/// `mech` with the flexible panels of the diagnosis `found` named
+/// (`flexible_panels` of its JSON), said on the console; as it is without
+/// them. A mechanism that cannot take them (`[flexible_panels]` refused
+/// there) is an input error.
+pub fn with_flexible(
+    mut mech: Mechanism,
+    found: Option<&FoundModel>,
+    quiet: bool,
+) -> Result<Mechanism, CliError> {
+    let Some(f) = found
+        .and_then(|f| f.diagnosis.as_ref())
+        .and_then(|d| d.flexible_panels.as_ref())
+    else {
+        return Ok(mech);
+    };
+    let (Some(hz), Some(zeta)) = (f.first_mode_hz, f.damping_ratio) else {
+        return Ok(mech);
+    };
+    let flex = crate::model::flex::PanelFlex {
+        first_mode_hz: hz,
+        damping_ratio: zeta,
+    };
+    if !mech.can_be_flexible() {
+        return Err(CliError::input(format!(
+            "--from: the diagnosis found flexible panels (first mode {hz:.3} Hz), which `{}` cannot take (a physical latch, a truss, an enabled rig or more than {} panels)",
+            mech.name,
+            crate::model::flex::MAX_FLEXIBLE_PANELS
+        )));
+    }
+    Console::new(quiet).say(format_args!(
+        "--from: flexible panels, first mode {hz:.3} Hz, damping ratio {:.2} %, as the diagnosis found them",
+        100.0 * zeta
+    ));
+    mech.flexible = Some(flex);
+    Ok(mech)
+}
+
 /// The encoder offsets within the declared free-play a diagnosis took out
 /// of the angles (its JSON's `free_play`; an entry with a number missing
 /// is skipped).

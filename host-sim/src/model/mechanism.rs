@@ -234,6 +234,10 @@ pub struct Mechanism {
     /// `[rig]`: the zero-g rig the panels are tested on (`None`: no rig;
     /// [`crate::model::rig`], this project's extension).
     pub rig: Option<crate::model::rig::Rig>,
+    /// `[flexible_panels]`: every panel two halves on a flex hinge
+    /// (`None`: rigid panels; [`crate::model::flex`], this project's
+    /// extension).
+    pub flexible: Option<crate::model::flex::PanelFlex>,
 }
 
 impl Mechanism {

@@ -95,6 +95,19 @@ pub enum MechanismErrorKind {
         /// The joints (1-based) with a physical latch.
         joints: Vec<usize>,
     },
+    /// `[flexible_panels]` on a wing the flexible chain does not simulate
+    /// (`formats.md`, "Flexible panels"): a physical latch, a truss, an
+    /// enabled rig, or more than [`crate::model::flex::MAX_FLEXIBLE_PANELS`]
+    /// panels.
+    #[error(
+        "`flexible_panels`: flexible panels are simulated on an open chain of at most {} \
+         panels with ideal latches, no truss and no enabled rig, but {why}",
+        crate::model::flex::MAX_FLEXIBLE_PANELS
+    )]
+    FlexibleUnsupported {
+        /// What the wing has that the flexible chain does not simulate.
+        why: String,
+    },
     /// `spring.kind` is not one of the known kinds.
     #[error(
         "`{key}`: unknown spring kind \"{found}\" for joint {joint}; expected one of \"linear\", \"tape\", \"curve\""

@@ -110,6 +110,7 @@ const TOP_KEYS: &[&str] = &[
     "run",
     "truss",
     "rig",
+    "flexible_panels",
 ];
 const PANEL_KEYS: &[&str] = &[
     "length_m",
@@ -221,7 +222,7 @@ impl Cx<'_> {
             None => (DEFAULT_DURATION_S, DEFAULT_SAMPLE_HZ, DEFAULT_SETTLE_S),
         };
 
-        let (truss, rig) = self.extensions(&top, &panels, &latches)?;
+        let (truss, rig, flexible) = self.extensions(&top, &panels, &latches)?;
         Ok(Mechanism {
             name,
             description,
@@ -234,10 +235,11 @@ impl Cx<'_> {
             truss,
             latches,
             rig,
+            flexible,
         })
     }
 
-    /// `[truss]` and `[rig]`: each further table is read by its own module,
+    /// `[truss]`, `[rig]` and `[flexible_panels]`: each further table is read by its own module,
     /// on the same tree. An enabled rig with a physical latch is refused
     /// (`formats.md`, "Rig": the rig is simulated with ideal latches only),
     /// never dropped silently.
@@ -250,6 +252,7 @@ impl Cx<'_> {
     ) -> Res<(
         Option<crate::model::truss::Truss>,
         Option<crate::model::rig::Rig>,
+        Option<crate::model::flex::PanelFlex>,
     )> {
         let truss = top
             .get("truss")
@@ -272,7 +275,15 @@ impl Cx<'_> {
                 MechanismErrorKind::RigWithPhysicalLatch { joints: physical },
             ));
         }
-        Ok((truss, rig))
+        let enabled_rig = rig.as_ref().is_some_and(|r| r.enabled);
+        let flexible = top
+            .get("flexible_panels")
+            .map(|sp| {
+                let truss = truss.is_some();
+                crate::model::flex_toml::read(self, sp, panels.len(), latches, truss, enabled_rig)
+            })
+            .transpose()?;
+        Ok((truss, rig, flexible))
     }
 
     /// `[run]`: `(duration_s, sample_hz, settle_s)`, each defaulted on its own.

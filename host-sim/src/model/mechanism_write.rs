@@ -112,6 +112,9 @@ impl Mechanism {
         if let Some(r) = &self.rig {
             crate::model::rig_toml::write(r, &mut out);
         }
+        if let Some(f) = &self.flexible {
+            crate::model::flex_toml::write(f, &mut out);
+        }
         out
     }
 

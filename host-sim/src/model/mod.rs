@@ -3,6 +3,9 @@
 //! mobility.
 pub mod effect;
 pub mod findings;
+pub mod flex;
+pub mod flex_chain;
+pub mod flex_toml;
 pub mod friction_spec;
 pub mod kinematics;
 pub mod latch;

@@ -31,6 +31,7 @@ pub fn markdown(
     let mut md = String::new();
     report_header(&mut md, c, o);
     super::diagnosis_delay::report(&mut md, c, o);
+    super::diagnosis_flex::report(&mut md, o);
     diagnosis_latch::report(&mut md, c, o);
     report_causes(&mut md, o);
     super::diagnosis_set_aside::report(&mut md, o);

@@ -210,6 +210,7 @@ fn to_json(c: &Campaign, o: &Outcome, d: &Details) -> Diagnosis {
         residual_torque: None,
         partial: o.partial.map(|p| p.to_string()),
         encoder_delay: super::diagnosis_delay::json(c, o),
+        flexible_panels: super::diagnosis_flex::json(o),
         free_window: diagnosis_latch::windows_json(c, o),
         whole_run: diagnosis_latch::whole_run_json(o),
         latches: diagnosis_latch::latches_json(o),

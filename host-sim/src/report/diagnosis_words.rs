@@ -132,6 +132,9 @@ pub fn summary(o: &Outcome, d: &Details, json: &Path, report: &Path) -> Vec<Stri
     if let Some(line) = super::diagnosis_delay::summary_line(o) {
         out.push(format!("  {line}"));
     }
+    if let Some(line) = super::diagnosis_flex::summary_line(o) {
+        out.push(format!("  {line}"));
+    }
     for line in super::diagnosis_set_aside::summary_lines(o) {
         out.push(format!("  {line}"));
     }

@@ -12,6 +12,7 @@
 //! and plot ([`identify`]), a simulated run's plot ([`run_plot`]).
 pub mod diagnosis;
 pub mod diagnosis_delay;
+pub mod diagnosis_flex;
 pub mod diagnosis_free_play;
 pub mod diagnosis_json;
 pub mod diagnosis_latch;

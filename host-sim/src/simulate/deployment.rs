@@ -111,6 +111,7 @@ fn simulate_samples(
     // A joint with a physical latch: the latch simulator (`[joint.latch]`).
     crate::simulate::latch_deployment::check_latch_effects(mech, effects)?;
     crate::simulate::rig::check_rig_effects(mech, effects)?;
+    mech.check_flexible().map_err(SimError::Invalid)?;
     if mech.has_physical_latch() {
         return crate::simulate::latch_deployment::simulate_physical(mech, effects, opts, times)
             .map(|run| run.traj);
@@ -148,6 +149,16 @@ fn simulate_samples(
             mech.name
         ))
     };
+    if mech.flexible.is_some() {
+        // Flexible panels: the chain of 2n joints, hinges at the even ones.
+        let traj = with_joints!(2 * n, M => run_chain_latching(
+            &mech.flexible_chain::<M>(&je, g).ok_or_else(bad)?,
+            crate::model::flex::latching::<M>(),
+            times,
+            &opts,
+        ), else Err(other()))?;
+        return Ok(traj.hinges_of_flexible());
+    }
     with_joints!(n, N => run_chain(&mech.chain::<N>(&je, g).ok_or_else(bad)?, times, &opts), else Err(other()))
 }
 
@@ -184,6 +195,9 @@ struct Integrator<'a, const N: usize> {
     step_control: ode::StepController,
     /// Joints held by the stick rule (`physics.md` §4a).
     stuck: [bool; N],
+    /// Joints with a latch: every joint of a rigid wing; the hinges, not
+    /// the flex joints, of a flexible one ([`crate::model::flex`]).
+    latching: [bool; N],
     /// The piece of each joint's spring curve `|φ|` is on (its knots
     /// below and above \[rad\]), for [`Event::Knot`].
     piece: [(f64, f64); N],
@@ -322,7 +336,7 @@ impl<const N: usize> Integrator<'_, N> {
                 }
                 continue;
             }
-            if self.side[j] * y0.q[j] > 0.0 && self.side[j] * y1.q[j] <= 0.0 {
+            if self.latching[j] && self.side[j] * y0.q[j] > 0.0 && self.side[j] * y1.q[j] <= 0.0 {
                 // A swing through φ = 0: a latch, or with latching off a kink
                 // of the spring's preload to restart at.
                 out.push(Event::Latch(j));
@@ -387,8 +401,22 @@ pub fn run_chain<const N: usize>(
     times: Samples<'_>,
     opts: &SimOptions,
 ) -> Result<Trajectory, SimError> {
+    run_chain_latching(chain, [true; N], times, opts)
+}
+
+/// [`run_chain`] with only the joints of `latching` latching: the others
+/// (a flexible panel's flex joints, [`crate::model::flex`]) swing free for
+/// the whole run, and the run is deployed when every latching joint
+/// latched. The trajectory has every joint of the chain.
+pub fn run_chain_latching<const N: usize>(
+    chain: &HostChain<N>,
+    latching: [bool; N],
+    times: Samples<'_>,
+    opts: &SimOptions,
+) -> Result<Trajectory, SimError> {
     let duration = times.last();
-    let (mut it, mut y) = Integrator::at_rest(chain);
+    let (mut it, mut y) = Integrator::at_rest(chain, latching);
+    let unwatched: [bool; N] = core::array::from_fn(|j| !latching[j]);
     let mut ledger = ChainLedger::start(chain, &y, duration, opts);
     let mut watch = StowedWatch::new(chain);
     let mut out = Sampler::new(times, N);
@@ -424,7 +452,8 @@ pub fn run_chain<const N: usize>(
                 continue;
             }
         };
-        watch.step(&att.dense, t, t_end, &it.mode.latched);
+        let locked: [bool; N] = core::array::from_fn(|j| it.mode.latched[j] || unwatched[j]);
+        watch.step(&att.dense, t, t_end, &locked);
         out.push_while(
             |tk| if cut { tk < t_end } else { tk <= t_end },
             |tk| att.dense.at(tk),
@@ -511,7 +540,7 @@ impl<const N: usize> EventLog<N> {
 impl<'a, const N: usize> Integrator<'a, N> {
     /// The integrator at the stowed state at rest, each joint on the branch
     /// the rule gives there.
-    fn at_rest(chain: &'a HostChain<N>) -> (Self, State<N>) {
+    fn at_rest(chain: &'a HostChain<N>, latching: [bool; N]) -> (Self, State<N>) {
         let mut it = Integrator {
             chain,
             mode: Mode::default(),
@@ -519,6 +548,7 @@ impl<'a, const N: usize> Integrator<'a, N> {
             hyst: [None; N],
             step_control: ode::StepController::new(ode::PI_CONTROL),
             stuck: [false; N],
+            latching,
             piece: [(f64::NEG_INFINITY, f64::INFINITY); N],
             evaluations: 0,
         };
@@ -646,7 +676,7 @@ impl<'a, const N: usize> Integrator<'a, N> {
     ) -> Result<bool, SimError> {
         let mut after = self.mode.latched;
         for j in 0..N {
-            if !after[j] && self.side[j] * ye.q[j] <= LATCH_REACHED_RAD {
+            if self.latching[j] && !after[j] && self.side[j] * ye.q[j] <= LATCH_REACHED_RAD {
                 after[j] = true;
             }
         }
@@ -662,6 +692,6 @@ impl<'a, const N: usize> Integrator<'a, N> {
             }
         }
         self.mode.latched = after;
-        Ok(self.mode.latched.iter().all(|&l| l))
+        Ok((0..N).all(|j| self.mode.latched[j] || !self.latching[j]))
     }
 }

@@ -147,6 +147,34 @@ impl Trajectory {
     pub fn deployed(&self) -> bool {
         self.latch_s.iter().all(Option::is_some)
     }
+
+    /// The hinges of a run of a flexible chain ([`crate::model::flex`]:
+    /// hinge `j` is joint `2j`, 0-based, its flex joint `2j + 1`): what the
+    /// encoders and switches read, the flex joints left out, the stowed
+    /// passages numbered by hinge.
+    pub fn hinges_of_flexible(self) -> Trajectory {
+        Trajectory {
+            phi_deg: hinges(self.phi_deg),
+            rate_deg_s: hinges(self.rate_deg_s),
+            latched: hinges(self.latched),
+            latch_s: hinges(self.latch_s),
+            past_stowed: self
+                .past_stowed
+                .into_iter()
+                .filter(|p| p.joint % 2 == 1)
+                .map(|p| PastStowed {
+                    joint: p.joint.div_ceil(2),
+                    ..p
+                })
+                .collect(),
+            ..self
+        }
+    }
+}
+
+/// The even entries of `v`: the hinges of a flexible chain's joints.
+fn hinges<T>(v: Vec<T>) -> Vec<T> {
+    v.into_iter().step_by(2).collect()
 }
 
 /// Largest drift of a run's energy ledger from the energy stored at the

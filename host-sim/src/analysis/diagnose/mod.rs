@@ -49,6 +49,7 @@ pub mod latch_finding;
 pub mod latch_window;
 mod moves;
 mod outcome;
+pub mod panel_mode;
 mod policy;
 mod refine;
 pub mod residual_named;
@@ -68,9 +69,9 @@ pub mod whole_run;
 pub use candidate::Candidate;
 use candidate::{effects_of, ParamBound};
 pub use outcome::{
-    DiagnoseOptions, FitStats, FittedEffect, FittedSet, FreePlayOffset, HaltReason, Outcome, Round,
-    SeparatingTest, SetAside, StopFlag, ToleranceShare, Unexplained, UnexplainedShape,
-    WithinTolerance,
+    DiagnoseOptions, FitStats, FittedEffect, FittedSet, FreePlayOffset, HaltReason, Outcome,
+    PanelMode, Round, SeparatingTest, SetAside, StopFlag, ToleranceShare, Unexplained,
+    UnexplainedShape, WithinTolerance,
 };
 pub use policy::{Kept, Move, Rejection, Verdict, MIN_DELTA_BIC};
 
@@ -389,9 +390,15 @@ fn unexplained_above_noise(
 /// Encoders late on their latch switches are compared with the model at
 /// their stamps minus the delay ([`encoder_delay`]) throughout. An
 /// `encoder_offset` within a joint's declared free-play is reported as
-/// that discrepancy, not claimed ([`free_play`]).
+/// that discrepancy, not claimed ([`free_play`]). Flexible panels are
+/// tried where the set found leaves the runs above the noise ([`panel_mode`]).
 pub fn diagnose(campaign: &Campaign, opts: &DiagnoseOptions, progress: Progress) -> Outcome {
-    let out = free_play::split(campaign, diagnose_delayed(campaign, opts, progress));
+    let t0 = Instant::now();
+    let first = diagnose_delayed(campaign, opts, progress);
+    let search = |c: &Campaign, o: &DiagnoseOptions| diagnose_delayed(c, o, progress);
+    let mut out = panel_mode::consider(campaign, first, (opts, t0), progress, search);
+    out.wall_s = t0.elapsed().as_secs_f64();
+    let out = free_play::split(campaign, out);
     for found in &out.free_play {
         progress(&free_play::words(found));
     }
@@ -610,6 +617,7 @@ fn search_campaign(
         simulations: eng.sims.load(std::sync::atomic::Ordering::Relaxed),
         wall_s: t0.elapsed().as_secs_f64(),
         encoder_delay: None,
+        panel_mode: None,
         free_play: Vec::new(),
         free_window: None,
         whole_run: None,

@@ -451,6 +451,11 @@ pub struct Outcome {
     /// latches' closings agree on one clear of zero ([`super::encoder_delay`]):
     /// the fit compared the angles with the model at their stamps minus it.
     pub encoder_delay: Option<super::encoder_delay::EncoderDelay>,
+    /// Flexible panels, when the rigid wing's set left the runs clearly
+    /// above the noise and the wing with its first mode fitted took most of
+    /// that out ([`super::panel_mode`]): the search ran on the flexible
+    /// wing, and every figure of this outcome is of it.
+    pub panel_mode: Option<PanelMode>,
     /// Encoder offsets within their joints' declared free-play, taken out
     /// of the effects (`diagnose/free_play.rs`): the angles are compared
     /// with them taken out.
@@ -566,4 +571,29 @@ pub struct Ambiguity {
     /// The test that would separate them (in words by
     /// `report::diagnosis_latch`).
     pub separating_test: SeparatingTest,
+}
+
+/// Flexible panels named: the mode and what they take out.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PanelMode {
+    /// The first mode and its damping ratio, as fitted.
+    pub flex: crate::model::flex::PanelFlex,
+    /// RMS \[deg\] of the rigid wing's set found.
+    pub rigid_rms_deg: f64,
+    /// RMS \[deg\] of the same set refitted on the flexible wing, before the
+    /// search runs again.
+    pub flexible_rms_deg: f64,
+}
+
+impl PanelMode {
+    /// The mode in words, for the progress and the report.
+    pub fn words(&self) -> String {
+        format!(
+            "the panels are flexible: the deployed wing's first mode at {:.2} Hz, damping ratio {:.1} %, takes the set found from {:.4} to {:.4} deg RMS",
+            self.flex.first_mode_hz,
+            100.0 * self.flex.damping_ratio,
+            self.rigid_rms_deg,
+            self.flexible_rms_deg
+        )
+    }
 }

@@ -61,6 +61,12 @@ pub struct Diagnosis {
     /// its switch"): a discrepancy, not an effect.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub encoder_delay: Option<EncoderDelayJson>,
+    /// Flexible panels, when the set found left the runs clearly above the
+    /// noise and the wing with its first mode fitted took much of that out
+    /// (`docs/diagnosis.md`, "Flexible panels"): a discrepancy, not an
+    /// effect; the effects and every fit figure are of the flexible wing.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flexible_panels: Option<FlexiblePanelsJson>,
     /// Runs of a physical latch: the free motion each run was fitted on.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub free_window: Vec<FreeWindow>,
@@ -172,6 +178,19 @@ pub struct SetAsideJson {
     pub explained_deg: Option<f64>,
     /// The residual its set left above the noise, as RMS \[deg\].
     pub discrepancy_deg: Option<f64>,
+}
+
+/// Flexible panels named by a diagnosis (`physics.md` §12).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FlexiblePanelsJson {
+    /// The deployed wing's first mode, every hinge latched \[Hz\].
+    pub first_mode_hz: Option<f64>,
+    /// That mode's damping ratio \[1\].
+    pub damping_ratio: Option<f64>,
+    /// RMS \[deg\] of the rigid wing's set found.
+    pub rigid_rms_deg: Option<f64>,
+    /// RMS \[deg\] of that set refitted on the flexible wing.
+    pub flexible_rms_deg: Option<f64>,
 }
 
 /// The encoders' delay behind their latch switches.
