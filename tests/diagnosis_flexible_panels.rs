@@ -29,7 +29,7 @@ use deploywatch_sim::findings::Findings;
 use deploywatch_sim::flex::PanelFlex;
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;
-use deploywatch_tests::cli_run::{angles, deploywatch};
+use deploywatch_tests::cli_run::{angles, deploywatch, rms_between};
 use deploywatch_tests::data_dir;
 use deploywatch_tests::hidden_effect::{moves_runs_deg, two_runs, SEED_WINGS, STROKE_KINDS};
 use rand::{Rng, SeedableRng};
@@ -57,14 +57,7 @@ fn bending_deg(c: &Case) -> f64 {
     ) else {
         return 0.0;
     };
-    let (mut sse, mut n) = (0.0, 0usize);
-    for (x, y) in a.phi_deg.iter().zip(&b.phi_deg) {
-        for (p, q) in x.iter().zip(y) {
-            sse += (p - q) * (p - q);
-            n += 1;
-        }
-    }
-    (sse / n.max(1) as f64).sqrt()
+    rms_between(&a.phi_deg, &b.phi_deg)
 }
 
 /// Case `i`: a seed wing with flexible panels and none (every third case)
@@ -233,14 +226,7 @@ fn simulate_from_gives_back_the_flexible_fit() {
     assert_eq!(code, 0, "simulate --from --at");
     let n = c.drawn.joint_count();
     let (a, r) = (angles(&model, n), angles(&run, n));
-    let (mut sse, mut k) = (0.0, 0usize);
-    for (x, y) in a.iter().zip(&r) {
-        for (p, q) in x.iter().zip(y) {
-            sse += (p - q) * (p - q);
-            k += 1;
-        }
-    }
-    let again = (sse / k as f64).sqrt();
+    let again = rms_between(&a, &r);
     let said = d.extended.rms_deg.expect("an extended RMS");
     // The model CSV's angles have 6 decimals: within their rounding.
     assert!(

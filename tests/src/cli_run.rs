@@ -27,3 +27,16 @@ pub fn angles(path: &Path, joints: usize) -> Vec<Vec<f64>> {
     }
     out
 }
+
+/// RMS \[deg\] of `a` against `b`, joint by joint, over the samples both
+/// have.
+pub fn rms_between(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
+    let (mut sse, mut n) = (0.0, 0usize);
+    for (x, y) in a.iter().zip(b) {
+        for (p, q) in x.iter().zip(y) {
+            sse += (p - q) * (p - q);
+            n += 1;
+        }
+    }
+    (sse / n.max(1) as f64).sqrt()
+}

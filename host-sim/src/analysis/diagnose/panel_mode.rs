@@ -301,16 +301,9 @@ fn fit_flexible(
     highest: f64,
 ) -> Option<(PanelFlex, FittedSet)> {
     let (cands, p0) = (set.candidates(), set.params());
-    let residuals = |p: &[f64]| -> Option<Vec<f64>> {
-        let flex = PanelFlex {
-            first_mode_hz: p[0].exp(),
-            damping_ratio: p[1].exp(),
-        };
-        let c = flexible(compared, flex)?;
-        eng.residuals(&c, &cands, &p[2..])
-    };
     let sse = |p: &[f64]| -> f64 {
-        residuals(p).map_or(f64::INFINITY, |r| r.iter().map(|x| x * x).sum())
+        residuals_at(eng, compared, &cands, p)
+            .map_or(f64::INFINITY, |r| r.iter().map(|x| x * x).sum())
     };
     let (a, b) = (LOWEST_HZ.ln(), highest.ln());
     let (za, zb) = (ZETA_RANGE[0].ln(), ZETA_RANGE[1].ln());
@@ -342,14 +335,7 @@ fn fit_from(
     p: &[f64],
     highest: f64,
 ) -> Option<(PanelFlex, FittedSet)> {
-    let residuals = |p: &[f64]| -> Option<Vec<f64>> {
-        let flex = PanelFlex {
-            first_mode_hz: p[0].exp(),
-            damping_ratio: p[1].exp(),
-        };
-        let c = flexible(compared, flex)?;
-        eng.residuals(&c, cands, &p[2..])
-    };
+    let residuals = |p: &[f64]| residuals_at(eng, compared, cands, p);
     let (a, b) = (LOWEST_HZ.ln(), highest.ln());
     let bounds: Vec<ParamBound> = cands.iter().flat_map(|c| c.bounds()).collect();
     let mut lower = vec![a, ZETA_RANGE[0].ln()];
@@ -380,6 +366,21 @@ fn fit_from(
     };
     let fitted = FittedSet::from_flat(cands, &r.params[2..], Some(&r.ci95[2..]), Some(stats));
     Some((flex, fitted))
+}
+
+/// The residuals of `cands` on `compared` made flexible, at `p` (`ln f₁`,
+/// `ln ζ₁`, then the set's parameters).
+fn residuals_at(
+    eng: &Engine<'_>,
+    compared: &Campaign,
+    cands: &[super::Candidate],
+    p: &[f64],
+) -> Option<Vec<f64>> {
+    let flex = PanelFlex {
+        first_mode_hz: p[0].exp(),
+        damping_ratio: p[1].exp(),
+    };
+    eng.residuals(&flexible(compared, flex)?, cands, &p[2..])
 }
 
 /// The minimiser of `f` in `[lo, hi]` by `steps` steps of golden section.
