@@ -28,7 +28,9 @@
 //! model does not follow after the first contact (missed, any joint); no
 //! shot of that check after the first contact (every stretch after it has
 //! a joint in a contact transient: a pawl within its reach, a plunger
-//! rattling); and the diagnosis's wall time.
+//! rattling); the campaigns fitted on the whole runs (the model closes
+//! each switch as often as the runs do: "Runs of a physical latch", 5);
+//! and the diagnosis's wall time.
 //!
 //! ```text
 //! cargo run --release -p deploywatch-tests --example after_contact
@@ -38,14 +40,11 @@
 //! by default). The table goes to standard output (as `scripts/measured.py
 //! run` records it), a line per campaign to standard error.
 
-use deploywatch_sim::deployment::{self, SimOptions, Trajectory};
 use deploywatch_sim::diagnose::diagnose;
-use deploywatch_sim::effect::{Effect, EffectKind};
-use deploywatch_sim::mechanism::Mechanism;
+use deploywatch_sim::effect::EffectKind;
 use deploywatch_sim::progress::quiet;
+use deploywatch_tests::after_contact::{case, Case, BEFORE_DEG, WHOLE_DEG};
 use deploywatch_tests::hidden_effect::two_runs;
-use deploywatch_tests::wing_gen::wing_toml;
-use deploywatch_tests::SplitMix;
 use std::time::Instant;
 
 /// The kinds drawn in turn.
@@ -54,105 +53,6 @@ const KINDS: [EffectKind; 3] = [
     EffectKind::ViscousDamping,
     EffectKind::HarnessStiffness,
 ];
-
-/// What the effect must move the runs by over the whole run \[deg\].
-const WHOLE_DEG: f64 = 0.3;
-
-/// What it may move them by before the first contact \[deg\]: twice the
-/// reference sensor's noise.
-const BEFORE_DEG: f64 = 0.04;
-
-/// The whole run of `m` with `e`, to its end (not stopped when deployed),
-/// as `hidden_effect::moves_runs_deg` compares them.
-fn whole(m: &Mechanism, e: &[Effect]) -> Option<Trajectory> {
-    let opts = SimOptions {
-        stop_when_deployed: false,
-        ..SimOptions::default()
-    };
-    deployment::simulate(m, e, &opts).ok()
-}
-
-/// RMS \[deg\] of `b` less `a` over the first `n` samples (all when
-/// `None`), every joint.
-fn rms_between(a: &Trajectory, b: &Trajectory, n: Option<usize>) -> f64 {
-    let len = a.t_s.len().min(b.t_s.len());
-    let n = n.map_or(len, |n| n.min(len));
-    let (mut sse, mut k) = (0.0, 0usize);
-    for (x, y) in a.phi_deg.iter().zip(&b.phi_deg) {
-        for i in 0..n {
-            sse += (y[i] - x[i]).powi(2);
-            k += 1;
-        }
-    }
-    (sse / k.max(1) as f64).sqrt()
-}
-
-/// The first sample where any of the 1-based joints `physical` has its
-/// switch closed.
-fn first_contact(a: &Trajectory, physical: &[usize]) -> Option<usize> {
-    physical
-        .iter()
-        .filter_map(|&j| a.latched.get(j - 1)?.iter().position(|&l| l))
-        .min()
-}
-
-/// Each joint's switch closings over the run (a switch closed at the first
-/// sample counts as one).
-fn closings(t: &Trajectory) -> Vec<usize> {
-    t.latched
-        .iter()
-        .map(|l| {
-            l.windows(2).filter(|w| !w[0] && w[1]).count() + usize::from(l.first() == Some(&true))
-        })
-        .collect()
-}
-
-/// One campaign: the wing, its hidden effect, the first contact's share.
-struct Case {
-    seed: u64,
-    wing: Mechanism,
-    joints: usize,
-    physical: Vec<usize>,
-    truth: Effect,
-    before_deg: f64,
-    /// Each joint's switch closes as often with the effect as without.
-    same_history: bool,
-}
-
-/// The campaign of `seed`, `kind` hidden, or `None` when the wing or the
-/// effect does not qualify.
-fn case(seed: u64, kind: EffectKind) -> Option<Case> {
-    let w = wing_toml(seed, 0.5);
-    if !(4..=6).contains(&w.joints) || w.rig || w.physical.is_empty() {
-        return None;
-    }
-    if w.physical.len() == w.joints || !w.effects.is_empty() {
-        return None;
-    }
-    let wing = Mechanism::from_toml_str(&w.toml, &format!("random-{seed}")).ok()?;
-    let mut r = SplitMix(seed ^ 0xaf7e_c047);
-    let joint = 1 + ((r.next_f64() * w.joints as f64) as usize).min(w.joints - 1);
-    let without = whole(&wing, &[])?;
-    let first = first_contact(&without, &w.physical)?;
-    let mut e = Effect::joint(kind, joint, 0.01);
-    for _ in 0..40 {
-        let with = whole(&wing, &[e])?;
-        if rms_between(&without, &with, None) >= WHOLE_DEG {
-            let before = rms_between(&without, &with, Some(first));
-            return (before < BEFORE_DEG).then(|| Case {
-                seed,
-                wing,
-                joints: w.joints,
-                physical: w.physical,
-                truth: e,
-                before_deg: before,
-                same_history: closings(&with) == closings(&without),
-            });
-        }
-        e = e.with_value(e.value() * 1.3);
-    }
-    None
-}
 
 /// What one row counted.
 #[derive(Default)]
@@ -164,6 +64,8 @@ struct Row {
     missed: usize,
     /// Campaigns with no shot after the first contact.
     no_shot: usize,
+    /// Campaigns fitted on the whole runs.
+    whole: usize,
     /// Draws left out because the effect changed the latch history.
     split: usize,
     walls: Vec<f64>,
@@ -198,9 +100,10 @@ impl Row {
             .map(|m| m.joint);
         self.missed += usize::from(miss.is_some());
         self.no_shot += usize::from(o.whole_run.as_ref().is_none_or(|w| w.shots.is_empty()));
+        self.whole += usize::from(o.fitted_whole);
         let names: Vec<String> = claimed.iter().map(|x| x.to_string()).collect();
         eprintln!(
-            "{:>3} seed {} ({} joints, physical {:?}): {} (before contact {:.3} deg) -> [{}]{}{} ({wall:.1} s)",
+            "{:>3} seed {} ({} joints, physical {:?}): {} (before contact {:.3} deg) -> [{}]{}{}{} ({wall:.1} s)",
             self.kept,
             c.seed,
             c.joints,
@@ -209,6 +112,7 @@ impl Row {
             c.before_deg,
             names.join(" + "),
             if o.unexplained.is_some() { " + unexplained" } else { "" },
+            if o.fitted_whole { ", fitted whole" } else { "" },
             miss.map_or(String::new(), |j| format!("; joint {j} not followed after contact")),
         );
     }
@@ -220,7 +124,7 @@ impl Row {
         let median = w.get(w.len() / 2).copied().unwrap_or(f64::NAN);
         let pct = |k: usize| 100.0 * k as f64 / self.kept.max(1) as f64;
         format!(
-            "| {rule} | {} | {} | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {median:.1} s |",
+            "| {rule} | {} | {} | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {median:.1} s |",
             self.kept,
             self.split,
             self.found,
@@ -233,6 +137,8 @@ impl Row {
             pct(self.missed),
             self.no_shot,
             pct(self.no_shot),
+            self.whole,
+            pct(self.whole),
         )
     }
 }
@@ -274,8 +180,8 @@ fn main() {
     println!(
         "Wings of 4–6 joints with mixed latches (seeds 9301 on), one named effect hidden that moves the runs by ≥ {WHOLE_DEG}° RMS and by < {BEFORE_DEG}° before the first latch contact; two runs each.\n"
     );
-    println!("| draws | campaigns | left out: the effect changed the latch history | found (its joint, within 20 %, nothing else) | its kind claimed at its joint, any value | another kind or joint claimed | a joint not followed after contact | no shot after the first contact | median diagnose |");
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("| draws | campaigns | left out: the effect changed the latch history | found (its joint, within 20 %, nothing else) | its kind claimed at its joint, any value | another kind or joint claimed | a joint not followed after contact | no shot after the first contact | fitted on the whole runs | median diagnose |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     println!("{}", every.line("every draw"));
     println!("{}", same.line("same latch history"));
     println!(

@@ -102,6 +102,7 @@ pub fn diagnose_options() -> deploywatch_sim::diagnose::DiagnoseOptions {
     }
 }
 
+pub mod after_contact;
 pub mod cli_run;
 pub mod hidden_effect;
 pub mod hidden_torque;

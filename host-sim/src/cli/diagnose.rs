@@ -115,10 +115,11 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     // angles with that taken out, as the fit compared them.
     let campaign = diagnose::free_play::apply(&campaign, &outcome.free_play);
     // Runs of a physical latch: everything below is of the free motion the
-    // effects were fitted on; the latch findings are of the whole runs.
+    // effects were fitted on (of the whole runs when they were fitted
+    // whole); the latch findings are of the whole runs.
     let campaign = match &outcome.free_window {
-        Some(w) => diagnose::latch_window::apply(&campaign, w),
-        None => campaign,
+        Some(w) if !outcome.fitted_whole => diagnose::latch_window::apply(&campaign, w),
+        _ => campaign,
     };
     if !outcome.baseline.sse().is_finite() {
         return Err(CliError::failed(

@@ -149,6 +149,16 @@ fn free_play_offsets(found: Option<&Diagnosis>) -> Vec<FreePlayOffset> {
         .collect()
 }
 
+/// The free window the diagnosis `found` fitted run `name` on (`None`
+/// when it fitted the whole run).
+fn fitted_window<'a>(
+    found: Option<&'a Diagnosis>,
+    name: &str,
+) -> Option<&'a crate::model::findings::diagnosis::FreeWindow> {
+    let d = found.filter(|d| !d.fitted_whole)?;
+    d.free_window.iter().find(|w| w.run == name)
+}
+
 /// `--at RUN.csv`: the mechanism with `args.effects` (the `--from` ones
 /// among them) simulated as the diagnosis simulates a run, written to
 /// `--out` (the model's angles, no noise) and its RMS against the run
@@ -175,7 +185,7 @@ pub fn run_at(
     // declared free-play: the angles with that taken out, as it compared.
     let offsets = free_play_offsets(found);
     campaign = free_play::apply(&campaign, &offsets);
-    let window = found.and_then(|d| d.free_window.iter().find(|w| w.run == name));
+    let window = fitted_window(found, &name);
     if let Some(w) = window {
         let cut = RunWindow {
             kept: w.samples,

@@ -212,6 +212,7 @@ fn to_json(c: &Campaign, o: &Outcome, d: &Details) -> Diagnosis {
         encoder_delay: super::diagnosis_delay::json(c, o),
         flexible_panels: super::diagnosis_flex::json(o),
         free_window: diagnosis_latch::windows_json(c, o),
+        fitted_whole: o.fitted_whole,
         whole_run: diagnosis_latch::whole_run_json(o),
         latches: diagnosis_latch::latches_json(o),
         ambiguities: diagnosis_latch::ambiguities_json(o),

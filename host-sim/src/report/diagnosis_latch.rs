@@ -172,10 +172,26 @@ pub fn summary_lines(o: &Outcome) -> Vec<String> {
             out.push(format!("    {} (RMS {:.4} deg)", set_words(s), s.rms()));
         }
     }
+    if o.fitted_whole {
+        out.push(WHOLE_LINE.to_owned());
+    }
     for f in &o.latches {
         out.push(latch_line(f));
     }
     out
+}
+
+/// The summary line of runs of a physical latch fitted whole.
+const WHOLE_LINE: &str =
+    "fitted on the whole runs: the model found closes each latch switch as often as every run does";
+
+/// What the effects of runs of a physical latch were fitted on, in words.
+fn fitted_on_words(whole: bool) -> &'static str {
+    if whole {
+        "The model found, simulated from the release, closes each latch switch exactly as often as every run does: it follows the runs' impact sequence, so the effects were fitted on the whole runs (the free motion, up to the first instant a joint enters its latch's reach, is given below). The latch events are also compared by their statistics with what the drawing's latch gives within its tolerances."
+    } else {
+        "The impact sequence at a physical latch (rebounds, escapes over the plunger, re-latches) is chaotic: it is not compared sample by sample. The effects were fitted on each run's free motion, up to the first instant a joint enters its latch's reach; the latch events are compared by their statistics with what the drawing's latch gives within its tolerances."
+    }
 }
 
 fn latch_line(f: &LatchFinding) -> String {
@@ -308,10 +324,7 @@ pub fn report(md: &mut String, c: &Campaign, o: &Outcome) {
     }
     if let Some(ws) = &o.free_window {
         let _ = writeln!(md, "## Runs of a physical latch\n");
-        let _ = writeln!(
-            md,
-            "The impact sequence at a physical latch (rebounds, escapes over the plunger, re-latches) is chaotic: it is not compared sample by sample. The effects were fitted on each run's free motion, up to the first instant a joint enters its latch's reach; the latch events are compared by their statistics with what the drawing's latch gives within its tolerances.\n"
-        );
+        let _ = writeln!(md, "{}\n", fitted_on_words(o.fitted_whole));
         for (cr, w) in c.runs.iter().zip(ws) {
             let _ = match (w.end_s, w.joint) {
                 (Some(t), Some(j)) => writeln!(

@@ -23,7 +23,7 @@
 
 use super::candidate::Candidate;
 pub use super::outcome::Ambiguity;
-use super::outcome::{FittedSet, SeparatingTest};
+use super::outcome::{FittedSet, SeparatingTest, SetAside};
 use super::policy::{Move, Rejection, Verdict};
 use super::step::Step;
 use super::{labels, Search, MIN_DELTA_BIC};
@@ -304,4 +304,30 @@ pub fn widened(found: &FittedSet, groups: &[Ambiguity]) -> FittedSet {
         }
     }
     out
+}
+
+impl Search<'_, '_> {
+    /// Once the search is done: the sets that explain the runs alike
+    /// ([`Search::ambiguities`]) and the claims set aside within the discrepancy
+    /// ([`super::discrepancy`]; the sets alike are listed again when some were),
+    /// after a fit on the whole runs (`whole`) the negligible members
+    /// dropped ([`super::whole_fit`]).
+    pub(super) fn alternatives_and_set_aside(
+        &mut self,
+        whole: bool,
+    ) -> (Vec<Ambiguity>, Vec<SetAside>) {
+        if whole {
+            self.drop_negligible();
+        }
+        let mut ambiguities = if self.eng.halt.now() {
+            Vec::new()
+        } else {
+            self.best_of_alternatives()
+        };
+        let set_aside = self.set_aside_within_discrepancy();
+        if !set_aside.is_empty() && !self.eng.halt.now() {
+            ambiguities = self.ambiguities();
+        }
+        (ambiguities, set_aside)
+    }
 }

@@ -163,3 +163,12 @@ pub fn effects_of(set: &[Candidate], p: &[f64]) -> Vec<Effect> {
     }
     out
 }
+
+/// `a, b, c` of a set in words ([`Candidate::words`]); `nothing` for the
+/// empty set.
+pub fn labels(set: &[Candidate]) -> String {
+    if set.is_empty() {
+        return "nothing".to_string();
+    }
+    set.iter().map(|c| c.words()).collect::<Vec<_>>().join(", ")
+}

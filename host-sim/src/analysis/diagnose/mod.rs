@@ -64,10 +64,11 @@ mod step;
 pub mod table_export;
 mod table_form;
 pub mod tolerance;
+pub mod whole_fit;
 pub mod whole_run;
 
 pub use candidate::Candidate;
-use candidate::{effects_of, ParamBound};
+use candidate::{effects_of, labels, ParamBound};
 pub use outcome::{
     DiagnoseOptions, FitStats, FittedEffect, FittedSet, FreePlayOffset, HaltReason, Outcome,
     PanelMode, Round, SeparatingTest, SetAside, StopFlag, ToleranceShare, Unexplained,
@@ -256,15 +257,6 @@ impl Search<'_, '_> {
         }
         (f, held)
     }
-}
-
-/// `a, b, c` of a set in words ([`Candidate::words`]); `nothing` for the
-/// empty set.
-fn labels(set: &[Candidate]) -> String {
-    if set.is_empty() {
-        return "nothing".to_string();
-    }
-    set.iter().map(|c| c.words()).collect::<Vec<_>>().join(", ")
 }
 
 fn sub_campaign(c: &Campaign, keep: impl Fn(usize) -> bool) -> Campaign {
@@ -522,8 +514,10 @@ fn diagnose_at(
         }
     }
     let fitted_on = free.as_ref().map_or(campaign, |(c, _)| c);
-    let mut out = search_campaign(fitted_on, opts, progress, t0);
+    let mut out = search_campaign(fitted_on, opts, progress, t0, false);
     if let Some((cut, windows)) = &free {
+        let whole = |c: &Campaign| search_campaign(c, opts, progress, t0, true);
+        out = whole_fit::consider(campaign, cut, out, progress, whole);
         let effects = out.extended.effects();
         out.latches = latch_finding::latch_findings(campaign, &effects);
         if out.partial.is_none() {
@@ -536,12 +530,12 @@ fn diagnose_at(
                 |i| cut.residuals(i, &effects),
             );
         }
-        if let Some(m) = out.whole_run.as_ref().and_then(|w| w.missed()) {
-            progress(&format!(
-                "after the first contact the model found does not follow joint {} ({:.4} deg RMS)",
-                m.joint,
-                m.after_rms_deg.unwrap_or(0.0)
-            ));
+        if let Some(words) = out
+            .whole_run
+            .as_ref()
+            .and_then(whole_run::WholeRun::missed_words)
+        {
+            progress(&words);
         }
         out.free_window = Some(windows.clone());
     }
@@ -550,12 +544,14 @@ fn diagnose_at(
     out
 }
 
-/// The search of [`diagnose`] on the samples it fits.
+/// The search of [`diagnose`] on the samples it fits (`whole`: runs of a
+/// physical latch fitted whole, [`whole_fit`]).
 fn search_campaign(
     campaign: &Campaign,
     opts: &DiagnoseOptions,
     progress: Progress,
     t0: Instant,
+    whole: bool,
 ) -> Outcome {
     let eng = Engine {
         campaign,
@@ -590,7 +586,7 @@ fn search_campaign(
         search.replace_stand_in();
         search.restart_from_tables(&baseline);
     }
-    let (ambiguities, set_aside) = search.alternatives_and_set_aside();
+    let (ambiguities, set_aside) = search.alternatives_and_set_aside(whole);
     let settled = tolerance::settle(&eng, search.current.clone());
     let partial = eng.halt.finish();
     let current_held = match settled.within.is_empty() {
@@ -621,30 +617,13 @@ fn search_campaign(
         free_play: Vec::new(),
         free_window: None,
         whole_run: None,
+        fitted_whole: false,
         latches: Vec::new(),
         tolerance,
         within_tolerance: settled.within,
         ambiguities,
         set_aside,
         partial,
-    }
-}
-
-impl Search<'_, '_> {
-    /// Once the search is done: the sets that explain the runs alike
-    /// ([`ambiguity`]) and the claims set aside within the discrepancy
-    /// ([`discrepancy`]; the sets alike are listed again when some were).
-    fn alternatives_and_set_aside(&mut self) -> (Vec<ambiguity::Ambiguity>, Vec<SetAside>) {
-        let mut ambiguities = if self.eng.halt.now() {
-            Vec::new()
-        } else {
-            self.best_of_alternatives()
-        };
-        let set_aside = self.set_aside_within_discrepancy();
-        if !set_aside.is_empty() && !self.eng.halt.now() {
-            ambiguities = self.ambiguities();
-        }
-        (ambiguities, set_aside)
     }
 }
 

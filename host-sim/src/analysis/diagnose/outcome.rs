@@ -468,6 +468,12 @@ pub struct Outcome {
     /// ([`super::whole_run`]); `None` when no run goes on after its free
     /// window (or the search stopped early).
     pub whole_run: Option<super::whole_run::WholeRun>,
+    /// Runs of a physical latch fitted whole: the model found closes every
+    /// latch switch as often as each run does, so the search ran again on
+    /// the whole runs and its set is the one given
+    /// ([`super::whole_fit`]); false when the effects are fitted on the
+    /// free windows only.
+    pub fitted_whole: bool,
     /// Each physical latch's events against the drawing's.
     pub latches: Vec<LatchFinding>,
     /// What the drawing's declared tolerances of mass, inertia and spring

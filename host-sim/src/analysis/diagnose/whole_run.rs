@@ -136,6 +136,17 @@ impl WholeRun {
             })
     }
 
+    /// [`WholeRun::missed`] in words, for the progress.
+    pub fn missed_words(&self) -> Option<String> {
+        self.missed().map(|m| {
+            format!(
+                "after the first contact the model found does not follow joint {} ({:.4} deg RMS)",
+                m.joint,
+                m.after_rms_deg.unwrap_or(0.0)
+            )
+        })
+    }
+
     /// Seconds of the runs the shots cover.
     pub fn shot_seconds(&self) -> f64 {
         self.shots.iter().map(|s| s.length_s).sum::<f64>().max(0.0)

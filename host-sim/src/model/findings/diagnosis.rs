@@ -67,9 +67,17 @@ pub struct Diagnosis {
     /// effect; the effects and every fit figure are of the flexible wing.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub flexible_panels: Option<FlexiblePanelsJson>,
-    /// Runs of a physical latch: the free motion each run was fitted on.
+    /// Runs of a physical latch: the free motion of each run, up to the
+    /// first instant a joint enters its latch's reach; the effects were
+    /// fitted on it unless `fitted_whole`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub free_window: Vec<FreeWindow>,
+    /// Runs of a physical latch fitted whole: the model found closes each
+    /// latch switch as often as every run does, so the effects and every
+    /// fit figure are of the whole runs (`docs/diagnosis.md`, "Runs of a
+    /// physical latch", 5).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub fitted_whole: bool,
     /// Runs of a physical latch: the model found over the whole runs, the
     /// motion after each free window shot from the measured state
     /// (`docs/diagnosis.md`, "The whole run").
