@@ -215,7 +215,10 @@ pub fn follows_history(campaign: &Campaign, effects: &[Effect], sigma: f64) -> b
         .into_par_iter()
         .map(|i| {
             let cr = &campaign.runs[i];
-            let traj = campaign.simulate(i, effects).ok()?;
+            // The switches and the settling, not the angles against the
+            // runs: no encoder offset applied to either.
+            let base = fit_sim_options_for(&cr.mechanism);
+            let traj = deployment::simulate_at(&cr.mechanism, effects, &base, &cr.run.t_s).ok()?;
             let same = measured[i].iter().enumerate().all(|(j, m)| match m {
                 Some(n) => traj.latched.get(j).is_some_and(|l| closings(l) == *n),
                 None => true,
@@ -223,7 +226,6 @@ pub fn follows_history(campaign: &Campaign, effects: &[Effect], sigma: f64) -> b
             if !same {
                 return None;
             }
-            let base = fit_sim_options_for(&cr.mechanism);
             let tight = SimOptions {
                 rtol: base.rtol * TIGHTER,
                 atol: base.atol * TIGHTER,
