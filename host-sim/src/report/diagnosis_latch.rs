@@ -329,8 +329,9 @@ pub fn report(md: &mut String, c: &Campaign, o: &Outcome) {
             let _ = match (w.end_s, w.joint) {
                 (Some(t), Some(j)) => writeln!(
                     md,
-                    "- {}: free motion fitted to {t:.2} s ({} of {} samples), where joint {j} enters its latch's reach",
+                    "- {}: free motion {} {t:.2} s ({} of {} samples), where joint {j} enters its latch's reach",
                     cr.name(),
+                    if o.fitted_whole { "to" } else { "fitted to" },
                     w.kept,
                     w.of
                 ),
