@@ -279,10 +279,14 @@ fn round_trip(kind: EffectKind, dir: &Path) -> Result<(), String> {
     intervals_bracket_the_values(&d)?;
     let joints = d.extended.trajectory_error_pct.len();
     let measured = angles(&run, joints);
-    let samples = d
-        .free_window
-        .first()
-        .map_or(measured[0].len(), |w| w.samples);
+    // The window the diagnosis fitted: up to where the model follows the
+    // run, its free motion, or the whole run.
+    let window = match (d.fitted_window.first(), d.fitted_whole) {
+        (Some(w), _) => Some(w),
+        (None, false) => d.free_window.first(),
+        (None, true) => None,
+    };
+    let samples = window.map_or(measured[0].len(), |w| w.samples);
     let again = rms(&angles(&model, joints), &measured, samples);
     let said = d.extended.rms_deg.ok_or("no extended RMS in the JSON")?;
     if (again - said).abs() > 1e-6 {

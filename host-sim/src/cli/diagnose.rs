@@ -114,11 +114,12 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     // Encoders off their panels within the declared free-play: the
     // angles with that taken out, as the fit compared them.
     let campaign = diagnose::free_play::apply(&campaign, &outcome.free_play);
-    // Runs of a physical latch: everything below is of the free motion the
-    // effects were fitted on (of the whole runs when they were fitted
-    // whole); the latch findings are of the whole runs.
-    let campaign = match &outcome.free_window {
-        Some(w) if !outcome.fitted_whole => diagnose::latch_window::apply(&campaign, w),
+    // Physical latches: all below is of the windows fitted (the free
+    // motion, the runs to where the model follows them, or the whole
+    // runs); the latch findings are of the whole runs.
+    let campaign = match (&outcome.fitted_to, &outcome.free_window) {
+        (Some(w), _) => diagnose::latch_window::apply(&campaign, w),
+        (None, Some(w)) if !outcome.fitted_whole => diagnose::latch_window::apply(&campaign, w),
         _ => campaign,
     };
     if !outcome.baseline.sse().is_finite() {

@@ -149,14 +149,35 @@ fn free_play_offsets(found: Option<&Diagnosis>) -> Vec<FreePlayOffset> {
         .collect()
 }
 
-/// The free window the diagnosis `found` fitted run `name` on (`None`
-/// when it fitted the whole run).
+/// The window the diagnosis `found` fitted run `name` on: its free motion
+/// or the run up to where the model follows it (`None` when it fitted the
+/// whole run).
 fn fitted_window<'a>(
     found: Option<&'a Diagnosis>,
     name: &str,
 ) -> Option<&'a crate::model::findings::diagnosis::FreeWindow> {
     let d = found.filter(|d| !d.fitted_whole)?;
-    d.free_window.iter().find(|w| w.run == name)
+    let windows = if d.fitted_window.is_empty() {
+        &d.free_window
+    } else {
+        &d.fitted_window
+    };
+    windows.iter().find(|w| w.run == name)
+}
+
+/// The window `w` the diagnosis `found` fitted a run on, in words.
+fn window_note(
+    found: Option<&Diagnosis>,
+    w: &crate::model::findings::diagnosis::FreeWindow,
+) -> String {
+    let what = match found.is_some_and(|d| !d.fitted_window.is_empty()) {
+        true => "window",
+        false => "free motion",
+    };
+    format!(
+        " (the {what} the diagnosis fitted, {} of {} samples)",
+        w.samples, w.of
+    )
 }
 
 /// `--at RUN.csv`: the mechanism with `args.effects` (the `--from` ones
@@ -218,10 +239,7 @@ pub fn run_at(
         mech.name,
         run.len(),
         at.display(),
-        window.map_or(String::new(), |w| format!(
-            " (the free motion the diagnosis fitted, {} of {} samples)",
-            w.samples, w.of
-        )),
+        window.map_or(String::new(), |w| window_note(found, w)),
         args.out.display()
     );
     if let Some(d) = delay_s {

@@ -4,6 +4,7 @@
 //! latch", "Ambiguity", "Long searches").
 
 use crate::analysis::diagnose::latch_finding::{LatchCause, LatchDifference, LatchFinding, Side};
+use crate::analysis::diagnose::latch_window::RunWindow;
 use crate::analysis::diagnose::whole_run::{self, WholeRun};
 use crate::analysis::diagnose::SeparatingTest;
 use crate::analysis::diagnose::{FittedSet, Outcome};
@@ -17,9 +18,10 @@ use crate::model::findings::rounded;
 use crate::report::markdown::table;
 use std::fmt::Write as _;
 
-/// The free window of each run, for the JSON.
-pub fn windows_json(c: &Campaign, o: &Outcome) -> Vec<FreeWindow> {
-    let Some(ws) = &o.free_window else {
+/// A window of each run (the free motion's or the one fitted), for the
+/// JSON.
+pub fn windows_json(c: &Campaign, ws: Option<&[RunWindow]>) -> Vec<FreeWindow> {
+    let Some(ws) = ws else {
         return Vec::new();
     };
     c.runs
@@ -175,6 +177,9 @@ pub fn summary_lines(o: &Outcome) -> Vec<String> {
     if o.fitted_whole {
         out.push(WHOLE_LINE.to_owned());
     }
+    if o.fitted_to.is_some() {
+        out.push(HORIZON_LINE.to_owned());
+    }
     for f in &o.latches {
         out.push(latch_line(f));
     }
@@ -185,12 +190,30 @@ pub fn summary_lines(o: &Outcome) -> Vec<String> {
 const WHOLE_LINE: &str =
     "fitted on the whole runs: the model found closes each latch switch as often as every run does";
 
+/// The summary line of runs of a physical latch fitted up to where the
+/// model follows them.
+const HORIZON_LINE: &str = "fitted up to where the model follows the runs: each run beyond its free motion, up to where a latch switch or the integration's tolerance parts the model found from it";
+
 /// What the effects of runs of a physical latch were fitted on, in words.
-fn fitted_on_words(whole: bool) -> &'static str {
-    if whole {
+fn fitted_on_words(o: &Outcome) -> &'static str {
+    if o.fitted_whole {
         "The model found, simulated from the release, closes each latch switch exactly as often as every run does: it follows the runs' impact sequence, so the effects were fitted on the whole runs (the free motion, up to the first instant a joint enters its latch's reach, is given below). The latch events are also compared by their statistics with what the drawing's latch gives within its tolerances."
+    } else if o.fitted_to.is_some() {
+        "The model found, simulated from the release, follows each run's impact sequence beyond its free motion: its latch switches change state as the run's do (within 0.05 s) and a tenth of the integration's tolerance moves it by less than half the noise, up to the instant given below for each run. The effects were fitted on each run up to there; after it a rebound more or less, or the integration's tolerance, parts model and run, and the latch events are compared by their statistics with what the drawing's latch gives within its tolerances."
     } else {
         "The impact sequence at a physical latch (rebounds, escapes over the plunger, re-latches) is chaotic: it is not compared sample by sample. The effects were fitted on each run's free motion, up to the first instant a joint enters its latch's reach; the latch events are compared by their statistics with what the drawing's latch gives within its tolerances."
+    }
+}
+
+/// Where run `run` was fitted to when it was fitted up to where the model
+/// follows it, in words.
+fn fitted_to_words(run: &str, w: &RunWindow) -> String {
+    match (w.end_s, w.joint) {
+        (Some(t), Some(j)) => format!(
+            "- {run}: fitted to {t:.2} s ({} of {} samples), where the model parts from it at joint {j}",
+            w.kept, w.of
+        ),
+        _ => format!("- {run}: fitted whole (the model follows it to its end)"),
     }
 }
 
@@ -324,19 +347,22 @@ pub fn report(md: &mut String, c: &Campaign, o: &Outcome) {
     }
     if let Some(ws) = &o.free_window {
         let _ = writeln!(md, "## Runs of a physical latch\n");
-        let _ = writeln!(md, "{}\n", fitted_on_words(o.fitted_whole));
+        let _ = writeln!(md, "{}\n", fitted_on_words(o));
         for (cr, w) in c.runs.iter().zip(ws) {
             let _ = match (w.end_s, w.joint) {
                 (Some(t), Some(j)) => writeln!(
                     md,
                     "- {}: free motion {} {t:.2} s ({} of {} samples), where joint {j} enters its latch's reach",
                     cr.name(),
-                    if o.fitted_whole { "to" } else { "fitted to" },
+                    if o.fitted_whole || o.fitted_to.is_some() { "to" } else { "fitted to" },
                     w.kept,
                     w.of
                 ),
                 _ => writeln!(md, "- {}: no joint reaches its latch; fitted whole", cr.name()),
             };
+        }
+        for (cr, w) in c.runs.iter().zip(o.fitted_to.iter().flatten()) {
+            let _ = writeln!(md, "{}", fitted_to_words(&cr.name(), w));
         }
         let _ = writeln!(md);
         if let Some(w) = &o.whole_run {

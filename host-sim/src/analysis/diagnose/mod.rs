@@ -516,7 +516,15 @@ fn diagnose_at(
     let fitted_on = free.as_ref().map_or(campaign, |(c, _)| c);
     let mut out = search_campaign(fitted_on, opts, progress, t0, false);
     if let Some((cut, windows)) = &free {
-        let whole = |c: &Campaign| search_campaign(c, opts, progress, t0, true);
+        // Up to a horizon, named effects only (`whole_fit::to_horizon`).
+        let whole = |c: &Campaign, named_only: bool| {
+            let discover = opts.discover && !named_only;
+            let o = DiagnoseOptions {
+                discover,
+                ..opts.clone()
+            };
+            search_campaign(c, &o, progress, t0, true)
+        };
         out = whole_fit::consider(campaign, cut, out, progress, whole);
         let effects = out.extended.effects();
         out.latches = latch_finding::latch_findings(campaign, &effects);
@@ -574,7 +582,7 @@ fn search_campaign(
     let truss = campaign.runs.iter().any(|r| r.mechanism.truss.is_some());
     let mut search = Search::new(
         &eng,
-        candidates(campaign, opts, truss),
+        candidates(campaign, opts, truss, whole),
         opts.max_effects,
         sigma,
         &baseline,
@@ -589,15 +597,13 @@ fn search_campaign(
     let (ambiguities, set_aside) = search.alternatives_and_set_aside(whole);
     let settled = tolerance::settle(&eng, search.current.clone());
     let partial = eng.halt.finish();
-    let current_held = match settled.within.is_empty() {
-        true => search.current_held,
-        false => None,
-    };
     let (extended, strength_rms_deg) = eng.strongest_first(&settled.set);
     let extended = ambiguity::widened(&extended, &ambiguities);
     let extended = tolerance::widen(&extended, &settled.shares);
     let tolerance = tolerance::in_order(&extended, &settled.shares);
-    let held_out_rms_deg = match current_held {
+    // The search's held-out figure is of its set unless the tolerances took
+    // a member out.
+    let held_out_rms_deg = match search.current_held.filter(|_| settled.within.is_empty()) {
         None if !extended.members.is_empty() => eng.held_out(&extended),
         h => h,
     };
@@ -618,6 +624,7 @@ fn search_campaign(
         free_window: None,
         whole_run: None,
         fitted_whole: false,
+        fitted_to: None,
         latches: Vec::new(),
         tolerance,
         within_tolerance: settled.within,
@@ -656,8 +663,16 @@ impl<'e, 'a> Search<'e, 'a> {
 /// The candidates of a campaign. A wing with a truss: the effects its
 /// simulator models, at the hinges (`crate::simulate::truss_deployment`);
 /// its friction nodes (joint n + k, e.g. 3 = the pins at F) are
-/// coulomb_friction candidates too: the paper's EFT3.
-fn candidates(campaign: &Campaign, opts: &DiagnoseOptions, truss: bool) -> Vec<Candidate> {
+/// coulomb_friction candidates too: the paper's EFT3. Runs of a physical
+/// latch fitted beyond their free motion (`whole`): no `latch_detent`,
+/// which moves a run by under 0.01° (physics.md §6) and there fits the
+/// instant a latch is reached, which the rebounds amplify.
+fn candidates(
+    campaign: &Campaign,
+    opts: &DiagnoseOptions,
+    truss: bool,
+    whole: bool,
+) -> Vec<Candidate> {
     let nodes = (campaign.max_joints() + 1)..=campaign.effect_joints();
     let node_friction = nodes.map(|j| Candidate {
         kind: EffectKind::CoulombFriction,
@@ -674,5 +689,6 @@ fn candidates(campaign: &Campaign, opts: &DiagnoseOptions, truss: bool) -> Vec<C
         .chain(Candidate::rig(rigs))
         .filter(|c| opts.kinds.contains(&c.kind))
         .filter(|c| !truss || crate::simulate::truss_deployment::models(c.kind))
+        .filter(|c| !whole || c.kind != EffectKind::LatchDetent)
         .collect()
 }

@@ -474,6 +474,11 @@ pub struct Outcome {
     /// ([`super::whole_fit`]); false when the effects are fitted on the
     /// free windows only.
     pub fitted_whole: bool,
+    /// Runs of a physical latch fitted up to where the model follows them
+    /// ([`super::whole_fit`]): each run's window, longer than its free
+    /// motion (`free_window`), the effects and every fit figure are of;
+    /// `None` when they are of the free windows or the whole runs.
+    pub fitted_to: Option<Vec<RunWindow>>,
     /// Each physical latch's events against the drawing's.
     pub latches: Vec<LatchFinding>,
     /// What the drawing's declared tolerances of mass, inertia and spring

@@ -15,12 +15,19 @@
 //! on the whole runs. [`follows_history`] decides, for the mechanisms as
 //! given (where the search starts) and the set found on the free motion
 //! before, and for the set found on the whole runs after.
+//!
+//! Where the model follows the runs only part of the way (a switch closes
+//! once more or less late in the run, or the integration's tolerance moves
+//! a late rebound), each run is fitted up to its [`horizon`], the first
+//! sample where model and run part (`docs/diagnosis.md`, "Runs of a
+//! physical latch", 6).
 
+use super::latch_window::{self, RunWindow};
 use super::outcome::{FittedSet, Outcome};
 use super::policy::MIN_DELTA_BIC;
 use super::Search;
 use crate::analysis::campaign_sim::{fit_sim_options_for, CampaignSim};
-use crate::data::campaign::Campaign;
+use crate::data::campaign::{Campaign, CampaignRun};
 use crate::model::effect::Effect;
 use crate::report::progress::Progress;
 use crate::simulate::deployment::{self, SimOptions};
@@ -30,27 +37,33 @@ use rayon::prelude::*;
 /// the runs cut to it), or the search on the whole runs (`search`) when
 /// the model each finds follows the runs' latch history
 /// ([`follows_history`]) and the whole runs' set explains the free motion
-/// as well as `first`'s ([`explains_free_motion`]); the outcome kept says
-/// which ([`Outcome::fitted_whole`]).
+/// as well as `first`'s ([`explains_free_motion`]), or else the search on
+/// each run up to where the model follows it ([`to_horizon`]); the outcome
+/// kept says which ([`Outcome::fitted_whole`], [`Outcome::fitted_to`]).
+/// `search(runs, named_only)`: the search on those runs, its discovery of
+/// unnamed torques left out when `named_only`.
 pub fn consider(
     campaign: &Campaign,
     free: &Campaign,
     first: Outcome,
     progress: Progress,
-    search: impl FnOnce(&Campaign) -> Outcome,
+    search: impl FnOnce(&Campaign, bool) -> Outcome,
 ) -> Outcome {
     let found = first.extended.effects();
     let sigma = first.noise_sigma_deg;
     let follows = |e: &[Effect]| follows_history(campaign, e, sigma);
     // The search on the whole runs starts from the mechanisms as given: a
     // baseline with another rebound count is no landscape to walk.
-    if first.partial.is_some() || !follows(&[]) || (!found.is_empty() && !follows(&found)) {
+    if first.partial.is_some() {
         return first;
+    }
+    if !follows(&[]) || (!found.is_empty() && !follows(&found)) {
+        return to_horizon(campaign, free, first, progress, search);
     }
     progress(
         "the model found closes each latch switch as often as every run does: searching again on the whole runs",
     );
-    let whole = search(campaign);
+    let whole = search(campaign, false);
     let simulations = first.simulations + whole.simulations;
     let kept = whole.partial.is_none()
         && follows(&whole.extended.effects())
@@ -66,6 +79,102 @@ pub fn consider(
     Outcome {
         simulations,
         ..first
+    }
+}
+
+/// The runs are fitted up to where the model follows them
+/// ([`to_horizon`]) only when that gives at least this many times the free
+/// motion's samples \[1\]: fewer add little evidence for a search run again.
+pub const MORE_THAN_FREE: f64 = 1.5;
+
+/// Where the whole runs are refused ([`consider`]): `first`, or the search
+/// on each run cut where the model stops following it (`search` on the
+/// runs cut at [`horizon`] of the mechanisms as given and of `first`'s set,
+/// the earlier, never before the free motion's end; named effects only:
+/// beyond the free motion a torque table of many knots fits what the
+/// rebounds make of the tolerance) when that is at least
+/// [`MORE_THAN_FREE`] times the free motion and the set found there follows
+/// the runs as far and explains the free motion as well as `first`'s
+/// ([`explains_free_motion`]); the outcome kept gives the windows
+/// ([`Outcome::fitted_to`]).
+fn to_horizon(
+    campaign: &Campaign,
+    free: &Campaign,
+    first: Outcome,
+    progress: Progress,
+    search: impl FnOnce(&Campaign, bool) -> Outcome,
+) -> Outcome {
+    let sigma = first.noise_sigma_deg;
+    let found = first.extended.effects();
+    let Some(base) = horizons(campaign, &[], sigma) else {
+        return first;
+    };
+    let with_found = if found.is_empty() {
+        Some(base.clone())
+    } else {
+        horizons(campaign, &found, sigma)
+    };
+    let Some(with_found) = with_found else {
+        return first;
+    };
+    let windows: Vec<RunWindow> = (0..campaign.runs.len())
+        .map(|i| {
+            let w = if with_found[i].kept < base[i].kept {
+                &with_found[i]
+            } else {
+                &base[i]
+            };
+            let at_least = free.runs.get(i).map_or(0, |f| f.run.len());
+            let t_s = &campaign.runs[i].run.t_s;
+            window_to(w.kept.max(at_least), w.of, t_s, w.joint)
+        })
+        .collect();
+    let kept: usize = windows.iter().map(|w| w.kept).sum();
+    let free_samples: usize = free.runs.iter().map(|r| r.run.len()).sum();
+    if (kept as f64) < MORE_THAN_FREE * free_samples as f64 {
+        return first;
+    }
+    progress(&format!(
+        "the model follows the runs' latch history beyond their free motion ({kept} of {} samples): searching again on them up to where it stops",
+        windows.iter().map(|w| w.of).sum::<usize>()
+    ));
+    let cut = latch_window::apply(campaign, &windows);
+    let there = search(&cut, true);
+    let simulations = first.simulations + there.simulations;
+    let kept = there.partial.is_none()
+        && horizons(campaign, &there.extended.effects(), sigma)
+            .is_some_and(|h| h.iter().zip(&windows).all(|(a, w)| a.kept >= w.kept))
+        && explains_free_motion(free, &there.extended, &first.extended);
+    if kept {
+        return Outcome {
+            fitted_to: Some(windows),
+            simulations,
+            ..there
+        };
+    }
+    progress("the set found up to where the model follows the runs does not follow them as far, or misses their free motion: the free motion's kept");
+    Outcome {
+        simulations,
+        ..first
+    }
+}
+
+/// Each run's [`horizon`] with `effects`; `None` when one has none.
+fn horizons(campaign: &Campaign, effects: &[Effect], sigma: f64) -> Option<Vec<RunWindow>> {
+    (0..campaign.runs.len())
+        .into_par_iter()
+        .map(|i| horizon(&campaign.runs[i], effects, sigma))
+        .collect()
+}
+
+/// The window of the first `kept` of `of` samples at stamps `t_s`, ended
+/// at `joint` (1-based).
+fn window_to(kept: usize, of: usize, t_s: &[f64], joint: Option<usize>) -> RunWindow {
+    RunWindow {
+        kept,
+        of,
+        end_s: (kept < of).then(|| t_s.get(kept).copied()).flatten(),
+        joint,
     }
 }
 
@@ -247,6 +356,83 @@ pub fn follows_history(campaign: &Campaign, effects: &[Effect], sigma: f64) -> b
     n > 0 && (ss / n as f64).sqrt() < SETTLED_SHARE * sigma
 }
 
+/// A switch transition of the model is paired with the run's when the two
+/// lie within this time of each other \[s\]: an effect moves an impact
+/// continuously, by a few samples at most, while a rebound more or less
+/// puts the sequences out of step by the whole rebound.
+pub const SWITCH_SLACK_S: f64 = 0.05;
+
+/// Each state change of a switch (its sample index): open to closed and
+/// closed to open, and the first sample when it is closed there.
+fn transitions(switch: &[bool]) -> Vec<usize> {
+    let mut v: Vec<usize> = (1..switch.len())
+        .filter(|&i| switch[i] != switch[i - 1])
+        .collect();
+    if switch.first() == Some(&true) {
+        v.insert(0, 0);
+    }
+    v
+}
+
+/// The first sample at which two switch histories (`run`, `model`, at the
+/// same stamps `t_s`) part: the earlier of the first pair of the n-th state
+/// changes more than [`SWITCH_SLACK_S`] apart, or of a change without a
+/// counterpart; `None` when they change alike throughout.
+fn parting(run: &[bool], model: &[bool], t_s: &[f64]) -> Option<usize> {
+    let (a, b) = (transitions(run), transitions(model));
+    let at = |i: usize| t_s.get(i).copied().unwrap_or(f64::INFINITY);
+    (0..a.len().max(b.len())).find_map(|n| match (a.get(n), b.get(n)) {
+        (Some(&x), Some(&y)) if (at(x) - at(y)).abs() <= SWITCH_SLACK_S => None,
+        (Some(&x), Some(&y)) => Some(x.min(y)),
+        (Some(&x), None) | (None, Some(&x)) => Some(x),
+        (None, None) => None,
+    })
+}
+
+/// The window of run `cr` the model with `effects` follows
+/// (`docs/diagnosis.md`, "Runs of a physical latch", 6): up to the first
+/// sample where a switch of a physical latch changes state without its
+/// counterpart in the model within [`SWITCH_SLACK_S`], or where the same
+/// model at a tenth of the fit's integration tolerance moves a joint by
+/// [`SETTLED_SHARE`] of the noise σ̂ `sigma` \[deg\] or more (the window's
+/// joint: the one that parts there); `None` when the run lacks a physical
+/// latch's switch or cannot be simulated.
+pub fn horizon(cr: &CampaignRun, effects: &[Effect], sigma: f64) -> Option<RunWindow> {
+    let len = cr.run.len();
+    let base = fit_sim_options_for(&cr.mechanism);
+    let traj = deployment::simulate_at(&cr.mechanism, effects, &base, &cr.run.t_s).ok()?;
+    let tight = SimOptions {
+        rtol: base.rtol * TIGHTER,
+        atol: base.atol * TIGHTER,
+        ..base
+    };
+    let fine = deployment::simulate_at(&cr.mechanism, effects, &tight, &cr.run.t_s).ok()?;
+    // (first sample not followed, its joint 1-based)
+    let mut h: (usize, Option<usize>) = (len, None);
+    let mut part = |i: usize, j: usize| {
+        if i < h.0 {
+            h = (i, Some(j + 1));
+        }
+    };
+    for (j, (a, b)) in traj.phi_deg.iter().zip(&fine.phi_deg).enumerate() {
+        let mut unsettled = a.iter().zip(b);
+        if let Some(i) = unsettled.position(|(x, y)| (x - y).abs() >= SETTLED_SHARE * sigma) {
+            part(i, j);
+        }
+    }
+    for j in 0..cr.mechanism.joint_count() {
+        if cr.mechanism.latch(j).is_none() {
+            continue;
+        }
+        let run = cr.run.latch.get(j).filter(|s| s.len() == len)?;
+        let model = traj.latched.get(j)?;
+        if let Some(i) = parting(run, model, &cr.run.t_s) {
+            part(i, j);
+        }
+    }
+    Some(window_to(h.0, len, &cr.run.t_s, h.1))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -258,5 +444,24 @@ mod tests {
         assert_eq!(closings(&[true, true, false]), 1);
         assert_eq!(closings(&[false, true, false, true, true]), 2);
         assert_eq!(closings(&[true, false, true]), 2);
+    }
+
+    #[test]
+    fn switches_part_at_the_first_change_without_its_counterpart() {
+        let t: Vec<f64> = (0..40).map(|i| f64::from(i) * 0.01).collect();
+        let at = |on: &[usize]| (0..40).map(|i| on.contains(&i)).collect::<Vec<bool>>();
+        // The same closing, 2 samples apart: followed.
+        let run = at(&[10, 11, 12, 13]);
+        assert_eq!(parting(&run, &at(&[12, 13, 14, 15]), &t), None);
+        // 8 samples apart (0.08 s > 0.05 s): parted at the earlier.
+        assert_eq!(parting(&run, &at(&[18, 19, 20, 21]), &t), Some(10));
+        // A closing more in the model: its closing at 25 has no
+        // counterpart in the run.
+        let model = at(&[10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 25, 26]);
+        let run = at(&[10, 11, 12, 13, 14, 15, 16, 17, 18, 19]);
+        assert_eq!(parting(&run, &model, &t), Some(25));
+        // A switch closed at the first sample counts as a change there.
+        assert_eq!(parting(&at(&[0, 1]), &at(&[8]), &t), Some(0));
+        assert_eq!(transitions(&at(&[0, 1, 5])), vec![0, 2, 5, 6]);
     }
 }

@@ -78,6 +78,12 @@ pub struct Diagnosis {
     /// physical latch", 5).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub fitted_whole: bool,
+    /// Runs of a physical latch fitted up to where the model found follows
+    /// each run's latch history (`docs/diagnosis.md`, "Runs of a physical
+    /// latch", 6): each run's window, longer than its free motion; the
+    /// effects and every fit figure are of these windows. Empty otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub fitted_window: Vec<FreeWindow>,
     /// Runs of a physical latch: the model found over the whole runs, the
     /// motion after each free window shot from the measured state
     /// (`docs/diagnosis.md`, "The whole run").
