@@ -93,9 +93,10 @@ pub const MORE_THAN_FREE: f64 = 1.5;
 /// the earlier, never before the free motion's end; named effects only:
 /// beyond the free motion a torque table of many knots fits what the
 /// rebounds make of the tolerance) when that is at least
-/// [`MORE_THAN_FREE`] times the free motion and the set found there follows
-/// the runs as far and explains the free motion as well as `first`'s
-/// ([`explains_free_motion`]); the outcome kept gives the windows
+/// [`MORE_THAN_FREE`] times the free motion and the set found there leaves
+/// the runs so cut at the noise (unless `first` left the free motion above
+/// it), follows the runs as far and explains the free motion as well as
+/// `first`'s ([`explains_free_motion`]); the outcome kept gives the windows
 /// ([`Outcome::fitted_to`]).
 fn to_horizon(
     campaign: &Campaign,
@@ -141,7 +142,11 @@ fn to_horizon(
     let cut = latch_window::apply(campaign, &windows);
     let there = search(&cut, true);
     let simulations = first.simulations + there.simulations;
+    // Switches that change state alike do not make rebounds of the same
+    // height (a latch as built within its tolerances): the set must leave
+    // the runs so cut at the noise where the free motion's did.
     let kept = there.partial.is_none()
+        && (there.unexplained.is_none() || first.unexplained.is_some())
         && horizons(campaign, &there.extended.effects(), sigma)
             .is_some_and(|h| h.iter().zip(&windows).all(|(a, w)| a.kept >= w.kept))
         && explains_free_motion(free, &there.extended, &first.extended);
