@@ -354,10 +354,35 @@ pub(super) struct Settled {
     pub within: Vec<WithinTolerance>,
 }
 
+/// `set` without its member `k`, or, for a Stribeck friction, with
+/// Coulomb friction at its kinetic level in its place: what the tolerances
+/// could make is the break-away's excess over the kinetic level (a
+/// Stribeck law holds Coulomb friction, `ΔT = 0`), not the friction.
+fn in_its_place(set: &FittedSet, k: usize) -> FittedSet {
+    let without = set.without(k);
+    match set.members.get(k) {
+        Some(m) if m.candidate.kind == EffectKind::StribeckFriction => {
+            let coulomb = super::Candidate {
+                kind: EffectKind::CoulombFriction,
+                joint: m.candidate.joint,
+                table: None,
+            };
+            if without.members.iter().any(|x| x.candidate == coulomb) {
+                return without;
+            }
+            let kinetic = m.params.first().copied().unwrap_or(0.0);
+            without.with(FittedEffect::start(coulomb, vec![kinetic]))
+        }
+        _ => without,
+    }
+}
+
 /// Takes out of `found`, one at a time (the least clear first, the rest
 /// refitted), each named effect whose value the fit's interval widened by
 /// its share of the tolerances does not hold clear of zero: the runs
-/// cannot tell it from a wing built within its drawing's tolerances.
+/// cannot tell it from a wing built within its drawing's tolerances (a
+/// Stribeck friction gives way to Coulomb friction at its kinetic level,
+/// [`in_its_place`]).
 pub(super) fn settle(eng: &Engine<'_>, found: FittedSet) -> Settled {
     let mut set = found;
     let mut within = Vec::new();
@@ -385,7 +410,7 @@ pub(super) fn settle(eng: &Engine<'_>, found: FittedSet) -> Settled {
                 within,
             };
         };
-        let Some(refit) = eng.refit(eng.campaign, &set.without(k)) else {
+        let Some(refit) = eng.refit(eng.campaign, &in_its_place(&set, k)) else {
             return Settled {
                 set,
                 shares,
@@ -398,8 +423,13 @@ pub(super) fn settle(eng: &Engine<'_>, found: FittedSet) -> Settled {
                 .unwrap_or_else(|| shares[k].clone()),
         };
         eng.say(format!(
-            "  set apart {}: the drawing's declared tolerances of mass, inertia and spring torque alone could make it (±{} at 95 %, most from {})",
+            "  set apart {}{}: the drawing's declared tolerances of mass, inertia and spring torque alone could make it (±{} at 95 %, most from {})",
             taken.effect.candidate.words(),
+            if taken.effect.candidate.kind == EffectKind::StribeckFriction {
+                " (Coulomb friction at its kinetic level in its place)"
+            } else {
+                ""
+            },
             taken
                 .share
                 .sd
