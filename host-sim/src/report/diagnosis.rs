@@ -138,7 +138,12 @@ fn report_header(md: &mut String, c: &Campaign, o: &Outcome) {
 fn report_causes(md: &mut String, o: &Outcome) {
     let ext = o.extended.effects();
     let _ = writeln!(md, "## Causes found\n");
-    if ext.is_empty() {
+    if ext.is_empty() && o.unexplained.is_some() {
+        let _ = writeln!(
+            md,
+            "None claimed, and the mechanisms as given leave the runs above the noise: see what stays unexplained below.\n"
+        );
+    } else if ext.is_empty() {
         let _ = writeln!(
             md,
             "None: the mechanisms as given explain the runs down to the sensor noise.\n"

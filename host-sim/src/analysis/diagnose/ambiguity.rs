@@ -13,7 +13,10 @@
 //! every set the stage fitted is judged against the set found by the one
 //! acceptance rule ([`Search::accept`] with [`Move::Alternative`]'s
 //! policy, that of a second start: a BIC better by more than
-//! [`MIN_DELTA_BIC`] and a held-out RMS 5 % better), and no effect it adds
+//! [`MIN_DELTA_BIC`] and a held-out RMS 5 % better; a set with fewer
+//! torque tables than the set found with [`Move::NamedForTable`]'s, as
+//! discovery judges a named law in a table's place: a better BIC, an RMS
+//! within 5 % of the table set's and a residual not above the noise), and no effect it adds
 //! a claim its joint shows no evidence of ([`Rejection::UnsupportedClaim`],
 //! the rule that drops such claims at the end of discovery); the best by
 //! BIC that passes becomes the set found, and the groups are formed again around
@@ -62,8 +65,10 @@ impl Search<'_, '_> {
     }
 
     /// Judges every set of `groups` but the current one (and, at the noise
-    /// floor, but those that only add to it) against it, best BIC first, by [`Search::accept`] with [`Move::Alternative`]'s
-    /// policy; takes the first that passes. Says what it did; returns
+    /// floor, but those that only add to it) against it, best BIC first, by
+    /// [`Search::accept`] with [`Move::Alternative`]'s policy (with
+    /// [`Move::NamedForTable`]'s for a set of fewer tables); takes the
+    /// first that passes. Says what it did; returns
     /// whether it took one.
     fn take_a_better_alternative(&mut self, groups: &[Ambiguity]) -> bool {
         let now = self.current.candidates();
@@ -90,8 +95,20 @@ impl Search<'_, '_> {
         if self.current_held.is_none() {
             self.current_held = self.eng.held_out(&self.current);
         }
-        let policy = Move::Alternative.policy();
+        let tables = |s: &FittedSet| {
+            s.members
+                .iter()
+                .filter(|m| m.candidate.table.is_some())
+                .count()
+        };
         for f in others {
+            // A set with fewer tables is a named law in a table's place,
+            // judged as discovery judges that exchange.
+            let policy = if tables(f) < tables(&self.current) {
+                Move::NamedForTable.policy()
+            } else {
+                Move::Alternative.policy()
+            };
             let mut held = None;
             let mut verdict =
                 self.accept((&self.current, self.current_held), f, &mut held, &policy);

@@ -22,9 +22,11 @@
 //! runs cannot tell it from the discrepancy. At the noise floor nothing is
 //! asked: there the residual is the noise and the BIC's count holds.
 
+use super::ambiguity::Ambiguity;
 use super::outcome::{FittedSet, SetAside};
 use super::policy::{Move, Verdict};
 use super::step::Step;
+use super::tolerance::{self, Settled};
 use super::{above_noise, labels, Search};
 
 impl Search<'_, '_> {
@@ -102,6 +104,39 @@ impl Search<'_, '_> {
             self.current = f;
         }
         out
+    }
+
+    /// The set found settled against the drawing's tolerances
+    /// ([`tolerance::settle`]), and the claims within the discrepancy judged
+    /// again when that took a member out: what the tolerances made (an
+    /// encoder offset a spring's tolerance moves, say) may have carried the
+    /// set to the noise, and without it the rest stands above the noise
+    /// again, where a table's shape beyond a named law is weighed against
+    /// that discrepancy. `ambiguities` and `set_aside` are the search's,
+    /// extended (the sets alike listed again when it set more aside).
+    pub(super) fn settle(
+        &mut self,
+        ambiguities: &mut Vec<Ambiguity>,
+        set_aside: &mut Vec<SetAside>,
+    ) -> Settled {
+        let settled = tolerance::settle(self.eng, self.current.clone());
+        if settled.within.is_empty() || self.eng.halt.now() {
+            return settled;
+        }
+        self.current_held = self.eng.held_out(&settled.set);
+        self.current = settled.set.clone();
+        let more = self.set_aside_within_discrepancy();
+        if more.is_empty() {
+            return settled;
+        }
+        set_aside.extend(more);
+        if !self.eng.halt.now() {
+            *ambiguities = self.ambiguities();
+        }
+        let again = tolerance::settle(self.eng, self.current.clone());
+        let mut within = settled.within;
+        within.extend(again.within);
+        Settled { within, ..again }
     }
 
     /// Of the smaller and simpler sets (each member dropped, each table

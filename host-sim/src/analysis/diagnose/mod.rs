@@ -594,8 +594,8 @@ fn search_campaign(
         search.replace_stand_in();
         search.restart_from_tables(&baseline);
     }
-    let (ambiguities, set_aside) = search.alternatives_and_set_aside(whole);
-    let settled = tolerance::settle(&eng, search.current.clone());
+    let (mut ambiguities, mut set_aside) = search.alternatives_and_set_aside(whole);
+    let settled = search.settle(&mut ambiguities, &mut set_aside);
     let partial = eng.halt.finish();
     let (extended, strength_rms_deg) = eng.strongest_first(&settled.set);
     let extended = ambiguity::widened(&extended, &ambiguities);
