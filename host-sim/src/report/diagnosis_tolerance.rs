@@ -16,9 +16,14 @@ fn sds(sd: &[f64]) -> String {
         .join(", ")
 }
 
-/// The effect taken out in words: `rig_tilt = 0.00220 m/s²`.
+/// The effect taken out in words: `rig_tilt = 0.00220 m/s²`, with what
+/// took its place (`…, spring_softening at joint 4 in its place`).
 fn claim_words(w: &WithinTolerance) -> String {
-    super::diagnosis_set_aside::effect_words(&w.effect)
+    let words = super::diagnosis_set_aside::effect_words(&w.effect);
+    match w.in_its_place {
+        Some(c) => format!("{words}, {} in its place", c.words()),
+        None => words,
+    }
 }
 
 /// What the tolerances alone move an effect's parameters by, at 95 %.
@@ -96,7 +101,7 @@ pub fn report(md: &mut String, o: &Outcome) {
     }
     let _ = writeln!(
         md,
-        "Named effects the tolerances alone could make: each was found, but its value lies within what the drawing's tolerances move it by (its fit's interval widened by 1.96 times its share holds zero), so the runs cannot tell it from a wing built within its drawing. Each was taken out, the rest refitted; they are not claimed:\n"
+        "Named effects the tolerances alone could make: each was found, but its value lies within what the drawing's tolerances move it by (its fit's interval widened by 1.96 times its share holds zero), so the runs cannot tell it from a wing built within its drawing. Each was taken out, the rest refitted (a Stribeck friction gives way to Coulomb friction at its kinetic level, named beside it); they are not claimed:\n"
     );
     let rows: Vec<Vec<String>> = o
         .within_tolerance
@@ -132,6 +137,7 @@ pub fn within_json(o: &Outcome) -> Vec<WithinToleranceJson> {
                     .map(|u| rounded(crate::analysis::fit::Z_975 * u))
                     .collect(),
                 largest: w.share.largest.clone(),
+                in_its_place: w.in_its_place.map(|c| c.words()),
             }
         })
         .collect()
@@ -147,4 +153,51 @@ pub fn json(o: &Outcome) -> Vec<ToleranceJson> {
             largest: t.largest.clone(),
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::diagnose::{Candidate, FittedEffect, ToleranceShare};
+    use crate::model::effect::EffectKind;
+
+    /// A Stribeck friction at joint 4 set apart with Coulomb friction in
+    /// its place, or without anything in its place.
+    fn set_apart(in_its_place: Option<Candidate>) -> WithinTolerance {
+        let stribeck = Candidate {
+            kind: EffectKind::StribeckFriction,
+            joint: Some(4),
+            table: None,
+        };
+        WithinTolerance {
+            effect: FittedEffect::start(stribeck, vec![0.46, 0.2, 0.05]),
+            in_its_place,
+            share: ToleranceShare {
+                candidate: stribeck,
+                effect: stribeck.words(),
+                sd: vec![0.3, 2.0, 0.2],
+                largest: "joint 4's spring (±2 %) of w".to_string(),
+            },
+        }
+    }
+
+    #[test]
+    fn what_took_a_set_apart_effects_place_is_named_beside_it() {
+        let coulomb = Candidate {
+            kind: EffectKind::CoulombFriction,
+            joint: Some(4),
+            table: None,
+        };
+        let words = claim_words(&set_apart(Some(coulomb)));
+        assert!(
+            words.starts_with("stribeck_friction at joint 4 = "),
+            "{words}"
+        );
+        assert!(
+            words.ends_with(", coulomb_friction at joint 4 in its place"),
+            "{words}"
+        );
+        let alone = claim_words(&set_apart(None));
+        assert!(!alone.contains("in its place"), "{alone}");
+    }
 }

@@ -112,8 +112,9 @@ impl Search<'_, '_> {
     /// encoder offset a spring's tolerance moves, say) may have carried the
     /// set to the noise, and without it the rest stands above the noise
     /// again, where a table's shape beyond a named law is weighed against
-    /// that discrepancy. `ambiguities` and `set_aside` are the search's,
-    /// extended (the sets alike listed again when it set more aside).
+    /// that discrepancy. `ambiguities` and `set_aside` are the search's:
+    /// the sets alike are formed again around the set settled, and the
+    /// claims set aside extended.
     pub(super) fn settle(
         &mut self,
         ambiguities: &mut Vec<Ambiguity>,
@@ -126,13 +127,13 @@ impl Search<'_, '_> {
         self.current_held = self.eng.held_out(&settled.set);
         self.current = settled.set.clone();
         let more = self.set_aside_within_discrepancy();
+        if !self.eng.halt.now() {
+            *ambiguities = self.ambiguities();
+        }
         if more.is_empty() {
             return settled;
         }
         set_aside.extend(more);
-        if !self.eng.halt.now() {
-            *ambiguities = self.ambiguities();
-        }
         let again = tolerance::settle(self.eng, self.current.clone());
         let mut within = settled.within;
         within.extend(again.within);

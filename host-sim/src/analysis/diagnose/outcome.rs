@@ -420,6 +420,10 @@ pub struct ToleranceShare {
 pub struct WithinTolerance {
     /// The effect as it was fitted in the set.
     pub effect: FittedEffect,
+    /// What took its place in the set, when something did (a Stribeck
+    /// friction gives way to Coulomb friction at its kinetic level,
+    /// [`super::tolerance`]).
+    pub in_its_place: Option<Candidate>,
     /// Its share of the tolerances there.
     pub share: ToleranceShare,
 }

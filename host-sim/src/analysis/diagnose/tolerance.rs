@@ -28,6 +28,7 @@
 //! is taken out of the set (the least clear first, the rest refitted, the
 //! shares computed again) and reported as such, not claimed ([`settle`]).
 
+use super::candidate::Candidate;
 use super::outcome::{FittedEffect, FittedSet, ToleranceShare, WithinTolerance};
 use super::Engine;
 use crate::analysis::fit::Z_975;
@@ -354,26 +355,34 @@ pub(super) struct Settled {
     pub within: Vec<WithinTolerance>,
 }
 
-/// `set` without its member `k`, or, for a Stribeck friction, with
-/// Coulomb friction at its kinetic level in its place: what the tolerances
-/// could make is the break-away's excess over the kinetic level (a
-/// Stribeck law holds Coulomb friction, `ΔT = 0`), not the friction.
-fn in_its_place(set: &FittedSet, k: usize) -> FittedSet {
+/// `set` without its member `k`, refitted; for a Stribeck friction, with
+/// Coulomb friction at its kinetic level in its place, refitted, and that
+/// Coulomb friction: what the tolerances could make is the break-away's
+/// excess over the kinetic level (a Stribeck law holds Coulomb friction,
+/// `ΔT = 0`), not the friction. Another single law in its place would be
+/// another explanation, not the same one reduced: the sets alike formed
+/// again around the set settled list it ([`super::ambiguity`]).
+fn in_its_place(
+    eng: &Engine<'_>,
+    set: &FittedSet,
+    k: usize,
+) -> Option<(FittedSet, Option<Candidate>)> {
     let without = set.without(k);
     match set.members.get(k) {
         Some(m) if m.candidate.kind == EffectKind::StribeckFriction => {
-            let coulomb = super::Candidate {
+            let coulomb = Candidate {
                 kind: EffectKind::CoulombFriction,
                 joint: m.candidate.joint,
                 table: None,
             };
-            if without.members.iter().any(|x| x.candidate == coulomb) {
-                return without;
+            if without.candidates().contains(&coulomb) {
+                return eng.refit(eng.campaign, &without).map(|f| (f, None));
             }
             let kinetic = m.params.first().copied().unwrap_or(0.0);
-            without.with(FittedEffect::start(coulomb, vec![kinetic]))
+            let start = without.with(FittedEffect::start(coulomb, vec![kinetic]));
+            eng.refit(eng.campaign, &start).map(|f| (f, Some(coulomb)))
         }
-        _ => without,
+        _ => eng.refit(eng.campaign, &without).map(|f| (f, None)),
     }
 }
 
@@ -410,7 +419,7 @@ pub(super) fn settle(eng: &Engine<'_>, found: FittedSet) -> Settled {
                 within,
             };
         };
-        let Some(refit) = eng.refit(eng.campaign, &in_its_place(&set, k)) else {
+        let Some((refit, placed)) = in_its_place(eng, &set, k) else {
             return Settled {
                 set,
                 shares,
@@ -419,17 +428,14 @@ pub(super) fn settle(eng: &Engine<'_>, found: FittedSet) -> Settled {
         };
         let taken = WithinTolerance {
             effect: set.members[k].clone(),
+            in_its_place: placed,
             share: band_share(eng.campaign, &set.members[k], &shares[k])
                 .unwrap_or_else(|| shares[k].clone()),
         };
         eng.say(format!(
             "  set apart {}{}: the drawing's declared tolerances of mass, inertia and spring torque alone could make it (±{} at 95 %, most from {})",
             taken.effect.candidate.words(),
-            if taken.effect.candidate.kind == EffectKind::StribeckFriction {
-                " (Coulomb friction at its kinetic level in its place)"
-            } else {
-                ""
-            },
+            placed.map_or_else(String::new, |c| format!(" ({} in its place)", c.words())),
             taken
                 .share
                 .sd

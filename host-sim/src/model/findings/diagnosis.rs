@@ -139,6 +139,11 @@ pub struct WithinToleranceJson {
     pub tolerance95: Vec<Option<f64>>,
     /// The tolerance that moves it most, in words.
     pub largest: String,
+    /// The effect that took its place in the set found, in words
+    /// (`coulomb_friction at joint 4`), when one did: a Stribeck friction
+    /// gives way to Coulomb friction at its kinetic level.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub in_its_place: Option<String>,
 }
 
 /// What the panels' declared mass-property tolerances add to one effect's
