@@ -45,8 +45,11 @@ extension of formats.md): ``mass_tolerance_pct = MASS_TOLERANCE_PCT`` and
 ``spring_tolerance_pct = SPRING_TOLERANCE_PCT`` of every joint.
 
 A wing the nuisances swing past a full turn is drawn again. The hidden effect is drawn (log-uniform, as tests/src/hidden_effect.rs)
-until it moves the runs by at least ``MIN_EFFECT_RMS_DEG`` RMS against the
-same wing without it.
+until it moves the runs, against the same wing without it, by at least
+``MIN_EFFECT_RMS_DEG`` RMS (above the noise) and by at least what the
+drawing's spring tolerances do (``tolerance_floor``: every joint's spring
+at the worse edge of its band, in quadrature; above the tolerances),
+twelve draws at most (then nothing is hidden).
 
     .venv/bin/python python/examples/outside_engine.py generate DIR N [FIRST_SEED] [--only NUISANCE] [--as-built]
     .venv/bin/python python/examples/outside_engine.py score DIR [DEPLOYWATCH]
@@ -621,17 +624,18 @@ def generate(out: str, seed: int, only: Optional[str], as_built_too: bool = Fals
             break
     kind = KINDS[seed % len(KINDS)]
     hidden, moved = Hidden(), 0.0
+    floor = tolerance_floor(built, nz, plain) if kind != "none" else 0.0
     for attempt in range(12):
         if kind == "none":
             break
         hidden = draw_hidden(rng, kind, n)
         traces = [simulate(w, nz, hidden) for w in built]
         moved = effect_rms(plain, traces)
-        if moved >= MIN_EFFECT_RMS_DEG:
+        if moved >= max(MIN_EFFECT_RMS_DEG, floor):
             break
     else:
-        hidden.kind = "none"
-    if kind == "none":
+        hidden, moved = Hidden(), 0.0
+    if hidden.kind == "none":
         traces = plain
     d = os.path.join(out, f"case{seed:04d}")
     os.makedirs(d, exist_ok=True)
@@ -648,6 +652,7 @@ def generate(out: str, seed: int, only: Optional[str], as_built_too: bool = Fals
         "runs": files,
         "effects": [] if hidden.kind == "none" else [{"name": hidden.kind, "joint": hidden.joint, "value": hidden.value, "unit": UNITS[hidden.kind]}],
         "effect_rms_deg": moved,
+        "tolerance_floor_deg": floor,
         "nuisance": dataclasses.asdict(nz),
         "nuisance_rms_deg": effect_rms([simulate(w, Nuisance(), hidden) for w in wings], traces),
         "latch_s": [[None if math.isnan(x) else x for x in tr.latch_s] for tr in traces],
@@ -655,6 +660,29 @@ def generate(out: str, seed: int, only: Optional[str], as_built_too: bool = Fals
     with open(os.path.join(d, "truth.json"), "w", encoding="utf-8") as f:
         json.dump(truth, f, indent=2)
     return truth
+
+
+def spring_at_edge(w: Wing, joint: int, sign: float) -> Wing:
+    """The wing ``w`` with joint ``joint``'s (0-based) spring torque at the
+    ``sign`` edge of its declared band (``SPRING_TOLERANCE_PCT``)."""
+    scale = 1.0 + sign * SPRING_TOLERANCE_PCT / 100.0
+    joints = list(w.joints)
+    j = joints[joint]
+    joints[joint] = dataclasses.replace(j, preload_nm=j.preload_nm * scale, stiffness_nm_per_rad=j.stiffness_nm_per_rad * scale)
+    return dataclasses.replace(w, joints=joints)
+
+
+def tolerance_floor(built: List[Wing], nz: Nuisance, plain: List[Trace]) -> float:
+    """How far the drawing's spring tolerances move the campaign's runs
+    [deg RMS]: each joint's spring at the worse edge of its declared band
+    (in both runs: one wing, one spring), the joints' moves summed in
+    quadrature. A hidden effect that moves the runs by less is one the wing
+    as drawn could make within its tolerances, and is drawn again, as one
+    under ``MIN_EFFECT_RMS_DEG`` is for the noise."""
+    moves = []
+    for j in range(len(built[0].joints)):
+        moves.append(max(effect_rms(plain, [simulate(spring_at_edge(w, j, s), nz, Hidden()) for w in built]) for s in (-1.0, 1.0)))
+    return math.sqrt(sum(x * x for x in moves))
 
 
 def effect_rms(a: List[Trace], b: List[Trace]) -> float:

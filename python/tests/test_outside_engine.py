@@ -16,6 +16,11 @@ claimed, a torque table a claim).
   bending a little better than the friction does, and is weighed against
   that discrepancy: docs/diagnosis.md, "Claims within the discrepancy").
 
+The generator hides an effect only above what the drawing's spring
+tolerances could make (``tolerance_floor``): seed 30's first draws, under
+it, are drawn again; where no draw clears it, nothing is hidden and the
+runs are the wing's without an effect.
+
 The documented run of 42 campaigns is in docs/measured.md.
 
     .venv/bin/pytest python/tests/test_outside_engine.py -q
@@ -25,6 +30,7 @@ import json
 import os
 import sys
 
+import numpy as np
 import pytest
 
 import deploywatch as dw
@@ -63,3 +69,33 @@ def test_the_scorer_can_fail():
     assert oe.classify(truth, [right, table]) != "right"
     assert oe.classify(truth, [table, {"name": "unexplained"}]) == "hedged"
     assert oe.classify(truth, [dict(right, value=0.65)]) != "right"
+
+
+def test_the_hidden_effect_moves_the_runs_more_than_the_tolerances(tmp_path):
+    """Seed 30 (seed 000's two wings): the springs at their declared
+    band's edge move the runs by more than the 0.3 deg noise bar, and the
+    effect hidden moves them by more than that."""
+    truth = oe.generate(str(tmp_path), 30, None)
+    assert truth["tolerance_floor_deg"] > oe.MIN_EFFECT_RMS_DEG
+    assert truth["effects"], truth
+    assert truth["effect_rms_deg"] >= truth["tolerance_floor_deg"]
+
+
+def test_a_campaign_no_draw_clears_hides_nothing(tmp_path, monkeypatch):
+    """With a floor no draw clears, the truth holds no effect and the runs
+    are the wing's without one (the same CSV as with nothing to hide)."""
+    monkeypatch.setattr(oe, "tolerance_floor", lambda *_: float("inf"))
+    truth = oe.generate(str(tmp_path / "none"), 30, None)
+    assert truth["effects"] == [] and truth["effect_rms_deg"] == 0.0
+    monkeypatch.setattr(oe, "KINDS", ("none",))
+    plain = oe.generate(str(tmp_path / "plain"), 30, None)
+    assert plain["effects"] == []
+    for run in truth["runs"]:
+        rows = [(tmp_path / d / "case0030" / f"{run}.csv").read_text().splitlines()[3:] for d in ("none", "plain")]
+        a, b = (np.array([[float(x) for x in r.split(",")[1:]] for r in rs]) for rs in rows)
+        assert a.shape == b.shape
+        # The sample noise and jitter differ (the hidden draws took numbers
+        # from the case's generator): the runs agree to the encoder's noise,
+        # far under the 0.3 deg any hidden effect moves them by.
+        rms = float(np.sqrt(np.mean((a - b) ** 2)))
+        assert rms < 0.1, rms
