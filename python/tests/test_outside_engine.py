@@ -83,7 +83,8 @@ def test_the_hidden_effect_moves_the_runs_more_than_the_tolerances(tmp_path):
 
 def test_a_campaign_no_draw_clears_hides_nothing(tmp_path, monkeypatch):
     """With a floor no draw clears, the truth holds no effect and the runs
-    are the wing's without one (the same CSV as with nothing to hide)."""
+    are the wing's without one (those of the same campaign with nothing to
+    hide, to the encoder's noise)."""
     monkeypatch.setattr(oe, "tolerance_floor", lambda *_: float("inf"))
     truth = oe.generate(str(tmp_path / "none"), 30, None)
     assert truth["effects"] == [] and truth["effect_rms_deg"] == 0.0
