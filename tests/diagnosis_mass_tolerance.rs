@@ -18,8 +18,8 @@
 //!   encoder delay, the effects found plus those the tolerances alone
 //!   could make (taken out with the tolerances declared; a Stribeck
 //!   friction without them for the Coulomb friction it holds) and, when
-//!   none was taken out, intervals that the declared ones contain. The CI's 2 cases;
-//!   `DEPLOYWATCH_FULL=1` runs 8:
+//!   none was taken out, intervals that the declared ones contain. The CI's 3 cases
+//!   ([`CI_CASES`]); `DEPLOYWATCH_FULL=1` runs 8:
 //!   `DEPLOYWATCH_FULL=1 cargo test --release -p deploywatch-tests --test diagnosis_mass_tolerance -- --nocapture`.
 //! - `the_json_gives_each_effects_share`: `deploywatch diagnose --json` on
 //!   mechanism files that declare the tolerances writes `tolerance`,
@@ -44,6 +44,15 @@ const DECLARED: MassTolerance = MassTolerance {
     mass_pct: 0.5,
     inertia_pct: 1.0,
 };
+
+/// The cases the CI runs: a Coulomb friction with a panel's inertia at its
+/// band's edge (0), with a panel's mass at the other edge (1), and a viscous
+/// damping with a panel's mass at its edge (5), where the tolerances take
+/// out a Coulomb friction and a rig tilt beside the damping and leave it
+/// alone far above the noise: sets alike at its joint then fit better (a
+/// softening and a harness, by BIC and held-out RMS), by less than the
+/// discrepancy they leave, and the damping must stay the answer.
+const CI_CASES: [usize; 3] = [0, 1, 5];
 
 /// `m` declaring `tol` on every panel.
 fn declaring(m: &Mechanism, tol: MassTolerance) -> Mechanism {
@@ -87,14 +96,14 @@ fn found(o: &Outcome, truth: &Effect) -> Option<usize> {
 
 #[test]
 fn a_panel_at_its_bands_edge_is_inside_the_interval() {
-    let n = if std::env::var_os("DEPLOYWATCH_FULL").is_some() {
-        8
+    let cases: Vec<usize> = if std::env::var_os("DEPLOYWATCH_FULL").is_some() {
+        (0..8).collect()
     } else {
-        2
+        CI_CASES.to_vec()
     };
     let opts = deploywatch_tests::diagnose_options();
     let mut failed = Vec::new();
-    for i in 0..n {
+    for i in cases {
         let (drawn, built, truth) = case(i);
         let c = two_runs(&drawn, &built, &[truth], 10 * i as u64);
         let o = diagnose(&c, &opts, &quiet);

@@ -62,6 +62,9 @@ pub fn what_words(r: &Round) -> String {
         Move::Alternative => {
             format!("an alternative of the ambiguity stage in place of {set}")
         }
+        Move::Partner => format!(
+            "an alternative of the ambiguity stage in place of {set}, after the drawing's tolerances"
+        ),
     }
 }
 
@@ -156,6 +159,14 @@ impl fmt::Display for Rejection {
                 f,
                 "it accounts for {explained_deg:.4} deg RMS, not less than the \
                  {discrepancy_deg:.4} deg the set leaves unexplained"
+            ),
+            Rejection::WithinDiscrepancy {
+                gained_deg,
+                discrepancy_deg,
+            } => write!(
+                f,
+                "it gains {gained_deg:.4} deg RMS, less than the {discrepancy_deg:.4} deg \
+                 it leaves unexplained: the runs cannot tell the sets apart beyond that"
             ),
         }
     }

@@ -22,12 +22,15 @@
 //! BIC that passes becomes the set found, and the groups are formed again around
 //! it. At the noise floor, where the search stops adding, a set that only
 //! adds effects to the set found is not judged (the stop rule of
-//! [`Search::run`]).
+//! [`Search::run`]). After the drawing's tolerances take a member out
+//! ([`super::tolerance`]), the sets alike are judged again at the joints
+//! where it left a partner ([`Search::partners_after_tolerances`],
+//! [`Move::Partner`]'s policy: the gain at least the discrepancy left).
 
 use super::candidate::Candidate;
 pub use super::outcome::Ambiguity;
-use super::outcome::{FittedSet, SeparatingTest, SetAside};
-use super::policy::{Move, Rejection, Verdict};
+use super::outcome::{FittedSet, SeparatingTest, SetAside, WithinTolerance};
+use super::policy::{Move, Policy, Rejection, Verdict};
 use super::step::Step;
 use super::{labels, Search, MIN_DELTA_BIC};
 use crate::analysis::diagnose::residual_named;
@@ -43,6 +46,41 @@ fn same_set(a: &[Candidate], b: &[Candidate]) -> bool {
     a.len() == b.len() && a.iter().all(|c| b.contains(c))
 }
 
+/// The joints where the drawing's tolerances took a named joint effect out
+/// with nothing in its place (`taken`: each effect taken out and what took
+/// its place) and the set `now` left holds another named effect: the
+/// partner the one taken out was fitted beside. A Coulomb friction put in a
+/// Stribeck friction's place is the same explanation reduced, not a
+/// partner left.
+fn partner_joints(taken: &[(Candidate, Option<Candidate>)], now: &[Candidate]) -> Vec<usize> {
+    let mut joints: Vec<usize> = taken
+        .iter()
+        .filter(|(_, placed)| placed.is_none())
+        .filter_map(|(c, _)| c.joint.filter(|&j| named_at(c, j)))
+        .filter(|&j| now.iter().any(|c| named_at(c, j)))
+        .collect();
+    joints.sort_unstable();
+    joints.dedup();
+    joints
+}
+
+/// True when `set` exchanges what `now` holds at `joints` and nothing
+/// elsewhere (it drops at least one member, each dropped and each added at
+/// one of `joints`) and holds none of `apart`.
+fn exchanges_at(
+    now: &[Candidate],
+    set: &[Candidate],
+    joints: &[usize],
+    apart: &[Candidate],
+) -> bool {
+    let at_joints = |c: &Candidate| c.joint.is_some_and(|j| joints.contains(&j));
+    let mut dropped = now.iter().filter(|c| !set.contains(c)).peekable();
+    dropped.peek().is_some()
+        && dropped.all(at_joints)
+        && set.iter().filter(|c| !now.contains(c)).all(at_joints)
+        && !set.iter().any(|c| apart.contains(c))
+}
+
 /// Times an alternative may take the place of the set found (each take
 /// forms the groups again, a fit of every exchange at every joint).
 const MAX_TAKES: usize = 2;
@@ -56,7 +94,60 @@ impl Search<'_, '_> {
     pub(super) fn best_of_alternatives(&mut self) -> Vec<Ambiguity> {
         let mut groups = self.ambiguities();
         for _ in 0..MAX_TAKES {
-            if self.eng.halt.now() || !self.take_a_better_alternative(&groups) {
+            if self.eng.halt.now() || !self.take_a_better_alternative(&groups, Move::Alternative) {
+                break;
+            }
+            groups = self.ambiguities();
+        }
+        groups
+    }
+
+    /// The sets alike judged again after the drawing's tolerances took
+    /// `within` out of the set found ([`super::tolerance::settle`]), as
+    /// [`Search::best_of_alternatives`] judges them, with
+    /// [`Move::Partner`]'s policy (what a set gains must be at least the
+    /// discrepancy it leaves), but only at a joint
+    /// where they took a named joint effect out and left another named
+    /// effect there: that one was fitted as the partner of the one taken
+    /// out (a softening beside a damping, in a Coulomb friction's place)
+    /// and, left alone, may fit worse than a set alike. Judged are the sets
+    /// that exchange what the set holds at such joints and nothing
+    /// elsewhere, never one that holds what the tolerances set apart. A
+    /// Coulomb friction put in a Stribeck friction's place is the same
+    /// explanation reduced, not a partner left: its joint is not judged
+    /// again (a wing off its drawing fits it worse than another law, and
+    /// the tolerances already account for that). Returns the groups formed
+    /// around the set the judging leaves.
+    pub(super) fn partners_after_tolerances(
+        &mut self,
+        within: &[WithinTolerance],
+    ) -> Vec<Ambiguity> {
+        let mut groups = self.ambiguities();
+        let apart: Vec<Candidate> = within.iter().map(|w| w.effect.candidate).collect();
+        let taken: Vec<(Candidate, Option<Candidate>)> = within
+            .iter()
+            .map(|w| (w.effect.candidate, w.in_its_place))
+            .collect();
+        let joints = partner_joints(&taken, &self.current.candidates());
+        if joints.is_empty() {
+            return groups;
+        }
+        for _ in 0..MAX_TAKES {
+            let now = self.current.candidates();
+            let exchanges = |set: &[Candidate]| exchanges_at(&now, set, &joints, &apart);
+            let judged: Vec<Ambiguity> = groups
+                .iter()
+                .map(|g| Ambiguity {
+                    sets: g
+                        .sets
+                        .iter()
+                        .filter(|s| exchanges(&s.candidates()))
+                        .cloned()
+                        .collect(),
+                    ..g.clone()
+                })
+                .collect();
+            if self.eng.halt.now() || !self.take_a_better_alternative(&judged, Move::Partner) {
                 break;
             }
             groups = self.ambiguities();
@@ -66,11 +157,12 @@ impl Search<'_, '_> {
 
     /// Judges every set of `groups` but the current one (and, at the noise
     /// floor, but those that only add to it) against it, best BIC first, by
-    /// [`Search::accept`] with [`Move::Alternative`]'s policy (with
-    /// [`Move::NamedForTable`]'s for a set of fewer tables); takes the
-    /// first that passes. Says what it did; returns
+    /// [`Search::accept`] with `mv`'s policy ([`Move::Alternative`], or
+    /// [`Move::Partner`] after the drawing's tolerances; with
+    /// [`Move::NamedForTable`]'s for a set of fewer tables, and `mv`'s
+    /// discrepancy check); takes the first that passes. Says what it did; returns
     /// whether it took one.
-    fn take_a_better_alternative(&mut self, groups: &[Ambiguity]) -> bool {
+    fn take_a_better_alternative(&mut self, groups: &[Ambiguity], mv: Move) -> bool {
         let now = self.current.candidates();
         // The search's own stop: at the noise floor nothing is added, so a
         // set that only adds to the set found is not judged there.
@@ -105,9 +197,12 @@ impl Search<'_, '_> {
             // A set with fewer tables is a named law in a table's place,
             // judged as discovery judges that exchange.
             let policy = if tables(f) < tables(&self.current) {
-                Move::NamedForTable.policy()
+                Policy {
+                    beyond_discrepancy: mv.policy().beyond_discrepancy,
+                    ..Move::NamedForTable.policy()
+                }
             } else {
-                Move::Alternative.policy()
+                mv.policy()
             };
             let mut held = None;
             let mut verdict =
@@ -128,7 +223,7 @@ impl Search<'_, '_> {
             if matches!(verdict, Verdict::Accepted(_)) {
                 self.eng.say(format!(
                     "{} {words} in place of {} (RMS {:.4} deg)",
-                    Move::Alternative.done(),
+                    mv.done(),
                     labels(&now),
                     self.current.rms()
                 ));
@@ -346,5 +441,90 @@ impl Search<'_, '_> {
             ambiguities = self.ambiguities();
         }
         (ambiguities, set_aside)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(kind: EffectKind, joint: usize) -> Candidate {
+        Candidate {
+            kind,
+            joint: Some(joint),
+            table: None,
+        }
+    }
+
+    fn rig_tilt() -> Candidate {
+        Candidate {
+            kind: EffectKind::RigTilt,
+            joint: None,
+            table: None,
+        }
+    }
+
+    #[test]
+    fn a_partner_is_left_only_where_a_named_effect_was_taken_out_beside_it() {
+        use EffectKind::{
+            CoulombFriction, EncoderOffset, SpringSoftening, StribeckFriction, ViscousDamping,
+        };
+        let now = [at(SpringSoftening, 1), at(ViscousDamping, 3)];
+        // A damping taken out beside the softening at joint 1: joint 1.
+        assert_eq!(
+            partner_joints(&[(at(ViscousDamping, 1), None)], &now),
+            vec![1]
+        );
+        // A Stribeck friction reduced to Coulomb friction in its place.
+        let reduced = (at(StribeckFriction, 1), Some(at(CoulombFriction, 1)));
+        assert!(partner_joints(&[reduced], &now).is_empty());
+        // A global effect, an encoder offset, a joint left with nothing named.
+        assert!(partner_joints(&[(rig_tilt(), None)], &now).is_empty());
+        assert!(partner_joints(&[(at(EncoderOffset, 1), None)], &now).is_empty());
+        assert!(partner_joints(&[(at(ViscousDamping, 2), None)], &now).is_empty());
+        // Two taken out at one joint name it once.
+        let two = [
+            (at(ViscousDamping, 1), None),
+            (at(CoulombFriction, 1), None),
+        ];
+        assert_eq!(partner_joints(&two, &now), vec![1]);
+    }
+
+    #[test]
+    fn an_exchange_stays_at_its_joints_and_never_brings_back_what_was_set_apart() {
+        use EffectKind::{
+            CoulombFriction, EncoderOffset, HarnessStiffness, SpringSoftening, ViscousDamping,
+        };
+        let now = [at(SpringSoftening, 1), at(EncoderOffset, 4)];
+        let apart = [at(ViscousDamping, 1)];
+        let joints = [1];
+        let ok = |set: &[Candidate]| exchanges_at(&now, set, &joints, &apart);
+        assert!(ok(&[at(CoulombFriction, 1), at(EncoderOffset, 4)]));
+        assert!(ok(&[
+            at(CoulombFriction, 1),
+            at(HarnessStiffness, 1),
+            at(EncoderOffset, 4)
+        ]));
+        // Keeps every member: adds, exchanges nothing.
+        assert!(!ok(&[
+            at(SpringSoftening, 1),
+            at(EncoderOffset, 4),
+            at(CoulombFriction, 2)
+        ]));
+        assert!(!ok(&now));
+        // Holds what the tolerances set apart.
+        assert!(!ok(&[at(ViscousDamping, 1), at(EncoderOffset, 4)]));
+        // Drops or adds at another joint.
+        assert!(!ok(&[at(CoulombFriction, 1)]));
+        assert!(!ok(&[
+            at(CoulombFriction, 1),
+            at(EncoderOffset, 4),
+            at(CoulombFriction, 2)
+        ]));
+        assert!(!ok(&[
+            at(CoulombFriction, 1),
+            at(EncoderOffset, 4),
+            rig_tilt()
+        ]));
     }
 }

@@ -112,9 +112,12 @@ impl Search<'_, '_> {
     /// encoder offset a spring's tolerance moves, say) may have carried the
     /// set to the noise, and without it the rest stands above the noise
     /// again, where a table's shape beyond a named law is weighed against
-    /// that discrepancy. `ambiguities` and `set_aside` are the search's:
-    /// the sets alike are formed again around the set settled, and the
-    /// claims set aside extended.
+    /// that discrepancy. Then the partner a taken-out effect leaves at its
+    /// joint is judged against the sets alike there
+    /// ([`Search::partners_after_tolerances`]), and a set that takes its
+    /// place is settled against the tolerances in turn. `ambiguities` and
+    /// `set_aside` are the search's: the sets alike are formed again
+    /// around the set settled, and the claims set aside extended.
     pub(super) fn settle(
         &mut self,
         ambiguities: &mut Vec<Ambiguity>,
@@ -127,10 +130,12 @@ impl Search<'_, '_> {
         self.current_held = self.eng.held_out(&settled.set);
         self.current = settled.set.clone();
         let more = self.set_aside_within_discrepancy();
+        let before = self.current.candidates();
         if !self.eng.halt.now() {
-            *ambiguities = self.ambiguities();
+            *ambiguities = self.partners_after_tolerances(&settled.within);
         }
-        if more.is_empty() {
+        let exchanged = self.current.candidates() != before;
+        if more.is_empty() && !exchanged {
             return settled;
         }
         set_aside.extend(more);

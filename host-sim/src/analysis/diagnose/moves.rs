@@ -82,6 +82,17 @@ impl Search<'_, '_> {
                 });
             }
         }
+        if policy.beyond_discrepancy {
+            // What `to` gains over `current` is what `current` loses
+            // against it.
+            let (gained_deg, discrepancy_deg) = self.discrepancy_of(to, current);
+            if gained_deg * gained_deg < DISCREPANCY_SHARE * discrepancy_deg * discrepancy_deg {
+                return Verdict::Rejected(Rejection::WithinDiscrepancy {
+                    gained_deg,
+                    discrepancy_deg,
+                });
+            }
+        }
         Verdict::Accepted(policy.kept)
     }
 
@@ -276,7 +287,7 @@ impl Search<'_, '_> {
             // Made by a second start of the search (`super::restart`).
             Move::Restart => None,
             // Fitted by the ambiguity stage (`super::ambiguity`).
-            Move::Alternative => None,
+            Move::Alternative | Move::Partner => None,
         }
     }
 

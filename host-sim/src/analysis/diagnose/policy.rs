@@ -25,7 +25,10 @@
 //! 7. a move to a smaller set that sets a claim aside
 //!    ([`Move::SetAside`]): what the claim accounted for is less than the
 //!    discrepancy the current set leaves ([`Policy::within_discrepancy`],
-//!    [`super::discrepancy`]).
+//!    [`super::discrepancy`]);
+//! 8. a move to another set after the drawing's tolerances took a member
+//!    out ([`Move::Partner`]): what it gains is at least the discrepancy
+//!    it leaves ([`Policy::beyond_discrepancy`]).
 //!
 //! Where the moves differ, the difference is a field of [`Policy`], set per
 //! move in [`Move::policy`]; how many of a round's moves are judged, and
@@ -137,6 +140,16 @@ pub enum Rejection {
         /// `√((SSE − m σ̂²)/m)` \[deg\].
         discrepancy_deg: f64,
     },
+    /// What the move gains is less than [`DISCREPANCY_SHARE`] of the
+    /// discrepancy it leaves ([`Move::Partner`]'s rule): the runs cannot
+    /// tell the two sets apart beyond it.
+    WithinDiscrepancy {
+        /// What the move gains: the RMS of the SSE it takes off \[deg\].
+        gained_deg: f64,
+        /// The discrepancy the move's set leaves above the noise,
+        /// `√((SSE_to − m σ̂²)/m)` \[deg\].
+        discrepancy_deg: f64,
+    },
 }
 
 /// What the search made of one candidate move.
@@ -194,6 +207,11 @@ pub struct Policy {
     /// [`DISCREPANCY_SHARE`] of the discrepancy the current set leaves
     /// above the noise ([`Move::SetAside`]).
     pub within_discrepancy: bool,
+    /// A move to another set: what it gains over the current set must be
+    /// at least [`DISCREPANCY_SHARE`] of the discrepancy it leaves above
+    /// the noise ([`Move::Partner`]): `SSE − SSE_to ≥ DISCREPANCY_SHARE ·
+    /// (SSE_to − m σ̂²)`.
+    pub beyond_discrepancy: bool,
     /// The best this many moves by BIC are judged.
     pub tries: usize,
     /// Judging stops after this many held-out checks (the costly one).
@@ -218,6 +236,7 @@ impl Policy {
         held_out: true,
         no_stand_in: false,
         within_discrepancy: false,
+        beyond_discrepancy: false,
         tries: 3,
         held_out_tries: usize::MAX,
         past_tries: PastTries::NotTheBest,
@@ -237,6 +256,7 @@ impl Policy {
         held_out: false,
         no_stand_in: false,
         within_discrepancy: false,
+        beyond_discrepancy: false,
         tries: 1,
         held_out_tries: usize::MAX,
         past_tries: PastTries::NotJudged,
@@ -312,6 +332,15 @@ pub enum Move {
     /// A set the ambiguity stage fitted in place of what the set holds at
     /// a joint, in place of the current one ([`super::ambiguity`]).
     Alternative,
+    /// A set the ambiguity stage fitted in place of the partner that an
+    /// effect the drawing's tolerances took out left at its joint
+    /// ([`super::tolerance`], `Search::partners_after_tolerances`): judged
+    /// as [`Move::Alternative`], and what it gains must be at least
+    /// [`DISCREPANCY_SHARE`] of the discrepancy it leaves above the noise
+    /// ([`Policy::beyond_discrepancy`]): a wing built within its
+    /// tolerances leaves that discrepancy, and a gain within it is one the
+    /// wing as built can make.
+    Partner,
 }
 
 /// The stepwise moves in the order tried: the first that moves ends the
@@ -378,6 +407,10 @@ impl Move {
             Move::Restart | Move::Alternative => Policy {
                 intervals_clear: false,
                 ..s
+            },
+            Move::Partner => Policy {
+                beyond_discrepancy: true,
+                ..Move::Alternative.policy()
             },
             // A refinement reshapes a table already kept: its knots'
             // intervals are not asked to be clear of zero.
@@ -487,6 +520,9 @@ impl Move {
             Move::FrictionForms => "a friction form:",
             Move::Restart => "a second start reached",
             Move::Alternative => "an alternative of the ambiguity stage beats the set found:",
+            Move::Partner => {
+                "after the drawing's tolerances, an alternative of the ambiguity stage beats the set found:"
+            }
         }
     }
 }
