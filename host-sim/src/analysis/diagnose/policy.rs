@@ -400,10 +400,9 @@ impl Move {
                 held_out_tries: 1,
                 ..s
             },
-            // A second start's set, or an alternative of the ambiguity
-            // stage, is judged whole: a better BIC and a better held-out
-            // RMS; the members of a second start's set were judged by the
-            // moves that made it, an alternative's are clear of zero.
+            // Judged whole: a better BIC and held-out RMS (a second start's
+            // members were judged by the moves that made it, an
+            // alternative's are clear of zero).
             Move::Restart | Move::Alternative => Policy {
                 intervals_clear: false,
                 ..s
