@@ -123,7 +123,7 @@ pub mod deployment {
     pub use crate::simulate::deployment::{
         sample_grid, simulate, simulate_at, SimError, SimOptions, Trajectory,
     };
-    pub use crate::simulate::trajectory::MAX_LEDGER_DRIFT;
+    pub use crate::simulate::trajectory::{SimStats, MAX_LEDGER_DRIFT};
 }
 
 /// A joint that swung back past its stowed angle, as a run reports it.
@@ -252,7 +252,7 @@ pub mod table_export {
 /// The probability that a deployment fails.
 pub mod reliability {
     pub use crate::analysis::reliability::{
-        verdict_options, Param, Problem, ReliabilityError, VERDICT_LEDGER_DRIFT,
+        verdict_options, Param, Problem, ReliabilityError, VERDICT_LEDGER_DRIFT, VERDICT_RTOL,
     };
     pub use crate::simulate::latch_deployment::Keep;
     /// The method chosen and its result.

@@ -181,6 +181,12 @@ impl Real for f64 {
     fn cos(self) -> Self {
         libm::cos(self)
     }
+    /// libm's `sincos`: the same kernels on one argument reduction, so the
+    /// same bits as `sin` and `cos` apart (test `sincos_is_sin_and_cos`).
+    #[inline]
+    fn sin_cos(self) -> (Self, Self) {
+        libm::sincos(self)
+    }
     #[inline]
     fn sqrt(self) -> Self {
         libm::sqrt(self)
@@ -246,6 +252,22 @@ pub fn sqrtf(x: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sincos_is_sin_and_cos() {
+        // 200,003 bit patterns evenly spread over the f64 angles up to
+        // 2^20 rad in magnitude (every branch of the argument reduction),
+        // and a sweep of the angles a chain has (±4π).
+        let patterns = (0..0x4130_0000_0000_0000u64)
+            .step_by((0x4130_0000_0000_0000u64 / 200_003) as usize)
+            .map(f64::from_bits);
+        let sweep = (-100_000..=100_000).map(|i| f64::from(i) * 4.0 * core::f64::consts::PI / 1e5);
+        for x in patterns.chain(sweep).flat_map(|x| [x, -x]) {
+            let (s, c) = Real::sin_cos(x);
+            assert_eq!(s.to_bits(), libm::sin(x).to_bits(), "sin({x:e})");
+            assert_eq!(c.to_bits(), libm::cos(x).to_bits(), "cos({x:e})");
+        }
+    }
 
     #[test]
     fn sqrtf_within_2_ulp() {

@@ -37,6 +37,7 @@ use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::{self, SimError, SimOptions, Trajectory};
 use crate::simulate::latch_deployment::{self, Keep};
+use crate::simulate::trajectory::SimStats;
 use crate::simulate::trajectory::{Samples, DEFAULT_RTOL, MAX_LEDGER_DRIFT};
 use correlation::Correlation;
 use criteria::{Criterion, Mode, Outcome};
@@ -346,7 +347,7 @@ impl Problem {
     /// that it changes no verdict (`tests/physical_verdicts.rs`,
     /// `examples/physical_verdicts.rs`).
     pub fn deploy_keeping(&self, x: &[f64], keep: Keep) -> Result<Outcome, ReliabilityError> {
-        self.deploy_with(x, keep, None)
+        Ok(self.deploy_with(x, keep, None)?.0)
     }
 
     /// [`Problem::deploy`] with the run's energy ledger held to `max_drift`
@@ -355,17 +356,29 @@ impl Problem {
     /// the verdict's tolerance changes no verdict
     /// (`examples/ideal_ledger.rs`, the test beside this).
     pub fn deploy_held(&self, x: &[f64], max_drift: f64) -> Result<Outcome, ReliabilityError> {
-        self.deploy_with(x, Keep::Settled, Some(max_drift))
+        Ok(self.deploy_tuned(x, &|o| o.max_drift = max_drift)?.0)
     }
 
-    /// The verdict's deployment at `x`, keeping `keep`, its ledger held to
-    /// `max_drift` when given.
+    /// [`Problem::deploy`] with the verdict's settings ([`verdict_options`])
+    /// changed by `tune` (tolerances, longest step, the ledger's drift),
+    /// and the run's work (steps, evaluations): the measurement of what
+    /// other settings cost and keep (`examples/ideal_tolerance.rs`).
+    pub fn deploy_tuned(
+        &self,
+        x: &[f64],
+        tune: &dyn Fn(&mut SimOptions),
+    ) -> Result<(Outcome, SimStats), ReliabilityError> {
+        self.deploy_with(x, Keep::Settled, Some(tune))
+    }
+
+    /// The verdict's deployment at `x`, keeping `keep`, its settings
+    /// changed by `tune` when given, and the run's work.
     fn deploy_with(
         &self,
         x: &[f64],
         keep: Keep,
-        max_drift: Option<f64>,
-    ) -> Result<Outcome, ReliabilityError> {
+        tune: Option<&dyn Fn(&mut SimOptions)>,
+    ) -> Result<(Outcome, SimStats), ReliabilityError> {
         let mut mech = self.mech.clone();
         let mut effects: Vec<Effect> = self.fixed.iter().map(|f| f.effect).collect();
         for (v, &x) in self.vary.iter().zip(x) {
@@ -377,7 +390,9 @@ impl Problem {
             .iter()
             .any(|c| matches!(c, Criterion::LatchRateAbove(_)));
         let mut opts = verdict_options(&mech, end, rate);
-        opts.max_drift = max_drift.unwrap_or(opts.max_drift);
+        if let Some(tune) = tune {
+            tune(&mut opts);
+        }
         let traj =
             simulate_verdict(&mech, &effects, &opts, (rate, end), keep).map_err(|source| {
                 ReliabilityError::Simulation {
@@ -385,7 +400,7 @@ impl Problem {
                     source,
                 }
             })?;
-        Ok(outcome(&traj, &mech, rate))
+        Ok((outcome(&traj, &mech, rate), traj.stats))
     }
 
     /// The margins of the modes at the parameter point `x`.
