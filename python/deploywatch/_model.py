@@ -283,6 +283,16 @@ class NotLatched:
 
 
 @dataclass(frozen=True)
+class NotHeld:
+    """``not_held``: a joint its latch does not hold at the end of the run
+    fails (a ball plunger short of its crest, a pawl out of its notch),
+    whatever the latch's switch reads; with an ideal latch, ``not_latched``."""
+
+    def __str__(self) -> str:
+        return "not_held"
+
+
+@dataclass(frozen=True)
 class LatchRate:
     """``latch_rate>X``: a joint latching faster than ``above_deg_s``
     [deg/s] fails."""
@@ -303,7 +313,7 @@ class LatchTime:
         return f"time>{_num(self.above_s)}"
 
 
-Criterion = Union[NotLatched, LatchRate, LatchTime]
+Criterion = Union[NotLatched, NotHeld, LatchRate, LatchTime]
 """A typed failure criterion; its ``str()`` is ``--fail``'s syntax."""
 
 EffectLike = Union[str, Effect]
@@ -313,7 +323,7 @@ CriterionLike = Union[str, Criterion]
 _TYPED: Dict[str, Tuple[type, ...]] = {
     "effects": EFFECT_TYPES,
     "vary": (Vary,),
-    "fail": (NotLatched, LatchRate, LatchTime),
+    "fail": (NotLatched, NotHeld, LatchRate, LatchTime),
 }
 
 

@@ -88,6 +88,17 @@ def test_simulate_batch_rows_are_deployments(cli, root, tmp_path):
     assert deploywatch.parameters(root / MECH, VARY, FAIL) == VARY
 
 
+def test_not_held_is_not_latched_with_an_ideal_latch(root):
+    # The typed criterion is its string; with an ideal latch a joint is held
+    # from its latch on, so the margins are not_latched's to the bit.
+    assert str(deploywatch.NotHeld()) == "not_held"
+    params = np.array([[1.0, 0.16], [1.6, 0.16]])
+    held = deploywatch.simulate_batch(root / MECH, VARY, params, fail=[deploywatch.NotHeld()])
+    latched = deploywatch.simulate_batch(root / MECH, VARY, params, fail=["not_latched"])
+    assert np.array_equal(held.margins, latched.margins)
+    assert held.failed.tolist() == [False, True]
+
+
 @pytest.fixture(scope="module")
 def local(root):
     return deploywatch.reliability(root / MECH, vary=VARY, fail=FAIL, samples=1000, seed=3)

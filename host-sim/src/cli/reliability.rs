@@ -30,7 +30,9 @@ pub struct ReliabilityArgs {
     /// lognormal(median,sigma_ln), uniform(lo,hi), truncnormal(mean,sd,lo,hi).
     #[arg(long = "vary", value_name = "SPEC")]
     pub vary: Vec<Vary>,
-    /// A failure criterion, repeatable (any one fails): `not_latched`,
+    /// A failure criterion, repeatable (any one fails): `not_latched` (a
+    /// physical latch's switch open at the end), `not_held` (a physical
+    /// latch not holding its joint at the end, whatever its switch reads),
     /// `latch_rate>X` in deg/s, `time>X` in s.
     #[arg(long = "fail", value_name = "CRITERION", required = true)]
     pub fail: Vec<Criterion>,

@@ -24,6 +24,7 @@ pub mod correlation;
 pub mod criteria;
 pub mod estimate;
 pub mod form;
+mod held;
 pub mod identified;
 pub mod importance;
 mod lineage;
@@ -393,14 +394,14 @@ impl Problem {
         if let Some(tune) = tune {
             tune(&mut opts);
         }
-        let traj =
+        let (traj, held_s) =
             simulate_verdict(&mech, &effects, &opts, (rate, end), keep).map_err(|source| {
                 ReliabilityError::Simulation {
                     at: self.describe(x),
                     source,
                 }
             })?;
-        Ok((outcome(&traj, &mech, rate), traj.stats))
+        Ok((outcome(&traj, held_s, &mech, rate), traj.stats))
     }
 
     /// The margins of the modes at the parameter point `x`.
@@ -460,14 +461,16 @@ pub fn verdict_options(mech: &Mechanism, end: f64, rate: bool) -> SimOptions {
 /// once at `end` \[s\]. A wing with physical latches keeps what `keep`
 /// says ([`Keep::Trajectory`]: the same trajectory and events, bit for
 /// bit, without the ledger's Gauss–Legendre power sums and energies of
-/// every step); every other wing as `deployment` simulates it.
+/// every step); every other wing as `deployment` simulates it. With the
+/// trajectory, when each joint's latch last came to hold it
+/// ([`Outcome::held_s`]).
 fn simulate_verdict(
     mech: &Mechanism,
     effects: &[Effect],
     opts: &SimOptions,
     (rate, end): (bool, f64),
     keep: Keep,
-) -> Result<Trajectory, SimError> {
+) -> Result<(Trajectory, Vec<Option<f64>>), SimError> {
     let end = [end];
     if mech.has_physical_latch() {
         crate::simulate::rig::check_rig_effects(mech, effects)?;
@@ -475,18 +478,21 @@ fn simulate_verdict(
             true => deployment::sample_grid(mech, opts)?,
             false => Samples::Listed(&end),
         };
-        return latch_deployment::simulate_with(mech, effects, opts, times, keep)
-            .map(|run| run.traj);
+        let run = latch_deployment::simulate_with(mech, effects, opts, times, keep)?;
+        let held = held::held_instants(&run, mech, effects);
+        return Ok((run.traj, held));
     }
-    match rate {
+    let traj = match rate {
         true => deployment::simulate(mech, effects, opts),
         false => deployment::simulate_at(mech, effects, opts, &end),
-    }
+    }?;
+    let held = traj.latch_s.clone();
+    Ok((traj, held))
 }
 
 /// The outcome of a simulated deployment (`rate`: the trajectory is
 /// sampled finely enough to give the rate before each latch).
-fn outcome(traj: &Trajectory, mech: &Mechanism, rate: bool) -> Outcome {
+fn outcome(traj: &Trajectory, held_s: Vec<Option<f64>>, mech: &Mechanism, rate: bool) -> Outcome {
     let n = traj.joints();
     let mut rates = vec![None; n];
     for (j, r) in rates.iter_mut().enumerate().filter(|_| rate) {
@@ -506,6 +512,7 @@ fn outcome(traj: &Trajectory, mech: &Mechanism, rate: bool) -> Outcome {
     }
     Outcome {
         latch_s: traj.latch_s.clone(),
+        held_s,
         latch_rate_deg_s: rates,
         end_deg: traj
             .phi_deg
@@ -596,8 +603,9 @@ mod tests {
         let mech = Mechanism::load(&path).expect("seed 001 T02");
         for rate in [false, true] {
             let opts = verdict_options(&mech, mech.duration_s, rate);
-            let traj = simulate_verdict(&mech, &[], &opts, (rate, mech.duration_s), Keep::Ledger)
-                .expect("the verdict's run");
+            let (traj, held_s) =
+                simulate_verdict(&mech, &[], &opts, (rate, mech.duration_s), Keep::Ledger)
+                    .expect("the verdict's run");
             let past: Vec<_> = traj.past_stowed.iter().map(|p| p.joint).collect();
             assert_eq!(past, [1], "{:?}", traj.past_stowed);
             assert!(
@@ -605,7 +613,7 @@ mod tests {
                 "{:?}",
                 traj.past_stowed
             );
-            let o = outcome(&traj, &mech, rate);
+            let o = outcome(&traj, held_s, &mech, rate);
             let fail = [Criterion::NotLatched, Criterion::TimeAbove(8.0)];
             assert!(o.g(&fail) > 0.0, "{o:?}");
             assert!(o.g(&[Criterion::TimeAbove(7.0)]) < 0.0, "{o:?}");
