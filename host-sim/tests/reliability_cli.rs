@@ -168,6 +168,54 @@ fn the_same_seed_gives_the_same_file_on_1_or_2_threads() {
     );
 }
 
+/// On seed 001 T01 with its pawls, eight crude Monte-Carlo draws fail
+/// `not_latched` with a pawl in its notch and its switch open at the end:
+/// the command says the verdict is the rattle's phase and names
+/// `not_held`, which none of them fails. The ideal-latch wing says nothing
+/// of it.
+#[test]
+fn a_switch_open_over_a_latch_that_holds_is_named() {
+    let pawl = data().join("mechanisms/seed001_T01_pawl.toml");
+    let ideal = data().join("mechanisms/seed001_T01.toml");
+    let run = |mech: &std::path::Path, fail: &str| {
+        let out = deploywatch(&[
+            "reliability",
+            s(mech),
+            "--vary",
+            "coulomb_friction:joint=1:normal(0,0.1315)",
+            "--vary",
+            "coulomb_friction:joint=2:normal(0,0.085)",
+            "--vary",
+            "coulomb_friction:joint=3:normal(0,0.00005)",
+            "--fail",
+            fail,
+            "--method",
+            "mc",
+            "--samples",
+            "8",
+            "--seed",
+            "0",
+            "-q",
+        ]);
+        let (text, err) = (
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        );
+        assert!(out.status.success(), "{text}\n{err}");
+        (text, err)
+    };
+    let named = "--fail not_held counts what the latch does";
+    let (text, err) = run(&pawl, "not_latched");
+    assert!(text.contains("most likely failure seen"), "{text}");
+    assert!(err.contains(named), "{err}");
+    assert!(err.contains("held by its latch"), "{err}");
+    let (text, err) = run(&pawl, "not_held");
+    assert!(text.contains(" 0 failed"), "{text}");
+    assert!(!err.contains(named), "{err}");
+    let (_, err) = run(&ideal, "not_latched");
+    assert!(!err.contains(named), "{err}");
+}
+
 /// The false-bound case: T01 with joint 2's friction `lognormal(1.7,
 /// 0.02)` failed at 3.6e-8, where the old subset printed `p_fail <
 /// 1.06e-20` as a bound. Now both methods find joint 2's failures, agree,

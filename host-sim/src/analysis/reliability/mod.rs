@@ -404,6 +404,19 @@ impl Problem {
         Ok((outcome(&traj, held_s, &mech, rate), traj.stats))
     }
 
+    /// The joints (1-based) whose switch is open at the end of the
+    /// deployment at `x` while their latch holds them (a pawl in its
+    /// notch, a ball plunger past its crest): `not_latched` fails them,
+    /// `not_held` does not (`docs/reliability.md` §8).
+    pub fn held_with_switch_open(&self, x: &[f64]) -> Result<Vec<usize>, ReliabilityError> {
+        let o = self.deploy(x)?;
+        let both = o.latch_s.iter().zip(&o.held_s).enumerate();
+        Ok(both
+            .filter(|(_, (latched, held))| latched.is_none() && held.is_some())
+            .map(|(j, _)| j + 1)
+            .collect())
+    }
+
     /// The margins of the modes at the parameter point `x`.
     pub fn margins(&self, x: &[f64]) -> Result<Vec<f64>, ReliabilityError> {
         Ok(self.deploy(x)?.margins(&self.modes()))
