@@ -204,7 +204,7 @@ fn a_switch_open_over_a_latch_that_holds_is_named() {
         assert!(out.status.success(), "{text}\n{err}");
         (text, err)
     };
-    let named = "--fail not_held counts what the latch does";
+    let named = "the criterion not_held counts what the latch does";
     let (text, err) = run(&pawl, "not_latched");
     assert!(text.contains("most likely failure seen"), "{text}");
     assert!(err.contains(named), "{err}");

@@ -261,7 +261,10 @@ def reliability(
     Ctrl-C stops the analysis between batches (``KeyboardInterrupt``).
     Raises ``InputError`` (``MechanismError``) for bad arguments,
     ``SimulationError`` for a deployment that cannot be simulated,
-    ``EvaluatorError`` for an executor's unusable answer.
+    ``EvaluatorError`` for an executor's unusable answer. Warns
+    (``UserWarning``, what the CLI says on stderr) when the most likely
+    failure seen fails ``not_latched`` at a joint its physical latch holds
+    with its switch open at the end: ``NotHeld`` counts what the latch does.
     """
     text, source = _text("mechanism", mechanism)
     from_json = _from_text(from_)

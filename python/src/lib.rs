@@ -23,10 +23,11 @@ use deploywatch_sim::reliability::correlation::Correlation;
 use deploywatch_sim::reliability::criteria::{Criterion, Outcome};
 use deploywatch_sim::reliability::identified;
 use deploywatch_sim::reliability::params::Vary;
-use deploywatch_sim::reliability::{Problem, ReliabilityError};
+use deploywatch_sim::reliability::{switch_open_warning, Problem, ReliabilityError};
 use errors::Kind;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2};
+use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use steps::Stop;
 
@@ -283,6 +284,13 @@ fn reliability<'py>(
         (Err(e), None) => return Err(errors::reliability(&e)),
         (Ok(est), None) => est,
     };
+    // What the CLI says on stderr of a switch open over a latch that
+    // holds, as a `UserWarning`.
+    let held = py.allow_threads(|| switch_open_warning(&p, &est));
+    if let Some(w) = held.map_err(|e| errors::reliability(&e))? {
+        let text = std::ffi::CString::new(w).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        PyErr::warn(py, &py.get_type::<PyUserWarning>(), &text, 1)?;
+    }
     convert::to_py(py, &est.to_json(&p, seed))
 }
 

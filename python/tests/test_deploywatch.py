@@ -10,6 +10,7 @@ JSON read by `Reliability.from_dict` equals the typed result).
 import json
 import re
 import subprocess
+import warnings
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -97,6 +98,22 @@ def test_not_held_is_not_latched_with_an_ideal_latch(root):
     latched = deploywatch.simulate_batch(root / MECH, VARY, params, fail=["not_latched"])
     assert np.array_equal(held.margins, latched.margins)
     assert held.failed.tolist() == [False, True]
+
+
+def test_a_switch_open_over_a_latch_that_holds_is_a_warning(root):
+    # Seed 001 T01 with its pawls: the most likely failure seen of eight
+    # draws fails not_latched with a pawl in its notch and its switch open
+    # at the end; Python warns as the CLI does on stderr, and not_held
+    # (which none of them fails) raises no warning.
+    pawl = root / "data/mechanisms/seed001_T01_pawl.toml"
+    vary = [f"coulomb_friction:joint={j}:normal(0,{sd})" for j, sd in ((1, 0.1315), (2, 0.085), (3, 0.00005))]
+    with pytest.warns(UserWarning, match="held by its latch.*the criterion not_held counts"):
+        r = deploywatch.reliability(pawl, vary=vary, fail=["not_latched"], method="mc", samples=8, seed=0)
+    assert r.failures > 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        held = deploywatch.reliability(pawl, vary=vary, fail=[deploywatch.NotHeld()], method="mc", samples=8, seed=0)
+    assert held.failures == 0
 
 
 @pytest.fixture(scope="module")

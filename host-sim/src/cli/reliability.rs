@@ -11,6 +11,7 @@ use crate::analysis::reliability::estimate::Estimate;
 use crate::analysis::reliability::identified::{self, FromFindings};
 use crate::analysis::reliability::params::{Dist, Target, Vary};
 use crate::analysis::reliability::text::{quantity, sig};
+use crate::analysis::reliability::warning::switch_open_warning;
 use crate::analysis::reliability::{form, normal};
 use crate::analysis::reliability::{Param, Problem, ReliabilityError};
 use crate::model::mechanism::Mechanism;
@@ -193,7 +194,8 @@ pub fn run(args: &ReliabilityArgs) -> Result<(), CliError> {
     for w in warnings(&est, args.target_cov) {
         console.warn(format_args!("{w}"));
     }
-    if let Some(w) = switch_open_while_held(&problem, &est)? {
+    let held = switch_open_warning(&problem, &est).map_err(|e| CliError::failed(words(&e)))?;
+    if let Some(w) = held {
         console.warn(w);
     }
     if let Some(j) = &args.json {
@@ -230,39 +232,6 @@ fn warnings(est: &Estimate, target_cov: Option<f64>) -> Vec<String> {
         w.push(format!("c.o.v. {:.3} is above --target-cov {c}", est.cov));
     }
     w
-}
-
-/// When `not_latched` is a criterion of a physical-latch wing and its most
-/// likely failure seen fails it at a joint its latch holds (the switch open
-/// at the end as the joint rattles at its stop), the words that say the
-/// verdict is the rattle's phase and name `not_held`.
-fn switch_open_while_held(problem: &Problem, est: &Estimate) -> Result<Option<String>, CliError> {
-    let asked = problem.fail.contains(&Criterion::NotLatched);
-    let Some(f) = est.most_likely_failure.as_ref().filter(|_| asked) else {
-        return Ok(None);
-    };
-    if !problem.mech.has_physical_latch() {
-        return Ok(None);
-    }
-    let joints = problem
-        .held_with_switch_open(&f.x)
-        .map_err(|e| CliError::failed(words(&e)))?;
-    if joints.is_empty() {
-        return Ok(None);
-    }
-    let at = match joints.len() {
-        1 => "joint",
-        _ => "joints",
-    };
-    let joints: Vec<String> = joints.iter().map(|j| j.to_string()).collect();
-    Ok(Some(format!(
-        "the most likely failure seen fails not_latched at {at} {}, held by its latch (a pawl \
-         in its notch, a ball plunger past its crest) with its switch open at the end as it \
-         rattles at its stop: such a verdict is the rattle's phase at the end, which the \
-         integration does not settle (docs/reliability.md §8); --fail not_held counts what \
-         the latch does",
-        joints.join(", ")
-    )))
 }
 
 /// The result on stdout.

@@ -33,6 +33,7 @@ pub mod normal;
 pub mod params;
 pub mod subset;
 pub mod text;
+pub mod warning;
 
 use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
