@@ -33,7 +33,7 @@ use std::process::ExitCode;
 mod case;
 #[path = "common/cpu.rs"]
 mod cpu;
-use cpu::cpu_s;
+use cpu::{cpu_s, load_average};
 
 /// One row's settings: rtol = atol, the longest step \[s\], whether the
 /// ledger is enforced (at the scaled tolerance) or only booked.
@@ -130,12 +130,10 @@ fn main() -> ExitCode {
     let xs: Vec<Vec<f64>> = (0..draws as u64)
         .map(|i| problem.x_of(&draw(0, 0, i, problem.vary.len())))
         .collect();
-    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    let load: Vec<&str> = load.split_whitespace().take(3).collect();
     println!(
         "{name}, {draws} draws (seed 0), {} threads; load average at the start {}.\n",
         rayon::current_num_threads(),
-        load.join(", ")
+        load_average()
     );
     println!("| rtol = atol | longest step [s] | ledger | steps | evaluations | per core-second | failed | verdicts differ | largest difference of g [s] |");
     println!("|---|---|---|---|---|---|---|---|---|");

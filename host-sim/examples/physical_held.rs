@@ -22,23 +22,16 @@
 //! docs/measured.md.
 
 use deploywatch_sim::deployment::{SimOptions, MAX_LEDGER_DRIFT};
-use deploywatch_sim::mechanism::Mechanism;
-use deploywatch_sim::reliability::mc::draw;
 use deploywatch_sim::reliability::{Problem, VERDICT_LEDGER_DRIFT};
 use rayon::prelude::*;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
+#[path = "common/physical_case.rs"]
+mod case;
 #[path = "common/cpu.rs"]
 mod cpu;
-use cpu::cpu_s;
-
-/// The wings and the 5 % dispersions of their friction [N·m] (0.05 × the
-/// identified 2.63, 1.7 and 0.001 N·m of the mechanism files).
-const WINGS: [(&str, [f64; 3]); 2] = [
-    ("seed001_T01_physical_latch", [0.1315, 0.085, 0.00005]),
-    ("seed001_T01_pawl", [0.1315, 0.085, 0.00005]),
-];
+use case::WINGS;
+use cpu::{cpu_s, load_average};
 
 /// The settings compared, the reference first: rtol = atol, the ledger's
 /// tolerance (of the stored energy; infinite: booked, not enforced).
@@ -82,28 +75,9 @@ fn run(
     Ok((out?, cpu_s() - t0))
 }
 
-/// The reliability problem of wing `mech`, its friction dispersed by `sd`.
-fn problem(mech: Mechanism, sd: [f64; 3]) -> Result<Problem, String> {
-    Ok(Problem {
-        mech,
-        vary: (0..3)
-            .map(|j| format!("coulomb_friction:joint={}:normal(0,{})", j + 1, sd[j]).parse())
-            .collect::<Result<_, _>>()
-            .map_err(|e| format!("{e}"))?,
-        fixed: Vec::new(),
-        fail: vec!["not_latched".parse().map_err(|e| format!("{e}"))?],
-        corr: Vec::new(),
-    })
-}
-
 /// The rows of one wing.
 fn wing(name: &str, sd: [f64; 3], draws: usize) -> Result<Vec<String>, String> {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms");
-    let mech = Mechanism::load(&root.join(format!("{name}.toml"))).map_err(|e| e.to_string())?;
-    let p = problem(mech, sd)?;
-    let xs: Vec<Vec<f64>> = (0..draws as u64)
-        .map(|i| p.x_of(&draw(0, 0, i, 3)))
-        .collect();
+    let (p, xs) = case::problem(name, sd, draws)?;
     let mut rows = Vec::new();
     let mut reference: Option<Vec<[bool; 2]>> = None;
     for (label, tol, drift) in SETTINGS {
@@ -134,12 +108,10 @@ fn main() -> ExitCode {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(200);
-    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    let load: Vec<&str> = load.split_whitespace().take(3).collect();
     println!(
         "{draws} draws a wing (seed 0), {} threads; load average at the start {}.\n",
         rayon::current_num_threads(),
-        load.join(", ")
+        load_average()
     );
     println!("| wing | settings | failed `not_latched` | differ from the reference's | failed `not_held` | differ from the reference's | per core-second |");
     println!("|---|---|---|---|---|---|---|");

@@ -24,19 +24,9 @@
 //! in docs/measured.md.
 
 use deploywatch_sim::deployment::MAX_LEDGER_DRIFT;
-use deploywatch_sim::mechanism::Mechanism;
-use deploywatch_sim::reliability::mc::draw;
 use deploywatch_sim::reliability::{Problem, VERDICT_LEDGER_DRIFT};
 use rayon::prelude::*;
-use std::path::PathBuf;
 use std::process::ExitCode;
-
-/// The wings and the 5 % dispersions of their friction [N·m] (0.05 × the
-/// identified 2.63, 1.7 and 0.001 N·m of the mechanism files).
-const WINGS: [(&str, [f64; 3]); 2] = [
-    ("seed001_T01_physical_latch", [0.1315, 0.085, 0.00005]),
-    ("seed001_T01_pawl", [0.1315, 0.085, 0.00005]),
-];
 
 /// The tolerances compared, the reference first.
 const TOLERANCES: [(&str, f64); 3] = [
@@ -45,18 +35,12 @@ const TOLERANCES: [(&str, f64); 3] = [
     ("none (no step retaken)", f64::INFINITY),
 ];
 
+#[path = "common/physical_case.rs"]
+mod case;
 #[path = "common/cpu.rs"]
 mod cpu;
-use cpu::cpu_s;
-
-/// The load average now, three figures.
-fn load() -> String {
-    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    load.split_whitespace()
-        .take(3)
-        .collect::<Vec<_>>()
-        .join(", ")
-}
+use case::WINGS;
+use cpu::{cpu_s, load_average as load};
 
 /// Whether each draw failed with the ledger held to `max_drift`, and the
 /// CPU seconds they took.
@@ -75,28 +59,9 @@ fn run(problem: &Problem, xs: &[Vec<f64>], max_drift: f64) -> Result<(Vec<bool>,
     Ok((out?, cpu_s() - t0))
 }
 
-/// The reliability problem of wing `mech`, its friction dispersed by `sd`.
-fn problem(mech: Mechanism, sd: [f64; 3]) -> Result<Problem, String> {
-    Ok(Problem {
-        mech,
-        vary: (0..3)
-            .map(|j| format!("coulomb_friction:joint={}:normal(0,{})", j + 1, sd[j]).parse())
-            .collect::<Result<_, _>>()
-            .map_err(|e| format!("{e}"))?,
-        fixed: Vec::new(),
-        fail: vec!["not_latched".parse().map_err(|e| format!("{e}"))?],
-        corr: Vec::new(),
-    })
-}
-
 /// The rows of one wing.
 fn wing(name: &str, sd: [f64; 3], draws: usize) -> Result<Vec<String>, String> {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms");
-    let mech = Mechanism::load(&root.join(format!("{name}.toml"))).map_err(|e| e.to_string())?;
-    let problem = problem(mech, sd)?;
-    let xs: Vec<Vec<f64>> = (0..draws as u64)
-        .map(|i| problem.x_of(&draw(0, 0, i, 3)))
-        .collect();
+    let (problem, xs) = case::problem(name, sd, draws)?;
     let mut rows = Vec::new();
     let mut reference: Option<Vec<bool>> = None;
     for (label, tol) in TOLERANCES {

@@ -15,19 +15,13 @@
 
 use deploywatch_sim::deployment::SimOptions;
 use deploywatch_sim::latch_deployment::{simulate_with, Keep, LatchRun};
-use deploywatch_sim::mechanism::Mechanism;
-use deploywatch_sim::reliability::mc::draw;
 use deploywatch_sim::reliability::Problem;
 use deploywatch_sim::trajectory::Samples;
 use rayon::prelude::*;
-use std::path::PathBuf;
 
-/// The wings and the 5 % dispersions of their friction [N·m], as
-/// `examples/physical_verdicts.rs`.
-const WINGS: [(&str, [f64; 3]); 2] = [
-    ("seed001_T01_physical_latch", [0.1315, 0.085, 0.00005]),
-    ("seed001_T01_pawl", [0.1315, 0.085, 0.00005]),
-];
+#[path = "common/physical_case.rs"]
+mod case;
+use case::WINGS;
 
 /// The settings compared: how the run keeps and sizes its steps, and its
 /// relative and absolute tolerance (`reliability`'s first).
@@ -74,22 +68,9 @@ fn main() -> Result<(), String> {
     println!("{draws} draws a wing (seed 0).\n");
     println!("| wing | run | tolerance | failed | verdicts differ from the first | steps | retaken or rejected | evaluations |");
     println!("|---|---|---|---|---|---|---|---|");
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/mechanisms");
     for (name, sd) in WINGS {
-        let mech =
-            Mechanism::load(&root.join(format!("{name}.toml"))).map_err(|e| e.to_string())?;
-        let duration = mech.duration_s;
-        let p = Problem {
-            mech,
-            vary: (0..3)
-                .map(|j| format!("coulomb_friction:joint={}:normal(0,{})", j + 1, sd[j]).parse())
-                .collect::<Result<_, _>>()
-                .map_err(|e| format!("{e}"))?,
-            fixed: Vec::new(),
-            fail: vec!["not_latched".parse().map_err(|e| format!("{e}"))?],
-            corr: Vec::new(),
-        };
-        let xs: Vec<Vec<f64>> = (0..draws).map(|i| p.x_of(&draw(0, 0, i, 3))).collect();
+        let (p, xs) = case::problem(name, sd, draws as usize)?;
+        let duration = p.mech.duration_s;
         let mut first: Option<Vec<bool>> = None;
         for setting in SETTINGS {
             let runs: Vec<LatchRun> = xs
