@@ -13,7 +13,8 @@
 //! The runs ended once every latch is held for good (`Keep::Settled`, what
 //! `reliability` runs) give every mode the margin of the run to `T`, to the
 //! bit, on a larger fixed sample of both wings, and of the one-panel pawl
-//! wing, where some of them do end early.
+//! wing, where some of them do end early. The modes are those of both
+//! latch criteria, `not_latched` (the switch) and `not_held` (the latch).
 
 use deploywatch_sim::deployment::SimOptions;
 use deploywatch_sim::latch_deployment::simulate_with;
@@ -42,7 +43,10 @@ fn problem(name: &str) -> Problem {
             })
             .collect(),
         fixed: Vec::new(),
-        fail: vec!["not_latched".parse().expect("criterion")],
+        fail: vec![
+            "not_latched".parse().expect("criterion"),
+            "not_held".parse().expect("criterion"),
+        ],
         corr: Vec::new(),
     }
 }
@@ -140,6 +144,7 @@ fn settled_early(name: &str, p: &Problem) -> usize {
         let bits = |m: &[f64]| m.iter().map(|g| g.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&a), bits(&b), "{name}, draw {i}: {a:?} vs {b:?}");
         assert_eq!(full.latch_s, settled.latch_s, "{name}, draw {i}");
+        assert_eq!(full.held_s, settled.held_s, "{name}, draw {i}");
         assert!(settled.end_s <= full.end_s, "{name}, draw {i}");
         early += usize::from(settled.end_s < full.end_s);
     }
@@ -171,7 +176,10 @@ fn passive_pawl_runs_end_early_with_every_margin_kept() {
             .parse()
             .expect("vary")],
         fixed: Vec::new(),
-        fail: vec!["not_latched".parse().expect("criterion")],
+        fail: vec![
+            "not_latched".parse().expect("criterion"),
+            "not_held".parse().expect("criterion"),
+        ],
         corr: Vec::new(),
     };
     let early = settled_early("one_panel_pawl", &p);
