@@ -63,7 +63,15 @@ fn core_latch(mech: &Mechanism, j: usize) -> PhysicalLatch<f64> {
     mech.latch(j).expect("latch").to_core(stowed, 1.0, 1.0)
 }
 
+/// Joint `j`'s (0-based) outcome; where the run ended is its last sample
+/// (every run here is sampled to its end).
 fn outcome(mech: &Mechanism, run: &LatchRun, j: usize) -> LatchOutcome {
+    let last = *run.traj.phi_deg[j].last().expect("a sample");
+    let end = run.end_phi_deg[j];
+    assert!(
+        (end - last).abs() <= 1e-9,
+        "ended at {end} deg, last sample {last} deg"
+    );
     run.outcome(j + 1, &core_latch(mech, j)).expect("outcome")
 }
 

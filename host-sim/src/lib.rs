@@ -251,7 +251,7 @@ pub mod table_export {
 
 /// The probability that a deployment fails.
 pub mod reliability {
-    pub use crate::analysis::reliability::warning::switch_open_warning;
+    pub use crate::analysis::reliability::warning::{switch_open_warning, warnings};
     pub use crate::analysis::reliability::{
         verdict_options, Param, Problem, ReliabilityError, VERDICT_LEDGER_DRIFT, VERDICT_RTOL,
     };

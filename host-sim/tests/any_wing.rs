@@ -44,10 +44,10 @@ fn a_disabled_rig_on_a_wing_with_physical_latches_is_the_flight_unit() {
     let out = deploywatch(&[
         "simulate",
         mech.to_str().expect("utf-8 path"),
-        "--out",
+        "-o",
         out_csv.to_str().expect("utf-8 path"),
         "--no-noise",
-        "--quiet",
+        "-q",
     ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "stderr:\n{err}");

@@ -177,6 +177,9 @@ fn the_same_seed_gives_the_same_file_on_1_or_2_threads() {
 fn a_switch_open_over_a_latch_that_holds_is_named() {
     let pawl = data().join("mechanisms/seed001_T01_pawl.toml");
     let ideal = data().join("mechanisms/seed001_T01.toml");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let json = dir.path().join("r.json");
+    // stdout, stderr and the JSON's `warnings`.
     let run = |mech: &std::path::Path, fail: &str| {
         let out = deploywatch(&[
             "reliability",
@@ -195,6 +198,8 @@ fn a_switch_open_over_a_latch_that_holds_is_named() {
             "8",
             "--seed",
             "0",
+            "--json",
+            s(&json),
             "-q",
         ]);
         let (text, err) = (
@@ -202,18 +207,33 @@ fn a_switch_open_over_a_latch_that_holds_is_named() {
             String::from_utf8_lossy(&out.stderr).into_owned(),
         );
         assert!(out.status.success(), "{text}\n{err}");
-        (text, err)
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("JSON");
+        let warned: Vec<String> = v["warnings"]
+            .as_array()
+            .expect("a warnings array")
+            .iter()
+            .map(|w| w.as_str().expect("a string").to_string())
+            .collect();
+        (text, err, warned)
     };
     let named = "the criterion not_held counts what the latch does";
-    let (text, err) = run(&pawl, "not_latched");
+    let (text, err, warned) = run(&pawl, "not_latched");
     assert!(text.contains("most likely failure seen"), "{text}");
     assert!(err.contains(named), "{err}");
     assert!(err.contains("held by its latch"), "{err}");
-    let (text, err) = run(&pawl, "not_held");
+    assert_eq!(warned.len(), 1, "{warned:?}");
+    assert!(
+        warned[0].contains(named) && err.contains(&warned[0]),
+        "{warned:?}\n{err}"
+    );
+    let (text, err, warned) = run(&pawl, "not_held");
     assert!(text.contains(" 0 failed"), "{text}");
     assert!(!err.contains(named), "{err}");
-    let (_, err) = run(&ideal, "not_latched");
+    assert!(warned.is_empty(), "{warned:?}");
+    let (_, err, warned) = run(&ideal, "not_latched");
     assert!(!err.contains(named), "{err}");
+    assert!(warned.is_empty(), "{warned:?}");
 }
 
 /// The false-bound case: T01 with joint 2's friction `lognormal(1.7,
@@ -374,4 +394,39 @@ fn thresholds_and_parameters_carry_units_and_few_digits() {
         .as_f64()
         .unwrap();
     assert!(significant(&x.to_string()) > 7, "{x}");
+}
+
+/// A c.o.v. above the one asked is said on stderr and in the JSON's
+/// `warnings`, word for word.
+#[test]
+fn a_target_cov_not_reached_is_a_warning_in_the_json_too() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let json = dir.path().join("r.json");
+    let mech = data().join("mechanisms/reliability_one_panel.toml");
+    let out = deploywatch(&[
+        "reliability",
+        s(&mech),
+        "--vary",
+        "coulomb_friction:joint=1:lognormal(0.1,0.1)",
+        "--fail",
+        "not_latched",
+        "--method",
+        "mc",
+        "--samples",
+        "40",
+        "--target-cov",
+        "0.001",
+        "--json",
+        s(&json),
+        "-q",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("JSON");
+    let warned = v["warnings"].as_array().expect("a warnings array");
+    assert_eq!(warned.len(), 1, "{warned:?}");
+    let w = warned[0].as_str().expect("a string");
+    assert!(w.contains("is above the target c.o.v. 0.001"), "{w}");
+    assert!(err.contains(w), "stderr says it too:\n{err}");
 }

@@ -204,6 +204,10 @@ class Reliability(Estimate):
     (the :class:`FixedEffect` s of ``from_``): the problem (keyword-only); ``estimates`` and ``agree`` (auto: the :class:`Estimate`
     of ``is`` and of ``subset``, and whether they agree within their 95 %
     intervals, None when neither saw a failure; ``{}`` and None otherwise).
+    ``warnings``: what the reader must not miss, the words the CLI prints
+    on stderr (methods that disagree, modes not reached, a c.o.v. above
+    ``target_cov``, a verdict the latches' switches decide while the
+    latches hold), each also raised as a ``UserWarning``; ``()`` when none.
     ``extra``: any field of the JSON this version does not know, kept as it
     came.
     """
@@ -216,12 +220,13 @@ class Reliability(Estimate):
     fixed: Tuple[FixedEffect, ...] = ()
     estimates: Mapping[str, Estimate] = field(default_factory=dict)
     agree: Optional[bool] = None
+    warnings: Tuple[str, ...] = ()
     extra: Mapping[str, Any] = field(default_factory=dict)
 
     _KNOWN = (
         "mechanism", "method", "seed", "vary", "fail", "corr", "fixed", "p_fail", "cov",
         "ci95", "simulations", "failures", "converged", "most_likely_failure",
-        "modes", "design_points", "unreached", "estimates", "agree",
+        "modes", "design_points", "unreached", "estimates", "agree", "warnings",
     )
 
     @classmethod
@@ -241,6 +246,7 @@ class Reliability(Estimate):
             ),
             estimates={str(k): Estimate.from_dict(v) for k, v in checks.items()},
             agree=None if agree is None else bool(agree),
+            warnings=tuple(str(w) for w in d.get("warnings", ())),
             extra={k: v for k, v in d.items() if k not in cls._KNOWN},
             **_body(d),
         )
@@ -249,7 +255,7 @@ class Reliability(Estimate):
         """The JSON object ``deploywatch reliability --json`` writes for the
         same analysis (the same keys in the same order: ``modes`` when
         there are some, ``design_points`` and ``unreached`` for is,
-        ``estimates`` and ``agree`` for auto)."""
+        ``estimates`` and ``agree`` for auto, then ``warnings``)."""
         out: Dict[str, Any] = {
             "mechanism": self.mechanism,
             "method": self.method,
@@ -263,6 +269,7 @@ class Reliability(Estimate):
         if self.estimates:
             out["estimates"] = {k: e.to_dict() for k, e in self.estimates.items()}
             out["agree"] = self.agree
+        out["warnings"] = list(self.warnings)
         out.update(self.extra)
         return out
 

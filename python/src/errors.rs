@@ -137,7 +137,7 @@ pub(crate) fn pythonic(message: &str) -> String {
 }
 
 /// The Python argument that sets the library's parameter `p`.
-fn argument(p: Param) -> &'static str {
+pub(crate) fn argument(p: Param) -> &'static str {
     match p {
         Param::Vary => "vary",
         Param::Fixed => "from_",

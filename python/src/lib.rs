@@ -23,7 +23,7 @@ use deploywatch_sim::reliability::correlation::Correlation;
 use deploywatch_sim::reliability::criteria::{Criterion, Outcome};
 use deploywatch_sim::reliability::identified;
 use deploywatch_sim::reliability::params::Vary;
-use deploywatch_sim::reliability::{switch_open_warning, Problem, ReliabilityError};
+use deploywatch_sim::reliability::{warnings, Problem, ReliabilityError};
 use errors::Kind;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2};
@@ -284,21 +284,21 @@ fn reliability<'py>(
         (Err(e), None) => return Err(errors::reliability(&e)),
         (Ok(est), None) => est,
     };
-    // What the CLI says on stderr of a switch open over a latch that
-    // holds, as a `UserWarning`; a check that cannot run costs nothing of
-    // the result either.
-    let held = py.allow_threads(|| switch_open_warning(&p, &est));
-    let said = match held {
-        Ok(w) => w,
-        Err(e) => Some(format!(
-            "the latches of the most likely failure seen could not be checked: {e}"
-        )),
-    };
-    if let Some(w) = said {
-        let text = std::ffi::CString::new(w).map_err(|e| PyValueError::new_err(e.to_string()))?;
-        PyErr::warn(py, &py.get_type::<PyUserWarning>(), &text, 1)?;
+    // What the CLI says on stderr and writes in its JSON's `warnings`, in
+    // the result's `warnings` and each as a `UserWarning`; a check that
+    // cannot run costs nothing of the result either.
+    let said =
+        py.allow_threads(|| warnings(&p, &est, target_cov, &|q| errors::argument(q).to_string()));
+    for w in &said {
+        let text =
+            std::ffi::CString::new(w.as_str()).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        // Level 2: the warning points at the user's call of
+        // `deploywatch.reliability`, not at the package's call of this.
+        PyErr::warn(py, &py.get_type::<PyUserWarning>(), &text, 2)?;
     }
-    convert::to_py(py, &est.to_json(&p, seed))
+    let mut json = est.to_json(&p, seed);
+    json["warnings"] = serde_json::json!(said);
+    convert::to_py(py, &json)
 }
 
 /// The extension module `deploywatch._native`.

@@ -107,13 +107,17 @@ def test_a_switch_open_over_a_latch_that_holds_is_a_warning(root):
     # (which none of them fails) raises no warning.
     pawl = root / "data/mechanisms/seed001_T01_pawl.toml"
     vary = [f"coulomb_friction:joint={j}:normal(0,{sd})" for j, sd in ((1, 0.1315), (2, 0.085), (3, 0.00005))]
-    with pytest.warns(UserWarning, match="held by its latch.*the criterion not_held counts"):
+    with pytest.warns(UserWarning, match="held by its latch.*the criterion not_held counts") as said:
         r = deploywatch.reliability(pawl, vary=vary, fail=["not_latched"], method="mc", samples=8, seed=0)
+    assert said[0].filename == __file__, "the warning points at the caller's line"
     assert r.failures > 0
+    # The result carries the same words, as the CLI's JSON does.
+    assert len(r.warnings) == 1 and "the criterion not_held counts" in r.warnings[0]
+    assert r.to_dict()["warnings"] == list(r.warnings)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         held = deploywatch.reliability(pawl, vary=vary, fail=[deploywatch.NotHeld()], method="mc", samples=8, seed=0)
-    assert held.failures == 0
+    assert held.failures == 0 and held.warnings == ()
 
 
 @pytest.fixture(scope="module")

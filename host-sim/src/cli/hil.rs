@@ -75,7 +75,7 @@ pub struct HilArgs {
     #[arg(long)]
     pub require_deadlines: bool,
     /// Write the statuses that came back as CSV (the columns of `replay`).
-    #[arg(long, value_name = "STATUS.csv")]
+    #[arg(long, short, value_name = "STATUS.csv")]
     pub out: Option<PathBuf>,
     /// Draw angles, friction estimates and margins into this PNG.
     #[arg(long, value_name = "PNG")]

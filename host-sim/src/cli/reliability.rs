@@ -11,7 +11,7 @@ use crate::analysis::reliability::estimate::Estimate;
 use crate::analysis::reliability::identified::{self, FromFindings};
 use crate::analysis::reliability::params::{Dist, Target, Vary};
 use crate::analysis::reliability::text::{quantity, sig};
-use crate::analysis::reliability::warning::switch_open_warning;
+use crate::analysis::reliability::warning::warnings;
 use crate::analysis::reliability::{form, normal};
 use crate::analysis::reliability::{Param, Problem, ReliabilityError};
 use crate::model::mechanism::Mechanism;
@@ -191,52 +191,23 @@ pub fn run(args: &ReliabilityArgs) -> Result<(), CliError> {
     })?;
     let wall = start.elapsed().as_secs_f64();
     print_estimate(&problem, &est, wall);
-    for w in warnings(&est, args.target_cov) {
-        console.warn(format_args!("{w}"));
-    }
-    // A check after the result: it never costs the result or its JSON.
-    match switch_open_warning(&problem, &est) {
-        Ok(Some(w)) => console.warn(w),
-        Ok(None) => {}
-        Err(e) => console.warn(format_args!(
-            "the latches of the most likely failure seen could not be checked: {}",
-            words(&e)
-        )),
+    // The checks after the result never cost it: one that cannot run is
+    // itself a warning.
+    let said = warnings(&problem, &est, args.target_cov, &|p| option(p).to_string());
+    for w in &said {
+        console.warn(w);
     }
     if let Some(j) = &args.json {
-        let text = serde_json::to_string_pretty(&est.to_json(&problem, args.seed))
-            .map_err(|e| CliError::failed(e.to_string()))?;
+        let mut json = est.to_json(&problem, args.seed);
+        json["warnings"] = serde_json::json!(said);
+        let text =
+            serde_json::to_string_pretty(&json).map_err(|e| CliError::failed(e.to_string()))?;
         let mut outs = Outputs::new();
         outs.write(j, text + "\n")?;
         outs.commit()?;
         console.say(format_args!("  json: {}", j.display()));
     }
     Ok(())
-}
-
-/// What the reader must not miss: modes not reached, methods that
-/// disagree, a c.o.v. above the target.
-fn warnings(est: &Estimate, target_cov: Option<f64>) -> Vec<String> {
-    let mut w = Vec::new();
-    if est.agree == Some(false) {
-        w.push(
-            "importance sampling and subset simulation DISAGREE beyond their 95 % intervals: \
-             neither is settled; run --method mc with enough deployments (docs/reliability.md §8)"
-                .to_string(),
-        );
-    }
-    if !est.converged {
-        w.push(format!(
-            "{}: not every failure mode was reached (above): p_fail counts the modes reached \
-             only and is not a bound; settle it with --method mc (or auto, which checks is \
-             against subset)",
-            est.method
-        ));
-    }
-    if let Some(c) = target_cov.filter(|&c| est.cov > c) {
-        w.push(format!("c.o.v. {:.3} is above --target-cov {c}", est.cov));
-    }
-    w
 }
 
 /// The result on stdout.

@@ -33,7 +33,7 @@ pub struct ReplayArgs {
     #[arg(long, value_enum, default_value_t = Target::Host)]
     pub target: Target,
     /// Write the whole status stream as CSV (the target's; equal for both).
-    #[arg(long, value_name = "STATUS.csv")]
+    #[arg(long, short, value_name = "STATUS.csv")]
     pub out: Option<PathBuf>,
     /// Draw angles, friction estimates and margins into this PNG.
     #[arg(long, value_name = "PNG")]

@@ -16,7 +16,7 @@ pub struct SimulateArgs {
     /// The mechanism (TOML, see docs/spec/formats.md).
     pub mechanism: PathBuf,
     /// Where to write the run (CSV).
-    #[arg(long)]
+    #[arg(long, short)]
     pub out: PathBuf,
     /// An extra effect, `NAME[:joint=J]:value=V[:alpha_deg=A]`, repeatable
     /// (the help lists every NAME with the unit of V: [`effect_help`]).

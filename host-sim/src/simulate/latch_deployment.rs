@@ -665,14 +665,16 @@ fn run_keeping<const N: usize>(
     sim.close_ledger(&mut run.ledger, &y0);
     sim.stick_at_rest(&y0);
     run.out.push_while(&sim, |tk| tk <= 0.0, |_| y0)?;
-    let t_end = run.integrate(&mut sim, y0, times.last(), opts)?;
+    let (t_end, y_end) = run.integrate(&mut sim, y0, times.last(), opts)?;
     run.out.traj.end_s = t_end;
+    let end_phi_deg = sim.angles_deg(&y_end);
     run.out.traj.stats.evaluations = sim.evaluations;
     run.out.traj.latch_s = run.latch_instants(&sim);
     run.out.traj.past_stowed = sim.watch.found();
     Ok(LatchRun {
         traj: run.out.traj,
         events: run.events,
+        end_phi_deg,
         settled_s: run.settled_s,
         energy: match keep {
             Keep::Ledger | Keep::Settled => run.ledger.energy,

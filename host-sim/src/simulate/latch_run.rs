@@ -150,6 +150,10 @@ pub struct LatchRun {
     pub events: Vec<LatchEvent>,
     /// The energy ledger at the end.
     pub energy: Energy,
+    /// Each joint's angle where the run ended, at `traj.end_s` \[deg\],
+    /// whether a sample falls there or not (0 for a joint an ideal latch
+    /// holds).
+    pub end_phi_deg: Vec<f64>,
     /// Where the run ended, before its last sample, because every latch
     /// was held for good \[s\] ([`Keep::Settled`](crate::simulate::latch_deployment::Keep::Settled); `None`: it ran to its end).
     pub settled_s: Option<f64>,
@@ -239,10 +243,12 @@ pub struct LatchOutcome {
 }
 
 impl LatchRun {
-    /// What the physical latch of joint `joint` (1-based) did, `None` for a
-    /// joint with an ideal latch.
+    /// What the physical latch `latch` of joint `joint` (1-based) did, from
+    /// its events and where the run ended ([`LatchRun::end_phi_deg`]: a run
+    /// ended held for good is read where it ended). `None` for a joint the
+    /// run does not have.
     pub fn outcome(&self, joint: usize, latch: &PhysicalLatch<f64>) -> Option<LatchOutcome> {
-        let phi_deg = *self.traj.phi_deg.get(joint.checked_sub(1)?)?.last()?;
+        let phi_deg = *self.end_phi_deg.get(joint.checked_sub(1)?)?;
         let mine = || self.events.iter().filter(|e| e.joint == joint);
         let count = |m: LatchMark, inward: bool| {
             mine()

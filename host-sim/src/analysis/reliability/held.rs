@@ -14,9 +14,8 @@ use deploywatch_core::physics::latch_contact::LatchMark;
 /// Per joint of `mech` (its `effects` weakening its latches as the run
 /// had them): the instant \[s\] its latch last came to hold it — the last
 /// pawl drop or inward pass over the crest, 0 when it held from the start
-/// — or `None` when it does not hold it at the end of `run` (a run ended
-/// held for good holds every latch). A joint with an ideal latch: its
-/// latch instant.
+/// — or `None` when it does not hold it where `run` ended. A joint with
+/// an ideal latch: its latch instant.
 pub(super) fn held_instants(
     run: &LatchRun,
     mech: &Mechanism,
@@ -32,10 +31,7 @@ pub(super) fn held_instants(
             };
             let (p, m) = weak.get(j).copied().unwrap_or((1.0, 1.0));
             let latch = spec.to_core(joint.stowed_deg, p, m);
-            // A run ended because every latch is held for good holds
-            // them all, and need not have its last sample (`settle.rs`).
-            let settled = run.settled_s.is_some();
-            if !settled && !run.outcome(j + 1, &latch)?.end.holds() {
+            if !run.outcome(j + 1, &latch)?.end.holds() {
                 return None;
             }
             let came = run

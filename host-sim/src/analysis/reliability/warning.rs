@@ -1,10 +1,58 @@
-//! What `reliability` says of a verdict its latches' switches decide
-//! while the latches hold (`docs/reliability.md` §8): the CLI prints it on
-//! stderr, Python raises it as a `UserWarning`.
+//! What the reader of a `reliability` result must not miss: methods that
+//! disagree, modes not reached, a c.o.v. above its target, and a verdict
+//! its latches' switches decide while the latches hold
+//! (`docs/reliability.md` §8). The CLI prints them on stderr and writes
+//! them in its JSON's `warnings`; Python gives them in its result's
+//! `warnings` and raises the latches' one as a `UserWarning`.
 
 use super::criteria::Criterion;
 use super::estimate::Estimate;
-use super::{Problem, ReliabilityError};
+use super::{Param, Problem, ReliabilityError};
+
+/// Every warning of `est`, in the order the CLI prints them: methods that
+/// disagree beyond their 95 % intervals, modes not reached, a c.o.v. above
+/// `target_cov`, then [`switch_open_warning`] — or, when that check cannot
+/// run, the words of why (a check after the result never costs the
+/// result). `name` says a parameter the way the caller's user writes it
+/// (the CLI's option, Python's argument; [`ReliabilityError::words`]).
+pub fn warnings(
+    problem: &Problem,
+    est: &Estimate,
+    target_cov: Option<f64>,
+    name: &dyn Fn(Param) -> String,
+) -> Vec<String> {
+    let mut w = Vec::new();
+    if est.agree == Some(false) {
+        w.push(
+            "importance sampling and subset simulation DISAGREE beyond their 95 % intervals: \
+             neither is settled; run method mc with enough deployments (docs/reliability.md §8)"
+                .to_string(),
+        );
+    }
+    if !est.converged {
+        w.push(format!(
+            "{}: not every failure mode was reached: p_fail counts the modes reached only and \
+             is not a bound; settle it with method mc (or auto, which checks is against \
+             subset)",
+            est.method
+        ));
+    }
+    if let Some(c) = target_cov.filter(|&c| est.cov > c) {
+        w.push(format!(
+            "c.o.v. {:.3} is above the target c.o.v. {c}",
+            est.cov
+        ));
+    }
+    match switch_open_warning(problem, est) {
+        Ok(Some(said)) => w.push(said),
+        Ok(None) => {}
+        Err(e) => w.push(format!(
+            "the latches of the most likely failure seen could not be checked: {}",
+            e.words(name)
+        )),
+    }
+    w
+}
 
 /// When `not_latched` is a criterion of a physical-latch wing and the most
 /// likely failure seen of `est` fails it at a joint its latch holds (the

@@ -8,6 +8,19 @@ use crate::simulate::ode::{self, State};
 use crate::simulate::trajectory::{SimError, SimOptions, MAX_STEPS};
 use deploywatch_core::physics::latch_contact::{LatchMark, PlungerSegment};
 
+impl<const N: usize> Sim<'_, N> {
+    /// The joint angles of `y` \[deg\] as a sample gives them: a joint an
+    /// ideal latch holds is at its stop.
+    pub(super) fn angles_deg(&self, y: &State<N>) -> Vec<f64> {
+        (0..N)
+            .map(|j| match self.mode.latched[j] {
+                true => 0.0,
+                false => y.q[j].to_degrees(),
+            })
+            .collect()
+    }
+}
+
 impl Runner<'_> {
     /// Each joint's latch instant: the ideal latch's, or the last closing of a
     /// physical latch's switch when it is closed at the end.
@@ -41,14 +54,15 @@ impl Runner<'_> {
             .collect()
     }
 
-    /// Steps from `y` at 0 to `duration`; returns where it stopped.
+    /// Steps from `y` at 0 to `duration`; returns when and in which state
+    /// it stopped.
     pub(super) fn integrate<const N: usize>(
         &mut self,
         sim: &mut Sim<'_, N>,
         mut y: State<N>,
         duration: f64,
         opts: &SimOptions,
-    ) -> Result<f64, SimError> {
+    ) -> Result<(f64, State<N>), SimError> {
         let mut t = 0.0;
         let mut k1 = sim.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
         let mut h = ode::INITIAL_STEP_S.min(opts.max_step_s);
@@ -118,7 +132,7 @@ impl Runner<'_> {
             control.restart();
         }
         self.out.push_while(sim, |tk| tk <= t + 1e-9, |_| y)?;
-        Ok(t.min(duration))
+        Ok((t.min(duration), y))
     }
 
     /// The event `ev` at `t_end` (the step began at `t`): applied to `y`,
