@@ -15,6 +15,7 @@ pub mod identify_edge;
 pub mod joint_margins;
 pub mod latch_events;
 pub mod metrics;
+pub mod nominal_deployment;
 pub mod reliability;
 pub mod resistances;
 pub mod rig_margin;

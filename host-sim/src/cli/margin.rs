@@ -18,6 +18,7 @@ use super::{check_output, CliError, Console};
 use crate::analysis::design_margin::{DataSource, Factors, NameError, Resistance, Standard};
 use crate::analysis::dynamic_margin::DynamicMargins;
 use crate::analysis::joint_margins::{margins, MarginsError, Row};
+use crate::analysis::nominal_deployment::NominalDeployment;
 use crate::analysis::resistances::{read_found, Resistances};
 use crate::analysis::stroke_margin::Allowance;
 use crate::model::mechanism::Mechanism;
@@ -109,9 +110,10 @@ pub struct MarginArgs {
     #[arg(long, conflicts_with_all = ["json", "plot", "check", "deploy_time"])]
     pub all_standards: bool,
 
-    /// Exit 1 when a joint fails either margin (after printing the table
-    /// and writing the JSON); without it the exit code says only whether
-    /// the margins could be computed.
+    /// Exit 1 when a joint fails either margin or is not held by its latch
+    /// at the end of the nominal deployment (after printing the table and
+    /// writing the JSON); without it the exit code says only whether the
+    /// margins could be computed.
     #[arg(long)]
     pub check: bool,
 }
@@ -326,6 +328,58 @@ fn failed_joints(rows: &[Row], dynamic: &DynamicMargins) -> Vec<String> {
         .collect()
 }
 
+/// After the table: warns of a joint that passes every margin and is not
+/// held at the end of the nominal deployment, and fails `--check` on a
+/// joint that fails a margin or is not held.
+fn check_nominal(
+    args: &MarginArgs,
+    mech: &Mechanism,
+    rows: &[Row],
+    dynamic: &DynamicMargins,
+    nominal: &Result<NominalDeployment, String>,
+    console: &Console,
+) -> Result<(), CliError> {
+    let failed = failed_joints(rows, dynamic);
+    let short = nominal.as_ref().map(|d| d.not_held()).unwrap_or_default();
+    let passed_short: Vec<String> = short
+        .iter()
+        .filter(|j| !failed.contains(&j.to_string()))
+        .map(|j| j.to_string())
+        .collect();
+    if !passed_short.is_empty() {
+        console.warn(format_args!(
+            "joint(s) {} of `{}` pass every margin but are not held by their latch at the end of \
+             the nominal deployment (the table's last line): the margins do not see the \
+             chain's dynamics",
+            passed_short.join(", "),
+            mech.name
+        ));
+    }
+    if args.check && !(failed.is_empty() && short.is_empty()) {
+        let mut said = Vec::new();
+        if !failed.is_empty() {
+            said.push(format!(
+                "joint(s) {} of `{}` FAIL",
+                failed.join(", "),
+                mech.name
+            ));
+        }
+        if !short.is_empty() {
+            let short: Vec<String> = short.iter().map(|j| j.to_string()).collect();
+            said.push(format!(
+                "joint(s) {} of `{}` not held by their latch at the end of the nominal deployment",
+                short.join(", "),
+                mech.name
+            ));
+        }
+        return Err(CliError::failed(format!(
+            "margin --check: {}",
+            said.join("; ")
+        )));
+    }
+    Ok(())
+}
+
 /// Runs `deploywatch margin`.
 pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     // The loader's errors name the file, the key and what was expected.
@@ -371,6 +425,9 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
                 args.mechanism.display()
             ))
         })?;
+    // Beside the margins, never instead of them: a deployment that cannot
+    // be simulated is said so.
+    let nominal = NominalDeployment::of(&mech, &resist).map_err(|e| e.to_string());
     let report = MarginReport {
         file: &args.mechanism,
         mech: &mech,
@@ -381,18 +438,11 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         allowance: &allowance,
         data_source: args.data_source,
         dynamic: &dynamic,
+        nominal: &nominal,
     };
     super::print_out(format_args!("{}", table(&report)));
     write_outputs(args, &report, &console)?;
-    let failed = failed_joints(&rows, &dynamic);
-    if args.check && !failed.is_empty() {
-        return Err(CliError::failed(format!(
-            "margin --check: joint(s) {} of `{}` FAIL",
-            failed.join(", "),
-            mech.name
-        )));
-    }
-    Ok(())
+    check_nominal(args, &mech, &rows, &dynamic, &nominal, &console)
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@ use crate::analysis::design_margin::{
 use crate::analysis::dynamic_margin::{clause, DynamicMargins};
 use crate::analysis::effect_margin::Counted;
 use crate::analysis::joint_margins::Row;
+use crate::analysis::nominal_deployment::NominalDeployment;
 use crate::analysis::resistances::Resistances;
 use crate::analysis::stroke_margin::{Allowance, Profile};
 use crate::model::effect::Effect;
@@ -39,6 +40,9 @@ pub struct MarginReport<'a> {
     pub data_source: DataSource,
     /// The dynamic margins (`--deploy-time`), or that they are not computed.
     pub dynamic: &'a DynamicMargins,
+    /// The nominal deployment of the same chain, or why it could not be
+    /// simulated.
+    pub nominal: &'a Result<NominalDeployment, String>,
 }
 
 /// A margin [%] for the table: `inf` when there is no resistance.
@@ -346,7 +350,51 @@ pub fn table(report: &MarginReport) -> String {
             );
         }
     }
+    let _ = writeln!(s, "{}", nominal_line(report.nominal));
     s
+}
+
+/// The nominal deployment in words: every joint held and by when, or the
+/// joints not held and where they ended, or why it was not simulated.
+pub fn nominal_line(nominal: &Result<NominalDeployment, String>) -> String {
+    let d = match nominal {
+        Ok(d) => d,
+        Err(e) => return format!("nominal deployment: not simulated: {e}"),
+    };
+    let head = format!(
+        "nominal deployment (the nominal springs, these resistances unfactored, simulated to {} s)",
+        d.duration_s
+    );
+    if let Some(t) = d.all_held_s() {
+        return format!("{head}: every joint held by its latch by {t:.3} s");
+    }
+    let joints = d.not_held();
+    let names: Vec<String> = joints.iter().map(|j| j.to_string()).collect();
+    let ends: Vec<String> = joints
+        .iter()
+        .map(|&j| format!("{:.2}°", d.end_deg[j - 1].abs()))
+        .collect();
+    format!(
+        "{head}: joint(s) {} NOT held by their latch at the end (ended {} from the latch); \
+         the margins above are joint by joint and do not see the chain's dynamics \
+         (`deploywatch simulate` shows the run)",
+        names.join(", "),
+        ends.join(", ")
+    )
+}
+
+/// The nominal deployment as JSON: `duration_s`, `held_s` (`null` where
+/// not held), `end_deg`, `not_held` (1-based), or `error`.
+fn nominal_json(nominal: &Result<NominalDeployment, String>) -> Value {
+    match nominal {
+        Ok(d) => json!({
+            "duration_s": d.duration_s,
+            "held_s": d.held_s,
+            "end_deg": d.end_deg,
+            "not_held": d.not_held(),
+        }),
+        Err(e) => json!({ "error": e }),
+    }
 }
 
 /// How an effect found is counted, for the table: e.g. `harness_stiffness
@@ -474,6 +522,7 @@ pub fn to_json(report: &MarginReport) -> Value {
                 "pass": m.torque_pass() && m.energy_pass() && row.stroke.pass() && m.latching_pass() && report.dynamic.pass(index),
             })
         }).collect::<Vec<_>>(),
+        "nominal_deployment": nominal_json(report.nominal),
     })
 }
 

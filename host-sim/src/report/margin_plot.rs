@@ -156,6 +156,7 @@ mod tests {
             allowance: &allowance,
             data_source: DataSource::Analysis,
             dynamic: &crate::analysis::dynamic_margin::DynamicMargins::NotComputed,
+            nominal: &Err("not simulated here".into()),
         };
         let printed = table(&report);
         let plotted = curves(&rows);

@@ -471,6 +471,19 @@ pub fn verdict_options(mech: &Mechanism, end: f64, rate: bool) -> SimOptions {
     }
 }
 
+/// The deployment of `mech` with `effects` as `deploywatch simulate` runs
+/// it (its settings, its sample grid, to the mechanism's `duration_s`), as
+/// a verdict reads it: its [`Outcome`] — per joint when its latch last
+/// came to hold it (`held_s`, `None` if it does not hold it at the end)
+/// and where it ended. What `margin` sets beside its margins
+/// (`docs/margin.md`, "The nominal deployment").
+pub fn nominal_outcome(mech: &Mechanism, effects: &[Effect]) -> Result<Outcome, SimError> {
+    let opts = SimOptions::default();
+    let (traj, held_s) =
+        simulate_verdict(mech, effects, &opts, (true, mech.duration_s), Keep::Ledger)?;
+    Ok(outcome(&traj, held_s, mech, true))
+}
+
 /// The one simulation of a verdict: sampled on `opts`' grid (`rate`) or
 /// once at `end` \[s\]. A wing with physical latches keeps what `keep`
 /// says ([`Keep::Trajectory`]: the same trajectory and events, bit for
