@@ -169,6 +169,86 @@ fn seed000_case1_case3_with_the_papers_eft() {
     );
 }
 
+/// The response surface's default design (centred on the start scan's
+/// per-joint best) can miss a friction at one joint by far; where its
+/// minimum leaves residuals above the warning level, least squares from it
+/// (or from the direct method's own start) must say that friction alone
+/// explains the runs, at the truth — never send the user to `diagnose` for
+/// a cause that is not there. Friction of 0.3 N·m at one joint of three
+/// bundled wings, each joint in turn; then a harness beside the friction,
+/// which friction alone cannot explain.
+#[test]
+fn the_response_surface_says_when_friction_explains_what_its_design_missed() {
+    use deploywatch_sim::identify::residual_check::residual_warnings;
+    let mut missed = 0;
+    for (names, joints) in [
+        (&["seed001_T01", "seed001_T02"][..], 3),
+        (&["seed000_case1", "seed000_case3"][..], 2),
+        (&["wing4_ideal"][..], 4),
+    ] {
+        for at in 0..joints.min(2) {
+            let mut truth = vec![0.0; joints];
+            truth[at] = 0.3;
+            let c = synthetic(names, &truth, &[31, 32]);
+            let js = identify::all_joints(&c);
+            let rsm = identify_rsm(&c, &js, &RsmOptions::default(), &quiet).unwrap();
+            let beyond = rsm.rsm.as_ref().and_then(|r| r.beyond_design.clone());
+            if residual_warnings(&c, &rsm).is_empty() {
+                assert!(
+                    beyond.is_none(),
+                    "{names:?} {truth:?}: checked though explained"
+                );
+                continue;
+            }
+            missed += 1;
+            let b = beyond
+                .unwrap_or_else(|| panic!("{names:?} {truth:?}: friction explains these runs"));
+            for (got, want) in b.coulomb_nm.iter().zip(&truth) {
+                assert!(
+                    (got - want).abs() < 0.01,
+                    "{names:?} {truth:?}: {:?}",
+                    b.coulomb_nm
+                );
+            }
+            assert!(b.rms_deg < 0.05 && b.simulations > 0, "{names:?}: {b:?}");
+        }
+    }
+    assert!(
+        missed > 0,
+        "no case where the default design misses the friction"
+    );
+    // A harness at joint 2 beside friction at joint 1: not friction alone.
+    let mechs = [Mechanism::load(&mechanism_path("seed001_T01")).unwrap()];
+    let effects = [
+        deploywatch_sim::effect::Effect::joint(
+            deploywatch_sim::effect::EffectKind::CoulombFriction,
+            1,
+            0.3,
+        ),
+        deploywatch_sim::effect::Effect::joint(
+            deploywatch_sim::effect::EffectKind::HarnessStiffness,
+            2,
+            0.5,
+        ),
+    ];
+    let mut c = Campaign::default();
+    for seed in [41, 42] {
+        let run = identify::residual_check::synthetic_run(&mechs[0], &effects, seed).unwrap();
+        c.push(&mechs, run, Path::new(&format!("harness{seed}.csv")))
+            .unwrap();
+    }
+    let js = identify::all_joints(&c);
+    let rsm = identify_rsm(&c, &js, &RsmOptions::default(), &quiet).unwrap();
+    assert!(
+        !residual_warnings(&c, &rsm).is_empty(),
+        "a harness leaves residuals"
+    );
+    assert!(
+        rsm.rsm.unwrap().beyond_design.is_none(),
+        "friction alone cannot explain a harness"
+    );
+}
+
 #[test]
 fn a_subset_of_joints_keeps_the_others_as_given() {
     // Joint 2 only: joint 1 has no friction in the truth, so the nominal

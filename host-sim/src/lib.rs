@@ -198,8 +198,8 @@ pub mod rig_margin {
 /// The equivalent friction torque (EFT) of each joint from measured runs.
 pub mod identify {
     pub use crate::analysis::identify::{
-        all_joints, DirectOptions, Identification, IdentifyError, JointEft, Method, RsmOptions,
-        RsmResponse,
+        all_joints, BeyondDesign, DirectOptions, Identification, IdentifyError, JointEft, Method,
+        RsmOptions, RsmResponse,
     };
     /// The response-surface method of seed 000.
     pub mod by_rsm {
@@ -212,7 +212,8 @@ pub mod identify {
     /// The residuals an identification leaves.
     pub mod residual_check {
         pub use crate::analysis::identify::residual_check::{
-            synthetic_campaign, synthetic_run, SyntheticError,
+            residual_warnings, synthetic_campaign, synthetic_run, SyntheticError,
+            RESIDUAL_WARN_FACTOR,
         };
     }
     /// Central composite designs and quadratic surfaces.

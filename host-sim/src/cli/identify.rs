@@ -212,8 +212,32 @@ fn warn_residuals(campaign: &Campaign, id: &Identification, console: &Console) {
     for w in &warnings {
         text += &format!("\n  {w}");
     }
-    text += "\nfriction alone does not explain these runs: `deploywatch diagnose` \
-             (same --mechanism and runs, --json OUT.json) looks for the cause";
+    match id.rsm.as_ref().and_then(|r| r.beyond_design.as_ref()) {
+        Some(b) => {
+            text += &format!(
+                "\nfriction alone explains these runs where the design did not reach: least \
+                 squares from {} gives {} N·m (RMS {:.4} deg, within {} times the noise at \
+                 every joint); centre the design there (--center {}) or use --method direct",
+                b.start,
+                b.coulomb_nm
+                    .iter()
+                    .map(|c| format!("{c:.4}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                b.rms_deg,
+                identify::residual_check::RESIDUAL_WARN_FACTOR,
+                b.coulomb_nm
+                    .iter()
+                    .map(|c| format!("{:.3}", c.max(0.025)))
+                    .collect::<Vec<_>>()
+                    .join(",")
+            );
+        }
+        None => {
+            text += "\nfriction alone does not explain these runs: `deploywatch diagnose` \
+                     (same --mechanism and runs, --json OUT.json) looks for the cause";
+        }
+    }
     console.warn(text);
 }
 

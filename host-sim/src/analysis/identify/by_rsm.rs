@@ -75,7 +75,7 @@ pub fn identify_rsm(
         IdentifyError::Simulation(format!("at the surface's minimum {} N·m", list(&min.x)))
     })?;
     let simulated = simulated_response(&after, &model.te_joints, opts.response);
-    Ok(Identification {
+    let mut id = Identification {
         joints: joints
             .iter()
             .zip(&min.x)
@@ -101,9 +101,65 @@ pub fn identify_rsm(
             predicted: min.value,
             simulated,
             rounds: round,
+            beyond_design: None,
         }),
         ..Identification::scored(Method::Rsm, &model, t0, before, after)
-    })
+    };
+    check_beyond_design(campaign, joints, &mut id, progress);
+    Ok(id)
+}
+
+/// When the surface's minimum leaves a joint's residual above
+/// [`residual_check::RESIDUAL_WARN_FACTOR`] × the noise, least squares
+/// ([`direct::identify_direct`]) started from it, then from the direct
+/// method's own start (its scan) if that is not enough; the first that
+/// explains every joint to that level is recorded in
+/// [`RsmDetails::beyond_design`]: the design did not reach the friction
+/// that explains the runs (a centre from the start scan far from it, a
+/// box too narrow), which is not "friction alone does not explain them".
+/// Its work is counted in `id`'s.
+fn check_beyond_design(
+    campaign: &Campaign,
+    joints: &[usize],
+    id: &mut Identification,
+    progress: Progress,
+) {
+    if residual_check::residual_warnings(campaign, id).is_empty() {
+        return;
+    }
+    progress("rsm: the minimum leaves residuals above the noise; least squares from it");
+    let said = |m: &str| progress(&format!("rsm check: {m}"));
+    let starts = [
+        (
+            Some(id.joints.iter().map(|j| j.coulomb_nm).collect()),
+            "the surface's minimum",
+        ),
+        (None, "the direct method's start scan"),
+    ];
+    for (start_nm, start) in starts {
+        let opts = DirectOptions {
+            start_nm,
+            ..DirectOptions::default()
+        };
+        let Ok(d) = direct::identify_direct(campaign, joints, &opts, &said) else {
+            continue;
+        };
+        id.simulations += d.simulations;
+        id.deployments += d.deployments;
+        id.wall_s += d.wall_s;
+        if !residual_check::residual_warnings(campaign, &d).is_empty() {
+            continue;
+        }
+        if let Some(r) = id.rsm.as_mut() {
+            r.beyond_design = Some(BeyondDesign {
+                coulomb_nm: d.joints.iter().map(|j| j.coulomb_nm).collect(),
+                rms_deg: d.rms_deg_after,
+                simulations: d.simulations,
+                start: start.to_string(),
+            });
+        }
+        return;
+    }
 }
 
 /// At least one round of the design.

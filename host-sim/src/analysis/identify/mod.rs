@@ -35,8 +35,8 @@ use crate::analysis::metrics::{self, TimeWindow};
 use crate::data::campaign::Campaign;
 use crate::model::effect::{Effect, EffectKind};
 pub use crate::model::findings::identify::{
-    CampaignScore, DirectDetails, Identification, JointEft, Method, ResponseSurface, RsmDetails,
-    RunScore,
+    BeyondDesign, CampaignScore, DirectDetails, Identification, JointEft, Method, ResponseSurface,
+    RsmDetails, RunScore,
 };
 use crate::report::progress::Progress;
 use crate::report::text::list;

@@ -3,7 +3,7 @@
 //! its latches' switches decide while the latches hold
 //! (`docs/reliability.md` §8). The CLI prints them on stderr and writes
 //! them in its JSON's `warnings`; Python gives them in its result's
-//! `warnings` and raises the latches' one as a `UserWarning`.
+//! `warnings` and raises each as a `UserWarning`.
 
 use super::criteria::Criterion;
 use super::estimate::Estimate;

@@ -136,6 +136,29 @@ pub struct RsmDetails {
     pub simulated: f64,
     /// Rounds of the design run (the fields above are the last round's).
     pub rounds: usize,
+    /// When the surface's minimum leaves residuals above the warning level
+    /// and least squares started from it explains the runs to that level:
+    /// the friction it found, outside what the design reached. `None`
+    /// otherwise (not needed, or friction alone does not explain them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beyond_design: Option<BeyondDesign>,
+}
+
+/// The friction that explains a campaign where a response surface's design
+/// did not reach it: least squares ([`Method::Direct`]) started from the
+/// surface's minimum.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BeyondDesign {
+    /// The EFT per identified joint [N·m], in the order of `joints`.
+    pub coulomb_nm: Vec<f64>,
+    /// The campaign RMS with it \[deg\].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub rms_deg: f64,
+    /// Model evaluations it took (counted in the identification's).
+    pub simulations: usize,
+    /// Where least squares started, in words: the surface's minimum, or
+    /// the direct method's own start (its scan).
+    pub start: String,
 }
 
 /// The outcome of an identification, serialisable to the JSON of
