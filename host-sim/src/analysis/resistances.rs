@@ -256,13 +256,28 @@ fn identify_effects(id: &Identification) -> Result<Found, FromError> {
     }
     let mut found_on: Vec<String> = id.after.runs.iter().map(|r| r.mechanism.clone()).collect();
     found_on.dedup();
+    // A response surface whose design missed the friction that explains
+    // the runs: its EFTs are taken as written, and the source says so.
+    let note = id
+        .rsm
+        .as_ref()
+        .and_then(|r| r.beyond_design.as_ref())
+        .map(|b| {
+            let nm: Vec<String> = b.coulomb_nm.iter().map(|c| format!("{c:.4}")).collect();
+            format!(
+                "+ the mechanism's friction; these are the response surface's EFTs, which leave \
+                 residuals above the noise, where least squares explains the runs at {} N·m \
+                 (rsm.beyond_design): identify again with --method direct or that --center",
+                nm.join(", ")
+            )
+        });
     Ok(Found {
         command: "identify",
         effects,
         ignored: Vec::new(),
         found_on,
         taken_at,
-        note: None,
+        note,
     })
 }
 
