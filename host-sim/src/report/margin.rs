@@ -372,12 +372,15 @@ pub fn nominal_line(nominal: &Result<NominalDeployment, String>) -> String {
     let names: Vec<String> = joints.iter().map(|j| j.to_string()).collect();
     let ends: Vec<String> = joints
         .iter()
-        .map(|&j| format!("{:.2}°", d.end_deg[j - 1].abs()))
+        .map(|&j| match d.end_deg.get(j - 1) {
+            Some(e) => format!("{:.2}°", e.abs()),
+            None => "?".to_string(),
+        })
         .collect();
     format!(
         "{head}: joint(s) {} NOT held by their latch at the end (ended {} from the latch); \
          the margins above are joint by joint and do not see the chain's dynamics \
-         (`deploywatch simulate` shows the run)",
+         (`deploywatch simulate` with these resistances shows the run)",
         names.join(", "),
         ends.join(", ")
     )
