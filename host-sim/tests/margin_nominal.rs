@@ -128,6 +128,16 @@ fn a_joint_that_passes_every_margin_but_is_not_held_is_named_and_fails_the_check
         text.contains("nominal deployment") && text.contains("NOT held"),
         "{text}"
     );
+    // Side by side under every standard: the same line, once.
+    let out = deploywatch(&["margin", "--mechanism", s(&mech), "--all-standards"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(text.matches("nominal deployment (").count(), 1, "{text}");
+    assert!(text.contains("NOT held"), "{text}");
     // Every joint held: no warning, and the check passes on the margins.
     let (err, v) = margin("seed001_T01", &[]);
     assert!(

@@ -23,7 +23,7 @@ use crate::analysis::resistances::{read_found, Resistances};
 use crate::analysis::stroke_margin::Allowance;
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;
-use crate::report::margin::{table, to_json, MarginReport};
+use crate::report::margin::{nominal_line, table, to_json, MarginReport};
 use crate::report::margin_plot::plot_margins;
 use crate::report::margin_standards::side_by_side;
 use clap::builder::PossibleValue;
@@ -277,6 +277,9 @@ fn print_all_standards(
         resist.source
     );
     super::print_out(format_args!("{}", side_by_side(&title, &by_standard)));
+    // The nominal deployment does not depend on the standard: once, below.
+    let nominal = NominalDeployment::of(mech, resist).map_err(|e| e.to_string());
+    super::print_out(format_args!("{}\n", nominal_line(&nominal)));
     Ok(())
 }
 
