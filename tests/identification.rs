@@ -249,6 +249,66 @@ fn the_response_surface_says_when_friction_explains_what_its_design_missed() {
     );
 }
 
+/// The default design (the scan's centre, half of it as half-range) is
+/// one the plan accepts for any number of identified joints: a rotatable
+/// CCD's α = (2^k)^(1/4) passes 2 at five joints, where half the centre
+/// would take the axial points below 0 N·m; there the half-range is
+/// centre / α and the lowest design point is 0 N·m exactly.
+#[test]
+fn the_default_design_stays_at_or_above_zero_for_any_number_of_joints() {
+    for k in 1..=6 {
+        // Friction added at the identified joints only, so they can explain it.
+        let truth: Vec<f64> = (1..=6).map(|j| if j <= k { 0.2 } else { 0.0 }).collect();
+        let c = synthetic(&["wing6_ideal"], &truth, &[51]);
+        let js: Vec<usize> = (1..=k).collect();
+        let case = format!("wing6_ideal, joints 1..={k}");
+        let id = identify_rsm(&c, &js, &RsmOptions::default(), &quiet)
+            .unwrap_or_else(|e| panic!("{case}: {e}"));
+        check_rsm(&case, &id, k);
+        let r = id.rsm.as_ref().unwrap();
+        let alpha = f64::powf(f64::powi(2.0, k as i32), 0.25);
+        assert!((r.alpha - alpha).abs() < 1e-12, "{case}: α {}", r.alpha);
+        for i in 0..k {
+            let lowest = r
+                .points_nm
+                .iter()
+                .map(|p| p[i])
+                .fold(f64::INFINITY, f64::min);
+            let (c, h) = (r.centre_nm[i], r.half_range_nm[i]);
+            assert!(lowest >= 0.0, "{case}: joint {}: {lowest}", i + 1);
+            if 0.5 * alpha <= 1.0 {
+                assert_eq!(h, 0.5 * c, "{case}: joint {}", i + 1);
+            } else {
+                assert!((h - c / alpha).abs() <= 1e-12 * c, "{case}: {h} vs {c}");
+                assert!(lowest <= 1e-12 * c, "{case}: joint {}: {lowest}", i + 1);
+            }
+        }
+    }
+}
+
+/// The `--center` the warning offers is a new design, never the one that
+/// just missed: EFTs below the least default centre (0.025 N·m) give that
+/// centre, and when it is the design's own, none is offered.
+#[test]
+fn the_centre_offered_beyond_the_design_is_a_new_one() {
+    use deploywatch_sim::identify::by_rsm::centre_beyond;
+    use deploywatch_sim::identify::BeyondDesign;
+    let least = identify::SCAN_GRID_NM[1];
+    let b = |c: Vec<f64>| BeyondDesign {
+        coulomb_nm: c,
+        rms_deg: 0.02,
+        simulations: 10,
+        start: "the surface's minimum".into(),
+    };
+    assert_eq!(
+        centre_beyond(&b(vec![0.3, 0.0]), &[least, least]),
+        Some(vec![0.3, least])
+    );
+    assert_eq!(centre_beyond(&b(vec![0.0, 1e-4]), &[least, least]), None);
+    assert_eq!(centre_beyond(&b(vec![0.3, 0.6]), &[0.3002, 0.5999]), None);
+    assert!(centre_beyond(&b(vec![0.3, 0.6]), &[0.3, 0.601]).is_some());
+}
+
 #[test]
 fn a_subset_of_joints_keeps_the_others_as_given() {
     // Joint 2 only: joint 1 has no friction in the truth, so the nominal

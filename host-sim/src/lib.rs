@@ -199,11 +199,11 @@ pub mod rig_margin {
 pub mod identify {
     pub use crate::analysis::identify::{
         all_joints, BeyondDesign, DirectOptions, Identification, IdentifyError, JointEft, Method,
-        RsmOptions, RsmResponse,
+        RsmOptions, RsmResponse, SCAN_GRID_NM,
     };
     /// The response-surface method of seed 000.
     pub mod by_rsm {
-        pub use crate::analysis::identify::by_rsm::identify_rsm;
+        pub use crate::analysis::identify::by_rsm::{centre_beyond, identify_rsm, CENTRE_SAME_NM};
     }
     /// Direct least squares.
     pub mod direct {

@@ -29,7 +29,12 @@ fn margin(name: &str, extra: &[&str]) -> (String, Value) {
 /// unheld: an ideal latch not latched, a physical latch that does not hold
 /// its joint where the run ended (`LatchRun::outcome`).
 fn unheld_by_the_simulator(name: &str) -> Vec<u64> {
-    let mech = Mechanism::load(&data().join(format!("mechanisms/{name}.toml"))).expect("mechanism");
+    unheld(&Mechanism::load(&data().join(format!("mechanisms/{name}.toml"))).expect("mechanism"))
+}
+
+/// [`unheld_by_the_simulator`] of a mechanism.
+fn unheld(mech: &Mechanism) -> Vec<u64> {
+    let mech = mech.clone();
     let opts = SimOptions::default();
     if !mech.has_physical_latch() {
         let traj = deployment::simulate(&mech, &[], &opts).expect("run");
@@ -152,4 +157,35 @@ fn a_joint_that_passes_every_margin_but_is_not_held_is_named_and_fails_the_check
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// On a mechanism with a rig the nominal deployment is the rig's, and its
+/// line says so; `--flight` takes the rig out of it as out of the margins.
+#[test]
+fn the_nominal_deployment_on_a_rig_is_the_rigs_and_says_so() {
+    for name in ["seed001_T01_rig", "wing6_ideal_rig", "seed001_T02_rig"] {
+        let mech =
+            Mechanism::load(&data().join(format!("mechanisms/{name}.toml"))).expect("mechanism");
+        assert!(mech.rig.is_some(), "{name} has a rig");
+        for (flight, want) in [(false, unheld(&mech)), (true, unheld(&mech.flight()))] {
+            let extra: &[&str] = if flight { &["--flight"] } else { &[] };
+            let (_, v) = margin(name, extra);
+            let d = &v["nominal_deployment"];
+            assert_eq!(d["on_rig"], Value::Bool(!flight), "{name} {flight}: {d}");
+            assert_eq!(not_held(&v), want, "{name} flight {flight}: {d}");
+            let path = data().join(format!("mechanisms/{name}.toml"));
+            let mut args = vec!["margin", "--mechanism", s(&path), "-q"];
+            args.extend_from_slice(extra);
+            let out = String::from_utf8_lossy(&deploywatch(&args).stdout).into_owned();
+            let line = out
+                .lines()
+                .find(|l| l.starts_with("nominal deployment"))
+                .unwrap_or_else(|| panic!("{name}: no nominal line in\n{out}"));
+            assert_eq!(
+                line.starts_with("nominal deployment on the rig ("),
+                !flight,
+                "{name} flight {flight}: {line}"
+            );
+        }
+    }
 }

@@ -24,6 +24,9 @@ pub struct NominalDeployment {
     /// Per joint, its angle from the latch where the run ended \[deg\]
     /// (0 when held).
     pub end_deg: Vec<f64>,
+    /// Whether the deployment was simulated on the mechanism's zero-g rig
+    /// (its `[rig]` table; `false` in flight or without one).
+    pub on_rig: bool,
 }
 
 impl NominalDeployment {
@@ -50,6 +53,7 @@ impl NominalDeployment {
                 })
                 .collect(),
             held_s: o.held_s,
+            on_rig: m.rig.is_some(),
         })
     }
 

@@ -11,10 +11,11 @@
 
 use super::{check_output, CliError, Console};
 use crate::analysis::diagnose::latch_window::free_campaign;
-use crate::analysis::identify::by_rsm::identify_rsm;
+use crate::analysis::identify::by_rsm::{centre_beyond, identify_rsm};
 use crate::analysis::identify::direct::identify_direct;
 use crate::analysis::identify::{
-    self, DirectOptions, Identification, Method, ParseNameError, RsmOptions, RsmResponse,
+    self, BeyondDesign, DirectOptions, Identification, Method, ParseNameError, RsmOptions,
+    RsmResponse,
 };
 use crate::analysis::identify_edge;
 use crate::data::campaign::Campaign;
@@ -212,33 +213,47 @@ fn warn_residuals(campaign: &Campaign, id: &Identification, console: &Console) {
     for w in &warnings {
         text += &format!("\n  {w}");
     }
-    match id.rsm.as_ref().and_then(|r| r.beyond_design.as_ref()) {
-        Some(b) => {
-            text += &format!(
-                "\nfriction alone explains these runs where the design did not reach: least \
-                 squares from {} gives {} N·m (RMS {:.4} deg, within {} times the noise at \
-                 every joint); centre the design there (--center {}) or use --method direct",
-                b.start,
-                b.coulomb_nm
-                    .iter()
-                    .map(|c| format!("{c:.4}"))
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                b.rms_deg,
-                identify::residual_check::RESIDUAL_WARN_FACTOR,
-                b.coulomb_nm
-                    .iter()
-                    .map(|c| format!("{:.3}", c.max(0.025)))
-                    .collect::<Vec<_>>()
-                    .join(",")
-            );
-        }
+    match id
+        .rsm
+        .as_ref()
+        .and_then(|r| Some((r, r.beyond_design.as_ref()?)))
+    {
+        Some((r, b)) => text += &beyond_design_text(b, &r.centre_nm),
         None => {
             text += "\nfriction alone does not explain these runs: `deploywatch diagnose` \
                      (same --mechanism and runs, --json OUT.json) looks for the cause";
         }
     }
     console.warn(text);
+}
+
+/// What the warning adds when least squares from the surface explains the
+/// runs: its EFTs, and the `--center` to use unless that is the design's own.
+fn beyond_design_text(b: &BeyondDesign, used: &[f64]) -> String {
+    let advice = match centre_beyond(b, used) {
+        Some(centre) => format!(
+            "centre the design there (--center {}) or use --method direct",
+            centre
+                .iter()
+                .map(|c| format!("{c:.3}"))
+                .collect::<Vec<_>>()
+                .join(",")
+        ),
+        None => "the design is already centred as near as it can be; use --method direct".into(),
+    };
+    format!(
+        "\nfriction alone explains these runs where the response surface did not find it: least \
+         squares \
+         from {} gives {} N·m (RMS {:.4} deg, within {} times the noise at every joint); {advice}",
+        b.start,
+        b.coulomb_nm
+            .iter()
+            .map(|c| format!("{c:.4}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        b.rms_deg,
+        identify::residual_check::RESIDUAL_WARN_FACTOR,
+    )
 }
 
 /// Runs the chosen method with the arguments' options.

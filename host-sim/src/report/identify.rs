@@ -7,7 +7,7 @@ use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::identify::{Identification, Method};
 use crate::data::campaign::{Campaign, CampaignRun};
 use crate::report::plot::{self, Mark, Panel, Series, YAxis};
-use crate::report::text::list;
+use crate::report::text::{list, list_4};
 use crate::simulate::deployment::{self, Trajectory};
 use std::path::Path;
 
@@ -137,7 +137,7 @@ fn method_details(id: &Identification) -> String {
             d.sse_deg2,
             d.residuals,
             d.termination,
-            list(&d.start_nm),
+            list_4(&d.start_nm),
             d.start_rule,
             if d.fixed_at_zero.is_empty() {
                 String::new()
@@ -152,8 +152,8 @@ fn method_details(id: &Identification) -> String {
             "  design: {} points, α = {:.3}, centre {} ± {} N·m ({})",
             r.points_nm.len(),
             r.alpha,
-            list(&r.centre_nm),
-            list(&r.half_range_nm),
+            list_4(&r.centre_nm),
+            list_4(&r.half_range_nm),
             r.design_rule
         );
         let r2: Vec<String> = r

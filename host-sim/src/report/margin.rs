@@ -362,7 +362,8 @@ pub fn nominal_line(nominal: &Result<NominalDeployment, String>) -> String {
         Err(e) => return format!("nominal deployment: not simulated: {e}"),
     };
     let head = format!(
-        "nominal deployment (the nominal springs, these resistances unfactored, simulated to {} s)",
+        "nominal deployment{} (the nominal springs, these resistances unfactored, simulated to {} s)",
+        if d.on_rig { " on the rig" } else { "" },
         d.duration_s
     );
     if let Some(t) = d.all_held_s() {
@@ -387,7 +388,7 @@ pub fn nominal_line(nominal: &Result<NominalDeployment, String>) -> String {
 }
 
 /// The nominal deployment as JSON: `duration_s`, `held_s` (`null` where
-/// not held), `end_deg`, `not_held` (1-based), or `error`.
+/// not held), `end_deg`, `not_held` (1-based), `on_rig`, or `error`.
 fn nominal_json(nominal: &Result<NominalDeployment, String>) -> Value {
     match nominal {
         Ok(d) => json!({
@@ -395,6 +396,7 @@ fn nominal_json(nominal: &Result<NominalDeployment, String>) -> Value {
             "held_s": d.held_s,
             "end_deg": d.end_deg,
             "not_held": d.not_held(),
+            "on_rig": d.on_rig,
         }),
         Err(e) => json!({ "error": e }),
     }

@@ -7,3 +7,46 @@ pub fn list<T: std::fmt::Display>(v: &[T]) -> String {
         .collect::<Vec<_>>()
         .join(", ")
 }
+
+/// Numbers to four significant digits, trailing zeros dropped, as a
+/// comma-separated list: `0.01051, 1.6, 0`.
+pub fn list_4(v: &[f64]) -> String {
+    v.iter()
+        .map(|&x| significant_4(x))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// `x` to four significant digits, trailing zeros dropped (`1.6`, `0.01051`).
+fn significant_4(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return x.to_string();
+    }
+    let decimals = (3 - x.abs().log10().floor() as i32).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::list_4;
+
+    #[test]
+    fn four_significant_digits_without_trailing_zeros() {
+        assert_eq!(
+            list_4(&[
+                0.010511205190671433,
+                1.6,
+                0.0,
+                0.5656854249492381,
+                1234.56,
+                -0.25
+            ]),
+            "0.01051, 1.6, 0, 0.5657, 1235, -0.25"
+        );
+    }
+}

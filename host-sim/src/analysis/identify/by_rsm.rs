@@ -4,6 +4,7 @@
 //! half-ranges).
 
 use super::*;
+use crate::report::text::list_4;
 
 /// The response of a scored design point.
 fn responses(score: &CampaignScore, mse: f64, joints: &[usize]) -> Vec<f64> {
@@ -50,8 +51,8 @@ pub fn identify_rsm(
             points.len(),
             opts.kind,
             plan.reach,
-            list(&plan.centre),
-            list(&plan.half)
+            list_4(&plan.centre),
+            list_4(&plan.half)
         ));
         let table = simulate_design(&model, &points, progress)?;
         let names = response_names(&model.te_joints);
@@ -108,6 +109,29 @@ pub fn identify_rsm(
     check_beyond_design(campaign, joints, &mut id, progress);
     Ok(id)
 }
+
+/// The `--center` to give a new design around the EFTs least squares found
+/// beyond this one ([`BeyondDesign::coulomb_nm`], each at least the least
+/// default centre `SCAN_GRID_NM[1]`), or `None` when that is the centre
+/// `used` to [`CENTRE_SAME_NM`] at every joint: a new design there would be
+/// this one again, and least squares is the way to those EFTs.
+pub fn centre_beyond(b: &BeyondDesign, used: &[f64]) -> Option<Vec<f64>> {
+    let centre: Vec<f64> = b
+        .coulomb_nm
+        .iter()
+        .map(|c| c.max(SCAN_GRID_NM[1]))
+        .collect();
+    let same = centre.len() == used.len()
+        && centre
+            .iter()
+            .zip(used)
+            .all(|(c, u)| (c - u).abs() < CENTRE_SAME_NM);
+    (!same).then_some(centre)
+}
+
+/// Two design centres closer than this at every joint are the same design
+/// [N·m]: half the last digit `--center` is printed with (0.001 N·m).
+pub const CENTRE_SAME_NM: f64 = 5e-4;
 
 /// When the surface's minimum leaves a joint's residual above
 /// [`residual_check::RESIDUAL_WARN_FACTOR`] × the noise, least squares
@@ -251,15 +275,20 @@ fn rsm_design(
                     opts.half_range_fraction
                 )));
             }
-            rule.push(format!(
-                "half-range = {} × centre (design spans centre × (1 ± {:.3}))",
-                opts.half_range_fraction,
-                opts.half_range_fraction * reach
-            ));
-            centre
-                .iter()
-                .map(|c| c * opts.half_range_fraction)
-                .collect()
+            let fraction = default_fraction(opts.half_range_fraction, reach);
+            if fraction < opts.half_range_fraction {
+                rule.push(format!(
+                    "half-range = 1/α = {fraction:.3} × centre: {} × centre would reach below \
+                     0 N·m at α = {reach:.3}; the axial points reach 0 N·m",
+                    opts.half_range_fraction
+                ));
+            } else {
+                rule.push(format!(
+                    "half-range = {fraction} × centre (design spans centre × (1 ± {:.3}))",
+                    fraction * reach
+                ));
+            }
+            centre.iter().map(|c| c * fraction).collect()
         }
     };
     Ok(RsmPlan {
@@ -269,6 +298,18 @@ fn rsm_design(
         half,
         rule,
     })
+}
+
+/// The default half-range as a fraction of the centre \[1\]: `fraction`,
+/// or `1/reach` where `fraction × reach` would take the axial points below
+/// 0 N·m (a rotatable CCD of 5 or more factors, α = (2^k)^(1/4) ≥ 2.378,
+/// with the default 0.5), so a default design is always one the plan accepts.
+fn default_fraction(fraction: f64, reach: f64) -> f64 {
+    if fraction * reach > 1.0 {
+        1.0 / reach
+    } else {
+        fraction
+    }
 }
 
 /// The design points [N·m]; a point below 0 (beyond rounding) is an error.
