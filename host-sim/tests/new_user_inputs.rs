@@ -251,3 +251,58 @@ fn a_simulated_run_records_settle_s_after_the_last_latch() {
         assert!(run.latch.iter().all(|l| l[i..].iter().all(|&x| x)));
     }
 }
+
+/// An effect with nothing to act on is refused, never simulated as if it
+/// acted: a rig cause on a physical-latch wing (no rig), a magnet's
+/// weakening on a pawl (no magnet). On a latch that has one, it acts.
+#[test]
+fn an_effect_with_nothing_to_act_on_is_refused_on_a_physical_latch_wing() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let pawl = std::fs::read_to_string(data().join("mechanisms/one_panel_pawl.toml")).unwrap();
+    for (effect, says) in [
+        ("rig_friction:value=0.5", "has no active [rig]"),
+        ("wire_length:value=0.01", "has no active [rig]"),
+        (
+            "magnet_weakening:joint=1:value=0.5",
+            "the joint's latch has no magnet",
+        ),
+    ] {
+        let (out, _) = simulate(dir.path(), &pawl, &["--effect", effect, "-q"]);
+        refused(&out, &[says]);
+    }
+    let magnet =
+        std::fs::read_to_string(data().join("mechanisms/seed001_T01_physical_latch.toml")).unwrap();
+    let (out, _) = simulate(
+        dir.path(),
+        &magnet,
+        &["--effect", "magnet_weakening:joint=1:value=0.5", "-q"],
+    );
+    succeeded(&out);
+}
+
+/// A run given twice (a shell glob that matches it twice, or a copy) is
+/// refused: counted twice it would narrow every interval as new evidence.
+#[test]
+fn a_run_given_twice_is_refused() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let run = write(dir.path(), "t01.csv", t01_run_text());
+    let copy = write(dir.path(), "t01_copy.csv", t01_run_text());
+    let mech = t01_mechanism();
+    for second in [&run, &copy] {
+        for command in ["identify", "diagnose"] {
+            let json = dir.path().join("out.json");
+            let out = deploywatch(&[
+                command,
+                "--mechanism",
+                s(&mech),
+                "--json",
+                s(&json),
+                "-q",
+                s(&run),
+                s(second),
+            ]);
+            refused(&out, &["the same samples as", "give each run once"]);
+            assert!(!json.exists(), "{command}: nothing written");
+        }
+    }
+}

@@ -141,10 +141,36 @@ class Replay:
         return frame.set_index("t_s") if "t_s" in frame else frame
 
 
+def _joined(args: List[str]) -> List[str]:
+    """``--flag value`` as ``--flag=value`` where the value starts with
+    ``-`` (a negative number), which the command line would take for a
+    flag of its own."""
+    out: List[str] = []
+    for a in args:
+        if out and out[-1].startswith("--") and "=" not in out[-1] and _negative(a):
+            out[-1] = f"{out[-1]}={a}"
+        else:
+            out.append(a)
+    return out
+
+
+def _negative(text: str) -> bool:
+    """A value that starts with ``-``: a negative number, or a list of
+    numbers that starts with one (``-1,0.2``)."""
+    if not text.startswith("-") or text.startswith("--"):
+        return False
+    try:
+        float(text.split(",")[0].split("=")[-1])
+    except ValueError:
+        return False
+    return True
+
+
 def _run(args: List[str], echo: bool) -> None:
     """Runs the command; what it prints on stdout (its table, which the
     result holds too) is dropped unless ``echo``. The process's stdout is
     redirected for the call: not for concurrent threads that print."""
+    args = _joined(args)
     if echo:
         _native.run_command(args)
         return

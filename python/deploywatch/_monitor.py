@@ -86,6 +86,9 @@ class Monitor:
         if not isinstance(sample, Sample):
             raise InputError(f"sample: expected a deploywatch.Sample(t_s, phi_deg, latch), got {type(sample).__name__}")
         phi = [float(x) for x in sample.phi_deg]
+        if isinstance(sample.latch, (str, bytes)) or any(isinstance(x, (str, bytes)) for x in sample.latch):
+            # bool("0") is True: a switch read from text would read closed.
+            raise InputError(f"sample.latch: expected one bool per switch (True: closed), got {sample.latch!r}")
         latch = [bool(x) for x in sample.latch]
         raw = self._monitor.update(float(sample.t_s), phi, latch)
         joints = raw["joints"]

@@ -27,6 +27,15 @@ pub(crate) fn effects(mech: &Mechanism, arg: &str, items: &[String]) -> PyResult
             .map_err(|m| Kind::Input.prefixed(&format!("{arg}[{i}] {e}: "), &m))?;
         check_latch_effects(mech, std::slice::from_ref(&e))
             .map_err(|m| Kind::Input.prefixed(&format!("{arg}[{i}] "), &m))?;
+        if e.kind().is_sensor() {
+            return Err(Kind::Input.raise(
+                format!(
+                    "{arg}[{i}] {e}: acts on the encoder's reading, not on the motion \
+                     `simulate` returns (`deploywatch simulate` writes the reading to its run CSV)"
+                ),
+                Vec::new(),
+            ));
+        }
         out.push(e);
     }
     Ok(out)

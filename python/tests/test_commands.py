@@ -99,6 +99,14 @@ def test_command_errors_name_the_python_arguments(root, monkeypatch):
     with pytest.raises(InputError) as e:
         dw.margin(T02, json="/no/such/folder/m.json")
     assert str(e.value).startswith("json") and "--" not in str(e.value)
+    # A negative number is a value, not a flag: the message says what is
+    # wrong with it.
+    with pytest.raises(InputError) as e:
+        dw.margin(T02, friction=[-1.0, 0.2, 0.3])
+    assert str(e.value).startswith("friction") and "unexpected argument" not in str(e.value), str(e.value)
+    with pytest.raises(InputError) as e:
+        dw.diagnose(EFT[0], T01, json="/tmp/never.json", max_seconds=-1)
+    assert str(e.value).startswith("max_seconds: expected a positive number"), str(e.value)
 
 
 @pytest.mark.parametrize(
@@ -167,3 +175,12 @@ def test_a_spring_s_declared_tolerance_is_read(root):
     assert [j.spring_tolerance_pct for j in mech.joints] == [2.0] + [0.0] * (len(mech.joints) - 1)
     with pytest.raises(dw.MechanismError, match="spring_tolerance_pct"):
         dw.Mechanism.from_str(text.replace("spring_tolerance_pct = 2", "spring_tolerance_pct = 25"))
+
+
+def test_the_monitor_refuses_a_latch_switch_read_as_text(root):
+    # bool("0") is True: a switch read from a CSV as text would read closed.
+    monitor = dw.Monitor(dw.Mechanism.from_toml(root / T01))
+    with pytest.raises(InputError, match=r"^sample.latch: expected one bool per switch"):
+        monitor.update(dw.Sample(t_s=0.0, phi_deg=[-90.0, 180.0, -180.0], latch=["0", "0", "0"]))
+    status = monitor.update(dw.Sample(t_s=0.0, phi_deg=[-90.0, 180.0, -180.0], latch=[False, False, False]))
+    assert status.samples == 1

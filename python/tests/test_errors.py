@@ -252,6 +252,21 @@ def test_a_reliability_run_that_meets_such_a_deployment(mech):
         deploywatch.reliability(mech, vary=NEGATIVE, samples=1000)
 
 
+def test_a_sensor_effect_in_simulate_is_refused(mech):
+    # simulate returns the motion; an encoder's offset moves no joint, so
+    # it would be accepted and do nothing.
+    with pytest.raises(InputError, match=r"^effects\[0\] encoder_offset.*acts on the encoder's reading"):
+        deploywatch.simulate(mech, [deploywatch.EncoderOffset(joint=1, deg=2.0)])
+
+
+def test_a_drawn_friction_that_would_drive_its_joint(mech):
+    # The mechanism has no friction of its own: a draw of -5 N·m would push
+    # the panel open. Refused with the value, as --effect refuses it.
+    law = ["coulomb_friction:joint=1:normal(0.1,1.0)"]
+    with pytest.raises(SimulationError, match=r"coulomb_friction at joint 1 would be -5 N·m"):
+        deploywatch.simulate_batch(mech, law, [[0.2], [-5.0]])
+
+
 def test_an_executor_that_answers_too_few_values(mech):
     class Short(_Immediate):
         def submit(self, fn, *args):
@@ -285,6 +300,15 @@ def test_an_executor_that_answers_too_few_margins_per_row(mech):
     with pytest.raises(EvaluatorError, match=pattern):
         deploywatch.reliability(mech, vary=VARY, fail=["not_latched", "time>4"], method="mc",
                                 samples=1000, executor=_answering(lambda m: m[:, :1]))
+
+
+def test_an_executor_that_answers_nan_margins(mech):
+    # A NaN margin is neither failed nor safe: counted as safe it would
+    # lower p_fail without a word, so the answer is refused.
+    pattern = r"^the evaluation of a batch failed: row 0 of the batch has a margin NaN"
+    with pytest.raises(EvaluatorError, match=pattern):
+        deploywatch.reliability(mech, vary=VARY, method="mc", samples=1000,
+                                executor=_answering(lambda m: np.full_like(m, np.nan)))
 
 
 def test_an_executor_that_answers_one_g_per_row(mech):

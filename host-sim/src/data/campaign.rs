@@ -49,6 +49,14 @@ pub enum CampaignError {
     /// Nothing to work on.
     #[error("no runs given")]
     NoRuns,
+    /// A run given twice (the same file, or a copy: the same samples).
+    #[error("{file}: the same samples as {first}: a run given twice would count as new evidence and narrow every interval; give each run once")]
+    SameRunTwice {
+        /// The run given again.
+        file: String,
+        /// The run it repeats.
+        first: String,
+    },
     /// A run whose time stamps do not start at 0.
     #[error("{file}:{line}: column `t_s` (column 1): the first sample is at t = {t0} s; a run starts at the release, t = 0: a logger's clock? subtract {t0} s from t_s")]
     NotFromRelease {
@@ -83,6 +91,16 @@ impl Campaign {
         let mut out = Campaign::default();
         for path in runs {
             let run = Run::load(path)?;
+            let same = out
+                .runs
+                .iter()
+                .find(|r| r.run.t_s == run.t_s && r.run.phi_deg == run.phi_deg);
+            if let Some(first) = same {
+                return Err(CampaignError::SameRunTwice {
+                    file: path.display().to_string(),
+                    first: first.source.display().to_string(),
+                });
+            }
             out.push(&mechs, run, path)?;
         }
         if out.runs.is_empty() {

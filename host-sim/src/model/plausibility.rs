@@ -125,7 +125,7 @@ pub fn check(mechanism: &Mechanism, text: Option<&str>) -> Vec<Implausible> {
             out.push(Implausible {
                 key: format!("joint[{}].stowed_deg", j + 1),
                 line: line_of("joint", j, "stowed_deg"),
-                message: format!("{} deg is {k}π/2 in radians, a stroke of {:.2} deg: an angle in radians? expected degrees ({:.1})", joint.stowed_deg, joint.stowed_deg.abs(), joint.stowed_deg.to_degrees()),
+                message: format!("{} deg is {} in radians, a stroke of {:.2} deg: an angle in radians? expected degrees ({:.1})", joint.stowed_deg, quarter_turns_text(k), joint.stowed_deg.abs(), joint.stowed_deg.to_degrees()),
             });
         }
     }
@@ -156,6 +156,16 @@ pub fn warnings(mechanism: &Mechanism, path: &Path) -> Vec<String> {
             None => format!("{file}: `{}`: {}", w.key, w.message),
         })
         .collect()
+}
+
+/// `k` quarter turns as a multiple of π in words: `π/2`, `π`, `3π/2`, `2π`.
+fn quarter_turns_text(k: i32) -> String {
+    match (k % 2, k / 2) {
+        (1, 0) => "π/2".into(),
+        (1, n) => format!("{}π/2", 2 * n + 1),
+        (_, 1) => "π".into(),
+        (_, n) => format!("{n}π"),
+    }
 }
 
 #[cfg(test)]
@@ -194,10 +204,14 @@ mod tests {
         let line = text.lines().position(|l| l.contains("3.1416")).unwrap() + 1;
         assert_eq!(w[0].line, Some(line));
         assert!(
-            w[0].message.contains("radians") && w[0].message.contains("180.0"),
+            w[0].message.contains("radians")
+                && w[0].message.contains("180.0")
+                && w[0].message.contains("3.1416 deg is π in radians"),
             "{}",
             w[0].message
         );
+        let named: Vec<String> = (1..=4).map(quarter_turns_text).collect();
+        assert_eq!(named, ["π/2", "π", "3π/2", "2π"]);
     }
 
     #[test]

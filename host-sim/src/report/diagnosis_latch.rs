@@ -3,7 +3,9 @@
 //! stopped early add (`docs/diagnosis.md`, "Runs of a physical
 //! latch", "Ambiguity", "Long searches").
 
-use crate::analysis::diagnose::latch_finding::{LatchCause, LatchDifference, LatchFinding, Side};
+use crate::analysis::diagnose::latch_finding::{
+    LatchCause, LatchDifference, LatchFinding, LatchParts, Side,
+};
 use crate::analysis::diagnose::latch_window::RunWindow;
 use crate::analysis::diagnose::whole_run::{self, WholeRun};
 use crate::analysis::diagnose::SeparatingTest;
@@ -94,7 +96,7 @@ pub fn latches_json(o: &Outcome) -> Vec<LatchReport> {
                 .map(|r| [rounded(r.median), rounded(r.ci95[0]), rounded(r.ci95[1])]),
             differs: f.differs.iter().map(difference_words).collect(),
             undecided: f.undecided.iter().map(difference_words).collect(),
-            cause: f.cause.map(|c| cause_words(c).to_string()),
+            cause: f.cause.map(|c| cause_words(c, f.parts)),
             plunger_weakening: f.weakening.map(|w| w.map(rounded)),
         })
         .collect()
@@ -441,7 +443,7 @@ fn report_latch(md: &mut String, c: &Campaign, f: &LatchFinding) {
         differences_words(f)
     );
     if let Some(cause) = f.cause {
-        let _ = writeln!(md, "{}.", cause_words(cause));
+        let _ = writeln!(md, "{}.", cause_words(cause, f.parts));
     }
     if let Some(w) = f.weakening {
         let _ = writeln!(md, "{}.", weakening_words(w));
@@ -557,12 +559,21 @@ pub fn difference_words(d: &LatchDifference) -> String {
 }
 
 /// What the runs tell of the latch as built, in words (without the final
-/// full stop).
-pub fn cause_words(c: LatchCause) -> &'static str {
-    match c {
-        LatchCause::HoldsLess => "the latch holds less than drawn: a weaker plunger or magnet (plunger_weakening or magnet_weakening at this joint; the runs do not tell which)",
-        LatchCause::HoldsMore => "the latch holds more than drawn: a stronger plunger or magnet, or a stop that damps more (these runs do not tell which, nor by how much)",
-        LatchCause::BothWays => "the latch differs from the drawing both ways over the runs",
+/// full stop): the causes the drawn latch's parts can have.
+pub fn cause_words(c: LatchCause, parts: LatchParts) -> String {
+    let magnet = if parts.magnet { " or magnet" } else { "" };
+    match (c, parts.pawl) {
+        (LatchCause::HoldsLess, false) if parts.magnet => "the latch holds less than drawn: a weaker plunger or magnet (plunger_weakening or magnet_weakening at this joint; the runs do not tell which)".into(),
+        (LatchCause::HoldsLess, false) => "the latch holds less than drawn: a weaker plunger (plunger_weakening at this joint)".into(),
+        (LatchCause::HoldsLess, true) => format!(
+            "the latch holds less than drawn: a weaker pawl spring (plunger_weakening at this joint){}, or a pawl that gives way below its drawn breaking torque (the runs do not tell which)",
+            if parts.magnet { ", a weaker magnet (magnet_weakening)" } else { "" }
+        ),
+        (LatchCause::HoldsMore, pawl) => format!(
+            "the latch holds more than drawn: a stronger {}{magnet}, or a stop that damps more (these runs do not tell which, nor by how much)",
+            if pawl { "pawl spring" } else { "plunger" }
+        ),
+        (LatchCause::BothWays, _) => "the latch differs from the drawing both ways over the runs".into(),
     }
 }
 
@@ -645,6 +656,33 @@ mod tests {
         assert_eq!(f.cause, Some(LatchCause::HoldsLess));
         assert!(f.undecided.is_empty());
         assert!(latch_line(&f).contains("differs from the drawing"));
+    }
+
+    /// The causes named are those the drawn latch's parts can have: no
+    /// magnet where it has none, the pawl (and its breaking) on a pawl.
+    #[test]
+    fn the_cause_names_only_the_parts_the_latch_has() {
+        let less = LatchCause::HoldsLess;
+        let parts = |pawl, magnet| LatchParts { pawl, magnet };
+        let plunger = cause_words(less, parts(false, false));
+        assert!(plunger.contains("plunger_weakening") && !plunger.contains("magnet"));
+        let both = cause_words(less, parts(false, true));
+        assert!(
+            both.contains("plunger_weakening or magnet_weakening"),
+            "{both}"
+        );
+        let pawl = cause_words(less, parts(true, false));
+        assert!(
+            pawl.contains("pawl spring")
+                && pawl.contains("breaking torque")
+                && !pawl.contains("magnet"),
+            "{pawl}"
+        );
+        let more = cause_words(LatchCause::HoldsMore, parts(true, false));
+        assert!(
+            more.contains("stronger pawl spring,") && !more.contains("magnet"),
+            "{more}"
+        );
     }
 
     #[test]

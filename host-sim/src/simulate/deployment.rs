@@ -108,9 +108,9 @@ fn simulate_samples(
     opts: &SimOptions,
     times: Samples<'_>,
 ) -> Result<Trajectory, SimError> {
-    // A joint with a physical latch: the latch simulator (`[joint.latch]`).
+    // Latch and rig effects with nothing to act on are refused; a joint
+    // with a physical latch: the latch simulator (`[joint.latch]`).
     crate::simulate::latch_deployment::check_latch_effects(mech, effects)?;
-    crate::simulate::rig::check_rig_effects(mech, effects)?;
     mech.check_flexible().map_err(SimError::Invalid)?;
     if mech.has_physical_latch() {
         return crate::simulate::latch_deployment::simulate_physical(mech, effects, opts, times)

@@ -23,9 +23,12 @@ pub(super) struct Halt {
 impl Halt {
     pub(super) fn new(opts: &DiagnoseOptions, t0: Instant) -> Halt {
         Halt {
-            deadline: opts
-                .max_seconds
-                .map(|s| (t0 + std::time::Duration::from_secs_f64(s.max(0.0)), s)),
+            // A limit past what the clock can hold (`inf`, 1e300 s) is no
+            // limit.
+            deadline: opts.max_seconds.and_then(|s| {
+                let d = std::time::Duration::try_from_secs_f64(s.max(0.0)).ok()?;
+                Some((t0.checked_add(d)?, s))
+            }),
             stop: opts.stop.clone(),
             fired: std::sync::Mutex::new(None),
             finished: std::sync::atomic::AtomicBool::new(false),

@@ -68,6 +68,8 @@ pub struct LatchFinding {
     pub undecided: Vec<LatchDifference>,
     /// What the runs tell of the latch as built.
     pub cause: Option<LatchCause>,
+    /// What the drawn latch holds with: the causes `cause` can name.
+    pub parts: LatchParts,
     /// The measured hold deceleration, when enough rebounds that stayed in
     /// give one (median over the rebounds' parabolas, [deg/s²]; `impacts`
     /// counts the rebounds).
@@ -124,6 +126,17 @@ pub enum LatchDifference {
         /// Which way.
         side: Side,
     },
+}
+
+/// What a joint's drawn latch holds with besides its stop: a ball
+/// plunger or a pawl (whose spring the core takes as a plunger's), and a
+/// magnet or none.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LatchParts {
+    /// A pawl (`[joint.latch.pawl]`), not a ball plunger.
+    pub pawl: bool,
+    /// A magnet (`[joint.latch.magnet]`).
+    pub magnet: bool,
 }
 
 /// What the runs tell of a joint's latch as built.
@@ -376,6 +389,15 @@ pub fn latch_findings(c: &Campaign, effects: &[Effect]) -> Vec<LatchFinding> {
                 differs: Vec::new(),
                 undecided: Vec::new(),
                 cause: None,
+                parts: c
+                    .runs
+                    .iter()
+                    .find_map(|r| r.mechanism.latch(j))
+                    .map(|l| LatchParts {
+                        pawl: l.pawl.is_some(),
+                        magnet: l.magnet.is_some(),
+                    })
+                    .unwrap_or_default(),
                 weakening: None,
             };
             f.restitution = measured_restitution(c, j);
@@ -542,6 +564,7 @@ pub fn compare_for_test(runs: usize, spread: Spread, escapes: usize, held: usize
         differs: Vec::new(),
         undecided: Vec::new(),
         cause: None,
+        parts: LatchParts::default(),
         hold_accel: None,
     };
     let m = Tally {

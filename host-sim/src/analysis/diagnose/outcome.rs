@@ -332,7 +332,8 @@ pub struct DiagnoseOptions {
     /// ([`discover`]) when the named effects leave a residual.
     pub discover: bool,
     /// Stop the search after this wall time \[s\] and report the best set
-    /// found so far, marked as such (`None`: no limit).
+    /// found so far, marked as such (`None`, or more than the clock can
+    /// hold such as `inf`: no limit).
     pub max_seconds: Option<f64>,
     /// Stop the search when this flag is raised (Ctrl-C), likewise.
     pub stop: Option<StopFlag>,

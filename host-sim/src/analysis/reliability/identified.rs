@@ -10,10 +10,11 @@
 //! resists the deployment, as `margin --from` takes it
 //! ([`resistances::at_worst_end`]).
 
+use super::normal;
 use super::params::{Dist, Fixed, Target, Vary};
 use crate::analysis::fit::Z_975;
 use crate::analysis::{effect_margin, resistances};
-use crate::model::effect::{Effect, EffectKind};
+use crate::model::effect::{Effect, EffectKind, ValueRange};
 use crate::model::findings::{Diagnosis, Findings, FindingsError, Identification};
 use crate::model::mechanism::Mechanism;
 
@@ -68,7 +69,7 @@ pub fn from_findings_json(text: &str, mech: &Mechanism) -> Result<FromFindings, 
                     or of `deploywatch diagnose` (with \"effects\")";
     match Findings::from_json_str(text) {
         Ok(Findings::Identify(id)) => Ok(FromFindings {
-            vary: from_identification(&id)?,
+            vary: from_identification(&id, mech)?,
             ..FromFindings::default()
         }),
         Ok(Findings::Diagnosis(d)) => from_diagnosis(&d, mech),
@@ -80,8 +81,9 @@ pub fn from_findings_json(text: &str, mech: &Mechanism) -> Result<FromFindings, 
 /// The identified Coulomb frictions of an identify JSON as normal laws:
 /// `"joints": [{"joint": J, "coulomb_nm": T, "ci95": [lo, hi]}, ...]`
 /// gives `coulomb_friction:joint=J:normal(T, (hi − lo)/(2·1.96))` (added to
-/// the mechanism's own friction, as the identified effects are).
-pub fn from_identification(id: &Identification) -> Result<Vec<Vary>, String> {
+/// the mechanism's own friction, as the identified effects are), kept
+/// where the joint's friction is ≥ 0 ([`kept_in_range`]).
+pub fn from_identification(id: &Identification, mech: &Mechanism) -> Result<Vec<Vary>, String> {
     let mut out = Vec::new();
     for (i, j) in id.joints.iter().enumerate() {
         let at = |key: &str| format!("joints[{i}]: expected \"{key}\"");
@@ -97,9 +99,10 @@ pub fn from_identification(id: &Identification) -> Result<Vec<Vary>, String> {
         dist.check().map_err(|w| {
             format!("joints[{i}]: normal({t},{sd}) from the interval: expected {w}")
         })?;
+        let effect = Effect::joint(EffectKind::CoulombFriction, j.joint, t);
         out.push(Vary {
-            target: Target::of_effect(&Effect::joint(EffectKind::CoulombFriction, j.joint, t)),
-            dist,
+            target: Target::of_effect(&effect),
+            dist: kept_in_range(dist, &effect, mech),
         });
     }
     Ok(out)
@@ -155,10 +158,40 @@ pub fn from_diagnosis(d: &Diagnosis, mech: &Mechanism) -> Result<FromFindings, S
         })?;
         out.vary.push(Vary {
             target: Target::of_effect(&e),
-            dist,
+            dist: kept_in_range(dist, &e, mech),
         });
     }
     Ok(out)
+}
+
+/// A law's share beyond the values its effect allows above which the law is
+/// kept inside them \[1\]: far below any probability of failure the
+/// analysis resolves, so a normal law a few dozen deviations from the edge
+/// is drawn as it is, to the bit.
+pub const LAW_TAIL_KEPT: f64 = 1e-12;
+
+/// The normal law of a finding, as a truncated normal kept where the total
+/// of its effect at its joint (the mechanism's own friction or damping plus
+/// the draw, [`super::params::check_drawn`]) is allowed, when more than
+/// [`LAW_TAIL_KEPT`] of it falls outside: an interval that reaches below
+/// zero friction is no licence to draw friction that drives the joint.
+fn kept_in_range(dist: Dist, e: &Effect, mech: &Mechanism) -> Dist {
+    let Dist::Normal { mean, sd } = dist else {
+        return dist;
+    };
+    let own = super::params::own_value(mech, e);
+    let (lo, hi) = match e.kind().allowed() {
+        // `0 − own`: +0 where the mechanism has none (printed `0`, not `-0`).
+        ValueRange::NonNegative => (0.0 - own, f64::INFINITY),
+        ValueRange::Fraction => (0.0, 1.0),
+        ValueRange::BelowOne | ValueRange::Finite => return dist,
+    };
+    let outside = normal::cdf((lo - mean) / sd) + normal::cdf((mean - hi) / sd);
+    if outside > LAW_TAIL_KEPT {
+        Dist::TruncNormal { mean, sd, lo, hi }
+    } else {
+        dist
+    }
 }
 
 /// Why a diagnosis cannot be carried into a model when it names no effect

@@ -107,17 +107,25 @@ fn cov(nf: usize, n: usize) -> f64 {
     }
 }
 
-/// The evaluator answered every point with one margin per mode.
+/// The evaluator answered every point with one margin per mode, none NaN.
 pub(super) fn check_rows(
     rows: &[Vec<f64>],
     m: usize,
     modes: usize,
 ) -> Result<(), ReliabilityError> {
     check_len(rows, m)?;
-    match rows.iter().find(|r| r.len() != modes) {
-        Some(r) => Err(ReliabilityError::Evaluator(format!(
+    if let Some(r) = rows.iter().find(|r| r.len() != modes) {
+        return Err(ReliabilityError::Evaluator(format!(
             "a row of {} margins; expected one per failure mode ({modes})",
             r.len()
+        )));
+    }
+    // A NaN compares false both ways: counted neither failed nor safe, it
+    // would pass for a margin and lower the probability without a word.
+    match rows.iter().position(|r| r.iter().any(|g| g.is_nan())) {
+        Some(i) => Err(ReliabilityError::Evaluator(format!(
+            "row {i} of the batch has a margin NaN; expected a number per failure mode \
+             (≤ 0: failed)"
         ))),
         None => Ok(()),
     }

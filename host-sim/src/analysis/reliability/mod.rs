@@ -386,6 +386,10 @@ impl Problem {
         for (v, &x) in self.vary.iter().zip(x) {
             v.apply(x, &mut mech, &mut effects);
         }
+        params::check_drawn(&mech, &effects).map_err(|why| ReliabilityError::Simulation {
+            at: self.describe(x),
+            source: SimError::Invalid(why),
+        })?;
         let end = self.run_end_s();
         let rate = self
             .fail

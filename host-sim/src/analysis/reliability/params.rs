@@ -274,6 +274,53 @@ impl fmt::Display for Vary {
     }
 }
 
+/// The mechanism's own value that an effect `e` adds to at its joint: the
+/// joint's Coulomb friction \[N·m\] or viscous damping \[N·m·s/rad\];
+/// 0 for every other effect.
+pub(crate) fn own_value(mech: &Mechanism, e: &Effect) -> f64 {
+    let joint = e.joint.and_then(|j| mech.joints.get(j.checked_sub(1)?));
+    match (e.kind(), joint) {
+        (EffectKind::CoulombFriction, Some(x)) => x.friction.coulomb_nm,
+        (EffectKind::ViscousDamping, Some(x)) => x.friction.viscous_nms,
+        _ => 0.0,
+    }
+}
+
+/// Checks a deployment's effects once the drawn values are in: at each
+/// joint, each kind's total — the mechanism's own value (its Coulomb
+/// friction and viscous damping, which an effect of that name adds to)
+/// plus every effect of the kind there — must stay in the values the kind
+/// allows ([`EffectKind::allowed`]): a law's tail may not make friction
+/// drive its joint or a softening reverse its spring, which `--effect`
+/// refuses too. A value outside is an error naming it, never a silent
+/// deployment of another physics.
+pub fn check_drawn(mech: &Mechanism, effects: &[Effect]) -> Result<(), String> {
+    for (i, e) in effects.iter().enumerate() {
+        let same = |f: &&Effect| f.kind() == e.kind() && f.joint == e.joint;
+        if effects[..i].iter().any(|f| same(&f)) {
+            continue;
+        }
+        let own = own_value(mech, e);
+        let total = own + effects.iter().filter(same).map(Effect::value).sum::<f64>();
+        let range = e.kind().allowed();
+        if !range.contains(total) {
+            let at = e
+                .joint
+                .map(|j| format!(" at joint {j}"))
+                .unwrap_or_default();
+            return Err(format!(
+                "{}{at} would be {total} {} ({own} in the mechanism plus the effects drawn or \
+                 fixed): expected {}; a law that reaches there wants truncnormal(mean,sd,lo,hi) \
+                 kept inside",
+                e.kind(),
+                e.kind().unit(),
+                range.describe()
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// An effect every deployment carries as it was found, not drawn: a
 /// diagnosis's `torque_table` (`reliability --from`), a measured fixed
 /// resistance with no one value to draw (`docs/reliability.md` §2).

@@ -29,6 +29,14 @@ pub enum EffectError {
         /// The whole text.
         text: String,
     },
+    /// A key given twice (the first value would be lost without a word).
+    #[error("`{key}` given twice in `{text}`: expected each key once")]
+    RepeatedKey {
+        /// The key.
+        key: String,
+        /// The whole text.
+        text: String,
+    },
     /// A value that does not parse.
     #[error("`{key}={value}` in `{text}`: expected {expected}")]
     BadNumber {

@@ -51,11 +51,19 @@ impl FromStr for Effect {
             text: s.to_string(),
             source,
         };
+        let mut seen: Vec<&str> = Vec::new();
         for p in parts {
             let (k, v) = p.split_once('=').ok_or_else(|| EffectError::NotKeyValue {
                 part: p.to_string(),
                 text: s.to_string(),
             })?;
+            if seen.contains(&k.trim()) {
+                return Err(EffectError::RepeatedKey {
+                    key: k.trim().to_string(),
+                    text: s.to_string(),
+                });
+            }
+            seen.push(k.trim());
             let bad = |expected| EffectError::BadNumber {
                 key: k.to_string(),
                 value: v.to_string(),

@@ -68,6 +68,20 @@ fn parses_the_cli_syntax() {
     }
     let e: Effect = "spring_softening:joint=1:value=-0.2".parse().unwrap();
     assert!(e.validate(2).is_ok(), "a negative softening stiffens");
+    // A key given twice would lose its first value without a word.
+    for twice in [
+        "coulomb_friction:joint=1:value=0.1:value=0.2",
+        "coulomb_friction:joint=1:joint=3:value=0.1",
+        "coulomb_friction:joint=1: value=0.1:value =0.2",
+    ] {
+        assert!(
+            matches!(
+                twice.parse::<Effect>(),
+                Err(EffectError::RepeatedKey { .. })
+            ),
+            "{twice}"
+        );
+    }
 }
 
 #[test]

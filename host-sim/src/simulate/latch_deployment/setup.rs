@@ -30,8 +30,9 @@ pub fn weakenings(effects: &[Effect], joints: usize) -> Vec<(f64, f64)> {
     out
 }
 
-/// Refuses latch effects on joints without a physical latch (they would
-/// do nothing, silently).
+/// Refuses latch effects on joints without a physical latch, a magnet's
+/// weakening on a latch without a magnet, and a rig cause on a mechanism
+/// without an active rig (they would do nothing, silently).
 pub fn check_latch_effects(mech: &Mechanism, effects: &[Effect]) -> Result<(), SimError> {
     for e in effects {
         if !EffectKind::LATCH.contains(&e.kind()) {
@@ -46,8 +47,17 @@ pub fn check_latch_effects(mech: &Mechanism, effects: &[Effect]) -> Result<(), S
                 "{e}: the joint has no physical latch ([joint.latch] model = \"physical\" in the mechanism file)"
             )));
         }
+        let magnet = e
+            .joint
+            .and_then(|j| mech.latch(j.checked_sub(1)?))
+            .is_some_and(|l| l.magnet.is_some());
+        if e.kind() == EffectKind::MagnetWeakening && !magnet {
+            return Err(SimError::Invalid(format!(
+                "{e}: the joint's latch has no magnet ([joint.latch.magnet] in the mechanism file)"
+            )));
+        }
     }
-    Ok(())
+    crate::simulate::rig::check_rig_effects(mech, effects)
 }
 
 /// The core latches of a mechanism's joints with the effects' weakenings.
