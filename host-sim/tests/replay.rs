@@ -321,3 +321,47 @@ fn a_run_of_another_mechanism_is_refused() {
         Err(ReplayError::Input(_))
     ));
 }
+
+/// A run on a zero-g rig replayed with its rig mechanism: the monitor
+/// models the wing without the rig, and replay says so; a wing without a
+/// rig says nothing of it.
+#[test]
+fn a_replay_on_a_rig_says_the_monitor_has_no_rig() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("rig.csv");
+    let rig = data("mechanisms/seed001_T01_rig.toml");
+    let made = Command::new(env!("CARGO_BIN_EXE_deploywatch"))
+        .args([
+            "simulate".as_ref(),
+            rig.as_os_str(),
+            "-o".as_ref(),
+            run.as_os_str(),
+            "-q".as_ref(),
+        ])
+        .output()
+        .expect("runs");
+    assert!(
+        made.status.success(),
+        "{}",
+        String::from_utf8_lossy(&made.stderr)
+    );
+    let said = "deploys on a zero-g rig: the monitor models the wing without it";
+    let out = deploywatch(&[
+        run.as_os_str(),
+        "--mechanism".as_ref(),
+        rig.as_os_str(),
+        "-q".as_ref(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && err.contains(said), "{err}");
+    let plain = data("examples/a_seed001_eft/seed001_T01.csv");
+    let t01 = data("mechanisms/seed001_T01.toml");
+    let out = deploywatch(&[
+        plain.as_os_str(),
+        "--mechanism".as_ref(),
+        t01.as_os_str(),
+        "-q".as_ref(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && !err.contains("zero-g rig"), "{err}");
+}

@@ -26,7 +26,9 @@ pub struct DiagnoseArgs {
     /// (`.png`) go beside it.
     #[arg(long)]
     pub json: PathBuf,
-    /// Most effects to report.
+    /// Most named effects the stepwise search adds (1 to 3; torque tables
+    /// aside); a set that explains the runs better may name more, with a
+    /// warning.
     #[arg(long, default_value_t = 3)]
     pub max_effects: usize,
     /// No progress on the terminal.
@@ -67,6 +69,9 @@ fn load_campaign(args: &DiagnoseArgs) -> Result<Campaign, CliError> {
 /// traces the environment asks for (`DEPLOYWATCH_TRACE`: every score and
 /// verdict; `DEPLOYWATCH_TRACE_FORMS`: the friction forms' evidence).
 fn options(args: &DiagnoseArgs) -> Result<DiagnoseOptions, CliError> {
+    if args.max_effects == 0 || args.max_effects > 3 {
+        return Err(CliError::input("--max-effects: expected 1, 2 or 3"));
+    }
     if args.max_seconds.is_some_and(|s| !(s > 0.0)) {
         return Err(CliError::input(
             "--max-seconds: expected a positive number of seconds",
@@ -89,9 +94,7 @@ fn options(args: &DiagnoseArgs) -> Result<DiagnoseOptions, CliError> {
 
 /// Runs `deploywatch diagnose`.
 pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
-    if args.max_effects == 0 || args.max_effects > 3 {
-        return Err(CliError::input("--max-effects: expected 1, 2 or 3"));
-    }
+    let opts = options(args)?;
     super::check_output("--json", &args.json)?;
     super::check_output("the report beside --json", &args.json.with_extension("md"))?;
     let campaign = load_campaign(args)?;
@@ -102,7 +105,6 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
             rayon::current_num_threads()
         );
     }
-    let opts = options(args)?;
     let bar = Spinner::new(args.quiet);
     let sink = |line: &str| bar.line(line);
     let outcome = diagnose::diagnose(&campaign, &opts, &sink);
@@ -166,7 +168,22 @@ pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     if let Some(sec) = &rig {
         outln!("\n{sec}");
     }
+    warn_beyond_max_effects(&outcome, args.max_effects);
     Ok(())
+}
+
+/// Warns when the diagnosis names more effects than `--max-effects`: the
+/// search adds at most that many, a better set found later may name more.
+fn warn_beyond_max_effects(outcome: &diagnose::Outcome, max: usize) {
+    let members = outcome.extended.members.iter();
+    let named = members.filter(|m| m.candidate.table.is_none()).count();
+    if named > max {
+        super::Console::new(false).warn(format_args!(
+            "the diagnosis names {named} effects, more than --max-effects {max}: the search adds \
+             at most {max} (torque tables aside), and a set that explains the runs better (an \
+             alternative alike, a named law in a table's place) may name more (docs/diagnosis.md)"
+        ));
+    }
 }
 
 /// The file name of `path` without its extension (the prefix of the

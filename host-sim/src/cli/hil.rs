@@ -141,8 +141,12 @@ fn injection(args: &HilArgs) -> Result<Inject, CliError> {
 fn prepare(args: &HilArgs) -> Result<(Mechanism, Run, Plan), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
     let mut run = replay::load_run(&args.run).map_err(cli_error)?;
-    crate::data::inputs::check_pair(&mech, &args.mechanism, &run, &args.run)
+    let warnings = crate::data::inputs::check_pair(&mech, &args.mechanism, &run, &args.run)
         .map_err(|e| CliError::input(e.to_string()))?;
+    let console = super::Console::new(args.quiet);
+    for w in warnings.into_iter().chain(replay::rig_note(&mech)) {
+        console.warn(w);
+    }
     if args.every == 0 {
         return Err(CliError::input("--every 0: a whole number from 1"));
     }

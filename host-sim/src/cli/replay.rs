@@ -124,7 +124,7 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     check_outputs(args)?;
     let prepared = replay::prepare(&mech, &run).map_err(cli_error)?;
     let console = Console::new(args.quiet);
-    for w in warnings {
+    for w in warnings.into_iter().chain(replay::rig_note(&mech)) {
         console.warn(w);
     }
     let temp;

@@ -45,7 +45,7 @@ pub use encode::config_frames;
 pub use error::ReplayError;
 pub use figure::plot;
 pub(crate) use prepare::{config_and_samples, run_of};
-pub use prepare::{load_run, prepare, Prepared};
+pub use prepare::{load_run, prepare, rig_note, Prepared};
 pub(crate) use qemu::{find_firmware, SETUP_HINT};
 pub use qemu::{run_qemu, QEMU};
 pub use status::StatusRow;

@@ -139,6 +139,21 @@ pub struct LatchParts {
     pub magnet: bool,
 }
 
+impl LatchParts {
+    /// The parts of joint `j`'s (0-based) drawn latch, from the first run's
+    /// mechanism that has one.
+    fn of(c: &Campaign, j: usize) -> LatchParts {
+        c.runs
+            .iter()
+            .find_map(|r| r.mechanism.latch(j))
+            .map(|l| LatchParts {
+                pawl: l.pawl.is_some(),
+                magnet: l.magnet.is_some(),
+            })
+            .unwrap_or_default()
+    }
+}
+
 /// What the runs tell of a joint's latch as built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LatchCause {
@@ -389,15 +404,7 @@ pub fn latch_findings(c: &Campaign, effects: &[Effect]) -> Vec<LatchFinding> {
                 differs: Vec::new(),
                 undecided: Vec::new(),
                 cause: None,
-                parts: c
-                    .runs
-                    .iter()
-                    .find_map(|r| r.mechanism.latch(j))
-                    .map(|l| LatchParts {
-                        pawl: l.pawl.is_some(),
-                        magnet: l.magnet.is_some(),
-                    })
-                    .unwrap_or_default(),
+                parts: LatchParts::of(c, j),
                 weakening: None,
             };
             f.restitution = measured_restitution(c, j);

@@ -321,17 +321,15 @@ impl Engine<'_> {
     /// The baseline: the mechanisms as given, no effect (without
     /// statistics when they cannot be simulated).
     fn baseline(&self) -> FittedSet {
-        // Every report is read against it: scored whatever the time limit.
+        // Scored whatever the time limit: every report is read against it.
         self.sims.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let stats = self.campaign.residual_vector(&[]).map(|r| FitStats {
             sse: r.iter().map(|x| x * x).sum(),
             m: r.len(),
             evaluations: 1,
         });
-        FittedSet {
-            members: Vec::new(),
-            stats,
-        }
+        let members = Vec::new();
+        FittedSet { members, stats }
     }
 
     /// The set reordered strongest first, with each effect's strength: the

@@ -28,6 +28,21 @@ pub struct Prepared {
     pub host: Vec<StatusRow>,
 }
 
+/// What a replay of a run on a zero-g rig must say: the monitor models the
+/// wing as it flies (no rig: `MonitorConfig` has no term of it), so its
+/// friction, margin and prediction include the rig's own resistance and
+/// gravity offload. `None` for a mechanism without an active rig.
+pub fn rig_note(mech: &Mechanism) -> Option<String> {
+    mech.active_rig().map(|_| {
+        format!(
+            "`{}` deploys on a zero-g rig: the monitor models the wing without it, so its \
+             friction, margin and time to latch include the rig's own resistance; `deploywatch \
+             diagnose` separates the rig from the hinges (docs/margin.md, \"The hinge friction with the rig taken out\")",
+            mech.name
+        )
+    })
+}
+
 /// Loads a run for the monitor (missing samples allowed, as `NaN`).
 pub fn load_run(path: &Path) -> Result<Run, ReplayError> {
     let opts = crate::data::run::ReadOptions {
