@@ -306,3 +306,36 @@ fn a_run_given_twice_is_refused() {
         }
     }
 }
+
+/// A physical latch that would engage beyond its joint's stroke (a crest
+/// or a switch farther from the stop than the panel is stowed) is refused
+/// with the file, the line and the mark, never simulated as latched while
+/// stowed.
+#[test]
+fn a_latch_beyond_the_stroke_is_refused() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = std::fs::read_to_string(data().join("mechanisms/seed001_T01_physical_latch.toml"))
+        .expect("bundled mechanism");
+    for (from, to, mark) in [
+        ("crest_deg = 0.6", "crest_deg = 95.0", "its crest"),
+        (
+            "switch_travel_deg = 0.05",
+            "switch_travel_deg = 120.0",
+            "its switch",
+        ),
+    ] {
+        let bad = text.replacen(from, to, 1);
+        let line = line_of(&bad, "[joint.latch]");
+        let (out, csv) = simulate(dir.path(), &bad, &["-q"]);
+        refused(
+            &out,
+            &[
+                &format!("m.toml:{line}"),
+                "joint[1].latch",
+                "within the joint's stroke of 90 deg",
+                mark,
+            ],
+        );
+        assert!(!csv.exists(), "nothing written");
+    }
+}

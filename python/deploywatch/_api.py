@@ -120,8 +120,9 @@ def simulate(
     """One deployment of the mechanism (``deploywatch simulate``), with
     extra effects, typed (``Coulomb(joint=1, torque_nm=1.2)``) or in the
     ``--effect`` syntax (``"coulomb_friction:joint=1:value=1.2"``), checked
-    as the CLI checks ``--effect``, sampled at ``sample_hz`` [Hz]
-    (default: the file's rate).
+    as the CLI checks ``--effect`` (a sensor effect, ``EncoderOffset``, is
+    refused: it moves no joint, and this is the motion), sampled at
+    ``sample_hz`` [Hz] (default: the file's rate).
 
     Returns a :class:`Trajectory`: ``t_s`` (n,), ``phi_deg`` and
     ``rate_deg_s`` (n, joints), ``latch_s`` (joints,), NaN where not
