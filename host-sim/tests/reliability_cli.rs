@@ -388,6 +388,8 @@ fn from_takes_the_identified_values_and_their_intervals_as_normal_laws() {
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let vary = v["vary"][0].as_str().unwrap();
+    // Found on no wing the file names: nothing said of it.
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("found on"));
     assert!(
         vary.starts_with("coulomb_friction:joint=1:truncnormal(0.000025,0.0000484")
             && vary.ends_with(",0,inf)"),
@@ -510,4 +512,36 @@ fn a_target_cov_not_reached_is_a_warning_in_the_json_too() {
     let w = warned[0].as_str().expect("a string");
     assert!(w.contains("is above the target c.o.v. 0.001"), "{w}");
     assert!(err.contains(w), "stderr says it too:\n{err}");
+}
+
+/// `--from` findings made on another wing are applied as they are, and
+/// the command says so (as `margin --from` does).
+#[test]
+fn from_findings_of_another_wing_are_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let eft = write(
+        dir.path(),
+        "eft.json",
+        r#"{"method": "direct", "joints": [{"joint": 1, "coulomb_nm": 1.2, "ci95": [1.0, 1.4]}],
+            "after": {"rms_deg": 0.02, "runs": [{"run": "a.csv", "mechanism": "another-wing", "rms_deg": 0.02}]}}"#,
+    );
+    let out = deploywatch(&[
+        "reliability",
+        &one_panel(),
+        "--from",
+        s(&eft),
+        "--fail",
+        "not_latched",
+        "--method",
+        "mc",
+        "--samples",
+        "50",
+        "-q",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("found on another-wing, not on reliability-one-panel: applied as it is"),
+        "{err}"
+    );
 }

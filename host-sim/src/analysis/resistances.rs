@@ -254,8 +254,7 @@ fn identify_effects(id: &Identification) -> Result<Found, FromError> {
         taken_at.push(format!("{kind} at joint {joint}: {words}"));
         effects.push(Effect::joint(kind, joint, value));
     }
-    let mut found_on: Vec<String> = id.after.runs.iter().map(|r| r.mechanism.clone()).collect();
-    found_on.dedup();
+    let found_on = id.found_on();
     // A response surface whose design missed the friction that explains
     // the runs: its EFTs are taken as written, and the source says so.
     let note = id

@@ -129,6 +129,14 @@ pub fn problem(args: &ReliabilityArgs) -> Result<(Problem, Vec<String>), CliErro
                 )
             }))
             .collect();
+        if !found.found_on.is_empty() && !found.found_on.contains(&mech.name) {
+            left_out.push(format!(
+                "--from {}: found on {}, not on {}: applied as it is",
+                f.display(),
+                found.found_on.join(", "),
+                mech.name
+            ));
+        }
     }
     let problem = Problem {
         mech,

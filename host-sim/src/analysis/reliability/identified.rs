@@ -34,6 +34,10 @@ pub struct FromFindings {
     /// `"unexplained"`): why nothing can be carried, in words. The
     /// command refuses it (`reliability --from`, exit 2).
     pub no_effect: Option<String>,
+    /// The mechanisms the findings were made on (their names; empty when
+    /// the file does not say): a wing other than the one analysed is the
+    /// command's to say.
+    pub found_on: Vec<String>,
 }
 
 impl FromFindings {
@@ -70,9 +74,13 @@ pub fn from_findings_json(text: &str, mech: &Mechanism) -> Result<FromFindings, 
     match Findings::from_json_str(text) {
         Ok(Findings::Identify(id)) => Ok(FromFindings {
             vary: from_identification(&id, mech)?,
+            found_on: id.found_on(),
             ..FromFindings::default()
         }),
-        Ok(Findings::Diagnosis(d)) => from_diagnosis(&d, mech),
+        Ok(Findings::Diagnosis(d)) => Ok(FromFindings {
+            found_on: d.found_on(),
+            ..from_diagnosis(&d, mech)?
+        }),
         Err(FindingsError::Unknown) => Err(expected.into()),
         Err(e) => Err(e.to_string()),
     }

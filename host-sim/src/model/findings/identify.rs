@@ -198,3 +198,17 @@ pub struct Identification {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rsm: Option<RsmDetails>,
 }
+
+impl Identification {
+    /// The mechanisms its runs were of (their names, each once, in the
+    /// order of the runs; empty when the file does not say).
+    pub fn found_on(&self) -> Vec<String> {
+        let mut out: Vec<String> = Vec::new();
+        for r in &self.after.runs {
+            if !r.mechanism.is_empty() && !out.contains(&r.mechanism) {
+                out.push(r.mechanism.clone());
+            }
+        }
+        out
+    }
+}
