@@ -80,9 +80,12 @@ const RIGHT_ANGLE_DEG: f64 = 90.0;
 
 /// The `[joint.latch]` of one `[[joint]]`, read on the mechanism file's tree
 /// by [`crate::model::mechanism_toml`] (`None`: absent or `model =
-/// "ideal"`, the ideal latch). Errors name the key path
-/// (`joint[1].latch.plunger.preload_n`), the line and what was expected.
-pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, path: &str) -> Res<Option<LatchSpec>> {
+/// "ideal"`, the ideal latch), for a joint stowed at `stowed_deg`: every
+/// mark where it engages (its switch, crest, entry ramp, the magnet's
+/// reach) within the stroke `|stowed_deg|`, or it would engage stowed.
+/// Errors name the key path (`joint[1].latch.plunger.preload_n`), the line
+/// and what was expected.
+pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, path: &str, stowed_deg: f64) -> Res<Option<LatchSpec>> {
     let t = cx.table(sp, path, LATCH_KEYS)?;
     let expected = "\"physical\" or \"ideal\"";
     let Some(model) = t.get("model") else {
@@ -111,7 +114,32 @@ pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, path: &str) -> Res<Option<LatchSpec>> {
     spec.to_core::<f64>(1.0, 1.0, 1.0)
         .check()
         .map_err(|why| cx.invalid(sp, path, &format!("a physical latch: {why}")))?;
+    within_stroke(cx, sp, path, &spec, stowed_deg)?;
     Ok(Some(spec))
+}
+
+/// Every mark where the latch engages lies within the stroke.
+fn within_stroke(cx: &Cx<'_>, sp: &Sp, path: &str, spec: &LatchSpec, stowed_deg: f64) -> Res<()> {
+    use deploywatch_core::physics::latch_contact::LatchMark;
+    for (mark, u) in spec.to_core::<f64>(stowed_deg, 1.0, 1.0).marks() {
+        let what = match mark {
+            LatchMark::Crest => "its crest (plunger crest_deg, pawl notch_deg)",
+            LatchMark::EntryRamp => "its entry ramp's start (the crest plus the ramp)",
+            LatchMark::MagnetReach => "its magnet's reach (reach_mm at radius_mm)",
+            LatchMark::Switch => "its switch (switch_travel_deg)",
+            LatchMark::Stop | LatchMark::HoldRampEnd => continue,
+        };
+        if !(u.to_degrees() < stowed_deg.abs()) {
+            let expected = format!(
+                "a latch that engages within the joint's stroke of {} deg (stowed_deg): {what} \
+                 lies {:.2} deg from the stop, where the panel is still stowed",
+                stowed_deg.abs(),
+                u.to_degrees()
+            );
+            return Err(cx.invalid(sp, path, &expected));
+        }
+    }
+    Ok(())
 }
 
 /// `stop = { radius_mm = ... }` of the latch table `latch`.

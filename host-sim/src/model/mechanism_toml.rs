@@ -204,9 +204,8 @@ impl Cx<'_> {
         let mut joints = Vec::with_capacity(joint_items.len());
         let mut latches = Vec::with_capacity(joint_items.len());
         for (i, sp) in joint_items.iter().enumerate() {
-            let joint = self.joint(sp, i + 1, &tapes)?;
-            latches.push(self.latch(sp, i + 1, joint.stowed_deg)?);
-            joints.push(joint);
+            joints.push(self.joint(sp, i + 1, &tapes)?);
+            latches.push(self.latch(sp, i + 1, joints[i].stowed_deg)?);
         }
         if joints.len() != panels.len() {
             return Err(self.err(
@@ -426,45 +425,25 @@ impl Cx<'_> {
     }
 
     /// `[joint.latch]` of joint `j` (1-based), `None` for the ideal latch;
-    /// every mark where it engages (its switch, crest, entry ramp, the
-    /// magnet's reach) within the joint's stroke `|stowed_deg|`, or it
-    /// would engage stowed.
+    /// within the joint's stroke `|stowed_deg|` ([`crate::model::latch_toml::read`]).
     fn latch(
         &self,
         sp: &Sp,
         j: usize,
         stowed_deg: f64,
     ) -> Res<Option<crate::model::latch::LatchSpec>> {
-        use deploywatch_core::physics::latch_contact::LatchMark;
         let Node::Table(entries) = &sp.node else {
             return Ok(None);
         };
-        let Some((_, latch)) = entries.iter().find(|(k, _)| k == "latch") else {
-            return Ok(None);
-        };
-        let path = format!("joint[{j}].latch");
-        let Some(spec) = crate::model::latch_toml::read(self, latch, &path)? else {
-            return Ok(None);
-        };
-        for (mark, u) in spec.to_core::<f64>(stowed_deg, 1.0, 1.0).marks() {
-            let what = match mark {
-                LatchMark::Crest => "its crest (plunger crest_deg, pawl notch_deg)",
-                LatchMark::EntryRamp => "its entry ramp's start (the crest plus the ramp)",
-                LatchMark::MagnetReach => "its magnet's reach (reach_mm at radius_mm)",
-                LatchMark::Switch => "its switch (switch_travel_deg)",
-                LatchMark::Stop | LatchMark::HoldRampEnd => continue,
-            };
-            if !(u.to_degrees() < stowed_deg.abs()) {
-                let expected = format!(
-                    "a latch that engages within the joint's stroke of {} deg (stowed_deg): \
-                     {what} lies {:.2} deg from the stop, where the panel is still stowed",
-                    stowed_deg.abs(),
-                    u.to_degrees()
-                );
-                return Err(self.invalid(latch, &path, &expected));
-            }
+        match entries.iter().find(|(k, _)| k == "latch") {
+            Some((_, latch)) => crate::model::latch_toml::read(
+                self,
+                latch,
+                &format!("joint[{j}].latch"),
+                stowed_deg,
+            ),
+            None => Ok(None),
         }
-        Ok(Some(spec))
     }
 
     fn spring(
