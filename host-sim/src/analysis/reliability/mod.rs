@@ -504,7 +504,6 @@ fn simulate_verdict(
 ) -> Result<(Trajectory, Vec<Option<f64>>), SimError> {
     let end = [end];
     if mech.has_physical_latch() {
-        crate::simulate::rig::check_rig_effects(mech, effects)?;
         let times = match rate {
             true => deployment::sample_grid(mech, opts)?,
             false => Samples::Listed(&end),
