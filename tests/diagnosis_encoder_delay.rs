@@ -12,6 +12,12 @@
 //!   wings (`tests/src/wing_gen.rs`, some with a named effect), on time the
 //!   latchings never exclude zero, and delayed by 0.6 of a sample they
 //!   always allow the delay. `DEPLOYWATCH_WINGS` wings (default 60).
+//! - `a_joint_thrown_at_its_latch_by_its_spring_reads_no_delay`: a wing
+//!   whose first joint creeps onto its latch (~70 °/s against 0.6 N·m)
+//!   through its tape springs' peak, which throws it at the latch
+//!   milliseconds before the approach's extrapolation says: on time the
+//!   latchings allow zero and the diagnosis names no delay and finds the
+//!   friction; 0.6 of a sample late they allow the delay.
 //! - `a_delay_is_named_and_taken_out_and_the_effect_found`: seed wings with
 //!   an effect hidden at the detectability bar and a delay of 0.3 to 1
 //!   sample, beside the same campaigns on time: right in 85 % at least
@@ -25,7 +31,7 @@
 use deploywatch_sim::campaign::Campaign;
 use deploywatch_sim::deployment::{self, SimOptions, Trajectory};
 use deploywatch_sim::diagnose::{diagnose, encoder_delay, Outcome};
-use deploywatch_sim::effect::{self, Effect};
+use deploywatch_sim::effect::{self, Effect, EffectKind};
 use deploywatch_sim::findings::Findings;
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;
@@ -41,6 +47,11 @@ use std::path::Path;
 /// The runs of `truth` on `m` as sensors with encoders `delay_s` late give
 /// them: two runs, noise seeds `seed` and `seed + 1`.
 fn campaign(m: &Mechanism, truth: &[Effect], delay_s: f64, seed: u64) -> Option<Campaign> {
+    runs(m, truth, delay_s, seed, 2)
+}
+
+/// [`campaign`] of `count` runs.
+fn runs(m: &Mechanism, truth: &[Effect], delay_s: f64, seed: u64, count: u64) -> Option<Campaign> {
     let opts = SimOptions::default();
     let on_time = deployment::simulate(m, truth, &opts).ok()?;
     let late: Vec<f64> = on_time
@@ -61,7 +72,7 @@ fn campaign(m: &Mechanism, truth: &[Effect], delay_s: f64, seed: u64) -> Option<
     };
     let off = effect::encoder_offsets_deg(truth, m.joint_count());
     let mut c = Campaign::default();
-    for r in 0..2 {
+    for r in 0..count {
         let mut run = sensor::measure(&angles, &off, &SensorModel::REFERENCE, seed + r);
         run.set_meta("mechanism", &m.name);
         c.push(
@@ -123,6 +134,121 @@ fn latchings_bound_the_delay_on_random_wings() {
         wings()
     );
     assert!(read > 0, "no wing's latchings were read");
+}
+
+/// Three panels on tape springs; joint 1's friction (0.6 N·m) lets it
+/// reach its latch at ~70 °/s, within the reach of its springs' peak.
+const SLOW_WING: &str = r#"name = "slow-first-joint"
+description = "joint 1 creeps onto its latch through its tape springs' peak"
+
+[[panel]]
+length_m = 0.6
+mass_kg = 2.0
+com_m = 0.3
+inertia_kgm2 = 0.06000
+
+[[panel]]
+length_m = 0.5
+mass_kg = 1.2
+com_m = 0.25
+inertia_kgm2 = 0.02500
+
+[[panel]]
+length_m = 0.4
+mass_kg = 0.8
+com_m = 0.2
+inertia_kgm2 = 0.01067
+
+[[joint]]
+stowed_deg = -90
+spring = { kind = "tape", type = "TS-1", count = 3 }
+friction = { coulomb_nm = 0.6 }
+
+[[joint]]
+stowed_deg = 180
+spring = { kind = "tape", type = "TS-2", count = 2 }
+friction = { coulomb_nm = 0.4 }
+
+[[joint]]
+stowed_deg = -180
+spring = { kind = "tape", type = "TS-3", count = 2 }
+friction = { coulomb_nm = 0.2 }
+
+
+[tape."TS-1"]
+a = [1.10, 69.39]
+b = [1.10, 1.50]
+d = [0.52, 37.0]
+m_90 = 1.20
+c_180 = 2.32
+
+[tape."TS-2"]
+a = [1.26, 58.20]
+b = [1.28, 0.86]
+d = [0.65, 26.0]
+m_90 = 0.80
+c_180 = 1.46
+
+[tape."TS-3"]
+a = [1.08, 33.43]
+b = [1.15, 0.46]
+d = [0.29, 11.07]
+m_90 = 0.385
+c_180 = 0.74
+
+[run]
+duration_s = 12.0
+sample_hz = 100.0
+"#;
+
+#[test]
+fn a_joint_thrown_at_its_latch_by_its_spring_reads_no_delay() {
+    let m = Mechanism::from_toml_str(SLOW_WING, "slow.toml").expect("a valid wing");
+    let sigma = SensorModel::REFERENCE.noise_sigma_deg;
+    let late = 0.6 / m.sample_hz;
+    let mut read = 0;
+    // One run each, as `deploywatch simulate --seed S` writes it; the
+    // friction at joint 2 moves every latching's phase on the sample clock.
+    for i in 0..24u64 {
+        let truth = [Effect::joint(
+            EffectKind::CoulombFriction,
+            2,
+            0.01 * (1 + i % 3) as f64,
+        )];
+        let on_time = runs(&m, &truth, 0.0, i, 1).expect("simulates");
+        if let Some(d) = encoder_delay::estimate(&on_time, sigma) {
+            read += 1;
+            assert!(
+                d.allows_zero,
+                "{} seed {i}: on time, yet the latchings exclude zero: {:.3} .. {:.3} ms ({:?})",
+                truth[0],
+                d.lo_s * 1e3,
+                d.hi_s * 1e3,
+                d.latchings
+            );
+        }
+        let c = runs(&m, &truth, late, i, 1).expect("simulates");
+        if let Some(d) = encoder_delay::estimate(&c, sigma) {
+            assert!(
+                d.lo_s <= late && late <= d.hi_s,
+                "{} seed {i}: {:.3} ms late, the latchings allow {:.3} .. {:.3} ms",
+                truth[0],
+                late * 1e3,
+                d.lo_s * 1e3,
+                d.hi_s * 1e3
+            );
+        }
+    }
+    assert!(read > 0, "no campaign's latchings were read");
+    let truth = [Effect::joint(EffectKind::CoulombFriction, 2, 0.02)];
+    let c = runs(&m, &truth, 0.0, 1, 1).expect("simulates");
+    let o = diagnose(&c, &deploywatch_tests::diagnose_options(), &quiet);
+    assert!(
+        o.encoder_delay.as_ref().is_none_or(|d| !d.taken_out()),
+        "on time, a delay taken out: {:?}",
+        o.encoder_delay
+    );
+    assert!(found(&truth, &o), "{} found as [{}]", truth[0], names(&o));
 }
 
 /// Case `i`: a seed wing, one effect raised from a small value until it

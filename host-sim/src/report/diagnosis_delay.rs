@@ -30,6 +30,10 @@ pub fn json(c: &Campaign, o: &Outcome) -> Option<EncoderDelayJson> {
                 run: c.runs.get(l.run).map(|r| r.name()).unwrap_or_default(),
                 joint: l.joint,
                 crossing_s: finite(l.crossing_s),
+                model_error_s: l
+                    .model_error_s
+                    .filter(|(a, b)| a.is_finite() && b.is_finite())
+                    .map(|(a, b)| [a, b]),
                 open_s: finite(l.open_s),
                 closed_s: finite(l.closed_s),
                 rate_deg_s: finite(l.rate_deg_s),
@@ -51,7 +55,7 @@ pub fn report(md: &mut String, c: &Campaign, o: &Outcome) {
     let _ = writeln!(md, "## An encoder late on its switch\n");
     let _ = writeln!(
         md,
-        "A discrepancy named by its signature, not an effect: {}. Each ideal latch's switch closes between its last open and first closed sample; the encoder's approach, extrapolated to its latched level, crosses it later by the delay. Each latching below bounds the delay to about one sample ({:.0} % of the period allowed for time-stamp jitter, {:.0} σ̂ of angle over the approach rate for the noise); together they give {:.1} to {:.1} ms.\n",
+        "A discrepancy named by its signature, not an effect: {}. Each ideal latch's switch closes between its last open and first closed sample; the encoder's approach, extrapolated to its latched level, crosses it later by the delay. The same extrapolation on the model's own run, read at every phase of the sample clock, shows how far it can be off there (a tape spring's peak near the latch throws a slow joint at it early); each latching's interval is widened by that. Each latching below bounds the delay to about one sample ({:.0} % of the period allowed for time-stamp jitter, {:.0} σ of the extrapolated angle over the approach's slope for the noise); together they give {:.1} to {:.1} ms.\n",
         encoder_delay::words(d),
         100.0 * encoder_delay::JITTER_SLACK_PERIODS,
         encoder_delay::NOISE_SLACK_SIGMAS,
@@ -73,6 +77,9 @@ fn latchings_table(c: &Campaign, d: &EncoderDelay) -> String {
                 c.runs.get(l.run).map(|r| r.name()).unwrap_or_default(),
                 l.joint.to_string(),
                 format!("{:.4}", l.crossing_s),
+                l.model_error_s.map_or("–".into(), |(a, b)| {
+                    format!("{:+.1} .. {:+.1}", a * 1e3, b * 1e3)
+                }),
                 format!("{:.4} .. {:.4}", l.open_s, l.closed_s),
                 format!("{:.0}", l.rate_deg_s),
                 format!("{:.1} .. {:.1}", l.lo_s * 1e3, l.hi_s * 1e3),
@@ -89,6 +96,7 @@ fn latchings_table(c: &Campaign, d: &EncoderDelay) -> String {
             "run",
             "joint",
             "encoder crosses [s]",
+            "extrapolation's error on the model [ms]",
             "switch closes between [s]",
             "rate [deg/s]",
             "delay allowed [ms]",

@@ -19,20 +19,33 @@
 //! clock, narrow it (set-membership estimation). The delay is named when
 //! the intervals agree on a value and exclude zero.
 //!
+//! The extrapolation sees only the samples before the latch: a tape
+//! spring's peak within a degree of the latch throws a slow joint at it
+//! several milliseconds before the parabola says, which on time would read
+//! as a delay. The same extrapolation on the model's own run of the
+//! mechanism, read at every phase of the sample clock, shows how far it
+//! can be off there; each latching's interval is widened by that.
+//!
 //! The runs are then compared with the model at their stamps minus the
 //! delay ([`shifted`]); a sample the encoder took before the release reads
 //! the stowed rest.
 
+use crate::analysis::campaign_sim::fit_sim_options_for;
 use crate::data::campaign::Campaign;
+use crate::simulate::deployment;
+use crate::simulate::trajectory::Trajectory;
 
 /// Slack on each latching's interval for time-stamp jitter, in sample
 /// periods: 3 σ of a jitter of 5 % of the period.
 pub const JITTER_SLACK_PERIODS: f64 = 0.15;
 
-/// Slack on each latching's interval for the sensor noise: this many σ̂
-/// of angle over the approach rate, the extrapolated crossing's error
-/// (a three-point extrapolation about doubles the noise, times 3 σ).
-pub const NOISE_SLACK_SIGMAS: f64 = 6.0;
+/// Slack on each latching's interval for the sensor noise: this many σ
+/// of the extrapolated level over the approach's slope at the crossing.
+/// The extrapolated level's σ is σ̂ times the norm of the parabola's
+/// weights there ([`Crossing::noise_gain`]), 1 at the last sample and
+/// about 4 a sample beyond it; σ̂ itself is read off the runs, in whole
+/// quanta of the encoder, so a generous 5 rather than 3.
+pub const NOISE_SLACK_SIGMAS: f64 = 5.0;
 
 /// An approach sample is clear of the latched level beyond this many σ̂.
 pub const APPROACH_SIGMAS: f64 = 10.0;
@@ -87,6 +100,10 @@ pub struct Latching {
     pub joint: usize,
     /// Where the encoder's approach crosses its latched level \[s\].
     pub crossing_s: f64,
+    /// The same extrapolation's least and greatest error on the model's
+    /// own run of the mechanism as given, over the phases of the sample
+    /// clock \[s\] (`None`: the model does not latch there).
+    pub model_error_s: Option<(f64, f64)>,
     /// The last sample with the switch open \[s\].
     pub open_s: f64,
     /// The first sample with the switch closed \[s\].
@@ -156,10 +173,22 @@ fn median(mut x: Vec<f64>) -> Option<f64> {
     Some(x[x.len() / 2])
 }
 
+/// Where an extrapolated approach reaches zero.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Crossing {
+    /// The instant \[s\].
+    t_s: f64,
+    /// The slope there \[deg/s\], its magnitude.
+    slope: f64,
+    /// The norm of the weights of the samples in the value there: a noise
+    /// σ on each sample gives this many σ on the value.
+    noise_gain: f64,
+}
+
 /// Where the parabola through three samples `(t, y)` reaches zero after
 /// `t[2]` and within `reach` \[s\] of it; the line through the last two when
 /// the parabola does not.
-fn crossing(t: [f64; 3], y: [f64; 3], reach: f64) -> Option<f64> {
+fn crossing(t: [f64; 3], y: [f64; 3], reach: f64) -> Option<Crossing> {
     let (h1, h2) = (t[1] - t[0], t[2] - t[1]);
     if !(h1 > 0.0 && h2 > 0.0) {
         return None;
@@ -171,36 +200,67 @@ fn crossing(t: [f64; 3], y: [f64; 3], reach: f64) -> Option<f64> {
     let b = d2 + c * h2;
     let inside = |s: f64| s.is_finite() && s > 0.0 && s <= reach;
     let line = -y[2] / d2;
-    let root = if c.abs() * reach * reach < 1e-9 * y[2].abs() {
-        line
+    let parabola = if c.abs() * reach * reach < 1e-9 * y[2].abs() {
+        None
     } else {
         let disc = b * b - 4.0 * c * y[2];
-        if disc < 0.0 {
-            line
-        } else {
-            let q = -0.5 * (b + b.signum() * disc.sqrt());
-            let roots = [q / c, y[2] / q];
-            roots
-                .into_iter()
-                .filter(|&s| inside(s))
-                .min_by(f64::total_cmp)
-                .unwrap_or(line)
-        }
+        (disc >= 0.0)
+            .then(|| {
+                let q = -0.5 * (b + b.signum() * disc.sqrt());
+                [q / c, y[2] / q]
+                    .into_iter()
+                    .filter(|&s| inside(s))
+                    .min_by(f64::total_cmp)
+            })
+            .flatten()
     };
-    inside(root).then_some(t[2] + root)
+    let (s, slope, weights) = match parabola {
+        // Lagrange's weights of the three nodes at t2 + s.
+        Some(s) => {
+            let x = t[2] + s;
+            let w = [
+                (x - t[1]) * (x - t[2]) / ((t[0] - t[1]) * (t[0] - t[2])),
+                (x - t[0]) * (x - t[2]) / ((t[1] - t[0]) * (t[1] - t[2])),
+                (x - t[0]) * (x - t[1]) / ((t[2] - t[0]) * (t[2] - t[1])),
+            ];
+            (s, (b + 2.0 * c * s).abs(), w)
+        }
+        None => (line, d2.abs(), [0.0, -line / h2, 1.0 + line / h2]),
+    };
+    let noise_gain = weights.iter().map(|w| w * w).sum::<f64>().sqrt();
+    (inside(s) && slope > 0.0 && noise_gain.is_finite()).then_some(Crossing {
+        t_s: t[2] + s,
+        slope,
+        noise_gain,
+    })
 }
 
-/// The latching of joint `j` (0-based) in run `r` of `campaign`, when its
-/// latch is ideal, closes once for good and the encoder's approach to it
-/// is clear of the noise `sigma_deg`.
-fn latching(campaign: &Campaign, r: usize, j: usize, sigma_deg: f64) -> Option<Latching> {
-    let cr = campaign.runs.get(r)?;
-    let (run, mech) = (&cr.run, &cr.mechanism);
-    if mech.latch(j).is_some() || mech.truss.is_some() {
-        return None;
-    }
-    let (switch, phi) = (run.latch.get(j)?, run.phi_deg.get(j)?);
-    let n = run.len().min(switch.len()).min(phi.len());
+/// Where an approach crosses its latched level, read off samples.
+struct Approach {
+    /// Where the approach, extrapolated, crosses the latched level \[s\].
+    crossing_s: f64,
+    /// Index of the first sample with the switch closed.
+    closes: usize,
+    /// The approach rate \[deg/s\].
+    rate_deg_s: f64,
+    /// The crossing's error for a noise σ̂ = 1 deg on each sample \[s/deg\].
+    noise_s_per_deg: f64,
+}
+
+/// The approach of joint `j` (0-based) to its latch in the samples `t_s`,
+/// `phi` with the switches `switches` (every joint's), when its switch
+/// closes once for good and the approach is clear of the noise
+/// `sigma_deg`: the parabola through its last three samples clear of the
+/// latched level, extrapolated to it.
+fn approach(
+    t_s: &[f64],
+    phi: &[f64],
+    switches: &[Vec<bool>],
+    j: usize,
+    sigma_deg: f64,
+) -> Option<Approach> {
+    let switch = switches.get(j)?;
+    let n = t_s.len().min(switch.len()).min(phi.len());
     let closes = switch.iter().take(n).position(|&s| s)?;
     if closes < 4 || switch[closes..n].iter().any(|&s| !s) {
         return None;
@@ -224,13 +284,13 @@ fn latching(campaign: &Campaign, r: usize, j: usize, sigma_deg: f64) -> Option<L
     }
     // Another latch closing over the approach changes every rate at once
     // (the plastic impulse of physics.md §5): no parabola spans it.
-    let others_change = run.latch.iter().enumerate().any(|(o, s)| {
+    let others_change = switches.iter().enumerate().any(|(o, s)| {
         o != j && (k - 3..=k + 1).any(|i| s.get(i).zip(s.get(i + 1)).is_some_and(|(a, b)| a != b))
     });
     if others_change {
         return None;
     }
-    let ts = [run.t_s[k - 2], run.t_s[k - 1], run.t_s[k]];
+    let ts = [t_s[k - 2], t_s[k - 1], t_s[k]];
     let ys = [y(k - 2), y(k - 1), y(k)];
     // The approach: every sample clear of the level and closing on it.
     if ys.iter().any(|v| side * v <= clear)
@@ -238,21 +298,130 @@ fn latching(campaign: &Campaign, r: usize, j: usize, sigma_deg: f64) -> Option<L
     {
         return None;
     }
-    let h = run.t_s.get(k + 1).map_or(ts[2] - ts[1], |t1| t1 - ts[2]);
-    let crossing_s = crossing(ts, ys, 1.5 * h)?;
-    let rate_deg_s = ((ys[2] - ys[1]) / (ts[2] - ts[1])).abs();
-    let (open_s, closed_s) = (run.t_s[closes - 1], run.t_s[closes]);
-    let slack =
-        NOISE_SLACK_SIGMAS * sigma_deg / rate_deg_s + JITTER_SLACK_PERIODS * (closed_s - open_s);
+    let h = t_s.get(k + 1).map_or(ts[2] - ts[1], |t1| t1 - ts[2]);
+    let x = crossing(ts, ys, 1.5 * h)?;
+    Some(Approach {
+        crossing_s: x.t_s,
+        closes,
+        rate_deg_s: ((ys[2] - ys[1]) / (ts[2] - ts[1])).abs(),
+        noise_s_per_deg: x.noise_gain / x.slope,
+    })
+}
+
+/// The model's run of a mechanism sampled [`MODEL_PHASES`] times finer
+/// than the run's period: [`model_errors`] reads it at every phase of the
+/// sample clock.
+pub struct FineModel {
+    traj: Trajectory,
+}
+
+/// Phases of the sample clock at which [`model_errors`] reads the model.
+pub const MODEL_PHASES: usize = 16;
+
+impl FineModel {
+    /// The model of run `r` of `campaign` (its mechanism as given, no
+    /// effect) over the run's length at `period_s` / [`MODEL_PHASES`].
+    fn of(campaign: &Campaign, r: usize, period_s: f64) -> Option<FineModel> {
+        let cr = campaign.runs.get(r)?;
+        let end = *cr.run.t_s.last()?;
+        let step = period_s / MODEL_PHASES as f64;
+        if !(step > 0.0 && end.is_finite() && end / step < 1e7) {
+            return None;
+        }
+        let times: Vec<f64> = (0..=(end / step).ceil() as usize)
+            .map(|k| k as f64 * step)
+            .collect();
+        let opts = fit_sim_options_for(&cr.mechanism);
+        let traj = deployment::simulate_at(&cr.mechanism, &[], &opts, &times).ok()?;
+        Some(FineModel { traj })
+    }
+
+    /// Every [`MODEL_PHASES`]-th sample from `phase` on.
+    fn at_phase(&self, phase: usize, j: usize) -> (Vec<f64>, Vec<f64>, Vec<Vec<bool>>) {
+        let pick = |v: &[f64]| {
+            v.iter()
+                .skip(phase)
+                .step_by(MODEL_PHASES)
+                .copied()
+                .collect()
+        };
+        let t = pick(&self.traj.t_s);
+        let phi = self.traj.phi_deg.get(j).map_or_else(Vec::new, |p| pick(p));
+        let switches = self
+            .traj
+            .latched
+            .iter()
+            .map(|s| {
+                s.iter()
+                    .skip(phase)
+                    .step_by(MODEL_PHASES)
+                    .copied()
+                    .collect()
+            })
+            .collect();
+        (t, phi, switches)
+    }
+}
+
+/// The least and the greatest error of [`approach`]'s crossing on the
+/// model's own run (noise-free) at joint `j` (0-based), over the phases of
+/// the sample clock: where it puts the crossing minus the instant the
+/// model latched \[s\]. The extrapolation cannot see what the last
+/// sample's interval holds: on a tape spring, the peak of its unfolding
+/// curve within a degree of the latch throws a slow joint at it
+/// milliseconds early, by how much depending on where the last sample
+/// falls (`docs/diagnosis.md`, "An encoder late on its switch"). `None`
+/// when the model does not latch there once for good.
+fn model_errors(model: &FineModel, j: usize, sigma_deg: f64) -> Option<(f64, f64)> {
+    let latched_s = (*model.traj.latch_s.get(j)?)?;
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for phase in 0..MODEL_PHASES {
+        let (t, phi, switches) = model.at_phase(phase, j);
+        if let Some(a) = approach(&t, &phi, &switches, j, sigma_deg) {
+            let e = a.crossing_s - latched_s;
+            if e.is_finite() {
+                (lo, hi) = (lo.min(e), hi.max(e));
+            }
+        }
+    }
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// The latching of joint `j` (0-based) in run `r` of `campaign`, when its
+/// latch is ideal, closes once for good and the encoder's approach to it
+/// is clear of the noise `sigma_deg`. `model` is the model's run
+/// ([`FineModel`]): the crossing's error there, over every phase of the
+/// sample clock ([`model_errors`]), widens the delay the latching allows.
+fn latching(
+    campaign: &Campaign,
+    r: usize,
+    j: usize,
+    sigma_deg: f64,
+    model: Option<&FineModel>,
+) -> Option<Latching> {
+    let cr = campaign.runs.get(r)?;
+    let (run, mech) = (&cr.run, &cr.mechanism);
+    if mech.latch(j).is_some() || mech.truss.is_some() {
+        return None;
+    }
+    let a = approach(&run.t_s, run.phi_deg.get(j)?, &run.latch, j, sigma_deg)?;
+    let model_error_s = model.and_then(|m| model_errors(m, j, sigma_deg));
+    // The crossing read is `t* + d + e`, the error `e` within what the
+    // model shows (zero included): `d = crossing − t* − e`.
+    let (e_lo, e_hi) = model_error_s.map_or((0.0, 0.0), |(lo, hi)| (lo.min(0.0), hi.max(0.0)));
+    let (open_s, closed_s) = (run.t_s[a.closes - 1], run.t_s[a.closes]);
+    let slack = NOISE_SLACK_SIGMAS * sigma_deg * a.noise_s_per_deg
+        + JITTER_SLACK_PERIODS * (closed_s - open_s);
     Some(Latching {
         run: r,
         joint: j + 1,
-        crossing_s,
+        crossing_s: a.crossing_s,
+        model_error_s,
         open_s,
         closed_s,
-        rate_deg_s,
-        lo_s: crossing_s - closed_s - slack,
-        hi_s: crossing_s - open_s + slack,
+        rate_deg_s: a.rate_deg_s,
+        lo_s: a.crossing_s - closed_s - e_hi - slack,
+        hi_s: a.crossing_s - open_s - e_lo + slack,
     })
 }
 
@@ -264,7 +433,8 @@ fn period_s(campaign: &Campaign) -> Option<f64> {
 
 /// The delay of the campaign's encoders behind their latch switches, from
 /// every ideal latch that closes once for good, against the noise σ̂
-/// `sigma_deg`; `None` when fewer than [`MIN_LATCHINGS`] latchings are
+/// `sigma_deg`, each widened by the extrapolation's error on the model's
+/// run of the mechanism as given ([`model_errors`]); `None` when fewer than [`MIN_LATCHINGS`] latchings are
 /// read or when they do not agree (more than one in five outside the best
 /// value). Where zero delay agrees with them as well as any,
 /// [`EncoderDelay::allows_zero`] says so.
@@ -272,9 +442,13 @@ pub fn estimate(campaign: &Campaign, sigma_deg: f64) -> Option<EncoderDelay> {
     if !sigma_deg.is_finite() {
         return None;
     }
+    let period = period_s(campaign)?;
+    let models: Vec<Option<FineModel>> = (0..campaign.runs.len())
+        .map(|r| FineModel::of(campaign, r, period))
+        .collect();
     let latchings: Vec<Latching> = (0..campaign.runs.len())
         .flat_map(|r| (0..campaign.runs[r].run.joints()).map(move |j| (r, j)))
-        .filter_map(|(r, j)| latching(campaign, r, j, sigma_deg))
+        .filter_map(|(r, j)| latching(campaign, r, j, sigma_deg, models[r].as_ref()))
         .filter(|l| l.lo_s.is_finite() && l.hi_s.is_finite() && l.lo_s <= l.hi_s)
         .collect();
     if latchings.len() < MIN_LATCHINGS {
@@ -310,7 +484,7 @@ pub fn estimate(campaign: &Campaign, sigma_deg: f64) -> Option<EncoderDelay> {
         hi_s: hi,
         agreeing: best,
         latchings,
-        period_s: period_s(campaign)?,
+        period_s: period,
         from: DelayFrom::Latchings,
     })
 }
@@ -400,5 +574,45 @@ pub fn words(d: &EncoderDelay) -> String {
             d.agreeing,
             d.latchings.len()
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Three samples of `y = 0.01 − 4 (t − 0.5)²` cross zero at 0.45, the
+    /// first root beyond the last node, exactly; the noise gain is the norm
+    /// of Lagrange's weights there.
+    #[test]
+    fn the_crossing_of_a_parabola_is_exact_and_its_noise_gain_grows_with_the_reach() {
+        let f = |t: f64| 0.01 - (t - 0.5) * (t - 0.5) * 4.0;
+        let t = [0.0, 0.1, 0.2];
+        let y = [f(t[0]), f(t[1]), f(t[2])];
+        // Roots at 0.45 and 0.55; the first after 0.2 within reach.
+        let x = crossing(t, y, 0.3).expect("a crossing");
+        assert!((x.t_s - 0.45).abs() < 1e-12, "{x:?}");
+        assert!((x.slope - 0.4).abs() < 1e-9, "{x:?}");
+        // Extrapolating 2.5 steps beyond the last node: the weights are
+        // those of the Lagrange basis at x = 4.5 (nodes 0, 1, 2).
+        let (l0, l1, l2): (f64, f64, f64) = (3.5 * 2.5 / 2.0, -4.5 * 2.5, 4.5 * 3.5 / 2.0);
+        let gain = (l0 * l0 + l1 * l1 + l2 * l2).sqrt();
+        assert!((x.noise_gain - gain).abs() < 1e-9, "{x:?} against {gain}");
+        // The parabola out of reach: the line through the last two (0.325).
+        let line = crossing(t, y, 0.2).expect("the line's crossing");
+        assert!((line.t_s - 0.325).abs() < 1e-12, "{line:?}");
+        // Both out of reach: none.
+        assert!(crossing(t, y, 0.1).is_none());
+    }
+
+    #[test]
+    fn a_straight_approach_crosses_where_its_line_does_with_the_line_weights() {
+        let t = [0.0, 0.01, 0.02];
+        let y = [3.0, 2.0, 1.0];
+        let x = crossing(t, y, 0.015).expect("a crossing");
+        assert!((x.t_s - 0.03).abs() < 1e-12, "{x:?}");
+        assert!((x.slope - 100.0).abs() < 1e-9, "{x:?}");
+        // One step beyond: weights 0, −1, 2.
+        assert!((x.noise_gain - 5f64.sqrt()).abs() < 1e-9, "{x:?}");
     }
 }

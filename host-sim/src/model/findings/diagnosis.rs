@@ -240,6 +240,12 @@ pub struct LatchingJson {
     pub joint: usize,
     /// Where the encoder's approach crosses its latched level \[s\].
     pub crossing_s: Option<f64>,
+    /// The same extrapolation's least and greatest error on the model's
+    /// own run, over the phases of the sample clock \[s\]: the delay the
+    /// latching allows is widened by it (`None`: the model does not latch
+    /// there).
+    #[serde(default)]
+    pub model_error_s: Option<[f64; 2]>,
     /// The last sample with the switch open \[s\].
     pub open_s: Option<f64>,
     /// The first sample with the switch closed \[s\].
