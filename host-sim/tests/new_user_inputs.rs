@@ -87,6 +87,29 @@ fn a_huge_duration_to_be_written_whole_is_refused_before_the_work() {
 }
 
 #[test]
+fn a_run_that_cannot_be_written_names_the_output_given() {
+    // GIVEN T01 run for 0.1 s at 3 MHz: stamps 0.33 µs apart, which the
+    // run file's 6 decimals cannot keep apart
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = t01_text().replace("duration_s = 6.0", "duration_s = 0.1");
+    assert!(text.contains("duration_s = 0.1"));
+    let (out, csv) = simulate(dir.path(), &text, &["--rate", "3000000"]);
+    // THEN refused, naming `--out` and not the staging folder
+    refused(
+        &out,
+        &[&format!("{}: cannot write the run", csv.display()), "1 µs"],
+    );
+    assert!(
+        !stderr(&out).contains(".deploywatch-partial"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!csv.exists());
+    let left: Vec<_> = std::fs::read_dir(dir.path()).expect("the folder").collect();
+    assert_eq!(left.len(), 1, "only the mechanism left: {left:?}");
+}
+
+#[test]
 fn effect_values_that_change_what_the_effect_is_are_refused() {
     let dir = tempfile::tempdir().expect("temp dir");
     for (effect, allowed) in [

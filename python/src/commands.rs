@@ -3,11 +3,13 @@
 //! work done by the CLI's own `run` (same validation, same numbers, the
 //! same files written), with the GIL released. The package's Python layer
 //! builds the arguments from its keyword arguments and reads the JSON the
-//! command wrote; errors name the Python arguments ([`crate::errors`]).
+//! command wrote; errors name the Python arguments ([`crate::errors`]);
+//! its warnings are raised as `UserWarning`s.
 
 use crate::errors::Kind;
 use clap::Parser;
 use deploywatch_sim::cli::{self, Cli};
+use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 
 /// The first line of clap's message without its `error: ` (what the
@@ -36,7 +38,16 @@ pub(crate) fn run_command(py: Python<'_>, args: Vec<String>) -> PyResult<()> {
     let argv = std::iter::once("deploywatch".to_string()).chain(args);
     let parsed =
         Cli::try_parse_from(argv).map_err(|e| Kind::Input.raise(clap_message(&e), Vec::new()))?;
-    py.allow_threads(|| cli::run(parsed)).map_err(|e| {
+    let (done, warnings) = py.allow_threads(|| cli::capturing_warnings(|| cli::run(parsed)));
+    // What the binary says on stderr as `warning: …`, each a `UserWarning`
+    // (level 3: the user's call of the package's function, which calls
+    // this through its `_run`), also when the command then failed.
+    for w in &warnings {
+        let text = std::ffi::CString::new(crate::errors::pythonic(w))
+            .map_err(|e| Kind::Other.raise(e.to_string(), Vec::new()))?;
+        PyErr::warn(py, &py.get_type::<PyUserWarning>(), &text, 3)?;
+    }
+    done.map_err(|e| {
         let kind = if e.code == 2 {
             Kind::Input
         } else {

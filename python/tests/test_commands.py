@@ -184,3 +184,25 @@ def test_the_monitor_refuses_a_latch_switch_read_as_text(root):
         monitor.update(dw.Sample(t_s=0.0, phi_deg=[-90.0, 180.0, -180.0], latch=["0", "0", "0"]))
     status = monitor.update(dw.Sample(t_s=0.0, phi_deg=[-90.0, 180.0, -180.0], latch=[False, False, False]))
     assert status.samples == 1
+
+
+def test_the_commands_warnings_are_user_warnings(root, tmp_path, cli):
+    """What the binary says on stderr as ``warning: …`` its Python twin
+    raises as ``UserWarning``s, word for word, pointing at the caller's
+    line: here a stowed angle typed in radians."""
+    text = (root / T01).read_text()
+    assert "stowed_deg = 180.0" in text
+    m = tmp_path / "radians.toml"
+    m.write_text(text.replace("stowed_deg = 180.0", "stowed_deg = 3.1416", 1))
+    out = subprocess.run(
+        [cli, "margin", "--mechanism", str(m), "--quiet", "--json", str(tmp_path / "cli.json")],
+        capture_output=True,
+        text=True,
+    )
+    assert out.returncode == 0, out.stderr
+    said = [line[len("warning: ") :] for line in out.stderr.splitlines() if line.startswith("warning: ")]
+    assert any("radians" in w for w in said), out.stderr
+    with pytest.warns(UserWarning) as caught:
+        dw.margin(m)
+    assert [str(w.message) for w in caught] == said
+    assert all(w.filename == __file__ for w in caught), [w.filename for w in caught]

@@ -216,9 +216,20 @@ impl Console {
         }
     }
 
-    /// A warning about the result on stderr, kept with `--quiet`.
+    /// A warning about the result on stderr, kept with `--quiet`; inside
+    /// [`capturing_warnings`] on this thread, kept for its caller instead.
     pub fn warn(&self, line: impl std::fmt::Display) {
-        eprintln!("warning: {line}");
+        let line = line.to_string();
+        let kept = CAPTURED.with(|c| match c.borrow_mut().as_mut() {
+            Some(v) => {
+                v.push(line.clone());
+                true
+            }
+            None => false,
+        });
+        if !kept {
+            eprintln!("warning: {line}");
+        }
     }
 
     /// The progress sink of the library ([`crate::report::progress`]):
@@ -230,6 +241,22 @@ impl Console {
             &progress::stderr
         }
     }
+}
+
+thread_local! {
+    /// The warnings [`capturing_warnings`] keeps on this thread.
+    static CAPTURED: std::cell::RefCell<Option<Vec<String>>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// Runs `f` with the warnings of [`Console::warn`] on this thread kept
+/// rather than printed, and returns them beside its result: what Python
+/// raises as `UserWarning`s.
+pub fn capturing_warnings<T>(f: impl FnOnce() -> T) -> (T, Vec<String>) {
+    let before = CAPTURED.with(|c| c.borrow_mut().replace(Vec::new()));
+    let out = f();
+    let kept = CAPTURED.with(|c| std::mem::replace(&mut *c.borrow_mut(), before));
+    (out, kept.unwrap_or_default())
 }
 
 /// Runs a parsed command line.

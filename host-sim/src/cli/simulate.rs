@@ -53,8 +53,10 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     let reports = fault_injection::apply(&mut run, &args.faults, args.seed)
         .map_err(|m| CliError::input(format!("--fault: {m}")))?;
     let mut outs = Outputs::new();
-    run.write(&outs.path(&args.out)?)
+    let csv = run
+        .checked_csv(&args.out.display().to_string())
         .map_err(|e| CliError::input(e.to_string()))?;
+    outs.write(&args.out, csv)?;
     outln!(
         "{}: {} samples at {} Hz to {} ({} steps, {} evaluations)",
         mech.name,

@@ -231,8 +231,10 @@ pub fn run_at(
     run.set_meta("effects", &effects.join("; "));
     run.set_meta("sensor", "ideal (true angles)");
     let mut outs = Outputs::new();
-    run.write(&outs.path(&args.out)?)
+    let csv = run
+        .checked_csv(&args.out.display().to_string())
         .map_err(|e| CliError::input(e.to_string()))?;
+    outs.write(&args.out, csv)?;
     outs.commit()?;
     outln!(
         "{}: the model at the {} time stamps of {}{} to {}",

@@ -63,8 +63,10 @@ pub fn run(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
     out.set_meta("source", "deploywatch simulate (multibody, truss)");
     add_extra(&mut out, &wing);
     let mut outs = crate::report::files::Outputs::new();
-    out.write(&outs.path(&args.out)?)
+    let csv = out
+        .checked_csv(&args.out.display().to_string())
         .map_err(|e| CliError::input(e.to_string()))?;
+    outs.write(&args.out, csv)?;
     outs.commit()?;
     report(mech, &wing, (bodies, joints, gruebler), args);
     Ok(())

@@ -461,7 +461,7 @@ fn report_ambiguity(md: &mut String, o: &Outcome) {
             md,
             "At joint {} these sets explain the runs alike (BIC within 10 of the set found); the intervals above are widened to cover them. {}.\n",
             g.joint,
-            separating_test_words(g.separating_test, g.joint)
+            capitalised(&separating_test_words(g.separating_test, g.joint))
         );
         let first = g.sets.first().map_or(0.0, FittedSet::bic);
         md.push_str(&table(

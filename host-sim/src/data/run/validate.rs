@@ -28,7 +28,8 @@ fn angle_problem(phi: f64, declares_missing: bool) -> Option<String> {
 }
 
 impl Run {
-    /// Checks that the run can be written and read back: 1 to 4 joints, as
+    /// Checks that the run can be written and read back: 1 to
+    /// [`MAX_CHAIN_JOINTS`] joints, as
     /// many latch series as angle series, every series as long as `t_s`, at
     /// least one sample, finite strictly increasing times that stay distinct
     /// when written with 6 decimals, angles finite and within
@@ -218,11 +219,20 @@ impl Run {
         out
     }
 
+    /// The run checked ([`Run::validate`], errors naming `file`) as
+    /// [`Run::to_csv_string`]: what a command stages for its output
+    /// `file` ([`crate::report::files::Outputs`]), so that an error names
+    /// the output, not the staging folder.
+    pub fn checked_csv(&self, file: &str) -> Result<String, RunError> {
+        self.validate(file)?;
+        Ok(self.to_csv_string())
+    }
+
     /// Checks the run ([`Run::validate`]) and writes
     /// [`Run::to_csv_string`] to `path`.
     pub fn write(&self, path: &Path) -> Result<(), RunError> {
-        self.validate(&path.display().to_string())?;
-        std::fs::write(path, self.to_csv_string()).map_err(|source| {
+        let csv = self.checked_csv(&path.display().to_string())?;
+        std::fs::write(path, csv).map_err(|source| {
             RunError::whole(
                 &path.display().to_string(),
                 RunErrorKind::Io {
