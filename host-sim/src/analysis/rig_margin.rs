@@ -25,6 +25,19 @@ use crate::report::progress::Progress;
 /// `coulomb_friction` bound).
 const MAX_LUMPED_NM: f64 = 20.0;
 
+/// The lumped EFT stands in for the rails only where its fit leaves the
+/// runs within this factor of the RMS with the rig modelled (or of
+/// [`LUMPED_RMS_FLOOR_DEG`]): beyond it the rails do something a hinge
+/// friction cannot, and the margin on the rig is what a lumped EFT would
+/// report, not a property of the hinges.
+pub const LUMPED_RMS_RATIO: f64 = 3.0;
+
+/// The RMS below which a fit is taken as explaining the runs whatever the
+/// ratio \[deg\]: half an encoder quantum of 14 bits (0.022°), below any
+/// sensor noise of a real rig; noise-free synthetic runs are fitted to
+/// far less.
+pub const LUMPED_RMS_FLOOR_DEG: f64 = 0.011;
+
 /// One hinge: its friction with the rig taken out and lumped with it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RigJoint {
@@ -34,6 +47,15 @@ pub struct RigJoint {
     pub hinge_nm: f64,
     /// `T_lumped`: the EFT fitted with frictionless rails [N·m].
     pub lumped_nm: f64,
+}
+
+impl RigSplit {
+    /// True when the lumped fit explains the runs about as well as the rig
+    /// modelled does (within [`LUMPED_RMS_RATIO`] of its RMS or of
+    /// [`LUMPED_RMS_FLOOR_DEG`]).
+    pub fn lumped_explains(&self) -> bool {
+        self.lumped_rms_deg <= LUMPED_RMS_RATIO * self.found_rms_deg.max(LUMPED_RMS_FLOOR_DEG)
+    }
 }
 
 impl RigJoint {

@@ -56,6 +56,15 @@ pub fn section(s: &RigSplit) -> String {
             ]
         }),
     ));
+    if !s.lumped_explains() {
+        let _ = writeln!(
+            out,
+            "\nThe lumped EFT leaves the runs at {:.4} deg, more than {:.0} × the {:.4} deg with the rig modelled: a hinge friction does not stand in for the rails here, so the margin on the rig below is what a lumped EFT would report, not a property of the hinges.",
+            s.lumped_rms_deg,
+            rig_margin::LUMPED_RMS_RATIO,
+            s.found_rms_deg.max(rig_margin::LUMPED_RMS_FLOOR_DEG)
+        );
+    }
     out.push_str("\nTorque margin (seed 001 Eq. 7, no factors; `deploywatch margin` applies the standards):\n\n");
     out.push_str(&table(
         &[
@@ -84,4 +93,47 @@ pub fn for_campaign(
     progress: crate::report::progress::Progress,
 ) -> Option<String> {
     rig_margin::split(campaign, found, progress).map(|s| section(&s))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::rig_margin::RigJoint;
+
+    fn split(found_rms_deg: f64, lumped_rms_deg: f64) -> RigSplit {
+        RigSplit {
+            joints: vec![RigJoint {
+                joint: 1,
+                hinge_nm: 0.6,
+                lumped_nm: 1.38,
+            }],
+            rig_causes: Vec::new(),
+            margins: Vec::new(),
+            lumped_rms_deg,
+            found_rms_deg,
+        }
+    }
+
+    /// A lumped fit that leaves the runs far above the rig modelled (a
+    /// three-panel rig run: 3.77° against 0.0206°) gets its margin
+    /// qualified; one within 3 × (or within 3 × 0.011° of noise-free runs)
+    /// does not.
+    #[test]
+    fn a_lumped_eft_that_explains_nothing_is_said_so() {
+        let poor = section(&split(0.0206, 3.7704));
+        assert!(
+            poor.contains("does not stand in for the rails")
+                && poor.contains("3.7704 deg, more than 3 × the 0.0206 deg"),
+            "{poor}"
+        );
+        for (found, lumped) in [(0.0206, 0.0600), (0.0001, 0.0300)] {
+            let fine = section(&split(found, lumped));
+            assert!(
+                !fine.contains("does not stand in"),
+                "{found} {lumped}: {fine}"
+            );
+        }
+        // Noise-free runs: 0.69° is still far beyond 3 × 0.011°.
+        assert!(section(&split(0.0001, 0.69)).contains("does not stand in"));
+    }
 }
