@@ -66,7 +66,11 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         traj.stats.steps,
         traj.stats.evaluations
     );
-    print_latch_instants(&traj);
+    let held = physical
+        .as_ref()
+        .map(|run| latch_ends(&mech, &args.effects, run))
+        .unwrap_or_default();
+    print_latch_instants(&traj, &held);
     if let Some(run) = &physical {
         print_latches(&mech, &args.effects, run);
     }
@@ -91,15 +95,29 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// When each joint latched, or where it is at the end when it did not;
-/// then each joint that swung back past its stowed angle (never silent:
+/// When each joint latched (its switch closed for good), or where it is
+/// at the end when it did not, with what its physical latch (`ends`) does
+/// where the two disagree; then each joint that swung back past its stowed angle (never silent:
 /// `docs/simulator.md`, "The stowed side").
-fn print_latch_instants(traj: &deployment::Trajectory) {
+fn print_latch_instants(traj: &deployment::Trajectory, ends: &[Option<LatchEnd>]) {
     for (j, l) in traj.latch_s.iter().enumerate() {
+        // A physical latch's switch and its hold can disagree at the end:
+        // said, so that "latched" (the switch, as the run's `latch` column
+        // and `--fail not_latched` read it) is not taken for "held" (as
+        // `--fail not_held` and `margin`'s nominal line read it).
+        let hold = match (l, ends.get(j).copied().flatten()) {
+            (None, Some(e)) if e.holds() => {
+                format!(": its switch open at the end, though its latch holds it ({e})")
+            }
+            (Some(_), Some(e)) if !e.holds() => {
+                format!(", its switch closed, though its latch does not hold it at the end ({e})")
+            }
+            _ => String::new(),
+        };
         match l {
-            Some(t) => outln!("  joint {}: latched at {t:.6} s", j + 1),
+            Some(t) => outln!("  joint {}: latched at {t:.6} s{hold}", j + 1),
             None => outln!(
-                "  joint {}: NOT latched by {:.3} s (at {:.2} deg)",
+                "  joint {}: NOT latched by {:.3} s (at {:.2} deg){hold}",
                 j + 1,
                 traj.end_s,
                 traj.phi_deg[j].last().copied().unwrap_or(f64::NAN)
@@ -137,6 +155,24 @@ fn latch_line(joint: usize, o: &LatchOutcome) -> String {
             )
         }
     }
+}
+
+/// Where each joint's physical latch ended (`None`: an ideal latch).
+fn latch_ends(
+    mech: &Mechanism,
+    effects: &[crate::model::effect::Effect],
+    run: &LatchRun,
+) -> Vec<Option<LatchEnd>> {
+    let w = latch_deployment::weakenings(effects, mech.joint_count());
+    (0..mech.joint_count())
+        .map(|j| {
+            let spec = mech.latches.get(j)?.as_ref()?;
+            let joint = mech.joints.get(j)?;
+            let (p, m) = w.get(j).copied().unwrap_or((1.0, 1.0));
+            run.outcome(j + 1, &spec.to_core(joint.stowed_deg, p, m))
+                .map(|o| o.end)
+        })
+        .collect()
 }
 
 /// What each physical latch did, and the run's energy ledger.

@@ -271,3 +271,52 @@ fn replay_names_the_first_and_the_final_latch() {
         "no joint latched twice: the case is not tested\n{out}"
     );
 }
+
+/// A ball plunger that holds its joint past the crest with the switch
+/// open: `simulate` says the joint is not latched (its switch, as the
+/// run's `latch` column reads it) and that its latch holds it, and the run
+/// agrees on both; the joints whose switch and latch agree get no clause.
+#[test]
+fn simulate_says_when_a_latch_holds_with_its_switch_open() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mech = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/five_mixed_latches.toml");
+    let csv = dir.path().join("run.csv");
+    let out = succeeds(&deploywatch(&[
+        "simulate",
+        s(&mech),
+        "--out",
+        s(&csv),
+        "--no-noise",
+    ]));
+    let line = |j: usize| {
+        out.lines()
+            .find(|l| l.trim_start().starts_with(&format!("joint {j}:")))
+            .unwrap_or_else(|| panic!("no line for joint {j}:\n{out}"))
+    };
+    let two = line(2);
+    assert!(
+        two.contains("NOT latched by")
+            && two.contains("its switch open at the end, though its latch holds it (held past its ball plunger's crest)"),
+        "{out}"
+    );
+    for j in [1, 3, 4, 5] {
+        assert!(!line(j).contains("though"), "{out}");
+    }
+    let text = std::fs::read_to_string(&csv).expect("the run");
+    let header: Vec<&str> = text
+        .lines()
+        .find(|l| l.starts_with("t_s"))
+        .expect("a header")
+        .split(',')
+        .collect();
+    let last: Vec<&str> = text.lines().last().expect("rows").split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
+    // The switch open, the joint past the plunger's crest (0.6°) and short
+    // of the switch's travel (0.05°).
+    assert_eq!(last[col("latch2")], "0", "{out}");
+    let phi: f64 = last[col("phi2_deg")].parse().expect("an angle");
+    assert!(
+        phi.abs() > 0.05 && phi.abs() < 0.6,
+        "joint 2 ends at {phi} deg"
+    );
+}
