@@ -77,6 +77,7 @@ from ._errors import (
     EvaluatorError,
     InputError,
     MechanismError,
+    MissingFileError,
     SimulationError,
 )
 from ._monitor import Monitor, MonitorStatus, Sample
@@ -165,6 +166,7 @@ __all__ = [
     "DeploywatchError",
     "InputError",
     "MechanismError",
+    "MissingFileError",
     "SimulationError",
     "EvaluatorError",
 ]

@@ -12,7 +12,7 @@ import numpy as _np
 import numpy.typing as _npt
 
 from . import _native
-from ._errors import InputError
+from ._errors import InputError, MissingFileError
 from ._model import CriterionLike, EffectLike, Mechanism, PathLike, VaryLike, strings
 from ._results import Batch, FloatArray, Reliability, Trajectory
 
@@ -46,6 +46,8 @@ def _text(name: str, path: Any) -> "tuple[str, str]":
     p = _os.fspath(path)
     if not isinstance(p, str):
         raise InputError(f"{name}: expected a file name as text, got {type(p).__name__}")
+    if not _os.path.exists(p):
+        raise MissingFileError(f"{name}: {p}: no such file", filename=p)
     with open(p, encoding="utf-8") as f:
         return f.read(), p
 

@@ -22,7 +22,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 import numpy as _np
 
 from . import _native
-from ._errors import InputError
+from ._errors import InputError, MissingFileError
 from ._model import Mechanism, PathLike
 from ._results import FloatArray, _pandas
 
@@ -38,16 +38,25 @@ def _path(name: str, value: Any) -> str:
     return p
 
 
+def _existing(name: str, value: Any) -> str:
+    """A file to read: ``MissingFileError`` (an ``InputError`` and a
+    ``FileNotFoundError``) naming the argument when it does not exist."""
+    p = _path(name, value)
+    if not _os.path.exists(p):
+        raise MissingFileError(f"{name}: {p}: no such file", filename=p)
+    return p
+
+
 def _paths(name: str, value: Any) -> List[str]:
     if isinstance(value, (str, _os.PathLike)):
-        return [_path(name, value)]
+        return [_existing(name, value)]
     try:
         items = list(value)
     except TypeError:
         raise InputError(f"{name}: expected file names, got {type(value).__name__}") from None
     if not items:
         raise InputError(f"{name}: expected at least one file name")
-    return [_path(f"{name}[{i}]", v) for i, v in enumerate(items)]
+    return [_existing(f"{name}[{i}]", v) for i, v in enumerate(items)]
 
 
 def _mechanism_file(name: str, value: Any, folder: str, i: int = 0) -> str:
@@ -63,7 +72,7 @@ def _mechanism_file(name: str, value: Any, folder: str, i: int = 0) -> str:
         with open(p, "w", encoding="utf-8") as f:
             f.write(value.toml)
         return p
-    return _path(name, value)
+    return _existing(name, value)
 
 
 def _columns(rows: Sequence[Mapping[str, Any]]) -> Dict[str, FloatArray]:
@@ -213,7 +222,7 @@ def margin(
         if friction is not None:
             args += ["--friction", ",".join(repr(float(x)) for x in friction)]
         if from_ is not None:
-            args += ["--from", _path("from_", from_)]
+            args += ["--from", _existing("from_", from_)]
         args += ["--standard", str(standard)]
         for k, v in factors.items():
             args += ["--factor", f"{k}={float(v)!r}"]
@@ -292,7 +301,7 @@ def replay(run: PathLike, mechanism: MechanismLike, out: Optional[PathLike] = No
     numpy columns (``out`` keeps the CSV)."""
     with _tempfile.TemporaryDirectory() as tmp:
         path = _path("out", out) if out is not None else _os.path.join(tmp, "status.csv")
-        args = ["replay", _path("run", run), "--mechanism", _mechanism_file("mechanism", mechanism, tmp)]
+        args = ["replay", _existing("run", run), "--mechanism", _mechanism_file("mechanism", mechanism, tmp)]
         args += ["--target", "host", "--quiet", "--out", path]
         _run(args, echo)
         return _read_columns(path)
@@ -352,7 +361,7 @@ def hil(
     with _tempfile.TemporaryDirectory() as tmp:
         status = _path("out", out) if out is not None else _os.path.join(tmp, "status.csv")
         lat = _path("latency", latency) if latency is not None else _os.path.join(tmp, "latency.csv")
-        args = ["hil", _path("run", run), "--mechanism", _mechanism_file("mechanism", mechanism, tmp)]
+        args = ["hil", _existing("run", run), "--mechanism", _mechanism_file("mechanism", mechanism, tmp)]
         args += ["--quiet", "--out", status, "--latency", lat, "--baud", str(int(baud))]
         args += ["--every", str(int(every)), "--drop", repr(float(drop)), "--corrupt", repr(float(corrupt))]
         args += ["--seed", str(int(seed))]
@@ -361,7 +370,7 @@ def hil(
         else:
             args += ["--target", "qemu"]
         if elf is not None:
-            args += ["--elf", _path("elf", elf)]
+            args += ["--elf", _existing("elf", elf)]
         if duration is not None:
             args += ["--duration", repr(float(duration))]
         if delay is not None:

@@ -12,6 +12,7 @@ caller as the same class, message and causes.
 
 from __future__ import annotations
 
+import errno as _errno
 from typing import Any, Optional, Sequence, Tuple, Type
 
 
@@ -42,6 +43,21 @@ class InputError(DeploywatchError, ValueError):
     the argument and what was expected."""
 
 
+class MissingFileError(InputError, FileNotFoundError):
+    """A file given to read does not exist: an ``InputError`` naming the
+    argument, and a ``FileNotFoundError`` (``errno.ENOENT``, ``filename``)
+    as ``open`` would raise, whichever function was given it."""
+
+    def __init__(self, message: str, causes: Sequence[str] = (), filename: Optional[str] = None) -> None:
+        super().__init__(message, causes)
+        self.errno = _errno.ENOENT
+        self.strerror = "No such file or directory"
+        self.filename = filename
+
+    def __reduce__(self) -> Tuple[Any, ...]:
+        return (_rebuild_missing, (self.message, self.causes, self.filename))
+
+
 class MechanismError(InputError):
     """The mechanism file is not valid TOML or not a valid mechanism (the
     message gives the file, the line and what was expected)."""
@@ -66,6 +82,10 @@ def _rebuild(
     err = cls(message, causes)
     err.__cause__ = cause
     return err
+
+
+def _rebuild_missing(message: str, causes: Sequence[str], filename: Optional[str]) -> "MissingFileError":
+    return MissingFileError(message, causes, filename)
 
 
 _KINDS = {

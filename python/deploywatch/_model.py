@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 from . import _native
-from ._errors import InputError
+from ._errors import InputError, MissingFileError
 from ._results import Trajectory
 
 
@@ -475,6 +475,8 @@ class Mechanism:
         p = _os.fspath(path)
         if not isinstance(p, str):
             raise InputError(f"path: expected a file name as text, got {type(p).__name__}")
+        if not _os.path.exists(p):
+            raise MissingFileError(f"path: {p}: no such file", filename=p)
         with open(p, encoding="utf-8") as f:
             return cls(_native.Model(f.read(), p))
 

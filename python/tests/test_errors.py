@@ -6,6 +6,7 @@ all of it (what a Dask worker does with an exception).
     bash scripts/python-env.sh && .venv/bin/pytest python/tests/test_errors.py -q
 """
 
+import errno
 import pickle
 
 import numpy as np
@@ -51,9 +52,29 @@ def test_a_mechanism_that_is_not_a_path(root):
         deploywatch.simulate(42)  # type: ignore[arg-type]
 
 
-def test_a_missing_mechanism_file(tmp_path):
-    with pytest.raises(FileNotFoundError):
-        deploywatch.simulate(tmp_path / "absent.toml")
+def test_a_missing_file_is_the_same_error_in_every_function(tmp_path, root):
+    """A file that does not exist: ``MissingFileError``, an ``InputError``
+    naming the argument and a ``FileNotFoundError`` (``errno.ENOENT``,
+    ``filename``), whichever function was given it; pickled whole."""
+    absent = tmp_path / "absent.toml"
+    t01 = root / "data/mechanisms/seed001_T01.toml"
+    calls = {
+        "mechanism": lambda: deploywatch.simulate(absent),
+        "path": lambda: deploywatch.Mechanism.from_toml(absent),
+        "mechanisms[0]": lambda: deploywatch.identify([root / "data/examples/a_seed001_eft/seed001_T01.csv"], [absent]),
+        "runs[0]": lambda: deploywatch.identify([absent], [t01]),
+        "from_": lambda: deploywatch.margin(t01, from_=absent),
+        "run": lambda: deploywatch.replay(absent, t01),
+    }
+    for name, call in calls.items():
+        with pytest.raises(deploywatch.MissingFileError) as e:
+            call()
+        err = e.value
+        assert isinstance(err, InputError) and isinstance(err, FileNotFoundError), name
+        assert str(err) == f"{name}: {absent}: no such file", str(err)
+        assert err.errno == errno.ENOENT and err.filename == str(absent), name
+        again = pickle.loads(pickle.dumps(err))
+        assert type(again) is type(err) and str(again) == str(err) and again.filename == err.filename
 
 
 def test_a_mechanism_file_that_is_not_toml(tmp_path):

@@ -66,11 +66,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         traj.stats.steps,
         traj.stats.evaluations
     );
-    let held = physical
-        .as_ref()
-        .map(|run| latch_ends(&mech, &args.effects, run))
-        .unwrap_or_default();
-    print_latch_instants(&traj, &held);
+    print_latch_instants(&traj, &latch_ends(&mech, &args.effects, physical.as_ref()));
     if let Some(run) = &physical {
         print_latches(&mech, &args.effects, run);
     }
@@ -157,12 +153,16 @@ fn latch_line(joint: usize, o: &LatchOutcome) -> String {
     }
 }
 
-/// Where each joint's physical latch ended (`None`: an ideal latch).
+/// Where each joint's physical latch ended in `run` (`None`: an ideal
+/// latch; empty without a run of a physical latch).
 fn latch_ends(
     mech: &Mechanism,
     effects: &[crate::model::effect::Effect],
-    run: &LatchRun,
+    run: Option<&LatchRun>,
 ) -> Vec<Option<LatchEnd>> {
+    let Some(run) = run else {
+        return Vec::new();
+    };
     let w = latch_deployment::weakenings(effects, mech.joint_count());
     (0..mech.joint_count())
         .map(|j| {
