@@ -479,6 +479,46 @@ fn thresholds_and_parameters_carry_units_and_few_digits() {
     assert!(significant(&x.to_string()) > 7, "{x}");
 }
 
+/// A target c.o.v. that a thousand deployments meet ends crude
+/// Monte-Carlo there (the first batch of a run with a target), not after
+/// ten thousand; those deployments are the first thousand of the run
+/// without a target, so the estimate is theirs.
+#[test]
+fn a_target_cov_met_early_ends_crude_monte_carlo_early() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mech = data().join("mechanisms/reliability_one_panel.toml");
+    let run = |extra: &[&str], name: &str| -> serde_json::Value {
+        let json = dir.path().join(name);
+        let mut args = vec![
+            "reliability",
+            s(&mech),
+            "--vary",
+            "coulomb_friction:joint=1:normal(1.3,0.1)",
+            "--fail",
+            "not_latched",
+            "--method",
+            "mc",
+            "--json",
+            s(&json),
+            "-q",
+        ];
+        args.extend_from_slice(extra);
+        let out = deploywatch(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("JSON")
+    };
+    let target = run(&["--samples", "20000", "--target-cov", "0.1"], "t.json");
+    let first = run(&["--samples", "1000"], "f.json");
+    let n = |v: &serde_json::Value| v["simulations"].as_u64().expect("simulations");
+    assert_eq!(n(&target), 1000, "{target}");
+    assert!(target["cov"].as_f64().expect("cov") <= 0.1, "{target}");
+    assert_eq!(target["p_fail"], first["p_fail"], "{target}\n{first}");
+}
+
 /// A c.o.v. above the one asked is said on stderr and in the JSON's
 /// `warnings`, word for word.
 #[test]

@@ -11,13 +11,21 @@ use rand_distr::StandardNormal;
 /// Draws per batch handed to the evaluator.
 pub const BATCH: usize = 10_000;
 
+/// Draws in the first batch when a target c.o.v. may end the run: the
+/// batches double from it up to [`BATCH`], so that a target a thousand
+/// deployments meet does not wait for ten thousand (on a physical-latch
+/// wing, minutes). The draws are those of their index whatever the
+/// batches, so a run to `samples` gives the same estimate.
+pub const FIRST_TARGET_BATCH: usize = 1_000;
+
 /// Settings of a crude Monte-Carlo run.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct McSettings {
     /// Most deployments.
     pub samples: usize,
     /// Stop after a batch once the c.o.v. is at or below this (with at
-    /// least one failure); `None`: run all `samples`.
+    /// least one failure), the batches growing from
+    /// [`FIRST_TARGET_BATCH`]; `None`: run all `samples`.
     pub target_cov: Option<f64>,
     /// Seed of the draws.
     pub seed: u64,
@@ -59,8 +67,13 @@ pub fn run(
     let d = problem.vary.len();
     let (mut n, mut nf) = (0usize, 0usize);
     let mut best: Option<FailurePoint> = None;
+    let mut size = match s.target_cov {
+        Some(_) => FIRST_TARGET_BATCH,
+        None => BATCH,
+    };
     while n < s.samples {
-        let m = BATCH.min(s.samples - n);
+        let m = size.min(s.samples - n);
+        size = (2 * size).min(BATCH);
         let us: Vec<Vec<f64>> = (n..n + m).map(|i| draw(s.seed, 0, i as u64, d)).collect();
         let xs: Vec<Vec<f64>> = us.iter().map(|u| problem.x_of(u)).collect();
         let ms = eval(&xs)?;
