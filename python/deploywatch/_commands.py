@@ -47,6 +47,27 @@ def _existing(name: str, value: Any) -> str:
     return p
 
 
+def _real(name: str, value: Any) -> float:
+    """A real number (not a bool, not text), as the CLI reads it."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, _np.integer, _np.floating)):
+        raise InputError(f"{name}: expected a number, got {type(value).__name__} {value!r}")
+    return float(value)
+
+
+def _whole(name: str, value: Any) -> int:
+    """A whole number (not a bool, not text, not a float)."""
+    if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
+        raise InputError(f"{name}: expected an integer, got {type(value).__name__} {value!r}")
+    return int(value)
+
+
+def _reals(name: str, value: Any) -> List[float]:
+    """A list of real numbers (one per joint)."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__iter__"):
+        raise InputError(f"{name}: expected a list of numbers, one per joint, got {type(value).__name__} {value!r}")
+    return [_real(f"{name}[{i}]", v) for i, v in enumerate(value)]
+
+
 def _paths(name: str, value: Any) -> List[str]:
     if isinstance(value, (str, _os.PathLike)):
         return [_existing(name, value)]
@@ -220,12 +241,14 @@ def margin(
         out = _path("json", json) if json is not None else _os.path.join(tmp, "margin.json")
         args = ["margin", "--mechanism", _mechanism_file("mechanism", mechanism, tmp), "--quiet", "--json", out]
         if friction is not None:
-            args += ["--friction", ",".join(repr(float(x)) for x in friction)]
+            args += ["--friction", ",".join(repr(x) for x in _reals("friction", friction))]
         if from_ is not None:
             args += ["--from", _existing("from_", from_)]
         args += ["--standard", str(standard)]
+        if not isinstance(factors, Mapping):
+            raise InputError(f"factors: expected a mapping {{kind: value}}, got {type(factors).__name__} {factors!r}")
         for k, v in factors.items():
-            args += ["--factor", f"{k}={float(v)!r}"]
+            args += ["--factor", f"{k}={_real(f'factors[{k!r}]', v)!r}"]
         if flight:
             args.append("--flight")
         _run(args, echo)
@@ -276,9 +299,9 @@ def diagnose(
     Ctrl-C is seen when the call returns: use ``max_seconds``)."""
     out = _path("json", json)
     with _tempfile.TemporaryDirectory() as tmp:
-        args = ["diagnose", "--json", out, "--quiet", "--max-effects", str(max_effects)]
+        args = ["diagnose", "--json", out, "--quiet", "--max-effects", str(_whole("max_effects", max_effects))]
         if max_seconds is not None:
-            args += ["--max-seconds", repr(float(max_seconds))]
+            args += ["--max-seconds", repr(_real("max_seconds", max_seconds))]
         for i, m in enumerate(_mechanism_list(mechanisms)):
             args += ["--mechanism", _mechanism_file(f"mechanisms[{i}]", m, tmp, i)]
         args += _paths("runs", runs)
@@ -362,9 +385,9 @@ def hil(
         status = _path("out", out) if out is not None else _os.path.join(tmp, "status.csv")
         lat = _path("latency", latency) if latency is not None else _os.path.join(tmp, "latency.csv")
         args = ["hil", _existing("run", run), "--mechanism", _mechanism_file("mechanism", mechanism, tmp)]
-        args += ["--quiet", "--out", status, "--latency", lat, "--baud", str(int(baud))]
-        args += ["--every", str(int(every)), "--drop", repr(float(drop)), "--corrupt", repr(float(corrupt))]
-        args += ["--seed", str(int(seed))]
+        args += ["--quiet", "--out", status, "--latency", lat, "--baud", str(_whole("baud", baud))]
+        args += ["--every", str(_whole("every", every)), "--drop", repr(_real("drop", drop)), "--corrupt", repr(_real("corrupt", corrupt))]
+        args += ["--seed", str(_whole("seed", seed))]
         if port is not None:
             args += ["--target", "serial", "--port", str(port)]
         else:
@@ -372,11 +395,11 @@ def hil(
         if elf is not None:
             args += ["--elf", _existing("elf", elf)]
         if duration is not None:
-            args += ["--duration", repr(float(duration))]
+            args += ["--duration", repr(_real("duration", duration))]
         if delay is not None:
             args += ["--delay", str(delay)]
         if icount is not None:
-            args += ["--icount", str(int(icount))]
+            args += ["--icount", str(_whole("icount", icount))]
         if require_deadlines:
             args.append("--require-deadlines")
         _run(args, echo)

@@ -383,3 +383,28 @@ def test_a_real_error_pickles(mech):
     assert type(back) is SimulationError
     assert str(back) == str(e.value) and back.causes == e.value.causes
     assert str(back.__cause__) == str(e.value.__cause__)
+
+
+@pytest.mark.parametrize(
+    "call, pattern",
+    [
+        (lambda t01, tmp: deploywatch.margin(t01, friction="0.5"), r"^friction: expected a list of numbers, one per joint, got str '0\.5'$"),
+        (lambda t01, tmp: deploywatch.margin(t01, friction=[0.1, None, 0.1]), r"^friction\[1\]: expected a number, got NoneType None$"),
+        (lambda t01, tmp: deploywatch.margin(t01, factors=[1, 2]), r"^factors: expected a mapping \{kind: value\}, got list \[1, 2\]$"),
+        (lambda t01, tmp: deploywatch.margin(t01, factors={"friction": "2"}), r"^factors\['friction'\]: expected a number, got str '2'$"),
+        (
+            lambda t01, tmp: deploywatch.diagnose([], [t01], json=tmp / "d.json", max_seconds="10"),
+            r"^max_seconds: expected a number, got str '10'$",
+        ),
+        (
+            lambda t01, tmp: deploywatch.diagnose([], [t01], json=tmp / "d.json", max_effects=2.5),
+            r"^max_effects: expected an integer, got float 2\.5$",
+        ),
+    ],
+)
+def test_a_command_argument_of_the_wrong_type_is_an_input_error(call, pattern, root, tmp_path):
+    """The commands' keyword arguments of the wrong type: ``InputError``
+    naming the argument and what was expected, not a ``ValueError`` of
+    ``float()`` or an ``AttributeError``."""
+    with pytest.raises(InputError, match=pattern):
+        call(root / "data/mechanisms/seed001_T01.toml", tmp_path)
