@@ -565,6 +565,7 @@ fn from_findings_of_another_wing_are_said() {
         r#"{"method": "direct", "joints": [{"joint": 1, "coulomb_nm": 1.2, "ci95": [1.0, 1.4]}],
             "after": {"rms_deg": 0.02, "runs": [{"run": "a.csv", "mechanism": "another-wing", "rms_deg": 0.02}]}}"#,
     );
+    let json = dir.path().join("r.json");
     let out = deploywatch(&[
         "reliability",
         &one_panel(),
@@ -576,12 +577,19 @@ fn from_findings_of_another_wing_are_said() {
         "mc",
         "--samples",
         "50",
+        "--json",
+        s(&json),
         "-q",
     ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
-    assert!(
-        err.contains("found on another-wing, not on reliability-one-panel: applied as it is"),
-        "{err}"
+    let said = format!(
+        "--from {}: found on another-wing, not on reliability-one-panel: applied as it is",
+        eft.display()
     );
+    assert!(err.contains(&format!("warning: {said}")), "{err}");
+    // The JSON's warnings are every warning said, this one too.
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("JSON");
+    assert_eq!(v["warnings"][0], serde_json::json!(said), "{v}");
 }

@@ -53,7 +53,9 @@ where
         .collect()
 }
 
-/// The problem of `reliability`/`simulate_batch` from their arguments.
+/// The problem of `reliability`/`simulate_batch` from their arguments, and
+/// what `reliability` says of `from_` (`FromFindings::notes`, the CLI's
+/// words of `--from`).
 fn problem(
     mech_toml: &str,
     source: &str,
@@ -61,10 +63,10 @@ fn problem(
     fail: &[String],
     from_json: Option<&str>,
     corr: &[String],
-) -> PyResult<Problem> {
+) -> PyResult<(Problem, Vec<String>)> {
     let mech = mechanism(mech_toml, source)?;
     let mut vs: Vec<Vary> = parse_all("vary", vary)?;
-    let mut fixed = Vec::new();
+    let (mut fixed, mut notes) = (Vec::new(), Vec::new());
     if let Some(text) = from_json {
         let given = vs.clone();
         let found = identified::from_findings_json(text, &mech)
@@ -72,6 +74,7 @@ fn problem(
         if let Some(why) = &found.no_effect {
             return Err(Kind::Input.raise(format!("from_: {why}"), Vec::new()));
         }
+        notes = found.notes("from_", &mech.name);
         vs.extend(
             found
                 .vary
@@ -91,7 +94,7 @@ fn problem(
         corr: parse_all::<Correlation>("corr", corr)?,
     };
     p.check().map_err(|e| errors::reliability(&e))?;
-    Ok(p)
+    Ok((p, notes))
 }
 
 /// The labels of the problem's parameters, in the column order of
@@ -105,7 +108,7 @@ fn parameters(
     fail: Vec<String>,
     from_json: Option<&str>,
 ) -> PyResult<Vec<String>> {
-    let p = problem(mechanism_toml, source, &vary, &fail, from_json, &[])?;
+    let (p, _) = problem(mechanism_toml, source, &vary, &fail, from_json, &[])?;
     Ok(p.vary.iter().map(|v| v.to_string()).collect())
 }
 
@@ -183,7 +186,7 @@ fn simulate_batch<'py>(
     params: PyReadonlyArray2<'py, f64>,
     from_json: Option<&str>,
 ) -> PyResult<Outcomes<'py>> {
-    let p = problem(mechanism_toml, source, &vary, &fail, from_json, &[])?;
+    let (p, _) = problem(mechanism_toml, source, &vary, &fail, from_json, &[])?;
     let a = params.as_array();
     if a.ncols() != p.vary.len() {
         let labels: Vec<String> = p.vary.iter().map(|v| v.label()).collect();
@@ -256,7 +259,7 @@ fn reliability<'py>(
     evaluate: Option<PyObject>,
     corr: Vec<String>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let p = problem(mechanism_toml, source, &vary, &fail, from_json, &corr)?;
+    let (p, notes) = problem(mechanism_toml, source, &vary, &fail, from_json, &corr)?;
     let method: Method = method.parse().map_err(|e| errors::reliability(&e))?;
     // A Python exception (Ctrl-C, an executor's task) stops the run through
     // the analysis' error path and is kept here to be raised as it is.
@@ -287,8 +290,10 @@ fn reliability<'py>(
     // What the CLI says on stderr and writes in its JSON's `warnings`, in
     // the result's `warnings` and each as a `UserWarning`; a check that
     // cannot run costs nothing of the result either.
-    let said =
-        py.allow_threads(|| warnings(&p, &est, target_cov, &|q| errors::argument(q).to_string()));
+    let mut said = notes;
+    said.extend(
+        py.allow_threads(|| warnings(&p, &est, target_cov, &|q| errors::argument(q).to_string())),
+    );
     for w in &said {
         let text =
             std::ffi::CString::new(w.as_str()).map_err(|e| PyValueError::new_err(e.to_string()))?;

@@ -198,3 +198,19 @@ def test_a_dask_local_cluster_gives_the_same_bits(root, local, dask_client):
         root / MECH, vary=VARY, fail=FAIL, samples=1000, seed=3, executor=dask_client
     )
     assert got == local
+
+
+def test_from_findings_of_another_wing_are_a_user_warning(root, tmp_path):
+    """``from_`` findings made on another wing are applied as they are,
+    with the CLI's words as a ``UserWarning`` and in ``warnings``."""
+    eft = tmp_path / "eft.json"
+    eft.write_text(
+        '{"method": "direct", "joints": [{"joint": 1, "coulomb_nm": 1.2, "ci95": [1.0, 1.4]}],'
+        ' "after": {"rms_deg": 0.02, "runs": [{"run": "a.csv", "mechanism": "another-wing", "rms_deg": 0.02}]}}'
+    )
+    said = "from_: found on another-wing, not on reliability-one-panel: applied as it is"
+    with pytest.warns(UserWarning) as caught:
+        r = deploywatch.reliability(root / MECH, from_=eft, fail=["not_latched"], method="mc", samples=50)
+    assert said in [str(w.message) for w in caught]
+    assert said in r.warnings
+    assert all(w.filename == __file__ for w in caught)

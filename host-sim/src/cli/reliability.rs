@@ -116,27 +116,15 @@ pub fn problem(args: &ReliabilityArgs) -> Result<(Problem, Vec<String>), CliErro
         } else {
             Vec::new()
         };
+        let from = format!("--from {}", f.display());
+        left_out = found.notes(&from, &mech.name);
+        left_out.extend(rig.into_iter().map(|name| {
+            format!(
+                "{from}: left out of the flight unit (--flight), on the ground rig only: {name}"
+            )
+        }));
         vary.extend(found.vary);
         fixed = found.fixed;
-        left_out = found
-            .left_out
-            .into_iter()
-            .map(|w| format!("--from {}: left out, not a named effect: {w}", f.display()))
-            .chain(rig.into_iter().map(|name| {
-                format!(
-                    "--from {}: left out of the flight unit (--flight), on the ground rig only: {name}",
-                    f.display()
-                )
-            }))
-            .collect();
-        if !found.found_on.is_empty() && !found.found_on.contains(&mech.name) {
-            left_out.push(format!(
-                "--from {}: found on {}, not on {}: applied as it is",
-                f.display(),
-                found.found_on.join(", "),
-                mech.name
-            ));
-        }
     }
     let problem = Problem {
         mech,
@@ -207,7 +195,9 @@ pub fn run(args: &ReliabilityArgs) -> Result<(), CliError> {
     }
     if let Some(j) = &args.json {
         let mut json = est.to_json(&problem, args.seed);
-        json["warnings"] = serde_json::json!(said);
+        // Every warning said, `--from`'s notes first, as on stderr.
+        let all: Vec<&String> = left_out.iter().chain(&said).collect();
+        json["warnings"] = serde_json::json!(all);
         let text =
             serde_json::to_string_pretty(&json).map_err(|e| CliError::failed(e.to_string()))?;
         let mut outs = Outputs::new();

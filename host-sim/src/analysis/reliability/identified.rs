@@ -41,6 +41,26 @@ pub struct FromFindings {
 }
 
 impl FromFindings {
+    /// What the command says of the findings applied to `mechanism`, each
+    /// after `from` (how the command names the file: `--from F`,
+    /// `from_`): what is left out of every deployment, and the wing they
+    /// were found on when it is not this one (applied as they are). One
+    /// text for the CLI's warnings and Python's `UserWarning`s.
+    pub fn notes(&self, from: &str, mechanism: &str) -> Vec<String> {
+        let mut out: Vec<String> = self
+            .left_out
+            .iter()
+            .map(|w| format!("{from}: left out, not a named effect: {w}"))
+            .collect();
+        if !self.found_on.is_empty() && !self.found_on.iter().any(|n| n == mechanism) {
+            out.push(format!(
+                "{from}: found on {}, not on {mechanism}: applied as it is",
+                self.found_on.join(", ")
+            ));
+        }
+        out
+    }
+
     /// Takes out the effects that exist only on a ground rig
     /// ([`effect_margin::rig_only`]: air drag, a tilt, the rig's rails,
     /// wires and frames): none of them flies, so the flight unit
