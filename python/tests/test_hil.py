@@ -54,12 +54,16 @@ def test_hil_under_qemu_gives_replays_statuses(root, monkeypatch):
 
 def test_hil_refuses_bad_arguments_naming_them(root, monkeypatch, tmp_path):
     monkeypatch.chdir(root)
+    # An ELF that exists (a missing one is refused first, as MissingFileError)
+    # and is never run: the arguments are refused before.
+    elf = tmp_path / "empty.elf"
+    elf.write_bytes(b"")
     with pytest.raises(InputError) as e:
-        dw.hil(RUN, T01, drop=2.0, elf=tmp_path / "none.elf")
+        dw.hil(RUN, T01, drop=2.0, elf=elf)
     assert str(e.value).startswith("drop") and "--" not in str(e.value), str(e.value)
     with pytest.raises(InputError) as e:
-        dw.hil(RUN, T01, delay="often", elf=tmp_path / "none.elf")
+        dw.hil(RUN, T01, delay="often", elf=elf)
     assert str(e.value).startswith("delay") and "--" not in str(e.value), str(e.value)
-    with pytest.raises(InputError) as e:
+    with pytest.raises(dw.MissingFileError) as e:
         dw.hil(RUN, T01, elf=tmp_path / "none.elf")
-    assert "none.elf" in str(e.value) and "--" not in str(e.value), str(e.value)
+    assert str(e.value).startswith("elf: ") and "none.elf" in str(e.value) and "--" not in str(e.value), str(e.value)
