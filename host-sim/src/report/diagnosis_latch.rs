@@ -17,6 +17,7 @@ use crate::model::findings::diagnosis::{
     WholeRunJson,
 };
 use crate::model::findings::rounded;
+use crate::report::diagnosis_outcome::{alike_words, values_words};
 use crate::report::markdown::table;
 use std::fmt::Write as _;
 
@@ -142,21 +143,6 @@ pub fn ambiguities_json(o: &Outcome) -> Vec<AmbiguityGroup> {
         .collect()
 }
 
-/// A set in words with values: `coulomb_friction at joint 2 = 0.4991`.
-fn set_words(f: &FittedSet) -> String {
-    let e = f.effects();
-    if e.is_empty() {
-        return "nothing".into();
-    }
-    e.iter()
-        .map(|e| match e.joint {
-            Some(j) => format!("{} at joint {j} = {:.4}", e.kind(), e.value()),
-            None => format!("{} = {:.4}", e.kind(), e.value()),
-        })
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
 /// The summary lines `diagnose` prints for these findings.
 pub fn summary_lines(o: &Outcome) -> Vec<String> {
     let mut out = Vec::new();
@@ -173,7 +159,7 @@ pub fn summary_lines(o: &Outcome) -> Vec<String> {
             separating_test_words(g.separating_test, g.joint)
         ));
         for s in &g.sets {
-            out.push(format!("    {} (RMS {:.4} deg)", set_words(s), s.rms()));
+            out.push(format!("    {} (RMS {:.4} deg)", values_words(s), s.rms()));
         }
     }
     if o.fitted_whole {
@@ -459,8 +445,9 @@ fn report_ambiguity(md: &mut String, o: &Outcome) {
     for g in &o.ambiguities {
         let _ = writeln!(
             md,
-            "At joint {} these sets explain the runs alike (BIC within 10 of the set found); the intervals above are widened to cover them. {}.\n",
+            "At joint {} these sets explain the runs alike ({}); the intervals above are widened to cover them. {}.\n",
             g.joint,
+            alike_words(g),
             capitalised(&separating_test_words(g.separating_test, g.joint))
         );
         let first = g.sets.first().map_or(0.0, FittedSet::bic);
@@ -468,7 +455,7 @@ fn report_ambiguity(md: &mut String, o: &Outcome) {
             &["set", "RMS [deg]", "ΔBIC"],
             g.sets.iter().map(|s| {
                 vec![
-                    set_words(s),
+                    values_words(s),
                     format!("{:.4}", s.rms()),
                     format!("{:+.1}", s.bic() - first),
                 ]

@@ -5,9 +5,11 @@
 //! and holds the facts; the report, the JSON and the summary say them with
 //! these words.
 
+use crate::analysis::diagnose::ambiguity::Ambiguity;
 use crate::analysis::diagnose::evidence::{ResidualPlace, StrokeThird};
 use crate::analysis::diagnose::{
-    Candidate, HaltReason, Kept, Move, Rejection, Round, Unexplained, UnexplainedShape, Verdict,
+    Candidate, FittedSet, HaltReason, Kept, Move, Rejection, Round, Unexplained, UnexplainedShape,
+    Verdict, MIN_DELTA_BIC,
 };
 use std::fmt;
 
@@ -21,6 +23,34 @@ impl fmt::Display for HaltReason {
                 f.write_str("stopped at the time limit (--max-seconds)")
             }
         }
+    }
+}
+
+/// A set in words with values: `coulomb_friction at joint 2 = 0.4991`.
+pub fn values_words(f: &FittedSet) -> String {
+    let e = f.effects();
+    if e.is_empty() {
+        return "nothing".into();
+    }
+    e.iter()
+        .map(|e| match e.joint {
+            Some(j) => format!("{} at joint {j} = {:.4}", e.kind(), e.value()),
+            None => format!("{} = {:.4}", e.kind(), e.value()),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// How the sets of an ambiguity group explain the runs alike: by a BIC
+/// within [`MIN_DELTA_BIC`] of the set found (the group's first), or, when
+/// one fits better by more and is listed, better and not taken
+/// (`docs/diagnosis.md`, "Ambiguity", says when).
+pub fn alike_words(g: &Ambiguity) -> &'static str {
+    let first = g.sets.first().map_or(0.0, FittedSet::bic);
+    if g.sets.iter().any(|s| s.bic() - first <= -MIN_DELTA_BIC) {
+        "BIC within 10 of the set found, or better by more but not taken; docs/diagnosis.md, \"Ambiguity\", says when"
+    } else {
+        "BIC within 10 of the set found"
     }
 }
 

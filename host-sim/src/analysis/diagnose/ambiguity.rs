@@ -418,6 +418,34 @@ pub fn widened(found: &FittedSet, groups: &[Ambiguity]) -> FittedSet {
     out
 }
 
+/// The groups as the report lists them beside `answer`: without the sets
+/// that keep every member of the answer and add to it while fitting better
+/// than it by more than [`MIN_DELTA_BIC`]. Such a set is not another
+/// explanation of what the answer explains but a claim made on top of it
+/// that was not taken: refused by the acceptance rule (its gain not held
+/// out, within the discrepancy left, at a joint that shows no evidence of
+/// it), or re-fitting what the drawing's tolerances or the discrepancy
+/// took out of the answer. Listed, it would read as a set the runs
+/// cannot tell from the answer. A group left with the answer alone is
+/// dropped. The answer's intervals are widened over the sets listed
+/// ([`widened`]).
+pub(super) fn listed(groups: Vec<Ambiguity>, answer: &FittedSet) -> Vec<Ambiguity> {
+    let holds = answer.candidates();
+    let best = answer.bic();
+    groups
+        .into_iter()
+        .filter_map(|mut g| {
+            let mut k = 0;
+            g.sets.retain(|s| {
+                k += 1;
+                let adds = holds.iter().all(|c| s.contains(c)) && s.members.len() > holds.len();
+                k == 1 || !(adds && s.bic() - best <= -MIN_DELTA_BIC)
+            });
+            (g.sets.len() > 1).then_some(g)
+        })
+        .collect()
+}
+
 impl Search<'_, '_> {
     /// Once the search is done: the sets that explain the runs alike
     /// ([`Search::ambiguities`]) and the claims set aside within the discrepancy

@@ -602,6 +602,7 @@ fn search_campaign(
     let (mut ambiguities, mut set_aside) = search.alternatives_and_set_aside(whole);
     let settled = search.settle(&mut ambiguities, &mut set_aside);
     let partial = eng.halt.finish();
+    let ambiguities = ambiguity::listed(ambiguities, &settled.set);
     let (extended, strength_rms_deg) = eng.strongest_first(&settled.set);
     let extended = ambiguity::widened(&extended, &ambiguities);
     let extended = tolerance::widen(&extended, &settled.shares);
