@@ -22,6 +22,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 import numpy as _np
 
 from . import _native
+from ._checks import _real, _whole
 from ._errors import InputError, MissingFileError
 from ._model import Mechanism, PathLike
 from ._results import FloatArray, _pandas
@@ -45,20 +46,6 @@ def _existing(name: str, value: Any) -> str:
     if not _os.path.exists(p):
         raise MissingFileError(f"{name}: {p}: no such file", filename=p)
     return p
-
-
-def _real(name: str, value: Any) -> float:
-    """A real number (not a bool, not text), as the CLI reads it."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, _np.integer, _np.floating)):
-        raise InputError(f"{name}: expected a number, got {type(value).__name__} {value!r}")
-    return float(value)
-
-
-def _whole(name: str, value: Any) -> int:
-    """A whole number (not a bool, not text, not a float)."""
-    if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
-        raise InputError(f"{name}: expected an integer, got {type(value).__name__} {value!r}")
-    return int(value)
 
 
 def _reals(name: str, value: Any) -> List[float]:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 from . import _native
+from ._checks import checked
 from ._errors import InputError, MissingFileError
 from ._results import Trajectory
 
@@ -27,6 +28,7 @@ def _num(x: float) -> str:
 
 
 @dataclass(frozen=True)
+@checked
 class Coulomb:
     """``coulomb_friction``: an extra Coulomb friction ``torque_nm`` [N·m]
     at ``joint`` (1-based)."""
@@ -39,6 +41,7 @@ class Coulomb:
 
 
 @dataclass(frozen=True)
+@checked
 class Viscous:
     """``viscous_damping``: ``nms_per_rad`` [N·m·s/rad] at ``joint``."""
 
@@ -50,6 +53,7 @@ class Viscous:
 
 
 @dataclass(frozen=True)
+@checked
 class QuadraticDamping:
     """``quadratic_damping``: ``c`` [N·m·s²/rad²] at ``joint``, the torque
     ``-c φ̇|φ̇|``."""
@@ -62,6 +66,7 @@ class QuadraticDamping:
 
 
 @dataclass(frozen=True)
+@checked
 class Stribeck:
     """``stribeck_friction``: kinetic ``torque_nm`` [N·m] at ``joint`` with a
     break-away ``excess_nm`` [N·m] and Stribeck velocity ``stribeck_rad_s``
@@ -80,6 +85,7 @@ class Stribeck:
 
 
 @dataclass(frozen=True)
+@checked
 class SpringSoftening:
     """``spring_softening``: the spring of ``joint`` scaled by ``1 - fraction``
     (``fraction`` [1], below 1)."""
@@ -92,6 +98,7 @@ class SpringSoftening:
 
 
 @dataclass(frozen=True)
+@checked
 class Harness:
     """``harness_stiffness``: ``nm_per_rad`` [N·m/rad] about the stowed angle
     of ``joint``."""
@@ -104,6 +111,7 @@ class Harness:
 
 
 @dataclass(frozen=True)
+@checked
 class LatchDetent:
     """``latch_detent``: ``torque_nm`` [N·m] within 3° of the latch of
     ``joint``."""
@@ -116,6 +124,7 @@ class LatchDetent:
 
 
 @dataclass(frozen=True)
+@checked
 class AirDrag:
     """``air_drag``: ``k_kg_m2`` [kg/m²], the whole wing."""
 
@@ -126,6 +135,7 @@ class AirDrag:
 
 
 @dataclass(frozen=True)
+@checked
 class RigTilt:
     """``rig_tilt``: gravity ``g_m_s2`` [m/s²] in direction ``alpha_deg``
     [deg], the whole wing."""
@@ -138,6 +148,7 @@ class RigTilt:
 
 
 @dataclass(frozen=True)
+@checked
 class EncoderOffset:
     """``encoder_offset``: ``deg`` [deg] added to the reading of ``joint``
     (the sensor only)."""
@@ -150,6 +161,7 @@ class EncoderOffset:
 
 
 @dataclass(frozen=True)
+@checked
 class PlungerWeakening:
     """``plunger_weakening``: the ball plunger of the physical latch of
     ``joint`` scaled by ``1 - fraction`` [1]."""
@@ -162,6 +174,7 @@ class PlungerWeakening:
 
 
 @dataclass(frozen=True)
+@checked
 class MagnetWeakening:
     """``magnet_weakening``: the magnet of the physical latch of ``joint``
     scaled by ``1 - fraction`` [1]."""
@@ -208,6 +221,7 @@ EFFECT_TYPES: Tuple[type, ...] = (
 
 
 @dataclass(frozen=True)
+@checked
 class Normal:
     """``normal(mean, sd)``."""
 
@@ -219,6 +233,7 @@ class Normal:
 
 
 @dataclass(frozen=True)
+@checked
 class LogNormal:
     """``lognormal(median, sigma_ln)``."""
 
@@ -230,6 +245,7 @@ class LogNormal:
 
 
 @dataclass(frozen=True)
+@checked
 class Uniform:
     """``uniform(lo, hi)``."""
 
@@ -241,6 +257,7 @@ class Uniform:
 
 
 @dataclass(frozen=True)
+@checked
 class TruncNormal:
     """``truncnormal(mean, sd, lo, hi)``."""
 
@@ -258,6 +275,7 @@ Distribution = Union[Normal, LogNormal, Uniform, TruncNormal]
 
 
 @dataclass(frozen=True)
+@checked
 class Vary:
     """A varied parameter: ``name`` an effect (``"coulomb_friction"``) or a
     mechanism parameter (``"panel_mass"``, ``"panel_inertia"``,
@@ -275,6 +293,7 @@ class Vary:
 
 
 @dataclass(frozen=True)
+@checked
 class NotLatched:
     """``not_latched``: a joint not latched by the end of the run fails."""
 
@@ -283,6 +302,7 @@ class NotLatched:
 
 
 @dataclass(frozen=True)
+@checked
 class NotHeld:
     """``not_held``: a joint its latch does not hold at the end of the run
     fails (a ball plunger short of its crest, a pawl out of its notch),
@@ -293,6 +313,7 @@ class NotHeld:
 
 
 @dataclass(frozen=True)
+@checked
 class LatchRate:
     """``latch_rate>X``: a joint latching faster than ``above_deg_s``
     [deg/s] fails."""
@@ -304,6 +325,7 @@ class LatchRate:
 
 
 @dataclass(frozen=True)
+@checked
 class LatchTime:
     """``time>X``: a joint latching later than ``above_s`` [s] fails."""
 

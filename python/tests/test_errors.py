@@ -112,6 +112,29 @@ def test_a_list_holding_a_number(mech):
         deploywatch.reliability(mech, vary=[VARY[0], 1.5])
 
 
+@pytest.mark.parametrize(
+    "make, pattern",
+    [
+        (lambda: deploywatch.Coulomb(joint="1", torque_nm=0.5), r"Coulomb\.joint: expected an integer, got str '1'"),
+        (lambda: deploywatch.Coulomb(joint=1.0, torque_nm=0.5), r"Coulomb\.joint: expected an integer, got float"),
+        (lambda: deploywatch.Coulomb(joint=True, torque_nm=0.5), r"Coulomb\.joint: expected an integer, got bool"),
+        (lambda: deploywatch.Viscous(joint=1, nms_per_rad="0.2"), r"Viscous\.nms_per_rad: expected a number, got str"),
+        (lambda: deploywatch.RigTilt(0.1, alpha_deg=None), r"RigTilt\.alpha_deg: expected a number, got NoneType"),
+        (lambda: deploywatch.Normal(1.0, [0.1]), r"Normal\.sd: expected a number, got list"),
+        (lambda: deploywatch.Vary("coulomb_friction", "2", deploywatch.Normal(1, 0.1)), r"Vary\.joint: expected an integer"),
+        (lambda: deploywatch.LatchTime(above_s="3"), r"LatchTime\.above_s: expected a number"),
+    ],
+)
+def test_a_typed_argument_of_the_wrong_type_is_refused_where_it_is_written(make, pattern):
+    with pytest.raises(InputError, match=pattern):
+        make()
+
+
+def test_typed_arguments_take_numpy_numbers_and_no_joint():
+    assert str(deploywatch.Coulomb(joint=np.int64(2), torque_nm=np.float32(0.5))) == "coulomb_friction:joint=2:value=0.5"
+    assert str(deploywatch.Vary("air_drag", None, deploywatch.Uniform(0, 1))) == "air_drag:uniform(0.0,1.0)"
+
+
 def test_an_unknown_effect(mech):
     with pytest.raises(InputError, match=r"^effects\[1\]: unknown effect `nonsense`: expected one of coulomb_friction"):
         deploywatch.simulate(mech, ["coulomb_friction:joint=1:value=1.2", "nonsense:joint=1:value=1"])

@@ -311,12 +311,12 @@ fn approach(
 /// The model's run of a mechanism sampled [`MODEL_PHASES`] times finer
 /// than the run's period: [`model_errors`] reads it at every phase of the
 /// sample clock.
-pub struct FineModel {
+struct FineModel {
     traj: Trajectory,
 }
 
 /// Phases of the sample clock at which [`model_errors`] reads the model.
-pub const MODEL_PHASES: usize = 16;
+const MODEL_PHASES: usize = 16;
 
 impl FineModel {
     /// The model of run `r` of `campaign` (its mechanism as given, no
@@ -399,12 +399,8 @@ fn latching(
     sigma_deg: f64,
     model: Option<&FineModel>,
 ) -> Option<Latching> {
-    let cr = campaign.runs.get(r)?;
-    let (run, mech) = (&cr.run, &cr.mechanism);
-    if mech.latch(j).is_some() || mech.truss.is_some() {
-        return None;
-    }
-    let a = approach(&run.t_s, run.phi_deg.get(j)?, &run.latch, j, sigma_deg)?;
+    let a = readable(campaign, r, j, sigma_deg)?;
+    let run = &campaign.runs.get(r)?.run;
     let model_error_s = model.and_then(|m| model_errors(m, j, sigma_deg));
     // The crossing read is `t* + d + e`, the error `e` within what the
     // model shows (zero included): `d = crossing − t* − e`.
@@ -425,6 +421,18 @@ fn latching(
     })
 }
 
+/// The encoder's approach to the latch of joint `j` (0-based) in run `r`
+/// of `campaign`, when its latch is ideal, closes once for good and the
+/// approach is clear of the noise `sigma_deg` ([`approach`]).
+fn readable(campaign: &Campaign, r: usize, j: usize, sigma_deg: f64) -> Option<Approach> {
+    let cr = campaign.runs.get(r)?;
+    let (run, mech) = (&cr.run, &cr.mechanism);
+    if mech.latch(j).is_some() || mech.truss.is_some() {
+        return None;
+    }
+    approach(&run.t_s, run.phi_deg.get(j)?, &run.latch, j, sigma_deg)
+}
+
 /// The run's median sample step \[s\].
 fn period_s(campaign: &Campaign) -> Option<f64> {
     let t = &campaign.runs.first()?.run.t_s;
@@ -443,8 +451,15 @@ pub fn estimate(campaign: &Campaign, sigma_deg: f64) -> Option<EncoderDelay> {
         return None;
     }
     let period = period_s(campaign)?;
+    // The model is simulated only for a run with a latching to read: none
+    // on a truss wing or a wing of physical latches.
     let models: Vec<Option<FineModel>> = (0..campaign.runs.len())
-        .map(|r| FineModel::of(campaign, r, period))
+        .map(|r| {
+            (0..campaign.runs[r].run.joints())
+                .any(|j| readable(campaign, r, j, sigma_deg).is_some())
+                .then(|| FineModel::of(campaign, r, period))
+                .flatten()
+        })
         .collect();
     let latchings: Vec<Latching> = (0..campaign.runs.len())
         .flat_map(|r| (0..campaign.runs[r].run.joints()).map(move |j| (r, j)))
