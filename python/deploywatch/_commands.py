@@ -219,11 +219,22 @@ def margin(
     flight: bool = False,
     json: Optional[PathLike] = None,
     echo: bool = False,
+    data_source: str = "analysis",
+    spring_tolerance_pct: float = 0.0,
+    end_of_life_pct: float = 0.0,
+    deploy_time_s: Optional[float] = None,
+    plot: Optional[PathLike] = None,
 ) -> Margins:
     """``deploywatch margin`` (the options as keyword arguments: ``friction``
     [N·m] per joint, ``from_`` an ``identify``/``diagnose`` JSON,
-    ``standard`` ``"none"``, ``"nasa"`` or ``"ecss"``, ``factors``
-    ``{kind: value}``, ``flight``; ``json`` keeps the file)."""
+    ``standard`` ``"none"``, ``"nasa-std-5017"``, ``"ecss-e-st-33-01c"`` or
+    ``"aiaa-s-114"``, ``data_source`` the standard's row of factors
+    (``"analysis"``, ``"test"``, ``"acceptance-extremes"``), ``factors``
+    ``{kind: value}``, ``spring_tolerance_pct`` and ``end_of_life_pct`` the
+    springs' torque below nominal [%], ``deploy_time_s`` the time required
+    to complete each stroke [s] (the dynamic margin), ``flight``; ``json``
+    keeps the file, ``plot`` draws the static margin along the stroke as a
+    PNG there)."""
     with _tempfile.TemporaryDirectory() as tmp:
         out = _path("json", json) if json is not None else _os.path.join(tmp, "margin.json")
         args = ["margin", "--mechanism", _mechanism_file("mechanism", mechanism, tmp), "--quiet", "--json", out]
@@ -236,6 +247,13 @@ def margin(
             raise InputError(f"factors: expected a mapping {{kind: value}}, got {type(factors).__name__} {factors!r}")
         for k, v in factors.items():
             args += ["--factor", f"{k}={_real(f'factors[{k!r}]', v)!r}"]
+        args += ["--data-source", str(data_source)]
+        args += ["--spring-tolerance", repr(_real("spring_tolerance_pct", spring_tolerance_pct))]
+        args += ["--end-of-life", repr(_real("end_of_life_pct", end_of_life_pct))]
+        if deploy_time_s is not None:
+            args += ["--deploy-time", repr(_real("deploy_time_s", deploy_time_s))]
+        if plot is not None:
+            args += ["--plot", _path("plot", plot)]
         if flight:
             args.append("--flight")
         _run(args, echo)

@@ -72,7 +72,7 @@ impl Kind {
 
 /// The CLI's option names and the Python arguments that take their values
 /// (the library's messages name the CLI's options).
-const ARGUMENTS: [(&str, &str); 29] = [
+const ARGUMENTS: [(&str, &str); 35] = [
     ("--effect", "effects"),
     ("--vary", "vary"),
     ("--fail", "fail"),
@@ -85,6 +85,12 @@ const ARGUMENTS: [(&str, &str); 29] = [
     ("--friction", "friction"),
     ("--standard", "standard"),
     ("--factor", "factors"),
+    ("--data-source", "data_source"),
+    ("--spring-tolerance", "spring_tolerance_pct"),
+    ("--end-of-life", "end_of_life_pct"),
+    ("--deploy-time", "deploy_time_s"),
+    ("--plot", "plot"),
+    ("--flight", "flight"),
     ("--json", "json"),
     ("--out", "out"),
     ("--mechanism", "mechanism"),

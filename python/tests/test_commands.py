@@ -54,6 +54,29 @@ def test_margin_gives_the_clis_json(root, cli, tmp_path, monkeypatch):
     assert dw.margin(dw.Mechanism.from_toml(T02), friction=[0.5, 1.7, 0.01], standard="ecss-e-st-33-01c").json == want
 
 
+def test_margin_with_a_reviewers_settings_gives_the_clis_json(root, cli, tmp_path, monkeypatch):
+    """The settings a reviewer signs under NASA-STD-5017: the test row of
+    factors, the springs' tolerance and end-of-life loss, the dynamic
+    margin over a required deployment time, and the plot along the stroke."""
+    monkeypatch.chdir(root)
+    run_cli(cli, root, "margin", "--mechanism", T02, "--friction", "0.5,1.7,0.01", "--standard", "nasa-std-5017",
+            "--data-source", "test", "--spring-tolerance", "5", "--end-of-life", "3", "--deploy-time", "10",
+            "--json", str(tmp_path / "m.json"), "-q")
+    want = json.loads((tmp_path / "m.json").read_text())
+    got = dw.margin(T02, friction=[0.5, 1.7, 0.01], standard="nasa-std-5017", data_source="test",
+                    spring_tolerance_pct=5, end_of_life_pct=3.0, deploy_time_s=10, plot=tmp_path / "m.png")
+    assert got.json == want
+    assert (tmp_path / "m.png").stat().st_size > 0
+    # The dynamic margin is there, and moves with the time required.
+    assert want["deploy_time_s"] == 10 and all(j["dynamic"] is not None for j in want["joints"])
+    assert dw.margin(T02, friction=[0.5, 1.7, 0.01], standard="nasa-std-5017", data_source="test",
+                     spring_tolerance_pct=5, end_of_life_pct=3.0, deploy_time_s=2).json != want
+    with pytest.raises(dw.InputError, match="deploy_time_s"):
+        dw.margin(T02, deploy_time_s="10")
+    with pytest.raises(dw.InputError, match="data_source"):
+        dw.margin(T02, data_source="guess")
+
+
 def test_identify_gives_the_clis_json(root, cli, tmp_path, monkeypatch):
     monkeypatch.chdir(root)
     run_cli(cli, root, "identify", "--mechanism", T01, "--mechanism", T02, *EFT, "--method", "direct",
