@@ -12,6 +12,7 @@ from __future__ import annotations
 import csv as _csv
 import json as _json
 import os as _os
+import re as _re
 import signal as _signal
 import sys as _sys
 import tempfile as _tempfile
@@ -335,9 +336,17 @@ def replay(run: PathLike, mechanism: MechanismLike, out: Optional[PathLike] = No
         return _read_columns(path)
 
 
+#: The status CSV's text columns (docs/monitor.md, the columns without a
+#: unit; `host-sim/src/onboard/replay/status_csv.rs` writes them): always
+#: in ``states``, whatever a run holds, so that ``faults1`` of a run
+#: without a fault (every value empty) is text as it is in a run with one.
+_TEXT_COLUMN = _re.compile(r"(viscous\d+_obs|latch\d+|prediction\d+|faults\d+|resolution\d+)")
+
+
 def _read_columns(path: str) -> Replay:
-    """A CSV the CLI wrote (comment lines skipped): each numeric column as
-    numpy (NaN where empty), the text columns as tuples."""
+    """A CSV the CLI wrote (comment lines skipped): the status CSV's text
+    columns (``_TEXT_COLUMN``) as tuples; every other column as numpy (NaN
+    where empty) when its values are numbers, else as tuples."""
     with open(path, encoding="utf-8") as f:
         rows = [r for r in _csv.reader(line for line in f if not line.startswith("#"))]
     head, body = rows[0], rows[1:]
@@ -345,6 +354,9 @@ def _read_columns(path: str) -> Replay:
     states: Dict[str, Tuple[str, ...]] = {}
     for k, name in enumerate(head):
         texts = [r[k] for r in body]
+        if _TEXT_COLUMN.fullmatch(name):
+            states[name] = tuple(texts)
+            continue
         try:
             cols[name] = _np.array([_np.nan if x == "" else float(x) for x in texts], dtype=_np.float64)
         except ValueError:

@@ -8,6 +8,7 @@ replay) equal, apart from the wall-clock times they record.
 
 import csv
 import json
+import re
 import subprocess
 
 import numpy as np
@@ -109,6 +110,23 @@ def test_replay_gives_the_clis_status_stream(root, cli, tmp_path, monkeypatch):
         k = head.index(name)
         want = np.array([np.nan if r[k] == "" else float(r[k]) for r in rows[1:]])
         np.testing.assert_array_equal(col, want, err_msg=name)
+
+
+def test_replay_text_columns_are_those_the_format_gives_whatever_the_run(root, monkeypatch):
+    """The status CSV's text columns (docs/monitor.md: those without a
+    unit) are in ``states`` and the rest in ``columns``, on a run without a
+    fault as on one with: ``faults1``, empty when no fault is raised, is
+    text in both (a notebook's code reads one place for it)."""
+    monkeypatch.chdir(root)
+    doc = open("docs/monitor.md", encoding="utf-8").read()
+    text = {f"{m.group(1)}{{}}{m.group(2)}" for m in re.finditer(r"^\| `(\w+)<j>(\w*)` \| — \|", doc, re.M)}
+    assert len(text) == 5, text
+    got = dw.replay(EFT[0], T01)
+    joints = sum(1 for name in got.columns if re.fullmatch(r"phi\d+_deg", name))
+    want = {t.format(j) for t in text for j in range(1, joints + 1)}
+    assert set(got.states) == want
+    assert all(x == "" for x in got.states["faults1"]), "a clean run: no fault raised"
+    assert not set(got.columns) & want
 
 
 def test_command_errors_name_the_python_arguments(root, monkeypatch):
