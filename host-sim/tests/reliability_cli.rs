@@ -73,6 +73,14 @@ fn bad_input_exits_2_and_says_what_is_wrong() {
         2,
         &["does not exist"],
     );
+    // Subset's samples per level refused before any deployment, not after
+    // `auto`'s importance sampling has run its draws (no progress line).
+    let err = fails(
+        &run(&["--vary", v, "--fail", "not_latched", "--samples", "10"]),
+        2,
+        &["subset: 10 samples per level"],
+    );
+    assert!(!err.contains("is:") && !err.contains("form:"), "{err}");
     let dir = tempfile::tempdir().unwrap();
     let not_findings = write(dir.path(), "x.json", "{\"rms\": 1}");
     fails(

@@ -127,7 +127,12 @@ pub fn estimate(
         ),
         Method::Subset => subset::run(problem, &ss, eval, progress),
         Method::Is => importance::run(problem, &is, eval, progress),
-        Method::Auto => run(problem, &is, &ss, eval, progress),
+        Method::Auto => {
+            // Subset's settings refused before importance sampling's
+            // deployments, not after them.
+            ss.check()?;
+            run(problem, &is, &ss, eval, progress)
+        }
     }
 }
 

@@ -67,6 +67,29 @@ impl Default for SubsetSettings {
     }
 }
 
+impl SubsetSettings {
+    /// The settings' own check, made before any deployment (by [`run`] and
+    /// by `auto` before its importance sampling): `p0` in (0, 0.5) and
+    /// `N·p0` seeds a whole number ≥ 2 dividing `N`.
+    pub fn check(&self) -> Result<(), ReliabilityError> {
+        let n = self.samples;
+        let nc = (self.p0 * n as f64).round() as usize;
+        if !(self.p0 > 0.0 && self.p0 < 0.5)
+            || nc == 0
+            || n % nc != 0
+            || nc < 2
+            || self.max_levels > 63
+        {
+            return Err(ReliabilityError::Invalid(format!(
+                "subset: {n} samples per level and p0 = {}: expected p0 in (0, 0.5) and N·p0 \
+                 a whole number ≥ 2 dividing N (e.g. N = 1000, 2000 with p0 = 0.1)",
+                self.p0
+            )));
+        }
+        Ok(())
+    }
+}
+
 /// Runs subset simulation, one run per mode, the modes a level at a time
 /// in turn (so that a mode already negligible against those reached stops).
 pub fn run(
@@ -75,15 +98,8 @@ pub fn run(
     eval: Evaluate<'_>,
     progress: Progress<'_>,
 ) -> Result<Estimate, ReliabilityError> {
+    s.check()?;
     let n = s.samples;
-    let nc = (s.p0 * n as f64).round() as usize;
-    if !(s.p0 > 0.0 && s.p0 < 0.5) || nc == 0 || n % nc != 0 || nc < 2 || s.max_levels > 63 {
-        return Err(ReliabilityError::Invalid(format!(
-            "subset: {n} samples per level and p0 = {}: expected p0 in (0, 0.5) and N·p0 \
-             a whole number ≥ 2 dividing N (e.g. N = 1000, 2000 with p0 = 0.1)",
-            s.p0
-        )));
-    }
     let modes = problem.modes();
     let d = problem.vary.len();
     let u: Vec<Vec<f64>> = (0..n).map(|i| draw(s.seed, 0, i as u64, d)).collect();
