@@ -182,6 +182,65 @@ fn a_run_file_ending_in_blank_lines_is_read() {
     succeeded(&out);
 }
 
+/// The mechanism and the run swapped, or a command's JSON given as the
+/// mechanism: each loader says what the file it met reads as, with the
+/// file and line, whatever command it is (`model::file_kind`).
+#[test]
+fn a_file_of_the_wrong_kind_is_named_as_what_it_is() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mech = t01_mechanism();
+    let run = write(dir.path(), "run.csv", t01_run_text());
+    // A mechanism with a comment first: the comment is not the header.
+    let commented = write(
+        dir.path(),
+        "wing.toml",
+        format!("# my wing, from the drawing\n{}", t01_text()),
+    );
+    let json = write(dir.path(), "found.json", "{\"effects\": []}\n");
+    let json_out = dir.path().join("d.json");
+    let header_at = line_of(&t01_run_text(), "t_s,");
+    let run_where = format!("{}:{header_at}:", run.display());
+    let as_run = "reads as a run CSV (its header starts `t_s,`), not a mechanism TOML";
+    let as_toml =
+        "reads as a mechanism TOML (`key = value` lines, `[table]` headers), not a run CSV";
+    let cases: Vec<(Vec<&str>, Vec<String>)> = vec![
+        (
+            vec![
+                "diagnose",
+                "--mechanism",
+                s(&run),
+                "--json",
+                s(&json_out),
+                s(&mech),
+            ],
+            vec![run_where.clone(), as_run.into()],
+        ),
+        (
+            vec!["margin", "--mechanism", s(&run)],
+            vec![run_where.clone(), as_run.into()],
+        ),
+        (
+            vec!["identify", "--mechanism", s(&mech), s(&mech)],
+            vec![format!("{}:1:", mech.display()), as_toml.into()],
+        ),
+        (
+            vec!["replay", "--mechanism", s(&mech), s(&commented)],
+            vec![format!("{}:2:", commented.display()), as_toml.into()],
+        ),
+        (
+            vec!["margin", "--mechanism", s(&json)],
+            vec![
+                format!("{}:1:", json.display()),
+                "reads as a JSON document".into(),
+            ],
+        ),
+    ];
+    for (args, says) in cases {
+        let says: Vec<&str> = says.iter().map(String::as_str).collect();
+        refused(&deploywatch(&args), &says);
+    }
+}
+
 #[test]
 fn a_wrong_header_is_told_for_the_joint_count_the_file_seems_to_have() {
     let dir = tempfile::tempdir().expect("temp dir");

@@ -2,6 +2,7 @@
 //! effects that extend it (`docs/spec/physics.md` section 6), and its
 //! mobility.
 pub mod effect;
+pub mod file_kind;
 pub mod findings;
 pub mod flex;
 pub mod flex_chain;

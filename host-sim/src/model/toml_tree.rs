@@ -13,6 +13,7 @@
 use std::ops::Range;
 
 use crate::model::effect::{EffectKind, ValueRange};
+use crate::model::file_kind::FileKind;
 use crate::model::mechanism_error::{MechanismError, MechanismErrorKind};
 
 /// A TOML value and, when known, its byte span in the text.
@@ -279,6 +280,9 @@ impl Cx<'_> {
             };
             if message.contains("inline table") {
                 message.push_str(INLINE_TABLE_HINT);
+            }
+            if let Some(kind @ (FileKind::RunCsv | FileKind::Json)) = FileKind::of_text(text) {
+                message.push_str(&format!("; the file reads as {kind}, not a mechanism TOML"));
             }
             let column = e.span().map(|s| cx.column_of(s.start));
             cx.err(

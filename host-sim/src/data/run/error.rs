@@ -42,6 +42,15 @@ pub enum RunErrorKind {
     /// The file ends before the header line.
     #[error("expected a header line `t_s,phi1_deg,...,latch1,...`, found the end of the file")]
     NoHeader,
+    /// The header line reads as another kind of input file (a mechanism
+    /// TOML given where a run belongs, say).
+    #[error("the file reads as {kind}, not a run CSV (`{found}`); expected the header `t_s,phi1_deg,...,latch1,...` (docs/spec/formats.md)")]
+    OtherFormat {
+        /// What the file reads as.
+        kind: crate::model::file_kind::FileKind,
+        /// The line (shortened).
+        found: String,
+    },
     /// The file has a header but no data row.
     #[error("expected at least one data row after the header, found the end of the file")]
     NoSamples,

@@ -9,6 +9,7 @@ use super::record::{
     ExtraColumn, ExtraKind, ReadOptions, Run, MAX_ANGLE_DEG, MISSING_SAMPLES_KEY,
     MISSING_SAMPLES_VALUE,
 };
+use crate::model::file_kind::FileKind;
 use crate::model::mechanism::MAX_CHAIN_JOINTS;
 
 /// A header column.
@@ -388,6 +389,18 @@ impl Run {
         let body = text.trim_end_matches(|c: char| c.is_whitespace());
         let mut lines = body.lines().enumerate().map(|(i, l)| (i + 1, l));
         let mut run = Run::default();
+        // Another kind of input file, whatever its comments say first.
+        if let Some((ln, line)) = FileKind::first_line(body) {
+            if let Some(kind @ (FileKind::MechanismToml | FileKind::Json)) = FileKind::of_line(line)
+            {
+                let found = shorten(line);
+                return Err(RunError::at(
+                    source,
+                    ln,
+                    RunErrorKind::OtherFormat { kind, found },
+                ));
+            }
+        }
         let (header_line, header, meta_lines) = read_metadata(&mut run, &mut lines, source)?;
         let declares_missing = declares_missing(&run, &meta_lines, source)?;
         let names: Vec<&str> = header.split(',').map(str::trim).collect();
