@@ -45,12 +45,23 @@ impl FileKind {
                 && k.chars()
                     .all(|c| c.is_ascii_alphanumeric() || "_-.\"'".contains(c))
         };
+        // What a TOML value starts as: a string, an array, an inline table,
+        // a boolean or a number (not a spreadsheet's `sep=,` line).
+        let value = |v: &str| {
+            let v = v.trim();
+            v.starts_with(['"', '\'', '[', '{'])
+                || v == "true"
+                || v == "false"
+                || v.replace('_', "").parse::<f64>().is_ok()
+        };
         if line.starts_with('{') {
             Some(FileKind::Json)
         } else if line == "t_s" || line.starts_with("t_s,") || line.starts_with("t_s;") {
             Some(FileKind::RunCsv)
         } else if (line.starts_with('[') && line.ends_with(']'))
-            || line.split_once('=').is_some_and(|(k, _)| key(k))
+            || line
+                .split_once('=')
+                .is_some_and(|(k, v)| key(k) && value(v))
         {
             Some(FileKind::MechanismToml)
         } else {
@@ -88,6 +99,8 @@ mod tests {
             ("[[panel]]\nlength_m = 1\n", Some(FileKind::MechanismToml)),
             ("  {\"effects\": []}", Some(FileKind::Json)),
             ("time,angle\n", None),
+            ("sep=,\nt_s,phi1_deg,latch1\n", None),
+            ("duration_s = 6.0\n", Some(FileKind::MechanismToml)),
             ("", None),
         ];
         for (text, kind) in cases {
