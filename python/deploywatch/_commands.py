@@ -68,20 +68,42 @@ def _paths(name: str, value: Any) -> List[str]:
     return [_existing(f"{name}[{i}]", v) for i, v in enumerate(items)]
 
 
-def _mechanism_file(name: str, value: Any, folder: str, i: int = 0) -> str:
+def _mechanism_file(name: str, value: Any, where: str, names: Dict[str, str]) -> str:
     """A mechanism's file: its own when it was read from one and is
-    unchanged, else its text written into ``folder``."""
+    unchanged, else its text written to ``where`` and ``where`` entered in
+    ``names`` with the name the user knows it by (its ``source``, marked
+    when the file has changed since it was read)."""
     if isinstance(value, Mechanism):
         src = value.source
+        changed = False
         if _os.path.isfile(src):
             with open(src, encoding="utf-8") as f:
                 if f.read() == value.toml:
                     return src
-        p = _os.path.join(folder, f"mechanism{i}.toml")
-        with open(p, "w", encoding="utf-8") as f:
-            f.write(value.toml)
-        return p
+            changed = True
+        try:
+            with open(where, "w", encoding="utf-8") as f:
+                f.write(value.toml)
+        except OSError as e:
+            raise InputError(f"{name}: its text cannot be written to {where}: {e.strerror}") from None
+        names[where] = f"{src} (as read; the file has changed since)" if changed else src
+        return where
     return _existing(name, value)
+
+
+def _beside(out: str, i: int) -> str:
+    """Where an in-memory mechanism is written when the command keeps its
+    output at ``out``: beside it (``<stem>.mechanism<i>.toml``), so that
+    the commands its report shows run as written."""
+    return f"{_os.path.splitext(out)[0]}.mechanism{i}.toml"
+
+
+def _renamed(text: str, names: Mapping[str, str]) -> str:
+    """``text`` with each temporary mechanism file named as the user knows
+    it (``_mechanism_file``'s ``names``)."""
+    for path, source in names.items():
+        text = text.replace(path, source)
+    return text
 
 
 def _columns(rows: Sequence[Mapping[str, Any]]) -> Dict[str, FloatArray]:
@@ -184,20 +206,23 @@ def _negative(text: str) -> bool:
     return True
 
 
-def _run(args: List[str], echo: bool) -> None:
+def _run(args: List[str], echo: bool, names: Mapping[str, str] = {}) -> None:
     """Runs the command; what it prints on stdout (its table, which the
     result holds too) is dropped unless ``echo``. The process's stdout is
-    redirected for the call: not for concurrent threads that print."""
+    redirected for the call: not for concurrent threads that print. Its
+    errors and warnings call each temporary file of ``names`` by the name
+    the user knows it by (``_mechanism_file``)."""
     args = _joined(args)
+    named = list(names.items())
     if echo:
-        _native.run_command(args)
+        _native.run_command(args, named)
         return
     _sys.stdout.flush()
     saved = _os.dup(1)
     try:
         with open(_os.devnull, "wb") as null:
             _os.dup2(null.fileno(), 1)
-            _native.run_command(args)
+            _native.run_command(args, named)
     finally:
         _os.dup2(saved, 1)
         _os.close(saved)
@@ -234,11 +259,17 @@ def margin(
     ``{kind: value}``, ``spring_tolerance_pct`` and ``end_of_life_pct`` the
     springs' torque below nominal [%], ``deploy_time_s`` the time required
     to complete each stroke [s] (the dynamic margin), ``flight``; ``json``
-    keeps the file, ``plot`` draws the static margin along the stroke as a
-    PNG there)."""
+    keeps the file (and a mechanism given in memory beside it, as
+    ``<stem>.mechanism0.toml``, the file it names), ``plot`` draws the
+    static margin along the stroke as a PNG there)."""
+    names: Dict[str, str] = {}
     with _tempfile.TemporaryDirectory() as tmp:
         out = _path("json", json) if json is not None else _os.path.join(tmp, "margin.json")
-        args = ["margin", "--mechanism", _mechanism_file("mechanism", mechanism, tmp), "--quiet", "--json", out]
+        if json is not None:
+            mech = _mechanism_file("mechanism", mechanism, _beside(out, 0), {})
+        else:
+            mech = _mechanism_file("mechanism", mechanism, _os.path.join(tmp, "mechanism0.toml"), names)
+        args = ["margin", "--mechanism", mech, "--quiet", "--json", out]
         if friction is not None:
             args += ["--friction", ",".join(repr(x) for x in _reals("friction", friction))]
         if from_ is not None:
@@ -257,8 +288,10 @@ def margin(
             args += ["--plot", _path("plot", plot)]
         if flight:
             args.append("--flight")
-        _run(args, echo)
+        _run(args, echo, names)
         doc = _read_json(out)
+    if isinstance(doc.get("mechanism_file"), str):
+        doc["mechanism_file"] = _renamed(doc["mechanism_file"], names)
     rows = doc.get("joints", [])
     return Margins(json=doc, joints=_columns(rows if isinstance(rows, list) else []))
 
@@ -271,14 +304,20 @@ def identify(
     echo: bool = False,
 ) -> Identification:
     """``deploywatch identify`` of measured runs (CSV) on their mechanisms
-    (``method`` ``"direct"`` or ``"rsm"``; ``json`` keeps the file)."""
+    (``method`` ``"direct"`` or ``"rsm"``; ``json`` keeps the file, and a
+    mechanism given in memory beside it as ``<stem>.mechanism<i>.toml``)."""
     with _tempfile.TemporaryDirectory() as tmp:
         out = _path("json", json) if json is not None else _os.path.join(tmp, "identify.json")
         args = ["identify", "--method", str(method), "--quiet", "--json", out, "--plot", _os.path.join(tmp, "i.png")]
+        names: Dict[str, str] = {}
         for i, m in enumerate(_mechanism_list(mechanisms)):
-            args += ["--mechanism", _mechanism_file(f"mechanisms[{i}]", m, tmp, i)]
+            if json is not None:
+                mech = _mechanism_file(f"mechanisms[{i}]", m, _beside(out, i), {})
+            else:
+                mech = _mechanism_file(f"mechanisms[{i}]", m, _os.path.join(tmp, f"mechanism{i}.toml"), names)
+            args += ["--mechanism", mech]
         args += _paths("runs", runs)
-        _run(args, echo)
+        _run(args, echo, names)
         return Identification(json=_read_json(out))
 
 
@@ -298,29 +337,32 @@ def diagnose(
 ) -> Diagnosis:
     """``deploywatch diagnose``: the named causes of what the model gets
     wrong in the measured runs; the findings JSON written to ``json``, the
-    report (``.md``) and plots beside it. ``max_seconds`` stops the search
-    and writes the best model found so far, marked as such; so does Ctrl-C
-    (as the CLI's), in the first ``diagnose`` of the process (the signal
-    handler of the Rust crate it uses can be set once; in later calls
-    Ctrl-C is seen when the call returns: use ``max_seconds``)."""
+    report (``.md``) and plots beside it, and a mechanism given in memory
+    (not as its unchanged file) as ``<stem>.mechanism<i>.toml``, so that
+    the commands the report shows run as written. ``max_seconds`` stops
+    the search and writes the best model found so far, marked as such; so
+    does Ctrl-C (as the CLI's), in the first ``diagnose`` of the process
+    (the signal handler of the Rust crate it uses can be set once; in
+    later calls Ctrl-C is seen when the call returns: use
+    ``max_seconds``)."""
     out = _path("json", json)
-    with _tempfile.TemporaryDirectory() as tmp:
-        args = ["diagnose", "--json", out, "--quiet", "--max-effects", str(_whole("max_effects", max_effects))]
-        if max_seconds is not None:
-            args += ["--max-seconds", repr(_real("max_seconds", max_seconds))]
-        for i, m in enumerate(_mechanism_list(mechanisms)):
-            args += ["--mechanism", _mechanism_file(f"mechanisms[{i}]", m, tmp, i)]
-        args += _paths("runs", runs)
-        # The command takes Ctrl-C (its handler replaces Python's for the
-        # call: the search stops and the best model so far is written,
-        # marked, as the CLI does); Python's handler is put back after.
-        main = _threading.current_thread() is _threading.main_thread()
-        python_handler = _signal.getsignal(_signal.SIGINT) if main else None
-        try:
-            _run(args, echo)
-        finally:
-            if python_handler is not None:
-                _signal.signal(_signal.SIGINT, python_handler)
+    args = ["diagnose", "--json", out, "--quiet", "--max-effects", str(_whole("max_effects", max_effects))]
+    if max_seconds is not None:
+        args += ["--max-seconds", repr(_real("max_seconds", max_seconds))]
+    run_files = _paths("runs", runs)
+    for i, m in enumerate(_mechanism_list(mechanisms)):
+        args += ["--mechanism", _mechanism_file(f"mechanisms[{i}]", m, _beside(out, i), {})]
+    args += run_files
+    # The command takes Ctrl-C (its handler replaces Python's for the
+    # call: the search stops and the best model so far is written,
+    # marked, as the CLI does); Python's handler is put back after.
+    main = _threading.current_thread() is _threading.main_thread()
+    python_handler = _signal.getsignal(_signal.SIGINT) if main else None
+    try:
+        _run(args, echo)
+    finally:
+        if python_handler is not None:
+            _signal.signal(_signal.SIGINT, python_handler)
     return Diagnosis(json=_read_json(out), report=_os.path.splitext(out)[0] + ".md")
 
 
@@ -330,9 +372,11 @@ def replay(run: PathLike, mechanism: MechanismLike, out: Optional[PathLike] = No
     numpy columns (``out`` keeps the CSV)."""
     with _tempfile.TemporaryDirectory() as tmp:
         path = _path("out", out) if out is not None else _os.path.join(tmp, "status.csv")
-        args = ["replay", _existing("run", run), "--mechanism", _mechanism_file("mechanism", mechanism, tmp)]
+        names: Dict[str, str] = {}
+        mech = _mechanism_file("mechanism", mechanism, _os.path.join(tmp, "mechanism0.toml"), names)
+        args = ["replay", _existing("run", run), "--mechanism", mech]
         args += ["--target", "host", "--quiet", "--out", path]
-        _run(args, echo)
+        _run(args, echo, names)
         return _read_columns(path)
 
 
@@ -401,7 +445,9 @@ def hil(
     with _tempfile.TemporaryDirectory() as tmp:
         status = _path("out", out) if out is not None else _os.path.join(tmp, "status.csv")
         lat = _path("latency", latency) if latency is not None else _os.path.join(tmp, "latency.csv")
-        args = ["hil", _existing("run", run), "--mechanism", _mechanism_file("mechanism", mechanism, tmp)]
+        names: Dict[str, str] = {}
+        mech = _mechanism_file("mechanism", mechanism, _os.path.join(tmp, "mechanism0.toml"), names)
+        args = ["hil", _existing("run", run), "--mechanism", mech]
         args += ["--quiet", "--out", status, "--latency", lat, "--baud", str(_whole("baud", baud))]
         args += ["--every", str(_whole("every", every)), "--drop", repr(_real("drop", drop)), "--corrupt", repr(_real("corrupt", corrupt))]
         args += ["--seed", str(_whole("seed", seed))]
@@ -419,5 +465,5 @@ def hil(
             args += ["--icount", str(_whole("icount", icount))]
         if require_deadlines:
             args.append("--require-deadlines")
-        _run(args, echo)
+        _run(args, echo, names)
         return Hil(statuses=_read_columns(status), latency=_read_columns(lat))

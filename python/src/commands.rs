@@ -29,21 +29,35 @@ fn clap_message(e: &clap::Error) -> String {
     m
 }
 
+/// `text` with each file of `names` (`(path, name)`) called by its name.
+fn renamed(text: &str, names: &[(String, String)]) -> String {
+    names
+        .iter()
+        .fold(text.to_string(), |t, (path, name)| t.replace(path, name))
+}
+
 /// Runs `deploywatch ARGS...` in this process: `InputError` for what the
 /// binary exits 2 on (a bad argument, file or path), `DeploywatchError`
 /// for what it exits 1 on (the work failed). The GIL is released while it
-/// runs.
+/// runs. `names` (`(path, name)`): files the package wrote for the call
+/// (a mechanism given in memory), called in the errors and warnings by
+/// the name the user knows them by, not by a path deleted after the call.
 #[pyfunction]
-pub(crate) fn run_command(py: Python<'_>, args: Vec<String>) -> PyResult<()> {
+#[pyo3(signature = (args, names=Vec::new()))]
+pub(crate) fn run_command(
+    py: Python<'_>,
+    args: Vec<String>,
+    names: Vec<(String, String)>,
+) -> PyResult<()> {
     let argv = std::iter::once("deploywatch".to_string()).chain(args);
-    let parsed =
-        Cli::try_parse_from(argv).map_err(|e| Kind::Input.raise(clap_message(&e), Vec::new()))?;
+    let parsed = Cli::try_parse_from(argv)
+        .map_err(|e| Kind::Input.raise(renamed(&clap_message(&e), &names), Vec::new()))?;
     let (done, warnings) = py.allow_threads(|| cli::capturing_warnings(|| cli::run(parsed)));
     // What the binary says on stderr as `warning: …`, each a `UserWarning`
     // (level 3: the user's call of the package's function, which calls
     // this through its `_run`), also when the command then failed.
     for w in &warnings {
-        let text = std::ffi::CString::new(crate::errors::pythonic(w))
+        let text = std::ffi::CString::new(crate::errors::pythonic(&renamed(w, &names)))
             .map_err(|e| Kind::Other.raise(e.to_string(), Vec::new()))?;
         PyErr::warn(py, &py.get_type::<PyUserWarning>(), &text, 3)?;
     }
@@ -53,6 +67,6 @@ pub(crate) fn run_command(py: Python<'_>, args: Vec<String>) -> PyResult<()> {
         } else {
             Kind::Other
         };
-        kind.raise(e.message, Vec::new())
+        kind.raise(renamed(&e.message, &names), Vec::new())
     })
 }

@@ -247,3 +247,52 @@ def test_the_commands_warnings_are_user_warnings(root, tmp_path, cli):
         dw.margin(m)
     assert [str(w.message) for w in caught] == said
     assert all(w.filename == __file__ for w in caught), [w.filename for w in caught]
+
+
+def test_a_mechanism_in_memory_is_named_as_the_user_knows_it(root, tmp_path, monkeypatch):
+    """A ``Mechanism`` made from text has no file: the command is handed a
+    temporary one, which is deleted when it returns. What the user is given
+    back names the ``Mechanism`` as it names itself, or a file that exists
+    and holds what was analysed: never the deleted path."""
+    monkeypatch.chdir(root)
+    text = open(T02, encoding="utf-8").read()
+    mech = dw.Mechanism.from_str(text, "wing-in-notebook")
+    # Returned JSON, no file kept: the Mechanism's own name.
+    got = dw.margin(mech, friction=[0.5, 1.7, 0.01])
+    assert got.json["mechanism_file"] == "wing-in-notebook"
+    # JSON kept: the mechanism's text beside it, the file the JSON names.
+    kept = dw.margin(mech, friction=[0.5, 1.7, 0.01], json=tmp_path / "m.json")
+    named = kept.json["mechanism_file"]
+    assert named == str(tmp_path / "m.mechanism0.toml")
+    assert open(named, encoding="utf-8").read() == text
+    assert json.loads((tmp_path / "m.json").read_text())["mechanism_file"] == named
+    # The margins are those of the file itself.
+    assert kept.joints["torque_margin_pct"].tolist() == dw.margin(T02, friction=[0.5, 1.7, 0.01]).joints[
+        "torque_margin_pct"].tolist()
+    # An error about the mechanism names it as the user does, and so does a
+    # warning about it.
+    with pytest.raises(dw.InputError) as e:
+        dw.margin(mech, friction=[0.5])
+    assert "wing-in-notebook has 3 joints" in str(e.value), str(e.value)
+    radians = dw.Mechanism.from_str(text.replace("stowed_deg = -180.0", "stowed_deg = -3.14159"), "in-radians")
+    with pytest.warns(UserWarning) as caught:
+        dw.margin(radians, friction=[0.5, 1.7, 0.01])
+    said = [str(w.message) for w in caught]
+    assert any(w.startswith("in-radians:31: `joint[3].stowed_deg`") for w in said), said
+    assert not any("mechanism0.toml" in w for w in said), said
+    assert all(w.filename == __file__ for w in caught), [w.filename for w in caught]
+    # A Mechanism whose file has changed since it was read is the text read.
+    edited = tmp_path / "edited.toml"
+    edited.write_text(text, encoding="utf-8")
+    as_read = dw.Mechanism.from_toml(edited)
+    edited.write_text(text + "\n# edited after it was read\n", encoding="utf-8")
+    with pytest.raises(dw.InputError) as e:
+        dw.margin(as_read, friction=[0.5])
+    assert f"{edited} (as read; the file has changed since) has 3 joints" in str(e.value), str(e.value)
+    # diagnose keeps its files: its report's next-step commands name the
+    # mechanism written beside them, which exists.
+    dw.diagnose(HARNESS, [dw.Mechanism.from_toml(T01), dw.Mechanism.from_str(text)], json=tmp_path / "d.json")
+    report = (tmp_path / "d.md").read_text()
+    assert str(tmp_path / "d.mechanism1.toml") in report
+    assert (tmp_path / "d.mechanism1.toml").read_text() == text
+    assert not (tmp_path / "d.mechanism0.toml").exists(), "T01 is read from its unchanged file"

@@ -19,6 +19,11 @@ import os, signal, sys, threading, time
 from concurrent.futures import ThreadPoolExecutor
 import deploywatch
 
+# Python's own Ctrl-C handler, as in a terminal: a child of a background
+# job (a CI lane started with `&` by a non-interactive shell) inherits
+# SIGINT ignored, and Python then leaves it ignored.
+signal.signal(signal.SIGINT, signal.default_int_handler)
+
 def interrupt():
     time.sleep(1.0)
     os.kill(os.getpid(), signal.SIGINT)
