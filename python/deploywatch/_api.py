@@ -12,7 +12,8 @@ import numpy as _np
 import numpy.typing as _npt
 
 from . import _native
-from ._errors import InputError, MissingFileError
+from ._checks import _file_name
+from ._errors import InputError
 from ._model import CriterionLike, EffectLike, Mechanism, PathLike, VaryLike, strings
 from ._results import Batch, FloatArray, Reliability, Trajectory
 
@@ -41,13 +42,7 @@ def _text(name: str, path: Any) -> "tuple[str, str]":
     :class:`Mechanism`)."""
     if isinstance(path, Mechanism):
         return path.toml, path.source
-    if not isinstance(path, (str, _os.PathLike)):
-        raise InputError(f"{name}: expected a file name (str or pathlib.Path), got {type(path).__name__}")
-    p = _os.fspath(path)
-    if not isinstance(p, str):
-        raise InputError(f"{name}: expected a file name as text, got {type(p).__name__}")
-    if not _os.path.exists(p):
-        raise MissingFileError(f"{name}: {p}: no such file", filename=p)
+    p = _file_name(name, path)
     with open(p, encoding="utf-8") as f:
         return f.read(), p
 

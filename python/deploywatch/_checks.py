@@ -5,11 +5,13 @@ with an ``InputError`` that names the argument (never ``float()``'s
 
 from __future__ import annotations
 
+import os as _os
+import re as _re
 from typing import Any, Callable, Type, TypeVar
 
 import numpy as _np
 
-from ._errors import InputError
+from ._errors import InputError, MissingFileError
 
 _T = TypeVar("_T")
 
@@ -26,6 +28,33 @@ def _whole(name: str, value: Any) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
         raise InputError(f"{name}: expected an integer, got {type(value).__name__} {value!r}")
     return int(value)
+
+
+#: A TOML key line's start (``name = ...``): a "file name" that reads so is
+#: a file's text given in its place.
+_TOML_KEY = _re.compile(r"\s*[A-Za-z0-9_.\"-]+\s*=")
+
+
+def _file_name(name: str, value: Any) -> str:
+    """A file name (``str`` or ``os.PathLike``) of a file that exists:
+    ``MissingFileError`` (an ``InputError`` and a ``FileNotFoundError``)
+    naming the argument when it does not, and an ``InputError`` that says
+    so when what was given is a file's text (several lines, or a TOML key
+    line) rather than its name."""
+    if not isinstance(value, (str, _os.PathLike)):
+        raise InputError(f"{name}: expected a file name (str or pathlib.Path), got {type(value).__name__}")
+    p = _os.fspath(value)
+    if not isinstance(p, str):
+        raise InputError(f"{name}: expected a file name as text, got {type(p).__name__}")
+    if _os.path.exists(p):
+        return p
+    if "\n" in p or (_TOML_KEY.match(p) and not p.endswith(".toml")):
+        first = next((line.strip() for line in p.splitlines() if line.strip()), "")
+        raise InputError(
+            f"{name}: expected a file name, got a file's text ({first!r} ...): "
+            "give its name, or parse a mechanism's text with Mechanism.from_str(text)"
+        )
+    raise MissingFileError(f"{name}: {p}: no such file", filename=p)
 
 
 #: The check of each annotation a typed argument's field may carry.

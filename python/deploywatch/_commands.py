@@ -23,8 +23,8 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 import numpy as _np
 
 from . import _native
-from ._checks import _real, _whole
-from ._errors import InputError, MissingFileError
+from ._checks import _file_name, _real, _whole
+from ._errors import InputError
 from ._model import Mechanism, PathLike
 from ._results import FloatArray, _pandas
 
@@ -41,12 +41,8 @@ def _path(name: str, value: Any) -> str:
 
 
 def _existing(name: str, value: Any) -> str:
-    """A file to read: ``MissingFileError`` (an ``InputError`` and a
-    ``FileNotFoundError``) naming the argument when it does not exist."""
-    p = _path(name, value)
-    if not _os.path.exists(p):
-        raise MissingFileError(f"{name}: {p}: no such file", filename=p)
-    return p
+    """A file to read (``_checks._file_name``)."""
+    return _file_name(name, value)
 
 
 def _reals(name: str, value: Any) -> List[float]:

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 from . import _native
-from ._checks import checked
-from ._errors import InputError, MissingFileError
+from ._checks import _file_name, checked
+from ._errors import InputError
 from ._results import Trajectory
 
 
@@ -492,21 +492,25 @@ class Mechanism:
     def from_toml(cls, path: PathLike) -> "Mechanism":
         """The mechanism of a TOML file (``MechanismError`` naming the file,
         line and key)."""
-        if not isinstance(path, (str, _os.PathLike)):
-            raise InputError(f"path: expected a file name (str or pathlib.Path), got {type(path).__name__}")
-        p = _os.fspath(path)
-        if not isinstance(p, str):
-            raise InputError(f"path: expected a file name as text, got {type(p).__name__}")
-        if not _os.path.exists(p):
-            raise MissingFileError(f"path: {p}: no such file", filename=p)
+        p = _file_name("path", path)
         with open(p, encoding="utf-8") as f:
             return cls(_native.Model(f.read(), p))
 
     @classmethod
     def from_str(cls, text: str, source: str = "<string>") -> "Mechanism":
         """The mechanism of TOML ``text``; ``source`` names it in errors."""
+        if isinstance(text, _os.PathLike):
+            raise InputError(
+                f"text: expected the TOML text as str, got the file name {_os.fspath(text)!r}: "
+                f"Mechanism.from_toml({_os.fspath(text)!r}) reads the file"
+            )
         if not isinstance(text, str):
             raise InputError(f"text: expected the TOML text as str, got {type(text).__name__}")
+        name = text.strip()
+        if "\n" not in name and "=" not in name and (name.endswith(".toml") or _os.path.isfile(name)):
+            raise InputError(
+                f"text: expected the TOML text, got the file name {name!r}: Mechanism.from_toml({name!r}) reads the file"
+            )
         return cls(_native.Model(text, str(source)))
 
     @property

@@ -85,6 +85,29 @@ def test_a_mechanism_file_that_is_not_toml(tmp_path):
     assert isinstance(e.value, ValueError)
 
 
+def test_a_file_name_and_a_files_text_swapped(root, monkeypatch):
+    """A file's name where its text is meant, and its text where its name
+    is meant: each refused with what was given and the call that takes it,
+    not parsed as TOML (``invalid TOML at column 5``) or looked up as a
+    file of many lines; a name that is not there is still a missing file."""
+    monkeypatch.chdir(root)
+    text = (root / MECH).read_text(encoding="utf-8")
+    for name in (MECH, root / MECH):
+        with pytest.raises(InputError, match=r"^text: expected the TOML text.*Mechanism\.from_toml\(") as e:
+            deploywatch.Mechanism.from_str(name)
+        assert not isinstance(e.value, MechanismError)
+    with pytest.raises(InputError, match=r"^path: expected a file name, got a file's text \('name = .*Mechanism\.from_str"):
+        deploywatch.Mechanism.from_toml(text)
+    with pytest.raises(InputError, match=r"^mechanism: expected a file name, got a file's text"):
+        deploywatch.simulate(text)
+    with pytest.raises(InputError, match=r"^mechanism: expected a file name, got a file's text"):
+        deploywatch.margin(text)
+    with pytest.raises(InputError, match=r"^path: expected a file name, got a file's text"):
+        deploywatch.Mechanism.from_toml('name = "wing"')
+    with pytest.raises(FileNotFoundError, match="no such file"):
+        deploywatch.Mechanism.from_toml("runs/a=1/wing.toml")
+
+
 def test_a_mechanism_file_with_a_wrong_key(root):
     # Valid TOML, not a mechanism: the file, the line, the keys expected.
     with pytest.raises(MechanismError, match=r"pyproject\.toml:1: unknown key `build-system`; expected one of"):
