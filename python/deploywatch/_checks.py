@@ -1,7 +1,8 @@
 """The type checks of the arguments Python users give: a number where a
-number is meant, a whole number where a count or a joint is, each refused
-with an ``InputError`` that names the argument (never ``float()``'s
-``ValueError`` or a ``TypeError`` from deep inside)."""
+number is meant, a whole number where a count or a joint is, a file's name
+(of a file that exists) where a file is, each refused with an
+``InputError`` that names the argument (never ``float()``'s ``ValueError``
+or a ``TypeError`` from deep inside)."""
 
 from __future__ import annotations
 
