@@ -94,14 +94,6 @@ def _beside(out: str, i: int) -> str:
     return f"{_os.path.splitext(out)[0]}.mechanism{i}.toml"
 
 
-def _renamed(text: str, names: Mapping[str, str]) -> str:
-    """``text`` with each temporary mechanism file named as the user knows
-    it (``_mechanism_file``'s ``names``)."""
-    for path, source in names.items():
-        text = text.replace(path, source)
-    return text
-
-
 def _columns(rows: Sequence[Mapping[str, Any]]) -> Dict[str, FloatArray]:
     """The numeric fields of a list of records as float64 columns (``None``,
     the JSON of a non-finite value, as NaN)."""
@@ -286,8 +278,10 @@ def margin(
             args.append("--flight")
         _run(args, echo, names)
         doc = _read_json(out)
-    if isinstance(doc.get("mechanism_file"), str):
-        doc["mechanism_file"] = _renamed(doc["mechanism_file"], names)
+    # The one path the JSON holds: the mechanism's file, named as the user knows it.
+    file = doc.get("mechanism_file")
+    if isinstance(file, str):
+        doc["mechanism_file"] = names.get(file, file)
     rows = doc.get("joints", [])
     return Margins(json=doc, joints=_columns(rows if isinstance(rows, list) else []))
 
