@@ -29,7 +29,7 @@ pub mod telemetry;
 // the rest of the physics (the latch hardware, the friction law's shape
 // functions, the solver), `monitor` the on-board monitor.
 pub use physics::chain::{
-    Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel,
+    Chain, ChainError, ChainState, GlobalEffects, Joint, JointEffects, JointTorque, Mode, Panel,
 };
 pub use physics::friction::Friction;
 pub use physics::real::Real;

@@ -30,7 +30,7 @@ mod distributed;
 mod kinematics;
 mod parts;
 
-pub use counted::{ChainRef, Coefficients};
+pub use counted::{ChainRef, Coefficients, JointTorque};
 pub use parts::{
     ChainError, ChainState, GlobalEffects, Joint, JointEffects, Mode, Panel, DETENT_ZONE_DEG,
 };
@@ -282,6 +282,17 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
     pub fn acceleration(&self, x: &ChainState<T, N>, mode: &Mode<N>) -> Result<[T; N], ChainError> {
         let (m, rhs) = self.equations(x, mode);
         Ok(solve_spd_masked(&m, &rhs, &mode.latched)?)
+    }
+
+    /// [`Chain::acceleration`] with the joint torques it was found from
+    /// ([`ChainRef::equations_with_torques`]; zero for latched joints).
+    pub fn acceleration_with_torques(
+        &self,
+        x: &ChainState<T, N>,
+        mode: &Mode<N>,
+    ) -> Result<([T; N], [JointTorque<T>; N]), ChainError> {
+        let (m, rhs, torques) = self.counted().equations_with_torques(x, mode);
+        Ok((solve_spd_masked(&m, &rhs, &mode.latched)?, torques))
     }
 
     /// Inverse dynamics: the joint torques [N·m] the model lacks for the

@@ -12,7 +12,7 @@
 use crate::model::effect::{self, Effect};
 use crate::model::mechanism::{with_joints, Mechanism, MAX_CHAIN_JOINTS};
 use crate::model::torque_table::HostChain;
-use crate::simulate::chain_ledger::{self, Booking, ChainLedger};
+use crate::simulate::chain_ledger::{self, Booking, ChainLedger, Power, StagePowers};
 use crate::simulate::chain_sampler::Sampler;
 use crate::simulate::ode::{self, locate, State};
 use crate::simulate::spring_knots::{self, Knots};
@@ -23,23 +23,8 @@ pub use crate::simulate::trajectory::{
 use deploywatch_core::physics::stick::{holding_torques, StickBand};
 use deploywatch_core::{Branch, Mode};
 
-/// Most branch events one joint may have within [`BRANCH_BURST_WINDOW_S`]
-/// before the simulation is declared to slide on `φ̇ = 0`.
-pub const MAX_BRANCH_BURST: usize = 10;
-
-/// The window of [`MAX_BRANCH_BURST`] \[s\]: 1 ms, a tenth of a sample at
-/// 100 Hz; a spring switching branches more often than that is chattering,
-/// not moving.
-pub const BRANCH_BURST_WINDOW_S: f64 = 1e-3;
-
-/// Most consecutive events at one instant before the simulation is declared
-/// to slide: five per joint of the longest chain ([`MAX_CHAIN_JOINTS`]),
-/// far more than a latch and a branch switch each.
-pub const MAX_SAME_INSTANT_EVENTS: usize = 20;
-
-/// Events closer than this are at the same instant \[s\]: the precision to
-/// which [`ode::locate`] finds an event time of seconds.
-pub const SAME_INSTANT_S: f64 = 1e-12;
+mod event_log;
+use event_log::{EventLog, SAME_INSTANT_S};
 
 /// A joint this close to its latch angle on the stowed side \[rad\] latches
 /// with the joint whose event fired: a located event leaves the angle a
@@ -202,6 +187,13 @@ struct Integrator<'a, const N: usize> {
     /// below and above \[rad\]), for [`Event::Knot`].
     piece: [(f64, f64); N],
     evaluations: usize,
+    /// The power of the non-conservative forces at the last evaluation
+    /// ([`chain_ledger::power`]).
+    power: Power<N>,
+    /// The power at the start of the next attempt (with its `k1`).
+    power_at_start: Power<N>,
+    /// The powers of the last attempt's evaluations, `[0]` at its start.
+    stages: StagePowers<N>,
 }
 
 impl<const N: usize> Integrator<'_, N> {
@@ -209,7 +201,15 @@ impl<const N: usize> Integrator<'_, N> {
     /// spring's curve, each joint's piece found again.
     fn next_piece(&mut self, y: &State<N>, t: f64) -> Result<State<N>, SimError> {
         self.find_pieces(y);
-        self.deriv(y).ok_or(SimError::Singular { t_s: t })
+        self.first_stage(y, t)
+    }
+
+    /// The derivative `k1` at `y`, time `t`, where a step starts afresh
+    /// (not from the last step's end), with its power kept for the ledger.
+    fn first_stage(&mut self, y: &State<N>, t: f64) -> Result<State<N>, SimError> {
+        let k1 = self.deriv(y).ok_or(SimError::Singular { t_s: t })?;
+        self.power_at_start = self.power;
+        Ok(k1)
     }
 
     /// Finds the piece of each joint's spring curve at `y` on its branch.
@@ -267,7 +267,11 @@ impl<const N: usize> Integrator<'_, N> {
     fn deriv(&mut self, y: &State<N>) -> Option<State<N>> {
         self.evaluations += 1;
         let held = self.held();
-        let a = self.chain.acceleration(&y.chain(), &held).ok()?;
+        let (a, torques) = self
+            .chain
+            .acceleration_with_torques(&y.chain(), &held)
+            .ok()?;
+        self.power = chain_ledger::power(self.chain, &held, y, &torques);
         let mut v = y.v;
         for (j, vj) in v.iter_mut().enumerate() {
             if held.latched[j] {
@@ -423,7 +427,7 @@ pub fn run_chain_latching<const N: usize>(
     out.push_while(|tk| tk <= 0.0, |_| y, &it.mode.latched)?;
 
     let mut t = 0.0;
-    let mut k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
+    let mut k1 = it.first_stage(&y, t)?;
     let mut h = ode::INITIAL_STEP_S.min(opts.max_step_s);
     let mut events = EventLog::<N>::new();
     let mut done = false;
@@ -444,7 +448,8 @@ pub fn run_chain_latching<const N: usize>(
         // event instant itself is taken after the event is applied.
         let cut = first.is_some();
         let y_end = if cut { att.dense.at(t_end) } else { att.y1 };
-        let cap = match ledger.book(it.chain, &it.mode, &att.dense, (t_end, &y_end), cut)? {
+        let powers = (t, h, &it.stages);
+        let cap = match ledger.book(it.chain, powers, (t_end, &y_end), cut)? {
             Booking::Kept { cap } => cap,
             Booking::Retake { h: next } => {
                 out.out.stats.retake(t_end - t);
@@ -468,6 +473,7 @@ pub fn run_chain_latching<const N: usize>(
         }
         let Some(ev) = first else {
             (t, y, k1) = (t1, att.y1, att.k7);
+            it.power_at_start = it.stages[6];
             h = it.step_control.accept(h, att.err).min(cap);
             events.same_instant = 0;
             continue;
@@ -479,7 +485,7 @@ pub fn run_chain_latching<const N: usize>(
         done = it.apply_event(ev, &mut y, t_end, opts, &mut events, &mut out.out)?;
         ledger.event(it.chain, before, &y, t_end, ev.joint() + 1)?;
         t = t_end;
-        k1 = it.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
+        k1 = it.first_stage(&y, t)?;
         // Restart with a modest step after a discontinuity.
         h = h.min(ode::RESTART_STEP_S);
         it.step_control.restart();
@@ -489,52 +495,6 @@ pub fn run_chain_latching<const N: usize>(
     out.close(t, &y, &it.mode.latched, done, opts)?;
     out.out.stats.evaluations = it.evaluations;
     Ok(out.out)
-}
-
-/// Events of the run so far that decide whether a joint slides on `φ̇ = 0`.
-struct EventLog<const N: usize> {
-    /// Consecutive events at the same instant.
-    same_instant: usize,
-    /// Per joint: the start of the last millisecond of branch events and
-    /// their count (a burst is Zeno chattering between the branches).
-    burst: [(f64, usize); N],
-}
-
-impl<const N: usize> EventLog<N> {
-    fn new() -> Self {
-        EventLog {
-            same_instant: 0,
-            burst: [(f64::NEG_INFINITY, 0usize); N],
-        }
-    }
-
-    /// Records an event at `t_end` of a step from `t`: a run of events at
-    /// one instant grows.
-    fn event(&mut self, t: f64, t_end: f64) {
-        self.same_instant = if (t_end - t).abs() < SAME_INSTANT_S {
-            self.same_instant + 1
-        } else {
-            0
-        };
-    }
-
-    /// Records a branch event of joint `j` at `t`; an error when the joint
-    /// slides.
-    fn branch(&mut self, j: usize, t: f64) -> Result<(), SimError> {
-        let (last, count) = self.burst[j];
-        self.burst[j] = if t - last < BRANCH_BURST_WINDOW_S {
-            (last, count + 1)
-        } else {
-            (t, 1)
-        };
-        if self.same_instant > MAX_SAME_INSTANT_EVENTS || self.burst[j].1 > MAX_BRANCH_BURST {
-            return Err(SimError::Sliding {
-                joint: j + 1,
-                t_s: t,
-            });
-        }
-        Ok(())
-    }
 }
 
 impl<'a, const N: usize> Integrator<'a, N> {
@@ -551,6 +511,9 @@ impl<'a, const N: usize> Integrator<'a, N> {
             latching,
             piece: [(f64::NEG_INFINITY, f64::INFINITY); N],
             evaluations: 0,
+            power: Power::ZERO,
+            power_at_start: Power::ZERO,
+            stages: [Power::ZERO; 7],
         };
         let mut y = State::<N>::ZERO;
         for (j, jt) in chain.joints().iter().enumerate() {
@@ -576,8 +539,22 @@ impl<'a, const N: usize> Integrator<'a, N> {
         h: &mut f64,
         opts: &SimOptions,
     ) -> Result<Option<ode::Attempt<N>>, SimError> {
-        let mut f = |_t: f64, s: &State<N>| self.deriv(s);
-        let Some(att) = ode::step(&mut f, t, y, k1, *h, opts.rtol, opts.atol) else {
+        // The powers of the evaluations, in order, beside the derivatives:
+        // `[0]` is the start's, kept since `k1` was evaluated.
+        let mut stages = self.stages;
+        stages[0] = self.power_at_start;
+        let mut next = 1;
+        let mut f = |_t: f64, s: &State<N>| {
+            let k = self.deriv(s);
+            if let Some(p) = stages.get_mut(next) {
+                *p = self.power;
+            }
+            next += 1;
+            k
+        };
+        let step = ode::step(&mut f, t, y, k1, *h, opts.rtol, opts.atol);
+        self.stages = stages;
+        let Some(att) = step else {
             // The trial state left the domain (e.g. NaN): shrink.
             *h *= ode::FAILED_STEP_SHRINK;
             stats.rejected += 1;

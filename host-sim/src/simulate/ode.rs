@@ -184,6 +184,34 @@ where
     })
 }
 
+/// `∫ P dt` over the first `s·h` of a step of `h` \[s\] (`s` ∈ [0, 1]), of a
+/// rate `P` evaluated with each of the step's derivatives: `p[0]` with
+/// `k1`, `p[i]` with stage `i + 1`, `p[6]` with `k7` at the step's end. At
+/// `s = 1` it is the step's own 5th-order quadrature `h Σ b_i P_i`;
+/// inside, the step's continuous extension of it, as [`Dense::at`] is of
+/// the state (a quantity integrated beside the state, without entering its
+/// error norm).
+pub fn stage_integral(h: f64, p: &[f64; 7], s: f64) -> f64 {
+    let k = p.map(|pi| State::<1> { q: [pi], v: [0.0] });
+    let w1 = State::ZERO.axpy(
+        h,
+        &[
+            (A71, &k[0]),
+            (A73, &k[2]),
+            (A74, &k[3]),
+            (A75, &k[4]),
+            (A76, &k[5]),
+        ],
+    );
+    let r = dense_coefficients(
+        &State::ZERO,
+        &w1,
+        [&k[0], &k[2], &k[3], &k[4], &k[5], &k[6]],
+        h,
+    );
+    Dense { t0: 0.0, h, r }.at(s * h).q[0]
+}
+
 /// The error norm of a step: the RMS over the `2N` components of the
 /// embedded error `e`, each scaled by `atol + rtol · max(|y|, |y1|)`.
 #[inline]
@@ -468,5 +496,33 @@ mod tests {
         }
         assert!((y.q[0] - 10f64.cos()).abs() < 1e-8);
         assert!(worst < 1e-8, "{worst}");
+    }
+
+    #[test]
+    fn stage_integral_is_the_steps_own_quadrature() {
+        // The stages sit at t0 + c·h, c = 0, 1/5, 3/10, 4/5, 8/9, 1, 1
+        // (FSAL). Over the whole step the weights are exact for a rate of
+        // degree 4 in t (5th order), and the continuous extension to any
+        // point inside for degree 3 (4th order); degree 5 is not exact.
+        let c = [0.0, C2, C3, C4, C5, 1.0, 1.0];
+        let (t0, h) = (0.7, 0.3);
+        let stages = |deg: i32| c.map(|ci| (t0 + ci * h).powi(deg));
+        let exact =
+            |deg: i32, s: f64| ((t0 + s * h).powi(deg + 1) - t0.powi(deg + 1)) / f64::from(deg + 1);
+        let rel = |got: f64, want: f64| (got - want).abs() / want.abs();
+        for deg in 0..=4 {
+            let got = stage_integral(h, &stages(deg), 1.0);
+            assert!(rel(got, exact(deg, 1.0)) < 1e-14, "degree {deg}: {got}");
+        }
+        for deg in 0..=3 {
+            for s in [0.1, 0.37, 0.5, 0.9] {
+                let got = stage_integral(h, &stages(deg), s);
+                assert!(
+                    rel(got, exact(deg, s)) < 1e-13,
+                    "degree {deg} at {s}: {got}"
+                );
+            }
+        }
+        assert!(rel(stage_integral(h, &stages(5), 1.0), exact(5, 1.0)) > 1e-9);
     }
 }

@@ -27,6 +27,16 @@ impl<T: Real, const M: usize> Coefficients<T, M> {
     };
 }
 
+/// The torque on one joint [N·m] ([`ChainRef::joint_torque_parts`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct JointTorque<T> {
+    /// Its spring's term `(1 − s) · τ_spring(φ, branch)`, `s` the
+    /// joint's `spring_softening` (not multiplied when `s = 0`).
+    pub spring: T,
+    /// The whole torque: spring, friction, joint effects and tables.
+    pub total: T,
+}
+
 /// A chain's equations over arrays of capacity `M` holding `n ≤ M` joints,
 /// the count known at run time ([`Chain::counted`](super::Chain::counted), [`Chain::counted_with`](super::Chain::counted_with)).
 /// Every loop runs over the first `n` joints in the order of the fixed-size
@@ -85,14 +95,28 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
     /// at angle `phi` \[rad\] and rate `phi_dot` [rad/s] on `branch`.
     #[inline(always)]
     pub fn joint_torque(&self, j: usize, phi: T, phi_dot: T, branch: Branch) -> T {
+        self.joint_torque_parts(j, phi, phi_dot, branch).total
+    }
+
+    /// [`ChainRef::joint_torque`] with its spring's term beside it, from
+    /// the same operations (the total is the same to the bit).
+    #[inline(always)]
+    pub fn joint_torque_parts(
+        &self,
+        j: usize,
+        phi: T,
+        phi_dot: T,
+        branch: Branch,
+    ) -> JointTorque<T> {
         let Some(jt) = self.joints.get(j) else {
-            return T::ZERO;
+            return JointTorque::default();
         };
         let e = &jt.effects;
         let mut t = jt.spring.torque(phi, branch);
         if e.spring_softening != T::ZERO {
             t *= T::ONE - e.spring_softening;
         }
+        let spring = t;
         t += jt.friction.torque(phi_dot);
         // `coulomb_friction` (physics.md 6): the EFT of the one friction law.
         if e.coulomb_nm != T::ZERO {
@@ -116,13 +140,28 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
                 t -= e.detent_nm * phi.signum0() * (two_pi * a / delta).sin();
             }
         }
-        t + e.table.torque(phi, phi_dot)
+        JointTorque {
+            spring,
+            total: t + e.table.torque(phi, phi_dot),
+        }
     }
 
     /// Mass matrix and right-hand side `τ + Sᵀ(Q_ext − C)` of Lagrange's
     /// equations in joint coordinates.
     #[inline(always)]
     pub fn equations(&self, x: &ChainState<T, M>, mode: &Mode<M>) -> ([[T; M]; M], [T; M]) {
+        let (m, rhs, _) = self.equations_with_torques(x, mode);
+        (m, rhs)
+    }
+
+    /// [`ChainRef::equations`] with the torque of each joint `τ_j` it
+    /// holds ([`ChainRef::joint_torque_parts`]; zero for a latched joint).
+    #[inline(always)]
+    pub fn equations_with_torques(
+        &self,
+        x: &ChainState<T, M>,
+        mode: &Mode<M>,
+    ) -> ([[T; M]; M], [T; M], [JointTorque<T>; M]) {
         let n = self.joint_count();
         let th = absolute(n, &x.phi);
         let thd = absolute(n, &x.phi_dot);
@@ -143,12 +182,14 @@ impl<T: Real, const M: usize, const K: usize> ChainRef<'_, T, M, K> {
             diff[k] = q[k] - cor[k];
         }
         let mut rhs = st(n, &diff);
+        let mut torques = [JointTorque::default(); M];
         for j in 0..n {
             if !mode.latched[j] {
-                rhs[j] += self.joint_torque(j, x.phi[j], x.phi_dot[j], mode.branch[j]);
+                torques[j] = self.joint_torque_parts(j, x.phi[j], x.phi_dot[j], mode.branch[j]);
+                rhs[j] += torques[j].total;
             }
         }
         congruence(n, &mut d);
-        (d, rhs)
+        (d, rhs, torques)
     }
 }
