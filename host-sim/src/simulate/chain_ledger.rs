@@ -61,9 +61,15 @@ pub fn power<const N: usize>(
     y: &State<N>,
     torques: &[JointTorque<f64>; N],
 ) -> Power<N> {
+    // `drag_power` is 0 without drag: not called (once per evaluation).
+    let drag = if chain.global().air_drag_kg_m2 == 0.0 {
+        0.0
+    } else {
+        chain.drag_power(&y.chain())
+    };
     let mut p = Power {
         joints: [0.0; N],
-        drag: chain.drag_power(&y.chain()),
+        drag,
     };
     for (j, jt) in chain.joints().iter().enumerate() {
         if mode.latched[j] {

@@ -174,3 +174,37 @@ fn bad_panel_is_an_error() {
         Some(ChainError::BadPanel { index: 1 })
     );
 }
+
+#[test]
+fn acceleration_with_torques_is_acceleration_to_the_bit() {
+    // With friction, a softened spring, a harness and a latched joint: the
+    // same accelerations as `acceleration`, each free joint's total the
+    // bits of `joint_torque`, its spring term the softened spring's, and
+    // the latched joint's torques zero.
+    let mut c = chain3();
+    let j = c.joint_mut(1).unwrap();
+    j.friction = Friction::coulomb(0.3);
+    j.effects.spring_softening = 0.25;
+    j.effects.harness_nm_per_rad = 0.4;
+    c.joint_mut(2).unwrap().effects.viscous_nms = 0.7;
+    let x = ChainState {
+        phi: [0.2, -0.5, 1.0],
+        phi_dot: [0.4, -1.0, 2.0],
+    };
+    let mode = Mode {
+        latched: [true, false, false],
+        branch: [Branch::Unfold, Branch::Fold, Branch::Unfold],
+    };
+    let plain = c.acceleration(&x, &mode).unwrap();
+    let (acc, torques) = c.acceleration_with_torques(&x, &mode).unwrap();
+    assert_eq!(plain.map(f64::to_bits), acc.map(f64::to_bits));
+    assert_eq!(torques[0], JointTorque::default());
+    for j in 1..3 {
+        let total = c.joint_torque(j, x.phi[j], x.phi_dot[j], mode.branch[j]);
+        assert_eq!(torques[j].total.to_bits(), total.to_bits(), "joint {j}");
+    }
+    let spring = c.joints()[1].spring.torque(x.phi[1], Branch::Fold) * 0.75;
+    assert_eq!(torques[1].spring.to_bits(), spring.to_bits());
+    let spring = c.joints()[2].spring.torque(x.phi[2], Branch::Unfold);
+    assert_eq!(torques[2].spring.to_bits(), spring.to_bits());
+}
