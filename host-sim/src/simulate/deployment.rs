@@ -541,7 +541,7 @@ impl<'a, const N: usize> Integrator<'a, N> {
     ) -> Result<Option<ode::Attempt<N>>, SimError> {
         // The powers of the evaluations, in order, beside the derivatives:
         // `[0]` is the start's, kept since `k1` was evaluated.
-        let mut stages = self.stages;
+        let mut stages = [Power::ZERO; 7];
         stages[0] = self.power_at_start;
         let mut next = 1;
         let mut f = |_t: f64, s: &State<N>| {
