@@ -197,10 +197,16 @@ struct Integrator<'a, const N: usize> {
 }
 
 impl<const N: usize> Integrator<'_, N> {
-    /// The derivative at `y`, time `t`, where a step ended on a knot of a
-    /// spring's curve, each joint's piece found again.
-    fn next_piece(&mut self, y: &State<N>, t: f64) -> Result<State<N>, SimError> {
+    /// The derivative at `y`, time `t`, where a step ended on a knot of
+    /// joint `j`'s spring curve: its piece the one past that knot
+    /// ([`Knots::past`]), every other joint's found again.
+    fn next_piece(&mut self, y: &State<N>, t: f64, j: usize) -> Result<State<N>, SimError> {
+        let reached = self.piece.get(j).copied();
         self.find_pieces(y);
+        if let (Some(piece), Some(jt)) = (reached, self.chain.joints().get(j)) {
+            let knots = Knots::of(&jt.spring, self.mode.branch[j]);
+            self.piece[j] = knots.past(piece, y.q[j].abs());
+        }
         self.first_stage(y, t)
     }
 
@@ -212,10 +218,16 @@ impl<const N: usize> Integrator<'_, N> {
         Ok(k1)
     }
 
-    /// Finds the piece of each joint's spring curve at `y` on its branch.
+    /// Finds the piece of each joint's spring curve at `y` on its branch;
+    /// a joint on a knot gets the piece it moves into: `|φ|` falls while
+    /// `φ·φ̇ < 0`, and at rest on the unfolding branch (which the branch
+    /// rule gives a joint its spring starts unfolding).
     fn find_pieces(&mut self, y: &State<N>) {
         for (j, jt) in self.chain.joints().iter().enumerate() {
-            self.piece[j] = Knots::of(&jt.spring, self.mode.branch[j]).around(y.q[j].abs());
+            let g = y.q[j] * y.v[j];
+            let falling = g < 0.0 || (g == 0.0 && self.mode.branch[j] == Branch::Unfold);
+            let knots = Knots::of(&jt.spring, self.mode.branch[j]);
+            self.piece[j] = knots.around(y.q[j].abs(), falling);
         }
     }
 
@@ -464,11 +476,12 @@ pub fn run_chain_latching<const N: usize>(
             |tk| att.dense.at(tk),
             &it.mode.latched,
         )?;
-        if let Some(Event::Knot(_)) = first {
+        if let Some(Event::Knot(j)) = first {
             // The curve's next piece: the torque is continuous, the step
             // size stands (only the derivative is evaluated again).
             (t, y) = (t_end, y_end);
-            k1 = it.next_piece(&y, t)?;
+            out.out.stats.knots += 1;
+            k1 = it.next_piece(&y, t, j)?;
             continue;
         }
         let Some(ev) = first else {

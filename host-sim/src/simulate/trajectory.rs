@@ -88,6 +88,9 @@ pub struct SimStats {
     pub evaluations: usize,
     /// Latch and branch events.
     pub events: usize,
+    /// Steps ended on a knot of a spring's curve (the ideal-latch chain's,
+    /// `simulate/spring_knots.rs`); not events.
+    pub knots: usize,
 }
 
 impl SimStats {
