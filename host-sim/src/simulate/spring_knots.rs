@@ -124,9 +124,7 @@ mod tests {
     use super::*;
     use deploywatch_core::TapePoints;
 
-    /// Seed 001's TS-1 (`physics.md` 3.2): the unfolding branch stops at D
-    /// and B and 90°; the folding branch at A and θ_B' on its knee, then
-    /// at 90° on the unfolding curve; a linear spring nowhere.
+    /// Seed 001's TS-1 tape spring, two of them (`physics.md` 3.2).
     fn ts1() -> Spring<f64> {
         let ts1 = TapePoints {
             a: (1.10, 69.39),
@@ -138,6 +136,9 @@ mod tests {
         Spring::tape(&ts1, 2.0).expect("TS-1")
     }
 
+    /// TS-1's knots: the unfolding branch stops at D and B and 90°; the
+    /// folding branch at A and θ_B' on its knee, then at 90° on the
+    /// unfolding curve; a linear spring nowhere.
     #[test]
     fn a_tape_springs_knots_are_its_branchs_interior_points() {
         let s = ts1();
