@@ -96,8 +96,8 @@ fn bad_input_exits_2_and_says_what_is_wrong() {
         2,
         &["names no effect", "no effect found"],
     );
-    // A normal law that reaches a negative mass: the simulation fails (1)
-    // and the message gives the parameters.
+    // A normal law that reaches a negative mass: refused at the draw (1),
+    // the message gives the parameters, the value and the bound.
     fails(
         &run(&[
             "--vary",
@@ -111,7 +111,11 @@ fn bad_input_exits_2_and_says_what_is_wrong() {
             "-q",
         ]),
         1,
-        &["panel_mass:joint=1 = -"],
+        &[
+            "panel_mass:joint=1 = -",
+            "panel_mass at joint 1 would be -",
+            "expected > 0",
+        ],
     );
     // A law whose tail makes friction drive its joint (the mechanism has
     // none of its own): refused at the draw, as `--effect` refuses a
@@ -138,6 +142,13 @@ fn bad_input_exits_2_and_says_what_is_wrong() {
             "coulomb_friction at joint 1 would be -",
             "expected a finite number ≥ 0",
         ],
+    );
+    // A spring's preload below 0 is refused as the mechanism file refuses
+    // it, never deployed and counted.
+    fails(
+        &with("spring_preload:joint=1:normal(1,1)"),
+        1,
+        &["spring_preload at joint 1 would be -", "expected ≥ 0"],
     );
     let kept = with("coulomb_friction:joint=1:truncnormal(0.1,1,0,inf)");
     assert!(

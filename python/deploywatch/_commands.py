@@ -314,6 +314,13 @@ def identify(
 def _mechanism_list(value: Any) -> List[Any]:
     if isinstance(value, (str, _os.PathLike, Mechanism)):
         return [value]
+    if value is None or isinstance(value, Mapping) or not isinstance(value, (list, tuple)):
+        raise InputError(
+            "mechanisms: expected a mechanism (a file name or a Mechanism) or a list of them, "
+            f"got {type(value).__name__}"
+        )
+    if not value:
+        raise InputError("mechanisms: expected at least one mechanism, got an empty list")
     return list(value)
 
 

@@ -13,12 +13,25 @@ use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 
 /// The first line of clap's message without its `error: ` (what the
-/// binary prints first).
-/// With the values clap lists as possible, when it lists them.
+/// binary prints first), with what it lists below a line ending in `:`
+/// (the required arguments not given) and the values clap lists as
+/// possible, when it lists them.
 fn clap_message(e: &clap::Error) -> String {
     let text = e.render().to_string();
     let first = text.lines().next().unwrap_or_default();
     let mut m = first.strip_prefix("error: ").unwrap_or(first).to_string();
+    // A first line ending in `:` lists on the indented lines below it
+    // (the required arguments not given).
+    if m.ends_with(':') {
+        let listed: Vec<&str> = text
+            .lines()
+            .skip(1)
+            .take_while(|l| l.starts_with("  "))
+            .map(str::trim)
+            .collect();
+        m.push(' ');
+        m.push_str(&listed.join(", "));
+    }
     if let Some(values) = text
         .lines()
         .find(|l| l.trim_start().starts_with("[possible values:"))
@@ -52,7 +65,8 @@ pub(crate) fn run_command(
     let argv = std::iter::once("deploywatch".to_string()).chain(args);
     let parsed = Cli::try_parse_from(argv)
         .map_err(|e| Kind::Input.raise(renamed(&clap_message(&e), &names), Vec::new()))?;
-    let (done, warnings) = py.allow_threads(|| cli::capturing_warnings(|| cli::run(parsed)));
+    let (done, warnings) =
+        crate::threads::allow(py, || cli::capturing_warnings(|| cli::run(parsed)));
     // What the binary says on stderr as `warning: …`, each a `UserWarning`
     // (level 3: the user's call of the package's function, which calls
     // this through its `_run`), also when the command then failed.

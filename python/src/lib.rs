@@ -14,6 +14,7 @@ mod errors;
 mod model;
 mod monitor;
 mod steps;
+mod threads;
 
 use deploywatch_sim::deployment::SimOptions;
 use deploywatch_sim::mechanism::Mechanism;
@@ -152,8 +153,7 @@ fn simulate<'py>(
         sample_hz,
         ..SimOptions::default()
     };
-    let traj = py
-        .allow_threads(|| model::deploy(mech, &effects, &opts))
+    let traj = threads::allow(py, || model::deploy(mech, &effects, &opts))
         .map_err(|e| errors::simulation(&e))?;
     let (n, j) = (traj.t_s.len(), traj.joints());
     let latch: Vec<f64> = traj.latch_s.iter().map(|l| l.unwrap_or(f64::NAN)).collect();
@@ -201,9 +201,9 @@ fn simulate_batch<'py>(
         ));
     }
     let xs: Vec<Vec<f64>> = a.rows().into_iter().map(|r| r.to_vec()).collect();
-    let outs: Vec<Outcome> = py
-        .allow_threads(|| steps::in_steps(&xs, |rows| p.deploy_batch(rows)))
-        .map_err(Stop::into_py)?;
+    let outs: Vec<Outcome> =
+        threads::allow(py, || steps::in_steps(&xs, |rows| p.deploy_batch(rows)))
+            .map_err(Stop::into_py)?;
     let (n, j) = (outs.len(), p.mech.joint_count());
     let g: Vec<f64> = outs.iter().map(|o| o.g(&p.fail)).collect();
     let modes = p.modes();
@@ -264,7 +264,7 @@ fn reliability<'py>(
     // A Python exception (Ctrl-C, an executor's task) stops the run through
     // the analysis' error path and is kept here to be raised as it is.
     let mut stopped: Option<PyErr> = None;
-    let est = py.allow_threads(|| {
+    let est = threads::allow(py, || {
         let d = p.vary.len();
         let mut eval = |xs: &[Vec<f64>]| -> Result<Vec<Vec<f64>>, ReliabilityError> {
             let got = match &evaluate {
@@ -291,9 +291,9 @@ fn reliability<'py>(
     // the result's `warnings` and each as a `UserWarning`; a check that
     // cannot run costs nothing of the result either.
     let mut said = notes;
-    said.extend(
-        py.allow_threads(|| warnings(&p, &est, target_cov, &|q| errors::argument(q).to_string())),
-    );
+    said.extend(threads::allow(py, || {
+        warnings(&p, &est, target_cov, &|q| errors::argument(q).to_string())
+    }));
     for w in &said {
         let text =
             std::ffi::CString::new(w.as_str()).map_err(|e| PyValueError::new_err(e.to_string()))?;
@@ -309,6 +309,7 @@ fn reliability<'py>(
 /// The extension module `deploywatch._native`.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    threads::imported();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<model::Model>()?;
     m.add_class::<monitor::Monitor>()?;

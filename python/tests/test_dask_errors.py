@@ -42,4 +42,5 @@ def test_reliability_on_the_cluster_raises_the_workers_error(root, dask_client):
     # stops the analysis with the worker's SimulationError.
     with pytest.raises(SimulationError, match=r"^the deployment at panel_inertia:joint=1 = -[0-9.e-]+ failed: ") as e:
         deploywatch.reliability(root / MECH, vary=NEGATIVE, samples=1000, executor=dask_client)
-    assert e.value.causes == ("mechanism `reliability-one-panel` cannot be built",)
+    (why,) = e.value.causes
+    assert why.startswith("panel_inertia at joint 1 would be -") and "expected > 0" in why, why

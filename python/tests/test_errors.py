@@ -158,6 +158,27 @@ def test_typed_arguments_take_numpy_numbers_and_no_joint():
     assert str(deploywatch.Vary("air_drag", None, deploywatch.Uniform(0, 1))) == "air_drag:uniform(0.0,1.0)"
 
 
+@pytest.mark.parametrize(
+    "mechanisms, pattern",
+    [
+        ([], r"^mechanisms: expected at least one mechanism, got an empty list"),
+        (None, r"^mechanisms: expected a mechanism .* got NoneType"),
+        ({"a": 1}, r"^mechanisms: expected a mechanism .* got dict"),
+    ],
+)
+def test_no_mechanism_for_the_runs(root, tmp_path, mechanisms, pattern):
+    run = root / "data/examples/a_seed001_eft/seed001_T01.csv"
+    with pytest.raises(InputError, match=pattern):
+        deploywatch.identify(run, mechanisms)
+    with pytest.raises(InputError, match=pattern):
+        deploywatch.diagnose(run, mechanisms, json=tmp_path / "d.json")
+
+
+def test_an_unknown_effect_lists_every_kind_the_syntax_reads(mech):
+    with pytest.raises(InputError, match=r"quadratic_damping.*stribeck_friction|stribeck_friction.*quadratic_damping"):
+        deploywatch.simulate(mech, ["nonsense:joint=1:value=1"])
+
+
 def test_an_unknown_effect(mech):
     with pytest.raises(InputError, match=r"^effects\[1\]: unknown effect `nonsense`: expected one of coulomb_friction"):
         deploywatch.simulate(mech, ["coulomb_friction:joint=1:value=1.2", "nonsense:joint=1:value=1"])
@@ -304,12 +325,13 @@ def test_a_deployment_that_cannot_be_simulated(mech):
         deploywatch.simulate_batch(mech, NEGATIVE, np.array([[0.16], [-0.1]]))
     err = e.value
     assert isinstance(err, RuntimeError)
-    assert str(err) == (
-        "the deployment at panel_inertia:joint=1 = -0.1 failed: "
-        "mechanism `reliability-one-panel` cannot be built"
+    why = (
+        "panel_inertia at joint 1 would be -0.1 kg·m²: expected > 0 (as the mechanism file); "
+        "a law that reaches there wants truncnormal(mean,sd,lo,hi) kept inside"
     )
+    assert str(err) == f"the deployment at panel_inertia:joint=1 = -0.1 failed: {why}"
     # The Rust error's source, kept as the cause.
-    assert err.causes == ("mechanism `reliability-one-panel` cannot be built",)
+    assert err.causes == (why,)
     assert isinstance(err.__cause__, DeploywatchError)
     assert str(err.__cause__) == err.causes[0]
 

@@ -489,24 +489,30 @@ impl JointMargin {
     /// `(T_D / (FoS_f · T_R + FoS_l · T_e) − 1) · 100` [%] (seed 001 Eq. 7
     /// when the factors are 1 and the latch ideal, `T_e = 0`).
     pub fn torque_margin_pct(&self) -> f64 {
-        margin_pct(
-            self.driving_torque_nm,
-            self.friction_factor * self.resisting_torque_nm
-                + self.latch_factor * self.latch.entry_torque_nm
-                + self.factored_extra.torque_nm,
-        )
+        margin_pct(self.driving_torque_nm, self.factored_resisting_torque_nm())
+    }
+
+    /// The torque-form denominator, every resistance factored,
+    /// `FoS_f · T_R + FoS_l · T_e + Σ FoS_i · T_i` [N·m].
+    pub fn factored_resisting_torque_nm(&self) -> f64 {
+        self.friction_factor * self.resisting_torque_nm
+            + self.latch_factor * self.latch.entry_torque_nm
+            + self.factored_extra.torque_nm
+    }
+
+    /// The energy-form denominator, every resistance factored,
+    /// `FoS_f · E_R + FoS_l · E_eng + Σ FoS_i · E_i` \[J\].
+    pub fn factored_resisting_energy_j(&self) -> f64 {
+        self.friction_factor * self.resisting_energy_j
+            + self.latch_factor * self.latch.engagement_energy_j
+            + self.factored_extra.energy_j
     }
 
     /// The energy-form margin with the factors,
     /// `(E_D / (FoS_f · E_R + FoS_l · E_eng) − 1) · 100` [%] (seed 000
     /// Eq. 21 when the factors are 1 and the latch ideal, `E_eng = 0`).
     pub fn energy_margin_pct(&self) -> f64 {
-        margin_pct(
-            self.driving_energy_j,
-            self.friction_factor * self.resisting_energy_j
-                + self.latch_factor * self.latch.engagement_energy_j
-                + self.factored_extra.energy_j,
-        )
+        margin_pct(self.driving_energy_j, self.factored_resisting_energy_j())
     }
 
     /// The kinetic energy the joint has left at the latch in the worst

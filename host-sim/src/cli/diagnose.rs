@@ -92,11 +92,27 @@ fn options(args: &DiagnoseArgs) -> Result<DiagnoseOptions, CliError> {
     })
 }
 
+/// Checks the JSON and the report beside it before the work: writable,
+/// and neither of them one of the inputs.
+fn check_outputs(args: &DiagnoseArgs) -> Result<(), CliError> {
+    let inputs: Vec<&Path> = args
+        .mechanisms
+        .iter()
+        .chain(&args.runs)
+        .map(|p| p.as_path())
+        .collect();
+    super::check_output("--json", &args.json, &inputs)?;
+    super::check_output(
+        "the report beside --json",
+        &args.json.with_extension("md"),
+        &inputs,
+    )
+}
+
 /// Runs `deploywatch diagnose`.
 pub fn run(args: &DiagnoseArgs) -> Result<(), CliError> {
     let opts = options(args)?;
-    super::check_output("--json", &args.json)?;
-    super::check_output("the report beside --json", &args.json.with_extension("md"))?;
+    check_outputs(args)?;
     let campaign = load_campaign(args)?;
     if !args.quiet {
         eprintln!(

@@ -204,21 +204,32 @@ fn uart_elf(args: &HilArgs, mech: &Mechanism) -> Result<PathBuf, CliError> {
     hil_link::find_uart_elf(args.elf.as_deref(), mech.joint_count()).map_err(cli_error)
 }
 
-/// Runs `deploywatch hil`.
-pub fn run(args: &HilArgs) -> Result<(), CliError> {
-    let inject = injection(args)?;
-    let (mech, run, plan) = prepare(args)?;
+/// Checks every output before the work: writable, and none of the inputs.
+fn check_outputs(args: &HilArgs) -> Result<(), CliError> {
     let outputs = [
         ("--out", &args.out),
         ("--plot", &args.plot),
         ("--log", &args.log),
         ("--latency", &args.latency),
     ];
+    let inputs: Vec<&std::path::Path> = [&args.run, &args.mechanism]
+        .into_iter()
+        .chain(&args.elf)
+        .map(|p| p.as_path())
+        .collect();
     for (flag, p) in outputs {
         if let Some(p) = p {
-            check_output(flag, p)?;
+            check_output(flag, p, &inputs)?;
         }
     }
+    Ok(())
+}
+
+/// Runs `deploywatch hil`.
+pub fn run(args: &HilArgs) -> Result<(), CliError> {
+    let inject = injection(args)?;
+    let (mech, run, plan) = prepare(args)?;
+    check_outputs(args)?;
     let endpoint =
         match (args.target, &args.port) {
             (Some(HilTarget::Qemu), Some(_)) => return Err(CliError::input(

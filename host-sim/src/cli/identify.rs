@@ -57,17 +57,33 @@ pub struct IdentifyArgs {
 
     /// direct: start [N·m], one value per identified joint; default: the
     /// per-joint best of a scan of uniform EFTs (0 to 3.2 N·m).
-    #[arg(long, value_name = "NM,NM,..", value_delimiter = ',')]
+    #[arg(
+        long,
+        value_name = "NM,NM,..",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
     pub start: Option<Vec<f64>>,
 
     /// rsm: design centre [N·m], one value per identified joint; default:
     /// the per-joint best of a scan of uniform EFTs (at least 0.025 N·m).
-    #[arg(long, alias = "centre", value_name = "NM,NM,..", value_delimiter = ',')]
+    #[arg(
+        long,
+        alias = "centre",
+        value_name = "NM,NM,..",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
     pub center: Option<Vec<f64>>,
 
     /// rsm: half-ranges [N·m] (coded ±1), one value per identified joint;
     /// default: half the centre (seed 000 Table 9's relative ranges).
-    #[arg(long, value_name = "NM,NM,..", value_delimiter = ',')]
+    #[arg(
+        long,
+        value_name = "NM,NM,..",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
     pub range: Option<Vec<f64>>,
 
     /// rsm: the response minimised: `te` (sum of the joints' trajectory
@@ -112,17 +128,8 @@ fn free_motion(campaign: Campaign, console: &Console) -> Campaign {
     }
 }
 
-/// Runs `deploywatch identify`.
-pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
-    // The loaders' errors name the file, the line or key, and what was expected.
-    let campaign =
-        Campaign::load(&args.mechanisms, &args.runs).map_err(|e| CliError::input(e.to_string()))?;
-    let joints = args
-        .joints
-        .clone()
-        .unwrap_or_else(|| identify::all_joints(&campaign));
-    identify::check_joints(&campaign, &joints)
-        .map_err(|e| CliError::input(format!("--joints: {e}")))?;
+/// The method's options: each given only with its method, and in range.
+fn check_options(args: &IdentifyArgs) -> Result<(), CliError> {
     let direct_only = [("--start", args.start.is_some())];
     let rsm_only = [
         ("--center", args.center.is_some()),
@@ -139,12 +146,54 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
             args.method.name()
         )));
     }
+    for (flag, values) in [("--start", &args.start), ("--center", &args.center)] {
+        if let Some(bad) = values
+            .iter()
+            .flatten()
+            .find(|x| !(**x >= 0.0 && x.is_finite()))
+        {
+            return Err(CliError::input(format!(
+                "{flag} {bad}: expected friction torques ≥ 0 [N·m], one per identified joint"
+            )));
+        }
+    }
+    if let Some(bad) = args
+        .range
+        .iter()
+        .flatten()
+        .find(|r| !(**r > 0.0 && r.is_finite()))
+    {
+        return Err(CliError::input(format!(
+            "--range {bad}: expected positive half-ranges [N·m], one per identified joint"
+        )));
+    }
+    Ok(())
+}
+
+/// Runs `deploywatch identify`.
+pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
+    // The loaders' errors name the file, the line or key, and what was expected.
+    let campaign =
+        Campaign::load(&args.mechanisms, &args.runs).map_err(|e| CliError::input(e.to_string()))?;
+    let joints = args
+        .joints
+        .clone()
+        .unwrap_or_else(|| identify::all_joints(&campaign));
+    identify::check_joints(&campaign, &joints)
+        .map_err(|e| CliError::input(format!("--joints: {e}")))?;
+    check_options(args)?;
     let png = args
         .plot
         .clone()
         .or_else(|| args.json.as_ref().map(|j| j.with_extension("png")));
+    let inputs: Vec<&std::path::Path> = args
+        .mechanisms
+        .iter()
+        .chain(&args.runs)
+        .map(|p| p.as_path())
+        .collect();
     if let Some(json) = &args.json {
-        check_output("--json", json)?;
+        check_output("--json", json, &inputs)?;
     }
     if let Some(png) = &png {
         check_output(
@@ -154,6 +203,7 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
                 "the plot beside --json"
             },
             png,
+            &inputs,
         )?;
     }
     let console = Console::new(args.quiet);

@@ -42,6 +42,7 @@ pub struct MarginArgs {
         long,
         value_name = "NM,NM,..",
         value_delimiter = ',',
+        allow_negative_numbers = true,
         conflicts_with = "from"
     )]
     pub friction: Option<Vec<f64>>,
@@ -396,11 +397,15 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     if args.flight {
         resist.take_out_the_rig();
     }
+    let inputs: Vec<&std::path::Path> = std::iter::once(&args.mechanism)
+        .chain(&args.from)
+        .map(|p| p.as_path())
+        .collect();
     if let Some(out) = &args.json {
-        check_output("--json", out)?;
+        check_output("--json", out, &inputs)?;
     }
     if let Some(png) = &args.plot {
-        check_output("--plot", png)?;
+        check_output("--plot", png, &inputs)?;
     }
     let console = Console::new(args.quiet);
     for w in crate::model::plausibility::warnings(&mech, &args.mechanism) {

@@ -160,13 +160,24 @@ impl From<crate::report::files::FileError> for CliError {
 
 /// Checks, before any work, that the output `path` (given with `flag`,
 /// e.g. `--plot`) can be written: its folder exists (it is never created),
-/// the path is not a folder, and a file can be created or opened for
-/// writing there. A file that did not exist is removed again, so a command
+/// the path is not a folder nor one of the command's `inputs`, and a file
+/// can be created or opened for writing there (a device or a pipe is taken
+/// as it is). A file that did not exist is removed again, so a command
 /// that fails later leaves nothing behind; an existing file is not changed.
-pub fn check_output(flag: &str, path: &Path) -> Result<(), CliError> {
+pub fn check_output(flag: &str, path: &Path, inputs: &[&Path]) -> Result<(), CliError> {
     let bad = |why: String| CliError::input(format!("{flag} {}: {why}", path.display()));
     if path.as_os_str().is_empty() {
         return Err(bad("expected a file name".into()));
+    }
+    if crate::report::files::is_input(path, inputs) {
+        return Err(bad(
+            "is an input of this command; expected another file for the output".into(),
+        ));
+    }
+    if crate::report::files::is_special(path) {
+        // A device or a pipe: written into at the end (`report::files`);
+        // opening a pipe here would wait for its reader.
+        return Ok(());
     }
     let folder = path.parent().filter(|d| !d.as_os_str().is_empty());
     if let Some(dir) = folder {

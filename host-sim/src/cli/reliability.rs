@@ -157,7 +157,11 @@ fn words(e: &ReliabilityError) -> String {
 pub fn run(args: &ReliabilityArgs) -> Result<(), CliError> {
     let (problem, left_out) = problem(args)?;
     if let Some(j) = &args.json {
-        check_output("--json", j)?;
+        let inputs: Vec<&Path> = std::iter::once(&args.mechanism)
+            .chain(&args.from)
+            .map(|p| p.as_path())
+            .collect();
+        check_output("--json", j, &inputs)?;
     }
     if let Some(c) = args.target_cov {
         if !(c > 0.0 && c.is_finite()) {

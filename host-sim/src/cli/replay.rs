@@ -65,18 +65,23 @@ pub struct ReplayArgs {
 /// Checks every output before the work: the files' folders exist and can
 /// be written; the `--keep` folder is created (not its parents).
 fn check_outputs(args: &ReplayArgs) -> Result<(), CliError> {
+    let inputs: Vec<&Path> = [&args.run, &args.mechanism]
+        .into_iter()
+        .chain(&args.elf)
+        .map(|p| p.as_path())
+        .collect();
     if let Some(d) = &args.keep {
         if !d.is_dir() {
-            check_output("--keep", d)?;
+            check_output("--keep", d, &inputs)?;
             std::fs::create_dir(d)
                 .map_err(|e| CliError::input(format!("--keep {}: {e}", d.display())))?;
         }
     }
     if let Some(out) = &args.out {
-        check_output("--out", out)?;
+        check_output("--out", out, &inputs)?;
     }
     if let Some(png) = &args.plot {
-        check_output("--plot", png)?;
+        check_output("--plot", png, &inputs)?;
     }
     Ok(())
 }

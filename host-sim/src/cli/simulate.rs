@@ -10,6 +10,15 @@ use crate::simulate::deployment::{self, SimOptions};
 use crate::simulate::fault_injection;
 use crate::simulate::latch_deployment::{self, LatchEnd, LatchOutcome, LatchRun};
 
+/// A simulation's error as the CLI's: a grid too long for the run is the
+/// user's `--rate` or `duration_s` (exit 2), the rest the work's (exit 1).
+fn sim_error(e: deployment::SimError) -> CliError {
+    match e {
+        deployment::SimError::TooManySamples { .. } => CliError::input(e.to_string()),
+        _ => CliError::failed(e.to_string()),
+    }
+}
+
 /// Runs `deploywatch simulate`.
 pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
@@ -35,19 +44,18 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         stop_when_deployed: args.faults.is_empty(),
         ..SimOptions::default()
     };
-    let failed = |e: deployment::SimError| CliError::failed(e.to_string());
     let physical = if mech.has_physical_latch() {
-        let grid = deployment::sample_grid(&mech, &opts).map_err(failed)?;
+        let grid = deployment::sample_grid(&mech, &opts).map_err(sim_error)?;
         Some(
             latch_deployment::simulate_physical(&mech, &args.effects, &opts, grid)
-                .map_err(failed)?,
+                .map_err(sim_error)?,
         )
     } else {
         None
     };
     let traj = match &physical {
         Some(run) => run.traj.clone(),
-        None => deployment::simulate(&mech, &args.effects, &opts).map_err(failed)?,
+        None => deployment::simulate(&mech, &args.effects, &opts).map_err(sim_error)?,
     };
     let mut run = measure(args, &mech, &traj);
     let reports = fault_injection::apply(&mut run, &args.faults, args.seed)
@@ -225,9 +233,14 @@ fn check_args(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
             )));
         }
     }
-    check_output("--out", &args.out)?;
+    let inputs: Vec<&std::path::Path> = std::iter::once(&args.mechanism)
+        .chain(&args.from)
+        .chain(&args.at)
+        .map(|p| p.as_path())
+        .collect();
+    check_output("--out", &args.out, &inputs)?;
     if let Some(png) = &args.plot {
-        check_output("--plot", png)?;
+        check_output("--plot", png, &inputs)?;
     }
     Ok(())
 }

@@ -58,7 +58,7 @@ pub enum CampaignError {
         first: String,
     },
     /// A run whose time stamps do not start at 0.
-    #[error("{file}:{line}: column `t_s` (column 1): the first sample is at t = {t0} s; a run starts at the release, t = 0: a logger's clock? subtract {t0} s from t_s")]
+    #[error("{file}:{line}: column `t_s` (column 1): the first sample is at t = {t0} s; a run starts at the release, t = 0: a logger's clock? {} t_s", shift_words(*t0))]
     NotFromRelease {
         /// The run.
         file: String,
@@ -145,5 +145,15 @@ impl Campaign {
     /// The largest joint count of the campaign's mechanisms.
     pub fn max_joints(&self) -> usize {
         self.runs.iter().map(|r| r.run.joints()).max().unwrap_or(0)
+    }
+}
+
+/// The shift that starts a run at `t = 0`, in words: what to do to every
+/// `t_s` of a run whose first sample is at `t0` \[s\].
+fn shift_words(t0: f64) -> String {
+    if t0 > 0.0 {
+        format!("subtract {t0} s from every")
+    } else {
+        format!("add {} s to every", -t0)
     }
 }

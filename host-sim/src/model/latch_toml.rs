@@ -94,8 +94,17 @@ pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, path: &str, stowed_deg: f64) -> Res<Opt
     match cx.string(model, &t.key("model"))? {
         "ideal" if t.entries.len() == 1 => return Ok(None),
         "ideal" => {
-            let expected = "no other latch keys with model = \"ideal\"";
-            return Err(cx.invalid(model, &t.key("model"), expected));
+            // The first key beside `model`, named: an ideal latch has no
+            // other.
+            let (key, sp) = t
+                .entries
+                .iter()
+                .find(|(k, _)| k != "model")
+                .map_or(("model", model), |(k, sp)| (k.as_str(), sp));
+            let expected =
+                "no other latch key with model = \"ideal\" (the keys of a physical latch \
+                            want model = \"physical\")";
+            return Err(cx.invalid(sp, &t.key(key), expected));
         }
         "physical" => {}
         _ => return Err(cx.invalid(model, &t.key("model"), expected)),

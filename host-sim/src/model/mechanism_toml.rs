@@ -565,7 +565,13 @@ impl Cx<'_> {
         };
         let mut points = Vec::with_capacity(items.len());
         for (i, p) in items.iter().enumerate() {
-            points.push(self.pair(p, &format!("{key}[{}]", i + 1), "[deg, N·m]")?);
+            let item = format!("{key}[{}]", i + 1);
+            let point = self.pair(p, &item, "[deg, N·m]")?;
+            if !(point.1 >= 0.0) {
+                let why = "[deg, N·m] with a torque ≥ 0 (physics.md 3: a hinge spring drives its joint towards 0°)";
+                return Err(self.invalid(p, &item, why));
+            }
+            points.push(point);
         }
         Curve::new(&points, interp).map_err(|source| {
             self.err(

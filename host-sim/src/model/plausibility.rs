@@ -141,6 +141,13 @@ pub fn check(mechanism: &Mechanism, text: Option<&str>) -> Vec<Implausible> {
             });
         }
     }
+    if doc.as_ref().is_some_and(|d| d.get("run").is_none()) {
+        out.push(Implausible {
+            key: "run".into(),
+            line: None,
+            message: format!("no [run] table: duration_s = {} s and sample_hz = {} Hz taken by default (a wing still moving then is reported not latched); expected [run] with the duration and rate of the test", mechanism.duration_s, mechanism.sample_hz),
+        });
+    }
     out
 }
 

@@ -4,7 +4,7 @@
 //! effect counted and per latch engagement.
 
 use crate::analysis::design_margin::{
-    DataSource, Factors, LatchResistance, Resistance, Standard, LATCH_KIND,
+    DataSource, FactoredExtra, Factors, LatchResistance, Resistance, Standard, LATCH_KIND,
 };
 use crate::analysis::dynamic_margin::{clause, DynamicMargins};
 use crate::analysis::effect_margin::Counted;
@@ -331,6 +331,15 @@ pub fn table(report: &MarginReport) -> String {
         for (e, c) in &row.counted {
             let _ = writeln!(s, "{:>5} {}", "", counted_line(e, c, factors));
         }
+        if m.factored_extra != FactoredExtra::default() {
+            let _ = writeln!(
+                s,
+                "{:>5} every resistance of the row factored, the margins' denominators: {:.4} N·m in the torque form, {:.4} J in the energy form",
+                "",
+                m.factored_resisting_torque_nm(),
+                m.factored_resisting_energy_j(),
+            );
+        }
         if m.latch != LatchResistance::default() {
             let _ = writeln!(
                 s,
@@ -519,6 +528,8 @@ pub fn to_json(report: &MarginReport) -> Value {
                 "latch_entry_torque_nm": m.latch.entry_torque_nm,
                 "latch_engagement_energy_j": m.latch.engagement_energy_j,
                 "energy_margin_pct": finite(m.energy_margin_pct()),
+                "factored_resisting_torque_nm": m.factored_resisting_torque_nm(),
+                "factored_resisting_energy_j": m.factored_resisting_energy_j(),
                 "counted": row.counted.iter().map(|(e, c)| counted_json(e, c)).collect::<Vec<_>>(),
                 "stroke": stroke_json(row),
                 "arriving_energy_j": m.arriving_energy_j(),

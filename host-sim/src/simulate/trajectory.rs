@@ -290,15 +290,21 @@ pub enum Samples<'a> {
 pub const GRID_COUNT_CAP: usize = MAX_SAMPLES + 1;
 
 /// Slack on `duration × rate` when counting a grid's samples \[samples\]: a
-/// duration that is a whole number of sample periods keeps its last sample
-/// although the product rounds below it (0.29 s × 100 Hz = 28.999999999999996).
+/// duration that is a whole number of sample periods ends the grid on it
+/// although the product rounds above it (1.1 s × 100 Hz =
+/// 110.00000000000001).
 pub const GRID_ROUNDING_SAMPLES: f64 = 1e-9;
 
-/// Samples `k / rate_hz ≤ duration_s`, `k = 0, 1, …`, capped at
-/// [`GRID_COUNT_CAP`]: the one count of a run's uniform sample grid.
-/// `duration_s` and `rate_hz` are positive and finite (checked by callers).
+/// Samples `k / rate_hz`, `k = 0, 1, …`, up to the first at or after
+/// `duration_s` (`duration_s` itself when it is a whole number of sample
+/// periods), capped at [`GRID_COUNT_CAP`]: the one count of a run's
+/// uniform sample grid. The grid covers the whole duration, so a joint
+/// that latches within `duration_s` latches within the run whatever the
+/// rate (a grid ending at the last sample before it lost a latch between
+/// the two). `duration_s` and `rate_hz` are positive and finite (checked
+/// by callers).
 pub fn grid_count(duration_s: f64, rate_hz: f64) -> usize {
-    let last_k = (duration_s * rate_hz + GRID_ROUNDING_SAMPLES).floor();
+    let last_k = (duration_s * rate_hz - GRID_ROUNDING_SAMPLES).ceil();
     if last_k < (GRID_COUNT_CAP - 1) as f64 {
         last_k as usize + 1
     } else {
@@ -307,7 +313,8 @@ pub fn grid_count(duration_s: f64, rate_hz: f64) -> usize {
 }
 
 impl Samples<'_> {
-    /// The uniform grid `k / rate_hz ≤ duration_s` ([`grid_count`]).
+    /// The uniform grid `k / rate_hz` covering `[0, duration_s]`
+    /// ([`grid_count`]).
     pub fn grid(duration_s: f64, rate_hz: f64) -> Samples<'static> {
         Samples::Grid {
             rate_hz,

@@ -30,6 +30,16 @@ impl MechParam {
         MechParam::PanelInertia,
     ];
 
+    /// The unit of its value.
+    pub fn unit(self) -> &'static str {
+        match self {
+            MechParam::SpringPreload => "N·m",
+            MechParam::SpringStiffness => "N·m/rad",
+            MechParam::PanelMass => "kg",
+            MechParam::PanelInertia => "kg·m²",
+        }
+    }
+
     /// The name in `--vary`.
     pub fn name(self) -> &'static str {
         match self {
@@ -204,12 +214,7 @@ impl Vary {
     pub fn unit(&self) -> &'static str {
         match self.target {
             Target::Effect(e) => e.kind().unit(),
-            Target::Mech(p, _) => match p {
-                MechParam::SpringPreload => "N·m",
-                MechParam::SpringStiffness => "N·m/rad",
-                MechParam::PanelMass => "kg",
-                MechParam::PanelInertia => "kg·m²",
-            },
+            Target::Mech(p, _) => p.unit(),
         }
     }
 
@@ -293,8 +298,51 @@ pub(crate) fn own_value(mech: &Mechanism, e: &Effect) -> f64 {
 /// allows ([`EffectKind::allowed`]): a law's tail may not make friction
 /// drive its joint or a softening reverse its spring, which `--effect`
 /// refuses too. A value outside is an error naming it, never a silent
-/// deployment of another physics.
+/// deployment of another physics. The mechanism parameters drawn are held
+/// to what the mechanism file allows (a mass and an inertia above 0, a
+/// linear spring's preload and stiffness at or above 0).
 pub fn check_drawn(mech: &Mechanism, effects: &[Effect]) -> Result<(), String> {
+    let outside = |p: MechParam, j: usize, x: f64, expected: &str| {
+        format!(
+            "{} at joint {j} would be {x} {}: expected {expected} (as the mechanism file); a law \
+             that reaches there wants truncnormal(mean,sd,lo,hi) kept inside",
+            p.name(),
+            p.unit()
+        )
+    };
+    for (i, panel) in mech.panels.iter().enumerate() {
+        if !(panel.mass_kg > 0.0 && panel.mass_kg.is_finite()) {
+            return Err(outside(MechParam::PanelMass, i + 1, panel.mass_kg, "> 0"));
+        }
+        if !(panel.inertia_kgm2 > 0.0 && panel.inertia_kgm2.is_finite()) {
+            return Err(outside(
+                MechParam::PanelInertia,
+                i + 1,
+                panel.inertia_kgm2,
+                "> 0",
+            ));
+        }
+    }
+    for (i, joint) in mech.joints.iter().enumerate() {
+        if let SpringSpec::Linear {
+            preload_nm,
+            stiffness_nm_per_rad,
+            ..
+        } = joint.spring
+        {
+            if !(preload_nm >= 0.0 && preload_nm.is_finite()) {
+                return Err(outside(MechParam::SpringPreload, i + 1, preload_nm, "≥ 0"));
+            }
+            if !(stiffness_nm_per_rad >= 0.0 && stiffness_nm_per_rad.is_finite()) {
+                return Err(outside(
+                    MechParam::SpringStiffness,
+                    i + 1,
+                    stiffness_nm_per_rad,
+                    "≥ 0",
+                ));
+            }
+        }
+    }
     for (i, e) in effects.iter().enumerate() {
         let same = |f: &&Effect| f.kind() == e.kind() && f.joint == e.joint;
         if effects[..i].iter().any(|f| same(&f)) {

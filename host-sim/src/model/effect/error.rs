@@ -29,6 +29,12 @@ pub enum EffectError {
         /// The whole text.
         text: String,
     },
+    /// `stribeck_friction` without its shape (`excess_nm`, `stribeck_rad_s`).
+    #[error("`{text}`: stribeck_friction needs excess_nm and stribeck_rad_s beside its value (e.g. `stribeck_friction:joint=1:value=0.2:excess_nm=0.4:stribeck_rad_s=0.05`; a --vary draws the value and keeps them)")]
+    StribeckShapeMissing {
+        /// The whole text.
+        text: String,
+    },
     /// A key given twice (the first value would be lost without a word).
     #[error("`{key}` given twice in `{text}`: expected each key once")]
     RepeatedKey {
@@ -111,11 +117,7 @@ pub enum EffectError {
 }
 
 fn effect_names() -> String {
-    let names: Vec<_> = EffectKind::ALL
-        .iter()
-        .chain(&EffectKind::LATCH)
-        .chain(&EffectKind::RIG)
-        .map(|k| k.name())
-        .collect();
+    // The syntax reads every kind of the vocabulary.
+    let names: Vec<_> = EffectKind::EVERY.iter().map(|k| k.name()).collect();
     names.join(", ")
 }

@@ -127,8 +127,7 @@ fn stribeck_keys(
 ) -> Result<(f64, f64), EffectError> {
     match (excess_nm, stribeck_rad_s) {
         (Some(e), Some(w)) => Ok((e, w)),
-        _ if kind == EffectKind::StribeckFriction => Err(EffectError::UnknownKey {
-            key: "(excess_nm and stribeck_rad_s are both required)".into(),
+        _ if kind == EffectKind::StribeckFriction => Err(EffectError::StribeckShapeMissing {
             text: text.to_string(),
         }),
         _ => Ok((0.0, 0.0)),
