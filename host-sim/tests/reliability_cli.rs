@@ -143,13 +143,6 @@ fn bad_input_exits_2_and_says_what_is_wrong() {
             "expected a finite number ≥ 0",
         ],
     );
-    // A spring's preload below 0 is refused as the mechanism file refuses
-    // it, never deployed and counted.
-    fails(
-        &with("spring_preload:joint=1:normal(1,1)"),
-        1,
-        &["spring_preload at joint 1 would be -", "expected ≥ 0"],
-    );
     let kept = with("coulomb_friction:joint=1:truncnormal(0.1,1,0,inf)");
     assert!(
         kept.status.success(),

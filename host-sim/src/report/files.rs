@@ -136,7 +136,12 @@ impl Outputs {
         let root = match &self.through_dir {
             Some(d) => d.clone(),
             None => {
-                let d = std::env::temp_dir().join(staging_name());
+                // One folder per set of outputs: two sets of one process
+                // (the Python package's threads) never share it.
+                static SETS: std::sync::atomic::AtomicUsize =
+                    std::sync::atomic::AtomicUsize::new(0);
+                let set = SETS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let d = std::env::temp_dir().join(format!("{}-{set}", staging_name()));
                 self.through_dir = Some(d.clone());
                 d
             }
