@@ -199,6 +199,23 @@ mod tests {
     }
 
     #[test]
+    fn a_file_without_a_run_table_is_told_the_defaults() {
+        let text = t01_text();
+        let start = text.find("[run]").expect("T01 has a [run] table");
+        let end = text[start..].find("\n\n").map_or(text.len(), |e| start + e);
+        let without = format!("{}{}", &text[..start], &text[end..]);
+        let m = Mechanism::from_toml_str(&without, "t01").unwrap();
+        let found = check(&m, Some(&without));
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(found[0].key, "run");
+        assert!(
+            found[0].message.contains("6 s") && found[0].message.contains("100 Hz"),
+            "{}",
+            found[0].message
+        );
+    }
+
+    #[test]
     fn a_stowed_angle_in_radians_names_the_key_and_its_line() {
         let text = t01_text().replacen("stowed_deg = 180.0", "stowed_deg = 3.1416", 1);
         let m = Mechanism::from_toml_str(&text, "t01").unwrap();
