@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math as _math
 import os as _os
+import sys as _sys
 from typing import Any, Callable, List, Optional, Protocol, Sequence, Union
 
 import numpy as _np
@@ -123,7 +124,8 @@ def simulate(
 
     Returns a :class:`Trajectory`: ``t_s`` (n,), ``phi_deg`` and
     ``rate_deg_s`` (n, joints), ``latch_s`` (joints,), NaN where not
-    latched, ``end_s``.
+    latched, ``end_s`` the time of the last sample (``t_s[-1]``),
+    ``last_latch_s`` when the last joint latched.
 
     Raises ``MechanismError`` for a bad file, ``InputError`` for a bad
     effect or rate, ``SimulationError`` if the equations cannot be
@@ -188,6 +190,28 @@ def _g_chunk(
     return _native.simulate_batch(text, source, vary, fail, rows, from_json)[1]
 
 
+def _check_open(executor: Executor) -> None:
+    """A ``dask.distributed.Client`` that is closed (or closing) cannot take
+    a task: an ``InputError`` naming ``executor``, before a task is sent,
+    not the ``ClosedClientError`` Dask raises from inside the analysis.
+    Other executors are left to their own ``submit``."""
+    distributed = _sys.modules.get("distributed")
+    client = getattr(distributed, "Client", None)
+    if not (isinstance(client, type) and isinstance(executor, client)):
+        return
+    status = str(getattr(executor, "status", "running"))
+    # "running"; "connecting" while it reconnects to its scheduler (its
+    # tasks wait for it); "newly-created" for an asynchronous client not
+    # yet awaited, which this synchronous call cannot use either.
+    if status not in ("running", "connecting"):
+        state = status if status in ("closed", "closing") else "not running"
+        raise InputError(
+            f"executor: the dask.distributed.Client is {state} (status {status!r}) and cannot take "
+            "tasks: pass an open one (a Client used inside its `with` block, or before "
+            "client.close()), or executor=None to run on this machine's cores"
+        )
+
+
 def _workers(executor: Executor, workers: Optional[int]) -> int:
     """How many tasks the executor runs at once (for the chunk size only):
     ``workers`` if given, else a Dask client's worker count
@@ -204,6 +228,9 @@ def _evaluator(
     executor: Executor, chunk: Optional[int], workers: int, task: "tuple[Any, ...]"
 ) -> Callable[[FloatArray], List[List[float]]]:
     def evaluate(xs: FloatArray) -> List[List[float]]:
+        # A client closed during the analysis (another thread, a timeout):
+        # said as before the first batch.
+        _check_open(executor)
         n = xs.shape[0]
         size = chunk or max(1, -(-n // workers // 4))
         futures = [executor.submit(_g_chunk, *task, xs[i : i + size]) for i in range(0, n, size)]
@@ -254,7 +281,9 @@ def reliability(
     this machine's cores) and submitted there. The result equals the local
     one bit for bit (each task returns the margins of every failure mode
     of its rows). An error raised by a task (e.g. a ``SimulationError``
-    on a Dask worker) is raised here as it is.
+    on a Dask worker) is raised here as it is. A Dask client that is
+    closed (before the call or during it) is an ``InputError`` naming
+    ``executor``.
 
     Ctrl-C stops the analysis between batches (``KeyboardInterrupt``).
     Raises ``InputError`` (``MechanismError``) for bad arguments,
@@ -279,6 +308,7 @@ def reliability(
                 f"executor: expected a concurrent.futures.Executor or a dask.distributed.Client "
                 f"(an object with submit(fn, *args)), got {type(executor).__name__}"
             )
+        _check_open(executor)
         size = None if chunk is None else _int("chunk", chunk, 1)
         w = _workers(executor, None if workers is None else _int("workers", workers, 1))
         evaluate = _evaluator(executor, size, w, (text, source, vs, fs, from_json))

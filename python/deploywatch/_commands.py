@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import csv as _csv
 import json as _json
+import math as _math
 import os as _os
 import re as _re
 import signal as _signal
@@ -18,7 +19,7 @@ import sys as _sys
 import tempfile as _tempfile
 import threading as _threading
 from dataclasses import dataclass
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, TypeGuard, Union
 
 import numpy as _np
 
@@ -94,9 +95,37 @@ def _beside(out: str, i: int) -> str:
     return f"{_os.path.splitext(out)[0]}.mechanism{i}.toml"
 
 
+#: The margins [%] of ``margin``'s JSON that JSON cannot always hold, each
+#: with the two terms of the record it is made of: ``(driving / resisting
+#: - 1) * 100``, infinite when nothing resists. The CLI writes such a
+#: margin as ``null``; its terms, written beside it, give it back.
+_MARGIN_TERMS: Dict[str, Tuple[str, str]] = {
+    "torque_margin_pct": ("driving_torque_nm", "factored_resisting_torque_nm"),
+    "energy_margin_pct": ("driving_energy_j", "factored_resisting_energy_j"),
+}
+
+
+def _margin_pct(driving: float, resisting: float) -> float:
+    """``(driving / resisting - 1) * 100`` [%] as the CLI computes it
+    (``design_margin::margin_pct``): ``+inf`` when ``resisting`` is 0 and
+    ``driving`` above it, IEEE division otherwise."""
+    if resisting == 0.0 and driving > 0.0:
+        return _math.inf
+    with _np.errstate(divide="ignore", invalid="ignore"):
+        ratio = _np.float64(driving) / _np.float64(resisting)
+    return float((ratio - 1.0) * 100.0)
+
+
+def _number(x: Any) -> TypeGuard[float]:
+    """A JSON number (not a bool)."""
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
 def _columns(rows: Sequence[Mapping[str, Any]]) -> Dict[str, FloatArray]:
-    """The numeric fields of a list of records as float64 columns (``None``,
-    the JSON of a non-finite value, as NaN)."""
+    """The numeric fields of a list of records as float64 columns. ``None``
+    (how the CLI's JSON writes a value that is not finite) is NaN, but for
+    a margin of ``_MARGIN_TERMS`` whose terms are in the record: the value
+    they give, ``inf`` when nothing resists."""
     out: Dict[str, FloatArray] = {}
     if not rows:
         return out
@@ -104,8 +133,19 @@ def _columns(rows: Sequence[Mapping[str, Any]]) -> Dict[str, FloatArray]:
         if isinstance(v, bool) or not isinstance(v, (int, float, type(None))):
             continue
         col = [r.get(key) for r in rows]
-        if all(x is None or (isinstance(x, (int, float)) and not isinstance(x, bool)) for x in col):
+        if all(x is None or _number(x) for x in col):
             out[key] = _np.array([_np.nan if x is None else float(x) for x in col], dtype=_np.float64)
+    for key, (driving, resisting) in _MARGIN_TERMS.items():
+        if key not in out:
+            continue
+        for i, r in enumerate(rows):
+            d, f = r.get(driving), r.get(resisting)
+            if r.get(key) is None and _number(d) and _number(f):
+                m = _margin_pct(float(d), float(f))
+                # A null is a value that is not finite: terms that give a
+                # finite one are not these (left NaN, as unknown).
+                if not _math.isfinite(m):
+                    out[key][i] = m
     return out
 
 
@@ -118,7 +158,8 @@ class CommandResult:
 
     def table(self, key: str) -> Dict[str, FloatArray]:
         """The list of records under ``key`` as numpy columns (numbers
-        only, NaN for a non-finite value)."""
+        only; NaN where the JSON has ``null``, but ``inf`` for a margin
+        ``margin``'s JSON writes as ``null`` because nothing resists)."""
         rows = self.json.get(key)
         if not isinstance(rows, list):
             raise KeyError(f"{key}: not a list of records in this result (keys: {', '.join(self.json)})")
@@ -128,7 +169,11 @@ class CommandResult:
 @dataclass(frozen=True)
 class Margins(CommandResult):
     """``deploywatch margin``: ``joints`` the per-joint table as numpy
-    columns (``torque_margin_pct``, ``energy_margin_pct``, ...)."""
+    columns (``torque_margin_pct``, ``energy_margin_pct``, ...). A joint
+    with nothing resisting it has an infinite margin: ``inf`` in
+    ``joints`` (``json``, the CLI's JSON, writes it ``null``);
+    ``latching_margin_pct`` is NaN for an ideal latch (nothing to
+    engage, no latching margin)."""
 
     joints: Dict[str, FloatArray]
 

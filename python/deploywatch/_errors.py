@@ -44,18 +44,26 @@ class InputError(DeploywatchError, ValueError):
 
 
 class MissingFileError(InputError, FileNotFoundError):
-    """A file given to read does not exist: an ``InputError`` naming the
-    argument, and a ``FileNotFoundError`` (``errno.ENOENT``, ``filename``)
-    as ``open`` would raise, whichever function was given it."""
+    """A file given to read does not exist, or its name is a folder's: an
+    ``InputError`` naming the argument, and a ``FileNotFoundError``
+    (``filename``; ``errno.ENOENT``, or ``errno.EISDIR`` for a folder, as
+    ``open`` gives), whichever function was given it."""
 
-    def __init__(self, message: str, causes: Sequence[str] = (), filename: Optional[str] = None) -> None:
+    def __init__(
+        self,
+        message: str,
+        causes: Sequence[str] = (),
+        filename: Optional[str] = None,
+        folder: bool = False,
+    ) -> None:
         super().__init__(message, causes)
-        self.errno = _errno.ENOENT
-        self.strerror = "No such file or directory"
+        self.folder = folder
+        self.errno = _errno.EISDIR if folder else _errno.ENOENT
+        self.strerror = "Is a directory" if folder else "No such file or directory"
         self.filename = filename
 
     def __reduce__(self) -> Tuple[Any, ...]:
-        return (_rebuild_missing, (self.message, self.causes, self.filename))
+        return (_rebuild_missing, (self.message, self.causes, self.filename, self.folder))
 
 
 class MechanismError(InputError):
@@ -84,8 +92,10 @@ def _rebuild(
     return err
 
 
-def _rebuild_missing(message: str, causes: Sequence[str], filename: Optional[str]) -> "MissingFileError":
-    return MissingFileError(message, causes, filename)
+def _rebuild_missing(
+    message: str, causes: Sequence[str], filename: Optional[str], folder: bool = False
+) -> "MissingFileError":
+    return MissingFileError(message, causes, filename, folder)
 
 
 _KINDS = {

@@ -5,16 +5,22 @@ parameters (``--vary``), failure criteria (``--fail``).
 Each typed object's ``str()`` is the CLI's syntax; strings are still
 accepted wherever a typed object is, and both are checked by the Rust
 validator the CLI uses (the same refusals, the same words, the Python
-argument named where the CLI names its flag)."""
+argument named where the CLI names its flag). A typed object also checks
+its fields where it is written: their types, and for the laws, ``Vary``
+and the criteria the values the CLI's parser refuses whatever the
+mechanism (an ``InputError`` naming ``Class.field``, the value and what
+was expected); what depends on the mechanism (a joint it lacks, a time
+beyond its ``duration_s``) is checked by the command."""
 
 from __future__ import annotations
 
+import math as _math
 import os as _os
 from dataclasses import dataclass
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 from . import _native
-from ._checks import _file_name, checked
+from ._checks import _file_name, _finite, _positive, _real, checked
 from ._errors import InputError
 from ._results import Trajectory
 
@@ -223,10 +229,14 @@ EFFECT_TYPES: Tuple[type, ...] = (
 @dataclass(frozen=True)
 @checked
 class Normal:
-    """``normal(mean, sd)``."""
+    """``normal(mean, sd)``: ``mean`` finite, ``sd`` finite and above 0."""
 
     mean: float
     sd: float
+
+    def _check_values(self) -> None:
+        _finite("Normal.mean", self.mean)
+        _positive("Normal.sd", self.sd, "a positive finite number (a standard deviation)")
 
     def __str__(self) -> str:
         return f"normal({_num(self.mean)},{_num(self.sd)})"
@@ -235,10 +245,14 @@ class Normal:
 @dataclass(frozen=True)
 @checked
 class LogNormal:
-    """``lognormal(median, sigma_ln)``."""
+    """``lognormal(median, sigma_ln)``: both finite and above 0."""
 
     median: float
     sigma_ln: float
+
+    def _check_values(self) -> None:
+        _positive("LogNormal.median", self.median)
+        _positive("LogNormal.sigma_ln", self.sigma_ln, "a positive finite number (the standard deviation of ln x)")
 
     def __str__(self) -> str:
         return f"lognormal({_num(self.median)},{_num(self.sigma_ln)})"
@@ -247,10 +261,14 @@ class LogNormal:
 @dataclass(frozen=True)
 @checked
 class Uniform:
-    """``uniform(lo, hi)``."""
+    """``uniform(lo, hi)``: both finite, ``hi`` above ``lo``."""
 
     lo: float
     hi: float
+
+    def _check_values(self) -> None:
+        lo = _finite("Uniform.lo", self.lo)
+        _above("Uniform.hi", _finite("Uniform.hi", self.hi), lo)
 
     def __str__(self) -> str:
         return f"uniform({_num(self.lo)},{_num(self.hi)})"
@@ -259,12 +277,23 @@ class Uniform:
 @dataclass(frozen=True)
 @checked
 class TruncNormal:
-    """``truncnormal(mean, sd, lo, hi)``."""
+    """``truncnormal(mean, sd, lo, hi)``: a normal law kept to ``[lo, hi]``;
+    ``mean`` finite, ``sd`` finite and above 0, ``hi`` above ``lo`` (a
+    bound may be infinite: ``lo = -math.inf`` or ``hi = math.inf`` keeps
+    one side only)."""
 
     mean: float
     sd: float
     lo: float
     hi: float
+
+    def _check_values(self) -> None:
+        _finite("TruncNormal.mean", self.mean)
+        _positive("TruncNormal.sd", self.sd, "a positive finite number (a standard deviation)")
+        lo = _real("TruncNormal.lo", self.lo)
+        if _math.isnan(lo) or lo == _math.inf:
+            raise InputError(f"TruncNormal.lo: expected a number below inf (-inf keeps no lower bound), got {lo}")
+        _above("TruncNormal.hi", _real("TruncNormal.hi", self.hi), lo)
 
     def __str__(self) -> str:
         return f"truncnormal({_num(self.mean)},{_num(self.sd)},{_num(self.lo)},{_num(self.hi)})"
@@ -273,19 +302,51 @@ class TruncNormal:
 Distribution = Union[Normal, LogNormal, Uniform, TruncNormal]
 """A typed distribution; its ``str()`` is the law of ``--vary``."""
 
+DISTRIBUTION_TYPES: Tuple[type, ...] = (Normal, LogNormal, Uniform, TruncNormal)
+
+
+def _above(name: str, hi: float, lo: float) -> None:
+    """An upper bound above the lower one (both read already)."""
+    if not hi > lo:
+        raise InputError(f"{name}: expected a number above lo = {lo}, got {hi}")
+
 
 @dataclass(frozen=True)
 @checked
 class Vary:
     """A varied parameter: ``name`` an effect (``"coulomb_friction"``) or a
     mechanism parameter (``"panel_mass"``, ``"panel_inertia"``,
-    ``"spring_preload"``, ``"spring_stiffness"``), at ``joint`` (``None``
-    for a global effect), drawn from ``law``. ``str()``: ``--vary``'s
-    syntax."""
+    ``"spring_preload"``, ``"spring_stiffness"``), at ``joint`` (from 1;
+    ``None`` for a global effect), drawn from ``law`` (a :class:`Normal`,
+    :class:`LogNormal`, :class:`Uniform` or :class:`TruncNormal`).
+    ``str()``: ``--vary``'s syntax.
+
+    Checked where it is written by the ``--vary`` parser the CLI uses:
+    an unknown ``name``, a joint given to a global effect or missing for a
+    per-joint one is an ``InputError`` naming ``Vary.name`` or
+    ``Vary.joint``. Whether the mechanism has that joint is checked by the
+    command that takes it."""
 
     name: str
     joint: Optional[int]
     law: Distribution
+
+    def _check_values(self) -> None:
+        if not isinstance(self.law, DISTRIBUTION_TYPES):
+            raise InputError(
+                f"Vary.law: expected a Normal, LogNormal, Uniform or TruncNormal, "
+                f"got {type(self.law).__name__} {self.law!r}"
+            )
+        if self.joint is not None and self.joint < 1:
+            raise InputError(f"Vary.joint: expected a joint number from 1 (None for a global effect), got {self.joint}")
+        why = _native.check_vary(str(self))
+        if why is None:
+            return
+        # The law was checked by its own class: what the parser refuses is
+        # the name, or the joint when another joint (or none) would do.
+        law = str(self.law)
+        joint_only = any(_native.check_vary(f"{self.name}{at}:{law}") is None for at in (":joint=1", ""))
+        raise InputError(f"Vary.{'joint' if joint_only else 'name'}: {why}")
 
     def __str__(self) -> str:
         at = "" if self.joint is None else f":joint={self.joint}"
@@ -316,9 +377,12 @@ class NotHeld:
 @checked
 class LatchRate:
     """``latch_rate>X``: a joint latching faster than ``above_deg_s``
-    [deg/s] fails."""
+    [deg/s] (finite, above 0) fails."""
 
     above_deg_s: float
+
+    def _check_values(self) -> None:
+        _positive("LatchRate.above_deg_s", self.above_deg_s, "a positive finite rate [deg/s]")
 
     def __str__(self) -> str:
         return f"latch_rate>{_num(self.above_deg_s)}"
@@ -327,9 +391,14 @@ class LatchRate:
 @dataclass(frozen=True)
 @checked
 class LatchTime:
-    """``time>X``: a joint latching later than ``above_s`` [s] fails."""
+    """``time>X``: a joint latching later than ``above_s`` [s] (finite,
+    above 0; below the mechanism's ``duration_s``, which the command that
+    takes it checks) fails."""
 
     above_s: float
+
+    def _check_values(self) -> None:
+        _positive("LatchTime.above_s", self.above_s, "a positive finite time [s]")
 
     def __str__(self) -> str:
         return f"time>{_num(self.above_s)}"

@@ -5,12 +5,15 @@ statuses as ``replay --target host``."""
 
 from __future__ import annotations
 
+import math as _math
+from collections.abc import Mapping as _Mapping
 from dataclasses import dataclass
-from typing import Any, Dict, Sequence, Tuple
+from typing import Any, Dict, List, Sequence, Tuple
 
 import numpy as _np
 
 from . import _native
+from ._checks import _finite, _real
 from ._errors import InputError
 from ._model import Mechanism
 from ._results import FloatArray
@@ -18,13 +21,59 @@ from ._results import FloatArray
 
 @dataclass(frozen=True)
 class Sample:
-    """One sample as the monitor receives it: time [s], the encoder angle of
-    each joint [deg] (NaN for a missing reading), each latch switch
-    (``True`` closed)."""
+    """One sample as the monitor receives it: time ``t_s`` [s] (finite),
+    the encoder angle of each joint ``phi_deg`` [deg] (finite; NaN for a
+    missing reading), each latch switch ``latch`` (a ``bool``, ``True``
+    closed; numpy's too), one per angle. Checked where it is written (an
+    ``InputError`` naming ``Sample.field``), and kept as a float and
+    tuples; the joint count is checked against the monitor's by
+    :meth:`Monitor.update`."""
 
     t_s: float
     phi_deg: Sequence[float]
     latch: Sequence[bool]
+
+    def __post_init__(self) -> None:
+        t_s = _finite("Sample.t_s", self.t_s, "a finite time [s]")
+        phi = tuple(
+            _angle(f"Sample.phi_deg[{i}]", v) for i, v in enumerate(_items("Sample.phi_deg", self.phi_deg, "numbers"))
+        )
+        latch = tuple(
+            _switch(f"Sample.latch[{i}]", v) for i, v in enumerate(_items("Sample.latch", self.latch, "bools"))
+        )
+        if len(latch) != len(phi):
+            raise InputError(
+                f"Sample.latch: expected one switch per angle of phi_deg ({len(phi)}), got {len(latch)}"
+            )
+        object.__setattr__(self, "t_s", t_s)
+        object.__setattr__(self, "phi_deg", phi)
+        object.__setattr__(self, "latch", latch)
+
+
+def _items(name: str, value: Any, what: str) -> List[Any]:
+    """The items of a per-joint list (a list, tuple or numpy array; not a
+    string, whose characters Python would iterate, nor a mapping)."""
+    if isinstance(value, (str, bytes, _Mapping)) or not hasattr(value, "__iter__"):
+        raise InputError(f"{name}: expected a list of {what}, one per joint, got {type(value).__name__} {value!r}")
+    return list(value)
+
+
+def _angle(name: str, value: Any) -> float:
+    """An encoder's reading [deg]: finite, or NaN for a missing one."""
+    v = _real(name, value)
+    if _math.isinf(v):
+        raise InputError(f"{name}: expected an angle [deg], finite or NaN for a missing reading, got {v}")
+    return v
+
+
+def _switch(name: str, value: Any) -> bool:
+    """A latch switch: a bool (``bool("0")`` is True: a switch read from
+    text would read closed)."""
+    if not isinstance(value, (bool, _np.bool_)):
+        raise InputError(
+            f"{name}: expected one bool per switch (True: closed), got {type(value).__name__} {value!r}"
+        )
+    return bool(value)
 
 
 @dataclass(frozen=True)
@@ -82,15 +131,11 @@ class Monitor:
 
     def update(self, sample: Sample) -> MonitorStatus:
         """One sample in (``replay_step``, as ``replay``), the status
-        out."""
+        out. The sample's fields were checked when it was made; its joint
+        count is checked here (``InputError``)."""
         if not isinstance(sample, Sample):
             raise InputError(f"sample: expected a deploywatch.Sample(t_s, phi_deg, latch), got {type(sample).__name__}")
-        phi = [float(x) for x in sample.phi_deg]
-        if isinstance(sample.latch, (str, bytes)) or any(isinstance(x, (str, bytes)) for x in sample.latch):
-            # bool("0") is True: a switch read from text would read closed.
-            raise InputError(f"sample.latch: expected one bool per switch (True: closed), got {sample.latch!r}")
-        latch = [bool(x) for x in sample.latch]
-        raw = self._monitor.update(float(sample.t_s), phi, latch)
+        raw = self._monitor.update(sample.t_s, list(sample.phi_deg), list(sample.latch))
         joints = raw["joints"]
         return MonitorStatus(
             t_s=float(raw["t_s"]),

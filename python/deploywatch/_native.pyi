@@ -31,6 +31,7 @@ def simulate_batch(
 def parameters(
     mechanism_toml: str, source: str, vary: List[str], fail: List[str], from_json: Optional[str] = None
 ) -> List[str]: ...
+def check_vary(text: str) -> Optional[str]: ...
 def reliability(
     mechanism_toml: str,
     source: str,

@@ -32,7 +32,11 @@ class Trajectory:
 
     ``t_s`` (n,) [s]; ``phi_deg`` and ``rate_deg_s`` (n, joints) [deg],
     [deg/s]; ``latch_s`` (joints,) [s], NaN where the joint did not latch;
-    ``end_s`` where the simulation stopped [s].
+    ``end_s`` [s] where the run ends, the time of its last sample
+    (``t_s[-1]``), whichever simulator ran it: a wing of ideal latches
+    that deployed is recorded ``settle_s`` past its last latch; one with
+    physical latches, or with a joint that did not latch, up to the
+    mechanism's ``duration_s``. The last latch is :attr:`last_latch_s`.
     """
 
     t_s: FloatArray
@@ -45,6 +49,14 @@ class Trajectory:
     def joints(self) -> int:
         """The number of joints."""
         return int(self.latch_s.shape[0])
+
+    @property
+    def last_latch_s(self) -> float:
+        """When the wing deployed [s]: the latest of ``latch_s`` once every
+        joint latched; NaN when a joint did not latch."""
+        if self.latch_s.size == 0 or _np.isnan(self.latch_s).any():
+            return math.nan
+        return float(self.latch_s.max())
 
     def to_pandas(self) -> Any:
         """A ``pandas.DataFrame`` view: indexed by ``t_s``, one column per

@@ -23,7 +23,7 @@ use deploywatch_sim::reliability::auto::{estimate, Method};
 use deploywatch_sim::reliability::correlation::Correlation;
 use deploywatch_sim::reliability::criteria::{Criterion, Outcome};
 use deploywatch_sim::reliability::identified;
-use deploywatch_sim::reliability::params::Vary;
+use deploywatch_sim::reliability::params::{Target, Vary};
 use deploywatch_sim::reliability::{warnings, Problem, ReliabilityError};
 use errors::Kind;
 use numpy::ndarray::Array2;
@@ -98,6 +98,28 @@ fn problem(
     Ok((p, notes))
 }
 
+/// The `--vary` parser's verdict on one string, without a mechanism: the
+/// law, the target's name, and its joint where no mechanism changes the
+/// answer (`joint=J` missing for a per-joint effect or given to a global
+/// one, `Effect::validate_joint`'s words; whether the mechanism has that
+/// joint is [`Problem::check`]'s). `None` when it passes, else the words,
+/// the CLI's flags named as the Python arguments. What the typed `Vary`
+/// checks where it is written.
+#[pyfunction]
+fn check_vary(text: &str) -> Option<String> {
+    let why = match text.parse::<Vary>() {
+        Err(e) => e.to_string(),
+        Ok(v) => match v.target {
+            Target::Effect(e) if e.kind().per_joint() == e.joint.is_none() => {
+                let refused = e.with_value(0.0).validate_joint(usize::MAX).err()?;
+                format!("`{text}`: {refused}")
+            }
+            _ => return None,
+        },
+    };
+    Some(errors::pythonic(&why))
+}
+
 /// The labels of the problem's parameters, in the column order of
 /// `simulate_batch`'s `params`.
 #[pyfunction]
@@ -136,9 +158,12 @@ type Outcomes<'py> = (
 /// `simulate` runs it (the physical latches' contact model when it has
 /// one): `(t_s, phi_deg, rate_deg_s, latch_s, end_s)`, numpy arrays of
 /// shapes (n,), (n, joints), (n, joints), (joints,) (NaN where not latched)
-/// and a float. The effect strings are checked as the CLI checks
-/// `--effect` (the errors name `effects[i]`). The GIL is released while it
-/// runs.
+/// and a float: `end_s` the time of the last sample, where the run ends
+/// whichever simulator ran it (not `Trajectory::end_s`, where the
+/// integration stopped: the last latch for the chain and the truss, whose
+/// samples then hold the deployed state `settle_s` longer). The effect
+/// strings are checked as the CLI checks `--effect` (the errors name
+/// `effects[i]`). The GIL is released while it runs.
 #[pyfunction]
 #[pyo3(signature = (model, effects, sample_hz=None))]
 fn simulate<'py>(
@@ -157,12 +182,14 @@ fn simulate<'py>(
         .map_err(|e| errors::simulation(&e))?;
     let (n, j) = (traj.t_s.len(), traj.joints());
     let latch: Vec<f64> = traj.latch_s.iter().map(|l| l.unwrap_or(f64::NAN)).collect();
+    // Where the integration stopped stands in only for a run without samples.
+    let end_s = traj.t_s.last().copied().unwrap_or(traj.end_s);
     Ok((
         traj.t_s.clone().into_pyarray(py),
         grid(py, n, j, |i, k| traj.phi_deg[k][i]),
         grid(py, n, j, |i, k| traj.rate_deg_s[k][i]),
         latch.into_pyarray(py),
-        traj.end_s,
+        end_s,
     ))
 }
 
@@ -318,5 +345,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
     m.add_function(wrap_pyfunction!(reliability, m)?)?;
     m.add_function(wrap_pyfunction!(parameters, m)?)?;
+    m.add_function(wrap_pyfunction!(check_vary, m)?)?;
     Ok(())
 }

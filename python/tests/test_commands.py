@@ -55,6 +55,33 @@ def test_margin_gives_the_clis_json(root, cli, tmp_path, monkeypatch):
     assert dw.margin(dw.Mechanism.from_toml(T02), friction=[0.5, 1.7, 0.01], standard="ecss-e-st-33-01c").json == want
 
 
+def test_an_infinite_margin_is_inf_not_nan(root, cli, tmp_path, monkeypatch):
+    """A joint with nothing resisting it has an infinite margin: the CLI's
+    JSON writes it ``null`` (JSON has no infinity), and ``joints``, its
+    ``table`` and its pandas view give ``inf``, never NaN; the finite
+    margins beside it are the JSON's, and ``json`` stays the CLI's file."""
+    monkeypatch.chdir(root)
+    run_cli(cli, root, "margin", "--mechanism", T02, "--friction", "0.5,1.7,0", "--json", str(tmp_path / "m.json"), "-q")
+    want = json.loads((tmp_path / "m.json").read_text())
+    got = dw.margin(T02, friction=[0.5, 1.7, 0.0])
+    assert got.json == want
+    rows = want["joints"]
+    assert [r["torque_margin_pct"] is None for r in rows] == [False, False, True]
+    for key in ("torque_margin_pct", "energy_margin_pct"):
+        col = got.joints[key]
+        assert col[:2].tolist() == [r[key] for r in rows[:2]], key
+        assert col[2] == np.inf, (key, col)
+        np.testing.assert_array_equal(got.table("joints")[key], col)
+        np.testing.assert_array_equal(got.to_pandas()[key].to_numpy(), col)
+    # No friction at all (the bundled nominal mechanism): every margin inf.
+    nominal = dw.margin(T01)
+    assert np.isposinf(nominal.joints["torque_margin_pct"]).all()
+    assert np.isposinf(nominal.joints["energy_margin_pct"]).all()
+    # Ideal latches engage nothing: no latching margin, NaN (not a number,
+    # not an infinite one).
+    assert np.isnan(nominal.joints["latching_margin_pct"]).all()
+
+
 def test_margin_with_a_reviewers_settings_gives_the_clis_json(root, cli, tmp_path, monkeypatch):
     """The settings a reviewer signs under NASA-STD-5017: the test row of
     factors, the springs' tolerance and end-of-life loss, the dynamic
@@ -220,8 +247,9 @@ def test_a_spring_s_declared_tolerance_is_read(root):
 
 def test_the_monitor_refuses_a_latch_switch_read_as_text(root):
     # bool("0") is True: a switch read from a CSV as text would read closed.
+    # Refused where the sample is made, before the monitor sees it.
     monitor = dw.Monitor(dw.Mechanism.from_toml(root / T01))
-    with pytest.raises(InputError, match=r"^sample.latch: expected one bool per switch"):
+    with pytest.raises(InputError, match=r"^Sample\.latch\[0\]: expected one bool per switch"):
         monitor.update(dw.Sample(t_s=0.0, phi_deg=[-90.0, 180.0, -180.0], latch=["0", "0", "0"]))
     status = monitor.update(dw.Sample(t_s=0.0, phi_deg=[-90.0, 180.0, -180.0], latch=[False, False, False]))
     assert status.samples == 1

@@ -44,3 +44,53 @@ def test_reliability_on_the_cluster_raises_the_workers_error(root, dask_client):
         deploywatch.reliability(root / MECH, vary=NEGATIVE, samples=1000, executor=dask_client)
     (why,) = e.value.causes
     assert why.startswith("panel_inertia at joint 1 would be -") and "expected > 0" in why, why
+
+
+def test_a_closed_client_is_an_input_error(root, dask_client):
+    """A ``dask.distributed.Client`` closed before the call: an
+    ``InputError`` naming ``executor``, saying the client is closed and
+    what to pass instead, before any task is sent (not Dask's
+    ``ClosedClientError`` from inside the analysis). The cluster itself is
+    left running."""
+    from dask import distributed
+
+    client = distributed.Client(dask_client.scheduler.address)
+    client.close()
+    assert client.status == "closed"
+    with pytest.raises(InputError) as e:
+        deploywatch.reliability(root / MECH, vary=["coulomb_friction:joint=1:normal(1.1,0.1)"], samples=1000,
+                                executor=client)
+    msg = str(e.value)
+    assert msg.startswith("executor: the dask.distributed.Client is closed (status 'closed')"), msg
+    assert "executor=None" in msg and "client.close()" in msg, msg
+    assert dask_client.status == "running"
+
+
+def test_a_client_closed_during_the_analysis_is_an_input_error(root, dask_client, monkeypatch):
+    """A client closed between two batches (here: right after the first):
+    the same ``InputError``, not Dask's error from inside the analysis."""
+    from dask import distributed
+
+    client = distributed.Client(dask_client.scheduler.address)
+    batches = []
+    make = deploywatch._api._evaluator
+
+    def closing_after_the_first_batch(*args, **kwargs):
+        evaluate = make(*args, **kwargs)
+
+        def first_then_close(xs):
+            out = evaluate(xs)
+            batches.append(len(out))
+            client.close()
+            return out
+
+        return first_then_close
+
+    monkeypatch.setattr(deploywatch._api, "_evaluator", closing_after_the_first_batch)
+    try:
+        with pytest.raises(InputError, match=r"^executor: the dask\.distributed\.Client is closed"):
+            deploywatch.reliability(root / MECH, vary=["coulomb_friction:joint=1:normal(1.1,0.1)"],
+                                    method="subset", samples=1000, executor=client)
+    finally:
+        client.close()
+    assert len(batches) == 1, "the first batch ran on the client, the second was refused"

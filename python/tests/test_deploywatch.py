@@ -59,6 +59,35 @@ def test_simulate_matches_the_cli(cli, root, tmp_path):
     assert isinstance(r.end_s, float) and 0 < r.end_s <= r.t_s[-1]
 
 
+@pytest.mark.parametrize(
+    "mech, deployed",
+    [
+        (MECH, True),  # the chain of ideal latches
+        ("data/mechanisms/seed000_case2_truss.toml", True),  # the truss wing
+        ("data/mechanisms/seed001_T01_rig.toml", True),  # on the rig
+        ("data/mechanisms/one_panel_pawl.toml", True),  # a physical latch
+        ("data/mechanisms/one_panel_physical_latch.toml", False),  # one that does not latch
+    ],
+)
+def test_end_s_is_the_last_sample_whichever_simulator(root, mech, deployed):
+    """``end_s`` is where the run ends, its last sample, whichever
+    simulator ran it (the chain's and the truss's integration stops at the
+    last latch and their samples go on ``settle_s`` longer, the others'
+    run to their last sample); the last latch is ``last_latch_s``, NaN
+    when a joint did not latch."""
+    r = deploywatch.simulate(root / mech)
+    assert isinstance(r.end_s, float) and r.end_s == r.t_s[-1]
+    assert np.isfinite(r.latch_s).all() == deployed
+    if deployed:
+        assert r.last_latch_s == np.max(r.latch_s) and r.last_latch_s <= r.end_s
+    else:
+        assert np.isnan(r.last_latch_s)
+    if mech == MECH:
+        m = deploywatch.Mechanism.from_toml(root / mech)
+        # Recorded settle_s past the sample at or after the last latch.
+        assert r.end_s - r.last_latch_s >= m.settle_s
+
+
 def test_simulate_batch_rows_are_deployments(cli, root, tmp_path):
     params = np.array([[1.0, 0.16], [1.2, 0.2], [1.6, 0.16]])
     b = deploywatch.simulate_batch(root / MECH, VARY, params, fail=FAIL)

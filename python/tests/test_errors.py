@@ -7,6 +7,7 @@ all of it (what a Dask worker does with an exception).
 """
 
 import errno
+import math
 import pickle
 
 import numpy as np
@@ -75,6 +76,35 @@ def test_a_missing_file_is_the_same_error_in_every_function(tmp_path, root):
         assert err.errno == errno.ENOENT and err.filename == str(absent), name
         again = pickle.loads(pickle.dumps(err))
         assert type(again) is type(err) and str(again) == str(err) and again.filename == err.filename
+
+
+def test_a_folder_where_a_file_is_meant(tmp_path, root):
+    """A folder's name where a file's is meant: the ``MissingFileError`` of
+    a missing file (an ``InputError`` and a ``FileNotFoundError``, with
+    ``errno.EISDIR`` as ``open`` gives), naming the argument and the path
+    and saying it is a folder; never ``open``'s raw ``IsADirectoryError``."""
+    folder = tmp_path / "wing.toml"
+    folder.mkdir()
+    t01 = root / "data/mechanisms/seed001_T01.toml"
+    calls = {
+        "path": lambda: deploywatch.Mechanism.from_toml(folder),
+        "mechanism": lambda: deploywatch.simulate(folder),
+        "from_": lambda: deploywatch.margin(t01, from_=folder),
+        "run": lambda: deploywatch.replay(folder, t01),
+    }
+    for name, call in calls.items():
+        with pytest.raises(deploywatch.MissingFileError) as e:
+            call()
+        err = e.value
+        assert isinstance(err, InputError) and isinstance(err, FileNotFoundError), name
+        assert str(err) == f"{name}: {folder}: is a folder, not a file", str(err)
+        assert err.errno == errno.EISDIR and err.filename == str(folder), name
+        again = pickle.loads(pickle.dumps(err))
+        assert type(again) is type(err) and str(again) == str(err)
+        assert again.errno == errno.EISDIR and again.filename == err.filename
+    # The folder given as text, and the current folder, alike.
+    with pytest.raises(deploywatch.MissingFileError, match=r"^path: \.: is a folder, not a file$"):
+        deploywatch.Mechanism.from_toml(".")
 
 
 def test_a_mechanism_file_that_is_not_toml(tmp_path):
@@ -153,9 +183,121 @@ def test_a_typed_argument_of_the_wrong_type_is_refused_where_it_is_written(make,
         make()
 
 
+@pytest.mark.parametrize(
+    "make, message",
+    [
+        (lambda: deploywatch.Normal(1.0, -0.1), "Normal.sd: expected a positive finite number (a standard deviation), got -0.1"),
+        (lambda: deploywatch.Normal(1.0, 0), "Normal.sd: expected a positive finite number (a standard deviation), got 0.0"),
+        (lambda: deploywatch.Normal(math.inf, 0.1), "Normal.mean: expected a finite number, got inf"),
+        (lambda: deploywatch.Normal(1.0, math.nan), "Normal.sd: expected a positive finite number (a standard deviation), got nan"),
+        (lambda: deploywatch.LogNormal(0.0, 0.5), "LogNormal.median: expected a positive finite number, got 0.0"),
+        (lambda: deploywatch.LogNormal(2.0, math.inf),
+         "LogNormal.sigma_ln: expected a positive finite number (the standard deviation of ln x), got inf"),
+        (lambda: deploywatch.Uniform(2, 1), "Uniform.hi: expected a number above lo = 2.0, got 1.0"),
+        (lambda: deploywatch.Uniform(0, math.inf), "Uniform.hi: expected a finite number, got inf"),
+        (lambda: deploywatch.TruncNormal(1, 0.1, 3, 2), "TruncNormal.hi: expected a number above lo = 3.0, got 2.0"),
+        (lambda: deploywatch.TruncNormal(1, -1, 0, 2), "TruncNormal.sd: expected a positive finite number (a standard deviation), got -1.0"),
+        (lambda: deploywatch.TruncNormal(1, 0.1, math.nan, 2),
+         "TruncNormal.lo: expected a number below inf (-inf keeps no lower bound), got nan"),
+        (lambda: deploywatch.Vary("coulomb_friction", 1, "normal(1,0.1)"),
+         "Vary.law: expected a Normal, LogNormal, Uniform or TruncNormal, got str 'normal(1,0.1)'"),
+        (lambda: deploywatch.Vary(3, 1, deploywatch.Normal(1, 0.1)), "Vary.name: expected a string, got int 3"),
+        (lambda: deploywatch.Vary("coulomb_friction", 0, deploywatch.Normal(1, 0.1)),
+         "Vary.joint: expected a joint number from 1 (None for a global effect), got 0"),
+        (lambda: deploywatch.LatchRate(above_deg_s=-1), "LatchRate.above_deg_s: expected a positive finite rate [deg/s], got -1.0"),
+        (lambda: deploywatch.LatchTime(above_s=math.inf), "LatchTime.above_s: expected a positive finite time [s], got inf"),
+        (lambda: deploywatch.LatchTime(above_s=0), "LatchTime.above_s: expected a positive finite time [s], got 0.0"),
+        (lambda: deploywatch.Sample(t_s="0.0", phi_deg=[0.0], latch=[False]), "Sample.t_s: expected a number, got str '0.0'"),
+        (lambda: deploywatch.Sample(t_s=math.nan, phi_deg=[0.0], latch=[False]), "Sample.t_s: expected a finite time [s], got nan"),
+        (lambda: deploywatch.Sample(t_s=0.0, phi_deg="90", latch=[False]),
+         "Sample.phi_deg: expected a list of numbers, one per joint, got str '90'"),
+        (lambda: deploywatch.Sample(t_s=0.0, phi_deg=[0.0, "1"], latch=[False, False]),
+         "Sample.phi_deg[1]: expected a number, got str '1'"),
+        (lambda: deploywatch.Sample(t_s=0.0, phi_deg=[-math.inf], latch=[False]),
+         "Sample.phi_deg[0]: expected an angle [deg], finite or NaN for a missing reading, got -inf"),
+        (lambda: deploywatch.Sample(t_s=0.0, phi_deg=[0.0], latch=[1]),
+         "Sample.latch[0]: expected one bool per switch (True: closed), got int 1"),
+        (lambda: deploywatch.Sample(t_s=0.0, phi_deg=[0.0, 1.0], latch=[False]),
+         "Sample.latch: expected one switch per angle of phi_deg (2), got 1"),
+    ],
+)
+def test_a_typed_argument_of_an_impossible_value_is_refused_where_it_is_written(make, message):
+    """A law, a varied parameter, a criterion or a monitor's sample whose
+    value no mechanism takes (a standard deviation at or below 0, bounds
+    the wrong way round, a number that is not finite, a switch that is not
+    a bool): an ``InputError`` on the line that makes it, naming the field,
+    the value and what was expected, not an error inside a command later."""
+    with pytest.raises(InputError) as e:
+        make()
+    assert str(e.value) == message
+
+
+@pytest.mark.parametrize(
+    "make, pattern",
+    [
+        # The --vary parser's words, naming the field they are about.
+        (lambda: deploywatch.Vary("colomb_friction", 1, deploywatch.Normal(1, 0.1)),
+         r"^Vary\.name: `colomb_friction:joint=1:normal\(1\.0,0\.1\)`: unknown effect `colomb_friction`: expected one of coulomb_friction"),
+        (lambda: deploywatch.Vary("torque_table", 1, deploywatch.Normal(1, 0.1)),
+         r"^Vary\.name: `torque_table:joint=1:normal\(1\.0,0\.1\)`: .*torque_table needs angle_deg"),
+        (lambda: deploywatch.Vary("panel_mass", None, deploywatch.Uniform(1, 2)),
+         r"^Vary\.joint: `panel_mass:uniform\(1\.0,2\.0\)`: panel_mass needs joint=J \(from 1\)$"),
+        (lambda: deploywatch.Vary("air_drag", 1, deploywatch.Uniform(0, 1)),
+         r"^Vary\.joint: `air_drag:joint=1:uniform\(0\.0,1\.0\)`: air_drag is global: it takes no joint"),
+        (lambda: deploywatch.Vary("coulomb_friction", None, deploywatch.Normal(1, 0.1)),
+         r"^Vary\.joint: `coulomb_friction:normal\(1\.0,0\.1\)`: coulomb_friction acts on a joint: give joint=J"),
+    ],
+)
+def test_a_vary_of_an_unknown_target_is_refused_where_it_is_written(make, pattern):
+    with pytest.raises(InputError, match=pattern):
+        make()
+
+
+def test_the_typed_laws_refuse_what_the_vary_parser_refuses(root):
+    """The laws' own checks and the ``--vary`` parser the CLI uses (its
+    ``Dist::check``) agree: each law refused where it is written is
+    refused as a string by ``parameters`` too, and each law taken there."""
+    mech = root / MECH
+    laws = [
+        (deploywatch.Normal, (1.0, 0.1)), (deploywatch.Normal, (1.0, 0.0)), (deploywatch.Normal, (1.0, -0.1)),
+        (deploywatch.Normal, (math.inf, 0.1)), (deploywatch.Normal, (1.0, math.inf)), (deploywatch.Normal, (-1.0, 0.1)),
+        (deploywatch.LogNormal, (2.0, 0.5)), (deploywatch.LogNormal, (0.0, 0.5)), (deploywatch.LogNormal, (-1.0, 0.5)),
+        (deploywatch.LogNormal, (2.0, 0.0)), (deploywatch.LogNormal, (math.nan, 0.5)),
+        (deploywatch.Uniform, (0.0, 1.0)), (deploywatch.Uniform, (1.0, 1.0)), (deploywatch.Uniform, (2.0, 1.0)),
+        (deploywatch.Uniform, (-math.inf, 1.0)), (deploywatch.Uniform, (0.0, math.inf)),
+        (deploywatch.TruncNormal, (1.0, 0.1, 0.5, 1.5)), (deploywatch.TruncNormal, (1.0, 0.1, 0.0, math.inf)),
+        (deploywatch.TruncNormal, (1.0, 0.1, -math.inf, 2.0)), (deploywatch.TruncNormal, (1.0, 0.1, -math.inf, math.inf)),
+        (deploywatch.TruncNormal, (1.0, 0.1, 2.0, 2.0)), (deploywatch.TruncNormal, (1.0, 0.1, math.inf, math.inf)),
+        (deploywatch.TruncNormal, (1.0, 0.1, math.nan, 2.0)), (deploywatch.TruncNormal, (1.0, 0.1, 0.0, math.nan)),
+        (deploywatch.TruncNormal, (1.0, 0.0, 0.0, 2.0)), (deploywatch.TruncNormal, (math.nan, 0.1, 0.0, 2.0)),
+    ]
+    for cls, args in laws:
+        text = f"air_drag:{cls.__name__.lower()}({','.join(repr(float(a)) for a in args)})"
+        try:
+            deploywatch.parameters(mech, [text])
+            parsed = True
+        except InputError:
+            parsed = False
+        try:
+            law = cls(*args)
+            made = True
+        except InputError:
+            made = False
+        assert made == parsed, (text, made, parsed)
+        if made:
+            assert str(deploywatch.Vary("air_drag", None, law)) == text
+
+
 def test_typed_arguments_take_numpy_numbers_and_no_joint():
     assert str(deploywatch.Coulomb(joint=np.int64(2), torque_nm=np.float32(0.5))) == "coulomb_friction:joint=2:value=0.5"
     assert str(deploywatch.Vary("air_drag", None, deploywatch.Uniform(0, 1))) == "air_drag:uniform(0.0,1.0)"
+    assert str(deploywatch.Vary("panel_mass", np.int64(1), deploywatch.TruncNormal(3.5, 0.2, 3, math.inf))) == (
+        "panel_mass:joint=1:truncnormal(3.5,0.2,3.0,inf)"
+    )
+    # A missing reading is NaN; numpy's bools are switches; kept as tuples.
+    s = deploywatch.Sample(t_s=np.float32(0.5), phi_deg=np.array([math.nan, 90.0]), latch=np.array([True, False]))
+    assert s.t_s == 0.5 and math.isnan(s.phi_deg[0]) and s.phi_deg[1] == 90.0 and s.latch == (True, False)
+    assert type(s.latch[0]) is bool
 
 
 @pytest.mark.parametrize(

@@ -163,19 +163,50 @@ def test_a_bad_mechanism_file_is_refused_with_the_clis_words(root, cli, tmp_path
     "arg,typed",
     [
         ("vary", dw.Vary("coulomb_friction", 2, dw.Normal(1, 0.1))),
-        ("vary", dw.Vary("panel_mass", 1, dw.Uniform(2, 1))),
-        ("vary", dw.Vary("coulomb_friction", 1, dw.TruncNormal(1, 0.1, 3, 2))),
         ("fail", dw.LatchTime(above_s=20)),
-        ("fail", dw.LatchRate(above_deg_s=-1)),
     ],
 )
 def test_a_bad_typed_law_or_criterion_is_refused_as_its_string(root, cli, arg, typed):
+    """What only the mechanism refuses (a joint it lacks, a time beyond its
+    ``duration_s``) is refused by the command, with the CLI's words."""
     flag = "--" + arg
     args = ["reliability", str(root / ONE), flag, str(typed)]
     args += ["--fail", "not_latched"] if arg == "vary" else ["--vary", VARY]
     said = cli_error(cli, args)
     kw = {"vary": [VARY], "fail": [dw.NotLatched()]}
     kw[arg] = [typed]
+    with pytest.raises(InputError) as e:
+        dw.reliability(dw.Mechanism.from_toml(root / ONE), **kw)  # type: ignore[arg-type]
+    got = re.sub(r"^(\w+)\[0\]:", r"\1:", str(e.value))
+    assert got == as_python(said, flag, arg), (str(e.value), said)
+
+
+@pytest.mark.parametrize(
+    "arg,text,make,field",
+    [
+        ("vary", "panel_mass:joint=1:uniform(2.0,1.0)", lambda: dw.Vary("panel_mass", 1, dw.Uniform(2, 1)), "Uniform.hi"),
+        ("vary", "coulomb_friction:joint=1:truncnormal(1.0,0.1,3.0,2.0)",
+         lambda: dw.Vary("coulomb_friction", 1, dw.TruncNormal(1, 0.1, 3, 2)), "TruncNormal.hi"),
+        ("vary", "coulomb_friction:joint=1:normal(1.0,-0.1)", lambda: dw.Normal(1, -0.1), "Normal.sd"),
+        ("vary", "colomb_friction:joint=1:normal(1.0,0.1)",
+         lambda: dw.Vary("colomb_friction", 1, dw.Normal(1, 0.1)), "Vary.name"),
+        ("fail", "latch_rate>-1.0", lambda: dw.LatchRate(above_deg_s=-1), "LatchRate.above_deg_s"),
+        ("fail", "time>0.0", lambda: dw.LatchTime(above_s=0), "LatchTime.above_s"),
+    ],
+)
+def test_what_the_cli_refuses_on_any_mechanism_is_refused_where_it_is_written(root, cli, arg, text, make, field):
+    """A law or criterion the CLI's parser refuses whatever the mechanism:
+    the CLI refuses its string, and the typed object is refused on the
+    line that makes it (``InputError`` naming the field), before any
+    command; the string given to a command is refused with the CLI's words."""
+    flag = "--" + arg
+    args = ["reliability", str(root / ONE), flag, text]
+    args += ["--fail", "not_latched"] if arg == "vary" else ["--vary", VARY]
+    said = cli_error(cli, args)
+    with pytest.raises(InputError, match=rf"^{re.escape(field)}: "):
+        make()
+    kw = {"vary": [VARY], "fail": ["not_latched"]}
+    kw[arg] = [text]
     with pytest.raises(InputError) as e:
         dw.reliability(dw.Mechanism.from_toml(root / ONE), **kw)  # type: ignore[arg-type]
     got = re.sub(r"^(\w+)\[0\]:", r"\1:", str(e.value))
