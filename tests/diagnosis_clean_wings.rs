@@ -4,7 +4,7 @@
 //! with the reference sensor's noise and rounding, two runs per wing, and
 //! diagnosed with the mechanism as drawn. Nothing may be named: no effect,
 //! no encoder delay taken out, no panel mode, no free-play, no latch that
-//! differs from its drawing, nothing unexplained.
+//! differs from its drawing, nothing unexplained, no ambiguity listed.
 //!
 //! `DEPLOYWATCH_WINGS` wings (default 6); wings with a `[rig]` are left
 //! out unless `DEPLOYWATCH_RIG=1` (each candidate simulates the rig: minutes
@@ -68,6 +68,13 @@ fn named(o: &Outcome) -> Vec<String> {
     if o.unexplained.is_some() {
         out.push("something unexplained".into());
     }
+    out.extend(o.ambiguities.iter().map(|g| {
+        format!(
+            "an ambiguity at joint {} ({} sets the runs cannot tell apart)",
+            g.joint,
+            g.sets.len()
+        )
+    }));
     out
 }
 

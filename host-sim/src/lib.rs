@@ -68,6 +68,7 @@ pub mod effect {
 /// The findings JSON that `identify` and `diagnose` write.
 pub mod findings {
     pub use crate::model::findings::diagnosis::FoundEffect;
+    pub use crate::model::findings::stand_in::StandIn;
     pub use crate::model::findings::{Diagnosis, Findings, FindingsError};
 }
 
@@ -275,7 +276,9 @@ pub mod reliability {
     }
     /// Parameters from what identify or diagnose found.
     pub mod identified {
-        pub use crate::analysis::reliability::identified::{from_findings_json, FromFindings};
+        pub use crate::analysis::reliability::identified::{
+            from_findings_json, FromFindings, StandInLaws,
+        };
     }
     /// Crude Monte-Carlo.
     pub mod mc {

@@ -33,6 +33,22 @@ pub struct Resistances {
     /// margins take, the worst end of its 95 % interval
     /// ([`effect_margin::worst_end`]), or its estimate and why.
     pub taken_at: Vec<String>,
+    /// The wing's own losses a diagnosis could not tell from its rig-only
+    /// effects ([`Diagnosis::flight_stand_ins`]): what
+    /// [`Resistances::take_out_the_rig`] keeps in their place.
+    pub stand_ins: Vec<WingStandIn>,
+}
+
+/// A loss of the wing's own, at the worst end of its interval, that the
+/// runs could not tell from rig-only effects of the set found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WingStandIn {
+    /// The rig-only effects it may stand in for.
+    pub replaces: Vec<EffectKind>,
+    /// Its effects, as the margins take them.
+    pub effects: Vec<Effect>,
+    /// What it is, in words: `quadratic_damping at joint 1 (…)`.
+    pub words: String,
 }
 
 impl Resistances {
@@ -46,6 +62,32 @@ impl Resistances {
             others: Vec::new(),
             found_on: Vec::new(),
             taken_at: Vec::new(),
+            stand_ins: Vec::new(),
+        }
+    }
+
+    /// Adds `e` to what the margins count: friction and damping into their
+    /// per-joint lists (the mechanism's own forms take their columns), any
+    /// other effect into [`Resistances::others`].
+    fn add(&mut self, e: Effect) {
+        let column = match e.kind().margin() {
+            MarginForm::Coulomb => Some(&mut self.coulomb_nm),
+            MarginForm::Viscous => Some(&mut self.viscous_nms),
+            MarginForm::Quadratic
+            | MarginForm::Breakaway
+            | MarginForm::Driving
+            | MarginForm::Harness
+            | MarginForm::Detent
+            | MarginForm::Distributed
+            | MarginForm::Tilt
+            | MarginForm::Table
+            | MarginForm::Sensor
+            | MarginForm::LatchLine
+            | MarginForm::RigLine => None,
+        };
+        match (column, e.joint) {
+            (Some(column), Some(j)) if j >= 1 && j <= column.len() => column[j - 1] += e.value(),
+            _ => self.others.push(e),
         }
     }
 
@@ -75,7 +117,9 @@ impl Resistances {
 
     /// The margin on orbit (`--flight`): leaves out the effects that exist
     /// only on the ground rig ([`effect_margin::rig_only`]), naming them
-    /// in the source.
+    /// in the source, and keeps in their place the wing's own loss the
+    /// diagnosis could not tell from them ([`Resistances::stand_ins`]),
+    /// saying so: the runs do not show that the loss was the rig's.
     pub fn take_out_the_rig(&mut self) {
         let (rig, flies): (Vec<Effect>, Vec<Effect>) = self
             .others
@@ -83,7 +127,11 @@ impl Resistances {
             .partition(|e| effect_margin::rig_only(e.kind()));
         self.others = flies;
         let names: Vec<String> = rig.iter().map(|e| e.kind().to_string()).collect();
-        self.source = if names.is_empty() {
+        let kept: Vec<WingStandIn> = std::mem::take(&mut self.stand_ins)
+            .into_iter()
+            .filter(|s| rig.iter().any(|e| s.replaces.contains(&e.kind())))
+            .collect();
+        let mut source = if names.is_empty() {
             format!("{}; flight: the rig taken out", self.source)
         } else {
             format!(
@@ -92,6 +140,18 @@ impl Resistances {
                 names.join(", ")
             )
         };
+        for s in kept {
+            let rig: Vec<String> = s.replaces.iter().map(ToString::to_string).collect();
+            source.push_str(&format!(
+                "; kept in place of {}, which the runs cannot tell it from: {}",
+                rig.join(", "),
+                s.words
+            ));
+            for e in s.effects {
+                self.add(e);
+            }
+        }
+        self.source = source;
     }
 }
 
@@ -125,6 +185,15 @@ pub enum FromError {
          mechanism's as given, which the runs contradict (docs/margin.md, \"From a diagnosis\")"
     )]
     Unexplained(String),
+    /// An effect of an ambiguity group's set the margins would keep on
+    /// orbit ([`Diagnosis::flight_stand_ins`]) that does not read.
+    #[error("ambiguities at joint {joint}: {source}")]
+    StandIn {
+        /// The group's joint.
+        joint: usize,
+        /// What the effect's reader says.
+        source: Box<FoundEffectError>,
+    },
     /// A joint the mechanism does not have.
     #[error("{effect} at joint {joint}, but {mechanism} has joints 1 to {joints}")]
     Joint {
@@ -153,6 +222,8 @@ struct Found {
     taken_at: Vec<String>,
     /// What the source line adds (a diagnosis that found nothing).
     note: Option<String>,
+    /// The wing's losses that may stand in for rig-only effects.
+    stand_ins: Vec<WingStandIn>,
 }
 
 /// Reads `--from`: an identify JSON (`"method"` and `"joints"`) or a
@@ -173,6 +244,12 @@ pub fn read_found(path: &Path, mech: &Mechanism) -> Result<Resistances, FromErro
         ),
     };
     let mut r = resistances_with(mech, found.effects, source)?;
+    for s in &found.stand_ins {
+        for e in &s.effects {
+            valid_joint(e, mech)?;
+        }
+    }
+    r.stand_ins = found.stand_ins;
     r.ignored = found.ignored;
     r.found_on = found.found_on;
     r.taken_at = found.taken_at;
@@ -187,39 +264,23 @@ pub fn resistances_with(
     effects: Vec<Effect>,
     source: String,
 ) -> Result<Resistances, FromError> {
-    let n = mech.joint_count();
     let mut r = Resistances::of_mechanism(mech, source);
     for e in effects {
-        if e.validate_joint(n).is_err() {
-            return Err(FromError::Joint {
-                effect: e.kind(),
-                joint: e.joint.unwrap_or(0),
-                mechanism: mech.name.clone(),
-                joints: n,
-            });
-        }
-        // The mechanism's own friction forms take their columns.
-        let column = match e.kind().margin() {
-            MarginForm::Coulomb => Some(&mut r.coulomb_nm),
-            MarginForm::Viscous => Some(&mut r.viscous_nms),
-            MarginForm::Quadratic
-            | MarginForm::Breakaway
-            | MarginForm::Driving
-            | MarginForm::Harness
-            | MarginForm::Detent
-            | MarginForm::Distributed
-            | MarginForm::Tilt
-            | MarginForm::Table
-            | MarginForm::Sensor
-            | MarginForm::LatchLine
-            | MarginForm::RigLine => None,
-        };
-        match (column, e.joint) {
-            (Some(column), Some(j)) => column[j - 1] += e.value(),
-            _ => r.others.push(e),
-        }
+        valid_joint(&e, mech)?;
+        r.add(e);
     }
     Ok(r)
+}
+
+/// `e` if its joint is one of `mech`'s.
+fn valid_joint(e: &Effect, mech: &Mechanism) -> Result<(), FromError> {
+    let n = mech.joint_count();
+    e.validate_joint(n).map_err(|_| FromError::Joint {
+        effect: e.kind(),
+        joint: e.joint.unwrap_or(0),
+        mechanism: mech.name.clone(),
+        joints: n,
+    })
 }
 
 /// `x` if it is a finite number ≥ 0.
@@ -277,6 +338,7 @@ fn identify_effects(id: &Identification) -> Result<Found, FromError> {
         found_on,
         taken_at,
         note,
+        stand_ins: Vec::new(),
     })
 }
 
@@ -325,7 +387,40 @@ fn diagnose_effects(d: &Diagnosis, mech: &Mechanism) -> Result<Found, FromError>
         found_on: d.found_on(),
         taken_at,
         note,
+        stand_ins: wing_stand_ins(d, mech)?,
     })
+}
+
+/// The diagnosis's [`Diagnosis::flight_stand_ins`], each effect at the
+/// worst end of its interval, as the margins take what was found.
+fn wing_stand_ins(d: &Diagnosis, mech: &Mechanism) -> Result<Vec<WingStandIn>, FromError> {
+    let mut out = Vec::new();
+    for s in d.flight_stand_ins() {
+        let (mut effects, mut words) = (Vec::new(), Vec::new());
+        for f in &s.effects {
+            let Ok(kind) = f.name.parse::<EffectKind>() else {
+                continue;
+            };
+            let (worst, taken) = at_worst_end(f, kind, mech);
+            let read = worst.to_effect(0).map_err(|source| FromError::StandIn {
+                joint: s.joint,
+                source: Box::new(source),
+            })?;
+            if let Some(e) = read {
+                let joint = e.joint.map_or(String::new(), |j| format!(" at joint {j}"));
+                words.push(format!("{kind}{joint} ({taken})"));
+                effects.push(e);
+            }
+        }
+        if !effects.is_empty() {
+            out.push(WingStandIn {
+                replaces: s.replaces,
+                effects,
+                words: words.join(", "),
+            });
+        }
+    }
+    Ok(out)
 }
 
 /// The value of an effect of `kind` estimated at `estimate` that the

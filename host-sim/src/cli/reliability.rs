@@ -96,6 +96,10 @@ fn from_file(path: &Path, given: &[Vary], mech: &Mechanism) -> Result<FromFindin
     found
         .vary
         .retain(|f| given.iter().all(|g| named(g) != named(f)));
+    for s in &mut found.stand_ins {
+        s.vary
+            .retain(|f| given.iter().all(|g| named(g) != named(f)));
+    }
     for f in &mut found.fixed {
         f.source = format!("--from {}: {}", path.display(), f.source);
     }
@@ -111,10 +115,10 @@ pub fn problem(args: &ReliabilityArgs) -> Result<(Problem, Vec<String>), CliErro
     let (mut fixed, mut left_out) = (Vec::new(), Vec::new());
     if let Some(f) = &args.from {
         let mut found = from_file(f, &args.vary, &mech)?;
-        let rig = if args.flight {
+        let (rig, kept) = if args.flight {
             found.take_out_the_rig()
         } else {
-            Vec::new()
+            (Vec::new(), Vec::new())
         };
         let from = format!("--from {}", f.display());
         left_out = found.notes(&from, &mech.name);
@@ -123,6 +127,10 @@ pub fn problem(args: &ReliabilityArgs) -> Result<(Problem, Vec<String>), CliErro
                 "{from}: left out of the flight unit (--flight), on the ground rig only: {name}"
             )
         }));
+        left_out.extend(
+            kept.into_iter()
+                .map(|k| format!("{from}: in the flight unit (--flight): {k}")),
+        );
         vary.extend(found.vary);
         fixed = found.fixed;
     }

@@ -574,6 +574,9 @@ pub fn separating_test_words(t: SeparatingTest, joint: usize) -> String {
         SeparatingTest::AnotherRange => format!(
             "runs that move joint {joint} over another range of angle and rate (another spring or stowed angle at that joint), or at another temperature, would separate them"
         ),
+        SeparatingTest::WithoutTheRig => format!(
+            "a set puts a loss of the wing's own at joint {joint} in place of the rig's (air drag, a tilt): runs without it (in vacuum, the rig levelled) would separate them; until then the flight margins keep the wing's loss"
+        ),
     }
 }
 

@@ -15,6 +15,7 @@ use super::params::{Dist, Fixed, Target, Vary};
 use crate::analysis::fit::Z_975;
 use crate::analysis::{effect_margin, resistances};
 use crate::model::effect::{Effect, EffectKind, ValueRange};
+use crate::model::findings::diagnosis::FoundEffect;
 use crate::model::findings::{Diagnosis, Findings, FindingsError, Identification};
 use crate::model::mechanism::Mechanism;
 
@@ -38,6 +39,20 @@ pub struct FromFindings {
     /// the file does not say): a wing other than the one analysed is the
     /// command's to say.
     pub found_on: Vec<String>,
+    /// The wing's own losses the diagnosis could not tell from its
+    /// rig-only effects ([`Diagnosis::flight_stand_ins`]), as laws: what
+    /// [`FromFindings::take_out_the_rig`] draws in their place.
+    pub stand_ins: Vec<StandInLaws>,
+}
+
+/// The laws of a loss of the wing's own that the runs could not tell from
+/// rig-only effects of the set found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StandInLaws {
+    /// The rig-only effects it may stand in for.
+    pub replaces: Vec<EffectKind>,
+    /// One law per effect of it.
+    pub vary: Vec<Vary>,
 }
 
 impl FromFindings {
@@ -64,8 +79,31 @@ impl FromFindings {
     /// Takes out the effects that exist only on a ground rig
     /// ([`effect_margin::rig_only`]: air drag, a tilt, the rig's rails,
     /// wires and frames): none of them flies, so the flight unit
-    /// (`reliability --flight`) draws none. Their names, in the file's order.
-    pub fn take_out_the_rig(&mut self) -> Vec<String> {
+    /// (`reliability --flight`) draws none. Draws in their place the
+    /// wing's own losses the runs could not tell from them
+    /// ([`FromFindings::stand_ins`]). Returns the names taken out, in the
+    /// file's order, and each loss drawn in their place, in words.
+    pub fn take_out_the_rig(&mut self) -> (Vec<String>, Vec<String>) {
+        let names = self.rig_taken_out();
+        let mut kept = Vec::new();
+        for s in std::mem::take(&mut self.stand_ins) {
+            if !s.replaces.iter().any(|k| names.contains(&k.to_string())) {
+                continue;
+            }
+            let laws: Vec<String> = s.vary.iter().map(ToString::to_string).collect();
+            let rig: Vec<String> = s.replaces.iter().map(ToString::to_string).collect();
+            kept.push(format!(
+                "{} drawn in place of {}, which the runs cannot tell it from",
+                laws.join(", "),
+                rig.join(", ")
+            ));
+            self.vary.extend(s.vary);
+        }
+        (names, kept)
+    }
+
+    /// The rig-only laws and fixed effects taken out; their names.
+    fn rig_taken_out(&mut self) -> Vec<String> {
         let mut names = Vec::new();
         self.vary.retain(|v| match v.target {
             Target::Effect(e) if effect_margin::rig_only(e.kind()) => {
@@ -163,33 +201,55 @@ pub fn from_diagnosis(d: &Diagnosis, mech: &Mechanism) -> Result<FromFindings, S
             }
             continue;
         }
-        let Some(e) = f.to_effect(i).map_err(|e| e.to_string())? else {
-            out.left_out.push(f.no_effect_words());
-            continue;
-        };
-        let Some([Some(lo), Some(hi)]) = f.ci95 else {
-            return Err(format!(
-                "{at}: expected \"ci95\", [lo, hi] in {}",
-                e.kind().unit()
-            ));
-        };
-        let sd = (hi - lo) / (2.0 * Z_975);
-        let dist = Dist::Normal {
-            mean: e.value(),
-            sd,
-        };
-        dist.check().map_err(|w| {
-            format!(
-                "{at}: normal({},{sd}) from the interval: expected {w}",
-                e.value()
-            )
-        })?;
-        out.vary.push(Vary {
-            target: Target::of_effect(&e),
-            dist: kept_in_range(dist, &e, mech),
-        });
+        match law_of(f, i, &at, mech)? {
+            Some(v) => out.vary.push(v),
+            None => out.left_out.push(f.no_effect_words()),
+        }
+    }
+    for s in d.flight_stand_ins() {
+        let at = format!("ambiguities at joint {}", s.joint);
+        let mut vary = Vec::new();
+        for f in s.effects.iter().filter(|f| f.name != "torque_table") {
+            vary.extend(law_of(f, 0, &format!("{at} ({})", f.name), mech)?);
+        }
+        if !vary.is_empty() {
+            out.stand_ins.push(StandInLaws {
+                replaces: s.replaces,
+                vary,
+            });
+        }
     }
     Ok(out)
+}
+
+/// The normal law of the effect `f` (entry `i`, named `at` in errors) from
+/// its 95 % interval, kept where its effect is allowed; `None` for an entry
+/// that is no effect (`"unexplained"`).
+fn law_of(f: &FoundEffect, i: usize, at: &str, mech: &Mechanism) -> Result<Option<Vary>, String> {
+    let Some(e) = f.to_effect(i).map_err(|e| e.to_string())? else {
+        return Ok(None);
+    };
+    let Some([Some(lo), Some(hi)]) = f.ci95 else {
+        return Err(format!(
+            "{at}: expected \"ci95\", [lo, hi] in {}",
+            e.kind().unit()
+        ));
+    };
+    let sd = (hi - lo) / (2.0 * Z_975);
+    let dist = Dist::Normal {
+        mean: e.value(),
+        sd,
+    };
+    dist.check().map_err(|w| {
+        format!(
+            "{at}: normal({},{sd}) from the interval: expected {w}",
+            e.value()
+        )
+    })?;
+    Ok(Some(Vary {
+        target: Target::of_effect(&e),
+        dist: kept_in_range(dist, &e, mech),
+    }))
 }
 
 /// A law's share beyond the values its effect allows above which the law is

@@ -59,6 +59,17 @@ pub(super) fn format_time(t: f64) -> String {
     s
 }
 
+/// `,x` with 6 decimals appended to `out`; a value that rounds to zero is
+/// written `0.000000`, never `-0.000000`.
+pub(super) fn push_fixed6(out: &mut String, x: f64) {
+    use std::fmt::Write as _;
+    let at = out.len();
+    let _ = write!(out, ",{x:.6}");
+    if &out[at..] == ",-0.000000" {
+        out.replace_range(at.., ",0.000000");
+    }
+}
+
 /// Reads the `# key = "json string"` lines into `run.metadata` and returns
 /// the header line (its number and text) and the line of each metadata key.
 fn read_metadata<'t>(
@@ -606,6 +617,19 @@ mod tests {
         assert!(text.contains("t_s,phi1_deg,latch1,psi_deg,kneeB_deg,kneeB\n0.000,90.000000,0,-10.500000,150.250000,0\n"), "{text}");
         assert_eq!(Run::parse(&text, "again").unwrap(), run);
         run.validate("w.csv").unwrap();
+    }
+
+    #[test]
+    fn an_angle_that_rounds_to_zero_is_written_without_a_sign() {
+        let text = TRUSS.replace("0.010,0.0,1,-20.0", "0.010,-0.0000004,1,-0.0");
+        let out = Run::parse(&text, "w.csv").unwrap().to_csv_string();
+        assert!(out.contains("\n0.010,0.000000,1,0.000000,"), "{out}");
+        assert!(!out.contains("-0.000000"), "{out}");
+        let mut s = String::new();
+        for x in [-4e-7, -5e-7, -6e-7, 0.0, -0.0, f64::NAN] {
+            push_fixed6(&mut s, x);
+        }
+        assert_eq!(s, ",0.000000,0.000000,-0.000001,0.000000,0.000000,NaN");
     }
 
     fn error(text: &str) -> String {

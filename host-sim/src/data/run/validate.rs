@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::error::{RunError, RunErrorKind};
-use super::parse::{format_time, valid_meta_key};
+use super::parse::{format_time, push_fixed6, valid_meta_key};
 use super::record::{
     run_header, ExtraKind, Run, EXTRA_COLUMNS, MAX_ANGLE_DEG, MAX_CHAIN_JOINTS,
     MISSING_SAMPLES_KEY, MISSING_SAMPLES_VALUE,
@@ -196,7 +196,7 @@ impl Run {
             out.push_str(&format_time(t));
             for series in &self.phi_deg {
                 let phi = series.get(i).copied().unwrap_or(f64::NAN);
-                let _ = write!(out, ",{phi:.6}");
+                push_fixed6(&mut out, phi);
             }
             for j in 0..n {
                 let l = self.latch.get(j).and_then(|s| s.get(i));
@@ -211,7 +211,7 @@ impl Run {
                 if col.kind.is_switch() && (x == 0.0 || x == 1.0) {
                     let _ = write!(out, ",{x:.0}");
                 } else {
-                    let _ = write!(out, ",{x:.6}");
+                    push_fixed6(&mut out, x);
                 }
             }
             out.push('\n');

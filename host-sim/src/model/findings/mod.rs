@@ -9,6 +9,8 @@
 //!   baseline and extended fits, the candidates of every round, the evidence.
 //! - [`effects`]: one effect to its JSON entry and back, the one writer and
 //!   reader of every parameter an effect kind carries.
+//! - [`stand_in`]: the wing's own losses an ambiguity group puts in place
+//!   of a ground rig's effect, which the flight margins keep.
 //!
 //! Both are written by serde and read by serde. On reading, only what tells
 //! the file's kind is required (`method` and `joints` of an identification,
@@ -23,6 +25,7 @@ pub mod diagnosis;
 pub mod effects;
 pub mod identify;
 pub mod numbers;
+pub mod stand_in;
 
 pub use diagnosis::Diagnosis;
 pub use identify::Identification;
