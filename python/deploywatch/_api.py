@@ -77,6 +77,13 @@ def _int(name: str, value: Any, low: int, high: Optional[int] = None) -> int:
     return v
 
 
+def _bool(name: str, value: Any) -> bool:
+    """``True`` or ``False`` (numpy's too), never a number or text read as one."""
+    if not isinstance(value, (bool, _np.bool_)):
+        raise InputError(f"{name}: expected True or False, got {type(value).__name__} {value!r}")
+    return bool(value)
+
+
 def _positive(name: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float, _np.integer, _np.floating)):
         raise InputError(f"{name}: expected a positive number, got {type(value).__name__} {value!r}")
@@ -142,13 +149,19 @@ def parameters(
     vary: Sequence[VaryLike] = (),
     fail: Sequence[CriterionLike] = ("not_latched",),
     from_: Optional[PathLike] = None,
+    flight: bool = False,
 ) -> List[str]:
     """The parameters of the problem (``vary``, then those of ``from_``,
     an ``identify --json`` file), in the column order of ``params`` of
-    :func:`simulate_batch`."""
+    :func:`simulate_batch`; ``flight`` as :func:`reliability`'s."""
     text, source = _text("mechanism", mechanism)
     return _native.parameters(
-        text, source, strings("vary", vary), strings("fail", fail), _from_text(from_)
+        text,
+        source,
+        strings("vary", vary),
+        strings("fail", fail),
+        _from_text(from_),
+        _bool("flight", flight),
     )
 
 
@@ -158,6 +171,7 @@ def simulate_batch(
     params: _npt.ArrayLike,
     fail: Sequence[CriterionLike] = ("not_latched",),
     from_: Optional[PathLike] = None,
+    flight: bool = False,
 ) -> Batch:
     """One deployment per row of ``params`` (numbers, shape (n, parameters):
     one column per ``vary`` parameter, then those of ``from_``, in the order
@@ -168,7 +182,8 @@ def simulate_batch(
     ``margins`` (n, modes: one per ``fail`` criterion and joint, failed iff
     ``<= 0``), ``latch_s``, ``latch_rate_deg_s`` (n, joints; NaN where not
     latched; the rate only with a ``latch_rate>X`` criterion in ``fail``),
-    ``end_deg`` (n, joints).
+    ``end_deg`` (n, joints). ``flight``: the flight unit, as
+    :func:`reliability`'s.
 
     Raises ``InputError`` naming the argument (a ``vary``/``fail`` string,
     the shape, dtype or a non-finite entry of ``params``),
@@ -177,17 +192,24 @@ def simulate_batch(
     """
     text, source = _text("mechanism", mechanism)
     vs, fs, fj = strings("vary", vary), strings("fail", fail), _from_text(from_)
-    labels = _native.parameters(text, source, vs, fs, fj)
+    fl = _bool("flight", flight)
+    labels = _native.parameters(text, source, vs, fs, fj, fl)
     rows = _matrix("params", params, labels)
-    return Batch(*_native.simulate_batch(text, source, vs, fs, rows, fj))
+    return Batch(*_native.simulate_batch(text, source, vs, fs, rows, fj, fl))
 
 
 def _g_chunk(
-    text: str, source: str, vary: List[str], fail: List[str], from_json: Optional[str], rows: FloatArray
+    text: str,
+    source: str,
+    vary: List[str],
+    fail: List[str],
+    from_json: Optional[str],
+    flight: bool,
+    rows: FloatArray,
 ) -> FloatArray:
     """The margins of every failure mode (n, modes) of a chunk of rows: the
     task an executor runs."""
-    return _native.simulate_batch(text, source, vary, fail, rows, from_json)[1]
+    return _native.simulate_batch(text, source, vary, fail, rows, from_json, flight)[1]
 
 
 def _check_open(executor: Executor) -> None:
@@ -260,6 +282,7 @@ def reliability(
     chunk: Optional[int] = None,
     corr: Sequence[str] = (),
     workers: Optional[int] = None,
+    flight: bool = False,
 ) -> Reliability:
     """``deploywatch reliability`` as a function: the CLI's options as
     keyword arguments, its JSON as a :class:`Reliability` (``.to_dict()``
@@ -270,7 +293,11 @@ def reliability(
     ``--fail`` criteria; ``method``: ``"auto"`` (importance sampling and
     subset simulation, checked against each other), ``"is"``, ``"subset"``
     or ``"mc"``; ``samples``, ``target_cov``, ``seed`` as the CLI's; ``from_``: an ``identify --json``
-    file; ``corr``: ``"I,J,RHO"`` strings, as ``--corr``.
+    file; ``corr``: ``"I,J,RHO"`` strings, as ``--corr``; ``flight``: the
+    flight unit, as ``--flight`` (the mechanism's ``[rig]`` taken out, the
+    rig-only effects of ``from_`` drawn in no deployment and the wing's
+    losses the runs could not tell from them drawn in their place, each
+    said in a ``UserWarning``).
 
     ``executor``: ``None`` for every local core (rayon, the GIL released),
     or any object with ``submit(fn, *args)`` returning futures with
@@ -296,6 +323,7 @@ def reliability(
     text, source = _text("mechanism", mechanism)
     from_json = _from_text(from_)
     vs, fs, cs = strings("vary", vary), strings("fail", fail), _strings("corr", corr)
+    fl = _bool("flight", flight)
     if not isinstance(method, str):
         raise InputError(f"method: expected \"auto\", \"is\", \"subset\" or \"mc\", got {type(method).__name__}")
     n = None if samples is None else _int("samples", samples, 1)
@@ -311,6 +339,6 @@ def reliability(
         _check_open(executor)
         size = None if chunk is None else _int("chunk", chunk, 1)
         w = _workers(executor, None if workers is None else _int("workers", workers, 1))
-        evaluate = _evaluator(executor, size, w, (text, source, vs, fs, from_json))
-    out = _native.reliability(text, source, vs, fs, method, n, cov, sd, from_json, evaluate, cs)
+        evaluate = _evaluator(executor, size, w, (text, source, vs, fs, from_json, fl))
+    out = _native.reliability(text, source, vs, fs, method, n, cov, sd, from_json, evaluate, cs, fl)
     return Reliability.from_dict(out)

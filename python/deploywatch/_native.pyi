@@ -27,9 +27,15 @@ def simulate_batch(
     fail: List[str],
     params: _F,
     from_json: Optional[str] = None,
+    flight: bool = False,
 ) -> Tuple[_F, _F, _F, _F, _F]: ...
 def parameters(
-    mechanism_toml: str, source: str, vary: List[str], fail: List[str], from_json: Optional[str] = None
+    mechanism_toml: str,
+    source: str,
+    vary: List[str],
+    fail: List[str],
+    from_json: Optional[str] = None,
+    flight: bool = False,
 ) -> List[str]: ...
 def check_vary(text: str) -> Optional[str]: ...
 def reliability(
@@ -44,6 +50,7 @@ def reliability(
     from_json: Optional[str] = None,
     evaluate: Optional[Callable[[_F], List[List[float]]]] = None,
     corr: List[str] = ...,
+    flight: bool = False,
 ) -> Dict[str, Any]: ...
 def run_command(args: List[str], names: List[Tuple[str, str]] = ...) -> None: ...
 

@@ -56,7 +56,10 @@ where
 
 /// The problem of `reliability`/`simulate_batch` from their arguments, and
 /// what `reliability` says of `from_` (`FromFindings::notes`, the CLI's
-/// words of `--from`).
+/// words of `--from`). `flight`: the flight unit, as `reliability
+/// --flight` (the mechanism's `[rig]` taken out, the rig-only effects of
+/// `from_` drawn in no deployment, the wing's losses the runs could not
+/// tell from them drawn in their place).
 fn problem(
     mech_toml: &str,
     source: &str,
@@ -64,18 +67,26 @@ fn problem(
     fail: &[String],
     from_json: Option<&str>,
     corr: &[String],
+    flight: bool,
 ) -> PyResult<(Problem, Vec<String>)> {
     let mech = mechanism(mech_toml, source)?;
+    let mech = if flight { mech.flight() } else { mech };
     let mut vs: Vec<Vary> = parse_all("vary", vary)?;
     let (mut fixed, mut notes) = (Vec::new(), Vec::new());
     if let Some(text) = from_json {
         let given = vs.clone();
-        let found = identified::from_findings_json(text, &mech)
+        let mut found = identified::from_findings_json(text, &mech)
             .map_err(|m| Kind::Input.raise(format!("from_: {m}"), Vec::new()))?;
         if let Some(why) = &found.no_effect {
             return Err(Kind::Input.raise(format!("from_: {why}"), Vec::new()));
         }
+        let flown = if flight {
+            found.take_out_the_rig_said("from_", "flight=True")
+        } else {
+            Vec::new()
+        };
         notes = found.notes("from_", &mech.name);
+        notes.extend(flown);
         vs.extend(
             found
                 .vary
@@ -123,15 +134,16 @@ fn check_vary(text: &str) -> Option<String> {
 /// The labels of the problem's parameters, in the column order of
 /// `simulate_batch`'s `params`.
 #[pyfunction]
-#[pyo3(signature = (mechanism_toml, source, vary, fail, from_json=None))]
+#[pyo3(signature = (mechanism_toml, source, vary, fail, from_json=None, flight=false))]
 fn parameters(
     mechanism_toml: &str,
     source: &str,
     vary: Vec<String>,
     fail: Vec<String>,
     from_json: Option<&str>,
+    flight: bool,
 ) -> PyResult<Vec<String>> {
-    let (p, _) = problem(mechanism_toml, source, &vary, &fail, from_json, &[])?;
+    let (p, _) = problem(mechanism_toml, source, &vary, &fail, from_json, &[], flight)?;
     Ok(p.vary.iter().map(|v| v.to_string()).collect())
 }
 
@@ -201,9 +213,10 @@ fn simulate<'py>(
 /// and per joint latch instant, latch rate (NaN when not latched, or with
 /// no `latch_rate>X` criterion: only that one has the rate sampled) and
 /// end angle (n, joints). The GIL is released while it runs; Ctrl-C stops
-/// it between steps.
+/// it between steps. `flight`: the flight unit, as `reliability`'s.
+#[allow(clippy::too_many_arguments)]
 #[pyfunction]
-#[pyo3(signature = (mechanism_toml, source, vary, fail, params, from_json=None))]
+#[pyo3(signature = (mechanism_toml, source, vary, fail, params, from_json=None, flight=false))]
 fn simulate_batch<'py>(
     py: Python<'py>,
     mechanism_toml: &str,
@@ -212,8 +225,9 @@ fn simulate_batch<'py>(
     fail: Vec<String>,
     params: PyReadonlyArray2<'py, f64>,
     from_json: Option<&str>,
+    flight: bool,
 ) -> PyResult<Outcomes<'py>> {
-    let (p, _) = problem(mechanism_toml, source, &vary, &fail, from_json, &[])?;
+    let (p, _) = problem(mechanism_toml, source, &vary, &fail, from_json, &[], flight)?;
     let a = params.as_array();
     if a.ncols() != p.vary.len() {
         let labels: Vec<String> = p.vary.iter().map(|v| v.label()).collect();
@@ -271,7 +285,7 @@ fn call_evaluator(f: &PyObject, xs: &[Vec<f64>], d: usize) -> Result<Vec<Vec<f64
 /// `evaluate`); Ctrl-C stops it between batches (`KeyboardInterrupt`).
 #[allow(clippy::too_many_arguments)]
 #[pyfunction]
-#[pyo3(signature = (mechanism_toml, source, vary, fail, method, samples, target_cov, seed, from_json=None, evaluate=None, corr=Vec::new()))]
+#[pyo3(signature = (mechanism_toml, source, vary, fail, method, samples, target_cov, seed, from_json=None, evaluate=None, corr=Vec::new(), flight=false))]
 fn reliability<'py>(
     py: Python<'py>,
     mechanism_toml: &str,
@@ -285,8 +299,17 @@ fn reliability<'py>(
     from_json: Option<&str>,
     evaluate: Option<PyObject>,
     corr: Vec<String>,
+    flight: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let (p, notes) = problem(mechanism_toml, source, &vary, &fail, from_json, &corr)?;
+    let (p, notes) = problem(
+        mechanism_toml,
+        source,
+        &vary,
+        &fail,
+        from_json,
+        &corr,
+        flight,
+    )?;
     let method: Method = method.parse().map_err(|e| errors::reliability(&e))?;
     // A Python exception (Ctrl-C, an executor's task) stops the run through
     // the analysis' error path and is kept here to be raised as it is.

@@ -229,6 +229,13 @@ def test_a_dask_local_cluster_gives_the_same_bits(root, local, dask_client):
     assert got == local
 
 
+def test_the_flight_unit_on_a_dask_cluster_is_the_local_one(root, dask_client):
+    vary, fail = ["coulomb_friction:joint=1:normal(0.05,0.01)"], ["time>4.2"]
+    local = deploywatch.reliability(root / RIG, vary, fail, method="mc", samples=8, flight=True)
+    got = deploywatch.reliability(root / RIG, vary, fail, method="mc", samples=8, flight=True, executor=dask_client)
+    assert got == local and got.p_fail == 0.0
+
+
 def test_from_findings_of_another_wing_are_a_user_warning(root, tmp_path):
     """``from_`` findings made on another wing are applied as they are,
     with the CLI's words as a ``UserWarning`` and in ``warnings``."""
@@ -243,3 +250,73 @@ def test_from_findings_of_another_wing_are_a_user_warning(root, tmp_path):
     assert said in [str(w.message) for w in caught]
     assert said in r.warnings
     assert all(w.filename == __file__ for w in caught)
+
+
+RIG = "data/mechanisms/seed001_T01_rig.toml"
+
+ONE_PANEL = """name = "one-panel"
+
+[[panel]]
+length_m = 0.8
+mass_kg = 3.0
+com_m = 0.4
+inertia_kgm2 = 0.16
+
+[[joint]]
+stowed_deg = 90.0
+spring = { kind = "linear", preload_nm = 1.0, stiffness_nm_per_rad = 0.5, count = 1 }
+friction = { coulomb_nm = 0.2 }
+
+[run]
+duration_s = 8.0
+sample_hz = 100.0
+"""
+
+
+def test_the_flight_unit_is_the_clis(cli, root, tmp_path):
+    """``reliability(..., flight=True)`` is ``reliability --flight``: the
+    rig taken out, the CLI's JSON bit for bit, on a thread pool too. On the
+    rig joint 1 latches after 4.2 s in every draw, in flight in none."""
+    vary, fail = ["coulomb_friction:joint=1:normal(0.05,0.01)"], ["time>4.2"]
+    out = tmp_path / "flight.json"
+    args = [cli, "reliability", RIG, "--vary", vary[0], "--fail", fail[0], "--method", "mc", "--samples", "12"]
+    subprocess.run(args + ["--flight", "--json", str(out), "-q"], cwd=root, check=True, capture_output=True)
+    flight = deploywatch.reliability(root / RIG, vary, fail, method="mc", samples=12, flight=True)
+    assert flight.to_dict() == json.loads(out.read_text())
+    assert flight.p_fail == 0.0
+    rig = deploywatch.reliability(root / RIG, vary, fail, method="mc", samples=12)
+    assert rig.p_fail == 1.0
+    with ThreadPoolExecutor(max_workers=2) as ex:
+        pooled = deploywatch.reliability(
+            root / RIG, vary, fail, method="mc", samples=12, flight=True, executor=ex, chunk=5
+        )
+    assert pooled == flight
+    with pytest.raises(deploywatch.InputError, match="flight: expected True or False"):
+        deploywatch.reliability(root / RIG, vary, fail, method="mc", samples=12, flight=1)
+
+
+def test_the_flight_unit_draws_the_loss_the_runs_cannot_tell_from_the_air(cli, root, tmp_path):
+    """A one-panel wing's runs with hinge damping hidden: the diagnosis names
+    air drag and lists the hinge's quadratic damping beside it; the flight
+    unit leaves the air drag out and draws the hinge's loss in its place,
+    saying so, as ``reliability --flight`` does."""
+    wing = tmp_path / "wing.toml"
+    wing.write_text(ONE_PANEL)
+    run, diag = tmp_path / "run.csv", tmp_path / "d.json"
+    hidden = "quadratic_damping:joint=1:value=0.3"
+    subprocess.run([cli, "simulate", str(wing), "--effect", hidden, "--seed", "4", "-o", str(run), "-q"],
+                   check=True, capture_output=True)
+    # The diagnosis reads the run without its comment lines (the truth).
+    body = "\n".join(l for l in run.read_text().splitlines() if not l.startswith("# effects"))
+    run.write_text(body + "\n")
+    subprocess.run([cli, "diagnose", "--mechanism", str(wing), "--json", str(diag), str(run), "-q"],
+                   check=True, capture_output=True)
+    ground = deploywatch.parameters(wing, from_=diag)
+    flown = deploywatch.parameters(wing, from_=diag, flight=True)
+    hinge = [p for p in flown if p.startswith("quadratic_damping:joint=1:")]
+    assert len(hinge) == 1 and not any(p.startswith("air_drag") for p in flown), flown
+    if any(p.startswith("air_drag") for p in ground):
+        with pytest.warns(UserWarning, match="drawn in place of air_drag"):
+            deploywatch.reliability(wing, from_=diag, method="mc", samples=4, flight=True)
+    else:
+        assert hinge[0] in ground, ground

@@ -115,22 +115,14 @@ pub fn problem(args: &ReliabilityArgs) -> Result<(Problem, Vec<String>), CliErro
     let (mut fixed, mut left_out) = (Vec::new(), Vec::new());
     if let Some(f) = &args.from {
         let mut found = from_file(f, &args.vary, &mech)?;
-        let (rig, kept) = if args.flight {
-            found.take_out_the_rig()
-        } else {
-            (Vec::new(), Vec::new())
-        };
         let from = format!("--from {}", f.display());
+        let flight = if args.flight {
+            found.take_out_the_rig_said(&from, "--flight")
+        } else {
+            Vec::new()
+        };
         left_out = found.notes(&from, &mech.name);
-        left_out.extend(rig.into_iter().map(|name| {
-            format!(
-                "{from}: left out of the flight unit (--flight), on the ground rig only: {name}"
-            )
-        }));
-        left_out.extend(
-            kept.into_iter()
-                .map(|k| format!("{from}: in the flight unit (--flight): {k}")),
-        );
+        left_out.extend(flight);
         vary.extend(found.vary);
         fixed = found.fixed;
     }

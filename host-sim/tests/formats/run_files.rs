@@ -149,7 +149,7 @@ fn writing_formats_numbers_and_checks_the_run() {
          t_s,phi1_deg,latch1\n\
          0.000,-90.000000,0\n\
          0.0125,-89.123457,0\n\
-         0.333333,-0.000000,1\n\
+         0.333333,0.000000,1\n\
          2.500,0.000000,1\n"
     );
     let dir = tempfile::tempdir().expect("tempdir");

@@ -102,6 +102,21 @@ impl FromFindings {
         (names, kept)
     }
 
+    /// [`FromFindings::take_out_the_rig`] for the flight unit, and what it
+    /// did in words, each after `from` (how the command names the file)
+    /// and naming the option `flag` (`--flight`, `flight=True`): one text
+    /// for the CLI's warnings and Python's `UserWarning`s.
+    pub fn take_out_the_rig_said(&mut self, from: &str, flag: &str) -> Vec<String> {
+        let (rig, kept) = self.take_out_the_rig();
+        let left = rig.into_iter().map(|name| {
+            format!("{from}: left out of the flight unit ({flag}), on the ground rig only: {name}")
+        });
+        let drawn = kept
+            .into_iter()
+            .map(|k| format!("{from}: in the flight unit ({flag}): {k}"));
+        left.chain(drawn).collect()
+    }
+
     /// The rig-only laws and fixed effects taken out; their names.
     fn rig_taken_out(&mut self) -> Vec<String> {
         let mut names = Vec::new();
