@@ -1,7 +1,10 @@
 //! When the runs cannot decide (`docs/diagnosis.md`, "Ambiguity"): at each
 //! joint where the set found holds named joint effects (Coulomb, viscous,
 //! softening, harness), every other single and pair of them is fitted in
-//! their place; the sets that explain the runs alike — BIC within
+//! their place (and, where the set holds air drag, quadratic damping at
+//! the joint in the air's place: the runs may not tell the rig's loss from
+//! the hinge's, which the flight margins must keep); the sets that explain
+//! the runs alike — BIC within
 //! [`MIN_DELTA_BIC`] of the set found, every effect they add clear of zero
 //! — form an ambiguity group. The report lists them with their fits, the
 //! intervals of the set found are widened to cover them, and the test that
@@ -316,13 +319,14 @@ impl Search<'_, '_> {
     }
 
     /// When the set holds air drag: the set with quadratic damping at
-    /// `joint` in the place of the air drag and of what the set holds at
-    /// the joint, fitted from the damping the air drag gives a panel that
-    /// turns about that hinge (`c = k R⁴/4`, `R` the panels' length from
-    /// the hinge out, of the first run's mechanism) and the kind's scan.
-    /// Fitted apart from the exchanges of [`Search::exchanges_at`], whose
-    /// screen keeps the sets that add little to the air drag and would
-    /// leave this one out.
+    /// `joint` in the air drag's place, the rest kept (the effects at the
+    /// joint too: the rig's loss exchanged for the wing's, nothing else),
+    /// fitted from the damping the air drag gives a panel that turns about
+    /// that hinge (`c = k R⁴/4`, `R` the panels' length from the hinge
+    /// out, of the first run's mechanism) and the kind's scan. Fitted
+    /// apart from the exchanges of [`Search::exchanges_at`], whose screen
+    /// keeps the sets that add little to the air drag and would leave this
+    /// one out.
     fn hinge_in_place_of_air(&self, joint: usize) -> Option<FittedSet> {
         let air = |c: &Candidate| c.kind == EffectKind::AirDrag;
         let k = self
@@ -333,8 +337,11 @@ impl Search<'_, '_> {
             .params
             .first()
             .copied()?;
-        let at = |c: &Candidate| c.joint == Some(joint) && c.kind != EffectKind::EncoderOffset;
-        let base = Self::reduced_by(&Self::reduced_by(&self.current, at), air);
+        let hinge = hinge_for_air(joint);
+        if self.current.contains(&hinge) {
+            return None;
+        }
+        let base = Self::reduced_by(&self.current, air);
         let c = self.eng.campaign;
         let reach: f64 = c
             .runs
@@ -345,7 +352,6 @@ impl Search<'_, '_> {
             .skip(joint - 1)
             .map(|p| p.length_m)
             .sum();
-        let hinge = hinge_for_air(joint);
         let starts = std::iter::once(vec![k * reach.powi(4) / 4.0]).chain(hinge.scan());
         let points = starts.map(|s| base.params().into_iter().chain(s).collect());
         let p = self.eng.best_point(c, &base, hinge, points)?;
