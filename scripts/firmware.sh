@@ -23,7 +23,9 @@
 #
 # The toolchain comes from scripts/embedded-toolchain.sh (run it first);
 # scripts/embedded-env.sh picks the rustup or the Debian route.
-# Environment: QEMU_TIMEOUT (seconds, default 300); DW_HIL_DEADLINES=1
+# Environment: QEMU_TIMEOUT (seconds, default 300); DW_HOST_TESTS=0 (`test`
+# leaves out the host tests replay and hil, which scripts/test.sh runs in
+# its cargo test); DW_HIL_DEADLINES=1
 # (the real-time run of `test` fails on a deadline miss; by default it
 # reports the misses: on a shared machine they measure the host's
 # scheduling of QEMU, not the firmware — docs/firmware.md).
@@ -286,7 +288,14 @@ case "$cmd" in
         panic_check "$(uart_elf_for 6)"
         # The replay protocol and the firmware's loop, on the host; the
         # serial link's loop on lossy streams and the latch escapes.
-        (cd "$root" && cargo test --quiet --workspace --locked --test replay --test hil)
+        # DW_HOST_TESTS=0 leaves them out: scripts/test.sh has run them in
+        # its `cargo test --workspace`; here cargo built part of the
+        # workspace again for them, minutes of the CI's two cores.
+        if [ "${DW_HOST_TESTS:-1}" = 0 ]; then
+            echo "firmware: the host tests replay and hil left out (DW_HOST_TESTS=0: run by cargo test --workspace)"
+        else
+            (cd "$root" && cargo test --quiet --workspace --locked --test replay --test hil)
+        fi
         # Every reference mechanism (data/mechanisms/: seed 000 cases 1 and 3,
         # 2 joints, on the firmware of 2; seed 001 T01 and T02, 3 joints, on
         # that of 3), nominal and with friction
