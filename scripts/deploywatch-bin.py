@@ -17,14 +17,22 @@ where it put the binary (`--message-format json`, the `executable` of the
 """
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+# DEPLOYWATCH_BIN_AS_TESTS=1 (scripts/test.sh, after its cargo test): the
+# selection of that whole test build (`--lib --bins --tests`), so that cargo
+# finds everything fresh. Built alone with `--test replay`, cargo resolves
+# the dependencies' features for fewer targets and compiled part of the
+# workspace again (minutes of CI, in both lanes that ask for the binary).
+SELECTION = (["--lib", "--bins", "--tests"] if os.environ.get("DEPLOYWATCH_BIN_AS_TESTS") == "1"
+             else ["--test", "replay"])
 COMMAND = [
     "cargo", "test", "--workspace", "--locked", "--no-run",
-    "--test", "replay", "--message-format", "json-render-diagnostics",
+    *SELECTION, "--message-format", "json-render-diagnostics",
 ]
 
 
@@ -37,7 +45,9 @@ def path() -> Path:
         msg = json.loads(line)
         target = msg.get("target") or {}
         if (msg.get("reason") == "compiler-artifact" and target.get("name") == "deploywatch"
-                and "bin" in target.get("kind", ()) and msg.get("executable")):
+                and "bin" in target.get("kind", ()) and msg.get("executable")
+                # Not the bin's own unit-test harness (`--bins` builds both).
+                and not (msg.get("profile") or {}).get("test")):
             return Path(msg["executable"])
     sys.exit("deploywatch-bin: `" + " ".join(COMMAND) + "` named no `deploywatch` binary")
 

@@ -56,6 +56,10 @@ cd "$root"
 # A run from scratch gains nothing from incremental compilation; without it
 # the workspace's build takes about 5 GB less disk.
 export CARGO_INCREMENTAL=0
+# The docs' examples and the firmware's replay run the test build's
+# `deploywatch` (scripts/deploywatch-bin.py): asked for with step 2's
+# selection, it is found fresh, never compiled again.
+export DEPLOYWATCH_BIN_AS_TESTS=1
 host_only=false
 [ "${1:-}" = "--host" ] && host_only=true
 

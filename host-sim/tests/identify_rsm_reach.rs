@@ -84,3 +84,41 @@ fn friction_the_design_did_not_reach_is_said_and_carried_to_the_margin() {
         "{text}"
     );
 }
+
+/// A design the user's numbers cannot make is refused by its option (exit
+/// 2) before any simulation: `--center 0` without `--range` (the default
+/// half-range is half the centre), and a centre whose factorial points go
+/// below 0 N·m, said with the point's own coded level (1 there).
+#[test]
+fn a_design_below_zero_is_refused_by_its_option() {
+    let mech = data().join("mechanisms/seed001_T01.toml");
+    let run = data().join("examples/a_seed001_eft/seed001_T01.csv");
+    let identify = |extra: &[&str]| {
+        let mut args = vec![
+            "identify",
+            "--mechanism",
+            s(&mech),
+            s(&run),
+            "--method",
+            "rsm",
+            "-q",
+        ];
+        args.extend_from_slice(extra);
+        deploywatch(&args)
+    };
+    let out = identify(&["--center", "0,1,1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("--center 0") && err.contains("--range"),
+        "{err}"
+    );
+    let out = identify(&["--center", "0.01,1,1", "--range", "0.5,0.5,0.5"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    // The first point below 0 is the factorial one: 0.01 − 1 × 0.5.
+    assert!(
+        err.contains("EFT -0.4900") && err.contains("1.000 × half-range 0.5"),
+        "{err}"
+    );
+}

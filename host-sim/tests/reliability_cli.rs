@@ -51,6 +51,20 @@ fn bad_input_exits_2_and_says_what_is_wrong() {
         2,
         &["duration_s (10 s)"],
     );
+    // A mechanism parameter is replaced by its draw: two laws for it would
+    // leave only the last one counted. Two of an effect add, and stay.
+    fails(
+        &run(&[
+            "--vary",
+            "panel_mass:joint=1:normal(3,0.001)",
+            "--vary",
+            "panel_mass:joint=1:normal(300,0.001)",
+            "--fail",
+            "not_latched",
+        ]),
+        2,
+        &["--vary panel_mass:joint=1", "varied twice", "one law"],
+    );
     fails(
         &run(&["--vary", v, "--fail", "not_latched", "--method", "form"]),
         2,

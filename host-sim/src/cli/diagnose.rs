@@ -101,10 +101,12 @@ fn check_outputs(args: &DiagnoseArgs) -> Result<(), CliError> {
         .chain(&args.runs)
         .map(|p| p.as_path())
         .collect();
-    super::check_output("--json", &args.json, &inputs)?;
-    super::check_output(
-        "the report beside --json",
-        &args.json.with_extension("md"),
+    let report = args.json.with_extension("md");
+    super::check_outputs(
+        &[
+            super::Output::file("--json", &args.json),
+            super::Output::file("the report beside --json", &report),
+        ],
         &inputs,
     )
 }

@@ -2,7 +2,7 @@
 //! serial-link firmware (QEMU over TCP, or a board on a serial device),
 //! with the statuses timed and checked against the host core.
 
-use super::{check_output, outln, CliError, Console};
+use super::{outln, CliError, Console, Output};
 use crate::data::run::Run;
 use crate::model::mechanism::Mechanism;
 use crate::onboard::hil::{self, Assessment, Fate, Inject, Outgoing, Plan, Received};
@@ -217,12 +217,18 @@ fn check_outputs(args: &HilArgs) -> Result<(), CliError> {
         .chain(&args.elf)
         .map(|p| p.as_path())
         .collect();
-    for (flag, p) in outputs {
-        if let Some(p) = p {
-            check_output(flag, p, &inputs)?;
-        }
-    }
-    Ok(())
+    let outputs: Vec<Output> = outputs
+        .into_iter()
+        .filter_map(|(flag, p)| {
+            let p = p.as_deref()?;
+            Some(if flag == "--plot" {
+                Output::plot(flag, p)
+            } else {
+                Output::file(flag, p)
+            })
+        })
+        .collect();
+    super::check_outputs(&outputs, &inputs)
 }
 
 /// Runs `deploywatch hil`.

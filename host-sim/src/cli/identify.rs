@@ -9,7 +9,7 @@
 //! (like seed 001 Figs. 10/11) with `--plot`, by default beside the JSON
 //! (both written by [`crate::report::identify`]).
 
-use super::{check_output, CliError, Console};
+use super::{check_outputs, CliError, Console, Output};
 use crate::analysis::diagnose::latch_window::free_campaign;
 use crate::analysis::identify::by_rsm::{centre_beyond, identify_rsm};
 use crate::analysis::identify::direct::identify_direct;
@@ -167,6 +167,16 @@ fn check_options(args: &IdentifyArgs) -> Result<(), CliError> {
             "--range {bad}: expected positive half-ranges [N·m], one per identified joint"
         )));
     }
+    // Without --range each half-range is half its centre: a centre of 0
+    // leaves the design no range.
+    if args.range.is_none() {
+        if let Some(bad) = args.center.iter().flatten().find(|x| **x == 0.0) {
+            return Err(CliError::input(format!(
+                "--center {bad}: a centre of 0 N·m leaves the default half-range \
+                 (half the centre) at 0; give a positive centre, or --range"
+            )));
+        }
+    }
     Ok(())
 }
 
@@ -192,20 +202,16 @@ pub fn run(args: &IdentifyArgs) -> Result<(), CliError> {
         .chain(&args.runs)
         .map(|p| p.as_path())
         .collect();
-    if let Some(json) = &args.json {
-        check_output("--json", json, &inputs)?;
-    }
-    if let Some(png) = &png {
-        check_output(
-            if args.plot.is_some() {
-                "--plot"
-            } else {
-                "the plot beside --json"
-            },
-            png,
-            &inputs,
-        )?;
-    }
+    let plot_flag = if args.plot.is_some() {
+        "--plot"
+    } else {
+        "the plot beside --json"
+    };
+    let outputs: Vec<Output> = (args.json.as_deref().map(|p| Output::file("--json", p)))
+        .into_iter()
+        .chain(png.as_deref().map(|p| Output::plot(plot_flag, p)))
+        .collect();
+    check_outputs(&outputs, &inputs)?;
     let console = Console::new(args.quiet);
     for w in crate::data::inputs::campaign_warnings(&args.mechanisms, &campaign) {
         console.warn(w);

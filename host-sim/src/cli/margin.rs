@@ -14,7 +14,7 @@
 //! a line of its own. `--json` writes the same table. The margins are
 //! computed by [`crate::analysis::joint_margins`], the table written by
 //! [`crate::report::margin`].
-use super::{check_output, CliError, Console};
+use super::{check_outputs, CliError, Console, Output};
 use crate::analysis::design_margin::{DataSource, Factors, NameError, Resistance, Standard};
 use crate::analysis::dynamic_margin::DynamicMargins;
 use crate::analysis::joint_margins::{margins, MarginsError, Row};
@@ -401,12 +401,11 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         .chain(&args.from)
         .map(|p| p.as_path())
         .collect();
-    if let Some(out) = &args.json {
-        check_output("--json", out, &inputs)?;
-    }
-    if let Some(png) = &args.plot {
-        check_output("--plot", png, &inputs)?;
-    }
+    let outputs: Vec<Output> = (args.json.as_deref().map(|p| Output::file("--json", p)))
+        .into_iter()
+        .chain(args.plot.as_deref().map(|p| Output::plot("--plot", p)))
+        .collect();
+    check_outputs(&outputs, &inputs)?;
     let console = Console::new(args.quiet);
     for w in crate::model::plausibility::warnings(&mech, &args.mechanism) {
         console.warn(w);

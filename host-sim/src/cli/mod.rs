@@ -8,7 +8,9 @@
 //!   itself fails;
 //! - every output path is checked with [`check_output`] before any work:
 //!   its folder must exist (folders are never created, except the one
-//!   `replay --keep` names) and a file must be creatable there;
+//!   `replay --keep` names) and a file must be creatable there; with
+//!   [`check_outputs`], a plot's name gives its format and no two outputs
+//!   name one file;
 //! - `--quiet` ([`Console`]): no progress and no chatter (which file was
 //!   written where); the result a command prints on stdout, errors and
 //!   warnings stay, and the result files are written;
@@ -156,6 +158,85 @@ impl From<crate::report::files::FileError> for CliError {
     fn from(e: crate::report::files::FileError) -> Self {
         CliError::input(e.to_string())
     }
+}
+
+/// The extensions a plot's file name may end in, the formats the plots are
+/// written in (plotters' bitmap encoder: the `image` crate's PNG, JPEG and
+/// BMP); the format is read from the name.
+pub const PLOT_EXTENSIONS: [&str; 4] = ["png", "jpg", "jpeg", "bmp"];
+
+/// One output of a command: the flag that names it (e.g. `--plot`, or
+/// "the report beside --json"), its path, and whether it is a plot.
+#[derive(Clone, Copy, Debug)]
+pub struct Output<'a> {
+    flag: &'a str,
+    path: &'a Path,
+    plot: bool,
+}
+
+impl<'a> Output<'a> {
+    /// A file written as it is (CSV, JSON, Markdown).
+    pub fn file(flag: &'a str, path: &'a Path) -> Self {
+        Output {
+            flag,
+            path,
+            plot: false,
+        }
+    }
+
+    /// A plot, its format read from its extension ([`PLOT_EXTENSIONS`]).
+    pub fn plot(flag: &'a str, path: &'a Path) -> Self {
+        Output {
+            flag,
+            path,
+            plot: true,
+        }
+    }
+}
+
+/// Checks a command's outputs before any work: each with [`check_output`];
+/// a plot's name ends in one of [`PLOT_EXTENSIONS`]; and no two outputs
+/// name one file (the one written last would replace the other: checked
+/// by the folder as resolved and the file name, so before either exists).
+pub fn check_outputs(outputs: &[Output], inputs: &[&Path]) -> Result<(), CliError> {
+    for (i, o) in outputs.iter().enumerate() {
+        let bad = |why: String| CliError::input(format!("{} {}: {why}", o.flag, o.path.display()));
+        if o.plot {
+            let ext = o
+                .path
+                .extension()
+                .and_then(|e| e.to_str())
+                .map(str::to_ascii_lowercase);
+            if !ext.is_some_and(|e| PLOT_EXTENSIONS.contains(&e.as_str())) {
+                return Err(bad(format!(
+                    "expected a file name ending in .{}: a plot's format is read from its name",
+                    PLOT_EXTENSIONS.join(", .")
+                )));
+            }
+        }
+        check_output(o.flag, o.path, inputs)?;
+        if let Some(first) = outputs[..i].iter().find(|f| same_file(f.path, o.path)) {
+            return Err(bad(format!(
+                "is also {}'s file; expected another file, or one would replace the other",
+                first.flag
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// True when `a` and `b` name one file, whether or not it exists: their
+/// folders resolved (links and `.`), and the same file name in them.
+fn same_file(a: &Path, b: &Path) -> bool {
+    let key = |p: &Path| {
+        let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
+        let dir = std::fs::canonicalize(dir.unwrap_or(Path::new("."))).ok()?;
+        Some((dir, p.file_name()?.to_os_string()))
+    };
+    if let (Ok(x), Ok(y)) = (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        return x == y;
+    }
+    matches!((key(a), key(b)), (Some(x), Some(y)) if x == y)
 }
 
 /// Checks, before any work, that the output `path` (given with `flag`,

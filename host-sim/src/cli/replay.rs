@@ -2,7 +2,7 @@
 //! host (`f32`) or on the example firmware under QEMU, with the check that
 //! QEMU's statuses are bit-identical with the host's.
 
-use super::{check_output, outln, CliError, Console};
+use super::{check_output, outln, CliError, Console, Output};
 use crate::model::mechanism::Mechanism;
 use crate::onboard::firmware;
 use crate::onboard::replay::{self, Prepared, ReplayError};
@@ -77,13 +77,11 @@ fn check_outputs(args: &ReplayArgs) -> Result<(), CliError> {
                 .map_err(|e| CliError::input(format!("--keep {}: {e}", d.display())))?;
         }
     }
-    if let Some(out) = &args.out {
-        check_output("--out", out, &inputs)?;
-    }
-    if let Some(png) = &args.plot {
-        check_output("--plot", png, &inputs)?;
-    }
-    Ok(())
+    let outputs: Vec<Output> = (args.out.as_deref().map(|p| Output::file("--out", p)))
+        .into_iter()
+        .chain(args.plot.as_deref().map(|p| Output::plot("--plot", p)))
+        .collect();
+    super::check_outputs(&outputs, &inputs)
 }
 
 /// A temporary directory removed when dropped.

@@ -2,7 +2,7 @@
 
 use super::simulate_args::measure;
 pub use super::simulate_args::SimulateArgs;
-use super::{check_output, outln, CliError, Console};
+use super::{check_outputs, outln, CliError, Console, Output};
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;
 use crate::report::run_plot::{plot_rig_run, plot_run};
@@ -238,9 +238,7 @@ fn check_args(args: &SimulateArgs, mech: &Mechanism) -> Result<(), CliError> {
         .chain(&args.at)
         .map(|p| p.as_path())
         .collect();
-    check_output("--out", &args.out, &inputs)?;
-    if let Some(png) = &args.plot {
-        check_output("--plot", png, &inputs)?;
-    }
-    Ok(())
+    let mut outputs = vec![Output::file("--out", &args.out)];
+    outputs.extend(args.plot.as_deref().map(|p| Output::plot("--plot", p)));
+    check_outputs(&outputs, &inputs)
 }

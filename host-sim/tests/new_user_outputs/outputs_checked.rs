@@ -146,3 +146,142 @@ fn a_diagnose_that_fails_half_way_leaves_the_old_outputs_as_they_were() {
         ]
     );
 }
+
+/// A plot whose name gives no format the plots are written in (`run.out`)
+/// is refused by its flag before any work, the extensions listed, and
+/// nothing is written: every command with a plot.
+#[test]
+fn a_plot_name_without_an_image_extension_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    let t01 = data(T01);
+    let run = data("examples/a_seed001_eft/seed001_T01.csv");
+    let cases: [Vec<String>; 4] = [
+        vec![
+            "simulate".into(),
+            s(&t01).into(),
+            "--out".into(),
+            d("r.csv"),
+            "--plot".into(),
+            d("r.out"),
+        ],
+        vec![
+            "margin".into(),
+            "--mechanism".into(),
+            s(&t01).into(),
+            "--json".into(),
+            d("m.json"),
+            "--plot".into(),
+            d("m.txt"),
+        ],
+        vec![
+            "replay".into(),
+            s(&run).into(),
+            "--mechanism".into(),
+            s(&t01).into(),
+            "--out".into(),
+            d("s.csv"),
+            "--plot".into(),
+            d("s.svg"),
+        ],
+        vec![
+            "identify".into(),
+            "--mechanism".into(),
+            s(&t01).into(),
+            s(&run).into(),
+            "--json".into(),
+            d("e.json"),
+            "--plot".into(),
+            d("e"),
+        ],
+    ];
+    for args in cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = deploywatch(&args);
+        let err = fails(&out, 2, &["--plot", ".png", ".jpg", "format"]);
+        assert!(!err.contains("ImageError"), "{}: {err}", args[0]);
+        let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+        assert!(left.is_empty(), "{}: wrote {left:?}", args[0]);
+    }
+    // The extension's case does not matter.
+    let out = deploywatch(&[
+        "simulate",
+        s(&t01),
+        "--out",
+        &d("r.csv"),
+        "--plot",
+        &d("r.PNG"),
+        "-q",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(png_height(&dir.path().join("r.PNG")) > 0);
+}
+
+/// Two outputs of one command on one file (by any path to it) would leave
+/// only the one written last: refused by the second's flag, naming the
+/// first, before any work.
+#[test]
+fn two_outputs_on_one_file_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let p = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    // The same file by another path: `./sub/../x.png`.
+    std::fs::create_dir(dir.path().join("sub")).unwrap();
+    let other = |name: &str| {
+        dir.path()
+            .join("sub")
+            .join("..")
+            .join(name)
+            .to_string_lossy()
+            .into_owned()
+    };
+    let t01 = data(T01);
+    let run = data("examples/a_seed001_eft/seed001_T01.csv");
+    let cases: [(Vec<String>, [&str; 2]); 3] = [
+        (
+            vec![
+                "simulate".into(),
+                s(&t01).into(),
+                "--out".into(),
+                p("same.png"),
+                "--plot".into(),
+                other("same.png"),
+            ],
+            ["--plot", "--out"],
+        ),
+        (
+            vec![
+                "margin".into(),
+                "--mechanism".into(),
+                s(&t01).into(),
+                "--json".into(),
+                p("m.png"),
+                "--plot".into(),
+                p("m.png"),
+            ],
+            ["--plot", "--json"],
+        ),
+        (
+            vec![
+                "diagnose".into(),
+                "--mechanism".into(),
+                s(&t01).into(),
+                "--json".into(),
+                p("rep.md"),
+                s(&run).into(),
+            ],
+            ["the report beside --json", "--json"],
+        ),
+    ];
+    for (args, [second, first]) in cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = deploywatch(&args);
+        let err = fails(&out, 2, &[second, first, "replace"]);
+        assert!(stdout(&out).is_empty(), "{}: worked first: {err}", args[0]);
+        let left: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .filter(|n| n != "sub")
+            .collect();
+        assert!(left.is_empty(), "{}: wrote {left:?}", args[0]);
+    }
+}

@@ -88,6 +88,18 @@ pub fn evidence_starts(
     samples: &[TorqueSample],
     coulomb_free: bool,
 ) -> Vec<(EffectKind, Vec<f64>)> {
+    evidence_beyond(samples, coulomb_free, MIN_DELTA_BIC)
+}
+
+/// [`evidence_starts`] with the form's regression required to beat the
+/// simpler law's BIC by `margin` (`MIN_DELTA_BIC` there; 0 for
+/// [`Search::forms_at_once`], whose one move is judged through the
+/// simulator against the whole set).
+fn evidence_beyond(
+    samples: &[TorqueSample],
+    coulomb_free: bool,
+    margin: f64,
+) -> Vec<(EffectKind, Vec<f64>)> {
     let s = thin(samples);
     if s.len() < 8 {
         return Vec::new();
@@ -104,7 +116,7 @@ pub fn evidence_starts(
             })
             .min_by(|a, b| a.0.total_cmp(&b.0));
         if let Some((b, v, w)) = best {
-            if b + MIN_DELTA_BIC < bic_of(&s, &[&coulomb]) {
+            if b + margin < bic_of(&s, &[&coulomb]) {
                 let w = w.clamp(STRIBECK_RATE_RANGE[0], STRIBECK_RATE_RANGE[1]);
                 out.push((EffectKind::StribeckFriction, vec![v[0], v[1], w]));
             }
@@ -117,7 +129,7 @@ pub fn evidence_starts(
         .flatten()
         .min_by(|a, b| a.0.total_cmp(&b.0));
     if let Some((b, c)) = best_q {
-        if b + MIN_DELTA_BIC < bic_of(&s, &[&viscous]) && b < simple {
+        if b + margin < bic_of(&s, &[&viscous]) && b < simple {
             out.push((EffectKind::QuadraticDamping, vec![c]));
         }
     }
@@ -191,7 +203,8 @@ impl Search<'_, '_> {
         self.eng
             .say("friction forms: the residual torque's rate shape at each joint");
         let moves = self.form_moves();
-        if moves.is_empty() {
+        let at_once = self.forms_at_once();
+        if moves.is_empty() && at_once.is_empty() {
             return false;
         }
         self.eng.say(format!(
@@ -199,7 +212,15 @@ impl Search<'_, '_> {
             moves.len(),
             labels(&self.current.candidates())
         ));
-        let fits = self.fit_form_moves(&moves);
+        let mut fits = self.fit_form_moves(&moves);
+        for (set, start) in &at_once {
+            self.eng.say(format!(
+                "friction forms: in place of the set, from the baseline: {}",
+                labels(set)
+            ));
+            let f = self.eng.fit(self.eng.campaign, set, start);
+            fits.push((set[0], f.filter(excess_clear), false));
+        }
         let mv = Move::FrictionForms;
         let round = mv.record().map(|r| (mv, r));
         let Some((f, held)) = self.judge(fits, &mv.policy(), round) else {
@@ -210,6 +231,49 @@ impl Search<'_, '_> {
             return false;
         }
         self.take(mv, f, held);
+        true
+    }
+
+    /// When the set found holds a torque table: the forms at once
+    /// ([`Search::forms_at_once`]) in place of the whole set, taken when
+    /// they explain the runs better (judged as [`Move::FrictionForms`]:
+    /// ΔBIC, intervals, held-out RMS), and the stepwise search run on from
+    /// them. A named law where a table of many knots and its companions
+    /// stood (a break-away at the one joint of a wing fitted as a rate
+    /// table, a softening and a rig tilt). True when they were taken.
+    pub(super) fn try_forms_in_place_of_tables(&mut self) -> bool {
+        let holds_table = self
+            .current
+            .members
+            .iter()
+            .any(|m| m.candidate.table.is_some());
+        if !holds_table || !self.forms_allowed() || self.eng.halt.now() {
+            return false;
+        }
+        let at_once = self.forms_at_once();
+        if at_once.is_empty() {
+            return false;
+        }
+        let fits: Vec<(Candidate, Option<FittedSet>, bool)> = at_once
+            .par_iter()
+            .map(|(set, start)| {
+                self.eng.say(format!(
+                    "friction forms: in place of the tables' set, from the baseline: {}",
+                    labels(set)
+                ));
+                let f = self.eng.fit(self.eng.campaign, set, start);
+                (set[0], f.filter(excess_clear), false)
+            })
+            .collect();
+        let mv = Move::FrictionForms;
+        let Some((f, held)) = self.judge(fits, &mv.policy(), None) else {
+            return false;
+        };
+        if self.seen.contains(&f.candidates()) {
+            return false;
+        }
+        self.take(mv, f, held);
+        self.run();
         true
     }
 
@@ -272,6 +336,49 @@ impl Search<'_, '_> {
             }
         }
         moves
+    }
+
+    /// The moves that replace the whole set: one form at every joint whose
+    /// residual torque beside the mechanisms as given has its shape better
+    /// than the simpler law's (by any BIC: the move is judged through the
+    /// simulator), all at once (one set for the Stribeck law, one for
+    /// quadratic damping; the regressions' values start the fit). A loss of one form at
+    /// several joints is taken up, one joint at a time, by the stepwise
+    /// search's global effects (quadratic damping at each joint of seed 001
+    /// T01 by a rig tilt beside a table at each of two joints), and a
+    /// break-away at the one joint of a wing by a softening and a table:
+    /// beside what the search found, no joint's residual torque shows the
+    /// form any more.
+    fn forms_at_once(&self) -> Vec<(Vec<Candidate>, Vec<f64>)> {
+        let res = residual_torque(self.eng.campaign, &[]);
+        let mut sets: [(Vec<Candidate>, Vec<f64>); 2] = Default::default();
+        for jt in &res {
+            let mut starts = evidence_beyond(&jt.samples, true, 0.0);
+            // The break-away acts at release, in the samples the residual
+            // torque leaves out: where a kinetic level is what it shows,
+            // the law starts from it and the angles decide.
+            if let Some(tc) = kinetic_level(&jt.samples) {
+                if !starts.iter().any(|s| s.0 == EffectKind::StribeckFriction) {
+                    starts.push((EffectKind::StribeckFriction, vec![tc, 0.5 * tc, 0.05]));
+                }
+            }
+            if self.eng.trace.forms {
+                eprintln!("  beside the mechanisms as given at joint {}:", jt.joint);
+                if let Some(line) = evidence_trace(&jt.samples, &starts) {
+                    eprintln!("{line}");
+                }
+            }
+            for (kind, start) in starts {
+                let cand = named(kind, Some(jt.joint));
+                let slot = usize::from(kind == EffectKind::QuadraticDamping);
+                sets[slot].0.push(cand);
+                sets[slot].1.extend(start);
+            }
+        }
+        let current = self.current.candidates();
+        sets.into_iter()
+            .filter(|(set, _)| !set.is_empty() && *set != current)
+            .collect()
     }
 
     /// Screens the moves (the evidence's start and the candidate's scan,
@@ -376,6 +483,24 @@ fn swapped_coulomb(cur: &FittedSet, base: &FittedSet, joint: usize) -> Option<f6
         .iter()
         .find(|m| m.candidate == c)
         .and_then(|m| m.params.first().copied())
+}
+
+/// The Coulomb level \[N·m\] of a residual torque whose rate shape is
+/// Coulomb's rather than viscous's, with its regression better than none
+/// by [`MIN_DELTA_BIC`]; `None` otherwise.
+fn kinetic_level(samples: &[TorqueSample]) -> Option<f64> {
+    let s = thin(samples);
+    if s.len() < 8 {
+        return None;
+    }
+    let rss0: f64 = s
+        .iter()
+        .map(|x| (x.torque_nm / x.se_nm.max(1e-9)).powi(2))
+        .sum();
+    let none = bic(&s, rss0, 0);
+    let (v, rss) = lsq(&s, &[&coulomb])?;
+    let b = bic(&s, rss, 1);
+    (v[0] > 0.0 && b < bic_of(&s, &[&viscous]) && b + MIN_DELTA_BIC < none).then_some(v[0])
 }
 
 /// A named candidate.

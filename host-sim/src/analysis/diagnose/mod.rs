@@ -598,6 +598,7 @@ fn search_campaign(
         search.discover();
         search.replace_stand_in();
         search.restart_from_tables(&baseline);
+        search.try_forms_in_place_of_tables();
     }
     let (mut ambiguities, mut set_aside) = search.alternatives_and_set_aside(whole);
     let settled = search.settle(&mut ambiguities, &mut set_aside);

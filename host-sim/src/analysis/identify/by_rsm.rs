@@ -327,10 +327,13 @@ fn design_points(
             if *v > -RSM_ZERO_SLACK * plan.half[i] {
                 *v = 0.0;
             } else {
+                // The point's coded level: 1 at a factorial point, the
+                // axial reach at an axial one.
+                let level = (plan.centre[i] - *v) / plan.half[i];
                 return Err(IdentifyError::BadOption(format!(
-                    "the design reaches EFT {v:.4} N·m < 0 at joint {}: centre {} − {:.3} × half-range {} is negative; \
+                    "the design reaches EFT {v:.4} N·m < 0 at joint {}: centre {} − {level:.3} × half-range {} is negative; \
                      raise the centre or narrow the range",
-                    joints[i], plan.centre[i], plan.reach, plan.half[i]
+                    joints[i], plan.centre[i], plan.half[i]
                 )));
             }
         }

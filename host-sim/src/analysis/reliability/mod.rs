@@ -43,7 +43,7 @@ use crate::simulate::trajectory::SimStats;
 use crate::simulate::trajectory::{Samples, DEFAULT_RTOL, MAX_LEDGER_DRIFT};
 use correlation::Correlation;
 use criteria::{Criterion, Mode, Outcome};
-use params::{Fixed, Vary};
+use params::{Fixed, Target, Vary};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -247,13 +247,28 @@ impl Problem {
         if self.fail.is_empty() {
             return Err(ReliabilityError::NoCriterion);
         }
-        for v in &self.vary {
+        for (i, v) in self.vary.iter().enumerate() {
             v.check(&self.mech)
                 .map_err(|why| ReliabilityError::BadParam {
                     param: Param::Vary,
                     value: Some(v.label()),
                     why: why.to_string(),
                 })?;
+            // A mechanism parameter is replaced by its draw: of two laws
+            // only the last would count (effects add, each drawn).
+            if let Target::Mech(m, j) = v.target {
+                if self.vary[..i].iter().any(|w| w.target == v.target) {
+                    return Err(ReliabilityError::BadParam {
+                        param: Param::Vary,
+                        value: Some(v.label()),
+                        why: format!(
+                            "{} of joint {j} is varied twice; a mechanism parameter is \
+                             replaced by its draw, so give it one law",
+                            m.name()
+                        ),
+                    });
+                }
+            }
         }
         for f in &self.fixed {
             f.effect
