@@ -34,6 +34,12 @@
 //! is kept instead when its BIC is within [`MIN_DELTA_BIC`] of the form's
 //! ([`Move::Simpler`], judged by `Search::accept`): the simpler named
 //! effect wins when it explains the runs as well.
+//!
+//! Beside those moves, the forms all at once in place of the whole set
+//! (`Search::forms_at_once`: each form at every joint whose residual torque
+//! beside the mechanisms as given has its shape), when the search stalls
+//! and again when its answer holds a torque table
+//! (`Search::try_forms_in_place_of_tables`).
 
 use super::candidate::{Candidate, STRIBECK_RATE_RANGE};
 use super::outcome::FittedSet;

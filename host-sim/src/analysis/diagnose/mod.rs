@@ -595,10 +595,7 @@ fn search_campaign(
     search.run();
     search.restart_without_first(&baseline);
     if opts.discover && !truss && !eng.halt.now() {
-        search.discover();
-        search.replace_stand_in();
-        search.restart_from_tables(&baseline);
-        search.try_forms_in_place_of_tables();
+        search.discover_then_tables(&baseline);
     }
     let (mut ambiguities, mut set_aside) = search.alternatives_and_set_aside(whole);
     let settled = search.settle(&mut ambiguities, &mut set_aside);

@@ -56,6 +56,17 @@ impl Search<'_, '_> {
 }
 
 impl<'e, 'a> Search<'e, 'a> {
+    /// Discovery (unnamed torques as tables), a table in a global
+    /// stand-in's place, the restart from tables, then the friction forms
+    /// in place of a set that holds a table: the steps after the stepwise
+    /// search, in that order.
+    pub(super) fn discover_then_tables(&mut self, baseline: &super::FittedSet) {
+        self.discover();
+        self.replace_stand_in();
+        self.restart_from_tables(baseline);
+        self.try_forms_in_place_of_tables();
+    }
+
     /// When the search with discovery still ends above the noise:
     /// discovery again from `baseline` (a table at the joints the residual
     /// torque names, then the named effects beside it, then a second
