@@ -15,12 +15,11 @@
 //! every case:
 //! `DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test diagnosis_friction_forms -- --nocapture`.
 
-use deploywatch_sim::deployment::{self, SimOptions};
 use deploywatch_sim::diagnose::{diagnose, Outcome};
 use deploywatch_sim::effect::Effect;
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress::quiet;
-use deploywatch_tests::hidden_effect::two_runs;
+use deploywatch_tests::hidden_effect::{apart_deg, two_runs};
 use deploywatch_tests::wing_gen::wing_toml;
 use deploywatch_tests::SplitMix;
 
@@ -68,30 +67,6 @@ fn one_panel(r: &mut SplitMix) -> Mechanism {
         0.8 + 0.8 * r.next_f64()
     );
     Mechanism::from_toml_str(&toml, "one-panel.toml").expect("a valid wing")
-}
-
-/// RMS \[deg\] between the runs of `m` with `a` and with `b` (every
-/// joint, the samples both have; the runs not stopped when deployed); 0
-/// when either does not simulate.
-fn apart_deg(m: &Mechanism, a: &[Effect], b: &[Effect]) -> f64 {
-    let opts = SimOptions {
-        stop_when_deployed: false,
-        ..SimOptions::default()
-    };
-    let (Ok(x), Ok(y)) = (
-        deployment::simulate(m, a, &opts),
-        deployment::simulate(m, b, &opts),
-    ) else {
-        return 0.0;
-    };
-    let (mut sse, mut n) = (0.0, 0usize);
-    for j in 0..m.joint_count() {
-        for i in 0..x.t_s.len().min(y.t_s.len()) {
-            sse += (x.phi_deg[j][i] - y.phi_deg[j][i]).powi(2);
-            n += 1;
-        }
-    }
-    (sse / n.max(1) as f64).sqrt()
 }
 
 fn effect(text: &str) -> Effect {

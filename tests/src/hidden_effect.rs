@@ -79,20 +79,27 @@ pub const STROKE_KINDS: [EffectKind; 3] = [
 /// over the samples both runs have; the runs not stopped when deployed);
 /// 0 when either does not simulate.
 pub fn moves_runs_deg(m: &Mechanism, e: &[Effect]) -> f64 {
+    apart_deg(m, &[], e)
+}
+
+/// RMS \[deg\] between the runs of `m` with the effects `a` and with `b`
+/// (every joint, over the samples both runs have; the runs not stopped
+/// when deployed); 0 when either does not simulate.
+pub fn apart_deg(m: &Mechanism, a: &[Effect], b: &[Effect]) -> f64 {
     let opts = SimOptions {
         stop_when_deployed: false,
         ..SimOptions::default()
     };
-    let (Ok(a), Ok(b)) = (
-        deployment::simulate(m, &[], &opts),
-        deployment::simulate(m, e, &opts),
+    let (Ok(x), Ok(y)) = (
+        deployment::simulate(m, a, &opts),
+        deployment::simulate(m, b, &opts),
     ) else {
         return 0.0;
     };
     let (mut sse, mut n) = (0.0, 0usize);
     for j in 0..m.joint_count() {
-        for i in 0..a.t_s.len().min(b.t_s.len()) {
-            sse += (b.phi_deg[j][i] - a.phi_deg[j][i]).powi(2);
+        for i in 0..x.t_s.len().min(y.t_s.len()) {
+            sse += (y.phi_deg[j][i] - x.phi_deg[j][i]).powi(2);
             n += 1;
         }
     }
