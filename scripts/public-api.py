@@ -37,7 +37,11 @@ auto traits, blankets) are left out: the listing is of paths, as
 cargo-public-api's items are; rustdoc's pages show the impls. The listing is
 sorted, so it does not depend on the order of the JSON.
 
-CARGO_TARGET_DIR is honoured (the JSON is read from $CARGO_TARGET_DIR/doc).
+The build goes to its own folder, `public-api/` in the target directory
+(CARGO_TARGET_DIR is honoured; the JSON is read from its `doc/`): build
+scripts that look at RUSTC_BOOTSTRAP (proc-macro2's) would otherwise run
+again for the next ordinary build in the shared folder, and everything
+above them with it (the whole test build, in the CI lane after this one).
 Python 3, standard library only.
 """
 import collections
@@ -58,7 +62,11 @@ FEATURES = "hal,defmt"
 def rustdoc_json(root=ROOT):
     """Builds the core's rustdoc JSON (of the workspace at `root`) and
     returns it parsed."""
-    env = dict(os.environ, RUSTC_BOOTSTRAP="1")
+    target = os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target"))
+    if not os.path.isabs(target):
+        target = os.path.join(ROOT, target)
+    target = os.path.join(target, "public-api")
+    env = dict(os.environ, RUSTC_BOOTSTRAP="1", CARGO_TARGET_DIR=target)
     cmd = ["cargo", "rustdoc", "-p", "deploywatch-core", "--lib", "--locked",
            "--features", FEATURES, "--",
            "-Z", "unstable-options", "--output-format", "json"]
@@ -67,9 +75,6 @@ def rustdoc_json(root=ROOT):
     if r.returncode != 0:
         sys.stderr.write(r.stderr)
         sys.exit(f"public-api.py: `{' '.join(cmd)}` failed")
-    target = os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target"))
-    if not os.path.isabs(target):
-        target = os.path.join(ROOT, target)
     with open(os.path.join(target, "doc", CRATE + ".json"), encoding="utf-8") as f:
         return json.load(f)
 
@@ -222,7 +227,8 @@ def listing_at(rev):
         with tarfile.open(archive) as t:
             t.extractall(tree, filter="data")
         if "CARGO_TARGET_DIR" not in os.environ:
-            # The checkout's target folder: the dependencies are built once.
+            # The checkout's target folder (its public-api/): the
+            # dependencies are built once.
             os.environ["CARGO_TARGET_DIR"] = os.path.join(ROOT, "target")
         return listing(tree)[0]
 

@@ -130,7 +130,11 @@ fi
 cargo test --workspace --locked --doc
 # The test-only named effect (feature demo-effect): one variant and its arms
 # in host-sim/src/model/effect/, simulated and diagnosed by name.
-cargo test --locked -p deploywatch-sim --features demo-effect --test demo_effect
+# Asked with the workspace's selection, so that the dependencies' features
+# are those of the build above and only deploywatch-sim is compiled again
+# (with `-p deploywatch-sim` alone, cargo resolved them anew and compiled
+# a score of dependencies a second time).
+cargo test --locked --workspace --features deploywatch-sim/demo-effect --test demo_effect
 
 # After cargo test, two more lanes run side by side, each on its own log:
 # the docs and Python (mostly one process at a time: the shown commands,

@@ -92,7 +92,7 @@ pub mod latch {
 
 /// Warnings about a mechanism that loads but is implausible.
 pub mod plausibility {
-    pub use crate::model::plausibility::warnings;
+    pub use crate::model::plausibility::{warnings, warnings_in};
 }
 
 /// Torque tables in `f64` (`torque_table` effect).

@@ -421,3 +421,18 @@ fn a_latch_beyond_the_stroke_is_refused() {
         assert!(!csv.exists(), "nothing written");
     }
 }
+
+#[test]
+fn a_factor_given_twice_is_refused_naming_both() {
+    let m = t01_mechanism();
+    let margin = |factors: &[&str]| {
+        let mut args = vec!["margin", "--mechanism", s(&m)];
+        for f in factors {
+            args.extend(["--factor", f]);
+        }
+        deploywatch(&args)
+    };
+    let twice = margin(&["friction=2", "spring=1.2", "friction=3"]);
+    refused(&twice, &["--factor friction=3", "friction=2 before"]);
+    succeeded(&margin(&["friction=2", "spring=1.2"]));
+}

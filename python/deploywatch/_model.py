@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import math as _math
 import os as _os
+import sys as _sys
+import warnings as _warnings
 from dataclasses import dataclass
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
@@ -518,6 +520,17 @@ PathLike = Union[str, "_os.PathLike[str]"]
 """A file name: ``str`` or ``pathlib.Path``."""
 
 
+def _user_level() -> int:
+    """The ``stacklevel`` of a warning raised by the caller of this
+    function that points at the first frame outside the package: the
+    user's line, whichever of the package's functions led there."""
+    package = _os.path.dirname(__file__)
+    frame, level = _sys._getframe(1), 1
+    while frame.f_back is not None and _os.path.dirname(frame.f_code.co_filename) == package:
+        frame, level = frame.f_back, level + 1
+    return level
+
+
 class Mechanism:
     """A mechanism file parsed once (``docs/spec/formats.md``), its parts as
     typed attributes; ``simulate`` runs it without reading the file again.
@@ -563,7 +576,7 @@ class Mechanism:
         line and key)."""
         p = _file_name("path", path)
         with open(p, encoding="utf-8") as f:
-            return cls(_native.Model(f.read(), p))
+            return cls._warned(_native.Model(f.read(), p))
 
     @classmethod
     def from_str(cls, text: str, source: str = "<string>") -> "Mechanism":
@@ -580,7 +593,21 @@ class Mechanism:
             raise InputError(
                 f"text: expected the TOML text, got the file name {name!r}: Mechanism.from_toml({name!r}) reads the file"
             )
-        return cls(_native.Model(text, str(source)))
+        return cls._warned(_native.Model(text, str(source)))
+
+    @classmethod
+    def _warned(cls, model: _native.Model) -> "Mechanism":
+        """The mechanism of ``model``, each of its valid but unlikely values
+        (a mass in grams, angles in radians, a spring that cannot deploy)
+        raised as a ``UserWarning``, as the CLI warns of them."""
+        for w in model.implausible():
+            _warnings.warn(w, UserWarning, stacklevel=_user_level())
+        return cls(model)
+
+    @classmethod
+    def _unpickled(cls, text: str, source: str) -> "Mechanism":
+        """The mechanism a pickle carried (warned of when it was first read)."""
+        return cls(_native.Model(text, source))
 
     @property
     def toml(self) -> str:
@@ -593,7 +620,7 @@ class Mechanism:
         return self._model.source
 
     def __reduce__(self) -> Tuple[Any, ...]:
-        return (Mechanism.from_str, (self.toml, self.source))
+        return (Mechanism._unpickled, (self.toml, self.source))
 
     def __repr__(self) -> str:
         return f"Mechanism({self.name!r}, {len(self.panels)} panels, source={self.source!r})"

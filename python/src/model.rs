@@ -89,6 +89,13 @@ impl Model {
             .collect())
     }
 
+    /// The values of the mechanism that are valid but unlikely (a mass in
+    /// grams, angles in radians, a spring that cannot deploy), as the CLI
+    /// warns of them: `file:line: key: message`.
+    fn implausible(&self) -> Vec<String> {
+        deploywatch_sim::plausibility::warnings_in(&self.mech, Some(&self.text), &self.source)
+    }
+
     /// The mechanism's parts as dicts of plain values (the package makes
     /// them dataclasses): `name`, `description`, `duration_s`, `sample_hz`,
     /// `settle_s`, `panels`, `joints`, `latches` (one per joint, `None` for

@@ -8,8 +8,10 @@ replay) equal, apart from the wall-clock times they record.
 
 import csv
 import json
+import pickle
 import re
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
@@ -277,6 +279,44 @@ def test_the_commands_warnings_are_user_warnings(root, tmp_path, cli):
     assert all(w.filename == __file__ for w in caught), [w.filename for w in caught]
 
 
+def test_a_mechanism_read_warns_of_its_unlikely_values_as_the_cli_does(root, tmp_path, cli):
+    """A mechanism read by the package warns of what ``deploywatch
+    simulate`` warns of (here a curve spring in radians and a mass in
+    grams), word for word, once per read, at the user's line: read from a
+    file, from text, or by ``simulate`` given the file. A pickled copy (a
+    Dask worker's) does not warn again."""
+    text = (root / T01).read_text()
+    spring = 'spring = { kind = "curve", unfold = [[0.0, 1.5], [0.7854, 1.2], [1.5708, 1.0]], count = 1 }'
+    lines = text.splitlines()
+    springs = [i for i, l in enumerate(lines) if l.startswith("spring = ")]
+    assert len(springs) == 3, springs
+    lines[springs[0]] = spring
+    m = tmp_path / "unlikely.toml"
+    m.write_text(("\n".join(lines) + "\n").replace("mass_kg = 3.5", "mass_kg = 3500.0", 1))
+    out = subprocess.run(
+        [cli, "simulate", str(m), "--out", str(tmp_path / "run.csv")], capture_output=True, text=True
+    )
+    said = [line[len("warning: ") :] for line in out.stderr.splitlines() if line.startswith("warning: ")]
+    assert out.returncode == 0, out.stderr
+    assert any("radians" in w and "joint[1].spring" in w for w in said), out.stderr
+    assert any("grams" in w and "panel[1].mass_kg" in w for w in said), out.stderr
+    for read in (
+        lambda: dw.Mechanism.from_toml(m),
+        lambda: dw.Mechanism.from_str(m.read_text(), str(m)),
+        lambda: dw.simulate(m),
+    ):
+        with pytest.warns(UserWarning) as caught:
+            read()
+        assert [str(w.message) for w in caught] == said
+        assert all(w.filename == __file__ for w in caught), [w.filename for w in caught]
+    with pytest.warns(UserWarning):
+        unlikely = dw.Mechanism.from_toml(m)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        copy = pickle.loads(pickle.dumps(unlikely))
+    assert copy.toml == unlikely.toml
+
+
 def test_a_mechanism_in_memory_is_named_as_the_user_knows_it(root, tmp_path, monkeypatch):
     """A ``Mechanism`` made from text has no file: the command is handed a
     temporary one, which is deleted when it returns. What the user is given
@@ -302,7 +342,8 @@ def test_a_mechanism_in_memory_is_named_as_the_user_knows_it(root, tmp_path, mon
     with pytest.raises(dw.InputError) as e:
         dw.margin(mech, friction=[0.5])
     assert "wing-in-notebook has 3 joints" in str(e.value), str(e.value)
-    radians = dw.Mechanism.from_str(text.replace("stowed_deg = -180.0", "stowed_deg = -3.14159"), "in-radians")
+    with pytest.warns(UserWarning, match="in-radians:31: `joint\\[3\\].stowed_deg`"):
+        radians = dw.Mechanism.from_str(text.replace("stowed_deg = -180.0", "stowed_deg = -3.14159"), "in-radians")
     with pytest.warns(UserWarning) as caught:
         dw.margin(radians, friction=[0.5, 1.7, 0.01])
     said = [str(w.message) for w in caught]

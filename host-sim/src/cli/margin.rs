@@ -248,7 +248,10 @@ fn rows_for(
     allowance: &Allowance,
 ) -> Result<(Factors, Vec<Row>), CliError> {
     let mut factors = standard.factors_for(args.data_source);
-    for (kind, value) in &args.factors {
+    for (i, (kind, value)) in args.factors.iter().enumerate() {
+        if let Some((_, first)) = args.factors[..i].iter().find(|(k, _)| k == kind) {
+            return Err(CliError::input(format!("--factor {kind}={value}: the factor {kind} is given twice ({kind}={first} before); expected each kind once")));
+        }
         factors.set(*kind, *value);
     }
     let rows = margins(mech, resist, standard, &factors, allowance).map_err(|e| match e {

@@ -71,6 +71,12 @@ fn check_outputs(args: &ReplayArgs) -> Result<(), CliError> {
         .map(|p| p.as_path())
         .collect();
     if let Some(d) = &args.keep {
+        if d.exists() && !d.is_dir() {
+            return Err(CliError::input(format!(
+                "--keep {}: a file; expected a folder to keep the replay's files in (an existing one, or a new one this creates)",
+                d.display()
+            )));
+        }
         if !d.is_dir() {
             check_output("--keep", d, &inputs)?;
             std::fs::create_dir(d)

@@ -48,6 +48,15 @@ pub enum MechanismErrorKind {
         /// The keys allowed at that place, comma separated.
         expected: String,
     },
+    /// A dotted header that numbers a table of an array of tables
+    /// (`[joint.2.latch]`), which TOML does not do.
+    #[error("`{key}`: TOML does not number the [[{array}]] tables; expected the sub-table's header without the number (e.g. `[{array}.latch]`) below the [[{array}]] it belongs to")]
+    NumberedTable {
+        /// Key path of the number (`joint[2].2`).
+        key: String,
+        /// The array of tables (`joint`).
+        array: String,
+    },
     /// A required key is absent.
     #[error("missing key `{key}`: expected {expected}")]
     MissingKey {
@@ -168,6 +177,7 @@ impl MechanismError {
     pub fn key(&self) -> Option<&str> {
         match &self.kind {
             MechanismErrorKind::UnknownKey { key, .. }
+            | MechanismErrorKind::NumberedTable { key, .. }
             | MechanismErrorKind::MissingKey { key, .. }
             | MechanismErrorKind::WrongType { key, .. }
             | MechanismErrorKind::InvalidValue { key, .. }

@@ -36,8 +36,7 @@
 
 use std::path::Path;
 
-use deploywatch_core::{Curve, Panel, Spring};
-use deploywatch_core::{Interp, TapePoints};
+use deploywatch_core::{Curve, Interp, Panel, Spring, TapePoints};
 
 use crate::model::effect::EffectKind;
 use crate::model::mechanism::{
@@ -156,8 +155,6 @@ impl Cx<'_> {
         }
     }
 
-    // -----------------------------------------------------------------------
-
     fn mechanism(&self, root: &Sp) -> Res<Mechanism> {
         let top = self.table(root, "", TOP_KEYS)?;
 
@@ -222,7 +219,7 @@ impl Cx<'_> {
             None => (DEFAULT_DURATION_S, DEFAULT_SAMPLE_HZ, DEFAULT_SETTLE_S),
         };
 
-        let (truss, rig, flexible) = self.extensions(&top, &panels, &latches)?;
+        let (truss, rig, flexible) = self.extensions(&top, &panels, &joints, &latches)?;
         Ok(Mechanism {
             name,
             description,
@@ -239,8 +236,9 @@ impl Cx<'_> {
         })
     }
 
-    /// `[truss]`, `[rig]` and `[flexible_panels]`: each further table is read by its own module,
-    /// on the same tree. An enabled rig with a physical latch is refused
+    /// `[truss]`, `[rig]` and `[flexible_panels]` of a wing of `joints`:
+    /// each further table is read by its own module, on the
+    /// same tree. An enabled rig with a physical latch is refused
     /// (`formats.md`, "Rig": the rig is simulated with ideal latches only),
     /// never dropped silently.
     #[allow(clippy::type_complexity)]
@@ -248,6 +246,7 @@ impl Cx<'_> {
         &self,
         top: &Table<'_>,
         panels: &[Panel<f64>],
+        joints: &[JointSpec],
         latches: &[Option<crate::model::latch::LatchSpec>],
     ) -> Res<(
         Option<crate::model::truss::Truss>,
@@ -258,9 +257,10 @@ impl Cx<'_> {
             .get("truss")
             .map(|sp| crate::model::truss_toml::read(self, sp, panels.len()))
             .transpose()?;
+        let stowed: Vec<f64> = joints.iter().map(|j| j.stowed_deg).collect();
         let rig = top
             .get("rig")
-            .map(|sp| crate::model::rig_toml::read(self, sp, panels))
+            .map(|sp| crate::model::rig_toml::read(self, sp, panels, &stowed))
             .transpose()?;
         let physical: Vec<usize> = (1..=latches.len())
             .filter(|&j| latches.get(j - 1).is_some_and(Option::is_some))

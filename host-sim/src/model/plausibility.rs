@@ -1,7 +1,8 @@
 //! Values of a mechanism that are valid but unlikely: a panel mass typed in
 //! grams, an inertia that no panel of that mass and length has, a stowed
-//! angle typed in radians, a spring that would deploy its panels in a flash
-//! or over hours. Each is a warning
+//! angle or a curve spring's angles typed in radians, a spring that would
+//! deploy its panels in a flash or over hours, or not at all. Each is a
+//! warning
 //! (the value may be right), naming the key and, when the TOML text is
 //! given, its line; none stops a command.
 //!
@@ -12,7 +13,7 @@
 
 use std::path::Path;
 
-use crate::model::mechanism::Mechanism;
+use crate::model::mechanism::{JointSpec, Mechanism, SpringSpec};
 
 /// Lightest plausible panel [kg/m²]: a 50 µm polyimide film (1.42 g/cm³)
 /// weighs 0.07 kg/m²; no self-supporting panel is lighter.
@@ -129,8 +130,15 @@ pub fn check(mechanism: &Mechanism, text: Option<&str>) -> Vec<Implausible> {
             });
         }
     }
-    for j in 0..mechanism.joints.len() {
+    for (j, joint) in mechanism.joints.iter().enumerate() {
+        let say = |message: String| Implausible {
+            key: format!("joint[{}].spring", j + 1),
+            line: line_of("joint", j, "spring"),
+            message,
+        };
+        out.extend(spring_units(joint).map(say));
         let Some(t) = deploy_time_s(mechanism, j) else {
+            out.extend(no_energy(joint).map(say));
             continue;
         };
         if !(MIN_DEPLOY_S..=MAX_DEPLOY_S).contains(&t) {
@@ -155,14 +163,43 @@ pub fn check(mechanism: &Mechanism, text: Option<&str>) -> Vec<Implausible> {
 /// lines), as `path:line: key: message` lines for the CLI's warnings.
 pub fn warnings(mechanism: &Mechanism, path: &Path) -> Vec<String> {
     let text = std::fs::read_to_string(path).ok();
-    let file = path.display();
-    check(mechanism, text.as_deref())
+    warnings_in(mechanism, text.as_deref(), &path.display().to_string())
+}
+
+/// [`check`] of a mechanism whose TOML `text` came from `file`, as
+/// `file:line: key: message` lines (what [`warnings`] gives for a path).
+pub fn warnings_in(mechanism: &Mechanism, text: Option<&str>, file: &str) -> Vec<String> {
+    check(mechanism, text)
         .into_iter()
         .map(|w| match w.line {
             Some(l) => format!("{file}:{l}: `{}`: {}", w.key, w.message),
             None => format!("{file}: `{}`: {}", w.key, w.message),
         })
         .collect()
+}
+
+/// Largest angle \[deg\] of a curve spring's points taken for radians: one
+/// turn in radians, 2π within [`RADIAN_MATCH`].
+pub const CURVE_RADIANS_MAX: f64 = std::f64::consts::TAU * (1.0 + RADIAN_MATCH);
+
+/// A curve spring whose points end below [`CURVE_RADIANS_MAX`] on a stroke
+/// more than twice as long: its angles typed in radians.
+fn spring_units(joint: &JointSpec) -> Option<String> {
+    let SpringSpec::Curve { unfold, .. } = &joint.spring else {
+        return None;
+    };
+    let widest = unfold.iter().map(|p| p.0.abs()).fold(0.0, f64::max);
+    let stroke = joint.stowed_deg.abs();
+    (widest <= CURVE_RADIANS_MAX && stroke > 2.0 * widest).then(|| format!("the curve's points end at {widest} deg on a stroke of {stroke} deg, and the spring holds its last torque beyond them: angles in radians? expected degrees ({:.1} deg)", widest.to_degrees()))
+}
+
+/// A spring that gives no energy over its joint's stroke (of zero torque:
+/// the file refuses a negative one): the joint cannot deploy on it.
+fn no_energy(joint: &JointSpec) -> Option<String> {
+    let spring = joint.spring.to_spring::<f64>().ok()?;
+    let stroke = joint.stowed_deg.abs();
+    let energy = spring.release(0.0, stroke.to_radians());
+    (energy.is_nan() || energy <= 0.0).then(|| format!("the spring gives {energy:.3} J over the {stroke} deg stroke: the joint cannot deploy on it, and its margins are undefined (0/0); a spring of zero torque?"))
 }
 
 /// `k` quarter turns as a multiple of π in words: `π/2`, `π`, `3π/2`, `2π`.
@@ -250,5 +287,59 @@ mod tests {
             ("panel[1].mass_kg", Some(line))
         );
         assert!(w[0].message.contains("grams"), "{}", w[0].message);
+    }
+
+    /// One 1 m panel of 2 kg stowed at 90 deg on `spring` (a TOML inline
+    /// table).
+    fn one_panel(spring: &str) -> String {
+        format!("name = \"one\"\n[[panel]]\nlength_m = 1.0\nmass_kg = 2.0\ncom_m = 0.5\ninertia_kgm2 = 0.17\n[[joint]]\nstowed_deg = 90.0\nspring = {spring}\n[run]\nduration_s = 6.0\n")
+    }
+
+    /// The warnings about `joint[1].spring` of [`one_panel`] on `spring`.
+    fn spring_warnings(spring: &str) -> Vec<Implausible> {
+        let text = one_panel(spring);
+        let m = Mechanism::from_toml_str(&text, "one").unwrap();
+        let line = 1 + text.lines().position(|l| l.starts_with("spring")).unwrap();
+        let w: Vec<_> = check(&m, Some(&text))
+            .into_iter()
+            .filter(|w| w.key == "joint[1].spring")
+            .collect();
+        assert!(w.iter().all(|w| w.line == Some(line)), "{w:?}");
+        w
+    }
+
+    #[test]
+    fn a_curve_spring_in_radians_names_its_line_and_the_same_in_degrees_does_not() {
+        let rad = spring_warnings(
+            "{ kind = \"curve\", unfold = [[0.0, 1.5], [0.7854, 1.2], [1.5708, 1.0]], count = 1 }",
+        );
+        assert_eq!(rad.len(), 1, "{rad:?}");
+        assert!(
+            rad[0].message.contains("radians") && rad[0].message.contains("90.0 deg"),
+            "{}",
+            rad[0].message
+        );
+        let deg = spring_warnings(
+            "{ kind = \"curve\", unfold = [[0.0, 1.5], [45.0, 1.2], [90.0, 1.0]], count = 1 }",
+        );
+        assert_eq!(deg, Vec::new());
+    }
+
+    #[test]
+    fn a_spring_that_gives_no_energy_is_told_it_cannot_deploy() {
+        for spring in [
+            "{ kind = \"linear\", preload_nm = 0.0, stiffness_nm_per_rad = 0.0, count = 1 }",
+            "{ kind = \"curve\", unfold = [[0.0, 0.0], [90.0, 0.0]], count = 1 }",
+        ] {
+            let w = spring_warnings(spring);
+            assert_eq!(w.len(), 1, "{spring}: {w:?}");
+            assert!(w[0].message.contains("cannot deploy"), "{}", w[0].message);
+        }
+        assert_eq!(
+            spring_warnings(
+                "{ kind = \"linear\", preload_nm = 0.5, stiffness_nm_per_rad = 0.0, count = 1 }"
+            ),
+            Vec::new()
+        );
     }
 }

@@ -10,6 +10,7 @@
 //! laterally on its air bearings, y), and their forces on the panels.
 
 use crate::model::effect::{Acts, Effect, RigPart};
+use deploywatch_core::Panel;
 
 /// Standard gravity [m/s²], the default of `[rig] gravity_m_s2`.
 pub const STANDARD_GRAVITY_M_S2: f64 = 9.80665;
@@ -29,6 +30,30 @@ pub const PAPER_DYNAMIC_MU: f64 = 0.1;
 /// The shortest wire a `wire_length` cause leaves \[m\]: a wire shortened
 /// further would no longer hang its panel.
 pub const MIN_WIRE_M: f64 = 0.05;
+
+/// How far a stowed panel's tip may sit beyond a frame's face \[m\]
+/// before the rig is refused: 1 µm, the rounding of a face written at the
+/// tip's own coordinate.
+pub const STOWED_CLEARANCE_M: f64 = 1e-6;
+
+/// The outboard tip of each panel \[m\] (x out from the bus, y lateral)
+/// with the joints at `phi` \[rad\]: the chain's kinematics of
+/// `physics.md` §1, absolute angle `θ_i = Σ_{k ≤ i} φ_k`.
+pub fn panel_tips(panels: &[Panel<f64>], phi: &[f64]) -> Vec<[f64; 2]> {
+    let (mut th, mut p) = (0.0, [0.0; 2]);
+    panels
+        .iter()
+        .zip(phi)
+        .map(|(panel, &f)| {
+            th += f;
+            p = [
+                p[0] + panel.length_m * th.cos(),
+                p[1] + panel.length_m * th.sin(),
+            ];
+            p
+        })
+        .collect()
+}
 
 /// One trolley: it runs along its bar (x) and carries panel `panel` by a
 /// wire from the panel's offload point.
@@ -142,18 +167,53 @@ pub enum RigError {
         /// 1-based frame.
         index: usize,
     },
+    /// A trolley's offload point off its panel.
+    #[error("rig.trolley[{index}]: offload_m {offload_m} m is off panel {panel}, which runs from its hinge (0 m) to its tip ({length_m} m)")]
+    Offload {
+        /// 1-based trolley.
+        index: usize,
+        /// The panel it carries (1-based).
+        panel: usize,
+        /// The offload point given \[m\].
+        offload_m: f64,
+        /// The panel's length \[m\].
+        length_m: f64,
+    },
+    /// A share of the carried weight above the whole of it.
+    #[error("rig: friction_load_fraction {fraction} is more than the whole carried weight (1)")]
+    LoadFraction {
+        /// The fraction given.
+        fraction: f64,
+    },
+    /// A frame the stowed wing already crosses: the run would start inside
+    /// it.
+    #[error("rig.frame[{index}] \"{name}\": panel {panel}'s tip is {depth_mm:.1} mm beyond its face when stowed (the allowed side is normal · p ≥ at_m): a normal pointing out of the allowed side, or at_m of the other sign?")]
+    CrossedWhenStowed {
+        /// 1-based frame.
+        index: usize,
+        /// Its name.
+        name: String,
+        /// The deepest panel (1-based).
+        panel: usize,
+        /// How far its tip is beyond the face \[mm\].
+        depth_mm: f64,
+    },
 }
 
 impl Rig {
-    /// Checks the rig against a mechanism of `panels` panels.
-    pub fn check(&self, panels: usize) -> Result<(), RigError> {
-        let mut seen = vec![false; panels];
+    /// Checks the rig against a mechanism's `panels` stowed at
+    /// `stowed_rad` (its joints' stowed angles \[rad\], as the chain takes
+    /// them): each panel carried once, by a trolley on a bar that exists, at
+    /// a point on the panel; friction coefficients and load share in range;
+    /// no frame crossed by a panel's tip before the run starts.
+    pub fn check(&self, panels: &[Panel<f64>], stowed_rad: &[f64]) -> Result<(), RigError> {
+        let mut seen = vec![false; panels.len()];
         for (i, t) in self.trolleys.iter().enumerate() {
-            if t.panel == 0 || t.panel > panels || seen[t.panel - 1] {
+            if t.panel == 0 || t.panel > panels.len() || seen[t.panel - 1] {
                 return Err(RigError::Panel {
                     index: i + 1,
                     panel: t.panel,
-                    panels,
+                    panels: panels.len(),
                 });
             }
             seen[t.panel - 1] = true;
@@ -164,6 +224,15 @@ impl Rig {
                     bars: self.bars.len(),
                 });
             }
+            let length_m = panels[t.panel - 1].length_m;
+            if !(0.0..=length_m).contains(&t.offload_m) {
+                return Err(RigError::Offload {
+                    index: i + 1,
+                    panel: t.panel,
+                    offload_m: t.offload_m,
+                    length_m,
+                });
+            }
         }
         if self.dynamic_mu > self.static_mu {
             return Err(RigError::Friction {
@@ -171,9 +240,32 @@ impl Rig {
                 dynamic: self.dynamic_mu,
             });
         }
+        if self.friction_load_fraction > 1.0 {
+            return Err(RigError::LoadFraction {
+                fraction: self.friction_load_fraction,
+            });
+        }
+        let tips = panel_tips(panels, stowed_rad);
         for (i, f) in self.frames.iter().enumerate() {
             if f.normal[0].hypot(f.normal[1]) == 0.0 {
                 return Err(RigError::Normal { index: i + 1 });
+            }
+            // The innermost of the deepest tips.
+            let deepest = tips
+                .iter()
+                .map(|p| f.at_m - (f.normal[0] * p[0] + f.normal[1] * p[1]))
+                .enumerate()
+                .fold(None, |best: Option<(usize, f64)>, (i, d)| match best {
+                    Some((_, b)) if b >= d => best,
+                    _ => Some((i, d)),
+                });
+            if let Some((panel, depth)) = deepest.filter(|&(_, d)| d > STOWED_CLEARANCE_M) {
+                return Err(RigError::CrossedWhenStowed {
+                    index: i + 1,
+                    name: f.name.clone(),
+                    panel: panel + 1,
+                    depth_mm: depth * 1e3,
+                });
             }
         }
         Ok(())

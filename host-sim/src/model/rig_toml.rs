@@ -19,9 +19,10 @@
 //! at_m = -0.9
 //! ```
 
+use crate::model::mechanism_error::MechanismError;
 use crate::model::rig::{
-    Bar, Frame, Rig, Trolley, PAPER_CONTACT_DAMPING, PAPER_CONTACT_STIFFNESS, PAPER_DYNAMIC_MU,
-    PAPER_STATIC_MU, STANDARD_GRAVITY_M_S2,
+    Bar, Frame, Rig, RigError, Trolley, PAPER_CONTACT_DAMPING, PAPER_CONTACT_STIFFNESS,
+    PAPER_DYNAMIC_MU, PAPER_STATIC_MU, STANDARD_GRAVITY_M_S2,
 };
 use crate::model::toml_tree::{Bound, Cx, Node, Res, Sp, Table};
 use deploywatch_core::Panel;
@@ -52,9 +53,9 @@ const TROLLEY_KEYS: &[&str] = &[
 ];
 const FRAME_KEYS: &[&str] = &["name", "normal", "at_m"];
 
-/// The `[rig]` table `sp` of a mechanism file with `panels`; every error
-/// names its line.
-pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, panels: &[Panel<f64>]) -> Res<Rig> {
+/// The `[rig]` table `sp` of a mechanism file with `panels` whose joints
+/// are stowed at `stowed_deg` \[deg\]; every error names its line.
+pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, panels: &[Panel<f64>], stowed_deg: &[f64]) -> Res<Rig> {
     let t = cx.table(sp, "rig", RIG_KEYS)?;
     let num = |key: &str, bound: Bound, unit: &str, default: f64| -> Res<f64> {
         Ok(cx.opt_number(&t, key, bound, unit)?.unwrap_or(default))
@@ -112,9 +113,36 @@ pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, panels: &[Panel<f64>]) -> Res<Rig> {
         bars,
         frames,
     };
-    rig.check(panels.len())
-        .map_err(|e| cx.invalid(sp, "rig", &format!("a consistent rig ({e})")))?;
-    Ok(rig)
+    let stowed_rad: Vec<f64> = stowed_deg.iter().map(|d| d.to_radians()).collect();
+    match rig.check(panels, &stowed_rad) {
+        Ok(()) => Ok(rig),
+        Err(e) => Err(at_its_key(cx, sp, &t, &e)),
+    }
+}
+
+/// The error of [`Rig::check`] at the line of the key it is about (the
+/// `[rig]` table's when the key is absent), expecting what the check says.
+fn at_its_key(cx: &Cx<'_>, sp: &Sp, t: &Table<'_>, e: &RigError) -> MechanismError {
+    let item = |name: &str, index: usize, key: &str| {
+        let s = cx.tables(t, name).ok()?.get(index - 1)?;
+        let Node::Table(entries) = &s.node else {
+            return None;
+        };
+        let found = entries.iter().find(|(k, _)| k == key).map(|(_, v)| v);
+        Some((found.unwrap_or(s), format!("rig.{name}[{index}].{key}")))
+    };
+    let key = |k: &str| t.get(k).map(|s| (s, format!("rig.{k}")));
+    let at = match e {
+        RigError::Panel { index, .. } => item("trolley", *index, "panel"),
+        RigError::Bar { index, .. } => item("trolley", *index, "bar"),
+        RigError::Offload { index, .. } => item("trolley", *index, "offload_m"),
+        RigError::Friction { .. } => key("dynamic_mu").or_else(|| key("static_mu")),
+        RigError::LoadFraction { .. } => key("friction_load_fraction"),
+        RigError::Normal { index } => item("frame", *index, "normal"),
+        RigError::CrossedWhenStowed { index, .. } => item("frame", *index, "at_m"),
+    };
+    let (s, k) = at.unwrap_or((sp, "rig".to_string()));
+    cx.invalid(s, &k, &format!("a consistent rig ({e})"))
 }
 
 /// A required integer ≥ 1.

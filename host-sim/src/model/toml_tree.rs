@@ -260,6 +260,26 @@ pub(crate) fn join(path: &str, key: &str) -> String {
 /// are TOML 1.1).
 const INLINE_TABLE_HINT: &str = " (an inline table `{ ... }` must close on the line it opens, TOML 1.0: write a longer one as a sub-table, e.g. `[joint.latch.plunger]` with one key a line)";
 
+/// The first header `[name.…]` (its line, the header, `name`) that comes
+/// before the first `[[name]]` of the text: a sub-table written above the
+/// array-of-tables entry it belongs to, which TOML reads as `name` defined
+/// twice.
+fn sub_table_before_its_array(text: &str) -> Option<(usize, &str, &str)> {
+    let headers: Vec<(usize, &str)> = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.split('#').next().unwrap_or("").trim()))
+        .filter(|(_, l)| l.starts_with('['))
+        .collect();
+    headers.iter().find_map(|&(at, h)| {
+        let name = h.strip_prefix('[').filter(|n| !n.starts_with('['))?;
+        let name = name.split(['.', ']']).next()?.trim();
+        let array = format!("[[{name}]]");
+        let first_array = headers.iter().find(|(_, g)| g.replace(' ', "") == array)?;
+        (first_array.0 > at).then_some((at, h, name))
+    })
+}
+
 impl Cx<'_> {
     /// The text parsed into a tree of values with their spans; a syntax
     /// error names its line and column.
@@ -284,11 +304,15 @@ impl Cx<'_> {
             if let Some(kind @ (FileKind::RunCsv | FileKind::Json)) = FileKind::of_text(text) {
                 message.push_str(&format!("; the file reads as {kind}, not a mechanism TOML"));
             }
-            let column = e.span().map(|s| cx.column_of(s.start));
-            cx.err(
-                e.span().map(|s| cx.line_of(s.start)),
-                MechanismErrorKind::Syntax { column, message },
-            )
+            let mut column = e.span().map(|s| cx.column_of(s.start));
+            let mut line = e.span().map(|s| cx.line_of(s.start));
+            if let Some((at, header, array)) = sub_table_before_its_array(text) {
+                if message.contains(&format!("duplicate key `{array}`")) {
+                    (line, column) = (Some(at), Some(1));
+                    message = format!("`{header}` comes before any [[{array}]]: a `[{array}.…]` table belongs to the last [[{array}]] above it; expected it below the [[{array}]] it is part of");
+                }
+            }
+            cx.err(line, MechanismErrorKind::Syntax { column, message })
         })?;
         Ok(Sp::table(doc.as_table()))
     }
@@ -323,6 +347,15 @@ impl Cx<'_> {
 
     pub(crate) fn line(&self, sp: &Sp) -> Option<usize> {
         sp.span.as_ref().map(|s| self.line_of(s.start))
+    }
+
+    /// The line of `sp`, or of the first of its values that has one.
+    fn first_line(&self, sp: &Sp) -> Option<usize> {
+        match (&sp.node, self.line(sp)) {
+            (_, Some(l)) => Some(l),
+            (Node::Table(entries), None) => entries.iter().find_map(|(_, v)| self.first_line(v)),
+            _ => None,
+        }
     }
 
     pub(crate) fn wrong_type(&self, sp: &Sp, key: &str, expected: &str) -> MechanismError {
@@ -364,13 +397,22 @@ impl Cx<'_> {
         };
         for (k, v) in entries {
             if !allowed.contains(&k.as_str()) {
-                return Err(self.err(
-                    self.line(v).or_else(|| self.line(sp)),
+                // A table made by a dotted header has no span: its first
+                // key's line is the header's.
+                let line = self.first_line(v).or_else(|| self.line(sp));
+                let array = path.split('[').next().unwrap_or(path);
+                let kind = if k.bytes().all(|b| b.is_ascii_digit()) && array != path {
+                    MechanismErrorKind::NumberedTable {
+                        key: join(path, k),
+                        array: array.to_string(),
+                    }
+                } else {
                     MechanismErrorKind::UnknownKey {
                         key: join(path, k),
                         expected: allowed.join(", "),
-                    },
-                ));
+                    }
+                };
+                return Err(self.err(line, kind));
             }
         }
         Ok(Table {

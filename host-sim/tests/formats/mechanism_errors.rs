@@ -424,3 +424,33 @@ fn mechanism_file_errors_name_the_path() {
     assert!(matches!(e.kind, MechanismErrorKind::Io { .. }), "{e}");
     assert!(e.to_string().contains("absent.toml"), "{e}");
 }
+
+#[test]
+fn a_sub_table_above_its_joint_or_numbered_is_named_at_its_header() {
+    // `[joint.latch]` above the first `[[joint]]`: TOML reads `joint`
+    // defined twice; the error is at the sub-table's header.
+    let latch = "[joint.latch]\nkind = \"plunger\"\n";
+    let text = t01_with("[[joint]]", &format!("{latch}[[joint]]"));
+    let e = bad_mech(&text);
+    let line = line_of(&text, "[joint.latch]");
+    assert_eq!(e.line(), Some(line), "{e}");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("`[joint.latch]` comes before any [[joint]]"),
+        "{msg}"
+    );
+    // `[joint.2.latch]`: TOML does not number tables; the error is at the
+    // header's line (its first key's), naming the number.
+    let text = format!("{}\n[joint.2.latch]\nkind = \"plunger\"\n", t01_text());
+    let e = bad_mech(&text);
+    let header = line_of(&text, "[joint.2.latch]");
+    assert!(
+        e.line() == Some(header) || e.line() == Some(header + 1),
+        "{e}"
+    );
+    let msg = e.to_string();
+    assert!(
+        msg.contains("`joint[3].2`") && msg.contains("does not number the [[joint]] tables"),
+        "{msg}"
+    );
+}

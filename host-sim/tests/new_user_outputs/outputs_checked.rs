@@ -285,3 +285,20 @@ fn two_outputs_on_one_file_are_refused_before_any_work() {
         assert!(left.is_empty(), "{}: wrote {left:?}", args[0]);
     }
 }
+
+#[test]
+fn replay_keep_on_a_file_is_refused_as_not_a_folder_and_the_file_kept() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let file = dir.path().join("kept");
+    std::fs::write(&file, "mine").expect("write");
+    let out = deploywatch(&[
+        "replay",
+        s(&data("examples/a_seed001_eft/seed001_T01.csv")),
+        "--mechanism",
+        s(&data(T01)),
+        "--keep",
+        s(&file),
+    ]);
+    fails(&out, 2, &["--keep", "a file; expected a folder"]);
+    assert_eq!(std::fs::read_to_string(&file).expect("kept"), "mine");
+}

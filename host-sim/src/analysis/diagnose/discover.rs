@@ -209,10 +209,35 @@ const PEAK_FALL: f64 = 0.6;
 /// "saturating" when above `1 − QUADRATIC_MID` \[1\] (linear: ½).
 const QUADRATIC_MID: f64 = 0.35;
 
-/// How a rate table depends on the rate, in words: peaked near a rate,
-/// growing faster than linearly, about linearly or saturating; resisting or
-/// driving; its size. `motion` is the sign of the deployment's rate.
-pub fn rate_words(xs: &[f64], ys: &[f64], motion: f64) -> String {
+/// How a rate law grows along the deployment's rate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RateGrowth {
+    /// It falls back after a peak: at the largest rate below
+    /// [`PEAK_FALL`] of its peak.
+    Peaked,
+    /// At half the largest rate below [`QUADRATIC_MID`] of its end value.
+    Quadratic,
+    /// Between the two.
+    Linear,
+    /// At half the largest rate above `1 − QUADRATIC_MID` of its end value.
+    Saturating,
+}
+
+/// The shape of a rate law along the deployment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RateShape {
+    /// How it grows.
+    pub growth: RateGrowth,
+    /// Its largest value: the rate \[deg/s, |φ̇|\] and the value \[N·m\].
+    pub peak: (f64, f64),
+    /// At the largest rate: the rate \[deg/s, |φ̇|\] and the value \[N·m\].
+    pub end: (f64, f64),
+}
+
+/// The shape of the rate law of knots `xs` \[deg/s\], `ys` \[N·m\] along
+/// the deployment (`motion` the sign of its rate); `None` without a knot
+/// on the deployment's side.
+pub fn rate_shape(xs: &[f64], ys: &[f64], motion: f64) -> Option<RateShape> {
     // Along the deployment: |rate| increasing.
     let mut pts: Vec<(f64, f64)> = xs
         .iter()
@@ -221,37 +246,55 @@ pub fn rate_words(xs: &[f64], ys: &[f64], motion: f64) -> String {
         .map(|(x, y)| (x.abs(), *y))
         .collect();
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let Some(&(r_end, y_end)) = pts.last() else {
-        return "independent of the rate".into();
-    };
-    let &(r_peak, y_peak) = pts
+    let &end = pts.last()?;
+    let &peak = pts
         .iter()
         .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
-        .unwrap_or(&(r_end, y_end));
-    let sign = if y_peak * motion < 0.0 {
-        "resisting"
-    } else {
-        "driving"
-    };
-    if y_end.abs() < PEAK_FALL * y_peak.abs() && r_peak < r_end {
-        return format!(
-            "a {sign} part peaked near zero rate ({:.3} N·m at {r_peak:.0} deg/s, {:.3} N·m at {r_end:.0} deg/s)",
-            y_peak.abs(),
-            y_end.abs()
-        );
+        .unwrap_or(&end);
+    let shape = |growth| Some(RateShape { growth, peak, end });
+    if end.1.abs() < PEAK_FALL * peak.1.abs() && peak.0 < end.0 {
+        return shape(RateGrowth::Peaked);
     }
     let mid = crate::analysis::diagnose::residual_shape::interp(
         &pts.iter().map(|p| p.0).collect::<Vec<_>>(),
         &pts.iter().map(|p| p.1).collect::<Vec<_>>(),
-        0.5 * r_end,
+        0.5 * end.0,
     );
-    let ratio = mid / y_end;
-    let growth = if ratio < QUADRATIC_MID {
-        "growing faster than linearly (about quadratic)"
+    let ratio = mid / end.1;
+    shape(if ratio < QUADRATIC_MID {
+        RateGrowth::Quadratic
     } else if ratio > 1.0 - QUADRATIC_MID {
-        "rising fast and saturating"
+        RateGrowth::Saturating
     } else {
-        "growing about linearly"
+        RateGrowth::Linear
+    })
+}
+
+/// How a rate table depends on the rate, in words: peaked near a rate,
+/// growing faster than linearly, about linearly or saturating; resisting or
+/// driving; its size. `motion` is the sign of the deployment's rate.
+pub fn rate_words(xs: &[f64], ys: &[f64], motion: f64) -> String {
+    let Some(RateShape { growth, peak, end }) = rate_shape(xs, ys, motion) else {
+        return "independent of the rate".into();
+    };
+    let sign = if peak.1 * motion < 0.0 {
+        "resisting"
+    } else {
+        "driving"
+    };
+    let (r_end, y_end) = end;
+    let growth = match growth {
+        RateGrowth::Peaked => {
+            return format!(
+                "a {sign} part peaked near zero rate ({:.3} N·m at {:.0} deg/s, {:.3} N·m at {r_end:.0} deg/s)",
+                peak.1.abs(),
+                peak.0,
+                y_end.abs()
+            )
+        }
+        RateGrowth::Quadratic => "growing faster than linearly (about quadratic)",
+        RateGrowth::Saturating => "rising fast and saturating",
+        RateGrowth::Linear => "growing about linearly",
     };
     format!(
         "a {sign} part {growth} with the rate to {:.3} N·m at {r_end:.0} deg/s",

@@ -37,11 +37,14 @@
 //!
 //! Beside those moves, the forms all at once in place of the whole set
 //! (`Search::forms_at_once`: each form at every joint whose residual torque
-//! beside the mechanisms as given has its shape), when the search stalls
+//! beside the mechanisms as given has its shape, quadratic damping also
+//! where a fitted table grows about quadratically with the rate, and at
+//! every joint of the wing), when the search stalls
 //! and again when its answer holds a torque table
 //! (`Search::try_forms_in_place_of_tables`).
 
 use super::candidate::{Candidate, STRIBECK_RATE_RANGE};
+use super::discover::{rate_shape, RateGrowth};
 use super::outcome::FittedSet;
 use super::policy::{Move, Verdict};
 use super::residual_named::lsq;
@@ -348,7 +351,9 @@ impl Search<'_, '_> {
     /// residual torque beside the mechanisms as given has its shape better
     /// than the simpler law's (by any BIC: the move is judged through the
     /// simulator), all at once (one set for the Stribeck law, one for
-    /// quadratic damping; the regressions' values start the fit). A loss of one form at
+    /// quadratic damping with [`Search::quadratic_tables`]' joints added,
+    /// and one with quadratic damping at every joint,
+    /// [`quadratic_everywhere`]; the regressions' values start the fit). A loss of one form at
     /// several joints is taken up, one joint at a time, by the stepwise
     /// search's global effects (quadratic damping at each joint of seed 001
     /// T01 by a rig tilt beside a table at each of two joints), and a
@@ -381,10 +386,44 @@ impl Search<'_, '_> {
                 sets[slot].1.extend(start);
             }
         }
+        self.quadratic_tables(&mut sets[1]);
+        let every = quadratic_everywhere(&sets[1], res.iter().map(|jt| jt.joint));
         let current = self.current.candidates();
         sets.into_iter()
+            .chain(every)
             .filter(|(set, _)| !set.is_empty() && *set != current)
             .collect()
+    }
+
+    /// Adds to the quadratic set `q` quadratic damping at each joint where
+    /// the current set holds a torque table whose rate part resists the
+    /// deployment and grows about quadratically ([`RateGrowth::Quadratic`],
+    /// the report's "faster than linearly"), started where `c ω²` meets the
+    /// table's value at its largest rate `ω`: a joint whose residual beside
+    /// the mechanisms as given hid the form (a slow joint dragged by the
+    /// others, seed 001 T02's joint 1) shows it in the table fitted there.
+    fn quadratic_tables(&self, q: &mut (Vec<Candidate>, Vec<f64>)) {
+        for m in &self.current.members {
+            let (Some(form), Some(joint)) = (m.candidate.table, m.candidate.joint) else {
+                continue;
+            };
+            let motion = -f64::from(form.from_deg).signum();
+            let table = form.table(&m.params);
+            let Some(shape) = table
+                .rate
+                .as_ref()
+                .and_then(|g| rate_shape(g.xs(), g.ys(), motion))
+            else {
+                continue;
+            };
+            let (rate, torque) = (shape.end.0.to_radians(), shape.end.1);
+            let resists = torque * motion < 0.0;
+            let known = q.0.iter().any(|c| c.joint == Some(joint));
+            if shape.growth == RateGrowth::Quadratic && resists && !known && rate > 0.0 {
+                q.0.push(named(EffectKind::QuadraticDamping, Some(joint)));
+                q.1.push(torque.abs() / (rate * rate));
+            }
+        }
     }
 
     /// Screens the moves (the evidence's start and the candidate's scan,
@@ -516,6 +555,29 @@ fn named(kind: EffectKind, joint: Option<usize>) -> Candidate {
         joint,
         table: None,
     }
+}
+
+/// Quadratic damping at every joint of `joints`, from the set `q` found
+/// at some of them (its starts kept, the others started at a tenth of its
+/// smallest): a joint whose own residual looks viscous beside the
+/// mechanisms as given (a light outboard joint of seed 001 T02) may still
+/// lose to the form, which the fit decides (an unneeded one has an
+/// interval holding zero, and the set is refused). `None` when `q` is
+/// empty or already everywhere.
+fn quadratic_everywhere(
+    q: &(Vec<Candidate>, Vec<f64>),
+    joints: impl Iterator<Item = usize>,
+) -> Option<(Vec<Candidate>, Vec<f64>)> {
+    let low = 0.1 * q.1.iter().copied().fold(f64::INFINITY, f64::min);
+    let mut every: (Vec<Candidate>, Vec<f64>) = Default::default();
+    for joint in joints {
+        let at = q.0.iter().position(|c| c.joint == Some(joint));
+        every
+            .0
+            .push(named(EffectKind::QuadraticDamping, Some(joint)));
+        every.1.push(at.map_or(low, |i| q.1[i]));
+    }
+    (low.is_finite() && every.0.len() > q.0.len()).then_some(every)
 }
 
 /// False when a Stribeck law of `f` has an excess whose ordinary 95 %
