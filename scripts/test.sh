@@ -56,6 +56,13 @@ cd "$root"
 # A run from scratch gains nothing from incremental compilation; without it
 # the workspace's build takes about 5 GB less disk.
 export CARGO_INCREMENTAL=0
+# pyo3's build script finds Python on the PATH and reruns when the PATH
+# changes, and `cargo nextest` runs cargo with another PATH than a plain
+# `cargo` has: the lanes' first cargo call compiled pyo3 and the extension
+# crate again. Named once, the interpreter is the same for every call.
+if [ -z "${PYO3_PYTHON:-}" ] && command -v python3 >/dev/null 2>&1; then
+    export PYO3_PYTHON="$(command -v python3)"
+fi
 # The docs' examples and the firmware's replay run the test build's
 # `deploywatch` (scripts/deploywatch-bin.py): asked for with step 2's
 # selection, it is found fresh, never compiled again.
