@@ -15,8 +15,9 @@
 //! every case:
 //! `DEPLOYWATCH_FULL=1 cargo test -p deploywatch-tests --test diagnosis_friction_forms -- --nocapture`.
 //!
-//! Quadratic damping: at every joint of the seed wings, and of generated
-//! wings of 2 to 4 panels (1 case in CI, 6 with `DEPLOYWATCH_FULL=1`),
+//! Quadratic damping: at every joint of the seed wings, at every joint of
+//! generated wings of 2 to 4 panels, and at some joints of generated wings
+//! of 3 to 6 panels (1 case each in CI, 6 with `DEPLOYWATCH_FULL=1`),
 //! where viscous damping may stand in at a joint whose runs cannot tell
 //! the two apart.
 
@@ -215,31 +216,31 @@ fn exactly_or_simpler_alike(m: &Mechanism, truth: &[Effect], o: &Outcome) -> boo
             && apart_deg(m, truth, &found) < o.noise_sigma_deg)
 }
 
-/// Quadratic damping at every joint of a generated wing of 2 to 4 panels
-/// (no rig): each joint's coefficient drawn log-uniform in 0.005 to 0.05
-/// N·m·s²/rad², all doubled until they move the runs by ≥ 0.5° RMS; named
-/// at each joint, or viscous damping where the runs cannot tell it from
-/// the truth ([`exactly_or_simpler_alike`]). The CI runs 1 case;
-/// `DEPLOYWATCH_FULL=1` runs 6.
-#[test]
-fn quadratic_damping_on_generated_wings_is_named_at_each_joint() {
-    let n = if std::env::var_os("DEPLOYWATCH_FULL").is_some() {
-        6
-    } else {
-        1
-    };
+/// Quadratic damping at the joints `pick` draws (0-based) of the first `n`
+/// generated wings (no rig) of `panels` panels: each coefficient drawn
+/// log-uniform in 0.005 to 0.05 N·m·s²/rad², all doubled until they move
+/// the runs by ≥ 0.5° RMS; named at each of its joints and nowhere else,
+/// or viscous damping where the runs cannot tell it from the truth
+/// ([`exactly_or_simpler_alike`]). Returns how many were.
+fn quadratic_on_generated_wings(
+    n: usize,
+    panels: std::ops::RangeInclusive<usize>,
+    salt: u64,
+    pick: impl Fn(&mut SplitMix, usize) -> Vec<usize>,
+) -> usize {
     let mut ok = 0;
     let wings = (0..)
         .map(wing)
-        .filter(|(_, m)| (2..=4).contains(&m.joint_count()));
+        .filter(|(_, m)| panels.contains(&m.joint_count()));
     for (seed, m) in wings.take(n) {
-        let mut r = SplitMix(seed ^ 0x9d);
-        let base: Vec<f64> = (0..m.joint_count())
-            .map(|_| log_uniform(&mut r, 0.005, 0.05))
+        let mut r = SplitMix(seed ^ salt);
+        let joints = pick(&mut r, m.joint_count());
+        let base: Vec<(usize, f64)> = joints
+            .iter()
+            .map(|&j| (j, log_uniform(&mut r, 0.005, 0.05)))
             .collect();
         let truth_at = |scale: f64| -> Vec<Effect> {
             base.iter()
-                .enumerate()
                 .map(|(j, c)| {
                     effect(&format!(
                         "quadratic_damping:joint={}:value={}",
@@ -266,6 +267,44 @@ fn quadratic_damping_on_generated_wings_is_named_at_each_joint() {
             &judge,
         ));
     }
+    ok
+}
+
+/// Generated-wing cases: 1, or 6 with `DEPLOYWATCH_FULL`.
+fn generated_cases() -> usize {
+    if std::env::var_os("DEPLOYWATCH_FULL").is_some() {
+        6
+    } else {
+        1
+    }
+}
+
+/// Quadratic damping at every joint of generated wings of 2 to 4 panels.
+#[test]
+fn quadratic_damping_on_generated_wings_is_named_at_each_joint() {
+    let n = generated_cases();
+    let ok = quadratic_on_generated_wings(n, 2..=4, 0x9d, |_, joints| (0..joints).collect());
     println!("quadratic damping named (or viscous where alike): {ok}/{n}");
     assert_eq!(ok, n, "quadratic damping not named");
+}
+
+/// Quadratic damping at some joints of generated wings of 3 to 6 panels
+/// (each joint with probability ½, at least one, never all): named at
+/// those and at no other joint — the search's every-joint set leaves the
+/// others idle, and they are dropped.
+#[test]
+fn quadratic_damping_at_some_joints_is_named_at_those_only() {
+    let n = generated_cases();
+    let ok = quadratic_on_generated_wings(n, 3..=6, 0x5e, |r, joints| {
+        let mut pick: Vec<usize> = (0..joints).filter(|_| r.next_f64() < 0.5).collect();
+        if pick.is_empty() {
+            pick.push((r.next_f64() * joints as f64) as usize % joints);
+        }
+        if pick.len() == joints {
+            pick.remove((r.next_f64() * joints as f64) as usize % joints);
+        }
+        pick
+    });
+    println!("quadratic damping at some joints named (or viscous where alike): {ok}/{n}");
+    assert_eq!(ok, n, "quadratic damping at some joints not named");
 }

@@ -1,10 +1,11 @@
 //! The reliability analysis against closed forms and crude Monte-Carlo.
 //!
 //! - One panel on a linear spring (`data/mechanisms/reliability_one_panel.toml`)
-//!   with a Coulomb friction `T_C ~ N(μ, σ)` latches within `duration_s` iff
-//!   `T_C` is below a critical value `T*`, found here by bisection with the
-//!   simulator at its default tolerance; the exact failure probability is
-//!   then the normal tail `1 − Φ((T* − μ)/σ)`.
+//!   with a Coulomb friction `T_C ~ N(μ, σ)` latches iff `T_C` is below a
+//!   critical value `T*`, found here by bisection with the simulator at its
+//!   default tolerance (a stalled joint held, as a verdict holds it) and
+//!   checked against the energy balance `1 + π/8` N·m; the exact failure
+//!   probability is then the normal tail `1 − Φ((T* − μ)/σ)`.
 //! - Seed 001 T01 with joint 2's friction `lognormal(1.7, 0.02)` (joints 1
 //!   and 3 at their identified friction): joint 2 fails to latch above a
 //!   critical friction (about 1.89327 N·m, bisection here too), where
@@ -18,7 +19,7 @@
 //! behind `#[ignore]` print the tables of docs/reliability.md:
 //! `cargo test --release -p deploywatch-tests --test reliability -- --ignored --nocapture`
 
-use deploywatch_sim::deployment::{self, SimOptions};
+use deploywatch_sim::deployment::{self, SimOptions, Stall};
 use deploywatch_sim::effect::{Effect, EffectKind};
 use deploywatch_sim::mechanism::Mechanism;
 use deploywatch_sim::progress;
@@ -53,9 +54,12 @@ fn latches(mech: &Mechanism, frictions: &[f64]) -> bool {
         .enumerate()
         .map(|(j, &t)| Effect::joint(EffectKind::CoulombFriction, j + 1, t))
         .collect();
-    deployment::simulate(mech, &e, &SimOptions::default())
-        .unwrap()
-        .deployed()
+    // As a verdict deploys it: a joint that stalls sticks.
+    let opts = SimOptions {
+        stall: Stall::Hold,
+        ..SimOptions::default()
+    };
+    deployment::simulate(mech, &e, &opts).unwrap().deployed()
 }
 
 /// The boundary of `ok` in `[lo, hi]` by bisection to `tol`.
@@ -101,6 +105,14 @@ fn assert_within(est: &Estimate, exact: f64) {
 fn one_panel(p: f64) -> (Problem, f64, f64) {
     let mech = load("reliability_one_panel.toml");
     let t_star = bisect(0.0, 5.0, 1e-10, |t| latches(&mech, &[t]));
+    // The energy balance over the stroke π/2 of the spring 1 + 0.5 φ N·m
+    // against T_C: T* = 1 + π/8 (a stalled joint sticks; the law's tanh
+    // moves it by a few 1e-5 N·m).
+    let closed = 1.0 + std::f64::consts::PI / 8.0;
+    assert!(
+        (t_star - closed).abs() < 1e-4,
+        "T* {t_star} against {closed}"
+    );
     let mu = t_star + SD * normal::inverse_cdf(p);
     let exact = normal::tail((t_star - mu) / SD);
     let vary = [format!("coulomb_friction:joint=1:normal({mu},{SD})")];
@@ -175,14 +187,11 @@ fn t01_windows(p: &Problem, t2: f64) -> Vec<(f64, f64)> {
 #[test]
 fn joint_2_of_t01_has_a_margin_that_falls_with_its_friction() {
     let (p, t2, _) = t01_joint_2();
-    assert!((t2 - 1.89327).abs() < 5e-6, "joint 2 critical at {t2}");
-    // Below it, one window where joint 2 sticks short of its latch.
+    assert!((t2 - 1.889735).abs() < 5e-6, "joint 2 critical at {t2}");
+    // Below it, no window where joint 2 fails.
     let w = t01_windows(&p, t2);
-    assert_eq!(w.len(), 1, "{w:?}");
-    assert!(
-        (w[0].0 - 1.87772).abs() < 2e-5 && (w[0].1 - 1.87788).abs() < 2e-5,
-        "{w:?}"
-    );
+    println!("T01 joint 2: critical {t2:.6} N·m, windows {w:?}");
+    assert!(w.is_empty(), "{w:?}");
     // The margin of joint 2's mode falls monotonically to its failure,
     // while joint 1's rises first (it latches earlier): the series system
     // has one margin per mode.

@@ -124,7 +124,7 @@ pub mod deployment {
     pub use crate::simulate::deployment::{
         sample_grid, simulate, simulate_at, SimError, SimOptions, Trajectory,
     };
-    pub use crate::simulate::trajectory::{SimStats, MAX_LEDGER_DRIFT};
+    pub use crate::simulate::trajectory::{SimStats, Stall, MAX_LEDGER_DRIFT};
 }
 
 /// A joint that swung back past its stowed angle, as a run reports it.

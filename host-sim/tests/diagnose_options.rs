@@ -9,11 +9,11 @@ mod common;
 use common::{deploywatch, s, t01_mechanism, t01_run_text, write};
 use serde_json::Value;
 
-/// `diagnose` of the bundled seed 001 T01 run with `--max-seconds limit`:
-/// (exit code, stderr, the JSON when written).
-fn diagnose_within(limit: &str) -> (Option<i32>, String, Option<Value>) {
+/// `diagnose` of a seed 001 T01 run (`run`, its CSV text) with
+/// `--max-seconds limit`: (exit code, stderr, the JSON when written).
+fn diagnose_within(limit: &str, run: &str) -> (Option<i32>, String, Option<Value>) {
     let dir = tempfile::tempdir().expect("temp dir");
-    let csv = write(dir.path(), "t01.csv", t01_run_text());
+    let csv = write(dir.path(), "t01.csv", run);
     let json = dir.path().join("d.json");
     let mech = t01_mechanism();
     let out = deploywatch(&[
@@ -38,7 +38,7 @@ fn diagnose_within(limit: &str) -> (Option<i32>, String, Option<Value>) {
 
 #[test]
 fn a_limit_too_short_for_any_fit_reports_the_mechanisms_as_given() {
-    let (code, err, v) = diagnose_within("1e-9");
+    let (code, err, v) = diagnose_within("1e-9", &t01_run_text());
     assert_eq!(code, Some(0), "{err}");
     let v = v.expect("the JSON is written");
     let partial = v["partial"].as_str().expect("marked partial");
@@ -52,10 +52,33 @@ fn a_limit_too_short_for_any_fit_reports_the_mechanisms_as_given() {
     );
 }
 
+/// On a clean run of T01 (its diagnosis a fraction of a second, and cut
+/// short by a limit of 1e-9 s as the bundled run's is), `inf` and `1e300`
+/// let it finish.
 #[test]
 fn a_limit_past_the_clock_is_no_limit() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let csv = dir.path().join("clean.csv");
+    let out = deploywatch(&[
+        "simulate",
+        s(&t01_mechanism()),
+        "-o",
+        s(&csv),
+        "--seed",
+        "4",
+        "-q",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let clean = std::fs::read_to_string(&csv).expect("run");
+    let (_, err, v) = diagnose_within("1e-9", &clean);
+    let v = v.unwrap_or_else(|| panic!("the JSON is written: {err}"));
+    assert!(v["partial"].is_string(), "1e-9 s cuts it short: {v}");
     for limit in ["inf", "1e300"] {
-        let (code, err, v) = diagnose_within(limit);
+        let (code, err, v) = diagnose_within(limit, &clean);
         assert!(!err.contains("panicked"), "{limit}: {err}");
         assert_eq!(code, Some(0), "{limit}: {err}");
         let v = v.expect("the JSON is written");

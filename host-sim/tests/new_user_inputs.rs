@@ -436,3 +436,51 @@ fn a_factor_given_twice_is_refused_naming_both() {
     refused(&twice, &["--factor friction=3", "friction=2 before"]);
     succeeded(&margin(&["friction=2", "spring=1.2"]));
 }
+
+/// A list of numbers given with spaces (`--start 0.1 0.2 0.3`) leaves its
+/// second value where a run file belongs: refused saying so (not "No such
+/// file"); a list starting with a negative number is read as the option's
+/// value, not as a flag, and judged as one (here: friction below 0).
+#[test]
+fn numbers_given_apart_and_negative_lists_are_read_as_meant() {
+    let mech = t01_mechanism();
+    let dir = tempfile::tempdir().expect("temp dir");
+    let run = write(dir.path(), "t01.csv", t01_run_text());
+    let out = deploywatch(&[
+        "identify",
+        "--mechanism",
+        s(&mech),
+        s(&run),
+        "--start",
+        "0.1",
+        "0.2",
+        "0.3",
+        "-q",
+    ]);
+    refused(
+        &out,
+        &[
+            "0.2: no such file",
+            "reads as a number",
+            "--start 0.1,0.2,0.3",
+        ],
+    );
+    let out = deploywatch(&[
+        "identify",
+        "--mechanism",
+        s(&mech),
+        s(&run),
+        "--start",
+        "-0.1,0.2,0.3",
+        "-q",
+    ]);
+    refused(&out, &["--start -0.1: expected friction torques ≥ 0"]);
+    let out = deploywatch(&[
+        "margin",
+        "--mechanism",
+        s(&mech),
+        "--friction",
+        "-0.1,0.2,0.3",
+    ]);
+    refused(&out, &["--friction: -0.1 is not a friction torque"]);
+}

@@ -150,6 +150,46 @@ fn angles_beyond_the_physical_range_are_refused() {
     );
 }
 
+/// A joint with no spring, flung by its neighbours, spins past two turns
+/// (no stop on the stowed side): `simulate` writes the run up to the
+/// sample before the first angle past ±720 deg, says where it cut, and the
+/// file reads back.
+#[test]
+fn a_joint_that_spins_past_two_turns_is_written_up_to_there() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let text = std::fs::read_to_string(t01_mechanism()).expect("T01");
+    let spring = "spring = { kind = \"tape\", type = \"TS-3\", count = 2 }";
+    assert!(text.contains(spring), "T01's joint 3 spring");
+    let limp = text
+        .replace(
+            spring,
+            "spring = { kind = \"linear\", preload_nm = 0.0, stiffness_nm_per_rad = 0.0, count = 1 }",
+        )
+        .replace("duration_s = 6.0", "duration_s = 20.0");
+    assert!(limp.contains("duration_s = 20.0"), "T01's duration");
+    let mech = write(dir.path(), "limp.toml", limp);
+    let csv = dir.path().join("limp.csv");
+    let out = deploywatch(&["simulate", s(&mech), "--out", s(&csv)]);
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{said}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let run = Run::parse(&std::fs::read_to_string(&csv).expect("run"), "limp.csv").expect("reads");
+    let last = *run.t_s.last().expect("samples");
+    assert!(last > 1.0 && last < 20.0, "cut at {last} s");
+    let line = said.lines().find(|l| l.contains("two turns")).expect(&said);
+    assert!(line.contains("joint 3"), "{line}");
+    assert!(line.contains(&format!("written to {last:.6} s")), "{line}");
+    assert!(run
+        .phi_deg
+        .iter()
+        .flatten()
+        .all(|a| a.abs() <= MAX_ANGLE_DEG));
+}
+
 #[test]
 fn missing_samples_are_refused_by_the_analyses_with_the_reason() {
     let dir = tempfile::tempdir().expect("tempdir");

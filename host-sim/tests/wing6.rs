@@ -235,6 +235,57 @@ fn the_ideal_wing_on_its_rig_goes_through_every_command() {
     );
 }
 
+/// `identify` in full (every joint, its own start) on a run of the rig wing
+/// with friction the Coulomb EFT cannot match (quadratic damping at joints
+/// 1 and 3): on this wing the scan's per-joint best fits worse than its
+/// best uniform EFT, and the solver's trials with a negative EFT fling
+/// panels the simulator cannot follow. The fit ends on a point it
+/// simulated: fewer degrees than the mechanism as given, no EFT below 0,
+/// each joint fixed at 0 reported at 0.
+#[test]
+fn identify_fits_the_rig_wing_where_its_trials_cannot_be_simulated() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mech = wing("wing6_ideal_rig");
+    let csv = dir.path().join("run.csv");
+    let out = deploywatch(&[
+        "simulate",
+        s(&mech),
+        "--seed",
+        "3",
+        "--effect",
+        "quadratic_damping:joint=1:value=0.05",
+        "--effect",
+        "quadratic_damping:joint=3:value=0.02",
+        "--out",
+        s(&csv),
+        "-q",
+    ]);
+    works(&out, "simulate");
+    let json = dir.path().join("identify.json");
+    let out = deploywatch(&[
+        "identify",
+        "--mechanism",
+        s(&mech),
+        s(&csv),
+        "--json",
+        s(&json),
+        "-q",
+    ]);
+    works(&out, "identify");
+    let found: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("JSON")).expect("JSON");
+    let rms = |k: &str| found[k].as_f64().expect(k);
+    assert!(rms("rms_deg_after") < rms("rms_deg_before"), "{found:#}");
+    let fixed = found["direct"]["fixed_at_zero"].as_array().expect("fixed");
+    for j in found["joints"].as_array().expect("joints") {
+        let eft = j["coulomb_nm"].as_f64().expect("EFT");
+        assert!(eft >= 0.0, "{j}");
+        if fixed.contains(&j["joint"]) {
+            assert_eq!(eft, 0.0, "{j}");
+        }
+    }
+}
+
 /// The mixed wing on the rig of `wing6_ideal_rig.toml`, written to
 /// `dir/wing6_mixed_rig.toml` (not bundled: every bundled mechanism loads).
 fn mixed_on_a_rig(dir: &Path) -> PathBuf {

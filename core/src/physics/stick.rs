@@ -28,6 +28,13 @@
 //! it takes no measurable energy) and it stays held until `R_j` leaves the
 //! band; it then slips towards the side `R_j` left by. In motion the
 //! smooth laws of §4 apply unchanged.
+//!
+//! The **kinetic band** ([`Chain::kinetic_band`]) is the same with the
+//! kinetic level `T_k` in place of `T_s`: a joint moving slowly with its
+//! holding torque inside it is decelerated by the unregularised law, the
+//! band's margin the net torque that stops it (§4a, "Creep": the host
+//! simulator's verdicts hold such a joint instead of letting the law's
+//! `tanh` creep it on).
 
 use crate::physics::chain::Chain;
 use crate::physics::linalg::{solve_spd_masked, SolveError};
@@ -89,11 +96,33 @@ impl<T: Real, const N: usize, const K: usize> Chain<T, N, K> {
                 .is_some_and(|jt| jt.spring.has_hysteresis())
     }
 
+    /// The kinetic friction level `T_k` [N·m] of joint `j`: the Coulomb
+    /// torque of its law plus the `coulomb_friction` effect on it (a
+    /// Stribeck excess is zero at rest and at speed, `physics.md` §4).
+    pub fn kinetic_friction_nm(&self, j: usize) -> T {
+        self.joints().get(j).map_or(T::ZERO, |jt| {
+            jt.friction.coulomb_nm.abs() + jt.effects.coulomb_nm.abs()
+        })
+    }
+
     /// The band of joint `j` at rest at angle `phi` \[rad\] (module doc).
     pub fn stick_band(&self, j: usize, phi: T) -> StickBand<T> {
+        self.band_with(j, phi, self.static_friction_nm(j))
+    }
+
+    /// The band of joint `j` moving slowly at angle `phi` \[rad\]: the
+    /// spring branches at rest ± the kinetic level `T_k`
+    /// ([`Chain::kinetic_friction_nm`]). A joint whose holding torque is
+    /// inside it decelerates under the unregularised law (`physics.md`
+    /// §4a, "creep"); its margin is the net torque that stops it.
+    pub fn kinetic_band(&self, j: usize, phi: T) -> StickBand<T> {
+        self.band_with(j, phi, self.kinetic_friction_nm(j))
+    }
+
+    /// The spring branches at rest at `phi` widened by the friction `s`.
+    fn band_with(&self, j: usize, phi: T, s: T) -> StickBand<T> {
         let a = self.joint_torque(j, phi, T::ZERO, Branch::Fold);
         let b = self.joint_torque(j, phi, T::ZERO, Branch::Unfold);
-        let s = self.static_friction_nm(j);
         StickBand {
             lo: a.min(b) - s,
             hi: a.max(b) + s,

@@ -132,6 +132,9 @@ pub enum FitError {
     /// The model could not be evaluated at the starting point.
     #[error("the model cannot be evaluated at the starting point {}", crate::report::text::list(.0))]
     BadStart(Vec<f64>),
+    /// The model could not be evaluated at the point the solver ended on.
+    #[error("the model cannot be evaluated at the solver's end point {}", crate::report::text::list(.0))]
+    BadEnd(Vec<f64>),
     /// More parameters than residuals.
     #[error("{params} parameters but only {residuals} residuals")]
     TooFewResiduals {
@@ -212,6 +215,12 @@ struct Problem<'a> {
     /// The residuals at `p`, computed once per point.
     cache: Mutex<Option<(Vec<f64>, Vec<f64>)>>,
     evaluations: Mutex<usize>,
+    /// Each residual the solver is given at a trial point the model cannot
+    /// evaluate \[residual units\]: large enough that the trial's norm is
+    /// over ten times the start's, so the solver rejects the step and
+    /// shortens it (levenberg-marquardt's trust region), where a `None`
+    /// would end the fit on that point.
+    penalty: f64,
 }
 
 impl Problem<'_> {
@@ -251,7 +260,8 @@ impl Problem<'_> {
     }
 
     /// Forward differences, one parallel simulation per column, stepping
-    /// inwards at a bound.
+    /// inwards at a bound, and backwards where the model cannot be
+    /// evaluated a step forwards.
     fn jacobian_at(&self, p: &[f64]) -> Option<DMatrix<f64>> {
         let r0 = self.residuals_at(p)?;
         let n = p.len();
@@ -262,10 +272,19 @@ impl Problem<'_> {
                 if p[j] + h > self.opts.upper[j] {
                     h = -h;
                 }
-                let mut q = p.to_vec();
-                q[j] += h;
-                let r = self.eval(&q)?;
-                Some(r.iter().zip(&r0).map(|(a, b)| (a - b) / h).collect())
+                let column = |h: f64| {
+                    let mut q = p.to_vec();
+                    q[j] += h;
+                    let r = self.eval(&q)?;
+                    Some(
+                        r.iter()
+                            .zip(&r0)
+                            .map(|(a, b)| (a - b) / h)
+                            .collect::<Vec<f64>>(),
+                    )
+                };
+                let back_inside = p[j] - h >= self.opts.lower[j] && p[j] - h <= self.opts.upper[j];
+                column(h).or_else(|| back_inside.then(|| column(-h)).flatten())
             })
             .collect();
         let mut jac = DMatrix::zeros(self.m, n);
@@ -294,7 +313,10 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
 
     fn residuals(&self) -> Option<DVector<f64>> {
         let p = self.clamp(&self.p_of(self.u.as_slice()));
-        self.residuals_at(&p).map(DVector::from_vec)
+        let r = self
+            .residuals_at(&p)
+            .or_else(|| (self.penalty > 0.0).then(|| vec![self.penalty; self.m]))?;
+        Some(DVector::from_vec(r))
     }
 
     fn jacobian(&self) -> Option<DMatrix<f64>> {
@@ -441,12 +463,15 @@ pub fn least_squares(
         m: 0,
         cache: Mutex::new(None),
         evaluations: Mutex::new(0),
+        penalty: 0.0,
     };
     let start = problem.clamp(p0);
     let r0 = model
         .residuals(&start)
         .ok_or_else(|| FitError::BadStart(start.clone()))?;
     problem.m = r0.len();
+    let r0_norm = r0.iter().map(|x| x * x).sum::<f64>().sqrt();
+    problem.penalty = 20.0 * (r0_norm / (problem.m.max(1) as f64).sqrt() + 1.0);
     if problem.m <= n {
         return Err(FitError::TooFewResiduals {
             params: n,
@@ -462,7 +487,7 @@ pub fn least_squares(
     let p = problem.clamp(&problem.p_of(problem.u.as_slice()));
     let r = problem
         .residuals_at(&p)
-        .ok_or_else(|| FitError::BadStart(p.clone()))?;
+        .ok_or_else(|| FitError::BadEnd(p.clone()))?;
     let sse: f64 = r.iter().map(|x| x * x).sum();
     let m = problem.m;
     let ci = intervals(problem.jacobian_at(&p), &p, &r, model.series());
@@ -557,6 +582,19 @@ mod tests {
             "{:?}",
             fit.params
         );
+    }
+
+    #[test]
+    fn a_trial_point_the_model_cannot_evaluate_is_a_step_rejected() {
+        // r = w (p² − 4), evaluable only below p = 5: the first trial from
+        // p = 0.1 is the trust region's 10 (Gauss–Newton would go to 19.9).
+        let model = |p: &[f64]| -> Option<Vec<f64>> {
+            (p[0] < 5.0).then(|| (1..=5).map(|w| w as f64 * (p[0] * p[0] - 4.0)).collect())
+        };
+        let opts = FitOptions::new(vec![f64::NEG_INFINITY], vec![1e-9]);
+        let fit = least_squares(&model, &[0.1], &opts).unwrap();
+        assert!((fit.params[0] - 2.0).abs() < 1e-6, "{fit:?}");
+        assert!(fit.termination.starts_with("converged"), "{fit:?}");
     }
 
     #[test]

@@ -56,12 +56,13 @@ pub struct IdentifyArgs {
     pub plot: Option<PathBuf>,
 
     /// direct: start [N·m], one value per identified joint; default: the
-    /// per-joint best of a scan of uniform EFTs (0 to 3.2 N·m).
+    /// per-joint best of a scan of uniform EFTs (0 to 3.2 N·m), or its best
+    /// uniform value where that fits better.
     #[arg(
         long,
         value_name = "NM,NM,..",
         value_delimiter = ',',
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     pub start: Option<Vec<f64>>,
 
@@ -72,7 +73,7 @@ pub struct IdentifyArgs {
         alias = "centre",
         value_name = "NM,NM,..",
         value_delimiter = ',',
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     pub center: Option<Vec<f64>>,
 
@@ -82,7 +83,7 @@ pub struct IdentifyArgs {
         long,
         value_name = "NM,NM,..",
         value_delimiter = ',',
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     pub range: Option<Vec<f64>>,
 

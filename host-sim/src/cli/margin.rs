@@ -42,7 +42,7 @@ pub struct MarginArgs {
         long,
         value_name = "NM,NM,..",
         value_delimiter = ',',
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         conflicts_with = "from"
     )]
     pub friction: Option<Vec<f64>>,

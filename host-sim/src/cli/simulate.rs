@@ -6,7 +6,7 @@ use super::{check_outputs, outln, CliError, Console, Output};
 use crate::model::mechanism::Mechanism;
 use crate::report::files::Outputs;
 use crate::report::run_plot::{plot_rig_run, plot_run};
-use crate::simulate::deployment::{self, SimOptions};
+use crate::simulate::deployment::{self, SimOptions, Stall};
 use crate::simulate::fault_injection;
 use crate::simulate::latch_deployment::{self, LatchEnd, LatchOutcome, LatchRun};
 
@@ -44,20 +44,9 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         stop_when_deployed: args.faults.is_empty(),
         ..SimOptions::default()
     };
-    let physical = if mech.has_physical_latch() {
-        let grid = deployment::sample_grid(&mech, &opts).map_err(sim_error)?;
-        Some(
-            latch_deployment::simulate_physical(&mech, &args.effects, &opts, grid)
-                .map_err(sim_error)?,
-        )
-    } else {
-        None
-    };
-    let traj = match &physical {
-        Some(run) => run.traj.clone(),
-        None => deployment::simulate(&mech, &args.effects, &opts).map_err(sim_error)?,
-    };
+    let (physical, traj) = deploy(&mech, &args.effects, &opts).map_err(sim_error)?;
     let mut run = measure(args, &mech, &traj);
+    let cut = cut_at_two_turns(&mut run);
     let reports = fault_injection::apply(&mut run, &args.faults, args.seed)
         .map_err(|m| CliError::input(format!("--fault: {m}")))?;
     let mut outs = Outputs::new();
@@ -75,16 +64,22 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         traj.stats.evaluations
     );
     print_latch_instants(&traj, &latch_ends(&mech, &args.effects, physical.as_ref()));
+    for line in crept(&mech, &args.effects, &opts, &traj)
+        .into_iter()
+        .chain(cut)
+    {
+        outln!("  {line}");
+    }
     if let Some(run) = &physical {
         print_latches(&mech, &args.effects, run);
     }
     for r in &reports {
         outln!("  fault {r}");
     }
-    let rig = match mech.active_rig() {
-        Some(_) => Some(super::simulate_rig::report(&mech, &args.effects, &opts)?),
-        None => None,
-    };
+    let rig = mech
+        .active_rig()
+        .map(|_| super::simulate_rig::report(&mech, &args.effects, &opts))
+        .transpose()?;
     if let (Some(png), Some(rig)) = (&args.plot, &rig) {
         plot_rig_run(&outs.path(png)?, &mech.name, &run, rig)
             .map_err(|e| CliError::failed(e.to_string()))?;
@@ -97,6 +92,102 @@ pub fn run(args: &SimulateArgs) -> Result<(), CliError> {
         console.say(format_args!("  plot: {}", png.display()));
     }
     Ok(())
+}
+
+/// The deployment of `mech` with `effects`: the physical latches' run
+/// when it has any, and the trajectory.
+fn deploy(
+    mech: &Mechanism,
+    effects: &[crate::model::effect::Effect],
+    opts: &SimOptions,
+) -> Result<(Option<LatchRun>, deployment::Trajectory), deployment::SimError> {
+    if mech.has_physical_latch() {
+        let grid = deployment::sample_grid(mech, opts)?;
+        let run = latch_deployment::simulate_physical(mech, effects, opts, grid)?;
+        let traj = run.traj.clone();
+        return Ok((Some(run), traj));
+    }
+    Ok((None, deployment::simulate(mech, effects, opts)?))
+}
+
+/// The joints `traj` latched only by creeping: the deployment again with
+/// a stalled joint stuck ([`Stall::Hold`], as a verdict runs it) leaves
+/// them short of their latch (`docs/spec/physics.md` §4a, "Creep"); one
+/// line each. Nothing when every joint latched both ways, or when the
+/// second run fails.
+fn crept(
+    mech: &Mechanism,
+    effects: &[crate::model::effect::Effect],
+    opts: &SimOptions,
+    traj: &deployment::Trajectory,
+) -> Vec<String> {
+    if !slow_before_latching(mech, traj) {
+        return Vec::new();
+    }
+    let hold = SimOptions {
+        stall: Stall::Hold,
+        ..*opts
+    };
+    let Ok((_, held)) = deploy(mech, effects, &hold) else {
+        return Vec::new();
+    };
+    (0..traj.latch_s.len())
+        .filter(|&j| traj.latch_s[j].is_some() && held.latch_s.get(j).is_some_and(Option::is_none))
+        .map(|j| {
+            let at = held
+                .phi_deg
+                .get(j)
+                .and_then(|p| p.last())
+                .copied()
+                .unwrap_or(f64::NAN);
+            format!(
+                "joint {}: latched only by creeping: with its friction holding it, it stalls \
+                 {at:.2} deg from its latch and does not latch (as reliability and margin run \
+                 the deployment); the Coulomb law's regularisation lets it creep on \
+                 (docs/spec/physics.md §4a, \"Creep\")",
+                j + 1
+            )
+        })
+        .collect()
+}
+
+/// Whether a joint of `traj` that latched was, at a sample between its
+/// first swing faster than the creep rule's rate and its latch, slower
+/// than it (`creep::rest_rate`, from the mechanism's largest `ω_coul`):
+/// only then can a verdict's deployment end otherwise.
+fn slow_before_latching(mech: &Mechanism, traj: &deployment::Trajectory) -> bool {
+    let omega = mech
+        .joints
+        .iter()
+        .map(|j| j.friction.coulomb_threshold_rad_s.abs())
+        .fold(deploywatch_core::physics::COULOMB_THRESHOLD_RAD_S, f64::max);
+    let rest = (crate::simulate::creep::CREEP_RATE_FACTOR * omega).to_degrees();
+    traj.latch_s.iter().enumerate().any(|(j, latch)| {
+        let (Some(tl), Some(rates)) = (latch, traj.rate_deg_s.get(j)) else {
+            return false;
+        };
+        let before = traj.t_s.iter().zip(rates).filter(|(t, _)| *t < tl);
+        let mut moving = before.skip_while(|(_, r)| r.abs() <= rest);
+        moving.any(|(_, r)| r.abs() < rest)
+    })
+}
+
+/// A joint that turned more than two turns, past what a run file holds
+/// (`docs/spec/formats.md`, angles within ±720 deg): the run is written up
+/// to the sample before, and the summary says where it was cut. (A joint
+/// with no spring, flung by its neighbours, spins: the model has no stop
+/// on the stowed side, `docs/simulator.md`.)
+fn cut_at_two_turns(run: &mut crate::data::run::Run) -> Option<String> {
+    let (k, joint) = run.first_past_two_turns().filter(|&(k, _)| k > 0)?;
+    let at = run.t_s[k];
+    let angle = run.phi_deg[joint - 1][k];
+    run.truncate(k);
+    Some(format!(
+        "two turns: joint {joint} is at {angle:.2} deg at {at:.6} s, past the ±{} deg a run file \
+         holds: the run is written to {:.6} s, the sample before",
+        crate::data::run::MAX_ANGLE_DEG,
+        run.t_s[k - 1]
+    ))
 }
 
 /// When each joint latched (its switch closed for good), or where it is

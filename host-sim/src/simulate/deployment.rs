@@ -18,22 +18,18 @@ use crate::simulate::ode::{self, locate, State};
 use crate::simulate::spring_knots::{self, Knots};
 use crate::simulate::stowed::StowedWatch;
 pub use crate::simulate::trajectory::{
-    Samples, SimError, SimOptions, SimStats, Trajectory, MAX_SAMPLES, MAX_STEPS,
+    Samples, SimError, SimOptions, SimStats, Stall, Trajectory, MAX_SAMPLES, MAX_STEPS,
 };
-use deploywatch_core::physics::stick::{holding_torques, StickBand};
 use deploywatch_core::{Branch, Mode};
 
 mod event_log;
+mod stick;
 use event_log::{EventLog, SAME_INSTANT_S};
 
 /// A joint this close to its latch angle on the stowed side \[rad\] latches
 /// with the joint whose event fired: a located event leaves the angle a
 /// rounding error from 0.
 pub const LATCH_REACHED_RAD: f64 = 1e-12;
-
-/// A rate below this [rad/s] at a branch event is a turning point, where
-/// the stick rule (`physics.md` §4a) applies.
-const TURNING_RATE_RAD_S: f64 = 1e-6;
 
 /// Simulates a mechanism with extra effects (sensor effects are ignored
 /// here: see [`crate::simulate::sensor`]).
@@ -240,42 +236,6 @@ impl<const N: usize> Integrator<'_, N> {
         m
     }
 
-    /// Joint `j`'s holding torque with it held too, and its band, at `y`.
-    fn holding(&self, j: usize, y: &State<N>) -> Option<(f64, StickBand<f64>)> {
-        let mut mode = self.held();
-        mode.latched[j] = true;
-        let (m, rhs) = self.chain.equations(&y.chain(), &mode);
-        let r = holding_torques(&m, &rhs, &mode.latched).ok()?[j];
-        r.is_finite().then(|| (r, self.chain.stick_band(j, y.q[j])))
-    }
-
-    /// Joint `j` at a turning point sticks when its band holds it (its
-    /// rate to zero by the impulse of that joint alone).
-    fn try_stick(&mut self, j: usize, y: &mut State<N>) -> bool {
-        if y.v[j].abs() > TURNING_RATE_RAD_S || !self.chain.can_stick(j) {
-            return false;
-        }
-        let Some((r, band)) = self.holding(j, y) else {
-            return false;
-        };
-        if !(band.margin(r) > 0.0) {
-            return false;
-        }
-        let mut mode = self.held();
-        mode.latched[j] = true;
-        let Ok(v) = self.chain.latch_impulse(&y.chain(), &mode.latched) else {
-            return false;
-        };
-        y.v = v;
-        for k in 0..N {
-            if mode.latched[k] {
-                y.v[k] = 0.0;
-            }
-        }
-        self.stuck[j] = true;
-        true
-    }
-
     fn deriv(&mut self, y: &State<N>) -> Option<State<N>> {
         self.evaluations += 1;
         let held = self.held();
@@ -432,6 +392,9 @@ pub fn run_chain_latching<const N: usize>(
 ) -> Result<Trajectory, SimError> {
     let duration = times.last();
     let (mut it, mut y) = Integrator::at_rest(chain, latching);
+    if opts.stall == Stall::Hold {
+        it.stick_at_start(&mut y);
+    }
     let unwatched: [bool; N] = core::array::from_fn(|j| !latching[j]);
     let mut ledger = ChainLedger::start(chain, &y, duration, opts);
     let mut watch = StowedWatch::new(chain);
@@ -489,6 +452,17 @@ pub fn run_chain_latching<const N: usize>(
             it.power_at_start = it.stages[6];
             h = it.step_control.accept(h, att.err).min(cap);
             events.same_instant = 0;
+            let creeps = opts.stall == Stall::Hold && it.slow(&y);
+            let before = creeps.then(|| chain_ledger::state_energy(it.chain, &y));
+            if let Some((j, before)) = before.and_then(|e| Some((it.creep_sticks(&mut y)?, e))) {
+                // A joint creeping to rest sticks (`creep`): a restart.
+                out.out.stats.events += 1;
+                ledger.event(it.chain, before, &y, t, j + 1)?;
+                it.find_pieces(&y);
+                k1 = it.first_stage(&y, t)?;
+                h = h.min(ode::RESTART_STEP_S);
+                it.step_control.restart();
+            }
             continue;
         };
         out.out.stats.events += 1;

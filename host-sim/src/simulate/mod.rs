@@ -7,6 +7,7 @@
 //! simulator of [`multibody`]); both fill a [`trajectory::Trajectory`].
 pub mod chain_ledger;
 pub(crate) mod chain_sampler;
+pub mod creep;
 pub mod deployment;
 pub mod fault_injection;
 pub mod fault_syntax;

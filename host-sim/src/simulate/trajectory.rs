@@ -38,6 +38,26 @@ pub struct SimOptions {
     /// run nor retakes a step (the diagnosis's fits,
     /// [`crate::analysis::campaign_sim::fit_sim_options`]).
     pub max_drift: f64,
+    /// What a joint that stalls does ([`Stall`]): creep on at the
+    /// regularised law's speed (the contract's trajectories, by default),
+    /// or stick (a verdict's deployments).
+    pub stall: Stall,
+}
+
+/// What a joint that stalls with friction holding it does
+/// (`docs/spec/physics.md` §4a, "Creep").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Stall {
+    /// It creeps on at the speed of the Coulomb law's regularisation
+    /// (`T_C tanh(φ̇/ω_coul)`, the contract's law of §4): the trajectories
+    /// of `simulate`, `identify` and `diagnose`, as the reference engine
+    /// computes them.
+    #[default]
+    Creep,
+    /// It sticks ([`crate::simulate::creep`]): the deployments of a
+    /// verdict (`reliability`, `margin`'s nominal deployment), whose
+    /// answer must not depend on how long the run is.
+    Hold,
 }
 
 /// Default relative tolerance of the DOPRI5 error norm ([`SimOptions::rtol`]):
@@ -73,6 +93,7 @@ impl Default for SimOptions {
             stop_when_deployed: true,
             settle_s: None,
             max_drift: MAX_LEDGER_DRIFT,
+            stall: Stall::Creep,
         }
     }
 }

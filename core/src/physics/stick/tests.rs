@@ -69,4 +69,9 @@ fn stribeck_effect_peaks_at_its_excess_and_raises_the_static_level() {
     let t = c.joint_torque(0, 0.5, 1.0, Branch::Fold);
     assert!((t + 0.3 + 2.0).abs() < 1e-6, "{t}");
     assert!((c.static_friction_nm(0) - 0.7).abs() < 1e-12);
+    // The kinetic level leaves the excess out: its band is the static
+    // band narrowed by 0.4 N·m on each side.
+    assert!((c.kinetic_friction_nm(0) - 0.3).abs() < 1e-12);
+    let (s, k) = (c.stick_band(0, 0.5), c.kinetic_band(0, 0.5));
+    assert!((k.lo - (s.lo + 0.4)).abs() < 1e-12 && (k.hi - (s.hi - 0.4)).abs() < 1e-12);
 }

@@ -39,7 +39,7 @@
 //! (`Search::forms_at_once`: each form at every joint whose residual torque
 //! beside the mechanisms as given has its shape, quadratic damping also
 //! where a fitted table grows about quadratically with the rate, and at
-//! every joint of the wing), when the search stalls
+//! every joint of the wing, its idle joints then dropped), when the search stalls
 //! and again when its answer holds a torque table
 //! (`Search::try_forms_in_place_of_tables`).
 
@@ -228,6 +228,7 @@ impl Search<'_, '_> {
                 labels(set)
             ));
             let f = self.eng.fit(self.eng.campaign, set, start);
+            let f = f.map(|f| self.without_idle_forms(f));
             fits.push((set[0], f.filter(excess_clear), false));
         }
         let mv = Move::FrictionForms;
@@ -426,6 +427,40 @@ impl Search<'_, '_> {
         }
     }
 
+    /// A set of forms at once that explains the runs down to the noise
+    /// ([`Search::floor`]) without its quadratic dampings whose interval
+    /// holds zero, refitted: the every-joint set ([`quadratic_everywhere`])
+    /// names the joints that need the form by the others' idling (the
+    /// six-panel wing on its rig with the form at two joints: the six fit
+    /// to the noise, and four idle intervals had the set refused). `f`
+    /// itself when it fits worse, none idles, all do, or the refit fails.
+    fn without_idle_forms(&self, f: FittedSet) -> FittedSet {
+        if f.rms() > self.floor() {
+            return f;
+        }
+        let idle = |k: &usize| {
+            let m = &f.members[*k];
+            m.candidate.kind == EffectKind::QuadraticDamping
+                && m.candidate.table.is_none()
+                && !m.clear_of_zero()
+        };
+        let n = f.members.len();
+        let dropped = (0..n).filter(idle).count();
+        if dropped == 0 || dropped == n {
+            return f;
+        }
+        let mut r = f.clone();
+        for k in (0..n).rev().filter(idle) {
+            r = r.without(k);
+        }
+        self.eng.say(format!(
+            "friction forms: {} idle in the set at once, refitting {}",
+            dropped,
+            labels(&r.candidates())
+        ));
+        self.eng.refit(self.eng.campaign, &r).unwrap_or(f)
+    }
+
     /// Screens the moves (the evidence's start and the candidate's scan,
     /// the base's values held) and fits the [`SCREEN_KEEP`] best through
     /// the simulator; a Stribeck law whose excess's interval holds zero is
@@ -562,8 +597,8 @@ fn named(kind: EffectKind, joint: Option<usize>) -> Candidate {
 /// smallest): a joint whose own residual looks viscous beside the
 /// mechanisms as given (a light outboard joint of seed 001 T02) may still
 /// lose to the form, which the fit decides (an unneeded one has an
-/// interval holding zero, and the set is refused). `None` when `q` is
-/// empty or already everywhere.
+/// interval holding zero and is dropped, [`Search::without_idle_forms`]).
+/// `None` when `q` is empty or already everywhere.
 fn quadratic_everywhere(
     q: &(Vec<Candidate>, Vec<f64>),
     joints: impl Iterator<Item = usize>,

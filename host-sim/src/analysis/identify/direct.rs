@@ -14,7 +14,8 @@ use super::*;
 /// fixed at 0 and the others refitted, until none is negative. (The
 /// projection of the bounds inside [`crate::analysis::fit::least_squares`] can stall a
 /// parameter at its bound, so it is not used here.) The start is
-/// `opts.start_nm`, or the per-joint best of the start scan ([`super::SCAN_GRID_NM`]). The
+/// `opts.start_nm`, or the per-joint best of the start scan ([`super::SCAN_GRID_NM`]),
+/// or the scan's best uniform value where the per-joint one fits worse. The
 /// 95 % intervals come from the Jacobian at the solution ([`crate::analysis::fit`]);
 /// a joint fixed at 0 gets `[0, upper end of its interval when last free]`.
 pub fn identify_direct(
@@ -67,7 +68,8 @@ pub fn identify_direct(
 }
 
 /// The start of the direct method and how it was chosen: the given one,
-/// or the per-joint best of the start scan.
+/// the per-joint best of the start scan, or the scan's best uniform value
+/// where the per-joint best fits the runs worse.
 fn direct_start(
     model: &Model,
     opts: &DirectOptions,
@@ -80,13 +82,33 @@ fn direct_start(
         }
         None => {
             let sc = scan_with(model, progress)?;
-            Ok((
-                sc.per_joint_best_nm,
-                format!(
-                    "per-joint best of a scan of uniform EFTs from 0 to {} N·m",
-                    SCAN_GRID_NM[SCAN_GRID_NM.len() - 1]
-                ),
-            ))
+            let top = SCAN_GRID_NM[SCAN_GRID_NM.len() - 1];
+            // Each joint's best value of the scan was found with the
+            // others at the same value; together they can fit worse than
+            // the best uniform value (joints that drag one another).
+            let per_joint_rms = model.score(&sc.per_joint_best_nm).map(|(s, _)| s.rms_deg);
+            match per_joint_rms {
+                Some(rms) if rms <= sc.uniform_best_rms_deg => Ok((
+                    sc.per_joint_best_nm,
+                    format!("per-joint best of a scan of uniform EFTs from 0 to {top} N·m"),
+                )),
+                _ => {
+                    progress(&format!(
+                        "direct: the per-joint best fits worse ({}) than the best uniform EFT \
+                         ({:.4} deg): starting from the uniform one",
+                        per_joint_rms
+                            .map_or("not evaluable".to_string(), |r| format!("RMS {r:.4} deg")),
+                        sc.uniform_best_rms_deg
+                    ));
+                    Ok((
+                        vec![sc.uniform_best_nm; model.joints.len()],
+                        format!(
+                            "best uniform EFT of a scan from 0 to {top} N·m (the per-joint \
+                             bests together fitted worse)"
+                        ),
+                    ))
+                }
+            }
         }
     }
 }

@@ -39,8 +39,8 @@ use crate::model::effect::Effect;
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::{self, SimError, SimOptions, Trajectory};
 use crate::simulate::latch_deployment::{self, Keep};
-use crate::simulate::trajectory::SimStats;
 use crate::simulate::trajectory::{Samples, DEFAULT_RTOL, MAX_LEDGER_DRIFT};
+use crate::simulate::trajectory::{SimStats, Stall};
 use correlation::Correlation;
 use criteria::{Criterion, Mode, Outcome};
 use params::{Fixed, Target, Vary};
@@ -486,6 +486,7 @@ pub fn verdict_options(mech: &Mechanism, end: f64, rate: bool) -> SimOptions {
         atol: VERDICT_ATOL,
         max_drift,
         sample_hz: rate.then_some(SAMPLE_HZ),
+        stall: Stall::Hold,
         ..SimOptions::default()
     }
 }
@@ -497,7 +498,12 @@ pub fn verdict_options(mech: &Mechanism, end: f64, rate: bool) -> SimOptions {
 /// and where it ended. What `margin` sets beside its margins
 /// (`docs/margin.md`, "The nominal deployment").
 pub fn nominal_outcome(mech: &Mechanism, effects: &[Effect]) -> Result<Outcome, SimError> {
-    let opts = SimOptions::default();
+    // A verdict: a joint that stalls sticks (`Stall::Hold`), whatever
+    // `duration_s` leaves it to creep.
+    let opts = SimOptions {
+        stall: Stall::Hold,
+        ..SimOptions::default()
+    };
     let (traj, held_s) =
         simulate_verdict(mech, effects, &opts, (true, mech.duration_s), Keep::Ledger)?;
     Ok(outcome(&traj, held_s, mech, true))

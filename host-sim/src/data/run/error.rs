@@ -39,6 +39,13 @@ pub enum RunErrorKind {
         #[source]
         source: std::io::Error,
     },
+    /// No such file, and its name reads as a number: a value of an option
+    /// given apart from it (`--start 0.1 0.2` for `--start 0.1,0.2`).
+    #[error("no such file, and its name reads as a number: a value of an option? Options that take several numbers take them separated by commas, with no space (`--start 0.1,0.2,0.3`)")]
+    NumberForFile {
+        /// The name given.
+        name: String,
+    },
     /// The file ends before the header line.
     #[error("expected a header line `t_s,phi1_deg,...,latch1,...`, found the end of the file")]
     NoHeader,

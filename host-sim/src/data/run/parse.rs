@@ -358,13 +358,17 @@ impl Run {
     pub fn load_with(path: &Path, options: ReadOptions) -> Result<Run, RunError> {
         let file = path.display().to_string();
         let bytes = std::fs::read(path).map_err(|source| {
-            RunError::whole(
-                &file,
+            let kind = if source.kind() == std::io::ErrorKind::NotFound
+                && file.trim().parse::<f64>().is_ok()
+            {
+                RunErrorKind::NumberForFile { name: file.clone() }
+            } else {
                 RunErrorKind::Io {
                     action: "cannot read",
                     source,
-                },
-            )
+                }
+            };
+            RunError::whole(&file, kind)
         })?;
         let text = String::from_utf8(bytes).map_err(|e| {
             RunError::whole(

@@ -149,6 +149,31 @@ impl Run {
 }
 
 impl Run {
+    /// The first sample at which a joint's angle is beyond ±[`MAX_ANGLE_DEG`]
+    /// (two turns, what a run file holds): `(sample index, joint 1-based)`.
+    pub fn first_past_two_turns(&self) -> Option<(usize, usize)> {
+        (0..self.len()).find_map(|k| {
+            self.phi_deg
+                .iter()
+                .position(|s| s.get(k).is_some_and(|x| x.abs() > MAX_ANGLE_DEG))
+                .map(|j| (k, j + 1))
+        })
+    }
+
+    /// Keeps the first `len` samples of every series.
+    pub fn truncate(&mut self, len: usize) {
+        self.t_s.truncate(len);
+        for s in &mut self.phi_deg {
+            s.truncate(len);
+        }
+        for s in &mut self.latch {
+            s.truncate(len);
+        }
+        for c in &mut self.extra {
+            c.values.truncate(len);
+        }
+    }
+
     /// The largest change of any joint's angle over the run \[deg\]: max − min
     /// of its readings, missing ones (`NaN`) left out; 0 for no reading.
     pub fn motion_deg(&self) -> f64 {

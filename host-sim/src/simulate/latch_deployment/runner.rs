@@ -5,7 +5,7 @@
 use super::{branch_at, Contact, Ev, Runner, Sim, MAX_EVENTS_AT_ONE_INSTANT};
 use crate::simulate::latch_run::{ledger_step_factor, LatchEvent, LatchEventKind};
 use crate::simulate::ode::{self, State};
-use crate::simulate::trajectory::{SimError, SimOptions, MAX_STEPS};
+use crate::simulate::trajectory::{SimError, SimOptions, Stall, MAX_STEPS};
 use deploywatch_core::physics::latch_contact::{LatchMark, PlungerSegment};
 
 impl<const N: usize> Sim<'_, N> {
@@ -19,6 +19,21 @@ impl<const N: usize> Sim<'_, N> {
             })
             .collect()
     }
+}
+
+/// The derivative at `y` (time `t`) where the integration restarts after
+/// a discontinuity (an event, a stick), the step `h` cut to a restart's
+/// and the controller restarted.
+fn restart<const N: usize>(
+    sim: &mut Sim<'_, N>,
+    y: &State<N>,
+    t: f64,
+    h: &mut f64,
+    control: &mut ode::StepController,
+) -> Result<State<N>, SimError> {
+    *h = h.min(ode::RESTART_STEP_S);
+    control.restart();
+    sim.deriv(y).ok_or(SimError::Singular { t_s: t })
 }
 
 impl Runner<'_> {
@@ -114,6 +129,9 @@ impl Runner<'_> {
                     .min(self.ledger_cap(ledger_h, ratio));
                 (t, y, k1, h) = (t_end, att.y1, att.k7, next);
                 self.same_instant = 0;
+                if opts.stall == Stall::Hold && self.creep(sim, &mut y, t)? {
+                    k1 = restart(sim, &y, t, &mut h, &mut control)?;
+                }
                 if sim.settled(&self.ledger, &y) {
                     self.settled_s = Some(t);
                     break;
@@ -127,9 +145,7 @@ impl Runner<'_> {
                 self.settled_s = Some(t);
                 break;
             }
-            k1 = sim.deriv(&y).ok_or(SimError::Singular { t_s: t })?;
-            h = h.min(ode::RESTART_STEP_S);
-            control.restart();
+            k1 = restart(sim, &y, t, &mut h, &mut control)?;
         }
         self.out.push_while(sim, |tk| tk <= t + 1e-9, |_| y)?;
         Ok((t.min(duration), y))
@@ -213,6 +229,19 @@ impl Runner<'_> {
         for k in (0..N).filter(|&k| k != j || matches!(ev, Ev::Branch(_))) {
             sim.reclassify(k, y);
         }
+        self.log(sim, j, kind, y, t);
+        Ok(())
+    }
+
+    /// Logs an event of `kind` at joint `j` (0-based) at `t`, state `y`.
+    pub(super) fn log<const N: usize>(
+        &mut self,
+        sim: &Sim<'_, N>,
+        j: usize,
+        kind: LatchEventKind,
+        y: &State<N>,
+        t: f64,
+    ) {
         let (u, du) = match &sim.latch[j] {
             Some(l) => (l.travel(y.q[j]), l.travel(y.v[j])),
             None => (sim.side[j] * y.q[j], sim.side[j] * y.v[j]),
@@ -225,7 +254,6 @@ impl Runner<'_> {
             rate_rad_s: du,
             evaluations: sim.evaluations,
         });
-        Ok(())
     }
 
     /// A latch segment left: the new segments, and what to log.

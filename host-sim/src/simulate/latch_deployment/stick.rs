@@ -6,6 +6,7 @@
 //! impulse (`physics.md` section 5), which frees a stuck joint.
 
 use super::{branch_at, classify, Runner, Sim};
+use crate::simulate::creep;
 use crate::simulate::latch_run::LatchEventKind;
 use crate::simulate::ode::State;
 use crate::simulate::trajectory::SimError;
@@ -112,6 +113,13 @@ impl<const N: usize> Sim<'_, N> {
         if !(band.margin(r) > 0.0) {
             return None;
         }
+        self.hold_joint(j, y)
+    }
+
+    /// Holds joint `j`: its rate to zero in a plastic impulse on it alone
+    /// (the other joints' momenta kept). Returns the kinetic energy that
+    /// took \[J\].
+    fn hold_joint(&mut self, j: usize, y: &mut State<N>) -> Option<f64> {
         let before = self.chain.kinetic_energy(&y.chain());
         let mut held = self.held();
         held[j] = true;
@@ -124,6 +132,40 @@ impl<const N: usize> Sim<'_, N> {
         }
         self.stuck[j] = true;
         Some(before - self.chain.kinetic_energy(&y.chain()))
+    }
+
+    /// Whether a free joint moves slower than its [`creep::rest_rate`] at
+    /// `y` (the cheap test before [`Sim::try_creep_stick`]).
+    pub(super) fn slow(&self, y: &State<N>) -> bool {
+        creep::any_slow(
+            self.chain,
+            |j| !self.mode.latched[j] && !self.stuck[j],
+            &y.v,
+        )
+    }
+
+    /// Joint `j` creeping at `y` sticks ([`crate::simulate::creep`]): slower
+    /// than its rest rate, the holding torque the band of its kinetic level
+    /// holds best inside that band, and stopping short of its stop. Returns
+    /// the kinetic energy that took \[J\].
+    pub(super) fn try_creep_stick(&mut self, j: usize, y: &mut State<N>) -> Option<f64> {
+        let v = y.v[j];
+        if self.mode.latched[j]
+            || self.stuck[j]
+            || !creep::is_slow(self.chain, j, v)
+            || !self.chain.can_stick(j)
+        {
+            return None;
+        }
+        let ([a, b], _) = self.holding_range(j, y)?;
+        let band = self.chain.kinetic_band(j, y.q[j]);
+        let r = (0.5 * (band.lo + band.hi)).clamp(a, b);
+        let stopping = band.margin(r);
+        let inertia = self.chain.mass_matrix(&y.q)[j][j];
+        if !(stopping > 0.0) || !creep::stops_short(y.q[j], v, stopping, inertia, true) {
+            return None;
+        }
+        self.hold_joint(j, y)
     }
 
     /// A stuck joint slips: free again, on the spring branch of the
@@ -182,6 +224,34 @@ impl Runner<'_> {
         let lost = sim.try_stick(j, y)?;
         self.booked_stick(lost);
         Some(LatchEventKind::Stick)
+    }
+
+    /// The joints creeping at `y` (the end of an accepted step at `t`)
+    /// stick ([`crate::simulate::creep`]), each logged as a stick and its
+    /// energy booked; true when one did (the integration restarts).
+    pub(super) fn creep<const N: usize>(
+        &mut self,
+        sim: &mut Sim<'_, N>,
+        y: &mut State<N>,
+        t: f64,
+    ) -> Result<bool, SimError> {
+        if !sim.slow(y) {
+            return Ok(false);
+        }
+        let mut any = false;
+        for j in 0..N {
+            let Some(lost) = sim.try_creep_stick(j, y) else {
+                continue;
+            };
+            any = true;
+            self.booked_stick(lost);
+            self.out.traj.stats.events += 1;
+            self.log(sim, j, LatchEventKind::Stick, y, t);
+            sim.close_ledger(&mut self.ledger, y);
+            self.ledger
+                .check(t, j + 1, || "its creep to rest (a stick)".to_string())?;
+        }
+        Ok(any)
     }
 
     /// Books the kinetic energy a stick took as the set-valued law's
