@@ -274,6 +274,34 @@ fn subset_and_mc_hold_the_exact_probability_at_1e_2() {
     assert_eq!(m.simulations, 20_000);
 }
 
+/// Nearly every draw fails (exact 0.995) and 20 deployments see all of
+/// them fail most of the time: each method's 95 % interval must still hold
+/// the exact probability about 95 % of the time over seeds (an interval of
+/// [1, 1] from "20 of 20 failed" holds 0.995 never).
+#[test]
+fn an_estimate_where_every_draw_fails_keeps_its_interval() {
+    let (p, exact, _) = one_panel(0.995);
+    for method in [Method::Mc, Method::Subset, Method::Is] {
+        let (mut held, mut all_failed) = (0, 0);
+        for seed in 0..20 {
+            let e = run(&p, method, Some(20), seed);
+            all_failed += usize::from(e.p_fail == 1.0);
+            if e.ci95.0 <= exact && exact <= e.ci95.1 {
+                held += 1;
+            }
+            assert!(
+                e.cov > 0.0 && e.ci95.0 < e.ci95.1,
+                "{method:?}, seed {seed}: {e:?}"
+            );
+        }
+        assert!(
+            all_failed >= 10,
+            "{method:?}: {all_failed} of 20 with p = 1"
+        );
+        assert!(held >= 16, "{method:?}: {held} of 20 hold {exact}");
+    }
+}
+
 #[test]
 fn subset_holds_the_one_panel_at_1e_6() {
     let (p, exact, _) = one_panel(1e-6);

@@ -189,3 +189,39 @@ fn the_nominal_deployment_on_a_rig_is_the_rigs_and_says_so() {
         }
     }
 }
+
+/// A wing whose plunger at joint 3 rattles (it escapes over its crest
+/// several times, a chaotic sequence): its nominal deployment holds joint
+/// 3 at the simulator's tolerances and not at a tenth of them. `margin`
+/// says so, writes it in the JSON (`unsettled`), and `--check` fails on
+/// it; a wing whose latches settle (`wing6_mixed`) has none.
+#[test]
+fn a_nominal_outcome_that_moves_with_the_tolerance_is_said_and_fails_check() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let json = dir.path().join("m.json");
+    let mech = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/rattling_five_panels.toml");
+    let err = fails(
+        &deploywatch(&["margin", "--mechanism", s(&mech), "--json", s(&json), "--check"]),
+        1,
+        &[
+            "joint(s) 3 of `rattling-five-panels` held at the end of the nominal deployment in one of two runs",
+            "margin --check: joint(s) 3",
+        ],
+    );
+    assert!(err.contains("in one of its two runs"), "{err}");
+    let v: Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("JSON");
+    assert_eq!(
+        v["nominal_deployment"]["unsettled"],
+        serde_json::json!([3]),
+        "{v}"
+    );
+    let (err, v) = margin("wing6_mixed", &[]);
+    assert_eq!(
+        v["nominal_deployment"]["unsettled"],
+        serde_json::json!([]),
+        "{v}"
+    );
+    assert!(!err.contains("two runs"), "{err}");
+}

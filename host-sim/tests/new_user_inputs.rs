@@ -435,6 +435,39 @@ fn a_factor_given_twice_is_refused_naming_both() {
     let twice = margin(&["friction=2", "spring=1.2", "friction=3"]);
     refused(&twice, &["--factor friction=3", "friction=2 before"]);
     succeeded(&margin(&["friction=2", "spring=1.2"]));
+    // A factor below 1 weakens the margin: run, and said.
+    let weak = margin(&["friction=0.5"]);
+    succeeded(&weak);
+    assert!(
+        stderr(&weak).contains("warning: --factor friction=0.5: below 1"),
+        "{}",
+        stderr(&weak)
+    );
+}
+
+/// Options that would be ignored are refused or said: `--standard` beside
+/// `--all-standards` (which prints every standard), `--flight` on a wing
+/// without a rig and without findings (nothing to take out).
+#[test]
+fn options_that_would_change_nothing_are_said() {
+    let m = t01_mechanism();
+    let out = deploywatch(&[
+        "margin",
+        "--mechanism",
+        s(&m),
+        "--all-standards",
+        "--standard",
+        "ecss-e-st-33-01c",
+    ]);
+    refused(&out, &["--standard", "cannot be used with"]);
+    let out = deploywatch(&["margin", "--mechanism", s(&m), "--flight"]);
+    succeeded(&out);
+    assert!(stderr(&out).contains("--flight: "), "{}", stderr(&out));
+    assert!(stderr(&out).contains("has no [rig]"), "{}", stderr(&out));
+    let rig = data().join("mechanisms/seed001_T01_rig.toml");
+    let out = deploywatch(&["margin", "--mechanism", s(&rig), "--flight"]);
+    succeeded(&out);
+    assert!(!stderr(&out).contains("has no [rig]"), "{}", stderr(&out));
 }
 
 /// A list of numbers given with spaces (`--start 0.1 0.2 0.3`) leaves its
@@ -483,4 +516,45 @@ fn numbers_given_apart_and_negative_lists_are_read_as_meant() {
         "-0.1,0.2,0.3",
     ]);
     refused(&out, &["--friction: -0.1 is not a friction torque"]);
+}
+
+/// One campaign of runs of a one-panel wing and of a three-panel wing:
+/// the effects a diagnosis finds are common to every run by joint number,
+/// so "joint 1" would be two different hinges. Said before any work.
+#[test]
+fn runs_of_wings_of_different_joint_counts_in_one_campaign_are_said() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let one = data().join("mechanisms/reliability_one_panel.toml");
+    let three = t01_mechanism();
+    let mut runs = Vec::new();
+    for (m, name) in [(&one, "one.csv"), (&three, "three.csv")] {
+        let csv = dir.path().join(name);
+        let out = deploywatch(&["simulate", s(m), "--seed", "1", "-o", s(&csv), "-q"]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        runs.push(csv);
+    }
+    let json = dir.path().join("d.json");
+    let out = deploywatch(&[
+        "diagnose",
+        "--mechanism",
+        s(&one),
+        "--mechanism",
+        s(&three),
+        "--json",
+        s(&json),
+        "--max-seconds",
+        "1",
+        "-q",
+        s(&runs[0]),
+        s(&runs[1]),
+    ]);
+    let err = stderr(&out);
+    assert!(!err.contains("panicked"), "{err}");
+    for said in [
+        "warning: the runs are of wings of different joint counts",
+        "one.csv (reliability-one-panel, 1 joint)",
+        "three.csv (seed001-T01, 3 joints)",
+    ] {
+        assert!(err.contains(said), "{said:?} not in:\n{err}");
+    }
 }

@@ -619,3 +619,73 @@ fn from_findings_of_another_wing_are_said() {
         serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("JSON");
     assert_eq!(v["warnings"][0], serde_json::json!(said), "{v}");
 }
+
+/// A law `--from` gives that the wing refuses is said of the file (not of
+/// a `--vary` the user never gave); a pair of parameters given two
+/// correlations is refused (not the last one kept); a `truncnormal` whose
+/// window lies far in its tail is drawn inside the window, not at its far
+/// end.
+#[test]
+fn from_corr_and_a_far_window_say_and_draw_what_was_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let three = write(
+        dir.path(),
+        "eft3.json",
+        r#"{"method": "direct", "joints": [{"joint": 3, "coulomb_nm": 0.1, "ci95": [0.0, 0.2]}]}"#,
+    );
+    let err = fails(
+        &deploywatch(&[
+            "reliability",
+            &one_panel(),
+            "--from",
+            s(&three),
+            "--fail",
+            "not_latched",
+        ]),
+        2,
+        &["--from", "eft3.json", "joint 3 does not exist"],
+    );
+    assert!(!err.contains("--vary"), "{err}");
+
+    let t01 = data().join("mechanisms/seed001_T01.toml");
+    let run = |extra: &[&str]| {
+        let mut a = vec!["reliability", s(&t01), "--fail", "not_latched"];
+        a.extend_from_slice(extra);
+        a.extend_from_slice(&["--method", "mc", "--samples", "40", "-q"]);
+        deploywatch(&a)
+    };
+    fails(
+        &run(&[
+            "--vary",
+            "coulomb_friction:joint=1:normal(2.63,0.05)",
+            "--vary",
+            "coulomb_friction:joint=2:normal(1.7,0.05)",
+            "--corr",
+            "1,2,0.5",
+            "--corr",
+            "2,1,-0.5",
+        ]),
+        2,
+        &["--corr 2,1,-0.5", "already correlated by 1,2,0.5"],
+    );
+    // With joints 1 and 3 at their identified friction, joint 2 fails to
+    // latch above about 1.89 N·m. Kept to [1.85, 1.95], 85 deviations
+    // above its mean, the law's mass is within 1e-3 N·m of 1.85: no draw
+    // fails.
+    let out = run(&[
+        "--vary",
+        "coulomb_friction:joint=1:normal(2.63,1e-9)",
+        "--vary",
+        "coulomb_friction:joint=3:normal(0.001,1e-9)",
+        "--vary",
+        "coulomb_friction:joint=2:truncnormal(1.0,0.01,1.85,1.95)",
+    ]);
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let line = said.lines().find(|l| l.starts_with("p_fail")).expect(&said);
+    assert!(line.contains("40 deployments, 0 failed"), "{line}");
+}

@@ -4,7 +4,9 @@
 //! same instant whatever the rate. Seed 001 T01 with Coulomb friction of
 //! 2.7 N·m at joint 1 latches that joint at about 5.9 s of its 6 s; at
 //! 4.3 Hz the grid's last sample before 6 s is 5.814 s, and a grid that
-//! ended there lost the latch.
+//! ended there lost the latch. A run at a few samples a second is
+//! identified without the warnings meant for runs long enough to tell
+//! their noise and their start from.
 //!
 //! `cargo test --release -p deploywatch-sim --test sample_rate`
 
@@ -62,4 +64,50 @@ fn a_late_latch_is_kept_at_every_sample_rate() {
             }
         }
     }
+}
+
+/// A run of five samples a second (ten in all) is identified without a
+/// false alarm: too few samples to estimate the noise from, the fit's
+/// residual is not judged against a noise floor of 0.001 deg, and the
+/// start is read from the first sample, not from a median over half the
+/// deployment.
+#[test]
+fn identify_of_a_run_at_5_hz_raises_no_false_alarm() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mech = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../data/mechanisms/reliability_one_panel.toml");
+    let csv = dir.path().join("5hz.csv");
+    let bin = env!("CARGO_BIN_EXE_deploywatch");
+    let run = |args: &[&std::ffi::OsStr]| {
+        let out = std::process::Command::new(bin)
+            .args(args)
+            .output()
+            .expect("runs");
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{err}");
+        err
+    };
+    let os = |s: &str| std::ffi::OsString::from(s);
+    let said = run(&[
+        &os("simulate"),
+        mech.as_os_str(),
+        &os("--effect"),
+        &os("coulomb_friction:joint=1:value=0.8"),
+        &os("--rate"),
+        &os("5"),
+        &os("-o"),
+        csv.as_os_str(),
+        &os("-q"),
+    ]);
+    assert!(said.is_empty(), "{said}");
+    let said = run(&[
+        &os("identify"),
+        &os("--mechanism"),
+        mech.as_os_str(),
+        csv.as_os_str(),
+        &os("-q"),
+    ]);
+    assert!(!said.contains("times the noise"), "{said}");
+    assert!(!said.contains("the run starts at"), "{said}");
+    assert!(said.contains("too short to estimate their noise"), "{said}");
 }

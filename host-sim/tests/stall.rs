@@ -173,3 +173,79 @@ fn a_stalled_joint_with_a_physical_latch_stays_in_a_verdict() {
         "it creeps: {ten} at 10 s, {thirty} at 30 s"
     );
 }
+
+/// Seed 001 T01 with joint 2 seized (40 or 1000 N·m of friction against
+/// its spring's 2.92 N·m): held from t = 0 in a verdict, it is kicked off
+/// by joint 1's latch (friction's torque is bounded and takes no part in
+/// an impulse), slides and is held again, the run's energy ledger closed;
+/// the more friction, the less it slides. `reliability` over such draws
+/// counts them as failures instead of stopping.
+#[test]
+fn a_seized_joint_moves_with_a_latch_s_impulse_and_fails_the_verdict() {
+    let m = t01_mechanism();
+    let mech = Mechanism::load(&m).expect("mechanism");
+    let end_of_joint_2 = |nm: f64| {
+        let e = [Effect::joint(EffectKind::CoulombFriction, 2, nm)];
+        let opts = SimOptions {
+            stall: Stall::Hold,
+            ..SimOptions::default()
+        };
+        let run = simulate(&mech, &e, &opts).expect("simulates, ledger closed");
+        assert!(run.latch_s[0].is_some() && run.latch_s[1].is_none());
+        *run.phi_deg[1].last().expect("samples")
+    };
+    let (some, much) = (end_of_joint_2(40.0), end_of_joint_2(1000.0));
+    let slid = |end: f64| (end - 180.0).abs();
+    assert!(slid(much) > 1e-3, "kicked off its stowed 180°: {much}");
+    assert!(slid(some) > slid(much), "{some} vs {much}");
+
+    let said = stdout(&[
+        "reliability",
+        s(&m),
+        "--vary",
+        "coulomb_friction:joint=2:uniform(10,2000)",
+        "--fail",
+        "not_latched",
+        "--method",
+        "mc",
+        "--samples",
+        "20",
+        "--seed",
+        "1",
+        "-q",
+    ]);
+    let line = said.lines().find(|l| l.starts_with("p_fail")).expect(&said);
+    assert!(line.contains("20 deployments, 20 failed"), "{line}");
+}
+
+/// An eight-panel wing whose joints stall for a moment on their way in:
+/// `simulate` (the contract's law) says at which instants a verdict's
+/// deployment latches them instead, and the last of those is when
+/// `margin`'s nominal deployment has every joint held.
+#[test]
+fn simulate_gives_the_latch_instants_of_a_verdict_where_they_differ() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mech = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/eight_panels.toml");
+    let csv = dir.path().join("eight.csv");
+    let said = stdout(&["simulate", s(&mech), "--no-noise", "-o", s(&csv)]);
+    let line = said
+        .lines()
+        .find(|l| l.contains("a verdict's deployment"))
+        .expect(&said);
+    let instants: Vec<f64> = line
+        .split(" at ")
+        .skip(1)
+        .filter_map(|r| r.split(" s").next()?.parse().ok())
+        .collect();
+    assert!(instants.len() >= 2, "{line}");
+    let last = instants.iter().copied().fold(0.0, f64::max);
+    let margin = stdout(&["margin", "--mechanism", s(&mech)]);
+    let nominal = margin
+        .lines()
+        .find(|l| l.starts_with("nominal deployment"))
+        .expect(&margin);
+    assert!(
+        nominal.contains(&format!("every joint held by its latch by {last:.3} s")),
+        "{nominal} against {line}"
+    );
+}

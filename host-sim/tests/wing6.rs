@@ -241,7 +241,8 @@ fn the_ideal_wing_on_its_rig_goes_through_every_command() {
 /// best uniform EFT, and the solver's trials with a negative EFT fling
 /// panels the simulator cannot follow. The fit ends on a point it
 /// simulated: fewer degrees than the mechanism as given, no EFT below 0,
-/// each joint fixed at 0 reported at 0.
+/// each joint fixed at 0 reported at 0 with an interval of some width,
+/// which `reliability --from` draws.
 #[test]
 fn identify_fits_the_rig_wing_where_its_trials_cannot_be_simulated() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -282,8 +283,26 @@ fn identify_fits_the_rig_wing_where_its_trials_cannot_be_simulated() {
         assert!(eft >= 0.0, "{j}");
         if fixed.contains(&j["joint"]) {
             assert_eq!(eft, 0.0, "{j}");
+            // Zero to the precision the runs give it, not [0, 0].
+            assert!(j["ci95"][1].as_f64().expect("ci95") > 0.0, "{j}");
         }
     }
+    assert!(!fixed.is_empty(), "{found:#}");
+    // Its intervals are laws `reliability --from` can draw.
+    let out = deploywatch(&[
+        "reliability",
+        s(&mech),
+        "--from",
+        s(&json),
+        "--fail",
+        "not_latched",
+        "--method",
+        "mc",
+        "--samples",
+        "20",
+        "-q",
+    ]);
+    works(&out, "reliability --from");
 }
 
 /// The mixed wing on the rig of `wing6_ideal_rig.toml`, written to

@@ -38,6 +38,14 @@ pub trait CampaignSim {
     /// Simulates run `i` with `effects`, sampled at the run's own time stamps
     /// over its whole length (encoder offsets applied to the angles).
     fn simulate(&self, i: usize, effects: &[Effect]) -> Result<Trajectory, deployment::SimError>;
+    /// [`CampaignSim::simulate`] with the settings `opts` instead of the
+    /// fit's ([`fit_sim_options_for`]).
+    fn simulate_with(
+        &self,
+        i: usize,
+        effects: &[Effect],
+        opts: &SimOptions,
+    ) -> Result<Trajectory, deployment::SimError>;
     /// Model minus measurement \[deg\] of run `i`, joint by joint
     /// (`[joint][sample]`).
     fn residuals(&self, i: usize, effects: &[Effect]) -> Option<Vec<Vec<f64>>>;
@@ -78,9 +86,17 @@ pub fn fit_sim_options_for(mech: &crate::model::mechanism::Mechanism) -> SimOpti
 
 impl CampaignSim for Campaign {
     fn simulate(&self, i: usize, effects: &[Effect]) -> Result<Trajectory, deployment::SimError> {
+        self.simulate_with(i, effects, &fit_sim_options_for(&self.runs[i].mechanism))
+    }
+
+    fn simulate_with(
+        &self,
+        i: usize,
+        effects: &[Effect],
+        opts: &SimOptions,
+    ) -> Result<Trajectory, deployment::SimError> {
         let r = &self.runs[i];
-        let opts = fit_sim_options_for(&r.mechanism);
-        let mut traj = deployment::simulate_at(&r.mechanism, effects, &opts, &r.run.t_s)?;
+        let mut traj = deployment::simulate_at(&r.mechanism, effects, opts, &r.run.t_s)?;
         let offsets = effect::encoder_offsets_deg(effects, r.mechanism.joint_count());
         for (j, b) in offsets.iter().enumerate() {
             if *b != 0.0 {

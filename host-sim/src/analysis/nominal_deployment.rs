@@ -7,10 +7,19 @@
 //! short by the chain's dynamics (a neighbour's swing, an escape over a
 //! ball plunger); the deployment says so.
 
-use crate::analysis::reliability::nominal_outcome;
+use crate::analysis::reliability::{nominal_outcome, nominal_outcome_at};
 use crate::analysis::resistances::Resistances;
 use crate::model::mechanism::Mechanism;
 use crate::simulate::deployment::SimError;
+
+/// Latch instants of two deployments of one wing closer than this \[s\]
+/// are the same latch (each located to 1e-6 s): `simulate`'s and a
+/// verdict's.
+pub const SAME_LATCH_S: f64 = 1e-3;
+
+/// The tolerances of the second nominal run of a physical-latch wing,
+/// relative to the first's (the simulator's defaults).
+const CHAOS_CHECK_SCALE: f64 = 0.1;
 
 /// The nominal deployment of a margin's chain.
 #[derive(Clone, Debug, PartialEq)]
@@ -27,6 +36,12 @@ pub struct NominalDeployment {
     /// Whether the deployment was simulated on the mechanism's zero-g rig
     /// (its `[rig]` table; `false` in flight or without one).
     pub on_rig: bool,
+    /// The joints (1-based) held at the end in one of two runs and not in
+    /// the other, the second at a tenth of the tolerances: a wing whose
+    /// physical latches rattle is chaotic, and its nominal outcome then
+    /// is one of several the same wing gives (`docs/margin.md`, "The
+    /// nominal deployment"). Empty for ideal latches (not run twice).
+    pub unsettled: Vec<usize>,
 }
 
 impl NominalDeployment {
@@ -44,7 +59,21 @@ impl NominalDeployment {
             }
         }
         let o = nominal_outcome(&m, &r.others)?;
+        let unsettled = match m.has_physical_latch() {
+            true => nominal_outcome_at(&m, &r.others, CHAOS_CHECK_SCALE)
+                .map(|tight| {
+                    (0..o.held_s.len())
+                        .filter(|&j| {
+                            tight.held_s.get(j).map(Option::is_some) != Some(o.held_s[j].is_some())
+                        })
+                        .map(|j| j + 1)
+                        .collect()
+                })
+                .unwrap_or_default(),
+            false => Vec::new(),
+        };
         Ok(NominalDeployment {
+            unsettled,
             duration_s: m.duration_s,
             end_deg: (0..o.held_s.len())
                 .map(|j| match o.held_s[j] {

@@ -258,6 +258,14 @@ fn warn_residuals(campaign: &Campaign, id: &Identification, console: &Console) {
             list(&edge)
         ));
     }
+    if crate::analysis::evidence::noise_sigma_estimate(campaign).is_none() {
+        console.warn(format_args!(
+            "the runs are too short to estimate their noise (fewer than {} samples a joint): \
+             the residual the fit leaves is not judged against it",
+            crate::analysis::evidence::MIN_NOISE_DIFFERENCES + 3
+        ));
+        return;
+    }
     let warnings = identify::residual_check::residual_warnings(campaign, id);
     let Some(first) = warnings.first() else {
         return;

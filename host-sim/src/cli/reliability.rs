@@ -103,6 +103,16 @@ fn from_file(path: &Path, given: &[Vary], mech: &Mechanism) -> Result<FromFindin
     for f in &mut found.fixed {
         f.source = format!("--from {}: {}", path.display(), f.source);
     }
+    // Said of the file, not of a --vary the user did not give.
+    for v in found
+        .vary
+        .iter()
+        .chain(found.stand_ins.iter().flat_map(|s| &s.vary))
+    {
+        v.check(mech).map_err(|why| {
+            CliError::input(format!("--from {}: {}: {why}", path.display(), v.label()))
+        })?;
+    }
     Ok(found)
 }
 
@@ -110,9 +120,16 @@ fn from_file(path: &Path, given: &[Vary], mech: &Mechanism) -> Result<FromFindin
 /// effect (in words: in no deployment, said so by [`run`]).
 pub fn problem(args: &ReliabilityArgs) -> Result<(Problem, Vec<String>), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
+    let (mut fixed, mut left_out) = (Vec::new(), Vec::new());
+    if args.flight && mech.rig.is_none() && args.from.is_none() {
+        left_out.push(format!(
+            "--flight: {} has no [rig] and nothing is read --from findings: the deployments \
+             are those of the mechanism as given",
+            args.mechanism.display()
+        ));
+    }
     let mech = if args.flight { mech.flight() } else { mech };
     let mut vary = args.vary.clone();
-    let (mut fixed, mut left_out) = (Vec::new(), Vec::new());
     if let Some(f) = &args.from {
         let mut found = from_file(f, &args.vary, &mech)?;
         let from = format!("--from {}", f.display());
@@ -121,7 +138,7 @@ pub fn problem(args: &ReliabilityArgs) -> Result<(Problem, Vec<String>), CliErro
         } else {
             Vec::new()
         };
-        left_out = found.notes(&from, &mech.name);
+        left_out.extend(found.notes(&from, &mech.name));
         left_out.extend(flight);
         vary.extend(found.vary);
         fixed = found.fixed;

@@ -110,18 +110,21 @@ fn deploy(
     Ok((None, deployment::simulate(mech, effects, opts)?))
 }
 
-/// The joints `traj` latched only by creeping: the deployment again with
-/// a stalled joint stuck ([`Stall::Hold`], as a verdict runs it) leaves
-/// them short of their latch (`docs/spec/physics.md` §4a, "Creep"); one
-/// line each. Nothing when every joint latched both ways, or when the
-/// second run fails.
+/// Where the deployment again with a stalled joint stuck ([`Stall::Hold`],
+/// as a verdict runs it: `docs/spec/physics.md` §4a, "Creep") ends
+/// otherwise than `traj`: the joints `traj` latched only by creeping (the
+/// held deployment leaves them short of their latch), and those both
+/// latch at instants apart; one line each. The second run is made for an
+/// ideal-latch chain (a few milliseconds), and for a physical-latch or rig
+/// wing only when a joint crept before its latch; nothing when it fails.
 fn crept(
     mech: &Mechanism,
     effects: &[crate::model::effect::Effect],
     opts: &SimOptions,
     traj: &deployment::Trajectory,
 ) -> Vec<String> {
-    if !slow_before_latching(mech, traj) {
+    let cheap = !mech.has_physical_latch() && mech.active_rig().is_none();
+    if !cheap && !slow_before_latching(mech, traj) {
         return Vec::new();
     }
     let hold = SimOptions {
@@ -131,7 +134,22 @@ fn crept(
     let Ok((_, held)) = deploy(mech, effects, &hold) else {
         return Vec::new();
     };
-    (0..traj.latch_s.len())
+    let apart: Vec<String> = (0..traj.latch_s.len())
+        .filter_map(|j| {
+            let (here, there) = (traj.latch_s[j]?, (*held.latch_s.get(j)?)?);
+            ((here - there).abs() > crate::analysis::nominal_deployment::SAME_LATCH_S)
+                .then(|| format!("joint {} at {there:.3} s", j + 1))
+        })
+        .collect();
+    let apart = (!apart.is_empty()).then(|| {
+        format!(
+            "a verdict's deployment (reliability, margin), which holds a joint while it \
+             stalls where this run's regularised Coulomb law lets it creep, latches {} \
+             (docs/spec/physics.md §4a, \"Creep\")",
+            apart.join(", ")
+        )
+    });
+    let short = (0..traj.latch_s.len())
         .filter(|&j| traj.latch_s[j].is_some() && held.latch_s.get(j).is_some_and(Option::is_none))
         .map(|j| {
             let at = held
@@ -147,8 +165,8 @@ fn crept(
                  (docs/spec/physics.md §4a, \"Creep\")",
                 j + 1
             )
-        })
-        .collect()
+        });
+    short.chain(apart).collect()
 }
 
 /// Whether a joint of `traj` that latched was, at a sample between its

@@ -39,6 +39,11 @@ const START_OFFSET_WARN_DEG: f64 = 10.0 * MIN_MOTION_DEG;
 /// two corrupted ones among them (a spike, parity errors) do not decide.
 const START_SAMPLES: usize = 5;
 
+/// The readings of a joint's start lie within this of its first reading
+/// \[s\]: five samples at 100 Hz, the first alone at 2 Hz, where five
+/// would span the deployment.
+const START_WINDOW_S: f64 = 0.05;
+
 /// How many times the mechanism's `duration_s` a run may last before its
 /// times are taken for milliseconds: a recording a hundred simulation
 /// horizons long is no one deployment, and milliseconds make it a thousand.
@@ -100,16 +105,22 @@ fn line_of_sample(run: &Run, i: usize) -> usize {
 }
 
 /// The first sample of a series (its index) and its reading at the start:
-/// the median of its first [`START_SAMPLES`] finite readings, so that one
-/// corrupted reading (a spike, a parity error) does not decide.
-fn start_reading(series: &[f64]) -> Option<(usize, f64)> {
+/// the median of its first [`START_SAMPLES`] finite readings within
+/// [`START_WINDOW_S`] of it (`t` the run's times), so that one corrupted
+/// reading (a spike, a parity error) does not decide.
+fn start_reading(series: &[f64], t: &[f64]) -> Option<(usize, f64)> {
     let i0 = series.iter().position(|x| x.is_finite())?;
+    let t0 = t.get(i0).copied().unwrap_or(0.0);
     let mut first: Vec<f64> = series[i0..]
         .iter()
-        .copied()
-        .filter(|x| x.is_finite())
+        .zip(t.get(i0..).unwrap_or_default())
+        .filter(|(x, &ti)| x.is_finite() && ti - t0 <= START_WINDOW_S)
+        .map(|(&x, _)| x)
         .take(START_SAMPLES)
         .collect();
+    if first.is_empty() {
+        first.push(series[i0]);
+    }
     first.sort_by(f64::total_cmp);
     Some((i0, first[first.len() / 2]))
 }
@@ -181,7 +192,7 @@ fn check_angles(
     warnings: &mut Vec<String>,
 ) -> Result<(), RunError> {
     let series = &run.phi_deg[j];
-    let Some((i0, first)) = start_reading(series) else {
+    let Some((i0, first)) = start_reading(series, &run.t_s) else {
         return Ok(());
     };
     // A joint that never moves (a stuck encoder, a failed release) says
@@ -382,6 +393,26 @@ mod tests {
         let (mut run, m) = t01();
         run.phi_deg[0][0] = 90.0;
         assert_eq!(check(&run, &m, "r.csv").unwrap(), Vec::<String>::new());
+    }
+
+    #[test]
+    fn a_run_sampled_at_2_hz_starts_where_it_starts() {
+        // Every 50th sample of the 100 Hz run: five samples span 2 s of
+        // the deployment, their median far from the stowed pose.
+        let (run, m) = t01();
+        let keep = |v: &[f64]| v.iter().step_by(50).copied().collect::<Vec<f64>>();
+        let slow = Run {
+            t_s: keep(&run.t_s),
+            phi_deg: run.phi_deg.iter().map(|p| keep(p)).collect(),
+            latch: run
+                .latch
+                .iter()
+                .map(|l| l.iter().step_by(50).copied().collect())
+                .collect(),
+            ..run.clone()
+        };
+        assert!(slow.len() < 10);
+        assert_eq!(check(&slow, &m, "r.csv").unwrap(), Vec::<String>::new());
     }
 
     #[test]

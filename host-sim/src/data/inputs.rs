@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::data::campaign::Campaign;
+use crate::data::campaign::{Campaign, CampaignRun};
 use crate::data::consistency;
 use crate::data::run::{check_run_of, Run, RunError};
 use crate::model::mechanism::Mechanism;
@@ -27,7 +27,33 @@ pub fn campaign_warnings(mechanisms: &[PathBuf], campaign: &Campaign) -> Vec<Str
             out.extend(w);
         }
     }
+    out.extend(mixed_wings(campaign));
     out
+}
+
+/// A campaign whose runs are of wings of different joint counts: its
+/// effects are common to every run by joint number (`formats.md`: the same
+/// rig, the same hardware), which such wings cannot share.
+fn mixed_wings(campaign: &Campaign) -> Option<String> {
+    let count = |r: &CampaignRun| r.mechanism.joint_count();
+    let first = campaign.runs.first()?;
+    let other = campaign.runs.iter().find(|r| count(r) != count(first))?;
+    let said = |r: &CampaignRun| {
+        format!(
+            "{} ({}, {} joint{})",
+            r.name(),
+            r.mechanism.name,
+            count(r),
+            if count(r) == 1 { "" } else { "s" }
+        )
+    };
+    Some(format!(
+        "the runs are of wings of different joint counts ({} and {}): the effects found are \
+         common to every run by joint number, as for one wing's hardware; give the runs of \
+         different wings to separate commands",
+        said(first),
+        said(other)
+    ))
 }
 
 /// Checks that `run` (from `run_path`) is of `mechanism` (from

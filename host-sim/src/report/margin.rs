@@ -397,7 +397,8 @@ pub fn nominal_line(nominal: &Result<NominalDeployment, String>) -> String {
 }
 
 /// The nominal deployment as JSON: `duration_s`, `held_s` (`null` where
-/// not held), `end_deg`, `not_held` (1-based), `on_rig`, or `error`.
+/// not held), `end_deg`, `not_held` (1-based), `on_rig`, `unsettled`
+/// (1-based), or `error`.
 fn nominal_json(nominal: &Result<NominalDeployment, String>) -> Value {
     match nominal {
         Ok(d) => json!({
@@ -406,6 +407,7 @@ fn nominal_json(nominal: &Result<NominalDeployment, String>) -> Value {
             "end_deg": d.end_deg,
             "not_held": d.not_held(),
             "on_rig": d.on_rig,
+            "unsettled": d.unsettled,
         }),
         Err(e) => json!({ "error": e }),
     }

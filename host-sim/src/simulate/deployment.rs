@@ -656,6 +656,16 @@ impl<'a, const N: usize> Integrator<'a, N> {
             }
         }
         self.mode.latched = after;
+        for j in 0..N {
+            if self.stuck[j] && !after[j] && ye.v[j] != 0.0 {
+                // Friction's torque is bounded: it takes no part in an
+                // impulse, so a stuck joint moves off at the rate the
+                // latch's impulse gives it (as in the physical-latch
+                // simulator's ideal latch).
+                self.stuck[j] = false;
+                self.mode.branch[j] = self.choose_branch(ye, j);
+            }
+        }
         Ok((0..N).all(|j| self.mode.latched[j] || !self.latching[j]))
     }
 }

@@ -373,15 +373,19 @@ pub fn locate(evidence: &[JointEvidence]) -> Option<ResidualPlace> {
 /// (`Var Δ³e = 20 σ²`, MAD → σ by 1.4826); smooth motion contributes only
 /// `φ⃛·Δt³`, and latch instants are outliers the median ignores.
 pub fn noise_sigma_deg(campaign: &Campaign) -> f64 {
+    noise_sigma_estimate(campaign).unwrap_or(0.0)
+}
+
+/// [`noise_sigma_deg`], or `None` where no angle series has the
+/// [`MIN_NOISE_DIFFERENCES`] third differences it needs (runs of 12
+/// samples or fewer: the noise cannot be told from them).
+pub fn noise_sigma_estimate(campaign: &Campaign) -> Option<f64> {
     let mut est: Vec<f64> = campaign
         .runs
         .iter()
         .flat_map(|r| &r.run.phi_deg)
         .filter_map(|phi| third_difference_sigma(phi, MIN_NOISE_DIFFERENCES))
         .collect();
-    if est.is_empty() {
-        return 0.0;
-    }
     est.sort_by(f64::total_cmp);
-    est[est.len() / 2]
+    est.get(est.len() / 2).copied()
 }

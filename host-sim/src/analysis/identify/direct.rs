@@ -45,7 +45,11 @@ pub fn identify_direct(
                 ci95: Some(if fit.free[i] {
                     fit.ci[i]
                 } else {
-                    [0.0, fit.ci[i][1].max(0.0)]
+                    // At the bound: from 0 up to the last free fit's upper
+                    // end, or its half-width `t·sd` where that end is below
+                    // 0 (the precision the runs give it, not none).
+                    let [lo, hi] = fit.ci[i];
+                    [0.0, hi.max(0.5 * (hi - lo)).max(0.0)]
                 }),
                 sd_nm: Some(fit.sd[i]),
             })

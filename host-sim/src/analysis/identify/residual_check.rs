@@ -48,10 +48,14 @@ impl std::fmt::Display for ResidualWarning {
 
 /// The joints whose residual with the identified EFTs stays above
 /// [`RESIDUAL_WARN_FACTOR`] × the noise RMS (estimated from the runs,
-/// [`crate::analysis::evidence::noise_sigma_deg`]), with where in the stroke.
+/// [`crate::analysis::evidence::noise_sigma_estimate`]), with where in the
+/// stroke; none where the runs are too short to estimate their noise.
 pub fn residual_warnings(campaign: &Campaign, id: &Identification) -> Vec<ResidualWarning> {
-    use crate::analysis::evidence::{self, noise_sigma_deg};
-    let sigma = noise_sigma_deg(campaign).max(RESIDUAL_WARN_NOISE_FLOOR_DEG);
+    use crate::analysis::evidence::{self, noise_sigma_estimate};
+    let Some(sigma) = noise_sigma_estimate(campaign) else {
+        return Vec::new();
+    };
+    let sigma = sigma.max(RESIDUAL_WARN_NOISE_FLOOR_DEG);
     let limit = RESIDUAL_WARN_FACTOR * sigma;
     evidence::analyse(campaign, &id.effects(), sigma)
         .into_iter()

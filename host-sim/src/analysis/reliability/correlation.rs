@@ -61,6 +61,13 @@ pub enum CholeskyError {
     },
     /// The correlation matrix is not positive definite.
     NotPositiveDefinite,
+    /// One pair of parameters given two different correlations.
+    Twice {
+        /// The first given.
+        first: Correlation,
+        /// The other.
+        second: Correlation,
+    },
 }
 
 /// The lower Cholesky factor `L` of the correlation matrix of `d`
@@ -70,9 +77,19 @@ pub fn cholesky(corr: &[Correlation], d: usize) -> Result<Option<DMatrix<f64>>, 
         return Ok(None);
     }
     let mut r = DMatrix::<f64>::identity(d, d);
-    for c in corr {
+    for (k, c) in corr.iter().enumerate() {
         if c.i > d || c.j > d {
             return Err(CholeskyError::Beyond { corr: *c, d });
+        }
+        let pair = |x: &Correlation| (x.i.min(x.j), x.i.max(x.j));
+        if let Some(first) = corr[..k]
+            .iter()
+            .find(|x| pair(x) == pair(c) && x.rho != c.rho)
+        {
+            return Err(CholeskyError::Twice {
+                first: *first,
+                second: *c,
+            });
         }
         r[(c.i - 1, c.j - 1)] = c.rho;
         r[(c.j - 1, c.i - 1)] = c.rho;
@@ -92,6 +109,17 @@ pub fn correlate(l: &DMatrix<f64>, u: &[f64]) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn one_pair_given_two_correlations_is_refused() {
+        let c = |s: &str| s.parse::<Correlation>().unwrap();
+        let twice = cholesky(&[c("1,2,0.5"), c("2,1,-0.5")], 2);
+        assert!(
+            matches!(twice, Err(CholeskyError::Twice { .. })),
+            "{twice:?}"
+        );
+        assert!(cholesky(&[c("1,2,0.5"), c("2,1,0.5")], 2).is_ok());
+    }
 
     #[test]
     fn correlates_the_normals() {

@@ -175,6 +175,14 @@ pub fn from_identification(id: &Identification, mech: &Mechanism) -> Result<Vec<
         let Some([lo, hi]) = j.ci95 else {
             return Err(at("ci95") + ", [lo, hi] in N·m");
         };
+        if !(hi > lo) {
+            return Err(format!(
+                "joints[{i}] (joint {}): \"ci95\" [{lo}, {hi}] has no width, so its friction \
+                 cannot be drawn: identify it again (a joint fixed at the bound 0 is given \
+                 [0, t·sd]), or give its law with --vary",
+                j.joint
+            ));
+        }
         let sd = (hi - lo) / (2.0 * Z_975);
         let dist = Dist::Normal { mean: t, sd };
         dist.check().map_err(|w| {

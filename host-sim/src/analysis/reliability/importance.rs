@@ -18,7 +18,7 @@
 use super::estimate::lognormal_ci95;
 use super::estimate::{Estimate, FailurePoint};
 use super::form::{self, Form};
-use super::mc::{check_rows, system};
+use super::mc::{binomial_cov, check_rows, system};
 use super::{stream, Evaluate, Param, Problem, ReliabilityError};
 use crate::report::progress::Progress;
 use rand::Rng;
@@ -162,7 +162,14 @@ pub fn sample(
             break;
         }
     }
-    let (p, cov) = moments(sum, sum2, n);
+    let (p, mut cov) = moments(sum, sum2, n);
+    if nf == n {
+        // Every draw failed: the weights' spread cannot show the safe
+        // region none of them reached (one centre at the origin weighs
+        // every draw alike, no spread at all); no less uncertain than
+        // the same count by crude Monte-Carlo.
+        cov = cov.max(binomial_cov(nf, n));
+    }
     Ok(Estimate {
         ci95: if nf > 0 {
             lognormal_ci95(p, cov)

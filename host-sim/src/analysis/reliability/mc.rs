@@ -42,12 +42,17 @@ pub fn wilson95(k: usize, n: usize) -> (f64, f64) {
     if n == 0 {
         return (0.0, 1.0);
     }
+    let (none, all) = (k == 0, k >= n);
     let (z, n) = (Z_975, n as f64);
     let p = k as f64 / n;
     let d = 1.0 + z * z / n;
     let c = (p + z * z / (2.0 * n)) / d;
     let h = z / d * (p * (1.0 - p) / n + z * z / (4.0 * n * n)).sqrt();
-    ((c - h).max(0.0), (c + h).min(1.0))
+    // No failure: the lower bound is 0 exactly (`c − h` rounds to ~1e-18);
+    // every draw failed: the upper bound is 1.
+    let lo = if none { 0.0 } else { (c - h).max(0.0) };
+    let hi = if all { 1.0 } else { (c + h).min(1.0) };
+    (lo, hi)
 }
 
 /// Runs crude Monte-Carlo.
@@ -110,14 +115,26 @@ pub fn system(row: &[f64]) -> f64 {
     row.iter().copied().fold(f64::INFINITY, f64::min)
 }
 
-/// `√((1 − p)/(n p))`, infinite with no failure.
+/// `√((1 − p)/(n p))`, infinite with no failure ([`binomial_cov`]).
 fn cov(nf: usize, n: usize) -> f64 {
-    let p = nf as f64 / n as f64;
-    if nf == 0 {
-        f64::INFINITY
-    } else {
-        ((1.0 - p) / (n as f64 * p)).sqrt()
+    binomial_cov(nf, n)
+}
+
+/// The c.o.v. of a proportion `k/n`: `√((1 − p)/(n p))`, infinite with no
+/// failure; with every draw failed, `p` is Wilson's centre `(k + z²/2)/(n +
+/// z²)` instead of 1, whose c.o.v. would be 0 (twenty failures in twenty
+/// draws do not make a probability of 1 certain).
+pub fn binomial_cov(k: usize, n: usize) -> f64 {
+    if k == 0 || n == 0 {
+        return f64::INFINITY;
     }
+    let (k, n) = (k as f64, n as f64);
+    let p = if k >= n {
+        (k + Z_975 * Z_975 / 2.0) / (n + Z_975 * Z_975)
+    } else {
+        k / n
+    };
+    ((1.0 - p) / (n * p)).sqrt()
 }
 
 /// The evaluator answered every point with one margin per mode, none NaN.
@@ -165,7 +182,20 @@ mod tests {
         let (lo, hi) = wilson95(100, 10_000);
         assert!(lo < 0.01 && hi > 0.01 && lo > 0.008 && hi < 0.0125);
         let (lo, hi) = wilson95(0, 1000);
-        assert!(lo < 1e-12 && hi > 0.0 && hi < 0.005);
+        assert!(lo == 0.0 && hi > 0.0 && hi < 0.005);
+        let (lo, hi) = wilson95(20, 20);
+        assert!(lo > 0.8 && lo < 0.85 && hi == 1.0);
+    }
+
+    #[test]
+    fn every_draw_failed_is_not_a_certainty() {
+        // 20 of 20: the c.o.v. of Wilson's centre (20 + 1.92)/(20 + 3.84),
+        // not the 0 of p = 1.
+        let c = binomial_cov(20, 20);
+        let p = (20.0 + Z_975 * Z_975 / 2.0) / (20.0 + Z_975 * Z_975);
+        assert!((c - ((1.0 - p) / (20.0 * p)).sqrt()).abs() < 1e-15 && c > 0.05);
+        assert!((binomial_cov(100, 10_000) - (0.99f64 / 100.0).sqrt()).abs() < 1e-15);
+        assert!(binomial_cov(0, 10).is_infinite());
     }
 
     #[test]

@@ -220,6 +220,13 @@ impl From<correlation::CholeskyError> for ReliabilityError {
                 None,
                 "the correlation matrix is not positive definite".to_string(),
             ),
+            correlation::CholeskyError::Twice { first, second } => (
+                Some(second.to_string()),
+                format!(
+                    "parameters {} and {} are already correlated by {first}: give each pair once",
+                    first.i, first.j
+                ),
+            ),
         };
         ReliabilityError::BadParam {
             param: Param::Corr,
@@ -498,11 +505,24 @@ pub fn verdict_options(mech: &Mechanism, end: f64, rate: bool) -> SimOptions {
 /// and where it ended. What `margin` sets beside its margins
 /// (`docs/margin.md`, "The nominal deployment").
 pub fn nominal_outcome(mech: &Mechanism, effects: &[Effect]) -> Result<Outcome, SimError> {
+    nominal_outcome_at(mech, effects, 1.0)
+}
+
+/// [`nominal_outcome`] with the simulator's tolerances scaled by `scale`
+/// (the chaos check of `margin`'s nominal deployment runs it at 1/10).
+pub fn nominal_outcome_at(
+    mech: &Mechanism,
+    effects: &[Effect],
+    scale: f64,
+) -> Result<Outcome, SimError> {
     // A verdict: a joint that stalls sticks (`Stall::Hold`), whatever
     // `duration_s` leaves it to creep.
+    let defaults = SimOptions::default();
     let opts = SimOptions {
         stall: Stall::Hold,
-        ..SimOptions::default()
+        rtol: defaults.rtol * scale,
+        atol: defaults.atol * scale,
+        ..defaults
     };
     let (traj, held_s) =
         simulate_verdict(mech, effects, &opts, (true, mech.duration_s), Keep::Ledger)?;

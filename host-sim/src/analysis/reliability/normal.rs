@@ -84,9 +84,57 @@ pub fn inverse_cdf(p: f64) -> f64 {
     x - u / (1.0 + 0.5 * x * u)
 }
 
+/// The standard normal kept to `[α, β]` at the standard normal coordinate
+/// `u`: `Φ⁻¹(Φ(α) + Φ(u) (Φ(β) − Φ(α)))`, taken in the tail the window
+/// lies in (a window above the mean by its mirror below, where `Φ` keeps
+/// its digits: `Φ(9)` rounds to 1). Where even the tail underflows (the
+/// window beyond about 37 deviations), the normal's tail there is
+/// exponential: `|z|` past the near end is drawn from an exponential of
+/// rate the near end's distance, kept to the window.
+pub fn truncated_at(alpha: f64, beta: f64, u: f64) -> f64 {
+    if alpha > 0.0 {
+        return -truncated_at(-beta, -alpha, -u);
+    }
+    let (a, b) = (cdf(alpha), cdf(beta));
+    let z = if b > a {
+        inverse_cdf(a + cdf(u) * (b - a))
+    } else {
+        // `β` far below the mean: `y = −z` past `s = −β` is exponential
+        // of rate `s`, kept to the window's length, the draw rising with
+        // `u` towards `β`.
+        let (s, len) = (-beta, beta - alpha);
+        let keep = -(-s * len).exp_m1();
+        beta + (-tail(u) * keep).ln_1p() / s
+    };
+    z.clamp(alpha, beta)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_window_far_in_a_tail_is_drawn_inside_it() {
+        // Three windows in the upper tail and their mirrors: the median
+        // draw is the window's median, not its far end.
+        for (alpha, beta) in [(8.0, 9.0), (12.0, 20.0), (40.0, 41.0)] {
+            let mid = truncated_at(alpha, beta, 0.0);
+            // Above `α` by about ln 2 / α (the exponential tail's median).
+            let want = alpha + std::f64::consts::LN_2 / alpha;
+            assert!(
+                (mid - want).abs() < 0.05 * (mid - alpha),
+                "[{alpha}, {beta}]: {mid}"
+            );
+            assert_eq!(truncated_at(-beta, -alpha, 0.0), -mid);
+            let (low, high) = (
+                truncated_at(alpha, beta, -3.0),
+                truncated_at(alpha, beta, 3.0),
+            );
+            assert!(alpha <= low && low < mid && mid < high && high <= beta);
+        }
+        // A window about the mean is the untruncated law inside it.
+        assert!((truncated_at(-10.0, 10.0, 1.3) - 1.3).abs() < 1e-12);
+    }
 
     #[test]
     fn the_inverse_inverts() {

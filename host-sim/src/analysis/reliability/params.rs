@@ -119,9 +119,8 @@ impl Dist {
             Dist::LogNormal { median, sigma_ln } => median * (sigma_ln * u).exp(),
             Dist::Uniform { lo, hi } => lo + (hi - lo) * normal::cdf(u),
             Dist::TruncNormal { mean, sd, lo, hi } => {
-                let (a, b) = (normal::cdf((lo - mean) / sd), normal::cdf((hi - mean) / sd));
-                let x = mean + sd * normal::inverse_cdf(a + normal::cdf(u) * (b - a));
-                x.clamp(lo, hi)
+                let z = normal::truncated_at((lo - mean) / sd, (hi - mean) / sd, u);
+                (mean + sd * z).clamp(lo, hi)
             }
         }
     }

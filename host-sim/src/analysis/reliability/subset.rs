@@ -33,7 +33,7 @@
 use super::chains::{self, Grow, Population};
 use super::estimate::{Estimate, FailurePoint, Level, ModeResult};
 use super::lineage::{self, Trace};
-use super::mc::{check_rows, draw, system};
+use super::mc::{binomial_cov, check_rows, draw, system, wilson95};
 use super::text::quantity;
 use super::{Evaluate, Problem, ReliabilityError};
 use crate::report::progress::Progress;
@@ -167,10 +167,17 @@ fn finish(runs: Vec<ModeRun>, modes: &[super::criteria::Mode], n: usize) -> Esti
             l.cov = c;
         }
         shares.push(lineage::influence(&r.traces));
+        // A mode reached at the first level is a crude Monte-Carlo count.
+        let first_only = stop == Stop::Reached && levels.len() == 1;
+        let hits = (r.p * n as f64).round() as usize;
         results.push(ModeResult {
             mode: modes[mi],
             p: r.p,
-            cov: lineage::cov(&r.traces),
+            cov: if first_only {
+                binomial_cov(hits, n)
+            } else {
+                lineage::cov(&r.traces)
+            },
             converged: stop == Stop::Reached,
             stop: stop.name(),
             levels,
@@ -183,7 +190,17 @@ fn finish(runs: Vec<ModeRun>, modes: &[super::criteria::Mode], n: usize) -> Esti
         });
     }
     let sims = n + results.iter().map(|r| r.simulations).sum::<usize>();
-    combine(results, &shares, sims, failures, best)
+    let mut e = combine(results, &shares, sims, failures, best);
+    let reached = e.modes.iter().filter(|m| m.converged);
+    if e.p_fail > 0.0 && reached.map(|m| m.levels.len()).all(|l| l == 1) {
+        // Every mode reached at the first level: the estimate is the first
+        // level's crude Monte-Carlo count, with its binomial c.o.v. and
+        // Wilson's interval (which stay meaningful at p = 1).
+        let k = (e.p_fail * n as f64).round() as usize;
+        e.cov = binomial_cov(k, n);
+        e.ci95 = wilson95(k, n);
+    }
+    e
 }
 
 /// The system's estimate from its modes' (those reached): `P = Σ_m P_m
