@@ -190,6 +190,18 @@ fn the_mixed_wing_goes_through_every_command() {
         "{pawl}"
     );
     assert!(!pawl.to_lowercase().contains("plunger"), "{pawl}");
+    // Locked at the drop, before the switch's last closing (the latch
+    // instant, its switch chattering in the notch after the drop).
+    let number = |l: &str, after: &str| -> f64 {
+        l.split(after)
+            .nth(1)
+            .and_then(|r| r.split(' ').next())
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("no number after {after:?}: {l}"))
+    };
+    let locked = number(&pawl, "(locked from ");
+    let latched = number(&line("joint 2: latched at"), "latched at ");
+    assert!(locked <= latched, "{pawl}; latched at {latched}");
     let plunger = line("joint 5 ball plunger:");
     assert!(
         plunger.contains("ends held past its ball plunger's crest"),

@@ -261,8 +261,15 @@ fn latch_line(joint: usize, o: &LatchOutcome) -> String {
                 .pawl_broke_s
                 .map(|t| format!(" (it BROKE at {t:.6} s)"))
                 .unwrap_or_default();
+            // The latch instant above is the switch's last closing; a
+            // pawl locks its joint at the drop, which can be seconds
+            // before where the switch chatters in the notch.
+            let dropped = o
+                .pawl_dropped_s
+                .map(|t| format!(" (locked from {t:.6} s)"))
+                .unwrap_or_default();
             format!(
-                "joint {joint} pawl: {} impacts, dropped into its notch {} time(s), \
+                "joint {joint} pawl: {} impacts, dropped into its notch {} time(s){dropped}, \
                  switch closed {} times; {end}{broke}",
                 o.impacts, o.pawl_drops, o.switch_closings
             )

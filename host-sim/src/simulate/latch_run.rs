@@ -236,6 +236,9 @@ pub struct LatchOutcome {
     pub end: LatchEnd,
     /// Drops of a pawl into its notch (0 or 1; 0 for a ball plunger).
     pub pawl_drops: usize,
+    /// When its pawl dropped into the notch \[s\], `None` if it did not:
+    /// the joint is locked from then on, whatever its switch reads.
+    pub pawl_dropped_s: Option<f64>,
     /// When a pawl broke \[s\], `None` if it did not.
     pub pawl_broke_s: Option<f64>,
     /// The travel from the stop at the end \[deg\].
@@ -262,6 +265,9 @@ impl LatchRun {
         let pawl_broke_s = mine()
             .find(|e| e.kind == LatchEventKind::PawlBreak)
             .map(|e| e.t_s);
+        let pawl_dropped_s = mine()
+            .find(|e| e.kind == LatchEventKind::PawlDrop)
+            .map(|e| e.t_s);
         let segment = latch.plunger_segment(u);
         let end = match latch.pawl() {
             Some(_) => LatchEnd::Pawl(match pawl_broke_s {
@@ -283,6 +289,7 @@ impl LatchRun {
             switch_closings: count(LatchMark::Switch, true),
             end,
             pawl_drops,
+            pawl_dropped_s,
             pawl_broke_s,
             end_travel_deg: u.to_degrees(),
         })
