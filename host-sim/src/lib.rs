@@ -290,7 +290,7 @@ pub mod reliability {
     }
     /// The parameters varied.
     pub mod params {
-        pub use crate::analysis::reliability::params::{Dist, Fixed, Target, Vary};
+        pub use crate::analysis::reliability::params::{unique_labels, Dist, Fixed, Target, Vary};
     }
 }
 

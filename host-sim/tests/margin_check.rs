@@ -311,3 +311,71 @@ fn the_rig_causes_are_left_to_the_rig_and_out_of_flight() {
     assert_eq!(pcts(&ground), pcts(&base));
     assert_eq!(pcts(&flight), pcts(&base));
 }
+
+/// The row of factors a reviewer signs is the one used: NASA-STD-5017B's
+/// clause line names the `--data-source` row its factors come from;
+/// ECSS-E-ST-33-01C and AIAA S-114, with one row here, keep their factors
+/// and say that the source changed nothing; `--all-standards` shows each
+/// standard's own factors, so a `--factor` beside it is refused.
+#[test]
+fn the_clause_names_the_row_of_factors_used() {
+    let m = t01_mechanism();
+    let dir = tempfile::tempdir().unwrap();
+    let json_of = |standard: &str, source: &str| {
+        let out = dir.path().join(format!("{standard}-{source}.json"));
+        let run = deploywatch(&[
+            "margin",
+            "--mechanism",
+            s(&m),
+            "--friction",
+            "2.63,1.7,0.001",
+            "--standard",
+            standard,
+            "--data-source",
+            source,
+            "--json",
+            s(&out),
+        ]);
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let doc: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        (doc, String::from_utf8_lossy(&run.stderr).into_owned())
+    };
+    let (nasa, said) = json_of("nasa-std-5017", "test");
+    let reference = nasa["standard_reference"].as_str().unwrap();
+    assert!(
+        reference.contains("row: development, qualification"),
+        "{reference}"
+    );
+    assert_eq!(nasa["factors"]["friction"], json!(2.5));
+    assert!(!said.contains("one row of factors"), "{said}");
+    for standard in ["ecss-e-st-33-01c", "aiaa-s-114"] {
+        let (analysis, _) = json_of(standard, "analysis");
+        for source in ["test", "acceptance-extremes"] {
+            let (doc, said) = json_of(standard, source);
+            assert_eq!(doc["factors"], analysis["factors"], "{standard} {source}");
+            assert_eq!(doc["joints"], analysis["joints"], "{standard} {source}");
+            assert!(
+                said.contains(&format!(
+                    "--data-source {source}: {standard} has one row of factors"
+                )) && said.contains("--factor KIND=VALUE"),
+                "{standard} {source}: {said}"
+            );
+        }
+    }
+    fails(
+        &deploywatch(&[
+            "margin",
+            "--mechanism",
+            s(&m),
+            "--all-standards",
+            "--factor",
+            "friction=2",
+        ]),
+        2,
+        &["--all-standards", "--factor"],
+    );
+}

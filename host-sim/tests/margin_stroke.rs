@@ -278,3 +278,49 @@ fn plot_writes_the_margin_along_the_stroke() {
     let run = deploywatch(&["margin", "--mechanism", s(&file), "--plot", s(&missing)]);
     fails(&run, 2, &["--plot", "does not exist"]);
 }
+
+/// A joint's `spring_tolerance_pct` in the mechanism file lowers its
+/// minimum driving spring as `--spring-tolerance` of the same figure does
+/// (a margin from the nominal spring would overstate it by the whole
+/// band); of the two, the larger holds, joint by joint, and the JSON says
+/// which each joint took.
+#[test]
+fn a_spring_tolerance_declared_in_the_file_lowers_the_driving_spring() {
+    let file = data().join("mechanisms/seed001_T01.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let mut doc = toml(&file);
+    doc["joint"][0]["spring_tolerance_pct"] = toml_edit::value(5.0);
+    let declared = dir.path().join("declared.toml");
+    std::fs::write(&declared, doc.to_string()).unwrap();
+    let std = [
+        "--friction",
+        "2.63,1.7,0.001",
+        "--standard",
+        "nasa-std-5017",
+    ];
+    let nominal = margin_json(&file, &std);
+    let from_file = margin_json(&declared, &std);
+    let flag = |pct: &'static str| [&std[..], &["--spring-tolerance", pct]].concat();
+    let by_flag = margin_json(&file, &flag("5"));
+    let pct = |m: &Value, j: usize, key: &str| m["joints"][j][key].as_f64().unwrap();
+    for key in ["torque_margin_pct", "energy_margin_pct"] {
+        assert_eq!(pct(&from_file, 0, key), pct(&by_flag, 0, key), "{key}");
+        assert!(pct(&from_file, 0, key) < pct(&nominal, 0, key), "{key}");
+        assert_eq!(
+            pct(&from_file, 1, key),
+            pct(&nominal, 1, key),
+            "{key}: joint 2 declares none"
+        );
+    }
+    assert_eq!(pct(&from_file, 0, "spring_tolerance_pct"), 5.0);
+    assert_eq!(pct(&from_file, 1, "spring_tolerance_pct"), 0.0);
+    // A smaller figure for every joint keeps joint 1's 5 % and gives the
+    // others 2 %.
+    let both = margin_json(&declared, &flag("2"));
+    assert_eq!(pct(&both, 0, "spring_tolerance_pct"), 5.0);
+    assert_eq!(pct(&both, 1, "spring_tolerance_pct"), 2.0);
+    assert_eq!(
+        pct(&both, 0, "torque_margin_pct"),
+        pct(&by_flag, 0, "torque_margin_pct")
+    );
+}

@@ -420,6 +420,21 @@ fn a_latch_beyond_the_stroke_is_refused() {
         );
         assert!(!csv.exists(), "nothing written");
     }
+    // The stroke typed in radians leaves no room for the latch either: the
+    // refusal says what the number reads as, as the ideal latch's warning
+    // does.
+    let bad = text.replacen("stowed_deg = -90.0", "stowed_deg = -1.5708", 1);
+    assert_ne!(bad, text, "the bundled wing stows joint 1 at -90 deg");
+    let (out, csv) = simulate(dir.path(), &bad, &["-q"]);
+    refused(
+        &out,
+        &[
+            "joint[1].latch",
+            "-1.5708 deg is π/2 in radians",
+            "expected degrees (-90.0)",
+        ],
+    );
+    assert!(!csv.exists(), "nothing written");
 }
 
 #[test]
@@ -557,4 +572,89 @@ fn runs_of_wings_of_different_joint_counts_in_one_campaign_are_said() {
     ] {
         assert!(err.contains(said), "{said:?} not in:\n{err}");
     }
+}
+
+/// A hinge that runs with less friction than its mechanism file gives
+/// (wing4_ideal's joint 1: 0.5 N·m measured, 0.8 drawn): `identify` adds
+/// its EFT to the file's friction, at least 0, so the table says what the
+/// EFTs are added to, and the joint fixed at 0 is warned of with the way
+/// to its whole EFT.
+#[test]
+fn less_friction_than_the_file_gives_is_said() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let drawn = std::fs::read_to_string(data().join("mechanisms/wing4_ideal.toml")).unwrap();
+    let built = drawn.replacen("coulomb_nm = 0.8", "coulomb_nm = 0.5", 1);
+    assert_ne!(built, drawn);
+    let (out, run) = simulate(dir.path(), &built, &["-q", "--seed", "3"]);
+    succeeded(&out);
+    let mech = write(dir.path(), "drawn.toml", &drawn);
+    let out = deploywatch(&["identify", "--mechanism", s(&mech), s(&run), "-q"]);
+    succeeded(&out);
+    let said = String::from_utf8_lossy(&out.stdout);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        said.contains("added to the mechanism's own Coulomb friction (joint 1 0.8 N·m"),
+        "{said}"
+    );
+    assert!(
+        err.contains("fixed at 0 on top of the mechanism's own friction: joint 1 (0.8 N·m")
+            && err.contains("its `coulomb_nm` at 0"),
+        "{err}"
+    );
+    // The same run against the mechanism as built raises neither.
+    let as_built = write(dir.path(), "built.toml", &built);
+    let out = deploywatch(&["identify", "--mechanism", s(&as_built), s(&run), "-q"]);
+    succeeded(&out);
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("fixed at 0 on top"));
+}
+
+/// A hinge that never moves (seized at its stowed angle: T01 simulated
+/// with 50 N·m at joint 3, its readings then held at -180 deg against the
+/// swing of the others) fits any friction that holds it: `identify` says
+/// its EFT is no measurement.
+#[test]
+fn a_joint_that_never_moves_has_no_measured_friction() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let run = dir.path().join("seized.csv");
+    let out = deploywatch(&[
+        "simulate",
+        s(&t01_mechanism()),
+        "--out",
+        s(&run),
+        "-q",
+        "--effect",
+        "coulomb_friction:joint=3:value=50",
+    ]);
+    succeeded(&out);
+    let text = std::fs::read_to_string(&run).unwrap();
+    let mut column = None;
+    let held: Vec<String> = text
+        .lines()
+        .enumerate()
+        .map(|(i, line)| {
+            let mut f: Vec<String> = line.split(',').map(String::from).collect();
+            match column {
+                _ if line.starts_with('#') => return line.to_string(),
+                None => column = f.iter().position(|c| c == "phi3_deg"),
+                Some(c) => f[c] = format!("{:.3}", -180.0 + 0.02 * (i % 3) as f64),
+            }
+            f.join(",")
+        })
+        .collect();
+    std::fs::write(&run, held.join("\n") + "\n").unwrap();
+    let out = deploywatch(&[
+        "identify",
+        "--mechanism",
+        s(&t01_mechanism()),
+        s(&run),
+        "-q",
+    ]);
+    succeeded(&out);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("never moves by 1 deg in these runs: joint 3 (")
+            && err.contains("not a measurement")
+            && !err.contains("joint 1 ("),
+        "{err}"
+    );
 }

@@ -95,6 +95,26 @@ fn bad_input_exits_2_and_says_what_is_wrong() {
         &["subset: 10 samples per level"],
     );
     assert!(!err.contains("is:") && !err.contains("form:"), "{err}");
+    // What a valid count would be, in the units of `--samples`.
+    fails(
+        &run(&["--vary", v, "--fail", "not_latched", "--samples", "15"]),
+        2,
+        &["N·p0 = 1.5", "a multiple of 10 and at least 20"],
+    );
+    // A law's number out of range is named, with the value given.
+    for (law, said) in [
+        ("normal(1,-1)", "sd > 0 and finite, not -1"),
+        ("lognormal(0,0.1)", "median > 0 and finite, not 0"),
+        ("uniform(2,1)", "lo < hi, not lo = 2 and hi = 1"),
+        ("truncnormal(1,0.1,nan,2)", "lo a number, not NaN"),
+    ] {
+        let vary = format!("coulomb_friction:joint=1:{law}");
+        fails(
+            &run(&["--vary", &vary, "--fail", "not_latched"]),
+            2,
+            &[&format!("`{law}`: expected {said}")],
+        );
+    }
     let dir = tempfile::tempdir().unwrap();
     let not_findings = write(dir.path(), "x.json", "{\"rms\": 1}");
     fails(

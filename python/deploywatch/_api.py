@@ -13,7 +13,7 @@ import numpy as _np
 import numpy.typing as _npt
 
 from . import _native
-from ._checks import _file_name
+from ._checks import _bool, _read_text
 from ._errors import InputError
 from ._model import CriterionLike, EffectLike, Mechanism, PathLike, VaryLike, strings
 from ._results import Batch, FloatArray, Reliability, Trajectory
@@ -43,9 +43,7 @@ def _text(name: str, path: Any) -> "tuple[str, str]":
     :class:`Mechanism`)."""
     if isinstance(path, Mechanism):
         return path.toml, path.source
-    p = _file_name(name, path)
-    with open(p, encoding="utf-8") as f:
-        return f.read(), p
+    return _read_text(name, path)
 
 
 def _from_text(from_: Optional[PathLike]) -> Optional[str]:
@@ -77,13 +75,6 @@ def _int(name: str, value: Any, low: int, high: Optional[int] = None) -> int:
     return v
 
 
-def _bool(name: str, value: Any) -> bool:
-    """``True`` or ``False`` (numpy's too), never a number or text read as one."""
-    if not isinstance(value, (bool, _np.bool_)):
-        raise InputError(f"{name}: expected True or False, got {type(value).__name__} {value!r}")
-    return bool(value)
-
-
 def _positive(name: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float, _np.integer, _np.floating)):
         raise InputError(f"{name}: expected a positive number, got {type(value).__name__} {value!r}")
@@ -98,6 +89,10 @@ def _matrix(name: str, value: Any, labels: Sequence[str]) -> FloatArray:
     parameter, or an InputError that says which shape and dtype it wanted."""
     d = len(labels)
     want = f"a 2-D array of real numbers of shape (n, {d}), one column per parameter ({', '.join(labels)})"
+    value = _by_label(name, value, labels)
+    if isinstance(value, _np.ma.MaskedArray) and _np.ma.is_masked(value):
+        i = tuple(int(k) for k in _np.argwhere(_np.ma.getmaskarray(value))[0])
+        raise InputError(f"{name}{list(i)}: masked; expected every entry given (a masked array's mask would be dropped)")
     try:
         a = _np.asarray(value)
     except (ValueError, TypeError) as e:
@@ -115,6 +110,30 @@ def _matrix(name: str, value: Any, labels: Sequence[str]) -> FloatArray:
         i, j = (int(k) for k in bad[0])
         raise InputError(f"{name}[{i}, {j}] ({labels[j]}): expected a finite number, got {out[i, j]}")
     return out
+
+
+def _by_label(name: str, value: Any, labels: Sequence[str]) -> Any:
+    """A table with named columns (a ``pandas.DataFrame``) in the order of
+    ``labels``, taken by name: columns named otherwise are refused, naming
+    them, rather than read in the order they stand. Columns numbered 0, 1,
+    ... (a frame made from an array) and anything else are taken as given,
+    by position."""
+    columns = getattr(value, "columns", None)
+    if columns is None or not hasattr(value, "loc"):
+        return value
+    names = list(columns)
+    if all(isinstance(c, (int, _np.integer)) and not isinstance(c, bool) for c in names):
+        return value
+    unknown = [c for c in names if c not in labels]
+    missing = [c for c in labels if c not in names]
+    if unknown or missing or len(set(names)) != len(names):
+        raise InputError(
+            f"{name}: a table's columns are taken by name, expected the parameters "
+            f"({', '.join(labels)}); unknown: {', '.join(map(str, unknown)) or 'none'}, "
+            f"missing: {', '.join(missing) or 'none'}"
+            + ("; a column given twice" if len(set(names)) != len(names) else "")
+        )
+    return value[list(labels)]
 
 
 def simulate(
@@ -175,7 +194,9 @@ def simulate_batch(
 ) -> Batch:
     """One deployment per row of ``params`` (numbers, shape (n, parameters):
     one column per ``vary`` parameter, then those of ``from_``, in the order
-    of :func:`parameters`; a 1-D array when there is one parameter). The
+    of :func:`parameters`; a 1-D array when there is one parameter; a
+    ``pandas.DataFrame`` whose columns are named by :func:`parameters`'s
+    labels is taken by name, in any order). The
     loop runs in Rust on every core with the GIL released; Ctrl-C stops it.
 
     Returns a :class:`Batch`: ``g`` (n,) (failure iff ``g <= 0``),

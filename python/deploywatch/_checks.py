@@ -49,6 +49,13 @@ def _string(name: str, value: Any) -> str:
     return value
 
 
+def _bool(name: str, value: Any) -> bool:
+    """``True`` or ``False`` (numpy's too), never a number or text read as one."""
+    if not isinstance(value, (bool, _np.bool_)):
+        raise InputError(f"{name}: expected True or False, got {type(value).__name__} {value!r}")
+    return bool(value)
+
+
 def _whole(name: str, value: Any) -> int:
     """A whole number (not a bool, not text, not a float)."""
     if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
@@ -83,6 +90,30 @@ def _file_name(name: str, value: Any) -> str:
             "give its name, or parse a mechanism's text with Mechanism.from_str(text)"
         )
     raise MissingFileError(f"{name}: {p}: no such file", filename=p)
+
+
+def _read_text(name: str, value: Any) -> "tuple[str, str]":
+    """The text and the name of a file (``_file_name``), refused with an
+    ``InputError`` naming the argument, the file and the first byte that is
+    not UTF-8 when it is not text (a binary or a file saved in another
+    encoding), as the CLI refuses it."""
+    p = _file_name(name, value)
+    try:
+        with open(p, encoding="utf-8") as f:
+            return f.read(), p
+    except UnicodeDecodeError as e:
+        raise InputError(
+            f"{name}: {p}: byte {e.start} (0x{e.object[e.start]:02x}) is not UTF-8: "
+            "expected a text file saved as UTF-8"
+        ) from None
+    except OSError as e:
+        raise InputError(f"{name}: {p}: cannot be read: {e.strerror}") from None
+
+
+def _argument_path(p: str) -> str:
+    """A relative file name that starts with ``-`` as ``./-name``: the
+    command line would take it for a flag."""
+    return _os.path.join(".", p) if p.startswith("-") else p
 
 
 #: The check of each annotation a typed argument's field may carry.

@@ -24,7 +24,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, TypeGuar
 import numpy as _np
 
 from . import _native
-from ._checks import _file_name, _real, _whole
+from ._checks import _argument_path, _bool, _file_name, _real, _whole
 from ._errors import InputError
 from ._model import Mechanism, PathLike
 from ._results import FloatArray, _pandas
@@ -33,17 +33,19 @@ MechanismLike = Union[PathLike, Mechanism]
 
 
 def _path(name: str, value: Any) -> str:
+    """A file to write, as the command line takes it (``_argument_path``)."""
     if not isinstance(value, (str, _os.PathLike)):
         raise InputError(f"{name}: expected a file name (str or pathlib.Path), got {type(value).__name__}")
     p = _os.fspath(value)
     if not isinstance(p, str):
         raise InputError(f"{name}: expected a file name as text, got {type(p).__name__}")
-    return p
+    return _argument_path(p)
 
 
 def _existing(name: str, value: Any) -> str:
-    """A file to read (``_checks._file_name``)."""
-    return _file_name(name, value)
+    """A file to read (``_checks._file_name``), as the command line takes
+    it (``_argument_path``)."""
+    return _argument_path(_file_name(name, value))
 
 
 def _reals(name: str, value: Any) -> List[float]:
@@ -76,7 +78,7 @@ def _mechanism_file(name: str, value: Any, where: str, names: Dict[str, str]) ->
         if _os.path.isfile(src):
             with open(src, encoding="utf-8") as f:
                 if f.read() == value.toml:
-                    return src
+                    return _argument_path(src)
             changed = True
         try:
             with open(where, "w", encoding="utf-8") as f:
@@ -239,26 +241,57 @@ def _negative(text: str) -> bool:
     return True
 
 
+#: The silenced stdout of the commands running now: how many, and the
+#: descriptor of the stdout they silenced. The first to start points fd 1
+#: at /dev/null and the last to end puts it back, so that commands run
+#: from several threads at once (each releases the GIL) leave stdout as
+#: they found it.
+_silence_lock = _threading.Lock()
+_silence: Dict[str, int] = {"count": 0, "saved": -1}
+
+
+def _silence_stdout() -> None:
+    with _silence_lock:
+        if _silence["count"] == 0:
+            _sys.stdout.flush()
+            saved = _os.dup(1)
+            null = _os.open(_os.devnull, _os.O_WRONLY)
+            try:
+                _os.dup2(null, 1)
+            finally:
+                _os.close(null)
+            _silence["saved"] = saved
+        _silence["count"] += 1
+
+
+def _restore_stdout() -> None:
+    with _silence_lock:
+        _silence["count"] -= 1
+        if _silence["count"] == 0:
+            saved = _silence["saved"]
+            _os.dup2(saved, 1)
+            _os.close(saved)
+            _silence["saved"] = -1
+
+
 def _run(args: List[str], echo: bool, names: Mapping[str, str] = {}) -> None:
     """Runs the command; what it prints on stdout (its table, which the
     result holds too) is dropped unless ``echo``. The process's stdout is
-    redirected for the call: not for concurrent threads that print. Its
-    errors and warnings call each temporary file of ``names`` by the name
-    the user knows it by (``_mechanism_file``)."""
+    silenced while any such command runs (``_silence_stdout``): what other
+    threads print then is lost, and so is the table of an ``echo=True``
+    command that overlaps one. Its errors and warnings call each temporary
+    file of ``names`` by the name the user knows it by
+    (``_mechanism_file``)."""
     args = _joined(args)
     named = list(names.items())
-    if echo:
+    if _bool("echo", echo):
         _native.run_command(args, named)
         return
-    _sys.stdout.flush()
-    saved = _os.dup(1)
+    _silence_stdout()
     try:
-        with open(_os.devnull, "wb") as null:
-            _os.dup2(null.fileno(), 1)
-            _native.run_command(args, named)
+        _native.run_command(args, named)
     finally:
-        _os.dup2(saved, 1)
-        _os.close(saved)
+        _restore_stdout()
 
 
 def _read_json(path: str) -> Dict[str, Any]:
@@ -307,19 +340,20 @@ def margin(
             args += ["--friction", ",".join(repr(x) for x in _reals("friction", friction))]
         if from_ is not None:
             args += ["--from", _existing("from_", from_)]
-        args += ["--standard", str(standard)]
+        # `--flag=value`: a value starting with `-` is the value, not a flag.
+        args.append(f"--standard={standard}")
         if not isinstance(factors, Mapping):
             raise InputError(f"factors: expected a mapping {{kind: value}}, got {type(factors).__name__} {factors!r}")
         for k, v in factors.items():
-            args += ["--factor", f"{k}={_real(f'factors[{k!r}]', v)!r}"]
-        args += ["--data-source", str(data_source)]
+            args.append(f"--factor={k}={_real(f'factors[{k!r}]', v)!r}")
+        args.append(f"--data-source={data_source}")
         args += ["--spring-tolerance", repr(_real("spring_tolerance_pct", spring_tolerance_pct))]
         args += ["--end-of-life", repr(_real("end_of_life_pct", end_of_life_pct))]
         if deploy_time_s is not None:
             args += ["--deploy-time", repr(_real("deploy_time_s", deploy_time_s))]
         if plot is not None:
             args += ["--plot", _path("plot", plot)]
-        if flight:
+        if _bool("flight", flight):
             args.append("--flight")
         _run(args, echo, names)
         doc = _read_json(out)
@@ -343,7 +377,7 @@ def identify(
     mechanism given in memory beside it as ``<stem>.mechanism<i>.toml``)."""
     with _tempfile.TemporaryDirectory() as tmp:
         out = _path("json", json) if json is not None else _os.path.join(tmp, "identify.json")
-        args = ["identify", "--method", str(method), "--quiet", "--json", out, "--plot", _os.path.join(tmp, "i.png")]
+        args = ["identify", f"--method={method}", "--quiet", "--json", out, "--plot", _os.path.join(tmp, "i.png")]
         names: Dict[str, str] = {}
         for i, m in enumerate(_mechanism_list(mechanisms)):
             if json is not None:
@@ -388,7 +422,7 @@ def diagnose(
     later calls Ctrl-C is seen when the call returns: use
     ``max_seconds``)."""
     out = _path("json", json)
-    args = ["diagnose", "--json", out, "--quiet", "--max-effects", str(_whole("max_effects", max_effects))]
+    args = ["diagnose", "--json", out, "--quiet", f"--max-effects={_whole('max_effects', max_effects)}"]
     if max_seconds is not None:
         args += ["--max-seconds", repr(_real("max_seconds", max_seconds))]
     run_files = _paths("runs", runs)
@@ -494,7 +528,7 @@ def hil(
         args += ["--every", str(_whole("every", every)), "--drop", repr(_real("drop", drop)), "--corrupt", repr(_real("corrupt", corrupt))]
         args += ["--seed", str(_whole("seed", seed))]
         if port is not None:
-            args += ["--target", "serial", "--port", str(port)]
+            args += ["--target", "serial", f"--port={port}"]
         else:
             args += ["--target", "qemu"]
         if elf is not None:
@@ -502,10 +536,10 @@ def hil(
         if duration is not None:
             args += ["--duration", repr(_real("duration", duration))]
         if delay is not None:
-            args += ["--delay", str(delay)]
+            args.append(f"--delay={delay}")
         if icount is not None:
             args += ["--icount", str(_whole("icount", icount))]
-        if require_deadlines:
+        if _bool("require_deadlines", require_deadlines):
             args.append("--require-deadlines")
         _run(args, echo, names)
         return Hil(statuses=_read_columns(status), latency=_read_columns(lat))

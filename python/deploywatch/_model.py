@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 from . import _native
-from ._checks import _file_name, _finite, _positive, _real, checked
+from ._checks import _finite, _positive, _read_text, _real, checked
 from ._errors import InputError
 from ._results import Trajectory
 
@@ -574,9 +574,8 @@ class Mechanism:
     def from_toml(cls, path: PathLike) -> "Mechanism":
         """The mechanism of a TOML file (``MechanismError`` naming the file,
         line and key)."""
-        p = _file_name("path", path)
-        with open(p, encoding="utf-8") as f:
-            return cls._warned(_native.Model(f.read(), p))
+        text, p = _read_text("path", path)
+        return cls._warned(_native.Model(text, p))
 
     @classmethod
     def from_str(cls, text: str, source: str = "<string>") -> "Mechanism":

@@ -144,7 +144,14 @@ fn parameters(
     flight: bool,
 ) -> PyResult<Vec<String>> {
     let (p, _) = problem(mechanism_toml, source, &vary, &fail, from_json, &[], flight)?;
-    Ok(p.vary.iter().map(|v| v.to_string()).collect())
+    // One name per column: a law given twice is numbered (`#2`) after its
+    // label, as the JSON's parameters are.
+    let labels = deploywatch_sim::reliability::params::unique_labels(&p.vary);
+    Ok(labels
+        .iter()
+        .zip(&p.vary)
+        .map(|(label, v)| format!("{label}:{}", v.dist))
+        .collect())
 }
 
 /// An (n, j) matrix of `f(i, k)` as a numpy array.

@@ -177,6 +177,18 @@ def test_command_errors_name_the_python_arguments(root, monkeypatch):
     with pytest.raises(InputError) as e:
         dw.diagnose(EFT[0], T01, json="/tmp/never.json", max_seconds=-1)
     assert str(e.value).startswith("max_seconds: expected a positive number"), str(e.value)
+    # A value that starts with `-` is a value of its argument, never a flag
+    # of the command.
+    for call, name in [
+        (lambda: dw.margin(T02, data_source="--version"), "data_source"),
+        (lambda: dw.margin(T02, standard="-h"), "standard"),
+        (lambda: dw.margin(T02, factors={"--help": 1.0}), "factors"),
+        (lambda: dw.diagnose(EFT[0], T01, json="/tmp/never.json", max_effects=-1), "max_effects"),
+    ]:
+        with pytest.raises(InputError) as e:
+            call()
+        said = str(e.value)
+        assert name in said and "unexpected argument" not in said, said
 
 
 @pytest.mark.parametrize(
@@ -365,3 +377,44 @@ def test_a_mechanism_in_memory_is_named_as_the_user_knows_it(root, tmp_path, mon
     assert str(tmp_path / "d.mechanism1.toml") in report
     assert (tmp_path / "d.mechanism1.toml").read_text() == text
     assert not (tmp_path / "d.mechanism0.toml").exists(), "T01 is read from its unchanged file"
+
+
+def test_commands_in_threads_leave_stdout_as_they_found_it(root, monkeypatch):
+    """Silent commands (``echo=False``) run from several threads at once,
+    each releasing the GIL: fd 1 points where it did before, once they
+    are done."""
+    import concurrent.futures as cf
+    import os
+
+    monkeypatch.chdir(root)
+    before = os.readlink("/proc/self/fd/1")
+
+    def job(i):
+        return dw.replay(EFT[0], T01) if i % 2 else dw.margin(T01, friction=[0.5, 0.2, 0.1])
+
+    for _ in range(10):
+        with cf.ThreadPoolExecutor(4) as ex:
+            list(ex.map(job, range(8)))
+        assert os.readlink("/proc/self/fd/1") == before
+
+
+def test_switches_are_booleans_and_odd_file_names_reach_the_command(root, tmp_path, monkeypatch):
+    """``flight="False"`` is refused, not run as True; a file whose name
+    starts with ``-`` is read as a file, not as a flag; a mechanism that is
+    not UTF-8 text is refused naming the argument and the file."""
+    import shutil
+
+    monkeypatch.chdir(root)
+    rig = "data/mechanisms/seed001_T01_rig.toml"
+    for call in (lambda: dw.margin(rig, flight="False"), lambda: dw.margin(rig, echo=1)):
+        with pytest.raises(InputError, match=r"^(flight|echo): expected True or False"):
+            call()
+    shutil.copy(T01, tmp_path / "-T01.toml")
+    shutil.copy(EFT[0], tmp_path / "-run.csv")
+    monkeypatch.chdir(tmp_path)
+    assert dw.margin("-T01.toml").json["joints"] == dw.margin(root / T01).json["joints"]
+    assert dw.replay("-run.csv", "-T01.toml").columns.keys() == dw.replay(root / EFT[0], root / T01).columns.keys()
+    (tmp_path / "latin1.toml").write_bytes((root / T01).read_bytes().replace(b"seed", "s\xe9ed".encode("latin-1"), 1))
+    for call in (lambda: dw.Mechanism.from_toml("latin1.toml"), lambda: dw.simulate("latin1.toml")):
+        with pytest.raises(InputError, match=r"latin1\.toml: byte \d+ \(0xe9\) is not UTF-8"):
+            call()

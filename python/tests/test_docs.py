@@ -1,5 +1,7 @@
-"""The Python example of docs/reliability.md section 3 runs as shown (the
-block after the comment that names this file), from the repository root.
+"""The Python examples of docs/reliability.md run as shown: section 3's
+(the block after the comment that names this file), from the repository
+root, and section 4's command and its Dask call, which give the same
+result; docs/python.md's first two blocks.
 
     bash scripts/python-env.sh && .venv/bin/pytest python/tests/test_docs.py -q
 """
@@ -25,6 +27,31 @@ def test_the_docs_python_example_runs(root):
     # The block's comment shows the start of what it prints.
     shown = re.search(r"print\(e\)\s+# (.*?)\.\.\.", m.group(1)).group(1)
     assert out.getvalue().startswith(shown), out.getvalue()
+
+
+def test_the_docs_dask_example_gives_the_cli_s_bits(root, cli, tmp_path):
+    """docs/reliability.md section 4: the command of its first block, then
+    its Dask block (which asserts equality with the command's JSON), in a
+    folder where `data/` is the repository's."""
+    import shlex
+    import subprocess
+
+    text = (root / "docs/reliability.md").read_text()
+    section = text[text.index("## 4. "):text.index("## 5. ")]
+    sh = re.search(r"```sh\n(.*?)\n```", section, re.S).group(1)
+    command = " ".join(line for line in sh.replace("\\\n", " ").splitlines() if not line.startswith("#"))
+    args = shlex.split(command)
+    assert args[0] == "deploywatch", args
+    (tmp_path / "data").symlink_to(root / "data")
+    out = subprocess.run([cli, *args[1:]], cwd=tmp_path, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    block = python_blocks(section)[0]
+    here = os.getcwd()
+    try:
+        os.chdir(tmp_path)
+        exec(compile(block, "docs/reliability.md", "exec"), {})
+    finally:
+        os.chdir(here)
 
 
 def python_blocks(text):

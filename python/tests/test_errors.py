@@ -430,7 +430,7 @@ def test_params_of_one_column_as_a_vector(mech):
         ({"target_cov": 0}, r"^target_cov: expected a positive finite number, got 0\.0$"),
         ({"target_cov": "0.1"}, r"^target_cov: expected a positive number, got str '0\.1'$"),
         ({"executor": object()}, r"^executor: expected a concurrent\.futures\.Executor or a dask\.distributed\.Client"),
-        ({"executor": None, "method": "subset", "samples": 1001}, r"^subset: 1001 samples per level and p0 = 0\.1"),
+        ({"executor": None, "method": "subset", "samples": 1001}, r"^subset: 1001 samples per level keep N·p0 = 100\.1 of each level \(p0 = 0\.1\)"),
     ],
 )
 def test_bad_settings(mech, kwargs, pattern):

@@ -38,3 +38,43 @@ def test_a_replay_and_the_margins_as_dataframes(root, monkeypatch):
     assert len(mf) == 3
     for name, col in m.joints.items():
         np.testing.assert_array_equal(mf[name].to_numpy(), col)
+
+
+def test_a_dataframe_of_parameters_is_taken_by_its_column_names(root, monkeypatch):
+    """A frame whose columns are the parameters' labels runs the same
+    deployments in any column order; columns named otherwise are refused,
+    named; columns numbered 0, 1, ... are taken by position."""
+    import pandas as pd
+    import pytest
+
+    monkeypatch.chdir(root)
+    vary = ["coulomb_friction:joint=1:lognormal(2.63,0.05)", "coulomb_friction:joint=2:lognormal(1.7,0.05)"]
+    labels = dw.parameters(T01, vary)
+    rows = np.array([[2.63, 1.70], [2.63, 1.90], [2.40, 1.80]])
+    want = dw.simulate_batch(T01, vary, rows)
+    df = pd.DataFrame(rows, columns=labels)
+    for frame in (df, df[[labels[1], labels[0]]], pd.DataFrame(rows)):
+        got = dw.simulate_batch(T01, vary, frame)
+        np.testing.assert_array_equal(got.g, want.g)
+    assert not np.array_equal(dw.simulate_batch(T01, vary, rows[:, ::-1]).g, want.g), "the columns matter"
+    import re
+
+    with pytest.raises(dw.InputError, match=r"unknown: friction1, missing: " + re.escape(labels[0])):
+        dw.simulate_batch(T01, vary, df.rename(columns={labels[0]: "friction1"}))
+    masked = np.ma.masked_array(rows, mask=[[False, False], [False, True], [False, False]])
+    with pytest.raises(dw.InputError, match=r"params\[1, 1\]: masked"):
+        dw.simulate_batch(T01, vary, masked)
+
+
+def test_an_effect_given_two_laws_is_two_named_columns(root, monkeypatch):
+    """Two sources of one joint's friction: two parameters whose draws add,
+    each with its own name (the second `#2`), in `parameters()` and in the
+    most likely failure's parameters (none lost to a key given twice)."""
+    monkeypatch.chdir(root)
+    law = "coulomb_friction:joint=1:normal(0.98,0.1)"
+    mech = "data/mechanisms/reliability_two_modes.toml"
+    labels = dw.parameters(mech, [law, law])
+    assert labels == [law, "coulomb_friction:joint=1#2:normal(0.98,0.1)"], labels
+    r = dw.reliability(mech, vary=[law, law], method="mc", samples=200, seed=1)
+    point = r.most_likely_failure
+    assert point is not None and len(point.parameters) == len(point.u) == 2, point

@@ -68,7 +68,7 @@ pub const NODES: usize = 6;
 pub const MARGIN_CAP_PCT: f32 = 10_000.0;
 
 /// Uncertainty factors applied to each energy before the margin ratio
-/// (NASA-STD-5017 §4.2.2 / ECSS-E-ST-33-01C §4.7.4.3 style).
+/// (NASA-STD-5017B Eq. 4-1 / ECSS-E-ST-33-01C clause 4.7.5 style).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct UncertaintyFactors {
@@ -96,11 +96,13 @@ impl UncertaintyFactors {
         latch: 1.0,
     };
 
-    /// ECSS-E-ST-33-01C ([`crate::monitor::standards`]): the spring factor divides
-    /// the driving spring, inertia the kinetic energy, friction multiplies
+    /// ECSS-E-ST-33-01C ([`crate::monitor::standards`]): the driving spring
+    /// unfactored, as `deploywatch margin` takes it (the table's spring
+    /// factor is a resisting spring's; the driving one enters at its
+    /// minimum), inertia divides the kinetic energy, friction multiplies
     /// both friction energies.
     pub const ECSS_E_ST_33_01C: Self = UncertaintyFactors {
-        spring: standards::ECSS_E_ST_33_01C_SPRING as f32,
+        spring: 1.0,
         kinetic: standards::ECSS_E_ST_33_01C_INERTIA as f32,
         coulomb: standards::ECSS_E_ST_33_01C_FRICTION as f32,
         viscous: standards::ECSS_E_ST_33_01C_FRICTION as f32,

@@ -37,6 +37,9 @@ use deploywatch_core::{Branch, Spring};
 use std::fmt;
 use std::str::FromStr;
 
+mod data_source;
+pub use data_source::DataSource;
+
 /// A kind of resistance, each with its own uncertainty factor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Resistance {
@@ -196,38 +199,6 @@ pub enum Standard {
     AiaaS114,
 }
 
-/// Where a resistance's value comes from: the standards' factors fall as
-/// the knowledge grows (NASA-STD-5017B Table 1 rows).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum DataSource {
-    /// Theory or analysis (initial sizing).
-    #[default]
-    Analysis,
-    /// Development, qualification or lot-acceptance test, or acceptance
-    /// test at ambient.
-    Test,
-    /// Acceptance test of the flight hardware at environmental extremes.
-    AcceptanceExtremes,
-}
-
-impl DataSource {
-    /// Every data source.
-    pub const ALL: [DataSource; 3] = [
-        DataSource::Analysis,
-        DataSource::Test,
-        DataSource::AcceptanceExtremes,
-    ];
-
-    /// The name on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            DataSource::Analysis => "analysis",
-            DataSource::Test => "test",
-            DataSource::AcceptanceExtremes => "acceptance-extremes",
-        }
-    }
-}
-
 impl Standard {
     /// Every standard.
     pub const ALL: [Standard; 4] = [
@@ -257,7 +228,7 @@ impl Standard {
                 "Eq. 4-1 and the Table 1 factors from a secondary source (a transcription): not confirmed from the text of NASA-STD-5017B"
             }
             Standard::EcssEST3301C => {
-                "the ratio of clause 4.7.5 from a secondary source; the factor values as commonly quoted, from memory: not confirmed from the text of ECSS-E-ST-33-01C (Rev. 2); the test rows are NASA-STD-5017B's"
+                "the ratio of clause 4.7.5 from a secondary source; the factor values as commonly quoted, from memory: not confirmed from the text of ECSS-E-ST-33-01C (Rev. 2)"
             }
             Standard::AiaaS114 => {
                 "checked in the Aerospace Corporation's Mission Assurance Baseline item 4.4.4.5-6 citing AIAA S-114-2005; not confirmed from the text of AIAA S-114 itself"
@@ -265,7 +236,26 @@ impl Standard {
         }
     }
 
-    /// The document and clause the factors come from.
+    /// [`Standard::reference`] with the row of factors `source` selects
+    /// where the standard has rows (NASA-STD-5017B's Table 1).
+    pub fn reference_for(self, source: DataSource) -> String {
+        match self {
+            Standard::NasaStd5017 => format!(
+                "NASA-STD-5017B, torque/force margin Eq. 4-1, Table 1 (row: {})",
+                source.row()
+            ),
+            _ => self.reference().to_string(),
+        }
+    }
+
+    /// Whether the factors depend on the data source (only
+    /// NASA-STD-5017B's have rows here).
+    pub fn has_rows(self) -> bool {
+        self == Standard::NasaStd5017
+    }
+
+    /// The document and clause the factors come from (the analysis row
+    /// of NASA-STD-5017B; [`Standard::reference_for`] names the row).
     pub fn reference(self) -> &'static str {
         match self {
             Standard::None => "seed 001 Eq. 7 / seed 000 Eq. 21, no uncertainty factors",
@@ -284,10 +274,11 @@ impl Standard {
     /// The factors with resistances known from `source`: the standard's
     /// row of NASA-STD-5017B Table 1 (fixed, variable, acceleration:
     /// analysis 1.5/3.0/1.25, tests 1.35/2.5/1.15, acceptance at
-    /// environmental extremes 1.25/2.0/1.10) on its kinds; ECSS-E-ST-33-01C
-    /// its analysis factors, and for tests friction-like kinds halved to
-    /// 1.5 with the NASA rows' spring and inertia; AIAA S-114 and `None`
-    /// do not depend on the source.
+    /// environmental extremes 1.25/2.0/1.10) on its kinds. ECSS-E-ST-33-01C,
+    /// AIAA S-114 and `None` have one row here: their factors whatever the
+    /// source (a resistance measured on the flight hardware is taken at a
+    /// lower factor only by `--factor`, the reviewer's own figure,
+    /// `docs/margin.md`).
     pub fn factors_for(self, source: DataSource) -> Factors {
         let analysis = self.factors();
         let (fixed, variable, accel) = match source {
@@ -296,7 +287,7 @@ impl Standard {
             DataSource::AcceptanceExtremes => (1.25, 2.0, 1.10),
         };
         match self {
-            Standard::None | Standard::AiaaS114 => analysis,
+            Standard::None | Standard::AiaaS114 | Standard::EcssEST3301C => analysis,
             Standard::NasaStd5017 => Factors {
                 inertia: accel,
                 spring: fixed,
@@ -305,15 +296,6 @@ impl Standard {
                 harness: variable,
                 adhesion: variable,
                 other: variable,
-            },
-            Standard::EcssEST3301C => Factors {
-                inertia: accel,
-                spring: fixed,
-                friction: 1.5,
-                hysteresis: 1.5,
-                harness: 1.5,
-                adhesion: 1.5,
-                other: 1.5,
             },
         }
     }
@@ -621,6 +603,24 @@ mod tests {
         assert!("glue".parse::<Resistance>().is_err());
     }
 
+    /// The on-board margin's presets factor each energy as this margin
+    /// factors its kind: one rule per standard, on the ground and on board.
+    #[test]
+    fn the_monitor_presets_take_the_factors_of_the_ground_margin() {
+        use deploywatch_core::monitor::UncertaintyFactors as U;
+        for (preset, s) in [
+            (U::NASA_STD_5017, Standard::NasaStd5017),
+            (U::ECSS_E_ST_33_01C, Standard::EcssEST3301C),
+        ] {
+            let f = s.factors();
+            assert_eq!(preset.spring, 1.0, "{s}: the driving spring unfactored");
+            assert_eq!(preset.kinetic, f.inertia as f32, "{s}");
+            assert_eq!(preset.coulomb, f.friction as f32, "{s}");
+            assert_eq!(preset.viscous, f.friction as f32, "{s}");
+            assert_eq!(preset.latch, f.other as f32, "{s}");
+        }
+    }
+
     #[test]
     fn the_data_source_selects_the_row_and_every_standard_says_its_source() {
         let n = Standard::NasaStd5017;
@@ -631,7 +631,16 @@ mod tests {
         assert_eq!((x.spring, x.harness, x.inertia), (1.25, 2.0, 1.10));
         let a = Standard::AiaaS114;
         assert_eq!("aiaa".parse::<Standard>().unwrap(), a);
-        assert_eq!(a.factors_for(DataSource::Test), a.factors());
+        for s in [a, Standard::EcssEST3301C, Standard::None] {
+            for d in DataSource::ALL {
+                assert_eq!(s.factors_for(d), s.factors(), "{s} {}", d.name());
+                assert_eq!(s.reference_for(d), s.reference());
+            }
+            assert!(!s.has_rows());
+        }
+        for d in DataSource::ALL {
+            assert!(n.reference_for(d).ends_with(&format!("(row: {})", d.row())));
+        }
         assert_eq!((a.factors().friction, a.factors().inertia), (2.0, 1.25));
         for s in Standard::ALL {
             let c = s.confirmation();

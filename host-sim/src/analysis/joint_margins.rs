@@ -146,8 +146,8 @@ pub fn margins(
         let latch = latch_resistance(mech, j);
         let mut m = m.with_latch(latch);
         let mut terms = base_terms(r, j, sim.peak_rate_rad_s[j], &latch);
-        m.scale_driving(allowance.scale());
-        let mut scale = allowance.scale();
+        m.scale_driving(allowance.scale(j));
+        let mut scale = allowance.scale(j);
         let mut counted = Vec::new();
         for (i, e) in r.others.iter().enumerate() {
             let w = (sim.work.work_j[i][j], sim.work.stowed_torque_nm[i][j]);

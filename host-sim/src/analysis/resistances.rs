@@ -132,7 +132,12 @@ impl Resistances {
             .filter(|s| rig.iter().any(|e| s.replaces.contains(&e.kind())))
             .collect();
         let mut source = if names.is_empty() {
-            format!("{}; flight: the rig taken out", self.source)
+            format!(
+                "{}; flight: the rig taken out of the nominal deployment (no rig term is in \
+                 these margins either way; a joint friction given as measured on the rig stays \
+                 as given, its rails lumped in: diagnose or identify the rig's runs to take them out)",
+                self.source
+            )
         } else {
             format!(
                 "{}; flight: the rig taken out, left out as rig-only: {}",

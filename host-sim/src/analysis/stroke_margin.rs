@@ -19,6 +19,7 @@
 //! is the one with the lowest margin.
 
 use crate::analysis::design_margin::{margin_pct, Factors, Resistance};
+use crate::model::mechanism::Mechanism;
 
 /// How a resistance's torque varies along the stroke.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,20 +95,45 @@ impl Term {
     }
 }
 
-/// The reductions of the driving spring the file does not give: its
-/// torque tolerance and its loss at end of life (relaxation, creep).
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
+/// The reductions of the driving springs below the file's nominal: the
+/// springs' torque tolerance (each joint's declared `spring_tolerance_pct`
+/// or the one given for every joint, the larger) and their loss at end of
+/// life (relaxation, creep).
+#[derive(Clone, Debug, PartialEq, Default)]
 pub struct Allowance {
-    /// The spring's torque tolerance, the minimum below nominal [%].
+    /// A torque tolerance given for every joint [%] (`--spring-tolerance`).
     pub spring_tolerance_pct: f64,
     /// The loss of torque at end of life [%].
     pub end_of_life_pct: f64,
+    /// Each joint's tolerance declared in the mechanism file [%]
+    /// (`spring_tolerance_pct` of its `[[joint]]`; a joint past the list:
+    /// none).
+    pub declared_pct: Vec<f64>,
 }
 
 impl Allowance {
+    /// The allowance of `mech`'s declared tolerances with a tolerance
+    /// `spring_tolerance_pct` given for every joint and a loss at end of
+    /// life `end_of_life_pct` [%].
+    pub fn of(mech: &Mechanism, spring_tolerance_pct: f64, end_of_life_pct: f64) -> Self {
+        Allowance {
+            spring_tolerance_pct,
+            end_of_life_pct,
+            declared_pct: mech.joints.iter().map(|j| j.spring_tolerance_pct).collect(),
+        }
+    }
+
+    /// Joint `j`'s (0-based) spring tolerance [%]: the larger of its
+    /// declared one and the one given for every joint.
+    pub fn tolerance_pct(&self, j: usize) -> f64 {
+        let declared = self.declared_pct.get(j).copied().unwrap_or(0.0);
+        declared.max(self.spring_tolerance_pct)
+    }
+
+    /// Joint `j`'s minimum spring over its nominal,
     /// `(1 − tolerance/100) · (1 − end of life/100)` \[1\].
-    pub fn scale(&self) -> f64 {
-        (1.0 - self.spring_tolerance_pct / 100.0) * (1.0 - self.end_of_life_pct / 100.0)
+    pub fn scale(&self, j: usize) -> f64 {
+        (1.0 - self.tolerance_pct(j) / 100.0) * (1.0 - self.end_of_life_pct / 100.0)
     }
 }
 

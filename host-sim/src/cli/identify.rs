@@ -258,6 +258,12 @@ fn warn_residuals(campaign: &Campaign, id: &Identification, console: &Console) {
             list(&edge)
         ));
     }
+    if let Some(text) = held_at_zero_over_the_file(campaign, id) {
+        console.warn(text);
+    }
+    if let Some(text) = never_moved(campaign, id) {
+        console.warn(text);
+    }
     if crate::analysis::evidence::noise_sigma_estimate(campaign).is_none() {
         console.warn(format_args!(
             "the runs are too short to estimate their noise (fewer than {} samples a joint): \
@@ -290,6 +296,67 @@ fn warn_residuals(campaign: &Campaign, id: &Identification, console: &Console) {
         }
     }
     console.warn(text);
+}
+
+/// The identified joints whose readings move by less than
+/// [`crate::data::run::MIN_MOTION_DEG`] in every run, in a warning: any
+/// friction that holds such a joint fits its runs, so its EFT and interval
+/// are the solver's, not the runs' (a failed release, a stuck hinge).
+fn never_moved(campaign: &Campaign, id: &Identification) -> Option<String> {
+    let still = |j: usize| {
+        campaign.runs.iter().all(|r| {
+            r.run.phi_deg.get(j.wrapping_sub(1)).is_none_or(|phi| {
+                let (lo, hi) = phi
+                    .iter()
+                    .filter(|x| x.is_finite())
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| {
+                        (l.min(x), h.max(x))
+                    });
+                !(hi - lo >= crate::data::run::MIN_MOTION_DEG)
+            })
+        })
+    };
+    let joints: Vec<String> = id
+        .joints
+        .iter()
+        .filter(|j| j.joint <= campaign.max_joints() && still(j.joint))
+        .map(|j| format!("joint {} ({:.6} N·m)", j.joint, j.coulomb_nm))
+        .collect();
+    (!joints.is_empty()).then(|| {
+        format!(
+            "never moves by {} deg in these runs: {}. Any friction that holds it fits them: \
+             its EFT is one such value, not a measurement, and its interval says nothing; the \
+             runs say only that its friction is at least what holds it (a failed release, a \
+             stuck hinge), and the other joints' EFTs are fitted with it held",
+            crate::data::run::MIN_MOTION_DEG,
+            joints.join(", ")
+        )
+    })
+}
+
+/// The joints the direct method fixed at the bound 0, their last free
+/// fit's whole interval below 0, whose mechanism gives a friction of its
+/// own, in a warning: the EFT is added to that friction and bounded at 0,
+/// so runs that hold less friction than the file gives cannot show it
+/// there (the others take up the difference). A joint fixed at 0 within
+/// its noise is no finding.
+fn held_at_zero_over_the_file(campaign: &Campaign, id: &Identification) -> Option<String> {
+    let fixed = &id.direct.as_ref()?.clearly_below_zero;
+    let own = |j: usize| campaign.own_coulomb_nm(j);
+    let said: Vec<String> = fixed
+        .iter()
+        .filter(|&&j| own(j) > 0.0)
+        .map(|&j| format!("joint {j} ({} N·m in the mechanism)", own(j)))
+        .collect();
+    (!said.is_empty()).then(|| {
+        format!(
+            "fixed at 0 on top of the mechanism's own friction: {}. The EFT is what the runs \
+             add to that friction, at least 0: runs holding less friction than the file gives \
+             show it as 0 here and move the other joints' EFTs. To find a joint's whole EFT, \
+             identify against the mechanism with its `coulomb_nm` at 0",
+            said.join(", ")
+        )
+    })
 }
 
 /// What the warning adds when least squares from the surface explains the

@@ -69,7 +69,8 @@ pub struct MarginArgs {
     pub factors: Vec<(Resistance, f64)>,
 
     /// The driving springs' torque tolerance [%]: the minimum spring is
-    /// this much below the file's nominal (the file does not give it).
+    /// this much below the file's nominal, at every joint (a joint whose
+    /// file declares a larger `spring_tolerance_pct` keeps its own).
     #[arg(long, value_name = "PCT", default_value_t = 0.0, value_parser = parse_pct)]
     pub spring_tolerance: f64,
 
@@ -107,8 +108,8 @@ pub struct MarginArgs {
 
     /// Print the margins under every standard side by side (torque form
     /// at the stowed angle, energy form, worst along the stroke) instead
-    /// of one standard's table.
-    #[arg(long, conflicts_with_all = ["json", "plot", "check", "deploy_time", "standard"])]
+    /// of one standard's table, each with its own factors (no --factor).
+    #[arg(long, conflicts_with_all = ["json", "plot", "check", "deploy_time", "standard", "factors"])]
     pub all_standards: bool,
 
     /// Exit 1 when a joint fails either margin or is not held by its latch
@@ -280,7 +281,10 @@ fn print_all_standards(
         args.mechanism.display(),
         resist.source
     );
-    super::print_out(format_args!("{}", side_by_side(&title, &by_standard)));
+    super::print_out(format_args!(
+        "{}",
+        side_by_side(&title, &by_standard, args.data_source)
+    ));
     // The nominal deployment does not depend on the standard: once, below.
     let nominal = NominalDeployment::of(mech, resist).map_err(|e| e.to_string());
     super::print_out(format_args!("{}\n", nominal_line(&nominal)));
@@ -417,6 +421,36 @@ fn check_nominal(
     Ok(())
 }
 
+/// A `--data-source` other than analysis given to standards with one row
+/// of factors here: what it changes (nothing) and how to take a lower
+/// factor, in a warning.
+fn single_row_warning(args: &MarginArgs) -> Option<String> {
+    if args.data_source == DataSource::Analysis {
+        return None;
+    }
+    let single: Vec<&str> = if args.all_standards {
+        Standard::ALL
+            .iter()
+            .filter(|s| !s.has_rows())
+            .map(|s| s.name())
+            .collect()
+    } else if args.standard.has_rows() {
+        Vec::new()
+    } else {
+        vec![args.standard.name()]
+    };
+    (!single.is_empty()).then(|| {
+        format!(
+            "--data-source {}: {} ha{} one row of factors here, used whatever the source; a \
+             resistance measured on the flight hardware takes a lower factor only by --factor \
+             KIND=VALUE, your own figure",
+            args.data_source.name(),
+            single.join(", "),
+            if single.len() == 1 { "s" } else { "ve" }
+        )
+    })
+}
+
 /// Runs `deploywatch margin`.
 pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     // The loader's errors name the file, the key and what was expected.
@@ -451,6 +485,9 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
             args.mechanism.display()
         ));
     }
+    if let Some(w) = single_row_warning(args) {
+        console.warn(w);
+    }
     for (kind, value) in args.factors.iter().filter(|(_, v)| *v < 1.0) {
         console.warn(format_args!(
             "--factor {kind}={value}: below 1, it takes the {kind} resistance at less than its \
@@ -464,10 +501,7 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
             mech.name
         ));
     }
-    let allowance = Allowance {
-        spring_tolerance_pct: args.spring_tolerance,
-        end_of_life_pct: args.end_of_life,
-    };
+    let allowance = Allowance::of(&mech, args.spring_tolerance, args.end_of_life);
     if args.all_standards {
         return print_all_standards(args, &mech, &resist, &allowance);
     }

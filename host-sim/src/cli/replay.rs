@@ -121,6 +121,24 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
     std::fs::write(path, bytes).map_err(|e| CliError::input(format!("{}: {e}", path.display())))
 }
 
+/// A run noisier than the monitor is tuned for, in words: the monitor's
+/// friction, margins and states of it are not to be trusted.
+fn noise_note(run: &crate::data::run::Run, path: &Path) -> Option<String> {
+    use crate::analysis::evidence::{run_noise_sigma, NOISE_ABOVE_MONITOR_FACTOR};
+    let tuned = f64::from(deploywatch_core::monitor::SensorConfig::default().encoder_sd_deg);
+    let sigma = run_noise_sigma(run)?;
+    (sigma > NOISE_ABOVE_MONITOR_FACTOR * tuned).then(|| {
+        format!(
+            "{}: the encoders' noise, σ̂ = {sigma:.3} deg (third differences), is more than \
+             {NOISE_ABOVE_MONITOR_FACTOR} times the {tuned} deg the monitor is tuned for: its \
+             friction observer rejects most fits (an estimate left at its prior, ± about 2 N·m, \
+             learned nothing) and its stall rule may not fire; its friction, margins and \
+             states of this run are not to be trusted",
+            path.display()
+        )
+    })
+}
+
 /// Runs `deploywatch replay`.
 pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let mech = Mechanism::load(&args.mechanism).map_err(|e| CliError::input(e.to_string()))?;
@@ -133,7 +151,11 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     check_outputs(args)?;
     let prepared = replay::prepare(&mech, &run).map_err(cli_error)?;
     let console = Console::new(args.quiet);
-    for w in warnings.into_iter().chain(replay::rig_note(&mech)) {
+    for w in warnings
+        .into_iter()
+        .chain(replay::rig_note(&mech))
+        .chain(noise_note(&run, &args.run))
+    {
         console.warn(w);
     }
     let temp;

@@ -8,6 +8,7 @@
 //! [`check`] before it simulates anything. A finding that makes the run
 //! unusable is an error ([`RunErrorKind::AnglesInRadians`],
 //! [`RunErrorKind::MirroredEncoder`], [`RunErrorKind::AnglesWholeTurnsOff`],
+//! [`RunErrorKind::AnglesWrap`],
 //! [`RunErrorKind::AnglesFromStowed`], [`RunErrorKind::TimeInMilliseconds`]);
 //! one where the data may be right is a warning, returned as a line of text.
 
@@ -23,6 +24,11 @@ const DEG_PER_RAD: f64 = 180.0 / std::f64::consts::PI;
 /// the hypotheses (φ₀, φ₀/57.3, −φ₀) are at least 9.8 deg apart, far beyond
 /// encoder noise (0.02 deg) and a typical encoder offset.
 const MIN_STOWED_FOR_UNITS_DEG: f64 = 10.0 * MIN_MOTION_DEG;
+
+/// How far from a whole turn a jump between two readings may be and still
+/// be an encoder's wrap \[deg\]: a quarter turn (no hinge turns 270 deg
+/// between two samples of a deployment).
+const WRAP_SLACK_DEG: f64 = 90.0;
 
 /// Largest reading of a joint recorded in radians [rad as written]: the
 /// reader's bound, ±720 deg, in radians (4π). A joint recorded in degrees
@@ -70,7 +76,9 @@ const MIN_SAMPLES_PER_HORIZON: f64 = 10.0;
 ///   joint whose stowed angle is not ±180 deg: [`RunErrorKind::MirroredEncoder`]
 ///   (at ±180 deg, −φ₀ is the same pose one turn on: a warning);
 /// - the first sample is whole turns from the stowed angle:
-///   [`RunErrorKind::AnglesWholeTurnsOff`]; near 0 with the readings moving
+///   [`RunErrorKind::AnglesWholeTurnsOff`]; a reading that jumps by about
+///   a turn between two samples: [`RunErrorKind::AnglesWrap`]; near 0 with
+///   the readings moving
 ///   away from 0: [`RunErrorKind::AnglesFromStowed`]; otherwise more than
 ///   [`START_OFFSET_WARN_DEG`] from the stowed angle: a warning;
 /// - the run lasts more than [`MAX_DURATION_FACTOR`] × `duration_s`:
@@ -81,7 +89,9 @@ const MIN_SAMPLES_PER_HORIZON: f64 = 10.0;
 /// - warnings: fewer than [`MIN_SAMPLES_PER_HORIZON`] samples over
 ///   `duration_s`; a latch switch closed at the first sample of a joint
 ///   that then moves (a stuck switch or an inverted column), or never
-///   closed on a joint that reaches its latch angle (a switch stuck open).
+///   closed on a joint that reaches its latch angle (a switch stuck open);
+///   a gap between samples longer than a tenth of `duration_s`; an ideal
+///   latch that let go ([`let_go`]).
 ///
 /// A latch that never closes is no finding: that is a failed deployment,
 /// which is what the analyses are for.
@@ -95,7 +105,76 @@ pub fn check(run: &Run, mechanism: &Mechanism, file: &str) -> Result<Vec<String>
         check_angles(run, j, joint.stowed_deg, file, &mut warnings)?;
     }
     check_latches(run, file, &mut warnings);
+    for j in
+        (0..run.joints().min(mechanism.joint_count())).filter(|&j| mechanism.latch(j).is_none())
+    {
+        if let Some(g) = let_go(run, j) {
+            warnings.push(format!(
+                "{file}:{line}: column `latch{joint}` (column {column}): joint {joint}'s switch \
+                 opens again at t = {opened} s after closing at t = {closed} s, and the reading \
+                 leaves the stop by up to {left:.2} deg: a latch that let go; the mechanism's \
+                 latch is ideal and holds, so no effect explains the run after {opened} s (cut \
+                 the run there to fit the motion before it)",
+                line = line_of_sample(run, g.opened),
+                joint = j + 1,
+                column = 2 + run.joints() + j,
+                opened = run.t_s[g.opened],
+                closed = run.t_s[g.closed],
+                left = g.left_deg,
+            ));
+        }
+    }
     Ok(warnings)
+}
+
+/// Fewest consecutive samples a latch switch reads open again after
+/// closing for its latch to have let go: fewer is a switch's chatter.
+pub const LET_GO_SAMPLES: usize = 3;
+
+/// A latch that let go in a run ([`let_go`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LetGo {
+    /// The sample where the switch first closed.
+    pub closed: usize,
+    /// The first sample of the switch's opening again.
+    pub opened: usize,
+    /// How far the reading leaves its closing reading after that \[deg\].
+    pub left_deg: f64,
+}
+
+/// Joint `j`'s latch letting go in `run`: its switch reads open again for
+/// [`LET_GO_SAMPLES`] samples or more (or to the end of the run) after it
+/// first closed, and the reading leaves its reading at the closing by
+/// [`MIN_MOTION_DEG`] or more after that. `None` for a switch that stays
+/// closed, chatters, or opens with the panel still on its stop.
+pub fn let_go(run: &Run, j: usize) -> Option<LetGo> {
+    let latch = run.latch.get(j)?;
+    let phi = run.phi_deg.get(j)?;
+    let closed = latch.iter().position(|&l| l)?;
+    let mut k = closed;
+    while k < latch.len() {
+        if latch[k] {
+            k += 1;
+            continue;
+        }
+        let open = latch[k..].iter().take_while(|&&l| !l).count();
+        if open >= LET_GO_SAMPLES || k + open == latch.len() {
+            let left_deg = phi[k..]
+                .iter()
+                .filter(|x| x.is_finite())
+                .map(|x| (x - phi[closed]).abs())
+                .fold(0.0, f64::max);
+            if left_deg >= MIN_MOTION_DEG {
+                return Some(LetGo {
+                    closed,
+                    opened: k,
+                    left_deg,
+                });
+            }
+        }
+        k += open;
+    }
+    None
 }
 
 /// Line number of sample `i` in the file: the metadata lines, the header,
@@ -173,10 +252,26 @@ fn check_time(
             },
         ));
     }
-    if interval_s > horizon_s / MIN_SAMPLES_PER_HORIZON {
+    let gap_allowed_s = horizon_s / MIN_SAMPLES_PER_HORIZON;
+    if interval_s > gap_allowed_s {
         warnings.push(format!(
             "{file}:{}: column `t_s` (column 1): samples {interval_s} s apart, fewer than {MIN_SAMPLES_PER_HORIZON} over mechanism \"{}\"'s duration_s = {horizon_s} s: too coarse to show a deployment; is the sample rate right?",
             line_of_sample(run, 1),
+            mechanism.name
+        ));
+    } else if let Some((i, gap)) = run
+        .t_s
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .filter(|&(_, gap)| gap > gap_allowed_s)
+    {
+        warnings.push(format!(
+            "{file}:{}: column `t_s` (column 1): no sample for {gap:.4} s, from t = {} s to t = {} s, more than a tenth of mechanism \"{}\"'s duration_s = {horizon_s} s: samples lost? the analyses use the samples there are, and what happened in the gap is not seen",
+            line_of_sample(run, i + 1),
+            run.t_s[i],
+            run.t_s[i + 1],
             mechanism.name
         ));
     }
@@ -184,6 +279,33 @@ fn check_time(
 }
 
 /// The first sample of joint `j` against its stowed angle.
+/// A jump of about a turn between two readings of joint `j`: a wrap,
+/// whatever the rate (no hinge turns 270 deg between two samples of a
+/// deployment).
+fn check_wrap(run: &Run, j: usize, file: &str) -> Result<(), RunError> {
+    let finite: Vec<(usize, f64)> = run.phi_deg[j]
+        .iter()
+        .copied()
+        .enumerate()
+        .filter(|(_, x)| x.is_finite())
+        .collect();
+    match finite
+        .windows(2)
+        .find(|w| ((w[1].1 - w[0].1).abs() - 360.0).abs() < WRAP_SLACK_DEG)
+    {
+        Some(w) => Err(RunError::at(
+            file,
+            line_of_sample(run, w[1].0),
+            RunErrorKind::AnglesWrap {
+                joint: j + 1,
+                from: w[0].1,
+                to: w[1].1,
+            },
+        )),
+        None => Ok(()),
+    }
+}
+
 fn check_angles(
     run: &Run,
     j: usize,
@@ -195,6 +317,7 @@ fn check_angles(
     let Some((i0, first)) = start_reading(series, &run.t_s) else {
         return Ok(());
     };
+    check_wrap(run, j, file)?;
     // A joint that never moves (a stuck encoder, a failed release) says
     // nothing about units.
     let (lo, hi) = series
@@ -473,5 +596,104 @@ mod tests {
         let m = Mechanism::load(&data("mechanisms/seed001_T02.toml")).unwrap();
         assert_eq!(run.latch[0].last(), Some(&false));
         assert_eq!(check(&run, &m, "r.csv").unwrap(), Vec::<String>::new());
+    }
+
+    /// Joint 1's switch opens at sample `from` for `open` samples and its
+    /// reading walks off the stop by `walk` deg over them.
+    fn opened(run: &mut Run, from: usize, open: usize, walk: f64) {
+        let stop = run.phi_deg[0][from];
+        for k in from..(from + open).min(run.len()) {
+            run.latch[0][k] = false;
+            run.phi_deg[0][k] = stop - walk * (k + 1 - from) as f64 / open as f64;
+        }
+    }
+
+    /// `run` held at its last sample for `n` samples more, latched.
+    fn held_on(mut run: Run, n: usize) -> Run {
+        let dt = run.t_s[1] - run.t_s[0];
+        for _ in 0..n {
+            let t = run.t_s[run.len() - 1] + dt;
+            run.t_s.push(t);
+            for p in run.phi_deg.iter_mut() {
+                p.push(p[p.len() - 1]);
+            }
+            for l in run.latch.iter_mut() {
+                l.push(l[l.len() - 1]);
+            }
+        }
+        run
+    }
+
+    #[test]
+    fn a_latch_that_lets_go_is_said_and_a_chatter_is_not() {
+        let (run, m) = t01();
+        let run = held_on(run, 100);
+        let closed = run.latch[0].iter().position(|&l| l).unwrap();
+        let from = closed + 50;
+        let mut gone = run.clone();
+        let rest = gone.len() - from;
+        opened(&mut gone, from, rest, 8.0);
+        let g = let_go(&gone, 0).expect("let go");
+        assert_eq!((g.closed, g.opened), (closed, from));
+        assert!((g.left_deg - 8.0).abs() < 0.1, "{g:?}");
+        let w = check(&gone, &m, "r.csv").unwrap();
+        let line = format!("r.csv:{}: column `latch1`", line_of_sample(&gone, from));
+        assert!(
+            w.len() == 1 && w[0].starts_with(&line) && w[0].contains("let go"),
+            "{w:?}"
+        );
+        // Two samples open with the panel 2 deg off, then closed again: a
+        // chatter; five open with the panel on its stop: no letting go.
+        let mut chatter = run.clone();
+        opened(&mut chatter, from, LET_GO_SAMPLES - 1, 2.0);
+        let mut on_stop = run.clone();
+        opened(&mut on_stop, from, 5, 0.05);
+        for r in [&chatter, &on_stop] {
+            assert_eq!(let_go(r, 0), None);
+            assert_eq!(check(r, &m, "r.csv").unwrap(), Vec::<String>::new());
+        }
+    }
+
+    #[test]
+    fn a_gap_longer_than_a_tenth_of_the_duration_is_said() {
+        let (run, m) = t01();
+        // 0.7 s of samples lost at 1 s (duration_s 6 s).
+        let keep: Vec<usize> = (0..run.len())
+            .filter(|&i| !(100..170).contains(&i))
+            .collect();
+        let pick = |v: &[f64]| keep.iter().map(|&i| v[i]).collect::<Vec<f64>>();
+        let gap = Run {
+            t_s: pick(&run.t_s),
+            phi_deg: run.phi_deg.iter().map(|p| pick(p)).collect(),
+            latch: run
+                .latch
+                .iter()
+                .map(|l| keep.iter().map(|&i| l[i]).collect())
+                .collect(),
+            ..run.clone()
+        };
+        let w = check(&gap, &m, "r.csv").unwrap();
+        assert!(
+            w.len() == 1 && w[0].contains("no sample for 0.7100 s, from t = 0.99 s to t = 1.7 s"),
+            "{w:?}"
+        );
+    }
+
+    #[test]
+    fn an_encoder_that_wraps_at_180_deg_is_told_at_its_line() {
+        // Joint 2 of T01 is stowed at 180 deg: two readings written -180.
+        let (mut run, m) = t01();
+        let i = run.phi_deg[1].iter().position(|&x| x > 179.9).unwrap() + 2;
+        run.phi_deg[1][i] -= 360.0;
+        let e = check(&run, &m, "r.csv").unwrap_err();
+        assert!(
+            matches!(e.kind, RunErrorKind::AnglesWrap { joint: 2, .. }),
+            "{e}"
+        );
+        assert!(
+            e.to_string()
+                .contains(&format!("r.csv:{}:", line_of_sample(&run, i))),
+            "{e}"
+        );
     }
 }

@@ -21,6 +21,7 @@ pub fn campaign_warnings(mechanisms: &[PathBuf], campaign: &Campaign) -> Vec<Str
             out.extend(plausibility::warnings(&m, path));
         }
     }
+    out.extend(campaign.notes.iter().cloned());
     for r in &campaign.runs {
         let file = r.source.display().to_string();
         if let Ok(w) = consistency::check(&r.run, &r.mechanism, &file) {

@@ -139,12 +139,15 @@ fn within_stroke(cx: &Cx<'_>, sp: &Sp, path: &str, spec: &LatchSpec, stowed_deg:
             LatchMark::Stop | LatchMark::HoldRampEnd => continue,
         };
         if !(u.to_degrees() < stowed_deg.abs()) {
-            let expected = format!(
+            let mut expected = format!(
                 "a latch that engages within the joint's stroke of {} deg (stowed_deg): {what} \
                  lies {:.2} deg from the stop, where the panel is still stowed",
                 stowed_deg.abs(),
                 u.to_degrees()
             );
+            if let Some(hint) = crate::model::plausibility::stowed_in_radians(stowed_deg) {
+                expected = format!("{expected} (stowed_deg: {hint})");
+            }
             return Err(cx.invalid(sp, path, &expected));
         }
     }

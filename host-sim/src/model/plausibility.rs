@@ -67,6 +67,22 @@ fn quarter_turns_in_radians(stowed_deg: f64) -> Option<i32> {
     })
 }
 
+/// What a `stowed_deg` typed in radians reads as, when it is one
+/// ([`quarter_turns_in_radians`]): the one sentence of the warning, which
+/// the mechanism reader also adds to a latch that the short stroke leaves
+/// no room for.
+pub fn stowed_in_radians(stowed_deg: f64) -> Option<String> {
+    quarter_turns_in_radians(stowed_deg).map(|k| {
+        format!(
+            "{} deg is {} in radians, a stroke of {:.2} deg: an angle in radians? expected degrees ({:.1})",
+            stowed_deg,
+            quarter_turns_text(k),
+            stowed_deg.abs(),
+            stowed_deg.to_degrees()
+        )
+    })
+}
+
 /// The deployment time of joint `j` (0-based) estimated without simulation
 /// \[s\]: the spring's energy `E` over the stroke `Δφ` (its unfolding branch,
 /// [`deploywatch_core::Spring::release`]) as a constant torque `E/Δφ`
@@ -122,11 +138,11 @@ pub fn check(mechanism: &Mechanism, text: Option<&str>) -> Vec<Implausible> {
         }
     }
     for (j, joint) in mechanism.joints.iter().enumerate() {
-        if let Some(k) = quarter_turns_in_radians(joint.stowed_deg) {
+        if let Some(message) = stowed_in_radians(joint.stowed_deg) {
             out.push(Implausible {
                 key: format!("joint[{}].stowed_deg", j + 1),
                 line: line_of("joint", j, "stowed_deg"),
-                message: format!("{} deg is {} in radians, a stroke of {:.2} deg: an angle in radians? expected degrees ({:.1})", joint.stowed_deg, quarter_turns_text(k), joint.stowed_deg.abs(), joint.stowed_deg.to_degrees()),
+                message,
             });
         }
     }

@@ -110,7 +110,13 @@ pub fn third_words(t: StrokeThird) -> &'static str {
 /// Where a residual is largest, in words (`"joint 2, mostly in the middle
 /// third of the stroke"`).
 pub fn place_words(p: ResidualPlace) -> String {
-    format!("joint {}, mostly in {}", p.joint, third_words(p.third))
+    match p.let_go_s {
+        Some(t) => format!(
+            "joint {}, mostly after its latch let go at {t:.3} s (a latch the model holds)",
+            p.joint
+        ),
+        None => format!("joint {}, mostly in {}", p.joint, third_words(p.third)),
+    }
 }
 
 /// The JSON's `unexplained` description, the report's **Unexplained:** and
@@ -293,6 +299,7 @@ mod tests {
             largest_at: Some(ResidualPlace {
                 joint: 2,
                 third: StrokeThird::Last,
+                let_go_s: None,
             }),
         });
         assert_eq!(u.joint(), Some(2));

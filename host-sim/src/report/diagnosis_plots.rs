@@ -112,6 +112,8 @@ pub fn report_run_plots(
     };
     let run = &c.runs[i].run;
     let name = c.runs[i].name().trim_end_matches(".csv").to_string();
+    // A label that tells runs apart by their folders names one file.
+    let file = name.replace(['/', '\\'], "_");
     let rb = residuals_of(&base.phi_deg, &run.phi_deg);
     let re = residuals_of(&extd.phi_deg, &run.phi_deg);
     let mut pa = Vec::new();
@@ -140,8 +142,8 @@ pub fn report_run_plots(
             markers: Vec::new(),
         });
     }
-    let angles = dir.join(format!("{stem}_{name}_angles.png"));
-    let resid = dir.join(format!("{stem}_{name}_residuals.png"));
+    let angles = dir.join(format!("{stem}_{file}_angles.png"));
+    let resid = dir.join(format!("{stem}_{file}_residuals.png"));
     let title = format!("{name}: measured vs baseline vs extended");
     plot::draw(&angles, &title, "time [s]", &pa)?;
     let title = format!("{name}: residuals before and after");

@@ -15,6 +15,16 @@ pub fn evidence_words(e: &JointEvidence) -> String {
                 "joint {joint}: residual {total:.3} deg RMS, at the noise ({sigma_deg:.3} deg)"
             )
         }
+        Reading::LetGo {
+            closed_s,
+            opened_s,
+            left_deg,
+            after_rms_deg,
+        } => {
+            return format!(
+                "joint {joint}: residual {total:.3} deg RMS, {after_rms_deg:.3} deg RMS from {opened_s:.3} s on: its latch let go (the switch closed at {closed_s:.3} s, opened again at {opened_s:.3} s, and the reading left the stop by up to {left_deg:.2} deg); the model's ideal latch holds, so no effect explains the run after {opened_s:.3} s"
+            )
+        }
         Reading::Sensor => {
             return format!(
                 "joint {joint}: residual {total:.3} deg RMS; already {:+.3} deg at release and {:+.3} deg after the latch: a sensor effect (offset), not dynamics",

@@ -41,12 +41,33 @@ pub fn summary(campaign: &Campaign, id: &Identification) -> String {
         id.method.name(),
         runs.len(),
         runs.join(", "),
-        eft_table(id) + &node_note(campaign, id),
+        eft_table(id) + &node_note(campaign, id) + &own_friction_note(campaign, id),
         fit_quality(id),
         method_details(id),
         id.simulations,
         id.deployments,
         id.wall_s
+    )
+}
+
+/// Where a mechanism gives its joints a friction of their own: that the
+/// EFTs are added to it, with its values (`joint 1 0.8 N·m`); empty
+/// otherwise.
+fn own_friction_note(campaign: &Campaign, id: &Identification) -> String {
+    let own: Vec<String> = id
+        .joints
+        .iter()
+        .filter_map(|j| {
+            let nm = campaign.own_coulomb_nm(j.joint);
+            (nm > 0.0).then(|| format!("joint {} {nm} N·m", j.joint))
+        })
+        .collect();
+    if own.is_empty() {
+        return String::new();
+    }
+    format!(
+        "  the EFTs are added to the mechanism's own Coulomb friction ({})\n",
+        own.join(", ")
     )
 }
 

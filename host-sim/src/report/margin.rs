@@ -177,7 +177,9 @@ fn term_lines(row: &Row, factors: &Factors) -> Vec<String> {
         .collect()
 }
 
-/// The line saying what the driving springs are reduced by.
+/// The line saying what the driving springs are reduced by: one figure
+/// when every joint has the same, else one per joint, with where the
+/// tolerance came from.
 fn allowance_line(m: &MarginReport) -> String {
     let a = m.allowance;
     let softened = m
@@ -185,10 +187,34 @@ fn allowance_line(m: &MarginReport) -> String {
         .others
         .iter()
         .any(|e| e.kind() == EffectKind::SpringSoftening);
+    let n = a.declared_pct.len().max(1);
+    let scales: Vec<f64> = (0..n).map(|j| a.scale(j)).collect();
+    let tolerances: Vec<f64> = (0..n).map(|j| a.tolerance_pct(j)).collect();
+    let same = tolerances.iter().all(|&t| t == tolerances[0]);
+    let declared = a.declared_pct.iter().any(|&t| t > 0.0);
+    let source = match (declared, a.spring_tolerance_pct > 0.0) {
+        (false, false) => "--spring-tolerance or each joint's spring_tolerance_pct: none given",
+        (false, true) => "--spring-tolerance",
+        (true, false) => "each joint's spring_tolerance_pct in the mechanism file",
+        (true, true) => "the larger of each joint's spring_tolerance_pct and --spring-tolerance",
+    };
+    let (scale, tolerance) = if same {
+        (format!("{:.4}", scales[0]), format!("{} %", tolerances[0]))
+    } else {
+        let list = |v: &[f64], f: &dyn Fn(f64) -> String| {
+            v.iter()
+                .enumerate()
+                .map(|(j, &x)| format!("joint {} {}", j + 1, f(x)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        (
+            format!("({})", list(&scales, &|x| format!("{x:.4}"))),
+            format!("{} %", list(&tolerances, &|x| format!("{x}"))),
+        )
+    };
     format!(
-        "along the stroke: D_min(θ) = {:.4} × the spring's unfolding branch (its hysteresis included); spring tolerance {} %, end of life {} % (--spring-tolerance, --end-of-life: the mechanism file gives neither){}",
-        a.scale(),
-        a.spring_tolerance_pct,
+        "along the stroke: D_min(θ) = {scale} × the spring's unfolding branch (its hysteresis included); spring tolerance {tolerance} ({source}), end of life {} % (--end-of-life){}",
         a.end_of_life_pct,
         if softened { ", × a softening found" } else { "" }
     )
@@ -231,7 +257,7 @@ fn table_header(m: &MarginReport) -> String {
     let _ = writeln!(
         s,
         "standard: {}{}",
-        m.standard.reference(),
+        m.standard.reference_for(m.data_source),
         if custom { " (factors overridden)" } else { "" }
     );
     let _ = writeln!(
@@ -501,7 +527,7 @@ pub fn to_json(report: &MarginReport) -> Value {
         "not_included": r.ignored,
         "taken_at": r.taken_at,
         "standard": m.standard.name(),
-        "standard_reference": m.standard.reference(),
+        "standard_reference": m.standard.reference_for(m.data_source),
         "standard_confirmation": m.standard.confirmation(),
         "data_source": m.data_source.name(),
         "factors": Resistance::ALL
@@ -516,10 +542,12 @@ pub fn to_json(report: &MarginReport) -> Value {
             DynamicMargins::Computed { deploy_time_s, .. } => json!(deploy_time_s),
         },
         "joints": rows.iter().enumerate().map(|(index, row)| {
+            let allowance = report.allowance;
             let m = &row.margin;
             json!({
                 "joint": row.joint,
                 "stowed_deg": row.stowed_deg,
+                "spring_tolerance_pct": allowance.tolerance_pct(index),
                 "coulomb_nm": m.resisting_torque_nm,
                 "viscous_nms": row.viscous_nms,
                 "driving_torque_nm": m.driving_torque_nm,

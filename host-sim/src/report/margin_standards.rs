@@ -6,7 +6,7 @@
 //! the static margin at the worst position along the stroke, with that
 //! position.
 
-use crate::analysis::design_margin::Standard;
+use crate::analysis::design_margin::{DataSource, Standard};
 use crate::analysis::joint_margins::Row;
 use crate::report::margin::joint_angle_deg;
 use std::fmt::Write as _;
@@ -35,8 +35,13 @@ fn worst(row: &Row) -> String {
 type Cell = fn(&Row) -> String;
 
 /// The side-by-side table of `by_standard` (each standard with its rows,
-/// the same joints in each), headed by `title`.
-pub fn side_by_side(title: &str, by_standard: &[(Standard, Vec<Row>)]) -> String {
+/// the same joints in each, the factors of `source`'s row), headed by
+/// `title`.
+pub fn side_by_side(
+    title: &str,
+    by_standard: &[(Standard, Vec<Row>)],
+    source: DataSource,
+) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "{title}");
     for (std, _) in by_standard {
@@ -44,7 +49,7 @@ pub fn side_by_side(title: &str, by_standard: &[(Standard, Vec<Row>)]) -> String
             s,
             "  {}: {} (source: {})",
             std.name(),
-            std.reference(),
+            std.reference_for(source),
             std.confirmation()
         );
     }

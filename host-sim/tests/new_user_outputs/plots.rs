@@ -136,3 +136,51 @@ fn the_diagnosis_report_links_files_with_spaces_and_ends_with_a_next_step_that_r
     let from = format!("resistances from: diagnose ({})", json.display());
     assert!(out.contains(&from), "{out}");
 }
+
+/// Two runs of one file name in different folders (`test01/run.csv`,
+/// `test02/run.csv`, as rigs store them): each has its own report
+/// section and plots, named by its folder, none overwritten, and the JSON
+/// tells them apart.
+#[test]
+fn runs_of_one_file_name_keep_their_own_plots() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut runs = Vec::new();
+    for (folder, given) in [
+        ("test01", "a_seed001_eft"),
+        ("test02", "c_seed001_friction_harness"),
+    ] {
+        std::fs::create_dir(dir.path().join(folder)).unwrap();
+        let run = dir.path().join(folder).join("run.csv");
+        std::fs::copy(data(&format!("examples/{given}/seed001_T01.csv")), &run).unwrap();
+        runs.push(run);
+    }
+    let json = dir.path().join("d.json");
+    succeeds(&deploywatch(&[
+        "diagnose",
+        "--mechanism",
+        s(&data(T01)),
+        "--json",
+        s(&json),
+        "-q",
+        "--max-effects",
+        "1",
+        s(&runs[0]),
+        s(&runs[1]),
+    ]));
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(
+        doc["runs"],
+        serde_json::json!(["test01/run.csv", "test02/run.csv"])
+    );
+    let md = std::fs::read_to_string(dir.path().join("d.md")).unwrap();
+    let links = image_links(&md);
+    for folder in ["test01", "test02"] {
+        assert!(md.contains(&format!("### {folder}/run\n")), "{md}");
+        for plot in ["angles", "residuals"] {
+            let file = format!("d_{folder}_run_{plot}.png");
+            assert!(links.contains(&file), "{file} not linked: {links:?}");
+            assert!(dir.path().join(&file).is_file(), "{file}");
+        }
+    }
+}

@@ -6,7 +6,7 @@
 
 use crate::analysis::campaign_sim::CampaignSim;
 use crate::analysis::diagnose::smoothing::third_difference_sigma;
-use crate::data::campaign::Campaign;
+use crate::data::campaign::{Campaign, CampaignRun};
 use crate::model::effect::Effect;
 
 /// "Near the latch": within this angle of it \[deg\] (the detent zone is 3°,
@@ -187,16 +187,18 @@ pub fn analyse(campaign: &Campaign, effects: &[Effect], sigma: f64) -> Vec<Joint
             let stowed = cr.mechanism.joints[j].stowed_deg;
             let correlation = correlations(&run.t_s, meas, &r, end, stowed);
             let total = rms(r.iter().copied());
-            let reading = read(
-                total,
-                &thirds,
-                near,
-                after,
-                release,
-                lead,
-                &correlation,
-                sigma,
-            );
+            let reading = let_go_reading(cr, j, &r).unwrap_or_else(|| {
+                read(
+                    total,
+                    &thirds,
+                    near,
+                    after,
+                    release,
+                    lead,
+                    &correlation,
+                    sigma,
+                )
+            });
             out.push(JointEvidence {
                 run: cr.name(),
                 joint: j + 1,
@@ -214,9 +216,52 @@ pub fn analyse(campaign: &Campaign, effects: &[Effect], sigma: f64) -> Vec<Joint
     out
 }
 
+/// [`Reading::LetGo`] of joint `j` of run `cr` with residual `r` \[deg\]
+/// where its ideal latch let go ([`crate::data::consistency::let_go`]) and
+/// the residual after that holds most of it.
+fn let_go_reading(cr: &CampaignRun, j: usize, r: &[f64]) -> Option<Reading> {
+    if cr.mechanism.latch(j).is_some() {
+        return None;
+    }
+    let run = &cr.run;
+    let g = crate::data::consistency::let_go(run, j).filter(|g| carries_most(r, g.opened))?;
+    Some(Reading::LetGo {
+        closed_s: run.t_s[g.closed],
+        opened_s: run.t_s[g.opened],
+        left_deg: g.left_deg,
+        after_rms_deg: rms(r[g.opened..].iter().copied()),
+    })
+}
+
+/// Whether the residual `r` from sample `from` on holds most (more than
+/// half) of its sum of squares.
+fn carries_most(r: &[f64], from: usize) -> bool {
+    let ss = |x: &[f64]| {
+        x.iter()
+            .filter(|v| v.is_finite())
+            .map(|v| v * v)
+            .sum::<f64>()
+    };
+    let tail = ss(r.get(from..).unwrap_or_default());
+    tail > 0.5 * ss(r)
+}
+
 /// What a joint's residual statistics tell ([`read`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Reading {
+    /// Its ideal latch let go in the run
+    /// ([`crate::data::consistency::let_go`]) and the residual after that
+    /// holds most of it: no effect of the model explains it.
+    LetGo {
+        /// When its switch first closed \[s\].
+        closed_s: f64,
+        /// When it opened again \[s\].
+        opened_s: f64,
+        /// How far the reading left the stop after that, at most \[deg\].
+        left_deg: f64,
+        /// The residual's RMS from the opening on \[deg\].
+        after_rms_deg: f64,
+    },
     /// The residual is within [`CLEAR_SIGMAS`] of the noise σ̂.
     AtNoise {
         /// The noise σ̂ \[deg\].
@@ -333,13 +378,17 @@ impl StrokeThird {
     }
 }
 
-/// Where a residual is largest: a joint and a third of its stroke.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Where a residual is largest: a joint and a third of its stroke, or
+/// the run after its latch let go.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ResidualPlace {
     /// 1-based joint.
     pub joint: usize,
     /// The third of its stroke.
     pub third: StrokeThird,
+    /// When its ideal latch let go, where that holds most of its
+    /// residual ([`Reading::LetGo`]) \[s\]: the place, over `third`.
+    pub let_go_s: Option<f64>,
 }
 
 /// Where a residual is largest: the joint with the largest RMS over the
@@ -362,10 +411,33 @@ pub fn locate(evidence: &[JointEvidence]) -> Option<ResidualPlace> {
         }
     }
     let k = (0..3).max_by(|&a, &b| thirds[a].total_cmp(&thirds[b]))?;
+    let let_go_s = per_joint(worst).find_map(|e| match e.reading {
+        Reading::LetGo { opened_s, .. } => Some(opened_s),
+        _ => None,
+    });
     Some(ResidualPlace {
         joint: worst,
         third: StrokeThird::of_index(k)?,
+        let_go_s,
     })
+}
+
+/// How many times the noise the on-board monitor is configured for
+/// (`SensorConfig::encoder_sd_deg`) a run's noise may be before its
+/// replay is said to be outside the monitor's tuning: its friction fits
+/// are gated at 40 σ² of that noise, and its stall rule reads rates the
+/// noise then swamps. Twice: σ̂ overestimates by up to about that at
+/// 20 Hz on a clean run (motion in the third differences).
+pub const NOISE_ABOVE_MONITOR_FACTOR: f64 = 2.0;
+
+/// A run's encoder noise σ̂ \[deg\] for its replay: the least over its
+/// joints of [`third_difference_sigma`] (the joint that moves least shows
+/// the noise best); `None` for runs too short to tell.
+pub fn run_noise_sigma(run: &crate::data::run::Run) -> Option<f64> {
+    run.phi_deg
+        .iter()
+        .filter_map(|phi| third_difference_sigma(phi, MIN_NOISE_DIFFERENCES))
+        .min_by(f64::total_cmp)
 }
 
 /// Estimates the sensor noise σ \[deg\] from the runs alone: the median

@@ -134,7 +134,9 @@ mod tests {
                 source: "r.csv".into(),
                 run,
                 mechanism,
+                label: None,
             }],
+            notes: Vec::new(),
         }
     }
 

@@ -137,5 +137,6 @@ pub fn apply(c: &Campaign, windows: &[RunWindow]) -> Campaign {
                 _ => cr.clone(),
             })
             .collect(),
+        notes: c.notes.clone(),
     }
 }

@@ -268,6 +268,7 @@ fn sub_campaign(c: &Campaign, keep: impl Fn(usize) -> bool) -> Campaign {
             .filter(|(i, _)| keep(*i))
             .map(|(_, r)| r.clone())
             .collect::<Vec<CampaignRun>>(),
+        notes: c.notes.clone(),
     }
 }
 

@@ -554,6 +554,7 @@ mod tests {
                 source: name.into(),
                 run: run.clone(),
                 mechanism: m.clone(),
+                label: None,
             });
         }
         let e = edges(&c);

@@ -66,6 +66,12 @@ pub fn identify_direct(
                 .filter(|(_, f)| !**f)
                 .map(|(j, _)| *j)
                 .collect(),
+            clearly_below_zero: joints
+                .iter()
+                .enumerate()
+                .filter(|&(i, _)| !fit.free[i] && fit.ci[i][1] < 0.0)
+                .map(|(_, j)| *j)
+                .collect(),
         }),
         ..scored
     })

@@ -177,12 +177,12 @@ impl Estimate {
 
     /// The method's part of the JSON.
     fn body(&self, problem: &Problem) -> Value {
+        let labels = super::params::unique_labels(&problem.vary);
         let params = |x: &[f64]| -> Value {
-            problem
-                .vary
+            labels
                 .iter()
                 .zip(x)
-                .map(|(v, x)| (v.label(), json!(x)))
+                .map(|(label, x)| (label.clone(), json!(x)))
                 .collect::<serde_json::Map<_, _>>()
                 .into()
         };

@@ -125,22 +125,33 @@ impl Dist {
         }
     }
 
-    pub(crate) fn check(&self) -> Result<(), &'static str> {
-        let ok = match *self {
-            Dist::Normal { mean, sd } => mean.is_finite() && sd > 0.0 && sd.is_finite(),
-            Dist::LogNormal { median, sigma_ln } => {
-                median > 0.0 && median.is_finite() && sigma_ln > 0.0 && sigma_ln.is_finite()
-            }
-            Dist::Uniform { lo, hi } => lo.is_finite() && hi.is_finite() && hi > lo,
-            Dist::TruncNormal { mean, sd, lo, hi } => {
-                mean.is_finite() && sd > 0.0 && sd.is_finite() && lo < hi && !lo.is_nan()
-            }
+    /// The first of the law's numbers out of its range, said as what was
+    /// expected (`sd > 0 and finite, not -1`).
+    pub(crate) fn check(&self) -> Result<(), String> {
+        let finite = |name: &str, v: f64| {
+            (!v.is_finite()).then(|| format!("{name} a finite number, not {v}"))
         };
-        if ok {
-            Ok(())
-        } else {
-            Err("sd, sigma_ln and median > 0, lo < hi, finite numbers")
-        }
+        let positive = |name: &str, v: f64| {
+            (!(v > 0.0 && v.is_finite())).then(|| format!("{name} > 0 and finite, not {v}"))
+        };
+        let ordered = |lo: f64, hi: f64| {
+            (!(lo < hi)).then(|| format!("lo < hi, not lo = {lo} and hi = {hi}"))
+        };
+        let why = match *self {
+            Dist::Normal { mean, sd } => finite("mean", mean).or_else(|| positive("sd", sd)),
+            Dist::LogNormal { median, sigma_ln } => {
+                positive("median", median).or_else(|| positive("sigma_ln", sigma_ln))
+            }
+            Dist::Uniform { lo, hi } => finite("lo", lo)
+                .or_else(|| finite("hi", hi))
+                .or_else(|| ordered(lo, hi)),
+            Dist::TruncNormal { mean, sd, lo, hi } => finite("mean", mean)
+                .or_else(|| positive("sd", sd))
+                .or_else(|| lo.is_nan().then(|| "lo a number, not NaN".to_string()))
+                .or_else(|| hi.is_nan().then(|| "hi a number, not NaN".to_string()))
+                .or_else(|| ordered(lo, hi)),
+        };
+        why.map_or(Ok(()), Err)
     }
 }
 
@@ -194,6 +205,28 @@ pub struct Vary {
     pub target: Target,
     /// Its law.
     pub dist: Dist,
+}
+
+/// Each parameter's [`Vary::label`], the second and later of one label
+/// (an effect given two laws, whose draws add) numbered `#2`, `#3`...: the
+/// keys of the JSON's parameters and of the Python package's columns, one
+/// per parameter.
+pub fn unique_labels(vary: &[Vary]) -> Vec<String> {
+    let mut out: Vec<String> = Vec::with_capacity(vary.len());
+    for v in vary {
+        let label = v.label();
+        let seen = vary
+            .iter()
+            .take(out.len())
+            .filter(|w| w.label() == label)
+            .count();
+        out.push(if seen == 0 {
+            label
+        } else {
+            format!("{label}#{}", seen + 1)
+        });
+    }
+    out
 }
 
 impl Vary {
@@ -473,6 +506,26 @@ impl FromStr for Vary {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_effect_given_two_laws_has_two_keys() {
+        let v = |t: &str| t.parse::<Vary>().unwrap();
+        let vary = [
+            v("coulomb_friction:joint=1:normal(1,0.1)"),
+            v("viscous_damping:joint=1:normal(1,0.1)"),
+            v("coulomb_friction:joint=1:normal(1,0.1)"),
+            v("coulomb_friction:joint=1:uniform(0,1)"),
+        ];
+        assert_eq!(
+            unique_labels(&vary),
+            [
+                "coulomb_friction:joint=1",
+                "viscous_damping:joint=1",
+                "coulomb_friction:joint=1#2",
+                "coulomb_friction:joint=1#3",
+            ]
+        );
+    }
 
     #[test]
     fn parses_effects_and_mechanism_parameters() {

@@ -73,17 +73,29 @@ impl SubsetSettings {
     /// `N·p0` seeds a whole number ≥ 2 dividing `N`.
     pub fn check(&self) -> Result<(), ReliabilityError> {
         let n = self.samples;
-        let nc = (self.p0 * n as f64).round() as usize;
-        if !(self.p0 > 0.0 && self.p0 < 0.5)
-            || nc == 0
-            || n % nc != 0
-            || nc < 2
-            || self.max_levels > 63
-        {
+        let p0 = self.p0;
+        if !(p0 > 0.0 && p0 < 0.5) {
             return Err(ReliabilityError::Invalid(format!(
-                "subset: {n} samples per level and p0 = {}: expected p0 in (0, 0.5) and N·p0 \
-                 a whole number ≥ 2 dividing N (e.g. N = 1000, 2000 with p0 = 0.1)",
-                self.p0
+                "subset: p0 = {p0}: expected p0 in (0, 0.5) (0.1 by default)"
+            )));
+        }
+        if self.max_levels > 63 {
+            return Err(ReliabilityError::Invalid(format!(
+                "subset: {} levels at most: expected at most 63",
+                self.max_levels
+            )));
+        }
+        let seeds = p0 * n as f64;
+        let nc = seeds.round() as usize;
+        if nc < 2 || (seeds - nc as f64).abs() > 1e-9 || n % nc != 0 {
+            let step = (1.0 / p0).round();
+            let seeds = (seeds * 1e6).round() / 1e6;
+            return Err(ReliabilityError::Invalid(format!(
+                "subset: {n} samples per level keep N·p0 = {seeds} of each level (p0 = {p0}) \
+                 as the next level's seeds: expected a whole number of seeds, at least 2, \
+                 dividing N (with p0 = {p0}: N a multiple of {step} and at least {}, e.g. 1000 \
+                 or 2000)",
+                2.0 * step
             )));
         }
         Ok(())

@@ -297,6 +297,17 @@ pub enum RunErrorKind {
         /// Its stowed angle \[deg\].
         stowed_deg: f64,
     },
+    /// Meaning: a joint's reading jumps by about a turn between two
+    /// samples (an encoder that wraps at ±180 deg or 0/360 deg).
+    #[error("column `phi{joint}_deg` (column {}): joint {joint}'s reading jumps from {from} deg to {to} deg between two samples, about a whole turn: an encoder that wraps (at ±180 or 0/360 deg)? expected the angle unwrapped, continuous over the run (docs/spec/formats.md): add or subtract 360 deg from the readings past the jump", joint + 1)]
+    AnglesWrap {
+        /// The joint (1-based).
+        joint: usize,
+        /// The reading before the jump \[deg\].
+        from: f64,
+        /// The reading after it \[deg\].
+        to: f64,
+    },
     /// Meaning: a joint's readings are its angles shifted by whole turns
     /// (an encoder that counts 0 to 360 deg, or a turn counter).
     #[error("column `phi{joint}_deg` (column {}): the run starts at {found} deg where joint {joint} is stowed at {stowed_deg} deg, {turns} whole turn(s) away: an encoder counting 0 to 360 deg? expected the angle within a turn of the stowed angle (docs/spec/formats.md): subtract {} deg from the column", joint + 1, 360.0 * turns)]

@@ -86,6 +86,12 @@ pub struct DirectDetails {
     pub termination: String,
     /// Joints whose EFT ended below 0 and were fixed at the bound 0.
     pub fixed_at_zero: Vec<usize>,
+    /// Of those, the joints whose last free fit put its whole 95 %
+    /// interval below 0: the runs hold less friction there than the
+    /// mechanism's own, which the bound hides.
+    /// Written only when there is one.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub clearly_below_zero: Vec<usize>,
 }
 
 /// One response of the design and its fitted quadratic.
