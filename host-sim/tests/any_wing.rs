@@ -1,5 +1,5 @@
 //! A wing nobody tuned the simulator for. A new user's four-panel wing
-//! (`data/mechanisms/issue38_four_panel.toml`) and a `[rig]` on a
+//! (`data/mechanisms/four_panel_mixed.toml`) and a `[rig]` on a
 //! wing with physical latches, and seed 001 T02's joint 1 swinging back past
 //! its stowed angle, run through the `deploywatch` binary.
 mod common;
@@ -8,7 +8,7 @@ use common::{data, deploywatch, fails};
 
 /// The four-panel wing's text with `extra` appended.
 fn four_panel_with(extra: &str) -> String {
-    let path = data().join("mechanisms/issue38_four_panel.toml");
+    let path = data().join("mechanisms/four_panel_mixed.toml");
     let text = std::fs::read_to_string(path).expect("bundled four-panel wing");
     format!("{text}\n{extra}")
 }
@@ -66,7 +66,7 @@ fn read_run(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
 #[test]
 fn the_four_panel_wing_latches_its_ideal_joints_and_the_csv_agrees() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let mech = data().join("mechanisms/issue38_four_panel.toml");
+    let mech = data().join("mechanisms/four_panel_mixed.toml");
     let csv = dir.path().join("run.csv");
     let out = deploywatch(&[
         "simulate",

@@ -379,3 +379,23 @@ fn the_clause_names_the_row_of_factors_used() {
         &["--all-standards", "--factor"],
     );
 }
+
+/// A wing with nothing resisting any joint (seed 001 T01 as bundled, no
+/// friction) has infinite margins: said, so that no one signs a pass on
+/// no data; with the friction given, not.
+#[test]
+fn margins_on_no_resistance_are_said_to_be_on_no_data() {
+    let m = t01_mechanism();
+    let said = "nothing resists any joint";
+    let bare = deploywatch(&["margin", "--mechanism", s(&m), "-q"]);
+    assert!(bare.status.success() && String::from_utf8_lossy(&bare.stderr).contains(said));
+    let given = deploywatch(&[
+        "margin",
+        "--mechanism",
+        s(&m),
+        "--friction",
+        "2.63,1.7,0.001",
+        "-q",
+    ]);
+    assert!(given.status.success() && !String::from_utf8_lossy(&given.stderr).contains(said));
+}

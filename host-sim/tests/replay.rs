@@ -365,3 +365,51 @@ fn a_replay_on_a_rig_says_the_monitor_has_no_rig() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success() && !err.contains("zero-g rig"), "{err}");
 }
+
+/// A run whose encoders are noisier than the monitor is tuned for (σ
+/// about 0.06 deg against 0.02) is replayed with a warning that its
+/// friction, margins and states are not to be trusted; the bundled run at
+/// the reference noise raises none.
+#[test]
+fn a_run_noisier_than_the_monitor_is_tuned_for_is_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = data("examples/a_seed001_eft/seed001_T01.csv");
+    let t01 = data("mechanisms/seed001_T01.toml");
+    // A deterministic noise of ±0.08 deg in a pseudo-random sign pattern
+    // on every angle.
+    let text = std::fs::read_to_string(&plain).unwrap();
+    let mut k: u64 = 7;
+    let noisy: Vec<String> = text
+        .lines()
+        .map(|line| {
+            if line.starts_with('#') || line.starts_with("t_s") {
+                return line.to_string();
+            }
+            let mut f: Vec<String> = line.split(',').map(String::from).collect();
+            for cell in f.iter_mut().skip(1).take(3) {
+                k = k
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let step = if k >> 63 == 1 { 0.08 } else { -0.08 };
+                *cell = format!("{:.6}", cell.parse::<f64>().unwrap() + step);
+            }
+            f.join(",")
+        })
+        .collect();
+    let run = dir.path().join("noisy.csv");
+    std::fs::write(&run, noisy.join("\n") + "\n").unwrap();
+    let said = "more than 2 times the 0.020 deg the monitor is tuned for";
+    for (path, warned) in [(&run, true), (&plain, false)] {
+        let out = deploywatch(&[
+            path.as_os_str(),
+            "--mechanism".as_ref(),
+            t01.as_os_str(),
+            "-q".as_ref(),
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            out.status.success() && err.contains(said) == warned,
+            "{err}"
+        );
+    }
+}

@@ -278,7 +278,8 @@ def test_the_commands_warnings_are_user_warnings(root, tmp_path, cli):
     m = tmp_path / "radians.toml"
     m.write_text(text.replace("stowed_deg = 180.0", "stowed_deg = 3.1416", 1))
     out = subprocess.run(
-        [cli, "margin", "--mechanism", str(m), "--quiet", "--json", str(tmp_path / "cli.json")],
+        [cli, "margin", "--mechanism", str(m), "--friction", "2.63,1.7,0.001", "--quiet", "--json",
+         str(tmp_path / "cli.json")],
         capture_output=True,
         text=True,
     )
@@ -286,7 +287,7 @@ def test_the_commands_warnings_are_user_warnings(root, tmp_path, cli):
     said = [line[len("warning: ") :] for line in out.stderr.splitlines() if line.startswith("warning: ")]
     assert any("radians" in w for w in said), out.stderr
     with pytest.warns(UserWarning) as caught:
-        dw.margin(m)
+        dw.margin(m, friction=[2.63, 1.7, 0.001])
     assert [str(w.message) for w in caught] == said
     assert all(w.filename == __file__ for w in caught), [w.filename for w in caught]
 

@@ -421,6 +421,21 @@ fn check_nominal(
     Ok(())
 }
 
+/// Every joint's margins infinite (nothing resists any joint: no friction
+/// in the file, none given, no latch to engage), in a warning: a table a
+/// reviewer could sign as a pass on no data.
+fn nothing_resists(rows: &[Row]) -> Option<String> {
+    let unbounded = |r: &Row| {
+        r.margin.torque_margin_pct().is_infinite() && r.margin.energy_margin_pct().is_infinite()
+    };
+    (!rows.is_empty() && rows.iter().all(unbounded)).then(|| {
+        "nothing resists any joint (no friction in the mechanism file, none given by \
+         --friction or --from, no latch to engage): every margin is infinite, a pass on no \
+         data; give the friction measured or identified"
+            .to_string()
+    })
+}
+
 /// A `--data-source` other than analysis given to standards with one row
 /// of factors here: what it changes (nothing) and how to take a lower
 /// factor, in a warning.
@@ -451,6 +466,41 @@ fn single_row_warning(args: &MarginArgs) -> Option<String> {
     })
 }
 
+/// The warnings of the inputs, before any margin: the mechanism's
+/// unlikely values, a `--flight` with nothing to take out, a
+/// `--data-source` with no row to select, a factor below 1, findings made
+/// on another wing.
+fn input_warnings(
+    args: &MarginArgs,
+    mech: &Mechanism,
+    resist: &Resistances,
+    flight_changes_nothing: bool,
+) -> Vec<String> {
+    let mut out = crate::model::plausibility::warnings(mech, &args.mechanism);
+    if flight_changes_nothing {
+        out.push(format!(
+            "--flight: {} has no [rig] and nothing is read --from findings: the margins are \
+             those of the mechanism as given",
+            args.mechanism.display()
+        ));
+    }
+    out.extend(single_row_warning(args));
+    for (kind, value) in args.factors.iter().filter(|(_, v)| *v < 1.0) {
+        out.push(format!(
+            "--factor {kind}={value}: below 1, it takes the {kind} resistance at less than its \
+             value, less than any standard's factor"
+        ));
+    }
+    if !resist.found_on.is_empty() && !resist.found_on.contains(&mech.name) {
+        out.push(format!(
+            "the friction in --from was found on {}, not on {}: it is applied as it is",
+            resist.found_on.join(", "),
+            mech.name
+        ));
+    }
+    out
+}
+
 /// Runs `deploywatch margin`.
 pub fn run(args: &MarginArgs) -> Result<(), CliError> {
     // The loader's errors name the file, the key and what was expected.
@@ -475,37 +525,17 @@ pub fn run(args: &MarginArgs) -> Result<(), CliError> {
         .collect();
     check_outputs(&outputs, &inputs)?;
     let console = Console::new(args.quiet);
-    for w in crate::model::plausibility::warnings(&mech, &args.mechanism) {
+    for w in input_warnings(args, &mech, &resist, flight_changes_nothing) {
         console.warn(w);
-    }
-    if flight_changes_nothing {
-        console.warn(format_args!(
-            "--flight: {} has no [rig] and nothing is read --from findings: the margins are \
-             those of the mechanism as given",
-            args.mechanism.display()
-        ));
-    }
-    if let Some(w) = single_row_warning(args) {
-        console.warn(w);
-    }
-    for (kind, value) in args.factors.iter().filter(|(_, v)| *v < 1.0) {
-        console.warn(format_args!(
-            "--factor {kind}={value}: below 1, it takes the {kind} resistance at less than its \
-             value, less than any standard's factor"
-        ));
-    }
-    if !resist.found_on.is_empty() && !resist.found_on.contains(&mech.name) {
-        console.warn(format_args!(
-            "the friction in --from was found on {}, not on {}: it is applied as it is",
-            resist.found_on.join(", "),
-            mech.name
-        ));
     }
     let allowance = Allowance::of(&mech, args.spring_tolerance, args.end_of_life);
     if args.all_standards {
         return print_all_standards(args, &mech, &resist, &allowance);
     }
     let (factors, rows) = rows_for(args, &mech, &resist, args.standard, &allowance)?;
+    if let Some(w) = nothing_resists(&rows) {
+        console.warn(w);
+    }
     let dynamic = DynamicMargins::of(&mech, &rows, args.deploy_time, args.standard, &factors)
         .ok_or_else(|| {
             CliError::input(format!(

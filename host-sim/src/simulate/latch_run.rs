@@ -106,7 +106,7 @@ pub const DRIFT_RATE_SHARE: f64 = 0.25;
 /// [`MAX_LEDGER_DRIFT`] (of `stored_j`).
 /// The ledger is an error estimate of its own beside DOPRI5's: on a stiff
 /// stop contact the default tolerances alone let a run drift past
-/// [`MAX_LEDGER_DRIFT`] in a few steps (the four-panel wing of `data/mechanisms/issue38_four_panel.toml`: 1.07e-6
+/// [`MAX_LEDGER_DRIFT`] in a few steps (the four-panel wing of `data/mechanisms/four_panel_mixed.toml`: 1.07e-6
 /// at its pawl's stop at 1.469 s), and over a long run of many joints the
 /// smooth steps' errors add up to it (an eight-panel wing: 1.0e-6 at 8 s).
 pub fn step_budget(stored_j: f64, h: f64, duration_s: f64, max_drift: f64) -> f64 {
