@@ -91,8 +91,8 @@ def _matrix(name: str, value: Any, labels: Sequence[str]) -> FloatArray:
     want = f"a 2-D array of real numbers of shape (n, {d}), one column per parameter ({', '.join(labels)})"
     value = _by_label(name, value, labels)
     if isinstance(value, _np.ma.MaskedArray) and _np.ma.is_masked(value):
-        i = tuple(int(k) for k in _np.argwhere(_np.ma.getmaskarray(value))[0])
-        raise InputError(f"{name}{list(i)}: masked; expected every entry given (a masked array's mask would be dropped)")
+        at = [int(k) for k in _np.argwhere(_np.ma.getmaskarray(value))[0]]
+        raise InputError(f"{name}{at}: masked; expected every entry given (a masked array's mask would be dropped)")
     try:
         a = _np.asarray(value)
     except (ValueError, TypeError) as e:
