@@ -348,11 +348,13 @@ fn print_detail(problem: &Problem, est: &Estimate) {
 
 /// The parameters in words, `name = value unit, ...` ([`quantity`]).
 fn parameters(problem: &Problem, x: &[f64]) -> String {
+    let labels = crate::analysis::reliability::params::unique_labels(&problem.vary);
     let parts: Vec<String> = problem
         .vary
         .iter()
+        .zip(&labels)
         .zip(x)
-        .map(|(v, &x)| format!("{} = {}", v.label(), quantity(x, v.unit())))
+        .map(|((v, label), &x)| format!("{label} = {}", quantity(x, v.unit())))
         .collect();
     parts.join(", ")
 }
