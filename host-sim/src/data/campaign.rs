@@ -182,8 +182,15 @@ impl Campaign {
         // A run that never moves, or that stops before its joints latched
         // and before the mechanism's duration, is refused, not fitted.
         check_analysable(&run, &mechanism, &file)?;
+        // Glitches named at their lines in the file as read, then left out
+        // of every fit (the warnings of the stored run no longer see them).
+        let glitches = crate::data::glitch::warnings(&run, &file, |i| {
+            crate::data::consistency::line_of_sample(&run, i)
+        });
+        self.notes.extend(glitches);
         let (run, note) = from_release(run, &file)?;
         self.notes.extend(note);
+        let (run, _) = crate::data::glitch::without_glitches(run);
         self.runs.push(CampaignRun {
             source: source.to_path_buf(),
             run,

@@ -2,5 +2,6 @@
 //! campaign: several runs, each paired with its mechanism.
 pub mod campaign;
 pub mod consistency;
+pub mod glitch;
 pub mod inputs;
 pub mod run;

@@ -36,7 +36,7 @@
 
 use std::path::Path;
 
-use deploywatch_core::{Curve, Interp, Panel, Spring, TapePoints};
+use deploywatch_core::{Panel, Spring, TapePoints};
 
 use crate::model::effect::EffectKind;
 use crate::model::mechanism::{
@@ -141,7 +141,7 @@ const TAPE_KEYS: &[&str] = &["a", "b", "d", "m_90", "c_180"];
 const RUN_KEYS: &[&str] = &["duration_s", "sample_hz", "settle_s"];
 
 impl Cx<'_> {
-    fn count(&self, t: &Table<'_>) -> Res<u32> {
+    pub(super) fn count(&self, t: &Table<'_>) -> Res<u32> {
         let expected = "an integer ≥ 1 (number of identical hinges)";
         let Some(sp) = t.get("count") else {
             return Err(self.missing(t, "count", expected));
@@ -530,59 +530,6 @@ impl Cx<'_> {
             points: *points,
             count: self.count(t)?,
         })
-    }
-
-    /// `kind = "curve"`: `unfold`, optional `fold` and `interp`, `count`.
-    fn curve_spring(&self, t: &Table<'_>) -> Res<SpringSpec> {
-        let interp = match t.get("interp") {
-            None => Interp::Akima,
-            Some(i) => match self.string(i, &t.key("interp"))? {
-                "akima" => Interp::Akima,
-                "linear" => Interp::Linear,
-                _ => return Err(self.invalid(i, &t.key("interp"), "\"akima\" or \"linear\"")),
-            },
-        };
-        let unfold = match t.get("unfold") {
-            Some(u) => self.curve(u, &t.key("unfold"), interp)?,
-            None => return Err(self.missing(t, "unfold", "an array of [deg, N·m] points")),
-        };
-        let fold = t
-            .get("fold")
-            .map(|f| self.curve(f, &t.key("fold"), interp))
-            .transpose()?;
-        Ok(SpringSpec::Curve {
-            unfold,
-            fold,
-            interp,
-            count: self.count(t)?,
-        })
-    }
-
-    /// `[[deg, N·m], ...]`, checked by the core.
-    fn curve(&self, sp: &Sp, key: &str, interp: Interp) -> Res<Vec<(f64, f64)>> {
-        let Node::Array(items) = &sp.node else {
-            return Err(self.wrong_type(sp, key, "an array of [deg, N·m] points"));
-        };
-        let mut points = Vec::with_capacity(items.len());
-        for (i, p) in items.iter().enumerate() {
-            let item = format!("{key}[{}]", i + 1);
-            let point = self.pair(p, &item, "[deg, N·m]")?;
-            if !(point.1 >= 0.0) {
-                let why = "[deg, N·m] with a torque ≥ 0 (physics.md 3: a hinge spring drives its joint towards 0°)";
-                return Err(self.invalid(p, &item, why));
-            }
-            points.push(point);
-        }
-        Curve::new(&points, interp).map_err(|source| {
-            self.err(
-                self.line(sp),
-                MechanismErrorKind::BadCurve {
-                    key: key.to_string(),
-                    source,
-                },
-            )
-        })?;
-        Ok(points)
     }
 
     fn friction(&self, sp: &Sp, path: &str) -> Res<FrictionSpec> {

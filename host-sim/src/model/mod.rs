@@ -1,6 +1,7 @@
 //! What is simulated: a mechanism as read from its TOML file, the named
 //! effects that extend it (`docs/spec/physics.md` section 6), and its
 //! mobility.
+pub mod curve_toml;
 pub mod effect;
 pub mod file_kind;
 pub mod findings;

@@ -382,6 +382,15 @@ fn bad_curves_are_rejected_by_key() {
     let e = bad_mech(&curve("[[0, 0], [10, nan]]"));
     assert_eq!(e.key(), Some("joint[1].spring.unfold[2][2]"));
 
+    // Joint 1 is stowed at -90 deg: its points in the joint's signed angle
+    // would all clamp to the last one, a constant torque.
+    let text = curve("[[-90.0, 1.5], [-45.0, 1.0], [0.0, 0.5]]");
+    let e = bad_mech(&text);
+    assert_eq!(e.key(), Some("joint[1].spring.unfold[1]"));
+    assert_eq!(e.line(), Some(line_of(&text, "unfold")));
+    assert!(e.to_string().contains("an angle ≥ 0"), "{e}");
+    assert!(e.to_string().contains("|φ|"), "{e}");
+
     let e = bad_mech(&t01_with(
         r#"{ kind = "tape", type = "TS-1", count = 3 }"#,
         r#"{ kind = "curve", unfold = [[0, 0], [10, 1]], interp = "cubic", count = 1 }"#,

@@ -159,12 +159,14 @@ pub enum RunErrorKind {
         found: usize,
     },
     /// A data row with the wrong number of fields.
-    #[error("expected {expected} comma-separated fields (as in the header), found {found}{}", if found > expected { DECIMAL_COMMA_HINT } else { "" })]
+    #[error("expected {expected} comma-separated fields (as in the header), found {found}{}", field_count_hint(*expected, *found, *trailing_comma))]
     FieldCount {
         /// Number of header columns.
         expected: usize,
         /// Number of fields in the row.
         found: usize,
+        /// The row ends with a `,`: its one field too many is empty.
+        trailing_comma: bool,
     },
     /// A field that is not a finite number (unparsable, NaN or infinite).
     #[error("column `{column}`: expected a finite number, found `{found}`{hint}")]
@@ -369,6 +371,21 @@ pub enum RunErrorKind {
 /// What [`RunErrorKind::FieldCount`] adds when a row has more fields than
 /// the header: the likely cause, numbers with a decimal comma.
 const DECIMAL_COMMA_HINT: &str = ": decimal commas? a spreadsheet's export with `,` as the decimal mark must separate fields with `;` (read as the spreadsheet dialect, docs/spec/formats.md), or be exported with `.` as the decimal mark";
+
+/// What [`RunErrorKind::FieldCount`] adds when a row ends with a comma.
+const TRAILING_COMMA_HINT: &str = ": the row ends with `,` (an empty last field); expected no comma at the end of a row, as in the header";
+
+/// The hint of [`RunErrorKind::FieldCount`]: a trailing comma, or decimal
+/// commas where a row has more fields than the header.
+fn field_count_hint(expected: usize, found: usize, trailing_comma: bool) -> &'static str {
+    if trailing_comma {
+        TRAILING_COMMA_HINT
+    } else if found > expected {
+        DECIMAL_COMMA_HINT
+    } else {
+        ""
+    }
+}
 
 fn joint_list(joints: &[usize]) -> String {
     joints

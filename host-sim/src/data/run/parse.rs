@@ -101,8 +101,13 @@ fn read_metadata<'t>(
         if !valid_meta_key(key) {
             return Err(bad("`# key = \"json string\"` with a key without spaces"));
         }
-        let value: String = serde_json::from_str(value.trim())
-            .map_err(|_| bad("`# key = \"json string\"` with the value a JSON string"))?;
+        let value: String = serde_json::from_str(value.trim()).map_err(|_| {
+            bad(if value.trim().ends_with(',') {
+                "`# key = \"json string\"` with nothing after the string (no comma at the end)"
+            } else {
+                "`# key = \"json string\"` with the value a JSON string"
+            })
+        })?;
         if let Some(i) = run.metadata.iter().position(|(k, _)| k == key) {
             let first = meta_lines[i];
             let key = key.to_string();
@@ -171,9 +176,12 @@ impl<'t> RowReader<'_, 't> {
         }
         let fields: Vec<&'t str> = line.split(',').map(str::trim).collect();
         if fields.len() != self.columns.len() {
+            let trailing_comma = fields.len() == self.columns.len() + 1
+                && fields.last().is_some_and(|f| f.is_empty());
             return Err(err(RunErrorKind::FieldCount {
                 expected: self.columns.len(),
                 found: fields.len(),
+                trailing_comma,
             }));
         }
         let t = self.time(&fields, ln)?;
@@ -417,8 +425,31 @@ impl Run {
             }
         }
         let (header_line, header, meta_lines) = read_metadata(&mut run, &mut lines, source)?;
+        if header.trim().is_empty() {
+            let expected = "the header `t_s,phi1_deg,...,latch1,...` here: an empty line may not \
+                            come before it (only metadata lines `# key = \"json string\"` may)";
+            return Err(RunError::at(
+                source,
+                header_line,
+                RunErrorKind::BadLine {
+                    expected: expected.to_string(),
+                    found: String::new(),
+                },
+            ));
+        }
         let declares_missing = declares_missing(&run, &meta_lines, source)?;
         let names: Vec<&str> = header.split(',').map(str::trim).collect();
+        if names.len() > 1 && names.last().is_some_and(|c| c.is_empty()) {
+            return Err(RunError::at(
+                source,
+                header_line,
+                RunErrorKind::BadLine {
+                    expected: "a header without a comma at its end (the rows without one too)"
+                        .to_string(),
+                    found: shorten(header),
+                },
+            ));
+        }
         // The joint columns, then the documented extra ones (formats.md).
         let split = names
             .iter()
@@ -571,112 +602,4 @@ impl Run {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    const TRUSS: &str = "# mechanism = \"w\"\n\
-        t_s,phi1_deg,latch1,psi_deg,kneeB_deg,kneeB\n\
-        0.000,90.0,0,-10.5,150.25,0\n\
-        0.010,0.0,1,-20.0,180.0,1\n";
-
-    #[test]
-    fn a_missing_angle_column_is_named_whatever_its_place() {
-        // Four joints without `phi3_deg`; three joints without `phi1_deg`.
-        for (header, missing) in [
-            (
-                "t_s,phi1_deg,phi2_deg,phi4_deg,latch1,latch2,latch3,latch4",
-                "phi3_deg",
-            ),
-            ("t_s,phi2_deg,phi3_deg,latch1,latch2,latch3", "phi1_deg"),
-            ("t_s,phi1_deg,phi3_deg,latch1,latch2", "phi2_deg"),
-        ] {
-            let width = header.split(',').count();
-            let row = vec!["0.0"; width].join(",");
-            let e = Run::parse(&format!("{header}\n{row}\n"), "m.csv")
-                .unwrap_err()
-                .to_string();
-            assert!(
-                e.contains(&format!("missing column `{missing}`")),
-                "{header}: {e}"
-            );
-        }
-        // A number far past the columns stays a misspelt column.
-        let e = Run::parse("t_s,phi1_deg,phi9_deg,latch1,latch2\n0,0,0,0,0\n", "m.csv")
-            .unwrap_err()
-            .to_string();
-        assert!(!e.contains("missing column `phi3_deg`"), "{e}");
-    }
-
-    #[test]
-    fn documented_extra_columns_are_read_kept_and_written_back() {
-        let run = Run::parse(TRUSS, "w.csv").unwrap();
-        assert_eq!(run.joints(), 1);
-        assert_eq!(run.phi_deg[0], [90.0, 0.0]);
-        let names: Vec<&str> = run.extra.iter().map(|c| c.name.as_str()).collect();
-        assert_eq!(names, ["psi_deg", "kneeB_deg", "kneeB"]);
-        assert_eq!(run.extra("kneeB_deg").unwrap().values, [150.25, 180.0]);
-        assert_eq!(run.extra("kneeB").unwrap().kind, ExtraKind::KneeSwitch);
-        assert_eq!(run.extra("kneeB").unwrap().values, [0.0, 1.0]);
-        let text = run.to_csv_string();
-        assert!(text.contains("t_s,phi1_deg,latch1,psi_deg,kneeB_deg,kneeB\n0.000,90.000000,0,-10.500000,150.250000,0\n"), "{text}");
-        assert_eq!(Run::parse(&text, "again").unwrap(), run);
-        run.validate("w.csv").unwrap();
-    }
-
-    #[test]
-    fn an_angle_that_rounds_to_zero_is_written_without_a_sign() {
-        let text = TRUSS.replace("0.010,0.0,1,-20.0", "0.010,-0.0000004,1,-0.0");
-        let out = Run::parse(&text, "w.csv").unwrap().to_csv_string();
-        assert!(out.contains("\n0.010,0.000000,1,0.000000,"), "{out}");
-        assert!(!out.contains("-0.000000"), "{out}");
-        let mut s = String::new();
-        for x in [-4e-7, -5e-7, -6e-7, 0.0, -0.0, f64::NAN] {
-            push_fixed6(&mut s, x);
-        }
-        assert_eq!(s, ",0.000000,0.000000,-0.000001,0.000000,0.000000,NaN");
-    }
-
-    fn error(text: &str) -> String {
-        Run::parse(text, "w.csv").unwrap_err().to_string()
-    }
-
-    #[test]
-    fn undocumented_or_misplaced_extra_columns_are_errors() {
-        let e = error(&TRUSS.replace("kneeB\n", "kneeB,speed\n"));
-        assert!(
-            e.contains("w.csv:2") && e.contains("extra column `speed` (column 7)"),
-            "{e}"
-        );
-        assert!(e.contains("psi_deg, knee<P>_deg, knee<P>"), "{e}");
-        let e = error("t_s,phi1_deg,latch1,kneeB,phi2_deg\n0,1,0,0,1\n");
-        assert!(
-            e.contains("`phi2_deg` (column 5) comes after the extra column `kneeB`"),
-            "{e}"
-        );
-        let e = error(&TRUSS.replace("kneeB_deg,kneeB", "kneeB,kneeB"));
-        assert!(e.contains("column `kneeB` appears twice"), "{e}");
-        let e = error(&TRUSS.replace("150.25,0", "150.25,2"));
-        assert!(
-            e.contains("w.csv:3") && e.contains("column `kneeB`: expected 0 or 1"),
-            "{e}"
-        );
-        let e = error(&TRUSS.replace("150.25", "abc"));
-        assert!(
-            e.contains("column `kneeB_deg`: expected a finite number"),
-            "{e}"
-        );
-        // A knee name with an underscore is not documented.
-        let e = error(&TRUSS.replace("kneeB_deg", "knee_B_deg"));
-        assert!(
-            e.contains("extra column `knee_B_deg`") || e.contains("unknown column"),
-            "{e}"
-        );
-        let mut run = Run::parse(TRUSS, "w.csv").unwrap();
-        run.extra[0].values.pop();
-        let e = run.validate("out.csv").unwrap_err().to_string();
-        assert!(
-            e.contains("extra column \"psi_deg\" has 1 samples; expected 2"),
-            "{e}"
-        );
-    }
-}
+mod tests;
