@@ -155,7 +155,7 @@ fn rig_values_out_of_range_are_refused_at_their_own_line() {
     }
     let bar = two_panels(-90.0, 180.0, "", "").replacen("bar = 1\n", "bar = 3\n", 1);
     let e = refused_at(&bar, "bar = 3");
-    assert!(e.contains("bars 1 to 1"), "{e}");
+    assert!(e.contains("the rig has only bar 1"), "{e}");
     let panel = two_panels(-90.0, 180.0, "", "").replacen("panel = 2\n", "panel = 1\n", 1);
     let line = line_of(&panel, "panel = 1");
     let e = Mechanism::from_toml_str(&panel, "rig.toml")

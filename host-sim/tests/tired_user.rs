@@ -428,6 +428,7 @@ fn a_latch_column_stuck_open_on_a_latched_joint_is_a_warning() {
             "open.csv:",
             "column `latch2` (column 6)",
             "never reads closed",
+            "stuck open, or a joint stopped just short",
         ],
     );
 }

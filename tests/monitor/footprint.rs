@@ -9,8 +9,9 @@ use super::*;
 /// rate, quadratic damping: 3 × `f32`) in each joint of the monitor's chain,
 /// held at 0 on board, and each joint's own latch thresholds (a wing may
 /// mix ideal, plunger and pawl latches: a `LatchConfig` of at most 60 B
-/// per joint).
-const MONITOR_3_BUDGET_B: usize = 4096 + 3 * 64 + 3 * 12 + 3 * 60;
+/// per joint), and each joint's rest band near its ideal latch (the
+/// reading that starts it and its timer: 2 × `f32`).
+const MONITOR_3_BUDGET_B: usize = 4096 + 3 * 64 + 3 * 12 + 3 * 60 + 3 * 8;
 
 #[test]
 fn monitor_fits_in_its_ram_budget() {

@@ -58,6 +58,15 @@ const HOLD_ROUNDING_S: f32 = 1e-5;
 /// agreeing (`docs/monitor.md` §6.2).
 const AT_LATCH_SIGMAS: f32 = 5.0;
 
+/// Half-width of the band, in standard deviations of one reading, within
+/// which the readings of a joint near its ideal latch stay while it is at
+/// rest \[1\]: two readings of a joint at rest differ by more than 8 σ
+/// with probability 2·10⁻⁸. Inside `latching_deg` the rate filter follows
+/// a snapping tape spring (`snap_zone_deg`, a jerk floor of 10⁷ rad²/s⁵)
+/// and its rate of a joint at rest swings by tens of degrees per second:
+/// the readings tell the rest there (`docs/monitor.md` §4).
+const REST_BAND_SIGMAS: f32 = 8.0;
+
 /// The latch state of a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -311,6 +320,10 @@ pub struct LatchTracker {
     samples: u8,
     /// Slow stretch of the filtered rate (with hysteresis).
     slow: Held,
+    /// Near an ideal latch: the stretch of readings within the rest band
+    /// of `rest_deg`, the reading that started it \[deg\].
+    rest: Held,
+    rest_deg: f32,
     /// Encoder at the latch with the switch open.
     at_latch: Held,
     open_at_latch: bool,
@@ -340,6 +353,8 @@ impl LatchTracker {
             history: 0,
             samples: 0,
             slow: Held::NEW,
+            rest: Held::NEW,
+            rest_deg: 0.0,
             at_latch: Held::NEW,
             open_at_latch: false,
             missing: HeldSamples::NEW,
@@ -455,7 +470,7 @@ impl LatchTracker {
             return out;
         }
         self.check_open_at_latch(x, cfg, view.at_latch, &mut faults);
-        let state = self.motion_state(x, cfg, view.event);
+        let state = self.motion_state(x, cfg, view.event, view.at_latch);
         LatchOutput::state(state, faults)
     }
 
@@ -562,12 +577,16 @@ impl LatchTracker {
     /// The state to report when no latch was declared: the motion state
     /// from the filtered angle and rate (with a physical latch: an escape,
     /// or a stop on the ramp, `event`, first), or `Fault` while a sensor
-    /// disagrees.
+    /// disagrees. A joint at rest for `stall_time_s` is `Stalled` also
+    /// within `latching_deg` of its latch, unless the encoder puts it at
+    /// the latch (`at_latch`) or its switch is closed: stopped short of
+    /// the latch, the switch rightly open.
     fn motion_state(
         &mut self,
         x: &LatchInput,
         cfg: &LatchConfig,
         event: Option<LatchEvent>,
+        at_latch: bool,
     ) -> LatchState {
         let moved = libm::fabsf(x.angle_deg - x.stowed_deg) > cfg.start_deg;
         let speed = libm::fabsf(x.rate_deg_s);
@@ -576,13 +595,14 @@ impl LatchTracker {
         } else if speed > 2.0 * cfg.stall_rate_deg_s {
             self.slow.stop();
         }
-        let stopped = self.slow.at_least(x.t_s, cfg.stall_time_s);
+        let stopped = self.slow.at_least(x.t_s, cfg.stall_time_s) || self.rests_near(x, cfg);
         let in_window = libm::fabsf(x.measured_deg.unwrap_or(x.angle_deg)) <= cfg.window_deg;
         self.motion = match (event, self.motion) {
             (Some(event), _) => event.state(),
             (None, _) if self.left_ideal(cfg) => LatchState::Escaped,
             (None, LatchState::Stowed) if moved => LatchState::Deploying,
             (None, LatchState::Stowed) => LatchState::Stowed,
+            _ if stopped && !at_latch && !x.switch => LatchState::Stalled,
             _ if libm::fabsf(x.angle_deg) < cfg.latching_deg || (x.switch && in_window) => {
                 LatchState::Latching
             }
@@ -599,6 +619,29 @@ impl LatchTracker {
         } else {
             self.motion
         }
+    }
+}
+
+impl LatchTracker {
+    /// True when a joint near its ideal latch (within `latching_deg`) has
+    /// read within [`REST_BAND_SIGMAS`] readings' σ of one reading for
+    /// `stall_time_s`; the stretch restarts at a reading outside the band,
+    /// and ends outside `latching_deg` or with a physical latch (whose
+    /// ramp stops are the bounce rule's).
+    #[inline(always)]
+    fn rests_near(&mut self, x: &LatchInput, cfg: &LatchConfig) -> bool {
+        if cfg.physical.is_some() {
+            return false;
+        }
+        let Some(m) = x.measured_deg else {
+            return self.rest.at_least(x.t_s, cfg.stall_time_s);
+        };
+        let band = REST_BAND_SIGMAS * x.noise_sd_deg;
+        if !(libm::fabsf(m - self.rest_deg) <= band) || !self.rest.is_on() {
+            self.rest_deg = m;
+            self.rest.restart(x.t_s);
+        }
+        self.rest.at_least(x.t_s, cfg.stall_time_s)
     }
 }
 

@@ -468,8 +468,8 @@ fn single_row_warning(args: &MarginArgs) -> Option<String> {
 
 /// The warnings of the inputs, before any margin: the mechanism's
 /// unlikely values, a `--flight` with nothing to take out, a
-/// `--data-source` with no row to select, a factor below 1, findings made
-/// on another wing.
+/// `--data-source` with no row to select, a `--spring-tolerance` that reads
+/// as a fraction, a factor below 1, findings made on another wing.
 fn input_warnings(
     args: &MarginArgs,
     mech: &Mechanism,
@@ -485,6 +485,10 @@ fn input_warnings(
         ));
     }
     out.extend(single_row_warning(args));
+    out.extend(crate::model::plausibility::percent_as_fraction(
+        "--spring-tolerance",
+        args.spring_tolerance,
+    ));
     for (kind, value) in args.factors.iter().filter(|(_, v)| *v < 1.0) {
         out.push(format!(
             "--factor {kind}={value}: below 1, it takes the {kind} resistance at less than its \

@@ -195,24 +195,18 @@ impl<'a> Output<'a> {
 }
 
 /// Checks a command's outputs before any work: each with [`check_output`];
-/// a plot's name ends in one of [`PLOT_EXTENSIONS`]; and no two outputs
+/// a plot's name ends in one of [`PLOT_EXTENSIONS`], a text file's in none
+/// of them; and no two outputs
 /// name one file (the one written last would replace the other: checked
 /// by the folder as resolved and the file name, so before either exists).
 pub fn check_outputs(outputs: &[Output], inputs: &[&Path]) -> Result<(), CliError> {
     for (i, o) in outputs.iter().enumerate() {
         let bad = |why: String| CliError::input(format!("{} {}: {why}", o.flag, o.path.display()));
-        if o.plot {
-            let ext = o
-                .path
-                .extension()
-                .and_then(|e| e.to_str())
-                .map(str::to_ascii_lowercase);
-            if !ext.is_some_and(|e| PLOT_EXTENSIONS.contains(&e.as_str())) {
-                return Err(bad(format!(
-                    "expected a file name ending in .{}: a plot's format is read from its name",
-                    PLOT_EXTENSIONS.join(", .")
-                )));
-            }
+        if o.plot && image_extension(o.path).is_none() {
+            return Err(bad(format!(
+                "expected a file name ending in .{}: a plot's format is read from its name",
+                PLOT_EXTENSIONS.join(", .")
+            )));
         }
         check_output(o.flag, o.path, inputs)?;
         if let Some(first) = outputs[..i].iter().find(|f| same_file(f.path, o.path)) {
@@ -222,7 +216,26 @@ pub fn check_outputs(outputs: &[Output], inputs: &[&Path]) -> Result<(), CliErro
             )));
         }
     }
+    // After the clashes: `--out x.png --plot x.png` is told the clash.
+    for o in outputs.iter().filter(|o| !o.plot) {
+        if let Some(e) = image_extension(o.path) {
+            return Err(CliError::input(format!(
+                "{} {}: the file is written as text (CSV, JSON or Markdown), not as an image; \
+                 expected a name that does not end in .{e} (a figure, where the command draws \
+                 one, is --plot's)",
+                o.flag,
+                o.path.display()
+            )));
+        }
+    }
     Ok(())
+}
+
+/// The extension of `path`, in lower case, when it is one of
+/// [`PLOT_EXTENSIONS`].
+fn image_extension(path: &Path) -> Option<String> {
+    let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+    PLOT_EXTENSIONS.contains(&ext.as_str()).then_some(ext)
 }
 
 /// True when `a` and `b` name one file, whether or not it exists: their

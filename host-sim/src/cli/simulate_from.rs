@@ -27,6 +27,9 @@ use std::path::Path;
 pub struct FoundModel {
     /// The effects, in the file's order.
     pub effects: Vec<Effect>,
+    /// The entry of the file each effect comes from, for errors:
+    /// `effects[0] (coulomb_friction)`, `joints[1] (coulomb_friction)`.
+    pub entries: Vec<String>,
     /// The diagnosis, when the file is one.
     pub diagnosis: Option<Diagnosis>,
 }
@@ -38,19 +41,42 @@ pub fn read(path: &Path) -> Result<FoundModel, CliError> {
     let at = |m: String| CliError::input(format!("--from {}: {m}", path.display()));
     let text = std::fs::read_to_string(path).map_err(|e| at(format!("cannot read: {e}")))?;
     match Findings::from_json_str(&text).map_err(|e| at(e.to_string()))? {
-        Findings::Diagnosis(d) => Ok(FoundModel {
-            effects: d.extended_effects().map_err(|e| at(e.to_string()))?,
-            diagnosis: Some(*d),
-        }),
+        Findings::Diagnosis(d) => {
+            let (mut effects, mut entries) = (Vec::new(), Vec::new());
+            for (i, f) in d.effects.iter().enumerate() {
+                if let Some(e) = f.to_effect(i).map_err(|e| at(e.to_string()))? {
+                    effects.push(e);
+                    entries.push(format!("effects[{i}] ({})", f.name));
+                }
+            }
+            Ok(FoundModel {
+                effects,
+                entries,
+                diagnosis: Some(*d),
+            })
+        }
         Findings::Identify(id) => Ok(FoundModel {
             effects: id
                 .joints
                 .iter()
                 .map(|j| Effect::joint(EffectKind::CoulombFriction, j.joint, j.coulomb_nm))
                 .collect(),
+            entries: (0..id.joints.len())
+                .map(|i| format!("joints[{i}] ({})", EffectKind::CoulombFriction.name()))
+                .collect(),
             diagnosis: None,
         }),
     }
+}
+
+/// Checks each effect `found` names against `mech`, as `--effect`'s are
+/// checked, naming the file `path` and the entry it comes from.
+fn check_found(found: &FoundModel, mech: &Mechanism, path: &Path) -> Result<(), CliError> {
+    for (e, entry) in found.effects.iter().zip(&found.entries) {
+        e.validate(mech.effect_joints())
+            .map_err(|m| CliError::input(format!("--from {}: {entry}: {m}", path.display())))?;
+    }
+    Ok(())
 }
 
 /// The arguments with the effects of `--from` added to the `--effect`s,
@@ -62,7 +88,11 @@ pub fn with_found(
 ) -> Result<(SimulateArgs, Option<FoundModel>), CliError> {
     let mut with = args.clone();
     let found = match &args.from {
-        Some(path) => Some(read(path)?),
+        Some(path) => {
+            let found = read(path)?;
+            check_found(&found, mech, path)?;
+            Some(found)
+        }
         None => None,
     };
     if let Some(f) = &found {

@@ -107,6 +107,17 @@ pub enum CampaignError {
     /// Nothing to work on.
     #[error("no runs given")]
     NoRuns,
+    /// Two different mechanisms under one name: a run of that name could
+    /// be paired with either.
+    #[error("{second}: mechanism \"{name}\" is also the name of {first}, a different mechanism: a run of \"{name}\" could be paired with either; expected one mechanism file per name (give one of them, or rename the other: `name = ...`)")]
+    SameNameTwice {
+        /// The name.
+        name: String,
+        /// The file first given under it.
+        first: String,
+        /// The other file.
+        second: String,
+    },
     /// A run given twice (the same file, or a copy: the same samples).
     #[error("{file}: the same samples as {first}: a run given twice would count as new evidence and narrow every interval; give each run once")]
     SameRunTwice {
@@ -141,12 +152,22 @@ impl Campaign {
             .unwrap_or(0)
     }
 
-    /// Loads mechanisms and runs and pairs them.
+    /// Loads mechanisms and runs and pairs them; two different mechanisms
+    /// under one name are refused, naming both files.
     pub fn load(mechanisms: &[PathBuf], runs: &[PathBuf]) -> Result<Campaign, CampaignError> {
         let mechs = mechanisms
             .iter()
             .map(|p| Mechanism::load(p))
             .collect::<Result<Vec<_>, _>>()?;
+        for (i, m) in mechs.iter().enumerate() {
+            if let Some(k) = (0..i).find(|&k| mechs[k].name == m.name && mechs[k] != *m) {
+                return Err(CampaignError::SameNameTwice {
+                    name: m.name.clone(),
+                    first: mechanisms[k].display().to_string(),
+                    second: mechanisms[i].display().to_string(),
+                });
+            }
+        }
         let mut out = Campaign::default();
         for path in runs {
             let run = Run::load(path)?;

@@ -7,7 +7,7 @@
 //! through [`crate::data::campaign::Campaign::push`], `replay`) calls
 //! [`check`] before it simulates anything. A finding that makes the run
 //! unusable is an error ([`RunErrorKind::AnglesInRadians`],
-//! [`RunErrorKind::MirroredEncoder`], [`RunErrorKind::AnglesWholeTurnsOff`],
+//! [`RunErrorKind::MirroredEncoder`], [`RunErrorKind::SwappedColumns`], [`RunErrorKind::AnglesWholeTurnsOff`],
 //! [`RunErrorKind::AnglesWrap`],
 //! [`RunErrorKind::AnglesFromStowed`], [`RunErrorKind::TimeInMilliseconds`]);
 //! one where the data may be right is a warning, returned as a line of text.
@@ -70,6 +70,9 @@ const MIN_SAMPLES_PER_HORIZON: f64 = 10.0;
 /// Checks `run` (read from `file`) against `mechanism` before any
 /// simulation. Returns the warnings (`file:line: ...`, without the
 /// `warning:` prefix), or the first error:
+/// - two joints' first samples are each the other's stowed angle:
+///   [`RunErrorKind::SwappedColumns`] (at ±180 deg, where that is also
+///   each one's own pose a turn off, named in their warnings);
 /// - the first sample is the stowed angle in radians (ratio 57.3):
 ///   [`RunErrorKind::AnglesInRadians`];
 /// - the first sample is minus the stowed angle (a mirrored encoder) on a
@@ -102,8 +105,11 @@ pub fn check(run: &Run, mechanism: &Mechanism, file: &str) -> Result<Vec<String>
         return Ok(warnings);
     }
     check_time(run, mechanism, file, &mut warnings)?;
+    let swap = check_swap(run, mechanism, file)?;
     for (j, joint) in mechanism.joints.iter().enumerate().take(run.joints()) {
-        check_angles(run, j, joint.stowed_deg, file, &mut warnings)?;
+        let other = swap.and_then(|(a, b)| [(a, b), (b, a)].into_iter().find(|p| p.0 == j));
+        let swap = other.map(|(_, k)| k);
+        check_angles(run, j, joint.stowed_deg, swap, file, &mut warnings)?;
     }
     check_latches(run, file, &mut warnings);
     warnings.extend(crate::data::glitch::warnings(run, file, |i| {
@@ -282,7 +288,62 @@ fn check_time(
     Ok(())
 }
 
-/// The first sample of joint `j` against its stowed angle.
+/// Distance between two angles up to whole turns \[deg\]: 0 for the same
+/// pose, at most 180.
+fn off_by_turns(a: f64, b: f64) -> f64 {
+    let d = a - b;
+    (d - 360.0 * (d / 360.0).round()).abs()
+}
+
+/// Two joints of `run` (0-based) whose readings at the start are each
+/// within [`START_OFFSET_WARN_DEG`] of the other's stowed angle and not of
+/// their own, where their stowed angles differ: their columns swapped.
+/// Refused ([`RunErrorKind::SwappedColumns`]) unless each reading is also
+/// its own joint's pose a turn off (stowed at ±180 deg, where −180 and 180
+/// are one pose); that pair is returned, for the warnings of the joints.
+fn check_swap(
+    run: &Run,
+    mechanism: &Mechanism,
+    file: &str,
+) -> Result<Option<(usize, usize)>, RunError> {
+    let n = run.joints().min(mechanism.joint_count());
+    let stowed = |j: usize| mechanism.joints[j].stowed_deg;
+    let starts: Vec<Option<(usize, f64)>> = (0..n)
+        .map(|j| start_reading(&run.phi_deg[j], &run.t_s))
+        .collect();
+    let near = |x: f64, target: f64| (x - target).abs() <= START_OFFSET_WARN_DEG;
+    for a in 0..n {
+        for b in a + 1..n {
+            let (Some((i0, from_a)), Some((_, from_b))) = (starts[a], starts[b]) else {
+                continue;
+            };
+            let swapped = !near(stowed(a), stowed(b))
+                && near(from_a, stowed(b))
+                && near(from_b, stowed(a))
+                && !near(from_a, stowed(a))
+                && !near(from_b, stowed(b));
+            if !swapped {
+                continue;
+            }
+            let own_pose = off_by_turns(from_a, stowed(a)) <= START_OFFSET_WARN_DEG
+                && off_by_turns(from_b, stowed(b)) <= START_OFFSET_WARN_DEG;
+            if own_pose {
+                return Ok(Some((a, b)));
+            }
+            return Err(RunError::at(
+                file,
+                line_of_sample(run, i0),
+                RunErrorKind::SwappedColumns {
+                    joints: [a + 1, b + 1],
+                    found: [from_a, from_b],
+                    stowed_deg: [stowed(a), stowed(b)],
+                },
+            ));
+        }
+    }
+    Ok(None)
+}
+
 /// A jump of about a turn between two readings of joint `j`: a wrap,
 /// whatever the rate (no hinge turns 270 deg between two samples of a
 /// deployment).
@@ -310,10 +371,15 @@ fn check_wrap(run: &Run, j: usize, file: &str) -> Result<(), RunError> {
     }
 }
 
+/// The first sample of joint `j` against its stowed angle; `swap`: the
+/// joint (0-based) whose column this one's may be swapped with, each
+/// reading the other's stowed angle and its own a turn off
+/// ([`check_swap`]).
 fn check_angles(
     run: &Run,
     j: usize,
     stowed_deg: f64,
+    swap: Option<usize>,
     file: &str,
     warnings: &mut Vec<String>,
 ) -> Result<(), RunError> {
@@ -363,7 +429,8 @@ fn check_angles(
     if mirrored < degrees && mirrored < radians && mirrored <= whole_turns {
         if (stowed_deg.abs() - 180.0).abs() < MIN_STOWED_FOR_UNITS_DEG {
             warnings.push(format!(
-                "{file}:{line}: column `phi{joint}_deg` (column {column}): the run starts at {first} deg where joint {joint} is stowed at {stowed_deg} deg: an encoder mounted mirrored, or one that wraps at ±180 deg?",
+                "{file}:{line}: column `phi{joint}_deg` (column {column}): the run starts at {first} deg where joint {joint} is stowed at {stowed_deg} deg: {}?",
+                mirrored_causes(j, swap),
                 joint = j + 1,
                 column = j + 2
             ));
@@ -381,6 +448,20 @@ fn check_angles(
         return Ok(());
     }
     check_start_offset(series, j, first, stowed_deg, file, line, warnings)
+}
+
+/// What makes joint `j` stowed at ±180 deg start at minus its stowed
+/// angle, in words: a mirrored or wrapping encoder, or its column swapped
+/// with joint `swap`'s ([`check_swap`]).
+fn mirrored_causes(j: usize, swap: Option<usize>) -> String {
+    match swap {
+        None => "an encoder mounted mirrored, or one that wraps at ±180 deg".to_string(),
+        Some(k) => format!(
+            "an encoder mounted mirrored, one that wraps at ±180 deg, or the columns `phi{}_deg` and `phi{}_deg` swapped (each starts at the other joint's stowed angle)",
+            j.min(k) + 1,
+            j.max(k) + 1
+        ),
+    }
 }
 
 /// The reading at the start of joint `j` against its stowed angle, once
@@ -464,8 +545,12 @@ fn check_latches(run: &Run, file: &str, warnings: &mut Vec<String>) {
                 .iter()
                 .position(|x| x.abs() < MIN_MOTION_DEG)
                 .unwrap_or(0);
+            let closest = phi
+                .iter()
+                .filter(|x| x.is_finite())
+                .fold(f64::INFINITY, |a, x| a.min(x.abs()));
             warnings.push(format!(
-                "{file}:{line}: column `latch{joint}` (column {column}): joint {joint} reaches its latch angle (0 deg) but its switch never reads closed: a switch unwired or stuck open?",
+                "{file}:{line}: column `latch{joint}` (column {column}): joint {joint} comes within {MIN_MOTION_DEG} deg of its latch angle (0 deg; {closest:.2} deg at the closest) but its switch never reads closed: a switch unwired or stuck open, or a joint stopped just short of its latch?",
                 line = line_of_sample(run, i),
                 joint = j + 1,
                 column = 2 + n + j

@@ -2,7 +2,8 @@
 //! mechanism TOML or a JSON document (`docs/spec/formats.md`). A loader
 //! that meets the wrong one says which it met: a new user swaps
 //! `--mechanism M.toml` and the run, or gives a command's `--json` output
-//! where a mechanism belongs.
+//! where a mechanism belongs. A file that is not UTF-8 is told where it
+//! stops being UTF-8 and what it looks like instead ([`utf8_text`]).
 
 use std::fmt;
 
@@ -80,9 +81,131 @@ impl fmt::Display for FileKind {
     }
 }
 
+/// Smallest share of a file's bytes that are printable ASCII, tab, CR or
+/// LF for a file that is not UTF-8 to be taken for text in another
+/// encoding (0.9): a German or French text in Latin-1 has a few per cent of
+/// bytes above 127, a binary file (an image, an archive) mostly such bytes
+/// and controls.
+pub const MIN_TEXT_SHARE: f64 = 0.9;
+
+/// The UTF-16 byte-order marks, as the bytes a file starts with and as
+/// written in a message: little-endian (a spreadsheet's "Unicode text" on
+/// Windows), big-endian.
+const UTF16_MARKS: [([u8; 2], &str); 2] = [([0xFF, 0xFE], "FF FE"), ([0xFE, 0xFF], "FE FF")];
+
+/// What the bytes of a file that is not UTF-8 likely are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Encoding {
+    /// UTF-16 text: the byte-order mark it starts with (`FF FE`).
+    Utf16 {
+        /// The mark, as written in a message.
+        mark: &'static str,
+    },
+    /// Text in a one-byte code page (Latin-1, Windows-1252): the first byte
+    /// that is not UTF-8.
+    SingleByte {
+        /// The byte.
+        byte: u8,
+    },
+    /// No text: fewer than [`MIN_TEXT_SHARE`] of its bytes are.
+    Binary,
+}
+
+/// Where a file stops being UTF-8, and what it likely is instead.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NotUtf8 {
+    /// 1-based line of the first byte that is not UTF-8.
+    pub line: usize,
+    /// 1-based column of that byte, in characters of its line.
+    pub column: usize,
+    /// Offset of that byte in the file, from 0.
+    pub offset: usize,
+    /// What the file likely is.
+    pub encoding: Encoding,
+}
+
+/// The text of a file's `bytes`, or where it is not UTF-8 and what it
+/// looks like instead.
+pub fn utf8_text(bytes: Vec<u8>) -> Result<String, NotUtf8> {
+    String::from_utf8(bytes).map_err(|e| {
+        let offset = e.utf8_error().valid_up_to();
+        let bytes = e.as_bytes();
+        let before = std::str::from_utf8(&bytes[..offset]).unwrap_or_default();
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        let texty = bytes
+            .iter()
+            .filter(|&&b| matches!(b, b'\t' | b'\n' | b'\r' | 0x20..=0x7E))
+            .count();
+        let encoding =
+            if let Some((_, mark)) = UTF16_MARKS.iter().find(|(m, _)| bytes.starts_with(m)) {
+                Encoding::Utf16 { mark }
+            } else if texty as f64 >= MIN_TEXT_SHARE * bytes.len() as f64 {
+                Encoding::SingleByte {
+                    byte: bytes[offset],
+                }
+            } else {
+                Encoding::Binary
+            };
+        NotUtf8 {
+            line: 1 + before.matches('\n').count(),
+            column: 1 + before[line_start..].chars().count(),
+            offset,
+            encoding,
+        }
+    })
+}
+
+impl fmt::Display for NotUtf8 {
+    /// What the file is instead of UTF-8, after its `file:line:`; for a
+    /// binary file, no more than that it is not text.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.encoding {
+            Encoding::Utf16 { mark } => write!(
+                f,
+                "the file starts with the byte-order mark {mark} of UTF-16 text (a spreadsheet's \"Unicode text\"), not UTF-8"
+            ),
+            Encoding::SingleByte { byte } => {
+                write!(f, "column {} (byte {}): byte 0x{byte:02X} is not UTF-8", self.column, self.offset)?;
+                if let 0xA0..=0xFF = byte {
+                    write!(f, " but `{}` in Latin-1 and Windows-1252", char::from(byte))?;
+                }
+                f.write_str(" (a file saved in Latin-1 or Windows-1252?)")
+            }
+            Encoding::Binary => write!(f, "not a text file (invalid UTF-8 at byte {})", self.offset),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_file_that_is_not_utf8_is_told_where_and_what_it_looks_like() {
+        let latin1 = b"# mechanism = \"T01\"\n# source = \"Pr\xFCfstand\"\nt_s\n".to_vec();
+        let e = utf8_text(latin1).expect_err("Latin-1");
+        assert_eq!((e.line, e.column), (2, 15), "{e:?}");
+        assert_eq!(e.encoding, Encoding::SingleByte { byte: 0xFC });
+        assert!(
+            e.to_string().contains("Latin-1") && e.to_string().contains("`ü`"),
+            "{e}"
+        );
+        let utf16: Vec<u8> = [0xFF, 0xFE]
+            .into_iter()
+            .chain("t_s".bytes().flat_map(|b| [b, 0]))
+            .collect();
+        let e = utf8_text(utf16).expect_err("UTF-16");
+        assert_eq!((e.line, e.column), (1, 1));
+        assert!(
+            e.to_string().contains("UTF-16") && e.to_string().contains("FF FE"),
+            "{e}"
+        );
+        let binary: Vec<u8> = (0..64u8).map(|b| b | 0x80).collect();
+        let e = utf8_text(binary).expect_err("binary");
+        assert_eq!(e.encoding, Encoding::Binary);
+        assert!(e.to_string().starts_with("not a text file"), "{e}");
+        assert_eq!(utf8_text(b"t_s\n".to_vec()).as_deref(), Ok("t_s\n"));
+    }
 
     #[test]
     fn the_first_line_tells_the_kind() {

@@ -39,7 +39,8 @@ use crate::model::latch::{
     LatchSpec, MagnetSpec, PlungerSpec, StopSpec, PAPER_DAMPING_NS_PER_MM1_25,
     PAPER_STIFFNESS_N_PER_MM1_5,
 };
-use crate::model::toml_tree::{Bound, Cx, Res, Sp, Table};
+use crate::model::mechanism_error::MechanismErrorKind;
+use crate::model::toml_tree::{join, Bound, Cx, Node, Res, Sp, Table};
 use deploywatch_core::physics::latch_contact::Pawl;
 
 const LATCH_KEYS: &[&str] = &[
@@ -84,8 +85,16 @@ const RIGHT_ANGLE_DEG: f64 = 90.0;
 /// mark where it engages (its switch, crest, entry ramp, the magnet's
 /// reach) within the stroke `|stowed_deg|`, or it would engage stowed.
 /// Errors name the key path (`joint[1].latch.plunger.preload_n`), the line
-/// and what was expected.
-pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, path: &str, stowed_deg: f64) -> Res<Option<LatchSpec>> {
+/// and what was expected; a key of the joint (one of `joint_keys`) in the
+/// latch table is told it is written below the `[joint.latch]` line.
+pub(crate) fn read(
+    cx: &Cx<'_>,
+    sp: &Sp,
+    path: &str,
+    stowed_deg: f64,
+    joint_keys: &[&str],
+) -> Res<Option<LatchSpec>> {
+    joint_key_in_latch(cx, sp, path, joint_keys)?;
     let t = cx.table(sp, path, LATCH_KEYS)?;
     let expected = "\"physical\" or \"ideal\"";
     let Some(model) = t.get("model") else {
@@ -125,6 +134,30 @@ pub(crate) fn read(cx: &Cx<'_>, sp: &Sp, path: &str, stowed_deg: f64) -> Res<Opt
         .map_err(|why| cx.invalid(sp, path, &format!("a physical latch: {why}")))?;
     within_stroke(cx, sp, path, &spec, stowed_deg)?;
     Ok(Some(spec))
+}
+
+/// A key of the joint (one of `joint_keys`: `friction`, `free_play_deg`)
+/// in the latch table `sp`: written below the `[joint.latch]` line, where
+/// TOML gives every key up to the next header to the latch; refused with
+/// that said.
+fn joint_key_in_latch(cx: &Cx<'_>, sp: &Sp, path: &str, joint_keys: &[&str]) -> Res<()> {
+    let Node::Table(entries) = &sp.node else {
+        return Ok(());
+    };
+    let misplaced = entries
+        .iter()
+        .find(|(k, _)| !LATCH_KEYS.contains(&k.as_str()) && joint_keys.contains(&k.as_str()));
+    match misplaced {
+        Some((name, v)) => Err(cx.err(
+            cx.first_line(v).or_else(|| cx.line(sp)),
+            MechanismErrorKind::JointKeyInLatch {
+                key: join(path, name),
+                name: name.clone(),
+                expected: LATCH_KEYS.join(", "),
+            },
+        )),
+        None => Ok(()),
+    }
 }
 
 /// Every mark where the latch engages lies within the stroke.

@@ -25,6 +25,13 @@ pub enum MechanismErrorKind {
         #[source]
         source: std::io::Error,
     },
+    /// The file is not UTF-8: a text file in another encoding (UTF-16,
+    /// Latin-1; the line in [`MechanismError`]), or no text at all.
+    #[error("{found}; expected a mechanism TOML in UTF-8: save it as UTF-8")]
+    NotUtf8 {
+        /// Where, and the encoding it looks like.
+        found: crate::model::file_kind::NotUtf8,
+    },
     /// The file could not be written.
     #[error("cannot write the mechanism file: {source}")]
     Write {
@@ -46,6 +53,17 @@ pub enum MechanismErrorKind {
         /// Key path of the unknown key.
         key: String,
         /// The keys allowed at that place, comma separated.
+        expected: String,
+    },
+    /// A key of a joint written below its `[joint.latch]` header, where
+    /// TOML gives it to the latch.
+    #[error("unknown key `{key}`: `{name}` is a key of the [[joint]], but every key below the `[joint.latch]` line, up to the next header, belongs to the latch; expected it above the `[joint.latch]` line (the latch's keys: {expected})")]
+    JointKeyInLatch {
+        /// Key path of the key (`joint[1].latch.friction`).
+        key: String,
+        /// The key itself (`friction`).
+        name: String,
+        /// The latch's keys, comma separated.
         expected: String,
     },
     /// A dotted header that numbers a table of an array of tables
@@ -177,6 +195,7 @@ impl MechanismError {
     pub fn key(&self) -> Option<&str> {
         match &self.kind {
             MechanismErrorKind::UnknownKey { key, .. }
+            | MechanismErrorKind::JointKeyInLatch { key, .. }
             | MechanismErrorKind::NumberedTable { key, .. }
             | MechanismErrorKind::MissingKey { key, .. }
             | MechanismErrorKind::WrongType { key, .. }

@@ -78,10 +78,17 @@ pub const MAX_SAMPLE_HZ: f64 = 1.0e6;
 impl Mechanism {
     /// Reads and validates a mechanism TOML file.
     pub fn load(path: &Path) -> Result<Mechanism, MechanismError> {
-        let text = std::fs::read_to_string(path).map_err(|source| MechanismError {
-            file: path.display().to_string(),
+        let file = path.display().to_string();
+        let bytes = std::fs::read(path).map_err(|source| MechanismError {
+            file: file.clone(),
             line: None,
             kind: MechanismErrorKind::Io { source },
+        })?;
+        let text = crate::model::file_kind::utf8_text(bytes).map_err(|found| MechanismError {
+            file: file.clone(),
+            line: (found.encoding != crate::model::file_kind::Encoding::Binary)
+                .then_some(found.line),
+            kind: MechanismErrorKind::NotUtf8 { found },
         })?;
         Mechanism::from_toml_str(&text, &path.display().to_string())
     }
@@ -441,6 +448,7 @@ impl Cx<'_> {
                 latch,
                 &format!("joint[{j}].latch"),
                 stowed_deg,
+                JOINT_KEYS,
             ),
             None => Ok(None),
         }

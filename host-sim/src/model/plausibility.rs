@@ -1,7 +1,8 @@
 //! Values of a mechanism that are valid but unlikely: a panel mass typed in
 //! grams, an inertia that no panel of that mass and length has, a stowed
 //! angle or a curve spring's angles typed in radians, a spring that would
-//! deploy its panels in a flash or over hours, or not at all. Each is a
+//! deploy its panels in a flash or over hours, or not at all, a rig's
+//! suspension wire typed in millimetres. Each is a
 //! warning
 //! (the value may be right), naming the key and, when the TOML text is
 //! given, its line; none stops a command.
@@ -39,6 +40,29 @@ pub const MIN_DEPLOY_S: f64 = 0.1;
 /// Longest plausible deployment \[s\]: ten minutes, beyond which the spring
 /// could not overcome any real hinge's friction.
 pub const MAX_DEPLOY_S: f64 = 600.0;
+
+/// Longest plausible suspension wire of a zero-g rig's trolley \[m\]: 30 m,
+/// the height of a tall high bay; a wire typed in millimetres is a
+/// thousand times the true one (1.5 m typed 1500).
+pub const MAX_WIRE_M: f64 = 30.0;
+
+/// Largest tolerance in per cent that reads as a fraction typed for a
+/// percentage \[%\]: 1 %. A spring's torque is known to a few per cent;
+/// `0.05` typed for 5 % is 0.05 %.
+pub const FRACTION_LIKE_PCT: f64 = 1.0;
+
+/// A tolerance `pct` \[%\] given with `option` (`--spring-tolerance`) above
+/// 0 and below [`FRACTION_LIKE_PCT`]: a fraction typed for a percentage, in
+/// a warning.
+pub fn percent_as_fraction(option: &str, pct: f64) -> Option<String> {
+    (pct > 0.0 && pct < FRACTION_LIKE_PCT).then(|| {
+        let meant = crate::report::text::list_4(&[pct * 100.0]);
+        format!(
+            "{option} {pct}: taken as {pct} %, below {FRACTION_LIKE_PCT} %: a fraction for a \
+             percentage? the option takes per cent: {meant} % is `{option} {meant}`"
+        )
+    })
+}
 
 /// A valid but unlikely value.
 #[derive(Clone, Debug, PartialEq)]
@@ -165,6 +189,7 @@ pub fn check(mechanism: &Mechanism, text: Option<&str>) -> Vec<Implausible> {
             });
         }
     }
+    out.extend(rig_wires(mechanism, doc.as_ref(), text));
     if doc.as_ref().is_some_and(|d| d.get("run").is_none()) {
         out.push(Implausible {
             key: "run".into(),
@@ -173,6 +198,32 @@ pub fn check(mechanism: &Mechanism, text: Option<&str>) -> Vec<Implausible> {
         });
     }
     out
+}
+
+/// The rig's suspension wires longer than [`MAX_WIRE_M`]: lengths typed in
+/// millimetres (`doc` and `text`, the TOML, for the lines).
+fn rig_wires(
+    mechanism: &Mechanism,
+    doc: Option<&toml_edit::ImDocument<&str>>,
+    text: Option<&str>,
+) -> Vec<Implausible> {
+    let Some(rig) = &mechanism.rig else {
+        return Vec::new();
+    };
+    let line_of = |i: usize| -> Option<usize> {
+        let (doc, text) = (doc?, text?);
+        let trolleys = doc.get("rig")?.get("trolley")?.as_array_of_tables()?;
+        let start = trolleys.get(i)?.get("wire_m")?.span()?.start;
+        Some(text[..start.min(text.len())].matches('\n').count() + 1)
+    };
+    (rig.trolleys.iter().enumerate())
+        .filter(|(_, t)| t.wire_m > MAX_WIRE_M)
+        .map(|(i, t)| Implausible {
+            key: format!("rig.trolley[{}].wire_m", i + 1),
+            line: line_of(i),
+            message: format!("a suspension wire of {} m ({:.1} km), longer than the {MAX_WIRE_M} m of a tall high bay: a length in millimetres? expected metres ({} m)", t.wire_m, t.wire_m / 1000.0, t.wire_m / 1000.0),
+        })
+        .collect()
 }
 
 /// [`check`] of a mechanism read from `path` (its text read again for the
@@ -303,6 +354,36 @@ mod tests {
             ("panel[1].mass_kg", Some(line))
         );
         assert!(w[0].message.contains("grams"), "{}", w[0].message);
+    }
+
+    #[test]
+    fn a_tolerance_below_one_per_cent_reads_as_a_fraction() {
+        let w = percent_as_fraction("--spring-tolerance", 0.05).expect("0.05 %");
+        assert!(
+            w.contains("0.05 %") && w.contains("fraction") && w.contains("`--spring-tolerance 5`"),
+            "{w}"
+        );
+        assert_eq!(percent_as_fraction("--spring-tolerance", 0.0), None);
+        assert_eq!(percent_as_fraction("--spring-tolerance", 5.0), None);
+    }
+
+    #[test]
+    fn a_rig_wire_in_millimetres_names_the_trolley_and_its_line() {
+        let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("../data/mechanisms/seed001_T01_rig.toml");
+        let text = std::fs::read_to_string(p).unwrap();
+        let m = Mechanism::from_toml_str(&text, "rig").unwrap();
+        assert_eq!(check(&m, Some(&text)), Vec::new());
+        let text = text.replacen("wire_m = 1.5", "wire_m = 1500", 1);
+        let line = 1 + text.lines().position(|l| l.contains("1500")).unwrap();
+        let m = Mechanism::from_toml_str(&text, "rig").unwrap();
+        let w = check(&m, Some(&text));
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert_eq!(
+            (w[0].key.as_str(), w[0].line),
+            ("rig.trolley[1].wire_m", Some(line))
+        );
+        assert!(w[0].message.contains("millimetres"), "{}", w[0].message);
     }
 
     /// One 1 m panel of 2 kg stowed at 90 deg on `spring` (a TOML inline

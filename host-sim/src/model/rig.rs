@@ -144,7 +144,7 @@ pub enum RigError {
         panels: usize,
     },
     /// A trolley on a bar that does not exist.
-    #[error("rig.trolley[{index}]: bar {bar}: the rig has bars 1 to {bars}")]
+    #[error("rig.trolley[{index}]: bar {bar}: the rig has {}", crate::report::text::one_to(*bars, "bar", "bars"))]
     Bar {
         /// 1-based trolley.
         index: usize,

@@ -350,7 +350,7 @@ impl Cx<'_> {
     }
 
     /// The line of `sp`, or of the first of its values that has one.
-    fn first_line(&self, sp: &Sp) -> Option<usize> {
+    pub(crate) fn first_line(&self, sp: &Sp) -> Option<usize> {
         match (&sp.node, self.line(sp)) {
             (_, Some(l)) => Some(l),
             (Node::Table(entries), None) => entries.iter().find_map(|(_, v)| self.first_line(v)),

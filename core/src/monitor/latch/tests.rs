@@ -398,3 +398,31 @@ fn given_pawl_when_joint_rides_the_cam_without_engaging_then_no_escape() {
     assert_eq!(last.state, LatchState::Escaped, "{last:?}");
     assert!(last.faults.contains(Fault::LatchDisagree), "{last:?}");
 }
+
+/// A joint that stops short of its ideal latch inside `latching_deg` (a
+/// jam 2° short, the switch rightly open) is `Stalled` once its readings
+/// have stayed within the rest band for `stall_time_s`, whatever its
+/// filtered rate (inside the snap zone the rate of a joint at rest swings
+/// by tens of degrees per second; here it reads -50 deg/s throughout). A
+/// joint still creeping through the same zone is not.
+#[test]
+fn given_ideal_latch_when_joint_rests_short_within_the_latching_zone_then_stalled() {
+    let wobble = |k: usize| 0.02 * [0.0, 1.0, -1.0, 0.5, -0.5][k % 5];
+    let cfg = LatchConfig::default();
+    let mut s = vec![(false, 30.0), (false, 10.0)];
+    s.extend((0..150).map(|k| (false, -2.0 + wobble(k))));
+    let out = run_with(&mut LatchTracker::new(), &cfg, &s);
+    // Sample 2 starts the rest at t = 0.02 s; stalled from t = 1.02 s.
+    let first = out.iter().position(|o| o.state == LatchState::Stalled);
+    assert_eq!(first, Some(102), "{:?}", &out[95..110]);
+    assert!(out[102..].iter().all(|o| o.state == LatchState::Stalled));
+    assert!(out.iter().all(|o| o.faults.is_empty()));
+    // Creeping at 0.5 deg/s from -2.5 deg: leaves the band every 0.3 s.
+    let mut s = vec![(false, 30.0), (false, 10.0)];
+    s.extend((0..150).map(|k| (false, -2.5 + 0.005 * k as f32 + wobble(k))));
+    let out = run_with(&mut LatchTracker::new(), &cfg, &s);
+    assert!(
+        out.iter().all(|o| o.state != LatchState::Stalled),
+        "{out:?}"
+    );
+}

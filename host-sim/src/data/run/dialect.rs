@@ -20,6 +20,16 @@ fn is_spreadsheet(text: &str) -> bool {
         .is_some_and(|h| h.contains(';') && !h.contains(','))
 }
 
+/// The field separator of `text` as written: `;` in the spreadsheet
+/// dialect, else `,`.
+pub(super) fn separator(text: &str) -> char {
+    if is_spreadsheet(text) {
+        char::from(SPREADSHEET_SEPARATOR)
+    } else {
+        ','
+    }
+}
+
 /// `text` in the comma dialect: itself when it is already, else the
 /// spreadsheet dialect converted line for line (fields split by the `csv`
 /// crate with `;` as delimiter, decimal commas made points, metadata lines

@@ -159,14 +159,17 @@ pub enum RunErrorKind {
         found: usize,
     },
     /// A data row with the wrong number of fields.
-    #[error("expected {expected} comma-separated fields (as in the header), found {found}{}", field_count_hint(*expected, *found, *trailing_comma))]
+    #[error("expected {expected} {} fields (as in the header), found {found}{}", separated(*separator), field_count_hint(*expected, *found, *trailing_separator, *separator))]
     FieldCount {
         /// Number of header columns.
         expected: usize,
         /// Number of fields in the row.
         found: usize,
-        /// The row ends with a `,`: its one field too many is empty.
-        trailing_comma: bool,
+        /// The row ends with its separator: its one field too many is empty.
+        trailing_separator: bool,
+        /// The file's field separator: `,`, or `;` in the spreadsheet
+        /// dialect.
+        separator: char,
     },
     /// A field that is not a finite number (unparsable, NaN or infinite).
     #[error("column `{column}`: expected a finite number, found `{found}`{hint}")]
@@ -204,11 +207,21 @@ pub enum RunErrorKind {
         /// The column's name.
         column: String,
     },
-    /// A file that is not UTF-8 text.
+    /// A file that is not text (a binary file).
     #[error("not a text file (invalid UTF-8 at byte {offset}); expected a run CSV")]
     NotText {
         /// Offset of the first invalid byte.
         offset: usize,
+    },
+    /// A text file in another encoding than UTF-8 (UTF-16, Latin-1): where
+    /// it stops being UTF-8 (the line in [`RunError`]) and what it looks
+    /// like.
+    #[error(
+        "{found}; expected a run CSV in UTF-8: save it as UTF-8 (a spreadsheet's \"CSV UTF-8\")"
+    )]
+    NotUtf8 {
+        /// Where, and the encoding it looks like.
+        found: crate::model::file_kind::NotUtf8,
     },
     /// A latch field other than `0` or `1`.
     #[error("column `{column}`: expected 0 or 1, found `{found}`")]
@@ -286,6 +299,17 @@ pub enum RunErrorKind {
         found: f64,
         /// Its stowed angle \[deg\].
         stowed_deg: f64,
+    },
+    /// Meaning: two joints' readings start each at the other's stowed
+    /// angle: their columns swapped.
+    #[error("columns `phi{a}_deg` (column {}) and `phi{b}_deg` (column {}): the run starts at {} deg and {} deg where joint {a} is stowed at {} deg and joint {b} at {} deg, each at the other's stowed angle: the columns swapped? expected joint {a}'s readings in `phi{a}_deg` (docs/spec/formats.md): swap the columns `phi{a}_deg` and `phi{b}_deg` (and `latch{a}` and `latch{b}` if the switches are swapped too)", joints[0] + 1, joints[1] + 1, found[0], found[1], stowed_deg[0], stowed_deg[1], a = joints[0], b = joints[1])]
+    SwappedColumns {
+        /// The two joints (1-based), in column order.
+        joints: [usize; 2],
+        /// Their readings at the start \[deg\].
+        found: [f64; 2],
+        /// Their stowed angles \[deg\].
+        stowed_deg: [f64; 2],
     },
     /// Meaning: a joint's readings start at 0 deg and move away from it by
     /// about its stowed angle: angles counted from the stowed pose (an
@@ -368,22 +392,31 @@ pub enum RunErrorKind {
     },
 }
 
-/// What [`RunErrorKind::FieldCount`] adds when a row has more fields than
-/// the header: the likely cause, numbers with a decimal comma.
+/// What [`RunErrorKind::FieldCount`] adds when a comma-separated row has
+/// more fields than the header: the likely cause, numbers with a decimal
+/// comma.
 const DECIMAL_COMMA_HINT: &str = ": decimal commas? a spreadsheet's export with `,` as the decimal mark must separate fields with `;` (read as the spreadsheet dialect, docs/spec/formats.md), or be exported with `.` as the decimal mark";
 
-/// What [`RunErrorKind::FieldCount`] adds when a row ends with a comma.
-const TRAILING_COMMA_HINT: &str = ": the row ends with `,` (an empty last field); expected no comma at the end of a row, as in the header";
+/// The fields of a file separated by `separator`, in words:
+/// `comma-separated`, or `` `;`-separated `` in the spreadsheet dialect.
+pub(crate) fn separated(separator: char) -> String {
+    match separator {
+        ',' => "comma-separated".to_string(),
+        other => format!("`{other}`-separated"),
+    }
+}
 
-/// The hint of [`RunErrorKind::FieldCount`]: a trailing comma, or decimal
-/// commas where a row has more fields than the header.
-fn field_count_hint(expected: usize, found: usize, trailing_comma: bool) -> &'static str {
-    if trailing_comma {
-        TRAILING_COMMA_HINT
-    } else if found > expected {
-        DECIMAL_COMMA_HINT
+/// The hint of [`RunErrorKind::FieldCount`]: a row ending with its
+/// separator, or decimal commas where a comma-separated row has more fields
+/// than the header (in the spreadsheet dialect a decimal comma is no
+/// separator).
+fn field_count_hint(expected: usize, found: usize, trailing: bool, separator: char) -> String {
+    if trailing {
+        format!(": the row ends with `{separator}` (an empty last field): a trailing separator? expected no `{separator}` at the end of a row, as in the header")
+    } else if found > expected && separator == ',' {
+        DECIMAL_COMMA_HINT.to_string()
     } else {
-        ""
+        String::new()
     }
 }
 

@@ -2,14 +2,14 @@
 
 use std::path::Path;
 
-use super::error::shorten;
+use super::error::{separated, shorten};
 use super::error::{RunError, RunErrorKind};
 use super::record::{run_columns, run_header};
 use super::record::{
     ExtraColumn, ExtraKind, ReadOptions, Run, MAX_ANGLE_DEG, MISSING_SAMPLES_KEY,
     MISSING_SAMPLES_VALUE,
 };
-use crate::model::file_kind::FileKind;
+use crate::model::file_kind::{utf8_text, Encoding, FileKind};
 use crate::model::mechanism::MAX_CHAIN_JOINTS;
 
 /// A header column.
@@ -157,6 +157,9 @@ struct RowReader<'f, 't> {
     joints: usize,
     declares_missing: bool,
     allow_missing: bool,
+    /// The file's field separator as written: `,`, or `;` in the
+    /// spreadsheet dialect (its rows read here converted to commas).
+    separator: char,
     /// The previous row's time, as read and as written.
     prev_t: Option<(f64, &'t str)>,
 }
@@ -168,20 +171,22 @@ impl<'t> RowReader<'_, 't> {
         if line.trim().is_empty() || line.starts_with('#') {
             return Err(err(RunErrorKind::BadLine {
                 expected: format!(
-                    "a data row of {} comma-separated fields (empty lines and metadata after the header are not allowed)",
-                    self.columns.len()
+                    "a data row of {} {} fields (empty lines and metadata after the header are not allowed)",
+                    self.columns.len(),
+                    separated(self.separator)
                 ),
                 found: shorten(line),
             }));
         }
         let fields: Vec<&'t str> = line.split(',').map(str::trim).collect();
         if fields.len() != self.columns.len() {
-            let trailing_comma = fields.len() == self.columns.len() + 1
+            let trailing_separator = fields.len() == self.columns.len() + 1
                 && fields.last().is_some_and(|f| f.is_empty());
             return Err(err(RunErrorKind::FieldCount {
                 expected: self.columns.len(),
                 found: fields.len(),
-                trailing_comma,
+                trailing_separator,
+                separator: self.separator,
             }));
         }
         let t = self.time(&fields, ln)?;
@@ -356,6 +361,17 @@ fn header_joint_count(cols: &[Col], width: usize, n_phi: usize, n_latch: usize) 
     }
 }
 
+/// The error of a header `line` (line `n` of `file`) that ends with its
+/// `separator`.
+fn trailing_separator(file: &str, n: usize, line: &str, separator: char) -> RunError {
+    let at_end = if separator == ',' { "a comma" } else { "a `;`" };
+    let kind = RunErrorKind::BadLine {
+        expected: format!("a header without {at_end} at its end (the rows without one too)"),
+        found: shorten(line),
+    };
+    RunError::at(file, n, kind)
+}
+
 impl Run {
     /// Reads and validates a run CSV file.
     pub fn load(path: &Path) -> Result<Run, RunError> {
@@ -378,13 +394,14 @@ impl Run {
             };
             RunError::whole(&file, kind)
         })?;
-        let text = String::from_utf8(bytes).map_err(|e| {
-            RunError::whole(
+        let text = utf8_text(bytes).map_err(|found| match found.encoding {
+            Encoding::Binary => RunError::whole(
                 &file,
                 RunErrorKind::NotText {
-                    offset: e.utf8_error().valid_up_to(),
+                    offset: found.offset,
                 },
-            )
+            ),
+            _ => RunError::at(&file, found.line, RunErrorKind::NotUtf8 { found }),
         })?;
         Run::parse_with(&text, &file, options)
     }
@@ -407,6 +424,7 @@ impl Run {
     /// [`RunErrorKind::BadNumber`] whatever the option.
     pub fn parse_with(text: &str, source: &str, options: ReadOptions) -> Result<Run, RunError> {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        let (written, separator) = (text, super::dialect::separator(text));
         let text = super::dialect::to_comma_dialect(text, source)?;
         // Blank lines at the end of the file are no data (editors add them).
         let body = text.trim_end_matches(|c: char| c.is_whitespace());
@@ -440,15 +458,9 @@ impl Run {
         let declares_missing = declares_missing(&run, &meta_lines, source)?;
         let names: Vec<&str> = header.split(',').map(str::trim).collect();
         if names.len() > 1 && names.last().is_some_and(|c| c.is_empty()) {
-            return Err(RunError::at(
-                source,
-                header_line,
-                RunErrorKind::BadLine {
-                    expected: "a header without a comma at its end (the rows without one too)"
-                        .to_string(),
-                    found: shorten(header),
-                },
-            ));
+            // The line as written, not as the dialect's reader turned it.
+            let line = written.lines().nth(header_line - 1).unwrap_or(header);
+            return Err(trailing_separator(source, header_line, line, separator));
         }
         // The joint columns, then the documented extra ones (formats.md).
         let split = names
@@ -465,6 +477,7 @@ impl Run {
             joints: n,
             declares_missing,
             allow_missing: options.allow_missing,
+            separator,
             prev_t: None,
         };
         run.phi_deg = vec![Vec::new(); n];

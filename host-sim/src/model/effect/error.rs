@@ -89,7 +89,7 @@ pub enum EffectError {
         kind: EffectKind,
     },
     /// A joint the mechanism does not have.
-    #[error("{kind}: joint {joint} does not exist (the mechanism has joints 1 to {joints})")]
+    #[error("{kind}: joint {joint} does not exist (the mechanism has {})", crate::report::text::one_to(*joints, "joint", "joints"))]
     NoSuchJoint {
         /// The effect.
         kind: EffectKind,
