@@ -237,13 +237,19 @@ fn two_joints_columns_swapped_are_named_as_swapped_not_mirrored() {
         ],
     );
     assert!(!err.contains("negate"), "{err}");
-    // At ±180 deg each reading is also its own joint's pose a turn off:
-    // the warnings name the swap among the causes.
-    let run = write(dir.path(), "swap23.csv", swapped(&[(2, 3), (5, 6)]));
-    let err = warned(&identify(&run));
-    assert!(
-        err.contains("the columns `phi2_deg` and `phi3_deg` swapped"),
-        "{err}"
+    // At ±180 deg each reading is also its own joint's pose a turn off,
+    // until the joints move towards 0 on the side they started: refused,
+    // naming the swap and two mirrored encoders.
+    let text = swapped(&[(2, 3), (5, 6)]);
+    let run = write(dir.path(), "swap23.csv", &text);
+    fails(
+        &identify(&run),
+        2,
+        &[
+            &format!("swap23.csv:{first_row}:"),
+            "`phi2_deg` (column 3) and `phi3_deg` (column 4)",
+            "the columns swapped, or both encoders mounted mirrored",
+        ],
     );
 }
 

@@ -327,7 +327,7 @@ def test_an_unknown_effect(mech):
 
 
 def test_an_effect_on_a_joint_the_mechanism_lacks(mech):
-    with pytest.raises(InputError, match=r"joint 7 does not exist \(the mechanism has joints 1 to 1\)"):
+    with pytest.raises(InputError, match=r"joint 7 does not exist \(the mechanism has only joint 1\)"):
         deploywatch.simulate(mech, ["coulomb_friction:joint=7:value=1"])
 
 

@@ -72,7 +72,9 @@ const MIN_SAMPLES_PER_HORIZON: f64 = 10.0;
 /// `warning:` prefix), or the first error:
 /// - two joints' first samples are each the other's stowed angle:
 ///   [`RunErrorKind::SwappedColumns`] (at ±180 deg, where that is also
-///   each one's own pose a turn off, named in their warnings);
+///   each one's own pose a turn off, [`RunErrorKind::SwappedOrMirrored`]
+///   once both have moved towards 0 on the side they started, and named
+///   in their warnings before that);
 /// - the first sample is the stowed angle in radians (ratio 57.3):
 ///   [`RunErrorKind::AnglesInRadians`];
 /// - the first sample is minus the stowed angle (a mirrored encoder) on a
@@ -327,18 +329,26 @@ fn check_swap(
             }
             let own_pose = off_by_turns(from_a, stowed(a)) <= START_OFFSET_WARN_DEG
                 && off_by_turns(from_b, stowed(b)) <= START_OFFSET_WARN_DEG;
-            if own_pose {
-                return Ok(Some((a, b)));
-            }
-            return Err(RunError::at(
-                file,
-                line_of_sample(run, i0),
+            let joints = [a + 1, b + 1];
+            let (found, stowed_deg) = ([from_a, from_b], [stowed(a), stowed(b)]);
+            let kind = if !own_pose {
                 RunErrorKind::SwappedColumns {
-                    joints: [a + 1, b + 1],
-                    found: [from_a, from_b],
-                    stowed_deg: [stowed(a), stowed(b)],
-                },
-            ));
+                    joints,
+                    found,
+                    stowed_deg,
+                }
+            } else if moved_mirrored(&run.phi_deg[a], from_a, stowed(a))
+                && moved_mirrored(&run.phi_deg[b], from_b, stowed(b))
+            {
+                RunErrorKind::SwappedOrMirrored {
+                    joints,
+                    found,
+                    stowed_deg,
+                }
+            } else {
+                return Ok(Some((a, b)));
+            };
+            return Err(RunError::at(file, line_of_sample(run, i0), kind));
         }
     }
     Ok(None)
@@ -427,7 +437,12 @@ fn check_angles(
         (first - stowed_deg - 360.0 * turns).abs()
     };
     if mirrored < degrees && mirrored < radians && mirrored <= whole_turns {
-        if (stowed_deg.abs() - 180.0).abs() < MIN_STOWED_FOR_UNITS_DEG {
+        // At ±180 deg a start at minus the stowed angle is the stowed pose
+        // as an encoder wrapping there reads it, until the joint moves: a
+        // wrapping encoder's readings then jump by a turn (`check_wrap`),
+        // a mirrored one's move towards 0 on the side they started.
+        let at_half_turn = (stowed_deg.abs() - 180.0).abs() < MIN_STOWED_FOR_UNITS_DEG;
+        if at_half_turn && (swap.is_some() || !moved_mirrored(series, first, stowed_deg)) {
             warnings.push(format!(
                 "{file}:{line}: column `phi{joint}_deg` (column {column}): the run starts at {first} deg where joint {joint} is stowed at {stowed_deg} deg: {}?",
                 mirrored_causes(j, swap),
@@ -448,6 +463,19 @@ fn check_angles(
         return Ok(());
     }
     check_start_offset(series, j, first, stowed_deg, file, line, warnings)
+}
+
+/// True when a joint stowed at `stowed_deg` whose readings `series` start
+/// at `first` (minus its stowed angle) has moved [`START_OFFSET_WARN_DEG`]
+/// or more towards 0 on the side it started: what a mirrored encoder
+/// reads, where one wrapping at ±180 deg jumps by a turn
+/// ([`check_wrap`]).
+fn moved_mirrored(series: &[f64], first: f64, stowed_deg: f64) -> bool {
+    series.iter().any(|&x| {
+        x.is_finite()
+            && x.signum() == first.signum()
+            && stowed_deg.abs() - x.abs() >= START_OFFSET_WARN_DEG
+    })
 }
 
 /// What makes joint `j` stowed at ±180 deg start at minus its stowed

@@ -40,8 +40,8 @@ impl LatchTracker {
     }
 
     /// The switch's verdict: a latch when it is closed (debounced) and a
-    /// valid encoder reading agrees, or, with no valid reading, once it
-    /// has stayed closed for the whole debounce time — the filtered angle
+    /// valid encoder reading agrees, or, with no valid reading or a stuck
+    /// encoder, once it has stayed closed for the whole debounce time — the filtered angle
     /// alone is not evidence (two corrupted samples, a spurious closure and
     /// a missing reading, must not make a latch). A physical latch also
     /// needs `held`: the switch closed without a break for its bounce
@@ -63,14 +63,18 @@ impl LatchTracker {
             self.early.stop();
         }
         let closed = x.switch && votes >= cfg.closed_votes;
+        // A stuck encoder's reading is no evidence either way: the switch
+        // alone, debounced, as with no reading (docs/robustness.md §1).
         let agrees = match x.measured_deg {
-            Some(m) => libm::fabsf(m) <= cfg.window_deg,
-            None => closed_long,
+            Some(m) if !x.encoder_stuck => libm::fabsf(m) <= cfg.window_deg,
+            _ => closed_long,
         };
         if closed && agrees && held && !self.switch_suspect {
             return Some(self.declare(x.switch, *faults, cfg));
         }
-        self.switch_early = closed && !agrees;
+        // Early only by a reading that counts: without one (missing, or
+        // the encoder stuck) the switch is waited for, not flagged.
+        self.switch_early = closed && !agrees && x.measured_deg.is_some() && !x.encoder_stuck;
         if self.switch_early {
             faults.insert(Fault::SwitchEarly);
             if x.measured_deg.is_some() {

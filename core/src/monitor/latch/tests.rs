@@ -120,9 +120,12 @@ fn given_stuck_encoder_then_switch_alone_latches_after_debounce() {
     for k in 1..=3 {
         let out = tr.step(&stuck(0.01 * k as f32, true), &cfg);
         assert!(!tr.is_latched(), "{k}: {out:?}");
+        // No reading that counts says the switch is early: it is waited for.
+        assert!(!out.faults.contains(Fault::SwitchEarly), "{k}: {out:?}");
     }
     let out = tr.step(&stuck(0.04, true), &cfg);
     assert!(out.newly_latched);
+    assert!(out.faults.is_empty(), "{out:?}");
 }
 
 #[test]

@@ -215,3 +215,53 @@ fn an_encoder_that_wraps_at_180_deg_is_told_at_its_line() {
         "{e}"
     );
 }
+
+#[test]
+fn a_mirrored_encoder_at_180_deg_is_refused_once_the_joint_has_moved() {
+    // Joint 2 of T01 is stowed at 180 deg: mirrored, it reads -180 and
+    // moves towards 0 through negative readings, never jumping a turn.
+    let (mut run, m) = t01();
+    for x in run.phi_deg[1].iter_mut() {
+        *x = -*x;
+    }
+    let e = check(&run, &m, "r.csv").unwrap_err();
+    assert!(
+        matches!(e.kind, RunErrorKind::MirroredEncoder { joint: 2, .. }),
+        "{e}"
+    );
+    // Before it has moved 10 deg, -180 is the stowed pose as an encoder
+    // wrapping at ±180 deg reads it: a warning.
+    let (mut run, m) = t01();
+    let k = run.phi_deg[1]
+        .iter()
+        .position(|&x| x < 175.0)
+        .expect("joint 2 moves");
+    run.truncate(k);
+    for x in run.phi_deg[1].iter_mut() {
+        *x = -*x;
+    }
+    let w = check(&run, &m, "r.csv").unwrap();
+    assert!(w.iter().any(|w| w.contains("mirrored")), "{w:?}");
+}
+
+#[test]
+fn columns_swapped_between_joints_stowed_at_180_and_minus_180_are_refused() {
+    // Joints 2 and 3 of T01 are stowed at 180 and -180 deg: swapped, each
+    // column starts at the other's stowed angle (its own pose a turn off)
+    // and moves towards 0 on that side.
+    let (mut run, m) = t01();
+    run.phi_deg.swap(1, 2);
+    let e = check(&run, &m, "r.csv").unwrap_err();
+    assert!(
+        matches!(
+            e.kind,
+            RunErrorKind::SwappedOrMirrored { joints: [2, 3], .. }
+        ),
+        "{e}"
+    );
+    let text = e.to_string();
+    assert!(
+        text.contains("swap the columns") && text.contains("negate both"),
+        "{text}"
+    );
+}

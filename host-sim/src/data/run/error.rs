@@ -311,6 +311,18 @@ pub enum RunErrorKind {
         /// Their stowed angles \[deg\].
         stowed_deg: [f64; 2],
     },
+    /// Meaning: two joints stowed at 180 and −180 deg read each the
+    /// other's stowed angle at the start and then move towards 0 on that
+    /// side: their columns swapped, or both encoders mirrored.
+    #[error("columns `phi{a}_deg` (column {}) and `phi{b}_deg` (column {}): the run starts at {} deg and {} deg where joint {a} is stowed at {} deg and joint {b} at {} deg, and each moves towards 0 deg on the side it started: the columns swapped, or both encoders mounted mirrored? expected each joint's readings moving from its own stowed angle towards 0 (docs/spec/formats.md): swap the columns `phi{a}_deg` and `phi{b}_deg` (and `latch{a}` and `latch{b}` if the switches are swapped too), or negate both", joints[0] + 1, joints[1] + 1, found[0], found[1], stowed_deg[0], stowed_deg[1], a = joints[0], b = joints[1])]
+    SwappedOrMirrored {
+        /// The two joints (1-based), in column order.
+        joints: [usize; 2],
+        /// Their readings at the start \[deg\].
+        found: [f64; 2],
+        /// Their stowed angles \[deg\].
+        stowed_deg: [f64; 2],
+    },
     /// Meaning: a joint's readings start at 0 deg and move away from it by
     /// about its stowed angle: angles counted from the stowed pose (an
     /// incremental encoder zeroed at power-up), not from the latch.
