@@ -59,12 +59,14 @@ const HOLD_ROUNDING_S: f32 = 1e-5;
 const AT_LATCH_SIGMAS: f32 = 5.0;
 
 /// Half-width of the band, in standard deviations of one reading, within
-/// which the readings of a joint near its ideal latch stay while it is at
+/// which the readings of a joint with an ideal latch stay while it is at
 /// rest \[1\]: two readings of a joint at rest differ by more than 8 σ
-/// with probability 2·10⁻⁸. Inside `latching_deg` the rate filter follows
-/// a snapping tape spring (`snap_zone_deg`, a jerk floor of 10⁷ rad²/s⁵)
-/// and its rate of a joint at rest swings by tens of degrees per second:
-/// the readings tell the rest there (`docs/monitor.md` §4).
+/// with probability 1.5·10⁻⁸. Inside `latching_deg` the rate filter
+/// follows a snapping tape spring (`snap_zone_deg`, a jerk floor of 10⁷
+/// rad²/s⁵) and its rate of a joint at rest swings by tens of degrees per
+/// second, and mid-stroke the noise of the reference encoder moves it
+/// across the stall rate: the readings tell the rest (`docs/monitor.md`
+/// §4).
 const REST_BAND_SIGMAS: f32 = 8.0;
 
 /// The latch state of a joint.
@@ -320,7 +322,7 @@ pub struct LatchTracker {
     samples: u8,
     /// Slow stretch of the filtered rate (with hysteresis).
     slow: Held,
-    /// Near an ideal latch: the stretch of readings within the rest band
+    /// With an ideal latch: the stretch of readings within the rest band
     /// of `rest_deg`, the reading that started it \[deg\].
     rest: Held,
     rest_deg: f32,
@@ -577,10 +579,11 @@ impl LatchTracker {
     /// The state to report when no latch was declared: the motion state
     /// from the filtered angle and rate (with a physical latch: an escape,
     /// or a stop on the ramp, `event`, first), or `Fault` while a sensor
-    /// disagrees. A joint at rest for `stall_time_s` is `Stalled` also
-    /// within `latching_deg` of its latch, unless the encoder puts it at
-    /// the latch (`at_latch`) or its switch is closed: stopped short of
-    /// the latch, the switch rightly open.
+    /// disagrees. A joint at rest for `stall_time_s` (by its rate, or by
+    /// its readings with an ideal latch, [`LatchTracker::rests_near`]) is
+    /// `Stalled`, also within `latching_deg` of its latch unless the
+    /// encoder puts it at the latch (`at_latch`) or its switch is closed:
+    /// stopped short of the latch, the switch rightly open.
     fn motion_state(
         &mut self,
         x: &LatchInput,
@@ -623,11 +626,12 @@ impl LatchTracker {
 }
 
 impl LatchTracker {
-    /// True when a joint near its ideal latch (within `latching_deg`) has
-    /// read within [`REST_BAND_SIGMAS`] readings' σ of one reading for
-    /// `stall_time_s`; the stretch restarts at a reading outside the band,
-    /// and ends outside `latching_deg` or with a physical latch (whose
-    /// ramp stops are the bounce rule's).
+    /// True when a joint with an ideal latch has read within
+    /// [`REST_BAND_SIGMAS`] readings' σ of one reading for `stall_time_s`
+    /// (mid-stroke or short of its latch); the stretch restarts at a
+    /// reading outside the band. Always false with a physical latch, whose
+    /// stops short of the latch are the bounce rule's (on the ramp) and
+    /// whose stalls the rate's.
     #[inline(always)]
     fn rests_near(&mut self, x: &LatchInput, cfg: &LatchConfig) -> bool {
         if cfg.physical.is_some() {

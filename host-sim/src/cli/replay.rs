@@ -129,7 +129,7 @@ fn noise_note(run: &crate::data::run::Run, path: &Path) -> Option<String> {
     let sigma = run_noise_sigma(run)?;
     (sigma > NOISE_ABOVE_MONITOR_FACTOR * tuned).then(|| {
         format!(
-            "{}: the encoders' noise, σ̂ = {sigma:.3} deg (third differences), is more than \
+            "{}: the encoders' noise, σ̂ = {sigma:.3} deg (third differences at rest on the stops), is more than \
              {NOISE_ABOVE_MONITOR_FACTOR} times the {tuned:.3} deg the monitor is tuned for: its \
              friction observer rejects most fits (an estimate left at its prior, ± about 2 N·m, \
              learned nothing) and its stall rule may not fire; its friction, margins and \

@@ -107,11 +107,25 @@ pub fn check(run: &Run, mechanism: &Mechanism, file: &str) -> Result<Vec<String>
         return Ok(warnings);
     }
     check_time(run, mechanism, file, &mut warnings)?;
-    let swap = check_swap(run, mechanism, file)?;
+    // Swapped or mirrored at ±180 deg is told after the joints' own
+    // findings: where every encoder is mirrored, the joint that says so
+    // alone is named.
+    let (swap, deferred) = match check_swap(run, mechanism, file) {
+        Ok(pair) => (pair, None),
+        Err(e) => match e.kind {
+            RunErrorKind::SwappedOrMirrored { joints: [a, b], .. } => {
+                (Some((a - 1, b - 1)), Some(e))
+            }
+            _ => return Err(e),
+        },
+    };
     for (j, joint) in mechanism.joints.iter().enumerate().take(run.joints()) {
         let other = swap.and_then(|(a, b)| [(a, b), (b, a)].into_iter().find(|p| p.0 == j));
         let swap = other.map(|(_, k)| k);
         check_angles(run, j, joint.stowed_deg, swap, file, &mut warnings)?;
+    }
+    if let Some(e) = deferred {
+        return Err(e);
     }
     check_latches(run, file, &mut warnings);
     warnings.extend(crate::data::glitch::warnings(run, file, |i| {

@@ -426,18 +426,50 @@ pub fn locate(evidence: &[JointEvidence]) -> Option<ResidualPlace> {
 /// (`SensorConfig::encoder_sd_deg`) a run's noise may be before its
 /// replay is said to be outside the monitor's tuning: its friction fits
 /// are gated at 40 σ² of that noise, and its stall rule reads rates the
-/// noise then swamps. Twice: σ̂ overestimates by up to about that at
-/// 20 Hz on a clean run (motion in the third differences).
+/// noise then swamps.
 pub const NOISE_ABOVE_MONITOR_FACTOR: f64 = 2.0;
 
-/// A run's encoder noise σ̂ \[deg\] for its replay: the least over its
-/// joints of [`third_difference_sigma`] (the joint that moves least shows
-/// the noise best); `None` for runs too short to tell.
+/// A run's encoder noise σ̂ \[deg\] for its replay, from its joints at
+/// rest on their stops: [`third_difference_sigma`] of each joint's longest
+/// stretch of samples with its switch closed, past its first
+/// [`REST_SETTLE_S`] (readings that are noise
+/// alone; where a joint moves, its third differences carry `φ⃛ Δt³` too,
+/// which doubles σ̂ of a short clean run at 20 Hz), the least over the
+/// joints; `None` where no joint rests on its stop for
+/// [`MIN_NOISE_DIFFERENCES`] third differences.
 pub fn run_noise_sigma(run: &crate::data::run::Run) -> Option<f64> {
     run.phi_deg
         .iter()
-        .filter_map(|phi| third_difference_sigma(phi, MIN_NOISE_DIFFERENCES))
+        .zip(&run.latch)
+        .filter_map(|(phi, latch)| {
+            let (start, len) = longest_closed(latch);
+            let t0 = *run.t_s.get(start)?;
+            let settled = start
+                + run.t_s[start..start + len]
+                    .iter()
+                    .take_while(|&&t| t < t0 + REST_SETTLE_S)
+                    .count();
+            third_difference_sigma(phi.get(settled..start + len)?, MIN_NOISE_DIFFERENCES)
+        })
         .min_by(f64::total_cmp)
+}
+
+/// Time after a switch closes that [`run_noise_sigma`] leaves out \[s\]:
+/// a physical latch's contact, and a panel on a rig, ring down on the stop
+/// within the default `settle_s` of a mechanism (0.2 s).
+const REST_SETTLE_S: f64 = 0.2;
+
+/// The start and length of the longest stretch of `true` in `closed`.
+fn longest_closed(closed: &[bool]) -> (usize, usize) {
+    let (mut best, mut start) = ((0, 0), 0);
+    for (i, &c) in closed.iter().enumerate() {
+        if !c {
+            start = i + 1;
+        } else if i + 1 - start > best.1 {
+            best = (start, i + 1 - start);
+        }
+    }
+    best
 }
 
 /// Estimates the sensor noise σ \[deg\] from the runs alone: the median
@@ -460,4 +492,52 @@ pub fn noise_sigma_estimate(campaign: &Campaign) -> Option<f64> {
         .collect();
     est.sort_by(f64::total_cmp);
     est.get(est.len() / 2).copied()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::run::Run;
+
+    /// One joint at 20 Hz: a cubic swing of 180 deg in 1 s (third
+    /// differences of 0.135 deg, above the noise), then `tail` samples at rest on
+    /// its stop with the switch closed; a pseudo-random noise of σ ≈ 0.02
+    /// deg on every reading.
+    fn run(tail: usize) -> Run {
+        let n = 20 + tail;
+        let mut k: u64 = 11;
+        let mut noise = || {
+            k = k
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            // A uniform draw on ±0.0346 deg: σ = 0.02.
+            ((k >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.0693
+        };
+        let t: Vec<f64> = (0..n).map(|i| i as f64 * 0.05).collect();
+        let phi = t
+            .iter()
+            .map(|&t| {
+                let s = (1.0 - t).max(0.0);
+                -180.0 * s * s * s + noise()
+            })
+            .collect();
+        Run {
+            t_s: t,
+            phi_deg: vec![phi],
+            latch: vec![(0..n).map(|i| i >= 20).collect()],
+            ..Run::default()
+        }
+    }
+
+    #[test]
+    fn the_noise_of_a_replay_is_read_at_rest_not_in_the_motion() {
+        let sigma = run_noise_sigma(&run(40)).expect("a tail at rest");
+        assert!((sigma - 0.02).abs() < 0.008, "σ̂ = {sigma}");
+        // The swing's third differences alone read twice the noise: the
+        // false warning of a short clean run at 20 Hz.
+        let all = third_difference_sigma(&run(0).phi_deg[0], 1).expect("differences");
+        assert!(all > 2.0 * 0.02, "{all}");
+        // No stretch at rest long enough: nothing said.
+        assert_eq!(run_noise_sigma(&run(5)), None);
+    }
 }
