@@ -1,13 +1,15 @@
 //! The on-board monitor (`deploywatch_core::monitor`) on runs of the
 //! simulator with its reference sensor model.
 //!
-//! One module per suite: `prediction`, `latch` (latch declarations), `footprint` (RAM and
+//! One module per suite: `prediction`, `latch` (latch declarations), `light_wings` (fast light
+//! wings: rollouts and clean runs), `footprint` (RAM and
 //! frames), `properties` (proptest), `clean` (no fault flag on clean runs), `refresh`; the
 //! shared run helpers are here.
 
 mod clean;
 mod footprint;
 mod latch;
+mod light_wings;
 mod prediction;
 mod properties;
 mod refresh;
@@ -81,3 +83,46 @@ fn scatter(rng: &mut SplitMix) -> Vec<Effect> {
 
 /// Runs in each Monte-Carlo.
 const MC_RUNS: usize = 200;
+
+/// The rollout of `cfg` with schedule `rc` (its horizon the deadline, all
+/// its work at once) from the simulated true state at sample `i`, with
+/// Coulomb torques `coulomb_nm` \[N·m\], no viscous term and springs
+/// scaled by `spring_scale`, run to the end: each joint's latch instant
+/// \[s\], if it latches (before or after the deadline).
+fn rollout_latches<const N: usize>(
+    cfg: &MonitorConfig<N>,
+    mut rc: deploywatch_core::monitor::RolloutConfig,
+    traj: &Trajectory,
+    i: usize,
+    coulomb_nm: [f32; N],
+    spring_scale: [f32; N],
+) -> [Option<f64>; N] {
+    use deploywatch_core::internals::{Rollout, RolloutStart};
+    use deploywatch_core::ChainState;
+    let chain = cfg.chain().unwrap();
+    rc.horizon_s = (f64::from(cfg.margin.deadline_s) - traj.t_s[i]) as f32;
+    rc.steps_per_slice = u8::MAX;
+    let mut r = Rollout::new(RolloutStart {
+        state: ChainState {
+            phi: std::array::from_fn(|q| traj.phi_deg[q][i].to_radians() as f32),
+            phi_dot: std::array::from_fn(|q| traj.rate_deg_s[q][i].to_radians() as f32),
+        },
+        latched: std::array::from_fn(|q| traj.latched[q][i]),
+        coulomb_nm,
+        viscous_nms: [0.0; N],
+        spring_scale,
+        capture_rad: std::array::from_fn(|q| cfg.joints[q].capture_deg.to_radians()),
+    });
+    for _ in 0..10_000 {
+        if r.is_done() {
+            break;
+        }
+        r.advance(&chain, &rc);
+    }
+    assert!(r.is_done(), "rollout unfinished");
+    let o = r.outcome();
+    std::array::from_fn(|q| {
+        o[q].latches
+            .then(|| traj.t_s[i] + f64::from(o[q].latch_after_s))
+    })
+}

@@ -267,37 +267,15 @@ const GLIDE_TOLERANCE_S: f64 = 0.005;
 /// latch instant \[s\], if it latches (before or after the deadline).
 fn rollout_from_truth(
     cfg: &MonitorConfig<3>,
-    mut rc: deploywatch_core::monitor::RolloutConfig,
+    rc: deploywatch_core::monitor::RolloutConfig,
     traj: &Trajectory,
     effects: &[Effect],
     i: usize,
     j: usize,
 ) -> Option<f64> {
-    use deploywatch_core::internals::{Rollout, RolloutStart};
-    use deploywatch_core::ChainState;
-    let chain = cfg.chain().unwrap();
-    rc.horizon_s = (f64::from(cfg.margin.deadline_s) - traj.t_s[i]) as f32;
-    rc.steps_per_slice = u8::MAX;
-    let mut r = Rollout::new(RolloutStart {
-        state: ChainState {
-            phi: std::array::from_fn(|q| traj.phi_deg[q][i].to_radians() as f32),
-            phi_dot: std::array::from_fn(|q| traj.rate_deg_s[q][i].to_radians() as f32),
-        },
-        latched: std::array::from_fn(|q| traj.latched[q][i]),
-        coulomb_nm: std::array::from_fn(|q| effects[2 * q].value() as f32),
-        viscous_nms: [0.0; 3],
-        spring_scale: std::array::from_fn(|q| 1.0 - effects[2 * q + 1].value() as f32),
-        capture_rad: std::array::from_fn(|q| cfg.joints[q].capture_deg.to_radians()),
-    });
-    for _ in 0..1000 {
-        if r.is_done() {
-            break;
-        }
-        r.advance(&chain, &rc);
-    }
-    assert!(r.is_done(), "rollout unfinished");
-    let o = r.outcome()[j];
-    o.latches.then(|| traj.t_s[i] + f64::from(o.latch_after_s))
+    let coulomb_nm = std::array::from_fn(|q| effects[2 * q].value() as f32);
+    let spring_scale = std::array::from_fn(|q| 1.0 - effects[2 * q + 1].value() as f32);
+    rollout_latches(cfg, rc, traj, i, coulomb_nm, spring_scale)[j]
 }
 
 /// How close to the deadline a latch may fall for the rollout and the

@@ -16,7 +16,10 @@
 //! stepped by the midpoint rule (second order: two evaluations a step),
 //! each stage linearly implicit in the stiff friction (`h` = its length),
 //! so a joint can come to rest in the creep regime without the step going
-//! unstable. While every free joint glides or creeps slowly and smoothly,
+//! unstable. The base step `dt_s` is halved, up to [`MAX_HALVINGS`] times,
+//! where a step's own error estimate exceeds [`STEP_ERROR_RAD`] (light
+//! panels swinging at thousands of degrees per second), starting from the
+//! shortest at the start and after each latch. While every free joint glides or creeps slowly and smoothly,
 //! far from its latch, the step grows up to `glide_dt_s`
 //! (`docs/monitor.md` §6, the glide): a panel coasting on its momentum
 //! with its spring within a few per cent of its friction, or creeping, is
@@ -108,7 +111,7 @@ pub struct RolloutConfig {
     /// Longest integration step \[s\]: while every free joint glides or
     /// creeps slowly and smoothly, far from its capture angle, the step
     /// grows from `dt_s` (or `bracket_dt_s`) up to this
-    /// ([`GLIDE_TURN_RAD`], [`GLIDE_RATE_CHANGE`]); below two steps the
+    /// (`GLIDE_TURN_RAD`, `GLIDE_RATE_CHANGE` of `rollout/step_size.rs`); below two steps the
     /// step stays fixed.
     pub glide_dt_s: f32,
     /// Units of work per slice of [`crate::monitor::Monitor::learn_or_predict`] (a unit: one
@@ -163,6 +166,12 @@ pub(crate) struct Stepper<const R: usize> {
     /// Each free joint's acceleration in the last step [rad/s²] (∞ before
     /// the first step and after a latch: the next step is a base step).
     accel: [f32; R],
+    /// Halvings of the base step in force (at most [`MAX_HALVINGS`]), set
+    /// by the error of the last base step ([`STEP_ERROR_RAD`]); the most at
+    /// the start and after a latch, where no step has measured the error
+    /// yet (a joint 20 ms from its neighbour's latch would cross its own
+    /// capture angle in the same first step).
+    halvings: u8,
     done: bool,
     /// The joints whose outcome is wanted: the rollout ends once all of
     /// them have latched (every joint unless `Rollout::watching`).
@@ -330,6 +339,7 @@ impl<const R: usize> Stepper<R> {
             t_s: 0.0,
             creeping_s: 0.0,
             accel: [f32::INFINITY; R],
+            halvings: MAX_HALVINGS,
             done: false,
             watch: core::array::from_fn(|j| j < n),
             settle: None,
@@ -444,17 +454,20 @@ impl<const R: usize> Stepper<R> {
     /// and the end of the rollout or the start of the creep quadrature.
     fn step(&mut self, chain: &Model<'_, R>, cfg: &RolloutConfig) {
         let n = self.count();
-        let dt = self.step_length(chain, cfg);
+        let base = self.base_step(cfg);
+        let dt = self.step_length(chain, cfg, base);
         let wc = cfg.coulomb_threshold_rad_s;
-        let Some(crossed) = self.integrate(chain, dt, wc) else {
+        let Some(crossed) = self.integrate(chain, dt, wc, dt <= base) else {
             self.finish();
             return;
         };
         self.t_s += dt;
         if crossed.iter().any(|c| *c) {
             self.latch_crossed(chain, &crossed, dt);
-            // The impact changes every rate: a base step next.
+            // The impact changes every rate: a base step next, the
+            // shortest, grown again as its error allows.
             self.accel = [f32::INFINITY; R];
+            self.halvings = MAX_HALVINGS;
         }
         if (0..n).all(|j| self.latched[j] || !self.watch[j]) {
             self.done = true;
@@ -472,68 +485,23 @@ impl<const R: usize> Stepper<R> {
         }
     }
 
-    /// Length of the next step \[s\]: `cfg.dt_s`, or longer, up to
-    /// `cfg.glide_dt_s`, while every free joint glides or creeps slowly
-    /// and smoothly (`docs/monitor.md` §6, the glide): over the step each
-    /// free joint turns by at most [`GLIDE_TURN_RAD`], its rate changes by
-    /// at most [`GLIDE_RATE_CHANGE`] of itself (of `ω_c` when slower), its
-    /// spring torque at the step's end (at the present rate) differs from
-    /// the present one by at most [`GLIDE_TORQUE_CHANGE`] of the larger of
-    /// the two torques that balance in the glide, spring and Coulomb (a
-    /// tape spring's snap-through peak is met at the base step), and it
-    /// covers at most half of what is left to its capture angle (the latch
-    /// too). A step is lengthened only when these allow at least
-    /// [`GLIDE_MIN_STEPS`] base steps at once.
-    fn step_length(&self, chain: &Model<'_, R>, cfg: &RolloutConfig) -> f32 {
-        let n = self.count();
-        let base = cfg.dt_s;
-        let wc = cfg.coulomb_threshold_rad_s;
-        let mut h = cfg.glide_dt_s;
-        for j in 0..n {
-            if self.latched[j] {
-                continue;
-            }
-            let w = libm::fabsf(self.x.phi_dot[j]);
-            let left = libm::fabsf(self.x.phi[j]) - self.start.capture_rad[j];
-            let limits = [
-                GLIDE_TURN_RAD / w,
-                0.5 * left / w,
-                GLIDE_RATE_CHANGE * w.max(wc) / libm::fabsf(self.accel[j]),
-            ];
-            for limit in limits {
-                // A NaN limit makes `h` NaN: a base step.
-                if !(limit >= h) {
-                    h = limit;
-                }
-            }
-        }
-        // Lengthened by at least GLIDE_MIN_STEPS base steps or not at all:
-        // a swing is stepped exactly as with the fixed step.
-        if !(h >= GLIDE_MIN_STEPS * base) {
-            return base;
-        }
-        for j in 0..n {
-            let (false, Some(joint)) = (self.latched[j], chain.joints().get(j)) else {
-                continue;
-            };
-            let (phi, w) = (self.x.phi[j], self.x.phi_dot[j]);
-            let branch = Branch::select(phi, w);
-            let scale = self.start.spring_scale[j];
-            let now = scale * joint.spring.torque(phi, branch);
-            let then = scale * joint.spring.torque(phi + w * h, branch);
-            let balance = libm::fabsf(now).max(self.start.coulomb_nm[j]);
-            if !(libm::fabsf(then - now) <= GLIDE_TORQUE_CHANGE * balance) {
-                return base;
-            }
-        }
-        h
-    }
-
     /// Integrates the free joints over `dt` \[s\] by the midpoint rule, each
     /// stage linearly implicit in the friction (`ω_c` = `wc` [rad/s]).
     /// Returns the joints that reached their capture angle moving inwards,
-    /// or `None` when the equations could not be solved.
-    fn integrate(&mut self, chain: &Model<'_, R>, dt: f32, wc: f32) -> Option<[bool; R]> {
+    /// or `None` when the equations could not be solved. A base step
+    /// (`base`) sets the halvings of the next ones by its error estimate,
+    /// the angle by which its two stages' rate changes part over the step,
+    /// `½ dt² |a_mid − a_start|` (the midpoint rule against Euler's):
+    /// above [`STEP_ERROR_RAD`] the base step is halved, below an eighth
+    /// of it (a doubled step's estimate, four times this one, within half
+    /// the bound) doubled again, never beyond `cfg.dt_s`.
+    fn integrate(
+        &mut self,
+        chain: &Model<'_, R>,
+        dt: f32,
+        wc: f32,
+        base: bool,
+    ) -> Option<[bool; R]> {
         let n = self.count();
         let a1 = self.acceleration(chain, &self.x, 0.5 * dt, wc)?;
         let mut mid = self.x;
@@ -545,11 +513,13 @@ impl<const R: usize> Stepper<R> {
         }
         let a = self.acceleration(chain, &mid, dt, wc)?;
         let mut crossed = [false; R];
+        let mut apart = 0.0f32;
         for j in 0..n {
             if self.latched[j] {
                 self.x.phi_dot[j] = 0.0;
                 continue;
             }
+            apart = apart.max(libm::fabsf(a[j] - a1[j]));
             let before = self.x.phi[j];
             self.x.phi[j] += dt * mid.phi_dot[j];
             self.x.phi_dot[j] += dt * a[j];
@@ -563,6 +533,14 @@ impl<const R: usize> Stepper<R> {
                 && libm::fabsf(after) <= MAX_SNAP_S * libm::fabsf(self.x.phi_dot[j]);
             let reached = snaps || before * after <= 0.0;
             crossed[j] = inward && reached;
+        }
+        if base {
+            let error = 0.5 * dt * dt * apart;
+            if error > STEP_ERROR_RAD && self.halvings < MAX_HALVINGS {
+                self.halvings += 1;
+            } else if error < 0.125 * STEP_ERROR_RAD && self.halvings > 0 {
+                self.halvings -= 1;
+            }
         }
         Some(crossed)
     }
@@ -632,21 +610,13 @@ impl<const R: usize> Stepper<R> {
     }
 }
 
-/// Most a free joint may turn in one lengthened step of the glide \[rad\]
-/// (2°: the spring torque changes little over it).
-pub const GLIDE_TURN_RAD: f32 = 0.035;
+/// Error estimate of a base step above which the next base steps are
+/// halved \[rad\] (`Stepper::integrate`).
+pub const STEP_ERROR_RAD: f32 = 0.002;
 
-/// Most a free joint's rate may change in one lengthened step of the
-/// glide, relative to the rate (to `ω_c` when slower) \[1\].
-pub const GLIDE_RATE_CHANGE: f32 = 0.1;
-
-/// Fewest base steps a lengthened step spans \[1\]: below, the base step.
-pub const GLIDE_MIN_STEPS: f32 = 2.0;
-
-/// Most a free joint's spring torque may change over one lengthened step
-/// of the glide, relative to the larger of its spring and Coulomb torques
-/// \[1\].
-pub const GLIDE_TORQUE_CHANGE: f32 = 0.05;
+/// Most halvings of the base step \[1\]: at most 8 times as many steps as
+/// the configured `dt_s` takes, so a rollout's work stays bounded.
+pub const MAX_HALVINGS: u8 = 3;
 
 /// Spring evaluations of the creep quadrature and snap-through that count
 /// as one unit of a rollout's work (about the instructions of one step of
@@ -675,6 +645,7 @@ pub fn normal_quantile(p: f32) -> f32 {
 }
 
 mod settle;
+mod step_size;
 
 #[cfg(test)]
 mod tests;

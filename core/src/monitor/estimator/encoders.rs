@@ -43,6 +43,8 @@ struct ReadingContext {
     stuck_limit: u16,
     /// The plausibility checks are off (first sample, gap, impact).
     no_checks: bool,
+    /// They are off for an impact alone (`Reading::through_impact`).
+    impact: bool,
     /// The joints' resolution is followed (a wing with a physical latch).
     follow: bool,
 }
@@ -97,6 +99,7 @@ impl JointState {
                 step: ctx.step_rad,
                 moving_checks: !ctx.no_checks && free,
                 free,
+                through_impact: ctx.impact && !self.lt.escaped(),
                 follow: ctx.follow,
             },
             &self.kf,
@@ -130,16 +133,16 @@ impl<const N: usize> Monitor<N> {
         // gap and at or after an announced impact (a switch closing, or a
         // physical latch's joint coming within its crest: a joint may stop
         // dead).
-        let no_checks = !self.timeline.started
-            || clock.gap
-            || clock.t <= self.windows.impact_until
-            || announced;
+        let impact = clock.t <= self.windows.impact_until || announced;
+        let restart = !self.timeline.started || clock.gap;
+        let no_checks = restart || impact;
         let ctx = ReadingContext {
             t: clock.t,
             t_prev: self.timeline.t_prev,
             step_rad: self.tuning.sensor.encoder_step_deg * DEG,
             stuck_limit: self.tuning.sensor.stuck_samples,
             no_checks,
+            impact: impact && !restart,
             follow: self.tuning.follow_resolution,
         };
         // Index loops on the sample path: at the firmware's `opt-level =

@@ -33,7 +33,7 @@ impl<const N: usize> Monitor<N> {
         let impacts = self.impact_announced(sample);
         let announced = impacts != 0;
         let mut readings = self.read_encoders(sample, &clock, announced);
-        self.track_rates(sample, &clock, announced, &mut readings);
+        self.track_rates(sample, &clock, impacts, &mut readings);
         let latches = self.track_latches(sample, &clock, impacts, &mut readings);
         self.check_health(&mut readings);
         self.queue_for_learning(&clock, &readings, &latches);

@@ -13,6 +13,7 @@ fn reading(t: f32, deg: f32, repeats: u16) -> Reading {
         step: STEP,
         moving_checks: true,
         free: true,
+        through_impact: false,
         follow: true,
     }
 }
@@ -90,6 +91,68 @@ fn a_whip_follows_the_cubic_through_four_readings_a_spike_does_not() {
     let spike = next + 3.0 * DEG;
     spiked.check(&reading(0.07, spike / DEG, 0), &course(0.06));
     assert!(!spiked.follows_readings(spike, tol));
+}
+
+/// The readings of joint 6 of an eight-panel light wing at 100 Hz
+/// (`tests/monitor/light_wings.rs`): its neighbour latches at 0.82 s, the
+/// checks are off until 0.85 s, and the whip of the next latch bends its
+/// course at 0.86 s by 2° from the parabola, 1.5° from the cubic.
+const THROWN: [(f32, f32); 7] = [
+    (0.80, 65.610),
+    (0.81, 63.962),
+    (0.82, 60.953),
+    (0.83, 55.635),
+    (0.84, 49.241),
+    (0.85, 41.177),
+    (0.86, 29.355),
+];
+
+#[test]
+fn readings_through_an_impact_keep_the_course_for_the_first_checked_one() {
+    let tol = 1.5 * DEG;
+    let run = |through_impact: bool| {
+        let mut c = ReadingCheck::new();
+        for &(t, deg) in &THROWN[..6] {
+            let mut r = reading(t, deg, 0);
+            // The window of the latch at 0.82 s: no checks.
+            r.moving_checks = !(0.82..=0.85).contains(&t);
+            r.through_impact = through_impact && !r.moving_checks;
+            c.check(&r, &course(t - 0.01));
+        }
+        let (t, deg) = THROWN[6];
+        c.check(&reading(t, deg, 0), &course(t - 0.01));
+        c.follows_readings(deg * DEG, tol)
+    };
+    assert!(run(true), "the readings since the impact give the cubic");
+    assert!(!run(false), "a history begun afresh has no cubic yet");
+}
+
+#[test]
+fn a_joint_moving_more_than_ten_degrees_a_reading_has_a_wider_tolerance() {
+    let tol = 1.5 * DEG;
+    // Joint 5 of the same wing, whipped to its latch: 16° then 22° a
+    // reading, 2.3° off the cubic.
+    let whipped = [-94.636, -87.891, -78.948, -67.567, -54.448, -38.518];
+    let mut c = ReadingCheck::new();
+    for (k, deg) in whipped.iter().enumerate() {
+        let t = 0.80 + 0.01 * k as f32;
+        c.check(&reading(t, *deg, 0), &course(t - 0.01));
+    }
+    // The monitor asks after the reading's own checks.
+    let next = -16.436;
+    c.check(&reading(0.86, next, 0), &course(0.85));
+    let next = next * DEG;
+    assert!(libm::fabsf(next - c.parabola - c.third) > tol);
+    assert!(c.follows_readings(next, tol));
+    // A reading 3° off the course of a joint moving 1° a reading is a
+    // spike.
+    let mut slow = ReadingCheck::new();
+    for k in 0..6 {
+        let t = 0.01 * (k + 1) as f32;
+        slow.check(&reading(t, k as f32, 0), &course(t - 0.01));
+    }
+    slow.check(&reading(0.07, 9.0, 0), &course(0.06));
+    assert!(!slow.follows_readings(9.0 * DEG, tol));
 }
 
 #[test]
