@@ -382,6 +382,51 @@ fn t02_joint1_stall_predicted_within_half_a_second() {
     }
 }
 
+/// A joint jammed mid-stroke (T01, joint 3's readings held where they
+/// first reach −90°, with a wobble of the encoder's noise, its switch
+/// open): once the tracker calls it `stalled`, no status predicts it to
+/// latch at more than the unconfirmed 0.5, though the rollouts, which start
+/// it from rest with a friction estimate that does not know the jam, latch
+/// it.
+#[test]
+fn a_jammed_joint_is_never_confidently_predicted_to_latch() {
+    let mech = mechanism("seed001_T01");
+    let cfg = monitor_config::<3>(&mech).unwrap();
+    let (_, mut run) = simulate_run(&mech, &coulomb(&SEED001_FRICTION), 1);
+    let i0 = run.phi_deg[2].iter().position(|p| *p >= -90.0).unwrap();
+    let held = run.phi_deg[2][i0];
+    let wobble = [0.0, 0.02, -0.02, 0.01, -0.01];
+    for i in i0..run.t_s.len() {
+        run.phi_deg[2][i] = held + wobble[i % wobble.len()];
+        run.latch[2][i] = false;
+    }
+    let st = replay(&cfg, &run);
+    let stalled: Vec<_> = st
+        .iter()
+        .filter(|s| s.joints[2].latch == LatchState::Stalled)
+        .collect();
+    assert!(!stalled.is_empty(), "the jammed joint is never stalled");
+    let latch = stalled
+        .iter()
+        .filter(|s| s.joints[2].prediction == Prediction::Latch)
+        .count();
+    println!(
+        "{} statuses stalled from {:.2} s, {latch} of them predicting a latch",
+        stalled.len(),
+        stalled[0].t_s
+    );
+    for s in stalled {
+        let js = &s.joints[2];
+        assert!(
+            js.prediction != Prediction::Latch || js.confidence <= 0.5,
+            "at {} s: {} at confidence {}",
+            s.t_s,
+            js.prediction,
+            js.confidence
+        );
+    }
+}
+
 /// seed001_T01 with the paper's friction deploys: no joint is ever
 /// predicted to stall, at any sample.
 #[test]

@@ -420,6 +420,12 @@ impl LatchTracker {
         self.motion == LatchState::StoppedShort
     }
 
+    /// True while the joint, not latched, is at rest by its readings
+    /// ([`LatchState::Stalled`] or [`LatchState::StoppedShort`]).
+    pub fn at_rest(&self) -> bool {
+        matches!(self.motion, LatchState::Stalled | LatchState::StoppedShort)
+    }
+
     /// True while the encoder sits at the latch angle with the switch open
     /// (the joint is then held fixed by the dynamics model, but not latched).
     pub fn held_at_latch(&self) -> bool {

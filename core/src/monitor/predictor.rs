@@ -388,11 +388,15 @@ impl<const R: usize> Cycle<R> {
             None => (Prediction::Unknown, 0.0, None),
             Some((x, _)) if x.latches => {
                 let sure = pess_watch && pess.is_some_and(|(p, _)| p.latches);
-                (Prediction::Latch, if sure { conf } else { 0.5 }, ttl(nom))
+                (
+                    Prediction::Latch,
+                    if sure { conf } else { UNCONFIRMED },
+                    ttl(nom),
+                )
             }
             Some(_) => {
                 let sure = opt_watch && opt.is_some_and(|(o, _)| !o.latches);
-                (stall, if sure { conf } else { 0.5 }, None)
+                (stall, if sure { conf } else { UNCONFIRMED }, None)
             }
         }
     }
@@ -411,6 +415,10 @@ fn stall_kind(energy: Option<MarginResult>) -> Prediction {
         Prediction::Stall
     }
 }
+
+/// Confidence of a prediction that is the best estimate only: no bracket
+/// confirmed it, or the joint's readings contradict it \[1\].
+pub const UNCONFIRMED: f32 = 0.5;
 
 /// Latch probability of the one-joint energy balance at which its call of a
 /// stall (`P ≤ 1 − confidence`) is lifted \[1\]: the hysteresis of the

@@ -155,6 +155,10 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
         .into_iter()
         .chain(replay::rig_note(&mech))
         .chain(noise_note(&run, &args.run))
+        .chain(crate::data::resolution::note(
+            &run,
+            &args.run.display().to_string(),
+        ))
     {
         console.warn(w);
     }

@@ -111,12 +111,12 @@ pub fn without_glitches(mut run: Run) -> (Run, usize) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    /// A joint turning at `rate` deg/s sampled at `hz`, with `glitch` added
-    /// to the reading of sample 10.
-    fn run(rate: f64, hz: f64, glitch: f64) -> Run {
+    /// A joint turning at `rate` deg/s from −90° sampled at `hz` for 40
+    /// samples, with `glitch` added to the reading of sample 10.
+    pub(crate) fn run(rate: f64, hz: f64, glitch: f64) -> Run {
         let t: Vec<f64> = (0..40).map(|i| i as f64 / hz).collect();
         let mut phi: Vec<f64> = t.iter().map(|t| -90.0 + rate * t).collect();
         phi[10] += glitch;

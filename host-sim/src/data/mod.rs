@@ -4,4 +4,5 @@ pub mod campaign;
 pub mod consistency;
 pub mod glitch;
 pub mod inputs;
+pub mod resolution;
 pub mod run;

@@ -6,7 +6,7 @@
 use super::joint::{Forecast, JointState};
 use super::learning::{Fitted, Learning};
 use super::state::Monitor;
-use crate::monitor::predictor::{Cycle, FrictionBelief, Prediction, PredictionQuery};
+use crate::monitor::predictor::{Cycle, FrictionBelief, Prediction, PredictionQuery, UNCONFIRMED};
 use crate::monitor::rollout::RolloutConfig;
 use crate::monitor::status::JointStatus;
 use crate::physics::chain::{ChainRef, ChainState};
@@ -163,7 +163,12 @@ fn refresh<const R: usize>(
 /// \[s\] from the last finished rollouts of `cycle` and the energy balance:
 /// the prediction, its confidence and the time to the latch \[s\]. A stall
 /// of a joint the latch tracker sees at rest on a physical latch's ramp
-/// ([`crate::monitor::latch::LatchState::StoppedShort`]) is a ramp stop.
+/// ([`crate::monitor::latch::LatchState::StoppedShort`]) is a ramp stop. A
+/// latch of a joint the tracker sees at rest short of it (stalled, or
+/// stopped on the ramp) is the rollouts' best estimate only (confidence
+/// 0.5): they start it from rest with the friction estimate, which does
+/// not know what holds it (a jam mid-stroke, the plunger's ramp), and the
+/// readings say it does not move.
 fn forecast<const R: usize>(
     cycle: &mut Cycle<R>,
     j: usize,
@@ -185,6 +190,7 @@ fn forecast<const R: usize>(
     );
     match prediction {
         Prediction::Stall if on_ramp => (Prediction::RampStop, confidence, time),
+        Prediction::Latch if js.lt.at_rest() => (prediction, confidence.min(UNCONFIRMED), time),
         _ => (prediction, confidence, time),
     }
 }
