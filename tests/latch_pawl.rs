@@ -14,14 +14,15 @@
 //!   with the key path;
 //! - the monitor on simulated pawl runs with sensor noise: latched at the
 //!   end, never escaped, no latch flag; on a broken pawl, `escaped` with
-//!   `latch_disagree`;
+//!   `latch_disagree` from the break to the end, also back on its stop with
+//!   the switch closed, and predicted `stall` (confidence 1);
 //! - as-built pawls (`Mechanism::as_built`, `LatchTolerance::default`),
 //!   with and without a named effect, are never refused by `simulate`:
 //!   `DEPLOYWATCH_PAWL_DRAWS` draws (default 200; the measurement of
 //!   `docs/simulator.md` runs 1,000:
 //!   `DEPLOYWATCH_PAWL_DRAWS=1000 cargo test --release -p deploywatch-tests --test latch_pawl -- --nocapture`).
 
-use deploywatch_core::monitor::{Fault, LatchState};
+use deploywatch_core::monitor::{Fault, LatchState, Prediction};
 use deploywatch_core::monitor::{Monitor, Sample, Status};
 use deploywatch_core::physics::latch_contact::PhysicalLatch;
 use deploywatch_sim::deployment::{self, SimOptions};
@@ -331,6 +332,31 @@ fn the_monitor_flags_a_broken_pawl() {
             .all(|s| f64::from(s.t_s) > broke || s.joints[0].latch != LatchState::Escaped),
         "never escaped before the break"
     );
+    // A broken pawl locks nothing: its spring brings the joint back onto
+    // its stop, switch closed, and it is never latched again.
+    let tr = &run.traj;
+    let back = (0..tr.t_s.len())
+        .any(|i| tr.t_s[i] > t + 0.5 && tr.phi_deg[0][i].abs() < 0.05 && tr.latched[0][i]);
+    assert!(back, "the free joint is back on its stop, switch closed");
+    for s in st.iter().filter(|s| f64::from(s.t_s) >= t) {
+        let js = &s.joints[0];
+        assert!(
+            js.latch == LatchState::Escaped && js.faults.contains(Fault::LatchDisagree),
+            "t {}: {:?} {:?}",
+            s.t_s,
+            js.latch,
+            js.faults
+        );
+        // Predicted not to latch, certain, from the next refresh on.
+        if f64::from(s.t_s) >= t + 0.1 {
+            assert_eq!(
+                (js.prediction, js.confidence, js.time_to_latch_s),
+                (Prediction::Stall, 1.0, None),
+                "t {}",
+                s.t_s
+            );
+        }
+    }
 }
 
 /// The monitor's statuses on `samples` of a pawl mechanism.

@@ -77,6 +77,8 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
             "latch{j}",
             "margin{j}_pct",
             "prediction{j}",
+            "confidence{j}",
+            "time_to_latch{j}_s",
             "faults{j}",
             "resolution{j}",
         ] {
@@ -107,7 +109,7 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
         rows += 1;
         let _: f32 = rec[0].parse().unwrap();
         for j in 0..3 {
-            let col = |k: usize| &rec[1 + 12 * j + k];
+            let col = |k: usize| &rec[1 + 14 * j + k];
             for k in [0, 1, 2, 3, 4, 5] {
                 assert!(col(k).parse::<f32>().is_ok(), "{}", col(k));
             }
@@ -124,20 +126,120 @@ fn host_replay_writes_the_status_csv_and_a_summary() {
                 col(8)
             );
             assert!(predictions.contains(&col(9)), "prediction {}", col(9));
+            let confidence: f32 = col(10).parse().unwrap();
+            assert!((0.0..=1.0).contains(&confidence), "confidence {}", col(10));
             assert!(
-                col(10).is_empty() || col(10).split('|').all(|f| fault_names.contains(&f)),
-                "faults {}",
-                col(10)
+                col(11).is_empty() || col(11).parse::<f32>().is_ok_and(|t| t >= 0.0),
+                "time to latch {}",
+                col(11)
             );
             assert!(
-                deploywatch_core::monitor::Resolution::from_name(col(11)).is_some(),
+                col(12).is_empty() || col(12).split('|').all(|f| fault_names.contains(&f)),
+                "faults {}",
+                col(12)
+            );
+            assert!(
+                deploywatch_core::monitor::Resolution::from_name(col(13)).is_some(),
                 "resolution {}",
-                col(11)
+                col(13)
             );
         }
     }
     assert_eq!(rows, run_len);
     assert!(latched.iter().any(|&l| l), "some joint latches in this run");
+}
+
+/// The status CSV of `run` on `mech` (under `data/`), written by `replay --out`,
+/// read back: its header and rows (the cells as written).
+fn status_csv_of(run: &str, mech: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("status.csv");
+    let (run, mech) = (data(run), data(mech));
+    let out = deploywatch(&[
+        run.as_os_str(),
+        "--mechanism".as_ref(),
+        mech.as_os_str(),
+        "-q".as_ref(),
+        "--out".as_ref(),
+        csv.as_os_str(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut reader = csv::Reader::from_path(&csv).unwrap();
+    let header = reader.headers().unwrap().iter().map(String::from).collect();
+    let rows = reader
+        .records()
+        .map(|r| r.unwrap().iter().map(String::from).collect())
+        .collect();
+    (header, rows)
+}
+
+/// `confidence<j>` and `time_to_latch<j>_s` come right after
+/// `prediction<j>`, fourteen columns a joint.
+#[test]
+fn the_status_csv_has_confidence_and_time_to_latch_after_the_prediction() {
+    let (header, _) = status_csv_of(
+        "reference/seed000_case1_eft.csv",
+        "mechanisms/seed000_case1.toml",
+    );
+    assert_eq!(header.len(), 1 + 14 * 2, "{header:?}");
+    for j in 1..=2 {
+        let at = 1 + 14 * (j - 1);
+        assert_eq!(
+            header[at + 9..at + 13],
+            [
+                format!("prediction{j}"),
+                format!("confidence{j}"),
+                format!("time_to_latch{j}_s"),
+                format!("faults{j}"),
+            ],
+            "{header:?}"
+        );
+    }
+}
+
+/// Every row's `confidence<j>` and `time_to_latch<j>_s` are the
+/// `JointStatus`'s `confidence` and `time_to_latch_s` (empty for `None`),
+/// on a run where the confidence takes each of 0, 0.5, 0.9 and 1 and the
+/// time to latch is both given and not.
+#[test]
+fn the_status_csv_gives_each_statuss_confidence_and_time_to_latch() {
+    let (run, mech) = (
+        "reference/seed000_case1_eft.csv",
+        "mechanisms/seed000_case1.toml",
+    );
+    let (header, rows) = status_csv_of(run, mech);
+    let host = prepared(run, mech).host;
+    assert_eq!(rows.len(), host.len());
+    let column = |name: String| header.iter().position(|h| *h == name).unwrap();
+    let bits = |cell: &str| cell.parse::<f32>().unwrap().to_bits();
+    let mut levels = std::collections::BTreeSet::new();
+    let (mut given, mut empty) = (0, 0);
+    for (row, status) in rows.iter().zip(&host) {
+        for (j, js) in status.joints.iter().enumerate() {
+            let confidence = &row[column(format!("confidence{}", j + 1))];
+            let ttl = &row[column(format!("time_to_latch{}_s", j + 1))];
+            let at = format!("t = {} s, joint {}", status.t_s, j + 1);
+            assert_eq!(bits(confidence), js.confidence.to_bits(), "{at}");
+            levels.insert(js.confidence.to_bits());
+            match js.time_to_latch_s {
+                Some(t) => {
+                    assert_eq!(bits(ttl), t.to_bits(), "{at}");
+                    given += 1;
+                }
+                None => {
+                    assert_eq!(ttl, "", "{at}");
+                    empty += 1;
+                }
+            }
+        }
+    }
+    let want: Vec<u32> = [0.0f32, 0.5, 0.9, 1.0].map(f32::to_bits).to_vec();
+    assert!(want.iter().all(|w| levels.contains(w)), "{levels:?}");
+    assert!(given > 0 && empty > 0, "{given} given, {empty} empty");
 }
 
 #[test]

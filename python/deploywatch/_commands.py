@@ -202,8 +202,10 @@ class Diagnosis(CommandResult):
 class Replay:
     """``deploywatch replay --target host``: the monitor's status stream,
     one numpy column per numeric column of the status CSV the CLI writes
-    (NaN where it is empty), and the text columns (latch state,
-    prediction, faults) in ``states``."""
+    (docs/monitor.md §1.1; NaN where it is empty), among them each
+    prediction's ``confidence<j>`` [0..1] and ``time_to_latch<j>_s`` [s],
+    and the text columns (latch state, prediction, faults) in
+    ``states``."""
 
     columns: Dict[str, FloatArray]
     states: Dict[str, Tuple[str, ...]]

@@ -233,6 +233,9 @@ pub struct Bounce {
     open_sum: f32,
     /// Readings in it.
     open_n: u16,
+    /// The lock broke (a pawl out beyond its notch after its switch
+    /// closed, `physics.md` §10.5): nothing locks the joint again.
+    broken: bool,
 }
 
 impl Bounce {
@@ -254,6 +257,7 @@ impl Bounce {
         arrive_by: f32::INFINITY,
         open_sum: 0.0,
         open_n: 0,
+        broken: false,
     };
 
     /// True once the encoder has seen the joint leave its stop in this
@@ -428,6 +432,16 @@ impl Bounce {
         self.contact = true;
         self.inside = true;
         self.switch_declared = switch;
+    }
+
+    /// The lock broke: from now on [`Bounce::lock_broken`].
+    pub fn break_lock(&mut self) {
+        self.broken = true;
+    }
+
+    /// True once the lock broke ([`Bounce::break_lock`]).
+    pub fn lock_broken(&self) -> bool {
+        self.broken
     }
 
     /// The joint went over the crest.

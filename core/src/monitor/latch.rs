@@ -36,7 +36,9 @@
 //! A pawl ([`LockKind::Pawl`], `physics.md` §10.5) cannot open: once
 //! declared, a rebound within its notch keeps the joint latched, and an
 //! escape (out beyond the notch and the contact's give) is a broken pawl,
-//! [`LatchState::Escaped`] flagged `latch_disagree`.
+//! [`LatchState::Escaped`] flagged `latch_disagree` for the rest of the run:
+//! a broken pawl locks nothing, so its joint is never declared latched
+//! again, also where its spring holds it on the stop with the switch closed.
 
 use crate::monitor::bounce::{Bounce, LatchEvent, StopLimits, StopReading};
 use crate::monitor::faults::{Fault, FaultFlags};
@@ -426,6 +428,12 @@ impl LatchTracker {
         matches!(self.motion, LatchState::Stalled | LatchState::StoppedShort)
     }
 
+    /// True once the joint's lock broke (a pawl out beyond its notch after
+    /// its switch closed, `physics.md` §10.5): it is not latched again.
+    pub fn lock_broken(&self) -> bool {
+        self.bounce.lock_broken()
+    }
+
     /// True while the encoder sits at the latch angle with the switch open
     /// (the joint is then held fixed by the dynamics model, but not latched).
     pub fn held_at_latch(&self) -> bool {
@@ -470,6 +478,16 @@ impl LatchTracker {
         }
         if self.left_ideal(cfg) {
             faults.insert(Fault::LatchDisagree);
+            // With a physical latch, a pawl out beyond its notch after its
+            // switch closed: broken for good.
+            if cfg.physical.is_some() {
+                self.bounce.break_lock();
+            }
+        }
+        if self.lock_broken() {
+            // A broken pawl holds nothing: at its stop, switch closed, the
+            // joint is pushed there by its spring, not locked.
+            return LatchOutput::state(LatchState::Escaped, faults);
         }
         if let Some(out) = self.check_switch(x, cfg, votes, view.held, &mut faults) {
             return out;

@@ -34,7 +34,8 @@ pub enum Prediction {
     Unknown,
     /// Will latch (or has latched).
     Latch,
-    /// Will stall short of the latch.
+    /// Will stall short of the latch (or, its lock broken, will not be
+    /// held at it).
     Stall,
     /// Will stop on the physical latch's entry ramp, short of its crest
     /// (the energy balance reaches the ramp's foot and runs out before the

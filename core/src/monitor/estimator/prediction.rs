@@ -168,7 +168,9 @@ fn refresh<const R: usize>(
 /// stopped on the ramp) is the rollouts' best estimate only (confidence
 /// 0.5): they start it from rest with the friction estimate, which does
 /// not know what holds it (a jam mid-stroke, the plunger's ramp), and the
-/// readings say it does not move.
+/// readings say it does not move. A joint whose lock broke (a pawl out
+/// beyond its notch, [`crate::monitor::latch::LatchTracker::lock_broken`])
+/// will not be latched: a stall, certain as a latch declared is.
 fn forecast<const R: usize>(
     cycle: &mut Cycle<R>,
     j: usize,
@@ -176,6 +178,9 @@ fn forecast<const R: usize>(
     horizon: &Horizon,
     t: f32,
 ) -> (Prediction, f32, Option<f32>) {
+    if js.lt.lock_broken() {
+        return (Prediction::Stall, 1.0, None);
+    }
     let on_ramp = js.lt.stopped_short();
     let (prediction, confidence, time) = cycle.prediction(
         j,

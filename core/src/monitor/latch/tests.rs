@@ -402,6 +402,49 @@ fn given_pawl_when_joint_rides_the_cam_without_engaging_then_no_escape() {
     assert!(last.faults.contains(Fault::LatchDisagree), "{last:?}");
 }
 
+/// A pawl that breaks locks nothing again: a joint whose pawl was declared
+/// latched and then went out beyond its notch is escaped and flagged, and
+/// stays so when its spring brings it back onto its stop with the switch
+/// closed for far longer than the bounce window (a plunger's joint is
+/// latched again there, `..._goes_over_the_crest_then_escaped_not_latched`).
+#[test]
+fn given_pawl_when_it_breaks_then_never_latched_again() {
+    let cfg = LatchConfig {
+        physical: Some(PhysicalLatch {
+            lock: LockKind::Pawl,
+            ..physical().physical.unwrap()
+        }),
+        ..LatchConfig::default()
+    };
+    let mut s = vec![(false, 3.0), (false, 1.2)];
+    s.extend([(true, 0.0); 8]);
+    let mut tr = LatchTracker::new();
+    let out = run_with(&mut tr, &cfg, &s);
+    assert_eq!(out.last().unwrap().state, LatchState::Latched, "{out:?}");
+    // Out over the notch (1.5° plus the contact's give), then back on the
+    // stop, switch closed, for a second.
+    let t0 = s.len() as f32 * 0.01;
+    let back = (0..20)
+        .map(|k| (false, 0.3 * k as f32))
+        .chain((0..100).map(|_| (true, 0.0)));
+    let out: Vec<LatchOutput> = back
+        .enumerate()
+        .map(|(k, (sw, deg))| tr.step(&input(t0 + 0.01 * k as f32, sw, deg), &cfg))
+        .collect();
+    let broke = out
+        .iter()
+        .position(|o| o.state == LatchState::Escaped)
+        .expect("the break is an escape");
+    assert!(
+        out[broke..].iter().all(|o| o.state == LatchState::Escaped
+            && o.faults.contains(Fault::LatchDisagree)
+            && !o.newly_latched),
+        "{:?}",
+        &out[broke..]
+    );
+    assert!(!tr.is_latched());
+}
+
 /// A joint that stops short of its ideal latch inside `latching_deg` (a
 /// jam 2° short, the switch rightly open) is `Stalled` once its readings
 /// have stayed within the rest band for `stall_time_s`, whatever its

@@ -23,7 +23,7 @@ fn num(x: f32) -> String {
 type Column = (&'static str, &'static str, fn(&JointStatus) -> String);
 
 /// The per-joint columns, in order (documented in `docs/monitor.md` §1.1).
-pub const JOINT_COLUMNS: [Column; 12] = [
+pub const JOINT_COLUMNS: [Column; 14] = [
     ("phi", "_deg", |s| num(s.phi_deg)),
     ("rate", "_deg_s", |s| num(s.rate_deg_s)),
     ("coulomb", "_nm", |s| num(s.coulomb_nm)),
@@ -36,6 +36,10 @@ pub const JOINT_COLUMNS: [Column; 12] = [
         s.margin_pct.map(num).unwrap_or_default()
     }),
     ("prediction", "", |s| s.prediction.as_str().into()),
+    ("confidence", "", |s| num(s.confidence)),
+    ("time_to_latch", "_s", |s| {
+        s.time_to_latch_s.map(num).unwrap_or_default()
+    }),
     ("faults", "", |s| fault_names(s)),
     ("resolution", "", |s| s.resolution.as_str().into()),
 ];
