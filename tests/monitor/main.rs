@@ -1,7 +1,8 @@
 //! The on-board monitor (`deploywatch_core::monitor`) on runs of the
 //! simulator with its reference sensor model.
 //!
-//! One module per suite: `prediction`, `latch` (latch declarations), `light_wings` (fast light
+//! One module per suite: `prediction`, `latch` (latch declarations), `past_crest` (a physical
+//! latch's joint back past its crest), `light_wings` (fast light
 //! wings: rollouts and clean runs), `footprint` (RAM and
 //! frames), `properties` (proptest), `clean` (no fault flag on clean runs), `refresh`; the
 //! shared run helpers are here.
@@ -10,6 +11,7 @@ mod clean;
 mod footprint;
 mod latch;
 mod light_wings;
+mod past_crest;
 mod prediction;
 mod properties;
 mod refresh;

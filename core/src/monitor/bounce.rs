@@ -266,6 +266,19 @@ impl Bounce {
         self.seen
     }
 
+    /// True once the joint has been past the crest (a reading within it,
+    /// or the switch closed at the latch) since it last escaped: the hold
+    /// ramp and the magnet pull it in.
+    pub fn past_crest(&self) -> bool {
+        self.inside
+    }
+
+    /// True when the joint has been on the entry ramp, switch open, for at
+    /// least `duration_s` \[s\] at `t_s` \[s\].
+    pub fn on_ramp_for(&self, t_s: f32, duration_s: f32) -> bool {
+        self.ramp.at_least(t_s, duration_s)
+    }
+
     /// True after an escape, until the latch is declared again.
     pub fn escaped(&self) -> bool {
         self.escaped

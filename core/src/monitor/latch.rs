@@ -60,17 +60,6 @@ const HOLD_ROUNDING_S: f32 = 1e-5;
 /// agreeing (`docs/monitor.md` §6.2).
 const AT_LATCH_SIGMAS: f32 = 5.0;
 
-/// Half-width of the band, in standard deviations of one reading, within
-/// which the readings of a joint with an ideal latch stay while it is at
-/// rest \[1\]: two readings of a joint at rest differ by more than 8 σ
-/// with probability 1.5·10⁻⁸. Inside `latching_deg` the rate filter
-/// follows a snapping tape spring (`snap_zone_deg`, a jerk floor of 10⁷
-/// rad²/s⁵) and its rate of a joint at rest swings by tens of degrees per
-/// second, and mid-stroke the noise of the reference encoder moves it
-/// across the stall rate: the readings tell the rest (`docs/monitor.md`
-/// §4).
-const REST_BAND_SIGMAS: f32 = 8.0;
-
 /// The latch state of a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -416,16 +405,13 @@ impl LatchTracker {
         !self.latched && self.bounce.in_zone()
     }
 
-    /// True while a physical latch's joint is at rest on the plunger's
-    /// ramp with its switch open ([`LatchState::StoppedShort`]).
-    pub fn stopped_short(&self) -> bool {
-        self.motion == LatchState::StoppedShort
-    }
-
-    /// True while the joint, not latched, is at rest by its readings
-    /// ([`LatchState::Stalled`] or [`LatchState::StoppedShort`]).
-    pub fn at_rest(&self) -> bool {
-        matches!(self.motion, LatchState::Stalled | LatchState::StoppedShort)
+    /// True while a physical latch's joint, not latched, has been past the
+    /// crest since it last escaped (a reading within it, or the switch
+    /// closed at the latch): the hold ramp and the magnet pull it onto the
+    /// stop, where it cannot stop on the entry ramp. False for an ideal
+    /// latch and for a broken lock.
+    pub fn past_crest(&self) -> bool {
+        !self.latched && self.bounce.past_crest() && !self.bounce.lock_broken()
     }
 
     /// True once the joint's lock broke (a pawl out beyond its notch after
@@ -622,7 +608,10 @@ impl LatchTracker {
         } else if speed > 2.0 * cfg.stall_rate_deg_s {
             self.slow.stop();
         }
-        let stopped = self.slow.at_least(x.t_s, cfg.stall_time_s) || self.rests_near(x, cfg);
+        // The rest band is kept at every sample ([`LatchTracker::at_rest_for`]
+        // reads it), also while the rate alone says the joint is stopped.
+        let near = self.rests_near(x, cfg);
+        let stopped = self.slow.at_least(x.t_s, cfg.stall_time_s) || near;
         let in_window = libm::fabsf(x.measured_deg.unwrap_or(x.angle_deg)) <= cfg.window_deg;
         self.motion = match (event, self.motion) {
             (Some(event), _) => event.state(),
@@ -649,30 +638,6 @@ impl LatchTracker {
     }
 }
 
-impl LatchTracker {
-    /// True when a joint with an ideal latch has read within
-    /// [`REST_BAND_SIGMAS`] readings' σ of one reading for `stall_time_s`
-    /// (mid-stroke or short of its latch); the stretch restarts at a
-    /// reading outside the band. Always false with a physical latch, whose
-    /// stops short of the latch are the bounce rule's (on the ramp) and
-    /// whose stalls the rate's.
-    #[inline(always)]
-    fn rests_near(&mut self, x: &LatchInput, cfg: &LatchConfig) -> bool {
-        if cfg.physical.is_some() {
-            return false;
-        }
-        let Some(m) = x.measured_deg else {
-            return self.rest.at_least(x.t_s, cfg.stall_time_s);
-        };
-        let band = REST_BAND_SIGMAS * x.noise_sd_deg;
-        if !(libm::fabsf(m - self.rest_deg) <= band) || !self.rest.is_on() {
-            self.rest_deg = m;
-            self.rest.restart(x.t_s);
-        }
-        self.rest.at_least(x.t_s, cfg.stall_time_s)
-    }
-}
-
 /// What the configured latch makes of one sample (see
 /// [`LatchTracker::step`]).
 #[derive(Clone, Copy, Debug)]
@@ -693,6 +658,7 @@ struct LatchView {
     event: Option<LatchEvent>,
 }
 
+mod rest;
 mod switch;
 
 #[cfg(test)]

@@ -134,6 +134,15 @@ struct Horizon {
     rollouts: bool,
 }
 
+/// True when every joint of `joints` is latched or at rest short of its
+/// latch (stalled, stopped on a ramp): nothing in the chain moves that
+/// could free a joint at rest.
+fn chain_at_rest(joints: &[JointState]) -> bool {
+    joints
+        .iter()
+        .all(|js| js.lt.is_latched() || js.lt.at_rest())
+}
+
 /// The learned part of the status line `out` of each joint of `joints`:
 /// friction, margin and the latch / stall prediction of `cycle` as of time
 /// `t` \[s\]. Not generic over the joint count: one copy in flash for every
@@ -146,8 +155,9 @@ fn refresh<const R: usize>(
     horizon: &Horizon,
     t: f32,
 ) {
+    let still = chain_at_rest(joints);
     for (j, (js, out)) in joints.iter_mut().zip(out.iter_mut()).enumerate() {
-        let (prediction, confidence, time_to_latch_s) = forecast(cycle, j, js, horizon, t);
+        let (prediction, confidence, time_to_latch_s) = forecast(cycle, j, js, horizon, (t, still));
         js.estimates(
             out,
             Forecast {
@@ -160,23 +170,38 @@ fn refresh<const R: usize>(
 }
 
 /// The latch / stall prediction of joint `j` (its state `js`) at time `t`
-/// \[s\] from the last finished rollouts of `cycle` and the energy balance:
-/// the prediction, its confidence and the time to the latch \[s\]. A stall
-/// of a joint the latch tracker sees at rest on a physical latch's ramp
-/// ([`crate::monitor::latch::LatchState::StoppedShort`]) is a ramp stop. A
-/// latch of a joint the tracker sees at rest short of it (stalled, or
-/// stopped on the ramp) is the rollouts' best estimate only (confidence
-/// 0.5): they start it from rest with the friction estimate, which does
-/// not know what holds it (a jam mid-stroke, the plunger's ramp), and the
-/// readings say it does not move. A joint whose lock broke (a pawl out
-/// beyond its notch, [`crate::monitor::latch::LatchTracker::lock_broken`])
-/// will not be latched: a stall, certain as a latch declared is.
+/// \[s\] (`still`: every joint latched or at rest, [`chain_at_rest`]) from
+/// the last finished rollouts of `cycle` and the energy balance: the
+/// prediction, its confidence and the time to the latch \[s\]. What the
+/// latch tracker knows of the joint comes first:
+///
+/// - its lock broke (a pawl out beyond its notch,
+///   [`crate::monitor::latch::LatchTracker::lock_broken`]): it will not be
+///   latched, a stall as certain as a declared latch;
+/// - past a physical latch's crest since it last escaped
+///   ([`crate::monitor::latch::LatchTracker::past_crest`]): a stall is a
+///   latch at confidence 0.5, the hold ramp and the magnet pulling it onto
+///   the stop, which neither the rollouts nor the balance (its margin
+///   frozen on the ramp) model; a rebound may still throw it out;
+/// - at rest on a physical latch's ramp
+///   ([`crate::monitor::latch::LatchState::StoppedShort`]): a stall is a
+///   ramp stop;
+/// - at rest short of the latch (stalled, or stopped on the ramp): a latch
+///   is the rollouts' best estimate only (confidence 0.5), for they start it
+///   from rest with the friction estimate, which does not know what holds
+///   it (a jam mid-stroke, the ramp), and the readings say it does not
+///   move. Once its readings have held still for longer than the rollouts'
+///   time to the latch and the stall time besides, in a chain at rest, it
+///   is a stall (a ramp stop on the ramp) at confidence 0.5: the rollouts,
+///   started from rest each time, keep giving it the same time, and no
+///   neighbour's motion is left to free it (on T01 joint 1 waits at its
+///   stowed angle while its neighbours unfold, then latches).
 fn forecast<const R: usize>(
     cycle: &mut Cycle<R>,
     j: usize,
     js: &JointState,
     horizon: &Horizon,
-    t: f32,
+    (t, still): (f32, bool),
 ) -> (Prediction, f32, Option<f32>) {
     if js.lt.lock_broken() {
         return (Prediction::Stall, 1.0, None);
@@ -193,9 +218,28 @@ fn forecast<const R: usize>(
             rollouts: horizon.rollouts,
         },
     );
+    let stall = if on_ramp {
+        Prediction::RampStop
+    } else {
+        Prediction::Stall
+    };
     match prediction {
-        Prediction::Stall if on_ramp => (Prediction::RampStop, confidence, time),
-        Prediction::Latch if js.lt.at_rest() => (prediction, confidence.min(UNCONFIRMED), time),
+        Prediction::Stall | Prediction::RampStop if js.lt.past_crest() => {
+            (Prediction::Latch, UNCONFIRMED, None)
+        }
+        Prediction::Stall => (stall, confidence, time),
+        Prediction::Latch if js.lt.at_rest() => {
+            // Rested for longer than the rollouts from rest give it to
+            // reach the latch, and the stall time besides, in a chain at
+            // rest: what holds it is not what they start it with, and no
+            // neighbour's motion is left to free it.
+            let wait = time.map(|ttl| ttl + js.latch_cfg.stall_time_s);
+            if still && wait.is_some_and(|w| js.lt.at_rest_for(t, w)) {
+                (stall, UNCONFIRMED, None)
+            } else {
+                (prediction, confidence.min(UNCONFIRMED), time)
+            }
+        }
         _ => (prediction, confidence, time),
     }
 }
