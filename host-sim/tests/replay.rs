@@ -395,14 +395,20 @@ fn damaged_inputs_stop_the_firmware_loop() {
 }
 
 #[test]
-fn summary_reports_the_latch_times() {
+fn summary_reports_the_latch_times_and_the_last_prediction() {
     let p = prepared(
         "reference/seed001_T01_nominal.csv",
         "mechanisms/seed001_T01.toml",
     );
     let s = replay::summary(&p.host);
     assert_eq!(s.len(), 3);
+    let last = p.host.last().unwrap();
     for js in &s {
+        let status = &last.joints[js.joint - 1];
+        assert_eq!(
+            (js.prediction, js.confidence.to_bits()),
+            (status.prediction.as_str(), status.confidence.to_bits())
+        );
         if let Some(t) = js.latched_s {
             let first = p
                 .host

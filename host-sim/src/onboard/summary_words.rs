@@ -42,7 +42,7 @@ impl std::fmt::Display for JointSummary {
         write!(
             f,
             "joint {}: {} ({}), Coulomb {:.3} ± {:.3} N·m, viscous {:.4} ± {:.4} N·m·s/rad, \
-             margin min {} last {}, prediction {}, faults {}, unresolved in {} statuses",
+             margin min {} last {}, prediction {} (confidence {:.1}), faults {}, unresolved in {} statuses",
             self.joint,
             self.final_state,
             self.latch_words(),
@@ -53,6 +53,7 @@ impl std::fmt::Display for JointSummary {
             opt(self.margin_pct.0, " %"),
             opt(self.margin_pct.1, " %"),
             self.prediction,
+            self.confidence,
             if self.faults.is_empty() {
                 "none"
             } else {
@@ -77,9 +78,22 @@ mod tests {
             viscous_nms: (0.0, 0.0),
             margin_pct: (None, None),
             prediction: "latch",
+            confidence: 0.9,
             faults: String::new(),
             unresolved: 0,
         }
+    }
+
+    #[test]
+    fn the_line_gives_the_prediction_with_its_confidence() {
+        let mut j = joint(None, None);
+        j.prediction = "stall";
+        j.confidence = 0.5;
+        assert!(
+            j.to_string()
+                .contains(", prediction stall (confidence 0.5), faults none,"),
+            "{j}"
+        );
     }
 
     #[test]

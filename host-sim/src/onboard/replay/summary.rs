@@ -25,6 +25,9 @@ pub struct JointSummary {
     pub margin_pct: (Option<f32>, Option<f32>),
     /// The last prediction.
     pub prediction: &'static str,
+    /// Its confidence \[0, 1\] (0.5 a best estimate only, the configured
+    /// level when confirmed, 1 once latched: `docs/monitor.md` §1.1).
+    pub confidence: f32,
     /// Every fault flag raised during the run.
     pub faults: String,
     /// Statuses in which the joint is
@@ -69,6 +72,7 @@ pub fn summary(statuses: &[StatusRow]) -> Vec<JointSummary> {
                 viscous_nms: (last.viscous_nms, last.viscous_sd_nms),
                 margin_pct: (min_margin, last.margin_pct),
                 prediction: last.prediction.as_str(),
+                confidence: last.confidence,
                 faults: faults
                     .iter()
                     .map(|f| f.as_str())
