@@ -157,6 +157,17 @@ fn physical() -> LatchConfig {
     }
 }
 
+/// The latch of [`physical`] with a pawl for its lock.
+fn pawl() -> LatchConfig {
+    LatchConfig {
+        physical: Some(PhysicalLatch {
+            lock: LockKind::Pawl,
+            ..physical().physical.unwrap()
+        }),
+        ..LatchConfig::default()
+    }
+}
+
 fn run_with(tr: &mut LatchTracker, cfg: &LatchConfig, samples: &[(bool, f32)]) -> Vec<LatchOutput> {
     samples
         .iter()
@@ -376,13 +387,7 @@ fn given_ideal_latch_when_joint_stops_short_beyond_the_encoder_noise_then_no_swi
 /// switch closed at the stop is a broken pawl: escaped and flagged.
 #[test]
 fn given_pawl_when_joint_rides_the_cam_without_engaging_then_no_escape() {
-    let cfg = LatchConfig {
-        physical: Some(PhysicalLatch {
-            lock: LockKind::Pawl,
-            ..physical().physical.unwrap()
-        }),
-        ..LatchConfig::default()
-    };
+    let cfg = pawl();
     let mut s = vec![(false, 3.0), (false, 2.0)];
     s.extend([1.6, 1.3, 1.1, 1.0, 1.1, 1.3, 1.6].map(|d| (false, d)));
     s.extend((1..=40).map(|k| (false, 1.6 + 0.1 * k as f32)));
@@ -409,13 +414,7 @@ fn given_pawl_when_joint_rides_the_cam_without_engaging_then_no_escape() {
 /// latched again there, `..._goes_over_the_crest_then_escaped_not_latched`).
 #[test]
 fn given_pawl_when_it_breaks_then_never_latched_again() {
-    let cfg = LatchConfig {
-        physical: Some(PhysicalLatch {
-            lock: LockKind::Pawl,
-            ..physical().physical.unwrap()
-        }),
-        ..LatchConfig::default()
-    };
+    let cfg = pawl();
     let mut s = vec![(false, 3.0), (false, 1.2)];
     s.extend([(true, 0.0); 8]);
     let mut tr = LatchTracker::new();
